@@ -1,0 +1,145 @@
+/* scenes.h - the paper's two benchmarks as scene builders, shared by the examples, the
+   tests and the benchmarks (one definition of each problem in the project).
+   Include after revjoint.h. Everything static; no allocation. */
+#ifndef RJ_SCENES_H
+#define RJ_SCENES_H
+
+#include <math.h>
+#include <string.h>
+
+/* ---------------------------------------------------------------- SPEC 9.1 impact */
+typedef struct impact_opts {
+    int method;        /* rj_method, default adaptive */
+    int release;       /* rj_release, default RC13 */
+    double K;          /* penalty stiffness N m/rad, default 5e9 (the paper's best) */
+    double e;          /* restitution, default 0 */
+    int elements;      /* per link, default 10 */
+    double dt;         /* s, default 2.5e-6 (see README: 15 us is above the bound of a 0.2 m deep EB beam) */
+    double H;          /* in-plane depth, m, default 0.2 */
+    double W;          /* width, m, default 0.05 */
+    double rate0;      /* rad/s, default -10 */
+} impact_opts;
+
+static impact_opts impact_default_opts(void)
+{
+    impact_opts o;
+    o.method = RJ_METHOD_ADAPTIVE; o.release = RJ_RELEASE_RC13; o.K = 5e9; o.e = 0.0;
+    o.elements = 10; o.dt = 2.5e-6; o.H = 0.2; o.W = 0.05; o.rate0 = -10.0;
+    return o;
+}
+
+/* Link 0 held fixed along -x ending at the origin, link 1 starting straight (theta = 180 deg)
+   in rigid rotation about the joint at rate0, reverse limit at 176 deg, no forward limit. */
+static void impact_scene(const impact_opts *o, rj_link_def links[2], rj_joint_def *joint, rj_scene_def *sc)
+{
+    int i;
+    for (i = 0; i < 2; i++) {
+        links[i] = rj_default_link_def();
+        links[i].length = 1.0; links[i].elements = o->elements; links[i].E = 70e9; links[i].rho = 2710.0;
+        links[i].section = RJ_SECTION_RECT; links[i].width = o->W; links[i].height = o->H; links[i].layers = 1;
+    }
+    links[0].root = RJ_ROOT_FIXED; links[0].x = -1.0; links[0].y = 0.0; links[0].angle = 0.0;
+    *joint = rj_default_joint_def();
+    joint->body1 = 0; joint->node1 = -1; joint->body2 = 1;
+    joint->angle0 = rj_rad(180.0); joint->rate0 = o->rate0;
+    joint->has_reverse = 1; joint->reverse = rj_rad(176.0);
+    joint->method = o->method; joint->release = o->release; joint->penalty_k = o->K; joint->restitution = o->e;
+    *sc = rj_default_scene_def();
+    sc->links = links; sc->link_count = 2; sc->joints = joint; sc->joint_count = 1;
+    sc->solver.dt = o->dt;
+}
+
+/* Distance of link `l`'s tip from the line through its node 0 along its first element,
+   positive counter-clockwise (times `sign`). */
+static double scene_tip_defl(const rj_model *m, const rj_state *s, int l)
+{
+    double p0[2], p1[2], pt[2], ux, uy, n;
+    int last = rj_link_node_count(m, l) - 1;
+    rj_node_position(m, s, l, 0, p0);
+    rj_node_position(m, s, l, 1, p1);
+    rj_node_position(m, s, l, last, pt);
+    ux = p1[0] - p0[0]; uy = p1[1] - p0[1];
+    n = sqrt(ux * ux + uy * uy);
+    return (ux * (pt[1] - p0[1]) - uy * (pt[0] - p0[0])) / n;
+}
+
+/* ---------------------------------------------------------------- SPEC 9.2 deployment */
+typedef struct deploy_opts {
+    int elements;        /* per link, default 10 */
+    double dt;           /* s, default 7.5e-6 */
+    int joint1_method;   /* rj_method for joint 1 (ground), default forced */
+    int joint2_method;   /* rj_method for joint 2, default penalty with K from Eq 31 */
+    double joint2_K;     /* N m/rad; <= 0: Eq 31 at dt */
+    int extra_friction;  /* sec. 5's +0.175 / +0.008 N m */
+} deploy_opts;
+
+static deploy_opts deploy_default_opts(void)
+{
+    deploy_opts o;
+    o.elements = 10; o.dt = 7.5e-6; o.joint1_method = RJ_METHOD_FORCED; o.joint2_method = RJ_METHOD_PENALTY;
+    o.joint2_K = 0.0; o.extra_friction = 0;
+    return o;
+}
+
+/* Table 3: link i = length, area, thickness, I, link mass, tip mass, tip rotary inertia. */
+static void deploy_links(int elements, rj_link_def links[2])
+{
+    static const double len[2] = { 1.006423, 0.9945 }, area[2] = { 1.78076e-4, 1.7748e-4 };
+    static const double th[2] = { 4.4519e-3, 4.437e-3 }, I[2] = { 2.94113e-10, 2.9117e-10 };
+    static const double mass[2] = { 0.52334, 0.42958 }, tip[2] = { 1.2, 0.336 }, tipJ[2] = { 8.5948e-4, 9.256e-4 };
+    int i;
+    for (i = 0; i < 2; i++) {
+        links[i] = rj_default_link_def();
+        links[i].length = len[i]; links[i].elements = elements; links[i].E = 7e10;
+        links[i].section = RJ_SECTION_GENERAL; links[i].area = area[i]; links[i].inertia = I[i]; links[i].height = th[i];
+        links[i].rho = mass[i] / (area[i] * len[i]);
+        links[i].tip_mass = tip[i]; links[i].tip_inertia = tipJ[i];
+    }
+}
+
+/* Joint 1: ground to link 0, q1 = theta from +x, 0 -> lock at 90 deg (forward limit).
+   Joint 2: link 0 tip to link 1, theta = q2 + 180 deg: starts at 360 (folded), locks at
+   180 (reverse limit). Springs k (pre - q) drive both into their locks. */
+static void deploy_scene(const deploy_opts *o, rj_link_def links[2], rj_joint_def joints[2], rj_scene_def *sc)
+{
+    deploy_links(o->elements, links);
+    joints[0] = rj_default_joint_def();
+    joints[0].body1 = -1; joints[0].body2 = 0; joints[0].ground_angle = 0.0;
+    joints[0].angle0 = 0.0;
+    joints[0].spring_k = 0.0789; joints[0].spring_free_angle = rj_rad(300.0);
+    joints[0].has_forward = 1; joints[0].forward = rj_rad(90.0); joints[0].lock = 1;
+    joints[0].method = o->joint1_method; joints[0].friction = 0.03825 + (o->extra_friction ? 0.175 : 0.0);
+    joints[1] = rj_default_joint_def();
+    joints[1].body1 = 0; joints[1].node1 = -1; joints[1].body2 = 1;
+    joints[1].angle0 = rj_rad(360.0);
+    joints[1].spring_k = 0.0768; joints[1].spring_free_angle = rj_rad(-60.0 + 180.0);
+    joints[1].has_reverse = 1; joints[1].reverse = rj_rad(180.0); joints[1].lock = 1;
+    joints[1].method = o->joint2_method; joints[1].friction = 0.0225 + (o->extra_friction ? 0.008 : 0.0);
+    joints[1].penalty_k = 1.0; /* placeholder; deploy_build sets Eq 31 */
+    *sc = rj_default_scene_def();
+    sc->links = links; sc->link_count = 2; sc->joints = joints; sc->joint_count = 2;
+    sc->solver.dt = o->dt;
+}
+
+/* Builds the deployment model; joint 2's penalty stiffness defaults to Eq 31 at dt, which
+   needs the model's link data: build once with a placeholder, then rebuild. */
+static rj_result deploy_build(const deploy_opts *o, rj_model **m, rj_error *err)
+{
+    rj_link_def links[2];
+    rj_joint_def joints[2];
+    rj_scene_def sc;
+    rj_result r;
+    deploy_scene(o, links, joints, &sc);
+    if (o->joint2_K > 0) joints[1].penalty_k = o->joint2_K;
+    r = rj_model_create(&sc, m, err, NULL);
+    if (r != RJ_OK || o->joint2_K > 0 || o->joint2_method != RJ_METHOD_PENALTY) return r;
+    joints[1].penalty_k = rj_joint_kmax_eq31(*m, 1, rj_model_dt(*m));
+    rj_model_destroy(*m, NULL);
+    return rj_model_create(&sc, m, err, NULL);
+}
+
+/* Experiment's convention: q1 absolute angle of link 1, q2 relative (0 straight, 180 folded). */
+static double deploy_q1_deg(const rj_model *m, const rj_state *s) { return rj_deg(rj_joint_theta_running(m, s, 0)); }
+static double deploy_q2_deg(const rj_model *m, const rj_state *s) { return rj_deg(rj_joint_theta_running(m, s, 1)) - 180.0; }
+
+#endif

@@ -1,0 +1,1141 @@
+/* rj_render.c - see rj_render.h. */
+#define GL_GLEXT_PROTOTYPES 1
+#include "rj_render.h"
+
+#include <errno.h>
+#include <math.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifdef RJ_RENDER_EGL
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <GL/gl.h>
+#include <GL/glext.h>
+#else
+#include <GL/osmesa.h>
+#include <GL/glext.h>
+#endif
+
+#include <png.h>
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+#define RJR_BATCH 24576            /* vertices per draw call (multiple of 3) */
+#define RJR_MAX_DIM 16384
+
+struct rjr_context {
+    int width, height;
+    int samples;
+    GLuint fbo_ms, rb_ms;          /* multisample target (samples > 1) */
+    GLuint fbo_rs, rb_rs;          /* single-sample resolve target, read back from here */
+#ifdef RJ_RENDER_EGL
+    EGLDisplay dpy;
+    EGLContext egl;
+#else
+    OSMesaContext osm;
+    unsigned char *osm_buf;        /* default framebuffer memory (required by OSMesa) */
+#endif
+    float *vxy;                    /* triangle batch: 2 floats and 4 bytes per vertex */
+    unsigned char *vcol;
+    int nv;
+    double *pa, *pb, *pc;          /* scratch point buffers (x, y pairs) */
+    size_t capa, capb, capc;       /* in points */
+    unsigned char *readbuf;        /* RGBA read-back buffer */
+    int in_frame, has_frame, failed;
+    char err[256];
+    char renderer[160], version[160];
+};
+
+static void set_err(char *err, size_t errlen, const char *msg)
+{
+    if (err && errlen) {
+        strncpy(err, msg, errlen - 1);
+        err[errlen - 1] = 0;
+    }
+}
+
+static void ctx_fail(rjr_context *c, const char *msg)
+{
+    if (!c->failed) set_err(c->err, sizeof c->err, msg);
+    c->failed = 1;
+}
+
+static int grow(double **buf, size_t *cap, size_t npts)
+{
+    double *nb;
+    size_t nc;
+    if (npts <= *cap) return 0;
+    nc = *cap ? *cap : 256;
+    while (nc < npts) nc *= 2;
+    nb = (double *)realloc(*buf, nc * 2 * sizeof(double));
+    if (!nb) return -1;
+    *buf = nb;
+    *cap = nc;
+    return 0;
+}
+
+/* ---- Backend: the only code that knows OSMesa / EGL ---------------------------------- */
+
+#ifdef RJ_RENDER_EGL
+static int be_create(rjr_context *c, char *err, size_t errlen)
+{
+    static const EGLint attr[] = { EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 0, EGL_NONE };
+    EGLint major, minor;
+    c->dpy = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
+    if (c->dpy == EGL_NO_DISPLAY) { set_err(err, errlen, "eglGetPlatformDisplay(surfaceless) failed"); return -1; }
+    if (!eglInitialize(c->dpy, &major, &minor)) { set_err(err, errlen, "eglInitialize failed"); return -1; }
+    if (!eglBindAPI(EGL_OPENGL_API)) { set_err(err, errlen, "eglBindAPI(EGL_OPENGL_API) failed"); eglTerminate(c->dpy); return -1; }
+    c->egl = eglCreateContext(c->dpy, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attr);
+    if (c->egl == EGL_NO_CONTEXT) { set_err(err, errlen, "eglCreateContext failed"); eglTerminate(c->dpy); return -1; }
+    if (!eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, c->egl)) {
+        set_err(err, errlen, "eglMakeCurrent(surfaceless) failed");
+        eglDestroyContext(c->dpy, c->egl);
+        eglTerminate(c->dpy);
+        return -1;
+    }
+    return 0;
+}
+static int be_make_current(rjr_context *c)
+{
+    if (eglGetCurrentContext() == c->egl) return 0;
+    return eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, c->egl) ? 0 : -1;
+}
+static int be_resize(rjr_context *c) { return be_make_current(c); }
+static void be_destroy(rjr_context *c)
+{
+    eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglDestroyContext(c->dpy, c->egl);
+    /* eglTerminate would also end other contexts on the shared display; leave it. */
+}
+static const char *be_name(void) { return "egl-surfaceless"; }
+#else
+static int be_bind(rjr_context *c)
+{
+    return OSMesaMakeCurrent(c->osm, c->osm_buf, GL_UNSIGNED_BYTE, c->width, c->height) ? 0 : -1;
+}
+static int be_create(rjr_context *c, char *err, size_t errlen)
+{
+    c->osm = OSMesaCreateContextExt(OSMESA_RGBA, 0, 0, 0, NULL);
+    if (!c->osm) { set_err(err, errlen, "OSMesaCreateContextExt failed"); return -1; }
+    c->osm_buf = (unsigned char *)malloc((size_t)c->width * (size_t)c->height * 4);
+    if (!c->osm_buf) { OSMesaDestroyContext(c->osm); set_err(err, errlen, "out of memory"); return -1; }
+    if (be_bind(c) != 0) {
+        OSMesaDestroyContext(c->osm);
+        free(c->osm_buf);
+        set_err(err, errlen, "OSMesaMakeCurrent failed");
+        return -1;
+    }
+    return 0;
+}
+static int be_make_current(rjr_context *c)
+{
+    if (OSMesaGetCurrentContext() == c->osm) return 0;
+    return be_bind(c);
+}
+static int be_resize(rjr_context *c)
+{
+    unsigned char *nb = (unsigned char *)realloc(c->osm_buf, (size_t)c->width * (size_t)c->height * 4);
+    if (!nb) return -1;
+    c->osm_buf = nb;
+    return be_bind(c);
+}
+static void be_destroy(rjr_context *c)
+{
+    OSMesaDestroyContext(c->osm);
+    free(c->osm_buf);
+}
+static const char *be_name(void) { return "osmesa"; }
+#endif
+
+/* ---- Context -------------------------------------------------------------------------- */
+
+static int fbo_attach(GLuint fbo, GLuint rb, int samples, int w, int h)
+{
+    glBindRenderbuffer(GL_RENDERBUFFER, rb);
+    if (samples > 1) glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_RGBA8, w, h);
+    else glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, rb);
+    return glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE ? 0 : -1;
+}
+
+static int fbo_setup(rjr_context *c, char *err, size_t errlen)
+{
+    GLint maxs = 1;
+    unsigned char *rb;
+    if (!c->fbo_rs) {
+        glGenFramebuffers(1, &c->fbo_rs);
+        glGenRenderbuffers(1, &c->rb_rs);
+        glGenFramebuffers(1, &c->fbo_ms);
+        glGenRenderbuffers(1, &c->rb_ms);
+    }
+    if (fbo_attach(c->fbo_rs, c->rb_rs, 1, c->width, c->height) != 0) {
+        set_err(err, errlen, "framebuffer object incomplete");
+        return -1;
+    }
+    glGetIntegerv(GL_MAX_SAMPLES, &maxs);
+    c->samples = maxs >= 4 ? 4 : (maxs >= 2 ? (int)maxs : 1);
+    if (c->samples > 1 && fbo_attach(c->fbo_ms, c->rb_ms, c->samples, c->width, c->height) != 0)
+        c->samples = 1;
+    rb = (unsigned char *)realloc(c->readbuf, (size_t)c->width * (size_t)c->height * 4);
+    if (!rb) { set_err(err, errlen, "out of memory"); return -1; }
+    c->readbuf = rb;
+    while (glGetError() != GL_NO_ERROR) {}
+    return 0;
+}
+
+static void copy_gl_string(char *dst, size_t n, GLenum name)
+{
+    const GLubyte *s = glGetString(name);
+    set_err(dst, n, s ? (const char *)s : "(unknown)");
+}
+
+rjr_context *rjr_create(int width, int height, char *err, size_t errlen)
+{
+    rjr_context *c;
+    set_err(err, errlen, "");
+    if (width < 1 || height < 1 || width > RJR_MAX_DIM || height > RJR_MAX_DIM) {
+        set_err(err, errlen, "rjr_create: size out of range 1..16384");
+        return NULL;
+    }
+    c = (rjr_context *)calloc(1, sizeof *c);
+    if (!c) { set_err(err, errlen, "out of memory"); return NULL; }
+    c->width = width;
+    c->height = height;
+    c->vxy = (float *)malloc(RJR_BATCH * 2 * sizeof(float));
+    c->vcol = (unsigned char *)malloc(RJR_BATCH * 4);
+    if (!c->vxy || !c->vcol || grow(&c->pa, &c->capa, 1024) || grow(&c->pb, &c->capb, 1024) ||
+        grow(&c->pc, &c->capc, 1024)) {
+        set_err(err, errlen, "out of memory");
+        free(c->vxy); free(c->vcol); free(c->pa); free(c->pb); free(c->pc); free(c);
+        return NULL;
+    }
+    if (be_create(c, err, errlen) != 0) {
+        free(c->vxy); free(c->vcol); free(c->pa); free(c->pb); free(c->pc); free(c);
+        return NULL;
+    }
+    copy_gl_string(c->renderer, sizeof c->renderer, GL_RENDERER);
+    copy_gl_string(c->version, sizeof c->version, GL_VERSION);
+    if (fbo_setup(c, err, errlen) != 0) {
+        rjr_destroy(c);
+        return NULL;
+    }
+    return c;
+}
+
+void rjr_destroy(rjr_context *c)
+{
+    if (!c) return;
+    if (be_make_current(c) == 0 && c->fbo_rs) {
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        glDeleteFramebuffers(1, &c->fbo_rs);
+        glDeleteFramebuffers(1, &c->fbo_ms);
+        glDeleteRenderbuffers(1, &c->rb_rs);
+        glDeleteRenderbuffers(1, &c->rb_ms);
+    }
+    be_destroy(c);
+    free(c->vxy); free(c->vcol); free(c->pa); free(c->pb); free(c->pc); free(c->readbuf);
+    free(c);
+}
+
+int rjr_resize(rjr_context *c, int width, int height)
+{
+    char e[200];
+    if (width < 1 || height < 1 || width > RJR_MAX_DIM || height > RJR_MAX_DIM) {
+        set_err(c->err, sizeof c->err, "rjr_resize: size out of range 1..16384");
+        return -1;
+    }
+    if (c->in_frame) { set_err(c->err, sizeof c->err, "rjr_resize: inside a frame"); return -1; }
+    if (width == c->width && height == c->height) return 0;
+    c->width = width;
+    c->height = height;
+    c->has_frame = 0;
+    if (be_resize(c) != 0) { set_err(c->err, sizeof c->err, "rjr_resize: make current failed"); return -1; }
+    if (fbo_setup(c, e, sizeof e) != 0) { set_err(c->err, sizeof c->err, e); return -1; }
+    return 0;
+}
+
+int rjr_width(const rjr_context *c) { return c->width; }
+int rjr_height(const rjr_context *c) { return c->height; }
+int rjr_samples(const rjr_context *c) { return c->samples; }
+const char *rjr_gl_renderer(const rjr_context *c) { return c->renderer; }
+const char *rjr_gl_version(const rjr_context *c) { return c->version; }
+const char *rjr_backend(const rjr_context *c) { (void)c; return be_name(); }
+const char *rjr_error(const rjr_context *c) { return c->err; }
+
+/* ---- Frames and the triangle batch ------------------------------------------------------ */
+
+static void flush(rjr_context *c)
+{
+    if (c->nv == 0) return;
+    glVertexPointer(2, GL_FLOAT, 0, c->vxy);
+    glColorPointer(4, GL_UNSIGNED_BYTE, 0, c->vcol);
+    glDrawArrays(GL_TRIANGLES, 0, c->nv);
+    c->nv = 0;
+}
+
+static void tri(rjr_context *c, double ax, double ay, double bx, double by, double cx, double cy, rjr_rgb col)
+{
+    float *v;
+    unsigned char *k;
+    int i;
+    if (!c->in_frame) { ctx_fail(c, "drawing outside rjr_begin/rjr_end"); return; }
+    if (c->nv + 3 > RJR_BATCH) flush(c);
+    v = c->vxy + 2 * c->nv;
+    k = c->vcol + 4 * c->nv;
+    v[0] = (float)ax; v[1] = (float)ay; v[2] = (float)bx; v[3] = (float)by; v[4] = (float)cx; v[5] = (float)cy;
+    for (i = 0; i < 3; i++) {
+        k[4 * i + 0] = (unsigned char)((col >> 16) & 255);
+        k[4 * i + 1] = (unsigned char)((col >> 8) & 255);
+        k[4 * i + 2] = (unsigned char)(col & 255);
+        k[4 * i + 3] = 255;
+    }
+    c->nv += 3;
+}
+
+static void quad(rjr_context *c, double ax, double ay, double bx, double by, double cx, double cy,
+                 double dx, double dy, rjr_rgb col)
+{
+    tri(c, ax, ay, bx, by, cx, cy, col);
+    tri(c, ax, ay, cx, cy, dx, dy, col);
+}
+
+int rjr_begin(rjr_context *c, rjr_rgb bg)
+{
+    if (c->in_frame) { set_err(c->err, sizeof c->err, "rjr_begin: frame already open"); return -1; }
+    if (be_make_current(c) != 0) { set_err(c->err, sizeof c->err, "rjr_begin: make current failed"); return -1; }
+    c->failed = 0;
+    c->err[0] = 0;
+    c->nv = 0;
+    glBindFramebuffer(GL_FRAMEBUFFER, c->samples > 1 ? c->fbo_ms : c->fbo_rs);
+    glViewport(0, 0, c->width, c->height);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_LIGHTING);
+    glDisable(GL_TEXTURE_2D);
+    glDisable(GL_DITHER);
+    if (c->samples > 1) glEnable(GL_MULTISAMPLE);
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    glOrtho(0.0, (double)c->width, (double)c->height, 0.0, -1.0, 1.0);
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glEnableClientState(GL_COLOR_ARRAY);
+    glClearColor((float)((bg >> 16) & 255) / 255.0f, (float)((bg >> 8) & 255) / 255.0f,
+                 (float)(bg & 255) / 255.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    c->in_frame = 1;
+    return 0;
+}
+
+int rjr_end(rjr_context *c)
+{
+    GLenum e;
+    if (!c->in_frame) { set_err(c->err, sizeof c->err, "rjr_end: no open frame"); return -1; }
+    flush(c);
+    glDisable(GL_SCISSOR_TEST);
+    if (c->samples > 1) {
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, c->fbo_ms);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, c->fbo_rs);
+        glBlitFramebuffer(0, 0, c->width, c->height, 0, 0, c->width, c->height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
+    glFinish();
+    c->in_frame = 0;
+    e = glGetError();
+    if (e != GL_NO_ERROR) {
+        char m[64];
+        snprintf(m, sizeof m, "OpenGL error 0x%04x", (unsigned)e);
+        ctx_fail(c, m);
+        while (glGetError() != GL_NO_ERROR) {}
+    }
+    c->has_frame = !c->failed;
+    return c->failed ? -1 : 0;
+}
+
+void rjr_clip(rjr_context *c, int x, int y, int w, int h)
+{
+    if (!c->in_frame) return;
+    flush(c);
+    if (w <= 0 || h <= 0) {
+        glDisable(GL_SCISSOR_TEST);
+        return;
+    }
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(x, c->height - (y + h), w, h);
+}
+
+int rjr_read_pixels(rjr_context *c, unsigned char *rgb)
+{
+    int y, x, w = c->width, h = c->height;
+    if (!c->has_frame) { set_err(c->err, sizeof c->err, "rjr_read_pixels: no finished frame"); return -1; }
+    if (be_make_current(c) != 0) { set_err(c->err, sizeof c->err, "rjr_read_pixels: make current failed"); return -1; }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, c->fbo_rs);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+    glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, c->readbuf);
+    if (glGetError() != GL_NO_ERROR) { set_err(c->err, sizeof c->err, "glReadPixels failed"); return -1; }
+    for (y = 0; y < h; y++) {                     /* GL rows are bottom-up */
+        const unsigned char *s = c->readbuf + (size_t)(h - 1 - y) * (size_t)w * 4;
+        unsigned char *d = rgb + (size_t)y * (size_t)w * 3;
+        for (x = 0; x < w; x++) {
+            d[0] = s[0]; d[1] = s[1]; d[2] = s[2];
+            d += 3; s += 4;
+        }
+    }
+    return 0;
+}
+
+/* ---- Geometry primitives ------------------------------------------------------------------ */
+
+static int disc_segments(double r)
+{
+    double step;
+    int n;
+    if (r <= 1.0) return 8;
+    step = 2.0 * acos(1.0 - 0.1 / r);            /* chord error 0.1 px */
+    n = (int)ceil(2.0 * M_PI / step);
+    return n < 8 ? 8 : (n > 96 ? 96 : n);
+}
+
+void rjr_disc(rjr_context *c, double x, double y, double r, rjr_rgb col)
+{
+    int i, n = disc_segments(r);
+    double px = x + r, py = y;
+    if (!(r > 0)) return;
+    for (i = 1; i <= n; i++) {
+        double a = 2.0 * M_PI * i / n;
+        double qx = x + r * cos(a), qy = y + r * sin(a);
+        tri(c, x, y, px, py, qx, qy, col);
+        px = qx; py = qy;
+    }
+}
+
+/* Annulus sector between radii r0 < r1 over screen angles a0..a1 (radians, y-down). */
+static void ring_sector(rjr_context *c, double x, double y, double r0, double r1, double a0, double a1, rjr_rgb col)
+{
+    int i, n = (int)ceil(fabs(a1 - a0) / (2.0 * M_PI) * disc_segments(r1));
+    double ca, sa, cb, sb;
+    if (n < 1) n = 1;
+    ca = cos(a0); sa = sin(a0);
+    for (i = 1; i <= n; i++) {
+        double a = a0 + (a1 - a0) * i / n;
+        cb = cos(a); sb = sin(a);
+        quad(c, x + r0 * ca, y + r0 * sa, x + r1 * ca, y + r1 * sa, x + r1 * cb, y + r1 * sb, x + r0 * cb, y + r0 * sb, col);
+        ca = cb; sa = sb;
+    }
+}
+
+void rjr_rect(rjr_context *c, double x, double y, double w, double h, rjr_rgb col)
+{
+    if (w <= 0 || h <= 0) return;
+    quad(c, x, y, x + w, y, x + w, y + h, x, y + h, col);
+}
+
+/* Outline of a rectangle with a line of width lw inside the edges. */
+static void rect_outline(rjr_context *c, double x, double y, double w, double h, double lw, rjr_rgb col)
+{
+    rjr_rect(c, x, y, w, lw, col);
+    rjr_rect(c, x, y + h - lw, w, lw, col);
+    rjr_rect(c, x, y + lw, lw, h - 2 * lw, col);
+    rjr_rect(c, x + w - lw, y + lw, lw, h - 2 * lw, col);
+}
+
+/* Fills the outer side of a join between directions (d0) and (d1) at P. */
+static void join(rjr_context *c, double px, double py, double d0x, double d0y, double d1x, double d1y, double hw, rjr_rgb col)
+{
+    double cr = d0x * d1y - d0y * d1x, dt = d0x * d1x + d0y * d1y;
+    double s, ax, ay, bx, by, ch;
+    if (fabs(cr) < 1e-9 && dt > 0) return;
+    s = cr > 0 ? -1.0 : 1.0;
+    ax = -d0y * hw * s; ay = d0x * hw * s;
+    bx = -d1y * hw * s; by = d1x * hw * s;
+    ch = sqrt(0.5 * (1.0 + dt));                  /* cos of half the turn angle */
+    if (ch > 0.5) {                               /* miter (turn < 120 degrees) */
+        double mx = ax + bx, my = ay + by, ml = sqrt(mx * mx + my * my);
+        double len = hw / ch;
+        mx = mx / ml * len; my = my / ml * len;
+        tri(c, px, py, px + ax, py + ay, px + mx, py + my, col);
+        tri(c, px, py, px + mx, py + my, px + bx, py + by, col);
+    } else {                                      /* round join */
+        double a0 = atan2(ay, ax);
+        double sw = atan2(ax * by - ay * bx, ax * bx + ay * by);
+        int i, n = (int)ceil(fabs(sw) / (2.0 * M_PI) * disc_segments(hw));
+        double qx = px + ax, qy = py + ay;
+        if (n < 1) n = 1;
+        for (i = 1; i <= n; i++) {
+            double a = a0 + sw * i / n;
+            double rx = px + hw * cos(a), ry = py + hw * sin(a);
+            tri(c, px, py, qx, qy, rx, ry, col);
+            qx = rx; qy = ry;
+        }
+    }
+}
+
+/* Thick polyline through n points p[2n] (pixels). caps: 0 butt, 1 round, 2 square (extend
+   by half the width). Joins are mitred, round when the turn exceeds 120 degrees. */
+static void stroke(rjr_context *c, const double *p, int n, double width, rjr_rgb col, int caps)
+{
+    double hw = 0.5 * width, *q, pdx = 0, pdy = 0;
+    int i, m = 0;
+    if (n < 1 || !(width > 0)) return;
+    if (grow(&c->pc, &c->capc, (size_t)n)) { ctx_fail(c, "out of memory"); return; }
+    q = c->pc;
+    for (i = 0; i < n; i++) {
+        if (!isfinite(p[2 * i]) || !isfinite(p[2 * i + 1])) continue;
+        if (m > 0 && fabs(p[2 * i] - q[2 * m - 2]) < 1e-4 && fabs(p[2 * i + 1] - q[2 * m - 1]) < 1e-4) continue;
+        q[2 * m] = p[2 * i];
+        q[2 * m + 1] = p[2 * i + 1];
+        m++;
+    }
+    if (m == 0) return;
+    if (m == 1) {
+        if (caps == 1) rjr_disc(c, q[0], q[1], hw, col);
+        else if (caps == 2) rjr_rect(c, q[0] - hw, q[1] - hw, width, width, col);
+        return;
+    }
+    for (i = 0; i + 1 < m; i++) {
+        double ax = q[2 * i], ay = q[2 * i + 1], bx = q[2 * i + 2], by = q[2 * i + 3];
+        double dx = bx - ax, dy = by - ay, l = sqrt(dx * dx + dy * dy), nx, ny;
+        dx /= l; dy /= l;
+        nx = -dy * hw; ny = dx * hw;
+        if (caps == 2 && i == 0) { ax -= dx * hw; ay -= dy * hw; }
+        if (caps == 2 && i + 2 == m) { bx += dx * hw; by += dy * hw; }
+        quad(c, ax + nx, ay + ny, ax - nx, ay - ny, bx - nx, by - ny, bx + nx, by + ny, col);
+        if (i > 0) join(c, q[2 * i], q[2 * i + 1], pdx, pdy, dx, dy, hw, col);
+        pdx = dx; pdy = dy;
+    }
+    if (caps == 1) {
+        rjr_disc(c, q[0], q[1], hw, col);
+        rjr_disc(c, q[2 * m - 2], q[2 * m - 1], hw, col);
+    }
+}
+
+/* Dashed polyline: dashes of length on, gaps off (pixels), butt caps. */
+static void stroke_dashed(rjr_context *c, const double *p, int n, double width, rjr_rgb col, double on, double off)
+{
+    double pos = 0.0;        /* distance into the current dash or gap */
+    int i, k, drawing = 1;
+    if (n < 2) return;
+    if (grow(&c->pb, &c->capb, (size_t)n + 2)) { ctx_fail(c, "out of memory"); return; }
+    c->pb[0] = p[0]; c->pb[1] = p[1]; k = 1;
+    for (i = 0; i + 1 < n; i++) {
+        double ax = p[2 * i], ay = p[2 * i + 1], bx = p[2 * i + 2], by = p[2 * i + 3];
+        double l = sqrt((bx - ax) * (bx - ax) + (by - ay) * (by - ay)), t = 0.0;
+        if (!isfinite(l)) continue;
+        while (t < l) {
+            double remain = (drawing ? on : off) - pos;
+            if (t + remain <= l) {                /* the dash or gap ends in this segment */
+                double x, y;
+                t += remain;
+                x = ax + (bx - ax) * (t / l);
+                y = ay + (by - ay) * (t / l);
+                if (drawing) {
+                    c->pb[2 * k] = x; c->pb[2 * k + 1] = y; k++;
+                    stroke(c, c->pb, k, width, col, 0);
+                    k = 0;
+                } else {
+                    c->pb[0] = x; c->pb[1] = y; k = 1;
+                }
+                drawing = !drawing;
+                pos = 0.0;
+            } else {
+                pos += l - t;
+                t = l;
+                if (drawing) { c->pb[2 * k] = bx; c->pb[2 * k + 1] = by; k++; }
+            }
+        }
+    }
+    if (drawing && k > 1) stroke(c, c->pb, k, width, col, 0);
+}
+
+void rjr_line(rjr_context *c, double x0, double y0, double x1, double y1, double width, rjr_rgb col)
+{
+    double p[4];
+    p[0] = x0; p[1] = y0; p[2] = x1; p[3] = y1;
+    stroke(c, p, 2, width, col, 1);
+}
+
+void rjr_polyline(rjr_context *c, const double *xy, int n, double width, rjr_rgb col, int dashed)
+{
+    if (dashed) stroke_dashed(c, xy, n, width, col, width * 4 + 2, width * 2.5 + 2);
+    else stroke(c, xy, n, width, col, 1);
+}
+
+/* Arc of radius r around (x, y) from world angle a0 to a1 (radians, counter-clockwise on
+   screen) as a stroke of the given width. */
+static void arc_stroke(rjr_context *c, double x, double y, double r, double a0, double a1, double width, rjr_rgb col, int caps)
+{
+    int i, n = (int)ceil(fabs(a1 - a0) / (2.0 * M_PI) * disc_segments(r));
+    if (n < 1) n = 1;
+    if (grow(&c->pa, &c->capa, (size_t)n + 1)) { ctx_fail(c, "out of memory"); return; }
+    for (i = 0; i <= n; i++) {
+        double a = a0 + (a1 - a0) * i / n;
+        c->pa[2 * i] = x + r * cos(a);
+        c->pa[2 * i + 1] = y - r * sin(a);
+    }
+    stroke(c, c->pa, n + 1, width, col, caps);
+}
+
+/* ---- Stroke font ------------------------------------------------------------------------
+   Glyph coordinates: y up, baseline 0, capitals 12 high, x-height 8, descenders to -4.
+   Path language: "M x y" starts a stroke, "L x y" adds a point, "A cx cy rx ry a0 a1" adds
+   an elliptic arc from angle a0 to a1 (degrees, counter-clockwise positive; joined to the
+   current stroke if there is one), "|" ends the stroke. Strokes have round caps and joins. */
+
+typedef struct glyph { char ch; float w; const char *path; } glyph;
+
+static const glyph font_glyphs[] = {
+    { ' ', 4.0f, "" },
+    { '0', 7.0f, "A3.5 6 3.5 6 0 360" },
+    { '1', 7.0f, "M1.2 9.6 L4 12 L4 0|M1.2 0 L6.8 0" },
+    { '2', 7.0f, "A3.5 8.5 3.4 3.5 160 -35 L0 0 L7 0" },
+    { '3', 7.0f, "A3.5 9.25 3.2 2.75 160 -90 A3.5 3.25 3.5 3.25 90 -160" },
+    { '4', 7.0f, "M5.2 0 L5.2 12 L0 3.6 L7 3.6" },
+    { '5', 7.0f, "M6.6 12 L1 12 L0.6 6.6 A3.4 4 3.6 4 140 -150" },
+    { '6', 7.0f, "A3.5 3.8 3.5 3.8 0 360|M0 3.8 A6.5 3.8 6.5 8.2 180 100" },
+    { '7', 7.0f, "M0 12 L7 12 L2.4 0" },
+    { '8', 7.0f, "A3.5 9.1 3.0 2.9 -90 270|A3.5 3.1 3.5 3.1 90 450" },
+    { '9', 7.0f, "A3.5 8.2 3.5 3.8 0 360|M7 8.2 A0.5 8.2 6.5 8.2 0 -80" },
+    { 'A', 8.0f, "M0 0 L4 12 L8 0|M1.4 4.2 L6.6 4.2" },
+    { 'B', 7.2f, "M0 6.4 L4 6.4|M0 0 L0 12 L3.8 12 A3.8 9.2 2.9 2.8 90 -90 L0 6.4|M4 6.4 A4 3.2 3.2 3.2 90 -90 L0 0" },
+    { 'C', 8.0f, "A4.3 6 4.3 6 45 315" },
+    { 'D', 8.0f, "M0 0 L0 12 L2.8 12 A2.8 6 5.2 6 90 -90 L0 0" },
+    { 'E', 7.0f, "M7 12 L0 12 L0 0 L7 0|M0 6.2 L5.6 6.2" },
+    { 'F', 7.0f, "M7 12 L0 12 L0 0|M0 6.2 L5.6 6.2" },
+    { 'G', 8.4f, "A4.3 6 4.3 6 45 360 L8.6 5.4 L5 5.4" },
+    { 'H', 7.6f, "M0 0 L0 12|M7.6 0 L7.6 12|M0 6.2 L7.6 6.2" },
+    { 'I', 3.0f, "M1.5 0 L1.5 12|M0 12 L3 12|M0 0 L3 0" },
+    { 'J', 6.0f, "M6 12 L6 3 A3 3 3 3 0 -170" },
+    { 'K', 7.4f, "M0 0 L0 12|M7.4 12 L0 4|M2.8 7 L7.4 0" },
+    { 'L', 6.6f, "M0 12 L0 0 L6.6 0" },
+    { 'M', 9.0f, "M0 0 L0 12 L4.5 3 L9 12 L9 0" },
+    { 'N', 7.6f, "M0 0 L0 12 L7.6 0 L7.6 12" },
+    { 'O', 9.0f, "A4.5 6 4.5 6 0 360" },
+    { 'P', 7.0f, "M0 0 L0 12 L3.8 12 A3.8 9 3.2 3 90 -90 L0 6" },
+    { 'Q', 9.0f, "A4.5 6 4.5 6 0 360|M5.6 3 L9 -0.6" },
+    { 'R', 7.4f, "M0 0 L0 12 L3.8 12 A3.8 9 3.2 3 90 -90 L0 6|M3.8 6 L7.4 0" },
+    { 'S', 7.0f, "A3.6 9 3.2 3 20 270 A3.5 3 3.5 3 90 -160" },
+    { 'T', 8.0f, "M0 12 L8 12|M4 12 L4 0" },
+    { 'U', 7.6f, "M0 12 L0 4 A3.8 4 3.8 4 180 360 L7.6 12" },
+    { 'V', 8.0f, "M0 12 L4 0 L8 12" },
+    { 'W', 11.0f, "M0 12 L2.75 0 L5.5 9 L8.25 0 L11 12" },
+    { 'X', 8.0f, "M0 12 L8 0|M0 0 L8 12" },
+    { 'Y', 8.0f, "M0 12 L4 6 L8 12|M4 6 L4 0" },
+    { 'Z', 7.6f, "M0 12 L7.6 12 L0 0 L7.6 0" },
+    { 'a', 6.4f, "A3.2 4 3.2 4 0 360|M6.4 8 L6.4 0" },
+    { 'b', 6.4f, "M0 12 L0 0|A3.2 4 3.2 4 0 360" },
+    { 'c', 6.2f, "A3.4 4 3.4 4 45 315" },
+    { 'd', 6.4f, "A3.2 4 3.2 4 0 360|M6.4 12 L6.4 0" },
+    { 'e', 6.6f, "M0.1 4 L6.6 4 A3.35 4 3.25 4 0 320" },
+    { 'f', 5.0f, "A3.8 9.6 2 2.4 30 180 L1.8 0|M0 8 L4.6 8" },
+    { 'g', 6.4f, "A3.2 4 3.2 4 0 360|M6.4 8 L6.4 -1 A3.2 -1 3.2 3 0 -165" },
+    { 'h', 6.4f, "M0 12 L0 0|M0 5 A3.2 5 3.2 3 180 0 L6.4 0" },
+    { 'i', 1.0f, "M0.5 0 L0.5 8|M0.5 10.6 L0.5 11" },
+    { 'j', 3.0f, "M2.5 8 L2.5 -1.5 A0 -1.5 2.5 2.5 0 -120|M2.5 10.6 L2.5 11" },
+    { 'k', 6.0f, "M0 12 L0 0|M6 8 L0 2.6|M2.2 4.6 L6 0" },
+    { 'l', 1.0f, "M0.5 12 L0.5 0" },
+    { 'm', 10.0f, "M0 8 L0 0|M0 5 A2.5 5 2.5 3 180 0 L5 0|M5 5 A7.5 5 2.5 3 180 0 L10 0" },
+    { 'n', 6.4f, "M0 8 L0 0|M0 5 A3.2 5 3.2 3 180 0 L6.4 0" },
+    { 'o', 6.8f, "A3.4 4 3.4 4 0 360" },
+    { 'p', 6.4f, "M0 8 L0 -4|A3.2 4 3.2 4 0 360" },
+    { 'q', 6.4f, "A3.2 4 3.2 4 0 360|M6.4 8 L6.4 -4" },
+    { 'r', 4.8f, "M0 8 L0 0|M0 4.4 A4 4.4 4 3.6 180 80" },
+    { 's', 6.0f, "A3.1 6 2.8 2 25 270 A3 2 3 2 90 -155" },
+    { 't', 4.6f, "M1.5 11 L1.5 1.6 A3.1 1.6 1.6 1.6 180 300|M0 8 L4.4 8" },
+    { 'u', 6.4f, "M0 8 L0 3 A3.2 3 3.2 3 180 360|M6.4 8 L6.4 0" },
+    { 'v', 6.4f, "M0 8 L3.2 0 L6.4 8" },
+    { 'w', 9.0f, "M0 8 L2.25 0 L4.5 6 L6.75 0 L9 8" },
+    { 'x', 6.0f, "M0 8 L6 0|M0 0 L6 8" },
+    { 'y', 6.4f, "M0 8 L3.3 0|M6.4 8 L2.2 -2.8 A0.8 -3.3 1.4 0.9 -20 -120" },
+    { 'z', 6.0f, "M0 8 L6 8 L0 0 L6 0" },
+    { '.', 1.0f, "M0.5 0.2 L0.5 0.6" },
+    { ',', 1.5f, "M1 0.6 L1 0 L0 -2.2" },
+    { '-', 5.0f, "M0.5 4.6 L4.5 4.6" },
+    { '+', 7.0f, "M0 5 L7 5|M3.5 1.5 L3.5 8.5" },
+    { '=', 7.0f, "M0 3.4 L7 3.4|M0 6.6 L7 6.6" },
+    { '(', 3.0f, "A6 4.5 6 8.6 122 238" },
+    { ')', 3.0f, "A-3 4.5 6 8.6 58 -58" },
+    { '[', 3.0f, "M3 12.5 L0.3 12.5 L0.3 -3 L3 -3" },
+    { ']', 3.0f, "M0 12.5 L2.7 12.5 L2.7 -3 L0 -3" },
+    { '/', 5.0f, "M0 -2 L5 12.5" },
+    { ':', 1.0f, "M0.5 0.2 L0.5 0.6|M0.5 6.4 L0.5 6.8" },
+    { '%', 9.0f, "M0.4 0 L8.6 12|A2 9.6 2 2.4 0 360|A7 2.4 2 2.4 0 360" },
+    { '_', 7.0f, "M0 -2 L7 -2" },
+    { '\'', 1.0f, "M0.5 12 L0.5 9" },
+    { '*', 6.0f, "M3 12 L3 6|M0.4 10.5 L5.6 7.5|M0.4 7.5 L5.6 10.5" },
+    { '<', 6.0f, "M6 9.5 L0 5 L6 0.5" },
+    { '>', 6.0f, "M0 9.5 L6 5 L0 0.5" },
+    { '!', 1.0f, "M0.5 12 L0.5 3.5|M0.5 0.2 L0.5 0.6" },
+    { '?', 6.0f, "A3 9 3 3 160 -60 A4.5 5 2 2 120 180 L2.5 3.5|M2.5 0.2 L2.5 0.6" },
+    { '#', 8.0f, "M2.5 0 L3.5 12|M5 0 L6 12|M0.5 4 L8 4|M0.5 8 L8 8" },
+};
+
+#define FONT_CAP 12.0
+#define FONT_DESC 4.0
+#define FONT_GAP 3.0
+static const glyph font_unknown = { '?', 6.0f, "M0 0 L6 0 L6 12 L0 12 L0 0" };
+
+static const glyph *font_find(int ch)
+{
+    size_t i;
+    for (i = 0; i < sizeof font_glyphs / sizeof font_glyphs[0]; i++)
+        if (font_glyphs[i].ch == ch) return &font_glyphs[i];
+    return &font_unknown;
+}
+
+static const char *parse_num(const char *p, double *v)
+{
+    double sign = 1.0, x = 0.0, f = 0.1;
+    while (*p == ' ' || *p == ',') p++;
+    if (*p == '-') { sign = -1.0; p++; }
+    while (*p >= '0' && *p <= '9') x = x * 10.0 + (*p++ - '0');
+    if (*p == '.') {
+        p++;
+        while (*p >= '0' && *p <= '9') { x += f * (*p++ - '0'); f *= 0.1; }
+    }
+    *v = sign * x;
+    return p;
+}
+
+double rjr_text_width(const char *s, double size_px)
+{
+    double w = 0.0;
+    int n = 0;
+    if (!s) return 0.0;
+    for (; *s; s++, n++) w += font_find((unsigned char)*s)->w + FONT_GAP;
+    if (n > 0) w -= FONT_GAP;
+    return w * size_px / FONT_CAP;
+}
+
+typedef struct text_xf { double ox, oy, dx, dy, ux, uy, sc; } text_xf;   /* origin, baseline dir, up dir, scale */
+
+static void glyph_point(const text_xf *t, double pen, double u, double v, double *x, double *y)
+{
+    double a = (pen + u) * t->sc, b = v * t->sc;
+    *x = t->ox + a * t->dx + b * t->ux;
+    *y = t->oy + a * t->dy + b * t->uy;
+}
+
+static void draw_glyph(rjr_context *c, const glyph *g, const text_xf *t, double pen, double sw, rjr_rgb col)
+{
+    const char *p = g->path;
+    int k = 0;
+    while (*p) {
+        char cmd = *p++;
+        if (cmd == ' ') continue;
+        if (cmd == '|' || cmd == 'M') {
+            if (k > 0) stroke(c, c->pa, k, sw, col, 1);
+            k = 0;
+        }
+        if (cmd == 'M' || cmd == 'L') {
+            double u, v;
+            p = parse_num(p, &u);
+            p = parse_num(p, &v);
+            if (grow(&c->pa, &c->capa, (size_t)k + 1)) { ctx_fail(c, "out of memory"); return; }
+            glyph_point(t, pen, u, v, &c->pa[2 * k], &c->pa[2 * k + 1]);
+            k++;
+        } else if (cmd == 'A') {
+            double cx, cy, rx, ry, a0, a1, rpx;
+            int i, n;
+            p = parse_num(p, &cx); p = parse_num(p, &cy); p = parse_num(p, &rx);
+            p = parse_num(p, &ry); p = parse_num(p, &a0); p = parse_num(p, &a1);
+            rpx = (rx > ry ? rx : ry) * t->sc;
+            n = (int)ceil(fabs(a1 - a0) / 360.0 * (rpx * 3.0 < 16 ? 16 : (rpx * 3.0 > 72 ? 72 : rpx * 3.0)));
+            if (n < 2) n = 2;
+            if (grow(&c->pa, &c->capa, (size_t)k + (size_t)n + 1)) { ctx_fail(c, "out of memory"); return; }
+            for (i = 0; i <= n; i++) {
+                double a = (a0 + (a1 - a0) * i / n) * (M_PI / 180.0);
+                glyph_point(t, pen, cx + rx * cos(a), cy + ry * sin(a), &c->pa[2 * k], &c->pa[2 * k + 1]);
+                k++;
+            }
+        }
+    }
+    if (k > 0) stroke(c, c->pa, k, sw, col, 1);
+}
+
+double rjr_text(rjr_context *c, double x, double y, double size_px, double angle_deg, int align, rjr_rgb col, const char *s)
+{
+    text_xf t;
+    double w, a = angle_deg * (M_PI / 180.0), hoff, voff, pen = 0.0;
+    double sw = size_px * 0.095 < 1.0 ? 1.0 : size_px * 0.095;
+    if (!s || !(size_px > 0)) return 0.0;
+    w = rjr_text_width(s, size_px);
+    t.sc = size_px / FONT_CAP;
+    t.dx = cos(a); t.dy = -sin(a);          /* baseline direction on screen (y down) */
+    t.ux = -sin(a); t.uy = -cos(a);         /* up direction */
+    switch (align & 3) {
+    case RJR_CENTER: hoff = -0.5 * w; break;
+    case RJR_RIGHT: hoff = -w; break;
+    default: hoff = 0.0; break;
+    }
+    switch (align & 12) {
+    case RJR_TOP: voff = -size_px; break;
+    case RJR_MIDDLE: voff = -0.5 * size_px; break;
+    case RJR_BOTTOM: voff = FONT_DESC * t.sc; break;
+    default: voff = 0.0; break;
+    }
+    t.ox = x + hoff * t.dx + voff * t.ux;
+    t.oy = y + hoff * t.dy + voff * t.uy;
+    for (; *s; s++) {
+        const glyph *g = font_find((unsigned char)*s);
+        draw_glyph(c, g, &t, pen, sw, col);
+        pen += g->w + FONT_GAP;
+    }
+    return w;
+}
+
+/* ---- Mechanism frames ------------------------------------------------------------------ */
+
+static const rjr_rgb link_fill[] = { 0x8db3e2, 0x9fcf9a, 0xf2c27e, 0xc3a8e0, 0xe8a3a8, 0x8fd3d0 };
+#define COL_INK      0x262626u
+#define COL_GROUND   0x4d4d4du
+#define COL_GROUNDF  0xd9d9d9u
+#define COL_ARC      0x9aa7b8u
+#define COL_STOP     0x3d3d3du
+#define COL_FREE     0x1f5fbfu
+#define COL_LIMIT    0xf08c00u
+#define COL_LOCKED   0xd01f1fu
+
+static rjr_rgb darker(rjr_rgb c, double f)
+{
+    unsigned r = (unsigned)(((c >> 16) & 255) * f), g = (unsigned)(((c >> 8) & 255) * f), b = (unsigned)((c & 255) * f);
+    return (rjr_rgb)((r << 16) | (g << 8) | b);
+}
+
+rjr_view rjr_view_default(void)
+{
+    rjr_view v;
+    memset(&v, 0, sizeof v);
+    v.mpp = 0.005;
+    v.thickness_factor = 1.0;
+    v.min_thickness_px = 3.0;
+    v.show_time = 1;
+    v.show_scale = 1;
+    v.show_limits = 1;
+    v.show_ground = 1;
+    v.background = 0xffffff;
+    return v;
+}
+
+void rjr_bbox_init(double box[4])
+{
+    box[0] = box[1] = HUGE_VAL;
+    box[2] = box[3] = -HUGE_VAL;
+}
+
+static void bbox_pt(double box[4], const double p[2])
+{
+    if (!isfinite(p[0]) || !isfinite(p[1])) return;
+    if (p[0] < box[0]) box[0] = p[0];
+    if (p[1] < box[1]) box[1] = p[1];
+    if (p[0] > box[2]) box[2] = p[0];
+    if (p[1] > box[3]) box[3] = p[1];
+}
+
+void rjr_bbox_add(double box[4], const rj_model *m, const rj_state *s)
+{
+    int l, k, j, nl = rj_model_link_count(m), nj = rj_model_joint_count(m);
+    double p[2];
+    for (l = 0; l < nl; l++)
+        for (k = 0; k < rj_link_node_count(m, l); k++) {
+            rj_node_position(m, s, l, k, p);
+            bbox_pt(box, p);
+        }
+    for (j = 0; j < nj; j++) {
+        const rj_joint_def *jd = rj_model_joint_def(m, j);
+        rj_joint_position(m, s, j, p);
+        bbox_pt(box, p);
+        if (jd->body1 < 0) {
+            p[0] = jd->ground_x; p[1] = jd->ground_y;
+            bbox_pt(box, p);
+        }
+    }
+}
+
+int rjr_view_fit_box(rjr_view *v, const double box[4], int width, int height, double margin_px)
+{
+    double bw, bh, aw, ah, mpp;
+    if (!(box[2] >= box[0]) || !(box[3] >= box[1]) || width < 1 || height < 1) return -1;
+    bw = box[2] - box[0];
+    bh = box[3] - box[1];
+    aw = width - 2.0 * margin_px;
+    ah = height - 2.0 * margin_px;
+    if (aw < 1.0) aw = 1.0;
+    if (ah < 1.0) ah = 1.0;
+    mpp = bw / aw > bh / ah ? bw / aw : bh / ah;
+    if (!(mpp > 0)) mpp = v->mpp > 0 ? v->mpp : 0.005;
+    v->mpp = mpp;
+    v->cx = 0.5 * (box[0] + box[2]);
+    v->cy = 0.5 * (box[1] + box[3]);
+    return 0;
+}
+
+int rjr_view_fit(rjr_view *v, const rj_model *m, const rj_state *s, int width, int height, double margin_px)
+{
+    double box[4];
+    rjr_bbox_init(box);
+    rjr_bbox_add(box, m, s);
+    return rjr_view_fit_box(v, box, width, height, margin_px);
+}
+
+typedef struct scene_xf { double cx, cy, mpp, hw, hh; } scene_xf;
+
+static void w2p(const scene_xf *t, const double w[2], double *x, double *y)
+{
+    *x = t->hw + (w[0] - t->cx) / t->mpp;
+    *y = t->hh - (w[1] - t->cy) / t->mpp;
+}
+
+void rjr_world_to_pixel(const rjr_context *c, const rjr_view *v, double x, double y, double *px, double *py)
+{
+    *px = 0.5 * c->width + (x - v->cx) / v->mpp;
+    *py = 0.5 * c->height - (y - v->cy) / v->mpp;
+}
+
+static double link_thickness_px(const rj_model *m, int l, const rjr_view *v)
+{
+    double h = rj_model_link_def(m, l)->height, t = h > 0 ? h * v->thickness_factor / v->mpp : 0.0;
+    return t > v->min_thickness_px ? t : v->min_thickness_px;
+}
+
+/* Hatched ground line from (x0,y0) to (x1,y1); hatches go to the side (hx, hy) (unit). */
+static void ground_line(rjr_context *c, double x0, double y0, double x1, double y1, double hx, double hy, double hl)
+{
+    double dx = x1 - x0, dy = y1 - y0, l = sqrt(dx * dx + dy * dy), sp = hl * 0.75;
+    int i, n = (int)floor(l / sp);
+    rjr_line(c, x0, y0, x1, y1, 2.0, COL_GROUND);
+    for (i = 0; i <= n; i++) {
+        double f = (l - n * sp) * 0.5 / l + (double)i * sp / l;
+        double px = x0 + dx * f, py = y0 + dy * f;
+        /* hatches slanted 45 degrees against the line direction */
+        double ex = px + (hx - dx / l) * hl * 0.7071, ey = py + (hy - dy / l) * hl * 0.7071;
+        stroke(c, (double[]){ px, py, ex, ey }, 2, 1.2, COL_GROUND, 0);
+    }
+}
+
+/* Pin support: triangle below (px, py) on a hatched ground line. */
+static void pin_support(rjr_context *c, double px, double py, double s)
+{
+    double hb = 0.62 * s, tri_pts[8];
+    tri(c, px, py, px - hb, py + s, px + hb, py + s, COL_GROUNDF);
+    tri_pts[0] = px - hb; tri_pts[1] = py + s; tri_pts[2] = px; tri_pts[3] = py;
+    tri_pts[4] = px + hb; tri_pts[5] = py + s; tri_pts[6] = px - hb; tri_pts[7] = py + s;
+    stroke(c, tri_pts, 4, 1.5, COL_GROUND, 1);
+    ground_line(c, px - 1.05 * s, py + s, px + 1.05 * s, py + s, 0.0, 1.0, 0.38 * s);
+}
+
+static void fmt_len(char *buf, size_t n, double L)
+{
+    if (L >= 1.0) snprintf(buf, n, "%g m", L);
+    else if (L >= 1e-3) snprintf(buf, n, "%g mm", L * 1e3);
+    else snprintf(buf, n, "%g um", L * 1e6);
+}
+
+static double nice_floor(double v)
+{
+    double e = pow(10.0, floor(log10(v))), f = v / e;
+    return (f >= 5.0 ? 5.0 : (f >= 2.0 ? 2.0 : 1.0)) * e;
+}
+
+static double joint_ref_angle(const rj_model *m, const rj_state *s, const rj_joint_def *jd)
+{
+    int nn, n1, nb;
+    double a[2], b[2];
+    if (jd->body1 < 0) return jd->ground_angle;
+    nn = rj_link_node_count(m, jd->body1);
+    n1 = jd->node1 < 0 ? nn - 1 : jd->node1;
+    nb = n1 > 0 ? n1 - 1 : 1;
+    rj_node_position(m, s, jd->body1, n1, a);
+    rj_node_position(m, s, jd->body1, nb, b);
+    return atan2(b[1] - a[1], b[0] - a[0]);
+}
+
+int rjr_draw_scene(rjr_context *c, const rj_model *m, const rj_state *s, const rjr_view *v)
+{
+    int nl, nj, l, j, k;
+    scene_xf t;
+    double f, tmax = 0.0;
+    char buf[64];
+    if (!c->in_frame) { set_err(c->err, sizeof c->err, "rjr_draw_scene: no open frame"); return -1; }
+    if (!(v->mpp > 0) || !isfinite(v->cx) || !isfinite(v->cy)) { ctx_fail(c, "rjr_draw_scene: bad view"); return -1; }
+    nl = rj_model_link_count(m);
+    nj = rj_model_joint_count(m);
+    t.cx = v->cx; t.cy = v->cy; t.mpp = v->mpp; t.hw = 0.5 * c->width; t.hh = 0.5 * c->height;
+    f = v->font_px > 0 ? v->font_px : (c->height * 0.028 < 11 ? 11 : (c->height * 0.028 > 18 ? 18 : c->height * 0.028));
+    for (l = 0; l < nl; l++) {
+        double th = link_thickness_px(m, l, v);
+        if (th > tmax) tmax = th;
+    }
+
+    /* Ground: pins of ground joints, supports of root links. */
+    if (v->show_ground) {
+        for (j = 0; j < nj; j++) {
+            const rj_joint_def *jd = rj_model_joint_def(m, j);
+            double g[2], px, py, th;
+            if (jd->body1 >= 0) continue;
+            th = link_thickness_px(m, jd->body2, v);
+            g[0] = jd->ground_x; g[1] = jd->ground_y;
+            w2p(&t, g, &px, &py);
+            pin_support(c, px, py, th * 1.1 < 14 ? 14 : (th * 1.1 > 48 ? 48 : th * 1.1));
+        }
+        for (l = 0; l < nl; l++) {
+            const rj_link_def *ld = rj_model_link_def(m, l);
+            int is_body2 = 0;
+            double p0[2], p1[2], x0, y0, x1, y1, dx, dy, dl, th, hl;
+            for (j = 0; j < nj; j++)
+                if (rj_model_joint_def(m, j)->body2 == l) is_body2 = 1;
+            if (is_body2 || ld->root == RJ_ROOT_FREE) continue;
+            th = link_thickness_px(m, l, v);
+            rj_node_position(m, s, l, 0, p0);
+            rj_node_position(m, s, l, 1, p1);
+            w2p(&t, p0, &x0, &y0);
+            w2p(&t, p1, &x1, &y1);
+            if (ld->root == RJ_ROOT_PINNED) {
+                pin_support(c, x0, y0, th * 1.1 < 14 ? 14 : (th * 1.1 > 48 ? 48 : th * 1.1));
+                continue;
+            }
+            dx = x1 - x0; dy = y1 - y0; dl = sqrt(dx * dx + dy * dy);
+            if (!(dl > 0)) { dx = 1; dy = 0; dl = 1; }
+            dx /= dl; dy /= dl;
+            hl = 0.5 * th + (th * 0.5 > 8 ? th * 0.5 : 8);   /* half length of the wall */
+            /* wall across the root, hatched on the side away from the link */
+            ground_line(c, x0 - dx * 1.0 + dy * hl, y0 - dy * 1.0 - dx * hl,
+                        x0 - dx * 1.0 - dy * hl, y0 - dy * 1.0 + dx * hl, -dx, -dy, hl * 0.45 < 6 ? 6 : hl * 0.45);
+        }
+    }
+
+    /* Links: outline strip, then the fill strip on top. */
+    for (l = 0; l < nl; l++) {
+        int nn = rj_link_node_count(m, l);
+        double th = link_thickness_px(m, l, v), ow = th < 6 ? 0.8 : 1.2, *p, ex, ey, el;
+        rjr_rgb fill = link_fill[l % (int)(sizeof link_fill / sizeof link_fill[0])];
+        if (grow(&c->pa, &c->capa, (size_t)nn)) { ctx_fail(c, "out of memory"); return -1; }
+        p = c->pa;
+        for (k = 0; k < nn; k++) {
+            double w[2];
+            rj_node_position(m, s, l, k, w);
+            w2p(&t, w, &p[2 * k], &p[2 * k + 1]);
+        }
+        if (th < 4.5) {                       /* thin: a single dark strip */
+            stroke(c, p, nn, th, darker(fill, 0.55), 0);
+            continue;
+        }
+        /* extend the ends by the outline width for the outline pass */
+        ex = p[2] - p[0]; ey = p[3] - p[1]; el = sqrt(ex * ex + ey * ey);
+        if (el > 0) { p[0] -= ex / el * ow; p[1] -= ey / el * ow; }
+        ex = p[2 * nn - 2] - p[2 * nn - 4]; ey = p[2 * nn - 1] - p[2 * nn - 3]; el = sqrt(ex * ex + ey * ey);
+        if (el > 0) { p[2 * nn - 2] += ex / el * ow; p[2 * nn - 1] += ey / el * ow; }
+        stroke(c, p, nn, th + 2 * ow, darker(fill, 0.45), 0);
+        for (k = 0; k < nn; k++) {
+            double w[2];
+            rj_node_position(m, s, l, k, w);
+            w2p(&t, w, &p[2 * k], &p[2 * k + 1]);
+        }
+        stroke(c, p, nn, th, fill, 0);
+    }
+
+    if (v->show_nodes)
+        for (l = 0; l < nl; l++)
+            for (k = 0; k < rj_link_node_count(m, l); k++) {
+                double w[2], x, y;
+                rj_node_position(m, s, l, k, w);
+                w2p(&t, w, &x, &y);
+                rjr_disc(c, x, y, 1.6, COL_INK);
+            }
+
+    /* Tip masses: dark squares along the last element. */
+    for (l = 0; l < nl; l++) {
+        const rj_link_def *ld = rj_model_link_def(m, l);
+        int nn = rj_link_node_count(m, l);
+        double a[2], b[2], ax, ay, bx, by, dx, dy, dl, h;
+        if (!(ld->tip_mass > 0)) continue;
+        rj_node_position(m, s, l, nn - 2, a);
+        rj_node_position(m, s, l, nn - 1, b);
+        w2p(&t, a, &ax, &ay);
+        w2p(&t, b, &bx, &by);
+        dx = bx - ax; dy = by - ay; dl = sqrt(dx * dx + dy * dy);
+        if (!(dl > 0)) { dx = 1; dy = 0; dl = 1; }
+        dx /= dl; dy /= dl;
+        h = 0.5 * link_thickness_px(m, l, v) * 1.7;
+        if (h < 5) h = 5;
+        quad(c, bx + (dx - dy) * h, by + (dy + dx) * h, bx + (-dx - dy) * h, by + (-dy + dx) * h,
+             bx + (-dx + dy) * h, by + (-dy - dx) * h, bx + (dx + dy) * h, by + (dy - dx) * h, COL_INK);
+        h -= 1.5;
+        quad(c, bx + (dx - dy) * h, by + (dy + dx) * h, bx + (-dx - dy) * h, by + (-dy + dx) * h,
+             bx + (-dx + dy) * h, by + (-dy - dx) * h, bx + (dx + dy) * h, by + (dy - dx) * h, 0x5a5a5a);
+    }
+
+    /* Joints: limit arc, stops, needle, pin. */
+    for (j = 0; j < nj; j++) {
+        const rj_joint_def *jd = rj_model_joint_def(m, j);
+        double p[2], x, y, th = link_thickness_px(m, jd->body2, v), R, rp, ref, a0, a1, ang;
+        int flag = rj_joint_flag(m, s, j);
+        rjr_rgb fc = flag == RJ_LOCKED ? COL_LOCKED : (flag == RJ_FREE ? COL_FREE : COL_LIMIT);
+        if (jd->body1 >= 0) {
+            double t1 = link_thickness_px(m, jd->body1, v);
+            if (t1 > th) th = t1;
+        }
+        rj_joint_position(m, s, j, p);
+        w2p(&t, p, &x, &y);
+        rp = th * 0.3 < 2.5 ? 2.5 : (th * 0.3 > 12 ? 12 : th * 0.3);
+        if (v->show_limits) {
+            R = th * 0.5 + 9 > 14 ? th * 0.5 + 9 : 14;
+            ref = joint_ref_angle(m, s, jd);
+            a0 = jd->has_reverse ? jd->reverse : 0.0;
+            a1 = jd->has_forward ? jd->forward : 2.0 * M_PI;
+            if (a1 < a0) a1 += 2.0 * M_PI;
+            /* reference direction: short thin tick */
+            rjr_line(c, x + (R - 5) * cos(ref), y - (R - 5) * sin(ref), x + (R + 3) * cos(ref), y - (R + 3) * sin(ref), 1.0, COL_ARC);
+            arc_stroke(c, x, y, R, ref + a0, ref + a1, 2.0, COL_ARC, 0);
+            if (jd->has_reverse) {
+                ang = ref + jd->reverse;
+                rjr_line(c, x + (R - 5) * cos(ang), y - (R - 5) * sin(ang), x + (R + 5) * cos(ang), y - (R + 5) * sin(ang), 2.5,
+                         (flag == RJ_AT_REVERSE) ? COL_LIMIT : (flag == RJ_LOCKED ? COL_LOCKED : COL_STOP));
+            }
+            if (jd->has_forward) {
+                ang = ref + jd->forward;
+                rjr_line(c, x + (R - 5) * cos(ang), y - (R - 5) * sin(ang), x + (R + 5) * cos(ang), y - (R + 5) * sin(ang), 2.5,
+                         (flag == RJ_AT_FORWARD) ? COL_LIMIT : (flag == RJ_LOCKED ? COL_LOCKED : COL_STOP));
+            }
+            ang = ref + rj_joint_theta(m, s, j);
+            rjr_line(c, x + rp * cos(ang), y - rp * sin(ang), x + (R + 7) * cos(ang), y - (R + 7) * sin(ang), 2.2, fc);
+        }
+        rjr_disc(c, x, y, rp, flag == RJ_FREE ? COL_INK : fc);
+        rjr_disc(c, x, y, rp - (rp * 0.35 < 1.2 ? 1.2 : rp * 0.35), 0xffffff);
+    }
+
+    /* Overlays. */
+    if (v->show_time) {
+        snprintf(buf, sizeof buf, "t = %.4f s", rj_state_time(s));
+        rjr_text(c, floor(f * 0.8), floor(f * 0.8), f, 0.0, RJR_LEFT | RJR_TOP, COL_INK, buf);
+    }
+    if (v->caption) rjr_text(c, c->width - floor(f * 0.8), floor(f * 0.8), f, 0.0, RJR_RIGHT | RJR_TOP, COL_INK, v->caption);
+    if (v->show_scale) {
+        double L = nice_floor(v->mpp * c->width * 0.2), len = L / v->mpp;
+        double x0 = floor(f * 0.8), y0 = c->height - floor(f * 0.9);
+        rjr_rect(c, x0, y0 - 3, len, 3, COL_INK);
+        rjr_rect(c, x0, y0 - 9, 2, 9, COL_INK);
+        rjr_rect(c, x0 + len - 2, y0 - 9, 2, 9, COL_INK);
+        fmt_len(buf, sizeof buf, L);
+        rjr_text(c, x0 + 0.5 * len, y0 - 9 - floor(0.35 * f), f * 0.9, 0.0, RJR_CENTER | RJR_BASELINE, COL_INK, buf);
+    }
+    (void)tmax;
+    return c->failed ? -1 : 0;
+}
+
+int rjr_draw_state(rjr_context *c, const rj_model *m, const rj_state *s, const rjr_view *v)
+{
+    int r;
+    if (rjr_begin(c, v->background) != 0) return -1;
+    r = rjr_draw_scene(c, m, s, v);
+    if (rjr_end(c) != 0) return -1;
+    return r;
+}

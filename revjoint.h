@@ -1,0 +1,2019 @@
+/* revjoint.h v0.1 - planar flexible links joined by revolute joints with rotation limits,
+   locking, resistive torque, friction and damping (Wong, Hamouda & Hashmi 2002).
+   Public domain / MIT, see the end of the file.
+
+USAGE
+   In exactly one C or C++ file:
+       #define REVJOINT_IMPLEMENTATION
+       #include "revjoint.h"
+   Everywhere else just #include "revjoint.h". Depends on libc and libm only.
+
+CONFIGURATION MACROS
+   RJ_STATIC                 make every function static (private to one translation unit)
+   RJ_MALLOC(sz,ctx), RJ_FREE(p,ctx)
+                             allocator used by rj_model_create / rj_state_create (define both
+                             or neither); ctx is the user pointer given to those calls
+   RJ_ASSERT(x)              programmer-error checks (NULL, index out of range); default assert
+
+QUICK START
+   rj_link_def links[2]; rj_joint_def joints[2]; rj_solver_def solver; rj_scene_def scene;
+   rj_model *m; rj_state *s; rj_error err;
+   links[0] = rj_default_link_def(); links[1] = rj_default_link_def();
+   joints[0] = rj_default_joint_def(); joints[0].body1 = -1; joints[0].body2 = 0;
+   joints[1] = rj_default_joint_def(); joints[1].body1 = 0;  joints[1].body2 = 1;
+   joints[1].spring_k = 0.5; joints[1].spring_free_angle = rj_rad(90.0);
+   solver = rj_default_solver_def();
+   scene = rj_default_scene_def();
+   scene.links = links; scene.link_count = 2; scene.joints = joints; scene.joint_count = 2;
+   scene.solver = solver;
+   if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) { puts(err.msg); return 1; }
+   rj_state_create(m, &s, NULL);
+   while (rj_state_time(s) < 1.0) if (rj_step(m, s) != RJ_OK) break;
+   printf("theta = %g deg\n", rj_deg(rj_joint_theta(m, s, 1)));
+   rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+
+CONCEPTS
+   Model and state. rj_model is built once from definition structs, validated, and never
+   changes; rj_state holds everything that moves (two time levels of the central-difference
+   pair, joint flags, running angles, energy accounts). Every simulation call takes
+   (const rj_model *, rj_state *): many states may share one model, from many threads.
+
+   Units and signs. SI throughout; angles in radians, counter-clockwise positive. rj_rad()
+   and rj_deg() convert at the edges.
+
+   Links. A link is a planar, geometrically nonlinear Euler-Bernoulli beam of `elements`
+   co-rotational Hermite elements, nodes 0..elements, node 0 at its root. Each node has a
+   position (x, y) and a rotation phi. Mass is lumped: rho A l / 2 per element end on the
+   translations, max(rho A l^3 / 78, rho I l / 2) per element end on the rotation.
+
+   Joints. Joint j pins node 0 of link body2 to node node1 of link body1 (or to a ground
+   point when body1 = -1). Its rotary location theta (SPEC sec. 2) is measured from the
+   direction I->K (body 1's element at the pin, pointing towards body 1's root; for ground,
+   the fixed direction ground_angle) to the direction J->L (body 2's first element). Two
+   links that continue each other have theta = pi. theta is tracked as an unwrapped
+   running angle: a joint never jumps across 0/2pi, limits and springs use it.
+
+   Stability. Central differences are stable while dt < 2 / omega_max. rj_model_create
+   computes omega_max of the linearised model (beams, tip masses, joint stiffnesses in use)
+   by Lanczos iteration and refuses a solver dt above the bound unless solver.allow_unstable
+   is set. rj_model_dt_paper() gives the paper's Eq 28 / Eq 29 for comparison.
+
+ERRORS
+   Functions that can fail return rj_result. Validation fills an rj_error with the field
+   name, the bad value and a sentence. A failed call changes none of the caller's objects.
+   rj_step stops with RJ_ERR_BLOWUP or RJ_ERR_TUNNEL and leaves the last good state intact.
+
+THREAD SAFETY
+   No globals. A model may be shared read-only by any number of threads; a state belongs
+   to one thread at a time.
+*/
+#ifndef REVJOINT_H
+#define REVJOINT_H
+
+#include <stddef.h>
+
+#ifdef RJ_STATIC
+#define RJDEF static
+#else
+#define RJDEF extern
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define RJ_VERSION "0.1.0"
+
+/* Result codes. */
+typedef enum rj_result {
+    RJ_OK = 0,
+    RJ_ERR_INVALID,      /* a definition field or an argument is out of range */
+    RJ_ERR_NOMEM,        /* allocation failed or caller's block too small */
+    RJ_ERR_UNSTABLE_DT,  /* dt above the stability bound and not overridden */
+    RJ_ERR_BLOWUP,       /* non-finite value or energy growth beyond the bound */
+    RJ_ERR_TUNNEL,       /* a joint turned more than half a revolution in one step */
+    RJ_ERR_CHECKPOINT,   /* a checkpoint buffer is truncated, corrupted or for another model */
+    RJ_ERR_PARSE         /* scene text malformed */
+} rj_result;
+
+/* Validation and runtime error details, filled by the calls that take it (may be NULL). */
+typedef struct rj_error {
+    rj_result code;
+    char field[64];      /* e.g. "joints[1].forward" */
+    double value;        /* the offending value (NaN when not numeric) */
+    char msg[256];       /* one full sentence */
+} rj_error;
+
+/* Root support of a link that is not the body2 of any joint. */
+typedef enum rj_root { RJ_ROOT_FREE = 0, RJ_ROOT_PINNED, RJ_ROOT_CLAMPED, RJ_ROOT_FIXED } rj_root;
+
+/* Section description. */
+typedef enum rj_section { RJ_SECTION_RECT = 0, RJ_SECTION_GENERAL } rj_section;
+
+/* Limit response methods (SPEC sec. 5). */
+typedef enum rj_method {
+    RJ_METHOD_PENALTY = 0,   /* user stiffness penalty_k (COMBIN7-like) */
+    RJ_METHOD_ADAPTIVE,      /* K_AP = I1 I2 / ((I1 + I2) dt^2), Eq 21 */
+    RJ_METHOD_MOMENTUM,      /* momentum balance with restitution e, Eqs 23-24 */
+    RJ_METHOD_FORCED,        /* forced displacement back to the limit */
+    RJ_METHOD_ENERGY         /* energy conservation, Eqs 25-26 */
+} rj_method;
+
+/* Release rules (SPEC sec. 4). */
+typedef enum rj_release { RJ_RELEASE_RC12 = 0, RJ_RELEASE_RC13 } rj_release;
+
+/* Joint status flag, Eq 7. */
+typedef enum rj_flag { RJ_FREE = 0, RJ_AT_FORWARD = 1, RJ_AT_REVERSE = 2, RJ_LOCKED = 3 } rj_flag;
+
+/* Torque components (about the joint, acting on body 2; body 1 gets the opposite). */
+typedef enum rj_torque {
+    RJ_TORQUE_TABLE = 0, RJ_TORQUE_SPRING, RJ_TORQUE_DAMPING, RJ_TORQUE_FRICTION,
+    RJ_TORQUE_LIMIT, RJ_TORQUE_TOTAL, RJ_TORQUE_COUNT
+} rj_torque;
+
+/* Link definition. Defaults (rj_default_link_def):
+     length 1 m; elements 10; E 70e9 Pa; rho 2710 kg/m^3;
+     section RJ_SECTION_RECT, width 0.05 m, height 0.2 m (in-plane depth), layers 1;
+     area 0 m^2, inertia 0 m^4 (used only by RJ_SECTION_GENERAL);
+     tip_mass 0 kg, tip_inertia 0 kg m^2;
+     root RJ_ROOT_FREE; x 0 m, y 0 m, angle 0 rad (root placement, used when the link is not
+     the body2 of a joint); vx, vy 0 m/s, omega 0 rad/s (initial rigid motion of a root link). */
+typedef struct rj_link_def {
+    double length;       /* m, > 0 */
+    int elements;        /* >= 1 */
+    double E;            /* Young's modulus, Pa, > 0 */
+    double rho;          /* density, kg/m^3, > 0 */
+    int section;         /* rj_section */
+    double width;        /* m, out-of-plane width (RECT) */
+    double height;       /* m, in-plane depth (RECT; drawn thickness for GENERAL if > 0) */
+    int layers;          /* >= 1, layers across the depth (RECT); elastic layers cost nothing */
+    double area;         /* m^2 (GENERAL) */
+    double inertia;      /* m^4 second moment of area (GENERAL) */
+    double tip_mass;     /* kg, >= 0, point mass at the last node */
+    double tip_inertia;  /* kg m^2, >= 0, rotary inertia of the tip mass about its centre */
+    int root;            /* rj_root */
+    double x, y, angle;  /* m, m, rad */
+    double vx, vy, omega;/* m/s, m/s, rad/s */
+    unsigned cookie;     /* set by rj_default_link_def; catches undefaulted structs */
+} rj_link_def;
+
+/* Joint definition. Defaults (rj_default_joint_def):
+     body1 -1 (ground), node1 -1 (last node of body1), body2 0;
+     ground_x 0 m, ground_y 0 m, ground_angle 0 rad;
+     angle0 pi rad (straight), rate0 0 rad/s;
+     table none (table_count 0); spring_k 0 N m/rad, spring_free_angle pi rad;
+     has_forward 0, forward 0 rad; has_reverse 0, reverse 0 rad; lock 0;
+     method RJ_METHOD_ADAPTIVE, release RJ_RELEASE_RC13, penalty_k 0 N m/rad (0 with
+     RJ_METHOD_PENALTY is invalid), restitution 0;
+     damping 0 N m s/rad, friction 0 N m. */
+#define RJ_TABLE_MAX 32
+typedef struct rj_joint_def {
+    int body1;             /* link index, or -1 for ground */
+    int node1;             /* node of body1 carrying the pin; -1 = last node */
+    int body2;             /* link index; pinned at its node 0 */
+    double ground_x, ground_y, ground_angle; /* m, m, rad: pin and reference direction when body1 = -1 */
+    double angle0;         /* rad, initial rotary location (start of the running angle; any real) */
+    double rate0;          /* rad/s, initial theta_dot */
+    int table_count;       /* 0, or 2..RJ_TABLE_MAX points */
+    double table_angle[RJ_TABLE_MAX];  /* rad, in [0, 2 pi], non-decreasing (Eq 4) */
+    double table_torque[RJ_TABLE_MAX]; /* N m, resistive torque at table_angle */
+    double spring_k;       /* N m/rad, >= 0: torque -spring_k (theta_run - spring_free_angle) on body 2 */
+    double spring_free_angle; /* rad, on the running angle (may lie outside [0, 2 pi)) */
+    int has_forward;       /* forward limit enabled */
+    double forward;        /* rad, theta_f in [0, 2 pi) */
+    int has_reverse;       /* reverse limit enabled */
+    double reverse;        /* rad, theta_r in [0, 2 pi) */
+    int lock;              /* bLock: latch for good at the first limit reached */
+    int method;            /* rj_method */
+    int release;           /* rj_release */
+    double penalty_k;      /* N m/rad, RJ_METHOD_PENALTY */
+    double restitution;    /* e in [0, 1], RJ_METHOD_MOMENTUM */
+    double damping;        /* C, N m s/rad, >= 0 (Eq 27) */
+    double friction;       /* T_f, N m, >= 0 */
+    unsigned cookie;
+} rj_joint_def;
+
+/* Solver definition. Defaults (rj_default_solver_def):
+     dt 0 s (0 = use 0.9 x the stability bound); allow_unstable 0;
+     energy_growth 10 (blow-up when total energy exceeds 10 x max(initial energy, energy put
+     in by springs) + 1e-9 J). */
+typedef struct rj_solver_def {
+    double dt;             /* s, >= 0 */
+    int allow_unstable;    /* accept dt above the bound */
+    double energy_growth;  /* > 1 */
+    unsigned cookie;
+} rj_solver_def;
+
+/* A whole scene. The arrays are read during rj_model_create only. */
+typedef struct rj_scene_def {
+    const rj_link_def *links; int link_count;
+    const rj_joint_def *joints; int joint_count;
+    rj_solver_def solver;
+} rj_scene_def;
+
+/* Energy accounts, J. total = kinetic + strain + spring; balance = total + lost - initial. */
+typedef struct rj_energy {
+    double kinetic, strain, spring;        /* spring: torsion springs and tables */
+    double lost_damping, lost_friction, lost_limit;
+    double total, balance;
+} rj_energy;
+
+typedef struct rj_model rj_model;
+typedef struct rj_state rj_state;
+
+/* Degree/radian helpers. */
+RJDEF double rj_rad(double deg);
+RJDEF double rj_deg(double rad);
+
+/* Definition structs with every default filled in. */
+RJDEF rj_link_def rj_default_link_def(void);
+RJDEF rj_joint_def rj_default_joint_def(void);
+RJDEF rj_solver_def rj_default_solver_def(void);
+RJDEF rj_scene_def rj_default_scene_def(void);
+/* Result code as text. */
+RJDEF const char *rj_result_str(rj_result r);
+
+/* Validates the scene and builds a model. rj_model_size gives the bytes rj_model_init needs
+   (0 when the scene is invalid, with err filled); rj_model_init builds into the caller's
+   block (aligned to 16); rj_model_create allocates one block with RJ_MALLOC. */
+RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err);
+RJDEF rj_result rj_model_init(const rj_scene_def *scene, void *mem, size_t size, rj_model **out, rj_error *err);
+RJDEF rj_result rj_model_create(const rj_scene_def *scene, rj_model **out, rj_error *err, void *alloc_ctx);
+RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx);
+
+/* States: size query, init into caller memory, or allocate; reset to the initial conditions. */
+RJDEF size_t rj_state_size(const rj_model *m);
+RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_state **out);
+RJDEF rj_result rj_state_create(const rj_model *m, rj_state **out, void *alloc_ctx);
+RJDEF void rj_state_destroy(rj_state *s, void *alloc_ctx);
+RJDEF void rj_state_reset(const rj_model *m, rj_state *s);
+RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *src);
+
+/* One central-difference step of the model's dt. Never allocates, prints or reads. */
+RJDEF rj_result rj_step(const rj_model *m, rj_state *s);
+/* Steps until time >= t_end; calls sample(m, s, user) at t = 0 (if the state is at 0) and
+   every sample_dt (rounded to whole steps). A nonzero return from sample stops the run. */
+typedef int (*rj_sample_fn)(const rj_model *m, const rj_state *s, void *user);
+RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double sample_dt, rj_sample_fn sample, void *user);
+/* Last step error text (empty when none). */
+RJDEF const char *rj_state_error(const rj_state *s);
+
+/* Model queries. */
+RJDEF double rj_model_dt(const rj_model *m);             /* s, step in use */
+RJDEF double rj_model_dt_bound(const rj_model *m);       /* s, 2/omega_max of the linearised model */
+RJDEF double rj_model_omega_max(const rj_model *m);      /* rad/s */
+RJDEF int rj_model_link_count(const rj_model *m);
+RJDEF int rj_model_joint_count(const rj_model *m);
+RJDEF int rj_model_node_count(const rj_model *m);
+RJDEF const rj_link_def *rj_model_link_def(const rj_model *m, int link);
+RJDEF const rj_joint_def *rj_model_joint_def(const rj_model *m, int joint);
+RJDEF int rj_link_node_count(const rj_model *m, int link);   /* elements + 1 */
+RJDEF double rj_link_EA(const rj_model *m, int link);
+RJDEF double rj_link_EI(const rj_model *m, int link);
+/* Paper's bounds: Eq 28 dt = l / c of the shortest element of the joint's two links;
+   Eq 29 min(Eq 28, sqrt(rho I l / K)); Eq 31 K_max = 0.81 rho I l / dt^2 (I second moment,
+   rho, l of the smaller of the two links; ground counts as infinitely large). */
+RJDEF double rj_model_dt_eq28(const rj_model *m);
+RJDEF double rj_joint_dt_eq29(const rj_model *m, int joint, double K);
+RJDEF double rj_joint_kmax_eq31(const rj_model *m, int joint, double dt);
+/* Joint inertias I1, I2 (kg m^2) of the reference segments, and the stiffness the joint
+   uses at its limits with the model's dt (K_AP for adaptive, penalty_k for penalty). */
+RJDEF void rj_joint_inertias(const rj_model *m, int joint, double *I1, double *I2);
+RJDEF double rj_joint_stiffness(const rj_model *m, int joint);
+
+/* State queries. */
+RJDEF double rj_state_time(const rj_state *s);
+RJDEF long rj_state_steps(const rj_state *s);
+RJDEF void rj_node_position(const rj_model *m, const rj_state *s, int link, int node, double xy[2]);
+RJDEF void rj_node_velocity(const rj_model *m, const rj_state *s, int link, int node, double v[2]);
+RJDEF double rj_node_rotation(const rj_model *m, const rj_state *s, int link, int node);
+RJDEF void rj_joint_position(const rj_model *m, const rj_state *s, int joint, double xy[2]);
+RJDEF double rj_joint_theta(const rj_model *m, const rj_state *s, int joint);         /* [0, 2 pi) */
+RJDEF double rj_joint_theta_running(const rj_model *m, const rj_state *s, int joint); /* unwrapped */
+RJDEF double rj_joint_rate(const rj_model *m, const rj_state *s, int joint);          /* rad/s */
+RJDEF int rj_joint_flag(const rj_model *m, const rj_state *s, int joint);             /* rj_flag */
+RJDEF double rj_joint_torque(const rj_model *m, const rj_state *s, int joint, int component);
+RJDEF double rj_joint_penetration(const rj_model *m, const rj_state *s, int joint);   /* rad, Eq 19 */
+RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s, int joint);    /* first limit contact or lock, s; -1 if none */
+RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s, int joint);  /* first release after contact, s; -1 if none */
+RJDEF double rj_joint_peak_penetration(const rj_model *m, const rj_state *s, int joint); /* rad, largest |penetration| so far */
+/* Energy accounts at time rj_state_energy_time(s) = time - dt: the kinetic energy of the
+   central-difference pair is 1/2 m v^{n-1/2}.v^{n+1/2}, which closes the balance exactly for
+   linear systems. */
+RJDEF void rj_state_energy(const rj_model *m, const rj_state *s, rj_energy *e);
+RJDEF double rj_state_energy_time(const rj_state *s);
+
+/* Checkpoints: a state to and from bytes. rj_state_save returns the bytes needed when buf
+   is NULL or too small (and writes nothing then). rj_state_load rejects a truncated,
+   corrupted or foreign buffer and leaves the state unchanged. */
+RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size_t size);
+RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, size_t size, rj_error *err);
+
+/* The element's pure equations, exposed for tests and for users' own codes. */
+RJDEF double rj_rotary_location(double ax, double ay, double bx, double by);         /* Eqs 1-3, [0, 2 pi) */
+RJDEF double rj_table_torque(const double *angle, const double *torque, int count, double theta); /* Eq 4 */
+RJDEF int rj_blimit(double theta, double forward, double reverse);                   /* Eq 6 */
+RJDEF int rj_flag_next(int prev, int beyond_forward, int beyond_reverse, double rate, int lock, int release); /* Eqs 7-13 */
+RJDEF double rj_k_adaptive(double I1, double I2, double dt);                         /* Eq 21 */
+RJDEF void rj_momentum_balance(double I1, double I2, double e, double *w1, double *w2); /* Eqs 23-24 */
+RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2);           /* Eqs 25-26 */
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* REVJOINT_H */
+
+/* ==================================================================== IMPLEMENTATION */
+#if defined(REVJOINT_IMPLEMENTATION) && !defined(REVJOINT_IMPLEMENTATION_DONE)
+#define REVJOINT_IMPLEMENTATION_DONE
+#include <math.h>
+#include <string.h>
+#include <stdio.h>
+#include <stdarg.h>
+
+#if defined(RJ_MALLOC) != defined(RJ_FREE)
+#error "define both RJ_MALLOC and RJ_FREE, or neither"
+#endif
+#ifndef RJ_MALLOC
+#include <stdlib.h>
+#define RJ_MALLOC(sz, ctx) ((void)(ctx), malloc(sz))
+#define RJ_FREE(p, ctx) ((void)(ctx), free(p))
+#endif
+#ifndef RJ_ASSERT
+#include <assert.h>
+#define RJ_ASSERT(x) assert(x)
+#endif
+
+#define RJ__PI 3.14159265358979323846
+#define RJ__TWO_PI 6.28318530717958647692
+#define RJ__COOKIE_LINK 0x524a4c4bu
+#define RJ__COOKIE_JOINT 0x524a4a54u
+#define RJ__COOKIE_SOLVER 0x524a534fu
+#define RJ__ALIGN 16
+/* Margin on 2/omega_max: covers the Lanczos estimate (a lower bound of omega_max) and the
+   geometric stiffness the linearisation leaves out. */
+#define RJ__DT_MARGIN 0.98
+#define RJ__LANCZOS_ITERS 160
+
+/* ------------------------------------------------------------------ internal types */
+typedef struct rj__joint {
+    int nI, nK, nJ, nL;       /* global nodes: pin on body 1, its neighbour, pin on body 2, its neighbour; nI = nK = -1 for ground */
+    double gax, gay;          /* ground reference direction (unit) when nK < 0 */
+    double I1, I2;            /* reference-segment inertias, kg m^2 (I1 = inf for ground/fixed) */
+    double w1, w2;            /* I2/(I1+I2), I1/(I1+I2): share of a correction taken by body 1 / body 2 */
+    double k_limit;           /* stiffness at the limits (penalty_k or K_AP), N m/rad */
+    double k_lin;             /* linear stiffness for the stability bound, N m/rad */
+    double fwd, rev;          /* running (unwrapped) limits, rad; +-inf when disabled */
+    double tv[RJ_TABLE_MAX];  /* table potential at table_angle[i], J (integral from 0) */
+    double tv_turn;           /* table potential of a full turn, J */
+} rj__joint;
+
+/* Per-joint values in a frame (doubles), then per-joint ints. */
+enum { RJ__JD_THETA = 0, RJ__JD_RATE, RJ__JD_LOCK, RJ__JD_TNC, RJ__JD_RATEP, RJ__JD_EVENT, RJ__JD_RELEASE,
+       RJ__JD_PEAKP, RJ__JD_TQ0, RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT };
+/* Frame scalars. */
+enum { RJ__FS_TIME = 0, RJ__FS_ETIME, RJ__FS_KE, RJ__FS_STRAIN, RJ__FS_SPRING, RJ__FS_LDAMP, RJ__FS_LFRIC,
+       RJ__FS_LLIM, RJ__FS_E0, RJ__FS_COUNT };
+
+struct rj_model {
+    size_t bytes;
+    unsigned long long hash;
+    int nl, nj, nn, ne, ng;
+    double dt, dt_bound, omega_max, dt_eq28;
+    rj_solver_def solver;
+    rj_link_def *ldef;        /* (nl) */
+    rj_joint_def *jdef;       /* (nj) */
+    rj__joint *jnt;           /* (nj) */
+    int *link_first;          /* (nl+1) first node of each link; nodes of a link are contiguous */
+    int *link_efirst;         /* (nl+1) first element of each link */
+    double *link_l0;          /* (nl) element rest length, m */
+    double *link_EA, *link_EI;/* (nl) N, N m^2 */
+    double *link_rho, *link_I;/* (nl) kg/m^3, m^4 */
+    double *mass, *rinertia;  /* (nn) lumped translational mass kg, rotary inertia kg m^2 */
+    double *tinv;             /* (nn) 1/mass for free ungrouped nodes, 0 for fixed or grouped nodes */
+    double *rinv;             /* (nn) 1/rinertia, 0 for fixed rotations */
+    double *einv;             /* (nn) effective translational 1/mass (group's for grouped nodes) */
+    int *grp_first;           /* (ng+1) */
+    int *grp_node;            /* (members) */
+    double *grp_inv;          /* (ng) 1/sum of member masses, 0 if a member is fixed */
+    double *x0, *y0, *phi0, *vx0, *vy0, *w0; /* (nn) initial conditions */
+    double *beta0;            /* (ne) initial chord angles */
+    double *lz;               /* Lanczos scratch (9 nn), used while building only */
+    size_t frame_doubles;     /* doubles in a frame */
+    size_t frame_ints;
+};
+
+struct rj_state {
+    size_t bytes;
+    int cur;                  /* index of the current frame */
+    long steps;
+    double *fd[2];            /* frames: x y phi vx vy w (nn each), beta cx cy (ne each), joints (nj*JD), scalars */
+    int *fi[2];               /* frames: flags (nj) */
+    double *fx, *fy, *mz;     /* (nn) forces */
+    double *efx, *efy, *em1, *em2; /* (ne) element forces */
+    double *jsc;              /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
+    char err[200];
+};
+
+/* ------------------------------------------------------------------ small helpers */
+RJDEF double rj_rad(double deg) { return deg * (RJ__PI / 180.0); }
+RJDEF double rj_deg(double rad) { return rad * (180.0 / RJ__PI); }
+
+static double rj__mod2pi(double a)
+{
+    double r = fmod(a, RJ__TWO_PI);
+    if (r < 0) r += RJ__TWO_PI;
+    if (r >= RJ__TWO_PI) r = 0.0;
+    return r;
+}
+/* wrap into (-pi, pi] */
+static double rj__wrap(double a)
+{
+    double r = rj__mod2pi(a + RJ__PI) - RJ__PI;
+    if (r <= -RJ__PI) r += RJ__TWO_PI;
+    return r;
+}
+static int rj__finite(double x) { return x == x && x - x == 0.0; }
+
+static void rj__fail(rj_error *err, rj_result code, const char *field, double value, const char *fmt, ...)
+{
+    va_list ap;
+    if (!err) return;
+    err->code = code;
+    snprintf(err->field, sizeof err->field, "%s", field);
+    err->value = value;
+    va_start(ap, fmt);
+    vsnprintf(err->msg, sizeof err->msg, fmt, ap);
+    va_end(ap);
+}
+
+RJDEF const char *rj_result_str(rj_result r)
+{
+    switch (r) {
+    case RJ_OK: return "ok";
+    case RJ_ERR_INVALID: return "invalid input";
+    case RJ_ERR_NOMEM: return "out of memory";
+    case RJ_ERR_UNSTABLE_DT: return "time step above the stability bound";
+    case RJ_ERR_BLOWUP: return "numerical blow-up";
+    case RJ_ERR_TUNNEL: return "joint turned more than a quarter revolution in one step";
+    case RJ_ERR_CHECKPOINT: return "bad checkpoint";
+    case RJ_ERR_PARSE: return "scene text malformed";
+    }
+    return "unknown result";
+}
+
+/* ------------------------------------------------------------------ defaults */
+RJDEF rj_link_def rj_default_link_def(void)
+{
+    rj_link_def d;
+    memset(&d, 0, sizeof d);
+    d.length = 1.0; d.elements = 10; d.E = 70e9; d.rho = 2710.0;
+    d.section = RJ_SECTION_RECT; d.width = 0.05; d.height = 0.2; d.layers = 1;
+    d.area = 0.0; d.inertia = 0.0; d.tip_mass = 0.0; d.tip_inertia = 0.0;
+    d.root = RJ_ROOT_FREE; d.x = d.y = d.angle = 0.0; d.vx = d.vy = d.omega = 0.0;
+    d.cookie = RJ__COOKIE_LINK;
+    return d;
+}
+RJDEF rj_joint_def rj_default_joint_def(void)
+{
+    rj_joint_def d;
+    memset(&d, 0, sizeof d);
+    d.body1 = -1; d.node1 = -1; d.body2 = 0;
+    d.ground_x = d.ground_y = d.ground_angle = 0.0;
+    d.angle0 = RJ__PI; d.rate0 = 0.0; d.table_count = 0;
+    d.spring_k = 0.0; d.spring_free_angle = RJ__PI;
+    d.has_forward = 0; d.forward = 0.0; d.has_reverse = 0; d.reverse = 0.0; d.lock = 0;
+    d.method = RJ_METHOD_ADAPTIVE; d.release = RJ_RELEASE_RC13; d.penalty_k = 0.0; d.restitution = 0.0;
+    d.damping = 0.0; d.friction = 0.0;
+    d.cookie = RJ__COOKIE_JOINT;
+    return d;
+}
+RJDEF rj_solver_def rj_default_solver_def(void)
+{
+    rj_solver_def d;
+    memset(&d, 0, sizeof d);
+    d.dt = 0.0; d.allow_unstable = 0; d.energy_growth = 10.0;
+    d.cookie = RJ__COOKIE_SOLVER;
+    return d;
+}
+RJDEF rj_scene_def rj_default_scene_def(void)
+{
+    rj_scene_def d;
+    memset(&d, 0, sizeof d);
+    d.links = NULL; d.link_count = 0; d.joints = NULL; d.joint_count = 0;
+    d.solver = rj_default_solver_def();
+    return d;
+}
+
+/* ------------------------------------------------------------------ pure element equations */
+/* Eqs 1-3: angle from a to b, counter-clockwise, in [0, 2 pi). */
+RJDEF double rj_rotary_location(double ax, double ay, double bx, double by)
+{
+    return rj__mod2pi(atan2(ax * by - ay * bx, ax * bx + ay * by));
+}
+
+/* Eq 4: sum over segments containing theta of the linear interpolant; overlapping segments add. */
+RJDEF double rj_table_torque(const double *angle, const double *torque, int count, double theta)
+{
+    double t = 0.0;
+    int i;
+    for (i = 0; i + 1 < count; i++) {
+        double a0 = angle[i], a1 = angle[i + 1];
+        if (a1 > a0 && theta >= a0 && theta <= a1)
+            t += torque[i] + (theta - a0) / (a1 - a0) * (torque[i + 1] - torque[i]);
+    }
+    return t;
+}
+
+/* Integral of Eq 4 from 0 to theta (the table's potential). */
+static double rj__table_potential(const double *angle, const double *torque, int count, double theta)
+{
+    double v = 0.0;
+    int i;
+    for (i = 0; i + 1 < count; i++) {
+        double a0 = angle[i], a1 = angle[i + 1], hi, k;
+        if (!(a1 > a0) || theta <= a0) continue;
+        hi = theta < a1 ? theta : a1;
+        k = (torque[i + 1] - torque[i]) / (a1 - a0);
+        v += (hi - a0) * (torque[i] + 0.5 * k * (hi - a0));
+    }
+    return v;
+}
+
+/* Eq 6: bLimit for wrapped theta. forward > reverse: limited outside (reverse, forward);
+   forward < reverse: limited inside [forward, reverse] (free range wraps through 0). */
+RJDEF int rj_blimit(double theta, double forward, double reverse)
+{
+    if (forward > reverse) return theta >= forward || theta <= reverse;
+    if (forward < reverse) return theta >= forward && theta <= reverse;
+    return theta == forward;
+}
+
+/* Eqs 7-13: next status flag. beyond_forward / beyond_reverse split bLimit by side (our
+   reading: a body past the forward limit cannot be "at the reverse limit"). */
+RJDEF int rj_flag_next(int prev, int beyond_forward, int beyond_reverse, double rate, int lock, int release)
+{
+    if (prev == RJ_LOCKED) return RJ_LOCKED;                                  /* never released */
+    if (lock && (beyond_forward || beyond_reverse)) return RJ_LOCKED;        /* Eq 7, L = 3 */
+    if (release == RJ_RELEASE_RC12) {                                         /* Eqs 8, 9, 12 */
+        if (beyond_forward && (prev == RJ_AT_FORWARD || (prev == RJ_FREE && rate >= 0))) return RJ_AT_FORWARD;
+        if (beyond_reverse && (prev == RJ_AT_REVERSE || (prev == RJ_FREE && rate <= 0))) return RJ_AT_REVERSE;
+        return RJ_FREE;
+    }
+    /* RC13, Eqs 10, 11, 13: the motion must still point into the limit */
+    if (beyond_forward && (prev == RJ_FREE || prev == RJ_AT_FORWARD) && rate >= 0) return RJ_AT_FORWARD;
+    if (beyond_reverse && (prev == RJ_FREE || prev == RJ_AT_REVERSE) && rate <= 0) return RJ_AT_REVERSE;
+    return RJ_FREE;
+}
+
+/* Eq 21. I1 or I2 may be infinite (ground). */
+RJDEF double rj_k_adaptive(double I1, double I2, double dt)
+{
+    double ired;
+    if (!rj__finite(I1)) ired = I2;
+    else if (!rj__finite(I2)) ired = I1;
+    else ired = I1 * I2 / (I1 + I2);
+    return ired / (dt * dt);
+}
+
+/* Eqs 23-24: w2' = (w2 (I2 - I1 e) + I1 w1 (1 + e)) / (I1 + I2), w1' = w2' - e (w1 - w2),
+   written with the shares so that an infinite I1 (ground) works. */
+RJDEF void rj_momentum_balance(double I1, double I2, double e, double *w1, double *w2)
+{
+    double a1, a2, o1 = *w1, o2 = *w2, n1, n2;
+    if (!rj__finite(I1)) { a1 = 1.0; a2 = 0.0; }
+    else if (!rj__finite(I2)) { a1 = 0.0; a2 = 1.0; }
+    else { a1 = I1 / (I1 + I2); a2 = I2 / (I1 + I2); }
+    n2 = o2 * (a2 - a1 * e) + a1 * o1 * (1.0 + e);
+    n1 = n2 - e * (o1 - o2);
+    *w1 = n1; *w2 = n2;
+}
+
+/* Eqs 25-26: common velocity with the kinetic energy kept. */
+RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2)
+{
+    double a1, a2, s, w;
+    if (!rj__finite(I1)) { a1 = 1.0; a2 = 0.0; }
+    else if (!rj__finite(I2)) { a1 = 0.0; a2 = 1.0; }
+    else { a1 = I1 / (I1 + I2); a2 = I2 / (I1 + I2); }
+    s = a1 * *w1 * fabs(*w1) + a2 * *w2 * fabs(*w2);
+    w = (s >= 0 ? 1.0 : -1.0) * sqrt(fabs(s));
+    *w1 = w; *w2 = w;
+}
+
+/* ------------------------------------------------------------------ validation */
+#define RJ__FIELD(buf, fmt, i) snprintf(buf, sizeof buf, fmt, i)
+
+static int rj__check_num(rj_error *err, const char *field, double v, double lo, int lo_incl, double hi, int hi_incl, const char *what)
+{
+    int ok = rj__finite(v) && (lo_incl ? v >= lo : v > lo) && (hi_incl ? v <= hi : v < hi);
+    if (!ok) {
+        rj__fail(err, RJ_ERR_INVALID, field, v, "%s = %g is invalid: %s", field, v, what);
+        return 0;
+    }
+    return 1;
+}
+
+static int rj__validate(const rj_scene_def *sc, rj_error *err)
+{
+    char f[64];
+    int i, j;
+    double inf = HUGE_VAL;
+    if (!sc) { rj__fail(err, RJ_ERR_INVALID, "scene", 0, "scene is NULL"); return 0; }
+    if (sc->link_count < 1 || sc->link_count > 100000 || !sc->links) {
+        rj__fail(err, RJ_ERR_INVALID, "link_count", sc->link_count, "link_count = %d is invalid: need 1..100000 links and a links array", sc->link_count);
+        return 0;
+    }
+    if (sc->joint_count < 0 || sc->joint_count > 100000 || (sc->joint_count > 0 && !sc->joints)) {
+        rj__fail(err, RJ_ERR_INVALID, "joint_count", sc->joint_count, "joint_count = %d is invalid: need 0..100000 joints and a joints array", sc->joint_count);
+        return 0;
+    }
+    if (sc->solver.cookie != RJ__COOKIE_SOLVER) { rj__fail(err, RJ_ERR_INVALID, "solver", 0, "solver was not initialised with rj_default_solver_def()"); return 0; }
+    if (!rj__check_num(err, "solver.dt", sc->solver.dt, 0, 1, 1.0, 1, "must be 0 (automatic) or a step in (0, 1] s")) return 0;
+    if (!rj__check_num(err, "solver.energy_growth", sc->solver.energy_growth, 1.0, 0, inf, 0, "must be > 1")) return 0;
+    if (sc->solver.allow_unstable != 0 && sc->solver.allow_unstable != 1) {
+        rj__fail(err, RJ_ERR_INVALID, "solver.allow_unstable", sc->solver.allow_unstable, "solver.allow_unstable = %d is invalid: must be 0 or 1", sc->solver.allow_unstable);
+        return 0;
+    }
+    for (i = 0; i < sc->link_count; i++) {
+        const rj_link_def *L = &sc->links[i];
+        if (L->cookie != RJ__COOKIE_LINK) { RJ__FIELD(f, "links[%d]", i); rj__fail(err, RJ_ERR_INVALID, f, 0, "%s was not initialised with rj_default_link_def()", f); return 0; }
+        RJ__FIELD(f, "links[%d].length", i); if (!rj__check_num(err, f, L->length, 0, 0, 1e6, 1, "must be in (0, 1e6] m")) return 0;
+        if (L->elements < 1 || L->elements > 1000000) { RJ__FIELD(f, "links[%d].elements", i); rj__fail(err, RJ_ERR_INVALID, f, L->elements, "%s = %d is invalid: must be 1..1000000", f, L->elements); return 0; }
+        RJ__FIELD(f, "links[%d].E", i); if (!rj__check_num(err, f, L->E, 0, 0, inf, 0, "must be > 0 Pa")) return 0;
+        RJ__FIELD(f, "links[%d].rho", i); if (!rj__check_num(err, f, L->rho, 0, 0, inf, 0, "must be > 0 kg/m^3")) return 0;
+        if (L->section != RJ_SECTION_RECT && L->section != RJ_SECTION_GENERAL) { RJ__FIELD(f, "links[%d].section", i); rj__fail(err, RJ_ERR_INVALID, f, L->section, "%s = %d is invalid: RJ_SECTION_RECT or RJ_SECTION_GENERAL", f, L->section); return 0; }
+        if (L->section == RJ_SECTION_RECT) {
+            RJ__FIELD(f, "links[%d].width", i); if (!rj__check_num(err, f, L->width, 0, 0, inf, 0, "must be > 0 m")) return 0;
+            RJ__FIELD(f, "links[%d].height", i); if (!rj__check_num(err, f, L->height, 0, 0, inf, 0, "must be > 0 m")) return 0;
+            if (L->layers < 1 || L->layers > 1000) { RJ__FIELD(f, "links[%d].layers", i); rj__fail(err, RJ_ERR_INVALID, f, L->layers, "%s = %d is invalid: must be 1..1000", f, L->layers); return 0; }
+        } else {
+            RJ__FIELD(f, "links[%d].area", i); if (!rj__check_num(err, f, L->area, 0, 0, inf, 0, "must be > 0 m^2")) return 0;
+            RJ__FIELD(f, "links[%d].inertia", i); if (!rj__check_num(err, f, L->inertia, 0, 0, inf, 0, "must be > 0 m^4")) return 0;
+            RJ__FIELD(f, "links[%d].height", i); if (!rj__check_num(err, f, L->height, 0, 1, inf, 0, "must be >= 0 m")) return 0;
+        }
+        RJ__FIELD(f, "links[%d].tip_mass", i); if (!rj__check_num(err, f, L->tip_mass, 0, 1, inf, 0, "must be >= 0 kg")) return 0;
+        RJ__FIELD(f, "links[%d].tip_inertia", i); if (!rj__check_num(err, f, L->tip_inertia, 0, 1, inf, 0, "must be >= 0 kg m^2")) return 0;
+        if (L->root < RJ_ROOT_FREE || L->root > RJ_ROOT_FIXED) { RJ__FIELD(f, "links[%d].root", i); rj__fail(err, RJ_ERR_INVALID, f, L->root, "%s = %d is invalid: RJ_ROOT_FREE, _PINNED, _CLAMPED or _FIXED", f, L->root); return 0; }
+        RJ__FIELD(f, "links[%d].x", i); if (!rj__check_num(err, f, L->x, -inf, 0, inf, 0, "must be finite")) return 0;
+        RJ__FIELD(f, "links[%d].y", i); if (!rj__check_num(err, f, L->y, -inf, 0, inf, 0, "must be finite")) return 0;
+        RJ__FIELD(f, "links[%d].angle", i); if (!rj__check_num(err, f, L->angle, -inf, 0, inf, 0, "must be finite")) return 0;
+        RJ__FIELD(f, "links[%d].vx", i); if (!rj__check_num(err, f, L->vx, -inf, 0, inf, 0, "must be finite")) return 0;
+        RJ__FIELD(f, "links[%d].vy", i); if (!rj__check_num(err, f, L->vy, -inf, 0, inf, 0, "must be finite")) return 0;
+        RJ__FIELD(f, "links[%d].omega", i); if (!rj__check_num(err, f, L->omega, -inf, 0, inf, 0, "must be finite")) return 0;
+    }
+    for (j = 0; j < sc->joint_count; j++) {
+        const rj_joint_def *J = &sc->joints[j];
+        int k;
+        if (J->cookie != RJ__COOKIE_JOINT) { RJ__FIELD(f, "joints[%d]", j); rj__fail(err, RJ_ERR_INVALID, f, 0, "%s was not initialised with rj_default_joint_def()", f); return 0; }
+        if (J->body1 < -1 || J->body1 >= sc->link_count) { RJ__FIELD(f, "joints[%d].body1", j); rj__fail(err, RJ_ERR_INVALID, f, J->body1, "%s = %d is invalid: a link index 0..%d or -1 for ground", f, J->body1, sc->link_count - 1); return 0; }
+        if (J->body2 < 0 || J->body2 >= sc->link_count) { RJ__FIELD(f, "joints[%d].body2", j); rj__fail(err, RJ_ERR_INVALID, f, J->body2, "%s = %d is invalid: a link index 0..%d", f, J->body2, sc->link_count - 1); return 0; }
+        if (J->body1 == J->body2) { RJ__FIELD(f, "joints[%d].body2", j); rj__fail(err, RJ_ERR_INVALID, f, J->body2, "%s = %d is invalid: a joint cannot connect link %d to itself", f, J->body2, J->body2); return 0; }
+        if (J->body1 >= 0 && (J->node1 < -1 || J->node1 > sc->links[J->body1].elements)) { RJ__FIELD(f, "joints[%d].node1", j); rj__fail(err, RJ_ERR_INVALID, f, J->node1, "%s = %d is invalid: a node 0..%d of link %d, or -1 for its last node", f, J->node1, sc->links[J->body1].elements, J->body1); return 0; }
+        if (sc->links[J->body2].root != RJ_ROOT_FREE) { RJ__FIELD(f, "links[%d].root", J->body2); rj__fail(err, RJ_ERR_INVALID, f, sc->links[J->body2].root, "%s = %d is invalid: link %d is body2 of joint %d, its root must be RJ_ROOT_FREE", f, sc->links[J->body2].root, J->body2, j); return 0; }
+        for (k = 0; k < j; k++) if (sc->joints[k].body2 == J->body2) { RJ__FIELD(f, "joints[%d].body2", j); rj__fail(err, RJ_ERR_INVALID, f, J->body2, "%s = %d is invalid: link %d is already body2 of joint %d (a link hangs from one joint)", f, J->body2, J->body2, k); return 0; }
+        RJ__FIELD(f, "joints[%d].ground_x", j); if (!rj__check_num(err, f, J->ground_x, -inf, 0, inf, 0, "must be finite")) return 0;
+        RJ__FIELD(f, "joints[%d].ground_y", j); if (!rj__check_num(err, f, J->ground_y, -inf, 0, inf, 0, "must be finite")) return 0;
+        RJ__FIELD(f, "joints[%d].ground_angle", j); if (!rj__check_num(err, f, J->ground_angle, -inf, 0, inf, 0, "must be finite")) return 0;
+        RJ__FIELD(f, "joints[%d].angle0", j); if (!rj__check_num(err, f, J->angle0, -1e6, 1, 1e6, 1, "must be a finite angle in rad")) return 0;
+        RJ__FIELD(f, "joints[%d].rate0", j); if (!rj__check_num(err, f, J->rate0, -inf, 0, inf, 0, "must be finite")) return 0;
+        if (J->table_count != 0 && (J->table_count < 2 || J->table_count > RJ_TABLE_MAX)) { RJ__FIELD(f, "joints[%d].table_count", j); rj__fail(err, RJ_ERR_INVALID, f, J->table_count, "%s = %d is invalid: 0, or 2..%d points", f, J->table_count, RJ_TABLE_MAX); return 0; }
+        for (k = 0; k < J->table_count; k++) {
+            char g[64];
+            snprintf(g, sizeof g, "joints[%d].table_angle[%d]", j, k);
+            if (!rj__check_num(err, g, J->table_angle[k], 0, 1, RJ__TWO_PI, 1, "must be in [0, 2 pi] rad")) return 0;
+            if (k > 0 && J->table_angle[k] < J->table_angle[k - 1]) { rj__fail(err, RJ_ERR_INVALID, g, J->table_angle[k], "%s = %g is invalid: table angles must not decrease (previous %g)", g, J->table_angle[k], J->table_angle[k - 1]); return 0; }
+            snprintf(g, sizeof g, "joints[%d].table_torque[%d]", j, k);
+            if (!rj__check_num(err, g, J->table_torque[k], -inf, 0, inf, 0, "must be finite")) return 0;
+        }
+        RJ__FIELD(f, "joints[%d].spring_k", j); if (!rj__check_num(err, f, J->spring_k, 0, 1, inf, 0, "must be >= 0 N m/rad")) return 0;
+        RJ__FIELD(f, "joints[%d].spring_free_angle", j); if (!rj__check_num(err, f, J->spring_free_angle, -1e6, 1, 1e6, 1, "must be a finite angle in rad")) return 0;
+        if (J->has_forward != 0 && J->has_forward != 1) { RJ__FIELD(f, "joints[%d].has_forward", j); rj__fail(err, RJ_ERR_INVALID, f, J->has_forward, "%s = %d is invalid: 0 or 1", f, J->has_forward); return 0; }
+        if (J->has_reverse != 0 && J->has_reverse != 1) { RJ__FIELD(f, "joints[%d].has_reverse", j); rj__fail(err, RJ_ERR_INVALID, f, J->has_reverse, "%s = %d is invalid: 0 or 1", f, J->has_reverse); return 0; }
+        if (J->lock != 0 && J->lock != 1) { RJ__FIELD(f, "joints[%d].lock", j); rj__fail(err, RJ_ERR_INVALID, f, J->lock, "%s = %d is invalid: 0 or 1", f, J->lock); return 0; }
+        RJ__FIELD(f, "joints[%d].forward", j); if (!rj__check_num(err, f, J->forward, 0, 1, RJ__TWO_PI, 0, "a limit must be in [0, 2 pi) rad")) return 0;
+        RJ__FIELD(f, "joints[%d].reverse", j); if (!rj__check_num(err, f, J->reverse, 0, 1, RJ__TWO_PI, 0, "a limit must be in [0, 2 pi) rad")) return 0;
+        if (J->has_forward && J->has_reverse && J->forward == J->reverse) { RJ__FIELD(f, "joints[%d].forward", j); rj__fail(err, RJ_ERR_INVALID, f, J->forward, "%s = %g is invalid: equal to the reverse limit leaves no free range", f, J->forward); return 0; }
+        if (J->method < RJ_METHOD_PENALTY || J->method > RJ_METHOD_ENERGY) { RJ__FIELD(f, "joints[%d].method", j); rj__fail(err, RJ_ERR_INVALID, f, J->method, "%s = %d is invalid: one of RJ_METHOD_PENALTY..RJ_METHOD_ENERGY", f, J->method); return 0; }
+        if (J->release != RJ_RELEASE_RC12 && J->release != RJ_RELEASE_RC13) { RJ__FIELD(f, "joints[%d].release", j); rj__fail(err, RJ_ERR_INVALID, f, J->release, "%s = %d is invalid: RJ_RELEASE_RC12 or RJ_RELEASE_RC13", f, J->release); return 0; }
+        RJ__FIELD(f, "joints[%d].penalty_k", j); if (!rj__check_num(err, f, J->penalty_k, 0, 1, inf, 0, "must be >= 0 N m/rad")) return 0;
+        if (J->method == RJ_METHOD_PENALTY && (J->has_forward || J->has_reverse) && !(J->penalty_k > 0)) { rj__fail(err, RJ_ERR_INVALID, f, J->penalty_k, "%s = %g is invalid: RJ_METHOD_PENALTY with a limit needs a stiffness > 0", f, J->penalty_k); return 0; }
+        RJ__FIELD(f, "joints[%d].restitution", j); if (!rj__check_num(err, f, J->restitution, 0, 1, 1, 1, "must be in [0, 1]")) return 0;
+        RJ__FIELD(f, "joints[%d].damping", j); if (!rj__check_num(err, f, J->damping, 0, 1, inf, 0, "must be >= 0 N m s/rad")) return 0;
+        RJ__FIELD(f, "joints[%d].friction", j); if (!rj__check_num(err, f, J->friction, 0, 1, inf, 0, "must be >= 0 N m")) return 0;
+    }
+    /* the joint graph must be a forest: walking up from any link ends at a root */
+    for (i = 0; i < sc->link_count; i++) {
+        int cur = i, hops = 0;
+        for (;;) {
+            int parent = -2;
+            for (j = 0; j < sc->joint_count; j++) if (sc->joints[j].body2 == cur) { parent = sc->joints[j].body1; break; }
+            if (parent < 0) break;
+            cur = parent;
+            if (++hops > sc->link_count) {
+                RJ__FIELD(f, "links[%d]", i);
+                rj__fail(err, RJ_ERR_INVALID, f, i, "joints form a closed loop through link %d; only chains and trees are supported", i);
+                return 0;
+            }
+        }
+    }
+    return 1;
+}
+
+/* ------------------------------------------------------------------ memory layout */
+static size_t rj__carve(size_t *off, size_t count, size_t elsize)
+{
+    size_t at = (*off + RJ__ALIGN - 1) / RJ__ALIGN * RJ__ALIGN;
+    *off = at + count * elsize;
+    return at;
+}
+
+typedef struct rj__layout {
+    size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho, link_I;
+    size_t mass, rinertia, tinv, rinv, einv, grp_first, grp_node, grp_inv, x0, y0, phi0, vx0, vy0, w0, beta0, lz;
+} rj__layout;
+
+static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
+{
+    size_t off = sizeof(rj_model);
+    L->ldef = rj__carve(&off, (size_t)nl, sizeof(rj_link_def));
+    L->jdef = rj__carve(&off, (size_t)nj, sizeof(rj_joint_def));
+    L->jnt = rj__carve(&off, (size_t)nj, sizeof(rj__joint));
+    L->link_first = rj__carve(&off, (size_t)nl + 1, sizeof(int));
+    L->link_efirst = rj__carve(&off, (size_t)nl + 1, sizeof(int));
+    L->link_l0 = rj__carve(&off, (size_t)nl, sizeof(double));
+    L->link_EA = rj__carve(&off, (size_t)nl, sizeof(double));
+    L->link_EI = rj__carve(&off, (size_t)nl, sizeof(double));
+    L->link_rho = rj__carve(&off, (size_t)nl, sizeof(double));
+    L->link_I = rj__carve(&off, (size_t)nl, sizeof(double));
+    L->mass = rj__carve(&off, (size_t)nn, sizeof(double));
+    L->rinertia = rj__carve(&off, (size_t)nn, sizeof(double));
+    L->tinv = rj__carve(&off, (size_t)nn, sizeof(double));
+    L->rinv = rj__carve(&off, (size_t)nn, sizeof(double));
+    L->einv = rj__carve(&off, (size_t)nn, sizeof(double));
+    L->grp_first = rj__carve(&off, (size_t)nj + 1, sizeof(int));
+    L->grp_node = rj__carve(&off, (size_t)2 * nj + 1, sizeof(int));
+    L->grp_inv = rj__carve(&off, (size_t)nj + 1, sizeof(double));
+    L->x0 = rj__carve(&off, (size_t)nn, sizeof(double));
+    L->y0 = rj__carve(&off, (size_t)nn, sizeof(double));
+    L->phi0 = rj__carve(&off, (size_t)nn, sizeof(double));
+    L->vx0 = rj__carve(&off, (size_t)nn, sizeof(double));
+    L->vy0 = rj__carve(&off, (size_t)nn, sizeof(double));
+    L->w0 = rj__carve(&off, (size_t)nn, sizeof(double));
+    L->beta0 = rj__carve(&off, (size_t)ne, sizeof(double));
+    L->lz = rj__carve(&off, (size_t)15 * nn + 6 * ne + 8, sizeof(double));
+    L->total = off + RJ__ALIGN;
+}
+
+static void rj__counts(const rj_scene_def *sc, int *nn, int *ne)
+{
+    int i;
+    *nn = 0; *ne = 0;
+    for (i = 0; i < sc->link_count; i++) { *nn += sc->links[i].elements + 1; *ne += sc->links[i].elements; }
+}
+
+RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
+{
+    rj__layout L;
+    int nn, ne;
+    if (!rj__validate(scene, err)) return 0;
+    rj__counts(scene, &nn, &ne);
+    rj__model_layout(scene->link_count, scene->joint_count, nn, ne, &L);
+    return L.total;
+}
+
+/* ------------------------------------------------------------------ beam forces */
+/* Co-rotational planar Euler-Bernoulli element (Crisfield): chord e = x_b - x_a, axial
+   Green strain eps = (|e|^2 - l0^2) / (2 l0^2), chord angle beta tracked incrementally
+   from a reference chord (no atan2 per element), local rotations th_a = phi_a - beta,
+   th_b = phi_b - beta, end moments M_a = EI/l0 (4 th_a + 2 th_b), M_b = EI/l0 (2 th_a + 4 th_b).
+   Forces: node b gets -EA/l0 eps e + (M_a + M_b) perp(e) / |e|^2, node a the opposite;
+   moments -M_a, -M_b. Writes element results to efx..em2 and returns the strain energy.
+   beta_out (may be NULL) receives the updated chord angles. */
+static double rj__beam_forces(const rj_model *m, const double *x, const double *y, const double *phi,
+                              const double *beta, const double *cx, const double *cy,
+                              double *efx, double *efy, double *em1, double *em2, double *beta_out)
+{
+    double U = 0.0;
+    int l;
+    for (l = 0; l < m->nl; l++) {
+        const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;
+        const double l0 = m->link_l0[l], kax = m->link_EA[l] / l0, kb = m->link_EI[l] / l0;
+        const double l0sq = l0 * l0, half_inv_l0sq = 0.5 / l0sq;
+        int i;
+        for (i = 0; i < ne; i++) {
+            const int a = n0 + i, e = e0 + i;
+            const double ex = x[a + 1] - x[a], ey = y[a + 1] - y[a];
+            const double c_x = cx[e], c_y = cy[e];
+            const double cr = c_x * ey - c_y * ex, dp = c_x * ex + c_y * ey;
+            const double L2 = ex * ex + ey * ey;
+            double r = cr / dp, db, bt, tha, thb, ma, mb, eps, s, nax;
+            /* atan(r) for the small per-step chord turn; exact fallback for large turns */
+            if (fabs(r) < 0.02 && dp > 0) {
+                double r2 = r * r;
+                db = r * (1.0 - r2 * (1.0 / 3.0 - r2 * (1.0 / 5.0 - r2 * (1.0 / 7.0))));
+            } else {
+                db = atan2(cr, dp);
+            }
+            bt = beta[e] + db;
+            if (beta_out) beta_out[e] = bt;
+            tha = phi[a] - bt; thb = phi[a + 1] - bt;
+            ma = kb * (4.0 * tha + 2.0 * thb);
+            mb = kb * (2.0 * tha + 4.0 * thb);
+            eps = (L2 - l0sq) * half_inv_l0sq;
+            nax = kax * eps;
+            s = (ma + mb) / L2;
+            efx[e] = -nax * ex - s * ey;
+            efy[e] = -nax * ey + s * ex;
+            em1[e] = ma; em2[e] = mb;
+            U += 0.5 * (ma * tha + mb * thb) + 0.5 * kax * l0sq * eps * eps;
+        }
+    }
+    return U;
+}
+
+/* Sums element forces into nodes: node b of element e gets +ef, node a gets -ef. */
+static void rj__gather(const rj_model *m, const double *efx, const double *efy, const double *em1, const double *em2,
+                       double *fx, double *fy, double *mz)
+{
+    int l;
+    for (l = 0; l < m->nl; l++) {
+        const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;
+        int i;
+        fx[n0] = -efx[e0]; fy[n0] = -efy[e0]; mz[n0] = -em1[e0];
+        for (i = 1; i < ne; i++) {
+            fx[n0 + i] = efx[e0 + i - 1] - efx[e0 + i];
+            fy[n0 + i] = efy[e0 + i - 1] - efy[e0 + i];
+            mz[n0 + i] = -em2[e0 + i - 1] - em1[e0 + i];
+        }
+        fx[n0 + ne] = efx[e0 + ne - 1]; fy[n0 + ne] = efy[e0 + ne - 1]; mz[n0 + ne] = -em2[e0 + ne - 1];
+    }
+}
+
+/* ------------------------------------------------------------------ joint geometry */
+typedef struct rj__jgeo { double ax, ay, bx, by, a2, b2; } rj__jgeo;
+
+static void rj__joint_geo(const rj_model *m, const rj__joint *J, const double *x, const double *y, rj__jgeo *g)
+{
+    if (J->nK >= 0) { g->ax = x[J->nK] - x[J->nI]; g->ay = y[J->nK] - y[J->nI]; }
+    else { g->ax = J->gax; g->ay = J->gay; }
+    g->bx = x[J->nL] - x[J->nJ]; g->by = y[J->nL] - y[J->nJ];
+    g->a2 = g->ax * g->ax + g->ay * g->ay;
+    g->b2 = g->bx * g->bx + g->by * g->by;
+    (void)m;
+}
+
+/* theta_dot = omega_2 - omega_1, omega = (r x v_r) / |r|^2 (SPEC sec. 2). */
+static double rj__joint_rate(const rj__joint *J, const rj__jgeo *g, const double *vx, const double *vy, double *w1, double *w2)
+{
+    double o1 = 0.0, o2;
+    if (J->nK >= 0) o1 = (g->ax * (vy[J->nK] - vy[J->nI]) - g->ay * (vx[J->nK] - vx[J->nI])) / g->a2;
+    o2 = (g->bx * (vy[J->nL] - vy[J->nJ]) - g->by * (vx[J->nL] - vx[J->nJ])) / g->b2;
+    if (w1) *w1 = o1;
+    if (w2) *w2 = o2;
+    return o2 - o1;
+}
+
+/* Applies torque tau on body 2 and -tau on body 1 as force couples on J-L and I-K:
+   F_L = tau perp(b)/|b|^2 = -F_J, F_K = -tau perp(a)/|a|^2 = -F_I. */
+static void rj__apply_torque(const rj__joint *J, const rj__jgeo *g, double tau, double *fx, double *fy)
+{
+    double sx = -tau * g->by / g->b2, sy = tau * g->bx / g->b2;
+    fx[J->nL] += sx; fy[J->nL] += sy; fx[J->nJ] -= sx; fy[J->nJ] -= sy;
+    if (J->nK >= 0) {
+        sx = tau * g->ay / g->a2; sy = -tau * g->ax / g->a2;
+        fx[J->nK] += sx; fy[J->nK] += sy; fx[J->nI] -= sx; fy[J->nI] -= sy;
+    }
+}
+
+/* g^T M^-1 g: rate change per unit torque impulse (1/I_red, with the pin's own mass). */
+static double rj__joint_compliance(const rj_model *m, const rj__joint *J, const rj__jgeo *g)
+{
+    double c = m->einv[J->nL] / g->b2, px, py;
+    px = g->by / g->b2; py = -g->bx / g->b2;   /* g_J = -perp(b)/|b|^2 */
+    if (J->nK >= 0) {
+        c += m->einv[J->nK] / g->a2;
+        px += -g->ay / g->a2; py += g->ax / g->a2; /* g_I = perp(a)/|a|^2 */
+    }
+    c += m->einv[J->nJ] * (px * px + py * py);
+    return c;
+}
+
+/* Adds a rotation increment dw to body 2 (node L) and dw1 to body 1 (node K) velocities. */
+static void rj__spin(const rj__joint *J, const rj__jgeo *g, double dw1, double dw2, double *vx, double *vy)
+{
+    vx[J->nL] += -dw2 * g->by; vy[J->nL] += dw2 * g->bx;
+    if (J->nK >= 0) { vx[J->nK] += -dw1 * g->ay; vy[J->nK] += dw1 * g->ax; }
+}
+
+/* Table and spring: resistive torque on body 2 is -(table + spring); potential energy. */
+static double rj__table_turns_potential(const rj_joint_def *d, const rj__joint *J, double run, double *torque)
+{
+    double th = rj__mod2pi(run), turns = floor(run / RJ__TWO_PI);
+    *torque = rj_table_torque(d->table_angle, d->table_torque, d->table_count, th);
+    return rj__table_potential(d->table_angle, d->table_torque, d->table_count, th) + turns * J->tv_turn;
+}
+
+/* ------------------------------------------------------------------ model build */
+static void rj__place(const rj_model *m, int l, double px, double py, double ang, double vpx, double vpy, double om,
+                      double *x, double *y, double *phi, double *vx, double *vy, double *w)
+{
+    int i, n0 = m->link_first[l], ne = m->ldef[l].elements;
+    double c = cos(ang), s = sin(ang), l0 = m->link_l0[l];
+    for (i = 0; i <= ne; i++) {
+        double rx = c * l0 * i, ry = s * l0 * i;
+        x[n0 + i] = px + rx; y[n0 + i] = py + ry; phi[n0 + i] = ang;
+        vx[n0 + i] = vpx - om * ry; vy[n0 + i] = vpy + om * rx; w[n0 + i] = om;
+    }
+}
+
+/* Linear stiffness operator for the stability bound: out = M^-1/2 K M^-1/2 u over the
+   3 nn node DOFs (translations of grouped nodes live at the group's first member). K is
+   the tangent of the internal forces (central differences on rj__beam_forces) plus
+   k_lin g g^T of every joint. */
+static void rj__lz_apply(const rj_model *m, const double *u, double *out, double *work)
+{
+    const int nn = m->nn, ne = m->ne;
+    double *x = work, *y = work + nn, *p = work + 2 * nn, *fx = work + 3 * nn, *fy = work + 4 * nn, *mz = work + 5 * nn;
+    double *efx = work + 6 * nn, *efy = efx + ne, *em1 = efy + ne, *em2 = em1 + ne;
+    const double *cx = m->lz + 9 * (size_t)nn, *cy = cx + ne;
+    double h, sc = 0.0, res[3];
+    int i, sgn, gi, j;
+    for (i = 0; i < 3 * nn; i++) if (fabs(u[i]) > sc) sc = fabs(u[i]);
+    for (i = 0; i < 3 * nn; i++) out[i] = 0.0;
+    if (sc == 0.0) return;
+    /* chord lengths are ~l0; perturb by 1e-7 of the smallest element */
+    h = 1e-7;
+    for (i = 0; i < m->nl; i++) if (m->link_l0[i] * 1e-7 < h) h = m->link_l0[i] * 1e-7;
+    h /= sc;
+    for (sgn = -1; sgn <= 1; sgn += 2) {
+        /* d = M^-1/2 u expanded to group members */
+        for (i = 0; i < nn; i++) {
+            double si = sqrt(m->tinv[i]);
+            x[i] = m->x0[i] + sgn * h * u[3 * i] * si;
+            y[i] = m->y0[i] + sgn * h * u[3 * i + 1] * si;
+            p[i] = m->phi0[i] + sgn * h * u[3 * i + 2] * sqrt(m->rinv[i]);
+        }
+        for (gi = 0; gi < m->ng; gi++) {
+            int r = m->grp_node[m->grp_first[gi]];
+            double si = sqrt(m->grp_inv[gi]);
+            for (j = m->grp_first[gi]; j < m->grp_first[gi + 1]; j++) {
+                int n = m->grp_node[j];
+                x[n] = m->x0[n] + sgn * h * u[3 * r] * si;
+                y[n] = m->y0[n] + sgn * h * u[3 * r + 1] * si;
+            }
+        }
+        rj__beam_forces(m, x, y, p, m->beta0, cx, cy, efx, efy, em1, em2, NULL);
+        rj__gather(m, efx, efy, em1, em2, fx, fy, mz);
+        /* joints: -k_lin (theta - theta0) g, linearised */
+        for (j = 0; j < m->nj; j++) {
+            const rj__joint *J = &m->jnt[j];
+            rj__jgeo g0, g1;
+            double th0, th1;
+            if (J->k_lin <= 0) continue;
+            rj__joint_geo(m, J, m->x0, m->y0, &g0);
+            rj__joint_geo(m, J, x, y, &g1);
+            th0 = atan2(g0.ax * g0.by - g0.ay * g0.bx, g0.ax * g0.bx + g0.ay * g0.by);
+            th1 = atan2(g1.ax * g1.by - g1.ay * g1.bx, g1.ax * g1.bx + g1.ay * g1.by);
+            rj__apply_torque(J, &g0, -J->k_lin * rj__wrap(th1 - th0), fx, fy);
+        }
+        /* out += -sgn * f / (2h), contracted to DOFs */
+        for (i = 0; i < nn; i++) {
+            res[0] = fx[i]; res[1] = fy[i]; res[2] = mz[i];
+            out[3 * i] += -sgn * res[0] * sqrt(m->tinv[i]) / (2 * h);
+            out[3 * i + 1] += -sgn * res[1] * sqrt(m->tinv[i]) / (2 * h);
+            out[3 * i + 2] += -sgn * res[2] * sqrt(m->rinv[i]) / (2 * h);
+        }
+        for (gi = 0; gi < m->ng; gi++) {
+            int r = m->grp_node[m->grp_first[gi]];
+            double sx = 0, sy = 0, si = sqrt(m->grp_inv[gi]);
+            for (j = m->grp_first[gi]; j < m->grp_first[gi + 1]; j++) { sx += fx[m->grp_node[j]]; sy += fy[m->grp_node[j]]; }
+            out[3 * r] += -sgn * sx * si / (2 * h);
+            out[3 * r + 1] += -sgn * sy * si / (2 * h);
+        }
+    }
+}
+
+/* Largest eigenvalue of a symmetric tridiagonal matrix (Sturm bisection). */
+static double rj__tridiag_max(const double *al, const double *be, int k)
+{
+    double lo = 0, hi = 0, mid;
+    int i, it;
+    for (i = 0; i < k; i++) {
+        double r = fabs(i > 0 ? be[i - 1] : 0) + fabs(i + 1 < k ? be[i] : 0);
+        if (al[i] + r > hi) hi = al[i] + r;
+        if (al[i] - r < lo) lo = al[i] - r;
+    }
+    for (it = 0; it < 200; it++) {
+        int cnt = 0;
+        double q = 1.0;
+        mid = 0.5 * (lo + hi);
+        for (i = 0; i < k; i++) {
+            q = al[i] - mid - (i > 0 ? be[i - 1] * be[i - 1] / q : 0.0);
+            if (q == 0.0) q = 1e-300;
+            if (q < 0) cnt++;
+        }
+        if (cnt == k) hi = mid; else lo = mid;   /* cnt = number of eigenvalues below mid */
+        if (hi - lo <= 1e-14 * fabs(hi)) break;
+    }
+    return hi;
+}
+
+/* omega_max^2 of the linearised model by Lanczos (no reorthogonalisation: ghosts do not
+   move the extreme Ritz value). */
+static double rj__omega2_max(rj_model *m)
+{
+    const int n = 3 * m->nn;
+    double *v0 = m->lz, *v1 = m->lz + m->nn * 3, *w = m->lz + m->nn * 6;
+    double *work = m->lz + 9 * (size_t)m->nn + 2 * (size_t)m->ne;
+    double al[RJ__LANCZOS_ITERS], be[RJ__LANCZOS_ITERS], nrm = 0, lam;
+    int i, k, kmax;
+    /* start vector: deterministic, all DOFs */
+    for (i = 0; i < n; i++) { v1[i] = 1.0 + 0.37 * sin(1.0 + i); v0[i] = 0; }
+    for (i = 0; i < m->nn; i++) {
+        if (m->tinv[i] == 0) { v1[3 * i] = 0; v1[3 * i + 1] = 0; }
+        if (m->rinv[i] == 0) v1[3 * i + 2] = 0;
+    }
+    for (i = 0; i < m->ng; i++) {
+        int r = m->grp_node[m->grp_first[i]];
+        if (m->grp_inv[i] > 0) { v1[3 * r] = 1.0; v1[3 * r + 1] = 0.7; }
+    }
+    for (i = 0; i < n; i++) nrm += v1[i] * v1[i];
+    if (nrm == 0) return 0;
+    nrm = sqrt(nrm);
+    for (i = 0; i < n; i++) v1[i] /= nrm;
+    kmax = n < RJ__LANCZOS_ITERS ? n : RJ__LANCZOS_ITERS;
+    for (k = 0; k < kmax; k++) {
+        double a = 0, b = 0, *t;
+        rj__lz_apply(m, v1, w, work);
+        for (i = 0; i < n; i++) a += w[i] * v1[i];
+        al[k] = a;
+        for (i = 0; i < n; i++) w[i] -= a * v1[i] + (k > 0 ? be[k - 1] * v0[i] : 0.0);
+        for (i = 0; i < n; i++) b += w[i] * w[i];
+        b = sqrt(b);
+        be[k] = b;
+        if (b < 1e-12 * fabs(a) || b == 0) { k++; break; }
+        for (i = 0; i < n; i++) w[i] /= b;
+        t = v0; v0 = v1; v1 = w; w = t;
+    }
+    lam = rj__tridiag_max(al, be, k);
+    return lam;
+}
+
+static unsigned long long rj__fnv(unsigned long long h, const void *p, size_t n)
+{
+    const unsigned char *c = (const unsigned char *)p;
+    size_t i;
+    for (i = 0; i < n; i++) { h ^= c[i]; h *= 1099511628211ULL; }
+    return h;
+}
+
+RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj_model **out, rj_error *err)
+{
+    rj__layout L;
+    rj_model *m;
+    char *base;
+    int nn, ne, i, j, l, *placed, ngroups;
+    double om2;
+    if (err) { err->code = RJ_OK; err->field[0] = 0; err->msg[0] = 0; err->value = 0; }
+    if (!out) { rj__fail(err, RJ_ERR_INVALID, "out", 0, "out is NULL"); return RJ_ERR_INVALID; }
+    if (!rj__validate(sc, err)) return RJ_ERR_INVALID;
+    rj__counts(sc, &nn, &ne);
+    rj__model_layout(sc->link_count, sc->joint_count, nn, ne, &L);
+    if (!mem || size < L.total) { rj__fail(err, RJ_ERR_NOMEM, "size", (double)size, "memory block of %lu bytes is smaller than the %lu the model needs", (unsigned long)size, (unsigned long)L.total); return RJ_ERR_NOMEM; }
+    base = (char *)mem;
+    base += (RJ__ALIGN - ((size_t)base % RJ__ALIGN)) % RJ__ALIGN;
+    memset(base, 0, L.total - RJ__ALIGN);
+    m = (rj_model *)(void *)base;
+    m->bytes = L.total - RJ__ALIGN;
+    m->nl = sc->link_count; m->nj = sc->joint_count; m->nn = nn; m->ne = ne;
+    m->solver = sc->solver;
+#define RJ__SET(field, type) m->field = (type *)(void *)(base + L.field)
+    RJ__SET(ldef, rj_link_def); RJ__SET(jdef, rj_joint_def); RJ__SET(jnt, rj__joint);
+    RJ__SET(link_first, int); RJ__SET(link_efirst, int); RJ__SET(link_l0, double); RJ__SET(link_EA, double);
+    RJ__SET(link_EI, double); RJ__SET(link_rho, double); RJ__SET(link_I, double);
+    RJ__SET(mass, double); RJ__SET(rinertia, double); RJ__SET(tinv, double); RJ__SET(rinv, double); RJ__SET(einv, double);
+    RJ__SET(grp_first, int); RJ__SET(grp_node, int); RJ__SET(grp_inv, double);
+    RJ__SET(x0, double); RJ__SET(y0, double); RJ__SET(phi0, double); RJ__SET(vx0, double); RJ__SET(vy0, double);
+    RJ__SET(w0, double); RJ__SET(beta0, double); RJ__SET(lz, double);
+#undef RJ__SET
+    memcpy(m->ldef, sc->links, sizeof(rj_link_def) * (size_t)m->nl);
+    if (m->nj) memcpy(m->jdef, sc->joints, sizeof(rj_joint_def) * (size_t)m->nj);
+    /* links: section (layers integrate EA and EI exactly for the elastic rectangle), masses */
+    m->link_first[0] = 0; m->link_efirst[0] = 0;
+    for (l = 0; l < m->nl; l++) {
+        const rj_link_def *d = &m->ldef[l];
+        double A, I, l0 = d->length / d->elements, mt, jr;
+        int n0 = m->link_first[l], k;
+        if (d->section == RJ_SECTION_RECT) {
+            double h = d->height / d->layers;
+            A = 0; I = 0;
+            for (k = 0; k < d->layers; k++) {
+                double z = -0.5 * d->height + (k + 0.5) * h;
+                A += d->width * h;
+                I += d->width * h * h * h / 12.0 + d->width * h * z * z;
+            }
+        } else { A = d->area; I = d->inertia; }
+        m->link_first[l + 1] = n0 + d->elements + 1;
+        m->link_efirst[l + 1] = m->link_efirst[l] + d->elements;
+        m->link_l0[l] = l0; m->link_EA[l] = d->E * A; m->link_EI[l] = d->E * I;
+        m->link_rho[l] = d->rho; m->link_I[l] = I;
+        mt = 0.5 * d->rho * A * l0;
+        jr = d->rho * A * l0 * l0 * l0 / 78.0;
+        if (0.5 * d->rho * I * l0 > jr) jr = 0.5 * d->rho * I * l0;
+        for (k = 0; k <= d->elements; k++) {
+            double f = (k == 0 || k == d->elements) ? 1.0 : 2.0;
+            m->mass[n0 + k] = f * mt; m->rinertia[n0 + k] = f * jr;
+        }
+        m->mass[n0 + d->elements] += d->tip_mass;
+        m->rinertia[n0 + d->elements] += d->tip_inertia;
+        for (k = 0; k <= d->elements; k++) { m->tinv[n0 + k] = 1.0 / m->mass[n0 + k]; m->rinv[n0 + k] = 1.0 / m->rinertia[n0 + k]; }
+        if (d->root == RJ_ROOT_PINNED || d->root == RJ_ROOT_CLAMPED) m->tinv[n0] = 0;
+        if (d->root == RJ_ROOT_CLAMPED) m->rinv[n0] = 0;
+        if (d->root == RJ_ROOT_FIXED) for (k = 0; k <= d->elements; k++) { m->tinv[n0 + k] = 0; m->rinv[n0 + k] = 0; }
+    }
+    for (i = 0; i < nn; i++) m->einv[i] = m->tinv[i];
+    /* joints: nodes, pin groups (body1's node and body2's node 0 share their translation) */
+    ngroups = 0;
+    m->grp_first[0] = 0;
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        rj__joint *J = &m->jnt[j];
+        int b2 = m->link_first[d->body2];
+        J->nJ = b2; J->nL = b2 + 1;
+        if (d->body1 < 0) {
+            J->nI = -1; J->nK = -1;
+            J->gax = cos(d->ground_angle); J->gay = sin(d->ground_angle);
+            m->tinv[b2] = 0; m->einv[b2] = 0;
+        } else {
+            int n1 = d->node1 < 0 ? m->ldef[d->body1].elements : d->node1;
+            J->nI = m->link_first[d->body1] + n1;
+            J->nK = J->nI + (n1 > 0 ? -1 : 1);
+        }
+    }
+    /* groups: for each body1 pin node, collect it and all body2 roots pinned to it */
+    {
+        int gcount = 0, k;
+        for (j = 0; j < m->nj; j++) {
+            rj__joint *J = &m->jnt[j];
+            int seen = 0;
+            if (J->nI < 0) continue;
+            for (k = 0; k < j; k++) if (m->jnt[k].nI == J->nI) seen = 1;
+            if (seen) continue;
+            m->grp_node[gcount++] = J->nI;
+            for (k = j; k < m->nj; k++) if (m->jnt[k].nI == J->nI) m->grp_node[gcount++] = m->jnt[k].nJ;
+            m->grp_first[++ngroups] = gcount;
+        }
+        m->ng = ngroups;
+        for (i = 0; i < ngroups; i++) {
+            double msum = 0; int fixed = 0;
+            for (k = m->grp_first[i]; k < m->grp_first[i + 1]; k++) {
+                int n = m->grp_node[k];
+                msum += m->mass[n];
+                if (m->tinv[n] == 0) fixed = 1;
+            }
+            m->grp_inv[i] = fixed ? 0.0 : 1.0 / msum;
+            for (k = m->grp_first[i]; k < m->grp_first[i + 1]; k++) { m->einv[m->grp_node[k]] = m->grp_inv[i]; m->tinv[m->grp_node[k]] = 0; }
+        }
+    }
+    /* initial placement: roots first, then children by walking joints until all placed */
+    placed = (int *)(void *)m->lz;   /* scratch: the Lanczos area is unused yet */
+    for (l = 0; l < m->nl; l++) placed[l] = 0;
+    for (l = 0; l < m->nl; l++) {
+        int child = 0;
+        for (j = 0; j < m->nj; j++) if (m->jdef[j].body2 == l) child = 1;
+        if (!child) {
+            const rj_link_def *d = &m->ldef[l];
+            rj__place(m, l, d->x, d->y, d->angle, d->vx, d->vy, d->omega, m->x0, m->y0, m->phi0, m->vx0, m->vy0, m->w0);
+            placed[l] = 1;
+        }
+    }
+    for (i = 0; i < m->nl; i++) {
+        for (j = 0; j < m->nj; j++) {
+            const rj_joint_def *d = &m->jdef[j];
+            rj__joint *J = &m->jnt[j];
+            double px, py, refang, om1 = 0, vpx = 0, vpy = 0;
+            if (placed[d->body2] || (d->body1 >= 0 && !placed[d->body1])) continue;
+            if (d->body1 < 0) { px = d->ground_x; py = d->ground_y; refang = d->ground_angle; }
+            else {
+                px = m->x0[J->nI]; py = m->y0[J->nI];
+                refang = atan2(m->y0[J->nK] - py, m->x0[J->nK] - px);
+                om1 = m->w0[J->nI]; vpx = m->vx0[J->nI]; vpy = m->vy0[J->nI];
+                if (m->ldef[d->body1].root == RJ_ROOT_FIXED) { om1 = 0; vpx = 0; vpy = 0; }
+            }
+            rj__place(m, d->body2, px, py, refang + d->angle0, vpx, vpy, om1 + d->rate0, m->x0, m->y0, m->phi0, m->vx0, m->vy0, m->w0);
+            placed[d->body2] = 1;
+        }
+    }
+    for (l = 0; l < m->nl; l++) if (m->ldef[l].root == RJ_ROOT_FIXED) {
+        int k;
+        for (k = m->link_first[l]; k < m->link_first[l + 1]; k++) { m->vx0[k] = 0; m->vy0[k] = 0; m->w0[k] = 0; }
+    }
+    for (i = 0; i < nn; i++) if (m->einv[i] == 0) { m->vx0[i] = 0; m->vy0[i] = 0; }
+    for (i = 0; i < nn; i++) if (m->rinv[i] == 0) m->w0[i] = 0;
+    for (l = 0; l < m->nl; l++) {
+        int k;
+        for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++) {
+            int a = m->link_first[l] + (k - m->link_efirst[l]);
+            /* on the same branch as the node rotations, so phi - beta starts near 0 */
+            m->beta0[k] = m->phi0[a] + rj__wrap(atan2(m->y0[a + 1] - m->y0[a], m->x0[a + 1] - m->x0[a]) - m->phi0[a]);
+        }
+    }
+    /* joint constants: inertias, limits on the running angle, table potential */
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        rj__joint *J = &m->jnt[j];
+        rj__jgeo g;
+        double W, dd, fwd, rev, kt = 0;
+        int k, k2;
+        rj__joint_geo(m, J, m->x0, m->y0, &g);
+        J->I1 = (J->nK >= 0 && m->einv[J->nK] > 0) ? g.a2 / m->einv[J->nK] : HUGE_VAL;
+        J->I2 = m->einv[J->nL] > 0 ? g.b2 / m->einv[J->nL] : HUGE_VAL;
+        if (!rj__finite(J->I1)) { J->w1 = 0; J->w2 = 1; }
+        else if (!rj__finite(J->I2)) { J->w1 = 1; J->w2 = 0; }
+        else { J->w1 = J->I2 / (J->I1 + J->I2); J->w2 = J->I1 / (J->I1 + J->I2); }
+        /* running limits: the free arc runs counter-clockwise from reverse to forward */
+        fwd = d->has_forward ? d->forward : d->reverse;
+        rev = d->has_reverse ? d->reverse : d->forward;
+        W = rj__mod2pi(fwd - rev);
+        if (W == 0) W = RJ__TWO_PI;
+        dd = rj__mod2pi(d->angle0 - rev);
+        if (dd <= W) { J->rev = d->angle0 - dd; J->fwd = J->rev + W; }
+        else if (dd - W <= RJ__TWO_PI - dd) { J->fwd = d->angle0 - (dd - W); J->rev = J->fwd - W; }
+        else { J->rev = d->angle0 + (RJ__TWO_PI - dd); J->fwd = J->rev + W; }
+        if (!d->has_forward) J->fwd = HUGE_VAL;
+        if (!d->has_reverse) J->rev = -HUGE_VAL;
+        for (k = 0; k < d->table_count; k++) J->tv[k] = rj__table_potential(d->table_angle, d->table_torque, d->table_count, d->table_angle[k]);
+        J->tv_turn = d->table_count ? rj__table_potential(d->table_angle, d->table_torque, d->table_count, RJ__TWO_PI) : 0.0;
+        for (k = 0; k + 1 < d->table_count; k++) {
+            double s = 0;
+            if (!(d->table_angle[k + 1] > d->table_angle[k])) continue;
+            for (k2 = 0; k2 + 1 < d->table_count; k2++) {
+                if (!(d->table_angle[k2 + 1] > d->table_angle[k2])) continue;
+                if (d->table_angle[k2 + 1] < d->table_angle[k] || d->table_angle[k2] > d->table_angle[k + 1]) continue;
+                s += fabs((d->table_torque[k2 + 1] - d->table_torque[k2]) / (d->table_angle[k2 + 1] - d->table_angle[k2]));
+            }
+            if (s > kt) kt = s;
+        }
+        J->k_lin = d->spring_k + kt;
+        J->k_limit = 0;
+    }
+    /* stability: omega_max of beams + springs + tables, then the limit stiffness in use */
+    {
+        double *cx = m->lz + 9 * (size_t)nn, *cy = cx + ne;
+        for (l = 0; l < m->nl; l++) {
+            int k;
+            for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++) {
+                int a = m->link_first[l] + (k - m->link_efirst[l]);
+                cx[k] = m->x0[a + 1] - m->x0[a]; cy[k] = m->y0[a + 1] - m->y0[a];
+            }
+        }
+    }
+    om2 = 0;
+    {
+        /* dt depends on K_AP and K_AP on dt: bound without adaptive joints first */
+        double dt;
+        int pass;
+        for (j = 0; j < m->nj; j++) {
+            const rj_joint_def *d = &m->jdef[j];
+            if ((d->has_forward || d->has_reverse) && d->method == RJ_METHOD_PENALTY) m->jnt[j].k_lin += d->penalty_k;
+        }
+        /* needs scratch at the block's tail: the lz area is sized for it */
+        om2 = rj__omega2_max(m);
+        m->omega_max = sqrt(om2 > 0 ? om2 : 0);
+        m->dt_bound = m->omega_max > 0 ? RJ__DT_MARGIN * 2.0 / m->omega_max : 1.0;
+        dt = sc->solver.dt > 0 ? sc->solver.dt : 0.9 * m->dt_bound;
+        /* adaptive joints: K_AP = I_red/dt^2 adds omega^2 = K_AP g^T M^-1 g ~ 1/dt^2, i.e.
+           omega dt ~ 1 on its own; include it and recompute the bound once */
+        for (pass = 0; pass < 1; pass++) {
+            int any = 0;
+            for (j = 0; j < m->nj; j++) {
+                const rj_joint_def *d = &m->jdef[j];
+                rj__joint *J = &m->jnt[j];
+                if ((d->has_forward || d->has_reverse) && d->method == RJ_METHOD_ADAPTIVE) {
+                    J->k_limit = rj_k_adaptive(J->I1, J->I2, dt);
+                    J->k_lin += J->k_limit;
+                    any = 1;
+                }
+            }
+            if (any) {
+                om2 = rj__omega2_max(m);
+                m->omega_max = sqrt(om2 > 0 ? om2 : 0);
+                m->dt_bound = m->omega_max > 0 ? RJ__DT_MARGIN * 2.0 / m->omega_max : 1.0;
+                if (sc->solver.dt <= 0 && dt > 0.9 * m->dt_bound) dt = 0.9 * m->dt_bound;
+            }
+        }
+        for (j = 0; j < m->nj; j++) {
+            const rj_joint_def *d = &m->jdef[j];
+            rj__joint *J = &m->jnt[j];
+            if (d->method == RJ_METHOD_PENALTY) J->k_limit = d->penalty_k;
+            if (d->method == RJ_METHOD_ADAPTIVE) J->k_limit = rj_k_adaptive(J->I1, J->I2, dt);
+        }
+        m->dt = dt;
+    }
+    if (m->dt > m->dt_bound && !sc->solver.allow_unstable) {
+        rj__fail(err, RJ_ERR_UNSTABLE_DT, "solver.dt", m->dt,
+                 "solver.dt = %g s is above the stability bound %g s (omega_max %g rad/s of the links and joint stiffnesses in use); use a smaller dt or set solver.allow_unstable",
+                 m->dt, m->dt_bound, m->omega_max);
+        return RJ_ERR_UNSTABLE_DT;
+    }
+    /* Eq 28 over the whole model */
+    m->dt_eq28 = HUGE_VAL;
+    for (l = 0; l < m->nl; l++) {
+        double c = sqrt(m->ldef[l].E / m->ldef[l].rho), t = m->link_l0[l] / c;
+        if (t < m->dt_eq28) m->dt_eq28 = t;
+    }
+    m->frame_doubles = 6 * (size_t)nn + 3 * (size_t)ne + RJ__JD_COUNT * (size_t)m->nj + RJ__FS_COUNT;
+    m->frame_ints = (size_t)m->nj;
+    m->hash = 14695981039346656037ULL;
+    m->hash = rj__fnv(m->hash, &m->nn, sizeof m->nn);
+    m->hash = rj__fnv(m->hash, &m->ne, sizeof m->ne);
+    m->hash = rj__fnv(m->hash, &m->nj, sizeof m->nj);
+    m->hash = rj__fnv(m->hash, &m->dt, sizeof m->dt);
+    m->hash = rj__fnv(m->hash, m->mass, sizeof(double) * (size_t)nn);
+    m->hash = rj__fnv(m->hash, m->x0, sizeof(double) * (size_t)nn);
+    *out = m;
+    return RJ_OK;
+}
+
+RJDEF rj_result rj_model_create(const rj_scene_def *scene, rj_model **out, rj_error *err, void *alloc_ctx)
+{
+    size_t sz;
+    void *mem;
+    rj_result r;
+    (void)alloc_ctx;
+    if (!out) { rj__fail(err, RJ_ERR_INVALID, "out", 0, "out is NULL"); return RJ_ERR_INVALID; }
+    sz = rj_model_size(scene, err);
+    if (!sz) return RJ_ERR_INVALID;
+    mem = RJ_MALLOC(sz, alloc_ctx);
+    if (!mem) { rj__fail(err, RJ_ERR_NOMEM, "size", (double)sz, "could not allocate %lu bytes", (unsigned long)sz); return RJ_ERR_NOMEM; }
+    r = rj_model_init(scene, mem, sz, out, err);
+    if (r != RJ_OK) { RJ_FREE(mem, alloc_ctx); return r; }
+    /* remember the raw pointer for free: the model sits at the aligned start of mem */
+    if ((void *)*out != mem) {
+        /* alignment moved the start; keep it simple: allocators return 16-aligned blocks */
+        RJ_FREE(mem, alloc_ctx);
+        rj__fail(err, RJ_ERR_NOMEM, "size", 0, "RJ_MALLOC returned a block not aligned to 16 bytes");
+        *out = NULL;
+        return RJ_ERR_NOMEM;
+    }
+    return RJ_OK;
+}
+
+RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
+{
+    (void)alloc_ctx;
+    if (m) RJ_FREE(m, alloc_ctx);
+}
+
+/* ------------------------------------------------------------------ states */
+typedef struct rj__slayout { size_t total, fd0, fd1, fi0, fi1, fx, fy, mz, efx, efy, em1, em2, jsc; } rj__slayout;
+
+static void rj__state_layout(const rj_model *m, rj__slayout *L)
+{
+    size_t off = sizeof(rj_state);
+    L->fd0 = rj__carve(&off, m->frame_doubles, sizeof(double));
+    L->fd1 = rj__carve(&off, m->frame_doubles, sizeof(double));
+    L->fi0 = rj__carve(&off, m->frame_ints + 1, sizeof(int));
+    L->fi1 = rj__carve(&off, m->frame_ints + 1, sizeof(int));
+    L->fx = rj__carve(&off, (size_t)m->nn, sizeof(double));
+    L->fy = rj__carve(&off, (size_t)m->nn, sizeof(double));
+    L->mz = rj__carve(&off, (size_t)m->nn, sizeof(double));
+    L->efx = rj__carve(&off, (size_t)m->ne, sizeof(double));
+    L->efy = rj__carve(&off, (size_t)m->ne, sizeof(double));
+    L->em1 = rj__carve(&off, (size_t)m->ne, sizeof(double));
+    L->em2 = rj__carve(&off, (size_t)m->ne, sizeof(double));
+    L->jsc = rj__carve(&off, (size_t)m->nj * 8 + 1, sizeof(double));
+    L->total = off + RJ__ALIGN;
+}
+
+RJDEF size_t rj_state_size(const rj_model *m)
+{
+    rj__slayout L;
+    RJ_ASSERT(m);
+    rj__state_layout(m, &L);
+    return L.total;
+}
+
+/* frame accessors */
+#define RJ__FX(m, f) ((f) + RJ__FS_COUNT)
+#define RJ__FY(m, f) ((f) + RJ__FS_COUNT + (m)->nn)
+#define RJ__FPHI(m, f) ((f) + RJ__FS_COUNT + 2 * (size_t)(m)->nn)
+#define RJ__FVX(m, f) ((f) + RJ__FS_COUNT + 3 * (size_t)(m)->nn)
+#define RJ__FVY(m, f) ((f) + RJ__FS_COUNT + 4 * (size_t)(m)->nn)
+#define RJ__FW(m, f) ((f) + RJ__FS_COUNT + 5 * (size_t)(m)->nn)
+#define RJ__FBETA(m, f) ((f) + RJ__FS_COUNT + 6 * (size_t)(m)->nn)
+#define RJ__FCX(m, f) ((f) + RJ__FS_COUNT + 6 * (size_t)(m)->nn + (m)->ne)
+#define RJ__FCY(m, f) ((f) + RJ__FS_COUNT + 6 * (size_t)(m)->nn + 2 * (size_t)(m)->ne)
+#define RJ__FJ(m, f, j) ((f) + RJ__FS_COUNT + 6 * (size_t)(m)->nn + 3 * (size_t)(m)->ne + RJ__JD_COUNT * (size_t)(j))
+#define RJ__FS(m, f) (f)
+
+static double rj__spring_energy(const rj_model *m, const double *f)
+{
+    double V = 0, t;
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        double run = RJ__FJ(m, f, j)[RJ__JD_THETA];
+        if (d->spring_k > 0) V += 0.5 * d->spring_k * (run - d->spring_free_angle) * (run - d->spring_free_angle);
+        if (d->table_count) V += rj__table_turns_potential(d, &m->jnt[j], run, &t);
+    }
+    return V;
+}
+
+RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
+{
+    double *f = s->fd[0], *sc;
+    int j, i;
+    s->cur = 0; s->steps = 0; s->err[0] = 0;
+    memset(s->fd[0], 0, sizeof(double) * m->frame_doubles);
+    memset(s->fd[1], 0, sizeof(double) * m->frame_doubles);
+    memset(s->fi[0], 0, sizeof(int) * (m->frame_ints + 1));
+    memset(s->fi[1], 0, sizeof(int) * (m->frame_ints + 1));
+    memcpy(RJ__FX(m, f), m->x0, sizeof(double) * (size_t)m->nn);
+    memcpy(RJ__FY(m, f), m->y0, sizeof(double) * (size_t)m->nn);
+    memcpy(RJ__FPHI(m, f), m->phi0, sizeof(double) * (size_t)m->nn);
+    memcpy(RJ__FVX(m, f), m->vx0, sizeof(double) * (size_t)m->nn);
+    memcpy(RJ__FVY(m, f), m->vy0, sizeof(double) * (size_t)m->nn);
+    memcpy(RJ__FW(m, f), m->w0, sizeof(double) * (size_t)m->nn);
+    memcpy(RJ__FBETA(m, f), m->beta0, sizeof(double) * (size_t)m->ne);
+    for (i = 0; i < m->nl; i++) {
+        int k;
+        for (k = m->link_efirst[i]; k < m->link_efirst[i + 1]; k++) {
+            int a = m->link_first[i] + (k - m->link_efirst[i]);
+            RJ__FCX(m, f)[k] = m->x0[a + 1] - m->x0[a];
+            RJ__FCY(m, f)[k] = m->y0[a + 1] - m->y0[a];
+        }
+    }
+    for (j = 0; j < m->nj; j++) {
+        double *jd = RJ__FJ(m, f, j);
+        rj__jgeo g;
+        rj__joint_geo(m, &m->jnt[j], m->x0, m->y0, &g);
+        jd[RJ__JD_THETA] = m->jdef[j].angle0;
+        jd[RJ__JD_RATE] = rj__joint_rate(&m->jnt[j], &g, m->vx0, m->vy0, NULL, NULL);
+        jd[RJ__JD_RATEP] = jd[RJ__JD_RATE];
+        jd[RJ__JD_EVENT] = -1; jd[RJ__JD_RELEASE] = -1;
+    }
+    sc = RJ__FS(m, f);
+    {
+        double ke = 0, U;
+        for (i = 0; i < m->nn; i++) ke += 0.5 * m->mass[i] * (m->vx0[i] * m->vx0[i] + m->vy0[i] * m->vy0[i]) * (m->einv[i] > 0) + 0.5 * m->rinertia[i] * m->w0[i] * m->w0[i] * (m->rinv[i] > 0);
+        U = rj__beam_forces(m, m->x0, m->y0, m->phi0, m->beta0, RJ__FCX(m, f), RJ__FCY(m, f), s->efx, s->efy, s->em1, s->em2, NULL);
+        sc[RJ__FS_KE] = ke; sc[RJ__FS_STRAIN] = U; sc[RJ__FS_SPRING] = rj__spring_energy(m, f);
+        sc[RJ__FS_E0] = ke + U + sc[RJ__FS_SPRING];
+    }
+}
+
+RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_state **out)
+{
+    rj__slayout L;
+    rj_state *s;
+    char *base;
+    if (!m || !out) return RJ_ERR_INVALID;
+    rj__state_layout(m, &L);
+    if (!mem || size < L.total) return RJ_ERR_NOMEM;
+    base = (char *)mem;
+    base += (RJ__ALIGN - ((size_t)base % RJ__ALIGN)) % RJ__ALIGN;
+    memset(base, 0, L.total - RJ__ALIGN);
+    s = (rj_state *)(void *)base;
+    s->bytes = L.total - RJ__ALIGN;
+    s->fd[0] = (double *)(void *)(base + L.fd0); s->fd[1] = (double *)(void *)(base + L.fd1);
+    s->fi[0] = (int *)(void *)(base + L.fi0); s->fi[1] = (int *)(void *)(base + L.fi1);
+    s->fx = (double *)(void *)(base + L.fx); s->fy = (double *)(void *)(base + L.fy); s->mz = (double *)(void *)(base + L.mz);
+    s->efx = (double *)(void *)(base + L.efx); s->efy = (double *)(void *)(base + L.efy);
+    s->em1 = (double *)(void *)(base + L.em1); s->em2 = (double *)(void *)(base + L.em2);
+    s->jsc = (double *)(void *)(base + L.jsc);
+    rj_state_reset(m, s);
+    *out = s;
+    return RJ_OK;
+}
+
+RJDEF rj_result rj_state_create(const rj_model *m, rj_state **out, void *alloc_ctx)
+{
+    size_t sz;
+    void *mem;
+    rj_result r;
+    (void)alloc_ctx;
+    if (!m || !out) return RJ_ERR_INVALID;
+    sz = rj_state_size(m);
+    mem = RJ_MALLOC(sz, alloc_ctx);
+    if (!mem) return RJ_ERR_NOMEM;
+    r = rj_state_init(m, mem, sz, out);
+    if (r != RJ_OK || (void *)*out != mem) { RJ_FREE(mem, alloc_ctx); *out = NULL; return r != RJ_OK ? r : RJ_ERR_NOMEM; }
+    return RJ_OK;
+}
+
+RJDEF void rj_state_destroy(rj_state *s, void *alloc_ctx)
+{
+    (void)alloc_ctx;
+    if (s) RJ_FREE(s, alloc_ctx);
+}
+
+RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *src)
+{
+    if (!m || !dst || !src) return RJ_ERR_INVALID;
+    memcpy(dst->fd[0], src->fd[src->cur], sizeof(double) * m->frame_doubles);
+    memcpy(dst->fi[0], src->fi[src->cur], sizeof(int) * (m->frame_ints + 1));
+    dst->cur = 0; dst->steps = src->steps;
+    memcpy(dst->err, src->err, sizeof dst->err);
+    return RJ_OK;
+}
+
+/* ------------------------------------------------------------------ the step */
+static rj_result rj__stop(const rj_model *m, rj_state *s, rj_result r, const char *fmt, ...)
+{
+    va_list ap;
+    (void)m;
+    va_start(ap, fmt);
+    vsnprintf(s->err, sizeof s->err, fmt, ap);
+    va_end(ap);
+    return r;
+}
+
+/* Names the node with the largest speed in the new frame, for blow-up reports. */
+static void rj__worst_node(const rj_model *m, const double *f, int *link, int *node)
+{
+    const double *vx = RJ__FVX(m, f), *vy = RJ__FVY(m, f);
+    double best = -1;
+    int i, l;
+    *link = 0; *node = 0;
+    for (i = 0; i < m->nn; i++) {
+        double v = vx[i] * vx[i] + vy[i] * vy[i];
+        if (!(v <= best)) {
+            best = v;
+            for (l = 0; l < m->nl; l++) if (i >= m->link_first[l] && i < m->link_first[l + 1]) { *link = l; *node = i - m->link_first[l]; }
+            if (!(v == v)) break;
+        }
+    }
+}
+
+RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
+{
+    const int nn = m->nn;
+    const double dt = m->dt;
+    const double *of = s->fd[s->cur];
+    double *nf = s->fd[1 - s->cur];
+    const int *oi = s->fi[s->cur];
+    int *ni = s->fi[1 - s->cur];
+    const double *x = RJ__FX(m, of), *y = RJ__FY(m, of), *phi = RJ__FPHI(m, of);
+    const double *vx = RJ__FVX(m, of), *vy = RJ__FVY(m, of), *w = RJ__FW(m, of);
+    double *nx = RJ__FX(m, nf), *ny = RJ__FY(m, nf), *nphi = RJ__FPHI(m, nf);
+    double *nvx = RJ__FVX(m, nf), *nvy = RJ__FVY(m, nf), *nw = RJ__FW(m, nf);
+    double *fx = s->fx, *fy = s->fy, *mz = s->mz;
+    const double *osc = RJ__FS(m, of);
+    double *nsc = RJ__FS(m, nf);
+    const double t = osc[RJ__FS_TIME];
+    double U, ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC], lost_l = osc[RJ__FS_LLIM];
+    int i, j, gi;
+
+    /* 1. beams: internal forces at x^n, updated chord angles into the new frame */
+    U = rj__beam_forces(m, x, y, phi, RJ__FBETA(m, of), RJ__FCX(m, of), RJ__FCY(m, of),
+                        s->efx, s->efy, s->em1, s->em2, RJ__FBETA(m, nf));
+    rj__gather(m, s->efx, s->efy, s->em1, s->em2, fx, fy, mz);
+
+    /* 2. joints: rate, status flag (Eqs 7-13), table/spring/damping/limit torques */
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const rj__joint *J = &m->jnt[j];
+        const double *oj = RJ__FJ(m, of, j);
+        double *nj_ = RJ__FJ(m, nf, j), *sc = s->jsc + 8 * j;
+        rj__jgeo g;
+        double run = oj[RJ__JD_THETA], rate, tq_table = 0, tq_spring = 0, tq_damp = 0, tq_lim = 0, p = 0, tq_nc;
+        int flag, bf, br;
+        rj__joint_geo(m, J, x, y, &g);
+        rate = rj__joint_rate(J, &g, vx, vy, NULL, NULL);
+        bf = run >= J->fwd;
+        br = run <= J->rev;
+        flag = rj_flag_next(oi[j], bf, br, rate, d->lock, d->release);
+        memcpy(nj_, oj, sizeof(double) * RJ__JD_COUNT);
+        if (flag == RJ_LOCKED && oi[j] != RJ_LOCKED) nj_[RJ__JD_LOCK] = bf ? J->fwd : J->rev;
+        if (flag != RJ_FREE && oj[RJ__JD_EVENT] < 0) nj_[RJ__JD_EVENT] = t;
+        if (flag == RJ_FREE && oi[j] != RJ_FREE && oj[RJ__JD_RELEASE] < 0) nj_[RJ__JD_RELEASE] = t;
+        ni[j] = flag;
+        /* Eq 19 penetration */
+        if (flag == RJ_AT_FORWARD) p = J->fwd - run;
+        else if (flag == RJ_AT_REVERSE) p = J->rev - run;
+        else if (flag == RJ_LOCKED) p = nj_[RJ__JD_LOCK] - run;
+        if (fabs(p) > nj_[RJ__JD_PEAKP]) nj_[RJ__JD_PEAKP] = fabs(p);
+        /* Eq 4 table, torsion spring, Eq 27 damping (resistive: minus on body 2) */
+        if (d->table_count) { double tt; rj__table_turns_potential(d, J, run, &tt); tq_table = -tt; }
+        if (d->spring_k > 0) tq_spring = -d->spring_k * (run - d->spring_free_angle);
+        if (d->damping > 0) tq_damp = -d->damping * rate;
+        /* Eq 22 / penalty: tau_2 = K p while at a limit */
+        if (flag != RJ_FREE && (d->method == RJ_METHOD_PENALTY || d->method == RJ_METHOD_ADAPTIVE)) tq_lim = J->k_limit * p;
+        tq_nc = tq_damp + tq_lim;
+        rj__apply_torque(J, &g, tq_table + tq_spring + tq_nc, fx, fy);
+        nj_[RJ__JD_TQ0 + RJ_TORQUE_TABLE] = tq_table;
+        nj_[RJ__JD_TQ0 + RJ_TORQUE_SPRING] = tq_spring;
+        nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] = tq_damp;
+        nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] = tq_lim;
+        nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = 0;
+        sc[0] = g.ax; sc[1] = g.ay; sc[2] = g.bx; sc[3] = g.by; sc[4] = rate; sc[5] = p;
+    }
+
+    /* 3. Coulomb friction: the torque that would stop the relative rotation in this step,
+       capped at T_f; it never reverses the rate and holds a stuck joint exactly. */
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const rj__joint *J = &m->jnt[j];
+        double *nj_ = RJ__FJ(m, nf, j), *sc = s->jsc + 8 * j;
+        rj__jgeo g;
+        double pvx[4], pvy[4], c, ratep, tau;
+        int nodes[4], k;
+        if (!(d->friction > 0)) continue;
+        g.ax = sc[0]; g.ay = sc[1]; g.bx = sc[2]; g.by = sc[3];
+        g.a2 = g.ax * g.ax + g.ay * g.ay; g.b2 = g.bx * g.bx + g.by * g.by;
+        nodes[0] = J->nI; nodes[1] = J->nK; nodes[2] = J->nJ; nodes[3] = J->nL;
+        for (k = 0; k < 4; k++) {
+            int n = nodes[k];
+            if (n < 0) { pvx[k] = pvy[k] = 0; continue; }
+            if (m->tinv[n] == 0 && m->einv[n] > 0) {
+                /* grouped node: the group's acceleration */
+                double sx = 0, sy = 0, ginv = m->einv[n];
+                for (gi = 0; gi < m->ng; gi++) {
+                    int q, in = 0;
+                    for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++) if (m->grp_node[q] == n) in = 1;
+                    if (!in) continue;
+                    for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++) { sx += fx[m->grp_node[q]]; sy += fy[m->grp_node[q]]; }
+                    break;
+                }
+                pvx[k] = vx[n] + dt * sx * ginv; pvy[k] = vy[n] + dt * sy * ginv;
+            } else {
+                pvx[k] = vx[n] + dt * fx[n] * m->tinv[n]; pvy[k] = vy[n] + dt * fy[n] * m->tinv[n];
+            }
+        }
+        ratep = (g.bx * (pvy[3] - pvy[2]) - g.by * (pvx[3] - pvx[2])) / g.b2;
+        if (J->nK >= 0) ratep -= (g.ax * (pvy[1] - pvy[0]) - g.ay * (pvx[1] - pvx[0])) / g.a2;
+        c = dt * rj__joint_compliance(m, J, &g);
+        tau = c > 0 ? -ratep / c : 0;
+        if (tau > d->friction) tau = d->friction;
+        if (tau < -d->friction) tau = -d->friction;
+        rj__apply_torque(J, &g, tau, fx, fy);
+        nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
+    }
+
+    /* 4. velocities v^{n+1/2} and positions x^{n+1}; kinetic energy at n as v^{n-1/2}.v^{n+1/2} */
+    for (i = 0; i < nn; i++) {
+        const double ti = m->tinv[i], ri = m->rinv[i];
+        const double ux = vx[i] + dt * fx[i] * ti, uy = vy[i] + dt * fy[i] * ti, uw = w[i] + dt * mz[i] * ri;
+        nvx[i] = ux; nvy[i] = uy; nw[i] = uw;
+        ke += m->mass[i] * (vx[i] * ux + vy[i] * uy) * (ti > 0) + m->rinertia[i] * w[i] * uw * (ri > 0);
+    }
+    for (gi = 0; gi < m->ng; gi++) {
+        const int f0 = m->grp_first[gi], f1 = m->grp_first[gi + 1], r = m->grp_node[f0];
+        double sx = 0, sy = 0, msum = 0, ux, uy;
+        int q;
+        for (q = f0; q < f1; q++) { sx += fx[m->grp_node[q]]; sy += fy[m->grp_node[q]]; msum += m->mass[m->grp_node[q]]; }
+        ux = vx[r] + dt * sx * m->grp_inv[gi]; uy = vy[r] + dt * sy * m->grp_inv[gi];
+        if (m->grp_inv[gi] > 0) ke += msum * (vx[r] * ux + vy[r] * uy);
+        for (q = f0; q < f1; q++) { nvx[m->grp_node[q]] = ux; nvy[m->grp_node[q]] = uy; }
+    }
+    ke *= 0.5;
+
+    /* 5. velocity-level limit methods and the work of joint torques */
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const rj__joint *J = &m->jnt[j];
+        double *nj_ = RJ__FJ(m, nf, j), *sc = s->jsc + 8 * j;
+        const double *oj = RJ__FJ(m, of, j);
+        rj__jgeo g;
+        double w1, w2, ratep, tq_d, tq_f, tq_l;
+        int flag = ni[j];
+        g.ax = sc[0]; g.ay = sc[1]; g.bx = sc[2]; g.by = sc[3];
+        g.a2 = g.ax * g.ax + g.ay * g.ay; g.b2 = g.bx * g.bx + g.by * g.by;
+        ratep = rj__joint_rate(J, &g, nvx, nvy, &w1, &w2);
+        if (flag != RJ_FREE && (d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_ENERGY || d->method == RJ_METHOD_FORCED)) {
+            int into = (flag == RJ_AT_FORWARD && ratep > 0) || (flag == RJ_AT_REVERSE && ratep < 0) || (flag == RJ_LOCKED && ratep != 0);
+            if (into) {
+                double o1 = w1, o2 = w2, dke = 0;
+                int nodes[2], k;
+                if (d->method == RJ_METHOD_MOMENTUM) rj_momentum_balance(J->I1, J->I2, flag == RJ_LOCKED ? 0.0 : d->restitution, &w1, &w2);
+                else if (d->method == RJ_METHOD_ENERGY && flag != RJ_LOCKED) rj_energy_balance(J->I1, J->I2, &w1, &w2);
+                else rj_momentum_balance(J->I1, J->I2, 0.0, &w1, &w2);   /* forced, or energy while locked: plastic */
+                nodes[0] = J->nK; nodes[1] = J->nL;
+                for (k = 0; k < 2; k++) if (nodes[k] >= 0) dke -= m->mass[nodes[k]] * (nvx[nodes[k]] * nvx[nodes[k]] + nvy[nodes[k]] * nvy[nodes[k]]);
+                rj__spin(J, &g, J->nK >= 0 && m->einv[J->nK] > 0 ? w1 - o1 : 0.0, m->einv[J->nL] > 0 ? w2 - o2 : 0.0, nvx, nvy);
+                for (k = 0; k < 2; k++) if (nodes[k] >= 0) dke += m->mass[nodes[k]] * (nvx[nodes[k]] * nvx[nodes[k]] + nvy[nodes[k]] * nvy[nodes[k]]);
+                lost_l -= 0.5 * dke;
+                ratep = rj__joint_rate(J, &g, nvx, nvy, NULL, NULL);
+            }
+        }
+        /* work of the non-conservative torques, in the form that matches the kinetic energy:
+           W = dt/2 (tau^n rate^{n-1/2} + tau^{n-1} rate^{n-1/2}) with the previous step's geometry */
+        tq_d = nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING]; tq_f = nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION]; tq_l = nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT];
+        (void)oj;
+        lost_d -= 0.5 * dt * tq_d * (sc[4] + ratep);
+        lost_f -= 0.5 * dt * tq_f * (sc[4] + ratep);
+        lost_l -= 0.5 * dt * tq_l * (sc[4] + ratep);
+        nj_[RJ__JD_RATE] = ratep;
+    }
+
+    for (i = 0; i < nn; i++) {
+        nx[i] = x[i] + dt * nvx[i];
+        ny[i] = y[i] + dt * nvy[i];
+        nphi[i] = phi[i] + dt * nw[i];
+    }
+
+    /* 6. new chords, running angles (unwrapped), forced displacement back to the limit */
+    {
+        double *ncx = RJ__FCX(m, nf), *ncy = RJ__FCY(m, nf);
+        for (i = 0; i < m->nl; i++) {
+            const int n0 = m->link_first[i], e0 = m->link_efirst[i], ne = m->link_efirst[i + 1] - e0;
+            int k;
+            for (k = 0; k < ne; k++) { ncx[e0 + k] = x[n0 + k + 1] - x[n0 + k]; ncy[e0 + k] = y[n0 + k + 1] - y[n0 + k]; }
+        }
+    }
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const rj__joint *J = &m->jnt[j];
+        double *nj_ = RJ__FJ(m, nf, j);
+        rj__jgeo g;
+        double raw, dth, run;
+        rj__joint_geo(m, J, nx, ny, &g);
+        raw = atan2(g.ax * g.by - g.ay * g.bx, g.ax * g.bx + g.ay * g.by);
+        dth = rj__wrap(raw - nj_[RJ__JD_THETA]);
+        if (!(fabs(dth) <= 0.5 * RJ__PI))
+            return rj__stop(m, s, RJ_ERR_TUNNEL, "t = %.9g s: joint %d turned %.4g rad in one step (more than pi/2): the step %g s is far too large for its speed; limits could be tunnelled",
+                            t, j, dth, dt);
+        run = nj_[RJ__JD_THETA] + dth;
+        if (d->method == RJ_METHOD_FORCED && ni[j] != RJ_FREE) {
+            double target = run, p;
+            if (ni[j] == RJ_AT_FORWARD && run > J->fwd) target = J->fwd;
+            else if (ni[j] == RJ_AT_REVERSE && run < J->rev) target = J->rev;
+            else if (ni[j] == RJ_LOCKED) target = nj_[RJ__JD_LOCK];
+            p = target - run;
+            if (p != 0) {
+                double d2 = p * J->w2, d1 = -p * J->w1, c, sn, rx, ry;
+                if (d2 != 0) {
+                    c = cos(d2); sn = sin(d2); rx = nx[J->nL] - nx[J->nJ]; ry = ny[J->nL] - ny[J->nJ];
+                    nx[J->nL] = nx[J->nJ] + c * rx - sn * ry; ny[J->nL] = ny[J->nJ] + sn * rx + c * ry;
+                }
+                if (d1 != 0 && J->nK >= 0) {
+                    c = cos(d1); sn = sin(d1); rx = nx[J->nK] - nx[J->nI]; ry = ny[J->nK] - ny[J->nI];
+                    nx[J->nK] = nx[J->nI] + c * rx - sn * ry; ny[J->nK] = ny[J->nI] + sn * rx + c * ry;
+                }
+                run = target;
+            }
+        }
+        nj_[RJ__JD_THETA] = run;
+    }
+
+    /* 7. energy accounts and blow-up detection; commit the frame */
+    {
+        double V, E, scale, e0 = osc[RJ__FS_E0];
+        for (i = 0; i < RJ__FS_COUNT; i++) nsc[i] = osc[i];
+        nsc[RJ__FS_TIME] = t + dt;
+        nsc[RJ__FS_ETIME] = t;
+        V = rj__spring_energy(m, of);
+        nsc[RJ__FS_KE] = ke; nsc[RJ__FS_STRAIN] = U; nsc[RJ__FS_SPRING] = V;
+        nsc[RJ__FS_LDAMP] = lost_d; nsc[RJ__FS_LFRIC] = lost_f; nsc[RJ__FS_LLIM] = lost_l;
+        E = ke + U;
+        scale = fabs(e0) + fabs(osc[RJ__FS_SPRING]) + 1e-9;
+        if (!rj__finite(E) || !rj__finite(lost_l) || E > m->solver.energy_growth * (scale + fabs(V))) {
+            int bl, bn;
+            rj__worst_node(m, nf, &bl, &bn);
+            if (!(E == E) || !rj__finite(E))
+                return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: non-finite energy, fastest node link %d node %d; %s", t, bl, bn,
+                                dt > m->dt_bound ? "the step is above the stability bound" : "check joint stiffness against Eq 31 and the stability bound");
+            return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: kinetic + strain energy %.6g J exceeds %g x the initial %.6g J; fastest node link %d node %d; %s",
+                            t, E, m->solver.energy_growth, scale, bl, bn,
+                            dt > m->dt_bound ? "the step is above the stability bound" : "a joint stiffness above the bound (Eq 31) or a limit tunnelled");
+        }
+    }
+    s->cur = 1 - s->cur;
+    s->steps++;
+    return RJ_OK;
+}
+
+RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double sample_dt, rj_sample_fn sample, void *user)
+{
+    long every = 1, k = 0;
+    rj_result r;
+    if (!m || !s) return RJ_ERR_INVALID;
+    if (!(t_end == t_end) || !(sample_dt >= 0)) return RJ_ERR_INVALID;
+    if (sample_dt > 0) { every = (long)floor(sample_dt / m->dt + 0.5); if (every < 1) every = 1; }
+    if (sample && s->steps == 0 && sample(m, s, user)) return RJ_OK;
+    while (rj_state_time(s) < t_end - 0.5 * m->dt) {
+        r = rj_step(m, s);
+        if (r != RJ_OK) return r;
+        k = s->steps;
+        if (sample && sample_dt >= 0 && k % every == 0 && sample(m, s, user)) return RJ_OK;
+    }
+    return RJ_OK;
+}
+
+RJDEF const char *rj_state_error(const rj_state *s) { return s->err; }
+
+/* ------------------------------------------------------------------ queries */
+RJDEF double rj_model_dt(const rj_model *m) { return m->dt; }
+RJDEF double rj_model_dt_bound(const rj_model *m) { return m->dt_bound; }
+RJDEF double rj_model_omega_max(const rj_model *m) { return m->omega_max; }
+RJDEF int rj_model_link_count(const rj_model *m) { return m->nl; }
+RJDEF int rj_model_joint_count(const rj_model *m) { return m->nj; }
+RJDEF int rj_model_node_count(const rj_model *m) { return m->nn; }
+RJDEF const rj_link_def *rj_model_link_def(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l < m->nl); return &m->ldef[l]; }
+RJDEF const rj_joint_def *rj_model_joint_def(const rj_model *m, int j) { RJ_ASSERT(j >= 0 && j < m->nj); return &m->jdef[j]; }
+RJDEF int rj_link_node_count(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l < m->nl); return m->ldef[l].elements + 1; }
+RJDEF double rj_link_EA(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l < m->nl); return m->link_EA[l]; }
+RJDEF double rj_link_EI(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l < m->nl); return m->link_EI[l]; }
+RJDEF double rj_model_dt_eq28(const rj_model *m) { return m->dt_eq28; }
+
+/* the smaller of the joint's two links by rho I l (ground is infinitely large) */
+static double rj__eq31_rho_i_l(const rj_model *m, int j)
+{
+    const rj_joint_def *d = &m->jdef[j];
+    double v2 = m->link_rho[d->body2] * m->link_I[d->body2] * m->link_l0[d->body2], v1;
+    if (d->body1 < 0) return v2;
+    v1 = m->link_rho[d->body1] * m->link_I[d->body1] * m->link_l0[d->body1];
+    return v1 < v2 ? v1 : v2;
+}
+RJDEF double rj_joint_dt_eq29(const rj_model *m, int j, double K)
+{
+    const rj_joint_def *d;
+    double t, c, t2;
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    d = &m->jdef[j];
+    c = sqrt(m->ldef[d->body2].E / m->ldef[d->body2].rho);
+    t = m->link_l0[d->body2] / c;
+    if (d->body1 >= 0) {
+        double t1 = m->link_l0[d->body1] / sqrt(m->ldef[d->body1].E / m->ldef[d->body1].rho);
+        if (t1 < t) t = t1;
+    }
+    if (!(K > 0)) return t;
+    t2 = sqrt(rj__eq31_rho_i_l(m, j) / K);
+    return t2 < t ? t2 : t;
+}
+RJDEF double rj_joint_kmax_eq31(const rj_model *m, int j, double dt)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return 0.81 * rj__eq31_rho_i_l(m, j) / (dt * dt);
+}
+RJDEF void rj_joint_inertias(const rj_model *m, int j, double *I1, double *I2)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    if (I1) *I1 = m->jnt[j].I1;
+    if (I2) *I2 = m->jnt[j].I2;
+}
+RJDEF double rj_joint_stiffness(const rj_model *m, int j) { RJ_ASSERT(j >= 0 && j < m->nj); return m->jnt[j].k_limit; }
+
+RJDEF double rj_state_time(const rj_state *s) { return s->fd[s->cur][RJ__FS_TIME]; }
+
+RJDEF long rj_state_steps(const rj_state *s) { return s->steps; }
+
+static int rj__node(const rj_model *m, int l, int n)
+{
+    RJ_ASSERT(l >= 0 && l < m->nl);
+    RJ_ASSERT(n >= 0 && n <= m->ldef[l].elements);
+    return m->link_first[l] + n;
+}
+RJDEF void rj_node_position(const rj_model *m, const rj_state *s, int l, int n, double xy[2])
+{
+    const double *f = s->fd[s->cur];
+    int i = rj__node(m, l, n);
+    xy[0] = RJ__FX(m, f)[i]; xy[1] = RJ__FY(m, f)[i];
+}
+RJDEF void rj_node_velocity(const rj_model *m, const rj_state *s, int l, int n, double v[2])
+{
+    const double *f = s->fd[s->cur];
+    int i = rj__node(m, l, n);
+    v[0] = RJ__FVX(m, f)[i]; v[1] = RJ__FVY(m, f)[i];
+}
+RJDEF double rj_node_rotation(const rj_model *m, const rj_state *s, int l, int n)
+{
+    return RJ__FPHI(m, s->fd[s->cur])[rj__node(m, l, n)];
+}
+RJDEF void rj_joint_position(const rj_model *m, const rj_state *s, int j, double xy[2])
+{
+    const double *f = s->fd[s->cur];
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    xy[0] = RJ__FX(m, f)[m->jnt[j].nJ]; xy[1] = RJ__FY(m, f)[m->jnt[j].nJ];
+}
+RJDEF double rj_joint_theta_running(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_THETA];
+}
+RJDEF double rj_joint_theta(const rj_model *m, const rj_state *s, int j) { return rj__mod2pi(rj_joint_theta_running(m, s, j)); }
+RJDEF double rj_joint_rate(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_RATE];
+}
+RJDEF int rj_joint_flag(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return s->fi[s->cur][j];
+}
+RJDEF double rj_joint_torque(const rj_model *m, const rj_state *s, int j, int c)
+{
+    const double *jd;
+    double t = 0;
+    int k;
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    RJ_ASSERT(c >= 0 && c < RJ_TORQUE_COUNT);
+    jd = RJ__FJ(m, s->fd[s->cur], j);
+    if (c != RJ_TORQUE_TOTAL) return jd[RJ__JD_TQ0 + c];
+    for (k = 0; k < RJ_TORQUE_COUNT; k++) if (k != RJ_TORQUE_TOTAL) t += jd[RJ__JD_TQ0 + k];
+    return t;
+}
+RJDEF double rj_joint_penetration(const rj_model *m, const rj_state *s, int j)
+{
+    const double *jd;
+    int flag;
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    jd = RJ__FJ(m, s->fd[s->cur], j);
+    flag = s->fi[s->cur][j];
+    if (flag == RJ_AT_FORWARD) return m->jnt[j].fwd - jd[RJ__JD_THETA];
+    if (flag == RJ_AT_REVERSE) return m->jnt[j].rev - jd[RJ__JD_THETA];
+    if (flag == RJ_LOCKED) return jd[RJ__JD_LOCK] - jd[RJ__JD_THETA];
+    return 0.0;
+}
+RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_EVENT];
+}
+RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_RELEASE];
+}
+RJDEF double rj_joint_peak_penetration(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_PEAKP];
+}
+RJDEF void rj_state_energy(const rj_model *m, const rj_state *s, rj_energy *e)
+{
+    (void)m;
+    const double *sc = RJ__FS(m, s->fd[s->cur]);
+    e->kinetic = sc[RJ__FS_KE]; e->strain = sc[RJ__FS_STRAIN]; e->spring = sc[RJ__FS_SPRING];
+    e->lost_damping = sc[RJ__FS_LDAMP]; e->lost_friction = sc[RJ__FS_LFRIC]; e->lost_limit = sc[RJ__FS_LLIM];
+    e->total = e->kinetic + e->strain + e->spring;
+    e->balance = e->total + e->lost_damping + e->lost_friction + e->lost_limit - sc[RJ__FS_E0];
+}
+RJDEF double rj_state_energy_time(const rj_state *s) { return s->fd[s->cur][RJ__FS_ETIME]; }
+
+/* ------------------------------------------------------------------ checkpoints */
+/* Layout: "RJCK" | u32 version | u64 model hash | u64 payload bytes | payload | u64 FNV-1a
+   of everything before it. Payload: steps (i64), frame doubles, frame ints. */
+#define RJ__CK_HEAD 24
+RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size_t size)
+{
+    size_t pay = 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1);
+    size_t need = RJ__CK_HEAD + pay + 8;
+    unsigned char *b = (unsigned char *)buf;
+    unsigned int ver = 1;
+    unsigned long long h, pl = pay, st = (unsigned long long)s->steps;
+    if (!buf || size < need) return need;
+    memcpy(b, "RJCK", 4); memcpy(b + 4, &ver, 4); memcpy(b + 8, &m->hash, 8); memcpy(b + 16, &pl, 8);
+    memcpy(b + RJ__CK_HEAD, &st, 8);
+    memcpy(b + RJ__CK_HEAD + 8, s->fd[s->cur], sizeof(double) * m->frame_doubles);
+    memcpy(b + RJ__CK_HEAD + 8 + sizeof(double) * m->frame_doubles, s->fi[s->cur], sizeof(int) * (m->frame_ints + 1));
+    h = rj__fnv(14695981039346656037ULL, b, RJ__CK_HEAD + pay);
+    memcpy(b + RJ__CK_HEAD + pay, &h, 8);
+    return need;
+}
+RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, size_t size, rj_error *err)
+{
+    size_t pay = 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1);
+    size_t need = RJ__CK_HEAD + pay + 8;
+    const unsigned char *b = (const unsigned char *)buf;
+    unsigned int ver;
+    unsigned long long h, hh, mh, pl, st;
+    size_t k;
+    if (!buf || size < need) { rj__fail(err, RJ_ERR_CHECKPOINT, "size", (double)size, "checkpoint of %lu bytes is truncated: this model's checkpoints are %lu bytes", (unsigned long)size, (unsigned long)need); return RJ_ERR_CHECKPOINT; }
+    if (memcmp(b, "RJCK", 4) != 0) { rj__fail(err, RJ_ERR_CHECKPOINT, "magic", 0, "not a revjoint checkpoint (bad magic)"); return RJ_ERR_CHECKPOINT; }
+    memcpy(&ver, b + 4, 4); memcpy(&mh, b + 8, 8); memcpy(&pl, b + 16, 8);
+    if (ver != 1) { rj__fail(err, RJ_ERR_CHECKPOINT, "version", ver, "checkpoint version %u is not supported (1)", ver); return RJ_ERR_CHECKPOINT; }
+    if (mh != m->hash || pl != pay) { rj__fail(err, RJ_ERR_CHECKPOINT, "model", 0, "checkpoint was written for a different model"); return RJ_ERR_CHECKPOINT; }
+    memcpy(&hh, b + RJ__CK_HEAD + pay, 8);
+    h = rj__fnv(14695981039346656037ULL, b, RJ__CK_HEAD + pay);
+    if (h != hh) { rj__fail(err, RJ_ERR_CHECKPOINT, "checksum", 0, "checkpoint is corrupted (checksum mismatch)"); return RJ_ERR_CHECKPOINT; }
+    for (k = 0; k < m->frame_doubles; k++) {
+        double v;
+        memcpy(&v, b + RJ__CK_HEAD + 8 + k * sizeof(double), sizeof v);
+        if (v != v) { rj__fail(err, RJ_ERR_CHECKPOINT, "payload", v, "checkpoint holds a NaN at value %lu", (unsigned long)k); return RJ_ERR_CHECKPOINT; }
+    }
+    memcpy(&st, b + RJ__CK_HEAD, 8);
+    s->cur = 0;
+    s->steps = (long)st;
+    memcpy(s->fd[0], b + RJ__CK_HEAD + 8, sizeof(double) * m->frame_doubles);
+    memcpy(s->fi[0], b + RJ__CK_HEAD + 8 + sizeof(double) * m->frame_doubles, sizeof(int) * (m->frame_ints + 1));
+    s->err[0] = 0;
+    return RJ_OK;
+}
+#endif
+
+/*
+------------------------------------------------------------------------------
+LICENSE: MIT. Copyright (c) 2026 the revjoint.h authors.
+Permission is hereby granted, free of charge, to any person obtaining a copy of this
+software and associated documentation files (the "Software"), to deal in the Software
+without restriction, including without limitation the rights to use, copy, modify, merge,
+publish, distribute, sublicense, and/or sell copies of the Software, and to permit persons
+to whom the Software is furnished to do so, subject to the following conditions: The above
+copyright notice and this permission notice shall be included in all copies or substantial
+portions of the Software. THE SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND.
+------------------------------------------------------------------------------
+*/
