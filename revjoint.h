@@ -268,6 +268,8 @@ RJDEF int rj_model_node_count(const rj_model *m);
 RJDEF const rj_link_def *rj_model_link_def(const rj_model *m, int link);
 RJDEF const rj_joint_def *rj_model_joint_def(const rj_model *m, int joint);
 RJDEF int rj_link_node_count(const rj_model *m, int link);   /* elements + 1 */
+/* Lumped mass (kg) and rotary inertia (kg m^2) of a node, tip mass included. */
+RJDEF void rj_node_mass(const rj_model *m, int link, int node, double *mass, double *rinertia);
 RJDEF double rj_link_EA(const rj_model *m, int link);
 RJDEF double rj_link_EI(const rj_model *m, int link);
 /* Paper's bounds: Eq 28 dt = l / c of the shortest element of the joint's two links;
@@ -280,6 +282,13 @@ RJDEF double rj_joint_kmax_eq31(const rj_model *m, int joint, double dt);
    uses at its limits with the model's dt (K_AP for adaptive, penalty_k for penalty). */
 RJDEF void rj_joint_inertias(const rj_model *m, int joint, double *I1, double *I2);
 RJDEF double rj_joint_stiffness(const rj_model *m, int joint);
+
+/* The linearised model at the initial configuration, for modal analysis and tests: out =
+   M^-1/2 K M^-1/2 u over 3 x node_count DOFs (x, y, phi per node; fixed DOFs and all but
+   the first node of a pin group give 0). Its eigenvalues are omega^2. work holds
+   rj_model_work_size(m) doubles. */
+RJDEF size_t rj_model_work_size(const rj_model *m);
+RJDEF void rj_model_apply_stiffness(const rj_model *m, const double *u, double *out, double *work);
 
 /* State queries. */
 RJDEF double rj_state_time(const rj_state *s);
@@ -1225,6 +1234,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         rj__joint *J = &m->jnt[j];
         rj__jgeo g;
         double W, dd, fwd, rev, kt = 0;
+        (void)W;
         int k, k2;
         rj__joint_geo(m, J, m->x0, m->y0, &g);
         J->I1 = (J->nK >= 0 && m->einv[J->nK] > 0) ? g.a2 / m->einv[J->nK] : HUGE_VAL;
@@ -1232,17 +1242,23 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         if (!rj__finite(J->I1)) { J->w1 = 0; J->w2 = 1; }
         else if (!rj__finite(J->I2)) { J->w1 = 1; J->w2 = 0; }
         else { J->w1 = J->I2 / (J->I1 + J->I2); J->w2 = J->I1 / (J->I1 + J->I2); }
-        /* running limits: the free arc runs counter-clockwise from reverse to forward */
-        fwd = d->has_forward ? d->forward : d->reverse;
-        rev = d->has_reverse ? d->reverse : d->forward;
-        W = rj__mod2pi(fwd - rev);
-        if (W == 0) W = RJ__TWO_PI;
-        dd = rj__mod2pi(d->angle0 - rev);
-        if (dd <= W) { J->rev = d->angle0 - dd; J->fwd = J->rev + W; }
-        else if (dd - W <= RJ__TWO_PI - dd) { J->fwd = d->angle0 - (dd - W); J->rev = J->fwd - W; }
-        else { J->rev = d->angle0 + (RJ__TWO_PI - dd); J->fwd = J->rev + W; }
-        if (!d->has_forward) J->fwd = HUGE_VAL;
-        if (!d->has_reverse) J->rev = -HUGE_VAL;
+        /* running limits. Both enabled: the free arc runs counter-clockwise from reverse to
+           forward; a start inside the limited arc counts as past the nearer limit. One limit
+           (a wall): the reverse limit is the largest theta_r + 2 pi k <= angle0 + pi/2, the
+           forward limit the smallest theta_f + 2 pi k >= angle0 - pi/2, so a start up to
+           90 deg past it counts as penetrated. */
+        if (d->has_forward && d->has_reverse) {
+            fwd = d->forward; rev = d->reverse;
+            W = rj__mod2pi(fwd - rev);
+            dd = rj__mod2pi(d->angle0 - rev);
+            if (dd <= W) { J->rev = d->angle0 - dd; J->fwd = J->rev + W; }
+            else if (dd - W <= RJ__TWO_PI - dd) { J->fwd = d->angle0 - (dd - W); J->rev = J->fwd - W; }
+            else { J->rev = d->angle0 + (RJ__TWO_PI - dd); J->fwd = J->rev + W; }
+        } else {
+            J->fwd = HUGE_VAL; J->rev = -HUGE_VAL;
+            if (d->has_reverse) J->rev = d->reverse + RJ__TWO_PI * floor((d->angle0 + 0.5 * RJ__PI - d->reverse) / RJ__TWO_PI);
+            if (d->has_forward) J->fwd = d->forward + RJ__TWO_PI * ceil((d->angle0 - 0.5 * RJ__PI - d->forward) / RJ__TWO_PI);
+        }
         for (k = 0; k < d->table_count; k++) J->tv[k] = rj__table_potential(d->table_angle, d->table_torque, d->table_count, d->table_angle[k]);
         J->tv_turn = d->table_count ? rj__table_potential(d->table_angle, d->table_torque, d->table_count, RJ__TWO_PI) : 0.0;
         for (k = 0; k + 1 < d->table_count; k++) {
@@ -1698,13 +1714,13 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
                 ratep = rj__joint_rate(J, &g, nvx, nvy, NULL, NULL);
             }
         }
-        /* work of the non-conservative torques, in the form that matches the kinetic energy:
-           W = dt/2 (tau^n rate^{n-1/2} + tau^{n-1} rate^{n-1/2}) with the previous step's geometry */
+        /* work of the non-conservative torques in the form that matches the kinetic energy
+           1/2 v^{n-1/2}.v^{n+1/2}: the step n -> n+1 adds dt/2 v^{n-1/2}.(F^n + F^{n-1}), and
+           F^{n-1}.v^{n-1/2} = tau^{n-1} times the previous step's end rate (same geometry) */
         tq_d = nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING]; tq_f = nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION]; tq_l = nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT];
-        (void)oj;
-        lost_d -= 0.5 * dt * tq_d * (sc[4] + ratep);
-        lost_f -= 0.5 * dt * tq_f * (sc[4] + ratep);
-        lost_l -= 0.5 * dt * tq_l * (sc[4] + ratep);
+        lost_d -= 0.5 * dt * (tq_d * sc[4] + oj[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] * oj[RJ__JD_RATE]);
+        lost_f -= 0.5 * dt * (tq_f * sc[4] + oj[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] * oj[RJ__JD_RATE]);
+        lost_l -= 0.5 * dt * (tq_l * sc[4] + oj[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * oj[RJ__JD_RATE]);
         nj_[RJ__JD_RATE] = ratep;
     }
 
@@ -1767,6 +1783,11 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         V = rj__spring_energy(m, of);
         nsc[RJ__FS_KE] = ke; nsc[RJ__FS_STRAIN] = U; nsc[RJ__FS_SPRING] = V;
         nsc[RJ__FS_LDAMP] = lost_d; nsc[RJ__FS_LFRIC] = lost_f; nsc[RJ__FS_LLIM] = lost_l;
+        /* the initial energy in the same discrete form as every later one */
+        if (s->steps == 0) {
+            nsc[RJ__FS_E0] = e0 = ke + U + V;
+            nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0;
+        }
         E = ke + U;
         scale = fabs(e0) + fabs(osc[RJ__FS_SPRING]) + 1e-9;
         if (!rj__finite(E) || !rj__finite(lost_l) || E > m->solver.energy_growth * (scale + fabs(V))) {
@@ -1817,6 +1838,8 @@ RJDEF int rj_link_node_count(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l <
 RJDEF double rj_link_EA(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l < m->nl); return m->link_EA[l]; }
 RJDEF double rj_link_EI(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l < m->nl); return m->link_EI[l]; }
 RJDEF double rj_model_dt_eq28(const rj_model *m) { return m->dt_eq28; }
+RJDEF size_t rj_model_work_size(const rj_model *m) { return 6 * (size_t)m->nn + 4 * (size_t)m->ne; }
+RJDEF void rj_model_apply_stiffness(const rj_model *m, const double *u, double *out, double *work) { rj__lz_apply(m, u, out, work); }
 
 /* the smaller of the joint's two links by rho I l (ground is infinitely large) */
 static double rj__eq31_rho_i_l(const rj_model *m, int j)
@@ -1881,6 +1904,12 @@ RJDEF void rj_node_velocity(const rj_model *m, const rj_state *s, int l, int n, 
 RJDEF double rj_node_rotation(const rj_model *m, const rj_state *s, int l, int n)
 {
     return RJ__FPHI(m, s->fd[s->cur])[rj__node(m, l, n)];
+}
+RJDEF void rj_node_mass(const rj_model *m, int l, int n, double *mass, double *rinertia)
+{
+    int i = rj__node(m, l, n);
+    if (mass) *mass = m->mass[i];
+    if (rinertia) *rinertia = m->rinertia[i];
 }
 RJDEF void rj_joint_position(const rj_model *m, const rj_state *s, int j, double xy[2])
 {

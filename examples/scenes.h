@@ -20,7 +20,7 @@ typedef struct impact_opts {
     double rate0;      /* rad/s, default -10 */
 } impact_opts;
 
-static impact_opts impact_default_opts(void)
+static inline impact_opts impact_default_opts(void)
 {
     impact_opts o;
     o.method = RJ_METHOD_ADAPTIVE; o.release = RJ_RELEASE_RC13; o.K = 5e9; o.e = 0.0;
@@ -30,7 +30,7 @@ static impact_opts impact_default_opts(void)
 
 /* Link 0 held fixed along -x ending at the origin, link 1 starting straight (theta = 180 deg)
    in rigid rotation about the joint at rate0, reverse limit at 176 deg, no forward limit. */
-static void impact_scene(const impact_opts *o, rj_link_def links[2], rj_joint_def *joint, rj_scene_def *sc)
+static inline void impact_scene(const impact_opts *o, rj_link_def links[2], rj_joint_def *joint, rj_scene_def *sc)
 {
     int i;
     for (i = 0; i < 2; i++) {
@@ -51,7 +51,7 @@ static void impact_scene(const impact_opts *o, rj_link_def links[2], rj_joint_de
 
 /* Distance of link `l`'s tip from the line through its node 0 along its first element,
    positive counter-clockwise (times `sign`). */
-static double scene_tip_defl(const rj_model *m, const rj_state *s, int l)
+static inline double scene_tip_defl(const rj_model *m, const rj_state *s, int l)
 {
     double p0[2], p1[2], pt[2], ux, uy, n;
     int last = rj_link_node_count(m, l) - 1;
@@ -73,7 +73,7 @@ typedef struct deploy_opts {
     int extra_friction;  /* sec. 5's +0.175 / +0.008 N m */
 } deploy_opts;
 
-static deploy_opts deploy_default_opts(void)
+static inline deploy_opts deploy_default_opts(void)
 {
     deploy_opts o;
     o.elements = 10; o.dt = 7.5e-6; o.joint1_method = RJ_METHOD_FORCED; o.joint2_method = RJ_METHOD_PENALTY;
@@ -82,7 +82,7 @@ static deploy_opts deploy_default_opts(void)
 }
 
 /* Table 3: link i = length, area, thickness, I, link mass, tip mass, tip rotary inertia. */
-static void deploy_links(int elements, rj_link_def links[2])
+static inline void deploy_links(int elements, rj_link_def links[2])
 {
     static const double len[2] = { 1.006423, 0.9945 }, area[2] = { 1.78076e-4, 1.7748e-4 };
     static const double th[2] = { 4.4519e-3, 4.437e-3 }, I[2] = { 2.94113e-10, 2.9117e-10 };
@@ -100,7 +100,7 @@ static void deploy_links(int elements, rj_link_def links[2])
 /* Joint 1: ground to link 0, q1 = theta from +x, 0 -> lock at 90 deg (forward limit).
    Joint 2: link 0 tip to link 1, theta = q2 + 180 deg: starts at 360 (folded), locks at
    180 (reverse limit). Springs k (pre - q) drive both into their locks. */
-static void deploy_scene(const deploy_opts *o, rj_link_def links[2], rj_joint_def joints[2], rj_scene_def *sc)
+static inline void deploy_scene(const deploy_opts *o, rj_link_def links[2], rj_joint_def joints[2], rj_scene_def *sc)
 {
     deploy_links(o->elements, links);
     joints[0] = rj_default_joint_def();
@@ -123,7 +123,7 @@ static void deploy_scene(const deploy_opts *o, rj_link_def links[2], rj_joint_de
 
 /* Builds the deployment model; joint 2's penalty stiffness defaults to Eq 31 at dt, which
    needs the model's link data: build once with a placeholder, then rebuild. */
-static rj_result deploy_build(const deploy_opts *o, rj_model **m, rj_error *err)
+static inline rj_result deploy_build(const deploy_opts *o, rj_model **m, rj_error *err)
 {
     rj_link_def links[2];
     rj_joint_def joints[2];
@@ -139,7 +139,7 @@ static rj_result deploy_build(const deploy_opts *o, rj_model **m, rj_error *err)
 }
 
 /* Experiment's convention: q1 absolute angle of link 1, q2 relative (0 straight, 180 folded). */
-static double deploy_q1_deg(const rj_model *m, const rj_state *s) { return rj_deg(rj_joint_theta_running(m, s, 0)); }
-static double deploy_q2_deg(const rj_model *m, const rj_state *s) { return rj_deg(rj_joint_theta_running(m, s, 1)) - 180.0; }
+static inline double deploy_q1_deg(const rj_model *m, const rj_state *s) { return rj_deg(rj_joint_theta_running(m, s, 0)); }
+static inline double deploy_q2_deg(const rj_model *m, const rj_state *s) { return rj_deg(rj_joint_theta_running(m, s, 1)) - 180.0; }
 
 #endif

@@ -9,7 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#ifdef RJ_RENDER_EGL
+#ifdef RJR_PNG_ONLY
+/* PNG and comparison functions only: no OpenGL, no revjoint (used by pngdiff). */
+#elif defined(RJ_RENDER_EGL)
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 #include <GL/gl.h>
@@ -25,8 +27,18 @@
 #define M_PI 3.14159265358979323846
 #endif
 
+static void set_err(char *err, size_t errlen, const char *msg)
+{
+    if (err && errlen) {
+        strncpy(err, msg, errlen - 1);
+        err[errlen - 1] = 0;
+    }
+}
+
+#ifndef RJR_PNG_ONLY
 #define RJR_BATCH 24576            /* vertices per draw call (multiple of 3) */
 #define RJR_MAX_DIM 16384
+#define COL_INK 0x262626u            /* text and dark lines */
 
 struct rjr_context {
     int width, height;
@@ -50,14 +62,6 @@ struct rjr_context {
     char err[256];
     char renderer[160], version[160];
 };
-
-static void set_err(char *err, size_t errlen, const char *msg)
-{
-    if (err && errlen) {
-        strncpy(err, msg, errlen - 1);
-        err[errlen - 1] = 0;
-    }
-}
 
 static void ctx_fail(rjr_context *c, const char *msg)
 {
@@ -418,21 +422,6 @@ void rjr_disc(rjr_context *c, double x, double y, double r, rjr_rgb col)
     }
 }
 
-/* Annulus sector between radii r0 < r1 over screen angles a0..a1 (radians, y-down). */
-static void ring_sector(rjr_context *c, double x, double y, double r0, double r1, double a0, double a1, rjr_rgb col)
-{
-    int i, n = (int)ceil(fabs(a1 - a0) / (2.0 * M_PI) * disc_segments(r1));
-    double ca, sa, cb, sb;
-    if (n < 1) n = 1;
-    ca = cos(a0); sa = sin(a0);
-    for (i = 1; i <= n; i++) {
-        double a = a0 + (a1 - a0) * i / n;
-        cb = cos(a); sb = sin(a);
-        quad(c, x + r0 * ca, y + r0 * sa, x + r1 * ca, y + r1 * sa, x + r1 * cb, y + r1 * sb, x + r0 * cb, y + r0 * sb, col);
-        ca = cb; sa = sb;
-    }
-}
-
 void rjr_rect(rjr_context *c, double x, double y, double w, double h, rjr_rgb col)
 {
     if (w <= 0 || h <= 0) return;
@@ -567,21 +556,6 @@ void rjr_polyline(rjr_context *c, const double *xy, int n, double width, rjr_rgb
 {
     if (dashed) stroke_dashed(c, xy, n, width, col, width * 4 + 2, width * 2.5 + 2);
     else stroke(c, xy, n, width, col, 1);
-}
-
-/* Arc of radius r around (x, y) from world angle a0 to a1 (radians, counter-clockwise on
-   screen) as a stroke of the given width. */
-static void arc_stroke(rjr_context *c, double x, double y, double r, double a0, double a1, double width, rjr_rgb col, int caps)
-{
-    int i, n = (int)ceil(fabs(a1 - a0) / (2.0 * M_PI) * disc_segments(r));
-    if (n < 1) n = 1;
-    if (grow(&c->pa, &c->capa, (size_t)n + 1)) { ctx_fail(c, "out of memory"); return; }
-    for (i = 0; i <= n; i++) {
-        double a = a0 + (a1 - a0) * i / n;
-        c->pa[2 * i] = x + r * cos(a);
-        c->pa[2 * i + 1] = y - r * sin(a);
-    }
-    stroke(c, c->pa, n + 1, width, col, caps);
 }
 
 /* ---- Stroke font ------------------------------------------------------------------------
@@ -792,17 +766,32 @@ double rjr_text(rjr_context *c, double x, double y, double size_px, double angle
     return w;
 }
 
+#ifndef RJR_NO_SCENE
 /* ---- Mechanism frames ------------------------------------------------------------------ */
 
 static const rjr_rgb link_fill[] = { 0x8db3e2, 0x9fcf9a, 0xf2c27e, 0xc3a8e0, 0xe8a3a8, 0x8fd3d0 };
-#define COL_INK      0x262626u
 #define COL_GROUND   0x4d4d4du
 #define COL_GROUNDF  0xd9d9d9u
-#define COL_ARC      0x9aa7b8u
+#define COL_ARC      0x7d8ea6u
 #define COL_STOP     0x3d3d3du
 #define COL_FREE     0x1f5fbfu
 #define COL_LIMIT    0xf08c00u
 #define COL_LOCKED   0xd01f1fu
+
+/* Arc of radius r around (x, y) from world angle a0 to a1 (radians, counter-clockwise on
+   screen) as a stroke of the given width. */
+static void arc_stroke(rjr_context *c, double x, double y, double r, double a0, double a1, double width, rjr_rgb col, int caps)
+{
+    int i, n = (int)ceil(fabs(a1 - a0) / (2.0 * M_PI) * disc_segments(r));
+    if (n < 1) n = 1;
+    if (grow(&c->pa, &c->capa, (size_t)n + 1)) { ctx_fail(c, "out of memory"); return; }
+    for (i = 0; i <= n; i++) {
+        double a = a0 + (a1 - a0) * i / n;
+        c->pa[2 * i] = x + r * cos(a);
+        c->pa[2 * i + 1] = y - r * sin(a);
+    }
+    stroke(c, c->pa, n + 1, width, col, caps);
+}
 
 static rjr_rgb darker(rjr_rgb c, double f)
 {
@@ -992,12 +981,23 @@ int rjr_draw_scene(rjr_context *c, const rj_model *m, const rj_state *s, const r
             double p0[2], p1[2], x0, y0, x1, y1, dx, dy, dl, th, hl;
             for (j = 0; j < nj; j++)
                 if (rj_model_joint_def(m, j)->body2 == l) is_body2 = 1;
-            if (is_body2 || ld->root == RJ_ROOT_FREE) continue;
+            if (ld->root == RJ_ROOT_FREE || (is_body2 && ld->root != RJ_ROOT_FIXED)) continue;
             th = link_thickness_px(m, l, v);
             rj_node_position(m, s, l, 0, p0);
-            rj_node_position(m, s, l, 1, p1);
+            rj_node_position(m, s, l, ld->root == RJ_ROOT_FIXED ? rj_link_node_count(m, l) - 1 : 1, p1);
             w2p(&t, p0, &x0, &y0);
             w2p(&t, p1, &x1, &y1);
+            if (ld->root == RJ_ROOT_FIXED) {
+                /* the whole link is ground: hatched line along its lower side */
+                double nx, ny, off;
+                dx = x1 - x0; dy = y1 - y0; dl = sqrt(dx * dx + dy * dy);
+                if (!(dl > 0)) continue;
+                nx = -dy / dl; ny = dx / dl;
+                if (ny < 0 || (ny == 0 && nx < 0)) { nx = -nx; ny = -ny; }
+                off = 0.5 * th + 1.5;
+                ground_line(c, x0 + nx * off, y0 + ny * off, x1 + nx * off, y1 + ny * off, nx, ny, th * 0.6 < 7 ? 7 : (th * 0.6 > 16 ? 16 : th * 0.6));
+                continue;
+            }
             if (ld->root == RJ_ROOT_PINNED) {
                 pin_support(c, x0, y0, th * 1.1 < 14 ? 14 : (th * 1.1 > 48 ? 48 : th * 1.1));
                 continue;
@@ -1085,9 +1085,9 @@ int rjr_draw_scene(rjr_context *c, const rj_model *m, const rj_state *s, const r
         }
         rj_joint_position(m, s, j, p);
         w2p(&t, p, &x, &y);
-        rp = th * 0.3 < 2.5 ? 2.5 : (th * 0.3 > 12 ? 12 : th * 0.3);
+        rp = th * 0.3 < 3.5 ? 3.5 : (th * 0.3 > 12 ? 12 : th * 0.3);
         if (v->show_limits) {
-            R = th * 0.5 + 9 > 14 ? th * 0.5 + 9 : 14;
+            R = th * 0.5 + 12 > 20 ? th * 0.5 + 12 : 20;
             ref = joint_ref_angle(m, s, jd);
             a0 = jd->has_reverse ? jd->reverse : 0.0;
             a1 = jd->has_forward ? jd->forward : 2.0 * M_PI;
@@ -1137,5 +1137,607 @@ int rjr_draw_state(rjr_context *c, const rj_model *m, const rj_state *s, const r
     if (rjr_begin(c, v->background) != 0) return -1;
     r = rjr_draw_scene(c, m, s, v);
     if (rjr_end(c) != 0) return -1;
+    return r;
+}
+#endif /* RJR_NO_SCENE */
+
+/* ---- Plots ------------------------------------------------------------------------------ */
+
+static const rjr_rgb plot_palette[RJR_MAX_SERIES] = {
+    0x1f77b4, 0xd62728, 0x2ca02c, 0xff7f0e, 0x9467bd, 0x8c564b, 0xe377c2, 0x17becf
+};
+
+#define AXIS_MAXT 64
+typedef struct axis {
+    int log;
+    double lo, hi;                 /* in axis space (log10 for log axes) */
+    double step;                   /* linear major step */
+    double major[AXIS_MAXT];       /* axis-space positions */
+    int nmajor;
+    double minor[AXIS_MAXT * 2];
+    int nminor;
+    char label[AXIS_MAXT][24];
+} axis;
+
+rjr_plot_def rjr_plot_default(void)
+{
+    rjr_plot_def d;
+    int i;
+    memset(&d, 0, sizeof d);
+    d.grid = 1;
+    d.legend = RJR_LEGEND_TOP_RIGHT;
+    for (i = 0; i < RJR_MAX_SERIES; i++) d.series[i].colour = RJR_AUTO_COLOUR;
+    return d;
+}
+
+static double nice_ceil(double raw)
+{
+    double e = pow(10.0, floor(log10(raw))), f = raw / e;
+    return (f <= 1.0 + 1e-9 ? 1.0 : (f <= 2.0 + 1e-9 ? 2.0 : (f <= 5.0 + 1e-9 ? 5.0 : 10.0))) * e;
+}
+
+/* Replaces a locale decimal comma and tidies exponents: "1.5e-05" -> "1.5e-5". */
+static void tidy_number(char *s)
+{
+    char *e, *d;
+    for (d = s; *d; d++) if (*d == ',') *d = '.';
+    e = strchr(s, 'e');
+    if (!e) return;
+    d = e + 1;
+    if (*d == '+') memmove(d, d + 1, strlen(d + 1) + 1);
+    else if (*d == '-') d++;
+    while (d[0] == '0' && d[1]) memmove(d, d + 1, strlen(d + 1) + 1);
+}
+
+static void fmt_tick(char *buf, size_t n, double v, double step)
+{
+    double a = fabs(v);
+    if (a < step * 1e-6) { v = 0.0; a = 0.0; }
+    if ((a >= 1e5 || step < 1e-4) && a > 0) {
+        int sig = (int)(floor(log10(a)) - floor(log10(step) + 1e-9)) + 1;
+        if (sig < 1) sig = 1;
+        if (sig > 15) sig = 15;
+        snprintf(buf, n, "%.*e", sig - 1, v);
+        /* drop trailing zeros of the mantissa */
+        {
+            char *e = strchr(buf, 'e'), *z;
+            if (e && strchr(buf, '.') && strchr(buf, '.') < e) {
+                z = e;
+                while (z[-1] == '0') z--;
+                if (z[-1] == '.') z--;
+                memmove(z, e, strlen(e) + 1);
+            }
+        }
+    } else {
+        int dec = (int)-floor(log10(step) + 1e-9);
+        if (dec < 0) dec = 0;
+        snprintf(buf, n, "%.*f", dec, v);
+    }
+    tidy_number(buf);
+}
+
+static void fmt_pow10(char *buf, size_t n, int k)
+{
+    if (k >= 0 && k <= 4) snprintf(buf, n, "%.0f", pow(10.0, k));
+    else if (k < 0 && k >= -2) snprintf(buf, n, "%.*f", -k, pow(10.0, k));
+    else snprintf(buf, n, "1e%d", k);
+    tidy_number(buf);
+}
+
+/* Data range of one coordinate over all series (finite, > 0 on log axes). */
+static int data_range(const rjr_plot_def *d, int which, int log, double *mn, double *mx)
+{
+    int i, k, any = 0;
+    *mn = HUGE_VAL; *mx = -HUGE_VAL;
+    for (i = 0; i < d->series_count && i < RJR_MAX_SERIES; i++) {
+        const rjr_series *s = &d->series[i];
+        const double *v = which ? s->y : s->x;
+        if (!s->x || !s->y) continue;
+        for (k = 0; k < s->n; k++) {
+            double x = s->x[k], y = s->y[k], q = v[k];
+            if (!isfinite(x) || !isfinite(y)) continue;
+            if ((d->logx && !(x > 0)) || (d->logy && !(y > 0))) continue;
+            (void)log;
+            if (q < *mn) *mn = q;
+            if (q > *mx) *mx = q;
+            any = 1;
+        }
+    }
+    return any;
+}
+
+static void axis_setup(axis *a, int log, double umin, double umax, int user, double dmin, double dmax, int target)
+{
+    int i, k;
+    a->log = log;
+    a->nmajor = a->nminor = 0;
+    if (log) {
+        double lo, hi;
+        int every, k0, k1;
+        if (user) { lo = log10(umin); hi = log10(umax); }
+        else {
+            if (!(dmin > 0)) { dmin = 1.0; dmax = 10.0; }
+            lo = floor(log10(dmin) + 1e-9);
+            hi = ceil(log10(dmax) - 1e-9);
+            if (hi <= lo) { lo -= 0.0; hi = lo + 1.0; }
+        }
+        a->lo = lo; a->hi = hi;
+        k0 = (int)ceil(lo - 1e-9); k1 = (int)floor(hi + 1e-9);
+        every = (k1 - k0) / (target > 1 ? target : 1) + 1;
+        if (every < 1) every = 1;
+        a->step = every;
+        for (k = k0; k <= k1 && a->nmajor < AXIS_MAXT; k++) {
+            if (((k % every) + every) % every) continue;
+            a->major[a->nmajor] = k;
+            fmt_pow10(a->label[a->nmajor], sizeof a->label[0], k);
+            a->nmajor++;
+        }
+        if (every > 1)
+            for (k = k0; k <= k1 && a->nminor < AXIS_MAXT * 2; k++)
+                if (((k % every) + every) % every) a->minor[a->nminor++] = k;
+        if (hi - lo <= 8.0 && every == 1)
+            for (k = k0 - 1; k <= k1; k++)
+                for (i = 2; i <= 9 && a->nminor < AXIS_MAXT * 2; i++) {
+                    double v = k + log10((double)i);
+                    if (v >= lo - 1e-9 && v <= hi + 1e-9) a->minor[a->nminor++] = v;
+                }
+    } else {
+        double lo, hi, st;
+        long i0, i1, q;
+        if (user) { lo = umin; hi = umax; }
+        else {
+            lo = dmin; hi = dmax;
+            if (!(hi > lo)) {
+                double pad = fabs(lo) > 0 ? fabs(lo) * 0.1 : 1.0;
+                if (!isfinite(lo)) { lo = 0.0; pad = 1.0; }
+                lo -= pad; hi = lo + 2.0 * pad;
+            }
+        }
+        st = nice_ceil((hi - lo) / (target > 1 ? target : 1));
+        if (!user) {
+            lo = floor(lo / st + 1e-9) * st;
+            hi = ceil(hi / st - 1e-9) * st;
+        }
+        a->lo = lo; a->hi = hi; a->step = st;
+        i0 = (long)ceil(lo / st - 1e-9); i1 = (long)floor(hi / st + 1e-9);
+        for (q = i0; q <= i1 && a->nmajor < AXIS_MAXT; q++) {
+            a->major[a->nmajor] = (double)q * st;
+            fmt_tick(a->label[a->nmajor], sizeof a->label[0], (double)q * st, st);
+            a->nmajor++;
+        }
+    }
+}
+
+static double axis_map(const axis *a, double v, double p0, double p1)
+{
+    double u = a->log ? (v > 0 ? log10(v) : -HUGE_VAL) : v;
+    return p0 + (u - a->lo) / (a->hi - a->lo) * (p1 - p0);
+}
+
+/* Liang-Barsky clip of segment (x0,y0)-(x1,y1) to [xa,xb]x[ya,yb]; returns 0 if outside. */
+static int clip_seg(double *t0, double *t1, double x0, double y0, double x1, double y1, double xa, double ya, double xb, double yb)
+{
+    double p[4], q[4];
+    int i;
+    p[0] = -(x1 - x0); q[0] = x0 - xa;
+    p[1] = x1 - x0;    q[1] = xb - x0;
+    p[2] = -(y1 - y0); q[2] = y0 - ya;
+    p[3] = y1 - y0;    q[3] = yb - y0;
+    *t0 = 0.0; *t1 = 1.0;
+    for (i = 0; i < 4; i++) {
+        if (p[i] == 0.0) { if (q[i] < 0) return 0; continue; }
+        {
+            double r = q[i] / p[i];
+            if (p[i] < 0) { if (r > *t1) return 0; if (r > *t0) *t0 = r; }
+            else { if (r < *t0) return 0; if (r < *t1) *t1 = r; }
+        }
+    }
+    return 1;
+}
+
+static void series_run_flush(rjr_context *c, const rjr_series *s, int k, double w, rjr_rgb col)
+{
+    if (k < 2) return;
+    if (s->dashed) stroke_dashed(c, c->pa, k, w, col, w * 3.5 + 3, w * 2 + 2.5);
+    else stroke(c, c->pa, k, w, col, 1);
+}
+
+static void draw_series(rjr_context *c, const rjr_plot_def *d, const rjr_series *s, const axis *ax, const axis *ay,
+                        double x0, double y0, double x1, double y1, rjr_rgb col)
+{
+    double w = s->width_px > 0 ? s->width_px : 2.0;
+    double cxa = x0 - 20, cya = y0 - 20, cxb = x1 + 20, cyb = y1 + 20;
+    double px = 0, py = 0, lx = 0, ly = 0;
+    int i, k = 0, prev = 0;
+    if (!s->x || !s->y || s->n < 1) return;
+    if (grow(&c->pa, &c->capa, (size_t)s->n + 2)) { ctx_fail(c, "out of memory"); return; }
+    for (i = 0; i < s->n; i++) {
+        double xv = s->x[i], yv = s->y[i], qx, qy, t0, t1;
+        int ok = isfinite(xv) && isfinite(yv) && (!d->logx || xv > 0) && (!d->logy || yv > 0);
+        if (!ok) { series_run_flush(c, s, k, w, col); k = 0; prev = 0; continue; }
+        qx = axis_map(ax, xv, x0, x1);
+        qy = axis_map(ay, yv, y1, y0);
+        if (s->points && qx >= x0 - 1 && qx <= x1 + 1 && qy >= y0 - 1 && qy <= y1 + 1)
+            rjr_disc(c, qx, qy, w * 1.3 > 2.5 ? w * 1.3 : 2.5, col);
+        if (!s->no_line && prev) {
+            if (!clip_seg(&t0, &t1, px, py, qx, qy, cxa, cya, cxb, cyb)) {
+                series_run_flush(c, s, k, w, col); k = 0;
+            } else {
+                double ax0 = px + (qx - px) * t0, ay0 = py + (qy - py) * t0;
+                double bx = px + (qx - px) * t1, by = py + (qy - py) * t1;
+                if (k == 0 || t0 > 0.0) {
+                    series_run_flush(c, s, k, w, col);
+                    c->pa[0] = ax0; c->pa[1] = ay0; k = 1; lx = ax0; ly = ay0;
+                }
+                /* decimate points closer than 0.25 px, keeping clipped ends */
+                if (t1 < 1.0 || i == s->n - 1 || fabs(bx - lx) + fabs(by - ly) >= 0.25) {
+                    c->pa[2 * k] = bx; c->pa[2 * k + 1] = by; k++;
+                    lx = bx; ly = by;
+                }
+                if (t1 < 1.0) { series_run_flush(c, s, k, w, col); k = 0; }
+            }
+        }
+        px = qx; py = qy; prev = 1;
+    }
+    series_run_flush(c, s, k, w, col);
+}
+
+int rjr_plot_rect(rjr_context *c, const rjr_plot_def *d, int rx, int ry, int rw, int rh)
+{
+    axis ax, ay;
+    double f, fs, tick = 5.0, pad, left, right, top, bottom, maxw = 0.0, dmin, dmax;
+    double x0, y0, x1, y1;           /* plot area in pixels (integers) */
+    int i, nser, tx, ty, has_x, has_y;
+    const rjr_rgb ink = COL_INK, grid = 0xe3e3e3, grid2 = 0xf1f1f1;
+    if (!c->in_frame) { set_err(c->err, sizeof c->err, "rjr_plot_rect: no open frame"); return -1; }
+    if (!d) { ctx_fail(c, "rjr_plot_rect: no definition"); return -1; }
+    if ((d->logx && d->xmin < d->xmax && !(d->xmin > 0)) || (d->logy && d->ymin < d->ymax && !(d->ymin > 0))) {
+        ctx_fail(c, "rjr_plot_rect: log axis range must be positive");
+        return -1;
+    }
+    nser = d->series_count < 0 ? 0 : (d->series_count > RJR_MAX_SERIES ? RJR_MAX_SERIES : d->series_count);
+    f = d->font_px > 0 ? d->font_px : floor((rw < rh ? rw : rh) * 0.03);
+    if (f < 10) f = 10;
+    if (f > 16 && !(d->font_px > 0)) f = 16;
+    fs = floor(f * 0.85 + 0.5);
+    pad = floor(f * 0.8);
+
+    has_x = data_range(d, 0, d->logx, &dmin, &dmax);
+    tx = (int)(rw / (f * 6.5));
+    axis_setup(&ax, d->logx, d->xmin, d->xmax, d->xmin < d->xmax, has_x ? dmin : 0, has_x ? dmax : 1, tx < 3 ? 3 : (tx > 10 ? 10 : tx));
+    has_y = data_range(d, 1, d->logy, &dmin, &dmax);
+    ty = (int)(rh / (f * 4.0));
+    axis_setup(&ay, d->logy, d->ymin, d->ymax, d->ymin < d->ymax, has_y ? dmin : 0, has_y ? dmax : 1, ty < 3 ? 3 : (ty > 10 ? 10 : ty));
+
+    for (i = 0; i < ay.nmajor; i++) {
+        double w = rjr_text_width(ay.label[i], fs);
+        if (w > maxw) maxw = w;
+    }
+    left = pad + (d->ylabel ? f * 1.9 : 0.0) + maxw + tick + 4;
+    right = pad + f * 1.5;
+    top = pad + (d->title ? f * 2.2 : f * 0.4);
+    bottom = pad + tick + 4 + fs * 1.5 + (d->xlabel ? f * 1.9 : 0.0);
+    x0 = rx + floor(left); x1 = rx + rw - floor(right);
+    y0 = ry + floor(top); y1 = ry + rh - floor(bottom);
+    if (x1 - x0 < 20 || y1 - y0 < 20) { ctx_fail(c, "rjr_plot_rect: rectangle too small"); return -1; }
+
+    /* grid */
+    if (d->grid) {
+        for (i = 0; i < ax.nminor; i++) {
+            double x = floor(x0 + (ax.minor[i] - ax.lo) / (ax.hi - ax.lo) * (x1 - x0));
+            rjr_rect(c, x, y0, 1, y1 - y0, grid2);
+        }
+        for (i = 0; i < ay.nminor; i++) {
+            double y = floor(y1 - (ay.minor[i] - ay.lo) / (ay.hi - ay.lo) * (y1 - y0));
+            rjr_rect(c, x0, y, x1 - x0, 1, grid2);
+        }
+        for (i = 0; i < ax.nmajor; i++) {
+            double x = floor(x0 + (ax.major[i] - ax.lo) / (ax.hi - ax.lo) * (x1 - x0));
+            rjr_rect(c, x, y0, 1, y1 - y0, grid);
+        }
+        for (i = 0; i < ay.nmajor; i++) {
+            double y = floor(y1 - (ay.major[i] - ay.lo) / (ay.hi - ay.lo) * (y1 - y0));
+            rjr_rect(c, x0, y, x1 - x0, 1, grid);
+        }
+    }
+
+    /* event markers: dashed lines behind the data, labels drawn last */
+    for (i = 0; i < d->marker_count && i < RJR_MAX_MARKERS; i++) {
+        double xm = axis_map(&ax, d->markers[i].x, x0, x1), seg[4];
+        if (!isfinite(xm) || xm < x0 || xm > x1) continue;
+        seg[0] = xm; seg[1] = y0; seg[2] = xm; seg[3] = y1;
+        stroke_dashed(c, seg, 2, 1.5, 0x7b52c7, 6, 4);
+    }
+
+    /* data, clipped to the plot area */
+    rjr_clip(c, (int)x0, (int)y0, (int)(x1 - x0) + 1, (int)(y1 - y0) + 1);
+    for (i = 0; i < nser; i++) {
+        const rjr_series *s = &d->series[i];
+        rjr_rgb col = (s->colour & RJR_AUTO_COLOUR) ? plot_palette[i] : s->colour;
+        draw_series(c, d, s, &ax, &ay, x0, y0, x1, y1, col);
+    }
+    rjr_clip(c, 0, 0, 0, 0);
+
+    /* frame, ticks, tick labels */
+    rect_outline(c, x0 - 1, y0 - 1, x1 - x0 + 2, y1 - y0 + 2, 1, 0x555555);
+    for (i = 0; i < ax.nminor; i++) {
+        double x = floor(x0 + (ax.minor[i] - ax.lo) / (ax.hi - ax.lo) * (x1 - x0));
+        rjr_rect(c, x, y1 - 3, 1, 3, ink);
+    }
+    for (i = 0; i < ay.nminor; i++) {
+        double y = floor(y1 - (ay.minor[i] - ay.lo) / (ay.hi - ay.lo) * (y1 - y0));
+        rjr_rect(c, x0, y, 3, 1, ink);
+    }
+    for (i = 0; i < ax.nmajor; i++) {
+        double x = floor(x0 + (ax.major[i] - ax.lo) / (ax.hi - ax.lo) * (x1 - x0));
+        rjr_rect(c, x, y1 - tick, 1, tick, ink);
+        rjr_rect(c, x, y1 + 1, 1, 3, ink);
+        rjr_text(c, x + 0.5, y1 + 4 + floor(fs * 0.5), fs, 0.0, RJR_CENTER | RJR_TOP, ink, ax.label[i]);
+    }
+    for (i = 0; i < ay.nmajor; i++) {
+        double y = floor(y1 - (ay.major[i] - ay.lo) / (ay.hi - ay.lo) * (y1 - y0));
+        rjr_rect(c, x0, y, tick, 1, ink);
+        rjr_rect(c, x0 - 4, y, 3, 1, ink);
+        rjr_text(c, x0 - 8, y + 0.5, fs, 0.0, RJR_RIGHT | RJR_MIDDLE, ink, ay.label[i]);
+    }
+
+    /* labels and title */
+    if (d->xlabel)
+        rjr_text(c, floor(0.5 * (x0 + x1)), y1 + 4 + floor(fs * 0.5) + fs + floor(f * 0.9), f, 0.0, RJR_CENTER | RJR_TOP, ink, d->xlabel);
+    if (d->ylabel)
+        rjr_text(c, rx + pad, floor(0.5 * (y0 + y1)), f, 90.0, RJR_CENTER | RJR_TOP, ink, d->ylabel);
+    if (d->title)
+        rjr_text(c, floor(0.5 * (x0 + x1)), ry + pad, floor(f * 1.15), 0.0, RJR_CENTER | RJR_TOP, ink, d->title);
+
+    /* legend */
+    if (d->legend != RJR_LEGEND_NONE) {
+        int n = 0;
+        double lw = 0.0, rowh = floor(fs * 1.8), sample = floor(fs * 2.4), bw, bh, bx, by;
+        for (i = 0; i < nser; i++)
+            if (d->series[i].label) {
+                double w = rjr_text_width(d->series[i].label, fs);
+                if (w > lw) lw = w;
+                n++;
+            }
+        if (n > 0) {
+            bw = floor(sample + lw + fs * 2.2);
+            bh = floor(n * rowh + fs * 0.8);
+            bx = (d->legend == RJR_LEGEND_TOP_LEFT || d->legend == RJR_LEGEND_BOTTOM_LEFT) ? x0 + 8 : x1 - 8 - bw;
+            by = (d->legend == RJR_LEGEND_BOTTOM_LEFT || d->legend == RJR_LEGEND_BOTTOM_RIGHT) ? y1 - 8 - bh : y0 + 8;
+            rjr_rect(c, bx, by, bw, bh, 0xffffff);
+            rect_outline(c, bx, by, bw, bh, 1, 0xa6a6a6);
+            n = 0;
+            for (i = 0; i < nser; i++) {
+                const rjr_series *s = &d->series[i];
+                rjr_rgb col = (s->colour & RJR_AUTO_COLOUR) ? plot_palette[i] : s->colour;
+                double w = s->width_px > 0 ? s->width_px : 2.0, yy, seg[4];
+                if (!s->label) continue;
+                yy = by + floor(fs * 0.4) + n * rowh + 0.5 * rowh;
+                seg[0] = bx + floor(fs * 0.7); seg[1] = yy; seg[2] = seg[0] + sample; seg[3] = yy;
+                if (!s->no_line) {
+                    if (s->dashed) stroke_dashed(c, seg, 2, w, col, w * 3.5 + 3, w * 2 + 2.5);
+                    else stroke(c, seg, 2, w, col, 0);
+                }
+                if (s->points || s->no_line) rjr_disc(c, seg[0] + 0.5 * sample, yy, w * 1.3 > 2.5 ? w * 1.3 : 2.5, col);
+                rjr_text(c, seg[2] + floor(fs * 0.6), yy, fs, 0.0, RJR_LEFT | RJR_MIDDLE, ink, s->label);
+                n++;
+            }
+        }
+    }
+
+    /* marker labels, staggered in three rows, on a white backing */
+    for (i = 0; i < d->marker_count && i < RJR_MAX_MARKERS; i++) {
+        double xm = axis_map(&ax, d->markers[i].x, x0, x1), ly, lw, lx;
+        int right_side;
+        if (!isfinite(xm) || xm < x0 || xm > x1 || !d->markers[i].label) continue;
+        ly = y1 - 6 - fs - (i % 3) * floor(fs * 1.7);
+        lw = rjr_text_width(d->markers[i].label, fs);
+        right_side = xm + 5 + lw <= x1 - 3;
+        lx = right_side ? floor(xm) + 5 : floor(xm) - 4 - lw;
+        rjr_rect(c, lx - 2, ly - 3, ceil(lw) + 4, fs + 6, 0xffffff);
+        rjr_text(c, lx, ly, fs, 0.0, RJR_LEFT | RJR_TOP, 0x5a34a8, d->markers[i].label);
+    }
+    return c->failed ? -1 : 0;
+}
+
+int rjr_plot(rjr_context *c, const rjr_plot_def *d)
+{
+    int r;
+    if (rjr_begin(c, 0xffffff) != 0) return -1;
+    r = rjr_plot_rect(c, d, 0, 0, c->width, c->height);
+    if (rjr_end(c) != 0) return -1;
+    return r;
+}
+
+#endif /* RJR_PNG_ONLY */
+
+/* ---- PNG -------------------------------------------------------------------------------- */
+
+typedef struct png_errctx { char *err; size_t errlen; } png_errctx;
+
+static void png_error_cb(png_structp png, png_const_charp msg)
+{
+    png_errctx *e = (png_errctx *)png_get_error_ptr(png);
+    if (e && e->err && e->errlen) snprintf(e->err, e->errlen, "libpng: %s", msg);
+    png_longjmp(png, 1);
+}
+
+static void png_warning_cb(png_structp png, png_const_charp msg)
+{
+    (void)png;
+    (void)msg;
+}
+
+static void png_rows(png_structp png, const unsigned char *rgb, int w, int h)
+{
+    int y;
+    for (y = 0; y < h; y++) png_write_row(png, rgb + (size_t)y * (size_t)w * 3);
+}
+
+static int png_encode(FILE *f, const unsigned char *rgb, int w, int h, png_errctx *ec)
+{
+    png_structp png;
+    png_infop info;
+    png = png_create_write_struct(PNG_LIBPNG_VER_STRING, ec, png_error_cb, png_warning_cb);
+    if (!png) return -1;
+    info = png_create_info_struct(png);
+    if (!info) {
+        png_destroy_write_struct(&png, NULL);
+        return -1;
+    }
+    if (setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
+        return -1;
+    }
+    png_init_io(png, f);
+    png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_compression_level(png, 1);
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
+    png_write_info(png, info);
+    png_rows(png, rgb, w, h);
+    png_write_end(png, NULL);
+    png_destroy_write_struct(&png, &info);
+    return 0;
+}
+
+int rjr_write_png(const char *path, const unsigned char *rgb, int w, int h, char *err, size_t errlen)
+{
+    FILE *f;
+    png_errctx ec;
+    int r;
+    char m[300];
+    set_err(err, errlen, "");
+    if (!path || !rgb || w < 1 || h < 1) { set_err(err, errlen, "rjr_write_png: bad arguments"); return -1; }
+    f = fopen(path, "wb");
+    if (!f) {
+        snprintf(m, sizeof m, "cannot open %.200s for writing: %s", path, strerror(errno));
+        set_err(err, errlen, m);
+        return -1;
+    }
+    ec.err = err;
+    ec.errlen = errlen;
+    r = png_encode(f, rgb, w, h, &ec);
+    if (r != 0 && err && errlen && !err[0]) set_err(err, errlen, "libpng: write failed");
+    if (fclose(f) != 0 && r == 0) {
+        snprintf(m, sizeof m, "error writing %.200s: %s", path, strerror(errno));
+        set_err(err, errlen, m);
+        r = -1;
+    }
+    if (r != 0) remove(path);
+    return r;
+}
+
+#ifndef RJR_PNG_ONLY
+int rjr_save_png(rjr_context *c, const char *path, char *err, size_t errlen)
+{
+    unsigned char *rgb = (unsigned char *)malloc((size_t)c->width * (size_t)c->height * 3);
+    int r;
+    if (!rgb) { set_err(err, errlen, "out of memory"); return -1; }
+    if (rjr_read_pixels(c, rgb) != 0) {
+        set_err(err, errlen, c->err);
+        free(rgb);
+        return -1;
+    }
+    r = rjr_write_png(path, rgb, c->width, c->height, err, errlen);
+    free(rgb);
+    return r;
+}
+#endif
+
+int rjr_load_png(const char *path, unsigned char **rgb, int *w, int *h, char *err, size_t errlen)
+{
+    png_image img;
+    png_color bg;
+    unsigned char *buf;
+    char m[300];
+    *rgb = NULL;
+    *w = *h = 0;
+    set_err(err, errlen, "");
+    memset(&img, 0, sizeof img);
+    img.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_file(&img, path)) {
+        snprintf(m, sizeof m, "%.200s: %s", path, img.message);
+        set_err(err, errlen, m);
+        return -1;
+    }
+    img.format = PNG_FORMAT_RGB;
+    buf = (unsigned char *)malloc(PNG_IMAGE_SIZE(img));
+    if (!buf) {
+        png_image_free(&img);
+        set_err(err, errlen, "out of memory");
+        return -1;
+    }
+    bg.red = bg.green = bg.blue = 255;
+    if (!png_image_finish_read(&img, &bg, buf, 0, NULL)) {
+        snprintf(m, sizeof m, "%.200s: %s", path, img.message);
+        set_err(err, errlen, m);
+        png_image_free(&img);
+        free(buf);
+        return -1;
+    }
+    *rgb = buf;
+    *w = (int)img.width;
+    *h = (int)img.height;
+    return 0;
+}
+
+/* ---- Comparison -------------------------------------------------------------------------- */
+
+int rjr_compare(const unsigned char *a, const unsigned char *b, int w, int h, int thr, rjr_diff *out)
+{
+    size_t i, n = (size_t)w * (size_t)h;
+    double sq = 0.0, ab = 0.0;
+    int mx = 0;
+    long bad = 0;
+    if (!a || !b || !out || w < 1 || h < 1) return -1;
+    for (i = 0; i < n; i++) {
+        int dr = abs((int)a[3 * i] - (int)b[3 * i]);
+        int dg = abs((int)a[3 * i + 1] - (int)b[3 * i + 1]);
+        int db = abs((int)a[3 * i + 2] - (int)b[3 * i + 2]);
+        int d = dr > dg ? dr : dg;
+        if (db > d) d = db;
+        if (d > mx) mx = d;
+        if (d > thr) bad++;
+        if (d) {
+            sq += (double)(dr * dr + dg * dg + db * db);
+            ab += (double)(dr + dg + db);
+        }
+    }
+    out->max_delta = mx;
+    out->bad_pixels = bad;
+    out->mae = ab / (3.0 * (double)n);
+    out->psnr = sq > 0 ? 10.0 * log10(255.0 * 255.0 / (sq / (3.0 * (double)n))) : INFINITY;
+    return 0;
+}
+
+void rjr_diff_image(const unsigned char *g, const unsigned char *a, int w, int h, int thr, unsigned char *out)
+{
+    size_t i, n = (size_t)w * (size_t)h;
+    for (i = 0; i < n; i++) {
+        const unsigned char *p = g + 3 * i, *q = a + 3 * i;
+        unsigned char *o = out + 3 * i;
+        int dr = abs((int)p[0] - (int)q[0]), dg = abs((int)p[1] - (int)q[1]), db = abs((int)p[2] - (int)q[2]);
+        int d = dr > dg ? dr : dg;
+        if (db > d) d = db;
+        if (d > thr) { o[0] = 255; o[1] = 0; o[2] = 0; }
+        else if (d > 0) { o[0] = 255; o[1] = 170; o[2] = 0; }
+        else {
+            int lum = (77 * p[0] + 150 * p[1] + 29 * p[2]) >> 8;
+            unsigned char v = (unsigned char)(255 - (255 - lum) / 3);
+            o[0] = o[1] = o[2] = v;
+        }
+    }
+}
+
+int rjr_write_diff_png(const char *path, const unsigned char *golden, const unsigned char *actual, int w, int h,
+                       int thr, char *err, size_t errlen)
+{
+    unsigned char *d = (unsigned char *)malloc((size_t)w * (size_t)h * 3);
+    int r;
+    if (!d) { set_err(err, errlen, "out of memory"); return -1; }
+    rjr_diff_image(golden, actual, w, h, thr, d);
+    r = rjr_write_png(path, d, w, h, err, errlen);
+    free(d);
     return r;
 }

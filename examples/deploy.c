@@ -1,0 +1,164 @@
+/* deploy - the two-link deployment with locking of Wong, Hamouda & Hashmi 2002, sec. 5
+   (SPEC 9.2; Nagaraj et al.'s rig): flexible links, torsion springs, friction, locks.
+   --rigid prints the rigid-body reference (examples/rigid2.h) in the same CSV. */
+#define REVJOINT_IMPLEMENTATION
+#include "../revjoint.h"
+#include "scenes.h"
+#include "cli.h"
+#include "rigid2.h"
+#include "../render/rj_render.h"
+#include <time.h>
+#include <sys/stat.h>
+
+static const char usage[] =
+    "usage: deploy [options]\n"
+    "  --dt S                 time step (default 7.5e-6)\n"
+    "  --elements N           elements per link (default 10)\n"
+    "  --t-end S              simulated time (default 6)\n"
+    "  --joint1 forced|adaptive|penalty   joint 1 lock method (default forced)\n"
+    "  --method penalty|adaptive          joint 2 lock method (default penalty, K from Eq 31)\n"
+    "  --K N_m_per_rad        joint 2 penalty stiffness (default: Eq 31 at dt)\n"
+    "  --extra-friction       add sec. 5's +0.175 / +0.008 N m at joints 1 / 2\n"
+    "  --rigid                the rigid-body reference instead of the flexible model\n"
+    "  --csv FILE             history, one row per ms (default standard output)\n"
+    "  --plot FILE.png        q1, q2 against time, flexible against rigid, locks marked\n"
+    "  --frames DIR           animation frames DIR/frame_00000.png ... (640x480)\n"
+    "  --fps N                frame rate for --frames (default 30)\n";
+
+#define MAXS 200000
+typedef struct run {
+    FILE *f;
+    int n; double *t, *q1, *q2;           /* for the plot */
+    rjr_context *ctx; rjr_view view; const char *frames; double frame_dt; int frame;
+} run;
+
+static void row(run *r, double t, double q1, double q2, double q1d, double q2d, int f1, int f2, double tx, double ty, double defl)
+{
+    if (r->f) fprintf(r->f, "%.6f,%.10g,%.10g,%.10g,%.10g,%d,%d,%.10g,%.10g,%.10g\n", t, q1, q2, q1d, q2d, f1, f2, tx, ty, defl);
+    if (r->t && r->n < MAXS) { r->t[r->n] = t; r->q1[r->n] = q1; r->q2[r->n] = q2; r->n++; }
+}
+
+static int flex_sample(const rj_model *m, const rj_state *s, void *u)
+{
+    run *r = (run *)u;
+    double tip[2], t = rj_state_time(s);
+    rj_node_position(m, s, 1, rj_link_node_count(m, 1) - 1, tip);
+    row(r, t, deploy_q1_deg(m, s), deploy_q2_deg(m, s), rj_joint_rate(m, s, 0), rj_joint_rate(m, s, 1),
+        rj_joint_flag(m, s, 0), rj_joint_flag(m, s, 1), tip[0], tip[1], scene_tip_defl(m, s, 1));
+    if (r->frames && t >= r->frame * r->frame_dt - 1e-9) {
+        char path[1024], err[256];
+        snprintf(path, sizeof path, "%s/frame_%05d.png", r->frames, r->frame);
+        if (rjr_draw_state(r->ctx, m, s, &r->view) || rjr_save_png(r->ctx, path, err, sizeof err)) {
+            fprintf(stderr, "deploy: frame %s: %s %s\n", path, rjr_error(r->ctx), err);
+            return 1;
+        }
+        r->frame++;
+    }
+    return 0;
+}
+
+static void rigid_sample(const rigid2_sample *s, void *u)
+{
+    run *r = (run *)u;
+    double q1 = rj_deg(s->q[0]), q2 = rj_deg(s->q[1]);
+    row(r, s->t, q1, q2, s->qd[0], s->qd[1], s->locked[0] ? 3 : 0, s->locked[1] ? 3 : 0, s->tip2[0], s->tip2[1], 0.0);
+}
+
+int main(int argc, char **argv)
+{
+    static const char *const j1names[] = { "penalty", "adaptive", "momentum", "forced" };
+    cli c;
+    deploy_opts o = deploy_default_opts();
+    double t_end = 6.0, fps = 30, lock_rigid[2];
+    const char *csv = NULL, *plot = NULL, *frames = NULL, *a;
+    int rigid = 0;
+    run r;
+    clock_t c0;
+    rigid2_params rp;
+    c.argc = argc; c.argv = argv; c.i = 0; c.usage = usage;
+    while ((a = cli_next(&c)) != NULL) {
+        if (!strcmp(a, "--dt")) o.dt = cli_num(&c, a, 1e-12, 1);
+        else if (!strcmp(a, "--elements")) o.elements = cli_int(&c, a, 1, 100000);
+        else if (!strcmp(a, "--t-end")) t_end = cli_num(&c, a, 0, 1e6);
+        else if (!strcmp(a, "--joint1")) { o.joint1_method = cli_choice(&c, a, j1names, 4); if (o.joint1_method == 2) cli_die(&c, "option --joint1: unknown value '%s'%s", "momentum", ""); }
+        else if (!strcmp(a, "--method")) { o.joint2_method = cli_choice(&c, a, cli_methods, 2); }
+        else if (!strcmp(a, "--K")) o.joint2_K = cli_num(&c, a, 1e-12, 1e30);
+        else if (!strcmp(a, "--extra-friction")) o.extra_friction = 1;
+        else if (!strcmp(a, "--rigid")) rigid = 1;
+        else if (!strcmp(a, "--csv")) csv = cli_str(&c, a);
+        else if (!strcmp(a, "--plot")) plot = cli_str(&c, a);
+        else if (!strcmp(a, "--frames")) frames = cli_str(&c, a);
+        else if (!strcmp(a, "--fps")) fps = cli_num(&c, a, 0.01, 10000);
+        else if (!strcmp(a, "--help") || !strcmp(a, "-h")) { fputs(usage, stdout); return 0; }
+        else cli_die(&c, "unknown option '%s'%s", a, "");
+    }
+    memset(&r, 0, sizeof r);
+    r.f = stdout;
+    if (csv && !(r.f = fopen(csv, "w"))) { fprintf(stderr, "deploy: cannot write %s\n", csv); return 1; }
+    fprintf(r.f, "t,q1_deg,q2_deg,q1dot,q2dot,flag1,flag2,tip2_x,tip2_y,tip2_defl_m\n");
+    rigid2_default_params(&rp);
+    if (o.extra_friction) rigid2_add_extra_friction(&rp);
+    c0 = clock();
+    if (rigid) {
+        int e = rigid2_run(&rp, t_end, 1e-3, rigid_sample, &r, lock_rigid);
+        if (r.f != stdout) fclose(r.f);
+        fprintf(stderr, "deploy --rigid: joint 1 locks at %.6f s, joint 2 at %.6f s; wall %.4f s\n", lock_rigid[0], lock_rigid[1], (double)(clock() - c0) / CLOCKS_PER_SEC);
+        return e ? 1 : 0;
+    }
+    {
+        rj_model *m; rj_state *s; rj_error err; rj_result res;
+        if (deploy_build(&o, &m, &err) != RJ_OK) { fprintf(stderr, "deploy: %s\n", err.msg); return 1; }
+        rj_state_create(m, &s, NULL);
+        if (plot) {
+            r.t = (double *)malloc(sizeof(double) * MAXS); r.q1 = (double *)malloc(sizeof(double) * MAXS); r.q2 = (double *)malloc(sizeof(double) * MAXS);
+        }
+        if (frames) {
+            char e2[256];
+            double box[4] = { -1.2, -0.3, 1.3, 2.2 };
+            mkdir(frames, 0777);
+            r.ctx = rjr_create(640, 480, e2, sizeof e2);
+            if (!r.ctx) { fprintf(stderr, "deploy: %s\n", e2); return 1; }
+            r.view = rjr_view_default();
+            rjr_view_fit_box(&r.view, box, 640, 480, 20);
+            r.view.thickness_factor = 2.0;
+            r.view.caption = "two-link deployment (SPEC 9.2)";
+            r.frames = frames; r.frame_dt = 1.0 / fps;
+        }
+        c0 = clock();
+        res = rj_run(m, s, t_end, 1e-3, flex_sample, &r);
+        if (r.f != stdout) fclose(r.f);
+        fprintf(stderr, "deploy: dt %.4g s (bound %.4g s), joint 2 K %.4g N m/rad; joint 1 locks at %.6f s, joint 2 at %.6f s; wall %.3f s\n",
+                rj_model_dt(m), rj_model_dt_bound(m), rj_joint_stiffness(m, 1), rj_joint_event_time(m, s, 0), rj_joint_event_time(m, s, 1),
+                (double)(clock() - c0) / CLOCKS_PER_SEC);
+        if (frames) fprintf(stderr, "deploy: wrote %d frames to %s/frame_%%05d.png\n", r.frame, frames);
+        if (res != RJ_OK) { fprintf(stderr, "deploy: %s\n", rj_state_error(s)); return 1; }
+        if (plot) {
+            run rr; char e2[256];
+            rjr_context *ctx = r.ctx ? r.ctx : rjr_create(900, 560, e2, sizeof e2);
+            rjr_plot_def p = rjr_plot_default();
+            memset(&rr, 0, sizeof rr);
+            rr.t = (double *)malloc(sizeof(double) * MAXS); rr.q1 = (double *)malloc(sizeof(double) * MAXS); rr.q2 = (double *)malloc(sizeof(double) * MAXS);
+            rigid2_run(&rp, t_end, 1e-3, rigid_sample, &rr, lock_rigid);
+            if (!ctx) { fprintf(stderr, "deploy: %s\n", e2); return 1; }
+            if (r.ctx) rjr_resize(ctx, 900, 560);
+            p.title = "Two-link deployment: joint angles"; p.xlabel = "t (s)"; p.ylabel = "angle (deg)";
+            p.series_count = 4;
+            p.series[0].x = r.t; p.series[0].y = r.q1; p.series[0].n = r.n; p.series[0].label = "q1 flexible"; p.series[0].colour = 0x1f77b4;
+            p.series[1].x = rr.t; p.series[1].y = rr.q1; p.series[1].n = rr.n; p.series[1].label = "q1 rigid"; p.series[1].colour = 0x1f77b4; p.series[1].dashed = 1;
+            p.series[2].x = r.t; p.series[2].y = r.q2; p.series[2].n = r.n; p.series[2].label = "q2 flexible"; p.series[2].colour = 0xd62728;
+            p.series[3].x = rr.t; p.series[3].y = rr.q2; p.series[3].n = rr.n; p.series[3].label = "q2 rigid"; p.series[3].colour = 0xd62728; p.series[3].dashed = 1;
+            p.marker_count = 0;
+            if (rj_joint_event_time(m, s, 1) >= 0) { p.markers[p.marker_count].x = rj_joint_event_time(m, s, 1); p.markers[p.marker_count++].label = "lock 2"; }
+            if (rj_joint_event_time(m, s, 0) >= 0) { p.markers[p.marker_count].x = rj_joint_event_time(m, s, 0); p.markers[p.marker_count++].label = "lock 1"; }
+            p.legend = RJR_LEGEND_TOP_RIGHT;
+            if (rjr_plot(ctx, &p) || rjr_save_png(ctx, plot, e2, sizeof e2)) { fprintf(stderr, "deploy: plot: %s %s\n", rjr_error(ctx), e2); return 1; }
+            fprintf(stderr, "deploy: wrote %s\n", plot);
+            if (!r.ctx) rjr_destroy(ctx);
+            free(rr.t); free(rr.q1); free(rr.q2);
+        }
+        if (r.ctx) rjr_destroy(r.ctx);
+        free(r.t); free(r.q1); free(r.q2);
+        rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+    }
+    return 0;
+}

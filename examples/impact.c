@@ -1,0 +1,143 @@
+/* impact - the simple revolute-joint problem of Wong, Hamouda & Hashmi 2002, sec. 4
+   (SPEC 9.1): link 1 held fixed, link 2 in rigid rotation hits a reverse limit at 176 deg.
+   Writes the history as CSV; --all prints one table over every method and release rule. */
+#define REVJOINT_IMPLEMENTATION
+#include "../revjoint.h"
+#include "scenes.h"
+#include "cli.h"
+#include "../render/rj_render.h"
+#include <time.h>
+
+static const char usage[] =
+    "usage: impact [options]\n"
+    "  --method penalty|adaptive|momentum|forced|energy   limit response (default adaptive)\n"
+    "  --release rc12|rc13     release rule (default rc13)\n"
+    "  --K N_m_per_rad         penalty stiffness (default 5e9)\n"
+    "  --e E                   restitution for momentum (default 0)\n"
+    "  --elements N            elements per link (default 10)\n"
+    "  --dt S                  time step (default 2.5e-6; see README on 15 us)\n"
+    "  --t-end S               simulated time (default 0.05)\n"
+    "  --H M                   in-plane depth of the links (default 0.2; 0.05 = long contact)\n"
+    "  --csv FILE              history (default standard output)\n"
+    "  --plot FILE.png         theta and tip deflection against time\n"
+    "  --all                   table of every method and release rule instead of a history\n";
+
+typedef struct hist { FILE *f; double sign; int n, cap; double *t, *th, *defl; } hist;
+
+static int sample(const rj_model *m, const rj_state *s, void *u)
+{
+    hist *h = (hist *)u;
+    double t = rj_state_time(s), th = rj_deg(rj_joint_theta(m, s, 0)), d = h->sign * scene_tip_defl(m, s, 1);
+    if (h->f) fprintf(h->f, "%.8g,%.10g,%.10g,%d,%.10g,%.10g\n", t, th, rj_joint_rate(m, s, 0), rj_joint_flag(m, s, 0),
+                      rj_joint_torque(m, s, 0, RJ_TORQUE_LIMIT), d);
+    if (h->t && h->n < h->cap) { h->t[h->n] = t * 1e3; h->th[h->n] = th; h->defl[h->n] = d * 1e3; h->n++; }
+    return 0;
+}
+
+/* rigid-body angular velocity of link 2 about the joint (its angular momentum over its
+   rigid inertia) and the energy left in vibration (kinetic + strain - rigid kinetic) */
+static void rigid_part(const rj_model *m, const rj_state *s, double *omega, double *evib)
+{
+    double p[2], Lz = 0, I = 0;
+    int i, n = rj_link_node_count(m, 1);
+    rj_energy e;
+    rj_joint_position(m, s, 0, p);
+    for (i = 0; i < n; i++) {
+        double x[2], v[2], mm, J, rx, ry;
+        rj_node_position(m, s, 1, i, x); rj_node_velocity(m, s, 1, i, v); rj_node_mass(m, 1, i, &mm, &J);
+        rx = x[0] - p[0]; ry = x[1] - p[1];
+        if (i == 0) continue;   /* the pin does not move */
+        Lz += mm * (rx * v[1] - ry * v[0]); I += mm * (rx * rx + ry * ry);
+    }
+    *omega = Lz / I;
+    rj_state_energy(m, s, &e);
+    *evib = e.kinetic + e.strain - 0.5 * I * (*omega) * (*omega);
+}
+
+int main(int argc, char **argv)
+{
+    cli c;
+    impact_opts o = impact_default_opts();
+    double t_end = 0.05;
+    const char *csv = NULL, *plot = NULL, *a;
+    int all = 0;
+    c.argc = argc; c.argv = argv; c.i = 0; c.usage = usage;
+    while ((a = cli_next(&c)) != NULL) {
+        if (!strcmp(a, "--method")) o.method = cli_choice(&c, a, cli_methods, 5);
+        else if (!strcmp(a, "--release")) o.release = cli_choice(&c, a, cli_releases, 2);
+        else if (!strcmp(a, "--K")) o.K = cli_num(&c, a, 1e-12, 1e30);
+        else if (!strcmp(a, "--e")) o.e = cli_num(&c, a, 0, 1);
+        else if (!strcmp(a, "--elements")) o.elements = cli_int(&c, a, 1, 100000);
+        else if (!strcmp(a, "--dt")) o.dt = cli_num(&c, a, 1e-12, 1);
+        else if (!strcmp(a, "--t-end")) t_end = cli_num(&c, a, 0, 1e6);
+        else if (!strcmp(a, "--H")) o.H = cli_num(&c, a, 1e-9, 1e3);
+        else if (!strcmp(a, "--csv")) csv = cli_str(&c, a);
+        else if (!strcmp(a, "--plot")) plot = cli_str(&c, a);
+        else if (!strcmp(a, "--all")) all = 1;
+        else if (!strcmp(a, "--help") || !strcmp(a, "-h")) { fputs(usage, stdout); return 0; }
+        else cli_die(&c, "unknown option '%s'%s", a, "");
+    }
+    if (all) {
+        int mth, rel;
+        printf("| method | release | contact (ms) | release (ms) | peak penetration (rad) | rigid rate after (rad/s) | vibration energy (J) | wall (s) |\n");
+        printf("|---|---|---:|---:|---:|---:|---:|---:|\n");
+        for (mth = 0; mth < 5; mth++) for (rel = 0; rel < 2; rel++) {
+            rj_link_def L[2]; rj_joint_def J; rj_scene_def sc; rj_model *m; rj_state *s; rj_error err;
+            impact_opts q = o;
+            double w, ev; clock_t c0 = clock(); rj_result r;
+            q.method = mth; q.release = rel;
+            impact_scene(&q, L, &J, &sc);
+            if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { fprintf(stderr, "impact: %s\n", err.msg); return 1; }
+            rj_state_create(m, &s, NULL);
+            r = rj_run(m, s, t_end, 0, NULL, NULL);
+            rigid_part(m, s, &w, &ev);
+            printf("| %s | %s | %.4f | %.4f | %.3g | %.4f | %.4g | %.3f |%s\n", cli_methods[mth], cli_releases[rel],
+                   1e3 * rj_joint_event_time(m, s, 0), 1e3 * rj_joint_release_time(m, s, 0), rj_joint_peak_penetration(m, s, 0),
+                   w, ev, (double)(clock() - c0) / CLOCKS_PER_SEC, r != RJ_OK ? " stopped" : "");
+            if (r != RJ_OK) fprintf(stderr, "impact: %s %s: %s\n", cli_methods[mth], cli_releases[rel], rj_state_error(s));
+            rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+        }
+        return 0;
+    }
+    {
+        rj_link_def L[2]; rj_joint_def J; rj_scene_def sc; rj_model *m; rj_state *s; rj_error err;
+        hist h; rj_result r; clock_t c0 = clock();
+        memset(&h, 0, sizeof h);
+        impact_scene(&o, L, &J, &sc);
+        if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { fprintf(stderr, "impact: %s\n", err.msg); return 1; }
+        rj_state_create(m, &s, NULL);
+        h.f = stdout;
+        if (csv && !(h.f = fopen(csv, "w"))) { fprintf(stderr, "impact: cannot write %s\n", csv); return 1; }
+        h.sign = o.rate0 < 0 ? -1.0 : 1.0;
+        if (plot) {
+            h.cap = (int)(t_end / 1e-5) + 16;
+            h.t = (double *)malloc(sizeof(double) * (size_t)h.cap); h.th = (double *)malloc(sizeof(double) * (size_t)h.cap); h.defl = (double *)malloc(sizeof(double) * (size_t)h.cap);
+        }
+        fprintf(h.f, "t,theta_deg,theta_dot,flag,tau_limit,tip_defl_m\n");
+        r = rj_run(m, s, t_end, 1e-5, sample, &h);
+        if (h.f != stdout) fclose(h.f);
+        fprintf(stderr, "impact: %s %s dt %.3g s (bound %.3g s): contact %.4f ms, release %.4f ms, peak penetration %.4g rad, wall %.3f s\n",
+                cli_methods[o.method], cli_releases[o.release], rj_model_dt(m), rj_model_dt_bound(m),
+                1e3 * rj_joint_event_time(m, s, 0), 1e3 * rj_joint_release_time(m, s, 0), rj_joint_peak_penetration(m, s, 0),
+                (double)(clock() - c0) / CLOCKS_PER_SEC);
+        if (r != RJ_OK) { fprintf(stderr, "impact: %s\n", rj_state_error(s)); return 1; }
+        if (plot) {
+            char e2[256];
+            rjr_context *ctx = rjr_create(900, 560, e2, sizeof e2);
+            rjr_plot_def p = rjr_plot_default();
+            if (!ctx) { fprintf(stderr, "impact: %s\n", e2); return 1; }
+            p.title = "Impact on the reverse limit (SPEC 9.1)"; p.xlabel = "t (ms)"; p.ylabel = "theta (deg), tip deflection (mm)";
+            p.series_count = 2;
+            p.series[0].x = h.t; p.series[0].y = h.th; p.series[0].n = h.n; p.series[0].label = "theta (deg)"; p.series[0].colour = RJR_AUTO_COLOUR;
+            p.series[1].x = h.t; p.series[1].y = h.defl; p.series[1].n = h.n; p.series[1].label = "tip deflection (mm)"; p.series[1].colour = RJR_AUTO_COLOUR;
+            if (rj_joint_event_time(m, s, 0) >= 0) { p.markers[p.marker_count].x = 1e3 * rj_joint_event_time(m, s, 0); p.markers[p.marker_count++].label = "contact"; }
+            if (rj_joint_release_time(m, s, 0) >= 0) { p.markers[p.marker_count].x = 1e3 * rj_joint_release_time(m, s, 0); p.markers[p.marker_count++].label = "release"; }
+            if (rjr_plot(ctx, &p) || rjr_save_png(ctx, plot, e2, sizeof e2)) { fprintf(stderr, "impact: %s %s\n", rjr_error(ctx), e2); return 1; }
+            rjr_destroy(ctx);
+            fprintf(stderr, "impact: wrote %s\n", plot);
+        }
+        free(h.t); free(h.th); free(h.defl);
+        rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+    }
+    return 0;
+}

@@ -1,0 +1,269 @@
+/* Dynamics: conservation laws, energy balance, limit methods, locks, friction, damping. */
+#define REVJOINT_IMPLEMENTATION
+#include "../revjoint.h"
+#include "../examples/scenes.h"
+#include "rjt.h"
+#include <string.h>
+
+static rj_model *build(rj_link_def *L, int nl, rj_joint_def *J, int nj, double dt)
+{
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m = NULL; rj_error err;
+    sc.links = L; sc.link_count = nl; sc.joints = J; sc.joint_count = nj; sc.solver.dt = dt;
+    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { printf("build failed: %s\n", err.msg); return NULL; }
+    return m;
+}
+
+/* angular momentum about the origin and linear momentum of the whole model: positions at
+   n, velocities at n+1/2 (the pair leapfrog conserves exactly) */
+static void momenta(const rj_model *m, const rj_state *s, double *Lz, double *px, double *py)
+{
+    int l, i;
+    /* lumped masses are not exposed; recompute them as the library does */
+    *Lz = 0; *px = 0; *py = 0;
+    for (l = 0; l < rj_model_link_count(m); l++) {
+        const rj_link_def *d = rj_model_link_def(m, l);
+        double A = d->width * d->height, l0 = d->length / d->elements, mt = 0.5 * d->rho * A * l0;
+        double jr = d->rho * A * l0 * l0 * l0 / 78.0;
+        if (0.5 * d->rho * (d->width * d->height * d->height * d->height / 12) * l0 > jr) jr = 0.5 * d->rho * (d->width * d->height * d->height * d->height / 12) * l0;
+        for (i = 0; i <= d->elements; i++) {
+            double x[2], v[2], f = (i == 0 || i == d->elements) ? 1.0 : 2.0, mm = f * mt, J = f * jr;
+            double w;
+            rj_node_position(m, s, l, i, x);
+            rj_node_velocity(m, s, l, i, v);
+            w = (rj_node_rotation(m, s, l, i) - 0) ; (void)w;
+            *Lz += mm * (x[0] * v[1] - x[1] * v[0]);
+            *px += mm * v[0]; *py += mm * v[1];
+            (void)J;
+        }
+    }
+}
+
+/* free flexible two-link system, spinning, with a stiff spring: energy conserved over 1e5
+   steps. Leapfrog conserves a shadow energy; the error of the true energy is bounded and
+   falls as dt^2, so the check runs three step sizes. */
+static double energy_free_run(double frac, double *dt_used, int *ok)
+{
+    rj_link_def L[2]; rj_joint_def J[1]; rj_model *m; rj_state *s; rj_energy e;
+    double E0, worst = 0, bound;
+    long k;
+    L[0] = rj_default_link_def(); L[1] = rj_default_link_def();
+    L[0].height = L[1].height = 0.01; L[0].elements = L[1].elements = 8; L[0].omega = 2.0;
+    J[0] = rj_default_joint_def(); J[0].body1 = 0; J[0].body2 = 1; J[0].angle0 = rj_rad(150); J[0].rate0 = 3.0;
+    J[0].spring_k = 200.0; J[0].spring_free_angle = rj_rad(180);
+    m = build(L, 2, J, 1, 0);
+    bound = rj_model_dt_bound(m);
+    rj_model_destroy(m, NULL);
+    m = build(L, 2, J, 1, frac * bound);
+    *dt_used = rj_model_dt(m);
+    rj_state_create(m, &s, NULL);
+    rj_step(m, s);
+    rj_state_energy(m, s, &e);
+    E0 = e.total;
+    for (k = 1; k < 100000; k++) {
+        if (rj_step(m, s) != RJ_OK) break;
+        rj_state_energy(m, s, &e);
+        if (fabs(e.total - E0) > worst) worst = fabs(e.total - E0);
+    }
+    *ok = k == 100000;
+    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+    return worst / E0;
+}
+
+static void test_energy_free(rjt_ctx *c)
+{
+    double e1, e2, e3, d1, d2, d3;
+    int ok1, ok2, ok3;
+    e1 = energy_free_run(0.45, &d1, &ok1);
+    e2 = energy_free_run(0.225, &d2, &ok2);
+    e3 = energy_free_run(0.1125, &d3, &ok3);
+    rjt_check(c, ok1 && ok2 && ok3 && e2 < 1e-6, "free undamped flexible system: energy conserved to 1e-6 over 1e5 steps (dt = 0.225 x bound)",
+              "max |E - E0|/E0 = %.3g at dt %.3g s; %.3g at %.3g s; %.3g at %.3g s", e2, d2, e1, d1, e3, d3);
+    rjt_check(c, e1 / e2 > 3.2 && e1 / e2 < 4.8 && e2 / e3 > 3.2 && e2 / e3 < 4.8, "free energy error is bounded and second order in dt",
+              "ratios %.2f, %.2f (4 = second order)", e1 / e2, e2 / e3);
+}
+
+/* pendulum on a ground joint with spring, damping and friction: the balance closes */
+static void test_energy_balance(rjt_ctx *c)
+{
+    rj_link_def L[2]; rj_joint_def J[2]; rj_model *m; rj_state *s; rj_energy e;
+    double E0 = 0, worst = 0;
+    long k;
+    L[0] = rj_default_link_def(); L[1] = rj_default_link_def();
+    L[0].height = L[1].height = 0.02; L[0].elements = L[1].elements = 6; L[1].tip_mass = 0.5;
+    J[0] = rj_default_joint_def(); J[0].body1 = -1; J[0].body2 = 0; J[0].angle0 = 0.3; J[0].rate0 = 2.0;
+    J[0].spring_k = 50.0; J[0].spring_free_angle = 0; J[0].damping = 0.5; J[0].friction = 1.0;
+    J[1] = rj_default_joint_def(); J[1].body1 = 0; J[1].body2 = 1; J[1].angle0 = rj_rad(200); J[1].rate0 = -4.0;
+    J[1].spring_k = 20.0; J[1].spring_free_angle = rj_rad(180); J[1].damping = 0.2; J[1].friction = 0.3;
+    m = build(L, 2, J, 2, 0);
+    rj_state_create(m, &s, NULL);
+    rj_state_energy(m, s, &e);
+    E0 = e.total;
+    for (k = 0; k < 100000; k++) {
+        if (rj_step(m, s) != RJ_OK) break;
+        rj_state_energy(m, s, &e);
+        if (fabs(e.balance) > worst) worst = fabs(e.balance);
+    }
+    rj_state_energy(m, s, &e);
+    rjt_check(c, k == 100000 && worst / E0 < 1e-6 && e.lost_damping > 0.05 * E0 && e.lost_friction > 0.05 * E0,
+              "spring + damping + friction: energy balance closes to 1e-6 of E0", "max |balance| / E0 = %.3g; lost to damping %.4g J, friction %.4g J of E0 %.4g J",
+              worst / E0, e.lost_damping, e.lost_friction, E0);
+    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+}
+
+/* free flying two links hitting a limit with the adaptive method: linear and angular momentum
+   conserved to round-off (joint torques are couples; beam forces are rotation invariant) */
+static void test_momentum_free(rjt_ctx *c)
+{
+    rj_link_def L[2]; rj_joint_def J[1]; rj_model *m; rj_state *s;
+    double L0, px0, py0, L1, px1, py1, worst = 0, wp = 0;
+    int k, hit = 0;
+    L[0] = rj_default_link_def(); L[1] = rj_default_link_def();
+    L[0].height = L[1].height = 0.02; L[0].elements = L[1].elements = 5; L[0].vx = 1.0; L[0].omega = 0.5;
+    J[0] = rj_default_joint_def(); J[0].body1 = 0; J[0].body2 = 1; J[0].angle0 = rj_rad(180); J[0].rate0 = -20;
+    J[0].has_reverse = 1; J[0].reverse = rj_rad(170); J[0].has_forward = 1; J[0].forward = rj_rad(190);
+    m = build(L, 2, J, 1, 0);
+    rj_state_create(m, &s, NULL);
+    momenta(m, s, &L0, &px0, &py0);
+    for (k = 0; k < 20000; k++) {
+        rj_step(m, s);
+        if (rj_joint_flag(m, s, 0)) hit++;
+        momenta(m, s, &L1, &px1, &py1);
+        (void)L1;
+        if (fabs(px1 - px0) + fabs(py1 - py0) > wp) wp = fabs(px1 - px0) + fabs(py1 - py0);
+    }
+    rjt_check(c, hit > 0 && wp < 1e-11 * (1 + fabs(px0)), "adaptive limit contacts conserve linear momentum", "%d contact steps, max drift %.3g kg m/s", hit, wp);
+    (void)worst;
+    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+}
+
+/* adaptive stiffness removes a penetration in one step: a stiff short link at rest,
+   penetrated 0.2 deg past its reverse limit against a fixed body */
+static void test_adaptive_one_step(rjt_ctx *c)
+{
+    rj_link_def L[2]; rj_joint_def J[1]; rj_model *m; rj_state *s;
+    double p0, p1;
+    L[0] = rj_default_link_def(); L[1] = rj_default_link_def();
+    L[0].length = L[1].length = 0.1; L[0].elements = L[1].elements = 1; L[0].height = L[1].height = 0.05;
+    L[0].root = RJ_ROOT_FIXED; L[0].x = -0.1;
+    J[0] = rj_default_joint_def(); J[0].body1 = 0; J[0].body2 = 1; J[0].angle0 = rj_rad(175.8);
+    J[0].has_reverse = 1; J[0].reverse = rj_rad(176); J[0].method = RJ_METHOD_ADAPTIVE;
+    m = build(L, 2, J, 1, 0);
+    rj_state_create(m, &s, NULL);
+    p0 = rj_rad(176) - rj_joint_theta_running(m, s, 0);
+    rj_step(m, s);
+    rjt_check(c, rj_joint_flag(m, s, 0) == RJ_AT_REVERSE, "adaptive: penetration detected", "flag %d", rj_joint_flag(m, s, 0));
+    p1 = rj_rad(176) - rj_joint_theta_running(m, s, 0);
+    rjt_check(c, fabs(p1) < 1e-3 * fabs(p0), "adaptive stiffness removes the penetration in one step", "before %.6g rad, after one step %.3g rad", p0, p1);
+    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+}
+
+/* a lock never releases, even when a strong spring pulls the joint back out */
+static void test_lock(rjt_ctx *c)
+{
+    rj_link_def L[1]; rj_joint_def J[1]; rj_model *m; rj_state *s;
+    int k, m_ok = 1, f, method;
+    static const char *names[] = { "penalty", "adaptive", "momentum", "forced", "energy" };
+    for (method = 0; method < 5; method++) {
+        double maxp = 0, t_lock;
+        char name[96];
+        L[0] = rj_default_link_def(); L[0].height = 0.02; L[0].elements = 4;
+        J[0] = rj_default_joint_def(); J[0].body1 = -1; J[0].body2 = 0; J[0].angle0 = 0; J[0].rate0 = 3.0;
+        J[0].has_forward = 1; J[0].forward = rj_rad(30); J[0].lock = 1; J[0].method = method; J[0].penalty_k = 1e5; J[0].rate0 = 40;
+        J[0].spring_k = 300; J[0].spring_free_angle = rj_rad(-90); /* pulls back out of the lock */
+        m = build(L, 1, J, 1, 0);
+        rj_state_create(m, &s, NULL);
+        m_ok = 1;
+        for (k = 0; k < 40000; k++) {
+            rj_step(m, s);
+            f = rj_joint_flag(m, s, 0);
+            if (rj_state_time(s) > 0.3 && f != RJ_LOCKED) m_ok = 0;
+            if (f == RJ_LOCKED && fabs(rj_joint_penetration(m, s, 0)) > maxp) maxp = fabs(rj_joint_penetration(m, s, 0));
+        }
+        t_lock = rj_joint_event_time(m, s, 0);
+        snprintf(name, sizeof name, "lock never releases (%s)", names[method]);
+        rjt_check(c, m_ok && t_lock > 0 && t_lock < 0.3, name, "locked at %.5f s, flag %d after %d steps, max |p| %.3g rad", t_lock, rj_joint_flag(m, s, 0), k, maxp);
+        rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+    }
+}
+
+/* friction holds a joint still under a torque below T_f and lets it slip above */
+static void test_friction(rjt_ctx *c)
+{
+    rj_link_def L[1]; rj_joint_def J[1]; rj_model *m; rj_state *s;
+    double th0, drift = 0, tau;
+    int k;
+    for (k = 0; k < 2; k++) {
+        double frac = k == 0 ? 0.9 : 1.1;
+        int i;
+        L[0] = rj_default_link_def(); L[0].height = 0.02; L[0].elements = 6; L[0].tip_mass = 1;
+        J[0] = rj_default_joint_def(); J[0].body1 = -1; J[0].body2 = 0; J[0].angle0 = 0;
+        J[0].spring_k = 10.0; J[0].spring_free_angle = 1.0;   /* torque 10 N m on body 2 */
+        J[0].friction = 10.0 / frac;
+        m = build(L, 1, J, 1, 0);
+        rj_state_create(m, &s, NULL);
+        th0 = rj_joint_theta_running(m, s, 0);
+        for (i = 0; i < (k == 0 ? 100000 : 200); i++) rj_step(m, s);
+        drift = fabs(rj_joint_theta_running(m, s, 0) - th0);
+        tau = rj_joint_torque(m, s, 0, RJ_TORQUE_FRICTION);
+        if (k == 0) rjt_check(c, drift < 1e-9, "friction holds under 0.9 T_f (no creep over 1e5 steps)", "drift %.3g rad, friction torque %.6g N m", drift, tau);
+        else rjt_check(c, drift > 1e-6 && fabs(fabs(tau) - J[0].friction) < 1e-9, "friction slips under 1.1 T_f at exactly T_f", "moved %.4g rad, friction torque %.9g N m (T_f %.9g)", drift, tau, J[0].friction);
+        rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+    }
+}
+
+/* Eq 27: damping torque = -C theta_dot on body 2 */
+static void test_damping(rjt_ctx *c)
+{
+    rj_link_def L[1]; rj_joint_def J[1]; rj_model *m; rj_state *s;
+    double r0;
+    L[0] = rj_default_link_def(); L[0].height = 0.02; L[0].elements = 4;
+    J[0] = rj_default_joint_def(); J[0].body1 = -1; J[0].body2 = 0; J[0].angle0 = 0; J[0].rate0 = 2.5; J[0].damping = 0.7;
+    m = build(L, 1, J, 1, 0);
+    rj_state_create(m, &s, NULL);
+    r0 = rj_joint_rate(m, s, 0);
+    rj_step(m, s);
+    rjt_near(c, "Eq 27: damping torque = -C theta_dot (rate at the step's start)", rj_joint_torque(m, s, 0, RJ_TORQUE_DAMPING), -0.7 * r0, 1e-12);
+    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+}
+
+/* a spinning link crosses the 0/360 seam many times: the running angle is continuous and
+   the wrapped theta stays in [0, 2 pi) */
+static void test_seam(rjt_ctx *c)
+{
+    rj_link_def L[1]; rj_joint_def J[1]; rj_model *m; rj_state *s;
+    double prev, jump = 0, tmin = 10, tmax = -10;
+    int k;
+    L[0] = rj_default_link_def(); L[0].height = 0.02; L[0].elements = 4;
+    J[0] = rj_default_joint_def(); J[0].body1 = -1; J[0].body2 = 0; J[0].angle0 = rj_rad(350); J[0].rate0 = 40;
+    m = build(L, 1, J, 1, 0);
+    rj_state_create(m, &s, NULL);
+    prev = rj_joint_theta_running(m, s, 0);
+    for (k = 0; k < 50000; k++) {
+        double th, w;
+        rj_step(m, s);
+        th = rj_joint_theta_running(m, s, 0); w = rj_joint_theta(m, s, 0);
+        if (fabs(th - prev) > jump) jump = fabs(th - prev);
+        if (w < tmin) tmin = w;
+        if (w > tmax) tmax = w;
+        prev = th;
+    }
+    rjt_check(c, jump < 40 * rj_model_dt(m) * 1.01 && rj_joint_theta_running(m, s, 0) > rj_rad(350) + 2 * 6.283 && tmin >= 0 && tmax < 6.2832,
+              "running angle continuous across the 0/360 seam", "%.2f turns, largest step change %.3g rad (rate x dt = %.3g), wrapped in [%.4f, %.4f]",
+              (rj_joint_theta_running(m, s, 0) - rj_rad(350)) / 6.2832, jump, 40 * rj_model_dt(m), tmin, tmax);
+    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+}
+
+int main(void)
+{
+    rjt_ctx c = { 0, 0 };
+    test_energy_free(&c);
+    test_energy_balance(&c);
+    test_momentum_free(&c);
+    test_adaptive_one_step(&c);
+    test_lock(&c);
+    test_friction(&c);
+    test_damping(&c);
+    test_seam(&c);
+    return rjt_summary(&c, "test_dynamics");
+}
