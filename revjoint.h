@@ -119,6 +119,15 @@ typedef enum rj_method {
     RJ_METHOD_ENERGY         /* energy conservation, Eqs 25-26 */
 } rj_method;
 
+/* How a joint measures its rotary location and applies its torques.
+   RJ_REF_TANGENT (default): theta from the nodal rotations (the beam's tangent directions)
+     at the pin, torques as moments on those rotations; I1, I2 are the pin nodes' rotary
+     inertias. Converges at second order with mesh refinement (README: 10 vs 40 elements).
+   RJ_REF_CHORD: the paper's literal form, theta from the chords I->K and J->L, torques as
+     force couples on them; I1, I2 = m_K |IK|^2, m_L |JL|^2. First order in the element
+     length, because a couple over the first element is not a moment at the pin. */
+typedef enum rj_reference { RJ_REF_TANGENT = 0, RJ_REF_CHORD } rj_reference;
+
 /* Release rules (SPEC sec. 4). */
 typedef enum rj_release { RJ_RELEASE_RC12 = 0, RJ_RELEASE_RC13 } rj_release;
 
@@ -165,7 +174,7 @@ typedef struct rj_link_def {
      has_forward 0, forward 0 rad; has_reverse 0, reverse 0 rad; lock 0;
      method RJ_METHOD_ADAPTIVE, release RJ_RELEASE_RC13, penalty_k 0 N m/rad (0 with
      RJ_METHOD_PENALTY is invalid), restitution 0;
-     damping 0 N m s/rad, friction 0 N m. */
+     damping 0 N m s/rad, friction 0 N m; reference RJ_REF_TANGENT. */
 #define RJ_TABLE_MAX 32
 typedef struct rj_joint_def {
     int body1;             /* link index, or -1 for ground */
@@ -190,6 +199,7 @@ typedef struct rj_joint_def {
     double restitution;    /* e in [0, 1], RJ_METHOD_MOMENTUM */
     double damping;        /* C, N m s/rad, >= 0 (Eq 27) */
     double friction;       /* T_f, N m, >= 0 */
+    int reference;         /* rj_reference */
     unsigned cookie;
 } rj_joint_def;
 
@@ -251,8 +261,9 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
 
 /* One central-difference step of the model's dt. Never allocates, prints or reads. */
 RJDEF rj_result rj_step(const rj_model *m, rj_state *s);
-/* Steps until time >= t_end; calls sample(m, s, user) at t = 0 (if the state is at 0) and
-   every sample_dt (rounded to whole steps). A nonzero return from sample stops the run. */
+/* Steps until time >= t_end (to half a step); calls sample(m, s, user) at the start and at
+   the step nearest to every multiple of sample_dt (every step when sample_dt is 0). A
+   nonzero return from sample stops the run. */
 typedef int (*rj_sample_fn)(const rj_model *m, const rj_state *s, void *user);
 RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double sample_dt, rj_sample_fn sample, void *user);
 /* Last step error text (empty when none). */
@@ -296,6 +307,7 @@ RJDEF long rj_state_steps(const rj_state *s);
 RJDEF void rj_node_position(const rj_model *m, const rj_state *s, int link, int node, double xy[2]);
 RJDEF void rj_node_velocity(const rj_model *m, const rj_state *s, int link, int node, double v[2]);
 RJDEF double rj_node_rotation(const rj_model *m, const rj_state *s, int link, int node);
+RJDEF double rj_node_rate(const rj_model *m, const rj_state *s, int link, int node);      /* rad/s */
 RJDEF void rj_joint_position(const rj_model *m, const rj_state *s, int joint, double xy[2]);
 RJDEF double rj_joint_theta(const rj_model *m, const rj_state *s, int joint);         /* [0, 2 pi) */
 RJDEF double rj_joint_theta_running(const rj_model *m, const rj_state *s, int joint); /* unwrapped */
@@ -367,6 +379,8 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2);     
 /* ------------------------------------------------------------------ internal types */
 typedef struct rj__joint {
     int nI, nK, nJ, nL;       /* global nodes: pin on body 1, its neighbour, pin on body 2, its neighbour; nI = nK = -1 for ground */
+    int chord;                /* RJ_REF_CHORD */
+    double off;               /* tangent mode: theta = off + phi_J - phi_I */
     double gax, gay;          /* ground reference direction (unit) when nK < 0 */
     double I1, I2;            /* reference-segment inertias, kg m^2 (I1 = inf for ground/fixed) */
     double w1, w2;            /* I2/(I1+I2), I1/(I1+I2): share of a correction taken by body 1 / body 2 */
@@ -493,7 +507,7 @@ RJDEF rj_joint_def rj_default_joint_def(void)
     d.spring_k = 0.0; d.spring_free_angle = RJ__PI;
     d.has_forward = 0; d.forward = 0.0; d.has_reverse = 0; d.reverse = 0.0; d.lock = 0;
     d.method = RJ_METHOD_ADAPTIVE; d.release = RJ_RELEASE_RC13; d.penalty_k = 0.0; d.restitution = 0.0;
-    d.damping = 0.0; d.friction = 0.0;
+    d.damping = 0.0; d.friction = 0.0; d.reference = RJ_REF_TANGENT;
     d.cookie = RJ__COOKIE_JOINT;
     return d;
 }
@@ -710,6 +724,7 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
         RJ__FIELD(f, "joints[%d].restitution", j); if (!rj__check_num(err, f, J->restitution, 0, 1, 1, 1, "must be in [0, 1]")) return 0;
         RJ__FIELD(f, "joints[%d].damping", j); if (!rj__check_num(err, f, J->damping, 0, 1, inf, 0, "must be >= 0 N m s/rad")) return 0;
         RJ__FIELD(f, "joints[%d].friction", j); if (!rj__check_num(err, f, J->friction, 0, 1, inf, 0, "must be >= 0 N m")) return 0;
+        if (J->reference != RJ_REF_TANGENT && J->reference != RJ_REF_CHORD) { RJ__FIELD(f, "joints[%d].reference", j); rj__fail(err, RJ_ERR_INVALID, f, J->reference, "%s = %d is invalid: RJ_REF_TANGENT or RJ_REF_CHORD", f, J->reference); return 0; }
     }
     /* the joint graph must be a forest: walking up from any link ends at a root */
     for (i = 0; i < sc->link_count; i++) {
@@ -859,35 +874,59 @@ static void rj__gather(const rj_model *m, const double *efx, const double *efy, 
     }
 }
 
-/* ------------------------------------------------------------------ joint geometry */
+/* ------------------------------------------------------------------ joint kinematics */
+/* The element needs four things from the bodies it joins: the rotary location, its rate,
+   a way to apply a torque pair, and the inertias it acts on. Both reference modes supply
+   them here; everything above (flags, methods, friction, energy) is shared. */
 typedef struct rj__jgeo { double ax, ay, bx, by, a2, b2; } rj__jgeo;
 
 static void rj__joint_geo(const rj_model *m, const rj__joint *J, const double *x, const double *y, rj__jgeo *g)
 {
+    (void)m;
+    if (!J->chord) { g->ax = g->ay = g->bx = g->by = 0; g->a2 = g->b2 = 1; return; }
     if (J->nK >= 0) { g->ax = x[J->nK] - x[J->nI]; g->ay = y[J->nK] - y[J->nI]; }
     else { g->ax = J->gax; g->ay = J->gay; }
     g->bx = x[J->nL] - x[J->nJ]; g->by = y[J->nL] - y[J->nJ];
     g->a2 = g->ax * g->ax + g->ay * g->ay;
     g->b2 = g->bx * g->bx + g->by * g->by;
-    (void)m;
 }
 
-/* theta_dot = omega_2 - omega_1, omega = (r x v_r) / |r|^2 (SPEC sec. 2). */
-static double rj__joint_rate(const rj__joint *J, const rj__jgeo *g, const double *vx, const double *vy, double *w1, double *w2)
+/* raw rotary location: chord mode atan2 in (-pi, pi] (to be unwrapped), tangent mode the
+   running angle itself */
+static double rj__joint_raw(const rj__joint *J, const rj__jgeo *g, const double *phi)
+{
+    if (J->chord) return atan2(g->ax * g->by - g->ay * g->bx, g->ax * g->bx + g->ay * g->by);
+    return J->off + phi[J->nJ] - (J->nI >= 0 ? phi[J->nI] : 0.0);
+}
+
+/* theta_dot = omega_2 - omega_1; chord mode omega = (r x v_r) / |r|^2 (SPEC sec. 2) */
+static double rj__joint_rate(const rj__joint *J, const rj__jgeo *g, const double *vx, const double *vy, const double *w, double *w1, double *w2)
 {
     double o1 = 0.0, o2;
-    if (J->nK >= 0) o1 = (g->ax * (vy[J->nK] - vy[J->nI]) - g->ay * (vx[J->nK] - vx[J->nI])) / g->a2;
-    o2 = (g->bx * (vy[J->nL] - vy[J->nJ]) - g->by * (vx[J->nL] - vx[J->nJ])) / g->b2;
+    if (J->chord) {
+        if (J->nK >= 0) o1 = (g->ax * (vy[J->nK] - vy[J->nI]) - g->ay * (vx[J->nK] - vx[J->nI])) / g->a2;
+        o2 = (g->bx * (vy[J->nL] - vy[J->nJ]) - g->by * (vx[J->nL] - vx[J->nJ])) / g->b2;
+    } else {
+        if (J->nI >= 0) o1 = w[J->nI];
+        o2 = w[J->nJ];
+    }
     if (w1) *w1 = o1;
     if (w2) *w2 = o2;
     return o2 - o1;
 }
 
-/* Applies torque tau on body 2 and -tau on body 1 as force couples on J-L and I-K:
-   F_L = tau perp(b)/|b|^2 = -F_J, F_K = -tau perp(a)/|a|^2 = -F_I. */
-static void rj__apply_torque(const rj__joint *J, const rj__jgeo *g, double tau, double *fx, double *fy)
+/* Torque tau on body 2 and -tau on body 1. Chord mode: force couples on J-L and I-K,
+   F_L = tau perp(b)/|b|^2 = -F_J, F_K = -tau perp(a)/|a|^2 = -F_I. Tangent mode: moments
+   on the pin nodes' rotations. Either way the force is tau times the gradient of theta. */
+static void rj__apply_torque(const rj__joint *J, const rj__jgeo *g, double tau, double *fx, double *fy, double *mz)
 {
-    double sx = -tau * g->by / g->b2, sy = tau * g->bx / g->b2;
+    double sx, sy;
+    if (!J->chord) {
+        mz[J->nJ] += tau;
+        if (J->nI >= 0) mz[J->nI] -= tau;
+        return;
+    }
+    sx = -tau * g->by / g->b2; sy = tau * g->bx / g->b2;
     fx[J->nL] += sx; fy[J->nL] += sy; fx[J->nJ] -= sx; fy[J->nJ] -= sy;
     if (J->nK >= 0) {
         sx = tau * g->ay / g->a2; sy = -tau * g->ax / g->a2;
@@ -898,7 +937,9 @@ static void rj__apply_torque(const rj__joint *J, const rj__jgeo *g, double tau, 
 /* g^T M^-1 g: rate change per unit torque impulse (1/I_red, with the pin's own mass). */
 static double rj__joint_compliance(const rj_model *m, const rj__joint *J, const rj__jgeo *g)
 {
-    double c = m->einv[J->nL] / g->b2, px, py;
+    double c, px, py;
+    if (!J->chord) return m->rinv[J->nJ] + (J->nI >= 0 ? m->rinv[J->nI] : 0.0);
+    c = m->einv[J->nL] / g->b2;
     px = g->by / g->b2; py = -g->bx / g->b2;   /* g_J = -perp(b)/|b|^2 */
     if (J->nK >= 0) {
         c += m->einv[J->nK] / g->a2;
@@ -908,11 +949,36 @@ static double rj__joint_compliance(const rj_model *m, const rj__joint *J, const 
     return c;
 }
 
-/* Adds a rotation increment dw to body 2 (node L) and dw1 to body 1 (node K) velocities. */
-static void rj__spin(const rj__joint *J, const rj__jgeo *g, double dw1, double dw2, double *vx, double *vy)
+/* Adds rotation increments dw1 to body 1's and dw2 to body 2's reference (node K / L
+   velocities in chord mode, pin rotations in tangent mode). */
+static void rj__spin(const rj__joint *J, const rj__jgeo *g, double dw1, double dw2, double *vx, double *vy, double *w)
 {
+    if (!J->chord) {
+        w[J->nJ] += dw2;
+        if (J->nI >= 0) w[J->nI] += dw1;
+        return;
+    }
     vx[J->nL] += -dw2 * g->by; vy[J->nL] += dw2 * g->bx;
     if (J->nK >= 0) { vx[J->nK] += -dw1 * g->ay; vy[J->nK] += dw1 * g->ax; }
+}
+
+/* Turns body 2's reference by d2 and body 1's by d1 (forced displacement). */
+static void rj__turn(const rj__joint *J, double d1, double d2, double *x, double *y, double *phi)
+{
+    double c, sn, rx, ry;
+    if (!J->chord) {
+        phi[J->nJ] += d2;
+        if (J->nI >= 0) phi[J->nI] += d1;
+        return;
+    }
+    if (d2 != 0) {
+        c = cos(d2); sn = sin(d2); rx = x[J->nL] - x[J->nJ]; ry = y[J->nL] - y[J->nJ];
+        x[J->nL] = x[J->nJ] + c * rx - sn * ry; y[J->nL] = y[J->nJ] + sn * rx + c * ry;
+    }
+    if (d1 != 0 && J->nK >= 0) {
+        c = cos(d1); sn = sin(d1); rx = x[J->nK] - x[J->nI]; ry = y[J->nK] - y[J->nI];
+        x[J->nK] = x[J->nI] + c * rx - sn * ry; y[J->nK] = y[J->nI] + sn * rx + c * ry;
+    }
 }
 
 /* Table and spring: resistive torque on body 2 is -(table + spring); potential energy. */
@@ -982,9 +1048,9 @@ static void rj__lz_apply(const rj_model *m, const double *u, double *out, double
             if (J->k_lin <= 0) continue;
             rj__joint_geo(m, J, m->x0, m->y0, &g0);
             rj__joint_geo(m, J, x, y, &g1);
-            th0 = atan2(g0.ax * g0.by - g0.ay * g0.bx, g0.ax * g0.bx + g0.ay * g0.by);
-            th1 = atan2(g1.ax * g1.by - g1.ay * g1.bx, g1.ax * g1.bx + g1.ay * g1.by);
-            rj__apply_torque(J, &g0, -J->k_lin * rj__wrap(th1 - th0), fx, fy);
+            th0 = rj__joint_raw(J, &g0, m->phi0);
+            th1 = rj__joint_raw(J, &g1, p);
+            rj__apply_torque(J, &g0, -J->k_lin * rj__wrap(th1 - th0), fx, fy, mz);
         }
         /* out += -sgn * f / (2h), contracted to DOFs */
         for (i = 0; i < nn; i++) {
@@ -1236,9 +1302,16 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         double W, dd, fwd, rev, kt = 0;
         (void)W;
         int k, k2;
+        J->chord = d->reference == RJ_REF_CHORD;
         rj__joint_geo(m, J, m->x0, m->y0, &g);
-        J->I1 = (J->nK >= 0 && m->einv[J->nK] > 0) ? g.a2 / m->einv[J->nK] : HUGE_VAL;
-        J->I2 = m->einv[J->nL] > 0 ? g.b2 / m->einv[J->nL] : HUGE_VAL;
+        if (J->chord) {
+            J->I1 = (J->nK >= 0 && m->einv[J->nK] > 0) ? g.a2 / m->einv[J->nK] : HUGE_VAL;
+            J->I2 = m->einv[J->nL] > 0 ? g.b2 / m->einv[J->nL] : HUGE_VAL;
+        } else {
+            J->I1 = (J->nI >= 0 && m->rinv[J->nI] > 0) ? m->rinertia[J->nI] : HUGE_VAL;
+            J->I2 = m->rinv[J->nJ] > 0 ? m->rinertia[J->nJ] : HUGE_VAL;
+            J->off = d->angle0 - m->phi0[J->nJ] + (J->nI >= 0 ? m->phi0[J->nI] : 0.0);
+        }
         if (!rj__finite(J->I1)) { J->w1 = 0; J->w2 = 1; }
         else if (!rj__finite(J->I2)) { J->w1 = 1; J->w2 = 0; }
         else { J->w1 = J->I2 / (J->I1 + J->I2); J->w2 = J->I1 / (J->I1 + J->I2); }
@@ -1466,7 +1539,7 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
         rj__jgeo g;
         rj__joint_geo(m, &m->jnt[j], m->x0, m->y0, &g);
         jd[RJ__JD_THETA] = m->jdef[j].angle0;
-        jd[RJ__JD_RATE] = rj__joint_rate(&m->jnt[j], &g, m->vx0, m->vy0, NULL, NULL);
+        jd[RJ__JD_RATE] = rj__joint_rate(&m->jnt[j], &g, m->vx0, m->vy0, m->w0, NULL, NULL);
         jd[RJ__JD_RATEP] = jd[RJ__JD_RATE];
         jd[RJ__JD_EVENT] = -1; jd[RJ__JD_RELEASE] = -1;
     }
@@ -1597,7 +1670,7 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         double run = oj[RJ__JD_THETA], rate, tq_table = 0, tq_spring = 0, tq_damp = 0, tq_lim = 0, p = 0, tq_nc;
         int flag, bf, br;
         rj__joint_geo(m, J, x, y, &g);
-        rate = rj__joint_rate(J, &g, vx, vy, NULL, NULL);
+        rate = rj__joint_rate(J, &g, vx, vy, w, NULL, NULL);
         bf = run >= J->fwd;
         br = run <= J->rev;
         flag = rj_flag_next(oi[j], bf, br, rate, d->lock, d->release);
@@ -1618,13 +1691,13 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         /* Eq 22 / penalty: tau_2 = K p while at a limit */
         if (flag != RJ_FREE && (d->method == RJ_METHOD_PENALTY || d->method == RJ_METHOD_ADAPTIVE)) tq_lim = J->k_limit * p;
         tq_nc = tq_damp + tq_lim;
-        rj__apply_torque(J, &g, tq_table + tq_spring + tq_nc, fx, fy);
+        rj__apply_torque(J, &g, tq_table + tq_spring + tq_nc, fx, fy, mz);
         nj_[RJ__JD_TQ0 + RJ_TORQUE_TABLE] = tq_table;
         nj_[RJ__JD_TQ0 + RJ_TORQUE_SPRING] = tq_spring;
         nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] = tq_damp;
         nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] = tq_lim;
         nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = 0;
-        sc[0] = g.ax; sc[1] = g.ay; sc[2] = g.bx; sc[3] = g.by; sc[4] = rate; sc[5] = p;
+        sc[0] = g.ax; sc[1] = g.ay; sc[2] = g.bx; sc[3] = g.by; sc[4] = rate; sc[5] = p; sc[6] = g.a2; sc[7] = g.b2;
     }
 
     /* 3. Coulomb friction: the torque that would stop the relative rotation in this step,
@@ -1637,34 +1710,38 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         double pvx[4], pvy[4], c, ratep, tau;
         int nodes[4], k;
         if (!(d->friction > 0)) continue;
-        g.ax = sc[0]; g.ay = sc[1]; g.bx = sc[2]; g.by = sc[3];
-        g.a2 = g.ax * g.ax + g.ay * g.ay; g.b2 = g.bx * g.bx + g.by * g.by;
-        nodes[0] = J->nI; nodes[1] = J->nK; nodes[2] = J->nJ; nodes[3] = J->nL;
-        for (k = 0; k < 4; k++) {
-            int n = nodes[k];
-            if (n < 0) { pvx[k] = pvy[k] = 0; continue; }
-            if (m->tinv[n] == 0 && m->einv[n] > 0) {
-                /* grouped node: the group's acceleration */
-                double sx = 0, sy = 0, ginv = m->einv[n];
-                for (gi = 0; gi < m->ng; gi++) {
-                    int q, in = 0;
-                    for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++) if (m->grp_node[q] == n) in = 1;
-                    if (!in) continue;
-                    for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++) { sx += fx[m->grp_node[q]]; sy += fy[m->grp_node[q]]; }
-                    break;
+        g.ax = sc[0]; g.ay = sc[1]; g.bx = sc[2]; g.by = sc[3]; g.a2 = sc[6]; g.b2 = sc[7];
+        if (!J->chord) {
+            ratep = w[J->nJ] + dt * mz[J->nJ] * m->rinv[J->nJ];
+            if (J->nI >= 0) ratep -= w[J->nI] + dt * mz[J->nI] * m->rinv[J->nI];
+        } else {
+            nodes[0] = J->nI; nodes[1] = J->nK; nodes[2] = J->nJ; nodes[3] = J->nL;
+            for (k = 0; k < 4; k++) {
+                int n = nodes[k];
+                if (n < 0) { pvx[k] = pvy[k] = 0; continue; }
+                if (m->tinv[n] == 0 && m->einv[n] > 0) {
+                    /* grouped node: the group's acceleration */
+                    double sx = 0, sy = 0, ginv = m->einv[n];
+                    for (gi = 0; gi < m->ng; gi++) {
+                        int q, in = 0;
+                        for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++) if (m->grp_node[q] == n) in = 1;
+                        if (!in) continue;
+                        for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++) { sx += fx[m->grp_node[q]]; sy += fy[m->grp_node[q]]; }
+                        break;
+                    }
+                    pvx[k] = vx[n] + dt * sx * ginv; pvy[k] = vy[n] + dt * sy * ginv;
+                } else {
+                    pvx[k] = vx[n] + dt * fx[n] * m->tinv[n]; pvy[k] = vy[n] + dt * fy[n] * m->tinv[n];
                 }
-                pvx[k] = vx[n] + dt * sx * ginv; pvy[k] = vy[n] + dt * sy * ginv;
-            } else {
-                pvx[k] = vx[n] + dt * fx[n] * m->tinv[n]; pvy[k] = vy[n] + dt * fy[n] * m->tinv[n];
             }
+            ratep = (g.bx * (pvy[3] - pvy[2]) - g.by * (pvx[3] - pvx[2])) / g.b2;
+            if (J->nK >= 0) ratep -= (g.ax * (pvy[1] - pvy[0]) - g.ay * (pvx[1] - pvx[0])) / g.a2;
         }
-        ratep = (g.bx * (pvy[3] - pvy[2]) - g.by * (pvx[3] - pvx[2])) / g.b2;
-        if (J->nK >= 0) ratep -= (g.ax * (pvy[1] - pvy[0]) - g.ay * (pvx[1] - pvx[0])) / g.a2;
         c = dt * rj__joint_compliance(m, J, &g);
         tau = c > 0 ? -ratep / c : 0;
         if (tau > d->friction) tau = d->friction;
         if (tau < -d->friction) tau = -d->friction;
-        rj__apply_torque(J, &g, tau, fx, fy);
+        rj__apply_torque(J, &g, tau, fx, fy, mz);
         nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
     }
 
@@ -1695,23 +1772,22 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         rj__jgeo g;
         double w1, w2, ratep, tq_d, tq_f, tq_l;
         int flag = ni[j];
-        g.ax = sc[0]; g.ay = sc[1]; g.bx = sc[2]; g.by = sc[3];
-        g.a2 = g.ax * g.ax + g.ay * g.ay; g.b2 = g.bx * g.bx + g.by * g.by;
-        ratep = rj__joint_rate(J, &g, nvx, nvy, &w1, &w2);
+        g.ax = sc[0]; g.ay = sc[1]; g.bx = sc[2]; g.by = sc[3]; g.a2 = sc[6]; g.b2 = sc[7];
+        ratep = rj__joint_rate(J, &g, nvx, nvy, nw, &w1, &w2);
         if (flag != RJ_FREE && (d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_ENERGY || d->method == RJ_METHOD_FORCED)) {
             int into = (flag == RJ_AT_FORWARD && ratep > 0) || (flag == RJ_AT_REVERSE && ratep < 0) || (flag == RJ_LOCKED && ratep != 0);
             if (into) {
                 double o1 = w1, o2 = w2, dke = 0;
-                int nodes[2], k;
                 if (d->method == RJ_METHOD_MOMENTUM) rj_momentum_balance(J->I1, J->I2, flag == RJ_LOCKED ? 0.0 : d->restitution, &w1, &w2);
                 else if (d->method == RJ_METHOD_ENERGY && flag != RJ_LOCKED) rj_energy_balance(J->I1, J->I2, &w1, &w2);
                 else rj_momentum_balance(J->I1, J->I2, 0.0, &w1, &w2);   /* forced, or energy while locked: plastic */
-                nodes[0] = J->nK; nodes[1] = J->nL;
-                for (k = 0; k < 2; k++) if (nodes[k] >= 0) dke -= m->mass[nodes[k]] * (nvx[nodes[k]] * nvx[nodes[k]] + nvy[nodes[k]] * nvy[nodes[k]]);
-                rj__spin(J, &g, J->nK >= 0 && m->einv[J->nK] > 0 ? w1 - o1 : 0.0, m->einv[J->nL] > 0 ? w2 - o2 : 0.0, nvx, nvy);
-                for (k = 0; k < 2; k++) if (nodes[k] >= 0) dke += m->mass[nodes[k]] * (nvx[nodes[k]] * nvx[nodes[k]] + nvy[nodes[k]] * nvy[nodes[k]]);
-                lost_l -= 0.5 * dke;
-                ratep = rj__joint_rate(J, &g, nvx, nvy, NULL, NULL);
+                if (!rj__finite(J->I1)) w1 = o1;
+                if (!rj__finite(J->I2)) w2 = o2;
+                if (rj__finite(J->I1)) dke += 0.5 * J->I1 * (w1 * w1 - o1 * o1);
+                if (rj__finite(J->I2)) dke += 0.5 * J->I2 * (w2 * w2 - o2 * o2);
+                rj__spin(J, &g, w1 - o1, w2 - o2, nvx, nvy, nw);
+                lost_l -= dke;
+                ratep = rj__joint_rate(J, &g, nvx, nvy, nw, NULL, NULL);
             }
         }
         /* work of the non-conservative torques in the form that matches the kinetic energy
@@ -1746,8 +1822,8 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         rj__jgeo g;
         double raw, dth, run;
         rj__joint_geo(m, J, nx, ny, &g);
-        raw = atan2(g.ax * g.by - g.ay * g.bx, g.ax * g.bx + g.ay * g.by);
-        dth = rj__wrap(raw - nj_[RJ__JD_THETA]);
+        raw = rj__joint_raw(J, &g, nphi);
+        dth = J->chord ? rj__wrap(raw - nj_[RJ__JD_THETA]) : raw - nj_[RJ__JD_THETA];
         if (!(fabs(dth) <= 0.5 * RJ__PI))
             return rj__stop(m, s, RJ_ERR_TUNNEL, "t = %.9g s: joint %d turned %.4g rad in one step (more than pi/2): the step %g s is far too large for its speed; limits could be tunnelled",
                             t, j, dth, dt);
@@ -1759,16 +1835,8 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
             else if (ni[j] == RJ_LOCKED) target = nj_[RJ__JD_LOCK];
             p = target - run;
             if (p != 0) {
-                double d2 = p * J->w2, d1 = -p * J->w1, c, sn, rx, ry;
-                if (d2 != 0) {
-                    c = cos(d2); sn = sin(d2); rx = nx[J->nL] - nx[J->nJ]; ry = ny[J->nL] - ny[J->nJ];
-                    nx[J->nL] = nx[J->nJ] + c * rx - sn * ry; ny[J->nL] = ny[J->nJ] + sn * rx + c * ry;
-                }
-                if (d1 != 0 && J->nK >= 0) {
-                    c = cos(d1); sn = sin(d1); rx = nx[J->nK] - nx[J->nI]; ry = ny[J->nK] - ny[J->nI];
-                    nx[J->nK] = nx[J->nI] + c * rx - sn * ry; ny[J->nK] = ny[J->nI] + sn * rx + c * ry;
-                }
-                run = target;
+                rj__turn(J, -p * J->w1, p * J->w2, nx, ny, nphi);
+                run = J->chord ? target : rj__joint_raw(J, &g, nphi);
             }
         }
         nj_[RJ__JD_THETA] = run;
@@ -1808,17 +1876,23 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
 
 RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double sample_dt, rj_sample_fn sample, void *user)
 {
-    long every = 1, k = 0;
+    double next;
     rj_result r;
     if (!m || !s) return RJ_ERR_INVALID;
-    if (!(t_end == t_end) || !(sample_dt >= 0)) return RJ_ERR_INVALID;
-    if (sample_dt > 0) { every = (long)floor(sample_dt / m->dt + 0.5); if (every < 1) every = 1; }
-    if (sample && s->steps == 0 && sample(m, s, user)) return RJ_OK;
+    if (!(t_end == t_end) || !(sample_dt >= 0) || !rj__finite(sample_dt)) return RJ_ERR_INVALID;
+    /* samples at the steps nearest to k sample_dt (every step when sample_dt is 0) */
+    next = sample_dt > 0 ? sample_dt * floor(rj_state_time(s) / sample_dt + 0.5) : rj_state_time(s);
+    if (sample && rj_state_time(s) >= next - 0.5 * m->dt) {
+        if (sample(m, s, user)) return RJ_OK;
+        next += sample_dt;
+    }
     while (rj_state_time(s) < t_end - 0.5 * m->dt) {
         r = rj_step(m, s);
         if (r != RJ_OK) return r;
-        k = s->steps;
-        if (sample && sample_dt >= 0 && k % every == 0 && sample(m, s, user)) return RJ_OK;
+        if (sample && rj_state_time(s) >= next - 0.5 * m->dt) {
+            if (sample(m, s, user)) return RJ_OK;
+            if (sample_dt > 0) while (next <= rj_state_time(s) + 0.5 * m->dt) next += sample_dt;
+        }
     }
     return RJ_OK;
 }
@@ -1904,6 +1978,10 @@ RJDEF void rj_node_velocity(const rj_model *m, const rj_state *s, int l, int n, 
 RJDEF double rj_node_rotation(const rj_model *m, const rj_state *s, int l, int n)
 {
     return RJ__FPHI(m, s->fd[s->cur])[rj__node(m, l, n)];
+}
+RJDEF double rj_node_rate(const rj_model *m, const rj_state *s, int l, int n)
+{
+    return RJ__FW(m, s->fd[s->cur])[rj__node(m, l, n)];
 }
 RJDEF void rj_node_mass(const rj_model *m, int l, int n, double *mass, double *rinertia)
 {

@@ -119,7 +119,7 @@ int main(void)
         int tip = rj_model_node_count(m) - 1;
         /* M^-1/2 K M^-1/2 q = M^-1/2 f with q = M^1/2 u; free DOFs only */
         for (j = 0; j < N; j++) { u[j] = 1; rj_model_apply_stiffness(m, u, o, w); u[j] = 0; for (i = 0; i < N; i++) Km[i * N + j] = o[i]; }
-        mass_tip = rho * A * 0.1 / 2;
+        rj_node_mass(m, 0, tip, &mass_tip, NULL);
         for (i = 0; i < N; i++) if (Km[i * N + i] == 0) Km[i * N + i] = 1; /* fixed DOFs */
         b[3 * tip + 1] = F / sqrt(mass_tip);
         for (r = 0; r < N; r++) { /* Gaussian elimination with partial pivoting */

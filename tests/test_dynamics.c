@@ -39,7 +39,7 @@ static void momenta(const rj_model *m, const rj_state *s, double *Lz, double *px
     }
 }
 
-/* free flexible two-link system, spinning, with a stiff spring: energy conserved over 1e5
+/* free flexible two-link system, spinning, with a spring: energy conserved over 1e5
    steps. Leapfrog conserves a shadow energy; the error of the true energy is bounded and
    falls as dt^2, so the check runs three step sizes. */
 static double energy_free_run(double frac, double *dt_used, int *ok)
@@ -50,7 +50,7 @@ static double energy_free_run(double frac, double *dt_used, int *ok)
     L[0] = rj_default_link_def(); L[1] = rj_default_link_def();
     L[0].height = L[1].height = 0.01; L[0].elements = L[1].elements = 8; L[0].omega = 2.0;
     J[0] = rj_default_joint_def(); J[0].body1 = 0; J[0].body2 = 1; J[0].angle0 = rj_rad(150); J[0].rate0 = 3.0;
-    J[0].spring_k = 200.0; J[0].spring_free_angle = rj_rad(180);
+    J[0].spring_k = 20.0; J[0].spring_free_angle = rj_rad(180);
     m = build(L, 2, J, 1, 0);
     bound = rj_model_dt_bound(m);
     rj_model_destroy(m, NULL);
