@@ -12,7 +12,7 @@ static const char usage[] =
     "usage: impact [options]\n"
     "  --method penalty|adaptive|momentum|forced|energy   limit response (default adaptive)\n"
     "  --release rc12|rc13     release rule (default rc13)\n"
-    "  --K N_m_per_rad         penalty stiffness (default 5e9)\n"
+    "  --K N_m_per_rad         penalty stiffness (default 5e8)\n"
     "  --e E                   restitution for momentum (default 0)\n"
     "  --elements N            elements per link (default 10)\n"
     "  --dt S                  time step (default 2.5e-6; see README on 15 us)\n"

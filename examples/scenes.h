@@ -11,7 +11,7 @@
 typedef struct impact_opts {
     int method;        /* rj_method, default adaptive */
     int release;       /* rj_release, default RC13 */
-    double K;          /* penalty stiffness N m/rad, default 5e9 (the paper's best) */
+    double K;          /* penalty stiffness N m/rad, default 5e8: the stiffest the bound accepts at 2.5 us (README) */
     double e;          /* restitution, default 0 */
     int elements;      /* per link, default 10 */
     double dt;         /* s, default 2.5e-6 (see README: 15 us is above the bound of a 0.2 m deep EB beam) */
@@ -23,7 +23,7 @@ typedef struct impact_opts {
 static inline impact_opts impact_default_opts(void)
 {
     impact_opts o;
-    o.method = RJ_METHOD_ADAPTIVE; o.release = RJ_RELEASE_RC13; o.K = 5e9; o.e = 0.0;
+    o.method = RJ_METHOD_ADAPTIVE; o.release = RJ_RELEASE_RC13; o.K = 5e8; o.e = 0.0;
     o.elements = 10; o.dt = 2.5e-6; o.H = 0.2; o.W = 0.05; o.rate0 = -10.0;
     return o;
 }

@@ -8,7 +8,7 @@
 #include <stdio.h>
 #include <math.h>
 #include <time.h>
-#include "rigid2.h"
+#include "../examples/rigid2.h"
 
 static int n_fail = 0;
 
