@@ -316,7 +316,7 @@ RJDEF int rj_joint_flag(const rj_model *m, const rj_state *s, int joint);       
 RJDEF double rj_joint_torque(const rj_model *m, const rj_state *s, int joint, int component);
 RJDEF double rj_joint_penetration(const rj_model *m, const rj_state *s, int joint);   /* rad, Eq 19 */
 RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s, int joint);    /* first limit contact or lock, s; -1 if none */
-RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s, int joint);  /* first release after contact, s; -1 if none */
+RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s, int joint);  /* latest release from a limit, s; -1 if none */
 RJDEF double rj_joint_peak_penetration(const rj_model *m, const rj_state *s, int joint); /* rad, largest |penetration| so far */
 /* Energy accounts at time rj_state_energy_time(s) = time - dt: the kinetic energy of the
    central-difference pair is 1/2 m v^{n-1/2}.v^{n+1/2}, which closes the balance exactly for
@@ -1681,7 +1681,7 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         memcpy(nj_, oj, sizeof(double) * RJ__JD_COUNT);
         if (flag == RJ_LOCKED && oi[j] != RJ_LOCKED) nj_[RJ__JD_LOCK] = bf ? J->fwd : J->rev;
         if (flag != RJ_FREE && oj[RJ__JD_EVENT] < 0) nj_[RJ__JD_EVENT] = t;
-        if (flag == RJ_FREE && oi[j] != RJ_FREE && oj[RJ__JD_RELEASE] < 0) nj_[RJ__JD_RELEASE] = t;
+        if (flag == RJ_FREE && oi[j] != RJ_FREE) nj_[RJ__JD_RELEASE] = t;   /* latest release */
         ni[j] = flag;
         /* Eq 19 penetration */
         if (flag == RJ_AT_FORWARD) p = J->fwd - run;
