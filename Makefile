@@ -21,10 +21,10 @@ SAN     = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omi
 
 HDR     = revjoint.h
 RENDER  = render/rj_render.c render/rj_render.h
-EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff
+EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart
 TESTS   = $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_benchmarks $(B)/test_rigid2 \
           $(B)/test_render $(B)/csvdiff $(B)/test_core_asan $(B)/test_dynamics_asan $(B)/test_beam_asan \
-          $(B)/test_core_clang $(B)/test_cpp
+          $(B)/test_core_clang $(B)/test_cpp $(B)/test_state $(B)/test_state_asan
 
 .PHONY: all deps test demo golden bench stress clean check-header
 all: deps $(EXAMPLES)
@@ -41,6 +41,8 @@ $(B)/deploy: examples/deploy.c examples/scenes.h examples/cli.h examples/rigid2.
 	$(CC) $(ALLCF) examples/deploy.c render/rj_render.c -o $@ $(GL)
 $(B)/animate: examples/animate.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) | $(B)
 	$(CC) $(ALLCF) examples/animate.c render/rj_render.c -o $@ $(GL)
+$(B)/quickstart: examples/quickstart.c $(HDR) | $(B)
+	$(CC) $(ALLCF) $< -o $@ -lm
 $(B)/pngdiff: render/pngdiff.c $(RENDER) | $(B)
 	$(CC) $(ALLCF) -DRJR_PNG_ONLY render/pngdiff.c render/rj_render.c -o $@ $(GL)
 
@@ -74,8 +76,9 @@ GOLDEN_IMPACT = $(foreach m,penalty adaptive momentum forced energy,$(foreach r,
 test: deps $(EXAMPLES) $(TESTS)
 	@sh tests/run.sh "$(MAKE) -s check-header" \
 	  "$(B)/test_core" "$(B)/test_core_clang" "$(B)/test_cpp" "$(B)/test_beam" "$(B)/test_dynamics" \
-	  "$(B)/test_benchmarks" "$(B)/test_rigid2" \
-	  "$(B)/test_core_asan" "$(B)/test_beam_asan" "$(B)/test_dynamics_asan" \
+	  "$(B)/test_benchmarks" "$(B)/test_rigid2" "$(B)/test_state" \
+	  "$(B)/test_core_asan" "$(B)/test_beam_asan" "$(B)/test_dynamics_asan" "$(B)/test_state_asan" \
+	  "sh tests/readme.sh $(B)" \
 	  "sh tests/golden.sh $(B)" \
 	  "$(B)/test_render" \
 	  "sh tests/cli.sh $(B)"
