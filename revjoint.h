@@ -268,6 +268,10 @@ typedef int (*rj_sample_fn)(const rj_model *m, const rj_state *s, void *user);
 RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double sample_dt, rj_sample_fn sample, void *user);
 /* Last step error text (empty when none). */
 RJDEF const char *rj_state_error(const rj_state *s);
+/* Warnings so far (a contact caught more than 0.05 rad past its limit, or past the whole
+   limited range: tunnelling) and the latest warning's text. */
+RJDEF long rj_state_warning_count(const rj_state *s);
+RJDEF const char *rj_state_warning(const rj_state *s);
 
 /* Model queries. */
 RJDEF double rj_model_dt(const rj_model *m);             /* s, step in use */
@@ -318,6 +322,7 @@ RJDEF double rj_joint_penetration(const rj_model *m, const rj_state *s, int join
 RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s, int joint);    /* first limit contact or lock, s; -1 if none */
 RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s, int joint);  /* latest release from a limit, s; -1 if none */
 RJDEF double rj_joint_peak_penetration(const rj_model *m, const rj_state *s, int joint); /* rad, largest |penetration| so far */
+RJDEF double rj_joint_contact_penetration(const rj_model *m, const rj_state *s, int joint); /* rad, penetration when the latest contact was detected */
 /* Energy accounts at time rj_state_energy_time(s) = time - dt: the kinetic energy of the
    central-difference pair is 1/2 m v^{n-1/2}.v^{n+1/2}, which closes the balance exactly for
    linear systems. */
@@ -382,6 +387,8 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2);     
    geometric stiffness the linearisation leaves out. */
 #define RJ__DT_MARGIN 0.98
 #define RJ__LANCZOS_ITERS 160
+/* a contact first seen more than this far past its limit is reported as caught late */
+#define RJ__LATE 0.05
 
 /* ------------------------------------------------------------------ internal types */
 typedef struct rj__joint {
@@ -400,10 +407,10 @@ typedef struct rj__joint {
 
 /* Per-joint values in a frame (doubles), then per-joint ints. */
 enum { RJ__JD_THETA = 0, RJ__JD_RATE, RJ__JD_LOCK, RJ__JD_TNC, RJ__JD_RATEP, RJ__JD_EVENT, RJ__JD_RELEASE,
-       RJ__JD_PEAKP, RJ__JD_TQ0, RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT };
+       RJ__JD_PEAKP, RJ__JD_P0, RJ__JD_TQ0, RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT };
 /* Frame scalars. */
 enum { RJ__FS_TIME = 0, RJ__FS_ETIME, RJ__FS_KE, RJ__FS_STRAIN, RJ__FS_SPRING, RJ__FS_LDAMP, RJ__FS_LFRIC,
-       RJ__FS_LLIM, RJ__FS_E0, RJ__FS_COUNT };
+       RJ__FS_LLIM, RJ__FS_E0, RJ__FS_WARN, RJ__FS_COUNT };
 
 struct rj_model {
     size_t bytes;
@@ -444,6 +451,7 @@ struct rj_state {
     double *efx, *efy, *em1, *em2, *eu, *ebt; /* (ne) element forces, energies, chord angles */
     double *jsc;              /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
     char err[200];
+    char warn[200];           /* latest warning (late contact), written only when one occurs */
 };
 
 /* ------------------------------------------------------------------ small helpers */
@@ -1446,9 +1454,24 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         m->dt = dt;
     }
     if (m->dt > m->dt_bound && !sc->solver.allow_unstable) {
+        /* name the stiffest joint when a joint, not a link, sets the bound */
+        int worst = -1;
+        double wo = 0;
+        char extra[160];
+        for (j = 0; j < m->nj; j++) {
+            rj__jgeo g;
+            double om;
+            rj__joint_geo(m, &m->jnt[j], m->x0, m->y0, &g);
+            om = sqrt(m->jnt[j].k_lin * rj__joint_compliance(m, &m->jnt[j], &g));
+            if (om > wo) { wo = om; worst = j; }
+        }
+        extra[0] = 0;
+        if (worst >= 0 && wo * m->dt > 1.0)
+            snprintf(extra, sizeof extra, "; joint %d's stiffness gives omega dt = %.3g (Eq 31 allows K <= %.4g N m/rad at this dt)",
+                     worst, wo * m->dt, rj_joint_kmax_eq31(m, worst, m->dt));
         rj__fail(err, RJ_ERR_UNSTABLE_DT, "solver.dt", m->dt,
-                 "solver.dt = %g s is above the stability bound %g s (omega_max %g rad/s of the links and joint stiffnesses in use); use a smaller dt or set solver.allow_unstable",
-                 m->dt, m->dt_bound, m->omega_max);
+                 "solver.dt = %g s is above the stability bound %g s (omega_max %g rad/s)%s; use a smaller dt or set solver.allow_unstable",
+                 m->dt, m->dt_bound, m->omega_max, extra);
         return RJ_ERR_UNSTABLE_DT;
     }
     /* Eq 28 over the whole model */
@@ -1561,7 +1584,7 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
 {
     double *f = s->fd[0], *sc;
     int j, i;
-    s->cur = 0; s->steps = 0; s->err[0] = 0;
+    s->cur = 0; s->steps = 0; s->err[0] = 0; s->warn[0] = 0;
     memset(s->fd[0], 0, sizeof(double) * m->frame_doubles);
     memset(s->fd[1], 0, sizeof(double) * m->frame_doubles);
     memset(s->fi[0], 0, sizeof(int) * (m->frame_ints + 1));
@@ -1653,6 +1676,7 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
     memcpy(dst->fi[0], src->fi[src->cur], sizeof(int) * (m->frame_ints + 1));
     dst->cur = 0; dst->steps = src->steps;
     memcpy(dst->err, src->err, sizeof dst->err);
+    memcpy(dst->warn, src->warn, sizeof dst->warn);
     return RJ_OK;
 }
 
@@ -1708,6 +1732,7 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
                         s->efx, s->efy, s->em1, s->em2, s->eu, RJ__FBETA(m, nf), RJ__FCX(m, nf), RJ__FCY(m, nf));
     rj__gather(m, s->efx, s->efy, s->em1, s->em2, fx, fy, mz);
 
+    nsc[RJ__FS_WARN] = osc[RJ__FS_WARN];
     /* 2. joints: rate, status flag (Eqs 7-13), table/spring/damping/limit torques */
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
@@ -1725,6 +1750,17 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         memcpy(nj_, oj, sizeof(double) * RJ__JD_COUNT);
         if (flag == RJ_LOCKED && oi[j] != RJ_LOCKED) nj_[RJ__JD_LOCK] = bf ? J->fwd : J->rev;
         if (flag != RJ_FREE && oj[RJ__JD_EVENT] < 0) nj_[RJ__JD_EVENT] = t;
+        if (flag != RJ_FREE && oi[j] == RJ_FREE) {
+            /* a new contact: how far past the limit was it caught? */
+            double p0 = flag == RJ_AT_FORWARD || (flag == RJ_LOCKED && bf) ? J->fwd - run : J->rev - run;
+            double width = (rj__finite(J->fwd) && rj__finite(J->rev)) ? RJ__TWO_PI - (J->fwd - J->rev) : HUGE_VAL;
+            nj_[RJ__JD_P0] = p0;
+            if (fabs(p0) > RJ__LATE || fabs(p0) > width) {
+                RJ__FS(m, nf)[RJ__FS_WARN] = RJ__FS(m, of)[RJ__FS_WARN] + 1;
+                snprintf(s->warn, sizeof s->warn, "t = %.9g s: joint %d caught its limit %.4g rad late%s (rate %.4g rad/s, step %.3g s)",
+                         t, j, fabs(p0), fabs(p0) > width ? ", past the whole limited range" : "", rate, dt);
+            }
+        }
         if (flag == RJ_FREE && oi[j] != RJ_FREE) nj_[RJ__JD_RELEASE] = t;   /* latest release */
         ni[j] = flag;
         /* Eq 19 penetration */
@@ -1895,7 +1931,7 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
     /* 7. energy accounts and blow-up detection; commit the frame */
     {
         double V, E, scale, e0 = osc[RJ__FS_E0];
-        for (i = 0; i < RJ__FS_COUNT; i++) nsc[i] = osc[i];
+        for (i = 0; i < RJ__FS_COUNT; i++) if (i != RJ__FS_WARN) nsc[i] = osc[i];
         nsc[RJ__FS_TIME] = t + dt;
         nsc[RJ__FS_ETIME] = t;
         V = rj__spring_energy(m, of);
@@ -1948,6 +1984,8 @@ RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double samp
 }
 
 RJDEF const char *rj_state_error(const rj_state *s) { return s->err; }
+RJDEF long rj_state_warning_count(const rj_state *s) { return (long)s->fd[s->cur][RJ__FS_WARN]; }
+RJDEF const char *rj_state_warning(const rj_state *s) { return s->warn; }
 
 /* ------------------------------------------------------------------ queries */
 RJDEF double rj_model_dt(const rj_model *m) { return m->dt; }
@@ -2100,6 +2138,11 @@ RJDEF double rj_joint_peak_penetration(const rj_model *m, const rj_state *s, int
     RJ_ASSERT(j >= 0 && j < m->nj);
     return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_PEAKP];
 }
+RJDEF double rj_joint_contact_penetration(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_P0];
+}
 RJDEF void rj_state_energy(const rj_model *m, const rj_state *s, rj_energy *e)
 {
     (void)m;
@@ -2157,7 +2200,7 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
     s->steps = (long)st;
     memcpy(s->fd[0], b + RJ__CK_HEAD + 8, sizeof(double) * m->frame_doubles);
     memcpy(s->fi[0], b + RJ__CK_HEAD + 8 + sizeof(double) * m->frame_doubles, sizeof(int) * (m->frame_ints + 1));
-    s->err[0] = 0;
+    s->err[0] = 0; s->warn[0] = 0;
     return RJ_OK;
 }
 #endif
