@@ -1708,6 +1708,81 @@ static void rj__worst_node(const rj_model *m, const double *f, int *link, int *n
     }
 }
 
+/* The revolute element for one joint and one step, shared by every link model: status
+   flag (Eqs 7-13), contact bookkeeping, penetration (Eq 19), and the torques on body 2 from
+   the table (Eq 4), the torsion spring, damping (Eq 27) and the penalty / adaptive limit
+   (Eq 22). Writes the components into the new frame's joint record (friction is added
+   later) and returns the torque to apply now; *p_out receives the penetration. */
+static double rj__element(const rj_model *m, rj_state *s, int j, const double *oj, double *nj_, int oflag, int *nflag,
+                          double rate, double t, double *nsc, double *p_out)
+{
+    const rj_joint_def *d = &m->jdef[j];
+    const rj__joint *J = &m->jnt[j];
+    const double run = oj[RJ__JD_THETA];
+    double tq_table = 0, tq_spring = 0, tq_damp = 0, tq_lim = 0, p = 0;
+    const int bf = run >= J->fwd, br = run <= J->rev;
+    const int flag = rj_flag_next(oflag, bf, br, rate, d->lock, d->release);
+    memcpy(nj_, oj, sizeof(double) * RJ__JD_COUNT);
+    if (flag == RJ_LOCKED && oflag != RJ_LOCKED) nj_[RJ__JD_LOCK] = bf ? J->fwd : J->rev;
+    if (flag != RJ_FREE && oj[RJ__JD_EVENT] < 0) nj_[RJ__JD_EVENT] = t;
+    if (flag != RJ_FREE && oflag == RJ_FREE) {
+        /* a new contact: how far past the limit was it caught? */
+        double p0 = flag == RJ_AT_FORWARD || (flag == RJ_LOCKED && bf) ? J->fwd - run : J->rev - run;
+        double width = (rj__finite(J->fwd) && rj__finite(J->rev)) ? RJ__TWO_PI - (J->fwd - J->rev) : HUGE_VAL;
+        nj_[RJ__JD_P0] = p0;
+        if (fabs(p0) > RJ__LATE || fabs(p0) > width) {
+            nsc[RJ__FS_WARN] += 1;
+            snprintf(s->warn, sizeof s->warn, "t = %.9g s: joint %d caught its limit %.4g rad late%s (rate %.4g rad/s, step %.3g s)",
+                     t, j, fabs(p0), fabs(p0) > width ? ", past the whole limited range" : "", rate, m->dt);
+        }
+    }
+    if (flag == RJ_FREE && oflag != RJ_FREE) nj_[RJ__JD_RELEASE] = t;   /* latest release */
+    *nflag = flag;
+    /* Eq 19 penetration */
+    if (flag == RJ_AT_FORWARD) p = J->fwd - run;
+    else if (flag == RJ_AT_REVERSE) p = J->rev - run;
+    else if (flag == RJ_LOCKED) p = nj_[RJ__JD_LOCK] - run;
+    if (fabs(p) > nj_[RJ__JD_PEAKP]) nj_[RJ__JD_PEAKP] = fabs(p);
+    /* Eq 4 table, torsion spring, Eq 27 damping (resistive: minus on body 2) */
+    if (d->table_count) { double tt; rj__table_turns_potential(d, J, run, &tt); tq_table = -tt; }
+    if (d->spring_k > 0) tq_spring = -d->spring_k * (run - d->spring_free_angle);
+    if (d->damping > 0) tq_damp = -d->damping * rate;
+    /* Eq 22 / penalty: tau_2 = K p while at a limit */
+    if (flag != RJ_FREE && (d->method == RJ_METHOD_PENALTY || d->method == RJ_METHOD_ADAPTIVE)) tq_lim = J->k_limit * p;
+    nj_[RJ__JD_TQ0 + RJ_TORQUE_TABLE] = tq_table;
+    nj_[RJ__JD_TQ0 + RJ_TORQUE_SPRING] = tq_spring;
+    nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] = tq_damp;
+    nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] = tq_lim;
+    nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = 0;
+    *p_out = p;
+    return tq_table + tq_spring + tq_damp + tq_lim;
+}
+
+/* Coulomb friction: the torque that stops the relative rotation within the step (ratep is
+   the rate the step would end with, c the rate change per unit torque), capped at T_f. */
+static double rj__friction(double ratep, double c, double tf)
+{
+    double tau = c > 0 ? -ratep / c : 0;
+    return tau > tf ? tf : (tau < -tf ? -tf : tau);
+}
+
+/* Does a velocity-level method act (the rate still points into the limit, or any rate
+   while locked)? */
+static int rj__into_limit(int flag, double ratep)
+{
+    return (flag == RJ_AT_FORWARD && ratep > 0) || (flag == RJ_AT_REVERSE && ratep < 0) || (flag == RJ_LOCKED && ratep != 0);
+}
+
+/* Work of the joint's non-conservative torques over the step, in the form that matches
+   the kinetic energy 1/2 v^{n-1/2}.v^{n+1/2}: dt/2 (tau^n rate^{n-1/2} + tau^{n-1} times the
+   previous step's end rate, same geometry). */
+static void rj__element_work(const double *oj, const double *nj_, double rate_m, double dt, double *ld, double *lf, double *ll)
+{
+    *ld -= 0.5 * dt * (nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] * rate_m + oj[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] * oj[RJ__JD_RATE]);
+    *lf -= 0.5 * dt * (nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] * rate_m + oj[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] * oj[RJ__JD_RATE]);
+    *ll -= 0.5 * dt * (nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * rate_m + oj[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * oj[RJ__JD_RATE]);
+}
+
 RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
 {
     const int nn = m->nn;
@@ -1735,52 +1810,15 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
     nsc[RJ__FS_WARN] = osc[RJ__FS_WARN];
     /* 2. joints: rate, status flag (Eqs 7-13), table/spring/damping/limit torques */
     for (j = 0; j < m->nj; j++) {
-        const rj_joint_def *d = &m->jdef[j];
         const rj__joint *J = &m->jnt[j];
         const double *oj = RJ__FJ(m, of, j);
         double *nj_ = RJ__FJ(m, nf, j), *sc = s->jsc + 8 * j;
         rj__jgeo g;
-        double run = oj[RJ__JD_THETA], rate, tq_table = 0, tq_spring = 0, tq_damp = 0, tq_lim = 0, p = 0, tq_nc;
-        int flag, bf, br;
+        double rate, p, tq;
         rj__joint_geo(m, J, x, y, &g);
         rate = rj__joint_rate(J, &g, vx, vy, w, NULL, NULL);
-        bf = run >= J->fwd;
-        br = run <= J->rev;
-        flag = rj_flag_next(oi[j], bf, br, rate, d->lock, d->release);
-        memcpy(nj_, oj, sizeof(double) * RJ__JD_COUNT);
-        if (flag == RJ_LOCKED && oi[j] != RJ_LOCKED) nj_[RJ__JD_LOCK] = bf ? J->fwd : J->rev;
-        if (flag != RJ_FREE && oj[RJ__JD_EVENT] < 0) nj_[RJ__JD_EVENT] = t;
-        if (flag != RJ_FREE && oi[j] == RJ_FREE) {
-            /* a new contact: how far past the limit was it caught? */
-            double p0 = flag == RJ_AT_FORWARD || (flag == RJ_LOCKED && bf) ? J->fwd - run : J->rev - run;
-            double width = (rj__finite(J->fwd) && rj__finite(J->rev)) ? RJ__TWO_PI - (J->fwd - J->rev) : HUGE_VAL;
-            nj_[RJ__JD_P0] = p0;
-            if (fabs(p0) > RJ__LATE || fabs(p0) > width) {
-                RJ__FS(m, nf)[RJ__FS_WARN] = RJ__FS(m, of)[RJ__FS_WARN] + 1;
-                snprintf(s->warn, sizeof s->warn, "t = %.9g s: joint %d caught its limit %.4g rad late%s (rate %.4g rad/s, step %.3g s)",
-                         t, j, fabs(p0), fabs(p0) > width ? ", past the whole limited range" : "", rate, dt);
-            }
-        }
-        if (flag == RJ_FREE && oi[j] != RJ_FREE) nj_[RJ__JD_RELEASE] = t;   /* latest release */
-        ni[j] = flag;
-        /* Eq 19 penetration */
-        if (flag == RJ_AT_FORWARD) p = J->fwd - run;
-        else if (flag == RJ_AT_REVERSE) p = J->rev - run;
-        else if (flag == RJ_LOCKED) p = nj_[RJ__JD_LOCK] - run;
-        if (fabs(p) > nj_[RJ__JD_PEAKP]) nj_[RJ__JD_PEAKP] = fabs(p);
-        /* Eq 4 table, torsion spring, Eq 27 damping (resistive: minus on body 2) */
-        if (d->table_count) { double tt; rj__table_turns_potential(d, J, run, &tt); tq_table = -tt; }
-        if (d->spring_k > 0) tq_spring = -d->spring_k * (run - d->spring_free_angle);
-        if (d->damping > 0) tq_damp = -d->damping * rate;
-        /* Eq 22 / penalty: tau_2 = K p while at a limit */
-        if (flag != RJ_FREE && (d->method == RJ_METHOD_PENALTY || d->method == RJ_METHOD_ADAPTIVE)) tq_lim = J->k_limit * p;
-        tq_nc = tq_damp + tq_lim;
-        rj__apply_torque(J, &g, tq_table + tq_spring + tq_nc, fx, fy, mz);
-        nj_[RJ__JD_TQ0 + RJ_TORQUE_TABLE] = tq_table;
-        nj_[RJ__JD_TQ0 + RJ_TORQUE_SPRING] = tq_spring;
-        nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] = tq_damp;
-        nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] = tq_lim;
-        nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = 0;
+        tq = rj__element(m, s, j, oj, nj_, oi[j], &ni[j], rate, t, RJ__FS(m, nf), &p);
+        rj__apply_torque(J, &g, tq, fx, fy, mz);
         sc[0] = g.ax; sc[1] = g.ay; sc[2] = g.bx; sc[3] = g.by; sc[4] = rate; sc[5] = p; sc[6] = g.a2; sc[7] = g.b2;
     }
 
@@ -1822,9 +1860,7 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
             if (J->nK >= 0) ratep -= (g.ax * (pvy[1] - pvy[0]) - g.ay * (pvx[1] - pvx[0])) / g.a2;
         }
         c = dt * rj__joint_compliance(m, J, &g);
-        tau = c > 0 ? -ratep / c : 0;
-        if (tau > d->friction) tau = d->friction;
-        if (tau < -d->friction) tau = -d->friction;
+        tau = rj__friction(ratep, c, d->friction);
         rj__apply_torque(J, &g, tau, fx, fy, mz);
         nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
     }
@@ -1864,13 +1900,12 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         double *nj_ = RJ__FJ(m, nf, j), *sc = s->jsc + 8 * j;
         const double *oj = RJ__FJ(m, of, j);
         rj__jgeo g;
-        double w1, w2, ratep, tq_d, tq_f, tq_l;
+        double w1, w2, ratep;
         int flag = ni[j];
         g.ax = sc[0]; g.ay = sc[1]; g.bx = sc[2]; g.by = sc[3]; g.a2 = sc[6]; g.b2 = sc[7];
         ratep = rj__joint_rate(J, &g, nvx, nvy, nw, &w1, &w2);
         if (flag != RJ_FREE && (d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_ENERGY || d->method == RJ_METHOD_FORCED)) {
-            int into = (flag == RJ_AT_FORWARD && ratep > 0) || (flag == RJ_AT_REVERSE && ratep < 0) || (flag == RJ_LOCKED && ratep != 0);
-            if (into) {
+            if (rj__into_limit(flag, ratep)) {
                 double o1 = w1, o2 = w2, dke = 0;
                 if (d->method == RJ_METHOD_MOMENTUM) rj_momentum_balance(J->I1, J->I2, flag == RJ_LOCKED ? 0.0 : d->restitution, &w1, &w2);
                 else if (d->method == RJ_METHOD_ENERGY && flag != RJ_LOCKED) rj_energy_balance(J->I1, J->I2, &w1, &w2);
@@ -1884,13 +1919,7 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
                 ratep = rj__joint_rate(J, &g, nvx, nvy, nw, NULL, NULL);
             }
         }
-        /* work of the non-conservative torques in the form that matches the kinetic energy
-           1/2 v^{n-1/2}.v^{n+1/2}: the step n -> n+1 adds dt/2 v^{n-1/2}.(F^n + F^{n-1}), and
-           F^{n-1}.v^{n-1/2} = tau^{n-1} times the previous step's end rate (same geometry) */
-        tq_d = nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING]; tq_f = nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION]; tq_l = nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT];
-        lost_d -= 0.5 * dt * (tq_d * sc[4] + oj[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] * oj[RJ__JD_RATE]);
-        lost_f -= 0.5 * dt * (tq_f * sc[4] + oj[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] * oj[RJ__JD_RATE]);
-        lost_l -= 0.5 * dt * (tq_l * sc[4] + oj[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * oj[RJ__JD_RATE]);
+        rj__element_work(oj, nj_, sc[4], dt, &lost_d, &lost_f, &lost_l);
         nj_[RJ__JD_RATE] = ratep;
     }
 
