@@ -107,6 +107,14 @@ typedef struct rj_error {
 /* Root support of a link that is not the body2 of any joint. */
 typedef enum rj_root { RJ_ROOT_FREE = 0, RJ_ROOT_PINNED, RJ_ROOT_CLAMPED, RJ_ROOT_FIXED } rj_root;
 
+/* Link model. RJ_LINK_RIGID links have no bending or axial freedom: a scene of rigid links
+   is integrated in joint coordinates (one per joint), so its step is limited only by the
+   joints' stiffnesses. All links of a scene must then be rigid (mixing is not supported
+   yet), every rigid link hangs from one joint or is RJ_ROOT_FIXED, and
+   RJ_METHOD_ENERGY is not available. A rigid link is a uniform rod (rho A L, rho A L^3/12
+   about its centre) with its tip mass; its nodes are kept only to report and draw it. */
+typedef enum rj_fidelity { RJ_LINK_FLEXIBLE = 0, RJ_LINK_RIGID } rj_fidelity;
+
 /* Section description. */
 typedef enum rj_section { RJ_SECTION_RECT = 0, RJ_SECTION_GENERAL } rj_section;
 
@@ -146,7 +154,7 @@ typedef enum rj_torque {
      area 0 m^2, inertia 0 m^4 (used only by RJ_SECTION_GENERAL);
      tip_mass 0 kg, tip_inertia 0 kg m^2;
      root RJ_ROOT_FREE; x 0 m, y 0 m, angle 0 rad (root placement, used when the link is not
-     the body2 of a joint); vx, vy 0 m/s, omega 0 rad/s (initial rigid motion of a root link). */
+     the body2 of a joint); vx, vy 0 m/s, omega 0 rad/s (initial rigid motion of a root link); fidelity RJ_LINK_FLEXIBLE. */
 typedef struct rj_link_def {
     double length;       /* m, > 0 */
     int elements;        /* >= 1 */
@@ -163,6 +171,7 @@ typedef struct rj_link_def {
     int root;            /* rj_root */
     double x, y, angle;  /* m, m, rad */
     double vx, vy, omega;/* m/s, m/s, rad/s */
+    int fidelity;        /* rj_fidelity */
     unsigned cookie;     /* set by rj_default_link_def; catches undefaulted structs */
 } rj_link_def;
 
@@ -395,6 +404,7 @@ typedef struct rj__joint {
     int nI, nK, nJ, nL;       /* global nodes: pin on body 1, its neighbour, pin on body 2, its neighbour; nI = nK = -1 for ground */
     int chord;                /* RJ_REF_CHORD */
     double off;               /* tangent mode: theta = off + phi_J - phi_I */
+    double minv;              /* rigid scenes: (M^-1)_jj, rate change per unit torque impulse */
     double gax, gay;          /* ground reference direction (unit) when nK < 0 */
     double I1, I2;            /* reference-segment inertias, kg m^2 (I1 = inf for ground/fixed) */
     double w1, w2;            /* I2/(I1+I2), I1/(I1+I2): share of a correction taken by body 1 / body 2 */
@@ -407,7 +417,7 @@ typedef struct rj__joint {
 
 /* Per-joint values in a frame (doubles), then per-joint ints. */
 enum { RJ__JD_THETA = 0, RJ__JD_RATE, RJ__JD_LOCK, RJ__JD_TNC, RJ__JD_RATEP, RJ__JD_EVENT, RJ__JD_RELEASE,
-       RJ__JD_PEAKP, RJ__JD_P0, RJ__JD_TQ0, RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT };
+       RJ__JD_PEAKP, RJ__JD_P0, RJ__JD_QDD, RJ__JD_TQ0, RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT };
 /* Frame scalars. */
 enum { RJ__FS_TIME = 0, RJ__FS_ETIME, RJ__FS_KE, RJ__FS_STRAIN, RJ__FS_SPRING, RJ__FS_LDAMP, RJ__FS_LFRIC,
        RJ__FS_LLIM, RJ__FS_E0, RJ__FS_WARN, RJ__FS_COUNT };
@@ -416,6 +426,11 @@ struct rj_model {
     size_t bytes;
     unsigned long long hash;
     int nl, nj, nn, ne, ng;
+    int rigid;                /* all links rigid: joint coordinates */
+    double *rb_mass, *rb_icm, *rb_dcm; /* (nl) rigid link mass, inertia about its centre, root-to-centre distance */
+    int *rb_pjoint;           /* (nl) joint whose body2 the link is, -1 if fixed */
+    int *jorder;              /* (nj) joints with parents before children */
+    double *jpin, *jref;      /* (nj) pin distance along body 1 from its root; reference offset (pi or 0) */
     double dt, dt_bound, omega_max, dt_eq28;
     rj_solver_def solver;
     rj_link_def *ldef;        /* (nl) */
@@ -450,9 +465,20 @@ struct rj_state {
     double *fx, *fy, *mz;     /* (nn) forces */
     double *efx, *efy, *em1, *em2, *eu, *ebt; /* (ne) element forces, energies, chord angles */
     double *jsc;              /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
+    double *rsc;              /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch) */
     char err[200];
     char warn[200];           /* latest warning (late contact), written only when one occurs */
 };
+
+static size_t rj__rigid_scratch(int nj, int nl);
+static double rj__rig_setup(rj_model *m, double *scratch);
+typedef struct rj__rig {
+    double *M, *L, *q, *qd, *qdp, *qdd, *Q, *h, *x, *tmp;     /* n x n, n x n, n each */
+    double *phi, *om, *rx, *ry, *vx, *vy, *arx, *ary, *cx, *cy, *acx, *acy, *bx, *by; /* nl each */
+} rj__rig;
+static void rj__rig_map(const rj_model *m, double *base, rj__rig *r);
+static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd, const double *qdp);
+static void rj__rig_nodes(const rj_model *m, const rj__rig *r, double *f);
 
 /* ------------------------------------------------------------------ small helpers */
 RJDEF double rj_rad(double deg) { return deg * (RJ__PI / 180.0); }
@@ -509,7 +535,7 @@ RJDEF rj_link_def rj_default_link_def(void)
     d.length = 1.0; d.elements = 10; d.E = 70e9; d.rho = 2710.0;
     d.section = RJ_SECTION_RECT; d.width = 0.05; d.height = 0.2; d.layers = 1;
     d.area = 0.0; d.inertia = 0.0; d.tip_mass = 0.0; d.tip_inertia = 0.0;
-    d.root = RJ_ROOT_FREE; d.x = d.y = d.angle = 0.0; d.vx = d.vy = d.omega = 0.0;
+    d.root = RJ_ROOT_FREE; d.x = d.y = d.angle = 0.0; d.vx = d.vy = d.omega = 0.0; d.fidelity = RJ_LINK_FLEXIBLE;
     d.cookie = RJ__COOKIE_LINK;
     return d;
 }
@@ -742,6 +768,18 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
         RJ__FIELD(f, "joints[%d].friction", j); if (!rj__check_num(err, f, J->friction, 0, 1, inf, 0, "must be >= 0 N m")) return 0;
         if (J->reference != RJ_REF_TANGENT && J->reference != RJ_REF_CHORD) { RJ__FIELD(f, "joints[%d].reference", j); rj__fail(err, RJ_ERR_INVALID, f, J->reference, "%s = %d is invalid: RJ_REF_TANGENT or RJ_REF_CHORD", f, J->reference); return 0; }
     }
+    /* rigid scenes: all links rigid, each hangs from a joint or is fixed, no energy method */
+    for (i = 0; i < sc->link_count; i++) {
+        const rj_link_def *L = &sc->links[i];
+        int parent = 0;
+        if (L->fidelity != RJ_LINK_FLEXIBLE && L->fidelity != RJ_LINK_RIGID) { RJ__FIELD(f, "links[%d].fidelity", i); rj__fail(err, RJ_ERR_INVALID, f, L->fidelity, "%s = %d is invalid: RJ_LINK_FLEXIBLE or RJ_LINK_RIGID", f, L->fidelity); return 0; }
+        if (L->fidelity != sc->links[0].fidelity) { RJ__FIELD(f, "links[%d].fidelity", i); rj__fail(err, RJ_ERR_INVALID, f, L->fidelity, "%s = %d is invalid: mixing rigid and flexible links in one scene is not supported yet (links[0] is %s)", f, L->fidelity, sc->links[0].fidelity == RJ_LINK_RIGID ? "rigid" : "flexible"); return 0; }
+        if (L->fidelity != RJ_LINK_RIGID) continue;
+        for (j = 0; j < sc->joint_count; j++) if (sc->joints[j].body2 == i) parent = 1;
+        if (!parent && L->root != RJ_ROOT_FIXED) { RJ__FIELD(f, "links[%d].root", i); rj__fail(err, RJ_ERR_INVALID, f, L->root, "%s = %d is invalid: a rigid link must hang from a joint or be RJ_ROOT_FIXED", f, L->root); return 0; }
+    }
+    if (sc->links[0].fidelity == RJ_LINK_RIGID)
+        for (j = 0; j < sc->joint_count; j++) if (sc->joints[j].method == RJ_METHOD_ENERGY) { RJ__FIELD(f, "joints[%d].method", j); rj__fail(err, RJ_ERR_INVALID, f, RJ_METHOD_ENERGY, "%s = RJ_METHOD_ENERGY is not available for rigid links (use momentum with e = 0, forced or adaptive)", f); return 0; }
     /* the joint graph must be a forest: walking up from any link ends at a root */
     for (i = 0; i < sc->link_count; i++) {
         int cur = i, hops = 0;
@@ -770,7 +808,7 @@ static size_t rj__carve(size_t *off, size_t count, size_t elsize)
 
 typedef struct rj__layout {
     size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho, link_I;
-    size_t mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, x0, y0, phi0, vx0, vy0, w0, beta0, lz;
+    size_t rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin, jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, x0, y0, phi0, vx0, vy0, w0, beta0, lz;
 } rj__layout;
 
 static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
@@ -786,6 +824,13 @@ static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
     L->link_EI = rj__carve(&off, (size_t)nl, sizeof(double));
     L->link_rho = rj__carve(&off, (size_t)nl, sizeof(double));
     L->link_I = rj__carve(&off, (size_t)nl, sizeof(double));
+    L->rb_mass = rj__carve(&off, (size_t)nl, sizeof(double));
+    L->rb_icm = rj__carve(&off, (size_t)nl, sizeof(double));
+    L->rb_dcm = rj__carve(&off, (size_t)nl, sizeof(double));
+    L->rb_pjoint = rj__carve(&off, (size_t)nl, sizeof(int));
+    L->jorder = rj__carve(&off, (size_t)nj + 1, sizeof(int));
+    L->jpin = rj__carve(&off, (size_t)nj + 1, sizeof(double));
+    L->jref = rj__carve(&off, (size_t)nj + 1, sizeof(double));
     L->mass = rj__carve(&off, (size_t)nn, sizeof(double));
     L->rinertia = rj__carve(&off, (size_t)nn, sizeof(double));
     L->tinv = rj__carve(&off, (size_t)nn, sizeof(double));
@@ -803,7 +848,7 @@ static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
     L->vy0 = rj__carve(&off, (size_t)nn, sizeof(double));
     L->w0 = rj__carve(&off, (size_t)nn, sizeof(double));
     L->beta0 = rj__carve(&off, (size_t)ne, sizeof(double));
-    L->lz = rj__carve(&off, (size_t)15 * nn + 8 * ne + 8, sizeof(double));
+    L->lz = rj__carve(&off, (size_t)15 * nn + 8 * ne + 8 + rj__rigid_scratch(nj, nl) + (size_t)nj * nj, sizeof(double));
     L->total = off + RJ__ALIGN;
 }
 
@@ -1215,6 +1260,8 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     RJ__SET(ldef, rj_link_def); RJ__SET(jdef, rj_joint_def); RJ__SET(jnt, rj__joint);
     RJ__SET(link_first, int); RJ__SET(link_efirst, int); RJ__SET(link_l0, double); RJ__SET(link_EA, double);
     RJ__SET(link_EI, double); RJ__SET(link_rho, double); RJ__SET(link_I, double);
+    RJ__SET(rb_mass, double); RJ__SET(rb_icm, double); RJ__SET(rb_dcm, double); RJ__SET(rb_pjoint, int);
+    RJ__SET(jorder, int); RJ__SET(jpin, double); RJ__SET(jref, double);
     RJ__SET(mass, double); RJ__SET(rinertia, double); RJ__SET(tinv, double); RJ__SET(rinv, double); RJ__SET(einv, double); RJ__SET(kmass, double); RJ__SET(krot, double);
     RJ__SET(grp_first, int); RJ__SET(grp_node, int); RJ__SET(grp_inv, double);
     RJ__SET(x0, double); RJ__SET(y0, double); RJ__SET(phi0, double); RJ__SET(vx0, double); RJ__SET(vy0, double);
@@ -1396,6 +1443,37 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         J->k_lin = d->spring_k + kt;
         J->k_limit = 0;
     }
+    /* rigid scenes: link bodies, joint order, pins */
+    m->rigid = m->ldef[0].fidelity == RJ_LINK_RIGID;
+    if (m->rigid) {
+        int k, placed_n = 0, guard;
+        for (l = 0; l < m->nl; l++) {
+            const rj_link_def *d = &m->ldef[l];
+            double A = d->section == RJ_SECTION_RECT ? d->width * d->height : d->area, mr = d->rho * A * d->length, mt = mr + d->tip_mass;
+            double dc = (mr * 0.5 * d->length + d->tip_mass * d->length) / mt;
+            m->rb_mass[l] = mt; m->rb_dcm[l] = dc;
+            m->rb_icm[l] = mr * d->length * d->length / 12.0 + mr * (0.5 * d->length - dc) * (0.5 * d->length - dc)
+                         + d->tip_mass * (d->length - dc) * (d->length - dc) + d->tip_inertia;
+            m->rb_pjoint[l] = -1;
+        }
+        for (j = 0; j < m->nj; j++) {
+            const rj_joint_def *d = &m->jdef[j];
+            m->rb_pjoint[d->body2] = j;
+            if (d->body1 >= 0) {
+                int n1 = d->node1 < 0 ? m->ldef[d->body1].elements : d->node1;
+                m->jpin[j] = n1 * m->link_l0[d->body1];
+                m->jref[j] = n1 > 0 ? RJ__PI : 0.0;
+            } else { m->jpin[j] = 0; m->jref[j] = 0; }
+        }
+        /* parents before children */
+        for (guard = 0; placed_n < m->nj && guard <= m->nj; guard++)
+            for (j = 0; j < m->nj; j++) {
+                const int b1 = m->jdef[j].body1;
+                int done = 0, ready = b1 < 0 || m->rb_pjoint[b1] < 0;
+                for (k = 0; k < placed_n; k++) { if (m->jorder[k] == j) done = 1; if (b1 >= 0 && m->jorder[k] == m->rb_pjoint[b1]) ready = 1; }
+                if (!done && ready) m->jorder[placed_n++] = j;
+            }
+    }
     /* stability: omega_max of beams + springs + tables, then the limit stiffness in use */
     {
         double *cx = m->lz + 9 * (size_t)nn, *cy = cx + ne;
@@ -1420,11 +1498,12 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
                as 4 K keeps omega dt <= 1, where switching was never seen to pump. */
             if ((d->has_forward || d->has_reverse) && d->method == RJ_METHOD_PENALTY) m->jnt[j].k_lin += 4.0 * d->penalty_k;
         }
-        /* needs scratch at the block's tail: the lz area is sized for it */
-        om2 = rj__omega2_max(m);
+        om2 = m->rigid ? rj__rig_setup(m, m->lz) : rj__omega2_max(m);
         m->omega_max = sqrt(om2 > 0 ? om2 : 0);
         m->dt_bound = m->omega_max > 0 ? RJ__DT_MARGIN * 2.0 / m->omega_max : 1.0;
         dt = sc->solver.dt > 0 ? sc->solver.dt : 0.9 * m->dt_bound;
+        /* rigid scenes without stiff joints are not bounded: default to 1 ms */
+        if (m->rigid && sc->solver.dt <= 0 && dt > 1e-3) dt = 1e-3;
         /* adaptive joints: K_AP = I_red/dt^2 adds omega^2 = K_AP g^T M^-1 g ~ 1/dt^2, i.e.
            omega dt ~ 1 on its own; include it and recompute the bound once */
         for (pass = 0; pass < 1; pass++) {
@@ -1433,13 +1512,14 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
                 const rj_joint_def *d = &m->jdef[j];
                 rj__joint *J = &m->jnt[j];
                 if ((d->has_forward || d->has_reverse) && d->method == RJ_METHOD_ADAPTIVE) {
-                    J->k_limit = rj_k_adaptive(J->I1, J->I2, dt);
+                    /* rigid: the joint's own effective inertia 1 / (M^-1)_jj (Eq 21 for two free bodies) */
+                    J->k_limit = m->rigid ? 1.0 / (J->minv * dt * dt) : rj_k_adaptive(J->I1, J->I2, dt);
                     J->k_lin += J->k_limit;
                     any = 1;
                 }
             }
             if (any) {
-                om2 = rj__omega2_max(m);
+                om2 = m->rigid ? rj__rig_setup(m, m->lz) : rj__omega2_max(m);
                 m->omega_max = sqrt(om2 > 0 ? om2 : 0);
                 m->dt_bound = m->omega_max > 0 ? RJ__DT_MARGIN * 2.0 / m->omega_max : 1.0;
                 if (sc->solver.dt <= 0 && dt > 0.9 * m->dt_bound) dt = 0.9 * m->dt_bound;
@@ -1449,7 +1529,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
             const rj_joint_def *d = &m->jdef[j];
             rj__joint *J = &m->jnt[j];
             if (d->method == RJ_METHOD_PENALTY) J->k_limit = d->penalty_k;
-            if (d->method == RJ_METHOD_ADAPTIVE) J->k_limit = rj_k_adaptive(J->I1, J->I2, dt);
+            if (d->method == RJ_METHOD_ADAPTIVE) J->k_limit = m->rigid ? 1.0 / (J->minv * dt * dt) : rj_k_adaptive(J->I1, J->I2, dt);
         }
         m->dt = dt;
     }
@@ -1524,7 +1604,7 @@ RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 }
 
 /* ------------------------------------------------------------------ states */
-typedef struct rj__slayout { size_t total, fd0, fd1, fi0, fi1, fx, fy, mz, efx, efy, em1, em2, eu, ebt, jsc; } rj__slayout;
+typedef struct rj__slayout { size_t total, fd0, fd1, fi0, fi1, fx, fy, mz, efx, efy, em1, em2, eu, ebt, jsc, rsc; } rj__slayout;
 
 static void rj__state_layout(const rj_model *m, rj__slayout *L)
 {
@@ -1543,6 +1623,7 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->eu = rj__carve(&off, (size_t)m->ne, sizeof(double));
     L->ebt = rj__carve(&off, (size_t)m->ne, sizeof(double));
     L->jsc = rj__carve(&off, (size_t)m->nj * 8 + 1, sizeof(double));
+    L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl) : 1, sizeof(double));
     L->total = off + RJ__ALIGN;
 }
 
@@ -1609,9 +1690,17 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
         rj__jgeo g;
         rj__joint_geo(m, &m->jnt[j], m->x0, m->y0, &g);
         jd[RJ__JD_THETA] = m->jdef[j].angle0;
-        jd[RJ__JD_RATE] = rj__joint_rate(&m->jnt[j], &g, m->vx0, m->vy0, m->w0, NULL, NULL);
+        jd[RJ__JD_RATE] = m->rigid ? m->jdef[j].rate0 : rj__joint_rate(&m->jnt[j], &g, m->vx0, m->vy0, m->w0, NULL, NULL);
         jd[RJ__JD_RATEP] = jd[RJ__JD_RATE];
         jd[RJ__JD_EVENT] = -1; jd[RJ__JD_RELEASE] = -1;
+    }
+    if (m->rigid) {
+        /* nodes from the joint-coordinate kinematics, so that both descriptions agree */
+        rj__rig r;
+        rj__rig_map(m, s->rsc, &r);
+        for (j = 0; j < m->nj; j++) { r.q[j] = m->jdef[j].angle0; r.qd[j] = m->jdef[j].rate0; }
+        rj__rig_kin(m, &r, r.q, r.qd, r.qd);
+        rj__rig_nodes(m, &r, f);
     }
     sc = RJ__FS(m, f);
     {
@@ -1643,6 +1732,7 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->em1 = (double *)(void *)(base + L.em1); s->em2 = (double *)(void *)(base + L.em2);
     s->eu = (double *)(void *)(base + L.eu); s->ebt = (double *)(void *)(base + L.ebt);
     s->jsc = (double *)(void *)(base + L.jsc);
+    s->rsc = (double *)(void *)(base + L.rsc);
     rj_state_reset(m, s);
     *out = s;
     return RJ_OK;
@@ -1783,9 +1873,274 @@ static void rj__element_work(const double *oj, const double *nj_, double rate_m,
     *ll -= 0.5 * dt * (nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * rate_m + oj[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * oj[RJ__JD_RATE]);
 }
 
+/* ------------------------------------------------------------------ rigid links */
+/* Scenes of rigid links are integrated in joint coordinates q (the joints' running
+   angles), so nothing but the joints limits the step. Kinematics run down the tree
+   (parents first): phi_child = phi_parent + ref + q_j (ref = pi: the reference direction
+   I->K points back along body 1), pins and centres follow. The equations of motion
+   M(q) q'' = Q - h(q, q') come from the bodies' Jacobians: d c_b / d q_j = z x (c_b - P_j)
+   and d phi_b / d q_j = 1 for every joint j on b's path to the ground; h collects the
+   centripetal accelerations -omega^2 r of every segment. The element (flags, torques,
+   friction, methods) is the same code as for flexible links; a joint torque is a
+   generalised force on q_j, and a velocity jump is an impulse along q_j. */
+static size_t rj__rigid_scratch(int nj, int nl) { return 2 * (size_t)nj * nj + 10 * (size_t)nj + 14 * (size_t)nl + 8; }
+
+
+static void rj__rig_map(const rj_model *m, double *base, rj__rig *r)
+{
+    const size_t n = (size_t)m->nj, l = (size_t)m->nl;
+    r->M = base; r->L = r->M + n * n; r->q = r->L + n * n; r->qd = r->q + n; r->qdp = r->qd + n;
+    r->qdd = r->qdp + n; r->Q = r->qdd + n; r->h = r->Q + n; r->x = r->h + n; r->tmp = r->x + n;
+    r->phi = r->tmp + 2 * n; r->om = r->phi + l; r->rx = r->om + l; r->ry = r->rx + l; r->vx = r->ry + l; r->vy = r->vx + l;
+    r->arx = r->vy + l; r->ary = r->arx + l; r->cx = r->ary + l; r->cy = r->cx + l; r->acx = r->cy + l; r->acy = r->acx + l;
+    r->bx = r->acy + l; r->by = r->bx + l;
+}
+
+/* Positions, velocities (rates qd) and centripetal accelerations (rates qdp) of every link. */
+static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd, const double *qdp)
+{
+    int k, l;
+    for (l = 0; l < m->nl; l++) if (m->rb_pjoint[l] < 0) {
+        const rj_link_def *d = &m->ldef[l];
+        r->phi[l] = d->angle; r->om[l] = 0; r->rx[l] = d->x; r->ry[l] = d->y;
+        r->vx[l] = r->vy[l] = r->arx[l] = r->ary[l] = r->bx[l] = r->by[l] = 0;
+    }
+    for (k = 0; k < m->nj; k++) {
+        const int j = m->jorder[k], c = m->jdef[j].body2, p = m->jdef[j].body1;
+        double ex, ey, omb;
+        if (p < 0) {
+            r->phi[c] = m->jdef[j].ground_angle + q[j];
+            r->om[c] = qd[j]; omb = qdp[j];
+            r->rx[c] = m->jdef[j].ground_x; r->ry[c] = m->jdef[j].ground_y;
+            r->vx[c] = r->vy[c] = r->arx[c] = r->ary[c] = 0;
+        } else {
+            const double cp = cos(r->phi[p]), sp = sin(r->phi[p]), s = m->jpin[j];
+            const double omp = r->om[p], ompb = r->bx[p];
+            r->phi[c] = r->phi[p] + m->jref[j] + q[j];
+            r->om[c] = omp + qd[j]; omb = ompb + qdp[j];
+            r->rx[c] = r->rx[p] + s * cp; r->ry[c] = r->ry[p] + s * sp;
+            r->vx[c] = r->vx[p] - omp * s * sp; r->vy[c] = r->vy[p] + omp * s * cp;
+            r->arx[c] = r->arx[p] - ompb * ompb * s * cp; r->ary[c] = r->ary[p] - ompb * ompb * s * sp;
+        }
+        r->bx[c] = omb;   /* the angular rate used for the centripetal terms */
+        ex = cos(r->phi[c]); ey = sin(r->phi[c]);
+        r->cx[c] = r->rx[c] + m->rb_dcm[c] * ex; r->cy[c] = r->ry[c] + m->rb_dcm[c] * ey;
+        r->acx[c] = r->arx[c] - omb * omb * m->rb_dcm[c] * ex; r->acy[c] = r->ary[c] - omb * omb * m->rb_dcm[c] * ey;
+    }
+}
+
+/* Mass matrix M(q) and bias h (with the centripetal accelerations from rj__rig_kin). */
+static void rj__rig_mass(const rj_model *m, rj__rig *r)
+{
+    const int n = m->nj;
+    int l, a, b, i;
+    for (i = 0; i < n * n; i++) r->M[i] = 0;
+    for (i = 0; i < n; i++) r->h[i] = 0;
+    for (l = 0; l < m->nl; l++) {
+        int ja = m->rb_pjoint[l];
+        if (ja < 0) continue;
+        for (; ja >= 0; ja = m->jdef[ja].body1 >= 0 ? m->rb_pjoint[m->jdef[ja].body1] : -1) {
+            const int ca = m->jdef[ja].body2;
+            const double dxa = r->cx[l] - r->rx[ca], dya = r->cy[l] - r->ry[ca];
+            int jb = m->rb_pjoint[l];
+            r->h[ja] += m->rb_mass[l] * (-dya * r->acx[l] + dxa * r->acy[l]);
+            for (; jb >= 0; jb = m->jdef[jb].body1 >= 0 ? m->rb_pjoint[m->jdef[jb].body1] : -1) {
+                const int cb = m->jdef[jb].body2;
+                const double dxb = r->cx[l] - r->rx[cb], dyb = r->cy[l] - r->ry[cb];
+                r->M[ja * n + jb] += m->rb_mass[l] * (dxa * dxb + dya * dyb) + m->rb_icm[l];
+            }
+        }
+    }
+    (void)a; (void)b;
+}
+
+/* Cholesky factor of the n x n SPD matrix M into L (lower), and solves L L^T x = b. */
+static int rj__chol(int n, const double *M, double *L)
+{
+    int i, j, k;
+    for (i = 0; i < n; i++) for (j = 0; j <= i; j++) {
+        double sum = M[i * n + j];
+        for (k = 0; k < j; k++) sum -= L[i * n + k] * L[j * n + k];
+        if (i == j) { if (!(sum > 0)) return -1; L[i * n + i] = sqrt(sum); }
+        else L[i * n + j] = sum / L[j * n + j];
+    }
+    return 0;
+}
+static void rj__chol_solve(int n, const double *L, const double *b, double *x)
+{
+    int i, k;
+    for (i = 0; i < n; i++) { double sum = b[i]; for (k = 0; k < i; k++) sum -= L[i * n + k] * x[k]; x[i] = sum / L[i * n + i]; }
+    for (i = n - 1; i >= 0; i--) { double sum = x[i]; for (k = i + 1; k < n; k++) sum -= L[k * n + i] * x[k]; x[i] = sum / L[i * n + i]; }
+}
+
+/* Writes the links' nodes (for queries and drawing) from the kinematics. */
+static void rj__rig_nodes(const rj_model *m, const rj__rig *r, double *f)
+{
+    double *x = RJ__FX(m, f), *y = RJ__FY(m, f), *phi = RJ__FPHI(m, f), *vx = RJ__FVX(m, f), *vy = RJ__FVY(m, f), *w = RJ__FW(m, f);
+    int l, i;
+    for (l = 0; l < m->nl; l++) {
+        const double c = cos(r->phi[l]), s = sin(r->phi[l]), l0 = m->link_l0[l];
+        for (i = 0; i <= m->ldef[l].elements; i++) {
+            const int k = m->link_first[l] + i;
+            x[k] = r->rx[l] + i * l0 * c; y[k] = r->ry[l] + i * l0 * s; phi[k] = r->phi[l];
+            vx[k] = r->vx[l] - r->om[l] * i * l0 * s; vy[k] = r->vy[l] + r->om[l] * i * l0 * c; w[k] = r->om[l];
+        }
+    }
+}
+
+/* Rigid-link model constants and the stability bound: omega_max^2 = largest eigenvalue of
+   K^1/2 M^-1 K^1/2 at the initial configuration (power iteration), K the joints' linear
+   stiffnesses (limits counted as for flexible links). Returns omega_max^2. */
+static double rj__rig_setup(rj_model *m, double *scratch)
+{
+    rj__rig r;
+    const int n = m->nj;
+    double *minv = scratch + rj__rigid_scratch(m->nj, m->nl), lam = 0, *v, *u;
+    int j, k, it;
+    rj__rig_map(m, scratch, &r);
+    for (j = 0; j < n; j++) { r.q[j] = m->jdef[j].angle0; r.qd[j] = r.qdp[j] = 0; }
+    rj__rig_kin(m, &r, r.q, r.qd, r.qdp);
+    rj__rig_mass(m, &r);
+    if (n == 0 || rj__chol(n, r.M, r.L)) return 0;
+    for (j = 0; j < n; j++) {
+        for (k = 0; k < n; k++) r.tmp[k] = k == j ? 1.0 : 0.0;
+        rj__chol_solve(n, r.L, r.tmp, minv + (size_t)j * n);
+    }
+    for (j = 0; j < n; j++) {
+        rj__joint *J = &m->jnt[j];
+        const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
+        double dx, dy;
+        J->I2 = m->rb_icm[b2] + m->rb_mass[b2] * m->rb_dcm[b2] * m->rb_dcm[b2];
+        if (b1 < 0 || m->rb_pjoint[b1] < 0) J->I1 = HUGE_VAL;
+        else { dx = r.cx[b1] - r.rx[b2]; dy = r.cy[b1] - r.ry[b2]; J->I1 = m->rb_icm[b1] + m->rb_mass[b1] * (dx * dx + dy * dy); }
+        J->w1 = rj__finite(J->I1) ? J->I2 / (J->I1 + J->I2) : 0; J->w2 = 1 - J->w1;
+        J->minv = minv[(size_t)j * n + j];    /* rate change per unit torque impulse: 1 / I_red */
+    }
+    /* power iteration on K^1/2 M^-1 K^1/2 */
+    v = r.x; u = r.tmp;
+    for (j = 0; j < n; j++) v[j] = 1.0 + 0.1 * j;
+    for (it = 0; it < 500; it++) {
+        double nrm = 0;
+        for (j = 0; j < n; j++) { double sum = 0; for (k = 0; k < n; k++) sum += minv[(size_t)j * n + k] * sqrt(m->jnt[k].k_lin) * v[k]; u[j] = sqrt(m->jnt[j].k_lin) * sum; }
+        for (j = 0; j < n; j++) nrm += u[j] * u[j];
+        nrm = sqrt(nrm);
+        if (nrm == 0) return 0;
+        lam = 0;
+        for (j = 0; j < n; j++) lam += v[j] * u[j];
+        for (j = 0; j < n; j++) v[j] = u[j] / nrm;
+    }
+    return lam / 1.0 * 1.0;
+}
+
+/* One step of a rigid-link scene: central differences in joint coordinates. */
+static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
+{
+    const int n = m->nj;
+    const double dt = m->dt, kick = s->steps == 0 ? 0.5 * dt : dt;   /* half a kick from q'(0) */
+    const double *of = s->fd[s->cur];
+    double *nf = s->fd[1 - s->cur];
+    const int *oi = s->fi[s->cur];
+    int *ni = s->fi[1 - s->cur];
+    const double *osc = RJ__FS(m, of);
+    double *nsc = RJ__FS(m, nf);
+    const double t = osc[RJ__FS_TIME];
+    double ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC], lost_l = osc[RJ__FS_LLIM], V;
+    rj__rig r;
+    int j, k;
+    rj__rig_map(m, s->rsc, &r);
+    nsc[RJ__FS_WARN] = osc[RJ__FS_WARN];
+    /* 1. state: q^n, rates q'^{n-1/2}, predicted q'^n for the centripetal terms */
+    for (j = 0; j < n; j++) {
+        const double *oj = RJ__FJ(m, of, j);
+        r.q[j] = oj[RJ__JD_THETA]; r.qd[j] = oj[RJ__JD_RATE];
+        r.qdp[j] = r.qd[j] + 0.5 * dt * oj[RJ__JD_QDD];
+    }
+    rj__rig_kin(m, &r, r.q, r.qd, r.qdp);
+    rj__rig_mass(m, &r);
+    if (rj__chol(n, r.M, r.L)) return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: the rigid mass matrix is not positive definite", t);
+    /* 2. the element: torques as generalised forces */
+    for (j = 0; j < n; j++) {
+        double p;
+        r.Q[j] = rj__element(m, s, j, RJ__FJ(m, of, j), RJ__FJ(m, nf, j), oi[j], &ni[j], r.qd[j], t, nsc, &p) - r.h[j];
+    }
+    rj__chol_solve(n, r.L, r.Q, r.qdd);
+    /* 3. friction, joint by joint, with the column M^-1 e_j */
+    for (j = 0; j < n; j++) {
+        const double tf = m->jdef[j].friction;
+        double tau;
+        if (!(tf > 0)) continue;
+        for (k = 0; k < n; k++) r.tmp[k] = k == j ? 1.0 : 0.0;
+        rj__chol_solve(n, r.L, r.tmp, r.x);
+        tau = rj__friction(r.qd[j] + kick * r.qdd[j], kick * r.x[j], tf);
+        for (k = 0; k < n; k++) r.qdd[k] += r.x[k] * tau;
+        RJ__FJ(m, nf, j)[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
+    }
+    /* 4. rates q'^{n+1/2}; kinetic energy 1/2 q'^{n-1/2} M q'^{n+1/2} */
+    for (j = 0; j < n; j++) r.qdp[j] = r.qd[j] + kick * r.qdd[j];
+    /* 5. velocity-level methods: an impulse along q_j to e times the reversed rate (plastic
+       while locked or for forced displacement) */
+    for (j = 0; j < n; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        if (ni[j] == RJ_FREE || !(d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED) || !rj__into_limit(ni[j], r.qdp[j])) continue;
+        {
+            const double e = (d->method == RJ_METHOD_MOMENTUM && ni[j] != RJ_LOCKED) ? d->restitution : 0.0;
+            double lam, dke;
+            for (k = 0; k < n; k++) r.tmp[k] = k == j ? 1.0 : 0.0;
+            rj__chol_solve(n, r.L, r.tmp, r.x);
+            lam = (-e * r.qdp[j] - r.qdp[j]) / r.x[j];
+            dke = lam * r.qdp[j] + 0.5 * lam * lam * r.x[j];
+            for (k = 0; k < n; k++) r.qdp[k] += r.x[k] * lam;
+            lost_l -= dke;
+        }
+    }
+    for (j = 0; j < n; j++) {
+        double sum = 0;
+        for (k = 0; k < n; k++) sum += r.M[j * n + k] * r.qdp[k];
+        ke += 0.5 * (s->steps == 0 ? 2 * r.qd[j] - r.qdp[j] : r.qd[j]) * sum;   /* q'^{-1/2} = 2 q'(0) - q'^{1/2} */
+    }
+    /* 6. positions, forced displacement, work of the joint torques */
+    for (j = 0; j < n; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const rj__joint *J = &m->jnt[j];
+        const double *oj = RJ__FJ(m, of, j);
+        double *nj_ = RJ__FJ(m, nf, j), qn = r.q[j] + dt * r.qdp[j];
+        if (d->method == RJ_METHOD_FORCED && ni[j] != RJ_FREE) {
+            if (ni[j] == RJ_AT_FORWARD && qn > J->fwd) qn = J->fwd;
+            else if (ni[j] == RJ_AT_REVERSE && qn < J->rev) qn = J->rev;
+            else if (ni[j] == RJ_LOCKED) qn = nj_[RJ__JD_LOCK];
+        }
+        if (!(fabs(qn - r.q[j]) <= 0.5 * RJ__PI))
+            return rj__stop(m, s, RJ_ERR_TUNNEL, "t = %.9g s: joint %d turned %.4g rad in one step (more than pi/2): the step %g s is far too large for its speed",
+                            t, j, qn - r.q[j], dt);
+        rj__element_work(oj, nj_, r.qd[j], dt, &lost_d, &lost_f, &lost_l);
+        nj_[RJ__JD_THETA] = qn; nj_[RJ__JD_RATE] = r.qdp[j]; nj_[RJ__JD_QDD] = r.qdd[j];
+        r.q[j] = qn;
+    }
+    /* 7. energies, blow-up check, commit (nodes are computed when queried: rj__rig_pose) */
+    V = rj__spring_energy(m, of);
+    for (k = 0; k < RJ__FS_COUNT; k++) if (k != RJ__FS_WARN) nsc[k] = osc[k];
+    nsc[RJ__FS_TIME] = t + dt; nsc[RJ__FS_ETIME] = t;
+    nsc[RJ__FS_KE] = ke; nsc[RJ__FS_STRAIN] = 0; nsc[RJ__FS_SPRING] = V;
+    nsc[RJ__FS_LDAMP] = lost_d; nsc[RJ__FS_LFRIC] = lost_f; nsc[RJ__FS_LLIM] = lost_l;
+    if (s->steps == 0) { nsc[RJ__FS_E0] = ke + V; nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0; }
+    {
+        const double scale = fabs(nsc[RJ__FS_E0]) + fabs(osc[RJ__FS_SPRING]) + 1e-9;
+        if (!rj__finite(ke) || !rj__finite(lost_l) || ke > m->solver.energy_growth * (scale + fabs(V)))
+            return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: kinetic energy %.6g J of the rigid links exceeds %g x %.6g J; %s",
+                            t, ke, m->solver.energy_growth, scale, dt > m->dt_bound ? "the step is above the stability bound" : "a joint stiffness above the bound");
+    }
+    s->cur = 1 - s->cur;
+    s->steps++;
+    return RJ_OK;
+}
+
 RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
 {
     const int nn = m->nn;
+    /* the stored velocities are v(0) at the start and v^{n-1/2} after: the first kick is
+       half a step, which makes the start second-order accurate too */
+    const double kick = s->steps == 0 ? 0.5 * m->dt : m->dt;
+    if (m->rigid) return rj__step_rigid(m, s);
     const double dt = m->dt;
     const double *of = s->fd[s->cur];
     double *nf = s->fd[1 - s->cur];
@@ -1834,8 +2189,8 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         if (!(d->friction > 0)) continue;
         g.ax = sc[0]; g.ay = sc[1]; g.bx = sc[2]; g.by = sc[3]; g.a2 = sc[6]; g.b2 = sc[7];
         if (!J->chord) {
-            ratep = w[J->nJ] + dt * mz[J->nJ] * m->rinv[J->nJ];
-            if (J->nI >= 0) ratep -= w[J->nI] + dt * mz[J->nI] * m->rinv[J->nI];
+            ratep = w[J->nJ] + kick * mz[J->nJ] * m->rinv[J->nJ];
+            if (J->nI >= 0) ratep -= w[J->nI] + kick * mz[J->nI] * m->rinv[J->nI];
         } else {
             nodes[0] = J->nI; nodes[1] = J->nK; nodes[2] = J->nJ; nodes[3] = J->nL;
             for (k = 0; k < 4; k++) {
@@ -1851,15 +2206,15 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
                         for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++) { sx += fx[m->grp_node[q]]; sy += fy[m->grp_node[q]]; }
                         break;
                     }
-                    pvx[k] = vx[n] + dt * sx * ginv; pvy[k] = vy[n] + dt * sy * ginv;
+                    pvx[k] = vx[n] + kick * sx * ginv; pvy[k] = vy[n] + kick * sy * ginv;
                 } else {
-                    pvx[k] = vx[n] + dt * fx[n] * m->tinv[n]; pvy[k] = vy[n] + dt * fy[n] * m->tinv[n];
+                    pvx[k] = vx[n] + kick * fx[n] * m->tinv[n]; pvy[k] = vy[n] + kick * fy[n] * m->tinv[n];
                 }
             }
             ratep = (g.bx * (pvy[3] - pvy[2]) - g.by * (pvx[3] - pvx[2])) / g.b2;
             if (J->nK >= 0) ratep -= (g.ax * (pvy[1] - pvy[0]) - g.ay * (pvx[1] - pvx[0])) / g.a2;
         }
-        c = dt * rj__joint_compliance(m, J, &g);
+        c = kick * rj__joint_compliance(m, J, &g);
         tau = rj__friction(ratep, c, d->friction);
         rj__apply_torque(J, &g, tau, fx, fy, mz);
         nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
@@ -1870,9 +2225,9 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         const double *ti = m->tinv, *ri = m->rinv, *km = m->kmass, *kj = m->krot;
         double k0 = 0, k1 = 0, k2 = 0, k3 = 0;
         for (i = 0; i < nn; i++) {
-            nvx[i] = vx[i] + dt * fx[i] * ti[i];
-            nvy[i] = vy[i] + dt * fy[i] * ti[i];
-            nw[i] = w[i] + dt * mz[i] * ri[i];
+            nvx[i] = vx[i] + kick * fx[i] * ti[i];
+            nvy[i] = vy[i] + kick * fy[i] * ti[i];
+            nw[i] = w[i] + kick * mz[i] * ri[i];
         }
         /* four partial sums in a fixed order: fast and still deterministic */
         for (i = 0; i + 1 < nn; i += 2) {
@@ -1881,14 +2236,20 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         }
         for (; i < nn; i++) { k0 += km[i] * (vx[i] * nvx[i] + vy[i] * nvy[i]); k1 += kj[i] * w[i] * nw[i]; }
         ke = (k0 + k2) + (k1 + k3);
+        if (s->steps == 0) {
+            /* at the start the pair is v^{-1/2} = 2 v(0) - v^{1/2} and v^{1/2} */
+            ke = 0;
+            for (i = 0; i < nn; i++)
+                ke += km[i] * ((2 * vx[i] - nvx[i]) * nvx[i] + (2 * vy[i] - nvy[i]) * nvy[i]) + kj[i] * (2 * w[i] - nw[i]) * nw[i];
+        }
     }
     for (gi = 0; gi < m->ng; gi++) {
         const int f0 = m->grp_first[gi], f1 = m->grp_first[gi + 1], r = m->grp_node[f0];
         double sx = 0, sy = 0, msum = 0, ux, uy;
         int q;
         for (q = f0; q < f1; q++) { sx += fx[m->grp_node[q]]; sy += fy[m->grp_node[q]]; msum += m->mass[m->grp_node[q]]; }
-        ux = vx[r] + dt * sx * m->grp_inv[gi]; uy = vy[r] + dt * sy * m->grp_inv[gi];
-        if (m->grp_inv[gi] > 0) ke += msum * (vx[r] * ux + vy[r] * uy);
+        ux = vx[r] + kick * sx * m->grp_inv[gi]; uy = vy[r] + kick * sy * m->grp_inv[gi];
+        if (m->grp_inv[gi] > 0) ke += s->steps == 0 ? msum * ((2 * vx[r] - ux) * ux + (2 * vy[r] - uy) * uy) : msum * (vx[r] * ux + vy[r] * uy);
         for (q = f0; q < f1; q++) { nvx[m->grp_node[q]] = ux; nvy[m->grp_node[q]] = uy; }
     }
     ke *= 0.5;
@@ -2074,6 +2435,41 @@ RJDEF double rj_state_time(const rj_state *s) { return s->fd[s->cur][RJ__FS_TIME
 
 RJDEF long rj_state_steps(const rj_state *s) { return s->steps; }
 
+/* Rigid scenes: the pose and motion of link l from the joint coordinates of a frame,
+   walking up to the ground (used by the node queries; the step itself stores only q). */
+static void rj__rig_pose(const rj_model *m, const double *f, int l, double *phi, double *rx, double *ry, double *om, double *vx, double *vy)
+{
+    int j = m->rb_pjoint[l], p;
+    double ph, x, y, o, ux, uy;
+    if (j < 0) {
+        const rj_link_def *d = &m->ldef[l];
+        *phi = d->angle; *rx = d->x; *ry = d->y; *om = 0; *vx = 0; *vy = 0;
+        return;
+    }
+    p = m->jdef[j].body1;
+    if (p < 0) { ph = m->jdef[j].ground_angle; x = m->jdef[j].ground_x; y = m->jdef[j].ground_y; o = 0; ux = uy = 0; }
+    else {
+        double pp, px, py, po, pvx, pvy, c, sn;
+        rj__rig_pose(m, f, p, &pp, &px, &py, &po, &pvx, &pvy);
+        c = cos(pp); sn = sin(pp);
+        x = px + m->jpin[j] * c; y = py + m->jpin[j] * sn;
+        ux = pvx - po * m->jpin[j] * sn; uy = pvy + po * m->jpin[j] * c;
+        ph = pp + m->jref[j]; o = po;
+    }
+    *phi = ph + RJ__FJ(m, f, j)[RJ__JD_THETA];
+    *om = o + RJ__FJ(m, f, j)[RJ__JD_RATE];
+    *rx = x; *ry = y; *vx = ux; *vy = uy;
+}
+static void rj__rig_node(const rj_model *m, const rj_state *s, int l, int n, double xy[2], double v[2], double *phi)
+{
+    double ph, rx, ry, om, vx, vy, c, sn, d = n * m->link_l0[l];
+    rj__rig_pose(m, s->fd[s->cur], l, &ph, &rx, &ry, &om, &vx, &vy);
+    c = cos(ph); sn = sin(ph);
+    if (xy) { xy[0] = rx + d * c; xy[1] = ry + d * sn; }
+    if (v) { v[0] = vx - om * d * sn; v[1] = vy + om * d * c; }
+    if (phi) *phi = ph;
+}
+
 static int rj__node(const rj_model *m, int l, int n)
 {
     RJ_ASSERT(l >= 0 && l < m->nl);
@@ -2084,20 +2480,25 @@ RJDEF void rj_node_position(const rj_model *m, const rj_state *s, int l, int n, 
 {
     const double *f = s->fd[s->cur];
     int i = rj__node(m, l, n);
+    if (m->rigid) { rj__rig_node(m, s, l, n, xy, NULL, NULL); return; }
     xy[0] = RJ__FX(m, f)[i]; xy[1] = RJ__FY(m, f)[i];
 }
 RJDEF void rj_node_velocity(const rj_model *m, const rj_state *s, int l, int n, double v[2])
 {
     const double *f = s->fd[s->cur];
     int i = rj__node(m, l, n);
+    if (m->rigid) { rj__rig_node(m, s, l, n, NULL, v, NULL); return; }
     v[0] = RJ__FVX(m, f)[i]; v[1] = RJ__FVY(m, f)[i];
 }
 RJDEF double rj_node_rotation(const rj_model *m, const rj_state *s, int l, int n)
 {
+    double ph;
+    if (m->rigid) { rj__node(m, l, n); rj__rig_node(m, s, l, n, NULL, NULL, &ph); return ph; }
     return RJ__FPHI(m, s->fd[s->cur])[rj__node(m, l, n)];
 }
 RJDEF double rj_node_rate(const rj_model *m, const rj_state *s, int l, int n)
 {
+    if (m->rigid) { double ph, rx, ry, om, vx, vy; rj__node(m, l, n); rj__rig_pose(m, s->fd[s->cur], l, &ph, &rx, &ry, &om, &vx, &vy); return om; }
     return RJ__FW(m, s->fd[s->cur])[rj__node(m, l, n)];
 }
 RJDEF void rj_node_mass(const rj_model *m, int l, int n, double *mass, double *rinertia)
@@ -2110,6 +2511,7 @@ RJDEF void rj_joint_position(const rj_model *m, const rj_state *s, int j, double
 {
     const double *f = s->fd[s->cur];
     RJ_ASSERT(j >= 0 && j < m->nj);
+    if (m->rigid) { rj__rig_node(m, s, m->jdef[j].body2, 0, xy, NULL, NULL); return; }
     xy[0] = RJ__FX(m, f)[m->jnt[j].nJ]; xy[1] = RJ__FY(m, f)[m->jnt[j].nJ];
 }
 RJDEF double rj_joint_theta_running(const rj_model *m, const rj_state *s, int j)

@@ -67,6 +67,7 @@ static double now(void)
 static int runs_for(double t1)
 {
     if (S.quick) return t1 < 0.05 ? 3 : 1;
+    if (t1 < 0.01) return 21;              /* very short runs: more samples of the timer */
     if (t1 < 2.0) return 5;
     if (now() - T_START > S.budget) return 1;
     return t1 < 6.0 ? 3 : 1;
@@ -235,7 +236,7 @@ typedef struct dmet {
 } dmet;
 typedef struct derr {
     double dq;                             /* deg, max |q1 - q1ref|, |q2 - q2ref| for t < t_pre */
-    double dlock;                          /* s, lock2 - lock2ref */
+    double dlock, dlock1;                  /* s, lock2 - lock2ref, lock1 - lock1ref */
     double rms_c, rms_t, freq_c, freq_t;   /* relative (signed) */
 } derr;
 
@@ -283,6 +284,7 @@ static void d_errors(const dhist *h, const dmet *m, const dhist *rh, const dmet 
         e->dq = fmax(e->dq, fmax(fabs(h->q1[k] - rh->q1[k]), fabs(h->q2[k] - rh->q2[k])));
     }
     e->dlock = m->lock2 - rm->lock2;
+    e->dlock1 = m->lock1 - rm->lock1;
     e->rms_c = m->rms_c / rm->rms_c - 1; e->rms_t = m->rms_t / rm->rms_t - 1;
     e->freq_c = m->freq_c / rm->freq_c - 1; e->freq_t = m->freq_t / rm->freq_t - 1;
 }
@@ -381,7 +383,7 @@ static int i_sample(const rj_model *m, const rj_state *s, void *u)
     if (dc > a->peak_c) a->peak_c = dc;
     if (dg > a->peak_t) a->peak_t = dg;
     if (f != RJ_FREE && a->prev == RJ_FREE) { if (a->t_free < 0 || t - a->t_free >= 1e-4 || a->contacts == 0) a->contacts++; a->t_free = -1; }
-    if (f == RJ_FREE && a->prev != RJ_FREE) a->t_free = t;
+    if (f == RJ_FREE && a->prev != RJ_FREE) a->t_free = t - rj_model_dt(m); /* the flag of step n -> n+1 is decided at t_n (as rj_joint_release_time) */
     if (f == RJ_FREE && a->t_free >= 0 && a->first < 0 && t - a->t_free >= 1e-4) a->first = a->t_free;
     a->prev = f;
     return 0;
@@ -443,6 +445,22 @@ static void i_errors(irow *r, const irow *ref)
     r->e_peak_t = r->peak_t / ref->peak_t - 1;
 }
 
+/* least wall time among a method's rows with dq < 0.1 deg and (crit 0) |RMS tangent| < 2 %,
+   (crit 1) |RMS chord| < 2 %, (crit 2) no amplitude condition */
+static const drow *d_cheapest(const drow *rows, int n, int method, int crit)
+{
+    const drow *b = NULL;
+    int i;
+    for (i = 0; i < n; i++) {
+        const drow *r = &rows[i];
+        double rr = crit == 0 ? r->e.rms_t : r->e.rms_c;
+        if (!r->ok || r->method != method || !(r->e.dq < 0.1)) continue;
+        if (crit < 2 && !(fabs(rr) < 0.02)) continue;
+        if (!b || r->wall < b->wall) b = r;
+    }
+    return b;
+}
+
 /* ================================================================== plots */
 static int pareto(const double *x, const double *y, int n, double *px, double *py)
 {
@@ -457,41 +475,64 @@ static int pareto(const double *x, const double *y, int n, double *px, double *p
     return np;
 }
 
+/* which: 0 = dq (deg); 1 = tip RMS (%): tangent points and fronts, chord fronts dashed */
+static double plot_y(const drow *r, int which, int chord)
+{
+    if (which == 0) return r->e.dq;
+    return 100 * fabs(chord ? r->e.rms_c : r->e.rms_t);
+}
+
 static int work_precision_plot(rjr_context *ctx, const char *path, const char *title, const char *ylabel,
                                const drow *rows, int nrows, int which, double threshold, char *err, size_t errlen)
 {
-    static double ax[2][64], ay[2][64], fx[2][64], fy[2][64], tx[2], ty[2];
-    static char lab[4][64];
-    rjr_plot_def p = rjr_plot_default();
+    static double ax[2][64], ay[2][64], fx[2][64], fy[2][64], cx[2][64], cy[2][64], fcx[2][64], fcy[2][64], tx[2], ty[2];
+    static char lab[6][80];
     static const rjr_rgb col[2] = { 0xd62728, 0x1f77b4 };
-    int mi, i, n, nf, ns = 0;
-    double xmin = HUGE_VAL, xmax = 0;
+    rjr_plot_def p = rjr_plot_default();
+    int mi, i, n, ns = 0;
+    double xmin = HUGE_VAL, xmax = 0, ymin = HUGE_VAL, ymax = 0;
     for (mi = 0; mi < 2; mi++) {
+        int meth = mi ? RJ_METHOD_ADAPTIVE : RJ_METHOD_PENALTY, nf, nfc;
         n = 0;
         for (i = 0; i < nrows; i++) {
-            double y;
-            if (!rows[i].ok || rows[i].method != (mi ? RJ_METHOD_ADAPTIVE : RJ_METHOD_PENALTY) || n >= 64) continue;
-            y = which == 0 ? rows[i].e.dq : 100 * fabs(which == 1 ? rows[i].e.rms_c : rows[i].e.rms_t);
-            ax[mi][n] = rows[i].wall; ay[mi][n] = y; n++;
+            double y, yc;
+            if (!rows[i].ok || rows[i].method != meth || n >= 64) continue;
+            y = plot_y(&rows[i], which, 0); yc = plot_y(&rows[i], which, 1);
+            ax[mi][n] = cx[mi][n] = rows[i].wall; ay[mi][n] = y; cy[mi][n] = yc; n++;
             xmin = fmin(xmin, rows[i].wall); xmax = fmax(xmax, rows[i].wall);
+            if (y > 0 && isfinite(y)) { ymin = fmin(ymin, y); ymax = fmax(ymax, y); }
+            if (which && yc > 0 && isfinite(yc)) { ymin = fmin(ymin, yc); ymax = fmax(ymax, yc); }
         }
         nf = pareto(ax[mi], ay[mi], n, fx[mi], fy[mi]);
-        snprintf(lab[2 * mi], sizeof lab[0], "%s: all settings", method_name(mi ? RJ_METHOD_ADAPTIVE : RJ_METHOD_PENALTY));
-        snprintf(lab[2 * mi + 1], sizeof lab[0], "%s: Pareto front", method_name(mi ? RJ_METHOD_ADAPTIVE : RJ_METHOD_PENALTY));
-        p.series[ns].x = ax[mi]; p.series[ns].y = ay[mi]; p.series[ns].n = n; p.series[ns].label = lab[2 * mi];
-        p.series[ns].colour = col[mi]; p.series[ns].points = 1; p.series[ns].no_line = 1; p.series[ns].width_px = 2; ns++;
-        p.series[ns].x = fx[mi]; p.series[ns].y = fy[mi]; p.series[ns].n = nf; p.series[ns].label = lab[2 * mi + 1];
+        snprintf(lab[3 * mi], sizeof lab[0], "%s, every setting", method_name(meth));
+        snprintf(lab[3 * mi + 1], sizeof lab[0], "%s, Pareto front%s", method_name(meth), which ? " (tangent)" : "");
+        p.series[ns].x = ax[mi]; p.series[ns].y = ay[mi]; p.series[ns].n = n; p.series[ns].label = lab[3 * mi];
+        p.series[ns].colour = col[mi]; p.series[ns].points = 1; p.series[ns].no_line = 1; p.series[ns].width_px = 3; ns++;
+        p.series[ns].x = fx[mi]; p.series[ns].y = fy[mi]; p.series[ns].n = nf; p.series[ns].label = lab[3 * mi + 1];
         p.series[ns].colour = col[mi]; p.series[ns].points = 1; ns++;
+        if (which) {
+            nfc = pareto(cx[mi], cy[mi], n, fcx[mi], fcy[mi]);
+            snprintf(lab[3 * mi + 2], sizeof lab[0], "%s, Pareto front (chord)", method_name(meth));
+            p.series[ns].x = fcx[mi]; p.series[ns].y = fcy[mi]; p.series[ns].n = nfc; p.series[ns].label = lab[3 * mi + 2];
+            p.series[ns].colour = col[mi]; p.series[ns].dashed = 1; p.series[ns].points = 1; ns++;
+        }
     }
     if (threshold > 0 && xmax > 0) {
-        tx[0] = xmin * 0.8; tx[1] = xmax * 1.25; ty[0] = ty[1] = threshold;
-        p.series[ns].x = tx; p.series[ns].y = ty; p.series[ns].n = 2; p.series[ns].label = "target";
+        tx[0] = pow(10.0, floor(log10(xmin))); tx[1] = pow(10.0, ceil(log10(xmax * 1.2))); ty[0] = ty[1] = threshold;
+        p.series[ns].x = tx; p.series[ns].y = ty; p.series[ns].n = 2; p.series[ns].label = "criterion";
         p.series[ns].colour = 0x555555; p.series[ns].dashed = 1; ns++;
     }
     p.series_count = ns;
     p.title = title; p.xlabel = "wall time (s)"; p.ylabel = ylabel;
     p.logx = p.logy = 1;
-    p.legend = RJR_LEGEND_TOP_RIGHT;
+    if (ymax > 0) {
+        if (threshold > 0) { ymin = fmin(ymin, threshold); ymax = fmax(ymax, threshold); }
+        p.ymin = pow(10.0, floor(log10(ymin)) - 1); /* a decade of room for the legend */
+        p.ymax = pow(10.0, ceil(log10(ymax * 1.5)));
+        p.xmin = pow(10.0, floor(log10(xmin)));
+        p.xmax = pow(10.0, ceil(log10(xmax * 1.2)));
+    }
+    p.legend = RJR_LEGEND_BOTTOM_LEFT;
     if (rjr_plot(ctx, &p) || rjr_save_png(ctx, path, err, errlen)) {
         if (!err[0]) snprintf(err, errlen, "%s", rjr_error(ctx));
         return -1;
@@ -536,6 +577,14 @@ static const char *compiler(void)
 
 static void fmt_dt(char *b, size_t n, double dt) { snprintf(b, n, "%.4g", dt * 1e6); }
 
+/* path of file as seen from the directory of report (when file lies below it) */
+static const char *rel_path(const char *file, const char *report)
+{
+    const char *slash = strrchr(report, '/');
+    size_t n = slash ? (size_t)(slash - report) + 1 : 0;
+    return n && !strncmp(file, report, n) ? file + n : file;
+}
+
 /* ================================================================== main */
 int main(int argc, char **argv)
 {
@@ -552,7 +601,7 @@ int main(int argc, char **argv)
     int i, j, k, ndr = 0, nir = 0, cores, plot_failed = 0;
     double paper_w[32], paper_med = 0, t_total;
     long paper_steps = 0;
-    double paper_lock[2] = { 0, 0 };
+    double paper_lock[2] = { 0, 0 }, paper_model_pn = 0, paper_state_pn = 0;
     FILE *f;
     time_t tnow;
 
@@ -580,7 +629,7 @@ int main(int argc, char **argv)
         S.d_ndt[0] = 4; S.d_ndt[1] = 4; S.d_ndt[2] = 3; S.d_ndt[3] = 3;
         S.d_ref_el = 80; S.d_ref_div = 2; S.d_tend = 6.0;
         S.i_nel = 4; S.i_el[0] = 5; S.i_el[1] = 10; S.i_el[2] = 20; S.i_el[3] = 40;
-        S.i_ndt = 4; S.i_ref_el = 80; S.i_ref_div = 4; S.i_tend = 0.02;
+        S.i_ndt = 4; S.i_ref_el = 160; S.i_ref_div = 2; S.i_tend = 0.02;
         S.budget = 360;
     } else {
         S.tp_runs = 3; S.tp_min_time = 0.02; S.paper_runs = 1;
@@ -621,8 +670,8 @@ int main(int argc, char **argv)
             rj_link_def L[2]; rj_joint_def J[2]; rj_scene_def sc;
             deploy_scene(&o, L, J, &sc);
             J[1].penalty_k = dpaper.K;
-            dpaper.m.rms_c = (double)rj_model_size(&sc, NULL) / rj_model_node_count(m);
-            dpaper.m.rms_t = (double)rj_state_size(m) / rj_model_node_count(m);
+            paper_model_pn = (double)rj_model_size(&sc, NULL) / rj_model_node_count(m);
+            paper_state_pn = (double)rj_state_size(m) / rj_model_node_count(m);
         }
         rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
         progress("deployment at the paper's settings: %.3f s for %ld steps (%.0f steps/s)", paper_med, paper_steps, paper_steps / paper_med);
@@ -707,24 +756,91 @@ int main(int argc, char **argv)
     /* ---------------------------------------------------------------- plots */
     {
         char err[512] = "";
-        rjr_context *ctx = rjr_create(900, 600, err, sizeof err);
+        rjr_context *ctx = rjr_create(960, 720, err, sizeof err);
         if (!ctx) { fprintf(stderr, "bench: plot: %s\n", err); plot_failed = 1; }
         else {
-            if (work_precision_plot(ctx, plot, "Deployment (SPEC 9.2): q1, q2 before joint 2 locks", "max |q - q_ref| (deg)", dr, ndr, 0, 0.1, err, sizeof err)) {
+            if (work_precision_plot(ctx, plot, "Deployment (SPEC 9.2): q1, q2 before joint 2 locks", "max abs(q - q_ref) (deg)", dr, ndr, 0, 0.1, err, sizeof err)) {
                 fprintf(stderr, "bench: %s: %s\n", plot, err); plot_failed = 1;
             }
             err[0] = 0;
-            if (work_precision_plot(ctx, plot2, "Deployment: link 2 tip RMS deflection after locking", "|RMS / RMS_ref - 1| (%), scene_tip_defl", dr, ndr, 1, 2.0, err, sizeof err)) {
+            if (work_precision_plot(ctx, plot2, "Deployment: link 2 tip RMS deflection after joint 2 locks", "abs(RMS / RMS_ref - 1) (%)", dr, ndr, 1, 2.0, err, sizeof err)) {
                 fprintf(stderr, "bench: %s: %s\n", plot2, err); plot_failed = 1;
             }
             rjr_destroy(ctx);
         }
     }
 
+    /* refinement checks: errors should fall as dt or the element length falls; anything
+       else goes to the notes at the top of the report */
+    {
+        int nbad = 0;
+        for (i = 0; i < ndr; i++) for (k = 0; k < ndr; k++) {
+            const drow *a = &dr[i], *b = &dr[k];
+            int halfdt, twiceel;
+            if (!a->ok || !b->ok || a->method != b->method || a->paper || b->paper) continue;
+            halfdt = a->el == b->el && fabs(b->dt / a->dt - 0.5) < 1e-9;
+            twiceel = b->el == 2 * a->el && fabs(b->dt / b->bound - a->dt / a->bound) < 1e-3;
+            if ((halfdt || twiceel) && b->e.dq > 1.05 * a->e.dq + 1e-4) {
+                note("deployment %s: dq grows from %.4f deg (%d el, dt %.4g us) to %.4f deg (%d el, dt %.4g us)", method_name(a->method), a->e.dq, a->el, a->dt * 1e6,
+                     b->e.dq, b->el, b->dt * 1e6);
+                nbad++;
+            }
+            if ((halfdt || twiceel) && fabs(b->e.rms_t) > 1.1 * fabs(a->e.rms_t) + 0.002) {
+                note("deployment %s: tip RMS (tangent) error grows from %+.2f %% (%d el, dt %.4g us) to %+.2f %% (%d el, dt %.4g us)", method_name(a->method), 100 * a->e.rms_t, a->el,
+                     a->dt * 1e6, 100 * b->e.rms_t, b->el, b->dt * 1e6);
+                nbad++;
+            }
+        }
+        if (fabs(dchk[1].e.rms_c) > 3 * fabs(dchk[1].e.rms_t) && fabs(dchk[1].e.rms_c) > 0.005)
+            note("deployment: the chord-based tip deflection (`scene_tip_defl`) converges at first order in the element length: with half the reference's mesh its RMS is off by %+.2f %%, "
+                 "the tangent-based one by %+.3f %%; the difference is the chord-tangent angle of the first element (about kappa l / 2) times the link length. "
+                 "Amplitude criteria on `scene_tip_defl` need a much finer mesh than the dynamics do.", 100 * dchk[1].e.rms_c, 100 * dchk[1].e.rms_t);
+        if (fabs(dchk[0].e.dlock1) > 1e-3 || fabs(dchk[1].e.dlock1) > 1e-3)
+            note("deployment: joint 1's lock time is sensitive: it moves by %+.2f ms with twice the reference's step and %+.2f ms with half its mesh (joint 2's by %+.3f / %+.3f ms)",
+                 1e3 * dchk[0].e.dlock1, 1e3 * dchk[1].e.dlock1, 1e3 * dchk[0].e.dlock, 1e3 * dchk[1].e.dlock);
+        for (j = 0; j < 3; j++) {
+            int seen = 0;
+            for (i = 0; i < nir && !seen; i++) {
+                const irow *r = &ir[i];
+                if (!r->ok || r->method != imeth[j] || r->contacts == iref[j].contacts) continue;
+                if (fabs(r->e_last) > 0.1e-3) {
+                    note("impact %s: `rj_joint_release_time` (latest release) of the reference is %.4f ms with %d contact episode(s); %d el dt %.4g us has %d, and its latest release is off by %+.3f ms "
+                         "(first lasting release: %+.4f ms). The link grazes the stop again after the rebound; whether it touches depends on the mesh.",
+                         method_name(imeth[j]), 1e3 * iref[j].release_last, iref[j].contacts, r->el, r->dt * 1e6, r->contacts, 1e3 * r->e_last, 1e3 * r->e_first);
+                    seen = 1;
+                }
+            }
+            for (i = 0; i + S.i_ndt < nir; i++) {
+                const irow *a = &ir[i], *b = &ir[i + S.i_ndt];
+                if (!a->ok || !b->ok || a->method != imeth[j] || b->method != imeth[j] || b->el != 2 * a->el) continue;
+                if (fabs(b->e_first) > 1.5 * fabs(a->e_first) + 2e-6) {
+                    note("impact %s: first-release error grows with the mesh: %+.4f ms at %d el (dt %.4g us) to %+.4f ms at %d el (dt %.4g us)", method_name(imeth[j]),
+                         1e3 * a->e_first, a->el, a->dt * 1e6, 1e3 * b->e_first, b->el, b->dt * 1e6);
+                    nbad++;
+                    break;
+                }
+            }
+        }
+        progress("refinement checks: %d pairs where an error grows with refinement", nbad);
+    }
+
     /* ---------------------------------------------------------------- report */
     /* (written below: checks on refinement, cheapest settings, tables) */
     {
         char b1[32];
+        md("## Headline\n\n");
+        md("- Step cost, one free link: **%.1f / %.1f / %.1f ns per element-step** at %d / %d / %d elements (median of %d runs).\n",
+           tp[0].ns_med, tp[1].ns_med, tp[2].ns_med, tp[0].elements, tp[1].elements, tp[2].elements, S.tp_runs);
+        md("- Deployment at the paper's settings (10 elements per link, dt 7.5 us, 6 s): **%.3f s** wall, **%.3g steps/s**.\n", paper_med, paper_steps / paper_med);
+        for (j = 0; j < 2; j++) {
+            const drow *b = d_cheapest(dr, ndr, dmeth[j], 0);
+            if (!b) { md("- Deployment, %s: no setting in the sweep keeps q within 0.1 deg and the tip RMS within 2 %%.\n", method_name(dmeth[j])); continue; }
+            md("- Deployment, cheapest %s setting with q within 0.1 deg before joint 2 locks and the tip RMS within 2 %%: **%d elements per link, dt %.4g us, %.3f s** "
+               "(dq %.4f deg, tip RMS %+.2f %%, frequency %+.2f %%).\n", method_name(dmeth[j]), b->el, b->dt * 1e6, b->wall, b->e.dq, 100 * b->e.rms_t, 100 * b->e.freq_t);
+        }
+        md("- Deployment reference: adaptive, %d elements, dt %.4g us (%.1f s); against it, twice its step moves q by %.4f deg and half its mesh by %.4f deg.\n",
+           dref.el, dref.dt * 1e6, dref.wall, dchk[0].e.dq, dchk[1].e.dq);
+        md("\n");
         md("## 1. Throughput\n\n");
         md("One free flexible link (`rj_default_link_def()`, height 0.01 m, 1 m, spinning at omega = 1 rad/s, no joints), dt = 0.9 x its stability bound. "
            "Each timed run is `rj_step` in a loop of the given number of steps (at least %.2g s), from a reset state; median of %d runs. "
@@ -741,7 +857,7 @@ int main(int argc, char **argv)
            "(%.1f ns per element-step over its 20 elements). Joint 2 locks at %.6f s, joint 1 at %.6f s. "
            "Model %.0f bytes / node, state %.0f bytes / node (22 nodes).\n\n",
            dpaper.K, dpaper.bound * 1e6, S.paper_runs, paper_med, paper_steps, paper_steps / paper_med, 1e9 * paper_med / (paper_steps * 20.0),
-           paper_lock[1], paper_lock[0], dpaper.m.rms_c, dpaper.m.rms_t);
+           paper_lock[1], paper_lock[0], paper_model_pn, paper_state_pn);
     }
 
     /* deployment section */
@@ -764,46 +880,42 @@ int main(int argc, char **argv)
         md("Reference: adaptive, %d elements per link, dt = %.4g us (0.9 x bound / %g), %.1f s wall. Joint 2 locks at %.6f s (rigid model %.6f s), joint 1 at %.6f s (rigid %.6f s); "
            "tip RMS %.5g m (chord) / %.5g m (tangent), peak %.4g m, frequency %.4f Hz (chord) / %.4f Hz (tangent).\n\n",
            dref.el, dref.dt * 1e6, S.d_ref_div, dref.wall, dref.m.lock2, D_RIGID_LOCK[1], dref.m.lock1, D_RIGID_LOCK[0], dref.m.rms_c, dref.m.rms_t, dref.m.peak_c, dref.m.freq_c, dref.m.freq_t);
-        md("| against the reference | dq (deg) | lock (ms) | RMS chord | RMS tangent | freq chord | freq tangent |\n|---|---:|---:|---:|---:|---:|---:|\n");
+        md("| against the reference | wall (s) | dq (deg) | lock 2 (ms) | lock 1 (ms) | RMS tangent | RMS chord | freq tangent | freq chord |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         for (i = 0; i < 2; i++) {
             fmt_dt(b1, sizeof b1, dchk[i].dt);
-            md("| %s: %d elements, dt %s us | %.4f | %+.4f | %+.3f %% | %+.3f %% | %+.3f %% | %+.3f %% |\n", i ? "half the mesh" : "twice the step", dchk[i].el, b1, dchk[i].e.dq, 1e3 * dchk[i].e.dlock,
-               100 * dchk[i].e.rms_c, 100 * dchk[i].e.rms_t, 100 * dchk[i].e.freq_c, 100 * dchk[i].e.freq_t);
+            md("| %s: %d elements, dt %s us | %.2f | %.4f | %+.4f | %+.3f | %+.3f %% | %+.3f %% | %+.3f %% | %+.3f %% |\n", i ? "half the mesh" : "twice the step", dchk[i].el, b1, dchk[i].wall, dchk[i].e.dq, 1e3 * dchk[i].e.dlock,
+               1e3 * dchk[i].e.dlock1, 100 * dchk[i].e.rms_t, 100 * dchk[i].e.rms_c, 100 * dchk[i].e.freq_t, 100 * dchk[i].e.freq_c);
         }
         md("\nWith second-order convergence in the element length the reference's own mesh error is about a third of the 'half the mesh' row "
            "(error(l) - error(l/2) = 3 error(l/2)); a first-order quantity (the chord-based deflection) keeps about all of it.\n\n");
 
         md("### Sweep\n\n");
-        md("| method | elements | dt (us) | dt / bound | K joint 2 (N m/rad) | steps | wall (s) | runs | dq (deg) | lock (ms) | RMS chord | RMS tangent | freq chord | freq tangent |\n");
-        md("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        md("| method | elements | dt (us) | dt / bound | K joint 2 (N m/rad) | steps | wall (s) | runs | dq (deg) | lock 2 (ms) | lock 1 (ms) | RMS tangent | RMS chord | freq tangent | freq chord |\n");
+        md("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         for (i = 0; i < ndr; i++) {
             const drow *r = &dr[i];
             fmt_dt(b1, sizeof b1, r->dt);
-            if (!r->ok) { md("| %s | %d | %s%s | | | | failed: %s |||||||\n", method_name(r->method), r->el, b1, r->paper ? " (paper)" : "", r->msg); continue; }
-            md("| %s | %d | %s%s | %.3f | %.4g | %ld | %.3f | %d | %.4f | %+.4f | %+.2f %% | %+.2f %% | %+.2f %% | %+.2f %% |\n", method_name(r->method), r->el, b1, r->paper ? " (paper)" : "",
-               r->dt / r->bound, r->K, r->steps, r->wall, r->runs, r->e.dq, 1e3 * r->e.dlock, 100 * r->e.rms_c, 100 * r->e.rms_t, 100 * r->e.freq_c, 100 * r->e.freq_t);
+            if (!r->ok) { md("| %s | %d | %s%s | failed: %s | | | | | | | | | | | |\n", method_name(r->method), r->el, b1, r->paper ? " (paper)" : "", r->msg); continue; }
+            md("| %s | %d | %s%s | %.3f | %.4g | %ld | %.3f | %d | %s%.4f%s | %+.4f | %+.3f | %s%+.2f %%%s | %+.2f %% | %+.2f %% | %+.2f %% |\n", method_name(r->method), r->el, b1, r->paper ? " (paper)" : "",
+               r->dt / r->bound, r->K, r->steps, r->wall, r->runs, r->e.dq < 0.1 ? "**" : "", r->e.dq, r->e.dq < 0.1 ? "**" : "", 1e3 * r->e.dlock, 1e3 * r->e.dlock1,
+               fabs(r->e.rms_t) < 0.02 ? "**" : "", 100 * r->e.rms_t, fabs(r->e.rms_t) < 0.02 ? "**" : "", 100 * r->e.rms_c, 100 * r->e.freq_t, 100 * r->e.freq_c);
         }
-        /* cheapest settings: [method][0] chord criterion, [1] tangent criterion */
-        md("\n### Cheapest settings\n\nLeast wall time with dq < 0.1 deg and |RMS error| < 2 %% (and, separately, with dq < 0.1 deg alone):\n\n");
-        md("| method | criterion | elements | dt (us) | wall (s) | dq (deg) | lock (ms) | RMS chord | RMS tangent | freq chord |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        md("\n### Cheapest settings\n\nLeast wall time among the sweep's settings that keep dq < 0.1 deg and the post-lock tip RMS within 2 %% of the reference. "
+           "The tip amplitude is judged on the tangent-based deflection (it converges at second order, see above); the chord-based `scene_tip_defl` criterion and the "
+           "dq criterion alone are listed for comparison.\n\n");
+        md("| method | criterion | elements | dt (us) | wall (s) | dq (deg) | lock 2 (ms) | RMS tangent | RMS chord | freq tangent |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         for (j = 0; j < 2; j++) {
             int c;
+            static const char *const cname[3] = { "dq < 0.1 deg, RMS tangent within 2 %", "dq < 0.1 deg, RMS chord within 2 %", "dq < 0.1 deg only" };
             for (c = 0; c < 3; c++) {
-                const drow *b = NULL;
-                for (i = 0; i < ndr; i++) {
-                    const drow *r = &dr[i];
-                    double rr = c == 0 ? r->e.rms_c : r->e.rms_t;
-                    if (!r->ok || r->method != dmeth[j] || !(r->e.dq < 0.1)) continue;
-                    if (c < 2 && !(fabs(rr) < 0.02)) continue;
-                    if (!b || r->wall < b->wall) b = r;
-                }
-                if (!b) { md("| %s | %s | none in the sweep |||||||\n", method_name(dmeth[j]), c == 0 ? "dq, RMS chord" : (c == 1 ? "dq, RMS tangent" : "dq only")); continue; }
+                const drow *b = d_cheapest(dr, ndr, dmeth[j], c);
+                if (!b) { md("| %s | %s | none in the sweep | | | | | | | |\n", method_name(dmeth[j]), cname[c]); continue; }
                 fmt_dt(b1, sizeof b1, b->dt);
-                md("| %s | %s | %d | %s | %.3f | %.4f | %+.4f | %+.2f %% | %+.2f %% | %+.2f %% |\n", method_name(dmeth[j]), c == 0 ? "dq, RMS chord" : (c == 1 ? "dq, RMS tangent" : "dq only"),
-                   b->el, b1, b->wall, b->e.dq, 1e3 * b->e.dlock, 100 * b->e.rms_c, 100 * b->e.rms_t, 100 * b->e.freq_c);
+                md("| %s | %s | %d | %s%s | %.3f | %.4f | %+.4f | %+.2f %% | %+.2f %% | %+.2f %% |\n", method_name(dmeth[j]), cname[c],
+                   b->el, b1, b->paper ? " (paper)" : "", b->wall, b->e.dq, 1e3 * b->e.dlock, 100 * b->e.rms_t, 100 * b->e.rms_c, 100 * b->e.freq_t);
             }
         }
-        md("\n![work-precision, deployment q](%s)\n\n![work-precision, deployment tip amplitude](%s)\n\n", plot, plot2);
+        md("\n![work-precision, deployment q](%s)\n\n![work-precision, deployment tip amplitude](%s)\n\n", rel_path(plot, out), rel_path(plot2, out));
     }
 
     /* impact section */
@@ -815,7 +927,8 @@ int main(int argc, char **argv)
            "interval of at least 0.1 ms (the contact's end; adaptive and RC13 toggle the flag step by step while in contact); *last* = `rj_joint_release_time` "
            "(latest release, which moves when the link touches the stop again). Peak: max |tip deflection| of the moving link, chord (`scene_tip_defl`) and tangent. "
            "Each method converges to its own solution (penalty with fixed K is a compliant stop; adaptive's K_AP grows as 1/dt^2; momentum is a plastic impact), "
-           "so each is compared with its own reference: %d elements at 0.9 x bound / %g.\n\n", 1e3 * S.i_tend, S.i_ref_el, S.i_ref_div);
+           "so each is compared with its own reference: %d elements at 0.9 x bound / %g; the two checks are its mesh at twice the step and half its mesh at the same fraction of the bound. "
+           "Peak deflection from the chord converges at first order in the element length (like the deployment's), from the tangent at second order.\n\n", 1e3 * S.i_tend, S.i_ref_el, S.i_ref_div);
         md("| reference | dt (us) | wall (s) | contact (ms) | release first (ms) | release last (ms) | contacts | peak chord (m) | peak tangent (m) | check: 2x step, release / peak chord / peak tangent | check: half mesh, release / peak chord / peak tangent |\n");
         md("|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---|\n");
         for (j = 0; j < 3; j++) {
@@ -846,23 +959,6 @@ int main(int argc, char **argv)
             md("- %s: %d elements, dt %s us: %.4f s, release %+.4f ms, peak %+.2f %% (tangent) / %+.2f %% (chord)\n", method_name(imeth[j]), b->el, b1, b->wall, 1e3 * b->e_first, 100 * b->e_peak_t, 100 * b->e_peak_c);
         }
         md("\n");
-    }
-
-    /* refinement checks: errors should fall as dt or the element length falls */
-    {
-        int nbad = 0;
-        for (i = 0; i < ndr; i++) for (k = 0; k < ndr; k++) {
-            const drow *a = &dr[i], *b = &dr[k];
-            if (!a->ok || !b->ok || a->method != b->method || a->paper || b->paper) continue;
-            /* same mesh, half the step; or same step fraction, twice the elements */
-            if ((a->el == b->el && fabs(b->dt / a->dt - 0.5) < 1e-9) || (b->el == 2 * a->el && fabs(b->dt / b->bound - a->dt / a->bound) < 1e-3)) {
-                if (b->e.dq > 1.05 * a->e.dq + 1e-4) {
-                    note("deployment %s: dq does not fall from %d el dt %.4g us (%.4f deg) to %d el dt %.4g us (%.4f deg)", method_name(a->method), a->el, a->dt * 1e6, a->e.dq, b->el, b->dt * 1e6, b->e.dq);
-                    nbad++;
-                }
-            }
-        }
-        progress("refinement checks: %d deployment dq pairs that do not fall", nbad);
     }
 
     t_total = now() - T_START;

@@ -195,11 +195,75 @@ static void test_deploy(rjt_ctx *c)
               l10, lr[1], 100 * (l10 / lr[1] - 1), l40, lq);
 }
 
+
+/* ---------------------------------------------------------------- rigid links (issue 7) */
+typedef struct rhist { int n; double t[8000], q1[8000], q2[8000]; } rhist;
+static int rh_sample(const rj_model *m, const rj_state *s, void *u)
+{
+    rhist *h = (rhist *)u;
+    if (h->n < 8000) { h->t[h->n] = rj_state_time(s); h->q1[h->n] = deploy_q1_deg(m, s); h->q2[h->n] = deploy_q2_deg(m, s); h->n++; }
+    return 0;
+}
+static void rh_rsample(const rigid2_sample *s, void *u)
+{
+    rhist *h = (rhist *)u;
+    if (h->n < 8000) { h->t[h->n] = s->t; h->q1[h->n] = rj_deg(s->q[0]); h->q2[h->n] = rj_deg(s->q[1]); h->n++; }
+}
+
+static void test_rigid(rjt_ctx *c)
+{
+    static rhist h, hr;
+    rigid2_params p;
+    double lr[2], dev = 0;
+    deploy_opts o = deploy_default_opts();
+    rj_link_def L[2]; rj_joint_def J[2]; rj_scene_def sc; rj_model *m; rj_state *s; rj_error e;
+    int i, k;
+    rigid2_default_params(&p);
+    hr.n = 0;
+    rigid2_run(&p, 6.0, 1e-3, rh_rsample, &hr, lr);
+    for (k = 0; k < 2; k++) {
+        double dt = k == 0 ? 1e-3 : 2e-3, e0;
+        char name[128];
+        rj_energy en;
+        o.dt = dt;
+        deploy_scene(&o, L, J, &sc);
+        L[0].fidelity = L[1].fidelity = RJ_LINK_RIGID; L[0].elements = L[1].elements = 1;
+        J[0].method = J[1].method = RJ_METHOD_MOMENTUM;   /* plastic locks, as the rigid reference */
+        if (rj_model_create(&sc, &m, &e, NULL) != RJ_OK) { rjt_check(c, 0, "rigid deployment builds", "%s", e.msg); return; }
+        rj_state_create(m, &s, NULL);
+        h.n = 0;
+        rj_run(m, s, 6.0, dt, rh_sample, &h);
+        dev = 0;
+        for (i = 0; i < h.n; i++) {
+            int r = (int)floor(h.t[i] / 1e-3 + 0.5);
+            if (h.t[i] > lr[1] - dt || r >= hr.n) break;
+            if (fabs(h.q1[i] - hr.q1[r]) > dev) dev = fabs(h.q1[i] - hr.q1[r]);
+            if (fabs(h.q2[i] - hr.q2[r]) > dev) dev = fabs(h.q2[i] - hr.q2[r]);
+        }
+        snprintf(name, sizeof name, "rigid links at dt = %g ms reproduce the rigid reference within 1e-3 deg before locking", 1e3 * dt);
+        rjt_check(c, dev < 1e-3, name, "max |dq| %.3g deg", dev);
+        snprintf(name, sizeof name, "rigid links at dt = %g ms lock within one step of the reference", 1e3 * dt);
+        rjt_check(c, fabs(rj_joint_event_time(m, s, 1) - lr[1]) <= dt && fabs(rj_joint_event_time(m, s, 0) - lr[0]) <= 2 * dt, name,
+                  "joint 2 %.4f s (reference %.6f), joint 1 %.4f s (reference %.6f)", rj_joint_event_time(m, s, 1), lr[1], rj_joint_event_time(m, s, 0), lr[0]);
+        rj_state_energy(m, s, &en);
+        e0 = en.total - en.balance + en.lost_damping + en.lost_friction + en.lost_limit;   /* initial */
+        (void)e0;
+        if (k == 0) rjt_check(c, fabs(en.balance) < 1e-3 * 1.755, "rigid links: energy balance (friction, plastic locks) closes to 1e-3 of E0",
+                              "balance %.3g J; lost to friction %.4f J (reference %.4f), to locks %.4f J (reference 1.0525)", en.balance, en.lost_friction, 0.130769, en.lost_limit);
+        rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+    }
+    /* mixing is refused with a clear error */
+    deploy_scene(&o, L, J, &sc);
+    L[1].fidelity = RJ_LINK_RIGID;
+    rjt_check(c, rj_model_create(&sc, &m, &e, NULL) == RJ_ERR_INVALID && strcmp(e.field, "links[1].fidelity") == 0, "mixing rigid and flexible links is refused, naming the field", "\"%s\"", e.msg);
+}
+
 int main(int argc, char **argv)
 {
     rjt_ctx c = { 0, 0 };
     int quick = argc > 1 && strcmp(argv[1], "--impact-only") == 0;
     test_impact(&c);
     if (!quick) test_deploy(&c);
+    test_rigid(&c);
     return rjt_summary(&c, "test_benchmarks");
 }
