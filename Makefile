@@ -26,7 +26,7 @@ TESTS   = $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_benchmarks 
           $(B)/test_render $(B)/csvdiff $(B)/test_core_asan $(B)/test_dynamics_asan $(B)/test_beam_asan \
           $(B)/test_core_clang $(B)/test_cpp $(B)/test_state $(B)/test_state_asan
 
-.PHONY: all deps test demo golden bench stress clean check-header
+.PHONY: all deps test demo golden bench stress clean check-header valgrind
 all: deps $(EXAMPLES)
 
 deps:
@@ -94,6 +94,13 @@ demo: deps $(B)/deploy
 	@echo "demo: wrote out/deploy.csv (flexible history), out/deploy_rigid.csv (rigid reference),"
 	@echo "      out/deploy_angles.png (plot), out/frames/frame_*.png (animation)"
 	@echo "      video: ffmpeg -framerate 30 -i out/frames/frame_%05d.png -pix_fmt yuv420p out/deploy.mp4"
+
+# valgrind memcheck over the unit tests (errors or leaks fail; see README)
+valgrind: deps $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_state
+	@sh tests/run.sh "valgrind --error-exitcode=9 --leak-check=full --errors-for-leak-kinds=definite,indirect -q $(B)/test_core" \
+	  "valgrind --error-exitcode=9 --leak-check=full --errors-for-leak-kinds=definite,indirect -q $(B)/test_beam" \
+	  "valgrind --error-exitcode=9 --leak-check=full --errors-for-leak-kinds=definite,indirect -q $(B)/test_state" \
+	  "valgrind --error-exitcode=9 --leak-check=full --errors-for-leak-kinds=definite,indirect -q $(B)/test_dynamics"
 
 clean:
 	rm -rf $(B) out

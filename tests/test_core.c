@@ -135,6 +135,30 @@ static void test_stability_paper(rjt_ctx *c)
 
 /* every invalid field of every definition struct is rejected, names the field, leaves the
    caller's structs unchanged, and builds nothing */
+/* field-by-field bitwise comparison (struct padding is indeterminate, so no memcmp of
+   whole structs: valgrind rightly objects) */
+#define SAMEF(a, b, f) (memcmp(&(a).f, &(b).f, sizeof (a).f) == 0)
+static int same_link(const rj_link_def *a, const rj_link_def *b)
+{
+    return SAMEF(*a, *b, length) && SAMEF(*a, *b, elements) && SAMEF(*a, *b, E) && SAMEF(*a, *b, rho) && SAMEF(*a, *b, section)
+        && SAMEF(*a, *b, width) && SAMEF(*a, *b, height) && SAMEF(*a, *b, layers) && SAMEF(*a, *b, area) && SAMEF(*a, *b, inertia)
+        && SAMEF(*a, *b, tip_mass) && SAMEF(*a, *b, tip_inertia) && SAMEF(*a, *b, root) && SAMEF(*a, *b, x) && SAMEF(*a, *b, y)
+        && SAMEF(*a, *b, angle) && SAMEF(*a, *b, vx) && SAMEF(*a, *b, vy) && SAMEF(*a, *b, omega) && SAMEF(*a, *b, fidelity) && SAMEF(*a, *b, cookie);
+}
+static int same_joint(const rj_joint_def *a, const rj_joint_def *b)
+{
+    return SAMEF(*a, *b, body1) && SAMEF(*a, *b, node1) && SAMEF(*a, *b, body2) && SAMEF(*a, *b, ground_x) && SAMEF(*a, *b, ground_y)
+        && SAMEF(*a, *b, ground_angle) && SAMEF(*a, *b, angle0) && SAMEF(*a, *b, rate0) && SAMEF(*a, *b, table_count)
+        && SAMEF(*a, *b, table_angle) && SAMEF(*a, *b, table_torque) && SAMEF(*a, *b, spring_k) && SAMEF(*a, *b, spring_free_angle)
+        && SAMEF(*a, *b, has_forward) && SAMEF(*a, *b, forward) && SAMEF(*a, *b, has_reverse) && SAMEF(*a, *b, reverse)
+        && SAMEF(*a, *b, lock) && SAMEF(*a, *b, method) && SAMEF(*a, *b, release) && SAMEF(*a, *b, penalty_k)
+        && SAMEF(*a, *b, restitution) && SAMEF(*a, *b, damping) && SAMEF(*a, *b, friction) && SAMEF(*a, *b, reference) && SAMEF(*a, *b, cookie);
+}
+static int same_solver(const rj_solver_def *a, const rj_solver_def *b)
+{
+    return SAMEF(*a, *b, dt) && SAMEF(*a, *b, allow_unstable) && SAMEF(*a, *b, energy_growth) && SAMEF(*a, *b, cookie);
+}
+
 typedef struct badcase { const char *field; int which; int idx; double value; } badcase;
 
 static void test_validation(rjt_ctx *c)
@@ -168,17 +192,18 @@ static void test_validation(rjt_ctx *c)
         rj_error err;
         rj_model *m = NULL;
         rj_result r;
-        char name[120], snap[sizeof L + sizeof J];
+        char name[120];
+        rj_link_def snapL[2]; rj_joint_def snapJ[1];
         rj_solver_def keep;
         memcpy(L, L0, sizeof L); memcpy(J, J0, sizeof J);
         sc = rj_default_scene_def(); sc.links = L; sc.link_count = 2; sc.joints = J; sc.joint_count = 1; sc.solver.dt = 2.5e-6;
         if (cases[i].isint) *(int *)cases[i].ptr = (int)cases[i].bad; else *(double *)cases[i].ptr = cases[i].bad;
-        memcpy(snap, L, sizeof L); memcpy(snap + sizeof L, J, sizeof J);
+        snapL[0] = L[0]; snapL[1] = L[1]; snapJ[0] = J[0];
         keep = sc.solver;
         r = rj_model_create(&sc, &m, &err, NULL);
         snprintf(name, sizeof name, "invalid %s = %g rejected, named", cases[i].field, cases[i].bad);
         rjt_check(c, r == RJ_ERR_INVALID && m == NULL && strcmp(err.field, cases[i].field) == 0 && strstr(err.msg, cases[i].field) != NULL
-                  && memcmp(snap, L, sizeof L) == 0 && memcmp(snap + sizeof L, J, sizeof J) == 0 && memcmp(&keep, &sc.solver, sizeof keep) == 0,
+                  && same_link(&snapL[0], &L[0]) && same_link(&snapL[1], &L[1]) && same_joint(&snapJ[0], &J[0]) && same_solver(&keep, &sc.solver),
                   name, "\"%s\"", err.msg);
     }
     /* a def that was never defaulted */
