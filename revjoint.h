@@ -113,7 +113,11 @@ typedef enum rj_root { RJ_ROOT_FREE = 0, RJ_ROOT_PINNED, RJ_ROOT_CLAMPED, RJ_ROO
    yet), every rigid link hangs from one joint or is RJ_ROOT_FIXED, and
    RJ_METHOD_ENERGY is not available. A rigid link is a uniform rod (rho A L, rho A L^3/12
    about its centre) with its tip mass; its nodes are kept only to report and draw it. */
-typedef enum rj_fidelity { RJ_LINK_FLEXIBLE = 0, RJ_LINK_RIGID } rj_fidelity;
+/* RJ_LINK_INEXTENSIBLE links bend like flexible ones, but their element lengths are
+   constraints (SHAKE projection along the previous chords, a tridiagonal solve per link),
+   so the axial wave no longer limits the step: only bending does. They mix freely with
+   flexible links. */
+typedef enum rj_fidelity { RJ_LINK_FLEXIBLE = 0, RJ_LINK_RIGID, RJ_LINK_INEXTENSIBLE } rj_fidelity;
 
 /* Section description. */
 typedef enum rj_section { RJ_SECTION_RECT = 0, RJ_SECTION_GENERAL } rj_section;
@@ -441,6 +445,11 @@ struct rj_model {
     double *link_l0;          /* (nl) element rest length, m */
     double *link_EA, *link_EI;/* (nl) N, N m^2 */
     double *link_rho, *link_I;/* (nl) kg/m^3, m^4 */
+    int any_inext;            /* some link is RJ_LINK_INEXTENSIBLE */
+    int nch;                  /* inextensible chains: links joined tip to root form one chain */
+    int *ch_first;            /* (nl+1) first entry of each chain in ch_node */
+    int *ch_node;             /* (nn+nl) node indices along the chains (a shared pin once) */
+    double *ch_l0sq;          /* (nn+nl) squared rest length of the element after each entry */
     double *mass, *rinertia;  /* (nn) lumped translational mass kg, rotary inertia kg m^2 */
     double *tinv;             /* (nn) 1/mass for free ungrouped nodes, 0 for fixed or grouped nodes */
     double *rinv;             /* (nn) 1/rinertia, 0 for fixed rotations */
@@ -772,8 +781,8 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
     for (i = 0; i < sc->link_count; i++) {
         const rj_link_def *L = &sc->links[i];
         int parent = 0;
-        if (L->fidelity != RJ_LINK_FLEXIBLE && L->fidelity != RJ_LINK_RIGID) { RJ__FIELD(f, "links[%d].fidelity", i); rj__fail(err, RJ_ERR_INVALID, f, L->fidelity, "%s = %d is invalid: RJ_LINK_FLEXIBLE or RJ_LINK_RIGID", f, L->fidelity); return 0; }
-        if (L->fidelity != sc->links[0].fidelity) { RJ__FIELD(f, "links[%d].fidelity", i); rj__fail(err, RJ_ERR_INVALID, f, L->fidelity, "%s = %d is invalid: mixing rigid and flexible links in one scene is not supported yet (links[0] is %s)", f, L->fidelity, sc->links[0].fidelity == RJ_LINK_RIGID ? "rigid" : "flexible"); return 0; }
+        if (L->fidelity != RJ_LINK_FLEXIBLE && L->fidelity != RJ_LINK_RIGID && L->fidelity != RJ_LINK_INEXTENSIBLE) { RJ__FIELD(f, "links[%d].fidelity", i); rj__fail(err, RJ_ERR_INVALID, f, L->fidelity, "%s = %d is invalid: RJ_LINK_FLEXIBLE, RJ_LINK_RIGID or RJ_LINK_INEXTENSIBLE", f, L->fidelity); return 0; }
+        if ((L->fidelity == RJ_LINK_RIGID) != (sc->links[0].fidelity == RJ_LINK_RIGID)) { RJ__FIELD(f, "links[%d].fidelity", i); rj__fail(err, RJ_ERR_INVALID, f, L->fidelity, "%s = %d is invalid: mixing rigid and flexible links in one scene is not supported yet (links[0] is %s)", f, L->fidelity, sc->links[0].fidelity == RJ_LINK_RIGID ? "rigid" : "flexible"); return 0; }
         if (L->fidelity != RJ_LINK_RIGID) continue;
         for (j = 0; j < sc->joint_count; j++) if (sc->joints[j].body2 == i) parent = 1;
         if (!parent && L->root != RJ_ROOT_FIXED) { RJ__FIELD(f, "links[%d].root", i); rj__fail(err, RJ_ERR_INVALID, f, L->root, "%s = %d is invalid: a rigid link must hang from a joint or be RJ_ROOT_FIXED", f, L->root); return 0; }
@@ -808,7 +817,7 @@ static size_t rj__carve(size_t *off, size_t count, size_t elsize)
 
 typedef struct rj__layout {
     size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho, link_I;
-    size_t rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin, jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, x0, y0, phi0, vx0, vy0, w0, beta0, lz;
+    size_t ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin, jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, x0, y0, phi0, vx0, vy0, w0, beta0, lz;
 } rj__layout;
 
 static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
@@ -824,6 +833,9 @@ static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
     L->link_EI = rj__carve(&off, (size_t)nl, sizeof(double));
     L->link_rho = rj__carve(&off, (size_t)nl, sizeof(double));
     L->link_I = rj__carve(&off, (size_t)nl, sizeof(double));
+    L->ch_first = rj__carve(&off, (size_t)nl + 1, sizeof(int));
+    L->ch_node = rj__carve(&off, (size_t)nn + nl, sizeof(int));
+    L->ch_l0sq = rj__carve(&off, (size_t)nn + nl, sizeof(double));
     L->rb_mass = rj__carve(&off, (size_t)nl, sizeof(double));
     L->rb_icm = rj__carve(&off, (size_t)nl, sizeof(double));
     L->rb_dcm = rj__carve(&off, (size_t)nl, sizeof(double));
@@ -924,7 +936,8 @@ static double rj__beam_forces(const rj_model *m, const double *x, const double *
     int l, e;
     for (l = 0; l < m->nl; l++) {
         const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;
-        const double l0 = m->link_l0[l], kax = m->link_EA[l] / l0, kb = m->link_EI[l] / l0;
+        const double l0 = m->link_l0[l], kb = m->link_EI[l] / l0;
+        const double kax = m->ldef[l].fidelity == RJ_LINK_INEXTENSIBLE ? 0.0 : m->link_EA[l] / l0;   /* a constraint instead */
         const double l0sq = l0 * l0, half_inv_l0sq = 0.5 / l0sq;
         const double *RJ__RESTRICT xa = x + n0, *RJ__RESTRICT ya = y + n0, *RJ__RESTRICT pa = phi + n0;
         const double *RJ__RESTRICT bb = beta + e0, *RJ__RESTRICT ccx = cx + e0, *RJ__RESTRICT ccy = cy + e0;
@@ -1260,6 +1273,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     RJ__SET(ldef, rj_link_def); RJ__SET(jdef, rj_joint_def); RJ__SET(jnt, rj__joint);
     RJ__SET(link_first, int); RJ__SET(link_efirst, int); RJ__SET(link_l0, double); RJ__SET(link_EA, double);
     RJ__SET(link_EI, double); RJ__SET(link_rho, double); RJ__SET(link_I, double);
+    RJ__SET(ch_first, int); RJ__SET(ch_node, int); RJ__SET(ch_l0sq, double);
     RJ__SET(rb_mass, double); RJ__SET(rb_icm, double); RJ__SET(rb_dcm, double); RJ__SET(rb_pjoint, int);
     RJ__SET(jorder, int); RJ__SET(jpin, double); RJ__SET(jref, double);
     RJ__SET(mass, double); RJ__SET(rinertia, double); RJ__SET(tinv, double); RJ__SET(rinv, double); RJ__SET(einv, double); RJ__SET(kmass, double); RJ__SET(krot, double);
@@ -1445,6 +1459,37 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     }
     /* rigid scenes: link bodies, joint order, pins */
     m->rigid = m->ldef[0].fidelity == RJ_LINK_RIGID;
+    for (l = 0; l < m->nl; l++) if (m->ldef[l].fidelity == RJ_LINK_INEXTENSIBLE) m->any_inext = 1;
+    if (m->any_inext) {
+        /* chains: start at an inextensible link not hanging from the tip of another
+           inextensible link; follow while the tip carries exactly one inextensible child */
+        int cnt = 0, k, *used = (int *)(void *)(m->lz), nchild, child;
+        for (l = 0; l < m->nl; l++) used[l] = 0;
+        m->nch = 0; m->ch_first[0] = 0;
+        for (l = 0; l < m->nl; l++) {
+            int cur = l, pj = -1;
+            if (m->ldef[l].fidelity != RJ_LINK_INEXTENSIBLE || used[l]) continue;
+            for (j = 0; j < m->nj; j++) if (m->jdef[j].body2 == l) pj = j;
+            if (pj >= 0) {
+                const int b1 = m->jdef[pj].body1;
+                if (b1 >= 0 && m->ldef[b1].fidelity == RJ_LINK_INEXTENSIBLE && m->jnt[pj].nI == m->link_first[b1 + 1] - 1) {
+                    int siblings = 0;
+                    for (k = 0; k < m->nj; k++) if (m->jnt[k].nI == m->jnt[pj].nI && m->ldef[m->jdef[k].body2].fidelity == RJ_LINK_INEXTENSIBLE) siblings++;
+                    if (siblings == 1) continue;   /* it continues its parent's chain */
+                }
+            }
+            for (;;) {
+                const int n0 = m->link_first[cur], ne = m->ldef[cur].elements, first = cnt == m->ch_first[m->nch];
+                used[cur] = 1;
+                for (k = first ? 0 : 1; k <= ne; k++) { m->ch_node[cnt] = n0 + k; m->ch_l0sq[cnt] = m->link_l0[cur] * m->link_l0[cur]; cnt++; }
+                nchild = 0; child = -1;
+                for (k = 0; k < m->nj; k++) if (m->jnt[k].nI == n0 + ne && m->ldef[m->jdef[k].body2].fidelity == RJ_LINK_INEXTENSIBLE) { nchild++; child = m->jdef[k].body2; }
+                if (nchild != 1 || used[child]) break;
+                cur = child;
+            }
+            m->ch_first[++m->nch] = cnt;
+        }
+    }
     if (m->rigid) {
         int k, placed_n = 0, guard;
         for (l = 0; l < m->nl; l++) {
@@ -1795,6 +1840,61 @@ static void rj__worst_node(const rj_model *m, const double *f, int *link, int *n
             for (l = 0; l < m->nl; l++) if (i >= m->link_first[l] && i < m->link_first[l + 1]) { *link = l; *node = i - m->link_first[l]; }
             if (!(v == v)) break;
         }
+    }
+}
+
+/* Inextensible links: SHAKE. After the position update, Newton iterations on the element
+   length constraints |x_{i+1} - x_i|^2 = l0^2 with corrections along the previous chords
+   e_i^n, dx_k = 2 w_k (lambda_{k-1} e_{k-1}^n - lambda_k e_k^n) (w: inverse masses, the
+   group's for pinned nodes), give a tridiagonal system per chain (Thomas algorithm); links
+   joined tip to root form one chain. Velocities follow the corrected positions. */
+static void rj__shake(const rj_model *m, rj_state *s, const double *x, const double *y, double *nx, double *ny)
+{
+    double *a = s->efx, *b = s->efy, *c = s->em1, *r = s->em2, *lam = s->eu;   /* element scratch (ne >= chain elements) */
+    int ch, it, i, q, gi;
+    for (ch = 0; ch < m->nch; ch++) {
+        const int *nd = m->ch_node + m->ch_first[ch], ne = m->ch_first[ch + 1] - m->ch_first[ch] - 1;
+        const double *l0sq = m->ch_l0sq + m->ch_first[ch];
+        for (it = 0; it < 4; it++) {
+            double worst = 0;
+            for (i = 0; i < ne; i++) {
+                const int k = nd[i], k1 = nd[i + 1];
+                const double ex = nx[k1] - nx[k], ey = ny[k1] - ny[k], ox = x[k1] - x[k], oy = y[k1] - y[k];
+                const double wi = m->einv[k], wj = m->einv[k1], g = ex * ex + ey * ey - l0sq[i + 1];
+                if (fabs(g) > worst * l0sq[i + 1]) worst = fabs(g) / l0sq[i + 1];
+                b[i] = 4.0 * (wi + wj) * (ex * ox + ey * oy);
+                a[i] = i > 0 ? -4.0 * wi * (ex * (x[k] - x[nd[i - 1]]) + ey * (y[k] - y[nd[i - 1]])) : 0.0;
+                c[i] = i + 1 < ne ? -4.0 * wj * (ex * (x[nd[i + 2]] - x[k1]) + ey * (y[nd[i + 2]] - y[k1])) : 0.0;
+                r[i] = -g;
+            }
+            if (worst < 1e-14) break;
+            for (i = 1; i < ne; i++) { const double f = a[i] / b[i - 1]; b[i] -= f * c[i - 1]; r[i] -= f * r[i - 1]; }
+            lam[ne - 1] = r[ne - 1] / b[ne - 1];
+            for (i = ne - 2; i >= 0; i--) lam[i] = (r[i] - c[i] * lam[i + 1]) / b[i];
+            for (i = 0; i <= ne; i++) {
+                const int k = nd[i];
+                double dx = 0, dy = 0;
+                if (i > 0) { dx += lam[i - 1] * (x[k] - x[nd[i - 1]]); dy += lam[i - 1] * (y[k] - y[nd[i - 1]]); }
+                if (i < ne) { dx -= lam[i] * (x[nd[i + 1]] - x[k]); dy -= lam[i] * (y[nd[i + 1]] - y[k]); }
+                nx[k] += 2.0 * m->einv[k] * dx; ny[k] += 2.0 * m->einv[k] * dy;
+            }
+        }
+    }
+    /* pins: every member of a group takes the position of the member a chain moved last */
+    for (gi = 0; gi < m->ng; gi++) {
+        const int f0 = m->grp_first[gi], f1 = m->grp_first[gi + 1];
+        int src = m->grp_node[f0];
+        for (q = f0; q < f1; q++) if (nx[m->grp_node[q]] != nx[src] || ny[m->grp_node[q]] != ny[src]) {
+            /* the chain entry is the lowest-index member on an inextensible link */
+            int k;
+            for (k = f0; k < f1; k++) {
+                int l, on = 0;
+                for (l = 0; l < m->nl; l++) if (m->grp_node[k] >= m->link_first[l] && m->grp_node[k] < m->link_first[l + 1] && m->ldef[l].fidelity == RJ_LINK_INEXTENSIBLE) on = 1;
+                if (on) { src = m->grp_node[k]; break; }
+            }
+            break;
+        }
+        for (q = f0; q < f1; q++) { nx[m->grp_node[q]] = nx[src]; ny[m->grp_node[q]] = ny[src]; }
     }
 }
 
@@ -2288,6 +2388,27 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         nx[i] = x[i] + dt * nvx[i];
         ny[i] = y[i] + dt * nvy[i];
         nphi[i] = phi[i] + dt * nw[i];
+    }
+    if (m->any_inext) {
+        /* constraint forces do no work: the velocities follow the projected positions, and
+           the kinetic energy is taken again with them */
+        double k0 = 0;
+        rj__shake(m, s, x, y, nx, ny);
+        for (i = 0; i < nn; i++) { nvx[i] = (nx[i] - x[i]) / dt; nvy[i] = (ny[i] - y[i]) / dt; }
+        for (i = 0; i < nn; i++) {
+            const double vmx = s->steps == 0 ? 2 * vx[i] - nvx[i] : vx[i], vmy = s->steps == 0 ? 2 * vy[i] - nvy[i] : vy[i];
+            const double vmw = s->steps == 0 ? 2 * w[i] - nw[i] : w[i];
+            k0 += m->kmass[i] * (vmx * nvx[i] + vmy * nvy[i]) + m->krot[i] * vmw * nw[i];
+        }
+        for (gi = 0; gi < m->ng; gi++) {
+            const int r0 = m->grp_node[m->grp_first[gi]];
+            double msum = 0;
+            int q;
+            if (!(m->grp_inv[gi] > 0)) continue;
+            for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++) msum += m->mass[m->grp_node[q]];
+            k0 += msum * ((s->steps == 0 ? 2 * vx[r0] - nvx[r0] : vx[r0]) * nvx[r0] + (s->steps == 0 ? 2 * vy[r0] - nvy[r0] : vy[r0]) * nvy[r0]);
+        }
+        ke = 0.5 * k0;
     }
 
     /* 6. running angles (unwrapped in chord mode), forced displacement back to the limit */

@@ -73,6 +73,25 @@ static int runs_for(double t1)
     return t1 < 6.0 ? 3 : 1;
 }
 
+/* CPU time of this process: unlike the wall time it does not count time spent descheduled
+   when other processes load the machine; both are reported */
+static double cpu_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static void loadavg(char *b, size_t n)
+{
+    FILE *f = fopen("/proc/loadavg", "r");
+    double a = 0, c = 0, d = 0;
+    snprintf(b, n, "unknown");
+    if (!f) return;
+    if (fscanf(f, "%lf %lf %lf", &a, &c, &d) == 3) snprintf(b, n, "%.2f %.2f %.2f", a, c, d);
+    fclose(f);
+}
+
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -118,7 +137,7 @@ static void progress(const char *fmt, ...)
 }
 
 /* notes for the "what to look at" section: anything that does not behave as expected */
-static char NOTES[32][400];
+static char NOTES[32][800];
 static int NNOTES;
 static void note(const char *fmt, ...)
 {
@@ -150,7 +169,7 @@ static double tip_defl_tangent(const rj_model *m, const rj_state *s, int l)
 /* ================================================================== 1. throughput */
 typedef struct tp_row {
     int elements, runs; long steps;
-    double dt, ns_med, ns_min, ns_max, model_per_node, state_per_node, edrift;
+    double dt, ns_med, ns_min, ns_max, ns_cpu, model_per_node, state_per_node, edrift;
     int nodes;
 } tp_row;
 
@@ -159,7 +178,7 @@ static int free_link(int elements, tp_row *o)
     rj_link_def L = rj_default_link_def();
     rj_scene_def sc = rj_default_scene_def();
     rj_model *m; rj_state *s; rj_error err; rj_energy e0, e1;
-    double t, ns[32];
+    double t, c, ns[32], nc[32];
     long steps = 16, k;
     int r;
     L.height = 0.01; L.elements = elements; L.omega = 1.0;
@@ -187,16 +206,18 @@ static int free_link(int elements, tp_row *o)
         rj_step(m, s);
         rj_state_energy(m, s, &e0);
         rj_state_reset(m, s);
-        t = now();
+        t = now(); c = cpu_now();
         for (k = 0; k < steps; k++) if (rj_step(m, s) != RJ_OK) break;
-        t = now() - t;
+        t = now() - t; c = cpu_now() - c;
         if (k < steps) { fprintf(stderr, "bench: free link %d: %s\n", elements, rj_state_error(s)); return -1; }
         ns[r] = 1e9 * t / ((double)steps * elements);
+        nc[r] = 1e9 * c / ((double)steps * elements);
     }
     rj_state_energy(m, s, &e1);
     o->edrift = (e1.total - e0.total) / e0.total;
     o->runs = S.tp_runs; o->steps = steps;
     o->ns_med = median(ns, S.tp_runs);
+    o->ns_cpu = median(nc, S.tp_runs);
     o->ns_min = o->ns_max = ns[0];
     for (r = 1; r < S.tp_runs; r++) { o->ns_min = fmin(o->ns_min, ns[r]); o->ns_max = fmax(o->ns_max, ns[r]); }
     rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
@@ -291,7 +312,7 @@ static void d_errors(const dhist *h, const dmet *m, const dhist *rh, const dmet 
 
 typedef struct drow {
     int method, el, paper, ok, runs;
-    double dt, bound, K, wall;
+    double dt, bound, K, wall, cpu;
     long steps;
     char msg[256];
     dmet m;
@@ -328,7 +349,7 @@ static void d_run(drow *row, dhist *h, const dhist *rh, const dmet *rm, int forc
 {
     deploy_opts o = deploy_default_opts();
     rj_model *m; rj_state *s; rj_error err; rj_result r;
-    double w[32];
+    double w[32], cw[32];
     int k, nr = 1;
     o.elements = row->el; o.dt = row->dt; o.joint2_method = row->method;
     row->ok = 0; row->runs = 0; row->msg[0] = 0;
@@ -337,12 +358,12 @@ static void d_run(drow *row, dhist *h, const dhist *rh, const dmet *rm, int forc
     row->bound = rj_model_dt_bound(m);
     row->K = rj_joint_stiffness(m, 1);
     for (k = 0; k < nr && k < 32; k++) {
-        double t0;
+        double t0, c0;
         rj_state_reset(m, s);
         memset(h, 0, sizeof *h);
-        t0 = now();
+        t0 = now(); c0 = cpu_now();
         r = rj_run(m, s, S.d_tend, 1e-3, d_sample, h);
-        w[k] = now() - t0;
+        w[k] = now() - t0; cw[k] = cpu_now() - c0;
         if (r != RJ_OK) { snprintf(row->msg, sizeof row->msg, "%s: %s", rj_result_str(r), rj_state_error(s)); break; }
         if (k == 0) {
             row->steps = rj_state_steps(s);
@@ -354,7 +375,7 @@ static void d_run(drow *row, dhist *h, const dhist *rh, const dmet *rm, int forc
                  method_name(row->method), row->el, row->dt, rj_joint_event_time(m, s, 1), row->m.lock2);
         }
     }
-    if (k == nr) { row->ok = 1; row->runs = nr; row->wall = median(w, nr); }
+    if (k == nr) { row->ok = 1; row->runs = nr; row->wall = median(w, nr); row->cpu = median(cw, nr); }
     rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
 }
 
@@ -363,7 +384,8 @@ static void r2_cb(const rigid2_sample *smp, void *u) { (void)smp; (void)u; }
 /* ================================================================== 3. impact */
 typedef struct irow {
     int method, el, ok, runs, contacts;
-    double dt, bound, K, wall;
+    long flips;                                   /* flag changes: RC13 chatter */
+    double dt, bound, K, wall, cpu;
     long steps;
     double contact, release_last, release_first;  /* s */
     double peak_c, peak_t;                        /* m, max |tip deflection| of link 1, chord / tangent */
@@ -371,7 +393,7 @@ typedef struct irow {
     char msg[256];
 } irow;
 
-typedef struct iacc { int prev; double t_free; double first; int contacts; double peak_c, peak_t; } iacc;
+typedef struct iacc { int prev; double t_free; double first; int contacts; long flips; double peak_c, peak_t; } iacc;
 
 /* every step: peak deflection, and the first release that lasts (a free interval of at
    least 0.1 ms: RC13 chatter and adaptive contact toggle the flag step by step) */
@@ -382,6 +404,7 @@ static int i_sample(const rj_model *m, const rj_state *s, void *u)
     int f = rj_joint_flag(m, s, 0);
     if (dc > a->peak_c) a->peak_c = dc;
     if (dg > a->peak_t) a->peak_t = dg;
+    if (f != a->prev) a->flips++;
     if (f != RJ_FREE && a->prev == RJ_FREE) { if (a->t_free < 0 || t - a->t_free >= 1e-4 || a->contacts == 0) a->contacts++; a->t_free = -1; }
     if (f == RJ_FREE && a->prev != RJ_FREE) a->t_free = t - rj_model_dt(m); /* the flag of step n -> n+1 is decided at t_n (as rj_joint_release_time) */
     if (f == RJ_FREE && a->t_free >= 0 && a->first < 0 && t - a->t_free >= 1e-4) a->first = a->t_free;
@@ -407,7 +430,7 @@ static void i_run(irow *row, int force_runs)
     impact_opts o = impact_default_opts();
     rj_link_def L[2]; rj_joint_def J; rj_scene_def sc; rj_model *m; rj_state *s; rj_error err; rj_result r;
     iacc a;
-    double w[32];
+    double w[32], cw[32];
     int k, nr = 1;
     o.method = row->method; o.elements = row->el; o.dt = row->dt;
     impact_scene(&o, L, &J, &sc);
@@ -416,12 +439,12 @@ static void i_run(irow *row, int force_runs)
     rj_state_create(m, &s, NULL);
     row->bound = rj_model_dt_bound(m); row->K = rj_joint_stiffness(m, 0);
     for (k = 0; k < nr && k < 32; k++) {
-        double t0;
+        double t0, c0;
         rj_state_reset(m, s);
         memset(&a, 0, sizeof a); a.first = -1; a.t_free = -1; a.prev = RJ_FREE;
-        t0 = now();
+        t0 = now(); c0 = cpu_now();
         r = rj_run(m, s, S.i_tend, 0, i_sample, &a);
-        w[k] = now() - t0;
+        w[k] = now() - t0; cw[k] = cpu_now() - c0;
         if (r != RJ_OK) { snprintf(row->msg, sizeof row->msg, "%s: %s", rj_result_str(r), rj_state_error(s)); break; }
         if (k == 0) {
             row->steps = rj_state_steps(s);
@@ -429,11 +452,12 @@ static void i_run(irow *row, int force_runs)
             row->release_last = rj_joint_release_time(m, s, 0);
             row->release_first = a.first;
             row->contacts = a.contacts;
+            row->flips = a.flips;
             row->peak_c = a.peak_c; row->peak_t = a.peak_t;
             nr = force_runs > 0 ? force_runs : runs_for(w[0]);
         }
     }
-    if (k == nr) { row->ok = 1; row->runs = nr; row->wall = median(w, nr); }
+    if (k == nr) { row->ok = 1; row->runs = nr; row->wall = median(w, nr); row->cpu = median(cw, nr); }
     rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
 }
 
@@ -589,7 +613,7 @@ static const char *rel_path(const char *file, const char *report)
 int main(int argc, char **argv)
 {
     const char *out = "BENCHMARKS.md", *plot = "docs/work_precision.png";
-    static char cmd[2048], plot2[1024], cpu[256], date[64];
+    static char cmd[2048], plot2[1024], cpu[256], date[64], load0[64], load1[64];
     static dhist H, HREF, HCHK;
     static tp_row tp[3];
     static drow dr[64];
@@ -598,14 +622,16 @@ int main(int argc, char **argv)
     static const int dmeth[2] = { RJ_METHOD_PENALTY, RJ_METHOD_ADAPTIVE };
     static const int imeth[3] = { RJ_METHOD_ADAPTIVE, RJ_METHOD_PENALTY, RJ_METHOD_MOMENTUM };
     drow dref, dchk[2], dpaper;
+    double iref_unconverged[3] = { 0, 0, 0 };
     int i, j, k, ndr = 0, nir = 0, cores, plot_failed = 0;
-    double paper_w[32], paper_med = 0, t_total;
+    double paper_w[32], paper_c[32], paper_med = 0, paper_cpu = 0, t_total;
     long paper_steps = 0;
     double paper_lock[2] = { 0, 0 }, paper_model_pn = 0, paper_state_pn = 0;
     FILE *f;
     time_t tnow;
 
     T_START = now();
+    loadavg(load0, sizeof load0);
     for (i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i];
         else if (!strcmp(argv[i], "--plot") && i + 1 < argc) plot = argv[++i];
@@ -624,7 +650,7 @@ int main(int argc, char **argv)
     }
 
     if (!S.quick) {
-        S.tp_runs = 5; S.tp_min_time = 0.2; S.paper_runs = 5;
+        S.tp_runs = 7; S.tp_min_time = 0.2; S.paper_runs = 5;
         S.d_nel = 4; S.d_el[0] = 5; S.d_el[1] = 10; S.d_el[2] = 20; S.d_el[3] = 40;
         S.d_ndt[0] = 4; S.d_ndt[1] = 4; S.d_ndt[2] = 3; S.d_ndt[3] = 3;
         S.d_ref_el = 80; S.d_ref_div = 2; S.d_tend = 6.0;
@@ -652,17 +678,18 @@ int main(int argc, char **argv)
         if (deploy_build(&o, &m, &err) != RJ_OK) { fprintf(stderr, "bench: deploy: %s\n", err.msg); return 1; }
         rj_state_create(m, &s, NULL);
         for (k = 0; k < S.paper_runs; k++) {
-            double t0;
+            double t0, c0;
             rj_result r;
             rj_state_reset(m, s);
-            t0 = now();
+            t0 = now(); c0 = cpu_now();
             r = rj_run(m, s, 6.0, 0, NULL, NULL);
-            paper_w[k] = now() - t0;
+            paper_w[k] = now() - t0; paper_c[k] = cpu_now() - c0;
             if (r != RJ_OK) { fprintf(stderr, "bench: deploy: %s\n", rj_state_error(s)); return 1; }
         }
         paper_steps = rj_state_steps(s);
         paper_lock[0] = rj_joint_event_time(m, s, 0); paper_lock[1] = rj_joint_event_time(m, s, 1);
         paper_med = median(paper_w, S.paper_runs);
+        paper_cpu = median(paper_c, S.paper_runs);
         dpaper.el = 10; dpaper.dt = rj_model_dt(m); dpaper.K = rj_joint_stiffness(m, 1); dpaper.bound = rj_model_dt_bound(m);
         dpaper.runs = S.paper_runs;
         /* memory of the deployment model */
@@ -799,6 +826,15 @@ int main(int argc, char **argv)
             note("deployment: joint 1's lock time is sensitive: it moves by %+.2f ms with twice the reference's step and %+.2f ms with half its mesh (joint 2's by %+.3f / %+.3f ms)",
                  1e3 * dchk[0].e.dlock1, 1e3 * dchk[1].e.dlock1, 1e3 * dchk[0].e.dlock, 1e3 * dchk[1].e.dlock);
         for (j = 0; j < 3; j++) {
+            double worst = fabs(ichk[j][0].e_first) > fabs(ichk[j][1].e_first) ? ichk[j][0].e_first : ichk[j][1].e_first;
+            iref_unconverged[j] = fabs(worst) > 5e-5 ? worst : 0;
+            if (iref_unconverged[j] != 0)
+                note("impact %s: the reference's release time is not converged: twice its step moves the first lasting release by %+.3f ms and half its mesh by %+.3f ms. "
+                     "After the rebound the link's root stays very close to the stop and the RC13 flag toggles (%ld flag changes in the reference run), "
+                     "so whether a free interval of 0.1 ms opens is decided by tiny differences. Its release errors below are not meaningful; its peak deflection is.",
+                     method_name(imeth[j]), 1e3 * ichk[j][0].e_first, 1e3 * ichk[j][1].e_first, iref[j].flips);
+        }
+        for (j = 0; j < 3; j++) {
             int seen = 0;
             for (i = 0; i < nir && !seen; i++) {
                 const irow *r = &ir[i];
@@ -813,7 +849,8 @@ int main(int argc, char **argv)
             for (i = 0; i + S.i_ndt < nir; i++) {
                 const irow *a = &ir[i], *b = &ir[i + S.i_ndt];
                 if (!a->ok || !b->ok || a->method != imeth[j] || b->method != imeth[j] || b->el != 2 * a->el) continue;
-                if (fabs(b->e_first) > 1.5 * fabs(a->e_first) + 2e-6) {
+                if (fabs(iref_unconverged[j]) > 0) break;   /* noted below instead */
+                if (fabs(b->e_first) > 1.5 * fabs(a->e_first) + 5e-6) {
                     note("impact %s: first-release error grows with the mesh: %+.4f ms at %d el (dt %.4g us) to %+.4f ms at %d el (dt %.4g us)", method_name(imeth[j]),
                          1e3 * a->e_first, a->el, a->dt * 1e6, 1e3 * b->e_first, b->el, b->dt * 1e6);
                     nbad++;
@@ -831,12 +868,12 @@ int main(int argc, char **argv)
         md("## Headline\n\n");
         md("- Step cost, one free link: **%.1f / %.1f / %.1f ns per element-step** at %d / %d / %d elements (median of %d runs).\n",
            tp[0].ns_med, tp[1].ns_med, tp[2].ns_med, tp[0].elements, tp[1].elements, tp[2].elements, S.tp_runs);
-        md("- Deployment at the paper's settings (10 elements per link, dt 7.5 us, 6 s): **%.3f s** wall, **%.3g steps/s**.\n", paper_med, paper_steps / paper_med);
+        md("- Deployment at the paper's settings (10 elements per link, dt 7.5 us, 6 s): **%.3f s** wall (CPU %.3f s), **%.3g steps/s**.\n", paper_med, paper_cpu, paper_steps / paper_med);
         for (j = 0; j < 2; j++) {
             const drow *b = d_cheapest(dr, ndr, dmeth[j], 0);
             if (!b) { md("- Deployment, %s: no setting in the sweep keeps q within 0.1 deg and the tip RMS within 2 %%.\n", method_name(dmeth[j])); continue; }
-            md("- Deployment, cheapest %s setting with q within 0.1 deg before joint 2 locks and the tip RMS within 2 %%: **%d elements per link, dt %.4g us, %.3f s** "
-               "(dq %.4f deg, tip RMS %+.2f %%, frequency %+.2f %%).\n", method_name(dmeth[j]), b->el, b->dt * 1e6, b->wall, b->e.dq, 100 * b->e.rms_t, 100 * b->e.freq_t);
+            md("- Deployment, cheapest %s setting with q within 0.1 deg before joint 2 locks and the tip RMS within 2 %%: **%d elements per link, dt %.4g us, %.3f s** (CPU %.3f s; "
+               "dq %.4f deg, tip RMS %+.2f %%, frequency %+.2f %%).\n", method_name(dmeth[j]), b->el, b->dt * 1e6, b->wall, b->cpu, b->e.dq, 100 * b->e.rms_t, 100 * b->e.freq_t);
         }
         md("- Deployment reference: adaptive, %d elements, dt %.4g us (%.1f s); against it, twice its step moves q by %.4f deg and half its mesh by %.4f deg.\n",
            dref.el, dref.dt * 1e6, dref.wall, dchk[0].e.dq, dchk[1].e.dq);
@@ -845,18 +882,18 @@ int main(int argc, char **argv)
         md("One free flexible link (`rj_default_link_def()`, height 0.01 m, 1 m, spinning at omega = 1 rad/s, no joints), dt = 0.9 x its stability bound. "
            "Each timed run is `rj_step` in a loop of the given number of steps (at least %.2g s), from a reset state; median of %d runs. "
            "Energy drift: relative change of the total energy over one run (a check that the steps did real work and stayed stable).\n\n", S.tp_min_time, S.tp_runs);
-        md("| elements | dt (us) | steps per run | ns / element-step (median) | min | max | model bytes / node | state bytes / node | energy drift |\n");
-        md("|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        md("| elements | dt (us) | steps per run | ns / element-step (median) | min | max | CPU ns / element-step | model bytes / node | state bytes / node | energy drift |\n");
+        md("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         for (i = 0; i < 3; i++) {
             fmt_dt(b1, sizeof b1, tp[i].dt);
-            md("| %d | %s | %ld | **%.2f** | %.2f | %.2f | %.0f | %.0f | %.1e |\n", tp[i].elements, b1, tp[i].steps, tp[i].ns_med, tp[i].ns_min, tp[i].ns_max,
-               tp[i].model_per_node, tp[i].state_per_node, tp[i].edrift);
+            md("| %d | %s | %ld | **%.2f** | %.2f | %.2f | %.2f | %.0f | %.0f | %.1e |\n", tp[i].elements, b1, tp[i].steps, tp[i].ns_med, tp[i].ns_min, tp[i].ns_max,
+               tp[i].ns_cpu, tp[i].model_per_node, tp[i].state_per_node, tp[i].edrift);
         }
         md("\nDeployment at the paper's settings (`deploy_build` defaults: 10 elements per link, dt = 7.5 us, joint 2 penalty with K = Eq 31 = %.4g N m/rad; stability bound %.4g us), "
-           "6 s simulated, `rj_run` without sampling, median of %d runs: **%.3f s** wall, %ld steps, **%.0f steps/s** "
+           "6 s simulated, `rj_run` without sampling, median of %d runs: **%.3f s** wall (CPU %.3f s), %ld steps, **%.0f steps/s** "
            "(%.1f ns per element-step over its 20 elements). Joint 2 locks at %.6f s, joint 1 at %.6f s. "
            "Model %.0f bytes / node, state %.0f bytes / node (22 nodes).\n\n",
-           dpaper.K, dpaper.bound * 1e6, S.paper_runs, paper_med, paper_steps, paper_steps / paper_med, 1e9 * paper_med / (paper_steps * 20.0),
+           dpaper.K, dpaper.bound * 1e6, S.paper_runs, paper_med, paper_cpu, paper_steps, paper_steps / paper_med, 1e9 * paper_med / (paper_steps * 20.0),
            paper_lock[1], paper_lock[0], paper_model_pn, paper_state_pn);
     }
 
@@ -886,20 +923,27 @@ int main(int argc, char **argv)
             md("| %s: %d elements, dt %s us | %.2f | %.4f | %+.4f | %+.3f | %+.3f %% | %+.3f %% | %+.3f %% | %+.3f %% |\n", i ? "half the mesh" : "twice the step", dchk[i].el, b1, dchk[i].wall, dchk[i].e.dq, 1e3 * dchk[i].e.dlock,
                1e3 * dchk[i].e.dlock1, 100 * dchk[i].e.rms_t, 100 * dchk[i].e.rms_c, 100 * dchk[i].e.freq_t, 100 * dchk[i].e.freq_c);
         }
-        md("\nWith second-order convergence in the element length the reference's own mesh error is about a third of the 'half the mesh' row "
-           "(error(l) - error(l/2) = 3 error(l/2)); a first-order quantity (the chord-based deflection) keeps about all of it.\n\n");
+        md("\nWith second-order convergence in the element length, the reference's own mesh error is about a third of the 'half the mesh' row, "
+           "since error(l) - error(l/2) = 3 error(l/2). A first-order quantity, such as the chord-based deflection, keeps about all of it. "
+           "So the reference is uncertain by about %.3f deg in dq (the step row plus a third of the mesh row), %.2f %% in tangent RMS and %.2f %% in frequency. "
+           "Differences below these in the sweep are not resolved.\n\n",
+           dchk[0].e.dq + dchk[1].e.dq / 3, 100 * (fabs(dchk[0].e.rms_t) + fabs(dchk[1].e.rms_t) / 3), 100 * (fabs(dchk[0].e.freq_t) + fabs(dchk[1].e.freq_t) / 3));
 
         md("### Sweep\n\n");
-        md("| method | elements | dt (us) | dt / bound | K joint 2 (N m/rad) | steps | wall (s) | runs | dq (deg) | lock 2 (ms) | lock 1 (ms) | RMS tangent | RMS chord | freq tangent | freq chord |\n");
-        md("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        md("| method | elements | dt (us) | dt / bound | K joint 2 (N m/rad) | steps | wall (s) | CPU (s) | runs | dq (deg) | lock 2 (ms) | lock 1 (ms) | RMS tangent | RMS chord | freq tangent | freq chord |\n");
+        md("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         for (i = 0; i < ndr; i++) {
             const drow *r = &dr[i];
             fmt_dt(b1, sizeof b1, r->dt);
-            if (!r->ok) { md("| %s | %d | %s%s | failed: %s | | | | | | | | | | | |\n", method_name(r->method), r->el, b1, r->paper ? " (paper)" : "", r->msg); continue; }
-            md("| %s | %d | %s%s | %.3f | %.4g | %ld | %.3f | %d | %s%.4f%s | %+.4f | %+.3f | %s%+.2f %%%s | %+.2f %% | %+.2f %% | %+.2f %% |\n", method_name(r->method), r->el, b1, r->paper ? " (paper)" : "",
-               r->dt / r->bound, r->K, r->steps, r->wall, r->runs, r->e.dq < 0.1 ? "**" : "", r->e.dq, r->e.dq < 0.1 ? "**" : "", 1e3 * r->e.dlock, 1e3 * r->e.dlock1,
+            if (!r->ok) { md("| %s | %d | %s%s | failed: %s | | | | | | | | | | | | |\n", method_name(r->method), r->el, b1, r->paper ? " (paper)" : "", r->msg); continue; }
+            md("| %s | %d | %s%s | %.3f | %.4g | %ld | %.3f | %.3f | %d | %s%.4f%s | %+.4f | %+.3f | %s%+.2f %%%s | %+.2f %% | %+.2f %% | %+.2f %% |\n", method_name(r->method), r->el, b1, r->paper ? " (paper)" : "",
+               r->dt / r->bound, r->K, r->steps, r->wall, r->cpu, r->runs, r->e.dq < 0.1 ? "**" : "", r->e.dq, r->e.dq < 0.1 ? "**" : "", 1e3 * r->e.dlock, 1e3 * r->e.dlock1,
                fabs(r->e.rms_t) < 0.02 ? "**" : "", 100 * r->e.rms_t, fabs(r->e.rms_t) < 0.02 ? "**" : "", 100 * r->e.rms_c, 100 * r->e.freq_t, 100 * r->e.freq_c);
         }
+        md("\nReading the sweep: before the lock, dq hardly changes with dt at a fixed mesh, because the error there comes from the mesh. At 0.9 x bound, dt is "
+           "proportional to the element length (the axial Courant limit), so the step error (~dt^2) falls as fast as the mesh error (~l^2), and the two can have opposite signs. "
+           "Where dq grows as dt shrinks (see the notes at the top), the step error had cancelled part of the mesh error. After the lock, penalty's K = Eq 31 "
+           "is soft at large dt: the tip RMS, frequency and joint 1 lock time converge only as dt falls. Adaptive's K_AP is stiff at every dt.\n");
         md("\n### Cheapest settings\n\nLeast wall time among the sweep's settings that keep dq < 0.1 deg and the post-lock tip RMS within 2 %% of the reference. "
            "The tip amplitude is judged on the tangent-based deflection (it converges at second order, see above); the chord-based `scene_tip_defl` criterion and the "
            "dq criterion alone are listed for comparison.\n\n");
@@ -937,31 +981,36 @@ int main(int argc, char **argv)
                1e3 * iref[j].release_first, 1e3 * iref[j].release_last, iref[j].contacts, iref[j].peak_c, iref[j].peak_t,
                1e3 * ichk[j][0].e_first, 100 * ichk[j][0].e_peak_c, 100 * ichk[j][0].e_peak_t, 1e3 * ichk[j][1].e_first, 100 * ichk[j][1].e_peak_c, 100 * ichk[j][1].e_peak_t);
         }
-        md("\n| method | elements | dt (us) | dt / bound | steps | wall (s) | runs | contacts | release first (ms) | error (ms) | release last (ms) | error (ms) | peak chord (m) | error | peak tangent error |\n");
-        md("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        md("\n| method | elements | dt (us) | dt / bound | steps | wall (s) | CPU (s) | runs | contacts | flag changes | release first (ms) | error (ms) | release last (ms) | error (ms) | peak chord (m) | error | peak tangent error |\n");
+        md("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         for (i = 0; i < nir; i++) {
             const irow *r = &ir[i];
             fmt_dt(b1, sizeof b1, r->dt);
-            if (!r->ok) { md("| %s | %d | %s | failed: %s ||||||||||||\n", method_name(r->method), r->el, b1, r->msg); continue; }
-            md("| %s | %d | %s | %.3f | %ld | %.4f | %d | %d | %.5f | %+.4f | %.5f | %+.4f | %.6f | %+.2f %% | %+.2f %% |\n", method_name(r->method), r->el, b1, r->dt / r->bound, r->steps, r->wall, r->runs,
-               r->contacts, 1e3 * r->release_first, 1e3 * r->e_first, 1e3 * r->release_last, 1e3 * r->e_last, r->peak_c, 100 * r->e_peak_c, 100 * r->e_peak_t);
+            if (!r->ok) { md("| %s | %d | %s | failed: %s | | | | | | | | | | | | | |\n", method_name(r->method), r->el, b1, r->msg); continue; }
+            md("| %s | %d | %s | %.3f | %ld | %.4f | %.4f | %d | %d | %ld | %.5f | %+.4f | %.5f | %+.4f | %.6f | %+.2f %% | %+.2f %% |\n", method_name(r->method), r->el, b1, r->dt / r->bound, r->steps, r->wall, r->cpu, r->runs,
+               r->contacts, r->flips, 1e3 * r->release_first, 1e3 * r->e_first, 1e3 * r->release_last, 1e3 * r->e_last, r->peak_c, 100 * r->e_peak_c, 100 * r->e_peak_t);
         }
-        md("\nCheapest settings per method with |first-release error| < 0.05 ms and |peak tangent deflection error| < 2 %%:\n\n");
+        md("\nCheapest settings per method with |first-release error| < 0.05 ms and |peak tangent deflection error| < 2 %% "
+           "(on the peak alone where the reference's release time is not converged):\n\n");
         for (j = 0; j < 3; j++) {
             const irow *b = NULL;
+            int use_release = iref_unconverged[j] == 0;
             for (i = 0; i < nir; i++) {
                 const irow *r = &ir[i];
-                if (!r->ok || r->method != imeth[j] || !(fabs(r->e_first) < 5e-5) || !(fabs(r->e_peak_t) < 0.02)) continue;
+                if (!r->ok || r->method != imeth[j] || !(fabs(r->e_peak_t) < 0.02)) continue;
+                if (use_release && !(fabs(r->e_first) < 5e-5)) continue;
                 if (!b || r->wall < b->wall) b = r;
             }
             if (!b) { md("- %s: none in the sweep\n", method_name(imeth[j])); continue; }
             fmt_dt(b1, sizeof b1, b->dt);
-            md("- %s: %d elements, dt %s us: %.4f s, release %+.4f ms, peak %+.2f %% (tangent) / %+.2f %% (chord)\n", method_name(imeth[j]), b->el, b1, b->wall, 1e3 * b->e_first, 100 * b->e_peak_t, 100 * b->e_peak_c);
+            md("- %s%s: %d elements, dt %s us: %.4f s wall (CPU %.4f s), release %+.4f ms, peak %+.2f %% (tangent) / %+.2f %% (chord)\n", method_name(imeth[j]),
+               use_release ? "" : " (peak only)", b->el, b1, b->wall, b->cpu, 1e3 * b->e_first, 100 * b->e_peak_t, 100 * b->e_peak_c);
         }
         md("\n");
     }
 
     t_total = now() - T_START;
+    loadavg(load1, sizeof load1);
     tnow = time(NULL);
     strftime(date, sizeof date, "%Y-%m-%d %H:%M:%S UTC", gmtime(&tnow));
     machine(cpu, sizeof cpu, &cores);
@@ -973,8 +1022,9 @@ int main(int argc, char **argv)
     fprintf(f, "| | |\n|---|---|\n");
     fprintf(f, "| command | `%s` |\n| date | %s |\n| CPU | %s |\n| logical cores | %d |\n| compiler | %s |\n| flags (make bench) | `%s` |\n",
             cmd, date, cpu, cores, compiler(), BENCH_CFLAGS);
-    fprintf(f, "| revjoint.h | %s |\n| whole run | %.0f s |\n\n", RJ_VERSION, t_total);
-    fprintf(f, "The machine is shared (other processes run), so every time is a median; runs are sequential, one core.\n\n");
+    fprintf(f, "| revjoint.h | %s |\n| whole run | %.0f s |\n| load average (1, 5, 15 min) | %s at the start, %s at the end |\n\n", RJ_VERSION, t_total, load0, load1);
+    fprintf(f, "The machine may be shared, so every time is a median; runs are sequential, on one core. Wall times are `CLOCK_MONOTONIC`. The CPU columns "
+               "(`CLOCK_PROCESS_CPUTIME_ID`) leave out time spent descheduled. When the load average is above the core count, trust CPU more than wall.\n\n");
     if (NNOTES) {
         fprintf(f, "**Found by this run (see below):**\n\n");
         for (i = 0; i < NNOTES; i++) fprintf(f, "- %s\n", NOTES[i]);

@@ -20,8 +20,9 @@ static const char usage[] =
     "  --K N_m_per_rad        joint 2 penalty stiffness (default: Eq 31 at dt)\n"
     "  --extra-friction       add sec. 5's +0.175 / +0.008 N m at joints 1 / 2\n"
     "  --rigid                the rigid-body reference (examples/rigid2.h) instead of the flexible model\n"
-    "  --links flexible|rigid the library's link model (rigid: joint coordinates, default dt 1 ms,\n"
-    "                         joint 2 momentum with e = 0 unless --method is given)\n"
+    "  --links flexible|rigid|inextensible   the library's link model (rigid: joint coordinates,\n"
+    "                         default dt 1 ms, joint 2 momentum with e = 0 unless --method is\n"
+    "                         given; inextensible: length constraints, dt from the bound)\n"
     "  --csv FILE             history, one row per ms (default standard output)\n"
     "  --plot FILE.png        q1, q2 against time, flexible against rigid, locks marked\n"
     "  --frames DIR           animation frames DIR/frame_00000.png ... (640x480)\n"
@@ -74,14 +75,14 @@ int main(int argc, char **argv)
     double t_end = 6.0, fps = 30, lock_rigid[2];
     const char *csv = NULL, *plot = NULL, *frames = NULL, *a;
     int rigid = 0, rigid_links = 0, dt_given = 0, method_given = 0;
-    static const char *const fids[] = { "flexible", "rigid" };
+    static const char *const fids[] = { "flexible", "rigid", "inextensible" };
     run r;
     clock_t c0;
     rigid2_params rp;
     c.argc = argc; c.argv = argv; c.i = 0; c.usage = usage;
     while ((a = cli_next(&c)) != NULL) {
         if (!strcmp(a, "--dt")) { o.dt = cli_num(&c, a, 1e-12, 1); dt_given = 1; }
-        else if (!strcmp(a, "--links")) rigid_links = cli_choice(&c, a, fids, 2);
+        else if (!strcmp(a, "--links")) rigid_links = cli_choice(&c, a, fids, 3);
         else if (!strcmp(a, "--elements")) o.elements = cli_int(&c, a, 1, 100000);
         else if (!strcmp(a, "--t-end")) t_end = cli_num(&c, a, 0, 1e6);
         else if (!strcmp(a, "--joint1")) { o.joint1_method = cli_choice(&c, a, j1names, 4); if (o.joint1_method == 2) cli_die(&c, "option --joint1: unknown value '%s'%s", "momentum", ""); }
@@ -113,9 +114,10 @@ int main(int argc, char **argv)
         rj_model *m; rj_state *s; rj_error err; rj_result res;
         if (rigid_links) {
             rj_link_def L[2]; rj_joint_def J[2]; rj_scene_def sc;
-            if (!dt_given) o.dt = 1e-3;
+            if (!dt_given) o.dt = rigid_links == 1 ? 1e-3 : 0;
             deploy_scene(&o, L, J, &sc);
-            L[0].fidelity = L[1].fidelity = RJ_LINK_RIGID; L[0].elements = L[1].elements = 1;
+            L[0].fidelity = L[1].fidelity = rigid_links == 1 ? RJ_LINK_RIGID : RJ_LINK_INEXTENSIBLE;
+            if (rigid_links == 1) L[0].elements = L[1].elements = 1;
             if (!method_given) J[1].method = RJ_METHOD_MOMENTUM;
             else if (o.joint2_K > 0) J[1].penalty_k = o.joint2_K;
             else J[1].penalty_k = 1015;

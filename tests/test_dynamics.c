@@ -260,6 +260,40 @@ static void test_seam(rjt_ctx *c)
     rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
 }
 
+
+/* inextensible links: element lengths held, energy conserved, a step limited by bending */
+static void test_inextensible(rjt_ctx *c)
+{
+    rj_link_def L[2]; rj_joint_def J[1]; rj_model *m, *mf; rj_state *s; rj_energy e;
+    double E0 = 0, worst = 0, lerr = 0;
+    int k, l, i;
+    L[0] = rj_default_link_def(); L[1] = rj_default_link_def();
+    L[0].height = L[1].height = 0.01; L[0].elements = L[1].elements = 8; L[0].omega = 2.0;
+    J[0] = rj_default_joint_def(); J[0].body1 = 0; J[0].body2 = 1; J[0].angle0 = rj_rad(150); J[0].rate0 = 3.0;
+    J[0].spring_k = 20.0; J[0].spring_free_angle = rj_rad(180);
+    mf = build(L, 2, J, 1, 0);
+    L[0].fidelity = L[1].fidelity = RJ_LINK_INEXTENSIBLE;
+    m = build(L, 2, J, 1, 0);
+    rjt_check(c, rj_model_dt_bound(m) > 3 * rj_model_dt_bound(mf), "inextensible links: the bound is set by bending, not the axial wave",
+              "bound %.4g s against %.4g s flexible (x %.1f)", rj_model_dt_bound(m), rj_model_dt_bound(mf), rj_model_dt_bound(m) / rj_model_dt_bound(mf));
+    rj_state_create(m, &s, NULL);
+    for (k = 0; k < 20000; k++) {
+        rj_step(m, s);
+        rj_state_energy(m, s, &e);
+        if (k == 0) E0 = e.total;
+        else if (fabs(e.total - E0) > worst) worst = fabs(e.total - E0);
+    }
+    for (l = 0; l < 2; l++) for (i = 0; i < 8; i++) {
+        double a[2], b[2], len;
+        rj_node_position(m, s, l, i, a); rj_node_position(m, s, l, i + 1, b);
+        len = sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]));
+        if (fabs(len / 0.125 - 1) > lerr) lerr = fabs(len / 0.125 - 1);
+    }
+    rjt_check(c, lerr < 1e-9, "inextensible links keep their element lengths (2e4 steps)", "max |l / l0 - 1| = %.3g after %.3g s", lerr, rj_state_time(s));
+    rjt_check(c, worst / E0 < 1e-5, "inextensible links: energy conserved (constraint forces do no work)", "max |E - E0| / E0 = %.3g over 2e4 steps at dt %.3g s", worst / E0, rj_model_dt(m));
+    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL); rj_model_destroy(mf, NULL);
+}
+
 int main(void)
 {
     rjt_ctx c = { 0, 0 };
@@ -271,5 +305,6 @@ int main(void)
     test_friction(&c);
     test_damping(&c);
     test_seam(&c);
+    test_inextensible(&c);
     return rjt_summary(&c, "test_dynamics");
 }

@@ -1,0 +1,761 @@
+/* test_scene.c - tests of the scene-file parser and writer (scene/rj_scene.h).
+   One line per check, "PASS name: details" or "FAIL name: details", then
+   "test_scene: N passed, M failed"; exit status 1 when any failed.
+   Build (from the repository root):
+     cc -std=c99 -Wall -Wextra -pedantic -Werror -fsanitize=address,undefined scene/test_scene.c -o build/test_scene -lm
+   Run from the repository root, or pass the directory holding deploy.rjs etc.:
+     build/test_scene [examples/scenes] */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <math.h>
+#include <locale.h>
+#include <time.h>
+
+/* every allocation of the library and the parser goes through here: live blocks are
+   counted, and a context can make the n-th allocation fail */
+typedef struct talloc { long live, total, fail_at; } talloc;
+static talloc g_alloc;
+static void *t_malloc(size_t sz, void *ctx)
+{
+    talloc *a = ctx ? (talloc *)ctx : &g_alloc;
+    if (a->fail_at > 0 && a->total + 1 == a->fail_at) { a->total++; return NULL; }
+    a->total++; a->live++;
+    return malloc(sz);
+}
+static void t_free(void *p, void *ctx)
+{
+    talloc *a = ctx ? (talloc *)ctx : &g_alloc;
+    if (p) a->live--;
+    free(p);
+}
+#define RJ_MALLOC(sz, ctx) t_malloc((sz), (ctx))
+#define RJ_FREE(p, ctx) t_free((p), (ctx))
+
+#define REVJOINT_IMPLEMENTATION
+#include "../revjoint.h"
+#include "rj_scene.h"
+#include "../examples/scenes.h"
+
+static int g_pass, g_fail;
+static void check(int ok, const char *name, const char *details)
+{
+    printf("%s %s: %s\n", ok ? "PASS" : "FAIL", name, details);
+    if (ok) g_pass++; else g_fail++;
+    fflush(stdout);
+}
+
+static const char *g_dir = "examples/scenes";
+
+/* ------------------------------------------------------------------ field-by-field */
+/* first differing field into why; 1 when equal. Compares every field the model uses;
+   fields the model ignores (per section kind, disabled limits, node1/ground_* where they do
+   not apply) only when `all` is set. */
+static int same_link(const rj_link_def *a, const rj_link_def *b, int all, char *why, size_t n)
+{
+#define RJ_T(f) if (!(a->f == b->f)) { snprintf(why, n, "%s: %.17g vs %.17g", #f, (double)a->f, (double)b->f); return 0; }
+    RJ_T(length) RJ_T(elements) RJ_T(E) RJ_T(rho) RJ_T(section) RJ_T(height) RJ_T(tip_mass) RJ_T(tip_inertia)
+    RJ_T(root) RJ_T(x) RJ_T(y) RJ_T(angle) RJ_T(vx) RJ_T(vy) RJ_T(omega) RJ_T(cookie)
+    if (all || a->section == RJ_SECTION_RECT) { RJ_T(width) RJ_T(layers) }
+    if (all || a->section == RJ_SECTION_GENERAL) { RJ_T(area) RJ_T(inertia) }
+    return 1;
+}
+static int same_joint(const rj_joint_def *a, const rj_joint_def *b, int all, char *why, size_t n)
+{
+    int k;
+    RJ_T(body1) RJ_T(body2) RJ_T(angle0) RJ_T(rate0) RJ_T(table_count) RJ_T(spring_k) RJ_T(spring_free_angle)
+    RJ_T(has_forward) RJ_T(has_reverse) RJ_T(lock) RJ_T(method) RJ_T(release) RJ_T(penalty_k) RJ_T(restitution)
+    RJ_T(damping) RJ_T(friction) RJ_T(reference) RJ_T(cookie)
+    if (all || a->body1 >= 0) { RJ_T(node1) }
+    if (all || a->body1 < 0) { RJ_T(ground_x) RJ_T(ground_y) RJ_T(ground_angle) }
+    if (all || a->has_forward) { RJ_T(forward) }
+    if (all || a->has_reverse) { RJ_T(reverse) }
+    for (k = 0; k < a->table_count; k++) { RJ_T(table_angle[k]) RJ_T(table_torque[k]) }
+    return 1;
+}
+static int same_solver(const rj_solver_def *a, const rj_solver_def *b, char *why, size_t n)
+{
+    RJ_T(dt) RJ_T(allow_unstable) RJ_T(energy_growth) RJ_T(cookie)
+    return 1;
+#undef RJ_T
+}
+static int same_scene(const rj_scene_def *a, const rj_scene_def *b, int all, char *why, size_t n)
+{
+    int i;
+    char w[200];
+    if (a->link_count != b->link_count || a->joint_count != b->joint_count) { snprintf(why, n, "counts %d/%d vs %d/%d", a->link_count, a->joint_count, b->link_count, b->joint_count); return 0; }
+    if (!same_solver(&a->solver, &b->solver, w, sizeof w)) { snprintf(why, n, "solver.%s", w); return 0; }
+    for (i = 0; i < a->link_count; i++) if (!same_link(&a->links[i], &b->links[i], all, w, sizeof w)) { snprintf(why, n, "links[%d].%s", i, w); return 0; }
+    for (i = 0; i < a->joint_count; i++) if (!same_joint(&a->joints[i], &b->joints[i], all, w, sizeof w)) { snprintf(why, n, "joints[%d].%s", i, w); return 0; }
+    snprintf(why, n, "%d links, %d joints, every field equal", a->link_count, a->joint_count);
+    return 1;
+}
+
+static int zeroed(const rj_scene_file *f)
+{
+    rj_scene_file z;
+    memset(&z, 0, sizeof z);
+    return memcmp(f, &z, sizeof z) == 0;
+}
+
+/* ------------------------------------------------------------------ the example files */
+static int load_example(const char *name, rj_scene_file *f)
+{
+    char path[512];
+    rj_error e;
+    rj_result r;
+    snprintf(path, sizeof path, "%s/%s", g_dir, name);
+    r = rj_scene_load(path, f, &e);
+    {
+        char d[400], n[80];
+        snprintf(n, sizeof n, "load %s", name);
+        snprintf(d, sizeof d, "%s", r == RJ_OK ? "parsed" : e.msg);
+        if (r == RJ_OK) snprintf(d, sizeof d, "%d links, %d joints", f->link_count, f->joint_count);
+        check(r == RJ_OK, n, d);
+    }
+    return r == RJ_OK;
+}
+
+static void test_deploy(void)
+{
+    rj_scene_file f;
+    rj_model *m = NULL;
+    rj_error e;
+    deploy_opts o = deploy_default_opts();
+    rj_link_def links[2];
+    rj_joint_def joints[2];
+    rj_scene_def sc, fd;
+    char why[300];
+    int i;
+    if (!load_example("deploy.rjs", &f)) return;
+    fd = rj_scene_file_def(&f);
+    /* deploy_build: Eq 31 stiffness at dt for joint 2, computed by the library */
+    if (deploy_build(&o, &m, &e) != RJ_OK) { check(0, "deploy builder", e.msg); rj_scene_file_free(&f); return; }
+    deploy_scene(&o, links, joints, &sc);
+    for (i = 0; i < 2; i++) { links[i] = *rj_model_link_def(m, i); joints[i] = *rj_model_joint_def(m, i); }
+    check(same_scene(&fd, &sc, 1, why, sizeof why), "deploy.rjs = deploy_build(deploy_default_opts) field by field", why);
+    snprintf(why, sizeof why, "file %.17g, Eq 31 at %.3g s %.17g", f.joints[1].penalty_k, rj_model_dt(m), rj_joint_kmax_eq31(m, 1, rj_model_dt(m)));
+    check(f.joints[1].penalty_k == rj_joint_kmax_eq31(m, 1, rj_model_dt(m)), "deploy.rjs joint 2 penalty_k is Eq 31 at 7.5 us", why);
+    snprintf(why, sizeof why, "arm1 %.17g, arm2 %.17g kg/m^3", f.links[0].rho, f.links[1].rho);
+    check(f.links[0].rho == 0.52334 / (1.78076e-4 * 1.006423) && f.links[1].rho == 0.42958 / (1.7748e-4 * 0.9945), "deploy.rjs densities are the link masses over A l, full precision", why);
+    check(rj_scene_link_index(&f, "arm2") == 1 && rj_scene_joint_index(&f, "j2") == 1 && rj_scene_link_index(&f, "ground") == -1 && rj_scene_joint_index(&f, "nope") == -1,
+          "names: rj_scene_link_index / rj_scene_joint_index", "arm2 -> 1, j2 -> 1, unknown -> -1");
+    rj_model_destroy(m, NULL);
+    rj_scene_file_free(&f);
+    check(zeroed(&f), "rj_scene_file_free zeroes the struct", "all fields 0");
+    rj_scene_file_free(&f);   /* a second free is a no-op */
+}
+
+static void test_impact(void)
+{
+    rj_scene_file f;
+    impact_opts o = impact_default_opts();
+    rj_link_def links[2];
+    rj_joint_def joint;
+    rj_scene_def sc, fd;
+    rj_model *m;
+    rj_error e;
+    char why[300];
+    if (!load_example("impact.rjs", &f)) return;
+    fd = rj_scene_file_def(&f);
+    impact_scene(&o, links, &joint, &sc);
+    check(same_scene(&fd, &sc, 1, why, sizeof why), "impact.rjs = impact_scene(impact_default_opts) field by field", why);
+    if (rj_model_create(&fd, &m, &e, NULL) == RJ_OK) {
+        snprintf(why, sizeof why, "dt %g s, bound %g s", rj_model_dt(m), rj_model_dt_bound(m));
+        check(1, "impact.rjs builds a model", why);
+        rj_model_destroy(m, NULL);
+    } else check(0, "impact.rjs builds a model", e.msg);
+    rj_scene_file_free(&f);
+}
+
+static void test_solar(void)
+{
+    rj_scene_file f;
+    rj_model *m;
+    rj_state *s;
+    rj_error e;
+    rj_scene_def fd;
+    rj_result r;
+    rj_energy en;
+    char d[400];
+    int j, all = 1, o = 0;
+    clock_t c0;
+    if (!load_example("solar_array.rjs", &f)) return;
+    fd = rj_scene_file_def(&f);
+    if (rj_model_create(&fd, &m, &e, NULL) != RJ_OK) { rj_scene_file_locate(&f, &e); check(0, "solar_array.rjs builds a model", e.msg); rj_scene_file_free(&f); return; }
+    rj_state_create(m, &s, NULL);
+    c0 = clock();
+    r = rj_run(m, s, 10.0, 0.0, NULL, NULL);
+    snprintf(d, sizeof d, "%s%s%s; t = %.3f s, dt %.3g s, %ld steps, %.2f s wall", rj_result_str(r), rj_state_error(s)[0] ? " " : "", rj_state_error(s), rj_state_time(s), rj_model_dt(m), rj_state_steps(s),
+             (double)(clock() - c0) / CLOCKS_PER_SEC);
+    check(r == RJ_OK && rj_state_time(s) > 9.99, "solar_array.rjs runs to 10 s", d);
+    for (j = 0; j < f.joint_count; j++) {
+        double t = rj_joint_event_time(m, s, j);
+        if (!(rj_joint_flag(m, s, j) == RJ_LOCKED && t >= 0 && t < 5.0)) all = 0;
+        o += snprintf(d + o, sizeof d - (size_t)o, "%s%s %.4f s (%.2f deg)", j ? ", " : "", f.joint_names[j], t, rj_deg(rj_joint_theta_running(m, s, j)));
+    }
+    check(all && f.joint_count == 4, "solar_array.rjs: every hinge locks within 5 s", d);
+    rj_state_energy(m, s, &en);
+    snprintf(d, sizeof d, "balance %.3g J of %.4g J stored in the springs at the start", en.balance, en.balance - en.total - en.lost_damping - en.lost_friction - en.lost_limit > 0 ? 0.0 : -(en.balance - en.total - en.lost_damping - en.lost_friction - en.lost_limit));
+    check(fabs(en.balance) < 1e-3, "solar_array.rjs energy accounts close", d);
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+    rj_scene_file_free(&f);
+}
+
+/* ------------------------------------------------------------------ writer round trips */
+static void roundtrip(const char *name, const rj_scene_def *sc, const char *const *ln, const char *const *jn)
+{
+    size_t n = rj_scene_write(sc, ln, jn, NULL, 0), n2;
+    char *buf = (char *)malloc(n + 1), why[300], d[400];
+    rj_scene_file f;
+    rj_error e;
+    n2 = rj_scene_write(sc, ln, jn, buf, n + 1);
+    if (n == 0 || n2 != n || strlen(buf) != n) { snprintf(d, sizeof d, "size query %lu, write %lu, strlen %lu", (unsigned long)n, (unsigned long)n2, (unsigned long)strlen(buf)); check(0, name, d); free(buf); return; }
+    if (rj_scene_parse(buf, n, name, &f, &e) != RJ_OK) { check(0, name, e.msg); free(buf); return; }
+    {
+        rj_scene_def fd = rj_scene_file_def(&f);
+        int ok = same_scene(&fd, sc, 0, why, sizeof why), k;
+        for (k = 0; ln && k < f.link_count; k++) if (strcmp(ln[k], f.link_names[k])) ok = 0;
+        for (k = 0; jn && k < f.joint_count; k++) if (strcmp(jn[k], f.joint_names[k])) ok = 0;
+        snprintf(d, sizeof d, "%lu bytes; %s", (unsigned long)n, why);
+        check(ok, name, d);
+    }
+    rj_scene_file_free(&f);
+    free(buf);
+}
+
+static void file_roundtrip(const char *file)
+{
+    rj_scene_file f;
+    char name[100];
+    if (!load_example(file, &f)) return;
+    {
+        rj_scene_def fd = rj_scene_file_def(&f);
+        const char *ln[RJ_SCENE_MAX_LINKS], *jn[RJ_SCENE_MAX_JOINTS];
+        int k;
+        for (k = 0; k < f.link_count; k++) ln[k] = f.link_names[k];
+        for (k = 0; k < f.joint_count; k++) jn[k] = f.joint_names[k];
+        snprintf(name, sizeof name, "round trip %s -> rj_scene_write -> parse", file);
+        roundtrip(name, &fd, ln, jn);
+    }
+    rj_scene_file_free(&f);
+}
+
+static unsigned long g_rng = 12345;
+static double urand(void) { g_rng = g_rng * 6364136223846793005UL + 1442695040888963407UL; return (double)((g_rng >> 11) & ((1UL << 53) - 1)) / 9007199254740992.0; }
+static int irand(int n) { return (int)(urand() * n); }
+
+static void test_writer(void)
+{
+    deploy_opts o = deploy_default_opts();
+    impact_opts io = impact_default_opts();
+    rj_link_def links[8];
+    rj_joint_def joints[8];
+    rj_scene_def sc;
+    static const char *const dl[] = { "arm1", "arm2" }, *const dj[] = { "j1", "j2" };
+    char small[16], d[300];
+    size_t n;
+    int t, bad = 0;
+    deploy_scene(&o, links, joints, &sc);
+    joints[1].penalty_k = 1014.8544308316433;
+    roundtrip("round trip deploy_scene (C) -> rj_scene_write -> parse", &sc, dl, dj);
+    impact_scene(&io, links, joints, &sc);
+    roundtrip("round trip impact_scene (C) -> rj_scene_write -> parse, generated names", &sc, NULL, NULL);
+    n = rj_scene_write(&sc, NULL, NULL, small, sizeof small);
+    snprintf(d, sizeof d, "returns %lu, wrote \"%s\" (%lu chars) into 16 bytes", (unsigned long)n, small, (unsigned long)strlen(small));
+    check(n > 100 && strlen(small) == 15, "rj_scene_write truncates like snprintf", d);
+    {
+        static const char *const badn[] = { "1abc", "b" }, *const dupn[] = { "x", "x" }, *const grn[] = { "ground", "b" };
+        rj_scene_def z = sc;
+        int r1 = (int)rj_scene_write(&sc, badn, NULL, small, sizeof small), r2 = (int)rj_scene_write(&sc, dupn, NULL, small, sizeof small), r3 = (int)rj_scene_write(&sc, grn, NULL, small, sizeof small);
+        int r4, r5;
+        links[0].length = HUGE_VAL;
+        r4 = (int)rj_scene_write(&sc, NULL, NULL, small, sizeof small);
+        links[0].length = 1.0;
+        z.link_count = 0;
+        r5 = (int)rj_scene_write(&z, NULL, NULL, small, sizeof small);
+        snprintf(d, sizeof d, "bad name %d, duplicate %d, 'ground' %d, inf %d, no links %d; buffer \"%s\"", r1, r2, r3, r4, r5, small);
+        check(!r1 && !r2 && !r3 && !r4 && !r5 && small[0] == 0, "rj_scene_write refuses what it cannot write", d);
+    }
+    /* random scenes: every field the model uses, angles in and out of deg-exact values */
+    for (t = 0; t < 300; t++) {
+        int nl = 1 + irand(5), nj = irand(nl + 1), i, k;
+        size_t len;
+        char *buf;
+        rj_scene_file f;
+        rj_error e;
+        rj_scene_def fd;
+        char why[300];
+        sc = rj_default_scene_def();
+        if (irand(2)) sc.solver.dt = urand() * 1e-4;
+        if (irand(4) == 0) sc.solver.allow_unstable = 1;
+        if (irand(4) == 0) sc.solver.energy_growth = 1.0 + urand() * 100;
+        for (i = 0; i < nl; i++) {
+            rj_link_def *L = &links[i];
+            *L = rj_default_link_def();
+            L->length = urand() * 10 + 1e-3; L->elements = 1 + irand(20); L->E = 1e9 + urand() * 1e11; L->rho = 100 + urand() * 8000;
+            if (irand(2)) { L->section = RJ_SECTION_GENERAL; L->area = urand() * 1e-3 + 1e-9; L->inertia = urand() * 1e-6 + 1e-15; L->height = irand(2) ? 0.0 : urand(); }
+            else { L->width = urand() + 1e-6; L->height = urand() + 1e-6; L->layers = 1 + irand(5); }
+            if (irand(2)) { L->tip_mass = urand(); L->tip_inertia = irand(2) ? 0.0 : urand() * 1e-3; }
+            L->root = irand(4); L->x = (urand() - 0.5) * 10; L->y = irand(2) ? 0.0 : (urand() - 0.5);
+            L->angle = irand(2) ? rj_rad((double)(irand(720) - 360)) : (urand() - 0.5) * 20;
+            if (irand(3) == 0) { L->vx = urand(); L->vy = -urand(); L->omega = irand(2) ? rj_rad(irand(1000)) : urand() * 50; }
+        }
+        for (i = 0; i < nj; i++) {
+            rj_joint_def *J = &joints[i];
+            *J = rj_default_joint_def();
+            J->body2 = i < nl ? i : nl - 1;
+            J->body1 = i == 0 || irand(3) == 0 ? -1 : irand(i);
+            if (J->body1 == J->body2) J->body1 = -1;
+            if (J->body1 >= 0 && irand(2)) J->node1 = irand(links[J->body1].elements + 1);
+            if (J->body1 < 0 && irand(2)) { J->ground_x = urand(); J->ground_y = -urand(); J->ground_angle = irand(2) ? rj_rad(irand(360)) : urand(); }
+            J->angle0 = irand(2) ? rj_rad((double)irand(721)) : (urand() - 0.3) * 30;
+            if (irand(3) == 0) J->rate0 = irand(2) ? -rj_rad(irand(1000)) : (urand() - 0.5) * 100;
+            if (irand(2)) {
+                J->table_count = 2 + irand(RJ_TABLE_MAX - 1);
+                for (k = 0; k < J->table_count; k++) {
+                    J->table_angle[k] = (double)k / (J->table_count - 1) * 6.283185307179586 * (irand(2) ? 1.0 : urand());
+                    if (k && J->table_angle[k] < J->table_angle[k - 1]) J->table_angle[k] = J->table_angle[k - 1];
+                    if (irand(2)) J->table_angle[k] = rj_rad(floor(rj_deg(J->table_angle[k])));
+                    if (k && J->table_angle[k] < J->table_angle[k - 1]) J->table_angle[k] = J->table_angle[k - 1];
+                    J->table_torque[k] = (urand() - 0.5) * 1e3;
+                }
+            }
+            if (irand(2)) { J->spring_k = urand(); J->spring_free_angle = (urand() - 0.5) * 20; }
+            if (irand(2)) { J->has_forward = 1; J->forward = irand(2) ? rj_rad(irand(360)) : urand() * 6.28; }
+            if (irand(2)) { J->has_reverse = 1; J->reverse = irand(2) ? rj_rad(irand(360)) : urand() * 6.28; }
+            J->lock = irand(2); J->method = irand(5); J->release = irand(2); J->reference = irand(2);
+            if (irand(2)) J->penalty_k = urand() * 1e6;
+            if (irand(2)) J->restitution = urand();
+            if (irand(2)) J->damping = urand();
+            if (irand(2)) J->friction = urand();
+        }
+        sc.links = links; sc.link_count = nl; sc.joints = joints; sc.joint_count = nj;
+        len = rj_scene_write(&sc, NULL, NULL, NULL, 0);
+        buf = (char *)malloc(len + 1);
+        rj_scene_write(&sc, NULL, NULL, buf, len + 1);
+        /* the model may reject a random scene (e.g. a root that is not free on a body2,
+           penalty without stiffness); then the parser reports that, else it must match */
+        if (rj_scene_parse(buf, len, "random.rjs", &f, &e) != RJ_OK) {
+            rj_error me;
+            if (rj_model_size(&sc, &me) != 0 || e.code != me.code || strstr(e.msg, me.msg) == NULL) {
+                if (!bad++) { printf("  random scene %d:\n%s\n  error: %s\n  model: %s\n", t, buf, e.msg, me.msg); }
+            }
+        } else {
+            fd = rj_scene_file_def(&f);
+            if (!same_scene(&fd, &sc, 0, why, sizeof why)) { if (!bad++) printf("  random scene %d: %s\n%s\n", t, why, buf); }
+            rj_scene_file_free(&f);
+        }
+        free(buf);
+    }
+    snprintf(d, sizeof d, "300 random scenes (angles deg-exact and not, tables, every key); %d mismatches", bad);
+    check(bad == 0, "round trip random scenes bit for bit (units: deg/rad, deg/s/rad/s)", d);
+}
+
+/* ------------------------------------------------------------------ parsing details */
+static rj_result parse_str(const char *text, rj_scene_file *f, rj_error *e)
+{
+    return rj_scene_parse(text, strlen(text), "t.rjs", f, e);
+}
+
+static void test_units(void)
+{
+    static const char *text =
+        "link a\n"
+        "  angle = 90 deg  omega = 573 deg/s  x = 1.5\n"
+        "link b\n"
+        "link c\n"
+        "joint j\n"
+        "  body1 = ground  body2 = a  ground_angle = 90deg\n"
+        "  angle0 = 1.5707963267948966 rad  rate0 = -10 rad/s\n"
+        "  spring = 2 -30 deg  forward = 1.5  reverse = 0 deg\n"
+        "joint k\n"
+        "  body1 = a  body2 = b  angle0 = 1.5  rate0 = 2  forward = 359.5deg\n"
+        "joint l\n"
+        "  body1 = a  body2 = c  angle0 = 90 rad  rate0 = 10deg/s  forward = 6.2831 rad\n";
+    rj_scene_file f;
+    rj_error e;
+    char d[300];
+    if (parse_str(text, &f, &e) != RJ_OK) { check(0, "units", e.msg); return; }
+    snprintf(d, sizeof d, "angle %.17g omega %.17g ground_angle %.17g angle0 %.17g rate0 %.17g free %.17g", f.links[0].angle, f.links[0].omega,
+             f.joints[0].ground_angle, f.joints[0].angle0, f.joints[0].rate0, f.joints[0].spring_free_angle);
+    check(f.links[0].angle == rj_rad(90) && f.links[0].omega == rj_rad(573) && f.links[0].x == 1.5 && f.joints[0].ground_angle == rj_rad(90)
+          && f.joints[0].angle0 == 1.5707963267948966 && f.joints[0].rate0 == -10 && f.joints[0].spring_free_angle == rj_rad(-30) && f.joints[0].spring_k == 2,
+          "units: deg and deg/s convert with rj_rad, rad and rad/s are as written, glued units work", d);
+    snprintf(d, sizeof d, "forward %.17g, reverse %g (has %d), angle0 %g, rate0 %g; 359.5deg -> %.17g, 90 rad -> %g, 10deg/s -> %.17g, 6.2831 rad -> %g",
+             f.joints[0].forward, f.joints[0].reverse, f.joints[0].has_reverse, f.joints[1].angle0, f.joints[1].rate0, f.joints[1].forward,
+             f.joints[2].angle0, f.joints[2].rate0, f.joints[2].forward);
+    check(f.joints[0].forward == 1.5 && f.joints[0].reverse == 0 && f.joints[0].has_reverse && f.joints[1].angle0 == 1.5 && f.joints[1].rate0 == 2
+          && f.joints[1].forward == rj_rad(359.5) && f.joints[2].angle0 == 90 && f.joints[2].rate0 == rj_rad(10) && f.joints[2].forward == 6.2831,
+          "units: no unit means rad (and rad/s)", d);
+    rj_scene_file_free(&f);
+}
+
+static void test_comments(void)
+{
+    static const char *plain =
+        "solver\ndt = 1e-5\nmaterial m\nE = 2e11\nrho = 7800\nsection s\nwidth = 0.02\nheight = 0.01\nlink a\nlength = 0.5\nelements = 3\nmaterial = m\nsection = s\n"
+        "link b\nlength = 0.5\nelements = 3\nmaterial = m\nsection = s\nrho = 100\njoint j1\nbody1 = ground\nbody2 = a\nangle0 = 0.5\njoint j2\nbody1 = a\nbody2 = b\n"
+        "table = 0 1, 1 2, 2 3\n";
+    static const char *fancy =
+        "# a comment line\r\n"
+        "\r\n"
+        "   \t  \r\n"
+        "solver   # trailing comment after a section keyword\r\n"
+        "\tdt=1e-5#no spaces at all\r\n"
+        "material m\r\n"
+        "  E = 2e11 rho = 7800   # two keys on a line\r\n"
+        "\r\n"
+        "section s\r\n"
+        "  width = 0.02  height = 0.01\r\n"
+        "# between sections\r\n"
+        "link a\r\n"
+        "  length = 0.5  elements = 3  material = m  section = s\r\n"
+        "link b   \r\n"
+        "  length = 0.5\r\n"
+        "  # a comment inside a section\r\n"
+        "  elements = 3\r\n"
+        "  material = m  section = s  rho = 100   # the link's own rho overrides the material\r\n"
+        "joint j1\r\n"
+        "  body1 = ground  body2 = a  angle0 = 0.5\r\n"
+        "joint j2\r\n"
+        "  body1 = a  body2 = b\r\n"
+        "  table = 0 1,      # a table may continue after a ','\r\n"
+        "          1 2,\r\n"
+        "          2 3\r\n"
+        "# last line without a newline";
+    rj_scene_file a, b;
+    rj_error e;
+    char why[300];
+    if (parse_str(plain, &a, &e) != RJ_OK) { check(0, "comments: plain scene", e.msg); return; }
+    if (parse_str(fancy, &b, &e) != RJ_OK) { check(0, "comments: commented scene", e.msg); rj_scene_file_free(&a); return; }
+    {
+        rj_scene_def da = rj_scene_file_def(&a), db = rj_scene_file_def(&b);
+        int ok = same_scene(&da, &db, 1, why, sizeof why);
+        check(ok && b.links[1].rho == 100 && b.links[0].rho == 7800 && b.links[0].E == 2e11 && b.links[0].width == 0.02 && b.joints[1].table_count == 3,
+              "comments, blank lines, CRLF, tabs, several keys per line, continued table: same scene", why);
+    }
+    rj_scene_file_free(&a);
+    rj_scene_file_free(&b);
+    {   /* input need not be NUL-terminated: parse a prefix of a longer buffer */
+        static const char buf[] = "link a\n  length = 2\nGARBAGE THAT IS NOT PART OF THE INPUT";
+        rj_result r = rj_scene_parse(buf, strlen("link a\n  length = 2\n"), "t.rjs", &a, &e);
+        check(r == RJ_OK && a.links[0].length == 2, "input is (text, len): bytes past len are not read", r == RJ_OK ? "parsed the 20-byte prefix" : e.msg);
+        rj_scene_file_free(&a);
+        r = rj_scene_parse(buf, strlen("link a\n  length = 2"), "t.rjs", &a, &e);
+        check(r == RJ_OK && a.links[0].length == 2, "input without a final newline", r == RJ_OK ? "parsed" : e.msg);
+        rj_scene_file_free(&a);
+    }
+}
+
+/* one error case: code, "t.rjs:L:C: " prefix, a substring of the message, the field */
+static void err_case(const char *name, const char *text, size_t len, rj_result code, int line, int col, const char *sub, const char *field)
+{
+    rj_scene_file f;
+    rj_error e;
+    rj_result r;
+    char pre[64], d[600];
+    int ok;
+    long live0 = g_alloc.live;
+    memset(&f, 0x5a, sizeof f);
+    r = rj_scene_parse(text, len ? len : strlen(text), "t.rjs", &f, &e);
+    snprintf(pre, sizeof pre, "t.rjs:%d:%d: ", line, col);
+    ok = r == code && e.code == code && strncmp(e.msg, pre, strlen(pre)) == 0 && strstr(e.msg, sub) != NULL
+         && (!field || strcmp(e.field, field) == 0) && zeroed(&f) && g_alloc.live == live0;
+    snprintf(d, sizeof d, "%s [field '%s', code %s]%s%s", r == RJ_OK ? "parsed without error" : e.msg, r == RJ_OK ? "" : e.field, rj_result_str(r),
+             g_alloc.live != live0 ? " LEAK" : "", zeroed(&f) ? "" : " *out not zeroed");
+    check(ok, name, d);
+    if (r == RJ_OK) rj_scene_file_free(&f);
+}
+#define EP(name, text, line, col, sub, field) err_case(name, text, 0, RJ_ERR_PARSE, line, col, sub, field)
+#define J2 "link a\nlink b\njoint j\n  body1 = a  body2 = b\n"
+
+static char *line_of(const char *head, char c, int n, const char *tail)
+{
+    size_t h = strlen(head), t = strlen(tail);
+    char *s = (char *)malloc(h + (size_t)n + t + 1);
+    memcpy(s, head, h);
+    memset(s + h, c, (size_t)n);
+    memcpy(s + h + (size_t)n, tail, t + 1);
+    return s;
+}
+
+static char *repeat(const char *head, const char *fmt, int n, const char *tail)
+{
+    size_t cap = strlen(head) + strlen(tail) + (size_t)n * (strlen(fmt) + 16) + 1, o;
+    char *s = (char *)malloc(cap);
+    int i;
+    o = (size_t)sprintf(s, "%s", head);
+    for (i = 0; i < n; i++) o += (size_t)sprintf(s + o, fmt, i, i);
+    sprintf(s + o, "%s", tail);
+    return s;
+}
+
+static void test_errors(void)
+{
+    char *s;
+    /* structure */
+    EP("error: unknown section", "link a\nfoo bar\n", 2, 1, "unknown key or section 'foo'", "");
+    EP("error: unknown section at the top", "foo bar\n", 1, 1, "unknown section 'foo' (expected solver, material, section, link or joint)", "");
+    EP("error: key outside any section", "length = 1\nlink a\n", 1, 1, "key 'length' outside any section", "");
+    EP("error: line starts with '='", "link a\n = 3\n", 2, 2, "expected a key or a section keyword, found '='", "");
+    EP("error: section name missing", "link\n", 1, 5, "missing name after 'link'", "link");
+    EP("error: invalid name", "link 1abc\n", 1, 6, "invalid name '1abc' after 'link'", "link");
+    EP("error: name too long (32 characters)", "link abcdefghijabcdefghijabcdefghijab\n", 1, 6, "invalid name 'abcdefghijabcdefghijabcdefghijab'", "link");
+    EP("error: trailing garbage after a section name", "link a b\n", 1, 8, "unexpected 'b' after the name of link", "");
+    EP("error: solver takes no name", "solver fast\nlink a\n", 1, 8, "unexpected 'fast' after 'solver'", "");
+    EP("error: duplicate solver", "solver\nlink a\nsolver\n", 3, 1, "duplicate solver section (first on line 1)", "solver");
+    EP("error: duplicate link name", "link a\nlink b\nlink a\n", 3, 6, "duplicate link name 'a' (first defined on line 1)", "link");
+    EP("error: duplicate joint name", J2 "joint j\n", 5, 7, "duplicate joint name 'j' (first defined on line 3)", "joint");
+    EP("error: duplicate material name", "material m\nmaterial m\n", 2, 10, "duplicate material name 'm'", "material");
+    EP("error: duplicate section name", "section s\nsection s\n", 2, 9, "duplicate section name 's'", "section");
+    EP("error: a link named ground", "link ground\n", 1, 6, "a link cannot be named 'ground'", "link");
+    EP("error: no links", "# nothing but a comment\n\n", 2, 1, "the scene has no links", "link_count");
+    EP("error: empty input", "", 1, 1, "the scene has no links", "link_count");
+    /* keys and values */
+    EP("error: unknown key", "link arm1\n  length = 1\n  lenght = 1.1\n", 3, 3, "unknown key 'lenght' in link 'arm1'", "lenght");
+    EP("error: key of another section", "material m\n  length = 1\n", 2, 3, "unknown key 'length' in material 'm'", "length");
+    EP("error: duplicate key", "link a\n  length = 1\n  length = 2\n", 3, 3, "duplicate key 'length' in link 'a' (first set on line 2)", "length");
+    EP("error: duplicate key on one line", "link a\n  x = 1  x = 2\n", 2, 10, "duplicate key 'x' in link 'a'", "x");
+    EP("error: missing value", "link a\n  length =\n", 2, 11, "missing value for 'length' in link 'a'", "length");
+    EP("error: missing value before the next key", "link a\n  length = elements = 3\n", 2, 11, "missing value for 'length'", "length");
+    EP("error: missing '='", "link a\n  length 1\n", 2, 9, "missing '=' after 'length' in link 'a'", "length");
+    EP("error: trailing garbage after a value", "link a\n  length = 1 m\n", 2, 14, "unexpected 'm' after the value of 'length' in link 'a'", "length");
+    EP("error: trailing ',' after a value", "link a\n  length = 1,\n", 2, 13, "unexpected ',' after the value of 'length'", "length");
+    EP("error: malformed number", "link a\n  length = 1.2.3\n", 2, 12, "malformed number '1.2.3' for 'length' in link 'a'", "length");
+    EP("error: hex is not a number here", "link a\n  length = 0x10\n", 2, 12, "malformed number '0x10'", "length");
+    EP("error: exponent without digits", "link a\n  E = 1e\n", 2, 7, "malformed number '1e'", "E");
+    EP("error: a lone sign", "link a\n  x = -\n", 2, 7, "malformed number '-'", "x");
+    EP("error: not a number", "link a\n  rho = heavy\n", 2, 9, "malformed number 'heavy'", "rho");
+    EP("error: NaN", "link a\n  length = nan\n", 2, 12, "not a finite number: 'nan'", "length");
+    EP("error: inf", "link a\n  E = -inf\n", 2, 7, "not a finite number: '-inf'", "E");
+    EP("error: Infinity", "link a\n  x = Infinity\n", 2, 7, "not a finite number: 'Infinity'", "x");
+    EP("error: number overflows", "link a\n  E = 1e999\n", 2, 7, "number out of range: '1e999'", "E");
+    EP("error: angle overflows", "link a\n  angle = 1e400 deg\n", 2, 11, "number out of range: '1e400'", "angle");
+    EP("error: integer expected", "link a\n  elements = 2.5\n", 2, 14, "expected an integer, found '2.5'", "elements");
+    EP("error: integer too large", "link a\n  elements = 99999999999\n", 2, 14, "elements = 99999999999 is out of range in link 'a': must be 1..1000000", "elements");
+    EP("error: zero elements", "link a\n  elements = 0\n", 2, 14, "elements = 0 is out of range in link 'a': must be 1..1000000", "elements");
+    EP("error: negative length", "link a\n  length = -1\n", 2, 12, "length = -1 is out of range in link 'a': must be > 0 and <= 1e6 m", "length");
+    EP("error: zero E", "material m\n  E = 0\n", 2, 7, "E = 0 is out of range in material 'm': must be > 0 Pa", "E");
+    EP("error: zero layers", "section s\n  layers = 0\n", 2, 12, "layers = 0 is out of range in section 's'", "layers");
+    EP("error: negative tip mass", "link a\n  tip_mass = -0.1\n", 2, 14, "tip_mass = -0.1 is out of range", "tip_mass");
+    EP("error: unknown root", "link a\n  root = welded\n", 2, 10, "unknown value 'welded' for 'root' in link 'a' (expected free, pinned, clamped or fixed)", "root");
+    EP("error: dt above 1 s", "solver\n  dt = 2\nlink a\n", 2, 8, "dt = 2 is out of range in solver: must be 0 (automatic) or a step in (0, 1] s", "dt");
+    EP("error: energy_growth 1", "solver\n  energy_growth = 1\nlink a\n", 2, 19, "energy_growth = 1 is out of range in solver: must be > 1", "energy_growth");
+    EP("error: bad boolean", "solver\n  allow_unstable = maybe\nlink a\n", 2, 20, "unknown value 'maybe' for 'allow_unstable' in solver (expected no, yes, false or true)", "allow_unstable");
+    EP("error: limit at 360 deg", J2 "  forward = 360 deg\n", 5, 13, "forward = 360 deg is out of range in joint 'j': a limit must be in [0, 360) deg, or none", "forward");
+    EP("error: negative limit", J2 "  reverse = -1deg\n", 5, 13, "reverse = -1deg is out of range", "reverse");
+    EP("error: limit of 2 pi rad", J2 "  forward = 6.283185307179586\n", 5, 13, "out of range", "forward");
+    EP("error: restitution above 1", J2 "  restitution = 1.5\n", 5, 17, "restitution = 1.5 is out of range in joint 'j': must be in [0, 1]", "restitution");
+    EP("error: negative friction", J2 "  friction = -0.1\n", 5, 14, "friction = -0.1 is out of range", "friction");
+    EP("error: negative damping", J2 "  damping = -1\n", 5, 13, "damping = -1 is out of range", "damping");
+    EP("error: negative penalty_k", J2 "  penalty_k = -5\n", 5, 15, "penalty_k = -5 is out of range", "penalty_k");
+    EP("error: angle0 too large", J2 "  angle0 = 2e6\n", 5, 12, "angle0 = 2e6 is out of range", "angle0");
+    EP("error: unknown unit", J2 "  forward = 90 degrees\n", 5, 16, "unknown unit 'degrees' for 'forward' in joint 'j' (deg or rad)", "forward");
+    EP("error: rate with an angle unit", J2 "  rate0 = 10 deg\n", 5, 14, "unknown unit 'deg' for 'rate0' in joint 'j' (deg/s or rad/s)", "rate0");
+    EP("error: unknown method", J2 "  method = foo\n", 5, 12, "unknown value 'foo' for 'method' in joint 'j' (expected penalty, adaptive, momentum, forced or energy)", "method");
+    EP("error: unknown release", J2 "  release = rc14\n", 5, 13, "unknown value 'rc14'", "release");
+    EP("error: unknown reference", J2 "  reference = normal\n", 5, 15, "unknown value 'normal'", "reference");
+    EP("error: spring without free angle", J2 "  spring = 1\n", 5, 13, "missing free angle after the stiffness in joint 'j' (spring = k angle)", "spring");
+    EP("error: negative spring", J2 "  spring = -1 90 deg\n", 5, 12, "spring = -1 is out of range", "spring");
+    EP("error: table with one point", J2 "  table = 0 deg 1\n", 5, 11, "a table needs at least 2 points", "table");
+    EP("error: table angle above 360 deg", J2 "  table = 0 deg 1, 400 deg 2\n", 5, 20, "table = 400 deg is out of range in joint 'j': table angles must be in [0, 360] deg", "table");
+    EP("error: table angles decrease", J2 "  table = 90 deg 1, 45 deg 2\n", 5, 21, "table angles must not decrease", "table");
+    EP("error: table without torque", J2 "  table = 0 deg 1, 90 deg\n", 5, 26, "missing torque after the table angle", "table");
+    EP("error: table pairs need ','", J2 "  table = 0 deg 1 90 deg 2\n", 5, 19, "expected ',' or the end of the table, found '90'", "table");
+    EP("error: table ends with ','", J2 "  table = 0 deg 1, 90 deg 2,\n", 5, 28, "table ends with ','", "table");
+    EP("error: error on a continuation line", J2 "  table = 0 deg 1,\n     400 deg 2\n", 6, 6, "table = 400 deg is out of range", "table");
+    s = repeat(J2 "  table = ", "%d deg %d, ", 32, "359 deg 0\n");   /* the 33rd point starts at column 1 + strstr offset */
+    EP("error: table with 33 points", s, 5, (int)(strstr(s, "359 deg") - strstr(s, "  table")) + 1, "table has more than 32 points in joint 'j'", "table");
+    free(s);
+    /* references */
+    EP("error: unknown material", "link a\n  material = steel\n", 2, 14, "unknown material 'steel' in link 'a' (define it above the link)", "material");
+    EP("error: unknown section reference", "link a\n  section = tube\n", 2, 13, "unknown section 'tube' in link 'a'", "section");
+    EP("error: material defined after its link", "link a\n  material = m\nmaterial m\n", 2, 14, "unknown material 'm'", "material");
+    EP("error: unknown link", "link a\njoint j\n  body1 = a  body2 = c\n", 3, 22, "unknown link 'c' for 'body2' in joint 'j' (define links above the joints that use them)", "body2");
+    EP("error: body2 = ground", "link a\njoint j\n  body1 = a  body2 = ground\n", 3, 22, "body2 must be a link, not 'ground' in joint 'j'", "body2");
+    EP("error: body1 = body2", "link a\njoint j\n  body1 = a  body2 = a\n", 3, 22, "joint 'j' connects link 'a' to itself (body1 = body2)", "body2");
+    EP("error: joint without body2", "link a\njoint j\n  body1 = ground\nlink b\n", 2, 1, "joint 'j' has no body2 (a link)", "body2");
+    EP("error: joint without body1", "link a\njoint j\n  body2 = a\n", 2, 1, "joint 'j' has no body1 (ground or a link)", "body1");
+    EP("error: node1 out of range", "link a\n  elements = 2\nlink b\njoint j\n  body1 = a  body2 = b  node1 = 3\n", 5, 33, "node1 = 3 is out of range in joint 'j': link 'a' has nodes 0..2", "node1");
+    EP("error: node1 with ground", "link a\njoint j\n  body1 = ground  body2 = a  node1 = 1\n", 3, 38, "node1 applies only when body1 is a link, in joint 'j'", "node1");
+    EP("error: ground_x with a link body1", J2 "  ground_x = 1\n", 5, 14, "ground_x applies only when body1 = ground, in joint 'j'", "ground_x");
+    /* sections */
+    EP("error: general section without inertia", "section s\n  area = 1e-4\nlink a\n", 2, 10, "section 's' sets area but not inertia", "area");
+    EP("error: width with area/inertia", "link a\n  area = 1e-4  inertia = 1e-8  width = 0.1\n", 2, 40, "link 'a' mixes width with area/inertia", "width");
+    EP("error: link area over a rectangular section", "section s\n  width = 0.1  height = 0.01\nlink a\n  section = s  area = 1e-4  inertia = 1e-9\n", 2, 11,
+       "link 'a' mixes width with area/inertia", "width");
+    EP("error: rectangular section with height 0", "link a\n  height = 0\n", 2, 12, "link 'a' has height = 0: a rectangular section needs height > 0", "height");
+    /* limits */
+    s = repeat("", "link l%d\n", 257, "");
+    EP("error: too many links", s, 257, 1, "too many link sections (at most 256)", "link");
+    free(s);
+    s = repeat("link a\n", "joint j%d\n  body1 = ground  body2 = a\n", 257, "");
+    EP("error: too many joints", s, 514, 1, "too many joint sections (at most 256)", "joint");
+    free(s);
+    s = repeat("", "material m%d\n", 65, "");
+    EP("error: too many materials", s, 65, 1, "too many material sections (at most 64)", "material");
+    free(s);
+    s = repeat("", "section s%d\n", 65, "");
+    EP("error: too many sections", s, 65, 1, "too many section sections (at most 64)", "section");
+    free(s);
+    s = line_of("link a\n  # ", 'x', 1100, "\n");
+    EP("error: line longer than 1024", s, 2, 1025, "line is longer than 1024 characters", "");
+    free(s);
+    s = line_of("link a\n  # ", 'x', 1020, "\r\n");    /* 2 + 2 + 1020 = 1024 characters and CR LF: fine */
+    {
+        rj_scene_file f;
+        rj_error e;
+        rj_result r = parse_str(s, &f, &e);
+        check(r == RJ_OK, "a line of exactly 1024 characters is fine", r == RJ_OK ? "parsed" : e.msg);
+        rj_scene_file_free(&f);
+    }
+    free(s);
+    /* 5 tokens on the first table line, 30 on each continuation line: token 513 is the
+       28th of the 17th continuation line (file line 22), at column 1 + 9 x 5 */
+    s = repeat(J2 "  table = 0 0,\n", "0 0, 0 0, 0 0, 0 0, 0 0, 0 0, 0 0, 0 0, 0 0, 0 0,\n", 30, "0 0\n");
+    EP("error: statement with more than 512 tokens", s, 22, 46, "statement has more than 512 tokens", "");
+    free(s);
+    /* bytes */
+    err_case("error: NUL byte", "link a\n  length = 1\0\n", 21, RJ_ERR_PARSE, 2, 13, "invalid character 0x00", "");
+    EP("error: control character", "link a\x01\n", 1, 7, "invalid character 0x01", "");
+    EP("error: carriage return inside a line", "link a\r  length = 1\n", 1, 7, "invalid character 0x0d", "");
+    EP("error: non-ASCII name", "link caf\xc3\xa9\n", 1, 6, "invalid name 'caf\\xc3\\xa9'", "link");
+    /* the model's own validation, located in the file */
+    err_case("model error: penalty limit without stiffness (points at method)", J2 "  forward = 90 deg\n  method = penalty\n", 0, RJ_ERR_INVALID, 6, 12,
+             "joints[0].penalty_k = 0 is invalid: RJ_METHOD_PENALTY with a limit needs a stiffness > 0 (joint 'j')", "joints[0].penalty_k");
+    err_case("model error: equal limits", J2 "  forward = 90 deg  reverse = 90 deg\n", 0, RJ_ERR_INVALID, 5, 13, "(joint 'j')", "joints[0].forward");
+    err_case("model error: body2 with a root support", "link a\nlink b\n  root = pinned\njoint j\n  body1 = a  body2 = b\n", 0, RJ_ERR_INVALID, 3, 10,
+             "its root must be RJ_ROOT_FREE (link 'b')", "links[1].root");
+    err_case("model error: a link hanging from two joints", "link a\nlink b\njoint j1\n  body1 = a  body2 = b\njoint j2\n  body1 = ground  body2 = b\n", 0, RJ_ERR_INVALID, 6, 27,
+             "already body2 of joint 0 (a link hangs from one joint) (joint 'j2')", "joints[1].body2");
+    err_case("model error: closed loop", "link a\nlink b\njoint j1\n  body1 = a  body2 = b\njoint j2\n  body1 = b  body2 = a\n", 0, RJ_ERR_INVALID, 1, 1,
+             "closed loop", "links[0]");
+    {   /* unstable dt passes the parser; rj_model_create refuses it; locate points at dt */
+        static const char *t = "solver\n  dt = 0.01\nlink a\n  elements = 4\n";
+        rj_scene_file f;
+        rj_error e;
+        rj_model *m;
+        rj_scene_def d;
+        if (parse_str(t, &f, &e) != RJ_OK) check(0, "model error: unstable dt located at the dt line", e.msg);
+        else {
+            rj_result r;
+            d = rj_scene_file_def(&f);
+            r = rj_model_create(&d, &m, &e, NULL);
+            if (r == RJ_OK) rj_model_destroy(m, NULL);
+            rj_scene_file_locate(&f, &e);
+            check(r == RJ_ERR_UNSTABLE_DT && strncmp(e.msg, "t.rjs:2:8: solver.dt = 0.01 s is above the stability bound", 58) == 0,
+                  "model error: unstable dt located at the dt line (rj_scene_file_locate)", e.msg);
+            rj_scene_file_free(&f);
+        }
+    }
+}
+
+static void test_api(void)
+{
+    rj_scene_file f;
+    rj_error e;
+    rj_result r;
+    char d[300];
+    talloc ctx;
+    int n, ok_all = 1, nomem_seen = 0;
+    long live0 = g_alloc.live;
+    r = rj_scene_parse(NULL, 0, NULL, &f, &e);
+    check(r == RJ_ERR_PARSE && strncmp(e.msg, "<input>:1:1: ", 13) == 0, "NULL text with length 0 is an empty file named <input>", e.msg);
+    r = rj_scene_parse(NULL, 5, "x", &f, &e);
+    check(r == RJ_ERR_INVALID && zeroed(&f), "NULL text with length > 0 is invalid", e.msg);
+    r = rj_scene_parse("link a\n", 7, "x", NULL, &e);
+    check(r == RJ_ERR_INVALID, "NULL out is invalid", e.msg);
+    r = rj_scene_parse("link a\n  length = -1\n", 21, "x", &f, NULL);
+    check(r == RJ_ERR_PARSE && zeroed(&f), "err may be NULL", rj_result_str(r));
+    r = rj_scene_parse(J2 "  forward = 1\n  method = penalty\n", strlen(J2 "  forward = 1\n  method = penalty\n"), "x", &f, NULL);
+    check(r == RJ_ERR_INVALID && zeroed(&f), "err may be NULL (model validation error keeps its code)", rj_result_str(r));
+    r = rj_scene_load("no/such/file.rjs", &f, &e);
+    check(r == RJ_ERR_PARSE && strcmp(e.msg, "no/such/file.rjs: cannot open the file for reading") == 0 && zeroed(&f), "rj_scene_load of a missing file", e.msg);
+    check(g_alloc.live == live0, "no allocation left behind by the calls above", "live blocks unchanged");
+    /* alloc_ctx reaches RJ_MALLOC; every allocation failure is clean */
+    memset(&ctx, 0, sizeof ctx);
+    r = rj_scene_parse_ex(J2, strlen(J2), "x", &f, &e, &ctx);
+    snprintf(d, sizeof d, "%s; %ld allocations through the context, %ld live", rj_result_str(r), ctx.total, ctx.live);
+    check(r == RJ_OK && ctx.total >= 1 && ctx.live == 1, "rj_scene_parse_ex allocates through alloc_ctx", d);
+    rj_scene_file_free(&f);
+    check(ctx.live == 0, "rj_scene_file_free returns the block to its context", "live 0");
+    for (n = 1; n <= 3; n++) {
+        memset(&ctx, 0, sizeof ctx);
+        ctx.fail_at = n;
+        r = rj_scene_parse_ex(J2, strlen(J2), "x", &f, &e, &ctx);
+        if (r == RJ_ERR_NOMEM) nomem_seen++;
+        if (!((r == RJ_ERR_NOMEM && zeroed(&f)) || r == RJ_OK) || (r != RJ_OK && ctx.live != 0)) ok_all = 0;
+        if (r == RJ_OK) rj_scene_file_free(&f);
+    }
+    snprintf(d, sizeof d, "%d of the first 3 allocations failing give RJ_ERR_NOMEM, nothing leaked", nomem_seen);
+    check(ok_all && nomem_seen == 2, "allocation failures: RJ_ERR_NOMEM and nothing left allocated", d);
+    {   /* a 257-item file that fails leaves nothing behind either (ASan/LSan would also say) */
+        char *s = repeat("", "link l%d\n", 257, "");
+        long before = g_alloc.live;
+        r = parse_str(s, &f, &e);
+        free(s);
+        check(r == RJ_ERR_PARSE && g_alloc.live == before, "failed parse of a large file frees its blocks", e.msg);
+    }
+}
+
+static void test_locale(void)
+{
+    static const char *const names[] = { "de_DE.UTF-8", "de_DE.utf8", "fr_FR.UTF-8", "fr_FR.utf8", "de_DE", "fr_FR" };
+    size_t k;
+    const char *got = NULL;
+    char t[16];
+    for (k = 0; k < sizeof names / sizeof names[0] && !got; k++) got = setlocale(LC_NUMERIC, names[k]);
+    snprintf(t, sizeof t, "%.1f", 1.5);
+    if (!got || strcmp(t, "1,5") != 0) {
+        printf("SKIP locale: no comma-decimal locale installed (not counted)\n");
+        setlocale(LC_NUMERIC, "C");
+        return;
+    }
+    {
+        rj_scene_file a;
+        rj_error e;
+        rj_result r = parse_str("link a\n  length = 1.25  angle = 2.5 deg\n", &a, &e);
+        char d[400];
+        snprintf(d, sizeof d, "%s: %s", got, r == RJ_OK ? "parsed" : e.msg);
+        check(r == RJ_OK && a.links[0].length == 1.25 && a.links[0].angle == rj_rad(2.5), "locale with a decimal comma: numbers still use '.'", d);
+        if (r == RJ_OK) {
+            rj_scene_def sd = rj_scene_file_def(&a);
+            char buf[1000];
+            rj_scene_write(&sd, NULL, NULL, buf, sizeof buf);
+            check(strstr(buf, "length = 1.25") != NULL && strstr(buf, "2.5 deg") != NULL, "locale with a decimal comma: the writer writes '.'",
+                  strstr(buf, "length = 1.25") ? "length = 1.25 ... angle = 2.5 deg" : "no 'length = 1.25' in the written text");
+            rj_scene_file_free(&a);
+        }
+    }
+    setlocale(LC_NUMERIC, "C");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1) g_dir = argv[1];
+    else {
+        FILE *f = fopen("examples/scenes/deploy.rjs", "rb");
+        if (f) fclose(f); else g_dir = "../examples/scenes";
+    }
+    test_deploy();
+    test_impact();
+    test_solar();
+    file_roundtrip("deploy.rjs");
+    file_roundtrip("impact.rjs");
+    file_roundtrip("solar_array.rjs");
+    test_writer();
+    test_units();
+    test_comments();
+    test_errors();
+    test_api();
+    test_locale();
+    {
+        char d[100];
+        snprintf(d, sizeof d, "%ld blocks live after every test", g_alloc.live);
+        check(g_alloc.live == 0, "nothing allocated is left over", d);
+    }
+    printf("test_scene: %d passed, %d failed\n", g_pass, g_fail);
+    return g_fail ? 1 : 0;
+}
