@@ -101,7 +101,7 @@ typedef struct rj_error {
     rj_result code;
     char field[64];      /* e.g. "joints[1].forward" */
     double value;        /* the offending value (NaN when not numeric) */
-    char msg[256];       /* one full sentence */
+    char msg[512];       /* one full sentence */
 } rj_error;
 
 /* Root support of a link that is not the body2 of any joint. */
@@ -402,6 +402,12 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2);     
 #define RJ__LANCZOS_ITERS 160
 /* a contact first seen more than this far past its limit is reported as caught late */
 #define RJ__LATE 0.05
+/* neither the energy balance (total + dissipated - initial) nor the limits' work may put in
+   more than this share of the initial energy: springs, friction, damping and limits do not
+   create energy, so that means chatter at a limit or a step above the bound: the step stops */
+#define RJ__CREATED 0.02
+/* joints whose spring stiffness is remembered while the bound is searched (more use the spring) */
+#define RJ__BOUND_JOINTS 256
 
 /* ------------------------------------------------------------------ internal types */
 typedef struct rj__joint {
@@ -424,7 +430,7 @@ enum { RJ__JD_THETA = 0, RJ__JD_RATE, RJ__JD_LOCK, RJ__JD_TNC, RJ__JD_RATEP, RJ_
        RJ__JD_PEAKP, RJ__JD_P0, RJ__JD_QDD, RJ__JD_TQ0, RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT };
 /* Frame scalars. */
 enum { RJ__FS_TIME = 0, RJ__FS_ETIME, RJ__FS_KE, RJ__FS_STRAIN, RJ__FS_SPRING, RJ__FS_LDAMP, RJ__FS_LFRIC,
-       RJ__FS_LLIM, RJ__FS_E0, RJ__FS_WARN, RJ__FS_COUNT };
+       RJ__FS_LLIM, RJ__FS_E0, RJ__FS_WARN, RJ__FS_PEND, RJ__FS_COUNT };
 
 struct rj_model {
     size_t bytes;
@@ -435,7 +441,7 @@ struct rj_model {
     int *rb_pjoint;           /* (nl) joint whose body2 the link is, -1 if fixed */
     int *jorder;              /* (nj) joints with parents before children */
     double *jpin, *jref;      /* (nj) pin distance along body 1 from its root; reference offset (pi or 0) */
-    double dt, dt_bound, omega_max, dt_eq28;
+    double dt, dt_bound, omega_max, dt_eq28, omega_links;
     rj_solver_def solver;
     rj_link_def *ldef;        /* (nl) */
     rj_joint_def *jdef;       /* (nj) */
@@ -475,7 +481,7 @@ struct rj_state {
     double *efx, *efy, *em1, *em2, *eu, *ebt; /* (ne) element forces, energies, chord angles */
     double *jsc;              /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
     double *rsc;              /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch) */
-    char err[200];
+    char err[320];
     char warn[200];           /* latest warning (late contact), written only when one occurs */
 };
 
@@ -1533,8 +1539,12 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     om2 = 0;
     {
         /* dt depends on K_AP and K_AP on dt: bound without adaptive joints first */
-        double dt;
-        int pass;
+        double dt, klin0[RJ__BOUND_JOINTS];
+        int pass, any = 0;
+        /* the links and springs alone (no limit stiffness): kept for the refusal's advice */
+        for (j = 0; j < m->nj && j < RJ__BOUND_JOINTS; j++) klin0[j] = m->jnt[j].k_lin;
+        om2 = m->rigid ? rj__rig_setup(m, m->lz) : rj__omega2_max(m);
+        m->omega_links = sqrt(om2 > 0 ? om2 : 0);
         for (j = 0; j < m->nj; j++) {
             const rj_joint_def *d = &m->jdef[j];
             /* a penalty limit switches on and off with the contact, which pumps energy long
@@ -1542,6 +1552,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
                up at omega dt = 1.67 where the same spring always on is stable. Counting it
                as 4 K keeps omega dt <= 1, where switching was never seen to pump. */
             if ((d->has_forward || d->has_reverse) && d->method == RJ_METHOD_PENALTY) m->jnt[j].k_lin += 4.0 * d->penalty_k;
+            if ((d->has_forward || d->has_reverse) && d->method == RJ_METHOD_ADAPTIVE) any = 1;
         }
         om2 = m->rigid ? rj__rig_setup(m, m->lz) : rj__omega2_max(m);
         m->omega_max = sqrt(om2 > 0 ? om2 : 0);
@@ -1549,26 +1560,25 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         dt = sc->solver.dt > 0 ? sc->solver.dt : 0.9 * m->dt_bound;
         /* rigid scenes without stiff joints are not bounded: default to 1 ms */
         if (m->rigid && sc->solver.dt <= 0 && dt > 1e-3) dt = 1e-3;
-        /* adaptive joints: K_AP = I_red/dt^2 adds omega^2 = K_AP g^T M^-1 g ~ 1/dt^2, i.e.
-           omega dt ~ 1 on its own; include it and recompute the bound once */
-        for (pass = 0; pass < 1; pass++) {
-            int any = 0;
+        /* adaptive joints: K_AP = I_red/dt^2 gives omega dt = 1 on its own. Contact chatter
+           near the links' bound pumps energy with it too (stress suite: RC13 impacts blew up
+           at 0.95 x the bound with K_AP counted once), so it counts twice; K_AP grows as dt
+           shrinks, so the automatic dt is found by a few fixed-point passes. */
+        for (pass = 0; any && pass < (sc->solver.dt > 0 ? 1 : 6); pass++) {
             for (j = 0; j < m->nj; j++) {
                 const rj_joint_def *d = &m->jdef[j];
                 rj__joint *J = &m->jnt[j];
                 if ((d->has_forward || d->has_reverse) && d->method == RJ_METHOD_ADAPTIVE) {
                     /* rigid: the joint's own effective inertia 1 / (M^-1)_jj (Eq 21 for two free bodies) */
                     J->k_limit = m->rigid ? 1.0 / (J->minv * dt * dt) : rj_k_adaptive(J->I1, J->I2, dt);
-                    J->k_lin += J->k_limit;
-                    any = 1;
+                    J->k_lin = (j < RJ__BOUND_JOINTS ? klin0[j] : d->spring_k) + 2.0 * J->k_limit;
                 }
             }
-            if (any) {
-                om2 = m->rigid ? rj__rig_setup(m, m->lz) : rj__omega2_max(m);
-                m->omega_max = sqrt(om2 > 0 ? om2 : 0);
-                m->dt_bound = m->omega_max > 0 ? RJ__DT_MARGIN * 2.0 / m->omega_max : 1.0;
-                if (sc->solver.dt <= 0 && dt > 0.9 * m->dt_bound) dt = 0.9 * m->dt_bound;
-            }
+            om2 = m->rigid ? rj__rig_setup(m, m->lz) : rj__omega2_max(m);
+            m->omega_max = sqrt(om2 > 0 ? om2 : 0);
+            m->dt_bound = m->omega_max > 0 ? RJ__DT_MARGIN * 2.0 / m->omega_max : 1.0;
+            if (sc->solver.dt > 0 || dt <= 0.9 * m->dt_bound * 1.000001) break;
+            dt = 0.9 * m->dt_bound;
         }
         for (j = 0; j < m->nj; j++) {
             const rj_joint_def *d = &m->jdef[j];
@@ -1582,7 +1592,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         /* name the stiffest joint when a joint, not a link, sets the bound */
         int worst = -1;
         double wo = 0;
-        char extra[160];
+        char extra[240];
         for (j = 0; j < m->nj; j++) {
             rj__jgeo g;
             double om;
@@ -1591,11 +1601,17 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
             if (om > wo) { wo = om; worst = j; }
         }
         extra[0] = 0;
-        if (worst >= 0 && wo * m->dt > 1.0)
-            snprintf(extra, sizeof extra, "; joint %d's stiffness gives omega dt = %.3g (Eq 31 allows K <= %.4g N m/rad at this dt)",
-                     worst, wo * m->dt, rj_joint_kmax_eq31(m, worst, m->dt));
+        if (worst >= 0 && wo * m->dt > 1.0) {
+            rj__jgeo g;
+            double room = (RJ__DT_MARGIN * 2.0 / m->dt) * (RJ__DT_MARGIN * 2.0 / m->dt) - m->omega_links * m->omega_links, kok;
+            rj__joint_geo(m, &m->jnt[worst], m->x0, m->y0, &g);
+            /* what this bound admits for a penalty limit (counted 4 K, added to the links' omega^2) */
+            kok = room > 0 ? room / (4.0 * rj__joint_compliance(m, &m->jnt[worst], &g)) : 0.0;
+            snprintf(extra, sizeof extra, "; joint %d's stiffness gives omega dt = %.3g: this model accepts a penalty K up to about %.4g N m/rad at this dt (Eq 31 would give %.4g)",
+                     worst, wo * m->dt, kok, rj_joint_kmax_eq31(m, worst, m->dt));
+        }
         rj__fail(err, RJ_ERR_UNSTABLE_DT, "solver.dt", m->dt,
-                 "solver.dt = %g s is above the stability bound %g s (omega_max %g rad/s)%s; use a smaller dt or set solver.allow_unstable",
+                 "solver.dt = %.9g s is above the stability bound %.9g s (omega_max %g rad/s)%s; use a smaller dt or set solver.allow_unstable",
                  m->dt, m->dt_bound, m->omega_max, extra);
         return RJ_ERR_UNSTABLE_DT;
     }
@@ -2144,7 +2160,7 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
     const double *osc = RJ__FS(m, of);
     double *nsc = RJ__FS(m, nf);
     const double t = osc[RJ__FS_TIME];
-    double ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC], lost_l = osc[RJ__FS_LLIM], V;
+    double ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC], lost_l = osc[RJ__FS_LLIM] + osc[RJ__FS_PEND], V, pend = 0;
     rj__rig r;
     int j, k;
     rj__rig_map(m, s->rsc, &r);
@@ -2192,11 +2208,13 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
             for (k = 0; k < n; k++) r.qdp[k] += r.x[k] * lam;
         }
     }
-    /* the jumps' loss in the kinetic energy's form: 1/2 (q'^{n-1/2} + q'_after)^T M (q'_before - q'_after) */
+    /* the jumps' loss in the kinetic energy's form: 1/2 q'^{n-1/2} M (q'_before - q'_after)
+       now, 1/2 q'_after M (q'_before - q'_after) with the next step (pend) */
     for (j = 0; j < n; j++) {
         double sum = 0;
         for (k = 0; k < n; k++) sum += r.M[j * n + k] * (r.h[k] - r.qdp[k]);
-        lost_l += 0.5 * ((s->steps == 0 ? 2 * r.qd[j] - r.qdp[j] : r.qd[j]) + r.qdp[j]) * sum;
+        lost_l += 0.5 * (s->steps == 0 ? 2 * r.qd[j] - r.qdp[j] : r.qd[j]) * sum;
+        pend += 0.5 * r.qdp[j] * sum;
     }
     for (j = 0; j < n; j++) {
         double sum = 0;
@@ -2226,11 +2244,12 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
     for (k = 0; k < RJ__FS_COUNT; k++) if (k != RJ__FS_WARN) nsc[k] = osc[k];
     nsc[RJ__FS_TIME] = t + dt; nsc[RJ__FS_ETIME] = t;
     nsc[RJ__FS_KE] = ke; nsc[RJ__FS_STRAIN] = 0; nsc[RJ__FS_SPRING] = V;
-    nsc[RJ__FS_LDAMP] = lost_d; nsc[RJ__FS_LFRIC] = lost_f; nsc[RJ__FS_LLIM] = lost_l;
-    if (s->steps == 0) { nsc[RJ__FS_E0] = ke + V; nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0; }
+    nsc[RJ__FS_LDAMP] = lost_d; nsc[RJ__FS_LFRIC] = lost_f; nsc[RJ__FS_LLIM] = lost_l; nsc[RJ__FS_PEND] = pend;
+    if (s->steps == 0) { nsc[RJ__FS_E0] = ke + V; nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0; lost_d = lost_f = lost_l = 0; }
     {
         const double scale = fabs(nsc[RJ__FS_E0]) + fabs(osc[RJ__FS_SPRING]) + 1e-9;
-        if (!rj__finite(ke) || !rj__finite(lost_l) || ke > m->solver.energy_growth * (scale + fabs(V)))
+        if (!rj__finite(ke) || !rj__finite(lost_l) || fabs(ke) > m->solver.energy_growth * (scale + fabs(V))
+            || ke + V + lost_d + lost_f + lost_l - nsc[RJ__FS_E0] > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale)
             return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: kinetic energy %.6g J of the rigid links exceeds %g x %.6g J; %s",
                             t, ke, m->solver.energy_growth, scale, dt > m->dt_bound ? "the step is above the stability bound" : "a joint stiffness above the bound");
     }
@@ -2259,7 +2278,7 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
     const double *osc = RJ__FS(m, of);
     double *nsc = RJ__FS(m, nf);
     const double t = osc[RJ__FS_TIME];
-    double U, ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC], lost_l = osc[RJ__FS_LLIM];
+    double U, ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC], lost_l = osc[RJ__FS_LLIM] + osc[RJ__FS_PEND], pend = 0;
     int i, j, gi;
 
     /* 1. beams: internal forces at x^n, updated chord angles into the new frame */
@@ -2383,10 +2402,11 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
                    loses 1/2 I_b (w_b^{n-1/2} + w_b') (w_b - w_b') per body (the second half
                    is the next step's share): a latch that only cancels the step's small
                    relative rate loses almost nothing, as a workless constraint should */
-                if (rj__finite(J->I1)) loss += 0.5 * J->I1 * (m1 + w1) * (o1 - w1);
-                if (rj__finite(J->I2)) loss += 0.5 * J->I2 * (m2 + w2) * (o2 - w2);
+                if (rj__finite(J->I1)) { loss += 0.5 * J->I1 * m1 * (o1 - w1); pend += 0.5 * J->I1 * w1 * (o1 - w1); }
+                if (rj__finite(J->I2)) { loss += 0.5 * J->I2 * m2 * (o2 - w2); pend += 0.5 * J->I2 * w2 * (o2 - w2); }
                 rj__spin(J, &g, w1 - o1, w2 - o2, nvx, nvy, nw);
-                lost_l += loss; ke -= 0.5 * ((rj__finite(J->I1) ? J->I1 * m1 * (o1 - w1) : 0) + (rj__finite(J->I2) ? J->I2 * m2 * (o2 - w2) : 0));
+                /* this step's half; the half with the new rates is the next step's (pend) */
+                lost_l += loss; ke -= loss;
                 ratep = rj__joint_rate(J, &g, nvx, nvy, nw, NULL, NULL);
             }
         }
@@ -2451,27 +2471,37 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
 
     /* 7. energy accounts and blow-up detection; commit the frame */
     {
-        double V, E, scale, e0 = osc[RJ__FS_E0];
+        double V, E, scale, created, e0 = osc[RJ__FS_E0];
         for (i = 0; i < RJ__FS_COUNT; i++) if (i != RJ__FS_WARN) nsc[i] = osc[i];
         nsc[RJ__FS_TIME] = t + dt;
         nsc[RJ__FS_ETIME] = t;
         V = rj__spring_energy(m, of);
         nsc[RJ__FS_KE] = ke; nsc[RJ__FS_STRAIN] = U; nsc[RJ__FS_SPRING] = V;
-        nsc[RJ__FS_LDAMP] = lost_d; nsc[RJ__FS_LFRIC] = lost_f; nsc[RJ__FS_LLIM] = lost_l;
+        nsc[RJ__FS_LDAMP] = lost_d; nsc[RJ__FS_LFRIC] = lost_f; nsc[RJ__FS_LLIM] = lost_l; nsc[RJ__FS_PEND] = pend;
         /* the initial energy in the same discrete form as every later one */
         if (s->steps == 0) {
             nsc[RJ__FS_E0] = e0 = ke + U + V;
             nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0;
+            lost_d = lost_f = lost_l = 0;
         }
-        E = ke + U;
+        /* an unstable mode alternates in sign: v^{n-1/2}.v^{n+1/2} turns negative while the
+           strain grows, and their sum is what the scheme conserves, so each is tested alone;
+           and limit responses are dissipative, so energy they put in means chatter */
+        E = U > fabs(ke) ? U : fabs(ke);
         scale = fabs(e0) + fabs(osc[RJ__FS_SPRING]) + 1e-9;
-        if (!rj__finite(E) || !rj__finite(lost_l) || E > m->solver.energy_growth * (scale + fabs(V))) {
+        created = ke + U + V + lost_d + lost_f + lost_l - nsc[RJ__FS_E0];
+        if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) || E > m->solver.energy_growth * (scale + fabs(V))
+            || created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale) {
             int bl, bn;
             rj__worst_node(m, nf, &bl, &bn);
+            if (created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale)
+                return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: %.6g J of energy created (balance %.6g J, limit work %.6g J; more than %g of the initial %.6g J); fastest node link %d node %d; %s",
+                                t, created > -lost_l ? created : -lost_l, created, -lost_l, RJ__CREATED, scale, bl, bn,
+                                dt > m->dt_bound ? "the step is above the stability bound" : "contact chatter at a limit, with a stiffness or a method too hard for the step");
             if (!(E == E) || !rj__finite(E))
                 return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: non-finite energy, fastest node link %d node %d; %s", t, bl, bn,
                                 dt > m->dt_bound ? "the step is above the stability bound" : "check joint stiffness against Eq 31 and the stability bound");
-            return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: kinetic + strain energy %.6g J exceeds %g x the initial %.6g J; fastest node link %d node %d; %s",
+            return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: kinetic or strain energy %.6g J exceeds %g x the initial %.6g J; fastest node link %d node %d; %s",
                             t, E, m->solver.energy_growth, scale, bl, bn,
                             dt > m->dt_bound ? "the step is above the stability bound" : "a joint stiffness above the bound (Eq 31) or a limit tunnelled");
         }

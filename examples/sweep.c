@@ -79,7 +79,7 @@ static void run_sample(const job *jb, int k, char *row, size_t rowlen)
         if (rj_model_create(&sc, &mt, &e, NULL) == RJ_OK) { sc.solver.dt = rj_model_dt(mt) * (1 - jb->dtpct / 100 * 0.5 * (u[3] + 1)); rj_model_destroy(mt, NULL); }
     }
     if (rj_model_create(&sc, &m, &e, NULL) != RJ_OK) {
-        snprintf(row, rowlen, "%d,%.6f,%.6f,%.6f,0,-1,-1,0,0,1,\"%s\"\n", k, fscale, pre, tscale, e.msg);
+        snprintf(row, rowlen, "%d,%.6f,%.6f,%.6f,0,-1,-1,0,0,1,\"%.400s\"\n", k, fscale, pre, tscale, e.msg);
         return;
     }
     dt = rj_model_dt(m);
@@ -102,7 +102,7 @@ static void *worker(void *arg)
     job *jb = (job *)arg;
     for (;;) {
         int k;
-        char row[512];
+        char row[1024];
         pthread_mutex_lock(&jb->lock);
         while (jb->next < jb->samples && jb->next % jb->shard_n != jb->shard_i) jb->next++;
         k = jb->next < jb->samples ? jb->next++ : -1;
