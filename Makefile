@@ -24,9 +24,9 @@ RENDER  = render/rj_render.c render/rj_render.h
 EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B)/sweep
 TESTS   = $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_benchmarks $(B)/test_rigid2 \
           $(B)/test_render $(B)/csvdiff $(B)/test_core_asan $(B)/test_dynamics_asan $(B)/test_beam_asan \
-          $(B)/test_core_clang $(B)/test_cpp $(B)/test_state $(B)/test_state_asan
+          $(B)/test_core_clang $(B)/test_cpp $(B)/test_state $(B)/test_state_asan $(B)/test_scene $(B)/test_scene_asan
 
-.PHONY: all deps test demo golden bench stress clean check-header valgrind
+.PHONY: all deps test demo golden bench stress clean check-header valgrind fuzz
 all: deps $(EXAMPLES)
 
 deps:
@@ -58,6 +58,15 @@ $(B)/test_core_clang: tests/test_core.c tests/rjt.h examples/scenes.h $(HDR) | $
 	clang $(WARN) -O2 -I. tests/test_core.c -o $@ -lm
 $(B)/test_cpp: tests/test_core.c tests/rjt.h examples/scenes.h $(HDR) | $(B)
 	g++ -x c++ -std=c++11 -Wall -Wextra -pedantic -Werror -O2 -I. tests/test_core.c -o $@ -lm
+# test code formats long diagnostics into fixed buffers: truncation there is harmless
+$(B)/test_scene: tests/test_scene.c tests/rjt.h examples/scenes.h $(HDR) | $(B)
+	$(CC) $(ALLCF) -Wno-format-truncation $< -o $@ -lm
+$(B)/test_scene_asan: tests/test_scene.c examples/scenes.h $(HDR) | $(B)
+	$(CC) $(WARN) -Wno-format-truncation $(SAN) -I. $< -o $@ -lm
+$(B)/stress: tests/stress.c tests/rjt.h examples/scenes.h $(HDR) | $(B)
+	$(CC) $(ALLCF) -Wno-format-truncation $< -o $@ -lm
+$(B)/bench: bench/bench.c examples/scenes.h examples/rigid2.h $(HDR) $(RENDER) | $(B)
+	$(CC) $(ALLCF) bench/bench.c render/rj_render.c -o $@ $(GL)
 $(B)/csvdiff: tests/csvdiff.c | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
 
@@ -80,6 +89,7 @@ test: deps $(EXAMPLES) $(TESTS)
 	  "$(B)/test_core" "$(B)/test_core_clang" "$(B)/test_cpp" "$(B)/test_beam" "$(B)/test_dynamics" \
 	  "$(B)/test_benchmarks" "$(B)/test_rigid2" "$(B)/test_state" \
 	  "$(B)/test_core_asan" "$(B)/test_beam_asan" "$(B)/test_dynamics_asan" "$(B)/test_state_asan" \
+	  "$(B)/test_scene" "$(B)/test_scene_asan" \
 	  "sh tests/readme.sh $(B)" \
 	  "sh tests/golden.sh $(B)" \
 	  "$(B)/test_render" \
@@ -104,6 +114,24 @@ valgrind: deps $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_state
 	  "valgrind --error-exitcode=9 --leak-check=full --errors-for-leak-kinds=definite,indirect -q $(B)/test_beam" \
 	  "valgrind --error-exitcode=9 --leak-check=full --errors-for-leak-kinds=definite,indirect -q $(B)/test_state" \
 	  "valgrind --error-exitcode=9 --leak-check=full --errors-for-leak-kinds=definite,indirect -q $(B)/test_dynamics"
+
+# The numerical-stability suite (issue 6): every limit method on the hard cases; the table
+# goes to out/stress.md. --short is the quick version.
+stress: deps $(B)/stress
+	@mkdir -p out
+	@sh tests/run.sh "$(B)/stress --table out/stress.md"
+
+# Speed against error (issue 5): BENCHMARKS.md and the work-precision plots (about 6 minutes)
+bench: deps $(B)/bench
+	@mkdir -p docs
+	$(B)/bench --out BENCHMARKS.md --plot docs/work_precision.png
+
+# Fuzz the scene-file parser (clang's libFuzzer, ASan, UBSan); FUZZ_SECONDS=600 by default
+FUZZ_SECONDS ?= 600
+fuzz: deps
+	@mkdir -p $(B)/fuzz_work
+	clang -g -O1 -fsanitize=fuzzer,address,undefined tests/fuzz_scene.c -I. -o $(B)/fuzz_scene -lm
+	$(B)/fuzz_scene -jobs=1 -max_total_time=$(FUZZ_SECONDS) -max_len=8192 -timeout=10 $(B)/fuzz_work tests/fuzz_corpus
 
 clean:
 	rm -rf $(B) out

@@ -12,7 +12,7 @@
 
 static const char usage[] =
     "usage: animate [options]\n"
-    "  --scene deploy|impact   which benchmark (default deploy)\n"
+    "  --scene deploy|impact|FILE.rjs   a benchmark, or a scene file (default deploy)\n"
     "  --out DIR               frames directory (default out/frames)\n"
     "  --fps N                 frames per simulated second (default 30 for deploy, 20000 for impact)\n"
     "  --size WxH              image size (default 640x480)\n"
@@ -41,14 +41,19 @@ int main(int argc, char **argv)
     cli c;
     int scene = 0, w = 640, h = 480;
     double fps = -1, t_end = -1, thick = -1;
-    const char *dir = "out/frames", *a;
+    const char *dir = "out/frames", *a, *scene_file = NULL;
     anim an;
     rj_model *m = NULL; rj_state *s; rj_error e;
     char err[256];
     clock_t c0;
     c.argc = argc; c.argv = argv; c.i = 0; c.usage = usage;
     while ((a = cli_next(&c)) != NULL) {
-        if (!strcmp(a, "--scene")) scene = cli_choice(&c, a, scenes, 2);
+        if (!strcmp(a, "--scene")) {
+            const char *v = cli_str(&c, a);
+            size_t n = strlen(v);
+            if (n > 4 && !strcmp(v + n - 4, ".rjs")) { scene = 2; scene_file = v; }
+            else { c.i--; scene = cli_choice(&c, a, scenes, 2); }
+        }
         else if (!strcmp(a, "--out")) dir = cli_str(&c, a);
         else if (!strcmp(a, "--fps")) fps = cli_num(&c, a, 1e-3, 1e9);
         else if (!strcmp(a, "--t-end")) t_end = cli_num(&c, a, 0, 1e6);
@@ -69,6 +74,24 @@ int main(int argc, char **argv)
         fps = fps < 0 ? 30 : fps; t_end = t_end < 0 ? 6 : t_end; thick = thick < 0 ? 2 : thick;
         rjr_view_fit_box(&an.view, box, w, h, 20);
         an.view.caption = "two-link deployment (SPEC 9.2)";
+    } else if (scene == 2) {
+        rj_scene_file sf;
+        rj_scene_def sd;
+        rj_state *s0;
+        double box[4];
+        if (rj_scene_load(scene_file, &sf, &e) != RJ_OK) { fprintf(stderr, "animate: %s\n", e.msg); return 1; }
+        sd = rj_scene_file_def(&sf);
+        if (rj_model_create(&sd, &m, &e, NULL) != RJ_OK) { rj_scene_file_locate(&sf, &e); fprintf(stderr, "animate: %s\n", e.msg); return 1; }
+        rj_scene_file_free(&sf);
+        fps = fps < 0 ? 30 : fps; t_end = t_end < 0 ? 6 : t_end; thick = thick < 0 ? 2 : thick;
+        /* fix the view on the whole motion: a quick pass at 10x fewer samples */
+        rj_state_create(m, &s0, NULL);
+        rjr_bbox_init(box);
+        rjr_bbox_add(box, m, s0);
+        while (rj_state_time(s0) < t_end && rj_run(m, s0, rj_state_time(s0) + t_end / 50, 0, NULL, NULL) == RJ_OK) rjr_bbox_add(box, m, s0);
+        rj_state_destroy(s0, NULL);
+        rjr_view_fit_box(&an.view, box, w, h, 20);
+        an.view.caption = scene_file;
     } else {
         impact_opts o = impact_default_opts();
         rj_link_def L[2]; rj_joint_def J; rj_scene_def sc;

@@ -23,6 +23,7 @@ static const char usage[] =
     "  --links flexible|rigid|inextensible   the library's link model (rigid: joint coordinates,\n"
     "                         default dt 1 ms, joint 2 momentum with e = 0 unless --method is\n"
     "                         given; inextensible: length constraints, dt from the bound)\n"
+    "  --scene FILE.rjs       the two-link mechanism from a scene file (examples/scenes/deploy.rjs)\n"
     "  --csv FILE             history, one row per ms (default standard output)\n"
     "  --plot FILE.png        q1, q2 against time, flexible against rigid, locks marked\n"
     "  --frames DIR           animation frames DIR/frame_00000.png ... (640x480)\n"
@@ -73,7 +74,7 @@ int main(int argc, char **argv)
     cli c;
     deploy_opts o = deploy_default_opts();
     double t_end = 6.0, fps = 30, lock_rigid[2];
-    const char *csv = NULL, *plot = NULL, *frames = NULL, *a;
+    const char *csv = NULL, *plot = NULL, *frames = NULL, *a, *scene_file = NULL;
     int rigid = 0, rigid_links = 0, dt_given = 0, method_given = 0;
     static const char *const fids[] = { "flexible", "rigid", "inextensible" };
     run r;
@@ -91,6 +92,7 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--extra-friction")) o.extra_friction = 1;
         else if (!strcmp(a, "--rigid")) rigid = 1;
         else if (!strcmp(a, "--csv")) csv = cli_str(&c, a);
+        else if (!strcmp(a, "--scene")) scene_file = cli_str(&c, a);
         else if (!strcmp(a, "--plot")) plot = cli_str(&c, a);
         else if (!strcmp(a, "--frames")) frames = cli_str(&c, a);
         else if (!strcmp(a, "--fps")) fps = cli_num(&c, a, 0.01, 10000);
@@ -112,7 +114,15 @@ int main(int argc, char **argv)
     }
     {
         rj_model *m; rj_state *s; rj_error err; rj_result res;
-        if (rigid_links) {
+        if (scene_file) {
+            rj_scene_file sf;
+            rj_scene_def sd;
+            if (rj_scene_load(scene_file, &sf, &err) != RJ_OK) { fprintf(stderr, "deploy: %s\n", err.msg); return 1; }
+            sd = rj_scene_file_def(&sf);
+            if (sd.joint_count < 2 || sd.link_count < 2) { fprintf(stderr, "deploy: %s: needs two links and two joints\n", scene_file); return 1; }
+            if (rj_model_create(&sd, &m, &err, NULL) != RJ_OK) { rj_scene_file_locate(&sf, &err); fprintf(stderr, "deploy: %s\n", err.msg); rj_scene_file_free(&sf); return 1; }
+            rj_scene_file_free(&sf);
+        } else if (rigid_links) {
             rj_link_def L[2]; rj_joint_def J[2]; rj_scene_def sc;
             if (!dt_given) o.dt = rigid_links == 1 ? 1e-3 : 0;
             deploy_scene(&o, L, J, &sc);

@@ -15,6 +15,10 @@ check() { # name, produced file
 }
 $B/deploy --csv $T/deploy.csv 2>/dev/null || { echo "FAIL deploy run"; rc=1; }
 check deploy $T/deploy.csv
+if [ "$W" != "--write" ]; then
+  $B/deploy --scene examples/scenes/deploy.rjs --csv $T/deploy_scene.csv 2>/dev/null || { echo "FAIL deploy --scene run"; rc=1; }
+  check deploy $T/deploy_scene.csv
+fi
 $B/deploy --rigid --csv $T/deploy_rigid.csv 2>/dev/null || { echo "FAIL deploy --rigid run"; rc=1; }
 check deploy_rigid $T/deploy_rigid.csv
 for m in penalty adaptive momentum forced energy; do

@@ -1,7 +1,7 @@
-/* fuzz_scene.c - libFuzzer target for the scene-file parser (scene/rj_scene.h).
+/* fuzz_scene.c - libFuzzer target for the scene-file parser (revjoint.h, RJ_NO_SCENE_FILES not set).
    Build and run from the repository root (one process: the machine's cores are shared):
-     clang -g -O1 -fsanitize=fuzzer,address,undefined scene/fuzz_scene.c -I. -o /tmp/fuzz_scene -lm
-     mkdir -p /tmp/fuzz_corpus && /tmp/fuzz_scene -jobs=1 -max_total_time=600 -max_len=8192 /tmp/fuzz_corpus scene/corpus
+     clang -g -O1 -fsanitize=fuzzer,address,undefined tests/fuzz_scene.c -I. -o /tmp/fuzz_scene -lm
+     mkdir -p /tmp/fuzz_corpus && /tmp/fuzz_scene -jobs=1 -max_total_time=600 -max_len=8192 /tmp/fuzz_corpus tests/fuzz_corpus
    For every input: parse it; when it parses, check the writer's round trip (write, parse
    again, every field the model uses equal, else abort) and build a model with
    rj_model_create, step it 10 times, free everything. Models above RJ_FUZZ_MAX_NODES nodes
@@ -13,7 +13,6 @@
 
 #define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
-#include "rj_scene.h"
 
 #ifndef RJ_FUZZ_MAX_NODES
 #define RJ_FUZZ_MAX_NODES 2000

@@ -34,7 +34,6 @@ static void t_free(void *p, void *ctx)
 
 #define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
-#include "rj_scene.h"
 #include "../examples/scenes.h"
 
 static int g_pass, g_fail;
