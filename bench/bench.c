@@ -314,7 +314,7 @@ typedef struct drow {
     int method, el, paper, ok, runs;
     double dt, bound, K, wall, cpu;
     long steps;
-    char msg[256];
+    char msg[600];
     dmet m;
     derr e;
 } drow;
@@ -390,7 +390,7 @@ typedef struct irow {
     double contact, release_last, release_first;  /* s */
     double peak_c, peak_t;                        /* m, max |tip deflection| of link 1, chord / tangent */
     double e_first, e_last, e_peak_c, e_peak_t;   /* s, s, relative, relative */
-    char msg[256];
+    char msg[600];
 } irow;
 
 typedef struct iacc { int prev; double t_free; double first; int contacts; long flips; double peak_c, peak_t; } iacc;

@@ -34,25 +34,6 @@ static int sample(const rj_model *m, const rj_state *s, void *u)
     return 0;
 }
 
-/* rigid-body angular velocity of link 2 about the joint (its angular momentum over its
-   rigid inertia) and the energy left in vibration (kinetic + strain - rigid kinetic) */
-static void rigid_part(const rj_model *m, const rj_state *s, double *omega, double *evib)
-{
-    double p[2], Lz = 0, I = 0;
-    int i, n = rj_link_node_count(m, 1);
-    rj_energy e;
-    rj_joint_position(m, s, 0, p);
-    for (i = 0; i < n; i++) {
-        double x[2], v[2], mm, J, rx, ry;
-        rj_node_position(m, s, 1, i, x); rj_node_velocity(m, s, 1, i, v); rj_node_mass(m, 1, i, &mm, &J);
-        rx = x[0] - p[0]; ry = x[1] - p[1];
-        if (i == 0) continue;   /* the pin does not move */
-        Lz += mm * (rx * v[1] - ry * v[0]); I += mm * (rx * rx + ry * ry);
-    }
-    *omega = Lz / I;
-    rj_state_energy(m, s, &e);
-    *evib = e.kinetic + e.strain - 0.5 * I * (*omega) * (*omega);
-}
 
 int main(int argc, char **argv)
 {
@@ -90,7 +71,7 @@ int main(int argc, char **argv)
             if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { fprintf(stderr, "impact: %s\n", err.msg); return 1; }
             rj_state_create(m, &s, NULL);
             r = rj_run(m, s, t_end, 0, NULL, NULL);
-            rigid_part(m, s, &w, &ev);
+            impact_rigid_part(m, s, &w, &ev);
             printf("| %s | %s | %.4f | %.4f | %.3g | %.4f | %.4g | %.3f |%s\n", cli_methods[mth], cli_releases[rel],
                    1e3 * rj_joint_event_time(m, s, 0), 1e3 * rj_joint_release_time(m, s, 0), rj_joint_peak_penetration(m, s, 0),
                    w, ev, (double)(clock() - c0) / CLOCKS_PER_SEC, r != RJ_OK ? " stopped" : "");

@@ -63,6 +63,26 @@ static inline double scene_tip_defl(const rj_model *m, const rj_state *s, int l)
     return (ux * (pt[1] - p0[1]) - uy * (pt[0] - p0[0])) / n;
 }
 
+/* The impact's link 2 after the contact: its rigid-body angular velocity about the joint
+   (angular momentum over rigid inertia) and the energy left in vibration (kinetic + strain
+   minus the rigid kinetic energy). */
+static inline void impact_rigid_part(const rj_model *m, const rj_state *s, double *omega, double *evib)
+{
+    double p[2], Lz = 0, I = 0;
+    int i, n = rj_link_node_count(m, 1);
+    rj_energy e;
+    rj_joint_position(m, s, 0, p);
+    for (i = 1; i < n; i++) {   /* node 0 is the pin, which does not move */
+        double x[2], v[2], mm, rx, ry;
+        rj_node_position(m, s, 1, i, x); rj_node_velocity(m, s, 1, i, v); rj_node_mass(m, 1, i, &mm, NULL);
+        rx = x[0] - p[0]; ry = x[1] - p[1];
+        Lz += mm * (rx * v[1] - ry * v[0]); I += mm * (rx * rx + ry * ry);
+    }
+    *omega = Lz / I;
+    rj_state_energy(m, s, &e);
+    *evib = e.kinetic + e.strain - 0.5 * I * (*omega) * (*omega);
+}
+
 /* ---------------------------------------------------------------- SPEC 9.2 deployment */
 typedef struct deploy_opts {
     int elements;        /* per link, default 10 */

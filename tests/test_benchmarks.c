@@ -11,22 +11,6 @@ static const char *mname[] = { "penalty", "adaptive", "momentum", "forced", "ene
 
 typedef struct impact_result { double contact, release, peak, evib, wrigid; int ok; } impact_result;
 
-static void rigid_part(const rj_model *m, const rj_state *s, double *omega, double *evib)
-{
-    double p[2], Lz = 0, I = 0;
-    int i, n = rj_link_node_count(m, 1);
-    rj_energy e;
-    rj_joint_position(m, s, 0, p);
-    for (i = 1; i < n; i++) {
-        double x[2], v[2], mm, rx, ry;
-        rj_node_position(m, s, 1, i, x); rj_node_velocity(m, s, 1, i, v); rj_node_mass(m, 1, i, &mm, NULL);
-        rx = x[0] - p[0]; ry = x[1] - p[1];
-        Lz += mm * (rx * v[1] - ry * v[0]); I += mm * (rx * rx + ry * ry);
-    }
-    *omega = Lz / I;
-    rj_state_energy(m, s, &e);
-    *evib = e.kinetic + e.strain - 0.5 * I * (*omega) * (*omega);
-}
 
 static impact_result impact_run(const impact_opts *o, double t_end)
 {
@@ -38,7 +22,7 @@ static impact_result impact_run(const impact_opts *o, double t_end)
     rj_state_create(m, &s, NULL);
     r.ok = rj_run(m, s, t_end, 0, NULL, NULL) == RJ_OK;
     r.contact = rj_joint_event_time(m, s, 0); r.release = rj_joint_release_time(m, s, 0); r.peak = rj_joint_peak_penetration(m, s, 0);
-    rigid_part(m, s, &r.wrigid, &r.evib);
+    impact_rigid_part(m, s, &r.wrigid, &r.evib);
     rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
     return r;
 }
