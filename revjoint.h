@@ -197,7 +197,9 @@ typedef struct rj_joint_def {
     double angle0;         /* rad, initial rotary location (start of the running angle; any real) */
     double rate0;          /* rad/s, initial theta_dot */
     int table_count;       /* 0, or 2..RJ_TABLE_MAX points */
-    double table_angle[RJ_TABLE_MAX];  /* rad, in [0, 2 pi], non-decreasing (Eq 4) */
+    double table_angle[RJ_TABLE_MAX];  /* rad, in [0, 2 pi]; segment i runs from point i to i+1
+                                          when the angle rises; a fall starts a new run, so
+                                          later segments may overlap earlier ones (Eq 4) */
     double table_torque[RJ_TABLE_MAX]; /* N m, resistive torque at table_angle */
     double spring_k;       /* N m/rad, >= 0: torque -spring_k (theta_run - spring_free_angle) on body 2 */
     double spring_free_angle; /* rad, on the running angle (may lie outside [0, 2 pi)) */
@@ -831,7 +833,6 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
             char g[64];
             snprintf(g, sizeof g, "joints[%d].table_angle[%d]", j, k);
             if (!rj__check_num(err, g, J->table_angle[k], 0, 1, RJ__TWO_PI, 1, "must be in [0, 2 pi] rad")) return 0;
-            if (k > 0 && J->table_angle[k] < J->table_angle[k - 1]) { rj__fail(err, RJ_ERR_INVALID, g, J->table_angle[k], "%s = %g is invalid: table angles must not decrease (previous %g)", g, J->table_angle[k], J->table_angle[k - 1]); return 0; }
             snprintf(g, sizeof g, "joints[%d].table_torque[%d]", j, k);
             if (!rj__check_num(err, g, J->table_torque[k], -inf, 0, inf, 0, "must be finite")) return 0;
         }
@@ -1676,9 +1677,12 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
             rj__joint_geo(m, &m->jnt[worst], m->x0, m->y0, &g);
             /* what this bound admits for a penalty limit (counted 4 K, added to the links' omega^2) */
             kok = room > 0 ? room / (4.0 * rj__joint_compliance(m, &m->jnt[worst], &g)) : 0.0;
-            snprintf(extra, sizeof extra, "; joint %d's stiffness gives omega dt = %.3g: this model accepts a penalty K up to about %.4g N m/rad at this dt (Eq 31 would give %.4g)",
-                     worst, wo * m->dt, kok, rj_joint_kmax_eq31(m, worst, m->dt));
+            if (room > 0)
+                snprintf(extra, sizeof extra, "; joint %d's stiffness gives omega dt = %.3g: this model accepts a penalty K up to about %.4g N m/rad at this dt (Eq 31 would give %.4g)",
+                         worst, wo * m->dt, kok, rj_joint_kmax_eq31(m, worst, m->dt));
         }
+        if (m->omega_links > 0 && m->dt > RJ__DT_MARGIN * 2.0 / m->omega_links)
+            snprintf(extra, sizeof extra, "; the links alone need dt <= %.4g s", RJ__DT_MARGIN * 2.0 / m->omega_links);
         rj__fail(err, RJ_ERR_UNSTABLE_DT, "solver.dt", m->dt,
                  "solver.dt = %.9g s is above the stability bound %.9g s (omega_max %g rad/s)%s; use a smaller dt or set solver.allow_unstable",
                  m->dt, m->dt_bound, m->omega_max, extra);

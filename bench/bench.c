@@ -610,6 +610,56 @@ static const char *rel_path(const char *file, const char *report)
 }
 
 /* ================================================================== main */
+
+/* ================================================================== rendering throughput */
+/* Frames per second of a deployment frame (drawn at t = 3.1 s, just after joint 2 locks)
+   at 640x480 and 1280x720, PNG writing included (zlib level 1, no filters, to /tmp):
+   median of 3 batches of 30 frames, one context per size created once and not timed. */
+static int cmp_dbl(const void *a, const void *b) { double x = *(const double *)a, y = *(const double *)b; return x < y ? -1 : x > y; }
+static void bench_render(double fps[2], double draw_ms[2], char *renderer, size_t rlen)
+{
+    static const int sz[2][2] = { { 640, 480 }, { 1280, 720 } };
+    deploy_opts o = deploy_default_opts();
+    rj_model *m = NULL; rj_state *s = NULL; rj_error e;
+    int k, b, f;
+    renderer[0] = 0;
+    fps[0] = fps[1] = draw_ms[0] = draw_ms[1] = 0;
+    if (deploy_build(&o, &m, &e) != RJ_OK) return;
+    rj_state_create(m, &s, NULL);
+    rj_run(m, s, 3.1, 0, NULL, NULL);
+    for (k = 0; k < 2; k++) {
+        char err[256];
+        double box[4] = { -1.2, -0.3, 1.3, 2.2 }, per[3], dr[3];
+        rjr_view v = rjr_view_default();
+        rjr_context *c = rjr_create(sz[k][0], sz[k][1], err, sizeof err);
+        unsigned char *buf = (unsigned char *)malloc((size_t)sz[k][0] * sz[k][1] * 3);
+        if (!c || !buf) { free(buf); if (c) rjr_destroy(c); continue; }
+        if (!renderer[0]) snprintf(renderer, rlen, "%s, %s", rjr_gl_renderer(c), rjr_gl_version(c));
+        rjr_view_fit_box(&v, box, sz[k][0], sz[k][1], 20);
+        v.thickness_factor = 2.0;
+        rjr_draw_state(c, m, s, &v);   /* warm-up: shader compilation */
+        for (b = 0; b < 3; b++) {
+            double t0 = now(), t1, t2;
+            for (f = 0; f < 30; f++) { rjr_draw_state(c, m, s, &v); rjr_read_pixels(c, buf); }
+            t1 = now();
+            for (f = 0; f < 30; f++) {
+                char path[64];
+                snprintf(path, sizeof path, "/tmp/rj_bench_frame_%d.png", f % 4);
+                rjr_draw_state(c, m, s, &v);
+                rjr_save_png(c, path, err, sizeof err);
+            }
+            t2 = now();
+            dr[b] = (t1 - t0) / 30 * 1e3;
+            per[b] = (t2 - t1) / 30;
+        }
+        qsort(per, 3, sizeof per[0], cmp_dbl); qsort(dr, 3, sizeof dr[0], cmp_dbl);
+        fps[k] = 1.0 / per[1]; draw_ms[k] = dr[1];
+        free(buf);
+        rjr_destroy(c);
+    }
+    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+}
+
 int main(int argc, char **argv)
 {
     const char *out = "BENCHMARKS.md", *plot = "docs/work_precision.png";
@@ -895,6 +945,18 @@ int main(int argc, char **argv)
            "Model %.0f bytes / node, state %.0f bytes / node (22 nodes).\n\n",
            dpaper.K, dpaper.bound * 1e6, S.paper_runs, paper_med, paper_cpu, paper_steps, paper_steps / paper_med, 1e9 * paper_med / (paper_steps * 20.0),
            paper_lock[1], paper_lock[0], paper_model_pn, paper_state_pn);
+    }
+
+    /* rendering */
+    {
+        double fps[2], dms[2];
+        char rname[256];
+        bench_render(fps, dms, rname, sizeof rname);
+        md("### Rendering (issue 4)\n\n");
+        md("A deployment frame (t = 3.1 s) drawn with `render/rj_render.c` (4x MSAA) and written as PNG (zlib level 1, no filters), "
+           "one context per size created once and not timed; median of 3 batches of 30 frames. Renderer: %s.\n\n", rname);
+        md("| size | frames/s with PNG writing | draw + read back only (ms/frame) |\n|---|---:|---:|\n");
+        md("| 640x480 | **%.0f** | %.2f |\n| 1280x720 | **%.0f** | %.2f |\n\n", fps[0], dms[0], fps[1], dms[1]);
     }
 
     /* deployment section */

@@ -40,10 +40,12 @@ static void test_table(rjt_ctx *c)
     rjt_near(c, "Eq 4: last segment", rj_table_torque(a, t, 5, 2.5), 3.0, 1e-15);
     rjt_near(c, "Eq 4: outside the table", rj_table_torque(a, t, 5, 3.5), 0.0, 0);
     {
-        /* genuinely overlapping ranges are expressed by two joints' tables or by repeated
-           angles: here a spring 0..2pi plus a steep segment on [5.5, 6] */
-        double a2[] = { 0, 6.283185307179586, 5.5, 6 };
-        (void)a2;
+        /* overlapping segments: a fall in the angles starts a new run of segments that
+           overlaps the earlier ones; [0, 2] rises 0 -> 4, [2, 1] is empty, [1, 3] falls 10 -> 0 */
+        double a2[] = { 0, 2, 1, 3 }, t2[] = { 0, 4, 10, 0 };
+        rjt_near(c, "Eq 4: overlapping segments add (1.5 lies in [0,2] and [1,3])", rj_table_torque(a2, t2, 4, 1.5), 3.0 + 7.5, 1e-14);
+        rjt_near(c, "Eq 4: only the first segment below the overlap", rj_table_torque(a2, t2, 4, 0.5), 1.0, 1e-15);
+        rjt_near(c, "Eq 4: only the second segment above it", rj_table_torque(a2, t2, 4, 2.5), 2.5, 1e-15);
     }
 }
 
@@ -214,13 +216,13 @@ static void test_validation(rjt_ctx *c)
         sc = rj_default_scene_def(); sc.links = L; sc.link_count = 2; sc.joints = J; sc.joint_count = 1;
         rjt_check(c, rj_model_create(&sc, &m, &err, NULL) == RJ_ERR_INVALID && strcmp(err.field, "links[1]") == 0, "undefaulted link def caught by its cookie", "\"%s\"", err.msg);
     }
-    /* table angles decreasing */
+    /* a table point outside [0, 2 pi] */
     {
         rj_error err; rj_model *m = NULL;
         memcpy(L, L0, sizeof L); memcpy(J, J0, sizeof J);
-        J[0].table_count = 3; J[0].table_angle[0] = 0; J[0].table_angle[1] = 2; J[0].table_angle[2] = 1;
+        J[0].table_count = 3; J[0].table_angle[0] = 0; J[0].table_angle[1] = 2; J[0].table_angle[2] = 7;
         sc = rj_default_scene_def(); sc.links = L; sc.link_count = 2; sc.joints = J; sc.joint_count = 1; sc.solver.dt = 2.5e-6;
-        rjt_check(c, rj_model_create(&sc, &m, &err, NULL) == RJ_ERR_INVALID && strcmp(err.field, "joints[0].table_angle[2]") == 0, "decreasing table angle rejected", "\"%s\"", err.msg);
+        rjt_check(c, rj_model_create(&sc, &m, &err, NULL) == RJ_ERR_INVALID && strcmp(err.field, "joints[0].table_angle[2]") == 0, "table angle above 2 pi rejected", "\"%s\"", err.msg);
     }
     /* dt above the bound is refused, with the bound in the message; override accepted */
     {
