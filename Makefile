@@ -21,7 +21,7 @@ SAN     = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omi
 
 HDR     = revjoint.h
 RENDER  = render/rj_render.c render/rj_render.h
-EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B)/sweep
+EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B)/sweep $(B)/studies
 TESTS   = $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_benchmarks $(B)/test_rigid2 \
           $(B)/test_render $(B)/csvdiff $(B)/test_core_asan $(B)/test_dynamics_asan $(B)/test_beam_asan \
           $(B)/test_core_clang $(B)/test_cpp $(B)/test_state $(B)/test_state_asan $(B)/test_scene $(B)/test_scene_asan $(B)/stress
@@ -43,6 +43,8 @@ $(B)/animate: examples/animate.c examples/scenes.h examples/cli.h $(HDR) $(RENDE
 	$(CC) $(ALLCF) examples/animate.c render/rj_render.c -o $@ $(GL)
 $(B)/sweep: examples/sweep.c examples/scenes.h examples/cli.h $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm -lpthread
+$(B)/studies: examples/studies.c examples/scenes.h examples/rigid2.h $(HDR) | $(B)
+	$(CC) $(ALLCF) $< -o $@ -lm
 $(B)/quickstart: examples/quickstart.c $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
 $(B)/pngdiff: render/pngdiff.c $(RENDER) | $(B)

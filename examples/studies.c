@@ -1,0 +1,101 @@
+/* studies - the measurements behind two README statements, as a program:
+   1. mesh convergence of the deployment's joint angles with the two joint reference modes
+      (RJ_REF_TANGENT, the default, against the paper's RJ_REF_CHORD), 10/20/40 elements
+      against 80, dt = 0.9 x the bound, t < 2.99 s (before joint 2 locks);
+   2. the deployment with rigid links at dt = 1 ms: wall time of rj_run over 6 s without
+      sampling (median of 5) and its error against the rigid reference examples/rigid2.h.
+   About a minute and a half. */
+#define _POSIX_C_SOURCE 199309L
+#define REVJOINT_IMPLEMENTATION
+#include "../revjoint.h"
+#include "scenes.h"
+#include "rigid2.h"
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+
+typedef struct hist { int n; double q1[8000], q2[8000]; } hist;
+static int sample(const rj_model *m, const rj_state *s, void *u)
+{
+    hist *h = (hist *)u;
+    if (h->n < 8000) { h->q1[h->n] = deploy_q1_deg(m, s); h->q2[h->n] = deploy_q2_deg(m, s); h->n++; }
+    return 0;
+}
+static void rsample(const rigid2_sample *s, void *u)
+{
+    hist *h = (hist *)u;
+    if (h->n < 8000) { h->q1[h->n] = rj_deg(s->q[0]); h->q2[h->n] = rj_deg(s->q[1]); h->n++; }
+}
+static double now(void) { struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t); return t.tv_sec + 1e-9 * t.tv_nsec; }
+static int cmpd(const void *a, const void *b) { double x = *(const double *)a, y = *(const double *)b; return x < y ? -1 : x > y; }
+
+static double maxdev(const hist *a, const hist *b, int upto)
+{
+    double d = 0;
+    int i;
+    for (i = 0; i < upto && i < a->n && i < b->n; i++) {
+        if (fabs(a->q1[i] - b->q1[i]) > d) d = fabs(a->q1[i] - b->q1[i]);
+        if (fabs(a->q2[i] - b->q2[i]) > d) d = fabs(a->q2[i] - b->q2[i]);
+    }
+    return d;
+}
+
+int main(void)
+{
+    static hist h[4];
+    static const int els[4] = { 10, 20, 40, 80 };
+    int mode, k;
+    printf("1. deployment joint angles, max |q - q(80 elements)| before joint 2 locks (deg), dt = 0.9 x bound\n");
+    printf("| reference | 10 el | 20 el | 40 el | ratios |\n|---|---:|---:|---:|---|\n");
+    for (mode = 0; mode < 2; mode++) {
+        double d[3];
+        for (k = 0; k < 4; k++) {
+            deploy_opts o = deploy_default_opts();
+            rj_link_def L[2]; rj_joint_def J[2]; rj_scene_def sc; rj_model *m = NULL; rj_state *s = NULL; rj_error e;
+            o.elements = els[k]; o.dt = 0;
+            deploy_scene(&o, L, J, &sc);
+            J[1].penalty_k = 1000; J[0].reference = J[1].reference = mode ? RJ_REF_CHORD : RJ_REF_TANGENT;
+            if (rj_model_create(&sc, &m, &e, NULL) != RJ_OK) { fprintf(stderr, "studies: %s\n", e.msg); return 1; }
+            rj_state_create(m, &s, NULL);
+            h[k].n = 0;
+            rj_run(m, s, 2.99, 1e-3, sample, &h[k]);
+            rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+        }
+        for (k = 0; k < 3; k++) d[k] = maxdev(&h[k], &h[3], 2990);
+        printf("| %s | %.3f | %.3f | %.3f | %.2f, %.2f |\n", mode ? "chord (paper)" : "tangent (default)", d[0], d[1], d[2], d[0] / d[1], d[1] / d[2]);
+        fflush(stdout);
+    }
+    {
+        deploy_opts o = deploy_default_opts();
+        rj_link_def L[2]; rj_joint_def J[2]; rj_scene_def sc; rj_model *m = NULL; rj_state *s = NULL; rj_error e;
+        rigid2_params p;
+        static hist hr, hf;
+        double lr[2], t[5], dev;
+        o.dt = 1e-3;
+        deploy_scene(&o, L, J, &sc);
+        L[0].fidelity = L[1].fidelity = RJ_LINK_RIGID; L[0].elements = L[1].elements = 1;
+        J[0].method = J[1].method = RJ_METHOD_MOMENTUM;
+        if (rj_model_create(&sc, &m, &e, NULL) != RJ_OK) { fprintf(stderr, "studies: %s\n", e.msg); return 1; }
+        rj_state_create(m, &s, NULL);
+        for (k = 0; k < 5; k++) {
+            double t0;
+            rj_state_reset(m, s);
+            t0 = now();
+            rj_run(m, s, 6.0, 0, NULL, NULL);
+            t[k] = now() - t0;
+        }
+        qsort(t, 5, sizeof t[0], cmpd);
+        rj_state_reset(m, s);
+        hf.n = 0;
+        rj_run(m, s, 6.0, 1e-3, sample, &hf);
+        rigid2_default_params(&p);
+        hr.n = 0;
+        rigid2_run(&p, 6.0, 1e-3, rsample, &hr, lr);
+        dev = maxdev(&hf, &hr, (int)(lr[1] * 1000) - 1);
+        printf("\n2. deployment with rigid links, dt 1 ms, 6 s: %.2f ms (median of 5, rj_run without sampling); "
+               "max |q - q_rigid2| before joint 2 locks %.2g deg; locks %.4f / %.4f s (rigid2 %.6f / %.6f s)\n",
+               1e3 * t[2], dev, rj_joint_event_time(m, s, 1), rj_joint_event_time(m, s, 0), lr[1], lr[0]);
+        rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+    }
+    return 0;
+}
