@@ -492,12 +492,11 @@ typedef struct rj__joint {
     double k_limit;           /* stiffness at the limits (penalty_k or K_AP), N m/rad */
     double k_lin;             /* linear stiffness for the stability bound, N m/rad */
     double fwd, rev;          /* running (unwrapped) limits, rad; +-inf when disabled */
-    double tv[RJ_TABLE_MAX];  /* table potential at table_angle[i], J (integral from 0) */
     double tv_turn;           /* table potential of a full turn, J */
 } rj__joint;
 
 /* Per-joint values in a frame (doubles), then per-joint ints. */
-enum { RJ__JD_THETA = 0, RJ__JD_RATE, RJ__JD_LOCK, RJ__JD_TNC, RJ__JD_RATEP, RJ__JD_EVENT, RJ__JD_RELEASE,
+enum { RJ__JD_THETA = 0, RJ__JD_RATE, RJ__JD_LOCK, RJ__JD_EVENT, RJ__JD_RELEASE,
        RJ__JD_PEAKP, RJ__JD_P0, RJ__JD_QDD, RJ__JD_TQ0, RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT };
 /* Frame scalars. */
 enum { RJ__FS_TIME = 0, RJ__FS_ETIME, RJ__FS_KE, RJ__FS_STRAIN, RJ__FS_SPRING, RJ__FS_LDAMP, RJ__FS_LFRIC,
@@ -534,6 +533,7 @@ struct rj_model {
     double *kmass, *krot;     /* (nn) mass / rotary inertia counted in the kinetic energy (0 for fixed or grouped) */
     int *grp_first;           /* (ng+1) */
     int *grp_node;            /* (members) */
+    int *node_grp;            /* (nn) group of a node, -1 if none */
     double *grp_inv;          /* (ng) 1/sum of member masses, 0 if a member is fixed */
     double *x0, *y0, *phi0, *vx0, *vy0, *w0; /* (nn) initial conditions */
     double *beta0;            /* (ne) initial chord angles */
@@ -893,7 +893,7 @@ static size_t rj__carve(size_t *off, size_t count, size_t elsize)
 
 typedef struct rj__layout {
     size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho, link_I;
-    size_t ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin, jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, x0, y0, phi0, vx0, vy0, w0, beta0, lz;
+    size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin, jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, x0, y0, phi0, vx0, vy0, w0, beta0, lz;
 } rj__layout;
 
 static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
@@ -928,6 +928,7 @@ static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
     L->krot = rj__carve(&off, (size_t)nn, sizeof(double));
     L->grp_first = rj__carve(&off, (size_t)nj + 1, sizeof(int));
     L->grp_node = rj__carve(&off, (size_t)2 * nj + 1, sizeof(int));
+    L->node_grp = rj__carve(&off, (size_t)nn, sizeof(int));
     L->grp_inv = rj__carve(&off, (size_t)nj + 1, sizeof(double));
     L->x0 = rj__carve(&off, (size_t)nn, sizeof(double));
     L->y0 = rj__carve(&off, (size_t)nn, sizeof(double));
@@ -1353,7 +1354,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     RJ__SET(rb_mass, double); RJ__SET(rb_icm, double); RJ__SET(rb_dcm, double); RJ__SET(rb_pjoint, int);
     RJ__SET(jorder, int); RJ__SET(jpin, double); RJ__SET(jref, double);
     RJ__SET(mass, double); RJ__SET(rinertia, double); RJ__SET(tinv, double); RJ__SET(rinv, double); RJ__SET(einv, double); RJ__SET(kmass, double); RJ__SET(krot, double);
-    RJ__SET(grp_first, int); RJ__SET(grp_node, int); RJ__SET(grp_inv, double);
+    RJ__SET(grp_first, int); RJ__SET(grp_node, int); RJ__SET(node_grp, int); RJ__SET(grp_inv, double);
     RJ__SET(x0, double); RJ__SET(y0, double); RJ__SET(phi0, double); RJ__SET(vx0, double); RJ__SET(vy0, double);
     RJ__SET(w0, double); RJ__SET(beta0, double); RJ__SET(lz, double);
 #undef RJ__SET
@@ -1395,6 +1396,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     for (i = 0; i < nn; i++) m->einv[i] = m->tinv[i];
     /* joints: nodes, pin groups (body1's node and body2's node 0 share their translation) */
     ngroups = 0;
+    for (i = 0; i < nn; i++) m->node_grp[i] = -1;
     m->grp_first[0] = 0;
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
@@ -1433,7 +1435,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
                 if (m->tinv[n] == 0) fixed = 1;
             }
             m->grp_inv[i] = fixed ? 0.0 : 1.0 / msum;
-            for (k = m->grp_first[i]; k < m->grp_first[i + 1]; k++) { m->einv[m->grp_node[k]] = m->grp_inv[i]; m->tinv[m->grp_node[k]] = 0; }
+            for (k = m->grp_first[i]; k < m->grp_first[i + 1]; k++) { m->einv[m->grp_node[k]] = m->grp_inv[i]; m->tinv[m->grp_node[k]] = 0; m->node_grp[m->grp_node[k]] = i; }
         }
     }
     for (i = 0; i < nn; i++) { m->kmass[i] = m->tinv[i] > 0 ? m->mass[i] : 0.0; m->krot[i] = m->rinv[i] > 0 ? m->rinertia[i] : 0.0; }
@@ -1518,7 +1520,6 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
             if (d->has_reverse) J->rev = d->reverse + RJ__TWO_PI * floor((d->angle0 + 0.5 * RJ__PI - d->reverse) / RJ__TWO_PI);
             if (d->has_forward) J->fwd = d->forward + RJ__TWO_PI * ceil((d->angle0 - 0.5 * RJ__PI - d->forward) / RJ__TWO_PI);
         }
-        for (k = 0; k < d->table_count; k++) J->tv[k] = rj__table_potential(d->table_angle, d->table_torque, d->table_count, d->table_angle[k]);
         J->tv_turn = d->table_count ? rj__table_potential(d->table_angle, d->table_torque, d->table_count, RJ__TWO_PI) : 0.0;
         for (k = 0; k + 1 < d->table_count; k++) {
             double s = 0;
@@ -1825,7 +1826,6 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
         rj__joint_geo(m, &m->jnt[j], m->x0, m->y0, &g);
         jd[RJ__JD_THETA] = m->jdef[j].angle0;
         jd[RJ__JD_RATE] = m->rigid ? m->jdef[j].rate0 : rj__joint_rate(&m->jnt[j], &g, m->vx0, m->vy0, m->w0, NULL, NULL);
-        jd[RJ__JD_RATEP] = jd[RJ__JD_RATE];
         jd[RJ__JD_EVENT] = -1; jd[RJ__JD_RELEASE] = -1;
     }
     if (m->rigid) {
@@ -2122,7 +2122,7 @@ static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const do
 static void rj__rig_mass(const rj_model *m, rj__rig *r)
 {
     const int n = m->nj;
-    int l, a, b, i;
+    int l, i;
     for (i = 0; i < n * n; i++) r->M[i] = 0;
     for (i = 0; i < n; i++) r->h[i] = 0;
     for (l = 0; l < m->nl; l++) {
@@ -2140,7 +2140,6 @@ static void rj__rig_mass(const rj_model *m, rj__rig *r)
             }
         }
     }
-    (void)a; (void)b;
 }
 
 /* Cholesky factor of the n x n SPD matrix M into L (lower), and solves L L^T x = b. */
@@ -2218,7 +2217,7 @@ static double rj__rig_setup(rj_model *m, double *scratch)
         for (j = 0; j < n; j++) lam += v[j] * u[j];
         for (j = 0; j < n; j++) v[j] = u[j] / nrm;
     }
-    return lam / 1.0 * 1.0;
+    return lam;
 }
 
 /* One step of a rigid-link scene: central differences in joint coordinates. */
@@ -2400,13 +2399,9 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
                 if (m->tinv[n] == 0 && m->einv[n] > 0) {
                     /* grouped node: the group's acceleration */
                     double sx = 0, sy = 0, ginv = m->einv[n];
-                    for (gi = 0; gi < m->ng; gi++) {
-                        int q, in = 0;
-                        for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++) if (m->grp_node[q] == n) in = 1;
-                        if (!in) continue;
-                        for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++) { sx += fx[m->grp_node[q]]; sy += fy[m->grp_node[q]]; }
-                        break;
-                    }
+                    const int g0 = m->node_grp[n];
+                    int q;
+                    for (q = m->grp_first[g0]; q < m->grp_first[g0 + 1]; q++) { sx += fx[m->grp_node[q]]; sy += fy[m->grp_node[q]]; }
                     pvx[k] = vx[n] + kick * sx * ginv; pvy[k] = vy[n] + kick * sy * ginv;
                 } else {
                     pvx[k] = vx[n] + kick * fx[n] * m->tinv[n]; pvy[k] = vy[n] + kick * fy[n] * m->tinv[n];
