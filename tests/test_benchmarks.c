@@ -116,17 +116,18 @@ static void test_impact(rjt_ctx *c)
 }
 
 /* ---------------------------------------------------------------- deployment */
-typedef struct hist { int n; double t[4000], q1[4000], q2[4000]; } hist;
+#define HMAX 8000
+typedef struct hist { int n; double t[HMAX], q1[HMAX], q2[HMAX]; } hist;
 static int hsample(const rj_model *m, const rj_state *s, void *u)
 {
     hist *h = (hist *)u;
-    if (h->n < 4000) { h->t[h->n] = rj_state_time(s); h->q1[h->n] = deploy_q1_deg(m, s); h->q2[h->n] = deploy_q2_deg(m, s); h->n++; }
+    if (h->n < HMAX) { h->t[h->n] = rj_state_time(s); h->q1[h->n] = deploy_q1_deg(m, s); h->q2[h->n] = deploy_q2_deg(m, s); h->n++; }
     return 0;
 }
 static void rsample(const rigid2_sample *s, void *u)
 {
     hist *h = (hist *)u;
-    if (h->n < 4000) { h->t[h->n] = s->t; h->q1[h->n] = rj_deg(s->q[0]); h->q2[h->n] = rj_deg(s->q[1]); h->n++; }
+    if (h->n < HMAX) { h->t[h->n] = s->t; h->q1[h->n] = rj_deg(s->q[0]); h->q2[h->n] = rj_deg(s->q[1]); h->n++; }
 }
 static double deploy_run(int elements, double dt, hist *h)
 {
@@ -181,22 +182,9 @@ static void test_deploy(rjt_ctx *c)
 
 
 /* ---------------------------------------------------------------- rigid links (issue 7) */
-typedef struct rhist { int n; double t[8000], q1[8000], q2[8000]; } rhist;
-static int rh_sample(const rj_model *m, const rj_state *s, void *u)
-{
-    rhist *h = (rhist *)u;
-    if (h->n < 8000) { h->t[h->n] = rj_state_time(s); h->q1[h->n] = deploy_q1_deg(m, s); h->q2[h->n] = deploy_q2_deg(m, s); h->n++; }
-    return 0;
-}
-static void rh_rsample(const rigid2_sample *s, void *u)
-{
-    rhist *h = (rhist *)u;
-    if (h->n < 8000) { h->t[h->n] = s->t; h->q1[h->n] = rj_deg(s->q[0]); h->q2[h->n] = rj_deg(s->q[1]); h->n++; }
-}
-
 static void test_rigid(rjt_ctx *c)
 {
-    static rhist h, hr;
+    static hist h, hr;
     rigid2_params p;
     double lr[2], dev = 0;
     deploy_opts o = deploy_default_opts();
@@ -204,7 +192,7 @@ static void test_rigid(rjt_ctx *c)
     int i, k;
     rigid2_default_params(&p);
     hr.n = 0;
-    rigid2_run(&p, 6.0, 1e-3, rh_rsample, &hr, lr);
+    rigid2_run(&p, 6.0, 1e-3, rsample, &hr, lr);
     for (k = 0; k < 2; k++) {
         double dt = k == 0 ? 1e-3 : 2e-3, e0;
         char name[128];
@@ -216,7 +204,7 @@ static void test_rigid(rjt_ctx *c)
         if (rj_model_create(&sc, &m, &e, NULL) != RJ_OK) { rjt_check(c, 0, "rigid deployment builds", "%s", e.msg); return; }
         rj_state_create(m, &s, NULL);
         h.n = 0;
-        rj_run(m, s, 6.0, dt, rh_sample, &h);
+        rj_run(m, s, 6.0, dt, hsample, &h);
         dev = 0;
         for (i = 0; i < h.n; i++) {
             int r = (int)floor(h.t[i] / 1e-3 + 0.5);
