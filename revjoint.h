@@ -937,7 +937,7 @@ static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
     L->vy0 = rj__carve(&off, (size_t)nn, sizeof(double));
     L->w0 = rj__carve(&off, (size_t)nn, sizeof(double));
     L->beta0 = rj__carve(&off, (size_t)ne, sizeof(double));
-    L->lz = rj__carve(&off, (size_t)15 * nn + 8 * ne + 8 + rj__rigid_scratch(nj, nl) + (size_t)nj * nj, sizeof(double));
+    L->lz = rj__carve(&off, (size_t)15 * nn + 10 * ne + 8 + rj__rigid_scratch(nj, nl) + (size_t)nj * nj, sizeof(double));
     L->total = off + RJ__ALIGN;
 }
 
@@ -987,7 +987,8 @@ static int rj__beam_link_fast(int ne, double l0sq, double half_inv_l0sq, double 
                               const double *RJ__RESTRICT xa, const double *RJ__RESTRICT ya, const double *RJ__RESTRICT pa,
                               const double *RJ__RESTRICT bb, const double *RJ__RESTRICT ccx, const double *RJ__RESTRICT ccy,
                               double *RJ__RESTRICT fxe, double *RJ__RESTRICT fye, double *RJ__RESTRICT m1e,
-                              double *RJ__RESTRICT m2e, double *RJ__RESTRICT ue, double *RJ__RESTRICT bo)
+                              double *RJ__RESTRICT m2e, double *RJ__RESTRICT ue, double *RJ__RESTRICT bo,
+                              double *RJ__RESTRICT cox, double *RJ__RESTRICT coy)
 {
     int i;
     long long bad = 0;   /* 64-bit like the lanes, so the reduction vectorises */
@@ -998,16 +999,24 @@ static int rj__beam_link_fast(int ne, double l0sq, double half_inv_l0sq, double 
         const double r = cr * L2 * inv, invL2 = dp * inv, r2 = r * r;
         const double bt = bb[i] + r * (1.0 - r2 * (1.0 / 3.0 - r2 * (1.0 / 5.0 - r2 * (1.0 / 7.0))));
         bad |= (long long)(r2 >= 4e-4) | (long long)(dp <= 0.0);   /* bitwise: no branch */
-        bo[i] = bt;
+        bo[i] = bt; cox[i] = ex; coy[i] = ey;
         RJ__ELEM(i, ex, ey, pa[i], pa[i + 1], bt, invL2, fxe, fye, m1e, m2e, ue);
     }
     return bad != 0;
 }
 
+/* Elements per chunk: a chunk's element and node data stay in the L1 cache between the
+   element loop and the node sums that follow it. */
+#define RJ__CHUNK 128
+
+/* Internal forces at x: element forces (efx..eu), summed into the nodes (fx, fy, mz: node b
+   of element e gets +ef, node a gets -ef), chunk by chunk; the updated chord angles and this
+   step's chords (the next step's references) go to beta_out, cx_out, cy_out. Returns the
+   strain energy. */
 static double rj__beam_forces(const rj_model *m, const double *x, const double *y, const double *phi,
                               const double *beta, const double *cx, const double *cy,
                               double *efx, double *efy, double *em1, double *em2, double *eu,
-                              double *beta_out, double *cx_out, double *cy_out)
+                              double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz)
 {
     double u0 = 0, u1 = 0, u2 = 0, u3 = 0;
     int l, e;
@@ -1016,45 +1025,39 @@ static double rj__beam_forces(const rj_model *m, const double *x, const double *
         const double l0 = m->link_l0[l], kb = m->link_EI[l] / l0;
         const double kax = m->ldef[l].fidelity == RJ_LINK_INEXTENSIBLE ? 0.0 : m->link_EA[l] / l0;   /* a constraint instead */
         const double l0sq = l0 * l0, half_inv_l0sq = 0.5 / l0sq;
-        const double *RJ__RESTRICT xa = x + n0, *RJ__RESTRICT ya = y + n0, *RJ__RESTRICT pa = phi + n0;
-        const double *RJ__RESTRICT bb = beta + e0, *RJ__RESTRICT ccx = cx + e0, *RJ__RESTRICT ccy = cy + e0;
-        double *RJ__RESTRICT fxe = efx + e0, *RJ__RESTRICT fye = efy + e0, *RJ__RESTRICT m1e = em1 + e0;
-        double *RJ__RESTRICT m2e = em2 + e0, *RJ__RESTRICT ue = eu + e0, *RJ__RESTRICT bo = beta_out + e0;
-        int i, bad = rj__beam_link_fast(ne, l0sq, half_inv_l0sq, kax, kb, xa, ya, pa, bb, ccx, ccy, fxe, fye, m1e, m2e, ue, bo);
-        if (bad) {
-            /* a chord turned more than 0.02 rad in one step: exact angles for this link */
-            for (i = 0; i < ne; i++) {
-                const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];
-                const double bt = bb[i] + atan2(ccx[i] * ey - ccy[i] * ex, ccx[i] * ex + ccy[i] * ey);
-                bo[i] = bt;
-                RJ__ELEM(i, ex, ey, pa[i], pa[i + 1], bt, 1.0 / (ex * ex + ey * ey), fxe, fye, m1e, m2e, ue);
+        int c0;
+        if (ne == 0) continue;   /* a rigid link in a mixed scene: no elements */
+        for (c0 = 0; c0 < ne; c0 += RJ__CHUNK) {
+            const int nc = ne - c0 < RJ__CHUNK ? ne - c0 : RJ__CHUNK, a = e0 + c0, na = n0 + c0;
+            const double *RJ__RESTRICT xa = x + na, *RJ__RESTRICT ya = y + na, *RJ__RESTRICT pa = phi + na;
+            const double *RJ__RESTRICT bb = beta + a, *RJ__RESTRICT ccx = cx + a, *RJ__RESTRICT ccy = cy + a;
+            double *RJ__RESTRICT fxe = efx + a, *RJ__RESTRICT fye = efy + a, *RJ__RESTRICT m1e = em1 + a;
+            double *RJ__RESTRICT m2e = em2 + a, *RJ__RESTRICT ue = eu + a, *RJ__RESTRICT bo = beta_out + a;
+            int i;
+            if (rj__beam_link_fast(nc, l0sq, half_inv_l0sq, kax, kb, xa, ya, pa, bb, ccx, ccy, fxe, fye, m1e, m2e, ue, bo, cx_out + a, cy_out + a)) {
+                /* a chord turned more than 0.02 rad in one step: exact angles for this chunk */
+                for (i = 0; i < nc; i++) {
+                    const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];
+                    const double bt = bb[i] + atan2(ccx[i] * ey - ccy[i] * ex, ccx[i] * ex + ccy[i] * ey);
+                    bo[i] = bt;
+                    RJ__ELEM(i, ex, ey, pa[i], pa[i + 1], bt, 1.0 / (ex * ex + ey * ey), fxe, fye, m1e, m2e, ue);
+                }
+            }
+            /* node sums of the chunk: its first node takes the previous chunk's last element */
+            if (c0 == 0) { fx[na] = -fxe[0]; fy[na] = -fye[0]; mz[na] = -m1e[0]; }
+            else { fx[na] = fxe[-1] - fxe[0]; fy[na] = fye[-1] - fye[0]; mz[na] = -m2e[-1] - m1e[0]; }
+            for (i = 1; i < nc; i++) {
+                fx[na + i] = fxe[i - 1] - fxe[i];
+                fy[na + i] = fye[i - 1] - fye[i];
+                mz[na + i] = -m2e[i - 1] - m1e[i];
             }
         }
-        /* this step's chords are the next step's references */
-        if (cx_out) for (i = 0; i < ne; i++) { cx_out[e0 + i] = xa[i + 1] - xa[i]; cy_out[e0 + i] = ya[i + 1] - ya[i]; }
+        fx[n0 + ne] = efx[e0 + ne - 1]; fy[n0 + ne] = efy[e0 + ne - 1]; mz[n0 + ne] = -em2[e0 + ne - 1];
     }
     /* strain energy: four partial sums (fixed order, so still deterministic) */
     for (e = 0; e + 3 < m->ne; e += 4) { u0 += eu[e]; u1 += eu[e + 1]; u2 += eu[e + 2]; u3 += eu[e + 3]; }
     for (; e < m->ne; e++) u0 += eu[e];
     return (u0 + u1) + (u2 + u3);
-}
-
-/* Sums element forces into nodes: node b of element e gets +ef, node a gets -ef. */
-static void rj__gather(const rj_model *m, const double *efx, const double *efy, const double *em1, const double *em2,
-                       double *fx, double *fy, double *mz)
-{
-    int l;
-    for (l = 0; l < m->nl; l++) {
-        const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;
-        int i;
-        fx[n0] = -efx[e0]; fy[n0] = -efy[e0]; mz[n0] = -em1[e0];
-        for (i = 1; i < ne; i++) {
-            fx[n0 + i] = efx[e0 + i - 1] - efx[e0 + i];
-            fy[n0 + i] = efy[e0 + i - 1] - efy[e0 + i];
-            mz[n0 + i] = -em2[e0 + i - 1] - em1[e0 + i];
-        }
-        fx[n0 + ne] = efx[e0 + ne - 1]; fy[n0 + ne] = efy[e0 + ne - 1]; mz[n0 + ne] = -em2[e0 + ne - 1];
-    }
 }
 
 /* ------------------------------------------------------------------ joint kinematics */
@@ -1194,6 +1197,7 @@ static void rj__lz_apply(const rj_model *m, const double *u, double *out, double
     const int nn = m->nn, ne = m->ne;
     double *x = work, *y = work + nn, *p = work + 2 * nn, *fx = work + 3 * nn, *fy = work + 4 * nn, *mz = work + 5 * nn;
     double *efx = work + 6 * nn, *efy = efx + ne, *em1 = efy + ne, *em2 = em1 + ne, *eu = em2 + ne, *bt = eu + ne;
+    double *cxo = bt + ne, *cyo = cxo + ne;
     const double *cx = m->lz + 9 * (size_t)nn, *cy = cx + ne;
     double h, sc = 0.0, res[3];
     int i, sgn, gi, j;
@@ -1221,8 +1225,7 @@ static void rj__lz_apply(const rj_model *m, const double *u, double *out, double
                 y[n] = m->y0[n] + sgn * h * u[3 * r + 1] * si;
             }
         }
-        rj__beam_forces(m, x, y, p, m->beta0, cx, cy, efx, efy, em1, em2, eu, bt, NULL, NULL);
-        rj__gather(m, efx, efy, em1, em2, fx, fy, mz);
+        rj__beam_forces(m, x, y, p, m->beta0, cx, cy, efx, efy, em1, em2, eu, bt, cxo, cyo, fx, fy, mz);
         /* joints: -k_lin (theta - theta0) g, linearised */
         for (j = 0; j < m->nj; j++) {
             const rj__joint *J = &m->jnt[j];
@@ -1840,7 +1843,10 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
     {
         double ke = 0, U;
         for (i = 0; i < m->nn; i++) ke += 0.5 * m->mass[i] * (m->vx0[i] * m->vx0[i] + m->vy0[i] * m->vy0[i]) * (m->einv[i] > 0) + 0.5 * m->rinertia[i] * m->w0[i] * m->w0[i] * (m->rinv[i] > 0);
-        U = rj__beam_forces(m, m->x0, m->y0, m->phi0, m->beta0, RJ__FCX(m, f), RJ__FCY(m, f), s->efx, s->efy, s->em1, s->em2, s->eu, s->ebt, NULL, NULL);
+        double *o = s->fd[1];   /* scratch for the chords, cleared again below */
+        U = rj__beam_forces(m, m->x0, m->y0, m->phi0, m->beta0, RJ__FCX(m, f), RJ__FCY(m, f), s->efx, s->efy, s->em1, s->em2, s->eu,
+                            s->ebt, RJ__FCX(m, o), RJ__FCY(m, o), s->fx, s->fy, s->mz);
+        memset(o, 0, sizeof(double) * m->frame_doubles);
         sc[RJ__FS_KE] = ke; sc[RJ__FS_STRAIN] = U; sc[RJ__FS_SPRING] = rj__spring_energy(m, f);
         sc[RJ__FS_E0] = ke + U + sc[RJ__FS_SPRING];
     }
@@ -2334,6 +2340,23 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
     return RJ_OK;
 }
 
+/* v^{n+1/2} = v^{n-1/2} + kick f / m and x^{n+1} = x^n + dt v^{n+1/2} for every node, in one
+   pass (restrict: it vectorises). */
+static void rj__advance(int nn, double kick, double dt, const double *RJ__RESTRICT x, const double *RJ__RESTRICT y,
+                        const double *RJ__RESTRICT phi, const double *RJ__RESTRICT vx, const double *RJ__RESTRICT vy,
+                        const double *RJ__RESTRICT w, const double *RJ__RESTRICT fx, const double *RJ__RESTRICT fy,
+                        const double *RJ__RESTRICT mz, const double *RJ__RESTRICT ti, const double *RJ__RESTRICT ri,
+                        double *RJ__RESTRICT nx, double *RJ__RESTRICT ny, double *RJ__RESTRICT nphi,
+                        double *RJ__RESTRICT nvx, double *RJ__RESTRICT nvy, double *RJ__RESTRICT nw)
+{
+    int i;
+    for (i = 0; i < nn; i++) {
+        const double ux = vx[i] + kick * fx[i] * ti[i], uy = vy[i] + kick * fy[i] * ti[i], uw = w[i] + kick * mz[i] * ri[i];
+        nvx[i] = ux; nvy[i] = uy; nw[i] = uw;
+        nx[i] = x[i] + dt * ux; ny[i] = y[i] + dt * uy; nphi[i] = phi[i] + dt * uw;
+    }
+}
+
 RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
 {
     const int nn = m->nn;
@@ -2359,8 +2382,7 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
 
     /* 1. beams: internal forces at x^n, updated chord angles into the new frame */
     U = rj__beam_forces(m, x, y, phi, RJ__FBETA(m, of), RJ__FCX(m, of), RJ__FCY(m, of),
-                        s->efx, s->efy, s->em1, s->em2, s->eu, RJ__FBETA(m, nf), RJ__FCX(m, nf), RJ__FCY(m, nf));
-    rj__gather(m, s->efx, s->efy, s->em1, s->em2, fx, fy, mz);
+                        s->efx, s->efy, s->em1, s->em2, s->eu, RJ__FBETA(m, nf), RJ__FCX(m, nf), RJ__FCY(m, nf), fx, fy, mz);
 
     nsc[RJ__FS_WARN] = osc[RJ__FS_WARN];
     /* 2. joints: rate, status flag (Eqs 7-13), table/spring/damping/limit torques */
@@ -2416,15 +2438,12 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
     }
 
-    /* 4. velocities v^{n+1/2} and positions x^{n+1}; kinetic energy at n as v^{n-1/2}.v^{n+1/2} */
+    /* 4. velocities v^{n+1/2} and positions x^{n+1} (one pass; grouped nodes and nodes a
+       velocity-level method changes are redone below); kinetic energy at n as v^{n-1/2}.v^{n+1/2} */
     {
-        const double *ti = m->tinv, *ri = m->rinv, *km = m->kmass, *kj = m->krot;
+        const double *RJ__RESTRICT ti = m->tinv, *RJ__RESTRICT ri = m->rinv, *km = m->kmass, *kj = m->krot;
         double k0 = 0, k1 = 0, k2 = 0, k3 = 0;
-        for (i = 0; i < nn; i++) {
-            nvx[i] = vx[i] + kick * fx[i] * ti[i];
-            nvy[i] = vy[i] + kick * fy[i] * ti[i];
-            nw[i] = w[i] + kick * mz[i] * ri[i];
-        }
+        rj__advance(nn, kick, dt, x, y, phi, vx, vy, w, fx, fy, mz, ti, ri, nx, ny, nphi, nvx, nvy, nw);
         /* four partial sums in a fixed order: fast and still deterministic */
         for (i = 0; i + 1 < nn; i += 2) {
             k0 += km[i] * (vx[i] * nvx[i] + vy[i] * nvy[i]); k1 += kj[i] * w[i] * nw[i];
@@ -2446,7 +2465,10 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         for (q = f0; q < f1; q++) { sx += fx[m->grp_node[q]]; sy += fy[m->grp_node[q]]; msum += m->mass[m->grp_node[q]]; }
         ux = vx[r] + kick * sx * m->grp_inv[gi]; uy = vy[r] + kick * sy * m->grp_inv[gi];
         if (m->grp_inv[gi] > 0) ke += s->steps == 0 ? msum * ((2 * vx[r] - ux) * ux + (2 * vy[r] - uy) * uy) : msum * (vx[r] * ux + vy[r] * uy);
-        for (q = f0; q < f1; q++) { nvx[m->grp_node[q]] = ux; nvy[m->grp_node[q]] = uy; }
+        for (q = f0; q < f1; q++) {
+            const int n = m->grp_node[q];
+            nvx[n] = ux; nvy[n] = uy; nx[n] = x[n] + dt * ux; ny[n] = y[n] + dt * uy;
+        }
     }
     ke *= 0.5;
 
@@ -2486,6 +2508,15 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
                 if (rj__finite(J->I1)) { loss += 0.5 * J->I1 * m1 * (o1 - w1); pend += 0.5 * J->I1 * w1 * (o1 - w1); }
                 if (rj__finite(J->I2)) { loss += 0.5 * J->I2 * m2 * (o2 - w2); pend += 0.5 * J->I2 * w2 * (o2 - w2); }
                 rj__spin(J, &g, w1 - o1, w2 - o2, nvx, nvy, nw);
+                {   /* the bodies' new rates move their nodes */
+                    const int nodes[4] = { J->nI, J->nK, J->nJ, J->nL };
+                    int k;
+                    for (k = 0; k < 4; k++) {
+                        const int n = nodes[k];
+                        if (n < 0) continue;
+                        nx[n] = x[n] + dt * nvx[n]; ny[n] = y[n] + dt * nvy[n]; nphi[n] = phi[n] + dt * nw[n];
+                    }
+                }
                 /* this step's half; the half with the new rates is the next step's (pend) */
                 lost_l += loss; ke -= loss;
                 ratep = rj__joint_rate(J, &g, nvx, nvy, nw, NULL, NULL);
@@ -2495,11 +2526,6 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         nj_[RJ__JD_RATE] = ratep;
     }
 
-    for (i = 0; i < nn; i++) {
-        nx[i] = x[i] + dt * nvx[i];
-        ny[i] = y[i] + dt * nvy[i];
-        nphi[i] = phi[i] + dt * nw[i];
-    }
     if (m->any_inext) {
         /* constraint forces do no work: the velocities follow the projected positions, and
            the kinetic energy is taken again with them */
@@ -2632,7 +2658,7 @@ RJDEF int rj_link_node_count(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l <
 RJDEF double rj_link_EA(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l < m->nl); return m->link_EA[l]; }
 RJDEF double rj_link_EI(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l < m->nl); return m->link_EI[l]; }
 RJDEF double rj_model_dt_eq28(const rj_model *m) { return m->dt_eq28; }
-RJDEF size_t rj_model_work_size(const rj_model *m) { return 6 * (size_t)m->nn + 6 * (size_t)m->ne; }
+RJDEF size_t rj_model_work_size(const rj_model *m) { return 6 * (size_t)m->nn + 8 * (size_t)m->ne; }
 RJDEF void rj_model_apply_stiffness(const rj_model *m, const double *u, double *out, double *work) { rj__lz_apply(m, u, out, work); }
 
 /* the smaller of the joint's two links by rho I l (ground is infinitely large) */
