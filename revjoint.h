@@ -522,6 +522,17 @@ struct rj_model {
     double *link_EA, *link_EI;/* (nl) N, N m^2 */
     double *link_rho, *link_I;/* (nl) kg/m^3, m^4 */
     int any_inext;            /* some link is RJ_LINK_INEXTENSIBLE */
+    /* mixed scenes: each rigid link is one rigid body (a cluster) carrying its own nodes
+       (rotation and translation follow the body) and the nodes pinned to them (translation
+       follows, rotation free); cluster c is link c, other links have no members */
+    int ncl;                  /* nl in a mixed scene, else 0 */
+    int *node_cl;             /* (nn) cluster of a node, -1 if none */
+    int *cl_first, *cl_node;  /* (nl+1), (nn) members */
+    int *cl_fix;              /* (nl) 0 free body, 1 turns about a fixed pin (the anchor), 2 held */
+    double *cl_M, *cl_I;      /* (nl) mass, inertia about the anchor (centre of mass, or the pin) */
+    double *cl_th0;           /* (3 nl) body angle at the start (its nodes' phi0), anchor velocity at the start */
+    double *cl_rx, *cl_ry;    /* (nn) member offsets from the anchor at the start */
+    size_t cl_off;            /* frame offset of the clusters' records: anchor x y, its velocity, omega, angle */
     int nch;                  /* inextensible chains: links joined tip to root form one chain */
     int *ch_first;            /* (nl+1) first entry of each chain in ch_node */
     int *ch_node;             /* (nn+nl) node indices along the chains (a shared pin once) */
@@ -551,7 +562,7 @@ struct rj_state {
     double *fx, *fy, *mz;     /* (nn) forces */
     double *efx, *efy, *em1, *em2, *eu, *ebt; /* (ne) element forces, energies, chord angles */
     double *jsc;              /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
-    double *rsc;              /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch) */
+    double *rsc;              /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch); mixed: body impulses (3 nl) */
     char err[320];
     char warn[200];           /* latest warning (late contact), written only when one occurs */
 };
@@ -765,6 +776,13 @@ static int rj__check_num(rj_error *err, const char *field, double v, double lo, 
     return 1;
 }
 
+static int rj__all_rigid(const rj_scene_def *sc)
+{
+    int i;
+    for (i = 0; i < sc->link_count; i++) if (sc->links[i].fidelity != RJ_LINK_RIGID) return 0;
+    return 1;
+}
+
 static int rj__validate(const rj_scene_def *sc, rj_error *err)
 {
     char f[64];
@@ -853,17 +871,45 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
         RJ__FIELD(f, "joints[%d].friction", j); if (!rj__check_num(err, f, J->friction, 0, 1, inf, 0, "must be >= 0 N m")) return 0;
         if (J->reference != RJ_REF_TANGENT && J->reference != RJ_REF_CHORD) { RJ__FIELD(f, "joints[%d].reference", j); rj__fail(err, RJ_ERR_INVALID, f, J->reference, "%s = %d is invalid: RJ_REF_TANGENT or RJ_REF_CHORD", f, J->reference); return 0; }
     }
-    /* rigid scenes: all links rigid, each hangs from a joint or is fixed, no energy method */
-    for (i = 0; i < sc->link_count; i++) {
-        const rj_link_def *L = &sc->links[i];
-        int parent = 0;
-        if (L->fidelity != RJ_LINK_FLEXIBLE && L->fidelity != RJ_LINK_RIGID && L->fidelity != RJ_LINK_INEXTENSIBLE) { RJ__FIELD(f, "links[%d].fidelity", i); rj__fail(err, RJ_ERR_INVALID, f, L->fidelity, "%s = %d is invalid: RJ_LINK_FLEXIBLE, RJ_LINK_RIGID or RJ_LINK_INEXTENSIBLE", f, L->fidelity); return 0; }
-        if ((L->fidelity == RJ_LINK_RIGID) != (sc->links[0].fidelity == RJ_LINK_RIGID)) { RJ__FIELD(f, "links[%d].fidelity", i); rj__fail(err, RJ_ERR_INVALID, f, L->fidelity, "%s = %d is invalid: mixing rigid and flexible links in one scene is not supported yet (links[0] is %s)", f, L->fidelity, sc->links[0].fidelity == RJ_LINK_RIGID ? "rigid" : "flexible"); return 0; }
-        if (L->fidelity != RJ_LINK_RIGID) continue;
-        for (j = 0; j < sc->joint_count; j++) if (sc->joints[j].body2 == i) parent = 1;
-        if (!parent && L->root != RJ_ROOT_FIXED) { RJ__FIELD(f, "links[%d].root", i); rj__fail(err, RJ_ERR_INVALID, f, L->root, "%s = %d is invalid: a rigid link must hang from a joint or be RJ_ROOT_FIXED", f, L->root); return 0; }
+    /* rigid scenes (all links rigid): each link hangs from a joint or is fixed, no energy
+       method. Mixed scenes: a rigid link is one rigid body, with flexible links pinned to it */
+    {
+        int nrig = 0;
+        for (i = 0; i < sc->link_count; i++) {
+            const rj_link_def *L = &sc->links[i];
+            if (L->fidelity != RJ_LINK_FLEXIBLE && L->fidelity != RJ_LINK_RIGID && L->fidelity != RJ_LINK_INEXTENSIBLE) { RJ__FIELD(f, "links[%d].fidelity", i); rj__fail(err, RJ_ERR_INVALID, f, L->fidelity, "%s = %d is invalid: RJ_LINK_FLEXIBLE, RJ_LINK_RIGID or RJ_LINK_INEXTENSIBLE", f, L->fidelity); return 0; }
+            nrig += L->fidelity == RJ_LINK_RIGID;
+        }
+        for (i = 0; i < sc->link_count; i++) {
+            const rj_link_def *L = &sc->links[i];
+            int parent = 0;
+            if (L->fidelity != RJ_LINK_RIGID || nrig < sc->link_count) continue;
+            for (j = 0; j < sc->joint_count; j++) if (sc->joints[j].body2 == i) parent = 1;
+            if (!parent && L->root != RJ_ROOT_FIXED) { RJ__FIELD(f, "links[%d].root", i); rj__fail(err, RJ_ERR_INVALID, f, L->root, "%s = %d is invalid: in a scene of rigid links each must hang from a joint or be RJ_ROOT_FIXED", f, L->root); return 0; }
+        }
+        if (nrig > 0 && nrig < sc->link_count) for (j = 0; j < sc->joint_count; j++) {
+            const rj_joint_def *J = &sc->joints[j];
+            const int r1 = J->body1 >= 0 && sc->links[J->body1].fidelity == RJ_LINK_RIGID, r2 = sc->links[J->body2].fidelity == RJ_LINK_RIGID;
+            int k;
+            if (r1 && r2) { RJ__FIELD(f, "joints[%d].body2", j); rj__fail(err, RJ_ERR_INVALID, f, J->body2, "%s = %d is invalid: joint %d pins two rigid links (%d and %d) in a scene with flexible links, which is not supported: make every link rigid, or one of the two flexible", f, J->body2, j, J->body1, J->body2); return 0; }
+            if ((r1 || r2) && J->reference == RJ_REF_CHORD) { RJ__FIELD(f, "joints[%d].reference", j); rj__fail(err, RJ_ERR_INVALID, f, J->reference, "%s = RJ_REF_CHORD is invalid: joint %d holds rigid link %d in a scene with flexible links; use RJ_REF_TANGENT (on a rigid link the chord and the tangent are the same line)", f, j, r1 ? J->body1 : J->body2); return 0; }
+            /* two rigid links may not share a pin through a flexible node either */
+            if (!r1 && !r2 && J->body1 >= 0) continue;
+            for (k = 0; k < j; k++) {
+                const rj_joint_def *K = &sc->joints[k];
+                const int s1 = K->body1 >= 0 && sc->links[K->body1].fidelity == RJ_LINK_RIGID, s2 = sc->links[K->body2].fidelity == RJ_LINK_RIGID;
+                const int n1 = J->body1 >= 0 ? (J->node1 < 0 ? sc->links[J->body1].elements : J->node1) : -1;
+                const int m1 = K->body1 >= 0 ? (K->node1 < 0 ? sc->links[K->body1].elements : K->node1) : -1;
+                if (J->body1 < 0 || K->body1 != J->body1 || m1 != n1 || !(s1 || s2)) continue;
+                if ((r1 || r2) && (s1 || s2) && (r2 ? J->body2 : J->body1) != (s2 ? K->body2 : K->body1)) {
+                    RJ__FIELD(f, "joints[%d].body1", j);
+                    rj__fail(err, RJ_ERR_INVALID, f, J->body1, "%s = %d is invalid: joints %d and %d pin rigid links %d and %d at the same node in a scene with flexible links, which is not supported", f, J->body1, k, j, s2 ? K->body2 : K->body1, r2 ? J->body2 : J->body1);
+                    return 0;
+                }
+            }
+        }
     }
-    if (sc->links[0].fidelity == RJ_LINK_RIGID)
+    if (sc->link_count > 0 && sc->links[0].fidelity == RJ_LINK_RIGID && rj__all_rigid(sc))
         for (j = 0; j < sc->joint_count; j++) if (sc->joints[j].method == RJ_METHOD_ENERGY) { RJ__FIELD(f, "joints[%d].method", j); rj__fail(err, RJ_ERR_INVALID, f, RJ_METHOD_ENERGY, "%s = RJ_METHOD_ENERGY is not available for rigid links (use momentum with e = 0, forced or adaptive)", f); return 0; }
     /* the joint graph must be a forest: walking up from any link ends at a root */
     for (i = 0; i < sc->link_count; i++) {
@@ -893,6 +939,7 @@ static size_t rj__carve(size_t *off, size_t count, size_t elsize)
 
 typedef struct rj__layout {
     size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho, link_I;
+    size_t node_cl, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
     size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin, jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, x0, y0, phi0, vx0, vy0, w0, beta0, lz;
 } rj__layout;
 
@@ -910,6 +957,15 @@ static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
     L->link_rho = rj__carve(&off, (size_t)nl, sizeof(double));
     L->link_I = rj__carve(&off, (size_t)nl, sizeof(double));
     L->ch_first = rj__carve(&off, (size_t)nl + 1, sizeof(int));
+    L->node_cl = rj__carve(&off, (size_t)nn, sizeof(int));
+    L->cl_first = rj__carve(&off, (size_t)nl + 1, sizeof(int));
+    L->cl_node = rj__carve(&off, (size_t)nn, sizeof(int));
+    L->cl_fix = rj__carve(&off, (size_t)nl, sizeof(int));
+    L->cl_M = rj__carve(&off, (size_t)nl, sizeof(double));
+    L->cl_I = rj__carve(&off, (size_t)nl, sizeof(double));
+    L->cl_th0 = rj__carve(&off, (size_t)3 * nl, sizeof(double));
+    L->cl_rx = rj__carve(&off, (size_t)nn, sizeof(double));
+    L->cl_ry = rj__carve(&off, (size_t)nn, sizeof(double));
     L->ch_node = rj__carve(&off, (size_t)nn + nl, sizeof(int));
     L->ch_l0sq = rj__carve(&off, (size_t)nn + nl, sizeof(double));
     L->rb_mass = rj__carve(&off, (size_t)nl, sizeof(double));
@@ -1026,7 +1082,15 @@ static double rj__beam_forces(const rj_model *m, const double *x, const double *
         const double kax = m->ldef[l].fidelity == RJ_LINK_INEXTENSIBLE ? 0.0 : m->link_EA[l] / l0;   /* a constraint instead */
         const double l0sq = l0 * l0, half_inv_l0sq = 0.5 / l0sq;
         int c0;
-        if (ne == 0) continue;   /* a rigid link in a mixed scene: no elements */
+        if (m->ldef[l].fidelity == RJ_LINK_RIGID) {
+            /* a rigid link: no elements; its nodes take only what joints apply */
+            for (c0 = 0; c0 < ne; c0++) {
+                beta_out[e0 + c0] = beta[e0 + c0]; cx_out[e0 + c0] = cx[e0 + c0]; cy_out[e0 + c0] = cy[e0 + c0];
+                efx[e0 + c0] = efy[e0 + c0] = em1[e0 + c0] = em2[e0 + c0] = eu[e0 + c0] = 0;
+            }
+            for (c0 = 0; c0 <= ne; c0++) fx[n0 + c0] = fy[n0 + c0] = mz[n0 + c0] = 0;
+            continue;
+        }
         for (c0 = 0; c0 < ne; c0 += RJ__CHUNK) {
             const int nc = ne - c0 < RJ__CHUNK ? ne - c0 : RJ__CHUNK, a = e0 + c0, na = n0 + c0;
             const double *RJ__RESTRICT xa = x + na, *RJ__RESTRICT ya = y + na, *RJ__RESTRICT pa = phi + na;
@@ -1185,6 +1249,137 @@ static void rj__place(const rj_model *m, int l, double px, double py, double ang
         double rx = c * l0 * i, ry = s * l0 * i;
         x[n0 + i] = px + rx; y[n0 + i] = py + ry; phi[n0 + i] = ang;
         vx[n0 + i] = vpx - om * ry; vy[n0 + i] = vpy + om * rx; w[n0 + i] = om;
+    }
+}
+
+/* ------------------------------------------------------------------ rigid bodies in mixed scenes */
+/* A rigid link among flexible ones is one rigid body. It carries its own nodes, whose
+   translation and rotation follow it, and the nodes pinned to them, whose translation
+   follows it while their rotation stays free (the pin). The body's state is its anchor
+   (the centre of mass, or the fixed pin it turns about), the anchor's velocity, its rate
+   and its angle; node forces act on it at their points, node moments on its own nodes
+   add to its torque. Its nodes are massless attachment points; the body's mass and
+   inertia are the link's exact ones (rod, tip mass and inertia) plus the pinned nodes'
+   lumped masses. The step is the same central difference: rates at half steps, the
+   nodes placed by the exact rotation, so the body stays rigid to round-off. */
+#define RJ__FCL(m, f, c) ((f) + (m)->cl_off + 6 * (size_t)(c))
+#define RJ__CL_RIGID(m, n) ((m)->node_cl[n] >= 0 && (n) >= (m)->link_first[(m)->node_cl[n]] && (n) < (m)->link_first[(m)->node_cl[n] + 1])
+
+static int rj__clusters(rj_model *m, rj_error *err)
+{
+    int l, i, gi, k, cnt = 0, ng = 0, q = 0;
+    for (l = 0; l < m->nl; l++) {
+        const rj_link_def *d = &m->ldef[l];
+        const int n0 = m->link_first[l], nt = m->link_first[l + 1] - 1;
+        double A, mr, mt, dc, ux, uy, cx, cy, vcx, vcy, M, ax, ay, vax, vay, I, w0 = m->w0[n0];
+        int nfix = 0, fixn = -1, held = 0;
+        m->cl_first[l] = cnt;
+        if (d->fidelity != RJ_LINK_RIGID) continue;
+        for (i = n0; i <= nt; i++) { m->cl_node[cnt++] = i; m->node_cl[i] = l; }
+        for (gi = 0; gi < m->ng; gi++) {
+            int has = 0;
+            for (k = m->grp_first[gi]; k < m->grp_first[gi + 1]; k++) if (m->grp_node[k] >= n0 && m->grp_node[k] <= nt) has = 1;
+            if (!has) continue;
+            if (m->grp_inv[gi] == 0) { nfix++; fixn = m->grp_node[m->grp_first[gi]]; }   /* pinned to something fixed */
+            for (k = m->grp_first[gi]; k < m->grp_first[gi + 1]; k++) {
+                const int n = m->grp_node[k];
+                if (m->node_cl[n] < 0) { m->cl_node[cnt++] = n; m->node_cl[n] = l; }
+            }
+        }
+        for (i = n0; i <= nt; i++) {
+            if (m->rinv[i] == 0) held = 1;   /* clamped or fixed */
+            if (m->node_grp[i] < 0 && m->tinv[i] == 0) { nfix++; fixn = i; }
+        }
+        /* the link as a body: rod plus tip mass, as in scenes of rigid links */
+        A = d->section == RJ_SECTION_RECT ? d->width * d->height : d->area;
+        mr = d->rho * A * d->length; mt = mr + d->tip_mass;
+        dc = (mr * 0.5 * d->length + d->tip_mass * d->length) / mt;
+        ux = (m->x0[nt] - m->x0[n0]) / d->length; uy = (m->y0[nt] - m->y0[n0]) / d->length;
+        cx = m->x0[n0] + dc * ux; cy = m->y0[n0] + dc * uy;
+        vcx = m->vx0[n0] - w0 * (cy - m->y0[n0]); vcy = m->vy0[n0] + w0 * (cx - m->x0[n0]);
+        M = mt; ax = mt * cx; ay = mt * cy; vax = mt * vcx; vay = mt * vcy;
+        for (k = m->cl_first[l]; k < cnt; k++) {
+            const int n = m->cl_node[k];
+            if (n >= n0 && n <= nt) continue;
+            M += m->mass[n]; ax += m->mass[n] * m->x0[n]; ay += m->mass[n] * m->y0[n]; vax += m->mass[n] * m->vx0[n]; vay += m->mass[n] * m->vy0[n];
+        }
+        ax /= M; ay /= M; vax /= M; vay /= M;
+        m->cl_fix[l] = held || nfix > 1 ? 2 : nfix;
+        if (nfix >= 1) { ax = m->x0[fixn]; ay = m->y0[fixn]; vax = vay = 0; }
+        if (m->cl_fix[l] == 2) { vax = vay = 0; w0 = 0; }
+        I = mr * d->length * d->length / 12.0 + mr * (0.5 * d->length - dc) * (0.5 * d->length - dc)
+            + d->tip_mass * (d->length - dc) * (d->length - dc) + d->tip_inertia
+            + mt * ((cx - ax) * (cx - ax) + (cy - ay) * (cy - ay));
+        for (k = m->cl_first[l]; k < cnt; k++) {
+            const int n = m->cl_node[k];
+            if (n < n0 || n > nt) I += m->mass[n] * ((m->x0[n] - ax) * (m->x0[n] - ax) + (m->y0[n] - ay) * (m->y0[n] - ay));
+        }
+        m->cl_M[l] = M; m->cl_I[l] = I;
+        m->cl_th0[3 * l] = m->phi0[n0]; m->cl_th0[3 * l + 1] = vax; m->cl_th0[3 * l + 2] = vay;
+        for (k = m->cl_first[l]; k < cnt; k++) {
+            const int n = m->cl_node[k];
+            const int own = n >= n0 && n <= nt;
+            m->cl_rx[n] = m->x0[n] - ax; m->cl_ry[n] = m->y0[n] - ay;
+            m->tinv[n] = 0; m->einv[n] = 0; m->kmass[n] = 0;
+            /* the initial velocities of the rigid motion */
+            m->vx0[n] = vax - w0 * m->cl_ry[n]; m->vy0[n] = vay + w0 * m->cl_rx[n];
+            if (own) {
+                m->krot[n] = 0;
+                m->rinertia[n] = I;
+                m->rinv[n] = m->cl_fix[l] == 2 ? 0.0 : 1.0 / I;
+                m->w0[n] = w0;
+            }
+        }
+    }
+    m->cl_first[m->nl] = cnt;
+    /* pin groups holding a body's node are the body's now */
+    for (gi = 0; gi < m->ng; gi++) {
+        const int f0 = m->grp_first[gi], f1 = m->grp_first[gi + 1];
+        int absorbed = m->node_cl[m->grp_node[f0]] >= 0;
+        if (absorbed) { for (k = f0; k < f1; k++) m->node_grp[m->grp_node[k]] = -1; continue; }
+        m->grp_inv[ng] = m->grp_inv[gi];
+        for (k = f0; k < f1; k++) { m->grp_node[q++] = m->grp_node[k]; m->node_grp[m->grp_node[k]] = ng; }
+        m->grp_first[++ng] = q;
+    }
+    m->ng = ng;
+    (void)err;
+    return 1;
+}
+
+/* Twice a body's kinetic energy in the v^{n-1/2}.v^{n+1/2} form (first step: v(0) given). */
+static double rj__cl_ke2(const rj_model *m, int c, const double *oc, const double *nc, int first)
+{
+    const double vx = first ? 2 * oc[2] - nc[2] : oc[2], vy = first ? 2 * oc[3] - nc[3] : oc[3], w = first ? 2 * oc[4] - nc[4] : oc[4];
+    return (m->cl_fix[c] == 0 ? m->cl_M[c] * (vx * nc[2] + vy * nc[3]) : 0.0) + m->cl_I[c] * w * nc[4];
+}
+
+/* The body's torque about its anchor and force from the node loads (x, y at step n). */
+static void rj__cl_load(const rj_model *m, int c, const double *oc, const double *x, const double *y,
+                        const double *fx, const double *fy, const double *mz, double *Fx, double *Fy, double *T)
+{
+    int k;
+    *Fx = *Fy = *T = 0;
+    for (k = m->cl_first[c]; k < m->cl_first[c + 1]; k++) {
+        const int n = m->cl_node[k];
+        *Fx += fx[n]; *Fy += fy[n];
+        *T += (x[n] - oc[0]) * fy[n] - (y[n] - oc[1]) * fx[n];
+        if (RJ__CL_RIGID(m, n)) *T += mz[n];
+    }
+}
+
+/* Places the body's members at its record (anchor, angle); with setv the node velocities
+   become the chord velocities (x^{n+1} - x^n)/dt and its own nodes take its rate. */
+static void rj__cl_pose(const rj_model *m, int c, const double *nc, const double *x, const double *y, double dt, int setv,
+                        double *nx, double *ny, double *nphi, double *nvx, double *nvy, double *nw)
+{
+    const double th0 = m->cl_th0[3 * c], co = cos(nc[5] - th0), sn = sin(nc[5] - th0);
+    int k;
+    for (k = m->cl_first[c]; k < m->cl_first[c + 1]; k++) {
+        const int n = m->cl_node[k];
+        const double px = nc[0] + co * m->cl_rx[n] - sn * m->cl_ry[n], py = nc[1] + sn * m->cl_rx[n] + co * m->cl_ry[n];
+        if (setv) { nvx[n] = (px - x[n]) / dt; nvy[n] = (py - y[n]) / dt; }
+        nx[n] = px; ny[n] = py;
+        if (RJ__CL_RIGID(m, n)) { nphi[n] = nc[5] + (m->phi0[n] - th0); if (setv) nw[n] = nc[4]; }
     }
 }
 
@@ -1354,6 +1549,8 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     RJ__SET(link_first, int); RJ__SET(link_efirst, int); RJ__SET(link_l0, double); RJ__SET(link_EA, double);
     RJ__SET(link_EI, double); RJ__SET(link_rho, double); RJ__SET(link_I, double);
     RJ__SET(ch_first, int); RJ__SET(ch_node, int); RJ__SET(ch_l0sq, double);
+    RJ__SET(node_cl, int); RJ__SET(cl_first, int); RJ__SET(cl_node, int); RJ__SET(cl_fix, int);
+    RJ__SET(cl_M, double); RJ__SET(cl_I, double); RJ__SET(cl_th0, double); RJ__SET(cl_rx, double); RJ__SET(cl_ry, double);
     RJ__SET(rb_mass, double); RJ__SET(rb_icm, double); RJ__SET(rb_dcm, double); RJ__SET(rb_pjoint, int);
     RJ__SET(jorder, int); RJ__SET(jpin, double); RJ__SET(jref, double);
     RJ__SET(mass, double); RJ__SET(rinertia, double); RJ__SET(tinv, double); RJ__SET(rinv, double); RJ__SET(einv, double); RJ__SET(kmass, double); RJ__SET(krot, double);
@@ -1485,6 +1682,9 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
             m->beta0[k] = m->phi0[a] + rj__wrap(atan2(m->y0[a + 1] - m->y0[a], m->x0[a + 1] - m->x0[a]) - m->phi0[a]);
         }
     }
+    for (i = 0; i < nn; i++) m->node_cl[i] = -1;
+    if (!rj__all_rigid(sc)) for (l = 0; l < m->nl; l++) if (m->ldef[l].fidelity == RJ_LINK_RIGID) m->ncl = m->nl;
+    if (m->ncl && !rj__clusters(m, err)) return RJ_ERR_INVALID;
     /* joint constants: inertias, limits on the running angle, table potential */
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
@@ -1538,7 +1738,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         J->k_limit = 0;
     }
     /* rigid scenes: link bodies, joint order, pins */
-    m->rigid = m->ldef[0].fidelity == RJ_LINK_RIGID;
+    m->rigid = rj__all_rigid(sc);
     for (l = 0; l < m->nl; l++) if (m->ldef[l].fidelity == RJ_LINK_INEXTENSIBLE) m->any_inext = 1;
     if (m->any_inext) {
         /* chains: start at an inextensible link not hanging from the tip of another
@@ -1699,6 +1899,8 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         if (t < m->dt_eq28) m->dt_eq28 = t;
     }
     m->frame_doubles = 6 * (size_t)nn + 3 * (size_t)ne + RJ__JD_COUNT * (size_t)m->nj + RJ__FS_COUNT;
+    m->cl_off = m->frame_doubles;
+    m->frame_doubles += 6 * (size_t)m->ncl;
     m->frame_ints = (size_t)m->nj;
     m->hash = 14695981039346656037ULL;
     m->hash = rj__fnv(m->hash, &m->nn, sizeof m->nn);
@@ -1761,7 +1963,7 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->eu = rj__carve(&off, (size_t)m->ne, sizeof(double));
     L->ebt = rj__carve(&off, (size_t)m->ne, sizeof(double));
     L->jsc = rj__carve(&off, (size_t)m->nj * 8 + 1, sizeof(double));
-    L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl) : 1, sizeof(double));
+    L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl) : 3 * (size_t)m->ncl + 1, sizeof(double));
     L->total = off + RJ__ALIGN;
 }
 
@@ -1842,7 +2044,16 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
     sc = RJ__FS(m, f);
     {
         double ke = 0, U;
-        for (i = 0; i < m->nn; i++) ke += 0.5 * m->mass[i] * (m->vx0[i] * m->vx0[i] + m->vy0[i] * m->vy0[i]) * (m->einv[i] > 0) + 0.5 * m->rinertia[i] * m->w0[i] * m->w0[i] * (m->rinv[i] > 0);
+        for (i = 0; i < m->nn; i++) ke += 0.5 * m->mass[i] * (m->vx0[i] * m->vx0[i] + m->vy0[i] * m->vy0[i]) * (m->einv[i] > 0) + 0.5 * m->rinertia[i] * m->w0[i] * m->w0[i] * (m->rinv[i] > 0 && !RJ__CL_RIGID(m, i));
+        for (i = 0; i < m->ncl; i++) {
+            /* rigid bodies: anchor, its velocity, rate, angle */
+            double *c = RJ__FCL(m, f, i);
+            const int n0 = m->link_first[i];
+            if (m->cl_first[i] == m->cl_first[i + 1]) continue;
+            c[0] = m->x0[n0] - m->cl_rx[n0]; c[1] = m->y0[n0] - m->cl_ry[n0];
+            c[2] = m->cl_th0[3 * i + 1]; c[3] = m->cl_th0[3 * i + 2]; c[4] = m->w0[n0]; c[5] = m->cl_th0[3 * i];
+            ke += 0.5 * m->cl_M[i] * (c[2] * c[2] + c[3] * c[3]) * (m->cl_fix[i] == 0) + 0.5 * m->cl_I[i] * c[4] * c[4];
+        }
         double *o = s->fd[1];   /* scratch for the chords, cleared again below */
         U = rj__beam_forces(m, m->x0, m->y0, m->phi0, m->beta0, RJ__FCX(m, f), RJ__FCY(m, f), s->efx, s->efy, s->em1, s->em2, s->eu,
                             s->ebt, RJ__FCX(m, o), RJ__FCY(m, o), s->fx, s->fy, s->mz);
@@ -1943,19 +2154,38 @@ static void rj__worst_node(const rj_model *m, const double *f, int *link, int *n
    e_i^n, dx_k = 2 w_k (lambda_{k-1} e_{k-1}^n - lambda_k e_k^n) (w: inverse masses, the
    group's for pinned nodes), give a tridiagonal system per chain (Thomas algorithm); links
    joined tip to root form one chain. Velocities follow the corrected positions. */
+/* SHAKE weight of a node: its inverse mass, or for a node on a rigid body the body's
+   inverse mass seen at that point along the element direction (ux, uy). */
+static double rj__shake_w(const rj_model *m, const rj_state *s, int k, const double *nx, const double *ny, double ux, double uy)
+{
+    const int c = m->ncl ? m->node_cl[k] : -1;
+    const double *nc;
+    double rx, ry, cr, u2;
+    if (c < 0) return m->einv[k];
+    if (m->cl_fix[c] == 2) return 0.0;
+    nc = RJ__FCL(m, s->fd[1 - s->cur], c);
+    rx = nx[k] - nc[0]; ry = ny[k] - nc[1]; cr = rx * uy - ry * ux; u2 = ux * ux + uy * uy;
+    return (m->cl_fix[c] == 0 ? 1.0 / m->cl_M[c] : 0.0) + cr * cr / (u2 * m->cl_I[c]);
+}
+
 static void rj__shake(const rj_model *m, rj_state *s, const double *x, const double *y, double *nx, double *ny)
 {
     double *a = s->efx, *b = s->efy, *c = s->em1, *r = s->em2, *lam = s->eu;   /* element scratch (ne >= chain elements) */
+    double *nf = s->fd[1 - s->cur], *imp = s->rsc;
+    const double dt = m->dt;
     int ch, it, i, q, gi;
     for (ch = 0; ch < m->nch; ch++) {
         const int *nd = m->ch_node + m->ch_first[ch], ne = m->ch_first[ch + 1] - m->ch_first[ch] - 1;
         const double *l0sq = m->ch_l0sq + m->ch_first[ch];
-        for (it = 0; it < 4; it++) {
+        int bodies = 0;
+        if (m->ncl) for (i = 0; i <= ne; i++) bodies |= m->node_cl[nd[i]] >= 0;
+        for (it = 0; it < (bodies ? 12 : 4); it++) {
             double worst = 0;
             for (i = 0; i < ne; i++) {
                 const int k = nd[i], k1 = nd[i + 1];
                 const double ex = nx[k1] - nx[k], ey = ny[k1] - ny[k], ox = x[k1] - x[k], oy = y[k1] - y[k];
-                const double wi = m->einv[k], wj = m->einv[k1], g = ex * ex + ey * ey - l0sq[i + 1];
+                const double wi = bodies ? rj__shake_w(m, s, k, nx, ny, ox, oy) : m->einv[k];
+                const double wj = bodies ? rj__shake_w(m, s, k1, nx, ny, ox, oy) : m->einv[k1], g = ex * ex + ey * ey - l0sq[i + 1];
                 if (fabs(g) > worst * l0sq[i + 1]) worst = fabs(g) / l0sq[i + 1];
                 b[i] = 4.0 * (wi + wj) * (ex * ox + ey * oy);
                 a[i] = i > 0 ? -4.0 * wi * (ex * (x[k] - x[nd[i - 1]]) + ey * (y[k] - y[nd[i - 1]])) : 0.0;
@@ -1966,12 +2196,31 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
             for (i = 1; i < ne; i++) { const double f = a[i] / b[i - 1]; b[i] -= f * c[i - 1]; r[i] -= f * r[i - 1]; }
             lam[ne - 1] = r[ne - 1] / b[ne - 1];
             for (i = ne - 2; i >= 0; i--) lam[i] = (r[i] - c[i] * lam[i + 1]) / b[i];
+            if (bodies) for (q = 0; q < 3 * m->ncl; q++) imp[q] = 0;
             for (i = 0; i <= ne; i++) {
                 const int k = nd[i];
                 double dx = 0, dy = 0;
                 if (i > 0) { dx += lam[i - 1] * (x[k] - x[nd[i - 1]]); dy += lam[i - 1] * (y[k] - y[nd[i - 1]]); }
                 if (i < ne) { dx -= lam[i] * (x[nd[i + 1]] - x[k]); dy -= lam[i] * (y[nd[i + 1]] - y[k]); }
+                if (bodies && m->node_cl[k] >= 0) {
+                    /* on a body: the body takes the push (mass times displacement 2 dx) */
+                    const int cl = m->node_cl[k];
+                    const double *nc = RJ__FCL(m, nf, cl);
+                    imp[3 * cl] += 2.0 * dx; imp[3 * cl + 1] += 2.0 * dy;
+                    imp[3 * cl + 2] += (nx[k] - nc[0]) * 2.0 * dy - (ny[k] - nc[1]) * 2.0 * dx;
+                    continue;
+                }
                 nx[k] += 2.0 * m->einv[k] * dx; ny[k] += 2.0 * m->einv[k] * dy;
+            }
+            if (bodies) for (q = 0; q < m->ncl; q++) {
+                double *nc = RJ__FCL(m, nf, q);
+                if (m->cl_first[q] == m->cl_first[q + 1] || m->cl_fix[q] == 2 || (imp[3 * q] == 0 && imp[3 * q + 1] == 0 && imp[3 * q + 2] == 0)) continue;
+                if (m->cl_fix[q] == 0) {
+                    nc[0] += imp[3 * q] / m->cl_M[q]; nc[1] += imp[3 * q + 1] / m->cl_M[q];
+                    nc[2] += imp[3 * q] / (m->cl_M[q] * dt); nc[3] += imp[3 * q + 1] / (m->cl_M[q] * dt);
+                }
+                nc[5] += imp[3 * q + 2] / m->cl_I[q]; nc[4] += imp[3 * q + 2] / (m->cl_I[q] * dt);
+                rj__cl_pose(m, q, nc, x, y, dt, 1, nx, ny, RJ__FPHI(m, nf), RJ__FVX(m, nf), RJ__FVY(m, nf), RJ__FW(m, nf));
             }
         }
     }
@@ -2340,6 +2589,22 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
     return RJ_OK;
 }
 
+/* A node's rotation rate at the end of the step under the loads so far (a body's own node:
+   the body's). */
+static double rj__rate_pred(const rj_model *m, const double *of, int n, const double *x, const double *y, const double *w,
+                            const double *fx, const double *fy, const double *mz, double kick)
+{
+    if (m->ncl && RJ__CL_RIGID(m, n)) {
+        const int c = m->node_cl[n];
+        const double *oc = RJ__FCL(m, of, c);
+        double Fx, Fy, T;
+        if (m->cl_fix[c] == 2) return 0.0;
+        rj__cl_load(m, c, oc, x, y, fx, fy, mz, &Fx, &Fy, &T);
+        return oc[4] + kick * T / m->cl_I[c];
+    }
+    return w[n] + kick * mz[n] * m->rinv[n];
+}
+
 /* v^{n+1/2} = v^{n-1/2} + kick f / m and x^{n+1} = x^n + dt v^{n+1/2} for every node, in one
    pass (restrict: it vectorises). */
 static void rj__advance(int nn, double kick, double dt, const double *RJ__RESTRICT x, const double *RJ__RESTRICT y,
@@ -2411,8 +2676,8 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         if (!(d->friction > 0)) continue;
         g.ax = sc[0]; g.ay = sc[1]; g.bx = sc[2]; g.by = sc[3]; g.a2 = sc[6]; g.b2 = sc[7];
         if (!J->chord) {
-            ratep = w[J->nJ] + kick * mz[J->nJ] * m->rinv[J->nJ];
-            if (J->nI >= 0) ratep -= w[J->nI] + kick * mz[J->nI] * m->rinv[J->nI];
+            ratep = rj__rate_pred(m, of, J->nJ, x, y, w, fx, fy, mz, kick);
+            if (J->nI >= 0) ratep -= rj__rate_pred(m, of, J->nI, x, y, w, fx, fy, mz, kick);
         } else {
             nodes[0] = J->nI; nodes[1] = J->nK; nodes[2] = J->nJ; nodes[3] = J->nL;
             for (k = 0; k < 4; k++) {
@@ -2470,6 +2735,20 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
             nvx[n] = ux; nvy[n] = uy; nx[n] = x[n] + dt * ux; ny[n] = y[n] + dt * uy;
         }
     }
+    for (gi = 0; gi < m->ncl; gi++) {
+        /* rigid bodies: anchor velocity and rate at n + 1/2 */
+        const double *oc = RJ__FCL(m, of, gi);
+        double *nc = RJ__FCL(m, nf, gi), Fx, Fy, T;
+        int q;
+        if (m->cl_first[gi] == m->cl_first[gi + 1]) continue;
+        memcpy(nc, oc, 6 * sizeof(double));
+        if (m->cl_fix[gi] == 2) continue;
+        rj__cl_load(m, gi, oc, x, y, fx, fy, mz, &Fx, &Fy, &T);
+        if (m->cl_fix[gi] == 0) { nc[2] = oc[2] + kick * Fx / m->cl_M[gi]; nc[3] = oc[3] + kick * Fy / m->cl_M[gi]; }
+        nc[4] = oc[4] + kick * T / m->cl_I[gi];
+        ke += rj__cl_ke2(m, gi, oc, nc, s->steps == 0);
+        for (q = m->cl_first[gi]; q < m->cl_first[gi + 1]; q++) if (RJ__CL_RIGID(m, m->cl_node[q])) nw[m->cl_node[q]] = nc[4];
+    }
     ke *= 0.5;
 
     /* 5. velocity-level limit methods and the work of joint torques */
@@ -2515,6 +2794,13 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
                         const int n = nodes[k];
                         if (n < 0) continue;
                         nx[n] = x[n] + dt * nvx[n]; ny[n] = y[n] + dt * nvy[n]; nphi[n] = phi[n] + dt * nw[n];
+                        if (m->ncl && RJ__CL_RIGID(m, n)) {
+                            /* a body's node: the whole body takes the new rate */
+                            const int c = m->node_cl[n];
+                            int q;
+                            RJ__FCL(m, nf, c)[4] = nw[n];
+                            for (q = m->cl_first[c]; q < m->cl_first[c + 1]; q++) if (RJ__CL_RIGID(m, m->cl_node[q])) nw[m->cl_node[q]] = nw[n];
+                        }
                     }
                 }
                 /* this step's half; the half with the new rates is the next step's (pend) */
@@ -2526,6 +2812,13 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         nj_[RJ__JD_RATE] = ratep;
     }
 
+    for (gi = 0; gi < m->ncl; gi++) {
+        const double *oc = RJ__FCL(m, of, gi);
+        double *nc = RJ__FCL(m, nf, gi);
+        if (m->cl_first[gi] == m->cl_first[gi + 1]) continue;
+        nc[0] = oc[0] + dt * nc[2]; nc[1] = oc[1] + dt * nc[3]; nc[5] = oc[5] + dt * nc[4];
+        rj__cl_pose(m, gi, nc, x, y, dt, 1, nx, ny, nphi, nvx, nvy, nw);
+    }
     if (m->any_inext) {
         /* constraint forces do no work: the velocities follow the projected positions, and
            the kinetic energy is taken again with them */
@@ -2545,6 +2838,8 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
             for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++) msum += m->mass[m->grp_node[q]];
             k0 += msum * ((s->steps == 0 ? 2 * vx[r0] - nvx[r0] : vx[r0]) * nvx[r0] + (s->steps == 0 ? 2 * vy[r0] - nvy[r0] : vy[r0]) * nvy[r0]);
         }
+        for (gi = 0; gi < m->ncl; gi++)
+            if (m->cl_first[gi] < m->cl_first[gi + 1] && m->cl_fix[gi] != 2) k0 += rj__cl_ke2(m, gi, RJ__FCL(m, of, gi), RJ__FCL(m, nf, gi), s->steps == 0);
         ke = 0.5 * k0;
     }
 
@@ -2570,6 +2865,17 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
             p = target - run;
             if (p != 0) {
                 rj__turn(J, -p * J->w1, p * J->w2, nx, ny, nphi);
+                if (m->ncl) {
+                    /* a body's node turned: the body turns (positions only, as above) */
+                    const int nodes[2] = { J->nI, J->nJ };
+                    int k;
+                    for (k = 0; k < 2; k++) if (nodes[k] >= 0 && RJ__CL_RIGID(m, nodes[k])) {
+                        const int c = m->node_cl[nodes[k]];
+                        double *nc = RJ__FCL(m, nf, c);
+                        nc[5] = nphi[nodes[k]] - (m->phi0[nodes[k]] - m->cl_th0[3 * c]);
+                        rj__cl_pose(m, c, nc, x, y, dt, 0, nx, ny, nphi, nvx, nvy, nw);
+                    }
+                }
                 run = J->chord ? target : rj__joint_raw(J, &g, nphi);
             }
         }
@@ -2914,7 +3220,7 @@ enum {
     RJ__LK_LENGTH, RJ__LK_ELEMENTS, RJ__LK_MATERIAL, RJ__LK_SECTION, RJ__LK_E, RJ__LK_RHO,
     RJ__LK_AREA, RJ__LK_INERTIA, RJ__LK_WIDTH, RJ__LK_HEIGHT, RJ__LK_LAYERS, RJ__LK_TIP_MASS,
     RJ__LK_TIP_INERTIA, RJ__LK_ROOT, RJ__LK_X, RJ__LK_Y, RJ__LK_ANGLE, RJ__LK_VX, RJ__LK_VY,
-    RJ__LK_OMEGA, RJ__LK_N
+    RJ__LK_OMEGA, RJ__LK_FIDELITY, RJ__LK_N
 };
 enum {
     RJ__JK_BODY1, RJ__JK_BODY2, RJ__JK_NODE1, RJ__JK_GROUND_X, RJ__JK_GROUND_Y, RJ__JK_GROUND_ANGLE,
@@ -2929,7 +3235,7 @@ enum { RJ__SK_NONE, RJ__SK_SOLVER, RJ__SK_MATERIAL, RJ__SK_SECTION, RJ__SK_LINK,
 static const char rj__sk_kind[6][10] = { "", "solver", "material", "section", "link", "joint" };
 static const char rj__sk_link[RJ__LK_N][12] = {
     "length", "elements", "material", "section", "E", "rho", "area", "inertia", "width", "height",
-    "layers", "tip_mass", "tip_inertia", "root", "x", "y", "angle", "vx", "vy", "omega"
+    "layers", "tip_mass", "tip_inertia", "root", "x", "y", "angle", "vx", "vy", "omega", "fidelity"
 };
 static const char rj__sk_joint[RJ__JK_N][13] = {
     "body1", "body2", "node1", "ground_x", "ground_y", "ground_angle", "angle0", "rate0", "table",
@@ -2938,6 +3244,7 @@ static const char rj__sk_joint[RJ__JK_N][13] = {
 };
 static const char rj__sk_solver[RJ__VK_N][15] = { "dt", "allow_unstable", "energy_growth" };
 static const char rj__sk_root[4][8] = { "free", "pinned", "clamped", "fixed" };
+static const char rj__sk_fidelity[3][13] = { "flexible", "rigid", "inextensible" };   /* rj_fidelity order */
 static const char rj__sk_method[5][9] = { "penalty", "adaptive", "momentum", "forced", "energy" };
 static const char rj__sk_release[2][5] = { "rc12", "rc13" };
 static const char rj__sk_reference[2][8] = { "tangent", "chord" };
@@ -3312,6 +3619,7 @@ static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *
     case RJ__LK_ELEMENTS: if (!rj__sp_int(P, t, key, 1, 1000000, &d->elements)) return 0; (*i)++; return 1;
     case RJ__LK_LAYERS: if (!rj__sp_int(P, t, key, 1, 1000, &d->layers)) return 0; (*i)++; return 1;
     case RJ__LK_ROOT: if (!rj__sp_enum(P, t, key, rj__sk_root[0], sizeof rj__sk_root[0], 4, &d->root)) return 0; (*i)++; return 1;
+    case RJ__LK_FIDELITY: if (!rj__sp_enum(P, t, key, rj__sk_fidelity[0], sizeof rj__sk_fidelity[0], 3, &d->fidelity)) return 0; (*i)++; return 1;
     case RJ__LK_MATERIAL: case RJ__LK_SECTION: {
         int idx;
         if (!rj__sp_name_ref(P, t, key)) return 0;
@@ -4164,7 +4472,8 @@ RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_name
         v[0] = d->length; v[1] = d->E; v[2] = d->rho; v[3] = d->width; v[4] = d->height; v[5] = d->area; v[6] = d->inertia;
         v[7] = d->tip_mass; v[8] = d->tip_inertia; v[9] = d->x; v[10] = d->y; v[11] = d->angle; v[12] = d->vx; v[13] = d->vy;
         for (k = 0; k < 14; k++) if (!rj__sw_finite(v[k])) return 0;
-        if (!rj__sw_finite(d->omega) || d->root < 0 || d->root > 3 || (d->section != RJ_SECTION_RECT && d->section != RJ_SECTION_GENERAL)) return 0;
+        if (!rj__sw_finite(d->omega) || d->root < 0 || d->root > 3 || (d->section != RJ_SECTION_RECT && d->section != RJ_SECTION_GENERAL)
+            || d->fidelity < RJ_LINK_FLEXIBLE || d->fidelity > RJ_LINK_INEXTENSIBLE) return 0;
     }
     for (i = 0; i < sc->joint_count; i++) {
         const rj_joint_def *d = &sc->joints[i];
@@ -4208,6 +4517,7 @@ RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_name
             rj__sw_key(&W, "tip_mass"); rj__sw_num(&W, d->tip_mass); rj__sw_put(&W, "  tip_inertia = "); rj__sw_num(&W, d->tip_inertia); rj__sw_put(&W, "\n");
         }
         if (d->root != L0.root) { rj__sw_key(&W, "root"); rj__sw_put(&W, rj__sk_root[d->root]); rj__sw_put(&W, "\n"); }
+        if (d->fidelity != L0.fidelity) { rj__sw_key(&W, "fidelity"); rj__sw_put(&W, rj__sk_fidelity[d->fidelity]); rj__sw_put(&W, "\n"); }
         if (d->x != 0 || d->y != 0 || d->angle != 0) {
             rj__sw_key(&W, "x"); rj__sw_num(&W, d->x); rj__sw_put(&W, "  y = "); rj__sw_num(&W, d->y);
             rj__sw_put(&W, "  angle = "); rj__sw_angle(&W, d->angle, 0); rj__sw_put(&W, root_link ? "\n" : "   # unused: the link hangs from a joint\n");

@@ -224,10 +224,7 @@ static void test_rigid(rjt_ctx *c)
                               "balance %.3g J; lost to friction %.4f J (reference %.4f), to locks %.4f J (reference 1.0525)", en.balance, en.lost_friction, 0.130769, en.lost_limit);
         rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
     }
-    /* mixing is refused with a clear error */
-    deploy_scene(&o, L, J, &sc);
-    L[1].fidelity = RJ_LINK_RIGID;
-    rjt_check(c, rj_model_create(&sc, &m, &e, NULL) == RJ_ERR_INVALID && strcmp(e.field, "links[1].fidelity") == 0, "mixing rigid and flexible links is refused, naming the field", "\"%s\"", e.msg);
+    /* mixed scenes (a rigid link among flexible ones) are tests/test_mixed.c's */
 }
 
 /* inextensible links on the deployment: the post-lock vibration of link 2 as the flexible

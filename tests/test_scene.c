@@ -54,7 +54,7 @@ static int same_link(const rj_link_def *a, const rj_link_def *b, int all, char *
 {
 #define RJ_T(f) if (!(a->f == b->f)) { snprintf(why, n, "%s: %.17g vs %.17g", #f, (double)a->f, (double)b->f); return 0; }
     RJ_T(length) RJ_T(elements) RJ_T(E) RJ_T(rho) RJ_T(section) RJ_T(height) RJ_T(tip_mass) RJ_T(tip_inertia)
-    RJ_T(root) RJ_T(x) RJ_T(y) RJ_T(angle) RJ_T(vx) RJ_T(vy) RJ_T(omega) RJ_T(cookie)
+    RJ_T(root) RJ_T(x) RJ_T(y) RJ_T(angle) RJ_T(vx) RJ_T(vy) RJ_T(omega) RJ_T(fidelity) RJ_T(cookie)
     if (all || a->section == RJ_SECTION_RECT) { RJ_T(width) RJ_T(layers) }
     if (all || a->section == RJ_SECTION_GENERAL) { RJ_T(area) RJ_T(inertia) }
     return 1;
@@ -297,7 +297,7 @@ static void test_writer(void)
             if (irand(2)) { L->section = RJ_SECTION_GENERAL; L->area = urand() * 1e-3 + 1e-9; L->inertia = urand() * 1e-6 + 1e-15; L->height = irand(2) ? 0.0 : urand(); }
             else { L->width = urand() + 1e-6; L->height = urand() + 1e-6; L->layers = 1 + irand(5); }
             if (irand(2)) { L->tip_mass = urand(); L->tip_inertia = irand(2) ? 0.0 : urand() * 1e-3; }
-            L->root = irand(4); L->x = (urand() - 0.5) * 10; L->y = irand(2) ? 0.0 : (urand() - 0.5);
+            L->root = irand(4); L->fidelity = irand(3); L->x = (urand() - 0.5) * 10; L->y = irand(2) ? 0.0 : (urand() - 0.5);
             L->angle = irand(2) ? rj_rad((double)(irand(720) - 360)) : (urand() - 0.5) * 20;
             if (irand(3) == 0) { L->vx = urand(); L->vy = -urand(); L->omega = irand(2) ? rj_rad(irand(1000)) : urand() * 50; }
         }
@@ -540,6 +540,8 @@ static void test_errors(void)
     EP("error: zero layers", "section s\n  layers = 0\n", 2, 12, "layers = 0 is out of range in section 's'", "layers");
     EP("error: negative tip mass", "link a\n  tip_mass = -0.1\n", 2, 14, "tip_mass = -0.1 is out of range", "tip_mass");
     EP("error: unknown root", "link a\n  root = welded\n", 2, 10, "unknown value 'welded' for 'root' in link 'a' (expected free, pinned, clamped or fixed)", "root");
+    EP("error: unknown fidelity", "link a\n  fidelity = floppy\n", 2, 14, "unknown value 'floppy' for 'fidelity' in link 'a' (expected flexible, rigid or inextensible)", "fidelity");
+    EP("error: fidelity is a link key, not a material key", "material m\n  fidelity = rigid\n", 2, 3, "unknown key 'fidelity' in material 'm'", "fidelity");
     EP("error: dt above 1 s", "solver\n  dt = 2\nlink a\n", 2, 8, "dt = 2 is out of range in solver: must be 0 (automatic) or a step in (0, 1] s", "dt");
     EP("error: energy_growth 1", "solver\n  energy_growth = 1\nlink a\n", 2, 19, "energy_growth = 1 is out of range in solver: must be > 1", "energy_growth");
     EP("error: bad boolean", "solver\n  allow_unstable = maybe\nlink a\n", 2, 20, "unknown value 'maybe' for 'allow_unstable' in solver (expected no, yes, false or true)", "allow_unstable");

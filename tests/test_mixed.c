@@ -1,0 +1,308 @@
+/* Mixed scenes: rigid links (one rigid body each) among flexible and inextensible links.
+   Checked against things not tuned here: the closed-form torsion pendulum, uniform motion
+   of a free body, conservation of linear and angular momentum and the energy accounts of
+   a free-floating bus deploying an array, and the all-flexible model as its stiff link
+   tends to rigid. Run from the repository root (it reads examples/scenes). */
+#define REVJOINT_IMPLEMENTATION
+#include "../revjoint.h"
+#include "../examples/scenes.h"
+#include "rjt.h"
+#include <string.h>
+
+static rjt_ctx T;
+
+static rj_model *build(rj_link_def *L, int nl, rj_joint_def *J, int nj, double dt, char *msg, size_t n)
+{
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m = NULL;
+    rj_error err;
+    sc.links = L; sc.link_count = nl; sc.joints = J; sc.joint_count = nj; sc.solver.dt = dt;
+    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { snprintf(msg, n, "%s", err.msg); return NULL; }
+    msg[0] = 0;
+    return m;
+}
+
+/* 1. A rigid link pinned to the ground on a torsion spring, no gravity: theta(t) =
+   theta0 cos(sqrt(k / I_pin) t) exactly (the spring is linear in the angle). A free
+   flexible link elsewhere makes the scene a mixed one. */
+static void test_pendulum(void)
+{
+    rj_link_def L[2];
+    rj_joint_def J[1];
+    rj_model *m;
+    rj_state *s;
+    char msg[600];
+    const double len = 0.8, rho = 2700, w = 0.02, h = 0.01, tip = 0.3, tipJ = 2e-3, k = 5.0, th0 = 0.4;
+    double mr, Ip, om, worst = 0, t;
+    int i;
+    L[0] = rj_default_link_def();
+    L[0].length = len; L[0].elements = 3; L[0].rho = rho; L[0].width = w; L[0].height = h;
+    L[0].tip_mass = tip; L[0].tip_inertia = tipJ; L[0].fidelity = RJ_LINK_RIGID;
+    L[1] = rj_default_link_def();
+    L[1].x = 5; L[1].height = 0.01;
+    J[0] = rj_default_joint_def();
+    J[0].body1 = -1; J[0].body2 = 0; J[0].angle0 = th0; J[0].spring_k = k; J[0].spring_free_angle = 0;
+    m = build(L, 2, J, 1, 0, msg, sizeof msg);
+    if (!rjt_check(&T, m != NULL, "torsion pendulum: a rigid link and a flexible one build a model", "%s", msg)) return;
+    rj_state_create(m, &s, NULL);
+    mr = rho * w * h * len;
+    Ip = mr * len * len / 3.0 + tip * len * len + tipJ;
+    om = sqrt(k / Ip);
+    for (i = 1; i <= 40; i++) {
+        double err;
+        if (rj_run(m, s, 0.05 * i, 0, NULL, NULL) != RJ_OK) break;
+        t = rj_state_time(s);
+        err = fabs(rj_joint_theta_running(m, s, 0) - th0 * cos(om * t));
+        if (err > worst) worst = err;
+    }
+    rjt_check(&T, i > 40 && worst < 1e-6 * th0, "torsion pendulum (rigid link, pinned): theta(t) = theta0 cos(sqrt(k/I_pin) t) over 2 s",
+              "max |error| %.3g rad (bound 1e-6 theta0 = %.1g), period %.4f s, dt %.3g s", worst, 1e-6 * th0, 2 * RJ__PI / om, rj_model_dt(m));
+    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+}
+
+/* 2. A free rigid link moving and spinning: exact uniform motion of its centre and angle. */
+static void test_free_body(void)
+{
+    rj_link_def L[2];
+    rj_model *m;
+    rj_state *s;
+    char msg[600];
+    double p0[2], p1[2], c0x, c0y, err = 0, th;
+    const double vx = 0.3, vy = -0.2, om = 1.7, len = 1.2, tend = 3.0;
+    L[0] = rj_default_link_def();
+    L[0].length = len; L[0].elements = 2; L[0].fidelity = RJ_LINK_RIGID; L[0].vx = vx; L[0].vy = vy; L[0].omega = om;
+    L[1] = rj_default_link_def();
+    L[1].x = 5; L[1].height = 0.01;
+    m = build(L, 2, NULL, 0, 0, msg, sizeof msg);
+    if (!rjt_check(&T, m != NULL, "free rigid link builds", "%s", msg)) return;
+    rj_state_create(m, &s, NULL);
+    rj_node_position(m, s, 0, 1, p0);          /* the middle node is the centre (no tip mass) */
+    c0x = p0[0]; c0y = p0[1];
+    rj_run(m, s, tend, 0, NULL, NULL);
+    rj_node_position(m, s, 0, 1, p1);
+    /* vx, vy are the root's velocity: the centre, 0.6 m along +x, moves at v + omega x r */
+    err = hypot(p1[0] - (c0x + vx * rj_state_time(s)), p1[1] - (c0y + (vy + om * 0.5 * len) * rj_state_time(s)));
+    th = rj_node_rotation(m, s, 0, 0);
+    /* round-off: the angle and the centre are sums of dt x rate over 1e5 steps */
+    rjt_check(&T, err < 1e-9 && fabs(th - om * rj_state_time(s)) < 1e-9 && fabs(rj_node_rate(m, s, 0, 2) - om) < 1e-12,
+              "free rigid link: centre moves at its velocity, angle turns at its rate (to accumulated round-off, 1e-9)",
+              "centre off by %.3g m, angle off by %.3g rad after %.3f s (%ld steps)", err, th - om * rj_state_time(s), rj_state_time(s), rj_state_steps(s));
+    {
+        double a[2], b[2];
+        rj_node_position(m, s, 0, 0, a); rj_node_position(m, s, 0, 2, b);
+        rjt_check(&T, fabs(hypot(b[0] - a[0], b[1] - a[1]) - len) < 1e-12, "free rigid link stays rigid", "length %.15g m (rest %.15g)", hypot(b[0] - a[0], b[1] - a[1]), len);
+    }
+    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+}
+
+/* linear and angular momentum about the origin (at the half step: positions x^n, rates
+   v^{n-1/2}); bodies from their records, nodes on a body counted there */
+static void momenta(const rj_model *m, const rj_state *s, double *px, double *py, double *lz)
+{
+    const double *f = s->fd[s->cur];
+    const double *x = RJ__FX(m, f), *y = RJ__FY(m, f), *vx = RJ__FVX(m, f), *vy = RJ__FVY(m, f), *w = RJ__FW(m, f);
+    int i, c;
+    *px = *py = *lz = 0;
+    for (i = 0; i < m->nn; i++) {
+        if (m->node_cl[i] >= 0) { if (!RJ__CL_RIGID(m, i)) *lz += m->rinertia[i] * w[i]; continue; }
+        *px += m->mass[i] * vx[i]; *py += m->mass[i] * vy[i];
+        *lz += m->mass[i] * (x[i] * vy[i] - y[i] * vx[i]) + m->rinertia[i] * w[i];
+    }
+    for (c = 0; c < m->ncl; c++) {
+        const double *b = RJ__FCL(m, f, c);
+        if (m->cl_first[c] == m->cl_first[c + 1]) continue;
+        *px += m->cl_M[c] * b[2]; *py += m->cl_M[c] * b[3];
+        *lz += m->cl_M[c] * (b[0] * b[3] - b[1] * b[2]) + m->cl_I[c] * b[4];
+    }
+}
+
+/* 3. The solar array on a free-floating rigid bus (examples/scenes/solar_array_bus.rjs). */
+static void test_bus(void)
+{
+    rj_scene_file f;
+    rj_scene_def sd;
+    rj_model *m;
+    rj_state *s;
+    rj_error e;
+    rj_energy en;
+    double px0, py0, l0, px, py, lz, worst_p = 0, worst_l = 0, pscale = 0, lscale = 0, bus0, bus1;
+    int k, locked = 0;
+    if (!rjt_check(&T, rj_scene_load("examples/scenes/solar_array_bus.rjs", &f, &e) == RJ_OK, "solar_array_bus.rjs parses", "%s", e.msg)) return;
+    sd = rj_scene_file_def(&f);
+    if (!rjt_check(&T, rj_model_create(&sd, &m, &e, NULL) == RJ_OK, "solar_array_bus.rjs builds (rigid bus, flexible panels)", "%s", e.msg)) { rj_scene_file_free(&f); return; }
+    rj_state_create(m, &s, NULL);
+    momenta(m, s, &px0, &py0, &l0);
+    bus0 = rj_node_rotation(m, s, 0, 0);
+    for (k = 1; k <= 100; k++) {
+        int i;
+        if (rj_run(m, s, 0.1 * k, 0, NULL, NULL) != RJ_OK) break;
+        momenta(m, s, &px, &py, &lz);
+        if (hypot(px - px0, py - py0) > worst_p) worst_p = hypot(px - px0, py - py0);
+        if (fabs(lz - l0) > worst_l) worst_l = fabs(lz - l0);
+        for (i = 0; i < m->nn; i++) {
+            const double *fr = s->fd[s->cur];
+            double v = hypot(RJ__FVX(m, fr)[i], RJ__FVY(m, fr)[i]) * m->mass[i];
+            if (m->node_cl[i] < 0 && v > pscale) pscale = v;
+            if (m->node_cl[i] < 0 && fabs(RJ__FX(m, fr)[i] * RJ__FVY(m, fr)[i] * m->mass[i]) > lscale) lscale = fabs(RJ__FX(m, fr)[i] * RJ__FVY(m, fr)[i] * m->mass[i]);
+        }
+    }
+    rjt_check(&T, k > 100, "solar_array_bus.rjs runs 10 s", "%s (t = %.3f s)", rj_state_error(s), rj_state_time(s));
+    for (k = 0; k < 4; k++) locked += rj_joint_flag(m, s, k) == RJ_LOCKED;
+    rjt_check(&T, locked == 4, "solar_array_bus.rjs: every hinge locks", "%d of 4 locked; lock times %.3f %.3f %.3f %.3f s", locked,
+              rj_joint_event_time(m, s, 0), rj_joint_event_time(m, s, 1), rj_joint_event_time(m, s, 2), rj_joint_event_time(m, s, 3));
+    rjt_check(&T, worst_p < 1e-12 * (pscale + 1e-300) * 1e3 && worst_p < 1e-10, "free-floating bus: linear momentum conserved (to round-off)",
+              "max |P - P0| %.3g kg m/s; largest node momentum %.3g", worst_p, pscale);
+    rjt_check(&T, worst_l < 1e-6 * lscale, "free-floating bus: angular momentum conserved",
+              "max |L - L0| %.3g kg m^2/s (L0 = %.3g); largest node moment of momentum %.3g, bound 1e-6 of it", worst_l, l0, lscale);
+    bus1 = rj_node_rotation(m, s, 0, 0);
+    rjt_check(&T, fabs(bus1 - bus0) > 0.05, "free-floating bus turns against the opening array", "bus turned %.2f deg", rj_deg(bus1 - bus0));
+    rj_state_energy(m, s, &en);
+    rjt_check(&T, fabs(en.balance) < 1e-3, "free-floating bus: energy accounts close (bound 1e-3 J, as for solar_array.rjs)",
+              "balance %.3g J; kinetic %.4g, strain %.4g, springs %.4g, lost to friction %.4g, to limits %.4g J", en.balance, en.kinetic, en.strain, en.spring, en.lost_friction, en.lost_limit);
+    {
+        /* the bus stays rigid: its two nodes keep their distance */
+        double a[2], b[2];
+        rj_node_position(m, s, 0, 0, a); rj_node_position(m, s, 0, 1, b);
+        rjt_check(&T, fabs(hypot(b[0] - a[0], b[1] - a[1]) - 0.6) < 1e-12, "the bus stays rigid", "length %.15g m", hypot(b[0] - a[0], b[1] - a[1]));
+    }
+    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL); rj_scene_file_free(&f);
+}
+
+/* q1, q2 (deg) every 0.25 s up to 2.75 s (joint 2 locks near 3.0 s) */
+static int deploy_q(int f0, int f1, double E1, double rho_scale, int el1, double q[11][2], double *dt, double *lock2)
+{
+    deploy_opts o = deploy_default_opts();
+    rj_link_def l[2];
+    rj_joint_def j[2];
+    rj_scene_def sc;
+    rj_model *m;
+    rj_state *s;
+    rj_error err;
+    int k;
+    o.joint2_method = RJ_METHOD_ADAPTIVE;
+    deploy_scene(&o, l, j, &sc);
+    l[0].fidelity = f0; l[1].fidelity = f1; l[1].E *= E1;
+    l[1].rho *= rho_scale; l[1].elements = el1;
+    sc.solver.dt = 0;
+    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { printf("deploy_q: %s\n", err.msg); return 0; }
+    rj_state_create(m, &s, NULL);
+    for (k = 0; k < 11; k++) {
+        if (rj_run(m, s, 0.25 * (k + 1), 0, NULL, NULL) != RJ_OK) { printf("deploy_q: %s\n", rj_state_error(s)); return 0; }
+        q[k][0] = deploy_q1_deg(m, s); q[k][1] = deploy_q2_deg(m, s);
+    }
+    rj_run(m, s, 3.1, 0, NULL, NULL);
+    *dt = rj_model_dt(m);
+    *lock2 = rj_joint_event_time(m, s, 1);
+    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+    return 1;
+}
+
+static double qdiff(double a[11][2], double b[11][2], int n)
+{
+    double d = 0;
+    int k;
+    for (k = 0; k < n; k++) { d = fmax(d, fabs(a[k][0] - b[k][0])); d = fmax(d, fabs(a[k][1] - b[k][1])); }
+    return d;
+}
+
+/* 4. The deployment with a rigid link 2 against a one-element flexible link 2 made 10,
+   100 and 1000 times stiffer, up to 2.25 s (joint 2 locks near 2.53 s). Link 2's rod is
+   made 1e5 times lighter: a one-element link lumps its rod at its ends, which changes its
+   inertia about the pin by m_rod L^2 / 6, 2e-4 of the total at a 1e3 times lighter rod and
+   a 0.03 deg gap that no stiffness closes (measured); the tip mass and inertia are the same
+   in both models. Link 1 is flexible throughout. The gap must close with the stiffness. */
+static void test_stiff_limit(void)
+{
+    double qr[11][2], q[3][11][2], dtr, dt[3], l2r, l2[3], d[3];
+    int i;
+    if (!deploy_q(RJ_LINK_FLEXIBLE, RJ_LINK_RIGID, 1, 1e-5, 1, qr, &dtr, &l2r)) { rjt_check(&T, 0, "deployment, rigid link 2", "failed"); return; }
+    for (i = 0; i < 3; i++) {
+        if (!deploy_q(RJ_LINK_FLEXIBLE, RJ_LINK_FLEXIBLE, pow(10.0, i + 1), 1e-5, 1, q[i], &dt[i], &l2[i])) { rjt_check(&T, 0, "deployment, stiff link 2", "failed"); return; }
+        d[i] = qdiff(qr, q[i], 9);
+    }
+    rjt_check(&T, d[2] < 0.01 && d[2] < 0.3 * d[0], "deployment, rigid link 2 = the limit of a stiffening flexible link 2 (light rod)",
+              "max |q - q_rigid| up to 2.25 s: EI x10 %.4f deg, x100 %.4f deg, x1000 %.5f deg (bound: x1000 < 0.01 and < 0.3 x the x10 gap); "
+              "joint 2 locks %.5f (rigid) / %.5f / %.5f / %.5f s; dt %.3g / %.3g / %.3g / %.3g s",
+              d[0], d[1], d[2], l2r, l2[0], l2[1], l2[2], dtr, dt[0], dt[1], dt[2]);
+}
+
+/* 5. Rigid link 1 with an inextensible link 2 against rigid link 1 with a flexible link 2. */
+static void test_rigid_inext(void)
+{
+    double qf[11][2], qi[11][2], dtf, dti, lf, li, d;
+    if (!deploy_q(RJ_LINK_RIGID, RJ_LINK_FLEXIBLE, 1, 1, 10, qf, &dtf, &lf) || !deploy_q(RJ_LINK_RIGID, RJ_LINK_INEXTENSIBLE, 1, 1, 10, qi, &dti, &li)) {
+        rjt_check(&T, 0, "deployment, rigid link 1 with flexible / inextensible link 2", "failed");
+        return;
+    }
+    d = qdiff(qf, qi, 11);
+    rjt_check(&T, d < 0.05 && fabs(li - lf) < 2e-3 && dti > 4 * dtf, "deployment: rigid link 1 + inextensible link 2 follows rigid link 1 + flexible link 2 at a larger step",
+              "max |dq| %.4f deg (bound 0.05), joint 2 locks %.5f vs %.5f s, dt %.3g vs %.3g s", d, li, lf, dti, dtf);
+}
+
+/* 6. What a mixed scene refuses, by name. */
+static void test_refusals(void)
+{
+    rj_link_def L[3];
+    rj_joint_def J[2];
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m = NULL;
+    rj_error err;
+    rj_result r;
+    int i;
+    for (i = 0; i < 3; i++) { L[i] = rj_default_link_def(); L[i].height = 0.01; }
+    L[0].root = RJ_ROOT_PINNED; L[1].fidelity = RJ_LINK_RIGID; L[2].fidelity = RJ_LINK_RIGID;
+    J[0] = rj_default_joint_def(); J[0].body1 = 0; J[0].body2 = 1;
+    J[1] = rj_default_joint_def(); J[1].body1 = 1; J[1].body2 = 2;
+    sc.links = L; sc.link_count = 3; sc.joints = J; sc.joint_count = 2;
+    r = rj_model_create(&sc, &m, &err, NULL);
+    rjt_check(&T, r == RJ_ERR_INVALID && strstr(err.msg, "pins two rigid links") && !strcmp(err.field, "joints[1].body2"),
+              "mixed scene: two rigid links pinned together are refused, naming the joint", "%s: %s", err.field, err.msg);
+    sc.link_count = 2; sc.joint_count = 1; J[0].reference = RJ_REF_CHORD;
+    r = rj_model_create(&sc, &m, &err, NULL);
+    rjt_check(&T, r == RJ_ERR_INVALID && strstr(err.msg, "RJ_REF_TANGENT") && !strcmp(err.field, "joints[0].reference"),
+              "mixed scene: a chord reference on a rigid link is refused, naming the field", "%s: %s", err.field, err.msg);
+    J[0].reference = RJ_REF_TANGENT;
+    r = rj_model_create(&sc, &m, &err, NULL);
+    rjt_check(&T, r == RJ_OK, "mixed scene: a flexible link carrying a rigid one builds", "%s", r == RJ_OK ? "ok" : err.msg);
+    if (r == RJ_OK) rj_model_destroy(m, NULL);
+}
+
+/* 7. A checkpoint of a mixed scene resumes bit for bit (the bodies' records travel with it). */
+static void test_checkpoint(void)
+{
+    rj_link_def L[2];
+    rj_joint_def J[1];
+    rj_model *m;
+    rj_state *a, *b;
+    char msg[600], buf[1 << 16];
+    size_t n;
+    double pa[2], pb[2];
+    L[0] = rj_default_link_def(); L[0].fidelity = RJ_LINK_RIGID; L[0].root = RJ_ROOT_FREE; L[0].omega = 0.5; L[0].height = 0.05;
+    L[1] = rj_default_link_def(); L[1].height = 0.01; L[1].elements = 6;
+    J[0] = rj_default_joint_def(); J[0].body1 = 0; J[0].body2 = 1; J[0].angle0 = 2.0; J[0].spring_k = 3; J[0].spring_free_angle = 3.0;
+    J[0].has_forward = 1; J[0].forward = 2.6; J[0].lock = 1; J[0].method = RJ_METHOD_MOMENTUM;
+    m = build(L, 2, J, 1, 0, msg, sizeof msg);
+    if (!rjt_check(&T, m != NULL, "checkpoint scene builds", "%s", msg)) return;
+    rj_state_create(m, &a, NULL); rj_state_create(m, &b, NULL);
+    rj_run(m, a, 0.5, 0, NULL, NULL);
+    n = rj_state_save(m, a, buf, sizeof buf);
+    rj_state_load(m, b, buf, n, NULL);
+    rj_run(m, a, 2.0, 0, NULL, NULL); rj_run(m, b, 2.0, 0, NULL, NULL);
+    rj_node_position(m, a, 1, 6, pa); rj_node_position(m, b, 1, 6, pb);
+    rjt_check(&T, n > 0 && pa[0] == pb[0] && pa[1] == pb[1] && memcmp(a->fd[a->cur], b->fd[b->cur], sizeof(double) * m->frame_doubles) == 0,
+              "mixed scene: a checkpoint resumes bit for bit", "tip %.17g %.17g vs %.17g %.17g; joint %s", pa[0], pa[1], pb[0], pb[1],
+              rj_joint_flag(m, a, 0) == RJ_LOCKED ? "locked" : "not locked");
+    rj_state_destroy(a, NULL); rj_state_destroy(b, NULL); rj_model_destroy(m, NULL);
+}
+
+int main(void)
+{
+    test_pendulum();
+    test_free_body();
+    test_bus();
+    test_stiff_limit();
+    test_rigid_inext();
+    test_refusals();
+    test_checkpoint();
+    return rjt_summary(&T, "test_mixed");
+}
