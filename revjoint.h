@@ -2170,7 +2170,9 @@ static double rj__shake_w(const rj_model *m, const rj_state *s, int k, const dou
 
 static void rj__shake(const rj_model *m, rj_state *s, const double *x, const double *y, double *nx, double *ny)
 {
-    double *a = s->efx, *b = s->efy, *c = s->em1, *r = s->em2, *lam = s->eu;   /* element scratch (ne >= chain elements) */
+    /* element scratch (ne >= chain elements): the factored tridiagonal (multipliers a,
+       reciprocal pivots b, upper c), the residuals r, the multipliers lam */
+    double *a = s->efx, *b = s->efy, *c = s->em1, *r = s->em2, *lam = s->eu;
     double *nf = s->fd[1 - s->cur], *imp = s->rsc;
     const double dt = m->dt;
     int ch, it, i, q, gi;
@@ -2183,19 +2185,29 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
             double worst = 0;
             for (i = 0; i < ne; i++) {
                 const int k = nd[i], k1 = nd[i + 1];
-                const double ex = nx[k1] - nx[k], ey = ny[k1] - ny[k], ox = x[k1] - x[k], oy = y[k1] - y[k];
-                const double wi = bodies ? rj__shake_w(m, s, k, nx, ny, ox, oy) : m->einv[k];
-                const double wj = bodies ? rj__shake_w(m, s, k1, nx, ny, ox, oy) : m->einv[k1], g = ex * ex + ey * ey - l0sq[i + 1];
+                const double ex = nx[k1] - nx[k], ey = ny[k1] - ny[k], g = ex * ex + ey * ey - l0sq[i + 1];
                 if (fabs(g) > worst * l0sq[i + 1]) worst = fabs(g) / l0sq[i + 1];
-                b[i] = 4.0 * (wi + wj) * (ex * ox + ey * oy);
-                a[i] = i > 0 ? -4.0 * wi * (ex * (x[k] - x[nd[i - 1]]) + ey * (y[k] - y[nd[i - 1]])) : 0.0;
-                c[i] = i + 1 < ne ? -4.0 * wj * (ex * (x[nd[i + 2]] - x[k1]) + ey * (y[nd[i + 2]] - y[k1])) : 0.0;
                 r[i] = -g;
             }
             if (worst < 1e-14) break;
-            for (i = 1; i < ne; i++) { const double f = a[i] / b[i - 1]; b[i] -= f * c[i - 1]; r[i] -= f * r[i - 1]; }
-            lam[ne - 1] = r[ne - 1] / b[ne - 1];
-            for (i = ne - 2; i >= 0; i--) lam[i] = (r[i] - c[i] * lam[i + 1]) / b[i];
+            if (it == 0) {
+                /* the Newton matrix of the first iteration serves the later ones: it
+                   changes with the chords by the size of the correction (about 1e-8) */
+                for (i = 0; i < ne; i++) {
+                    const int k = nd[i], k1 = nd[i + 1];
+                    const double ex = nx[k1] - nx[k], ey = ny[k1] - ny[k], ox = x[k1] - x[k], oy = y[k1] - y[k];
+                    const double wi = bodies ? rj__shake_w(m, s, k, nx, ny, ox, oy) : m->einv[k];
+                    const double wj = bodies ? rj__shake_w(m, s, k1, nx, ny, ox, oy) : m->einv[k1];
+                    b[i] = 4.0 * (wi + wj) * (ex * ox + ey * oy);
+                    a[i] = i > 0 ? -4.0 * wi * (ex * (x[k] - x[nd[i - 1]]) + ey * (y[k] - y[nd[i - 1]])) : 0.0;
+                    c[i] = i + 1 < ne ? -4.0 * wj * (ex * (x[nd[i + 2]] - x[k1]) + ey * (y[nd[i + 2]] - y[k1])) : 0.0;
+                }
+                b[0] = 1.0 / b[0];
+                for (i = 1; i < ne; i++) { a[i] *= b[i - 1]; b[i] = 1.0 / (b[i] - a[i] * c[i - 1]); }
+            }
+            for (i = 1; i < ne; i++) r[i] -= a[i] * r[i - 1];
+            lam[ne - 1] = r[ne - 1] * b[ne - 1];
+            for (i = ne - 2; i >= 0; i--) lam[i] = (r[i] - c[i] * lam[i + 1]) * b[i];
             if (bodies) for (q = 0; q < 3 * m->ncl; q++) imp[q] = 0;
             for (i = 0; i <= ne; i++) {
                 const int k = nd[i];
@@ -2823,8 +2835,9 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         /* constraint forces do no work: the velocities follow the projected positions, and
            the kinetic energy is taken again with them */
         double k0 = 0;
+        const double idt = 1.0 / dt;
         rj__shake(m, s, x, y, nx, ny);
-        for (i = 0; i < nn; i++) { nvx[i] = (nx[i] - x[i]) / dt; nvy[i] = (ny[i] - y[i]) / dt; }
+        for (i = 0; i < nn; i++) { nvx[i] = (nx[i] - x[i]) * idt; nvy[i] = (ny[i] - y[i]) * idt; }
         for (i = 0; i < nn; i++) {
             const double vmx = s->steps == 0 ? 2 * vx[i] - nvx[i] : vx[i], vmy = s->steps == 0 ? 2 * vy[i] - nvy[i] : vy[i];
             const double vmw = s->steps == 0 ? 2 * w[i] - nw[i] : w[i];

@@ -746,6 +746,7 @@ int main(int argc, char **argv)
     file_roundtrip("deploy.rjs");
     file_roundtrip("impact.rjs");
     file_roundtrip("solar_array.rjs");
+    file_roundtrip("solar_array_bus.rjs");
     test_writer();
     test_units();
     test_comments();
