@@ -13,7 +13,7 @@ check() { # name, produced file
   if [ "$W" = "--write" ]; then cp "$2" "$G/$1.csv"; echo "PASS wrote $G/$1.csv"; return; fi
   $B/csvdiff "$G/$1.csv" "$2" --rel 1e-9 --abs 1e-9 --exact flag --exact flag1 --exact flag2 || rc=1
 }
-$B/deploy --csv $T/deploy.csv 2>/dev/null || { echo "FAIL deploy run"; rc=1; }
+$B/deploy --paper --csv $T/deploy.csv 2>/dev/null || { echo "FAIL deploy run"; rc=1; }
 check deploy $T/deploy.csv
 if [ "$W" != "--write" ]; then
   $B/deploy --scene examples/scenes/deploy.rjs --csv $T/deploy_scene.csv 2>/dev/null || { echo "FAIL deploy --scene run"; rc=1; }
