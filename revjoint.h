@@ -107,12 +107,18 @@ typedef struct rj_error {
 /* Root support of a link that is not the body2 of any joint. */
 typedef enum rj_root { RJ_ROOT_FREE = 0, RJ_ROOT_PINNED, RJ_ROOT_CLAMPED, RJ_ROOT_FIXED } rj_root;
 
-/* Link model. RJ_LINK_RIGID links have no bending or axial freedom: a scene of rigid links
-   is integrated in joint coordinates (one per joint), so its step is limited only by the
-   joints' stiffnesses. All links of a scene must then be rigid (mixing is not supported
-   yet), every rigid link hangs from one joint or is RJ_ROOT_FIXED, and
-   RJ_METHOD_ENERGY is not available. A rigid link is a uniform rod (rho A L, rho A L^3/12
-   about its centre) with its tip mass; its nodes are kept only to report and draw it. */
+/* Link model. RJ_LINK_RIGID links have no bending or axial freedom. A rigid link is a
+   uniform rod (rho A L, rho A L^3/12 about its centre) with its tip mass and inertia.
+   - A scene of rigid links only is integrated in joint coordinates (one per joint), so its
+     step is limited only by the joints' stiffnesses; every rigid link then hangs from one
+     joint or is RJ_ROOT_FIXED, RJ_METHOD_ENERGY is not available, and the nodes are kept
+     only to report and draw the links.
+   - In a scene with flexible or inextensible links too, each rigid link is one rigid body
+     (free, turning about a fixed pin, or held) carrying its nodes, which are massless
+     attachment points (rj_node_mass gives mass 0 and the body's inertia about its
+     anchor), and the nodes of other links pinned to it. Two rigid links may not be pinned
+     together there, and joints on a rigid link use RJ_REF_TANGENT; the flexible links
+     set the step. */
 /* RJ_LINK_INEXTENSIBLE links bend like flexible ones, but their element lengths are
    constraints (SHAKE projection along the previous chords, a tridiagonal solve per link),
    so the axial wave no longer limits the step: only bending does. They mix freely with
@@ -298,7 +304,8 @@ RJDEF int rj_model_node_count(const rj_model *m);
 RJDEF const rj_link_def *rj_model_link_def(const rj_model *m, int link);
 RJDEF const rj_joint_def *rj_model_joint_def(const rj_model *m, int joint);
 RJDEF int rj_link_node_count(const rj_model *m, int link);   /* elements + 1 */
-/* Lumped mass (kg) and rotary inertia (kg m^2) of a node, tip mass included. */
+/* Lumped mass (kg) and rotary inertia (kg m^2) of a node, tip mass included (a rigid
+   link's node in a mixed scene: 0 and its body's inertia, see rj_fidelity). */
 RJDEF void rj_node_mass(const rj_model *m, int link, int node, double *mass, double *rinertia);
 RJDEF double rj_link_EA(const rj_model *m, int link);
 RJDEF double rj_link_EI(const rj_model *m, int link);
@@ -1328,11 +1335,17 @@ static int rj__clusters(rj_model *m, rj_error *err)
             const int n = m->cl_node[k];
             const int own = n >= n0 && n <= nt;
             m->cl_rx[n] = m->x0[n] - ax; m->cl_ry[n] = m->y0[n] - ay;
-            m->tinv[n] = 0; m->einv[n] = 0; m->kmass[n] = 0;
+            m->einv[n] = 0; m->kmass[n] = 0;
+            /* a pinned node's translation is the body's point there: its largest inverse
+               mass (1/M + r^2/I) stands in for it in the stability bound and in the rate
+               predictions of joints between flexible links at that node; the body's
+               update overwrites what the node update does with it */
+            m->tinv[n] = own || m->cl_fix[l] == 2 ? 0.0
+                       : (m->cl_fix[l] == 0 ? 1.0 / M : 0.0) + (m->cl_rx[n] * m->cl_rx[n] + m->cl_ry[n] * m->cl_ry[n]) / I;
             /* the initial velocities of the rigid motion */
             m->vx0[n] = vax - w0 * m->cl_ry[n]; m->vy0[n] = vay + w0 * m->cl_rx[n];
             if (own) {
-                m->krot[n] = 0;
+                m->krot[n] = 0; m->mass[n] = 0;
                 m->rinertia[n] = I;
                 m->rinv[n] = m->cl_fix[l] == 2 ? 0.0 : 1.0 / I;
                 m->w0[n] = w0;
