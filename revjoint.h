@@ -578,9 +578,13 @@ struct rj_state {
 static size_t rj__rigid_scratch(int nj, int nl);
 static double rj__rig_setup(rj_model *m, double *scratch);
 typedef struct rj__rig {
-    double *M, *L, *q, *qd, *qdp, *qdd, *Q, *h, *x, *tmp;     /* n x n, n x n, n each */
-    double *phi, *om, *rx, *ry, *vx, *vy, *arx, *ary, *cx, *cy, *acx, *acy, *bx, *by; /* nl each */
+    double *M, *L, *W, *q, *qd, *qdp, *qdd, *Q, *h, *x, *tmp, *dx, *dy; /* n x n (W: columns of M^-1), n each (tmp 2 n) */
+    double *lk;                 /* per link, RJ__RL_COUNT values: rj__rig_kin */
 } rj__rig;
+/* a link's record in rj__rig.lk: angle and its cos, sin; root; centre; their accelerations
+   (centripetal, at the predicted rates); predicted angular rate; rate and root velocity */
+enum { RJ__RL_PHI = 0, RJ__RL_EC, RJ__RL_ES, RJ__RL_RX, RJ__RL_RY, RJ__RL_CX, RJ__RL_CY, RJ__RL_ARX, RJ__RL_ARY,
+       RJ__RL_ACX, RJ__RL_ACY, RJ__RL_OMB, RJ__RL_OM, RJ__RL_VX, RJ__RL_VY, RJ__RL_COUNT = 16 };
 static void rj__rig_map(const rj_model *m, double *base, rj__rig *r);
 static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd, const double *qdp);
 static void rj__rig_nodes(const rj_model *m, const rj__rig *r, double *f);
@@ -2362,93 +2366,181 @@ static void rj__element_work(const double *oj, const double *nj_, double rate_m,
    centripetal accelerations -omega^2 r of every segment. The element (flags, torques,
    friction, methods) is the same code as for flexible links; a joint torque is a
    generalised force on q_j, and a velocity jump is an impulse along q_j. */
-static size_t rj__rigid_scratch(int nj, int nl) { return 2 * (size_t)nj * nj + 10 * (size_t)nj + 14 * (size_t)nl + 8; }
+static size_t rj__rigid_scratch(int nj, int nl) { return 3 * (size_t)nj * nj + 12 * (size_t)nj + RJ__RL_COUNT * (size_t)nl + 8; }
 
 
+/* h directly after M: rj__rig_mass zeroes them in one pass */
 static void rj__rig_map(const rj_model *m, double *base, rj__rig *r)
 {
-    const size_t n = (size_t)m->nj, l = (size_t)m->nl;
-    r->M = base; r->L = r->M + n * n; r->q = r->L + n * n; r->qd = r->q + n; r->qdp = r->qd + n;
-    r->qdd = r->qdp + n; r->Q = r->qdd + n; r->h = r->Q + n; r->x = r->h + n; r->tmp = r->x + n;
-    r->phi = r->tmp + 2 * n; r->om = r->phi + l; r->rx = r->om + l; r->ry = r->rx + l; r->vx = r->ry + l; r->vy = r->vx + l;
-    r->arx = r->vy + l; r->ary = r->arx + l; r->cx = r->ary + l; r->cy = r->cx + l; r->acx = r->cy + l; r->acy = r->acx + l;
-    r->bx = r->acy + l; r->by = r->bx + l;
+    const size_t n = (size_t)m->nj;
+    r->M = base; r->h = r->M + n * n; r->L = r->h + n; r->W = r->L + n * n; r->q = r->W + n * n; r->qd = r->q + n; r->qdp = r->qd + n;
+    r->qdd = r->qdp + n; r->Q = r->qdd + n; r->x = r->Q + n; r->tmp = r->x + n; r->dx = r->tmp + 2 * n; r->dy = r->dx + n;
+    r->lk = r->dy + n;
 }
 
-/* Positions, velocities (rates qd) and centripetal accelerations (rates qdp) of every link. */
+/* The joint above joint j on the way to the ground (-1 at a root). */
+static int rj__rig_up(const rj_model *m, int j)
+{
+    const int b1 = m->jdef[j].body1;
+    return b1 >= 0 ? m->rb_pjoint[b1] : -1;
+}
+
+/* Positions, velocities (rates qd; skipped when qd is NULL, as the step needs none) and
+   centripetal accelerations (rates qdp) of every link, into the link records; cos and sin
+   of a hanging link's angle are kept there for its children. */
 static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd, const double *qdp)
 {
+    double *lk = r->lk;
     int k, l;
     for (l = 0; l < m->nl; l++) if (m->rb_pjoint[l] < 0) {
         const rj_link_def *d = &m->ldef[l];
-        r->phi[l] = d->angle; r->om[l] = 0; r->rx[l] = d->x; r->ry[l] = d->y;
-        r->vx[l] = r->vy[l] = r->arx[l] = r->ary[l] = r->bx[l] = r->by[l] = 0;
+        double *b = lk + RJ__RL_COUNT * (size_t)l;
+        b[RJ__RL_PHI] = d->angle; b[RJ__RL_RX] = d->x; b[RJ__RL_RY] = d->y;
+        b[RJ__RL_OM] = b[RJ__RL_VX] = b[RJ__RL_VY] = b[RJ__RL_ARX] = b[RJ__RL_ARY] = b[RJ__RL_OMB] = 0;
     }
     for (k = 0; k < m->nj; k++) {
-        const int j = m->jorder[k], c = m->jdef[j].body2, p = m->jdef[j].body1;
-        double ex, ey, omb;
+        const int j = m->jorder[k];
+        const rj_joint_def *jd = &m->jdef[j];
+        const int p = jd->body1, c = jd->body2;
+        double *RJ__RESTRICT b = lk + RJ__RL_COUNT * (size_t)c;
+        const double dc = m->rb_dcm[c];
+        double ph, ex, ey, omb, rx, ry, arx, ary;
         if (p < 0) {
-            r->phi[c] = m->jdef[j].ground_angle + q[j];
-            r->om[c] = qd[j]; omb = qdp[j];
-            r->rx[c] = m->jdef[j].ground_x; r->ry[c] = m->jdef[j].ground_y;
-            r->vx[c] = r->vy[c] = r->arx[c] = r->ary[c] = 0;
+            ph = jd->ground_angle + q[j]; omb = qdp[j];
+            rx = jd->ground_x; ry = jd->ground_y; arx = ary = 0;
+            if (qd) { b[RJ__RL_OM] = qd[j]; b[RJ__RL_VX] = b[RJ__RL_VY] = 0; }
         } else {
-            const double cp = cos(r->phi[p]), sp = sin(r->phi[p]), s = m->jpin[j];
-            const double omp = r->om[p], ompb = r->bx[p];
-            r->phi[c] = r->phi[p] + m->jref[j] + q[j];
-            r->om[c] = omp + qd[j]; omb = ompb + qdp[j];
-            r->rx[c] = r->rx[p] + s * cp; r->ry[c] = r->ry[p] + s * sp;
-            r->vx[c] = r->vx[p] - omp * s * sp; r->vy[c] = r->vy[p] + omp * s * cp;
-            r->arx[c] = r->arx[p] - ompb * ompb * s * cp; r->ary[c] = r->ary[p] - ompb * ompb * s * sp;
+            const double *pb = lk + RJ__RL_COUNT * (size_t)p;
+            const double s = m->jpin[j], ompb = pb[RJ__RL_OMB];
+            double cp, sp;
+            if (m->rb_pjoint[p] >= 0) { cp = pb[RJ__RL_EC]; sp = pb[RJ__RL_ES]; }   /* parents come first */
+            else { cp = cos(pb[RJ__RL_PHI]); sp = sin(pb[RJ__RL_PHI]); }           /* a fixed link */
+            ph = pb[RJ__RL_PHI] + m->jref[j] + q[j];
+            omb = ompb + qdp[j];
+            rx = pb[RJ__RL_RX] + s * cp; ry = pb[RJ__RL_RY] + s * sp;
+            arx = pb[RJ__RL_ARX] - ompb * ompb * s * cp; ary = pb[RJ__RL_ARY] - ompb * ompb * s * sp;
+            if (qd) {
+                const double omp = pb[RJ__RL_OM];
+                b[RJ__RL_OM] = omp + qd[j];
+                b[RJ__RL_VX] = pb[RJ__RL_VX] - omp * s * sp; b[RJ__RL_VY] = pb[RJ__RL_VY] + omp * s * cp;
+            }
         }
-        r->bx[c] = omb;   /* the angular rate used for the centripetal terms */
-        ex = cos(r->phi[c]); ey = sin(r->phi[c]);
-        r->cx[c] = r->rx[c] + m->rb_dcm[c] * ex; r->cy[c] = r->ry[c] + m->rb_dcm[c] * ey;
-        r->acx[c] = r->arx[c] - omb * omb * m->rb_dcm[c] * ex; r->acy[c] = r->ary[c] - omb * omb * m->rb_dcm[c] * ey;
+        ex = cos(ph); ey = sin(ph);
+        b[RJ__RL_PHI] = ph; b[RJ__RL_EC] = ex; b[RJ__RL_ES] = ey; b[RJ__RL_RX] = rx; b[RJ__RL_RY] = ry;
+        b[RJ__RL_ARX] = arx; b[RJ__RL_ARY] = ary; b[RJ__RL_OMB] = omb;   /* the angular rate used for the centripetal terms */
+        b[RJ__RL_CX] = rx + dc * ex; b[RJ__RL_CY] = ry + dc * ey;
+        b[RJ__RL_ACX] = arx - omb * omb * dc * ex; b[RJ__RL_ACY] = ary - omb * omb * dc * ey;
     }
 }
 
-/* Mass matrix M(q) and bias h (with the centripetal accelerations from rj__rig_kin). */
+/* Mass matrix M(q) and bias h (with the centripetal accelerations from rj__rig_kin). Each
+   link adds to the entries of the joints on its path to the ground; the lever arms c - P
+   of the path's joints are kept (dx, dy) and each pair is added once to both triangles. */
 static void rj__rig_mass(const rj_model *m, rj__rig *r)
 {
     const int n = m->nj;
+    double *M = r->M, *h = r->h, *RJ__RESTRICT dx = r->dx, *RJ__RESTRICT dy = r->dy;
+    const double *lk = r->lk;
     int l, i;
-    for (i = 0; i < n * n; i++) r->M[i] = 0;
-    for (i = 0; i < n; i++) r->h[i] = 0;
+    /* zero M and h (the row after M), column by column: scalar stores, which the
+       accumulation below reads back at once (a library memset here costs more) */
+    for (i = 0; i < n; i++) { int k; for (k = 0; k <= n; k++) M[(size_t)k * n + i] = 0; }
     for (l = 0; l < m->nl; l++) {
-        int ja = m->rb_pjoint[l];
-        if (ja < 0) continue;
-        for (; ja >= 0; ja = m->jdef[ja].body1 >= 0 ? m->rb_pjoint[m->jdef[ja].body1] : -1) {
-            const int ca = m->jdef[ja].body2;
-            const double dxa = r->cx[l] - r->rx[ca], dya = r->cy[l] - r->ry[ca];
-            int jb = m->rb_pjoint[l];
-            r->h[ja] += m->rb_mass[l] * (-dya * r->acx[l] + dxa * r->acy[l]);
-            for (; jb >= 0; jb = m->jdef[jb].body1 >= 0 ? m->rb_pjoint[m->jdef[jb].body1] : -1) {
-                const int cb = m->jdef[jb].body2;
-                const double dxb = r->cx[l] - r->rx[cb], dyb = r->cy[l] - r->ry[cb];
-                r->M[ja * n + jb] += m->rb_mass[l] * (dxa * dxb + dya * dyb) + m->rb_icm[l];
+        const int jl = m->rb_pjoint[l];
+        const double *b = lk + RJ__RL_COUNT * (size_t)l;
+        double ml, il, cxl, cyl, acxl, acyl;
+        int ja, jb;
+        if (jl < 0) continue;
+        ml = m->rb_mass[l]; il = m->rb_icm[l];
+        cxl = b[RJ__RL_CX]; cyl = b[RJ__RL_CY]; acxl = b[RJ__RL_ACX]; acyl = b[RJ__RL_ACY];
+        for (ja = jl; ja >= 0; ja = rj__rig_up(m, ja)) {
+            const double *a = lk + RJ__RL_COUNT * (size_t)m->jdef[ja].body2;
+            const double dxa = cxl - a[RJ__RL_RX], dya = cyl - a[RJ__RL_RY];
+            h[ja] += ml * (-dya * acxl + dxa * acyl);
+            dx[ja] = dxa; dy[ja] = dya;
+            for (jb = jl; jb != ja; jb = rj__rig_up(m, jb)) {
+                const double v = ml * (dxa * dx[jb] + dya * dy[jb]) + il;
+                M[ja * n + jb] += v; M[jb * n + ja] += v;
             }
+            M[ja * n + ja] += ml * (dxa * dxa + dya * dya) + il;
         }
     }
 }
 
-/* Cholesky factor of the n x n SPD matrix M into L (lower), and solves L L^T x = b. */
+/* Cholesky factor of the n x n SPD matrix M into L (lower), and solves L L^T x = b. The
+   2 x 2 case (a two-link arm) is written out: the same operations in the same order as
+   the loops, without their overhead, which dominates at that size. */
 static int rj__chol(int n, const double *M, double *L)
 {
     int i, j, k;
-    for (i = 0; i < n; i++) for (j = 0; j <= i; j++) {
-        double sum = M[i * n + j];
-        for (k = 0; k < j; k++) sum -= L[i * n + k] * L[j * n + k];
-        if (i == j) { if (!(sum > 0)) return -1; L[i * n + i] = sqrt(sum); }
-        else L[i * n + j] = sum / L[j * n + j];
+    if (n == 2) {
+        double sum = M[0];
+        if (!(sum > 0)) return -1;
+        L[0] = sqrt(sum);
+        L[2] = M[2] / L[0];
+        sum = M[3] - L[2] * L[2];
+        if (!(sum > 0)) return -1;
+        L[3] = sqrt(sum);
+        return 0;
+    }
+    for (i = 0; i < n; i++) {
+        const double *Mi = M + (size_t)i * n;
+        double *Li = L + (size_t)i * n, sum;
+        for (j = 0; j < i; j++) {
+            const double *Lj = L + (size_t)j * n;
+            sum = Mi[j];
+            for (k = 0; k < j; k++) sum -= Li[k] * Lj[k];
+            Li[j] = sum / Lj[j];
+        }
+        sum = Mi[i];
+        for (k = 0; k < i; k++) sum -= Li[k] * Li[k];
+        if (!(sum > 0)) return -1;
+        Li[i] = sqrt(sum);
     }
     return 0;
 }
 static void rj__chol_solve(int n, const double *L, const double *b, double *x)
 {
     int i, k;
-    for (i = 0; i < n; i++) { double sum = b[i]; for (k = 0; k < i; k++) sum -= L[i * n + k] * x[k]; x[i] = sum / L[i * n + i]; }
-    for (i = n - 1; i >= 0; i--) { double sum = x[i]; for (k = i + 1; k < n; k++) sum -= L[k * n + i] * x[k]; x[i] = sum / L[i * n + i]; }
+    if (n == 2) {
+        const double x0 = b[0] / L[0], x1 = (b[1] - L[2] * x0) / L[3] / L[3];
+        x[1] = x1; x[0] = (x0 - L[2] * x1) / L[0];
+        return;
+    }
+    for (i = 0; i < n; i++) {
+        const double *Li = L + (size_t)i * n;
+        double sum = b[i];
+        for (k = 0; k < i; k++) sum -= Li[k] * x[k];
+        x[i] = sum / Li[i];
+    }
+    for (i = n - 1; i >= 0; i--) {
+        double sum = x[i];
+        for (k = i + 1; k < n; k++) sum -= L[(size_t)k * n + i] * x[k];
+        x[i] = sum / L[(size_t)i * n + i];
+    }
+}
+/* Column j of M^-1: rj__chol_solve with b = e_j, without the arithmetic on its leading
+   zeros (the forward pass gives exact zeros above j, and 1 / L_jj at j). */
+static void rj__chol_unit(int n, const double *L, int j, double *x)
+{
+    int i, k;
+    if (n == 2) {
+        const double x0 = j ? 0.0 : 1.0 / L[0], x1 = (j ? 1.0 / L[3] : (0.0 - L[2] * x0) / L[3]) / L[3];
+        x[1] = x1; x[0] = (x0 - L[2] * x1) / L[0];
+        return;
+    }
+    x[j] = 1.0 / L[(size_t)j * n + j];
+    for (i = j + 1; i < n; i++) {
+        const double *Li = L + (size_t)i * n;
+        double sum = 0;
+        for (k = j; k < i; k++) sum -= Li[k] * x[k];
+        x[i] = sum / Li[i];
+    }
+    for (i = n - 1; i >= 0; i--) {
+        double sum = i >= j ? x[i] : 0.0;
+        for (k = i + 1; k < n; k++) sum -= L[(size_t)k * n + i] * x[k];
+        x[i] = sum / L[(size_t)i * n + i];
+    }
 }
 
 /* Writes the links' nodes (for queries and drawing) from the kinematics. */
@@ -2457,11 +2549,12 @@ static void rj__rig_nodes(const rj_model *m, const rj__rig *r, double *f)
     double *x = RJ__FX(m, f), *y = RJ__FY(m, f), *phi = RJ__FPHI(m, f), *vx = RJ__FVX(m, f), *vy = RJ__FVY(m, f), *w = RJ__FW(m, f);
     int l, i;
     for (l = 0; l < m->nl; l++) {
-        const double c = cos(r->phi[l]), s = sin(r->phi[l]), l0 = m->link_l0[l];
+        const double *b = r->lk + RJ__RL_COUNT * (size_t)l;
+        const double c = cos(b[RJ__RL_PHI]), s = sin(b[RJ__RL_PHI]), l0 = m->link_l0[l];
         for (i = 0; i <= m->ldef[l].elements; i++) {
             const int k = m->link_first[l] + i;
-            x[k] = r->rx[l] + i * l0 * c; y[k] = r->ry[l] + i * l0 * s; phi[k] = r->phi[l];
-            vx[k] = r->vx[l] - r->om[l] * i * l0 * s; vy[k] = r->vy[l] + r->om[l] * i * l0 * c; w[k] = r->om[l];
+            x[k] = b[RJ__RL_RX] + i * l0 * c; y[k] = b[RJ__RL_RY] + i * l0 * s; phi[k] = b[RJ__RL_PHI];
+            vx[k] = b[RJ__RL_VX] - b[RJ__RL_OM] * i * l0 * s; vy[k] = b[RJ__RL_VY] + b[RJ__RL_OM] * i * l0 * c; w[k] = b[RJ__RL_OM];
         }
     }
 }
@@ -2490,7 +2583,11 @@ static double rj__rig_setup(rj_model *m, double *scratch)
         double dx, dy;
         J->I2 = m->rb_icm[b2] + m->rb_mass[b2] * m->rb_dcm[b2] * m->rb_dcm[b2];
         if (b1 < 0 || m->rb_pjoint[b1] < 0) J->I1 = HUGE_VAL;
-        else { dx = r.cx[b1] - r.rx[b2]; dy = r.cy[b1] - r.ry[b2]; J->I1 = m->rb_icm[b1] + m->rb_mass[b1] * (dx * dx + dy * dy); }
+        else {
+            dx = r.lk[RJ__RL_COUNT * (size_t)b1 + RJ__RL_CX] - r.lk[RJ__RL_COUNT * (size_t)b2 + RJ__RL_RX];
+            dy = r.lk[RJ__RL_COUNT * (size_t)b1 + RJ__RL_CY] - r.lk[RJ__RL_COUNT * (size_t)b2 + RJ__RL_RY];
+            J->I1 = m->rb_icm[b1] + m->rb_mass[b1] * (dx * dx + dy * dy);
+        }
         J->w1 = rj__finite(J->I1) ? J->I2 / (J->I1 + J->I2) : 0; J->w2 = 1 - J->w1;
         J->minv = minv[(size_t)j * n + j];    /* rate change per unit torque impulse: 1 / I_red */
     }
@@ -2510,108 +2607,118 @@ static double rj__rig_setup(rj_model *m, double *scratch)
     return lam;
 }
 
-/* One step of a rigid-link scene: central differences in joint coordinates. */
+/* One step of a rigid-link scene: central differences in joint coordinates. The work that
+   does not wait for the new rates (spring energy, frame scalars) comes early, so that the
+   end of a step, between the new angles and the next step's kinematics, stays short. */
 static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
 {
-    const int n = m->nj;
-    const double dt = m->dt, kick = s->steps == 0 ? 0.5 * dt : dt;   /* half a kick from q'(0) */
+    const int n = m->nj, first = s->steps == 0;
+    const double dt = m->dt, kick = first ? 0.5 * dt : dt;   /* half a kick from q'(0) */
     const double *of = s->fd[s->cur];
     double *nf = s->fd[1 - s->cur];
     const int *oi = s->fi[s->cur];
     int *ni = s->fi[1 - s->cur];
     const double *osc = RJ__FS(m, of);
     double *nsc = RJ__FS(m, nf);
+    const double *ofj = RJ__FJ(m, of, 0);
+    double *nfj = RJ__FJ(m, nf, 0);
     const double t = osc[RJ__FS_TIME];
     double ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC], lost_l = osc[RJ__FS_LLIM] + osc[RJ__FS_PEND], V, pend = 0;
+    double *RJ__RESTRICT q, *RJ__RESTRICT qd, *RJ__RESTRICT qdp, *RJ__RESTRICT qdd, *RJ__RESTRICT Q, *hq, *W;
+    const double *M, *L;
     rj__rig r;
-    int j, k;
+    int j, k, jumped = 0;
     rj__rig_map(m, s->rsc, &r);
-    nsc[RJ__FS_WARN] = osc[RJ__FS_WARN];
+    q = r.q; qd = r.qd; qdp = r.qdp; qdd = r.qdd; hq = r.h; Q = r.Q; M = r.M; L = r.L; W = r.W;
     /* 1. state: q^n, rates q'^{n-1/2}, predicted q'^n for the centripetal terms */
     for (j = 0; j < n; j++) {
-        const double *oj = RJ__FJ(m, of, j);
-        r.q[j] = oj[RJ__JD_THETA]; r.qd[j] = oj[RJ__JD_RATE];
-        r.qdp[j] = r.qd[j] + 0.5 * dt * oj[RJ__JD_QDD];
+        const double *oj = ofj + (size_t)RJ__JD_COUNT * j;
+        q[j] = oj[RJ__JD_THETA]; qd[j] = oj[RJ__JD_RATE];
+        qdp[j] = qd[j] + 0.5 * dt * oj[RJ__JD_QDD];
     }
-    rj__rig_kin(m, &r, r.q, r.qd, r.qdp);
+    rj__rig_kin(m, &r, q, NULL, qdp);
+    /* the new frame's scalars (the element counts late contacts in RJ__FS_WARN) */
+    V = rj__spring_energy(m, of);
+    memcpy(nsc, osc, sizeof(double) * RJ__FS_COUNT);
+    nsc[RJ__FS_TIME] = t + dt; nsc[RJ__FS_ETIME] = t; nsc[RJ__FS_STRAIN] = 0; nsc[RJ__FS_SPRING] = V;
     rj__rig_mass(m, &r);
     if (rj__chol(n, r.M, r.L)) return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: the rigid mass matrix is not positive definite", t);
     /* 2. the element: torques as generalised forces */
     for (j = 0; j < n; j++) {
         double p;
-        r.Q[j] = rj__element(m, s, j, RJ__FJ(m, of, j), RJ__FJ(m, nf, j), oi[j], &ni[j], r.qd[j], t, nsc, &p) - r.h[j];
+        Q[j] = rj__element(m, s, j, ofj + (size_t)RJ__JD_COUNT * j, nfj + (size_t)RJ__JD_COUNT * j, oi[j], &ni[j], qd[j], t, nsc, &p) - hq[j];
     }
-    rj__chol_solve(n, r.L, r.Q, r.qdd);
-    /* 3. friction, joint by joint, with the column M^-1 e_j */
+    rj__chol_solve(n, L, Q, qdd);
+    /* 3. friction, joint by joint, with the column M^-1 e_j (kept in W for step 5) */
+    for (j = 0; j < n; j++) if (m->jdef[j].friction > 0) rj__chol_unit(n, L, j, W + (size_t)j * n);
     for (j = 0; j < n; j++) {
-        const double tf = m->jdef[j].friction;
+        const double tf = m->jdef[j].friction, *w = W + (size_t)j * n;
         double tau;
         if (!(tf > 0)) continue;
-        for (k = 0; k < n; k++) r.tmp[k] = k == j ? 1.0 : 0.0;
-        rj__chol_solve(n, r.L, r.tmp, r.x);
-        tau = rj__friction(r.qd[j] + kick * r.qdd[j], kick * r.x[j], tf);
-        for (k = 0; k < n; k++) r.qdd[k] += r.x[k] * tau;
-        RJ__FJ(m, nf, j)[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
+        tau = rj__friction(qd[j] + kick * qdd[j], kick * w[j], tf);
+        for (k = 0; k < n; k++) qdd[k] += w[k] * tau;
+        nfj[(size_t)RJ__JD_COUNT * j + RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
     }
-    /* 4. rates q'^{n+1/2}; kinetic energy 1/2 q'^{n-1/2} M q'^{n+1/2} */
-    for (j = 0; j < n; j++) r.qdp[j] = r.qd[j] + kick * r.qdd[j];
+    /* 4. rates q'^{n+1/2} */
+    for (j = 0; j < n; j++) qdp[j] = qd[j] + kick * qdd[j];
     /* 5. velocity-level methods: an impulse along q_j to e times the reversed rate (plastic
-       while locked or for forced displacement). r.h keeps the rates before the jumps. */
-    for (j = 0; j < n; j++) r.h[j] = r.qdp[j];
+       while locked or for forced displacement). hq keeps the rates before the jumps. */
     for (j = 0; j < n; j++) {
         const rj_joint_def *d = &m->jdef[j];
         if (!(d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED)) continue;
         /* re-contact within the step, as for flexible links */
-        if (ni[j] == RJ_FREE && r.q[j] <= m->jnt[j].rev && r.qdp[j] < 0) ni[j] = RJ_AT_REVERSE;
-        if (ni[j] == RJ_FREE && r.q[j] >= m->jnt[j].fwd && r.qdp[j] > 0) ni[j] = RJ_AT_FORWARD;
-        if (ni[j] == RJ_FREE || !rj__into_limit(ni[j], r.qdp[j])) continue;
+        if (ni[j] == RJ_FREE && q[j] <= m->jnt[j].rev && qdp[j] < 0) ni[j] = RJ_AT_REVERSE;
+        if (ni[j] == RJ_FREE && q[j] >= m->jnt[j].fwd && qdp[j] > 0) ni[j] = RJ_AT_FORWARD;
+        if (ni[j] == RJ_FREE || !rj__into_limit(ni[j], qdp[j])) continue;
         {
             const double e = (d->method == RJ_METHOD_MOMENTUM && ni[j] != RJ_LOCKED) ? d->restitution : 0.0;
+            const double *w = W + (size_t)j * n;
             double lam;
-            for (k = 0; k < n; k++) r.tmp[k] = k == j ? 1.0 : 0.0;
-            rj__chol_solve(n, r.L, r.tmp, r.x);
-            lam = (-e * r.qdp[j] - r.qdp[j]) / r.x[j];
-            for (k = 0; k < n; k++) r.qdp[k] += r.x[k] * lam;
+            if (!jumped) for (k = 0; k < n; k++) hq[k] = qdp[k];
+            jumped = 1;
+            if (!(d->friction > 0)) rj__chol_unit(n, L, j, W + (size_t)j * n);   /* else step 3 made it */
+            lam = (-e * qdp[j] - qdp[j]) / w[j];
+            for (k = 0; k < n; k++) qdp[k] += w[k] * lam;
         }
     }
     /* the jumps' loss in the kinetic energy's form: 1/2 q'^{n-1/2} M (q'_before - q'_after)
-       now, 1/2 q'_after M (q'_before - q'_after) with the next step (pend) */
-    for (j = 0; j < n; j++) {
+       now, 1/2 q'_after M (q'_before - q'_after) with the next step (pend); nothing without
+       a jump */
+    if (jumped) for (j = 0; j < n; j++) {
+        const double *Mj = M + (size_t)j * n;
         double sum = 0;
-        for (k = 0; k < n; k++) sum += r.M[j * n + k] * (r.h[k] - r.qdp[k]);
-        lost_l += 0.5 * (s->steps == 0 ? 2 * r.qd[j] - r.qdp[j] : r.qd[j]) * sum;
-        pend += 0.5 * r.qdp[j] * sum;
-    }
-    for (j = 0; j < n; j++) {
-        double sum = 0;
-        for (k = 0; k < n; k++) sum += r.M[j * n + k] * r.qdp[k];
-        ke += 0.5 * (s->steps == 0 ? 2 * r.qd[j] - r.qdp[j] : r.qd[j]) * sum;   /* q'^{-1/2} = 2 q'(0) - q'^{1/2} */
+        for (k = 0; k < n; k++) sum += Mj[k] * (hq[k] - qdp[k]);
+        lost_l += 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
+        pend += 0.5 * qdp[j] * sum;
     }
     /* 6. positions, forced displacement, work of the joint torques */
     for (j = 0; j < n; j++) {
         const rj_joint_def *d = &m->jdef[j];
-        const rj__joint *J = &m->jnt[j];
-        const double *oj = RJ__FJ(m, of, j);
-        double *nj_ = RJ__FJ(m, nf, j), qn = r.q[j] + dt * r.qdp[j];
+        const double *oj = ofj + (size_t)RJ__JD_COUNT * j;
+        double *nj_ = nfj + (size_t)RJ__JD_COUNT * j, qn = q[j] + dt * qdp[j];
         if (d->method == RJ_METHOD_FORCED && ni[j] != RJ_FREE) {
+            const rj__joint *J = &m->jnt[j];
             if (ni[j] == RJ_AT_FORWARD && qn > J->fwd) qn = J->fwd;
             else if (ni[j] == RJ_AT_REVERSE && qn < J->rev) qn = J->rev;
             else if (ni[j] == RJ_LOCKED) qn = nj_[RJ__JD_LOCK];
         }
-        if (!(fabs(qn - r.q[j]) <= 0.5 * RJ__PI))
+        if (!(fabs(qn - q[j]) <= 0.5 * RJ__PI))
             return rj__stop(m, s, RJ_ERR_TUNNEL, "t = %.9g s: joint %d turned %.4g rad in one step (more than pi/2): the step %g s is far too large for its speed",
-                            t, j, qn - r.q[j], dt);
-        rj__element_work(oj, nj_, r.qd[j], dt, &lost_d, &lost_f, &lost_l);
-        nj_[RJ__JD_THETA] = qn; nj_[RJ__JD_RATE] = r.qdp[j]; nj_[RJ__JD_QDD] = r.qdd[j];
-        r.q[j] = qn;
+                            t, j, qn - q[j], dt);
+        nj_[RJ__JD_THETA] = qn; nj_[RJ__JD_RATE] = qdp[j]; nj_[RJ__JD_QDD] = qdd[j];
+        rj__element_work(oj, nj_, qd[j], dt, &lost_d, &lost_f, &lost_l);
     }
-    /* 7. energies, blow-up check, commit (nodes are computed when queried: rj__rig_pose) */
-    V = rj__spring_energy(m, of);
-    for (k = 0; k < RJ__FS_COUNT; k++) if (k != RJ__FS_WARN) nsc[k] = osc[k];
-    nsc[RJ__FS_TIME] = t + dt; nsc[RJ__FS_ETIME] = t;
-    nsc[RJ__FS_KE] = ke; nsc[RJ__FS_STRAIN] = 0; nsc[RJ__FS_SPRING] = V;
+    /* 7. kinetic energy 1/2 q'^{n-1/2} M q'^{n+1/2} (q'^{-1/2} = 2 q'(0) - q'^{1/2}),
+       energies, blow-up check, commit (nodes are computed when queried: rj__rig_pose) */
+    for (j = 0; j < n; j++) {
+        const double *Mj = M + (size_t)j * n;
+        double sum = 0;
+        for (k = 0; k < n; k++) sum += Mj[k] * qdp[k];
+        ke += 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
+    }
+    nsc[RJ__FS_KE] = ke;
     nsc[RJ__FS_LDAMP] = lost_d; nsc[RJ__FS_LFRIC] = lost_f; nsc[RJ__FS_LLIM] = lost_l; nsc[RJ__FS_PEND] = pend;
-    if (s->steps == 0) { nsc[RJ__FS_E0] = ke + V; nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0; lost_d = lost_f = lost_l = 0; }
+    if (first) { nsc[RJ__FS_E0] = ke + V; nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0; lost_d = lost_f = lost_l = 0; }
     {
         const double scale = fabs(nsc[RJ__FS_E0]) + fabs(osc[RJ__FS_SPRING]) + 1e-9;
         if (!rj__finite(ke) || !rj__finite(lost_l) || fabs(ke) > m->solver.energy_growth * (scale + fabs(V))
@@ -3070,10 +3177,11 @@ static void rj__rig_node(const rj_model *m, const rj_state *s, int l, int n, dou
 {
     double ph, rx, ry, om, vx, vy, c, sn, d = n * m->link_l0[l];
     rj__rig_pose(m, s->fd[s->cur], l, &ph, &rx, &ry, &om, &vx, &vy);
+    if (phi) *phi = ph;
+    if (!xy && !v) return;
     c = cos(ph); sn = sin(ph);
     if (xy) { xy[0] = rx + d * c; xy[1] = ry + d * sn; }
     if (v) { v[0] = vx - om * d * sn; v[1] = vy + om * d * c; }
-    if (phi) *phi = ph;
 }
 
 static int rj__node(const rj_model *m, int l, int n)
