@@ -2200,7 +2200,7 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
     /* element scratch (ne >= chain elements): the factored tridiagonal (multipliers a,
        reciprocal pivots b, upper c), the residuals r, the multipliers lam */
     double *a = s->efx, *b = s->efy, *c = s->em1, *r = s->em2, *lam = s->eu;
-    double *nf = s->fd[1 - s->cur], *imp = s->rsc;
+    double *nf = s->fd[1 - s->cur], *imp = s->rsc, *act = s->ebt;   /* act: 1 for an element that can move, 0 between two fixed nodes */
     const double dt = m->dt;
     int ch, it, i, q, gi;
     for (ch = 0; ch < m->nch; ch++) {
@@ -2208,11 +2208,16 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
         const double *l0sq = m->ch_l0sq + m->ch_first[ch];
         int bodies = 0;
         if (m->ncl) for (i = 0; i <= ne; i++) bodies |= m->node_cl[nd[i]] >= 0;
+        for (i = 0; i < ne; i++) {
+            const int k = nd[i], k1 = nd[i + 1];
+            act[i] = (bodies ? rj__shake_w(m, s, k, nx, ny, 1, 0) + rj__shake_w(m, s, k, nx, ny, 0, 1) + rj__shake_w(m, s, k1, nx, ny, 1, 0) + rj__shake_w(m, s, k1, nx, ny, 0, 1)
+                           : m->einv[k] + m->einv[k1]) > 0 ? 1.0 : 0.0;
+        }
         for (it = 0; it < (bodies ? 12 : 4); it++) {
             double worst = 0;
             for (i = 0; i < ne; i++) {
                 const int k = nd[i], k1 = nd[i + 1];
-                const double ex = nx[k1] - nx[k], ey = ny[k1] - ny[k], g = ex * ex + ey * ey - l0sq[i + 1];
+                const double ex = nx[k1] - nx[k], ey = ny[k1] - ny[k], g = (ex * ex + ey * ey - l0sq[i + 1]) * act[i];
                 if (fabs(g) > worst * l0sq[i + 1]) worst = fabs(g) / l0sq[i + 1];
                 r[i] = -g;
             }
@@ -2228,6 +2233,7 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
                     b[i] = 4.0 * (wi + wj) * (ex * ox + ey * oy);
                     a[i] = i > 0 ? -4.0 * wi * (ex * (x[k] - x[nd[i - 1]]) + ey * (y[k] - y[nd[i - 1]])) : 0.0;
                     c[i] = i + 1 < ne ? -4.0 * wj * (ex * (x[nd[i + 2]] - x[k1]) + ey * (y[nd[i + 2]] - y[k1])) : 0.0;
+                    if (act[i] == 0) { b[i] = 1.0; a[i] = c[i] = 0.0; }   /* an identity row: lam = 0 */
                 }
                 b[0] = 1.0 / b[0];
                 for (i = 1; i < ne; i++) { a[i] *= b[i - 1]; b[i] = 1.0 / (b[i] - a[i] * c[i - 1]); }

@@ -323,6 +323,37 @@ static void test_light_body(void)
     rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
 }
 
+/* 9. An inextensible link held fixed with an inextensible child: the chain's elements
+   between two fixed nodes are not constraints to solve (they were a division by zero). */
+static void test_fixed_inextensible(void)
+{
+    rj_link_def L[2];
+    rj_joint_def J[1];
+    rj_model *m;
+    rj_state *s;
+    rj_energy en;
+    rj_result r;
+    char msg[600];
+    double worst = 0;
+    int i;
+    for (i = 0; i < 2; i++) { L[i] = rj_default_link_def(); L[i].height = 0.01; L[i].elements = 6; L[i].fidelity = RJ_LINK_INEXTENSIBLE; }
+    L[0].root = RJ_ROOT_FIXED;
+    J[0] = rj_default_joint_def(); J[0].body1 = 0; J[0].body2 = 1; J[0].angle0 = 2.0; J[0].rate0 = 3.0; J[0].spring_k = 5;
+    m = build(L, 2, J, 1, 0, msg, sizeof msg);
+    if (!rjt_check(&T, m != NULL, "fixed inextensible link with an inextensible child builds", "%s", msg)) return;
+    rj_state_create(m, &s, NULL);
+    r = rj_run(m, s, 1.0, 0, NULL, NULL);
+    for (i = 0; i < 6; i++) {
+        double a[2], b[2];
+        rj_node_position(m, s, 1, i, a); rj_node_position(m, s, 1, i + 1, b);
+        worst = fmax(worst, fabs(hypot(b[0] - a[0], b[1] - a[1]) / (1.0 / 6) - 1));
+    }
+    rj_state_energy(m, s, &en);
+    rjt_check(&T, r == RJ_OK && worst < 1e-12 && fabs(en.balance) < 1e-4 * en.total, "fixed inextensible link with an inextensible child: runs, keeps the child's lengths, conserves energy",
+              "%s%s; element lengths within %.2g; balance %.3g J of %.4g J", rj_result_str(r), rj_state_error(s), worst, en.balance, en.total);
+    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+}
+
 int main(void)
 {
     test_pendulum();
@@ -333,5 +364,6 @@ int main(void)
     test_refusals();
     test_checkpoint();
     test_light_body();
+    test_fixed_inextensible();
     return rjt_summary(&T, "test_mixed");
 }
