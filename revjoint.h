@@ -579,6 +579,7 @@ static size_t rj__rigid_scratch(int nj, int nl);
 static double rj__rig_setup(rj_model *m, double *scratch);
 typedef struct rj__rig {
     double *M, *L, *W, *q, *qd, *qdp, *qdd, *Q, *h, *x, *tmp, *dx, *dy; /* n x n (W: columns of M^-1), n each (tmp 2 n) */
+    double *S, *SL, *lam, *act, *rhs;   /* the plastic joints' impulse system: n x n, its factor, n each */
     double *lk;                 /* per link, RJ__RL_COUNT values: rj__rig_kin */
 } rj__rig;
 /* a link's record in rj__rig.lk: angle and its cos, sin; root; centre; their accelerations
@@ -2372,7 +2373,7 @@ static void rj__element_work(const double *oj, const double *nj_, double rate_m,
    centripetal accelerations -omega^2 r of every segment. The element (flags, torques,
    friction, methods) is the same code as for flexible links; a joint torque is a
    generalised force on q_j, and a velocity jump is an impulse along q_j. */
-static size_t rj__rigid_scratch(int nj, int nl) { return 3 * (size_t)nj * nj + 12 * (size_t)nj + RJ__RL_COUNT * (size_t)nl + 8; }
+static size_t rj__rigid_scratch(int nj, int nl) { return 5 * (size_t)nj * nj + 15 * (size_t)nj + RJ__RL_COUNT * (size_t)nl + 8; }
 
 
 /* h directly after M: rj__rig_mass zeroes them in one pass */
@@ -2381,7 +2382,8 @@ static void rj__rig_map(const rj_model *m, double *base, rj__rig *r)
     const size_t n = (size_t)m->nj;
     r->M = base; r->h = r->M + n * n; r->L = r->h + n; r->W = r->L + n * n; r->q = r->W + n * n; r->qd = r->q + n; r->qdp = r->qd + n;
     r->qdd = r->qdp + n; r->Q = r->qdd + n; r->x = r->Q + n; r->tmp = r->x + n; r->dx = r->tmp + 2 * n; r->dy = r->dx + n;
-    r->lk = r->dy + n;
+    r->S = r->dy + n; r->SL = r->S + n * n; r->lam = r->SL + n * n; r->act = r->lam + n; r->rhs = r->act + n;
+    r->lk = r->rhs + n;
 }
 
 /* The joint above joint j on the way to the ground (-1 at a root). */
@@ -2685,6 +2687,54 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
             if (!(d->friction > 0)) rj__chol_unit(n, L, j, W + (size_t)j * n);   /* else step 3 made it */
             lam = (-e * qdp[j] - qdp[j]) / w[j];
             for (k = 0; k < n; k++) qdp[k] += w[k] * lam;
+        }
+    }
+    /* one joint's impulse moves the others (M^-1 couples them), so the plastic ones (locked,
+       or e = 0 at a limit and turning into it) take their impulses together: W_SS lam =
+       -q'_S with W = M^-1, S the set; a contact whose impulse would pull is dropped and the
+       set solved again. One joint after another (as above, alone) left a locked joint
+       drifting at up to 0.3 deg/s in the fidelity benchmark's rigid solar array; sweeping
+       that to convergence took hundreds of passes (W is ill-conditioned along a chain). */
+    if (jumped) {
+        double *S = r.S, *SL = r.SL, *lam = r.lam, *act = r.act, *rhs = r.rhs;
+        int it2, changed = 1;
+        for (j = 0; j < n; j++) {
+            const rj_joint_def *d = &m->jdef[j];
+            const int plastic = (d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED) && ni[j] != RJ_FREE
+                                && (ni[j] == RJ_LOCKED || d->method == RJ_METHOD_FORCED || d->restitution == 0);
+            act[j] = plastic && rj__into_limit(ni[j], qdp[j]) ? 1.0 : 0.0;
+        }
+        for (it2 = 0; it2 <= n && changed; it2++) {
+            int a2, b2, any = 0;
+            changed = 0;
+            for (a2 = 0; a2 < n; a2++) any += act[a2] != 0;
+            if (any < 2) break;   /* none, or one: the impulse above was exact */
+            if (any == n) {
+                /* every joint plastic: when all are locked (no contact could pull) the
+                   answer is q' = 0, which the system below would give to round-off */
+                int locked = 0;
+                for (a2 = 0; a2 < n; a2++) locked += ni[a2] == RJ_LOCKED;
+                if (locked == n) { for (a2 = 0; a2 < n; a2++) qdp[a2] = 0; break; }
+            }
+            for (a2 = 0; a2 < n; a2++) if (act[a2] != 0) rj__chol_unit(n, L, a2, W + (size_t)a2 * n);
+            for (a2 = 0; a2 < n; a2++) {
+                for (b2 = 0; b2 < n; b2++) S[(size_t)a2 * n + b2] = act[a2] != 0 && act[b2] != 0 ? W[(size_t)b2 * n + a2] : (a2 == b2 ? 1.0 : 0.0);
+                rhs[a2] = act[a2] != 0 ? -qdp[a2] : 0.0;
+            }
+            if (rj__chol(n, S, SL)) break;
+            rj__chol_solve(n, SL, rhs, lam);
+            for (a2 = 0; a2 < n; a2++) {
+                /* a contact (not a lock) pushed toward its limit: not part of the set */
+                if (act[a2] != 0 && ni[a2] != RJ_LOCKED && ((ni[a2] == RJ_AT_FORWARD && lam[a2] > 0) || (ni[a2] == RJ_AT_REVERSE && lam[a2] < 0))) { act[a2] = 0; changed = 1; }
+            }
+            if (changed) continue;
+            for (b2 = 0; b2 < n; b2++) if (act[b2] != 0) for (k = 0; k < n; k++) qdp[k] += W[(size_t)b2 * n + k] * lam[b2];
+            for (a2 = 0; a2 < n; a2++) {
+                /* a plastic contact the impulses turned into its limit joins the set */
+                const rj_joint_def *d = &m->jdef[a2];
+                if (act[a2] == 0 && (d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED) && ni[a2] != RJ_FREE
+                    && (ni[a2] == RJ_LOCKED || d->method == RJ_METHOD_FORCED || d->restitution == 0) && rj__into_limit(ni[a2], qdp[a2])) { act[a2] = 1; changed = 1; }
+            }
         }
     }
     /* the jumps' loss in the kinetic energy's form: 1/2 q'^{n-1/2} M (q'_before - q'_after)
