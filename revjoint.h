@@ -1839,7 +1839,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     om2 = 0;
     {
         /* dt depends on K_AP and K_AP on dt: bound without adaptive joints first */
-        double dt, klin0[RJ__BOUND_JOINTS];
+        double dt, klin0[RJ__BOUND_JOINTS], om2_noad;
         int pass, any = 0;
         /* the links and springs alone (no limit stiffness): kept for the refusal's advice */
         for (j = 0; j < m->nj && j < RJ__BOUND_JOINTS; j++) klin0[j] = m->jnt[j].k_lin;
@@ -1863,8 +1863,11 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         /* adaptive joints: K_AP = I_red/dt^2 gives omega dt = 1 on its own. Contact chatter
            near the links' bound pumps energy with it too (stress suite: RC13 impacts blew up
            at 0.95 x the bound with K_AP counted once), so it counts twice; K_AP grows as dt
-           shrinks, so the automatic dt is found by a few fixed-point passes. */
-        for (pass = 0; any && pass < (sc->solver.dt > 0 ? 1 : 6); pass++) {
+           shrinks, so the automatic dt is searched: omega^2(dt) ~ a + b / dt^2 (a: without
+           the adaptive limits, b from the last pass), whose 0.9 x bound step solves
+           a dt^2 + b = (0.9 x 2 x margin)^2; each pass checks the step it settles on. */
+        om2_noad = om2;
+        for (pass = 0; any && pass < (sc->solver.dt > 0 ? 1 : 20); pass++) {
             for (j = 0; j < m->nj; j++) {
                 const rj_joint_def *d = &m->jdef[j];
                 rj__joint *J = &m->jnt[j];
@@ -1878,7 +1881,20 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
             m->omega_max = sqrt(om2 > 0 ? om2 : 0);
             m->dt_bound = m->omega_max > 0 ? RJ__DT_MARGIN * 2.0 / m->omega_max : 1.0;
             if (sc->solver.dt > 0 || dt <= 0.9 * m->dt_bound * 1.000001) break;
-            dt = 0.9 * m->dt_bound;
+            {
+                const double c2 = (0.9 * RJ__DT_MARGIN * 2.0) * (0.9 * RJ__DT_MARGIN * 2.0), b = (om2 - om2_noad) * dt * dt;
+                if (b >= c2 || pass == 19) {
+                    /* K_AP = I_red / dt^2: omega dt of the adaptive limits does not fall with
+                       dt, so when they alone are above the bound no step is stable */
+                    rj__fail(err, RJ_ERR_UNSTABLE_DT, "solver.dt", dt,
+                             "no stable step for the adaptive limits: their stiffness K_AP (Eq 21) grows as 1/dt^2, so their omega dt, %.3g with the limits counted as in the bound, "
+                             "is the same at every dt and above the %.3g the automatic step allows; use RJ_METHOD_MOMENTUM (or penalty with a fixed K) for these joints%s",
+                             sqrt(b), sqrt(c2), m->rigid ? ", as rigid links usually want" : "");
+                    return RJ_ERR_UNSTABLE_DT;
+                }
+                dt = om2_noad > 0 ? sqrt((c2 - b) / om2_noad) : dt;
+                if (dt > 0.9 * m->dt_bound) dt = 0.9 * m->dt_bound;
+            }
         }
         for (j = 0; j < m->nj; j++) {
             const rj_joint_def *d = &m->jdef[j];
@@ -1893,29 +1909,39 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         int worst = -1;
         double wo = 0;
         char extra[240];
+        double cw = 0;
         for (j = 0; j < m->nj; j++) {
             rj__jgeo g;
-            double om;
+            double om, c;
             rj__joint_geo(m, &m->jnt[j], m->x0, m->y0, &g);
-            om = sqrt(m->jnt[j].k_lin * rj__joint_compliance(m, &m->jnt[j], &g));
-            if (om > wo) { wo = om; worst = j; }
+            /* rate change per unit torque impulse: (M^-1)_jj in joint coordinates */
+            c = m->rigid ? m->jnt[j].minv : rj__joint_compliance(m, &m->jnt[j], &g);
+            om = sqrt(m->jnt[j].k_lin * c);
+            if (om > wo) { wo = om; worst = j; cw = c; }
         }
         extra[0] = 0;
         if (worst >= 0 && wo * m->dt > 1.0) {
-            rj__jgeo g;
             double room = (RJ__DT_MARGIN * 2.0 / m->dt) * (RJ__DT_MARGIN * 2.0 / m->dt) - m->omega_links * m->omega_links, kok;
-            rj__joint_geo(m, &m->jnt[worst], m->x0, m->y0, &g);
             /* what this bound admits for a penalty limit (counted 4 K, added to the links' omega^2) */
-            kok = room > 0 ? room / (4.0 * rj__joint_compliance(m, &m->jnt[worst], &g)) : 0.0;
-            if (room > 0)
+            kok = room > 0 ? room / (4.0 * cw) : 0.0;
+            if (m->jdef[worst].method == RJ_METHOD_ADAPTIVE)
+                snprintf(extra, sizeof extra, "; joint %d's adaptive limit gives about omega dt = %.3g, and its K_AP (Eq 21) grows as 1/dt^2, so a smaller dt helps little: "
+                         "solver.dt = 0 finds the largest stable step if there is one, or use RJ_METHOD_MOMENTUM%s",
+                         worst, wo * m->dt, m->rigid ? " (rigid links)" : " or a penalty K");
+            else if (room > 0 && !m->rigid)
                 snprintf(extra, sizeof extra, "; joint %d's stiffness gives omega dt = %.3g: this model accepts a penalty K up to about %.4g N m/rad at this dt (Eq 31 would give %.4g)",
                          worst, wo * m->dt, kok, rj_joint_kmax_eq31(m, worst, m->dt));
+            else if (room > 0)
+                snprintf(extra, sizeof extra, "; joint %d's stiffness gives omega dt = %.3g: this model accepts a penalty K up to about %.4g N m/rad at this dt",
+                         worst, wo * m->dt, kok);
         }
         if (m->omega_links > 0 && m->dt > RJ__DT_MARGIN * 2.0 / m->omega_links)
             snprintf(extra, sizeof extra, "; the links alone need dt <= %.4g s", RJ__DT_MARGIN * 2.0 / m->omega_links);
         rj__fail(err, RJ_ERR_UNSTABLE_DT, "solver.dt", m->dt,
-                 "solver.dt = %.9g s is above the stability bound %.9g s (omega_max %g rad/s)%s; use a smaller dt or set solver.allow_unstable",
-                 m->dt, m->dt_bound, m->omega_max, extra);
+                 "solver.dt = %.9g s is above the stability bound %.9g s (omega_max %g rad/s)%s; %s",
+                 m->dt, m->dt_bound, m->omega_max, extra,
+                 worst >= 0 && wo * m->dt > 1.0 && m->jdef[worst].method == RJ_METHOD_ADAPTIVE ? "or set solver.allow_unstable"
+                                                                                                : "use a smaller dt or set solver.allow_unstable");
         return RJ_ERR_UNSTABLE_DT;
     }
     /* Eq 28 over the whole model */
@@ -2777,9 +2803,18 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
     if (first) { nsc[RJ__FS_E0] = ke + V; nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0; lost_d = lost_f = lost_l = 0; }
     {
         const double scale = fabs(nsc[RJ__FS_E0]) + fabs(osc[RJ__FS_SPRING]) + 1e-9;
-        if (!rj__finite(ke) || !rj__finite(lost_l) || fabs(ke) > m->solver.energy_growth * (scale + fabs(V))
-            || ke + V + lost_d + lost_f + lost_l - nsc[RJ__FS_E0] > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale)
-            return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: kinetic energy %.6g J of the rigid links exceeds %g x %.6g J; %s",
+        const double created = ke + V + lost_d + lost_f + lost_l - nsc[RJ__FS_E0];
+        /* the same tests and messages as for flexible links (rj_step, part 7) */
+        if (created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale)
+            return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: %.6g J of energy created (balance %.6g J, limit work %.6g J; more than %g of the initial %.6g J); %s",
+                            t, created > -lost_l ? created : -lost_l, created, -lost_l, RJ__CREATED, scale,
+                            dt > m->dt_bound ? "the step is above the stability bound"
+                                             : "a penalty or adaptive limit caught late at this step (it stores about the relative kinetic energy when it catches a joint rate x dt past the limit): use RJ_METHOD_MOMENTUM for rigid links, or a smaller step");
+        if (!rj__finite(ke) || !rj__finite(lost_l))
+            return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: non-finite energy of the rigid links; %s", t,
+                            dt > m->dt_bound ? "the step is above the stability bound" : "check the joint stiffnesses against the bound");
+        if (fabs(ke) > m->solver.energy_growth * (scale + fabs(V)))
+            return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: kinetic energy %.6g J of the rigid links exceeds %g x the initial %.6g J; %s",
                             t, ke, m->solver.energy_growth, scale, dt > m->dt_bound ? "the step is above the stability bound" : "a joint stiffness above the bound");
     }
     s->cur = 1 - s->cur;

@@ -354,6 +354,56 @@ static void test_fixed_inextensible(void)
     rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
 }
 
+/* 10. The automatic step with adaptive limits is one the library accepts when given
+   explicitly (it was not, for a chord-reference scene: the search stopped after six passes
+   with a stale K_AP); rigid links whose adaptive limits have no stable step say so. */
+static void test_adaptive_auto_dt(void)
+{
+    int ref, ok = 1, k = 0;
+    char d[600];
+    size_t o = 0;
+    for (ref = 0; ref < 2; ref++) {
+        deploy_opts op = deploy_default_opts();
+        rj_link_def l[2];
+        rj_joint_def j[2];
+        rj_scene_def sc;
+        rj_model *m;
+        rj_error err;
+        double dt;
+        op.joint2_method = RJ_METHOD_ADAPTIVE; op.joint1_method = RJ_METHOD_ADAPTIVE;
+        deploy_scene(&op, l, j, &sc);
+        j[0].reference = j[1].reference = ref ? RJ_REF_CHORD : RJ_REF_TANGENT;
+        j[0].friction = j[1].friction = 0.05; j[1].damping = 0.01;
+        sc.solver.dt = 0;
+        if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { ok = 0; o += (size_t)snprintf(d + o, sizeof d - o, "%s: %s; ", ref ? "chord" : "tangent", err.msg); continue; }
+        dt = rj_model_dt(m);
+        rj_model_destroy(m, NULL);
+        sc.solver.dt = dt;
+        if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { ok = 0; o += (size_t)snprintf(d + o, sizeof d - o, "%s: automatic %.6g s refused explicitly: %s; ", ref ? "chord" : "tangent", dt, err.msg); continue; }
+        o += (size_t)snprintf(d + o, sizeof d - o, "%s: %.6g s accepted; ", ref ? "chord" : "tangent", dt);
+        rj_model_destroy(m, NULL);
+        k++;
+    }
+    rjt_check(&T, ok && k == 2, "adaptive limits: the automatic step is accepted when given explicitly (tangent and chord references)", "%s", d);
+    {
+        deploy_opts op = deploy_default_opts();
+        rj_link_def l[2];
+        rj_joint_def j[2];
+        rj_scene_def sc;
+        rj_model *m = NULL;
+        rj_error err;
+        rj_result r;
+        op.joint2_method = RJ_METHOD_ADAPTIVE; op.joint1_method = RJ_METHOD_ADAPTIVE;
+        deploy_scene(&op, l, j, &sc);
+        l[0].fidelity = l[1].fidelity = RJ_LINK_RIGID;
+        sc.solver.dt = 0;
+        r = rj_model_create(&sc, &m, &err, NULL);
+        if (r == RJ_OK) rj_model_destroy(m, NULL);
+        rjt_check(&T, r == RJ_ERR_UNSTABLE_DT ? strstr(err.msg, "no stable step for the adaptive limits") != NULL : r == RJ_OK,
+                  "rigid links with adaptive limits: a stable automatic step, or a refusal that says why", "%s", r == RJ_OK ? "built" : err.msg);
+    }
+}
+
 int main(void)
 {
     test_pendulum();
@@ -365,5 +415,6 @@ int main(void)
     test_checkpoint();
     test_light_body();
     test_fixed_inextensible();
+    test_adaptive_auto_dt();
     return rjt_summary(&T, "test_mixed");
 }
