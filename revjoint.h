@@ -2320,7 +2320,7 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
    (Eq 22). Writes the components into the new frame's joint record (friction is added
    later) and returns the torque to apply now; *p_out receives the penetration. */
 static double rj__element(const rj_model *m, rj_state *s, int j, const double *oj, double *nj_, int oflag, int *nflag,
-                          double rate, double t, double *nsc, double *p_out)
+                          double rate, double t, double *nsc, double *p_out, double *v_acc)
 {
     const rj_joint_def *d = &m->jdef[j];
     const rj__joint *J = &m->jnt[j];
@@ -2350,7 +2350,9 @@ static double rj__element(const rj_model *m, rj_state *s, int j, const double *o
     else if (flag == RJ_LOCKED) p = nj_[RJ__JD_LOCK] - run;
     if (fabs(p) > nj_[RJ__JD_PEAKP]) nj_[RJ__JD_PEAKP] = fabs(p);
     /* Eq 4 table, torsion spring, Eq 27 damping (resistive: minus on body 2) */
-    if (d->table_count) { double tt; rj__table_turns_potential(d, J, run, &tt); tq_table = -tt; }
+    /* the potentials join v_acc in rj__spring_energy's order, so the sum is the same */
+    if (d->spring_k > 0) *v_acc += 0.5 * d->spring_k * (run - d->spring_free_angle) * (run - d->spring_free_angle);
+    if (d->table_count) { double tt; *v_acc += rj__table_turns_potential(d, J, run, &tt); tq_table = -tt; }
     if (d->spring_k > 0) tq_spring = -d->spring_k * (run - d->spring_free_angle);
     if (d->damping > 0) tq_damp = -d->damping * rate;
     /* Eq 22 / penalty: tau_2 = K p while at a limit */
@@ -2672,16 +2674,17 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
     }
     rj__rig_kin(m, &r, q, NULL, qdp);
     /* the new frame's scalars (the element counts late contacts in RJ__FS_WARN) */
-    V = rj__spring_energy(m, of);
+    V = 0;
     memcpy(nsc, osc, sizeof(double) * RJ__FS_COUNT);
-    nsc[RJ__FS_TIME] = t + dt; nsc[RJ__FS_ETIME] = t; nsc[RJ__FS_STRAIN] = 0; nsc[RJ__FS_SPRING] = V;
+    nsc[RJ__FS_TIME] = t + dt; nsc[RJ__FS_ETIME] = t; nsc[RJ__FS_STRAIN] = 0;
     rj__rig_mass(m, &r);
     if (rj__chol(n, r.M, r.L)) return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: the rigid mass matrix is not positive definite", t);
     /* 2. the element: torques as generalised forces */
     for (j = 0; j < n; j++) {
         double p;
-        Q[j] = rj__element(m, s, j, ofj + (size_t)RJ__JD_COUNT * j, nfj + (size_t)RJ__JD_COUNT * j, oi[j], &ni[j], qd[j], t, nsc, &p) - hq[j];
+        Q[j] = rj__element(m, s, j, ofj + (size_t)RJ__JD_COUNT * j, nfj + (size_t)RJ__JD_COUNT * j, oi[j], &ni[j], qd[j], t, nsc, &p, &V) - hq[j];
     }
+    nsc[RJ__FS_SPRING] = V;   /* springs and tables at q^n, from the element */
     rj__chol_solve(n, L, Q, qdd);
     /* 3. friction, joint by joint, with the column M^-1 e_j (kept in W for step 5) */
     for (j = 0; j < n; j++) if (m->jdef[j].friction > 0) rj__chol_unit(n, L, j, W + (size_t)j * n);
@@ -2878,7 +2881,7 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
     const double *osc = RJ__FS(m, of);
     double *nsc = RJ__FS(m, nf);
     const double t = osc[RJ__FS_TIME];
-    double U, ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC], lost_l = osc[RJ__FS_LLIM] + osc[RJ__FS_PEND], pend = 0;
+    double U, V = 0, ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC], lost_l = osc[RJ__FS_LLIM] + osc[RJ__FS_PEND], pend = 0;
     int i, j, gi;
 
     /* 1. beams: internal forces at x^n, updated chord angles into the new frame */
@@ -2895,7 +2898,7 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         double rate, p, tq;
         rj__joint_geo(m, J, x, y, &g);
         rate = rj__joint_rate(J, &g, vx, vy, w, NULL, NULL);
-        tq = rj__element(m, s, j, oj, nj_, oi[j], &ni[j], rate, t, RJ__FS(m, nf), &p);
+        tq = rj__element(m, s, j, oj, nj_, oi[j], &ni[j], rate, t, RJ__FS(m, nf), &p, &V);
         rj__apply_torque(J, &g, tq, fx, fy, mz);
         sc[0] = g.ax; sc[1] = g.ay; sc[2] = g.bx; sc[3] = g.by; sc[4] = rate; sc[5] = p; sc[6] = g.a2; sc[7] = g.b2;
     }
@@ -3114,11 +3117,11 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
 
     /* 7. energy accounts and blow-up detection; commit the frame */
     {
-        double V, E, scale, created, e0 = osc[RJ__FS_E0];
+        double E, scale, created, e0 = osc[RJ__FS_E0];
         for (i = 0; i < RJ__FS_COUNT; i++) if (i != RJ__FS_WARN) nsc[i] = osc[i];
         nsc[RJ__FS_TIME] = t + dt;
         nsc[RJ__FS_ETIME] = t;
-        V = rj__spring_energy(m, of);
+        /* V: springs and tables at x^n, summed by the element in part 2 */
         nsc[RJ__FS_KE] = ke; nsc[RJ__FS_STRAIN] = U; nsc[RJ__FS_SPRING] = V;
         nsc[RJ__FS_LDAMP] = lost_d; nsc[RJ__FS_LFRIC] = lost_f; nsc[RJ__FS_LLIM] = lost_l; nsc[RJ__FS_PEND] = pend;
         /* the initial energy in the same discrete form as every later one */
