@@ -125,9 +125,13 @@ stress: deps $(B)/stress
 	@sh tests/run.sh "$(B)/stress --table out/stress.md"
 
 # Speed against error (issue 5): BENCHMARKS.md and the work-precision plots (about 6 minutes)
-bench: deps $(B)/bench
-	@mkdir -p docs
-	$(B)/bench --out BENCHMARKS.md --plot docs/work_precision.png
+NATIVE_CF = -std=c99 -O3 -march=native -Wall -Wextra -pedantic -Werror -ffp-contract=off
+$(B)/bench_native: bench/bench.c examples/scenes.h examples/rigid2.h $(HDR) $(RENDER) | $(B)
+	$(CC) $(NATIVE_CF) -I. -DBENCH_CFLAGS='"$(NATIVE_CF)"' bench/bench.c render/rj_render.c -o $@ $(GL)
+bench: deps $(B)/bench $(B)/bench_native
+	@mkdir -p docs out
+	$(B)/bench_native --only throughput --out out/bench_native.md
+	$(B)/bench --out BENCHMARKS.md --plot docs/work_precision.png --native out/bench_native.md
 
 # Fuzz the scene-file parser (clang's libFuzzer, ASan, UBSan); FUZZ_SECONDS=600 by default
 FUZZ_SECONDS ?= 600

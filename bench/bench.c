@@ -28,14 +28,17 @@
 #endif
 
 static const char usage[] =
-    "usage: bench [--out FILE.md] [--plot FILE.png] [--quick] [--only fidelity|features]\n"
+    "usage: bench [--out FILE.md] [--plot FILE.png] [--quick] [--only fidelity|features|throughput] [--native FILE.md]\n"
     "  --out FILE.md    markdown report (default BENCHMARKS.md)\n"
     "  --plot FILE.png  work-precision plot of the deployment, q before joint 2 locks; a second\n"
     "                   plot (tip amplitude) goes to FILE_tip.png (default docs/work_precision.png)\n"
     "  --quick          a short smoke-test version (< 40 s); its numbers are not converged\n"
     "  --only SECTION   one section alone: fidelity (section 4, about 80 s, with its own\n"
     "                   40-element deployment reference) or features (section 5, about 40 s);\n"
-    "                   the report goes to standard output unless --out is given\n";
+    "                   the report goes to standard output unless --out is given; throughput\n"
+    "                   (section 1's step costs alone, as a fragment for --native)\n"
+    "  --native FILE.md the throughput fragment of a build with other flags (make bench: -O3\n"
+    "                   -march=native), quoted in section 1 and the headline\n";
 
 /* ------------------------------------------------------------------ settings */
 typedef struct settings {
@@ -187,6 +190,7 @@ static int free_link(int elements, tp_row *o)
     double t, c, ns[32], nc[32];
     long steps = 16, k;
     int r;
+    memset(&e0, 0, sizeof e0); memset(&e1, 0, sizeof e1);
     L.height = 0.01; L.elements = elements; L.omega = 1.0;
     sc.links = &L; sc.link_count = 1; sc.joints = NULL; sc.joint_count = 0;
     memset(o, 0, sizeof *o);
@@ -1859,6 +1863,8 @@ int main(int argc, char **argv)
     drow dref, dchk[2], dpaper;
     double iref_unconverged[3] = { 0, 0, 0 };
     int i, j, k, ndr = 0, nir = 0, cores, plot_failed = 0, only = 0, out_given = 0;
+    const char *native = NULL;
+    static char native_md[2048];
     double paper_w[32], paper_c[32], paper_med = 0, paper_cpu = 0, t_total;
     long paper_steps = 0;
     double paper_lock[2] = { 0, 0 }, paper_model_pn = 0, paper_state_pn = 0;
@@ -1866,19 +1872,30 @@ int main(int argc, char **argv)
     time_t tnow;
 
     T_START = now();
+    native_md[0] = 0;
+    memset(&dpaper, 0, sizeof dpaper);
     loadavg(load0, sizeof load0);
     for (i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--out") && i + 1 < argc) { out = argv[++i]; out_given = 1; }
         else if (!strcmp(argv[i], "--plot") && i + 1 < argc) plot = argv[++i];
         else if (!strcmp(argv[i], "--quick")) S.quick = 1;
+        else if (!strcmp(argv[i], "--native") && i + 1 < argc) native = argv[++i];
         else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
             i++;
             if (!strcmp(argv[i], "fidelity")) only = 1;
             else if (!strcmp(argv[i], "features")) only = 2;
-            else { fprintf(stderr, "bench: --only: unknown section '%s' (fidelity or features)\n%s", argv[i], usage); return 2; }
+            else if (!strcmp(argv[i], "throughput")) only = 3;
+            else { fprintf(stderr, "bench: --only: unknown section '%s' (fidelity, features or throughput)\n%s", argv[i], usage); return 2; }
         }
         else if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) { fputs(usage, stdout); return 0; }
         else { fprintf(stderr, "bench: unknown option or missing value: '%s'\n%s", argv[i], usage); return 2; }
+    }
+    if (native) {
+        FILE *g = fopen(native, "r");
+        size_t n = g ? fread(native_md, 1, sizeof native_md - 1, g) : 0;
+        native_md[n] = 0;
+        if (g) fclose(g);
+        else fprintf(stderr, "bench: --native %s: cannot read it; section 1 goes without it\n", native);
     }
     for (i = 0; i < argc; i++) {
         size_t used = strlen(cmd);
@@ -1908,7 +1925,7 @@ int main(int argc, char **argv)
         S.budget = 20;
     }
 
-    if (!only) {
+    if (!only || only == 3) {
         /* ---------------------------------------------------------------- 1 */
         for (i = 0; i < 3; i++) {
             if (free_link(tp_el[i], &tp[i])) return 1;
@@ -1944,6 +1961,15 @@ int main(int argc, char **argv)
             }
             rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
             progress("deployment at the paper's settings: %.3f s for %ld steps (%.0f steps/s)", paper_med, paper_steps, paper_steps / paper_med);
+        }
+        if (only == 3) {
+            /* the fragment that a build with other flags contributes (--native) */
+            FILE *g = out_given ? fopen(out, "w") : stdout;
+            if (!g) { fprintf(stderr, "bench: cannot write %s\n", out); return 1; }
+            fprintf(g, "| build `%s` (%s) | 20 elements | 200 | 2000 | deployment, paper's settings (wall / CPU) |\n|---|---:|---:|---:|---:|\n", BENCH_CFLAGS, compiler());
+            fprintf(g, "| ns per element-step (median of %d) / s | **%.2f** | **%.2f** | **%.2f** | **%.3f s** / %.3f s |\n", S.tp_runs, tp[0].ns_med, tp[1].ns_med, tp[2].ns_med, paper_med, paper_cpu);
+            if (g != stdout) fclose(g);
+            return 0;
         }
 
         /* ---------------------------------------------------------------- 2 */
@@ -2109,6 +2135,7 @@ int main(int argc, char **argv)
             md("- Deployment reference: adaptive, %d elements, dt %.4g us (%.1f s); against it, twice its step moves q by %.4f deg and half its mesh by %.4f deg.\n",
                dref.el, dref.dt * 1e6, dref.wall, dchk[0].e.dq, dchk[1].e.dq);
             headline_fidelity_features();
+            if (native_md[0]) md("\nThe same step costs from a build with `make bench`'s native flags (same code, same results bit for bit; only the compiler's vectorisation differs):\n\n%s", native_md);
             md("\n");
             md("## 1. Throughput\n\n");
             md("One free flexible link (`rj_default_link_def()`, height 0.01 m, 1 m, spinning at omega = 1 rad/s, no joints), dt = 0.9 x its stability bound. "
@@ -2127,6 +2154,9 @@ int main(int argc, char **argv)
                "Model %.0f bytes / node, state %.0f bytes / node (22 nodes).\n\n",
                dpaper.K, dpaper.bound * 1e6, S.paper_runs, paper_med, paper_cpu, paper_steps, paper_steps / paper_med, 1e9 * paper_med / (paper_steps * 20.0),
                paper_lock[1], paper_lock[0], paper_model_pn, paper_state_pn);
+            if (native_md[0])
+                md("Built for this machine (`make bench` builds `build/bench_native` and runs `--only throughput`; the library's results do not change with these flags, "
+                   "the golden histories are bit-identical under them):\n\n%s\n", native_md);
         }
 
         /* rendering */
