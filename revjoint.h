@@ -2234,7 +2234,7 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
         const int *nd = m->ch_node + m->ch_first[ch], ne = m->ch_first[ch + 1] - m->ch_first[ch] - 1;
         const double *l0sq = m->ch_l0sq + m->ch_first[ch];
         int bodies = 0;
-        if (m->ncl) for (i = 0; i <= ne; i++) bodies |= m->node_cl[nd[i]] >= 0;
+        if (m->ncl) for (i = 0; i <= ne; i++) bodies |= m->node_cl[nd[i]] >= 0 && m->cl_fix[m->node_cl[nd[i]]] != 2;   /* a held body is a fixed node */
         for (i = 0; i < ne; i++) {
             const int k = nd[i], k1 = nd[i + 1];
             act[i] = (bodies ? rj__shake_w(m, s, k, nx, ny, 1, 0) + rj__shake_w(m, s, k, nx, ny, 0, 1) + rj__shake_w(m, s, k1, nx, ny, 1, 0) + rj__shake_w(m, s, k1, nx, ny, 0, 1)

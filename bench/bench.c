@@ -705,7 +705,7 @@ typedef struct frow {
     /* what */
     const char *level;                         /* "flexible", "inextensible", "rigid" */
     const char *note;                          /* short qualifier, e.g. "paper's settings" */
-    int fid, el, method, hub_inext, paper;
+    int fid, el, method, hub_inext, hub_rigid, paper;
     double dt_req, K_req;                      /* s (0 = automatic, < 0: that fraction of the automatic dt); N m/rad for penalty (deployment, non-flexible) */
     double dt_frac;                            /* > 0: dt_req was this fraction of the automatic dt */
     /* results */
@@ -882,6 +882,7 @@ static rj_result f_solar_build(const frow *r, rj_model **m, rj_error *err)
         L[i] = F_SOLAR.links[i];
         if (i != F_HUB) { L[i].elements = r->el; L[i].fidelity = r->fid; }
         else if (r->fid == RJ_LINK_RIGID || r->hub_inext) L[i].fidelity = r->fid;
+        else if (r->hub_rigid) L[i].fidelity = RJ_LINK_RIGID;   /* a mixed scene: rigid hub, flexible panels */
         if (r->fid == RJ_LINK_RIGID) L[i].elements = 1;
     }
     for (i = 0; i < sc.joint_count; i++) {
@@ -1109,6 +1110,8 @@ static int fidelity_section(const dhist *href, const drow *dref, const drow dchk
     f_add(F.s, &F.ns, "inextensible", "panels; hub flexible", RJ_LINK_INEXTENSIBLE, 5, -1, 0, 0);
     f_add(F.s, &F.ns, "inextensible", "panels; hub flexible", RJ_LINK_INEXTENSIBLE, 10, -1, 0, 0);
     f_add(F.s, &F.ns, "inextensible", "hub too", RJ_LINK_INEXTENSIBLE, 10, -1, 0, 0)->hub_inext = 1;
+    f_add(F.s, &F.ns, "flexible", "panels; hub rigid (mixed)", RJ_LINK_FLEXIBLE, F_SOLAR.links[F_LAST].elements, -1, 0, 0)->hub_rigid = 1;
+    f_add(F.s, &F.ns, "inextensible", "panels; hub rigid (mixed)", RJ_LINK_INEXTENSIBLE, 10, -1, 0, 0)->hub_rigid = 1;
     f_add(F.s, &F.ns, "rigid", "", RJ_LINK_RIGID, 1, RJ_METHOD_MOMENTUM, 1e-3, 0);
     f_add(F.s, &F.ns, "rigid", "", RJ_LINK_RIGID, 1, RJ_METHOD_MOMENTUM, 2.5e-4, 0);
     f_add(F.s, &F.ns, "rigid", "the file's method", RJ_LINK_RIGID, 1, -1, 1e-3, 0);
@@ -1266,7 +1269,7 @@ static const char *f_lockstr(const serr *e)
 static const frow *f_find(const frow *rows, int n, int fid, int el, int method)
 {
     int i;
-    for (i = 0; i < n; i++) if (rows[i].fid == fid && rows[i].el == el && rows[i].method == method && !rows[i].paper && !rows[i].hub_inext && rows[i].dt_req == 0) return &rows[i];
+    for (i = 0; i < n; i++) if (rows[i].fid == fid && rows[i].el == el && rows[i].method == method && !rows[i].paper && !rows[i].hub_inext && !rows[i].hub_rigid && rows[i].dt_req == 0) return &rows[i];
     return NULL;
 }
 
@@ -1462,7 +1465,7 @@ static void fidelity_report(void)
     md("### Solar array (`%s`)\n\n", F.s_path[0] ? F.s_path : "examples/scenes/solar_array.rjs");
     if (F.s_err[0]) { md("Not run: %s\n\n", F.s_err); return; }
     md("A fixed hub (one element) and four 1 m sandwich panels that unfold and latch (adaptive, lock = yes, RC13); %.0f s simulated. The panels get the row's element count and link model; "
-       "the hub stays flexible unless the row says otherwise (a rigid scene must be rigid throughout). "
+       "the hub stays flexible unless the row says otherwise (a rigid hub with flexible or inextensible panels is a mixed scene: the hub is one rigid body). "
        "**dq** = max |theta - theta_ref| over the four hinges (deg) for t < %.4f s (10 ms before the reference's first latch, %s); **latches** = latch time minus the reference's, %s / %s / %s / %s (ms). "
        "**tip vibration**: the last panel's tip measured from the hub's axis (the whole array's deflection): RMS about its mean and its frequency (zero crossings with hysteresis), "
        "from 0.3 s after the row's own last latch to the end, relative to the reference; "
