@@ -65,11 +65,35 @@ typedef struct settings {
 static settings S;
 static double T_START;
 
+static double CAL0, CAL1;   /* calibrate() at the start and the end, ms */
 static double now(void)
 {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* The machine's speed at the moment: a fixed loop that does not involve the library (2000
+   doubles, 1e5 passes of a multiply-subtract and a store, in L1), best of 3, in ms. This
+   VM's speed changes by up to 2x within minutes; the calibration says which phase a run
+   saw, so that two runs' times can be compared. */
+static double calibrate(void)
+{
+    static double a[2000], b[2000], d[2000];
+    double best = 1e30;
+    int r, i;
+    long k;
+    for (i = 0; i < 2000; i++) { a[i] = i * 1e-3; b[i] = 1.0 + i; d[i] = 0; }
+    for (r = 0; r < 3; r++) {
+        double t = now();
+        for (k = 0; k < 100000; k++) {
+            for (i = 0; i < 1999; i++) d[i] = a[i + 1] - a[i] * b[i];
+            a[k % 2000] += d[(k * 7) % 2000] * 1e-9;
+        }
+        t = now() - t;
+        if (t < best) best = t;
+    }
+    return 1e3 * best + 0.0 * d[3];
 }
 
 /* how many timed runs for a run whose first timing was t1 seconds: >= 5 below 2 s */
@@ -1875,6 +1899,7 @@ int main(int argc, char **argv)
     time_t tnow;
 
     T_START = now();
+    CAL0 = calibrate();
     native_md[0] = 0;
     memset(&dpaper, 0, sizeof dpaper);
     loadavg(load0, sizeof load0);
@@ -1971,6 +1996,7 @@ int main(int argc, char **argv)
             if (!g) { fprintf(stderr, "bench: cannot write %s\n", out); return 1; }
             fprintf(g, "| build `%s` (%s) | 20 elements | 200 | 2000 | deployment, paper's settings (wall / CPU) |\n|---|---:|---:|---:|---:|\n", BENCH_CFLAGS, compiler());
             fprintf(g, "| ns per element-step (median of %d) / s | **%.2f** | **%.2f** | **%.2f** | **%.3f s** / %.3f s |\n", S.tp_runs, tp[0].ns_med, tp[1].ns_med, tp[2].ns_med, paper_med, paper_cpu);
+            fprintf(g, "\n(machine speed during this build's run: %.0f ms, see the table at the top)\n", CAL0);
             if (g != stdout) fclose(g);
             return 0;
         }
@@ -2292,6 +2318,7 @@ int main(int argc, char **argv)
 
     t_total = now() - T_START;
     loadavg(load1, sizeof load1);
+    CAL1 = calibrate();
     tnow = time(NULL);
     strftime(date, sizeof date, "%Y-%m-%d %H:%M:%S UTC", gmtime(&tnow));
     machine(cpu, sizeof cpu, &cores);
@@ -2309,7 +2336,8 @@ int main(int argc, char **argv)
     fprintf(f, "| | |\n|---|---|\n");
     fprintf(f, "| command | `%s` |\n| date | %s |\n| CPU | %s |\n| logical cores | %d |\n| compiler | %s |\n| flags (make bench) | `%s` |\n",
             cmd, date, cpu, cores, compiler(), BENCH_CFLAGS);
-    fprintf(f, "| revjoint.h | %s |\n| whole run | %.0f s |\n| load average (1, 5, 15 min) | %s at the start, %s at the end |\n\n", RJ_VERSION, t_total, load0, load1);
+    fprintf(f, "| revjoint.h | %s |\n| whole run | %.0f s |\n| load average (1, 5, 15 min) | %s at the start, %s at the end |\n", RJ_VERSION, t_total, load0, load1);
+    fprintf(f, "| machine speed (`calibrate()` in bench.c: a fixed loop, best of 3; smaller is faster) | %.0f ms at the start, %.0f ms at the end |\n\n", CAL0, CAL1);
     fprintf(f, "The machine may be shared, so every time is a median; runs are sequential, on one core. Wall times are `CLOCK_MONOTONIC`. The CPU columns "
                "(`CLOCK_PROCESS_CPUTIME_ID`) leave out time spent descheduled. When the load average is above the core count, trust CPU more than wall.\n\n");
     if (NNOTES) {
