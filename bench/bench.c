@@ -73,27 +73,23 @@ static double now(void)
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-/* The machine's speed at the moment: a fixed loop that does not involve the library (2000
-   doubles, 1e5 passes of a multiply-subtract and a store, in L1), best of 3, in ms. This
-   VM's speed changes by up to 2x within minutes; the calibration says which phase a run
-   saw, so that two runs' times can be compared. */
+/* The machine's speed at the moment: a fixed loop that does not involve the library, a
+   chain of 5e7 dependent multiply-adds (no compiler can vectorise it, so -O2 and -O3
+   -march=native builds time the same thing), best of 3, in ms. This VM's speed changes by
+   up to 2x within minutes; the calibration says which phase a run saw, so that two runs'
+   times can be compared. */
 static double calibrate(void)
 {
-    static double a[2000], b[2000], d[2000];
-    double best = 1e30;
-    int r, i;
+    double best = 1e30, x = 0.5;
+    int r;
     long k;
-    for (i = 0; i < 2000; i++) { a[i] = i * 1e-3; b[i] = 1.0 + i; d[i] = 0; }
     for (r = 0; r < 3; r++) {
         double t = now();
-        for (k = 0; k < 100000; k++) {
-            for (i = 0; i < 1999; i++) d[i] = a[i + 1] - a[i] * b[i];
-            a[k % 2000] += d[(k * 7) % 2000] * 1e-9;
-        }
+        for (k = 0; k < 50000000L; k++) x = x * 0.9999999 + 1e-8;
         t = now() - t;
         if (t < best) best = t;
     }
-    return 1e3 * best + 0.0 * d[3];
+    return 1e3 * best + 0.0 * x;
 }
 
 /* how many timed runs for a run whose first timing was t1 seconds: >= 5 below 2 s */
@@ -1046,6 +1042,68 @@ static int f_solar_load(const char *argv0)
 
 /* href/dref/dchk: a converged deployment reference with its two checks (section 2's in a full
    run; computed here with --only) */
+/* Section 4 on a work-precision plot: every deployment row that ran, CPU time against its
+   error, one colour per link model; which = 0: joint angles before the latch (deg), 1: link
+   2's post-lock tip RMS (|%|; rigid rows have no vibration and are left out). */
+static int fidelity_plot(rjr_context *ctx, const char *path, int which, char *err, size_t errlen)
+{
+    static double x[3][32], y[3][32], tx[2], ty[2];
+    static const char *const name[3] = { "flexible", "rigid (joint coordinates)", "inextensible" };
+    static const rjr_rgb col[3] = { 0xd62728, 0x1f77b4, 0x2ca02c };
+    rjr_plot_def p = rjr_plot_default();
+    int i, k, n[3] = { 0, 0, 0 }, ns = 0;
+    double xmin = HUGE_VAL, xmax = 0, ymin = HUGE_VAL, ymax = 0, crit = which ? 2.0 : 0.1;
+    for (i = 0; i < F.nd; i++) {
+        const frow *r = &F.d[i];
+        double v;
+        if (!r->ok || r->fid < 0 || r->fid > 2 || n[r->fid] >= 32) continue;
+        if (which && r->fid == RJ_LINK_RIGID) continue;
+        v = which ? 100 * fabs(r->de.rms_t) : r->de.dq;
+        if (!(v > 0) || !isfinite(v)) continue;
+        x[r->fid][n[r->fid]] = r->cpu; y[r->fid][n[r->fid]] = v; n[r->fid]++;
+        xmin = fmin(xmin, r->cpu); xmax = fmax(xmax, r->cpu); ymin = fmin(ymin, v); ymax = fmax(ymax, v);
+    }
+    for (k = 0; k < 3; k++) if (n[k]) {
+        p.series[ns].x = x[k]; p.series[ns].y = y[k]; p.series[ns].n = n[k]; p.series[ns].label = name[k];
+        p.series[ns].colour = col[k]; p.series[ns].points = 1; p.series[ns].no_line = 1; p.series[ns].width_px = 4; ns++;
+    }
+    if (!ns) { snprintf(err, errlen, "no fidelity rows ran"); return -1; }
+    tx[0] = pow(10.0, floor(log10(xmin))); tx[1] = pow(10.0, ceil(log10(xmax * 1.2))); ty[0] = ty[1] = crit;
+    p.series[ns].x = tx; p.series[ns].y = ty; p.series[ns].n = 2; p.series[ns].label = which ? "criterion: 2 %" : "criterion: 0.1 deg";
+    p.series[ns].colour = 0x555555; p.series[ns].dashed = 1; ns++;
+    p.series_count = ns;
+    p.title = which ? "Deployment by link model: link 2 tip RMS after the latch" : "Deployment by link model: q1, q2 before joint 2 latches";
+    p.xlabel = "CPU time of the 6 s run (s)"; p.ylabel = which ? "abs(RMS / RMS_ref - 1) (%)" : "max abs(q - q_ref) (deg)";
+    p.logx = p.logy = 1;
+    ymin = fmin(ymin, crit); ymax = fmax(ymax, crit);
+    p.ymin = pow(10.0, floor(log10(ymin)) - 1); p.ymax = pow(10.0, ceil(log10(ymax * 1.5)));
+    p.xmin = tx[0]; p.xmax = tx[1];
+    p.legend = RJR_LEGEND_BOTTOM_LEFT;
+    if (rjr_plot(ctx, &p) || rjr_save_png(ctx, path, err, errlen)) {
+        if (!err[0]) snprintf(err, errlen, "%s", rjr_error(ctx));
+        return -1;
+    }
+    return 0;
+}
+
+/* section 4 as work-precision plots next to the others: FILE_fidelity.png, FILE_fidelity_tip.png */
+static int fidelity_plots(const char *plot)
+{
+    char err[512] = "", p1[600], p2[600];
+    const char *dot = strrchr(plot, '.');
+    size_t stem = dot && dot > strrchr(plot, '/') ? (size_t)(dot - plot) : strlen(plot);
+    rjr_context *ctx = rjr_create(960, 720, err, sizeof err);
+    int bad = 0;
+    snprintf(p1, sizeof p1, "%.*s_fidelity.png", (int)stem, plot);
+    snprintf(p2, sizeof p2, "%.*s_fidelity_tip.png", (int)stem, plot);
+    if (!ctx) { fprintf(stderr, "bench: plot: %s\n", err); return 1; }
+    if (fidelity_plot(ctx, p1, 0, err, sizeof err)) { fprintf(stderr, "bench: %s: %s\n", p1, err); bad = 1; }
+    err[0] = 0;
+    if (fidelity_plot(ctx, p2, 1, err, sizeof err)) { fprintf(stderr, "bench: %s: %s\n", p2, err); bad = 1; }
+    rjr_destroy(ctx);
+    return bad;
+}
+
 static int fidelity_section(const dhist *href, const drow *dref, const drow dchk[2], int ref_from_sweep, const char *argv0)
 {
     static dhist H;
@@ -1889,7 +1947,7 @@ int main(int argc, char **argv)
     static const int imeth[3] = { RJ_METHOD_ADAPTIVE, RJ_METHOD_PENALTY, RJ_METHOD_MOMENTUM };
     drow dref, dchk[2], dpaper;
     double iref_unconverged[3] = { 0, 0, 0 };
-    int i, j, k, ndr = 0, nir = 0, cores, plot_failed = 0, only = 0, out_given = 0;
+    int i, j, k, ndr = 0, nir = 0, cores, plot_failed = 0, only = 0, out_given = 0, plot_given = 0;
     const char *native = NULL;
     static char native_md[2048];
     double paper_w[32], paper_c[32], paper_med = 0, paper_cpu = 0, t_total;
@@ -1905,7 +1963,7 @@ int main(int argc, char **argv)
     loadavg(load0, sizeof load0);
     for (i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--out") && i + 1 < argc) { out = argv[++i]; out_given = 1; }
-        else if (!strcmp(argv[i], "--plot") && i + 1 < argc) plot = argv[++i];
+        else if (!strcmp(argv[i], "--plot") && i + 1 < argc) { plot = argv[++i]; plot_given = 1; }
         else if (!strcmp(argv[i], "--quick")) S.quick = 1;
         else if (!strcmp(argv[i], "--native") && i + 1 < argc) native = argv[++i];
         else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
@@ -1996,7 +2054,7 @@ int main(int argc, char **argv)
             if (!g) { fprintf(stderr, "bench: cannot write %s\n", out); return 1; }
             fprintf(g, "| build `%s` (%s) | 20 elements | 200 | 2000 | deployment, paper's settings (wall / CPU) |\n|---|---:|---:|---:|---:|\n", BENCH_CFLAGS, compiler());
             fprintf(g, "| ns per element-step (median of %d) / s | **%.2f** | **%.2f** | **%.2f** | **%.3f s** / %.3f s |\n", S.tp_runs, tp[0].ns_med, tp[1].ns_med, tp[2].ns_med, paper_med, paper_cpu);
-            fprintf(g, "\n(machine speed during this build's run: %.0f ms, see the table at the top)\n", CAL0);
+            fprintf(g, "\n(machine speed at this build's run: %.0f ms by `calibrate()`, comparable with the figures at the top)\n", CAL0);
             if (g != stdout) fclose(g);
             return 0;
         }
@@ -2139,11 +2197,13 @@ int main(int argc, char **argv)
             progress("refinement checks: %d pairs where an error grows with refinement", nbad);
         }
         fidelity_section(&HREF, &dref, dchk, 1, argv[0]);
+        if (fidelity_plots(plot)) plot_failed = 1;
         features_section();
     } else if (only == 1) {
         S.d_ref_el = S.quick ? 20 : 40;
         if (rigid_locks() || deploy_reference(&dref, &HREF, dchk, &HCHK)) return 1;
         fidelity_section(&HREF, &dref, dchk, 0, argv[0]);
+        if (plot_given && fidelity_plots(plot)) plot_failed = 1;   /* --only: plots only when asked for */
     } else features_section();
 
     /* ---------------------------------------------------------------- report */
