@@ -187,13 +187,7 @@ static const char *method_name(int m)
    a strain gauge at the root would see. scene_tip_defl measures it from the chord of the
    first element instead, which differs by about L kappa_root l / 2: first order in the
    element length l. Both are reported. */
-static double tip_defl_tangent(const rj_model *m, const rj_state *s, int l)
-{
-    double p0[2], pt[2], ph = rj_node_rotation(m, s, l, 0);
-    rj_node_position(m, s, l, 0, p0);
-    rj_node_position(m, s, l, rj_link_node_count(m, l) - 1, pt);
-    return cos(ph) * (pt[1] - p0[1]) - sin(ph) * (pt[0] - p0[0]);
-}
+static double tip_defl_tangent(const rj_model *m, const rj_state *s, int l) { return scene_tip_defl_tangent(m, s, l); }
 
 /* ================================================================== 1. throughput */
 typedef struct tp_row {
