@@ -1125,6 +1125,7 @@ static int fidelity_section(const dhist *href, const drow *dref, const drow dchk
     f_add(F.d, &F.nd, "inextensible", "automatic dt", RJ_LINK_INEXTENSIBLE, 10, RJ_METHOD_ADAPTIVE, 0, 0);
     f_add(F.d, &F.nd, "inextensible", "automatic dt", RJ_LINK_INEXTENSIBLE, 5, RJ_METHOD_MOMENTUM, 0, 0);
     f_add(F.d, &F.nd, "inextensible", "automatic dt", RJ_LINK_INEXTENSIBLE, 5, RJ_METHOD_ADAPTIVE, 0, 0);
+    f_add(F.d, &F.nd, "rigid", "", RJ_LINK_RIGID, 1, RJ_METHOD_MOMENTUM, 2e-3, 0);
     f_add(F.d, &F.nd, "rigid", "", RJ_LINK_RIGID, 1, RJ_METHOD_MOMENTUM, 1e-3, 0);
     f_add(F.d, &F.nd, "rigid", "", RJ_LINK_RIGID, 1, RJ_METHOD_MOMENTUM, 2.5e-4, 0);
     f_add(F.d, &F.nd, "rigid", "", RJ_LINK_RIGID, 1, RJ_METHOD_ADAPTIVE, 1e-3, 0);
