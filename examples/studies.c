@@ -89,11 +89,11 @@ int main(void)
         qsort(t, 21, sizeof t[0], cmpd);
         rj_state_reset(m, s);
         hf.n = 0;
-        rj_run(m, s, 6.0, 1e-3, sample, &hf);
+        rj_run(m, s, 6.0, o.dt, sample, &hf);   /* one sample per step, the reference at the same times */
         rigid2_default_params(&p);
         hr.n = 0;
-        rigid2_run(&p, 6.0, 1e-3, rsample, &hr, lr);
-        dev = maxdev(&hf, &hr, (int)(lr[1] * 1000) - 1);
+        rigid2_run(&p, 6.0, o.dt, rsample, &hr, lr);
+        dev = maxdev(&hf, &hr, (int)(lr[1] / o.dt) - 1);
         printf("%s2. deployment with rigid links, dt %g ms, 6 s: %.2f ms (median of 21, rj_run without sampling; fastest %.2f); "
                "max |q - q_rigid2| before joint 2 locks %.2g deg; locks %.4f / %.4f s (rigid2 %.6f / %.6f s)\n",
                k ? "" : "\n", 1e3 * o.dt, 1e3 * t[10], 1e3 * t[0], dev, rj_joint_event_time(m, s, 1), rj_joint_event_time(m, s, 0), lr[1], lr[0]);
