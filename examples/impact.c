@@ -69,7 +69,7 @@ int main(int argc, char **argv)
             q.method = mth; q.release = rel;
             impact_scene(&q, L, &J, &sc);
             if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { fprintf(stderr, "impact: %s\n", err.msg); return 1; }
-            rj_state_create(m, &s, NULL);
+            if (rj_state_create(m, &s, NULL) != RJ_OK) { fprintf(stderr, "impact: out of memory\n"); return 1; }
             r = rj_run(m, s, t_end, 0, NULL, NULL);
             impact_rigid_part(m, s, &w, &ev);
             printf("| %s | %s | %.4f | %.4f | %.3g | %.4f | %.4g | %.3f |%s\n", cli_methods[mth], cli_releases[rel],

@@ -394,7 +394,7 @@ static rj_result run_keep(const rj_model *m, rj_state *s, long n, watch *w, keep
    energy above 1.5 E0). */
 static int blows_up(scn *b, double f, long n)
 {
-    rj_model *m; rj_state *s; rj_error e; watch w;
+    rj_model *m; rj_state *s = NULL; rj_error e; watch w;
     double dt = dt_for_factor(b, f, NULL);
     int bad;
     if (scn_make(b, dt, 1, &m, &e) != RJ_OK) return 1;
@@ -436,7 +436,7 @@ static void check1(rjt_ctx *c)
         scn b;
         int meth = -1, relv = -1;
         double elim, bd, dt, thr;
-        rj_model *m; rj_state *s; rj_error e; rj_result r; watch w; keepres kr;
+        rj_model *m; rj_state *s = NULL; rj_error e; rj_result r; watch w; keepres kr;
         if (model == 0) { build_free(&b, 0.05); snprintf(name, sizeof name, "free link H=0.05"); elim = 1.001; }
         else if (model == 1) { build_pinned(&b); snprintf(name, sizeof name, "pinned link"); elim = 1.001; }
         else if (model < 7) { meth = model - 2; build_deploy(&b, meth); snprintf(name, sizeof name, "deployment"); elim = 1.0 + 1e-6; }
@@ -534,7 +534,7 @@ typedef struct caseres {
 static void run_case(scn *b, double dt, double t_end, const char *kase, int method, int release, double elim,
                      caseres *cr, step_hook hook, void *user)
 {
-    rj_model *m; rj_state *s; rj_error e;
+    rj_model *m; rj_state *s = NULL; rj_error e;
     long n, k;
     int j;
     memset(cr, 0, sizeof *cr);
@@ -912,7 +912,7 @@ static void check4(rjt_ctx *c)
     }
     /* more than 90 deg in one step: RJ_ERR_TUNNEL at once, the state left at t = 0 */
     for (meth = 0; meth < 5; meth++) {
-        scn b; rj_model *m; rj_state *s; rj_error e; rj_result r; keepres kr; watch w;
+        scn b; rj_model *m; rj_state *s = NULL; rj_error e; rj_result r; keepres kr; watch w;
         build_spinner(&b, 100.0, dt, 0);
         scn_method(&b, meth, RJ_RELEASE_RC13);
         if (meth == RJ_METHOD_PENALTY) scn_penalty_max(&b, dt);
@@ -1193,7 +1193,7 @@ static int ss_hook(const rj_model *m, const rj_state *s, void *user)
 /* 1 if the joint moves more than 1e-9 rad within n steps at T = ratio T_f */
 static int ss_slips(double ratio, long n)
 {
-    scn b; rj_model *m; rj_state *s; rj_error e; long k; int moved = 0;
+    scn b; rj_model *m; rj_state *s = NULL; rj_error e; long k; int moved = 0;
     double a0;
     build_stickslip(&b, ratio);
     scn_method(&b, RJ_METHOD_MOMENTUM, RJ_RELEASE_RC13);
@@ -1331,7 +1331,7 @@ static void check8(rjt_ctx *c)
         run_case(&b, dt, n * dt, "8: two locks, long run", meth, -1, 1.0 + 1e-6, &cr, lk_hook, &o);
         if (meth == 0) {
             /* the bare step, without this suite's per-step bookkeeping */
-            rj_model *m; rj_state *s; rj_error e; long k; double t0;
+            rj_model *m; rj_state *s = NULL; rj_error e; long k; double t0;
             if (scn_make(&b, dt, 0, &m, &e) == RJ_OK) {
                 rj_state_create(m, &s, NULL);
                 t0 = now_s();
@@ -1387,7 +1387,7 @@ static void check9(rjt_ctx *c)
         } else if (model < 12) { meth = model - 7; build_deploy(&b, meth); snprintf(name, sizeof name, "deployment %s", method_name(meth)); }
         else { build_chain(&b); snprintf(name, sizeof name, "chain (no limits)"); }
         for (fi = 0; fi < 3; fi++) {
-            rj_model *m; rj_state *s; rj_error e; rj_result r; watch w; keepres kr;
+            rj_model *m; rj_state *s = NULL; rj_error e; rj_result r; watch w; keepres kr;
             double bd, dt = dt_for_factor(&b, facs[fi], &bd);
             size_t len = strlen(bad);
             if (scn_make(&b, dt, 1, &m, &e) != RJ_OK) { snprintf(bad + len, sizeof bad - len, " %.0fx: not built (%.160s)", facs[fi], e.msg); continue; }

@@ -30,7 +30,7 @@ static void test_pendulum(void)
     rj_link_def L[2];
     rj_joint_def J[1];
     rj_model *m;
-    rj_state *s;
+    rj_state *s = NULL;
     char msg[600];
     const double len = 0.8, rho = 2700, w = 0.02, h = 0.01, tip = 0.3, tipJ = 2e-3, k = 5.0, th0 = 0.4;
     double mr, Ip, om, worst = 0, t;
@@ -65,7 +65,7 @@ static void test_free_body(void)
 {
     rj_link_def L[2];
     rj_model *m;
-    rj_state *s;
+    rj_state *s = NULL;
     char msg[600];
     double p0[2], p1[2], c0x, c0y, err = 0, th;
     const double vx = 0.3, vy = -0.2, om = 1.7, len = 1.2, tend = 3.0;
@@ -122,7 +122,7 @@ static void test_bus(void)
     rj_scene_file f;
     rj_scene_def sd;
     rj_model *m;
-    rj_state *s;
+    rj_state *s = NULL;
     rj_error e;
     rj_energy en;
     double px0, py0, l0, px, py, lz, worst_p = 0, worst_l = 0, pscale = 0, lscale = 0, bus0, bus1;
@@ -176,7 +176,7 @@ static int deploy_q(int f0, int f1, double E1, double rho_scale, int el1, double
     rj_joint_def j[2];
     rj_scene_def sc;
     rj_model *m;
-    rj_state *s;
+    rj_state *s = NULL;
     rj_error err;
     int k;
     o.joint2_method = RJ_METHOD_ADAPTIVE;
@@ -273,7 +273,7 @@ static void test_checkpoint(void)
     rj_link_def L[2];
     rj_joint_def J[1];
     rj_model *m;
-    rj_state *a, *b;
+    rj_state *a = NULL, *b = NULL;
     char msg[600], buf[1 << 16];
     size_t n;
     double pa[2], pb[2];
@@ -302,7 +302,7 @@ static void test_light_body(void)
     rj_link_def L[3];
     rj_joint_def J[2];
     rj_model *m;
-    rj_state *s;
+    rj_state *s = NULL;
     rj_energy en;
     rj_result r;
     char msg[600];
@@ -330,7 +330,7 @@ static void test_fixed_inextensible(void)
     rj_link_def L[2];
     rj_joint_def J[1];
     rj_model *m;
-    rj_state *s;
+    rj_state *s = NULL;
     rj_energy en;
     rj_result r;
     char msg[600];

@@ -171,7 +171,7 @@ static void test_solar(void)
 {
     rj_scene_file f;
     rj_model *m;
-    rj_state *s;
+    rj_state *s = NULL;
     rj_error e;
     rj_scene_def fd;
     rj_result r;
