@@ -2041,16 +2041,21 @@ RJDEF size_t rj_state_size(const rj_model *m)
 #define RJ__FJ(m, f, j) ((f) + RJ__FS_COUNT + 6 * (size_t)(m)->nn + 3 * (size_t)(m)->ne + RJ__JD_COUNT * (size_t)(j))
 #define RJ__FS(m, f) (f)
 
+/* One joint's spring and table potentials at the running angle run, added to *V (spring
+   first, then table: every caller sums in this order, so the totals agree to the bit); the
+   table's torque goes to *table_torque. */
+static void rj__joint_potential(const rj_joint_def *d, const rj__joint *J, double run, double *V, double *table_torque)
+{
+    *table_torque = 0;
+    if (d->spring_k > 0) *V += 0.5 * d->spring_k * (run - d->spring_free_angle) * (run - d->spring_free_angle);
+    if (d->table_count) *V += rj__table_turns_potential(d, J, run, table_torque);
+}
+
 static double rj__spring_energy(const rj_model *m, const double *f)
 {
     double V = 0, t;
     int j;
-    for (j = 0; j < m->nj; j++) {
-        const rj_joint_def *d = &m->jdef[j];
-        double run = RJ__FJ(m, f, j)[RJ__JD_THETA];
-        if (d->spring_k > 0) V += 0.5 * d->spring_k * (run - d->spring_free_angle) * (run - d->spring_free_angle);
-        if (d->table_count) V += rj__table_turns_potential(d, &m->jnt[j], run, &t);
-    }
+    for (j = 0; j < m->nj; j++) rj__joint_potential(&m->jdef[j], &m->jnt[j], RJ__FJ(m, f, j)[RJ__JD_THETA], &V, &t);
     return V;
 }
 
@@ -2350,9 +2355,11 @@ static double rj__element(const rj_model *m, rj_state *s, int j, const double *o
     else if (flag == RJ_LOCKED) p = nj_[RJ__JD_LOCK] - run;
     if (fabs(p) > nj_[RJ__JD_PEAKP]) nj_[RJ__JD_PEAKP] = fabs(p);
     /* Eq 4 table, torsion spring, Eq 27 damping (resistive: minus on body 2) */
-    /* the potentials join v_acc in rj__spring_energy's order, so the sum is the same */
-    if (d->spring_k > 0) *v_acc += 0.5 * d->spring_k * (run - d->spring_free_angle) * (run - d->spring_free_angle);
-    if (d->table_count) { double tt; *v_acc += rj__table_turns_potential(d, J, run, &tt); tq_table = -tt; }
+    {   /* the potentials join v_acc as in rj__spring_energy */
+        double tt;
+        rj__joint_potential(d, J, run, v_acc, &tt);
+        if (d->table_count) tq_table = -tt;
+    }
     if (d->spring_k > 0) tq_spring = -d->spring_k * (run - d->spring_free_angle);
     if (d->damping > 0) tq_damp = -d->damping * rate;
     /* Eq 22 / penalty: tau_2 = K p while at a limit */
