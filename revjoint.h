@@ -468,6 +468,22 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
 #else
 #define RJ__RESTRICT
 #endif
+/* The beam pass uses GCC/Clang vector extensions where they exist (RJ_NO_SIMD turns them
+   off): lanes of 4 doubles with AVX, 2 otherwise. Every lane does the scalar code's
+   operations in the scalar code's order, so results are bit-identical either way. */
+#if !defined(RJ_NO_SIMD) && (defined(__GNUC__) || defined(__clang__))
+#if defined(__AVX__)
+#define RJ__VW 4
+#define RJ__SPLAT(a) { (a), (a), (a), (a) }
+#else
+#define RJ__VW 2
+#define RJ__SPLAT(a) { (a), (a) }
+#endif
+typedef double rj__vd __attribute__((vector_size(8 * RJ__VW)));
+typedef long long rj__vl __attribute__((vector_size(8 * RJ__VW)));
+#define RJ__VLD(v, p) memcpy(&(v), (p), sizeof(v))
+#define RJ__VST(p, v) memcpy((p), &(v), sizeof(v))
+#endif
 #define RJ__PI 3.14159265358979323846
 #define RJ__TWO_PI 6.28318530717958647692
 #define RJ__COOKIE_LINK 0x524a4c4bu
@@ -550,6 +566,9 @@ struct rj_model {
     double *einv;             /* (nn) effective translational 1/mass (group's for grouped nodes) */
     double *kmass, *krot;     /* (nn) mass / rotary inertia counted in the kinetic energy (0 for fixed or grouped) */
     int *grp_first;           /* (ng+1) */
+    int ndn;                  /* nodes whose forces change after the beams (joint nodes, rigid links' nodes) */
+    int *dnode;               /* (ndn) those nodes and every link's end nodes: the fused beam pass advances them again */
+    double *link_un;          /* (5 nl) a link's other nodes' tinv, rinv, kmass, krot, and 1 when they all agree */
     int *grp_node;            /* (members) */
     int *node_grp;            /* (nn) group of a node, -1 if none */
     double *grp_inv;          /* (ng) 1/sum of member masses, 0 if a member is fixed */
@@ -953,7 +972,7 @@ static size_t rj__carve(size_t *off, size_t count, size_t elsize)
 typedef struct rj__layout {
     size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho, link_I;
     size_t node_cl, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
-    size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin, jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, x0, y0, phi0, vx0, vy0, w0, beta0, lz;
+    size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin, jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode, link_un, x0, y0, phi0, vx0, vy0, w0, beta0, lz;
 } rj__layout;
 
 static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
@@ -999,6 +1018,8 @@ static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
     L->grp_node = rj__carve(&off, (size_t)2 * nj + 1, sizeof(int));
     L->node_grp = rj__carve(&off, (size_t)nn, sizeof(int));
     L->grp_inv = rj__carve(&off, (size_t)nj + 1, sizeof(double));
+    L->dnode = rj__carve(&off, (size_t)4 * nj + nn + 1, sizeof(int));
+    L->link_un = rj__carve(&off, (size_t)5 * nl + 1, sizeof(double));
     L->x0 = rj__carve(&off, (size_t)nn, sizeof(double));
     L->y0 = rj__carve(&off, (size_t)nn, sizeof(double));
     L->phi0 = rj__carve(&off, (size_t)nn, sizeof(double));
@@ -1033,26 +1054,27 @@ RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
    from a reference chord (no atan2 per element), local rotations th_a = phi_a - beta,
    th_b = phi_b - beta, end moments M_a = EI/l0 (4 th_a + 2 th_b), M_b = EI/l0 (2 th_a + 4 th_b).
    Forces: node b gets -EA/l0 eps e + (M_a + M_b) perp(e) / |e|^2, node a the opposite;
-   moments -M_a, -M_b. Writes element results to efx..em2 and returns the strain energy.
-   beta_out (may be NULL) receives the updated chord angles. */
-/* One element's forces from its chord (ex, ey), end rotations and chord angle bt. */
-#define RJ__ELEM(e, ex, ey, pa, pb, bt, invL2, efx, efy, em1, em2, eu)                   \
-    do {                                                                                 \
-        const double tha_ = (pa) - (bt), thb_ = (pb) - (bt);                             \
-        const double ma_ = kb * (4.0 * tha_ + 2.0 * thb_), mb_ = kb * (2.0 * tha_ + 4.0 * thb_); \
-        const double eps_ = ((ex) * (ex) + (ey) * (ey) - l0sq) * half_inv_l0sq;          \
-        const double nax_ = kax * eps_, s_ = (ma_ + mb_) * (invL2);                      \
-        efx[e] = -nax_ * (ex) - s_ * (ey);                                               \
-        efy[e] = -nax_ * (ey) + s_ * (ex);                                               \
-        em1[e] = ma_; em2[e] = mb_;                                                      \
-        eu[e] = 0.5 * (ma_ * tha_ + mb_ * thb_) + 0.5 * kax * l0sq * eps_ * eps_;        \
-    } while (0)
+   moments -M_a, -M_b. */
+/* One element's force core on scalars or vector lanes alike (the same operations in the
+   same order): chord turn r against the previous chord (ccx, ccy) as the series of atan(r),
+   chord angle bt, end moments, axial force, node-b force (fx_, fy_) and strain energy u_. */
+#define RJ__ELEM_CORE(T, ex, ey, cxv, cyv, bbv, pav, pbv)                                \
+    const T cr_ = (cxv) * (ey) - (cyv) * (ex), dp_ = (cxv) * (ex) + (cyv) * (ey);       \
+    const T L2_ = (ex) * (ex) + (ey) * (ey), inv_ = 1.0 / (dp_ * L2_);                   \
+    const T r_ = cr_ * L2_ * inv_, invL2_ = dp_ * inv_, r2_ = r_ * r_;                   \
+    const T bt_ = (bbv) + r_ * (1.0 - r2_ * (1.0 / 3.0 - r2_ * (1.0 / 5.0)));             \
+    const T tha_ = (pav) - bt_, thb_ = (pbv) - bt_;                                      \
+    const T ma_ = kb * (4.0 * tha_ + 2.0 * thb_), mb_ = kb * (2.0 * tha_ + 4.0 * thb_);  \
+    const T eps_ = ((ex) * (ex) + (ey) * (ey) - l0sq) * half_inv_l0sq;                   \
+    const T nax_ = kax * eps_, s_ = (ma_ + mb_) * invL2_;                                \
+    const T fx_ = -nax_ * (ex) - s_ * (ey), fy_ = -nax_ * (ey) + s_ * (ex);              \
+    const T u_ = 0.5 * (ma_ * tha_ + mb_ * thb_) + 0.5 * kax * l0sq * eps_ * eps_
 
-/* The fast path over one link's elements, branch-free so it vectorises (restrict on the
-   parameters: GCC honours it there): one division per element, atan(r) of the small
-   per-step chord turn r by its series r - r^3/3 + r^5/5 (error < r^7/7 < 2e-20 for
-   |r| < 2e-3; a chord turns about omega dt, 1e-5 in the deployment). Returns nonzero when
-   some chord turned more than that, or turned back, and the exact path must redo it. */
+/* The fast path over a chunk of one link's elements, branch-free (vector lanes where the
+   compiler has them): one division per element, atan(r) of the small per-step chord turn r
+   by its series r - r^3/3 + r^5/5 (error < r^7/7 < 2e-20 for |r| < 2e-3; a chord turns
+   about omega dt, 1e-5 in the deployment). Returns nonzero when some chord turned more
+   than that, or turned back, and the exact path must redo it. */
 static int rj__beam_link_fast(int ne, double l0sq, double half_inv_l0sq, double kax, double kb,
                               const double *RJ__RESTRICT xa, const double *RJ__RESTRICT ya, const double *RJ__RESTRICT pa,
                               const double *RJ__RESTRICT bb, const double *RJ__RESTRICT ccx, const double *RJ__RESTRICT ccy,
@@ -1060,17 +1082,37 @@ static int rj__beam_link_fast(int ne, double l0sq, double half_inv_l0sq, double 
                               double *RJ__RESTRICT m2e, double *RJ__RESTRICT ue, double *RJ__RESTRICT bo,
                               double *RJ__RESTRICT cox, double *RJ__RESTRICT coy)
 {
-    int i;
-    long long bad = 0;   /* 64-bit like the lanes, so the reduction vectorises */
-    for (i = 0; i < ne; i++) {
+    int i = 0;
+    long long bad = 0;
+#ifdef RJ__VW
+    {
+        const rj__vd lim = RJ__SPLAT(4e-6), zero = RJ__SPLAT(0.0);
+        rj__vl okv = zero < lim;   /* all lanes set */
+        for (; i < ne && ne >= RJ__VW; i += RJ__VW) {
+            if (i + RJ__VW > ne) i = ne - RJ__VW;   /* the last lanes again: the same inputs give the same bits */
+            rj__vd x0, x1, y0, y1, p0, p1, b, cxv, cyv, ex, ey;
+            RJ__VLD(x0, xa + i); RJ__VLD(x1, xa + i + 1); RJ__VLD(y0, ya + i); RJ__VLD(y1, ya + i + 1);
+            RJ__VLD(p0, pa + i); RJ__VLD(p1, pa + i + 1); RJ__VLD(b, bb + i); RJ__VLD(cxv, ccx + i); RJ__VLD(cyv, ccy + i);
+            ex = x1 - x0; ey = y1 - y0;
+            {
+                RJ__ELEM_CORE(rj__vd, ex, ey, cxv, cyv, b, p0, p1);
+                okv &= (r2_ < lim) & (dp_ > zero);   /* NaN clears it too */
+                RJ__VST(bo + i, bt_); RJ__VST(cox + i, ex); RJ__VST(coy + i, ey);
+                RJ__VST(fxe + i, fx_); RJ__VST(fye + i, fy_); RJ__VST(m1e + i, ma_); RJ__VST(m2e + i, mb_); RJ__VST(ue + i, u_);
+            }
+        }
+        {
+            int k;
+            for (k = 0; k < RJ__VW; k++) bad |= !okv[k];
+        }
+    }
+#endif
+    for (; i < ne; i++) {
         const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];
-        const double cr = ccx[i] * ey - ccy[i] * ex, dp = ccx[i] * ex + ccy[i] * ey;
-        const double L2 = ex * ex + ey * ey, inv = 1.0 / (dp * L2);
-        const double r = cr * L2 * inv, invL2 = dp * inv, r2 = r * r;
-        const double bt = bb[i] + r * (1.0 - r2 * (1.0 / 3.0 - r2 * (1.0 / 5.0)));
-        bad |= (long long)!(r2 < 4e-6) | (long long)!(dp > 0.0);   /* bitwise: no branch; NaN too */
-        bo[i] = bt; cox[i] = ex; coy[i] = ey;
-        RJ__ELEM(i, ex, ey, pa[i], pa[i + 1], bt, invL2, fxe, fye, m1e, m2e, ue);
+        RJ__ELEM_CORE(double, ex, ey, ccx[i], ccy[i], bb[i], pa[i], pa[i + 1]);
+        bad |= (long long)!(r2_ < 4e-6) | (long long)!(dp_ > 0.0);   /* bitwise: no branch; NaN too */
+        bo[i] = bt_; cox[i] = ex; coy[i] = ey;
+        fxe[i] = fx_; fye[i] = fy_; m1e[i] = ma_; m2e[i] = mb_; ue[i] = u_;
     }
     return bad != 0;
 }
@@ -1079,25 +1121,128 @@ static int rj__beam_link_fast(int ne, double l0sq, double half_inv_l0sq, double 
 static double rj__sum8(const double *RJ__RESTRICT a, int n)
 {
     double p[8] = { 0, 0, 0, 0, 0, 0, 0, 0 };
-    int i, k;
-    for (i = 0; i + 7 < n; i += 8) for (k = 0; k < 8; k++) p[k] += a[i + k];
+    int i = 0, k;
+#ifdef RJ__VW
+    {   /* the same eight sums in vector lanes */
+        rj__vd v[8 / RJ__VW], t;
+        memset(v, 0, sizeof v);
+        for (; i + 7 < n; i += 8) for (k = 0; k < 8 / RJ__VW; k++) { RJ__VLD(t, a + i + k * RJ__VW); v[k] += t; }
+        memcpy(p, v, sizeof p);
+    }
+#endif
+    for (; i + 7 < n; i += 8) for (k = 0; k < 8; k++) p[k] += a[i + k];
     for (; i < n; i++) p[0] += a[i];
     return ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
 }
 
 /* Elements per chunk: a chunk's element and node data stay in the L1 cache between the
-   element loop and the node sums that follow it. */
+   element loop and the node pass that follows it. */
 #define RJ__CHUNK 128
 
-/* Internal forces at x: element forces (efx..eu), summed into the nodes (fx, fy, mz: node b
-   of element e gets +ef, node a gets -ef), chunk by chunk; the updated chord angles and this
-   step's chords (the next step's references) go to beta_out, cx_out, cy_out. Returns the
-   strain energy. */
-static double rj__beam_forces(const rj_model *m, const double *x, const double *y, const double *phi,
-                              const double *beta, const double *cx, const double *cy,
-                              double *efx, double *efy, double *em1, double *em2, double *eu,
-                              double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz)
+/* What the step's fused pass needs to advance nodes as soon as their forces are summed:
+   v^{n+1/2} = v^{n-1/2} + kick f / m and x^{n+1} = x^n + dt v^{n+1/2}, and each node's share
+   of twice the kinetic energy at n, v^{n-1/2}.v^{n+1/2} m. */
+typedef struct rj__adv {
+    double kick, dt;
+    const double *vx, *vy, *w, *ti, *ri, *km, *kj;
+    double *nx, *ny, *nphi, *nvx, *nvy, *nw, *kn;
+} rj__adv;
+
+#define RJ__ADV_CORE(T, i, fxv, fyv, mzv, vxv, vyv, wv)                                            \
+    const T ux_ = (vxv) + kick * (fxv) * ti[i], uy_ = (vyv) + kick * (fyv) * ti[i];                \
+    const T uw_ = (wv) + kick * (mzv) * ri[i];                                                     \
+    const T kn_ = km[i] * ((vxv) * ux_ + (vyv) * uy_) + kj[i] * (wv) * uw_
+
+/* Nodes n .. n + cnt - 1 from element results laid out so that node k takes FX[k] - FX[k+1]
+   (its element on the left, -0.0 before a link's first, minus the one on the right, +0.0
+   after its last: the same bits as -FX[0] and FX[last]) and mz = -M2[k] - M1[k+1]: the
+   forces, and with a (not NULL) the advanced velocities, positions and kinetic-energy
+   shares. */
+static void rj__node_pass(int cnt, int n, const double *RJ__RESTRICT FX, const double *RJ__RESTRICT FY,
+                          const double *RJ__RESTRICT M1, const double *RJ__RESTRICT M2,
+                          double *RJ__RESTRICT fx, double *RJ__RESTRICT fy, double *RJ__RESTRICT mz,
+                          const double *RJ__RESTRICT x, const double *RJ__RESTRICT y, const double *RJ__RESTRICT phi,
+                          const rj__adv *a, const double *un)
 {
+    int k = 0;
+    fx += n; fy += n; mz += n;
+    if (!a) {
+        for (k = 0; k < cnt; k++) { fx[k] = FX[k] - FX[k + 1]; fy[k] = FY[k] - FY[k + 1]; mz[k] = -M2[k] - M1[k + 1]; }
+        return;
+    }
+    {
+        const double kick = a->kick, dt = a->dt;
+        const double *RJ__RESTRICT vx = a->vx + n, *RJ__RESTRICT vy = a->vy + n, *RJ__RESTRICT w = a->w + n;
+        const double *RJ__RESTRICT ti = a->ti + n, *RJ__RESTRICT ri = a->ri + n, *RJ__RESTRICT km = a->km + n, *RJ__RESTRICT kj = a->kj + n;
+        double *RJ__RESTRICT nx = a->nx + n, *RJ__RESTRICT ny = a->ny + n, *RJ__RESTRICT nphi = a->nphi + n;
+        double *RJ__RESTRICT nvx = a->nvx + n, *RJ__RESTRICT nvy = a->nvy + n, *RJ__RESTRICT nw = a->nw + n, *RJ__RESTRICT kn = a->kn + n;
+        x += n; y += n; phi += n;
+#ifdef RJ__VW
+        /* a uniform link reads four numbers, not four arrays (its end nodes and joints' nodes
+           are advanced again later) */
+        const int uni = un[4] != 0;
+        const rj__vd tiu = RJ__SPLAT(un[0]), riu = RJ__SPLAT(un[1]), kmu = RJ__SPLAT(un[2]), kju = RJ__SPLAT(un[3]);
+        for (; k < cnt && cnt >= RJ__VW; k += RJ__VW) {
+            rj__vd f0, f1, g0, g1, m1, m2, fxv, fyv, mzv, vxv, vyv, wv, t;
+            if (k + RJ__VW > cnt) k = cnt - RJ__VW;   /* the last lanes again: same inputs, same bits */
+            RJ__VLD(f0, FX + k); RJ__VLD(f1, FX + k + 1); RJ__VLD(g0, FY + k); RJ__VLD(g1, FY + k + 1);
+            RJ__VLD(m2, M2 + k); RJ__VLD(m1, M1 + k + 1);
+            fxv = f0 - f1; fyv = g0 - g1; mzv = -m2 - m1;
+            RJ__VST(fx + k, fxv); RJ__VST(fy + k, fyv); RJ__VST(mz + k, mzv);
+            RJ__VLD(vxv, vx + k); RJ__VLD(vyv, vy + k); RJ__VLD(wv, w + k);
+            {
+                rj__vd tiv = tiu, riv = riu, kmv = kmu, kjv = kju;
+                if (!uni) { RJ__VLD(tiv, ti + k); RJ__VLD(riv, ri + k); RJ__VLD(kmv, km + k); RJ__VLD(kjv, kj + k); }
+                {
+                    const rj__vd ux_ = vxv + kick * fxv * tiv, uy_ = vyv + kick * fyv * tiv, uw_ = wv + kick * mzv * riv;
+                    const rj__vd kn_ = kmv * (vxv * ux_ + vyv * uy_) + kjv * wv * uw_;
+                    RJ__VST(nvx + k, ux_); RJ__VST(nvy + k, uy_); RJ__VST(nw + k, uw_); RJ__VST(kn + k, kn_);
+                    RJ__VLD(t, x + k); t = t + dt * ux_; RJ__VST(nx + k, t);
+                    RJ__VLD(t, y + k); t = t + dt * uy_; RJ__VST(ny + k, t);
+                    RJ__VLD(t, phi + k); t = t + dt * uw_; RJ__VST(nphi + k, t);
+                }
+            }
+        }
+#endif
+        for (; k < cnt; k++) {
+            const double fxv = FX[k] - FX[k + 1], fyv = FY[k] - FY[k + 1], mzv = -M2[k] - M1[k + 1];
+            RJ__ADV_CORE(double, k, fxv, fyv, mzv, vx[k], vy[k], w[k]);
+            fx[k] = fxv; fy[k] = fyv; mz[k] = mzv;
+            nvx[k] = ux_; nvy[k] = uy_; nw[k] = uw_; kn[k] = kn_;
+            nx[k] = x[k] + dt * ux_; ny[k] = y[k] + dt * uy_; nphi[k] = phi[k] + dt * uw_;
+        }
+    }
+}
+
+/* Advances the listed nodes (again) with their final forces: the same operations as the
+   fused pass, so a node's result does not depend on which pass gave it. */
+static void rj__advance_list(const int *list, int cnt, const double *fx, const double *fy, const double *mz,
+                             const double *x, const double *y, const double *phi, const rj__adv *a)
+{
+    const double kick = a->kick, dt = a->dt;
+    const double *ti = a->ti, *ri = a->ri, *km = a->km, *kj = a->kj;
+    int q;
+    for (q = 0; q < cnt; q++) {
+        const int i = list[q];
+        RJ__ADV_CORE(double, i, fx[i], fy[i], mz[i], a->vx[i], a->vy[i], a->w[i]);
+        a->nvx[i] = ux_; a->nvy[i] = uy_; a->nw[i] = uw_; a->kn[i] = kn_;
+        a->nx[i] = x[i] + dt * ux_; a->ny[i] = y[i] + dt * uy_; a->nphi[i] = phi[i] + dt * uw_;
+    }
+}
+
+/* Internal forces at x: element forces summed into the nodes (fx, fy, mz: node b of element
+   e gets +ef, node a gets -ef), chunk by chunk; the updated chord angles and this step's
+   chords (the next step's references) go to beta_out, cx_out, cy_out; eu receives the
+   elements' strain energies. With adv (the step), every node of a flexible link is also
+   advanced as soon as its forces are summed; nodes that joints act on are advanced again
+   later (m->dnode). Returns the strain energy. */
+static double rj__beam_pass(const rj_model *m, const double *x, const double *y, const double *phi,
+                            const double *beta, const double *cx, const double *cy, double *eu,
+                            double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz, const rj__adv *adv)
+{
+    /* chunk buffers: entry 0 is the previous chunk's last element (or the -0.0 / +0.0 before
+       a link's first), entries 1 .. nc this chunk's, nc + 1 the +0.0 after a link's last */
+    double FX[RJ__CHUNK + 2], FY[RJ__CHUNK + 2], M1[RJ__CHUNK + 2], M2[RJ__CHUNK + 2];
     int l;
     for (l = 0; l < m->nl; l++) {
         const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;
@@ -1106,40 +1251,42 @@ static double rj__beam_forces(const rj_model *m, const double *x, const double *
         const double l0sq = l0 * l0, half_inv_l0sq = 0.5 / l0sq;
         int c0;
         if (m->ldef[l].fidelity == RJ_LINK_RIGID) {
-            /* a rigid link: no elements; its nodes take only what joints apply */
+            /* a rigid link: no elements; its nodes take only what joints apply (and are
+               advanced with the joints' nodes) */
             for (c0 = 0; c0 < ne; c0++) {
                 beta_out[e0 + c0] = beta[e0 + c0]; cx_out[e0 + c0] = cx[e0 + c0]; cy_out[e0 + c0] = cy[e0 + c0];
-                efx[e0 + c0] = efy[e0 + c0] = em1[e0 + c0] = em2[e0 + c0] = eu[e0 + c0] = 0;
+                eu[e0 + c0] = 0;
             }
             for (c0 = 0; c0 <= ne; c0++) fx[n0 + c0] = fy[n0 + c0] = mz[n0 + c0] = 0;
             continue;
         }
+        FX[0] = FY[0] = -0.0; M1[0] = M2[0] = 0.0;
         for (c0 = 0; c0 < ne; c0 += RJ__CHUNK) {
-            const int nc = ne - c0 < RJ__CHUNK ? ne - c0 : RJ__CHUNK, a = e0 + c0, na = n0 + c0;
+            const int nc = ne - c0 < RJ__CHUNK ? ne - c0 : RJ__CHUNK, a = e0 + c0, na = n0 + c0, last = c0 + nc == ne;
             const double *RJ__RESTRICT xa = x + na, *RJ__RESTRICT ya = y + na, *RJ__RESTRICT pa = phi + na;
             const double *RJ__RESTRICT bb = beta + a, *RJ__RESTRICT ccx = cx + a, *RJ__RESTRICT ccy = cy + a;
-            double *RJ__RESTRICT fxe = efx + a, *RJ__RESTRICT fye = efy + a, *RJ__RESTRICT m1e = em1 + a;
-            double *RJ__RESTRICT m2e = em2 + a, *RJ__RESTRICT ue = eu + a, *RJ__RESTRICT bo = beta_out + a;
+            double *RJ__RESTRICT ue = eu + a, *RJ__RESTRICT bo = beta_out + a;
             int i;
-            if (rj__beam_link_fast(nc, l0sq, half_inv_l0sq, kax, kb, xa, ya, pa, bb, ccx, ccy, fxe, fye, m1e, m2e, ue, bo, cx_out + a, cy_out + a)) {
+            if (rj__beam_link_fast(nc, l0sq, half_inv_l0sq, kax, kb, xa, ya, pa, bb, ccx, ccy, FX + 1, FY + 1, M1 + 1, M2 + 1, ue, bo, cx_out + a, cy_out + a)) {
                 /* a chord turned more than 0.02 rad in one step: exact angles for this chunk */
                 for (i = 0; i < nc; i++) {
                     const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];
                     const double bt = bb[i] + atan2(ccx[i] * ey - ccy[i] * ex, ccx[i] * ex + ccy[i] * ey);
+                    const double tha = pa[i] - bt, thb = pa[i + 1] - bt;
+                    const double ma = kb * (4.0 * tha + 2.0 * thb), mb = kb * (2.0 * tha + 4.0 * thb);
+                    const double eps = (ex * ex + ey * ey - l0sq) * half_inv_l0sq;
+                    const double nax = kax * eps, sh = (ma + mb) * (1.0 / (ex * ex + ey * ey));
                     bo[i] = bt;
-                    RJ__ELEM(i, ex, ey, pa[i], pa[i + 1], bt, 1.0 / (ex * ex + ey * ey), fxe, fye, m1e, m2e, ue);
+                    FX[1 + i] = -nax * ex - sh * ey; FY[1 + i] = -nax * ey + sh * ex; M1[1 + i] = ma; M2[1 + i] = mb;
+                    ue[i] = 0.5 * (ma * tha + mb * thb) + 0.5 * kax * l0sq * eps * eps;
                 }
             }
-            /* node sums of the chunk: its first node takes the previous chunk's last element */
-            if (c0 == 0) { fx[na] = -fxe[0]; fy[na] = -fye[0]; mz[na] = -m1e[0]; }
-            else { fx[na] = fxe[-1] - fxe[0]; fy[na] = fye[-1] - fye[0]; mz[na] = -m2e[-1] - m1e[0]; }
-            for (i = 1; i < nc; i++) {
-                fx[na + i] = fxe[i - 1] - fxe[i];
-                fy[na + i] = fye[i - 1] - fye[i];
-                mz[na + i] = -m2e[i - 1] - m1e[i];
-            }
+            if (last) { FX[nc + 1] = FY[nc + 1] = M1[nc + 1] = 0.0; }
+            /* the chunk's nodes whose elements are all summed: na .. na + nc - 1, and the
+               link's last node with the last chunk */
+            rj__node_pass(nc + last, na, FX, FY, M1, M2, fx, fy, mz, x, y, phi, adv, m->link_un + 5 * l);
+            FX[0] = FX[nc]; FY[0] = FY[nc]; M1[0] = M1[nc]; M2[0] = M2[nc];
         }
-        fx[n0 + ne] = efx[e0 + ne - 1]; fy[n0 + ne] = efy[e0 + ne - 1]; mz[n0 + ne] = -em2[e0 + ne - 1];
     }
     return rj__sum8(eu, m->ne);
 }
@@ -1446,7 +1593,7 @@ static void rj__lz_apply(const rj_model *m, const double *u, double *out, double
                 y[n] = m->y0[n] + sgn * h * u[3 * r + 1] * si;
             }
         }
-        rj__beam_forces(m, x, y, p, m->beta0, cx, cy, efx, efy, em1, em2, eu, bt, cxo, cyo, fx, fy, mz);
+        rj__beam_pass(m, x, y, p, m->beta0, cx, cy, eu, bt, cxo, cyo, fx, fy, mz, NULL);
         /* joints: -k_lin (theta - theta0) g, linearised */
         for (j = 0; j < m->nj; j++) {
             const rj__joint *J = &m->jnt[j];
@@ -1580,7 +1727,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     RJ__SET(rb_mass, double); RJ__SET(rb_icm, double); RJ__SET(rb_dcm, double); RJ__SET(rb_pjoint, int);
     RJ__SET(jorder, int); RJ__SET(jpin, double); RJ__SET(jref, double);
     RJ__SET(mass, double); RJ__SET(rinertia, double); RJ__SET(tinv, double); RJ__SET(rinv, double); RJ__SET(einv, double); RJ__SET(kmass, double); RJ__SET(krot, double);
-    RJ__SET(grp_first, int); RJ__SET(grp_node, int); RJ__SET(node_grp, int); RJ__SET(grp_inv, double);
+    RJ__SET(grp_first, int); RJ__SET(grp_node, int); RJ__SET(node_grp, int); RJ__SET(grp_inv, double); RJ__SET(dnode, int); RJ__SET(link_un, double);
     RJ__SET(x0, double); RJ__SET(y0, double); RJ__SET(phi0, double); RJ__SET(vx0, double); RJ__SET(vy0, double);
     RJ__SET(w0, double); RJ__SET(beta0, double); RJ__SET(lz, double);
 #undef RJ__SET
@@ -1950,6 +2097,38 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         double c = sqrt(m->ldef[l].E / m->ldef[l].rho), t = m->link_l0[l] / c;
         if (t < m->dt_eq28) m->dt_eq28 = t;
     }
+    /* the nodes the step advances again after the joints: every node a joint applies a
+       torque or force to, and rigid links' nodes (their bodies move them); once each */
+    {
+        int *mark = (int *)(void *)m->lz, k;   /* scratch: the Lanczos area is free again */
+        m->ndn = 0;
+        for (i = 0; i < nn; i++) mark[i] = 0;
+        for (j = 0; j < m->nj; j++) {
+            const rj__joint *J = &m->jnt[j];
+            const int nodes[4] = { J->nI, J->nJ, J->chord ? J->nK : -1, J->chord ? J->nL : -1 };
+            for (k = 0; k < 4; k++) if (nodes[k] >= 0) mark[nodes[k]] = 1;
+        }
+        for (l = 0; l < m->nl; l++) {
+            const int n0 = m->link_first[l], ne_l = m->ldef[l].elements;
+            if (m->ldef[l].fidelity == RJ_LINK_RIGID) for (k = n0; k <= n0 + ne_l; k++) mark[k] = 1;
+            mark[n0] = mark[n0 + ne_l] = 1;
+        }
+        for (i = 0; i < nn; i++) if (mark[i]) m->dnode[m->ndn++] = i;
+        /* a link whose other nodes share their inverse masses and energy weights (uniform
+           sections: all of them) lets the fused pass read four numbers instead of four arrays */
+        for (l = 0; l < m->nl; l++) {
+            const int n0 = m->link_first[l], ne_l = m->ldef[l].elements;
+            double *u = m->link_un + 5 * l;
+            int first = 1, same = 1;
+            u[0] = u[1] = u[2] = u[3] = 0;
+            for (k = n0; k <= n0 + ne_l; k++) {
+                if (mark[k]) continue;
+                if (first) { u[0] = m->tinv[k]; u[1] = m->rinv[k]; u[2] = m->kmass[k]; u[3] = m->krot[k]; first = 0; }
+                else if (!(u[0] == m->tinv[k] && u[1] == m->rinv[k] && u[2] == m->kmass[k] && u[3] == m->krot[k])) same = 0;
+            }
+            u[4] = same;
+        }
+    }
     m->frame_doubles = 6 * (size_t)nn + 3 * (size_t)ne + RJ__JD_COUNT * (size_t)m->nj + RJ__FS_COUNT;
     m->cl_off = m->frame_doubles;
     m->frame_doubles += 6 * (size_t)m->ncl;
@@ -2113,8 +2292,8 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
             ke += 0.5 * m->cl_M[i] * (c[2] * c[2] + c[3] * c[3]) * (m->cl_fix[i] == 0) + 0.5 * m->cl_I[i] * c[4] * c[4];
         }
         double *o = s->fd[1];   /* scratch for the chords, cleared again below */
-        U = rj__beam_forces(m, m->x0, m->y0, m->phi0, m->beta0, RJ__FCX(m, f), RJ__FCY(m, f), s->efx, s->efy, s->em1, s->em2, s->eu,
-                            s->ebt, RJ__FCX(m, o), RJ__FCY(m, o), s->fx, s->fy, s->mz);
+        U = rj__beam_pass(m, m->x0, m->y0, m->phi0, m->beta0, RJ__FCX(m, f), RJ__FCY(m, f), s->eu,
+                          s->ebt, RJ__FCX(m, o), RJ__FCY(m, o), s->fx, s->fy, s->mz, NULL);
         memset(o, 0, sizeof(double) * m->frame_doubles);
         sc[RJ__FS_KE] = ke; sc[RJ__FS_STRAIN] = U; sc[RJ__FS_SPRING] = rj__spring_energy(m, f);
         sc[RJ__FS_E0] = ke + U + sc[RJ__FS_SPRING];
@@ -2848,26 +3027,6 @@ static double rj__rate_pred(const rj_model *m, const double *of, int n, const do
     return w[n] + kick * mz[n] * m->rinv[n];
 }
 
-/* v^{n+1/2} = v^{n-1/2} + kick f / m and x^{n+1} = x^n + dt v^{n+1/2} for every node, in one
-   pass (restrict: it vectorises). */
-static void rj__advance(int nn, double kick, double dt, const double *RJ__RESTRICT x, const double *RJ__RESTRICT y,
-                        const double *RJ__RESTRICT phi, const double *RJ__RESTRICT vx, const double *RJ__RESTRICT vy,
-                        const double *RJ__RESTRICT w, const double *RJ__RESTRICT fx, const double *RJ__RESTRICT fy,
-                        const double *RJ__RESTRICT mz, const double *RJ__RESTRICT ti, const double *RJ__RESTRICT ri,
-                        const double *RJ__RESTRICT km, const double *RJ__RESTRICT kj,
-                        double *RJ__RESTRICT nx, double *RJ__RESTRICT ny, double *RJ__RESTRICT nphi,
-                        double *RJ__RESTRICT nvx, double *RJ__RESTRICT nvy, double *RJ__RESTRICT nw, double *RJ__RESTRICT kn)
-{
-    int i;
-    for (i = 0; i < nn; i++) {
-        const double ux = vx[i] + kick * fx[i] * ti[i], uy = vy[i] + kick * fy[i] * ti[i], uw = w[i] + kick * mz[i] * ri[i];
-        nvx[i] = ux; nvy[i] = uy; nw[i] = uw;
-        nx[i] = x[i] + dt * ux; ny[i] = y[i] + dt * uy; nphi[i] = phi[i] + dt * uw;
-        kn[i] = km[i] * (vx[i] * ux + vy[i] * uy) + kj[i] * w[i] * uw;
-    }
-}
-
-
 RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
 {
     const int nn = m->nn;
@@ -2890,10 +3049,15 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
     const double t = osc[RJ__FS_TIME];
     double U, V = 0, ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC], lost_l = osc[RJ__FS_LLIM] + osc[RJ__FS_PEND], pend = 0;
     int i, j, gi;
+    rj__adv adv;
 
-    /* 1. beams: internal forces at x^n, updated chord angles into the new frame */
-    U = rj__beam_forces(m, x, y, phi, RJ__FBETA(m, of), RJ__FCX(m, of), RJ__FCY(m, of),
-                        s->efx, s->efy, s->em1, s->em2, s->eu, RJ__FBETA(m, nf), RJ__FCX(m, nf), RJ__FCY(m, nf), fx, fy, mz);
+    /* 1. beams: internal forces at x^n, updated chord angles into the new frame; every node
+       advanced at once (v^{n+1/2}, x^{n+1}), the joints' nodes again in part 4 */
+    adv.kick = kick; adv.dt = dt; adv.vx = vx; adv.vy = vy; adv.w = w;
+    adv.ti = m->tinv; adv.ri = m->rinv; adv.km = m->kmass; adv.kj = m->krot;
+    adv.nx = nx; adv.ny = ny; adv.nphi = nphi; adv.nvx = nvx; adv.nvy = nvy; adv.nw = nw; adv.kn = s->kn;
+    U = rj__beam_pass(m, x, y, phi, RJ__FBETA(m, of), RJ__FCX(m, of), RJ__FCY(m, of), s->eu,
+                      RJ__FBETA(m, nf), RJ__FCX(m, nf), RJ__FCY(m, nf), fx, fy, mz, &adv);
 
     nsc[RJ__FS_WARN] = osc[RJ__FS_WARN];
     /* 2. joints: rate, status flag (Eqs 7-13), table/spring/damping/limit torques */
@@ -2949,11 +3113,12 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
     }
 
-    /* 4. velocities v^{n+1/2} and positions x^{n+1} (one pass; grouped nodes and nodes a
-       velocity-level method changes are redone below); kinetic energy at n as v^{n-1/2}.v^{n+1/2} */
+    /* 4. velocities v^{n+1/2} and positions x^{n+1} of the nodes the joints acted on (the
+       beam pass advanced the rest; grouped nodes and nodes a velocity-level method changes
+       are redone below); kinetic energy at n as v^{n-1/2}.v^{n+1/2} */
     {
         const double *km = m->kmass, *kj = m->krot;
-        rj__advance(nn, kick, dt, x, y, phi, vx, vy, w, fx, fy, mz, m->tinv, m->rinv, km, kj, nx, ny, nphi, nvx, nvy, nw, s->kn);
+        rj__advance_list(m->dnode, m->ndn, fx, fy, mz, x, y, phi, &adv);
         ke = rj__sum8(s->kn, nn);
         if (s->steps == 0) {
             /* at the start the pair is v^{-1/2} = 2 v(0) - v^{1/2} and v^{1/2} */
@@ -3125,7 +3290,9 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
     /* 7. energy accounts and blow-up detection; commit the frame */
     {
         double E, scale, created, e0 = osc[RJ__FS_E0];
-        for (i = 0; i < RJ__FS_COUNT; i++) if (i != RJ__FS_WARN) nsc[i] = osc[i];
+        const double warn = nsc[RJ__FS_WARN];   /* counted in this step already */
+        memcpy(nsc, osc, sizeof(double) * RJ__FS_COUNT);
+        nsc[RJ__FS_WARN] = warn;
         nsc[RJ__FS_TIME] = t + dt;
         nsc[RJ__FS_ETIME] = t;
         /* V: springs and tables at x^n, summed by the element in part 2 */
