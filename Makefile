@@ -95,6 +95,7 @@ test: deps $(EXAMPLES) $(TESTS)
 	  "$(B)/stress --short" \
 	  "sh tests/readme.sh $(B)" \
 	  "sh tests/golden.sh $(B)" \
+	  "sh tests/lanes.sh $(B)" \
 	  "$(B)/test_render" \
 	  "sh tests/cli.sh $(B)" \
 	  "sh tests/sweep.sh $(B)"

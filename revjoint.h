@@ -472,7 +472,7 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
    off): lanes of 4 doubles with AVX, 2 otherwise. Every lane does the scalar code's
    operations in the scalar code's order, so results are bit-identical either way. */
 #if !defined(RJ_NO_SIMD) && (defined(__GNUC__) || defined(__clang__))
-#if defined(__AVX__)
+#if defined(__AVX__) || (defined(__x86_64__) && defined(__linux__) && defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 8)
 #define RJ__VW 4
 #define RJ__SPLAT(a) { (a), (a), (a), (a) }
 #else
@@ -482,7 +482,15 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
 typedef double rj__vd __attribute__((vector_size(8 * RJ__VW)));
 typedef long long rj__vl __attribute__((vector_size(8 * RJ__VW)));
 #define RJ__VLD(v, p) memcpy(&(v), (p), sizeof(v))
+/* x86-64 Linux builds without -mavx (the default flags): GCC compiles the lane kernels twice,
+   for AVX2 and for the baseline, and picks one when the program loads. No FMA either way. */
+#if !defined(__AVX__) && defined(__x86_64__) && defined(__linux__) && defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 8 && !defined(RJ_NO_CLONES)
+#define RJ__CLONES __attribute__((target_clones("avx2", "default")))
+#endif
 #define RJ__VST(p, v) memcpy((p), &(v), sizeof(v))
+#endif
+#ifndef RJ__CLONES
+#define RJ__CLONES
 #endif
 #define RJ__PI 3.14159265358979323846
 #define RJ__TWO_PI 6.28318530717958647692
@@ -1075,7 +1083,7 @@ RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
    by its series r - r^3/3 + r^5/5 (error < r^7/7 < 2e-20 for |r| < 2e-3; a chord turns
    about omega dt, 1e-5 in the deployment). Returns nonzero when some chord turned more
    than that, or turned back, and the exact path must redo it. */
-static int rj__beam_link_fast(int ne, double l0sq, double half_inv_l0sq, double kax, double kb,
+RJ__CLONES static int rj__beam_link_fast(int ne, double l0sq, double half_inv_l0sq, double kax, double kb,
                               const double *RJ__RESTRICT xa, const double *RJ__RESTRICT ya, const double *RJ__RESTRICT pa,
                               const double *RJ__RESTRICT bb, const double *RJ__RESTRICT ccx, const double *RJ__RESTRICT ccy,
                               double *RJ__RESTRICT fxe, double *RJ__RESTRICT fye, double *RJ__RESTRICT m1e,
@@ -1158,13 +1166,14 @@ typedef struct rj__adv {
    after its last: the same bits as -FX[0] and FX[last]) and mz = -M2[k] - M1[k+1]: the
    forces, and with a (not NULL) the advanced velocities, positions and kinetic-energy
    shares. */
-static void rj__node_pass(int cnt, int n, const double *RJ__RESTRICT FX, const double *RJ__RESTRICT FY,
+RJ__CLONES static void rj__node_pass(int cnt, int n, const double *RJ__RESTRICT FX, const double *RJ__RESTRICT FY,
                           const double *RJ__RESTRICT M1, const double *RJ__RESTRICT M2,
                           double *RJ__RESTRICT fx, double *RJ__RESTRICT fy, double *RJ__RESTRICT mz,
                           const double *RJ__RESTRICT x, const double *RJ__RESTRICT y, const double *RJ__RESTRICT phi,
                           const rj__adv *a, const double *un)
 {
     int k = 0;
+    (void)un;   /* the vector lanes use it */
     fx += n; fy += n; mz += n;
     if (!a) {
         for (k = 0; k < cnt; k++) { fx[k] = FX[k] - FX[k + 1]; fy[k] = FY[k] - FY[k + 1]; mz[k] = -M2[k] - M1[k + 1]; }

@@ -1,0 +1,117 @@
+/* test_lanes.c - the step's vector lanes against its scalar code: prints one hash of the
+   full state per scene after a run. tests/lanes.sh builds this file three ways (the
+   default flags, -DRJ_NO_SIMD, -O3 -march=native) and fails unless all print the same
+   hashes: every lane must do the scalar code's operations in the scalar code's order. */
+#define REVJOINT_IMPLEMENTATION
+#include "revjoint.h"
+#include "examples/scenes.h"
+#include <stdio.h>
+#include <string.h>
+
+static unsigned long long fnv(unsigned long long h, const void *p, size_t n)
+{
+    const unsigned char *c = (const unsigned char *)p;
+    size_t k;
+    for (k = 0; k < n; k++) { h ^= c[k]; h *= 1099511628211ULL; }
+    return h;
+}
+
+/* positions, rotations, velocities and rates of every node, joint angles and rates, energy */
+static unsigned long long state_hash(const rj_model *m, const rj_state *s)
+{
+    unsigned long long h = 1469598103934665603ULL;
+    rj_energy e;
+    int l, n, j;
+    for (l = 0; l < rj_model_link_count(m); l++)
+        for (n = 0; n < rj_link_node_count(m, l); n++) {
+            double v[6];
+            rj_node_position(m, s, l, n, v); v[2] = rj_node_rotation(m, s, l, n);
+            rj_node_velocity(m, s, l, n, v + 3); v[5] = rj_node_rate(m, s, l, n);
+            h = fnv(h, v, sizeof v);
+        }
+    for (j = 0; j < rj_model_joint_count(m); j++) {
+        double v[2];
+        v[0] = rj_joint_theta_running(m, s, j); v[1] = rj_joint_rate(m, s, j);
+        h = fnv(h, v, sizeof v);
+    }
+    memset(&e, 0, sizeof e);
+    rj_state_energy(m, s, &e);
+    return fnv(h, &e, sizeof e);
+}
+
+static int run(const char *name, const rj_scene_def *sc, double t_end)
+{
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    rj_result r = rj_model_create(sc, &m, &err, NULL);
+    if (r != RJ_OK) { printf("%s: model: %s\n", name, err.msg); return 1; }
+    if (rj_state_create(m, &s, NULL) != RJ_OK) { printf("%s: no state\n", name); rj_model_destroy(m, NULL); return 1; }
+    r = rj_run(m, s, t_end, 0.0, NULL, NULL);
+    printf("%-28s %s t = %.6f hash %016llx\n", name, rj_result_str(r), rj_state_time(s), state_hash(m, s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+    return 0;
+}
+
+static int run_file(const char *path, double t_end)
+{
+    rj_scene_file f;
+    rj_error err;
+    rj_scene_def sc;
+    int rc;
+    if (rj_scene_load(path, &f, &err) != RJ_OK) { printf("%s: %s\n", path, err.msg); return 1; }
+    sc = rj_scene_file_def(&f);
+    rc = run(path, &sc, t_end);
+    rj_scene_file_free(&f);
+    return rc;
+}
+
+int main(void)
+{
+    int rc = 0, i;
+    {   /* the deployment at the paper's settings, through both locks */
+        deploy_opts o = deploy_default_opts();
+        rj_model *m;
+        rj_state *s;
+        rj_error err;
+        if (deploy_build(&o, &m, &err) != RJ_OK || rj_state_create(m, &s, NULL) != RJ_OK) { printf("deploy: %s\n", err.msg); return 1; }
+        printf("%-28s %s t = 6 hash ", "deploy (paper)", rj_result_str(rj_run(m, s, 6.0, 0.0, NULL, NULL)));
+        printf("%016llx\n", state_hash(m, s));
+        rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+    }
+    {   /* free links of 1 .. 13 elements (every tail length), 200 and 300 (two chunks);
+           fast spin: chords turn more than the series covers, the exact path */
+        static const int els[] = { 1, 2, 3, 4, 5, 6, 7, 9, 13, 200, 300 };
+        for (i = 0; i < (int)(sizeof els / sizeof els[0]); i++) {
+            rj_link_def L = rj_default_link_def();
+            rj_scene_def sc = rj_default_scene_def();
+            char name[40];
+            L.height = 0.01; L.elements = els[i]; L.omega = 1.0; L.vy = 0.3;
+            sc.links = &L; sc.link_count = 1;
+            snprintf(name, sizeof name, "free link %d el", els[i]);
+            rc |= run(name, &sc, 0.05);
+            L.omega = 3000.0;
+            snprintf(name, sizeof name, "spinning link %d el", els[i]);
+            rc |= run(name, &sc, 0.002);
+        }
+    }
+    {   /* the impact problem, every method */
+        static const rj_method meth[] = { RJ_METHOD_PENALTY, RJ_METHOD_ADAPTIVE, RJ_METHOD_MOMENTUM, RJ_METHOD_FORCED, RJ_METHOD_ENERGY };
+        for (i = 0; i < 5; i++) {
+            impact_opts o = impact_default_opts();
+            rj_link_def links[2];
+            rj_joint_def joint;
+            rj_scene_def sc;
+            char name[40];
+            o.method = meth[i];
+            impact_scene(&o, links, &joint, &sc);
+            snprintf(name, sizeof name, "impact method %d", (int)meth[i]);
+            rc |= run(name, &sc, 0.1);
+        }
+    }
+    rc |= run_file("examples/scenes/deploy.rjs", 1.0);
+    rc |= run_file("examples/scenes/solar_array.rjs", 0.5);
+    rc |= run_file("examples/scenes/solar_array_bus.rjs", 0.5);
+    return rc;
+}
