@@ -576,7 +576,8 @@ struct rj_model {
     int *grp_first;           /* (ng+1) */
     int ndn;                  /* nodes whose forces change after the beams (joint nodes, rigid links' nodes) */
     int *dnode;               /* (ndn) those nodes and every link's end nodes: the fused beam pass advances them again */
-    double *link_un;          /* (5 nl) a link's other nodes' tinv, rinv, kmass, krot, and 1 when they all agree */
+    double *link_un;          /* (5 nl) a link's other nodes' tinv, rinv, kmass, krot, and 1 when they all agree;
+                                 then (4 nl) its elements' EI/l0, EA/l0, l0^2, 1/(2 l0^2) */
     int *grp_node;            /* (members) */
     int *node_grp;            /* (nn) group of a node, -1 if none */
     double *grp_inv;          /* (ng) 1/sum of member masses, 0 if a member is fixed */
@@ -1027,7 +1028,7 @@ static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
     L->node_grp = rj__carve(&off, (size_t)nn, sizeof(int));
     L->grp_inv = rj__carve(&off, (size_t)nj + 1, sizeof(double));
     L->dnode = rj__carve(&off, (size_t)4 * nj + nn + 1, sizeof(int));
-    L->link_un = rj__carve(&off, (size_t)5 * nl + 1, sizeof(double));
+    L->link_un = rj__carve(&off, (size_t)9 * nl + 1, sizeof(double));
     L->x0 = rj__carve(&off, (size_t)nn, sizeof(double));
     L->y0 = rj__carve(&off, (size_t)nn, sizeof(double));
     L->phi0 = rj__carve(&off, (size_t)nn, sizeof(double));
@@ -1255,9 +1256,8 @@ static double rj__beam_pass(const rj_model *m, const double *x, const double *y,
     int l;
     for (l = 0; l < m->nl; l++) {
         const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;
-        const double l0 = m->link_l0[l], kb = m->link_EI[l] / l0;
-        const double kax = m->ldef[l].fidelity == RJ_LINK_INEXTENSIBLE ? 0.0 : m->link_EA[l] / l0;   /* a constraint instead */
-        const double l0sq = l0 * l0, half_inv_l0sq = 0.5 / l0sq;
+        const double *kc = m->link_un + 5 * (size_t)m->nl + 4 * (size_t)l;
+        const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];
         int c0;
         if (m->ldef[l].fidelity == RJ_LINK_RIGID) {
             /* a rigid link: no elements; its nodes take only what joints apply (and are
@@ -1760,6 +1760,13 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         m->link_first[l + 1] = n0 + d->elements + 1;
         m->link_efirst[l + 1] = m->link_efirst[l] + d->elements;
         m->link_l0[l] = l0; m->link_EA[l] = d->E * A; m->link_EI[l] = d->E * I;
+        {   /* the element's constants: EI/l0, EA/l0 (0 for inextensible links: a constraint
+               instead), l0^2, 1/(2 l0^2) */
+            double *kc = m->link_un + 5 * (size_t)m->nl + 4 * (size_t)l;
+            kc[0] = m->link_EI[l] / l0;
+            kc[1] = d->fidelity == RJ_LINK_INEXTENSIBLE ? 0.0 : m->link_EA[l] / l0;
+            kc[2] = l0 * l0; kc[3] = 0.5 / kc[2];
+        }
         m->link_rho[l] = d->rho; m->link_I[l] = I;
         mt = 0.5 * d->rho * A * l0;
         jr = d->rho * A * l0 * l0 * l0 / 78.0;
