@@ -14,6 +14,10 @@ CONFIGURATION MACROS
                              allocator used by rj_model_create / rj_state_create (define both
                              or neither); ctx is the user pointer given to those calls
    RJ_ASSERT(x)              programmer-error checks (NULL, index out of range); default assert
+   RJ_NO_SIMD                plain scalar loops instead of GCC/Clang vector lanes in the step
+                             (same results to the bit: tests/lanes.sh)
+   RJ_NO_CLONES              with gcc on x86-64 Linux, do not also compile the lane kernels for
+                             AVX2 (target_clones, chosen when the program loads)
 
 QUICK START
    rj_link_def links[2]; rj_joint_def joints[2]; rj_solver_def solver; rj_scene_def scene;
