@@ -496,6 +496,11 @@ typedef long long rj__vl __attribute__((vector_size(8 * RJ__VW)));
 #ifndef RJ__CLONES
 #define RJ__CLONES
 #endif
+#if defined(__cplusplus) || (defined(__STDC_VERSION__) && __STDC_VERSION__ >= 199901L)
+#define RJ__INLINE inline
+#else
+#define RJ__INLINE
+#endif
 #define RJ__PI 3.14159265358979323846
 #define RJ__TWO_PI 6.28318530717958647692
 #define RJ__COOKIE_LINK 0x524a4c4bu
@@ -1170,12 +1175,13 @@ typedef struct rj__adv {
    (its element on the left, -0.0 before a link's first, minus the one on the right, +0.0
    after its last: the same bits as -FX[0] and FX[last]) and mz = -M2[k] - M1[k+1]: the
    forces, and with a (not NULL) the advanced velocities, positions and kinetic-energy
-   shares. */
+   shares; then the forces are stored only if store is set (the step needs them only at
+   nodes it advances again). */
 RJ__CLONES static void rj__node_pass(int cnt, int n, const double *RJ__RESTRICT FX, const double *RJ__RESTRICT FY,
                           const double *RJ__RESTRICT M1, const double *RJ__RESTRICT M2,
                           double *RJ__RESTRICT fx, double *RJ__RESTRICT fy, double *RJ__RESTRICT mz,
                           const double *RJ__RESTRICT x, const double *RJ__RESTRICT y, const double *RJ__RESTRICT phi,
-                          const rj__adv *a, const double *un)
+                          const rj__adv *a, const double *un, int store)
 {
     int k = 0;
     (void)un;   /* the vector lanes use it */
@@ -1202,7 +1208,7 @@ RJ__CLONES static void rj__node_pass(int cnt, int n, const double *RJ__RESTRICT 
             RJ__VLD(f0, FX + k); RJ__VLD(f1, FX + k + 1); RJ__VLD(g0, FY + k); RJ__VLD(g1, FY + k + 1);
             RJ__VLD(m2, M2 + k); RJ__VLD(m1, M1 + k + 1);
             fxv = f0 - f1; fyv = g0 - g1; mzv = -m2 - m1;
-            RJ__VST(fx + k, fxv); RJ__VST(fy + k, fyv); RJ__VST(mz + k, mzv);
+            if (store) { RJ__VST(fx + k, fxv); RJ__VST(fy + k, fyv); RJ__VST(mz + k, mzv); }
             RJ__VLD(vxv, vx + k); RJ__VLD(vyv, vy + k); RJ__VLD(wv, w + k);
             {
                 rj__vd tiv = tiu, riv = riu, kmv = kmu, kjv = kju;
@@ -1221,7 +1227,7 @@ RJ__CLONES static void rj__node_pass(int cnt, int n, const double *RJ__RESTRICT 
         for (; k < cnt; k++) {
             const double fxv = FX[k] - FX[k + 1], fyv = FY[k] - FY[k + 1], mzv = -M2[k] - M1[k + 1];
             RJ__ADV_CORE(double, k, fxv, fyv, mzv, vx[k], vy[k], w[k]);
-            fx[k] = fxv; fy[k] = fyv; mz[k] = mzv;
+            if (store) { fx[k] = fxv; fy[k] = fyv; mz[k] = mzv; }
             nvx[k] = ux_; nvy[k] = uy_; nw[k] = uw_; kn[k] = kn_;
             nx[k] = x[k] + dt * ux_; ny[k] = y[k] + dt * uy_; nphi[k] = phi[k] + dt * uw_;
         }
@@ -1257,7 +1263,7 @@ static double rj__beam_pass(const rj_model *m, const double *x, const double *y,
     /* chunk buffers: entry 0 is the previous chunk's last element (or the -0.0 / +0.0 before
        a link's first), entries 1 .. nc this chunk's, nc + 1 the +0.0 after a link's last */
     double FX[RJ__CHUNK + 2], FY[RJ__CHUNK + 2], M1[RJ__CHUNK + 2], M2[RJ__CHUNK + 2];
-    int l;
+    int l, q = 0;   /* q: the next node of m->dnode (ascending) not yet passed */
     for (l = 0; l < m->nl; l++) {
         const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;
         const double *kc = m->link_un + 5 * (size_t)m->nl + 4 * (size_t)l;
@@ -1297,7 +1303,12 @@ static double rj__beam_pass(const rj_model *m, const double *x, const double *y,
             if (last) { FX[nc + 1] = FY[nc + 1] = M1[nc + 1] = 0.0; }
             /* the chunk's nodes whose elements are all summed: na .. na + nc - 1, and the
                link's last node with the last chunk */
-            rj__node_pass(nc + last, na, FX, FY, M1, M2, fx, fy, mz, x, y, phi, adv, m->link_un + 5 * l);
+            {   /* forces are stored where a node is advanced again (or with no advance) */
+                int store = !adv;
+                while (q < m->ndn && m->dnode[q] < na) q++;
+                if (q < m->ndn && m->dnode[q] < na + nc + last) store = 1;
+                rj__node_pass(nc + last, na, FX, FY, M1, M2, fx, fy, mz, x, y, phi, adv, m->link_un + 5 * l, store);
+            }
             FX[0] = FX[nc]; FY[0] = FY[nc]; M1[0] = M1[nc]; M2[0] = M2[nc];
         }
     }
@@ -1310,7 +1321,7 @@ static double rj__beam_pass(const rj_model *m, const double *x, const double *y,
    them here; everything above (flags, methods, friction, energy) is shared. */
 typedef struct rj__jgeo { double ax, ay, bx, by, a2, b2; } rj__jgeo;
 
-static void rj__joint_geo(const rj_model *m, const rj__joint *J, const double *x, const double *y, rj__jgeo *g)
+static RJ__INLINE void rj__joint_geo(const rj_model *m, const rj__joint *J, const double *x, const double *y, rj__jgeo *g)
 {
     (void)m;
     if (!J->chord) { g->ax = g->ay = g->bx = g->by = 0; g->a2 = g->b2 = 1; return; }
@@ -1323,14 +1334,14 @@ static void rj__joint_geo(const rj_model *m, const rj__joint *J, const double *x
 
 /* raw rotary location: chord mode atan2 in (-pi, pi] (to be unwrapped), tangent mode the
    running angle itself */
-static double rj__joint_raw(const rj__joint *J, const rj__jgeo *g, const double *phi)
+static RJ__INLINE double rj__joint_raw(const rj__joint *J, const rj__jgeo *g, const double *phi)
 {
     if (J->chord) return atan2(g->ax * g->by - g->ay * g->bx, g->ax * g->bx + g->ay * g->by);
     return J->off + phi[J->nJ] - (J->nI >= 0 ? phi[J->nI] : 0.0);
 }
 
 /* theta_dot = omega_2 - omega_1; chord mode omega = (r x v_r) / |r|^2 (SPEC sec. 2) */
-static double rj__joint_rate(const rj__joint *J, const rj__jgeo *g, const double *vx, const double *vy, const double *w, double *w1, double *w2)
+static RJ__INLINE double rj__joint_rate(const rj__joint *J, const rj__jgeo *g, const double *vx, const double *vy, const double *w, double *w1, double *w2)
 {
     double o1 = 0.0, o2;
     if (J->chord) {
@@ -1348,7 +1359,7 @@ static double rj__joint_rate(const rj__joint *J, const rj__jgeo *g, const double
 /* Torque tau on body 2 and -tau on body 1. Chord mode: force couples on J-L and I-K,
    F_L = tau perp(b)/|b|^2 = -F_J, F_K = -tau perp(a)/|a|^2 = -F_I. Tangent mode: moments
    on the pin nodes' rotations. Either way the force is tau times the gradient of theta. */
-static void rj__apply_torque(const rj__joint *J, const rj__jgeo *g, double tau, double *fx, double *fy, double *mz)
+static RJ__INLINE void rj__apply_torque(const rj__joint *J, const rj__jgeo *g, double tau, double *fx, double *fy, double *mz)
 {
     double sx, sy;
     if (!J->chord) {
@@ -1365,7 +1376,7 @@ static void rj__apply_torque(const rj__joint *J, const rj__jgeo *g, double tau, 
 }
 
 /* g^T M^-1 g: rate change per unit torque impulse (1/I_red, with the pin's own mass). */
-static double rj__joint_compliance(const rj_model *m, const rj__joint *J, const rj__jgeo *g)
+static RJ__INLINE double rj__joint_compliance(const rj_model *m, const rj__joint *J, const rj__jgeo *g)
 {
     double c, px, py;
     if (!J->chord) return m->rinv[J->nJ] + (J->nI >= 0 ? m->rinv[J->nI] : 0.0);
@@ -3033,7 +3044,7 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
 
 /* A node's rotation rate at the end of the step under the loads so far (a body's own node:
    the body's). */
-static double rj__rate_pred(const rj_model *m, const double *of, int n, const double *x, const double *y, const double *w,
+static RJ__INLINE double rj__rate_pred(const rj_model *m, const double *of, int n, const double *x, const double *y, const double *w,
                             const double *fx, const double *fy, const double *mz, double kick)
 {
     if (m->ncl && RJ__CL_RIGID(m, n)) {
