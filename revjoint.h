@@ -16,8 +16,8 @@ CONFIGURATION MACROS
    RJ_ASSERT(x)              programmer-error checks (NULL, index out of range); default assert
    RJ_NO_SIMD                plain scalar loops instead of GCC/Clang vector lanes in the step
                              (same results to the bit: tests/lanes.sh)
-   RJ_NO_CLONES              with gcc on x86-64 Linux, do not also compile the lane kernels for
-                             AVX2 (target_clones, chosen when the program loads)
+   RJ_NO_DISPATCH            on x86-64 without -mavx, do not also compile the lane kernels
+                             for AVX2 (chosen per call when the CPU has it); 2-lane only
 
 QUICK START
    rj_link_def links[2]; rj_joint_def joints[2]; rj_solver_def solver; rj_scene_def scene;
@@ -473,28 +473,32 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
 #define RJ__RESTRICT
 #endif
 /* The beam pass uses GCC/Clang vector extensions where they exist (RJ_NO_SIMD turns them
-   off): lanes of 4 doubles with AVX, 2 otherwise. Every lane does the scalar code's
-   operations in the scalar code's order, so results are bit-identical either way. */
+   off): lanes of 4 doubles where the compiler targets AVX, 2 otherwise, and on x86-64
+   without -mavx both, the 4-lane kernels compiled for AVX2 and chosen per call when the
+   CPU has it (RJ_NO_DISPATCH turns that off). No FMA either way. Every lane does the
+   scalar code's operations in the scalar code's order, so results are bit-identical in
+   every case (tests/lanes.sh). */
 #if !defined(RJ_NO_SIMD) && (defined(__GNUC__) || defined(__clang__))
-#if defined(__AVX__) || (defined(__x86_64__) && defined(__linux__) && defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 8)
-#define RJ__VW 4
-#define RJ__SPLAT(a) { (a), (a), (a), (a) }
-#else
-#define RJ__VW 2
-#define RJ__SPLAT(a) { (a), (a) }
-#endif
-typedef double rj__vd __attribute__((vector_size(8 * RJ__VW)));
-typedef long long rj__vl __attribute__((vector_size(8 * RJ__VW)));
+#define RJ__LANES 1
+typedef double rj__vd2 __attribute__((vector_size(16)));
+typedef long long rj__vl2 __attribute__((vector_size(16)));
+typedef double rj__vd4 __attribute__((vector_size(32)));
+typedef long long rj__vl4 __attribute__((vector_size(32)));
 #define RJ__VLD(v, p) memcpy(&(v), (p), sizeof(v))
-/* x86-64 Linux builds without -mavx (the default flags): GCC compiles the lane kernels twice,
-   for AVX2 and for the baseline, and picks one when the program loads. No FMA either way. */
-#if !defined(__AVX__) && defined(__x86_64__) && defined(__linux__) && defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 8 && !defined(RJ_NO_CLONES)
-#define RJ__CLONES __attribute__((target_clones("avx2", "default")))
-#endif
 #define RJ__VST(p, v) memcpy((p), &(v), sizeof(v))
+#if defined(__AVX__)
+#define RJ__LANES4 1
+#elif defined(__x86_64__) && !defined(RJ_NO_DISPATCH) && ((defined(__clang__) && __clang_major__ >= 4) || (!defined(__clang__) && __GNUC__ >= 6))
+#define RJ__LANES2 1
+#define RJ__LANES4 1
+#define RJ__DISPATCH 1
+#define RJ__AVX2 __attribute__((target("avx2")))
+#else
+#define RJ__LANES2 1
 #endif
-#ifndef RJ__CLONES
-#define RJ__CLONES
+#endif
+#ifndef RJ__AVX2
+#define RJ__AVX2
 #endif
 #if defined(__cplusplus) || (defined(__STDC_VERSION__) && __STDC_VERSION__ >= 199901L)
 #define RJ__INLINE inline
@@ -1088,42 +1092,67 @@ RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
     const T fx_ = -nax_ * (ex) - s_ * (ey), fy_ = -nax_ * (ey) + s_ * (ex);              \
     const T u_ = 0.5 * (ma_ * tha_ + mb_ * thb_) + 0.5 * kax * l0sq * eps_ * eps_
 
+#ifdef RJ__LANES
+/* The element loop in lanes of W doubles; returns the first element left to the scalar
+   loop and clears *ok when some chord turned too far (or the result is NaN). */
+#define RJ__ELEM_LANES(W, VD, VL, ATTR)                                                          \
+ATTR static int rj__elem_lanes##W(int ne, double l0sq, double half_inv_l0sq, double kax, double kb, \
+    const double *RJ__RESTRICT xa, const double *RJ__RESTRICT ya, const double *RJ__RESTRICT pa,   \
+    const double *RJ__RESTRICT bb, const double *RJ__RESTRICT ccx, const double *RJ__RESTRICT ccy, \
+    double *RJ__RESTRICT fxe, double *RJ__RESTRICT fye, double *RJ__RESTRICT m1e,                \
+    double *RJ__RESTRICT m2e, double *RJ__RESTRICT ue, double *RJ__RESTRICT bo,                  \
+    double *RJ__RESTRICT cox, double *RJ__RESTRICT coy, int *ok)                                 \
+{                                                                                                \
+    VD lim, zero;                                                                                \
+    VL okv;                                                                                      \
+    int i = 0, k;                                                                                \
+    for (k = 0; k < W; k++) { lim[k] = 4e-6; zero[k] = 0.0; }                                    \
+    okv = zero < lim;   /* all lanes set */                                                      \
+    for (; i < ne && ne >= W; i += W) {                                                          \
+        VD x0, x1, y0, y1, p0, p1, b, cxv, cyv, ex, ey;                                          \
+        if (i + W > ne) i = ne - W;   /* the last lanes again: the same inputs give the same bits */ \
+        RJ__VLD(x0, xa + i); RJ__VLD(x1, xa + i + 1); RJ__VLD(y0, ya + i); RJ__VLD(y1, ya + i + 1); \
+        RJ__VLD(p0, pa + i); RJ__VLD(p1, pa + i + 1); RJ__VLD(b, bb + i);                        \
+        RJ__VLD(cxv, ccx + i); RJ__VLD(cyv, ccy + i);                                            \
+        ex = x1 - x0; ey = y1 - y0;                                                              \
+        {                                                                                        \
+            RJ__ELEM_CORE(VD, ex, ey, cxv, cyv, b, p0, p1);                                      \
+            okv &= (r2_ < lim) & (dp_ > zero);   /* NaN clears it too */                         \
+            RJ__VST(bo + i, bt_); RJ__VST(cox + i, ex); RJ__VST(coy + i, ey);                    \
+            RJ__VST(fxe + i, fx_); RJ__VST(fye + i, fy_); RJ__VST(m1e + i, ma_);                 \
+            RJ__VST(m2e + i, mb_); RJ__VST(ue + i, u_);                                          \
+        }                                                                                        \
+    }                                                                                            \
+    for (k = 0; k < W; k++) if (!okv[k]) *ok = 0;                                                \
+    return i;                                                                                    \
+}
+#ifdef RJ__LANES2
+RJ__ELEM_LANES(2, rj__vd2, rj__vl2, )
+#endif
+#ifdef RJ__LANES4
+RJ__ELEM_LANES(4, rj__vd4, rj__vl4, RJ__AVX2)
+#endif
+#endif
+
 /* The fast path over a chunk of one link's elements, branch-free (vector lanes where the
    compiler has them): one division per element, atan(r) of the small per-step chord turn r
    by its series r - r^3/3 + r^5/5 (error < r^7/7 < 2e-20 for |r| < 2e-3; a chord turns
    about omega dt, 1e-5 in the deployment). Returns nonzero when some chord turned more
    than that, or turned back, and the exact path must redo it. */
-RJ__CLONES static int rj__beam_link_fast(int ne, double l0sq, double half_inv_l0sq, double kax, double kb,
-                              const double *RJ__RESTRICT xa, const double *RJ__RESTRICT ya, const double *RJ__RESTRICT pa,
-                              const double *RJ__RESTRICT bb, const double *RJ__RESTRICT ccx, const double *RJ__RESTRICT ccy,
-                              double *RJ__RESTRICT fxe, double *RJ__RESTRICT fye, double *RJ__RESTRICT m1e,
-                              double *RJ__RESTRICT m2e, double *RJ__RESTRICT ue, double *RJ__RESTRICT bo,
-                              double *RJ__RESTRICT cox, double *RJ__RESTRICT coy)
+#define RJ__ELEM_ARGS ne, l0sq, half_inv_l0sq, kax, kb, xa, ya, pa, bb, ccx, ccy, fxe, fye, m1e, m2e, ue, bo, cox, coy, &ok
+static int rj__beam_link_fast(int ne, double l0sq, double half_inv_l0sq, double kax, double kb,
+                              const double *xa, const double *ya, const double *pa, const double *bb, const double *ccx,
+                              const double *ccy, double *fxe, double *fye, double *m1e, double *m2e, double *ue, double *bo,
+                              double *cox, double *coy)
 {
-    int i = 0;
+    int i = 0, ok = 1;
     long long bad = 0;
-#ifdef RJ__VW
-    {
-        const rj__vd lim = RJ__SPLAT(4e-6), zero = RJ__SPLAT(0.0);
-        rj__vl okv = zero < lim;   /* all lanes set */
-        for (; i < ne && ne >= RJ__VW; i += RJ__VW) {
-            if (i + RJ__VW > ne) i = ne - RJ__VW;   /* the last lanes again: the same inputs give the same bits */
-            rj__vd x0, x1, y0, y1, p0, p1, b, cxv, cyv, ex, ey;
-            RJ__VLD(x0, xa + i); RJ__VLD(x1, xa + i + 1); RJ__VLD(y0, ya + i); RJ__VLD(y1, ya + i + 1);
-            RJ__VLD(p0, pa + i); RJ__VLD(p1, pa + i + 1); RJ__VLD(b, bb + i); RJ__VLD(cxv, ccx + i); RJ__VLD(cyv, ccy + i);
-            ex = x1 - x0; ey = y1 - y0;
-            {
-                RJ__ELEM_CORE(rj__vd, ex, ey, cxv, cyv, b, p0, p1);
-                okv &= (r2_ < lim) & (dp_ > zero);   /* NaN clears it too */
-                RJ__VST(bo + i, bt_); RJ__VST(cox + i, ex); RJ__VST(coy + i, ey);
-                RJ__VST(fxe + i, fx_); RJ__VST(fye + i, fy_); RJ__VST(m1e + i, ma_); RJ__VST(m2e + i, mb_); RJ__VST(ue + i, u_);
-            }
-        }
-        {
-            int k;
-            for (k = 0; k < RJ__VW; k++) bad |= !okv[k];
-        }
-    }
+#if defined(RJ__DISPATCH)
+    i = __builtin_cpu_supports("avx2") ? rj__elem_lanes4(RJ__ELEM_ARGS) : rj__elem_lanes2(RJ__ELEM_ARGS);
+#elif defined(RJ__LANES4)
+    i = rj__elem_lanes4(RJ__ELEM_ARGS);
+#elif defined(RJ__LANES2)
+    i = rj__elem_lanes2(RJ__ELEM_ARGS);
 #endif
     for (; i < ne; i++) {
         const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];
@@ -1132,20 +1161,23 @@ RJ__CLONES static int rj__beam_link_fast(int ne, double l0sq, double half_inv_l0
         bo[i] = bt_; cox[i] = ex; coy[i] = ey;
         fxe[i] = fx_; fye[i] = fy_; m1e[i] = ma_; m2e[i] = mb_; ue[i] = u_;
     }
-    return bad != 0;
+    return bad != 0 || !ok;
 }
+#undef RJ__ELEM_ARGS
 
 /* Sum in eight fixed partial sums: deterministic, and it vectorises where the target can. */
 static double rj__sum8(const double *RJ__RESTRICT a, int n)
 {
     double p[8] = { 0, 0, 0, 0, 0, 0, 0, 0 };
     int i = 0, k;
-#ifdef RJ__VW
+#ifdef RJ__LANES
     {   /* the same eight sums in vector lanes */
-        rj__vd v[8 / RJ__VW], t;
-        memset(v, 0, sizeof v);
-        for (; i + 7 < n; i += 8) for (k = 0; k < 8 / RJ__VW; k++) { RJ__VLD(t, a + i + k * RJ__VW); v[k] += t; }
-        memcpy(p, v, sizeof p);
+        rj__vd2 v0 = { 0.0, 0.0 }, v1 = v0, v2 = v0, v3 = v0, t;
+        for (; i + 7 < n; i += 8) {
+            RJ__VLD(t, a + i); v0 += t; RJ__VLD(t, a + i + 2); v1 += t;
+            RJ__VLD(t, a + i + 4); v2 += t; RJ__VLD(t, a + i + 6); v3 += t;
+        }
+        RJ__VST(p, v0); RJ__VST(p + 2, v1); RJ__VST(p + 4, v2); RJ__VST(p + 6, v3);
     }
 #endif
     for (; i + 7 < n; i += 8) for (k = 0; k < 8; k++) p[k] += a[i + k];
@@ -1171,65 +1203,90 @@ typedef struct rj__adv {
     const T uw_ = (wv) + kick * (mzv) * ri[i];                                                     \
     const T kn_ = km[i] * ((vxv) * ux_ + (vyv) * uy_) + kj[i] * (wv) * uw_
 
+#ifdef RJ__LANES
+/* The node pass in lanes of W doubles; returns the first node left to the scalar loop. */
+#define RJ__NODE_LANES(W, VD, ATTR)                                                              \
+ATTR static int rj__node_lanes##W(int cnt, int n, int store, const double *un, const rj__adv *a,   \
+    const double *RJ__RESTRICT FX, const double *RJ__RESTRICT FY, const double *RJ__RESTRICT M1,   \
+    const double *RJ__RESTRICT M2, double *fx_, double *fy_, double *mz_,                        \
+    const double *x_, const double *y_, const double *phi_)                                      \
+{                                                                                                \
+    const int uni = un[4] != 0;                                                                  \
+    const double kick = a->kick, dt = a->dt;                                                     \
+    double *RJ__RESTRICT fx = fx_ + n, *RJ__RESTRICT fy = fy_ + n, *RJ__RESTRICT mz = mz_ + n;   \
+    const double *RJ__RESTRICT x = x_ + n, *RJ__RESTRICT y = y_ + n, *RJ__RESTRICT phi = phi_ + n; \
+    const double *RJ__RESTRICT vx = a->vx + n, *RJ__RESTRICT vy = a->vy + n, *RJ__RESTRICT w = a->w + n; \
+    const double *RJ__RESTRICT ti = a->ti + n, *RJ__RESTRICT ri = a->ri + n;                     \
+    const double *RJ__RESTRICT km = a->km + n, *RJ__RESTRICT kj = a->kj + n;                     \
+    double *RJ__RESTRICT nx = a->nx + n, *RJ__RESTRICT ny = a->ny + n, *RJ__RESTRICT nphi = a->nphi + n; \
+    double *RJ__RESTRICT nvx = a->nvx + n, *RJ__RESTRICT nvy = a->nvy + n, *RJ__RESTRICT nw = a->nw + n; \
+    double *RJ__RESTRICT kn = a->kn + n;                                                         \
+    VD tiu, riu, kmu, kju;                                                                       \
+    int k;                                                                                       \
+    for (k = 0; k < W; k++) { tiu[k] = un[0]; riu[k] = un[1]; kmu[k] = un[2]; kju[k] = un[3]; }  \
+    for (k = 0; k < cnt && cnt >= W; k += W) {                                                   \
+        VD f0, f1, g0, g1, m1, m2, fxv, fyv, mzv, vxv, vyv, wv, t, tiv = tiu, riv = riu, kmv = kmu, kjv = kju; \
+        if (k + W > cnt) k = cnt - W;   /* the last lanes again: same inputs, same bits */       \
+        RJ__VLD(f0, FX + k); RJ__VLD(f1, FX + k + 1); RJ__VLD(g0, FY + k); RJ__VLD(g1, FY + k + 1); \
+        RJ__VLD(m2, M2 + k); RJ__VLD(m1, M1 + k + 1);                                            \
+        fxv = f0 - f1; fyv = g0 - g1; mzv = -m2 - m1;                                            \
+        if (store) { RJ__VST(fx + k, fxv); RJ__VST(fy + k, fyv); RJ__VST(mz + k, mzv); }         \
+        RJ__VLD(vxv, vx + k); RJ__VLD(vyv, vy + k); RJ__VLD(wv, w + k);                          \
+        if (!uni) { RJ__VLD(tiv, ti + k); RJ__VLD(riv, ri + k); RJ__VLD(kmv, km + k); RJ__VLD(kjv, kj + k); } \
+        {                                                                                        \
+            const VD ux_ = vxv + kick * fxv * tiv, uy_ = vyv + kick * fyv * tiv, uw_ = wv + kick * mzv * riv; \
+            const VD kn_ = kmv * (vxv * ux_ + vyv * uy_) + kjv * wv * uw_;                       \
+            RJ__VST(nvx + k, ux_); RJ__VST(nvy + k, uy_); RJ__VST(nw + k, uw_); RJ__VST(kn + k, kn_); \
+            RJ__VLD(t, x + k); t = t + dt * ux_; RJ__VST(nx + k, t);                             \
+            RJ__VLD(t, y + k); t = t + dt * uy_; RJ__VST(ny + k, t);                             \
+            RJ__VLD(t, phi + k); t = t + dt * uw_; RJ__VST(nphi + k, t);                         \
+        }                                                                                        \
+    }                                                                                            \
+    return k;                                                                                    \
+}
+#ifdef RJ__LANES2
+RJ__NODE_LANES(2, rj__vd2, )
+#endif
+#ifdef RJ__LANES4
+RJ__NODE_LANES(4, rj__vd4, RJ__AVX2)
+#endif
+#endif
+
 /* Nodes n .. n + cnt - 1 from element results laid out so that node k takes FX[k] - FX[k+1]
    (its element on the left, -0.0 before a link's first, minus the one on the right, +0.0
    after its last: the same bits as -FX[0] and FX[last]) and mz = -M2[k] - M1[k+1]: the
    forces, and with a (not NULL) the advanced velocities, positions and kinetic-energy
    shares; then the forces are stored only if store is set (the step needs them only at
-   nodes it advances again). */
-RJ__CLONES static void rj__node_pass(int cnt, int n, const double *RJ__RESTRICT FX, const double *RJ__RESTRICT FY,
-                          const double *RJ__RESTRICT M1, const double *RJ__RESTRICT M2,
-                          double *RJ__RESTRICT fx, double *RJ__RESTRICT fy, double *RJ__RESTRICT mz,
-                          const double *RJ__RESTRICT x, const double *RJ__RESTRICT y, const double *RJ__RESTRICT phi,
+   nodes it advances again). un: the link's uniform node values (rj_model.link_un). */
+static void rj__node_pass(int cnt, int n, const double *FX, const double *FY, const double *M1, const double *M2,
+                          double *fx, double *fy, double *mz, const double *x, const double *y, const double *phi,
                           const rj__adv *a, const double *un, int store)
 {
     int k = 0;
-    (void)un;   /* the vector lanes use it */
-    fx += n; fy += n; mz += n;
     if (!a) {
-        for (k = 0; k < cnt; k++) { fx[k] = FX[k] - FX[k + 1]; fy[k] = FY[k] - FY[k + 1]; mz[k] = -M2[k] - M1[k + 1]; }
+        for (k = 0; k < cnt; k++) { fx[n + k] = FX[k] - FX[k + 1]; fy[n + k] = FY[k] - FY[k + 1]; mz[n + k] = -M2[k] - M1[k + 1]; }
         return;
     }
+#if defined(RJ__DISPATCH)
+    k = __builtin_cpu_supports("avx2") ? rj__node_lanes4(cnt, n, store, un, a, FX, FY, M1, M2, fx, fy, mz, x, y, phi)
+                                       : rj__node_lanes2(cnt, n, store, un, a, FX, FY, M1, M2, fx, fy, mz, x, y, phi);
+#elif defined(RJ__LANES4)
+    k = rj__node_lanes4(cnt, n, store, un, a, FX, FY, M1, M2, fx, fy, mz, x, y, phi);
+#elif defined(RJ__LANES2)
+    k = rj__node_lanes2(cnt, n, store, un, a, FX, FY, M1, M2, fx, fy, mz, x, y, phi);
+#else
+    (void)un;
+#endif
     {
         const double kick = a->kick, dt = a->dt;
-        const double *RJ__RESTRICT vx = a->vx + n, *RJ__RESTRICT vy = a->vy + n, *RJ__RESTRICT w = a->w + n;
-        const double *RJ__RESTRICT ti = a->ti + n, *RJ__RESTRICT ri = a->ri + n, *RJ__RESTRICT km = a->km + n, *RJ__RESTRICT kj = a->kj + n;
-        double *RJ__RESTRICT nx = a->nx + n, *RJ__RESTRICT ny = a->ny + n, *RJ__RESTRICT nphi = a->nphi + n;
-        double *RJ__RESTRICT nvx = a->nvx + n, *RJ__RESTRICT nvy = a->nvy + n, *RJ__RESTRICT nw = a->nw + n, *RJ__RESTRICT kn = a->kn + n;
-        x += n; y += n; phi += n;
-#ifdef RJ__VW
-        /* a uniform link reads four numbers, not four arrays (its end nodes and joints' nodes
-           are advanced again later) */
-        const int uni = un[4] != 0;
-        const rj__vd tiu = RJ__SPLAT(un[0]), riu = RJ__SPLAT(un[1]), kmu = RJ__SPLAT(un[2]), kju = RJ__SPLAT(un[3]);
-        for (; k < cnt && cnt >= RJ__VW; k += RJ__VW) {
-            rj__vd f0, f1, g0, g1, m1, m2, fxv, fyv, mzv, vxv, vyv, wv, t;
-            if (k + RJ__VW > cnt) k = cnt - RJ__VW;   /* the last lanes again: same inputs, same bits */
-            RJ__VLD(f0, FX + k); RJ__VLD(f1, FX + k + 1); RJ__VLD(g0, FY + k); RJ__VLD(g1, FY + k + 1);
-            RJ__VLD(m2, M2 + k); RJ__VLD(m1, M1 + k + 1);
-            fxv = f0 - f1; fyv = g0 - g1; mzv = -m2 - m1;
-            if (store) { RJ__VST(fx + k, fxv); RJ__VST(fy + k, fyv); RJ__VST(mz + k, mzv); }
-            RJ__VLD(vxv, vx + k); RJ__VLD(vyv, vy + k); RJ__VLD(wv, w + k);
-            {
-                rj__vd tiv = tiu, riv = riu, kmv = kmu, kjv = kju;
-                if (!uni) { RJ__VLD(tiv, ti + k); RJ__VLD(riv, ri + k); RJ__VLD(kmv, km + k); RJ__VLD(kjv, kj + k); }
-                {
-                    const rj__vd ux_ = vxv + kick * fxv * tiv, uy_ = vyv + kick * fyv * tiv, uw_ = wv + kick * mzv * riv;
-                    const rj__vd kn_ = kmv * (vxv * ux_ + vyv * uy_) + kjv * wv * uw_;
-                    RJ__VST(nvx + k, ux_); RJ__VST(nvy + k, uy_); RJ__VST(nw + k, uw_); RJ__VST(kn + k, kn_);
-                    RJ__VLD(t, x + k); t = t + dt * ux_; RJ__VST(nx + k, t);
-                    RJ__VLD(t, y + k); t = t + dt * uy_; RJ__VST(ny + k, t);
-                    RJ__VLD(t, phi + k); t = t + dt * uw_; RJ__VST(nphi + k, t);
-                }
-            }
-        }
-#endif
+        const double *ti = a->ti + n, *ri = a->ri + n, *km = a->km + n, *kj = a->kj + n;
         for (; k < cnt; k++) {
             const double fxv = FX[k] - FX[k + 1], fyv = FY[k] - FY[k + 1], mzv = -M2[k] - M1[k + 1];
-            RJ__ADV_CORE(double, k, fxv, fyv, mzv, vx[k], vy[k], w[k]);
-            if (store) { fx[k] = fxv; fy[k] = fyv; mz[k] = mzv; }
-            nvx[k] = ux_; nvy[k] = uy_; nw[k] = uw_; kn[k] = kn_;
-            nx[k] = x[k] + dt * ux_; ny[k] = y[k] + dt * uy_; nphi[k] = phi[k] + dt * uw_;
+            const int i = n + k;
+            RJ__ADV_CORE(double, k, fxv, fyv, mzv, a->vx[i], a->vy[i], a->w[i]);
+            if (store) { fx[i] = fxv; fy[i] = fyv; mz[i] = mzv; }
+            a->nvx[i] = ux_; a->nvy[i] = uy_; a->nw[i] = uw_; a->kn[i] = kn_;
+            a->nx[i] = x[i] + dt * ux_; a->ny[i] = y[i] + dt * uy_; a->nphi[i] = phi[i] + dt * uw_;
         }
     }
 }

@@ -9,7 +9,7 @@
 F=${1:--O2}; N=$2
 B=build
 mkdir -p $B
-cc -std=c99 $F -g -ffp-contract=off -I. bench/paper_run.c -o $B/paper_run -lm || exit 1
+${CC:-cc} -std=c99 $F -g -ffp-contract=off -I. bench/paper_run.c -o $B/paper_run -lm || exit 1
 if [ -n "$N" ]; then A="--free $N 200"; C="--free $N 400"; D=$((200 * N)); U="element-step, $N elements"
 else A=0.15; C=0.30; D=20000; U="step, deployment at the paper's settings"; fi
 valgrind --tool=callgrind --callgrind-out-file=$B/instr_a.out $B/paper_run $A >/dev/null 2>&1 || exit 1
