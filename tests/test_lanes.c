@@ -1,7 +1,8 @@
 /* test_lanes.c - the step's vector lanes against its scalar code: prints one hash of the
-   full state per scene after a run. tests/lanes.sh builds this file three ways (the
-   default flags, -DRJ_NO_SIMD, -O3 -march=native) and fails unless all print the same
-   hashes: every lane must do the scalar code's operations in the scalar code's order. */
+   full state per scene after a run. tests/lanes.sh builds this file five ways (gcc -O2
+   with the AVX2 dispatch, gcc -O2 -DRJ_NO_DISPATCH, gcc -O3 -march=native, clang -O2,
+   -DRJ_NO_SIMD) and fails unless all print the same hashes: every lane must do the scalar
+   code's operations in the scalar code's order. */
 #define REVJOINT_IMPLEMENTATION
 #include "revjoint.h"
 #include "examples/scenes.h"
@@ -108,6 +109,34 @@ int main(void)
             impact_scene(&o, links, &joint, &sc);
             snprintf(name, sizeof name, "impact method %d", (int)meth[i]);
             rc |= run(name, &sc, 0.1);
+        }
+    }
+    {   /* pins at inner nodes (the nodes the step advances again sit mid-chunk), chord and
+           tangent references, friction, damping, a table, springs, a penalty limit */
+        static const int refs[2] = { RJ_REF_TANGENT, RJ_REF_CHORD };
+        for (i = 0; i < 2; i++) {
+            rj_link_def L[3];
+            rj_joint_def J[3];
+            rj_scene_def sc = rj_default_scene_def();
+            char name[48];
+            int k;
+            for (k = 0; k < 3; k++) {
+                L[k] = rj_default_link_def();
+                L[k].length = 1.0; L[k].elements = k == 0 ? 17 : 9; L[k].height = 0.02; L[k].width = 0.05;
+                J[k] = rj_default_joint_def();
+                J[k].reference = refs[i]; J[k].friction = 0.01; J[k].damping = 0.002; J[k].spring_k = 0.5;
+            }
+            L[0].omega = 0.5;
+            J[0].body1 = -1; J[0].body2 = 0;
+            J[1].body1 = 0; J[1].node1 = 6; J[1].body2 = 1; J[1].angle0 = 1.0;
+            J[1].has_forward = 1; J[1].forward = 1.2; J[1].method = RJ_METHOD_PENALTY; J[1].penalty_k = 50.0;
+            J[2].body1 = 0; J[2].node1 = 12; J[2].body2 = 2; J[2].angle0 = -1.0;
+            J[2].table_count = 3;
+            J[2].table_angle[0] = 0.0; J[2].table_angle[1] = 3.0; J[2].table_angle[2] = 6.0;
+            J[2].table_torque[0] = 0.02; J[2].table_torque[1] = 0.0; J[2].table_torque[2] = 0.02;
+            sc.links = L; sc.link_count = 3; sc.joints = J; sc.joint_count = 3;
+            snprintf(name, sizeof name, "inner pins, %s reference", i ? "chord" : "tangent");
+            rc |= run(name, &sc, 0.3);
         }
     }
     rc |= run_file("examples/scenes/deploy.rjs", 1.0);
