@@ -587,10 +587,10 @@ struct rj_model {
     double *einv;             /* (nn) effective translational 1/mass (group's for grouped nodes) */
     double *kmass, *krot;     /* (nn) mass / rotary inertia counted in the kinetic energy (0 for fixed or grouped) */
     int *grp_first;           /* (ng+1) */
-    int ndn;                  /* nodes whose forces change after the beams (joint nodes, rigid links' nodes) */
+    int ndn;                  /* nodes whose forces change after the beams, and links' end nodes */
     int *dnode;               /* (ndn) those nodes and every link's end nodes: the fused beam pass advances them again */
-    double *link_un;          /* (5 nl) a link's other nodes' tinv, rinv, kmass, krot, and 1 when they all agree;
-                                 then (4 nl) its elements' EI/l0, EA/l0, l0^2, 1/(2 l0^2) */
+    double *link_un;          /* (5 nl) a link's other nodes' tinv, rinv, kmass, krot, and 1 when they all agree */
+    double *link_kc;          /* (4 nl) a link's element constants: EI/l0, EA/l0 (0 if inextensible), l0^2, 1/(2 l0^2) */
     int *grp_node;            /* (members) */
     int *node_grp;            /* (nn) group of a node, -1 if none */
     double *grp_inv;          /* (ng) 1/sum of member masses, 0 if a member is fixed */
@@ -609,7 +609,8 @@ struct rj_state {
     int *fi[2];               /* frames: flags (nj) */
     double *fx, *fy, *mz;     /* (nn) forces */
     double *kn;               /* (nn) each node's share of twice the kinetic energy */
-    double *efx, *efy, *em1, *em2, *eu, *ebt; /* (ne) element forces, energies, chord angles */
+    double *sha, *shb, *shc, *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
+    double *eu, *ebt;         /* (ne) element strain energies; scratch (chord angles at reset, SHAKE's active flags) */
     double *jsc;              /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
     double *rsc;              /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch); mixed: body impulses (3 nl) */
     char err[320];
@@ -994,7 +995,7 @@ static size_t rj__carve(size_t *off, size_t count, size_t elsize)
 typedef struct rj__layout {
     size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho, link_I;
     size_t node_cl, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
-    size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin, jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode, link_un, x0, y0, phi0, vx0, vy0, w0, beta0, lz;
+    size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin, jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode, link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, lz;
 } rj__layout;
 
 static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
@@ -1040,8 +1041,9 @@ static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
     L->grp_node = rj__carve(&off, (size_t)2 * nj + 1, sizeof(int));
     L->node_grp = rj__carve(&off, (size_t)nn, sizeof(int));
     L->grp_inv = rj__carve(&off, (size_t)nj + 1, sizeof(double));
-    L->dnode = rj__carve(&off, (size_t)4 * nj + nn + 1, sizeof(int));
-    L->link_un = rj__carve(&off, (size_t)9 * nl + 1, sizeof(double));
+    L->dnode = rj__carve(&off, (size_t)nn + 1, sizeof(int));
+    L->link_un = rj__carve(&off, (size_t)5 * nl + 1, sizeof(double));
+    L->link_kc = rj__carve(&off, (size_t)4 * nl + 1, sizeof(double));
     L->x0 = rj__carve(&off, (size_t)nn, sizeof(double));
     L->y0 = rj__carve(&off, (size_t)nn, sizeof(double));
     L->phi0 = rj__carve(&off, (size_t)nn, sizeof(double));
@@ -1085,10 +1087,15 @@ RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
     const T L2_ = (ex) * (ex) + (ey) * (ey), inv_ = 1.0 / (dp_ * L2_);                   \
     const T r_ = cr_ * L2_ * inv_, invL2_ = dp_ * inv_, r2_ = r_ * r_;                   \
     const T bt_ = (bbv) + r_ * (1.0 - r2_ * (1.0 / 3.0 - r2_ * (1.0 / 5.0)));             \
-    const T tha_ = (pav) - bt_, thb_ = (pbv) - bt_;                                      \
+    RJ__ELEM_FORCES(T, ex, ey, bt_, invL2_, pav, pbv)
+
+/* The rest of the element from its chord angle bt and 1/|e|^2: end rotations and moments,
+   axial force, node-b force (fx_, fy_), strain energy u_ (the exact path uses it alone). */
+#define RJ__ELEM_FORCES(T, ex, ey, bt, invL2, pav, pbv)                                  \
+    const T tha_ = (pav) - (bt), thb_ = (pbv) - (bt);                                    \
     const T ma_ = kb * (4.0 * tha_ + 2.0 * thb_), mb_ = kb * (2.0 * tha_ + 4.0 * thb_);  \
     const T eps_ = ((ex) * (ex) + (ey) * (ey) - l0sq) * half_inv_l0sq;                   \
-    const T nax_ = kax * eps_, s_ = (ma_ + mb_) * invL2_;                                \
+    const T nax_ = kax * eps_, s_ = (ma_ + mb_) * (invL2);                               \
     const T fx_ = -nax_ * (ex) - s_ * (ey), fy_ = -nax_ * (ey) + s_ * (ex);              \
     const T u_ = 0.5 * (ma_ * tha_ + mb_ * thb_) + 0.5 * kax * l0sq * eps_ * eps_
 
@@ -1198,10 +1205,17 @@ typedef struct rj__adv {
     double *nx, *ny, *nphi, *nvx, *nvy, *nw, *kn;
 } rj__adv;
 
-#define RJ__ADV_CORE(T, i, fxv, fyv, mzv, vxv, vyv, wv)                                            \
-    const T ux_ = (vxv) + kick * (fxv) * ti[i], uy_ = (vyv) + kick * (fyv) * ti[i];                \
-    const T uw_ = (wv) + kick * (mzv) * ri[i];                                                     \
-    const T kn_ = km[i] * ((vxv) * ux_ + (vyv) * uy_) + kj[i] * (wv) * uw_
+/* One node's update with its final forces (the lanes below do the same operations in the
+   same order). */
+static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, double fy, double mz,
+                                        const double *x, const double *y, const double *phi)
+{
+    const double ux = a->vx[i] + a->kick * fx * a->ti[i], uy = a->vy[i] + a->kick * fy * a->ti[i];
+    const double uw = a->w[i] + a->kick * mz * a->ri[i];
+    a->kn[i] = a->km[i] * (a->vx[i] * ux + a->vy[i] * uy) + a->kj[i] * a->w[i] * uw;
+    a->nvx[i] = ux; a->nvy[i] = uy; a->nw[i] = uw;
+    a->nx[i] = x[i] + a->dt * ux; a->ny[i] = y[i] + a->dt * uy; a->nphi[i] = phi[i] + a->dt * uw;
+}
 
 #ifdef RJ__LANES
 /* The node pass in lanes of W doubles; returns the first node left to the scalar loop. */
@@ -1277,33 +1291,10 @@ static void rj__node_pass(int cnt, int n, const double *FX, const double *FY, co
 #else
     (void)un;
 #endif
-    {
-        const double kick = a->kick, dt = a->dt;
-        const double *ti = a->ti + n, *ri = a->ri + n, *km = a->km + n, *kj = a->kj + n;
-        for (; k < cnt; k++) {
-            const double fxv = FX[k] - FX[k + 1], fyv = FY[k] - FY[k + 1], mzv = -M2[k] - M1[k + 1];
-            const int i = n + k;
-            RJ__ADV_CORE(double, k, fxv, fyv, mzv, a->vx[i], a->vy[i], a->w[i]);
-            if (store) { fx[i] = fxv; fy[i] = fyv; mz[i] = mzv; }
-            a->nvx[i] = ux_; a->nvy[i] = uy_; a->nw[i] = uw_; a->kn[i] = kn_;
-            a->nx[i] = x[i] + dt * ux_; a->ny[i] = y[i] + dt * uy_; a->nphi[i] = phi[i] + dt * uw_;
-        }
-    }
-}
-
-/* Advances the listed nodes (again) with their final forces: the same operations as the
-   fused pass, so a node's result does not depend on which pass gave it. */
-static void rj__advance_list(const int *list, int cnt, const double *fx, const double *fy, const double *mz,
-                             const double *x, const double *y, const double *phi, const rj__adv *a)
-{
-    const double kick = a->kick, dt = a->dt;
-    const double *ti = a->ti, *ri = a->ri, *km = a->km, *kj = a->kj;
-    int q;
-    for (q = 0; q < cnt; q++) {
-        const int i = list[q];
-        RJ__ADV_CORE(double, i, fx[i], fy[i], mz[i], a->vx[i], a->vy[i], a->w[i]);
-        a->nvx[i] = ux_; a->nvy[i] = uy_; a->nw[i] = uw_; a->kn[i] = kn_;
-        a->nx[i] = x[i] + dt * ux_; a->ny[i] = y[i] + dt * uy_; a->nphi[i] = phi[i] + dt * uw_;
+    for (; k < cnt; k++) {
+        const double fxv = FX[k] - FX[k + 1], fyv = FY[k] - FY[k + 1], mzv = -M2[k] - M1[k + 1];
+        if (store) { fx[n + k] = fxv; fy[n + k] = fyv; mz[n + k] = mzv; }
+        rj__advance_node(a, n + k, fxv, fyv, mzv, x, y, phi);
     }
 }
 
@@ -1323,7 +1314,7 @@ static double rj__beam_pass(const rj_model *m, const double *x, const double *y,
     int l, q = 0;   /* q: the next node of m->dnode (ascending) not yet passed */
     for (l = 0; l < m->nl; l++) {
         const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;
-        const double *kc = m->link_un + 5 * (size_t)m->nl + 4 * (size_t)l;
+        const double *kc = m->link_kc + 4 * (size_t)l;
         const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];
         int c0;
         if (m->ldef[l].fidelity == RJ_LINK_RIGID) {
@@ -1348,13 +1339,9 @@ static double rj__beam_pass(const rj_model *m, const double *x, const double *y,
                 for (i = 0; i < nc; i++) {
                     const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];
                     const double bt = bb[i] + atan2(ccx[i] * ey - ccy[i] * ex, ccx[i] * ex + ccy[i] * ey);
-                    const double tha = pa[i] - bt, thb = pa[i + 1] - bt;
-                    const double ma = kb * (4.0 * tha + 2.0 * thb), mb = kb * (2.0 * tha + 4.0 * thb);
-                    const double eps = (ex * ex + ey * ey - l0sq) * half_inv_l0sq;
-                    const double nax = kax * eps, sh = (ma + mb) * (1.0 / (ex * ex + ey * ey));
+                    RJ__ELEM_FORCES(double, ex, ey, bt, 1.0 / (ex * ex + ey * ey), pa[i], pa[i + 1]);
                     bo[i] = bt;
-                    FX[1 + i] = -nax * ex - sh * ey; FY[1 + i] = -nax * ey + sh * ex; M1[1 + i] = ma; M2[1 + i] = mb;
-                    ue[i] = 0.5 * (ma * tha + mb * thb) + 0.5 * kax * l0sq * eps * eps;
+                    FX[1 + i] = fx_; FY[1 + i] = fy_; M1[1 + i] = ma_; M2[1 + i] = mb_; ue[i] = u_;
                 }
             }
             if (last) { FX[nc + 1] = FY[nc + 1] = M1[nc + 1] = 0.0; }
@@ -1639,13 +1626,13 @@ static void rj__cl_pose(const rj_model *m, int c, const double *nc, const double
 
 /* Linear stiffness operator for the stability bound: out = M^-1/2 K M^-1/2 u over the
    3 nn node DOFs (translations of grouped nodes live at the group's first member). K is
-   the tangent of the internal forces (central differences on rj__beam_forces) plus
+   the tangent of the internal forces (central differences on rj__beam_pass) plus
    k_lin g g^T of every joint. */
 static void rj__lz_apply(const rj_model *m, const double *u, double *out, double *work)
 {
     const int nn = m->nn, ne = m->ne;
     double *x = work, *y = work + nn, *p = work + 2 * nn, *fx = work + 3 * nn, *fy = work + 4 * nn, *mz = work + 5 * nn;
-    double *efx = work + 6 * nn, *efy = efx + ne, *em1 = efy + ne, *em2 = em1 + ne, *eu = em2 + ne, *bt = eu + ne;
+    double *eu = work + 6 * nn, *bt = eu + ne;
     double *cxo = bt + ne, *cyo = cxo + ne;
     const double *cx = m->lz + 9 * (size_t)nn, *cy = cx + ne;
     double h, sc = 0.0, res[3];
@@ -1808,7 +1795,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     RJ__SET(rb_mass, double); RJ__SET(rb_icm, double); RJ__SET(rb_dcm, double); RJ__SET(rb_pjoint, int);
     RJ__SET(jorder, int); RJ__SET(jpin, double); RJ__SET(jref, double);
     RJ__SET(mass, double); RJ__SET(rinertia, double); RJ__SET(tinv, double); RJ__SET(rinv, double); RJ__SET(einv, double); RJ__SET(kmass, double); RJ__SET(krot, double);
-    RJ__SET(grp_first, int); RJ__SET(grp_node, int); RJ__SET(node_grp, int); RJ__SET(grp_inv, double); RJ__SET(dnode, int); RJ__SET(link_un, double);
+    RJ__SET(grp_first, int); RJ__SET(grp_node, int); RJ__SET(node_grp, int); RJ__SET(grp_inv, double); RJ__SET(dnode, int); RJ__SET(link_un, double); RJ__SET(link_kc, double);
     RJ__SET(x0, double); RJ__SET(y0, double); RJ__SET(phi0, double); RJ__SET(vx0, double); RJ__SET(vy0, double);
     RJ__SET(w0, double); RJ__SET(beta0, double); RJ__SET(lz, double);
 #undef RJ__SET
@@ -1834,7 +1821,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         m->link_l0[l] = l0; m->link_EA[l] = d->E * A; m->link_EI[l] = d->E * I;
         {   /* the element's constants: EI/l0, EA/l0 (0 for inextensible links: a constraint
                instead), l0^2, 1/(2 l0^2) */
-            double *kc = m->link_un + 5 * (size_t)m->nl + 4 * (size_t)l;
+            double *kc = m->link_kc + 4 * (size_t)l;
             kc[0] = m->link_EI[l] / l0;
             kc[1] = d->fidelity == RJ_LINK_INEXTENSIBLE ? 0.0 : m->link_EA[l] / l0;
             kc[2] = l0 * l0; kc[3] = 0.5 / kc[2];
@@ -2185,8 +2172,9 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         double c = sqrt(m->ldef[l].E / m->ldef[l].rho), t = m->link_l0[l] / c;
         if (t < m->dt_eq28) m->dt_eq28 = t;
     }
-    /* the nodes the step advances again after the joints: every node a joint applies a
-       torque or force to, and rigid links' nodes (their bodies move them); once each */
+    /* the nodes the step advances again after the joints, once each and in ascending order:
+       every node a joint applies a torque or force to, rigid links' nodes (their bodies
+       move them), and every link's end nodes (tip masses: not the link's uniform values) */
     {
         int *mark = (int *)(void *)m->lz, k;   /* scratch: the Lanczos area is free again */
         m->ndn = 0;
@@ -2263,7 +2251,7 @@ RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 }
 
 /* ------------------------------------------------------------------ states */
-typedef struct rj__slayout { size_t total, fd0, fd1, fi0, fi1, fx, fy, mz, kn, efx, efy, em1, em2, eu, ebt, jsc, rsc; } rj__slayout;
+typedef struct rj__slayout { size_t total, fd0, fd1, fi0, fi1, fx, fy, mz, kn, sha, shb, shc, shr, eu, ebt, jsc, rsc; } rj__slayout;
 
 static void rj__state_layout(const rj_model *m, rj__slayout *L)
 {
@@ -2276,10 +2264,10 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->fy = rj__carve(&off, (size_t)m->nn, sizeof(double));
     L->mz = rj__carve(&off, (size_t)m->nn, sizeof(double));
     L->kn = rj__carve(&off, (size_t)m->nn, sizeof(double));
-    L->efx = rj__carve(&off, (size_t)m->ne, sizeof(double));
-    L->efy = rj__carve(&off, (size_t)m->ne, sizeof(double));
-    L->em1 = rj__carve(&off, (size_t)m->ne, sizeof(double));
-    L->em2 = rj__carve(&off, (size_t)m->ne, sizeof(double));
+    L->sha = rj__carve(&off, m->any_inext ? (size_t)m->ne : 0, sizeof(double));
+    L->shb = rj__carve(&off, m->any_inext ? (size_t)m->ne : 0, sizeof(double));
+    L->shc = rj__carve(&off, m->any_inext ? (size_t)m->ne : 0, sizeof(double));
+    L->shr = rj__carve(&off, m->any_inext ? (size_t)m->ne : 0, sizeof(double));
     L->eu = rj__carve(&off, (size_t)m->ne, sizeof(double));
     L->ebt = rj__carve(&off, (size_t)m->ne, sizeof(double));
     L->jsc = rj__carve(&off, (size_t)m->nj * 8 + 1, sizeof(double));
@@ -2404,8 +2392,8 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->fd[0] = (double *)(void *)(base + L.fd0); s->fd[1] = (double *)(void *)(base + L.fd1);
     s->fi[0] = (int *)(void *)(base + L.fi0); s->fi[1] = (int *)(void *)(base + L.fi1);
     s->fx = (double *)(void *)(base + L.fx); s->fy = (double *)(void *)(base + L.fy); s->mz = (double *)(void *)(base + L.mz);
-    s->efx = (double *)(void *)(base + L.efx); s->efy = (double *)(void *)(base + L.efy);
-    s->em1 = (double *)(void *)(base + L.em1); s->em2 = (double *)(void *)(base + L.em2);
+    s->sha = (double *)(void *)(base + L.sha); s->shb = (double *)(void *)(base + L.shb);
+    s->shc = (double *)(void *)(base + L.shc); s->shr = (double *)(void *)(base + L.shr);
     s->eu = (double *)(void *)(base + L.eu); s->ebt = (double *)(void *)(base + L.ebt);
     s->kn = (double *)(void *)(base + L.kn);
     s->jsc = (double *)(void *)(base + L.jsc);
@@ -2498,7 +2486,7 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
 {
     /* element scratch (ne >= chain elements): the factored tridiagonal (multipliers a,
        reciprocal pivots b, upper c), the residuals r, the multipliers lam */
-    double *a = s->efx, *b = s->efy, *c = s->em1, *r = s->em2, *lam = s->eu;
+    double *a = s->sha, *b = s->shb, *c = s->shc, *r = s->shr, *lam = s->eu;
     double *nf = s->fd[1 - s->cur], *imp = s->rsc, *act = s->ebt;   /* act: 1 for an element that can move, 0 between two fixed nodes */
     const double dt = m->dt;
     int ch, it, i, q, gi;
@@ -3206,7 +3194,7 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
        are redone below); kinetic energy at n as v^{n-1/2}.v^{n+1/2} */
     {
         const double *km = m->kmass, *kj = m->krot;
-        rj__advance_list(m->dnode, m->ndn, fx, fy, mz, x, y, phi, &adv);
+        for (i = 0; i < m->ndn; i++) rj__advance_node(&adv, m->dnode[i], fx[m->dnode[i]], fy[m->dnode[i]], mz[m->dnode[i]], x, y, phi);
         ke = rj__sum8(s->kn, nn);
         if (s->steps == 0) {
             /* at the start the pair is v^{-1/2} = 2 v(0) - v^{1/2} and v^{1/2} */
@@ -3459,7 +3447,7 @@ RJDEF int rj_link_node_count(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l <
 RJDEF double rj_link_EA(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l < m->nl); return m->link_EA[l]; }
 RJDEF double rj_link_EI(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l < m->nl); return m->link_EI[l]; }
 RJDEF double rj_model_dt_eq28(const rj_model *m) { return m->dt_eq28; }
-RJDEF size_t rj_model_work_size(const rj_model *m) { return 6 * (size_t)m->nn + 8 * (size_t)m->ne; }
+RJDEF size_t rj_model_work_size(const rj_model *m) { return 6 * (size_t)m->nn + 4 * (size_t)m->ne; }
 RJDEF void rj_model_apply_stiffness(const rj_model *m, const double *u, double *out, double *work) { rj__lz_apply(m, u, out, work); }
 
 /* the smaller of the joint's two links by rho I l (ground is infinitely large) */

@@ -6,6 +6,7 @@
 #   sh bench/instr.sh [CFLAGS] N          one free link of N elements (200 and 400 steps),
 #                                         per element-step
 # CFLAGS default -O2 (valgrind does not run AVX-512 code: not -march=native on such CPUs).
+# Needs valgrind (apt-get install valgrind); not part of make test.
 F=${1:--O2}; N=$2
 B=build
 mkdir -p $B
