@@ -1099,25 +1099,16 @@ RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
     const T fx_ = -nax_ * (ex) - s_ * (ey), fy_ = -nax_ * (ey) + s_ * (ex);              \
     const T u_ = 0.5 * (ma_ * tha_ + mb_ * thb_) + 0.5 * kax * l0sq * eps_ * eps_
 
+/* Rows of a chunk's element-result buffer (one base pointer for the kernels): FX, FY,
+   M1, M2, each RJ__FROW long; see rj__beam_pass for what the entries hold. */
+#define RJ__CHUNK 128
+#define RJ__FROW (RJ__CHUNK + 2)
+
 #ifdef RJ__LANES
-/* The element loop in lanes of W doubles; returns the first element left to the scalar
-   loop and clears *ok when some chord turned too far (or the result is NaN). */
-#define RJ__ELEM_LANES(W, VD, VL, ATTR)                                                          \
-ATTR static int rj__elem_lanes##W(int ne, double l0sq, double half_inv_l0sq, double kax, double kb, \
-    const double *RJ__RESTRICT xa, const double *RJ__RESTRICT ya, const double *RJ__RESTRICT pa,   \
-    const double *RJ__RESTRICT bb, const double *RJ__RESTRICT ccx, const double *RJ__RESTRICT ccy, \
-    double *RJ__RESTRICT fxe, double *RJ__RESTRICT fye, double *RJ__RESTRICT m1e,                \
-    double *RJ__RESTRICT m2e, double *RJ__RESTRICT ue, double *RJ__RESTRICT bo,                  \
-    double *RJ__RESTRICT cox, double *RJ__RESTRICT coy, int *ok)                                 \
-{                                                                                                \
-    VD lim, zero;                                                                                \
-    VL okv;                                                                                      \
-    int i = 0, k;                                                                                \
-    for (k = 0; k < W; k++) { lim[k] = 4e-6; zero[k] = 0.0; }                                    \
-    okv = zero < lim;   /* all lanes set */                                                      \
-    for (; i < ne && ne >= W; i += W) {                                                          \
+/* W elements from element i on, in lanes; F + i is element i's slot in row FX. */
+#define RJ__ELEM_STEP(VD, i)                                                                     \
+    {                                                                                            \
         VD x0, x1, y0, y1, p0, p1, b, cxv, cyv, ex, ey;                                          \
-        if (i + W > ne) i = ne - W;   /* the last lanes again: the same inputs give the same bits */ \
         RJ__VLD(x0, xa + i); RJ__VLD(x1, xa + i + 1); RJ__VLD(y0, ya + i); RJ__VLD(y1, ya + i + 1); \
         RJ__VLD(p0, pa + i); RJ__VLD(p1, pa + i + 1); RJ__VLD(b, bb + i);                        \
         RJ__VLD(cxv, ccx + i); RJ__VLD(cyv, ccy + i);                                            \
@@ -1126,12 +1117,30 @@ ATTR static int rj__elem_lanes##W(int ne, double l0sq, double half_inv_l0sq, dou
             RJ__ELEM_CORE(VD, ex, ey, cxv, cyv, b, p0, p1);                                      \
             okv &= (r2_ < lim) & (dp_ > zero);   /* NaN clears it too */                         \
             RJ__VST(bo + i, bt_); RJ__VST(cox + i, ex); RJ__VST(coy + i, ey);                    \
-            RJ__VST(fxe + i, fx_); RJ__VST(fye + i, fy_); RJ__VST(m1e + i, ma_);                 \
-            RJ__VST(m2e + i, mb_); RJ__VST(ue + i, u_);                                          \
+            RJ__VST(F + i, fx_); RJ__VST(F + RJ__FROW + i, fy_); RJ__VST(F + 2 * RJ__FROW + i, ma_); \
+            RJ__VST(F + 3 * RJ__FROW + i, mb_); RJ__VST(ue + i, u_);                             \
         }                                                                                        \
-    }                                                                                            \
-    for (k = 0; k < W; k++) if (!okv[k]) *ok = 0;                                                \
-    return i;                                                                                    \
+    }
+/* The element loop in lanes of W doubles over all ne >= W elements (the last W again where
+   W does not divide ne: the same inputs give the same bits); returns -1 when some chord
+   turned too far (or a result is NaN). kc: the link's element constants (link_kc). */
+#define RJ__ELEM_LANES(W, VD, VL, ATTR)                                                          \
+ATTR static int rj__elem_lanes##W(int ne, const double *kc,                                      \
+    const double *RJ__RESTRICT xa, const double *RJ__RESTRICT ya, const double *RJ__RESTRICT pa,   \
+    const double *RJ__RESTRICT bb, const double *RJ__RESTRICT ccx, const double *RJ__RESTRICT ccy, \
+    double *RJ__RESTRICT F, double *RJ__RESTRICT ue, double *RJ__RESTRICT bo,                    \
+    double *RJ__RESTRICT cox, double *RJ__RESTRICT coy)                                          \
+{                                                                                                \
+    const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];                   \
+    VD lim, zero;                                                                                \
+    VL okv;                                                                                      \
+    int i, k;                                                                                    \
+    for (k = 0; k < W; k++) { lim[k] = 4e-6; zero[k] = 0.0; }                                    \
+    okv = zero < lim;   /* all lanes set */                                                      \
+    for (i = 0; i + W <= ne; i += W) RJ__ELEM_STEP(VD, i)                                        \
+    if (i < ne) { i = ne - W; RJ__ELEM_STEP(VD, i) }                                             \
+    for (k = 0; k < W; k++) if (!okv[k]) return -1;                                              \
+    return ne;                                                                                   \
 }
 #ifdef RJ__LANES2
 RJ__ELEM_LANES(2, rj__vd2, rj__vl2, )
@@ -1145,56 +1154,61 @@ RJ__ELEM_LANES(4, rj__vd4, rj__vl4, RJ__AVX2)
    compiler has them): one division per element, atan(r) of the small per-step chord turn r
    by its series r - r^3/3 + r^5/5 (error < r^7/7 < 2e-20 for |r| < 2e-3; a chord turns
    about omega dt, 1e-5 in the deployment). Returns nonzero when some chord turned more
-   than that, or turned back, and the exact path must redo it. */
-#define RJ__ELEM_ARGS ne, l0sq, half_inv_l0sq, kax, kb, xa, ya, pa, bb, ccx, ccy, fxe, fye, m1e, m2e, ue, bo, cox, coy, &ok
-static int rj__beam_link_fast(int ne, double l0sq, double half_inv_l0sq, double kax, double kb,
-                              const double *xa, const double *ya, const double *pa, const double *bb, const double *ccx,
-                              const double *ccy, double *fxe, double *fye, double *m1e, double *m2e, double *ue, double *bo,
-                              double *cox, double *coy)
+   than that, or turned back, and the exact path must redo it. F: row FX of the chunk
+   buffer at the chunk's first element. */
+#define RJ__ELEM_ARGS ne, kc, xa, ya, pa, bb, ccx, ccy, F, ue, bo, cox, coy
+static int rj__beam_link_fast(int ne, const double *kc, const double *xa, const double *ya, const double *pa,
+                              const double *bb, const double *ccx, const double *ccy, double *F, double *ue,
+                              double *bo, double *cox, double *coy)
 {
-    int i = 0, ok = 1;
+    const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];
+    int i = 0;
     long long bad = 0;
 #if defined(RJ__DISPATCH)
-    i = __builtin_cpu_supports("avx2") ? rj__elem_lanes4(RJ__ELEM_ARGS) : rj__elem_lanes2(RJ__ELEM_ARGS);
+    if (ne >= 2) i = __builtin_cpu_supports("avx2") && ne >= 4 ? rj__elem_lanes4(RJ__ELEM_ARGS) : rj__elem_lanes2(RJ__ELEM_ARGS);
 #elif defined(RJ__LANES4)
-    i = rj__elem_lanes4(RJ__ELEM_ARGS);
+    if (ne >= 4) i = rj__elem_lanes4(RJ__ELEM_ARGS);
 #elif defined(RJ__LANES2)
-    i = rj__elem_lanes2(RJ__ELEM_ARGS);
+    if (ne >= 2) i = rj__elem_lanes2(RJ__ELEM_ARGS);
 #endif
+    if (i < 0) return 1;
     for (; i < ne; i++) {
         const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];
         RJ__ELEM_CORE(double, ex, ey, ccx[i], ccy[i], bb[i], pa[i], pa[i + 1]);
         bad |= (long long)!(r2_ < 4e-6) | (long long)!(dp_ > 0.0);   /* bitwise: no branch; NaN too */
         bo[i] = bt_; cox[i] = ex; coy[i] = ey;
-        fxe[i] = fx_; fye[i] = fy_; m1e[i] = ma_; m2e[i] = mb_; ue[i] = u_;
+        F[i] = fx_; F[RJ__FROW + i] = fy_; F[2 * RJ__FROW + i] = ma_; F[3 * RJ__FROW + i] = mb_; ue[i] = u_;
     }
-    return bad != 0 || !ok;
+    return bad != 0;
 }
 #undef RJ__ELEM_ARGS
 
 /* Sum in eight fixed partial sums: deterministic, and it vectorises where the target can. */
 static double rj__sum8(const double *RJ__RESTRICT a, int n)
 {
-    double p[8] = { 0, 0, 0, 0, 0, 0, 0, 0 };
-    int i = 0, k;
+    int i = 0;
 #ifdef RJ__LANES
-    {   /* the same eight sums in vector lanes */
-        rj__vd2 v0 = { 0.0, 0.0 }, v1 = v0, v2 = v0, v3 = v0, t;
-        for (; i + 7 < n; i += 8) {
-            RJ__VLD(t, a + i); v0 += t; RJ__VLD(t, a + i + 2); v1 += t;
-            RJ__VLD(t, a + i + 4); v2 += t; RJ__VLD(t, a + i + 6); v3 += t;
-        }
-        RJ__VST(p, v0); RJ__VST(p + 2, v1); RJ__VST(p + 4, v2); RJ__VST(p + 6, v3);
+    /* the same eight sums in vector lanes */
+    rj__vd2 v0 = { 0.0, 0.0 }, v1 = v0, v2 = v0, v3 = v0, t;
+    for (; i + 7 < n; i += 8) {
+        RJ__VLD(t, a + i); v0 += t; RJ__VLD(t, a + i + 2); v1 += t;
+        RJ__VLD(t, a + i + 4); v2 += t; RJ__VLD(t, a + i + 6); v3 += t;
     }
-#endif
+    if (i < n) {   /* the rest into the first sum, in order */
+        double p0 = v0[0];
+        for (; i < n; i++) p0 += a[i];
+        v0[0] = p0;
+    }
+    return ((v0[0] + v0[1]) + (v1[0] + v1[1])) + ((v2[0] + v2[1]) + (v3[0] + v3[1]));
+#else
+    double p[8] = { 0, 0, 0, 0, 0, 0, 0, 0 };
+    int k;
     for (; i + 7 < n; i += 8) for (k = 0; k < 8; k++) p[k] += a[i + k];
     for (; i < n; i++) p[0] += a[i];
     return ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
+#endif
 }
 
-/* Elements per chunk: a chunk's element and node data stay in the L1 cache between the
-   element loop and the node pass that follows it. */
-#define RJ__CHUNK 128
 
 /* What the step's fused pass needs to advance nodes as soon as their forces are summed:
    v^{n+1/2} = v^{n-1/2} + kick f / m and x^{n+1} = x^n + dt v^{n+1/2}, and each node's share
@@ -1218,16 +1232,33 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
 }
 
 #ifdef RJ__LANES
-/* The node pass in lanes of W doubles; returns the first node left to the scalar loop. */
+/* W nodes from node k on (chunk-relative), in lanes; UNI: the link's uniform node values in
+   tiv .. kjv, else each node's own. */
+#define RJ__NODE_STEP(VD, k, UNI)                                                                \
+    {                                                                                            \
+        VD f0, f1, g0, g1, m1, m2, fxv, fyv, mzv, vxv, vyv, wv, t, tiv = tiu, riv = riu, kmv = kmu, kjv = kju; \
+        RJ__VLD(f0, F + k); RJ__VLD(f1, F + k + 1);                                              \
+        RJ__VLD(g0, F + RJ__FROW + k); RJ__VLD(g1, F + RJ__FROW + k + 1);                        \
+        RJ__VLD(m2, F + 3 * RJ__FROW + k); RJ__VLD(m1, F + 2 * RJ__FROW + k + 1);                \
+        fxv = f0 - f1; fyv = g0 - g1; mzv = -m2 - m1;                                            \
+        RJ__VLD(vxv, vx + k); RJ__VLD(vyv, vy + k); RJ__VLD(wv, w + k);                          \
+        if (!UNI) { RJ__VLD(tiv, ti + k); RJ__VLD(riv, ri + k); RJ__VLD(kmv, km + k); RJ__VLD(kjv, kj + k); } \
+        {                                                                                        \
+            const VD ux_ = vxv + kick * fxv * tiv, uy_ = vyv + kick * fyv * tiv, uw_ = wv + kick * mzv * riv; \
+            const VD kn_ = kmv * (vxv * ux_ + vyv * uy_) + kjv * wv * uw_;                       \
+            RJ__VST(nvx + k, ux_); RJ__VST(nvy + k, uy_); RJ__VST(nw + k, uw_); RJ__VST(kn + k, kn_); \
+            RJ__VLD(t, x + k); t = t + dt * ux_; RJ__VST(nx + k, t);                             \
+            RJ__VLD(t, y + k); t = t + dt * uy_; RJ__VST(ny + k, t);                             \
+            RJ__VLD(t, phi + k); t = t + dt * uw_; RJ__VST(nphi + k, t);                         \
+        }                                                                                        \
+    }
+/* The node pass in lanes of W doubles over all cnt >= W nodes (the last W again where W
+   does not divide cnt: same inputs, same bits). */
 #define RJ__NODE_LANES(W, VD, ATTR)                                                              \
-ATTR static int rj__node_lanes##W(int cnt, int n, int store, const double *un, const rj__adv *a,   \
-    const double *RJ__RESTRICT FX, const double *RJ__RESTRICT FY, const double *RJ__RESTRICT M1,   \
-    const double *RJ__RESTRICT M2, double *fx_, double *fy_, double *mz_,                        \
-    const double *x_, const double *y_, const double *phi_)                                      \
+ATTR static void rj__node_lanes##W(int cnt, int n, const double *un, const rj__adv *a,           \
+    const double *RJ__RESTRICT F, const double *x_, const double *y_, const double *phi_)        \
 {                                                                                                \
-    const int uni = un[4] != 0;                                                                  \
     const double kick = a->kick, dt = a->dt;                                                     \
-    double *RJ__RESTRICT fx = fx_ + n, *RJ__RESTRICT fy = fy_ + n, *RJ__RESTRICT mz = mz_ + n;   \
     const double *RJ__RESTRICT x = x_ + n, *RJ__RESTRICT y = y_ + n, *RJ__RESTRICT phi = phi_ + n; \
     const double *RJ__RESTRICT vx = a->vx + n, *RJ__RESTRICT vy = a->vy + n, *RJ__RESTRICT w = a->w + n; \
     const double *RJ__RESTRICT ti = a->ti + n, *RJ__RESTRICT ri = a->ri + n;                     \
@@ -1238,25 +1269,13 @@ ATTR static int rj__node_lanes##W(int cnt, int n, int store, const double *un, c
     VD tiu, riu, kmu, kju;                                                                       \
     int k;                                                                                       \
     for (k = 0; k < W; k++) { tiu[k] = un[0]; riu[k] = un[1]; kmu[k] = un[2]; kju[k] = un[3]; }  \
-    for (k = 0; k < cnt && cnt >= W; k += W) {                                                   \
-        VD f0, f1, g0, g1, m1, m2, fxv, fyv, mzv, vxv, vyv, wv, t, tiv = tiu, riv = riu, kmv = kmu, kjv = kju; \
-        if (k + W > cnt) k = cnt - W;   /* the last lanes again: same inputs, same bits */       \
-        RJ__VLD(f0, FX + k); RJ__VLD(f1, FX + k + 1); RJ__VLD(g0, FY + k); RJ__VLD(g1, FY + k + 1); \
-        RJ__VLD(m2, M2 + k); RJ__VLD(m1, M1 + k + 1);                                            \
-        fxv = f0 - f1; fyv = g0 - g1; mzv = -m2 - m1;                                            \
-        if (store) { RJ__VST(fx + k, fxv); RJ__VST(fy + k, fyv); RJ__VST(mz + k, mzv); }         \
-        RJ__VLD(vxv, vx + k); RJ__VLD(vyv, vy + k); RJ__VLD(wv, w + k);                          \
-        if (!uni) { RJ__VLD(tiv, ti + k); RJ__VLD(riv, ri + k); RJ__VLD(kmv, km + k); RJ__VLD(kjv, kj + k); } \
-        {                                                                                        \
-            const VD ux_ = vxv + kick * fxv * tiv, uy_ = vyv + kick * fyv * tiv, uw_ = wv + kick * mzv * riv; \
-            const VD kn_ = kmv * (vxv * ux_ + vyv * uy_) + kjv * wv * uw_;                       \
-            RJ__VST(nvx + k, ux_); RJ__VST(nvy + k, uy_); RJ__VST(nw + k, uw_); RJ__VST(kn + k, kn_); \
-            RJ__VLD(t, x + k); t = t + dt * ux_; RJ__VST(nx + k, t);                             \
-            RJ__VLD(t, y + k); t = t + dt * uy_; RJ__VST(ny + k, t);                             \
-            RJ__VLD(t, phi + k); t = t + dt * uw_; RJ__VST(nphi + k, t);                         \
-        }                                                                                        \
+    if (un[4] != 0) {                                                                            \
+        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 1)                                \
+        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 1) }                                    \
+    } else {                                                                                     \
+        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 0)                                \
+        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 0) }                                    \
     }                                                                                            \
-    return k;                                                                                    \
 }
 #ifdef RJ__LANES2
 RJ__NODE_LANES(2, rj__vd2, )
@@ -1266,34 +1285,33 @@ RJ__NODE_LANES(4, rj__vd4, RJ__AVX2)
 #endif
 #endif
 
-/* Nodes n .. n + cnt - 1 from element results laid out so that node k takes FX[k] - FX[k+1]
-   (its element on the left, -0.0 before a link's first, minus the one on the right, +0.0
-   after its last: the same bits as -FX[0] and FX[last]) and mz = -M2[k] - M1[k+1]: the
-   forces, and with a (not NULL) the advanced velocities, positions and kinetic-energy
-   shares; then the forces are stored only if store is set (the step needs them only at
-   nodes it advances again). un: the link's uniform node values (rj_model.link_un). */
-static void rj__node_pass(int cnt, int n, const double *FX, const double *FY, const double *M1, const double *M2,
-                          double *fx, double *fy, double *mz, const double *x, const double *y, const double *phi,
-                          const rj__adv *a, const double *un, int store)
+/* Nodes n .. n + cnt - 1 from the chunk buffer F (rows FX, FY, M1, M2) laid out so that node
+   k takes FX[k] - FX[k+1] (its element on the left, -0.0 before a link's first, minus the
+   one on the right, +0.0 after its last: the same bits as -FX[0] and FX[last]) and
+   mz = -M2[k] - M1[k+1]: with a NULL the forces (into fx, fy, mz), else the advanced
+   velocities, positions and kinetic-energy shares (the caller stores the forces of the
+   nodes the step needs them at). un: the link's uniform node values (rj_model.link_un). */
+static void rj__node_pass(int cnt, int n, const double *F, double *fx, double *fy, double *mz,
+                          const double *x, const double *y, const double *phi, const rj__adv *a, const double *un)
 {
+    const double *FX = F, *FY = F + RJ__FROW, *M1 = F + 2 * RJ__FROW, *M2 = F + 3 * RJ__FROW;
     int k = 0;
     if (!a) {
         for (k = 0; k < cnt; k++) { fx[n + k] = FX[k] - FX[k + 1]; fy[n + k] = FY[k] - FY[k + 1]; mz[n + k] = -M2[k] - M1[k + 1]; }
         return;
     }
 #if defined(RJ__DISPATCH)
-    k = __builtin_cpu_supports("avx2") ? rj__node_lanes4(cnt, n, store, un, a, FX, FY, M1, M2, fx, fy, mz, x, y, phi)
-                                       : rj__node_lanes2(cnt, n, store, un, a, FX, FY, M1, M2, fx, fy, mz, x, y, phi);
+    if (cnt >= 4 && __builtin_cpu_supports("avx2")) { rj__node_lanes4(cnt, n, un, a, F, x, y, phi); k = cnt; }
+    else if (cnt >= 2) { rj__node_lanes2(cnt, n, un, a, F, x, y, phi); k = cnt; }
 #elif defined(RJ__LANES4)
-    k = rj__node_lanes4(cnt, n, store, un, a, FX, FY, M1, M2, fx, fy, mz, x, y, phi);
+    if (cnt >= 4) { rj__node_lanes4(cnt, n, un, a, F, x, y, phi); k = cnt; }
 #elif defined(RJ__LANES2)
-    k = rj__node_lanes2(cnt, n, store, un, a, FX, FY, M1, M2, fx, fy, mz, x, y, phi);
+    if (cnt >= 2) { rj__node_lanes2(cnt, n, un, a, F, x, y, phi); k = cnt; }
 #else
     (void)un;
 #endif
     for (; k < cnt; k++) {
         const double fxv = FX[k] - FX[k + 1], fyv = FY[k] - FY[k + 1], mzv = -M2[k] - M1[k + 1];
-        if (store) { fx[n + k] = fxv; fy[n + k] = fyv; mz[n + k] = mzv; }
         rj__advance_node(a, n + k, fxv, fyv, mzv, x, y, phi);
     }
 }
@@ -1310,8 +1328,10 @@ static double rj__beam_pass(const rj_model *m, const double *x, const double *y,
 {
     /* chunk buffers: entry 0 is the previous chunk's last element (or the -0.0 / +0.0 before
        a link's first), entries 1 .. nc this chunk's, nc + 1 the +0.0 after a link's last */
-    double FX[RJ__CHUNK + 2], FY[RJ__CHUNK + 2], M1[RJ__CHUNK + 2], M2[RJ__CHUNK + 2];
-    int l, q = 0;   /* q: the next node of m->dnode (ascending) not yet passed */
+    double FB[4 * RJ__FROW];
+    double *FX = FB, *FY = FB + RJ__FROW, *M1 = FB + 2 * RJ__FROW, *M2 = FB + 3 * RJ__FROW;
+    const int *dn = m->dnode, ndn = m->ndn;
+    int l, q = 0;   /* q: the next node of dn (ascending) not yet passed */
     for (l = 0; l < m->nl; l++) {
         const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;
         const double *kc = m->link_kc + 4 * (size_t)l;
@@ -1334,7 +1354,7 @@ static double rj__beam_pass(const rj_model *m, const double *x, const double *y,
             const double *RJ__RESTRICT bb = beta + a, *RJ__RESTRICT ccx = cx + a, *RJ__RESTRICT ccy = cy + a;
             double *RJ__RESTRICT ue = eu + a, *RJ__RESTRICT bo = beta_out + a;
             int i;
-            if (rj__beam_link_fast(nc, l0sq, half_inv_l0sq, kax, kb, xa, ya, pa, bb, ccx, ccy, FX + 1, FY + 1, M1 + 1, M2 + 1, ue, bo, cx_out + a, cy_out + a)) {
+            if (rj__beam_link_fast(nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a)) {
                 /* a chord turned more than 0.02 rad in one step: exact angles for this chunk */
                 for (i = 0; i < nc; i++) {
                     const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];
@@ -1347,11 +1367,14 @@ static double rj__beam_pass(const rj_model *m, const double *x, const double *y,
             if (last) { FX[nc + 1] = FY[nc + 1] = M1[nc + 1] = 0.0; }
             /* the chunk's nodes whose elements are all summed: na .. na + nc - 1, and the
                link's last node with the last chunk */
-            {   /* forces are stored where a node is advanced again (or with no advance) */
-                int store = !adv;
-                while (q < m->ndn && m->dnode[q] < na) q++;
-                if (q < m->ndn && m->dnode[q] < na + nc + last) store = 1;
-                rj__node_pass(nc + last, na, FX, FY, M1, M2, fx, fy, mz, x, y, phi, adv, m->link_un + 5 * l, store);
+            rj__node_pass(nc + last, na, FB, fx, fy, mz, x, y, phi, adv, m->link_un + 5 * l);
+            if (adv) {   /* the forces of the nodes the step advances again */
+                const int end = na + nc + last;
+                while (q < ndn && dn[q] < na) q++;
+                for (; q < ndn && dn[q] < end; q++) {
+                    const int k = dn[q] - na;
+                    fx[na + k] = FX[k] - FX[k + 1]; fy[na + k] = FY[k] - FY[k + 1]; mz[na + k] = -M2[k] - M1[k + 1];
+                }
             }
             FX[0] = FX[nc]; FY[0] = FY[nc]; M1[0] = M1[nc]; M2[0] = M2[nc];
         }
