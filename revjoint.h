@@ -505,6 +505,11 @@ typedef long long rj__vl4 __attribute__((vector_size(32)));
 #else
 #define RJ__INLINE
 #endif
+#if defined(__GNUC__) || defined(__clang__)
+#define RJ__FORCE_INLINE __attribute__((always_inline)) RJ__INLINE
+#else
+#define RJ__FORCE_INLINE RJ__INLINE
+#endif
 #define RJ__PI 3.14159265358979323846
 #define RJ__TWO_PI 6.28318530717958647692
 #define RJ__COOKIE_LINK 0x524a4c4bu
@@ -1125,7 +1130,7 @@ RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
    W does not divide ne: the same inputs give the same bits); returns -1 when some chord
    turned too far (or a result is NaN). kc: the link's element constants (link_kc). */
 #define RJ__ELEM_LANES(W, VD, VL, ATTR)                                                          \
-ATTR static int rj__elem_lanes##W(int ne, const double *kc,                                      \
+ATTR static RJ__FORCE_INLINE int rj__elem_lanes##W(int ne, const double *kc,                                      \
     const double *RJ__RESTRICT xa, const double *RJ__RESTRICT ya, const double *RJ__RESTRICT pa,   \
     const double *RJ__RESTRICT bb, const double *RJ__RESTRICT ccx, const double *RJ__RESTRICT ccy, \
     double *RJ__RESTRICT F, double *RJ__RESTRICT ue, double *RJ__RESTRICT bo,                    \
@@ -1151,27 +1156,17 @@ RJ__ELEM_LANES(4, rj__vd4, rj__vl4, RJ__AVX2)
 #endif
 
 /* The fast path over a chunk of one link's elements, branch-free (vector lanes where the
-   compiler has them): one division per element, atan(r) of the small per-step chord turn r
-   by its series r - r^3/3 + r^5/5 (error < r^7/7 < 2e-20 for |r| < 2e-3; a chord turns
-   about omega dt, 1e-5 in the deployment). Returns nonzero when some chord turned more
-   than that, or turned back, and the exact path must redo it. F: row FX of the chunk
-   buffer at the chunk's first element. */
-#define RJ__ELEM_ARGS ne, kc, xa, ya, pa, bb, ccx, ccy, F, ue, bo, cox, coy
-static int rj__beam_link_fast(int ne, const double *kc, const double *xa, const double *ya, const double *pa,
-                              const double *bb, const double *ccx, const double *ccy, double *F, double *ue,
-                              double *bo, double *cox, double *coy)
+   compiler has them, then this scalar loop from element i on): one division per element,
+   atan(r) of the small per-step chord turn r by its series r - r^3/3 + r^5/5 (error
+   < r^7/7 < 2e-20 for |r| < 2e-3; a chord turns about omega dt, 1e-5 in the deployment).
+   Returns -1 when some chord turned more than that, or turned back, and the exact path
+   must redo the chunk, else ne. F: row FX of the chunk buffer at the chunk's first element. */
+static int rj__elem_scalar(int i, int ne, const double *kc, const double *xa, const double *ya, const double *pa,
+                           const double *bb, const double *ccx, const double *ccy, double *F, double *ue,
+                           double *bo, double *cox, double *coy)
 {
     const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];
-    int i = 0;
     long long bad = 0;
-#if defined(RJ__DISPATCH)
-    if (ne >= 2) i = __builtin_cpu_supports("avx2") && ne >= 4 ? rj__elem_lanes4(RJ__ELEM_ARGS) : rj__elem_lanes2(RJ__ELEM_ARGS);
-#elif defined(RJ__LANES4)
-    if (ne >= 4) i = rj__elem_lanes4(RJ__ELEM_ARGS);
-#elif defined(RJ__LANES2)
-    if (ne >= 2) i = rj__elem_lanes2(RJ__ELEM_ARGS);
-#endif
-    if (i < 0) return 1;
     for (; i < ne; i++) {
         const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];
         RJ__ELEM_CORE(double, ex, ey, ccx[i], ccy[i], bb[i], pa[i], pa[i + 1]);
@@ -1179,9 +1174,8 @@ static int rj__beam_link_fast(int ne, const double *kc, const double *xa, const 
         bo[i] = bt_; cox[i] = ex; coy[i] = ey;
         F[i] = fx_; F[RJ__FROW + i] = fy_; F[2 * RJ__FROW + i] = ma_; F[3 * RJ__FROW + i] = mb_; ue[i] = u_;
     }
-    return bad != 0;
+    return bad != 0 ? -1 : ne;
 }
-#undef RJ__ELEM_ARGS
 
 /* Sum in eight fixed partial sums: deterministic, and it vectorises where the target can. */
 static double rj__sum8(const double *RJ__RESTRICT a, int n)
@@ -1253,9 +1247,9 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
         }                                                                                        \
     }
 /* The node pass in lanes of W doubles over all cnt >= W nodes (the last W again where W
-   does not divide cnt: same inputs, same bits). */
+   does not divide cnt: same inputs, same bits); returns cnt. */
 #define RJ__NODE_LANES(W, VD, ATTR)                                                              \
-ATTR static void rj__node_lanes##W(int cnt, int n, const double *un, const rj__adv *a,           \
+ATTR static RJ__FORCE_INLINE int rj__node_lanes##W(int cnt, int n, const double *un, const rj__adv *a, \
     const double *RJ__RESTRICT F, const double *x_, const double *y_, const double *phi_)        \
 {                                                                                                \
     const double kick = a->kick, dt = a->dt;                                                     \
@@ -1276,6 +1270,7 @@ ATTR static void rj__node_lanes##W(int cnt, int n, const double *un, const rj__a
         for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 0)                                \
         if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 0) }                                    \
     }                                                                                            \
+    return cnt;                                                                                  \
 }
 #ifdef RJ__LANES2
 RJ__NODE_LANES(2, rj__vd2, )
@@ -1285,31 +1280,19 @@ RJ__NODE_LANES(4, rj__vd4, RJ__AVX2)
 #endif
 #endif
 
-/* Nodes n .. n + cnt - 1 from the chunk buffer F (rows FX, FY, M1, M2) laid out so that node
-   k takes FX[k] - FX[k+1] (its element on the left, -0.0 before a link's first, minus the
-   one on the right, +0.0 after its last: the same bits as -FX[0] and FX[last]) and
-   mz = -M2[k] - M1[k+1]: with a NULL the forces (into fx, fy, mz), else the advanced
-   velocities, positions and kinetic-energy shares (the caller stores the forces of the
-   nodes the step needs them at). un: the link's uniform node values (rj_model.link_un). */
-static void rj__node_pass(int cnt, int n, const double *F, double *fx, double *fy, double *mz,
-                          const double *x, const double *y, const double *phi, const rj__adv *a, const double *un)
+/* Nodes n + k .. n + cnt - 1 from the chunk buffer F (rows FX, FY, M1, M2) laid out so
+   that node k takes FX[k] - FX[k+1] (its element on the left, -0.0 before a link's first,
+   minus the one on the right, +0.0 after its last: the same bits as -FX[0] and FX[last])
+   and mz = -M2[k] - M1[k+1]: with a NULL the forces (into fx, fy, mz), else the advanced
+   velocities, positions and kinetic-energy shares (the lanes did nodes 0 .. k - 1). */
+static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, double *fy, double *mz,
+                            const double *x, const double *y, const double *phi, const rj__adv *a)
 {
     const double *FX = F, *FY = F + RJ__FROW, *M1 = F + 2 * RJ__FROW, *M2 = F + 3 * RJ__FROW;
-    int k = 0;
     if (!a) {
-        for (k = 0; k < cnt; k++) { fx[n + k] = FX[k] - FX[k + 1]; fy[n + k] = FY[k] - FY[k + 1]; mz[n + k] = -M2[k] - M1[k + 1]; }
+        for (; k < cnt; k++) { fx[n + k] = FX[k] - FX[k + 1]; fy[n + k] = FY[k] - FY[k + 1]; mz[n + k] = -M2[k] - M1[k + 1]; }
         return;
     }
-#if defined(RJ__DISPATCH)
-    if (cnt >= 4 && __builtin_cpu_supports("avx2")) { rj__node_lanes4(cnt, n, un, a, F, x, y, phi); k = cnt; }
-    else if (cnt >= 2) { rj__node_lanes2(cnt, n, un, a, F, x, y, phi); k = cnt; }
-#elif defined(RJ__LANES4)
-    if (cnt >= 4) { rj__node_lanes4(cnt, n, un, a, F, x, y, phi); k = cnt; }
-#elif defined(RJ__LANES2)
-    if (cnt >= 2) { rj__node_lanes2(cnt, n, un, a, F, x, y, phi); k = cnt; }
-#else
-    (void)un;
-#endif
     for (; k < cnt; k++) {
         const double fxv = FX[k] - FX[k + 1], fyv = FY[k] - FY[k + 1], mzv = -M2[k] - M1[k + 1];
         rj__advance_node(a, n + k, fxv, fyv, mzv, x, y, phi);
@@ -1322,64 +1305,108 @@ static void rj__node_pass(int cnt, int n, const double *F, double *fx, double *f
    elements' strain energies. With adv (the step), every node of a flexible link is also
    advanced as soon as its forces are summed; nodes that joints act on are advanced again
    later (m->dnode). Returns the strain energy. */
+/* The pass, compiled once per lane width W (ELEM, NODE: that width's lane loops) so that
+   the kernels inline into it and the CPU is asked once per step. */
+#define RJ__BEAM_PASS(NAME, ATTR, W, ELEM, NODE) \
+ATTR static double NAME(const rj_model *m, const double *x, const double *y, const double *phi,                                       \
+                            const double *beta, const double *cx, const double *cy, double *eu,                                       \
+                            double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz, const rj__adv *adv) \
+{                                                                                                                                     \
+    /* chunk buffers: entry 0 is the previous chunk's last element (or the -0.0 / +0.0 before                                         \
+       a link's first), entries 1 .. nc this chunk's, nc + 1 the +0.0 after a link's last */                                          \
+    double FB[4 * RJ__FROW];                                                                                                          \
+    double *FX = FB, *FY = FB + RJ__FROW, *M1 = FB + 2 * RJ__FROW, *M2 = FB + 3 * RJ__FROW;                                           \
+    const int *dn = m->dnode, ndn = m->ndn;                                                                                           \
+    int l, q = 0;   /* q: the next node of dn (ascending) not yet passed */                                                           \
+    for (l = 0; l < m->nl; l++) {                                                                                                     \
+        const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;                                     \
+        const double *kc = m->link_kc + 4 * (size_t)l;                                                                                \
+        const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];                                                    \
+        int c0;                                                                                                                       \
+        if (m->ldef[l].fidelity == RJ_LINK_RIGID) {                                                                                   \
+            /* a rigid link: no elements; its nodes take only what joints apply (and are                                              \
+               advanced with the joints' nodes) */                                                                                    \
+            for (c0 = 0; c0 < ne; c0++) {                                                                                             \
+                beta_out[e0 + c0] = beta[e0 + c0]; cx_out[e0 + c0] = cx[e0 + c0]; cy_out[e0 + c0] = cy[e0 + c0];                      \
+                eu[e0 + c0] = 0;                                                                                                      \
+            }                                                                                                                         \
+            for (c0 = 0; c0 <= ne; c0++) fx[n0 + c0] = fy[n0 + c0] = mz[n0 + c0] = 0;                                                 \
+            continue;                                                                                                                 \
+        }                                                                                                                             \
+        FX[0] = FY[0] = -0.0; M1[0] = M2[0] = 0.0;                                                                                    \
+        for (c0 = 0; c0 < ne; c0 += RJ__CHUNK) {                                                                                      \
+            const int nc = ne - c0 < RJ__CHUNK ? ne - c0 : RJ__CHUNK, a = e0 + c0, na = n0 + c0, last = c0 + nc == ne;                \
+            const double *RJ__RESTRICT xa = x + na, *RJ__RESTRICT ya = y + na, *RJ__RESTRICT pa = phi + na;                           \
+            const double *RJ__RESTRICT bb = beta + a, *RJ__RESTRICT ccx = cx + a, *RJ__RESTRICT ccy = cy + a;                         \
+            double *RJ__RESTRICT ue = eu + a, *RJ__RESTRICT bo = beta_out + a;                                                        \
+            int i;                                                                                                                    \
+            i = W > 1 && nc >= W ? ELEM(nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a) : 0;                \
+            if (i >= 0 && i < nc) i = rj__elem_scalar(i, nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a);   \
+            if (i < 0) {                                                                                                              \
+                /* a chord turned more than 0.02 rad in one step: exact angles for this chunk */                                      \
+                for (i = 0; i < nc; i++) {                                                                                            \
+                    const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];                                                      \
+                    const double bt = bb[i] + atan2(ccx[i] * ey - ccy[i] * ex, ccx[i] * ex + ccy[i] * ey);                            \
+                    RJ__ELEM_FORCES(double, ex, ey, bt, 1.0 / (ex * ex + ey * ey), pa[i], pa[i + 1]);                                 \
+                    bo[i] = bt;                                                                                                       \
+                    FX[1 + i] = fx_; FY[1 + i] = fy_; M1[1 + i] = ma_; M2[1 + i] = mb_; ue[i] = u_;                                   \
+                }                                                                                                                     \
+            }                                                                                                                         \
+            if (last) { FX[nc + 1] = FY[nc + 1] = M1[nc + 1] = 0.0; }                                                                 \
+            /* the chunk's nodes whose elements are all summed: na .. na + nc - 1, and the                                            \
+               link's last node with the last chunk */                                                                                \
+            i = adv && W > 1 && nc + last >= W ? NODE(nc + last, na, m->link_un + 5 * l, adv, FB, x, y, phi) : 0;                     \
+            if (i < nc + last) rj__node_scalar(i, nc + last, na, FB, fx, fy, mz, x, y, phi, adv);                                     \
+            if (adv) {   /* the forces of the nodes the step advances again */                                                        \
+                const int end = na + nc + last;                                                                                       \
+                while (q < ndn && dn[q] < na) q++;                                                                                    \
+                for (; q < ndn && dn[q] < end; q++) {                                                                                 \
+                    const int k = dn[q] - na;                                                                                         \
+                    fx[na + k] = FX[k] - FX[k + 1]; fy[na + k] = FY[k] - FY[k + 1]; mz[na + k] = -M2[k] - M1[k + 1];                  \
+                }                                                                                                                     \
+            }                                                                                                                         \
+            FX[0] = FX[nc]; FY[0] = FY[nc]; M1[0] = M1[nc]; M2[0] = M2[nc];                                                           \
+        }                                                                                                                             \
+    }                                                                                                                                 \
+    return rj__sum8(eu, m->ne);                                                                                                       \
+}                                                                                                                                     \
+
+#ifdef RJ__LANES4
+RJ__BEAM_PASS(rj__beam_pass4, RJ__AVX2, 4, rj__elem_lanes4, rj__node_lanes4)
+#endif
+#ifdef RJ__LANES2
+RJ__BEAM_PASS(rj__beam_pass2, , 2, rj__elem_lanes2, rj__node_lanes2)
+#endif
+#ifndef RJ__LANES
+static int rj__elem_none(int ne, const double *kc, const double *xa, const double *ya, const double *pa, const double *bb,
+                         const double *ccx, const double *ccy, double *F, double *ue, double *bo, double *cox, double *coy)
+{
+    (void)kc; (void)xa; (void)ya; (void)pa; (void)bb; (void)ccx; (void)ccy; (void)F; (void)ue; (void)bo; (void)cox; (void)coy;
+    return ne * 0;
+}
+static int rj__node_none(int cnt, int n, const double *un, const rj__adv *a, const double *F, const double *x,
+                         const double *y, const double *phi)
+{
+    (void)n; (void)un; (void)a; (void)F; (void)x; (void)y; (void)phi;
+    return cnt * 0;
+}
+RJ__BEAM_PASS(rj__beam_pass1, , 1, rj__elem_none, rj__node_none)
+#endif
+
+/* Internal forces at x (see RJ__BEAM_PASS), in the widest lanes the CPU has. */
 static double rj__beam_pass(const rj_model *m, const double *x, const double *y, const double *phi,
                             const double *beta, const double *cx, const double *cy, double *eu,
                             double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz, const rj__adv *adv)
 {
-    /* chunk buffers: entry 0 is the previous chunk's last element (or the -0.0 / +0.0 before
-       a link's first), entries 1 .. nc this chunk's, nc + 1 the +0.0 after a link's last */
-    double FB[4 * RJ__FROW];
-    double *FX = FB, *FY = FB + RJ__FROW, *M1 = FB + 2 * RJ__FROW, *M2 = FB + 3 * RJ__FROW;
-    const int *dn = m->dnode, ndn = m->ndn;
-    int l, q = 0;   /* q: the next node of dn (ascending) not yet passed */
-    for (l = 0; l < m->nl; l++) {
-        const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;
-        const double *kc = m->link_kc + 4 * (size_t)l;
-        const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];
-        int c0;
-        if (m->ldef[l].fidelity == RJ_LINK_RIGID) {
-            /* a rigid link: no elements; its nodes take only what joints apply (and are
-               advanced with the joints' nodes) */
-            for (c0 = 0; c0 < ne; c0++) {
-                beta_out[e0 + c0] = beta[e0 + c0]; cx_out[e0 + c0] = cx[e0 + c0]; cy_out[e0 + c0] = cy[e0 + c0];
-                eu[e0 + c0] = 0;
-            }
-            for (c0 = 0; c0 <= ne; c0++) fx[n0 + c0] = fy[n0 + c0] = mz[n0 + c0] = 0;
-            continue;
-        }
-        FX[0] = FY[0] = -0.0; M1[0] = M2[0] = 0.0;
-        for (c0 = 0; c0 < ne; c0 += RJ__CHUNK) {
-            const int nc = ne - c0 < RJ__CHUNK ? ne - c0 : RJ__CHUNK, a = e0 + c0, na = n0 + c0, last = c0 + nc == ne;
-            const double *RJ__RESTRICT xa = x + na, *RJ__RESTRICT ya = y + na, *RJ__RESTRICT pa = phi + na;
-            const double *RJ__RESTRICT bb = beta + a, *RJ__RESTRICT ccx = cx + a, *RJ__RESTRICT ccy = cy + a;
-            double *RJ__RESTRICT ue = eu + a, *RJ__RESTRICT bo = beta_out + a;
-            int i;
-            if (rj__beam_link_fast(nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a)) {
-                /* a chord turned more than 0.02 rad in one step: exact angles for this chunk */
-                for (i = 0; i < nc; i++) {
-                    const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];
-                    const double bt = bb[i] + atan2(ccx[i] * ey - ccy[i] * ex, ccx[i] * ex + ccy[i] * ey);
-                    RJ__ELEM_FORCES(double, ex, ey, bt, 1.0 / (ex * ex + ey * ey), pa[i], pa[i + 1]);
-                    bo[i] = bt;
-                    FX[1 + i] = fx_; FY[1 + i] = fy_; M1[1 + i] = ma_; M2[1 + i] = mb_; ue[i] = u_;
-                }
-            }
-            if (last) { FX[nc + 1] = FY[nc + 1] = M1[nc + 1] = 0.0; }
-            /* the chunk's nodes whose elements are all summed: na .. na + nc - 1, and the
-               link's last node with the last chunk */
-            rj__node_pass(nc + last, na, FB, fx, fy, mz, x, y, phi, adv, m->link_un + 5 * l);
-            if (adv) {   /* the forces of the nodes the step advances again */
-                const int end = na + nc + last;
-                while (q < ndn && dn[q] < na) q++;
-                for (; q < ndn && dn[q] < end; q++) {
-                    const int k = dn[q] - na;
-                    fx[na + k] = FX[k] - FX[k + 1]; fy[na + k] = FY[k] - FY[k + 1]; mz[na + k] = -M2[k] - M1[k + 1];
-                }
-            }
-            FX[0] = FX[nc]; FY[0] = FY[nc]; M1[0] = M1[nc]; M2[0] = M2[nc];
-        }
-    }
-    return rj__sum8(eu, m->ne);
+#if defined(RJ__DISPATCH)
+    return (__builtin_cpu_supports("avx2") ? rj__beam_pass4 : rj__beam_pass2)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+#elif defined(RJ__LANES4)
+    return rj__beam_pass4(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+#elif defined(RJ__LANES2)
+    return rj__beam_pass2(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+#else
+    return rj__beam_pass1(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+#endif
 }
 
 /* ------------------------------------------------------------------ joint kinematics */
