@@ -593,6 +593,7 @@ struct rj_model {
     double *kmass, *krot;     /* (nn) mass / rotary inertia counted in the kinetic energy (0 for fixed or grouped) */
     int *grp_first;           /* (ng+1) */
     int ndn;                  /* nodes whose forces change after the beams, and links' end nodes */
+    int dn_inner;             /* some flexible link has such a node inside (not at an end) */
     int *dnode;               /* (ndn) those nodes and every link's end nodes: the fused beam pass advances them again */
     double *link_un;          /* (5 nl) a link's other nodes' tinv, rinv, kmass, krot, and 1 when they all agree */
     double *link_kc;          /* (4 nl) a link's element constants: EI/l0, EA/l0 (0 if inextensible), l0^2, 1/(2 l0^2) */
@@ -1211,6 +1212,7 @@ typedef struct rj__adv {
     double kick, dt;
     const double *vx, *vy, *w, *ti, *ri, *km, *kj;
     double *nx, *ny, *nphi, *nvx, *nvy, *nw, *kn;
+    double *fx, *fy, *mz;   /* node forces, for the nodes advanced again (rj_model.dnode) */
 } rj__adv;
 
 /* One node's update with its final forces (the lanes below do the same operations in the
@@ -1227,14 +1229,15 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
 
 #ifdef RJ__LANES
 /* W nodes from node k on (chunk-relative), in lanes; UNI: the link's uniform node values in
-   tiv .. kjv, else each node's own. */
-#define RJ__NODE_STEP(VD, k, UNI)                                                                \
+   tiv .. kjv, else each node's own; ST: their forces are stored too. */
+#define RJ__NODE_STEP(VD, k, UNI, ST)                                                            \
     {                                                                                            \
         VD f0, f1, g0, g1, m1, m2, fxv, fyv, mzv, vxv, vyv, wv, t, tiv = tiu, riv = riu, kmv = kmu, kjv = kju; \
         RJ__VLD(f0, F + k); RJ__VLD(f1, F + k + 1);                                              \
         RJ__VLD(g0, F + RJ__FROW + k); RJ__VLD(g1, F + RJ__FROW + k + 1);                        \
         RJ__VLD(m2, F + 3 * RJ__FROW + k); RJ__VLD(m1, F + 2 * RJ__FROW + k + 1);                \
         fxv = f0 - f1; fyv = g0 - g1; mzv = -m2 - m1;                                            \
+        if (ST) { RJ__VST(fx + k, fxv); RJ__VST(fy + k, fyv); RJ__VST(mz + k, mzv); }            \
         RJ__VLD(vxv, vx + k); RJ__VLD(vyv, vy + k); RJ__VLD(wv, w + k);                          \
         if (!UNI) { RJ__VLD(tiv, ti + k); RJ__VLD(riv, ri + k); RJ__VLD(kmv, km + k); RJ__VLD(kjv, kj + k); } \
         {                                                                                        \
@@ -1247,11 +1250,13 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
         }                                                                                        \
     }
 /* The node pass in lanes of W doubles over all cnt >= W nodes (the last W again where W
-   does not divide cnt: same inputs, same bits); returns cnt. */
+   does not divide cnt: same inputs, same bits), their forces stored too if store is set;
+   returns cnt. */
 #define RJ__NODE_LANES(W, VD, ATTR)                                                              \
 ATTR static RJ__FORCE_INLINE int rj__node_lanes##W(int cnt, int n, const double *un, const rj__adv *a, \
-    const double *RJ__RESTRICT F, const double *x_, const double *y_, const double *phi_)        \
+    const double *RJ__RESTRICT F, const double *x_, const double *y_, const double *phi_, int store) \
 {                                                                                                \
+    double *RJ__RESTRICT fx = a->fx + n, *RJ__RESTRICT fy = a->fy + n, *RJ__RESTRICT mz = a->mz + n; \
     const double kick = a->kick, dt = a->dt;                                                     \
     const double *RJ__RESTRICT x = x_ + n, *RJ__RESTRICT y = y_ + n, *RJ__RESTRICT phi = phi_ + n; \
     const double *RJ__RESTRICT vx = a->vx + n, *RJ__RESTRICT vy = a->vy + n, *RJ__RESTRICT w = a->w + n; \
@@ -1263,12 +1268,15 @@ ATTR static RJ__FORCE_INLINE int rj__node_lanes##W(int cnt, int n, const double 
     VD tiu, riu, kmu, kju;                                                                       \
     int k;                                                                                       \
     for (k = 0; k < W; k++) { tiu[k] = un[0]; riu[k] = un[1]; kmu[k] = un[2]; kju[k] = un[3]; }  \
-    if (un[4] != 0) {                                                                            \
-        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 1)                                \
-        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 1) }                                    \
-    } else {                                                                                     \
-        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 0)                                \
-        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 0) }                                    \
+    if (un[4] != 0 && !store) {                                                                  \
+        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 1, 0)                             \
+        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 1, 0) }                                 \
+    } else if (un[4] != 0) {                                                                     \
+        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 1, 1)                             \
+        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 1, 1) }                                 \
+    } else {   /* per-node values: rare, and their forces always stored */                       \
+        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 0, 1)                             \
+        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 0, 1) }                                 \
     }                                                                                            \
     return cnt;                                                                                  \
 }
@@ -1283,8 +1291,8 @@ RJ__NODE_LANES(4, rj__vd4, RJ__AVX2)
 /* Nodes n + k .. n + cnt - 1 from the chunk buffer F (rows FX, FY, M1, M2) laid out so
    that node k takes FX[k] - FX[k+1] (its element on the left, -0.0 before a link's first,
    minus the one on the right, +0.0 after its last: the same bits as -FX[0] and FX[last])
-   and mz = -M2[k] - M1[k+1]: with a NULL the forces (into fx, fy, mz), else the advanced
-   velocities, positions and kinetic-energy shares (the lanes did nodes 0 .. k - 1). */
+   and mz = -M2[k] - M1[k+1]: the forces (into fx, fy, mz), and with a (not NULL) the
+   advanced velocities, positions and kinetic-energy shares (the lanes did nodes 0 .. k - 1). */
 static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, double *fy, double *mz,
                             const double *x, const double *y, const double *phi, const rj__adv *a)
 {
@@ -1295,6 +1303,7 @@ static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, 
     }
     for (; k < cnt; k++) {
         const double fxv = FX[k] - FX[k + 1], fyv = FY[k] - FY[k + 1], mzv = -M2[k] - M1[k + 1];
+        fx[n + k] = fxv; fy[n + k] = fyv; mz[n + k] = mzv;
         rj__advance_node(a, n + k, fxv, fyv, mzv, x, y, phi);
     }
 }
@@ -1307,69 +1316,62 @@ static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, 
    later (m->dnode). Returns the strain energy. */
 /* The pass, compiled once per lane width W (ELEM, NODE: that width's lane loops) so that
    the kernels inline into it and the CPU is asked once per step. */
-#define RJ__BEAM_PASS(NAME, ATTR, W, ELEM, NODE) \
-ATTR static double NAME(const rj_model *m, const double *x, const double *y, const double *phi,                                       \
-                            const double *beta, const double *cx, const double *cy, double *eu,                                       \
-                            double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz, const rj__adv *adv) \
-{                                                                                                                                     \
-    /* chunk buffers: entry 0 is the previous chunk's last element (or the -0.0 / +0.0 before                                         \
-       a link's first), entries 1 .. nc this chunk's, nc + 1 the +0.0 after a link's last */                                          \
-    double FB[4 * RJ__FROW];                                                                                                          \
-    double *FX = FB, *FY = FB + RJ__FROW, *M1 = FB + 2 * RJ__FROW, *M2 = FB + 3 * RJ__FROW;                                           \
-    const int *dn = m->dnode, ndn = m->ndn;                                                                                           \
-    int l, q = 0;   /* q: the next node of dn (ascending) not yet passed */                                                           \
-    for (l = 0; l < m->nl; l++) {                                                                                                     \
-        const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;                                     \
-        const double *kc = m->link_kc + 4 * (size_t)l;                                                                                \
-        const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];                                                    \
-        int c0;                                                                                                                       \
-        if (m->ldef[l].fidelity == RJ_LINK_RIGID) {                                                                                   \
-            /* a rigid link: no elements; its nodes take only what joints apply (and are                                              \
-               advanced with the joints' nodes) */                                                                                    \
-            for (c0 = 0; c0 < ne; c0++) {                                                                                             \
-                beta_out[e0 + c0] = beta[e0 + c0]; cx_out[e0 + c0] = cx[e0 + c0]; cy_out[e0 + c0] = cy[e0 + c0];                      \
-                eu[e0 + c0] = 0;                                                                                                      \
-            }                                                                                                                         \
-            for (c0 = 0; c0 <= ne; c0++) fx[n0 + c0] = fy[n0 + c0] = mz[n0 + c0] = 0;                                                 \
-            continue;                                                                                                                 \
-        }                                                                                                                             \
-        FX[0] = FY[0] = -0.0; M1[0] = M2[0] = 0.0;                                                                                    \
-        for (c0 = 0; c0 < ne; c0 += RJ__CHUNK) {                                                                                      \
-            const int nc = ne - c0 < RJ__CHUNK ? ne - c0 : RJ__CHUNK, a = e0 + c0, na = n0 + c0, last = c0 + nc == ne;                \
-            const double *RJ__RESTRICT xa = x + na, *RJ__RESTRICT ya = y + na, *RJ__RESTRICT pa = phi + na;                           \
-            const double *RJ__RESTRICT bb = beta + a, *RJ__RESTRICT ccx = cx + a, *RJ__RESTRICT ccy = cy + a;                         \
-            double *RJ__RESTRICT ue = eu + a, *RJ__RESTRICT bo = beta_out + a;                                                        \
-            int i;                                                                                                                    \
-            i = W > 1 && nc >= W ? ELEM(nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a) : 0;                \
-            if (i >= 0 && i < nc) i = rj__elem_scalar(i, nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a);   \
-            if (i < 0) {                                                                                                              \
-                /* a chord turned more than 0.02 rad in one step: exact angles for this chunk */                                      \
-                for (i = 0; i < nc; i++) {                                                                                            \
-                    const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];                                                      \
-                    const double bt = bb[i] + atan2(ccx[i] * ey - ccy[i] * ex, ccx[i] * ex + ccy[i] * ey);                            \
-                    RJ__ELEM_FORCES(double, ex, ey, bt, 1.0 / (ex * ex + ey * ey), pa[i], pa[i + 1]);                                 \
-                    bo[i] = bt;                                                                                                       \
-                    FX[1 + i] = fx_; FY[1 + i] = fy_; M1[1 + i] = ma_; M2[1 + i] = mb_; ue[i] = u_;                                   \
-                }                                                                                                                     \
-            }                                                                                                                         \
-            if (last) { FX[nc + 1] = FY[nc + 1] = M1[nc + 1] = 0.0; }                                                                 \
-            /* the chunk's nodes whose elements are all summed: na .. na + nc - 1, and the                                            \
-               link's last node with the last chunk */                                                                                \
-            i = adv && W > 1 && nc + last >= W ? NODE(nc + last, na, m->link_un + 5 * l, adv, FB, x, y, phi) : 0;                     \
-            if (i < nc + last) rj__node_scalar(i, nc + last, na, FB, fx, fy, mz, x, y, phi, adv);                                     \
-            if (adv) {   /* the forces of the nodes the step advances again */                                                        \
-                const int end = na + nc + last;                                                                                       \
-                while (q < ndn && dn[q] < na) q++;                                                                                    \
-                for (; q < ndn && dn[q] < end; q++) {                                                                                 \
-                    const int k = dn[q] - na;                                                                                         \
-                    fx[na + k] = FX[k] - FX[k + 1]; fy[na + k] = FY[k] - FY[k + 1]; mz[na + k] = -M2[k] - M1[k + 1];                  \
-                }                                                                                                                     \
-            }                                                                                                                         \
-            FX[0] = FX[nc]; FY[0] = FY[nc]; M1[0] = M1[nc]; M2[0] = M2[nc];                                                           \
-        }                                                                                                                             \
-    }                                                                                                                                 \
-    return rj__sum8(eu, m->ne);                                                                                                       \
-}                                                                                                                                     \
+#define RJ__BEAM_PASS(NAME, ATTR, W, ELEM, NODE)                                                                                                  \
+ATTR static double NAME(const rj_model *m, const double *x, const double *y, const double *phi,                                                   \
+                            const double *beta, const double *cx, const double *cy, double *eu,                                                   \
+                            double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz, const rj__adv *adv)             \
+{                                                                                                                                                 \
+    /* chunk buffers: entry 0 is the previous chunk's last element (or the -0.0 / +0.0 before                                                     \
+       a link's first), entries 1 .. nc this chunk's, nc + 1 the +0.0 after a link's last */                                                      \
+    double FB[4 * RJ__FROW];                                                                                                                      \
+    double *FX = FB, *FY = FB + RJ__FROW, *M1 = FB + 2 * RJ__FROW, *M2 = FB + 3 * RJ__FROW;                                                       \
+    int l;                                                                                                                                        \
+    for (l = 0; l < m->nl; l++) {                                                                                                                 \
+        const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;                                                 \
+        const double *kc = m->link_kc + 4 * (size_t)l;                                                                                            \
+        const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];                                                                \
+        int c0;                                                                                                                                   \
+        if (m->ldef[l].fidelity == RJ_LINK_RIGID) {                                                                                               \
+            /* a rigid link: no elements; its nodes take only what joints apply (and are                                                          \
+               advanced with the joints' nodes) */                                                                                                \
+            for (c0 = 0; c0 < ne; c0++) {                                                                                                         \
+                beta_out[e0 + c0] = beta[e0 + c0]; cx_out[e0 + c0] = cx[e0 + c0]; cy_out[e0 + c0] = cy[e0 + c0];                                  \
+                eu[e0 + c0] = 0;                                                                                                                  \
+            }                                                                                                                                     \
+            for (c0 = 0; c0 <= ne; c0++) fx[n0 + c0] = fy[n0 + c0] = mz[n0 + c0] = 0;                                                             \
+            continue;                                                                                                                             \
+        }                                                                                                                                         \
+        FX[0] = FY[0] = -0.0; M1[0] = M2[0] = 0.0;                                                                                                \
+        for (c0 = 0; c0 < ne; c0 += RJ__CHUNK) {                                                                                                  \
+            const int nc = ne - c0 < RJ__CHUNK ? ne - c0 : RJ__CHUNK, a = e0 + c0, na = n0 + c0, last = c0 + nc == ne;                            \
+            const double *RJ__RESTRICT xa = x + na, *RJ__RESTRICT ya = y + na, *RJ__RESTRICT pa = phi + na;                                       \
+            const double *RJ__RESTRICT bb = beta + a, *RJ__RESTRICT ccx = cx + a, *RJ__RESTRICT ccy = cy + a;                                     \
+            double *RJ__RESTRICT ue = eu + a, *RJ__RESTRICT bo = beta_out + a;                                                                    \
+            int i;                                                                                                                                \
+            i = W > 1 && nc >= W ? ELEM(nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a) : 0;                            \
+            if (i >= 0 && i < nc) i = rj__elem_scalar(i, nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a);               \
+            if (i < 0) {                                                                                                                          \
+                /* a chord turned more than 0.02 rad in one step: exact angles for this chunk */                                                  \
+                for (i = 0; i < nc; i++) {                                                                                                        \
+                    const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];                                                                  \
+                    const double bt = bb[i] + atan2(ccx[i] * ey - ccy[i] * ex, ccx[i] * ex + ccy[i] * ey);                                        \
+                    RJ__ELEM_FORCES(double, ex, ey, bt, 1.0 / (ex * ex + ey * ey), pa[i], pa[i + 1]);                                             \
+                    bo[i] = bt;                                                                                                                   \
+                    FX[1 + i] = fx_; FY[1 + i] = fy_; M1[1 + i] = ma_; M2[1 + i] = mb_; ue[i] = u_;                                               \
+                }                                                                                                                                 \
+            }                                                                                                                                     \
+            if (last) { FX[nc + 1] = FY[nc + 1] = M1[nc + 1] = 0.0; }                                                                             \
+            /* the chunk's nodes whose elements are all summed: na .. na + nc - 1, and the                                                        \
+               link's last node with the last chunk; their forces are stored in the chunks                                                        \
+               that hold nodes the step advances again (m->dnode: a link's end nodes, and                                                         \
+               inner ones only in scenes with dn_inner) */                                                                                        \
+            i = adv && W > 1 && nc + last >= W ? NODE(nc + last, na, m->link_un + 5 * l, adv, FB, x, y, phi, c0 == 0 || last || m->dn_inner) : 0; \
+            if (i < nc + last) rj__node_scalar(i, nc + last, na, FB, fx, fy, mz, x, y, phi, adv);                                                 \
+            FX[0] = FX[nc]; FY[0] = FY[nc]; M1[0] = M1[nc]; M2[0] = M2[nc];                                                                       \
+        }                                                                                                                                         \
+    }                                                                                                                                             \
+    return rj__sum8(eu, m->ne);                                                                                                                   \
+}
 
 #ifdef RJ__LANES4
 RJ__BEAM_PASS(rj__beam_pass4, RJ__AVX2, 4, rj__elem_lanes4, rj__node_lanes4)
@@ -1385,9 +1387,9 @@ static int rj__elem_none(int ne, const double *kc, const double *xa, const doubl
     return ne * 0;
 }
 static int rj__node_none(int cnt, int n, const double *un, const rj__adv *a, const double *F, const double *x,
-                         const double *y, const double *phi)
+                         const double *y, const double *phi, int store)
 {
-    (void)n; (void)un; (void)a; (void)F; (void)x; (void)y; (void)phi;
+    (void)n; (void)un; (void)a; (void)F; (void)x; (void)y; (void)phi; (void)store;
     return cnt * 0;
 }
 RJ__BEAM_PASS(rj__beam_pass1, , 1, rj__elem_none, rj__node_none)
@@ -2240,6 +2242,11 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
             mark[n0] = mark[n0 + ne_l] = 1;
         }
         for (i = 0; i < nn; i++) if (mark[i]) m->dnode[m->ndn++] = i;
+        m->dn_inner = 0;
+        for (l = 0; l < m->nl; l++) {
+            const int n0 = m->link_first[l], ne_l = m->ldef[l].elements;
+            if (m->ldef[l].fidelity != RJ_LINK_RIGID) for (k = n0 + 1; k < n0 + ne_l; k++) if (mark[k]) m->dn_inner = 1;
+        }
         /* a link whose other nodes share their inverse masses and energy weights (uniform
            sections: all of them) lets the fused pass read four numbers instead of four arrays */
         for (l = 0; l < m->nl; l++) {
@@ -3182,6 +3189,7 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
     adv.kick = kick; adv.dt = dt; adv.vx = vx; adv.vy = vy; adv.w = w;
     adv.ti = m->tinv; adv.ri = m->rinv; adv.km = m->kmass; adv.kj = m->krot;
     adv.nx = nx; adv.ny = ny; adv.nphi = nphi; adv.nvx = nvx; adv.nvy = nvy; adv.nw = nw; adv.kn = s->kn;
+    adv.fx = fx; adv.fy = fy; adv.mz = mz;
     U = rj__beam_pass(m, x, y, phi, RJ__FBETA(m, of), RJ__FCX(m, of), RJ__FCY(m, of), s->eu,
                       RJ__FBETA(m, nf), RJ__FCX(m, nf), RJ__FCY(m, nf), fx, fy, mz, &adv);
 

@@ -139,6 +139,24 @@ int main(void)
             rc |= run(name, &sc, 0.3);
         }
     }
+    {   /* a pin in the middle chunk of a 300-element link: the forces of its node are kept
+           only because the pass stores them in every chunk of such scenes (dn_inner) */
+        rj_link_def L[2];
+        rj_joint_def J[2];
+        rj_scene_def sc = rj_default_scene_def();
+        int k;
+        for (k = 0; k < 2; k++) {
+            L[k] = rj_default_link_def();
+            L[k].length = k == 0 ? 3.0 : 0.5; L[k].elements = k == 0 ? 300 : 9; L[k].height = 0.02; L[k].width = 0.05;
+            J[k] = rj_default_joint_def();
+            J[k].friction = 0.01; J[k].damping = 0.002; J[k].spring_k = 0.5;
+        }
+        L[0].omega = 0.5;
+        J[0].body1 = -1; J[0].body2 = 0;
+        J[1].body1 = 0; J[1].node1 = 150; J[1].body2 = 1; J[1].angle0 = 1.0;
+        sc.links = L; sc.link_count = 2; sc.joints = J; sc.joint_count = 2;
+        rc |= run("pin mid-chunk, 300 elements", &sc, 0.02);
+    }
     rc |= run_file("examples/scenes/deploy.rjs", 1.0);
     rc |= run_file("examples/scenes/solar_array.rjs", 0.5);
     rc |= run_file("examples/scenes/solar_array_bus.rjs", 0.5);
