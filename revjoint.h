@@ -231,11 +231,19 @@ typedef struct rj_joint_def {
 /* Solver definition. Defaults (rj_default_solver_def):
      dt 0 s (0 = use 0.9 x the stability bound); allow_unstable 0;
      energy_growth 10 (blow-up when total energy exceeds 10 x max(initial energy, energy put
-     in by springs) + 1e-9 J). */
+     in by springs) + 1e-9 J); energy_every 1.
+   energy_every K > 1: the kinetic, strain and spring energies (rj_state_energy) and the
+   energy-based blow-up checks are taken on every K-th step only, and on the step before
+   each of rj_run's samples, so sampled histories are the same as with K = 1; between
+   them rj_state_energy keeps the last ones (rj_state_energy_time says when). Positions,
+   velocities and the work of damping, friction and limits are the same bits either way;
+   flexible links' steps are about a quarter cheaper in instructions (BENCHMARKS.md);
+   a blow-up is caught up to K - 1 steps later. Rigid-only scenes take it every step. */
 typedef struct rj_solver_def {
     double dt;             /* s, >= 0 */
     int allow_unstable;    /* accept dt above the bound */
     double energy_growth;  /* > 1 */
+    int energy_every;      /* 1 .. 1000 steps */
     unsigned cookie;
 } rj_solver_def;
 
@@ -349,9 +357,10 @@ RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s, int joint
 RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s, int joint);  /* latest release from a limit, s; -1 if none */
 RJDEF double rj_joint_peak_penetration(const rj_model *m, const rj_state *s, int joint); /* rad, largest |penetration| so far */
 RJDEF double rj_joint_contact_penetration(const rj_model *m, const rj_state *s, int joint); /* rad, penetration when the latest contact was detected */
-/* Energy accounts at time rj_state_energy_time(s) = time - dt: the kinetic energy of the
-   central-difference pair is 1/2 m v^{n-1/2}.v^{n+1/2}, which closes the balance exactly for
-   linear systems. */
+/* Energy accounts at time rj_state_energy_time(s) = time - dt (with solver.energy_every
+   K > 1: of the last step that took them, at most K steps back; rj_run takes them before
+   every sample and at its end): the kinetic energy of the central-difference pair is
+   1/2 m v^{n-1/2}.v^{n+1/2}, which closes the balance exactly for linear systems. */
 RJDEF void rj_state_energy(const rj_model *m, const rj_state *s, rj_energy *e);
 RJDEF double rj_state_energy_time(const rj_state *s);
 
@@ -397,7 +406,7 @@ typedef struct rj_scene_file {
     char (*joint_names)[RJ_SCENE_NAME_MAX];
     char filename[96];                /* as given to rj_scene_parse (truncated) */
     rj_scene_pos *link_pos_, *joint_pos_; /* per item: header, then the value of each key */
-    rj_scene_pos solver_pos_[4];      /* header, then dt, allow_unstable, energy_growth */
+    rj_scene_pos solver_pos_[5];      /* header, then dt, allow_unstable, energy_growth, energy_every */
     void *block_, *alloc_ctx_;
 } rj_scene_file;
 
@@ -715,7 +724,7 @@ RJDEF rj_solver_def rj_default_solver_def(void)
 {
     rj_solver_def d;
     memset(&d, 0, sizeof d);
-    d.dt = 0.0; d.allow_unstable = 0; d.energy_growth = 10.0;
+    d.dt = 0.0; d.allow_unstable = 0; d.energy_growth = 10.0; d.energy_every = 1;
     d.cookie = RJ__COOKIE_SOLVER;
     return d;
 }
@@ -861,6 +870,10 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
     if (sc->solver.cookie != RJ__COOKIE_SOLVER) { rj__fail(err, RJ_ERR_INVALID, "solver", 0, "solver was not initialised with rj_default_solver_def()"); return 0; }
     if (!rj__check_num(err, "solver.dt", sc->solver.dt, 0, 1, 1.0, 1, "must be 0 (automatic) or a step in (0, 1] s")) return 0;
     if (!rj__check_num(err, "solver.energy_growth", sc->solver.energy_growth, 1.0, 0, inf, 0, "must be > 1")) return 0;
+    if (sc->solver.energy_every < 1 || sc->solver.energy_every > 1000) {
+        rj__fail(err, RJ_ERR_INVALID, "solver.energy_every", sc->solver.energy_every, "solver.energy_every = %d is invalid: must be 1 .. 1000 steps", sc->solver.energy_every);
+        return 0;
+    }
     if (sc->solver.allow_unstable != 0 && sc->solver.allow_unstable != 1) {
         rj__fail(err, RJ_ERR_INVALID, "solver.allow_unstable", sc->solver.allow_unstable, "solver.allow_unstable = %d is invalid: must be 0 or 1", sc->solver.allow_unstable);
         return 0;
@@ -1111,8 +1124,9 @@ RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
 #define RJ__FROW (RJ__CHUNK + 2)
 
 #ifdef RJ__LANES
-/* W elements from element i on, in lanes; F + i is element i's slot in row FX. */
-#define RJ__ELEM_STEP(VD, i)                                                                     \
+/* W elements from element i on, in lanes; F + i is element i's slot in row FX; EN: their
+   strain energies too (without, the compiler drops their arithmetic). */
+#define RJ__ELEM_STEP(VD, i, EN)                                                                 \
     {                                                                                            \
         VD x0, x1, y0, y1, p0, p1, b, cxv, cyv, ex, ey;                                          \
         RJ__VLD(x0, xa + i); RJ__VLD(x1, xa + i + 1); RJ__VLD(y0, ya + i); RJ__VLD(y1, ya + i + 1); \
@@ -1124,18 +1138,19 @@ RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
             okv &= (r2_ < lim) & (dp_ > zero);   /* NaN clears it too */                         \
             RJ__VST(bo + i, bt_); RJ__VST(cox + i, ex); RJ__VST(coy + i, ey);                    \
             RJ__VST(F + i, fx_); RJ__VST(F + RJ__FROW + i, fy_); RJ__VST(F + 2 * RJ__FROW + i, ma_); \
-            RJ__VST(F + 3 * RJ__FROW + i, mb_); RJ__VST(ue + i, u_);                             \
+            RJ__VST(F + 3 * RJ__FROW + i, mb_); if (EN) RJ__VST(ue + i, u_);                     \
         }                                                                                        \
     }
 /* The element loop in lanes of W doubles over all ne >= W elements (the last W again where
-   W does not divide ne: the same inputs give the same bits); returns -1 when some chord
-   turned too far (or a result is NaN). kc: the link's element constants (link_kc). */
+   W does not divide ne: the same inputs give the same bits), their strain energies if en is
+   set; returns -1 when some chord turned too far (or a result is NaN). kc: the link's
+   element constants (link_kc). */
 #define RJ__ELEM_LANES(W, VD, VL, ATTR)                                                          \
 ATTR static RJ__FORCE_INLINE int rj__elem_lanes##W(int ne, const double *kc,                                      \
     const double *RJ__RESTRICT xa, const double *RJ__RESTRICT ya, const double *RJ__RESTRICT pa,   \
     const double *RJ__RESTRICT bb, const double *RJ__RESTRICT ccx, const double *RJ__RESTRICT ccy, \
     double *RJ__RESTRICT F, double *RJ__RESTRICT ue, double *RJ__RESTRICT bo,                    \
-    double *RJ__RESTRICT cox, double *RJ__RESTRICT coy)                                          \
+    double *RJ__RESTRICT cox, double *RJ__RESTRICT coy, int en)                                  \
 {                                                                                                \
     const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];                   \
     VD lim, zero;                                                                                \
@@ -1143,8 +1158,13 @@ ATTR static RJ__FORCE_INLINE int rj__elem_lanes##W(int ne, const double *kc,    
     int i, k;                                                                                    \
     for (k = 0; k < W; k++) { lim[k] = 4e-6; zero[k] = 0.0; }                                    \
     okv = zero < lim;   /* all lanes set */                                                      \
-    for (i = 0; i + W <= ne; i += W) RJ__ELEM_STEP(VD, i)                                        \
-    if (i < ne) { i = ne - W; RJ__ELEM_STEP(VD, i) }                                             \
+    if (en) {                                                                                    \
+        for (i = 0; i + W <= ne; i += W) RJ__ELEM_STEP(VD, i, 1)                                 \
+        if (i < ne) { i = ne - W; RJ__ELEM_STEP(VD, i, 1) }                                      \
+    } else {                                                                                     \
+        for (i = 0; i + W <= ne; i += W) RJ__ELEM_STEP(VD, i, 0)                                 \
+        if (i < ne) { i = ne - W; RJ__ELEM_STEP(VD, i, 0) }                                      \
+    }                                                                                            \
     for (k = 0; k < W; k++) if (!okv[k]) return -1;                                              \
     return ne;                                                                                   \
 }
@@ -1213,6 +1233,7 @@ typedef struct rj__adv {
     const double *vx, *vy, *w, *ti, *ri, *km, *kj;
     double *nx, *ny, *nphi, *nvx, *nvy, *nw, *kn;
     double *fx, *fy, *mz;   /* node forces, for the nodes advanced again (rj_model.dnode) */
+    int en;                 /* this step takes the energy accounts (solver.energy_every) */
 } rj__adv;
 
 /* One node's update with its final forces (the lanes below do the same operations in the
@@ -1229,8 +1250,9 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
 
 #ifdef RJ__LANES
 /* W nodes from node k on (chunk-relative), in lanes; UNI: the link's uniform node values in
-   tiv .. kjv, else each node's own; ST: their forces are stored too. */
-#define RJ__NODE_STEP(VD, k, UNI, ST)                                                            \
+   tiv .. kjv, else each node's own; ST: their forces are stored too; EN: their shares of
+   the kinetic energy. */
+#define RJ__NODE_STEP(VD, k, UNI, ST, EN)                                                        \
     {                                                                                            \
         VD f0, f1, g0, g1, m1, m2, fxv, fyv, mzv, vxv, vyv, wv, t, tiv = tiu, riv = riu, kmv = kmu, kjv = kju; \
         RJ__VLD(f0, F + k); RJ__VLD(f1, F + k + 1);                                              \
@@ -1243,18 +1265,18 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
         {                                                                                        \
             const VD ux_ = vxv + kick * fxv * tiv, uy_ = vyv + kick * fyv * tiv, uw_ = wv + kick * mzv * riv; \
             const VD kn_ = kmv * (vxv * ux_ + vyv * uy_) + kjv * wv * uw_;                       \
-            RJ__VST(nvx + k, ux_); RJ__VST(nvy + k, uy_); RJ__VST(nw + k, uw_); RJ__VST(kn + k, kn_); \
+            RJ__VST(nvx + k, ux_); RJ__VST(nvy + k, uy_); RJ__VST(nw + k, uw_); if (EN) RJ__VST(kn + k, kn_); \
             RJ__VLD(t, x + k); t = t + dt * ux_; RJ__VST(nx + k, t);                             \
             RJ__VLD(t, y + k); t = t + dt * uy_; RJ__VST(ny + k, t);                             \
             RJ__VLD(t, phi + k); t = t + dt * uw_; RJ__VST(nphi + k, t);                         \
         }                                                                                        \
     }
 /* The node pass in lanes of W doubles over all cnt >= W nodes (the last W again where W
-   does not divide cnt: same inputs, same bits), their forces stored too if store is set;
-   returns cnt. */
+   does not divide cnt: same inputs, same bits), their forces stored too if store is set and
+   their kinetic-energy shares if en is; returns cnt. */
 #define RJ__NODE_LANES(W, VD, ATTR)                                                              \
 ATTR static RJ__FORCE_INLINE int rj__node_lanes##W(int cnt, int n, const double *un, const rj__adv *a, \
-    const double *RJ__RESTRICT F, const double *x_, const double *y_, const double *phi_, int store) \
+    const double *RJ__RESTRICT F, const double *x_, const double *y_, const double *phi_, int store, int en) \
 {                                                                                                \
     double *RJ__RESTRICT fx = a->fx + n, *RJ__RESTRICT fy = a->fy + n, *RJ__RESTRICT mz = a->mz + n; \
     const double kick = a->kick, dt = a->dt;                                                     \
@@ -1268,15 +1290,26 @@ ATTR static RJ__FORCE_INLINE int rj__node_lanes##W(int cnt, int n, const double 
     VD tiu, riu, kmu, kju;                                                                       \
     int k;                                                                                       \
     for (k = 0; k < W; k++) { tiu[k] = un[0]; riu[k] = un[1]; kmu[k] = un[2]; kju[k] = un[3]; }  \
-    if (un[4] != 0 && !store) {                                                                  \
-        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 1, 0)                             \
-        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 1, 0) }                                 \
-    } else if (un[4] != 0) {                                                                     \
-        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 1, 1)                             \
-        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 1, 1) }                                 \
-    } else {   /* per-node values: rare, and their forces always stored */                       \
-        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 0, 1)                             \
-        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 0, 1) }                                 \
+    switch ((un[4] != 0 ? 4 : 0) + (store ? 2 : 0) + (en ? 1 : 0)) {                             \
+    case 4:                                                                                      \
+        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 1, 0, 0)                          \
+        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 1, 0, 0) }                              \
+        break;                                                                                   \
+    case 5:                                                                                      \
+        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 1, 0, 1)                          \
+        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 1, 0, 1) }                              \
+        break;                                                                                   \
+    case 6:                                                                                      \
+        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 1, 1, 0)                          \
+        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 1, 1, 0) }                              \
+        break;                                                                                   \
+    case 7:                                                                                      \
+        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 1, 1, 1)                          \
+        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 1, 1, 1) }                              \
+        break;                                                                                   \
+    default:   /* per-node values: rare; forces and energy shares always stored */              \
+        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 0, 1, 1)                          \
+        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 0, 1, 1) }                              \
     }                                                                                            \
     return cnt;                                                                                  \
 }
@@ -1316,61 +1349,62 @@ static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, 
    later (m->dnode). Returns the strain energy. */
 /* The pass, compiled once per lane width W (ELEM, NODE: that width's lane loops) so that
    the kernels inline into it and the CPU is asked once per step. */
-#define RJ__BEAM_PASS(NAME, ATTR, W, ELEM, NODE)                                                                                                  \
-ATTR static double NAME(const rj_model *m, const double *x, const double *y, const double *phi,                                                   \
-                            const double *beta, const double *cx, const double *cy, double *eu,                                                   \
-                            double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz, const rj__adv *adv)             \
-{                                                                                                                                                 \
-    /* chunk buffers: entry 0 is the previous chunk's last element (or the -0.0 / +0.0 before                                                     \
-       a link's first), entries 1 .. nc this chunk's, nc + 1 the +0.0 after a link's last */                                                      \
-    double FB[4 * RJ__FROW];                                                                                                                      \
-    double *FX = FB, *FY = FB + RJ__FROW, *M1 = FB + 2 * RJ__FROW, *M2 = FB + 3 * RJ__FROW;                                                       \
-    int l;                                                                                                                                        \
-    for (l = 0; l < m->nl; l++) {                                                                                                                 \
-        const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;                                                 \
-        const double *kc = m->link_kc + 4 * (size_t)l;                                                                                            \
-        const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];                                                                \
-        int c0;                                                                                                                                   \
-        if (m->ldef[l].fidelity == RJ_LINK_RIGID) {                                                                                               \
-            /* a rigid link: no elements; its nodes take only what joints apply (and are                                                          \
-               advanced with the joints' nodes) */                                                                                                \
-            for (c0 = 0; c0 < ne; c0++) {                                                                                                         \
-                beta_out[e0 + c0] = beta[e0 + c0]; cx_out[e0 + c0] = cx[e0 + c0]; cy_out[e0 + c0] = cy[e0 + c0];                                  \
-                eu[e0 + c0] = 0;                                                                                                                  \
-            }                                                                                                                                     \
-            for (c0 = 0; c0 <= ne; c0++) fx[n0 + c0] = fy[n0 + c0] = mz[n0 + c0] = 0;                                                             \
-            continue;                                                                                                                             \
-        }                                                                                                                                         \
-        FX[0] = FY[0] = -0.0; M1[0] = M2[0] = 0.0;                                                                                                \
-        for (c0 = 0; c0 < ne; c0 += RJ__CHUNK) {                                                                                                  \
-            const int nc = ne - c0 < RJ__CHUNK ? ne - c0 : RJ__CHUNK, a = e0 + c0, na = n0 + c0, last = c0 + nc == ne;                            \
-            const double *RJ__RESTRICT xa = x + na, *RJ__RESTRICT ya = y + na, *RJ__RESTRICT pa = phi + na;                                       \
-            const double *RJ__RESTRICT bb = beta + a, *RJ__RESTRICT ccx = cx + a, *RJ__RESTRICT ccy = cy + a;                                     \
-            double *RJ__RESTRICT ue = eu + a, *RJ__RESTRICT bo = beta_out + a;                                                                    \
-            int i;                                                                                                                                \
-            i = W > 1 && nc >= W ? ELEM(nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a) : 0;                            \
-            if (i >= 0 && i < nc) i = rj__elem_scalar(i, nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a);               \
-            if (i < 0) {                                                                                                                          \
-                /* a chord turned more than 0.02 rad in one step: exact angles for this chunk */                                                  \
-                for (i = 0; i < nc; i++) {                                                                                                        \
-                    const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];                                                                  \
-                    const double bt = bb[i] + atan2(ccx[i] * ey - ccy[i] * ex, ccx[i] * ex + ccy[i] * ey);                                        \
-                    RJ__ELEM_FORCES(double, ex, ey, bt, 1.0 / (ex * ex + ey * ey), pa[i], pa[i + 1]);                                             \
-                    bo[i] = bt;                                                                                                                   \
-                    FX[1 + i] = fx_; FY[1 + i] = fy_; M1[1 + i] = ma_; M2[1 + i] = mb_; ue[i] = u_;                                               \
-                }                                                                                                                                 \
-            }                                                                                                                                     \
-            if (last) { FX[nc + 1] = FY[nc + 1] = M1[nc + 1] = 0.0; }                                                                             \
-            /* the chunk's nodes whose elements are all summed: na .. na + nc - 1, and the                                                        \
-               link's last node with the last chunk; their forces are stored in the chunks                                                        \
-               that hold nodes the step advances again (m->dnode: a link's end nodes, and                                                         \
-               inner ones only in scenes with dn_inner) */                                                                                        \
-            i = adv && W > 1 && nc + last >= W ? NODE(nc + last, na, m->link_un + 5 * l, adv, FB, x, y, phi, c0 == 0 || last || m->dn_inner) : 0; \
-            if (i < nc + last) rj__node_scalar(i, nc + last, na, FB, fx, fy, mz, x, y, phi, adv);                                                 \
-            FX[0] = FX[nc]; FY[0] = FY[nc]; M1[0] = M1[nc]; M2[0] = M2[nc];                                                                       \
-        }                                                                                                                                         \
-    }                                                                                                                                             \
-    return rj__sum8(eu, m->ne);                                                                                                                   \
+#define RJ__BEAM_PASS(NAME, ATTR, W, ELEM, NODE)                                                                                                      \
+ATTR static double NAME(const rj_model *m, const double *x, const double *y, const double *phi,                                                       \
+                            const double *beta, const double *cx, const double *cy, double *eu,                                                       \
+                            double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz, const rj__adv *adv)                 \
+{                                                                                                                                                     \
+    /* chunk buffers: entry 0 is the previous chunk's last element (or the -0.0 / +0.0 before                                                         \
+       a link's first), entries 1 .. nc this chunk's, nc + 1 the +0.0 after a link's last */                                                          \
+    double FB[4 * RJ__FROW];                                                                                                                          \
+    double *FX = FB, *FY = FB + RJ__FROW, *M1 = FB + 2 * RJ__FROW, *M2 = FB + 3 * RJ__FROW;                                                           \
+    const int en = !adv || adv->en;   /* strain energies wanted */                                                                                    \
+    int l;                                                                                                                                            \
+    for (l = 0; l < m->nl; l++) {                                                                                                                     \
+        const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;                                                     \
+        const double *kc = m->link_kc + 4 * (size_t)l;                                                                                                \
+        const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];                                                                    \
+        int c0;                                                                                                                                       \
+        if (m->ldef[l].fidelity == RJ_LINK_RIGID) {                                                                                                   \
+            /* a rigid link: no elements; its nodes take only what joints apply (and are                                                              \
+               advanced with the joints' nodes) */                                                                                                    \
+            for (c0 = 0; c0 < ne; c0++) {                                                                                                             \
+                beta_out[e0 + c0] = beta[e0 + c0]; cx_out[e0 + c0] = cx[e0 + c0]; cy_out[e0 + c0] = cy[e0 + c0];                                      \
+                eu[e0 + c0] = 0;                                                                                                                      \
+            }                                                                                                                                         \
+            for (c0 = 0; c0 <= ne; c0++) fx[n0 + c0] = fy[n0 + c0] = mz[n0 + c0] = 0;                                                                 \
+            continue;                                                                                                                                 \
+        }                                                                                                                                             \
+        FX[0] = FY[0] = -0.0; M1[0] = M2[0] = 0.0;                                                                                                    \
+        for (c0 = 0; c0 < ne; c0 += RJ__CHUNK) {                                                                                                      \
+            const int nc = ne - c0 < RJ__CHUNK ? ne - c0 : RJ__CHUNK, a = e0 + c0, na = n0 + c0, last = c0 + nc == ne;                                \
+            const double *RJ__RESTRICT xa = x + na, *RJ__RESTRICT ya = y + na, *RJ__RESTRICT pa = phi + na;                                           \
+            const double *RJ__RESTRICT bb = beta + a, *RJ__RESTRICT ccx = cx + a, *RJ__RESTRICT ccy = cy + a;                                         \
+            double *RJ__RESTRICT ue = eu + a, *RJ__RESTRICT bo = beta_out + a;                                                                        \
+            int i;                                                                                                                                    \
+            i = W > 1 && nc >= W ? ELEM(nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a, en) : 0;                            \
+            if (i >= 0 && i < nc) i = rj__elem_scalar(i, nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a);                   \
+            if (i < 0) {                                                                                                                              \
+                /* a chord turned more than 0.02 rad in one step: exact angles for this chunk */                                                      \
+                for (i = 0; i < nc; i++) {                                                                                                            \
+                    const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];                                                                      \
+                    const double bt = bb[i] + atan2(ccx[i] * ey - ccy[i] * ex, ccx[i] * ex + ccy[i] * ey);                                            \
+                    RJ__ELEM_FORCES(double, ex, ey, bt, 1.0 / (ex * ex + ey * ey), pa[i], pa[i + 1]);                                                 \
+                    bo[i] = bt;                                                                                                                       \
+                    FX[1 + i] = fx_; FY[1 + i] = fy_; M1[1 + i] = ma_; M2[1 + i] = mb_; ue[i] = u_;                                                   \
+                }                                                                                                                                     \
+            }                                                                                                                                         \
+            if (last) { FX[nc + 1] = FY[nc + 1] = M1[nc + 1] = 0.0; }                                                                                 \
+            /* the chunk's nodes whose elements are all summed: na .. na + nc - 1, and the                                                            \
+               link's last node with the last chunk; their forces are stored in the chunks                                                            \
+               that hold nodes the step advances again (m->dnode: a link's end nodes, and                                                             \
+               inner ones only in scenes with dn_inner) */                                                                                            \
+            i = adv && W > 1 && nc + last >= W ? NODE(nc + last, na, m->link_un + 5 * l, adv, FB, x, y, phi, c0 == 0 || last || m->dn_inner, en) : 0; \
+            if (i < nc + last) rj__node_scalar(i, nc + last, na, FB, fx, fy, mz, x, y, phi, adv);                                                     \
+            FX[0] = FX[nc]; FY[0] = FY[nc]; M1[0] = M1[nc]; M2[0] = M2[nc];                                                                           \
+        }                                                                                                                                             \
+    }                                                                                                                                                 \
+    return en ? rj__sum8(eu, m->ne) : 0.0;                                                                                                            \
 }
 
 #ifdef RJ__LANES4
@@ -1381,15 +1415,15 @@ RJ__BEAM_PASS(rj__beam_pass2, , 2, rj__elem_lanes2, rj__node_lanes2)
 #endif
 #ifndef RJ__LANES
 static int rj__elem_none(int ne, const double *kc, const double *xa, const double *ya, const double *pa, const double *bb,
-                         const double *ccx, const double *ccy, double *F, double *ue, double *bo, double *cox, double *coy)
+                         const double *ccx, const double *ccy, double *F, double *ue, double *bo, double *cox, double *coy, int en)
 {
-    (void)kc; (void)xa; (void)ya; (void)pa; (void)bb; (void)ccx; (void)ccy; (void)F; (void)ue; (void)bo; (void)cox; (void)coy;
+    (void)kc; (void)xa; (void)ya; (void)pa; (void)bb; (void)ccx; (void)ccy; (void)F; (void)ue; (void)bo; (void)cox; (void)coy; (void)en;
     return ne * 0;
 }
 static int rj__node_none(int cnt, int n, const double *un, const rj__adv *a, const double *F, const double *x,
-                         const double *y, const double *phi, int store)
+                         const double *y, const double *phi, int store, int en)
 {
-    (void)n; (void)un; (void)a; (void)F; (void)x; (void)y; (void)phi; (void)store;
+    (void)n; (void)un; (void)a; (void)F; (void)x; (void)y; (void)phi; (void)store; (void)en;
     return cnt * 0;
 }
 RJ__BEAM_PASS(rj__beam_pass1, , 1, rj__elem_none, rj__node_none)
@@ -3160,7 +3194,9 @@ static RJ__INLINE double rj__rate_pred(const rj_model *m, const double *of, int 
     return w[n] + kick * mz[n] * m->rinv[n];
 }
 
-RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
+/* One step; the energy accounts are taken when want_energy is set or the step falls on
+   solver.energy_every. */
+static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
 {
     const int nn = m->nn;
     /* the stored velocities are v(0) at the start and v^{n-1/2} after: the first kick is
@@ -3183,13 +3219,14 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
     double U, V = 0, ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC], lost_l = osc[RJ__FS_LLIM] + osc[RJ__FS_PEND], pend = 0;
     int i, j, gi;
     rj__adv adv;
+    const int en = want_energy || m->solver.energy_every <= 1 || s->steps % m->solver.energy_every == 0;
 
     /* 1. beams: internal forces at x^n, updated chord angles into the new frame; every node
        advanced at once (v^{n+1/2}, x^{n+1}), the joints' nodes again in part 4 */
     adv.kick = kick; adv.dt = dt; adv.vx = vx; adv.vy = vy; adv.w = w;
     adv.ti = m->tinv; adv.ri = m->rinv; adv.km = m->kmass; adv.kj = m->krot;
     adv.nx = nx; adv.ny = ny; adv.nphi = nphi; adv.nvx = nvx; adv.nvy = nvy; adv.nw = nw; adv.kn = s->kn;
-    adv.fx = fx; adv.fy = fy; adv.mz = mz;
+    adv.fx = fx; adv.fy = fy; adv.mz = mz; adv.en = en;
     U = rj__beam_pass(m, x, y, phi, RJ__FBETA(m, of), RJ__FCX(m, of), RJ__FCY(m, of), s->eu,
                       RJ__FBETA(m, nf), RJ__FCX(m, nf), RJ__FCY(m, nf), fx, fy, mz, &adv);
 
@@ -3253,7 +3290,7 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
     {
         const double *km = m->kmass, *kj = m->krot;
         for (i = 0; i < m->ndn; i++) rj__advance_node(&adv, m->dnode[i], fx[m->dnode[i]], fy[m->dnode[i]], mz[m->dnode[i]], x, y, phi);
-        ke = rj__sum8(s->kn, nn);
+        ke = en ? rj__sum8(s->kn, nn) : 0.0;
         if (s->steps == 0) {
             /* at the start the pair is v^{-1/2} = 2 v(0) - v^{1/2} and v^{1/2} */
             ke = 0;
@@ -3364,22 +3401,24 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         const double idt = 1.0 / dt;
         rj__shake(m, s, x, y, nx, ny);
         for (i = 0; i < nn; i++) { nvx[i] = (nx[i] - x[i]) * idt; nvy[i] = (ny[i] - y[i]) * idt; }
-        for (i = 0; i < nn; i++) {
-            const double vmx = s->steps == 0 ? 2 * vx[i] - nvx[i] : vx[i], vmy = s->steps == 0 ? 2 * vy[i] - nvy[i] : vy[i];
-            const double vmw = s->steps == 0 ? 2 * w[i] - nw[i] : w[i];
-            k0 += m->kmass[i] * (vmx * nvx[i] + vmy * nvy[i]) + m->krot[i] * vmw * nw[i];
+        if (en) {
+            for (i = 0; i < nn; i++) {
+                const double vmx = s->steps == 0 ? 2 * vx[i] - nvx[i] : vx[i], vmy = s->steps == 0 ? 2 * vy[i] - nvy[i] : vy[i];
+                const double vmw = s->steps == 0 ? 2 * w[i] - nw[i] : w[i];
+                k0 += m->kmass[i] * (vmx * nvx[i] + vmy * nvy[i]) + m->krot[i] * vmw * nw[i];
+            }
+            for (gi = 0; gi < m->ng; gi++) {
+                const int r0 = m->grp_node[m->grp_first[gi]];
+                double msum = 0;
+                int q;
+                if (!(m->grp_inv[gi] > 0)) continue;
+                for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++) msum += m->mass[m->grp_node[q]];
+                k0 += msum * ((s->steps == 0 ? 2 * vx[r0] - nvx[r0] : vx[r0]) * nvx[r0] + (s->steps == 0 ? 2 * vy[r0] - nvy[r0] : vy[r0]) * nvy[r0]);
+            }
+            for (gi = 0; gi < m->ncl; gi++)
+                if (m->cl_first[gi] < m->cl_first[gi + 1] && m->cl_fix[gi] != 2) k0 += rj__cl_ke2(m, gi, RJ__FCL(m, of, gi), RJ__FCL(m, nf, gi), s->steps == 0);
+            ke = 0.5 * k0;
         }
-        for (gi = 0; gi < m->ng; gi++) {
-            const int r0 = m->grp_node[m->grp_first[gi]];
-            double msum = 0;
-            int q;
-            if (!(m->grp_inv[gi] > 0)) continue;
-            for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++) msum += m->mass[m->grp_node[q]];
-            k0 += msum * ((s->steps == 0 ? 2 * vx[r0] - nvx[r0] : vx[r0]) * nvx[r0] + (s->steps == 0 ? 2 * vy[r0] - nvy[r0] : vy[r0]) * nvy[r0]);
-        }
-        for (gi = 0; gi < m->ncl; gi++)
-            if (m->cl_first[gi] < m->cl_first[gi + 1] && m->cl_fix[gi] != 2) k0 += rj__cl_ke2(m, gi, RJ__FCL(m, of, gi), RJ__FCL(m, nf, gi), s->steps == 0);
-        ke = 0.5 * k0;
     }
 
     /* 6. running angles (unwrapped in chord mode), forced displacement back to the limit */
@@ -3421,49 +3460,53 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
         nj_[RJ__JD_THETA] = run;
     }
 
-    /* 7. energy accounts and blow-up detection; commit the frame */
+    /* 7. energy accounts and blow-up detection (on the steps that take them); commit the frame */
     {
         double E, scale, created, e0 = osc[RJ__FS_E0];
         const double warn = nsc[RJ__FS_WARN];   /* counted in this step already */
         memcpy(nsc, osc, sizeof(double) * RJ__FS_COUNT);
         nsc[RJ__FS_WARN] = warn;
         nsc[RJ__FS_TIME] = t + dt;
-        nsc[RJ__FS_ETIME] = t;
-        /* V: springs and tables at x^n, summed by the element in part 2 */
-        nsc[RJ__FS_KE] = ke; nsc[RJ__FS_STRAIN] = U; nsc[RJ__FS_SPRING] = V;
         nsc[RJ__FS_LDAMP] = lost_d; nsc[RJ__FS_LFRIC] = lost_f; nsc[RJ__FS_LLIM] = lost_l; nsc[RJ__FS_PEND] = pend;
-        /* the initial energy in the same discrete form as every later one */
-        if (s->steps == 0) {
-            nsc[RJ__FS_E0] = e0 = ke + U + V;
-            nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0;
-            lost_d = lost_f = lost_l = 0;
-        }
-        /* an unstable mode alternates in sign: v^{n-1/2}.v^{n+1/2} turns negative while the
-           strain grows, and their sum is what the scheme conserves, so each is tested alone;
-           and limit responses are dissipative, so energy they put in means chatter */
-        E = U > fabs(ke) ? U : fabs(ke);
-        scale = fabs(e0) + fabs(osc[RJ__FS_SPRING]) + 1e-9;
-        created = ke + U + V + lost_d + lost_f + lost_l - nsc[RJ__FS_E0];
-        if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) || E > m->solver.energy_growth * (scale + fabs(V))
-            || created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale) {
-            int bl, bn;
-            rj__worst_node(m, nf, &bl, &bn);
-            if (created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale)
-                return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: %.6g J of energy created (balance %.6g J, limit work %.6g J; more than %g of the initial %.6g J); fastest node link %d node %d; %s",
-                                t, created > -lost_l ? created : -lost_l, created, -lost_l, RJ__CREATED, scale, bl, bn,
-                                dt > m->dt_bound ? "the step is above the stability bound" : "contact chatter at a limit, with a stiffness or a method too hard for the step");
-            if (!(E == E) || !rj__finite(E))
-                return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: non-finite energy, fastest node link %d node %d; %s", t, bl, bn,
-                                dt > m->dt_bound ? "the step is above the stability bound" : "check joint stiffness against Eq 31 and the stability bound");
-            return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: kinetic or strain energy %.6g J exceeds %g x the initial %.6g J; fastest node link %d node %d; %s",
-                            t, E, m->solver.energy_growth, scale, bl, bn,
-                            dt > m->dt_bound ? "the step is above the stability bound" : "a joint stiffness above the bound (Eq 31) or a limit tunnelled");
+        if (en) {
+            nsc[RJ__FS_ETIME] = t;
+            /* V: springs and tables at x^n, summed by the element in part 2 */
+            nsc[RJ__FS_KE] = ke; nsc[RJ__FS_STRAIN] = U; nsc[RJ__FS_SPRING] = V;
+            /* the initial energy in the same discrete form as every later one */
+            if (s->steps == 0) {
+                nsc[RJ__FS_E0] = e0 = ke + U + V;
+                nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0;
+                lost_d = lost_f = lost_l = 0;
+            }
+            /* an unstable mode alternates in sign: v^{n-1/2}.v^{n+1/2} turns negative while the
+               strain grows, and their sum is what the scheme conserves, so each is tested alone;
+               and limit responses are dissipative, so energy they put in means chatter */
+            E = U > fabs(ke) ? U : fabs(ke);
+            scale = fabs(e0) + fabs(osc[RJ__FS_SPRING]) + 1e-9;
+            created = ke + U + V + lost_d + lost_f + lost_l - nsc[RJ__FS_E0];
+            if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) || E > m->solver.energy_growth * (scale + fabs(V))
+                || created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale) {
+                int bl, bn;
+                rj__worst_node(m, nf, &bl, &bn);
+                if (created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale)
+                    return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: %.6g J of energy created (balance %.6g J, limit work %.6g J; more than %g of the initial %.6g J); fastest node link %d node %d; %s",
+                                    t, created > -lost_l ? created : -lost_l, created, -lost_l, RJ__CREATED, scale, bl, bn,
+                                    dt > m->dt_bound ? "the step is above the stability bound" : "contact chatter at a limit, with a stiffness or a method too hard for the step");
+                if (!(E == E) || !rj__finite(E))
+                    return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: non-finite energy, fastest node link %d node %d; %s", t, bl, bn,
+                                    dt > m->dt_bound ? "the step is above the stability bound" : "check joint stiffness against Eq 31 and the stability bound");
+                return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: kinetic or strain energy %.6g J exceeds %g x the initial %.6g J; fastest node link %d node %d; %s",
+                                t, E, m->solver.energy_growth, scale, bl, bn,
+                                dt > m->dt_bound ? "the step is above the stability bound" : "a joint stiffness above the bound (Eq 31) or a limit tunnelled");
+            }
         }
     }
     s->cur = 1 - s->cur;
     s->steps++;
     return RJ_OK;
 }
+
+RJDEF rj_result rj_step(const rj_model *m, rj_state *s) { return rj__step(m, s, 0); }
 
 RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double sample_dt, rj_sample_fn sample, void *user)
 {
@@ -3478,7 +3521,9 @@ RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double samp
         next += sample_dt;
     }
     while (rj_state_time(s) < t_end - 0.5 * m->dt) {
-        r = rj_step(m, s);
+        /* the energy accounts at every sample and at the end (solver.energy_every) */
+        const double t1 = rj_state_time(s) + m->dt;
+        r = rj__step(m, s, t1 >= t_end - 0.5 * m->dt || (sample && t1 >= next - 0.5 * m->dt));
         if (r != RJ_OK) return r;
         if (sample && rj_state_time(s) >= next - 0.5 * m->dt) {
             if (sample(m, s, user)) return RJ_OK;
@@ -3770,7 +3815,7 @@ enum {
     RJ__JK_LOCK, RJ__JK_METHOD, RJ__JK_RELEASE, RJ__JK_PENALTY_K, RJ__JK_RESTITUTION,
     RJ__JK_DAMPING, RJ__JK_FRICTION, RJ__JK_REFERENCE, RJ__JK_N
 };
-enum { RJ__VK_DT, RJ__VK_ALLOW_UNSTABLE, RJ__VK_ENERGY_GROWTH, RJ__VK_N };
+enum { RJ__VK_DT, RJ__VK_ALLOW_UNSTABLE, RJ__VK_ENERGY_GROWTH, RJ__VK_ENERGY_EVERY, RJ__VK_N };
 enum { RJ__SK_NONE, RJ__SK_SOLVER, RJ__SK_MATERIAL, RJ__SK_SECTION, RJ__SK_LINK, RJ__SK_JOINT };
 
 /* char arrays, not pointer arrays: read-only data without relocations */
@@ -3784,7 +3829,7 @@ static const char rj__sk_joint[RJ__JK_N][13] = {
     "spring", "forward", "reverse", "lock", "method", "release", "penalty_k", "restitution",
     "damping", "friction", "reference"
 };
-static const char rj__sk_solver[RJ__VK_N][15] = { "dt", "allow_unstable", "energy_growth" };
+static const char rj__sk_solver[RJ__VK_N][15] = { "dt", "allow_unstable", "energy_growth", "energy_every" };
 static const char rj__sk_root[4][8] = { "free", "pinned", "clamped", "fixed" };
 static const char rj__sk_fidelity[3][13] = { "flexible", "rigid", "inextensible" };   /* rj_fidelity order */
 static const char rj__sk_method[5][9] = { "penalty", "adaptive", "momentum", "forced", "energy" };
@@ -4307,6 +4352,7 @@ static int rj__sp_solver_key(rj__sp *P, int k, int a, int *i, rj_solver_def *s)
     const rj__stok *t = &P->tok[a];
     double v = 0;
     if (k == RJ__VK_ALLOW_UNSTABLE) { if (!rj__sp_bool(P, t, key, &s->allow_unstable)) return 0; (*i)++; return 1; }
+    if (k == RJ__VK_ENERGY_EVERY) { if (!rj__sp_int(P, t, key, 1, 1000, &s->energy_every)) return 0; (*i)++; return 1; }
     if (!rj__sp_num(P, t, key, &v)) return 0;
     (*i)++;
     if (k == RJ__VK_DT) { if (!RJ__SP_RULE(v >= 0 && v <= 1, "must be 0 (automatic) or a step in (0, 1] s")) return 0; s->dt = v; }
@@ -5007,7 +5053,8 @@ RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_name
             for (b = 0; b < a; b++) if (names[b] && strcmp(names[a], names[b]) == 0) return 0;
         }
     }
-    if (!rj__sw_finite(sc->solver.dt) || !rj__sw_finite(sc->solver.energy_growth) || (sc->solver.allow_unstable != 0 && sc->solver.allow_unstable != 1)) return 0;
+    if (!rj__sw_finite(sc->solver.dt) || !rj__sw_finite(sc->solver.energy_growth) || (sc->solver.allow_unstable != 0 && sc->solver.allow_unstable != 1)
+        || sc->solver.energy_every < 1 || sc->solver.energy_every > 1000) return 0;
     for (i = 0; i < sc->link_count; i++) {
         const rj_link_def *d = &sc->links[i];
         double v[14];
@@ -5031,11 +5078,12 @@ RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_name
     W.buf = buf; W.size = buf ? size : 0; W.n = 0;
     rj__sp_locale(W.dp, &W.dplen);
     rj__sw_put(&W, "# revjoint scene (written by rj_scene_write, revjoint.h " RJ_VERSION ")\n");
-    if (sc->solver.dt != S0.dt || sc->solver.allow_unstable || sc->solver.energy_growth != S0.energy_growth) {
+    if (sc->solver.dt != S0.dt || sc->solver.allow_unstable || sc->solver.energy_growth != S0.energy_growth || sc->solver.energy_every != S0.energy_every) {
         rj__sw_put(&W, "solver\n");
         if (sc->solver.dt != S0.dt) { rj__sw_key(&W, "dt"); rj__sw_num(&W, sc->solver.dt); rj__sw_put(&W, "\n"); }
         if (sc->solver.allow_unstable) { rj__sw_key(&W, "allow_unstable"); rj__sw_put(&W, "yes\n"); }
         if (sc->solver.energy_growth != S0.energy_growth) { rj__sw_key(&W, "energy_growth"); rj__sw_num(&W, sc->solver.energy_growth); rj__sw_put(&W, "\n"); }
+        if (sc->solver.energy_every != S0.energy_every) { snprintf(nm, sizeof nm, "  energy_every = %d\n", sc->solver.energy_every); rj__sw_put(&W, nm); }
     }
     for (i = 0; i < sc->link_count; i++) {
         const rj_link_def *d = &sc->links[i];

@@ -196,7 +196,7 @@ typedef struct tp_row {
     int nodes;
 } tp_row;
 
-static int free_link(int elements, tp_row *o)
+static int free_link(int elements, int energy_every, tp_row *o)
 {
     rj_link_def L = rj_default_link_def();
     rj_scene_def sc = rj_default_scene_def();
@@ -206,7 +206,7 @@ static int free_link(int elements, tp_row *o)
     int r;
     memset(&e0, 0, sizeof e0); memset(&e1, 0, sizeof e1);
     L.height = 0.01; L.elements = elements; L.omega = 1.0;
-    sc.links = &L; sc.link_count = 1; sc.joints = NULL; sc.joint_count = 0;
+    sc.links = &L; sc.link_count = 1; sc.joints = NULL; sc.joint_count = 0; sc.solver.energy_every = energy_every;
     memset(o, 0, sizeof *o);
     o->elements = elements;
     if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { fprintf(stderr, "bench: free link: %s\n", err.msg); return -1; }
@@ -1934,7 +1934,7 @@ int main(int argc, char **argv)
     const char *out = "BENCHMARKS.md", *plot = "docs/work_precision.png";
     static char cmd[2048], plot2[1024], cpu[256], date[64], load0[64], load1[64];
     static dhist H, HREF, HCHK;
-    static tp_row tp[3];
+    static tp_row tp[3], tp16[3];   /* solver.energy_every 1 (default) and 16 */
     static drow dr[64];
     static irow ir[64], iref[3], ichk[3][2];
     static const int tp_el[3] = { 20, 200, 2000 };
@@ -1945,7 +1945,7 @@ int main(int argc, char **argv)
     int i, j, k, ndr = 0, nir = 0, cores, plot_failed = 0, only = 0, out_given = 0, plot_given = 0;
     const char *native = NULL;
     static char native_md[2048];
-    double paper_w[32], paper_c[32], paper_med = 0, paper_cpu = 0, t_total;
+    double paper_w[32], paper_c[32], paper_med = 0, paper_cpu = 0, paper16_med = 0, paper16_cpu = 0, t_total;
     long paper_steps = 0;
     double paper_lock[2] = { 0, 0 }, paper_model_pn = 0, paper_state_pn = 0;
     FILE *f;
@@ -2009,8 +2009,10 @@ int main(int argc, char **argv)
     if (!only || only == 3) {
         /* ---------------------------------------------------------------- 1 */
         for (i = 0; i < 3; i++) {
-            if (free_link(tp_el[i], &tp[i])) return 1;
+            if (free_link(tp_el[i], 1, &tp[i])) return 1;
             progress("free link %4d elements: %.2f ns/element-step (median of %d x %ld steps)", tp_el[i], tp[i].ns_med, tp[i].runs, tp[i].steps);
+            if (free_link(tp_el[i], 16, &tp16[i])) return 1;
+            progress("free link %4d elements, energy_every 16: %.2f ns/element-step", tp_el[i], tp16[i].ns_med);
         }
         {
             deploy_opts o = deploy_default_opts();
@@ -2030,6 +2032,25 @@ int main(int argc, char **argv)
             paper_lock[0] = rj_joint_event_time(m, s, 0); paper_lock[1] = rj_joint_event_time(m, s, 1);
             paper_med = median(paper_w, S.paper_runs);
             paper_cpu = median(paper_c, S.paper_runs);
+            {   /* the same with solver.energy_every = 16 */
+                deploy_opts o16 = deploy_default_opts();
+                rj_model *m16; rj_state *s16;
+                o16.energy_every = 16;
+                if (deploy_build(&o16, &m16, &err) != RJ_OK) { fprintf(stderr, "bench: deploy: %s\n", err.msg); return 1; }
+                rj_state_create(m16, &s16, NULL);
+                for (k = 0; k < S.paper_runs; k++) {
+                    double t0, c0;
+                    rj_result r;
+                    rj_state_reset(m16, s16);
+                    t0 = now(); c0 = cpu_now();
+                    r = rj_run(m16, s16, 6.0, 0, NULL, NULL);
+                    paper_w[k] = now() - t0; paper_c[k] = cpu_now() - c0;
+                    if (r != RJ_OK) { fprintf(stderr, "bench: deploy: %s\n", rj_state_error(s16)); return 1; }
+                }
+                paper16_med = median(paper_w, S.paper_runs);
+                paper16_cpu = median(paper_c, S.paper_runs);
+                rj_state_destroy(s16, NULL); rj_model_destroy(m16, NULL);
+            }
             dpaper.el = 10; dpaper.dt = rj_model_dt(m); dpaper.K = rj_joint_stiffness(m, 1); dpaper.bound = rj_model_dt_bound(m);
             dpaper.runs = S.paper_runs;
             /* memory of the deployment model */
@@ -2049,6 +2070,7 @@ int main(int argc, char **argv)
             if (!g) { fprintf(stderr, "bench: cannot write %s\n", out); return 1; }
             fprintf(g, "| build `%s` (%s) | 20 elements | 200 | 2000 | deployment, paper's settings (wall / CPU) |\n|---|---:|---:|---:|---:|\n", BENCH_CFLAGS, compiler());
             fprintf(g, "| ns per element-step (median of %d) / s | **%.2f** | **%.2f** | **%.2f** | **%.3f s** / %.3f s |\n", S.tp_runs, tp[0].ns_med, tp[1].ns_med, tp[2].ns_med, paper_med, paper_cpu);
+            fprintf(g, "| the same, `solver.energy_every = 16` | **%.2f** | **%.2f** | **%.2f** | **%.3f s** / %.3f s |\n", tp16[0].ns_med, tp16[1].ns_med, tp16[2].ns_med, paper16_med, paper16_cpu);
             fprintf(g, "\n(machine speed at this build's run: %.0f ms by `calibrate()`, comparable with the figures at the top)\n", CAL0);
             if (g != stdout) fclose(g);
             return 0;
@@ -2210,6 +2232,8 @@ int main(int argc, char **argv)
             md("- Step cost, one free link: **%.1f / %.1f / %.1f ns per element-step** at %d / %d / %d elements (median of %d runs).\n",
                tp[0].ns_med, tp[1].ns_med, tp[2].ns_med, tp[0].elements, tp[1].elements, tp[2].elements, S.tp_runs);
             md("- Deployment at the paper's settings (10 elements per link, dt 7.5 us, 6 s): **%.3f s** wall (CPU %.3f s), **%.3g steps/s**.\n", paper_med, paper_cpu, paper_steps / paper_med);
+            md("- With `solver.energy_every = 16` (energy accounts and blow-up checks every 16th step and at every sample; the same results bit for bit): **%.1f / %.1f / %.1f ns per element-step**; the paper's settings in **%.3f s** (CPU %.3f s).\n",
+               tp16[0].ns_med, tp16[1].ns_med, tp16[2].ns_med, paper16_med, paper16_cpu);
             for (j = 0; j < 2; j++) {
                 const drow *b = d_cheapest(dr, ndr, dmeth[j], 0);
                 if (!b) { md("- Deployment, %s: no setting in the sweep keeps q within 0.1 deg and the tip RMS within 2 %%.\n", method_name(dmeth[j])); continue; }
@@ -2227,17 +2251,18 @@ int main(int argc, char **argv)
                "Energy drift: relative change of the total energy over one run (a check that the steps did real work and stayed stable).\n\n", S.tp_min_time, S.tp_runs);
             md("| elements | dt (us) | steps per run | ns / element-step (median) | min | max | CPU ns / element-step | model bytes / node | state bytes / node | energy drift |\n");
             md("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-            for (i = 0; i < 3; i++) {
-                fmt_dt(b1, sizeof b1, tp[i].dt);
-                md("| %d | %s | %ld | **%.2f** | %.2f | %.2f | %.2f | %.0f | %.0f | %.1e |\n", tp[i].elements, b1, tp[i].steps, tp[i].ns_med, tp[i].ns_min, tp[i].ns_max,
-                   tp[i].ns_cpu, tp[i].model_per_node, tp[i].state_per_node, tp[i].edrift);
+            for (i = 0; i < 6; i++) {
+                const tp_row *w = i < 3 ? &tp[i] : &tp16[i - 3];
+                fmt_dt(b1, sizeof b1, w->dt);
+                md("| %d%s | %s | %ld | **%.2f** | %.2f | %.2f | %.2f | %.0f | %.0f | %.1e |\n", w->elements, i < 3 ? "" : ", `energy_every = 16`", b1, w->steps, w->ns_med, w->ns_min, w->ns_max,
+                   w->ns_cpu, w->model_per_node, w->state_per_node, w->edrift);
             }
             md("\nDeployment at the paper's settings (`deploy_build` defaults: 10 elements per link, dt = 7.5 us, joint 2 penalty with K = Eq 31 = %.4g N m/rad; stability bound %.4g us), "
                "6 s simulated, `rj_run` without sampling, median of %d runs: **%.3f s** wall (CPU %.3f s), %ld steps, **%.0f steps/s** "
                "(%.1f ns per element-step over its 20 elements). Joint 2 locks at %.6f s, joint 1 at %.6f s. "
-               "Model %.0f bytes / node, state %.0f bytes / node (22 nodes).\n\n",
+               "Model %.0f bytes / node, state %.0f bytes / node (22 nodes). With `solver.energy_every = 16`: **%.3f s** wall (CPU %.3f s).\n\n",
                dpaper.K, dpaper.bound * 1e6, S.paper_runs, paper_med, paper_cpu, paper_steps, paper_steps / paper_med, 1e9 * paper_med / (paper_steps * 20.0),
-               paper_lock[1], paper_lock[0], paper_model_pn, paper_state_pn);
+               paper_lock[1], paper_lock[0], paper_model_pn, paper_state_pn, paper16_med, paper16_cpu);
             if (native_md[0])
                 md("Built for this machine (`make bench` builds `build/bench_native` and runs `--only throughput`; the library's results do not change with these flags, "
                    "the golden histories are bit-identical under them):\n\n%s\n", native_md);

@@ -102,13 +102,14 @@ typedef struct deploy_opts {
     int joint2_method;   /* rj_method for joint 2, default penalty with K from Eq 31 */
     double joint2_K;     /* N m/rad; <= 0: Eq 31 at dt */
     int extra_friction;  /* sec. 5's +0.175 / +0.008 N m */
+    int energy_every;    /* solver.energy_every, default 1 */
 } deploy_opts;
 
 static inline deploy_opts deploy_default_opts(void)
 {
     deploy_opts o;
     o.elements = 10; o.dt = 7.5e-6; o.joint1_method = RJ_METHOD_FORCED; o.joint2_method = RJ_METHOD_PENALTY;
-    o.joint2_K = 0.0; o.extra_friction = 0;
+    o.joint2_K = 0.0; o.extra_friction = 0; o.energy_every = 1;
     return o;
 }
 
@@ -149,7 +150,7 @@ static inline void deploy_scene(const deploy_opts *o, rj_link_def links[2], rj_j
     joints[1].penalty_k = 1.0; /* placeholder; deploy_build sets Eq 31 */
     *sc = rj_default_scene_def();
     sc->links = links; sc->link_count = 2; sc->joints = joints; sc->joint_count = 2;
-    sc->solver.dt = o->dt;
+    sc->solver.dt = o->dt; sc->solver.energy_every = o->energy_every;
 }
 
 /* Builds the deployment model; joint 2's penalty stiffness defaults to Eq 31 at dt, which

@@ -158,7 +158,7 @@ static int same_joint(const rj_joint_def *a, const rj_joint_def *b)
 }
 static int same_solver(const rj_solver_def *a, const rj_solver_def *b)
 {
-    return SAMEF(*a, *b, dt) && SAMEF(*a, *b, allow_unstable) && SAMEF(*a, *b, energy_growth) && SAMEF(*a, *b, cookie);
+    return SAMEF(*a, *b, dt) && SAMEF(*a, *b, allow_unstable) && SAMEF(*a, *b, energy_growth) && SAMEF(*a, *b, energy_every) && SAMEF(*a, *b, cookie);
 }
 
 typedef struct badcase { const char *field; int which; int idx; double value; } badcase;
@@ -190,6 +190,7 @@ static void test_validation(rjt_ctx *c)
     BAD("joints[0].restitution", J[0].restitution, 0, 1.5); BAD("joints[0].damping", J[0].damping, 0, -0.1); BAD("joints[0].friction", J[0].friction, 0, nan);
     BAD("joints[0].lock", J[0].lock, 1, 2); BAD("joints[0].has_reverse", J[0].has_reverse, 1, 3);
     BAD("solver.dt", sc.solver.dt, 0, -1e-6); BAD("solver.dt", sc.solver.dt, 0, nan); BAD("solver.energy_growth", sc.solver.energy_growth, 0, 0.5);
+    BAD("solver.energy_every", sc.solver.energy_every, 1, 0); BAD("solver.energy_every", sc.solver.energy_every, 1, -16); BAD("solver.energy_every", sc.solver.energy_every, 1, 1001);
     for (i = 0; i < n; i++) {
         rj_error err;
         rj_model *m = NULL;

@@ -281,6 +281,109 @@ static void test_inextensible(rjt_ctx *c)
     rj_state_destroy(s, NULL); rj_model_destroy(m, NULL); rj_model_destroy(mf, NULL);
 }
 
+
+/* solver.energy_every K: the same bits as K = 1 in everything but when the energy accounts
+   are taken. rj_run takes them before every sample and at its end, so its sampled energy
+   histories and the saved state bytes must equal K = 1's exactly; between them rj_step
+   keeps the last ones (rj_state_energy_time says when); a blow-up is still caught. */
+typedef struct ee_rec { int n; double v[64][8]; } ee_rec;
+static int ee_sample(const rj_model *m, const rj_state *s, void *user)
+{
+    ee_rec *r = (ee_rec *)user;
+    rj_energy e;
+    double xy[2];
+    if (r->n >= 64) return 0;
+    rj_state_energy(m, s, &e);
+    rj_node_position(m, s, 1, rj_link_node_count(m, 1) - 1, xy);
+    r->v[r->n][0] = e.kinetic; r->v[r->n][1] = e.strain; r->v[r->n][2] = e.spring; r->v[r->n][3] = e.total;
+    r->v[r->n][4] = rj_state_energy_time(s); r->v[r->n][5] = xy[0]; r->v[r->n][6] = xy[1]; r->v[r->n][7] = rj_joint_theta_running(m, s, 1);
+    r->n++;
+    return 0;
+}
+static int ee_run(int fidelity, int every, ee_rec *rec, unsigned char *bytes, size_t cap, size_t *nb)
+{
+    deploy_opts o = deploy_default_opts();
+    rj_link_def L[2]; rj_joint_def J[2]; rj_scene_def sc;
+    rj_model *m; rj_state *s; rj_error err;
+    int ok;
+    o.energy_every = every;
+    deploy_scene(&o, L, J, &sc);
+    J[1].penalty_k = 1015.0;
+    L[0].fidelity = L[1].fidelity = fidelity;
+    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { printf("energy_every: %s\n", err.msg); return 0; }
+    if (rj_state_create(m, &s, NULL) != RJ_OK) { rj_model_destroy(m, NULL); return 0; }
+    rec->n = 0;
+    ok = rj_run(m, s, 0.3005, 0.01, ee_sample, rec) == RJ_OK;
+    *nb = rj_state_save(m, s, bytes, cap);
+    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+    return ok && *nb <= cap;
+}
+static void test_energy_every(rjt_ctx *c)
+{
+    static unsigned char b1[1 << 16], b16[1 << 16];
+    static ee_rec r1, r16;
+    static const int fid[2] = { RJ_LINK_FLEXIBLE, RJ_LINK_INEXTENSIBLE };
+    int f, k;
+    for (f = 0; f < 2; f++) {
+        size_t n1 = 0, n16 = 0;
+        int ok = ee_run(fid[f], 1, &r1, b1, sizeof b1, &n1) && ee_run(fid[f], 16, &r16, b16, sizeof b16, &n16);
+        const char *what = f ? "inextensible links" : "flexible links";
+        char name[160];
+        snprintf(name, sizeof name, "energy_every 16, %s: rj_run's %d sampled energies and tip positions equal K = 1's bit for bit", what, r1.n);
+        rjt_check(c, ok && r1.n == 31 && r16.n == r1.n && memcmp(r1.v, r16.v, sizeof r1.v[0] * (size_t)r1.n) == 0, name,
+                  "%d and %d samples, first kinetic %.17g vs %.17g", r1.n, r16.n, r1.v[1][0], r16.v[1][0]);
+        snprintf(name, sizeof name, "energy_every 16, %s: the saved state after rj_run equals K = 1's byte for byte", what);
+        rjt_check(c, ok && n1 == n16 && memcmp(b1, b16, n1) == 0, name, "%zu and %zu bytes", n1, n16);
+    }
+    {   /* rj_step: the accounts of every 16th step, kept in between, equal K = 1's then */
+        deploy_opts o = deploy_default_opts();
+        rj_model *m1 = NULL, *m16 = NULL; rj_state *s1 = NULL, *s16 = NULL; rj_error err;
+        rj_energy e1, e16;
+        int bad = 0, steps = 0;
+        double lag_max = 0;
+        deploy_build(&o, &m1, &err);
+        o.energy_every = 16;
+        deploy_build(&o, &m16, &err);
+        rj_state_create(m1, &s1, NULL); rj_state_create(m16, &s16, NULL);
+        for (k = 0; k < 200 && m1 && m16; k++) {
+            if (rj_step(m1, s1) != RJ_OK || rj_step(m16, s16) != RJ_OK) { bad++; break; }
+            steps++;
+            rj_state_energy(m16, s16, &e16);
+            if (k % 16 == 0) {   /* steps 0, 16, 32, ... took them */
+                rj_state_energy(m1, s1, &e1);
+                if (memcmp(&e1, &e16, sizeof e1) != 0 || rj_state_energy_time(s1) != rj_state_energy_time(s16)) bad++;
+            }
+            if (rj_state_time(s16) - rj_state_energy_time(s16) > lag_max) lag_max = rj_state_time(s16) - rj_state_energy_time(s16);
+            if (rj_node_rotation(m1, s1, 1, 5) != rj_node_rotation(m16, s16, 1, 5)) bad++;
+        }
+        rjt_check(c, bad == 0 && steps == 200 && fabs(lag_max - 16 * rj_model_dt(m16)) < 1e-12, "energy_every 16, rj_step: accounts of every 16th step equal K = 1's, kept in between (at most 16 steps old), positions identical",
+                  "%d mismatches in %d steps, largest lag %.3g s (16 dt = %.3g s)", bad, steps, lag_max, m16 ? 16 * rj_model_dt(m16) : 0.0);
+        rj_state_destroy(s1, NULL); rj_state_destroy(s16, NULL); rj_model_destroy(m1, NULL); rj_model_destroy(m16, NULL);
+    }
+    {   /* a step above the bound still stops as a blow-up, at most 15 steps after K = 1 */
+        long at[2] = { -1, -1 };
+        int i;
+        for (i = 0; i < 2; i++) {
+            rj_link_def L = rj_default_link_def();
+            rj_scene_def sc = rj_default_scene_def();
+            rj_model *m = NULL; rj_state *s = NULL; rj_error err;
+            rj_result r = RJ_OK;
+            L.height = 0.01; L.elements = 20; L.omega = 1.0;
+            sc.links = &L; sc.link_count = 1; sc.solver.energy_every = i ? 16 : 1;
+            if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) break;
+            sc.solver.dt = 1.2 * rj_model_dt_bound(m); sc.solver.allow_unstable = 1;
+            rj_model_destroy(m, NULL);
+            if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) break;
+            rj_state_create(m, &s, NULL);
+            for (k = 0; k < 100000 && r == RJ_OK; k++) r = rj_step(m, s);
+            if (r == RJ_ERR_BLOWUP) at[i] = rj_state_steps(s);
+            rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+        }
+        rjt_check(c, at[0] > 0 && at[1] >= at[0] && at[1] <= at[0] + 15, "energy_every 16: a step 1.2 x the bound still stops with RJ_ERR_BLOWUP, at most 15 steps after K = 1",
+                  "K = 1 at step %ld, K = 16 at step %ld", at[0], at[1]);
+    }
+}
+
 int main(void)
 {
     rjt_ctx c = { 0, 0 };
@@ -293,5 +396,6 @@ int main(void)
     test_damping(&c);
     test_seam(&c);
     test_inextensible(&c);
+    test_energy_every(&c);
     return rjt_summary(&c, "test_dynamics");
 }

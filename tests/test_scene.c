@@ -74,7 +74,7 @@ static int same_joint(const rj_joint_def *a, const rj_joint_def *b, int all, cha
 }
 static int same_solver(const rj_solver_def *a, const rj_solver_def *b, char *why, size_t n)
 {
-    RJ_T(dt) RJ_T(allow_unstable) RJ_T(energy_growth) RJ_T(cookie)
+    RJ_T(dt) RJ_T(allow_unstable) RJ_T(energy_growth) RJ_T(energy_every) RJ_T(cookie)
     return 1;
 #undef RJ_T
 }
@@ -290,6 +290,7 @@ static void test_writer(void)
         if (irand(2)) sc.solver.dt = urand() * 1e-4;
         if (irand(4) == 0) sc.solver.allow_unstable = 1;
         if (irand(4) == 0) sc.solver.energy_growth = 1.0 + urand() * 100;
+        if (irand(4) == 0) sc.solver.energy_every = 1 + irand(1000);
         for (i = 0; i < nl; i++) {
             rj_link_def *L = &links[i];
             *L = rj_default_link_def();
@@ -544,6 +545,8 @@ static void test_errors(void)
     EP("error: fidelity is a link key, not a material key", "material m\n  fidelity = rigid\n", 2, 3, "unknown key 'fidelity' in material 'm'", "fidelity");
     EP("error: dt above 1 s", "solver\n  dt = 2\nlink a\n", 2, 8, "dt = 2 is out of range in solver: must be 0 (automatic) or a step in (0, 1] s", "dt");
     EP("error: energy_growth 1", "solver\n  energy_growth = 1\nlink a\n", 2, 19, "energy_growth = 1 is out of range in solver: must be > 1", "energy_growth");
+    EP("error: energy_every 0", "solver\n  energy_every = 0\nlink a\n", 2, 18, "energy_every = 0 is out of range in solver", "energy_every");
+    EP("error: energy_every not an integer", "solver\n  energy_every = 2.5\nlink a\n", 2, 18, "energy_every", "energy_every");
     EP("error: bad boolean", "solver\n  allow_unstable = maybe\nlink a\n", 2, 20, "unknown value 'maybe' for 'allow_unstable' in solver (expected no, yes, false or true)", "allow_unstable");
     EP("error: limit at 360 deg", J2 "  forward = 360 deg\n", 5, 13, "forward = 360 deg is out of range in joint 'j': a limit must be in [0, 360) deg, or none", "forward");
     EP("error: negative limit", J2 "  reverse = -1deg\n", 5, 13, "reverse = -1deg is out of range", "reverse");
