@@ -233,9 +233,9 @@ typedef struct rj_joint_def {
      energy_growth 10 (blow-up when total energy exceeds 10 x max(initial energy, energy put
      in by springs) + 1e-9 J); energy_every 1.
    energy_every K > 1: the kinetic, strain and spring energies (rj_state_energy) and the
-   energy-based blow-up checks are taken on every K-th step only, and on the step before
-   each of rj_run's samples, so sampled histories are the same as with K = 1; between
-   them rj_state_energy keeps the last ones (rj_state_energy_time says when). Positions,
+   energy-based blow-up checks are taken K steps after the last time only, and on the step
+   before each of rj_run's samples, so sampled histories are the same as with K = 1;
+   between them rj_state_energy keeps the last ones (rj_state_energy_time says when). Positions,
    velocities and the work of damping, friction and limits are the same bits either way;
    flexible links' steps are about a quarter cheaper in instructions (BENCHMARKS.md);
    a blow-up is caught up to K - 1 steps later. Rigid-only scenes take it every step. */
@@ -3219,7 +3219,9 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
     double U, V = 0, ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC], lost_l = osc[RJ__FS_LLIM] + osc[RJ__FS_PEND], pend = 0;
     int i, j, gi;
     rj__adv adv;
-    const int en = want_energy || m->solver.energy_every <= 1 || s->steps % m->solver.energy_every == 0;
+    /* the accounts when asked, at the start, or K steps after the last ones (no division) */
+    const int en = want_energy || m->solver.energy_every <= 1 || s->steps == 0
+                   || t - osc[RJ__FS_ETIME] > ((double)m->solver.energy_every - 0.5) * m->dt;
 
     /* 1. beams: internal forces at x^n, updated chord angles into the new frame; every node
        advanced at once (v^{n+1/2}, x^{n+1}), the joints' nodes again in part 4 */
