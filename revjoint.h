@@ -1348,9 +1348,13 @@ static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, 
    advanced as soon as its forces are summed; nodes that joints act on are advanced again
    later (m->dnode). Returns the strain energy. */
 /* The pass, compiled once per lane width W (ELEM, NODE: that width's lane loops) so that
-   the kernels inline into it and the CPU is asked once per step. */
+   the kernels inline into it and the CPU is asked once per step; returns whether the strain
+   energies were taken. It calls no other code on its way out: a function compiled for AVX2
+   that jumps into SSE code without clearing the registers' upper halves (gcc 12 left out
+   its vzeroupper before such a tail call) makes every later SSE instruction of the step
+   pay for them (the paper's settings ran 1.3x slower). */
 #define RJ__BEAM_PASS(NAME, ATTR, W, ELEM, NODE)                                                                                                      \
-ATTR static double NAME(const rj_model *m, const double *x, const double *y, const double *phi,                                                       \
+ATTR static int NAME(const rj_model *m, const double *x, const double *y, const double *phi,                                                          \
                             const double *beta, const double *cx, const double *cy, double *eu,                                                       \
                             double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz, const rj__adv *adv)                 \
 {                                                                                                                                                     \
@@ -1404,7 +1408,7 @@ ATTR static double NAME(const rj_model *m, const double *x, const double *y, con
             FX[0] = FX[nc]; FY[0] = FY[nc]; M1[0] = M1[nc]; M2[0] = M2[nc];                                                                           \
         }                                                                                                                                             \
     }                                                                                                                                                 \
-    return en ? rj__sum8(eu, m->ne) : 0.0;                                                                                                            \
+    return en;                                                                                                                                        \
 }
 
 #ifdef RJ__LANES4
@@ -1434,15 +1438,17 @@ static double rj__beam_pass(const rj_model *m, const double *x, const double *y,
                             const double *beta, const double *cx, const double *cy, double *eu,
                             double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz, const rj__adv *adv)
 {
+    int en;
 #if defined(RJ__DISPATCH)
-    return (__builtin_cpu_supports("avx2") ? rj__beam_pass4 : rj__beam_pass2)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+    en = (__builtin_cpu_supports("avx2") ? rj__beam_pass4 : rj__beam_pass2)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
 #elif defined(RJ__LANES4)
-    return rj__beam_pass4(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+    en = rj__beam_pass4(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
 #elif defined(RJ__LANES2)
-    return rj__beam_pass2(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+    en = rj__beam_pass2(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
 #else
-    return rj__beam_pass1(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+    en = rj__beam_pass1(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
 #endif
+    return en ? rj__sum8(eu, m->ne) : 0.0;
 }
 
 /* ------------------------------------------------------------------ joint kinematics */
