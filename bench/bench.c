@@ -196,56 +196,68 @@ typedef struct tp_row {
     int nodes;
 } tp_row;
 
-static int free_link(int elements, int energy_every, tp_row *o)
+/* One free link of the given size, timed with solver.energy_every 1 (o[0]) and 16 (o[1]);
+   the two models' runs alternate so that both see the same phases of the machine. */
+static int free_link(int elements, tp_row o[2])
 {
     rj_link_def L = rj_default_link_def();
     rj_scene_def sc = rj_default_scene_def();
-    rj_model *m; rj_state *s; rj_error err; rj_energy e0, e1;
-    double t, c, ns[32], nc[32];
+    rj_model *m[2] = { NULL, NULL }; rj_state *s[2] = { NULL, NULL }; rj_error err; rj_energy e0, e1;
+    double t, c, ns[2][32], nc[2][32];
     long steps = 16, k;
-    int r;
-    memset(&e0, 0, sizeof e0); memset(&e1, 0, sizeof e1);
+    int r, v, rc = -1;
     L.height = 0.01; L.elements = elements; L.omega = 1.0;
-    sc.links = &L; sc.link_count = 1; sc.joints = NULL; sc.joint_count = 0; sc.solver.energy_every = energy_every;
-    memset(o, 0, sizeof *o);
-    o->elements = elements;
-    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { fprintf(stderr, "bench: free link: %s\n", err.msg); return -1; }
-    if (rj_state_create(m, &s, NULL) != RJ_OK) { rj_model_destroy(m, NULL); return -1; }
-    o->nodes = rj_model_node_count(m);
-    o->model_per_node = (double)rj_model_size(&sc, NULL) / o->nodes;
-    o->state_per_node = (double)rj_state_size(m) / o->nodes;
-    o->dt = rj_model_dt(m);
-    /* calibrate: the step count that takes at least tp_min_time */
+    sc.links = &L; sc.link_count = 1; sc.joints = NULL; sc.joint_count = 0;
+    for (v = 0; v < 2; v++) {
+        memset(&o[v], 0, sizeof o[v]);
+        o[v].elements = elements;
+        sc.solver.energy_every = v ? 16 : 1;
+        if (rj_model_create(&sc, &m[v], &err, NULL) != RJ_OK) { fprintf(stderr, "bench: free link: %s\n", err.msg); goto done; }
+        if (rj_state_create(m[v], &s[v], NULL) != RJ_OK) goto done;
+        o[v].nodes = rj_model_node_count(m[v]);
+        o[v].model_per_node = (double)rj_model_size(&sc, NULL) / o[v].nodes;
+        o[v].state_per_node = (double)rj_state_size(m[v]) / o[v].nodes;
+        o[v].dt = rj_model_dt(m[v]);
+    }
+    /* calibrate: the step count that takes at least tp_min_time (with energy every step) */
     for (;;) {
-        rj_state_reset(m, s);
+        rj_state_reset(m[0], s[0]);
         t = now();
-        for (k = 0; k < steps; k++) if (rj_step(m, s) != RJ_OK) break;
+        for (k = 0; k < steps; k++) if (rj_step(m[0], s[0]) != RJ_OK) break;
         t = now() - t;
-        if (k < steps) { fprintf(stderr, "bench: free link %d: %s\n", elements, rj_state_error(s)); return -1; }
+        if (k < steps) { fprintf(stderr, "bench: free link %d: %s\n", elements, rj_state_error(s[0])); goto done; }
         if (t >= S.tp_min_time) break;
         steps = (long)((double)steps * (t > 0 ? fmin(16.0, 1.25 * S.tp_min_time / t) : 16.0)) + 1;
     }
-    for (r = 0; r < S.tp_runs; r++) {
-        rj_state_reset(m, s);
-        rj_step(m, s);
-        rj_state_energy(m, s, &e0);
-        rj_state_reset(m, s);
-        t = now(); c = cpu_now();
-        for (k = 0; k < steps; k++) if (rj_step(m, s) != RJ_OK) break;
-        t = now() - t; c = cpu_now() - c;
-        if (k < steps) { fprintf(stderr, "bench: free link %d: %s\n", elements, rj_state_error(s)); return -1; }
-        ns[r] = 1e9 * t / ((double)steps * elements);
-        nc[r] = 1e9 * c / ((double)steps * elements);
+    for (r = 0; r < S.tp_runs; r++)
+        for (v = 0; v < 2; v++) {
+            rj_state_reset(m[v], s[v]);
+            t = now(); c = cpu_now();
+            for (k = 0; k < steps; k++) if (rj_step(m[v], s[v]) != RJ_OK) break;
+            t = now() - t; c = cpu_now() - c;
+            if (k < steps) { fprintf(stderr, "bench: free link %d: %s\n", elements, rj_state_error(s[v])); goto done; }
+            ns[v][r] = 1e9 * t / ((double)steps * elements);
+            nc[v][r] = 1e9 * c / ((double)steps * elements);
+        }
+    /* energy drift over one run, taken with energy every step (the same steps either way) */
+    memset(&e0, 0, sizeof e0); memset(&e1, 0, sizeof e1);
+    rj_state_reset(m[0], s[0]);
+    rj_step(m[0], s[0]);
+    rj_state_energy(m[0], s[0], &e0);
+    for (k = 1; k < steps; k++) if (rj_step(m[0], s[0]) != RJ_OK) break;
+    rj_state_energy(m[0], s[0], &e1);
+    for (v = 0; v < 2; v++) {
+        o[v].edrift = (e1.total - e0.total) / e0.total;
+        o[v].runs = S.tp_runs; o[v].steps = steps;
+        o[v].ns_med = median(ns[v], S.tp_runs);
+        o[v].ns_cpu = median(nc[v], S.tp_runs);
+        o[v].ns_min = o[v].ns_max = ns[v][0];
+        for (r = 1; r < S.tp_runs; r++) { o[v].ns_min = fmin(o[v].ns_min, ns[v][r]); o[v].ns_max = fmax(o[v].ns_max, ns[v][r]); }
     }
-    rj_state_energy(m, s, &e1);
-    o->edrift = (e1.total - e0.total) / e0.total;
-    o->runs = S.tp_runs; o->steps = steps;
-    o->ns_med = median(ns, S.tp_runs);
-    o->ns_cpu = median(nc, S.tp_runs);
-    o->ns_min = o->ns_max = ns[0];
-    for (r = 1; r < S.tp_runs; r++) { o->ns_min = fmin(o->ns_min, ns[r]); o->ns_max = fmax(o->ns_max, ns[r]); }
-    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
-    return 0;
+    rc = 0;
+done:
+    for (v = 0; v < 2; v++) { rj_state_destroy(s[v], NULL); rj_model_destroy(m[v], NULL); }
+    return rc;
 }
 
 /* ================================================================== 2. deployment */
@@ -2009,16 +2021,19 @@ int main(int argc, char **argv)
     if (!only || only == 3) {
         /* ---------------------------------------------------------------- 1 */
         for (i = 0; i < 3; i++) {
-            if (free_link(tp_el[i], 1, &tp[i])) return 1;
-            progress("free link %4d elements: %.2f ns/element-step (median of %d x %ld steps)", tp_el[i], tp[i].ns_med, tp[i].runs, tp[i].steps);
-            if (free_link(tp_el[i], 16, &tp16[i])) return 1;
-            progress("free link %4d elements, energy_every 16: %.2f ns/element-step", tp_el[i], tp16[i].ns_med);
+            tp_row two[2];
+            if (free_link(tp_el[i], two)) return 1;
+            tp[i] = two[0]; tp16[i] = two[1];
+            progress("free link %4d elements: %.2f ns/element-step, %.2f with energy_every 16 (median of %d x %ld steps each, alternating)", tp_el[i], tp[i].ns_med, tp16[i].ns_med, tp[i].runs, tp[i].steps);
         }
         {
-            deploy_opts o = deploy_default_opts();
-            rj_model *m; rj_state *s; rj_error err;
-            if (deploy_build(&o, &m, &err) != RJ_OK) { fprintf(stderr, "bench: deploy: %s\n", err.msg); return 1; }
-            rj_state_create(m, &s, NULL);
+            deploy_opts o = deploy_default_opts(), o16 = deploy_default_opts();
+            rj_model *m, *m16; rj_state *s, *s16; rj_error err;
+            double w16[32], c16[32];
+            o16.energy_every = 16;
+            if (deploy_build(&o, &m, &err) != RJ_OK || deploy_build(&o16, &m16, &err) != RJ_OK) { fprintf(stderr, "bench: deploy: %s\n", err.msg); return 1; }
+            rj_state_create(m, &s, NULL); rj_state_create(m16, &s16, NULL);
+            /* energy_every 1 and 16 alternate, so that both see the same phases of the machine */
             for (k = 0; k < S.paper_runs; k++) {
                 double t0, c0;
                 rj_result r;
@@ -2027,30 +2042,19 @@ int main(int argc, char **argv)
                 r = rj_run(m, s, 6.0, 0, NULL, NULL);
                 paper_w[k] = now() - t0; paper_c[k] = cpu_now() - c0;
                 if (r != RJ_OK) { fprintf(stderr, "bench: deploy: %s\n", rj_state_error(s)); return 1; }
+                rj_state_reset(m16, s16);
+                t0 = now(); c0 = cpu_now();
+                r = rj_run(m16, s16, 6.0, 0, NULL, NULL);
+                w16[k] = now() - t0; c16[k] = cpu_now() - c0;
+                if (r != RJ_OK) { fprintf(stderr, "bench: deploy: %s\n", rj_state_error(s16)); return 1; }
             }
+            paper16_med = median(w16, S.paper_runs);
+            paper16_cpu = median(c16, S.paper_runs);
+            rj_state_destroy(s16, NULL); rj_model_destroy(m16, NULL);
             paper_steps = rj_state_steps(s);
             paper_lock[0] = rj_joint_event_time(m, s, 0); paper_lock[1] = rj_joint_event_time(m, s, 1);
             paper_med = median(paper_w, S.paper_runs);
             paper_cpu = median(paper_c, S.paper_runs);
-            {   /* the same with solver.energy_every = 16 */
-                deploy_opts o16 = deploy_default_opts();
-                rj_model *m16; rj_state *s16;
-                o16.energy_every = 16;
-                if (deploy_build(&o16, &m16, &err) != RJ_OK) { fprintf(stderr, "bench: deploy: %s\n", err.msg); return 1; }
-                rj_state_create(m16, &s16, NULL);
-                for (k = 0; k < S.paper_runs; k++) {
-                    double t0, c0;
-                    rj_result r;
-                    rj_state_reset(m16, s16);
-                    t0 = now(); c0 = cpu_now();
-                    r = rj_run(m16, s16, 6.0, 0, NULL, NULL);
-                    paper_w[k] = now() - t0; paper_c[k] = cpu_now() - c0;
-                    if (r != RJ_OK) { fprintf(stderr, "bench: deploy: %s\n", rj_state_error(s16)); return 1; }
-                }
-                paper16_med = median(paper_w, S.paper_runs);
-                paper16_cpu = median(paper_c, S.paper_runs);
-                rj_state_destroy(s16, NULL); rj_model_destroy(m16, NULL);
-            }
             dpaper.el = 10; dpaper.dt = rj_model_dt(m); dpaper.K = rj_joint_stiffness(m, 1); dpaper.bound = rj_model_dt_bound(m);
             dpaper.runs = S.paper_runs;
             /* memory of the deployment model */
