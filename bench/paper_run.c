@@ -1,6 +1,9 @@
 /* paper_run.c - what bench/instr.sh counts instructions per step of:
      paper_run T [E]             the deployment at the paper's settings (SPEC 9.2) for T seconds
      paper_run --free N K [E]    one free link of N elements (as in BENCHMARKS.md section 1), K steps
+     paper_run --two-link F K    the feature-cost scene of BENCHMARKS.md section 5, K steps: F = 0 bare,
+                                 1 "everything on" (spring, damping, friction, table, adaptive limits
+                                 free, 8 layers)
    E: solver.energy_every (default 1) */
 #define REVJOINT_IMPLEMENTATION
 #include "revjoint.h"
@@ -16,7 +19,36 @@ int main(int argc, char **argv)
     rj_error err;
     rj_result r = RJ_OK;
     const int ee = argc > 2 && strcmp(argv[1], "--free") ? atoi(argv[2]) : argc > 4 ? atoi(argv[4]) : 1;
-    if (argc > 3 && !strcmp(argv[1], "--free")) {
+    if (argc > 3 && !strcmp(argv[1], "--two-link")) {
+        /* as bench.c's ft_scene */
+        const int all = atoi(argv[2]);
+        const long steps = atol(argv[3]);
+        rj_link_def L[2];
+        rj_joint_def J[2];
+        rj_scene_def sc;
+        long k;
+        int i;
+        for (i = 0; i < 2; i++) {
+            L[i] = rj_default_link_def();
+            L[i].length = 1.0; L[i].elements = 10; L[i].height = 0.02; L[i].width = 0.05; L[i].layers = all ? 8 : 1;
+        }
+        J[0] = rj_default_joint_def();
+        J[0].body1 = -1; J[0].body2 = 0; J[0].angle0 = rj_rad(180.0); J[0].rate0 = 2.0;
+        J[1] = rj_default_joint_def();
+        J[1].body1 = 0; J[1].body2 = 1; J[1].angle0 = rj_rad(180.0); J[1].rate0 = 0.2;
+        if (all) {
+            J[1].spring_k = 5.0; J[1].spring_free_angle = rj_rad(180.0); J[1].damping = 0.5; J[1].friction = 0.2;
+            J[1].table_count = 8;
+            for (i = 0; i < 8; i++) { J[1].table_angle[i] = 6.283185307179586 * i / 7.0; J[1].table_torque[i] = 0.1 + 0.05 * (i % 3); }
+            J[1].method = RJ_METHOD_ADAPTIVE; J[1].restitution = 0.0;
+            J[1].has_forward = 1; J[1].forward = rj_rad(240.0); J[1].has_reverse = 1; J[1].reverse = rj_rad(120.0);
+        }
+        sc = rj_default_scene_def();
+        sc.links = L; sc.link_count = 2; sc.joints = J; sc.joint_count = 2;
+        if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { fprintf(stderr, "paper_run: %s\n", err.msg); return 1; }
+        if (rj_state_create(m, &s, NULL) != RJ_OK) { rj_model_destroy(m, NULL); return 1; }
+        for (k = 0; k < steps && r == RJ_OK; k++) r = rj_step(m, s);
+    } else if (argc > 3 && !strcmp(argv[1], "--free")) {
         rj_link_def L = rj_default_link_def();
         rj_scene_def sc = rj_default_scene_def();
         long k, steps = atol(argv[3]);
