@@ -234,10 +234,11 @@ typedef struct rj_joint_def {
      in by springs) + 1e-9 J); energy_every 1.
    energy_every K > 1: the kinetic, strain and spring energies (rj_state_energy) and the
    energy-based blow-up checks are taken K steps after the last time only, and on the step
-   before each of rj_run's samples, so sampled histories are the same as with K = 1;
+   before each of rj_run's samples and its last step, so sampled histories and the state
+   rj_run leaves are the same as with K = 1;
    between them rj_state_energy keeps the last ones (rj_state_energy_time says when). Positions,
    velocities and the work of damping, friction and limits are the same bits either way;
-   flexible links' steps are about a quarter cheaper in instructions (BENCHMARKS.md);
+   flexible links' steps take about a quarter fewer instructions (sh bench/instr.sh);
    a blow-up is caught up to K - 1 steps later. Rigid-only scenes take it every step. */
 typedef struct rj_solver_def {
     double dt;             /* s, >= 0 */
@@ -1124,6 +1125,9 @@ RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
 #define RJ__FROW (RJ__CHUNK + 2)
 
 #ifdef RJ__LANES
+/* STEP (a lane step at index i) over 0 .. n - 1, n >= W, in steps of W; where W does not
+   divide n the last W again, after the loop: the same inputs give the same bits. */
+#define RJ__LANES_OVER(i, n, W, STEP) for (i = 0; i + W <= n; i += W) STEP if (i < n) { i = n - W; STEP }
 /* W elements from element i on, in lanes; F + i is element i's slot in row FX; EN: their
    strain energies too (without, the compiler drops their arithmetic). */
 #define RJ__ELEM_STEP(VD, i, EN)                                                                 \
@@ -1141,10 +1145,9 @@ RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
             RJ__VST(F + 3 * RJ__FROW + i, mb_); if (EN) RJ__VST(ue + i, u_);                     \
         }                                                                                        \
     }
-/* The element loop in lanes of W doubles over all ne >= W elements (the last W again where
-   W does not divide ne: the same inputs give the same bits), their strain energies if en is
-   set; returns -1 when some chord turned too far (or a result is NaN). kc: the link's
-   element constants (link_kc). */
+/* The element loop in lanes of W doubles over all ne >= W elements (RJ__LANES_OVER), their
+   strain energies if en is set; returns -1 when some chord turned too far (or a result is
+   NaN). kc: the link's element constants (link_kc). */
 #define RJ__ELEM_LANES(W, VD, VL, ATTR)                                                          \
 ATTR static RJ__FORCE_INLINE int rj__elem_lanes##W(int ne, const double *kc,                                      \
     const double *RJ__RESTRICT xa, const double *RJ__RESTRICT ya, const double *RJ__RESTRICT pa,   \
@@ -1158,13 +1161,8 @@ ATTR static RJ__FORCE_INLINE int rj__elem_lanes##W(int ne, const double *kc,    
     int i, k;                                                                                    \
     for (k = 0; k < W; k++) { lim[k] = 4e-6; zero[k] = 0.0; }                                    \
     okv = zero < lim;   /* all lanes set */                                                      \
-    if (en) {                                                                                    \
-        for (i = 0; i + W <= ne; i += W) RJ__ELEM_STEP(VD, i, 1)                                 \
-        if (i < ne) { i = ne - W; RJ__ELEM_STEP(VD, i, 1) }                                      \
-    } else {                                                                                     \
-        for (i = 0; i + W <= ne; i += W) RJ__ELEM_STEP(VD, i, 0)                                 \
-        if (i < ne) { i = ne - W; RJ__ELEM_STEP(VD, i, 0) }                                      \
-    }                                                                                            \
+    if (en) { RJ__LANES_OVER(i, ne, W, RJ__ELEM_STEP(VD, i, 1)) }                                 \
+    else { RJ__LANES_OVER(i, ne, W, RJ__ELEM_STEP(VD, i, 0)) }                                   \
     for (k = 0; k < W; k++) if (!okv[k]) return -1;                                              \
     return ne;                                                                                   \
 }
@@ -1271,9 +1269,8 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
             RJ__VLD(t, phi + k); t = t + dt * uw_; RJ__VST(nphi + k, t);                         \
         }                                                                                        \
     }
-/* The node pass in lanes of W doubles over all cnt >= W nodes (the last W again where W
-   does not divide cnt: same inputs, same bits), their forces stored too if store is set and
-   their kinetic-energy shares if en is; returns cnt. */
+/* The node pass in lanes of W doubles over all cnt >= W nodes (RJ__LANES_OVER), their
+   forces stored too if store is set and their kinetic-energy shares if en is; returns cnt. */
 #define RJ__NODE_LANES(W, VD, ATTR)                                                              \
 ATTR static RJ__FORCE_INLINE int rj__node_lanes##W(int cnt, int n, const double *un, const rj__adv *a, \
     const double *RJ__RESTRICT F, const double *x_, const double *y_, const double *phi_, int store, int en) \
@@ -1291,25 +1288,12 @@ ATTR static RJ__FORCE_INLINE int rj__node_lanes##W(int cnt, int n, const double 
     int k;                                                                                       \
     for (k = 0; k < W; k++) { tiu[k] = un[0]; riu[k] = un[1]; kmu[k] = un[2]; kju[k] = un[3]; }  \
     switch ((un[4] != 0 ? 4 : 0) + (store ? 2 : 0) + (en ? 1 : 0)) {                             \
-    case 4:                                                                                      \
-        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 1, 0, 0)                          \
-        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 1, 0, 0) }                              \
-        break;                                                                                   \
-    case 5:                                                                                      \
-        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 1, 0, 1)                          \
-        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 1, 0, 1) }                              \
-        break;                                                                                   \
-    case 6:                                                                                      \
-        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 1, 1, 0)                          \
-        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 1, 1, 0) }                              \
-        break;                                                                                   \
-    case 7:                                                                                      \
-        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 1, 1, 1)                          \
-        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 1, 1, 1) }                              \
-        break;                                                                                   \
+    case 4: RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 0, 0)) break;                    \
+    case 5: RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 0, 1)) break;                    \
+    case 6: RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 1, 0)) break;                    \
+    case 7: RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 1, 1)) break;                    \
     default:   /* per-node values: rare; forces and energy shares always stored */              \
-        for (k = 0; k + W <= cnt; k += W) RJ__NODE_STEP(VD, k, 0, 1, 1)                          \
-        if (k < cnt) { k = cnt - W; RJ__NODE_STEP(VD, k, 0, 1, 1) }                              \
+        RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 0, 1, 1))                                 \
     }                                                                                            \
     return cnt;                                                                                  \
 }
@@ -1355,8 +1339,8 @@ static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, 
    pay for them (the paper's settings ran 1.3x slower). */
 #define RJ__BEAM_PASS(NAME, ATTR, W, ELEM, NODE)                                                                                                      \
 ATTR static int NAME(const rj_model *m, const double *x, const double *y, const double *phi,                                                          \
-                            const double *beta, const double *cx, const double *cy, double *eu,                                                       \
-                            double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz, const rj__adv *adv)                 \
+    const double *beta, const double *cx, const double *cy, double *eu,                                                                               \
+    double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz, const rj__adv *adv)                                         \
 {                                                                                                                                                     \
     /* chunk buffers: entry 0 is the previous chunk's last element (or the -0.0 / +0.0 before                                                         \
        a link's first), entries 1 .. nc this chunk's, nc + 1 the +0.0 after a link's last */                                                          \
@@ -3200,8 +3184,8 @@ static RJ__INLINE double rj__rate_pred(const rj_model *m, const double *of, int 
     return w[n] + kick * mz[n] * m->rinv[n];
 }
 
-/* One step; the energy accounts are taken when want_energy is set or the step falls on
-   solver.energy_every. */
+/* One step; the energy accounts are taken when want_energy is set, at the first step, and
+   solver.energy_every steps after the last time. */
 static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
 {
     const int nn = m->nn;

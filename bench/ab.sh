@@ -21,8 +21,8 @@ for args in "6" "--free 2000 20000" "--free 20 1000000"; do
     : > $B/t.txt
     i=0
     while [ $i -lt "$N" ]; do
-      s=$(now); $B/old_run $args >/dev/null || exit 1; e=$(now); to=$(echo "$e - $s" | bc)
-      s=$(now); $B/new_run $a2 >/dev/null || exit 1; e=$(now); tn=$(echo "$e - $s" | bc)
+      s=$(now); $B/old_run $args >/dev/null || exit 1; e=$(now); to=$(awk -v s="$s" -v e="$e" "BEGIN { print e - s }")
+      s=$(now); $B/new_run $a2 >/dev/null || exit 1; e=$(now); tn=$(awk -v s="$s" -v e="$e" "BEGIN { print e - s }")
       echo "$to $tn" >> $B/t.txt
       i=$((i + 1))
     done
