@@ -474,6 +474,17 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
 #include <assert.h>
 #define RJ_ASSERT(x) assert(x)
 #endif
+/* No FMA contraction in the library, whatever the including file's flags (gcc's GNU modes
+   contract by default, clang's every mode within an expression): the same bits from every
+   build and lane width, and from the AVX-512 kernels, whose target has FMA. The caller's
+   code after the header keeps its own setting. */
+#if defined(__clang__)
+#pragma float_control(push)
+#pragma clang fp contract(off)
+#elif defined(__GNUC__)
+#pragma GCC push_options
+#pragma GCC optimize("fp-contract=off")
+#endif
 
 #if defined(__cplusplus) && (defined(__GNUC__) || defined(_MSC_VER))
 #define RJ__RESTRICT __restrict
@@ -483,10 +494,12 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
 #define RJ__RESTRICT
 #endif
 /* The beam pass uses GCC/Clang vector extensions where they exist (RJ_NO_SIMD turns them
-   off): lanes of 4 doubles where the compiler targets AVX, 2 otherwise, and on x86-64
-   without -mavx both, the 4-lane kernels compiled for AVX2 and chosen per call when the
-   CPU has it (RJ_NO_DISPATCH turns that off). No FMA either way. Every lane does the
-   scalar code's operations in the scalar code's order, so results are bit-identical in
+   off): lanes of 4 doubles where the compiler targets AVX (and 8 for chunks of 8 elements
+   or more where it targets AVX-512), 2 otherwise, and on x86-64 without -mavx all three,
+   the 4- and 8-lane kernels compiled for AVX2 and AVX-512F and chosen per step as the CPU
+   has them (RJ_NO_DISPATCH turns that off, RJ_NO_AVX512 the 8 lanes alone). No FMA either
+   way (the AVX-512 kernels keep it out themselves: that target has FMA). Every lane does
+   the scalar code's operations in the scalar code's order, so results are bit-identical in
    every case (tests/lanes.sh). */
 #if !defined(RJ_NO_SIMD) && (defined(__GNUC__) || defined(__clang__))
 #define RJ__LANES 1
@@ -494,21 +507,36 @@ typedef double rj__vd2 __attribute__((vector_size(16)));
 typedef long long rj__vl2 __attribute__((vector_size(16)));
 typedef double rj__vd4 __attribute__((vector_size(32)));
 typedef long long rj__vl4 __attribute__((vector_size(32)));
+typedef double rj__vd8 __attribute__((vector_size(64)));
+typedef long long rj__vl8 __attribute__((vector_size(64)));
 #define RJ__VLD(v, p) memcpy(&(v), (p), sizeof(v))
 #define RJ__VST(p, v) memcpy((p), &(v), sizeof(v))
 #if defined(__AVX__)
 #define RJ__LANES4 1
+#if defined(__AVX512F__) && !defined(RJ_NO_AVX512)
+#define RJ__LANES8 1
+#if defined(__clang__)
+#define RJ__AVX512 __attribute__((min_vector_width(512)))   /* else split to 256 bits where tuned so */
+#endif
+#endif
 #elif defined(__x86_64__) && !defined(RJ_NO_DISPATCH) && ((defined(__clang__) && __clang_major__ >= 4) || (!defined(__clang__) && __GNUC__ >= 6))
 #define RJ__LANES2 1
 #define RJ__LANES4 1
 #define RJ__DISPATCH 1
 #define RJ__AVX2 __attribute__((target("avx2")))
+#ifndef RJ_NO_AVX512
+#define RJ__LANES8 1
+#define RJ__AVX512 __attribute__((target("avx512f")))
+#endif
 #else
 #define RJ__LANES2 1
 #endif
 #endif
 #ifndef RJ__AVX2
 #define RJ__AVX2
+#endif
+#ifndef RJ__AVX512
+#define RJ__AVX512
 #endif
 #if defined(__cplusplus) || (defined(__STDC_VERSION__) && __STDC_VERSION__ >= 199901L)
 #define RJ__INLINE inline
@@ -1172,6 +1200,9 @@ RJ__ELEM_LANES(2, rj__vd2, rj__vl2, )
 #ifdef RJ__LANES4
 RJ__ELEM_LANES(4, rj__vd4, rj__vl4, RJ__AVX2)
 #endif
+#ifdef RJ__LANES8
+RJ__ELEM_LANES(8, rj__vd8, rj__vl8, RJ__AVX512)
+#endif
 #endif
 
 /* The fast path over a chunk of one link's elements, branch-free (vector lanes where the
@@ -1303,6 +1334,9 @@ RJ__NODE_LANES(2, rj__vd2, )
 #ifdef RJ__LANES4
 RJ__NODE_LANES(4, rj__vd4, RJ__AVX2)
 #endif
+#ifdef RJ__LANES8
+RJ__NODE_LANES(8, rj__vd8, RJ__AVX512)
+#endif
 #endif
 
 /* Nodes n + k .. n + cnt - 1 from the chunk buffer F (rows FX, FY, M1, M2) laid out so
@@ -1395,8 +1429,25 @@ ATTR static int NAME(const rj_model *m, const double *x, const double *y, const 
     return en;                                                                                                                                        \
 }
 
-#ifdef RJ__LANES4
+#if defined(RJ__LANES4) && (defined(RJ__DISPATCH) || !defined(RJ__LANES8))
 RJ__BEAM_PASS(rj__beam_pass4, RJ__AVX2, 4, rj__elem_lanes4, rj__node_lanes4)
+#endif
+#ifdef RJ__LANES8
+/* AVX-512: 8 lanes where a chunk has 8 elements (nodes) or more, else the 4-lane loops
+   (their AVX2 code inlines here); either way the same bits. */
+RJ__AVX512 static RJ__FORCE_INLINE int rj__elem_lanes48(int ne, const double *kc, const double *xa, const double *ya, const double *pa,
+    const double *bb, const double *ccx, const double *ccy, double *F, double *ue, double *bo, double *cox, double *coy, int en)
+{
+    if (ne >= 8) return rj__elem_lanes8(ne, kc, xa, ya, pa, bb, ccx, ccy, F, ue, bo, cox, coy, en);
+    return rj__elem_lanes4(ne, kc, xa, ya, pa, bb, ccx, ccy, F, ue, bo, cox, coy, en);
+}
+RJ__AVX512 static RJ__FORCE_INLINE int rj__node_lanes48(int cnt, int n, const double *un, const rj__adv *a, const double *F,
+    const double *x, const double *y, const double *phi, int store, int en)
+{
+    if (cnt >= 8) return rj__node_lanes8(cnt, n, un, a, F, x, y, phi, store, en);
+    return rj__node_lanes4(cnt, n, un, a, F, x, y, phi, store, en);
+}
+RJ__BEAM_PASS(rj__beam_pass8, RJ__AVX512, 4, rj__elem_lanes48, rj__node_lanes48)
 #endif
 #ifdef RJ__LANES2
 RJ__BEAM_PASS(rj__beam_pass2, , 2, rj__elem_lanes2, rj__node_lanes2)
@@ -1424,7 +1475,14 @@ static double rj__beam_pass(const rj_model *m, const double *x, const double *y,
 {
     int en;
 #if defined(RJ__DISPATCH)
+#ifdef RJ__LANES8
+    if (__builtin_cpu_supports("avx512f"))
+        en = rj__beam_pass8(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+    else
+#endif
     en = (__builtin_cpu_supports("avx2") ? rj__beam_pass4 : rj__beam_pass2)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+#elif defined(RJ__LANES8)
+    en = rj__beam_pass8(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
 #elif defined(RJ__LANES4)
     en = rj__beam_pass4(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
 #elif defined(RJ__LANES2)
@@ -5155,6 +5213,11 @@ RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_name
     return W.n;
 }
 #endif /* RJ_NO_SCENE_FILES */
+#if defined(__clang__)
+#pragma float_control(pop)
+#elif defined(__GNUC__)
+#pragma GCC pop_options
+#endif
 #endif
 
 /*

@@ -81,9 +81,9 @@ int main(void)
         printf("%016llx\n", state_hash(m, s));
         rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
     }
-    {   /* free links of 1 .. 13 elements (every tail length), 200 and 300 (two chunks);
-           fast spin: chords turn more than the series covers, the exact path */
-        static const int els[] = { 1, 2, 3, 4, 5, 6, 7, 9, 13, 200, 300 };
+    {   /* free links of 1 .. 17 elements (every tail length of 4 and 8 lanes), 23, 200 and
+           300 (two chunks); fast spin: chords turn more than the series covers, the exact path */
+        static const int els[] = { 1, 2, 3, 4, 5, 6, 7, 8, 9, 13, 15, 16, 17, 23, 200, 300 };
         for (i = 0; i < (int)(sizeof els / sizeof els[0]); i++) {
             rj_link_def L = rj_default_link_def();
             rj_scene_def sc = rj_default_scene_def();
