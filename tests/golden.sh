@@ -18,6 +18,10 @@ check deploy $T/deploy.csv
 if [ "$W" != "--write" ]; then
   $B/deploy --scene examples/scenes/deploy.rjs --csv $T/deploy_scene.csv 2>/dev/null || { echo "FAIL deploy --scene run"; rc=1; }
   check deploy $T/deploy_scene.csv
+  # build/deploy takes the energy accounts every 16th step: the history must not depend on it
+  $B/deploy --paper --energy-every 1 --csv $T/deploy_k1.csv 2>/dev/null || { echo "FAIL deploy --energy-every 1 run"; rc=1; }
+  if cmp -s $T/deploy.csv $T/deploy_k1.csv; then echo "PASS deploy: the same history byte for byte with the energy accounts every step (--energy-every 1) as every 16th (the default)"
+  else echo "FAIL deploy: --energy-every 1 changed the history"; rc=1; fi
 fi
 $B/deploy --rigid --csv $T/deploy_rigid.csv 2>/dev/null || { echo "FAIL deploy --rigid run"; rc=1; }
 check deploy_rigid $T/deploy_rigid.csv
