@@ -475,9 +475,10 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
 #define RJ_ASSERT(x) assert(x)
 #endif
 /* No FMA contraction in the library, whatever the including file's flags (gcc's GNU modes
-   contract by default, clang's every mode within an expression): the same bits from every
-   build and lane width, and from the AVX-512 kernels, whose target has FMA. The caller's
-   code after the header keeps its own setting. */
+   contract by default, clang's default mode within an expression; clang's
+   -ffp-contract=fast ignores the pragma by design): the same bits from every build and
+   lane width (tests/lanes.sh), the AVX-512 kernels included, whose target has FMA. The
+   caller's code after the header keeps its own setting. */
 #if defined(__clang__)
 #pragma float_control(push)
 #pragma clang fp contract(off)
@@ -494,13 +495,15 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
 #define RJ__RESTRICT
 #endif
 /* The beam pass uses GCC/Clang vector extensions where they exist (RJ_NO_SIMD turns them
-   off): lanes of 4 doubles where the compiler targets AVX (and 8 for chunks of 8 elements
-   or more where it targets AVX-512), 2 otherwise, and on x86-64 without -mavx all three,
-   the 4- and 8-lane kernels compiled for AVX2 and AVX-512F and chosen per step as the CPU
-   has them (RJ_NO_DISPATCH turns that off, RJ_NO_AVX512 the 8 lanes alone). No FMA either
-   way (the AVX-512 kernels keep it out themselves: that target has FMA). Every lane does
-   the scalar code's operations in the scalar code's order, so results are bit-identical in
-   every case (tests/lanes.sh). */
+   off): lanes of 4 doubles where the compiler targets AVX, 2 otherwise, and on x86-64
+   without -mavx both, the 4-lane kernels compiled for AVX2 and chosen per step when the CPU
+   has it (RJ_NO_DISPATCH turns that off). RJ_AVX512 adds 8 lanes for chunks of 8 elements
+   or more, compiled for AVX-512F (chosen per step the same way, or where the compiler
+   targets it): opt-in, since it measured only 1.05-1.2x at 20-2000 elements and nothing at
+   the paper's settings (README), and 512-bit arithmetic lowers the clock of some Intel
+   CPUs (Skylake-SP) for the whole program. No FMA (see above). Every lane does the scalar
+   code's operations in the scalar code's order, so results are bit-identical in every
+   case (tests/lanes.sh). */
 #if !defined(RJ_NO_SIMD) && (defined(__GNUC__) || defined(__clang__))
 #define RJ__LANES 1
 typedef double rj__vd2 __attribute__((vector_size(16)));
@@ -513,7 +516,7 @@ typedef long long rj__vl8 __attribute__((vector_size(64)));
 #define RJ__VST(p, v) memcpy((p), &(v), sizeof(v))
 #if defined(__AVX__)
 #define RJ__LANES4 1
-#if defined(__AVX512F__) && !defined(RJ_NO_AVX512)
+#if defined(__AVX512F__) && defined(RJ_AVX512)
 #define RJ__LANES8 1
 #if defined(__clang__)
 #define RJ__AVX512 __attribute__((min_vector_width(512)))   /* else split to 256 bits where tuned so */
@@ -524,7 +527,7 @@ typedef long long rj__vl8 __attribute__((vector_size(64)));
 #define RJ__LANES4 1
 #define RJ__DISPATCH 1
 #define RJ__AVX2 __attribute__((target("avx2")))
-#ifndef RJ_NO_AVX512
+#ifdef RJ_AVX512
 #define RJ__LANES8 1
 #define RJ__AVX512 __attribute__((target("avx512f")))
 #endif
