@@ -18,6 +18,8 @@ CONFIGURATION MACROS
                              (same results to the bit: tests/lanes.sh)
    RJ_NO_DISPATCH            on x86-64 without -mavx, do not also compile the lane kernels
                              for AVX2 (chosen per call when the CPU has it); 2-lane only
+   RJ_AVX512                 also 8-lane kernels for AVX-512F (chosen per step the same way):
+                             opt-in, 1.0-1.2x in our runs (README); same results to the bit
 
 QUICK START
    rj_link_def links[2]; rj_joint_def joints[2]; rj_solver_def solver; rj_scene_def scene;

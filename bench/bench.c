@@ -2291,7 +2291,7 @@ int main(int argc, char **argv)
             char b1[32];
             md("## 2. Deployment (SPEC 9.2): speed against error\n\n");
             md("Joint 1 forced, joint 2 locked by the method named; 6 s simulated; wall time = `rj_run` with a 1 ms sample callback "
-               "and `solver.energy_every = 16` as `build/deploy` runs it (the same histories bit for bit as 1; about 10 %% less time) "
+               "and `solver.energy_every = 16` as `build/deploy` runs it (the same histories bit for bit as 1; about 10 %% fewer instructions at the paper's settings, `sh bench/instr.sh -O2 \"\" 16`) "
                "(median of 5 runs below 2 s, 3 below 6 s, else 1; the `runs` column says how many). "
                "dt: 0.9 x the stability bound `rj_model_dt_bound` of that mesh and method (the step the library picks itself), then halved; "
                "for penalty K = Eq 31 at that dt (`deploy_build` default), so K grows as 1/dt^2, as does adaptive's K_AP (Eq 21).\n\n");
