@@ -480,11 +480,16 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
    contract by default, clang's default mode within an expression; clang's
    -ffp-contract=fast ignores the pragma by design): the same bits from every build and
    lane width (tests/lanes.sh), the AVX-512 kernels included, whose target has FMA. The
-   caller's code after the header keeps its own setting. */
+   caller's code after the header keeps its own setting. (float_control needs clang 11,
+   Apple's 13; older clangs and other compilers get no pragma.) */
 #if defined(__clang__)
+#if (!defined(__apple_build_version__) && __clang_major__ >= 11) || __clang_major__ >= 13
+#define RJ__FP_PRAGMAS 1
 #pragma float_control(push)
 #pragma clang fp contract(off)
-#elif defined(__GNUC__)
+#endif
+#elif defined(__GNUC__) && !defined(__INTEL_COMPILER)
+#define RJ__FP_PRAGMAS 1
 #pragma GCC push_options
 #pragma GCC optimize("fp-contract=off")
 #endif
@@ -5218,9 +5223,9 @@ RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_name
     return W.n;
 }
 #endif /* RJ_NO_SCENE_FILES */
-#if defined(__clang__)
+#if defined(RJ__FP_PRAGMAS) && defined(__clang__)
 #pragma float_control(pop)
-#elif defined(__GNUC__)
+#elif defined(RJ__FP_PRAGMAS)
 #pragma GCC pop_options
 #endif
 #endif
