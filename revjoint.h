@@ -2649,27 +2649,34 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
             act[i] = (bodies ? rj__shake_w(m, s, k, nx, ny, 1, 0) + rj__shake_w(m, s, k, nx, ny, 0, 1) + rj__shake_w(m, s, k1, nx, ny, 1, 0) + rj__shake_w(m, s, k1, nx, ny, 0, 1)
                            : m->einv[k] + m->einv[k1]) > 0 ? 1.0 : 0.0;
         }
+        /* (the loops carry a node's position or an element's chord on to the next element
+           instead of loading and subtracting it again: the same values) */
         for (it = 0; it < (bodies ? 12 : 4); it++) {
-            double worst = 0;
+            double worst = 0, px = nx[nd[0]], py = ny[nd[0]], hx = 0, hy = 0;   /* hx, hy: the update's old chord i - 1 */
             for (i = 0; i < ne; i++) {
-                const int k = nd[i], k1 = nd[i + 1];
-                const double ex = nx[k1] - nx[k], ey = ny[k1] - ny[k], g = (ex * ex + ey * ey - l0sq[i + 1]) * act[i];
+                const double qx = nx[nd[i + 1]], qy = ny[nd[i + 1]];
+                const double ex = qx - px, ey = qy - py, g = (ex * ex + ey * ey - l0sq[i + 1]) * act[i];
                 if (fabs(g) > worst * l0sq[i + 1]) worst = fabs(g) / l0sq[i + 1];
                 r[i] = -g;
+                px = qx; py = qy;
             }
             if (worst < 1e-14) break;
             if (it == 0) {
                 /* the Newton matrix of the first iteration serves the later ones: it
                    changes with the chords by the size of the correction (about 1e-8) */
+                double pox = 0, poy = 0, ox = x[nd[1]] - x[nd[0]], oy = y[nd[1]] - y[nd[0]];   /* old chords i - 1, i */
                 for (i = 0; i < ne; i++) {
                     const int k = nd[i], k1 = nd[i + 1];
-                    const double ex = nx[k1] - nx[k], ey = ny[k1] - ny[k], ox = x[k1] - x[k], oy = y[k1] - y[k];
+                    const double ex = nx[k1] - nx[k], ey = ny[k1] - ny[k];
                     const double wi = bodies ? rj__shake_w(m, s, k, nx, ny, ox, oy) : m->einv[k];
                     const double wj = bodies ? rj__shake_w(m, s, k1, nx, ny, ox, oy) : m->einv[k1];
+                    double qox = 0, qoy = 0;   /* old chord i + 1 */
+                    if (i + 1 < ne) { qox = x[nd[i + 2]] - x[k1]; qoy = y[nd[i + 2]] - y[k1]; }
                     b[i] = 4.0 * (wi + wj) * (ex * ox + ey * oy);
-                    a[i] = i > 0 ? -4.0 * wi * (ex * (x[k] - x[nd[i - 1]]) + ey * (y[k] - y[nd[i - 1]])) : 0.0;
-                    c[i] = i + 1 < ne ? -4.0 * wj * (ex * (x[nd[i + 2]] - x[k1]) + ey * (y[nd[i + 2]] - y[k1])) : 0.0;
+                    a[i] = i > 0 ? -4.0 * wi * (ex * pox + ey * poy) : 0.0;
+                    c[i] = i + 1 < ne ? -4.0 * wj * (ex * qox + ey * qoy) : 0.0;
                     if (act[i] == 0) { b[i] = 1.0; a[i] = c[i] = 0.0; }   /* an identity row: lam = 0 */
+                    pox = ox; poy = oy; ox = qox; oy = qoy;
                 }
                 b[0] = 1.0 / b[0];
                 for (i = 1; i < ne; i++) { a[i] *= b[i - 1]; b[i] = 1.0 / (b[i] - a[i] * c[i - 1]); }
@@ -2680,9 +2687,10 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
             if (bodies) for (q = 0; q < 3 * m->ncl; q++) imp[q] = 0;
             for (i = 0; i <= ne; i++) {
                 const int k = nd[i];
-                double dx = 0, dy = 0;
-                if (i > 0) { dx += lam[i - 1] * (x[k] - x[nd[i - 1]]); dy += lam[i - 1] * (y[k] - y[nd[i - 1]]); }
-                if (i < ne) { dx -= lam[i] * (x[nd[i + 1]] - x[k]); dy -= lam[i] * (y[nd[i + 1]] - y[k]); }
+                double dx = 0, dy = 0, ox = 0, oy = 0;
+                if (i > 0) { dx += lam[i - 1] * hx; dy += lam[i - 1] * hy; }
+                if (i < ne) { ox = x[nd[i + 1]] - x[k]; oy = y[nd[i + 1]] - y[k]; dx -= lam[i] * ox; dy -= lam[i] * oy; }
+                hx = ox; hy = oy;
                 if (bodies && m->node_cl[k] >= 0) {
                     /* on a body: the body takes the push (mass times displacement 2 dx) */
                     const int cl = m->node_cl[k];

@@ -164,5 +164,30 @@ int main(void)
     rc |= run_file("examples/scenes/deploy.rjs", 1.0);
     rc |= run_file("examples/scenes/solar_array.rjs", 0.5);
     rc |= run_file("examples/scenes/solar_array_bus.rjs", 0.5);
+    {   /* inextensible links (SHAKE), as build/deploy --links inextensible, through both
+           latches; and the solar array with inextensible panels on a rigid hub (SHAKE with a
+           body in the chain) */
+        deploy_opts o = deploy_default_opts();
+        rj_link_def L[RJ_SCENE_MAX_LINKS];
+        rj_joint_def J[RJ_SCENE_MAX_JOINTS];
+        rj_scene_def sc;
+        rj_scene_file f;
+        rj_error err;
+        o.elements = 5; o.dt = 0;
+        deploy_scene(&o, L, J, &sc);
+        L[0].fidelity = L[1].fidelity = RJ_LINK_INEXTENSIBLE;
+        J[1].method = RJ_METHOD_MOMENTUM;
+        rc |= run("deploy inextensible 5 el", &sc, 6.0);
+        if (rj_scene_load("examples/scenes/solar_array.rjs", &f, &err) != RJ_OK) { printf("solar_array.rjs: %s\n", err.msg); return 1; }
+        sc = rj_scene_file_def(&f);
+        for (i = 0; i < sc.link_count; i++) {
+            L[i] = f.links[i];
+            L[i].fidelity = i == rj_scene_link_index(&f, "hub") ? RJ_LINK_RIGID : RJ_LINK_INEXTENSIBLE;
+        }
+        for (i = 0; i < sc.joint_count; i++) J[i] = f.joints[i];
+        sc.links = L; sc.joints = J;
+        rc |= run("solar inextensible, rigid hub", &sc, 0.5);
+        rj_scene_file_free(&f);
+    }
     return rc;
 }
