@@ -18,8 +18,6 @@ CONFIGURATION MACROS
                              (same results to the bit: tests/lanes.sh)
    RJ_NO_DISPATCH            on x86-64 without -mavx, do not also compile the lane kernels
                              for AVX2 (chosen per call when the CPU has it); 2-lane only
-   RJ_AVX512                 also 8-lane kernels for AVX-512F (chosen per step the same way):
-                             opt-in, 1.0-1.2x in our runs (README); same results to the bit
 
 QUICK START
    rj_link_def links[2]; rj_joint_def joints[2]; rj_solver_def solver; rj_scene_def scene;
@@ -479,9 +477,9 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
 /* No FMA contraction in the library, whatever the including file's flags (gcc's GNU modes
    contract by default, clang's default mode within an expression; clang's
    -ffp-contract=fast ignores the pragma by design): the same bits from every build and
-   lane width (tests/lanes.sh), the AVX-512 kernels included, whose target has FMA. The
-   caller's code after the header keeps its own setting. (float_control needs clang 11,
-   Apple's 13; older clangs and other compilers get no pragma.) */
+   lane width (tests/lanes.sh), -march=native included. The caller's code after the header
+   keeps its own setting. (float_control needs clang 11, Apple's 13; older clangs and
+   other compilers get no pragma.) */
 #if defined(__clang__)
 #if (!defined(__apple_build_version__) && __clang_major__ >= 11) || __clang_major__ >= 13
 #define RJ__FP_PRAGMAS 1
@@ -504,49 +502,31 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
 /* The beam pass uses GCC/Clang vector extensions where they exist (RJ_NO_SIMD turns them
    off): lanes of 4 doubles where the compiler targets AVX, 2 otherwise, and on x86-64
    without -mavx both, the 4-lane kernels compiled for AVX2 and chosen per step when the CPU
-   has it (RJ_NO_DISPATCH turns that off). RJ_AVX512 adds 8 lanes for chunks of 8 elements
-   or more, compiled for AVX-512F (chosen per step the same way, or where the compiler
-   targets it): opt-in, since it measured only 1.05-1.2x at 20-2000 elements and nothing at
-   the paper's settings (README), and 512-bit arithmetic lowers the clock of some Intel
-   CPUs (Skylake-SP) for the whole program. No FMA (see above). Every lane does the scalar
+   has it (RJ_NO_DISPATCH turns that off). No FMA (see above). Every lane does the scalar
    code's operations in the scalar code's order, so results are bit-identical in every
-   case (tests/lanes.sh). */
+   case (tests/lanes.sh). 8-lane AVX-512 kernels were tried and measured no faster beyond
+   this machine's noise (README), so there are none. */
 #if !defined(RJ_NO_SIMD) && (defined(__GNUC__) || defined(__clang__))
 #define RJ__LANES 1
 typedef double rj__vd2 __attribute__((vector_size(16)));
 typedef long long rj__vl2 __attribute__((vector_size(16)));
 typedef double rj__vd4 __attribute__((vector_size(32)));
 typedef long long rj__vl4 __attribute__((vector_size(32)));
-typedef double rj__vd8 __attribute__((vector_size(64)));
-typedef long long rj__vl8 __attribute__((vector_size(64)));
 #define RJ__VLD(v, p) memcpy(&(v), (p), sizeof(v))
 #define RJ__VST(p, v) memcpy((p), &(v), sizeof(v))
 #if defined(__AVX__)
 #define RJ__LANES4 1
-#if defined(__AVX512F__) && defined(RJ_AVX512)
-#define RJ__LANES8 1
-#if defined(__clang__)
-#define RJ__AVX512 __attribute__((min_vector_width(512)))   /* else split to 256 bits where tuned so */
-#endif
-#endif
 #elif defined(__x86_64__) && !defined(RJ_NO_DISPATCH) && ((defined(__clang__) && __clang_major__ >= 4) || (!defined(__clang__) && __GNUC__ >= 6))
 #define RJ__LANES2 1
 #define RJ__LANES4 1
 #define RJ__DISPATCH 1
 #define RJ__AVX2 __attribute__((target("avx2")))
-#ifdef RJ_AVX512
-#define RJ__LANES8 1
-#define RJ__AVX512 __attribute__((target("avx512f")))
-#endif
 #else
 #define RJ__LANES2 1
 #endif
 #endif
 #ifndef RJ__AVX2
 #define RJ__AVX2
-#endif
-#ifndef RJ__AVX512
-#define RJ__AVX512
 #endif
 #if defined(__cplusplus) || (defined(__STDC_VERSION__) && __STDC_VERSION__ >= 199901L)
 #define RJ__INLINE inline
@@ -1210,9 +1190,6 @@ RJ__ELEM_LANES(2, rj__vd2, rj__vl2, )
 #ifdef RJ__LANES4
 RJ__ELEM_LANES(4, rj__vd4, rj__vl4, RJ__AVX2)
 #endif
-#ifdef RJ__LANES8
-RJ__ELEM_LANES(8, rj__vd8, rj__vl8, RJ__AVX512)
-#endif
 #endif
 
 /* The fast path over a chunk of one link's elements, branch-free (vector lanes where the
@@ -1344,9 +1321,6 @@ RJ__NODE_LANES(2, rj__vd2, )
 #ifdef RJ__LANES4
 RJ__NODE_LANES(4, rj__vd4, RJ__AVX2)
 #endif
-#ifdef RJ__LANES8
-RJ__NODE_LANES(8, rj__vd8, RJ__AVX512)
-#endif
 #endif
 
 /* Nodes n + k .. n + cnt - 1 from the chunk buffer F (rows FX, FY, M1, M2) laid out so
@@ -1374,10 +1348,10 @@ static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, 
    chords (the next step's references) go to beta_out, cx_out, cy_out; eu receives the
    elements' strain energies. With adv (the step), every node of a flexible link is also
    advanced as soon as its forces are summed; nodes that joints act on are advanced again
-   later (m->dnode). Returns the strain energy. */
-/* The pass, compiled once per lane width W (ELEM, NODE: that width's lane loops) so that
-   the kernels inline into it and the CPU is asked once per step; returns whether the strain
-   energies were taken. It calls no other code on its way out: a function compiled for AVX2
+   later (m->dnode); with adv->en clear the lanes leave eu stale. The pass is compiled once
+   per lane width W (ELEM, NODE: that width's lane loops) so that the kernels inline into it
+   and the CPU is asked once per step; it returns whether eu is complete (rj__beam_pass then
+   sums it into the strain energy). It calls no other code on its way out: a function compiled for AVX2
    that jumps into SSE code without clearing the registers' upper halves (gcc 12 left out
    its vzeroupper before such a tail call) makes every later SSE instruction of the step
    pay for them (the paper's settings ran 1.3x slower). */
@@ -1439,25 +1413,8 @@ ATTR static int NAME(const rj_model *m, const double *x, const double *y, const 
     return en;                                                                                                                                        \
 }
 
-#if defined(RJ__LANES4) && (defined(RJ__DISPATCH) || !defined(RJ__LANES8))
+#ifdef RJ__LANES4
 RJ__BEAM_PASS(rj__beam_pass4, RJ__AVX2, 4, rj__elem_lanes4, rj__node_lanes4)
-#endif
-#ifdef RJ__LANES8
-/* AVX-512: 8 lanes where a chunk has 8 elements (nodes) or more, else the 4-lane loops
-   (their AVX2 code inlines here); either way the same bits. */
-RJ__AVX512 static RJ__FORCE_INLINE int rj__elem_lanes48(int ne, const double *kc, const double *xa, const double *ya, const double *pa,
-    const double *bb, const double *ccx, const double *ccy, double *F, double *ue, double *bo, double *cox, double *coy, int en)
-{
-    if (ne >= 8) return rj__elem_lanes8(ne, kc, xa, ya, pa, bb, ccx, ccy, F, ue, bo, cox, coy, en);
-    return rj__elem_lanes4(ne, kc, xa, ya, pa, bb, ccx, ccy, F, ue, bo, cox, coy, en);
-}
-RJ__AVX512 static RJ__FORCE_INLINE int rj__node_lanes48(int cnt, int n, const double *un, const rj__adv *a, const double *F,
-    const double *x, const double *y, const double *phi, int store, int en)
-{
-    if (cnt >= 8) return rj__node_lanes8(cnt, n, un, a, F, x, y, phi, store, en);
-    return rj__node_lanes4(cnt, n, un, a, F, x, y, phi, store, en);
-}
-RJ__BEAM_PASS(rj__beam_pass8, RJ__AVX512, 4, rj__elem_lanes48, rj__node_lanes48)
 #endif
 #ifdef RJ__LANES2
 RJ__BEAM_PASS(rj__beam_pass2, , 2, rj__elem_lanes2, rj__node_lanes2)
@@ -1485,14 +1442,7 @@ static double rj__beam_pass(const rj_model *m, const double *x, const double *y,
 {
     int en;
 #if defined(RJ__DISPATCH)
-#ifdef RJ__LANES8
-    if (__builtin_cpu_supports("avx512f"))
-        en = rj__beam_pass8(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
-    else
-#endif
     en = (__builtin_cpu_supports("avx2") ? rj__beam_pass4 : rj__beam_pass2)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
-#elif defined(RJ__LANES8)
-    en = rj__beam_pass8(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
 #elif defined(RJ__LANES4)
     en = rj__beam_pass4(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
 #elif defined(RJ__LANES2)
