@@ -152,6 +152,9 @@ typedef enum rj_reference { RJ_REF_TANGENT = 0, RJ_REF_CHORD } rj_reference;
 
 /* Release rules (SPEC sec. 4). */
 typedef enum rj_release { RJ_RELEASE_RC12 = 0, RJ_RELEASE_RC13 } rj_release;
+/* Where the step writes the nodes and elements (rj_solver_def.in_place): AUTO in place from
+   RJ_IN_PLACE_NODES (256) nodes on, ON whenever the scene allows, OFF never (see the solver). */
+typedef enum rj_in_place { RJ_IN_PLACE_AUTO = 0, RJ_IN_PLACE_ON, RJ_IN_PLACE_OFF } rj_in_place;
 
 /* Joint status flag, Eq 7. */
 typedef enum rj_flag { RJ_FREE = 0, RJ_AT_FORWARD = 1, RJ_AT_REVERSE = 2, RJ_LOCKED = 3 } rj_flag;
@@ -239,12 +242,21 @@ typedef struct rj_joint_def {
    between them rj_state_energy keeps the last ones (rj_state_energy_time says when). Positions,
    velocities and the work of damping, friction and limits are the same bits either way;
    flexible links' steps take about a quarter fewer instructions (sh bench/instr.sh);
-   a blow-up is caught up to K - 1 steps later. Rigid-only scenes take it every step. */
+   a blow-up is caught up to K - 1 steps later. Rigid-only scenes take it every step.
+   in_place (rj_in_place, default AUTO): the step advances the nodes and elements where they
+   are instead of into a second frame, which halves what a large model moves through the
+   caches (about 1.3x faster at 2000 elements, BENCHMARKS.md); it keeps a copy of the state
+   at most 64 steps old and, when a step fails, takes the steps since it again, so a failed
+   step leaves the state as it was either way, and the results are the same bits. It costs a
+   third frame of memory, and a few copies per step that only pay from a few hundred nodes
+   on: AUTO uses it from RJ_IN_PLACE_NODES nodes (256; a compile-time setting). Scenes with
+   inextensible links never step in place (SHAKE reads every node's old position). */
 typedef struct rj_solver_def {
     double dt;             /* s, >= 0 */
     int allow_unstable;    /* accept dt above the bound */
     double energy_growth;  /* > 1 */
     int energy_every;      /* 1 .. 1000 steps */
+    int in_place;          /* rj_in_place */
     unsigned cookie;
 } rj_solver_def;
 
@@ -407,7 +419,7 @@ typedef struct rj_scene_file {
     char (*joint_names)[RJ_SCENE_NAME_MAX];
     char filename[96];                /* as given to rj_scene_parse (truncated) */
     rj_scene_pos *link_pos_, *joint_pos_; /* per item: header, then the value of each key */
-    rj_scene_pos solver_pos_[5];      /* header, then dt, allow_unstable, energy_growth, energy_every */
+    rj_scene_pos solver_pos_[6];      /* header, then dt, allow_unstable, energy_growth, energy_every, in_place */
     void *block_, *alloc_ctx_;
 } rj_scene_file;
 
@@ -470,6 +482,12 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
 #define RJ_MALLOC(sz, ctx) ((void)(ctx), malloc(sz))
 #define RJ_FREE(p, ctx) ((void)(ctx), free(p))
 #endif
+/* Models of at least this many nodes step in place (rj__step; scenes of flexible links
+   without inextensible ones, rigid bodies or welded groups): below it the two frames fit the
+   data cache anyway, and in place costs a few copies per step. */
+#ifndef RJ_IN_PLACE_NODES
+#define RJ_IN_PLACE_NODES 256
+#endif
 #ifndef RJ_ASSERT
 #include <assert.h>
 #define RJ_ASSERT(x) assert(x)
@@ -479,7 +497,9 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
    -ffp-contract=fast ignores the pragma by design): the same bits from every build and
    lane width (tests/lanes.sh), -march=native included. The caller's code after the header
    keeps its own setting. (float_control needs clang 11, Apple's 13; older clangs and
-   other compilers get no pragma.) */
+   other compilers get no pragma.) GCC also keeps its loops as loops: the in-place step's
+   copies of a chunk (rj__copy4) would otherwise become rep movsq or memcpy calls, which
+   cost three times the instructions for a kilobyte in L1. */
 #if defined(__clang__)
 #if (!defined(__apple_build_version__) && __clang_major__ >= 11) || __clang_major__ >= 13
 #define RJ__FP_PRAGMAS 1
@@ -489,7 +509,7 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
 #elif defined(__GNUC__) && !defined(__INTEL_COMPILER)
 #define RJ__FP_PRAGMAS 1
 #pragma GCC push_options
-#pragma GCC optimize("fp-contract=off")
+#pragma GCC optimize("fp-contract=off", "no-tree-loop-distribute-patterns")
 #endif
 
 #if defined(__cplusplus) && (defined(__GNUC__) || defined(_MSC_VER))
@@ -622,6 +642,7 @@ struct rj_model {
     int *grp_first;           /* (ng+1) */
     int ndn;                  /* nodes whose forces change after the beams, and links' end nodes */
     int dn_inner;             /* some flexible link has such a node inside (not at an end) */
+    int ip;                   /* the step runs in place (rj__step, RJ_IN_PLACE_NODES) */
     int *dnode;               /* (ndn) those nodes and every link's end nodes: the fused beam pass advances them again */
     double *link_un;          /* (5 nl) a link's other nodes' tinv, rinv, kmass, krot, and 1 when they all agree */
     double *link_kc;          /* (4 nl) a link's element constants: EI/l0, EA/l0 (0 if inextensible), l0^2, 1/(2 l0^2) */
@@ -639,8 +660,11 @@ struct rj_state {
     size_t bytes;
     int cur;                  /* index of the current frame */
     long steps;
-    double *fd[2];            /* frames: x y phi vx vy w (nn each), beta cx cy (ne each), joints (nj*JD), scalars */
-    int *fi[2];               /* frames: flags (nj) */
+    double *fd[3];            /* frames: x y phi vx vy w (nn each), beta cx cy (ne each), joints (nj*JD), scalars;
+                                 in place (rj_model.ip) fd[2] takes the step's new joints and scalars */
+    int *fi[3];               /* frames: flags (nj) */
+    long snap;                /* in place: the other frame is a copy of the state at this step (-1: none) */
+    unsigned long long want;  /* in place: the energy requests of the steps since snap (bit k: step snap + k) */
     double *fx, *fy, *mz;     /* (nn) forces */
     double *kn;               /* (nn) each node's share of twice the kinetic energy */
     double *sha, *shb, *shc, *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
@@ -743,7 +767,7 @@ RJDEF rj_solver_def rj_default_solver_def(void)
 {
     rj_solver_def d;
     memset(&d, 0, sizeof d);
-    d.dt = 0.0; d.allow_unstable = 0; d.energy_growth = 10.0; d.energy_every = 1;
+    d.dt = 0.0; d.allow_unstable = 0; d.energy_growth = 10.0; d.energy_every = 1; d.in_place = RJ_IN_PLACE_AUTO;
     d.cookie = RJ__COOKIE_SOLVER;
     return d;
 }
@@ -889,6 +913,10 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
     if (sc->solver.cookie != RJ__COOKIE_SOLVER) { rj__fail(err, RJ_ERR_INVALID, "solver", 0, "solver was not initialised with rj_default_solver_def()"); return 0; }
     if (!rj__check_num(err, "solver.dt", sc->solver.dt, 0, 1, 1.0, 1, "must be 0 (automatic) or a step in (0, 1] s")) return 0;
     if (!rj__check_num(err, "solver.energy_growth", sc->solver.energy_growth, 1.0, 0, inf, 0, "must be > 1")) return 0;
+    if (sc->solver.in_place < RJ_IN_PLACE_AUTO || sc->solver.in_place > RJ_IN_PLACE_OFF) {
+        rj__fail(err, RJ_ERR_INVALID, "solver.in_place", sc->solver.in_place, "solver.in_place = %d is invalid: must be RJ_IN_PLACE_AUTO (0), RJ_IN_PLACE_ON (1) or RJ_IN_PLACE_OFF (2)", sc->solver.in_place);
+        return 0;
+    }
     if (sc->solver.energy_every < 1 || sc->solver.energy_every > 1000) {
         rj__fail(err, RJ_ERR_INVALID, "solver.energy_every", sc->solver.energy_every, "solver.energy_every = %d is invalid: must be 1 .. 1000 steps", sc->solver.energy_every);
         return 0;
@@ -1250,6 +1278,7 @@ typedef struct rj__adv {
     double *nx, *ny, *nphi, *nvx, *nvy, *nw, *kn;
     double *fx, *fy, *mz;   /* node forces, for the nodes advanced again (rj_model.dnode) */
     int en;                 /* this step takes the energy accounts (solver.energy_every) */
+    int ip;                 /* in place: the pass writes the nodes and elements where it reads them */
 } rj__adv;
 
 /* One node's update with its final forces (the lanes below do the same operations in the
@@ -1295,14 +1324,14 @@ ATTR static RJ__FORCE_INLINE int rj__node_lanes##W(int cnt, int n, const double 
 {                                                                                                \
     double *RJ__RESTRICT fx = a->fx + n, *RJ__RESTRICT fy = a->fy + n, *RJ__RESTRICT mz = a->mz + n; \
     const double kick = a->kick, dt = a->dt;                                                     \
-    const double *RJ__RESTRICT x = x_ + n, *RJ__RESTRICT y = y_ + n, *RJ__RESTRICT phi = phi_ + n; \
-    const double *RJ__RESTRICT vx = a->vx + n, *RJ__RESTRICT vy = a->vy + n, *RJ__RESTRICT w = a->w + n; \
+    const double *x = x_ + n, *y = y_ + n, *phi = phi_ + n;   /* these six alias the next six in place */ \
+    const double *vx = a->vx + n, *vy = a->vy + n, *w = a->w + n;                                \
     const double *RJ__RESTRICT ti = a->ti + n, *RJ__RESTRICT ri = a->ri + n;                     \
     const double *RJ__RESTRICT km = a->km + n, *RJ__RESTRICT kj = a->kj + n;                     \
-    double *RJ__RESTRICT nx = a->nx + n, *RJ__RESTRICT ny = a->ny + n, *RJ__RESTRICT nphi = a->nphi + n; \
-    double *RJ__RESTRICT nvx = a->nvx + n, *RJ__RESTRICT nvy = a->nvy + n, *RJ__RESTRICT nw = a->nw + n; \
+    double *nx = a->nx + n, *ny = a->ny + n, *nphi = a->nphi + n;                                \
+    double *nvx = a->nvx + n, *nvy = a->nvy + n, *nw = a->nw + n;                                \
     double *RJ__RESTRICT kn = a->kn + n;                                                         \
-    VD tiu, riu, kmu, kju;                                                                       \
+    VD tiu = { 0 }, riu = { 0 }, kmu = { 0 }, kju = { 0 };                                       \
     int k;                                                                                       \
     for (k = 0; k < W; k++) { tiu[k] = un[0]; riu[k] = un[1]; kmu[k] = un[2]; kju[k] = un[3]; }  \
     switch ((un[4] != 0 ? 4 : 0) + (store ? 2 : 0) + (en ? 1 : 0)) {                             \
@@ -1320,6 +1349,20 @@ RJ__NODE_LANES(2, rj__vd2, )
 #endif
 #ifdef RJ__LANES4
 RJ__NODE_LANES(4, rj__vd4, RJ__AVX2)
+#endif
+/* n doubles from s to d, in lanes of W where n >= W (a copy in place, RJ__BEAM_PASS). */
+#define RJ__COPY_LANES(W, VD, ATTR)                                                              \
+ATTR static RJ__FORCE_INLINE void rj__copy##W(double *RJ__RESTRICT d, const double *RJ__RESTRICT s, int n) \
+{                                                                                                \
+    int i;                                                                                       \
+    if (n < W) { for (i = 0; i < n; i++) d[i] = s[i]; return; }                                  \
+    RJ__LANES_OVER(i, n, W, { VD v_; RJ__VLD(v_, s + i); RJ__VST(d + i, v_); })                  \
+}
+#ifdef RJ__LANES2
+RJ__COPY_LANES(2, rj__vd2, )
+#endif
+#ifdef RJ__LANES4
+RJ__COPY_LANES(4, rj__vd4, RJ__AVX2)
 #endif
 #endif
 
@@ -1355,7 +1398,9 @@ static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, 
    that jumps into SSE code without clearing the registers' upper halves (gcc 12 left out
    its vzeroupper before such a tail call) makes every later SSE instruction of the step
    pay for them (the paper's settings ran 1.3x slower). */
-#define RJ__BEAM_PASS(NAME, ATTR, W, ELEM, NODE)                                                                                                      \
+/* Where RJ__BEAM_PASS puts a chunk's new chords (row k of EB in place, else out + a). */
+#define RJ__CO(out, k) (ip ? EB + (k) * RJ__CHUNK : (out) + a)
+#define RJ__BEAM_PASS(NAME, ATTR, W, ELEM, NODE, IP, RQ)                                                                                                \
 ATTR static int NAME(const rj_model *m, const double *x, const double *y, const double *phi,                                                          \
     const double *beta, const double *cx, const double *cy, double *eu,                                                                               \
     double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz, const rj__adv *adv)                                         \
@@ -1364,7 +1409,10 @@ ATTR static int NAME(const rj_model *m, const double *x, const double *y, const 
        a link's first), entries 1 .. nc this chunk's, nc + 1 the +0.0 after a link's last */                                                          \
     double FB[4 * RJ__FROW];                                                                                                                          \
     double *FX = FB, *FY = FB + RJ__FROW, *M1 = FB + 2 * RJ__FROW, *M2 = FB + 3 * RJ__FROW;                                                           \
-    const int en = !adv || adv->en;   /* strain energies wanted */                                                                                    \
+    /* in place (adv->ip): the chunk's chord angles and chords, kept here until its elements                                                          \
+       are done (the exact path reads the old ones) */                                                                                                \
+    double EB[3 * RJ__CHUNK];                                                                                                                                     \
+    const int en = !adv || adv->en, ip = IP;   /* strain energies wanted; in place (compiled apart) */                                                 \
     int l;                                                                                                                                            \
     for (l = 0; l < m->nl; l++) {                                                                                                                     \
         const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;                                                     \
@@ -1384,12 +1432,12 @@ ATTR static int NAME(const rj_model *m, const double *x, const double *y, const 
         FX[0] = FY[0] = -0.0; M1[0] = M2[0] = 0.0;                                                                                                    \
         for (c0 = 0; c0 < ne; c0 += RJ__CHUNK) {                                                                                                      \
             const int nc = ne - c0 < RJ__CHUNK ? ne - c0 : RJ__CHUNK, a = e0 + c0, na = n0 + c0, last = c0 + nc == ne;                                \
-            const double *RJ__RESTRICT xa = x + na, *RJ__RESTRICT ya = y + na, *RJ__RESTRICT pa = phi + na;                                           \
-            const double *RJ__RESTRICT bb = beta + a, *RJ__RESTRICT ccx = cx + a, *RJ__RESTRICT ccy = cy + a;                                         \
-            double *RJ__RESTRICT ue = eu + a, *RJ__RESTRICT bo = beta_out + a;                                                                        \
+            const double *RQ xa = x + na, *RQ ya = y + na, *RQ pa = phi + na;   /* RQ: restrict, but in place */                                          \
+            const double *RQ bb = beta + a, *RQ ccx = cx + a, *RQ ccy = cy + a;                                                                           \
+            double *RJ__RESTRICT ue = eu + a, *RJ__RESTRICT bo = ip ? EB : beta_out + a;                                                                           \
             int i;                                                                                                                                    \
-            i = W > 1 && nc >= W ? ELEM(nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a, en) : 0;                            \
-            if (i >= 0 && i < nc) i = rj__elem_scalar(i, nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a);                   \
+            i = W > 1 && nc >= W ? ELEM(nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, RJ__CO(cx_out, 1), RJ__CO(cy_out, 2), en) : 0;                            \
+            if (i >= 0 && i < nc) i = rj__elem_scalar(i, nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, RJ__CO(cx_out, 1), RJ__CO(cy_out, 2));                   \
             if (i < 0) {                                                                                                                              \
                 /* a chord turned more than 0.02 rad in one step: exact angles for this chunk */                                                      \
                 for (i = 0; i < nc; i++) {                                                                                                            \
@@ -1400,12 +1448,17 @@ ATTR static int NAME(const rj_model *m, const double *x, const double *y, const 
                     FX[1 + i] = fx_; FY[1 + i] = fy_; M1[1 + i] = ma_; M2[1 + i] = mb_; ue[i] = u_;                                                   \
                 }                                                                                                                                     \
             }                                                                                                                                         \
+            if (ip) {                                                                                                                                 \
+                rj__copy##W(beta_out + a, EB, nc);                                                                                                    \
+                rj__copy##W(cx_out + a, EB + RJ__CHUNK, nc);                                                                                          \
+                rj__copy##W(cy_out + a, EB + 2 * RJ__CHUNK, nc);                                                                                      \
+            }                                                                                                                                         \
             if (last) { FX[nc + 1] = FY[nc + 1] = M1[nc + 1] = 0.0; }                                                                                 \
             /* the chunk's nodes whose elements are all summed: na .. na + nc - 1, and the                                                            \
                link's last node with the last chunk; their forces are stored in the chunks                                                            \
                that hold nodes the step advances again (m->dnode: a link's end nodes, and                                                             \
                inner ones only in scenes with dn_inner) */                                                                                            \
-            i = adv && W > 1 && nc + last >= W ? NODE(nc + last, na, m->link_un + 5 * l, adv, FB, x, y, phi, c0 == 0 || last || m->dn_inner, en) : 0; \
+            i = adv && W > 1 && nc + last >= W ? NODE(ip ? (nc + last) / W * W : nc + last, na, m->link_un + 5 * l, adv, FB, x, y, phi, c0 == 0 || last || m->dn_inner, en) : 0; \
             if (i < nc + last) rj__node_scalar(i, nc + last, na, FB, fx, fy, mz, x, y, phi, adv);                                                     \
             FX[0] = FX[nc]; FY[0] = FY[nc]; M1[0] = M1[nc]; M2[0] = M2[nc];                                                                           \
         }                                                                                                                                             \
@@ -1414,10 +1467,12 @@ ATTR static int NAME(const rj_model *m, const double *x, const double *y, const 
 }
 
 #ifdef RJ__LANES4
-RJ__BEAM_PASS(rj__beam_pass4, RJ__AVX2, 4, rj__elem_lanes4, rj__node_lanes4)
+RJ__BEAM_PASS(rj__beam_pass4, RJ__AVX2, 4, rj__elem_lanes4, rj__node_lanes4, 0, RJ__RESTRICT)
+RJ__BEAM_PASS(rj__beam_pass4ip, RJ__AVX2, 4, rj__elem_lanes4, rj__node_lanes4, 1, )
 #endif
 #ifdef RJ__LANES2
-RJ__BEAM_PASS(rj__beam_pass2, , 2, rj__elem_lanes2, rj__node_lanes2)
+RJ__BEAM_PASS(rj__beam_pass2, , 2, rj__elem_lanes2, rj__node_lanes2, 0, RJ__RESTRICT)
+RJ__BEAM_PASS(rj__beam_pass2ip, , 2, rj__elem_lanes2, rj__node_lanes2, 1, )
 #endif
 #ifndef RJ__LANES
 static int rj__elem_none(int ne, const double *kc, const double *xa, const double *ya, const double *pa, const double *bb,
@@ -1432,23 +1487,27 @@ static int rj__node_none(int cnt, int n, const double *un, const rj__adv *a, con
     (void)n; (void)un; (void)a; (void)F; (void)x; (void)y; (void)phi; (void)store; (void)en;
     return cnt * 0;
 }
-RJ__BEAM_PASS(rj__beam_pass1, , 1, rj__elem_none, rj__node_none)
+static void rj__copy1(double *d, const double *s, int n) { memcpy(d, s, sizeof(double) * (size_t)n); }
+RJ__BEAM_PASS(rj__beam_pass1, , 1, rj__elem_none, rj__node_none, 0, RJ__RESTRICT)
+RJ__BEAM_PASS(rj__beam_pass1ip, , 1, rj__elem_none, rj__node_none, 1, )
 #endif
 
 /* Internal forces at x (see RJ__BEAM_PASS), in the widest lanes the CPU has. */
-static double rj__beam_pass(const rj_model *m, const double *x, const double *y, const double *phi,
+static RJ__FORCE_INLINE double rj__beam_pass(const rj_model *m, const double *x, const double *y, const double *phi,
                             const double *beta, const double *cx, const double *cy, double *eu,
                             double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz, const rj__adv *adv)
 {
     int en;
+    const int ip = adv && adv->ip;
 #if defined(RJ__DISPATCH)
-    en = (__builtin_cpu_supports("avx2") ? rj__beam_pass4 : rj__beam_pass2)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+    if (__builtin_cpu_supports("avx2")) en = (ip ? rj__beam_pass4ip : rj__beam_pass4)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+    else en = (ip ? rj__beam_pass2ip : rj__beam_pass2)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
 #elif defined(RJ__LANES4)
-    en = rj__beam_pass4(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+    en = (ip ? rj__beam_pass4ip : rj__beam_pass4)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
 #elif defined(RJ__LANES2)
-    en = rj__beam_pass2(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+    en = (ip ? rj__beam_pass2ip : rj__beam_pass2)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
 #else
-    en = rj__beam_pass1(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+    en = (ip ? rj__beam_pass1ip : rj__beam_pass1)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
 #endif
     return en ? rj__sum8(eu, m->ne) : 0.0;
 }
@@ -1857,6 +1916,17 @@ static unsigned long long rj__fnv(unsigned long long h, const void *p, size_t n)
     size_t i;
     for (i = 0; i < n; i++) { h ^= c[i]; h *= 1099511628211ULL; }
     return h;
+}
+
+/* Is node n one of m->dnode (ascending)? */
+static int rj__is_dnode(const rj_model *m, int n)
+{
+    int lo = 0, hi = m->ndn;
+    while (lo < hi) {
+        const int mid = lo + (hi - lo) / 2;
+        if (m->dnode[mid] < n) lo = mid + 1; else hi = mid;
+    }
+    return lo < m->ndn && m->dnode[lo] == n;
 }
 
 RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj_model **out, rj_error *err)
@@ -2308,6 +2378,17 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     m->cl_off = m->frame_doubles;
     m->frame_doubles += 6 * (size_t)m->ncl;
     m->frame_ints = (size_t)m->nj;
+    /* in place: not with inextensible links (SHAKE reads every node at n), and only if every
+       node of a pin group or a rigid body is one the step keeps (m->dnode: it is) */
+    m->ip = !m->rigid && !m->any_inext && m->solver.in_place != RJ_IN_PLACE_OFF && (m->solver.in_place == RJ_IN_PLACE_ON || nn >= RJ_IN_PLACE_NODES);
+    for (i = 0; i < m->ng && m->ip; i++) {
+        int q;
+        for (q = m->grp_first[i]; q < m->grp_first[i + 1]; q++) if (!rj__is_dnode(m, m->grp_node[q])) m->ip = 0;
+    }
+    for (i = 0; i < m->ncl && m->ip; i++) {
+        int q;
+        for (q = m->cl_first[i]; q < m->cl_first[i + 1]; q++) if (!rj__is_dnode(m, m->cl_node[q])) m->ip = 0;
+    }
     m->hash = 14695981039346656037ULL;
     m->hash = rj__fnv(m->hash, &m->nn, sizeof m->nn);
     m->hash = rj__fnv(m->hash, &m->ne, sizeof m->ne);
@@ -2350,7 +2431,7 @@ RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 }
 
 /* ------------------------------------------------------------------ states */
-typedef struct rj__slayout { size_t total, fd0, fd1, fi0, fi1, fx, fy, mz, kn, sha, shb, shc, shr, eu, ebt, jsc, rsc; } rj__slayout;
+typedef struct rj__slayout { size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, eu, ebt, jsc, rsc; } rj__slayout;
 
 static void rj__state_layout(const rj_model *m, rj__slayout *L)
 {
@@ -2359,6 +2440,8 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->fd1 = rj__carve(&off, m->frame_doubles, sizeof(double));
     L->fi0 = rj__carve(&off, m->frame_ints + 1, sizeof(int));
     L->fi1 = rj__carve(&off, m->frame_ints + 1, sizeof(int));
+    L->fd2 = rj__carve(&off, m->ip ? m->frame_doubles : 0, sizeof(double));
+    L->fi2 = rj__carve(&off, m->ip ? m->frame_ints + 1 : 0, sizeof(int));
     L->fx = rj__carve(&off, (size_t)m->nn, sizeof(double));
     L->fy = rj__carve(&off, (size_t)m->nn, sizeof(double));
     L->mz = rj__carve(&off, (size_t)m->nn, sizeof(double));
@@ -2417,7 +2500,7 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
 {
     double *f = s->fd[0], *sc;
     int j, i;
-    s->cur = 0; s->steps = 0; s->err[0] = 0; s->warn[0] = 0;
+    s->cur = 0; s->steps = 0; s->snap = -1; s->err[0] = 0; s->warn[0] = 0;
     memset(s->fd[0], 0, sizeof(double) * m->frame_doubles);
     memset(s->fd[1], 0, sizeof(double) * m->frame_doubles);
     memset(s->fi[0], 0, sizeof(int) * (m->frame_ints + 1));
@@ -2490,6 +2573,7 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->bytes = L.total - RJ__ALIGN;
     s->fd[0] = (double *)(void *)(base + L.fd0); s->fd[1] = (double *)(void *)(base + L.fd1);
     s->fi[0] = (int *)(void *)(base + L.fi0); s->fi[1] = (int *)(void *)(base + L.fi1);
+    s->fd[2] = m->ip ? (double *)(void *)(base + L.fd2) : NULL; s->fi[2] = m->ip ? (int *)(void *)(base + L.fi2) : NULL;
     s->fx = (double *)(void *)(base + L.fx); s->fy = (double *)(void *)(base + L.fy); s->mz = (double *)(void *)(base + L.mz);
     s->sha = (double *)(void *)(base + L.sha); s->shb = (double *)(void *)(base + L.shb);
     s->shc = (double *)(void *)(base + L.shc); s->shr = (double *)(void *)(base + L.shr);
@@ -2528,7 +2612,7 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
     if (!m || !dst || !src) return RJ_ERR_INVALID;
     memcpy(dst->fd[0], src->fd[src->cur], sizeof(double) * m->frame_doubles);
     memcpy(dst->fi[0], src->fi[src->cur], sizeof(int) * (m->frame_ints + 1));
-    dst->cur = 0; dst->steps = src->steps;
+    dst->cur = 0; dst->steps = src->steps; dst->snap = -1;
     memcpy(dst->err, src->err, sizeof dst->err);
     memcpy(dst->warn, src->warn, sizeof dst->warn);
     return RJ_OK;
@@ -2753,7 +2837,7 @@ static int rj__into_limit(int flag, double ratep)
 /* Work of the joint's non-conservative torques over the step, in the form that matches
    the kinetic energy 1/2 v^{n-1/2}.v^{n+1/2}: dt/2 (tau^n rate^{n-1/2} + tau^{n-1} times the
    previous step's end rate, same geometry). */
-static void rj__element_work(const double *oj, const double *nj_, double rate_m, double dt, double *ld, double *lf, double *ll)
+static RJ__FORCE_INLINE void rj__element_work(const double *oj, const double *nj_, double rate_m, double dt, double *ld, double *lf, double *ll)
 {
     *ld -= 0.5 * dt * (nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] * rate_m + oj[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] * oj[RJ__JD_RATE]);
     *lf -= 0.5 * dt * (nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] * rate_m + oj[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] * oj[RJ__JD_RATE]);
@@ -3211,23 +3295,25 @@ static RJ__INLINE double rj__rate_pred(const rj_model *m, const double *of, int 
 }
 
 /* One step; the energy accounts are taken when want_energy is set, at the first step, and
-   solver.energy_every steps after the last time. */
-static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
+   solver.energy_every steps after the last time. ip: in place (rj__step below). */
+static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, int want_energy, int ip)
 {
     const int nn = m->nn;
     /* the stored velocities are v(0) at the start and v^{n-1/2} after: the first kick is
        half a step, which makes the start second-order accurate too */
     const double kick = s->steps == 0 ? 0.5 * m->dt : m->dt;
-    if (m->rigid) return rj__step_rigid(m, s);
     const double dt = m->dt;
-    const double *of = s->fd[s->cur];
-    double *nf = s->fd[1 - s->cur];
+    double *cf = s->fd[s->cur];   /* the current frame: its nodes and elements advance here in place */
+    const double *of = cf;
+    double *nf = s->fd[ip ? 2 : 1 - s->cur];
     const int *oi = s->fi[s->cur];
-    int *ni = s->fi[1 - s->cur];
-    const double *x = RJ__FX(m, of), *y = RJ__FY(m, of), *phi = RJ__FPHI(m, of);
-    const double *vx = RJ__FVX(m, of), *vy = RJ__FVY(m, of), *w = RJ__FW(m, of);
-    double *nx = RJ__FX(m, nf), *ny = RJ__FY(m, nf), *nphi = RJ__FPHI(m, nf);
-    double *nvx = RJ__FVX(m, nf), *nvy = RJ__FVY(m, nf), *nw = RJ__FW(m, nf);
+    int *ni = s->fi[ip ? 2 : 1 - s->cur];
+    /* x .. w: the nodes at n (in place: only the nodes the step reads after the beams,
+       m->dnode, kept in nf); nx .. nw: at n + 1 */
+    const double *x = RJ__FX(m, ip ? nf : of), *y = RJ__FY(m, ip ? nf : of), *phi = RJ__FPHI(m, ip ? nf : of);
+    const double *vx = RJ__FVX(m, ip ? nf : of), *vy = RJ__FVY(m, ip ? nf : of), *w = RJ__FW(m, ip ? nf : of);
+    double *nx = RJ__FX(m, ip ? cf : nf), *ny = RJ__FY(m, ip ? cf : nf), *nphi = RJ__FPHI(m, ip ? cf : nf);
+    double *nvx = RJ__FVX(m, ip ? cf : nf), *nvy = RJ__FVY(m, ip ? cf : nf), *nw = RJ__FW(m, ip ? cf : nf);
     double *fx = s->fx, *fy = s->fy, *mz = s->mz;
     const double *osc = RJ__FS(m, of);
     double *nsc = RJ__FS(m, nf);
@@ -3240,13 +3326,23 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
                    || t - osc[RJ__FS_ETIME] > ((double)m->solver.energy_every - 0.5) * m->dt;
 
     /* 1. beams: internal forces at x^n, updated chord angles into the new frame; every node
-       advanced at once (v^{n+1/2}, x^{n+1}), the joints' nodes again in part 4 */
-    adv.kick = kick; adv.dt = dt; adv.vx = vx; adv.vy = vy; adv.w = w;
+       advanced at once (v^{n+1/2}, x^{n+1}), the joints' nodes again in part 4 (in place,
+       from their values at n, kept first) */
+    if (ip) {
+        double *kp[6];
+        const double *cp[6];
+        int k;
+        kp[0] = RJ__FX(m, nf); kp[1] = RJ__FY(m, nf); kp[2] = RJ__FPHI(m, nf); kp[3] = RJ__FVX(m, nf); kp[4] = RJ__FVY(m, nf); kp[5] = RJ__FW(m, nf);
+        cp[0] = RJ__FX(m, of); cp[1] = RJ__FY(m, of); cp[2] = RJ__FPHI(m, of); cp[3] = RJ__FVX(m, of); cp[4] = RJ__FVY(m, of); cp[5] = RJ__FW(m, of);
+        for (i = 0; i < m->ndn; i++) for (k = 0; k < 6; k++) kp[k][m->dnode[i]] = cp[k][m->dnode[i]];
+    }
+    adv.kick = kick; adv.dt = dt; adv.vx = RJ__FVX(m, of); adv.vy = RJ__FVY(m, of); adv.w = RJ__FW(m, of);
     adv.ti = m->tinv; adv.ri = m->rinv; adv.km = m->kmass; adv.kj = m->krot;
     adv.nx = nx; adv.ny = ny; adv.nphi = nphi; adv.nvx = nvx; adv.nvy = nvy; adv.nw = nw; adv.kn = s->kn;
-    adv.fx = fx; adv.fy = fy; adv.mz = mz; adv.en = en;
-    U = rj__beam_pass(m, x, y, phi, RJ__FBETA(m, of), RJ__FCX(m, of), RJ__FCY(m, of), s->eu,
-                      RJ__FBETA(m, nf), RJ__FCX(m, nf), RJ__FCY(m, nf), fx, fy, mz, &adv);
+    adv.fx = fx; adv.fy = fy; adv.mz = mz; adv.en = en; adv.ip = ip;
+    U = rj__beam_pass(m, RJ__FX(m, of), RJ__FY(m, of), RJ__FPHI(m, of), RJ__FBETA(m, of), RJ__FCX(m, of), RJ__FCY(m, of), s->eu,
+                      RJ__FBETA(m, ip ? cf : nf), RJ__FCX(m, ip ? cf : nf), RJ__FCY(m, ip ? cf : nf), fx, fy, mz, &adv);
+    adv.vx = vx; adv.vy = vy; adv.w = w;   /* part 4 advances the joints' nodes from x .. w */
 
     nsc[RJ__FS_WARN] = osc[RJ__FS_WARN];
     /* 2. joints: rate, status flag (Eqs 7-13), table/spring/damping/limit torques */
@@ -3380,8 +3476,9 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
                 if (rj__finite(J->I1)) { loss += 0.5 * J->I1 * m1 * (o1 - w1); pend += 0.5 * J->I1 * w1 * (o1 - w1); }
                 if (rj__finite(J->I2)) { loss += 0.5 * J->I2 * m2 * (o2 - w2); pend += 0.5 * J->I2 * w2 * (o2 - w2); }
                 rj__spin(J, &g, w1 - o1, w2 - o2, nvx, nvy, nw);
-                {   /* the bodies' new rates move their nodes */
-                    const int nodes[4] = { J->nI, J->nK, J->nJ, J->nL };
+                {   /* the bodies' new rates move their nodes (rj__spin changes nK and nL only with
+                       a chord reference) */
+                    const int nodes[4] = { J->nI, J->chord ? J->nK : -1, J->nJ, J->chord ? J->nL : -1 };
                     int k;
                     for (k = 0; k < 4; k++) {
                         const int n = nodes[k];
@@ -3505,7 +3602,7 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
             if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) || E > m->solver.energy_growth * (scale + fabs(V))
                 || created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale) {
                 int bl, bn;
-                rj__worst_node(m, nf, &bl, &bn);
+                rj__worst_node(m, ip ? cf : nf, &bl, &bn);
                 if (created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale)
                     return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: %.6g J of energy created (balance %.6g J, limit work %.6g J; more than %g of the initial %.6g J); fastest node link %d node %d; %s",
                                     t, created > -lost_l ? created : -lost_l, created, -lost_l, RJ__CREATED, scale, bl, bn,
@@ -3519,9 +3616,51 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
             }
         }
     }
-    s->cur = 1 - s->cur;
+    if (ip) {
+        /* in place: the new scalars, joints and bodies join the advanced nodes */
+        const size_t j0 = RJ__FS_COUNT + 6 * (size_t)nn + 3 * (size_t)m->ne;
+        memcpy(cf, nf, sizeof(double) * RJ__FS_COUNT);
+        memcpy(cf + j0, nf + j0, sizeof(double) * (m->frame_doubles - j0));
+        memcpy(s->fi[s->cur], ni, sizeof(int) * (m->frame_ints + 1));
+    } else s->cur = 1 - s->cur;
     s->steps++;
     return RJ_OK;
+}
+
+/* The step. In place (rj_model.ip: scenes of flexible links without inextensible ones, rigid
+   bodies or welded groups, from RJ_IN_PLACE_NODES nodes on, after the first step) it writes
+   the nodes and elements where it reads them, which halves what a large model moves through
+   the caches each step; the other frame then holds a copy of the state taken at most
+   RJ__SNAP steps before. A step that fails puts that copy back and takes the steps since
+   again, with the same energy requests (s->want): the same bits, so a failed step leaves
+   the state as it was, as the double-buffered step does. */
+#define RJ__SNAP 64
+static rj_result rj__step_dbl(const rj_model *m, rj_state *s, int want_energy) { return rj__step_run(m, s, want_energy, 0); }
+static rj_result rj__step_ip(const rj_model *m, rj_state *s, int want_energy) { return rj__step_run(m, s, want_energy, 1); }
+static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
+{
+    rj_result r;
+    long n, k;
+    char err[sizeof s->err], warn[sizeof s->warn];
+    if (m->rigid) return rj__step_rigid(m, s);
+    if (!m->ip || s->steps == 0) { s->snap = -1; return rj__step_dbl(m, s, want_energy); }
+    if (s->snap < 0 || s->steps - s->snap >= RJ__SNAP) {
+        memcpy(s->fd[1 - s->cur], s->fd[s->cur], sizeof(double) * m->frame_doubles);
+        memcpy(s->fi[1 - s->cur], s->fi[s->cur], sizeof(int) * (m->frame_ints + 1));
+        s->snap = s->steps; s->want = 0;
+    }
+    if (want_energy) s->want |= (unsigned long long)1 << (s->steps - s->snap);
+    r = rj__step_ip(m, s, want_energy);
+    if (r == RJ_OK) return r;
+    memcpy(err, s->err, sizeof err); memcpy(warn, s->warn, sizeof warn);
+    n = s->steps;
+    memcpy(s->fd[s->cur], s->fd[1 - s->cur], sizeof(double) * m->frame_doubles);
+    memcpy(s->fi[s->cur], s->fi[1 - s->cur], sizeof(int) * (m->frame_ints + 1));
+    s->steps = s->snap;
+    for (k = s->snap; k < n; k++)
+        if (rj__step_ip(m, s, (int)((s->want >> (k - s->snap)) & 1)) != RJ_OK) break;
+    memcpy(s->err, err, sizeof err); memcpy(s->warn, warn, sizeof warn);
+    return r;
 }
 
 RJDEF rj_result rj_step(const rj_model *m, rj_state *s) { return rj__step(m, s, 0); }
@@ -3806,7 +3945,7 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
         if (v != v) { rj__fail(err, RJ_ERR_CHECKPOINT, "payload", v, "checkpoint holds a NaN at value %lu", (unsigned long)k); return RJ_ERR_CHECKPOINT; }
     }
     memcpy(&st, b + RJ__CK_HEAD, 8);
-    s->cur = 0;
+    s->cur = 0; s->snap = -1;
     s->steps = (long)st;
     memcpy(s->fd[0], b + RJ__CK_HEAD + 8, sizeof(double) * m->frame_doubles);
     memcpy(s->fi[0], b + RJ__CK_HEAD + 8 + sizeof(double) * m->frame_doubles, sizeof(int) * (m->frame_ints + 1));
@@ -3833,7 +3972,7 @@ enum {
     RJ__JK_LOCK, RJ__JK_METHOD, RJ__JK_RELEASE, RJ__JK_PENALTY_K, RJ__JK_RESTITUTION,
     RJ__JK_DAMPING, RJ__JK_FRICTION, RJ__JK_REFERENCE, RJ__JK_N
 };
-enum { RJ__VK_DT, RJ__VK_ALLOW_UNSTABLE, RJ__VK_ENERGY_GROWTH, RJ__VK_ENERGY_EVERY, RJ__VK_N };
+enum { RJ__VK_DT, RJ__VK_ALLOW_UNSTABLE, RJ__VK_ENERGY_GROWTH, RJ__VK_ENERGY_EVERY, RJ__VK_IN_PLACE, RJ__VK_N };
 enum { RJ__SK_NONE, RJ__SK_SOLVER, RJ__SK_MATERIAL, RJ__SK_SECTION, RJ__SK_LINK, RJ__SK_JOINT };
 
 /* char arrays, not pointer arrays: read-only data without relocations */
@@ -3847,7 +3986,8 @@ static const char rj__sk_joint[RJ__JK_N][13] = {
     "spring", "forward", "reverse", "lock", "method", "release", "penalty_k", "restitution",
     "damping", "friction", "reference"
 };
-static const char rj__sk_solver[RJ__VK_N][15] = { "dt", "allow_unstable", "energy_growth", "energy_every" };
+static const char rj__sk_solver[RJ__VK_N][15] = { "dt", "allow_unstable", "energy_growth", "energy_every", "in_place" };
+static const char rj__sk_in_place[3][5] = { "auto", "on", "off" };   /* rj_in_place order */
 static const char rj__sk_root[4][8] = { "free", "pinned", "clamped", "fixed" };
 static const char rj__sk_fidelity[3][13] = { "flexible", "rigid", "inextensible" };   /* rj_fidelity order */
 static const char rj__sk_method[5][9] = { "penalty", "adaptive", "momentum", "forced", "energy" };
@@ -4371,6 +4511,7 @@ static int rj__sp_solver_key(rj__sp *P, int k, int a, int *i, rj_solver_def *s)
     double v = 0;
     if (k == RJ__VK_ALLOW_UNSTABLE) { if (!rj__sp_bool(P, t, key, &s->allow_unstable)) return 0; (*i)++; return 1; }
     if (k == RJ__VK_ENERGY_EVERY) { if (!rj__sp_int(P, t, key, 1, 1000, &s->energy_every)) return 0; (*i)++; return 1; }
+    if (k == RJ__VK_IN_PLACE) { if (!rj__sp_enum(P, t, key, rj__sk_in_place[0], sizeof rj__sk_in_place[0], 3, &s->in_place)) return 0; (*i)++; return 1; }
     if (!rj__sp_num(P, t, key, &v)) return 0;
     (*i)++;
     if (k == RJ__VK_DT) { if (!RJ__SP_RULE(v >= 0 && v <= 1, "must be 0 (automatic) or a step in (0, 1] s")) return 0; s->dt = v; }
@@ -5072,7 +5213,7 @@ RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_name
         }
     }
     if (!rj__sw_finite(sc->solver.dt) || !rj__sw_finite(sc->solver.energy_growth) || (sc->solver.allow_unstable != 0 && sc->solver.allow_unstable != 1)
-        || sc->solver.energy_every < 1 || sc->solver.energy_every > 1000) return 0;
+        || sc->solver.energy_every < 1 || sc->solver.energy_every > 1000 || sc->solver.in_place < RJ_IN_PLACE_AUTO || sc->solver.in_place > RJ_IN_PLACE_OFF) return 0;
     for (i = 0; i < sc->link_count; i++) {
         const rj_link_def *d = &sc->links[i];
         double v[14];
@@ -5096,12 +5237,14 @@ RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_name
     W.buf = buf; W.size = buf ? size : 0; W.n = 0;
     rj__sp_locale(W.dp, &W.dplen);
     rj__sw_put(&W, "# revjoint scene (written by rj_scene_write, revjoint.h " RJ_VERSION ")\n");
-    if (sc->solver.dt != S0.dt || sc->solver.allow_unstable || sc->solver.energy_growth != S0.energy_growth || sc->solver.energy_every != S0.energy_every) {
+    if (sc->solver.dt != S0.dt || sc->solver.allow_unstable || sc->solver.energy_growth != S0.energy_growth || sc->solver.energy_every != S0.energy_every
+        || sc->solver.in_place != S0.in_place) {
         rj__sw_put(&W, "solver\n");
         if (sc->solver.dt != S0.dt) { rj__sw_key(&W, "dt"); rj__sw_num(&W, sc->solver.dt); rj__sw_put(&W, "\n"); }
         if (sc->solver.allow_unstable) { rj__sw_key(&W, "allow_unstable"); rj__sw_put(&W, "yes\n"); }
         if (sc->solver.energy_growth != S0.energy_growth) { rj__sw_key(&W, "energy_growth"); rj__sw_num(&W, sc->solver.energy_growth); rj__sw_put(&W, "\n"); }
         if (sc->solver.energy_every != S0.energy_every) { snprintf(nm, sizeof nm, "  energy_every = %d\n", sc->solver.energy_every); rj__sw_put(&W, nm); }
+        if (sc->solver.in_place != S0.in_place) { rj__sw_key(&W, "in_place"); rj__sw_put(&W, rj__sk_in_place[sc->solver.in_place]); rj__sw_put(&W, "\n"); }
     }
     for (i = 0; i < sc->link_count; i++) {
         const rj_link_def *d = &sc->links[i];

@@ -196,22 +196,24 @@ typedef struct tp_row {
     int nodes;
 } tp_row;
 
-/* One free link of the given size, timed with solver.energy_every 1 (o[0]) and 16 (o[1]);
-   the two models' runs alternate so that both see the same phases of the machine. */
-static int free_link(int elements, tp_row o[2])
+/* One free link of the given size, timed with solver.energy_every 1 (o[0]) and 16 (o[1]),
+   and with 16 double-buffered (o[2]: solver.in_place off; the others are AUTO, in place from
+   256 nodes); the models' runs alternate so that all see the same phases of the machine. */
+static int free_link(int elements, tp_row o[3])
 {
     rj_link_def L = rj_default_link_def();
     rj_scene_def sc = rj_default_scene_def();
-    rj_model *m[2] = { NULL, NULL }; rj_state *s[2] = { NULL, NULL }; rj_error err; rj_energy e0, e1;
-    double t, c, ns[2][32], nc[2][32];
+    rj_model *m[3] = { NULL, NULL, NULL }; rj_state *s[3] = { NULL, NULL, NULL }; rj_error err; rj_energy e0, e1;
+    double t, c, ns[3][32], nc[3][32];
     long steps = 16, k;
     int r, v, rc = -1;
     L.height = 0.01; L.elements = elements; L.omega = 1.0;
     sc.links = &L; sc.link_count = 1; sc.joints = NULL; sc.joint_count = 0;
-    for (v = 0; v < 2; v++) {
+    for (v = 0; v < 3; v++) {
         memset(&o[v], 0, sizeof o[v]);
         o[v].elements = elements;
         sc.solver.energy_every = v ? 16 : 1;
+        sc.solver.in_place = v == 2 ? RJ_IN_PLACE_OFF : RJ_IN_PLACE_AUTO;
         if (rj_model_create(&sc, &m[v], &err, NULL) != RJ_OK) { fprintf(stderr, "bench: free link: %s\n", err.msg); goto done; }
         if (rj_state_create(m[v], &s[v], NULL) != RJ_OK) goto done;
         o[v].nodes = rj_model_node_count(m[v]);
@@ -230,7 +232,7 @@ static int free_link(int elements, tp_row o[2])
         steps = (long)((double)steps * (t > 0 ? fmin(16.0, 1.25 * S.tp_min_time / t) : 16.0)) + 1;
     }
     for (r = 0; r < S.tp_runs; r++)
-        for (v = 0; v < 2; v++) {
+        for (v = 0; v < 3; v++) {
             rj_state_reset(m[v], s[v]);
             t = now(); c = cpu_now();
             for (k = 0; k < steps; k++) if (rj_step(m[v], s[v]) != RJ_OK) break;
@@ -246,7 +248,7 @@ static int free_link(int elements, tp_row o[2])
     rj_state_energy(m[0], s[0], &e0);
     for (k = 1; k < steps; k++) if (rj_step(m[0], s[0]) != RJ_OK) break;
     rj_state_energy(m[0], s[0], &e1);
-    for (v = 0; v < 2; v++) {
+    for (v = 0; v < 3; v++) {
         o[v].edrift = (e1.total - e0.total) / e0.total;
         o[v].runs = S.tp_runs; o[v].steps = steps;
         o[v].ns_med = median(ns[v], S.tp_runs);
@@ -256,7 +258,7 @@ static int free_link(int elements, tp_row o[2])
     }
     rc = 0;
 done:
-    for (v = 0; v < 2; v++) { rj_state_destroy(s[v], NULL); rj_model_destroy(m[v], NULL); }
+    for (v = 0; v < 3; v++) { rj_state_destroy(s[v], NULL); rj_model_destroy(m[v], NULL); }
     return rc;
 }
 
@@ -1948,7 +1950,7 @@ int main(int argc, char **argv)
     const char *out = "BENCHMARKS.md", *plot = "docs/work_precision.png";
     static char cmd[2048], plot2[1024], cpu[256], date[64], load0[64], load1[64];
     static dhist H, HREF, HCHK;
-    static tp_row tp[3], tp16[3];   /* solver.energy_every 1 (default) and 16 */
+    static tp_row tp[3], tp16[3], tpdb[3];   /* solver.energy_every 1 (default) and 16; 16 double-buffered */
     static drow dr[64];
     static irow ir[64], iref[3], ichk[3][2];
     static const int tp_el[3] = { 20, 200, 2000 };
@@ -2023,10 +2025,11 @@ int main(int argc, char **argv)
     if (!only || only == 3) {
         /* ---------------------------------------------------------------- 1 */
         for (i = 0; i < 3; i++) {
-            tp_row two[2];
-            if (free_link(tp_el[i], two)) return 1;
-            tp[i] = two[0]; tp16[i] = two[1];
-            progress("free link %4d elements: %.2f ns/element-step, %.2f with energy_every 16 (median of %d x %ld steps each, alternating)", tp_el[i], tp[i].ns_med, tp16[i].ns_med, tp[i].runs, tp[i].steps);
+            tp_row three[3];
+            if (free_link(tp_el[i], three)) return 1;
+            tp[i] = three[0]; tp16[i] = three[1]; tpdb[i] = three[2];
+            progress("free link %4d elements: %.2f ns/element-step, %.2f with energy_every 16, %.2f the same double-buffered (median of %d x %ld steps each, alternating)",
+                     tp_el[i], tp[i].ns_med, tp16[i].ns_med, tpdb[i].ns_med, tp[i].runs, tp[i].steps);
         }
         {
             deploy_opts o = deploy_default_opts(), o16 = deploy_default_opts();
@@ -2240,6 +2243,8 @@ int main(int argc, char **argv)
             md("- Deployment at the paper's settings (10 elements per link, dt 7.5 us, 6 s): **%.3f s** wall (CPU %.3f s), **%.3g steps/s**.\n", paper_med, paper_cpu, paper_steps / paper_med);
             md("- With `solver.energy_every = 16` (energy accounts and blow-up checks every 16th step and at every sample; the same results bit for bit): **%.1f / %.1f / %.1f ns per element-step**; the paper's settings in **%.3f s** (CPU %.3f s).\n",
                tp16[0].ns_med, tp16[1].ns_med, tp16[2].ns_med, paper16_med, paper16_cpu);
+            md("- The %d-element link steps in place (`solver.in_place` AUTO: from 256 nodes on; the same results bit for bit). Double-buffered (`in_place` off, `energy_every = 16`, timed alternately with the rows above) it takes **%.1f ns per element-step**, against %.1f in place.\n",
+               tp16[2].elements, tpdb[2].ns_med, tp16[2].ns_med);
             for (j = 0; j < 2; j++) {
                 const drow *b = d_cheapest(dr, ndr, dmeth[j], 0);
                 if (!b) { md("- Deployment, %s: no setting in the sweep keeps q within 0.1 deg and the tip RMS within 2 %%.\n", method_name(dmeth[j])); continue; }
@@ -2257,12 +2262,15 @@ int main(int argc, char **argv)
                "Energy drift: relative change of the total energy over one run (a check that the steps did real work and stayed stable).\n\n", S.tp_min_time, S.tp_runs);
             md("| elements | dt (us) | steps per run | ns / element-step (median) | min | max | CPU ns / element-step | model bytes / node | state bytes / node | energy drift |\n");
             md("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-            for (i = 0; i < 6; i++) {
-                const tp_row *w = i < 3 ? &tp[i] : &tp16[i - 3];
+            for (i = 0; i < 9; i++) {
+                const tp_row *w = i < 3 ? &tp[i] : i < 6 ? &tp16[i - 3] : &tpdb[i - 6];
                 fmt_dt(b1, sizeof b1, w->dt);
-                md("| %d%s | %s | %ld | **%.2f** | %.2f | %.2f | %.2f | %.0f | %.0f | %.1e |\n", w->elements, i < 3 ? "" : ", `energy_every = 16`", b1, w->steps, w->ns_med, w->ns_min, w->ns_max,
+                md("| %d%s | %s | %ld | **%.2f** | %.2f | %.2f | %.2f | %.0f | %.0f | %.1e |\n", w->elements,
+                   i < 3 ? "" : i < 6 ? ", `energy_every = 16`" : ", `energy_every = 16`, `in_place` off", b1, w->steps, w->ns_med, w->ns_min, w->ns_max,
                    w->ns_cpu, w->model_per_node, w->state_per_node, w->edrift);
             }
+            md("\nThe first six rows use `solver.in_place` AUTO: the 2000-element link (2001 nodes) steps in place, the others (under 256 nodes) double-buffered, so their rows with `in_place` off time the same code. "
+               "In place keeps a third frame, hence the larger state per node at 2000 elements.\n");
             md("\nDeployment at the paper's settings (`deploy_build` defaults: 10 elements per link, dt = 7.5 us, joint 2 penalty with K = Eq 31 = %.4g N m/rad; stability bound %.4g us), "
                "6 s simulated, `rj_run` without sampling, median of %d runs: **%.3f s** wall (CPU %.3f s), %ld steps, **%.0f steps/s** "
                "(%.1f ns per element-step over its 20 elements). Joint 2 locks at %.6f s, joint 1 at %.6f s. "

@@ -1,6 +1,7 @@
 /* paper_run.c - what bench/instr.sh counts instructions per step of:
      paper_run T [E]             the deployment at the paper's settings (SPEC 9.2) for T seconds
-     paper_run --free N K [E]    one free link of N elements (as in BENCHMARKS.md section 1), K steps
+     paper_run --free N K [E [P]] one free link of N elements (as in BENCHMARKS.md section 1), K steps;
+                                 P: solver.in_place (0 auto, the default; 1 on; 2 off)
      paper_run --two-link F K    the feature-cost scene of BENCHMARKS.md section 5, K steps: F = 0 bare,
                                  1 "everything on" (spring, damping, friction, table, adaptive limits
                                  free, 8 layers)
@@ -53,7 +54,7 @@ int main(int argc, char **argv)
         rj_scene_def sc = rj_default_scene_def();
         long k, steps = atol(argv[3]);
         L.height = 0.01; L.elements = atoi(argv[2]); L.omega = 1.0;
-        sc.links = &L; sc.link_count = 1; sc.solver.energy_every = ee;
+        sc.links = &L; sc.link_count = 1; sc.solver.energy_every = ee; sc.solver.in_place = argc > 5 ? atoi(argv[5]) : RJ_IN_PLACE_AUTO;
         if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { fprintf(stderr, "paper_run: %s\n", err.msg); return 1; }
         if (rj_state_create(m, &s, NULL) != RJ_OK) { rj_model_destroy(m, NULL); return 1; }
         for (k = 0; k < steps && r == RJ_OK; k++) r = rj_step(m, s);

@@ -22,7 +22,7 @@ static int fz_same(const rj_scene_file *a, const rj_scene_file *b)
 {
     int i, k;
     if (a->link_count != b->link_count || a->joint_count != b->joint_count) return 0;
-    if (a->solver.dt != b->solver.dt || a->solver.allow_unstable != b->solver.allow_unstable || a->solver.energy_growth != b->solver.energy_growth || a->solver.energy_every != b->solver.energy_every) return 0;
+    if (a->solver.dt != b->solver.dt || a->solver.allow_unstable != b->solver.allow_unstable || a->solver.energy_growth != b->solver.energy_growth || a->solver.energy_every != b->solver.energy_every || a->solver.in_place != b->solver.in_place) return 0;
     for (i = 0; i < a->link_count; i++) {
         const rj_link_def *x = &a->links[i], *y = &b->links[i];
         if (strcmp(a->link_names[i], b->link_names[i])) return 0;

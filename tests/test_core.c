@@ -158,7 +158,7 @@ static int same_joint(const rj_joint_def *a, const rj_joint_def *b)
 }
 static int same_solver(const rj_solver_def *a, const rj_solver_def *b)
 {
-    return SAMEF(*a, *b, dt) && SAMEF(*a, *b, allow_unstable) && SAMEF(*a, *b, energy_growth) && SAMEF(*a, *b, energy_every) && SAMEF(*a, *b, cookie);
+    return SAMEF(*a, *b, dt) && SAMEF(*a, *b, allow_unstable) && SAMEF(*a, *b, energy_growth) && SAMEF(*a, *b, energy_every) && SAMEF(*a, *b, in_place) && SAMEF(*a, *b, cookie);
 }
 
 typedef struct badcase { const char *field; int which; int idx; double value; } badcase;
@@ -191,6 +191,7 @@ static void test_validation(rjt_ctx *c)
     BAD("joints[0].lock", J[0].lock, 1, 2); BAD("joints[0].has_reverse", J[0].has_reverse, 1, 3);
     BAD("solver.dt", sc.solver.dt, 0, -1e-6); BAD("solver.dt", sc.solver.dt, 0, nan); BAD("solver.energy_growth", sc.solver.energy_growth, 0, 0.5);
     BAD("solver.energy_every", sc.solver.energy_every, 1, 0); BAD("solver.energy_every", sc.solver.energy_every, 1, -16); BAD("solver.energy_every", sc.solver.energy_every, 1, 1001);
+    BAD("solver.in_place", sc.solver.in_place, 1, -1); BAD("solver.in_place", sc.solver.in_place, 1, 3);
     for (i = 0; i < n; i++) {
         rj_error err;
         rj_model *m = NULL;

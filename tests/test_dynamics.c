@@ -384,6 +384,116 @@ static void test_energy_every(rjt_ctx *c)
     }
 }
 
+/* solver.in_place: stepping in place gives the double-buffered step's bits, and a step that
+   fails leaves the state as it was. In place keeps a copy of the state at most 64 steps old
+   and takes the steps since it again after a failure, with rj_run's energy requests; the
+   checks below fail without that (the saved bytes would hold the failed step's nodes). */
+static int ip_sample(const rj_model *m, const rj_state *s, void *u) { (void)m; (void)s; (void)u; return 0; }
+static rj_result ip_run(const rj_scene_def *sc0, int in_place, double t_end, double sample_dt, unsigned char *b, size_t cap, size_t *nb,
+                        size_t *ssize, char *err_out, size_t errn)
+{
+    rj_scene_def sc = *sc0;
+    rj_model *m = NULL; rj_state *s = NULL; rj_error err;
+    rj_result r;
+    sc.solver.in_place = in_place;
+    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { printf("in_place: %s\n", err.msg); return RJ_ERR_INVALID; }
+    if (rj_state_create(m, &s, NULL) != RJ_OK) { rj_model_destroy(m, NULL); return RJ_ERR_NOMEM; }
+    *ssize = rj_state_size(m);
+    r = rj_run(m, s, t_end, sample_dt, ip_sample, NULL);
+    *nb = rj_state_save(m, s, b, cap);
+    snprintf(err_out, errn, "%s", rj_state_error(s));
+    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+    return r;
+}
+static void test_in_place(rjt_ctx *c)
+{
+    static unsigned char b0[1 << 17], b1[1 << 17], b2[1 << 17];
+    char e0[320], e1[320], e2[320], name[200];
+    int k;
+    {   /* the deployment with 150 elements per link (302 nodes: AUTO steps in place), rj_run
+           with samples and energy_every 16 */
+        deploy_opts o = deploy_default_opts();
+        rj_link_def L[2]; rj_joint_def J[2]; rj_scene_def sc;
+        size_t n0 = 0, n1 = 0, n2 = 0, z0 = 0, z1 = 0, z2 = 0;
+        rj_result r0, r1, r2;
+        o.elements = 150; o.dt = 0; o.energy_every = 16;
+        deploy_scene(&o, L, J, &sc);
+        J[1].penalty_k = 1015.0;
+        r0 = ip_run(&sc, RJ_IN_PLACE_OFF, 0.02, 0.001, b0, sizeof b0, &n0, &z0, e0, sizeof e0);
+        r1 = ip_run(&sc, RJ_IN_PLACE_AUTO, 0.02, 0.001, b1, sizeof b1, &n1, &z1, e1, sizeof e1);
+        r2 = ip_run(&sc, RJ_IN_PLACE_ON, 0.02, 0.001, b2, sizeof b2, &n2, &z2, e2, sizeof e2);
+        rjt_check(c, r0 == RJ_OK && r1 == RJ_OK && r2 == RJ_OK && n0 == n1 && n0 == n2 && n0 <= sizeof b0 && memcmp(b0, b1, n0) == 0 && memcmp(b0, b2, n0) == 0 && z1 > z0 && z2 == z1,
+                  "in place: the deployment at 150 el/link (302 nodes) after rj_run with samples saves the same bytes as double-buffered, AUTO and ON alike",
+                  "%s / %s / %s, %zu bytes; state %zu bytes double-buffered, %zu in place (a third frame)", rj_result_str(r0), rj_result_str(r1), rj_result_str(r2), n0, z0, z1);
+        o.elements = 10;
+        deploy_scene(&o, L, J, &sc);
+        J[1].penalty_k = 1015.0;
+        r0 = ip_run(&sc, RJ_IN_PLACE_OFF, 0.02, 0.001, b0, sizeof b0, &n0, &z0, e0, sizeof e0);
+        r1 = ip_run(&sc, RJ_IN_PLACE_AUTO, 0.02, 0.001, b1, sizeof b1, &n1, &z1, e1, sizeof e1);
+        rjt_check(c, r0 == RJ_OK && r1 == RJ_OK && z1 == z0 && n0 == n1 && memcmp(b0, b1, n0) == 0,
+                  "in place: AUTO leaves a 22-node model double-buffered (no third frame)", "state %zu and %zu bytes", z0, z1);
+    }
+    /* a free link of 300 elements above its stability bound: the step that blows up, at
+       several distances from the kept copy */
+    {
+        static const double f[4] = { 1.05, 1.2, 1.6, 3.0 };
+        int fi, far = 0;
+        for (fi = 0; fi < 4; fi++) {
+            rj_link_def L = rj_default_link_def();
+            rj_scene_def sc = rj_default_scene_def();
+            rj_model *m = NULL, *mo = NULL; rj_state *s = NULL, *keep = NULL, *so = NULL; rj_error err;
+            rj_result r = RJ_OK, ro = RJ_OK;
+            long at = -1, ato = -1;
+            size_t n = 0, nk = 0;
+            int intact = 0, same = 0;
+            L.height = 0.01; L.elements = 300; L.omega = 1.0;
+            sc.links = &L; sc.link_count = 1;
+            if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) break;
+            sc.solver.dt = f[fi] * rj_model_dt_bound(m); sc.solver.allow_unstable = 1;
+            rj_model_destroy(m, NULL);
+            sc.solver.in_place = RJ_IN_PLACE_ON;
+            if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) break;
+            sc.solver.in_place = RJ_IN_PLACE_OFF;
+            if (rj_model_create(&sc, &mo, &err, NULL) != RJ_OK) { rj_model_destroy(m, NULL); break; }
+            rj_state_create(m, &s, NULL); rj_state_create(m, &keep, NULL); rj_state_create(mo, &so, NULL);
+            for (k = 0; k < 100000 && r == RJ_OK; k++) { rj_state_copy(m, keep, s); r = rj_step(m, s); }
+            for (k = 0; k < 100000 && ro == RJ_OK; k++) ro = rj_step(mo, so);
+            if (r != RJ_OK) at = rj_state_steps(s);
+            if (ro != RJ_OK) ato = rj_state_steps(so);
+            n = rj_state_save(m, s, b0, sizeof b0); nk = rj_state_save(m, keep, b1, sizeof b1);
+            intact = n == nk && n <= sizeof b0 && memcmp(b0, b1, n) == 0;
+            rj_state_save(mo, so, b2, sizeof b2);
+            same = intact && memcmp(b0, b2, n) == 0 && strcmp(rj_state_error(s), rj_state_error(so)) == 0;
+            if (at >= 64) far = 1;
+            snprintf(name, sizeof name, "in place: dt %.2f x the bound, the failed step leaves the state as it was, as double-buffered", f[fi]);
+            rjt_check(c, r == RJ_ERR_BLOWUP && ro == r && at == ato && intact && same, name,
+                      "%s at step %ld (double-buffered %s at %ld), state %s, %s: \"%s\"", rj_result_str(r), at, rj_result_str(ro), ato,
+                      intact ? "intact" : "CHANGED", same ? "the same bytes and message" : "DIFFERENT from double-buffered", rj_state_error(s));
+            rj_state_destroy(s, NULL); rj_state_destroy(keep, NULL); rj_state_destroy(so, NULL); rj_model_destroy(m, NULL); rj_model_destroy(mo, NULL);
+        }
+        rjt_check(c, far, "in place: some blow-up above comes 64 or more steps after the start (the kept copy was renewed)", "%s", far ? "yes" : "no");
+    }
+    {   /* rj_run with samples every 3 steps and energy_every 1000: the steps taken again after
+           the failure must repeat rj_run's energy requests (the accounts are part of the state) */
+        rj_link_def L = rj_default_link_def();
+        rj_scene_def sc = rj_default_scene_def();
+        rj_model *m = NULL; rj_error err;
+        size_t n0 = 0, n2 = 0, z0, z2;
+        rj_result r0, r2;
+        L.height = 0.01; L.elements = 300; L.omega = 1.0;
+        sc.links = &L; sc.link_count = 1; sc.solver.energy_every = 1000;
+        if (rj_model_create(&sc, &m, &err, NULL) == RJ_OK) {
+            sc.solver.dt = 1.05 * rj_model_dt_bound(m); sc.solver.allow_unstable = 1;
+            rj_model_destroy(m, NULL);
+            r0 = ip_run(&sc, RJ_IN_PLACE_OFF, 1.0, 3 * sc.solver.dt, b0, sizeof b0, &n0, &z0, e0, sizeof e0);
+            r2 = ip_run(&sc, RJ_IN_PLACE_ON, 1.0, 3 * sc.solver.dt, b2, sizeof b2, &n2, &z2, e2, sizeof e2);
+            rjt_check(c, r0 == RJ_ERR_BLOWUP && r2 == r0 && n0 == n2 && n0 <= sizeof b0 && memcmp(b0, b2, n0) == 0 && strcmp(e0, e2) == 0,
+                      "in place: rj_run (samples every 3 steps, energy_every 1000) stops at the same blow-up with the same state bytes as double-buffered",
+                      "%s / %s: \"%s\"", rj_result_str(r0), rj_result_str(r2), e2);
+        }
+    }
+}
+
 int main(void)
 {
     rjt_ctx c = { 0, 0 };
@@ -397,5 +507,6 @@ int main(void)
     test_seam(&c);
     test_inextensible(&c);
     test_energy_every(&c);
+    test_in_place(&c);
     return rjt_summary(&c, "test_dynamics");
 }

@@ -2,7 +2,9 @@
    full state per scene after a run. tests/lanes.sh builds this file five ways (gcc -O2
    with the AVX2 dispatch, gcc -O2 -DRJ_NO_DISPATCH, gcc -O3 -march=native, clang -O2,
    -DRJ_NO_SIMD) and fails unless all print the same hashes: every lane must do the scalar
-   code's operations in the scalar code's order. */
+   code's operations in the scalar code's order. Each scene runs twice, double-buffered
+   (solver.in_place OFF) and in place (ON, where the scene allows it); the line says whether
+   the two agree to the bit ("in place same"), and lanes.sh fails on "DIFFERS". */
 #define REVJOINT_IMPLEMENTATION
 #include "revjoint.h"
 #include "examples/scenes.h"
@@ -40,18 +42,30 @@ static unsigned long long state_hash(const rj_model *m, const rj_state *s)
     return fnv(h, &e, sizeof e);
 }
 
-static int run(const char *name, const rj_scene_def *sc, double t_end)
+/* One run to t_end: its result, end time, hash, and whether the model stepped in place. */
+typedef struct { rj_result r; double t; unsigned long long h; int ip; } outcome;
+static int run1(const char *name, const rj_scene_def *sc, int in_place, double t_end, outcome *o)
 {
     rj_model *m = NULL;
     rj_state *s = NULL;
     rj_error err;
-    rj_result r = rj_model_create(sc, &m, &err, NULL);
-    if (r != RJ_OK) { printf("%s: model: %s\n", name, err.msg); return 1; }
+    rj_scene_def d = *sc;
+    d.solver.in_place = in_place;
+    if (rj_model_create(&d, &m, &err, NULL) != RJ_OK) { printf("%s: model: %s\n", name, err.msg); return 1; }
     if (rj_state_create(m, &s, NULL) != RJ_OK) { printf("%s: no state\n", name); rj_model_destroy(m, NULL); return 1; }
-    r = rj_run(m, s, t_end, 0.0, NULL, NULL);
-    printf("%-28s %s t = %.6f hash %016llx\n", name, rj_result_str(r), rj_state_time(s), state_hash(m, s));
+    o->r = rj_run(m, s, t_end, 0.0, NULL, NULL);
+    o->t = rj_state_time(s); o->h = state_hash(m, s); o->ip = m->ip;
     rj_state_destroy(s, NULL);
     rj_model_destroy(m, NULL);
+    return 0;
+}
+
+static int run(const char *name, const rj_scene_def *sc, double t_end)
+{
+    outcome a, b;
+    if (run1(name, sc, RJ_IN_PLACE_OFF, t_end, &a) || run1(name, sc, RJ_IN_PLACE_ON, t_end, &b)) return 1;
+    printf("%-28s %s t = %.6f hash %016llx, in place %s\n", name, rj_result_str(a.r), a.t, a.h,
+           !b.ip ? "n/a" : a.r == b.r && a.t == b.t && a.h == b.h ? "same" : "DIFFERS");
     return 0;
 }
 
@@ -71,15 +85,19 @@ static int run_file(const char *path, double t_end)
 int main(void)
 {
     int rc = 0, i;
-    {   /* the deployment at the paper's settings, through both locks */
+    {   /* the deployment at the paper's settings, through both locks (joint 2's Eq 31
+           stiffness as deploy_build sets it) */
         deploy_opts o = deploy_default_opts();
+        rj_link_def L[2];
+        rj_joint_def J[2];
+        rj_scene_def sc;
         rj_model *m;
-        rj_state *s;
         rj_error err;
-        if (deploy_build(&o, &m, &err) != RJ_OK || rj_state_create(m, &s, NULL) != RJ_OK) { printf("deploy: %s\n", err.msg); return 1; }
-        printf("%-28s %s t = 6 hash ", "deploy (paper)", rj_result_str(rj_run(m, s, 6.0, 0.0, NULL, NULL)));
-        printf("%016llx\n", state_hash(m, s));
-        rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+        if (deploy_build(&o, &m, &err) != RJ_OK) { printf("deploy: %s\n", err.msg); return 1; }
+        deploy_scene(&o, L, J, &sc);
+        J[1].penalty_k = rj_model_joint_def(m, 1)->penalty_k;
+        rj_model_destroy(m, NULL);
+        rc |= run("deploy (paper)", &sc, 6.0);
     }
     {   /* free links of 1 .. 17 elements (every tail length of 4 and 8 lanes), 23, 200 and
            300 (two chunks); fast spin: chords turn more than the series covers, the exact path */

@@ -74,7 +74,7 @@ static int same_joint(const rj_joint_def *a, const rj_joint_def *b, int all, cha
 }
 static int same_solver(const rj_solver_def *a, const rj_solver_def *b, char *why, size_t n)
 {
-    RJ_T(dt) RJ_T(allow_unstable) RJ_T(energy_growth) RJ_T(energy_every) RJ_T(cookie)
+    RJ_T(dt) RJ_T(allow_unstable) RJ_T(energy_growth) RJ_T(energy_every) RJ_T(in_place) RJ_T(cookie)
     return 1;
 #undef RJ_T
 }
@@ -291,6 +291,7 @@ static void test_writer(void)
         if (irand(4) == 0) sc.solver.allow_unstable = 1;
         if (irand(4) == 0) sc.solver.energy_growth = 1.0 + urand() * 100;
         if (irand(4) == 0) sc.solver.energy_every = 1 + irand(1000);
+        if (irand(4) == 0) sc.solver.in_place = irand(3);
         for (i = 0; i < nl; i++) {
             rj_link_def *L = &links[i];
             *L = rj_default_link_def();
@@ -547,6 +548,7 @@ static void test_errors(void)
     EP("error: energy_growth 1", "solver\n  energy_growth = 1\nlink a\n", 2, 19, "energy_growth = 1 is out of range in solver: must be > 1", "energy_growth");
     EP("error: energy_every 0", "solver\n  energy_every = 0\nlink a\n", 2, 18, "energy_every = 0 is out of range in solver", "energy_every");
     EP("error: energy_every not an integer", "solver\n  energy_every = 2.5\nlink a\n", 2, 18, "energy_every", "energy_every");
+    EP("error: in_place sideways", "solver\n  in_place = sideways\nlink a\n", 2, 14, "unknown value 'sideways' for 'in_place' in solver (expected auto, on or off)", "in_place");
     EP("error: bad boolean", "solver\n  allow_unstable = maybe\nlink a\n", 2, 20, "unknown value 'maybe' for 'allow_unstable' in solver (expected no, yes, false or true)", "allow_unstable");
     EP("error: limit at 360 deg", J2 "  forward = 360 deg\n", 5, 13, "forward = 360 deg is out of range in joint 'j': a limit must be in [0, 360) deg, or none", "forward");
     EP("error: negative limit", J2 "  reverse = -1deg\n", 5, 13, "reverse = -1deg is out of range", "reverse");

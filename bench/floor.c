@@ -1,0 +1,152 @@
+/* floor.c - how fast the step's arithmetic alone can go on this machine: the element and
+   node update of revjoint.h's beam pass (the same operations per element, 4-lane vectors,
+   chunks of 128) for one uniform free link, with nothing else: no joints, no end nodes of
+   their own, no energy, no step bookkeeping. Two variants of the same arithmetic:
+     in place        every array is read and written where it is (9 arrays per node)
+     double-buffered the results go to a second set of arrays, swapped each step (18), as
+                     revjoint.h's step with solver.in_place off
+   It measured the gap that led to solver.in_place (README, "Step cost"). Not part of make
+   test or make bench; x86-64 with AVX2:
+     cc -std=gnu99 -O2 -mavx2 -ffp-contract=off bench/floor.c -o build/floor -lm
+     build/floor N [blocks]     prints min and median ns per element-step over the blocks
+   (about 2 ms each), in place and double-buffered alternately, for a link of N elements
+   (N a multiple of 4) at revjoint.h's stability bound for it. */
+#define _POSIX_C_SOURCE 199309L
+#define REVJOINT_IMPLEMENTATION
+#include "../revjoint.h"
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+typedef double vd __attribute__((vector_size(32)));
+typedef long long vl __attribute__((vector_size(32)));
+#define LD(v, p) memcpy(&(v), (p), 32)
+#define ST(p, v) memcpy((p), &(v), 32)
+#define CH 128
+#define FR (CH + 2)
+
+typedef struct arrays { double *x, *y, *p, *vx, *vy, *w, *b, *cx, *cy; } arrays;
+typedef struct link { int ne; arrays a, o; double kb, kax, l0sq, h, ti, ri, dt; } link;
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+static int cmp(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* One step: in place (dbl 0) or into L->o, then swapped (dbl 1). Returns nonzero when a
+   chord turned too far for the series (revjoint.h would take its exact path). */
+static int step(link *L, int dbl)
+{
+    double FB[4 * FR], *FX = FB, *FY = FB + FR, *M1 = FB + 2 * FR, *M2 = FB + 3 * FR;
+    const double kb = L->kb, kax = L->kax, l0sq = L->l0sq, h = L->h, dt = L->dt, ti = L->ti, ri = L->ri;
+    const arrays *A = &L->a, *O = dbl ? &L->o : &L->a;
+    int c0, k, bad = 0;
+    FX[0] = FY[0] = -0.0; M1[0] = M2[0] = 0;
+    for (c0 = 0; c0 < L->ne; c0 += CH) {
+        const int nc = L->ne - c0 < CH ? L->ne - c0 : CH, last = c0 + nc == L->ne, cnt = nc + last;
+        const double *x = A->x + c0, *y = A->y + c0, *p = A->p + c0, *b = A->b + c0, *cx = A->cx + c0, *cy = A->cy + c0;
+        const double *vx = A->vx + c0, *vy = A->vy + c0, *w = A->w + c0;
+        double *ox = O->x + c0, *oy = O->y + c0, *op = O->p + c0, *ob = O->b + c0, *ocx = O->cx + c0, *ocy = O->cy + c0;
+        double *ovx = O->vx + c0, *ovy = O->vy + c0, *ow = O->w + c0;
+        vl okv = { -1, -1, -1, -1 };
+        int i;
+        for (i = 0; i < nc; i += 4) {
+            vd x0, x1, y0, y1, p0, p1, bb, ccx, ccy, ex, ey;
+            LD(x0, x + i); LD(x1, x + i + 1); LD(y0, y + i); LD(y1, y + i + 1); LD(p0, p + i); LD(p1, p + i + 1);
+            LD(bb, b + i); LD(ccx, cx + i); LD(ccy, cy + i);
+            ex = x1 - x0; ey = y1 - y0;
+            {
+                const vd cr = ccx * ey - ccy * ex, dp = ccx * ex + ccy * ey, L2 = ex * ex + ey * ey, inv = 1.0 / (dp * L2);
+                const vd r = cr * L2 * inv, invL2 = dp * inv, r2 = r * r;
+                const vd bt = bb + r * (1.0 - r2 * (1.0 / 3.0 - r2 * (1.0 / 5.0)));
+                const vd tha = p0 - bt, thb = p1 - bt, ma = kb * (4.0 * tha + 2.0 * thb), mb = kb * (2.0 * tha + 4.0 * thb);
+                const vd eps = (L2 - l0sq) * h, nax = kax * eps, sv = (ma + mb) * invL2;
+                const vd fx = -nax * ex - sv * ey, fy = -nax * ey + sv * ex;
+                okv &= (r2 < 4e-6) & (dp > 0.0);
+                ST(ob + i, bt); ST(ocx + i, ex); ST(ocy + i, ey);
+                ST(FX + 1 + i, fx); ST(FY + 1 + i, fy); ST(M1 + 1 + i, ma); ST(M2 + 1 + i, mb);
+            }
+        }
+        for (k = 0; k < 4; k++) bad |= !okv[k];
+        if (last) FX[nc + 1] = FY[nc + 1] = M1[nc + 1] = 0;
+        for (k = 0; k + 4 <= cnt; k += 4) {
+            vd f0, f1, g0, g1, m1, m2, fxv, fyv, mzv, v1, v2, v3, t;
+            LD(f0, FX + k); LD(f1, FX + k + 1); LD(g0, FY + k); LD(g1, FY + k + 1); LD(m2, M2 + k); LD(m1, M1 + k + 1);
+            fxv = f0 - f1; fyv = g0 - g1; mzv = -m2 - m1;
+            LD(v1, vx + k); LD(v2, vy + k); LD(v3, w + k);
+            v1 = v1 + dt * fxv * ti; v2 = v2 + dt * fyv * ti; v3 = v3 + dt * mzv * ri;
+            ST(ovx + k, v1); ST(ovy + k, v2); ST(ow + k, v3);
+            LD(t, x + k); t = t + dt * v1; ST(ox + k, t);
+            LD(t, y + k); t = t + dt * v2; ST(oy + k, t);
+            LD(t, p + k); t = t + dt * v3; ST(op + k, t);
+        }
+        for (; k < cnt; k++) {
+            const double fxv = FX[k] - FX[k + 1], fyv = FY[k] - FY[k + 1], mzv = -M2[k] - M1[k + 1];
+            ovx[k] = vx[k] + dt * fxv * ti; ovy[k] = vy[k] + dt * fyv * ti; ow[k] = w[k] + dt * mzv * ri;
+            ox[k] = x[k] + dt * ovx[k]; oy[k] = y[k] + dt * ovy[k]; op[k] = p[k] + dt * ow[k];
+        }
+        FX[0] = FX[nc]; FY[0] = FY[nc]; M1[0] = M1[nc]; M2[0] = M2[nc];
+    }
+    if (dbl) { arrays t = L->a; L->a = L->o; L->o = t; }
+    return bad;
+}
+
+int main(int argc, char **argv)
+{
+    const int N = argc > 1 ? atoi(argv[1]) : 2000, B = argc > 2 ? atoi(argv[2]) : 201;
+    rj_link_def ld = rj_default_link_def();
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m;
+    rj_error err;
+    link L[2];
+    double *t[2], tip[2];
+    long K, k;
+    int v, b, i;
+    if (N < 4 || N % 4 || B < 1 || B > 100000) { fprintf(stderr, "usage: floor N [blocks]  (N a multiple of 4)\n"); return 2; }
+    /* the bench's free link (BENCHMARKS.md section 1), for its constants and dt */
+    ld.height = 0.01; ld.elements = N; ld.omega = 1.0;
+    sc.links = &ld; sc.link_count = 1;
+    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { fprintf(stderr, "floor: %s\n", err.msg); return 1; }
+    for (v = 0; v < 2; v++) {
+        double *mem = (double *)calloc(18 * (size_t)(N + 8), sizeof(double));
+        double **pa[9], **po[9];
+        if (!mem) return 1;
+        pa[0] = &L[v].a.x; pa[1] = &L[v].a.y; pa[2] = &L[v].a.p; pa[3] = &L[v].a.vx; pa[4] = &L[v].a.vy; pa[5] = &L[v].a.w; pa[6] = &L[v].a.b; pa[7] = &L[v].a.cx; pa[8] = &L[v].a.cy;
+        po[0] = &L[v].o.x; po[1] = &L[v].o.y; po[2] = &L[v].o.p; po[3] = &L[v].o.vx; po[4] = &L[v].o.vy; po[5] = &L[v].o.w; po[6] = &L[v].o.b; po[7] = &L[v].o.cx; po[8] = &L[v].o.cy;
+        for (i = 0; i < 9; i++) { *pa[i] = mem + (size_t)i * (N + 8); *po[i] = mem + (size_t)(9 + i) * (N + 8); }
+        L[v].ne = N;
+        L[v].kb = m->link_kc[0]; L[v].kax = m->link_kc[1]; L[v].l0sq = m->link_kc[2]; L[v].h = m->link_kc[3];
+        L[v].ti = m->link_un[0]; L[v].ri = m->link_un[1]; L[v].dt = rj_model_dt(m);
+        for (i = 0; i <= N; i++) {
+            L[v].a.x[i] = m->x0[i]; L[v].a.y[i] = m->y0[i]; L[v].a.p[i] = m->phi0[i];
+            L[v].a.vx[i] = m->vx0[i]; L[v].a.vy[i] = m->vy0[i]; L[v].a.w[i] = m->w0[i];
+        }
+        for (i = 0; i < N; i++) { L[v].a.b[i] = m->beta0[i]; L[v].a.cx[i] = m->x0[i + 1] - m->x0[i]; L[v].a.cy[i] = m->y0[i + 1] - m->y0[i]; }
+        t[v] = (double *)malloc(sizeof(double) * (size_t)B);
+        if (!t[v]) return 1;
+    }
+    K = 200000 / N + 1;
+    for (v = 0; v < 2; v++)
+        for (k = 0; k < K; k++)
+            if (step(&L[v], v)) { fprintf(stderr, "floor: a chord turned too far (step %ld)\n", k); return 1; }
+    for (b = 0; b < B; b++)
+        for (v = 0; v < 2; v++) {
+            const double a = now();
+            for (k = 0; k < K; k++) step(&L[v], v);
+            t[v][b] = (now() - a) * 1e9 / ((double)K * N);
+        }
+    for (v = 0; v < 2; v++) { qsort(t[v], (size_t)B, sizeof(double), cmp); tip[v] = L[v].a.y[N]; }
+    printf("%d elements, %d blocks of %ld steps: in place min %.2f median %.2f ns per element-step; double-buffered min %.2f median %.2f (tip y %.9g, %.9g)\n",
+           N, B, K, t[0][0], t[0][B / 2], t[1][0], t[1][B / 2], tip[0], tip[1]);
+    for (v = 0; v < 2; v++) { free(L[v].a.x < L[v].o.x ? L[v].a.x : L[v].o.x); free(t[v]); }
+    rj_model_destroy(m, NULL);
+    return 0;
+}
