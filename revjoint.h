@@ -153,7 +153,7 @@ typedef enum rj_reference { RJ_REF_TANGENT = 0, RJ_REF_CHORD } rj_reference;
 /* Release rules (SPEC sec. 4). */
 typedef enum rj_release { RJ_RELEASE_RC12 = 0, RJ_RELEASE_RC13 } rj_release;
 /* Where the step writes the nodes and elements (rj_solver_def.in_place): AUTO in place from
-   RJ_IN_PLACE_NODES (256) nodes on, ON whenever the scene allows, OFF never (see the solver). */
+   RJ_IN_PLACE_NODES (400) nodes on, ON whenever the scene allows, OFF never (see the solver). */
 typedef enum rj_in_place { RJ_IN_PLACE_AUTO = 0, RJ_IN_PLACE_ON, RJ_IN_PLACE_OFF } rj_in_place;
 
 /* Joint status flag, Eq 7. */
@@ -249,7 +249,7 @@ typedef struct rj_joint_def {
    at most 64 steps old and, when a step fails, takes the steps since it again, so a failed
    step leaves the state as it was either way, and the results are the same bits. It costs a
    third frame of memory, and a few copies per step that only pay from a few hundred nodes
-   on: AUTO uses it from RJ_IN_PLACE_NODES nodes (256; a compile-time setting). Scenes with
+   on: AUTO uses it from RJ_IN_PLACE_NODES nodes (400; a compile-time setting). Scenes with
    inextensible links never step in place (SHAKE reads every node's old position). */
 typedef struct rj_solver_def {
     double dt;             /* s, >= 0 */
@@ -482,11 +482,12 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
 #define RJ_MALLOC(sz, ctx) ((void)(ctx), malloc(sz))
 #define RJ_FREE(p, ctx) ((void)(ctx), free(p))
 #endif
-/* Models of at least this many nodes step in place (rj__step; scenes of flexible links
-   without inextensible ones, rigid bodies or welded groups): below it the two frames fit the
-   data cache anyway, and in place costs a few copies per step. */
+/* With solver.in_place AUTO, models of at least this many nodes step in place (rj__step):
+   below it a link's two frames (144 bytes per node) fit a 48 KB L1 data cache anyway, and
+   in place costs copies of each chunk's chord angles and chords. Measured on a free link:
+   slower in place at 100 and 200 elements, faster at 500 (README, "Step cost"). */
 #ifndef RJ_IN_PLACE_NODES
-#define RJ_IN_PLACE_NODES 256
+#define RJ_IN_PLACE_NODES 400
 #endif
 #ifndef RJ_ASSERT
 #include <assert.h>
@@ -3627,11 +3628,10 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     return RJ_OK;
 }
 
-/* The step. In place (rj_model.ip: scenes of flexible links without inextensible ones, rigid
-   bodies or welded groups, from RJ_IN_PLACE_NODES nodes on, after the first step) it writes
-   the nodes and elements where it reads them, which halves what a large model moves through
-   the caches each step; the other frame then holds a copy of the state taken at most
-   RJ__SNAP steps before. A step that fails puts that copy back and takes the steps since
+/* The step. In place (rj_model.ip: solver.in_place, never with inextensible links; after
+   the first step) it writes the nodes and elements where it reads them, which halves what a
+   large model moves through the caches each step; the other frame then holds a copy of the
+   state taken at most RJ__SNAP steps before. A step that fails puts that copy back and takes the steps since
    again, with the same energy requests (s->want): the same bits, so a failed step leaves
    the state as it was, as the double-buffered step does. */
 #define RJ__SNAP 64

@@ -198,7 +198,7 @@ typedef struct tp_row {
 
 /* One free link of the given size, timed with solver.energy_every 1 (o[0]) and 16 (o[1]),
    and with 16 double-buffered (o[2]: solver.in_place off; the others are AUTO, in place from
-   256 nodes); the models' runs alternate so that all see the same phases of the machine. */
+   400 nodes); the models' runs alternate so that all see the same phases of the machine. */
 static int free_link(int elements, tp_row o[3])
 {
     rj_link_def L = rj_default_link_def();
@@ -2243,7 +2243,7 @@ int main(int argc, char **argv)
             md("- Deployment at the paper's settings (10 elements per link, dt 7.5 us, 6 s): **%.3f s** wall (CPU %.3f s), **%.3g steps/s**.\n", paper_med, paper_cpu, paper_steps / paper_med);
             md("- With `solver.energy_every = 16` (energy accounts and blow-up checks every 16th step and at every sample; the same results bit for bit): **%.1f / %.1f / %.1f ns per element-step**; the paper's settings in **%.3f s** (CPU %.3f s).\n",
                tp16[0].ns_med, tp16[1].ns_med, tp16[2].ns_med, paper16_med, paper16_cpu);
-            md("- The %d-element link steps in place (`solver.in_place` AUTO: from 256 nodes on; the same results bit for bit). Double-buffered (`in_place` off, `energy_every = 16`, timed alternately with the rows above) it takes **%.1f ns per element-step**, against %.1f in place.\n",
+            md("- The %d-element link steps in place (`solver.in_place` AUTO: from 400 nodes on; the same results bit for bit). Double-buffered (`in_place` off, `energy_every = 16`, timed alternately with the rows above) it takes **%.1f ns per element-step**, against %.1f in place.\n",
                tp16[2].elements, tpdb[2].ns_med, tp16[2].ns_med);
             for (j = 0; j < 2; j++) {
                 const drow *b = d_cheapest(dr, ndr, dmeth[j], 0);
@@ -2269,7 +2269,7 @@ int main(int argc, char **argv)
                    i < 3 ? "" : i < 6 ? ", `energy_every = 16`" : ", `energy_every = 16`, `in_place` off", b1, w->steps, w->ns_med, w->ns_min, w->ns_max,
                    w->ns_cpu, w->model_per_node, w->state_per_node, w->edrift);
             }
-            md("\nThe first six rows use `solver.in_place` AUTO: the 2000-element link (2001 nodes) steps in place, the others (under 256 nodes) double-buffered, so their rows with `in_place` off time the same code. "
+            md("\nThe first six rows use `solver.in_place` AUTO: the 2000-element link (2001 nodes) steps in place, the others (under 400 nodes) double-buffered, so their rows with `in_place` off time the same code. "
                "In place keeps a third frame, hence the larger state per node at 2000 elements.\n");
             md("\nDeployment at the paper's settings (`deploy_build` defaults: 10 elements per link, dt = 7.5 us, joint 2 penalty with K = Eq 31 = %.4g N m/rad; stability bound %.4g us), "
                "6 s simulated, `rj_run` without sampling, median of %d runs: **%.3f s** wall (CPU %.3f s), %ld steps, **%.0f steps/s** "

@@ -410,20 +410,20 @@ static void test_in_place(rjt_ctx *c)
     static unsigned char b0[1 << 17], b1[1 << 17], b2[1 << 17];
     char e0[320], e1[320], e2[320], name[200];
     int k;
-    {   /* the deployment with 150 elements per link (302 nodes: AUTO steps in place), rj_run
+    {   /* the deployment with 200 elements per link (402 nodes: AUTO steps in place), rj_run
            with samples and energy_every 16 */
         deploy_opts o = deploy_default_opts();
         rj_link_def L[2]; rj_joint_def J[2]; rj_scene_def sc;
         size_t n0 = 0, n1 = 0, n2 = 0, z0 = 0, z1 = 0, z2 = 0;
         rj_result r0, r1, r2;
-        o.elements = 150; o.dt = 0; o.energy_every = 16;
+        o.elements = 200; o.dt = 0; o.energy_every = 16;
         deploy_scene(&o, L, J, &sc);
         J[1].penalty_k = 1015.0;
         r0 = ip_run(&sc, RJ_IN_PLACE_OFF, 0.02, 0.001, b0, sizeof b0, &n0, &z0, e0, sizeof e0);
         r1 = ip_run(&sc, RJ_IN_PLACE_AUTO, 0.02, 0.001, b1, sizeof b1, &n1, &z1, e1, sizeof e1);
         r2 = ip_run(&sc, RJ_IN_PLACE_ON, 0.02, 0.001, b2, sizeof b2, &n2, &z2, e2, sizeof e2);
         rjt_check(c, r0 == RJ_OK && r1 == RJ_OK && r2 == RJ_OK && n0 == n1 && n0 == n2 && n0 <= sizeof b0 && memcmp(b0, b1, n0) == 0 && memcmp(b0, b2, n0) == 0 && z1 > z0 && z2 == z1,
-                  "in place: the deployment at 150 el/link (302 nodes) after rj_run with samples saves the same bytes as double-buffered, AUTO and ON alike",
+                  "in place: the deployment at 200 el/link (402 nodes) after rj_run with samples saves the same bytes as double-buffered, AUTO and ON alike",
                   "%s / %s / %s, %zu bytes; state %zu bytes double-buffered, %zu in place (a third frame)", rj_result_str(r0), rj_result_str(r1), rj_result_str(r2), n0, z0, z1);
         o.elements = 10;
         deploy_scene(&o, L, J, &sc);
