@@ -498,9 +498,7 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
    -ffp-contract=fast ignores the pragma by design): the same bits from every build and
    lane width (tests/lanes.sh), -march=native included. The caller's code after the header
    keeps its own setting. (float_control needs clang 11, Apple's 13; older clangs and
-   other compilers get no pragma.) GCC also keeps its loops as loops: the in-place step's
-   copies of a chunk (rj__copy4) would otherwise become rep movsq or memcpy calls, which
-   cost three times the instructions for a kilobyte in L1. */
+   other compilers get no pragma.) */
 #if defined(__clang__)
 #if (!defined(__apple_build_version__) && __clang_major__ >= 11) || __clang_major__ >= 13
 #define RJ__FP_PRAGMAS 1
@@ -510,7 +508,7 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
 #elif defined(__GNUC__) && !defined(__INTEL_COMPILER)
 #define RJ__FP_PRAGMAS 1
 #pragma GCC push_options
-#pragma GCC optimize("fp-contract=off", "no-tree-loop-distribute-patterns")
+#pragma GCC optimize("fp-contract=off")
 #endif
 
 #if defined(__cplusplus) && (defined(__GNUC__) || defined(_MSC_VER))
@@ -1176,13 +1174,15 @@ RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
    divide n the last W again, after the loop: the same inputs give the same bits. */
 #define RJ__LANES_OVER(i, n, W, STEP) for (i = 0; i + W <= n; i += W) STEP if (i < n) { i = n - W; STEP }
 /* W elements from element i on, in lanes; F + i is element i's slot in row FX; EN: their
-   strain energies too (without, the compiler drops their arithmetic). */
-#define RJ__ELEM_STEP(VD, i, EN)                                                                 \
+   strain energies too (without, the compiler drops their arithmetic); BK: their old chord
+   angles and chords kept in bk first (in place, bo is bb: the exact path reads them there). */
+#define RJ__ELEM_STEP(VD, i, EN, BK)                                                             \
     {                                                                                            \
         VD x0, x1, y0, y1, p0, p1, b, cxv, cyv, ex, ey;                                          \
         RJ__VLD(x0, xa + i); RJ__VLD(x1, xa + i + 1); RJ__VLD(y0, ya + i); RJ__VLD(y1, ya + i + 1); \
         RJ__VLD(p0, pa + i); RJ__VLD(p1, pa + i + 1); RJ__VLD(b, bb + i);                        \
         RJ__VLD(cxv, ccx + i); RJ__VLD(cyv, ccy + i);                                            \
+        if (BK) { RJ__VST(bk + i, b); RJ__VST(bk + RJ__CHUNK + i, cxv); RJ__VST(bk + 2 * RJ__CHUNK + i, cyv); } \
         ex = x1 - x0; ey = y1 - y0;                                                              \
         {                                                                                        \
             RJ__ELEM_CORE(VD, ex, ey, cxv, cyv, b, p0, p1);                                      \
@@ -1194,13 +1194,17 @@ RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
     }
 /* The element loop in lanes of W doubles over all ne >= W elements (RJ__LANES_OVER), their
    strain energies if en is set; returns -1 when some chord turned too far (or a result is
-   NaN). kc: the link's element constants (link_kc). */
-#define RJ__ELEM_LANES(W, VD, VL, ATTR)                                                          \
-ATTR static RJ__FORCE_INLINE int rj__elem_lanes##W(int ne, const double *kc,                                      \
+   NaN), else ne. kc: the link's element constants (link_kc). In place (NAME##ip: bo, cox,
+   coy are bb, ccx, ccy) it takes whole lanes only and returns how many elements it did,
+   keeping their old values in bk (RJ__ELEM_STEP). */
+#define RJ__ELEM_LANES(W, VD, VL, ATTR) RJ__ELEM_LANES_(W, VD, VL, ATTR, rj__elem_lanes##W, RJ__RESTRICT, 0) \
+                                        RJ__ELEM_LANES_(W, VD, VL, ATTR, rj__elem_lanes##W##ip, , 1)
+#define RJ__ELEM_LANES_(W, VD, VL, ATTR, NAME, RQ, BK)                                           \
+ATTR static RJ__FORCE_INLINE int NAME(int ne, const double *kc,                                  \
     const double *RJ__RESTRICT xa, const double *RJ__RESTRICT ya, const double *RJ__RESTRICT pa,   \
-    const double *RJ__RESTRICT bb, const double *RJ__RESTRICT ccx, const double *RJ__RESTRICT ccy, \
-    double *RJ__RESTRICT F, double *RJ__RESTRICT ue, double *RJ__RESTRICT bo,                    \
-    double *RJ__RESTRICT cox, double *RJ__RESTRICT coy, int en)                                  \
+    const double *RQ bb, const double *RQ ccx, const double *RQ ccy,                             \
+    double *RJ__RESTRICT F, double *RJ__RESTRICT ue, double *RQ bo,                              \
+    double *RQ cox, double *RQ coy, double *RJ__RESTRICT bk, int en)                             \
 {                                                                                                \
     const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];                   \
     VD lim, zero;                                                                                \
@@ -1208,10 +1212,13 @@ ATTR static RJ__FORCE_INLINE int rj__elem_lanes##W(int ne, const double *kc,    
     int i, k;                                                                                    \
     for (k = 0; k < W; k++) { lim[k] = 4e-6; zero[k] = 0.0; }                                    \
     okv = zero < lim;   /* all lanes set */                                                      \
-    if (en) { RJ__LANES_OVER(i, ne, W, RJ__ELEM_STEP(VD, i, 1)) }                                 \
-    else { RJ__LANES_OVER(i, ne, W, RJ__ELEM_STEP(VD, i, 0)) }                                   \
+    if (BK && en) { for (i = 0; i + W <= ne; i += W) RJ__ELEM_STEP(VD, i, 1, 1) }                \
+    else if (BK) { for (i = 0; i + W <= ne; i += W) RJ__ELEM_STEP(VD, i, 0, 1) }                 \
+    else if (en) { RJ__LANES_OVER(i, ne, W, RJ__ELEM_STEP(VD, i, 1, 0)) }                        \
+    else { RJ__LANES_OVER(i, ne, W, RJ__ELEM_STEP(VD, i, 0, 0)) }                                \
+    (void)bk;                                                                                    \
     for (k = 0; k < W; k++) if (!okv[k]) return -1;                                              \
-    return ne;                                                                                   \
+    return BK ? i : ne;                                                                          \
 }
 #ifdef RJ__LANES2
 RJ__ELEM_LANES(2, rj__vd2, rj__vl2, )
@@ -1229,12 +1236,13 @@ RJ__ELEM_LANES(4, rj__vd4, rj__vl4, RJ__AVX2)
    must redo the chunk, else ne. F: row FX of the chunk buffer at the chunk's first element. */
 static int rj__elem_scalar(int i, int ne, const double *kc, const double *xa, const double *ya, const double *pa,
                            const double *bb, const double *ccx, const double *ccy, double *F, double *ue,
-                           double *bo, double *cox, double *coy)
+                           double *bo, double *cox, double *coy, double *bk)
 {
     const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];
     long long bad = 0;
     for (; i < ne; i++) {
         const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];
+        if (bk) { bk[i] = bb[i]; bk[RJ__CHUNK + i] = ccx[i]; bk[2 * RJ__CHUNK + i] = ccy[i]; }   /* in place */
         RJ__ELEM_CORE(double, ex, ey, ccx[i], ccy[i], bb[i], pa[i], pa[i + 1]);
         bad |= (long long)!(r2_ < 4e-6) | (long long)!(dp_ > 0.0);   /* bitwise: no branch; NaN too */
         bo[i] = bt_; cox[i] = ex; coy[i] = ey;
@@ -1351,20 +1359,6 @@ RJ__NODE_LANES(2, rj__vd2, )
 #ifdef RJ__LANES4
 RJ__NODE_LANES(4, rj__vd4, RJ__AVX2)
 #endif
-/* n doubles from s to d, in lanes of W where n >= W (a copy in place, RJ__BEAM_PASS). */
-#define RJ__COPY_LANES(W, VD, ATTR)                                                              \
-ATTR static RJ__FORCE_INLINE void rj__copy##W(double *RJ__RESTRICT d, const double *RJ__RESTRICT s, int n) \
-{                                                                                                \
-    int i;                                                                                       \
-    if (n < W) { for (i = 0; i < n; i++) d[i] = s[i]; return; }                                  \
-    RJ__LANES_OVER(i, n, W, { VD v_; RJ__VLD(v_, s + i); RJ__VST(d + i, v_); })                  \
-}
-#ifdef RJ__LANES2
-RJ__COPY_LANES(2, rj__vd2, )
-#endif
-#ifdef RJ__LANES4
-RJ__COPY_LANES(4, rj__vd4, RJ__AVX2)
-#endif
 #endif
 
 /* Nodes n + k .. n + cnt - 1 from the chunk buffer F (rows FX, FY, M1, M2) laid out so
@@ -1399,8 +1393,9 @@ static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, 
    that jumps into SSE code without clearing the registers' upper halves (gcc 12 left out
    its vzeroupper before such a tail call) makes every later SSE instruction of the step
    pay for them (the paper's settings ran 1.3x slower). */
-/* Where RJ__BEAM_PASS puts a chunk's new chords (row k of EB in place, else out + a). */
-#define RJ__CO(out, k) (ip ? EB + (k) * RJ__CHUNK : (out) + a)
+/* In place, element i's old chord angle (k 0) or chord (1, 2) while the chunk's elements
+   run: kept in EB for the first nb elements (RJ__ELEM_STEP), else still at p[i]. */
+#define RJ__OLD(p, k) (i < nb ? EB[(k) * RJ__CHUNK + i] : (p)[i])
 #define RJ__BEAM_PASS(NAME, ATTR, W, ELEM, NODE, IP, RQ)                                                                                                \
 ATTR static int NAME(const rj_model *m, const double *x, const double *y, const double *phi,                                                          \
     const double *beta, const double *cx, const double *cy, double *eu,                                                                               \
@@ -1410,9 +1405,8 @@ ATTR static int NAME(const rj_model *m, const double *x, const double *y, const 
        a link's first), entries 1 .. nc this chunk's, nc + 1 the +0.0 after a link's last */                                                          \
     double FB[4 * RJ__FROW];                                                                                                                          \
     double *FX = FB, *FY = FB + RJ__FROW, *M1 = FB + 2 * RJ__FROW, *M2 = FB + 3 * RJ__FROW;                                                           \
-    /* in place (adv->ip): the chunk's chord angles and chords, kept here until its elements                                                          \
-       are done (the exact path reads the old ones) */                                                                                                \
-    double EB[3 * RJ__CHUNK];                                                                                                                                     \
+    /* in place: the old chord angles and chords of a chunk's elements (RJ__OLD) */                                                                   \
+    double EB[3 * RJ__CHUNK];                                                                                                                         \
     const int en = !adv || adv->en, ip = IP;   /* strain energies wanted; in place (compiled apart) */                                                 \
     int l;                                                                                                                                            \
     for (l = 0; l < m->nl; l++) {                                                                                                                     \
@@ -1435,24 +1429,22 @@ ATTR static int NAME(const rj_model *m, const double *x, const double *y, const 
             const int nc = ne - c0 < RJ__CHUNK ? ne - c0 : RJ__CHUNK, a = e0 + c0, na = n0 + c0, last = c0 + nc == ne;                                \
             const double *RQ xa = x + na, *RQ ya = y + na, *RQ pa = phi + na;   /* RQ: restrict, but in place */                                          \
             const double *RQ bb = beta + a, *RQ ccx = cx + a, *RQ ccy = cy + a;                                                                           \
-            double *RJ__RESTRICT ue = eu + a, *RJ__RESTRICT bo = ip ? EB : beta_out + a;                                                                           \
+            double *RJ__RESTRICT ue = eu + a, *RQ bo = beta_out + a;   /* in place: bb */                                                             \
+            int nb = 0;   /* in place: elements whose old values are in EB */                                                                         \
             int i;                                                                                                                                    \
-            i = W > 1 && nc >= W ? ELEM(nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, RJ__CO(cx_out, 1), RJ__CO(cy_out, 2), en) : 0;                            \
-            if (i >= 0 && i < nc) i = rj__elem_scalar(i, nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, RJ__CO(cx_out, 1), RJ__CO(cy_out, 2));                   \
+            i = W > 1 && nc >= W ? ELEM(nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a, ip ? EB : NULL, en) : 0;                        \
+            if (ip && W > 1 && nc >= W) nb = nc / W * W;                                                                                              \
+            if (i >= 0 && i < nc) { i = rj__elem_scalar(i, nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a, ip ? EB : NULL); nb = ip ? nc : 0; }\
             if (i < 0) {                                                                                                                              \
                 /* a chord turned more than 0.02 rad in one step: exact angles for this chunk */                                                      \
                 for (i = 0; i < nc; i++) {                                                                                                            \
                     const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];                                                                      \
-                    const double bt = bb[i] + atan2(ccx[i] * ey - ccy[i] * ex, ccx[i] * ex + ccy[i] * ey);                                            \
+                    const double ox = ip ? RJ__OLD(ccx, 1) : ccx[i], oy = ip ? RJ__OLD(ccy, 2) : ccy[i];                                              \
+                    const double bt = (ip ? RJ__OLD(bb, 0) : bb[i]) + atan2(ox * ey - oy * ex, ox * ex + oy * ey);                                    \
                     RJ__ELEM_FORCES(double, ex, ey, bt, 1.0 / (ex * ex + ey * ey), pa[i], pa[i + 1]);                                                 \
-                    bo[i] = bt;                                                                                                                       \
+                    bo[i] = bt; if (ip) { cx_out[a + i] = ex; cy_out[a + i] = ey; }   /* (the lanes may not have) */                                    \
                     FX[1 + i] = fx_; FY[1 + i] = fy_; M1[1 + i] = ma_; M2[1 + i] = mb_; ue[i] = u_;                                                   \
                 }                                                                                                                                     \
-            }                                                                                                                                         \
-            if (ip) {                                                                                                                                 \
-                rj__copy##W(beta_out + a, EB, nc);                                                                                                    \
-                rj__copy##W(cx_out + a, EB + RJ__CHUNK, nc);                                                                                          \
-                rj__copy##W(cy_out + a, EB + 2 * RJ__CHUNK, nc);                                                                                      \
             }                                                                                                                                         \
             if (last) { FX[nc + 1] = FY[nc + 1] = M1[nc + 1] = 0.0; }                                                                                 \
             /* the chunk's nodes whose elements are all summed: na .. na + nc - 1, and the                                                            \
@@ -1469,17 +1461,17 @@ ATTR static int NAME(const rj_model *m, const double *x, const double *y, const 
 
 #ifdef RJ__LANES4
 RJ__BEAM_PASS(rj__beam_pass4, RJ__AVX2, 4, rj__elem_lanes4, rj__node_lanes4, 0, RJ__RESTRICT)
-RJ__BEAM_PASS(rj__beam_pass4ip, RJ__AVX2, 4, rj__elem_lanes4, rj__node_lanes4, 1, )
+RJ__BEAM_PASS(rj__beam_pass4ip, RJ__AVX2, 4, rj__elem_lanes4ip, rj__node_lanes4, 1, )
 #endif
 #ifdef RJ__LANES2
 RJ__BEAM_PASS(rj__beam_pass2, , 2, rj__elem_lanes2, rj__node_lanes2, 0, RJ__RESTRICT)
-RJ__BEAM_PASS(rj__beam_pass2ip, , 2, rj__elem_lanes2, rj__node_lanes2, 1, )
+RJ__BEAM_PASS(rj__beam_pass2ip, , 2, rj__elem_lanes2ip, rj__node_lanes2, 1, )
 #endif
 #ifndef RJ__LANES
 static int rj__elem_none(int ne, const double *kc, const double *xa, const double *ya, const double *pa, const double *bb,
-                         const double *ccx, const double *ccy, double *F, double *ue, double *bo, double *cox, double *coy, int en)
+                         const double *ccx, const double *ccy, double *F, double *ue, double *bo, double *cox, double *coy, double *bk, int en)
 {
-    (void)kc; (void)xa; (void)ya; (void)pa; (void)bb; (void)ccx; (void)ccy; (void)F; (void)ue; (void)bo; (void)cox; (void)coy; (void)en;
+    (void)kc; (void)xa; (void)ya; (void)pa; (void)bb; (void)ccx; (void)ccy; (void)F; (void)ue; (void)bo; (void)cox; (void)coy; (void)bk; (void)en;
     return ne * 0;
 }
 static int rj__node_none(int cnt, int n, const double *un, const rj__adv *a, const double *F, const double *x,
@@ -1488,7 +1480,6 @@ static int rj__node_none(int cnt, int n, const double *un, const rj__adv *a, con
     (void)n; (void)un; (void)a; (void)F; (void)x; (void)y; (void)phi; (void)store; (void)en;
     return cnt * 0;
 }
-static void rj__copy1(double *d, const double *s, int n) { memcpy(d, s, sizeof(double) * (size_t)n); }
 RJ__BEAM_PASS(rj__beam_pass1, , 1, rj__elem_none, rj__node_none, 0, RJ__RESTRICT)
 RJ__BEAM_PASS(rj__beam_pass1ip, , 1, rj__elem_none, rj__node_none, 1, )
 #endif
