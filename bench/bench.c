@@ -2080,6 +2080,7 @@ int main(int argc, char **argv)
             fprintf(g, "| build `%s` (%s) | 20 elements | 200 | 2000 | deployment, paper's settings (wall / CPU) |\n|---|---:|---:|---:|---:|\n", BENCH_CFLAGS, compiler());
             fprintf(g, "| ns per element-step (median of %d) / s | **%.2f** | **%.2f** | **%.2f** | **%.3f s** / %.3f s |\n", S.tp_runs, tp[0].ns_med, tp[1].ns_med, tp[2].ns_med, paper_med, paper_cpu);
             fprintf(g, "| the same, `solver.energy_every = 16` | **%.2f** | **%.2f** | **%.2f** | **%.3f s** / %.3f s |\n", tp16[0].ns_med, tp16[1].ns_med, tp16[2].ns_med, paper16_med, paper16_cpu);
+            fprintf(g, "| the same, `solver.in_place` off (double-buffered; only 2000 elements step in place with AUTO) | %.2f | %.2f | **%.2f** | |\n", tpdb[0].ns_med, tpdb[1].ns_med, tpdb[2].ns_med);
             fprintf(g, "\n(machine speed at this build's run: %.0f ms by `calibrate()`, comparable with the figures at the top)\n", CAL0);
             if (g != stdout) fclose(g);
             return 0;
