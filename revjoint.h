@@ -245,7 +245,7 @@ typedef struct rj_joint_def {
    a blow-up is caught up to K - 1 steps later. Rigid-only scenes take it every step.
    in_place (rj_in_place, default AUTO): the step advances the nodes and elements where they
    are instead of into a second frame, which halves what a large model moves through the
-   caches (about 1.3x faster at 2000 elements, BENCHMARKS.md); it keeps a copy of the state
+   caches (1.36-1.49x faster at 2000 elements in make bench, README); it keeps a copy of the state
    at most 64 steps old and, when a step fails, takes the steps since it again, so a failed
    step leaves the state as it was either way, and the results are the same bits. It costs a
    third frame of memory, and a few copies per step that only pay from a few hundred nodes

@@ -10,7 +10,8 @@
      cc -std=gnu99 -O2 -mavx2 -ffp-contract=off bench/floor.c -o build/floor -lm
      build/floor N [blocks]     prints min and median ns per element-step over the blocks
    (about 2 ms each), in place and double-buffered alternately, for a link of N elements
-   (N a multiple of 4) at revjoint.h's stability bound for it. */
+   (N a multiple of 4) at revjoint.h's stability bound for it, and the clock rate, from a
+   chain of dependent 64-bit multiplies (3 cycles each on current x86 cores). */
 #define _POSIX_C_SOURCE 199309L
 #define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
@@ -34,6 +35,25 @@ static double now(void)
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
     return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+/* GHz from a chain of dependent multiplies, best of 5 runs of 2e8 */
+static double clock_ghz(void)
+{
+    double best = 0;
+    int r;
+    for (r = 0; r < 5; r++) {
+        volatile unsigned long long seed = 3;
+        unsigned long long x = seed;
+        long i;
+        const double a = now();
+        for (i = 0; i < 50000000L; i++) __asm__ volatile("imul %0, %0\n\timul %0, %0\n\timul %0, %0\n\timul %0, %0" : "+r"(x));
+        {
+            const double t = now() - a, g = 3.0 * 2e8 / t / 1e9;
+            if (g > best) best = g;
+        }
+        seed = x;
+    }
+    return best;
 }
 static int cmp(const void *a, const void *b)
 {
@@ -144,8 +164,8 @@ int main(int argc, char **argv)
             t[v][b] = (now() - a) * 1e9 / ((double)K * N);
         }
     for (v = 0; v < 2; v++) { qsort(t[v], (size_t)B, sizeof(double), cmp); tip[v] = L[v].a.y[N]; }
-    printf("%d elements, %d blocks of %ld steps: in place min %.2f median %.2f ns per element-step; double-buffered min %.2f median %.2f (tip y %.9g, %.9g)\n",
-           N, B, K, t[0][0], t[0][B / 2], t[1][0], t[1][B / 2], tip[0], tip[1]);
+    printf("%d elements, %d blocks of %ld steps: in place min %.2f median %.2f ns per element-step; double-buffered min %.2f median %.2f (tip y %.9g, %.9g); clock %.2f GHz\n",
+           N, B, K, t[0][0], t[0][B / 2], t[1][0], t[1][B / 2], tip[0], tip[1], clock_ghz());
     for (v = 0; v < 2; v++) { free(L[v].a.x < L[v].o.x ? L[v].a.x : L[v].o.x); free(t[v]); }
     rj_model_destroy(m, NULL);
     return 0;
