@@ -1233,7 +1233,9 @@ RJ__ELEM_LANES(4, rj__vd4, rj__vl4, RJ__AVX2)
    atan(r) of the small per-step chord turn r by its series r - r^3/3 + r^5/5 (error
    < r^7/7 < 2e-20 for |r| < 2e-3; a chord turns about omega dt, 1e-5 in the deployment).
    Returns -1 when some chord turned more than that, or turned back, and the exact path
-   must redo the chunk, else ne. F: row FX of the chunk buffer at the chunk's first element. */
+   must redo the chunk, else ne. F: row FX of the chunk buffer at the chunk's first element.
+   bk (in place, where bo, cox, coy are bb, ccx, ccy; else NULL): each element's old values
+   go there first, rows of RJ__CHUNK as in RJ__ELEM_STEP. */
 static int rj__elem_scalar(int i, int ne, const double *kc, const double *xa, const double *ya, const double *pa,
                            const double *bb, const double *ccx, const double *ccy, double *F, double *ue,
                            double *bo, double *cox, double *coy, double *bk)
@@ -1389,7 +1391,9 @@ static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, 
    later (m->dnode); with adv->en clear the lanes leave eu stale. The pass is compiled once
    per lane width W (ELEM, NODE: that width's lane loops) so that the kernels inline into it
    and the CPU is asked once per step; it returns whether eu is complete (rj__beam_pass then
-   sums it into the strain energy). It calls no other code on its way out: a function compiled for AVX2
+   sums it into the strain energy). IP: compiled in place (the step's rj_model.ip), where
+   beta_out .. cy_out are beta .. cy and the step's nodes are advanced where they are; RQ:
+   restrict, except in place. It calls no other code on its way out: a function compiled for AVX2
    that jumps into SSE code without clearing the registers' upper halves (gcc 12 left out
    its vzeroupper before such a tail call) makes every later SSE instruction of the step
    pay for them (the paper's settings ran 1.3x slower). */
