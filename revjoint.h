@@ -1443,8 +1443,8 @@ ATTR static int NAME(const rj_model *m, const double *x, const double *y, const 
                 /* a chord turned more than 0.02 rad in one step: exact angles for this chunk */                                                      \
                 for (i = 0; i < nc; i++) {                                                                                                            \
                     const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];                                                                      \
-                    const double ox = ip ? RJ__OLD(ccx, 1) : ccx[i], oy = ip ? RJ__OLD(ccy, 2) : ccy[i];                                              \
-                    const double bt = (ip ? RJ__OLD(bb, 0) : bb[i]) + atan2(ox * ey - oy * ex, ox * ex + oy * ey);                                    \
+                    const double ox = RJ__OLD(ccx, 1), oy = RJ__OLD(ccy, 2);   /* nb is 0 unless in place */                                       \
+                    const double bt = RJ__OLD(bb, 0) + atan2(ox * ey - oy * ex, ox * ex + oy * ey);                                                    \
                     RJ__ELEM_FORCES(double, ex, ey, bt, 1.0 / (ex * ex + ey * ey), pa[i], pa[i + 1]);                                                 \
                     bo[i] = bt; if (ip) { cx_out[a + i] = ex; cy_out[a + i] = ey; }   /* (the lanes may not have) */                                    \
                     FX[1 + i] = fx_; FY[1 + i] = fy_; M1[1 + i] = ma_; M2[1 + i] = mb_; ue[i] = u_;                                                   \
