@@ -5,6 +5,8 @@
      in place        every array is read and written where it is (9 arrays per node)
      double-buffered the results go to a second set of arrays, swapped each step (18), as
                      revjoint.h's step with solver.in_place off
+   and, alternately with them, revjoint.h's own rj_step on that link (solver.energy_every
+   16, in_place ON), to say how far the library is from its arithmetic alone.
    It measured the gap that led to solver.in_place (README, "Step cost"). Not part of make
    test or make bench; x86-64 with AVX2:
      cc -std=gnu99 -O2 -mavx2 -ffp-contract=off bench/floor.c -o build/floor -lm
@@ -127,7 +129,9 @@ int main(int argc, char **argv)
     rj_model *m;
     rj_error err;
     link L[2];
-    double *t[2], tip[2];
+    rj_model *ml;
+    rj_state *sl;
+    double *t[3], tip[2];
     long K, k;
     int v, b, i;
     if (N < 4 || N % 4 || B < 1 || B > 100000) { fprintf(stderr, "usage: floor N [blocks]  (N a multiple of 4)\n"); return 2; }
@@ -135,6 +139,10 @@ int main(int argc, char **argv)
     ld.height = 0.01; ld.elements = N; ld.omega = 1.0;
     sc.links = &ld; sc.link_count = 1;
     if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { fprintf(stderr, "floor: %s\n", err.msg); return 1; }
+    sc.solver.energy_every = 16; sc.solver.in_place = RJ_IN_PLACE_ON;
+    if (rj_model_create(&sc, &ml, &err, NULL) != RJ_OK || rj_state_create(ml, &sl, NULL) != RJ_OK) { fprintf(stderr, "floor: %s\n", err.msg); return 1; }
+    t[2] = (double *)malloc(sizeof(double) * (size_t)B);
+    if (!t[2]) return 1;
     for (v = 0; v < 2; v++) {
         double *mem = (double *)calloc(18 * (size_t)(N + 8), sizeof(double));
         double **pa[9], **po[9];
@@ -157,15 +165,20 @@ int main(int argc, char **argv)
     for (v = 0; v < 2; v++)
         for (k = 0; k < K; k++)
             if (step(&L[v], v)) { fprintf(stderr, "floor: a chord turned too far (step %ld)\n", k); return 1; }
+    for (k = 0; k < K; k++) if (rj_step(ml, sl) != RJ_OK) { fprintf(stderr, "floor: %s\n", rj_state_error(sl)); return 1; }
     for (b = 0; b < B; b++)
-        for (v = 0; v < 2; v++) {
+        for (v = 0; v < 3; v++) {
             const double a = now();
-            for (k = 0; k < K; k++) step(&L[v], v);
+            if (v < 2) for (k = 0; k < K; k++) step(&L[v], v);
+            else for (k = 0; k < K; k++) rj_step(ml, sl);
             t[v][b] = (now() - a) * 1e9 / ((double)K * N);
         }
-    for (v = 0; v < 2; v++) { qsort(t[v], (size_t)B, sizeof(double), cmp); tip[v] = L[v].a.y[N]; }
-    printf("%d elements, %d blocks of %ld steps: in place min %.2f median %.2f ns per element-step; double-buffered min %.2f median %.2f (tip y %.9g, %.9g); clock %.2f GHz\n",
-           N, B, K, t[0][0], t[0][B / 2], t[1][0], t[1][B / 2], tip[0], tip[1], clock_ghz());
+    for (v = 0; v < 3; v++) qsort(t[v], (size_t)B, sizeof(double), cmp);
+    for (v = 0; v < 2; v++) tip[v] = L[v].a.y[N];
+    printf("%d elements, %d blocks of %ld steps: in place min %.2f median %.2f ns per element-step; double-buffered min %.2f median %.2f (tip y %.9g, %.9g); "
+           "rj_step in place min %.2f median %.2f; clock %.2f GHz\n",
+           N, B, K, t[0][0], t[0][B / 2], t[1][0], t[1][B / 2], tip[0], tip[1], t[2][0], t[2][B / 2], clock_ghz());
+    free(t[2]); rj_state_destroy(sl, NULL); rj_model_destroy(ml, NULL);
     for (v = 0; v < 2; v++) { free(L[v].a.x < L[v].o.x ? L[v].a.x : L[v].o.x); free(t[v]); }
     rj_model_destroy(m, NULL);
     return 0;
