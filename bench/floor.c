@@ -13,10 +13,19 @@
      build/floor N [blocks]     prints min and median ns per element-step over the blocks
    (about 2 ms each), in place and double-buffered alternately, for a link of N elements
    (N a multiple of 4) at revjoint.h's stability bound for it, and the clock rate, from a
-   chain of dependent 64-bit multiplies (3 cycles each on current x86 cores). */
+   chain of dependent 64-bit multiplies (3 cycles each on current x86 cores).
+     build/floor paper [blocks] the same for the deployment at the paper's settings (SPEC 9.2:
+                                two links of 10 elements, dt = 7.5 us): the arithmetic for its
+                                two links (where 4 does not divide 10: in place, whole lanes
+                                then a scalar tail; double-buffered, the last 4 again, as
+                                revjoint.h's passes do) against rj_step on the deployment (solver.energy_every
+                                16, joints and all), alternately, in blocks that together take
+                                the paper's 800 000 steps; prints ns per step and the seconds
+                                the 800 000 steps took. */
 #define _POSIX_C_SOURCE 199309L
 #define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
+#include "../examples/scenes.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -63,7 +72,9 @@ static int cmp(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-/* One step: in place (dbl 0) or into L->o, then swapped (dbl 1). Returns nonzero when a
+/* One step: in place (dbl 0) or into L->o, then swapped (dbl 1). Where 4 does not divide
+   the count, in place ends with a scalar tail and double-buffered with the last 4 elements
+   (nodes) again, from the same inputs (the loop conditions' second half). Returns nonzero when a
    chord turned too far for the series (revjoint.h would take its exact path). */
 static int step(link *L, int dbl)
 {
@@ -80,7 +91,7 @@ static int step(link *L, int dbl)
         double *ovx = O->vx + c0, *ovy = O->vy + c0, *ow = O->w + c0;
         vl okv = { -1, -1, -1, -1 };
         int i;
-        for (i = 0; i < nc; i += 4) {
+        for (i = 0; i + 4 <= nc || (dbl && i < nc && nc >= 4 && (i = nc - 4, 1)); i += 4) {
             vd x0, x1, y0, y1, p0, p1, bb, ccx, ccy, ex, ey;
             LD(x0, x + i); LD(x1, x + i + 1); LD(y0, y + i); LD(y1, y + i + 1); LD(p0, p + i); LD(p1, p + i + 1);
             LD(bb, b + i); LD(ccx, cx + i); LD(ccy, cy + i);
@@ -97,9 +108,20 @@ static int step(link *L, int dbl)
                 ST(FX + 1 + i, fx); ST(FY + 1 + i, fy); ST(M1 + 1 + i, ma); ST(M2 + 1 + i, mb);
             }
         }
+        for (; i < nc; i++) {   /* the scalar tail (the paper's links of 10) */
+            const double ex = x[i + 1] - x[i], ey = y[i + 1] - y[i];
+            const double cr = cx[i] * ey - cy[i] * ex, dp = cx[i] * ex + cy[i] * ey, L2 = ex * ex + ey * ey, inv = 1.0 / (dp * L2);
+            const double r = cr * L2 * inv, invL2 = dp * inv, r2 = r * r;
+            const double bt = b[i] + r * (1.0 - r2 * (1.0 / 3.0 - r2 * (1.0 / 5.0)));
+            const double tha = p[i] - bt, thb = p[i + 1] - bt, ma = kb * (4.0 * tha + 2.0 * thb), mb = kb * (2.0 * tha + 4.0 * thb);
+            const double eps = (L2 - l0sq) * h, nax = kax * eps, sv = (ma + mb) * invL2;
+            bad |= !(r2 < 4e-6) | !(dp > 0.0);
+            ob[i] = bt; ocx[i] = ex; ocy[i] = ey;
+            FX[1 + i] = -nax * ex - sv * ey; FY[1 + i] = -nax * ey + sv * ex; M1[1 + i] = ma; M2[1 + i] = mb;
+        }
         for (k = 0; k < 4; k++) bad |= !okv[k];
         if (last) FX[nc + 1] = FY[nc + 1] = M1[nc + 1] = 0;
-        for (k = 0; k + 4 <= cnt; k += 4) {
+        for (k = 0; k + 4 <= cnt || (dbl && k < cnt && cnt >= 4 && (k = cnt - 4, 1)); k += 4) {
             vd f0, f1, g0, g1, m1, m2, fxv, fyv, mzv, v1, v2, v3, t;
             LD(f0, FX + k); LD(f1, FX + k + 1); LD(g0, FY + k); LD(g1, FY + k + 1); LD(m2, M2 + k); LD(m1, M1 + k + 1);
             fxv = f0 - f1; fyv = g0 - g1; mzv = -m2 - m1;
@@ -121,65 +143,106 @@ static int step(link *L, int dbl)
     return bad;
 }
 
+/* The arrays of link l of model m for variant v, from the model's initial state. */
+static int setup(link *L, const rj_model *m, int l)
+{
+    const int n0 = m->link_first[l], e0 = m->link_efirst[l], N = m->link_efirst[l + 1] - e0;
+    double *mem = (double *)calloc(18 * (size_t)(N + 8), sizeof(double));
+    double **pa[9], **po[9];
+    int i;
+    if (!mem) return 0;
+    pa[0] = &L->a.x; pa[1] = &L->a.y; pa[2] = &L->a.p; pa[3] = &L->a.vx; pa[4] = &L->a.vy; pa[5] = &L->a.w; pa[6] = &L->a.b; pa[7] = &L->a.cx; pa[8] = &L->a.cy;
+    po[0] = &L->o.x; po[1] = &L->o.y; po[2] = &L->o.p; po[3] = &L->o.vx; po[4] = &L->o.vy; po[5] = &L->o.w; po[6] = &L->o.b; po[7] = &L->o.cx; po[8] = &L->o.cy;
+    for (i = 0; i < 9; i++) { *pa[i] = mem + (size_t)i * (N + 8); *po[i] = mem + (size_t)(9 + i) * (N + 8); }
+    L->ne = N;
+    L->kb = m->link_kc[4 * l]; L->kax = m->link_kc[4 * l + 1]; L->l0sq = m->link_kc[4 * l + 2]; L->h = m->link_kc[4 * l + 3];
+    L->ti = m->link_un[5 * l]; L->ri = m->link_un[5 * l + 1]; L->dt = rj_model_dt(m);
+    for (i = 0; i <= N; i++) {
+        L->a.x[i] = m->x0[n0 + i]; L->a.y[i] = m->y0[n0 + i]; L->a.p[i] = m->phi0[n0 + i];
+        L->a.vx[i] = m->vx0[n0 + i]; L->a.vy[i] = m->vy0[n0 + i]; L->a.w[i] = m->w0[n0 + i];
+    }
+    for (i = 0; i < N; i++) {
+        L->a.b[i] = m->beta0[e0 + i]; L->a.cx[i] = m->x0[n0 + i + 1] - m->x0[n0 + i]; L->a.cy[i] = m->y0[n0 + i + 1] - m->y0[n0 + i];
+    }
+    return 1;
+}
+
 int main(int argc, char **argv)
 {
-    const int N = argc > 1 ? atoi(argv[1]) : 2000, B = argc > 2 ? atoi(argv[2]) : 201;
+    const int paper = argc > 1 && !strcmp(argv[1], "paper");
+    const int N = paper ? 20 : argc > 1 ? atoi(argv[1]) : 2000, B = argc > 2 ? atoi(argv[2]) : paper ? 101 : 201;
+    const int nl = paper ? 2 : 1;
     rj_link_def ld = rj_default_link_def();
     rj_scene_def sc = rj_default_scene_def();
-    rj_model *m;
+    deploy_opts o = deploy_default_opts();
+    rj_model *m = NULL;
     rj_error err;
-    link L[2];
-    rj_model *ml;
+    link L[2][2];
+    rj_model *ml = NULL;
     rj_state *sl;
-    double *t[3], tip[2];
+    double *t[3], tot[3] = { 0, 0, 0 }, tip[2];
     long K, k;
-    int v, b, i;
-    if (N < 4 || N % 4 || B < 1 || B > 100000) { fprintf(stderr, "usage: floor N [blocks]  (N a multiple of 4)\n"); return 2; }
-    /* the bench's free link (BENCHMARKS.md section 1), for its constants and dt */
-    ld.height = 0.01; ld.elements = N; ld.omega = 1.0;
-    sc.links = &ld; sc.link_count = 1;
-    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { fprintf(stderr, "floor: %s\n", err.msg); return 1; }
-    sc.solver.energy_every = 16; sc.solver.in_place = RJ_IN_PLACE_ON;
-    if (rj_model_create(&sc, &ml, &err, NULL) != RJ_OK || rj_state_create(ml, &sl, NULL) != RJ_OK) { fprintf(stderr, "floor: %s\n", err.msg); return 1; }
+    int v, b, l;
+    if ((!paper && (N < 4 || N % 4)) || B < 1 || B > 100000) { fprintf(stderr, "usage: floor N [blocks]  (N a multiple of 4) | floor paper [blocks]\n"); return 2; }
+    if (paper) {
+        /* the deployment (examples/scenes.h), energy accounts every 16 steps; the floor uses
+           its links' constants, dt and initial state */
+        o.energy_every = 16;
+        if (deploy_build(&o, &ml, &err) != RJ_OK) { fprintf(stderr, "floor: %s\n", err.msg); return 1; }
+        m = ml;
+    } else {
+        /* the bench's free link (BENCHMARKS.md section 1), for its constants and dt */
+        ld.height = 0.01; ld.elements = N; ld.omega = 1.0;
+        sc.links = &ld; sc.link_count = 1;
+        if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { fprintf(stderr, "floor: %s\n", err.msg); return 1; }
+        sc.solver.energy_every = 16; sc.solver.in_place = RJ_IN_PLACE_ON;
+        if (rj_model_create(&sc, &ml, &err, NULL) != RJ_OK) { fprintf(stderr, "floor: %s\n", err.msg); return 1; }
+    }
+    if (rj_state_create(ml, &sl, NULL) != RJ_OK) return 1;
     t[2] = (double *)malloc(sizeof(double) * (size_t)B);
     if (!t[2]) return 1;
     for (v = 0; v < 2; v++) {
-        double *mem = (double *)calloc(18 * (size_t)(N + 8), sizeof(double));
-        double **pa[9], **po[9];
-        if (!mem) return 1;
-        pa[0] = &L[v].a.x; pa[1] = &L[v].a.y; pa[2] = &L[v].a.p; pa[3] = &L[v].a.vx; pa[4] = &L[v].a.vy; pa[5] = &L[v].a.w; pa[6] = &L[v].a.b; pa[7] = &L[v].a.cx; pa[8] = &L[v].a.cy;
-        po[0] = &L[v].o.x; po[1] = &L[v].o.y; po[2] = &L[v].o.p; po[3] = &L[v].o.vx; po[4] = &L[v].o.vy; po[5] = &L[v].o.w; po[6] = &L[v].o.b; po[7] = &L[v].o.cx; po[8] = &L[v].o.cy;
-        for (i = 0; i < 9; i++) { *pa[i] = mem + (size_t)i * (N + 8); *po[i] = mem + (size_t)(9 + i) * (N + 8); }
-        L[v].ne = N;
-        L[v].kb = m->link_kc[0]; L[v].kax = m->link_kc[1]; L[v].l0sq = m->link_kc[2]; L[v].h = m->link_kc[3];
-        L[v].ti = m->link_un[0]; L[v].ri = m->link_un[1]; L[v].dt = rj_model_dt(m);
-        for (i = 0; i <= N; i++) {
-            L[v].a.x[i] = m->x0[i]; L[v].a.y[i] = m->y0[i]; L[v].a.p[i] = m->phi0[i];
-            L[v].a.vx[i] = m->vx0[i]; L[v].a.vy[i] = m->vy0[i]; L[v].a.w[i] = m->w0[i];
-        }
-        for (i = 0; i < N; i++) { L[v].a.b[i] = m->beta0[i]; L[v].a.cx[i] = m->x0[i + 1] - m->x0[i]; L[v].a.cy[i] = m->y0[i + 1] - m->y0[i]; }
+        for (l = 0; l < nl; l++) if (!setup(&L[v][l], m, l)) return 1;
         t[v] = (double *)malloc(sizeof(double) * (size_t)B);
         if (!t[v]) return 1;
     }
-    K = 200000 / N + 1;
-    for (v = 0; v < 2; v++)
-        for (k = 0; k < K; k++)
-            if (step(&L[v], v)) { fprintf(stderr, "floor: a chord turned too far (step %ld)\n", k); return 1; }
-    for (k = 0; k < K; k++) if (rj_step(ml, sl) != RJ_OK) { fprintf(stderr, "floor: %s\n", rj_state_error(sl)); return 1; }
+    /* blocks of about 2 ms; for the paper, blocks that add up to its 800 000 steps (the
+       library's run is the paper's run, timed in pieces) */
+    K = paper ? 800000 / B : 200000 / N + 1;
+    if (!paper) {   /* warm-up */
+        for (v = 0; v < 2; v++)
+            for (k = 0; k < K; k++)
+                if (step(&L[v][0], v)) { fprintf(stderr, "floor: a chord turned too far (step %ld)\n", k); return 1; }
+        for (k = 0; k < K; k++) if (rj_step(ml, sl) != RJ_OK) { fprintf(stderr, "floor: %s\n", rj_state_error(sl)); return 1; }
+    }
     for (b = 0; b < B; b++)
         for (v = 0; v < 3; v++) {
             const double a = now();
-            if (v < 2) for (k = 0; k < K; k++) step(&L[v], v);
-            else for (k = 0; k < K; k++) rj_step(ml, sl);
-            t[v][b] = (now() - a) * 1e9 / ((double)K * N);
+            int bad = 0;
+            if (v < 2) for (k = 0; k < K; k++) for (l = 0; l < nl; l++) bad |= step(&L[v][l], v);
+            else for (k = 0; k < K; k++) bad |= rj_step(ml, sl) != RJ_OK;
+            t[v][b] = (now() - a) * 1e9 / ((double)K * (paper ? 1 : N));
+            tot[v] += t[v][b] * 1e-9 * (double)K * (paper ? 1 : N);
+            if (bad) { fprintf(stderr, "floor: %s\n", v < 2 ? "a chord turned too far" : rj_state_error(sl)); return 1; }
         }
     for (v = 0; v < 3; v++) qsort(t[v], (size_t)B, sizeof(double), cmp);
-    for (v = 0; v < 2; v++) tip[v] = L[v].a.y[N];
-    printf("%d elements, %d blocks of %ld steps: in place min %.2f median %.2f ns per element-step; double-buffered min %.2f median %.2f (tip y %.9g, %.9g); "
-           "rj_step in place min %.2f median %.2f; clock %.2f GHz\n",
-           N, B, K, t[0][0], t[0][B / 2], t[1][0], t[1][B / 2], tip[0], tip[1], t[2][0], t[2][B / 2], clock_ghz());
-    free(t[2]); rj_state_destroy(sl, NULL); rj_model_destroy(ml, NULL);
-    for (v = 0; v < 2; v++) { free(L[v].a.x < L[v].o.x ? L[v].a.x : L[v].o.x); free(t[v]); }
-    rj_model_destroy(m, NULL);
+    for (v = 0; v < 2; v++) tip[v] = L[v][nl - 1].a.y[L[v][nl - 1].ne];
+    if (paper)
+        printf("paper's settings (2 links of 10 elements, dt %.3g s), %d blocks of %ld steps (%ld in all, %.4g s simulated):\n"
+               "  arithmetic in place: min %.1f median %.1f ns per step, %.3f s in all; double-buffered: min %.1f median %.1f, %.3f s (tip y %.9g, %.9g)\n"
+               "  rj_step (energy_every 16): min %.1f median %.1f ns per step, %.3f s in all (t = %.6f s); clock %.2f GHz\n",
+               rj_model_dt(ml), B, K, B * K, rj_state_time(sl), t[0][0], t[0][B / 2], tot[0], t[1][0], t[1][B / 2], tot[1], tip[0], tip[1],
+               t[2][0], t[2][B / 2], tot[2], rj_state_time(sl), clock_ghz());
+    else
+        printf("%d elements, %d blocks of %ld steps: in place min %.2f median %.2f ns per element-step; double-buffered min %.2f median %.2f (tip y %.9g, %.9g); "
+               "rj_step in place min %.2f median %.2f; clock %.2f GHz\n",
+               N, B, K, t[0][0], t[0][B / 2], t[1][0], t[1][B / 2], tip[0], tip[1], t[2][0], t[2][B / 2], clock_ghz());
+    free(t[2]); rj_state_destroy(sl, NULL);
+    for (v = 0; v < 2; v++) {
+        for (l = 0; l < nl; l++) free(L[v][l].a.x < L[v][l].o.x ? L[v][l].a.x : L[v][l].o.x);
+        free(t[v]);
+    }
+    if (m != ml) rj_model_destroy(m, NULL);
+    rj_model_destroy(ml, NULL);
     return 0;
 }
