@@ -143,7 +143,7 @@ static int step(link *L, int dbl)
     return bad;
 }
 
-/* The arrays of link l of model m for variant v, from the model's initial state. */
+/* One variant's arrays for link l of model m, from the model's initial state. */
 static int setup(link *L, const rj_model *m, int l)
 {
     const int n0 = m->link_first[l], e0 = m->link_efirst[l], N = m->link_efirst[l + 1] - e0;
@@ -218,11 +218,13 @@ int main(int argc, char **argv)
     for (b = 0; b < B; b++)
         for (v = 0; v < 3; v++) {
             const double a = now();
+            double e;
             int bad = 0;
             if (v < 2) for (k = 0; k < K; k++) for (l = 0; l < nl; l++) bad |= step(&L[v][l], v);
             else for (k = 0; k < K; k++) bad |= rj_step(ml, sl) != RJ_OK;
-            t[v][b] = (now() - a) * 1e9 / ((double)K * (paper ? 1 : N));
-            tot[v] += t[v][b] * 1e-9 * (double)K * (paper ? 1 : N);
+            e = now() - a;
+            t[v][b] = e * 1e9 / ((double)K * (paper ? 1 : N));
+            tot[v] += e;
             if (bad) { fprintf(stderr, "floor: %s\n", v < 2 ? "a chord turned too far" : rj_state_error(sl)); return 1; }
         }
     for (v = 0; v < 3; v++) qsort(t[v], (size_t)B, sizeof(double), cmp);
