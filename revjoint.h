@@ -95,7 +95,7 @@ typedef enum rj_result {
     RJ_ERR_NOMEM,        /* allocation failed or caller's block too small */
     RJ_ERR_UNSTABLE_DT,  /* dt above the stability bound and not overridden */
     RJ_ERR_BLOWUP,       /* non-finite value or energy growth beyond the bound */
-    RJ_ERR_TUNNEL,       /* a joint turned more than half a revolution in one step */
+    RJ_ERR_TUNNEL,       /* a joint turned more than a quarter revolution (pi/2 rad) in one step */
     RJ_ERR_CHECKPOINT,   /* a checkpoint buffer is truncated, corrupted or for another model */
     RJ_ERR_PARSE         /* scene text malformed */
 } rj_result;
@@ -320,6 +320,11 @@ RJDEF long rj_state_warning_count(const rj_state *s);
 RJDEF const char *rj_state_warning(const rj_state *s);
 
 /* Model queries. */
+/* Warnings about the definitions, found while building (a limit the joint starts past,
+   or that its spring never drives it to): their number, and their text, one per line
+   ("" when none). The model is built and usable either way. */
+RJDEF int rj_model_warning_count(const rj_model *m);
+RJDEF const char *rj_model_warnings(const rj_model *m);
 RJDEF double rj_model_dt(const rj_model *m);             /* s, step in use */
 RJDEF double rj_model_dt_bound(const rj_model *m);       /* s, 2/omega_max of the linearised model */
 RJDEF double rj_model_omega_max(const rj_model *m);      /* rad/s */
@@ -470,6 +475,7 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
 #if defined(REVJOINT_IMPLEMENTATION) && !defined(REVJOINT_IMPLEMENTATION_DONE)
 #define REVJOINT_IMPLEMENTATION_DONE
 #include <math.h>
+#include <float.h>
 #include <string.h>
 #include <stdio.h>
 #include <stdarg.h>
@@ -575,6 +581,11 @@ typedef long long rj__vl4 __attribute__((vector_size(32)));
 #define RJ__CREATED 0.02
 /* joints whose spring stiffness is remembered while the bound is searched (more use the spring) */
 #define RJ__BOUND_JOINTS 256
+/* Nodes a model may hold: node indices are ints, and the building scratch indexes up to
+   25 values per node with them */
+#define RJ__MAX_NODES 50000000
+/* ints of scratch the joint-graph checks take (rj__validate_graph) */
+#define RJ__GRAPH_SCRATCH(nl, nj) (2 * (size_t)(nl) + (size_t)(nj) + 1)
 
 /* ------------------------------------------------------------------ internal types */
 typedef struct rj__joint {
@@ -608,6 +619,7 @@ struct rj_model {
     int *jorder;              /* (nj) joints with parents before children */
     double *jpin, *jref;      /* (nj) pin distance along body 1 from its root; reference offset (pi or 0) */
     double dt, dt_bound, omega_max, dt_eq28, omega_links;
+    double damp_rate;         /* 1/s, the fastest joint damping rate (rj__damping_rate) */
     rj_solver_def solver;
     rj_link_def *ldef;        /* (nl) */
     rj_joint_def *jdef;       /* (nj) */
@@ -651,6 +663,8 @@ struct rj_model {
     double *x0, *y0, *phi0, *vx0, *vy0, *w0; /* (nn) initial conditions */
     double *beta0;            /* (ne) initial chord angles */
     double *lz;               /* Lanczos scratch (9 nn), used while building only */
+    int nwarn;                /* warnings about the definitions (rj_model_warnings) */
+    char warnings[1024];      /* their text, one per line */
     size_t frame_doubles;     /* doubles in a frame */
     size_t frame_ints;
 };
@@ -670,7 +684,7 @@ struct rj_state {
     double *eu, *ebt;         /* (ne) element strain energies; scratch (chord angles at reset, SHAKE's active flags) */
     double *jsc;              /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
     double *rsc;              /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch); mixed: body impulses (3 nl) */
-    char err[320];
+    char err[640];
     char warn[200];           /* latest warning (late contact), written only when one occurs */
 };
 
@@ -709,16 +723,37 @@ static double rj__wrap(double a)
 }
 static int rj__finite(double x) { return x == x && x - x == 0.0; }
 
+/* Appends text to a NUL-terminated buffer, as much as fits. */
+static void rj__cat(char *buf, size_t size, const char *text)
+{
+    size_t n = strlen(buf);
+    while (*text && n + 1 < size) buf[n++] = *text++;
+    buf[n] = 0;
+}
+
+/* A message that did not fit its buffer (vsnprintf wanted `wanted` chars) ends at its last
+   whole word with "...", never in the middle of one. */
+static void rj__fit_words(char *buf, size_t size, int wanted)
+{
+    size_t end;
+    if (wanted >= 0 && (size_t)wanted < size) return;
+    end = size - 4;
+    while (end > 0 && buf[end] != ' ') end--;
+    memcpy(buf + end, "...", 4);
+}
+
 static void rj__fail(rj_error *err, rj_result code, const char *field, double value, const char *fmt, ...)
 {
     va_list ap;
+    int wanted;
     if (!err) return;
     err->code = code;
     snprintf(err->field, sizeof err->field, "%s", field);
     err->value = value;
     va_start(ap, fmt);
-    vsnprintf(err->msg, sizeof err->msg, fmt, ap);
+    wanted = vsnprintf(err->msg, sizeof err->msg, fmt, ap);
     va_end(ap);
+    rj__fit_words(err->msg, sizeof err->msg, wanted);
 }
 
 RJDEF const char *rj_result_str(rj_result r)
@@ -729,7 +764,7 @@ RJDEF const char *rj_result_str(rj_result r)
     case RJ_ERR_NOMEM: return "out of memory";
     case RJ_ERR_UNSTABLE_DT: return "time step above the stability bound";
     case RJ_ERR_BLOWUP: return "numerical blow-up";
-    case RJ_ERR_TUNNEL: return "joint turned more than a quarter revolution in one step";
+    case RJ_ERR_TUNNEL: return "joint turned more than a quarter revolution (pi/2 rad) in one step";
     case RJ_ERR_CHECKPOINT: return "bad checkpoint";
     case RJ_ERR_PARSE: return "scene text malformed";
     }
@@ -960,7 +995,6 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
         if (J->body1 == J->body2) { RJ__FIELD(f, "joints[%d].body2", j); rj__fail(err, RJ_ERR_INVALID, f, J->body2, "%s = %d is invalid: a joint cannot connect link %d to itself", f, J->body2, J->body2); return 0; }
         if (J->body1 >= 0 && (J->node1 < -1 || J->node1 > sc->links[J->body1].elements)) { RJ__FIELD(f, "joints[%d].node1", j); rj__fail(err, RJ_ERR_INVALID, f, J->node1, "%s = %d is invalid: a node 0..%d of link %d, or -1 for its last node", f, J->node1, sc->links[J->body1].elements, J->body1); return 0; }
         if (sc->links[J->body2].root != RJ_ROOT_FREE) { RJ__FIELD(f, "links[%d].root", J->body2); rj__fail(err, RJ_ERR_INVALID, f, sc->links[J->body2].root, "%s = %d is invalid: link %d is body2 of joint %d, its root must be RJ_ROOT_FREE", f, sc->links[J->body2].root, J->body2, j); return 0; }
-        for (k = 0; k < j; k++) if (sc->joints[k].body2 == J->body2) { RJ__FIELD(f, "joints[%d].body2", j); rj__fail(err, RJ_ERR_INVALID, f, J->body2, "%s = %d is invalid: link %d is already body2 of joint %d (a link hangs from one joint)", f, J->body2, J->body2, k); return 0; }
         RJ__FIELD(f, "joints[%d].ground_x", j); if (!rj__check_num(err, f, J->ground_x, -inf, 0, inf, 0, "must be finite")) return 0;
         RJ__FIELD(f, "joints[%d].ground_y", j); if (!rj__check_num(err, f, J->ground_y, -inf, 0, inf, 0, "must be finite")) return 0;
         RJ__FIELD(f, "joints[%d].ground_angle", j); if (!rj__check_num(err, f, J->ground_angle, -inf, 0, inf, 0, "must be finite")) return 0;
@@ -981,6 +1015,7 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
         if (J->lock != 0 && J->lock != 1) { RJ__FIELD(f, "joints[%d].lock", j); rj__fail(err, RJ_ERR_INVALID, f, J->lock, "%s = %d is invalid: 0 or 1", f, J->lock); return 0; }
         RJ__FIELD(f, "joints[%d].forward", j); if (!rj__check_num(err, f, J->forward, 0, 1, RJ__TWO_PI, 0, "a limit must be in [0, 2 pi) rad")) return 0;
         RJ__FIELD(f, "joints[%d].reverse", j); if (!rj__check_num(err, f, J->reverse, 0, 1, RJ__TWO_PI, 0, "a limit must be in [0, 2 pi) rad")) return 0;
+        if (J->lock && !J->has_forward && !J->has_reverse) { RJ__FIELD(f, "joints[%d].lock", j); rj__fail(err, RJ_ERR_INVALID, f, J->lock, "%s = 1 is invalid: a lock latches at a limit, and joint %d has none (set has_forward or has_reverse)", f, j); return 0; }
         if (J->has_forward && J->has_reverse && J->forward == J->reverse) { RJ__FIELD(f, "joints[%d].forward", j); rj__fail(err, RJ_ERR_INVALID, f, J->forward, "%s = %g is invalid: equal to the reverse limit leaves no free range", f, J->forward); return 0; }
         if (J->method < RJ_METHOD_PENALTY || J->method > RJ_METHOD_ENERGY) { RJ__FIELD(f, "joints[%d].method", j); rj__fail(err, RJ_ERR_INVALID, f, J->method, "%s = %d is invalid: one of RJ_METHOD_PENALTY..RJ_METHOD_ENERGY", f, J->method); return 0; }
         if (J->release != RJ_RELEASE_RC12 && J->release != RJ_RELEASE_RC13) { RJ__FIELD(f, "joints[%d].release", j); rj__fail(err, RJ_ERR_INVALID, f, J->release, "%s = %d is invalid: RJ_RELEASE_RC12 or RJ_RELEASE_RC13", f, J->release); return 0; }
@@ -991,68 +1026,180 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
         RJ__FIELD(f, "joints[%d].friction", j); if (!rj__check_num(err, f, J->friction, 0, 1, inf, 0, "must be >= 0 N m")) return 0;
         if (J->reference != RJ_REF_TANGENT && J->reference != RJ_REF_CHORD) { RJ__FIELD(f, "joints[%d].reference", j); rj__fail(err, RJ_ERR_INVALID, f, J->reference, "%s = %d is invalid: RJ_REF_TANGENT or RJ_REF_CHORD", f, J->reference); return 0; }
     }
-    /* rigid scenes (all links rigid): each link hangs from a joint or is fixed, no energy
-       method. Mixed scenes: a rigid link is one rigid body, with flexible links pinned to it */
-    {
-        int nrig = 0;
-        for (i = 0; i < sc->link_count; i++) {
-            const rj_link_def *L = &sc->links[i];
-            if (L->fidelity != RJ_LINK_FLEXIBLE && L->fidelity != RJ_LINK_RIGID && L->fidelity != RJ_LINK_INEXTENSIBLE) { RJ__FIELD(f, "links[%d].fidelity", i); rj__fail(err, RJ_ERR_INVALID, f, L->fidelity, "%s = %d is invalid: RJ_LINK_FLEXIBLE, RJ_LINK_RIGID or RJ_LINK_INEXTENSIBLE", f, L->fidelity); return 0; }
-            nrig += L->fidelity == RJ_LINK_RIGID;
+    for (i = 0; i < sc->link_count; i++) {
+        const rj_link_def *L = &sc->links[i];
+        if (L->fidelity != RJ_LINK_FLEXIBLE && L->fidelity != RJ_LINK_RIGID && L->fidelity != RJ_LINK_INEXTENSIBLE) { RJ__FIELD(f, "links[%d].fidelity", i); rj__fail(err, RJ_ERR_INVALID, f, L->fidelity, "%s = %d is invalid: RJ_LINK_FLEXIBLE, RJ_LINK_RIGID or RJ_LINK_INEXTENSIBLE", f, L->fidelity); return 0; }
+    }
+    /* mixed scenes: a rigid link is one rigid body, with flexible links pinned to it */
+    if (!rj__all_rigid(sc)) for (j = 0; j < sc->joint_count; j++) {
+        const rj_joint_def *J = &sc->joints[j];
+        const int r1 = J->body1 >= 0 && sc->links[J->body1].fidelity == RJ_LINK_RIGID, r2 = sc->links[J->body2].fidelity == RJ_LINK_RIGID;
+        if (r1 && r2) { RJ__FIELD(f, "joints[%d].body2", j); rj__fail(err, RJ_ERR_INVALID, f, J->body2, "%s = %d is invalid: joint %d pins two rigid links (%d and %d) in a scene with flexible links, which is not supported: make every link rigid, or one of the two flexible", f, J->body2, j, J->body1, J->body2); return 0; }
+        if ((r1 || r2) && J->reference == RJ_REF_CHORD) { RJ__FIELD(f, "joints[%d].reference", j); rj__fail(err, RJ_ERR_INVALID, f, J->reference, "%s = RJ_REF_CHORD is invalid: joint %d holds rigid link %d in a scene with flexible links; use RJ_REF_TANGENT (on a rigid link the chord and the tangent are the same line)", f, j, r1 ? J->body1 : J->body2); return 0; }
+    }
+    if (rj__all_rigid(sc))
+        for (j = 0; j < sc->joint_count; j++) if (sc->joints[j].method == RJ_METHOD_ENERGY) { RJ__FIELD(f, "joints[%d].method", j); rj__fail(err, RJ_ERR_INVALID, f, RJ_METHOD_ENERGY, "%s = RJ_METHOD_ENERGY is not available for rigid links (use momentum with e = 0, forced or adaptive)", f); return 0; }
+    return 1;
+}
+
+/* Node and element totals, counted in size_t; 0 when they pass RJ__MAX_NODES. */
+static int rj__counts(const rj_scene_def *sc, size_t *nn, size_t *ne, rj_error *err)
+{
+    int i;
+    *nn = 0;
+    *ne = 0;
+    for (i = 0; i < sc->link_count; i++) {
+        *nn += (size_t)sc->links[i].elements + 1;
+        *ne += (size_t)sc->links[i].elements;
+    }
+    if (*nn > RJ__MAX_NODES) {
+        rj__fail(err, RJ_ERR_INVALID, "links", (double)*nn,
+                 "the scene has %.0f nodes in all, more than the %d a model can hold (node indices are ints)",
+                 (double)*nn, RJ__MAX_NODES);
+        return 0;
+    }
+    return 1;
+}
+
+/* The link a link hangs from (-1: ground or none), given each link's joint in parent. */
+static int rj__up(const rj_scene_def *sc, const int *parent, int link)
+{
+    return parent[link] >= 0 ? sc->joints[parent[link]].body1 : -1;
+}
+
+/* The node a joint pins on body1 (-1 for ground), numbered across the scene (first[l]:
+   link l's first node), the key the pin check sorts joints by. */
+static long rj__pin_key(const rj_scene_def *sc, const int *first, int j)
+{
+    const rj_joint_def *J = &sc->joints[j];
+    if (J->body1 < 0) return -1;
+    return (long)first[J->body1] + (J->node1 < 0 ? sc->links[J->body1].elements : J->node1);
+}
+
+/* Sorts joint indices by (pin node, index): heap sort, in place and without recursion. */
+static void rj__sort_pins(const rj_scene_def *sc, const int *first, int *idx, int n)
+{
+    int end, root, child, top;
+    for (top = n / 2 - 1, end = n; end > 1 || top >= 0;) {
+        if (top >= 0) root = top--;
+        else {
+            const int t = idx[0];
+            idx[0] = idx[--end];
+            idx[end] = t;
+            root = 0;
         }
-        for (i = 0; i < sc->link_count; i++) {
-            const rj_link_def *L = &sc->links[i];
-            int parent = 0;
-            if (L->fidelity != RJ_LINK_RIGID || nrig < sc->link_count) continue;
-            for (j = 0; j < sc->joint_count; j++) if (sc->joints[j].body2 == i) parent = 1;
-            if (!parent && L->root != RJ_ROOT_FIXED) { RJ__FIELD(f, "links[%d].root", i); rj__fail(err, RJ_ERR_INVALID, f, L->root, "%s = %d is invalid: in a scene of rigid links each must hang from a joint or be RJ_ROOT_FIXED", f, L->root); return 0; }
-        }
-        if (nrig > 0 && nrig < sc->link_count) for (j = 0; j < sc->joint_count; j++) {
-            const rj_joint_def *J = &sc->joints[j];
-            const int r1 = J->body1 >= 0 && sc->links[J->body1].fidelity == RJ_LINK_RIGID, r2 = sc->links[J->body2].fidelity == RJ_LINK_RIGID;
-            int k;
-            if (r1 && r2) { RJ__FIELD(f, "joints[%d].body2", j); rj__fail(err, RJ_ERR_INVALID, f, J->body2, "%s = %d is invalid: joint %d pins two rigid links (%d and %d) in a scene with flexible links, which is not supported: make every link rigid, or one of the two flexible", f, J->body2, j, J->body1, J->body2); return 0; }
-            if ((r1 || r2) && J->reference == RJ_REF_CHORD) { RJ__FIELD(f, "joints[%d].reference", j); rj__fail(err, RJ_ERR_INVALID, f, J->reference, "%s = RJ_REF_CHORD is invalid: joint %d holds rigid link %d in a scene with flexible links; use RJ_REF_TANGENT (on a rigid link the chord and the tangent are the same line)", f, j, r1 ? J->body1 : J->body2); return 0; }
-            /* two rigid links may not share a pin through a flexible node either */
-            if (!r1 && !r2 && J->body1 >= 0) continue;
-            for (k = 0; k < j; k++) {
-                const rj_joint_def *K = &sc->joints[k];
-                const int s1 = K->body1 >= 0 && sc->links[K->body1].fidelity == RJ_LINK_RIGID, s2 = sc->links[K->body2].fidelity == RJ_LINK_RIGID;
-                const int n1 = J->body1 >= 0 ? (J->node1 < 0 ? sc->links[J->body1].elements : J->node1) : -1;
-                const int m1 = K->body1 >= 0 ? (K->node1 < 0 ? sc->links[K->body1].elements : K->node1) : -1;
-                if (J->body1 < 0 || K->body1 != J->body1 || m1 != n1 || !(s1 || s2)) continue;
-                if ((r1 || r2) && (s1 || s2) && (r2 ? J->body2 : J->body1) != (s2 ? K->body2 : K->body1)) {
-                    RJ__FIELD(f, "joints[%d].body1", j);
-                    rj__fail(err, RJ_ERR_INVALID, f, J->body1, "%s = %d is invalid: joints %d and %d pin rigid links %d and %d at the same node in a scene with flexible links, which is not supported", f, J->body1, k, j, s2 ? K->body2 : K->body1, r2 ? J->body2 : J->body1);
-                    return 0;
-                }
+        /* sift idx[root] down among idx[0 .. end) */
+        for (; (child = 2 * root + 1) < end; root = child) {
+            long kc = rj__pin_key(sc, first, idx[child]), kr;
+            if (child + 1 < end) {
+                const long k2 = rj__pin_key(sc, first, idx[child + 1]);
+                if (k2 > kc || (k2 == kc && idx[child + 1] > idx[child])) { child++; kc = k2; }
+            }
+            kr = rj__pin_key(sc, first, idx[root]);
+            if (kr > kc || (kr == kc && idx[root] > idx[child])) break;
+            {
+                const int t = idx[root];
+                idx[root] = idx[child];
+                idx[child] = t;
             }
         }
     }
-    if (sc->link_count > 0 && sc->links[0].fidelity == RJ_LINK_RIGID && rj__all_rigid(sc))
-        for (j = 0; j < sc->joint_count; j++) if (sc->joints[j].method == RJ_METHOD_ENERGY) { RJ__FIELD(f, "joints[%d].method", j); rj__fail(err, RJ_ERR_INVALID, f, RJ_METHOD_ENERGY, "%s = RJ_METHOD_ENERGY is not available for rigid links (use momentum with e = 0, forced or adaptive)", f); return 0; }
-    /* the joint graph must be a forest: walking up from any link ends at a root */
+}
+
+/* The rigid link a joint holds in a mixed scene (body2 when rigid, else body1). */
+static int rj__pin_rigid(const rj_scene_def *sc, int j)
+{
+    const rj_joint_def *J = &sc->joints[j];
+    return sc->links[J->body2].fidelity == RJ_LINK_RIGID ? J->body2 : J->body1;
+}
+
+/* Two rigid links may not share a pin through a flexible node in a mixed scene. The
+   joints that hold a rigid link at a body1 node, sorted by (node, index): at each node the
+   first names the rigid link there, and the earliest joint that names another is the
+   error (as a scan of the joints in order would find it). Scratch: nl + nj ints. */
+static int rj__validate_pins(const rj_scene_def *sc, int *first, int *idx, rj_error *err)
+{
+    char f[64];
+    int i, j, end, n = 0, bad = -1, bad_first = -1;
+    long nodes = 0;
     for (i = 0; i < sc->link_count; i++) {
-        int cur = i, hops = 0;
-        for (;;) {
-            int parent = -2;
-            for (j = 0; j < sc->joint_count; j++) if (sc->joints[j].body2 == cur) { parent = sc->joints[j].body1; break; }
-            if (parent < 0) break;
-            cur = parent;
-            if (++hops > sc->link_count) {
-                RJ__FIELD(f, "links[%d]", i);
-                rj__fail(err, RJ_ERR_INVALID, f, i, "joints form a closed loop through link %d; only chains and trees are supported", i);
-                return 0;
-            }
+        first[i] = (int)nodes;
+        nodes += sc->links[i].elements + 1;
+    }
+    for (j = 0; j < sc->joint_count; j++) {
+        const rj_joint_def *J = &sc->joints[j];
+        if (J->body1 < 0) continue;
+        if (sc->links[J->body1].fidelity == RJ_LINK_RIGID || sc->links[J->body2].fidelity == RJ_LINK_RIGID) idx[n++] = j;
+    }
+    rj__sort_pins(sc, first, idx, n);
+    for (i = 0; i < n; i = end) {
+        const int head = idx[i];
+        const long key = rj__pin_key(sc, first, head);
+        for (end = i + 1; end < n && rj__pin_key(sc, first, idx[end]) == key; end++) {
+            const int k = idx[end];
+            if (bad >= 0 && k > bad) continue;
+            if (rj__pin_rigid(sc, k) == rj__pin_rigid(sc, head)) continue;
+            bad = k;
+            bad_first = head;
         }
+    }
+    if (bad < 0) return 1;
+    RJ__FIELD(f, "joints[%d].body1", bad);
+    rj__fail(err, RJ_ERR_INVALID, f, sc->joints[bad].body1, "%s = %d is invalid: joints %d and %d pin rigid links %d and %d at the same node in a scene with flexible links, which is not supported", f, sc->joints[bad].body1, bad_first, bad, rj__pin_rigid(sc, bad_first), rj__pin_rigid(sc, bad));
+    return 0;
+}
+
+/* The checks of the joint graph, in time linear in the scene (n log n for the pins of
+   mixed scenes), with scratch of 2 nl + nj ints (RJ__GRAPH_SCRATCH): a link hangs from one joint; in a scene of rigid links each
+   hangs from a joint or is fixed; mixed scenes' pins (rj__validate_pins); the joints form
+   a forest. */
+static int rj__validate_graph(const rj_scene_def *sc, int *scratch, rj_error *err)
+{
+    const int nl = sc->link_count;
+    int *parent = scratch, *mark = scratch + nl, *joints = scratch + 2 * (size_t)nl;
+    char f[64];
+    int i, j;
+    for (i = 0; i < nl; i++) parent[i] = -1;
+    /* a link hangs from one joint: parent[] holds the joint it hangs from */
+    for (j = 0; j < sc->joint_count; j++) {
+        const int b2 = sc->joints[j].body2;
+        if (parent[b2] >= 0) { RJ__FIELD(f, "joints[%d].body2", j); rj__fail(err, RJ_ERR_INVALID, f, b2, "%s = %d is invalid: link %d is already body2 of joint %d (a link hangs from one joint)", f, b2, b2, parent[b2]); return 0; }
+        parent[b2] = j;
+    }
+    if (rj__all_rigid(sc)) for (i = 0; i < nl; i++)
+        if (parent[i] < 0 && sc->links[i].root != RJ_ROOT_FIXED) { RJ__FIELD(f, "links[%d].root", i); rj__fail(err, RJ_ERR_INVALID, f, sc->links[i].root, "%s = %d is invalid: in a scene of rigid links each must hang from a joint or be RJ_ROOT_FIXED", f, sc->links[i].root); return 0; }
+    if (!rj__all_rigid(sc) && !rj__validate_pins(sc, mark, joints, err)) return 0;
+    /* the joint graph must be a forest: walking up from any link ends at a root. A walk
+       marks its links 1 while under way and 2 once it is known to reach a root, so each
+       link is walked once; meeting a 1 is a loop */
+    for (i = 0; i < nl; i++) mark[i] = 0;
+    for (i = 0; i < nl; i++) {
+        int cur = i, top;
+        while (cur >= 0 && mark[cur] == 0) {
+            mark[cur] = 1;
+            cur = rj__up(sc, parent, cur);
+        }
+        if (cur >= 0 && mark[cur] == 1) {
+            RJ__FIELD(f, "links[%d]", i);
+            rj__fail(err, RJ_ERR_INVALID, f, i, "joints form a closed loop through link %d; only chains and trees are supported", i);
+            return 0;
+        }
+        top = cur;
+        for (cur = i; cur != top; cur = rj__up(sc, parent, cur)) mark[cur] = 2;
     }
     return 1;
 }
 
 /* ------------------------------------------------------------------ memory layout */
+/* The next aligned offset for count elements; a block past what size_t counts (a 32-bit
+   size_t) saturates at (size_t)-1, which no allocation satisfies. */
 static size_t rj__carve(size_t *off, size_t count, size_t elsize)
 {
-    size_t at = (*off + RJ__ALIGN - 1) / RJ__ALIGN * RJ__ALIGN;
+    const size_t full = (size_t)-1;
+    size_t at;
+    if (*off > full - 2 * RJ__ALIGN) return *off = full;
+    at = (*off + RJ__ALIGN - 1) / RJ__ALIGN * RJ__ALIGN;
+    if (count > (full - 2 * RJ__ALIGN - at) / elsize) return *off = full;
     *off = at + count * elsize;
     return at;
 }
@@ -1063,7 +1210,10 @@ typedef struct rj__layout {
     size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin, jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode, link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, lz;
 } rj__layout;
 
-static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
+/* The model's block: every array linear in the scene; rigid scenes (joint coordinates)
+   add their dense joint-space matrices (nj^2). The building scratch lz holds the Lanczos
+   vectors and the joint-graph checks (rj__validate_graph: 2 nl + nj ints). */
+static void rj__model_layout(int nl, int nj, size_t nn, size_t ne, int rigid, rj__layout *L)
 {
     size_t off = sizeof(rj_model);
     L->ldef = rj__carve(&off, (size_t)nl, sizeof(rj_link_def));
@@ -1116,25 +1266,42 @@ static void rj__model_layout(int nl, int nj, int nn, int ne, rj__layout *L)
     L->vy0 = rj__carve(&off, (size_t)nn, sizeof(double));
     L->w0 = rj__carve(&off, (size_t)nn, sizeof(double));
     L->beta0 = rj__carve(&off, (size_t)ne, sizeof(double));
-    L->lz = rj__carve(&off, (size_t)15 * nn + 10 * ne + 8 + rj__rigid_scratch(nj, nl) + (size_t)nj * nj, sizeof(double));
-    L->total = off + RJ__ALIGN;
+    L->lz = rj__carve(&off, 15 * nn + 10 * ne + 8 + RJ__GRAPH_SCRATCH(nl, nj) + (rigid ? rj__rigid_scratch(nj, nl) + (size_t)nj * nj : 0), sizeof(double));
+    L->total = off == (size_t)-1 ? off : off + RJ__ALIGN;
 }
 
-static void rj__counts(const rj_scene_def *sc, int *nn, int *ne)
-{
-    int i;
-    *nn = 0; *ne = 0;
-    for (i = 0; i < sc->link_count; i++) { *nn += sc->links[i].elements + 1; *ne += sc->links[i].elements; }
-}
 
 RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
 {
     rj__layout L;
-    int nn, ne;
+    size_t nn, ne;
     if (!rj__validate(scene, err)) return 0;
-    rj__counts(scene, &nn, &ne);
-    rj__model_layout(scene->link_count, scene->joint_count, nn, ne, &L);
+    if (!rj__counts(scene, &nn, &ne, err)) return 0;
+    rj__model_layout(scene->link_count, scene->joint_count, nn, ne, rj__all_rigid(scene), &L);
+    if (L.total == (size_t)-1) {
+        rj__fail(err, RJ_ERR_NOMEM, "links", (double)nn, "a model of %.0f nodes needs more bytes than size_t counts here", (double)nn);
+        return 0;
+    }
     return L.total;
+}
+
+/* Everything rj_model_init checks before it builds: the fields (rj_model_size) and the
+   joint graph, whose scratch comes from RJ_MALLOC (the scene parser's check). */
+static rj_result rj__validate_all(const rj_scene_def *scene, rj_error *err, void *alloc_ctx)
+{
+    rj_error local;
+    rj_error *e = err ? err : &local;
+    int *scratch;
+    int ok;
+    if (!rj_model_size(scene, e)) return e->code;
+    scratch = (int *)RJ_MALLOC(sizeof(int) * RJ__GRAPH_SCRATCH(scene->link_count, scene->joint_count), alloc_ctx);
+    if (!scratch) {
+        rj__fail(e, RJ_ERR_NOMEM, "joint_count", scene->joint_count, "could not allocate the joint graph's scratch");
+        return RJ_ERR_NOMEM;
+    }
+    ok = rj__validate_graph(scene, scratch, e);
+    RJ_FREE(scratch, alloc_ctx);
+    return ok ? RJ_OK : RJ_ERR_INVALID;
 }
 
 /* ------------------------------------------------------------------ beam forces */
@@ -1290,6 +1457,7 @@ typedef struct rj__adv {
     double *fx, *fy, *mz;   /* node forces, for the nodes advanced again (rj_model.dnode) */
     int en;                 /* this step takes the energy accounts (solver.energy_every) */
     int ip;                 /* in place: the pass writes the nodes and elements where it reads them */
+    double *fin;            /* the sum of every advanced node's x + y + phi: finite while they all are */
 } rj__adv;
 
 /* One node's update with its final forces (the lanes below do the same operations in the
@@ -1302,6 +1470,8 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
     a->kn[i] = a->km[i] * (a->vx[i] * ux + a->vy[i] * uy) + a->kj[i] * a->w[i] * uw;
     a->nvx[i] = ux; a->nvy[i] = uy; a->nw[i] = uw;
     a->nx[i] = x[i] + a->dt * ux; a->ny[i] = y[i] + a->dt * uy; a->nphi[i] = phi[i] + a->dt * uw;
+    /* finite positions at n + 1 from finite ones at n mean finite velocities too */
+    *a->fin += (a->nx[i] + a->ny[i]) + a->nphi[i];
 }
 
 #ifdef RJ__LANES
@@ -1322,9 +1492,9 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
             const VD ux_ = vxv + kick * fxv * tiv, uy_ = vyv + kick * fyv * tiv, uw_ = wv + kick * mzv * riv; \
             const VD kn_ = kmv * (vxv * ux_ + vyv * uy_) + kjv * wv * uw_;                       \
             RJ__VST(nvx + k, ux_); RJ__VST(nvy + k, uy_); RJ__VST(nw + k, uw_); if (EN) RJ__VST(kn + k, kn_); \
-            RJ__VLD(t, x + k); t = t + dt * ux_; RJ__VST(nx + k, t);                             \
-            RJ__VLD(t, y + k); t = t + dt * uy_; RJ__VST(ny + k, t);                             \
-            RJ__VLD(t, phi + k); t = t + dt * uw_; RJ__VST(nphi + k, t);                         \
+            RJ__VLD(t, x + k); t = t + dt * ux_; RJ__VST(nx + k, t); fin = fin + t;              \
+            RJ__VLD(t, y + k); t = t + dt * uy_; RJ__VST(ny + k, t); fin = fin + t;              \
+            RJ__VLD(t, phi + k); t = t + dt * uw_; RJ__VST(nphi + k, t); fin = fin + t;          \
         }                                                                                        \
     }
 /* The node pass in lanes of W doubles over all cnt >= W nodes (RJ__LANES_OVER), their
@@ -1342,7 +1512,8 @@ ATTR static RJ__FORCE_INLINE int rj__node_lanes##W(int cnt, int n, const double 
     double *nx = a->nx + n, *ny = a->ny + n, *nphi = a->nphi + n;                                \
     double *nvx = a->nvx + n, *nvy = a->nvy + n, *nw = a->nw + n;                                \
     double *RJ__RESTRICT kn = a->kn + n;                                                         \
-    VD tiu = { 0 }, riu = { 0 }, kmu = { 0 }, kju = { 0 };                                       \
+    VD tiu = { 0 }, riu = { 0 }, kmu = { 0 }, kju = { 0 }, fin = { 0 };                          \
+    double fin_sum = 0;                                                                          \
     int k;                                                                                       \
     for (k = 0; k < W; k++) { tiu[k] = un[0]; riu[k] = un[1]; kmu[k] = un[2]; kju[k] = un[3]; }  \
     switch ((un[4] != 0 ? 4 : 0) + (store ? 2 : 0) + (en ? 1 : 0)) {                             \
@@ -1353,6 +1524,9 @@ ATTR static RJ__FORCE_INLINE int rj__node_lanes##W(int cnt, int n, const double 
     default:   /* per-node values: rare; forces and energy shares always stored */              \
         RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 0, 1, 1))                                 \
     }                                                                                            \
+    /* the new positions' sum: NaN or infinite when one of them is */                           \
+    for (k = 0; k < W; k++) fin_sum += fin[k];                                                   \
+    *a->fin += fin_sum;                                                                          \
     return cnt;                                                                                  \
 }
 #ifdef RJ__LANES2
@@ -1597,6 +1771,16 @@ static void rj__spin(const rj__joint *J, const rj__jgeo *g, double dw1, double d
 }
 
 /* Turns body 2's reference by d2 and body 1's by d1 (forced displacement). */
+/* The positions of a joint's nodes summed: finite while they all are. */
+static double rj__joint_nodes_sum(const rj__joint *J, const double *x, const double *y, const double *phi)
+{
+    const int nodes[4] = { J->nI, J->nK, J->nJ, J->nL };
+    double sum = 0;
+    int k;
+    for (k = 0; k < 4; k++) if (nodes[k] >= 0) sum += (x[nodes[k]] + y[nodes[k]]) + phi[nodes[k]];
+    return sum;
+}
+
 static void rj__turn(const rj__joint *J, double d1, double d2, double *x, double *y, double *phi)
 {
     double c, sn, rx, ry;
@@ -1759,10 +1943,11 @@ static void rj__cl_load(const rj_model *m, int c, const double *oc, const double
 
 /* Places the body's members at its record (anchor, angle); with setv the node velocities
    become the chord velocities (x^{n+1} - x^n)/dt and its own nodes take its rate. */
-static void rj__cl_pose(const rj_model *m, int c, const double *nc, const double *x, const double *y, double dt, int setv,
-                        double *nx, double *ny, double *nphi, double *nvx, double *nvy, double *nw)
+static double rj__cl_pose(const rj_model *m, int c, const double *nc, const double *x, const double *y, double dt, int setv,
+                          double *nx, double *ny, double *nphi, double *nvx, double *nvy, double *nw)
 {
     const double th0 = m->cl_th0[3 * c], co = cos(nc[5] - th0), sn = sin(nc[5] - th0);
+    double sum = nc[4];   /* the positions written and the rate: finite while they all are */
     int k;
     for (k = m->cl_first[c]; k < m->cl_first[c + 1]; k++) {
         const int n = m->cl_node[k];
@@ -1770,7 +1955,9 @@ static void rj__cl_pose(const rj_model *m, int c, const double *nc, const double
         if (setv) { nvx[n] = (px - x[n]) / dt; nvy[n] = (py - y[n]) / dt; }
         nx[n] = px; ny[n] = py;
         if (RJ__CL_RIGID(m, n)) { nphi[n] = nc[5] + (m->phi0[n] - th0); if (setv) nw[n] = nc[4]; }
+        sum += (px + py) + nphi[n];
     }
+    return sum;
 }
 
 /* Linear stiffness operator for the stability bound: out = M^-1/2 K M^-1/2 u over the
@@ -1902,8 +2089,51 @@ static double rj__omega2_max(rj_model *m)
         for (i = 0; i < n; i++) w[i] /= b;
         t = v0; v0 = v1; v1 = w; w = t;
     }
+    /* a NaN or an infinity in the recurrence: no finite frequency (the bound refuses it) */
+    for (i = 0; i < k; i++) if (!rj__finite(al[i]) || !rj__finite(be[i])) return HUGE_VAL;
     lam = rj__tridiag_max(al, be, k);
     return lam;
+}
+
+/* The fastest damping rate a joint's damper gives the bodies it joins, 1/s: C times the
+   rate change per unit torque impulse (1/I_red), the largest over the joints. */
+static double rj__damping_rate(const rj_model *m)
+{
+    double worst = 0;
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const rj__joint *J = &m->jnt[j];
+        rj__jgeo g;
+        double compliance, rate;
+        if (!(m->jdef[j].damping > 0)) continue;
+        rj__joint_geo(m, J, m->x0, m->y0, &g);
+        compliance = m->rigid ? J->minv : rj__joint_compliance(m, J, &g);
+        rate = m->jdef[j].damping * compliance;
+        if (rate > worst) worst = rate;
+    }
+    return worst;
+}
+
+/* Central differences with damping on the lagged velocity are stable for a mode of
+   frequency omega and damping ratio zeta while dt <= (2/omega)(sqrt(1 + zeta^2) - zeta);
+   with 2 zeta omega = d (the damping rate) that is dt <= 2 / (d/2 + sqrt(omega^2 + d^2/4)),
+   which holds for omega = 0 too (dt <= 2/d). The fastest mode paired with the fastest
+   damping rate bounds every pairing the model can have. No stiffness and no damping:
+   nothing bounds the step (rigid bodies alone), 1 s stands for that. */
+static double rj__dt_bound_of(double omega, double damp_rate)
+{
+    const double half = 0.5 * damp_rate;
+    const double denom = half + sqrt(omega * omega + half * half);
+    if (denom == 0) return 1.0;
+    return RJ__DT_MARGIN * 2.0 / denom;   /* NaN or 0 when omega is NaN or infinite */
+}
+
+/* omega from the eigenvalue estimate: a round-off negative is 0; NaN stays NaN, so that
+   a model whose stiffness or mass leaves doubles behind is refused, not given a bound */
+static double rj__omega_of(double om2)
+{
+    if (om2 == om2 && om2 < 0) return 0;
+    return sqrt(om2);
 }
 
 static unsigned long long rj__fnv(unsigned long long h, const void *p, size_t n)
@@ -1911,6 +2141,48 @@ static unsigned long long rj__fnv(unsigned long long h, const void *p, size_t n)
     const unsigned char *c = (const unsigned char *)p;
     size_t i;
     for (i = 0; i < n; i++) { h ^= c[i]; h *= 1099511628211ULL; }
+    return h;
+}
+
+/* FNV-1a of a double or an int (their bytes), one value at a time. */
+static unsigned long long rj__fnv_d(unsigned long long h, double v) { return rj__fnv(h, &v, sizeof v); }
+static unsigned long long rj__fnv_i(unsigned long long h, int v) { return rj__fnv(h, &v, sizeof v); }
+
+/* The model's identity for checkpoints: every definition field that a state's meaning
+   depends on (field by field: a struct's padding bytes are not defined), the step in use,
+   and the masses and start positions derived from them. */
+static unsigned long long rj__model_hash(const rj_model *m)
+{
+    unsigned long long h = 14695981039346656037ULL;
+    int l, j, k;
+    h = rj__fnv_i(h, m->nn);
+    h = rj__fnv_i(h, m->ne);
+    h = rj__fnv_i(h, m->nj);
+    h = rj__fnv_d(h, m->dt);
+    for (l = 0; l < m->nl; l++) {
+        const rj_link_def *d = &m->ldef[l];
+        const double v[19] = { d->length, d->E, d->rho, d->width, d->height, d->area, d->inertia, d->tip_mass, d->tip_inertia,
+                               d->x, d->y, d->angle, d->vx, d->vy, d->omega, (double)d->elements, (double)d->section, (double)d->layers,
+                               (double)d->root };
+        for (k = 0; k < 19; k++) h = rj__fnv_d(h, v[k]);
+        h = rj__fnv_i(h, d->fidelity);
+    }
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const double v[21] = { (double)d->body1, (double)d->node1, (double)d->body2, d->ground_x, d->ground_y, d->ground_angle,
+                               d->angle0, d->rate0, d->spring_k, d->spring_free_angle, (double)d->has_forward, d->forward,
+                               (double)d->has_reverse, d->reverse, (double)d->lock, (double)d->method, (double)d->release,
+                               d->penalty_k, d->restitution, d->damping, d->friction };
+        for (k = 0; k < 21; k++) h = rj__fnv_d(h, v[k]);
+        h = rj__fnv_i(h, d->reference);
+        h = rj__fnv_i(h, d->table_count);
+        for (k = 0; k < d->table_count; k++) {
+            h = rj__fnv_d(h, d->table_angle[k]);
+            h = rj__fnv_d(h, d->table_torque[k]);
+        }
+    }
+    h = rj__fnv(h, m->mass, sizeof(double) * (size_t)m->nn);
+    h = rj__fnv(h, m->x0, sizeof(double) * (size_t)m->nn);
     return h;
 }
 
@@ -1925,18 +2197,291 @@ static int rj__is_dnode(const rj_model *m, int n)
     return lo < m->ndn && m->dnode[lo] == n;
 }
 
+/* The link and the node within it of global node i (binary search on link_first). */
+static void rj__node_of(const rj_model *m, int i, int *link, int *node)
+{
+    int lo = 0, hi = m->nl - 1;
+    while (lo < hi) {
+        const int mid = lo + (hi - lo + 1) / 2;
+        if (m->link_first[mid] <= i) lo = mid;
+        else hi = mid - 1;
+    }
+    *link = lo;
+    *node = i - m->link_first[lo];
+}
+
+/* A link whose sizes and material leave doubles behind (an element length whose square
+   underflows, a stiffness or a mass that overflows or vanishes) has no usable step or no
+   finite energy: refused here, naming the link and the quantity, before anything uses it. */
+static int rj__check_links(const rj_model *m, rj_error *err)
+{
+    char f[64];
+    int l, k;
+    for (l = 0; l < m->nl; l++) {
+        const rj_link_def *d = &m->ldef[l];
+        const double *kc = m->link_kc + 4 * (size_t)l;
+        const int n0 = m->link_first[l];
+        const char *what = NULL;
+        double value = 0;
+        if (!(kc[2] >= DBL_MIN) || !rj__finite(kc[3])) { what = "its element length squared"; value = kc[2]; }
+        else if (!(m->link_EA[l] >= DBL_MIN) || !rj__finite(m->link_EA[l])) { what = "its axial stiffness EA (N)"; value = m->link_EA[l]; }
+        else if (!(m->link_EI[l] >= DBL_MIN) || !rj__finite(m->link_EI[l])) { what = "its bending stiffness EI (N m^2)"; value = m->link_EI[l]; }
+        else if (!rj__finite(kc[0]) || !rj__finite(kc[1])) { what = "its element stiffness EI/l0 or EA/l0"; value = rj__finite(kc[0]) ? kc[1] : kc[0]; }
+        for (k = 0; !what && k <= d->elements; k++) {
+            const double mass = m->mass[n0 + k], rot = m->rinertia[n0 + k];
+            if (!(mass >= DBL_MIN) || !rj__finite(mass) || !rj__finite(1.0 / mass)) { what = "a node's mass (kg)"; value = mass; }
+            else if (!(rot >= DBL_MIN) || !rj__finite(rot) || !rj__finite(1.0 / rot)) { what = "a node's rotary inertia (kg m^2)"; value = rot; }
+        }
+        if (!what) continue;
+        RJ__FIELD(f, "links[%d]", l);
+        rj__fail(err, RJ_ERR_INVALID, f, value,
+                 "links[%d] (length %g m, %d elements, E %g Pa, rho %g kg/m^3) gives %s = %g, which is zero, infinite or below what doubles resolve: no step is usable; scale the link's sizes or material into range",
+                 l, d->length, d->elements, d->E, d->rho, what, value);
+        return 0;
+    }
+    return 1;
+}
+
+/* Adds one warning line to the model's list (as much as fits). */
+static void rj__model_warn(rj_model *m, const char *fmt, ...)
+{
+    char line[320];
+    va_list ap;
+    int wanted;
+    va_start(ap, fmt);
+    wanted = vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    rj__fit_words(line, sizeof line, wanted);
+    m->nwarn++;
+    if (strlen(m->warnings) + strlen(line) + 2 > sizeof m->warnings) return;
+    rj__cat(m->warnings, sizeof m->warnings, line);
+    rj__cat(m->warnings, sizeof m->warnings, "\n");
+}
+
+/* Limits a careful engineer would question: one the joint starts past, and one its spring
+   never drives it to (the spring comes to rest at its free angle first, or turns the joint
+   away from its only limit). Running angles (the limits as the joint meets them from
+   angle0, J->fwd and J->rev), in degrees in the text. */
+static void rj__limit_warnings(rj_model *m)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const rj__joint *J = &m->jnt[j];
+        const double start = d->angle0, rest = d->spring_free_angle;
+        const int drive = d->spring_k > 0 ? (rest > start) - (rest < start) : 0;
+        if (!d->has_forward && !d->has_reverse) continue;
+        if (d->has_forward && start > J->fwd)
+            rj__model_warn(m, "joints[%d] starts %.4g deg past its forward limit", j, rj_deg(start - J->fwd));
+        else if (d->has_reverse && start < J->rev)
+            rj__model_warn(m, "joints[%d] starts %.4g deg past its reverse limit", j, rj_deg(J->rev - start));
+        else if (drive > 0 && d->has_forward && J->fwd > rest)
+            rj__model_warn(m, "joints[%d]: its spring turns it forward from %.4g deg and rests at %.4g deg, short of its forward limit, met at %.4g deg: the spring alone never brings it there%s",
+                           j, rj_deg(start), rj_deg(rest), rj_deg(J->fwd), d->lock ? " (it never latches)" : "");
+        else if (drive < 0 && d->has_reverse && J->rev < rest)
+            rj__model_warn(m, "joints[%d]: its spring turns it in reverse from %.4g deg and rests at %.4g deg, short of its reverse limit, met at %.4g deg: the spring alone never brings it there%s",
+                           j, rj_deg(start), rj_deg(rest), rj_deg(J->rev), d->lock ? " (it never latches)" : "");
+        else if (drive > 0 && !d->has_forward)
+            rj__model_warn(m, "joints[%d]: its spring turns it forward, away from its only limit (reverse)", j);
+        else if (drive < 0 && !d->has_reverse)
+            rj__model_warn(m, "joints[%d]: its spring turns it in reverse, away from its only limit (forward)", j);
+    }
+}
+
+/* Pin groups: each body1 pin node with every body2 root pinned to it, in the order of
+   their first joint; members the pin node, then the roots in joint order. Linear in the
+   joints, with scratch of nn + ng ints (a group per node, then each group's fill cursor);
+   node_grp is -1 on entry. Returns the number of groups. */
+static int rj__pin_groups(rj_model *m, int *scratch)
+{
+    int *group_of = scratch, *cursor = scratch + m->nn;
+    int ng = 0, j, g;
+    for (j = 0; j < m->nn; j++) group_of[j] = -1;
+    /* count: the pin node and one root per joint */
+    m->grp_first[0] = 0;
+    for (j = 0; j < m->nj; j++) {
+        const int pin = m->jnt[j].nI;
+        if (pin < 0) continue;
+        if (group_of[pin] < 0) {
+            group_of[pin] = ng;
+            m->grp_first[ng + 1] = 1;
+            ng++;
+        }
+        m->grp_first[group_of[pin] + 1]++;
+    }
+    for (g = 0; g < ng; g++) m->grp_first[g + 1] += m->grp_first[g];
+    for (g = 0; g < ng; g++) cursor[g] = m->grp_first[g] + 1;
+    /* fill: the pin node first, then the roots in joint order */
+    for (j = 0; j < m->nj; j++) {
+        const int pin = m->jnt[j].nI;
+        if (pin < 0) continue;
+        g = group_of[pin];
+        m->grp_node[m->grp_first[g]] = pin;
+        m->grp_node[cursor[g]++] = m->jnt[j].nJ;
+    }
+    return ng;
+}
+
+/* Inextensible chains: each starts at an inextensible link not hanging from the tip of
+   another inextensible link, and follows while the tip carries exactly one inextensible
+   child. Linear in the scene, with scratch of 2 nl + 2 nn ints: each link's use and
+   joint, each node's count of inextensible children and its last one. */
+static void rj__inext_chains(rj_model *m, int *scratch)
+{
+    int *used = scratch, *joint_of = scratch + m->nl;
+    int *children = scratch + 2 * (size_t)m->nl, *child_of = children + m->nn;
+    int cnt = 0, l, j, k;
+    for (l = 0; l < m->nl; l++) { used[l] = 0; joint_of[l] = -1; }
+    for (k = 0; k < m->nn; k++) { children[k] = 0; child_of[k] = -1; }
+    for (j = 0; j < m->nj; j++) {
+        joint_of[m->jdef[j].body2] = j;
+        if (m->jnt[j].nI < 0 || m->ldef[m->jdef[j].body2].fidelity != RJ_LINK_INEXTENSIBLE) continue;
+        children[m->jnt[j].nI]++;
+        child_of[m->jnt[j].nI] = m->jdef[j].body2;
+    }
+    m->nch = 0; m->ch_first[0] = 0;
+    for (l = 0; l < m->nl; l++) {
+        const int pj = joint_of[l];
+        int cur = l;
+        if (m->ldef[l].fidelity != RJ_LINK_INEXTENSIBLE || used[l]) continue;
+        if (pj >= 0) {
+            const int b1 = m->jdef[pj].body1;
+            /* the only inextensible child at an inextensible parent's tip continues its chain */
+            if (b1 >= 0 && m->ldef[b1].fidelity == RJ_LINK_INEXTENSIBLE && m->jnt[pj].nI == m->link_first[b1 + 1] - 1
+                && children[m->jnt[pj].nI] == 1) continue;
+        }
+        for (;;) {
+            const int n0 = m->link_first[cur], ne = m->ldef[cur].elements, first = cnt == m->ch_first[m->nch];
+            const int tip = n0 + ne;
+            used[cur] = 1;
+            for (k = first ? 0 : 1; k <= ne; k++) { m->ch_node[cnt] = n0 + k; m->ch_l0sq[cnt] = m->link_l0[cur] * m->link_l0[cur]; cnt++; }
+            if (children[tip] != 1 || used[child_of[tip]]) break;
+            cur = child_of[tip];
+        }
+        m->ch_first[++m->nch] = cnt;
+    }
+}
+
+/* Places one link (its joint j, or its own root placement when j < 0) from its parent's
+   nodes, which are placed already. */
+static void rj__place_link(rj_model *m, int l, int j)
+{
+    const rj_link_def *ld = &m->ldef[l];
+    const rj_joint_def *d;
+    const rj__joint *J;
+    double px, py, refang, om1 = 0, vpx = 0, vpy = 0;
+    if (j < 0) {
+        rj__place(m, l, ld->x, ld->y, ld->angle, ld->vx, ld->vy, ld->omega, m->x0, m->y0, m->phi0, m->vx0, m->vy0, m->w0);
+        return;
+    }
+    d = &m->jdef[j];
+    J = &m->jnt[j];
+    if (d->body1 < 0) {
+        px = d->ground_x;
+        py = d->ground_y;
+        refang = d->ground_angle;
+    } else {
+        px = m->x0[J->nI];
+        py = m->y0[J->nI];
+        refang = atan2(m->y0[J->nK] - py, m->x0[J->nK] - px);
+        om1 = m->w0[J->nI];
+        vpx = m->vx0[J->nI];
+        vpy = m->vy0[J->nI];
+        if (m->ldef[d->body1].root == RJ_ROOT_FIXED) { om1 = 0; vpx = 0; vpy = 0; }
+    }
+    rj__place(m, l, px, py, refang + d->angle0, vpx, vpy, om1 + d->rate0, m->x0, m->y0, m->phi0, m->vx0, m->vy0, m->w0);
+}
+
+/* Initial placement of every link after the link it hangs from (the graph is a forest),
+   in time linear in the scene: scratch of 3 nl ints (placed flags, each link's joint, a
+   path of links still to place). */
+static void rj__place_all(rj_model *m, int *scratch)
+{
+    int *placed = scratch, *joint_of = scratch + m->nl, *path = scratch + 2 * (size_t)m->nl;
+    int l, j;
+    for (l = 0; l < m->nl; l++) { placed[l] = 0; joint_of[l] = -1; }
+    for (j = 0; j < m->nj; j++) joint_of[m->jdef[j].body2] = j;
+    for (l = 0; l < m->nl; l++) {
+        int depth = 0, cur = l;
+        /* up to the first placed link or a root, then down again */
+        while (cur >= 0 && !placed[cur]) {
+            path[depth++] = cur;
+            cur = joint_of[cur] >= 0 ? m->jdef[joint_of[cur]].body1 : -1;
+        }
+        while (depth > 0) {
+            cur = path[--depth];
+            rj__place_link(m, cur, joint_of[cur]);
+            placed[cur] = 1;
+        }
+    }
+}
+
+/* The step and its bound must be finite positive numbers, and the initial state finite
+   (its kinetic energy and the joints' spring energy too). */
+static int rj__usable_step(const rj_model *m, rj_error *err)
+{
+    double ke = 0;
+    int i, link, node;
+    if (!(m->dt_bound > 0) || !rj__finite(m->dt_bound) || !(m->dt > 0) || !rj__finite(m->dt)) {
+        /* name the link with the shortest wave transit l0 / c (Eq 28) */
+        int l, fastest = 0;
+        double best = HUGE_VAL;
+        char f[64];
+        for (l = 0; l < m->nl; l++) {
+            const double transit = m->link_l0[l] / sqrt(m->ldef[l].E / m->ldef[l].rho);
+            if (transit < best) { best = transit; fastest = l; }
+        }
+        RJ__FIELD(f, "links[%d]", fastest);
+        rj__fail(err, RJ_ERR_INVALID, f, m->dt,
+                 "no usable step: the stability bound is %g s (omega_max %g rad/s) and the step %g s; links[%d] (length %g m, %d elements, E %g Pa, rho %g kg/m^3; element wave transit %g s, Eq 28) "
+                 "or a joint's stiffness or damping is outside what doubles resolve",
+                 m->dt_bound, m->omega_max, m->dt, fastest, m->ldef[fastest].length, m->ldef[fastest].elements, m->ldef[fastest].E, m->ldef[fastest].rho, best);
+        return 0;
+    }
+    for (i = 0; i < m->nn; i++) {
+        const double v = m->x0[i] + m->y0[i] + m->phi0[i];
+        ke += m->mass[i] * (m->vx0[i] * m->vx0[i] + m->vy0[i] * m->vy0[i]) + m->rinertia[i] * m->w0[i] * m->w0[i];
+        if (rj__finite(v) && rj__finite(ke)) continue;
+        rj__node_of(m, i, &link, &node);
+        {
+            char f[64];
+            RJ__FIELD(f, "links[%d]", link);
+            rj__fail(err, RJ_ERR_INVALID, f, rj__finite(v) ? ke : v,
+                     "links[%d] node %d starts with a non-finite %s: the placement or the initial velocities are outside what doubles resolve",
+                     link, node, rj__finite(v) ? "kinetic energy" : "position");
+        }
+        return 0;
+    }
+    for (i = 0; i < m->nj; i++) {
+        const rj_joint_def *d = &m->jdef[i];
+        const double twist = d->angle0 - d->spring_free_angle;
+        if (rj__finite(0.5 * d->spring_k * twist * twist)) continue;
+        {
+            char f[64];
+            RJ__FIELD(f, "joints[%d].spring_k", i);
+            rj__fail(err, RJ_ERR_INVALID, f, d->spring_k, "joints[%d] starts with a non-finite spring energy (spring_k %g N m/rad, %g rad from its free angle)", i, d->spring_k, twist);
+        }
+        return 0;
+    }
+    return 1;
+}
+
 RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj_model **out, rj_error *err)
 {
     rj__layout L;
     rj_model *m;
     char *base;
     int nn, ne, i, j, l, *placed, ngroups;
+    size_t nodes, elements;
+    rj_error size_err;
     double om2;
     if (err) { err->code = RJ_OK; err->field[0] = 0; err->msg[0] = 0; err->value = 0; }
     if (!out) { rj__fail(err, RJ_ERR_INVALID, "out", 0, "out is NULL"); return RJ_ERR_INVALID; }
-    if (!rj__validate(sc, err)) return RJ_ERR_INVALID;
-    rj__counts(sc, &nn, &ne);
-    rj__model_layout(sc->link_count, sc->joint_count, nn, ne, &L);
+    if (!rj_model_size(sc, err ? err : &size_err)) return err ? err->code : size_err.code;
+    rj__counts(sc, &nodes, &elements, err);
+    nn = (int)nodes;
+    ne = (int)elements;
+    rj__model_layout(sc->link_count, sc->joint_count, nodes, elements, rj__all_rigid(sc), &L);
     if (!mem || size < L.total) { rj__fail(err, RJ_ERR_NOMEM, "size", (double)size, "memory block of %lu bytes is smaller than the %lu the model needs", (unsigned long)size, (unsigned long)L.total); return RJ_ERR_NOMEM; }
     base = (char *)mem;
     base += (RJ__ALIGN - ((size_t)base % RJ__ALIGN)) % RJ__ALIGN;
@@ -1959,6 +2504,8 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     RJ__SET(x0, double); RJ__SET(y0, double); RJ__SET(phi0, double); RJ__SET(vx0, double); RJ__SET(vy0, double);
     RJ__SET(w0, double); RJ__SET(beta0, double); RJ__SET(lz, double);
 #undef RJ__SET
+    /* the joint graph's checks need scratch: the block's building area */
+    if (!rj__validate_graph(sc, (int *)(void *)m->lz, err)) return RJ_ERR_INVALID;
     memcpy(m->ldef, sc->links, sizeof(rj_link_def) * (size_t)m->nl);
     if (m->nj) memcpy(m->jdef, sc->joints, sizeof(rj_joint_def) * (size_t)m->nj);
     /* links: section (layers integrate EA and EI exactly for the elastic rectangle), masses */
@@ -2001,6 +2548,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         if (d->root == RJ_ROOT_CLAMPED) m->rinv[n0] = 0;
         if (d->root == RJ_ROOT_FIXED) for (k = 0; k <= d->elements; k++) { m->tinv[n0 + k] = 0; m->rinv[n0 + k] = 0; }
     }
+    if (!rj__check_links(m, err)) return RJ_ERR_INVALID;
     for (i = 0; i < nn; i++) m->einv[i] = m->tinv[i];
     /* joints: nodes, pin groups (body1's node and body2's node 0 share their translation) */
     ngroups = 0;
@@ -2022,19 +2570,10 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         }
     }
     /* groups: for each body1 pin node, collect it and all body2 roots pinned to it */
+    ngroups = rj__pin_groups(m, (int *)(void *)m->lz);
+    m->ng = ngroups;
     {
-        int gcount = 0, k;
-        for (j = 0; j < m->nj; j++) {
-            rj__joint *J = &m->jnt[j];
-            int seen = 0;
-            if (J->nI < 0) continue;
-            for (k = 0; k < j; k++) if (m->jnt[k].nI == J->nI) seen = 1;
-            if (seen) continue;
-            m->grp_node[gcount++] = J->nI;
-            for (k = j; k < m->nj; k++) if (m->jnt[k].nI == J->nI) m->grp_node[gcount++] = m->jnt[k].nJ;
-            m->grp_first[++ngroups] = gcount;
-        }
-        m->ng = ngroups;
+        int k;
         for (i = 0; i < ngroups; i++) {
             double msum = 0; int fixed = 0;
             for (k = m->grp_first[i]; k < m->grp_first[i + 1]; k++) {
@@ -2047,35 +2586,9 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         }
     }
     for (i = 0; i < nn; i++) { m->kmass[i] = m->tinv[i] > 0 ? m->mass[i] : 0.0; m->krot[i] = m->rinv[i] > 0 ? m->rinertia[i] : 0.0; }
-    /* initial placement: roots first, then children by walking joints until all placed */
+    /* initial placement: each link after the link it hangs from */
     placed = (int *)(void *)m->lz;   /* scratch: the Lanczos area is unused yet */
-    for (l = 0; l < m->nl; l++) placed[l] = 0;
-    for (l = 0; l < m->nl; l++) {
-        int child = 0;
-        for (j = 0; j < m->nj; j++) if (m->jdef[j].body2 == l) child = 1;
-        if (!child) {
-            const rj_link_def *d = &m->ldef[l];
-            rj__place(m, l, d->x, d->y, d->angle, d->vx, d->vy, d->omega, m->x0, m->y0, m->phi0, m->vx0, m->vy0, m->w0);
-            placed[l] = 1;
-        }
-    }
-    for (i = 0; i < m->nl; i++) {
-        for (j = 0; j < m->nj; j++) {
-            const rj_joint_def *d = &m->jdef[j];
-            rj__joint *J = &m->jnt[j];
-            double px, py, refang, om1 = 0, vpx = 0, vpy = 0;
-            if (placed[d->body2] || (d->body1 >= 0 && !placed[d->body1])) continue;
-            if (d->body1 < 0) { px = d->ground_x; py = d->ground_y; refang = d->ground_angle; }
-            else {
-                px = m->x0[J->nI]; py = m->y0[J->nI];
-                refang = atan2(m->y0[J->nK] - py, m->x0[J->nK] - px);
-                om1 = m->w0[J->nI]; vpx = m->vx0[J->nI]; vpy = m->vy0[J->nI];
-                if (m->ldef[d->body1].root == RJ_ROOT_FIXED) { om1 = 0; vpx = 0; vpy = 0; }
-            }
-            rj__place(m, d->body2, px, py, refang + d->angle0, vpx, vpy, om1 + d->rate0, m->x0, m->y0, m->phi0, m->vx0, m->vy0, m->w0);
-            placed[d->body2] = 1;
-        }
-    }
+    rj__place_all(m, placed);
     for (l = 0; l < m->nl; l++) if (m->ldef[l].root == RJ_ROOT_FIXED) {
         int k;
         for (k = m->link_first[l]; k < m->link_first[l + 1]; k++) { m->vx0[k] = 0; m->vy0[k] = 0; m->w0[k] = 0; }
@@ -2149,34 +2662,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     m->rigid = rj__all_rigid(sc);
     for (l = 0; l < m->nl; l++) if (m->ldef[l].fidelity == RJ_LINK_INEXTENSIBLE) m->any_inext = 1;
     if (m->any_inext) {
-        /* chains: start at an inextensible link not hanging from the tip of another
-           inextensible link; follow while the tip carries exactly one inextensible child */
-        int cnt = 0, k, *used = (int *)(void *)(m->lz), nchild, child;
-        for (l = 0; l < m->nl; l++) used[l] = 0;
-        m->nch = 0; m->ch_first[0] = 0;
-        for (l = 0; l < m->nl; l++) {
-            int cur = l, pj = -1;
-            if (m->ldef[l].fidelity != RJ_LINK_INEXTENSIBLE || used[l]) continue;
-            for (j = 0; j < m->nj; j++) if (m->jdef[j].body2 == l) pj = j;
-            if (pj >= 0) {
-                const int b1 = m->jdef[pj].body1;
-                if (b1 >= 0 && m->ldef[b1].fidelity == RJ_LINK_INEXTENSIBLE && m->jnt[pj].nI == m->link_first[b1 + 1] - 1) {
-                    int siblings = 0;
-                    for (k = 0; k < m->nj; k++) if (m->jnt[k].nI == m->jnt[pj].nI && m->ldef[m->jdef[k].body2].fidelity == RJ_LINK_INEXTENSIBLE) siblings++;
-                    if (siblings == 1) continue;   /* it continues its parent's chain */
-                }
-            }
-            for (;;) {
-                const int n0 = m->link_first[cur], ne = m->ldef[cur].elements, first = cnt == m->ch_first[m->nch];
-                used[cur] = 1;
-                for (k = first ? 0 : 1; k <= ne; k++) { m->ch_node[cnt] = n0 + k; m->ch_l0sq[cnt] = m->link_l0[cur] * m->link_l0[cur]; cnt++; }
-                nchild = 0; child = -1;
-                for (k = 0; k < m->nj; k++) if (m->jnt[k].nI == n0 + ne && m->ldef[m->jdef[k].body2].fidelity == RJ_LINK_INEXTENSIBLE) { nchild++; child = m->jdef[k].body2; }
-                if (nchild != 1 || used[child]) break;
-                cur = child;
-            }
-            m->ch_first[++m->nch] = cnt;
-        }
+        rj__inext_chains(m, (int *)(void *)m->lz);
     }
     if (m->rigid) {
         int k, placed_n = 0, guard;
@@ -2218,15 +2704,20 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
             }
         }
     }
+    rj__limit_warnings(m);
     om2 = 0;
     {
         /* dt depends on K_AP and K_AP on dt: bound without adaptive joints first */
+        double damp_rate;
         double dt, klin0[RJ__BOUND_JOINTS], om2_noad;
         int pass, any = 0;
         /* the links and springs alone (no limit stiffness): kept for the refusal's advice */
         for (j = 0; j < m->nj && j < RJ__BOUND_JOINTS; j++) klin0[j] = m->jnt[j].k_lin;
         om2 = m->rigid ? rj__rig_setup(m, m->lz) : rj__omega2_max(m);
-        m->omega_links = sqrt(om2 > 0 ? om2 : 0);
+        m->omega_links = rj__omega_of(om2);
+        /* joint damping acts on the rates it lags (Eq 27 on v^{n-1/2}): it shortens the step */
+        damp_rate = rj__damping_rate(m);
+        m->damp_rate = damp_rate;
         for (j = 0; j < m->nj; j++) {
             const rj_joint_def *d = &m->jdef[j];
             /* a penalty limit switches on and off with the contact, which pumps energy long
@@ -2237,8 +2728,8 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
             if ((d->has_forward || d->has_reverse) && d->method == RJ_METHOD_ADAPTIVE) any = 1;
         }
         om2 = m->rigid ? rj__rig_setup(m, m->lz) : rj__omega2_max(m);
-        m->omega_max = sqrt(om2 > 0 ? om2 : 0);
-        m->dt_bound = m->omega_max > 0 ? RJ__DT_MARGIN * 2.0 / m->omega_max : 1.0;
+        m->omega_max = rj__omega_of(om2);
+        m->dt_bound = rj__dt_bound_of(m->omega_max, damp_rate);
         dt = sc->solver.dt > 0 ? sc->solver.dt : 0.9 * m->dt_bound;
         /* rigid scenes without stiff joints are not bounded: default to 1 ms */
         if (m->rigid && sc->solver.dt <= 0 && dt > 1e-3) dt = 1e-3;
@@ -2260,8 +2751,8 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
                 }
             }
             om2 = m->rigid ? rj__rig_setup(m, m->lz) : rj__omega2_max(m);
-            m->omega_max = sqrt(om2 > 0 ? om2 : 0);
-            m->dt_bound = m->omega_max > 0 ? RJ__DT_MARGIN * 2.0 / m->omega_max : 1.0;
+            m->omega_max = rj__omega_of(om2);
+            m->dt_bound = rj__dt_bound_of(m->omega_max, damp_rate);
             if (sc->solver.dt > 0 || dt <= 0.9 * m->dt_bound * 1.000001) break;
             {
                 const double c2 = (0.9 * RJ__DT_MARGIN * 2.0) * (0.9 * RJ__DT_MARGIN * 2.0), b = (om2 - om2_noad) * dt * dt;
@@ -2326,6 +2817,8 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
                                                                                                 : "use a smaller dt or set solver.allow_unstable");
         return RJ_ERR_UNSTABLE_DT;
     }
+    /* a bound or a step that is not a finite positive number leaves nothing to run */
+    if (!rj__usable_step(m, err)) return RJ_ERR_INVALID;
     /* Eq 28 over the whole model */
     m->dt_eq28 = HUGE_VAL;
     for (l = 0; l < m->nl; l++) {
@@ -2385,13 +2878,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         int q;
         for (q = m->cl_first[i]; q < m->cl_first[i + 1]; q++) if (!rj__is_dnode(m, m->cl_node[q])) m->ip = 0;
     }
-    m->hash = 14695981039346656037ULL;
-    m->hash = rj__fnv(m->hash, &m->nn, sizeof m->nn);
-    m->hash = rj__fnv(m->hash, &m->ne, sizeof m->ne);
-    m->hash = rj__fnv(m->hash, &m->nj, sizeof m->nj);
-    m->hash = rj__fnv(m->hash, &m->dt, sizeof m->dt);
-    m->hash = rj__fnv(m->hash, m->mass, sizeof(double) * (size_t)nn);
-    m->hash = rj__fnv(m->hash, m->x0, sizeof(double) * (size_t)nn);
+    m->hash = rj__model_hash(m);
     *out = m;
     return RJ_OK;
 }
@@ -2401,10 +2888,11 @@ RJDEF rj_result rj_model_create(const rj_scene_def *scene, rj_model **out, rj_er
     size_t sz;
     void *mem;
     rj_result r;
+    rj_error size_err;
     (void)alloc_ctx;
     if (!out) { rj__fail(err, RJ_ERR_INVALID, "out", 0, "out is NULL"); return RJ_ERR_INVALID; }
-    sz = rj_model_size(scene, err);
-    if (!sz) return RJ_ERR_INVALID;
+    sz = rj_model_size(scene, err ? err : &size_err);
+    if (!sz) return err ? err->code : size_err.code;
     mem = RJ_MALLOC(sz, alloc_ctx);
     if (!mem) { rj__fail(err, RJ_ERR_NOMEM, "size", (double)sz, "could not allocate %lu bytes", (unsigned long)sz); return RJ_ERR_NOMEM; }
     r = rj_model_init(scene, mem, sz, out, err);
@@ -2450,7 +2938,7 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->ebt = rj__carve(&off, (size_t)m->ne, sizeof(double));
     L->jsc = rj__carve(&off, (size_t)m->nj * 8 + 1, sizeof(double));
     L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl) : 3 * (size_t)m->ncl + 1, sizeof(double));
-    L->total = off + RJ__ALIGN;
+    L->total = off == (size_t)-1 ? off : off + RJ__ALIGN;
 }
 
 RJDEF size_t rj_state_size(const rj_model *m)
@@ -2618,11 +3106,36 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
 static rj_result rj__stop(const rj_model *m, rj_state *s, rj_result r, const char *fmt, ...)
 {
     va_list ap;
+    int wanted;
     (void)m;
     va_start(ap, fmt);
-    vsnprintf(s->err, sizeof s->err, fmt, ap);
+    wanted = vsnprintf(s->err, sizeof s->err, fmt, ap);
     va_end(ap);
+    rj__fit_words(s->err, sizeof s->err, wanted);
     return r;
+}
+
+/* The causes of a blow-up that this model can have, for the step's messages: only what
+   the model holds (a step above the bound, limits and how they respond, stiff joints),
+   else what every model has (fast rotation, which the linearised bound leaves out). */
+static const char *rj__blowup_causes(const rj_model *m, char *buf, size_t size)
+{
+    int j, stiff_limit = 0, velocity_limit = 0, springs = 0;
+    if (m->dt > m->dt_bound) return "the step is above the stability bound: use a smaller solver.dt, or 0 for the automatic step";
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const int limits = d->has_forward || d->has_reverse;
+        if (limits && (d->method == RJ_METHOD_PENALTY || d->method == RJ_METHOD_ADAPTIVE)) stiff_limit = 1;
+        if (limits && d->method != RJ_METHOD_PENALTY && d->method != RJ_METHOD_ADAPTIVE) velocity_limit = 1;
+        if (d->spring_k > 0 || d->table_count > 0) springs = 1;
+    }
+    buf[0] = 0;
+    if (stiff_limit)
+        rj__cat(buf, size, "a penalty or adaptive limit caught late (it stores about the relative kinetic energy when it catches a joint a rate x dt past its limit): RJ_METHOD_MOMENTUM catches it without a stiffness; ");
+    if (velocity_limit) rj__cat(buf, size, "contact chatter at a limit; ");
+    if (springs) rj__cat(buf, size, "a joint spring or table stiffer than the bound counts (Eq 31); ");
+    rj__cat(buf, size, "fast rotation (its centrifugal and Coriolis terms are not in the linearised bound): a smaller solver.dt");
+    return buf;
 }
 
 /* Names the node with the largest speed in the new frame, for blow-up reports. */
@@ -2630,16 +3143,33 @@ static void rj__worst_node(const rj_model *m, const double *f, int *link, int *n
 {
     const double *vx = RJ__FVX(m, f), *vy = RJ__FVY(m, f);
     double best = -1;
-    int i, l;
-    *link = 0; *node = 0;
+    int i, worst = 0;
     for (i = 0; i < m->nn; i++) {
         double v = vx[i] * vx[i] + vy[i] * vy[i];
         if (!(v <= best)) {
             best = v;
-            for (l = 0; l < m->nl; l++) if (i >= m->link_first[l] && i < m->link_first[l + 1]) { *link = l; *node = i - m->link_first[l]; }
+            worst = i;
             if (!(v == v)) break;
         }
     }
+    rj__node_of(m, worst, link, node);
+}
+
+/* A step that wrote a non-finite value stops, naming the first such node (or joint). */
+static rj_result rj__stop_nonfinite(const rj_model *m, rj_state *s, const double *f, double t)
+{
+    const double *v[6];
+    int i, k, link, node;
+    v[0] = RJ__FX(m, f); v[1] = RJ__FY(m, f); v[2] = RJ__FPHI(m, f);
+    v[3] = RJ__FVX(m, f); v[4] = RJ__FVY(m, f); v[5] = RJ__FW(m, f);
+    for (i = 0; i < m->nn; i++) for (k = 0; k < 6; k++) if (!rj__finite(v[k][i])) {
+        const char *what = k == 0 ? "x" : k == 1 ? "y" : k == 2 ? "rotation" : k == 3 ? "x velocity" : k == 4 ? "y velocity" : "rotation rate";
+        rj__node_of(m, i, &link, &node);
+        return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: link %d node %d's %s became %g: the state is no longer finite%s",
+                        t, link, node, what, v[k][i], m->dt > m->dt_bound ? " (the step is above the stability bound)" : "");
+    }
+    return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: a joint's angle, rate or torque, or a rigid body's motion, became non-finite%s",
+                    t, m->dt > m->dt_bound ? " (the step is above the stability bound)" : "");
 }
 
 /* Inextensible links: SHAKE. After the position update, Newton iterations on the element
@@ -3237,7 +3767,7 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
             else if (ni[j] == RJ_LOCKED) qn = nj_[RJ__JD_LOCK];
         }
         if (!(fabs(qn - q[j]) <= 0.5 * RJ__PI))
-            return rj__stop(m, s, RJ_ERR_TUNNEL, "t = %.9g s: joint %d turned %.4g rad in one step (more than pi/2): the step %g s is far too large for its speed",
+            return rj__stop(m, s, RJ_ERR_TUNNEL, "t = %.9g s: joint %d turned %.4g rad in one step (more than a quarter revolution, pi/2 rad): the step %g s is far too large for its speed",
                             t, j, qn - q[j], dt);
         nj_[RJ__JD_THETA] = qn; nj_[RJ__JD_RATE] = qdp[j]; nj_[RJ__JD_QDD] = qdd[j];
         rj__element_work(oj, nj_, qd[j], dt, &lost_d, &lost_f, &lost_l);
@@ -3256,18 +3786,18 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
     {
         const double scale = fabs(nsc[RJ__FS_E0]) + fabs(osc[RJ__FS_SPRING]) + 1e-9;
         const double created = ke + V + lost_d + lost_f + lost_l - nsc[RJ__FS_E0];
+        char causes[400];
         /* the same tests and messages as for flexible links (rj_step, part 7) */
         if (created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale)
             return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: %.6g J of energy created (balance %.6g J, limit work %.6g J; more than %g of the initial %.6g J); %s",
                             t, created > -lost_l ? created : -lost_l, created, -lost_l, RJ__CREATED, scale,
-                            dt > m->dt_bound ? "the step is above the stability bound"
-                                             : "a penalty or adaptive limit caught late at this step (it stores about the relative kinetic energy when it catches a joint rate x dt past the limit): use RJ_METHOD_MOMENTUM for rigid links, or a smaller step");
+                            rj__blowup_causes(m, causes, sizeof causes));
         if (!rj__finite(ke) || !rj__finite(lost_l))
             return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: non-finite energy of the rigid links; %s", t,
-                            dt > m->dt_bound ? "the step is above the stability bound" : "check the joint stiffnesses against the bound");
+                            rj__blowup_causes(m, causes, sizeof causes));
         if (fabs(ke) > m->solver.energy_growth * (scale + fabs(V)))
             return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: kinetic energy %.6g J of the rigid links exceeds %g x the initial %.6g J; %s",
-                            t, ke, m->solver.energy_growth, scale, dt > m->dt_bound ? "the step is above the stability bound" : "a joint stiffness above the bound");
+                            t, ke, m->solver.energy_growth, scale, rj__blowup_causes(m, causes, sizeof causes));
     }
     s->cur = 1 - s->cur;
     s->steps++;
@@ -3315,6 +3845,7 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     double *nsc = RJ__FS(m, nf);
     const double t = osc[RJ__FS_TIME];
     double U, V = 0, ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC], lost_l = osc[RJ__FS_LLIM] + osc[RJ__FS_PEND], pend = 0;
+    double fin = 0;   /* the advanced nodes' positions summed: finite while they all are */
     int i, j, gi;
     rj__adv adv;
     /* the accounts when asked, at the start, or K steps after the last ones (no division) */
@@ -3336,6 +3867,7 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     adv.ti = m->tinv; adv.ri = m->rinv; adv.km = m->kmass; adv.kj = m->krot;
     adv.nx = nx; adv.ny = ny; adv.nphi = nphi; adv.nvx = nvx; adv.nvy = nvy; adv.nw = nw; adv.kn = s->kn;
     adv.fx = fx; adv.fy = fy; adv.mz = mz; adv.en = en; adv.ip = ip;
+    adv.fin = &fin;
     U = rj__beam_pass(m, RJ__FX(m, of), RJ__FY(m, of), RJ__FPHI(m, of), RJ__FBETA(m, of), RJ__FCX(m, of), RJ__FCY(m, of), s->eu,
                       RJ__FBETA(m, ip ? cf : nf), RJ__FCX(m, ip ? cf : nf), RJ__FCY(m, ip ? cf : nf), fx, fy, mz, &adv);
     adv.vx = vx; adv.vy = vy; adv.w = w;   /* part 4 advances the joints' nodes from x .. w */
@@ -3418,6 +3950,7 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
         for (q = f0; q < f1; q++) {
             const int n = m->grp_node[q];
             nvx[n] = ux; nvy[n] = uy; nx[n] = x[n] + dt * ux; ny[n] = y[n] + dt * uy;
+            fin += nx[n] + ny[n];
         }
     }
     for (gi = 0; gi < m->ncl; gi++) {
@@ -3480,6 +4013,7 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
                         const int n = nodes[k];
                         if (n < 0) continue;
                         nx[n] = x[n] + dt * nvx[n]; ny[n] = y[n] + dt * nvy[n]; nphi[n] = phi[n] + dt * nw[n];
+                        fin += (nx[n] + ny[n]) + nphi[n];
                         if (m->ncl && RJ__CL_RIGID(m, n)) {
                             /* a body's node: the whole body takes the new rate */
                             const int c = m->node_cl[n];
@@ -3503,7 +4037,7 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
         double *nc = RJ__FCL(m, nf, gi);
         if (m->cl_first[gi] == m->cl_first[gi + 1]) continue;
         nc[0] = oc[0] + dt * nc[2]; nc[1] = oc[1] + dt * nc[3]; nc[5] = oc[5] + dt * nc[4];
-        rj__cl_pose(m, gi, nc, x, y, dt, 1, nx, ny, nphi, nvx, nvy, nw);
+        fin += rj__cl_pose(m, gi, nc, x, y, dt, 1, nx, ny, nphi, nvx, nvy, nw);
     }
     if (m->any_inext) {
         /* constraint forces do no work: the velocities follow the projected positions, and
@@ -3511,7 +4045,7 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
         double k0 = 0;
         const double idt = 1.0 / dt;
         rj__shake(m, s, x, y, nx, ny);
-        for (i = 0; i < nn; i++) { nvx[i] = (nx[i] - x[i]) * idt; nvy[i] = (ny[i] - y[i]) * idt; }
+        for (i = 0; i < nn; i++) { nvx[i] = (nx[i] - x[i]) * idt; nvy[i] = (ny[i] - y[i]) * idt; fin += (nx[i] + ny[i]) + nphi[i]; }
         if (en) {
             for (i = 0; i < nn; i++) {
                 const double vmx = s->steps == 0 ? 2 * vx[i] - nvx[i] : vx[i], vmy = s->steps == 0 ? 2 * vy[i] - nvy[i] : vy[i];
@@ -3543,8 +4077,8 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
         raw = rj__joint_raw(J, &g, nphi);
         dth = J->chord ? rj__wrap(raw - nj_[RJ__JD_THETA]) : raw - nj_[RJ__JD_THETA];
         if (!(fabs(dth) <= 0.5 * RJ__PI))
-            return rj__stop(m, s, RJ_ERR_TUNNEL, "t = %.9g s: joint %d turned %.4g rad in one step (more than pi/2): the step %g s is far too large for its speed; limits could be tunnelled",
-                            t, j, dth, dt);
+            return rj__stop(m, s, RJ_ERR_TUNNEL, "t = %.9g s: joint %d turned %.4g rad in one step (more than a quarter revolution, pi/2 rad): the step %g s is far too large for its speed%s",
+                            t, j, dth, dt, d->has_forward || d->has_reverse ? "; its limits could be tunnelled" : "");
         run = nj_[RJ__JD_THETA] + dth;
         if (d->method == RJ_METHOD_FORCED && ni[j] != RJ_FREE) {
             double target = run, p;
@@ -3554,6 +4088,7 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
             p = target - run;
             if (p != 0) {
                 rj__turn(J, -p * J->w1, p * J->w2, nx, ny, nphi);
+                fin += rj__joint_nodes_sum(J, nx, ny, nphi);
                 if (m->ncl) {
                     /* a body's node turned: the body turns (positions only, as above) */
                     const int nodes[2] = { J->nI, J->nJ };
@@ -3562,7 +4097,7 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
                         const int c = m->node_cl[nodes[k]];
                         double *nc = RJ__FCL(m, nf, c);
                         nc[5] = nphi[nodes[k]] - (m->phi0[nodes[k]] - m->cl_th0[3 * c]);
-                        rj__cl_pose(m, c, nc, x, y, dt, 0, nx, ny, nphi, nvx, nvy, nw);
+                        fin += rj__cl_pose(m, c, nc, x, y, dt, 0, nx, ny, nphi, nvx, nvy, nw);
                     }
                 }
                 run = J->chord ? target : rj__joint_raw(J, &g, nphi);
@@ -3571,7 +4106,10 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
         nj_[RJ__JD_THETA] = run;
     }
 
-    /* 7. energy accounts and blow-up detection (on the steps that take them); commit the frame */
+    /* 7. every value the step wrote is finite: fin sums every position it wrote, each from
+       the velocity, torque or body motion behind it, on every step; energy accounts and
+       blow-up detection (on the steps that take them); commit the frame */
+    if (!rj__finite(fin)) return rj__stop_nonfinite(m, s, ip ? cf : nf, t);
     {
         double E, scale, created, e0 = osc[RJ__FS_E0];
         const double warn = nsc[RJ__FS_WARN];   /* counted in this step already */
@@ -3597,18 +4135,19 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
             created = ke + U + V + lost_d + lost_f + lost_l - nsc[RJ__FS_E0];
             if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) || E > m->solver.energy_growth * (scale + fabs(V))
                 || created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale) {
+                char causes[400];
                 int bl, bn;
                 rj__worst_node(m, ip ? cf : nf, &bl, &bn);
                 if (created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale)
                     return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: %.6g J of energy created (balance %.6g J, limit work %.6g J; more than %g of the initial %.6g J); fastest node link %d node %d; %s",
                                     t, created > -lost_l ? created : -lost_l, created, -lost_l, RJ__CREATED, scale, bl, bn,
-                                    dt > m->dt_bound ? "the step is above the stability bound" : "contact chatter at a limit, with a stiffness or a method too hard for the step");
+                                    rj__blowup_causes(m, causes, sizeof causes));
                 if (!(E == E) || !rj__finite(E))
                     return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: non-finite energy, fastest node link %d node %d; %s", t, bl, bn,
-                                    dt > m->dt_bound ? "the step is above the stability bound" : "check joint stiffness against Eq 31 and the stability bound");
+                                    rj__blowup_causes(m, causes, sizeof causes));
                 return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: kinetic or strain energy %.6g J exceeds %g x the initial %.6g J; fastest node link %d node %d; %s",
                                 t, E, m->solver.energy_growth, scale, bl, bn,
-                                dt > m->dt_bound ? "the step is above the stability bound" : "a joint stiffness above the bound (Eq 31) or a limit tunnelled");
+                                rj__blowup_causes(m, causes, sizeof causes));
             }
         }
     }
@@ -3637,6 +4176,11 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
     rj_result r;
     long n, k;
     char err[sizeof s->err], warn[sizeof s->warn];
+    const double t = rj_state_time(s);
+    /* a step too small for the time reached would leave time where it is: rj_run would
+       never end */
+    if (!(t + m->dt > t))
+        return rj__stop(m, s, RJ_ERR_INVALID, "t = %.17g s: the step %g s no longer advances time (it is below the time's resolution, %g s)", t, m->dt, t * DBL_EPSILON);
     if (m->rigid) return rj__step_rigid(m, s);
     if (!m->ip || s->steps == 0) { s->snap = -1; return rj__step_dbl(m, s, want_energy); }
     if (s->snap < 0 || s->steps - s->snap >= RJ__SNAP) {
@@ -3690,6 +4234,8 @@ RJDEF long rj_state_warning_count(const rj_state *s) { return (long)s->fd[s->cur
 RJDEF const char *rj_state_warning(const rj_state *s) { return s->warn; }
 
 /* ------------------------------------------------------------------ queries */
+RJDEF int rj_model_warning_count(const rj_model *m) { return m->nwarn; }
+RJDEF const char *rj_model_warnings(const rj_model *m) { return m->warnings; }
 RJDEF double rj_model_dt(const rj_model *m) { return m->dt; }
 RJDEF double rj_model_dt_bound(const rj_model *m) { return m->dt_bound; }
 RJDEF double rj_model_omega_max(const rj_model *m) { return m->omega_max; }
@@ -3918,32 +4464,82 @@ RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size
     memcpy(b + RJ__CK_HEAD + pay, &h, 8);
     return need;
 }
+/* The steps a checkpoint may count: the counter must stay far from overflowing a long
+   (32 bits on some systems) */
+#define RJ__CK_MAX_STEPS 2000000000.0
+
+/* A checkpoint's frame is checked as the model validation checks a definition: every value
+   finite, time and counts in range, each joint's flag one its definition allows. Returns 0
+   with err filled when a value is out of range. */
+static int rj__ck_frame_ok(const rj_model *m, const double *fd, const int *fi, unsigned long long steps, rj_error *err)
+{
+    const double *sc = RJ__FS(m, fd);
+    size_t k;
+    int j;
+    if (steps > (unsigned long long)RJ__CK_MAX_STEPS) {
+        rj__fail(err, RJ_ERR_CHECKPOINT, "steps", (double)steps, "checkpoint counts %.0f steps, more than the %.0f a state counts", (double)steps, RJ__CK_MAX_STEPS);
+        return 0;
+    }
+    for (k = 0; k < m->frame_doubles; k++) if (!rj__finite(fd[k])) {
+        rj__fail(err, RJ_ERR_CHECKPOINT, "payload", fd[k], "checkpoint holds a non-finite value (%g) at value %lu", fd[k], (unsigned long)k);
+        return 0;
+    }
+    if (!(sc[RJ__FS_TIME] >= 0) || !(sc[RJ__FS_ETIME] <= sc[RJ__FS_TIME])) {
+        rj__fail(err, RJ_ERR_CHECKPOINT, "time", sc[RJ__FS_TIME], "checkpoint time %g s (energy time %g s) is out of range", sc[RJ__FS_TIME], sc[RJ__FS_ETIME]);
+        return 0;
+    }
+    if (!(sc[RJ__FS_WARN] >= 0 && sc[RJ__FS_WARN] <= RJ__CK_MAX_STEPS && sc[RJ__FS_WARN] == floor(sc[RJ__FS_WARN]))) {
+        rj__fail(err, RJ_ERR_CHECKPOINT, "warnings", sc[RJ__FS_WARN], "checkpoint warning count %g is not a count", sc[RJ__FS_WARN]);
+        return 0;
+    }
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const int flag = fi[j];
+        const int ok = flag == RJ_FREE || (flag == RJ_AT_FORWARD && d->has_forward) || (flag == RJ_AT_REVERSE && d->has_reverse)
+                       || (flag == RJ_LOCKED && d->lock && (d->has_forward || d->has_reverse));
+        if (ok) continue;
+        rj__fail(err, RJ_ERR_CHECKPOINT, "flag", flag, "checkpoint gives joint %d the flag %d, which its definition does not allow", j, flag);
+        return 0;
+    }
+    return 1;
+}
+
 RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, size_t size, rj_error *err)
 {
-    size_t pay = 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1);
-    size_t need = RJ__CK_HEAD + pay + 8;
+    const size_t pay = 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1);
+    const size_t need = RJ__CK_HEAD + pay + 8;
     const unsigned char *b = (const unsigned char *)buf;
+    const unsigned char *fd_bytes = b + RJ__CK_HEAD + 8;
+    const unsigned char *fi_bytes = fd_bytes + sizeof(double) * m->frame_doubles;
     unsigned int ver;
     unsigned long long h, hh, mh, pl, st;
-    size_t k;
-    if (!buf || size < need) { rj__fail(err, RJ_ERR_CHECKPOINT, "size", (double)size, "checkpoint of %lu bytes is truncated: this model's checkpoints are %lu bytes", (unsigned long)size, (unsigned long)need); return RJ_ERR_CHECKPOINT; }
+    /* the header first: a checkpoint of another model (or none) is told apart from a cut one */
+    if (!buf || size < RJ__CK_HEAD) { rj__fail(err, RJ_ERR_CHECKPOINT, "size", (double)size, "checkpoint of %lu bytes is truncated: this model's checkpoints are %lu bytes", (unsigned long)size, (unsigned long)need); return RJ_ERR_CHECKPOINT; }
     if (memcmp(b, "RJCK", 4) != 0) { rj__fail(err, RJ_ERR_CHECKPOINT, "magic", 0, "not a revjoint checkpoint (bad magic)"); return RJ_ERR_CHECKPOINT; }
     memcpy(&ver, b + 4, 4); memcpy(&mh, b + 8, 8); memcpy(&pl, b + 16, 8);
     if (ver != 1) { rj__fail(err, RJ_ERR_CHECKPOINT, "version", ver, "checkpoint version %u is not supported (1)", ver); return RJ_ERR_CHECKPOINT; }
-    if (mh != m->hash || pl != pay) { rj__fail(err, RJ_ERR_CHECKPOINT, "model", 0, "checkpoint was written for a different model"); return RJ_ERR_CHECKPOINT; }
+    if (mh != m->hash || pl != pay) { rj__fail(err, RJ_ERR_CHECKPOINT, "model", 0, "checkpoint is for another model (its definitions, step or size differ from this model's)"); return RJ_ERR_CHECKPOINT; }
+    if (size < need) { rj__fail(err, RJ_ERR_CHECKPOINT, "size", (double)size, "checkpoint of %lu bytes is truncated: this model's checkpoints are %lu bytes", (unsigned long)size, (unsigned long)need); return RJ_ERR_CHECKPOINT; }
+    if (size > need) { rj__fail(err, RJ_ERR_CHECKPOINT, "size", (double)size, "checkpoint of %lu bytes has %lu bytes after its end: this model's checkpoints are %lu bytes", (unsigned long)size, (unsigned long)(size - need), (unsigned long)need); return RJ_ERR_CHECKPOINT; }
     memcpy(&hh, b + RJ__CK_HEAD + pay, 8);
     h = rj__fnv(14695981039346656037ULL, b, RJ__CK_HEAD + pay);
     if (h != hh) { rj__fail(err, RJ_ERR_CHECKPOINT, "checksum", 0, "checkpoint is corrupted (checksum mismatch)"); return RJ_ERR_CHECKPOINT; }
-    for (k = 0; k < m->frame_doubles; k++) {
-        double v;
-        memcpy(&v, b + RJ__CK_HEAD + 8 + k * sizeof(double), sizeof v);
-        if (v != v) { rj__fail(err, RJ_ERR_CHECKPOINT, "payload", v, "checkpoint holds a NaN at value %lu", (unsigned long)k); return RJ_ERR_CHECKPOINT; }
-    }
     memcpy(&st, b + RJ__CK_HEAD, 8);
-    s->cur = 0; s->snap = -1;
+    /* the checksum is no seal: every value is checked before the state changes, in the
+       frame that is not current (a failed load leaves the state as it was) */
+    {
+        const int spare = 1 - s->cur;
+        memcpy(s->fd[spare], fd_bytes, sizeof(double) * m->frame_doubles);
+        memcpy(s->fi[spare], fi_bytes, sizeof(int) * (m->frame_ints + 1));
+        if (!rj__ck_frame_ok(m, s->fd[spare], s->fi[spare], st, err)) {
+            s->snap = -1;   /* in place the spare frame held the rollback copy: take a new one */
+            return RJ_ERR_CHECKPOINT;
+        }
+        s->fi[spare][m->frame_ints] = 0;
+        s->cur = spare;
+    }
+    s->snap = -1;
     s->steps = (long)st;
-    memcpy(s->fd[0], b + RJ__CK_HEAD + 8, sizeof(double) * m->frame_doubles);
-    memcpy(s->fi[0], b + RJ__CK_HEAD + 8 + sizeof(double) * m->frame_doubles, sizeof(int) * (m->frame_ints + 1));
     s->err[0] = 0; s->warn[0] = 0;
     return RJ_OK;
 }
@@ -5007,7 +5603,7 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     {   /* the model's own validation, located in the file */
         rj_scene_def sd = rj_scene_file_def(&F);
         rj_error me;
-        if (rj_model_size(&sd, &me) == 0) {
+        if (rj__validate_all(&sd, &me, alloc_ctx) != RJ_OK) {
             rj_scene_file_locate(&F, &me);
             P.code = me.code;
             if (err) *err = me;

@@ -408,7 +408,7 @@ static rj_result ip_run(const rj_scene_def *sc0, int in_place, double t_end, dou
 static void test_in_place(rjt_ctx *c)
 {
     static unsigned char b0[1 << 17], b1[1 << 17], b2[1 << 17];
-    char e0[320], e1[320], e2[320], name[200];
+    char e0[640], e1[640], e2[640], name[200];
     int k;
     {   /* the deployment with 200 elements per link (402 nodes: AUTO steps in place), rj_run
            with samples and energy_every 16 */
