@@ -452,12 +452,14 @@ RJDEF void rj_scene_file_locate(const rj_scene_file *f, rj_error *err);
    "joint0", ...); given names must be valid (1..31 of [A-Za-z0-9_.-], not starting with a
    digit, '.' or '-'; a link not named "ground") and unique. Returns 0 (and writes nothing)
    for an unwritable scene: counts outside 1..RJ_SCENE_MAX_LINKS / 0..RJ_SCENE_MAX_JOINTS,
-   a body index out of range, a non-finite number, a bad name. Reading the text back with
-   rj_scene_parse gives every field the model uses bit for bit (numbers are written in their
-   shortest round-trip form, angles in deg when that round-trips, else in rad); fields the
-   model ignores (width/layers of a general section, area/inertia of a rectangular one, the
-   value of a disabled limit, node1 and ground_* where they do not apply) come back as their
-   defaults. */
+   a body index out of range, a non-finite number in a field it writes, a bad name. Reading
+   the text back with rj_scene_parse gives every field the model uses bit for bit, -0.0
+   included (numbers are written in their shortest round-trip form, angles in deg when that
+   round-trips, else in rad), so any scene rj_model_create accepts within those counts
+   builds the same model from the text. Fields the model ignores (width/layers of a general
+   section, area/inertia of a rectangular one, the value of a disabled limit, table points
+   past table_count, node1 and ground_* where they do not apply) are not written, so they
+   may hold anything (NaN too), and come back as their defaults. */
 RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_names, const char *const *joint_names, char *buf, size_t size);
 #endif /* RJ_NO_SCENE_FILES */
 
@@ -4416,8 +4418,8 @@ static int rj__sp_table(rj__sp *P, int a, int *i, int b, rj_joint_def *d)
             return rj__sp_err(P, P->tok[s].line, P->tok[s].col, key, rj__sp_nan(), "table has more than ", rj__sp_itoa(nb, RJ_TABLE_MAX), " points", rj__sp_where(P), NULL);
         if (!rj__sp_angle(P, i, b, key, 0, &v)) return 0;
         a = s;
+        /* angles may fall: as in rj_model_create, a fall starts a new run (Eq 4) */
         if (!RJ__SP_RULE(v >= 0 && v <= 2.0 * 3.14159265358979323846, "table angles must be in [0, 360] deg")) return 0;
-        if (n > 0 && !RJ__SP_RULE(v >= d->table_angle[n - 1], "table angles must not decrease")) return 0;
         if (*i >= b) {
             const rj__stok *z = &P->tok[*i - 1];
             return rj__sp_err(P, z->line, z->col + z->len, key, rj__sp_nan(), "missing torque after the table angle", rj__sp_where(P), " (table = angle torque, angle torque, ...)", NULL, NULL);
@@ -5185,18 +5187,48 @@ static void rj__sw_key(rj__sw *W, const char *key) { rj__sw_put(W, "  "); rj__sw
 
 static int rj__sw_finite(double v) { return v - v == 0.0; }
 
-RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_names, const char *const *joint_names, char *buf, size_t size)
+/* whether v differs from def in its bits, not only in value: -0.0 must be written (a
+   ground pin at x = -0.0 puts -0.0 into the node positions), so it reads back as -0.0 */
+static int rj__sw_set(double v, double def) { return memcmp(&v, &def, sizeof v) != 0; }
+
+/* whether the writer can express the link: its enums in range and every number it writes
+   finite. Fields the model ignores are not written, so anything in them is fine: width and
+   layers of a general section, area and inertia of a rectangular one. */
+static int rj__sw_link_ok(const rj_link_def *d)
 {
-    rj__sw W;
-    rj_link_def L0 = rj_default_link_def();
-    rj_joint_def J0 = rj_default_joint_def();
-    rj_solver_def S0 = rj_default_solver_def();
-    char nm[40];
+    double v[14];
+    int k, gen = d->section == RJ_SECTION_GENERAL;
+    if (d->root < 0 || d->root > 3 || (d->section != RJ_SECTION_RECT && !gen)
+        || d->fidelity < RJ_LINK_FLEXIBLE || d->fidelity > RJ_LINK_INEXTENSIBLE) return 0;
+    v[0] = d->length; v[1] = d->E; v[2] = d->rho; v[3] = d->height; v[4] = d->tip_mass; v[5] = d->tip_inertia; v[6] = d->x;
+    v[7] = d->y; v[8] = d->angle; v[9] = d->vx; v[10] = d->vy; v[11] = d->omega; v[12] = gen ? d->area : d->width; v[13] = gen ? d->inertia : 0;
+    for (k = 0; k < 14; k++) if (!rj__sw_finite(v[k])) return 0;
+    return 1;
+}
+
+/* the same for a joint: ground_* are written only when body1 is ground, a limit's value
+   only when it is enabled, table points only up to table_count */
+static int rj__sw_joint_ok(const rj_joint_def *d, int link_count)
+{
+    double v[8];
+    int k;
+    if (d->body1 < -1 || d->body1 >= link_count || d->body2 < 0 || d->body2 >= link_count) return 0;
+    if ((d->lock & ~1) || (d->has_forward & ~1) || (d->has_reverse & ~1) || d->table_count < 0 || d->table_count > RJ_TABLE_MAX
+        || d->method < 0 || d->method > 4 || d->release < 0 || d->release > 1 || d->reference < 0 || d->reference > 1) return 0;
+    v[0] = d->angle0; v[1] = d->rate0; v[2] = d->spring_k; v[3] = d->spring_free_angle; v[4] = d->penalty_k; v[5] = d->restitution;
+    v[6] = d->damping; v[7] = d->friction;
+    for (k = 0; k < 8; k++) if (!rj__sw_finite(v[k])) return 0;
+    if (d->body1 < 0 && !(rj__sw_finite(d->ground_x) && rj__sw_finite(d->ground_y) && rj__sw_finite(d->ground_angle))) return 0;
+    if ((d->has_forward && !rj__sw_finite(d->forward)) || (d->has_reverse && !rj__sw_finite(d->reverse))) return 0;
+    for (k = 0; k < d->table_count; k++) if (!rj__sw_finite(d->table_angle[k]) || !rj__sw_finite(d->table_torque[k])) return 0;
+    return 1;
+}
+
+/* names and numbers first: rj_scene_write writes nothing for a scene it cannot write */
+static int rj__sw_ok(const rj_scene_def *sc, const char *const *link_names, const char *const *joint_names)
+{
+    const rj_solver_def *s = &sc->solver;
     int i, k;
-    if (buf && size) buf[0] = 0;
-    if (!sc || sc->link_count < 1 || sc->link_count > RJ_SCENE_MAX_LINKS || !sc->links
-        || sc->joint_count < 0 || sc->joint_count > RJ_SCENE_MAX_JOINTS || (sc->joint_count && !sc->joints)) return 0;
-    /* names and numbers first: write nothing for a scene that cannot be written */
     for (k = 0; k < 2; k++) {
         const char *const *names = k ? joint_names : link_names;
         int n = k ? sc->joint_count : sc->link_count, a, b;
@@ -5207,114 +5239,142 @@ RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_name
             for (b = 0; b < a; b++) if (names[b] && strcmp(names[a], names[b]) == 0) return 0;
         }
     }
-    if (!rj__sw_finite(sc->solver.dt) || !rj__sw_finite(sc->solver.energy_growth) || (sc->solver.allow_unstable != 0 && sc->solver.allow_unstable != 1)
-        || sc->solver.energy_every < 1 || sc->solver.energy_every > 1000 || sc->solver.in_place < RJ_IN_PLACE_AUTO || sc->solver.in_place > RJ_IN_PLACE_OFF) return 0;
-    for (i = 0; i < sc->link_count; i++) {
-        const rj_link_def *d = &sc->links[i];
-        double v[14];
-        v[0] = d->length; v[1] = d->E; v[2] = d->rho; v[3] = d->width; v[4] = d->height; v[5] = d->area; v[6] = d->inertia;
-        v[7] = d->tip_mass; v[8] = d->tip_inertia; v[9] = d->x; v[10] = d->y; v[11] = d->angle; v[12] = d->vx; v[13] = d->vy;
-        for (k = 0; k < 14; k++) if (!rj__sw_finite(v[k])) return 0;
-        if (!rj__sw_finite(d->omega) || d->root < 0 || d->root > 3 || (d->section != RJ_SECTION_RECT && d->section != RJ_SECTION_GENERAL)
-            || d->fidelity < RJ_LINK_FLEXIBLE || d->fidelity > RJ_LINK_INEXTENSIBLE) return 0;
+    if (!rj__sw_finite(s->dt) || !rj__sw_finite(s->energy_growth) || (s->allow_unstable != 0 && s->allow_unstable != 1)
+        || s->energy_every < 1 || s->energy_every > 1000 || s->in_place < RJ_IN_PLACE_AUTO || s->in_place > RJ_IN_PLACE_OFF) return 0;
+    for (i = 0; i < sc->link_count; i++) if (!rj__sw_link_ok(&sc->links[i])) return 0;
+    for (i = 0; i < sc->joint_count; i++) if (!rj__sw_joint_ok(&sc->joints[i], sc->link_count)) return 0;
+    return 1;
+}
+
+/* names[i], or prefix and i when the caller gave no names */
+static void rj__sw_name(rj__sw *W, const char *const *names, const char *prefix, int i)
+{
+    char nm[40];
+    if (names) { rj__sw_put(W, names[i]); return; }
+    snprintf(nm, sizeof nm, "%s%d", prefix, i);
+    rj__sw_put(W, nm);
+}
+
+/* the solver section, only when some value differs from the defaults */
+static void rj__sw_solver(rj__sw *W, const rj_solver_def *s)
+{
+    rj_solver_def S0 = rj_default_solver_def();
+    char nm[40];
+    if (!rj__sw_set(s->dt, S0.dt) && !s->allow_unstable && !rj__sw_set(s->energy_growth, S0.energy_growth)
+        && s->energy_every == S0.energy_every && s->in_place == S0.in_place) return;
+    rj__sw_put(W, "solver\n");
+    if (rj__sw_set(s->dt, S0.dt)) { rj__sw_key(W, "dt"); rj__sw_num(W, s->dt); rj__sw_put(W, "\n"); }
+    if (s->allow_unstable) { rj__sw_key(W, "allow_unstable"); rj__sw_put(W, "yes\n"); }
+    if (rj__sw_set(s->energy_growth, S0.energy_growth)) { rj__sw_key(W, "energy_growth"); rj__sw_num(W, s->energy_growth); rj__sw_put(W, "\n"); }
+    if (s->energy_every != S0.energy_every) { snprintf(nm, sizeof nm, "  energy_every = %d\n", s->energy_every); rj__sw_put(W, nm); }
+    if (s->in_place != S0.in_place) { rj__sw_key(W, "in_place"); rj__sw_put(W, rj__sk_in_place[s->in_place]); rj__sw_put(W, "\n"); }
+}
+
+/* a link section; root_link: the link hangs from no joint (else x, y, angle are unused) */
+static void rj__sw_link(rj__sw *W, const rj_link_def *d, int root_link)
+{
+    rj_link_def L0 = rj_default_link_def();
+    char nm[40];
+    rj__sw_key(W, "length"); rj__sw_num(W, d->length);
+    snprintf(nm, sizeof nm, "  elements = %d\n", d->elements); rj__sw_put(W, nm);
+    rj__sw_key(W, "E"); rj__sw_num(W, d->E); rj__sw_put(W, "  rho = "); rj__sw_num(W, d->rho); rj__sw_put(W, "\n");
+    if (d->section == RJ_SECTION_GENERAL) {
+        rj__sw_key(W, "area"); rj__sw_num(W, d->area); rj__sw_put(W, "  inertia = "); rj__sw_num(W, d->inertia);
+        if (rj__sw_set(d->height, L0.height)) { rj__sw_put(W, "  height = "); rj__sw_num(W, d->height); }
+    } else {
+        rj__sw_key(W, "width"); rj__sw_num(W, d->width); rj__sw_put(W, "  height = "); rj__sw_num(W, d->height);
+        if (d->layers != L0.layers) { snprintf(nm, sizeof nm, "  layers = %d", d->layers); rj__sw_put(W, nm); }
     }
-    for (i = 0; i < sc->joint_count; i++) {
-        const rj_joint_def *d = &sc->joints[i];
-        double v[13];
-        if (d->body1 < -1 || d->body1 >= sc->link_count || d->body2 < 0 || d->body2 >= sc->link_count) return 0;
-        if ((d->lock & ~1) || (d->has_forward & ~1) || (d->has_reverse & ~1)) return 0;
-        if (d->table_count < 0 || d->table_count > RJ_TABLE_MAX || d->method < 0 || d->method > 4 || d->release < 0 || d->release > 1 || d->reference < 0 || d->reference > 1) return 0;
-        v[0] = d->ground_x; v[1] = d->ground_y; v[2] = d->ground_angle; v[3] = d->angle0; v[4] = d->rate0; v[5] = d->spring_k;
-        v[6] = d->spring_free_angle; v[7] = d->forward; v[8] = d->reverse; v[9] = d->penalty_k; v[10] = d->restitution; v[11] = d->damping; v[12] = d->friction;
-        for (k = 0; k < 13; k++) if (!rj__sw_finite(v[k])) return 0;
-        for (k = 0; k < d->table_count; k++) if (!rj__sw_finite(d->table_angle[k]) || !rj__sw_finite(d->table_torque[k])) return 0;
+    rj__sw_put(W, "\n");
+    if (rj__sw_set(d->tip_mass, 0) || rj__sw_set(d->tip_inertia, 0)) {
+        rj__sw_key(W, "tip_mass"); rj__sw_num(W, d->tip_mass); rj__sw_put(W, "  tip_inertia = "); rj__sw_num(W, d->tip_inertia); rj__sw_put(W, "\n");
     }
+    if (d->root != L0.root) { rj__sw_key(W, "root"); rj__sw_put(W, rj__sk_root[d->root]); rj__sw_put(W, "\n"); }
+    if (d->fidelity != L0.fidelity) { rj__sw_key(W, "fidelity"); rj__sw_put(W, rj__sk_fidelity[d->fidelity]); rj__sw_put(W, "\n"); }
+    if (rj__sw_set(d->x, 0) || rj__sw_set(d->y, 0) || rj__sw_set(d->angle, 0)) {
+        rj__sw_key(W, "x"); rj__sw_num(W, d->x); rj__sw_put(W, "  y = "); rj__sw_num(W, d->y);
+        rj__sw_put(W, "  angle = "); rj__sw_angle(W, d->angle, 0); rj__sw_put(W, root_link ? "\n" : "   # unused: the link hangs from a joint\n");
+    }
+    if (rj__sw_set(d->vx, 0) || rj__sw_set(d->vy, 0) || rj__sw_set(d->omega, 0)) {
+        rj__sw_key(W, "vx"); rj__sw_num(W, d->vx); rj__sw_put(W, "  vy = "); rj__sw_num(W, d->vy);
+        rj__sw_put(W, "  omega = "); rj__sw_angle(W, d->omega, 1); rj__sw_put(W, "\n");
+    }
+}
+
+/* a joint's table, four points to a line (a line ending in ',' continues) */
+static void rj__sw_table(rj__sw *W, const rj_joint_def *d)
+{
+    int k;
+    if (d->table_count <= 0) return;
+    rj__sw_key(W, "table");
+    for (k = 0; k < d->table_count; k++) {
+        if (k) rj__sw_put(W, k % 4 == 0 ? ",\n    " : ", ");
+        rj__sw_angle(W, d->table_angle[k], 0); rj__sw_put(W, " "); rj__sw_num(W, d->table_torque[k]);
+    }
+    rj__sw_put(W, "\n");
+}
+
+/* the keys after a joint's bodies */
+static void rj__sw_joint_rest(rj__sw *W, const rj_joint_def *d)
+{
+    rj_joint_def J0 = rj_default_joint_def();
+    rj__sw_key(W, "angle0"); rj__sw_angle(W, d->angle0, 0);
+    if (rj__sw_set(d->rate0, 0)) { rj__sw_put(W, "  rate0 = "); rj__sw_angle(W, d->rate0, 1); }
+    rj__sw_put(W, "\n");
+    rj__sw_table(W, d);
+    if (rj__sw_set(d->spring_k, J0.spring_k) || rj__sw_set(d->spring_free_angle, J0.spring_free_angle)) {
+        rj__sw_key(W, "spring"); rj__sw_num(W, d->spring_k); rj__sw_put(W, " "); rj__sw_angle(W, d->spring_free_angle, 0); rj__sw_put(W, "\n");
+    }
+    if (d->has_forward) { rj__sw_key(W, "forward"); rj__sw_angle(W, d->forward, 0); rj__sw_put(W, "\n"); }
+    if (d->has_reverse) { rj__sw_key(W, "reverse"); rj__sw_angle(W, d->reverse, 0); rj__sw_put(W, "\n"); }
+    if (d->lock) { rj__sw_key(W, "lock"); rj__sw_put(W, "yes\n"); }
+    rj__sw_key(W, "method"); rj__sw_put(W, rj__sk_method[d->method]);
+    if (d->release != J0.release) { rj__sw_put(W, "  release = "); rj__sw_put(W, rj__sk_release[d->release]); }
+    if (d->reference != J0.reference) { rj__sw_put(W, "  reference = "); rj__sw_put(W, rj__sk_reference[d->reference]); }
+    rj__sw_put(W, "\n");
+    if (rj__sw_set(d->penalty_k, 0)) { rj__sw_key(W, "penalty_k"); rj__sw_num(W, d->penalty_k); rj__sw_put(W, "\n"); }
+    if (rj__sw_set(d->restitution, 0)) { rj__sw_key(W, "restitution"); rj__sw_num(W, d->restitution); rj__sw_put(W, "\n"); }
+    if (rj__sw_set(d->damping, 0)) { rj__sw_key(W, "damping"); rj__sw_num(W, d->damping); rj__sw_put(W, "\n"); }
+    if (rj__sw_set(d->friction, 0)) { rj__sw_key(W, "friction"); rj__sw_num(W, d->friction); rj__sw_put(W, "\n"); }
+}
+
+/* a joint section: bodies, node1 when body1 is a link, ground_* when it is ground */
+static void rj__sw_joint(rj__sw *W, const rj_joint_def *d, const char *const *link_names)
+{
+    char nm[40];
+    rj__sw_key(W, "body1");
+    if (d->body1 < 0) rj__sw_put(W, "ground"); else rj__sw_name(W, link_names, "link", d->body1);
+    rj__sw_put(W, "  body2 = "); rj__sw_name(W, link_names, "link", d->body2);
+    if (d->body1 >= 0 && d->node1 != -1) { snprintf(nm, sizeof nm, "  node1 = %d", d->node1); rj__sw_put(W, nm); }
+    rj__sw_put(W, "\n");
+    if (d->body1 < 0 && (rj__sw_set(d->ground_x, 0) || rj__sw_set(d->ground_y, 0) || rj__sw_set(d->ground_angle, 0))) {
+        rj__sw_key(W, "ground_x"); rj__sw_num(W, d->ground_x); rj__sw_put(W, "  ground_y = "); rj__sw_num(W, d->ground_y);
+        rj__sw_put(W, "  ground_angle = "); rj__sw_angle(W, d->ground_angle, 0); rj__sw_put(W, "\n");
+    }
+    rj__sw_joint_rest(W, d);
+}
+
+RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_names, const char *const *joint_names, char *buf, size_t size)
+{
+    rj__sw W;
+    int i, k;
+    if (buf && size) buf[0] = 0;
+    if (!sc || sc->link_count < 1 || sc->link_count > RJ_SCENE_MAX_LINKS || !sc->links
+        || sc->joint_count < 0 || sc->joint_count > RJ_SCENE_MAX_JOINTS || (sc->joint_count && !sc->joints)) return 0;
+    if (!rj__sw_ok(sc, link_names, joint_names)) return 0;
     W.buf = buf; W.size = buf ? size : 0; W.n = 0;
     rj__sp_locale(W.dp, &W.dplen);
     rj__sw_put(&W, "# revjoint scene (written by rj_scene_write, revjoint.h " RJ_VERSION ")\n");
-    if (sc->solver.dt != S0.dt || sc->solver.allow_unstable || sc->solver.energy_growth != S0.energy_growth || sc->solver.energy_every != S0.energy_every
-        || sc->solver.in_place != S0.in_place) {
-        rj__sw_put(&W, "solver\n");
-        if (sc->solver.dt != S0.dt) { rj__sw_key(&W, "dt"); rj__sw_num(&W, sc->solver.dt); rj__sw_put(&W, "\n"); }
-        if (sc->solver.allow_unstable) { rj__sw_key(&W, "allow_unstable"); rj__sw_put(&W, "yes\n"); }
-        if (sc->solver.energy_growth != S0.energy_growth) { rj__sw_key(&W, "energy_growth"); rj__sw_num(&W, sc->solver.energy_growth); rj__sw_put(&W, "\n"); }
-        if (sc->solver.energy_every != S0.energy_every) { snprintf(nm, sizeof nm, "  energy_every = %d\n", sc->solver.energy_every); rj__sw_put(&W, nm); }
-        if (sc->solver.in_place != S0.in_place) { rj__sw_key(&W, "in_place"); rj__sw_put(&W, rj__sk_in_place[sc->solver.in_place]); rj__sw_put(&W, "\n"); }
-    }
+    rj__sw_solver(&W, &sc->solver);
     for (i = 0; i < sc->link_count; i++) {
-        const rj_link_def *d = &sc->links[i];
         int root_link = 1;
         for (k = 0; k < sc->joint_count; k++) if (sc->joints[k].body2 == i) root_link = 0;
-        if (link_names) snprintf(nm, sizeof nm, "%s", link_names[i]); else snprintf(nm, sizeof nm, "link%d", i);
-        rj__sw_put(&W, "link "); rj__sw_put(&W, nm); rj__sw_put(&W, "\n");
-        rj__sw_key(&W, "length"); rj__sw_num(&W, d->length);
-        snprintf(nm, sizeof nm, "  elements = %d\n", d->elements); rj__sw_put(&W, nm);
-        rj__sw_key(&W, "E"); rj__sw_num(&W, d->E); rj__sw_put(&W, "  rho = "); rj__sw_num(&W, d->rho); rj__sw_put(&W, "\n");
-        if (d->section == RJ_SECTION_GENERAL) {
-            rj__sw_key(&W, "area"); rj__sw_num(&W, d->area); rj__sw_put(&W, "  inertia = "); rj__sw_num(&W, d->inertia);
-            if (d->height != L0.height) { rj__sw_put(&W, "  height = "); rj__sw_num(&W, d->height); }
-            rj__sw_put(&W, "\n");
-        } else {
-            rj__sw_key(&W, "width"); rj__sw_num(&W, d->width); rj__sw_put(&W, "  height = "); rj__sw_num(&W, d->height);
-            if (d->layers != L0.layers) { snprintf(nm, sizeof nm, "  layers = %d", d->layers); rj__sw_put(&W, nm); }
-            rj__sw_put(&W, "\n");
-        }
-        if (d->tip_mass != 0 || d->tip_inertia != 0) {
-            rj__sw_key(&W, "tip_mass"); rj__sw_num(&W, d->tip_mass); rj__sw_put(&W, "  tip_inertia = "); rj__sw_num(&W, d->tip_inertia); rj__sw_put(&W, "\n");
-        }
-        if (d->root != L0.root) { rj__sw_key(&W, "root"); rj__sw_put(&W, rj__sk_root[d->root]); rj__sw_put(&W, "\n"); }
-        if (d->fidelity != L0.fidelity) { rj__sw_key(&W, "fidelity"); rj__sw_put(&W, rj__sk_fidelity[d->fidelity]); rj__sw_put(&W, "\n"); }
-        if (d->x != 0 || d->y != 0 || d->angle != 0) {
-            rj__sw_key(&W, "x"); rj__sw_num(&W, d->x); rj__sw_put(&W, "  y = "); rj__sw_num(&W, d->y);
-            rj__sw_put(&W, "  angle = "); rj__sw_angle(&W, d->angle, 0); rj__sw_put(&W, root_link ? "\n" : "   # unused: the link hangs from a joint\n");
-        }
-        if (d->vx != 0 || d->vy != 0 || d->omega != 0) {
-            rj__sw_key(&W, "vx"); rj__sw_num(&W, d->vx); rj__sw_put(&W, "  vy = "); rj__sw_num(&W, d->vy);
-            rj__sw_put(&W, "  omega = "); rj__sw_angle(&W, d->omega, 1); rj__sw_put(&W, "\n");
-        }
+        rj__sw_put(&W, "link "); rj__sw_name(&W, link_names, "link", i); rj__sw_put(&W, "\n");
+        rj__sw_link(&W, &sc->links[i], root_link);
     }
     for (i = 0; i < sc->joint_count; i++) {
-        const rj_joint_def *d = &sc->joints[i];
-        if (joint_names) snprintf(nm, sizeof nm, "%s", joint_names[i]); else snprintf(nm, sizeof nm, "joint%d", i);
-        rj__sw_put(&W, "joint "); rj__sw_put(&W, nm); rj__sw_put(&W, "\n");
-        rj__sw_key(&W, "body1");
-        if (d->body1 < 0) rj__sw_put(&W, "ground");
-        else if (link_names) rj__sw_put(&W, link_names[d->body1]);
-        else { snprintf(nm, sizeof nm, "link%d", d->body1); rj__sw_put(&W, nm); }
-        rj__sw_put(&W, "  body2 = ");
-        if (link_names) rj__sw_put(&W, link_names[d->body2]);
-        else { snprintf(nm, sizeof nm, "link%d", d->body2); rj__sw_put(&W, nm); }
-        if (d->body1 >= 0 && d->node1 != -1) { snprintf(nm, sizeof nm, "  node1 = %d", d->node1); rj__sw_put(&W, nm); }
-        rj__sw_put(&W, "\n");
-        if (d->body1 < 0 && (d->ground_x != 0 || d->ground_y != 0 || d->ground_angle != 0)) {
-            rj__sw_key(&W, "ground_x"); rj__sw_num(&W, d->ground_x); rj__sw_put(&W, "  ground_y = "); rj__sw_num(&W, d->ground_y);
-            rj__sw_put(&W, "  ground_angle = "); rj__sw_angle(&W, d->ground_angle, 0); rj__sw_put(&W, "\n");
-        }
-        rj__sw_key(&W, "angle0"); rj__sw_angle(&W, d->angle0, 0);
-        if (d->rate0 != 0) { rj__sw_put(&W, "  rate0 = "); rj__sw_angle(&W, d->rate0, 1); }
-        rj__sw_put(&W, "\n");
-        if (d->table_count > 0) {
-            rj__sw_key(&W, "table");
-            for (k = 0; k < d->table_count; k++) {
-                if (k) rj__sw_put(&W, k % 4 == 0 ? ",\n    " : ", ");
-                rj__sw_angle(&W, d->table_angle[k], 0); rj__sw_put(&W, " "); rj__sw_num(&W, d->table_torque[k]);
-            }
-            rj__sw_put(&W, "\n");
-        }
-        if (d->spring_k != J0.spring_k || d->spring_free_angle != J0.spring_free_angle) {
-            rj__sw_key(&W, "spring"); rj__sw_num(&W, d->spring_k); rj__sw_put(&W, " "); rj__sw_angle(&W, d->spring_free_angle, 0); rj__sw_put(&W, "\n");
-        }
-        if (d->has_forward) { rj__sw_key(&W, "forward"); rj__sw_angle(&W, d->forward, 0); rj__sw_put(&W, "\n"); }
-        if (d->has_reverse) { rj__sw_key(&W, "reverse"); rj__sw_angle(&W, d->reverse, 0); rj__sw_put(&W, "\n"); }
-        if (d->lock) { rj__sw_key(&W, "lock"); rj__sw_put(&W, "yes\n"); }
-        rj__sw_key(&W, "method"); rj__sw_put(&W, rj__sk_method[d->method]);
-        if (d->release != J0.release) { rj__sw_put(&W, "  release = "); rj__sw_put(&W, rj__sk_release[d->release]); }
-        if (d->reference != J0.reference) { rj__sw_put(&W, "  reference = "); rj__sw_put(&W, rj__sk_reference[d->reference]); }
-        rj__sw_put(&W, "\n");
-        if (d->penalty_k != 0) { rj__sw_key(&W, "penalty_k"); rj__sw_num(&W, d->penalty_k); rj__sw_put(&W, "\n"); }
-        if (d->restitution != 0) { rj__sw_key(&W, "restitution"); rj__sw_num(&W, d->restitution); rj__sw_put(&W, "\n"); }
-        if (d->damping != 0) { rj__sw_key(&W, "damping"); rj__sw_num(&W, d->damping); rj__sw_put(&W, "\n"); }
-        if (d->friction != 0) { rj__sw_key(&W, "friction"); rj__sw_num(&W, d->friction); rj__sw_put(&W, "\n"); }
+        rj__sw_put(&W, "joint "); rj__sw_name(&W, joint_names, "joint", i); rj__sw_put(&W, "\n");
+        rj__sw_joint(&W, &sc->joints[i], link_names);
     }
     return W.n;
 }

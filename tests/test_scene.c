@@ -47,12 +47,13 @@ static void check(int ok, const char *name, const char *details)
 static const char *g_dir = "examples/scenes";
 
 /* ------------------------------------------------------------------ field-by-field */
-/* first differing field into why; 1 when equal. Compares every field the model uses;
+/* first differing field into why; 1 when equal. Compares bits (-0.0 is not 0.0, a NaN
+   equals the same NaN) of every field the model uses;
    fields the model ignores (per section kind, disabled limits, node1/ground_* where they do
    not apply) only when `all` is set. */
 static int same_link(const rj_link_def *a, const rj_link_def *b, int all, char *why, size_t n)
 {
-#define RJ_T(f) if (!(a->f == b->f)) { snprintf(why, n, "%s: %.17g vs %.17g", #f, (double)a->f, (double)b->f); return 0; }
+#define RJ_T(f) if (memcmp(&a->f, &b->f, sizeof a->f)) { snprintf(why, n, "%s: %.17g vs %.17g", #f, (double)a->f, (double)b->f); return 0; }
     RJ_T(length) RJ_T(elements) RJ_T(E) RJ_T(rho) RJ_T(section) RJ_T(height) RJ_T(tip_mass) RJ_T(tip_inertia)
     RJ_T(root) RJ_T(x) RJ_T(y) RJ_T(angle) RJ_T(vx) RJ_T(vy) RJ_T(omega) RJ_T(fidelity) RJ_T(cookie)
     if (all || a->section == RJ_SECTION_RECT) { RJ_T(width) RJ_T(layers) }
@@ -354,6 +355,226 @@ static void test_writer(void)
     check(bad == 0, "round trip random scenes bit for bit (units: deg/rad, deg/s/rad/s)", d);
 }
 
+/* ------------------------------------------------------------------ what the model accepts */
+static int g_stepped;   /* runs whose last step succeeded */
+
+/* builds both scenes and takes `steps` steps: 1 when both build alike and every node's
+   position, rotation and velocity is the same bits after each step */
+static int same_run(const rj_scene_def *a, const rj_scene_def *b, int steps, char *why, size_t n)
+{
+    rj_model *ma = NULL, *mb = NULL;
+    rj_state *sa = NULL, *sb = NULL;
+    rj_error ea, eb;
+    rj_result ra = rj_model_create(a, &ma, &ea, NULL), rb = rj_model_create(b, &mb, &eb, NULL);
+    int ok = ra == rb, t, l, k;
+    snprintf(why, n, "models: %s / %s", rj_result_str(ra), rj_result_str(rb));
+    if (ok && ra == RJ_OK) {
+        rj_state_create(ma, &sa, NULL);
+        rj_state_create(mb, &sb, NULL);
+        for (t = 0; ok && t < steps; t++) {
+            rj_result r1 = rj_step(ma, sa), r2 = rj_step(mb, sb);
+            ok = r1 == r2;
+            if (r1 == RJ_OK && t == steps - 1) g_stepped++;
+            for (l = 0; ok && l < a->link_count; l++) for (k = 0; ok && k < rj_link_node_count(ma, l); k++) {
+                double p[2], q[2], v[2], w[2], r1 = rj_node_rotation(ma, sa, l, k), r2 = rj_node_rotation(mb, sb, l, k);
+                rj_node_position(ma, sa, l, k, p); rj_node_position(mb, sb, l, k, q);
+                rj_node_velocity(ma, sa, l, k, v); rj_node_velocity(mb, sb, l, k, w);
+                ok = !memcmp(p, q, sizeof p) && !memcmp(v, w, sizeof v) && !memcmp(&r1, &r2, sizeof r1);
+                if (!ok) snprintf(why, n, "step %d, link %d node %d: x %.17g vs %.17g", t + 1, l, k, p[0], q[0]);
+            }
+        }
+        if (ok) snprintf(why, n, "%d steps, every node the same bits", steps);
+        rj_state_destroy(sa, NULL); rj_state_destroy(sb, NULL);
+    }
+    if (ma) rj_model_destroy(ma, NULL);
+    if (mb) rj_model_destroy(mb, NULL);
+    return ok;
+}
+
+/* write -> parse -> same fields (bits) -> same steps; 1 when all hold, why says what */
+static int model_roundtrip(const rj_scene_def *sc, char *why, size_t n, char **text)
+{
+    size_t len = rj_scene_write(sc, NULL, NULL, NULL, 0);
+    char *buf = (char *)malloc(len + 1), w[300];
+    rj_scene_file f;
+    rj_error e;
+    int ok;
+    *text = buf;
+    buf[0] = 0;
+    if (len == 0) { snprintf(why, n, "rj_scene_write returned 0"); return 0; }
+    rj_scene_write(sc, NULL, NULL, buf, len + 1);
+    if (rj_scene_parse(buf, len, "w.rjs", &f, &e) != RJ_OK) { snprintf(why, n, "parse: %s", e.msg); return 0; }
+    {
+        rj_scene_def fd = rj_scene_file_def(&f);
+        ok = same_scene(&fd, sc, 0, w, sizeof w) && same_run(sc, &fd, 20, w, sizeof w);
+        snprintf(why, n, "%s", w);
+    }
+    rj_scene_file_free(&f);
+    return ok;
+}
+
+static void check_model_roundtrip(const char *name, const rj_scene_def *sc)
+{
+    char why[400], *text = NULL;
+    rj_error e;
+    int ok;
+    if (rj_model_size(sc, &e) == 0) { check(0, name, e.msg); return; }
+    ok = model_roundtrip(sc, why, sizeof why, &text);
+    if (!ok) printf("%s", text);
+    check(ok, name, why);
+    free(text);
+}
+
+/* a pinned link with a joint whose table falls (a fall starts a new run, Eq 4) */
+static void test_writer_falling_table(void)
+{
+    rj_link_def L[2];
+    rj_joint_def J = rj_default_joint_def();
+    rj_scene_def sc = rj_default_scene_def();
+    static const double ang[5] = { 0, 180, 90, 270, 45 }, tq[5] = { 0.5, 2, -1, 3, 0.25 };
+    int k;
+    L[0] = rj_default_link_def(); L[1] = rj_default_link_def();
+    L[0].root = RJ_ROOT_CLAMPED; L[0].elements = 4; L[1].elements = 4;
+    J.body1 = 0; J.body2 = 1; J.angle0 = rj_rad(170); J.rate0 = 5;
+    J.table_count = 5;
+    for (k = 0; k < 5; k++) { J.table_angle[k] = rj_rad(ang[k]); J.table_torque[k] = tq[k]; }
+    sc.links = L; sc.link_count = 2; sc.joints = &J; sc.joint_count = 1;
+    check_model_roundtrip("round trip: a table whose angles fall (Eq 4) writes, parses and steps the same bits", &sc);
+    {
+        rj_scene_file f;
+        rj_error e;
+        static const char *t = "link a\nlink b\njoint j\n  body1 = a  body2 = b\n  table = 90 deg 1, 45 deg 2\n";
+        rj_result r = rj_scene_parse(t, strlen(t), "t.rjs", &f, &e);
+        check(r == RJ_OK && f.joints[0].table_count == 2 && f.joints[0].table_angle[1] == rj_rad(45), "a table whose angles fall parses, as rj_model_create takes it",
+              r == RJ_OK ? "table = 90 deg 1, 45 deg 2" : e.msg);
+        rj_scene_file_free(&f);
+    }
+}
+
+/* NaN (and nonsense) in fields rj__validate does not look at: the writer leaves them out */
+static void test_writer_ignored(void)
+{
+    rj_link_def L[3];
+    rj_joint_def J[2];
+    rj_scene_def sc = rj_default_scene_def();
+    double nan = strtod("nan", NULL);
+    int k;
+    for (k = 0; k < 3; k++) { L[k] = rj_default_link_def(); L[k].elements = 3; }
+    L[0].section = RJ_SECTION_GENERAL; L[0].area = 1e-4; L[0].inertia = 1e-9; L[0].width = nan; L[0].layers = -7;
+    L[1].area = nan; L[1].inertia = nan;                                       /* rectangular */
+    L[2].section = RJ_SECTION_GENERAL; L[2].area = 2e-4; L[2].inertia = 3e-9; L[2].height = 0; L[2].width = -1;
+    J[0] = rj_default_joint_def(); J[1] = rj_default_joint_def();
+    J[0].body1 = -1; J[0].body2 = 1; J[0].node1 = 12345;                        /* node1 of a ground joint */
+    J[0].forward = 1.0; J[0].reverse = 2.0;                                    /* disabled limits */
+    J[0].table_count = 2; J[0].table_angle[1] = 1.0; J[0].table_torque[0] = 0.1;
+    for (k = 2; k < RJ_TABLE_MAX; k++) { J[0].table_angle[k] = nan; J[0].table_torque[k] = nan; }
+    J[1].body1 = 1; J[1].body2 = 2; J[1].ground_x = 7; J[1].ground_angle = 1;   /* ground_* of a link-to-link joint */
+    sc.links = L; sc.link_count = 3; sc.joints = J; sc.joint_count = 2;
+    check_model_roundtrip("round trip: NaN in fields the model ignores (width/layers of a general section, area/inertia of a rectangle, ...)", &sc);
+}
+
+/* -0.0 in every field that takes it reads back as -0.0 (it reaches the node positions) */
+static void test_writer_negative_zero(void)
+{
+    rj_link_def L[2];
+    rj_joint_def J = rj_default_joint_def();
+    rj_scene_def sc = rj_default_scene_def();
+    double z = -0.0;
+    L[0] = rj_default_link_def(); L[1] = rj_default_link_def();
+    L[0].elements = 2; L[1].elements = 2;
+    L[0].x = z; L[0].y = z; L[0].angle = z; L[0].vx = z; L[0].vy = z; L[0].omega = z; L[0].tip_mass = z; L[0].tip_inertia = z;
+    J.body1 = -1; J.body2 = 1; J.ground_x = z; J.ground_y = z; J.ground_angle = z; J.rate0 = z; J.spring_k = z;
+    J.penalty_k = z; J.restitution = z; J.damping = z; J.friction = z;
+    J.table_count = 2; J.table_angle[0] = z; J.table_torque[0] = z; J.table_angle[1] = 1; J.table_torque[1] = z;
+    sc.solver.dt = z;
+    sc.links = L; sc.link_count = 2; sc.joints = &J; sc.joint_count = 1;
+    check_model_roundtrip("round trip: -0.0 reads back as -0.0, bit for bit", &sc);
+}
+
+/* a random number, sometimes -0.0 */
+static double rz(double v) { return irand(8) == 0 ? -0.0 : v; }
+
+static void rand_link(rj_link_def *L)
+{
+    double nan = strtod("nan", NULL);
+    *L = rj_default_link_def();
+    L->length = urand() * 2 + 0.1; L->elements = 1 + irand(8); L->E = 1e9 + urand() * 1e11; L->rho = 100 + urand() * 8000;
+    if (irand(2)) {
+        L->section = RJ_SECTION_GENERAL; L->area = urand() * 1e-3 + 1e-6; L->inertia = urand() * 1e-7 + 1e-10; L->height = rz(urand() * 0.01);
+        if (irand(2)) { L->width = nan; L->layers = irand(3) - 1; }
+    } else {
+        L->width = urand() * 0.1 + 1e-3; L->height = urand() * 0.01 + 1e-3; L->layers = 1 + irand(3);
+        if (irand(2)) { L->area = nan; L->inertia = -1; }
+    }
+    if (irand(2)) { L->tip_mass = rz(urand()); L->tip_inertia = rz(irand(2) ? 0.0 : urand() * 1e-3); }
+    L->fidelity = irand(4) ? RJ_LINK_FLEXIBLE : irand(3);
+    L->x = rz((urand() - 0.5) * 10); L->y = rz(urand() - 0.5); L->angle = irand(2) ? rj_rad((double)(irand(720) - 360)) : rz(urand() * 6);
+    if (irand(3) == 0) { L->vx = rz(urand()); L->vy = rz(-urand()); L->omega = irand(2) ? rj_rad(irand(100)) : rz(urand()); }
+}
+
+/* joint i hangs link body2 from ground or from an earlier link */
+static void rand_joint(rj_joint_def *J, int body2, const rj_link_def *links)
+{
+    double nan = strtod("nan", NULL);
+    int k;
+    *J = rj_default_joint_def();
+    J->body2 = body2;
+    J->body1 = irand(3) == 0 ? -1 : irand(body2 + 1) - 1;
+    if (J->body1 >= 0 && irand(2)) J->node1 = irand(links[J->body1].elements + 1);
+    if (J->body1 < 0 && irand(2)) J->node1 = 1000 + irand(1000);        /* ignored */
+    if (irand(2)) { J->ground_x = rz(urand()); J->ground_y = rz(-urand()); J->ground_angle = irand(2) ? rj_rad(irand(360)) : rz(urand()); }
+    J->angle0 = irand(2) ? rj_rad((double)irand(361)) : urand() * 6.28;
+    if (irand(3) == 0) J->rate0 = irand(2) ? -rj_rad(irand(100)) : rz((urand() - 0.5) * 10);
+    if (irand(2)) {   /* angles in any order: falls start new runs */
+        J->table_count = 2 + irand(RJ_TABLE_MAX - 1);
+        for (k = 0; k < J->table_count; k++) {
+            J->table_angle[k] = irand(2) ? rj_rad(irand(361)) : rz(urand() * 6.283185307179586);
+            J->table_torque[k] = rz((urand() - 0.5) * 10);
+        }
+        for (; k < RJ_TABLE_MAX; k++) J->table_angle[k] = J->table_torque[k] = nan;
+    }
+    if (irand(2)) { J->spring_k = rz(urand()); J->spring_free_angle = (urand() - 0.5) * 20; }
+    J->has_forward = irand(2); J->forward = irand(2) ? rj_rad(irand(360)) : urand() * 6.28;
+    J->has_reverse = irand(2); J->reverse = irand(2) ? rj_rad(irand(360)) : urand() * 6.28;
+    J->lock = irand(2); J->method = irand(5); J->release = irand(2); J->reference = irand(2);
+    J->penalty_k = J->method == RJ_METHOD_PENALTY || irand(2) ? 1e2 + urand() * 1e3 : rz(0);
+    if (irand(2)) J->restitution = rz(urand());
+    if (irand(2)) J->damping = rz(urand() * 0.01);
+    if (irand(2)) J->friction = rz(urand() * 0.01);
+}
+
+/* random scenes that rj_model_create accepts: write, parse, the same fields, the same steps */
+static void test_writer_random_models(void)
+{
+    rj_link_def links[5];
+    rj_joint_def joints[5];
+    int t, tried = 0, bad = 0, i, s0 = g_stepped;
+    for (t = 0; t < 300; tried++) {
+        rj_scene_def sc = rj_default_scene_def();
+        int nl = 1 + irand(5), nj = irand(nl);
+        rj_error e;
+        char why[400], *text = NULL;
+        if (tried > 100000) break;
+        if (irand(4) == 0) sc.solver.dt = rz(0);
+        if (irand(4) == 0) sc.solver.energy_growth = 1.0 + urand() * 100;
+        if (irand(4) == 0) sc.solver.energy_every = 1 + irand(20);
+        if (irand(4) == 0) sc.solver.in_place = irand(3);
+        for (i = 0; i < nl; i++) rand_link(&links[i]);
+        for (i = 0; i < nj; i++) rand_joint(&joints[i], nl - nj + i, links);
+        for (i = 0; i < nl - nj; i++) links[i].root = irand(4);
+        sc.links = links; sc.link_count = nl; sc.joints = joints; sc.joint_count = nj;
+        if (rj_model_size(&sc, &e) == 0) continue;
+        t++;
+        if (!model_roundtrip(&sc, why, sizeof why, &text) && !bad++) printf("  random scene %d: %s\n%s", t, why, text);
+        free(text);
+    }
+    {
+        char d[200];
+        snprintf(d, sizeof d, "%d scenes rj_model_create accepts (of %d drawn), %d of them step 20 times without error; %d differ", t, tried, g_stepped - s0, bad);
+        check(t == 300 && bad == 0, "round trip random scenes the model accepts: write, parse, same fields and 20 steps bit for bit", d);
+    }
+}
+
 /* ------------------------------------------------------------------ parsing details */
 static rj_result parse_str(const char *text, rj_scene_file *f, rj_error *e)
 {
@@ -567,7 +788,6 @@ static void test_errors(void)
     EP("error: negative spring", J2 "  spring = -1 90 deg\n", 5, 12, "spring = -1 is out of range", "spring");
     EP("error: table with one point", J2 "  table = 0 deg 1\n", 5, 11, "a table needs at least 2 points", "table");
     EP("error: table angle above 360 deg", J2 "  table = 0 deg 1, 400 deg 2\n", 5, 20, "table = 400 deg is out of range in joint 'j': table angles must be in [0, 360] deg", "table");
-    EP("error: table angles decrease", J2 "  table = 90 deg 1, 45 deg 2\n", 5, 21, "table angles must not decrease", "table");
     EP("error: table without torque", J2 "  table = 0 deg 1, 90 deg\n", 5, 26, "missing torque after the table angle", "table");
     EP("error: table pairs need ','", J2 "  table = 0 deg 1 90 deg 2\n", 5, 19, "expected ',' or the end of the table, found '90'", "table");
     EP("error: table ends with ','", J2 "  table = 0 deg 1, 90 deg 2,\n", 5, 28, "table ends with ','", "table");
@@ -753,6 +973,10 @@ int main(int argc, char **argv)
     file_roundtrip("solar_array.rjs");
     file_roundtrip("solar_array_bus.rjs");
     test_writer();
+    test_writer_falling_table();
+    test_writer_ignored();
+    test_writer_negative_zero();
+    test_writer_random_models();
     test_units();
     test_comments();
     test_errors();
