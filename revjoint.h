@@ -4772,6 +4772,26 @@ static int rj__sp_assignments(rj__sp *P)
 /* ------------------------------------------------------------------ lines */
 static int rj__sp_is_sep(unsigned char c) { return c == ' ' || c == '\t' || c == '=' || c == ',' || c == '#' || c < 0x20 || c == 0x7f; }
 
+/* Text is printable bytes, tabs and line ends (LF, CR). A NUL or another control byte
+   anywhere, comments included, means the input is not a scene file, most likely a binary
+   one: say so, with the first such byte and where it is, before parsing reports whatever
+   its first "line" happens to look like (often one longer than RJ_SCENE_MAX_LINE). */
+static int rj__sp_text(rj__sp *P)
+{
+    size_t k, bol = 0;
+    int line = 1;
+    for (k = 0; k < P->len; k++) {
+        unsigned char c = (unsigned char)P->text[k];
+        char m[200];
+        if (c == '\n') { line++; bol = k + 1; continue; }
+        if ((c >= 0x20 && c != 0x7f) || c == '\t' || c == '\r') continue;
+        snprintf(m, sizeof m, "not a text scene file: byte 0x%02x at byte offset %lu is a %s (a scene file has only printable characters, tabs and line ends)",
+                 c, (unsigned long)k, c ? "control character" : "NUL");
+        return rj__sp_fail(P, line, (int)(k - bol) + 1, "", (double)c, m);
+    }
+    return 1;
+}
+
 /* next statement into P->tok: returns 1 (maybe empty), 0 at the end, -1 on error.
    A line whose last token is ',' continues on the next line. */
 static int rj__sp_next(rj__sp *P)
@@ -4794,16 +4814,10 @@ static int rj__sp_next(rj__sp *P)
         for (k = 0; k < n;) {
             const char *s = P->text + start + k;
             unsigned char c = (unsigned char)*s;
-            if (c == '#') {
-                for (; k < n; k++) if (P->text[start + k] == 0) {
-                    rj__sp_fail(P, P->lineno, (int)k + 1, "", rj__sp_nan(), "NUL byte in a comment (not a text file?)");
-                    return -1;
-                }
-                break;
-            }
+            if (c == '#') break;
             if (c == ' ' || c == '\t') { k++; continue; }
-            if (c < 0x20 || c == 0x7f) {
-                snprintf(m, sizeof m, "invalid character 0x%02x (a text file has only tabs, spaces and printable characters)", c);
+            if (c < 0x20 || c == 0x7f) {   /* only a CR gets here: rj__sp_text let no other through */
+                snprintf(m, sizeof m, "invalid character 0x%02x (a carriage return ends a line only before a line feed)", c);
                 rj__sp_fail(P, P->lineno, (int)k + 1, "", rj__sp_nan(), m);
                 return -1;
             }
@@ -4954,6 +4968,7 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
         return RJ_ERR_PARSE;
     }
     P.text = text ? text : ""; P.len = len;
+    if (!rj__sp_text(&P)) return RJ_ERR_PARSE;
     rj__sp_locale(P.dp, &P.dplen);
     rj__sp_count(P.text, len, counts);
     P.cap_links = counts[RJ__SK_LINK]; P.cap_joints = counts[RJ__SK_JOINT];

@@ -844,8 +844,18 @@ static void test_errors(void)
     EP("error: statement with more than 512 tokens", s, 22, 46, "statement has more than 512 tokens", "");
     free(s);
     /* bytes */
-    err_case("error: NUL byte", "link a\n  length = 1\0\n", 21, RJ_ERR_PARSE, 2, 13, "invalid character 0x00", "");
-    EP("error: control character", "link a\x01\n", 1, 7, "invalid character 0x01", "");
+    err_case("error: NUL byte", "link a\n  length = 1\0\n", 21, RJ_ERR_PARSE, 2, 13, "not a text scene file: byte 0x00 at byte offset 19 is a NUL", "");
+    EP("error: control character", "link a\x01\n", 1, 7, "not a text scene file: byte 0x01 at byte offset 6 is a control character", "");
+    EP("error: control character in a comment", "link a\n# \x1b[1mbold\n", 2, 3, "not a text scene file: byte 0x1b at byte offset 9", "");
+    EP("error: control byte after a syntax error", "lnk a\nlink b\x7f\n", 2, 7, "not a text scene file: byte 0x7f at byte offset 12", "");
+    err_case("error: binary file (PNG signature)", "\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16, RJ_ERR_PARSE, 2, 1, "not a text scene file: byte 0x1a at byte offset 6", "");
+    {   /* no line end in the first 1100 bytes: once reported as a line over 1024 characters */
+        char bin[3000];
+        int k;
+        for (k = 0; k < (int)sizeof bin; k++) bin[k] = (char)(k < 1100 ? 'A' + k % 26 : (k * 7 + 3) & 255);
+        err_case("error: binary file without a line end in its first 1024 bytes", bin, sizeof bin, RJ_ERR_PARSE, 1, 1101,
+                 "not a text scene file: byte 0x17 at byte offset 1100", "");
+    }
     EP("error: carriage return inside a line", "link a\r  length = 1\n", 1, 7, "invalid character 0x0d", "");
     EP("error: non-ASCII name", "link caf\xc3\xa9\n", 1, 6, "invalid name 'caf\\xc3\\xa9'", "link");
     /* the model's own validation, located in the file */
