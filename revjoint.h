@@ -4235,6 +4235,73 @@ static rj_scene_pos *rj__sp_pos(rj__sp *P, int k)   /* position slot of key k of
     }
 }
 
+/* ------------------------------------------------------------------ suggestions */
+static int rj__sp_lower(int c) { return c >= 'A' && c <= 'Z' ? c + ('a' - 'A') : c; }
+
+/* edit distance of s[0..n) and b, ignoring case: insertions, deletions, substitutions and
+   swaps of two neighbours (optimal string alignment), so 'lenght' is 1 from 'length'.
+   99 when the lengths differ by more than 2 (never near enough to suggest). */
+static int rj__sp_dist(const char *s, int n, const char *b)
+{
+    int m = (int)strlen(b), r[3][RJ_SCENE_NAME_MAX + 2], i, j;
+    if (n - m > 2 || m - n > 2 || m > RJ_SCENE_NAME_MAX) return 99;
+    for (j = 0; j <= m; j++) r[0][j] = j;
+    for (i = 1; i <= n; i++) {
+        int *cur = r[i % 3], *up = r[(i + 2) % 3], *up2 = r[(i + 1) % 3];
+        int ca = rj__sp_lower((unsigned char)s[i - 1]);
+        cur[0] = i;
+        for (j = 1; j <= m; j++) {
+            int cb = rj__sp_lower((unsigned char)b[j - 1]), v = up[j - 1] + (ca != cb);
+            if (up[j] + 1 < v) v = up[j] + 1;
+            if (cur[j - 1] + 1 < v) v = cur[j - 1] + 1;
+            if (i > 1 && j > 1 && ca == rj__sp_lower((unsigned char)b[j - 2]) && rj__sp_lower((unsigned char)s[i - 2]) == cb && up2[j - 2] + 1 < v) v = up2[j - 2] + 1;
+            cur[j] = v;
+        }
+    }
+    return r[n % 3][m];
+}
+
+/* The name among names[k] (stride apart, k < count; for k < 32 only those in mask) nearest
+   to s[0..n), or NULL: a suggestion must be within 2 edits of a name of 5 or more
+   characters, 1 of 3 or 4, and differ only in case from a shorter one, and be the only one
+   that near (a tie suggests nothing rather than a guess). */
+static const char *rj__sp_near(const char *s, int n, const char *names, size_t stride, int count, unsigned mask)
+{
+    const char *best = NULL;
+    int k, bd = 99, ties = 0;
+    for (k = 0; k < count; k++) {
+        const char *nm = names + stride * (size_t)k;
+        int len = (int)strlen(nm), d, lim = len >= 5 ? 2 : len >= 3 ? 1 : 0;
+        if (k < 32 && !(mask >> k & 1u)) continue;
+        d = rj__sp_dist(s, n, nm);
+        if (d > lim || d > bd) continue;
+        if (d == bd) { ties++; continue; }
+        best = nm; bd = d; ties = 0;
+    }
+    return ties ? NULL : best;
+}
+
+/* the key of the current section nearest to t (rj__sp_near), NULL when none is */
+static const char *rj__sp_near_key(const rj__sp *P, const rj__stok *t)
+{
+    switch (P->kind) {
+    case RJ__SK_SOLVER: return rj__sp_near(t->s, t->len, rj__sk_solver[0], sizeof rj__sk_solver[0], RJ__VK_N, ~0u);
+    case RJ__SK_JOINT: return rj__sp_near(t->s, t->len, rj__sk_joint[0], sizeof rj__sk_joint[0], RJ__JK_N, ~0u);
+    case RJ__SK_MATERIAL: return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N, RJ__SK_MAT_KEYS);
+    case RJ__SK_SECTION: return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N, RJ__SK_SEC_KEYS);
+    case RJ__SK_LINK: return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N, ~0u);
+    }
+    return NULL;
+}
+
+/* "; did you mean 'name'?" into buf (buf: 48 bytes), "" when name is NULL */
+static const char *rj__sp_mean(char *buf, const char *name)
+{
+    buf[0] = 0;
+    if (name) rj__sp_cat(buf, 48, "; did you mean '", name, "'?", NULL, NULL, NULL, NULL);
+    return buf;
+}
+
 /* ------------------------------------------------------------------ values */
 static int rj__sp_num(rj__sp *P, const rj__stok *t, const char *key, double *out)
 {
@@ -4310,7 +4377,7 @@ static int rj__sp_range(rj__sp *P, int a, int e, const char *key, double v, int 
 
 static int rj__sp_enum(rj__sp *P, const rj__stok *t, const char *key, const char *names, size_t stride, int count, int *out)
 {
-    char list[100], tmp[100], q[200], m[256], m2[256];
+    char list[100], tmp[100], q[200], m[256], m2[256], mean[48];
     int k;
     for (k = 0; k < count; k++) if (rj__sp_is(t, names + stride * (size_t)k)) { *out = k; return 1; }
     list[0] = 0;
@@ -4320,7 +4387,7 @@ static int rj__sp_enum(rj__sp *P, const rj__stok *t, const char *key, const char
     }
     rj__sp_quote(q, sizeof q, t->s, t->len);
     rj__sp_cat(m, sizeof m, "unknown value '", q, "'", rj__sp_for(P, key), " (expected ", NULL, NULL);
-    rj__sp_cat(m2, sizeof m2, m, list, ")", NULL, NULL, NULL, NULL);
+    rj__sp_cat(m2, sizeof m2, m, list, ")", rj__sp_mean(mean, rj__sp_near(t->s, t->len, names, stride, count, ~0u)), NULL, NULL, NULL);
     return rj__sp_fail(P, t->line, t->col, key, rj__sp_nan(), m2);
 }
 
@@ -4363,12 +4430,13 @@ static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *
     case RJ__LK_ROOT: if (!rj__sp_enum(P, t, key, rj__sk_root[0], sizeof rj__sk_root[0], 4, &d->root)) return 0; (*i)++; return 1;
     case RJ__LK_FIDELITY: if (!rj__sp_enum(P, t, key, rj__sk_fidelity[0], sizeof rj__sk_fidelity[0], 3, &d->fidelity)) return 0; (*i)++; return 1;
     case RJ__LK_MATERIAL: case RJ__LK_SECTION: {
-        int idx;
+        const rj__spart *parts = k == RJ__LK_MATERIAL ? P->mat : P->sec;
+        int idx, np = k == RJ__LK_MATERIAL ? P->nmat : P->nsec;
+        char mean[48];
         if (!rj__sp_name_ref(P, t, key)) return 0;
-        if (k == RJ__LK_MATERIAL) idx = P->nmat ? rj__sp_find(t->s, t->len, P->mat[0].name, sizeof(rj__spart), P->nmat) : -1;
-        else idx = P->nsec ? rj__sp_find(t->s, t->len, P->sec[0].name, sizeof(rj__spart), P->nsec) : -1;
-        if (idx < 0) return rj__sp_err_tok(P, t, key, rj__sp_nan(), k == RJ__LK_MATERIAL ? "unknown material " : "unknown section ",
-                                           rj__sp_where(P), " (define it above the link)", NULL);
+        idx = np ? rj__sp_find(t->s, t->len, parts[0].name, sizeof(rj__spart), np) : -1;
+        if (idx < 0) return rj__sp_err_tok(P, t, key, rj__sp_nan(), k == RJ__LK_MATERIAL ? "unknown material " : "unknown section ", rj__sp_where(P),
+                                           " (define it above the link)", np ? rj__sp_mean(mean, rj__sp_near(t->s, t->len, parts[0].name, sizeof(rj__spart), np, ~0u)) : "");
         if (k == RJ__LK_MATERIAL) P->link_mat = idx; else P->link_sec = idx;
         (*i)++;
         return 1;
@@ -4455,7 +4523,11 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
             d->body1 = -1; (*i)++; return 1;
         }
         idx = P->f->link_count ? rj__sp_find(t->s, t->len, (const char *)P->f->link_names, RJ_SCENE_NAME_MAX, P->f->link_count) : -1;
-        if (idx < 0) return rj__sp_err_tok(P, t, key, rj__sp_nan(), "unknown link ", rj__sp_for(P, key), " (define links above the joints that use them)", NULL);
+        if (idx < 0) {
+            char mean[48];
+            rj__sp_mean(mean, P->f->link_count ? rj__sp_near(t->s, t->len, (const char *)P->f->link_names, RJ_SCENE_NAME_MAX, P->f->link_count, ~0u) : NULL);
+            return rj__sp_err_tok(P, t, key, rj__sp_nan(), "unknown link ", rj__sp_for(P, key), " (define links above the joints that use them)", mean);
+        }
         if (k == RJ__JK_BODY1) d->body1 = idx; else d->body2 = idx;
         (*i)++;
         return 1;
@@ -4653,9 +4725,14 @@ static int rj__sp_header(rj__sp *P)
             const char *kn = rj__sp_key_name(P->kind, rj__sp_key_index(P->kind, t0));
             return rj__sp_err(P, t0->line, t0->col + t0->len, kn, rj__sp_nan(), "missing '=' after '", kn, "'", rj__sp_where(P), NULL);
         }
-        return rj__sp_err_tok(P, t0, "", rj__sp_nan(), P->kind != RJ__SK_NONE ? "unknown key or section " : "unknown section ",
-                              P->kind != RJ__SK_NONE ? " (a key needs '= value'; sections are solver, material, section, link, joint)"
-                                                     : " (expected solver, material, section, link or joint)", NULL, NULL);
+        {   /* a near section keyword, else a near key of the current section */
+            const char *near = rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 5, ~0u);
+            char mean[48];
+            if (!near && P->kind != RJ__SK_NONE) near = rj__sp_near_key(P, t0);
+            return rj__sp_err_tok(P, t0, "", rj__sp_nan(), P->kind != RJ__SK_NONE ? "unknown key or section " : "unknown section ",
+                                  P->kind != RJ__SK_NONE ? " (a key needs '= value'; sections are solver, material, section, link, joint)"
+                                                         : " (expected solver, material, section, link or joint)", rj__sp_mean(mean, near), NULL);
+        }
     }
     if (!rj__sp_finish(P)) return 0;
     if (kind == RJ__SK_SOLVER) {
@@ -4741,9 +4818,9 @@ static int rj__sp_assignments(rj__sp *P)
             return rj__sp_err_tok(P, kt, "", rj__sp_nan(), "key ", " outside any section (start one with solver, material, section, link or joint)", NULL, NULL);
         k = rj__sp_key_index(P->kind, kt);
         if (k < 0) {
-            char q[64];
+            char q[64], mean[48];
             rj__sp_quote(q, sizeof q, kt->s, kt->len);
-            return rj__sp_err_tok(P, kt, q, rj__sp_nan(), "unknown key ", rj__sp_where(P), NULL, NULL);
+            return rj__sp_err_tok(P, kt, q, rj__sp_nan(), "unknown key ", rj__sp_where(P), rj__sp_mean(mean, rj__sp_near_key(P, kt)), NULL);
         }
         kn = rj__sp_key_name(P->kind, k);
         if (P->seen >> k & 1u)

@@ -736,7 +736,7 @@ static void test_errors(void)
     EP("error: no links", "# nothing but a comment\n\n", 2, 1, "the scene has no links", "link_count");
     EP("error: empty input", "", 1, 1, "the scene has no links", "link_count");
     /* keys and values */
-    EP("error: unknown key", "link arm1\n  length = 1\n  lenght = 1.1\n", 3, 3, "unknown key 'lenght' in link 'arm1'", "lenght");
+    EP("error: unknown key", "link arm1\n  length = 1\n  lenght = 1.1\n", 3, 3, "unknown key 'lenght' in link 'arm1'; did you mean 'length'?", "lenght");
     EP("error: key of another section", "material m\n  length = 1\n", 2, 3, "unknown key 'length' in material 'm'", "length");
     EP("error: duplicate key", "link a\n  length = 1\n  length = 2\n", 3, 3, "duplicate key 'length' in link 'a' (first set on line 2)", "length");
     EP("error: duplicate key on one line", "link a\n  x = 1  x = 2\n", 2, 10, "duplicate key 'x' in link 'a'", "x");
@@ -888,6 +888,39 @@ static void test_errors(void)
     }
 }
 
+/* "did you mean" for a name within a few edits of one valid there, and none otherwise */
+static void test_suggestions(void)
+{
+    static const char *const none[][2] = {
+        { "unknown section far from every keyword", "foo bar\n" },
+        { "unknown key far from every key", "link a\n  colour = 1\n" },
+        { "a key of another kind of section", "material m\n  length = 1\n" },
+        { "a tie (arm3: arm1 and arm2 are both 1 edit away)", "link arm1\nlink arm2\njoint j\n  body1 = ground  body2 = arm3\n" },
+        { "a short key 2 edits away (vz)", "link a\n  vz = 1\n" },
+    };
+    rj_scene_file f;
+    rj_error e;
+    size_t k;
+    EP("did you mean: swapped letters in a key", "link arm1\n  lenght = 1\n", 2, 3, "unknown key 'lenght' in link 'arm1'; did you mean 'length'?", "lenght");
+    EP("did you mean: a key in the wrong case", "material m\n  e = 7e10\n", 2, 3, "unknown key 'e' in material 'm'; did you mean 'E'?", "e");
+    EP("did you mean: a dropped letter in a solver key", "solver\n  energy_evry = 4\nlink a\n", 2, 3, "; did you mean 'energy_every'?", "energy_evry");
+    EP("did you mean: a section keyword", "lnk a\n", 1, 1, "unknown section 'lnk' (expected solver, material, section, link or joint); did you mean 'link'?", "");
+    EP("did you mean: a section keyword inside a section", "link a\njiont j\n", 2, 1, "unknown key or section 'jiont' (a key needs '= value'; sections are solver, material, section, link, joint); did you mean 'joint'?", "");
+    EP("did you mean: a key without '=' and misspelt", "link a\n  lenth 1\n", 2, 3, "unknown key or section 'lenth' (a key needs '= value'; sections are solver, material, section, link, joint); did you mean 'length'?", "");
+    EP("did you mean: a method", J2 "  method = adaptiv\n", 5, 12, "unknown value 'adaptiv' for 'method' in joint 'j' (expected penalty, adaptive, momentum, forced or energy); did you mean 'adaptive'?", "method");
+    EP("did you mean: a boolean", J2 "  lock = Yes\n", 5, 10, "; did you mean 'yes'?", "lock");
+    EP("did you mean: a root support", "link a\n  root = clampd\n", 2, 10, "; did you mean 'clamped'?", "root");
+    EP("did you mean: a link name", "link arm1\nlink arm2\njoint j\n  body1 = ground  body2 = amr2\n", 4, 27, "unknown link 'amr2' for 'body2' in joint 'j' (define links above the joints that use them); did you mean 'arm2'?", "body2");
+    EP("did you mean: a material name", "material steel\nlink a\n  material = stel\n", 3, 14, "unknown material 'stel' in link 'a' (define it above the link); did you mean 'steel'?", "material");
+    for (k = 0; k < sizeof none / sizeof none[0]; k++) {
+        char n[120];
+        rj_result r = parse_str(none[k][1], &f, &e);
+        snprintf(n, sizeof n, "did you mean: nothing suggested for %s", none[k][0]);
+        check(r == RJ_ERR_PARSE && strstr(e.msg, "did you mean") == NULL, n, r == RJ_OK ? "parsed" : e.msg);
+        if (r == RJ_OK) rj_scene_file_free(&f);
+    }
+}
+
 static void test_api(void)
 {
     rj_scene_file f;
@@ -990,6 +1023,7 @@ int main(int argc, char **argv)
     test_units();
     test_comments();
     test_errors();
+    test_suggestions();
     test_api();
     test_locale();
     {
