@@ -3990,6 +3990,14 @@ static const char rj__sk_fidelity[3][13] = { "flexible", "rigid", "inextensible"
 static const char rj__sk_method[5][9] = { "penalty", "adaptive", "momentum", "forced", "energy" };
 static const char rj__sk_release[2][5] = { "rc12", "rc13" };
 static const char rj__sk_reference[2][8] = { "tangent", "chord" };
+/* each key's SI unit, for messages about unit words ("" none; angles rad, rates rad/s) */
+static const char rj__sk_link_unit[RJ__LK_N][7] = {
+    "m", "", "", "", "Pa", "kg/m^3", "m^2", "m^4", "m", "m", "", "kg", "kg m^2", "", "m", "m", "rad", "m/s", "m/s", "rad/s", ""
+};
+static const char rj__sk_joint_unit[RJ__JK_N][10] = {
+    "", "", "", "m", "m", "rad", "rad", "rad/s", "N m", "N m/rad", "rad", "rad", "", "", "", "N m/rad", "", "N m s/rad", "N m", ""
+};
+static const char rj__sk_solver_unit[RJ__VK_N][2] = { "s", "", "", "", "" };
 
 #define RJ__SK_MAT_KEYS ((1u << RJ__LK_E) | (1u << RJ__LK_RHO))
 #define RJ__SK_SEC_KEYS ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA) | (1u << RJ__LK_WIDTH) | (1u << RJ__LK_HEIGHT) | (1u << RJ__LK_LAYERS))
@@ -4302,16 +4310,77 @@ static const char *rj__sp_mean(char *buf, const char *name)
     return buf;
 }
 
+/* ------------------------------------------------------------------ unit words
+   Numbers are SI without a unit ("length = 1", not "1 m"); only angles and rates take one.
+   A unit word after a number, or glued to it, gets a message that says so. */
+static int rj__sp_alpha(unsigned char c) { return ((c | 32) >= 'a' && (c | 32) <= 'z') || c >= 0x80; }
+
+/* the SI unit of key (a key of any section), "" when it has none */
+static const char *rj__sp_unit(const char *key)
+{
+    int k;
+    for (k = 0; k < RJ__LK_N; k++) if (strcmp(key, rj__sk_link[k]) == 0) return rj__sk_link_unit[k];
+    for (k = 0; k < RJ__JK_N; k++) if (strcmp(key, rj__sk_joint[k]) == 0) return rj__sk_joint_unit[k];
+    for (k = 0; k < RJ__VK_N; k++) if (strcmp(key, rj__sk_solver[k]) == 0) return rj__sk_solver_unit[k];
+    return "";
+}
+
+/* the end of the number that starts t when a word is glued to it ("1mm" -> 1), else 0 */
+static int rj__sp_glued(const rj__sp *P, const rj__stok *t)
+{
+    int p;
+    double x;
+    for (p = t->len - 1; p > 0; p--)
+        if (rj__sp_alpha((unsigned char)t->s[p]) && rj__sp_strtonum(t->s, p, P->dp, P->dplen, &x) == 1) return p;
+    return 0;
+}
+
+/* why the word w after the number num is wrong, into buf (200 bytes): what the key takes,
+   and for a prefixed SI unit the number to write ("E is in Pa: write 70e9 for 70 GPa") */
+static const char *rj__sp_unit_hint(char *buf, const char *what, const char *unit, const char *num, int nn, const char *w, int wn)
+{
+    static const char pre[8] = "GMkcmun", ex[7][4] = { "e9", "e6", "e3", "e-2", "e-3", "e-6", "e-9" };
+    char q[200], u[200], t[200];
+    const char *p = w[0] ? strchr(pre, w[0]) : NULL;
+    int ul = (int)strlen(unit);
+    rj__sp_quote(q, sizeof q, num, nn);
+    rj__sp_quote(u, sizeof u, w, wn);
+    if (strcmp(unit, "rad") == 0 || strcmp(unit, "rad/s") == 0) {
+        rj__sp_cat(t, sizeof t, "'", q, ul == 3 ? " deg' or '" : " deg/s' or '", q, ul == 3 ? " rad'" : " rad/s'", NULL, NULL);
+        rj__sp_cat(buf, 200, ul == 3 ? ": an angle is a number in rad, or a number and deg or rad: " : ": a rate is a number in rad/s, or a number and deg/s or rad/s: ", t, NULL, NULL, NULL, NULL, NULL);
+        return buf;
+    }
+    t[0] = 0;
+    if (ul && wn == ul && memcmp(w, unit, (size_t)ul) == 0) rj__sp_cat(t, sizeof t, " is in ", unit, " already: write ", q, NULL, NULL, NULL);
+    else if (ul && p && wn == ul + 1 && memcmp(w + 1, unit, (size_t)ul) == 0 && !memchr(num, 'e', (size_t)nn) && !memchr(num, 'E', (size_t)nn)) {
+        char n2[220];
+        rj__sp_cat(n2, sizeof n2, q, ex[p - pre], " for ", q, " ", u, NULL);
+        rj__sp_cat(t, sizeof t, " is in ", unit, ": write ", n2, NULL, NULL, NULL);
+    } else if (ul) rj__sp_cat(t, sizeof t, " is in ", unit, NULL, NULL, NULL, NULL, NULL);
+    rj__sp_cat(buf, 200, ": quantities are plain numbers in SI units, without a unit word", ul ? " (" : "", ul ? what : "", t, ul ? ")" : "", NULL, NULL);
+    return buf;
+}
+
 /* ------------------------------------------------------------------ values */
+/* a number that did not read (r from rj__sp_strtonum); unit: what key takes, for the hint */
+static int rj__sp_num_err(rj__sp *P, const rj__stok *t, const char *key, int r, const char *unit)
+{
+    char h[200];
+    int p = r == 0 ? rj__sp_glued(P, t) : 0;
+    h[0] = 0;
+    if (p) rj__sp_unit_hint(h, key, unit, t->s, p, t->s + p, t->len - p);
+    return rj__sp_err_tok(P, t, key, rj__sp_nan(),
+                          r == -1 ? "not a finite number: " : r == -2 ? "number out of range: " : r == -3 ? "number too long: " : "malformed number ",
+                          rj__sp_for(P, key), h, NULL);
+}
+
 static int rj__sp_num(rj__sp *P, const rj__stok *t, const char *key, double *out)
 {
     int r;
     if (t->kind != 'w') return rj__sp_err_tok(P, t, key, rj__sp_nan(), "expected a number, found ", rj__sp_for(P, key), NULL, NULL);
     r = rj__sp_strtonum(t->s, t->len, P->dp, P->dplen, out);
     if (r == 1) return 1;
-    return rj__sp_err_tok(P, t, key, rj__sp_nan(),
-                          r == -1 ? "not a finite number: " : r == -2 ? "number out of range: " : r == -3 ? "number too long: " : "malformed number ",
-                          rj__sp_for(P, key), NULL, NULL);
+    return rj__sp_num_err(P, t, key, r, rj__sp_unit(key));
 }
 
 static int rj__sp_int(rj__sp *P, const rj__stok *t, const char *key, int lo, int hi, int *out)
@@ -4360,7 +4429,8 @@ static int rj__sp_angle(rj__sp *P, int *i, int b, const char *key, int rate, dou
             return 1;
         }
     }
-    return rj__sp_num(P, t, key, &v);   /* reports the right error */
+    if (t->kind != 'w') return rj__sp_num(P, t, key, &v);   /* reports the right error */
+    return rj__sp_num_err(P, t, key, rj__sp_strtonum(t->s, t->len, P->dp, P->dplen, &v), rate ? "rad/s" : "rad");
 }
 
 /* range check on an already parsed value; the message shows the text of toks[a..e) */
@@ -4496,8 +4566,13 @@ static int rj__sp_table(rj__sp *P, int a, int *i, int b, rj_joint_def *d)
         (*i)++;
         d->table_angle[n] = v; d->table_torque[n] = tq; n++;
         if (*i >= b) break;
-        if (P->tok[*i].kind != ',')
-            return rj__sp_err_tok(P, &P->tok[*i], key, rj__sp_nan(), "expected ',' or the end of the table, found ", rj__sp_where(P), " (table = angle torque, angle torque, ...)", NULL);
+        if (P->tok[*i].kind != ',') {   /* "1 Nm": say torques take no unit word */
+            const rj__stok *u = &P->tok[*i], *q = &P->tok[*i - 1];
+            char h[200];
+            h[0] = 0;
+            if (u->kind == 'w' && rj__sp_alpha((unsigned char)u->s[0])) rj__sp_unit_hint(h, "a torque", "N m", q->s, q->len, u->s, u->len);
+            return rj__sp_err_tok(P, u, key, rj__sp_nan(), "expected ',' or the end of the table, found ", rj__sp_where(P), " (table = angle torque, angle torque, ...)", h);
+        }
         (*i)++;
         if (*i >= b) {
             const rj__stok *z = &P->tok[*i - 1];
@@ -4805,6 +4880,33 @@ static int rj__sp_header(rj__sp *P)
     return 1;
 }
 
+/* text after a complete value of key kn at toks[v]; a unit word right after a number
+   ("length = 1 m", "E = 70 GPa") gets why numbers take none */
+static int rj__sp_trailing(rj__sp *P, int v, const char *kn)
+{
+    const rj__stok *t = &P->tok[v], *n = &P->tok[v - 1];
+    char q[200], h[200], m[256];
+    double x;
+    h[0] = 0;
+    if (t->kind == 'w' && rj__sp_alpha((unsigned char)t->s[0]) && n->kind == 'w' && rj__sp_strtonum(n->s, n->len, P->dp, P->dplen, &x) == 1)
+        rj__sp_unit_hint(h, kn, rj__sp_unit(kn), n->s, n->len, t->s, t->len);
+    rj__sp_quote(q, sizeof q, t->s, t->len);
+    rj__sp_cat(m, sizeof m, "unexpected '", q, "' after the value of '", kn, "'", rj__sp_where(P), h);
+    return rj__sp_fail(P, t->line, t->col, kn, rj__sp_nan(), m);
+}
+
+/* whether toks[v] is a unit word after the number that starts the value of kn: checked
+   before the value, so "dt = 10 us" says so instead of that 10 s is out of range. Not for
+   angles and tables, whose numbers take deg or rad. */
+static int rj__sp_unit_word(const rj__sp *P, int v, const char *kn)
+{
+    const rj__stok *t = &P->tok[v], *n = &P->tok[v - 1];
+    const char *u = rj__sp_unit(kn);
+    double x;
+    if (strcmp(u, "rad") == 0 || strcmp(u, "rad/s") == 0 || strcmp(kn, "table") == 0) return 0;
+    return t->kind == 'w' && rj__sp_alpha((unsigned char)t->s[0]) && n->kind == 'w' && rj__sp_strtonum(n->s, n->len, P->dp, P->dplen, &x) == 1;
+}
+
 static int rj__sp_assignments(rj__sp *P)
 {
     int i = 0;
@@ -4829,6 +4931,7 @@ static int rj__sp_assignments(rj__sp *P)
             const rj__stok *eq = &P->tok[i + 1];
             return rj__sp_err(P, eq->line, eq->col + 1, kn, rj__sp_nan(), "missing value for '", kn, "'", rj__sp_where(P), NULL);
         }
+        if (j > i + 3 && rj__sp_unit_word(P, i + 3, kn)) return rj__sp_trailing(P, i + 3, kn);
         v = i + 2;
         switch (P->kind) {
         case RJ__SK_SOLVER: if (!rj__sp_solver_key(P, k, i + 2, &v, &P->f->solver)) return 0; break;
@@ -4837,7 +4940,7 @@ static int rj__sp_assignments(rj__sp *P)
         case RJ__SK_LINK: if (!rj__sp_link_key(P, k, i + 2, &v, j, &P->f->links[P->item])) return 0; break;
         default: if (!rj__sp_joint_key(P, k, i + 2, &v, j, &P->f->joints[P->item])) return 0; break;
         }
-        if (v < j) return rj__sp_err_tok5(P, &P->tok[v], kn, rj__sp_nan(), "unexpected ", " after the value of '", kn, "'", rj__sp_where(P));
+        if (v < j) return rj__sp_trailing(P, v, kn);
         P->seen |= 1u << k;
         rj__sp_pos(P, k)->line = P->tok[i + 2].line;
         rj__sp_pos(P, k)->col = P->tok[i + 2].col;

@@ -921,6 +921,25 @@ static void test_suggestions(void)
     }
 }
 
+/* a unit word after a number, or glued to it: numbers are SI without one */
+static void test_unit_words(void)
+{
+#define SI ": quantities are plain numbers in SI units, without a unit word"
+    EP("unit word: length = 1 m", "link a\n  length = 1 m\n", 2, 14, "unexpected 'm' after the value of 'length' in link 'a'" SI " (length is in m already: write 1)", "length");
+    EP("unit word: length = 1mm", "link a\n  length = 1mm\n", 2, 12, "malformed number '1mm' for 'length' in link 'a'" SI " (length is in m: write 1e-3 for 1 mm)", "length");
+    EP("unit word: E = 70 GPa", "material m\n  E = 70 GPa\n", 2, 10, "unexpected 'GPa' after the value of 'E' in material 'm'" SI " (E is in Pa: write 70e9 for 70 GPa)", "E");
+    EP("unit word: E = 70GPa", "link a\n  E = 70GPa\n", 2, 7, "malformed number '70GPa' for 'E' in link 'a'" SI " (E is in Pa: write 70e9 for 70 GPa)", "E");
+    EP("unit word: reported before the range (dt = 10 us)", "solver\n  dt = 10 us\nlink a\n", 2, 11, "unexpected 'us' after the value of 'dt' in solver" SI " (dt is in s: write 10e-6 for 10 us)", "dt");
+    EP("unit word: a unit word it does not convert", "link a\n  rho = 2.7 g/cm^3\n", 2, 13, SI " (rho is in kg/m^3)", "rho");
+    EP("unit word: a key without a unit", J2 "  restitution = 0.5 units\n", 5, 21, "unexpected 'units' after the value of 'restitution' in joint 'j'" SI, "restitution");
+    EP("unit word: a spring stiffness", J2 "  spring = 0.1 Nm 90 deg\n", 5, 16, SI " (spring is in N m/rad)", "spring");
+    EP("unit word: a table torque", J2 "  table = 0 deg 1 Nm, 90 deg 2\n", 5, 19, "found 'Nm' in joint 'j' (table = angle torque, angle torque, ...)" SI " (a torque is in N m)", "table");
+    EP("unit word: an angle with a unit it does not know, glued", "link a\n  angle = 90degrees\n", 2, 11,
+       "malformed number '90degrees' for 'angle' in link 'a': an angle is a number in rad, or a number and deg or rad: '90 deg' or '90 rad'", "angle");
+    EP("unit word: a rate", "link a\n  omega = 5rpm\n", 2, 11, "a rate is a number in rad/s, or a number and deg/s or rad/s: '5 deg/s' or '5 rad/s'", "omega");
+#undef SI
+}
+
 static void test_api(void)
 {
     rj_scene_file f;
@@ -1024,6 +1043,7 @@ int main(int argc, char **argv)
     test_comments();
     test_errors();
     test_suggestions();
+    test_unit_words();
     test_api();
     test_locale();
     {
