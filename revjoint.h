@@ -433,7 +433,9 @@ typedef struct rj_scene_file {
    alloc_ctx is passed to RJ_MALLOC / RJ_FREE (rj_scene_parse passes NULL). */
 RJDEF rj_result rj_scene_parse(const char *text, size_t len, const char *filename, rj_scene_file *out, rj_error *err);
 RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *filename, rj_scene_file *out, rj_error *err, void *alloc_ctx);
-/* Reads the file at path (at most RJ_SCENE_MAX_BYTES) and parses it. */
+/* Reads the file at path (at most RJ_SCENE_MAX_BYTES) and parses it. A file that cannot
+   be opened or read gives RJ_ERR_PARSE, err->field "path", err->value errno and err->msg
+   "path: cannot open the file for reading: " and the system's reason (strerror). */
 RJDEF rj_result rj_scene_load(const char *path, rj_scene_file *out, rj_error *err);
 /* A scene definition pointing into f (valid until rj_scene_file_free). */
 RJDEF rj_scene_def rj_scene_file_def(const rj_scene_file *f);
@@ -3955,6 +3957,7 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
 #include <stdlib.h>
 #include <math.h>
 #include <stdio.h>
+#include <errno.h>
 
 /* keys; index 0 of an item's position array is its section line, key k is at 1 + k */
 enum {
@@ -5225,58 +5228,64 @@ RJDEF rj_result rj_scene_parse(const char *text, size_t len, const char *filenam
     return rj_scene_parse_ex(text, len, filename, out, err, NULL);
 }
 
+/* a failure of rj_scene_load: "path: what: the system's reason" when errnum is set (the
+   user needs to know whether the file is missing, unreadable or a directory) */
+static rj_result rj__sp_load_fail(rj_error *err, rj_result code, const char *path, const char *what, int errnum, double value)
+{
+    if (!err) return code;
+    err->code = code;
+    snprintf(err->field, sizeof err->field, "%s", code == RJ_ERR_NOMEM ? "size" : "path");
+    err->value = value;
+    rj__sp_cat(err->msg, sizeof err->msg, path, ": ", what, errnum ? ": " : "", errnum ? strerror(errnum) : "", NULL, NULL);
+    return code;
+}
+
+/* reads all of fp into *buf (RJ_MALLOC; the caller frees it, also on failure), at most
+   RJ_SCENE_MAX_BYTES */
+static rj_result rj__sp_read(FILE *fp, const char *path, char **buf, size_t *n, rj_error *err)
+{
+    size_t cap = 0;
+    *buf = NULL; *n = 0;
+    for (;;) {
+        size_t got;
+        if (*n == cap) {
+            size_t nc = cap ? cap * 2 : 65536;
+            char *nb;
+            if (nc > (size_t)RJ_SCENE_MAX_BYTES + 1) nc = (size_t)RJ_SCENE_MAX_BYTES + 1;
+            if (cap > RJ_SCENE_MAX_BYTES) return rj__sp_load_fail(err, RJ_ERR_PARSE, path, "the file is larger than 64 MiB (RJ_SCENE_MAX_BYTES)", 0, (double)*n);
+            nb = (char *)RJ_MALLOC(nc, NULL);
+            if (!nb) return rj__sp_load_fail(err, RJ_ERR_NOMEM, path, "out of memory reading the file", 0, (double)nc);
+            if (*n) memcpy(nb, *buf, *n);
+            if (*buf) RJ_FREE(*buf, NULL);
+            *buf = nb; cap = nc;
+        }
+        errno = 0;
+        got = fread(*buf + *n, 1, cap - *n, fp);
+        *n += got;
+        if (got == 0) break;
+    }
+    if (ferror(fp)) return rj__sp_load_fail(err, RJ_ERR_PARSE, path, "cannot read the file", errno, errno);
+    return RJ_OK;
+}
+
 RJDEF rj_result rj_scene_load(const char *path, rj_scene_file *out, rj_error *err)
 {
     FILE *fp;
     char *buf = NULL;
-    size_t cap = 0, n = 0;
+    size_t n = 0;
     rj_result r;
     if (out) memset(out, 0, sizeof *out);
     if (!path || !out) {
         if (err) { err->code = RJ_ERR_INVALID; snprintf(err->field, sizeof err->field, "%s", path ? "out" : "path"); err->value = 0; snprintf(err->msg, sizeof err->msg, "%s is NULL", path ? "out" : "path"); }
         return RJ_ERR_INVALID;
     }
+    errno = 0;
     fp = fopen(path, "rb");
-    if (!fp) {
-        if (err) { err->code = RJ_ERR_PARSE; snprintf(err->field, sizeof err->field, "path"); err->value = rj__sp_nan(); rj__sp_cat(err->msg, sizeof err->msg, path, ": cannot open the file for reading", NULL, NULL, NULL, NULL, NULL); }
-        return RJ_ERR_PARSE;
-    }
-    for (;;) {
-        size_t got;
-        if (n == cap) {
-            size_t nc = cap ? cap * 2 : 65536;
-            char *nb;
-            if (nc > (size_t)RJ_SCENE_MAX_BYTES + 1) nc = (size_t)RJ_SCENE_MAX_BYTES + 1;
-            if (cap > RJ_SCENE_MAX_BYTES) {
-                if (err) { err->code = RJ_ERR_PARSE; snprintf(err->field, sizeof err->field, "path"); err->value = (double)n; rj__sp_cat(err->msg, sizeof err->msg, path, ": the file is larger than 64 MiB (RJ_SCENE_MAX_BYTES)", NULL, NULL, NULL, NULL, NULL); }
-                if (buf) RJ_FREE(buf, NULL);
-                fclose(fp);
-                return RJ_ERR_PARSE;
-            }
-            nb = (char *)RJ_MALLOC(nc, NULL);
-            if (!nb) {
-                if (err) { err->code = RJ_ERR_NOMEM; snprintf(err->field, sizeof err->field, "size"); err->value = (double)nc; rj__sp_cat(err->msg, sizeof err->msg, path, ": out of memory reading the file", NULL, NULL, NULL, NULL, NULL); }
-                if (buf) RJ_FREE(buf, NULL);
-                fclose(fp);
-                return RJ_ERR_NOMEM;
-            }
-            if (n) memcpy(nb, buf, n);
-            if (buf) RJ_FREE(buf, NULL);
-            buf = nb; cap = nc;
-        }
-        got = fread(buf + n, 1, cap - n, fp);
-        n += got;
-        if (got == 0) break;
-    }
-    if (ferror(fp)) {
-        if (err) { err->code = RJ_ERR_PARSE; snprintf(err->field, sizeof err->field, "path"); err->value = rj__sp_nan(); rj__sp_cat(err->msg, sizeof err->msg, path, ": read error", NULL, NULL, NULL, NULL, NULL); }
-        RJ_FREE(buf, NULL);
-        fclose(fp);
-        return RJ_ERR_PARSE;
-    }
+    if (!fp) return rj__sp_load_fail(err, RJ_ERR_PARSE, path, "cannot open the file for reading", errno, errno);
+    r = rj__sp_read(fp, path, &buf, &n, err);
     fclose(fp);
-    r = rj_scene_parse_ex(buf, n, path, out, err, NULL);
-    RJ_FREE(buf, NULL);
+    if (r == RJ_OK) r = rj_scene_parse_ex(buf, n, path, out, err, NULL);
+    if (buf) RJ_FREE(buf, NULL);
     return r;
 }
 

@@ -11,6 +11,7 @@
 #include <math.h>
 #include <locale.h>
 #include <time.h>
+#include <errno.h>
 
 /* every allocation of the library and the parser goes through here: live blocks are
    counted, and a context can make the n-th allocation fail */
@@ -959,8 +960,15 @@ static void test_api(void)
     check(r == RJ_ERR_PARSE && zeroed(&f), "err may be NULL", rj_result_str(r));
     r = rj_scene_parse(J2 "  forward = 1\n  method = penalty\n", strlen(J2 "  forward = 1\n  method = penalty\n"), "x", &f, NULL);
     check(r == RJ_ERR_INVALID && zeroed(&f), "err may be NULL (model validation error keeps its code)", rj_result_str(r));
-    r = rj_scene_load("no/such/file.rjs", &f, &e);
-    check(r == RJ_ERR_PARSE && strcmp(e.msg, "no/such/file.rjs: cannot open the file for reading") == 0 && zeroed(&f), "rj_scene_load of a missing file", e.msg);
+    {   /* rj_scene_load says why it cannot read a file: the path and strerror */
+        char want[300];
+        r = rj_scene_load("no/such/file.rjs", &f, &e);
+        snprintf(want, sizeof want, "no/such/file.rjs: cannot open the file for reading: %s", strerror(ENOENT));
+        check(r == RJ_ERR_PARSE && strcmp(e.msg, want) == 0 && e.value == ENOENT && strcmp(e.field, "path") == 0 && zeroed(&f), "rj_scene_load of a missing file names the path and the reason", e.msg);
+        r = rj_scene_load(g_dir, &f, &e);
+        snprintf(want, sizeof want, ": %s", strerror(EISDIR));
+        check(r == RJ_ERR_PARSE && strncmp(e.msg, g_dir, strlen(g_dir)) == 0 && strstr(e.msg, want) != NULL && zeroed(&f), "rj_scene_load of a directory names the path and the reason", e.msg);
+    }
     check(g_alloc.live == live0, "no allocation left behind by the calls above", "live blocks unchanged");
     /* alloc_ctx reaches RJ_MALLOC; every allocation failure is clean */
     memset(&ctx, 0, sizeof ctx);
