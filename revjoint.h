@@ -438,7 +438,9 @@ typedef struct rj_scene_file {
    alloc_ctx is passed to RJ_MALLOC / RJ_FREE (rj_scene_parse passes NULL). */
 RJDEF rj_result rj_scene_parse(const char *text, size_t len, const char *filename, rj_scene_file *out, rj_error *err);
 RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *filename, rj_scene_file *out, rj_error *err, void *alloc_ctx);
-/* Reads the file at path (at most RJ_SCENE_MAX_BYTES) and parses it. */
+/* Reads the file at path (at most RJ_SCENE_MAX_BYTES) and parses it. A file that cannot
+   be opened or read gives RJ_ERR_PARSE, err->field "path", err->value errno and err->msg
+   "path: cannot open the file for reading: " and the system's reason (strerror). */
 RJDEF rj_result rj_scene_load(const char *path, rj_scene_file *out, rj_error *err);
 /* A scene definition pointing into f (valid until rj_scene_file_free). */
 RJDEF rj_scene_def rj_scene_file_def(const rj_scene_file *f);
@@ -457,12 +459,14 @@ RJDEF void rj_scene_file_locate(const rj_scene_file *f, rj_error *err);
    "joint0", ...); given names must be valid (1..31 of [A-Za-z0-9_.-], not starting with a
    digit, '.' or '-'; a link not named "ground") and unique. Returns 0 (and writes nothing)
    for an unwritable scene: counts outside 1..RJ_SCENE_MAX_LINKS / 0..RJ_SCENE_MAX_JOINTS,
-   a body index out of range, a non-finite number, a bad name. Reading the text back with
-   rj_scene_parse gives every field the model uses bit for bit (numbers are written in their
-   shortest round-trip form, angles in deg when that round-trips, else in rad); fields the
-   model ignores (width/layers of a general section, area/inertia of a rectangular one, the
-   value of a disabled limit, node1 and ground_* where they do not apply) come back as their
-   defaults. */
+   a body index out of range, a non-finite number in a field it writes, a bad name. Reading
+   the text back with rj_scene_parse gives every field the model uses bit for bit, -0.0
+   included (numbers are written in their shortest round-trip form, angles in deg when that
+   round-trips, else in rad), so any scene rj_model_create accepts within those counts
+   builds the same model from the text. Fields the model ignores (width/layers of a general
+   section, area/inertia of a rectangular one, the value of a disabled limit, table points
+   past table_count, node1 and ground_* where they do not apply) are not written, so they
+   may hold anything (NaN too), and come back as their defaults. */
 RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_names, const char *const *joint_names, char *buf, size_t size);
 #endif /* RJ_NO_SCENE_FILES */
 
@@ -4549,6 +4553,7 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
 #include <stdlib.h>
 #include <math.h>
 #include <stdio.h>
+#include <errno.h>
 
 /* keys; index 0 of an item's position array is its section line, key k is at 1 + k */
 enum {
@@ -4584,6 +4589,14 @@ static const char rj__sk_fidelity[3][13] = { "flexible", "rigid", "inextensible"
 static const char rj__sk_method[5][9] = { "penalty", "adaptive", "momentum", "forced", "energy" };
 static const char rj__sk_release[2][5] = { "rc12", "rc13" };
 static const char rj__sk_reference[2][8] = { "tangent", "chord" };
+/* each key's SI unit, for messages about unit words ("" none; angles rad, rates rad/s) */
+static const char rj__sk_link_unit[RJ__LK_N][7] = {
+    "m", "", "", "", "Pa", "kg/m^3", "m^2", "m^4", "m", "m", "", "kg", "kg m^2", "", "m", "m", "rad", "m/s", "m/s", "rad/s", ""
+};
+static const char rj__sk_joint_unit[RJ__JK_N][10] = {
+    "", "", "", "m", "m", "rad", "rad", "rad/s", "N m", "N m/rad", "rad", "rad", "", "", "", "N m/rad", "", "N m s/rad", "N m", ""
+};
+static const char rj__sk_solver_unit[RJ__VK_N][2] = { "s", "", "", "", "" };
 
 #define RJ__SK_MAT_KEYS ((1u << RJ__LK_E) | (1u << RJ__LK_RHO))
 #define RJ__SK_SEC_KEYS ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA) | (1u << RJ__LK_WIDTH) | (1u << RJ__LK_HEIGHT) | (1u << RJ__LK_LAYERS))
@@ -4829,16 +4842,144 @@ static rj_scene_pos *rj__sp_pos(rj__sp *P, int k)   /* position slot of key k of
     }
 }
 
+/* ------------------------------------------------------------------ suggestions */
+static int rj__sp_lower(int c) { return c >= 'A' && c <= 'Z' ? c + ('a' - 'A') : c; }
+
+/* edit distance of s[0..n) and b, ignoring case: insertions, deletions, substitutions and
+   swaps of two neighbours (optimal string alignment), so 'lenght' is 1 from 'length'.
+   99 when the lengths differ by more than 2 (never near enough to suggest). */
+static int rj__sp_dist(const char *s, int n, const char *b)
+{
+    int m = (int)strlen(b), r[3][RJ_SCENE_NAME_MAX + 2], i, j;
+    if (n - m > 2 || m - n > 2 || m > RJ_SCENE_NAME_MAX) return 99;
+    for (j = 0; j <= m; j++) r[0][j] = j;
+    for (i = 1; i <= n; i++) {
+        int *cur = r[i % 3], *up = r[(i + 2) % 3], *up2 = r[(i + 1) % 3];
+        int ca = rj__sp_lower((unsigned char)s[i - 1]);
+        cur[0] = i;
+        for (j = 1; j <= m; j++) {
+            int cb = rj__sp_lower((unsigned char)b[j - 1]), v = up[j - 1] + (ca != cb);
+            if (up[j] + 1 < v) v = up[j] + 1;
+            if (cur[j - 1] + 1 < v) v = cur[j - 1] + 1;
+            if (i > 1 && j > 1 && ca == rj__sp_lower((unsigned char)b[j - 2]) && rj__sp_lower((unsigned char)s[i - 2]) == cb && up2[j - 2] + 1 < v) v = up2[j - 2] + 1;
+            cur[j] = v;
+        }
+    }
+    return r[n % 3][m];
+}
+
+/* The name among names[k] (stride apart, k < count; for k < 32 only those in mask) nearest
+   to s[0..n), or NULL: a suggestion must be within 2 edits of a name of 5 or more
+   characters, 1 of 3 or 4, and differ only in case from a shorter one, and be the only one
+   that near (a tie suggests nothing rather than a guess). */
+static const char *rj__sp_near(const char *s, int n, const char *names, size_t stride, int count, unsigned mask)
+{
+    const char *best = NULL;
+    int k, bd = 99, ties = 0;
+    for (k = 0; k < count; k++) {
+        const char *nm = names + stride * (size_t)k;
+        int len = (int)strlen(nm), d, lim = len >= 5 ? 2 : len >= 3 ? 1 : 0;
+        if (k < 32 && !(mask >> k & 1u)) continue;
+        d = rj__sp_dist(s, n, nm);
+        if (d > lim || d > bd) continue;
+        if (d == bd) { ties++; continue; }
+        best = nm; bd = d; ties = 0;
+    }
+    return ties ? NULL : best;
+}
+
+/* the key of the current section nearest to t (rj__sp_near), NULL when none is */
+static const char *rj__sp_near_key(const rj__sp *P, const rj__stok *t)
+{
+    switch (P->kind) {
+    case RJ__SK_SOLVER: return rj__sp_near(t->s, t->len, rj__sk_solver[0], sizeof rj__sk_solver[0], RJ__VK_N, ~0u);
+    case RJ__SK_JOINT: return rj__sp_near(t->s, t->len, rj__sk_joint[0], sizeof rj__sk_joint[0], RJ__JK_N, ~0u);
+    case RJ__SK_MATERIAL: return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N, RJ__SK_MAT_KEYS);
+    case RJ__SK_SECTION: return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N, RJ__SK_SEC_KEYS);
+    case RJ__SK_LINK: return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N, ~0u);
+    }
+    return NULL;
+}
+
+/* "; did you mean 'name'?" into buf (buf: 48 bytes), "" when name is NULL */
+static const char *rj__sp_mean(char *buf, const char *name)
+{
+    buf[0] = 0;
+    if (name) rj__sp_cat(buf, 48, "; did you mean '", name, "'?", NULL, NULL, NULL, NULL);
+    return buf;
+}
+
+/* ------------------------------------------------------------------ unit words
+   Numbers are SI without a unit ("length = 1", not "1 m"); only angles and rates take one.
+   A unit word after a number, or glued to it, gets a message that says so. */
+static int rj__sp_alpha(unsigned char c) { return ((c | 32) >= 'a' && (c | 32) <= 'z') || c >= 0x80; }
+
+/* the SI unit of key (a key of any section), "" when it has none */
+static const char *rj__sp_unit(const char *key)
+{
+    int k;
+    for (k = 0; k < RJ__LK_N; k++) if (strcmp(key, rj__sk_link[k]) == 0) return rj__sk_link_unit[k];
+    for (k = 0; k < RJ__JK_N; k++) if (strcmp(key, rj__sk_joint[k]) == 0) return rj__sk_joint_unit[k];
+    for (k = 0; k < RJ__VK_N; k++) if (strcmp(key, rj__sk_solver[k]) == 0) return rj__sk_solver_unit[k];
+    return "";
+}
+
+/* the end of the number that starts t when a word is glued to it ("1mm" -> 1), else 0 */
+static int rj__sp_glued(const rj__sp *P, const rj__stok *t)
+{
+    int p;
+    double x;
+    for (p = t->len - 1; p > 0; p--)
+        if (rj__sp_alpha((unsigned char)t->s[p]) && rj__sp_strtonum(t->s, p, P->dp, P->dplen, &x) == 1) return p;
+    return 0;
+}
+
+/* why the word w after the number num is wrong, into buf (200 bytes): what the key takes,
+   and for a prefixed SI unit the number to write ("E is in Pa: write 70e9 for 70 GPa") */
+static const char *rj__sp_unit_hint(char *buf, const char *what, const char *unit, const char *num, int nn, const char *w, int wn)
+{
+    static const char pre[8] = "GMkcmun", ex[7][4] = { "e9", "e6", "e3", "e-2", "e-3", "e-6", "e-9" };
+    char q[200], u[200], t[200];
+    const char *p = w[0] ? strchr(pre, w[0]) : NULL;
+    int ul = (int)strlen(unit);
+    rj__sp_quote(q, sizeof q, num, nn);
+    rj__sp_quote(u, sizeof u, w, wn);
+    if (strcmp(unit, "rad") == 0 || strcmp(unit, "rad/s") == 0) {
+        rj__sp_cat(t, sizeof t, "'", q, ul == 3 ? " deg' or '" : " deg/s' or '", q, ul == 3 ? " rad'" : " rad/s'", NULL, NULL);
+        rj__sp_cat(buf, 200, ul == 3 ? ": an angle is a number in rad, or a number and deg or rad: " : ": a rate is a number in rad/s, or a number and deg/s or rad/s: ", t, NULL, NULL, NULL, NULL, NULL);
+        return buf;
+    }
+    t[0] = 0;
+    if (ul && wn == ul && memcmp(w, unit, (size_t)ul) == 0) rj__sp_cat(t, sizeof t, " is in ", unit, " already: write ", q, NULL, NULL, NULL);
+    else if (ul && p && wn == ul + 1 && memcmp(w + 1, unit, (size_t)ul) == 0 && !memchr(num, 'e', (size_t)nn) && !memchr(num, 'E', (size_t)nn)) {
+        char n2[220];
+        rj__sp_cat(n2, sizeof n2, q, ex[p - pre], " for ", q, " ", u, NULL);
+        rj__sp_cat(t, sizeof t, " is in ", unit, ": write ", n2, NULL, NULL, NULL);
+    } else if (ul) rj__sp_cat(t, sizeof t, " is in ", unit, NULL, NULL, NULL, NULL, NULL);
+    rj__sp_cat(buf, 200, ": quantities are plain numbers in SI units, without a unit word", ul ? " (" : "", ul ? what : "", t, ul ? ")" : "", NULL, NULL);
+    return buf;
+}
+
 /* ------------------------------------------------------------------ values */
+/* a number that did not read (r from rj__sp_strtonum); unit: what key takes, for the hint */
+static int rj__sp_num_err(rj__sp *P, const rj__stok *t, const char *key, int r, const char *unit)
+{
+    char h[200];
+    int p = r == 0 ? rj__sp_glued(P, t) : 0;
+    h[0] = 0;
+    if (p) rj__sp_unit_hint(h, key, unit, t->s, p, t->s + p, t->len - p);
+    return rj__sp_err_tok(P, t, key, rj__sp_nan(),
+                          r == -1 ? "not a finite number: " : r == -2 ? "number out of range: " : r == -3 ? "number too long: " : "malformed number ",
+                          rj__sp_for(P, key), h, NULL);
+}
+
 static int rj__sp_num(rj__sp *P, const rj__stok *t, const char *key, double *out)
 {
     int r;
     if (t->kind != 'w') return rj__sp_err_tok(P, t, key, rj__sp_nan(), "expected a number, found ", rj__sp_for(P, key), NULL, NULL);
     r = rj__sp_strtonum(t->s, t->len, P->dp, P->dplen, out);
     if (r == 1) return 1;
-    return rj__sp_err_tok(P, t, key, rj__sp_nan(),
-                          r == -1 ? "not a finite number: " : r == -2 ? "number out of range: " : r == -3 ? "number too long: " : "malformed number ",
-                          rj__sp_for(P, key), NULL, NULL);
+    return rj__sp_num_err(P, t, key, r, rj__sp_unit(key));
 }
 
 static int rj__sp_int(rj__sp *P, const rj__stok *t, const char *key, int lo, int hi, int *out)
@@ -4887,7 +5028,8 @@ static int rj__sp_angle(rj__sp *P, int *i, int b, const char *key, int rate, dou
             return 1;
         }
     }
-    return rj__sp_num(P, t, key, &v);   /* reports the right error */
+    if (t->kind != 'w') return rj__sp_num(P, t, key, &v);   /* reports the right error */
+    return rj__sp_num_err(P, t, key, rj__sp_strtonum(t->s, t->len, P->dp, P->dplen, &v), rate ? "rad/s" : "rad");
 }
 
 /* range check on an already parsed value; the message shows the text of toks[a..e) */
@@ -4904,7 +5046,7 @@ static int rj__sp_range(rj__sp *P, int a, int e, const char *key, double v, int 
 
 static int rj__sp_enum(rj__sp *P, const rj__stok *t, const char *key, const char *names, size_t stride, int count, int *out)
 {
-    char list[100], tmp[100], q[200], m[256], m2[256];
+    char list[100], tmp[100], q[200], m[256], m2[256], mean[48];
     int k;
     for (k = 0; k < count; k++) if (rj__sp_is(t, names + stride * (size_t)k)) { *out = k; return 1; }
     list[0] = 0;
@@ -4914,7 +5056,7 @@ static int rj__sp_enum(rj__sp *P, const rj__stok *t, const char *key, const char
     }
     rj__sp_quote(q, sizeof q, t->s, t->len);
     rj__sp_cat(m, sizeof m, "unknown value '", q, "'", rj__sp_for(P, key), " (expected ", NULL, NULL);
-    rj__sp_cat(m2, sizeof m2, m, list, ")", NULL, NULL, NULL, NULL);
+    rj__sp_cat(m2, sizeof m2, m, list, ")", rj__sp_mean(mean, rj__sp_near(t->s, t->len, names, stride, count, ~0u)), NULL, NULL, NULL);
     return rj__sp_fail(P, t->line, t->col, key, rj__sp_nan(), m2);
 }
 
@@ -4957,12 +5099,13 @@ static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *
     case RJ__LK_ROOT: if (!rj__sp_enum(P, t, key, rj__sk_root[0], sizeof rj__sk_root[0], 4, &d->root)) return 0; (*i)++; return 1;
     case RJ__LK_FIDELITY: if (!rj__sp_enum(P, t, key, rj__sk_fidelity[0], sizeof rj__sk_fidelity[0], 3, &d->fidelity)) return 0; (*i)++; return 1;
     case RJ__LK_MATERIAL: case RJ__LK_SECTION: {
-        int idx;
+        const rj__spart *parts = k == RJ__LK_MATERIAL ? P->mat : P->sec;
+        int idx, np = k == RJ__LK_MATERIAL ? P->nmat : P->nsec;
+        char mean[48];
         if (!rj__sp_name_ref(P, t, key)) return 0;
-        if (k == RJ__LK_MATERIAL) idx = P->nmat ? rj__sp_find(t->s, t->len, P->mat[0].name, sizeof(rj__spart), P->nmat) : -1;
-        else idx = P->nsec ? rj__sp_find(t->s, t->len, P->sec[0].name, sizeof(rj__spart), P->nsec) : -1;
-        if (idx < 0) return rj__sp_err_tok(P, t, key, rj__sp_nan(), k == RJ__LK_MATERIAL ? "unknown material " : "unknown section ",
-                                           rj__sp_where(P), " (define it above the link)", NULL);
+        idx = np ? rj__sp_find(t->s, t->len, parts[0].name, sizeof(rj__spart), np) : -1;
+        if (idx < 0) return rj__sp_err_tok(P, t, key, rj__sp_nan(), k == RJ__LK_MATERIAL ? "unknown material " : "unknown section ", rj__sp_where(P),
+                                           " (define it above the link)", np ? rj__sp_mean(mean, rj__sp_near(t->s, t->len, parts[0].name, sizeof(rj__spart), np, ~0u)) : "");
         if (k == RJ__LK_MATERIAL) P->link_mat = idx; else P->link_sec = idx;
         (*i)++;
         return 1;
@@ -5012,8 +5155,8 @@ static int rj__sp_table(rj__sp *P, int a, int *i, int b, rj_joint_def *d)
             return rj__sp_err(P, P->tok[s].line, P->tok[s].col, key, rj__sp_nan(), "table has more than ", rj__sp_itoa(nb, RJ_TABLE_MAX), " points", rj__sp_where(P), NULL);
         if (!rj__sp_angle(P, i, b, key, 0, &v)) return 0;
         a = s;
+        /* angles may fall: as in rj_model_create, a fall starts a new run (Eq 4) */
         if (!RJ__SP_RULE(v >= 0 && v <= 2.0 * 3.14159265358979323846, "table angles must be in [0, 360] deg")) return 0;
-        if (n > 0 && !RJ__SP_RULE(v >= d->table_angle[n - 1], "table angles must not decrease")) return 0;
         if (*i >= b) {
             const rj__stok *z = &P->tok[*i - 1];
             return rj__sp_err(P, z->line, z->col + z->len, key, rj__sp_nan(), "missing torque after the table angle", rj__sp_where(P), " (table = angle torque, angle torque, ...)", NULL, NULL);
@@ -5022,8 +5165,13 @@ static int rj__sp_table(rj__sp *P, int a, int *i, int b, rj_joint_def *d)
         (*i)++;
         d->table_angle[n] = v; d->table_torque[n] = tq; n++;
         if (*i >= b) break;
-        if (P->tok[*i].kind != ',')
-            return rj__sp_err_tok(P, &P->tok[*i], key, rj__sp_nan(), "expected ',' or the end of the table, found ", rj__sp_where(P), " (table = angle torque, angle torque, ...)", NULL);
+        if (P->tok[*i].kind != ',') {   /* "1 Nm": say torques take no unit word */
+            const rj__stok *u = &P->tok[*i], *q = &P->tok[*i - 1];
+            char h[200];
+            h[0] = 0;
+            if (u->kind == 'w' && rj__sp_alpha((unsigned char)u->s[0])) rj__sp_unit_hint(h, "a torque", "N m", q->s, q->len, u->s, u->len);
+            return rj__sp_err_tok(P, u, key, rj__sp_nan(), "expected ',' or the end of the table, found ", rj__sp_where(P), " (table = angle torque, angle torque, ...)", h);
+        }
         (*i)++;
         if (*i >= b) {
             const rj__stok *z = &P->tok[*i - 1];
@@ -5049,7 +5197,11 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
             d->body1 = -1; (*i)++; return 1;
         }
         idx = P->f->link_count ? rj__sp_find(t->s, t->len, (const char *)P->f->link_names, RJ_SCENE_NAME_MAX, P->f->link_count) : -1;
-        if (idx < 0) return rj__sp_err_tok(P, t, key, rj__sp_nan(), "unknown link ", rj__sp_for(P, key), " (define links above the joints that use them)", NULL);
+        if (idx < 0) {
+            char mean[48];
+            rj__sp_mean(mean, P->f->link_count ? rj__sp_near(t->s, t->len, (const char *)P->f->link_names, RJ_SCENE_NAME_MAX, P->f->link_count, ~0u) : NULL);
+            return rj__sp_err_tok(P, t, key, rj__sp_nan(), "unknown link ", rj__sp_for(P, key), " (define links above the joints that use them)", mean);
+        }
         if (k == RJ__JK_BODY1) d->body1 = idx; else d->body2 = idx;
         (*i)++;
         return 1;
@@ -5247,9 +5399,14 @@ static int rj__sp_header(rj__sp *P)
             const char *kn = rj__sp_key_name(P->kind, rj__sp_key_index(P->kind, t0));
             return rj__sp_err(P, t0->line, t0->col + t0->len, kn, rj__sp_nan(), "missing '=' after '", kn, "'", rj__sp_where(P), NULL);
         }
-        return rj__sp_err_tok(P, t0, "", rj__sp_nan(), P->kind != RJ__SK_NONE ? "unknown key or section " : "unknown section ",
-                              P->kind != RJ__SK_NONE ? " (a key needs '= value'; sections are solver, material, section, link, joint)"
-                                                     : " (expected solver, material, section, link or joint)", NULL, NULL);
+        {   /* a near section keyword, else a near key of the current section */
+            const char *near = rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 5, ~0u);
+            char mean[48];
+            if (!near && P->kind != RJ__SK_NONE) near = rj__sp_near_key(P, t0);
+            return rj__sp_err_tok(P, t0, "", rj__sp_nan(), P->kind != RJ__SK_NONE ? "unknown key or section " : "unknown section ",
+                                  P->kind != RJ__SK_NONE ? " (a key needs '= value'; sections are solver, material, section, link, joint)"
+                                                         : " (expected solver, material, section, link or joint)", rj__sp_mean(mean, near), NULL);
+        }
     }
     if (!rj__sp_finish(P)) return 0;
     if (kind == RJ__SK_SOLVER) {
@@ -5322,6 +5479,33 @@ static int rj__sp_header(rj__sp *P)
     return 1;
 }
 
+/* text after a complete value of key kn at toks[v]; a unit word right after a number
+   ("length = 1 m", "E = 70 GPa") gets why numbers take none */
+static int rj__sp_trailing(rj__sp *P, int v, const char *kn)
+{
+    const rj__stok *t = &P->tok[v], *n = &P->tok[v - 1];
+    char q[200], h[200], m[256];
+    double x;
+    h[0] = 0;
+    if (t->kind == 'w' && rj__sp_alpha((unsigned char)t->s[0]) && n->kind == 'w' && rj__sp_strtonum(n->s, n->len, P->dp, P->dplen, &x) == 1)
+        rj__sp_unit_hint(h, kn, rj__sp_unit(kn), n->s, n->len, t->s, t->len);
+    rj__sp_quote(q, sizeof q, t->s, t->len);
+    rj__sp_cat(m, sizeof m, "unexpected '", q, "' after the value of '", kn, "'", rj__sp_where(P), h);
+    return rj__sp_fail(P, t->line, t->col, kn, rj__sp_nan(), m);
+}
+
+/* whether toks[v] is a unit word after the number that starts the value of kn: checked
+   before the value, so "dt = 10 us" says so instead of that 10 s is out of range. Not for
+   angles and tables, whose numbers take deg or rad. */
+static int rj__sp_unit_word(const rj__sp *P, int v, const char *kn)
+{
+    const rj__stok *t = &P->tok[v], *n = &P->tok[v - 1];
+    const char *u = rj__sp_unit(kn);
+    double x;
+    if (strcmp(u, "rad") == 0 || strcmp(u, "rad/s") == 0 || strcmp(kn, "table") == 0) return 0;
+    return t->kind == 'w' && rj__sp_alpha((unsigned char)t->s[0]) && n->kind == 'w' && rj__sp_strtonum(n->s, n->len, P->dp, P->dplen, &x) == 1;
+}
+
 static int rj__sp_assignments(rj__sp *P)
 {
     int i = 0;
@@ -5335,9 +5519,9 @@ static int rj__sp_assignments(rj__sp *P)
             return rj__sp_err_tok(P, kt, "", rj__sp_nan(), "key ", " outside any section (start one with solver, material, section, link or joint)", NULL, NULL);
         k = rj__sp_key_index(P->kind, kt);
         if (k < 0) {
-            char q[64];
+            char q[64], mean[48];
             rj__sp_quote(q, sizeof q, kt->s, kt->len);
-            return rj__sp_err_tok(P, kt, q, rj__sp_nan(), "unknown key ", rj__sp_where(P), NULL, NULL);
+            return rj__sp_err_tok(P, kt, q, rj__sp_nan(), "unknown key ", rj__sp_where(P), rj__sp_mean(mean, rj__sp_near_key(P, kt)), NULL);
         }
         kn = rj__sp_key_name(P->kind, k);
         if (P->seen >> k & 1u)
@@ -5346,6 +5530,7 @@ static int rj__sp_assignments(rj__sp *P)
             const rj__stok *eq = &P->tok[i + 1];
             return rj__sp_err(P, eq->line, eq->col + 1, kn, rj__sp_nan(), "missing value for '", kn, "'", rj__sp_where(P), NULL);
         }
+        if (j > i + 3 && rj__sp_unit_word(P, i + 3, kn)) return rj__sp_trailing(P, i + 3, kn);
         v = i + 2;
         switch (P->kind) {
         case RJ__SK_SOLVER: if (!rj__sp_solver_key(P, k, i + 2, &v, &P->f->solver)) return 0; break;
@@ -5354,7 +5539,7 @@ static int rj__sp_assignments(rj__sp *P)
         case RJ__SK_LINK: if (!rj__sp_link_key(P, k, i + 2, &v, j, &P->f->links[P->item])) return 0; break;
         default: if (!rj__sp_joint_key(P, k, i + 2, &v, j, &P->f->joints[P->item])) return 0; break;
         }
-        if (v < j) return rj__sp_err_tok5(P, &P->tok[v], kn, rj__sp_nan(), "unexpected ", " after the value of '", kn, "'", rj__sp_where(P));
+        if (v < j) return rj__sp_trailing(P, v, kn);
         P->seen |= 1u << k;
         rj__sp_pos(P, k)->line = P->tok[i + 2].line;
         rj__sp_pos(P, k)->col = P->tok[i + 2].col;
@@ -5365,6 +5550,26 @@ static int rj__sp_assignments(rj__sp *P)
 
 /* ------------------------------------------------------------------ lines */
 static int rj__sp_is_sep(unsigned char c) { return c == ' ' || c == '\t' || c == '=' || c == ',' || c == '#' || c < 0x20 || c == 0x7f; }
+
+/* Text is printable bytes, tabs and line ends (LF, CR). A NUL or another control byte
+   anywhere, comments included, means the input is not a scene file, most likely a binary
+   one: say so, with the first such byte and where it is, before parsing reports whatever
+   its first "line" happens to look like (often one longer than RJ_SCENE_MAX_LINE). */
+static int rj__sp_text(rj__sp *P)
+{
+    size_t k, bol = 0;
+    int line = 1;
+    for (k = 0; k < P->len; k++) {
+        unsigned char c = (unsigned char)P->text[k];
+        char m[200];
+        if (c == '\n') { line++; bol = k + 1; continue; }
+        if ((c >= 0x20 && c != 0x7f) || c == '\t' || c == '\r') continue;
+        snprintf(m, sizeof m, "not a text scene file: byte 0x%02x at byte offset %lu is a %s (a scene file has only printable characters, tabs and line ends)",
+                 c, (unsigned long)k, c ? "control character" : "NUL");
+        return rj__sp_fail(P, line, (int)(k - bol) + 1, "", (double)c, m);
+    }
+    return 1;
+}
 
 /* next statement into P->tok: returns 1 (maybe empty), 0 at the end, -1 on error.
    A line whose last token is ',' continues on the next line. */
@@ -5388,16 +5593,10 @@ static int rj__sp_next(rj__sp *P)
         for (k = 0; k < n;) {
             const char *s = P->text + start + k;
             unsigned char c = (unsigned char)*s;
-            if (c == '#') {
-                for (; k < n; k++) if (P->text[start + k] == 0) {
-                    rj__sp_fail(P, P->lineno, (int)k + 1, "", rj__sp_nan(), "NUL byte in a comment (not a text file?)");
-                    return -1;
-                }
-                break;
-            }
+            if (c == '#') break;
             if (c == ' ' || c == '\t') { k++; continue; }
-            if (c < 0x20 || c == 0x7f) {
-                snprintf(m, sizeof m, "invalid character 0x%02x (a text file has only tabs, spaces and printable characters)", c);
+            if (c < 0x20 || c == 0x7f) {   /* only a CR gets here: rj__sp_text let no other through */
+                snprintf(m, sizeof m, "invalid character 0x%02x (a carriage return ends a line only before a line feed)", c);
                 rj__sp_fail(P, P->lineno, (int)k + 1, "", rj__sp_nan(), m);
                 return -1;
             }
@@ -5548,6 +5747,7 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
         return RJ_ERR_PARSE;
     }
     P.text = text ? text : ""; P.len = len;
+    if (!rj__sp_text(&P)) return RJ_ERR_PARSE;
     rj__sp_locale(P.dp, &P.dplen);
     rj__sp_count(P.text, len, counts);
     P.cap_links = counts[RJ__SK_LINK]; P.cap_joints = counts[RJ__SK_JOINT];
@@ -5624,58 +5824,64 @@ RJDEF rj_result rj_scene_parse(const char *text, size_t len, const char *filenam
     return rj_scene_parse_ex(text, len, filename, out, err, NULL);
 }
 
+/* a failure of rj_scene_load: "path: what: the system's reason" when errnum is set (the
+   user needs to know whether the file is missing, unreadable or a directory) */
+static rj_result rj__sp_load_fail(rj_error *err, rj_result code, const char *path, const char *what, int errnum, double value)
+{
+    if (!err) return code;
+    err->code = code;
+    snprintf(err->field, sizeof err->field, "%s", code == RJ_ERR_NOMEM ? "size" : "path");
+    err->value = value;
+    rj__sp_cat(err->msg, sizeof err->msg, path, ": ", what, errnum ? ": " : "", errnum ? strerror(errnum) : "", NULL, NULL);
+    return code;
+}
+
+/* reads all of fp into *buf (RJ_MALLOC; the caller frees it, also on failure), at most
+   RJ_SCENE_MAX_BYTES */
+static rj_result rj__sp_read(FILE *fp, const char *path, char **buf, size_t *n, rj_error *err)
+{
+    size_t cap = 0;
+    *buf = NULL; *n = 0;
+    for (;;) {
+        size_t got;
+        if (*n == cap) {
+            size_t nc = cap ? cap * 2 : 65536;
+            char *nb;
+            if (nc > (size_t)RJ_SCENE_MAX_BYTES + 1) nc = (size_t)RJ_SCENE_MAX_BYTES + 1;
+            if (cap > RJ_SCENE_MAX_BYTES) return rj__sp_load_fail(err, RJ_ERR_PARSE, path, "the file is larger than 64 MiB (RJ_SCENE_MAX_BYTES)", 0, (double)*n);
+            nb = (char *)RJ_MALLOC(nc, NULL);
+            if (!nb) return rj__sp_load_fail(err, RJ_ERR_NOMEM, path, "out of memory reading the file", 0, (double)nc);
+            if (*n) memcpy(nb, *buf, *n);
+            if (*buf) RJ_FREE(*buf, NULL);
+            *buf = nb; cap = nc;
+        }
+        errno = 0;
+        got = fread(*buf + *n, 1, cap - *n, fp);
+        *n += got;
+        if (got == 0) break;
+    }
+    if (ferror(fp)) return rj__sp_load_fail(err, RJ_ERR_PARSE, path, "cannot read the file", errno, errno);
+    return RJ_OK;
+}
+
 RJDEF rj_result rj_scene_load(const char *path, rj_scene_file *out, rj_error *err)
 {
     FILE *fp;
     char *buf = NULL;
-    size_t cap = 0, n = 0;
+    size_t n = 0;
     rj_result r;
     if (out) memset(out, 0, sizeof *out);
     if (!path || !out) {
         if (err) { err->code = RJ_ERR_INVALID; snprintf(err->field, sizeof err->field, "%s", path ? "out" : "path"); err->value = 0; snprintf(err->msg, sizeof err->msg, "%s is NULL", path ? "out" : "path"); }
         return RJ_ERR_INVALID;
     }
+    errno = 0;
     fp = fopen(path, "rb");
-    if (!fp) {
-        if (err) { err->code = RJ_ERR_PARSE; snprintf(err->field, sizeof err->field, "path"); err->value = rj__sp_nan(); rj__sp_cat(err->msg, sizeof err->msg, path, ": cannot open the file for reading", NULL, NULL, NULL, NULL, NULL); }
-        return RJ_ERR_PARSE;
-    }
-    for (;;) {
-        size_t got;
-        if (n == cap) {
-            size_t nc = cap ? cap * 2 : 65536;
-            char *nb;
-            if (nc > (size_t)RJ_SCENE_MAX_BYTES + 1) nc = (size_t)RJ_SCENE_MAX_BYTES + 1;
-            if (cap > RJ_SCENE_MAX_BYTES) {
-                if (err) { err->code = RJ_ERR_PARSE; snprintf(err->field, sizeof err->field, "path"); err->value = (double)n; rj__sp_cat(err->msg, sizeof err->msg, path, ": the file is larger than 64 MiB (RJ_SCENE_MAX_BYTES)", NULL, NULL, NULL, NULL, NULL); }
-                if (buf) RJ_FREE(buf, NULL);
-                fclose(fp);
-                return RJ_ERR_PARSE;
-            }
-            nb = (char *)RJ_MALLOC(nc, NULL);
-            if (!nb) {
-                if (err) { err->code = RJ_ERR_NOMEM; snprintf(err->field, sizeof err->field, "size"); err->value = (double)nc; rj__sp_cat(err->msg, sizeof err->msg, path, ": out of memory reading the file", NULL, NULL, NULL, NULL, NULL); }
-                if (buf) RJ_FREE(buf, NULL);
-                fclose(fp);
-                return RJ_ERR_NOMEM;
-            }
-            if (n) memcpy(nb, buf, n);
-            if (buf) RJ_FREE(buf, NULL);
-            buf = nb; cap = nc;
-        }
-        got = fread(buf + n, 1, cap - n, fp);
-        n += got;
-        if (got == 0) break;
-    }
-    if (ferror(fp)) {
-        if (err) { err->code = RJ_ERR_PARSE; snprintf(err->field, sizeof err->field, "path"); err->value = rj__sp_nan(); rj__sp_cat(err->msg, sizeof err->msg, path, ": read error", NULL, NULL, NULL, NULL, NULL); }
-        RJ_FREE(buf, NULL);
-        fclose(fp);
-        return RJ_ERR_PARSE;
-    }
+    if (!fp) return rj__sp_load_fail(err, RJ_ERR_PARSE, path, "cannot open the file for reading", errno, errno);
+    r = rj__sp_read(fp, path, &buf, &n, err);
     fclose(fp);
-    r = rj_scene_parse_ex(buf, n, path, out, err, NULL);
-    RJ_FREE(buf, NULL);
+    if (r == RJ_OK) r = rj_scene_parse_ex(buf, n, path, out, err, NULL);
+    if (buf) RJ_FREE(buf, NULL);
     return r;
 }
 
@@ -5781,18 +5987,48 @@ static void rj__sw_key(rj__sw *W, const char *key) { rj__sw_put(W, "  "); rj__sw
 
 static int rj__sw_finite(double v) { return v - v == 0.0; }
 
-RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_names, const char *const *joint_names, char *buf, size_t size)
+/* whether v differs from def in its bits, not only in value: -0.0 must be written (a
+   ground pin at x = -0.0 puts -0.0 into the node positions), so it reads back as -0.0 */
+static int rj__sw_set(double v, double def) { return memcmp(&v, &def, sizeof v) != 0; }
+
+/* whether the writer can express the link: its enums in range and every number it writes
+   finite. Fields the model ignores are not written, so anything in them is fine: width and
+   layers of a general section, area and inertia of a rectangular one. */
+static int rj__sw_link_ok(const rj_link_def *d)
 {
-    rj__sw W;
-    rj_link_def L0 = rj_default_link_def();
-    rj_joint_def J0 = rj_default_joint_def();
-    rj_solver_def S0 = rj_default_solver_def();
-    char nm[40];
+    double v[14];
+    int k, gen = d->section == RJ_SECTION_GENERAL;
+    if (d->root < 0 || d->root > 3 || (d->section != RJ_SECTION_RECT && !gen)
+        || d->fidelity < RJ_LINK_FLEXIBLE || d->fidelity > RJ_LINK_INEXTENSIBLE) return 0;
+    v[0] = d->length; v[1] = d->E; v[2] = d->rho; v[3] = d->height; v[4] = d->tip_mass; v[5] = d->tip_inertia; v[6] = d->x;
+    v[7] = d->y; v[8] = d->angle; v[9] = d->vx; v[10] = d->vy; v[11] = d->omega; v[12] = gen ? d->area : d->width; v[13] = gen ? d->inertia : 0;
+    for (k = 0; k < 14; k++) if (!rj__sw_finite(v[k])) return 0;
+    return 1;
+}
+
+/* the same for a joint: ground_* are written only when body1 is ground, a limit's value
+   only when it is enabled, table points only up to table_count */
+static int rj__sw_joint_ok(const rj_joint_def *d, int link_count)
+{
+    double v[8];
+    int k;
+    if (d->body1 < -1 || d->body1 >= link_count || d->body2 < 0 || d->body2 >= link_count) return 0;
+    if ((d->lock & ~1) || (d->has_forward & ~1) || (d->has_reverse & ~1) || d->table_count < 0 || d->table_count > RJ_TABLE_MAX
+        || d->method < 0 || d->method > 4 || d->release < 0 || d->release > 1 || d->reference < 0 || d->reference > 1) return 0;
+    v[0] = d->angle0; v[1] = d->rate0; v[2] = d->spring_k; v[3] = d->spring_free_angle; v[4] = d->penalty_k; v[5] = d->restitution;
+    v[6] = d->damping; v[7] = d->friction;
+    for (k = 0; k < 8; k++) if (!rj__sw_finite(v[k])) return 0;
+    if (d->body1 < 0 && !(rj__sw_finite(d->ground_x) && rj__sw_finite(d->ground_y) && rj__sw_finite(d->ground_angle))) return 0;
+    if ((d->has_forward && !rj__sw_finite(d->forward)) || (d->has_reverse && !rj__sw_finite(d->reverse))) return 0;
+    for (k = 0; k < d->table_count; k++) if (!rj__sw_finite(d->table_angle[k]) || !rj__sw_finite(d->table_torque[k])) return 0;
+    return 1;
+}
+
+/* names and numbers first: rj_scene_write writes nothing for a scene it cannot write */
+static int rj__sw_ok(const rj_scene_def *sc, const char *const *link_names, const char *const *joint_names)
+{
+    const rj_solver_def *s = &sc->solver;
     int i, k;
-    if (buf && size) buf[0] = 0;
-    if (!sc || sc->link_count < 1 || sc->link_count > RJ_SCENE_MAX_LINKS || !sc->links
-        || sc->joint_count < 0 || sc->joint_count > RJ_SCENE_MAX_JOINTS || (sc->joint_count && !sc->joints)) return 0;
-    /* names and numbers first: write nothing for a scene that cannot be written */
     for (k = 0; k < 2; k++) {
         const char *const *names = k ? joint_names : link_names;
         int n = k ? sc->joint_count : sc->link_count, a, b;
@@ -5803,114 +6039,142 @@ RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_name
             for (b = 0; b < a; b++) if (names[b] && strcmp(names[a], names[b]) == 0) return 0;
         }
     }
-    if (!rj__sw_finite(sc->solver.dt) || !rj__sw_finite(sc->solver.energy_growth) || (sc->solver.allow_unstable != 0 && sc->solver.allow_unstable != 1)
-        || sc->solver.energy_every < 1 || sc->solver.energy_every > 1000 || sc->solver.in_place < RJ_IN_PLACE_AUTO || sc->solver.in_place > RJ_IN_PLACE_OFF) return 0;
-    for (i = 0; i < sc->link_count; i++) {
-        const rj_link_def *d = &sc->links[i];
-        double v[14];
-        v[0] = d->length; v[1] = d->E; v[2] = d->rho; v[3] = d->width; v[4] = d->height; v[5] = d->area; v[6] = d->inertia;
-        v[7] = d->tip_mass; v[8] = d->tip_inertia; v[9] = d->x; v[10] = d->y; v[11] = d->angle; v[12] = d->vx; v[13] = d->vy;
-        for (k = 0; k < 14; k++) if (!rj__sw_finite(v[k])) return 0;
-        if (!rj__sw_finite(d->omega) || d->root < 0 || d->root > 3 || (d->section != RJ_SECTION_RECT && d->section != RJ_SECTION_GENERAL)
-            || d->fidelity < RJ_LINK_FLEXIBLE || d->fidelity > RJ_LINK_INEXTENSIBLE) return 0;
+    if (!rj__sw_finite(s->dt) || !rj__sw_finite(s->energy_growth) || (s->allow_unstable != 0 && s->allow_unstable != 1)
+        || s->energy_every < 1 || s->energy_every > 1000 || s->in_place < RJ_IN_PLACE_AUTO || s->in_place > RJ_IN_PLACE_OFF) return 0;
+    for (i = 0; i < sc->link_count; i++) if (!rj__sw_link_ok(&sc->links[i])) return 0;
+    for (i = 0; i < sc->joint_count; i++) if (!rj__sw_joint_ok(&sc->joints[i], sc->link_count)) return 0;
+    return 1;
+}
+
+/* names[i], or prefix and i when the caller gave no names */
+static void rj__sw_name(rj__sw *W, const char *const *names, const char *prefix, int i)
+{
+    char nm[40];
+    if (names) { rj__sw_put(W, names[i]); return; }
+    snprintf(nm, sizeof nm, "%s%d", prefix, i);
+    rj__sw_put(W, nm);
+}
+
+/* the solver section, only when some value differs from the defaults */
+static void rj__sw_solver(rj__sw *W, const rj_solver_def *s)
+{
+    rj_solver_def S0 = rj_default_solver_def();
+    char nm[40];
+    if (!rj__sw_set(s->dt, S0.dt) && !s->allow_unstable && !rj__sw_set(s->energy_growth, S0.energy_growth)
+        && s->energy_every == S0.energy_every && s->in_place == S0.in_place) return;
+    rj__sw_put(W, "solver\n");
+    if (rj__sw_set(s->dt, S0.dt)) { rj__sw_key(W, "dt"); rj__sw_num(W, s->dt); rj__sw_put(W, "\n"); }
+    if (s->allow_unstable) { rj__sw_key(W, "allow_unstable"); rj__sw_put(W, "yes\n"); }
+    if (rj__sw_set(s->energy_growth, S0.energy_growth)) { rj__sw_key(W, "energy_growth"); rj__sw_num(W, s->energy_growth); rj__sw_put(W, "\n"); }
+    if (s->energy_every != S0.energy_every) { snprintf(nm, sizeof nm, "  energy_every = %d\n", s->energy_every); rj__sw_put(W, nm); }
+    if (s->in_place != S0.in_place) { rj__sw_key(W, "in_place"); rj__sw_put(W, rj__sk_in_place[s->in_place]); rj__sw_put(W, "\n"); }
+}
+
+/* a link section; root_link: the link hangs from no joint (else x, y, angle are unused) */
+static void rj__sw_link(rj__sw *W, const rj_link_def *d, int root_link)
+{
+    rj_link_def L0 = rj_default_link_def();
+    char nm[40];
+    rj__sw_key(W, "length"); rj__sw_num(W, d->length);
+    snprintf(nm, sizeof nm, "  elements = %d\n", d->elements); rj__sw_put(W, nm);
+    rj__sw_key(W, "E"); rj__sw_num(W, d->E); rj__sw_put(W, "  rho = "); rj__sw_num(W, d->rho); rj__sw_put(W, "\n");
+    if (d->section == RJ_SECTION_GENERAL) {
+        rj__sw_key(W, "area"); rj__sw_num(W, d->area); rj__sw_put(W, "  inertia = "); rj__sw_num(W, d->inertia);
+        if (rj__sw_set(d->height, L0.height)) { rj__sw_put(W, "  height = "); rj__sw_num(W, d->height); }
+    } else {
+        rj__sw_key(W, "width"); rj__sw_num(W, d->width); rj__sw_put(W, "  height = "); rj__sw_num(W, d->height);
+        if (d->layers != L0.layers) { snprintf(nm, sizeof nm, "  layers = %d", d->layers); rj__sw_put(W, nm); }
     }
-    for (i = 0; i < sc->joint_count; i++) {
-        const rj_joint_def *d = &sc->joints[i];
-        double v[13];
-        if (d->body1 < -1 || d->body1 >= sc->link_count || d->body2 < 0 || d->body2 >= sc->link_count) return 0;
-        if ((d->lock & ~1) || (d->has_forward & ~1) || (d->has_reverse & ~1)) return 0;
-        if (d->table_count < 0 || d->table_count > RJ_TABLE_MAX || d->method < 0 || d->method > 4 || d->release < 0 || d->release > 1 || d->reference < 0 || d->reference > 1) return 0;
-        v[0] = d->ground_x; v[1] = d->ground_y; v[2] = d->ground_angle; v[3] = d->angle0; v[4] = d->rate0; v[5] = d->spring_k;
-        v[6] = d->spring_free_angle; v[7] = d->forward; v[8] = d->reverse; v[9] = d->penalty_k; v[10] = d->restitution; v[11] = d->damping; v[12] = d->friction;
-        for (k = 0; k < 13; k++) if (!rj__sw_finite(v[k])) return 0;
-        for (k = 0; k < d->table_count; k++) if (!rj__sw_finite(d->table_angle[k]) || !rj__sw_finite(d->table_torque[k])) return 0;
+    rj__sw_put(W, "\n");
+    if (rj__sw_set(d->tip_mass, 0) || rj__sw_set(d->tip_inertia, 0)) {
+        rj__sw_key(W, "tip_mass"); rj__sw_num(W, d->tip_mass); rj__sw_put(W, "  tip_inertia = "); rj__sw_num(W, d->tip_inertia); rj__sw_put(W, "\n");
     }
+    if (d->root != L0.root) { rj__sw_key(W, "root"); rj__sw_put(W, rj__sk_root[d->root]); rj__sw_put(W, "\n"); }
+    if (d->fidelity != L0.fidelity) { rj__sw_key(W, "fidelity"); rj__sw_put(W, rj__sk_fidelity[d->fidelity]); rj__sw_put(W, "\n"); }
+    if (rj__sw_set(d->x, 0) || rj__sw_set(d->y, 0) || rj__sw_set(d->angle, 0)) {
+        rj__sw_key(W, "x"); rj__sw_num(W, d->x); rj__sw_put(W, "  y = "); rj__sw_num(W, d->y);
+        rj__sw_put(W, "  angle = "); rj__sw_angle(W, d->angle, 0); rj__sw_put(W, root_link ? "\n" : "   # unused: the link hangs from a joint\n");
+    }
+    if (rj__sw_set(d->vx, 0) || rj__sw_set(d->vy, 0) || rj__sw_set(d->omega, 0)) {
+        rj__sw_key(W, "vx"); rj__sw_num(W, d->vx); rj__sw_put(W, "  vy = "); rj__sw_num(W, d->vy);
+        rj__sw_put(W, "  omega = "); rj__sw_angle(W, d->omega, 1); rj__sw_put(W, "\n");
+    }
+}
+
+/* a joint's table, four points to a line (a line ending in ',' continues) */
+static void rj__sw_table(rj__sw *W, const rj_joint_def *d)
+{
+    int k;
+    if (d->table_count <= 0) return;
+    rj__sw_key(W, "table");
+    for (k = 0; k < d->table_count; k++) {
+        if (k) rj__sw_put(W, k % 4 == 0 ? ",\n    " : ", ");
+        rj__sw_angle(W, d->table_angle[k], 0); rj__sw_put(W, " "); rj__sw_num(W, d->table_torque[k]);
+    }
+    rj__sw_put(W, "\n");
+}
+
+/* the keys after a joint's bodies */
+static void rj__sw_joint_rest(rj__sw *W, const rj_joint_def *d)
+{
+    rj_joint_def J0 = rj_default_joint_def();
+    rj__sw_key(W, "angle0"); rj__sw_angle(W, d->angle0, 0);
+    if (rj__sw_set(d->rate0, 0)) { rj__sw_put(W, "  rate0 = "); rj__sw_angle(W, d->rate0, 1); }
+    rj__sw_put(W, "\n");
+    rj__sw_table(W, d);
+    if (rj__sw_set(d->spring_k, J0.spring_k) || rj__sw_set(d->spring_free_angle, J0.spring_free_angle)) {
+        rj__sw_key(W, "spring"); rj__sw_num(W, d->spring_k); rj__sw_put(W, " "); rj__sw_angle(W, d->spring_free_angle, 0); rj__sw_put(W, "\n");
+    }
+    if (d->has_forward) { rj__sw_key(W, "forward"); rj__sw_angle(W, d->forward, 0); rj__sw_put(W, "\n"); }
+    if (d->has_reverse) { rj__sw_key(W, "reverse"); rj__sw_angle(W, d->reverse, 0); rj__sw_put(W, "\n"); }
+    if (d->lock) { rj__sw_key(W, "lock"); rj__sw_put(W, "yes\n"); }
+    rj__sw_key(W, "method"); rj__sw_put(W, rj__sk_method[d->method]);
+    if (d->release != J0.release) { rj__sw_put(W, "  release = "); rj__sw_put(W, rj__sk_release[d->release]); }
+    if (d->reference != J0.reference) { rj__sw_put(W, "  reference = "); rj__sw_put(W, rj__sk_reference[d->reference]); }
+    rj__sw_put(W, "\n");
+    if (rj__sw_set(d->penalty_k, 0)) { rj__sw_key(W, "penalty_k"); rj__sw_num(W, d->penalty_k); rj__sw_put(W, "\n"); }
+    if (rj__sw_set(d->restitution, 0)) { rj__sw_key(W, "restitution"); rj__sw_num(W, d->restitution); rj__sw_put(W, "\n"); }
+    if (rj__sw_set(d->damping, 0)) { rj__sw_key(W, "damping"); rj__sw_num(W, d->damping); rj__sw_put(W, "\n"); }
+    if (rj__sw_set(d->friction, 0)) { rj__sw_key(W, "friction"); rj__sw_num(W, d->friction); rj__sw_put(W, "\n"); }
+}
+
+/* a joint section: bodies, node1 when body1 is a link, ground_* when it is ground */
+static void rj__sw_joint(rj__sw *W, const rj_joint_def *d, const char *const *link_names)
+{
+    char nm[40];
+    rj__sw_key(W, "body1");
+    if (d->body1 < 0) rj__sw_put(W, "ground"); else rj__sw_name(W, link_names, "link", d->body1);
+    rj__sw_put(W, "  body2 = "); rj__sw_name(W, link_names, "link", d->body2);
+    if (d->body1 >= 0 && d->node1 != -1) { snprintf(nm, sizeof nm, "  node1 = %d", d->node1); rj__sw_put(W, nm); }
+    rj__sw_put(W, "\n");
+    if (d->body1 < 0 && (rj__sw_set(d->ground_x, 0) || rj__sw_set(d->ground_y, 0) || rj__sw_set(d->ground_angle, 0))) {
+        rj__sw_key(W, "ground_x"); rj__sw_num(W, d->ground_x); rj__sw_put(W, "  ground_y = "); rj__sw_num(W, d->ground_y);
+        rj__sw_put(W, "  ground_angle = "); rj__sw_angle(W, d->ground_angle, 0); rj__sw_put(W, "\n");
+    }
+    rj__sw_joint_rest(W, d);
+}
+
+RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_names, const char *const *joint_names, char *buf, size_t size)
+{
+    rj__sw W;
+    int i, k;
+    if (buf && size) buf[0] = 0;
+    if (!sc || sc->link_count < 1 || sc->link_count > RJ_SCENE_MAX_LINKS || !sc->links
+        || sc->joint_count < 0 || sc->joint_count > RJ_SCENE_MAX_JOINTS || (sc->joint_count && !sc->joints)) return 0;
+    if (!rj__sw_ok(sc, link_names, joint_names)) return 0;
     W.buf = buf; W.size = buf ? size : 0; W.n = 0;
     rj__sp_locale(W.dp, &W.dplen);
     rj__sw_put(&W, "# revjoint scene (written by rj_scene_write, revjoint.h " RJ_VERSION ")\n");
-    if (sc->solver.dt != S0.dt || sc->solver.allow_unstable || sc->solver.energy_growth != S0.energy_growth || sc->solver.energy_every != S0.energy_every
-        || sc->solver.in_place != S0.in_place) {
-        rj__sw_put(&W, "solver\n");
-        if (sc->solver.dt != S0.dt) { rj__sw_key(&W, "dt"); rj__sw_num(&W, sc->solver.dt); rj__sw_put(&W, "\n"); }
-        if (sc->solver.allow_unstable) { rj__sw_key(&W, "allow_unstable"); rj__sw_put(&W, "yes\n"); }
-        if (sc->solver.energy_growth != S0.energy_growth) { rj__sw_key(&W, "energy_growth"); rj__sw_num(&W, sc->solver.energy_growth); rj__sw_put(&W, "\n"); }
-        if (sc->solver.energy_every != S0.energy_every) { snprintf(nm, sizeof nm, "  energy_every = %d\n", sc->solver.energy_every); rj__sw_put(&W, nm); }
-        if (sc->solver.in_place != S0.in_place) { rj__sw_key(&W, "in_place"); rj__sw_put(&W, rj__sk_in_place[sc->solver.in_place]); rj__sw_put(&W, "\n"); }
-    }
+    rj__sw_solver(&W, &sc->solver);
     for (i = 0; i < sc->link_count; i++) {
-        const rj_link_def *d = &sc->links[i];
         int root_link = 1;
         for (k = 0; k < sc->joint_count; k++) if (sc->joints[k].body2 == i) root_link = 0;
-        if (link_names) snprintf(nm, sizeof nm, "%s", link_names[i]); else snprintf(nm, sizeof nm, "link%d", i);
-        rj__sw_put(&W, "link "); rj__sw_put(&W, nm); rj__sw_put(&W, "\n");
-        rj__sw_key(&W, "length"); rj__sw_num(&W, d->length);
-        snprintf(nm, sizeof nm, "  elements = %d\n", d->elements); rj__sw_put(&W, nm);
-        rj__sw_key(&W, "E"); rj__sw_num(&W, d->E); rj__sw_put(&W, "  rho = "); rj__sw_num(&W, d->rho); rj__sw_put(&W, "\n");
-        if (d->section == RJ_SECTION_GENERAL) {
-            rj__sw_key(&W, "area"); rj__sw_num(&W, d->area); rj__sw_put(&W, "  inertia = "); rj__sw_num(&W, d->inertia);
-            if (d->height != L0.height) { rj__sw_put(&W, "  height = "); rj__sw_num(&W, d->height); }
-            rj__sw_put(&W, "\n");
-        } else {
-            rj__sw_key(&W, "width"); rj__sw_num(&W, d->width); rj__sw_put(&W, "  height = "); rj__sw_num(&W, d->height);
-            if (d->layers != L0.layers) { snprintf(nm, sizeof nm, "  layers = %d", d->layers); rj__sw_put(&W, nm); }
-            rj__sw_put(&W, "\n");
-        }
-        if (d->tip_mass != 0 || d->tip_inertia != 0) {
-            rj__sw_key(&W, "tip_mass"); rj__sw_num(&W, d->tip_mass); rj__sw_put(&W, "  tip_inertia = "); rj__sw_num(&W, d->tip_inertia); rj__sw_put(&W, "\n");
-        }
-        if (d->root != L0.root) { rj__sw_key(&W, "root"); rj__sw_put(&W, rj__sk_root[d->root]); rj__sw_put(&W, "\n"); }
-        if (d->fidelity != L0.fidelity) { rj__sw_key(&W, "fidelity"); rj__sw_put(&W, rj__sk_fidelity[d->fidelity]); rj__sw_put(&W, "\n"); }
-        if (d->x != 0 || d->y != 0 || d->angle != 0) {
-            rj__sw_key(&W, "x"); rj__sw_num(&W, d->x); rj__sw_put(&W, "  y = "); rj__sw_num(&W, d->y);
-            rj__sw_put(&W, "  angle = "); rj__sw_angle(&W, d->angle, 0); rj__sw_put(&W, root_link ? "\n" : "   # unused: the link hangs from a joint\n");
-        }
-        if (d->vx != 0 || d->vy != 0 || d->omega != 0) {
-            rj__sw_key(&W, "vx"); rj__sw_num(&W, d->vx); rj__sw_put(&W, "  vy = "); rj__sw_num(&W, d->vy);
-            rj__sw_put(&W, "  omega = "); rj__sw_angle(&W, d->omega, 1); rj__sw_put(&W, "\n");
-        }
+        rj__sw_put(&W, "link "); rj__sw_name(&W, link_names, "link", i); rj__sw_put(&W, "\n");
+        rj__sw_link(&W, &sc->links[i], root_link);
     }
     for (i = 0; i < sc->joint_count; i++) {
-        const rj_joint_def *d = &sc->joints[i];
-        if (joint_names) snprintf(nm, sizeof nm, "%s", joint_names[i]); else snprintf(nm, sizeof nm, "joint%d", i);
-        rj__sw_put(&W, "joint "); rj__sw_put(&W, nm); rj__sw_put(&W, "\n");
-        rj__sw_key(&W, "body1");
-        if (d->body1 < 0) rj__sw_put(&W, "ground");
-        else if (link_names) rj__sw_put(&W, link_names[d->body1]);
-        else { snprintf(nm, sizeof nm, "link%d", d->body1); rj__sw_put(&W, nm); }
-        rj__sw_put(&W, "  body2 = ");
-        if (link_names) rj__sw_put(&W, link_names[d->body2]);
-        else { snprintf(nm, sizeof nm, "link%d", d->body2); rj__sw_put(&W, nm); }
-        if (d->body1 >= 0 && d->node1 != -1) { snprintf(nm, sizeof nm, "  node1 = %d", d->node1); rj__sw_put(&W, nm); }
-        rj__sw_put(&W, "\n");
-        if (d->body1 < 0 && (d->ground_x != 0 || d->ground_y != 0 || d->ground_angle != 0)) {
-            rj__sw_key(&W, "ground_x"); rj__sw_num(&W, d->ground_x); rj__sw_put(&W, "  ground_y = "); rj__sw_num(&W, d->ground_y);
-            rj__sw_put(&W, "  ground_angle = "); rj__sw_angle(&W, d->ground_angle, 0); rj__sw_put(&W, "\n");
-        }
-        rj__sw_key(&W, "angle0"); rj__sw_angle(&W, d->angle0, 0);
-        if (d->rate0 != 0) { rj__sw_put(&W, "  rate0 = "); rj__sw_angle(&W, d->rate0, 1); }
-        rj__sw_put(&W, "\n");
-        if (d->table_count > 0) {
-            rj__sw_key(&W, "table");
-            for (k = 0; k < d->table_count; k++) {
-                if (k) rj__sw_put(&W, k % 4 == 0 ? ",\n    " : ", ");
-                rj__sw_angle(&W, d->table_angle[k], 0); rj__sw_put(&W, " "); rj__sw_num(&W, d->table_torque[k]);
-            }
-            rj__sw_put(&W, "\n");
-        }
-        if (d->spring_k != J0.spring_k || d->spring_free_angle != J0.spring_free_angle) {
-            rj__sw_key(&W, "spring"); rj__sw_num(&W, d->spring_k); rj__sw_put(&W, " "); rj__sw_angle(&W, d->spring_free_angle, 0); rj__sw_put(&W, "\n");
-        }
-        if (d->has_forward) { rj__sw_key(&W, "forward"); rj__sw_angle(&W, d->forward, 0); rj__sw_put(&W, "\n"); }
-        if (d->has_reverse) { rj__sw_key(&W, "reverse"); rj__sw_angle(&W, d->reverse, 0); rj__sw_put(&W, "\n"); }
-        if (d->lock) { rj__sw_key(&W, "lock"); rj__sw_put(&W, "yes\n"); }
-        rj__sw_key(&W, "method"); rj__sw_put(&W, rj__sk_method[d->method]);
-        if (d->release != J0.release) { rj__sw_put(&W, "  release = "); rj__sw_put(&W, rj__sk_release[d->release]); }
-        if (d->reference != J0.reference) { rj__sw_put(&W, "  reference = "); rj__sw_put(&W, rj__sk_reference[d->reference]); }
-        rj__sw_put(&W, "\n");
-        if (d->penalty_k != 0) { rj__sw_key(&W, "penalty_k"); rj__sw_num(&W, d->penalty_k); rj__sw_put(&W, "\n"); }
-        if (d->restitution != 0) { rj__sw_key(&W, "restitution"); rj__sw_num(&W, d->restitution); rj__sw_put(&W, "\n"); }
-        if (d->damping != 0) { rj__sw_key(&W, "damping"); rj__sw_num(&W, d->damping); rj__sw_put(&W, "\n"); }
-        if (d->friction != 0) { rj__sw_key(&W, "friction"); rj__sw_num(&W, d->friction); rj__sw_put(&W, "\n"); }
+        rj__sw_put(&W, "joint "); rj__sw_name(&W, joint_names, "joint", i); rj__sw_put(&W, "\n");
+        rj__sw_joint(&W, &sc->joints[i], link_names);
     }
     return W.n;
 }

@@ -18,35 +18,39 @@
 #define RJ_FUZZ_MAX_NODES 2000
 #endif
 
+/* every field the model uses, compared in bits (the writer keeps -0.0 as -0.0) */
+#define FZ(f) if (memcmp(&x->f, &y->f, sizeof x->f)) return 0;
 static int fz_same(const rj_scene_file *a, const rj_scene_file *b)
 {
     int i, k;
     if (a->link_count != b->link_count || a->joint_count != b->joint_count) return 0;
-    if (a->solver.dt != b->solver.dt || a->solver.allow_unstable != b->solver.allow_unstable || a->solver.energy_growth != b->solver.energy_growth || a->solver.energy_every != b->solver.energy_every || a->solver.in_place != b->solver.in_place) return 0;
+    {
+        const rj_solver_def *x = &a->solver, *y = &b->solver;
+        FZ(dt) FZ(allow_unstable) FZ(energy_growth) FZ(energy_every) FZ(in_place)
+    }
     for (i = 0; i < a->link_count; i++) {
         const rj_link_def *x = &a->links[i], *y = &b->links[i];
         if (strcmp(a->link_names[i], b->link_names[i])) return 0;
-        if (x->length != y->length || x->elements != y->elements || x->E != y->E || x->rho != y->rho || x->section != y->section
-            || x->height != y->height || x->tip_mass != y->tip_mass || x->tip_inertia != y->tip_inertia || x->root != y->root
-            || x->x != y->x || x->y != y->y || x->angle != y->angle || x->vx != y->vx || x->vy != y->vy || x->omega != y->omega) return 0;
-        if (x->section == RJ_SECTION_RECT && (x->width != y->width || x->layers != y->layers)) return 0;
-        if (x->section == RJ_SECTION_GENERAL && (x->area != y->area || x->inertia != y->inertia)) return 0;
+        FZ(length) FZ(elements) FZ(E) FZ(rho) FZ(section) FZ(height) FZ(tip_mass) FZ(tip_inertia) FZ(root)
+        FZ(x) FZ(y) FZ(angle) FZ(vx) FZ(vy) FZ(omega) FZ(fidelity)
+        if (x->section == RJ_SECTION_RECT) { FZ(width) FZ(layers) }
+        if (x->section == RJ_SECTION_GENERAL) { FZ(area) FZ(inertia) }
     }
     for (i = 0; i < a->joint_count; i++) {
         const rj_joint_def *x = &a->joints[i], *y = &b->joints[i];
         if (strcmp(a->joint_names[i], b->joint_names[i])) return 0;
-        if (x->body1 != y->body1 || x->body2 != y->body2 || x->node1 != y->node1 || x->angle0 != y->angle0 || x->rate0 != y->rate0
-            || x->table_count != y->table_count || x->spring_k != y->spring_k || x->spring_free_angle != y->spring_free_angle
-            || x->has_forward != y->has_forward || x->has_reverse != y->has_reverse || x->lock != y->lock || x->method != y->method
-            || x->release != y->release || x->penalty_k != y->penalty_k || x->restitution != y->restitution || x->damping != y->damping
-            || x->friction != y->friction || x->reference != y->reference) return 0;
-        if (x->body1 < 0 && (x->ground_x != y->ground_x || x->ground_y != y->ground_y || x->ground_angle != y->ground_angle)) return 0;
-        if (x->has_forward && x->forward != y->forward) return 0;
-        if (x->has_reverse && x->reverse != y->reverse) return 0;
-        for (k = 0; k < x->table_count; k++) if (x->table_angle[k] != y->table_angle[k] || x->table_torque[k] != y->table_torque[k]) return 0;
+        FZ(body1) FZ(body2) FZ(angle0) FZ(rate0) FZ(table_count) FZ(spring_k) FZ(spring_free_angle)
+        FZ(has_forward) FZ(has_reverse) FZ(lock) FZ(method) FZ(release) FZ(penalty_k) FZ(restitution)
+        FZ(damping) FZ(friction) FZ(reference)
+        if (x->body1 >= 0) { FZ(node1) }
+        if (x->body1 < 0) { FZ(ground_x) FZ(ground_y) FZ(ground_angle) }
+        if (x->has_forward) { FZ(forward) }
+        if (x->has_reverse) { FZ(reverse) }
+        for (k = 0; k < x->table_count; k++) { FZ(table_angle[k]) FZ(table_torque[k]) }
     }
     return 1;
 }
+#undef FZ
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
