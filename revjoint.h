@@ -289,9 +289,12 @@ RJDEF rj_scene_def rj_default_scene_def(void);
 /* Result code as text. */
 RJDEF const char *rj_result_str(rj_result r);
 
-/* Validates the scene and builds a model. rj_model_size gives the bytes rj_model_init needs
-   (0 when the scene is invalid, with err filled); rj_model_init builds into the caller's
-   block (aligned to 16); rj_model_create allocates one block with RJ_MALLOC. */
+/* Validates the scene and builds a model. rj_model_size checks every field and the totals
+   and gives the bytes rj_model_init needs (0 when the scene is invalid, with err filled);
+   rj_model_init builds into the caller's block (aligned to 16), checking the joint graph
+   too (one joint per body2, no loops; it needs the block's scratch for that, so that
+   every check is linear in the scene) and refusing a model with no usable step;
+   rj_model_create allocates one block with RJ_MALLOC. */
 RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err);
 RJDEF rj_result rj_model_init(const rj_scene_def *scene, void *mem, size_t size, rj_model **out, rj_error *err);
 RJDEF rj_result rj_model_create(const rj_scene_def *scene, rj_model **out, rj_error *err, void *alloc_ctx);
@@ -2286,9 +2289,11 @@ static void rj__limit_warnings(rj_model *m)
             rj__model_warn(m, "joints[%d]: its spring turns it in reverse from %.4g deg and rests at %.4g deg, short of its reverse limit, met at %.4g deg: the spring alone never brings it there%s",
                            j, rj_deg(start), rj_deg(rest), rj_deg(J->rev), d->lock ? " (it never latches)" : "");
         else if (drive > 0 && !d->has_forward)
-            rj__model_warn(m, "joints[%d]: its spring turns it forward, away from its only limit (reverse)", j);
+            rj__model_warn(m, "joints[%d]: its spring turns it forward from %.4g deg, away from its only limit (reverse, met at %.4g deg): the spring alone never brings it there%s",
+                           j, rj_deg(start), rj_deg(J->rev), d->lock ? " (it never latches)" : "");
         else if (drive < 0 && !d->has_reverse)
-            rj__model_warn(m, "joints[%d]: its spring turns it in reverse, away from its only limit (forward)", j);
+            rj__model_warn(m, "joints[%d]: its spring turns it in reverse from %.4g deg, away from its only limit (forward, met at %.4g deg): the spring alone never brings it there%s",
+                           j, rj_deg(start), rj_deg(J->fwd), d->lock ? " (it never latches)" : "");
     }
 }
 

@@ -1,0 +1,595 @@
+/* test_robust.c - defects found by trying the library as a new user and as an attacker
+   would: each check here failed before its fix. Joint damping in the stability bound,
+   node counts that overflowed an int, validation and model memory that grew faster than
+   the scene, models with no usable step, non-finite states returned as RJ_OK, checkpoint
+   contents trusted once the checksum matched, blow-up messages naming causes the model
+   does not have, and limits a joint never reaches. */
+#define REVJOINT_IMPLEMENTATION
+#include "../revjoint.h"
+#include "rjt.h"
+#include <stdlib.h>
+#include <string.h>
+#include <ctype.h>
+
+static rjt_ctx T;
+
+/* One 1 m aluminium strip of 10 elements pinned to ground by a spring and a damper: the
+   README's strip. */
+static rj_result strip_model(double k, double c, double dt, rj_model **m, rj_error *err)
+{
+    rj_link_def link = rj_default_link_def();
+    rj_joint_def joint = rj_default_joint_def();
+    rj_scene_def scene = rj_default_scene_def();
+    link.height = 0.01;
+    joint.body1 = -1;
+    joint.body2 = 0;
+    joint.angle0 = 0;
+    joint.spring_k = k;
+    joint.spring_free_angle = rj_rad(90);
+    joint.damping = c;
+    scene.links = &link;
+    scene.link_count = 1;
+    scene.joints = &joint;
+    scene.joint_count = 1;
+    scene.solver.dt = dt;
+    scene.solver.allow_unstable = dt > 0;
+    return rj_model_create(&scene, m, err, NULL);
+}
+
+/* Runs a model from its start to t_end; RJ_OK or the step's error. */
+static rj_result run_for(const rj_model *m, double t_end, char *msg, size_t size)
+{
+    rj_state *s;
+    rj_result r = RJ_OK;
+    if (rj_state_create(m, &s, NULL) != RJ_OK) return RJ_ERR_NOMEM;
+    while (rj_state_time(s) < t_end && (r = rj_step(m, s)) == RJ_OK) {}
+    snprintf(msg, size, "%s", rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    return r;
+}
+
+/* The automatic step is stable with joint damping, and the bound is a bound: the largest
+   stable step, found by bisection, is at or above it. */
+static void test_damping_bound(void)
+{
+    static const double cases[][2] = { { 20, 1.5 }, { 20, 2 }, { 200, 5 }, { 0, 50 }, { 20, 1000 } };
+    int i;
+    for (i = 0; i < 5; i++) {
+        rj_model *m;
+        rj_error err;
+        char msg[640], name[120];
+        rj_result r = strip_model(cases[i][0], cases[i][1], 0, &m, &err);
+        if (r != RJ_OK) {
+            snprintf(name, sizeof name, "damping: strip k %g c %g builds", cases[i][0], cases[i][1]);
+            rjt_check(&T, 0, name, "%s", err.msg);
+            continue;
+        }
+        r = run_for(m, 1.0, msg, sizeof msg);
+        snprintf(name, sizeof name, "damping: strip k %g N m/rad c %g N m s/rad runs 1 s at the automatic dt", cases[i][0], cases[i][1]);
+        rjt_check(&T, r == RJ_OK, name, "dt %.4g s, bound %.4g s: %s", rj_model_dt(m), rj_model_dt_bound(m), r == RJ_OK ? "ok" : msg);
+        rj_model_destroy(m, NULL);
+    }
+    for (i = 1; i < 4; i++) {
+        double lo = 1e-9, hi = 1e-4, bound = 0;
+        int it;
+        char name[120];
+        for (it = 0; it < 24; it++) {
+            const double mid = sqrt(lo * hi);
+            rj_model *m;
+            rj_error err;
+            char msg[640];
+            if (strip_model(cases[i][0], cases[i][1], mid, &m, &err) != RJ_OK) { hi = mid; continue; }
+            bound = rj_model_dt_bound(m);
+            if (run_for(m, 0.05, msg, sizeof msg) == RJ_OK) lo = mid;
+            else hi = mid;
+            rj_model_destroy(m, NULL);
+        }
+        snprintf(name, sizeof name, "damping: the bound is below the largest stable step (k %g, c %g)", cases[i][0], cases[i][1]);
+        rjt_check(&T, bound > 0 && bound <= lo, name, "largest stable step %.4g s (0.05 s runs, bisection), bound %.4g s, ratio %.3f",
+                  lo, bound, lo / bound);
+    }
+}
+
+/* Node counts past an int are refused by name, not wrapped into a small block. */
+static void test_counts(void)
+{
+    static const int counts[2] = { 4295, 2148 };
+    int i, k;
+    for (k = 0; k < 2; k++) {
+        const int n = counts[k];
+        rj_link_def *links = (rj_link_def *)malloc(sizeof *links * (size_t)n);
+        rj_scene_def scene = rj_default_scene_def();
+        rj_error err;
+        size_t size;
+        char name[120];
+        for (i = 0; i < n; i++) {
+            links[i] = rj_default_link_def();
+            links[i].elements = 1000000;
+        }
+        scene.links = links;
+        scene.link_count = n;
+        size = rj_model_size(&scene, &err);
+        snprintf(name, sizeof name, "counts: %d links of 1e6 elements are refused, the total named", n);
+        rjt_check(&T, size == 0 && strcmp(err.field, "links") == 0 && strstr(err.msg, "nodes") != NULL, name,
+                  "size %lu, [%s] %s", (unsigned long)size, err.field, err.msg);
+        free(links);
+    }
+}
+
+/* A chain of n links of 2 elements each (flexible or rigid), with a closing joint from the
+   last link back to the first when loop is set. */
+static size_t chain_size(int n, int fidelity, int loop, rj_result *created, rj_error *err)
+{
+    rj_link_def *links = (rj_link_def *)malloc(sizeof *links * (size_t)n);
+    rj_joint_def *joints = (rj_joint_def *)malloc(sizeof *joints * (size_t)(n + 1));
+    rj_scene_def scene = rj_default_scene_def();
+    rj_model *m = NULL;
+    size_t size;
+    int i;
+    for (i = 0; i < n; i++) {
+        links[i] = rj_default_link_def();
+        links[i].elements = 2;
+        links[i].length = 0.1;
+        links[i].height = 0.01;
+        links[i].fidelity = fidelity;
+        joints[i] = rj_default_joint_def();
+        joints[i].body1 = i - 1;
+        joints[i].body2 = i;
+    }
+    if (loop) joints[0].body1 = n - 1;
+    scene.links = links;
+    scene.link_count = n;
+    scene.joints = joints;
+    scene.joint_count = n;
+    size = rj_model_size(&scene, err);
+    *created = rj_model_create(&scene, &m, err, NULL);
+    if (*created == RJ_OK) rj_model_destroy(m, NULL);
+    free(links);
+    free(joints);
+    return size;
+}
+
+/* The model's memory grows with the scene, not its square; the joint graph is checked
+   whole in a long chain. Time is measured by make bench (model build time), not here. */
+static void test_linear(void)
+{
+    rj_result r400, r4000, rloop;
+    rj_error err;
+    const size_t s400 = chain_size(400, RJ_LINK_FLEXIBLE, 0, &r400, &err);
+    const size_t s4000 = chain_size(4000, RJ_LINK_FLEXIBLE, 0, &r4000, &err);
+    const double ratio = (double)s4000 / (10.0 * (double)s400);
+    rjt_check(&T, r400 == RJ_OK && r4000 == RJ_OK && ratio < 1.01, "linear: model bytes per link the same at 400 and 4000 links",
+              "%.0f and %.0f bytes per link (ratio %.4f, < 1.01)", s400 / 400.0, s4000 / 4000.0, ratio);
+    chain_size(20000, RJ_LINK_FLEXIBLE, 1, &rloop, &err);
+    rjt_check(&T, rloop == RJ_ERR_INVALID && strstr(err.msg, "closed loop") != NULL, "linear: a loop through a 20000-link chain is refused",
+              "%s", err.msg);
+}
+
+/* A single free link of the given length and E, in a model or its refusal. */
+static rj_result one_link(double length, double E, rj_error *err)
+{
+    rj_link_def link = rj_default_link_def();
+    rj_scene_def scene = rj_default_scene_def();
+    rj_model *m = NULL;
+    rj_result r;
+    link.length = length;
+    link.E = E;
+    scene.links = &link;
+    scene.link_count = 1;
+    r = rj_model_create(&scene, &m, err, NULL);
+    if (r == RJ_OK) rj_model_destroy(m, NULL);
+    return r;
+}
+
+/* FNV-1a, as the checkpoint's checksum. */
+static unsigned long long fnv(const unsigned char *p, size_t n)
+{
+    unsigned long long h = 14695981039346656037ULL;
+    size_t i;
+    for (i = 0; i < n; i++) {
+        h ^= p[i];
+        h *= 1099511628211ULL;
+    }
+    return h;
+}
+
+/* Re-seals an edited checkpoint: a checksum is no protection, which is the point. */
+static void reseal(unsigned char *ck, size_t size)
+{
+    const unsigned long long h = fnv(ck, size - 8);
+    memcpy(ck + size - 8, &h, 8);
+}
+
+/* Offsets in a checkpoint: the frame's doubles start after the 24-byte header and the
+   step count; its scalars first (time at 0, the warning count at 9), then the nodes'
+   x values. */
+#define CK_DOUBLES 32
+#define CK_TIME 0
+#define CK_WARN 9
+#define CK_X0 11
+
+static void test_no_usable_step(void)
+{
+    static const double lengths[4] = { 1e-45, 1e-100, 1e-160, 1.0 };
+    static const double moduli[4] = { 70e9, 70e9, 70e9, 1e300 };
+    int i;
+    for (i = 0; i < 4; i++) {
+        rj_error err;
+        char name[120];
+        const rj_result r = one_link(lengths[i], moduli[i], &err);
+        snprintf(name, sizeof name, "no usable step: a link of %g m, E %g Pa, is refused by name", lengths[i], moduli[i]);
+        rjt_check(&T, r == RJ_ERR_INVALID && strcmp(err.field, "links[0]") == 0, name, "[%s] %s", err.field, err.msg);
+    }
+    {
+        /* time where the step no longer moves it: a crafted checkpoint at t = 1e15 s */
+        rj_model *m;
+        rj_state *s;
+        rj_error err;
+        unsigned char *ck;
+        size_t size;
+        double t = 1e15;
+        rj_result r;
+        strip_model(20, 0, 0, &m, &err);
+        rj_state_create(m, &s, NULL);
+        rj_step(m, s);
+        size = rj_state_save(m, s, NULL, 0);
+        ck = (unsigned char *)malloc(size);
+        rj_state_save(m, s, ck, size);
+        memcpy(ck + CK_DOUBLES + 8 * CK_TIME, &t, 8);
+        reseal(ck, size);
+        r = rj_state_load(m, s, ck, size, &err);
+        if (r == RJ_OK) r = rj_step(m, s);
+        rjt_check(&T, r == RJ_ERR_INVALID && strstr(rj_state_error(s), "no longer advances time") != NULL,
+                  "no usable step: a step that no longer advances time stops", "%s: %s", rj_result_str(r), rj_state_error(s));
+        free(ck);
+        rj_state_destroy(s, NULL);
+        rj_model_destroy(m, NULL);
+    }
+}
+
+/* Every node's position and velocity is finite. */
+static int state_finite(const rj_model *m, const rj_state *s)
+{
+    int l, n;
+    for (l = 0; l < rj_model_link_count(m); l++)
+        for (n = 0; n < rj_link_node_count(m, l); n++) {
+            double p[2], v[2];
+            rj_node_position(m, s, l, n, p);
+            rj_node_velocity(m, s, l, n, v);
+            if (!isfinite(p[0] + p[1] + v[0] + v[1] + rj_node_rotation(m, s, l, n))) return 0;
+        }
+    return 1;
+}
+
+/* A scene run far above its bound: every step that returns RJ_OK leaves a finite state,
+   and the blow-up is reported. */
+static void nonfinite_case(const char *what, rj_scene_def *scene)
+{
+    rj_model *m;
+    rj_state *s;
+    rj_error err;
+    rj_result r = RJ_OK;
+    long ok_steps = 0, bad_ok = 0;
+    char name[160];
+    if (rj_model_create(scene, &m, &err, NULL) != RJ_OK) {
+        rjt_check(&T, 0, what, "%s", err.msg);
+        return;
+    }
+    rj_state_create(m, &s, NULL);
+    while (ok_steps < 200000 && (r = rj_step(m, s)) == RJ_OK) {
+        ok_steps++;
+        if (!state_finite(m, s)) bad_ok++;
+    }
+    snprintf(name, sizeof name, "non-finite: %s: no RJ_OK step leaves a non-finite state, and the blow-up is reported", what);
+    rjt_check(&T, bad_ok == 0 && r != RJ_OK, name, "%ld steps returned RJ_OK, %ld of them non-finite; then %s: %s", ok_steps, bad_ok,
+              rj_result_str(r), rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
+static void test_nonfinite(void)
+{
+    rj_link_def links[2] = { rj_default_link_def(), rj_default_link_def() };
+    rj_joint_def joints[2] = { rj_default_joint_def(), rj_default_joint_def() };
+    rj_scene_def scene = rj_default_scene_def();
+    rj_model *m;
+    rj_error err;
+    double bound;
+    /* a free flexible strip at 3 x its bound, energy taken every 1000 steps */
+    links[0].height = 0.01;
+    links[0].omega = 1;
+    scene.links = links;
+    scene.link_count = 1;
+    rj_model_create(&scene, &m, &err, NULL);
+    bound = rj_model_dt_bound(m);
+    rj_model_destroy(m, NULL);
+    scene.solver.dt = 3 * bound;
+    scene.solver.allow_unstable = 1;
+    scene.solver.energy_every = 1000;
+    nonfinite_case("flexible strip at 3 x its bound, energy_every 1000", &scene);
+    /* a rigid hub (massless nodes) carrying a flexible panel, above the bound */
+    links[0] = rj_default_link_def();
+    links[0].fidelity = RJ_LINK_RIGID;
+    links[0].root = RJ_ROOT_PINNED;
+    links[0].omega = 5;
+    links[1].height = 0.01;
+    joints[0].body1 = 0;
+    joints[0].body2 = 1;
+    joints[0].spring_k = 50;
+    scene.link_count = 2;
+    scene.joints = joints;
+    scene.joint_count = 1;
+    scene.solver = rj_default_solver_def();
+    rj_model_create(&scene, &m, &err, NULL);
+    bound = rj_model_dt_bound(m);
+    rj_model_destroy(m, NULL);
+    scene.solver.dt = 2.5 * bound;
+    scene.solver.allow_unstable = 1;
+    nonfinite_case("rigid hub with a flexible panel at 2.5 x the bound", &scene);
+}
+
+/* A model with a lock, friction, a spring and both limits, for the checkpoint checks. */
+static rj_model *ck_model(double friction, int method, double spring, double E, int has_reverse)
+{
+    rj_link_def links[2] = { rj_default_link_def(), rj_default_link_def() };
+    rj_joint_def joints[2] = { rj_default_joint_def(), rj_default_joint_def() };
+    rj_scene_def scene = rj_default_scene_def();
+    rj_model *m = NULL;
+    rj_error err;
+    links[0].height = links[1].height = 0.01;
+    links[0].E = links[1].E = E;
+    joints[0].body1 = -1;
+    joints[0].body2 = 0;
+    joints[0].angle0 = 0;
+    joints[0].spring_k = 20;
+    joints[0].spring_free_angle = rj_rad(90);
+    joints[1].body1 = 0;
+    joints[1].body2 = 1;
+    joints[1].has_forward = 1;
+    joints[1].forward = rj_rad(200);
+    joints[1].has_reverse = has_reverse;
+    joints[1].reverse = rj_rad(150);
+    joints[1].method = method;
+    joints[1].friction = friction;
+    joints[1].spring_k = spring;
+    joints[1].spring_free_angle = rj_rad(90);
+    scene.links = links;
+    scene.link_count = 2;
+    scene.joints = joints;
+    scene.joint_count = 2;
+    if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) printf("ck_model: %s\n", err.msg);
+    return m;
+}
+
+/* Loads an edited checkpoint and checks that it is refused with the state unchanged. */
+static void ck_refused(const char *what, const char *expect, const rj_model *m, rj_state *s, const unsigned char *ck, size_t size)
+{
+    rj_error err;
+    unsigned char *before, *after;
+    const size_t n = rj_state_save(m, s, NULL, 0);
+    rj_result r;
+    char name[160];
+    before = (unsigned char *)malloc(n);
+    after = (unsigned char *)malloc(n);
+    rj_state_save(m, s, before, n);
+    memset(&err, 0, sizeof err);
+    r = rj_state_load(m, s, ck, size, &err);
+    rj_state_save(m, s, after, n);
+    snprintf(name, sizeof name, "checkpoint: %s is refused, the state unchanged", what);
+    rjt_check(&T, r == RJ_ERR_CHECKPOINT && memcmp(before, after, n) == 0 && strstr(err.msg, expect) != NULL, name,
+              "%s [%s] %s", rj_result_str(r), err.field, err.msg);
+    free(before);
+    free(after);
+}
+
+static void test_checkpoints(void)
+{
+    rj_model *m = ck_model(0.1, RJ_METHOD_ADAPTIVE, 5, 70e9, 1);
+    rj_model *others[5];
+    static const char *const differ[5] = { "friction", "method", "spring", "E", "limits" };
+    rj_state *s;
+    unsigned char *ck, *edit;
+    size_t size, frame_doubles;
+    unsigned long long pay;
+    double v;
+    int i, flag = 7;
+    long long steps = (long long)1 << 62;
+    rj_state_create(m, &s, NULL);
+    for (i = 0; i < 50; i++) rj_step(m, s);
+    size = rj_state_save(m, s, NULL, 0);
+    ck = (unsigned char *)malloc(size + 16);
+    edit = (unsigned char *)malloc(size + 16);
+    rj_state_save(m, s, ck, size);
+    memcpy(&pay, ck + 16, 8);
+    frame_doubles = (size_t)(pay - 8 - sizeof(int) * 3) / 8;   /* 2 joint flags and a spare */
+    /* crafted values behind a valid checksum */
+    memcpy(edit, ck, size);
+    memcpy(edit + CK_DOUBLES + 8 * frame_doubles + sizeof(int), &flag, sizeof flag);
+    reseal(edit, size);
+    ck_refused("joint flag 7", "flag", m, s, edit, size);
+    memcpy(edit, ck, size);
+    v = HUGE_VAL;
+    memcpy(edit + CK_DOUBLES + 8 * (CK_X0 + 3), &v, 8);
+    reseal(edit, size);
+    ck_refused("a position of +inf", "non-finite", m, s, edit, size);
+    memcpy(edit, ck, size);
+    v = 1e300;
+    memcpy(edit + CK_DOUBLES + 8 * CK_WARN, &v, 8);
+    reseal(edit, size);
+    ck_refused("a warning count of 1e300", "warning count", m, s, edit, size);
+    memcpy(edit, ck, size);
+    memcpy(edit + 24, &steps, 8);
+    reseal(edit, size);
+    ck_refused("a step count of 2^62", "steps", m, s, edit, size);
+    memcpy(edit, ck, size);
+    memset(edit + size, 0, 16);
+    ck_refused("a checkpoint with 16 trailing bytes", "after its end", m, s, edit, size + 16);
+    /* another model: each one field apart */
+    others[0] = ck_model(0.2, RJ_METHOD_ADAPTIVE, 5, 70e9, 1);
+    others[1] = ck_model(0.1, RJ_METHOD_MOMENTUM, 5, 70e9, 1);
+    others[2] = ck_model(0.1, RJ_METHOD_ADAPTIVE, 6, 70e9, 1);
+    others[3] = ck_model(0.1, RJ_METHOD_ADAPTIVE, 5, 69e9, 1);
+    others[4] = ck_model(0.1, RJ_METHOD_ADAPTIVE, 5, 70e9, 0);
+    for (i = 0; i < 5; i++) {
+        rj_state *o = NULL;
+        char what[120];
+        rj_state_create(others[i], &o, NULL);
+        snprintf(what, sizeof what, "a checkpoint of a model with another %s", differ[i]);
+        ck_refused(what, "another model", others[i], o, ck, size);
+        rj_state_destroy(o, NULL);
+        rj_model_destroy(others[i], NULL);
+    }
+    {
+        /* another model of another size: "another model", not "truncated" */
+        rj_link_def link = rj_default_link_def();
+        rj_scene_def scene = rj_default_scene_def();
+        rj_model *small;
+        rj_state *o = NULL;
+        rj_error err;
+        scene.links = &link;
+        scene.link_count = 1;
+        rj_model_create(&scene, &small, &err, NULL);
+        rj_state_create(small, &o, NULL);
+        ck_refused("a checkpoint of a larger model", "another model", small, o, ck, size);
+        rj_state_destroy(o, NULL);
+        rj_model_destroy(small, NULL);
+    }
+    free(ck);
+    free(edit);
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
+/* A rigid chain of 256 links turning fast, with no limits, blows up at a coarse step: the
+   message names no limit method and ends at a whole word. */
+static void test_messages(void)
+{
+    enum { N = 256 };
+    static rj_link_def links[N];
+    static rj_joint_def joints[N];
+    rj_scene_def scene = rj_default_scene_def();
+    rj_model *m;
+    rj_state *s;
+    rj_error err;
+    rj_result r = RJ_OK;
+    const char *e;
+    size_t len;
+    int i;
+    for (i = 0; i < N; i++) {
+        links[i] = rj_default_link_def();
+        links[i].length = 0.1;
+        links[i].elements = 1;
+        links[i].fidelity = RJ_LINK_RIGID;
+        joints[i] = rj_default_joint_def();
+        joints[i].body1 = i - 1;
+        joints[i].body2 = i;
+        joints[i].angle0 = rj_rad(170);
+        joints[i].method = RJ_METHOD_MOMENTUM;
+    }
+    joints[0].rate0 = 10;
+    scene.links = links;
+    scene.link_count = N;
+    scene.joints = joints;
+    scene.joint_count = N;
+    scene.solver.dt = 1e-3;
+    if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) {
+        rjt_check(&T, 0, "messages: the rigid chain builds", "%s", err.msg);
+        return;
+    }
+    rj_state_create(m, &s, NULL);
+    for (i = 0; i < 20000 && (r = rj_step(m, s)) == RJ_OK; i++) {}
+    e = rj_state_error(s);
+    len = strlen(e);
+    rjt_check(&T, r == RJ_ERR_BLOWUP && strstr(e, "RJ_METHOD_MOMENTUM") == NULL && strstr(e, "penalty") == NULL && strstr(e, "at a limit") == NULL
+              && strstr(e, "fast rotation") != NULL,
+              "messages: a blow-up without limits names fast rotation, not a limit, as its cause", "%s: %s", rj_result_str(r), e);
+    rjt_check(&T, len > 0 && (e[len - 1] == '.' || isalnum((unsigned char)e[len - 1]) || e[len - 1] == ')'),
+              "messages: the blow-up message ends at a whole word", "%lu characters, ends '%s'", (unsigned long)len, len > 12 ? e + len - 12 : e);
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+    rjt_check(&T, strstr(rj_result_str(RJ_ERR_TUNNEL), "quarter") != NULL, "messages: the tunnel rule is a quarter revolution",
+              "%s", rj_result_str(RJ_ERR_TUNNEL));
+    {
+        /* a joint without limits that turns too far in one step is not told of limits */
+        rj_model *sm;
+        char msg[640];
+        strip_model(0, 0, 0, &sm, &err);
+        rj_model_destroy(sm, NULL);
+        links[0] = rj_default_link_def();
+        links[0].height = 0.01;
+        joints[0] = rj_default_joint_def();
+        joints[0].body1 = -1;
+        joints[0].body2 = 0;
+        joints[0].rate0 = 4e5;
+        scene = rj_default_scene_def();
+        scene.links = links;
+        scene.link_count = 1;
+        scene.joints = joints;
+        scene.joint_count = 1;
+        rj_model_create(&scene, &sm, &err, NULL);
+        r = run_for(sm, 0.01, msg, sizeof msg);
+        rjt_check(&T, r != RJ_OK && strstr(msg, "tunnel") == NULL, "messages: a joint without limits is not told its limits could be tunnelled",
+                  "%s: %s", rj_result_str(r), msg);
+        rj_model_destroy(sm, NULL);
+    }
+}
+
+/* A lock needs a limit; a limit the joint never reaches is a warning. */
+static void test_limits(void)
+{
+    rj_link_def link = rj_default_link_def();
+    rj_joint_def joint = rj_default_joint_def();
+    rj_scene_def scene = rj_default_scene_def();
+    rj_model *m;
+    rj_error err;
+    rj_result r;
+    link.height = 0.01;
+    joint.body1 = -1;
+    joint.body2 = 0;
+    joint.lock = 1;
+    scene.links = &link;
+    scene.link_count = 1;
+    scene.joints = &joint;
+    scene.joint_count = 1;
+    r = rj_model_create(&scene, &m, &err, NULL);
+    rjt_check(&T, r == RJ_ERR_INVALID && strcmp(err.field, "joints[0].lock") == 0, "limits: a lock without a limit is refused",
+              "[%s] %s", err.field, err.msg);
+    /* the far side: from 360 deg the forward limit at 180 deg is met at 540 deg, and the
+       spring rests at 180 deg */
+    joint.angle0 = rj_rad(360);
+    joint.has_forward = 1;
+    joint.forward = rj_rad(180);
+    joint.spring_k = 10;
+    joint.spring_free_angle = rj_rad(180);
+    r = rj_model_create(&scene, &m, &err, NULL);
+    rjt_check(&T, r == RJ_OK && rj_model_warning_count(m) == 1 && strstr(rj_model_warnings(m), "never") != NULL,
+              "limits: a forward limit on the far side of the motion is a warning", "%d: %s", r == RJ_OK ? rj_model_warning_count(m) : -1,
+              r == RJ_OK ? rj_model_warnings(m) : err.msg);
+    if (r == RJ_OK) rj_model_destroy(m, NULL);
+    /* the deployment's way: spring past the latch, which it reaches */
+    joint.angle0 = rj_rad(90);
+    joint.spring_free_angle = rj_rad(200);
+    r = rj_model_create(&scene, &m, &err, NULL);
+    rjt_check(&T, r == RJ_OK && rj_model_warning_count(m) == 0, "limits: a latch the spring drives to gives no warning", "%d warnings: %s",
+              r == RJ_OK ? rj_model_warning_count(m) : -1, r == RJ_OK ? rj_model_warnings(m) : err.msg);
+    if (r == RJ_OK) rj_model_destroy(m, NULL);
+    /* a start past the limit */
+    joint.angle0 = rj_rad(185);
+    r = rj_model_create(&scene, &m, &err, NULL);
+    rjt_check(&T, r == RJ_OK && rj_model_warning_count(m) == 1 && strstr(rj_model_warnings(m), "past its forward limit") != NULL,
+              "limits: a start past the limit is a warning", "%s", r == RJ_OK ? rj_model_warnings(m) : err.msg);
+    if (r == RJ_OK) rj_model_destroy(m, NULL);
+}
+
+int main(void)
+{
+    test_damping_bound();
+    test_counts();
+    test_linear();
+    test_no_usable_step();
+    test_nonfinite();
+    test_checkpoints();
+    test_messages();
+    test_limits();
+    return rjt_summary(&T, "test_robust");
+}
