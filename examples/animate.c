@@ -39,6 +39,8 @@ int main(int argc, char **argv)
 {
     static const char *const scenes[] = { "deploy", "impact" };
     cli c;
+    /* --size: each side 16 .. 8192 pixels */
+    static const int size_lim[4] = { 16, 8192, 16, 8192 };
     int scene = 0, w = 640, h = 480;
     double fps = -1, t_end = -1, thick = -1;
     const char *dir = "out/frames", *a, *scene_file = NULL;
@@ -58,10 +60,7 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--fps")) fps = cli_num(&c, a, 1e-3, 1e9);
         else if (!strcmp(a, "--t-end")) t_end = cli_num(&c, a, 0, 1e6);
         else if (!strcmp(a, "--thickness")) thick = cli_num(&c, a, 0.01, 1000);
-        else if (!strcmp(a, "--size")) {
-            const char *v = cli_str(&c, a);
-            if (sscanf(v, "%dx%d", &w, &h) != 2 || w < 16 || h < 16 || w > 8192 || h > 8192) cli_die(&c, "option --size: bad value '%s'%s (need WxH, 16..8192)", v, "");
-        }
+        else if (!strcmp(a, "--size")) cli_pair(&c, a, 'x', &w, &h, size_lim, "WxH, each 16..8192");
         else if (!strcmp(a, "--help") || !strcmp(a, "-h")) { fputs(usage, stdout); return 0; }
         else cli_die(&c, "unknown option '%s'%s", a, "");
     }

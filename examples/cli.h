@@ -1,12 +1,14 @@
 /* cli.h - strict option parsing for the example programs: every option takes a value or is
-   a flag; unknown options and malformed numbers print usage and exit with status 2. */
+   a flag; unknown options and malformed values print usage and exit with status 2. */
 #ifndef RJ_CLI_H
 #define RJ_CLI_H
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
+#include <limits.h>
 
 typedef struct cli { int argc, i; char **argv; const char *usage; } cli;
 
@@ -17,14 +19,25 @@ static inline void cli_die(const cli *c, const char *fmt, const char *a, const c
     fprintf(stderr, "\n%s", c->usage);
     exit(2);
 }
+/* "option OPT: bad value 'S' (need NEED)", usage, exit 2 */
+static inline void cli_bad(const cli *c, const char *opt, const char *s, const char *need)
+{
+    fprintf(stderr, "%s: option %s: bad value '%s' (need %s)\n%s",
+            c->argv[0], opt, s, need, c->usage);
+    exit(2);
+}
 /* current option name, or NULL at the end */
 static inline const char *cli_next(cli *c) { return ++c->i < c->argc ? c->argv[c->i] : NULL; }
 static inline const char *cli_str(cli *c, const char *opt)
 {
+    const char *v;
     if (c->i + 1 >= c->argc) cli_die(c, "option %s needs a value%s", opt, "");
-    return c->argv[++c->i];
+    v = c->argv[++c->i];
+    /* "--csv --plot x" is a forgotten value, not a file named "--plot" */
+    if (v[0] == '-' && v[1] == '-') cli_die(c, "option %s needs a value, got option '%s'", opt, v);
+    return v;
 }
-/* finite number in [lo, hi] */
+/* finite number in [lo, hi]; the whole text must be the number (no blanks around it) */
 static inline double cli_num(cli *c, const char *opt, double lo, double hi)
 {
     const char *s = cli_str(c, opt);
@@ -32,19 +45,62 @@ static inline double cli_num(cli *c, const char *opt, double lo, double hi)
     double v;
     errno = 0;
     v = strtod(s, &end);
-    if (end == s || *end || errno || !(v >= lo && v <= hi)) {
+    /* strtod skips leading blanks: " 1e-6" is not what the user meant to type either */
+    if (end == s || *end || errno || isspace((unsigned char)s[0]) || !(v >= lo && v <= hi)) {
         char range[96];
-        snprintf(range, sizeof range, " (need a number in [%g, %g])", lo, hi);
-        fprintf(stderr, "%s: option %s: bad value '%s'%s\n%s", c->argv[0], opt, s, range, c->usage);
-        exit(2);
+        snprintf(range, sizeof range, "a number in [%g, %g]", lo, hi);
+        cli_bad(c, opt, s, range);
     }
     return v;
 }
+/* Decimal digits of a non-negative integer at s, up to stop (the separator, or '\0' at the
+   end): no sign, blanks, exponent or hex. Returns 0 and sets *v, or -1. */
+static inline int cli_digits(const char *s, char stop, const char **rest, long long *v)
+{
+    char *end;
+    /* strtoll would take blanks, a sign and, with base 0, hex: only digits here */
+    if (*s < '0' || *s > '9') return -1;
+    errno = 0;
+    *v = strtoll(s, &end, 10);
+    if (errno || *end != stop) return -1;
+    *rest = end;
+    return 0;
+}
+/* integer in [lo, hi], written as decimal digits with an optional leading '-' */
+static inline long long cli_long(cli *c, const char *opt, long long lo, long long hi)
+{
+    const char *s = cli_str(c, opt);
+    const char *rest;
+    const int neg = s[0] == '-';
+    long long v;
+    char range[96];
+    if (cli_digits(s + neg, '\0', &rest, &v) == 0) {
+        v = neg ? -v : v;
+        if (v >= lo && v <= hi) return v;
+    }
+    snprintf(range, sizeof range, "an integer in [%lld, %lld]", lo, hi);
+    cli_bad(c, opt, s, range);
+    return 0;
+}
 static inline int cli_int(cli *c, const char *opt, int lo, int hi)
 {
-    double v = cli_num(c, opt, lo, hi);
-    if (v != floor(v)) cli_die(c, "option %s needs an integer, got '%s'", opt, c->argv[c->i]);
-    return (int)v;
+    return (int)cli_long(c, opt, lo, hi);
+}
+/* Two integers "AsepB" with nothing around them (--size 640x480, --shard 1/4), with
+   lim = { a's least, a's most, b's least, b's most }; what says the form in the message. */
+static inline void cli_pair(cli *c, const char *opt, char sep, int *a, int *b,
+                            const int lim[4], const char *what)
+{
+    const char *s = cli_str(c, opt);
+    const char *rest;
+    long long x, y;
+    int ok = cli_digits(s, sep, &rest, &x) == 0;
+    ok = ok && cli_digits(rest + 1, '\0', &rest, &y) == 0;
+    ok = ok && x >= lim[0] && x <= lim[1];
+    ok = ok && y >= lim[2] && y <= lim[3];
+    if (!ok) cli_bad(c, opt, s, what);
+    *a = (int)x;
+    *b = (int)y;
 }
 /* value must be one of names[0..n-1]; returns its index */
 static inline int cli_choice(cli *c, const char *opt, const char *const *names, int n)

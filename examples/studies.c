@@ -11,9 +11,15 @@
 #include "../revjoint.h"
 #include "scenes.h"
 #include "rigid2.h"
+#include "cli.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
+
+static const char usage[] =
+    "usage: studies\n"
+    "  Prints the measurements behind two README statements: mesh convergence of the\n"
+    "  deployment's joint angles, and the deployment with rigid links. No options.\n";
 
 typedef struct hist { int n; double q1[8000], q2[8000]; } hist;
 static int sample(const rj_model *m, const rj_state *s, void *u)
@@ -41,11 +47,19 @@ static double maxdev(const hist *a, const hist *b, int upto)
     return d;
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
     static hist h[4];
     static const int els[4] = { 10, 20, 40, 80 };
     int mode, k;
+    cli c;
+    const char *a;
+    /* no options: a mistyped one must not start the whole run unnoticed */
+    c.argc = argc; c.argv = argv; c.i = 0; c.usage = usage;
+    while ((a = cli_next(&c)) != NULL) {
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) { fputs(usage, stdout); return 0; }
+        else cli_die(&c, "unknown option '%s'%s", a, "");
+    }
     printf("1. deployment joint angles, max |q - q(80 elements)| before joint 2 locks (deg), dt = 0.9 x bound\n");
     printf("| reference | 10 el | 20 el | 40 el | ratios |\n|---|---:|---:|---:|---|\n");
     for (mode = 0; mode < 2; mode++) {

@@ -97,6 +97,9 @@ static void run_sample(const job *jb, int k, char *row, size_t rowlen)
     rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
 }
 
+/* --seed takes an integer in [0, 1e15] */
+#define SEED_MAX 1000000000000000LL
+
 static void *worker(void *arg)
 {
     job *jb = (job *)arg;
@@ -120,6 +123,8 @@ static void *worker(void *arg)
 int main(int argc, char **argv)
 {
     static const char *const fids[] = { "flexible", "rigid", "inextensible" };
+    /* --shard i/n: i >= 0, n >= 1 (i < n is checked once both are read) */
+    static const int shard_lim[4] = { 0, INT_MAX - 1, 1, INT_MAX };
     cli c;
     job jb;
     const char *csv = NULL, *a;
@@ -139,12 +144,12 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--links")) jb.links = cli_choice(&c, a, fids, 3);
         else if (!strcmp(a, "--t-end")) jb.t_end = cli_num(&c, a, 0, 1e6);
         else if (!strcmp(a, "--threads")) threads = cli_int(&c, a, 1, 64);
-        else if (!strcmp(a, "--seed")) jb.seed = (unsigned long long)cli_num(&c, a, 0, 1e15);
+        else if (!strcmp(a, "--seed")) jb.seed = (unsigned long long)cli_long(&c, a, 0, SEED_MAX);
         else if (!strcmp(a, "--csv")) csv = cli_str(&c, a);
         else if (!strcmp(a, "--shard")) {
-            const char *v = cli_str(&c, a);
-            if (sscanf(v, "%d/%d", &jb.shard_i, &jb.shard_n) != 2 || jb.shard_n < 1 || jb.shard_i < 0 || jb.shard_i >= jb.shard_n)
-                cli_die(&c, "option --shard: bad value '%s'%s (need i/n with 0 <= i < n)", v, "");
+            cli_pair(&c, a, '/', &jb.shard_i, &jb.shard_n, shard_lim, "i/n with 0 <= i < n");
+            /* i < n depends on both: checked once both are read */
+            if (jb.shard_i >= jb.shard_n) cli_bad(&c, a, c.argv[c.i], "i/n with 0 <= i < n");
         }
         else if (!strcmp(a, "--help") || !strcmp(a, "-h")) { fputs(usage, stdout); return 0; }
         else cli_die(&c, "unknown option '%s'%s", a, "");

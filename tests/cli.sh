@@ -1,6 +1,10 @@
 #!/bin/sh
 # Example programs: unknown options and malformed values print usage and exit with status 2.
 B=${1:-build}
+T=$B/cli_out
+rm -rf "$T"
+mkdir -p "$T"
+AB=$(cd "$B" && pwd)
 t() { # expected status, description, command...
   want=$1; shift; what=$1; shift
   out=$("$@" 2>&1 >/dev/null); st=$?
@@ -15,3 +19,17 @@ t 2 "deploy rejects zero elements" $B/deploy --elements 0
 t 2 "deploy rejects a missing value" $B/deploy --dt
 t 2 "animate rejects an unknown scene" $B/animate --scene nowhere
 t 1 "impact refuses a step above the stability bound (clear error, status 1)" $B/impact --dt 15e-6
+
+# strict parsing: nothing trailing, no blanks, integers as decimal digits, no option taken as a value
+t 2 "studies rejects an unknown option" $B/studies --bogus
+t 2 "studies rejects a stray argument" $B/studies now
+t 2 "animate rejects --size with trailing text" $B/animate --size 640x480junk --t-end 0 --out $T/junk
+t 2 "animate rejects --size with a sign" $B/animate --size 640x-480 --t-end 0 --out $T/junk
+t 2 "animate rejects --size without a height" $B/animate --size 640x --t-end 0 --out $T/junk
+t 2 "sweep rejects --shard with trailing text" $B/sweep --shard 0/3x --samples 1 --t-end 0
+t 2 "sweep rejects --shard with i >= n" $B/sweep --shard 3/3 --samples 1 --t-end 0
+t 2 "sweep rejects a fractional --seed" $B/sweep --seed 1.5 --samples 1 --t-end 0
+t 2 "impact rejects a hex integer" $B/impact --elements 0x10 --t-end 0
+t 2 "impact rejects a fractional integer" $B/impact --elements 10.5 --t-end 0
+t 2 "impact rejects a number with a leading blank" $B/impact --dt " 1e-6" --t-end 0
+t 2 "deploy rejects an option where a file name belongs" sh -c "cd $T && $AB/deploy --csv --rigid --t-end 0"
