@@ -1,5 +1,6 @@
 /* cli.h - strict option parsing for the example programs: every option takes a value or is
-   a flag; unknown options and malformed values print usage and exit with status 2. */
+   a flag; unknown options and malformed values print usage and exit with status 2.
+   Also outputs whose every write is checked. */
 #ifndef RJ_CLI_H
 #define RJ_CLI_H
 #include <stdio.h>
@@ -113,4 +114,43 @@ static inline int cli_choice(cli *c, const char *opt, const char *const *names, 
 }
 static const char *const cli_methods[] = { "penalty", "adaptive", "momentum", "forced", "energy" };
 static const char *const cli_releases[] = { "rc12", "rc13" };
+
+/* ---- outputs: every write checked --------------------------------------------------------
+   A full disk shows up as a failed fprintf (once the buffer is flushed) or only at fflush
+   or fclose; a history that silently stops is worse than none, so the first error is kept
+   with its errno and reported, and the program exits 1. */
+typedef struct cli_out { FILE *f; const char *name; int err; } cli_out;
+
+/* Opens path for writing, or standard output when path is NULL; prints why not. */
+static inline int cli_open(cli_out *o, const char *prog, const char *path)
+{
+    o->err = 0;
+    o->name = path ? path : "standard output";
+    o->f = path ? fopen(path, "w") : stdout;
+    if (o->f) return 0;
+    fprintf(stderr, "%s: cannot open %s for writing: %s\n", prog, o->name, strerror(errno));
+    return -1;
+}
+/* Takes the result of one fprintf/fputs; a negative one is a write error, errno says why.
+   Returns nonzero once any write has failed, so a run can stop early. */
+static inline int cli_put(cli_out *o, int rc)
+{
+    if (rc < 0 && !o->err) o->err = errno ? errno : EIO;
+    return o->err;
+}
+/* Flushes and closes (standard output is flushed, not closed) and reports the first
+   error, "prog: cannot write NAME: reason". Returns 0 when everything was written, else 1. */
+static inline int cli_close(cli_out *o, const char *prog)
+{
+    if (!o->f) return 0;
+    errno = 0;
+    if (fflush(o->f) != 0 && !o->err) o->err = errno ? errno : EIO;
+    /* an error flag without a failed call here: an earlier write failed */
+    if (ferror(o->f) && !o->err) o->err = EIO;
+    if (o->f != stdout && fclose(o->f) != 0 && !o->err) o->err = errno ? errno : EIO;
+    o->f = NULL;
+    if (!o->err) return 0;
+    fprintf(stderr, "%s: cannot write %s: %s\n", prog, o->name, strerror(o->err));
+    return 1;
+}
 #endif

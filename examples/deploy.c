@@ -45,24 +45,34 @@ static const char usage[] =
 
 #define MAXS 200000
 typedef struct run {
-    FILE *f;
+    cli_out out;                          /* the CSV history; out.f NULL: none */
     int n; double *t, *q1, *q2;           /* for the plot */
     rjr_context *ctx; rjr_view view; const char *frames; double frame_dt; int frame;
 } run;
 
-static void row(run *r, double t, double q1, double q2, double q1d, double q2d, int f1, int f2, double tx, double ty, double defl)
+/* returns nonzero once a CSV write has failed */
+static int row(run *r, double t, double q1, double q2, double q1d, double q2d, int f1, int f2,
+               double tx, double ty, double defl)
 {
-    if (r->f) fprintf(r->f, "%.6f,%.10g,%.10g,%.10g,%.10g,%d,%d,%.10g,%.10g,%.10g\n", t, q1, q2, q1d, q2d, f1, f2, tx, ty, defl);
     if (r->t && r->n < MAXS) { r->t[r->n] = t; r->q1[r->n] = q1; r->q2[r->n] = q2; r->n++; }
+    if (!r->out.f) return 0;
+    return cli_put(&r->out, fprintf(r->out.f,
+                                    "%.6f,%.10g,%.10g,%.10g,%.10g,%d,%d,%.10g,%.10g,%.10g\n",
+                                    t, q1, q2, q1d, q2d, f1, f2, tx, ty, defl));
 }
 
 static int flex_sample(const rj_model *m, const rj_state *s, void *u)
 {
     run *r = (run *)u;
     double tip[2], t = rj_state_time(s);
+    int werr;
     rj_node_position(m, s, 1, rj_link_node_count(m, 1) - 1, tip);
-    row(r, t, deploy_q1_deg(m, s), deploy_q2_deg(m, s), rj_joint_rate(m, s, 0), rj_joint_rate(m, s, 1),
-        rj_joint_flag(m, s, 0), rj_joint_flag(m, s, 1), tip[0], tip[1], scene_tip_defl(m, s, 1));
+    werr = row(r, t, deploy_q1_deg(m, s), deploy_q2_deg(m, s),
+               rj_joint_rate(m, s, 0), rj_joint_rate(m, s, 1),
+               rj_joint_flag(m, s, 0), rj_joint_flag(m, s, 1),
+               tip[0], tip[1], scene_tip_defl(m, s, 1));
+    /* the history cannot be written (a full disk): stop, main reports it */
+    if (werr) return 1;
     if (r->frames && t >= r->frame * r->frame_dt - 1e-9) {
         char path[1024], err[256];
         snprintf(path, sizeof path, "%s/frame_%05d.png", r->frames, r->frame);
@@ -72,6 +82,16 @@ static int flex_sample(const rj_model *m, const rj_state *s, void *u)
         }
         r->frame++;
     }
+    return 0;
+}
+
+/* Opens the history (standard output when csv is NULL) and writes its header line. */
+static int open_csv(run *r, const char *csv)
+{
+    static const char head[] = "t,q1_deg,q2_deg,q1dot,q2dot,flag1,flag2,"
+                               "tip2_x,tip2_y,tip2_defl_m\n";
+    if (cli_open(&r->out, "deploy", csv) != 0) return -1;
+    cli_put(&r->out, fputs(head, r->out.f));
     return 0;
 }
 
@@ -125,15 +145,15 @@ int main(int argc, char **argv)
         if (!dt_given) o.dt = 0;
     }
     memset(&r, 0, sizeof r);
-    r.f = stdout;
-    if (csv && !(r.f = fopen(csv, "w"))) { fprintf(stderr, "deploy: cannot write %s\n", csv); return 1; }
-    fprintf(r.f, "t,q1_deg,q2_deg,q1dot,q2dot,flag1,flag2,tip2_x,tip2_y,tip2_defl_m\n");
     rigid2_default_params(&rp);
     if (o.extra_friction) rigid2_add_extra_friction(&rp);
     c0 = clock();
     if (rigid) {
-        int e = rigid2_run(&rp, t_end, 1e-3, rigid_sample, &r, lock_rigid);
-        if (r.f != stdout) fclose(r.f);
+        int e;
+        if (open_csv(&r, csv) != 0) return 1;
+        e = rigid2_run(&rp, t_end, 1e-3, rigid_sample, &r, lock_rigid);
+        /* a history that could not be written fails the run */
+        if (cli_close(&r.out, "deploy") != 0) return 1;
         fprintf(stderr, "deploy --rigid: joint 1 locks at %.6f s, joint 2 at %.6f s; wall %.4f s\n", lock_rigid[0], lock_rigid[1], (double)(clock() - c0) / CLOCKS_PER_SEC);
         return e ? 1 : 0;
     }
@@ -166,6 +186,7 @@ int main(int argc, char **argv)
                 if (deploy_build(&o, &m, &err) != RJ_OK) { fprintf(stderr, "deploy: %s\n", err.msg); return 1; }
             }
         }
+        if (open_csv(&r, csv) != 0) return 1;
         rj_state_create(m, &s, NULL);
         if (plot) {
             r.t = (double *)malloc(sizeof(double) * MAXS); r.q1 = (double *)malloc(sizeof(double) * MAXS); r.q2 = (double *)malloc(sizeof(double) * MAXS);
@@ -184,7 +205,9 @@ int main(int argc, char **argv)
         }
         c0 = clock();
         res = rj_run(m, s, t_end, 1e-3, flex_sample, &r);
-        if (r.f != stdout) fclose(r.f);
+        /* a history that could not be written fails the run (rj_run returns RJ_OK when
+           a sample stops it) */
+        if (cli_close(&r.out, "deploy") != 0) return 1;
         fprintf(stderr, "deploy: dt %.4g s (bound %.4g s), joint 2 K %.4g N m/rad; joint 1 locks at %.6f s, joint 2 at %.6f s; wall %.3f s\n",
                 rj_model_dt(m), rj_model_dt_bound(m), rj_joint_stiffness(m, 1), rj_joint_event_time(m, s, 0), rj_joint_event_time(m, s, 1),
                 (double)(clock() - c0) / CLOCKS_PER_SEC);

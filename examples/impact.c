@@ -22,16 +22,19 @@ static const char usage[] =
     "  --plot FILE.png         theta and tip deflection against time\n"
     "  --all                   table of every method and release rule instead of a history\n";
 
-typedef struct hist { FILE *f; double sign; int n, cap; double *t, *th, *defl; } hist;
+typedef struct hist { cli_out out; double sign; int n, cap; double *t, *th, *defl; } hist;
 
 static int sample(const rj_model *m, const rj_state *s, void *u)
 {
     hist *h = (hist *)u;
     double t = rj_state_time(s), th = rj_deg(rj_joint_theta(m, s, 0)), d = h->sign * scene_tip_defl(m, s, 1);
-    if (h->f) fprintf(h->f, "%.8g,%.10g,%.10g,%d,%.10g,%.10g\n", t, th, rj_joint_rate(m, s, 0), rj_joint_flag(m, s, 0),
-                      rj_joint_torque(m, s, 0, RJ_TORQUE_LIMIT), d);
+    int werr;
+    werr = cli_put(&h->out, fprintf(h->out.f, "%.8g,%.10g,%.10g,%d,%.10g,%.10g\n",
+                                    t, th, rj_joint_rate(m, s, 0), rj_joint_flag(m, s, 0),
+                                    rj_joint_torque(m, s, 0, RJ_TORQUE_LIMIT), d));
     if (h->t && h->n < h->cap) { h->t[h->n] = t * 1e3; h->th[h->n] = th; h->defl[h->n] = d * 1e3; h->n++; }
-    return 0;
+    /* the history cannot be written (a full disk): stop, main reports it */
+    return werr != 0;
 }
 
 
@@ -59,9 +62,13 @@ int main(int argc, char **argv)
         else cli_die(&c, "unknown option '%s'%s", a, "");
     }
     if (all) {
+        static const char head[] = "| method | release | contact (ms) | release (ms) "
+            "| peak penetration (rad) | rigid rate after (rad/s) | vibration energy (J) | wall (s) |\n"
+            "|---|---|---:|---:|---:|---:|---:|---:|\n";
         int mth, rel;
-        printf("| method | release | contact (ms) | release (ms) | peak penetration (rad) | rigid rate after (rad/s) | vibration energy (J) | wall (s) |\n");
-        printf("|---|---|---:|---:|---:|---:|---:|---:|\n");
+        cli_out out;
+        cli_open(&out, "impact", NULL);
+        cli_put(&out, fputs(head, stdout));
         for (mth = 0; mth < 5; mth++) for (rel = 0; rel < 2; rel++) {
             rj_link_def L[2]; rj_joint_def J; rj_scene_def sc; rj_model *m; rj_state *s; rj_error err;
             impact_opts q = o;
@@ -72,13 +79,14 @@ int main(int argc, char **argv)
             if (rj_state_create(m, &s, NULL) != RJ_OK) { fprintf(stderr, "impact: out of memory\n"); return 1; }
             r = rj_run(m, s, t_end, 0, NULL, NULL);
             impact_rigid_part(m, s, &w, &ev);
-            printf("| %s | %s | %.4f | %.4f | %.3g | %.4f | %.4g | %.3f |%s\n", cli_methods[mth], cli_releases[rel],
+            cli_put(&out, printf("| %s | %s | %.4f | %.4f | %.3g | %.4f | %.4g | %.3f |%s\n", cli_methods[mth], cli_releases[rel],
                    1e3 * rj_joint_event_time(m, s, 0), 1e3 * rj_joint_release_time(m, s, 0), rj_joint_peak_penetration(m, s, 0),
-                   w, ev, (double)(clock() - c0) / CLOCKS_PER_SEC, r != RJ_OK ? " stopped" : "");
+                   w, ev, (double)(clock() - c0) / CLOCKS_PER_SEC, r != RJ_OK ? " stopped" : ""));
             if (r != RJ_OK) fprintf(stderr, "impact: %s %s: %s\n", cli_methods[mth], cli_releases[rel], rj_state_error(s));
             rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
         }
-        return 0;
+        /* a table that did not reach its file fails the run */
+        return cli_close(&out, "impact");
     }
     {
         rj_link_def L[2]; rj_joint_def J; rj_scene_def sc; rj_model *m; rj_state *s; rj_error err;
@@ -87,16 +95,16 @@ int main(int argc, char **argv)
         impact_scene(&o, L, &J, &sc);
         if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { fprintf(stderr, "impact: %s\n", err.msg); return 1; }
         rj_state_create(m, &s, NULL);
-        h.f = stdout;
-        if (csv && !(h.f = fopen(csv, "w"))) { fprintf(stderr, "impact: cannot write %s\n", csv); return 1; }
+        if (cli_open(&h.out, "impact", csv) != 0) return 1;
         h.sign = o.rate0 < 0 ? -1.0 : 1.0;
         if (plot) {
             h.cap = (int)(t_end / 1e-5) + 16;
             h.t = (double *)malloc(sizeof(double) * (size_t)h.cap); h.th = (double *)malloc(sizeof(double) * (size_t)h.cap); h.defl = (double *)malloc(sizeof(double) * (size_t)h.cap);
         }
-        fprintf(h.f, "t,theta_deg,theta_dot,flag,tau_limit,tip_defl_m\n");
+        cli_put(&h.out, fputs("t,theta_deg,theta_dot,flag,tau_limit,tip_defl_m\n", h.out.f));
         r = rj_run(m, s, t_end, 1e-5, sample, &h);
-        if (h.f != stdout) fclose(h.f);
+        /* a history that could not be written fails the run (its sample stopped rj_run) */
+        if (cli_close(&h.out, "impact") != 0) return 1;
         fprintf(stderr, "impact: %s %s dt %.3g s (bound %.3g s): contact %.4f ms, release %.4f ms, peak penetration %.4g rad, wall %.3f s\n",
                 cli_methods[o.method], cli_releases[o.release], rj_model_dt(m), rj_model_dt_bound(m),
                 1e3 * rj_joint_event_time(m, s, 0), 1e3 * rj_joint_release_time(m, s, 0), rj_joint_peak_penetration(m, s, 0),

@@ -125,12 +125,14 @@ int main(int argc, char **argv)
     static const char *const fids[] = { "flexible", "rigid", "inextensible" };
     /* --shard i/n: i >= 0, n >= 1 (i < n is checked once both are read) */
     static const int shard_lim[4] = { 0, INT_MAX - 1, 1, INT_MAX };
+    static const char head[] = "sample,friction_scale,preload_deg,tip_mass_scale,dt,lock1_s,lock2_s,"
+                               "peak_penetration2_rad,peak_tip_defl_m,failed,message\n";
     cli c;
     job jb;
     const char *csv = NULL, *a;
     int threads = 2, t, k, fails = 0, n = 0;
     pthread_t th[64];
-    FILE *f = stdout;
+    cli_out out;
     memset(&jb, 0, sizeof jb);
     jb.samples = 64; jb.fpct = 20; jb.pdeg = 5; jb.tpct = 10; jb.dtpct = 0; jb.links = 1; jb.t_end = 8; jb.seed = 1; jb.shard_n = 1;
     c.argc = argc; c.argv = argv; c.i = 0; c.usage = usage;
@@ -155,20 +157,23 @@ int main(int argc, char **argv)
         else cli_die(&c, "unknown option '%s'%s", a, "");
     }
     if (jb.grid > 0) jb.samples = jb.grid * jb.grid * jb.grid * jb.grid;
+    /* open the output first: a sweep is long, and a path that cannot be written should
+       not be found out at its end */
+    if (cli_open(&out, "sweep", csv) != 0) return 1;
     jb.rows = (char **)calloc((size_t)jb.samples, sizeof(char *));
     pthread_mutex_init(&jb.lock, NULL);
     for (t = 0; t < threads; t++) pthread_create(&th[t], NULL, worker, &jb);
     for (t = 0; t < threads; t++) pthread_join(th[t], NULL);
-    if (csv && !(f = fopen(csv, "w"))) { fprintf(stderr, "sweep: cannot write %s\n", csv); return 1; }
-    if (jb.shard_i == 0) fprintf(f, "sample,friction_scale,preload_deg,tip_mass_scale,dt,lock1_s,lock2_s,peak_penetration2_rad,peak_tip_defl_m,failed,message\n");
+    if (jb.shard_i == 0) cli_put(&out, fputs(head, out.f));
     for (k = 0; k < jb.samples; k++) if (jb.rows[k]) {
-        fputs(jb.rows[k], f);
+        cli_put(&out, fputs(jb.rows[k], out.f));
         n++;
         if (strstr(jb.rows[k], ",1,\"")) fails++;
         free(jb.rows[k]);
     }
-    if (f != stdout) fclose(f);
-    fprintf(stderr, "sweep: %d samples (shard %d/%d), %d did not lock or failed\n", n, jb.shard_i, jb.shard_n, fails);
     free(jb.rows);
+    /* rows that did not reach the file fail the sweep */
+    if (cli_close(&out, "sweep") != 0) return 1;
+    fprintf(stderr, "sweep: %d samples (shard %d/%d), %d did not lock or failed\n", n, jb.shard_i, jb.shard_n, fails);
     return 0;
 }

@@ -1,5 +1,6 @@
 #!/bin/sh
-# Example programs: unknown options and malformed values print usage and exit with status 2.
+# Example programs: unknown options and malformed values print usage and exit with status 2;
+# outputs that cannot be written fail with status 1 and say why.
 B=${1:-build}
 T=$B/cli_out
 rm -rf "$T"
@@ -9,6 +10,13 @@ t() { # expected status, description, command...
   want=$1; shift; what=$1; shift
   out=$("$@" 2>&1 >/dev/null); st=$?
   if [ "$st" = "$want" ] && { [ "$want" != 2 ] || echo "$out" | grep -q usage; }; then echo "PASS cli: $what (status $st)"; else echo "FAIL cli: $what: status $st, want $want: $out"; fi
+}
+# expected status, what the messages must contain (grep -E), description, command...
+m() {
+  want=$1; shift; pat=$1; shift; what=$1; shift
+  out=$("$@" 2>&1 >/dev/null); st=$?
+  if [ "$st" = "$want" ] && printf '%s\n' "$out" | grep -Eq -- "$pat"; then echo "PASS cli: $what (status $st)"
+  else echo "FAIL cli: $what: status $st, want $want and a message matching /$pat/: $out"; fi
 }
 t 2 "impact rejects an unknown option" $B/impact --bogus
 t 2 "impact rejects a malformed number" $B/impact --dt 1e-6x
@@ -33,3 +41,17 @@ t 2 "impact rejects a hex integer" $B/impact --elements 0x10 --t-end 0
 t 2 "impact rejects a fractional integer" $B/impact --elements 10.5 --t-end 0
 t 2 "impact rejects a number with a leading blank" $B/impact --dt " 1e-6" --t-end 0
 t 2 "deploy rejects an option where a file name belongs" sh -c "cd $T && $AB/deploy --csv --rigid --t-end 0"
+
+# a full disk: every program that writes says so and exits 1
+if [ -w /dev/full ]; then
+  m 1 "/dev/full: No space left" "deploy --csv /dev/full fails" $B/deploy --t-end 1 --csv /dev/full
+  m 1 "/dev/full: No space left" "deploy --rigid --csv /dev/full fails" $B/deploy --rigid --t-end 1 --csv /dev/full
+  m 1 "standard output: No space left" "deploy > /dev/full fails" sh -c "$B/deploy --t-end 1 > /dev/full"
+  m 1 "/dev/full: No space left" "impact --csv /dev/full fails" $B/impact --t-end 0.005 --csv /dev/full
+  m 1 "standard output: No space left" "impact > /dev/full fails" sh -c "$B/impact --t-end 0.005 > /dev/full"
+  m 1 "standard output: No space left" "impact --all > /dev/full fails" sh -c "$B/impact --all --t-end 0.0001 > /dev/full"
+  m 1 "/dev/full: No space left" "sweep --csv /dev/full fails" $B/sweep --samples 2 --t-end 0.1 --csv /dev/full
+  m 1 "standard output: No space left" "sweep > /dev/full fails" sh -c "$B/sweep --samples 2 --t-end 0.1 > /dev/full"
+else
+  echo "SKIP cli: no /dev/full here: the full-disk checks did not run"
+fi
