@@ -52,6 +52,7 @@ if [ -w /dev/full ]; then
   m 1 "standard output: No space left" "impact --all > /dev/full fails" sh -c "$B/impact --all --t-end 0.0001 > /dev/full"
   m 1 "/dev/full: No space left" "sweep --csv /dev/full fails" $B/sweep --samples 2 --t-end 0.1 --csv /dev/full
   m 1 "standard output: No space left" "sweep > /dev/full fails" sh -c "$B/sweep --samples 2 --t-end 0.1 > /dev/full"
+  m 1 "stdout: No space left" "quickstart > /dev/full fails" sh -c "$B/quickstart > /dev/full"
 else
   echo "SKIP cli: no /dev/full here: the full-disk checks did not run"
 fi
