@@ -1,6 +1,7 @@
 /* animate - renders an example scene to numbered PNG frames DIR/frame_00000.png ...
    Turn them into a video with, for example:
      ffmpeg -framerate 30 -i out/frames/frame_%05d.png -pix_fmt yuv420p deploy.mp4 */
+#define _POSIX_C_SOURCE 200809L
 #define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "scenes.h"
@@ -8,7 +9,6 @@
 #include "../render/rj_render.h"
 #include <time.h>
 #include <unistd.h>
-#include <sys/stat.h>
 
 static const char usage[] =
     "usage: animate [options]\n"
@@ -17,17 +17,29 @@ static const char usage[] =
     "  --fps N                 frames per simulated second (default 30 for deploy, 20000 for impact)\n"
     "  --size WxH              image size (default 640x480)\n"
     "  --t-end S               simulated time (default 6 deploy, 0.02 impact)\n"
-    "  --thickness F           drawn thickness = F x true (default 2 deploy, 1 impact)\n";
+    "  --thickness F           drawn thickness = F x true (default 2 deploy, 1 impact)\n"
+    "  DIR and its parents are created; frame_NNNNN.png files already there are removed.\n";
 
-typedef struct anim { rjr_context *ctx; rjr_view view; const char *dir; double fdt; int frame, total, tty; } anim;
+typedef struct anim {
+    rjr_context *ctx; rjr_view view; const char *dir; double fdt; int frame, total, tty;
+    int failed;   /* a frame could not be written: the run stopped there */
+} anim;
 
 static int on_sample(const rj_model *m, const rj_state *s, void *u)
 {
     anim *a = (anim *)u;
-    char path[1024], err[256];
-    snprintf(path, sizeof path, "%s/frame_%05d.png", a->dir, a->frame);
+    char path[4200], err[256];
+    /* rj_run takes a nonzero return as "stop", not as an error: remember it */
+    if (cli_frame_path("animate", path, sizeof path, a->dir, a->frame) != 0) {
+        a->failed = 1;
+        return 1;
+    }
+    err[0] = '\0';
     if (rjr_draw_state(a->ctx, m, s, &a->view) || rjr_save_png(a->ctx, path, err, sizeof err)) {
-        fprintf(stderr, "animate: %s: %s %s\n", path, rjr_error(a->ctx), err);
+        /* the PNG writer's text has the system's reason; a drawing error is the context's */
+        const char *why = err[0] ? err : rjr_error(a->ctx);
+        fprintf(stderr, "%sanimate: cannot write %s: %s\n", a->tty ? "\n" : "", path, why);
+        a->failed = 1;
         return 1;
     }
     a->frame++;
@@ -103,12 +115,19 @@ int main(int argc, char **argv)
     }
     an.view.thickness_factor = thick;
     rj_state_create(m, &s, NULL);
-    mkdir(dir, 0777);
+    /* the whole path, and no frames of an earlier run left to mix into the video */
+    if (cli_frames_dir("animate", dir) != 0) return 1;
     an.ctx = rjr_create(w, h, err, sizeof err);
     if (!an.ctx) { fprintf(stderr, "animate: %s\n", err); return 1; }
     an.dir = dir; an.fdt = 1.0 / fps; an.total = (int)(t_end * fps) + 1; an.tty = isatty(2);
     c0 = clock();
     if (rj_run(m, s, t_end, an.fdt, on_sample, &an) != RJ_OK) { fprintf(stderr, "\nanimate: %s\n", rj_state_error(s)); return 1; }
+    /* a frame that failed stopped the run; none at all is a failure too */
+    if (an.failed) return 1;
+    if (an.frame == 0) {
+        fprintf(stderr, "animate: no frame written to %s\n", dir);
+        return 1;
+    }
     fprintf(stderr, "%sanimate: wrote %d frames %s/frame_%%05d.png (%dx%d) in %.2f s CPU\n", an.tty ? "\n" : "", an.frame, dir, w, h,
             (double)(clock() - c0) / CLOCKS_PER_SEC);
     rjr_destroy(an.ctx);

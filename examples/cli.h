@@ -1,8 +1,14 @@
 /* cli.h - strict option parsing for the example programs: every option takes a value or is
    a flag; unknown options and malformed values print usage and exit with status 2.
-   Also outputs whose every write is checked. */
+   Also what the programs share around a run: outputs whose every write is checked and
+   the frames directory (created whole, old frames removed).
+   Needs POSIX (mkdir, opendir, lstat, unlink): define _POSIX_C_SOURCE 200809L before the
+   first #include. */
 #ifndef RJ_CLI_H
 #define RJ_CLI_H
+#if !defined(_POSIX_C_SOURCE) || _POSIX_C_SOURCE < 200112L
+#error "cli.h: define _POSIX_C_SOURCE 200809L before the first #include"
+#endif
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +16,10 @@
 #include <errno.h>
 #include <math.h>
 #include <limits.h>
+#include <sys/types.h>
+#include <sys/stat.h>
+#include <dirent.h>
+#include <unistd.h>
 
 typedef struct cli { int argc, i; char **argv; const char *usage; } cli;
 
@@ -152,5 +162,102 @@ static inline int cli_close(cli_out *o, const char *prog)
     if (!o->err) return 0;
     fprintf(stderr, "%s: cannot write %s: %s\n", prog, o->name, strerror(o->err));
     return 1;
+}
+
+/* ---- frames directories ------------------------------------------------------------------
+   The frames are DIR/frame_%05d.png. The directory is created with its parents (mkdir -p),
+   and the frames of an earlier run are removed first: left there, a shorter run's video
+   would carry on with the old run's last frames. Only names "frame_%05d.png" can produce
+   are removed, nothing else in the directory. */
+
+/* Creates path and its missing parents; an existing component must be a directory.
+   Prints "prog: cannot create directory P: reason" and returns -1 on failure. */
+static inline int cli_mkdirs(const char *prog, const char *path)
+{
+    char p[4096];
+    size_t n = strlen(path), i;
+    if (n == 0 || n >= sizeof p) {
+        fprintf(stderr, "%s: bad directory name '%s'\n", prog, path);
+        return -1;
+    }
+    memcpy(p, path, n + 1);
+    /* each prefix ending before a '/' (and the whole path), skipping repeated slashes */
+    for (i = 1; i <= n; i++) {
+        struct stat st;
+        int e;
+        if (p[i] != '/' && p[i] != '\0') continue;
+        if (p[i - 1] == '/') continue;
+        p[i] = '\0';
+        if (mkdir(p, 0777) != 0) {
+            e = errno;
+            /* EEXIST is fine when it is a directory (checked: it may be a file) */
+            if (e == EEXIST && (stat(p, &st) != 0 || !S_ISDIR(st.st_mode))) e = ENOTDIR;
+            if (e != EEXIST) {
+                fprintf(stderr, "%s: cannot create directory %s: %s\n", prog, p, strerror(e));
+                return -1;
+            }
+        }
+        p[i] = i < n ? '/' : '\0';
+    }
+    return 0;
+}
+/* Whether name is one "frame_%05d.png" writes: five digits, or more without a leading 0. */
+static inline int cli_is_frame_name(const char *name)
+{
+    size_t d = 6;
+    if (strncmp(name, "frame_", 6) != 0) return 0;
+    while (name[d] >= '0' && name[d] <= '9') d++;
+    if (d - 6 < 5) return 0;
+    if (d - 6 > 5 && name[6] == '0') return 0;
+    return strcmp(name + d, ".png") == 0;
+}
+/* DIR/frame_K.png into buf; -1 (and a message) when it does not fit. */
+static inline int cli_frame_path(const char *prog, char *buf, size_t n, const char *dir, int k)
+{
+    int len = snprintf(buf, n, "%s/frame_%05d.png", dir, k);
+    if (len >= 0 && (size_t)len < n) return 0;
+    fprintf(stderr, "%s: frame path too long: %s/frame_%05d.png\n", prog, dir, k);
+    return -1;
+}
+/* Creates dir (mkdir -p) and removes the frames there from an earlier run: regular files
+   and symbolic links with frame names (a link would redirect the new frame elsewhere).
+   Anything else with such a name is left and the write onto it reports the error.
+   Returns 0, or -1 after printing the path and the reason. */
+static inline int cli_frames_dir(const char *prog, const char *dir)
+{
+    char p[4096];
+    DIR *d;
+    struct dirent *de;
+    int rc = 0;
+    if (cli_mkdirs(prog, dir) != 0) return -1;
+    d = opendir(dir);
+    if (!d) {
+        fprintf(stderr, "%s: cannot read directory %s: %s\n", prog, dir, strerror(errno));
+        return -1;
+    }
+    for (;;) {
+        struct stat st;
+        int len;
+        errno = 0;
+        de = readdir(d);
+        if (!de) break;
+        if (!cli_is_frame_name(de->d_name)) continue;
+        len = snprintf(p, sizeof p, "%s/%s", dir, de->d_name);
+        if (len < 0 || (size_t)len >= sizeof p) continue;
+        if (lstat(p, &st) != 0) continue;
+        if (!S_ISREG(st.st_mode) && !S_ISLNK(st.st_mode)) continue;
+        if (unlink(p) != 0 && errno != ENOENT) {
+            fprintf(stderr, "%s: cannot remove old frame %s: %s\n", prog, p, strerror(errno));
+            rc = -1;
+            break;
+        }
+    }
+    /* readdir returns NULL at the end and on an error; errno tells them apart */
+    if (!de && errno) {
+        fprintf(stderr, "%s: cannot read directory %s: %s\n", prog, dir, strerror(errno));
+        rc = -1;
+    }
+    closedir(d);
+    return rc;
 }
 #endif

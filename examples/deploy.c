@@ -1,6 +1,7 @@
 /* deploy - the two-link deployment with locking of Wong, Hamouda & Hashmi 2002, sec. 5
    (SPEC 9.2; Nagaraj et al.'s rig): flexible links, torsion springs, friction, locks.
    --rigid prints the rigid-body reference (examples/rigid2.h) in the same CSV. */
+#define _POSIX_C_SOURCE 200809L
 #define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "scenes.h"
@@ -8,7 +9,6 @@
 #include "rigid2.h"
 #include "../render/rj_render.h"
 #include <time.h>
-#include <sys/stat.h>
 
 static const char usage[] =
     "usage: deploy [options]\n"
@@ -37,7 +37,8 @@ static const char usage[] =
     "  --csv FILE             history, one row per ms, or per step when dt is longer\n"
     "                         (default standard output)\n"
     "  --plot FILE.png        q1, q2 against time, flexible against rigid, locks marked\n"
-    "  --frames DIR           animation frames DIR/frame_00000.png ... (640x480)\n"
+    "  --frames DIR           animation frames DIR/frame_00000.png ... (640x480); DIR and its\n"
+    "                         parents are created, frame_NNNNN.png files there removed first\n"
     "  --fps N                frame rate for --frames (default 30)\n"
     "  --energy-every K       solver.energy_every: the energy accounts and blow-up checks every\n"
     "                         K steps and at every CSV row (default 16; the output is the same\n"
@@ -48,6 +49,7 @@ typedef struct run {
     cli_out out;                          /* the CSV history; out.f NULL: none */
     int n; double *t, *q1, *q2;           /* for the plot */
     rjr_context *ctx; rjr_view view; const char *frames; double frame_dt; int frame;
+    int frame_failed;                     /* a frame could not be written: the run stopped */
 } run;
 
 /* returns nonzero once a CSV write has failed */
@@ -74,10 +76,18 @@ static int flex_sample(const rj_model *m, const rj_state *s, void *u)
     /* the history cannot be written (a full disk): stop, main reports it */
     if (werr) return 1;
     if (r->frames && t >= r->frame * r->frame_dt - 1e-9) {
-        char path[1024], err[256];
-        snprintf(path, sizeof path, "%s/frame_%05d.png", r->frames, r->frame);
+        char path[4200], err[256];
+        /* rj_run takes a nonzero return as "stop", not as an error: remember it */
+        if (cli_frame_path("deploy", path, sizeof path, r->frames, r->frame) != 0) {
+            r->frame_failed = 1;
+            return 1;
+        }
+        err[0] = '\0';
         if (rjr_draw_state(r->ctx, m, s, &r->view) || rjr_save_png(r->ctx, path, err, sizeof err)) {
-            fprintf(stderr, "deploy: frame %s: %s %s\n", path, rjr_error(r->ctx), err);
+            /* the PNG writer's text has the system's reason; a drawing error is the context's */
+            const char *why = err[0] ? err : rjr_error(r->ctx);
+            fprintf(stderr, "deploy: cannot write %s: %s\n", path, why);
+            r->frame_failed = 1;
             return 1;
         }
         r->frame++;
@@ -194,7 +204,8 @@ int main(int argc, char **argv)
         if (frames) {
             char e2[256];
             double box[4] = { -1.2, -0.3, 1.3, 2.2 };
-            mkdir(frames, 0777);
+            /* the whole path, and no frames of an earlier run left to mix into the video */
+            if (cli_frames_dir("deploy", frames) != 0) return 1;
             r.ctx = rjr_create(640, 480, e2, sizeof e2);
             if (!r.ctx) { fprintf(stderr, "deploy: %s\n", e2); return 1; }
             r.view = rjr_view_default();
@@ -205,9 +216,14 @@ int main(int argc, char **argv)
         }
         c0 = clock();
         res = rj_run(m, s, t_end, 1e-3, flex_sample, &r);
-        /* a history that could not be written fails the run (rj_run returns RJ_OK when
-           a sample stops it) */
+        /* a history that could not be written, or a frame, fails the run (rj_run returns
+           RJ_OK when a sample stops it) */
         if (cli_close(&r.out, "deploy") != 0) return 1;
+        if (r.frame_failed) return 1;
+        if (frames && r.frame == 0) {
+            fprintf(stderr, "deploy: no frame written to %s\n", frames);
+            return 1;
+        }
         fprintf(stderr, "deploy: dt %.4g s (bound %.4g s), joint 2 K %.4g N m/rad; joint 1 locks at %.6f s, joint 2 at %.6f s; wall %.3f s\n",
                 rj_model_dt(m), rj_model_dt_bound(m), rj_joint_stiffness(m, 1), rj_joint_event_time(m, s, 0), rj_joint_event_time(m, s, 1),
                 (double)(clock() - c0) / CLOCKS_PER_SEC);

@@ -1,6 +1,7 @@
 /* impact - the simple revolute-joint problem of Wong, Hamouda & Hashmi 2002, sec. 4
    (SPEC 9.1): link 1 held fixed, link 2 in rigid rotation hits a reverse limit at 176 deg.
    Writes the history as CSV; --all prints one table over every method and release rule. */
+#define _POSIX_C_SOURCE 200809L
 #define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "scenes.h"

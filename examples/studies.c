@@ -6,7 +6,7 @@
       without sampling (median of 21) and its error against the rigid reference
       examples/rigid2.h.
    About a minute and a half. */
-#define _POSIX_C_SOURCE 199309L
+#define _POSIX_C_SOURCE 200809L
 #define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "scenes.h"

@@ -6,7 +6,7 @@
    parallel, xargs -P or a Slurm job array can spread a sweep over machines:
      for i in 0 1 2 3; do build/sweep --samples 1000 --shard $i/4 --csv part$i.csv & done
    Every sample's parameters depend only on --seed and its index, so shards concatenate. */
-#define _POSIX_C_SOURCE 200112L
+#define _POSIX_C_SOURCE 200809L
 #define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "scenes.h"

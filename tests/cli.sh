@@ -1,6 +1,6 @@
 #!/bin/sh
 # Example programs: unknown options and malformed values print usage and exit with status 2;
-# outputs that cannot be written fail with status 1 and say why.
+# outputs that cannot be written, and frames folders, fail with status 1 and say why.
 B=${1:-build}
 T=$B/cli_out
 rm -rf "$T"
@@ -17,6 +17,10 @@ m() {
   out=$("$@" 2>&1 >/dev/null); st=$?
   if [ "$st" = "$want" ] && printf '%s\n' "$out" | grep -Eq -- "$pat"; then echo "PASS cli: $what (status $st)"
   else echo "FAIL cli: $what: status $st, want $want and a message matching /$pat/: $out"; fi
+}
+# description, condition (a shell command that must succeed)
+ok() {
+  if sh -c "$2"; then echo "PASS cli: $1"; else echo "FAIL cli: $1"; fi
 }
 t 2 "impact rejects an unknown option" $B/impact --bogus
 t 2 "impact rejects a malformed number" $B/impact --dt 1e-6x
@@ -41,6 +45,32 @@ t 2 "impact rejects a hex integer" $B/impact --elements 0x10 --t-end 0
 t 2 "impact rejects a fractional integer" $B/impact --elements 10.5 --t-end 0
 t 2 "impact rejects a number with a leading blank" $B/impact --dt " 1e-6" --t-end 0
 t 2 "deploy rejects an option where a file name belongs" sh -c "cd $T && $AB/deploy --csv --rigid --t-end 0"
+
+# frames folders: the whole path is made, an earlier run's frames (only those) go first
+ok "animate creates a frames folder three levels deep" \
+  "$B/animate --t-end 0 --out $T/a/b/c 2>/dev/null && test -f $T/a/b/c/frame_00000.png"
+mkdir -p $T/old
+for f in frame_00007.png frame_123456.png frame_00001.png.bak frame_1.png frame_000001.png notes.txt; do : > $T/old/$f; done
+echo keep > $T/keep.txt
+ln -s ../keep.txt $T/old/frame_00009.png
+ok "animate removes an earlier run's frame_NNNNN.png files (a link, not its target) and nothing else" \
+  "$B/animate --t-end 0 --out $T/old 2>/dev/null && test -f $T/old/frame_00000.png && test ! -e $T/old/frame_00007.png \
+   && test ! -e $T/old/frame_123456.png && test ! -L $T/old/frame_00009.png && grep -q keep $T/keep.txt \
+   && test -f $T/old/frame_00001.png.bak && test -f $T/old/frame_1.png \
+   && test -f $T/old/frame_000001.png && test -f $T/old/notes.txt"
+: > $T/plain
+m 1 "$T/plain.*Not a directory" "animate fails naming the path when the folder cannot be made" \
+  $B/animate --t-end 0 --out $T/plain/sub
+mkdir -p $T/blocked/frame_00000.png
+m 1 "$T/blocked/frame_00000.png.*Is a directory" "animate fails naming the frame it cannot write" \
+  $B/animate --t-end 0 --out $T/blocked
+mkdir -p $T/dold
+: > $T/dold/frame_00042.png
+ok "deploy --frames creates a nested folder and removes an earlier run's frames" \
+  "$B/deploy --t-end 0 --csv /dev/null --frames $T/dold/x/y 2>/dev/null && test -f $T/dold/x/y/frame_00000.png \
+   && $B/deploy --t-end 0 --csv /dev/null --frames $T/dold 2>/dev/null && test ! -e $T/dold/frame_00042.png"
+m 1 "$T/blocked/frame_00000.png.*Is a directory" "deploy --frames fails naming the frame it cannot write" \
+  $B/deploy --t-end 0 --csv /dev/null --frames $T/blocked
 
 # a full disk: every program that writes says so and exits 1
 if [ -w /dev/full ]; then
