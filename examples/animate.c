@@ -18,6 +18,7 @@ static const char usage[] =
     "  --size WxH              image size (default 640x480)\n"
     "  --t-end S               simulated time (default 6 deploy, 0.02 impact)\n"
     "  --thickness F           drawn thickness = F x true (default 2 deploy, 1 impact)\n"
+    "  --force                 run even above 1e8 steps or 1e5 frames (refused otherwise)\n"
     "  DIR and its parents are created; frame_NNNNN.png files already there are removed.\n";
 
 typedef struct anim {
@@ -53,8 +54,8 @@ int main(int argc, char **argv)
     cli c;
     /* --size: each side 16 .. 8192 pixels */
     static const int size_lim[4] = { 16, 8192, 16, 8192 };
-    int scene = 0, w = 640, h = 480;
-    double fps = -1, t_end = -1, thick = -1;
+    int scene = 0, w = 640, h = 480, force = 0;
+    double fps = -1, t_end = -1, thick = -1, frames;
     const char *dir = "out/frames", *a, *scene_file = NULL;
     anim an;
     rj_model *m = NULL; rj_state *s; rj_error e;
@@ -73,6 +74,7 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--t-end")) t_end = cli_num(&c, a, 0, 1e6);
         else if (!strcmp(a, "--thickness")) thick = cli_num(&c, a, 0.01, 1000);
         else if (!strcmp(a, "--size")) cli_pair(&c, a, 'x', &w, &h, size_lim, "WxH, each 16..8192");
+        else if (!strcmp(a, "--force")) force = 1;
         else if (!strcmp(a, "--help") || !strcmp(a, "-h")) { fputs(usage, stdout); return 0; }
         else cli_die(&c, "unknown option '%s'%s", a, "");
     }
@@ -88,20 +90,11 @@ int main(int argc, char **argv)
     } else if (scene == 2) {
         rj_scene_file sf;
         rj_scene_def sd;
-        rj_state *s0;
-        double box[4];
         if (rj_scene_load(scene_file, &sf, &e) != RJ_OK) { fprintf(stderr, "animate: %s\n", e.msg); return 1; }
         sd = rj_scene_file_def(&sf);
         if (rj_model_create(&sd, &m, &e, NULL) != RJ_OK) { rj_scene_file_locate(&sf, &e); fprintf(stderr, "animate: %s\n", e.msg); return 1; }
         rj_scene_file_free(&sf);
         fps = fps < 0 ? 30 : fps; t_end = t_end < 0 ? 6 : t_end; thick = thick < 0 ? 2 : thick;
-        /* fix the view on the whole motion: a quick pass at 10x fewer samples */
-        rj_state_create(m, &s0, NULL);
-        rjr_bbox_init(box);
-        rjr_bbox_add(box, m, s0);
-        while (rj_state_time(s0) < t_end && rj_run(m, s0, rj_state_time(s0) + t_end / 50, 0, NULL, NULL) == RJ_OK) rjr_bbox_add(box, m, s0);
-        rj_state_destroy(s0, NULL);
-        rjr_view_fit_box(&an.view, box, w, h, 20);
         an.view.caption = scene_file;
     } else {
         impact_opts o = impact_default_opts();
@@ -113,13 +106,33 @@ int main(int argc, char **argv)
         rjr_view_fit_box(&an.view, box, w, h, 20);
         an.view.caption = "impact on a reverse limit (SPEC 9.1)";
     }
+    /* refuse runs that would not end before anything runs (the scene pass below included):
+       a frame at every multiple of 1/fps, but at most one per step */
+    cli_check_steps("animate", t_end, rj_model_dt(m), force);
+    frames = t_end * (fps < 1.0 / rj_model_dt(m) ? fps : 1.0 / rj_model_dt(m)) + 1;
+    cli_check_frames("animate", frames, force);
+    if (scene == 2) {
+        rj_state *s0;
+        double box[4];
+        /* fix the view on the whole motion: a quick pass at 10x fewer samples */
+        rj_state_create(m, &s0, NULL);
+        rjr_bbox_init(box);
+        rjr_bbox_add(box, m, s0);
+        while (rj_state_time(s0) < t_end && rj_run(m, s0, rj_state_time(s0) + t_end / 50, 0, NULL, NULL) == RJ_OK) rjr_bbox_add(box, m, s0);
+        rj_state_destroy(s0, NULL);
+        rjr_view_fit_box(&an.view, box, w, h, 20);
+    }
     an.view.thickness_factor = thick;
     rj_state_create(m, &s, NULL);
     /* the whole path, and no frames of an earlier run left to mix into the video */
     if (cli_frames_dir("animate", dir) != 0) return 1;
     an.ctx = rjr_create(w, h, err, sizeof err);
     if (!an.ctx) { fprintf(stderr, "animate: %s\n", err); return 1; }
-    an.dir = dir; an.fdt = 1.0 / fps; an.total = (int)(t_end * fps) + 1; an.tty = isatty(2);
+    an.dir = dir;
+    an.fdt = 1.0 / fps;
+    /* frames is at most 1e5 unless --force: clamp the progress display's count */
+    an.total = frames < INT_MAX ? (int)frames : INT_MAX;
+    an.tty = isatty(2);
     c0 = clock();
     if (rj_run(m, s, t_end, an.fdt, on_sample, &an) != RJ_OK) { fprintf(stderr, "\nanimate: %s\n", rj_state_error(s)); return 1; }
     /* a frame that failed stopped the run; none at all is a failure too */

@@ -1,7 +1,7 @@
 /* cli.h - strict option parsing for the example programs: every option takes a value or is
    a flag; unknown options and malformed values print usage and exit with status 2.
-   Also what the programs share around a run: outputs whose every write is checked and
-   the frames directory (created whole, old frames removed).
+   Also what the programs share around a run: outputs whose every write is checked, the
+   frames directory (created whole, old frames removed) and the bound on a run's length.
    Needs POSIX (mkdir, opendir, lstat, unlink): define _POSIX_C_SOURCE 200809L before the
    first #include. */
 #ifndef RJ_CLI_H
@@ -259,5 +259,35 @@ static inline int cli_frames_dir(const char *prog, const char *dir)
     }
     closedir(d);
     return rc;
+}
+
+/* ---- bounds on a run's length ------------------------------------------------------------
+   A value in range can still mean a run that never ends: --dt 1e-12, or a penalty K that
+   drives the stable step to 1e-19 s. The documented runs take at most a few million steps
+   (deploy --paper: 800 000; the 80-element mesh of build/studies: 2.3 million) and the
+   two-link deployment steps in 0.2-0.35 us, so 1e8 steps is 40x the longest documented
+   run and half a minute of CPU for the smallest model (more for any larger one): above
+   it, the step or the time is almost certainly not what was meant; --force runs it. */
+#define CLI_MAX_STEPS 1e8
+/* A frame costs about 11 ms at 640x480 (render and PNG, README) against a step's
+   fraction of a microsecond: 100 000 frames are 20 minutes or more and 1 GB of PNG. */
+#define CLI_MAX_FRAMES 1e5
+
+/* Exits 2 with the estimate when t_end / dt steps exceed CLI_MAX_STEPS, unless force. */
+static inline void cli_check_steps(const char *prog, double t_end, double dt, int force)
+{
+    const double n = t_end / dt;
+    if (force || !(n > CLI_MAX_STEPS)) return;
+    fprintf(stderr, "%s: about %.3g steps (t-end %g s / dt %.3g s), more than the %.0e steps "
+            "run without asking; --force runs it anyway\n", prog, n, t_end, dt, CLI_MAX_STEPS);
+    exit(2);
+}
+/* Exits 2 when about n frames exceed CLI_MAX_FRAMES, unless force. */
+static inline void cli_check_frames(const char *prog, double n, int force)
+{
+    if (force || !(n > CLI_MAX_FRAMES)) return;
+    fprintf(stderr, "%s: about %.3g frames, more than the %.0e written without asking; "
+            "--force writes them anyway\n", prog, n, CLI_MAX_FRAMES);
+    exit(2);
 }
 #endif

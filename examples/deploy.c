@@ -42,7 +42,8 @@ static const char usage[] =
     "  --fps N                frame rate for --frames (default 30)\n"
     "  --energy-every K       solver.energy_every: the energy accounts and blow-up checks every\n"
     "                         K steps and at every CSV row (default 16; the output is the same\n"
-    "                         for every K, 1 .. 1000)\n";
+    "                         for every K, 1 .. 1000)\n"
+    "  --force                run even above 1e8 steps or 1e5 frames (refused otherwise)\n";
 
 #define MAXS 200000
 typedef struct run {
@@ -120,6 +121,7 @@ int main(int argc, char **argv)
     double t_end = 6.0, fps = 30, lock_rigid[2];
     const char *csv = NULL, *plot = NULL, *frames = NULL, *a, *scene_file = NULL;
     int rigid = 0, rigid_links = 0, dt_given = 0, method_given = 0, paper = 0, elements_given = 0;
+    int force = 0;
     static const char *const fids[] = { "flexible", "rigid", "inextensible" };
     run r;
     clock_t c0;
@@ -145,6 +147,7 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--frames")) frames = cli_str(&c, a);
         else if (!strcmp(a, "--fps")) fps = cli_num(&c, a, 0.01, 10000);
         else if (!strcmp(a, "--energy-every")) o.energy_every = cli_int(&c, a, 1, 1000);
+        else if (!strcmp(a, "--force")) force = 1;
         else if (!strcmp(a, "--help") || !strcmp(a, "-h")) { fputs(usage, stdout); return 0; }
         else cli_die(&c, "unknown option '%s'%s", a, "");
     }
@@ -195,6 +198,13 @@ int main(int argc, char **argv)
                 rj_model_destroy(m, NULL);
                 if (deploy_build(&o, &m, &err) != RJ_OK) { fprintf(stderr, "deploy: %s\n", err.msg); return 1; }
             }
+        }
+        /* refuse runs that would not end, before any output is opened: frames come at the
+           1 ms samples (every step when dt is longer), and at most fps of them a second */
+        cli_check_steps("deploy", t_end, rj_model_dt(m), force);
+        if (frames) {
+            const double per_s = 1.0 / (rj_model_dt(m) > 1e-3 ? rj_model_dt(m) : 1e-3);
+            cli_check_frames("deploy", t_end * (fps < per_s ? fps : per_s) + 1, force);
         }
         if (open_csv(&r, csv) != 0) return 1;
         rj_state_create(m, &s, NULL);

@@ -21,7 +21,8 @@ static const char usage[] =
     "  --H M                   in-plane depth of the links (default 0.2; 0.05 = long contact)\n"
     "  --csv FILE              history (default standard output)\n"
     "  --plot FILE.png         theta and tip deflection against time\n"
-    "  --all                   table of every method and release rule instead of a history\n";
+    "  --all                   table of every method and release rule instead of a history\n"
+    "  --force                 run even above 1e8 steps (refused otherwise)\n";
 
 typedef struct hist { cli_out out; double sign; int n, cap; double *t, *th, *defl; } hist;
 
@@ -38,6 +39,25 @@ static int sample(const rj_model *m, const rj_state *s, void *u)
     return werr != 0;
 }
 
+/* The longest run --all would make: the most steps of its ten models (a penalty K sets
+   the step of some of them). Models that cannot be built are skipped: the run reports them. */
+static double all_max_steps(const impact_opts *o, double t_end)
+{
+    double most = 0;
+    int mth, rel;
+    for (mth = 0; mth < 5; mth++) for (rel = 0; rel < 2; rel++) {
+        rj_link_def L[2]; rj_joint_def J; rj_scene_def sc; rj_model *m; rj_error err;
+        impact_opts q = *o;
+        q.method = mth;
+        q.release = rel;
+        impact_scene(&q, L, &J, &sc);
+        if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) continue;
+        if (t_end / rj_model_dt(m) > most) most = t_end / rj_model_dt(m);
+        rj_model_destroy(m, NULL);
+    }
+    return most;
+}
+
 
 int main(int argc, char **argv)
 {
@@ -45,7 +65,7 @@ int main(int argc, char **argv)
     impact_opts o = impact_default_opts();
     double t_end = 0.05;
     const char *csv = NULL, *plot = NULL, *a;
-    int all = 0;
+    int all = 0, force = 0;
     c.argc = argc; c.argv = argv; c.i = 0; c.usage = usage;
     while ((a = cli_next(&c)) != NULL) {
         if (!strcmp(a, "--method")) o.method = cli_choice(&c, a, cli_methods, 5);
@@ -59,6 +79,7 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--csv")) csv = cli_str(&c, a);
         else if (!strcmp(a, "--plot")) plot = cli_str(&c, a);
         else if (!strcmp(a, "--all")) all = 1;
+        else if (!strcmp(a, "--force")) force = 1;
         else if (!strcmp(a, "--help") || !strcmp(a, "-h")) { fputs(usage, stdout); return 0; }
         else cli_die(&c, "unknown option '%s'%s", a, "");
     }
@@ -68,6 +89,8 @@ int main(int argc, char **argv)
             "|---|---|---:|---:|---:|---:|---:|---:|\n";
         int mth, rel;
         cli_out out;
+        /* refuse a table that would not end, before any row of it */
+        cli_check_steps("impact", t_end, t_end / all_max_steps(&o, t_end), force);
         cli_open(&out, "impact", NULL);
         cli_put(&out, fputs(head, stdout));
         for (mth = 0; mth < 5; mth++) for (rel = 0; rel < 2; rel++) {
@@ -95,6 +118,8 @@ int main(int argc, char **argv)
         memset(&h, 0, sizeof h);
         impact_scene(&o, L, &J, &sc);
         if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { fprintf(stderr, "impact: %s\n", err.msg); return 1; }
+        /* refuse a run that would not end (rj_model_dt: the step in use), before any output */
+        cli_check_steps("impact", t_end, rj_model_dt(m), force);
         rj_state_create(m, &s, NULL);
         if (cli_open(&h.out, "impact", csv) != 0) return 1;
         h.sign = o.rate0 < 0 ? -1.0 : 1.0;

@@ -1,11 +1,15 @@
 #!/bin/sh
 # Example programs: unknown options and malformed values print usage and exit with status 2;
-# outputs that cannot be written, and frames folders, fail with status 1 and say why.
+# outputs that cannot be written, and frames folders, fail with status 1 and say why; runs
+# that would not end are refused (status 2) unless --force.
 B=${1:-build}
 T=$B/cli_out
 rm -rf "$T"
 mkdir -p "$T"
 AB=$(cd "$B" && pwd)
+# the checks of runs that must be refused get this many seconds: without the refusal they
+# would run for hours, and a check must fail rather than hang
+TO="timeout 60"
 t() { # expected status, description, command...
   want=$1; shift; what=$1; shift
   out=$("$@" 2>&1 >/dev/null); st=$?
@@ -86,3 +90,17 @@ if [ -w /dev/full ]; then
 else
   echo "SKIP cli: no /dev/full here: the full-disk checks did not run"
 fi
+
+# runs that would not end: refused with the estimate unless --force
+m 2 "5e\+10 steps.*dt 1e-12 s.*--force" "impact --dt 1e-12 is refused with the step count" $TO $B/impact --dt 1e-12
+m 0 "dt 1e-12 s" "impact --dt 1e-12 --force runs (t-end 1e-10 s)" $TO $B/impact --dt 1e-12 --force --t-end 1e-10
+m 2 "steps.*--force" "impact --all --dt 1e-12 is refused" $TO $B/impact --all --dt 1e-12
+m 2 "e\+19 steps.*dt 3.6.e-19 s.*--force" "deploy --method penalty --K 1e30 (dt about 3.6e-19 s) is refused" \
+  $TO $B/deploy --method penalty --K 1e30
+m 2 "steps.*--force" "sweep --links flexible --dt-pct 99 --t-end 100 is refused" \
+  $TO $B/sweep --links flexible --dt-pct 99 --t-end 100
+m 2 "steps.*--force" "animate --t-end 1e6 is refused" $TO $B/animate --t-end 1e6 --out $T/long
+m 2 "frames.*--force" "animate --scene impact --fps 1e6 --t-end 1 (400 000 frames) is refused" \
+  $TO $B/animate --scene impact --fps 1e6 --t-end 1 --out $T/long
+m 2 "steps.*--force" "animate --scene FILE.rjs --t-end 1e6 is refused before its view pass" \
+  $TO $B/animate --scene examples/scenes/deploy.rjs --t-end 1e6 --out $T/long
