@@ -1,6 +1,7 @@
 /* animate - renders an example scene to numbered PNG frames DIR/frame_00000.png ...
    Turn them into a video with, for example:
      ffmpeg -framerate 30 -i out/frames/frame_%05d.png -pix_fmt yuv420p deploy.mp4 */
+#define _POSIX_C_SOURCE 200809L
 #define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "scenes.h"
@@ -8,7 +9,6 @@
 #include "../render/rj_render.h"
 #include <time.h>
 #include <unistd.h>
-#include <sys/stat.h>
 
 static const char usage[] =
     "usage: animate [options]\n"
@@ -17,17 +17,30 @@ static const char usage[] =
     "  --fps N                 frames per simulated second (default 30 for deploy, 20000 for impact)\n"
     "  --size WxH              image size (default 640x480)\n"
     "  --t-end S               simulated time (default 6 deploy, 0.02 impact)\n"
-    "  --thickness F           drawn thickness = F x true (default 2 deploy, 1 impact)\n";
+    "  --thickness F           drawn thickness = F x true (default 2 deploy, 1 impact)\n"
+    "  --force                 run even above 1e8 steps or 1e5 frames (refused otherwise)\n"
+    "  DIR and its parents are created; frame_NNNNN.png files already there are removed.\n";
 
-typedef struct anim { rjr_context *ctx; rjr_view view; const char *dir; double fdt; int frame, total, tty; } anim;
+typedef struct anim {
+    rjr_context *ctx; rjr_view view; const char *dir; double fdt; int frame, total, tty;
+    int failed;   /* a frame could not be written: the run stopped there */
+} anim;
 
 static int on_sample(const rj_model *m, const rj_state *s, void *u)
 {
     anim *a = (anim *)u;
-    char path[1024], err[256];
-    snprintf(path, sizeof path, "%s/frame_%05d.png", a->dir, a->frame);
+    char path[4200], err[256];
+    /* rj_run takes a nonzero return as "stop", not as an error: remember it */
+    if (cli_frame_path("animate", path, sizeof path, a->dir, a->frame) != 0) {
+        a->failed = 1;
+        return 1;
+    }
+    err[0] = '\0';
     if (rjr_draw_state(a->ctx, m, s, &a->view) || rjr_save_png(a->ctx, path, err, sizeof err)) {
-        fprintf(stderr, "animate: %s: %s %s\n", path, rjr_error(a->ctx), err);
+        /* the PNG writer's text has the system's reason; a drawing error is the context's */
+        const char *why = err[0] ? err : rjr_error(a->ctx);
+        fprintf(stderr, "%sanimate: cannot write %s: %s\n", a->tty ? "\n" : "", path, why);
+        a->failed = 1;
         return 1;
     }
     a->frame++;
@@ -39,8 +52,10 @@ int main(int argc, char **argv)
 {
     static const char *const scenes[] = { "deploy", "impact" };
     cli c;
-    int scene = 0, w = 640, h = 480;
-    double fps = -1, t_end = -1, thick = -1;
+    /* --size: each side 16 .. 8192 pixels */
+    static const int size_lim[4] = { 16, 8192, 16, 8192 };
+    int scene = 0, w = 640, h = 480, force = 0;
+    double fps = -1, t_end = -1, thick = -1, frames;
     const char *dir = "out/frames", *a, *scene_file = NULL;
     anim an;
     rj_model *m = NULL; rj_state *s; rj_error e;
@@ -58,10 +73,8 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--fps")) fps = cli_num(&c, a, 1e-3, 1e9);
         else if (!strcmp(a, "--t-end")) t_end = cli_num(&c, a, 0, 1e6);
         else if (!strcmp(a, "--thickness")) thick = cli_num(&c, a, 0.01, 1000);
-        else if (!strcmp(a, "--size")) {
-            const char *v = cli_str(&c, a);
-            if (sscanf(v, "%dx%d", &w, &h) != 2 || w < 16 || h < 16 || w > 8192 || h > 8192) cli_die(&c, "option --size: bad value '%s'%s (need WxH, 16..8192)", v, "");
-        }
+        else if (!strcmp(a, "--size")) cli_pair(&c, a, 'x', &w, &h, size_lim, "WxH, each 16..8192");
+        else if (!strcmp(a, "--force")) force = 1;
         else if (!strcmp(a, "--help") || !strcmp(a, "-h")) { fputs(usage, stdout); return 0; }
         else cli_die(&c, "unknown option '%s'%s", a, "");
     }
@@ -77,20 +90,11 @@ int main(int argc, char **argv)
     } else if (scene == 2) {
         rj_scene_file sf;
         rj_scene_def sd;
-        rj_state *s0;
-        double box[4];
         if (rj_scene_load(scene_file, &sf, &e) != RJ_OK) { fprintf(stderr, "animate: %s\n", e.msg); return 1; }
         sd = rj_scene_file_def(&sf);
         if (rj_model_create(&sd, &m, &e, NULL) != RJ_OK) { rj_scene_file_locate(&sf, &e); fprintf(stderr, "animate: %s\n", e.msg); return 1; }
         rj_scene_file_free(&sf);
         fps = fps < 0 ? 30 : fps; t_end = t_end < 0 ? 6 : t_end; thick = thick < 0 ? 2 : thick;
-        /* fix the view on the whole motion: a quick pass at 10x fewer samples */
-        rj_state_create(m, &s0, NULL);
-        rjr_bbox_init(box);
-        rjr_bbox_add(box, m, s0);
-        while (rj_state_time(s0) < t_end && rj_run(m, s0, rj_state_time(s0) + t_end / 50, 0, NULL, NULL) == RJ_OK) rjr_bbox_add(box, m, s0);
-        rj_state_destroy(s0, NULL);
-        rjr_view_fit_box(&an.view, box, w, h, 20);
         an.view.caption = scene_file;
     } else {
         impact_opts o = impact_default_opts();
@@ -102,14 +106,41 @@ int main(int argc, char **argv)
         rjr_view_fit_box(&an.view, box, w, h, 20);
         an.view.caption = "impact on a reverse limit (SPEC 9.1)";
     }
+    /* refuse runs that would not end before anything runs (the scene pass below included):
+       a frame at every multiple of 1/fps, but at most one per step */
+    cli_check_steps("animate", t_end, rj_model_dt(m), force);
+    frames = t_end * (fps < 1.0 / rj_model_dt(m) ? fps : 1.0 / rj_model_dt(m)) + 1;
+    cli_check_frames("animate", frames, force);
+    if (scene == 2) {
+        rj_state *s0;
+        double box[4];
+        /* fix the view on the whole motion: a quick pass at 10x fewer samples */
+        rj_state_create(m, &s0, NULL);
+        rjr_bbox_init(box);
+        rjr_bbox_add(box, m, s0);
+        while (rj_state_time(s0) < t_end && rj_run(m, s0, rj_state_time(s0) + t_end / 50, 0, NULL, NULL) == RJ_OK) rjr_bbox_add(box, m, s0);
+        rj_state_destroy(s0, NULL);
+        rjr_view_fit_box(&an.view, box, w, h, 20);
+    }
     an.view.thickness_factor = thick;
     rj_state_create(m, &s, NULL);
-    mkdir(dir, 0777);
+    /* the whole path, and no frames of an earlier run left to mix into the video */
+    if (cli_frames_dir("animate", dir) != 0) return 1;
     an.ctx = rjr_create(w, h, err, sizeof err);
     if (!an.ctx) { fprintf(stderr, "animate: %s\n", err); return 1; }
-    an.dir = dir; an.fdt = 1.0 / fps; an.total = (int)(t_end * fps) + 1; an.tty = isatty(2);
+    an.dir = dir;
+    an.fdt = 1.0 / fps;
+    /* frames is at most 1e5 unless --force: clamp the progress display's count */
+    an.total = frames < INT_MAX ? (int)frames : INT_MAX;
+    an.tty = isatty(2);
     c0 = clock();
     if (rj_run(m, s, t_end, an.fdt, on_sample, &an) != RJ_OK) { fprintf(stderr, "\nanimate: %s\n", rj_state_error(s)); return 1; }
+    /* a frame that failed stopped the run; none at all is a failure too */
+    if (an.failed) return 1;
+    if (an.frame == 0) {
+        fprintf(stderr, "animate: no frame written to %s\n", dir);
+        return 1;
+    }
     fprintf(stderr, "%sanimate: wrote %d frames %s/frame_%%05d.png (%dx%d) in %.2f s CPU\n", an.tty ? "\n" : "", an.frame, dir, w, h,
             (double)(clock() - c0) / CLOCKS_PER_SEC);
     rjr_destroy(an.ctx);

@@ -1,6 +1,7 @@
 /* deploy - the two-link deployment with locking of Wong, Hamouda & Hashmi 2002, sec. 5
    (SPEC 9.2; Nagaraj et al.'s rig): flexible links, torsion springs, friction, locks.
    --rigid prints the rigid-body reference (examples/rigid2.h) in the same CSV. */
+#define _POSIX_C_SOURCE 200809L
 #define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "scenes.h"
@@ -8,7 +9,6 @@
 #include "rigid2.h"
 #include "../render/rj_render.h"
 #include <time.h>
-#include <sys/stat.h>
 
 static const char usage[] =
     "usage: deploy [options]\n"
@@ -37,41 +37,72 @@ static const char usage[] =
     "  --csv FILE             history, one row per ms, or per step when dt is longer\n"
     "                         (default standard output)\n"
     "  --plot FILE.png        q1, q2 against time, flexible against rigid, locks marked\n"
-    "  --frames DIR           animation frames DIR/frame_00000.png ... (640x480)\n"
+    "  --frames DIR           animation frames DIR/frame_00000.png ... (640x480); DIR and its\n"
+    "                         parents are created, frame_NNNNN.png files there removed first\n"
     "  --fps N                frame rate for --frames (default 30)\n"
     "  --energy-every K       solver.energy_every: the energy accounts and blow-up checks every\n"
     "                         K steps and at every CSV row (default 16; the output is the same\n"
-    "                         for every K, 1 .. 1000)\n";
+    "                         for every K, 1 .. 1000)\n"
+    "  --force                run even above 1e8 steps or 1e5 frames (refused otherwise)\n";
 
 #define MAXS 200000
 typedef struct run {
-    FILE *f;
+    cli_out out;                          /* the CSV history; out.f NULL: none */
     int n; double *t, *q1, *q2;           /* for the plot */
     rjr_context *ctx; rjr_view view; const char *frames; double frame_dt; int frame;
+    int frame_failed;                     /* a frame could not be written: the run stopped */
 } run;
 
-static void row(run *r, double t, double q1, double q2, double q1d, double q2d, int f1, int f2, double tx, double ty, double defl)
+/* returns nonzero once a CSV write has failed */
+static int row(run *r, double t, double q1, double q2, double q1d, double q2d, int f1, int f2,
+               double tx, double ty, double defl)
 {
-    if (r->f) fprintf(r->f, "%.6f,%.10g,%.10g,%.10g,%.10g,%d,%d,%.10g,%.10g,%.10g\n", t, q1, q2, q1d, q2d, f1, f2, tx, ty, defl);
     if (r->t && r->n < MAXS) { r->t[r->n] = t; r->q1[r->n] = q1; r->q2[r->n] = q2; r->n++; }
+    if (!r->out.f) return 0;
+    return cli_put(&r->out, fprintf(r->out.f,
+                                    "%.6f,%.10g,%.10g,%.10g,%.10g,%d,%d,%.10g,%.10g,%.10g\n",
+                                    t, q1, q2, q1d, q2d, f1, f2, tx, ty, defl));
 }
 
 static int flex_sample(const rj_model *m, const rj_state *s, void *u)
 {
     run *r = (run *)u;
     double tip[2], t = rj_state_time(s);
+    int werr;
     rj_node_position(m, s, 1, rj_link_node_count(m, 1) - 1, tip);
-    row(r, t, deploy_q1_deg(m, s), deploy_q2_deg(m, s), rj_joint_rate(m, s, 0), rj_joint_rate(m, s, 1),
-        rj_joint_flag(m, s, 0), rj_joint_flag(m, s, 1), tip[0], tip[1], scene_tip_defl(m, s, 1));
+    werr = row(r, t, deploy_q1_deg(m, s), deploy_q2_deg(m, s),
+               rj_joint_rate(m, s, 0), rj_joint_rate(m, s, 1),
+               rj_joint_flag(m, s, 0), rj_joint_flag(m, s, 1),
+               tip[0], tip[1], scene_tip_defl(m, s, 1));
+    /* the history cannot be written (a full disk): stop, main reports it */
+    if (werr) return 1;
     if (r->frames && t >= r->frame * r->frame_dt - 1e-9) {
-        char path[1024], err[256];
-        snprintf(path, sizeof path, "%s/frame_%05d.png", r->frames, r->frame);
+        char path[4200], err[256];
+        /* rj_run takes a nonzero return as "stop", not as an error: remember it */
+        if (cli_frame_path("deploy", path, sizeof path, r->frames, r->frame) != 0) {
+            r->frame_failed = 1;
+            return 1;
+        }
+        err[0] = '\0';
         if (rjr_draw_state(r->ctx, m, s, &r->view) || rjr_save_png(r->ctx, path, err, sizeof err)) {
-            fprintf(stderr, "deploy: frame %s: %s %s\n", path, rjr_error(r->ctx), err);
+            /* the PNG writer's text has the system's reason; a drawing error is the context's */
+            const char *why = err[0] ? err : rjr_error(r->ctx);
+            fprintf(stderr, "deploy: cannot write %s: %s\n", path, why);
+            r->frame_failed = 1;
             return 1;
         }
         r->frame++;
     }
+    return 0;
+}
+
+/* Opens the history (standard output when csv is NULL) and writes its header line. */
+static int open_csv(run *r, const char *csv)
+{
+    static const char head[] = "t,q1_deg,q2_deg,q1dot,q2dot,flag1,flag2,"
+                               "tip2_x,tip2_y,tip2_defl_m\n";
+    if (cli_open(&r->out, "deploy", csv) != 0) return -1;
+    cli_put(&r->out, fputs(head, r->out.f));
     return 0;
 }
 
@@ -90,6 +121,7 @@ int main(int argc, char **argv)
     double t_end = 6.0, fps = 30, lock_rigid[2];
     const char *csv = NULL, *plot = NULL, *frames = NULL, *a, *scene_file = NULL;
     int rigid = 0, rigid_links = 0, dt_given = 0, method_given = 0, paper = 0, elements_given = 0;
+    int force = 0;
     static const char *const fids[] = { "flexible", "rigid", "inextensible" };
     run r;
     clock_t c0;
@@ -115,6 +147,7 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--frames")) frames = cli_str(&c, a);
         else if (!strcmp(a, "--fps")) fps = cli_num(&c, a, 0.01, 10000);
         else if (!strcmp(a, "--energy-every")) o.energy_every = cli_int(&c, a, 1, 1000);
+        else if (!strcmp(a, "--force")) force = 1;
         else if (!strcmp(a, "--help") || !strcmp(a, "-h")) { fputs(usage, stdout); return 0; }
         else cli_die(&c, "unknown option '%s'%s", a, "");
     }
@@ -125,15 +158,15 @@ int main(int argc, char **argv)
         if (!dt_given) o.dt = 0;
     }
     memset(&r, 0, sizeof r);
-    r.f = stdout;
-    if (csv && !(r.f = fopen(csv, "w"))) { fprintf(stderr, "deploy: cannot write %s\n", csv); return 1; }
-    fprintf(r.f, "t,q1_deg,q2_deg,q1dot,q2dot,flag1,flag2,tip2_x,tip2_y,tip2_defl_m\n");
     rigid2_default_params(&rp);
     if (o.extra_friction) rigid2_add_extra_friction(&rp);
     c0 = clock();
     if (rigid) {
-        int e = rigid2_run(&rp, t_end, 1e-3, rigid_sample, &r, lock_rigid);
-        if (r.f != stdout) fclose(r.f);
+        int e;
+        if (open_csv(&r, csv) != 0) return 1;
+        e = rigid2_run(&rp, t_end, 1e-3, rigid_sample, &r, lock_rigid);
+        /* a history that could not be written fails the run */
+        if (cli_close(&r.out, "deploy") != 0) return 1;
         fprintf(stderr, "deploy --rigid: joint 1 locks at %.6f s, joint 2 at %.6f s; wall %.4f s\n", lock_rigid[0], lock_rigid[1], (double)(clock() - c0) / CLOCKS_PER_SEC);
         return e ? 1 : 0;
     }
@@ -166,6 +199,14 @@ int main(int argc, char **argv)
                 if (deploy_build(&o, &m, &err) != RJ_OK) { fprintf(stderr, "deploy: %s\n", err.msg); return 1; }
             }
         }
+        /* refuse runs that would not end, before any output is opened: frames come at the
+           1 ms samples (every step when dt is longer), and at most fps of them a second */
+        cli_check_steps("deploy", t_end, rj_model_dt(m), force);
+        if (frames) {
+            const double per_s = 1.0 / (rj_model_dt(m) > 1e-3 ? rj_model_dt(m) : 1e-3);
+            cli_check_frames("deploy", t_end * (fps < per_s ? fps : per_s) + 1, force);
+        }
+        if (open_csv(&r, csv) != 0) return 1;
         rj_state_create(m, &s, NULL);
         if (plot) {
             r.t = (double *)malloc(sizeof(double) * MAXS); r.q1 = (double *)malloc(sizeof(double) * MAXS); r.q2 = (double *)malloc(sizeof(double) * MAXS);
@@ -173,7 +214,8 @@ int main(int argc, char **argv)
         if (frames) {
             char e2[256];
             double box[4] = { -1.2, -0.3, 1.3, 2.2 };
-            mkdir(frames, 0777);
+            /* the whole path, and no frames of an earlier run left to mix into the video */
+            if (cli_frames_dir("deploy", frames) != 0) return 1;
             r.ctx = rjr_create(640, 480, e2, sizeof e2);
             if (!r.ctx) { fprintf(stderr, "deploy: %s\n", e2); return 1; }
             r.view = rjr_view_default();
@@ -184,7 +226,14 @@ int main(int argc, char **argv)
         }
         c0 = clock();
         res = rj_run(m, s, t_end, 1e-3, flex_sample, &r);
-        if (r.f != stdout) fclose(r.f);
+        /* a history that could not be written, or a frame, fails the run (rj_run returns
+           RJ_OK when a sample stops it) */
+        if (cli_close(&r.out, "deploy") != 0) return 1;
+        if (r.frame_failed) return 1;
+        if (frames && r.frame == 0) {
+            fprintf(stderr, "deploy: no frame written to %s\n", frames);
+            return 1;
+        }
         fprintf(stderr, "deploy: dt %.4g s (bound %.4g s), joint 2 K %.4g N m/rad; joint 1 locks at %.6f s, joint 2 at %.6f s; wall %.3f s\n",
                 rj_model_dt(m), rj_model_dt_bound(m), rj_joint_stiffness(m, 1), rj_joint_event_time(m, s, 0), rj_joint_event_time(m, s, 1),
                 (double)(clock() - c0) / CLOCKS_PER_SEC);

@@ -20,5 +20,6 @@ int main(void) {
     printf("t %.3f s: joint 1 at %.2f deg, flag %d\n", rj_state_time(s),
            rj_deg(rj_joint_theta(m, s, 1)), rj_joint_flag(m, s, 1));
     rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+    if (fflush(stdout) != 0 || ferror(stdout)) { perror("quickstart: stdout"); return 1; }
     return 0;
 }

@@ -6,14 +6,20 @@
       without sampling (median of 21) and its error against the rigid reference
       examples/rigid2.h.
    About a minute and a half. */
-#define _POSIX_C_SOURCE 199309L
+#define _POSIX_C_SOURCE 200809L
 #define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "scenes.h"
 #include "rigid2.h"
+#include "cli.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
+
+static const char usage[] =
+    "usage: studies\n"
+    "  Prints the measurements behind two README statements: mesh convergence of the\n"
+    "  deployment's joint angles, and the deployment with rigid links. No options.\n";
 
 typedef struct hist { int n; double q1[8000], q2[8000]; } hist;
 static int sample(const rj_model *m, const rj_state *s, void *u)
@@ -41,11 +47,21 @@ static double maxdev(const hist *a, const hist *b, int upto)
     return d;
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
     static hist h[4];
     static const int els[4] = { 10, 20, 40, 80 };
     int mode, k;
+    cli c;
+    cli_out out;
+    const char *a;
+    /* no options: a mistyped one must not start the whole run unnoticed */
+    c.argc = argc; c.argv = argv; c.i = 0; c.usage = usage;
+    while ((a = cli_next(&c)) != NULL) {
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) { fputs(usage, stdout); return 0; }
+        else cli_die(&c, "unknown option '%s'%s", a, "");
+    }
+    cli_open(&out, "studies", NULL);
     printf("1. deployment joint angles, max |q - q(80 elements)| before joint 2 locks (deg), dt = 0.9 x bound\n");
     printf("| reference | 10 el | 20 el | 40 el | ratios |\n|---|---:|---:|---:|---|\n");
     for (mode = 0; mode < 2; mode++) {
@@ -64,8 +80,10 @@ int main(void)
         }
         for (k = 0; k < 3; k++) d[k] = maxdev(&h[k], &h[3], 2990);
         printf("| %s | %.3f | %.3f | %.3f | %.2f, %.2f |\n", mode ? "chord (paper)" : "tangent (default)", d[0], d[1], d[2], d[0] / d[1], d[1] / d[2]);
-        fflush(stdout);
+        cli_put(&out, fflush(stdout));
     }
+    /* a table that could not be written (a full disk): stop before the second study */
+    if (ferror(stdout)) return cli_close(&out, "studies");
     for (k = 0; k < 2; k++) {
         deploy_opts o = deploy_default_opts();
         rj_link_def L[2]; rj_joint_def J[2]; rj_scene_def sc; rj_model *m = NULL; rj_state *s = NULL; rj_error e;
@@ -99,5 +117,6 @@ int main(void)
                k ? "" : "\n", 1e3 * o.dt, 1e3 * t[10], 1e3 * t[0], dev, rj_joint_event_time(m, s, 1), rj_joint_event_time(m, s, 0), lr[1], lr[0]);
         rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
     }
-    return 0;
+    /* the tables must have reached standard output */
+    return cli_close(&out, "studies");
 }

@@ -6,7 +6,7 @@
    parallel, xargs -P or a Slurm job array can spread a sweep over machines:
      for i in 0 1 2 3; do build/sweep --samples 1000 --shard $i/4 --csv part$i.csv & done
    Every sample's parameters depend only on --seed and its index, so shards concatenate. */
-#define _POSIX_C_SOURCE 200112L
+#define _POSIX_C_SOURCE 200809L
 #define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "scenes.h"
@@ -26,7 +26,8 @@ static const char usage[] =
     "  --threads T            worker threads (default 2)\n"
     "  --shard i/n            run only samples k with k %% n == i (default 0/1)\n"
     "  --seed S               random seed (default 1)\n"
-    "  --csv FILE             output (default standard output)\n";
+    "  --csv FILE             output (default standard output)\n"
+    "  --force                run even above 1e8 steps a sample (refused otherwise)\n";
 
 typedef struct job {
     int grid, samples, links, shard_i, shard_n, next, done;
@@ -56,14 +57,13 @@ static void factors(const job *jb, int k, double u[4])
     }
 }
 
-static void run_sample(const job *jb, int k, char *row, size_t rowlen)
+/* The model of a sample with factors u (see factors), or NULL with e filled. */
+static rj_model *sample_model(const job *jb, const double u[4], rj_error *e)
 {
     deploy_opts o = deploy_default_opts();
-    rj_link_def L[2]; rj_joint_def J[2]; rj_scene_def sc; rj_model *m = NULL; rj_state *s = NULL; rj_error e;
-    double u[4], peakdefl = 0, fscale, pre, tscale, dt;
-    rj_result r = RJ_OK;
+    rj_link_def L[2]; rj_joint_def J[2]; rj_scene_def sc; rj_model *m = NULL;
+    double fscale, pre, tscale;
     int i;
-    factors(jb, k, u);
     fscale = 1 + jb->fpct / 100 * u[0]; pre = jb->pdeg * u[1]; tscale = 1 + jb->tpct / 100 * u[2];
     o.dt = jb->links == 1 ? 1e-3 : (jb->links == 2 ? 0 : 7.5e-6);
     deploy_scene(&o, L, J, &sc);
@@ -76,9 +76,21 @@ static void run_sample(const job *jb, int k, char *row, size_t rowlen)
     /* dt: scale the default (or, when 0, the model's own choice) down by up to dt-pct */
     if (jb->dtpct > 0) {
         rj_model *mt;
-        if (rj_model_create(&sc, &mt, &e, NULL) == RJ_OK) { sc.solver.dt = rj_model_dt(mt) * (1 - jb->dtpct / 100 * 0.5 * (u[3] + 1)); rj_model_destroy(mt, NULL); }
+        if (rj_model_create(&sc, &mt, e, NULL) == RJ_OK) { sc.solver.dt = rj_model_dt(mt) * (1 - jb->dtpct / 100 * 0.5 * (u[3] + 1)); rj_model_destroy(mt, NULL); }
     }
-    if (rj_model_create(&sc, &m, &e, NULL) != RJ_OK) {
+    if (rj_model_create(&sc, &m, e, NULL) != RJ_OK) return NULL;
+    return m;
+}
+
+static void run_sample(const job *jb, int k, char *row, size_t rowlen)
+{
+    rj_model *m = NULL; rj_state *s = NULL; rj_error e;
+    double u[4], peakdefl = 0, fscale, pre, tscale, dt;
+    rj_result r = RJ_OK;
+    factors(jb, k, u);
+    fscale = 1 + jb->fpct / 100 * u[0]; pre = jb->pdeg * u[1]; tscale = 1 + jb->tpct / 100 * u[2];
+    m = sample_model(jb, u, &e);
+    if (!m) {
         snprintf(row, rowlen, "%d,%.6f,%.6f,%.6f,0,-1,-1,0,0,1,\"%.400s\"\n", k, fscale, pre, tscale, e.msg);
         return;
     }
@@ -96,6 +108,9 @@ static void run_sample(const job *jb, int k, char *row, size_t rowlen)
              r != RJ_OK ? rj_state_error(s) : (rj_joint_flag(m, s, 0) != RJ_LOCKED || rj_joint_flag(m, s, 1) != RJ_LOCKED ? "did not lock" : ""));
     rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
 }
+
+/* --seed takes an integer in [0, 1e15] */
+#define SEED_MAX 1000000000000000LL
 
 static void *worker(void *arg)
 {
@@ -120,12 +135,18 @@ static void *worker(void *arg)
 int main(int argc, char **argv)
 {
     static const char *const fids[] = { "flexible", "rigid", "inextensible" };
+    /* --shard i/n: i >= 0, n >= 1 (i < n is checked once both are read) */
+    static const int shard_lim[4] = { 0, INT_MAX - 1, 1, INT_MAX };
+    /* the factors of the sample with the smallest step, for the bound on a run's length */
+    static const double slowest[4] = { 0, 0, 0, 1 };
+    static const char head[] = "sample,friction_scale,preload_deg,tip_mass_scale,dt,lock1_s,lock2_s,"
+                               "peak_penetration2_rad,peak_tip_defl_m,failed,message\n";
     cli c;
     job jb;
     const char *csv = NULL, *a;
-    int threads = 2, t, k, fails = 0, n = 0;
+    int threads = 2, t, k, fails = 0, n = 0, force = 0;
     pthread_t th[64];
-    FILE *f = stdout;
+    cli_out out;
     memset(&jb, 0, sizeof jb);
     jb.samples = 64; jb.fpct = 20; jb.pdeg = 5; jb.tpct = 10; jb.dtpct = 0; jb.links = 1; jb.t_end = 8; jb.seed = 1; jb.shard_n = 1;
     c.argc = argc; c.argv = argv; c.i = 0; c.usage = usage;
@@ -139,31 +160,45 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--links")) jb.links = cli_choice(&c, a, fids, 3);
         else if (!strcmp(a, "--t-end")) jb.t_end = cli_num(&c, a, 0, 1e6);
         else if (!strcmp(a, "--threads")) threads = cli_int(&c, a, 1, 64);
-        else if (!strcmp(a, "--seed")) jb.seed = (unsigned long long)cli_num(&c, a, 0, 1e15);
+        else if (!strcmp(a, "--seed")) jb.seed = (unsigned long long)cli_long(&c, a, 0, SEED_MAX);
         else if (!strcmp(a, "--csv")) csv = cli_str(&c, a);
         else if (!strcmp(a, "--shard")) {
-            const char *v = cli_str(&c, a);
-            if (sscanf(v, "%d/%d", &jb.shard_i, &jb.shard_n) != 2 || jb.shard_n < 1 || jb.shard_i < 0 || jb.shard_i >= jb.shard_n)
-                cli_die(&c, "option --shard: bad value '%s'%s (need i/n with 0 <= i < n)", v, "");
+            cli_pair(&c, a, '/', &jb.shard_i, &jb.shard_n, shard_lim, "i/n with 0 <= i < n");
+            /* i < n depends on both: checked once both are read */
+            if (jb.shard_i >= jb.shard_n) cli_bad(&c, a, c.argv[c.i], "i/n with 0 <= i < n");
         }
+        else if (!strcmp(a, "--force")) force = 1;
         else if (!strcmp(a, "--help") || !strcmp(a, "-h")) { fputs(usage, stdout); return 0; }
         else cli_die(&c, "unknown option '%s'%s", a, "");
     }
     if (jb.grid > 0) jb.samples = jb.grid * jb.grid * jb.grid * jb.grid;
+    /* refuse samples that would not end: the smallest step a sample can get is the
+       nominal one scaled down by the whole --dt-pct (factor u[3] = 1) */
+    {
+        rj_error e;
+        rj_model *m = sample_model(&jb, slowest, &e);
+        if (m) {
+            cli_check_steps("sweep", jb.t_end, rj_model_dt(m), force);
+            rj_model_destroy(m, NULL);
+        }
+    }
+    /* open the output first: a sweep is long, and a path that cannot be written should
+       not be found out at its end */
+    if (cli_open(&out, "sweep", csv) != 0) return 1;
     jb.rows = (char **)calloc((size_t)jb.samples, sizeof(char *));
     pthread_mutex_init(&jb.lock, NULL);
     for (t = 0; t < threads; t++) pthread_create(&th[t], NULL, worker, &jb);
     for (t = 0; t < threads; t++) pthread_join(th[t], NULL);
-    if (csv && !(f = fopen(csv, "w"))) { fprintf(stderr, "sweep: cannot write %s\n", csv); return 1; }
-    if (jb.shard_i == 0) fprintf(f, "sample,friction_scale,preload_deg,tip_mass_scale,dt,lock1_s,lock2_s,peak_penetration2_rad,peak_tip_defl_m,failed,message\n");
+    if (jb.shard_i == 0) cli_put(&out, fputs(head, out.f));
     for (k = 0; k < jb.samples; k++) if (jb.rows[k]) {
-        fputs(jb.rows[k], f);
+        cli_put(&out, fputs(jb.rows[k], out.f));
         n++;
         if (strstr(jb.rows[k], ",1,\"")) fails++;
         free(jb.rows[k]);
     }
-    if (f != stdout) fclose(f);
-    fprintf(stderr, "sweep: %d samples (shard %d/%d), %d did not lock or failed\n", n, jb.shard_i, jb.shard_n, fails);
     free(jb.rows);
+    /* rows that did not reach the file fail the sweep */
+    if (cli_close(&out, "sweep") != 0) return 1;
+    fprintf(stderr, "sweep: %d samples (shard %d/%d), %d did not lock or failed\n", n, jb.shard_i, jb.shard_n, fails);
     return 0;
 }
