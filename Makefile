@@ -43,7 +43,7 @@ $(B)/animate: examples/animate.c examples/scenes.h examples/cli.h $(HDR) $(RENDE
 	$(CC) $(ALLCF) examples/animate.c render/rj_render.c -o $@ $(GL)
 $(B)/sweep: examples/sweep.c examples/scenes.h examples/cli.h $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm -lpthread
-$(B)/studies: examples/studies.c examples/scenes.h examples/rigid2.h $(HDR) | $(B)
+$(B)/studies: examples/studies.c examples/scenes.h examples/rigid2.h examples/cli.h $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
 $(B)/quickstart: examples/quickstart.c $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
