@@ -352,7 +352,7 @@ typedef struct drow {
     int method, el, paper, ok, runs;
     double dt, bound, K, wall, cpu;
     long steps;
-    char msg[600];
+    char msg[800];
     dmet m;
     derr e;
 } drow;
@@ -429,7 +429,7 @@ typedef struct irow {
     double contact, release_last, release_first;  /* s */
     double peak_c, peak_t;                        /* m, max |tip deflection| of link 1, chord / tangent */
     double e_first, e_last, e_peak_c, e_peak_t;   /* s, s, relative, relative */
-    char msg[600];
+    char msg[800];
 } irow;
 
 typedef struct iacc { int prev; double t_free; double first; int contacts; long flips; double peak_c, peak_t; } iacc;
@@ -741,7 +741,7 @@ typedef struct frow {
     int ok, runs, refused;                     /* refused: rj_model_create said no */
     long steps;
     double dt, bound, K, wall, cpu, last_lock;
-    char msg[600];
+    char msg[800];
     dmet dm; derr de;                          /* deployment */
     smet sm; serr se;                          /* solar array */
 } frow;
@@ -762,7 +762,7 @@ static struct {
     double d_ref_lock[2], d_ref_rms, d_ref_freq, s_ref_tw0, s_ref_drift, s_ref_frac;
     double s_ref_lock[F_NJ], s_ref_tip_sd, s_ref_tip_freq, s_ref_d4_sd, s_ref_tip_mean;
     int s_first;                               /* hinge that locks first in the reference */
-    char s_path[512], s_err[800];
+    char s_path[512], s_err[900];
     char s_hinge[F_NJ][RJ_SCENE_NAME_MAX];
     double wall_section;
 } F;
@@ -1608,7 +1608,7 @@ typedef struct fspec {
 } fspec;
 typedef struct fres {
     int ok;
-    char msg[600], state[200];
+    char msg[800], state[200];
     double K, med, mn, mx, cpu;                /* ns / step: wall median, min, max; CPU median */
     double ratio, ratio_cpu, ratio_lo, ratio_hi; /* time / the bare scene's in the same round: median (wall, CPU), range (wall) */
     long steps;

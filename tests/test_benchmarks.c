@@ -9,7 +9,17 @@
 
 static const char *mname[] = { "penalty", "adaptive", "momentum", "forced", "energy" };
 
-typedef struct impact_result { double contact, release, peak, evib, wrigid; int ok; } impact_result;
+typedef struct impact_result { double contact, release, peak, evib, wrigid; int ok, contacts, prev_flag; } impact_result;
+
+/* counts the joint's contacts (a free joint that meets its limit) at every step */
+static int count_contacts(const rj_model *m, const rj_state *s, void *user)
+{
+    impact_result *r = (impact_result *)user;
+    const int flag = rj_joint_flag(m, s, 0);
+    if (flag != RJ_FREE && r->prev_flag == RJ_FREE) r->contacts++;
+    r->prev_flag = flag;
+    return 0;
+}
 
 
 static impact_result impact_run(const impact_opts *o, double t_end)
@@ -20,7 +30,7 @@ static impact_result impact_run(const impact_opts *o, double t_end)
     impact_scene(o, L, &J, &sc);
     if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { printf("  (%s)\n", err.msg); return r; }
     rj_state_create(m, &s, NULL);
-    r.ok = rj_run(m, s, t_end, 0, NULL, NULL) == RJ_OK;
+    r.ok = rj_run(m, s, t_end, 0, count_contacts, &r) == RJ_OK;
     r.contact = rj_joint_event_time(m, s, 0); r.release = rj_joint_release_time(m, s, 0); r.peak = rj_joint_peak_penetration(m, s, 0);
     impact_rigid_part(m, s, &r.wrigid, &r.evib);
     rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
@@ -99,14 +109,22 @@ static void test_impact(rjt_ctx *c)
     rjt_check(c, ad.ok && best_k > 0 && ad.peak < 2 * best_peak && ad.peak > 0.5 * best_peak, "adaptive peak penetration within a factor 2 of the best penalty run",
               "adaptive %.4g rad (E_vib %.4g J, no parameter); stiffest accepted penalty K = %.3g N m/rad: %.4g rad (E_vib %.4g J)", ad.peak, ad.evib, best_k, best_peak, best_e);
 
-    /* the paper's sec. 4 findings, reported (not forced) */
+    /* the paper's sec. 4 findings: reported, not asserted (they are claims about the paper's
+       element, and the margins here are small or reversed) */
     o.method = RJ_METHOD_ADAPTIVE; o.release = RJ_RELEASE_RC12; r12 = impact_run(&o, 0.05);
     o.release = RJ_RELEASE_RC13; r13 = impact_run(&o, 0.05);
-    printf("REPORT paper: RC12 excites more than RC13 (adaptive): vibration energy RC12 %.4g J vs RC13 %.4g J -> %s\n", r12.evib, r13.evib, r12.evib > r13.evib ? "holds" : "does not hold");
+    printf("REPORT (not asserted) paper: RC12 excites more than RC13 (adaptive): vibration energy RC12 %.4g J vs RC13 %.4g J -> %s\n", r12.evib, r13.evib, r12.evib > r13.evib ? "holds" : "does not hold");
     o.method = RJ_METHOD_MOMENTUM;
     for (k = 0; k < 3; k++) { o.e = 0.5 * k; mom[k] = impact_run(&o, 0.05); }
-    printf("REPORT paper: momentum e = 0 excites least of the momentum family: E_vib e=0 %.4g, e=0.5 %.4g, e=1 %.4g J -> %s\n", mom[0].evib, mom[1].evib, mom[2].evib,
+    printf("REPORT (not asserted) paper: momentum e = 0 excites least of the momentum family: E_vib e=0 %.4g, e=0.5 %.4g, e=1 %.4g J -> %s\n", mom[0].evib, mom[1].evib, mom[2].evib,
            mom[0].evib <= mom[1].evib && mom[0].evib <= mom[2].evib ? "holds" : "does not hold");
+    /* why it need not hold here: the momentum balance (Eqs 23-24) exchanges rates between
+       the pin nodes' rotary inertias only (RJ_REF_TANGENT), so with e > 0 the pin node
+       rebounds alone and the rest of the link, still arriving, strikes it again and again;
+       with e = 0 the pin stops once and the link's bending returns it */
+    rjt_check(c, mom[0].contacts == 1 && mom[1].contacts > 10 && mom[2].contacts > 10,
+              "momentum: e = 0 latches in one contact, e > 0 chatters at the pin (many contacts)",
+              "contacts e=0 %d, e=0.5 %d, e=1 %d", mom[0].contacts, mom[1].contacts, mom[2].contacts);
     o.e = 0; o.K = impact_default_opts().K;
     for (k = 0; k < 5; k++) {
         impact_result r; o.method = k;
@@ -272,7 +290,7 @@ static void test_inextensible_deploy(rjt_ctx *c)
 {
     static vib vr, vi;
     double ar, fr, ai, fi, dtr, dti;
-    char msg[600], name[200];
+    char msg[700], name[200];
     int k;
     static const int els[2] = { 10, 5 };
     if (!vib_run(RJ_LINK_FLEXIBLE, 20, RJ_METHOD_ADAPTIVE, &vr, &dtr, msg, sizeof msg)) { rjt_check(c, 0, "deployment reference (20 elements) runs", "%s", msg); return; }
