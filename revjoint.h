@@ -374,6 +374,13 @@ RJDEF double rj_joint_rate(const rj_model *m, const rj_state *s, int joint);    
 RJDEF int rj_joint_flag(const rj_model *m, const rj_state *s, int joint);             /* rj_flag */
 RJDEF double rj_joint_torque(const rj_model *m, const rj_state *s, int joint, int component);
 RJDEF double rj_joint_penetration(const rj_model *m, const rj_state *s, int joint);   /* rad, Eq 19 */
+/* N m s: the angular impulse on body 2 that a velocity-level limit response (momentum,
+   forced, energy: Eqs 23-26) applied in the last step, 0 in a step without one. Those
+   methods latch by a jump in the rates, so their RJ_TORQUE_LIMIT is 0; while a joint is
+   held at its limit, impulse / dt is the mean constraint torque over the step, the latch
+   load. Penalty and adaptive limits report theirs as RJ_TORQUE_LIMIT instead (the torque
+   of a spring whose stiffness is a numerical choice: see docs/validation.md). */
+RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int joint);
 RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s, int joint);    /* first limit contact or lock, s; -1 if none */
 RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s, int joint);  /* latest release from a limit, s; -1 if none */
 RJDEF double rj_joint_peak_penetration(const rj_model *m, const rj_state *s, int joint); /* rad, largest |penetration| so far */
@@ -611,7 +618,7 @@ typedef struct rj__joint {
 
 /* Per-joint values in a frame (doubles), then per-joint ints. */
 enum { RJ__JD_THETA = 0, RJ__JD_RATE, RJ__JD_LOCK, RJ__JD_EVENT, RJ__JD_RELEASE,
-       RJ__JD_PEAKP, RJ__JD_P0, RJ__JD_QDD, RJ__JD_TQ0, RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT };
+       RJ__JD_PEAKP, RJ__JD_P0, RJ__JD_QDD, RJ__JD_IMPULSE, RJ__JD_TQ0, RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT };
 /* Frame scalars. */
 enum { RJ__FS_TIME = 0, RJ__FS_ETIME, RJ__FS_KE, RJ__FS_STRAIN, RJ__FS_SPRING, RJ__FS_LDAMP, RJ__FS_LFRIC,
        RJ__FS_LLIM, RJ__FS_E0, RJ__FS_WARN, RJ__FS_PEND, RJ__FS_COUNT };
@@ -3315,6 +3322,7 @@ static double rj__element(const rj_model *m, rj_state *s, int j, const double *o
     const int bf = run >= J->fwd, br = run <= J->rev;
     const int flag = rj_flag_next(oflag, bf, br, rate, d->lock, d->release);
     memcpy(nj_, oj, sizeof(double) * RJ__JD_COUNT);
+    nj_[RJ__JD_IMPULSE] = 0;   /* a velocity-level latch sets it in this step */
     if (flag == RJ_LOCKED && oflag != RJ_LOCKED) nj_[RJ__JD_LOCK] = bf ? J->fwd : J->rev;
     if (flag != RJ_FREE && oj[RJ__JD_EVENT] < 0) nj_[RJ__JD_EVENT] = t;
     if (flag != RJ_FREE && oflag == RJ_FREE) {
@@ -3763,6 +3771,8 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
         for (k = 0; k < n; k++) sum += Mj[k] * (hq[k] - qdp[k]);
         lost_l += 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
         pend += 0.5 * qdp[j] * sum;
+        /* the generalised impulse along q_j: the latch's angular impulse on body 2 */
+        nfj[(size_t)RJ__JD_COUNT * j + RJ__JD_IMPULSE] = -sum;
     }
     /* 6. positions, forced displacement, work of the joint torques */
     for (j = 0; j < n; j++) {
@@ -4013,6 +4023,8 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
                    relative rate loses almost nothing, as a workless constraint should */
                 if (rj__finite(J->I1)) { loss += 0.5 * J->I1 * m1 * (o1 - w1); pend += 0.5 * J->I1 * w1 * (o1 - w1); }
                 if (rj__finite(J->I2)) { loss += 0.5 * J->I2 * m2 * (o2 - w2); pend += 0.5 * J->I2 * w2 * (o2 - w2); }
+                /* the latch's angular impulse on body 2 (body 1 takes the opposite) */
+                nj_[RJ__JD_IMPULSE] = rj__finite(J->I2) ? J->I2 * (w2 - o2) : -J->I1 * (w1 - o1);
                 rj__spin(J, &g, w1 - o1, w2 - o2, nvx, nvy, nw);
                 {   /* the bodies' new rates move their nodes (rj__spin changes nK and nL only with
                        a chord reference) */
@@ -4422,6 +4434,11 @@ RJDEF double rj_joint_penetration(const rj_model *m, const rj_state *s, int j)
     if (flag == RJ_LOCKED) return jd[RJ__JD_LOCK] - jd[RJ__JD_THETA];
     return 0.0;
 }
+RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_IMPULSE];
+}
 RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s, int j)
 {
     RJ_ASSERT(j >= 0 && j < m->nj);
@@ -4462,7 +4479,7 @@ RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size
     size_t pay = 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1);
     size_t need = RJ__CK_HEAD + pay + 8;
     unsigned char *b = (unsigned char *)buf;
-    unsigned int ver = 1;
+    unsigned int ver = 2;
     unsigned long long h, pl = pay, st = (unsigned long long)s->steps;
     if (!buf || size < need) return need;
     memcpy(b, "RJCK", 4); memcpy(b + 4, &ver, 4); memcpy(b + 8, &m->hash, 8); memcpy(b + 16, &pl, 8);
@@ -4526,7 +4543,7 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
     if (!buf || size < RJ__CK_HEAD) { rj__fail(err, RJ_ERR_CHECKPOINT, "size", (double)size, "checkpoint of %lu bytes is truncated: this model's checkpoints are %lu bytes", (unsigned long)size, (unsigned long)need); return RJ_ERR_CHECKPOINT; }
     if (memcmp(b, "RJCK", 4) != 0) { rj__fail(err, RJ_ERR_CHECKPOINT, "magic", 0, "not a revjoint checkpoint (bad magic)"); return RJ_ERR_CHECKPOINT; }
     memcpy(&ver, b + 4, 4); memcpy(&mh, b + 8, 8); memcpy(&pl, b + 16, 8);
-    if (ver != 1) { rj__fail(err, RJ_ERR_CHECKPOINT, "version", ver, "checkpoint version %u is not supported (1)", ver); return RJ_ERR_CHECKPOINT; }
+    if (ver != 2) { rj__fail(err, RJ_ERR_CHECKPOINT, "version", ver, "checkpoint version %u is not supported (2: a joint's latch impulse joined the frame)", ver); return RJ_ERR_CHECKPOINT; }
     if (mh != m->hash || pl != pay) { rj__fail(err, RJ_ERR_CHECKPOINT, "model", 0, "checkpoint is for another model (its definitions, step or size differ from this model's)"); return RJ_ERR_CHECKPOINT; }
     if (size < need) { rj__fail(err, RJ_ERR_CHECKPOINT, "size", (double)size, "checkpoint of %lu bytes is truncated: this model's checkpoints are %lu bytes", (unsigned long)size, (unsigned long)need); return RJ_ERR_CHECKPOINT; }
     if (size > need) { rj__fail(err, RJ_ERR_CHECKPOINT, "size", (double)size, "checkpoint of %lu bytes has %lu bytes after its end: this model's checkpoints are %lu bytes", (unsigned long)size, (unsigned long)(size - need), (unsigned long)need); return RJ_ERR_CHECKPOINT; }

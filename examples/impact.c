@@ -31,9 +31,10 @@ static int sample(const rj_model *m, const rj_state *s, void *u)
     hist *h = (hist *)u;
     double t = rj_state_time(s), th = rj_deg(rj_joint_theta(m, s, 0)), d = h->sign * scene_tip_defl(m, s, 1);
     int werr;
-    werr = cli_put(&h->out, fprintf(h->out.f, "%.8g,%.10g,%.10g,%d,%.10g,%.10g\n",
+    werr = cli_put(&h->out, fprintf(h->out.f, "%.8g,%.10g,%.10g,%d,%.10g,%.10g,%.10g\n",
                                     t, th, rj_joint_rate(m, s, 0), rj_joint_flag(m, s, 0),
-                                    rj_joint_torque(m, s, 0, RJ_TORQUE_LIMIT), d));
+                                    rj_joint_torque(m, s, 0, RJ_TORQUE_LIMIT), d,
+                                    rj_joint_latch_impulse(m, s, 0)));
     if (h->t && h->n < h->cap) { h->t[h->n] = t * 1e3; h->th[h->n] = th; h->defl[h->n] = d * 1e3; h->n++; }
     /* the history cannot be written (a full disk): stop, main reports it */
     return werr != 0;
@@ -127,7 +128,7 @@ int main(int argc, char **argv)
             h.cap = (int)(t_end / 1e-5) + 16;
             h.t = (double *)malloc(sizeof(double) * (size_t)h.cap); h.th = (double *)malloc(sizeof(double) * (size_t)h.cap); h.defl = (double *)malloc(sizeof(double) * (size_t)h.cap);
         }
-        cli_put(&h.out, fputs("t,theta_deg,theta_dot,flag,tau_limit,tip_defl_m\n", h.out.f));
+        cli_put(&h.out, fputs("t,theta_deg,theta_dot,flag,tau_limit,tip_defl_m,latch_impulse\n", h.out.f));
         r = rj_run(m, s, t_end, 1e-5, sample, &h);
         /* a history that could not be written fails the run (its sample stopped rj_run) */
         if (cli_close(&h.out, "impact") != 0) return 1;

@@ -7,6 +7,7 @@
 #define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "rjt.h"
+#include "../examples/scenes.h"
 #include <stdlib.h>
 #include <string.h>
 #include <ctype.h>
@@ -581,6 +582,62 @@ static void test_limits(void)
     if (r == RJ_OK) rj_model_destroy(m, NULL);
 }
 
+/* Link 1's angular momentum about the pin (the origin) in the step's conserved form:
+   masses at x^{n+1} times v^{n+1/2}, plus the nodes' rotary inertias times their rates. */
+static double impact_momentum(const rj_model *m, const rj_state *s)
+{
+    double L = 0, x[2], v[2], mass, rot;
+    int i;
+    for (i = 0; i < rj_link_node_count(m, 1); i++) {
+        rj_node_position(m, s, 1, i, x);
+        rj_node_velocity(m, s, 1, i, v);
+        rj_node_mass(m, 1, i, &mass, &rot);
+        L += mass * (x[0] * v[1] - x[1] * v[0]) + rot * rj_node_rate(m, s, 1, i);
+    }
+    return L;
+}
+
+/* The latch's load, by the conservation of angular momentum about the pin (the ground's
+   pin forces have no moment about it): over the impact, the link's angular momentum
+   changes by the sum of the latch impulses (velocity-level methods) or of the limit
+   torque times dt (penalty, adaptive), to round-off. */
+static void test_latch_load(void)
+{
+    static const int methods[5] = { RJ_METHOD_PENALTY, RJ_METHOD_ADAPTIVE, RJ_METHOD_MOMENTUM, RJ_METHOD_FORCED, RJ_METHOD_ENERGY };
+    static const char *const names[5] = { "penalty", "adaptive", "momentum", "forced", "energy" };
+    int k;
+    for (k = 0; k < 5; k++) {
+        impact_opts o = impact_default_opts();
+        rj_link_def links[2];
+        rj_joint_def joint;
+        rj_scene_def scene;
+        rj_model *m;
+        rj_state *s;
+        rj_error err;
+        double L0, sum = 0, worst = 0, peak = 0;
+        char name[160];
+        o.method = methods[k];
+        impact_scene(&o, links, &joint, &scene);
+        rj_model_create(&scene, &m, &err, NULL);
+        rj_state_create(m, &s, NULL);
+        rj_step(m, s);
+        L0 = impact_momentum(m, s);
+        while (rj_state_time(s) < 0.02 && rj_step(m, s) == RJ_OK) {
+            const double impulse = rj_joint_latch_impulse(m, s, 0) + rj_joint_torque(m, s, 0, RJ_TORQUE_LIMIT) * rj_model_dt(m);
+            const double drift = fabs(impact_momentum(m, s) - L0 - sum - impulse);
+            sum += impulse;
+            if (drift > worst) worst = drift;
+            if (fabs(impulse) > peak) peak = fabs(impulse);
+        }
+        snprintf(name, sizeof name, "latch load (%s): the link's angular momentum changes by the latch's impulses", names[k]);
+        rjt_check(&T, worst < 1e-11 * fabs(L0) && fabs(sum) > 0.5 * fabs(L0), name,
+                  "L from %.6g to %.6g kg m^2/s, impulses sum to %.6g N m s (peak %.4g in one step, %.4g N m as a mean torque); worst mismatch %.3g",
+                  L0, impact_momentum(m, s), sum, peak, peak / rj_model_dt(m), worst);
+        rj_state_destroy(s, NULL);
+        rj_model_destroy(m, NULL);
+    }
+}
+
 int main(void)
 {
     test_damping_bound();
@@ -591,5 +648,6 @@ int main(void)
     test_checkpoints();
     test_messages();
     test_limits();
+    test_latch_load();
     return rjt_summary(&T, "test_robust");
 }
