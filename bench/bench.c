@@ -28,7 +28,7 @@
 #endif
 
 static const char usage[] =
-    "usage: bench [--out FILE.md] [--plot FILE.png] [--quick] [--only fidelity|features|throughput] [--native FILE.md]\n"
+    "usage: bench [--out FILE.md] [--plot FILE.png] [--quick] [--only fidelity|features|throughput|build] [--native FILE.md]\n"
     "  --out FILE.md    markdown report (default BENCHMARKS.md)\n"
     "  --plot FILE.png  work-precision plot of the deployment, q before joint 2 locks; a second\n"
     "                   plot (tip amplitude) goes to FILE_tip.png (default docs/work_precision.png)\n"
@@ -36,7 +36,8 @@ static const char usage[] =
     "  --only SECTION   one section alone: fidelity (section 4, about 80 s, with its own\n"
     "                   40-element deployment reference) or features (section 5, about 40 s);\n"
     "                   the report goes to standard output unless --out is given; throughput\n"
-    "                   (section 1's step costs alone, as a fragment for --native)\n"
+    "                   (section 1's step costs alone, as a fragment for --native), or build\n"
+    "                   (section 6: model build time and memory, 10 to 10000 links)\n"
     "  --native FILE.md the throughput fragment of a build with other flags (make bench: -O3\n"
     "                   -march=native), quoted in section 1 and the headline\n";
 
@@ -1858,6 +1859,79 @@ static void features_section(void)
     FT.wall_section = now() - t0;
 }
 
+/* ---------------------------------------------------------------- model build */
+/* A chain of n links of 4 elements each (fidelity as given), each hanging from the last;
+   the memory it needs and the time to validate and build it. */
+static void build_chain(int n, int fidelity, int runs, double *bytes, double *state_bytes, double *t_size, double *t_create, char *msg, size_t msize)
+{
+    rj_link_def *links = (rj_link_def *)malloc(sizeof *links * (size_t)n);
+    rj_joint_def *joints = (rj_joint_def *)malloc(sizeof *joints * (size_t)n);
+    rj_scene_def scene = rj_default_scene_def();
+    double ts[5], tc[5];
+    int i, r;
+    msg[0] = 0;
+    for (i = 0; i < n; i++) {
+        links[i] = rj_default_link_def();
+        links[i].elements = 4;
+        links[i].length = 0.1;
+        links[i].height = 0.01;
+        links[i].fidelity = fidelity;
+        joints[i] = rj_default_joint_def();
+        joints[i].body1 = i - 1;
+        joints[i].body2 = i;
+    }
+    scene.links = links;
+    scene.link_count = n;
+    scene.joints = joints;
+    scene.joint_count = n;
+    *bytes = 0;
+    *state_bytes = 0;
+    for (r = 0; r < runs; r++) {
+        rj_model *m = NULL;
+        rj_error err;
+        double t0 = now();
+        *bytes = (double)rj_model_size(&scene, &err);
+        ts[r] = now() - t0;
+        t0 = now();
+        if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) { snprintf(msg, msize, "%s", err.msg); break; }
+        tc[r] = now() - t0;
+        *state_bytes = (double)rj_state_size(m);
+        rj_model_destroy(m, NULL);
+    }
+    *t_size = msg[0] ? 0 : median(ts, runs);
+    *t_create = msg[0] ? 0 : median(tc, runs);
+    free(links);
+    free(joints);
+}
+
+/* Section 6: model build time and memory for chains of 10 .. 10000 links. Flexible and
+   inextensible models are linear in the scene; rigid scenes (joint coordinates) build a
+   dense joint-space mass matrix, nj^2 doubles and a factorisation of nj^3. */
+static void build_section(void)
+{
+    static const int sizes[4] = { 10, 100, 1000, 10000 };
+    static const char *const kinds[3] = { "flexible", "inextensible", "rigid" };
+    static const int fids[3] = { RJ_LINK_FLEXIBLE, RJ_LINK_INEXTENSIBLE, RJ_LINK_RIGID };
+    int k, i;
+    md("## 6. Model build: time and memory against scene size\n\n");
+    md("A chain of n links of 4 elements (0.1 m, 0.01 m deep), each hanging from the last by a bare joint; `rj_model_size` (validation of every field) and "
+       "`rj_model_create` (the joint graph's checks, the build and the stability bound: 3 Lanczos runs of 160 iterations for flexible links) timed apart, "
+       "median of 3 runs (1 for the largest). Rigid scenes integrate in joint coordinates with a dense mass matrix: their memory grows as n^2 and their "
+       "build as n^3, so they stop at 1000 links.\n\n");
+    md("| links | model | model bytes | bytes per link | state bytes | validate (ms) | build (ms) | build per link (us) |\n|---:|---|---:|---:|---:|---:|---:|---:|\n");
+    for (k = 0; k < 3; k++) for (i = 0; i < 4; i++) {
+        double bytes, state_bytes, t_size, t_create;
+        char msg[600];
+        if (fids[k] == RJ_LINK_RIGID && sizes[i] > 1000) continue;
+        progress("model build: %s chain of %d links", kinds[k], sizes[i]);
+        build_chain(sizes[i], fids[k], sizes[i] >= 10000 || (fids[k] == RJ_LINK_RIGID && sizes[i] >= 1000) ? 1 : 3, &bytes, &state_bytes, &t_size, &t_create, msg, sizeof msg);
+        if (msg[0]) { md("| %d | %s | not built: %s | | | | | |\n", sizes[i], kinds[k], msg); continue; }
+        md("| %d | %s | %.0f | %.0f | %.0f | %.3f | %.2f | %.1f |\n", sizes[i], kinds[k], bytes, bytes / sizes[i], state_bytes,
+           1e3 * t_size, 1e3 * t_create, 1e6 * t_create / sizes[i]);
+    }
+    md("\n");
+}
+
 static void features_report(void)
 {
     const fres *b = &FT.res[0];
@@ -1982,7 +2056,8 @@ int main(int argc, char **argv)
             if (!strcmp(argv[i], "fidelity")) only = 1;
             else if (!strcmp(argv[i], "features")) only = 2;
             else if (!strcmp(argv[i], "throughput")) only = 3;
-            else { fprintf(stderr, "bench: --only: unknown section '%s' (fidelity, features or throughput)\n%s", argv[i], usage); return 2; }
+            else if (!strcmp(argv[i], "build")) only = 4;
+            else { fprintf(stderr, "bench: --only: unknown section '%s' (fidelity, features, throughput or build)\n%s", argv[i], usage); return 2; }
         }
         else if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) { fputs(usage, stdout); return 0; }
         else { fprintf(stderr, "bench: unknown option or missing value: '%s'\n%s", argv[i], usage); return 2; }
@@ -2226,6 +2301,9 @@ int main(int argc, char **argv)
         fidelity_section(&HREF, &dref, dchk, 1, argv[0]);
         if (fidelity_plots(plot)) plot_failed = 1;
         features_section();
+        build_section();
+    } else if (only == 4) {
+        build_section();
     } else if (only == 1) {
         S.d_ref_el = S.quick ? 20 : 40;
         if (rigid_locks() || deploy_reference(&dref, &HREF, dchk, &HCHK)) return 1;
@@ -2424,7 +2502,8 @@ int main(int argc, char **argv)
     if (!f) { fprintf(stderr, "bench: cannot write %s\n", out); return 1; }
     fprintf(f, "# revjoint.h benchmarks\n\n");
     if (only)
-        fprintf(f, "Generated by `bench/bench.c --only %s`: only section %d; `make bench` writes every section.%s\n\n", only == 1 ? "fidelity" : "features", only == 1 ? 4 : 5,
+        fprintf(f, "Generated by `bench/bench.c --only %s`: only section %d; `make bench` writes every section.%s\n\n",
+                only == 1 ? "fidelity" : only == 4 ? "build" : "features", only == 1 ? 4 : only == 4 ? 6 : 5,
                 S.quick ? " **This is a `--quick` run: short timings and coarse references, for smoke tests only.**" : "");
     else
         fprintf(f, "Generated by `bench/bench.c` (`make bench`); do not edit by hand, every number below is rewritten by each run.%s\n\n",
