@@ -1866,24 +1866,11 @@ static void build_chain(int n, int fidelity, int runs, double *bytes, double *st
 {
     rj_link_def *links = (rj_link_def *)malloc(sizeof *links * (size_t)n);
     rj_joint_def *joints = (rj_joint_def *)malloc(sizeof *joints * (size_t)n);
-    rj_scene_def scene = rj_default_scene_def();
+    rj_scene_def scene;
     double ts[5], tc[5];
-    int i, r;
+    int r;
     msg[0] = 0;
-    for (i = 0; i < n; i++) {
-        links[i] = rj_default_link_def();
-        links[i].elements = 4;
-        links[i].length = 0.1;
-        links[i].height = 0.01;
-        links[i].fidelity = fidelity;
-        joints[i] = rj_default_joint_def();
-        joints[i].body1 = i - 1;
-        joints[i].body2 = i;
-    }
-    scene.links = links;
-    scene.link_count = n;
-    scene.joints = joints;
-    scene.joint_count = n;
+    chain_scene(n, 4, fidelity, links, joints, &scene);
     *bytes = 0;
     *state_bytes = 0;
     for (r = 0; r < runs; r++) {

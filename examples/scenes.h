@@ -170,6 +170,30 @@ static inline rj_result deploy_build(const deploy_opts *o, rj_model **m, rj_erro
     return rj_model_create(&sc, m, err, NULL);
 }
 
+/* ---------------------------------------------------------------- chains */
+/* A chain of n links (0.1 m, 0.01 m deep, `elements` each, of the given fidelity), each
+   hanging from the last by a bare joint, the first from ground: the scene the model-size
+   checks and the build benchmark grow. links and joints hold n each. */
+static inline void chain_scene(int n, int elements, int fidelity, rj_link_def *links, rj_joint_def *joints, rj_scene_def *sc)
+{
+    int i;
+    for (i = 0; i < n; i++) {
+        links[i] = rj_default_link_def();
+        links[i].elements = elements;
+        links[i].length = 0.1;
+        links[i].height = 0.01;
+        links[i].fidelity = fidelity;
+        joints[i] = rj_default_joint_def();
+        joints[i].body1 = i - 1;
+        joints[i].body2 = i;
+    }
+    *sc = rj_default_scene_def();
+    sc->links = links;
+    sc->link_count = n;
+    sc->joints = joints;
+    sc->joint_count = n;
+}
+
 /* Experiment's convention: q1 absolute angle of link 1, q2 relative (0 straight, 180 folded). */
 static inline double deploy_q1_deg(const rj_model *m, const rj_state *s) { return rj_deg(rj_joint_theta_running(m, s, 0)); }
 static inline double deploy_q2_deg(const rj_model *m, const rj_state *s) { return rj_deg(rj_joint_theta_running(m, s, 1)) - 180.0; }

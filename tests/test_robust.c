@@ -122,26 +122,12 @@ static void test_counts(void)
 static size_t chain_size(int n, int fidelity, int loop, rj_result *created, rj_error *err)
 {
     rj_link_def *links = (rj_link_def *)malloc(sizeof *links * (size_t)n);
-    rj_joint_def *joints = (rj_joint_def *)malloc(sizeof *joints * (size_t)(n + 1));
-    rj_scene_def scene = rj_default_scene_def();
+    rj_joint_def *joints = (rj_joint_def *)malloc(sizeof *joints * (size_t)n);
+    rj_scene_def scene;
     rj_model *m = NULL;
     size_t size;
-    int i;
-    for (i = 0; i < n; i++) {
-        links[i] = rj_default_link_def();
-        links[i].elements = 2;
-        links[i].length = 0.1;
-        links[i].height = 0.01;
-        links[i].fidelity = fidelity;
-        joints[i] = rj_default_joint_def();
-        joints[i].body1 = i - 1;
-        joints[i].body2 = i;
-    }
+    chain_scene(n, 2, fidelity, links, joints, &scene);
     if (loop) joints[0].body1 = n - 1;
-    scene.links = links;
-    scene.link_count = n;
-    scene.joints = joints;
-    scene.joint_count = n;
     size = rj_model_size(&scene, err);
     *created = rj_model_create(&scene, &m, err, NULL);
     if (*created == RJ_OK) rj_model_destroy(m, NULL);
@@ -468,7 +454,7 @@ static void test_messages(void)
     enum { N = 256 };
     static rj_link_def links[N];
     static rj_joint_def joints[N];
-    rj_scene_def scene = rj_default_scene_def();
+    rj_scene_def scene;
     rj_model *m;
     rj_state *s;
     rj_error err;
@@ -476,22 +462,12 @@ static void test_messages(void)
     const char *e;
     size_t len;
     int i;
+    chain_scene(N, 1, RJ_LINK_RIGID, links, joints, &scene);
     for (i = 0; i < N; i++) {
-        links[i] = rj_default_link_def();
-        links[i].length = 0.1;
-        links[i].elements = 1;
-        links[i].fidelity = RJ_LINK_RIGID;
-        joints[i] = rj_default_joint_def();
-        joints[i].body1 = i - 1;
-        joints[i].body2 = i;
         joints[i].angle0 = rj_rad(170);
         joints[i].method = RJ_METHOD_MOMENTUM;
     }
     joints[0].rate0 = 10;
-    scene.links = links;
-    scene.link_count = N;
-    scene.joints = joints;
-    scene.joint_count = N;
     scene.solver.dt = 1e-3;
     if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) {
         rjt_check(&T, 0, "messages: the rigid chain builds", "%s", err.msg);
