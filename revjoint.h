@@ -4519,6 +4519,20 @@ static int rj__ck_frame_ok(const rj_model *m, const double *fd, const int *fi, u
         return 0;
     }
     for (j = 0; j < m->nj; j++) {
+        /* event times: -1 (none yet) or a time already reached; the peak penetration >= 0 */
+        const double *jd = RJ__FJ(m, fd, j);
+        const double times[2] = { jd[RJ__JD_EVENT], jd[RJ__JD_RELEASE] };
+        int k2;
+        for (k2 = 0; k2 < 2; k2++) if (!(times[k2] == -1 || (times[k2] >= 0 && times[k2] <= sc[RJ__FS_TIME]))) {
+            rj__fail(err, RJ_ERR_CHECKPOINT, "event", times[k2], "checkpoint gives joint %d an event time of %g s at t = %g s", j, times[k2], sc[RJ__FS_TIME]);
+            return 0;
+        }
+        if (!(jd[RJ__JD_PEAKP] >= 0)) {
+            rj__fail(err, RJ_ERR_CHECKPOINT, "peak", jd[RJ__JD_PEAKP], "checkpoint gives joint %d a peak penetration of %g rad", j, jd[RJ__JD_PEAKP]);
+            return 0;
+        }
+    }
+    for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         const int flag = fi[j];
         const int ok = flag == RJ_FREE || (flag == RJ_AT_FORWARD && d->has_forward) || (flag == RJ_AT_REVERSE && d->has_reverse)
