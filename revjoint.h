@@ -1978,6 +1978,31 @@ static double rj__cl_pose(const rj_model *m, int c, const double *nc, const doub
    3 nn node DOFs (translations of grouped nodes live at the group's first member). K is
    the tangent of the internal forces (central differences on rj__beam_pass) plus
    k_lin g g^T of every joint. */
+/* The finite-difference step of rj__lz_apply: the nodes move by d = h M^-1/2 u, and the
+   largest move is 1e-7 of the smallest element in translation and 1e-7 rad in rotation,
+   whatever the masses (a long heavy link moved by a step scaled on u alone moved less
+   than its coordinates resolve, and its stiffness came out near 0). 0 when u is 0. */
+static double rj__lz_step(const rj_model *m, const double *u)
+{
+    double move = 0, turn = 0, l0 = HUGE_VAL, h = HUGE_VAL;
+    int i, gi;
+    for (i = 0; i < m->nn; i++) {
+        const double t = (fabs(u[3 * i]) > fabs(u[3 * i + 1]) ? fabs(u[3 * i]) : fabs(u[3 * i + 1])) * sqrt(m->tinv[i]);
+        const double r = fabs(u[3 * i + 2]) * sqrt(m->rinv[i]);
+        if (t > move) move = t;
+        if (r > turn) turn = r;
+    }
+    for (gi = 0; gi < m->ng; gi++) {
+        const int r = m->grp_node[m->grp_first[gi]];
+        const double t = (fabs(u[3 * r]) > fabs(u[3 * r + 1]) ? fabs(u[3 * r]) : fabs(u[3 * r + 1])) * sqrt(m->grp_inv[gi]);
+        if (t > move) move = t;
+    }
+    for (i = 0; i < m->nl; i++) if (m->link_l0[i] < l0) l0 = m->link_l0[i];
+    if (move > 0) h = 1e-7 * l0 / move;
+    if (turn > 0 && 1e-7 / turn < h) h = 1e-7 / turn;
+    return h == HUGE_VAL ? 0.0 : h;
+}
+
 static void rj__lz_apply(const rj_model *m, const double *u, double *out, double *work)
 {
     const int nn = m->nn, ne = m->ne;
@@ -1985,15 +2010,11 @@ static void rj__lz_apply(const rj_model *m, const double *u, double *out, double
     double *eu = work + 6 * nn, *bt = eu + ne;
     double *cxo = bt + ne, *cyo = cxo + ne;
     const double *cx = m->lz + 9 * (size_t)nn, *cy = cx + ne;
-    double h, sc = 0.0, res[3];
+    double h, res[3];
     int i, sgn, gi, j;
-    for (i = 0; i < 3 * nn; i++) if (fabs(u[i]) > sc) sc = fabs(u[i]);
     for (i = 0; i < 3 * nn; i++) out[i] = 0.0;
-    if (sc == 0.0) return;
-    /* chord lengths are ~l0; perturb by 1e-7 of the smallest element */
-    h = 1e-7;
-    for (i = 0; i < m->nl; i++) if (m->link_l0[i] * 1e-7 < h) h = m->link_l0[i] * 1e-7;
-    h /= sc;
+    h = rj__lz_step(m, u);
+    if (h == 0.0) return;
     for (sgn = -1; sgn <= 1; sgn += 2) {
         /* d = M^-1/2 u expanded to group members */
         for (i = 0; i < nn; i++) {
@@ -2432,6 +2453,28 @@ static void rj__place_all(rj_model *m, int *scratch)
     }
 }
 
+/* Every element's placed chord has its rest length to 1e-8: far from the origin the
+   coordinates no longer resolve an element (a root at x = 1e12 m rounds 0.1 m elements by
+   1e-3), and the rounding would start as strain energy that the step then releases. */
+static int rj__placement_resolved(const rj_model *m, rj_error *err)
+{
+    int l, k;
+    for (l = 0; l < m->nl; l++) {
+        const double l0 = m->link_l0[l];
+        for (k = m->link_first[l]; k < m->link_first[l + 1] - 1; k++) {
+            const double chord = hypot(m->x0[k + 1] - m->x0[k], m->y0[k + 1] - m->y0[k]);
+            char f[64];
+            if (fabs(chord - l0) <= 1e-8 * l0) continue;
+            RJ__FIELD(f, "links[%d]", l);
+            rj__fail(err, RJ_ERR_INVALID, f, m->x0[k],
+                     "links[%d] is placed where doubles do not resolve its %g m elements (node %d at x = %g m, y = %g m, spacing %g m): place the mechanism nearer the origin",
+                     l, l0, k - m->link_first[l], m->x0[k], m->y0[k], fabs(m->x0[k]) * DBL_EPSILON);
+            return 0;
+        }
+    }
+    return 1;
+}
+
 /* The step and its bound must be finite positive numbers, and the initial state finite
    (its kinetic energy and the joints' spring energy too). */
 static int rj__usable_step(const rj_model *m, rj_error *err)
@@ -2468,6 +2511,7 @@ static int rj__usable_step(const rj_model *m, rj_error *err)
         }
         return 0;
     }
+    if (!rj__placement_resolved(m, err)) return 0;
     for (i = 0; i < m->nj; i++) {
         const rj_joint_def *d = &m->jdef[i];
         const double twist = d->angle0 - d->spring_free_angle;

@@ -208,6 +208,40 @@ static void test_no_usable_step(void)
         rjt_check(&T, r == RJ_ERR_INVALID && strcmp(err.field, "links[0]") == 0, name, "[%s] %s", err.field, err.msg);
     }
     {
+        /* the longest link validation allows: the bound's finite differences must move its
+           heavy nodes by more than its coordinates resolve (they did not, and the bound
+           came out 4e5 times too long) */
+        rj_link_def link = rj_default_link_def();
+        rj_joint_def pin = rj_default_joint_def();
+        rj_scene_def scene = rj_default_scene_def();
+        rj_model *m;
+        rj_error err;
+        char msg[640];
+        rj_result r;
+        link.length = 1e6;
+        link.elements = 3;
+        pin.body1 = -1;
+        pin.body2 = 0;
+        scene.links = &link;
+        scene.link_count = 1;
+        scene.joints = &pin;
+        scene.joint_count = 1;
+        r = rj_model_create(&scene, &m, &err, NULL);
+        if (r == RJ_OK) {
+            r = run_for(m, 200 * rj_model_dt(m), msg, sizeof msg);
+            rjt_check(&T, r == RJ_OK && rj_model_dt_bound(m) < 2 * rj_model_dt_eq28(m), "no usable step: a 1e6 m link gets a true bound and runs",
+                      "bound %.4g s, Eq 28 %.4g s; 200 steps: %s", rj_model_dt_bound(m), rj_model_dt_eq28(m), r == RJ_OK ? "ok" : msg);
+            rj_model_destroy(m, NULL);
+        } else rjt_check(&T, 0, "no usable step: a 1e6 m link gets a true bound and runs", "%s", err.msg);
+        link = rj_default_link_def();
+        link.x = 1e12;
+        pin.ground_x = 1e12;
+        r = rj_model_create(&scene, &m, &err, NULL);
+        if (r == RJ_OK) rj_model_destroy(m, NULL);
+        rjt_check(&T, r == RJ_ERR_INVALID && strstr(err.msg, "resolve") != NULL, "no usable step: a link placed where doubles do not resolve its elements is refused",
+                  "[%s] %s", err.field, err.msg);
+    }
+    {
         /* time where the step no longer moves it: a crafted checkpoint at t = 1e15 s */
         rj_model *m;
         rj_state *s;
