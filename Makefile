@@ -135,12 +135,33 @@ bench: deps $(B)/bench $(B)/bench_native
 	$(B)/bench_native --only throughput --out out/bench_native.md
 	$(B)/bench --out BENCHMARKS.md --plot docs/work_precision.png --native out/bench_native.md
 
-# Fuzz the scene-file parser (clang's libFuzzer, ASan, UBSan); FUZZ_SECONDS=600 by default
+# Fuzzing with clang's libFuzzer, ASan and UBSan (undefined behaviour stops the run), one
+# process per target: the scene-file parser, checkpoint loading (rj_state_load) and model
+# building from definition structs (rj_model_create). `make fuzz` runs the three in turn,
+# FUZZ_SECONDS each (600 by default), each even when one before it found a crash;
+# `make fuzz-scene`, `fuzz-state`, `fuzz-model` run one.
+# Crashes are written to the current directory as crash-* (libFuzzer's default).
 FUZZ_SECONDS ?= 600
+FUZZ_CF = -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -Wall -Wextra -I.
+.PHONY: fuzz-scene fuzz-state fuzz-model
+$(B)/fuzz_%: tests/fuzz_%.c $(HDR) | $(B)
+	clang $(FUZZ_CF) $< -o $@ -lm
+$(B)/fuzz_state: tests/fuzz_state.c examples/scenes.h $(HDR) | $(B)
+	clang $(FUZZ_CF) $< -o $@ -lm
 fuzz: deps
+	$(MAKE) -k fuzz-scene fuzz-state fuzz-model
+fuzz-scene: $(B)/fuzz_scene
 	@mkdir -p $(B)/fuzz_work
-	clang -g -O1 -fsanitize=fuzzer,address,undefined tests/fuzz_scene.c -I. -o $(B)/fuzz_scene -lm
 	$(B)/fuzz_scene -jobs=1 -max_total_time=$(FUZZ_SECONDS) -max_len=8192 -timeout=10 $(B)/fuzz_work tests/fuzz_corpus
+# seeds: a valid checkpoint of each of the target's models, raw and with small edits
+# (rewritten by: clang -DFUZZ_STATE_CORPUS tests/fuzz_state.c -I. -o build/fuzz_state_corpus -lm
+# && build/fuzz_state_corpus tests/fuzz_corpus_state, after a change to the models or the format)
+fuzz-state: $(B)/fuzz_state
+	@mkdir -p $(B)/fuzz_work_state
+	$(B)/fuzz_state -jobs=1 -max_total_time=$(FUZZ_SECONDS) -max_len=4096 -timeout=10 $(B)/fuzz_work_state tests/fuzz_corpus_state
+fuzz-model: $(B)/fuzz_model
+	@mkdir -p $(B)/fuzz_work_model
+	$(B)/fuzz_model -jobs=1 -max_total_time=$(FUZZ_SECONDS) -max_len=1024 -timeout=10 $(B)/fuzz_work_model
 
 clean:
 	rm -rf $(B) out
