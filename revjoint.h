@@ -4588,6 +4588,15 @@ static int rj__ck_frame_ok(const rj_model *m, const double *fd, const int *fi, u
     return 1;
 }
 
+/* The int after the joints' flags is spare and always 0: a checkpoint with anything else
+   there was not written by rj_state_save. */
+static int rj__ck_spare_ok(const rj_model *m, const int *fi, rj_error *err)
+{
+    if (fi[m->frame_ints] == 0) return 1;
+    rj__fail(err, RJ_ERR_CHECKPOINT, "payload", fi[m->frame_ints], "checkpoint holds %d in its spare slot, which rj_state_save leaves 0", fi[m->frame_ints]);
+    return 0;
+}
+
 RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, size_t size, rj_error *err)
 {
     const size_t pay = 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1);
@@ -4615,11 +4624,10 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
         const int spare = 1 - s->cur;
         memcpy(s->fd[spare], fd_bytes, sizeof(double) * m->frame_doubles);
         memcpy(s->fi[spare], fi_bytes, sizeof(int) * (m->frame_ints + 1));
-        if (!rj__ck_frame_ok(m, s->fd[spare], s->fi[spare], st, err)) {
+        if (!rj__ck_frame_ok(m, s->fd[spare], s->fi[spare], st, err) || !rj__ck_spare_ok(m, s->fi[spare], err)) {
             s->snap = -1;   /* in place the spare frame held the rollback copy: take a new one */
             return RJ_ERR_CHECKPOINT;
         }
-        s->fi[spare][m->frame_ints] = 0;
         s->cur = spare;
     }
     s->snap = -1;
