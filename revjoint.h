@@ -2,22 +2,32 @@
    locking, resistive torque, friction and damping (Wong, Hamouda & Hashmi 2002).
    Public domain / MIT, see the end of the file.
 
+   "sec. N" and "Eq N" below and in the comments are the sections and equations of the
+   paper: S. V. Wong, A. M. S. Hamouda, M. S. J. Hashmi, "Development of Revolute-Joint
+   Element with Rotation Limits, Locking, Resistive Moment and Damping", Engineering with
+   Computers 18 (2002) 1-13. Documentation: README.md, docs/modelling.md (how to describe
+   a mechanism), docs/scene-format.md, docs/design.md (the readings of the paper taken).
+
 USAGE
    In exactly one C or C++ file:
        #define REVJOINT_IMPLEMENTATION
        #include "revjoint.h"
    Everywhere else just #include "revjoint.h". Depends on libc and libm only.
 
-CONFIGURATION MACROS
+CONFIGURATION MACROS (define before including the implementation)
    RJ_STATIC                 make every function static (private to one translation unit)
    RJ_MALLOC(sz,ctx), RJ_FREE(p,ctx)
-                             allocator used by rj_model_create / rj_state_create (define both
-                             or neither); ctx is the user pointer given to those calls
+                             allocator used by rj_model_create / rj_state_create and the
+                             scene parser (define both or neither); ctx is the user pointer
+                             given to those calls
    RJ_ASSERT(x)              programmer-error checks (NULL, index out of range); default assert
    RJ_NO_SIMD                plain scalar loops instead of GCC/Clang vector lanes in the step
                              (same results to the bit: tests/lanes.sh)
    RJ_NO_DISPATCH            on x86-64 without -mavx, do not also compile the lane kernels
-                             for AVX2 (chosen per call when the CPU has it); 2-lane only
+                             for AVX2 (chosen per step when the CPU has it); 2-lane only
+   RJ_NO_SCENE_FILES         leave out the scene-file parser and writer (rj_scene_*)
+   RJ_IN_PLACE_NODES         with solver.in_place AUTO, models of at least this many nodes
+                             step in place (default 400; 0: every model that can)
 
 QUICK START
    rj_link_def links[2]; rj_joint_def joints[2]; rj_solver_def solver; rj_scene_def scene;
@@ -48,19 +58,27 @@ CONCEPTS
    Links. A link is a planar, geometrically nonlinear Euler-Bernoulli beam of `elements`
    co-rotational Hermite elements, nodes 0..elements, node 0 at its root. Each node has a
    position (x, y) and a rotation phi. Mass is lumped: rho A l / 2 per element end on the
-   translations, max(rho A l^3 / 78, rho I l / 2) per element end on the rotation.
+   translations, max(rho A l^3 / 78, rho I l / 2) per element end on the rotation. A link
+   may instead be inextensible or rigid (rj_fidelity).
 
    Joints. Joint j pins node 0 of link body2 to node node1 of link body1 (or to a ground
-   point when body1 = -1). Its rotary location theta (SPEC sec. 2) is measured from the
-   direction I->K (body 1's element at the pin, pointing towards body 1's root; for ground,
-   the fixed direction ground_angle) to the direction J->L (body 2's first element). Two
-   links that continue each other have theta = pi. theta is tracked as an unwrapped
-   running angle: a joint never jumps across 0/2pi, limits and springs use it.
+   point when body1 = -1). Its rotary location theta (sec. 3.1, Eqs 1-3) is the
+   counter-clockwise angle from body 1's direction at the pin, pointing back towards body
+   1's root (I->K; for ground, the fixed direction ground_angle), to body 2's direction
+   (J->L). Two links that continue each other have theta = pi. It starts at angle0; by
+   default (RJ_REF_TANGENT) it follows the pin nodes' rotations, with RJ_REF_CHORD the
+   paper's chords. theta is tracked as an unwrapped running angle: a joint never jumps
+   across 0/2pi, limits and springs use it.
 
    Stability. Central differences are stable while dt < 2 / omega_max. rj_model_create
-   computes omega_max of the linearised model (beams, tip masses, joint stiffnesses in use)
-   by Lanczos iteration and refuses a solver dt above the bound unless solver.allow_unstable
-   is set. rj_model_dt_paper() gives the paper's Eq 28 / Eq 29 for comparison.
+   computes omega_max of the linearised model (beams, tip masses, joint stiffnesses and
+   damping in use) by Lanczos iteration, uses 0.9 x its bound when solver.dt is 0, and
+   refuses a larger solver dt unless solver.allow_unstable is set. rj_model_dt_eq28,
+   rj_joint_dt_eq29 and rj_joint_kmax_eq31 give the paper's Eqs 28, 29 and 31 (sec. 3.7)
+   for comparison.
+
+   Scene files. rj_scene_load / rj_scene_parse read a small text format into the same
+   definition structs and rj_scene_write writes it back (docs/scene-format.md).
 
 ERRORS
    Functions that can fail return rj_result. Validation fills an rj_error with the field
