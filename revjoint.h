@@ -150,7 +150,7 @@ typedef enum rj_fidelity { RJ_LINK_FLEXIBLE = 0, RJ_LINK_RIGID, RJ_LINK_INEXTENS
 /* Section description. */
 typedef enum rj_section { RJ_SECTION_RECT = 0, RJ_SECTION_GENERAL } rj_section;
 
-/* Limit response methods (SPEC sec. 5). */
+/* Limit response methods (the paper's sec. 3.4, Eqs 14-26). */
 typedef enum rj_method {
     RJ_METHOD_PENALTY = 0,   /* user stiffness penalty_k (COMBIN7-like) */
     RJ_METHOD_ADAPTIVE,      /* K_AP = I1 I2 / ((I1 + I2) dt^2), Eq 21 */
@@ -162,13 +162,13 @@ typedef enum rj_method {
 /* How a joint measures its rotary location and applies its torques.
    RJ_REF_TANGENT (default): theta from the nodal rotations (the beam's tangent directions)
      at the pin, torques as moments on those rotations; I1, I2 are the pin nodes' rotary
-     inertias. Converges at second order with mesh refinement (README: 10 vs 40 elements).
+     inertias. Converges at second order with mesh refinement (docs/validation.md: 10 vs 40 elements).
    RJ_REF_CHORD: the paper's literal form, theta from the chords I->K and J->L, torques as
      force couples on them; I1, I2 = m_K |IK|^2, m_L |JL|^2. First order in the element
      length, because a couple over the first element is not a moment at the pin. */
 typedef enum rj_reference { RJ_REF_TANGENT = 0, RJ_REF_CHORD } rj_reference;
 
-/* Release rules (SPEC sec. 4). */
+/* Release rules (Eqs 8-13: RC12 position-based, RC13 velocity-based). */
 typedef enum rj_release { RJ_RELEASE_RC12 = 0, RJ_RELEASE_RC13 } rj_release;
 /* Where the step writes the nodes and elements (rj_solver_def.in_place): AUTO in place from
    RJ_IN_PLACE_NODES (400) nodes on, ON whenever the scene allows, OFF never (see the solver). */
@@ -263,7 +263,7 @@ typedef struct rj_joint_def {
    a blow-up is caught up to K - 1 steps later. Rigid-only scenes take it every step.
    in_place (rj_in_place, default AUTO): the step advances the nodes and elements where they
    are instead of into a second frame, which halves what a large model moves through the
-   caches (1.36-1.49x faster at 2000 elements in make bench, README); it keeps a copy of the state
+   caches (1.36-1.49x faster at 2000 elements in make bench, docs/performance.md); it keeps a copy of the state
    at most 64 steps old and, when a step fails, takes the steps since it again, so a failed
    step leaves the state as it was either way, and the results are the same bits. It costs a
    third frame of memory, and a few copies per step that only pay from a few hundred nodes
@@ -426,7 +426,7 @@ RJDEF void rj_momentum_balance(double I1, double I2, double e, double *w1, doubl
 RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2);           /* Eqs 25-26 */
 
 /* ------------------------------------------------------------------ scene files
-   A small, strict, line-oriented text format for whole scenes (scene/README.md). Define
+   A small, strict, line-oriented text format for whole scenes (docs/scene-format.md). Define
    RJ_NO_SCENE_FILES to compile this part out. */
 #ifndef RJ_NO_SCENE_FILES
 #define RJ_SCENE_MAX_LINKS 256
@@ -523,7 +523,7 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
 /* With solver.in_place AUTO, models of at least this many nodes step in place (rj__step):
    below it a link's two frames (144 bytes per node) fit a 48 KB L1 data cache anyway, and
    in place costs copies of each chunk's chord angles and chords. Measured on a free link:
-   slower in place at 100 and 200 elements, faster at 500 (README, "Step cost"). */
+   slower in place at 100 and 200 elements, faster at 500 (docs/performance.md). */
 #ifndef RJ_IN_PLACE_NODES
 #define RJ_IN_PLACE_NODES 400
 #endif
@@ -562,7 +562,7 @@ RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_n
    has it (RJ_NO_DISPATCH turns that off). No FMA (see above). Every lane does the scalar
    code's operations in the scalar code's order, so results are bit-identical in every
    case (tests/lanes.sh). 8-lane AVX-512 kernels were tried and measured no faster beyond
-   this machine's noise (README), so there are none. */
+   this machine's noise (docs/performance.md), so there are none. */
 #if !defined(RJ_NO_SIMD) && (defined(__GNUC__) || defined(__clang__))
 #define RJ__LANES 1
 typedef double rj__vd2 __attribute__((vector_size(16)));
@@ -1739,7 +1739,7 @@ static RJ__INLINE double rj__joint_raw(const rj__joint *J, const rj__jgeo *g, co
     return J->off + phi[J->nJ] - (J->nI >= 0 ? phi[J->nI] : 0.0);
 }
 
-/* theta_dot = omega_2 - omega_1; chord mode omega = (r x v_r) / |r|^2 (SPEC sec. 2) */
+/* theta_dot = omega_2 - omega_1; chord mode omega = (r x v_r) / |r|^2 (from Eqs 1-3) */
 static RJ__INLINE double rj__joint_rate(const rj__joint *J, const rj__jgeo *g, const double *vx, const double *vy, const double *w, double *w1, double *w2)
 {
     double o1 = 0.0, o2;
@@ -2080,11 +2080,24 @@ static void rj__lz_apply(const rj_model *m, const double *u, double *out, double
     }
 }
 
-/* Largest eigenvalue of a symmetric tridiagonal matrix (Sturm bisection). */
-static double rj__tridiag_max(const double *al, const double *be, int k)
+/* Largest eigenvalue of a symmetric tridiagonal matrix (Sturm bisection), k <=
+   RJ__LANCZOS_ITERS. The matrix is scaled to entries of order 1 first: the recurrence
+   squares the off-diagonal, which for a model of omega^2 ~ 1e-166 (a link of 1e150
+   kg/m^3) underflowed and cut omega_max by 6. */
+static double rj__tridiag_max(const double *al_in, const double *be_in, int k)
 {
+    double al[RJ__LANCZOS_ITERS], be[RJ__LANCZOS_ITERS], scale = 0;
     double lo = 0, hi = 0, mid;
     int i, it;
+    for (i = 0; i < k; i++) {
+        if (fabs(al_in[i]) > scale) scale = fabs(al_in[i]);
+        if (fabs(be_in[i]) > scale) scale = fabs(be_in[i]);
+    }
+    if (scale == 0) return 0;
+    for (i = 0; i < k; i++) {
+        al[i] = al_in[i] / scale;
+        be[i] = be_in[i] / scale;
+    }
     for (i = 0; i < k; i++) {
         double r = fabs(i > 0 ? be[i - 1] : 0) + fabs(i + 1 < k ? be[i] : 0);
         if (al[i] + r > hi) hi = al[i] + r;
@@ -2102,7 +2115,19 @@ static double rj__tridiag_max(const double *al, const double *be, int k)
         if (cnt == k) hi = mid; else lo = mid;   /* cnt = number of eigenvalues below mid */
         if (hi - lo <= 1e-14 * fabs(hi)) break;
     }
-    return hi;
+    return hi * scale;
+}
+
+/* The 2-norm of v[0 .. n), scaled by its largest entry so that the squares neither
+   underflow (omega^2 ~ 1e-166 for a link of 1e150 kg/m^3) nor overflow. */
+static double rj__norm(const double *v, int n)
+{
+    double big = 0, sum = 0;
+    int i;
+    for (i = 0; i < n; i++) if (fabs(v[i]) > big) big = fabs(v[i]);
+    if (big == 0 || !rj__finite(big)) return big;
+    for (i = 0; i < n; i++) sum += (v[i] / big) * (v[i] / big);
+    return big * sqrt(sum);
 }
 
 /* omega_max^2 of the linearised model by Lanczos (no reorthogonalisation: ghosts do not
@@ -2135,8 +2160,7 @@ static double rj__omega2_max(rj_model *m)
         for (i = 0; i < n; i++) a += w[i] * v1[i];
         al[k] = a;
         for (i = 0; i < n; i++) w[i] -= a * v1[i] + (k > 0 ? be[k - 1] * v0[i] : 0.0);
-        for (i = 0; i < n; i++) b += w[i] * w[i];
-        b = sqrt(b);
+        b = rj__norm(w, n);
         be[k] = b;
         if (b < 1e-12 * fabs(a) || b == 0) { k++; break; }
         for (i = 0; i < n; i++) w[i] /= b;

@@ -242,6 +242,31 @@ static void test_no_usable_step(void)
                   "[%s] %s", err.field, err.msg);
     }
     {
+        /* omega_max scales as 1/sqrt(rho) exactly; the Lanczos norms squared underflowed
+           from rho ~ 1e150 kg/m^3 on and cut omega_max by 6 */
+        double worst = 0, base = 0;
+        int k;
+        for (k = 0; k <= 280; k += 40) {
+            rj_link_def link = rj_default_link_def();
+            rj_scene_def scene = rj_default_scene_def();
+            rj_model *m;
+            rj_error err;
+            double scaled;
+            link.length = 1e6;
+            link.elements = 3;
+            link.rho = 2710 * pow(10, k);
+            scene.links = &link;
+            scene.link_count = 1;
+            if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) { worst = HUGE_VAL; continue; }
+            scaled = rj_model_omega_max(m) * sqrt(link.rho / 2710);
+            if (k == 0) base = scaled;
+            if (fabs(scaled / base - 1) > worst) worst = fabs(scaled / base - 1);
+            rj_model_destroy(m, NULL);
+        }
+        rjt_check(&T, worst < 1e-6, "no usable step: omega_max scales as 1/sqrt(rho) from 2.7e3 to 2.7e283 kg/m^3",
+                  "omega sqrt(rho / 2710) = %.9g rad/s at 2710 kg/m^3, worst relative departure %.3g", base, worst);
+    }
+    {
         /* time where the step no longer moves it: a crafted checkpoint at t = 1e15 s */
         rj_model *m;
         rj_state *s;
