@@ -616,6 +616,10 @@ typedef long long rj__vl4 __attribute__((vector_size(32)));
 /* Nodes a model may hold: node indices are ints, and the building scratch indexes up to
    25 values per node with them */
 #define RJ__MAX_NODES 50000000
+/* The shortest stability bound a model may have, s: below a femtosecond no mechanism is
+   followed (a run of one second would take 1e15 steps), and what gets there is a link of
+   atomic size or an unphysical material, usually numbers in the wrong units */
+#define RJ__MIN_BOUND 1e-15
 /* ints of scratch the joint-graph checks take (rj__validate_graph) */
 #define RJ__GRAPH_SCRATCH(nl, nj) (2 * (size_t)(nl) + (size_t)(nj) + 1)
 
@@ -2523,7 +2527,7 @@ static int rj__usable_step(const rj_model *m, rj_error *err)
 {
     double ke = 0;
     int i, link, node;
-    if (!(m->dt_bound > 0) || !rj__finite(m->dt_bound) || !(m->dt > 0) || !rj__finite(m->dt)) {
+    if (!(m->dt_bound >= RJ__MIN_BOUND) || !rj__finite(m->dt_bound) || !(m->dt > 0) || !rj__finite(m->dt)) {
         /* name the link with the shortest wave transit l0 / c (Eq 28) */
         int l, fastest = 0;
         double best = HUGE_VAL;
@@ -2534,8 +2538,8 @@ static int rj__usable_step(const rj_model *m, rj_error *err)
         }
         RJ__FIELD(f, "links[%d]", fastest);
         rj__fail(err, RJ_ERR_INVALID, f, m->dt,
-                 "no usable step: the stability bound is %g s (omega_max %g rad/s) and the step %g s; links[%d] (length %g m, %d elements, E %g Pa, rho %g kg/m^3; element wave transit %g s, Eq 28) "
-                 "or a joint's stiffness or damping is outside what doubles resolve",
+                 "no usable step: the stability bound is %g s (omega_max %g rad/s; at least 1e-15 s is needed) and the step %g s; links[%d] (length %g m, %d elements, E %g Pa, rho %g kg/m^3; element wave transit %g s, Eq 28) "
+                 "or a joint's stiffness or damping is outside the range of mechanisms (SI units: m, Pa, kg/m^3)",
                  m->dt_bound, m->omega_max, m->dt, fastest, m->ldef[fastest].length, m->ldef[fastest].elements, m->ldef[fastest].E, m->ldef[fastest].rho, best);
         return 0;
     }
