@@ -101,6 +101,7 @@ test: deps $(EXAMPLES) $(TESTS)
 	  "sh tests/lanes.sh $(B)" \
 	  "$(B)/test_render" \
 	  "sh tests/cli.sh $(B)" \
+	  "sh tests/rj.sh $(B)" \
 	  "sh tests/sweep.sh $(B)"
 
 golden: deps $(EXAMPLES) $(B)/test_render
