@@ -21,7 +21,7 @@ SAN     = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omi
 
 HDR     = revjoint.h
 RENDER  = render/rj_render.c render/rj_render.h
-EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B)/sweep $(B)/studies
+EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B)/sweep $(B)/studies $(B)/rj
 TESTS   = $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_benchmarks $(B)/test_rigid2 \
           $(B)/test_render $(B)/csvdiff $(B)/test_core_asan $(B)/test_dynamics_asan $(B)/test_beam_asan \
           $(B)/test_core_clang $(B)/test_cpp $(B)/test_state $(B)/test_state_asan $(B)/test_scene $(B)/test_scene_asan $(B)/test_mixed $(B)/test_mixed_asan $(B)/test_robust $(B)/test_robust_asan $(B)/stress
@@ -41,6 +41,8 @@ $(B)/deploy: examples/deploy.c examples/scenes.h examples/cli.h examples/rigid2.
 	$(CC) $(ALLCF) examples/deploy.c render/rj_render.c -o $@ $(GL)
 $(B)/animate: examples/animate.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) | $(B)
 	$(CC) $(ALLCF) examples/animate.c render/rj_render.c -o $@ $(GL)
+$(B)/rj: examples/rj.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) | $(B)
+	$(CC) $(ALLCF) examples/rj.c render/rj_render.c -o $@ $(GL)
 $(B)/sweep: examples/sweep.c examples/scenes.h examples/cli.h $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm -lpthread
 $(B)/studies: examples/studies.c examples/scenes.h examples/rigid2.h examples/cli.h $(HDR) | $(B)
@@ -99,6 +101,7 @@ test: deps $(EXAMPLES) $(TESTS)
 	  "sh tests/lanes.sh $(B)" \
 	  "$(B)/test_render" \
 	  "sh tests/cli.sh $(B)" \
+	  "sh tests/rj.sh $(B)" \
 	  "sh tests/sweep.sh $(B)"
 
 golden: deps $(EXAMPLES) $(B)/test_render

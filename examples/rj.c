@@ -1,0 +1,1597 @@
+/* rj - one program for scene files (.rjs): run a scene to a CSV history, check what a
+   scene is and what a simulated second costs, plot a run, render it to PNG frames.
+     rj run examples/scenes/deploy.rjs --t-end 6 --csv out/deploy.csv
+     rj check examples/scenes/solar_array.rjs
+     rj plot examples/scenes/solar_array.rjs --t-end 4 --out angles.png
+     rj animate examples/scenes/deploy.rjs --t-end 6 --out out/frames --mp4 deploy.mp4
+   Every subcommand loads the file with rj_scene_load and names links and joints as the
+   file does. Exit status: 0 done; 1 the simulation stopped or an output failed while
+   being written; 2 bad usage, an invalid scene, a missing file, an output that cannot be
+   opened. */
+#define _POSIX_C_SOURCE 200809L
+#define REVJOINT_IMPLEMENTATION
+#include "../revjoint.h"
+#include "scenes.h"
+#include "cli.h"
+#include "../render/rj_render.h"
+#include <signal.h>
+#include <stdarg.h>
+#include <time.h>
+#include <sys/wait.h>
+
+#define RJ_TWO_PI 6.283185307179586476925
+/* a run without --t-end: scene files have no duration key, and the documented scenes show
+   their first motion within it (impact: contact and release in 20 ms) */
+#define DEFAULT_T_END 1.0
+/* plots keep at most about this many samples a series: 1 ms apart, or t_end / this */
+#define PLOT_SAMPLES 20000
+/* a flag change is printed once it has held this long (s): the end of an impact's contact
+   is the start of a free interval of at least 0.1 ms in BENCHMARKS.md's impact tables */
+#define EVENT_HOLD 1e-4
+
+/* Usage texts: rj --help, and each subcommand's --help (also printed after bad usage). */
+static const char usage_main[] =
+    "usage: rj SUBCOMMAND SCENE.rjs [options]\n"
+    "  run      simulate the scene; CSV history, events and a summary\n"
+    "  check    validate the scene; links, joints, the step and what sets it, the cost of\n"
+    "           a simulated second, warnings\n"
+    "  plot     simulate and plot joint angles, limit torques, tip deflections or energies\n"
+    "  animate  simulate and render PNG frames (and an MP4 with ffmpeg, when installed)\n"
+    "  rj SUBCOMMAND --help   that subcommand's options (rj help SUBCOMMAND too)\n"
+    "Exit status: 0 done; 1 the simulation stopped (blow-up, tunnelling) or an output\n"
+    "failed while being written; 2 bad usage, an invalid scene (file:line:col: message),\n"
+    "a missing file, or an output that cannot be opened.\n";
+
+static const char usage_run[] =
+    "usage: rj run SCENE.rjs [options]\n"
+    "  Simulates the scene and writes its history as CSV, one row per sample.\n"
+    "  --t-end S          simulated time (default 1 s: scene files have no duration)\n"
+    "  --dt S             time step, instead of the file's solver.dt (0 = automatic,\n"
+    "                     0.9 x the stability bound)\n"
+    "  --sample S         row interval: a row at the step nearest to each multiple of S\n"
+    "                     (default 0.001 s: every step when the step is longer; 0 = every step)\n"
+    "  --csv FILE         the history (default, or -, standard output)\n"
+    "  --probe LINK:NODE  add that node's x, y, phi (repeatable; NODE an index or 'last')\n"
+    "  --nodes FILE       every node at the end: link,node,x,y,phi\n"
+    "  --progress         progress line on standard error (percent, simulated time,\n"
+    "                     steps/s, ETA); without it only on a terminal, after 2 s of wall time\n"
+    "  --force            run even above 1e8 steps (refused otherwise)\n"
+    "  Columns: t (s); for each joint J: J.theta_deg (running angle), J.rate (rad/s), J.flag\n"
+    "  (0 free, 1 at the forward limit, 2 at the reverse limit, 3 locked), J.torque_spring,\n"
+    "  J.torque_table, J.torque_damping, J.torque_friction, J.torque_limit (N m on body 2),\n"
+    "  J.latch_impulse (N m s that a velocity-level limit applied in the last step); for each\n"
+    "  link L: L.tip_x, L.tip_y (m), L.tip_defl (m: the last node's distance from the\n"
+    "  tangent at node 0, counter-clockwise positive); for each probe L.N.x, L.N.y (m),\n"
+    "  L.N.phi (rad); E_kin, E_strain, E_spring (J), W_damping, W_friction, W_limit (J lost\n"
+    "  so far), E_balance (J: energy + losses - initial; rj_state_energy at the row's step).\n"
+    "  Standard error: the model's warnings, then events as they happen (contacts, locks,\n"
+    "  releases, late contacts; at the time of the state the library decided them on, as\n"
+    "  rj_joint_event_time), then a summary: per joint the first contact, the lock, peak\n"
+    "  penetration, peak |limit torque|, peak |latch impulse|; steps, wall time, steps/s.\n"
+    "  A lock and the first contact are printed at once, other flag changes once they have\n"
+    "  held 0.1 ms (adaptive and RC13 contacts toggle the flag step by step); the summary\n"
+    "  counts every change. Events and peaks are checked every step, so the energy\n"
+    "  accounts are taken every step too (solver.energy_every saves nothing here).\n"
+    "  Exit status: 0 done, also when the reader of standard output stops (rj run x | head);\n"
+    "  1 the simulation stopped (the library's message; the CSV ends at the last good\n"
+    "  state) or a write failed (full disk); 2 bad usage, an invalid scene, a missing file,\n"
+    "  an output that cannot be opened, a run above 1e8 steps without --force.\n";
+
+static const char usage_check[] =
+    "usage: rj check SCENE.rjs [--dt S]\n"
+    "  Validates the scene and prints the model: links (model, elements, length, mass),\n"
+    "  joints (bodies, spring, table, limits, lock, method, friction, damping), the step\n"
+    "  (dt, the stability bound, omega_max, and what sets them: the fastest link on its own,\n"
+    "  the stiffest joint), the cost of one simulated second here (200-step batches timed),\n"
+    "  and warnings (the model's own, penalty stiffness above Eq 31, a heavy tip mass on a\n"
+    "  coarse mesh, a step near or above the bound).\n"
+    "  --dt S             time step, instead of the file's solver.dt (0 = automatic)\n"
+    "  Exit status: 0 valid, 2 invalid (file:line:col: message) or bad usage.\n";
+
+static const char usage_plot[] =
+    "usage: rj plot SCENE.rjs --out FILE.png [options]\n"
+    "  Simulates the scene and plots its history, locks and first contacts marked.\n"
+    "  --out FILE.png     the plot (required)\n"
+    "  --what angles|torques|tips|energy   (default angles)\n"
+    "                     angles: each joint's running angle (deg); torques: each limited\n"
+    "                     joint's limit torque, or latch impulse / dt for velocity-level\n"
+    "                     methods (momentum, forced, energy); tips: each link's tip\n"
+    "                     deflection (m, as rj run's L.tip_defl); energy: kinetic, strain,\n"
+    "                     spring, balance. At most 8 series: the first 8 (said on stderr).\n"
+    "  --t-end S          simulated time (default 1 s)\n"
+    "  --dt S             time step, instead of the file's solver.dt (0 = automatic)\n"
+    "  --size WxH         image size (default 900x560)\n"
+    "  --progress, --force  as rj run\n"
+    "  Samples every 1 ms (every step when the step is longer), or t-end / 20000 if longer.\n"
+    "  Exit status as rj run; 1 also when the plot cannot be drawn or written.\n";
+
+static const char usage_animate[] =
+    "usage: rj animate SCENE.rjs --out DIR [options]\n"
+    "  Simulates the scene and renders DIR/frame_00000.png ... at the steps nearest to\n"
+    "  every multiple of 1/fps. The view is fixed once on the whole motion; the links are\n"
+    "  drawn twice their thickness; the caption is the scene file's name. The frames are\n"
+    "  those of build/animate --scene FILE.rjs with the same fps, size and t-end (whose\n"
+    "  caption is the path as given: the same when FILE.rjs has no directory).\n"
+    "  --out DIR          frames directory (required); created with its parents, and the\n"
+    "                     frame_NNNNN.png files of an earlier run there removed first\n"
+    "  --fps N            frames per simulated second (default 30)\n"
+    "  --size WxH         image size (default 640x480)\n"
+    "  --t-end S          simulated time (default 1 s)\n"
+    "  --dt S             time step, instead of the file's solver.dt (0 = automatic)\n"
+    "  --mp4 FILE         also encode FILE with ffmpeg when it is on PATH; otherwise print\n"
+    "                     the ffmpeg command to run\n"
+    "  --progress         as rj run\n"
+    "  --force            run even above 1e8 steps or 1e5 frames (refused otherwise)\n"
+    "  Exit status as rj run; 1 also when a frame or the MP4 cannot be written.\n";
+
+/* ================================================================ options */
+
+enum { CMD_RUN = 1, CMD_CHECK = 2, CMD_PLOT = 4, CMD_ANIMATE = 8 };
+enum { WHAT_ANGLES = 0, WHAT_TORQUES, WHAT_TIPS, WHAT_ENERGY };
+static const char *const what_names[] = { "angles", "torques", "tips", "energy" };
+
+/* Every subcommand's options; each parses only its own (opt_shared, opt_own). */
+typedef struct opts {
+    int cmd;
+    const char *scene;
+    double t_end, dt, sample, fps;   /* dt < 0: the file's */
+    const char *csv, *nodes, *out, *mp4;
+    const char **probes;
+    int nprobes, what, w, h, progress, force;
+} opts;
+
+/* The defaults of every subcommand; the sizes are those of build/deploy's plot and of
+   build/animate's frames. */
+static void opts_default(opts *o, int cmd, int argc)
+{
+    memset(o, 0, sizeof *o);
+    o->cmd = cmd;
+    o->t_end = DEFAULT_T_END;
+    o->dt = -1;
+    o->sample = 1e-3;
+    o->fps = 30;
+    o->w = cmd == CMD_PLOT ? 900 : 640;
+    o->h = cmd == CMD_PLOT ? 560 : 480;
+    /* at most one probe per argument */
+    o->probes = (const char **)malloc(sizeof(char *) * (size_t)(argc > 0 ? argc : 1));
+    if (!o->probes) {
+        fprintf(stderr, "rj: out of memory\n");
+        exit(1);
+    }
+}
+
+/* Options of more than one subcommand; returns 1 when a was one of them. */
+static int opt_shared(cli *c, opts *o, const char *a)
+{
+    const int sim = CMD_RUN | CMD_PLOT | CMD_ANIMATE;
+    if ((o->cmd & sim) && !strcmp(a, "--t-end")) o->t_end = cli_num(c, a, 0, 1e6);
+    else if (!strcmp(a, "--dt")) o->dt = cli_num(c, a, 0, 1);
+    else if ((o->cmd & sim) && !strcmp(a, "--progress")) o->progress = 1;
+    else if ((o->cmd & sim) && !strcmp(a, "--force")) o->force = 1;
+    else if ((o->cmd & (CMD_PLOT | CMD_ANIMATE)) && !strcmp(a, "--out")) o->out = cli_str(c, a);
+    else if ((o->cmd & (CMD_PLOT | CMD_ANIMATE)) && !strcmp(a, "--size")) {
+        /* each side 16 .. 8192 pixels, as build/animate */
+        static const int lim[4] = { 16, 8192, 16, 8192 };
+        cli_pair(c, a, 'x', &o->w, &o->h, lim, "WxH, each 16..8192");
+    } else return 0;
+    return 1;
+}
+
+/* Options of one subcommand each; returns 1 when a was one of them. */
+static int opt_own(cli *c, opts *o, const char *a)
+{
+    if (o->cmd == CMD_RUN && !strcmp(a, "--csv")) o->csv = cli_str(c, a);
+    else if (o->cmd == CMD_RUN && !strcmp(a, "--sample")) o->sample = cli_num(c, a, 0, 1e6);
+    else if (o->cmd == CMD_RUN && !strcmp(a, "--nodes")) o->nodes = cli_str(c, a);
+    else if (o->cmd == CMD_RUN && !strcmp(a, "--probe")) o->probes[o->nprobes++] = cli_str(c, a);
+    else if (o->cmd == CMD_PLOT && !strcmp(a, "--what")) o->what = cli_choice(c, a, what_names, 4);
+    else if (o->cmd == CMD_ANIMATE && !strcmp(a, "--fps")) o->fps = cli_num(c, a, 1e-3, 1e9);
+    else if (o->cmd == CMD_ANIMATE && !strcmp(a, "--mp4")) o->mp4 = cli_str(c, a);
+    else return 0;
+    return 1;
+}
+
+/* Parses a subcommand's arguments (argv[0] is "rj SUBCOMMAND"): options anywhere, one
+   scene file. Bad usage prints the message and the usage and exits 2; --help exits 0. */
+static void opts_parse(opts *o, int cmd, int argc, char **argv, const char *usage)
+{
+    cli c;
+    const char *a;
+    opts_default(o, cmd, argc);
+    c.argc = argc;
+    c.argv = argv;
+    c.i = 0;
+    c.usage = usage;
+    while ((a = cli_next(&c)) != NULL) {
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            fputs(usage, stdout);
+            exit(0);
+        }
+        if (opt_shared(&c, o, a) || opt_own(&c, o, a)) continue;
+        if (a[0] == '-') cli_die(&c, "unknown option '%s'%s", a, "");
+        if (o->scene) cli_die(&c, "one scene file only: unexpected argument '%s'%s", a, "");
+        o->scene = a;
+    }
+    if (!o->scene) cli_die(&c, "missing the scene file (SCENE.rjs)%s%s", "", "");
+    if ((cmd & (CMD_PLOT | CMD_ANIMATE)) && !o->out) cli_die(&c, "option %s is required%s", "--out", "");
+}
+
+/* ================================================================ the scene */
+
+/* A loaded scene: the file (its names) and the model built from it. */
+typedef struct scene {
+    const char *path;
+    rj_scene_file f;     /* kept for the link and joint names */
+    rj_model *m;
+} scene;
+
+/* Loads and builds the scene, with solver.dt replaced when dt >= 0. Prints the parser's or
+   the model's message as they give it ("file:line:col: message"); a step the command
+   line set is blamed on the option, not on the file's dt key. Returns 0, or 2. */
+static int scene_open(scene *sc, const char *path, double dt)
+{
+    rj_error e;
+    rj_scene_def d;
+    sc->path = path;
+    sc->m = NULL;
+    if (rj_scene_load(path, &sc->f, &e) != RJ_OK) {
+        fprintf(stderr, "%s\n", e.msg);
+        return 2;
+    }
+    if (dt >= 0) sc->f.solver.dt = dt;
+    d = rj_scene_file_def(&sc->f);
+    if (rj_model_create(&d, &sc->m, &e, NULL) == RJ_OK) return 0;
+    if (dt >= 0 && !strcmp(e.field, "solver.dt")) {
+        fprintf(stderr, "rj: option --dt %g: %s\n", dt, e.msg);
+    } else {
+        rj_scene_file_locate(&sc->f, &e);
+        fprintf(stderr, "%s\n", e.msg);
+    }
+    rj_scene_file_free(&sc->f);
+    return 2;
+}
+
+/* Frees what scene_open built. */
+static void scene_close(scene *sc)
+{
+    rj_model_destroy(sc->m, NULL);
+    rj_scene_file_free(&sc->f);
+}
+
+/* Names as the file gives them: columns, events and reports use them, not indices. */
+static const char *joint_name(const scene *sc, int j) { return sc->f.joint_names[j]; }
+static const char *link_name(const scene *sc, int l) { return sc->f.link_names[l]; }
+
+/* The file name without its directories (the frames' caption, the plot's title). */
+static const char *base_name(const char *path)
+{
+    const char *s = strrchr(path, '/');
+    return s ? s + 1 : path;
+}
+
+/* The library's texts name joints by index ("joints[1] starts ...", "joint 1 caught ..."):
+   " (joint 'NAME')" for the first one in text[0..len), or "" when there is none. */
+static void joint_suffix(const scene *sc, const char *text, int len, char *buf, size_t n)
+{
+    const char *p = strstr(text, "joint");
+    int j = -1;
+    buf[0] = '\0';
+    if (p && p - text < len) {
+        const char *q = p + 5;
+        if (*q == 's' && q[1] == '[') q += 2;
+        else if (*q == ' ') q++;
+        if (*q >= '0' && *q <= '9') j = atoi(q);
+    }
+    if (j >= 0 && j < rj_model_joint_count(sc->m)) snprintf(buf, n, " (joint '%s')", joint_name(sc, j));
+}
+
+/* One of the library's texts on standard error, the joint's name after it. */
+static void print_named(const scene *sc, const char *prefix, const char *text, int len)
+{
+    char suffix[64];
+    joint_suffix(sc, text, len, suffix, sizeof suffix);
+    fprintf(stderr, "%s%.*s%s\n", prefix, len, text, suffix);
+}
+
+/* The model's warnings (a limit the joint starts past, a spring that never gets there),
+   one a line, on standard error before a run. */
+static void model_warnings(const scene *sc, const char *prog)
+{
+    const char *w = rj_model_warnings(sc->m);
+    char prefix[48];
+    snprintf(prefix, sizeof prefix, "%s: warning: ", prog);
+    while (*w) {
+        const char *e = strchr(w, '\n');
+        const int len = e ? (int)(e - w) : (int)strlen(w);
+        if (len > 0) print_named(sc, prefix, w, len);
+        w += len + (e ? 1 : 0);
+    }
+}
+
+/* ================================================================ the run */
+
+/* Per joint: what the events summary reports, and the event lines' state. */
+typedef struct jlog {
+    int flag;                /* after the latest step */
+    double lock_t;           /* s, when it locked (-1: never) */
+    long contacts, releases; /* every flag change counted */
+    double peak_limit;       /* N m, largest |limit torque| of any step */
+    double peak_latch;       /* N m s, largest |latch impulse| of any step */
+    int shown;               /* the flag the latest event line reported */
+    int pend;                /* a change not printed yet (-1: none) */
+    double pend_t;           /* s, its time */
+} jlog;
+
+enum { PROGRESS_OFF = 0, PROGRESS_TTY, PROGRESS_ALWAYS };
+/* The progress line: shown on a terminal once a run is long, or always with --progress. */
+typedef struct progress {
+    int mode;                /* PROGRESS_TTY: only after 2 s of wall time */
+    int tty;                 /* standard error is a terminal: one line, redrawn */
+    int shown;               /* such a line is on the screen: clear it before other text */
+    double wall0, next;      /* s, monotonic clock: the start, the next update */
+} progress;
+
+enum { STOP_NONE = 0, STOP_FAIL, STOP_QUIET };
+typedef struct runner runner;
+/* Called at every sample; a nonzero return stops the run, r->stop says why. */
+typedef int (*sink_fn)(runner *r, const rj_state *s);
+
+/* One run of a scene: the per-step checks (events, peaks, warnings, progress) and the
+   samples, which go to a sink: CSV rows, plot history or frames. */
+struct runner {
+    const scene *sc;
+    const char *prog;
+    rj_state *s;
+    double t_end;
+    double every, next;      /* samples at the steps nearest to multiples of every */
+    double t_prev;           /* s, time of the state before the latest step */
+    long sampled;            /* steps at the latest sample (-1: none yet) */
+    long warns;              /* state warnings printed so far */
+    jlog *jl;
+    sink_fn sink;
+    void *data;
+    int stop;                /* STOP_*: why a sink stopped the run */
+    progress pr;
+    double wall;             /* s, the run's wall time */
+};
+
+/* Wall time in seconds on the monotonic clock (a clock change does not skew rates). */
+static double wall_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* A state at the start and the per-joint logs. every below the step is every step, which
+   is what rj_run's rule gives then (and keeps its catch-up loop short). */
+static int runner_init(runner *r, const scene *sc, const char *prog, double t_end, double every, int progress_opt)
+{
+    const rj_model *m = sc->m;
+    const int nj = rj_model_joint_count(m);
+    int j;
+    memset(r, 0, sizeof *r);
+    r->sc = sc;
+    r->prog = prog;
+    r->t_end = t_end;
+    r->every = every < rj_model_dt(m) ? 0 : every;
+    r->sampled = -1;
+    r->jl = (jlog *)calloc((size_t)(nj > 0 ? nj : 1), sizeof *r->jl);
+    if (!r->jl || rj_state_create(m, &r->s, NULL) != RJ_OK) {
+        fprintf(stderr, "%s: out of memory\n", prog);
+        return -1;
+    }
+    for (j = 0; j < nj; j++) {
+        r->jl[j].flag = rj_joint_flag(m, r->s, j);
+        r->jl[j].shown = r->jl[j].flag;
+        r->jl[j].pend = -1;
+        r->jl[j].lock_t = -1;
+    }
+    r->pr.tty = isatty(2);
+    r->pr.mode = progress_opt ? PROGRESS_ALWAYS : r->pr.tty ? PROGRESS_TTY : PROGRESS_OFF;
+    return 0;
+}
+
+/* Frees what runner_init made. */
+static void runner_free(runner *r)
+{
+    if (r->s) rj_state_destroy(r->s, NULL);
+    free(r->jl);
+}
+
+/* ---- progress ---- */
+
+/* Clears the progress line (on a terminal) before other text goes to standard error. */
+static void progress_clear(runner *r)
+{
+    if (!r->pr.shown) return;
+    fprintf(stderr, "\r%79s\r", "");
+    r->pr.shown = 0;
+}
+
+/* One progress line: percent, simulated time, steps/s and the remaining wall time at
+   that rate; on a terminal it is redrawn in place, otherwise a line each time. */
+static void progress_print(runner *r, const rj_state *s, double now)
+{
+    const double t = rj_state_time(s), el = now - r->pr.wall0;
+    const double frac = r->t_end > 0 && t < r->t_end ? t / r->t_end : 1.0;
+    const double rate = el > 0 ? (double)rj_state_steps(s) / el : 0.0;
+    const double eta = t > 0 ? el * (r->t_end - t) / t : 0.0;
+    fprintf(stderr, "%s%s: %5.1f %%  t = %.4g s  %.3g steps/s  ETA %.0f s%s", r->pr.tty ? "\r" : "",
+            r->prog, 100.0 * frac, t, rate, eta > 0 ? eta : 0.0, r->pr.tty ? "   " : "\n");
+    r->pr.shown = r->pr.tty;
+}
+
+/* Every 64 steps: the clock costs about 20 ns, a step 0.2 us at the least. */
+static void progress_tick(runner *r, const rj_state *s)
+{
+    double now;
+    if (r->pr.mode == PROGRESS_OFF || (rj_state_steps(s) & 63) != 0) return;
+    now = wall_now();
+    if (now < r->pr.next) return;
+    if (r->pr.mode == PROGRESS_TTY && now - r->pr.wall0 < 2.0) return;
+    progress_print(r, s, now);
+    r->pr.next = now + (r->pr.tty ? 0.25 : 1.0);
+}
+
+/* ---- events ---- */
+
+/* Whether a lock at theta is at the forward limit: the nearer of the joint's limits. */
+static int lock_is_forward(const rj_joint_def *d, double theta)
+{
+    if (!d->has_reverse) return 1;
+    if (!d->has_forward) return 0;
+    return fabs(remainder(theta - d->forward, RJ_TWO_PI)) <= fabs(remainder(theta - d->reverse, RJ_TWO_PI));
+}
+
+/* "the forward limit (90 deg)": the limit a flag (or the flag left) refers to. */
+static void limit_text(const rj_joint_def *d, int flag, double theta, char *buf, size_t n)
+{
+    const int fwd = flag == RJ_LOCKED ? lock_is_forward(d, theta) : flag == RJ_AT_FORWARD;
+    snprintf(buf, n, "the %s limit (%g deg)", fwd ? "forward" : "reverse", rj_deg(fwd ? d->forward : d->reverse));
+}
+
+/* One event line: the change from the flag last reported to flag, at t. */
+static void event_print(runner *r, const rj_state *s, int j, int flag, double t)
+{
+    const rj_model *m = r->sc->m;
+    jlog *L = &r->jl[j];
+    const char *what = "contact with";
+    char where[96];
+    limit_text(rj_model_joint_def(m, j), flag != RJ_FREE ? flag : L->shown, rj_joint_theta_running(m, s, j), where, sizeof where);
+    if (flag == RJ_FREE) what = "released from";
+    else if (flag == RJ_LOCKED) what = "locked at";
+    else if (L->contacts == 1 && L->releases == 0) what = "first contact with";
+    L->shown = flag;
+    L->pend = -1;
+    progress_clear(r);
+    fprintf(stderr, "%s: t = %.9g s: %s %s %s\n", r->prog, t, joint_name(r->sc, j), what, where);
+}
+
+/* A joint's flag changed in the latest step. Its time is that of the state the flag was
+   decided on (the step's start), as rj_joint_event_time and rj_joint_release_time give
+   it. A lock, and the first contact, are printed at once. Other changes wait until they
+   have held EVENT_HOLD: adaptive and RC13 limits toggle the flag step by step while in
+   contact, and a line per step would bury the events; the summary counts every change. */
+static void flag_change(runner *r, const rj_state *s, int j, int flag)
+{
+    jlog *L = &r->jl[j];
+    if (flag != RJ_FREE && L->flag == RJ_FREE) L->contacts++;
+    if (flag == RJ_FREE) L->releases++;
+    if (flag == RJ_LOCKED) L->lock_t = r->t_prev;
+    L->flag = flag;
+    if (flag == RJ_LOCKED || (flag != RJ_FREE && L->contacts == 1 && L->releases == 0)) {
+        event_print(r, s, j, flag, r->t_prev);
+        return;
+    }
+    if (flag == L->shown) {
+        /* back to what was reported before it held: chatter */
+        L->pend = -1;
+        return;
+    }
+    if (L->pend < 0) L->pend_t = r->t_prev;
+    L->pend = flag;
+}
+
+/* A pending change is printed once it has held EVENT_HOLD, or at the end (force). */
+static void pending_check(runner *r, const rj_state *s, int j, int force)
+{
+    jlog *L = &r->jl[j];
+    if (L->pend < 0) return;
+    if (force || rj_state_time(s) - L->pend_t >= EVENT_HOLD) event_print(r, s, j, L->pend, L->pend_t);
+}
+
+/* The flags, the peaks and the state's warnings after each step. */
+static void step_check(runner *r, const rj_state *s)
+{
+    const rj_model *m = r->sc->m;
+    const int nj = rj_model_joint_count(m);
+    int j;
+    for (j = 0; j < nj; j++) {
+        jlog *L = &r->jl[j];
+        const int f = rj_joint_flag(m, s, j);
+        const double tl = fabs(rj_joint_torque(m, s, j, RJ_TORQUE_LIMIT));
+        const double li = fabs(rj_joint_latch_impulse(m, s, j));
+        if (f != L->flag) flag_change(r, s, j, f);
+        pending_check(r, s, j, 0);
+        if (tl > L->peak_limit) L->peak_limit = tl;
+        if (li > L->peak_latch) L->peak_latch = li;
+    }
+    if (rj_state_warning_count(s) != r->warns) {
+        char prefix[48];
+        const char *w = rj_state_warning(s);
+        r->warns = rj_state_warning_count(s);
+        snprintf(prefix, sizeof prefix, "%s: warning: ", r->prog);
+        progress_clear(r);
+        print_named(r->sc, prefix, w, (int)strlen(w));
+    }
+}
+
+/* rj_run's own rule, kept here because rj_run calls on_step at every step: a sample at
+   the step nearest to each multiple of every (every step when every is 0). */
+static int sample_due(runner *r, const rj_state *s)
+{
+    const double t = rj_state_time(s), h = 0.5 * rj_model_dt(r->sc->m);
+    if (t < r->next - h) return 0;
+    if (r->every > 0) while (r->next <= t + h) r->next += r->every;
+    return 1;
+}
+
+/* rj_run's callback at every step (sample_dt 0): events and peaks need every step, the
+   rows only the samples. rj_run then takes the energy accounts at every step, which the
+   samples need (solver.energy_every > 1 only saves work between them). */
+static int on_step(const rj_model *m, const rj_state *s, void *u)
+{
+    runner *r = (runner *)u;
+    (void)m;
+    if (rj_state_steps(s) > 0) {
+        step_check(r, s);
+        progress_tick(r, s);
+    }
+    if (sample_due(r, s)) {
+        r->sampled = rj_state_steps(s);
+        if (r->sink(r, s)) return 1;
+    }
+    r->t_prev = rj_state_time(s);
+    return 0;
+}
+
+/* Runs to t_end. A failed step leaves the last good state: it is sampled too (unless it
+   just was), so that a history ends there. Returns rj_run's result. */
+static rj_result runner_go(runner *r)
+{
+    rj_result res;
+    int j;
+    r->pr.wall0 = wall_now();
+    r->pr.next = r->pr.wall0 + (r->pr.mode == PROGRESS_ALWAYS ? 0.5 : 0.0);
+    res = rj_run(r->sc->m, r->s, r->t_end, 0, on_step, r);
+    r->wall = wall_now() - r->pr.wall0;
+    /* --progress into a file or pipe ends with the line of the end */
+    if (r->pr.mode == PROGRESS_ALWAYS && !r->pr.tty && r->stop != STOP_QUIET) progress_print(r, r->s, wall_now());
+    progress_clear(r);
+    for (j = 0; j < rj_model_joint_count(r->sc->m) && r->stop != STOP_QUIET; j++) pending_check(r, r->s, j, 1);
+    if (res != RJ_OK && !r->stop && r->sampled != rj_state_steps(r->s)) r->sink(r, r->s);
+    return res;
+}
+
+/* "1.234 s", or "none" for a negative time. */
+static const char *time_text(double t, char *buf, size_t n)
+{
+    if (t < 0) snprintf(buf, n, "none");
+    else snprintf(buf, n, "%.9g s", t);
+    return buf;
+}
+
+/* A joint's summary line: the first contact (the library's rj_joint_event_time), the
+   lock seen by the per-step check, the counts and the peaks. */
+static void joint_summary(const runner *r, int j)
+{
+    const rj_model *m = r->sc->m;
+    const jlog *L = &r->jl[j];
+    char a[40], b[40];
+    fprintf(stderr, "%s: %s: first contact %s, lock %s, %ld contacts, %ld releases, peak penetration %.4g deg, "
+            "peak |limit torque| %.4g N m, peak |latch impulse| %.4g N m s\n",
+            r->prog, joint_name(r->sc, j), time_text(rj_joint_event_time(m, r->s, j), a, sizeof a),
+            time_text(L->lock_t, b, sizeof b), L->contacts, L->releases,
+            rj_deg(rj_joint_peak_penetration(m, r->s, j)), L->peak_limit, L->peak_latch);
+}
+
+/* The summary on standard error; a stopped simulation gets the library's message. */
+static void runner_summary(const runner *r, rj_result res)
+{
+    const long steps = rj_state_steps(r->s);
+    int j;
+    if (res != RJ_OK) {
+        fprintf(stderr, "%s: the simulation stopped after t = %.9g s (%s): %s\n", r->prog, rj_state_time(r->s),
+                rj_result_str(res), rj_state_error(r->s));
+    }
+    fprintf(stderr, "%s: %s at t = %.9g s: %ld steps of %.4g s, wall %.3f s, %.3g steps/s\n", r->prog,
+            res == RJ_OK && !r->stop ? "done" : "stopped", rj_state_time(r->s), steps, rj_model_dt(r->sc->m), r->wall,
+            r->wall > 0 ? (double)steps / r->wall : 0.0);
+    for (j = 0; j < rj_model_joint_count(r->sc->m); j++) joint_summary(r, j);
+}
+
+/* ================================================================ rj run */
+
+typedef struct probe { int link, node; } probe;
+
+/* The history sink of rj run: the output, and the nodes to probe. */
+typedef struct csv_sink {
+    cli_out out;
+    const probe *probes;
+    int nprobes;
+} csv_sink;
+
+/* Column names after each joint's, link's and probe's name, and the energy columns. */
+static const char *const joint_cols[] = { "theta_deg", "rate", "flag", "torque_spring", "torque_table",
+                                          "torque_damping", "torque_friction", "torque_limit", "latch_impulse" };
+static const char *const link_cols[] = { "tip_x", "tip_y", "tip_defl" };
+static const char *const probe_cols[] = { "x", "y", "phi" };
+static const char *const energy_cols[] = { "E_kin", "E_strain", "E_spring", "W_damping", "W_friction",
+                                           "W_limit", "E_balance" };
+#define NCOLS(a) ((int)(sizeof(a) / sizeof((a)[0])))
+
+/* The header line: every column named from the file's own link and joint names. */
+static void csv_header(csv_sink *c, const scene *sc)
+{
+    const rj_model *m = sc->m;
+    int i, k;
+    cli_put(&c->out, fputs("t", c->out.f));
+    for (i = 0; i < rj_model_joint_count(m); i++)
+        for (k = 0; k < NCOLS(joint_cols); k++) cli_put(&c->out, fprintf(c->out.f, ",%s.%s", joint_name(sc, i), joint_cols[k]));
+    for (i = 0; i < rj_model_link_count(m); i++)
+        for (k = 0; k < NCOLS(link_cols); k++) cli_put(&c->out, fprintf(c->out.f, ",%s.%s", link_name(sc, i), link_cols[k]));
+    for (i = 0; i < c->nprobes; i++)
+        for (k = 0; k < NCOLS(probe_cols); k++)
+            cli_put(&c->out, fprintf(c->out.f, ",%s.%d.%s", link_name(sc, c->probes[i].link), c->probes[i].node, probe_cols[k]));
+    for (k = 0; k < NCOLS(energy_cols); k++) cli_put(&c->out, fprintf(c->out.f, ",%s", energy_cols[k]));
+    cli_put(&c->out, fputs("\n", c->out.f));
+}
+
+/* A joint's columns: angle in degrees (running, so it never jumps at 360), rate, flag,
+   the torque components and the latch impulse. */
+static void csv_joint(cli_out *o, const rj_model *m, const rj_state *s, int j)
+{
+    cli_put(o, fprintf(o->f, ",%.10g,%.10g,%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g",
+                       rj_deg(rj_joint_theta_running(m, s, j)), rj_joint_rate(m, s, j), rj_joint_flag(m, s, j),
+                       rj_joint_torque(m, s, j, RJ_TORQUE_SPRING), rj_joint_torque(m, s, j, RJ_TORQUE_TABLE),
+                       rj_joint_torque(m, s, j, RJ_TORQUE_DAMPING), rj_joint_torque(m, s, j, RJ_TORQUE_FRICTION),
+                       rj_joint_torque(m, s, j, RJ_TORQUE_LIMIT), rj_joint_latch_impulse(m, s, j)));
+}
+
+/* Tip position and the tip's deflection from the tangent at node 0 (second order in the
+   element length, where the chord's is first order: scenes.h). */
+static void csv_link(cli_out *o, const rj_model *m, const rj_state *s, int l)
+{
+    double tip[2];
+    rj_node_position(m, s, l, rj_link_node_count(m, l) - 1, tip);
+    cli_put(o, fprintf(o->f, ",%.10g,%.10g,%.10g", tip[0], tip[1], scene_tip_defl_tangent(m, s, l)));
+}
+
+/* The energy accounts, and the row's end. */
+static void csv_energy(cli_out *o, const rj_model *m, const rj_state *s)
+{
+    rj_energy e;
+    rj_state_energy(m, s, &e);
+    cli_put(o, fprintf(o->f, ",%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", e.kinetic, e.strain, e.spring,
+                       e.lost_damping, e.lost_friction, e.lost_limit, e.balance));
+}
+
+/* One row. A reader that went away (EPIPE on standard output) stops the run quietly. */
+static int csv_sink_fn(runner *r, const rj_state *s)
+{
+    csv_sink *c = (csv_sink *)r->data;
+    const rj_model *m = r->sc->m;
+    int i;
+    cli_put(&c->out, fprintf(c->out.f, "%.12g", rj_state_time(s)));
+    for (i = 0; i < rj_model_joint_count(m); i++) csv_joint(&c->out, m, s, i);
+    for (i = 0; i < rj_model_link_count(m); i++) csv_link(&c->out, m, s, i);
+    for (i = 0; i < c->nprobes; i++) {
+        double xy[2];
+        rj_node_position(m, s, c->probes[i].link, c->probes[i].node, xy);
+        cli_put(&c->out, fprintf(c->out.f, ",%.10g,%.10g,%.10g", xy[0], xy[1],
+                                 rj_node_rotation(m, s, c->probes[i].link, c->probes[i].node)));
+    }
+    csv_energy(&c->out, m, s);
+    if (!c->out.err) return 0;
+    r->stop = c->out.f == stdout && c->out.err == EPIPE ? STOP_QUIET : STOP_FAIL;
+    return 1;
+}
+
+/* Flushes and closes the history. A reader of standard output that went away is no
+   failure (rj run x.rjs | head): *quiet is set and nothing is printed. */
+static int csv_close(cli_out *o, int *quiet)
+{
+    if (o->f && fflush(o->f) != 0 && !o->err) o->err = errno ? errno : EIO;
+    if (o->f == stdout && o->err == EPIPE) {
+        *quiet = 1;
+        o->f = NULL;
+        return 0;
+    }
+    return cli_close(o, "rj run");
+}
+
+/* "LINK:NODE" (NODE an index or "last") against the scene; prints why not and returns 2. */
+static int probe_parse(const scene *sc, const char *spec, probe *p)
+{
+    const char *colon = strrchr(spec, ':'), *rest;
+    char name[RJ_SCENE_NAME_MAX];
+    long long v;
+    int last;
+    if (!colon || colon == spec || colon - spec >= (long)sizeof name) {
+        fprintf(stderr, "rj run: option --probe: bad value '%s' (need LINK:NODE)\n", spec);
+        return 2;
+    }
+    memcpy(name, spec, (size_t)(colon - spec));
+    name[colon - spec] = '\0';
+    p->link = rj_scene_link_index(&sc->f, name);
+    if (p->link < 0) {
+        fprintf(stderr, "rj run: option --probe %s: %s has no link '%s'\n", spec, sc->path, name);
+        return 2;
+    }
+    last = rj_link_node_count(sc->m, p->link) - 1;
+    p->node = last;
+    if (!strcmp(colon + 1, "last")) return 0;
+    if (cli_digits(colon + 1, '\0', &rest, &v) == 0 && v <= last) {
+        p->node = (int)v;
+        return 0;
+    }
+    fprintf(stderr, "rj run: option --probe %s: link '%s' has nodes 0..%d (or last)\n", spec, name, last);
+    return 2;
+}
+
+/* Every node at the end, by link name. */
+static int nodes_write(cli_out *o, const scene *sc, const rj_state *s)
+{
+    const rj_model *m = sc->m;
+    int l, n;
+    cli_put(o, fputs("link,node,x,y,phi\n", o->f));
+    for (l = 0; l < rj_model_link_count(m); l++)
+        for (n = 0; n < rj_link_node_count(m, l); n++) {
+            double xy[2];
+            rj_node_position(m, s, l, n, xy);
+            cli_put(o, fprintf(o->f, "%s,%d,%.10g,%.10g,%.10g\n", link_name(sc, l), n, xy[0], xy[1], rj_node_rotation(m, s, l, n)));
+        }
+    return cli_close(o, "rj run");
+}
+
+/* Opens the history and the nodes file before anything runs: one that cannot be opened
+   is bad usage (2), named by cli_open. */
+static int run_outputs(const opts *o, csv_sink *c, cli_out *nodes)
+{
+    const char *csv = o->csv && strcmp(o->csv, "-") ? o->csv : NULL;
+    memset(nodes, 0, sizeof *nodes);
+    if (cli_open(&c->out, "rj run", csv) != 0) return 2;
+    if (o->nodes && cli_open(nodes, "rj run", o->nodes) != 0) {
+        cli_close(&c->out, "rj run");
+        return 2;
+    }
+    return 0;
+}
+
+/* The run and what it leaves: the history's end, the nodes, the summary. */
+static int run_go(runner *r, csv_sink *c, cli_out *nodes)
+{
+    rj_result res;
+    int quiet = 0, st;
+    res = runner_go(r);
+    st = csv_close(&c->out, &quiet);
+    if (nodes->f && nodes_write(nodes, r->sc, r->s) != 0) st = 1;
+    /* a closed pipe ends quietly, with nothing more on standard error */
+    if (quiet || r->stop == STOP_QUIET) return st;
+    runner_summary(r, res);
+    if (res != RJ_OK) return 1;
+    return st || r->stop == STOP_FAIL ? 1 : 0;
+}
+
+/* The --probe options against the scene, into pr (nprobes + 1 entries); 0, or 2 after
+   saying which one is wrong. */
+static int probes_resolve(const scene *sc, const opts *o, probe *pr)
+{
+    int i;
+    for (i = 0; i < o->nprobes; i++)
+        if (probe_parse(sc, o->probes[i], &pr[i]) != 0) return 2;
+    return 0;
+}
+
+/* rj run: the scene, the probes, the step bound and the outputs are checked before any
+   output is written; then the run. */
+static int cmd_run(int argc, char **argv)
+{
+    opts o;
+    scene sc;
+    runner r;
+    csv_sink c;
+    cli_out nodes;
+    probe *pr;
+    int st = 2;
+    opts_parse(&o, CMD_RUN, argc, argv, usage_run);
+    if (scene_open(&sc, o.scene, o.dt) != 0) return 2;
+    pr = (probe *)malloc(sizeof(probe) * (size_t)(o.nprobes + 1));
+    if (pr && probes_resolve(&sc, &o, pr) == 0) {
+        cli_check_steps("rj run", o.t_end, rj_model_dt(sc.m), o.force);
+        st = run_outputs(&o, &c, &nodes);
+    }
+    if (pr && st == 0) {
+        c.probes = pr;
+        c.nprobes = o.nprobes;
+        model_warnings(&sc, "rj run");
+        csv_header(&c, &sc);
+        st = runner_init(&r, &sc, "rj run", o.t_end, o.sample, o.progress) != 0 ? 1 : 0;
+        r.sink = csv_sink_fn;
+        r.data = &c;
+        if (st == 0) st = run_go(&r, &c, &nodes);
+        runner_free(&r);
+    }
+    free(pr);
+    free((void *)o.probes);
+    scene_close(&sc);
+    return pr ? st : 1;
+}
+
+/* ================================================================ rj check */
+
+static const char *const fidelity_names[] = { "flexible", "rigid", "inextensible" };
+static const char *const root_names[] = { "free", "pinned", "clamped", "fixed" };
+
+/* Appends printf-style text to buf (size n); what does not fit is cut. */
+static void cat(char *buf, size_t n, const char *fmt, ...)
+{
+    const size_t len = strlen(buf);
+    va_list ap;
+    if (len + 1 >= n) return;
+    va_start(ap, fmt);
+    vsnprintf(buf + len, n - len, fmt, ap);
+    va_end(ap);
+}
+
+/* The cross-section's area, as the library takes it for each section kind. */
+static double link_area(const rj_link_def *d)
+{
+    return d->section == RJ_SECTION_GENERAL ? d->area : d->width * d->height;
+}
+
+/* The link's own mass (rho A L), tip mass excluded. */
+static double link_mass(const rj_link_def *d) { return d->rho * link_area(d) * d->length; }
+
+/* Eq 28 for one link: the axial wave's transit of one element, l0 / sqrt(E / rho). */
+static double link_eq28(const rj_link_def *d) { return d->length / d->elements / sqrt(d->E / d->rho); }
+
+/* One line a link: model, mesh, length, masses, root, and its own Eq 28 step. */
+static void check_links(const scene *sc)
+{
+    const rj_model *m = sc->m;
+    int l;
+    printf("links: %d, %d nodes\n", rj_model_link_count(m), rj_model_node_count(m));
+    for (l = 0; l < rj_model_link_count(m); l++) {
+        const rj_link_def *d = rj_model_link_def(m, l);
+        printf("  %-12s %-12s %5d elements  length %g m  mass %.6g kg", link_name(sc, l),
+               fidelity_names[d->fidelity], d->elements, d->length, link_mass(d));
+        if (d->tip_mass > 0) printf("  tip mass %g kg", d->tip_mass);
+        if (d->root != RJ_ROOT_FREE) printf("  root %s", root_names[d->root]);
+        if (d->fidelity == RJ_LINK_RIGID) printf("\n");
+        else printf("  Eq 28 %.4g s\n", link_eq28(d));
+    }
+}
+
+/* The limit's method and what it uses: K, e, the release rule. */
+static void limit_features(const rj_model *m, int j, char *buf, size_t n)
+{
+    const rj_joint_def *d = rj_model_joint_def(m, j);
+    cat(buf, n, "; method %s", cli_methods[d->method]);
+    if (d->method == RJ_METHOD_PENALTY) cat(buf, n, " (K %g N m/rad)", d->penalty_k);
+    if (d->method == RJ_METHOD_ADAPTIVE) cat(buf, n, " (K_AP %.4g N m/rad at this dt)", rj_joint_stiffness(m, j));
+    if (d->method == RJ_METHOD_MOMENTUM) cat(buf, n, " (e = %g)", d->restitution);
+    cat(buf, n, ", release %s", cli_releases[d->release]);
+}
+
+/* What a joint uses, "; "-separated; a joint that uses nothing says so. */
+static void joint_features(const rj_model *m, int j, char *buf, size_t n)
+{
+    const rj_joint_def *d = rj_model_joint_def(m, j);
+    const int limited = d->has_forward || d->has_reverse;
+    buf[0] = '\0';
+    if (d->spring_k > 0) cat(buf, n, "; spring %g N m/rad free at %g deg", d->spring_k, rj_deg(d->spring_free_angle));
+    if (d->table_count > 0) cat(buf, n, "; table of %d points", d->table_count);
+    if (d->has_forward) cat(buf, n, "; forward limit %g deg", rj_deg(d->forward));
+    if (d->has_reverse) cat(buf, n, "; reverse limit %g deg", rj_deg(d->reverse));
+    if (d->lock) cat(buf, n, "; lock");
+    if (limited) limit_features(m, j, buf, n);
+    if (d->friction > 0) cat(buf, n, "; friction %g N m", d->friction);
+    if (d->damping > 0) cat(buf, n, "; damping %g N m s/rad", d->damping);
+    if (d->reference == RJ_REF_CHORD) cat(buf, n, "; chord reference");
+    if (!buf[0]) cat(buf, n, "; bare (no spring, table, limit, friction or damping)");
+}
+
+/* One line a joint: its bodies (and pin node when not the last), start angle, features. */
+static void check_joints(const scene *sc)
+{
+    const rj_model *m = sc->m;
+    int j;
+    printf("joints: %d\n", rj_model_joint_count(m));
+    for (j = 0; j < rj_model_joint_count(m); j++) {
+        const rj_joint_def *d = rj_model_joint_def(m, j);
+        char feat[640], b1[64];
+        if (d->body1 < 0) snprintf(b1, sizeof b1, "ground");
+        else if (d->node1 < 0) snprintf(b1, sizeof b1, "%s", link_name(sc, d->body1));
+        else snprintf(b1, sizeof b1, "%s node %d", link_name(sc, d->body1), d->node1);
+        joint_features(m, j, feat, sizeof feat);
+        printf("  %-12s %s -> %s, starts at %g deg: %s\n", joint_name(sc, j), b1, link_name(sc, d->body2),
+               rj_deg(d->angle0), feat + 2);
+    }
+}
+
+/* omega_max of one link alone (its root as defined, no joints): how fast its own modes
+   are, beams and tip mass. Rigid links have none (0); NaN when it cannot be built. */
+static double link_omega(const rj_model *m, int l)
+{
+    rj_link_def d = *rj_model_link_def(m, l);
+    rj_scene_def sd = rj_default_scene_def();
+    rj_model *lm;
+    rj_error e;
+    double om;
+    if (d.fidelity == RJ_LINK_RIGID) return 0;
+    d.vx = 0;
+    d.vy = 0;
+    d.omega = 0;
+    sd.links = &d;
+    sd.link_count = 1;
+    if (rj_model_create(&sd, &lm, &e, NULL) != RJ_OK) return NAN;
+    om = rj_model_omega_max(lm);
+    rj_model_destroy(lm, NULL);
+    return om;
+}
+
+/* A joint's omega ~ sqrt(k (1/I1 + 1/I2)), k as the bound counts it: the spring, and a
+   limit's stiffness 4 K for penalty (a contact that switches pumps energy above omega dt
+   = 1) or 2 K_AP for adaptive (K_AP alone gives omega dt = 1 at any dt). Ground: 1/I1 = 0. */
+static double joint_omega(const rj_model *m, int j, double *k_out)
+{
+    const rj_joint_def *d = rj_model_joint_def(m, j);
+    double I1, I2, k = d->spring_k, c;
+    const int limited = d->has_forward || d->has_reverse;
+    rj_joint_inertias(m, j, &I1, &I2);
+    if (limited && d->method == RJ_METHOD_PENALTY) k += 4.0 * rj_joint_stiffness(m, j);
+    if (limited && d->method == RJ_METHOD_ADAPTIVE) k += 2.0 * rj_joint_stiffness(m, j);
+    c = (d->body1 >= 0 && I1 > 0 ? 1.0 / I1 : 0.0) + (I2 > 0 ? 1.0 / I2 : 0.0);
+    *k_out = k;
+    return sqrt(k * c);
+}
+
+/* Where the step comes from: the file (or --dt), or the library's automatic choice, 0.9 x
+   the bound unless capped (rigid links without stiff joints: 1 ms). */
+static const char *dt_source(const scene *sc)
+{
+    const rj_model *m = sc->m;
+    if (sc->f.solver.dt > 0) return "solver.dt";
+    if (fabs(rj_model_dt(m) / (0.9 * rj_model_dt_bound(m)) - 1) < 1e-6) return "automatic: 0.9 x the bound";
+    return "automatic, below 0.9 x the bound: rigid links step at most 1 ms, adaptive limits as their K_AP allows";
+}
+
+/* The step in use, the bound, and the paper's Eq 28 with the link that has it (the
+   library's minimum over every link; a rigid link has no axial wave to limit it). */
+static void check_dt(const scene *sc)
+{
+    const rj_model *m = sc->m;
+    const double dt = rj_model_dt(m), bound = rj_model_dt_bound(m);
+    int l, lmin = 0;
+    printf("step:\n  dt %.6g s (%s), %.3g x the stability bound\n", dt, dt_source(sc), dt / bound);
+    printf("  stability bound %.6g s = 2 x 0.98 / omega_max (less with joint damping), omega_max %.6g rad/s\n",
+           bound, rj_model_omega_max(m));
+    for (l = 1; l < rj_model_link_count(m); l++)
+        if (link_eq28(rj_model_link_def(m, l)) < link_eq28(rj_model_link_def(m, lmin))) lmin = l;
+    printf("  Eq 28 (paper) %.6g s: the axial wave's transit of one element of link %s%s\n", rj_model_dt_eq28(m),
+           link_name(sc, lmin), rj_model_link_def(m, lmin)->fidelity == RJ_LINK_RIGID ? " (rigid: no wave limits it)" : "");
+}
+
+/* What sets the bound: the fastest link on its own against the stiffest joint, each as a
+   share of the model's omega_max (Lanczos on the whole linearised model). */
+static void check_binding(const scene *sc)
+{
+    const rj_model *m = sc->m;
+    const double om = rj_model_omega_max(m);
+    double lo = 0, jo = 0, jk = 0;
+    int l, j, lb = -1, jb = -1;
+    for (l = 0; l < rj_model_link_count(m); l++) {
+        const double w = link_omega(m, l);
+        if (!(w > lo)) continue;
+        lo = w;
+        lb = l;
+    }
+    for (j = 0; j < rj_model_joint_count(m); j++) {
+        double k;
+        const double w = joint_omega(m, j, &k);
+        if (!(w > jo)) continue;
+        jo = w;
+        jb = j;
+        jk = k;
+    }
+    if (lb >= 0) printf("  fastest link on its own: %s, omega %.4g rad/s (%.0f %% of omega_max)\n", link_name(sc, lb), lo, 100 * lo / om);
+    if (jb >= 0) printf("  stiffest joint: %s, omega ~ sqrt(k (1/I1 + 1/I2)) = %.4g rad/s with k = %.4g N m/rad (%.0f %% of omega_max)\n",
+                        joint_name(sc, jb), jo, jk, 100 * jo / om);
+    if (lb < 0 && jb < 0) printf("  nothing stiff bounds the step (rigid links, no stiff joint)\n");
+    else if (lo >= jo) printf("  the bound is set by link %s\n", link_name(sc, lb));
+    else printf("  the bound is set by joint %s\n", joint_name(sc, jb));
+}
+
+/* Seconds for 200 steps, or a negative number when a step fails. */
+static double time_batch(const rj_model *m, rj_state *s)
+{
+    const double w0 = wall_now();
+    int k;
+    for (k = 0; k < 200; k++)
+        if (rj_step(m, s) != RJ_OK) return -1;
+    return wall_now() - w0;
+}
+
+/* qsort order for doubles (the batch times' median). */
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The cost of one simulated second here: 200-step batches timed after one batch of
+   warm-up (the first steps fault pages in), until 10 ms or 15 batches; the median batch,
+   extrapolated to 1 / dt steps. */
+static void check_cost(const scene *sc)
+{
+    const rj_model *m = sc->m;
+    rj_state *s;
+    double b[15], total = 0, per;
+    int n = 0;
+    if (rj_state_create(m, &s, NULL) != RJ_OK) return;
+    b[0] = time_batch(m, s);
+    while (b[0] >= 0 && n < 15 && total < 0.01) {
+        b[n] = time_batch(m, s);
+        if (b[n] < 0) break;
+        total += b[n++];
+    }
+    if (n > 0 && b[n - 1] >= 0) {
+        qsort(b, (size_t)n, sizeof b[0], cmp_double);
+        per = b[n / 2] / 200;
+        printf("cost: 1 simulated second = %.6g steps, about %.3g s here (%.3g us a step: the median of %d batches of 200)\n",
+               1.0 / rj_model_dt(m), per / rj_model_dt(m), 1e6 * per, n);
+    } else {
+        printf("cost: the first steps fail at t = %.6g s: %s\n", rj_state_time(s), rj_state_error(s));
+    }
+    rj_state_destroy(s, NULL);
+}
+
+/* One warning line; counts them. */
+static void warn(int *count, const char *fmt, ...)
+{
+    va_list ap;
+    if (*count == 0) printf("warnings:\n");
+    (*count)++;
+    fputs("  - ", stdout);
+    va_start(ap, fmt);
+    vprintf(fmt, ap);
+    va_end(ap);
+    fputc('\n', stdout);
+}
+
+/* A penalty stiffness above Eq 31 at the step in use (the paper's bound on K). */
+static void warn_joints(const scene *sc, int *count)
+{
+    const rj_model *m = sc->m;
+    int j;
+    for (j = 0; j < rj_model_joint_count(m); j++) {
+        const rj_joint_def *d = rj_model_joint_def(m, j);
+        const int limited = d->has_forward || d->has_reverse;
+        const double kmax = rj_joint_kmax_eq31(m, j, rj_model_dt(m));
+        if (limited && d->method == RJ_METHOD_PENALTY && d->penalty_k > kmax)
+            warn(count, "joint %s: penalty_k %g N m/rad is above Eq 31's K_max %.6g N m/rad at dt %.4g s",
+                 joint_name(sc, j), d->penalty_k, kmax, rj_model_dt(m));
+    }
+}
+
+/* A tip mass above twice the link's own mass on fewer than 10 elements. The tip mass then
+   sets the link's first mode, and the link's own mass and stiffness around it are
+   resolved only as well as the mesh resolves them: the deployment benchmark (arm1's tip
+   mass is 2.3 x its mass) needs 20 elements to get the joint angles within 0.1 deg of the
+   converged reference, and 10 elements are 0.44 deg off (BENCHMARKS.md, sweep). Below 10
+   elements such a link is off by more than that; at 10 and above, or with a lighter tip,
+   the mesh is the engineer's ordinary choice. */
+static void warn_links(const scene *sc, int *count)
+{
+    const rj_model *m = sc->m;
+    int l;
+    for (l = 0; l < rj_model_link_count(m); l++) {
+        const rj_link_def *d = rj_model_link_def(m, l);
+        const double lm = link_mass(d);
+        if (d->fidelity != RJ_LINK_RIGID && d->tip_mass > 2.0 * lm && d->elements < 10)
+            warn(count, "link %s: tip mass %g kg is %.3g x the link's own %.4g kg on %d elements: "
+                 "too coarse a mesh for the mode the tip mass sets (use 10 or more)",
+                 link_name(sc, l), d->tip_mass, d->tip_mass / lm, lm, d->elements);
+    }
+}
+
+/* The warnings: the model's own first, then ours, then the step against the bound. */
+static void check_warnings(const scene *sc)
+{
+    const rj_model *m = sc->m;
+    const char *w = rj_model_warnings(m);
+    const double dt = rj_model_dt(m), bound = rj_model_dt_bound(m);
+    int count = 0;
+    while (*w) {
+        const char *e = strchr(w, '\n');
+        const int len = e ? (int)(e - w) : (int)strlen(w);
+        char suffix[64];
+        joint_suffix(sc, w, len, suffix, sizeof suffix);
+        if (len > 0) warn(&count, "%.*s%s (the model's warning)", len, w, suffix);
+        w += len + (e ? 1 : 0);
+    }
+    warn_joints(sc, &count);
+    warn_links(sc, &count);
+    if (dt > bound) warn(&count, "dt %.4g s is above the stability bound %.4g s (allow_unstable): expect a blow-up", dt, bound);
+    else if (dt > 0.9 * bound * 1.000001) warn(&count, "dt %.4g s is %.3g x the stability bound: the automatic step keeps 0.9", dt, dt / bound);
+    if (count == 0) printf("warnings: none\n");
+}
+
+/* rj check: valid scenes print their report and exit 0; invalid ones exit 2 in scene_open. */
+static int cmd_check(int argc, char **argv)
+{
+    opts o;
+    scene sc;
+    opts_parse(&o, CMD_CHECK, argc, argv, usage_check);
+    free((void *)o.probes);
+    if (scene_open(&sc, o.scene, o.dt) != 0) return 2;
+    printf("%s: valid\n", o.scene);
+    check_links(&sc);
+    check_joints(&sc);
+    check_dt(&sc);
+    check_binding(&sc);
+    check_cost(&sc);
+    check_warnings(&sc);
+    scene_close(&sc);
+    return 0;
+}
+
+/* ================================================================ rj plot */
+
+/* The history of rj plot: the series chosen by --what, sampled by the run. */
+typedef struct history {
+    int what, nseries, ncand;     /* series kept (at most RJR_MAX_SERIES), and of them all */
+    int idx[RJR_MAX_SERIES];      /* the joint or link of each series */
+    int latch[RJR_MAX_SERIES];    /* torques: latch impulse / dt instead of the limit torque */
+    char label[RJR_MAX_SERIES][48];
+    long n, cap;
+    double *t, *y[RJR_MAX_SERIES];
+} history;
+
+/* A series: kept when there is room, counted either way. */
+static void series_add(history *h, int idx, int latch, const char *label, const char *suffix)
+{
+    if (h->nseries < RJR_MAX_SERIES) {
+        h->idx[h->nseries] = idx;
+        h->latch[h->nseries] = latch;
+        snprintf(h->label[h->nseries], sizeof h->label[0], "%s%s", label, suffix);
+        h->nseries++;
+    }
+    h->ncand++;
+}
+
+/* Torques: every joint with a limit (every joint when none has one). */
+static void series_torques(history *h, const scene *sc)
+{
+    const rj_model *m = sc->m;
+    int j, any = 0;
+    for (j = 0; j < rj_model_joint_count(m); j++) any |= rj_model_joint_def(m, j)->has_forward || rj_model_joint_def(m, j)->has_reverse;
+    for (j = 0; j < rj_model_joint_count(m); j++) {
+        const rj_joint_def *d = rj_model_joint_def(m, j);
+        const int vel = d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED || d->method == RJ_METHOD_ENERGY;
+        if (any && !d->has_forward && !d->has_reverse) continue;
+        series_add(h, j, vel, joint_name(sc, j), vel ? " latch impulse/dt" : " limit torque");
+    }
+}
+
+/* The series of each --what, in the file's order of joints and links. */
+static void series_setup(history *h, const scene *sc, int what)
+{
+    static const char *const energies[] = { "kinetic", "strain", "spring", "balance" };
+    const rj_model *m = sc->m;
+    int i;
+    memset(h, 0, sizeof *h);
+    h->what = what;
+    if (what == WHAT_ANGLES) for (i = 0; i < rj_model_joint_count(m); i++) series_add(h, i, 0, joint_name(sc, i), "");
+    if (what == WHAT_TORQUES) series_torques(h, sc);
+    if (what == WHAT_TIPS) for (i = 0; i < rj_model_link_count(m); i++) series_add(h, i, 0, link_name(sc, i), "");
+    if (what == WHAT_ENERGY) for (i = 0; i < 4; i++) series_add(h, i, 0, energies[i], "");
+}
+
+/* Series k's value in state s. */
+static double series_value(const history *h, int k, const rj_model *m, const rj_state *s)
+{
+    const int i = h->idx[k];
+    rj_energy e;
+    if (h->what == WHAT_ANGLES) return rj_deg(rj_joint_theta_running(m, s, i));
+    if (h->what == WHAT_TORQUES && h->latch[k]) return rj_joint_latch_impulse(m, s, i) / rj_model_dt(m);
+    if (h->what == WHAT_TORQUES) return rj_joint_torque(m, s, i, RJ_TORQUE_LIMIT);
+    if (h->what == WHAT_TIPS) return scene_tip_defl_tangent(m, s, i);
+    rj_state_energy(m, s, &e);
+    return i == 0 ? e.kinetic : i == 1 ? e.strain : i == 2 ? e.spring : e.balance;
+}
+
+/* Room for one more sample: the arrays double. */
+static int history_grow(history *h)
+{
+    const long cap = h->cap ? 2 * h->cap : 1024;
+    double *t = (double *)realloc(h->t, sizeof(double) * (size_t)cap);
+    int k;
+    if (!t) return -1;
+    h->t = t;
+    for (k = 0; k < h->nseries; k++) {
+        double *y = (double *)realloc(h->y[k], sizeof(double) * (size_t)cap);
+        if (!y) return -1;
+        h->y[k] = y;
+    }
+    h->cap = cap;
+    return 0;
+}
+
+/* Appends a sample to every series; running out of memory stops the run. */
+static int plot_sink_fn(runner *r, const rj_state *s)
+{
+    history *h = (history *)r->data;
+    int k;
+    if (h->n == h->cap && history_grow(h) != 0) {
+        fprintf(stderr, "rj plot: out of memory for the history\n");
+        r->stop = STOP_FAIL;
+        return 1;
+    }
+    h->t[h->n] = rj_state_time(s);
+    for (k = 0; k < h->nseries; k++) h->y[k][h->n] = series_value(h, k, r->sc->m, s);
+    h->n++;
+    return 0;
+}
+
+/* Frees the history's arrays. */
+static void history_free(history *h)
+{
+    int k;
+    free(h->t);
+    for (k = 0; k < h->nseries; k++) free(h->y[k]);
+}
+
+/* Locks and first contacts, labelled "NAME lock" / "NAME contact" (at most
+   RJR_MAX_MARKERS; the rest are said on standard error). */
+static void plot_markers(rjr_plot_def *p, const runner *r, char (*labels)[48])
+{
+    const rj_model *m = r->sc->m;
+    int j, lost = 0;
+    for (j = 0; j < rj_model_joint_count(m); j++) {
+        const double first = rj_joint_event_time(m, r->s, j), lock = r->jl[j].lock_t;
+        const double at[2] = { first != lock ? first : -1, lock };
+        int k;
+        for (k = 0; k < 2; k++) {
+            if (at[k] < 0) continue;
+            if (p->marker_count == RJR_MAX_MARKERS) {
+                lost++;
+                continue;
+            }
+            snprintf(labels[p->marker_count], 48, "%s %s", joint_name(r->sc, j), k ? "lock" : "contact");
+            p->markers[p->marker_count].x = at[k];
+            p->markers[p->marker_count].label = labels[p->marker_count];
+            p->marker_count++;
+        }
+    }
+    if (lost) fprintf(stderr, "rj plot: %d more events than the %d markers a plot has: not marked\n", lost, RJR_MAX_MARKERS);
+}
+
+/* Draws and writes the plot; 0, or 1 after saying why. */
+static int plot_write(const opts *o, const history *h, const runner *r)
+{
+    static const char *const ylabels[] = { "joint angle (deg)", "torque (N m)", "tip deflection (m)", "energy (J)" };
+    static const char *const titles[] = { "joint angles", "limit torques", "tip deflections", "energies" };
+    rjr_plot_def p = rjr_plot_default();
+    char title[160], err[256], labels[RJR_MAX_MARKERS][48];
+    rjr_context *ctx;
+    int k, rc;
+    snprintf(title, sizeof title, "%s: %s", base_name(o->scene), titles[o->what]);
+    p.title = title;
+    p.xlabel = "t (s)";
+    p.ylabel = ylabels[o->what];
+    p.series_count = h->nseries;
+    /* the axis spans the run, not the next round number past it */
+    p.xmin = 0;
+    p.xmax = h->t[h->n - 1];
+    for (k = 0; k < h->nseries; k++) {
+        p.series[k].x = h->t;
+        p.series[k].y = h->y[k];
+        p.series[k].n = (int)h->n;
+        p.series[k].label = h->label[k];
+        p.series[k].colour = RJR_AUTO_COLOUR;
+    }
+    plot_markers(&p, r, labels);
+    err[0] = '\0';
+    ctx = rjr_create(o->w, o->h, err, sizeof err);
+    if (!ctx) {
+        fprintf(stderr, "rj plot: %s\n", err);
+        return 1;
+    }
+    rc = rjr_plot(ctx, &p) || rjr_save_png(ctx, o->out, err, sizeof err);
+    if (rc) fprintf(stderr, "rj plot: cannot write %s: %s\n", o->out, err[0] ? err : rjr_error(ctx));
+    rjr_destroy(ctx);
+    return rc ? 1 : 0;
+}
+
+/* Whether path can be written, before a run: an existing file must be writable, else its
+   directory must be. Prints "prog: cannot write PATH: reason" and returns -1 if not. */
+static int out_writable(const char *prog, const char *path)
+{
+    struct stat st;
+    char dir[4096];
+    const char *slash = strrchr(path, '/');
+    int e = 0;
+    if (stat(path, &st) == 0) e = S_ISDIR(st.st_mode) ? EISDIR : access(path, W_OK) == 0 ? 0 : errno;
+    else if (errno != ENOENT) e = errno;
+    else if (!slash) e = access(".", W_OK | X_OK) == 0 ? 0 : errno;
+    else if ((size_t)(slash - path) >= sizeof dir) e = ENAMETOOLONG;
+    else {
+        memcpy(dir, path, (size_t)(slash - path));
+        dir[slash - path] = '\0';
+        e = access(slash == path ? "/" : dir, W_OK | X_OK) == 0 ? 0 : errno;
+    }
+    if (!e) return 0;
+    fprintf(stderr, "%s: cannot write %s: %s\n", prog, path, strerror(e));
+    return -1;
+}
+
+/* rj plot: checks the output can be written before the run, draws after it. */
+static int cmd_plot(int argc, char **argv)
+{
+    opts o;
+    scene sc;
+    runner r;
+    history h;
+    rj_result res;
+    int st;
+    opts_parse(&o, CMD_PLOT, argc, argv, usage_plot);
+    free((void *)o.probes);
+    if (scene_open(&sc, o.scene, o.dt) != 0) return 2;
+    cli_check_steps("rj plot", o.t_end, rj_model_dt(sc.m), o.force);
+    if (out_writable("rj plot", o.out) != 0) return 2;
+    model_warnings(&sc, "rj plot");
+    series_setup(&h, &sc, o.what);
+    if (h.ncand > h.nseries)
+        fprintf(stderr, "rj plot: %d series, more than a plot holds: plotting the first %d\n", h.ncand, h.nseries);
+    if (runner_init(&r, &sc, "rj plot", o.t_end, fmax(1e-3, o.t_end / PLOT_SAMPLES), o.progress) != 0) return 1;
+    r.sink = plot_sink_fn;
+    r.data = &h;
+    res = runner_go(&r);
+    runner_summary(&r, res);
+    st = res != RJ_OK || r.stop ? 1 : 0;
+    if (r.stop != STOP_FAIL && h.n > 0 && plot_write(&o, &h, &r) != 0) st = 1;
+    history_free(&h);
+    runner_free(&r);
+    scene_close(&sc);
+    return st;
+}
+
+/* ================================================================ rj animate */
+
+/* The frames sink of rj animate. */
+typedef struct frames {
+    rjr_context *ctx;
+    rjr_view view;
+    const char *dir;
+    int frame;
+} frames;
+
+/* One frame per sample; a frame that cannot be written stops the run. */
+static int frame_sink_fn(runner *r, const rj_state *s)
+{
+    frames *f = (frames *)r->data;
+    char path[4200], err[256];
+    err[0] = '\0';
+    if (cli_frame_path("rj animate", path, sizeof path, f->dir, f->frame) != 0) {
+        r->stop = STOP_FAIL;
+        return 1;
+    }
+    if (rjr_draw_state(f->ctx, r->sc->m, s, &f->view) || rjr_save_png(f->ctx, path, err, sizeof err)) {
+        /* the PNG writer's text has the system's reason; a drawing error is the context's */
+        progress_clear(r);
+        fprintf(stderr, "rj animate: cannot write %s: %s\n", path, err[0] ? err : rjr_error(f->ctx));
+        r->stop = STOP_FAIL;
+        return 1;
+    }
+    f->frame++;
+    return 0;
+}
+
+/* The view, fixed once on the whole motion: a pass over t_end in 50 pieces, the box of
+   every piece's end (as build/animate, so that the frames are the same). A piece shorter
+   than half a step would not step at all: one step is taken then. */
+static void view_fit(const scene *sc, double t_end, int w, int h, rjr_view *v)
+{
+    const rj_model *m = sc->m;
+    rj_state *s;
+    double box[4];
+    if (rj_state_create(m, &s, NULL) != RJ_OK) return;
+    rjr_bbox_init(box);
+    rjr_bbox_add(box, m, s);
+    while (rj_state_time(s) < t_end) {
+        const double t0 = rj_state_time(s);
+        if (rj_run(m, s, t0 + t_end / 50, 0, NULL, NULL) != RJ_OK) break;
+        if (rj_state_time(s) == t0 && rj_step(m, s) != RJ_OK) break;
+        rjr_bbox_add(box, m, s);
+    }
+    rj_state_destroy(s, NULL);
+    rjr_view_fit_box(v, box, w, h, 20);
+}
+
+/* Quotes a word for a POSIX shell when it needs it. */
+static void shell_word(const char *w)
+{
+    const char *p;
+    if (*w && strspn(w, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_./%=:,+-") == strlen(w)) {
+        fputs(w, stderr);
+        return;
+    }
+    fputc('\'', stderr);
+    for (p = w; *p; p++) {
+        if (*p == '\'') fputs("'\\''", stderr);
+        else fputc(*p, stderr);
+    }
+    fputc('\'', stderr);
+}
+
+/* Whether an executable named name is on PATH. */
+static int on_path(const char *name)
+{
+    const char *p = getenv("PATH");
+    char buf[4200];
+    while (p && *p) {
+        const size_t n = strcspn(p, ":");
+        const int len = snprintf(buf, sizeof buf, "%.*s/%s", (int)n, n ? p : ".", name);
+        if (len > 0 && (size_t)len < sizeof buf && access(buf, X_OK) == 0) return 1;
+        p += n + (p[n] == ':');
+    }
+    return 0;
+}
+
+/* Runs argv (a NULL-terminated list) and waits; 0 when it exits with status 0. */
+static int spawn(char **argv)
+{
+    int status;
+    const pid_t pid = fork();
+    if (pid < 0) return -1;
+    if (pid == 0) {
+        execvp(argv[0], argv);
+        _exit(127);
+    }
+    if (waitpid(pid, &status, 0) != pid) return -1;
+    return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? 0 : -1;
+}
+
+/* The video: ffmpeg when it is on PATH, else the command to run. Odd sizes are padded by
+   a pixel: yuv420p, which players expect, needs even ones. */
+static int mp4_write(const opts *o)
+{
+    char fps[32], pattern[4200];
+    char *av[16];
+    int n = 0, k;
+    snprintf(fps, sizeof fps, "%g", o->fps);
+    snprintf(pattern, sizeof pattern, "%s/frame_%%05d.png", o->out);
+    av[n++] = (char *)"ffmpeg";
+    av[n++] = (char *)"-y";
+    av[n++] = (char *)"-loglevel";
+    av[n++] = (char *)"error";
+    av[n++] = (char *)"-framerate";
+    av[n++] = fps;
+    av[n++] = (char *)"-i";
+    av[n++] = pattern;
+    if (o->w % 2 || o->h % 2) {
+        av[n++] = (char *)"-vf";
+        av[n++] = (char *)"pad=ceil(iw/2)*2:ceil(ih/2)*2";
+    }
+    av[n++] = (char *)"-pix_fmt";
+    av[n++] = (char *)"yuv420p";
+    av[n++] = (char *)o->mp4;
+    av[n] = NULL;
+    fputs(on_path("ffmpeg") ? "rj animate: running " : "rj animate: ffmpeg is not on PATH; to make the video, run\n  ", stderr);
+    for (k = 0; k < n; k++) {
+        if (k) fputc(' ', stderr);
+        shell_word(av[k]);
+    }
+    fputc('\n', stderr);
+    if (!on_path("ffmpeg")) return 0;
+    if (spawn(av) == 0) return 0;
+    fprintf(stderr, "rj animate: ffmpeg failed: %s not written\n", o->mp4);
+    return 1;
+}
+
+/* The frames directory, the view and the context, before the run. 2 when the directory
+   cannot be made, 1 when the renderer cannot start. */
+static int frames_setup(const opts *o, const scene *sc, frames *f)
+{
+    char err[256];
+    memset(f, 0, sizeof *f);
+    f->view = rjr_view_default();
+    f->dir = o->out;
+    view_fit(sc, o->t_end, o->w, o->h, &f->view);
+    /* build/animate draws scene files twice their thickness */
+    f->view.thickness_factor = 2;
+    f->view.caption = base_name(sc->path);
+    if (cli_frames_dir("rj animate", o->out) != 0) return 2;
+    err[0] = '\0';
+    f->ctx = rjr_create(o->w, o->h, err, sizeof err);
+    if (f->ctx) return 0;
+    fprintf(stderr, "rj animate: %s\n", err);
+    return 1;
+}
+
+/* Refuses runs that would not end: steps, and frames (one per 1/fps, at most one a step). */
+static void animate_bounds(const opts *o, const scene *sc)
+{
+    const double dt = rj_model_dt(sc->m);
+    cli_check_steps("rj animate", o->t_end, dt, o->force);
+    cli_check_frames("rj animate", o->t_end * (o->fps < 1.0 / dt ? o->fps : 1.0 / dt) + 1, o->force);
+}
+
+/* rj animate: bounds, outputs and view first, then the frames, then the video. */
+static int cmd_animate(int argc, char **argv)
+{
+    opts o;
+    scene sc;
+    runner r;
+    frames f;
+    rj_result res;
+    int st;
+    opts_parse(&o, CMD_ANIMATE, argc, argv, usage_animate);
+    free((void *)o.probes);
+    if (scene_open(&sc, o.scene, o.dt) != 0) return 2;
+    animate_bounds(&o, &sc);
+    if (o.mp4 && out_writable("rj animate", o.mp4) != 0) return 2;
+    model_warnings(&sc, "rj animate");
+    st = frames_setup(&o, &sc, &f);
+    if (st) return st;
+    if (runner_init(&r, &sc, "rj animate", o.t_end, 1.0 / o.fps, o.progress) != 0) return 1;
+    r.sink = frame_sink_fn;
+    r.data = &f;
+    res = runner_go(&r);
+    runner_summary(&r, res);
+    st = res != RJ_OK || r.stop ? 1 : 0;
+    if (!st) fprintf(stderr, "rj animate: wrote %d frames %s/frame_%%05d.png (%dx%d)\n", f.frame, o.out, o.w, o.h);
+    if (!st && o.mp4) st = mp4_write(&o);
+    rjr_destroy(f.ctx);
+    runner_free(&r);
+    scene_close(&sc);
+    return st;
+}
+
+/* ================================================================ main */
+
+typedef int (*cmd_fn)(int argc, char **argv);
+
+/* The subcommand named by the first argument gets the rest; argv[0] becomes "rj NAME"
+   so that cli.h's messages name it. */
+int main(int argc, char **argv)
+{
+    static const char *const names[] = { "run", "check", "plot", "animate" };
+    static const cmd_fn cmds[] = { cmd_run, cmd_check, cmd_plot, cmd_animate };
+    char prog[32];
+    int k;
+    /* a reader that goes away (rj run x.rjs | head) shows up as EPIPE on the write, which
+       the run treats as a quiet end, instead of killing the program */
+    signal(SIGPIPE, SIG_IGN);
+    if (argc >= 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || (argc == 2 && !strcmp(argv[1], "help")))) {
+        fputs(usage_main, stdout);
+        return 0;
+    }
+    /* "rj help SUBCOMMAND" is "rj SUBCOMMAND --help" */
+    if (argc == 3 && !strcmp(argv[1], "help")) {
+        argv[1] = argv[2];
+        argv[2] = (char *)"--help";
+    }
+    for (k = 0; argc >= 2 && k < 4; k++) {
+        if (strcmp(argv[1], names[k]) != 0) continue;
+        snprintf(prog, sizeof prog, "rj %s", names[k]);
+        argv[1] = prog;
+        return cmds[k](argc - 1, argv + 1);
+    }
+    if (argc >= 2) fprintf(stderr, "rj: unknown subcommand '%s'\n", argv[1]);
+    fputs(usage_main, stderr);
+    return 2;
+}

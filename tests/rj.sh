@@ -1,0 +1,205 @@
+#!/bin/sh
+# build/rj, the scene-file command line: rj run's columns, rows, events and exit statuses,
+# its history against build/deploy's, rj check on valid and broken scenes, rj plot's PNG,
+# rj animate's frames against build/animate's. One PASS or FAIL line per check.
+B=${1:-build}
+T=$B/rj_out
+S=examples/scenes
+rm -rf "$T"
+mkdir -p "$T"
+AB=$(cd "$B" && pwd)
+AT=$(cd "$T" && pwd)
+# status, description, command...: the status, and the usage text after a status 2
+t() {
+  want=$1; shift; what=$1; shift
+  out=$("$@" 2>&1 >/dev/null); st=$?
+  if [ "$st" = "$want" ] && { [ "$want" != 2 ] || echo "$out" | grep -q usage; }; then echo "PASS rj: $what (status $st)"
+  else echo "FAIL rj: $what: status $st, want $want: $out"; fi
+}
+# status, pattern the messages must match (grep -E), description, command...
+m() {
+  want=$1; shift; pat=$1; shift; what=$1; shift
+  out=$("$@" 2>&1 >/dev/null); st=$?
+  if [ "$st" = "$want" ] && printf '%s\n' "$out" | grep -Eq -- "$pat"; then echo "PASS rj: $what (status $st)"
+  else echo "FAIL rj: $what: status $st, want $want and a message matching /$pat/: $out"; fi
+}
+# description, condition (a shell command that must succeed)
+ok() {
+  if sh -c "$2"; then echo "PASS rj: $1"; else echo "FAIL rj: $1"; fi
+}
+# the header rj run must write for a scene file: its joints' and links' names from the file
+header() {
+  awk 'BEGIN { printf "t" }
+       $1 == "joint" { n = split("theta_deg rate flag torque_spring torque_table torque_damping torque_friction torque_limit latch_impulse", c, " ");
+                       for (i = 1; i <= n; i++) printf ",%s.%s", $2, c[i] }
+       $1 == "link" { links[++nl] = $2 }
+       END { for (k = 1; k <= nl; k++) printf ",%s.tip_x,%s.tip_y,%s.tip_defl", links[k], links[k], links[k];
+             print ",E_kin,E_strain,E_spring,W_damping,W_friction,W_limit,E_balance" }' "$1"
+}
+# a joint's lock and first-contact times from an rj run summary on stderr: "LOCK FIRST"
+summary_times() { # file, joint
+  sed -n "s/^rj run: $2: first contact \([^ ]*\) s, lock \([^ ]*\) s.*/\2 \1/p" "$1"
+}
+# the time of the first row whose column NAME holds 3 (locked) in a CSV
+first_locked_row() { # csv, column name
+  awk -F, -v c="$2" 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == c) k = i; next } $k == 3 { print $1; exit }' "$1"
+}
+
+# ---- rj run on every scene: columns, rows
+for f in $S/*.rjs; do
+  n=$(basename $f .rjs)
+  $B/rj run $f --t-end 0.05 --csv $T/$n.csv 2>$T/$n.err; st=$?
+  if [ $st = 0 ] && [ "$(head -1 $T/$n.csv)" = "$(header $f)" ]; then echo "PASS rj: run $n: the header names every joint's, link's and energy column from the file"
+  else echo "FAIL rj: run $n: status $st, header $(head -1 $T/$n.csv | cut -c1-200) want $(header $f | cut -c1-200)"; fi
+  rows=$(($(wc -l < $T/$n.csv) - 1))
+  if [ "$rows" = 51 ]; then echo "PASS rj: run $n --t-end 0.05: 51 rows (t-end / 1 ms + 1)"; else echo "FAIL rj: run $n --t-end 0.05: $rows rows, want 51"; fi
+done
+$B/rj run $S/impact.rjs --t-end 0.01 --sample 0 --csv $T/every.csv 2>/dev/null
+ok "run --sample 0: a row every step (0.01 s / 2.5 us + 1 = 4001 rows)" "[ \$(wc -l < $T/every.csv) = 4002 ]"
+$B/rj run $S/impact.rjs --t-end 0.02 --sample 0.005 --probe arm:last --probe base:3 --nodes $T/nodes.csv --csv $T/probe.csv 2>/dev/null
+ok "run --probe arm:last --probe base:3: their x, y, phi columns before the energies" \
+  "head -1 $T/probe.csv | grep -q ',arm.tip_defl,arm.10.x,arm.10.y,arm.10.phi,base.3.x,base.3.y,base.3.phi,E_kin,'"
+ok "run --probe arm:last: the probe is the tip (the same x, y as arm.tip_x, arm.tip_y)" \
+  "awk -F, 'NR > 1 && (\$14 != \$17 || \$15 != \$18) { exit 1 }' $T/probe.csv"
+ok "run --nodes: a header and the 22 nodes, by link name" \
+  "[ \$(wc -l < $T/nodes.csv) = 23 ] && head -1 $T/nodes.csv | grep -qx 'link,node,x,y,phi' && grep -q '^arm,10,' $T/nodes.csv"
+m 2 "no link 'zzz'" "run --probe with an unknown link is refused" $B/rj run $S/impact.rjs --probe zzz:1 --csv /dev/null
+m 2 "nodes 0..10" "run --probe with a node past the link's last is refused" $B/rj run $S/impact.rjs --probe arm:11 --csv /dev/null
+
+# ---- rj run against build/deploy on the same scene: the joint angles row for row
+$B/rj run $S/deploy.rjs --t-end 3.5 --csv $T/rj_deploy.csv 2>$T/rj_deploy.err
+$B/deploy --scene $S/deploy.rjs --t-end 3.5 --csv $T/deploy.csv 2>$T/deploy.err
+# rj: t, j1 (2-10), j2 (11-19), arm1 (20-22), arm2 (23-25), energies (26-32); deploy from
+# 33: t (%.6f: within half its last digit), q1 = j1 (deg), q2 = j2 - 180 (deg), rates, flags, tip2_x, tip2_y (%.10g)
+res=$(paste -d, $T/rj_deploy.csv $T/deploy.csv | awk -F, '
+  NR == 1 { next }
+  { n++; d = $1 - $33; if (d < 0) d = -d; if (d > 5.001e-7) bad = bad " t@" $33
+    if ($2 != $34) bad = bad " q1@" $33
+    d = $11 - ($35 + 180); if (d < 0) d = -d; if (d > 2e-7) bad = bad " q2@" $33
+    if ($3 != $36 || $12 != $37) bad = bad " rates@" $33
+    if ($4 != $38 || $13 != $39) bad = bad " flags@" $33
+    if ($23 != $40 || $24 != $41) bad = bad " tip2@" $33 }
+  END { print n, substr(bad, 1, 200) }')
+if [ "$res" = "3501 " ] && [ $(wc -l < $T/rj_deploy.csv) = $(wc -l < $T/deploy.csv) ]; then
+  echo "PASS rj: run deploy.rjs = build/deploy --scene deploy.rjs row for row to 3.5 s (3501 rows: t, q1, q2 to the printed digits, rates, flags, tip 2 exact; joint 2 locks)"
+else echo "FAIL rj: run deploy.rjs against build/deploy: rows, mismatches: $res"; fi
+
+# ---- lock times: the library's event time, the flag change in the history, the same run twice
+$B/rj run $S/deploy.rjs --t-end 4.2 --csv $T/lock.csv 2>$T/lock.err
+$B/deploy --scene $S/deploy.rjs --t-end 4.2 --csv /dev/null 2>$T/lock_deploy.err
+for j in 1 2; do
+  set -- $(summary_times $T/lock.err j$j)
+  lib=$(sed -n "s/.*joint $j locks at \([0-9.]*\) s.*/\1/p; s/.*joint $j at \([0-9.]*\) s.*/\1/p" $T/lock_deploy.err)
+  mine=$(printf '%.6f' "$1")
+  if [ -n "$1" ] && [ "$1" = "$2" ] && [ "$mine" = "$lib" ]; then
+    echo "PASS rj: deploy.rjs j$j locks at $1 s: the summary's lock = its first contact (rj_joint_event_time) = build/deploy's $lib s"
+  else echo "FAIL rj: deploy.rjs j$j: lock '$1', first contact '$2', build/deploy's rj_joint_event_time '$lib'"; fi
+done
+for n in solar_array solar_array_bus; do
+  $B/rj run $S/$n.rjs --t-end 3.6 --sample 0.002 --csv $T/$n.lock.csv 2>$T/$n.lock.err
+  $B/rj run $S/$n.rjs --t-end 3.6 --sample 0.002 --csv /dev/null 2>$T/$n.lock2.err
+  for j in h1 h2 h3 h4; do
+    set -- $(summary_times $T/$n.lock.err $j)
+    row=$(first_locked_row $T/$n.lock.csv $j.flag)
+    # the first locked row follows the lock's state within a sample (2 ms) and a step
+    if [ -n "$1" ] && [ "$1" = "$2" ] && awk -v l="$1" -v r="$row" 'BEGIN { exit !(r > l && r <= l + 0.002 + 1e-4) }'; then
+      echo "PASS rj: $n.rjs $j locks at $1 s (= rj_joint_event_time), its flag turns 3 in the history at $row s"
+    else echo "FAIL rj: $n.rjs $j: lock '$1', first contact '$2', first locked row '$row'"; fi
+  done
+  ok "$n.rjs: two runs print the same events and lock times" \
+    "grep -v wall $T/$n.lock.err > $T/a.txt; grep -v wall $T/$n.lock2.err > $T/b.txt; cmp -s $T/a.txt $T/b.txt && grep -c 'locked at' $T/a.txt | grep -qx 4"
+done
+$B/rj run $S/impact.rjs --t-end 0.02 --csv /dev/null 2>$T/impact.err
+ok "impact.rjs: the contact's chatter (hundreds of flag changes) prints one first contact and one release" \
+  "[ \$(grep -c 'hinge first contact with the reverse limit (176 deg)' $T/impact.err) = 1 ] && [ \$(grep -c 'released from' $T/impact.err) = 1 ] \
+   && grep -Eq 'hinge: first contact 0.0069825 s, lock none, [0-9]{3} contacts' $T/impact.err"
+
+# ---- exit statuses and messages
+t 2 "run --bogus exits 2 with the usage" $B/rj run $S/deploy.rjs --bogus
+t 2 "an unknown subcommand exits 2 with the usage" $B/rj frobnicate $S/deploy.rjs
+t 2 "run without a scene exits 2 with the usage" $B/rj run --t-end 1
+t 2 "run with two scenes exits 2 with the usage" $B/rj run $S/deploy.rjs $S/impact.rjs
+t 2 "run --t-end with a malformed number exits 2 with the usage" $B/rj run $S/deploy.rjs --t-end 1x
+t 2 "plot without --out exits 2 with the usage" $B/rj plot $S/deploy.rjs
+t 2 "plot --what magic exits 2 with the usage" $B/rj plot $S/deploy.rjs --what magic --out $T/x.png
+t 2 "check does not take run's --csv" $B/rj check $S/deploy.rjs --csv x.csv
+ok "rj --help, rj run --help and rj help animate print the usage, status 0" \
+  "$B/rj --help | grep -q 'usage: rj SUBCOMMAND' && $B/rj run --help | grep -q 'J.latch_impulse' && $B/rj help animate | grep -q -- '--mp4 FILE'"
+m 2 "/nonexistent/dir/x.csv" "run --csv /nonexistent/dir/x.csv exits 2 naming the path" \
+  $B/rj run $S/deploy.rjs --csv /nonexistent/dir/x.csv
+m 2 "/nonexistent/n.csv" "run --nodes /nonexistent/n.csv exits 2 naming the path" \
+  $B/rj run $S/deploy.rjs --csv /dev/null --nodes /nonexistent/n.csv
+m 2 "/nonexistent/p.png" "plot --out /nonexistent/p.png exits 2 naming the path, before running" \
+  $B/rj plot $S/deploy.rjs --out /nonexistent/p.png
+m 2 "nowhere.rjs: cannot open the file for reading" "run on a missing scene file exits 2 naming it" \
+  $B/rj run $T/nowhere.rjs
+m 2 "1e\+1[12] steps.*--force" "run --dt 1e-12 is refused (2) with the step count unless --force" \
+  $B/rj run $S/deploy.rjs --dt 1e-12
+m 2 "option --dt 0.001: solver.dt = 0.001 s is above the stability bound" "run --dt above the bound: the option is named" \
+  $B/rj run $S/deploy.rjs --dt 1e-3
+if [ -w /dev/full ]; then
+  m 1 "/dev/full: No space left" "run --csv /dev/full exits 1 (a write that fails during the run)" $B/rj run $S/deploy.rjs --csv /dev/full
+else echo "SKIP rj: no /dev/full here"; fi
+# a closed pipe: quiet, status 0
+{ $B/rj run $S/deploy.rjs --t-end 6 2>$T/pipe.err; echo $? > $T/pipe.st; } | head -3 > $T/pipe.out
+ok "run deploy.rjs | head -3: status 0, three lines read, nothing on standard error" \
+  "[ \$(cat $T/pipe.st) = 0 ] && [ \$(wc -l < $T/pipe.out) = 3 ] && [ ! -s $T/pipe.err ]"
+# the progress line goes to standard error only
+$B/rj run $S/impact.rjs --t-end 0.01 --progress > $T/prog.csv 2>$T/prog.err
+$B/rj run $S/impact.rjs --t-end 0.01 > $T/noprog.csv 2>/dev/null
+ok "run --progress: a progress line on standard error, the same CSV as without it" \
+  "grep -q '100.0 %  t = 0.01 s' $T/prog.err && cmp -s $T/prog.csv $T/noprog.csv"
+
+# ---- a simulation that stops: status 1, the library's message, the history up to the last good state
+sed 's/^  dt = 7.5e-6 .*/  dt = 3e-5\n  allow_unstable = yes/' $S/deploy.rjs > $T/blowup.rjs
+$B/rj run $T/blowup.rjs --sample 0.01 --csv $T/blowup.csv 2>$T/blowup.err; st=$?
+tl=$(sed -n 's/.*simulation stopped after t = \([^ ]*\) s.*/\1/p' $T/blowup.err)
+ok "run with dt above the bound (allow_unstable): status 1, the blow-up message, the CSV ends at the last good state (t = $tl s)" \
+  "[ $st = 1 ] && grep -q 'numerical blow-up' $T/blowup.err && [ -n '$tl' ] && [ \"\$(tail -1 $T/blowup.csv | cut -d, -f1)\" = '$tl' ]"
+
+# ---- rj check
+ok "check deploy.rjs: valid, status 0" "$B/rj check $S/deploy.rjs | grep -qx '$S/deploy.rjs: valid'"
+for f in $S/*.rjs; do
+  ok "check $(basename $f): links, joints, the bound and what sets it, the cost of a second" \
+    "$B/rj check $f > $T/check.txt && grep -q '^links: ' $T/check.txt && grep -q '^joints: ' $T/check.txt \
+     && grep -q 'stability bound' $T/check.txt && grep -q 'the bound is set by ' $T/check.txt && grep -q '^cost: 1 simulated second' $T/check.txt"
+done
+ok "check impact.rjs: the adaptive hinge sets the bound, deploy.rjs: link arm2 does" \
+  "$B/rj check $S/impact.rjs | grep -q 'set by joint hinge' && $B/rj check $S/deploy.rjs | grep -q 'set by link arm2'"
+printf 'link a\n  length 1\n' > $T/syntax.rjs
+printf 'link a\n  lenght = 1\n' > $T/unknown.rjs
+printf 'link a\n  length = -1\n' > $T/range.rjs
+printf 'link a\njoint j\n  body1 = ground  body2 = a  forward = 10 deg  method = penalty\n' > $T/model.rjs
+m 2 "^$T/syntax.rjs:2:[0-9]+: " "check on a syntax error: 2, file:line:col" $B/rj check $T/syntax.rjs
+m 2 "^$T/unknown.rjs:2:3: unknown key 'lenght' in link 'a'; did you mean 'length'\?" "check on an unknown key: 2, the parser's message" $B/rj check $T/unknown.rjs
+m 2 "^$T/range.rjs:2:12: length = -1 is out of range" "check on an invalid value: 2, file:line:col" $B/rj check $T/range.rjs
+m 2 "^$T/model.rjs:3:[0-9]+: joints\[0\].penalty_k = 0 is invalid.*joint 'j'" "check on a scene the model rejects: 2, located by rj_scene_file_locate" $B/rj check $T/model.rjs
+printf 'solver\n  dt = 0\nlink a\n  length = 1  elements = 4  tip_mass = 200\njoint j1\n  body1 = ground  body2 = a\n  angle0 = 100 deg  forward = 90 deg\n' > $T/warn.rjs
+sed 's/penalty_k = 1014.8544308316433/penalty_k = 5000/' $S/deploy.rjs > $T/eq31.rjs
+ok "check warns: a limit the joint starts past (the model's, named), a heavy tip mass on 4 elements, K above Eq 31" \
+  "$B/rj check $T/warn.rjs > $T/w.txt && grep -q \"starts 10 deg past its forward limit (joint 'j1')\" $T/w.txt \
+   && grep -q 'link a: tip mass 200 kg is 7.38 x' $T/w.txt && $B/rj check $T/eq31.rjs | grep -q 'joint j2: penalty_k 5000 N m/rad is above Eq 31'"
+ok "check warns of nothing on deploy.rjs" "$B/rj check $S/deploy.rjs | grep -qx 'warnings: none'"
+
+# ---- rj plot
+for w in angles torques tips energy; do
+  ok "plot --what $w writes a PNG" \
+    "$B/rj plot $S/solar_array.rjs --t-end 0.2 --what $w --size 320x200 --out $T/plot_$w.png 2>/dev/null && [ \"\$(head -c 4 $T/plot_$w.png | od -An -tx1 | tr -d ' \\n')\" = 89504e47 ]"
+done
+ok "plot: the 4 joints of solar_array fit; no series dropped" "! $B/rj plot $S/solar_array.rjs --t-end 0.01 --out $T/p.png 2>&1 | grep -q 'plotting the first'"
+
+# ---- rj animate: the frames of build/animate, byte for byte (the caption is the file name:
+# run where the scene file is, so that build/animate's caption, the path, is the same)
+(cd $S && $AB/rj animate deploy.rjs --t-end 0.4 --fps 10 --size 200x150 --out $AT/rja 2>/dev/null) \
+  && (cd $S && $AB/animate --scene deploy.rjs --t-end 0.4 --fps 10 --size 200x150 --out $AT/anim 2>/dev/null)
+same=1
+for f in $T/anim/frame_*.png; do cmp -s $f $T/rja/$(basename $f) || same=0; done
+ok "animate deploy.rjs = build/animate --scene deploy.rjs: 5 frames, byte-equal PNGs" \
+  "[ $same = 1 ] && [ \$(ls $T/rja | wc -l) = 5 ] && [ \$(ls $T/anim | wc -l) = 5 ]"
+m 0 "ffmpeg -y -loglevel error -framerate 10 -i $T/mp4/frame_%05d.png -pix_fmt yuv420p $T/x.mp4" \
+  "animate --mp4 without ffmpeg on PATH prints the command to run" \
+  env PATH=/nonexistent $B/rj animate $S/deploy.rjs --t-end 0.1 --fps 10 --size 64x48 --out $T/mp4 --mp4 $T/x.mp4
+mkdir -p $T/blocked/frame_00000.png
+m 1 "$T/blocked/frame_00000.png.*Is a directory" "animate fails (1) naming the frame it cannot write" \
+  $B/rj animate $S/deploy.rjs --t-end 0.1 --out $T/blocked
+exit 0
