@@ -104,7 +104,7 @@ static inline void cli_pair(cli *c, const char *opt, char sep, int *a, int *b,
 {
     const char *s = cli_str(c, opt);
     const char *rest;
-    long long x, y;
+    long long x = 0, y = 0;
     int ok = cli_digits(s, sep, &rest, &x) == 0;
     ok = ok && cli_digits(rest + 1, '\0', &rest, &y) == 0;
     ok = ok && x >= lim[0] && x <= lim[1];
@@ -169,6 +169,24 @@ static inline int cli_close(cli_out *o, const char *prog)
    and the frames of an earlier run are removed first: left there, a shorter run's video
    would carry on with the old run's last frames. Only names "frame_%05d.png" can produce
    are removed, nothing else in the directory. */
+
+/* Creates the missing directories above a file's path ("out/a/x.csv": out/a), so that an
+   output may name a folder that does not exist yet. */
+static inline int cli_mkdirs(const char *prog, const char *path);
+static inline int cli_mkparent(const char *prog, const char *path)
+{
+    char dir[4096];
+    const char *slash = strrchr(path, '/');
+    size_t n;
+    if (!slash || slash == path) return 0;
+    n = (size_t)(slash - path);
+    if (n >= sizeof dir) return 0;
+    memcpy(dir, path, n);
+    dir[n] = '\0';
+    if (cli_mkdirs(prog, dir) == 0) return 0;
+    fprintf(stderr, "%s: cannot write %s: its folder cannot be made\n", prog, path);
+    return -1;
+}
 
 /* Creates path and its missing parents; an existing component must be a directory.
    Prints "prog: cannot create directory P: reason" and returns -1 on failure. */

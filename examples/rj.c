@@ -761,6 +761,8 @@ static int run_outputs(const opts *o, csv_sink *c, cli_out *nodes)
 {
     const char *csv = o->csv && strcmp(o->csv, "-") ? o->csv : NULL;
     memset(nodes, 0, sizeof *nodes);
+    if (csv && cli_mkparent("rj run", csv) != 0) return 2;
+    if (o->nodes && cli_mkparent("rj run", o->nodes) != 0) return 2;
     if (cli_open(&c->out, "rj run", csv) != 0) return 2;
     if (o->nodes && cli_open(nodes, "rj run", o->nodes) != 0) {
         cli_close(&c->out, "rj run");
@@ -1351,7 +1353,7 @@ static int cmd_plot(int argc, char **argv)
     free((void *)o.probes);
     if (scene_open(&sc, o.scene, o.dt) != 0) return 2;
     cli_check_steps("rj plot", o.t_end, rj_model_dt(sc.m), o.force);
-    if (out_writable("rj plot", o.out) != 0) return 2;
+    if (cli_mkparent("rj plot", o.out) != 0 || out_writable("rj plot", o.out) != 0) return 2;
     model_warnings(&sc, "rj plot");
     series_setup(&h, &sc, o.what);
     if (h.ncand > h.nseries)
@@ -1543,7 +1545,7 @@ static int cmd_animate(int argc, char **argv)
     free((void *)o.probes);
     if (scene_open(&sc, o.scene, o.dt) != 0) return 2;
     animate_bounds(&o, &sc);
-    if (o.mp4 && out_writable("rj animate", o.mp4) != 0) return 2;
+    if (o.mp4 && (cli_mkparent("rj animate", o.mp4) != 0 || out_writable("rj animate", o.mp4) != 0)) return 2;
     model_warnings(&sc, "rj animate");
     st = frames_setup(&o, &sc, &f);
     if (st) return st;

@@ -125,12 +125,14 @@ t 2 "plot --what magic exits 2 with the usage" $B/rj plot $S/deploy.rjs --what m
 t 2 "check does not take run's --csv" $B/rj check $S/deploy.rjs --csv x.csv
 ok "rj --help, rj run --help and rj help animate print the usage, status 0" \
   "$B/rj --help | grep -q 'usage: rj SUBCOMMAND' && $B/rj run --help | grep -q 'J.latch_impulse' && $B/rj help animate | grep -q -- '--mp4 FILE'"
-m 2 "/nonexistent/dir/x.csv" "run --csv /nonexistent/dir/x.csv exits 2 naming the path" \
-  $B/rj run $S/deploy.rjs --csv /nonexistent/dir/x.csv
-m 2 "/nonexistent/n.csv" "run --nodes /nonexistent/n.csv exits 2 naming the path" \
-  $B/rj run $S/deploy.rjs --csv /dev/null --nodes /nonexistent/n.csv
-m 2 "/nonexistent/p.png" "plot --out /nonexistent/p.png exits 2 naming the path, before running" \
-  $B/rj plot $S/deploy.rjs --out /nonexistent/p.png
+m 2 "/dev/null/dir/x.csv" "run --csv /dev/null/dir/x.csv (a folder that cannot be made) exits 2 naming the path" \
+  $B/rj run $S/deploy.rjs --csv /dev/null/dir/x.csv
+ok "run --csv and --nodes into folders that do not exist yet make them" \
+  "rm -rf $T/new && $B/rj run $S/deploy.rjs --t-end 0.01 --csv $T/new/a/h.csv --nodes $T/new/b/n.csv 2>/dev/null && test -s $T/new/a/h.csv && test -s $T/new/b/n.csv"
+m 2 "/dev/null/n.csv" "run --nodes /dev/null/n.csv exits 2 naming the path" \
+  $B/rj run $S/deploy.rjs --csv /dev/null --nodes /dev/null/n.csv
+m 2 "/dev/null/p.png" "plot --out /dev/null/p.png exits 2 naming the path, before running" \
+  $B/rj plot $S/deploy.rjs --out /dev/null/p.png
 m 2 "nowhere.rjs: cannot open the file for reading" "run on a missing scene file exits 2 naming it" \
   $B/rj run $T/nowhere.rjs
 m 2 "1e\+1[12] steps.*--force" "run --dt 1e-12 is refused (2) with the step count unless --force" \
