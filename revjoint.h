@@ -1996,28 +1996,57 @@ static double rj__cl_pose(const rj_model *m, int c, const double *nc, const doub
     return sum;
 }
 
-/* Linear stiffness operator for the stability bound: out = M^-1/2 K M^-1/2 u over the
-   3 nn node DOFs (translations of grouped nodes live at the group's first member). K is
-   the tangent of the internal forces (central differences on rj__beam_pass) plus
-   k_lin g g^T of every joint. */
-/* The finite-difference step of rj__lz_apply: the nodes move by d = h M^-1/2 u, and the
-   largest move is 1e-7 of the smallest element in translation and 1e-7 rad in rotation,
-   whatever the masses (a long heavy link moved by a step scaled on u alone moved less
-   than its coordinates resolve, and its stiffness came out near 0). 0 when u is 0. */
-static double rj__lz_step(const rj_model *m, const double *u)
+/* Finite differences move every degree of freedom by one step h along d = M^-1/2 u, so
+   DOFs whose inverse masses differ by more than about 1e12 (a 1e-300 m wide link beside
+   a normal one) cannot share a step: the light ones' moves would swamp the heavy ones',
+   which would fall below what their coordinates resolve. The DOFs are grouped in classes
+   of inverse mass (a factor 2^40 apart, ilogb / 40), and K d is summed over the classes,
+   each differenced with its own step. A class of one DOF's inverse mass w (0: fixed): */
+static int rj__lz_class(double w) { return w > 0 ? ilogb(w) / 40 : 0; }
+
+/* A DOF of node i (k 0, 1: translation, 2: rotation): its inverse mass, the group's for a
+   grouped node's translation (kept at the group's first member). */
+static double rj__lz_inv(const rj_model *m, int i, int k)
+{
+    if (k == 2) return m->rinv[i];
+    if (m->node_grp[i] >= 0) return m->grp_inv[m->node_grp[i]];
+    return m->tinv[i];
+}
+
+/* Whether the DOF is in class c (every DOF when all is set). */
+static int rj__lz_in(const rj_model *m, int i, int k, int c, int all)
+{
+    return all || rj__lz_class(rj__lz_inv(m, i, k)) == c;
+}
+
+/* The range of classes present among the DOFs. */
+static void rj__lz_classes(const rj_model *m, int *lo, int *hi)
+{
+    int i, k;
+    *lo = 0;
+    *hi = 0;
+    for (i = 0; i < m->nn; i++) for (k = 0; k < 3; k++) {
+        const int c = rj__lz_class(rj__lz_inv(m, i, k));
+        if (i == 0 && k == 0) { *lo = c; *hi = c; }
+        if (c < *lo) *lo = c;
+        if (c > *hi) *hi = c;
+    }
+}
+
+/* The finite-difference step for class c: the largest move is 1e-7 of the smallest element
+   in translation and 1e-7 rad in rotation, whatever the masses (a long heavy link moved
+   by a step scaled on u alone moved less than its coordinates resolve, and its stiffness
+   came out near 0). 0 when u is 0 on the class. */
+static double rj__lz_step(const rj_model *m, const double *u, int c, int all)
 {
     double move = 0, turn = 0, l0 = HUGE_VAL, h = HUGE_VAL;
-    int i, gi;
+    int i;
     for (i = 0; i < m->nn; i++) {
-        const double t = (fabs(u[3 * i]) > fabs(u[3 * i + 1]) ? fabs(u[3 * i]) : fabs(u[3 * i + 1])) * sqrt(m->tinv[i]);
-        const double r = fabs(u[3 * i + 2]) * sqrt(m->rinv[i]);
-        if (t > move) move = t;
-        if (r > turn) turn = r;
-    }
-    for (gi = 0; gi < m->ng; gi++) {
-        const int r = m->grp_node[m->grp_first[gi]];
-        const double t = (fabs(u[3 * r]) > fabs(u[3 * r + 1]) ? fabs(u[3 * r]) : fabs(u[3 * r + 1])) * sqrt(m->grp_inv[gi]);
-        if (t > move) move = t;
+        const int r = m->node_grp[i] >= 0 ? m->grp_node[m->grp_first[m->node_grp[i]]] : i;
+        const double wt = rj__lz_inv(m, i, 0), wr = m->rinv[i];
+        const double ut = fabs(u[3 * r]) > fabs(u[3 * r + 1]) ? fabs(u[3 * r]) : fabs(u[3 * r + 1]);
+        if (rj__lz_in(m, i, 0, c, all) && ut * sqrt(wt) > move) move = ut * sqrt(wt);
+        if (rj__lz_in(m, i, 2, c, all) && fabs(u[3 * i + 2]) * sqrt(wr) > turn) turn = fabs(u[3 * i + 2]) * sqrt(wr);
     }
     for (i = 0; i < m->nl; i++) if (m->link_l0[i] < l0) l0 = m->link_l0[i];
     if (move > 0) h = 1e-7 * l0 / move;
@@ -2025,6 +2054,25 @@ static double rj__lz_step(const rj_model *m, const double *u)
     return h == HUGE_VAL ? 0.0 : h;
 }
 
+/* The nodes moved by sgn h along d = M^-1/2 u on class c (grouped nodes' translations
+   follow their group's first member). */
+static void rj__lz_move(const rj_model *m, const double *u, double sh, int c, int all, double *x, double *y, double *p)
+{
+    int i;
+    for (i = 0; i < m->nn; i++) {
+        const int r = m->node_grp[i] >= 0 ? m->grp_node[m->grp_first[m->node_grp[i]]] : i;
+        const double st = sqrt(rj__lz_inv(m, i, 0));
+        const int moves = rj__lz_in(m, i, 0, c, all);
+        x[i] = m->x0[i] + (moves ? sh * u[3 * r] * st : 0.0);
+        y[i] = m->y0[i] + (moves ? sh * u[3 * r + 1] * st : 0.0);
+        p[i] = m->phi0[i] + (rj__lz_in(m, i, 2, c, all) ? sh * u[3 * i + 2] * sqrt(m->rinv[i]) : 0.0);
+    }
+}
+
+/* Linear stiffness operator for the stability bound: out = M^-1/2 K M^-1/2 u over the
+   3 nn node DOFs (translations of grouped nodes live at the group's first member). K is
+   the tangent of the internal forces (central differences on rj__beam_pass) plus
+   k_lin g g^T of every joint, summed over the classes of inverse mass (rj__lz_class). */
 static void rj__lz_apply(const rj_model *m, const double *u, double *out, double *work)
 {
     const int nn = m->nn, ne = m->ne;
@@ -2032,54 +2080,41 @@ static void rj__lz_apply(const rj_model *m, const double *u, double *out, double
     double *eu = work + 6 * nn, *bt = eu + ne;
     double *cxo = bt + ne, *cyo = cxo + ne;
     const double *cx = m->lz + 9 * (size_t)nn, *cy = cx + ne;
-    double h, res[3];
-    int i, sgn, gi, j;
+    int i, sgn, gi, j, c, lo, hi, all;
     for (i = 0; i < 3 * nn; i++) out[i] = 0.0;
-    h = rj__lz_step(m, u);
-    if (h == 0.0) return;
-    for (sgn = -1; sgn <= 1; sgn += 2) {
-        /* d = M^-1/2 u expanded to group members */
-        for (i = 0; i < nn; i++) {
-            double si = sqrt(m->tinv[i]);
-            x[i] = m->x0[i] + sgn * h * u[3 * i] * si;
-            y[i] = m->y0[i] + sgn * h * u[3 * i + 1] * si;
-            p[i] = m->phi0[i] + sgn * h * u[3 * i + 2] * sqrt(m->rinv[i]);
-        }
-        for (gi = 0; gi < m->ng; gi++) {
-            int r = m->grp_node[m->grp_first[gi]];
-            double si = sqrt(m->grp_inv[gi]);
-            for (j = m->grp_first[gi]; j < m->grp_first[gi + 1]; j++) {
-                int n = m->grp_node[j];
-                x[n] = m->x0[n] + sgn * h * u[3 * r] * si;
-                y[n] = m->y0[n] + sgn * h * u[3 * r + 1] * si;
+    rj__lz_classes(m, &lo, &hi);
+    all = lo == hi;
+    for (c = lo; c <= hi; c++) {
+        const double h = rj__lz_step(m, u, c, all);
+        if (h == 0.0) continue;
+        for (sgn = -1; sgn <= 1; sgn += 2) {
+            rj__lz_move(m, u, sgn * h, c, all, x, y, p);
+            rj__beam_pass(m, x, y, p, m->beta0, cx, cy, eu, bt, cxo, cyo, fx, fy, mz, NULL);
+            /* joints: -k_lin (theta - theta0) g, linearised */
+            for (j = 0; j < m->nj; j++) {
+                const rj__joint *J = &m->jnt[j];
+                rj__jgeo g0, g1;
+                double th0, th1;
+                if (J->k_lin <= 0) continue;
+                rj__joint_geo(m, J, m->x0, m->y0, &g0);
+                rj__joint_geo(m, J, x, y, &g1);
+                th0 = rj__joint_raw(J, &g0, m->phi0);
+                th1 = rj__joint_raw(J, &g1, p);
+                rj__apply_torque(J, &g0, -J->k_lin * rj__wrap(th1 - th0), fx, fy, mz);
             }
-        }
-        rj__beam_pass(m, x, y, p, m->beta0, cx, cy, eu, bt, cxo, cyo, fx, fy, mz, NULL);
-        /* joints: -k_lin (theta - theta0) g, linearised */
-        for (j = 0; j < m->nj; j++) {
-            const rj__joint *J = &m->jnt[j];
-            rj__jgeo g0, g1;
-            double th0, th1;
-            if (J->k_lin <= 0) continue;
-            rj__joint_geo(m, J, m->x0, m->y0, &g0);
-            rj__joint_geo(m, J, x, y, &g1);
-            th0 = rj__joint_raw(J, &g0, m->phi0);
-            th1 = rj__joint_raw(J, &g1, p);
-            rj__apply_torque(J, &g0, -J->k_lin * rj__wrap(th1 - th0), fx, fy, mz);
-        }
-        /* out += -sgn * f / (2h), contracted to DOFs */
-        for (i = 0; i < nn; i++) {
-            res[0] = fx[i]; res[1] = fy[i]; res[2] = mz[i];
-            out[3 * i] += -sgn * res[0] * sqrt(m->tinv[i]) / (2 * h);
-            out[3 * i + 1] += -sgn * res[1] * sqrt(m->tinv[i]) / (2 * h);
-            out[3 * i + 2] += -sgn * res[2] * sqrt(m->rinv[i]) / (2 * h);
-        }
-        for (gi = 0; gi < m->ng; gi++) {
-            int r = m->grp_node[m->grp_first[gi]];
-            double sx = 0, sy = 0, si = sqrt(m->grp_inv[gi]);
-            for (j = m->grp_first[gi]; j < m->grp_first[gi + 1]; j++) { sx += fx[m->grp_node[j]]; sy += fy[m->grp_node[j]]; }
-            out[3 * r] += -sgn * sx * si / (2 * h);
-            out[3 * r + 1] += -sgn * sy * si / (2 * h);
+            /* out += -sgn * f / (2h), contracted to DOFs */
+            for (i = 0; i < nn; i++) {
+                out[3 * i] += -sgn * fx[i] * sqrt(m->tinv[i]) / (2 * h);
+                out[3 * i + 1] += -sgn * fy[i] * sqrt(m->tinv[i]) / (2 * h);
+                out[3 * i + 2] += -sgn * mz[i] * sqrt(m->rinv[i]) / (2 * h);
+            }
+            for (gi = 0; gi < m->ng; gi++) {
+                int r = m->grp_node[m->grp_first[gi]];
+                double sx = 0, sy = 0, si = sqrt(m->grp_inv[gi]);
+                for (j = m->grp_first[gi]; j < m->grp_first[gi + 1]; j++) { sx += fx[m->grp_node[j]]; sy += fy[m->grp_node[j]]; }
+                out[3 * r] += -sgn * sx * si / (2 * h);
+                out[3 * r + 1] += -sgn * sy * si / (2 * h);
+            }
         }
     }
 }
