@@ -437,6 +437,7 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2);     
 #define RJ_SCENE_MAX_TOKENS 512       /* tokens per statement (a statement may continue after a ',') */
 #define RJ_SCENE_NAME_MAX 32          /* names are 1..31 characters */
 #define RJ_SCENE_MAX_BYTES (64u << 20) /* input size */
+#define RJ_SCENE_TITLE_MAX 128        /* a title is 0..127 bytes */
 
 /* A place in the file: 1-based line and column (column counts bytes); line 0 = nowhere. */
 typedef struct rj_scene_pos { int line, col; } rj_scene_pos;
@@ -451,6 +452,7 @@ typedef struct rj_scene_file {
     char (*link_names)[RJ_SCENE_NAME_MAX];
     char (*joint_names)[RJ_SCENE_NAME_MAX];
     char filename[96];                /* as given to rj_scene_parse (truncated) */
+    char title[RJ_SCENE_TITLE_MAX];   /* title = "..." at the top of the file; "" when none */
     rj_scene_pos *link_pos_, *joint_pos_; /* per item: header, then the value of each key */
     rj_scene_pos solver_pos_[6];      /* header, then dt, allow_unstable, energy_growth, energy_every, in_place */
     void *block_, *alloc_ctx_;
@@ -496,6 +498,12 @@ RJDEF void rj_scene_file_locate(const rj_scene_file *f, rj_error *err);
    past table_count, node1 and ground_* where they do not apply) are not written, so they
    may hold anything (NaN too), and come back as their defaults. */
 RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_names, const char *const *joint_names, char *buf, size_t size);
+/* rj_scene_write with a title line (title = "...") after the header comment, which
+   rj_scene_parse reads back into rj_scene_file.title. title NULL or "" writes none (that is
+   rj_scene_write). Returns 0 (and writes nothing) also for a title that a file cannot hold:
+   RJ_SCENE_TITLE_MAX bytes or more, a '"', or a control byte (tab included). */
+RJDEF size_t rj_scene_write_ex(const rj_scene_def *scene, const char *const *link_names, const char *const *joint_names,
+                               const char *title, char *buf, size_t size);
 #endif /* RJ_NO_SCENE_FILES */
 
 #ifdef __cplusplus
@@ -4770,7 +4778,7 @@ static const char rj__sk_solver_unit[RJ__VK_N][2] = { "s", "", "", "", "" };
 #define RJ__SK_MAT_KEYS ((1u << RJ__LK_E) | (1u << RJ__LK_RHO))
 #define RJ__SK_SEC_KEYS ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA) | (1u << RJ__LK_WIDTH) | (1u << RJ__LK_HEIGHT) | (1u << RJ__LK_LAYERS))
 
-typedef struct rj__stok { const char *s; int len, line, col; char kind; } rj__stok; /* kind 'w', '=' or ',' */
+typedef struct rj__stok { const char *s; int len, line, col; char kind; } rj__stok; /* kind 'w', '=', ',' or 'q' (a quoted string, quotes included) */
 
 /* a material or a section: a partial link definition */
 typedef struct rj__spart {
@@ -4797,6 +4805,7 @@ typedef struct rj__sp {
     unsigned seen;              /* keys set in the current section */
     int link_mat, link_sec;     /* current link's material and section, -1 none */
     int solver_seen;
+    int title_line;             /* line of the title statement, 0 none yet */
     char where[80], forkey[128];  /* message pieces */
     rj_result code;             /* of the first error */
 } rj__sp;
@@ -5564,6 +5573,9 @@ static int rj__sp_header(rj__sp *P)
     int kind = 0, k, cap = 0, count = 0, dup = -1;
     for (k = RJ__SK_SOLVER; k <= RJ__SK_JOINT; k++) if (rj__sp_is(t0, rj__sk_kind[k])) kind = k;
     if (!kind) {
+        /* "title Solar array": the key without its '=' */
+        if (P->kind == RJ__SK_NONE && rj__sp_is(t0, "title"))
+            return rj__sp_err(P, t0->line, t0->col + t0->len, "title", rj__sp_nan(), "missing '=' after 'title' (write title = \"text\")", NULL, NULL, NULL, NULL);
         if (P->kind != RJ__SK_NONE && rj__sp_key_index(P->kind, t0) >= 0) {
             const char *kn = rj__sp_key_name(P->kind, rj__sp_key_index(P->kind, t0));
             return rj__sp_err(P, t0->line, t0->col + t0->len, kn, rj__sp_nan(), "missing '=' after '", kn, "'", rj__sp_where(P), NULL);
@@ -5675,6 +5687,58 @@ static int rj__sp_unit_word(const rj__sp *P, int v, const char *kn)
     return t->kind == 'w' && rj__sp_alpha((unsigned char)t->s[0]) && n->kind == 'w' && rj__sp_strtonum(n->s, n->len, P->dp, P->dplen, &x) == 1;
 }
 
+/* ------------------------------------------------------------------ title */
+/* The first byte of a title that a file cannot hold on one line (a control byte: tab, CR),
+   -1 when there is none. The writer refuses the same bytes, so what it writes reads back. */
+static int rj__sp_title_bad(const char *s, int n)
+{
+    int k;
+    for (k = 0; k < n; k++) {
+        unsigned char c = (unsigned char)s[k];
+        if (c < 0x20 || c == 0x7f) return k;
+    }
+    return -1;
+}
+
+/* a title's value: one quoted string, at most RJ_SCENE_TITLE_MAX - 1 bytes of text */
+static int rj__sp_title_value(rj__sp *P, const rj__stok *v)
+{
+    char a[24], b[24], m[120];
+    int n = v->len - 2;
+    int bad;
+    if (v->kind != 'q')
+        return rj__sp_err_tok(P, v, "title", rj__sp_nan(), "expected a quoted string, found ", " for 'title' (write title = \"text\")", NULL, NULL);
+    if (n >= RJ_SCENE_TITLE_MAX) {
+        rj__sp_cat(m, sizeof m, "title of ", rj__sp_itoa(a, n), " bytes is too long (at most ", rj__sp_itoa(b, RJ_SCENE_TITLE_MAX - 1), ")", NULL, NULL);
+        return rj__sp_fail(P, v->line, v->col, "title", (double)n, m);
+    }
+    bad = rj__sp_title_bad(v->s + 1, n);
+    if (bad >= 0) {
+        snprintf(m, sizeof m, "byte 0x%02x in the title: a title is printable text (no tabs)", (unsigned char)v->s[1 + bad]);
+        return rj__sp_fail(P, v->line, v->col + 1 + bad, "title", rj__sp_nan(), m);
+    }
+    memcpy(P->f->title, v->s + 1, (size_t)n);
+    P->f->title[n] = 0;
+    return 1;
+}
+
+/* title = "text", before the first section (toks[i..j)): once, a value, nothing after it */
+static int rj__sp_title(rj__sp *P, int i, int j)
+{
+    const rj__stok *kt = &P->tok[i];
+    char nb[24];
+    if (P->title_line)
+        return rj__sp_err(P, kt->line, kt->col, "title", rj__sp_nan(), "duplicate title (first set on line ", rj__sp_itoa(nb, P->title_line), ")", NULL, NULL);
+    if (j == i + 2)
+        return rj__sp_err(P, P->tok[i + 1].line, P->tok[i + 1].col + 1, "title", rj__sp_nan(), "missing value for 'title'", NULL, NULL, NULL, NULL);
+    if (!rj__sp_title_value(P, &P->tok[i + 2]))
+        return 0;
+    if (j > i + 3)
+        return rj__sp_trailing(P, i + 3, "title");
+    P->title_line = kt->line;
+    return 1;
+}
+
 static int rj__sp_assignments(rj__sp *P)
 {
     int i = 0;
@@ -5684,9 +5748,22 @@ static int rj__sp_assignments(rj__sp *P)
         const char *kn;
         int j = i + 2, k, v;
         while (j < P->ntok && !(P->tok[j].kind == 'w' && j + 1 < P->ntok && P->tok[j + 1].kind == '=')) j++;
-        if (P->kind == RJ__SK_NONE)
-            return rj__sp_err_tok(P, kt, "", rj__sp_nan(), "key ", " outside any section (start one with solver, material, section, link or joint)", NULL, NULL);
+        /* the one statement outside a section: the title, before the first section */
+        if (P->kind == RJ__SK_NONE && rj__sp_is(kt, "title")) {
+            if (!rj__sp_title(P, i, j))
+                return 0;
+            i = j;
+            continue;
+        }
+        if (P->kind == RJ__SK_NONE) {
+            char mean[48];
+            return rj__sp_err_tok(P, kt, "", rj__sp_nan(), "key ", " outside any section (start one with solver, material, section, link or joint)",
+                                  rj__sp_mean(mean, rj__sp_near(kt->s, kt->len, "title", 6, 1, ~0u)), NULL);
+        }
         k = rj__sp_key_index(P->kind, kt);
+        /* a title inside a section: say where it belongs */
+        if (k < 0 && rj__sp_is(kt, "title"))
+            return rj__sp_err_tok(P, kt, "title", rj__sp_nan(), "unknown key ", rj__sp_where(P), " (a title goes at the top of the file, before the first section)", NULL);
         if (k < 0) {
             char q[64], mean[48];
             rj__sp_quote(q, sizeof q, kt->s, kt->len);
@@ -5740,6 +5817,25 @@ static int rj__sp_text(rj__sp *P)
     return 1;
 }
 
+/* a quoted string at s (its opening '"'), rest bytes to the line end, at column *k + 1:
+   a 'q' token with the quotes, *k past it; 0 (the error set) when the line has no closing
+   '"'. Titles need spaces, which separate tokens everywhere else. */
+static int rj__sp_quoted(rj__sp *P, const char *s, size_t rest, size_t *k)
+{
+    const char *close = rest > 1 ? (const char *)memchr(s + 1, '"', rest - 1) : NULL;
+    rj__stok *t = &P->tok[P->ntok];
+    if (!close)
+        return rj__sp_fail(P, P->lineno, (int)*k + 1, "", rj__sp_nan(), "unterminated string: no closing '\"' on this line");
+    t->s = s;
+    t->len = (int)(close - s) + 1;
+    t->line = P->lineno;
+    t->col = (int)*k + 1;
+    t->kind = 'q';
+    P->ntok++;
+    *k += (size_t)t->len;
+    return 1;
+}
+
 /* next statement into P->tok: returns 1 (maybe empty), 0 at the end, -1 on error.
    A line whose last token is ',' continues on the next line. */
 static int rj__sp_next(rj__sp *P)
@@ -5773,6 +5869,12 @@ static int rj__sp_next(rj__sp *P)
                 snprintf(m, sizeof m, "statement has more than %d tokens", RJ_SCENE_MAX_TOKENS);
                 rj__sp_fail(P, P->lineno, (int)k + 1, "", rj__sp_nan(), m);
                 return -1;
+            }
+            /* a quoted string runs to the next '"' on the same line (no escapes) */
+            if (c == '"') {
+                if (!rj__sp_quoted(P, s, n - k, &k))
+                    return -1;
+                continue;
             }
             {
                 rj__stok *t = &P->tok[P->ntok++];
@@ -6323,7 +6425,38 @@ static void rj__sw_joint(rj__sw *W, const rj_joint_def *d, const char *const *li
     rj__sw_joint_rest(W, d);
 }
 
+/* whether a file can hold title: shorter than RJ_SCENE_TITLE_MAX, no '"', no control byte
+   (what rj__sp_title_value accepts); NULL is no title */
+static int rj__sw_title_ok(const char *title)
+{
+    size_t n;
+    if (!title)
+        return 1;
+    n = strlen(title);
+    if (n >= RJ_SCENE_TITLE_MAX)
+        return 0;
+    if (memchr(title, '"', n))
+        return 0;
+    return rj__sp_title_bad(title, (int)n) < 0;
+}
+
+/* the title line, none for an empty title (which reads back as "" too) */
+static void rj__sw_title(rj__sw *W, const char *title)
+{
+    if (!title || !title[0])
+        return;
+    rj__sw_put(W, "title = \"");
+    rj__sw_put(W, title);
+    rj__sw_put(W, "\"\n");
+}
+
 RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_names, const char *const *joint_names, char *buf, size_t size)
+{
+    return rj_scene_write_ex(sc, link_names, joint_names, NULL, buf, size);
+}
+
+RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_names, const char *const *joint_names,
+                               const char *title, char *buf, size_t size)
 {
     rj__sw W;
     int i, k;
@@ -6331,9 +6464,11 @@ RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_name
     if (!sc || sc->link_count < 1 || sc->link_count > RJ_SCENE_MAX_LINKS || !sc->links
         || sc->joint_count < 0 || sc->joint_count > RJ_SCENE_MAX_JOINTS || (sc->joint_count && !sc->joints)) return 0;
     if (!rj__sw_ok(sc, link_names, joint_names)) return 0;
+    if (!rj__sw_title_ok(title)) return 0;
     W.buf = buf; W.size = buf ? size : 0; W.n = 0;
     rj__sp_locale(W.dp, &W.dplen);
     rj__sw_put(&W, "# revjoint scene (written by rj_scene_write, revjoint.h " RJ_VERSION ")\n");
+    rj__sw_title(&W, title);
     rj__sw_solver(&W, &sc->solver);
     for (i = 0; i < sc->link_count; i++) {
         int root_link = 1;

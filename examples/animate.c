@@ -19,12 +19,33 @@ static const char usage[] =
     "  --t-end S               simulated time (default 6 deploy, 0.02 impact)\n"
     "  --thickness F           drawn thickness = F x true (default 2 deploy, 1 impact)\n"
     "  --force                 run even above 1e8 steps or 1e5 frames (refused otherwise)\n"
+    "  --legend                a key to the joint colours (free, at a limit, locked)\n"
+    "  --labels                each joint's name and running angle (deg) beside it\n"
+    "  --band                  a band at the top for the time and caption, clear of the links\n"
+    "  --separate              links lying on one another (stowed panels) drawn side by side\n"
+    "  The caption is the scene file's title, else its path.\n"
     "  DIR and its parents are created; frame_NNNNN.png files already there are removed.\n";
 
 typedef struct anim {
     rjr_context *ctx; rjr_view view; const char *dir; double fdt; int frame, total, tty;
     int failed;   /* a frame could not be written: the run stopped there */
 } anim;
+
+/* joint names of the built-in scenes, as in their scene files */
+static const char *const deploy_names[] = { "j1", "j2" };
+static const char *const impact_names[] = { "hinge" };
+
+/* the view options the flags turn on; labels take the scene's joint names */
+typedef struct aids { int legend, labels, band, separate; } aids;
+
+static void apply_aids(rjr_view *v, const aids *x, const char *const *names)
+{
+    v->show_legend = x->legend;
+    v->show_joint_angles = x->labels;
+    v->joint_names = x->labels ? names : NULL;
+    v->text_band = x->band;
+    v->separate_stacked = x->separate;
+}
 
 static int on_sample(const rj_model *m, const rj_state *s, void *u)
 {
@@ -54,7 +75,10 @@ int main(int argc, char **argv)
     cli c;
     /* --size: each side 16 .. 8192 pixels */
     static const int size_lim[4] = { 16, 8192, 16, 8192 };
-    int scene = 0, w = 640, h = 480, force = 0;
+    int scene = 0, w = 640, h = 480, force = 0, k;
+    aids ax = { 0, 0, 0, 0 };
+    rj_scene_file sf;
+    const char *names[RJ_SCENE_MAX_JOINTS];
     double fps = -1, t_end = -1, thick = -1, frames;
     const char *dir = "out/frames", *a, *scene_file = NULL;
     anim an;
@@ -75,10 +99,15 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "--thickness")) thick = cli_num(&c, a, 0.01, 1000);
         else if (!strcmp(a, "--size")) cli_pair(&c, a, 'x', &w, &h, size_lim, "WxH, each 16..8192");
         else if (!strcmp(a, "--force")) force = 1;
+        else if (!strcmp(a, "--legend")) ax.legend = 1;
+        else if (!strcmp(a, "--labels")) ax.labels = 1;
+        else if (!strcmp(a, "--band")) ax.band = 1;
+        else if (!strcmp(a, "--separate")) ax.separate = 1;
         else if (!strcmp(a, "--help") || !strcmp(a, "-h")) { fputs(usage, stdout); return 0; }
         else cli_die(&c, "unknown option '%s'%s", a, "");
     }
     memset(&an, 0, sizeof an);
+    memset(&sf, 0, sizeof sf);
     an.view = rjr_view_default();
     if (scene == 0) {
         deploy_opts o = deploy_default_opts();
@@ -87,15 +116,19 @@ int main(int argc, char **argv)
         fps = fps < 0 ? 30 : fps; t_end = t_end < 0 ? 6 : t_end; thick = thick < 0 ? 2 : thick;
         rjr_view_fit_box(&an.view, box, w, h, 20);
         an.view.caption = "two-link deployment (SPEC 9.2)";
+        apply_aids(&an.view, &ax, deploy_names);
     } else if (scene == 2) {
-        rj_scene_file sf;
         rj_scene_def sd;
         if (rj_scene_load(scene_file, &sf, &e) != RJ_OK) { fprintf(stderr, "animate: %s\n", e.msg); return 1; }
         sd = rj_scene_file_def(&sf);
         if (rj_model_create(&sd, &m, &e, NULL) != RJ_OK) { rj_scene_file_locate(&sf, &e); fprintf(stderr, "animate: %s\n", e.msg); return 1; }
-        rj_scene_file_free(&sf);
         fps = fps < 0 ? 30 : fps; t_end = t_end < 0 ? 6 : t_end; thick = thick < 0 ? 2 : thick;
-        an.view.caption = scene_file;
+        /* the file's title names the scene for people; its path when it has none. The names
+           and the title live in sf, freed at the end. */
+        an.view.caption = sf.title[0] ? sf.title : scene_file;
+        for (k = 0; k < sf.joint_count; k++)
+            names[k] = sf.joint_names[k];
+        apply_aids(&an.view, &ax, names);
     } else {
         impact_opts o = impact_default_opts();
         rj_link_def L[2]; rj_joint_def J; rj_scene_def sc;
@@ -105,6 +138,7 @@ int main(int argc, char **argv)
         fps = fps < 0 ? 20000 : fps; t_end = t_end < 0 ? 0.02 : t_end; thick = thick < 0 ? 1 : thick;
         rjr_view_fit_box(&an.view, box, w, h, 20);
         an.view.caption = "impact on a reverse limit (SPEC 9.1)";
+        apply_aids(&an.view, &ax, impact_names);
     }
     /* refuse runs that would not end before anything runs (the scene pass below included):
        a frame at every multiple of 1/fps, but at most one per step */
@@ -145,5 +179,6 @@ int main(int argc, char **argv)
             (double)(clock() - c0) / CLOCKS_PER_SEC);
     rjr_destroy(an.ctx);
     rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+    rj_scene_file_free(&sf);
     return 0;
 }

@@ -57,6 +57,8 @@ struct rjr_context {
     int nv;
     double *pa, *pb, *pc;          /* scratch point buffers (x, y pairs) */
     size_t capa, capb, capc;       /* in points */
+    double *po, *pl;               /* frame overlays: per-link stack offsets, joint label boxes */
+    size_t capo, capl;             /* in points (a label box takes two) */
     unsigned char *readbuf;        /* RGBA read-back buffer */
     int in_frame, has_frame, failed;
     char err[256];
@@ -244,6 +246,8 @@ void rjr_destroy(rjr_context *c)
     }
     be_destroy(c);
     free(c->vxy); free(c->vcol); free(c->pa); free(c->pb); free(c->pc); free(c->readbuf);
+    free(c->po);
+    free(c->pl);
     free(c);
 }
 
@@ -883,10 +887,56 @@ static void w2p(const scene_xf *t, const double w[2], double *x, double *y)
     *y = t->hh - (w[1] - t->cy) / t->mpp;
 }
 
+/* The overlay font (capital height): the view's, else 2.8 % of the height within 11..18. */
+static double view_font(const rjr_context *c, const rjr_view *v)
+{
+    double f = c->height * 0.028;
+    if (v->font_px > 0)
+        return v->font_px;
+    if (f < 11)
+        return 11;
+    if (f > 18)
+        return 18;
+    return f;
+}
+
+/* Height of the text band: the texts' top margin, their capitals and descenders (4/3 of
+   the capital height) and half the margin below them. 0 when the view does not ask for it
+   or the image is too low (the scene keeps at least half the height). */
+static double band_of(const rjr_context *c, const rjr_view *v, double f)
+{
+    double pad = floor(f * 0.8);
+    double b = ceil(pad + f * 4.0 / 3.0 + 0.5 * pad);
+    if (!v->text_band || b > 0.5 * c->height)
+        return 0.0;
+    return b;
+}
+
+/* World to pixel transform of a view. With a band the whole view is scaled by
+   k = (height - band) / height about the top centre and moved below the band, the same for
+   every frame, so an animation does not jump and no link can reach the texts. */
+static void scene_transform(const rjr_context *c, const rjr_view *v, double band, scene_xf *t)
+{
+    double k = (c->height - band) / c->height;
+    t->cx = v->cx;
+    t->cy = v->cy;
+    t->mpp = v->mpp;
+    t->hw = 0.5 * c->width;
+    t->hh = 0.5 * c->height;
+    if (!(band > 0))
+        return;
+    t->mpp = v->mpp / k;
+    t->hh = band + k * 0.5 * c->height;
+}
+
 void rjr_world_to_pixel(const rjr_context *c, const rjr_view *v, double x, double y, double *px, double *py)
 {
-    *px = 0.5 * c->width + (x - v->cx) / v->mpp;
-    *py = 0.5 * c->height - (y - v->cy) / v->mpp;
+    scene_xf t;
+    double w[2];
+    scene_transform(c, v, band_of(c, v, view_font(c, v)), &t);
+    w[0] = x;
+    w[1] = y;
+    w2p(&t, w, px, py);
 }
 
 static double link_thickness_px(const rj_model *m, int l, const rjr_view *v)
@@ -947,18 +997,593 @@ static double joint_ref_angle(const rj_model *m, const rj_state *s, const rj_joi
     return atan2(b[1] - a[1], b[0] - a[0]);
 }
 
+/* ---- Frame aids: stacks, legend, joint labels, text line -------------------------------- */
+
+static int clip_seg(double *t0, double *t1, double x0, double y0, double x1, double y1, double xa, double ya, double xb, double yb);
+
+/* One frame's drawing context, shared by the passes of rjr_draw_scene: the transform, the
+   overlay font, the reserved text band and the per-link offsets of separated stacks. */
+typedef struct frame_ctx {
+    const rj_model *m;
+    const rj_state *s;
+    const rjr_view *v;
+    scene_xf t;
+    double f;                  /* overlay font (capital height), px */
+    double band;               /* reserved text band height, 0 none */
+    const double *off;         /* per link (x, y) pixel offset, NULL none */
+} frame_ctx;
+
+/* Rectangles are {x0, y0, x1, y1} in pixels. */
+static double rect_overlap(const double a[4], const double b[4])
+{
+    double w = fmin(a[2], b[2]) - fmax(a[0], b[0]);
+    double h = fmin(a[3], b[3]) - fmax(a[1], b[1]);
+    if (w <= 0 || h <= 0)
+        return 0.0;
+    return w * h;
+}
+
+/* Distance from point (x, y) to rectangle r (0 inside). */
+static double point_rect_gap(double x, double y, const double r[4])
+{
+    double dx = fmax(0.0, fmax(r[0] - x, x - r[2]));
+    double dy = fmax(0.0, fmax(r[1] - y, y - r[3]));
+    return sqrt(dx * dx + dy * dy);
+}
+
+/* Gap between two rectangles (0 when they touch or overlap). */
+static double rect_gap(const double a[4], const double b[4])
+{
+    double dx = fmax(0.0, fmax(a[0] - b[2], b[0] - a[2]));
+    double dy = fmax(0.0, fmax(a[1] - b[3], b[1] - a[3]));
+    return sqrt(dx * dx + dy * dy);
+}
+
+/* Node k of link l in pixels, moved by the link's stack offset. */
+static void node_px(const frame_ctx *fc, int l, int k, double *x, double *y)
+{
+    double w[2];
+    rj_node_position(fc->m, fc->s, l, k, w);
+    w2p(&fc->t, w, x, y);
+    if (!fc->off)
+        return;
+    *x += fc->off[2 * l];
+    *y += fc->off[2 * l + 1];
+}
+
+/* All nodes of link l in pixels into p[2 * nodes]. */
+static void link_px(const frame_ctx *fc, int l, double *p)
+{
+    int k, nn = rj_link_node_count(fc->m, l);
+    for (k = 0; k < nn; k++)
+        node_px(fc, l, k, &p[2 * k], &p[2 * k + 1]);
+}
+
+/* Width of a link's dark outline. Separated stacks get at least 1 px so that the line
+   between two panels survives anti-aliasing. */
+static double outline_px(double th, const rjr_view *v)
+{
+    if (th >= 6)
+        return 1.2;
+    return v->separate_stacked ? 1.0 : 0.8;
+}
+
+/* The normal of direction (ux, uy) that points right or down on screen (nx + ny > 0):
+   links stacked on one another all move to the same side, whichever way each one runs. */
+static void stack_normal(double ux, double uy, double *nx, double *ny)
+{
+    *nx = -uy;
+    *ny = ux;
+    if (*nx + *ny < 0 || (*nx + *ny == 0 && *nx < 0)) {
+        *nx = -*nx;
+        *ny = -*ny;
+    }
+}
+
+/* Centre-line distance of two links drawn side by side: half of each thickness and both
+   outlines, so that the two dark outlines meet between the fills. */
+static double stack_gap(const frame_ctx *fc, int a, int b)
+{
+    double ta = link_thickness_px(fc->m, a, fc->v);
+    double tb = link_thickness_px(fc->m, b, fc->v);
+    return 0.5 * (ta + tb) + outline_px(ta, fc->v) + outline_px(tb, fc->v);
+}
+
+/* Extent of link b's nodes in the frame of link a's chord (origin a0, direction u, normal
+   n): along u in e[0..1], across in e[2..3]. */
+static void stack_extent(const frame_ctx *fc, int b, const double a0[2], const double u[2], const double n[2], double e[4])
+{
+    int k, nb = rj_link_node_count(fc->m, b);
+    e[0] = e[2] = HUGE_VAL;
+    e[1] = e[3] = -HUGE_VAL;
+    for (k = 0; k < nb; k++) {
+        double x, y, along, across;
+        node_px(fc, b, k, &x, &y);
+        along = (x - a0[0]) * u[0] + (y - a0[1]) * u[1];
+        across = (x - a0[0]) * n[0] + (y - a0[1]) * n[1];
+        e[0] = fmin(e[0], along);
+        e[1] = fmax(e[1], along);
+        e[2] = fmin(e[2], across);
+        e[3] = fmax(e[3], across);
+    }
+}
+
+/* How far link b must move along the normal n of link a's chord to lie beside a rather
+   than on it. b lies on a when its nodes project onto a's chord over at least half the
+   shorter length and the middle of their lateral spread is within the side-by-side gap.
+   The push fades out while b turns away (lateral spread from one gap to two), so that a
+   fold that opens does not jump. */
+static double stack_push(const frame_ctx *fc, int a, int b, double n[2])
+{
+    double a0[2], a1[2], u[2], e[4], la, over, mid, gap, w;
+    n[0] = 0.0;
+    n[1] = 0.0;
+    node_px(fc, a, 0, &a0[0], &a0[1]);
+    node_px(fc, a, rj_link_node_count(fc->m, a) - 1, &a1[0], &a1[1]);
+    la = hypot(a1[0] - a0[0], a1[1] - a0[1]);
+    if (!(la > 1.0))
+        return 0.0;
+    u[0] = (a1[0] - a0[0]) / la;
+    u[1] = (a1[1] - a0[1]) / la;
+    stack_normal(u[0], u[1], &n[0], &n[1]);
+    stack_extent(fc, b, a0, u, n, e);
+    over = fmin(e[1], la) - fmax(e[0], 0.0);
+    if (!(e[1] - e[0] > 1.0) || over < 0.5 * fmin(la, e[1] - e[0]))
+        return 0.0;
+    mid = 0.5 * (e[2] + e[3]);
+    gap = stack_gap(fc, a, b);
+    if (mid <= -gap || mid >= gap)
+        return 0.0;
+    w = fmin(1.0, (2.0 * gap - (e[3] - e[2])) / gap);
+    if (w <= 0)
+        return 0.0;
+    return w * (gap - mid);
+}
+
+/* Stack offsets into c->po: in link order, each link is pushed off every earlier link it
+   lies on, once, so a stowed stack fans out to one side like the real one. */
+static int stack_offsets(rjr_context *c, frame_ctx *fc)
+{
+    int a, b, nl = rj_model_link_count(fc->m);
+    if (grow(&c->po, &c->capo, (size_t)nl))
+        return -1;
+    memset(c->po, 0, (size_t)nl * 2 * sizeof(double));
+    fc->off = c->po;
+    for (b = 1; b < nl; b++)
+        for (a = 0; a < b; a++) {
+            double n[2], push = stack_push(fc, a, b, n);
+            c->po[2 * b] += push * n[0];
+            c->po[2 * b + 1] += push * n[1];
+        }
+    return 0;
+}
+
+/* A joint's pin radius and limit-arc radius in pixels, as the joint pass draws them. */
+static void joint_radii(const frame_ctx *fc, int j, double *rp, double *R)
+{
+    const rj_joint_def *jd = rj_model_joint_def(fc->m, j);
+    double th = link_thickness_px(fc->m, jd->body2, fc->v);
+    if (jd->body1 >= 0)
+        th = fmax(th, link_thickness_px(fc->m, jd->body1, fc->v));
+    *rp = th * 0.3 < 3.5 ? 3.5 : (th * 0.3 > 12 ? 12 : th * 0.3);
+    *R = th * 0.5 + 12 > 20 ? th * 0.5 + 12 : 20;
+}
+
+/* Pixels of a tip mass in r grown by margin: its square (half side 0.85 x thickness, at
+   least 5 px, as drawn) as the disc around it, how deep r reaches into it times its
+   diameter. */
+static double tip_cover(const frame_ctx *fc, int l, const double r[4], double margin)
+{
+    double x, y, rad = 1.42 * fmax(5.0, 0.85 * link_thickness_px(fc->m, l, fc->v)) + margin;
+    if (!(rj_model_link_def(fc->m, l)->tip_mass > 0))
+        return 0.0;
+    node_px(fc, l, rj_link_node_count(fc->m, l) - 1, &x, &y);
+    return 2.0 * rad * fmax(0.0, rad - point_rect_gap(x, y, r));
+}
+
+/* Pixels of links that fall in rectangle r grown by margin: for every element, the length
+   inside r (grown by half the link's thickness) times the thickness; and the tip masses. */
+static double links_cover(const frame_ctx *fc, const double r[4], double margin)
+{
+    int l, k, nl = rj_model_link_count(fc->m);
+    double sum = 0.0;
+    for (l = 0; l < nl; l++) {
+        double th = link_thickness_px(fc->m, l, fc->v), e = 0.5 * th + margin, x0, y0;
+        node_px(fc, l, 0, &x0, &y0);
+        for (k = 1; k < rj_link_node_count(fc->m, l); k++) {
+            double x1, y1, t0, t1;
+            node_px(fc, l, k, &x1, &y1);
+            if (clip_seg(&t0, &t1, x0, y0, x1, y1, r[0] - e, r[1] - e, r[2] + e, r[3] + e))
+                sum += (t1 - t0) * hypot(x1 - x0, y1 - y0) * th;
+            x0 = x1;
+            y0 = y1;
+        }
+        sum += tip_cover(fc, l, r, margin);
+    }
+    return sum;
+}
+
+/* Pixels of joint symbols in r grown by margin: the pin, or the limit arc and needle, as
+   a disc (how deep r reaches into it, times its diameter); the ground support of a ground
+   joint as its box. */
+static double joints_cover(const frame_ctx *fc, const double r[4], double margin)
+{
+    int j, nj = rj_model_joint_count(fc->m);
+    double sum = 0.0;
+    for (j = 0; j < nj; j++) {
+        const rj_joint_def *jd = rj_model_joint_def(fc->m, j);
+        double p[2], x, y, rp, R, rad, sym[4];
+        joint_radii(fc, j, &rp, &R);
+        rj_joint_position(fc->m, fc->s, j, p);
+        w2p(&fc->t, p, &x, &y);
+        rad = (fc->v->show_limits ? R + 7 : rp) + margin;
+        sum += 2.0 * rad * fmax(0.0, rad - point_rect_gap(x, y, r));
+        if (jd->body1 >= 0 || !fc->v->show_ground)
+            continue;
+        /* pin_support: a triangle of height sz on a hatched line 2.1 sz wide */
+        p[0] = jd->ground_x;
+        p[1] = jd->ground_y;
+        w2p(&fc->t, p, &x, &y);
+        rad = fmin(48.0, fmax(14.0, link_thickness_px(fc->m, jd->body2, fc->v) * 1.1));
+        sym[0] = x - 1.1 * rad - margin;
+        sym[1] = y - margin;
+        sym[2] = x + 1.1 * rad + margin;
+        sym[3] = y + 1.45 * rad + margin;
+        sum += rect_overlap(sym, r);
+    }
+    return sum;
+}
+
+/* Pixel bounding box of the mechanism: every node (moved by its stack offset). */
+static void mechanism_box(const frame_ctx *fc, double b[4])
+{
+    int l, k, nl = rj_model_link_count(fc->m);
+    b[0] = b[1] = HUGE_VAL;
+    b[2] = b[3] = -HUGE_VAL;
+    for (l = 0; l < nl; l++)
+        for (k = 0; k < rj_link_node_count(fc->m, l); k++) {
+            double x, y;
+            node_px(fc, l, k, &x, &y);
+            b[0] = fmin(b[0], x);
+            b[1] = fmin(b[1], y);
+            b[2] = fmax(b[2], x);
+            b[3] = fmax(b[3], y);
+        }
+}
+
+/* Size of the small font of legends and joint labels. */
+static double small_font(double f)
+{
+    return fmax(9.0, floor(f * 0.8 + 0.5));
+}
+
+/* Bottom of the line that holds the time stamp and caption, or of the band. */
+static double top_text_bottom(const frame_ctx *fc)
+{
+    double pad = floor(fc->f * 0.8);
+    if (fc->band > 0)
+        return fc->band;
+    if (!fc->v->show_time && !fc->v->caption)
+        return 0.0;
+    return pad + ceil(fc->f * 4.0 / 3.0);
+}
+
+/* Top of the scale bar and its label (0 rows when there is none). */
+static double scale_top(const rjr_context *c, const frame_ctx *fc)
+{
+    if (!fc->v->show_scale)
+        return c->height;
+    return c->height - ceil(fc->f * 2.2) - 9;
+}
+
+/* Rectangles that overlays keep out of: the time stamp and caption line, the scale bar
+   (with the width of a fifth of the image it takes) and, once placed, the legend. */
+typedef struct keep_out {
+    double r[3][4];
+    int n;
+} keep_out;
+
+static void keep_out_init(const rjr_context *c, const frame_ctx *fc, keep_out *k)
+{
+    k->n = 0;
+    k->r[k->n][0] = 0;
+    k->r[k->n][1] = 0;
+    k->r[k->n][2] = c->width;
+    k->r[k->n][3] = top_text_bottom(fc);
+    k->n++;
+    k->r[k->n][0] = 0;
+    k->r[k->n][1] = scale_top(c, fc);
+    k->r[k->n][2] = floor(fc->f * 0.8) + c->width * 0.25 + fc->f * 3;
+    k->r[k->n][3] = c->height;
+    k->n++;
+}
+
+/* ---- Legend: the joint colours ---- */
+
+static const struct { rjr_rgb col; const char *text; } legend_rows[3] = {
+    { COL_FREE, "joint free" },
+    { COL_LIMIT, "joint at a limit" },
+    { COL_LOCKED, "joint locked" },
+};
+
+/* Legend box size for font fs: a pin-and-needle sample and a text per row. */
+static void legend_size(double fs, double *w, double *h)
+{
+    double tw = 0.0;
+    int i;
+    for (i = 0; i < 3; i++)
+        tw = fmax(tw, rjr_text_width(legend_rows[i].text, fs));
+    *w = 2 * floor(fs * 0.8) + floor(fs * 2.6) + floor(fs * 0.7) + ceil(tw);
+    *h = 3 * floor(fs * 1.8) + floor(fs * 0.8);
+}
+
+/* Legend rectangle in corner k (0 top-right, 1 top-left, 2 bottom-right, 3 bottom-left),
+   below the time stamp and caption line and above the scale bar. */
+static void legend_rect(const rjr_context *c, const frame_ctx *fc, int k, double w, double h, double r[4])
+{
+    double inset = floor(fc->f * 0.8);
+    double top = top_text_bottom(fc) > 0 ? top_text_bottom(fc) + floor(0.5 * inset) : inset;
+    double bottom = c->height - inset;
+    if (k == 3 && fc->v->show_scale)
+        bottom = scale_top(c, fc) - floor(0.5 * inset);
+    r[0] = (k & 1) ? inset : c->width - inset - w;
+    r[1] = (k & 2) ? bottom - h : top;
+    r[2] = r[0] + w;
+    r[3] = r[1] + h;
+}
+
+/* The legend's corner: the one whose rectangle covers the fewest link and joint pixels;
+   of equal ones, the farthest from the mechanism's bounding box; then the first in the
+   order top-right, top-left, bottom-right, bottom-left. 0 when no corner has room. */
+static int legend_place(const rjr_context *c, const frame_ctx *fc, double r[4])
+{
+    double w, h, box[4], best = HUGE_VAL, far = -1.0;
+    int k, found = 0;
+    legend_size(small_font(fc->f), &w, &h);
+    if (w > c->width - 2 * floor(fc->f * 0.8) || h > 0.5 * c->height)
+        return 0;
+    mechanism_box(fc, box);
+    for (k = 0; k < 4; k++) {
+        double q[4], cover, gap;
+        legend_rect(c, fc, k, w, h, q);
+        cover = links_cover(fc, q, 2.0) + joints_cover(fc, q, 2.0);
+        gap = rect_gap(q, box);
+        if (cover > best + 0.5 || (cover > best - 0.5 && gap <= far + 0.5))
+            continue;
+        best = cover;
+        far = gap;
+        memcpy(r, q, sizeof q);
+        found = 1;
+    }
+    return found;
+}
+
+/* The legend in rectangle r: white box, grey border, per row a needle and a pin in the
+   colours of the joint pass (the free pin has a dark ring) and its meaning. The needles
+   are whole-pixel rectangles, so their colours appear exactly. */
+static void draw_legend(rjr_context *c, const double r[4], double fs)
+{
+    double pad = floor(fs * 0.8), row = floor(fs * 1.8), sample = floor(fs * 2.6);
+    double rp = floor(fs * 0.35 + 0.5), x = r[0] + pad;
+    int i;
+    rjr_rect(c, r[0], r[1], r[2] - r[0], r[3] - r[1], 0xffffff);
+    rect_outline(c, r[0], r[1], r[2] - r[0], r[3] - r[1], 1, 0xa6a6a6);
+    for (i = 0; i < 3; i++) {
+        double y = r[1] + floor(0.5 * pad) + row * i + floor(0.5 * row);
+        rjr_rgb ring = i == 0 ? COL_INK : legend_rows[i].col;
+        rjr_rect(c, x + rp, y - 1, sample - rp, 2, legend_rows[i].col);
+        rjr_disc(c, x + rp, y, rp, ring);
+        rjr_disc(c, x + rp, y, rp - (rp * 0.35 < 1.2 ? 1.2 : rp * 0.35), 0xffffff);
+        rjr_text(c, x + sample + floor(fs * 0.7), y, fs, 0.0, RJR_LEFT | RJR_MIDDLE, COL_INK, legend_rows[i].text);
+    }
+}
+
+/* ---- Joint labels ---- */
+
+/* Joint j's label: its name, its running angle in degrees ("h2 317.5 deg"), or both;
+   the running angle because limits and springs act on it and it does not jump at
+   0/360 deg, so a joint folded at 360 deg reads 360, as its scene file says. */
+static void joint_label_text(const frame_ctx *fc, int j, char *buf, size_t n)
+{
+    const char *name = fc->v->joint_names ? fc->v->joint_names[j] : NULL;
+    char ang[48], *d;
+    ang[0] = 0;
+    if (fc->v->show_joint_angles) {
+        snprintf(ang, sizeof ang, "%.1f deg", rj_deg(rj_joint_theta_running(fc->m, fc->s, j)));
+        /* a locale's decimal comma back to a point, and no "-0.0" */
+        for (d = ang; *d; d++)
+            if (*d == ',')
+                *d = '.';
+        if (strcmp(ang, "-0.0 deg") == 0)
+            memmove(ang, ang + 1, strlen(ang));
+    }
+    snprintf(buf, n, "%s%s%s", name ? name : "", name && ang[0] ? " " : "", ang);
+}
+
+/* The preferred side for joint j's label: away from the bisector of its two links (body 1
+   along the reference direction, body 2 along the needle), or, when they are straight,
+   the side that is up on screen. */
+static void label_away(const frame_ctx *fc, int j, double u[2])
+{
+    const rj_joint_def *jd = rj_model_joint_def(fc->m, j);
+    double ref = joint_ref_angle(fc->m, fc->s, jd);
+    double a2 = ref + rj_joint_theta(fc->m, fc->s, j);
+    double bx = cos(ref) + cos(a2), by = -sin(ref) - sin(a2), bl = hypot(bx, by);
+    if (bl > 1e-6) {
+        u[0] = -bx / bl;
+        u[1] = -by / bl;
+        return;
+    }
+    u[0] = sin(ref);
+    u[1] = cos(ref);
+    if (u[1] > 0 || (u[1] == 0 && u[0] < 0)) {
+        u[0] = -u[0];
+        u[1] = -u[1];
+    }
+}
+
+/* A tw x th box on the side u of (x, y): the ray from the point along u enters it at
+   distance r0 (a diagonal box may come nearer elsewhere; the score sees that). */
+static void label_box(double x, double y, const double u[2], double r0, double tw, double th, double b[4])
+{
+    double ex = fabs(u[0]) > 1e-9 ? 0.5 * tw / fabs(u[0]) : HUGE_VAL;
+    double ey = fabs(u[1]) > 1e-9 ? 0.5 * th / fabs(u[1]) : HUGE_VAL;
+    double reach = r0 + fmin(ex, ey);
+    double cx = x + u[0] * reach, cy = y + u[1] * reach;
+    b[0] = floor(cx - 0.5 * tw);
+    b[1] = floor(cy - 0.5 * th);
+    b[2] = b[0] + tw;
+    b[3] = b[1] + th;
+}
+
+/* What a label at b would hide or leave: link pixels near it (four times: text on a link
+   is worse than text near a limit arc), joint symbol pixels, and ten times the area it
+   shares with earlier labels, the keep-out rectangles, or the outside of the image (or the
+   band). */
+static double label_score(const rjr_context *c, const frame_ctx *fc, const double b[4], const double *placed, int np, const keep_out *k)
+{
+    double score = 4.0 * links_cover(fc, b, 3.0) + joints_cover(fc, b, 1.0), img[4];
+    int i;
+    img[0] = 0;
+    img[1] = fc->band;
+    img[2] = c->width;
+    img[3] = c->height;
+    score += 10.0 * ((b[2] - b[0]) * (b[3] - b[1]) - rect_overlap(b, img));
+    for (i = 0; i < np; i++)
+        score += 10.0 * rect_overlap(b, placed + 4 * i);
+    for (i = 0; i < k->n; i++)
+        score += 10.0 * rect_overlap(b, k->r[i]);
+    return score;
+}
+
+/* Joint j's label box: of 80 candidates (16 directions, turning from the preferred side
+   by 22.5 deg either way, at five distances from just beyond the limit arc to 3.5 times
+   that, for joints crowded together), the first with the lowest score. */
+static void label_place(const rjr_context *c, const frame_ctx *fc, int j, double tw, double th, const keep_out *k, double best[4])
+{
+    static const double reach[5] = { 1.0, 1.5, 2.0, 2.75, 3.5 };
+    double p[2], x, y, rp, R, r0, away[2], low = HUGE_VAL;
+    int i, ring;
+    joint_radii(fc, j, &rp, &R);
+    r0 = fc->v->show_limits ? R + 9 : rp + 4;   /* past the needle (R + 7) */
+    rj_joint_position(fc->m, fc->s, j, p);
+    w2p(&fc->t, p, &x, &y);
+    label_away(fc, j, away);
+    for (ring = 0; ring < 5; ring++)
+        for (i = 0; i < 16; i++) {
+            /* 0, +22.5, -22.5, +45, -45, ... 180 deg */
+            double a = (i % 2 ? 1.0 : -1.0) * ((i + 1) / 2) * M_PI / 8.0, u[2], b[4], sc;
+            u[0] = away[0] * cos(a) - away[1] * sin(a);
+            u[1] = away[0] * sin(a) + away[1] * cos(a);
+            label_box(x, y, u, r0 * reach[ring], tw, th, b);
+            sc = label_score(c, fc, b, c->pl, j, k);
+            if (sc >= low)
+                continue;
+            low = sc;
+            memcpy(best, b, sizeof b);
+        }
+}
+
+/* Every joint's label in the small font, placed in joint order (each avoids the earlier
+   ones); boxes go to c->pl. */
+static int draw_joint_labels(rjr_context *c, const frame_ctx *fc, const keep_out *k)
+{
+    int j, nj = rj_model_joint_count(fc->m);
+    double fs = small_font(fc->f);
+    if (grow(&c->pl, &c->capl, (size_t)nj * 2))
+        return -1;
+    for (j = 0; j < nj; j++) {
+        char text[160];
+        double *b = c->pl + 4 * j;
+        joint_label_text(fc, j, text, sizeof text);
+        b[0] = b[1] = b[2] = b[3] = -1e9;
+        if (!text[0])
+            continue;
+        label_place(c, fc, j, ceil(rjr_text_width(text, fs)) + 2, ceil(fs * 4.0 / 3.0) + 2, k, b);
+        rjr_text(c, b[0] + 1, b[1] + 1, fs, 0.0, RJR_LEFT | RJR_TOP, COL_INK, text);
+    }
+    return 0;
+}
+
+/* ---- Time stamp and caption ---- */
+
+/* The caption at most room wide: at full size when it fits, else smaller down to 0.7 of
+   the size, else at 0.7 with its end replaced by "..." (in buf). */
+static const char *fit_caption(const char *s, double room, double f, char *buf, size_t n, double *size)
+{
+    double w = rjr_text_width(s, f);
+    size_t len;
+    *size = f;
+    if (w <= room)
+        return s;
+    *size = f * room / w;
+    if (*size >= 0.7 * f)
+        return s;
+    *size = 0.7 * f;
+    len = strlen(s) < n - 4 ? strlen(s) : n - 4;
+    /* drop characters until the rest and "..." fit */
+    do {
+        memcpy(buf, s, len);
+        memcpy(buf + len, "...", 4);
+    } while (len-- > 0 && rjr_text_width(buf, *size) > room);
+    if (rjr_text_width(buf, *size) > room)
+        buf[0] = 0;
+    return buf;
+}
+
+/* The time stamp top-left and the caption top-right on one line; the caption takes the
+   width the time stamp leaves, with a gap of one capital height, so they never overlap. */
+static void draw_top_texts(rjr_context *c, const frame_ctx *fc)
+{
+    double f = fc->f, pad = floor(f * 0.8), left = pad, size;
+    char buf[64], cut[256];
+    const char *cap;
+    if (fc->v->show_time) {
+        snprintf(buf, sizeof buf, "t = %.4f s", rj_state_time(fc->s));
+        left += rjr_text(c, pad, pad, f, 0.0, RJR_LEFT | RJR_TOP, COL_INK, buf) + f;
+    }
+    if (!fc->v->caption)
+        return;
+    cap = fit_caption(fc->v->caption, c->width - pad - left, f, cut, sizeof cut, &size);
+    rjr_text(c, c->width - pad, pad, size, 0.0, RJR_RIGHT | RJR_TOP, COL_INK, cap);
+}
+
+/* The frame's transform, font, band and, for separated stacks, the link offsets. */
+static int frame_setup(rjr_context *c, const rj_model *m, const rj_state *s, const rjr_view *v, frame_ctx *fc)
+{
+    fc->m = m;
+    fc->s = s;
+    fc->v = v;
+    fc->f = view_font(c, v);
+    fc->band = band_of(c, v, fc->f);
+    fc->off = NULL;
+    scene_transform(c, v, fc->band, &fc->t);
+    if (v->separate_stacked && stack_offsets(c, fc) != 0) {
+        ctx_fail(c, "out of memory");
+        return -1;
+    }
+    return 0;
+}
+
 int rjr_draw_scene(rjr_context *c, const rj_model *m, const rj_state *s, const rjr_view *v)
 {
-    int nl, nj, l, j, k;
+    int nl, nj, l, j, k, has_legend = 0;
     scene_xf t;
-    double f, tmax = 0.0;
+    frame_ctx fc;
+    keep_out ko;
+    double f, tmax = 0.0, legend[4];
     char buf[64];
     if (!c->in_frame) { set_err(c->err, sizeof c->err, "rjr_draw_scene: no open frame"); return -1; }
     if (!(v->mpp > 0) || !isfinite(v->cx) || !isfinite(v->cy)) { ctx_fail(c, "rjr_draw_scene: bad view"); return -1; }
     nl = rj_model_link_count(m);
     nj = rj_model_joint_count(m);
-    t.cx = v->cx; t.cy = v->cy; t.mpp = v->mpp; t.hw = 0.5 * c->width; t.hh = 0.5 * c->height;
-    f = v->font_px > 0 ? v->font_px : (c->height * 0.028 < 11 ? 11 : (c->height * 0.028 > 18 ? 18 : c->height * 0.028));
+    if (frame_setup(c, m, s, v, &fc) != 0)
+        return -1;
+    t = fc.t;
+    f = fc.f;
+    /* the band belongs to the texts: nothing of the scene is drawn into it */
+    if (fc.band > 0)
+        rjr_clip(c, 0, (int)fc.band, c->width, c->height - (int)fc.band);
     for (l = 0; l < nl; l++) {
         double th = link_thickness_px(m, l, v);
         if (th > tmax) tmax = th;
@@ -1012,19 +1637,15 @@ int rjr_draw_scene(rjr_context *c, const rj_model *m, const rj_state *s, const r
         }
     }
 
-    /* Links: outline strip, then the fill strip on top. */
+    /* Links: outline strip, then the fill strip on top (separated stacks: always both). */
     for (l = 0; l < nl; l++) {
         int nn = rj_link_node_count(m, l);
-        double th = link_thickness_px(m, l, v), ow = th < 6 ? 0.8 : 1.2, *p, ex, ey, el;
+        double th = link_thickness_px(m, l, v), ow = outline_px(th, v), *p, ex, ey, el;
         rjr_rgb fill = link_fill[l % (int)(sizeof link_fill / sizeof link_fill[0])];
         if (grow(&c->pa, &c->capa, (size_t)nn)) { ctx_fail(c, "out of memory"); return -1; }
         p = c->pa;
-        for (k = 0; k < nn; k++) {
-            double w[2];
-            rj_node_position(m, s, l, k, w);
-            w2p(&t, w, &p[2 * k], &p[2 * k + 1]);
-        }
-        if (th < 4.5) {                       /* thin: a single dark strip */
+        link_px(&fc, l, p);
+        if (th < 4.5 && !v->separate_stacked) {   /* thin: a single dark strip */
             stroke(c, p, nn, th, darker(fill, 0.55), 0);
             continue;
         }
@@ -1034,20 +1655,15 @@ int rjr_draw_scene(rjr_context *c, const rj_model *m, const rj_state *s, const r
         ex = p[2 * nn - 2] - p[2 * nn - 4]; ey = p[2 * nn - 1] - p[2 * nn - 3]; el = sqrt(ex * ex + ey * ey);
         if (el > 0) { p[2 * nn - 2] += ex / el * ow; p[2 * nn - 1] += ey / el * ow; }
         stroke(c, p, nn, th + 2 * ow, darker(fill, 0.45), 0);
-        for (k = 0; k < nn; k++) {
-            double w[2];
-            rj_node_position(m, s, l, k, w);
-            w2p(&t, w, &p[2 * k], &p[2 * k + 1]);
-        }
+        link_px(&fc, l, p);
         stroke(c, p, nn, th, fill, 0);
     }
 
     if (v->show_nodes)
         for (l = 0; l < nl; l++)
             for (k = 0; k < rj_link_node_count(m, l); k++) {
-                double w[2], x, y;
-                rj_node_position(m, s, l, k, w);
-                w2p(&t, w, &x, &y);
+                double x, y;
+                node_px(&fc, l, k, &x, &y);
                 rjr_disc(c, x, y, 1.6, COL_INK);
             }
 
@@ -1055,12 +1671,10 @@ int rjr_draw_scene(rjr_context *c, const rj_model *m, const rj_state *s, const r
     for (l = 0; l < nl; l++) {
         const rj_link_def *ld = rj_model_link_def(m, l);
         int nn = rj_link_node_count(m, l);
-        double a[2], b[2], ax, ay, bx, by, dx, dy, dl, h;
+        double ax, ay, bx, by, dx, dy, dl, h;
         if (!(ld->tip_mass > 0)) continue;
-        rj_node_position(m, s, l, nn - 2, a);
-        rj_node_position(m, s, l, nn - 1, b);
-        w2p(&t, a, &ax, &ay);
-        w2p(&t, b, &bx, &by);
+        node_px(&fc, l, nn - 2, &ax, &ay);
+        node_px(&fc, l, nn - 1, &bx, &by);
         dx = bx - ax; dy = by - ay; dl = sqrt(dx * dx + dy * dy);
         if (!(dl > 0)) { dx = 1; dy = 0; dl = 1; }
         dx /= dl; dy /= dl;
@@ -1112,14 +1726,26 @@ int rjr_draw_scene(rjr_context *c, const rj_model *m, const rj_state *s, const r
         rjr_disc(c, x, y, rp - (rp * 0.35 < 1.2 ? 1.2 : rp * 0.35), 0xffffff);
     }
 
-    /* Overlays. */
-    if (v->show_time) {
-        snprintf(buf, sizeof buf, "t = %.4f s", rj_state_time(s));
-        rjr_text(c, floor(f * 0.8), floor(f * 0.8), f, 0.0, RJR_LEFT | RJR_TOP, COL_INK, buf);
+    /* Joint labels avoid the links, each other, the texts, the scale bar and the legend,
+       which is placed first for that. */
+    keep_out_init(c, &fc, &ko);
+    if (v->show_legend)
+        has_legend = legend_place(c, &fc, legend);
+    if (has_legend) {
+        memcpy(ko.r[ko.n], legend, sizeof legend);
+        ko.n++;
     }
-    if (v->caption) rjr_text(c, c->width - floor(f * 0.8), floor(f * 0.8), f, 0.0, RJR_RIGHT | RJR_TOP, COL_INK, v->caption);
+    if ((v->joint_names || v->show_joint_angles) && draw_joint_labels(c, &fc, &ko) != 0) {
+        ctx_fail(c, "out of memory");
+        return -1;
+    }
+    if (fc.band > 0)
+        rjr_clip(c, 0, 0, 0, 0);
+
+    /* Overlays. */
+    draw_top_texts(c, &fc);
     if (v->show_scale) {
-        double L = nice_floor(v->mpp * c->width * 0.2), len = L / v->mpp;
+        double L = nice_floor(t.mpp * c->width * 0.2), len = L / t.mpp;
         double x0 = floor(f * 0.8), y0 = c->height - floor(f * 0.9);
         rjr_rect(c, x0, y0 - 3, len, 3, COL_INK);
         rjr_rect(c, x0, y0 - 9, 2, 9, COL_INK);
@@ -1127,6 +1753,8 @@ int rjr_draw_scene(rjr_context *c, const rj_model *m, const rj_state *s, const r
         fmt_len(buf, sizeof buf, L);
         rjr_text(c, x0 + 0.5 * len, y0 - 9 - floor(0.35 * f), f * 0.9, 0.0, RJR_CENTER | RJR_BASELINE, COL_INK, buf);
     }
+    if (has_legend)
+        draw_legend(c, legend, small_font(f));
     (void)tmax;
     return c->failed ? -1 : 0;
 }

@@ -94,9 +94,22 @@ typedef struct rjr_view {
     const char *caption;       /* optional text in the top-right corner (NULL: none) */
     double font_px;            /* text size (capital height); 0 = automatic */
     rjr_rgb background;        /* default white */
+    /* Aids for frames read without the source; all off (0 / NULL) by default. */
+    int show_legend;           /* a key to the joint colours (free, at a limit, locked) in the corner
+                                  that covers the fewest link pixels */
+    const char *const *joint_names; /* one name per joint drawn beside it (NULL: none; a NULL entry:
+                                  that joint has none) */
+    int show_joint_angles;     /* each joint's running angle (rj_joint_theta_running) in degrees
+                                  beside it, after its name */
+    int text_band;             /* a band at the top for the time stamp and caption: the view is drawn
+                                  scaled about the top centre into the area below it, so no link
+                                  reaches the texts (rjr_world_to_pixel follows) */
+    int separate_stacked;      /* links lying on one another (stowed panels) are drawn side by side,
+                                  and every link, thin ones too, as a fill with a dark outline */
 } rjr_view;
 
-/* Defaults: centre (0, 0), 0.005 m/px, factor 1, min 3 px, time, scale, limits, ground on. */
+/* Defaults: centre (0, 0), 0.005 m/px, factor 1, min 3 px, time, scale, limits, ground on;
+   legend, joint labels, text band and stack separation off. */
 rjr_view rjr_view_default(void);
 /* World bounding box {xmin, ymin, xmax, ymax} of a state (nodes, joints, ground pins);
    rjr_bbox_init makes an empty box, rjr_bbox_add grows it (for whole animations). */

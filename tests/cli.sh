@@ -53,6 +53,12 @@ t 2 "deploy rejects an option where a file name belongs" sh -c "cd $T && $AB/dep
 # frames folders: the whole path is made, an earlier run's frames (only those) go first
 ok "animate creates a frames folder three levels deep" \
   "$B/animate --t-end 0 --out $T/a/b/c 2>/dev/null && test -f $T/a/b/c/frame_00000.png"
+# the view aids: every flag together on a scene file with a title, and the same frame
+# without them differs (the aids draw something)
+ok "animate --legend --labels --band --separate on solar_array.rjs writes a frame that differs from the plain one" \
+  "$B/animate --scene examples/scenes/solar_array.rjs --t-end 0 --out $T/aids_on --legend --labels --band --separate 2>/dev/null \
+   && $B/animate --scene examples/scenes/solar_array.rjs --t-end 0 --out $T/aids_off 2>/dev/null \
+   && ! cmp -s $T/aids_on/frame_00000.png $T/aids_off/frame_00000.png"
 mkdir -p $T/old
 for f in frame_00007.png frame_123456.png frame_00001.png.bak frame_1.png frame_000001.png notes.txt; do : > $T/old/$f; done
 echo keep > $T/keep.txt

@@ -77,13 +77,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         char *buf;
         for (i = 0; i < f.link_count; i++) ln[i] = f.link_names[i];
         for (i = 0; i < f.joint_count; i++) jn[i] = f.joint_names[i];
-        n = rj_scene_write(&sd, ln, jn, NULL, 0);
+        n = rj_scene_write_ex(&sd, ln, jn, f.title, NULL, 0);
         if (n == 0) abort();
         buf = (char *)malloc(n + 1);
-        n2 = rj_scene_write(&sd, ln, jn, buf, n + 1);
+        n2 = rj_scene_write_ex(&sd, ln, jn, f.title, buf, n + 1);
         if (n2 != n || strlen(buf) != n) abort();
         if (rj_scene_parse(buf, n, "fuzz-written.rjs", &g, &err) != RJ_OK) abort();
         if (!fz_same(&f, &g)) abort();
+        /* a title that parsed is one the writer can write, and it reads back the same */
+        if (strcmp(f.title, g.title) != 0) abort();
         rj_scene_file_free(&g);
         free(buf);
     }

@@ -948,6 +948,121 @@ static void test_unit_words(void)
 #undef SI
 }
 
+/* ------------------------------------------------------------------ the title */
+/* title = "..." before the first section: what it holds, and where the parser says no */
+static void test_title_parse(void)
+{
+    static const char *text =
+        "# a comment and a blank line first\n"
+        "\n"
+        "title = \"Two-link deployment, # and = inside (Wong 2002)\"   # a comment after it\n"
+        "link a\n";
+    rj_scene_file f;
+    rj_error e;
+    rj_result r = parse_str(text, &f, &e);
+    check(r == RJ_OK && strcmp(f.title, "Two-link deployment, # and = inside (Wong 2002)") == 0,
+          "title: a quoted string keeps its spaces, ',', '#' and '='", r == RJ_OK ? f.title : e.msg);
+    if (r == RJ_OK) rj_scene_file_free(&f);
+    r = parse_str("link a\n", &f, &e);
+    check(r == RJ_OK && f.title[0] == 0, "title: none gives \"\"", r == RJ_OK ? "empty" : e.msg);
+    if (r == RJ_OK) rj_scene_file_free(&f);
+    r = parse_str("title = \"\"\nlink a\n", &f, &e);
+    check(r == RJ_OK && f.title[0] == 0, "title: \"\" is allowed and is the same as none", r == RJ_OK ? "empty" : e.msg);
+    if (r == RJ_OK) rj_scene_file_free(&f);
+    {   /* the longest title: RJ_SCENE_TITLE_MAX - 1 bytes */
+        char *s = line_of("title = \"", 'x', RJ_SCENE_TITLE_MAX - 1, "\"\nlink a\n");
+        r = parse_str(s, &f, &e);
+        free(s);
+        check(r == RJ_OK && strlen(f.title) == RJ_SCENE_TITLE_MAX - 1, "title: 127 bytes fit", r == RJ_OK ? "parsed" : e.msg);
+        if (r == RJ_OK) rj_scene_file_free(&f);
+    }
+}
+
+static void test_title_errors(void)
+{
+    char *s = line_of("title = \"", 'x', RJ_SCENE_TITLE_MAX, "\"\nlink a\n");
+    EP("title error: 128 bytes are too long", s, 1, 9, "title of 128 bytes is too long (at most 127)", "title");
+    free(s);
+    EP("title error: unterminated quote", "title = \"Solar array\nlink a\n", 1, 9, "unterminated string: no closing '\"' on this line", "");
+    EP("title error: a quote does not run past the line end", "title = \"Solar\n array\"\nlink a\n", 1, 9, "unterminated string", "");
+    EP("title error: inside a section", "link a\ntitle = \"x\"\n", 2, 1, "unknown key 'title' in link 'a' (a title goes at the top of the file, before the first section)", "title");
+    EP("title error: after the solver section", "solver\ntitle = \"x\"\nlink a\n", 2, 1, "unknown key 'title' in solver (a title goes at the top", "title");
+    EP("title error: twice", "title = \"a\"\ntitle = \"b\"\nlink a\n", 2, 1, "duplicate title (first set on line 1)", "title");
+    EP("title error: not quoted", "title = Solar\nlink a\n", 1, 9, "expected a quoted string, found 'Solar' for 'title' (write title = \"text\")", "title");
+    EP("title error: missing '='", "title \"Solar\"\nlink a\n", 1, 6, "missing '=' after 'title'", "title");
+    EP("title error: missing value", "title =\nlink a\n", 1, 8, "missing value for 'title'", "title");
+    EP("title error: text after the closing quote", "title = \"Solar\" array\nlink a\n", 1, 17, "unexpected 'array' after the value of 'title'", "title");
+    EP("title error: a tab inside", "title = \"Solar\tarray\"\nlink a\n", 1, 15, "byte 0x09 in the title: a title is printable text (no tabs)", "title");
+    EP("title error: misspelt key at the top", "titel = \"x\"\nlink a\n", 1, 1, "key 'titel' outside any section (start one with solver, material, section, link or joint); did you mean 'title'?", "");
+    EP("title error: a quoted string where a number goes", "link a\n  length = \"1\"\n", 2, 12, "expected a number, found '\"1\"' for 'length' in link 'a'", "length");
+    EP("title error: a quoted name", "link \"a b\"\n", 1, 6, "invalid name '\"a b\"' after 'link'", "link");
+}
+
+/* rj_scene_write_ex writes the title; parsing gives it back, and rj_scene_write is
+   rj_scene_write_ex without one */
+static void test_title_write(void)
+{
+    static const char *const titles[] = { "Three-panel solar array", " spaces kept at both ends ", "a#b = c, d", "" };
+    rj_link_def L = rj_default_link_def();
+    rj_scene_def sc = rj_default_scene_def();
+    char buf[4000], buf2[4000], d[300], *lng;
+    size_t k, n;
+    rj_scene_file f;
+    rj_error e;
+    sc.links = &L;
+    sc.link_count = 1;
+    for (k = 0; k < sizeof titles / sizeof titles[0]; k++) {
+        char name[120];
+        rj_result r;
+        n = rj_scene_write_ex(&sc, NULL, NULL, titles[k], buf, sizeof buf);
+        r = n ? rj_scene_parse(buf, n, "w.rjs", &f, &e) : RJ_ERR_PARSE;
+        snprintf(name, sizeof name, "title round trip: \"%s\"", titles[k]);
+        snprintf(d, sizeof d, "%lu bytes; read back \"%s\"", (unsigned long)n, r == RJ_OK ? f.title : e.msg);
+        check(n > 0 && r == RJ_OK && strcmp(f.title, titles[k]) == 0, name, d);
+        if (r == RJ_OK) rj_scene_file_free(&f);
+    }
+    n = rj_scene_write(&sc, NULL, NULL, buf, sizeof buf);
+    rj_scene_write_ex(&sc, NULL, NULL, NULL, buf2, sizeof buf2);
+    check(n > 0 && strcmp(buf, buf2) == 0 && strstr(buf, "title") == NULL, "title: rj_scene_write = rj_scene_write_ex with NULL, no title line", "same text");
+    lng = line_of("", 'x', RJ_SCENE_TITLE_MAX, "");
+    snprintf(d, sizeof d, "quote %lu, tab %lu, newline %lu, 128 bytes %lu, 127 bytes %lu",
+             (unsigned long)rj_scene_write_ex(&sc, NULL, NULL, "a \"b\"", buf, sizeof buf), (unsigned long)rj_scene_write_ex(&sc, NULL, NULL, "a\tb", buf, sizeof buf),
+             (unsigned long)rj_scene_write_ex(&sc, NULL, NULL, "a\nb", buf, sizeof buf), (unsigned long)rj_scene_write_ex(&sc, NULL, NULL, lng, buf, sizeof buf),
+             (unsigned long)rj_scene_write_ex(&sc, NULL, NULL, lng + 1, buf, sizeof buf));
+    check(rj_scene_write_ex(&sc, NULL, NULL, "a \"b\"", buf, sizeof buf) == 0 && rj_scene_write_ex(&sc, NULL, NULL, "a\tb", buf, sizeof buf) == 0
+          && rj_scene_write_ex(&sc, NULL, NULL, "a\nb", buf, sizeof buf) == 0 && rj_scene_write_ex(&sc, NULL, NULL, lng, buf, sizeof buf) == 0
+          && buf[0] == 0 && rj_scene_write_ex(&sc, NULL, NULL, lng + 1, buf, sizeof buf) > 0,
+          "title: the writer refuses what a file cannot hold ('\"', tab, line end, 128 bytes) and writes nothing", d);
+    free(lng);
+}
+
+/* every example file has a title, and the writer carries it through */
+static void test_title_examples(void)
+{
+    static const char *const files[] = { "deploy.rjs", "impact.rjs", "solar_array.rjs", "solar_array_bus.rjs" };
+    size_t k;
+    for (k = 0; k < sizeof files / sizeof files[0]; k++) {
+        rj_scene_file f, g;
+        rj_scene_def fd;
+        rj_error e;
+        char *buf, name[120], d[400];
+        size_t n;
+        rj_result r;
+        if (!load_example(files[k], &f)) continue;
+        fd = rj_scene_file_def(&f);
+        n = rj_scene_write_ex(&fd, NULL, NULL, f.title, NULL, 0);
+        buf = (char *)malloc(n + 1);
+        rj_scene_write_ex(&fd, NULL, NULL, f.title, buf, n + 1);
+        r = rj_scene_parse(buf, n, files[k], &g, &e);
+        snprintf(name, sizeof name, "title of %s, and through rj_scene_write_ex", files[k]);
+        snprintf(d, sizeof d, "\"%s\" -> \"%s\"", f.title, r == RJ_OK ? g.title : e.msg);
+        check(f.title[0] != 0 && r == RJ_OK && strcmp(f.title, g.title) == 0, name, d);
+        if (r == RJ_OK) rj_scene_file_free(&g);
+        free(buf);
+        rj_scene_file_free(&f);
+    }
+}
+
 static void test_api(void)
 {
     rj_scene_file f;
@@ -1059,6 +1174,10 @@ int main(int argc, char **argv)
     test_errors();
     test_suggestions();
     test_unit_words();
+    test_title_parse();
+    test_title_errors();
+    test_title_write();
+    test_title_examples();
     test_api();
     test_locale();
     {
