@@ -109,9 +109,13 @@ static const char usage_animate[] =
     "usage: rj animate SCENE.rjs --out DIR [options]\n"
     "  Simulates the scene and renders DIR/frame_00000.png ... at the steps nearest to\n"
     "  every multiple of 1/fps. The view is fixed once on the whole motion; the links are\n"
-    "  drawn twice their thickness; the caption is the scene file's name. The frames are\n"
-    "  those of build/animate --scene FILE.rjs with the same fps, size and t-end (whose\n"
-    "  caption is the path as given: the same when FILE.rjs has no directory).\n"
+    "  drawn twice their thickness. The frames carry a key to the joint colours (free, at a\n"
+    "  limit, locked), each joint's name and angle beside it, the time and the caption\n"
+    "  (the scene's title, else its file name) in a band above the links, and stowed links\n"
+    "  drawn side by side.\n"
+    "  --plain            without those aids: the frames of build/animate --scene FILE.rjs\n"
+    "                     (for a scene without a title its caption is the path as given:\n"
+    "                     the same when FILE.rjs has no directory)\n"
     "  --out DIR          frames directory (required); created with its parents, and the\n"
     "                     frame_NNNNN.png files of an earlier run there removed first\n"
     "  --fps N            frames per simulated second (default 30)\n"
@@ -138,6 +142,7 @@ typedef struct opts {
     const char *csv, *nodes, *out, *mp4;
     const char **probes;
     int nprobes, what, w, h, progress, force;
+    int plain;   /* rj animate: build/animate's frames, without the reading aids */
 } opts;
 
 /* The defaults of every subcommand; the sizes are those of build/deploy's plot and of
@@ -187,6 +192,7 @@ static int opt_own(cli *c, opts *o, const char *a)
     else if (o->cmd == CMD_PLOT && !strcmp(a, "--what")) o->what = cli_choice(c, a, what_names, 4);
     else if (o->cmd == CMD_ANIMATE && !strcmp(a, "--fps")) o->fps = cli_num(c, a, 1e-3, 1e9);
     else if (o->cmd == CMD_ANIMATE && !strcmp(a, "--mp4")) o->mp4 = cli_str(c, a);
+    else if (o->cmd == CMD_ANIMATE && !strcmp(a, "--plain")) o->plain = 1;
     else return 0;
     return 1;
 }
@@ -1290,7 +1296,7 @@ static int plot_write(const opts *o, const history *h, const runner *r)
     char title[160], err[256], labels[RJR_MAX_MARKERS][48];
     rjr_context *ctx;
     int k, rc;
-    snprintf(title, sizeof title, "%s: %s", base_name(o->scene), titles[o->what]);
+    snprintf(title, sizeof title, "%s: %s", r->sc->f.title[0] ? r->sc->f.title : base_name(o->scene), titles[o->what]);
     p.title = title;
     p.xlabel = "t (s)";
     p.ylabel = ylabels[o->what];
@@ -1379,6 +1385,7 @@ typedef struct frames {
     rjr_view view;
     const char *dir;
     int frame;
+    const char **names;   /* the joints' names for the labels (malloc'd) */
 } frames;
 
 /* One frame per sample; a frame that cannot be written stops the run. */
@@ -1504,6 +1511,27 @@ static int mp4_write(const opts *o)
     return 1;
 }
 
+/* Frames a person reads without the source: a key to the joint colours, each joint's
+   name and angle beside it, the time and caption in a band of their own above the links,
+   stowed links drawn side by side. */
+static int frames_readable(const scene *sc, frames *f)
+{
+    const int nj = rj_model_joint_count(sc->m);
+    int j;
+    f->names = (const char **)malloc(sizeof *f->names * (size_t)(nj + 1));
+    if (!f->names) {
+        fprintf(stderr, "rj animate: out of memory\n");
+        return 1;
+    }
+    for (j = 0; j < nj; j++) f->names[j] = sc->f.joint_names[j];
+    f->view.show_legend = 1;
+    f->view.joint_names = f->names;
+    f->view.show_joint_angles = 1;
+    f->view.text_band = 1;
+    f->view.separate_stacked = 1;
+    return 0;
+}
+
 /* The frames directory, the view and the context, before the run. 2 when the directory
    cannot be made, 1 when the renderer cannot start. */
 static int frames_setup(const opts *o, const scene *sc, frames *f)
@@ -1515,7 +1543,8 @@ static int frames_setup(const opts *o, const scene *sc, frames *f)
     view_fit(sc, o->t_end, o->w, o->h, &f->view);
     /* build/animate draws scene files twice their thickness */
     f->view.thickness_factor = 2;
-    f->view.caption = base_name(sc->path);
+    f->view.caption = sc->f.title[0] ? sc->f.title : base_name(sc->path);
+    if (!o->plain && frames_readable(sc, f) != 0) return 1;
     if (cli_frames_dir("rj animate", o->out) != 0) return 2;
     err[0] = '\0';
     f->ctx = rjr_create(o->w, o->h, err, sizeof err);
@@ -1558,6 +1587,7 @@ static int cmd_animate(int argc, char **argv)
     if (!st) fprintf(stderr, "rj animate: wrote %d frames %s/frame_%%05d.png (%dx%d)\n", f.frame, o.out, o.w, o.h);
     if (!st && o.mp4) st = mp4_write(&o);
     rjr_destroy(f.ctx);
+    free(f.names);
     runner_free(&r);
     scene_close(&sc);
     return st;

@@ -192,7 +192,7 @@ ok "plot: the 4 joints of solar_array fit; no series dropped" "! $B/rj plot $S/s
 
 # ---- rj animate: the frames of build/animate, byte for byte (the caption is the file name:
 # run where the scene file is, so that build/animate's caption, the path, is the same)
-(cd $S && $AB/rj animate deploy.rjs --t-end 0.4 --fps 10 --size 200x150 --out $AT/rja 2>/dev/null) \
+(cd $S && $AB/rj animate deploy.rjs --t-end 0.4 --fps 10 --size 200x150 --out $AT/rja --plain 2>/dev/null) \
   && (cd $S && $AB/animate --scene deploy.rjs --t-end 0.4 --fps 10 --size 200x150 --out $AT/anim 2>/dev/null)
 same=1
 for f in $T/anim/frame_*.png; do cmp -s $f $T/rja/$(basename $f) || same=0; done
