@@ -102,6 +102,7 @@ test: deps $(EXAMPLES) $(TESTS)
 	  "$(B)/test_render" \
 	  "sh tests/cli.sh $(B)" \
 	  "sh tests/rj.sh $(B)" \
+	  "sh tests/tutorial.sh $(B)" \
 	  "sh tests/sweep.sh $(B)"
 
 golden: deps $(EXAMPLES) $(B)/test_render
