@@ -124,13 +124,13 @@ valgrind: deps $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_state
 	  "valgrind --error-exitcode=9 --leak-check=full --errors-for-leak-kinds=definite,indirect -q $(B)/test_state" \
 	  "valgrind --error-exitcode=9 --leak-check=full --errors-for-leak-kinds=definite,indirect -q $(B)/test_dynamics"
 
-# The numerical-stability suite (issue 6): every limit method on the hard cases; the table
+# The numerical-stability suite: every limit method on the hard cases; the table
 # goes to out/stress.md. --short is the quick version.
 stress: deps $(B)/stress
 	@mkdir -p out
 	@sh tests/run.sh "$(B)/stress --table out/stress.md"
 
-# Speed against error (issue 5): BENCHMARKS.md and the work-precision plots (about 6 minutes)
+# Speed against error: BENCHMARKS.md and the work-precision plots (about 6 minutes)
 NATIVE_CF = -std=c99 -O3 -march=native -Wall -Wextra -pedantic -Werror -ffp-contract=off
 $(B)/bench_native: bench/bench.c examples/scenes.h examples/rigid2.h $(HDR) $(RENDER) | $(B)
 	$(CC) $(NATIVE_CF) -I. -DBENCH_CFLAGS='"$(NATIVE_CF)"' bench/bench.c render/rj_render.c -o $@ $(GL)

@@ -2000,6 +2000,9 @@ static double rj__cl_pose(const rj_model *m, int c, const double *nc, const doub
         nx[n] = px; ny[n] = py;
         if (RJ__CL_RIGID(m, n)) { nphi[n] = nc[5] + (m->phi0[n] - th0); if (setv) nw[n] = nc[4]; }
         sum += (px + py) + nphi[n];
+        /* the velocities come from positions here, not the other way round: a position of
+           1e308 m at n (a crafted state) makes them infinite while both positions are finite */
+        if (setv) sum += nvx[n] + nvy[n];
     }
     return sum;
 }
@@ -4199,7 +4202,12 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
         double k0 = 0;
         const double idt = 1.0 / dt;
         rj__shake(m, s, x, y, nx, ny);
-        for (i = 0; i < nn; i++) { nvx[i] = (nx[i] - x[i]) * idt; nvy[i] = (ny[i] - y[i]) * idt; fin += (nx[i] + ny[i]) + nphi[i]; }
+        for (i = 0; i < nn; i++) {
+            nvx[i] = (nx[i] - x[i]) * idt;
+            nvy[i] = (ny[i] - y[i]) * idt;
+            /* velocities from positions: summed too (see rj__cl_pose) */
+            fin += ((nx[i] + ny[i]) + nphi[i]) + (nvx[i] + nvy[i]);
+        }
         if (en) {
             for (i = 0; i < nn; i++) {
                 const double vmx = s->steps == 0 ? 2 * vx[i] - nvx[i] : vx[i], vmy = s->steps == 0 ? 2 * vy[i] - nvy[i] : vy[i];

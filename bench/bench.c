@@ -1,12 +1,12 @@
-/* bench.c - speed against error for revjoint.h (issue 5): throughput of the step, and
-   work-precision sweeps of the paper's two benchmarks (SPEC 9.2 deployment, SPEC 9.1
-   impact) against converged references. Writes a markdown report (every number in it comes
+/* bench.c - speed against error for revjoint.h: throughput of the step, and
+   work-precision sweeps of the paper's two benchmarks (the deployment of sec. 5 and the
+   impact of sec. 4) against converged references. Writes a markdown report (every number in it comes
    from this run) and PNG plots. bench/README.md says what is measured and how.
 
    build/bench [--out FILE.md] [--plot FILE.png] [--quick] [--only fidelity|features]
 
    Sections: 1 throughput, 2 deployment and 3 impact (speed against error), 4 fidelity (which
-   link model for which job, issue 7), 5 feature cost (time per step with each joint feature).
+   link model for which job), 5 feature cost (time per step with each joint feature).
 
    Wall times are clock_gettime(CLOCK_MONOTONIC) around rj_step / rj_run only (model and
    state creation, resets and reference bookkeeping are outside the timed region). */
@@ -701,7 +701,7 @@ static void bench_render(double fps[2], double draw_ms[2], char *renderer, size_
 }
 
 /* ================================================================== 4. fidelity */
-/* Which link model for which job (issue 7): the deployment (SPEC 9.2) and the solar array
+/* Which link model for which job: the deployment (paper sec. 5) and the solar array
    scene (examples/scenes/solar_array.rjs) at each link model, timed (rj_run without
    sampling, median of 5 runs, or 21 below 10 ms) and compared with a converged flexible
    reference (a separate run sampled every 1 ms). */
@@ -1531,7 +1531,7 @@ static void fidelity_report(void)
        "because a penalty stiffness from Eq 31 has no meaning without the elements that Eq 31 is about. "
        "A row that the library refuses or that fails is kept, with the library's message. The readings under each table are generated from its numbers.\n\n");
     /* ---- deployment */
-    md("### Deployment (SPEC 9.2)\n\n");
+    md("### Deployment (paper sec. 5)\n\n");
     md("Joint 1 forced, joint 2 latched by the method named; %.0f s simulated. Errors as in section 2: **dq** = max |q - q_ref| of both joints (deg) for t < %.4f s (10 ms before the rigid joint 2 lock); "
        "**lock 2 / lock 1** = latch time minus the reference's (ms); **tip RMS / freq** = link 2's tangent-based tip deflection over [3.2, %.0f] s, relative to the reference. "
        "Speed-up: the paper's-settings row's time over the row's.\n\n", F.d_tend, D_TPRE, F.d_tend);
@@ -2211,7 +2211,7 @@ int main(int argc, char **argv)
             rjr_context *ctx = rjr_create(960, 720, err, sizeof err);
             if (!ctx) { fprintf(stderr, "bench: plot: %s\n", err); plot_failed = 1; }
             else {
-                if (work_precision_plot(ctx, plot, "Deployment (SPEC 9.2): q1, q2 before joint 2 locks", "max abs(q - q_ref) (deg)", dr, ndr, 0, 0.1, err, sizeof err)) {
+                if (work_precision_plot(ctx, plot, "Deployment (paper sec. 5): q1, q2 before joint 2 locks", "max abs(q - q_ref) (deg)", dr, ndr, 0, 0.1, err, sizeof err)) {
                     fprintf(stderr, "bench: %s: %s\n", plot, err); plot_failed = 1;
                 }
                 err[0] = 0;
@@ -2353,7 +2353,7 @@ int main(int argc, char **argv)
             double fps[2], dms[2];
             char rname[256];
             bench_render(fps, dms, rname, sizeof rname);
-            md("### Rendering (issue 4)\n\n");
+            md("### Rendering\n\n");
             md("A deployment frame (t = 3.1 s) drawn with `render/rj_render.c` (4x MSAA) and written as PNG (zlib level 1, no filters), "
                "one context per size created once and not timed; median of 3 batches of 30 frames. Renderer: %s.\n\n", rname);
             md("| size | frames/s with PNG writing | draw + read back only (ms/frame) |\n|---|---:|---:|\n");
@@ -2363,7 +2363,7 @@ int main(int argc, char **argv)
         /* deployment section */
         {
             char b1[32];
-            md("## 2. Deployment (SPEC 9.2): speed against error\n\n");
+            md("## 2. Deployment (paper sec. 5): speed against error\n\n");
             md("Joint 1 forced, joint 2 locked by the method named; 6 s simulated; wall time = `rj_run` with a 1 ms sample callback "
                "and `solver.energy_every = 16` as `build/deploy` runs it (the same histories bit for bit as 1; about 10 %% fewer instructions at the paper's settings, `sh bench/instr.sh -O2 \"\" 16`) "
                "(median of 5 runs below 2 s, 3 below 6 s, else 1; the `runs` column says how many). "
@@ -2429,7 +2429,7 @@ int main(int argc, char **argv)
         /* impact section */
         {
             char b1[32];
-            md("## 3. Impact on a reverse limit (SPEC 9.1): speed against error\n\n");
+            md("## 3. Impact on a reverse limit (paper sec. 4): speed against error\n\n");
             md("`impact_scene` with `impact_default_opts()` (RC13, penalty K = 5e8 N m/rad), %.0f ms simulated, `rj_run` sampling every step "
                "(peak deflection and contact flags). dt: 0.9 x the bound of that mesh and method, then halved. Release: *first* = start of the first free "
                "interval of at least 0.1 ms (the contact's end; adaptive and RC13 toggle the flag step by step while in contact); *last* = `rj_joint_release_time` "

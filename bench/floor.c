@@ -14,7 +14,7 @@
    (about 2 ms each), in place and double-buffered alternately, for a link of N elements
    (N a multiple of 4) at revjoint.h's stability bound for it, and the clock rate, from a
    chain of dependent 64-bit multiplies (3 cycles each on current x86 cores).
-     build/floor paper [blocks] the same for the deployment at the paper's settings (SPEC 9.2:
+     build/floor paper [blocks] the same for the deployment at the paper's settings (paper sec. 5:
                                 two links of 10 elements, dt = 7.5 us): the arithmetic for its
                                 two links (where 4 does not divide 10: in place, whole lanes
                                 then a scalar tail; double-buffered, the last 4 again, as

@@ -1,5 +1,5 @@
 /* paper_run.c - what bench/instr.sh counts instructions per step of:
-     paper_run T [E]             the deployment at the paper's settings (SPEC 9.2) for T seconds
+     paper_run T [E]             the deployment at the paper's settings (paper sec. 5) for T seconds
      paper_run --free N K [E [P]] one free link of N elements (as in BENCHMARKS.md section 1), K steps;
                                  P: solver.in_place (0 auto, the default; 1 on; 2 off)
      paper_run --two-link F K    the feature-cost scene of BENCHMARKS.md section 5, K steps: F = 0 bare,

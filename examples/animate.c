@@ -115,7 +115,7 @@ int main(int argc, char **argv)
         if (deploy_build(&o, &m, &e) != RJ_OK) { fprintf(stderr, "animate: %s\n", e.msg); return 1; }
         fps = fps < 0 ? 30 : fps; t_end = t_end < 0 ? 6 : t_end; thick = thick < 0 ? 2 : thick;
         rjr_view_fit_box(&an.view, box, w, h, 20);
-        an.view.caption = "two-link deployment (SPEC 9.2)";
+        an.view.caption = "two-link deployment (paper sec. 5)";
         apply_aids(&an.view, &ax, deploy_names);
     } else if (scene == 2) {
         rj_scene_def sd;
@@ -137,7 +137,7 @@ int main(int argc, char **argv)
         if (rj_model_create(&sc, &m, &e, NULL) != RJ_OK) { fprintf(stderr, "animate: %s\n", e.msg); return 1; }
         fps = fps < 0 ? 20000 : fps; t_end = t_end < 0 ? 0.02 : t_end; thick = thick < 0 ? 1 : thick;
         rjr_view_fit_box(&an.view, box, w, h, 20);
-        an.view.caption = "impact on a reverse limit (SPEC 9.1)";
+        an.view.caption = "impact on a reverse limit (paper sec. 4)";
         apply_aids(&an.view, &ax, impact_names);
     }
     /* refuse runs that would not end before anything runs (the scene pass below included):

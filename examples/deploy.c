@@ -1,5 +1,5 @@
 /* deploy - the two-link deployment with locking of Wong, Hamouda & Hashmi 2002, sec. 5
-   (SPEC 9.2; Nagaraj et al.'s rig): flexible links, torsion springs, friction, locks.
+   (paper sec. 5, Nagaraj et al.'s rig): flexible links, torsion springs, friction, locks.
    --rigid prints the rigid-body reference (examples/rigid2.h) in the same CSV. */
 #define _POSIX_C_SOURCE 200809L
 #define REVJOINT_IMPLEMENTATION
@@ -15,7 +15,7 @@ static const char usage[] =
     "  The defaults are the cheapest settings that keep q1, q2 within 0.1 deg of the converged\n"
     "  reference before joint 2 locks and link 2's tip vibration within 2 % after (BENCHMARKS.md):\n"
     "  20 elements per link, joint 2 adaptive, dt = 0.9 x the stability bound.\n"
-    "  --paper                the paper's settings instead (SPEC 9.2): 10 elements per link,\n"
+    "  --paper                the paper's settings instead (paper sec. 5): 10 elements per link,\n"
     "                         dt 7.5 us, joint 2 penalty with K from Eq 31 (the golden history)\n"
     "  --dt S                 time step (default 0.9 x the bound; with --method penalty 0.45 x)\n"
     "  --elements N           elements per link (default 20)\n"
@@ -221,7 +221,7 @@ int main(int argc, char **argv)
             r.view = rjr_view_default();
             rjr_view_fit_box(&r.view, box, 640, 480, 20);
             r.view.thickness_factor = 2.0;
-            r.view.caption = "two-link deployment (SPEC 9.2)";
+            r.view.caption = "two-link deployment (paper sec. 5)";
             r.frames = frames; r.frame_dt = 1.0 / fps;
         }
         c0 = clock();

@@ -1,5 +1,5 @@
 /* impact - the simple revolute-joint problem of Wong, Hamouda & Hashmi 2002, sec. 4
-   (SPEC 9.1): link 1 held fixed, link 2 in rigid rotation hits a reverse limit at 176 deg.
+   (paper sec. 4): link 1 held fixed, link 2 in rigid rotation hits a reverse limit at 176 deg.
    Writes the history as CSV; --all prints one table over every method and release rule. */
 #define _POSIX_C_SOURCE 200809L
 #define REVJOINT_IMPLEMENTATION
@@ -142,7 +142,7 @@ int main(int argc, char **argv)
             rjr_context *ctx = rjr_create(900, 560, e2, sizeof e2);
             rjr_plot_def p = rjr_plot_default();
             if (!ctx) { fprintf(stderr, "impact: %s\n", e2); return 1; }
-            p.title = "Impact on the reverse limit (SPEC 9.1)"; p.xlabel = "t (ms)"; p.ylabel = "theta (deg), tip deflection (mm)";
+            p.title = "Impact on the reverse limit (paper sec. 4)"; p.xlabel = "t (ms)"; p.ylabel = "theta (deg), tip deflection (mm)";
             p.series_count = 2;
             p.series[0].x = h.t; p.series[0].y = h.th; p.series[0].n = h.n; p.series[0].label = "theta (deg)"; p.series[0].colour = RJR_AUTO_COLOUR;
             p.series[1].x = h.t; p.series[1].y = h.defl; p.series[1].n = h.n; p.series[1].label = "tip deflection (mm)"; p.series[1].colour = RJR_AUTO_COLOUR;

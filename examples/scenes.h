@@ -7,7 +7,7 @@
 #include <math.h>
 #include <string.h>
 
-/* ---------------------------------------------------------------- SPEC 9.1 impact */
+/* ---------------------------------------------------------------- impact (paper sec. 4) */
 typedef struct impact_opts {
     int method;        /* rj_method, default adaptive */
     int release;       /* rj_release, default RC13 */
@@ -94,7 +94,7 @@ static inline void impact_rigid_part(const rj_model *m, const rj_state *s, doubl
     *evib = e.kinetic + e.strain - 0.5 * I * (*omega) * (*omega);
 }
 
-/* ---------------------------------------------------------------- SPEC 9.2 deployment */
+/* ---------------------------------------------------------------- deployment (paper sec. 5) */
 typedef struct deploy_opts {
     int elements;        /* per link, default 10 */
     double dt;           /* s, default 7.5e-6 */

@@ -318,7 +318,7 @@ static void build_pinned(scn *b)
     b->sc.link_count = 1; b->sc.joint_count = 1;
     scn_fix(b);
 }
-/* The deployment (SPEC 9.2, examples/scenes.h) with one limit method on both joints and,
+/* The deployment (paper sec. 5, examples/scenes.h) with one limit method on both joints and,
    for penalty, K fixed at Eq 31 for the paper's 7.5 us (so the scene does not change with
    dt): its bound is the links' (Eq 31 K is far below what the bound admits). */
 static double g_deploy_K[2];

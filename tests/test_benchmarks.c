@@ -1,4 +1,4 @@
-/* The paper's two benchmarks (SPEC 9): what physics and the paper let us assert. */
+/* The paper's two benchmarks (secs. 4 and 5): what physics and the paper let us assert. */
 #define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "../examples/scenes.h"
@@ -199,7 +199,7 @@ static void test_deploy(rjt_ctx *c)
 }
 
 
-/* ---------------------------------------------------------------- rigid links (issue 7) */
+/* ---------------------------------------------------------------- rigid links */
 static void test_rigid(rjt_ctx *c)
 {
     static hist h, hr;

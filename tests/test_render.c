@@ -1,4 +1,4 @@
-/* Golden images of the locking benchmark (SPEC 9.2) and proof that the comparison bites.
+/* Golden images of the locking benchmark (paper sec. 5) and proof that the comparison bites.
    Rule (render/README.md, osmesa.md sec. 4): a pixel is bad when its largest RGB difference
    exceeds 16 (driver noise measured here is at most 2); the image fails above 32 bad pixels
    (0.01 % of 640x480). Measured below on every run: a 0.5 deg turn of the arm and a 2-pixel
@@ -26,7 +26,7 @@ static rjr_view deploy_view(void)
     double box[4] = { -1.2, -0.3, 1.3, 2.2 };
     rjr_view_fit_box(&v, box, W, H, 20);
     v.thickness_factor = 2.0;
-    v.caption = "two-link deployment (SPEC 9.2)";
+    v.caption = "two-link deployment (paper sec. 5)";
     return v;
 }
 

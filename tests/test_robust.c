@@ -372,6 +372,31 @@ static void test_nonfinite(void)
     scene.solver.dt = 2.5 * bound;
     scene.solver.allow_unstable = 1;
     nonfinite_case("rigid hub with a flexible panel at 2.5 x the bound", &scene);
+    {
+        /* a crafted state whose rigid hub node sits at y = -1e308: the body's pose puts it
+           back, and the velocity taken from the two positions is infinite while both are
+           finite; the step must not return RJ_OK with it */
+        rj_state *s;
+        unsigned char *ck;
+        size_t size;
+        double far = -1e308;
+        rj_result r;
+        scene.solver = rj_default_solver_def();
+        rj_model_create(&scene, &m, &err, NULL);
+        rj_state_create(m, &s, NULL);
+        size = rj_state_save(m, s, NULL, 0);
+        ck = (unsigned char *)malloc(size);
+        rj_state_save(m, s, ck, size);
+        memcpy(ck + CK_DOUBLES + 8 * (CK_X0 + rj_model_node_count(m) + 1), &far, 8);
+        reseal(ck, size);
+        r = rj_state_load(m, s, ck, size, &err);
+        if (r == RJ_OK) r = rj_step(m, s);
+        rjt_check(&T, r != RJ_OK || state_finite(m, s), "non-finite: a step from a rigid node at y = -1e308 does not return RJ_OK with an infinite velocity",
+                  "%s: %s", rj_result_str(r), r == RJ_OK ? "" : rj_state_error(s));
+        free(ck);
+        rj_state_destroy(s, NULL);
+        rj_model_destroy(m, NULL);
+    }
 }
 
 /* A model with a lock, friction, a spring and both limits, for the checkpoint checks. */
