@@ -2567,12 +2567,37 @@ static int rj__placement_resolved(const rj_model *m, rj_error *err)
     return 1;
 }
 
+/* The links alone have a usable bound, so a joint's stiffness or damping takes it below
+   RJ__MIN_BOUND: named, with what it gives on its own. */
+static int rj__joint_unusable(const rj_model *m, rj_error *err)
+{
+    int j, worst = 0;
+    double fastest = -1;
+    char f[64];
+    for (j = 0; j < m->nj; j++) {
+        rj__jgeo g;
+        double c, rate;
+        rj__joint_geo(m, &m->jnt[j], m->x0, m->y0, &g);
+        c = m->rigid ? m->jnt[j].minv : rj__joint_compliance(m, &m->jnt[j], &g);
+        rate = sqrt(m->jnt[j].k_lin * c) + m->jdef[j].damping * c;
+        if (rate > fastest) { fastest = rate; worst = j; }
+    }
+    RJ__FIELD(f, "joints[%d]", worst);
+    rj__fail(err, RJ_ERR_INVALID, f, m->dt_bound,
+             "no usable step: the stability bound is %g s (at least 1e-15 s is needed); the links alone would allow %g s, and joints[%d] (spring %g N m/rad, penalty K %g N m/rad, damping %g N m s/rad) "
+             "gives about %g rad/s on its own: its stiffness or damping is outside the range of mechanisms",
+             m->dt_bound, rj__dt_bound_of(m->omega_links, 0), worst, m->jdef[worst].spring_k, m->jdef[worst].penalty_k, m->jdef[worst].damping, fastest);
+    return 0;
+}
+
 /* The step and its bound must be finite positive numbers, and the initial state finite
    (its kinetic energy and the joints' spring energy too). */
 static int rj__usable_step(const rj_model *m, rj_error *err)
 {
     double ke = 0;
     int i, link, node;
+    if ((!(m->dt_bound >= RJ__MIN_BOUND) || !rj__finite(m->dt_bound)) && rj__dt_bound_of(m->omega_links, 0) >= RJ__MIN_BOUND)
+        return rj__joint_unusable(m, err);
     if (!(m->dt_bound >= RJ__MIN_BOUND) || !rj__finite(m->dt_bound) || !(m->dt > 0) || !rj__finite(m->dt)) {
         /* name the link with the shortest wave transit l0 / c (Eq 28) */
         int l, fastest = 0;

@@ -101,7 +101,9 @@ fi
 m 2 "5e\+10 steps.*dt 1e-12 s.*--force" "impact --dt 1e-12 is refused with the step count" $TO $B/impact --dt 1e-12
 m 0 "dt 1e-12 s" "impact --dt 1e-12 --force runs (t-end 1e-10 s)" $TO $B/impact --dt 1e-12 --force --t-end 1e-10
 m 2 "steps.*--force" "impact --all --dt 1e-12 is refused" $TO $B/impact --all --dt 1e-12
-m 2 "e\+19 steps.*dt 3.6.e-19 s.*--force" "deploy --method penalty --K 1e30 (dt about 3.6e-19 s) is refused" \
+m 2 "e\+15 steps.*dt 3.64e-15 s.*--force" "deploy --method penalty --K 1e22 (dt about 3.6e-15 s) is refused with its step count" \
+  $TO $B/deploy --method penalty --K 1e22
+m 1 "no usable step.*joints\[1\].*penalty K 1e\+30" "deploy --method penalty --K 1e30 (a bound below 1e-15 s) is refused by the library, naming the joint" \
   $TO $B/deploy --method penalty --K 1e30
 m 2 "steps.*--force" "sweep --links flexible --dt-pct 99 --t-end 100 is refused" \
   $TO $B/sweep --links flexible --dt-pct 99 --t-end 100
