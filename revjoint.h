@@ -2007,16 +2007,14 @@ static double rj__cl_pose(const rj_model *m, int c, const double *nc, const doub
     return sum;
 }
 
-/* Finite differences move every degree of freedom by one step h along d = M^-1/2 u, so
-   DOFs whose inverse masses differ by more than about 1e12 (a 1e-300 m wide link beside
-   a normal one) cannot share a step: the light ones' moves would swamp the heavy ones',
-   which would fall below what their coordinates resolve. The DOFs are grouped in classes
-   of inverse mass (a factor 2^40 apart, ilogb / 40), and K d is summed over the classes,
-   each differenced with its own step. A class of one DOF's inverse mass w (0: fixed): */
-static int rj__lz_class(double w) { return w > 0 ? ilogb(w) / 40 : 0; }
-
-/* A DOF of node i (k 0, 1: translation, 2: rotation): its inverse mass, the group's for a
-   grouped node's translation (kept at the group's first member). */
+/* Finite differences move every degree of freedom by one step h along d = M^-1/2 u. Each
+   DOF has a natural move s: 1e-7 of its link's element in translation, 1e-7 rad in
+   rotation, over sqrt of its inverse mass; h |u| must stay below s for every DOF (the
+   linearisation), and the DOFs whose s is far larger would then move by less than their
+   coordinates resolve (a 1e-9 m link beside 1 m ones, a 1e-300 m wide one: their bounds
+   came out 1e8 times too long). So the DOFs are grouped in classes of s a factor 2^13
+   apart (ilogb / 13), and K d is summed over the classes, each differenced with its own
+   step. A DOF that cannot move (inverse mass 0) has s = 0 and no class. */
 static double rj__lz_inv(const rj_model *m, int i, int k)
 {
     if (k == 2) return m->rinv[i];
@@ -2024,66 +2022,84 @@ static double rj__lz_inv(const rj_model *m, int i, int k)
     return m->tinv[i];
 }
 
-/* Whether the DOF is in class c (every DOF when all is set). */
-static int rj__lz_in(const rj_model *m, int i, int k, int c, int all)
+/* s of DOF k of node i (0, 1: translation, 2: rotation), the node's link given. */
+static double rj__lz_scale(const rj_model *m, int i, int k, int link)
 {
-    return all || rj__lz_class(rj__lz_inv(m, i, k)) == c;
+    const double w = rj__lz_inv(m, i, k);
+    if (!(w > 0)) return 0.0;
+    return (k == 2 ? 1e-7 : 1e-7 * m->link_l0[link]) / sqrt(w);
 }
 
-/* The range of classes present among the DOFs. */
+static int rj__lz_class(double scale) { return ilogb(scale) / 13; }
+
+/* Whether a DOF of natural move s is in class c (every movable DOF when all is set). */
+static int rj__lz_in(double scale, int c, int all)
+{
+    return scale > 0 && (all || rj__lz_class(scale) == c);
+}
+
+/* The range of classes among the movable DOFs; lo > hi when none can move. */
 static void rj__lz_classes(const rj_model *m, int *lo, int *hi)
 {
-    int i, k;
-    *lo = 0;
+    int l, i, k;
+    *lo = 1;
     *hi = 0;
-    for (i = 0; i < m->nn; i++) for (k = 0; k < 3; k++) {
-        const int c = rj__lz_class(rj__lz_inv(m, i, k));
-        if (i == 0 && k == 0) { *lo = c; *hi = c; }
+    for (l = 0; l < m->nl; l++) for (i = m->link_first[l]; i < m->link_first[l + 1]; i++) for (k = 0; k < 3; k += 2) {
+        const double scale = rj__lz_scale(m, i, k, l);
+        int c;
+        if (!(scale > 0)) continue;
+        c = rj__lz_class(scale);
+        if (*lo > *hi) { *lo = c; *hi = c; }
         if (c < *lo) *lo = c;
         if (c > *hi) *hi = c;
     }
 }
 
-/* The finite-difference step for class c: the largest move is 1e-7 of the smallest element
-   in translation and 1e-7 rad in rotation, whatever the masses (a long heavy link moved
-   by a step scaled on u alone moved less than its coordinates resolve, and its stiffness
-   came out near 0). 0 when u is 0 on the class. */
+/* The DOFs of a node: its translation's u (its group's first member's) and rotation's. */
+static void rj__lz_u(const rj_model *m, const double *u, int i, double *ux, double *uy, double *uw)
+{
+    const int r = m->node_grp[i] >= 0 ? m->grp_node[m->grp_first[m->node_grp[i]]] : i;
+    *ux = u[3 * r];
+    *uy = u[3 * r + 1];
+    *uw = u[3 * i + 2];
+}
+
+/* The step for class c: the largest h whose moves h |u| stay within every moving DOF's s.
+   0 when u is 0 on the class. */
 static double rj__lz_step(const rj_model *m, const double *u, int c, int all)
 {
-    double move = 0, turn = 0, l0 = HUGE_VAL, h = HUGE_VAL;
-    int i;
-    for (i = 0; i < m->nn; i++) {
-        const int r = m->node_grp[i] >= 0 ? m->grp_node[m->grp_first[m->node_grp[i]]] : i;
-        const double wt = rj__lz_inv(m, i, 0), wr = m->rinv[i];
-        const double ut = fabs(u[3 * r]) > fabs(u[3 * r + 1]) ? fabs(u[3 * r]) : fabs(u[3 * r + 1]);
-        if (rj__lz_in(m, i, 0, c, all) && ut * sqrt(wt) > move) move = ut * sqrt(wt);
-        if (rj__lz_in(m, i, 2, c, all) && fabs(u[3 * i + 2]) * sqrt(wr) > turn) turn = fabs(u[3 * i + 2]) * sqrt(wr);
+    double h = HUGE_VAL;
+    int l, i;
+    for (l = 0; l < m->nl; l++) for (i = m->link_first[l]; i < m->link_first[l + 1]; i++) {
+        const double st = rj__lz_scale(m, i, 0, l), sr = rj__lz_scale(m, i, 2, l);
+        double ux, uy, uw, ut;
+        rj__lz_u(m, u, i, &ux, &uy, &uw);
+        ut = fabs(ux) > fabs(uy) ? fabs(ux) : fabs(uy);
+        if (rj__lz_in(st, c, all) && ut > 0 && st / ut < h) h = st / ut;
+        if (rj__lz_in(sr, c, all) && fabs(uw) > 0 && sr / fabs(uw) < h) h = sr / fabs(uw);
     }
-    for (i = 0; i < m->nl; i++) if (m->link_l0[i] < l0) l0 = m->link_l0[i];
-    if (move > 0) h = 1e-7 * l0 / move;
-    if (turn > 0 && 1e-7 / turn < h) h = 1e-7 / turn;
     return h == HUGE_VAL ? 0.0 : h;
 }
 
-/* The nodes moved by sgn h along d = M^-1/2 u on class c (grouped nodes' translations
-   follow their group's first member). */
+/* The nodes moved by sh along d = M^-1/2 u on class c. */
 static void rj__lz_move(const rj_model *m, const double *u, double sh, int c, int all, double *x, double *y, double *p)
 {
-    int i;
-    for (i = 0; i < m->nn; i++) {
-        const int r = m->node_grp[i] >= 0 ? m->grp_node[m->grp_first[m->node_grp[i]]] : i;
+    int l, i;
+    for (l = 0; l < m->nl; l++) for (i = m->link_first[l]; i < m->link_first[l + 1]; i++) {
+        const int moves = rj__lz_in(rj__lz_scale(m, i, 0, l), c, all), turns = rj__lz_in(rj__lz_scale(m, i, 2, l), c, all);
         const double st = sqrt(rj__lz_inv(m, i, 0));
-        const int moves = rj__lz_in(m, i, 0, c, all);
-        x[i] = m->x0[i] + (moves ? sh * u[3 * r] * st : 0.0);
-        y[i] = m->y0[i] + (moves ? sh * u[3 * r + 1] * st : 0.0);
-        p[i] = m->phi0[i] + (rj__lz_in(m, i, 2, c, all) ? sh * u[3 * i + 2] * sqrt(m->rinv[i]) : 0.0);
+        double ux, uy, uw;
+        rj__lz_u(m, u, i, &ux, &uy, &uw);
+        x[i] = m->x0[i] + (moves ? sh * ux * st : 0.0);
+        y[i] = m->y0[i] + (moves ? sh * uy * st : 0.0);
+        p[i] = m->phi0[i] + (turns ? sh * uw * sqrt(m->rinv[i]) : 0.0);
     }
 }
 
 /* Linear stiffness operator for the stability bound: out = M^-1/2 K M^-1/2 u over the
    3 nn node DOFs (translations of grouped nodes live at the group's first member). K is
    the tangent of the internal forces (central differences on rj__beam_pass) plus
-   k_lin g g^T of every joint, summed over the classes of inverse mass (rj__lz_class). */
+   k_lin g g^T of every joint, summed over the classes of natural move (rj__lz_class). */
 static void rj__lz_apply(const rj_model *m, const double *u, double *out, double *work)
 {
     const int nn = m->nn, ne = m->ne;
@@ -2095,6 +2111,7 @@ static void rj__lz_apply(const rj_model *m, const double *u, double *out, double
     for (i = 0; i < 3 * nn; i++) out[i] = 0.0;
     rj__lz_classes(m, &lo, &hi);
     all = lo == hi;
+    if (lo > hi) return;
     for (c = lo; c <= hi; c++) {
         const double h = rj__lz_step(m, u, c, all);
         if (h == 0.0) continue;
@@ -4679,6 +4696,15 @@ static int rj__ck_frame_ok(const rj_model *m, const double *fd, const int *fi, u
     if (!(sc[RJ__FS_TIME] >= 0) || !(sc[RJ__FS_ETIME] <= sc[RJ__FS_TIME])) {
         rj__fail(err, RJ_ERR_CHECKPOINT, "time", sc[RJ__FS_TIME], "checkpoint time %g s (energy time %g s) is out of range", sc[RJ__FS_TIME], sc[RJ__FS_ETIME]);
         return 0;
+    }
+    {
+        /* the accounts' sums (rj_state_energy) must be finite too, not only their terms */
+        const double total = sc[RJ__FS_KE] + sc[RJ__FS_STRAIN] + sc[RJ__FS_SPRING];
+        const double balance = total + sc[RJ__FS_LDAMP] + sc[RJ__FS_LFRIC] + sc[RJ__FS_LLIM] + sc[RJ__FS_PEND] - sc[RJ__FS_E0];
+        if (!rj__finite(total) || !rj__finite(balance)) {
+            rj__fail(err, RJ_ERR_CHECKPOINT, "energy", balance, "checkpoint's energy accounts do not add up to a finite total (%g) and balance (%g)", total, balance);
+            return 0;
+        }
     }
     if (!(sc[RJ__FS_WARN] >= 0 && sc[RJ__FS_WARN] <= RJ__CK_MAX_STEPS && sc[RJ__FS_WARN] == floor(sc[RJ__FS_WARN]))) {
         rj__fail(err, RJ_ERR_CHECKPOINT, "warnings", sc[RJ__FS_WARN], "checkpoint warning count %g is not a count", sc[RJ__FS_WARN]);

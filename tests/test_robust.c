@@ -267,6 +267,37 @@ static void test_no_usable_step(void)
                   "omega sqrt(rho / 2710) = %.9g rad/s at 2710 kg/m^3, worst relative departure %.3g", base, worst);
     }
     {
+        /* a 1 nm link of E = 2.4e-187 Pa beside four default ones: the bound is the default
+           links' (about the bound of one of them alone); differenced with the tiny link's
+           step, their moves fell below what their coordinates resolve and the bound came
+           out 3329 s */
+        rj_link_def links[5];
+        rj_joint_def joints[5];
+        rj_scene_def scene;
+        rj_model *m, *one;
+        rj_error err;
+        double b_all = 0, b_one = 0;
+        chain_scene(5, 10, RJ_LINK_FLEXIBLE, links, joints, &scene);
+        scene.joint_count = 4;
+        scene.joints = joints + 1;
+        links[0].length = 1e-9;
+        links[0].E = 2.44e-187;
+        joints[1].body1 = 0;
+        if (rj_model_create(&scene, &m, &err, NULL) == RJ_OK) {
+            b_all = rj_model_dt_bound(m);
+            rj_model_destroy(m, NULL);
+        }
+        scene.link_count = 1;
+        scene.links = links + 1;
+        scene.joint_count = 0;
+        if (rj_model_create(&scene, &one, &err, NULL) == RJ_OK) {
+            b_one = rj_model_dt_bound(one);
+            rj_model_destroy(one, NULL);
+        }
+        rjt_check(&T, b_all > 0 && b_all <= 1.01 * b_one, "no usable step: a 1 nm link beside normal ones leaves their bound in place",
+                  "bound %.4g s with the tiny link, %.4g s for one normal link alone", b_all, b_one);
+    }
+    {
         /* time where the step no longer moves it: a crafted checkpoint at t = 1e15 s */
         rj_model *m;
         rj_state *s;
