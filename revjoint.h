@@ -4676,6 +4676,8 @@ RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size
 /* The steps a checkpoint may count: the counter must stay far from overflowing a long
    (32 bits on some systems) */
 #define RJ__CK_MAX_STEPS 2000000000.0
+/* The largest magnitude a checkpoint's value may have */
+#define RJ__CK_MAX_VALUE 1e100
 
 /* A checkpoint's frame is checked as the model validation checks a definition: every value
    finite, time and counts in range, each joint's flag one its definition allows. Returns 0
@@ -4689,8 +4691,10 @@ static int rj__ck_frame_ok(const rj_model *m, const double *fd, const int *fi, u
         rj__fail(err, RJ_ERR_CHECKPOINT, "steps", (double)steps, "checkpoint counts %.0f steps, more than the %.0f a state counts", (double)steps, RJ__CK_MAX_STEPS);
         return 0;
     }
-    for (k = 0; k < m->frame_doubles; k++) if (!rj__finite(fd[k])) {
-        rj__fail(err, RJ_ERR_CHECKPOINT, "payload", fd[k], "checkpoint holds a non-finite value (%g) at value %lu", fd[k], (unsigned long)k);
+    /* every value finite and within 1e100 in magnitude: no state a model reaches comes near
+       it, and sums of such values (a joint's total torque, the energy balance) stay finite */
+    for (k = 0; k < m->frame_doubles; k++) if (!(fabs(fd[k]) <= RJ__CK_MAX_VALUE)) {
+        rj__fail(err, RJ_ERR_CHECKPOINT, "payload", fd[k], "checkpoint holds %g at value %lu: not finite, or beyond the 1e100 that no state reaches", fd[k], (unsigned long)k);
         return 0;
     }
     if (!(sc[RJ__FS_TIME] >= 0) || !(sc[RJ__FS_ETIME] <= sc[RJ__FS_TIME])) {
