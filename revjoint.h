@@ -1025,7 +1025,9 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
         if (L->root < RJ_ROOT_FREE || L->root > RJ_ROOT_FIXED) { RJ__FIELD(f, "links[%d].root", i); rj__fail(err, RJ_ERR_INVALID, f, L->root, "%s = %d is invalid: RJ_ROOT_FREE, _PINNED, _CLAMPED or _FIXED", f, L->root); return 0; }
         RJ__FIELD(f, "links[%d].x", i); if (!rj__check_num(err, f, L->x, -inf, 0, inf, 0, "must be finite")) return 0;
         RJ__FIELD(f, "links[%d].y", i); if (!rj__check_num(err, f, L->y, -inf, 0, inf, 0, "must be finite")) return 0;
-        RJ__FIELD(f, "links[%d].angle", i); if (!rj__check_num(err, f, L->angle, -inf, 0, inf, 0, "must be finite")) return 0;
+        /* within 1e6 rad, as angle0: beyond it a rotation of 1e-7 rad (the stability bound's
+           finite differences) falls below what the angle's double resolves */
+        RJ__FIELD(f, "links[%d].angle", i); if (!rj__check_num(err, f, L->angle, -1e6, 1, 1e6, 1, "must be a finite angle within 1e6 rad")) return 0;
         RJ__FIELD(f, "links[%d].vx", i); if (!rj__check_num(err, f, L->vx, -inf, 0, inf, 0, "must be finite")) return 0;
         RJ__FIELD(f, "links[%d].vy", i); if (!rj__check_num(err, f, L->vy, -inf, 0, inf, 0, "must be finite")) return 0;
         RJ__FIELD(f, "links[%d].omega", i); if (!rj__check_num(err, f, L->omega, -inf, 0, inf, 0, "must be finite")) return 0;

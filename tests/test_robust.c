@@ -298,6 +298,22 @@ static void test_no_usable_step(void)
                   "bound %.4g s with the tiny link, %.4g s for one normal link alone", b_all, b_one);
     }
     {
+        /* a root link turned by 1e9 rad: the bound's rotations of 1e-7 rad are below what
+           that angle resolves (the bound came out 8.5 times too long); refused by name */
+        rj_error err;
+        rj_link_def link = rj_default_link_def();
+        rj_scene_def scene = rj_default_scene_def();
+        rj_model *m = NULL;
+        rj_result r;
+        link.angle = 1e9;
+        scene.links = &link;
+        scene.link_count = 1;
+        r = rj_model_create(&scene, &m, &err, NULL);
+        if (r == RJ_OK) rj_model_destroy(m, NULL);
+        rjt_check(&T, r == RJ_ERR_INVALID && strcmp(err.field, "links[0].angle") == 0, "no usable step: a link angle of 1e9 rad is refused by name",
+                  "[%s] %s", err.field, err.msg);
+    }
+    {
         /* time where the step no longer moves it: a crafted checkpoint at t = 1e15 s */
         rj_model *m;
         rj_state *s;
