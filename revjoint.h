@@ -1,6 +1,6 @@
 /* revjoint.h v0.1 - planar flexible links joined by revolute joints with rotation limits,
    locking, resistive torque, friction and damping (Wong, Hamouda & Hashmi 2002).
-   Public domain / MIT, see the end of the file.
+   MIT licence, see the end of the file.
 
    "sec. N" and "Eq N" below and in the comments are the sections and equations of the
    paper: S. V. Wong, A. M. S. Hamouda, M. S. J. Hashmi, "Development of Revolute-Joint
