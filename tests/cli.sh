@@ -10,22 +10,8 @@ AB=$(cd "$B" && pwd)
 # the checks of runs that must be refused get this many seconds: without the refusal they
 # would run for hours, and a check must fail rather than hang
 TO="timeout 60"
-t() { # expected status, description, command...
-  want=$1; shift; what=$1; shift
-  out=$("$@" 2>&1 >/dev/null); st=$?
-  if [ "$st" = "$want" ] && { [ "$want" != 2 ] || echo "$out" | grep -q usage; }; then echo "PASS cli: $what (status $st)"; else echo "FAIL cli: $what: status $st, want $want: $out"; fi
-}
-# expected status, what the messages must contain (grep -E), description, command...
-m() {
-  want=$1; shift; pat=$1; shift; what=$1; shift
-  out=$("$@" 2>&1 >/dev/null); st=$?
-  if [ "$st" = "$want" ] && printf '%s\n' "$out" | grep -Eq -- "$pat"; then echo "PASS cli: $what (status $st)"
-  else echo "FAIL cli: $what: status $st, want $want and a message matching /$pat/: $out"; fi
-}
-# description, condition (a shell command that must succeed)
-ok() {
-  if sh -c "$2"; then echo "PASS cli: $1"; else echo "FAIL cli: $1"; fi
-}
+P=cli
+. tests/checks.sh
 t 2 "impact rejects an unknown option" $B/impact --bogus
 t 2 "impact rejects a malformed number" $B/impact --dt 1e-6x
 t 2 "impact rejects a negative step" $B/impact --dt -1e-6

@@ -9,24 +9,8 @@ rm -rf "$T"
 mkdir -p "$T"
 AB=$(cd "$B" && pwd)
 AT=$(cd "$T" && pwd)
-# status, description, command...: the status, and the usage text after a status 2
-t() {
-  want=$1; shift; what=$1; shift
-  out=$("$@" 2>&1 >/dev/null); st=$?
-  if [ "$st" = "$want" ] && { [ "$want" != 2 ] || echo "$out" | grep -q usage; }; then echo "PASS rj: $what (status $st)"
-  else echo "FAIL rj: $what: status $st, want $want: $out"; fi
-}
-# status, pattern the messages must match (grep -E), description, command...
-m() {
-  want=$1; shift; pat=$1; shift; what=$1; shift
-  out=$("$@" 2>&1 >/dev/null); st=$?
-  if [ "$st" = "$want" ] && printf '%s\n' "$out" | grep -Eq -- "$pat"; then echo "PASS rj: $what (status $st)"
-  else echo "FAIL rj: $what: status $st, want $want and a message matching /$pat/: $out"; fi
-}
-# description, condition (a shell command that must succeed)
-ok() {
-  if sh -c "$2"; then echo "PASS rj: $1"; else echo "FAIL rj: $1"; fi
-}
+P=rj
+. tests/checks.sh
 # the header rj run must write for a scene file: its joints' and links' names from the file
 header() {
   awk 'BEGIN { printf "t" }
