@@ -663,7 +663,6 @@ struct rj_model {
     int *jorder;              /* (nj) joints with parents before children */
     double *jpin, *jref;      /* (nj) pin distance along body 1 from its root; reference offset (pi or 0) */
     double dt, dt_bound, omega_max, dt_eq28, omega_links;
-    double damp_rate;         /* 1/s, the fastest joint damping rate (rj__damping_rate) */
     rj_solver_def solver;
     rj_link_def *ldef;        /* (nl) */
     rj_joint_def *jdef;       /* (nj) */
@@ -2241,6 +2240,16 @@ static double rj__omega2_max(rj_model *m)
     return lam;
 }
 
+/* A joint's rate change per unit torque impulse at the start (1/I_red): (M^-1)_jj in
+   joint coordinates for rigid scenes, else from the pin nodes (rj__joint_compliance). */
+static double rj__joint_compliance0(const rj_model *m, int j)
+{
+    rj__jgeo g;
+    if (m->rigid) return m->jnt[j].minv;
+    rj__joint_geo(m, &m->jnt[j], m->x0, m->y0, &g);
+    return rj__joint_compliance(m, &m->jnt[j], &g);
+}
+
 /* The fastest damping rate a joint's damper gives the bodies it joins, 1/s: C times the
    rate change per unit torque impulse (1/I_red), the largest over the joints. */
 static double rj__damping_rate(const rj_model *m)
@@ -2248,13 +2257,9 @@ static double rj__damping_rate(const rj_model *m)
     double worst = 0;
     int j;
     for (j = 0; j < m->nj; j++) {
-        const rj__joint *J = &m->jnt[j];
-        rj__jgeo g;
-        double compliance, rate;
+        double rate;
         if (!(m->jdef[j].damping > 0)) continue;
-        rj__joint_geo(m, J, m->x0, m->y0, &g);
-        compliance = m->rigid ? J->minv : rj__joint_compliance(m, J, &g);
-        rate = m->jdef[j].damping * compliance;
+        rate = m->jdef[j].damping * rj__joint_compliance0(m, j);
         if (rate > worst) worst = rate;
     }
     return worst;
@@ -2594,11 +2599,8 @@ static int rj__joint_unusable(const rj_model *m, rj_error *err)
     double fastest = -1;
     char f[64];
     for (j = 0; j < m->nj; j++) {
-        rj__jgeo g;
-        double c, rate;
-        rj__joint_geo(m, &m->jnt[j], m->x0, m->y0, &g);
-        c = m->rigid ? m->jnt[j].minv : rj__joint_compliance(m, &m->jnt[j], &g);
-        rate = sqrt(m->jnt[j].k_lin * c) + m->jdef[j].damping * c;
+        const double c = rj__joint_compliance0(m, j);
+        const double rate = sqrt(m->jnt[j].k_lin * c) + m->jdef[j].damping * c;
         if (rate > fastest) { fastest = rate; worst = j; }
     }
     RJ__FIELD(f, "joints[%d]", worst);
@@ -2667,7 +2669,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     rj__layout L;
     rj_model *m;
     char *base;
-    int nn, ne, i, j, l, *placed, ngroups;
+    int nn, ne, i, j, l, ngroups;
     size_t nodes, elements;
     rj_error size_err;
     double om2;
@@ -2783,8 +2785,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     }
     for (i = 0; i < nn; i++) { m->kmass[i] = m->tinv[i] > 0 ? m->mass[i] : 0.0; m->krot[i] = m->rinv[i] > 0 ? m->rinertia[i] : 0.0; }
     /* initial placement: each link after the link it hangs from */
-    placed = (int *)(void *)m->lz;   /* scratch: the Lanczos area is unused yet */
-    rj__place_all(m, placed);
+    rj__place_all(m, (int *)(void *)m->lz);   /* scratch: the Lanczos area is unused yet */
     for (l = 0; l < m->nl; l++) if (m->ldef[l].root == RJ_ROOT_FIXED) {
         int k;
         for (k = m->link_first[l]; k < m->link_first[l + 1]; k++) { m->vx0[k] = 0; m->vy0[k] = 0; m->w0[k] = 0; }
@@ -2913,7 +2914,6 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         m->omega_links = rj__omega_of(om2);
         /* joint damping acts on the rates it lags (Eq 27 on v^{n-1/2}): it shortens the step */
         damp_rate = rj__damping_rate(m);
-        m->damp_rate = damp_rate;
         for (j = 0; j < m->nj; j++) {
             const rj_joint_def *d = &m->jdef[j];
             /* a penalty limit switches on and off with the contact, which pumps energy long
@@ -2980,12 +2980,8 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         char extra[240];
         double cw = 0;
         for (j = 0; j < m->nj; j++) {
-            rj__jgeo g;
-            double om, c;
-            rj__joint_geo(m, &m->jnt[j], m->x0, m->y0, &g);
-            /* rate change per unit torque impulse: (M^-1)_jj in joint coordinates */
-            c = m->rigid ? m->jnt[j].minv : rj__joint_compliance(m, &m->jnt[j], &g);
-            om = sqrt(m->jnt[j].k_lin * c);
+            const double c = rj__joint_compliance0(m, j);
+            const double om = sqrt(m->jnt[j].k_lin * c);
             if (om > wo) { wo = om; worst = j; cw = c; }
         }
         extra[0] = 0;
