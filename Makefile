@@ -21,12 +21,12 @@ SAN     = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omi
 
 HDR     = revjoint.h
 RENDER  = render/rj_render.c render/rj_render.h
-EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B)/sweep $(B)/studies $(B)/rj
+EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B)/sweep $(B)/studies $(B)/rj $(B)/segmented
 TESTS   = $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_benchmarks $(B)/test_rigid2 \
           $(B)/test_render $(B)/csvdiff $(B)/test_core_asan $(B)/test_dynamics_asan $(B)/test_beam_asan \
           $(B)/test_core_clang $(B)/test_cpp $(B)/test_state $(B)/test_state_asan $(B)/test_scene $(B)/test_scene_asan $(B)/test_mixed $(B)/test_mixed_asan $(B)/test_robust $(B)/test_robust_asan $(B)/stress
 
-.PHONY: all deps test demo golden bench stress clean check-header valgrind fuzz
+.PHONY: all deps test demo golden bench stress clean check-header valgrind fuzz peer
 all: deps $(EXAMPLES)
 
 deps:
@@ -71,6 +71,13 @@ $(B)/stress: tests/stress.c tests/rjt.h examples/scenes.h $(HDR) | $(B)
 	$(CC) $(ALLCF) -Wno-format-truncation $< -o $@ -lm
 $(B)/bench: bench/bench.c examples/scenes.h examples/rigid2.h $(HDR) $(RENDER) | $(B)
 	$(CC) $(ALLCF) bench/bench.c render/rj_render.c -o $@ $(GL)
+$(B)/segmented: bench/segmented.c examples/scenes.h $(HDR) | $(B)
+	$(CC) $(ALLCF) $< -o $@ -lm
+# the MuJoCo peer of the deployment (docs/validation.md); needs libmujoco-dev, which
+# nothing else here does
+peer: | $(B)
+	@test -f /usr/include/mujoco/mujoco.h || { echo "make peer: needs libmujoco-dev (apt-get install libmujoco-dev)"; exit 1; }
+	$(CC) $(ALLCF) -isystem /usr/include bench/peer_mujoco.c -o $(B)/peer_mujoco -lmujoco -lm
 $(B)/csvdiff: tests/csvdiff.c | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
 

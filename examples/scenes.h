@@ -198,4 +198,74 @@ static inline void chain_scene(int n, int elements, int fidelity, rj_link_def *l
 static inline double deploy_q1_deg(const rj_model *m, const rj_state *s) { return rj_deg(rj_joint_theta_running(m, s, 0)); }
 static inline double deploy_q2_deg(const rj_model *m, const rj_state *s) { return rj_deg(rj_joint_theta_running(m, s, 1)) - 180.0; }
 
+
+/* ---------------------------------------------------------------- segmented deployment */
+/* The deployment with each link cut into `segments` rigid pieces joined by torsion
+   springs, the rigid-finite-element layout (Kruszewski, Wittbrodt): segments + 1 rigid
+   links of lengths l/2, l, ..., l, l/2 (l = L / segments), each pair joined at a segment
+   midpoint by a joint of stiffness EI / l about the straight line. A scene of rigid links
+   only is integrated in joint coordinates, so the springs alone set the step. Joint 0 and
+   joint segments + 1 are the deployment joints; link 2 * segments + 1 carries link 2's
+   tip mass. links and joints hold 2 (segments + 1) each. */
+static inline void deploy_segmented_scene(const deploy_opts *o, int segments, rj_link_def *links,
+                                          rj_joint_def *joints, rj_scene_def *sc)
+{
+    rj_link_def whole[2];
+    rj_joint_def deploy[2];
+    const int per_link = segments + 1;
+    int i, k;
+    deploy_scene(o, whole, deploy, sc);
+    for (i = 0; i < 2; i++) {
+        const double l = whole[i].length / segments;
+        const double EI = whole[i].E * whole[i].inertia;
+        for (k = 0; k < per_link; k++) {
+            const int n = i * per_link + k;
+            const int end = k == 0 || k == segments;
+            links[n] = whole[i];
+            links[n].elements = 1;
+            links[n].fidelity = RJ_LINK_RIGID;
+            links[n].length = end ? 0.5 * l : l;
+            /* the tip mass rides on the last piece */
+            links[n].tip_mass = k == segments ? whole[i].tip_mass : 0.0;
+            links[n].tip_inertia = k == segments ? whole[i].tip_inertia : 0.0;
+            joints[n] = rj_default_joint_def();
+            joints[n].body1 = n - 1;
+            joints[n].body2 = n;
+            joints[n].node1 = -1;
+            /* a bending spring: straight (theta = pi) is its free angle */
+            joints[n].angle0 = rj_rad(180.0);
+            joints[n].spring_k = EI / l;
+            joints[n].spring_free_angle = rj_rad(180.0);
+        }
+    }
+    /* the deployment joints keep their data; rigid links latch by momentum with e = 0 */
+    joints[0] = deploy[0];
+    joints[per_link] = deploy[1];
+    joints[per_link].body1 = per_link - 1;
+    joints[per_link].body2 = per_link;
+    joints[per_link].node1 = -1;
+    joints[0].method = RJ_METHOD_MOMENTUM;
+    joints[per_link].method = RJ_METHOD_MOMENTUM;
+    sc->links = links;
+    sc->link_count = 2 * per_link;
+    sc->joints = joints;
+    sc->joint_count = 2 * per_link;
+}
+
+/* The segmented arm's q2 (experiment's convention) and link 2's tip deflection from the
+   tangent at its root: the root piece's direction, as for the flexible links' node 0. */
+static inline double deploy_segmented_q2_deg(const rj_model *m, const rj_state *s, int segments)
+{
+    return rj_deg(rj_joint_theta_running(m, s, segments + 1)) - 180.0;
+}
+static inline double deploy_segmented_tip_defl(const rj_model *m, const rj_state *s, int segments)
+{
+    const int root = segments + 1, tip = 2 * segments + 1;
+    double p0[2], pt[2];
+    const double ph = rj_node_rotation(m, s, root, 0);
+    rj_node_position(m, s, root, 0, p0);
+    rj_node_position(m, s, tip, rj_link_node_count(m, tip) - 1, pt);
+    return cos(ph) * (pt[1] - p0[1]) - sin(ph) * (pt[0] - p0[0]);
+}
+
 #endif
