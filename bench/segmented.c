@@ -42,11 +42,12 @@ static double time_runs(const rj_model *m, rj_state *s)
     double best = 1e30;
     int r;
     for (r = 0; r < 5; r++) {
-        double t0;
+        double t0, spent;
         rj_state_reset(m, s);
         t0 = cpu_seconds();
         if (rj_run(m, s, 6.0, 0, NULL, NULL) != RJ_OK) return -1;
-        if (cpu_seconds() - t0 < best) best = cpu_seconds() - t0;
+        spent = cpu_seconds() - t0;
+        if (spent < best) best = spent;
     }
     return best;
 }
