@@ -734,14 +734,18 @@ struct rj_state {
 static size_t rj__rigid_scratch(int nj, int nl);
 static double rj__rig_setup(rj_model *m, double *scratch);
 typedef struct rj__rig {
-    double *M, *L, *W, *q, *qd, *qdp, *qdd, *Q, *h, *x, *tmp, *dx, *dy; /* n x n (W: columns of M^-1), n each (tmp 2 n) */
+    double *M, *L, *W, *q, *qd, *qdp, *qdd, *Q, *h, *x, *tmp; /* n x n (W: columns of M^-1), n each (tmp 2 n) */
     double *S, *SL, *lam, *act, *rhs;   /* the plastic joints' impulse system: n x n, its factor, n each */
     double *lk;                 /* per link, RJ__RL_COUNT values: rj__rig_kin */
 } rj__rig;
 /* a link's record in rj__rig.lk: angle and its cos, sin; root; centre; their accelerations
-   (centripetal, at the predicted rates); predicted angular rate; rate and root velocity */
+   (centripetal, at the predicted rates); predicted angular rate; rate and root velocity;
+   then the subtree the link's parent joint carries (rj__rig_mass): its mass, first moment
+   and inertia about the joint's pin, its sum of m a and that sum's moment about the pin */
 enum { RJ__RL_PHI = 0, RJ__RL_EC, RJ__RL_ES, RJ__RL_RX, RJ__RL_RY, RJ__RL_CX, RJ__RL_CY, RJ__RL_ARX, RJ__RL_ARY,
-       RJ__RL_ACX, RJ__RL_ACY, RJ__RL_OMB, RJ__RL_OM, RJ__RL_VX, RJ__RL_VY, RJ__RL_COUNT = 16 };
+       RJ__RL_ACX, RJ__RL_ACY, RJ__RL_OMB, RJ__RL_OM, RJ__RL_VX, RJ__RL_VY,
+       RJ__RL_SUB_M, RJ__RL_SUB_SX, RJ__RL_SUB_SY, RJ__RL_SUB_J, RJ__RL_SUB_FX, RJ__RL_SUB_FY, RJ__RL_SUB_N,
+       RJ__RL_COUNT = 24 };
 static void rj__rig_map(const rj_model *m, double *base, rj__rig *r);
 static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd, const double *qdp);
 static void rj__rig_nodes(const rj_model *m, const rj__rig *r, double *f);
@@ -3573,16 +3577,16 @@ static RJ__FORCE_INLINE void rj__element_work(const double *oj, const double *nj
    centripetal accelerations -omega^2 r of every segment. The element (flags, torques,
    friction, methods) is the same code as for flexible links; a joint torque is a
    generalised force on q_j, and a velocity jump is an impulse along q_j. */
-static size_t rj__rigid_scratch(int nj, int nl) { return 5 * (size_t)nj * nj + 15 * (size_t)nj + RJ__RL_COUNT * (size_t)nl + 8; }
+static size_t rj__rigid_scratch(int nj, int nl) { return 5 * (size_t)nj * nj + 13 * (size_t)nj + RJ__RL_COUNT * (size_t)nl + 8; }
 
 
-/* h directly after M: rj__rig_mass zeroes them in one pass */
+/* the rigid solver's scratch: matrices n x n, vectors n (tmp 2 n), link records */
 static void rj__rig_map(const rj_model *m, double *base, rj__rig *r)
 {
     const size_t n = (size_t)m->nj;
     r->M = base; r->h = r->M + n * n; r->L = r->h + n; r->W = r->L + n * n; r->q = r->W + n * n; r->qd = r->q + n; r->qdp = r->qd + n;
-    r->qdd = r->qdp + n; r->Q = r->qdd + n; r->x = r->Q + n; r->tmp = r->x + n; r->dx = r->tmp + 2 * n; r->dy = r->dx + n;
-    r->S = r->dy + n; r->SL = r->S + n * n; r->lam = r->SL + n * n; r->act = r->lam + n; r->rhs = r->act + n;
+    r->qdd = r->qdp + n; r->Q = r->qdd + n; r->x = r->Q + n; r->tmp = r->x + n;
+    r->S = r->tmp + 2 * n; r->SL = r->S + n * n; r->lam = r->SL + n * n; r->act = r->lam + n; r->rhs = r->act + n;
     r->lk = r->rhs + n;
 }
 
@@ -3641,36 +3645,76 @@ static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const do
     }
 }
 
-/* Mass matrix M(q) and bias h (with the centripetal accelerations from rj__rig_kin). Each
-   link adds to the entries of the joints on its path to the ground; the lever arms c - P
-   of the path's joints are kept (dx, dy) and each pair is added once to both triangles. */
+/* One link's own share of the subtree sums of its parent joint (pin P, centre c):
+   mass m, first moment m (c - P), inertia I + m |c - P|^2 about P, m a and its moment
+   m (c - P) x a, with a the centre's centripetal acceleration. */
+static void rj__rig_own(const rj_model *m, int link, double *b)
+{
+    const double mass = m->rb_mass[link];
+    const double dx = b[RJ__RL_CX] - b[RJ__RL_RX];
+    const double dy = b[RJ__RL_CY] - b[RJ__RL_RY];
+    b[RJ__RL_SUB_M] = mass;
+    b[RJ__RL_SUB_SX] = mass * dx;
+    b[RJ__RL_SUB_SY] = mass * dy;
+    b[RJ__RL_SUB_J] = m->rb_icm[link] + mass * (dx * dx + dy * dy);
+    b[RJ__RL_SUB_FX] = mass * b[RJ__RL_ACX];
+    b[RJ__RL_SUB_FY] = mass * b[RJ__RL_ACY];
+    b[RJ__RL_SUB_N] = mass * (dx * b[RJ__RL_ACY] - dy * b[RJ__RL_ACX]);
+}
+
+/* Adds a complete subtree (record sub, pin at sub's root) to its parent's sums, moved
+   from the child's pin to the parent's by d = P_child - P_parent (parallel axes). */
+static void rj__rig_gather(const double *sub, double *parent)
+{
+    const double dx = sub[RJ__RL_RX] - parent[RJ__RL_RX];
+    const double dy = sub[RJ__RL_RY] - parent[RJ__RL_RY];
+    const double mass = sub[RJ__RL_SUB_M];
+    const double moment = dx * sub[RJ__RL_SUB_SX] + dy * sub[RJ__RL_SUB_SY];
+    parent[RJ__RL_SUB_M] += mass;
+    parent[RJ__RL_SUB_J] += sub[RJ__RL_SUB_J] + 2 * moment + mass * (dx * dx + dy * dy);
+    parent[RJ__RL_SUB_SX] += sub[RJ__RL_SUB_SX] + mass * dx;
+    parent[RJ__RL_SUB_SY] += sub[RJ__RL_SUB_SY] + mass * dy;
+    parent[RJ__RL_SUB_FX] += sub[RJ__RL_SUB_FX];
+    parent[RJ__RL_SUB_FY] += sub[RJ__RL_SUB_FY];
+    parent[RJ__RL_SUB_N] += sub[RJ__RL_SUB_N] + dx * sub[RJ__RL_SUB_FY] - dy * sub[RJ__RL_SUB_FX];
+}
+
+/* Mass matrix M(q) and bias h (with the centripetal accelerations from rj__rig_kin), by
+   composite bodies. Joint j turns the subtree beyond it (its body 2 and all that hangs
+   from it): with that subtree's inertia J_j and first moment S_j about j's pin P_j,
+   M_jj = J_j, and M_jk = J_j + (P_j - P_k) . S_j for every joint k above j (zero for
+   joints on other branches); h_j is the moment of the subtree's m a about P_j. The sums
+   are gathered leaves first, in O(n); the pairs cost four flops each. */
 static void rj__rig_mass(const rj_model *m, rj__rig *r)
 {
     const int n = m->nj;
-    double *M = r->M, *h = r->h, *RJ__RESTRICT dx = r->dx, *RJ__RESTRICT dy = r->dy;
-    const double *lk = r->lk;
-    int l, i;
-    /* zero M and h (the row after M), column by column: scalar stores, which the
-       accumulation below reads back at once (a library memset here costs more) */
-    for (i = 0; i < n; i++) { int k; for (k = 0; k <= n; k++) M[(size_t)k * n + i] = 0; }
-    for (l = 0; l < m->nl; l++) {
-        const int jl = m->rb_pjoint[l];
-        const double *b = lk + RJ__RL_COUNT * (size_t)l;
-        double ml, il, cxl, cyl, acxl, acyl;
-        int ja, jb;
-        if (jl < 0) continue;
-        ml = m->rb_mass[l]; il = m->rb_icm[l];
-        cxl = b[RJ__RL_CX]; cyl = b[RJ__RL_CY]; acxl = b[RJ__RL_ACX]; acyl = b[RJ__RL_ACY];
-        for (ja = jl; ja >= 0; ja = rj__rig_up(m, ja)) {
-            const double *a = lk + RJ__RL_COUNT * (size_t)m->jdef[ja].body2;
-            const double dxa = cxl - a[RJ__RL_RX], dya = cyl - a[RJ__RL_RY];
-            h[ja] += ml * (-dya * acxl + dxa * acyl);
-            dx[ja] = dxa; dy[ja] = dya;
-            for (jb = jl; jb != ja; jb = rj__rig_up(m, jb)) {
-                const double v = ml * (dxa * dx[jb] + dya * dy[jb]) + il;
-                M[ja * n + jb] += v; M[jb * n + ja] += v;
-            }
-            M[ja * n + ja] += ml * (dxa * dxa + dya * dya) + il;
+    double *M = r->M, *h = r->h, *lk = r->lk;
+    int i, k;
+    for (i = 0; i < n * n; i++) M[i] = 0;
+    for (k = 0; k < n; k++) {
+        const int body = m->jdef[k].body2;
+        rj__rig_own(m, body, lk + RJ__RL_COUNT * (size_t)body);
+    }
+    /* jorder has parents before children: backwards, a subtree is whole when gathered */
+    for (k = n - 1; k >= 0; k--) {
+        const int j = m->jorder[k];
+        const int parent = m->jdef[j].body1;
+        const double *sub = lk + RJ__RL_COUNT * (size_t)m->jdef[j].body2;
+        h[j] = sub[RJ__RL_SUB_N];
+        M[(size_t)j * n + j] = sub[RJ__RL_SUB_J];
+        if (parent < 0 || m->rb_pjoint[parent] < 0) continue;   /* on the ground or a fixed link */
+        rj__rig_gather(sub, lk + RJ__RL_COUNT * (size_t)parent);
+    }
+    for (k = 0; k < n; k++) {
+        const double *sub = lk + RJ__RL_COUNT * (size_t)m->jdef[k].body2;
+        int up;
+        for (up = rj__rig_up(m, k); up >= 0; up = rj__rig_up(m, up)) {
+            const double *pin = lk + RJ__RL_COUNT * (size_t)m->jdef[up].body2;
+            const double dx = sub[RJ__RL_RX] - pin[RJ__RL_RX];
+            const double dy = sub[RJ__RL_RY] - pin[RJ__RL_RY];
+            const double v = sub[RJ__RL_SUB_J] + dx * sub[RJ__RL_SUB_SX] + dy * sub[RJ__RL_SUB_SY];
+            M[(size_t)k * n + up] = v;
+            M[(size_t)up * n + k] = v;
         }
     }
 }
@@ -3815,6 +3859,111 @@ static double rj__rig_setup(rj_model *m, double *scratch)
     return lam;
 }
 
+/* Does joint j take plastic impulses at this flag (locked, forced, or e = 0 at a limit)? */
+static int rj__rig_plastic(const rj_joint_def *d, int flag)
+{
+    const int velocity_level = d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED;
+    if (!velocity_level || flag == RJ_FREE) return 0;
+    return flag == RJ_LOCKED || d->method == RJ_METHOD_FORCED || d->restitution == 0;
+}
+
+/* W_SS lam = -q'_S for the k joints flagged in act, as a compact k x k system (W's
+   columns for them in r->W); lam in r->lam, in the order of the set. Nonzero when the
+   system is singular. */
+static int rj__rig_set_solve(int n, int k, rj__rig *r, const double *qdp)
+{
+    const double *act = r->act, *W = r->W;
+    double *S = r->S, *rhs = r->rhs;
+    int a, b, row = 0;
+    for (a = 0; a < n; a++) {
+        int col = 0;
+        if (act[a] == 0) continue;
+        for (b = 0; b < n; b++) {
+            if (act[b] == 0) continue;
+            S[(size_t)row * k + col] = W[(size_t)b * n + a];
+            col++;
+        }
+        rhs[row] = -qdp[a];
+        row++;
+    }
+    if (rj__chol(k, S, r->SL)) return 1;
+    rj__chol_solve(k, r->SL, rhs, r->lam);
+    return 0;
+}
+
+/* Drops from the set every contact (not a lock) whose impulse would pull it off its
+   limit; returns how many it dropped. */
+static int rj__rig_set_drop(int n, const int *ni, rj__rig *r)
+{
+    int a, row = 0, dropped = 0;
+    for (a = 0; a < n; a++) {
+        double lam;
+        if (r->act[a] == 0) continue;
+        lam = r->lam[row];
+        row++;
+        if (ni[a] == RJ_LOCKED) continue;
+        if ((ni[a] == RJ_AT_FORWARD && lam > 0) || (ni[a] == RJ_AT_REVERSE && lam < 0)) {
+            r->act[a] = 0;
+            dropped++;
+        }
+    }
+    return dropped;
+}
+
+/* One joint's impulse moves the others (M^-1 couples them), so the plastic ones take
+   their impulses together: W_SS lam = -q'_S with W = M^-1, S the set; a contact whose
+   impulse would pull is dropped and the set solved again. One joint after another (as
+   the single impulses before this) left a locked joint drifting at up to 0.3 deg/s in the
+   fidelity benchmark's rigid solar array; sweeping that to convergence took hundreds of
+   passes (W is ill-conditioned along a chain). The set starts with every locked joint and
+   every plastic contact that turns into its limit or whose rate the single impulses
+   changed: a later joint's impulse moves an earlier one off the rate its own gave it.
+   r->h holds the rates before the impulses. */
+static void rj__rig_plastic_set(const rj_model *m, rj__rig *r, const int *ni, int jumped, int last_jump)
+{
+    const int n = m->nj;
+    double *qdp = r->qdp, *act = r->act;
+    const double *rates_before = r->h;
+    int j, pass, changed = 1;
+    for (j = 0; j < n; j++) {
+        const int moved = qdp[j] != rates_before[j] || rj__into_limit(ni[j], qdp[j]);
+        act[j] = rj__rig_plastic(&m->jdef[j], ni[j]) && (ni[j] == RJ_LOCKED || moved) ? 1.0 : 0.0;
+    }
+    for (pass = 0; pass <= n && changed; pass++) {
+        int k = 0, row = 0, locked = 0;
+        changed = 0;
+        for (j = 0; j < n; j++) k += act[j] != 0;
+        /* none, or only the one joint that took an impulse before: that was exact */
+        if (k == 0 || (k == 1 && jumped == 1 && act[last_jump] != 0)) return;
+        /* every joint locked (no contact could pull): q' = 0, which the system would
+           give to round-off */
+        for (j = 0; j < n; j++) locked += ni[j] == RJ_LOCKED;
+        if (locked == n) {
+            for (j = 0; j < n; j++) qdp[j] = 0;
+            return;
+        }
+        for (j = 0; j < n; j++) if (act[j] != 0) rj__chol_unit(n, r->L, j, r->W + (size_t)j * n);
+        if (rj__rig_set_solve(n, k, r, qdp)) return;
+        if (rj__rig_set_drop(n, ni, r)) {
+            changed = 1;
+            continue;
+        }
+        for (j = 0; j < n; j++) {
+            const double *w = r->W + (size_t)j * n;
+            int i;
+            if (act[j] == 0) continue;
+            for (i = 0; i < n; i++) qdp[i] += w[i] * r->lam[row];
+            row++;
+        }
+        /* a plastic contact the impulses turned into its limit joins the set */
+        for (j = 0; j < n; j++) {
+            if (act[j] != 0 || !rj__rig_plastic(&m->jdef[j], ni[j]) || !rj__into_limit(ni[j], qdp[j])) continue;
+            act[j] = 1;
+            changed = 1;
+        }
+    }
+}
+
 /* One step of a rigid-link scene: central differences in joint coordinates. The work that
    does not wait for the new rates (spring energy, frame scalars) comes early, so that the
    end of a step, between the new angles and the next step's kinematics, stays short. */
@@ -3835,7 +3984,7 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
     double *RJ__RESTRICT q, *RJ__RESTRICT qd, *RJ__RESTRICT qdp, *RJ__RESTRICT qdd, *RJ__RESTRICT Q, *hq, *W;
     const double *M, *L;
     rj__rig r;
-    int j, k, jumped = 0;
+    int j, k, jumped = 0, last_jump = -1, impact = 0;
     rj__rig_map(m, s->rsc, &r);
     q = r.q; qd = r.qd; qdp = r.qdp; qdd = r.qdd; hq = r.h; Q = r.Q; M = r.M; L = r.L; W = r.W;
     /* 1. state: q^n, rates q'^{n-1/2}, predicted q'^n for the centripetal terms */
@@ -3884,7 +4033,10 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
             const double *w = W + (size_t)j * n;
             double lam;
             if (!jumped) for (k = 0; k < n; k++) hq[k] = qdp[k];
-            jumped = 1;
+            jumped++;
+            last_jump = j;
+            /* a new contact or lock, or a bounce: the rates jump */
+            if (ni[j] != oi[j] || e > 0) impact = 1;
             if (!(d->friction > 0)) rj__chol_unit(n, L, j, W + (size_t)j * n);   /* else step 3 made it */
             lam = (-e * qdp[j] - qdp[j]) / w[j];
             for (k = 0; k < n; k++) qdp[k] += w[k] * lam;
@@ -3895,49 +4047,16 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
        -q'_S with W = M^-1, S the set; a contact whose impulse would pull is dropped and the
        set solved again. One joint after another (as above, alone) left a locked joint
        drifting at up to 0.3 deg/s in the fidelity benchmark's rigid solar array; sweeping
-       that to convergence took hundreds of passes (W is ill-conditioned along a chain). */
-    if (jumped) {
-        double *S = r.S, *SL = r.SL, *lam = r.lam, *act = r.act, *rhs = r.rhs;
-        int it2, changed = 1;
-        for (j = 0; j < n; j++) {
-            const rj_joint_def *d = &m->jdef[j];
-            const int plastic = (d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED) && ni[j] != RJ_FREE
-                                && (ni[j] == RJ_LOCKED || d->method == RJ_METHOD_FORCED || d->restitution == 0);
-            act[j] = plastic && rj__into_limit(ni[j], qdp[j]) ? 1.0 : 0.0;
-        }
-        for (it2 = 0; it2 <= n && changed; it2++) {
-            int a2, b2, any = 0;
-            changed = 0;
-            for (a2 = 0; a2 < n; a2++) any += act[a2] != 0;
-            if (any < 2) break;   /* none, or one: the impulse above was exact */
-            if (any == n) {
-                /* every joint plastic: when all are locked (no contact could pull) the
-                   answer is q' = 0, which the system below would give to round-off */
-                int locked = 0;
-                for (a2 = 0; a2 < n; a2++) locked += ni[a2] == RJ_LOCKED;
-                if (locked == n) { for (a2 = 0; a2 < n; a2++) qdp[a2] = 0; break; }
-            }
-            for (a2 = 0; a2 < n; a2++) if (act[a2] != 0) rj__chol_unit(n, L, a2, W + (size_t)a2 * n);
-            for (a2 = 0; a2 < n; a2++) {
-                for (b2 = 0; b2 < n; b2++) S[(size_t)a2 * n + b2] = act[a2] != 0 && act[b2] != 0 ? W[(size_t)b2 * n + a2] : (a2 == b2 ? 1.0 : 0.0);
-                rhs[a2] = act[a2] != 0 ? -qdp[a2] : 0.0;
-            }
-            if (rj__chol(n, S, SL)) break;
-            rj__chol_solve(n, SL, rhs, lam);
-            for (a2 = 0; a2 < n; a2++) {
-                /* a contact (not a lock) pushed toward its limit: not part of the set */
-                if (act[a2] != 0 && ni[a2] != RJ_LOCKED && ((ni[a2] == RJ_AT_FORWARD && lam[a2] > 0) || (ni[a2] == RJ_AT_REVERSE && lam[a2] < 0))) { act[a2] = 0; changed = 1; }
-            }
-            if (changed) continue;
-            for (b2 = 0; b2 < n; b2++) if (act[b2] != 0) for (k = 0; k < n; k++) qdp[k] += W[(size_t)b2 * n + k] * lam[b2];
-            for (a2 = 0; a2 < n; a2++) {
-                /* a plastic contact the impulses turned into its limit joins the set */
-                const rj_joint_def *d = &m->jdef[a2];
-                if (act[a2] == 0 && (d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED) && ni[a2] != RJ_FREE
-                    && (ni[a2] == RJ_LOCKED || d->method == RJ_METHOD_FORCED || d->restitution == 0) && rj__into_limit(ni[a2], qdp[a2])) { act[a2] = 1; changed = 1; }
-            }
-        }
-    }
+       that to convergence took hundreds of passes (W is ill-conditioned along a chain).
+       The set starts with every locked joint and every plastic contact that turns into its
+       limit or whose rate the impulses above changed: a later joint's impulse moves an
+       earlier one off the rate its own impulse gave it. */
+    if (jumped) rj__rig_plastic_set(m, &r, ni, jumped, last_jump);
+    /* Without an impact the jumps only keep locked joints and resting contacts at rest, and
+       (q'^{n+1/2} - q'^{n-1/2}) / kick is the constrained acceleration: the next step's
+       centripetal terms predict q'^{n+1} from it, not from the unconstrained one, which
+       turns a locked joint at up to dt / 2 times its reaction over its inertia. */
+    if (jumped && !impact) for (j = 0; j < n; j++) qdd[j] = (qdp[j] - qd[j]) / kick;
     /* the jumps' loss in the kinetic energy's form: 1/2 q'^{n-1/2} M (q'_before - q'_after)
        now, 1/2 q'_after M (q'_before - q'_after) with the next step (pend); nothing without
        a jump */
