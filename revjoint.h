@@ -109,21 +109,21 @@ extern "C" {
 /* Result codes. */
 typedef enum rj_result {
     RJ_OK = 0,
-    RJ_ERR_INVALID,      /* a definition field or an argument is out of range */
-    RJ_ERR_NOMEM,        /* allocation failed or caller's block too small */
-    RJ_ERR_UNSTABLE_DT,  /* dt above the stability bound and not overridden */
-    RJ_ERR_BLOWUP,       /* non-finite value or energy growth beyond the bound */
-    RJ_ERR_TUNNEL,       /* a joint turned more than a quarter revolution (pi/2 rad) in one step */
-    RJ_ERR_CHECKPOINT,   /* a checkpoint buffer is truncated, corrupted or for another model */
-    RJ_ERR_PARSE         /* scene text malformed */
+    RJ_ERR_INVALID,     /* a definition field or an argument is out of range */
+    RJ_ERR_NOMEM,       /* allocation failed or caller's block too small */
+    RJ_ERR_UNSTABLE_DT, /* dt above the stability bound and not overridden */
+    RJ_ERR_BLOWUP,      /* non-finite value or energy growth beyond the bound */
+    RJ_ERR_TUNNEL,      /* a joint turned more than a quarter revolution (pi/2 rad) in one step */
+    RJ_ERR_CHECKPOINT,  /* a checkpoint buffer is truncated, corrupted or for another model */
+    RJ_ERR_PARSE        /* scene text malformed */
 } rj_result;
 
 /* Validation and runtime error details, filled by the calls that take it (may be NULL). */
 typedef struct rj_error {
     rj_result code;
-    char field[64];      /* e.g. "joints[1].forward" */
-    double value;        /* the offending value (NaN when not numeric) */
-    char msg[512];       /* one full sentence */
+    char field[64]; /* e.g. "joints[1].forward" */
+    double value;   /* the offending value (NaN when not numeric) */
+    char msg[512];  /* one full sentence */
 } rj_error;
 
 /* Root support of a link that is not the body2 of any joint. */
@@ -152,11 +152,11 @@ typedef enum rj_section { RJ_SECTION_RECT = 0, RJ_SECTION_GENERAL } rj_section;
 
 /* Limit response methods (the paper's sec. 3.4, Eqs 14-26). */
 typedef enum rj_method {
-    RJ_METHOD_PENALTY = 0,   /* user stiffness penalty_k (COMBIN7-like) */
-    RJ_METHOD_ADAPTIVE,      /* K_AP = I1 I2 / ((I1 + I2) dt^2), Eq 21 */
-    RJ_METHOD_MOMENTUM,      /* momentum balance with restitution e, Eqs 23-24 */
-    RJ_METHOD_FORCED,        /* forced displacement back to the limit */
-    RJ_METHOD_ENERGY         /* energy conservation, Eqs 25-26 */
+    RJ_METHOD_PENALTY = 0, /* user stiffness penalty_k (COMBIN7-like) */
+    RJ_METHOD_ADAPTIVE,    /* K_AP = I1 I2 / ((I1 + I2) dt^2), Eq 21 */
+    RJ_METHOD_MOMENTUM,    /* momentum balance with restitution e, Eqs 23-24 */
+    RJ_METHOD_FORCED,      /* forced displacement back to the limit */
+    RJ_METHOD_ENERGY       /* energy conservation, Eqs 25-26 */
 } rj_method;
 
 /* How a joint measures its rotary location and applies its torques.
@@ -179,8 +179,13 @@ typedef enum rj_flag { RJ_FREE = 0, RJ_AT_FORWARD = 1, RJ_AT_REVERSE = 2, RJ_LOC
 
 /* Torque components (about the joint, acting on body 2; body 1 gets the opposite). */
 typedef enum rj_torque {
-    RJ_TORQUE_TABLE = 0, RJ_TORQUE_SPRING, RJ_TORQUE_DAMPING, RJ_TORQUE_FRICTION,
-    RJ_TORQUE_LIMIT, RJ_TORQUE_TOTAL, RJ_TORQUE_COUNT
+    RJ_TORQUE_TABLE = 0,
+    RJ_TORQUE_SPRING,
+    RJ_TORQUE_DAMPING,
+    RJ_TORQUE_FRICTION,
+    RJ_TORQUE_LIMIT,
+    RJ_TORQUE_TOTAL,
+    RJ_TORQUE_COUNT
 } rj_torque;
 
 /* Link definition. Defaults (rj_default_link_def):
@@ -191,23 +196,23 @@ typedef enum rj_torque {
      root RJ_ROOT_FREE; x 0 m, y 0 m, angle 0 rad (root placement, used when the link is not
      the body2 of a joint); vx, vy 0 m/s, omega 0 rad/s (initial rigid motion of a root link); fidelity RJ_LINK_FLEXIBLE. */
 typedef struct rj_link_def {
-    double length;       /* m, > 0 */
-    int elements;        /* >= 1 */
-    double E;            /* Young's modulus, Pa, > 0 */
-    double rho;          /* density, kg/m^3, > 0 */
-    int section;         /* rj_section */
-    double width;        /* m, out-of-plane width (RECT) */
-    double height;       /* m, in-plane depth (RECT; drawn thickness for GENERAL if > 0) */
-    int layers;          /* >= 1, layers across the depth (RECT); elastic layers cost nothing */
-    double area;         /* m^2 (GENERAL) */
-    double inertia;      /* m^4 second moment of area (GENERAL) */
-    double tip_mass;     /* kg, >= 0, point mass at the last node */
-    double tip_inertia;  /* kg m^2, >= 0, rotary inertia of the tip mass about its centre */
-    int root;            /* rj_root */
-    double x, y, angle;  /* m, m, rad */
-    double vx, vy, omega;/* m/s, m/s, rad/s */
-    int fidelity;        /* rj_fidelity */
-    unsigned cookie;     /* set by rj_default_link_def; catches undefaulted structs */
+    double length;        /* m, > 0 */
+    int elements;         /* >= 1 */
+    double E;             /* Young's modulus, Pa, > 0 */
+    double rho;           /* density, kg/m^3, > 0 */
+    int section;          /* rj_section */
+    double width;         /* m, out-of-plane width (RECT) */
+    double height;        /* m, in-plane depth (RECT; drawn thickness for GENERAL if > 0) */
+    int layers;           /* >= 1, layers across the depth (RECT); elastic layers cost nothing */
+    double area;          /* m^2 (GENERAL) */
+    double inertia;       /* m^4 second moment of area (GENERAL) */
+    double tip_mass;      /* kg, >= 0, point mass at the last node */
+    double tip_inertia;   /* kg m^2, >= 0, rotary inertia of the tip mass about its centre */
+    int root;             /* rj_root */
+    double x, y, angle;   /* m, m, rad */
+    double vx, vy, omega; /* m/s, m/s, rad/s */
+    int fidelity;         /* rj_fidelity */
+    unsigned cookie;      /* set by rj_default_link_def; catches undefaulted structs */
 } rj_link_def;
 
 /* Joint definition. Defaults (rj_default_joint_def):
@@ -221,31 +226,32 @@ typedef struct rj_link_def {
      damping 0 N m s/rad, friction 0 N m; reference RJ_REF_TANGENT. */
 #define RJ_TABLE_MAX 32
 typedef struct rj_joint_def {
-    int body1;             /* link index, or -1 for ground */
-    int node1;             /* node of body1 carrying the pin; -1 = last node */
-    int body2;             /* link index; pinned at its node 0 */
-    double ground_x, ground_y, ground_angle; /* m, m, rad: pin and reference direction when body1 = -1 */
-    double angle0;         /* rad, initial rotary location (start of the running angle; any real) */
-    double rate0;          /* rad/s, initial theta_dot */
-    int table_count;       /* 0, or 2..RJ_TABLE_MAX points */
+    int body1; /* link index, or -1 for ground */
+    int node1; /* node of body1 carrying the pin; -1 = last node */
+    int body2; /* link index; pinned at its node 0 */
+    double ground_x, ground_y,
+        ground_angle; /* m, m, rad: pin and reference direction when body1 = -1 */
+    double angle0;    /* rad, initial rotary location (start of the running angle; any real) */
+    double rate0;     /* rad/s, initial theta_dot */
+    int table_count;  /* 0, or 2..RJ_TABLE_MAX points */
     double table_angle[RJ_TABLE_MAX];  /* rad, in [0, 2 pi]; segment i runs from point i to i+1
                                           when the angle rises; a fall starts a new run, so
                                           later segments may overlap earlier ones (Eq 4) */
     double table_torque[RJ_TABLE_MAX]; /* N m, resistive torque at table_angle */
-    double spring_k;       /* N m/rad, >= 0: torque -spring_k (theta_run - spring_free_angle) on body 2 */
+    double spring_k; /* N m/rad, >= 0: torque -spring_k (theta_run - spring_free_angle) on body 2 */
     double spring_free_angle; /* rad, on the running angle (may lie outside [0, 2 pi)) */
-    int has_forward;       /* forward limit enabled */
-    double forward;        /* rad, theta_f in [0, 2 pi) */
-    int has_reverse;       /* reverse limit enabled */
-    double reverse;        /* rad, theta_r in [0, 2 pi) */
-    int lock;              /* bLock: latch for good at the first limit reached */
-    int method;            /* rj_method */
-    int release;           /* rj_release */
-    double penalty_k;      /* N m/rad, RJ_METHOD_PENALTY */
-    double restitution;    /* e in [0, 1], RJ_METHOD_MOMENTUM */
-    double damping;        /* C, N m s/rad, >= 0 (Eq 27) */
-    double friction;       /* T_f, N m, >= 0 */
-    int reference;         /* rj_reference */
+    int has_forward;          /* forward limit enabled */
+    double forward;           /* rad, theta_f in [0, 2 pi) */
+    int has_reverse;          /* reverse limit enabled */
+    double reverse;           /* rad, theta_r in [0, 2 pi) */
+    int lock;                 /* bLock: latch for good at the first limit reached */
+    int method;               /* rj_method */
+    int release;              /* rj_release */
+    double penalty_k;         /* N m/rad, RJ_METHOD_PENALTY */
+    double restitution;       /* e in [0, 1], RJ_METHOD_MOMENTUM */
+    double damping;           /* C, N m s/rad, >= 0 (Eq 27) */
+    double friction;          /* T_f, N m, >= 0 */
+    int reference;            /* rj_reference */
     unsigned cookie;
 } rj_joint_def;
 
@@ -270,24 +276,26 @@ typedef struct rj_joint_def {
    on: AUTO uses it from RJ_IN_PLACE_NODES nodes (400; a compile-time setting). Scenes with
    inextensible links never step in place (SHAKE reads every node's old position). */
 typedef struct rj_solver_def {
-    double dt;             /* s, >= 0 */
-    int allow_unstable;    /* accept dt above the bound */
-    double energy_growth;  /* > 1 */
-    int energy_every;      /* 1 .. 1000 steps */
-    int in_place;          /* rj_in_place */
+    double dt;            /* s, >= 0 */
+    int allow_unstable;   /* accept dt above the bound */
+    double energy_growth; /* > 1 */
+    int energy_every;     /* 1 .. 1000 steps */
+    int in_place;         /* rj_in_place */
     unsigned cookie;
 } rj_solver_def;
 
 /* A whole scene. The arrays are read during rj_model_create only. */
 typedef struct rj_scene_def {
-    const rj_link_def *links; int link_count;
-    const rj_joint_def *joints; int joint_count;
+    const rj_link_def *links;
+    int link_count;
+    const rj_joint_def *joints;
+    int joint_count;
     rj_solver_def solver;
 } rj_scene_def;
 
 /* Energy accounts, J. total = kinetic + strain + spring; balance = total + lost - initial. */
 typedef struct rj_energy {
-    double kinetic, strain, spring;        /* spring: torsion springs and tables */
+    double kinetic, strain, spring; /* spring: torsion springs and tables */
     double lost_damping, lost_friction, lost_limit;
     double total, balance;
 } rj_energy;
@@ -314,8 +322,10 @@ RJDEF const char *rj_result_str(rj_result r);
    every check is linear in the scene) and refusing a model with no usable step;
    rj_model_create allocates one block with RJ_MALLOC. */
 RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err);
-RJDEF rj_result rj_model_init(const rj_scene_def *scene, void *mem, size_t size, rj_model **out, rj_error *err);
-RJDEF rj_result rj_model_create(const rj_scene_def *scene, rj_model **out, rj_error *err, void *alloc_ctx);
+RJDEF rj_result rj_model_init(const rj_scene_def *scene, void *mem, size_t size, rj_model **out,
+                              rj_error *err);
+RJDEF rj_result rj_model_create(const rj_scene_def *scene, rj_model **out, rj_error *err,
+                                void *alloc_ctx);
 RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx);
 
 /* States: size query, init into caller memory, or allocate; reset to the initial conditions. */
@@ -332,7 +342,8 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s);
    the step nearest to every multiple of sample_dt (every step when sample_dt is 0). A
    nonzero return from sample stops the run. */
 typedef int (*rj_sample_fn)(const rj_model *m, const rj_state *s, void *user);
-RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double sample_dt, rj_sample_fn sample, void *user);
+RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double sample_dt,
+                       rj_sample_fn sample, void *user);
 /* Last step error text (empty when none). */
 RJDEF const char *rj_state_error(const rj_state *s);
 /* Warnings so far (a contact caught more than 0.05 rad past its limit, or past the whole
@@ -346,15 +357,15 @@ RJDEF const char *rj_state_warning(const rj_state *s);
    ("" when none). The model is built and usable either way. */
 RJDEF int rj_model_warning_count(const rj_model *m);
 RJDEF const char *rj_model_warnings(const rj_model *m);
-RJDEF double rj_model_dt(const rj_model *m);             /* s, step in use */
-RJDEF double rj_model_dt_bound(const rj_model *m);       /* s, 2/omega_max of the linearised model */
-RJDEF double rj_model_omega_max(const rj_model *m);      /* rad/s */
+RJDEF double rj_model_dt(const rj_model *m);        /* s, step in use */
+RJDEF double rj_model_dt_bound(const rj_model *m);  /* s, 2/omega_max of the linearised model */
+RJDEF double rj_model_omega_max(const rj_model *m); /* rad/s */
 RJDEF int rj_model_link_count(const rj_model *m);
 RJDEF int rj_model_joint_count(const rj_model *m);
 RJDEF int rj_model_node_count(const rj_model *m);
 RJDEF const rj_link_def *rj_model_link_def(const rj_model *m, int link);
 RJDEF const rj_joint_def *rj_model_joint_def(const rj_model *m, int joint);
-RJDEF int rj_link_node_count(const rj_model *m, int link);   /* elements + 1 */
+RJDEF int rj_link_node_count(const rj_model *m, int link); /* elements + 1 */
 /* Lumped mass (kg) and rotary inertia (kg m^2) of a node, tip mass included (a rigid
    link's node in a mixed scene: 0 and its body's inertia, see rj_fidelity). */
 RJDEF void rj_node_mass(const rj_model *m, int link, int node, double *mass, double *rinertia);
@@ -384,14 +395,15 @@ RJDEF long rj_state_steps(const rj_state *s);
 RJDEF void rj_node_position(const rj_model *m, const rj_state *s, int link, int node, double xy[2]);
 RJDEF void rj_node_velocity(const rj_model *m, const rj_state *s, int link, int node, double v[2]);
 RJDEF double rj_node_rotation(const rj_model *m, const rj_state *s, int link, int node);
-RJDEF double rj_node_rate(const rj_model *m, const rj_state *s, int link, int node);      /* rad/s */
+RJDEF double rj_node_rate(const rj_model *m, const rj_state *s, int link, int node); /* rad/s */
 RJDEF void rj_joint_position(const rj_model *m, const rj_state *s, int joint, double xy[2]);
-RJDEF double rj_joint_theta(const rj_model *m, const rj_state *s, int joint);         /* [0, 2 pi) */
-RJDEF double rj_joint_theta_running(const rj_model *m, const rj_state *s, int joint); /* unwrapped */
-RJDEF double rj_joint_rate(const rj_model *m, const rj_state *s, int joint);          /* rad/s */
-RJDEF int rj_joint_flag(const rj_model *m, const rj_state *s, int joint);             /* rj_flag */
+RJDEF double rj_joint_theta(const rj_model *m, const rj_state *s, int joint); /* [0, 2 pi) */
+RJDEF double rj_joint_theta_running(const rj_model *m, const rj_state *s,
+                                    int joint);                              /* unwrapped */
+RJDEF double rj_joint_rate(const rj_model *m, const rj_state *s, int joint); /* rad/s */
+RJDEF int rj_joint_flag(const rj_model *m, const rj_state *s, int joint);    /* rj_flag */
 RJDEF double rj_joint_torque(const rj_model *m, const rj_state *s, int joint, int component);
-RJDEF double rj_joint_penetration(const rj_model *m, const rj_state *s, int joint);   /* rad, Eq 19 */
+RJDEF double rj_joint_penetration(const rj_model *m, const rj_state *s, int joint); /* rad, Eq 19 */
 /* N m s: the angular impulse on body 2 that a velocity-level limit response (momentum,
    forced, energy: Eqs 23-26) applied in the last step, 0 in a step without one. Those
    methods latch by a jump in the rates, so their RJ_TORQUE_LIMIT is 0; while a joint is
@@ -399,10 +411,15 @@ RJDEF double rj_joint_penetration(const rj_model *m, const rj_state *s, int join
    load. Penalty and adaptive limits report theirs as RJ_TORQUE_LIMIT instead (the torque
    of a spring whose stiffness is a numerical choice: see docs/validation.md). */
 RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int joint);
-RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s, int joint);    /* first limit contact or lock, s; -1 if none */
-RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s, int joint);  /* latest release from a limit, s; -1 if none */
-RJDEF double rj_joint_peak_penetration(const rj_model *m, const rj_state *s, int joint); /* rad, largest |penetration| so far */
-RJDEF double rj_joint_contact_penetration(const rj_model *m, const rj_state *s, int joint); /* rad, penetration when the latest contact was detected */
+RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s,
+                                 int joint); /* first limit contact or lock, s; -1 if none */
+RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s,
+                                   int joint); /* latest release from a limit, s; -1 if none */
+RJDEF double rj_joint_peak_penetration(const rj_model *m, const rj_state *s,
+                                       int joint); /* rad, largest |penetration| so far */
+RJDEF double rj_joint_contact_penetration(
+    const rj_model *m, const rj_state *s,
+    int joint); /* rad, penetration when the latest contact was detected */
 /* Energy accounts at time rj_state_energy_time(s) = time - dt (with solver.energy_every
    K > 1: of the last step that took them, at most K steps back; rj_run takes them before
    every sample and at its end): the kinetic energy of the central-difference pair is
@@ -414,47 +431,57 @@ RJDEF double rj_state_energy_time(const rj_state *s);
    is NULL or too small (and writes nothing then). rj_state_load rejects a truncated,
    corrupted or foreign buffer and leaves the state unchanged. */
 RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size_t size);
-RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, size_t size, rj_error *err);
+RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, size_t size,
+                              rj_error *err);
 
 /* The element's pure equations, exposed for tests and for users' own codes. */
-RJDEF double rj_rotary_location(double ax, double ay, double bx, double by);         /* Eqs 1-3, [0, 2 pi) */
-RJDEF double rj_table_torque(const double *angle, const double *torque, int count, double theta); /* Eq 4 */
-RJDEF int rj_blimit(double theta, double forward, double reverse);                   /* Eq 6 */
-RJDEF int rj_flag_next(int prev, int beyond_forward, int beyond_reverse, double rate, int lock, int release); /* Eqs 7-13 */
-RJDEF double rj_k_adaptive(double I1, double I2, double dt);                         /* Eq 21 */
-RJDEF void rj_momentum_balance(double I1, double I2, double e, double *w1, double *w2); /* Eqs 23-24 */
-RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2);           /* Eqs 25-26 */
+RJDEF double rj_rotary_location(double ax, double ay, double bx,
+                                double by); /* Eqs 1-3, [0, 2 pi) */
+RJDEF double rj_table_torque(const double *angle, const double *torque, int count,
+                             double theta);                        /* Eq 4 */
+RJDEF int rj_blimit(double theta, double forward, double reverse); /* Eq 6 */
+RJDEF int rj_flag_next(int prev, int beyond_forward, int beyond_reverse, double rate, int lock,
+                       int release);                         /* Eqs 7-13 */
+RJDEF double rj_k_adaptive(double I1, double I2, double dt); /* Eq 21 */
+RJDEF void rj_momentum_balance(double I1, double I2, double e, double *w1,
+                               double *w2);                                 /* Eqs 23-24 */
+RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2); /* Eqs 25-26 */
 
 /* ------------------------------------------------------------------ scene files
    A small, strict, line-oriented text format for whole scenes (docs/scene-format.md). Define
    RJ_NO_SCENE_FILES to compile this part out. */
 #ifndef RJ_NO_SCENE_FILES
-#define RJ_SCENE_MAX_LINKS 256
-#define RJ_SCENE_MAX_JOINTS 256
+#define RJ_SCENE_MAX_LINKS     256
+#define RJ_SCENE_MAX_JOINTS    256
 #define RJ_SCENE_MAX_MATERIALS 64
-#define RJ_SCENE_MAX_SECTIONS 64
-#define RJ_SCENE_MAX_LINE 1024        /* characters per line, line end excluded */
-#define RJ_SCENE_MAX_TOKENS 512       /* tokens per statement (a statement may continue after a ',') */
-#define RJ_SCENE_NAME_MAX 32          /* names are 1..31 characters */
-#define RJ_SCENE_MAX_BYTES (64u << 20) /* input size */
-#define RJ_SCENE_TITLE_MAX 128        /* a title is 0..127 bytes */
+#define RJ_SCENE_MAX_SECTIONS  64
+#define RJ_SCENE_MAX_LINE      1024 /* characters per line, line end excluded */
+#define RJ_SCENE_MAX_TOKENS    512 /* tokens per statement (a statement may continue after a ',') */
+#define RJ_SCENE_NAME_MAX      32  /* names are 1..31 characters */
+#define RJ_SCENE_MAX_BYTES     (64u << 20) /* input size */
+#define RJ_SCENE_TITLE_MAX     128         /* a title is 0..127 bytes */
 
 /* A place in the file: 1-based line and column (column counts bytes); line 0 = nowhere. */
-typedef struct rj_scene_pos { int line, col; } rj_scene_pos;
+typedef struct rj_scene_pos {
+    int line, col;
+} rj_scene_pos;
 
 /* A parsed scene. Everything lives in one block from RJ_MALLOC; rj_scene_file_free
    releases it. links[i] and link_names[i] are the i-th link section in order of
    appearance, likewise for joints. The fields ending in _ are private. */
 typedef struct rj_scene_file {
-    rj_link_def *links; int link_count;
-    rj_joint_def *joints; int joint_count;
+    rj_link_def *links;
+    int link_count;
+    rj_joint_def *joints;
+    int joint_count;
     rj_solver_def solver;
     char (*link_names)[RJ_SCENE_NAME_MAX];
     char (*joint_names)[RJ_SCENE_NAME_MAX];
-    char filename[96];                /* as given to rj_scene_parse (truncated) */
-    char title[RJ_SCENE_TITLE_MAX];   /* title = "..." at the top of the file; "" when none */
+    char filename[96];                    /* as given to rj_scene_parse (truncated) */
+    char title[RJ_SCENE_TITLE_MAX];       /* title = "..." at the top of the file; "" when none */
     rj_scene_pos *link_pos_, *joint_pos_; /* per item: header, then the value of each key */
-    rj_scene_pos solver_pos_[6];      /* header, then dt, allow_unstable, energy_growth, energy_every, in_place */
+    rj_scene_pos
+        solver_pos_[6]; /* header, then dt, allow_unstable, energy_growth, energy_every, in_place */
     void *block_, *alloc_ctx_;
 } rj_scene_file;
 
@@ -466,8 +493,10 @@ typedef struct rj_scene_file {
    the key (or the model's field), err->value the offending number (NaN when not numeric);
    nothing is left allocated and *out is zeroed (rj_scene_file_free on it is a no-op).
    alloc_ctx is passed to RJ_MALLOC / RJ_FREE (rj_scene_parse passes NULL). */
-RJDEF rj_result rj_scene_parse(const char *text, size_t len, const char *filename, rj_scene_file *out, rj_error *err);
-RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *filename, rj_scene_file *out, rj_error *err, void *alloc_ctx);
+RJDEF rj_result rj_scene_parse(const char *text, size_t len, const char *filename,
+                               rj_scene_file *out, rj_error *err);
+RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *filename,
+                                  rj_scene_file *out, rj_error *err, void *alloc_ctx);
 /* Reads the file at path (at most RJ_SCENE_MAX_BYTES) and parses it. A file that cannot
    be opened or read gives RJ_ERR_PARSE, err->field "path", err->value errno and err->msg
    "path: cannot open the file for reading: " and the system's reason (strerror). */
@@ -497,13 +526,15 @@ RJDEF void rj_scene_file_locate(const rj_scene_file *f, rj_error *err);
    section, area/inertia of a rectangular one, the value of a disabled limit, table points
    past table_count, node1 and ground_* where they do not apply) are not written, so they
    may hold anything (NaN too), and come back as their defaults. */
-RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_names, const char *const *joint_names, char *buf, size_t size);
+RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_names,
+                            const char *const *joint_names, char *buf, size_t size);
 /* rj_scene_write with a title line (title = "...") after the header comment, which
    rj_scene_parse reads back into rj_scene_file.title. title NULL or "" writes none (that is
    rj_scene_write). Returns 0 (and writes nothing) also for a title that a file cannot hold:
    RJ_SCENE_TITLE_MAX bytes or more, a '"', or a control byte (tab included). */
-RJDEF size_t rj_scene_write_ex(const rj_scene_def *scene, const char *const *link_names, const char *const *joint_names,
-                               const char *title, char *buf, size_t size);
+RJDEF size_t rj_scene_write_ex(const rj_scene_def *scene, const char *const *link_names,
+                               const char *const *joint_names, const char *title, char *buf,
+                               size_t size);
 #endif /* RJ_NO_SCENE_FILES */
 
 #ifdef __cplusplus
@@ -525,8 +556,8 @@ RJDEF size_t rj_scene_write_ex(const rj_scene_def *scene, const char *const *lin
 #endif
 #ifndef RJ_MALLOC
 #include <stdlib.h>
-#define RJ_MALLOC(sz, ctx) ((void)(ctx), malloc(sz))
-#define RJ_FREE(p, ctx) ((void)(ctx), free(p))
+#define RJ_MALLOC(sz, ctx) ((void) (ctx), malloc(sz))
+#define RJ_FREE(p, ctx)    ((void) (ctx), free(p))
 #endif
 /* With solver.in_place AUTO, models of at least this many nodes step in place (rj__step):
    below it a link's two frames (144 bytes per node) fit a 48 KB L1 data cache anyway, and
@@ -581,11 +612,12 @@ typedef long long rj__vl4 __attribute__((vector_size(32)));
 #define RJ__VST(p, v) memcpy((p), &(v), sizeof(v))
 #if defined(__AVX__)
 #define RJ__LANES4 1
-#elif defined(__x86_64__) && !defined(RJ_NO_DISPATCH) && ((defined(__clang__) && __clang_major__ >= 4) || (!defined(__clang__) && __GNUC__ >= 6))
-#define RJ__LANES2 1
-#define RJ__LANES4 1
+#elif defined(__x86_64__) && !defined(RJ_NO_DISPATCH) &&                                           \
+    ((defined(__clang__) && __clang_major__ >= 4) || (!defined(__clang__) && __GNUC__ >= 6))
+#define RJ__LANES2   1
+#define RJ__LANES4   1
 #define RJ__DISPATCH 1
-#define RJ__AVX2 __attribute__((target("avx2")))
+#define RJ__AVX2     __attribute__((target("avx2")))
 #else
 #define RJ__LANES2 1
 #endif
@@ -603,15 +635,15 @@ typedef long long rj__vl4 __attribute__((vector_size(32)));
 #else
 #define RJ__FORCE_INLINE RJ__INLINE
 #endif
-#define RJ__PI 3.14159265358979323846
-#define RJ__TWO_PI 6.28318530717958647692
-#define RJ__COOKIE_LINK 0x524a4c4bu
-#define RJ__COOKIE_JOINT 0x524a4a54u
+#define RJ__PI            3.14159265358979323846
+#define RJ__TWO_PI        6.28318530717958647692
+#define RJ__COOKIE_LINK   0x524a4c4bu
+#define RJ__COOKIE_JOINT  0x524a4a54u
 #define RJ__COOKIE_SOLVER 0x524a534fu
-#define RJ__ALIGN 16
+#define RJ__ALIGN         16
 /* Margin on 2/omega_max: covers the Lanczos estimate (a lower bound of omega_max) and the
    geometric stiffness the linearisation leaves out. */
-#define RJ__DT_MARGIN 0.98
+#define RJ__DT_MARGIN     0.98
 #define RJ__LANCZOS_ITERS 160
 /* a contact first seen more than this far past its limit is reported as caught late */
 #define RJ__LATE 0.05
@@ -629,152 +661,226 @@ typedef long long rj__vl4 __attribute__((vector_size(32)));
    atomic size or an unphysical material, usually numbers in the wrong units */
 #define RJ__MIN_BOUND 1e-15
 /* ints of scratch the joint-graph checks take (rj__validate_graph) */
-#define RJ__GRAPH_SCRATCH(nl, nj) (2 * (size_t)(nl) + (size_t)(nj) + 1)
+#define RJ__GRAPH_SCRATCH(nl, nj) (2 * (size_t) (nl) + (size_t) (nj) + 1)
 
 /* ------------------------------------------------------------------ internal types */
 typedef struct rj__joint {
-    int nI, nK, nJ, nL;       /* global nodes: pin on body 1, its neighbour, pin on body 2, its neighbour; nI = nK = -1 for ground */
-    int chord;                /* RJ_REF_CHORD */
-    double off;               /* tangent mode: theta = off + phi_J - phi_I */
-    double minv;              /* rigid scenes: (M^-1)_jj, rate change per unit torque impulse */
-    double gax, gay;          /* ground reference direction (unit) when nK < 0 */
-    double I1, I2;            /* reference-segment inertias, kg m^2 (I1 = inf for ground/fixed) */
-    double w1, w2;            /* I2/(I1+I2), I1/(I1+I2): share of a correction taken by body 1 / body 2 */
-    double k_limit;           /* stiffness at the limits (penalty_k or K_AP), N m/rad */
-    double k_lin;             /* linear stiffness for the stability bound, N m/rad */
-    double fwd, rev;          /* running (unwrapped) limits, rad; +-inf when disabled */
-    double tv_turn;           /* table potential of a full turn, J */
+    int nI, nK, nJ,
+        nL; /* global nodes: pin on body 1, its neighbour, pin on body 2, its neighbour; nI = nK = -1 for ground */
+    int chord;       /* RJ_REF_CHORD */
+    double off;      /* tangent mode: theta = off + phi_J - phi_I */
+    double minv;     /* rigid scenes: (M^-1)_jj, rate change per unit torque impulse */
+    double gax, gay; /* ground reference direction (unit) when nK < 0 */
+    double I1, I2;   /* reference-segment inertias, kg m^2 (I1 = inf for ground/fixed) */
+    double w1, w2;   /* I2/(I1+I2), I1/(I1+I2): share of a correction taken by body 1 / body 2 */
+    double k_limit;  /* stiffness at the limits (penalty_k or K_AP), N m/rad */
+    double k_lin;    /* linear stiffness for the stability bound, N m/rad */
+    double fwd, rev; /* running (unwrapped) limits, rad; +-inf when disabled */
+    double tv_turn;  /* table potential of a full turn, J */
 } rj__joint;
 
 /* Per-joint values in a frame (doubles), then per-joint ints. */
-enum { RJ__JD_THETA = 0, RJ__JD_RATE, RJ__JD_LOCK, RJ__JD_EVENT, RJ__JD_RELEASE,
-       RJ__JD_PEAKP, RJ__JD_P0, RJ__JD_QDD, RJ__JD_IMPULSE, RJ__JD_TQ0, RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT };
+enum {
+    RJ__JD_THETA = 0,
+    RJ__JD_RATE,
+    RJ__JD_LOCK,
+    RJ__JD_EVENT,
+    RJ__JD_RELEASE,
+    RJ__JD_PEAKP,
+    RJ__JD_P0,
+    RJ__JD_QDD,
+    RJ__JD_IMPULSE,
+    RJ__JD_TQ0,
+    RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT
+};
 /* Frame scalars. */
-enum { RJ__FS_TIME = 0, RJ__FS_ETIME, RJ__FS_KE, RJ__FS_STRAIN, RJ__FS_SPRING, RJ__FS_LDAMP, RJ__FS_LFRIC,
-       RJ__FS_LLIM, RJ__FS_E0, RJ__FS_WARN, RJ__FS_PEND, RJ__FS_COUNT };
+enum {
+    RJ__FS_TIME = 0,
+    RJ__FS_ETIME,
+    RJ__FS_KE,
+    RJ__FS_STRAIN,
+    RJ__FS_SPRING,
+    RJ__FS_LDAMP,
+    RJ__FS_LFRIC,
+    RJ__FS_LLIM,
+    RJ__FS_E0,
+    RJ__FS_WARN,
+    RJ__FS_PEND,
+    RJ__FS_COUNT
+};
 
 struct rj_model {
     size_t bytes;
     unsigned long long hash;
     int nl, nj, nn, ne, ng;
-    int rigid;                /* all links rigid: joint coordinates */
-    double *rb_mass, *rb_icm, *rb_dcm; /* (nl) rigid link mass, inertia about its centre, root-to-centre distance */
-    int *rb_pjoint;           /* (nl) joint whose body2 the link is, -1 if fixed */
-    int *jorder;              /* (nj) joints with parents before children */
-    double *jpin, *jref;      /* (nj) pin distance along body 1 from its root; reference offset (pi or 0) */
+    int rigid; /* all links rigid: joint coordinates */
+    double *rb_mass, *rb_icm,
+        *rb_dcm;    /* (nl) rigid link mass, inertia about its centre, root-to-centre distance */
+    int *rb_pjoint; /* (nl) joint whose body2 the link is, -1 if fixed */
+    int *jorder;    /* (nj) joints with parents before children */
+    double *jpin,
+        *jref; /* (nj) pin distance along body 1 from its root; reference offset (pi or 0) */
     double dt, dt_bound, omega_max, dt_eq28, omega_links;
     rj_solver_def solver;
-    rj_link_def *ldef;        /* (nl) */
-    rj_joint_def *jdef;       /* (nj) */
-    rj__joint *jnt;           /* (nj) */
-    int *link_first;          /* (nl+1) first node of each link; nodes of a link are contiguous */
-    int *link_efirst;         /* (nl+1) first element of each link */
-    double *link_l0;          /* (nl) element rest length, m */
-    double *link_EA, *link_EI;/* (nl) N, N m^2 */
-    double *link_rho, *link_I;/* (nl) kg/m^3, m^4 */
-    int any_inext;            /* some link is RJ_LINK_INEXTENSIBLE */
+    rj_link_def *ldef;         /* (nl) */
+    rj_joint_def *jdef;        /* (nj) */
+    rj__joint *jnt;            /* (nj) */
+    int *link_first;           /* (nl+1) first node of each link; nodes of a link are contiguous */
+    int *link_efirst;          /* (nl+1) first element of each link */
+    double *link_l0;           /* (nl) element rest length, m */
+    double *link_EA, *link_EI; /* (nl) N, N m^2 */
+    double *link_rho, *link_I; /* (nl) kg/m^3, m^4 */
+    int any_inext;             /* some link is RJ_LINK_INEXTENSIBLE */
     /* mixed scenes: each rigid link is one rigid body (a cluster) carrying its own nodes
        (rotation and translation follow the body) and the nodes pinned to them (translation
        follows, rotation free); cluster c is link c, other links have no members */
-    int ncl;                  /* nl in a mixed scene, else 0 */
-    int *node_cl;             /* (nn) cluster of a node, -1 if none */
-    int *cl_first, *cl_node;  /* (nl+1), (nn) members */
-    int *cl_fix;              /* (nl) 0 free body, 1 turns about a fixed pin (the anchor), 2 held */
-    double *cl_M, *cl_I;      /* (nl) mass, inertia about the anchor (centre of mass, or the pin) */
-    double *cl_th0;           /* (3 nl) body angle at the start (its nodes' phi0), anchor velocity at the start */
-    double *cl_rx, *cl_ry;    /* (nn) member offsets from the anchor at the start */
-    size_t cl_off;            /* frame offset of the clusters' records: anchor x y, its velocity, omega, angle */
-    int nch;                  /* inextensible chains: links joined tip to root form one chain */
-    int *ch_first;            /* (nl+1) first entry of each chain in ch_node */
-    int *ch_node;             /* (nn+nl) node indices along the chains (a shared pin once) */
-    double *ch_l0sq;          /* (nn+nl) squared rest length of the element after each entry */
-    double *mass, *rinertia;  /* (nn) lumped translational mass kg, rotary inertia kg m^2 */
-    double *tinv;             /* (nn) 1/mass for free ungrouped nodes, 0 for fixed or grouped nodes */
-    double *rinv;             /* (nn) 1/rinertia, 0 for fixed rotations */
-    double *einv;             /* (nn) effective translational 1/mass (group's for grouped nodes) */
-    double *kmass, *krot;     /* (nn) mass / rotary inertia counted in the kinetic energy (0 for fixed or grouped) */
-    int *grp_first;           /* (ng+1) */
-    int ndn;                  /* nodes whose forces change after the beams, and links' end nodes */
-    int dn_inner;             /* some flexible link has such a node inside (not at an end) */
-    int ip;                   /* the step runs in place (rj__step, RJ_IN_PLACE_NODES) */
-    int *dnode;               /* (ndn) those nodes and every link's end nodes: the fused beam pass advances them again */
-    double *link_un;          /* (5 nl) a link's other nodes' tinv, rinv, kmass, krot, and 1 when they all agree */
-    double *link_kc;          /* (4 nl) a link's element constants: EI/l0, EA/l0 (0 if inextensible), l0^2, 1/(2 l0^2) */
-    int *grp_node;            /* (members) */
-    int *node_grp;            /* (nn) group of a node, -1 if none */
-    double *grp_inv;          /* (ng) 1/sum of member masses, 0 if a member is fixed */
+    int ncl;                 /* nl in a mixed scene, else 0 */
+    int *node_cl;            /* (nn) cluster of a node, -1 if none */
+    int *cl_first, *cl_node; /* (nl+1), (nn) members */
+    int *cl_fix;             /* (nl) 0 free body, 1 turns about a fixed pin (the anchor), 2 held */
+    double *cl_M, *cl_I;     /* (nl) mass, inertia about the anchor (centre of mass, or the pin) */
+    double *
+        cl_th0; /* (3 nl) body angle at the start (its nodes' phi0), anchor velocity at the start */
+    double *cl_rx, *cl_ry; /* (nn) member offsets from the anchor at the start */
+    size_t
+        cl_off; /* frame offset of the clusters' records: anchor x y, its velocity, omega, angle */
+    int nch;    /* inextensible chains: links joined tip to root form one chain */
+    int *ch_first;           /* (nl+1) first entry of each chain in ch_node */
+    int *ch_node;            /* (nn+nl) node indices along the chains (a shared pin once) */
+    double *ch_l0sq;         /* (nn+nl) squared rest length of the element after each entry */
+    double *mass, *rinertia; /* (nn) lumped translational mass kg, rotary inertia kg m^2 */
+    double *tinv; /* (nn) 1/mass for free ungrouped nodes, 0 for fixed or grouped nodes */
+    double *rinv; /* (nn) 1/rinertia, 0 for fixed rotations */
+    double *einv; /* (nn) effective translational 1/mass (group's for grouped nodes) */
+    double *kmass,
+        *krot; /* (nn) mass / rotary inertia counted in the kinetic energy (0 for fixed or grouped) */
+    int *grp_first; /* (ng+1) */
+    int ndn;        /* nodes whose forces change after the beams, and links' end nodes */
+    int dn_inner;   /* some flexible link has such a node inside (not at an end) */
+    int ip;         /* the step runs in place (rj__step, RJ_IN_PLACE_NODES) */
+    int *
+        dnode; /* (ndn) those nodes and every link's end nodes: the fused beam pass advances them again */
+    double *
+        link_un; /* (5 nl) a link's other nodes' tinv, rinv, kmass, krot, and 1 when they all agree */
+    double *
+        link_kc; /* (4 nl) a link's element constants: EI/l0, EA/l0 (0 if inextensible), l0^2, 1/(2 l0^2) */
+    int *grp_node;   /* (members) */
+    int *node_grp;   /* (nn) group of a node, -1 if none */
+    double *grp_inv; /* (ng) 1/sum of member masses, 0 if a member is fixed */
     double *x0, *y0, *phi0, *vx0, *vy0, *w0; /* (nn) initial conditions */
-    double *beta0;            /* (ne) initial chord angles */
-    double *lz;               /* Lanczos scratch (9 nn), used while building only */
-    int nwarn;                /* warnings about the definitions (rj_model_warnings) */
-    char warnings[1024];      /* their text, one per line */
-    size_t frame_doubles;     /* doubles in a frame */
+    double *beta0;                           /* (ne) initial chord angles */
+    double *lz;                              /* Lanczos scratch (9 nn), used while building only */
+    int nwarn;            /* warnings about the definitions (rj_model_warnings) */
+    char warnings[1024];  /* their text, one per line */
+    size_t frame_doubles; /* doubles in a frame */
     size_t frame_ints;
 };
 
 struct rj_state {
     size_t bytes;
-    int cur;                  /* index of the current frame */
+    int cur; /* index of the current frame */
     long steps;
-    double *fd[3];            /* frames: x y phi vx vy w (nn each), beta cx cy (ne each), joints (nj*JD), scalars;
+    double
+        *fd[3]; /* frames: x y phi vx vy w (nn each), beta cx cy (ne each), joints (nj*JD), scalars;
                                  in place (rj_model.ip) fd[2] takes the step's new joints and scalars */
-    int *fi[3];               /* frames: flags (nj) */
-    long snap;                /* in place: the other frame is a copy of the state at this step (-1: none) */
-    unsigned long long want;  /* in place: the energy requests of the steps since snap (bit k: step snap + k) */
-    double *fx, *fy, *mz;     /* (nn) forces */
-    double *kn;               /* (nn) each node's share of twice the kinetic energy */
-    double *sha, *shb, *shc, *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
-    double *eu, *ebt;         /* (ne) element strain energies; scratch (chord angles at reset, SHAKE's active flags) */
-    double *jsc;              /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
-    double *rsc;              /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch); mixed: body impulses (3 nl) */
+    int *fi[3]; /* frames: flags (nj) */
+    long snap;  /* in place: the other frame is a copy of the state at this step (-1: none) */
+    unsigned long long
+        want; /* in place: the energy requests of the steps since snap (bit k: step snap + k) */
+    double *fx, *fy, *mz; /* (nn) forces */
+    double *kn;           /* (nn) each node's share of twice the kinetic energy */
+    double *sha, *shb, *shc,
+        *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
+    double *eu,
+        *ebt; /* (ne) element strain energies; scratch (chord angles at reset, SHAKE's active flags) */
+    double *jsc; /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
+    double *
+        rsc; /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch); mixed: body impulses (3 nl) */
     char err[640];
-    char warn[200];           /* latest warning (late contact), written only when one occurs */
+    char warn[200]; /* latest warning (late contact), written only when one occurs */
 };
 
 static size_t rj__rigid_scratch(int nj, int nl);
 static double rj__rig_setup(rj_model *m, double *scratch);
 typedef struct rj__rig {
-    double *M, *L, *W, *q, *qd, *qdp, *qdd, *Q, *h, *x, *tmp; /* n x n (W: columns of M^-1), n each (tmp 2 n) */
-    double *S, *SL, *lam, *act, *rhs;   /* the plastic joints' impulse system: n x n, its factor, n each */
-    double *lk;                 /* per link, RJ__RL_COUNT values: rj__rig_kin */
+    double *M, *L, *W, *q, *qd, *qdp, *qdd, *Q, *h, *x,
+        *tmp; /* n x n (W: columns of M^-1), n each (tmp 2 n) */
+    double *S, *SL, *lam, *act,
+        *rhs;   /* the plastic joints' impulse system: n x n, its factor, n each */
+    double *lk; /* per link, RJ__RL_COUNT values: rj__rig_kin */
 } rj__rig;
 /* a link's record in rj__rig.lk: angle and its cos, sin; root; centre; their accelerations
    (centripetal, at the predicted rates); predicted angular rate; rate and root velocity;
    then the subtree the link's parent joint carries (rj__rig_mass): its mass, first moment
    and inertia about the joint's pin, its sum of m a and that sum's moment about the pin */
-enum { RJ__RL_PHI = 0, RJ__RL_EC, RJ__RL_ES, RJ__RL_RX, RJ__RL_RY, RJ__RL_CX, RJ__RL_CY, RJ__RL_ARX, RJ__RL_ARY,
-       RJ__RL_ACX, RJ__RL_ACY, RJ__RL_OMB, RJ__RL_OM, RJ__RL_VX, RJ__RL_VY,
-       RJ__RL_SUB_M, RJ__RL_SUB_SX, RJ__RL_SUB_SY, RJ__RL_SUB_J, RJ__RL_SUB_FX, RJ__RL_SUB_FY, RJ__RL_SUB_N,
-       RJ__RL_COUNT = 24 };
+enum {
+    RJ__RL_PHI = 0,
+    RJ__RL_EC,
+    RJ__RL_ES,
+    RJ__RL_RX,
+    RJ__RL_RY,
+    RJ__RL_CX,
+    RJ__RL_CY,
+    RJ__RL_ARX,
+    RJ__RL_ARY,
+    RJ__RL_ACX,
+    RJ__RL_ACY,
+    RJ__RL_OMB,
+    RJ__RL_OM,
+    RJ__RL_VX,
+    RJ__RL_VY,
+    RJ__RL_SUB_M,
+    RJ__RL_SUB_SX,
+    RJ__RL_SUB_SY,
+    RJ__RL_SUB_J,
+    RJ__RL_SUB_FX,
+    RJ__RL_SUB_FY,
+    RJ__RL_SUB_N,
+    RJ__RL_COUNT = 24
+};
 static void rj__rig_map(const rj_model *m, double *base, rj__rig *r);
-static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd, const double *qdp);
+static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd,
+                        const double *qdp);
 static void rj__rig_nodes(const rj_model *m, const rj__rig *r, double *f);
 
 /* ------------------------------------------------------------------ small helpers */
-RJDEF double rj_rad(double deg) { return deg * (RJ__PI / 180.0); }
-RJDEF double rj_deg(double rad) { return rad * (180.0 / RJ__PI); }
+RJDEF double rj_rad(double deg)
+{
+    return deg * (RJ__PI / 180.0);
+}
+RJDEF double rj_deg(double rad)
+{
+    return rad * (180.0 / RJ__PI);
+}
 
 static double rj__mod2pi(double a)
 {
     double r = fmod(a, RJ__TWO_PI);
-    if (r < 0) r += RJ__TWO_PI;
-    if (r >= RJ__TWO_PI) r = 0.0;
+    if (r < 0)
+        r += RJ__TWO_PI;
+    if (r >= RJ__TWO_PI)
+        r = 0.0;
     return r;
 }
 /* wrap into (-pi, pi] */
 static double rj__wrap(double a)
 {
     double r = rj__mod2pi(a + RJ__PI) - RJ__PI;
-    if (r <= -RJ__PI) r += RJ__TWO_PI;
+    if (r <= -RJ__PI)
+        r += RJ__TWO_PI;
     return r;
 }
-static int rj__finite(double x) { return x == x && x - x == 0.0; }
+static int rj__finite(double x)
+{
+    return x == x && x - x == 0.0;
+}
 
 /* Appends text to a NUL-terminated buffer, as much as fits. */
 static void rj__cat(char *buf, size_t size, const char *text)
 {
     size_t n = strlen(buf);
-    while (*text && n + 1 < size) buf[n++] = *text++;
+    while (*text && n + 1 < size)
+        buf[n++] = *text++;
     buf[n] = 0;
 }
 
@@ -783,17 +889,21 @@ static void rj__cat(char *buf, size_t size, const char *text)
 static void rj__fit_words(char *buf, size_t size, int wanted)
 {
     size_t end;
-    if (wanted >= 0 && (size_t)wanted < size) return;
+    if (wanted >= 0 && (size_t) wanted < size)
+        return;
     end = size - 4;
-    while (end > 0 && buf[end] != ' ') end--;
+    while (end > 0 && buf[end] != ' ')
+        end--;
     memcpy(buf + end, "...", 4);
 }
 
-static void rj__fail(rj_error *err, rj_result code, const char *field, double value, const char *fmt, ...)
+static void rj__fail(rj_error *err, rj_result code, const char *field, double value,
+                     const char *fmt, ...)
 {
     va_list ap;
     int wanted;
-    if (!err) return;
+    if (!err)
+        return;
     err->code = code;
     snprintf(err->field, sizeof err->field, "%s", field);
     err->value = value;
@@ -806,14 +916,22 @@ static void rj__fail(rj_error *err, rj_result code, const char *field, double va
 RJDEF const char *rj_result_str(rj_result r)
 {
     switch (r) {
-    case RJ_OK: return "ok";
-    case RJ_ERR_INVALID: return "invalid input";
-    case RJ_ERR_NOMEM: return "out of memory";
-    case RJ_ERR_UNSTABLE_DT: return "time step above the stability bound";
-    case RJ_ERR_BLOWUP: return "numerical blow-up";
-    case RJ_ERR_TUNNEL: return "joint turned more than a quarter revolution (pi/2 rad) in one step";
-    case RJ_ERR_CHECKPOINT: return "bad checkpoint";
-    case RJ_ERR_PARSE: return "scene text malformed";
+    case RJ_OK:
+        return "ok";
+    case RJ_ERR_INVALID:
+        return "invalid input";
+    case RJ_ERR_NOMEM:
+        return "out of memory";
+    case RJ_ERR_UNSTABLE_DT:
+        return "time step above the stability bound";
+    case RJ_ERR_BLOWUP:
+        return "numerical blow-up";
+    case RJ_ERR_TUNNEL:
+        return "joint turned more than a quarter revolution (pi/2 rad) in one step";
+    case RJ_ERR_CHECKPOINT:
+        return "bad checkpoint";
+    case RJ_ERR_PARSE:
+        return "scene text malformed";
     }
     return "unknown result";
 }
@@ -823,10 +941,22 @@ RJDEF rj_link_def rj_default_link_def(void)
 {
     rj_link_def d;
     memset(&d, 0, sizeof d);
-    d.length = 1.0; d.elements = 10; d.E = 70e9; d.rho = 2710.0;
-    d.section = RJ_SECTION_RECT; d.width = 0.05; d.height = 0.2; d.layers = 1;
-    d.area = 0.0; d.inertia = 0.0; d.tip_mass = 0.0; d.tip_inertia = 0.0;
-    d.root = RJ_ROOT_FREE; d.x = d.y = d.angle = 0.0; d.vx = d.vy = d.omega = 0.0; d.fidelity = RJ_LINK_FLEXIBLE;
+    d.length = 1.0;
+    d.elements = 10;
+    d.E = 70e9;
+    d.rho = 2710.0;
+    d.section = RJ_SECTION_RECT;
+    d.width = 0.05;
+    d.height = 0.2;
+    d.layers = 1;
+    d.area = 0.0;
+    d.inertia = 0.0;
+    d.tip_mass = 0.0;
+    d.tip_inertia = 0.0;
+    d.root = RJ_ROOT_FREE;
+    d.x = d.y = d.angle = 0.0;
+    d.vx = d.vy = d.omega = 0.0;
+    d.fidelity = RJ_LINK_FLEXIBLE;
     d.cookie = RJ__COOKIE_LINK;
     return d;
 }
@@ -834,13 +964,27 @@ RJDEF rj_joint_def rj_default_joint_def(void)
 {
     rj_joint_def d;
     memset(&d, 0, sizeof d);
-    d.body1 = -1; d.node1 = -1; d.body2 = 0;
+    d.body1 = -1;
+    d.node1 = -1;
+    d.body2 = 0;
     d.ground_x = d.ground_y = d.ground_angle = 0.0;
-    d.angle0 = RJ__PI; d.rate0 = 0.0; d.table_count = 0;
-    d.spring_k = 0.0; d.spring_free_angle = RJ__PI;
-    d.has_forward = 0; d.forward = 0.0; d.has_reverse = 0; d.reverse = 0.0; d.lock = 0;
-    d.method = RJ_METHOD_ADAPTIVE; d.release = RJ_RELEASE_RC13; d.penalty_k = 0.0; d.restitution = 0.0;
-    d.damping = 0.0; d.friction = 0.0; d.reference = RJ_REF_TANGENT;
+    d.angle0 = RJ__PI;
+    d.rate0 = 0.0;
+    d.table_count = 0;
+    d.spring_k = 0.0;
+    d.spring_free_angle = RJ__PI;
+    d.has_forward = 0;
+    d.forward = 0.0;
+    d.has_reverse = 0;
+    d.reverse = 0.0;
+    d.lock = 0;
+    d.method = RJ_METHOD_ADAPTIVE;
+    d.release = RJ_RELEASE_RC13;
+    d.penalty_k = 0.0;
+    d.restitution = 0.0;
+    d.damping = 0.0;
+    d.friction = 0.0;
+    d.reference = RJ_REF_TANGENT;
     d.cookie = RJ__COOKIE_JOINT;
     return d;
 }
@@ -848,7 +992,11 @@ RJDEF rj_solver_def rj_default_solver_def(void)
 {
     rj_solver_def d;
     memset(&d, 0, sizeof d);
-    d.dt = 0.0; d.allow_unstable = 0; d.energy_growth = 10.0; d.energy_every = 1; d.in_place = RJ_IN_PLACE_AUTO;
+    d.dt = 0.0;
+    d.allow_unstable = 0;
+    d.energy_growth = 10.0;
+    d.energy_every = 1;
+    d.in_place = RJ_IN_PLACE_AUTO;
     d.cookie = RJ__COOKIE_SOLVER;
     return d;
 }
@@ -856,7 +1004,10 @@ RJDEF rj_scene_def rj_default_scene_def(void)
 {
     rj_scene_def d;
     memset(&d, 0, sizeof d);
-    d.links = NULL; d.link_count = 0; d.joints = NULL; d.joint_count = 0;
+    d.links = NULL;
+    d.link_count = 0;
+    d.joints = NULL;
+    d.joint_count = 0;
     d.solver = rj_default_solver_def();
     return d;
 }
@@ -882,13 +1033,15 @@ RJDEF double rj_table_torque(const double *angle, const double *torque, int coun
 }
 
 /* Integral of Eq 4 from 0 to theta (the table's potential). */
-static double rj__table_potential(const double *angle, const double *torque, int count, double theta)
+static double rj__table_potential(const double *angle, const double *torque, int count,
+                                  double theta)
 {
     double v = 0.0;
     int i;
     for (i = 0; i + 1 < count; i++) {
         double a0 = angle[i], a1 = angle[i + 1], hi, k;
-        if (!(a1 > a0) || theta <= a0) continue;
+        if (!(a1 > a0) || theta <= a0)
+            continue;
         hi = theta < a1 ? theta : a1;
         k = (torque[i + 1] - torque[i]) / (a1 - a0);
         v += (hi - a0) * (torque[i] + 0.5 * k * (hi - a0));
@@ -900,25 +1053,34 @@ static double rj__table_potential(const double *angle, const double *torque, int
    forward < reverse: limited inside [forward, reverse] (free range wraps through 0). */
 RJDEF int rj_blimit(double theta, double forward, double reverse)
 {
-    if (forward > reverse) return theta >= forward || theta <= reverse;
-    if (forward < reverse) return theta >= forward && theta <= reverse;
+    if (forward > reverse)
+        return theta >= forward || theta <= reverse;
+    if (forward < reverse)
+        return theta >= forward && theta <= reverse;
     return theta == forward;
 }
 
 /* Eqs 7-13: next status flag. beyond_forward / beyond_reverse split bLimit by side (our
    reading: a body past the forward limit cannot be "at the reverse limit"). */
-RJDEF int rj_flag_next(int prev, int beyond_forward, int beyond_reverse, double rate, int lock, int release)
+RJDEF int rj_flag_next(int prev, int beyond_forward, int beyond_reverse, double rate, int lock,
+                       int release)
 {
-    if (prev == RJ_LOCKED) return RJ_LOCKED;                                  /* never released */
-    if (lock && (beyond_forward || beyond_reverse)) return RJ_LOCKED;        /* Eq 7, L = 3 */
-    if (release == RJ_RELEASE_RC12) {                                         /* Eqs 8, 9, 12 */
-        if (beyond_forward && (prev == RJ_AT_FORWARD || (prev == RJ_FREE && rate >= 0))) return RJ_AT_FORWARD;
-        if (beyond_reverse && (prev == RJ_AT_REVERSE || (prev == RJ_FREE && rate <= 0))) return RJ_AT_REVERSE;
+    if (prev == RJ_LOCKED)
+        return RJ_LOCKED; /* never released */
+    if (lock && (beyond_forward || beyond_reverse))
+        return RJ_LOCKED;             /* Eq 7, L = 3 */
+    if (release == RJ_RELEASE_RC12) { /* Eqs 8, 9, 12 */
+        if (beyond_forward && (prev == RJ_AT_FORWARD || (prev == RJ_FREE && rate >= 0)))
+            return RJ_AT_FORWARD;
+        if (beyond_reverse && (prev == RJ_AT_REVERSE || (prev == RJ_FREE && rate <= 0)))
+            return RJ_AT_REVERSE;
         return RJ_FREE;
     }
     /* RC13, Eqs 10, 11, 13: the motion must still point into the limit */
-    if (beyond_forward && (prev == RJ_FREE || prev == RJ_AT_FORWARD) && rate >= 0) return RJ_AT_FORWARD;
-    if (beyond_reverse && (prev == RJ_FREE || prev == RJ_AT_REVERSE) && rate <= 0) return RJ_AT_REVERSE;
+    if (beyond_forward && (prev == RJ_FREE || prev == RJ_AT_FORWARD) && rate >= 0)
+        return RJ_AT_FORWARD;
+    if (beyond_reverse && (prev == RJ_FREE || prev == RJ_AT_REVERSE) && rate <= 0)
+        return RJ_AT_REVERSE;
     return RJ_FREE;
 }
 
@@ -926,9 +1088,12 @@ RJDEF int rj_flag_next(int prev, int beyond_forward, int beyond_reverse, double 
 RJDEF double rj_k_adaptive(double I1, double I2, double dt)
 {
     double ired;
-    if (!rj__finite(I1)) ired = I2;
-    else if (!rj__finite(I2)) ired = I1;
-    else ired = I1 * I2 / (I1 + I2);
+    if (!rj__finite(I1))
+        ired = I2;
+    else if (!rj__finite(I2))
+        ired = I1;
+    else
+        ired = I1 * I2 / (I1 + I2);
     return ired / (dt * dt);
 }
 
@@ -937,30 +1102,47 @@ RJDEF double rj_k_adaptive(double I1, double I2, double dt)
 RJDEF void rj_momentum_balance(double I1, double I2, double e, double *w1, double *w2)
 {
     double a1, a2, o1 = *w1, o2 = *w2, n1, n2;
-    if (!rj__finite(I1)) { a1 = 1.0; a2 = 0.0; }
-    else if (!rj__finite(I2)) { a1 = 0.0; a2 = 1.0; }
-    else { a1 = I1 / (I1 + I2); a2 = I2 / (I1 + I2); }
+    if (!rj__finite(I1)) {
+        a1 = 1.0;
+        a2 = 0.0;
+    } else if (!rj__finite(I2)) {
+        a1 = 0.0;
+        a2 = 1.0;
+    } else {
+        a1 = I1 / (I1 + I2);
+        a2 = I2 / (I1 + I2);
+    }
     n2 = o2 * (a2 - a1 * e) + a1 * o1 * (1.0 + e);
     n1 = n2 - e * (o1 - o2);
-    *w1 = n1; *w2 = n2;
+    *w1 = n1;
+    *w2 = n2;
 }
 
 /* Eqs 25-26: common velocity with the kinetic energy kept. */
 RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2)
 {
     double a1, a2, s, w;
-    if (!rj__finite(I1)) { a1 = 1.0; a2 = 0.0; }
-    else if (!rj__finite(I2)) { a1 = 0.0; a2 = 1.0; }
-    else { a1 = I1 / (I1 + I2); a2 = I2 / (I1 + I2); }
+    if (!rj__finite(I1)) {
+        a1 = 1.0;
+        a2 = 0.0;
+    } else if (!rj__finite(I2)) {
+        a1 = 0.0;
+        a2 = 1.0;
+    } else {
+        a1 = I1 / (I1 + I2);
+        a2 = I2 / (I1 + I2);
+    }
     s = a1 * *w1 * fabs(*w1) + a2 * *w2 * fabs(*w2);
     w = (s >= 0 ? 1.0 : -1.0) * sqrt(fabs(s));
-    *w1 = w; *w2 = w;
+    *w1 = w;
+    *w2 = w;
 }
 
 /* ------------------------------------------------------------------ validation */
 #define RJ__FIELD(buf, fmt, i) snprintf(buf, sizeof buf, fmt, i)
 
-static int rj__check_num(rj_error *err, const char *field, double v, double lo, int lo_incl, double hi, int hi_incl, const char *what)
+static int rj__check_num(rj_error *err, const char *field, double v, double lo, int lo_incl,
+                         double hi, int hi_incl, const char *what)
 {
     int ok = rj__finite(v) && (lo_incl ? v >= lo : v > lo) && (hi_incl ? v <= hi : v < hi);
     if (!ok) {
@@ -973,7 +1155,9 @@ static int rj__check_num(rj_error *err, const char *field, double v, double lo, 
 static int rj__all_rigid(const rj_scene_def *sc)
 {
     int i;
-    for (i = 0; i < sc->link_count; i++) if (sc->links[i].fidelity != RJ_LINK_RIGID) return 0;
+    for (i = 0; i < sc->link_count; i++)
+        if (sc->links[i].fidelity != RJ_LINK_RIGID)
+            return 0;
     return 1;
 }
 
@@ -982,112 +1166,346 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
     char f[64];
     int i, j;
     double inf = HUGE_VAL;
-    if (!sc) { rj__fail(err, RJ_ERR_INVALID, "scene", 0, "scene is NULL"); return 0; }
+    if (!sc) {
+        rj__fail(err, RJ_ERR_INVALID, "scene", 0, "scene is NULL");
+        return 0;
+    }
     if (sc->link_count < 1 || sc->link_count > 100000 || !sc->links) {
-        rj__fail(err, RJ_ERR_INVALID, "link_count", sc->link_count, "link_count = %d is invalid: need 1..100000 links and a links array", sc->link_count);
+        rj__fail(err, RJ_ERR_INVALID, "link_count", sc->link_count,
+                 "link_count = %d is invalid: need 1..100000 links and a links array",
+                 sc->link_count);
         return 0;
     }
     if (sc->joint_count < 0 || sc->joint_count > 100000 || (sc->joint_count > 0 && !sc->joints)) {
-        rj__fail(err, RJ_ERR_INVALID, "joint_count", sc->joint_count, "joint_count = %d is invalid: need 0..100000 joints and a joints array", sc->joint_count);
+        rj__fail(err, RJ_ERR_INVALID, "joint_count", sc->joint_count,
+                 "joint_count = %d is invalid: need 0..100000 joints and a joints array",
+                 sc->joint_count);
         return 0;
     }
-    if (sc->solver.cookie != RJ__COOKIE_SOLVER) { rj__fail(err, RJ_ERR_INVALID, "solver", 0, "solver was not initialised with rj_default_solver_def()"); return 0; }
-    if (!rj__check_num(err, "solver.dt", sc->solver.dt, 0, 1, 1.0, 1, "must be 0 (automatic) or a step in (0, 1] s")) return 0;
-    if (!rj__check_num(err, "solver.energy_growth", sc->solver.energy_growth, 1.0, 0, inf, 0, "must be > 1")) return 0;
+    if (sc->solver.cookie != RJ__COOKIE_SOLVER) {
+        rj__fail(err, RJ_ERR_INVALID, "solver", 0,
+                 "solver was not initialised with rj_default_solver_def()");
+        return 0;
+    }
+    if (!rj__check_num(err, "solver.dt", sc->solver.dt, 0, 1, 1.0, 1,
+                       "must be 0 (automatic) or a step in (0, 1] s"))
+        return 0;
+    if (!rj__check_num(err, "solver.energy_growth", sc->solver.energy_growth, 1.0, 0, inf, 0,
+                       "must be > 1"))
+        return 0;
     if (sc->solver.in_place < RJ_IN_PLACE_AUTO || sc->solver.in_place > RJ_IN_PLACE_OFF) {
-        rj__fail(err, RJ_ERR_INVALID, "solver.in_place", sc->solver.in_place, "solver.in_place = %d is invalid: must be RJ_IN_PLACE_AUTO (0), RJ_IN_PLACE_ON (1) or RJ_IN_PLACE_OFF (2)", sc->solver.in_place);
+        rj__fail(err, RJ_ERR_INVALID, "solver.in_place", sc->solver.in_place,
+                 "solver.in_place = %d is invalid: must be RJ_IN_PLACE_AUTO (0), RJ_IN_PLACE_ON "
+                 "(1) or RJ_IN_PLACE_OFF (2)",
+                 sc->solver.in_place);
         return 0;
     }
     if (sc->solver.energy_every < 1 || sc->solver.energy_every > 1000) {
-        rj__fail(err, RJ_ERR_INVALID, "solver.energy_every", sc->solver.energy_every, "solver.energy_every = %d is invalid: must be 1 .. 1000 steps", sc->solver.energy_every);
+        rj__fail(err, RJ_ERR_INVALID, "solver.energy_every", sc->solver.energy_every,
+                 "solver.energy_every = %d is invalid: must be 1 .. 1000 steps",
+                 sc->solver.energy_every);
         return 0;
     }
     if (sc->solver.allow_unstable != 0 && sc->solver.allow_unstable != 1) {
-        rj__fail(err, RJ_ERR_INVALID, "solver.allow_unstable", sc->solver.allow_unstable, "solver.allow_unstable = %d is invalid: must be 0 or 1", sc->solver.allow_unstable);
+        rj__fail(err, RJ_ERR_INVALID, "solver.allow_unstable", sc->solver.allow_unstable,
+                 "solver.allow_unstable = %d is invalid: must be 0 or 1",
+                 sc->solver.allow_unstable);
         return 0;
     }
     for (i = 0; i < sc->link_count; i++) {
         const rj_link_def *L = &sc->links[i];
-        if (L->cookie != RJ__COOKIE_LINK) { RJ__FIELD(f, "links[%d]", i); rj__fail(err, RJ_ERR_INVALID, f, 0, "%s was not initialised with rj_default_link_def()", f); return 0; }
-        RJ__FIELD(f, "links[%d].length", i); if (!rj__check_num(err, f, L->length, 0, 0, 1e6, 1, "must be in (0, 1e6] m")) return 0;
-        if (L->elements < 1 || L->elements > 1000000) { RJ__FIELD(f, "links[%d].elements", i); rj__fail(err, RJ_ERR_INVALID, f, L->elements, "%s = %d is invalid: must be 1..1000000", f, L->elements); return 0; }
-        RJ__FIELD(f, "links[%d].E", i); if (!rj__check_num(err, f, L->E, 0, 0, inf, 0, "must be > 0 Pa")) return 0;
-        RJ__FIELD(f, "links[%d].rho", i); if (!rj__check_num(err, f, L->rho, 0, 0, inf, 0, "must be > 0 kg/m^3")) return 0;
-        if (L->section != RJ_SECTION_RECT && L->section != RJ_SECTION_GENERAL) { RJ__FIELD(f, "links[%d].section", i); rj__fail(err, RJ_ERR_INVALID, f, L->section, "%s = %d is invalid: RJ_SECTION_RECT or RJ_SECTION_GENERAL", f, L->section); return 0; }
-        if (L->section == RJ_SECTION_RECT) {
-            RJ__FIELD(f, "links[%d].width", i); if (!rj__check_num(err, f, L->width, 0, 0, inf, 0, "must be > 0 m")) return 0;
-            RJ__FIELD(f, "links[%d].height", i); if (!rj__check_num(err, f, L->height, 0, 0, inf, 0, "must be > 0 m")) return 0;
-            if (L->layers < 1 || L->layers > 1000) { RJ__FIELD(f, "links[%d].layers", i); rj__fail(err, RJ_ERR_INVALID, f, L->layers, "%s = %d is invalid: must be 1..1000", f, L->layers); return 0; }
-        } else {
-            RJ__FIELD(f, "links[%d].area", i); if (!rj__check_num(err, f, L->area, 0, 0, inf, 0, "must be > 0 m^2")) return 0;
-            RJ__FIELD(f, "links[%d].inertia", i); if (!rj__check_num(err, f, L->inertia, 0, 0, inf, 0, "must be > 0 m^4")) return 0;
-            RJ__FIELD(f, "links[%d].height", i); if (!rj__check_num(err, f, L->height, 0, 1, inf, 0, "must be >= 0 m")) return 0;
+        if (L->cookie != RJ__COOKIE_LINK) {
+            RJ__FIELD(f, "links[%d]", i);
+            rj__fail(err, RJ_ERR_INVALID, f, 0, "%s was not initialised with rj_default_link_def()",
+                     f);
+            return 0;
         }
-        RJ__FIELD(f, "links[%d].tip_mass", i); if (!rj__check_num(err, f, L->tip_mass, 0, 1, inf, 0, "must be >= 0 kg")) return 0;
-        RJ__FIELD(f, "links[%d].tip_inertia", i); if (!rj__check_num(err, f, L->tip_inertia, 0, 1, inf, 0, "must be >= 0 kg m^2")) return 0;
-        if (L->root < RJ_ROOT_FREE || L->root > RJ_ROOT_FIXED) { RJ__FIELD(f, "links[%d].root", i); rj__fail(err, RJ_ERR_INVALID, f, L->root, "%s = %d is invalid: RJ_ROOT_FREE, _PINNED, _CLAMPED or _FIXED", f, L->root); return 0; }
-        RJ__FIELD(f, "links[%d].x", i); if (!rj__check_num(err, f, L->x, -inf, 0, inf, 0, "must be finite")) return 0;
-        RJ__FIELD(f, "links[%d].y", i); if (!rj__check_num(err, f, L->y, -inf, 0, inf, 0, "must be finite")) return 0;
+        RJ__FIELD(f, "links[%d].length", i);
+        if (!rj__check_num(err, f, L->length, 0, 0, 1e6, 1, "must be in (0, 1e6] m"))
+            return 0;
+        if (L->elements < 1 || L->elements > 1000000) {
+            RJ__FIELD(f, "links[%d].elements", i);
+            rj__fail(err, RJ_ERR_INVALID, f, L->elements, "%s = %d is invalid: must be 1..1000000",
+                     f, L->elements);
+            return 0;
+        }
+        RJ__FIELD(f, "links[%d].E", i);
+        if (!rj__check_num(err, f, L->E, 0, 0, inf, 0, "must be > 0 Pa"))
+            return 0;
+        RJ__FIELD(f, "links[%d].rho", i);
+        if (!rj__check_num(err, f, L->rho, 0, 0, inf, 0, "must be > 0 kg/m^3"))
+            return 0;
+        if (L->section != RJ_SECTION_RECT && L->section != RJ_SECTION_GENERAL) {
+            RJ__FIELD(f, "links[%d].section", i);
+            rj__fail(err, RJ_ERR_INVALID, f, L->section,
+                     "%s = %d is invalid: RJ_SECTION_RECT or RJ_SECTION_GENERAL", f, L->section);
+            return 0;
+        }
+        if (L->section == RJ_SECTION_RECT) {
+            RJ__FIELD(f, "links[%d].width", i);
+            if (!rj__check_num(err, f, L->width, 0, 0, inf, 0, "must be > 0 m"))
+                return 0;
+            RJ__FIELD(f, "links[%d].height", i);
+            if (!rj__check_num(err, f, L->height, 0, 0, inf, 0, "must be > 0 m"))
+                return 0;
+            if (L->layers < 1 || L->layers > 1000) {
+                RJ__FIELD(f, "links[%d].layers", i);
+                rj__fail(err, RJ_ERR_INVALID, f, L->layers, "%s = %d is invalid: must be 1..1000",
+                         f, L->layers);
+                return 0;
+            }
+        } else {
+            RJ__FIELD(f, "links[%d].area", i);
+            if (!rj__check_num(err, f, L->area, 0, 0, inf, 0, "must be > 0 m^2"))
+                return 0;
+            RJ__FIELD(f, "links[%d].inertia", i);
+            if (!rj__check_num(err, f, L->inertia, 0, 0, inf, 0, "must be > 0 m^4"))
+                return 0;
+            RJ__FIELD(f, "links[%d].height", i);
+            if (!rj__check_num(err, f, L->height, 0, 1, inf, 0, "must be >= 0 m"))
+                return 0;
+        }
+        RJ__FIELD(f, "links[%d].tip_mass", i);
+        if (!rj__check_num(err, f, L->tip_mass, 0, 1, inf, 0, "must be >= 0 kg"))
+            return 0;
+        RJ__FIELD(f, "links[%d].tip_inertia", i);
+        if (!rj__check_num(err, f, L->tip_inertia, 0, 1, inf, 0, "must be >= 0 kg m^2"))
+            return 0;
+        if (L->root < RJ_ROOT_FREE || L->root > RJ_ROOT_FIXED) {
+            RJ__FIELD(f, "links[%d].root", i);
+            rj__fail(err, RJ_ERR_INVALID, f, L->root,
+                     "%s = %d is invalid: RJ_ROOT_FREE, _PINNED, _CLAMPED or _FIXED", f, L->root);
+            return 0;
+        }
+        RJ__FIELD(f, "links[%d].x", i);
+        if (!rj__check_num(err, f, L->x, -inf, 0, inf, 0, "must be finite"))
+            return 0;
+        RJ__FIELD(f, "links[%d].y", i);
+        if (!rj__check_num(err, f, L->y, -inf, 0, inf, 0, "must be finite"))
+            return 0;
         /* within 1e6 rad, as angle0: beyond it a rotation of 1e-7 rad (the stability bound's
            finite differences) falls below what the angle's double resolves */
-        RJ__FIELD(f, "links[%d].angle", i); if (!rj__check_num(err, f, L->angle, -1e6, 1, 1e6, 1, "must be a finite angle within 1e6 rad")) return 0;
-        RJ__FIELD(f, "links[%d].vx", i); if (!rj__check_num(err, f, L->vx, -inf, 0, inf, 0, "must be finite")) return 0;
-        RJ__FIELD(f, "links[%d].vy", i); if (!rj__check_num(err, f, L->vy, -inf, 0, inf, 0, "must be finite")) return 0;
-        RJ__FIELD(f, "links[%d].omega", i); if (!rj__check_num(err, f, L->omega, -inf, 0, inf, 0, "must be finite")) return 0;
+        RJ__FIELD(f, "links[%d].angle", i);
+        if (!rj__check_num(err, f, L->angle, -1e6, 1, 1e6, 1,
+                           "must be a finite angle within 1e6 rad"))
+            return 0;
+        RJ__FIELD(f, "links[%d].vx", i);
+        if (!rj__check_num(err, f, L->vx, -inf, 0, inf, 0, "must be finite"))
+            return 0;
+        RJ__FIELD(f, "links[%d].vy", i);
+        if (!rj__check_num(err, f, L->vy, -inf, 0, inf, 0, "must be finite"))
+            return 0;
+        RJ__FIELD(f, "links[%d].omega", i);
+        if (!rj__check_num(err, f, L->omega, -inf, 0, inf, 0, "must be finite"))
+            return 0;
     }
     for (j = 0; j < sc->joint_count; j++) {
         const rj_joint_def *J = &sc->joints[j];
         int k;
-        if (J->cookie != RJ__COOKIE_JOINT) { RJ__FIELD(f, "joints[%d]", j); rj__fail(err, RJ_ERR_INVALID, f, 0, "%s was not initialised with rj_default_joint_def()", f); return 0; }
-        if (J->body1 < -1 || J->body1 >= sc->link_count) { RJ__FIELD(f, "joints[%d].body1", j); rj__fail(err, RJ_ERR_INVALID, f, J->body1, "%s = %d is invalid: a link index 0..%d or -1 for ground", f, J->body1, sc->link_count - 1); return 0; }
-        if (J->body2 < 0 || J->body2 >= sc->link_count) { RJ__FIELD(f, "joints[%d].body2", j); rj__fail(err, RJ_ERR_INVALID, f, J->body2, "%s = %d is invalid: a link index 0..%d", f, J->body2, sc->link_count - 1); return 0; }
-        if (J->body1 == J->body2) { RJ__FIELD(f, "joints[%d].body2", j); rj__fail(err, RJ_ERR_INVALID, f, J->body2, "%s = %d is invalid: a joint cannot connect link %d to itself", f, J->body2, J->body2); return 0; }
-        if (J->body1 >= 0 && (J->node1 < -1 || J->node1 > sc->links[J->body1].elements)) { RJ__FIELD(f, "joints[%d].node1", j); rj__fail(err, RJ_ERR_INVALID, f, J->node1, "%s = %d is invalid: a node 0..%d of link %d, or -1 for its last node", f, J->node1, sc->links[J->body1].elements, J->body1); return 0; }
-        if (sc->links[J->body2].root != RJ_ROOT_FREE) { RJ__FIELD(f, "links[%d].root", J->body2); rj__fail(err, RJ_ERR_INVALID, f, sc->links[J->body2].root, "%s = %d is invalid: link %d is body2 of joint %d, its root must be RJ_ROOT_FREE", f, sc->links[J->body2].root, J->body2, j); return 0; }
-        RJ__FIELD(f, "joints[%d].ground_x", j); if (!rj__check_num(err, f, J->ground_x, -inf, 0, inf, 0, "must be finite")) return 0;
-        RJ__FIELD(f, "joints[%d].ground_y", j); if (!rj__check_num(err, f, J->ground_y, -inf, 0, inf, 0, "must be finite")) return 0;
-        RJ__FIELD(f, "joints[%d].ground_angle", j); if (!rj__check_num(err, f, J->ground_angle, -inf, 0, inf, 0, "must be finite")) return 0;
-        RJ__FIELD(f, "joints[%d].angle0", j); if (!rj__check_num(err, f, J->angle0, -1e6, 1, 1e6, 1, "must be a finite angle in rad")) return 0;
-        RJ__FIELD(f, "joints[%d].rate0", j); if (!rj__check_num(err, f, J->rate0, -inf, 0, inf, 0, "must be finite")) return 0;
-        if (J->table_count != 0 && (J->table_count < 2 || J->table_count > RJ_TABLE_MAX)) { RJ__FIELD(f, "joints[%d].table_count", j); rj__fail(err, RJ_ERR_INVALID, f, J->table_count, "%s = %d is invalid: 0, or 2..%d points", f, J->table_count, RJ_TABLE_MAX); return 0; }
+        if (J->cookie != RJ__COOKIE_JOINT) {
+            RJ__FIELD(f, "joints[%d]", j);
+            rj__fail(err, RJ_ERR_INVALID, f, 0,
+                     "%s was not initialised with rj_default_joint_def()", f);
+            return 0;
+        }
+        if (J->body1 < -1 || J->body1 >= sc->link_count) {
+            RJ__FIELD(f, "joints[%d].body1", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->body1,
+                     "%s = %d is invalid: a link index 0..%d or -1 for ground", f, J->body1,
+                     sc->link_count - 1);
+            return 0;
+        }
+        if (J->body2 < 0 || J->body2 >= sc->link_count) {
+            RJ__FIELD(f, "joints[%d].body2", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->body2, "%s = %d is invalid: a link index 0..%d", f,
+                     J->body2, sc->link_count - 1);
+            return 0;
+        }
+        if (J->body1 == J->body2) {
+            RJ__FIELD(f, "joints[%d].body2", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->body2,
+                     "%s = %d is invalid: a joint cannot connect link %d to itself", f, J->body2,
+                     J->body2);
+            return 0;
+        }
+        if (J->body1 >= 0 && (J->node1 < -1 || J->node1 > sc->links[J->body1].elements)) {
+            RJ__FIELD(f, "joints[%d].node1", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->node1,
+                     "%s = %d is invalid: a node 0..%d of link %d, or -1 for its last node", f,
+                     J->node1, sc->links[J->body1].elements, J->body1);
+            return 0;
+        }
+        if (sc->links[J->body2].root != RJ_ROOT_FREE) {
+            RJ__FIELD(f, "links[%d].root", J->body2);
+            rj__fail(
+                err, RJ_ERR_INVALID, f, sc->links[J->body2].root,
+                "%s = %d is invalid: link %d is body2 of joint %d, its root must be RJ_ROOT_FREE",
+                f, sc->links[J->body2].root, J->body2, j);
+            return 0;
+        }
+        RJ__FIELD(f, "joints[%d].ground_x", j);
+        if (!rj__check_num(err, f, J->ground_x, -inf, 0, inf, 0, "must be finite"))
+            return 0;
+        RJ__FIELD(f, "joints[%d].ground_y", j);
+        if (!rj__check_num(err, f, J->ground_y, -inf, 0, inf, 0, "must be finite"))
+            return 0;
+        RJ__FIELD(f, "joints[%d].ground_angle", j);
+        if (!rj__check_num(err, f, J->ground_angle, -inf, 0, inf, 0, "must be finite"))
+            return 0;
+        RJ__FIELD(f, "joints[%d].angle0", j);
+        if (!rj__check_num(err, f, J->angle0, -1e6, 1, 1e6, 1, "must be a finite angle in rad"))
+            return 0;
+        RJ__FIELD(f, "joints[%d].rate0", j);
+        if (!rj__check_num(err, f, J->rate0, -inf, 0, inf, 0, "must be finite"))
+            return 0;
+        if (J->table_count != 0 && (J->table_count < 2 || J->table_count > RJ_TABLE_MAX)) {
+            RJ__FIELD(f, "joints[%d].table_count", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->table_count,
+                     "%s = %d is invalid: 0, or 2..%d points", f, J->table_count, RJ_TABLE_MAX);
+            return 0;
+        }
         for (k = 0; k < J->table_count; k++) {
             char g[64];
             snprintf(g, sizeof g, "joints[%d].table_angle[%d]", j, k);
-            if (!rj__check_num(err, g, J->table_angle[k], 0, 1, RJ__TWO_PI, 1, "must be in [0, 2 pi] rad")) return 0;
+            if (!rj__check_num(err, g, J->table_angle[k], 0, 1, RJ__TWO_PI, 1,
+                               "must be in [0, 2 pi] rad"))
+                return 0;
             snprintf(g, sizeof g, "joints[%d].table_torque[%d]", j, k);
-            if (!rj__check_num(err, g, J->table_torque[k], -inf, 0, inf, 0, "must be finite")) return 0;
+            if (!rj__check_num(err, g, J->table_torque[k], -inf, 0, inf, 0, "must be finite"))
+                return 0;
         }
-        RJ__FIELD(f, "joints[%d].spring_k", j); if (!rj__check_num(err, f, J->spring_k, 0, 1, inf, 0, "must be >= 0 N m/rad")) return 0;
-        RJ__FIELD(f, "joints[%d].spring_free_angle", j); if (!rj__check_num(err, f, J->spring_free_angle, -1e6, 1, 1e6, 1, "must be a finite angle in rad")) return 0;
-        if (J->has_forward != 0 && J->has_forward != 1) { RJ__FIELD(f, "joints[%d].has_forward", j); rj__fail(err, RJ_ERR_INVALID, f, J->has_forward, "%s = %d is invalid: 0 or 1", f, J->has_forward); return 0; }
-        if (J->has_reverse != 0 && J->has_reverse != 1) { RJ__FIELD(f, "joints[%d].has_reverse", j); rj__fail(err, RJ_ERR_INVALID, f, J->has_reverse, "%s = %d is invalid: 0 or 1", f, J->has_reverse); return 0; }
-        if (J->lock != 0 && J->lock != 1) { RJ__FIELD(f, "joints[%d].lock", j); rj__fail(err, RJ_ERR_INVALID, f, J->lock, "%s = %d is invalid: 0 or 1", f, J->lock); return 0; }
-        RJ__FIELD(f, "joints[%d].forward", j); if (!rj__check_num(err, f, J->forward, 0, 1, RJ__TWO_PI, 0, "a limit must be in [0, 2 pi) rad")) return 0;
-        RJ__FIELD(f, "joints[%d].reverse", j); if (!rj__check_num(err, f, J->reverse, 0, 1, RJ__TWO_PI, 0, "a limit must be in [0, 2 pi) rad")) return 0;
-        if (J->lock && !J->has_forward && !J->has_reverse) { RJ__FIELD(f, "joints[%d].lock", j); rj__fail(err, RJ_ERR_INVALID, f, J->lock, "%s = 1 is invalid: a lock latches at a limit, and joint %d has none (set has_forward or has_reverse)", f, j); return 0; }
-        if (J->has_forward && J->has_reverse && J->forward == J->reverse) { RJ__FIELD(f, "joints[%d].forward", j); rj__fail(err, RJ_ERR_INVALID, f, J->forward, "%s = %g is invalid: equal to the reverse limit leaves no free range", f, J->forward); return 0; }
-        if (J->method < RJ_METHOD_PENALTY || J->method > RJ_METHOD_ENERGY) { RJ__FIELD(f, "joints[%d].method", j); rj__fail(err, RJ_ERR_INVALID, f, J->method, "%s = %d is invalid: one of RJ_METHOD_PENALTY..RJ_METHOD_ENERGY", f, J->method); return 0; }
-        if (J->release != RJ_RELEASE_RC12 && J->release != RJ_RELEASE_RC13) { RJ__FIELD(f, "joints[%d].release", j); rj__fail(err, RJ_ERR_INVALID, f, J->release, "%s = %d is invalid: RJ_RELEASE_RC12 or RJ_RELEASE_RC13", f, J->release); return 0; }
-        RJ__FIELD(f, "joints[%d].penalty_k", j); if (!rj__check_num(err, f, J->penalty_k, 0, 1, inf, 0, "must be >= 0 N m/rad")) return 0;
-        if (J->method == RJ_METHOD_PENALTY && (J->has_forward || J->has_reverse) && !(J->penalty_k > 0)) { rj__fail(err, RJ_ERR_INVALID, f, J->penalty_k, "%s = %g is invalid: RJ_METHOD_PENALTY with a limit needs a stiffness > 0", f, J->penalty_k); return 0; }
-        RJ__FIELD(f, "joints[%d].restitution", j); if (!rj__check_num(err, f, J->restitution, 0, 1, 1, 1, "must be in [0, 1]")) return 0;
-        RJ__FIELD(f, "joints[%d].damping", j); if (!rj__check_num(err, f, J->damping, 0, 1, inf, 0, "must be >= 0 N m s/rad")) return 0;
-        RJ__FIELD(f, "joints[%d].friction", j); if (!rj__check_num(err, f, J->friction, 0, 1, inf, 0, "must be >= 0 N m")) return 0;
-        if (J->reference != RJ_REF_TANGENT && J->reference != RJ_REF_CHORD) { RJ__FIELD(f, "joints[%d].reference", j); rj__fail(err, RJ_ERR_INVALID, f, J->reference, "%s = %d is invalid: RJ_REF_TANGENT or RJ_REF_CHORD", f, J->reference); return 0; }
+        RJ__FIELD(f, "joints[%d].spring_k", j);
+        if (!rj__check_num(err, f, J->spring_k, 0, 1, inf, 0, "must be >= 0 N m/rad"))
+            return 0;
+        RJ__FIELD(f, "joints[%d].spring_free_angle", j);
+        if (!rj__check_num(err, f, J->spring_free_angle, -1e6, 1, 1e6, 1,
+                           "must be a finite angle in rad"))
+            return 0;
+        if (J->has_forward != 0 && J->has_forward != 1) {
+            RJ__FIELD(f, "joints[%d].has_forward", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->has_forward, "%s = %d is invalid: 0 or 1", f,
+                     J->has_forward);
+            return 0;
+        }
+        if (J->has_reverse != 0 && J->has_reverse != 1) {
+            RJ__FIELD(f, "joints[%d].has_reverse", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->has_reverse, "%s = %d is invalid: 0 or 1", f,
+                     J->has_reverse);
+            return 0;
+        }
+        if (J->lock != 0 && J->lock != 1) {
+            RJ__FIELD(f, "joints[%d].lock", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->lock, "%s = %d is invalid: 0 or 1", f, J->lock);
+            return 0;
+        }
+        RJ__FIELD(f, "joints[%d].forward", j);
+        if (!rj__check_num(err, f, J->forward, 0, 1, RJ__TWO_PI, 0,
+                           "a limit must be in [0, 2 pi) rad"))
+            return 0;
+        RJ__FIELD(f, "joints[%d].reverse", j);
+        if (!rj__check_num(err, f, J->reverse, 0, 1, RJ__TWO_PI, 0,
+                           "a limit must be in [0, 2 pi) rad"))
+            return 0;
+        if (J->lock && !J->has_forward && !J->has_reverse) {
+            RJ__FIELD(f, "joints[%d].lock", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->lock,
+                     "%s = 1 is invalid: a lock latches at a limit, and joint %d has none (set "
+                     "has_forward or has_reverse)",
+                     f, j);
+            return 0;
+        }
+        if (J->has_forward && J->has_reverse && J->forward == J->reverse) {
+            RJ__FIELD(f, "joints[%d].forward", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->forward,
+                     "%s = %g is invalid: equal to the reverse limit leaves no free range", f,
+                     J->forward);
+            return 0;
+        }
+        if (J->method < RJ_METHOD_PENALTY || J->method > RJ_METHOD_ENERGY) {
+            RJ__FIELD(f, "joints[%d].method", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->method,
+                     "%s = %d is invalid: one of RJ_METHOD_PENALTY..RJ_METHOD_ENERGY", f,
+                     J->method);
+            return 0;
+        }
+        if (J->release != RJ_RELEASE_RC12 && J->release != RJ_RELEASE_RC13) {
+            RJ__FIELD(f, "joints[%d].release", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->release,
+                     "%s = %d is invalid: RJ_RELEASE_RC12 or RJ_RELEASE_RC13", f, J->release);
+            return 0;
+        }
+        RJ__FIELD(f, "joints[%d].penalty_k", j);
+        if (!rj__check_num(err, f, J->penalty_k, 0, 1, inf, 0, "must be >= 0 N m/rad"))
+            return 0;
+        if (J->method == RJ_METHOD_PENALTY && (J->has_forward || J->has_reverse) &&
+            !(J->penalty_k > 0)) {
+            rj__fail(err, RJ_ERR_INVALID, f, J->penalty_k,
+                     "%s = %g is invalid: RJ_METHOD_PENALTY with a limit needs a stiffness > 0", f,
+                     J->penalty_k);
+            return 0;
+        }
+        RJ__FIELD(f, "joints[%d].restitution", j);
+        if (!rj__check_num(err, f, J->restitution, 0, 1, 1, 1, "must be in [0, 1]"))
+            return 0;
+        RJ__FIELD(f, "joints[%d].damping", j);
+        if (!rj__check_num(err, f, J->damping, 0, 1, inf, 0, "must be >= 0 N m s/rad"))
+            return 0;
+        RJ__FIELD(f, "joints[%d].friction", j);
+        if (!rj__check_num(err, f, J->friction, 0, 1, inf, 0, "must be >= 0 N m"))
+            return 0;
+        if (J->reference != RJ_REF_TANGENT && J->reference != RJ_REF_CHORD) {
+            RJ__FIELD(f, "joints[%d].reference", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->reference,
+                     "%s = %d is invalid: RJ_REF_TANGENT or RJ_REF_CHORD", f, J->reference);
+            return 0;
+        }
     }
     for (i = 0; i < sc->link_count; i++) {
         const rj_link_def *L = &sc->links[i];
-        if (L->fidelity != RJ_LINK_FLEXIBLE && L->fidelity != RJ_LINK_RIGID && L->fidelity != RJ_LINK_INEXTENSIBLE) { RJ__FIELD(f, "links[%d].fidelity", i); rj__fail(err, RJ_ERR_INVALID, f, L->fidelity, "%s = %d is invalid: RJ_LINK_FLEXIBLE, RJ_LINK_RIGID or RJ_LINK_INEXTENSIBLE", f, L->fidelity); return 0; }
+        if (L->fidelity != RJ_LINK_FLEXIBLE && L->fidelity != RJ_LINK_RIGID &&
+            L->fidelity != RJ_LINK_INEXTENSIBLE) {
+            RJ__FIELD(f, "links[%d].fidelity", i);
+            rj__fail(err, RJ_ERR_INVALID, f, L->fidelity,
+                     "%s = %d is invalid: RJ_LINK_FLEXIBLE, RJ_LINK_RIGID or RJ_LINK_INEXTENSIBLE",
+                     f, L->fidelity);
+            return 0;
+        }
     }
     /* mixed scenes: a rigid link is one rigid body, with flexible links pinned to it */
-    if (!rj__all_rigid(sc)) for (j = 0; j < sc->joint_count; j++) {
-        const rj_joint_def *J = &sc->joints[j];
-        const int r1 = J->body1 >= 0 && sc->links[J->body1].fidelity == RJ_LINK_RIGID, r2 = sc->links[J->body2].fidelity == RJ_LINK_RIGID;
-        if (r1 && r2) { RJ__FIELD(f, "joints[%d].body2", j); rj__fail(err, RJ_ERR_INVALID, f, J->body2, "%s = %d is invalid: joint %d pins two rigid links (%d and %d) in a scene with flexible links, which is not supported: make every link rigid, or one of the two flexible", f, J->body2, j, J->body1, J->body2); return 0; }
-        if ((r1 || r2) && J->reference == RJ_REF_CHORD) { RJ__FIELD(f, "joints[%d].reference", j); rj__fail(err, RJ_ERR_INVALID, f, J->reference, "%s = RJ_REF_CHORD is invalid: joint %d holds rigid link %d in a scene with flexible links; use RJ_REF_TANGENT (on a rigid link the chord and the tangent are the same line)", f, j, r1 ? J->body1 : J->body2); return 0; }
-    }
+    if (!rj__all_rigid(sc))
+        for (j = 0; j < sc->joint_count; j++) {
+            const rj_joint_def *J = &sc->joints[j];
+            const int r1 = J->body1 >= 0 && sc->links[J->body1].fidelity == RJ_LINK_RIGID,
+                      r2 = sc->links[J->body2].fidelity == RJ_LINK_RIGID;
+            if (r1 && r2) {
+                RJ__FIELD(f, "joints[%d].body2", j);
+                rj__fail(err, RJ_ERR_INVALID, f, J->body2,
+                         "%s = %d is invalid: joint %d pins two rigid links (%d and %d) in a scene "
+                         "with flexible links, which is not supported: make every link rigid, or "
+                         "one of the two flexible",
+                         f, J->body2, j, J->body1, J->body2);
+                return 0;
+            }
+            if ((r1 || r2) && J->reference == RJ_REF_CHORD) {
+                RJ__FIELD(f, "joints[%d].reference", j);
+                rj__fail(err, RJ_ERR_INVALID, f, J->reference,
+                         "%s = RJ_REF_CHORD is invalid: joint %d holds rigid link %d in a scene "
+                         "with flexible links; use RJ_REF_TANGENT (on a rigid link the chord and "
+                         "the tangent are the same line)",
+                         f, j, r1 ? J->body1 : J->body2);
+                return 0;
+            }
+        }
     if (rj__all_rigid(sc))
-        for (j = 0; j < sc->joint_count; j++) if (sc->joints[j].method == RJ_METHOD_ENERGY) { RJ__FIELD(f, "joints[%d].method", j); rj__fail(err, RJ_ERR_INVALID, f, RJ_METHOD_ENERGY, "%s = RJ_METHOD_ENERGY is not available for rigid links (use momentum with e = 0, forced or adaptive)", f); return 0; }
+        for (j = 0; j < sc->joint_count; j++)
+            if (sc->joints[j].method == RJ_METHOD_ENERGY) {
+                RJ__FIELD(f, "joints[%d].method", j);
+                rj__fail(err, RJ_ERR_INVALID, f, RJ_METHOD_ENERGY,
+                         "%s = RJ_METHOD_ENERGY is not available for rigid links (use momentum "
+                         "with e = 0, forced or adaptive)",
+                         f);
+                return 0;
+            }
     return 1;
 }
 
@@ -1098,13 +1516,14 @@ static int rj__counts(const rj_scene_def *sc, size_t *nn, size_t *ne, rj_error *
     *nn = 0;
     *ne = 0;
     for (i = 0; i < sc->link_count; i++) {
-        *nn += (size_t)sc->links[i].elements + 1;
-        *ne += (size_t)sc->links[i].elements;
+        *nn += (size_t) sc->links[i].elements + 1;
+        *ne += (size_t) sc->links[i].elements;
     }
     if (*nn > RJ__MAX_NODES) {
-        rj__fail(err, RJ_ERR_INVALID, "links", (double)*nn,
-                 "the scene has %.0f nodes in all, more than the %d a model can hold (node indices are ints)",
-                 (double)*nn, RJ__MAX_NODES);
+        rj__fail(err, RJ_ERR_INVALID, "links", (double) *nn,
+                 "the scene has %.0f nodes in all, more than the %d a model can hold (node indices "
+                 "are ints)",
+                 (double) *nn, RJ__MAX_NODES);
         return 0;
     }
     return 1;
@@ -1121,8 +1540,9 @@ static int rj__up(const rj_scene_def *sc, const int *parent, int link)
 static long rj__pin_key(const rj_scene_def *sc, const int *first, int j)
 {
     const rj_joint_def *J = &sc->joints[j];
-    if (J->body1 < 0) return -1;
-    return (long)first[J->body1] + (J->node1 < 0 ? sc->links[J->body1].elements : J->node1);
+    if (J->body1 < 0)
+        return -1;
+    return (long) first[J->body1] + (J->node1 < 0 ? sc->links[J->body1].elements : J->node1);
 }
 
 /* Sorts joint indices by (pin node, index): heap sort, in place and without recursion. */
@@ -1130,7 +1550,8 @@ static void rj__sort_pins(const rj_scene_def *sc, const int *first, int *idx, in
 {
     int end, root, child, top;
     for (top = n / 2 - 1, end = n; end > 1 || top >= 0;) {
-        if (top >= 0) root = top--;
+        if (top >= 0)
+            root = top--;
         else {
             const int t = idx[0];
             idx[0] = idx[--end];
@@ -1142,10 +1563,14 @@ static void rj__sort_pins(const rj_scene_def *sc, const int *first, int *idx, in
             long kc = rj__pin_key(sc, first, idx[child]), kr;
             if (child + 1 < end) {
                 const long k2 = rj__pin_key(sc, first, idx[child + 1]);
-                if (k2 > kc || (k2 == kc && idx[child + 1] > idx[child])) { child++; kc = k2; }
+                if (k2 > kc || (k2 == kc && idx[child + 1] > idx[child])) {
+                    child++;
+                    kc = k2;
+                }
             }
             kr = rj__pin_key(sc, first, idx[root]);
-            if (kr > kc || (kr == kc && idx[root] > idx[child])) break;
+            if (kr > kc || (kr == kc && idx[root] > idx[child]))
+                break;
             {
                 const int t = idx[root];
                 idx[root] = idx[child];
@@ -1172,13 +1597,16 @@ static int rj__validate_pins(const rj_scene_def *sc, int *first, int *idx, rj_er
     int i, j, end, n = 0, bad = -1, bad_first = -1;
     long nodes = 0;
     for (i = 0; i < sc->link_count; i++) {
-        first[i] = (int)nodes;
+        first[i] = (int) nodes;
         nodes += sc->links[i].elements + 1;
     }
     for (j = 0; j < sc->joint_count; j++) {
         const rj_joint_def *J = &sc->joints[j];
-        if (J->body1 < 0) continue;
-        if (sc->links[J->body1].fidelity == RJ_LINK_RIGID || sc->links[J->body2].fidelity == RJ_LINK_RIGID) idx[n++] = j;
+        if (J->body1 < 0)
+            continue;
+        if (sc->links[J->body1].fidelity == RJ_LINK_RIGID ||
+            sc->links[J->body2].fidelity == RJ_LINK_RIGID)
+            idx[n++] = j;
     }
     rj__sort_pins(sc, first, idx, n);
     for (i = 0; i < n; i = end) {
@@ -1186,15 +1614,22 @@ static int rj__validate_pins(const rj_scene_def *sc, int *first, int *idx, rj_er
         const long key = rj__pin_key(sc, first, head);
         for (end = i + 1; end < n && rj__pin_key(sc, first, idx[end]) == key; end++) {
             const int k = idx[end];
-            if (bad >= 0 && k > bad) continue;
-            if (rj__pin_rigid(sc, k) == rj__pin_rigid(sc, head)) continue;
+            if (bad >= 0 && k > bad)
+                continue;
+            if (rj__pin_rigid(sc, k) == rj__pin_rigid(sc, head))
+                continue;
             bad = k;
             bad_first = head;
         }
     }
-    if (bad < 0) return 1;
+    if (bad < 0)
+        return 1;
     RJ__FIELD(f, "joints[%d].body1", bad);
-    rj__fail(err, RJ_ERR_INVALID, f, sc->joints[bad].body1, "%s = %d is invalid: joints %d and %d pin rigid links %d and %d at the same node in a scene with flexible links, which is not supported", f, sc->joints[bad].body1, bad_first, bad, rj__pin_rigid(sc, bad_first), rj__pin_rigid(sc, bad));
+    rj__fail(err, RJ_ERR_INVALID, f, sc->joints[bad].body1,
+             "%s = %d is invalid: joints %d and %d pin rigid links %d and %d at the same node in a "
+             "scene with flexible links, which is not supported",
+             f, sc->joints[bad].body1, bad_first, bad, rj__pin_rigid(sc, bad_first),
+             rj__pin_rigid(sc, bad));
     return 0;
 }
 
@@ -1205,23 +1640,41 @@ static int rj__validate_pins(const rj_scene_def *sc, int *first, int *idx, rj_er
 static int rj__validate_graph(const rj_scene_def *sc, int *scratch, rj_error *err)
 {
     const int nl = sc->link_count;
-    int *parent = scratch, *mark = scratch + nl, *joints = scratch + 2 * (size_t)nl;
+    int *parent = scratch, *mark = scratch + nl, *joints = scratch + 2 * (size_t) nl;
     char f[64];
     int i, j;
-    for (i = 0; i < nl; i++) parent[i] = -1;
+    for (i = 0; i < nl; i++)
+        parent[i] = -1;
     /* a link hangs from one joint: parent[] holds the joint it hangs from */
     for (j = 0; j < sc->joint_count; j++) {
         const int b2 = sc->joints[j].body2;
-        if (parent[b2] >= 0) { RJ__FIELD(f, "joints[%d].body2", j); rj__fail(err, RJ_ERR_INVALID, f, b2, "%s = %d is invalid: link %d is already body2 of joint %d (a link hangs from one joint)", f, b2, b2, parent[b2]); return 0; }
+        if (parent[b2] >= 0) {
+            RJ__FIELD(f, "joints[%d].body2", j);
+            rj__fail(err, RJ_ERR_INVALID, f, b2,
+                     "%s = %d is invalid: link %d is already body2 of joint %d (a link hangs from "
+                     "one joint)",
+                     f, b2, b2, parent[b2]);
+            return 0;
+        }
         parent[b2] = j;
     }
-    if (rj__all_rigid(sc)) for (i = 0; i < nl; i++)
-        if (parent[i] < 0 && sc->links[i].root != RJ_ROOT_FIXED) { RJ__FIELD(f, "links[%d].root", i); rj__fail(err, RJ_ERR_INVALID, f, sc->links[i].root, "%s = %d is invalid: in a scene of rigid links each must hang from a joint or be RJ_ROOT_FIXED", f, sc->links[i].root); return 0; }
-    if (!rj__all_rigid(sc) && !rj__validate_pins(sc, mark, joints, err)) return 0;
+    if (rj__all_rigid(sc))
+        for (i = 0; i < nl; i++)
+            if (parent[i] < 0 && sc->links[i].root != RJ_ROOT_FIXED) {
+                RJ__FIELD(f, "links[%d].root", i);
+                rj__fail(err, RJ_ERR_INVALID, f, sc->links[i].root,
+                         "%s = %d is invalid: in a scene of rigid links each must hang from a "
+                         "joint or be RJ_ROOT_FIXED",
+                         f, sc->links[i].root);
+                return 0;
+            }
+    if (!rj__all_rigid(sc) && !rj__validate_pins(sc, mark, joints, err))
+        return 0;
     /* the joint graph must be a forest: walking up from any link ends at a root. A walk
        marks its links 1 while under way and 2 once it is known to reach a root, so each
        link is walked once; meeting a 1 is a loop */
-    for (i = 0; i < nl; i++) mark[i] = 0;
+    for (i = 0; i < nl; i++)
+        mark[i] = 0;
     for (i = 0; i < nl; i++) {
         int cur = i, top;
         while (cur >= 0 && mark[cur] == 0) {
@@ -1230,11 +1683,15 @@ static int rj__validate_graph(const rj_scene_def *sc, int *scratch, rj_error *er
         }
         if (cur >= 0 && mark[cur] == 1) {
             RJ__FIELD(f, "links[%d]", i);
-            rj__fail(err, RJ_ERR_INVALID, f, i, "joints form a closed loop through link %d; only chains and trees are supported", i);
+            rj__fail(
+                err, RJ_ERR_INVALID, f, i,
+                "joints form a closed loop through link %d; only chains and trees are supported",
+                i);
             return 0;
         }
         top = cur;
-        for (cur = i; cur != top; cur = rj__up(sc, parent, cur)) mark[cur] = 2;
+        for (cur = i; cur != top; cur = rj__up(sc, parent, cur))
+            mark[cur] = 2;
     }
     return 1;
 }
@@ -1244,19 +1701,24 @@ static int rj__validate_graph(const rj_scene_def *sc, int *scratch, rj_error *er
    size_t) saturates at (size_t)-1, which no allocation satisfies. */
 static size_t rj__carve(size_t *off, size_t count, size_t elsize)
 {
-    const size_t full = (size_t)-1;
+    const size_t full = (size_t) -1;
     size_t at;
-    if (*off > full - 2 * RJ__ALIGN) return *off = full;
+    if (*off > full - 2 * RJ__ALIGN)
+        return *off = full;
     at = (*off + RJ__ALIGN - 1) / RJ__ALIGN * RJ__ALIGN;
-    if (count > (full - 2 * RJ__ALIGN - at) / elsize) return *off = full;
+    if (count > (full - 2 * RJ__ALIGN - at) / elsize)
+        return *off = full;
     *off = at + count * elsize;
     return at;
 }
 
 typedef struct rj__layout {
-    size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho, link_I;
+    size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho,
+        link_I;
     size_t node_cl, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
-    size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin, jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode, link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, lz;
+    size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin,
+        jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
+        link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, lz;
 } rj__layout;
 
 /* The model's block: every array linear in the scene; rigid scenes (joint coordinates)
@@ -1265,58 +1727,61 @@ typedef struct rj__layout {
 static void rj__model_layout(int nl, int nj, size_t nn, size_t ne, int rigid, rj__layout *L)
 {
     size_t off = sizeof(rj_model);
-    L->ldef = rj__carve(&off, (size_t)nl, sizeof(rj_link_def));
-    L->jdef = rj__carve(&off, (size_t)nj, sizeof(rj_joint_def));
-    L->jnt = rj__carve(&off, (size_t)nj, sizeof(rj__joint));
-    L->link_first = rj__carve(&off, (size_t)nl + 1, sizeof(int));
-    L->link_efirst = rj__carve(&off, (size_t)nl + 1, sizeof(int));
-    L->link_l0 = rj__carve(&off, (size_t)nl, sizeof(double));
-    L->link_EA = rj__carve(&off, (size_t)nl, sizeof(double));
-    L->link_EI = rj__carve(&off, (size_t)nl, sizeof(double));
-    L->link_rho = rj__carve(&off, (size_t)nl, sizeof(double));
-    L->link_I = rj__carve(&off, (size_t)nl, sizeof(double));
-    L->ch_first = rj__carve(&off, (size_t)nl + 1, sizeof(int));
-    L->node_cl = rj__carve(&off, (size_t)nn, sizeof(int));
-    L->cl_first = rj__carve(&off, (size_t)nl + 1, sizeof(int));
-    L->cl_node = rj__carve(&off, (size_t)nn, sizeof(int));
-    L->cl_fix = rj__carve(&off, (size_t)nl, sizeof(int));
-    L->cl_M = rj__carve(&off, (size_t)nl, sizeof(double));
-    L->cl_I = rj__carve(&off, (size_t)nl, sizeof(double));
-    L->cl_th0 = rj__carve(&off, (size_t)3 * nl, sizeof(double));
-    L->cl_rx = rj__carve(&off, (size_t)nn, sizeof(double));
-    L->cl_ry = rj__carve(&off, (size_t)nn, sizeof(double));
-    L->ch_node = rj__carve(&off, (size_t)nn + nl, sizeof(int));
-    L->ch_l0sq = rj__carve(&off, (size_t)nn + nl, sizeof(double));
-    L->rb_mass = rj__carve(&off, (size_t)nl, sizeof(double));
-    L->rb_icm = rj__carve(&off, (size_t)nl, sizeof(double));
-    L->rb_dcm = rj__carve(&off, (size_t)nl, sizeof(double));
-    L->rb_pjoint = rj__carve(&off, (size_t)nl, sizeof(int));
-    L->jorder = rj__carve(&off, (size_t)nj + 1, sizeof(int));
-    L->jpin = rj__carve(&off, (size_t)nj + 1, sizeof(double));
-    L->jref = rj__carve(&off, (size_t)nj + 1, sizeof(double));
-    L->mass = rj__carve(&off, (size_t)nn, sizeof(double));
-    L->rinertia = rj__carve(&off, (size_t)nn, sizeof(double));
-    L->tinv = rj__carve(&off, (size_t)nn, sizeof(double));
-    L->rinv = rj__carve(&off, (size_t)nn, sizeof(double));
-    L->einv = rj__carve(&off, (size_t)nn, sizeof(double));
-    L->kmass = rj__carve(&off, (size_t)nn, sizeof(double));
-    L->krot = rj__carve(&off, (size_t)nn, sizeof(double));
-    L->grp_first = rj__carve(&off, (size_t)nj + 1, sizeof(int));
-    L->grp_node = rj__carve(&off, (size_t)2 * nj + 1, sizeof(int));
-    L->node_grp = rj__carve(&off, (size_t)nn, sizeof(int));
-    L->grp_inv = rj__carve(&off, (size_t)nj + 1, sizeof(double));
-    L->dnode = rj__carve(&off, (size_t)nn + 1, sizeof(int));
-    L->link_un = rj__carve(&off, (size_t)5 * nl + 1, sizeof(double));
-    L->link_kc = rj__carve(&off, (size_t)4 * nl + 1, sizeof(double));
-    L->x0 = rj__carve(&off, (size_t)nn, sizeof(double));
-    L->y0 = rj__carve(&off, (size_t)nn, sizeof(double));
-    L->phi0 = rj__carve(&off, (size_t)nn, sizeof(double));
-    L->vx0 = rj__carve(&off, (size_t)nn, sizeof(double));
-    L->vy0 = rj__carve(&off, (size_t)nn, sizeof(double));
-    L->w0 = rj__carve(&off, (size_t)nn, sizeof(double));
-    L->beta0 = rj__carve(&off, (size_t)ne, sizeof(double));
-    L->lz = rj__carve(&off, 15 * nn + 10 * ne + 8 + RJ__GRAPH_SCRATCH(nl, nj) + (rigid ? rj__rigid_scratch(nj, nl) + (size_t)nj * nj : 0), sizeof(double));
-    L->total = off == (size_t)-1 ? off : off + RJ__ALIGN;
+    L->ldef = rj__carve(&off, (size_t) nl, sizeof(rj_link_def));
+    L->jdef = rj__carve(&off, (size_t) nj, sizeof(rj_joint_def));
+    L->jnt = rj__carve(&off, (size_t) nj, sizeof(rj__joint));
+    L->link_first = rj__carve(&off, (size_t) nl + 1, sizeof(int));
+    L->link_efirst = rj__carve(&off, (size_t) nl + 1, sizeof(int));
+    L->link_l0 = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->link_EA = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->link_EI = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->link_rho = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->link_I = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->ch_first = rj__carve(&off, (size_t) nl + 1, sizeof(int));
+    L->node_cl = rj__carve(&off, (size_t) nn, sizeof(int));
+    L->cl_first = rj__carve(&off, (size_t) nl + 1, sizeof(int));
+    L->cl_node = rj__carve(&off, (size_t) nn, sizeof(int));
+    L->cl_fix = rj__carve(&off, (size_t) nl, sizeof(int));
+    L->cl_M = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->cl_I = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->cl_th0 = rj__carve(&off, (size_t) 3 * nl, sizeof(double));
+    L->cl_rx = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->cl_ry = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->ch_node = rj__carve(&off, (size_t) nn + nl, sizeof(int));
+    L->ch_l0sq = rj__carve(&off, (size_t) nn + nl, sizeof(double));
+    L->rb_mass = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->rb_icm = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->rb_dcm = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->rb_pjoint = rj__carve(&off, (size_t) nl, sizeof(int));
+    L->jorder = rj__carve(&off, (size_t) nj + 1, sizeof(int));
+    L->jpin = rj__carve(&off, (size_t) nj + 1, sizeof(double));
+    L->jref = rj__carve(&off, (size_t) nj + 1, sizeof(double));
+    L->mass = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->rinertia = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->tinv = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->rinv = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->einv = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->kmass = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->krot = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->grp_first = rj__carve(&off, (size_t) nj + 1, sizeof(int));
+    L->grp_node = rj__carve(&off, (size_t) 2 * nj + 1, sizeof(int));
+    L->node_grp = rj__carve(&off, (size_t) nn, sizeof(int));
+    L->grp_inv = rj__carve(&off, (size_t) nj + 1, sizeof(double));
+    L->dnode = rj__carve(&off, (size_t) nn + 1, sizeof(int));
+    L->link_un = rj__carve(&off, (size_t) 5 * nl + 1, sizeof(double));
+    L->link_kc = rj__carve(&off, (size_t) 4 * nl + 1, sizeof(double));
+    L->x0 = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->y0 = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->phi0 = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->vx0 = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->vy0 = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->w0 = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->beta0 = rj__carve(&off, (size_t) ne, sizeof(double));
+    L->lz = rj__carve(&off,
+                      15 * nn + 10 * ne + 8 + RJ__GRAPH_SCRATCH(nl, nj) +
+                          (rigid ? rj__rigid_scratch(nj, nl) + (size_t) nj * nj : 0),
+                      sizeof(double));
+    L->total = off == (size_t) -1 ? off : off + RJ__ALIGN;
 }
 
 
@@ -1324,11 +1789,14 @@ RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
 {
     rj__layout L;
     size_t nn, ne;
-    if (!rj__validate(scene, err)) return 0;
-    if (!rj__counts(scene, &nn, &ne, err)) return 0;
+    if (!rj__validate(scene, err))
+        return 0;
+    if (!rj__counts(scene, &nn, &ne, err))
+        return 0;
     rj__model_layout(scene->link_count, scene->joint_count, nn, ne, rj__all_rigid(scene), &L);
-    if (L.total == (size_t)-1) {
-        rj__fail(err, RJ_ERR_NOMEM, "links", (double)nn, "a model of %.0f nodes needs more bytes than size_t counts here", (double)nn);
+    if (L.total == (size_t) -1) {
+        rj__fail(err, RJ_ERR_NOMEM, "links", (double) nn,
+                 "a model of %.0f nodes needs more bytes than size_t counts here", (double) nn);
         return 0;
     }
     return L.total;
@@ -1342,10 +1810,13 @@ static rj_result rj__validate_all(const rj_scene_def *scene, rj_error *err, void
     rj_error *e = err ? err : &local;
     int *scratch;
     int ok;
-    if (!rj_model_size(scene, e)) return e->code;
-    scratch = (int *)RJ_MALLOC(sizeof(int) * RJ__GRAPH_SCRATCH(scene->link_count, scene->joint_count), alloc_ctx);
+    if (!rj_model_size(scene, e))
+        return e->code;
+    scratch = (int *) RJ_MALLOC(
+        sizeof(int) * RJ__GRAPH_SCRATCH(scene->link_count, scene->joint_count), alloc_ctx);
     if (!scratch) {
-        rj__fail(e, RJ_ERR_NOMEM, "joint_count", scene->joint_count, "could not allocate the joint graph's scratch");
+        rj__fail(e, RJ_ERR_NOMEM, "joint_count", scene->joint_count,
+                 "could not allocate the joint graph's scratch");
         return RJ_ERR_NOMEM;
     }
     ok = rj__validate_graph(scene, scratch, e);
@@ -1363,79 +1834,115 @@ static rj_result rj__validate_all(const rj_scene_def *scene, rj_error *err, void
 /* One element's force core on scalars or vector lanes alike (the same operations in the
    same order): chord turn r against the previous chord (ccx, ccy) as the series of atan(r),
    chord angle bt, end moments, axial force, node-b force (fx_, fy_) and strain energy u_. */
-#define RJ__ELEM_CORE(T, ex, ey, cxv, cyv, bbv, pav, pbv)                                \
-    const T cr_ = (cxv) * (ey) - (cyv) * (ex), dp_ = (cxv) * (ex) + (cyv) * (ey);       \
-    const T L2_ = (ex) * (ex) + (ey) * (ey), inv_ = 1.0 / (dp_ * L2_);                   \
-    const T r_ = cr_ * L2_ * inv_, invL2_ = dp_ * inv_, r2_ = r_ * r_;                   \
-    const T bt_ = (bbv) + r_ * (1.0 - r2_ * (1.0 / 3.0 - r2_ * (1.0 / 5.0)));             \
+#define RJ__ELEM_CORE(T, ex, ey, cxv, cyv, bbv, pav, pbv)                                          \
+    const T cr_ = (cxv) * (ey) - (cyv) * (ex), dp_ = (cxv) * (ex) + (cyv) * (ey);                  \
+    const T L2_ = (ex) * (ex) + (ey) * (ey), inv_ = 1.0 / (dp_ * L2_);                             \
+    const T r_ = cr_ * L2_ * inv_, invL2_ = dp_ * inv_, r2_ = r_ * r_;                             \
+    const T bt_ = (bbv) + r_ * (1.0 - r2_ * (1.0 / 3.0 - r2_ * (1.0 / 5.0)));                      \
     RJ__ELEM_FORCES(T, ex, ey, bt_, invL2_, pav, pbv)
 
 /* The rest of the element from its chord angle bt and 1/|e|^2: end rotations and moments,
    axial force, node-b force (fx_, fy_), strain energy u_ (the exact path uses it alone). */
-#define RJ__ELEM_FORCES(T, ex, ey, bt, invL2, pav, pbv)                                  \
-    const T tha_ = (pav) - (bt), thb_ = (pbv) - (bt);                                    \
-    const T ma_ = kb * (4.0 * tha_ + 2.0 * thb_), mb_ = kb * (2.0 * tha_ + 4.0 * thb_);  \
-    const T eps_ = ((ex) * (ex) + (ey) * (ey) - l0sq) * half_inv_l0sq;                   \
-    const T nax_ = kax * eps_, s_ = (ma_ + mb_) * (invL2);                               \
-    const T fx_ = -nax_ * (ex) - s_ * (ey), fy_ = -nax_ * (ey) + s_ * (ex);              \
+#define RJ__ELEM_FORCES(T, ex, ey, bt, invL2, pav, pbv)                                            \
+    const T tha_ = (pav) - (bt), thb_ = (pbv) - (bt);                                              \
+    const T ma_ = kb * (4.0 * tha_ + 2.0 * thb_), mb_ = kb * (2.0 * tha_ + 4.0 * thb_);            \
+    const T eps_ = ((ex) * (ex) + (ey) * (ey) -l0sq) * half_inv_l0sq;                              \
+    const T nax_ = kax * eps_, s_ = (ma_ + mb_) * (invL2);                                         \
+    const T fx_ = -nax_ * (ex) -s_ * (ey), fy_ = -nax_ * (ey) + s_ * (ex);                         \
     const T u_ = 0.5 * (ma_ * tha_ + mb_ * thb_) + 0.5 * kax * l0sq * eps_ * eps_
 
 /* Rows of a chunk's element-result buffer (one base pointer for the kernels): FX, FY,
    M1, M2, each RJ__FROW long; see rj__beam_pass for what the entries hold. */
 #define RJ__CHUNK 128
-#define RJ__FROW (RJ__CHUNK + 2)
+#define RJ__FROW  (RJ__CHUNK + 2)
 
 #ifdef RJ__LANES
 /* STEP (a lane step at index i) over 0 .. n - 1, n >= W, in steps of W; where W does not
    divide n the last W again, after the loop: the same inputs give the same bits. */
-#define RJ__LANES_OVER(i, n, W, STEP) for (i = 0; i + W <= n; i += W) STEP if (i < n) { i = n - W; STEP }
+#define RJ__LANES_OVER(i, n, W, STEP)                                                              \
+    for (i = 0; i + W <= n; i += W)                                                                \
+        STEP if (i < n)                                                                            \
+        {                                                                                          \
+            i = n - W;                                                                             \
+            STEP                                                                                   \
+        }
 /* W elements from element i on, in lanes; F + i is element i's slot in row FX; EN: their
    strain energies too (without, the compiler drops their arithmetic); BK: their old chord
    angles and chords kept in bk first (in place, bo is bb: the exact path reads them there). */
-#define RJ__ELEM_STEP(VD, i, EN, BK)                                                             \
-    {                                                                                            \
-        VD x0, x1, y0, y1, p0, p1, b, cxv, cyv, ex, ey;                                          \
-        RJ__VLD(x0, xa + i); RJ__VLD(x1, xa + i + 1); RJ__VLD(y0, ya + i); RJ__VLD(y1, ya + i + 1); \
-        RJ__VLD(p0, pa + i); RJ__VLD(p1, pa + i + 1); RJ__VLD(b, bb + i);                        \
-        RJ__VLD(cxv, ccx + i); RJ__VLD(cyv, ccy + i);                                            \
-        if (BK) { RJ__VST(bk + i, b); RJ__VST(bk + RJ__CHUNK + i, cxv); RJ__VST(bk + 2 * RJ__CHUNK + i, cyv); } \
-        ex = x1 - x0; ey = y1 - y0;                                                              \
-        {                                                                                        \
-            RJ__ELEM_CORE(VD, ex, ey, cxv, cyv, b, p0, p1);                                      \
-            okv &= (r2_ < lim) & (dp_ > zero);   /* NaN clears it too */                         \
-            RJ__VST(bo + i, bt_); RJ__VST(cox + i, ex); RJ__VST(coy + i, ey);                    \
-            RJ__VST(F + i, fx_); RJ__VST(F + RJ__FROW + i, fy_); RJ__VST(F + 2 * RJ__FROW + i, ma_); \
-            RJ__VST(F + 3 * RJ__FROW + i, mb_); if (EN) RJ__VST(ue + i, u_);                     \
-        }                                                                                        \
+#define RJ__ELEM_STEP(VD, i, EN, BK)                                                               \
+    {                                                                                              \
+        VD x0, x1, y0, y1, p0, p1, b, cxv, cyv, ex, ey;                                            \
+        RJ__VLD(x0, xa + i);                                                                       \
+        RJ__VLD(x1, xa + i + 1);                                                                   \
+        RJ__VLD(y0, ya + i);                                                                       \
+        RJ__VLD(y1, ya + i + 1);                                                                   \
+        RJ__VLD(p0, pa + i);                                                                       \
+        RJ__VLD(p1, pa + i + 1);                                                                   \
+        RJ__VLD(b, bb + i);                                                                        \
+        RJ__VLD(cxv, ccx + i);                                                                     \
+        RJ__VLD(cyv, ccy + i);                                                                     \
+        if (BK) {                                                                                  \
+            RJ__VST(bk + i, b);                                                                    \
+            RJ__VST(bk + RJ__CHUNK + i, cxv);                                                      \
+            RJ__VST(bk + 2 * RJ__CHUNK + i, cyv);                                                  \
+        }                                                                                          \
+        ex = x1 - x0;                                                                              \
+        ey = y1 - y0;                                                                              \
+        {                                                                                          \
+            RJ__ELEM_CORE(VD, ex, ey, cxv, cyv, b, p0, p1);                                        \
+            okv &= (r2_ < lim) & (dp_ > zero); /* NaN clears it too */                             \
+            RJ__VST(bo + i, bt_);                                                                  \
+            RJ__VST(cox + i, ex);                                                                  \
+            RJ__VST(coy + i, ey);                                                                  \
+            RJ__VST(F + i, fx_);                                                                   \
+            RJ__VST(F + RJ__FROW + i, fy_);                                                        \
+            RJ__VST(F + 2 * RJ__FROW + i, ma_);                                                    \
+            RJ__VST(F + 3 * RJ__FROW + i, mb_);                                                    \
+            if (EN)                                                                                \
+                RJ__VST(ue + i, u_);                                                               \
+        }                                                                                          \
     }
 /* The element loop in lanes of W doubles over all ne >= W elements (RJ__LANES_OVER), their
    strain energies if en is set; returns -1 when some chord turned too far (or a result is
    NaN), else ne. kc: the link's element constants (link_kc). In place (NAME##ip: bo, cox,
    coy are bb, ccx, ccy) it takes whole lanes only and returns how many elements it did,
    keeping their old values in bk (RJ__ELEM_STEP). */
-#define RJ__ELEM_LANES(W, VD, VL, ATTR) RJ__ELEM_LANES_(W, VD, VL, ATTR, rj__elem_lanes##W, RJ__RESTRICT, 0) \
-                                        RJ__ELEM_LANES_(W, VD, VL, ATTR, rj__elem_lanes##W##ip, , 1)
-#define RJ__ELEM_LANES_(W, VD, VL, ATTR, NAME, RQ, BK)                                           \
-ATTR static RJ__FORCE_INLINE int NAME(int ne, const double *kc,                                  \
-    const double *RJ__RESTRICT xa, const double *RJ__RESTRICT ya, const double *RJ__RESTRICT pa,   \
-    const double *RQ bb, const double *RQ ccx, const double *RQ ccy,                             \
-    double *RJ__RESTRICT F, double *RJ__RESTRICT ue, double *RQ bo,                              \
-    double *RQ cox, double *RQ coy, double *RJ__RESTRICT bk, int en)                             \
-{                                                                                                \
-    const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];                   \
-    VD lim, zero;                                                                                \
-    VL okv;                                                                                      \
-    int i, k;                                                                                    \
-    for (k = 0; k < W; k++) { lim[k] = 4e-6; zero[k] = 0.0; }                                    \
-    okv = zero < lim;   /* all lanes set */                                                      \
-    if (BK && en) { for (i = 0; i + W <= ne; i += W) RJ__ELEM_STEP(VD, i, 1, 1) }                \
-    else if (BK) { for (i = 0; i + W <= ne; i += W) RJ__ELEM_STEP(VD, i, 0, 1) }                 \
-    else if (en) { RJ__LANES_OVER(i, ne, W, RJ__ELEM_STEP(VD, i, 1, 0)) }                        \
-    else { RJ__LANES_OVER(i, ne, W, RJ__ELEM_STEP(VD, i, 0, 0)) }                                \
-    (void)bk;                                                                                    \
-    for (k = 0; k < W; k++) if (!okv[k]) return -1;                                              \
-    return BK ? i : ne;                                                                          \
-}
+#define RJ__ELEM_LANES(W, VD, VL, ATTR)                                                            \
+    RJ__ELEM_LANES_(W, VD, VL, ATTR, rj__elem_lanes##W, RJ__RESTRICT, 0)                           \
+    RJ__ELEM_LANES_(W, VD, VL, ATTR, rj__elem_lanes##W##ip, , 1)
+#define RJ__ELEM_LANES_(W, VD, VL, ATTR, NAME, RQ, BK)                                             \
+    ATTR static RJ__FORCE_INLINE int NAME(                                                         \
+        int ne, const double *kc, const double *RJ__RESTRICT xa, const double *RJ__RESTRICT ya,    \
+        const double *RJ__RESTRICT pa, const double *RQ bb, const double *RQ ccx,                  \
+        const double *RQ ccy, double *RJ__RESTRICT F, double *RJ__RESTRICT ue, double *RQ bo,      \
+        double *RQ cox, double *RQ coy, double *RJ__RESTRICT bk, int en)                           \
+    {                                                                                              \
+        const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];                 \
+        VD lim, zero;                                                                              \
+        VL okv;                                                                                    \
+        int i, k;                                                                                  \
+        for (k = 0; k < W; k++) {                                                                  \
+            lim[k] = 4e-6;                                                                         \
+            zero[k] = 0.0;                                                                         \
+        }                                                                                          \
+        okv = zero < lim; /* all lanes set */                                                      \
+        if (BK && en) {                                                                            \
+            for (i = 0; i + W <= ne; i += W)                                                       \
+                RJ__ELEM_STEP(VD, i, 1, 1)                                                         \
+        } else if (BK) {                                                                           \
+            for (i = 0; i + W <= ne; i += W)                                                       \
+                RJ__ELEM_STEP(VD, i, 0, 1)                                                         \
+        } else if (en) {                                                                           \
+            RJ__LANES_OVER(i, ne, W, RJ__ELEM_STEP(VD, i, 1, 0))                                   \
+        } else {                                                                                   \
+            RJ__LANES_OVER(i, ne, W, RJ__ELEM_STEP(VD, i, 0, 0))                                   \
+        }                                                                                          \
+        (void) bk;                                                                                 \
+        for (k = 0; k < W; k++)                                                                    \
+            if (!okv[k])                                                                           \
+                return -1;                                                                         \
+        return BK ? i : ne;                                                                        \
+    }
 #ifdef RJ__LANES2
 RJ__ELEM_LANES(2, rj__vd2, rj__vl2, )
 #endif
@@ -1452,19 +1959,30 @@ RJ__ELEM_LANES(4, rj__vd4, rj__vl4, RJ__AVX2)
    must redo the chunk, else ne. F: row FX of the chunk buffer at the chunk's first element.
    bk (in place, where bo, cox, coy are bb, ccx, ccy; else NULL): each element's old values
    go there first, rows of RJ__CHUNK as in RJ__ELEM_STEP. */
-static int rj__elem_scalar(int i, int ne, const double *kc, const double *xa, const double *ya, const double *pa,
-                           const double *bb, const double *ccx, const double *ccy, double *F, double *ue,
-                           double *bo, double *cox, double *coy, double *bk)
+static int rj__elem_scalar(int i, int ne, const double *kc, const double *xa, const double *ya,
+                           const double *pa, const double *bb, const double *ccx, const double *ccy,
+                           double *F, double *ue, double *bo, double *cox, double *coy, double *bk)
 {
     const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];
     long long bad = 0;
     for (; i < ne; i++) {
         const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];
-        if (bk) { bk[i] = bb[i]; bk[RJ__CHUNK + i] = ccx[i]; bk[2 * RJ__CHUNK + i] = ccy[i]; }   /* in place */
+        if (bk) {
+            bk[i] = bb[i];
+            bk[RJ__CHUNK + i] = ccx[i];
+            bk[2 * RJ__CHUNK + i] = ccy[i];
+        } /* in place */
         RJ__ELEM_CORE(double, ex, ey, ccx[i], ccy[i], bb[i], pa[i], pa[i + 1]);
-        bad |= (long long)!(r2_ < 4e-6) | (long long)!(dp_ > 0.0);   /* bitwise: no branch; NaN too */
-        bo[i] = bt_; cox[i] = ex; coy[i] = ey;
-        F[i] = fx_; F[RJ__FROW + i] = fy_; F[2 * RJ__FROW + i] = ma_; F[3 * RJ__FROW + i] = mb_; ue[i] = u_;
+        bad |=
+            (long long) !(r2_ < 4e-6) | (long long) !(dp_ > 0.0); /* bitwise: no branch; NaN too */
+        bo[i] = bt_;
+        cox[i] = ex;
+        coy[i] = ey;
+        F[i] = fx_;
+        F[RJ__FROW + i] = fy_;
+        F[2 * RJ__FROW + i] = ma_;
+        F[3 * RJ__FROW + i] = mb_;
+        ue[i] = u_;
     }
     return bad != 0 ? -1 : ne;
 }
@@ -1477,20 +1995,30 @@ static double rj__sum8(const double *RJ__RESTRICT a, int n)
     /* the same eight sums in vector lanes */
     rj__vd2 v0 = { 0.0, 0.0 }, v1 = v0, v2 = v0, v3 = v0, t;
     for (; i + 7 < n; i += 8) {
-        RJ__VLD(t, a + i); v0 += t; RJ__VLD(t, a + i + 2); v1 += t;
-        RJ__VLD(t, a + i + 4); v2 += t; RJ__VLD(t, a + i + 6); v3 += t;
+        RJ__VLD(t, a + i);
+        v0 += t;
+        RJ__VLD(t, a + i + 2);
+        v1 += t;
+        RJ__VLD(t, a + i + 4);
+        v2 += t;
+        RJ__VLD(t, a + i + 6);
+        v3 += t;
     }
-    if (i < n) {   /* the rest into the first sum, in order */
+    if (i < n) { /* the rest into the first sum, in order */
         double p0 = v0[0];
-        for (; i < n; i++) p0 += a[i];
+        for (; i < n; i++)
+            p0 += a[i];
         v0[0] = p0;
     }
     return ((v0[0] + v0[1]) + (v1[0] + v1[1])) + ((v2[0] + v2[1]) + (v3[0] + v3[1]));
 #else
     double p[8] = { 0, 0, 0, 0, 0, 0, 0, 0 };
     int k;
-    for (; i + 7 < n; i += 8) for (k = 0; k < 8; k++) p[k] += a[i + k];
-    for (; i < n; i++) p[0] += a[i];
+    for (; i + 7 < n; i += 8)
+        for (k = 0; k < 8; k++)
+            p[k] += a[i + k];
+    for (; i < n; i++)
+        p[0] += a[i];
     return ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
 #endif
 }
@@ -1503,10 +2031,10 @@ typedef struct rj__adv {
     double kick, dt;
     const double *vx, *vy, *w, *ti, *ri, *km, *kj;
     double *nx, *ny, *nphi, *nvx, *nvy, *nw, *kn;
-    double *fx, *fy, *mz;   /* node forces, for the nodes advanced again (rj_model.dnode) */
-    int en;                 /* this step takes the energy accounts (solver.energy_every) */
-    int ip;                 /* in place: the pass writes the nodes and elements where it reads them */
-    double *fin;            /* the sum of every advanced node's x + y + phi: finite while they all are */
+    double *fx, *fy, *mz; /* node forces, for the nodes advanced again (rj_model.dnode) */
+    int en;               /* this step takes the energy accounts (solver.energy_every) */
+    int ip;               /* in place: the pass writes the nodes and elements where it reads them */
+    double *fin; /* the sum of every advanced node's x + y + phi: finite while they all are */
 } rj__adv;
 
 /* One node's update with its final forces (the lanes below do the same operations in the
@@ -1517,8 +2045,12 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
     const double ux = a->vx[i] + a->kick * fx * a->ti[i], uy = a->vy[i] + a->kick * fy * a->ti[i];
     const double uw = a->w[i] + a->kick * mz * a->ri[i];
     a->kn[i] = a->km[i] * (a->vx[i] * ux + a->vy[i] * uy) + a->kj[i] * a->w[i] * uw;
-    a->nvx[i] = ux; a->nvy[i] = uy; a->nw[i] = uw;
-    a->nx[i] = x[i] + a->dt * ux; a->ny[i] = y[i] + a->dt * uy; a->nphi[i] = phi[i] + a->dt * uw;
+    a->nvx[i] = ux;
+    a->nvy[i] = uy;
+    a->nw[i] = uw;
+    a->nx[i] = x[i] + a->dt * ux;
+    a->ny[i] = y[i] + a->dt * uy;
+    a->nphi[i] = phi[i] + a->dt * uw;
     /* finite positions at n + 1 from finite ones at n mean finite velocities too */
     *a->fin += (a->nx[i] + a->ny[i]) + a->nphi[i];
 }
@@ -1527,57 +2059,101 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
 /* W nodes from node k on (chunk-relative), in lanes; UNI: the link's uniform node values in
    tiv .. kjv, else each node's own; ST: their forces are stored too; EN: their shares of
    the kinetic energy. */
-#define RJ__NODE_STEP(VD, k, UNI, ST, EN)                                                        \
-    {                                                                                            \
-        VD f0, f1, g0, g1, m1, m2, fxv, fyv, mzv, vxv, vyv, wv, t, tiv = tiu, riv = riu, kmv = kmu, kjv = kju; \
-        RJ__VLD(f0, F + k); RJ__VLD(f1, F + k + 1);                                              \
-        RJ__VLD(g0, F + RJ__FROW + k); RJ__VLD(g1, F + RJ__FROW + k + 1);                        \
-        RJ__VLD(m2, F + 3 * RJ__FROW + k); RJ__VLD(m1, F + 2 * RJ__FROW + k + 1);                \
-        fxv = f0 - f1; fyv = g0 - g1; mzv = -m2 - m1;                                            \
-        if (ST) { RJ__VST(fx + k, fxv); RJ__VST(fy + k, fyv); RJ__VST(mz + k, mzv); }            \
-        RJ__VLD(vxv, vx + k); RJ__VLD(vyv, vy + k); RJ__VLD(wv, w + k);                          \
-        if (!UNI) { RJ__VLD(tiv, ti + k); RJ__VLD(riv, ri + k); RJ__VLD(kmv, km + k); RJ__VLD(kjv, kj + k); } \
-        {                                                                                        \
-            const VD ux_ = vxv + kick * fxv * tiv, uy_ = vyv + kick * fyv * tiv, uw_ = wv + kick * mzv * riv; \
-            const VD kn_ = kmv * (vxv * ux_ + vyv * uy_) + kjv * wv * uw_;                       \
-            RJ__VST(nvx + k, ux_); RJ__VST(nvy + k, uy_); RJ__VST(nw + k, uw_); if (EN) RJ__VST(kn + k, kn_); \
-            RJ__VLD(t, x + k); t = t + dt * ux_; RJ__VST(nx + k, t); fin = fin + t;              \
-            RJ__VLD(t, y + k); t = t + dt * uy_; RJ__VST(ny + k, t); fin = fin + t;              \
-            RJ__VLD(t, phi + k); t = t + dt * uw_; RJ__VST(nphi + k, t); fin = fin + t;          \
-        }                                                                                        \
+#define RJ__NODE_STEP(VD, k, UNI, ST, EN)                                                          \
+    {                                                                                              \
+        VD f0, f1, g0, g1, m1, m2, fxv, fyv, mzv, vxv, vyv, wv, t, tiv = tiu, riv = riu,           \
+                                                                   kmv = kmu, kjv = kju;           \
+        RJ__VLD(f0, F + k);                                                                        \
+        RJ__VLD(f1, F + k + 1);                                                                    \
+        RJ__VLD(g0, F + RJ__FROW + k);                                                             \
+        RJ__VLD(g1, F + RJ__FROW + k + 1);                                                         \
+        RJ__VLD(m2, F + 3 * RJ__FROW + k);                                                         \
+        RJ__VLD(m1, F + 2 * RJ__FROW + k + 1);                                                     \
+        fxv = f0 - f1;                                                                             \
+        fyv = g0 - g1;                                                                             \
+        mzv = -m2 - m1;                                                                            \
+        if (ST) {                                                                                  \
+            RJ__VST(fx + k, fxv);                                                                  \
+            RJ__VST(fy + k, fyv);                                                                  \
+            RJ__VST(mz + k, mzv);                                                                  \
+        }                                                                                          \
+        RJ__VLD(vxv, vx + k);                                                                      \
+        RJ__VLD(vyv, vy + k);                                                                      \
+        RJ__VLD(wv, w + k);                                                                        \
+        if (!UNI) {                                                                                \
+            RJ__VLD(tiv, ti + k);                                                                  \
+            RJ__VLD(riv, ri + k);                                                                  \
+            RJ__VLD(kmv, km + k);                                                                  \
+            RJ__VLD(kjv, kj + k);                                                                  \
+        }                                                                                          \
+        {                                                                                          \
+            const VD ux_ = vxv + kick * fxv * tiv, uy_ = vyv + kick * fyv * tiv,                   \
+                     uw_ = wv + kick * mzv * riv;                                                  \
+            const VD kn_ = kmv * (vxv * ux_ + vyv * uy_) + kjv * wv * uw_;                         \
+            RJ__VST(nvx + k, ux_);                                                                 \
+            RJ__VST(nvy + k, uy_);                                                                 \
+            RJ__VST(nw + k, uw_);                                                                  \
+            if (EN)                                                                                \
+                RJ__VST(kn + k, kn_);                                                              \
+            RJ__VLD(t, x + k);                                                                     \
+            t = t + dt * ux_;                                                                      \
+            RJ__VST(nx + k, t);                                                                    \
+            fin = fin + t;                                                                         \
+            RJ__VLD(t, y + k);                                                                     \
+            t = t + dt * uy_;                                                                      \
+            RJ__VST(ny + k, t);                                                                    \
+            fin = fin + t;                                                                         \
+            RJ__VLD(t, phi + k);                                                                   \
+            t = t + dt * uw_;                                                                      \
+            RJ__VST(nphi + k, t);                                                                  \
+            fin = fin + t;                                                                         \
+        }                                                                                          \
     }
 /* The node pass in lanes of W doubles over all cnt >= W nodes (RJ__LANES_OVER), their
    forces stored too if store is set and their kinetic-energy shares if en is; returns cnt. */
-#define RJ__NODE_LANES(W, VD, ATTR)                                                              \
-ATTR static RJ__FORCE_INLINE int rj__node_lanes##W(int cnt, int n, const double *un, const rj__adv *a, \
-    const double *RJ__RESTRICT F, const double *x_, const double *y_, const double *phi_, int store, int en) \
-{                                                                                                \
-    double *RJ__RESTRICT fx = a->fx + n, *RJ__RESTRICT fy = a->fy + n, *RJ__RESTRICT mz = a->mz + n; \
-    const double kick = a->kick, dt = a->dt;                                                     \
-    const double *x = x_ + n, *y = y_ + n, *phi = phi_ + n;   /* these six alias the next six in place */ \
-    const double *vx = a->vx + n, *vy = a->vy + n, *w = a->w + n;                                \
-    const double *RJ__RESTRICT ti = a->ti + n, *RJ__RESTRICT ri = a->ri + n;                     \
-    const double *RJ__RESTRICT km = a->km + n, *RJ__RESTRICT kj = a->kj + n;                     \
-    double *nx = a->nx + n, *ny = a->ny + n, *nphi = a->nphi + n;                                \
-    double *nvx = a->nvx + n, *nvy = a->nvy + n, *nw = a->nw + n;                                \
-    double *RJ__RESTRICT kn = a->kn + n;                                                         \
-    VD tiu = { 0 }, riu = { 0 }, kmu = { 0 }, kju = { 0 }, fin = { 0 };                          \
-    double fin_sum = 0;                                                                          \
-    int k;                                                                                       \
-    for (k = 0; k < W; k++) { tiu[k] = un[0]; riu[k] = un[1]; kmu[k] = un[2]; kju[k] = un[3]; }  \
-    switch ((un[4] != 0 ? 4 : 0) + (store ? 2 : 0) + (en ? 1 : 0)) {                             \
-    case 4: RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 0, 0)) break;                    \
-    case 5: RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 0, 1)) break;                    \
-    case 6: RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 1, 0)) break;                    \
-    case 7: RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 1, 1)) break;                    \
-    default:   /* per-node values: rare; forces and energy shares always stored */              \
-        RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 0, 1, 1))                                 \
-    }                                                                                            \
-    /* the new positions' sum: NaN or infinite when one of them is */                           \
-    for (k = 0; k < W; k++) fin_sum += fin[k];                                                   \
-    *a->fin += fin_sum;                                                                          \
-    return cnt;                                                                                  \
-}
+#define RJ__NODE_LANES(W, VD, ATTR)                                                                \
+    ATTR static RJ__FORCE_INLINE int rj__node_lanes##W(                                            \
+        int cnt, int n, const double *un, const rj__adv *a, const double *RJ__RESTRICT F,          \
+        const double *x_, const double *y_, const double *phi_, int store, int en)                 \
+    {                                                                                              \
+        double *RJ__RESTRICT fx = a->fx + n, *RJ__RESTRICT fy = a->fy + n,                         \
+                             *RJ__RESTRICT mz = a->mz + n;                                         \
+        const double kick = a->kick, dt = a->dt;                                                   \
+        const double *x = x_ + n, *y = y_ + n,                                                     \
+                     *phi = phi_ + n; /* these six alias the next six in place */                  \
+        const double *vx = a->vx + n, *vy = a->vy + n, *w = a->w + n;                              \
+        const double *RJ__RESTRICT ti = a->ti + n, *RJ__RESTRICT ri = a->ri + n;                   \
+        const double *RJ__RESTRICT km = a->km + n, *RJ__RESTRICT kj = a->kj + n;                   \
+        double *nx = a->nx + n, *ny = a->ny + n, *nphi = a->nphi + n;                              \
+        double *nvx = a->nvx + n, *nvy = a->nvy + n, *nw = a->nw + n;                              \
+        double *RJ__RESTRICT kn = a->kn + n;                                                       \
+        VD tiu = { 0 }, riu = { 0 }, kmu = { 0 }, kju = { 0 }, fin = { 0 };                        \
+        double fin_sum = 0;                                                                        \
+        int k;                                                                                     \
+        for (k = 0; k < W; k++) {                                                                  \
+            tiu[k] = un[0];                                                                        \
+            riu[k] = un[1];                                                                        \
+            kmu[k] = un[2];                                                                        \
+            kju[k] = un[3];                                                                        \
+        }                                                                                          \
+        switch ((un[4] != 0 ? 4 : 0) + (store ? 2 : 0) + (en ? 1 : 0)) {                           \
+        case 4:                                                                                    \
+            RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 0, 0)) break;                        \
+        case 5:                                                                                    \
+            RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 0, 1)) break;                        \
+        case 6:                                                                                    \
+            RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 1, 0)) break;                        \
+        case 7:                                                                                    \
+            RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 1, 1)) break;                        \
+        default: /* per-node values: rare; forces and energy shares always stored */               \
+            RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 0, 1, 1))                               \
+        }                                                                                          \
+        /* the new positions' sum: NaN or infinite when one of them is */                          \
+        for (k = 0; k < W; k++)                                                                    \
+            fin_sum += fin[k];                                                                     \
+        *a->fin += fin_sum;                                                                        \
+        return cnt;                                                                                \
+    }
 #ifdef RJ__LANES2
 RJ__NODE_LANES(2, rj__vd2, )
 #endif
@@ -1591,17 +2167,24 @@ RJ__NODE_LANES(4, rj__vd4, RJ__AVX2)
    minus the one on the right, +0.0 after its last: the same bits as -FX[0] and FX[last])
    and mz = -M2[k] - M1[k+1]: the forces (into fx, fy, mz), and with a (not NULL) the
    advanced velocities, positions and kinetic-energy shares (the lanes did nodes 0 .. k - 1). */
-static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, double *fy, double *mz,
-                            const double *x, const double *y, const double *phi, const rj__adv *a)
+static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, double *fy,
+                            double *mz, const double *x, const double *y, const double *phi,
+                            const rj__adv *a)
 {
     const double *FX = F, *FY = F + RJ__FROW, *M1 = F + 2 * RJ__FROW, *M2 = F + 3 * RJ__FROW;
     if (!a) {
-        for (; k < cnt; k++) { fx[n + k] = FX[k] - FX[k + 1]; fy[n + k] = FY[k] - FY[k + 1]; mz[n + k] = -M2[k] - M1[k + 1]; }
+        for (; k < cnt; k++) {
+            fx[n + k] = FX[k] - FX[k + 1];
+            fy[n + k] = FY[k] - FY[k + 1];
+            mz[n + k] = -M2[k] - M1[k + 1];
+        }
         return;
     }
     for (; k < cnt; k++) {
         const double fxv = FX[k] - FX[k + 1], fyv = FY[k] - FY[k + 1], mzv = -M2[k] - M1[k + 1];
-        fx[n + k] = fxv; fy[n + k] = fyv; mz[n + k] = mzv;
+        fx[n + k] = fxv;
+        fy[n + k] = fyv;
+        mz[n + k] = mzv;
         rj__advance_node(a, n + k, fxv, fyv, mzv, x, y, phi);
     }
 }
@@ -1622,69 +2205,105 @@ static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, 
    pay for them (the paper's settings ran 1.3x slower). */
 /* In place, element i's old chord angle (k 0) or chord (1, 2) while the chunk's elements
    run: kept in EB for the first nb elements (RJ__ELEM_STEP), else still at p[i]. */
-#define RJ__OLD(p, k) (i < nb ? EB[(k) * RJ__CHUNK + i] : (p)[i])
-#define RJ__BEAM_PASS(NAME, ATTR, W, ELEM, NODE, IP, RQ)                                                                                                \
-ATTR static int NAME(const rj_model *m, const double *x, const double *y, const double *phi,                                                          \
-    const double *beta, const double *cx, const double *cy, double *eu,                                                                               \
-    double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz, const rj__adv *adv)                                         \
-{                                                                                                                                                     \
-    /* chunk buffers: entry 0 is the previous chunk's last element (or the -0.0 / +0.0 before                                                         \
-       a link's first), entries 1 .. nc this chunk's, nc + 1 the +0.0 after a link's last */                                                          \
-    double FB[4 * RJ__FROW];                                                                                                                          \
-    double *FX = FB, *FY = FB + RJ__FROW, *M1 = FB + 2 * RJ__FROW, *M2 = FB + 3 * RJ__FROW;                                                           \
-    /* in place: the old chord angles and chords of a chunk's elements (RJ__OLD) */                                                                   \
-    double EB[3 * RJ__CHUNK];                                                                                                                         \
-    const int en = !adv || adv->en, ip = IP;   /* strain energies wanted; in place (compiled apart) */                                                 \
-    int l;                                                                                                                                            \
-    for (l = 0; l < m->nl; l++) {                                                                                                                     \
-        const int n0 = m->link_first[l], e0 = m->link_efirst[l], ne = m->link_efirst[l + 1] - e0;                                                     \
-        const double *kc = m->link_kc + 4 * (size_t)l;                                                                                                \
-        const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];                                                                    \
-        int c0;                                                                                                                                       \
-        if (m->ldef[l].fidelity == RJ_LINK_RIGID) {                                                                                                   \
-            /* a rigid link: no elements; its nodes take only what joints apply (and are                                                              \
-               advanced with the joints' nodes) */                                                                                                    \
-            for (c0 = 0; c0 < ne; c0++) {                                                                                                             \
-                beta_out[e0 + c0] = beta[e0 + c0]; cx_out[e0 + c0] = cx[e0 + c0]; cy_out[e0 + c0] = cy[e0 + c0];                                      \
-                eu[e0 + c0] = 0;                                                                                                                      \
-            }                                                                                                                                         \
-            for (c0 = 0; c0 <= ne; c0++) fx[n0 + c0] = fy[n0 + c0] = mz[n0 + c0] = 0;                                                                 \
-            continue;                                                                                                                                 \
-        }                                                                                                                                             \
-        FX[0] = FY[0] = -0.0; M1[0] = M2[0] = 0.0;                                                                                                    \
-        for (c0 = 0; c0 < ne; c0 += RJ__CHUNK) {                                                                                                      \
-            const int nc = ne - c0 < RJ__CHUNK ? ne - c0 : RJ__CHUNK, a = e0 + c0, na = n0 + c0, last = c0 + nc == ne;                                \
-            const double *RQ xa = x + na, *RQ ya = y + na, *RQ pa = phi + na;   /* RQ: restrict, but in place */                                          \
-            const double *RQ bb = beta + a, *RQ ccx = cx + a, *RQ ccy = cy + a;                                                                           \
-            double *RJ__RESTRICT ue = eu + a, *RQ bo = beta_out + a;   /* in place: bb */                                                             \
-            int nb = 0;   /* in place: elements whose old values are in EB */                                                                         \
-            int i;                                                                                                                                    \
-            i = W > 1 && nc >= W ? ELEM(nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a, ip ? EB : NULL, en) : 0;                        \
-            if (ip && W > 1 && nc >= W) nb = nc / W * W;                                                                                              \
-            if (i >= 0 && i < nc) { i = rj__elem_scalar(i, nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo, cx_out + a, cy_out + a, ip ? EB : NULL); nb = ip ? nc : 0; }\
-            if (i < 0) {                                                                                                                              \
-                /* a chord turned more than 0.02 rad in one step: exact angles for this chunk */                                                      \
-                for (i = 0; i < nc; i++) {                                                                                                            \
-                    const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];                                                                      \
-                    const double ox = RJ__OLD(ccx, 1), oy = RJ__OLD(ccy, 2);   /* nb is 0 unless in place */                                       \
-                    const double bt = RJ__OLD(bb, 0) + atan2(ox * ey - oy * ex, ox * ex + oy * ey);                                                    \
-                    RJ__ELEM_FORCES(double, ex, ey, bt, 1.0 / (ex * ex + ey * ey), pa[i], pa[i + 1]);                                                 \
-                    bo[i] = bt; if (ip) { cx_out[a + i] = ex; cy_out[a + i] = ey; }   /* (the lanes may not have) */                                    \
-                    FX[1 + i] = fx_; FY[1 + i] = fy_; M1[1 + i] = ma_; M2[1 + i] = mb_; ue[i] = u_;                                                   \
-                }                                                                                                                                     \
-            }                                                                                                                                         \
-            if (last) { FX[nc + 1] = FY[nc + 1] = M1[nc + 1] = 0.0; }                                                                                 \
-            /* the chunk's nodes whose elements are all summed: na .. na + nc - 1, and the                                                            \
+#define RJ__OLD(p, k) (i < nb ? EB[(k) *RJ__CHUNK + i] : (p)[i])
+#define RJ__BEAM_PASS(NAME, ATTR, W, ELEM, NODE, IP, RQ)                                                                                                    \
+    ATTR static int NAME(const rj_model *m, const double *x, const double *y, const double *phi,                                                            \
+                         const double *beta, const double *cx, const double *cy, double *eu,                                                                \
+                         double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy,                                                          \
+                         double *mz, const rj__adv *adv)                                                                                                    \
+    {                                                                                                                                                       \
+        /* chunk buffers: entry 0 is the previous chunk's last element (or the -0.0 / +0.0 before                                                         \
+       a link's first), entries 1 .. nc this chunk's, nc + 1 the +0.0 after a link's last */ \
+        double FB[4 * RJ__FROW];                                                                                                                            \
+        double *FX = FB, *FY = FB + RJ__FROW, *M1 = FB + 2 * RJ__FROW, *M2 = FB + 3 * RJ__FROW;                                                             \
+        /* in place: the old chord angles and chords of a chunk's elements (RJ__OLD) */                                                                     \
+        double EB[3 * RJ__CHUNK];                                                                                                                           \
+        const int en = !adv || adv->en,                                                                                                                     \
+                  ip = IP; /* strain energies wanted; in place (compiled apart) */                                                                          \
+        int l;                                                                                                                                              \
+        for (l = 0; l < m->nl; l++) {                                                                                                                       \
+            const int n0 = m->link_first[l], e0 = m->link_efirst[l],                                                                                        \
+                      ne = m->link_efirst[l + 1] - e0;                                                                                                      \
+            const double *kc = m->link_kc + 4 * (size_t) l;                                                                                                 \
+            const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];                                                                      \
+            int c0;                                                                                                                                         \
+            if (m->ldef[l].fidelity == RJ_LINK_RIGID) {                                                                                                     \
+                /* a rigid link: no elements; its nodes take only what joints apply (and are                                                              \
+               advanced with the joints' nodes) */ \
+                for (c0 = 0; c0 < ne; c0++) {                                                                                                               \
+                    beta_out[e0 + c0] = beta[e0 + c0];                                                                                                      \
+                    cx_out[e0 + c0] = cx[e0 + c0];                                                                                                          \
+                    cy_out[e0 + c0] = cy[e0 + c0];                                                                                                          \
+                    eu[e0 + c0] = 0;                                                                                                                        \
+                }                                                                                                                                           \
+                for (c0 = 0; c0 <= ne; c0++)                                                                                                                \
+                    fx[n0 + c0] = fy[n0 + c0] = mz[n0 + c0] = 0;                                                                                            \
+                continue;                                                                                                                                   \
+            }                                                                                                                                               \
+            FX[0] = FY[0] = -0.0;                                                                                                                           \
+            M1[0] = M2[0] = 0.0;                                                                                                                            \
+            for (c0 = 0; c0 < ne; c0 += RJ__CHUNK) {                                                                                                        \
+                const int nc = ne - c0 < RJ__CHUNK ? ne - c0 : RJ__CHUNK, a = e0 + c0,                                                                      \
+                          na = n0 + c0, last = c0 + nc == ne;                                                                                               \
+                const double *RQ xa = x + na, *RQ ya = y + na,                                                                                              \
+                                 *RQ pa = phi + na; /* RQ: restrict, but in place */                                                                        \
+                const double *RQ bb = beta + a, *RQ ccx = cx + a, *RQ ccy = cy + a;                                                                         \
+                double *RJ__RESTRICT ue = eu + a, *RQ bo = beta_out + a; /* in place: bb */                                                                 \
+                int nb = 0; /* in place: elements whose old values are in EB */                                                                             \
+                int i;                                                                                                                                      \
+                i = W > 1 && nc >= W ? ELEM(nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo,                                                               \
+                                            cx_out + a, cy_out + a, ip ? EB : NULL, en)                                                                     \
+                                     : 0;                                                                                                                   \
+                if (ip && W > 1 && nc >= W)                                                                                                                 \
+                    nb = nc / W * W;                                                                                                                        \
+                if (i >= 0 && i < nc) {                                                                                                                     \
+                    i = rj__elem_scalar(i, nc, kc, xa, ya, pa, bb, ccx, ccy, FB + 1, ue, bo,                                                                \
+                                        cx_out + a, cy_out + a, ip ? EB : NULL);                                                                            \
+                    nb = ip ? nc : 0;                                                                                                                       \
+                }                                                                                                                                           \
+                if (i < 0) {                                                                                                                                \
+                    /* a chord turned more than 0.02 rad in one step: exact angles for this chunk */                                                        \
+                    for (i = 0; i < nc; i++) {                                                                                                              \
+                        const double ex = xa[i + 1] - xa[i], ey = ya[i + 1] - ya[i];                                                                        \
+                        const double ox = RJ__OLD(ccx, 1),                                                                                                  \
+                                     oy = RJ__OLD(ccy, 2); /* nb is 0 unless in place */                                                                    \
+                        const double bt =                                                                                                                   \
+                            RJ__OLD(bb, 0) + atan2(ox * ey - oy * ex, ox * ex + oy * ey);                                                                   \
+                        RJ__ELEM_FORCES(double, ex, ey, bt, 1.0 / (ex * ex + ey * ey), pa[i],                                                               \
+                                        pa[i + 1]);                                                                                                         \
+                        bo[i] = bt;                                                                                                                         \
+                        if (ip) {                                                                                                                           \
+                            cx_out[a + i] = ex;                                                                                                             \
+                            cy_out[a + i] = ey;                                                                                                             \
+                        } /* (the lanes may not have) */                                                                                                    \
+                        FX[1 + i] = fx_;                                                                                                                    \
+                        FY[1 + i] = fy_;                                                                                                                    \
+                        M1[1 + i] = ma_;                                                                                                                    \
+                        M2[1 + i] = mb_;                                                                                                                    \
+                        ue[i] = u_;                                                                                                                         \
+                    }                                                                                                                                       \
+                }                                                                                                                                           \
+                if (last) {                                                                                                                                 \
+                    FX[nc + 1] = FY[nc + 1] = M1[nc + 1] = 0.0;                                                                                             \
+                }                                                                                                                                           \
+                /* the chunk's nodes whose elements are all summed: na .. na + nc - 1, and the                                                            \
                link's last node with the last chunk; their forces are stored in the chunks                                                            \
                that hold nodes the step advances again (m->dnode: a link's end nodes, and                                                             \
-               inner ones only in scenes with dn_inner) */                                                                                            \
-            i = adv && W > 1 && nc + last >= W ? NODE(ip ? (nc + last) / W * W : nc + last, na, m->link_un + 5 * l, adv, FB, x, y, phi, c0 == 0 || last || m->dn_inner, en) : 0; \
-            if (i < nc + last) rj__node_scalar(i, nc + last, na, FB, fx, fy, mz, x, y, phi, adv);                                                     \
-            FX[0] = FX[nc]; FY[0] = FY[nc]; M1[0] = M1[nc]; M2[0] = M2[nc];                                                                           \
-        }                                                                                                                                             \
-    }                                                                                                                                                 \
-    return en;                                                                                                                                        \
-}
+               inner ones only in scenes with dn_inner) */ \
+                i = adv && W > 1 && nc + last >= W                                                                                                          \
+                        ? NODE(ip ? (nc + last) / W * W : nc + last, na, m->link_un + 5 * l, adv,                                                           \
+                               FB, x, y, phi, c0 == 0 || last || m->dn_inner, en)                                                                           \
+                        : 0;                                                                                                                                \
+                if (i < nc + last)                                                                                                                          \
+                    rj__node_scalar(i, nc + last, na, FB, fx, fy, mz, x, y, phi, adv);                                                                      \
+                FX[0] = FX[nc];                                                                                                                             \
+                FY[0] = FY[nc];                                                                                                                             \
+                M1[0] = M1[nc];                                                                                                                             \
+                M2[0] = M2[nc];                                                                                                                             \
+            }                                                                                                                                               \
+        }                                                                                                                                                   \
+        return en;                                                                                                                                          \
+    }
 
 #ifdef RJ__LANES4
 RJ__BEAM_PASS(rj__beam_pass4, RJ__AVX2, 4, rj__elem_lanes4, rj__node_lanes4, 0, RJ__RESTRICT)
@@ -1695,16 +2314,39 @@ RJ__BEAM_PASS(rj__beam_pass2, , 2, rj__elem_lanes2, rj__node_lanes2, 0, RJ__REST
 RJ__BEAM_PASS(rj__beam_pass2ip, , 2, rj__elem_lanes2ip, rj__node_lanes2, 1, )
 #endif
 #ifndef RJ__LANES
-static int rj__elem_none(int ne, const double *kc, const double *xa, const double *ya, const double *pa, const double *bb,
-                         const double *ccx, const double *ccy, double *F, double *ue, double *bo, double *cox, double *coy, double *bk, int en)
+static int rj__elem_none(int ne, const double *kc, const double *xa, const double *ya,
+                         const double *pa, const double *bb, const double *ccx, const double *ccy,
+                         double *F, double *ue, double *bo, double *cox, double *coy, double *bk,
+                         int en)
 {
-    (void)kc; (void)xa; (void)ya; (void)pa; (void)bb; (void)ccx; (void)ccy; (void)F; (void)ue; (void)bo; (void)cox; (void)coy; (void)bk; (void)en;
+    (void) kc;
+    (void) xa;
+    (void) ya;
+    (void) pa;
+    (void) bb;
+    (void) ccx;
+    (void) ccy;
+    (void) F;
+    (void) ue;
+    (void) bo;
+    (void) cox;
+    (void) coy;
+    (void) bk;
+    (void) en;
     return ne * 0;
 }
-static int rj__node_none(int cnt, int n, const double *un, const rj__adv *a, const double *F, const double *x,
-                         const double *y, const double *phi, int store, int en)
+static int rj__node_none(int cnt, int n, const double *un, const rj__adv *a, const double *F,
+                         const double *x, const double *y, const double *phi, int store, int en)
 {
-    (void)n; (void)un; (void)a; (void)F; (void)x; (void)y; (void)phi; (void)store; (void)en;
+    (void) n;
+    (void) un;
+    (void) a;
+    (void) F;
+    (void) x;
+    (void) y;
+    (void) phi;
+    (void) store;
+    (void) en;
     return cnt * 0;
 }
 RJ__BEAM_PASS(rj__beam_pass1, , 1, rj__elem_none, rj__node_none, 0, RJ__RESTRICT)
@@ -1712,21 +2354,30 @@ RJ__BEAM_PASS(rj__beam_pass1ip, , 1, rj__elem_none, rj__node_none, 1, )
 #endif
 
 /* Internal forces at x (see RJ__BEAM_PASS), in the widest lanes the CPU has. */
-static RJ__FORCE_INLINE double rj__beam_pass(const rj_model *m, const double *x, const double *y, const double *phi,
-                            const double *beta, const double *cx, const double *cy, double *eu,
-                            double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy, double *mz, const rj__adv *adv)
+static RJ__FORCE_INLINE double rj__beam_pass(const rj_model *m, const double *x, const double *y,
+                                             const double *phi, const double *beta,
+                                             const double *cx, const double *cy, double *eu,
+                                             double *beta_out, double *cx_out, double *cy_out,
+                                             double *fx, double *fy, double *mz, const rj__adv *adv)
 {
     int en;
     const int ip = adv && adv->ip;
 #if defined(RJ__DISPATCH)
-    if (__builtin_cpu_supports("avx2")) en = (ip ? rj__beam_pass4ip : rj__beam_pass4)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
-    else en = (ip ? rj__beam_pass2ip : rj__beam_pass2)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+    if (__builtin_cpu_supports("avx2"))
+        en = (ip ? rj__beam_pass4ip : rj__beam_pass4)(m, x, y, phi, beta, cx, cy, eu, beta_out,
+                                                      cx_out, cy_out, fx, fy, mz, adv);
+    else
+        en = (ip ? rj__beam_pass2ip : rj__beam_pass2)(m, x, y, phi, beta, cx, cy, eu, beta_out,
+                                                      cx_out, cy_out, fx, fy, mz, adv);
 #elif defined(RJ__LANES4)
-    en = (ip ? rj__beam_pass4ip : rj__beam_pass4)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+    en = (ip ? rj__beam_pass4ip : rj__beam_pass4)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out,
+                                                  cy_out, fx, fy, mz, adv);
 #elif defined(RJ__LANES2)
-    en = (ip ? rj__beam_pass2ip : rj__beam_pass2)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+    en = (ip ? rj__beam_pass2ip : rj__beam_pass2)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out,
+                                                  cy_out, fx, fy, mz, adv);
 #else
-    en = (ip ? rj__beam_pass1ip : rj__beam_pass1)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+    en = (ip ? rj__beam_pass1ip : rj__beam_pass1)(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out,
+                                                  cy_out, fx, fy, mz, adv);
 #endif
     return en ? rj__sum8(eu, m->ne) : 0.0;
 }
@@ -1735,15 +2386,28 @@ static RJ__FORCE_INLINE double rj__beam_pass(const rj_model *m, const double *x,
 /* The element needs four things from the bodies it joins: the rotary location, its rate,
    a way to apply a torque pair, and the inertias it acts on. Both reference modes supply
    them here; everything above (flags, methods, friction, energy) is shared. */
-typedef struct rj__jgeo { double ax, ay, bx, by, a2, b2; } rj__jgeo;
+typedef struct rj__jgeo {
+    double ax, ay, bx, by, a2, b2;
+} rj__jgeo;
 
-static RJ__INLINE void rj__joint_geo(const rj_model *m, const rj__joint *J, const double *x, const double *y, rj__jgeo *g)
+static RJ__INLINE void rj__joint_geo(const rj_model *m, const rj__joint *J, const double *x,
+                                     const double *y, rj__jgeo *g)
 {
-    (void)m;
-    if (!J->chord) { g->ax = g->ay = g->bx = g->by = 0; g->a2 = g->b2 = 1; return; }
-    if (J->nK >= 0) { g->ax = x[J->nK] - x[J->nI]; g->ay = y[J->nK] - y[J->nI]; }
-    else { g->ax = J->gax; g->ay = J->gay; }
-    g->bx = x[J->nL] - x[J->nJ]; g->by = y[J->nL] - y[J->nJ];
+    (void) m;
+    if (!J->chord) {
+        g->ax = g->ay = g->bx = g->by = 0;
+        g->a2 = g->b2 = 1;
+        return;
+    }
+    if (J->nK >= 0) {
+        g->ax = x[J->nK] - x[J->nI];
+        g->ay = y[J->nK] - y[J->nI];
+    } else {
+        g->ax = J->gax;
+        g->ay = J->gay;
+    }
+    g->bx = x[J->nL] - x[J->nJ];
+    g->by = y[J->nL] - y[J->nJ];
     g->a2 = g->ax * g->ax + g->ay * g->ay;
     g->b2 = g->bx * g->bx + g->by * g->by;
 }
@@ -1752,55 +2416,75 @@ static RJ__INLINE void rj__joint_geo(const rj_model *m, const rj__joint *J, cons
    running angle itself */
 static RJ__INLINE double rj__joint_raw(const rj__joint *J, const rj__jgeo *g, const double *phi)
 {
-    if (J->chord) return atan2(g->ax * g->by - g->ay * g->bx, g->ax * g->bx + g->ay * g->by);
+    if (J->chord)
+        return atan2(g->ax * g->by - g->ay * g->bx, g->ax * g->bx + g->ay * g->by);
     return J->off + phi[J->nJ] - (J->nI >= 0 ? phi[J->nI] : 0.0);
 }
 
 /* theta_dot = omega_2 - omega_1; chord mode omega = (r x v_r) / |r|^2 (from Eqs 1-3) */
-static RJ__INLINE double rj__joint_rate(const rj__joint *J, const rj__jgeo *g, const double *vx, const double *vy, const double *w, double *w1, double *w2)
+static RJ__INLINE double rj__joint_rate(const rj__joint *J, const rj__jgeo *g, const double *vx,
+                                        const double *vy, const double *w, double *w1, double *w2)
 {
     double o1 = 0.0, o2;
     if (J->chord) {
-        if (J->nK >= 0) o1 = (g->ax * (vy[J->nK] - vy[J->nI]) - g->ay * (vx[J->nK] - vx[J->nI])) / g->a2;
+        if (J->nK >= 0)
+            o1 = (g->ax * (vy[J->nK] - vy[J->nI]) - g->ay * (vx[J->nK] - vx[J->nI])) / g->a2;
         o2 = (g->bx * (vy[J->nL] - vy[J->nJ]) - g->by * (vx[J->nL] - vx[J->nJ])) / g->b2;
     } else {
-        if (J->nI >= 0) o1 = w[J->nI];
+        if (J->nI >= 0)
+            o1 = w[J->nI];
         o2 = w[J->nJ];
     }
-    if (w1) *w1 = o1;
-    if (w2) *w2 = o2;
+    if (w1)
+        *w1 = o1;
+    if (w2)
+        *w2 = o2;
     return o2 - o1;
 }
 
 /* Torque tau on body 2 and -tau on body 1. Chord mode: force couples on J-L and I-K,
    F_L = tau perp(b)/|b|^2 = -F_J, F_K = -tau perp(a)/|a|^2 = -F_I. Tangent mode: moments
    on the pin nodes' rotations. Either way the force is tau times the gradient of theta. */
-static RJ__INLINE void rj__apply_torque(const rj__joint *J, const rj__jgeo *g, double tau, double *fx, double *fy, double *mz)
+static RJ__INLINE void rj__apply_torque(const rj__joint *J, const rj__jgeo *g, double tau,
+                                        double *fx, double *fy, double *mz)
 {
     double sx, sy;
     if (!J->chord) {
         mz[J->nJ] += tau;
-        if (J->nI >= 0) mz[J->nI] -= tau;
+        if (J->nI >= 0)
+            mz[J->nI] -= tau;
         return;
     }
-    sx = -tau * g->by / g->b2; sy = tau * g->bx / g->b2;
-    fx[J->nL] += sx; fy[J->nL] += sy; fx[J->nJ] -= sx; fy[J->nJ] -= sy;
+    sx = -tau * g->by / g->b2;
+    sy = tau * g->bx / g->b2;
+    fx[J->nL] += sx;
+    fy[J->nL] += sy;
+    fx[J->nJ] -= sx;
+    fy[J->nJ] -= sy;
     if (J->nK >= 0) {
-        sx = tau * g->ay / g->a2; sy = -tau * g->ax / g->a2;
-        fx[J->nK] += sx; fy[J->nK] += sy; fx[J->nI] -= sx; fy[J->nI] -= sy;
+        sx = tau * g->ay / g->a2;
+        sy = -tau * g->ax / g->a2;
+        fx[J->nK] += sx;
+        fy[J->nK] += sy;
+        fx[J->nI] -= sx;
+        fy[J->nI] -= sy;
     }
 }
 
 /* g^T M^-1 g: rate change per unit torque impulse (1/I_red, with the pin's own mass). */
-static RJ__INLINE double rj__joint_compliance(const rj_model *m, const rj__joint *J, const rj__jgeo *g)
+static RJ__INLINE double rj__joint_compliance(const rj_model *m, const rj__joint *J,
+                                              const rj__jgeo *g)
 {
     double c, px, py;
-    if (!J->chord) return m->rinv[J->nJ] + (J->nI >= 0 ? m->rinv[J->nI] : 0.0);
+    if (!J->chord)
+        return m->rinv[J->nJ] + (J->nI >= 0 ? m->rinv[J->nI] : 0.0);
     c = m->einv[J->nL] / g->b2;
-    px = g->by / g->b2; py = -g->bx / g->b2;   /* g_J = -perp(b)/|b|^2 */
+    px = g->by / g->b2;
+    py = -g->bx / g->b2; /* g_J = -perp(b)/|b|^2 */
     if (J->nK >= 0) {
         c += m->einv[J->nK] / g->a2;
-        px += -g->ay / g->a2; py += g->ax / g->a2; /* g_I = perp(a)/|a|^2 */
+        px += -g->ay / g->a2;
+        py += g->ax / g->a2; /* g_I = perp(a)/|a|^2 */
     }
     c += m->einv[J->nJ] * (px * px + py * py);
     return c;
@@ -1808,25 +2492,34 @@ static RJ__INLINE double rj__joint_compliance(const rj_model *m, const rj__joint
 
 /* Adds rotation increments dw1 to body 1's and dw2 to body 2's reference (node K / L
    velocities in chord mode, pin rotations in tangent mode). */
-static void rj__spin(const rj__joint *J, const rj__jgeo *g, double dw1, double dw2, double *vx, double *vy, double *w)
+static void rj__spin(const rj__joint *J, const rj__jgeo *g, double dw1, double dw2, double *vx,
+                     double *vy, double *w)
 {
     if (!J->chord) {
         w[J->nJ] += dw2;
-        if (J->nI >= 0) w[J->nI] += dw1;
+        if (J->nI >= 0)
+            w[J->nI] += dw1;
         return;
     }
-    vx[J->nL] += -dw2 * g->by; vy[J->nL] += dw2 * g->bx;
-    if (J->nK >= 0) { vx[J->nK] += -dw1 * g->ay; vy[J->nK] += dw1 * g->ax; }
+    vx[J->nL] += -dw2 * g->by;
+    vy[J->nL] += dw2 * g->bx;
+    if (J->nK >= 0) {
+        vx[J->nK] += -dw1 * g->ay;
+        vy[J->nK] += dw1 * g->ax;
+    }
 }
 
 /* Turns body 2's reference by d2 and body 1's by d1 (forced displacement). */
 /* The positions of a joint's nodes summed: finite while they all are. */
-static double rj__joint_nodes_sum(const rj__joint *J, const double *x, const double *y, const double *phi)
+static double rj__joint_nodes_sum(const rj__joint *J, const double *x, const double *y,
+                                  const double *phi)
 {
     const int nodes[4] = { J->nI, J->nK, J->nJ, J->nL };
     double sum = 0;
     int k;
-    for (k = 0; k < 4; k++) if (nodes[k] >= 0) sum += (x[nodes[k]] + y[nodes[k]]) + phi[nodes[k]];
+    for (k = 0; k < 4; k++)
+        if (nodes[k] >= 0)
+            sum += (x[nodes[k]] + y[nodes[k]]) + phi[nodes[k]];
     return sum;
 }
 
@@ -1835,37 +2528,53 @@ static void rj__turn(const rj__joint *J, double d1, double d2, double *x, double
     double c, sn, rx, ry;
     if (!J->chord) {
         phi[J->nJ] += d2;
-        if (J->nI >= 0) phi[J->nI] += d1;
+        if (J->nI >= 0)
+            phi[J->nI] += d1;
         return;
     }
     if (d2 != 0) {
-        c = cos(d2); sn = sin(d2); rx = x[J->nL] - x[J->nJ]; ry = y[J->nL] - y[J->nJ];
-        x[J->nL] = x[J->nJ] + c * rx - sn * ry; y[J->nL] = y[J->nJ] + sn * rx + c * ry;
+        c = cos(d2);
+        sn = sin(d2);
+        rx = x[J->nL] - x[J->nJ];
+        ry = y[J->nL] - y[J->nJ];
+        x[J->nL] = x[J->nJ] + c * rx - sn * ry;
+        y[J->nL] = y[J->nJ] + sn * rx + c * ry;
     }
     if (d1 != 0 && J->nK >= 0) {
-        c = cos(d1); sn = sin(d1); rx = x[J->nK] - x[J->nI]; ry = y[J->nK] - y[J->nI];
-        x[J->nK] = x[J->nI] + c * rx - sn * ry; y[J->nK] = y[J->nI] + sn * rx + c * ry;
+        c = cos(d1);
+        sn = sin(d1);
+        rx = x[J->nK] - x[J->nI];
+        ry = y[J->nK] - y[J->nI];
+        x[J->nK] = x[J->nI] + c * rx - sn * ry;
+        y[J->nK] = y[J->nI] + sn * rx + c * ry;
     }
 }
 
 /* Table and spring: resistive torque on body 2 is -(table + spring); potential energy. */
-static double rj__table_turns_potential(const rj_joint_def *d, const rj__joint *J, double run, double *torque)
+static double rj__table_turns_potential(const rj_joint_def *d, const rj__joint *J, double run,
+                                        double *torque)
 {
     double th = rj__mod2pi(run), turns = floor(run / RJ__TWO_PI);
     *torque = rj_table_torque(d->table_angle, d->table_torque, d->table_count, th);
-    return rj__table_potential(d->table_angle, d->table_torque, d->table_count, th) + turns * J->tv_turn;
+    return rj__table_potential(d->table_angle, d->table_torque, d->table_count, th) +
+           turns * J->tv_turn;
 }
 
 /* ------------------------------------------------------------------ model build */
-static void rj__place(const rj_model *m, int l, double px, double py, double ang, double vpx, double vpy, double om,
-                      double *x, double *y, double *phi, double *vx, double *vy, double *w)
+static void rj__place(const rj_model *m, int l, double px, double py, double ang, double vpx,
+                      double vpy, double om, double *x, double *y, double *phi, double *vx,
+                      double *vy, double *w)
 {
     int i, n0 = m->link_first[l], ne = m->ldef[l].elements;
     double c = cos(ang), s = sin(ang), l0 = m->link_l0[l];
     for (i = 0; i <= ne; i++) {
         double rx = c * l0 * i, ry = s * l0 * i;
-        x[n0 + i] = px + rx; y[n0 + i] = py + ry; phi[n0 + i] = ang;
-        vx[n0 + i] = vpx - om * ry; vy[n0 + i] = vpy + om * rx; w[n0 + i] = om;
+        x[n0 + i] = px + rx;
+        y[n0 + i] = py + ry;
+        phi[n0 + i] = ang;
+        vx[n0 + i] = vpx - om * ry;
+        vy[n0 + i] = vpy + om * rx;
+        w[n0 + i] = om;
     }
 }
 
@@ -1879,8 +2588,10 @@ static void rj__place(const rj_model *m, int l, double px, double py, double ang
    inertia are the link's exact ones (rod, tip mass and inertia) plus the pinned nodes'
    lumped masses. The step is the same central difference: rates at half steps, the
    nodes placed by the exact rotation, so the body stays rigid to round-off. */
-#define RJ__FCL(m, f, c) ((f) + (m)->cl_off + 6 * (size_t)(c))
-#define RJ__CL_RIGID(m, n) ((m)->node_cl[n] >= 0 && (n) >= (m)->link_first[(m)->node_cl[n]] && (n) < (m)->link_first[(m)->node_cl[n] + 1])
+#define RJ__FCL(m, f, c) ((f) + (m)->cl_off + 6 * (size_t) (c))
+#define RJ__CL_RIGID(m, n)                                                                         \
+    ((m)->node_cl[n] >= 0 && (n) >= (m)->link_first[(m)->node_cl[n]] &&                            \
+     (n) < (m)->link_first[(m)->node_cl[n] + 1])
 
 static int rj__clusters(rj_model *m, rj_error *err)
 {
@@ -1891,63 +2602,115 @@ static int rj__clusters(rj_model *m, rj_error *err)
         double A, mr, mt, dc, ux, uy, cx, cy, vcx, vcy, M, ax, ay, vax, vay, I, w0 = m->w0[n0];
         int nfix = 0, fixn = -1, held = 0;
         m->cl_first[l] = cnt;
-        if (d->fidelity != RJ_LINK_RIGID) continue;
-        for (i = n0; i <= nt; i++) { m->cl_node[cnt++] = i; m->node_cl[i] = l; }
+        if (d->fidelity != RJ_LINK_RIGID)
+            continue;
+        for (i = n0; i <= nt; i++) {
+            m->cl_node[cnt++] = i;
+            m->node_cl[i] = l;
+        }
         for (gi = 0; gi < m->ng; gi++) {
             int has = 0;
-            for (k = m->grp_first[gi]; k < m->grp_first[gi + 1]; k++) if (m->grp_node[k] >= n0 && m->grp_node[k] <= nt) has = 1;
-            if (!has) continue;
-            if (m->grp_inv[gi] == 0) { nfix++; fixn = m->grp_node[m->grp_first[gi]]; }   /* pinned to something fixed */
+            for (k = m->grp_first[gi]; k < m->grp_first[gi + 1]; k++)
+                if (m->grp_node[k] >= n0 && m->grp_node[k] <= nt)
+                    has = 1;
+            if (!has)
+                continue;
+            if (m->grp_inv[gi] == 0) {
+                nfix++;
+                fixn = m->grp_node[m->grp_first[gi]];
+            } /* pinned to something fixed */
             for (k = m->grp_first[gi]; k < m->grp_first[gi + 1]; k++) {
                 const int n = m->grp_node[k];
-                if (m->node_cl[n] < 0) { m->cl_node[cnt++] = n; m->node_cl[n] = l; }
+                if (m->node_cl[n] < 0) {
+                    m->cl_node[cnt++] = n;
+                    m->node_cl[n] = l;
+                }
             }
         }
         for (i = n0; i <= nt; i++) {
-            if (m->rinv[i] == 0) held = 1;   /* clamped or fixed */
-            if (m->node_grp[i] < 0 && m->tinv[i] == 0) { nfix++; fixn = i; }
+            if (m->rinv[i] == 0)
+                held = 1; /* clamped or fixed */
+            if (m->node_grp[i] < 0 && m->tinv[i] == 0) {
+                nfix++;
+                fixn = i;
+            }
         }
         /* the link as a body: rod plus tip mass, as in scenes of rigid links */
         A = d->section == RJ_SECTION_RECT ? d->width * d->height : d->area;
-        mr = d->rho * A * d->length; mt = mr + d->tip_mass;
+        mr = d->rho * A * d->length;
+        mt = mr + d->tip_mass;
         dc = (mr * 0.5 * d->length + d->tip_mass * d->length) / mt;
-        ux = (m->x0[nt] - m->x0[n0]) / d->length; uy = (m->y0[nt] - m->y0[n0]) / d->length;
-        cx = m->x0[n0] + dc * ux; cy = m->y0[n0] + dc * uy;
-        vcx = m->vx0[n0] - w0 * (cy - m->y0[n0]); vcy = m->vy0[n0] + w0 * (cx - m->x0[n0]);
-        M = mt; ax = mt * cx; ay = mt * cy; vax = mt * vcx; vay = mt * vcy;
+        ux = (m->x0[nt] - m->x0[n0]) / d->length;
+        uy = (m->y0[nt] - m->y0[n0]) / d->length;
+        cx = m->x0[n0] + dc * ux;
+        cy = m->y0[n0] + dc * uy;
+        vcx = m->vx0[n0] - w0 * (cy - m->y0[n0]);
+        vcy = m->vy0[n0] + w0 * (cx - m->x0[n0]);
+        M = mt;
+        ax = mt * cx;
+        ay = mt * cy;
+        vax = mt * vcx;
+        vay = mt * vcy;
         for (k = m->cl_first[l]; k < cnt; k++) {
             const int n = m->cl_node[k];
-            if (n >= n0 && n <= nt) continue;
-            M += m->mass[n]; ax += m->mass[n] * m->x0[n]; ay += m->mass[n] * m->y0[n]; vax += m->mass[n] * m->vx0[n]; vay += m->mass[n] * m->vy0[n];
+            if (n >= n0 && n <= nt)
+                continue;
+            M += m->mass[n];
+            ax += m->mass[n] * m->x0[n];
+            ay += m->mass[n] * m->y0[n];
+            vax += m->mass[n] * m->vx0[n];
+            vay += m->mass[n] * m->vy0[n];
         }
-        ax /= M; ay /= M; vax /= M; vay /= M;
+        ax /= M;
+        ay /= M;
+        vax /= M;
+        vay /= M;
         m->cl_fix[l] = held || nfix > 1 ? 2 : nfix;
-        if (nfix >= 1) { ax = m->x0[fixn]; ay = m->y0[fixn]; vax = vay = 0; }
-        if (m->cl_fix[l] == 2) { vax = vay = 0; w0 = 0; }
-        I = mr * d->length * d->length / 12.0 + mr * (0.5 * d->length - dc) * (0.5 * d->length - dc)
-            + d->tip_mass * (d->length - dc) * (d->length - dc) + d->tip_inertia
-            + mt * ((cx - ax) * (cx - ax) + (cy - ay) * (cy - ay));
+        if (nfix >= 1) {
+            ax = m->x0[fixn];
+            ay = m->y0[fixn];
+            vax = vay = 0;
+        }
+        if (m->cl_fix[l] == 2) {
+            vax = vay = 0;
+            w0 = 0;
+        }
+        I = mr * d->length * d->length / 12.0 +
+            mr * (0.5 * d->length - dc) * (0.5 * d->length - dc) +
+            d->tip_mass * (d->length - dc) * (d->length - dc) + d->tip_inertia +
+            mt * ((cx - ax) * (cx - ax) + (cy - ay) * (cy - ay));
         for (k = m->cl_first[l]; k < cnt; k++) {
             const int n = m->cl_node[k];
-            if (n < n0 || n > nt) I += m->mass[n] * ((m->x0[n] - ax) * (m->x0[n] - ax) + (m->y0[n] - ay) * (m->y0[n] - ay));
+            if (n < n0 || n > nt)
+                I += m->mass[n] *
+                     ((m->x0[n] - ax) * (m->x0[n] - ax) + (m->y0[n] - ay) * (m->y0[n] - ay));
         }
-        m->cl_M[l] = M; m->cl_I[l] = I;
-        m->cl_th0[3 * l] = m->phi0[n0]; m->cl_th0[3 * l + 1] = vax; m->cl_th0[3 * l + 2] = vay;
+        m->cl_M[l] = M;
+        m->cl_I[l] = I;
+        m->cl_th0[3 * l] = m->phi0[n0];
+        m->cl_th0[3 * l + 1] = vax;
+        m->cl_th0[3 * l + 2] = vay;
         for (k = m->cl_first[l]; k < cnt; k++) {
             const int n = m->cl_node[k];
             const int own = n >= n0 && n <= nt;
-            m->cl_rx[n] = m->x0[n] - ax; m->cl_ry[n] = m->y0[n] - ay;
-            m->einv[n] = 0; m->kmass[n] = 0;
+            m->cl_rx[n] = m->x0[n] - ax;
+            m->cl_ry[n] = m->y0[n] - ay;
+            m->einv[n] = 0;
+            m->kmass[n] = 0;
             /* a pinned node's translation is the body's point there: its largest inverse
                mass (1/M + r^2/I) stands in for it in the stability bound and in the rate
                predictions of joints between flexible links at that node; the body's
                update overwrites what the node update does with it */
-            m->tinv[n] = own || m->cl_fix[l] == 2 ? 0.0
-                       : (m->cl_fix[l] == 0 ? 1.0 / M : 0.0) + (m->cl_rx[n] * m->cl_rx[n] + m->cl_ry[n] * m->cl_ry[n]) / I;
+            m->tinv[n] = own || m->cl_fix[l] == 2
+                             ? 0.0
+                             : (m->cl_fix[l] == 0 ? 1.0 / M : 0.0) +
+                                   (m->cl_rx[n] * m->cl_rx[n] + m->cl_ry[n] * m->cl_ry[n]) / I;
             /* the initial velocities of the rigid motion */
-            m->vx0[n] = vax - w0 * m->cl_ry[n]; m->vy0[n] = vay + w0 * m->cl_rx[n];
+            m->vx0[n] = vax - w0 * m->cl_ry[n];
+            m->vy0[n] = vay + w0 * m->cl_rx[n];
             if (own) {
-                m->krot[n] = 0; m->mass[n] = 0;
+                m->krot[n] = 0;
+                m->mass[n] = 0;
                 m->rinertia[n] = I;
                 m->rinv[n] = m->cl_fix[l] == 2 ? 0.0 : 1.0 / I;
                 m->w0[n] = w0;
@@ -1959,55 +2722,78 @@ static int rj__clusters(rj_model *m, rj_error *err)
     for (gi = 0; gi < m->ng; gi++) {
         const int f0 = m->grp_first[gi], f1 = m->grp_first[gi + 1];
         int absorbed = m->node_cl[m->grp_node[f0]] >= 0;
-        if (absorbed) { for (k = f0; k < f1; k++) m->node_grp[m->grp_node[k]] = -1; continue; }
+        if (absorbed) {
+            for (k = f0; k < f1; k++)
+                m->node_grp[m->grp_node[k]] = -1;
+            continue;
+        }
         m->grp_inv[ng] = m->grp_inv[gi];
-        for (k = f0; k < f1; k++) { m->grp_node[q++] = m->grp_node[k]; m->node_grp[m->grp_node[k]] = ng; }
+        for (k = f0; k < f1; k++) {
+            m->grp_node[q++] = m->grp_node[k];
+            m->node_grp[m->grp_node[k]] = ng;
+        }
         m->grp_first[++ng] = q;
     }
     m->ng = ng;
-    (void)err;
+    (void) err;
     return 1;
 }
 
 /* Twice a body's kinetic energy in the v^{n-1/2}.v^{n+1/2} form (first step: v(0) given). */
 static double rj__cl_ke2(const rj_model *m, int c, const double *oc, const double *nc, int first)
 {
-    const double vx = first ? 2 * oc[2] - nc[2] : oc[2], vy = first ? 2 * oc[3] - nc[3] : oc[3], w = first ? 2 * oc[4] - nc[4] : oc[4];
-    return (m->cl_fix[c] == 0 ? m->cl_M[c] * (vx * nc[2] + vy * nc[3]) : 0.0) + m->cl_I[c] * w * nc[4];
+    const double vx = first ? 2 * oc[2] - nc[2] : oc[2], vy = first ? 2 * oc[3] - nc[3] : oc[3],
+                 w = first ? 2 * oc[4] - nc[4] : oc[4];
+    return (m->cl_fix[c] == 0 ? m->cl_M[c] * (vx * nc[2] + vy * nc[3]) : 0.0) +
+           m->cl_I[c] * w * nc[4];
 }
 
 /* The body's torque about its anchor and force from the node loads (x, y at step n). */
-static void rj__cl_load(const rj_model *m, int c, const double *oc, const double *x, const double *y,
-                        const double *fx, const double *fy, const double *mz, double *Fx, double *Fy, double *T)
+static void rj__cl_load(const rj_model *m, int c, const double *oc, const double *x,
+                        const double *y, const double *fx, const double *fy, const double *mz,
+                        double *Fx, double *Fy, double *T)
 {
     int k;
     *Fx = *Fy = *T = 0;
     for (k = m->cl_first[c]; k < m->cl_first[c + 1]; k++) {
         const int n = m->cl_node[k];
-        *Fx += fx[n]; *Fy += fy[n];
+        *Fx += fx[n];
+        *Fy += fy[n];
         *T += (x[n] - oc[0]) * fy[n] - (y[n] - oc[1]) * fx[n];
-        if (RJ__CL_RIGID(m, n)) *T += mz[n];
+        if (RJ__CL_RIGID(m, n))
+            *T += mz[n];
     }
 }
 
 /* Places the body's members at its record (anchor, angle); with setv the node velocities
    become the chord velocities (x^{n+1} - x^n)/dt and its own nodes take its rate. */
-static double rj__cl_pose(const rj_model *m, int c, const double *nc, const double *x, const double *y, double dt, int setv,
-                          double *nx, double *ny, double *nphi, double *nvx, double *nvy, double *nw)
+static double rj__cl_pose(const rj_model *m, int c, const double *nc, const double *x,
+                          const double *y, double dt, int setv, double *nx, double *ny,
+                          double *nphi, double *nvx, double *nvy, double *nw)
 {
     const double th0 = m->cl_th0[3 * c], co = cos(nc[5] - th0), sn = sin(nc[5] - th0);
-    double sum = nc[4];   /* the positions written and the rate: finite while they all are */
+    double sum = nc[4]; /* the positions written and the rate: finite while they all are */
     int k;
     for (k = m->cl_first[c]; k < m->cl_first[c + 1]; k++) {
         const int n = m->cl_node[k];
-        const double px = nc[0] + co * m->cl_rx[n] - sn * m->cl_ry[n], py = nc[1] + sn * m->cl_rx[n] + co * m->cl_ry[n];
-        if (setv) { nvx[n] = (px - x[n]) / dt; nvy[n] = (py - y[n]) / dt; }
-        nx[n] = px; ny[n] = py;
-        if (RJ__CL_RIGID(m, n)) { nphi[n] = nc[5] + (m->phi0[n] - th0); if (setv) nw[n] = nc[4]; }
+        const double px = nc[0] + co * m->cl_rx[n] - sn * m->cl_ry[n],
+                     py = nc[1] + sn * m->cl_rx[n] + co * m->cl_ry[n];
+        if (setv) {
+            nvx[n] = (px - x[n]) / dt;
+            nvy[n] = (py - y[n]) / dt;
+        }
+        nx[n] = px;
+        ny[n] = py;
+        if (RJ__CL_RIGID(m, n)) {
+            nphi[n] = nc[5] + (m->phi0[n] - th0);
+            if (setv)
+                nw[n] = nc[4];
+        }
         sum += (px + py) + nphi[n];
         /* the velocities come from positions here, not the other way round: a position of
            1e308 m at n (a crafted state) makes them infinite while both positions are finite */
-        if (setv) sum += nvx[n] + nvy[n];
+        if (setv)
+            sum += nvx[n] + nvy[n];
     }
     return sum;
 }
@@ -2022,8 +2808,10 @@ static double rj__cl_pose(const rj_model *m, int c, const double *nc, const doub
    step. A DOF that cannot move (inverse mass 0) has s = 0 and no class. */
 static double rj__lz_inv(const rj_model *m, int i, int k)
 {
-    if (k == 2) return m->rinv[i];
-    if (m->node_grp[i] >= 0) return m->grp_inv[m->node_grp[i]];
+    if (k == 2)
+        return m->rinv[i];
+    if (m->node_grp[i] >= 0)
+        return m->grp_inv[m->node_grp[i]];
     return m->tinv[i];
 }
 
@@ -2031,11 +2819,15 @@ static double rj__lz_inv(const rj_model *m, int i, int k)
 static double rj__lz_scale(const rj_model *m, int i, int k, int link)
 {
     const double w = rj__lz_inv(m, i, k);
-    if (!(w > 0)) return 0.0;
+    if (!(w > 0))
+        return 0.0;
     return (k == 2 ? 1e-7 : 1e-7 * m->link_l0[link]) / sqrt(w);
 }
 
-static int rj__lz_class(double scale) { return ilogb(scale) / 13; }
+static int rj__lz_class(double scale)
+{
+    return ilogb(scale) / 13;
+}
 
 /* Whether a DOF of natural move s is in class c (every movable DOF when all is set). */
 static int rj__lz_in(double scale, int c, int all)
@@ -2049,15 +2841,23 @@ static void rj__lz_classes(const rj_model *m, int *lo, int *hi)
     int l, i, k;
     *lo = 1;
     *hi = 0;
-    for (l = 0; l < m->nl; l++) for (i = m->link_first[l]; i < m->link_first[l + 1]; i++) for (k = 0; k < 3; k += 2) {
-        const double scale = rj__lz_scale(m, i, k, l);
-        int c;
-        if (!(scale > 0)) continue;
-        c = rj__lz_class(scale);
-        if (*lo > *hi) { *lo = c; *hi = c; }
-        if (c < *lo) *lo = c;
-        if (c > *hi) *hi = c;
-    }
+    for (l = 0; l < m->nl; l++)
+        for (i = m->link_first[l]; i < m->link_first[l + 1]; i++)
+            for (k = 0; k < 3; k += 2) {
+                const double scale = rj__lz_scale(m, i, k, l);
+                int c;
+                if (!(scale > 0))
+                    continue;
+                c = rj__lz_class(scale);
+                if (*lo > *hi) {
+                    *lo = c;
+                    *hi = c;
+                }
+                if (c < *lo)
+                    *lo = c;
+                if (c > *hi)
+                    *hi = c;
+            }
 }
 
 /* The DOFs of a node: its translation's u (its group's first member's) and rotation's. */
@@ -2075,30 +2875,36 @@ static double rj__lz_step(const rj_model *m, const double *u, int c, int all)
 {
     double h = HUGE_VAL;
     int l, i;
-    for (l = 0; l < m->nl; l++) for (i = m->link_first[l]; i < m->link_first[l + 1]; i++) {
-        const double st = rj__lz_scale(m, i, 0, l), sr = rj__lz_scale(m, i, 2, l);
-        double ux, uy, uw, ut;
-        rj__lz_u(m, u, i, &ux, &uy, &uw);
-        ut = fabs(ux) > fabs(uy) ? fabs(ux) : fabs(uy);
-        if (rj__lz_in(st, c, all) && ut > 0 && st / ut < h) h = st / ut;
-        if (rj__lz_in(sr, c, all) && fabs(uw) > 0 && sr / fabs(uw) < h) h = sr / fabs(uw);
-    }
+    for (l = 0; l < m->nl; l++)
+        for (i = m->link_first[l]; i < m->link_first[l + 1]; i++) {
+            const double st = rj__lz_scale(m, i, 0, l), sr = rj__lz_scale(m, i, 2, l);
+            double ux, uy, uw, ut;
+            rj__lz_u(m, u, i, &ux, &uy, &uw);
+            ut = fabs(ux) > fabs(uy) ? fabs(ux) : fabs(uy);
+            if (rj__lz_in(st, c, all) && ut > 0 && st / ut < h)
+                h = st / ut;
+            if (rj__lz_in(sr, c, all) && fabs(uw) > 0 && sr / fabs(uw) < h)
+                h = sr / fabs(uw);
+        }
     return h == HUGE_VAL ? 0.0 : h;
 }
 
 /* The nodes moved by sh along d = M^-1/2 u on class c. */
-static void rj__lz_move(const rj_model *m, const double *u, double sh, int c, int all, double *x, double *y, double *p)
+static void rj__lz_move(const rj_model *m, const double *u, double sh, int c, int all, double *x,
+                        double *y, double *p)
 {
     int l, i;
-    for (l = 0; l < m->nl; l++) for (i = m->link_first[l]; i < m->link_first[l + 1]; i++) {
-        const int moves = rj__lz_in(rj__lz_scale(m, i, 0, l), c, all), turns = rj__lz_in(rj__lz_scale(m, i, 2, l), c, all);
-        const double st = sqrt(rj__lz_inv(m, i, 0));
-        double ux, uy, uw;
-        rj__lz_u(m, u, i, &ux, &uy, &uw);
-        x[i] = m->x0[i] + (moves ? sh * ux * st : 0.0);
-        y[i] = m->y0[i] + (moves ? sh * uy * st : 0.0);
-        p[i] = m->phi0[i] + (turns ? sh * uw * sqrt(m->rinv[i]) : 0.0);
-    }
+    for (l = 0; l < m->nl; l++)
+        for (i = m->link_first[l]; i < m->link_first[l + 1]; i++) {
+            const int moves = rj__lz_in(rj__lz_scale(m, i, 0, l), c, all),
+                      turns = rj__lz_in(rj__lz_scale(m, i, 2, l), c, all);
+            const double st = sqrt(rj__lz_inv(m, i, 0));
+            double ux, uy, uw;
+            rj__lz_u(m, u, i, &ux, &uy, &uw);
+            x[i] = m->x0[i] + (moves ? sh * ux * st : 0.0);
+            y[i] = m->y0[i] + (moves ? sh * uy * st : 0.0);
+            p[i] = m->phi0[i] + (turns ? sh * uw * sqrt(m->rinv[i]) : 0.0);
+        }
 }
 
 /* Linear stiffness operator for the stability bound: out = M^-1/2 K M^-1/2 u over the
@@ -2108,18 +2914,22 @@ static void rj__lz_move(const rj_model *m, const double *u, double sh, int c, in
 static void rj__lz_apply(const rj_model *m, const double *u, double *out, double *work)
 {
     const int nn = m->nn, ne = m->ne;
-    double *x = work, *y = work + nn, *p = work + 2 * nn, *fx = work + 3 * nn, *fy = work + 4 * nn, *mz = work + 5 * nn;
+    double *x = work, *y = work + nn, *p = work + 2 * nn, *fx = work + 3 * nn, *fy = work + 4 * nn,
+           *mz = work + 5 * nn;
     double *eu = work + 6 * nn, *bt = eu + ne;
     double *cxo = bt + ne, *cyo = cxo + ne;
-    const double *cx = m->lz + 9 * (size_t)nn, *cy = cx + ne;
+    const double *cx = m->lz + 9 * (size_t) nn, *cy = cx + ne;
     int i, sgn, gi, j, c, lo, hi, all;
-    for (i = 0; i < 3 * nn; i++) out[i] = 0.0;
+    for (i = 0; i < 3 * nn; i++)
+        out[i] = 0.0;
     rj__lz_classes(m, &lo, &hi);
     all = lo == hi;
-    if (lo > hi) return;
+    if (lo > hi)
+        return;
     for (c = lo; c <= hi; c++) {
         const double h = rj__lz_step(m, u, c, all);
-        if (h == 0.0) continue;
+        if (h == 0.0)
+            continue;
         for (sgn = -1; sgn <= 1; sgn += 2) {
             rj__lz_move(m, u, sgn * h, c, all, x, y, p);
             rj__beam_pass(m, x, y, p, m->beta0, cx, cy, eu, bt, cxo, cyo, fx, fy, mz, NULL);
@@ -2128,7 +2938,8 @@ static void rj__lz_apply(const rj_model *m, const double *u, double *out, double
                 const rj__joint *J = &m->jnt[j];
                 rj__jgeo g0, g1;
                 double th0, th1;
-                if (J->k_lin <= 0) continue;
+                if (J->k_lin <= 0)
+                    continue;
                 rj__joint_geo(m, J, m->x0, m->y0, &g0);
                 rj__joint_geo(m, J, x, y, &g1);
                 th0 = rj__joint_raw(J, &g0, m->phi0);
@@ -2144,7 +2955,10 @@ static void rj__lz_apply(const rj_model *m, const double *u, double *out, double
             for (gi = 0; gi < m->ng; gi++) {
                 int r = m->grp_node[m->grp_first[gi]];
                 double sx = 0, sy = 0, si = sqrt(m->grp_inv[gi]);
-                for (j = m->grp_first[gi]; j < m->grp_first[gi + 1]; j++) { sx += fx[m->grp_node[j]]; sy += fy[m->grp_node[j]]; }
+                for (j = m->grp_first[gi]; j < m->grp_first[gi + 1]; j++) {
+                    sx += fx[m->grp_node[j]];
+                    sy += fy[m->grp_node[j]];
+                }
                 out[3 * r] += -sgn * sx * si / (2 * h);
                 out[3 * r + 1] += -sgn * sy * si / (2 * h);
             }
@@ -2162,18 +2976,23 @@ static double rj__tridiag_max(const double *al_in, const double *be_in, int k)
     double lo = 0, hi = 0, mid;
     int i, it;
     for (i = 0; i < k; i++) {
-        if (fabs(al_in[i]) > scale) scale = fabs(al_in[i]);
-        if (fabs(be_in[i]) > scale) scale = fabs(be_in[i]);
+        if (fabs(al_in[i]) > scale)
+            scale = fabs(al_in[i]);
+        if (fabs(be_in[i]) > scale)
+            scale = fabs(be_in[i]);
     }
-    if (scale == 0) return 0;
+    if (scale == 0)
+        return 0;
     for (i = 0; i < k; i++) {
         al[i] = al_in[i] / scale;
         be[i] = be_in[i] / scale;
     }
     for (i = 0; i < k; i++) {
         double r = fabs(i > 0 ? be[i - 1] : 0) + fabs(i + 1 < k ? be[i] : 0);
-        if (al[i] + r > hi) hi = al[i] + r;
-        if (al[i] - r < lo) lo = al[i] - r;
+        if (al[i] + r > hi)
+            hi = al[i] + r;
+        if (al[i] - r < lo)
+            lo = al[i] - r;
     }
     for (it = 0; it < 200; it++) {
         int cnt = 0;
@@ -2181,11 +3000,17 @@ static double rj__tridiag_max(const double *al_in, const double *be_in, int k)
         mid = 0.5 * (lo + hi);
         for (i = 0; i < k; i++) {
             q = al[i] - mid - (i > 0 ? be[i - 1] * be[i - 1] / q : 0.0);
-            if (q == 0.0) q = 1e-300;
-            if (q < 0) cnt++;
+            if (q == 0.0)
+                q = 1e-300;
+            if (q < 0)
+                cnt++;
         }
-        if (cnt == k) hi = mid; else lo = mid;   /* cnt = number of eigenvalues below mid */
-        if (hi - lo <= 1e-14 * fabs(hi)) break;
+        if (cnt == k)
+            hi = mid;
+        else
+            lo = mid; /* cnt = number of eigenvalues below mid */
+        if (hi - lo <= 1e-14 * fabs(hi))
+            break;
     }
     return hi * scale;
 }
@@ -2196,9 +3021,13 @@ static double rj__norm(const double *v, int n)
 {
     double big = 0, sum = 0;
     int i;
-    for (i = 0; i < n; i++) if (fabs(v[i]) > big) big = fabs(v[i]);
-    if (big == 0 || !rj__finite(big)) return big;
-    for (i = 0; i < n; i++) sum += (v[i] / big) * (v[i] / big);
+    for (i = 0; i < n; i++)
+        if (fabs(v[i]) > big)
+            big = fabs(v[i]);
+    if (big == 0 || !rj__finite(big))
+        return big;
+    for (i = 0; i < n; i++)
+        sum += (v[i] / big) * (v[i] / big);
     return big * sqrt(sum);
 }
 
@@ -2208,38 +3037,62 @@ static double rj__omega2_max(rj_model *m)
 {
     const int n = 3 * m->nn;
     double *v0 = m->lz, *v1 = m->lz + m->nn * 3, *w = m->lz + m->nn * 6;
-    double *work = m->lz + 9 * (size_t)m->nn + 2 * (size_t)m->ne;
+    double *work = m->lz + 9 * (size_t) m->nn + 2 * (size_t) m->ne;
     double al[RJ__LANCZOS_ITERS], be[RJ__LANCZOS_ITERS], nrm = 0, lam;
     int i, k, kmax;
     /* start vector: deterministic, all DOFs */
-    for (i = 0; i < n; i++) { v1[i] = 1.0 + 0.37 * sin(1.0 + i); v0[i] = 0; }
+    for (i = 0; i < n; i++) {
+        v1[i] = 1.0 + 0.37 * sin(1.0 + i);
+        v0[i] = 0;
+    }
     for (i = 0; i < m->nn; i++) {
-        if (m->tinv[i] == 0) { v1[3 * i] = 0; v1[3 * i + 1] = 0; }
-        if (m->rinv[i] == 0) v1[3 * i + 2] = 0;
+        if (m->tinv[i] == 0) {
+            v1[3 * i] = 0;
+            v1[3 * i + 1] = 0;
+        }
+        if (m->rinv[i] == 0)
+            v1[3 * i + 2] = 0;
     }
     for (i = 0; i < m->ng; i++) {
         int r = m->grp_node[m->grp_first[i]];
-        if (m->grp_inv[i] > 0) { v1[3 * r] = 1.0; v1[3 * r + 1] = 0.7; }
+        if (m->grp_inv[i] > 0) {
+            v1[3 * r] = 1.0;
+            v1[3 * r + 1] = 0.7;
+        }
     }
-    for (i = 0; i < n; i++) nrm += v1[i] * v1[i];
-    if (nrm == 0) return 0;
+    for (i = 0; i < n; i++)
+        nrm += v1[i] * v1[i];
+    if (nrm == 0)
+        return 0;
     nrm = sqrt(nrm);
-    for (i = 0; i < n; i++) v1[i] /= nrm;
+    for (i = 0; i < n; i++)
+        v1[i] /= nrm;
     kmax = n < RJ__LANCZOS_ITERS ? n : RJ__LANCZOS_ITERS;
     for (k = 0; k < kmax; k++) {
         double a = 0, b = 0, *t;
         rj__lz_apply(m, v1, w, work);
-        for (i = 0; i < n; i++) a += w[i] * v1[i];
+        for (i = 0; i < n; i++)
+            a += w[i] * v1[i];
         al[k] = a;
-        for (i = 0; i < n; i++) w[i] -= a * v1[i] + (k > 0 ? be[k - 1] * v0[i] : 0.0);
+        for (i = 0; i < n; i++)
+            w[i] -= a * v1[i] + (k > 0 ? be[k - 1] * v0[i] : 0.0);
         b = rj__norm(w, n);
         be[k] = b;
-        if (b < 1e-12 * fabs(a) || b == 0) { k++; break; }
-        for (i = 0; i < n; i++) w[i] /= b;
-        t = v0; v0 = v1; v1 = w; w = t;
+        if (b < 1e-12 * fabs(a) || b == 0) {
+            k++;
+            break;
+        }
+        for (i = 0; i < n; i++)
+            w[i] /= b;
+        t = v0;
+        v0 = v1;
+        v1 = w;
+        w = t;
     }
     /* a NaN or an infinity in the recurrence: no finite frequency (the bound refuses it) */
-    for (i = 0; i < k; i++) if (!rj__finite(al[i]) || !rj__finite(be[i])) return HUGE_VAL;
+    for (i = 0; i < k; i++)
+        if (!rj__finite(al[i]) || !rj__finite(be[i]))
+            return HUGE_VAL;
     lam = rj__tridiag_max(al, be, k);
     return lam;
 }
@@ -2249,7 +3102,8 @@ static double rj__omega2_max(rj_model *m)
 static double rj__joint_compliance0(const rj_model *m, int j)
 {
     rj__jgeo g;
-    if (m->rigid) return m->jnt[j].minv;
+    if (m->rigid)
+        return m->jnt[j].minv;
     rj__joint_geo(m, &m->jnt[j], m->x0, m->y0, &g);
     return rj__joint_compliance(m, &m->jnt[j], &g);
 }
@@ -2262,9 +3116,11 @@ static double rj__damping_rate(const rj_model *m)
     int j;
     for (j = 0; j < m->nj; j++) {
         double rate;
-        if (!(m->jdef[j].damping > 0)) continue;
+        if (!(m->jdef[j].damping > 0))
+            continue;
         rate = m->jdef[j].damping * rj__joint_compliance0(m, j);
-        if (rate > worst) worst = rate;
+        if (rate > worst)
+            worst = rate;
     }
     return worst;
 }
@@ -2279,29 +3135,40 @@ static double rj__dt_bound_of(double omega, double damp_rate)
 {
     const double half = 0.5 * damp_rate;
     const double denom = half + sqrt(omega * omega + half * half);
-    if (denom == 0) return 1.0;
-    return RJ__DT_MARGIN * 2.0 / denom;   /* NaN or 0 when omega is NaN or infinite */
+    if (denom == 0)
+        return 1.0;
+    return RJ__DT_MARGIN * 2.0 / denom; /* NaN or 0 when omega is NaN or infinite */
 }
 
 /* omega from the eigenvalue estimate: a round-off negative is 0; NaN stays NaN, so that
    a model whose stiffness or mass leaves doubles behind is refused, not given a bound */
 static double rj__omega_of(double om2)
 {
-    if (om2 == om2 && om2 < 0) return 0;
+    if (om2 == om2 && om2 < 0)
+        return 0;
     return sqrt(om2);
 }
 
 static unsigned long long rj__fnv(unsigned long long h, const void *p, size_t n)
 {
-    const unsigned char *c = (const unsigned char *)p;
+    const unsigned char *c = (const unsigned char *) p;
     size_t i;
-    for (i = 0; i < n; i++) { h ^= c[i]; h *= 1099511628211ULL; }
+    for (i = 0; i < n; i++) {
+        h ^= c[i];
+        h *= 1099511628211ULL;
+    }
     return h;
 }
 
 /* FNV-1a of a double or an int (their bytes), one value at a time. */
-static unsigned long long rj__fnv_d(unsigned long long h, double v) { return rj__fnv(h, &v, sizeof v); }
-static unsigned long long rj__fnv_i(unsigned long long h, int v) { return rj__fnv(h, &v, sizeof v); }
+static unsigned long long rj__fnv_d(unsigned long long h, double v)
+{
+    return rj__fnv(h, &v, sizeof v);
+}
+static unsigned long long rj__fnv_i(unsigned long long h, int v)
+{
+    return rj__fnv(h, &v, sizeof v);
+}
 
 /* The model's identity for checkpoints: every definition field that a state's meaning
    depends on (field by field: a struct's padding bytes are not defined), the step in use,
@@ -2316,19 +3183,54 @@ static unsigned long long rj__model_hash(const rj_model *m)
     h = rj__fnv_d(h, m->dt);
     for (l = 0; l < m->nl; l++) {
         const rj_link_def *d = &m->ldef[l];
-        const double v[19] = { d->length, d->E, d->rho, d->width, d->height, d->area, d->inertia, d->tip_mass, d->tip_inertia,
-                               d->x, d->y, d->angle, d->vx, d->vy, d->omega, (double)d->elements, (double)d->section, (double)d->layers,
-                               (double)d->root };
-        for (k = 0; k < 19; k++) h = rj__fnv_d(h, v[k]);
+        const double v[19] = { d->length,
+                               d->E,
+                               d->rho,
+                               d->width,
+                               d->height,
+                               d->area,
+                               d->inertia,
+                               d->tip_mass,
+                               d->tip_inertia,
+                               d->x,
+                               d->y,
+                               d->angle,
+                               d->vx,
+                               d->vy,
+                               d->omega,
+                               (double) d->elements,
+                               (double) d->section,
+                               (double) d->layers,
+                               (double) d->root };
+        for (k = 0; k < 19; k++)
+            h = rj__fnv_d(h, v[k]);
         h = rj__fnv_i(h, d->fidelity);
     }
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
-        const double v[21] = { (double)d->body1, (double)d->node1, (double)d->body2, d->ground_x, d->ground_y, d->ground_angle,
-                               d->angle0, d->rate0, d->spring_k, d->spring_free_angle, (double)d->has_forward, d->forward,
-                               (double)d->has_reverse, d->reverse, (double)d->lock, (double)d->method, (double)d->release,
-                               d->penalty_k, d->restitution, d->damping, d->friction };
-        for (k = 0; k < 21; k++) h = rj__fnv_d(h, v[k]);
+        const double v[21] = { (double) d->body1,
+                               (double) d->node1,
+                               (double) d->body2,
+                               d->ground_x,
+                               d->ground_y,
+                               d->ground_angle,
+                               d->angle0,
+                               d->rate0,
+                               d->spring_k,
+                               d->spring_free_angle,
+                               (double) d->has_forward,
+                               d->forward,
+                               (double) d->has_reverse,
+                               d->reverse,
+                               (double) d->lock,
+                               (double) d->method,
+                               (double) d->release,
+                               d->penalty_k,
+                               d->restitution,
+                               d->damping,
+                               d->friction };
+        for (k = 0; k < 21; k++)
+            h = rj__fnv_d(h, v[k]);
         h = rj__fnv_i(h, d->reference);
         h = rj__fnv_i(h, d->table_count);
         for (k = 0; k < d->table_count; k++) {
@@ -2336,8 +3238,8 @@ static unsigned long long rj__model_hash(const rj_model *m)
             h = rj__fnv_d(h, d->table_torque[k]);
         }
     }
-    h = rj__fnv(h, m->mass, sizeof(double) * (size_t)m->nn);
-    h = rj__fnv(h, m->x0, sizeof(double) * (size_t)m->nn);
+    h = rj__fnv(h, m->mass, sizeof(double) * (size_t) m->nn);
+    h = rj__fnv(h, m->x0, sizeof(double) * (size_t) m->nn);
     return h;
 }
 
@@ -2347,7 +3249,10 @@ static int rj__is_dnode(const rj_model *m, int n)
     int lo = 0, hi = m->ndn;
     while (lo < hi) {
         const int mid = lo + (hi - lo) / 2;
-        if (m->dnode[mid] < n) lo = mid + 1; else hi = mid;
+        if (m->dnode[mid] < n)
+            lo = mid + 1;
+        else
+            hi = mid;
     }
     return lo < m->ndn && m->dnode[lo] == n;
 }
@@ -2358,8 +3263,10 @@ static void rj__node_of(const rj_model *m, int i, int *link, int *node)
     int lo = 0, hi = m->nl - 1;
     while (lo < hi) {
         const int mid = lo + (hi - lo + 1) / 2;
-        if (m->link_first[mid] <= i) lo = mid;
-        else hi = mid - 1;
+        if (m->link_first[mid] <= i)
+            lo = mid;
+        else
+            hi = mid - 1;
     }
     *link = lo;
     *node = i - m->link_first[lo];
@@ -2374,23 +3281,40 @@ static int rj__check_links(const rj_model *m, rj_error *err)
     int l, k;
     for (l = 0; l < m->nl; l++) {
         const rj_link_def *d = &m->ldef[l];
-        const double *kc = m->link_kc + 4 * (size_t)l;
+        const double *kc = m->link_kc + 4 * (size_t) l;
         const int n0 = m->link_first[l];
         const char *what = NULL;
         double value = 0;
-        if (!(kc[2] >= DBL_MIN) || !rj__finite(kc[3])) { what = "its element length squared"; value = kc[2]; }
-        else if (!(m->link_EA[l] >= DBL_MIN) || !rj__finite(m->link_EA[l])) { what = "its axial stiffness EA (N)"; value = m->link_EA[l]; }
-        else if (!(m->link_EI[l] >= DBL_MIN) || !rj__finite(m->link_EI[l])) { what = "its bending stiffness EI (N m^2)"; value = m->link_EI[l]; }
-        else if (!rj__finite(kc[0]) || !rj__finite(kc[1])) { what = "its element stiffness EI/l0 or EA/l0"; value = rj__finite(kc[0]) ? kc[1] : kc[0]; }
+        if (!(kc[2] >= DBL_MIN) || !rj__finite(kc[3])) {
+            what = "its element length squared";
+            value = kc[2];
+        } else if (!(m->link_EA[l] >= DBL_MIN) || !rj__finite(m->link_EA[l])) {
+            what = "its axial stiffness EA (N)";
+            value = m->link_EA[l];
+        } else if (!(m->link_EI[l] >= DBL_MIN) || !rj__finite(m->link_EI[l])) {
+            what = "its bending stiffness EI (N m^2)";
+            value = m->link_EI[l];
+        } else if (!rj__finite(kc[0]) || !rj__finite(kc[1])) {
+            what = "its element stiffness EI/l0 or EA/l0";
+            value = rj__finite(kc[0]) ? kc[1] : kc[0];
+        }
         for (k = 0; !what && k <= d->elements; k++) {
             const double mass = m->mass[n0 + k], rot = m->rinertia[n0 + k];
-            if (!(mass >= DBL_MIN) || !rj__finite(mass) || !rj__finite(1.0 / mass)) { what = "a node's mass (kg)"; value = mass; }
-            else if (!(rot >= DBL_MIN) || !rj__finite(rot) || !rj__finite(1.0 / rot)) { what = "a node's rotary inertia (kg m^2)"; value = rot; }
+            if (!(mass >= DBL_MIN) || !rj__finite(mass) || !rj__finite(1.0 / mass)) {
+                what = "a node's mass (kg)";
+                value = mass;
+            } else if (!(rot >= DBL_MIN) || !rj__finite(rot) || !rj__finite(1.0 / rot)) {
+                what = "a node's rotary inertia (kg m^2)";
+                value = rot;
+            }
         }
-        if (!what) continue;
+        if (!what)
+            continue;
         RJ__FIELD(f, "links[%d]", l);
         rj__fail(err, RJ_ERR_INVALID, f, value,
-                 "links[%d] (length %g m, %d elements, E %g Pa, rho %g kg/m^3) gives %s = %g, which is zero, infinite or below what doubles resolve: no step is usable; scale the link's sizes or material into range",
+                 "links[%d] (length %g m, %d elements, E %g Pa, rho %g kg/m^3) gives %s = %g, "
+                 "which is zero, infinite or below what doubles resolve: no step is usable; scale "
+                 "the link's sizes or material into range",
                  l, d->length, d->elements, d->E, d->rho, what, value);
         return 0;
     }
@@ -2408,7 +3332,8 @@ static void rj__model_warn(rj_model *m, const char *fmt, ...)
     va_end(ap);
     rj__fit_words(line, sizeof line, wanted);
     m->nwarn++;
-    if (strlen(m->warnings) + strlen(line) + 2 > sizeof m->warnings) return;
+    if (strlen(m->warnings) + strlen(line) + 2 > sizeof m->warnings)
+        return;
     rj__cat(m->warnings, sizeof m->warnings, line);
     rj__cat(m->warnings, sizeof m->warnings, "\n");
 }
@@ -2425,23 +3350,40 @@ static void rj__limit_warnings(rj_model *m)
         const rj__joint *J = &m->jnt[j];
         const double start = d->angle0, rest = d->spring_free_angle;
         const int drive = d->spring_k > 0 ? (rest > start) - (rest < start) : 0;
-        if (!d->has_forward && !d->has_reverse) continue;
+        if (!d->has_forward && !d->has_reverse)
+            continue;
         if (d->has_forward && start > J->fwd)
-            rj__model_warn(m, "joints[%d] starts %.4g deg past its forward limit", j, rj_deg(start - J->fwd));
+            rj__model_warn(m, "joints[%d] starts %.4g deg past its forward limit", j,
+                           rj_deg(start - J->fwd));
         else if (d->has_reverse && start < J->rev)
-            rj__model_warn(m, "joints[%d] starts %.4g deg past its reverse limit", j, rj_deg(J->rev - start));
+            rj__model_warn(m, "joints[%d] starts %.4g deg past its reverse limit", j,
+                           rj_deg(J->rev - start));
         else if (drive > 0 && d->has_forward && J->fwd > rest)
-            rj__model_warn(m, "joints[%d]: its spring turns it forward from %.4g deg and rests at %.4g deg, short of its forward limit, met at %.4g deg: the spring alone never brings it there%s",
-                           j, rj_deg(start), rj_deg(rest), rj_deg(J->fwd), d->lock ? " (it never latches)" : "");
+            rj__model_warn(m,
+                           "joints[%d]: its spring turns it forward from %.4g deg and rests at "
+                           "%.4g deg, short of its forward limit, met at %.4g deg: the spring "
+                           "alone never brings it there%s",
+                           j, rj_deg(start), rj_deg(rest), rj_deg(J->fwd),
+                           d->lock ? " (it never latches)" : "");
         else if (drive < 0 && d->has_reverse && J->rev < rest)
-            rj__model_warn(m, "joints[%d]: its spring turns it in reverse from %.4g deg and rests at %.4g deg, short of its reverse limit, met at %.4g deg: the spring alone never brings it there%s",
-                           j, rj_deg(start), rj_deg(rest), rj_deg(J->rev), d->lock ? " (it never latches)" : "");
+            rj__model_warn(m,
+                           "joints[%d]: its spring turns it in reverse from %.4g deg and rests at "
+                           "%.4g deg, short of its reverse limit, met at %.4g deg: the spring "
+                           "alone never brings it there%s",
+                           j, rj_deg(start), rj_deg(rest), rj_deg(J->rev),
+                           d->lock ? " (it never latches)" : "");
         else if (drive > 0 && !d->has_forward)
-            rj__model_warn(m, "joints[%d]: its spring turns it forward from %.4g deg, away from its only limit (reverse, met at %.4g deg): the spring alone never brings it there%s",
-                           j, rj_deg(start), rj_deg(J->rev), d->lock ? " (it never latches)" : "");
+            rj__model_warn(
+                m,
+                "joints[%d]: its spring turns it forward from %.4g deg, away from its only limit "
+                "(reverse, met at %.4g deg): the spring alone never brings it there%s",
+                j, rj_deg(start), rj_deg(J->rev), d->lock ? " (it never latches)" : "");
         else if (drive < 0 && !d->has_reverse)
-            rj__model_warn(m, "joints[%d]: its spring turns it in reverse from %.4g deg, away from its only limit (forward, met at %.4g deg): the spring alone never brings it there%s",
-                           j, rj_deg(start), rj_deg(J->fwd), d->lock ? " (it never latches)" : "");
+            rj__model_warn(
+                m,
+                "joints[%d]: its spring turns it in reverse from %.4g deg, away from its only "
+                "limit (forward, met at %.4g deg): the spring alone never brings it there%s",
+                j, rj_deg(start), rj_deg(J->fwd), d->lock ? " (it never latches)" : "");
     }
 }
 
@@ -2453,12 +3395,14 @@ static int rj__pin_groups(rj_model *m, int *scratch)
 {
     int *group_of = scratch, *cursor = scratch + m->nn;
     int ng = 0, j, g;
-    for (j = 0; j < m->nn; j++) group_of[j] = -1;
+    for (j = 0; j < m->nn; j++)
+        group_of[j] = -1;
     /* count: the pin node and one root per joint */
     m->grp_first[0] = 0;
     for (j = 0; j < m->nj; j++) {
         const int pin = m->jnt[j].nI;
-        if (pin < 0) continue;
+        if (pin < 0)
+            continue;
         if (group_of[pin] < 0) {
             group_of[pin] = ng;
             m->grp_first[ng + 1] = 1;
@@ -2466,12 +3410,15 @@ static int rj__pin_groups(rj_model *m, int *scratch)
         }
         m->grp_first[group_of[pin] + 1]++;
     }
-    for (g = 0; g < ng; g++) m->grp_first[g + 1] += m->grp_first[g];
-    for (g = 0; g < ng; g++) cursor[g] = m->grp_first[g] + 1;
+    for (g = 0; g < ng; g++)
+        m->grp_first[g + 1] += m->grp_first[g];
+    for (g = 0; g < ng; g++)
+        cursor[g] = m->grp_first[g] + 1;
     /* fill: the pin node first, then the roots in joint order */
     for (j = 0; j < m->nj; j++) {
         const int pin = m->jnt[j].nI;
-        if (pin < 0) continue;
+        if (pin < 0)
+            continue;
         g = group_of[pin];
         m->grp_node[m->grp_first[g]] = pin;
         m->grp_node[cursor[g]++] = m->jnt[j].nJ;
@@ -2486,33 +3433,49 @@ static int rj__pin_groups(rj_model *m, int *scratch)
 static void rj__inext_chains(rj_model *m, int *scratch)
 {
     int *used = scratch, *joint_of = scratch + m->nl;
-    int *children = scratch + 2 * (size_t)m->nl, *child_of = children + m->nn;
+    int *children = scratch + 2 * (size_t) m->nl, *child_of = children + m->nn;
     int cnt = 0, l, j, k;
-    for (l = 0; l < m->nl; l++) { used[l] = 0; joint_of[l] = -1; }
-    for (k = 0; k < m->nn; k++) { children[k] = 0; child_of[k] = -1; }
+    for (l = 0; l < m->nl; l++) {
+        used[l] = 0;
+        joint_of[l] = -1;
+    }
+    for (k = 0; k < m->nn; k++) {
+        children[k] = 0;
+        child_of[k] = -1;
+    }
     for (j = 0; j < m->nj; j++) {
         joint_of[m->jdef[j].body2] = j;
-        if (m->jnt[j].nI < 0 || m->ldef[m->jdef[j].body2].fidelity != RJ_LINK_INEXTENSIBLE) continue;
+        if (m->jnt[j].nI < 0 || m->ldef[m->jdef[j].body2].fidelity != RJ_LINK_INEXTENSIBLE)
+            continue;
         children[m->jnt[j].nI]++;
         child_of[m->jnt[j].nI] = m->jdef[j].body2;
     }
-    m->nch = 0; m->ch_first[0] = 0;
+    m->nch = 0;
+    m->ch_first[0] = 0;
     for (l = 0; l < m->nl; l++) {
         const int pj = joint_of[l];
         int cur = l;
-        if (m->ldef[l].fidelity != RJ_LINK_INEXTENSIBLE || used[l]) continue;
+        if (m->ldef[l].fidelity != RJ_LINK_INEXTENSIBLE || used[l])
+            continue;
         if (pj >= 0) {
             const int b1 = m->jdef[pj].body1;
             /* the only inextensible child at an inextensible parent's tip continues its chain */
-            if (b1 >= 0 && m->ldef[b1].fidelity == RJ_LINK_INEXTENSIBLE && m->jnt[pj].nI == m->link_first[b1 + 1] - 1
-                && children[m->jnt[pj].nI] == 1) continue;
+            if (b1 >= 0 && m->ldef[b1].fidelity == RJ_LINK_INEXTENSIBLE &&
+                m->jnt[pj].nI == m->link_first[b1 + 1] - 1 && children[m->jnt[pj].nI] == 1)
+                continue;
         }
         for (;;) {
-            const int n0 = m->link_first[cur], ne = m->ldef[cur].elements, first = cnt == m->ch_first[m->nch];
+            const int n0 = m->link_first[cur], ne = m->ldef[cur].elements,
+                      first = cnt == m->ch_first[m->nch];
             const int tip = n0 + ne;
             used[cur] = 1;
-            for (k = first ? 0 : 1; k <= ne; k++) { m->ch_node[cnt] = n0 + k; m->ch_l0sq[cnt] = m->link_l0[cur] * m->link_l0[cur]; cnt++; }
-            if (children[tip] != 1 || used[child_of[tip]]) break;
+            for (k = first ? 0 : 1; k <= ne; k++) {
+                m->ch_node[cnt] = n0 + k;
+                m->ch_l0sq[cnt] = m->link_l0[cur] * m->link_l0[cur];
+                cnt++;
+            }
+            if (children[tip] != 1 || used[child_of[tip]])
+                break;
             cur = child_of[tip];
         }
         m->ch_first[++m->nch] = cnt;
@@ -2528,7 +3491,8 @@ static void rj__place_link(rj_model *m, int l, int j)
     const rj__joint *J;
     double px, py, refang, om1 = 0, vpx = 0, vpy = 0;
     if (j < 0) {
-        rj__place(m, l, ld->x, ld->y, ld->angle, ld->vx, ld->vy, ld->omega, m->x0, m->y0, m->phi0, m->vx0, m->vy0, m->w0);
+        rj__place(m, l, ld->x, ld->y, ld->angle, ld->vx, ld->vy, ld->omega, m->x0, m->y0, m->phi0,
+                  m->vx0, m->vy0, m->w0);
         return;
     }
     d = &m->jdef[j];
@@ -2544,9 +3508,14 @@ static void rj__place_link(rj_model *m, int l, int j)
         om1 = m->w0[J->nI];
         vpx = m->vx0[J->nI];
         vpy = m->vy0[J->nI];
-        if (m->ldef[d->body1].root == RJ_ROOT_FIXED) { om1 = 0; vpx = 0; vpy = 0; }
+        if (m->ldef[d->body1].root == RJ_ROOT_FIXED) {
+            om1 = 0;
+            vpx = 0;
+            vpy = 0;
+        }
     }
-    rj__place(m, l, px, py, refang + d->angle0, vpx, vpy, om1 + d->rate0, m->x0, m->y0, m->phi0, m->vx0, m->vy0, m->w0);
+    rj__place(m, l, px, py, refang + d->angle0, vpx, vpy, om1 + d->rate0, m->x0, m->y0, m->phi0,
+              m->vx0, m->vy0, m->w0);
 }
 
 /* Initial placement of every link after the link it hangs from (the graph is a forest),
@@ -2554,10 +3523,14 @@ static void rj__place_link(rj_model *m, int l, int j)
    path of links still to place). */
 static void rj__place_all(rj_model *m, int *scratch)
 {
-    int *placed = scratch, *joint_of = scratch + m->nl, *path = scratch + 2 * (size_t)m->nl;
+    int *placed = scratch, *joint_of = scratch + m->nl, *path = scratch + 2 * (size_t) m->nl;
     int l, j;
-    for (l = 0; l < m->nl; l++) { placed[l] = 0; joint_of[l] = -1; }
-    for (j = 0; j < m->nj; j++) joint_of[m->jdef[j].body2] = j;
+    for (l = 0; l < m->nl; l++) {
+        placed[l] = 0;
+        joint_of[l] = -1;
+    }
+    for (j = 0; j < m->nj; j++)
+        joint_of[m->jdef[j].body2] = j;
     for (l = 0; l < m->nl; l++) {
         int depth = 0, cur = l;
         /* up to the first placed link or a root, then down again */
@@ -2584,10 +3557,12 @@ static int rj__placement_resolved(const rj_model *m, rj_error *err)
         for (k = m->link_first[l]; k < m->link_first[l + 1] - 1; k++) {
             const double chord = hypot(m->x0[k + 1] - m->x0[k], m->y0[k + 1] - m->y0[k]);
             char f[64];
-            if (fabs(chord - l0) <= 1e-8 * l0) continue;
+            if (fabs(chord - l0) <= 1e-8 * l0)
+                continue;
             RJ__FIELD(f, "links[%d]", l);
             rj__fail(err, RJ_ERR_INVALID, f, m->x0[k],
-                     "links[%d] is placed where doubles do not resolve its %g m elements (node %d at x = %g m, y = %g m, spacing %g m): place the mechanism nearer the origin",
+                     "links[%d] is placed where doubles do not resolve its %g m elements (node %d "
+                     "at x = %g m, y = %g m, spacing %g m): place the mechanism nearer the origin",
                      l, l0, k - m->link_first[l], m->x0[k], m->y0[k], fabs(m->x0[k]) * DBL_EPSILON);
             return 0;
         }
@@ -2605,13 +3580,20 @@ static int rj__joint_unusable(const rj_model *m, rj_error *err)
     for (j = 0; j < m->nj; j++) {
         const double c = rj__joint_compliance0(m, j);
         const double rate = sqrt(m->jnt[j].k_lin * c) + m->jdef[j].damping * c;
-        if (rate > fastest) { fastest = rate; worst = j; }
+        if (rate > fastest) {
+            fastest = rate;
+            worst = j;
+        }
     }
     RJ__FIELD(f, "joints[%d]", worst);
     rj__fail(err, RJ_ERR_INVALID, f, m->dt_bound,
-             "no usable step: the stability bound is %g s (at least 1e-15 s is needed); the links alone would allow %g s, and joints[%d] (spring %g N m/rad, penalty K %g N m/rad, damping %g N m s/rad) "
-             "gives about %g rad/s on its own: its stiffness or damping is outside the range of mechanisms",
-             m->dt_bound, rj__dt_bound_of(m->omega_links, 0), worst, m->jdef[worst].spring_k, m->jdef[worst].penalty_k, m->jdef[worst].damping, fastest);
+             "no usable step: the stability bound is %g s (at least 1e-15 s is needed); the links "
+             "alone would allow %g s, and joints[%d] (spring %g N m/rad, penalty K %g N m/rad, "
+             "damping %g N m s/rad) "
+             "gives about %g rad/s on its own: its stiffness or damping is outside the range of "
+             "mechanisms",
+             m->dt_bound, rj__dt_bound_of(m->omega_links, 0), worst, m->jdef[worst].spring_k,
+             m->jdef[worst].penalty_k, m->jdef[worst].damping, fastest);
     return 0;
 }
 
@@ -2621,54 +3603,72 @@ static int rj__usable_step(const rj_model *m, rj_error *err)
 {
     double ke = 0;
     int i, link, node;
-    if ((!(m->dt_bound >= RJ__MIN_BOUND) || !rj__finite(m->dt_bound)) && rj__dt_bound_of(m->omega_links, 0) >= RJ__MIN_BOUND)
+    if ((!(m->dt_bound >= RJ__MIN_BOUND) || !rj__finite(m->dt_bound)) &&
+        rj__dt_bound_of(m->omega_links, 0) >= RJ__MIN_BOUND)
         return rj__joint_unusable(m, err);
-    if (!(m->dt_bound >= RJ__MIN_BOUND) || !rj__finite(m->dt_bound) || !(m->dt > 0) || !rj__finite(m->dt)) {
+    if (!(m->dt_bound >= RJ__MIN_BOUND) || !rj__finite(m->dt_bound) || !(m->dt > 0) ||
+        !rj__finite(m->dt)) {
         /* name the link with the shortest wave transit l0 / c (Eq 28) */
         int l, fastest = 0;
         double best = HUGE_VAL;
         char f[64];
         for (l = 0; l < m->nl; l++) {
             const double transit = m->link_l0[l] / sqrt(m->ldef[l].E / m->ldef[l].rho);
-            if (transit < best) { best = transit; fastest = l; }
+            if (transit < best) {
+                best = transit;
+                fastest = l;
+            }
         }
         RJ__FIELD(f, "links[%d]", fastest);
         rj__fail(err, RJ_ERR_INVALID, f, m->dt,
-                 "no usable step: the stability bound is %g s (omega_max %g rad/s; at least 1e-15 s is needed) and the step %g s; links[%d] (length %g m, %d elements, E %g Pa, rho %g kg/m^3; element wave transit %g s, Eq 28) "
-                 "or a joint's stiffness or damping is outside the range of mechanisms (SI units: m, Pa, kg/m^3)",
-                 m->dt_bound, m->omega_max, m->dt, fastest, m->ldef[fastest].length, m->ldef[fastest].elements, m->ldef[fastest].E, m->ldef[fastest].rho, best);
+                 "no usable step: the stability bound is %g s (omega_max %g rad/s; at least 1e-15 "
+                 "s is needed) and the step %g s; links[%d] (length %g m, %d elements, E %g Pa, "
+                 "rho %g kg/m^3; element wave transit %g s, Eq 28) "
+                 "or a joint's stiffness or damping is outside the range of mechanisms (SI units: "
+                 "m, Pa, kg/m^3)",
+                 m->dt_bound, m->omega_max, m->dt, fastest, m->ldef[fastest].length,
+                 m->ldef[fastest].elements, m->ldef[fastest].E, m->ldef[fastest].rho, best);
         return 0;
     }
     for (i = 0; i < m->nn; i++) {
         const double v = m->x0[i] + m->y0[i] + m->phi0[i];
-        ke += m->mass[i] * (m->vx0[i] * m->vx0[i] + m->vy0[i] * m->vy0[i]) + m->rinertia[i] * m->w0[i] * m->w0[i];
-        if (rj__finite(v) && rj__finite(ke)) continue;
+        ke += m->mass[i] * (m->vx0[i] * m->vx0[i] + m->vy0[i] * m->vy0[i]) +
+              m->rinertia[i] * m->w0[i] * m->w0[i];
+        if (rj__finite(v) && rj__finite(ke))
+            continue;
         rj__node_of(m, i, &link, &node);
         {
             char f[64];
             RJ__FIELD(f, "links[%d]", link);
             rj__fail(err, RJ_ERR_INVALID, f, rj__finite(v) ? ke : v,
-                     "links[%d] node %d starts with a non-finite %s: the placement or the initial velocities are outside what doubles resolve",
+                     "links[%d] node %d starts with a non-finite %s: the placement or the initial "
+                     "velocities are outside what doubles resolve",
                      link, node, rj__finite(v) ? "kinetic energy" : "position");
         }
         return 0;
     }
-    if (!rj__placement_resolved(m, err)) return 0;
+    if (!rj__placement_resolved(m, err))
+        return 0;
     for (i = 0; i < m->nj; i++) {
         const rj_joint_def *d = &m->jdef[i];
         const double twist = d->angle0 - d->spring_free_angle;
-        if (rj__finite(0.5 * d->spring_k * twist * twist)) continue;
+        if (rj__finite(0.5 * d->spring_k * twist * twist))
+            continue;
         {
             char f[64];
             RJ__FIELD(f, "joints[%d].spring_k", i);
-            rj__fail(err, RJ_ERR_INVALID, f, d->spring_k, "joints[%d] starts with a non-finite spring energy (spring_k %g N m/rad, %g rad from its free angle)", i, d->spring_k, twist);
+            rj__fail(err, RJ_ERR_INVALID, f, d->spring_k,
+                     "joints[%d] starts with a non-finite spring energy (spring_k %g N m/rad, %g "
+                     "rad from its free angle)",
+                     i, d->spring_k, twist);
         }
         return 0;
     }
     return 1;
 }
 
-RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj_model **out, rj_error *err)
+RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj_model **out,
+                              rj_error *err)
 {
     rj__layout L;
     rj_model *m;
@@ -2677,94 +3677,179 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     size_t nodes, elements;
     rj_error size_err;
     double om2;
-    if (err) { err->code = RJ_OK; err->field[0] = 0; err->msg[0] = 0; err->value = 0; }
-    if (!out) { rj__fail(err, RJ_ERR_INVALID, "out", 0, "out is NULL"); return RJ_ERR_INVALID; }
-    if (!rj_model_size(sc, err ? err : &size_err)) return err ? err->code : size_err.code;
+    if (err) {
+        err->code = RJ_OK;
+        err->field[0] = 0;
+        err->msg[0] = 0;
+        err->value = 0;
+    }
+    if (!out) {
+        rj__fail(err, RJ_ERR_INVALID, "out", 0, "out is NULL");
+        return RJ_ERR_INVALID;
+    }
+    if (!rj_model_size(sc, err ? err : &size_err))
+        return err ? err->code : size_err.code;
     rj__counts(sc, &nodes, &elements, err);
-    nn = (int)nodes;
-    ne = (int)elements;
+    nn = (int) nodes;
+    ne = (int) elements;
     rj__model_layout(sc->link_count, sc->joint_count, nodes, elements, rj__all_rigid(sc), &L);
-    if (!mem || size < L.total) { rj__fail(err, RJ_ERR_NOMEM, "size", (double)size, "memory block of %lu bytes is smaller than the %lu the model needs", (unsigned long)size, (unsigned long)L.total); return RJ_ERR_NOMEM; }
-    base = (char *)mem;
-    base += (RJ__ALIGN - ((size_t)base % RJ__ALIGN)) % RJ__ALIGN;
+    if (!mem || size < L.total) {
+        rj__fail(err, RJ_ERR_NOMEM, "size", (double) size,
+                 "memory block of %lu bytes is smaller than the %lu the model needs",
+                 (unsigned long) size, (unsigned long) L.total);
+        return RJ_ERR_NOMEM;
+    }
+    base = (char *) mem;
+    base += (RJ__ALIGN - ((size_t) base % RJ__ALIGN)) % RJ__ALIGN;
     memset(base, 0, L.total - RJ__ALIGN);
-    m = (rj_model *)(void *)base;
+    m = (rj_model *) (void *) base;
     m->bytes = L.total - RJ__ALIGN;
-    m->nl = sc->link_count; m->nj = sc->joint_count; m->nn = nn; m->ne = ne;
+    m->nl = sc->link_count;
+    m->nj = sc->joint_count;
+    m->nn = nn;
+    m->ne = ne;
     m->solver = sc->solver;
-#define RJ__SET(field, type) m->field = (type *)(void *)(base + L.field)
-    RJ__SET(ldef, rj_link_def); RJ__SET(jdef, rj_joint_def); RJ__SET(jnt, rj__joint);
-    RJ__SET(link_first, int); RJ__SET(link_efirst, int); RJ__SET(link_l0, double); RJ__SET(link_EA, double);
-    RJ__SET(link_EI, double); RJ__SET(link_rho, double); RJ__SET(link_I, double);
-    RJ__SET(ch_first, int); RJ__SET(ch_node, int); RJ__SET(ch_l0sq, double);
-    RJ__SET(node_cl, int); RJ__SET(cl_first, int); RJ__SET(cl_node, int); RJ__SET(cl_fix, int);
-    RJ__SET(cl_M, double); RJ__SET(cl_I, double); RJ__SET(cl_th0, double); RJ__SET(cl_rx, double); RJ__SET(cl_ry, double);
-    RJ__SET(rb_mass, double); RJ__SET(rb_icm, double); RJ__SET(rb_dcm, double); RJ__SET(rb_pjoint, int);
-    RJ__SET(jorder, int); RJ__SET(jpin, double); RJ__SET(jref, double);
-    RJ__SET(mass, double); RJ__SET(rinertia, double); RJ__SET(tinv, double); RJ__SET(rinv, double); RJ__SET(einv, double); RJ__SET(kmass, double); RJ__SET(krot, double);
-    RJ__SET(grp_first, int); RJ__SET(grp_node, int); RJ__SET(node_grp, int); RJ__SET(grp_inv, double); RJ__SET(dnode, int); RJ__SET(link_un, double); RJ__SET(link_kc, double);
-    RJ__SET(x0, double); RJ__SET(y0, double); RJ__SET(phi0, double); RJ__SET(vx0, double); RJ__SET(vy0, double);
-    RJ__SET(w0, double); RJ__SET(beta0, double); RJ__SET(lz, double);
+#define RJ__SET(field, type) m->field = (type *) (void *) (base + L.field)
+    RJ__SET(ldef, rj_link_def);
+    RJ__SET(jdef, rj_joint_def);
+    RJ__SET(jnt, rj__joint);
+    RJ__SET(link_first, int);
+    RJ__SET(link_efirst, int);
+    RJ__SET(link_l0, double);
+    RJ__SET(link_EA, double);
+    RJ__SET(link_EI, double);
+    RJ__SET(link_rho, double);
+    RJ__SET(link_I, double);
+    RJ__SET(ch_first, int);
+    RJ__SET(ch_node, int);
+    RJ__SET(ch_l0sq, double);
+    RJ__SET(node_cl, int);
+    RJ__SET(cl_first, int);
+    RJ__SET(cl_node, int);
+    RJ__SET(cl_fix, int);
+    RJ__SET(cl_M, double);
+    RJ__SET(cl_I, double);
+    RJ__SET(cl_th0, double);
+    RJ__SET(cl_rx, double);
+    RJ__SET(cl_ry, double);
+    RJ__SET(rb_mass, double);
+    RJ__SET(rb_icm, double);
+    RJ__SET(rb_dcm, double);
+    RJ__SET(rb_pjoint, int);
+    RJ__SET(jorder, int);
+    RJ__SET(jpin, double);
+    RJ__SET(jref, double);
+    RJ__SET(mass, double);
+    RJ__SET(rinertia, double);
+    RJ__SET(tinv, double);
+    RJ__SET(rinv, double);
+    RJ__SET(einv, double);
+    RJ__SET(kmass, double);
+    RJ__SET(krot, double);
+    RJ__SET(grp_first, int);
+    RJ__SET(grp_node, int);
+    RJ__SET(node_grp, int);
+    RJ__SET(grp_inv, double);
+    RJ__SET(dnode, int);
+    RJ__SET(link_un, double);
+    RJ__SET(link_kc, double);
+    RJ__SET(x0, double);
+    RJ__SET(y0, double);
+    RJ__SET(phi0, double);
+    RJ__SET(vx0, double);
+    RJ__SET(vy0, double);
+    RJ__SET(w0, double);
+    RJ__SET(beta0, double);
+    RJ__SET(lz, double);
 #undef RJ__SET
     /* the joint graph's checks need scratch: the block's building area */
-    if (!rj__validate_graph(sc, (int *)(void *)m->lz, err)) return RJ_ERR_INVALID;
-    memcpy(m->ldef, sc->links, sizeof(rj_link_def) * (size_t)m->nl);
-    if (m->nj) memcpy(m->jdef, sc->joints, sizeof(rj_joint_def) * (size_t)m->nj);
+    if (!rj__validate_graph(sc, (int *) (void *) m->lz, err))
+        return RJ_ERR_INVALID;
+    memcpy(m->ldef, sc->links, sizeof(rj_link_def) * (size_t) m->nl);
+    if (m->nj)
+        memcpy(m->jdef, sc->joints, sizeof(rj_joint_def) * (size_t) m->nj);
     /* links: section (layers integrate EA and EI exactly for the elastic rectangle), masses */
-    m->link_first[0] = 0; m->link_efirst[0] = 0;
+    m->link_first[0] = 0;
+    m->link_efirst[0] = 0;
     for (l = 0; l < m->nl; l++) {
         const rj_link_def *d = &m->ldef[l];
         double A, I, l0 = d->length / d->elements, mt, jr;
         int n0 = m->link_first[l], k;
         if (d->section == RJ_SECTION_RECT) {
             double h = d->height / d->layers;
-            A = 0; I = 0;
+            A = 0;
+            I = 0;
             for (k = 0; k < d->layers; k++) {
                 double z = -0.5 * d->height + (k + 0.5) * h;
                 A += d->width * h;
                 I += d->width * h * h * h / 12.0 + d->width * h * z * z;
             }
-        } else { A = d->area; I = d->inertia; }
+        } else {
+            A = d->area;
+            I = d->inertia;
+        }
         m->link_first[l + 1] = n0 + d->elements + 1;
         m->link_efirst[l + 1] = m->link_efirst[l] + d->elements;
-        m->link_l0[l] = l0; m->link_EA[l] = d->E * A; m->link_EI[l] = d->E * I;
-        {   /* the element's constants: EI/l0, EA/l0 (0 for inextensible links: a constraint
+        m->link_l0[l] = l0;
+        m->link_EA[l] = d->E * A;
+        m->link_EI[l] = d->E * I;
+        { /* the element's constants: EI/l0, EA/l0 (0 for inextensible links: a constraint
                instead), l0^2, 1/(2 l0^2) */
-            double *kc = m->link_kc + 4 * (size_t)l;
+            double *kc = m->link_kc + 4 * (size_t) l;
             kc[0] = m->link_EI[l] / l0;
             kc[1] = d->fidelity == RJ_LINK_INEXTENSIBLE ? 0.0 : m->link_EA[l] / l0;
-            kc[2] = l0 * l0; kc[3] = 0.5 / kc[2];
+            kc[2] = l0 * l0;
+            kc[3] = 0.5 / kc[2];
         }
-        m->link_rho[l] = d->rho; m->link_I[l] = I;
+        m->link_rho[l] = d->rho;
+        m->link_I[l] = I;
         mt = 0.5 * d->rho * A * l0;
         jr = d->rho * A * l0 * l0 * l0 / 78.0;
-        if (0.5 * d->rho * I * l0 > jr) jr = 0.5 * d->rho * I * l0;
+        if (0.5 * d->rho * I * l0 > jr)
+            jr = 0.5 * d->rho * I * l0;
         for (k = 0; k <= d->elements; k++) {
             double f = (k == 0 || k == d->elements) ? 1.0 : 2.0;
-            m->mass[n0 + k] = f * mt; m->rinertia[n0 + k] = f * jr;
+            m->mass[n0 + k] = f * mt;
+            m->rinertia[n0 + k] = f * jr;
         }
         m->mass[n0 + d->elements] += d->tip_mass;
         m->rinertia[n0 + d->elements] += d->tip_inertia;
-        for (k = 0; k <= d->elements; k++) { m->tinv[n0 + k] = 1.0 / m->mass[n0 + k]; m->rinv[n0 + k] = 1.0 / m->rinertia[n0 + k]; }
-        if (d->root == RJ_ROOT_PINNED || d->root == RJ_ROOT_CLAMPED) m->tinv[n0] = 0;
-        if (d->root == RJ_ROOT_CLAMPED) m->rinv[n0] = 0;
-        if (d->root == RJ_ROOT_FIXED) for (k = 0; k <= d->elements; k++) { m->tinv[n0 + k] = 0; m->rinv[n0 + k] = 0; }
+        for (k = 0; k <= d->elements; k++) {
+            m->tinv[n0 + k] = 1.0 / m->mass[n0 + k];
+            m->rinv[n0 + k] = 1.0 / m->rinertia[n0 + k];
+        }
+        if (d->root == RJ_ROOT_PINNED || d->root == RJ_ROOT_CLAMPED)
+            m->tinv[n0] = 0;
+        if (d->root == RJ_ROOT_CLAMPED)
+            m->rinv[n0] = 0;
+        if (d->root == RJ_ROOT_FIXED)
+            for (k = 0; k <= d->elements; k++) {
+                m->tinv[n0 + k] = 0;
+                m->rinv[n0 + k] = 0;
+            }
     }
-    if (!rj__check_links(m, err)) return RJ_ERR_INVALID;
-    for (i = 0; i < nn; i++) m->einv[i] = m->tinv[i];
+    if (!rj__check_links(m, err))
+        return RJ_ERR_INVALID;
+    for (i = 0; i < nn; i++)
+        m->einv[i] = m->tinv[i];
     /* joints: nodes, pin groups (body1's node and body2's node 0 share their translation) */
     ngroups = 0;
-    for (i = 0; i < nn; i++) m->node_grp[i] = -1;
+    for (i = 0; i < nn; i++)
+        m->node_grp[i] = -1;
     m->grp_first[0] = 0;
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         rj__joint *J = &m->jnt[j];
         int b2 = m->link_first[d->body2];
-        J->nJ = b2; J->nL = b2 + 1;
+        J->nJ = b2;
+        J->nL = b2 + 1;
         if (d->body1 < 0) {
-            J->nI = -1; J->nK = -1;
-            J->gax = cos(d->ground_angle); J->gay = sin(d->ground_angle);
-            m->tinv[b2] = 0; m->einv[b2] = 0;
+            J->nI = -1;
+            J->nK = -1;
+            J->gax = cos(d->ground_angle);
+            J->gay = sin(d->ground_angle);
+            m->tinv[b2] = 0;
+            m->einv[b2] = 0;
         } else {
             int n1 = d->node1 < 0 ? m->ldef[d->body1].elements : d->node1;
             J->nI = m->link_first[d->body1] + n1;
@@ -2772,48 +3857,75 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         }
     }
     /* groups: for each body1 pin node, collect it and all body2 roots pinned to it */
-    ngroups = rj__pin_groups(m, (int *)(void *)m->lz);
+    ngroups = rj__pin_groups(m, (int *) (void *) m->lz);
     m->ng = ngroups;
     {
         int k;
         for (i = 0; i < ngroups; i++) {
-            double msum = 0; int fixed = 0;
+            double msum = 0;
+            int fixed = 0;
             for (k = m->grp_first[i]; k < m->grp_first[i + 1]; k++) {
                 int n = m->grp_node[k];
                 msum += m->mass[n];
-                if (m->tinv[n] == 0) fixed = 1;
+                if (m->tinv[n] == 0)
+                    fixed = 1;
             }
             m->grp_inv[i] = fixed ? 0.0 : 1.0 / msum;
-            for (k = m->grp_first[i]; k < m->grp_first[i + 1]; k++) { m->einv[m->grp_node[k]] = m->grp_inv[i]; m->tinv[m->grp_node[k]] = 0; m->node_grp[m->grp_node[k]] = i; }
+            for (k = m->grp_first[i]; k < m->grp_first[i + 1]; k++) {
+                m->einv[m->grp_node[k]] = m->grp_inv[i];
+                m->tinv[m->grp_node[k]] = 0;
+                m->node_grp[m->grp_node[k]] = i;
+            }
         }
     }
-    for (i = 0; i < nn; i++) { m->kmass[i] = m->tinv[i] > 0 ? m->mass[i] : 0.0; m->krot[i] = m->rinv[i] > 0 ? m->rinertia[i] : 0.0; }
-    /* initial placement: each link after the link it hangs from */
-    rj__place_all(m, (int *)(void *)m->lz);   /* scratch: the Lanczos area is unused yet */
-    for (l = 0; l < m->nl; l++) if (m->ldef[l].root == RJ_ROOT_FIXED) {
-        int k;
-        for (k = m->link_first[l]; k < m->link_first[l + 1]; k++) { m->vx0[k] = 0; m->vy0[k] = 0; m->w0[k] = 0; }
+    for (i = 0; i < nn; i++) {
+        m->kmass[i] = m->tinv[i] > 0 ? m->mass[i] : 0.0;
+        m->krot[i] = m->rinv[i] > 0 ? m->rinertia[i] : 0.0;
     }
-    for (i = 0; i < nn; i++) if (m->einv[i] == 0) { m->vx0[i] = 0; m->vy0[i] = 0; }
-    for (i = 0; i < nn; i++) if (m->rinv[i] == 0) m->w0[i] = 0;
+    /* initial placement: each link after the link it hangs from */
+    rj__place_all(m, (int *) (void *) m->lz); /* scratch: the Lanczos area is unused yet */
+    for (l = 0; l < m->nl; l++)
+        if (m->ldef[l].root == RJ_ROOT_FIXED) {
+            int k;
+            for (k = m->link_first[l]; k < m->link_first[l + 1]; k++) {
+                m->vx0[k] = 0;
+                m->vy0[k] = 0;
+                m->w0[k] = 0;
+            }
+        }
+    for (i = 0; i < nn; i++)
+        if (m->einv[i] == 0) {
+            m->vx0[i] = 0;
+            m->vy0[i] = 0;
+        }
+    for (i = 0; i < nn; i++)
+        if (m->rinv[i] == 0)
+            m->w0[i] = 0;
     for (l = 0; l < m->nl; l++) {
         int k;
         for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++) {
             int a = m->link_first[l] + (k - m->link_efirst[l]);
             /* on the same branch as the node rotations, so phi - beta starts near 0 */
-            m->beta0[k] = m->phi0[a] + rj__wrap(atan2(m->y0[a + 1] - m->y0[a], m->x0[a + 1] - m->x0[a]) - m->phi0[a]);
+            m->beta0[k] =
+                m->phi0[a] +
+                rj__wrap(atan2(m->y0[a + 1] - m->y0[a], m->x0[a + 1] - m->x0[a]) - m->phi0[a]);
         }
     }
-    for (i = 0; i < nn; i++) m->node_cl[i] = -1;
-    if (!rj__all_rigid(sc)) for (l = 0; l < m->nl; l++) if (m->ldef[l].fidelity == RJ_LINK_RIGID) m->ncl = m->nl;
-    if (m->ncl && !rj__clusters(m, err)) return RJ_ERR_INVALID;
+    for (i = 0; i < nn; i++)
+        m->node_cl[i] = -1;
+    if (!rj__all_rigid(sc))
+        for (l = 0; l < m->nl; l++)
+            if (m->ldef[l].fidelity == RJ_LINK_RIGID)
+                m->ncl = m->nl;
+    if (m->ncl && !rj__clusters(m, err))
+        return RJ_ERR_INVALID;
     /* joint constants: inertias, limits on the running angle, table potential */
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         rj__joint *J = &m->jnt[j];
         rj__jgeo g;
         double W, dd, fwd, rev, kt = 0;
-        (void)W;
+        (void) W;
         int k, k2;
         J->chord = d->reference == RJ_REF_CHORD;
         rj__joint_geo(m, J, m->x0, m->y0, &g);
@@ -2825,55 +3937,88 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
             J->I2 = m->rinv[J->nJ] > 0 ? m->rinertia[J->nJ] : HUGE_VAL;
             J->off = d->angle0 - m->phi0[J->nJ] + (J->nI >= 0 ? m->phi0[J->nI] : 0.0);
         }
-        if (!rj__finite(J->I1)) { J->w1 = 0; J->w2 = 1; }
-        else if (!rj__finite(J->I2)) { J->w1 = 1; J->w2 = 0; }
-        else { J->w1 = J->I2 / (J->I1 + J->I2); J->w2 = J->I1 / (J->I1 + J->I2); }
+        if (!rj__finite(J->I1)) {
+            J->w1 = 0;
+            J->w2 = 1;
+        } else if (!rj__finite(J->I2)) {
+            J->w1 = 1;
+            J->w2 = 0;
+        } else {
+            J->w1 = J->I2 / (J->I1 + J->I2);
+            J->w2 = J->I1 / (J->I1 + J->I2);
+        }
         /* running limits. Both enabled: the free arc runs counter-clockwise from reverse to
            forward; a start inside the limited arc counts as past the nearer limit. One limit
            (a wall): the reverse limit is the largest theta_r + 2 pi k <= angle0 + pi/2, the
            forward limit the smallest theta_f + 2 pi k >= angle0 - pi/2, so a start up to
            90 deg past it counts as penetrated. */
         if (d->has_forward && d->has_reverse) {
-            fwd = d->forward; rev = d->reverse;
+            fwd = d->forward;
+            rev = d->reverse;
             W = rj__mod2pi(fwd - rev);
             dd = rj__mod2pi(d->angle0 - rev);
-            if (dd <= W) { J->rev = d->angle0 - dd; J->fwd = J->rev + W; }
-            else if (dd - W <= RJ__TWO_PI - dd) { J->fwd = d->angle0 - (dd - W); J->rev = J->fwd - W; }
-            else { J->rev = d->angle0 + (RJ__TWO_PI - dd); J->fwd = J->rev + W; }
+            if (dd <= W) {
+                J->rev = d->angle0 - dd;
+                J->fwd = J->rev + W;
+            } else if (dd - W <= RJ__TWO_PI - dd) {
+                J->fwd = d->angle0 - (dd - W);
+                J->rev = J->fwd - W;
+            } else {
+                J->rev = d->angle0 + (RJ__TWO_PI - dd);
+                J->fwd = J->rev + W;
+            }
         } else {
-            J->fwd = HUGE_VAL; J->rev = -HUGE_VAL;
-            if (d->has_reverse) J->rev = d->reverse + RJ__TWO_PI * floor((d->angle0 + 0.5 * RJ__PI - d->reverse) / RJ__TWO_PI);
-            if (d->has_forward) J->fwd = d->forward + RJ__TWO_PI * ceil((d->angle0 - 0.5 * RJ__PI - d->forward) / RJ__TWO_PI);
+            J->fwd = HUGE_VAL;
+            J->rev = -HUGE_VAL;
+            if (d->has_reverse)
+                J->rev = d->reverse +
+                         RJ__TWO_PI * floor((d->angle0 + 0.5 * RJ__PI - d->reverse) / RJ__TWO_PI);
+            if (d->has_forward)
+                J->fwd = d->forward +
+                         RJ__TWO_PI * ceil((d->angle0 - 0.5 * RJ__PI - d->forward) / RJ__TWO_PI);
         }
-        J->tv_turn = d->table_count ? rj__table_potential(d->table_angle, d->table_torque, d->table_count, RJ__TWO_PI) : 0.0;
+        J->tv_turn = d->table_count ? rj__table_potential(d->table_angle, d->table_torque,
+                                                          d->table_count, RJ__TWO_PI)
+                                    : 0.0;
         for (k = 0; k + 1 < d->table_count; k++) {
             double s = 0;
-            if (!(d->table_angle[k + 1] > d->table_angle[k])) continue;
+            if (!(d->table_angle[k + 1] > d->table_angle[k]))
+                continue;
             for (k2 = 0; k2 + 1 < d->table_count; k2++) {
-                if (!(d->table_angle[k2 + 1] > d->table_angle[k2])) continue;
-                if (d->table_angle[k2 + 1] < d->table_angle[k] || d->table_angle[k2] > d->table_angle[k + 1]) continue;
-                s += fabs((d->table_torque[k2 + 1] - d->table_torque[k2]) / (d->table_angle[k2 + 1] - d->table_angle[k2]));
+                if (!(d->table_angle[k2 + 1] > d->table_angle[k2]))
+                    continue;
+                if (d->table_angle[k2 + 1] < d->table_angle[k] ||
+                    d->table_angle[k2] > d->table_angle[k + 1])
+                    continue;
+                s += fabs((d->table_torque[k2 + 1] - d->table_torque[k2]) /
+                          (d->table_angle[k2 + 1] - d->table_angle[k2]));
             }
-            if (s > kt) kt = s;
+            if (s > kt)
+                kt = s;
         }
         J->k_lin = d->spring_k + kt;
         J->k_limit = 0;
     }
     /* rigid scenes: link bodies, joint order, pins */
     m->rigid = rj__all_rigid(sc);
-    for (l = 0; l < m->nl; l++) if (m->ldef[l].fidelity == RJ_LINK_INEXTENSIBLE) m->any_inext = 1;
+    for (l = 0; l < m->nl; l++)
+        if (m->ldef[l].fidelity == RJ_LINK_INEXTENSIBLE)
+            m->any_inext = 1;
     if (m->any_inext) {
-        rj__inext_chains(m, (int *)(void *)m->lz);
+        rj__inext_chains(m, (int *) (void *) m->lz);
     }
     if (m->rigid) {
         int k, placed_n = 0, guard;
         for (l = 0; l < m->nl; l++) {
             const rj_link_def *d = &m->ldef[l];
-            double A = d->section == RJ_SECTION_RECT ? d->width * d->height : d->area, mr = d->rho * A * d->length, mt = mr + d->tip_mass;
+            double A = d->section == RJ_SECTION_RECT ? d->width * d->height : d->area,
+                   mr = d->rho * A * d->length, mt = mr + d->tip_mass;
             double dc = (mr * 0.5 * d->length + d->tip_mass * d->length) / mt;
-            m->rb_mass[l] = mt; m->rb_dcm[l] = dc;
-            m->rb_icm[l] = mr * d->length * d->length / 12.0 + mr * (0.5 * d->length - dc) * (0.5 * d->length - dc)
-                         + d->tip_mass * (d->length - dc) * (d->length - dc) + d->tip_inertia;
+            m->rb_mass[l] = mt;
+            m->rb_dcm[l] = dc;
+            m->rb_icm[l] = mr * d->length * d->length / 12.0 +
+                           mr * (0.5 * d->length - dc) * (0.5 * d->length - dc) +
+                           d->tip_mass * (d->length - dc) * (d->length - dc) + d->tip_inertia;
             m->rb_pjoint[l] = -1;
         }
         for (j = 0; j < m->nj; j++) {
@@ -2883,25 +4028,35 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
                 int n1 = d->node1 < 0 ? m->ldef[d->body1].elements : d->node1;
                 m->jpin[j] = n1 * m->link_l0[d->body1];
                 m->jref[j] = n1 > 0 ? RJ__PI : 0.0;
-            } else { m->jpin[j] = 0; m->jref[j] = 0; }
+            } else {
+                m->jpin[j] = 0;
+                m->jref[j] = 0;
+            }
         }
         /* parents before children */
         for (guard = 0; placed_n < m->nj && guard <= m->nj; guard++)
             for (j = 0; j < m->nj; j++) {
                 const int b1 = m->jdef[j].body1;
                 int done = 0, ready = b1 < 0 || m->rb_pjoint[b1] < 0;
-                for (k = 0; k < placed_n; k++) { if (m->jorder[k] == j) done = 1; if (b1 >= 0 && m->jorder[k] == m->rb_pjoint[b1]) ready = 1; }
-                if (!done && ready) m->jorder[placed_n++] = j;
+                for (k = 0; k < placed_n; k++) {
+                    if (m->jorder[k] == j)
+                        done = 1;
+                    if (b1 >= 0 && m->jorder[k] == m->rb_pjoint[b1])
+                        ready = 1;
+                }
+                if (!done && ready)
+                    m->jorder[placed_n++] = j;
             }
     }
     /* stability: omega_max of beams + springs + tables, then the limit stiffness in use */
     {
-        double *cx = m->lz + 9 * (size_t)nn, *cy = cx + ne;
+        double *cx = m->lz + 9 * (size_t) nn, *cy = cx + ne;
         for (l = 0; l < m->nl; l++) {
             int k;
             for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++) {
                 int a = m->link_first[l] + (k - m->link_efirst[l]);
-                cx[k] = m->x0[a + 1] - m->x0[a]; cy[k] = m->y0[a + 1] - m->y0[a];
+                cx[k] = m->x0[a + 1] - m->x0[a];
+                cy[k] = m->y0[a + 1] - m->y0[a];
             }
         }
     }
@@ -2913,7 +4068,8 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         double dt, klin0[RJ__BOUND_JOINTS], om2_noad;
         int pass, any = 0;
         /* the links and springs alone (no limit stiffness): kept for the refusal's advice */
-        for (j = 0; j < m->nj && j < RJ__BOUND_JOINTS; j++) klin0[j] = m->jnt[j].k_lin;
+        for (j = 0; j < m->nj && j < RJ__BOUND_JOINTS; j++)
+            klin0[j] = m->jnt[j].k_lin;
         om2 = m->rigid ? rj__rig_setup(m, m->lz) : rj__omega2_max(m);
         m->omega_links = rj__omega_of(om2);
         /* joint damping acts on the rates it lags (Eq 27 on v^{n-1/2}): it shortens the step */
@@ -2924,15 +4080,18 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
                before the linear bound: measured on the impact benchmark, RC13 contact blows
                up at omega dt = 1.67 where the same spring always on is stable. Counting it
                as 4 K keeps omega dt <= 1, where switching was never seen to pump. */
-            if ((d->has_forward || d->has_reverse) && d->method == RJ_METHOD_PENALTY) m->jnt[j].k_lin += 4.0 * d->penalty_k;
-            if ((d->has_forward || d->has_reverse) && d->method == RJ_METHOD_ADAPTIVE) any = 1;
+            if ((d->has_forward || d->has_reverse) && d->method == RJ_METHOD_PENALTY)
+                m->jnt[j].k_lin += 4.0 * d->penalty_k;
+            if ((d->has_forward || d->has_reverse) && d->method == RJ_METHOD_ADAPTIVE)
+                any = 1;
         }
         om2 = m->rigid ? rj__rig_setup(m, m->lz) : rj__omega2_max(m);
         m->omega_max = rj__omega_of(om2);
         m->dt_bound = rj__dt_bound_of(m->omega_max, damp_rate);
         dt = sc->solver.dt > 0 ? sc->solver.dt : 0.9 * m->dt_bound;
         /* rigid scenes without stiff joints are not bounded: default to 1 ms */
-        if (m->rigid && sc->solver.dt <= 0 && dt > 1e-3) dt = 1e-3;
+        if (m->rigid && sc->solver.dt <= 0 && dt > 1e-3)
+            dt = 1e-3;
         /* adaptive joints: K_AP = I_red/dt^2 gives omega dt = 1 on its own. Contact chatter
            near the links' bound pumps energy with it too (stress suite: RC13 impacts blew up
            at 0.95 x the bound with K_AP counted once), so it counts twice; K_AP grows as dt
@@ -2946,34 +4105,44 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
                 rj__joint *J = &m->jnt[j];
                 if ((d->has_forward || d->has_reverse) && d->method == RJ_METHOD_ADAPTIVE) {
                     /* rigid: the joint's own effective inertia 1 / (M^-1)_jj (Eq 21 for two free bodies) */
-                    J->k_limit = m->rigid ? 1.0 / (J->minv * dt * dt) : rj_k_adaptive(J->I1, J->I2, dt);
+                    J->k_limit =
+                        m->rigid ? 1.0 / (J->minv * dt * dt) : rj_k_adaptive(J->I1, J->I2, dt);
                     J->k_lin = (j < RJ__BOUND_JOINTS ? klin0[j] : d->spring_k) + 2.0 * J->k_limit;
                 }
             }
             om2 = m->rigid ? rj__rig_setup(m, m->lz) : rj__omega2_max(m);
             m->omega_max = rj__omega_of(om2);
             m->dt_bound = rj__dt_bound_of(m->omega_max, damp_rate);
-            if (sc->solver.dt > 0 || dt <= 0.9 * m->dt_bound * 1.000001) break;
+            if (sc->solver.dt > 0 || dt <= 0.9 * m->dt_bound * 1.000001)
+                break;
             {
-                const double c2 = (0.9 * RJ__DT_MARGIN * 2.0) * (0.9 * RJ__DT_MARGIN * 2.0), b = (om2 - om2_noad) * dt * dt;
+                const double c2 = (0.9 * RJ__DT_MARGIN * 2.0) * (0.9 * RJ__DT_MARGIN * 2.0),
+                             b = (om2 - om2_noad) * dt * dt;
                 if (b >= c2 || pass == 19) {
                     /* K_AP = I_red / dt^2: omega dt of the adaptive limits does not fall with
                        dt, so when they alone are above the bound no step is stable */
-                    rj__fail(err, RJ_ERR_UNSTABLE_DT, "solver.dt", dt,
-                             "no stable step for the adaptive limits: their stiffness K_AP (Eq 21) grows as 1/dt^2, so their omega dt, %.3g with the limits counted as in the bound, "
-                             "is the same at every dt and above the %.3g the automatic step allows; use RJ_METHOD_MOMENTUM (or penalty with a fixed K) for these joints%s",
-                             sqrt(b), sqrt(c2), m->rigid ? ", as rigid links usually want" : "");
+                    rj__fail(
+                        err, RJ_ERR_UNSTABLE_DT, "solver.dt", dt,
+                        "no stable step for the adaptive limits: their stiffness K_AP (Eq 21) "
+                        "grows as 1/dt^2, so their omega dt, %.3g with the limits counted as in "
+                        "the bound, "
+                        "is the same at every dt and above the %.3g the automatic step allows; use "
+                        "RJ_METHOD_MOMENTUM (or penalty with a fixed K) for these joints%s",
+                        sqrt(b), sqrt(c2), m->rigid ? ", as rigid links usually want" : "");
                     return RJ_ERR_UNSTABLE_DT;
                 }
                 dt = om2_noad > 0 ? sqrt((c2 - b) / om2_noad) : dt;
-                if (dt > 0.9 * m->dt_bound) dt = 0.9 * m->dt_bound;
+                if (dt > 0.9 * m->dt_bound)
+                    dt = 0.9 * m->dt_bound;
             }
         }
         for (j = 0; j < m->nj; j++) {
             const rj_joint_def *d = &m->jdef[j];
             rj__joint *J = &m->jnt[j];
-            if (d->method == RJ_METHOD_PENALTY) J->k_limit = d->penalty_k;
-            if (d->method == RJ_METHOD_ADAPTIVE) J->k_limit = m->rigid ? 1.0 / (J->minv * dt * dt) : rj_k_adaptive(J->I1, J->I2, dt);
+            if (d->method == RJ_METHOD_PENALTY)
+                J->k_limit = d->penalty_k;
+            if (d->method == RJ_METHOD_ADAPTIVE)
+                J->k_limit = m->rigid ? 1.0 / (J->minv * dt * dt) : rj_k_adaptive(J->I1, J->I2, dt);
         }
         m->dt = dt;
     }
@@ -2986,63 +4155,91 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         for (j = 0; j < m->nj; j++) {
             const double c = rj__joint_compliance0(m, j);
             const double om = sqrt(m->jnt[j].k_lin * c);
-            if (om > wo) { wo = om; worst = j; cw = c; }
+            if (om > wo) {
+                wo = om;
+                worst = j;
+                cw = c;
+            }
         }
         extra[0] = 0;
         if (worst >= 0 && wo * m->dt > 1.0) {
-            double room = (RJ__DT_MARGIN * 2.0 / m->dt) * (RJ__DT_MARGIN * 2.0 / m->dt) - m->omega_links * m->omega_links, kok;
+            double room = (RJ__DT_MARGIN * 2.0 / m->dt) * (RJ__DT_MARGIN * 2.0 / m->dt) -
+                          m->omega_links * m->omega_links,
+                   kok;
             /* what this bound admits for a penalty limit (counted 4 K, added to the links' omega^2) */
             kok = room > 0 ? room / (4.0 * cw) : 0.0;
             if (m->jdef[worst].method == RJ_METHOD_ADAPTIVE)
-                snprintf(extra, sizeof extra, "; joint %d's adaptive limit gives about omega dt = %.3g, and its K_AP (Eq 21) grows as 1/dt^2, so a smaller dt helps little: "
-                         "solver.dt = 0 finds the largest stable step if there is one, or use RJ_METHOD_MOMENTUM%s",
+                snprintf(extra, sizeof extra,
+                         "; joint %d's adaptive limit gives about omega dt = %.3g, and its K_AP "
+                         "(Eq 21) grows as 1/dt^2, so a smaller dt helps little: "
+                         "solver.dt = 0 finds the largest stable step if there is one, or use "
+                         "RJ_METHOD_MOMENTUM%s",
                          worst, wo * m->dt, m->rigid ? " (rigid links)" : " or a penalty K");
             else if (room > 0 && !m->rigid)
-                snprintf(extra, sizeof extra, "; joint %d's stiffness gives omega dt = %.3g: this model accepts a penalty K up to about %.4g N m/rad at this dt (Eq 31 would give %.4g)",
+                snprintf(extra, sizeof extra,
+                         "; joint %d's stiffness gives omega dt = %.3g: this model accepts a "
+                         "penalty K up to about %.4g N m/rad at this dt (Eq 31 would give %.4g)",
                          worst, wo * m->dt, kok, rj_joint_kmax_eq31(m, worst, m->dt));
             else if (room > 0)
-                snprintf(extra, sizeof extra, "; joint %d's stiffness gives omega dt = %.3g: this model accepts a penalty K up to about %.4g N m/rad at this dt",
+                snprintf(extra, sizeof extra,
+                         "; joint %d's stiffness gives omega dt = %.3g: this model accepts a "
+                         "penalty K up to about %.4g N m/rad at this dt",
                          worst, wo * m->dt, kok);
         }
         if (m->omega_links > 0 && m->dt > RJ__DT_MARGIN * 2.0 / m->omega_links)
-            snprintf(extra, sizeof extra, "; the links alone need dt <= %.4g s", RJ__DT_MARGIN * 2.0 / m->omega_links);
-        rj__fail(err, RJ_ERR_UNSTABLE_DT, "solver.dt", m->dt,
-                 "solver.dt = %.9g s is above the stability bound %.9g s (omega_max %g rad/s)%s; %s",
-                 m->dt, m->dt_bound, m->omega_max, extra,
-                 worst >= 0 && wo * m->dt > 1.0 && m->jdef[worst].method == RJ_METHOD_ADAPTIVE ? "or set solver.allow_unstable"
-                                                                                                : "use a smaller dt or set solver.allow_unstable");
+            snprintf(extra, sizeof extra, "; the links alone need dt <= %.4g s",
+                     RJ__DT_MARGIN * 2.0 / m->omega_links);
+        rj__fail(
+            err, RJ_ERR_UNSTABLE_DT, "solver.dt", m->dt,
+            "solver.dt = %.9g s is above the stability bound %.9g s (omega_max %g rad/s)%s; %s",
+            m->dt, m->dt_bound, m->omega_max, extra,
+            worst >= 0 && wo * m->dt > 1.0 && m->jdef[worst].method == RJ_METHOD_ADAPTIVE
+                ? "or set solver.allow_unstable"
+                : "use a smaller dt or set solver.allow_unstable");
         return RJ_ERR_UNSTABLE_DT;
     }
     /* a bound or a step that is not a finite positive number leaves nothing to run */
-    if (!rj__usable_step(m, err)) return RJ_ERR_INVALID;
+    if (!rj__usable_step(m, err))
+        return RJ_ERR_INVALID;
     /* Eq 28 over the whole model */
     m->dt_eq28 = HUGE_VAL;
     for (l = 0; l < m->nl; l++) {
         double c = sqrt(m->ldef[l].E / m->ldef[l].rho), t = m->link_l0[l] / c;
-        if (t < m->dt_eq28) m->dt_eq28 = t;
+        if (t < m->dt_eq28)
+            m->dt_eq28 = t;
     }
     /* the nodes the step advances again after the joints, once each and in ascending order:
        every node a joint applies a torque or force to, rigid links' nodes (their bodies
        move them), and every link's end nodes (tip masses: not the link's uniform values) */
     {
-        int *mark = (int *)(void *)m->lz, k;   /* scratch: the Lanczos area is free again */
+        int *mark = (int *) (void *) m->lz, k; /* scratch: the Lanczos area is free again */
         m->ndn = 0;
-        for (i = 0; i < nn; i++) mark[i] = 0;
+        for (i = 0; i < nn; i++)
+            mark[i] = 0;
         for (j = 0; j < m->nj; j++) {
             const rj__joint *J = &m->jnt[j];
             const int nodes[4] = { J->nI, J->nJ, J->chord ? J->nK : -1, J->chord ? J->nL : -1 };
-            for (k = 0; k < 4; k++) if (nodes[k] >= 0) mark[nodes[k]] = 1;
+            for (k = 0; k < 4; k++)
+                if (nodes[k] >= 0)
+                    mark[nodes[k]] = 1;
         }
         for (l = 0; l < m->nl; l++) {
             const int n0 = m->link_first[l], ne_l = m->ldef[l].elements;
-            if (m->ldef[l].fidelity == RJ_LINK_RIGID) for (k = n0; k <= n0 + ne_l; k++) mark[k] = 1;
+            if (m->ldef[l].fidelity == RJ_LINK_RIGID)
+                for (k = n0; k <= n0 + ne_l; k++)
+                    mark[k] = 1;
             mark[n0] = mark[n0 + ne_l] = 1;
         }
-        for (i = 0; i < nn; i++) if (mark[i]) m->dnode[m->ndn++] = i;
+        for (i = 0; i < nn; i++)
+            if (mark[i])
+                m->dnode[m->ndn++] = i;
         m->dn_inner = 0;
         for (l = 0; l < m->nl; l++) {
             const int n0 = m->link_first[l], ne_l = m->ldef[l].elements;
-            if (m->ldef[l].fidelity != RJ_LINK_RIGID) for (k = n0 + 1; k < n0 + ne_l; k++) if (mark[k]) m->dn_inner = 1;
+            if (m->ldef[l].fidelity != RJ_LINK_RIGID)
+                for (k = n0 + 1; k < n0 + ne_l; k++)
+                    if (mark[k])
+                        m->dn_inner = 1;
         }
         /* a link whose other nodes share their inverse masses and energy weights (uniform
            sections: all of them) lets the fused pass read four numbers instead of four arrays */
@@ -3052,52 +4249,79 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
             int first = 1, same = 1;
             u[0] = u[1] = u[2] = u[3] = 0;
             for (k = n0; k <= n0 + ne_l; k++) {
-                if (mark[k]) continue;
-                if (first) { u[0] = m->tinv[k]; u[1] = m->rinv[k]; u[2] = m->kmass[k]; u[3] = m->krot[k]; first = 0; }
-                else if (!(u[0] == m->tinv[k] && u[1] == m->rinv[k] && u[2] == m->kmass[k] && u[3] == m->krot[k])) same = 0;
+                if (mark[k])
+                    continue;
+                if (first) {
+                    u[0] = m->tinv[k];
+                    u[1] = m->rinv[k];
+                    u[2] = m->kmass[k];
+                    u[3] = m->krot[k];
+                    first = 0;
+                } else if (!(u[0] == m->tinv[k] && u[1] == m->rinv[k] && u[2] == m->kmass[k] &&
+                             u[3] == m->krot[k]))
+                    same = 0;
             }
             u[4] = same;
         }
     }
-    m->frame_doubles = 6 * (size_t)nn + 3 * (size_t)ne + RJ__JD_COUNT * (size_t)m->nj + RJ__FS_COUNT;
+    m->frame_doubles =
+        6 * (size_t) nn + 3 * (size_t) ne + RJ__JD_COUNT * (size_t) m->nj + RJ__FS_COUNT;
     m->cl_off = m->frame_doubles;
-    m->frame_doubles += 6 * (size_t)m->ncl;
-    m->frame_ints = (size_t)m->nj;
+    m->frame_doubles += 6 * (size_t) m->ncl;
+    m->frame_ints = (size_t) m->nj;
     /* in place: not with inextensible links (SHAKE reads every node at n), and only if every
        node of a pin group or a rigid body is one the step keeps (m->dnode: it is) */
-    m->ip = !m->rigid && !m->any_inext && m->solver.in_place != RJ_IN_PLACE_OFF && (m->solver.in_place == RJ_IN_PLACE_ON || nn >= RJ_IN_PLACE_NODES);
+    m->ip = !m->rigid && !m->any_inext && m->solver.in_place != RJ_IN_PLACE_OFF &&
+            (m->solver.in_place == RJ_IN_PLACE_ON || nn >= RJ_IN_PLACE_NODES);
     for (i = 0; i < m->ng && m->ip; i++) {
         int q;
-        for (q = m->grp_first[i]; q < m->grp_first[i + 1]; q++) if (!rj__is_dnode(m, m->grp_node[q])) m->ip = 0;
+        for (q = m->grp_first[i]; q < m->grp_first[i + 1]; q++)
+            if (!rj__is_dnode(m, m->grp_node[q]))
+                m->ip = 0;
     }
     for (i = 0; i < m->ncl && m->ip; i++) {
         int q;
-        for (q = m->cl_first[i]; q < m->cl_first[i + 1]; q++) if (!rj__is_dnode(m, m->cl_node[q])) m->ip = 0;
+        for (q = m->cl_first[i]; q < m->cl_first[i + 1]; q++)
+            if (!rj__is_dnode(m, m->cl_node[q]))
+                m->ip = 0;
     }
     m->hash = rj__model_hash(m);
     *out = m;
     return RJ_OK;
 }
 
-RJDEF rj_result rj_model_create(const rj_scene_def *scene, rj_model **out, rj_error *err, void *alloc_ctx)
+RJDEF rj_result rj_model_create(const rj_scene_def *scene, rj_model **out, rj_error *err,
+                                void *alloc_ctx)
 {
     size_t sz;
     void *mem;
     rj_result r;
     rj_error size_err;
-    (void)alloc_ctx;
-    if (!out) { rj__fail(err, RJ_ERR_INVALID, "out", 0, "out is NULL"); return RJ_ERR_INVALID; }
+    (void) alloc_ctx;
+    if (!out) {
+        rj__fail(err, RJ_ERR_INVALID, "out", 0, "out is NULL");
+        return RJ_ERR_INVALID;
+    }
     sz = rj_model_size(scene, err ? err : &size_err);
-    if (!sz) return err ? err->code : size_err.code;
+    if (!sz)
+        return err ? err->code : size_err.code;
     mem = RJ_MALLOC(sz, alloc_ctx);
-    if (!mem) { rj__fail(err, RJ_ERR_NOMEM, "size", (double)sz, "could not allocate %lu bytes", (unsigned long)sz); return RJ_ERR_NOMEM; }
+    if (!mem) {
+        rj__fail(err, RJ_ERR_NOMEM, "size", (double) sz, "could not allocate %lu bytes",
+                 (unsigned long) sz);
+        return RJ_ERR_NOMEM;
+    }
     r = rj_model_init(scene, mem, sz, out, err);
-    if (r != RJ_OK) { RJ_FREE(mem, alloc_ctx); return r; }
+    if (r != RJ_OK) {
+        RJ_FREE(mem, alloc_ctx);
+        return r;
+    }
     /* remember the raw pointer for free: the model sits at the aligned start of mem */
-    if ((void *)*out != mem) {
+    if ((void *) *out != mem) {
         /* alignment moved the start; keep it simple: allocators return 16-aligned blocks */
         RJ_FREE(mem, alloc_ctx);
-        rj__fail(err, RJ_ERR_NOMEM, "size", 0, "RJ_MALLOC returned a block not aligned to 16 bytes");
+        rj__fail(err, RJ_ERR_NOMEM, "size", 0,
+                 "RJ_MALLOC returned a block not aligned to 16 bytes");
         *out = NULL;
         return RJ_ERR_NOMEM;
     }
@@ -3106,12 +4330,16 @@ RJDEF rj_result rj_model_create(const rj_scene_def *scene, rj_model **out, rj_er
 
 RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 {
-    (void)alloc_ctx;
-    if (m) RJ_FREE(m, alloc_ctx);
+    (void) alloc_ctx;
+    if (m)
+        RJ_FREE(m, alloc_ctx);
 }
 
 /* ------------------------------------------------------------------ states */
-typedef struct rj__slayout { size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, eu, ebt, jsc, rsc; } rj__slayout;
+typedef struct rj__slayout {
+    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, eu, ebt, jsc,
+        rsc;
+} rj__slayout;
 
 static void rj__state_layout(const rj_model *m, rj__slayout *L)
 {
@@ -3122,19 +4350,20 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->fi1 = rj__carve(&off, m->frame_ints + 1, sizeof(int));
     L->fd2 = rj__carve(&off, m->ip ? m->frame_doubles : 0, sizeof(double));
     L->fi2 = rj__carve(&off, m->ip ? m->frame_ints + 1 : 0, sizeof(int));
-    L->fx = rj__carve(&off, (size_t)m->nn, sizeof(double));
-    L->fy = rj__carve(&off, (size_t)m->nn, sizeof(double));
-    L->mz = rj__carve(&off, (size_t)m->nn, sizeof(double));
-    L->kn = rj__carve(&off, (size_t)m->nn, sizeof(double));
-    L->sha = rj__carve(&off, m->any_inext ? (size_t)m->ne : 0, sizeof(double));
-    L->shb = rj__carve(&off, m->any_inext ? (size_t)m->ne : 0, sizeof(double));
-    L->shc = rj__carve(&off, m->any_inext ? (size_t)m->ne : 0, sizeof(double));
-    L->shr = rj__carve(&off, m->any_inext ? (size_t)m->ne : 0, sizeof(double));
-    L->eu = rj__carve(&off, (size_t)m->ne, sizeof(double));
-    L->ebt = rj__carve(&off, (size_t)m->ne, sizeof(double));
-    L->jsc = rj__carve(&off, (size_t)m->nj * 8 + 1, sizeof(double));
-    L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl) : 3 * (size_t)m->ncl + 1, sizeof(double));
-    L->total = off == (size_t)-1 ? off : off + RJ__ALIGN;
+    L->fx = rj__carve(&off, (size_t) m->nn, sizeof(double));
+    L->fy = rj__carve(&off, (size_t) m->nn, sizeof(double));
+    L->mz = rj__carve(&off, (size_t) m->nn, sizeof(double));
+    L->kn = rj__carve(&off, (size_t) m->nn, sizeof(double));
+    L->sha = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
+    L->shb = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
+    L->shc = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
+    L->shr = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
+    L->eu = rj__carve(&off, (size_t) m->ne, sizeof(double));
+    L->ebt = rj__carve(&off, (size_t) m->ne, sizeof(double));
+    L->jsc = rj__carve(&off, (size_t) m->nj * 8 + 1, sizeof(double));
+    L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl) : 3 * (size_t) m->ncl + 1,
+                       sizeof(double));
+    L->total = off == (size_t) -1 ? off : off + RJ__ALIGN;
 }
 
 RJDEF size_t rj_state_size(const rj_model *m)
@@ -3146,33 +4375,38 @@ RJDEF size_t rj_state_size(const rj_model *m)
 }
 
 /* frame accessors */
-#define RJ__FX(m, f) ((f) + RJ__FS_COUNT)
-#define RJ__FY(m, f) ((f) + RJ__FS_COUNT + (m)->nn)
-#define RJ__FPHI(m, f) ((f) + RJ__FS_COUNT + 2 * (size_t)(m)->nn)
-#define RJ__FVX(m, f) ((f) + RJ__FS_COUNT + 3 * (size_t)(m)->nn)
-#define RJ__FVY(m, f) ((f) + RJ__FS_COUNT + 4 * (size_t)(m)->nn)
-#define RJ__FW(m, f) ((f) + RJ__FS_COUNT + 5 * (size_t)(m)->nn)
-#define RJ__FBETA(m, f) ((f) + RJ__FS_COUNT + 6 * (size_t)(m)->nn)
-#define RJ__FCX(m, f) ((f) + RJ__FS_COUNT + 6 * (size_t)(m)->nn + (m)->ne)
-#define RJ__FCY(m, f) ((f) + RJ__FS_COUNT + 6 * (size_t)(m)->nn + 2 * (size_t)(m)->ne)
-#define RJ__FJ(m, f, j) ((f) + RJ__FS_COUNT + 6 * (size_t)(m)->nn + 3 * (size_t)(m)->ne + RJ__JD_COUNT * (size_t)(j))
+#define RJ__FX(m, f)    ((f) + RJ__FS_COUNT)
+#define RJ__FY(m, f)    ((f) + RJ__FS_COUNT + (m)->nn)
+#define RJ__FPHI(m, f)  ((f) + RJ__FS_COUNT + 2 * (size_t) (m)->nn)
+#define RJ__FVX(m, f)   ((f) + RJ__FS_COUNT + 3 * (size_t) (m)->nn)
+#define RJ__FVY(m, f)   ((f) + RJ__FS_COUNT + 4 * (size_t) (m)->nn)
+#define RJ__FW(m, f)    ((f) + RJ__FS_COUNT + 5 * (size_t) (m)->nn)
+#define RJ__FBETA(m, f) ((f) + RJ__FS_COUNT + 6 * (size_t) (m)->nn)
+#define RJ__FCX(m, f)   ((f) + RJ__FS_COUNT + 6 * (size_t) (m)->nn + (m)->ne)
+#define RJ__FCY(m, f)   ((f) + RJ__FS_COUNT + 6 * (size_t) (m)->nn + 2 * (size_t) (m)->ne)
+#define RJ__FJ(m, f, j)                                                                            \
+    ((f) + RJ__FS_COUNT + 6 * (size_t) (m)->nn + 3 * (size_t) (m)->ne + RJ__JD_COUNT * (size_t) (j))
 #define RJ__FS(m, f) (f)
 
 /* One joint's spring and table potentials at the running angle run, added to *V (spring
    first, then table: every caller sums in this order, so the totals agree to the bit); the
    table's torque goes to *table_torque. */
-static void rj__joint_potential(const rj_joint_def *d, const rj__joint *J, double run, double *V, double *table_torque)
+static void rj__joint_potential(const rj_joint_def *d, const rj__joint *J, double run, double *V,
+                                double *table_torque)
 {
     *table_torque = 0;
-    if (d->spring_k > 0) *V += 0.5 * d->spring_k * (run - d->spring_free_angle) * (run - d->spring_free_angle);
-    if (d->table_count) *V += rj__table_turns_potential(d, J, run, table_torque);
+    if (d->spring_k > 0)
+        *V += 0.5 * d->spring_k * (run - d->spring_free_angle) * (run - d->spring_free_angle);
+    if (d->table_count)
+        *V += rj__table_turns_potential(d, J, run, table_torque);
 }
 
 static double rj__spring_energy(const rj_model *m, const double *f)
 {
     double V = 0, t;
     int j;
-    for (j = 0; j < m->nj; j++) rj__joint_potential(&m->jdef[j], &m->jnt[j], RJ__FJ(m, f, j)[RJ__JD_THETA], &V, &t);
+    for (j = 0; j < m->nj; j++)
+        rj__joint_potential(&m->jdef[j], &m->jnt[j], RJ__FJ(m, f, j)[RJ__JD_THETA], &V, &t);
     return V;
 }
 
@@ -3180,18 +4414,22 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
 {
     double *f = s->fd[0], *sc;
     int j, i;
-    s->cur = 0; s->steps = 0; s->snap = -1; s->err[0] = 0; s->warn[0] = 0;
+    s->cur = 0;
+    s->steps = 0;
+    s->snap = -1;
+    s->err[0] = 0;
+    s->warn[0] = 0;
     memset(s->fd[0], 0, sizeof(double) * m->frame_doubles);
     memset(s->fd[1], 0, sizeof(double) * m->frame_doubles);
     memset(s->fi[0], 0, sizeof(int) * (m->frame_ints + 1));
     memset(s->fi[1], 0, sizeof(int) * (m->frame_ints + 1));
-    memcpy(RJ__FX(m, f), m->x0, sizeof(double) * (size_t)m->nn);
-    memcpy(RJ__FY(m, f), m->y0, sizeof(double) * (size_t)m->nn);
-    memcpy(RJ__FPHI(m, f), m->phi0, sizeof(double) * (size_t)m->nn);
-    memcpy(RJ__FVX(m, f), m->vx0, sizeof(double) * (size_t)m->nn);
-    memcpy(RJ__FVY(m, f), m->vy0, sizeof(double) * (size_t)m->nn);
-    memcpy(RJ__FW(m, f), m->w0, sizeof(double) * (size_t)m->nn);
-    memcpy(RJ__FBETA(m, f), m->beta0, sizeof(double) * (size_t)m->ne);
+    memcpy(RJ__FX(m, f), m->x0, sizeof(double) * (size_t) m->nn);
+    memcpy(RJ__FY(m, f), m->y0, sizeof(double) * (size_t) m->nn);
+    memcpy(RJ__FPHI(m, f), m->phi0, sizeof(double) * (size_t) m->nn);
+    memcpy(RJ__FVX(m, f), m->vx0, sizeof(double) * (size_t) m->nn);
+    memcpy(RJ__FVY(m, f), m->vy0, sizeof(double) * (size_t) m->nn);
+    memcpy(RJ__FW(m, f), m->w0, sizeof(double) * (size_t) m->nn);
+    memcpy(RJ__FBETA(m, f), m->beta0, sizeof(double) * (size_t) m->ne);
     for (i = 0; i < m->nl; i++) {
         int k;
         for (k = m->link_efirst[i]; k < m->link_efirst[i + 1]; k++) {
@@ -3205,35 +4443,53 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
         rj__jgeo g;
         rj__joint_geo(m, &m->jnt[j], m->x0, m->y0, &g);
         jd[RJ__JD_THETA] = m->jdef[j].angle0;
-        jd[RJ__JD_RATE] = m->rigid ? m->jdef[j].rate0 : rj__joint_rate(&m->jnt[j], &g, m->vx0, m->vy0, m->w0, NULL, NULL);
-        jd[RJ__JD_EVENT] = -1; jd[RJ__JD_RELEASE] = -1;
+        jd[RJ__JD_RATE] = m->rigid
+                              ? m->jdef[j].rate0
+                              : rj__joint_rate(&m->jnt[j], &g, m->vx0, m->vy0, m->w0, NULL, NULL);
+        jd[RJ__JD_EVENT] = -1;
+        jd[RJ__JD_RELEASE] = -1;
     }
     if (m->rigid) {
         /* nodes from the joint-coordinate kinematics, so that both descriptions agree */
         rj__rig r;
         rj__rig_map(m, s->rsc, &r);
-        for (j = 0; j < m->nj; j++) { r.q[j] = m->jdef[j].angle0; r.qd[j] = m->jdef[j].rate0; }
+        for (j = 0; j < m->nj; j++) {
+            r.q[j] = m->jdef[j].angle0;
+            r.qd[j] = m->jdef[j].rate0;
+        }
         rj__rig_kin(m, &r, r.q, r.qd, r.qd);
         rj__rig_nodes(m, &r, f);
     }
     sc = RJ__FS(m, f);
     {
         double ke = 0, U;
-        for (i = 0; i < m->nn; i++) ke += 0.5 * m->mass[i] * (m->vx0[i] * m->vx0[i] + m->vy0[i] * m->vy0[i]) * (m->einv[i] > 0) + 0.5 * m->rinertia[i] * m->w0[i] * m->w0[i] * (m->rinv[i] > 0 && !RJ__CL_RIGID(m, i));
+        for (i = 0; i < m->nn; i++)
+            ke += 0.5 * m->mass[i] * (m->vx0[i] * m->vx0[i] + m->vy0[i] * m->vy0[i]) *
+                      (m->einv[i] > 0) +
+                  0.5 * m->rinertia[i] * m->w0[i] * m->w0[i] *
+                      (m->rinv[i] > 0 && !RJ__CL_RIGID(m, i));
         for (i = 0; i < m->ncl; i++) {
             /* rigid bodies: anchor, its velocity, rate, angle */
             double *c = RJ__FCL(m, f, i);
             const int n0 = m->link_first[i];
-            if (m->cl_first[i] == m->cl_first[i + 1]) continue;
-            c[0] = m->x0[n0] - m->cl_rx[n0]; c[1] = m->y0[n0] - m->cl_ry[n0];
-            c[2] = m->cl_th0[3 * i + 1]; c[3] = m->cl_th0[3 * i + 2]; c[4] = m->w0[n0]; c[5] = m->cl_th0[3 * i];
-            ke += 0.5 * m->cl_M[i] * (c[2] * c[2] + c[3] * c[3]) * (m->cl_fix[i] == 0) + 0.5 * m->cl_I[i] * c[4] * c[4];
+            if (m->cl_first[i] == m->cl_first[i + 1])
+                continue;
+            c[0] = m->x0[n0] - m->cl_rx[n0];
+            c[1] = m->y0[n0] - m->cl_ry[n0];
+            c[2] = m->cl_th0[3 * i + 1];
+            c[3] = m->cl_th0[3 * i + 2];
+            c[4] = m->w0[n0];
+            c[5] = m->cl_th0[3 * i];
+            ke += 0.5 * m->cl_M[i] * (c[2] * c[2] + c[3] * c[3]) * (m->cl_fix[i] == 0) +
+                  0.5 * m->cl_I[i] * c[4] * c[4];
         }
-        double *o = s->fd[1];   /* scratch for the chords, cleared again below */
+        double *o = s->fd[1]; /* scratch for the chords, cleared again below */
         U = rj__beam_pass(m, m->x0, m->y0, m->phi0, m->beta0, RJ__FCX(m, f), RJ__FCY(m, f), s->eu,
                           s->ebt, RJ__FCX(m, o), RJ__FCY(m, o), s->fx, s->fy, s->mz, NULL);
         memset(o, 0, sizeof(double) * m->frame_doubles);
-        sc[RJ__FS_KE] = ke; sc[RJ__FS_STRAIN] = U; sc[RJ__FS_SPRING] = rj__spring_energy(m, f);
+        sc[RJ__FS_KE] = ke;
+        sc[RJ__FS_STRAIN] = U;
+        sc[RJ__FS_SPRING] = rj__spring_energy(m, f);
         sc[RJ__FS_E0] = ke + U + sc[RJ__FS_SPRING];
     }
 }
@@ -3243,24 +4499,34 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     rj__slayout L;
     rj_state *s;
     char *base;
-    if (!m || !out) return RJ_ERR_INVALID;
+    if (!m || !out)
+        return RJ_ERR_INVALID;
     rj__state_layout(m, &L);
-    if (!mem || size < L.total) return RJ_ERR_NOMEM;
-    base = (char *)mem;
-    base += (RJ__ALIGN - ((size_t)base % RJ__ALIGN)) % RJ__ALIGN;
+    if (!mem || size < L.total)
+        return RJ_ERR_NOMEM;
+    base = (char *) mem;
+    base += (RJ__ALIGN - ((size_t) base % RJ__ALIGN)) % RJ__ALIGN;
     memset(base, 0, L.total - RJ__ALIGN);
-    s = (rj_state *)(void *)base;
+    s = (rj_state *) (void *) base;
     s->bytes = L.total - RJ__ALIGN;
-    s->fd[0] = (double *)(void *)(base + L.fd0); s->fd[1] = (double *)(void *)(base + L.fd1);
-    s->fi[0] = (int *)(void *)(base + L.fi0); s->fi[1] = (int *)(void *)(base + L.fi1);
-    s->fd[2] = m->ip ? (double *)(void *)(base + L.fd2) : NULL; s->fi[2] = m->ip ? (int *)(void *)(base + L.fi2) : NULL;
-    s->fx = (double *)(void *)(base + L.fx); s->fy = (double *)(void *)(base + L.fy); s->mz = (double *)(void *)(base + L.mz);
-    s->sha = (double *)(void *)(base + L.sha); s->shb = (double *)(void *)(base + L.shb);
-    s->shc = (double *)(void *)(base + L.shc); s->shr = (double *)(void *)(base + L.shr);
-    s->eu = (double *)(void *)(base + L.eu); s->ebt = (double *)(void *)(base + L.ebt);
-    s->kn = (double *)(void *)(base + L.kn);
-    s->jsc = (double *)(void *)(base + L.jsc);
-    s->rsc = (double *)(void *)(base + L.rsc);
+    s->fd[0] = (double *) (void *) (base + L.fd0);
+    s->fd[1] = (double *) (void *) (base + L.fd1);
+    s->fi[0] = (int *) (void *) (base + L.fi0);
+    s->fi[1] = (int *) (void *) (base + L.fi1);
+    s->fd[2] = m->ip ? (double *) (void *) (base + L.fd2) : NULL;
+    s->fi[2] = m->ip ? (int *) (void *) (base + L.fi2) : NULL;
+    s->fx = (double *) (void *) (base + L.fx);
+    s->fy = (double *) (void *) (base + L.fy);
+    s->mz = (double *) (void *) (base + L.mz);
+    s->sha = (double *) (void *) (base + L.sha);
+    s->shb = (double *) (void *) (base + L.shb);
+    s->shc = (double *) (void *) (base + L.shc);
+    s->shr = (double *) (void *) (base + L.shr);
+    s->eu = (double *) (void *) (base + L.eu);
+    s->ebt = (double *) (void *) (base + L.ebt);
+    s->kn = (double *) (void *) (base + L.kn);
+    s->jsc = (double *) (void *) (base + L.jsc);
+    s->rsc = (double *) (void *) (base + L.rsc);
     rj_state_reset(m, s);
     *out = s;
     return RJ_OK;
@@ -3271,28 +4537,38 @@ RJDEF rj_result rj_state_create(const rj_model *m, rj_state **out, void *alloc_c
     size_t sz;
     void *mem;
     rj_result r;
-    (void)alloc_ctx;
-    if (!m || !out) return RJ_ERR_INVALID;
+    (void) alloc_ctx;
+    if (!m || !out)
+        return RJ_ERR_INVALID;
     sz = rj_state_size(m);
     mem = RJ_MALLOC(sz, alloc_ctx);
-    if (!mem) return RJ_ERR_NOMEM;
+    if (!mem)
+        return RJ_ERR_NOMEM;
     r = rj_state_init(m, mem, sz, out);
-    if (r != RJ_OK || (void *)*out != mem) { RJ_FREE(mem, alloc_ctx); *out = NULL; return r != RJ_OK ? r : RJ_ERR_NOMEM; }
+    if (r != RJ_OK || (void *) *out != mem) {
+        RJ_FREE(mem, alloc_ctx);
+        *out = NULL;
+        return r != RJ_OK ? r : RJ_ERR_NOMEM;
+    }
     return RJ_OK;
 }
 
 RJDEF void rj_state_destroy(rj_state *s, void *alloc_ctx)
 {
-    (void)alloc_ctx;
-    if (s) RJ_FREE(s, alloc_ctx);
+    (void) alloc_ctx;
+    if (s)
+        RJ_FREE(s, alloc_ctx);
 }
 
 RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *src)
 {
-    if (!m || !dst || !src) return RJ_ERR_INVALID;
+    if (!m || !dst || !src)
+        return RJ_ERR_INVALID;
     memcpy(dst->fd[0], src->fd[src->cur], sizeof(double) * m->frame_doubles);
     memcpy(dst->fi[0], src->fi[src->cur], sizeof(int) * (m->frame_ints + 1));
-    dst->cur = 0; dst->steps = src->steps; dst->snap = -1;
+    dst->cur = 0;
+    dst->steps = src->steps;
+    dst->snap = -1;
     memcpy(dst->err, src->err, sizeof dst->err);
     memcpy(dst->warn, src->warn, sizeof dst->warn);
     return RJ_OK;
@@ -3303,7 +4579,7 @@ static rj_result rj__stop(const rj_model *m, rj_state *s, rj_result r, const cha
 {
     va_list ap;
     int wanted;
-    (void)m;
+    (void) m;
     va_start(ap, fmt);
     wanted = vsnprintf(s->err, sizeof s->err, fmt, ap);
     va_end(ap);
@@ -3317,20 +4593,32 @@ static rj_result rj__stop(const rj_model *m, rj_state *s, rj_result r, const cha
 static const char *rj__blowup_causes(const rj_model *m, char *buf, size_t size)
 {
     int j, stiff_limit = 0, velocity_limit = 0, springs = 0;
-    if (m->dt > m->dt_bound) return "the step is above the stability bound: use a smaller solver.dt, or 0 for the automatic step";
+    if (m->dt > m->dt_bound)
+        return "the step is above the stability bound: use a smaller solver.dt, or 0 for the "
+               "automatic step";
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         const int limits = d->has_forward || d->has_reverse;
-        if (limits && (d->method == RJ_METHOD_PENALTY || d->method == RJ_METHOD_ADAPTIVE)) stiff_limit = 1;
-        if (limits && d->method != RJ_METHOD_PENALTY && d->method != RJ_METHOD_ADAPTIVE) velocity_limit = 1;
-        if (d->spring_k > 0 || d->table_count > 0) springs = 1;
+        if (limits && (d->method == RJ_METHOD_PENALTY || d->method == RJ_METHOD_ADAPTIVE))
+            stiff_limit = 1;
+        if (limits && d->method != RJ_METHOD_PENALTY && d->method != RJ_METHOD_ADAPTIVE)
+            velocity_limit = 1;
+        if (d->spring_k > 0 || d->table_count > 0)
+            springs = 1;
     }
     buf[0] = 0;
     if (stiff_limit)
-        rj__cat(buf, size, "a penalty or adaptive limit caught late (it stores about the relative kinetic energy when it catches a joint a rate x dt past its limit): RJ_METHOD_MOMENTUM catches it without a stiffness; ");
-    if (velocity_limit) rj__cat(buf, size, "contact chatter at a limit; ");
-    if (springs) rj__cat(buf, size, "a joint spring or table stiffer than the bound counts (Eq 31); ");
-    rj__cat(buf, size, "fast rotation (its centrifugal and Coriolis terms are not in the linearised bound): a smaller solver.dt");
+        rj__cat(buf, size,
+                "a penalty or adaptive limit caught late (it stores about the relative kinetic "
+                "energy when it catches a joint a rate x dt past its limit): RJ_METHOD_MOMENTUM "
+                "catches it without a stiffness; ");
+    if (velocity_limit)
+        rj__cat(buf, size, "contact chatter at a limit; ");
+    if (springs)
+        rj__cat(buf, size, "a joint spring or table stiffer than the bound counts (Eq 31); ");
+    rj__cat(buf, size,
+            "fast rotation (its centrifugal and Coriolis terms are not in the linearised bound): a "
+            "smaller solver.dt");
     return buf;
 }
 
@@ -3345,7 +4633,8 @@ static void rj__worst_node(const rj_model *m, const double *f, int *link, int *n
         if (!(v <= best)) {
             best = v;
             worst = i;
-            if (!(v == v)) break;
+            if (!(v == v))
+                break;
         }
     }
     rj__node_of(m, worst, link, node);
@@ -3356,15 +4645,31 @@ static rj_result rj__stop_nonfinite(const rj_model *m, rj_state *s, const double
 {
     const double *v[6];
     int i, k, link, node;
-    v[0] = RJ__FX(m, f); v[1] = RJ__FY(m, f); v[2] = RJ__FPHI(m, f);
-    v[3] = RJ__FVX(m, f); v[4] = RJ__FVY(m, f); v[5] = RJ__FW(m, f);
-    for (i = 0; i < m->nn; i++) for (k = 0; k < 6; k++) if (!rj__finite(v[k][i])) {
-        const char *what = k == 0 ? "x" : k == 1 ? "y" : k == 2 ? "rotation" : k == 3 ? "x velocity" : k == 4 ? "y velocity" : "rotation rate";
-        rj__node_of(m, i, &link, &node);
-        return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: link %d node %d's %s became %g: the state is no longer finite%s",
-                        t, link, node, what, v[k][i], m->dt > m->dt_bound ? " (the step is above the stability bound)" : "");
-    }
-    return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: a joint's angle, rate or torque, or a rigid body's motion, became non-finite%s",
+    v[0] = RJ__FX(m, f);
+    v[1] = RJ__FY(m, f);
+    v[2] = RJ__FPHI(m, f);
+    v[3] = RJ__FVX(m, f);
+    v[4] = RJ__FVY(m, f);
+    v[5] = RJ__FW(m, f);
+    for (i = 0; i < m->nn; i++)
+        for (k = 0; k < 6; k++)
+            if (!rj__finite(v[k][i])) {
+                const char *what = k == 0   ? "x"
+                                   : k == 1 ? "y"
+                                   : k == 2 ? "rotation"
+                                   : k == 3 ? "x velocity"
+                                   : k == 4 ? "y velocity"
+                                            : "rotation rate";
+                rj__node_of(m, i, &link, &node);
+                return rj__stop(
+                    m, s, RJ_ERR_BLOWUP,
+                    "t = %.9g s: link %d node %d's %s became %g: the state is no longer finite%s",
+                    t, link, node, what, v[k][i],
+                    m->dt > m->dt_bound ? " (the step is above the stability bound)" : "");
+            }
+    return rj__stop(m, s, RJ_ERR_BLOWUP,
+                    "t = %.9g s: a joint's angle, rate or torque, or a rigid body's motion, became "
+                    "non-finite%s",
                     t, m->dt > m->dt_bound ? " (the step is above the stability bound)" : "");
 }
 
@@ -3375,115 +4680,183 @@ static rj_result rj__stop_nonfinite(const rj_model *m, rj_state *s, const double
    joined tip to root form one chain. Velocities follow the corrected positions. */
 /* SHAKE weight of a node: its inverse mass, or for a node on a rigid body the body's
    inverse mass seen at that point along the element direction (ux, uy). */
-static double rj__shake_w(const rj_model *m, const rj_state *s, int k, const double *nx, const double *ny, double ux, double uy)
+static double rj__shake_w(const rj_model *m, const rj_state *s, int k, const double *nx,
+                          const double *ny, double ux, double uy)
 {
     const int c = m->ncl ? m->node_cl[k] : -1;
     const double *nc;
     double rx, ry, cr, u2;
-    if (c < 0) return m->einv[k];
-    if (m->cl_fix[c] == 2) return 0.0;
+    if (c < 0)
+        return m->einv[k];
+    if (m->cl_fix[c] == 2)
+        return 0.0;
     nc = RJ__FCL(m, s->fd[1 - s->cur], c);
-    rx = nx[k] - nc[0]; ry = ny[k] - nc[1]; cr = rx * uy - ry * ux; u2 = ux * ux + uy * uy;
+    rx = nx[k] - nc[0];
+    ry = ny[k] - nc[1];
+    cr = rx * uy - ry * ux;
+    u2 = ux * ux + uy * uy;
     return (m->cl_fix[c] == 0 ? 1.0 / m->cl_M[c] : 0.0) + cr * cr / (u2 * m->cl_I[c]);
 }
 
-static void rj__shake(const rj_model *m, rj_state *s, const double *x, const double *y, double *nx, double *ny)
+static void rj__shake(const rj_model *m, rj_state *s, const double *x, const double *y, double *nx,
+                      double *ny)
 {
     /* element scratch (ne >= chain elements): the factored tridiagonal (multipliers a,
        reciprocal pivots b, upper c), the residuals r, the multipliers lam */
     double *a = s->sha, *b = s->shb, *c = s->shc, *r = s->shr, *lam = s->eu;
-    double *nf = s->fd[1 - s->cur], *imp = s->rsc, *act = s->ebt;   /* act: 1 for an element that can move, 0 between two fixed nodes */
+    double *nf = s->fd[1 - s->cur], *imp = s->rsc,
+           *act = s->ebt; /* act: 1 for an element that can move, 0 between two fixed nodes */
     const double dt = m->dt;
     int ch, it, i, q, gi;
     for (ch = 0; ch < m->nch; ch++) {
-        const int *nd = m->ch_node + m->ch_first[ch], ne = m->ch_first[ch + 1] - m->ch_first[ch] - 1;
+        const int *nd = m->ch_node + m->ch_first[ch],
+                  ne = m->ch_first[ch + 1] - m->ch_first[ch] - 1;
         const double *l0sq = m->ch_l0sq + m->ch_first[ch];
         int bodies = 0;
-        if (m->ncl) for (i = 0; i <= ne; i++) bodies |= m->node_cl[nd[i]] >= 0 && m->cl_fix[m->node_cl[nd[i]]] != 2;   /* a held body is a fixed node */
+        if (m->ncl)
+            for (i = 0; i <= ne; i++)
+                bodies |= m->node_cl[nd[i]] >= 0 &&
+                          m->cl_fix[m->node_cl[nd[i]]] != 2; /* a held body is a fixed node */
         for (i = 0; i < ne; i++) {
             const int k = nd[i], k1 = nd[i + 1];
-            act[i] = (bodies ? rj__shake_w(m, s, k, nx, ny, 1, 0) + rj__shake_w(m, s, k, nx, ny, 0, 1) + rj__shake_w(m, s, k1, nx, ny, 1, 0) + rj__shake_w(m, s, k1, nx, ny, 0, 1)
-                           : m->einv[k] + m->einv[k1]) > 0 ? 1.0 : 0.0;
+            act[i] =
+                (bodies
+                     ? rj__shake_w(m, s, k, nx, ny, 1, 0) + rj__shake_w(m, s, k, nx, ny, 0, 1) +
+                           rj__shake_w(m, s, k1, nx, ny, 1, 0) + rj__shake_w(m, s, k1, nx, ny, 0, 1)
+                     : m->einv[k] + m->einv[k1]) > 0
+                    ? 1.0
+                    : 0.0;
         }
         /* (the loops carry a node's position or an element's chord on to the next element
            instead of loading and subtracting it again: the same values) */
         for (it = 0; it < (bodies ? 12 : 4); it++) {
-            double worst = 0, px = nx[nd[0]], py = ny[nd[0]], hx = 0, hy = 0;   /* hx, hy: the update's old chord i - 1 */
+            double worst = 0, px = nx[nd[0]], py = ny[nd[0]], hx = 0,
+                   hy = 0; /* hx, hy: the update's old chord i - 1 */
             for (i = 0; i < ne; i++) {
                 const double qx = nx[nd[i + 1]], qy = ny[nd[i + 1]];
-                const double ex = qx - px, ey = qy - py, g = (ex * ex + ey * ey - l0sq[i + 1]) * act[i];
-                if (fabs(g) > worst * l0sq[i + 1]) worst = fabs(g) / l0sq[i + 1];
+                const double ex = qx - px, ey = qy - py,
+                             g = (ex * ex + ey * ey - l0sq[i + 1]) * act[i];
+                if (fabs(g) > worst * l0sq[i + 1])
+                    worst = fabs(g) / l0sq[i + 1];
                 r[i] = -g;
-                px = qx; py = qy;
+                px = qx;
+                py = qy;
             }
-            if (worst < 1e-14) break;
+            if (worst < 1e-14)
+                break;
             if (it == 0) {
                 /* the Newton matrix of the first iteration serves the later ones: it
                    changes with the chords by the size of the correction (about 1e-8) */
-                double pox = 0, poy = 0, ox = x[nd[1]] - x[nd[0]], oy = y[nd[1]] - y[nd[0]];   /* old chords i - 1, i */
+                double pox = 0, poy = 0, ox = x[nd[1]] - x[nd[0]],
+                       oy = y[nd[1]] - y[nd[0]]; /* old chords i - 1, i */
                 for (i = 0; i < ne; i++) {
                     const int k = nd[i], k1 = nd[i + 1];
                     const double ex = nx[k1] - nx[k], ey = ny[k1] - ny[k];
                     const double wi = bodies ? rj__shake_w(m, s, k, nx, ny, ox, oy) : m->einv[k];
                     const double wj = bodies ? rj__shake_w(m, s, k1, nx, ny, ox, oy) : m->einv[k1];
-                    double qox = 0, qoy = 0;   /* old chord i + 1 */
-                    if (i + 1 < ne) { qox = x[nd[i + 2]] - x[k1]; qoy = y[nd[i + 2]] - y[k1]; }
+                    double qox = 0, qoy = 0; /* old chord i + 1 */
+                    if (i + 1 < ne) {
+                        qox = x[nd[i + 2]] - x[k1];
+                        qoy = y[nd[i + 2]] - y[k1];
+                    }
                     b[i] = 4.0 * (wi + wj) * (ex * ox + ey * oy);
                     a[i] = i > 0 ? -4.0 * wi * (ex * pox + ey * poy) : 0.0;
                     c[i] = i + 1 < ne ? -4.0 * wj * (ex * qox + ey * qoy) : 0.0;
-                    if (act[i] == 0) { b[i] = 1.0; a[i] = c[i] = 0.0; }   /* an identity row: lam = 0 */
-                    pox = ox; poy = oy; ox = qox; oy = qoy;
+                    if (act[i] == 0) {
+                        b[i] = 1.0;
+                        a[i] = c[i] = 0.0;
+                    } /* an identity row: lam = 0 */
+                    pox = ox;
+                    poy = oy;
+                    ox = qox;
+                    oy = qoy;
                 }
                 b[0] = 1.0 / b[0];
-                for (i = 1; i < ne; i++) { a[i] *= b[i - 1]; b[i] = 1.0 / (b[i] - a[i] * c[i - 1]); }
+                for (i = 1; i < ne; i++) {
+                    a[i] *= b[i - 1];
+                    b[i] = 1.0 / (b[i] - a[i] * c[i - 1]);
+                }
             }
-            for (i = 1; i < ne; i++) r[i] -= a[i] * r[i - 1];
+            for (i = 1; i < ne; i++)
+                r[i] -= a[i] * r[i - 1];
             lam[ne - 1] = r[ne - 1] * b[ne - 1];
-            for (i = ne - 2; i >= 0; i--) lam[i] = (r[i] - c[i] * lam[i + 1]) * b[i];
-            if (bodies) for (q = 0; q < 3 * m->ncl; q++) imp[q] = 0;
+            for (i = ne - 2; i >= 0; i--)
+                lam[i] = (r[i] - c[i] * lam[i + 1]) * b[i];
+            if (bodies)
+                for (q = 0; q < 3 * m->ncl; q++)
+                    imp[q] = 0;
             for (i = 0; i <= ne; i++) {
                 const int k = nd[i];
                 double dx = 0, dy = 0, ox = 0, oy = 0;
-                if (i > 0) { dx += lam[i - 1] * hx; dy += lam[i - 1] * hy; }
-                if (i < ne) { ox = x[nd[i + 1]] - x[k]; oy = y[nd[i + 1]] - y[k]; dx -= lam[i] * ox; dy -= lam[i] * oy; }
-                hx = ox; hy = oy;
+                if (i > 0) {
+                    dx += lam[i - 1] * hx;
+                    dy += lam[i - 1] * hy;
+                }
+                if (i < ne) {
+                    ox = x[nd[i + 1]] - x[k];
+                    oy = y[nd[i + 1]] - y[k];
+                    dx -= lam[i] * ox;
+                    dy -= lam[i] * oy;
+                }
+                hx = ox;
+                hy = oy;
                 if (bodies && m->node_cl[k] >= 0) {
                     /* on a body: the body takes the push (mass times displacement 2 dx) */
                     const int cl = m->node_cl[k];
                     const double *nc = RJ__FCL(m, nf, cl);
-                    imp[3 * cl] += 2.0 * dx; imp[3 * cl + 1] += 2.0 * dy;
+                    imp[3 * cl] += 2.0 * dx;
+                    imp[3 * cl + 1] += 2.0 * dy;
                     imp[3 * cl + 2] += (nx[k] - nc[0]) * 2.0 * dy - (ny[k] - nc[1]) * 2.0 * dx;
                     continue;
                 }
-                nx[k] += 2.0 * m->einv[k] * dx; ny[k] += 2.0 * m->einv[k] * dy;
+                nx[k] += 2.0 * m->einv[k] * dx;
+                ny[k] += 2.0 * m->einv[k] * dy;
             }
-            if (bodies) for (q = 0; q < m->ncl; q++) {
-                double *nc = RJ__FCL(m, nf, q);
-                if (m->cl_first[q] == m->cl_first[q + 1] || m->cl_fix[q] == 2 || (imp[3 * q] == 0 && imp[3 * q + 1] == 0 && imp[3 * q + 2] == 0)) continue;
-                if (m->cl_fix[q] == 0) {
-                    nc[0] += imp[3 * q] / m->cl_M[q]; nc[1] += imp[3 * q + 1] / m->cl_M[q];
-                    nc[2] += imp[3 * q] / (m->cl_M[q] * dt); nc[3] += imp[3 * q + 1] / (m->cl_M[q] * dt);
+            if (bodies)
+                for (q = 0; q < m->ncl; q++) {
+                    double *nc = RJ__FCL(m, nf, q);
+                    if (m->cl_first[q] == m->cl_first[q + 1] || m->cl_fix[q] == 2 ||
+                        (imp[3 * q] == 0 && imp[3 * q + 1] == 0 && imp[3 * q + 2] == 0))
+                        continue;
+                    if (m->cl_fix[q] == 0) {
+                        nc[0] += imp[3 * q] / m->cl_M[q];
+                        nc[1] += imp[3 * q + 1] / m->cl_M[q];
+                        nc[2] += imp[3 * q] / (m->cl_M[q] * dt);
+                        nc[3] += imp[3 * q + 1] / (m->cl_M[q] * dt);
+                    }
+                    nc[5] += imp[3 * q + 2] / m->cl_I[q];
+                    nc[4] += imp[3 * q + 2] / (m->cl_I[q] * dt);
+                    rj__cl_pose(m, q, nc, x, y, dt, 1, nx, ny, RJ__FPHI(m, nf), RJ__FVX(m, nf),
+                                RJ__FVY(m, nf), RJ__FW(m, nf));
                 }
-                nc[5] += imp[3 * q + 2] / m->cl_I[q]; nc[4] += imp[3 * q + 2] / (m->cl_I[q] * dt);
-                rj__cl_pose(m, q, nc, x, y, dt, 1, nx, ny, RJ__FPHI(m, nf), RJ__FVX(m, nf), RJ__FVY(m, nf), RJ__FW(m, nf));
-            }
         }
     }
     /* pins: every member of a group takes the position of the member a chain moved last */
     for (gi = 0; gi < m->ng; gi++) {
         const int f0 = m->grp_first[gi], f1 = m->grp_first[gi + 1];
         int src = m->grp_node[f0];
-        for (q = f0; q < f1; q++) if (nx[m->grp_node[q]] != nx[src] || ny[m->grp_node[q]] != ny[src]) {
-            /* the chain entry is the lowest-index member on an inextensible link */
-            int k;
-            for (k = f0; k < f1; k++) {
-                int l, on = 0;
-                for (l = 0; l < m->nl; l++) if (m->grp_node[k] >= m->link_first[l] && m->grp_node[k] < m->link_first[l + 1] && m->ldef[l].fidelity == RJ_LINK_INEXTENSIBLE) on = 1;
-                if (on) { src = m->grp_node[k]; break; }
+        for (q = f0; q < f1; q++)
+            if (nx[m->grp_node[q]] != nx[src] || ny[m->grp_node[q]] != ny[src]) {
+                /* the chain entry is the lowest-index member on an inextensible link */
+                int k;
+                for (k = f0; k < f1; k++) {
+                    int l, on = 0;
+                    for (l = 0; l < m->nl; l++)
+                        if (m->grp_node[k] >= m->link_first[l] &&
+                            m->grp_node[k] < m->link_first[l + 1] &&
+                            m->ldef[l].fidelity == RJ_LINK_INEXTENSIBLE)
+                            on = 1;
+                    if (on) {
+                        src = m->grp_node[k];
+                        break;
+                    }
+                }
+                break;
             }
-            break;
+        for (q = f0; q < f1; q++) {
+            nx[m->grp_node[q]] = nx[src];
+            ny[m->grp_node[q]] = ny[src];
         }
-        for (q = f0; q < f1; q++) { nx[m->grp_node[q]] = nx[src]; ny[m->grp_node[q]] = ny[src]; }
     }
 }
 
@@ -3492,8 +4865,9 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
    the table (Eq 4), the torsion spring, damping (Eq 27) and the penalty / adaptive limit
    (Eq 22). Writes the components into the new frame's joint record (friction is added
    later) and returns the torque to apply now; *p_out receives the penetration. */
-static double rj__element(const rj_model *m, rj_state *s, int j, const double *oj, double *nj_, int oflag, int *nflag,
-                          double rate, double t, double *nsc, double *p_out, double *v_acc)
+static double rj__element(const rj_model *m, rj_state *s, int j, const double *oj, double *nj_,
+                          int oflag, int *nflag, double rate, double t, double *nsc, double *p_out,
+                          double *v_acc)
 {
     const rj_joint_def *d = &m->jdef[j];
     const rj__joint *J = &m->jnt[j];
@@ -3502,37 +4876,53 @@ static double rj__element(const rj_model *m, rj_state *s, int j, const double *o
     const int bf = run >= J->fwd, br = run <= J->rev;
     const int flag = rj_flag_next(oflag, bf, br, rate, d->lock, d->release);
     memcpy(nj_, oj, sizeof(double) * RJ__JD_COUNT);
-    nj_[RJ__JD_IMPULSE] = 0;   /* a velocity-level latch sets it in this step */
-    if (flag == RJ_LOCKED && oflag != RJ_LOCKED) nj_[RJ__JD_LOCK] = bf ? J->fwd : J->rev;
-    if (flag != RJ_FREE && oj[RJ__JD_EVENT] < 0) nj_[RJ__JD_EVENT] = t;
+    nj_[RJ__JD_IMPULSE] = 0; /* a velocity-level latch sets it in this step */
+    if (flag == RJ_LOCKED && oflag != RJ_LOCKED)
+        nj_[RJ__JD_LOCK] = bf ? J->fwd : J->rev;
+    if (flag != RJ_FREE && oj[RJ__JD_EVENT] < 0)
+        nj_[RJ__JD_EVENT] = t;
     if (flag != RJ_FREE && oflag == RJ_FREE) {
         /* a new contact: how far past the limit was it caught? */
-        double p0 = flag == RJ_AT_FORWARD || (flag == RJ_LOCKED && bf) ? J->fwd - run : J->rev - run;
-        double width = (rj__finite(J->fwd) && rj__finite(J->rev)) ? RJ__TWO_PI - (J->fwd - J->rev) : HUGE_VAL;
+        double p0 =
+            flag == RJ_AT_FORWARD || (flag == RJ_LOCKED && bf) ? J->fwd - run : J->rev - run;
+        double width =
+            (rj__finite(J->fwd) && rj__finite(J->rev)) ? RJ__TWO_PI - (J->fwd - J->rev) : HUGE_VAL;
         nj_[RJ__JD_P0] = p0;
         if (fabs(p0) > RJ__LATE || fabs(p0) > width) {
             nsc[RJ__FS_WARN] += 1;
-            snprintf(s->warn, sizeof s->warn, "t = %.9g s: joint %d caught its limit %.4g rad late%s (rate %.4g rad/s, step %.3g s)",
-                     t, j, fabs(p0), fabs(p0) > width ? ", past the whole limited range" : "", rate, m->dt);
+            snprintf(s->warn, sizeof s->warn,
+                     "t = %.9g s: joint %d caught its limit %.4g rad late%s (rate %.4g rad/s, step "
+                     "%.3g s)",
+                     t, j, fabs(p0), fabs(p0) > width ? ", past the whole limited range" : "", rate,
+                     m->dt);
         }
     }
-    if (flag == RJ_FREE && oflag != RJ_FREE) nj_[RJ__JD_RELEASE] = t;   /* latest release */
+    if (flag == RJ_FREE && oflag != RJ_FREE)
+        nj_[RJ__JD_RELEASE] = t; /* latest release */
     *nflag = flag;
     /* Eq 19 penetration */
-    if (flag == RJ_AT_FORWARD) p = J->fwd - run;
-    else if (flag == RJ_AT_REVERSE) p = J->rev - run;
-    else if (flag == RJ_LOCKED) p = nj_[RJ__JD_LOCK] - run;
-    if (fabs(p) > nj_[RJ__JD_PEAKP]) nj_[RJ__JD_PEAKP] = fabs(p);
+    if (flag == RJ_AT_FORWARD)
+        p = J->fwd - run;
+    else if (flag == RJ_AT_REVERSE)
+        p = J->rev - run;
+    else if (flag == RJ_LOCKED)
+        p = nj_[RJ__JD_LOCK] - run;
+    if (fabs(p) > nj_[RJ__JD_PEAKP])
+        nj_[RJ__JD_PEAKP] = fabs(p);
     /* Eq 4 table, torsion spring, Eq 27 damping (resistive: minus on body 2) */
-    {   /* the potentials join v_acc as in rj__spring_energy */
+    { /* the potentials join v_acc as in rj__spring_energy */
         double tt;
         rj__joint_potential(d, J, run, v_acc, &tt);
-        if (d->table_count) tq_table = -tt;
+        if (d->table_count)
+            tq_table = -tt;
     }
-    if (d->spring_k > 0) tq_spring = -d->spring_k * (run - d->spring_free_angle);
-    if (d->damping > 0) tq_damp = -d->damping * rate;
+    if (d->spring_k > 0)
+        tq_spring = -d->spring_k * (run - d->spring_free_angle);
+    if (d->damping > 0)
+        tq_damp = -d->damping * rate;
     /* Eq 22 / penalty: tau_2 = K p while at a limit */
-    if (flag != RJ_FREE && (d->method == RJ_METHOD_PENALTY || d->method == RJ_METHOD_ADAPTIVE)) tq_lim = J->k_limit * p;
+    if (flag != RJ_FREE && (d->method == RJ_METHOD_PENALTY || d->method == RJ_METHOD_ADAPTIVE))
+        tq_lim = J->k_limit * p;
     nj_[RJ__JD_TQ0 + RJ_TORQUE_TABLE] = tq_table;
     nj_[RJ__JD_TQ0 + RJ_TORQUE_SPRING] = tq_spring;
     nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] = tq_damp;
@@ -3554,17 +4944,25 @@ static double rj__friction(double ratep, double c, double tf)
    while locked)? */
 static int rj__into_limit(int flag, double ratep)
 {
-    return (flag == RJ_AT_FORWARD && ratep > 0) || (flag == RJ_AT_REVERSE && ratep < 0) || (flag == RJ_LOCKED && ratep != 0);
+    return (flag == RJ_AT_FORWARD && ratep > 0) || (flag == RJ_AT_REVERSE && ratep < 0) ||
+           (flag == RJ_LOCKED && ratep != 0);
 }
 
 /* Work of the joint's non-conservative torques over the step, in the form that matches
    the kinetic energy 1/2 v^{n-1/2}.v^{n+1/2}: dt/2 (tau^n rate^{n-1/2} + tau^{n-1} times the
    previous step's end rate, same geometry). */
-static RJ__FORCE_INLINE void rj__element_work(const double *oj, const double *nj_, double rate_m, double dt, double *ld, double *lf, double *ll)
+static RJ__FORCE_INLINE void rj__element_work(const double *oj, const double *nj_, double rate_m,
+                                              double dt, double *ld, double *lf, double *ll)
 {
-    *ld -= 0.5 * dt * (nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] * rate_m + oj[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] * oj[RJ__JD_RATE]);
-    *lf -= 0.5 * dt * (nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] * rate_m + oj[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] * oj[RJ__JD_RATE]);
-    *ll -= 0.5 * dt * (nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * rate_m + oj[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * oj[RJ__JD_RATE]);
+    *ld -= 0.5 * dt *
+           (nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] * rate_m +
+            oj[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] * oj[RJ__JD_RATE]);
+    *lf -= 0.5 * dt *
+           (nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] * rate_m +
+            oj[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] * oj[RJ__JD_RATE]);
+    *ll -= 0.5 * dt *
+           (nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * rate_m +
+            oj[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * oj[RJ__JD_RATE]);
 }
 
 /* ------------------------------------------------------------------ rigid links */
@@ -3577,16 +4975,32 @@ static RJ__FORCE_INLINE void rj__element_work(const double *oj, const double *nj
    centripetal accelerations -omega^2 r of every segment. The element (flags, torques,
    friction, methods) is the same code as for flexible links; a joint torque is a
    generalised force on q_j, and a velocity jump is an impulse along q_j. */
-static size_t rj__rigid_scratch(int nj, int nl) { return 5 * (size_t)nj * nj + 13 * (size_t)nj + RJ__RL_COUNT * (size_t)nl + 8; }
+static size_t rj__rigid_scratch(int nj, int nl)
+{
+    return 5 * (size_t) nj * nj + 13 * (size_t) nj + RJ__RL_COUNT * (size_t) nl + 8;
+}
 
 
 /* the rigid solver's scratch: matrices n x n, vectors n (tmp 2 n), link records */
 static void rj__rig_map(const rj_model *m, double *base, rj__rig *r)
 {
-    const size_t n = (size_t)m->nj;
-    r->M = base; r->h = r->M + n * n; r->L = r->h + n; r->W = r->L + n * n; r->q = r->W + n * n; r->qd = r->q + n; r->qdp = r->qd + n;
-    r->qdd = r->qdp + n; r->Q = r->qdd + n; r->x = r->Q + n; r->tmp = r->x + n;
-    r->S = r->tmp + 2 * n; r->SL = r->S + n * n; r->lam = r->SL + n * n; r->act = r->lam + n; r->rhs = r->act + n;
+    const size_t n = (size_t) m->nj;
+    r->M = base;
+    r->h = r->M + n * n;
+    r->L = r->h + n;
+    r->W = r->L + n * n;
+    r->q = r->W + n * n;
+    r->qd = r->q + n;
+    r->qdp = r->qd + n;
+    r->qdd = r->qdp + n;
+    r->Q = r->qdd + n;
+    r->x = r->Q + n;
+    r->tmp = r->x + n;
+    r->S = r->tmp + 2 * n;
+    r->SL = r->S + n * n;
+    r->lam = r->SL + n * n;
+    r->act = r->lam + n;
+    r->rhs = r->act + n;
     r->lk = r->rhs + n;
 }
 
@@ -3600,48 +5014,77 @@ static int rj__rig_up(const rj_model *m, int j)
 /* Positions, velocities (rates qd; skipped when qd is NULL, as the step needs none) and
    centripetal accelerations (rates qdp) of every link, into the link records; cos and sin
    of a hanging link's angle are kept there for its children. */
-static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd, const double *qdp)
+static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd,
+                        const double *qdp)
 {
     double *lk = r->lk;
     int k, l;
-    for (l = 0; l < m->nl; l++) if (m->rb_pjoint[l] < 0) {
-        const rj_link_def *d = &m->ldef[l];
-        double *b = lk + RJ__RL_COUNT * (size_t)l;
-        b[RJ__RL_PHI] = d->angle; b[RJ__RL_RX] = d->x; b[RJ__RL_RY] = d->y;
-        b[RJ__RL_OM] = b[RJ__RL_VX] = b[RJ__RL_VY] = b[RJ__RL_ARX] = b[RJ__RL_ARY] = b[RJ__RL_OMB] = 0;
-    }
+    for (l = 0; l < m->nl; l++)
+        if (m->rb_pjoint[l] < 0) {
+            const rj_link_def *d = &m->ldef[l];
+            double *b = lk + RJ__RL_COUNT * (size_t) l;
+            b[RJ__RL_PHI] = d->angle;
+            b[RJ__RL_RX] = d->x;
+            b[RJ__RL_RY] = d->y;
+            b[RJ__RL_OM] = b[RJ__RL_VX] = b[RJ__RL_VY] = b[RJ__RL_ARX] = b[RJ__RL_ARY] =
+                b[RJ__RL_OMB] = 0;
+        }
     for (k = 0; k < m->nj; k++) {
         const int j = m->jorder[k];
         const rj_joint_def *jd = &m->jdef[j];
         const int p = jd->body1, c = jd->body2;
-        double *RJ__RESTRICT b = lk + RJ__RL_COUNT * (size_t)c;
+        double *RJ__RESTRICT b = lk + RJ__RL_COUNT * (size_t) c;
         const double dc = m->rb_dcm[c];
         double ph, ex, ey, omb, rx, ry, arx, ary;
         if (p < 0) {
-            ph = jd->ground_angle + q[j]; omb = qdp[j];
-            rx = jd->ground_x; ry = jd->ground_y; arx = ary = 0;
-            if (qd) { b[RJ__RL_OM] = qd[j]; b[RJ__RL_VX] = b[RJ__RL_VY] = 0; }
+            ph = jd->ground_angle + q[j];
+            omb = qdp[j];
+            rx = jd->ground_x;
+            ry = jd->ground_y;
+            arx = ary = 0;
+            if (qd) {
+                b[RJ__RL_OM] = qd[j];
+                b[RJ__RL_VX] = b[RJ__RL_VY] = 0;
+            }
         } else {
-            const double *pb = lk + RJ__RL_COUNT * (size_t)p;
+            const double *pb = lk + RJ__RL_COUNT * (size_t) p;
             const double s = m->jpin[j], ompb = pb[RJ__RL_OMB];
             double cp, sp;
-            if (m->rb_pjoint[p] >= 0) { cp = pb[RJ__RL_EC]; sp = pb[RJ__RL_ES]; }   /* parents come first */
-            else { cp = cos(pb[RJ__RL_PHI]); sp = sin(pb[RJ__RL_PHI]); }           /* a fixed link */
+            if (m->rb_pjoint[p] >= 0) {
+                cp = pb[RJ__RL_EC];
+                sp = pb[RJ__RL_ES];
+            } /* parents come first */
+            else {
+                cp = cos(pb[RJ__RL_PHI]);
+                sp = sin(pb[RJ__RL_PHI]);
+            } /* a fixed link */
             ph = pb[RJ__RL_PHI] + m->jref[j] + q[j];
             omb = ompb + qdp[j];
-            rx = pb[RJ__RL_RX] + s * cp; ry = pb[RJ__RL_RY] + s * sp;
-            arx = pb[RJ__RL_ARX] - ompb * ompb * s * cp; ary = pb[RJ__RL_ARY] - ompb * ompb * s * sp;
+            rx = pb[RJ__RL_RX] + s * cp;
+            ry = pb[RJ__RL_RY] + s * sp;
+            arx = pb[RJ__RL_ARX] - ompb * ompb * s * cp;
+            ary = pb[RJ__RL_ARY] - ompb * ompb * s * sp;
             if (qd) {
                 const double omp = pb[RJ__RL_OM];
                 b[RJ__RL_OM] = omp + qd[j];
-                b[RJ__RL_VX] = pb[RJ__RL_VX] - omp * s * sp; b[RJ__RL_VY] = pb[RJ__RL_VY] + omp * s * cp;
+                b[RJ__RL_VX] = pb[RJ__RL_VX] - omp * s * sp;
+                b[RJ__RL_VY] = pb[RJ__RL_VY] + omp * s * cp;
             }
         }
-        ex = cos(ph); ey = sin(ph);
-        b[RJ__RL_PHI] = ph; b[RJ__RL_EC] = ex; b[RJ__RL_ES] = ey; b[RJ__RL_RX] = rx; b[RJ__RL_RY] = ry;
-        b[RJ__RL_ARX] = arx; b[RJ__RL_ARY] = ary; b[RJ__RL_OMB] = omb;   /* the angular rate used for the centripetal terms */
-        b[RJ__RL_CX] = rx + dc * ex; b[RJ__RL_CY] = ry + dc * ey;
-        b[RJ__RL_ACX] = arx - omb * omb * dc * ex; b[RJ__RL_ACY] = ary - omb * omb * dc * ey;
+        ex = cos(ph);
+        ey = sin(ph);
+        b[RJ__RL_PHI] = ph;
+        b[RJ__RL_EC] = ex;
+        b[RJ__RL_ES] = ey;
+        b[RJ__RL_RX] = rx;
+        b[RJ__RL_RY] = ry;
+        b[RJ__RL_ARX] = arx;
+        b[RJ__RL_ARY] = ary;
+        b[RJ__RL_OMB] = omb; /* the angular rate used for the centripetal terms */
+        b[RJ__RL_CX] = rx + dc * ex;
+        b[RJ__RL_CY] = ry + dc * ey;
+        b[RJ__RL_ACX] = arx - omb * omb * dc * ex;
+        b[RJ__RL_ACY] = ary - omb * omb * dc * ey;
     }
 }
 
@@ -3690,31 +5133,33 @@ static void rj__rig_mass(const rj_model *m, rj__rig *r)
     const int n = m->nj;
     double *M = r->M, *h = r->h, *lk = r->lk;
     int i, k;
-    for (i = 0; i < n * n; i++) M[i] = 0;
+    for (i = 0; i < n * n; i++)
+        M[i] = 0;
     for (k = 0; k < n; k++) {
         const int body = m->jdef[k].body2;
-        rj__rig_own(m, body, lk + RJ__RL_COUNT * (size_t)body);
+        rj__rig_own(m, body, lk + RJ__RL_COUNT * (size_t) body);
     }
     /* jorder has parents before children: backwards, a subtree is whole when gathered */
     for (k = n - 1; k >= 0; k--) {
         const int j = m->jorder[k];
         const int parent = m->jdef[j].body1;
-        const double *sub = lk + RJ__RL_COUNT * (size_t)m->jdef[j].body2;
+        const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
         h[j] = sub[RJ__RL_SUB_N];
-        M[(size_t)j * n + j] = sub[RJ__RL_SUB_J];
-        if (parent < 0 || m->rb_pjoint[parent] < 0) continue;   /* on the ground or a fixed link */
-        rj__rig_gather(sub, lk + RJ__RL_COUNT * (size_t)parent);
+        M[(size_t) j * n + j] = sub[RJ__RL_SUB_J];
+        if (parent < 0 || m->rb_pjoint[parent] < 0)
+            continue; /* on the ground or a fixed link */
+        rj__rig_gather(sub, lk + RJ__RL_COUNT * (size_t) parent);
     }
     for (k = 0; k < n; k++) {
-        const double *sub = lk + RJ__RL_COUNT * (size_t)m->jdef[k].body2;
+        const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[k].body2;
         int up;
         for (up = rj__rig_up(m, k); up >= 0; up = rj__rig_up(m, up)) {
-            const double *pin = lk + RJ__RL_COUNT * (size_t)m->jdef[up].body2;
+            const double *pin = lk + RJ__RL_COUNT * (size_t) m->jdef[up].body2;
             const double dx = sub[RJ__RL_RX] - pin[RJ__RL_RX];
             const double dy = sub[RJ__RL_RY] - pin[RJ__RL_RY];
             const double v = sub[RJ__RL_SUB_J] + dx * sub[RJ__RL_SUB_SX] + dy * sub[RJ__RL_SUB_SY];
-            M[(size_t)k * n + up] = v;
-            M[(size_t)up * n + k] = v;
+            M[(size_t) k * n + up] = v;
+            M[(size_t) up * n + k] = v;
         }
     }
 }
@@ -3727,26 +5172,31 @@ static int rj__chol(int n, const double *M, double *L)
     int i, j, k;
     if (n == 2) {
         double sum = M[0];
-        if (!(sum > 0)) return -1;
+        if (!(sum > 0))
+            return -1;
         L[0] = sqrt(sum);
         L[2] = M[2] / L[0];
         sum = M[3] - L[2] * L[2];
-        if (!(sum > 0)) return -1;
+        if (!(sum > 0))
+            return -1;
         L[3] = sqrt(sum);
         return 0;
     }
     for (i = 0; i < n; i++) {
-        const double *Mi = M + (size_t)i * n;
-        double *Li = L + (size_t)i * n, sum;
+        const double *Mi = M + (size_t) i * n;
+        double *Li = L + (size_t) i * n, sum;
         for (j = 0; j < i; j++) {
-            const double *Lj = L + (size_t)j * n;
+            const double *Lj = L + (size_t) j * n;
             sum = Mi[j];
-            for (k = 0; k < j; k++) sum -= Li[k] * Lj[k];
+            for (k = 0; k < j; k++)
+                sum -= Li[k] * Lj[k];
             Li[j] = sum / Lj[j];
         }
         sum = Mi[i];
-        for (k = 0; k < i; k++) sum -= Li[k] * Li[k];
-        if (!(sum > 0)) return -1;
+        for (k = 0; k < i; k++)
+            sum -= Li[k] * Li[k];
+        if (!(sum > 0))
+            return -1;
         Li[i] = sqrt(sum);
     }
     return 0;
@@ -3756,19 +5206,22 @@ static void rj__chol_solve(int n, const double *L, const double *b, double *x)
     int i, k;
     if (n == 2) {
         const double x0 = b[0] / L[0], x1 = (b[1] - L[2] * x0) / L[3] / L[3];
-        x[1] = x1; x[0] = (x0 - L[2] * x1) / L[0];
+        x[1] = x1;
+        x[0] = (x0 - L[2] * x1) / L[0];
         return;
     }
     for (i = 0; i < n; i++) {
-        const double *Li = L + (size_t)i * n;
+        const double *Li = L + (size_t) i * n;
         double sum = b[i];
-        for (k = 0; k < i; k++) sum -= Li[k] * x[k];
+        for (k = 0; k < i; k++)
+            sum -= Li[k] * x[k];
         x[i] = sum / Li[i];
     }
     for (i = n - 1; i >= 0; i--) {
         double sum = x[i];
-        for (k = i + 1; k < n; k++) sum -= L[(size_t)k * n + i] * x[k];
-        x[i] = sum / L[(size_t)i * n + i];
+        for (k = i + 1; k < n; k++)
+            sum -= L[(size_t) k * n + i] * x[k];
+        x[i] = sum / L[(size_t) i * n + i];
     }
 }
 /* Column j of M^-1: rj__chol_solve with b = e_j, without the arithmetic on its leading
@@ -3777,36 +5230,45 @@ static void rj__chol_unit(int n, const double *L, int j, double *x)
 {
     int i, k;
     if (n == 2) {
-        const double x0 = j ? 0.0 : 1.0 / L[0], x1 = (j ? 1.0 / L[3] : (0.0 - L[2] * x0) / L[3]) / L[3];
-        x[1] = x1; x[0] = (x0 - L[2] * x1) / L[0];
+        const double x0 = j ? 0.0 : 1.0 / L[0],
+                     x1 = (j ? 1.0 / L[3] : (0.0 - L[2] * x0) / L[3]) / L[3];
+        x[1] = x1;
+        x[0] = (x0 - L[2] * x1) / L[0];
         return;
     }
-    x[j] = 1.0 / L[(size_t)j * n + j];
+    x[j] = 1.0 / L[(size_t) j * n + j];
     for (i = j + 1; i < n; i++) {
-        const double *Li = L + (size_t)i * n;
+        const double *Li = L + (size_t) i * n;
         double sum = 0;
-        for (k = j; k < i; k++) sum -= Li[k] * x[k];
+        for (k = j; k < i; k++)
+            sum -= Li[k] * x[k];
         x[i] = sum / Li[i];
     }
     for (i = n - 1; i >= 0; i--) {
         double sum = i >= j ? x[i] : 0.0;
-        for (k = i + 1; k < n; k++) sum -= L[(size_t)k * n + i] * x[k];
-        x[i] = sum / L[(size_t)i * n + i];
+        for (k = i + 1; k < n; k++)
+            sum -= L[(size_t) k * n + i] * x[k];
+        x[i] = sum / L[(size_t) i * n + i];
     }
 }
 
 /* Writes the links' nodes (for queries and drawing) from the kinematics. */
 static void rj__rig_nodes(const rj_model *m, const rj__rig *r, double *f)
 {
-    double *x = RJ__FX(m, f), *y = RJ__FY(m, f), *phi = RJ__FPHI(m, f), *vx = RJ__FVX(m, f), *vy = RJ__FVY(m, f), *w = RJ__FW(m, f);
+    double *x = RJ__FX(m, f), *y = RJ__FY(m, f), *phi = RJ__FPHI(m, f), *vx = RJ__FVX(m, f),
+           *vy = RJ__FVY(m, f), *w = RJ__FW(m, f);
     int l, i;
     for (l = 0; l < m->nl; l++) {
-        const double *b = r->lk + RJ__RL_COUNT * (size_t)l;
+        const double *b = r->lk + RJ__RL_COUNT * (size_t) l;
         const double c = cos(b[RJ__RL_PHI]), s = sin(b[RJ__RL_PHI]), l0 = m->link_l0[l];
         for (i = 0; i <= m->ldef[l].elements; i++) {
             const int k = m->link_first[l] + i;
-            x[k] = b[RJ__RL_RX] + i * l0 * c; y[k] = b[RJ__RL_RY] + i * l0 * s; phi[k] = b[RJ__RL_PHI];
-            vx[k] = b[RJ__RL_VX] - b[RJ__RL_OM] * i * l0 * s; vy[k] = b[RJ__RL_VY] + b[RJ__RL_OM] * i * l0 * c; w[k] = b[RJ__RL_OM];
+            x[k] = b[RJ__RL_RX] + i * l0 * c;
+            y[k] = b[RJ__RL_RY] + i * l0 * s;
+            phi[k] = b[RJ__RL_PHI];
+            vx[k] = b[RJ__RL_VX] - b[RJ__RL_OM] * i * l0 * s;
+            vy[k] = b[RJ__RL_VY] + b[RJ__RL_OM] * i * l0 * c;
+            w[k] = b[RJ__RL_OM];
         }
     }
 }
@@ -3821,40 +5283,60 @@ static double rj__rig_setup(rj_model *m, double *scratch)
     double *minv = scratch + rj__rigid_scratch(m->nj, m->nl), lam = 0, *v, *u;
     int j, k, it;
     rj__rig_map(m, scratch, &r);
-    for (j = 0; j < n; j++) { r.q[j] = m->jdef[j].angle0; r.qd[j] = r.qdp[j] = 0; }
+    for (j = 0; j < n; j++) {
+        r.q[j] = m->jdef[j].angle0;
+        r.qd[j] = r.qdp[j] = 0;
+    }
     rj__rig_kin(m, &r, r.q, r.qd, r.qdp);
     rj__rig_mass(m, &r);
-    if (n == 0 || rj__chol(n, r.M, r.L)) return 0;
+    if (n == 0 || rj__chol(n, r.M, r.L))
+        return 0;
     for (j = 0; j < n; j++) {
-        for (k = 0; k < n; k++) r.tmp[k] = k == j ? 1.0 : 0.0;
-        rj__chol_solve(n, r.L, r.tmp, minv + (size_t)j * n);
+        for (k = 0; k < n; k++)
+            r.tmp[k] = k == j ? 1.0 : 0.0;
+        rj__chol_solve(n, r.L, r.tmp, minv + (size_t) j * n);
     }
     for (j = 0; j < n; j++) {
         rj__joint *J = &m->jnt[j];
         const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
         double dx, dy;
         J->I2 = m->rb_icm[b2] + m->rb_mass[b2] * m->rb_dcm[b2] * m->rb_dcm[b2];
-        if (b1 < 0 || m->rb_pjoint[b1] < 0) J->I1 = HUGE_VAL;
+        if (b1 < 0 || m->rb_pjoint[b1] < 0)
+            J->I1 = HUGE_VAL;
         else {
-            dx = r.lk[RJ__RL_COUNT * (size_t)b1 + RJ__RL_CX] - r.lk[RJ__RL_COUNT * (size_t)b2 + RJ__RL_RX];
-            dy = r.lk[RJ__RL_COUNT * (size_t)b1 + RJ__RL_CY] - r.lk[RJ__RL_COUNT * (size_t)b2 + RJ__RL_RY];
+            dx = r.lk[RJ__RL_COUNT * (size_t) b1 + RJ__RL_CX] -
+                 r.lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_RX];
+            dy = r.lk[RJ__RL_COUNT * (size_t) b1 + RJ__RL_CY] -
+                 r.lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_RY];
             J->I1 = m->rb_icm[b1] + m->rb_mass[b1] * (dx * dx + dy * dy);
         }
-        J->w1 = rj__finite(J->I1) ? J->I2 / (J->I1 + J->I2) : 0; J->w2 = 1 - J->w1;
-        J->minv = minv[(size_t)j * n + j];    /* rate change per unit torque impulse: 1 / I_red */
+        J->w1 = rj__finite(J->I1) ? J->I2 / (J->I1 + J->I2) : 0;
+        J->w2 = 1 - J->w1;
+        J->minv = minv[(size_t) j * n + j]; /* rate change per unit torque impulse: 1 / I_red */
     }
     /* power iteration on K^1/2 M^-1 K^1/2 */
-    v = r.x; u = r.tmp;
-    for (j = 0; j < n; j++) v[j] = 1.0 + 0.1 * j;
+    v = r.x;
+    u = r.tmp;
+    for (j = 0; j < n; j++)
+        v[j] = 1.0 + 0.1 * j;
     for (it = 0; it < 500; it++) {
         double nrm = 0;
-        for (j = 0; j < n; j++) { double sum = 0; for (k = 0; k < n; k++) sum += minv[(size_t)j * n + k] * sqrt(m->jnt[k].k_lin) * v[k]; u[j] = sqrt(m->jnt[j].k_lin) * sum; }
-        for (j = 0; j < n; j++) nrm += u[j] * u[j];
+        for (j = 0; j < n; j++) {
+            double sum = 0;
+            for (k = 0; k < n; k++)
+                sum += minv[(size_t) j * n + k] * sqrt(m->jnt[k].k_lin) * v[k];
+            u[j] = sqrt(m->jnt[j].k_lin) * sum;
+        }
+        for (j = 0; j < n; j++)
+            nrm += u[j] * u[j];
         nrm = sqrt(nrm);
-        if (nrm == 0) return 0;
+        if (nrm == 0)
+            return 0;
         lam = 0;
-        for (j = 0; j < n; j++) lam += v[j] * u[j];
-        for (j = 0; j < n; j++) v[j] = u[j] / nrm;
+        for (j = 0; j < n; j++)
+            lam += v[j] * u[j];
+        for (j = 0; j < n; j++)
+            v[j] = u[j] / nrm;
     }
     return lam;
 }
@@ -3863,7 +5345,8 @@ static double rj__rig_setup(rj_model *m, double *scratch)
 static int rj__rig_plastic(const rj_joint_def *d, int flag)
 {
     const int velocity_level = d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED;
-    if (!velocity_level || flag == RJ_FREE) return 0;
+    if (!velocity_level || flag == RJ_FREE)
+        return 0;
     return flag == RJ_LOCKED || d->method == RJ_METHOD_FORCED || d->restitution == 0;
 }
 
@@ -3877,16 +5360,19 @@ static int rj__rig_set_solve(int n, int k, rj__rig *r, const double *qdp)
     int a, b, row = 0;
     for (a = 0; a < n; a++) {
         int col = 0;
-        if (act[a] == 0) continue;
+        if (act[a] == 0)
+            continue;
         for (b = 0; b < n; b++) {
-            if (act[b] == 0) continue;
-            S[(size_t)row * k + col] = W[(size_t)b * n + a];
+            if (act[b] == 0)
+                continue;
+            S[(size_t) row * k + col] = W[(size_t) b * n + a];
             col++;
         }
         rhs[row] = -qdp[a];
         row++;
     }
-    if (rj__chol(k, S, r->SL)) return 1;
+    if (rj__chol(k, S, r->SL))
+        return 1;
     rj__chol_solve(k, r->SL, rhs, r->lam);
     return 0;
 }
@@ -3898,10 +5384,12 @@ static int rj__rig_set_drop(int n, const int *ni, rj__rig *r)
     int a, row = 0, dropped = 0;
     for (a = 0; a < n; a++) {
         double lam;
-        if (r->act[a] == 0) continue;
+        if (r->act[a] == 0)
+            continue;
         lam = r->lam[row];
         row++;
-        if (ni[a] == RJ_LOCKED) continue;
+        if (ni[a] == RJ_LOCKED)
+            continue;
         if ((ni[a] == RJ_AT_FORWARD && lam > 0) || (ni[a] == RJ_AT_REVERSE && lam < 0)) {
             r->act[a] = 0;
             dropped++;
@@ -3919,7 +5407,8 @@ static int rj__rig_set_drop(int n, const int *ni, rj__rig *r)
    every plastic contact that turns into its limit or whose rate the single impulses
    changed: a later joint's impulse moves an earlier one off the rate its own gave it.
    r->h holds the rates before the impulses. */
-static void rj__rig_plastic_set(const rj_model *m, rj__rig *r, const int *ni, int jumped, int last_jump)
+static void rj__rig_plastic_set(const rj_model *m, rj__rig *r, const int *ni, int jumped,
+                                int last_jump)
 {
     const int n = m->nj;
     double *qdp = r->qdp, *act = r->act;
@@ -3932,32 +5421,43 @@ static void rj__rig_plastic_set(const rj_model *m, rj__rig *r, const int *ni, in
     for (pass = 0; pass <= n && changed; pass++) {
         int k = 0, row = 0, locked = 0;
         changed = 0;
-        for (j = 0; j < n; j++) k += act[j] != 0;
+        for (j = 0; j < n; j++)
+            k += act[j] != 0;
         /* none, or only the one joint that took an impulse before: that was exact */
-        if (k == 0 || (k == 1 && jumped == 1 && act[last_jump] != 0)) return;
+        if (k == 0 || (k == 1 && jumped == 1 && act[last_jump] != 0))
+            return;
         /* every joint locked (no contact could pull): q' = 0, which the system would
            give to round-off */
-        for (j = 0; j < n; j++) locked += ni[j] == RJ_LOCKED;
+        for (j = 0; j < n; j++)
+            locked += ni[j] == RJ_LOCKED;
         if (locked == n) {
-            for (j = 0; j < n; j++) qdp[j] = 0;
+            for (j = 0; j < n; j++)
+                qdp[j] = 0;
             return;
         }
-        for (j = 0; j < n; j++) if (act[j] != 0) rj__chol_unit(n, r->L, j, r->W + (size_t)j * n);
-        if (rj__rig_set_solve(n, k, r, qdp)) return;
+        for (j = 0; j < n; j++)
+            if (act[j] != 0)
+                rj__chol_unit(n, r->L, j, r->W + (size_t) j * n);
+        if (rj__rig_set_solve(n, k, r, qdp))
+            return;
         if (rj__rig_set_drop(n, ni, r)) {
             changed = 1;
             continue;
         }
         for (j = 0; j < n; j++) {
-            const double *w = r->W + (size_t)j * n;
+            const double *w = r->W + (size_t) j * n;
             int i;
-            if (act[j] == 0) continue;
-            for (i = 0; i < n; i++) qdp[i] += w[i] * r->lam[row];
+            if (act[j] == 0)
+                continue;
+            for (i = 0; i < n; i++)
+                qdp[i] += w[i] * r->lam[row];
             row++;
         }
         /* a plastic contact the impulses turned into its limit joins the set */
         for (j = 0; j < n; j++) {
-            if (act[j] != 0 || !rj__rig_plastic(&m->jdef[j], ni[j]) || !rj__into_limit(ni[j], qdp[j])) continue;
+            if (act[j] != 0 || !rj__rig_plastic(&m->jdef[j], ni[j]) ||
+                !rj__into_limit(ni[j], qdp[j]))
+                continue;
             act[j] = 1;
             changed = 1;
         }
@@ -3970,7 +5470,7 @@ static void rj__rig_plastic_set(const rj_model *m, rj__rig *r, const int *ni, in
 static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
 {
     const int n = m->nj, first = s->steps == 0;
-    const double dt = m->dt, kick = first ? 0.5 * dt : dt;   /* half a kick from q'(0) */
+    const double dt = m->dt, kick = first ? 0.5 * dt : dt; /* half a kick from q'(0) */
     const double *of = s->fd[s->cur];
     double *nf = s->fd[1 - s->cur];
     const int *oi = s->fi[s->cur];
@@ -3980,66 +5480,98 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
     const double *ofj = RJ__FJ(m, of, 0);
     double *nfj = RJ__FJ(m, nf, 0);
     const double t = osc[RJ__FS_TIME];
-    double ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC], lost_l = osc[RJ__FS_LLIM] + osc[RJ__FS_PEND], V, pend = 0;
-    double *RJ__RESTRICT q, *RJ__RESTRICT qd, *RJ__RESTRICT qdp, *RJ__RESTRICT qdd, *RJ__RESTRICT Q, *hq, *W;
+    double ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC],
+           lost_l = osc[RJ__FS_LLIM] + osc[RJ__FS_PEND], V, pend = 0;
+    double *RJ__RESTRICT q, *RJ__RESTRICT qd, *RJ__RESTRICT qdp, *RJ__RESTRICT qdd, *RJ__RESTRICT Q,
+        *hq, *W;
     const double *M, *L;
     rj__rig r;
     int j, k, jumped = 0, last_jump = -1, impact = 0;
     rj__rig_map(m, s->rsc, &r);
-    q = r.q; qd = r.qd; qdp = r.qdp; qdd = r.qdd; hq = r.h; Q = r.Q; M = r.M; L = r.L; W = r.W;
+    q = r.q;
+    qd = r.qd;
+    qdp = r.qdp;
+    qdd = r.qdd;
+    hq = r.h;
+    Q = r.Q;
+    M = r.M;
+    L = r.L;
+    W = r.W;
     /* 1. state: q^n, rates q'^{n-1/2}, predicted q'^n for the centripetal terms */
     for (j = 0; j < n; j++) {
-        const double *oj = ofj + (size_t)RJ__JD_COUNT * j;
-        q[j] = oj[RJ__JD_THETA]; qd[j] = oj[RJ__JD_RATE];
+        const double *oj = ofj + (size_t) RJ__JD_COUNT * j;
+        q[j] = oj[RJ__JD_THETA];
+        qd[j] = oj[RJ__JD_RATE];
         qdp[j] = qd[j] + 0.5 * dt * oj[RJ__JD_QDD];
     }
     rj__rig_kin(m, &r, q, NULL, qdp);
     /* the new frame's scalars (the element counts late contacts in RJ__FS_WARN) */
     V = 0;
     memcpy(nsc, osc, sizeof(double) * RJ__FS_COUNT);
-    nsc[RJ__FS_TIME] = t + dt; nsc[RJ__FS_ETIME] = t; nsc[RJ__FS_STRAIN] = 0;
+    nsc[RJ__FS_TIME] = t + dt;
+    nsc[RJ__FS_ETIME] = t;
+    nsc[RJ__FS_STRAIN] = 0;
     rj__rig_mass(m, &r);
-    if (rj__chol(n, r.M, r.L)) return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: the rigid mass matrix is not positive definite", t);
+    if (rj__chol(n, r.M, r.L))
+        return rj__stop(m, s, RJ_ERR_BLOWUP,
+                        "t = %.9g s: the rigid mass matrix is not positive definite", t);
     /* 2. the element: torques as generalised forces */
     for (j = 0; j < n; j++) {
         double p;
-        Q[j] = rj__element(m, s, j, ofj + (size_t)RJ__JD_COUNT * j, nfj + (size_t)RJ__JD_COUNT * j, oi[j], &ni[j], qd[j], t, nsc, &p, &V) - hq[j];
+        Q[j] = rj__element(m, s, j, ofj + (size_t) RJ__JD_COUNT * j,
+                           nfj + (size_t) RJ__JD_COUNT * j, oi[j], &ni[j], qd[j], t, nsc, &p, &V) -
+               hq[j];
     }
-    nsc[RJ__FS_SPRING] = V;   /* springs and tables at q^n, from the element */
+    nsc[RJ__FS_SPRING] = V; /* springs and tables at q^n, from the element */
     rj__chol_solve(n, L, Q, qdd);
     /* 3. friction, joint by joint, with the column M^-1 e_j (kept in W for step 5) */
-    for (j = 0; j < n; j++) if (m->jdef[j].friction > 0) rj__chol_unit(n, L, j, W + (size_t)j * n);
+    for (j = 0; j < n; j++)
+        if (m->jdef[j].friction > 0)
+            rj__chol_unit(n, L, j, W + (size_t) j * n);
     for (j = 0; j < n; j++) {
-        const double tf = m->jdef[j].friction, *w = W + (size_t)j * n;
+        const double tf = m->jdef[j].friction, *w = W + (size_t) j * n;
         double tau;
-        if (!(tf > 0)) continue;
+        if (!(tf > 0))
+            continue;
         tau = rj__friction(qd[j] + kick * qdd[j], kick * w[j], tf);
-        for (k = 0; k < n; k++) qdd[k] += w[k] * tau;
-        nfj[(size_t)RJ__JD_COUNT * j + RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
+        for (k = 0; k < n; k++)
+            qdd[k] += w[k] * tau;
+        nfj[(size_t) RJ__JD_COUNT * j + RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
     }
     /* 4. rates q'^{n+1/2} */
-    for (j = 0; j < n; j++) qdp[j] = qd[j] + kick * qdd[j];
+    for (j = 0; j < n; j++)
+        qdp[j] = qd[j] + kick * qdd[j];
     /* 5. velocity-level methods: an impulse along q_j to e times the reversed rate (plastic
        while locked or for forced displacement). hq keeps the rates before the jumps. */
     for (j = 0; j < n; j++) {
         const rj_joint_def *d = &m->jdef[j];
-        if (!(d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED)) continue;
+        if (!(d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED))
+            continue;
         /* re-contact within the step, as for flexible links */
-        if (ni[j] == RJ_FREE && q[j] <= m->jnt[j].rev && qdp[j] < 0) ni[j] = RJ_AT_REVERSE;
-        if (ni[j] == RJ_FREE && q[j] >= m->jnt[j].fwd && qdp[j] > 0) ni[j] = RJ_AT_FORWARD;
-        if (ni[j] == RJ_FREE || !rj__into_limit(ni[j], qdp[j])) continue;
+        if (ni[j] == RJ_FREE && q[j] <= m->jnt[j].rev && qdp[j] < 0)
+            ni[j] = RJ_AT_REVERSE;
+        if (ni[j] == RJ_FREE && q[j] >= m->jnt[j].fwd && qdp[j] > 0)
+            ni[j] = RJ_AT_FORWARD;
+        if (ni[j] == RJ_FREE || !rj__into_limit(ni[j], qdp[j]))
+            continue;
         {
-            const double e = (d->method == RJ_METHOD_MOMENTUM && ni[j] != RJ_LOCKED) ? d->restitution : 0.0;
-            const double *w = W + (size_t)j * n;
+            const double e =
+                (d->method == RJ_METHOD_MOMENTUM && ni[j] != RJ_LOCKED) ? d->restitution : 0.0;
+            const double *w = W + (size_t) j * n;
             double lam;
-            if (!jumped) for (k = 0; k < n; k++) hq[k] = qdp[k];
+            if (!jumped)
+                for (k = 0; k < n; k++)
+                    hq[k] = qdp[k];
             jumped++;
             last_jump = j;
             /* a new contact or lock, or a bounce: the rates jump */
-            if (ni[j] != oi[j] || e > 0) impact = 1;
-            if (!(d->friction > 0)) rj__chol_unit(n, L, j, W + (size_t)j * n);   /* else step 3 made it */
+            if (ni[j] != oi[j] || e > 0)
+                impact = 1;
+            if (!(d->friction > 0))
+                rj__chol_unit(n, L, j, W + (size_t) j * n); /* else step 3 made it */
             lam = (-e * qdp[j] - qdp[j]) / w[j];
-            for (k = 0; k < n; k++) qdp[k] += w[k] * lam;
+            for (k = 0; k < n; k++)
+                qdp[k] += w[k] * lam;
         }
     }
     /* one joint's impulse moves the others (M^-1 couples them), so the plastic ones (locked,
@@ -4051,67 +5583,93 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
        The set starts with every locked joint and every plastic contact that turns into its
        limit or whose rate the impulses above changed: a later joint's impulse moves an
        earlier one off the rate its own impulse gave it. */
-    if (jumped) rj__rig_plastic_set(m, &r, ni, jumped, last_jump);
+    if (jumped)
+        rj__rig_plastic_set(m, &r, ni, jumped, last_jump);
     /* Without an impact the jumps only keep locked joints and resting contacts at rest, and
        (q'^{n+1/2} - q'^{n-1/2}) / kick is the constrained acceleration: the next step's
        centripetal terms predict q'^{n+1} from it, not from the unconstrained one, which
        turns a locked joint at up to dt / 2 times its reaction over its inertia. */
-    if (jumped && !impact) for (j = 0; j < n; j++) qdd[j] = (qdp[j] - qd[j]) / kick;
+    if (jumped && !impact)
+        for (j = 0; j < n; j++)
+            qdd[j] = (qdp[j] - qd[j]) / kick;
     /* the jumps' loss in the kinetic energy's form: 1/2 q'^{n-1/2} M (q'_before - q'_after)
        now, 1/2 q'_after M (q'_before - q'_after) with the next step (pend); nothing without
        a jump */
-    if (jumped) for (j = 0; j < n; j++) {
-        const double *Mj = M + (size_t)j * n;
-        double sum = 0;
-        for (k = 0; k < n; k++) sum += Mj[k] * (hq[k] - qdp[k]);
-        lost_l += 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
-        pend += 0.5 * qdp[j] * sum;
-        /* the generalised impulse along q_j: the latch's angular impulse on body 2 */
-        nfj[(size_t)RJ__JD_COUNT * j + RJ__JD_IMPULSE] = -sum;
-    }
+    if (jumped)
+        for (j = 0; j < n; j++) {
+            const double *Mj = M + (size_t) j * n;
+            double sum = 0;
+            for (k = 0; k < n; k++)
+                sum += Mj[k] * (hq[k] - qdp[k]);
+            lost_l += 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
+            pend += 0.5 * qdp[j] * sum;
+            /* the generalised impulse along q_j: the latch's angular impulse on body 2 */
+            nfj[(size_t) RJ__JD_COUNT * j + RJ__JD_IMPULSE] = -sum;
+        }
     /* 6. positions, forced displacement, work of the joint torques */
     for (j = 0; j < n; j++) {
         const rj_joint_def *d = &m->jdef[j];
-        const double *oj = ofj + (size_t)RJ__JD_COUNT * j;
-        double *nj_ = nfj + (size_t)RJ__JD_COUNT * j, qn = q[j] + dt * qdp[j];
+        const double *oj = ofj + (size_t) RJ__JD_COUNT * j;
+        double *nj_ = nfj + (size_t) RJ__JD_COUNT * j, qn = q[j] + dt * qdp[j];
         if (d->method == RJ_METHOD_FORCED && ni[j] != RJ_FREE) {
             const rj__joint *J = &m->jnt[j];
-            if (ni[j] == RJ_AT_FORWARD && qn > J->fwd) qn = J->fwd;
-            else if (ni[j] == RJ_AT_REVERSE && qn < J->rev) qn = J->rev;
-            else if (ni[j] == RJ_LOCKED) qn = nj_[RJ__JD_LOCK];
+            if (ni[j] == RJ_AT_FORWARD && qn > J->fwd)
+                qn = J->fwd;
+            else if (ni[j] == RJ_AT_REVERSE && qn < J->rev)
+                qn = J->rev;
+            else if (ni[j] == RJ_LOCKED)
+                qn = nj_[RJ__JD_LOCK];
         }
         if (!(fabs(qn - q[j]) <= 0.5 * RJ__PI))
-            return rj__stop(m, s, RJ_ERR_TUNNEL, "t = %.9g s: joint %d turned %.4g rad in one step (more than a quarter revolution, pi/2 rad): the step %g s is far too large for its speed",
+            return rj__stop(m, s, RJ_ERR_TUNNEL,
+                            "t = %.9g s: joint %d turned %.4g rad in one step (more than a quarter "
+                            "revolution, pi/2 rad): the step %g s is far too large for its speed",
                             t, j, qn - q[j], dt);
-        nj_[RJ__JD_THETA] = qn; nj_[RJ__JD_RATE] = qdp[j]; nj_[RJ__JD_QDD] = qdd[j];
+        nj_[RJ__JD_THETA] = qn;
+        nj_[RJ__JD_RATE] = qdp[j];
+        nj_[RJ__JD_QDD] = qdd[j];
         rj__element_work(oj, nj_, qd[j], dt, &lost_d, &lost_f, &lost_l);
     }
     /* 7. kinetic energy 1/2 q'^{n-1/2} M q'^{n+1/2} (q'^{-1/2} = 2 q'(0) - q'^{1/2}),
        energies, blow-up check, commit (nodes are computed when queried: rj__rig_pose) */
     for (j = 0; j < n; j++) {
-        const double *Mj = M + (size_t)j * n;
+        const double *Mj = M + (size_t) j * n;
         double sum = 0;
-        for (k = 0; k < n; k++) sum += Mj[k] * qdp[k];
+        for (k = 0; k < n; k++)
+            sum += Mj[k] * qdp[k];
         ke += 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
     }
     nsc[RJ__FS_KE] = ke;
-    nsc[RJ__FS_LDAMP] = lost_d; nsc[RJ__FS_LFRIC] = lost_f; nsc[RJ__FS_LLIM] = lost_l; nsc[RJ__FS_PEND] = pend;
-    if (first) { nsc[RJ__FS_E0] = ke + V; nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0; lost_d = lost_f = lost_l = 0; }
+    nsc[RJ__FS_LDAMP] = lost_d;
+    nsc[RJ__FS_LFRIC] = lost_f;
+    nsc[RJ__FS_LLIM] = lost_l;
+    nsc[RJ__FS_PEND] = pend;
+    if (first) {
+        nsc[RJ__FS_E0] = ke + V;
+        nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0;
+        lost_d = lost_f = lost_l = 0;
+    }
     {
         const double scale = fabs(nsc[RJ__FS_E0]) + fabs(osc[RJ__FS_SPRING]) + 1e-9;
         const double created = ke + V + lost_d + lost_f + lost_l - nsc[RJ__FS_E0];
         char causes[400];
         /* the same tests and messages as for flexible links (rj_step, part 7) */
         if (created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale)
-            return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: %.6g J of energy created (balance %.6g J, limit work %.6g J; more than %g of the initial %.6g J); %s",
-                            t, created > -lost_l ? created : -lost_l, created, -lost_l, RJ__CREATED, scale,
-                            rj__blowup_causes(m, causes, sizeof causes));
+            return rj__stop(m, s, RJ_ERR_BLOWUP,
+                            "t = %.9g s: %.6g J of energy created (balance %.6g J, limit work %.6g "
+                            "J; more than %g of the initial %.6g J); %s",
+                            t, created > -lost_l ? created : -lost_l, created, -lost_l, RJ__CREATED,
+                            scale, rj__blowup_causes(m, causes, sizeof causes));
         if (!rj__finite(ke) || !rj__finite(lost_l))
-            return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: non-finite energy of the rigid links; %s", t,
+            return rj__stop(m, s, RJ_ERR_BLOWUP,
+                            "t = %.9g s: non-finite energy of the rigid links; %s", t,
                             rj__blowup_causes(m, causes, sizeof causes));
         if (fabs(ke) > m->solver.energy_growth * (scale + fabs(V)))
-            return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: kinetic energy %.6g J of the rigid links exceeds %g x the initial %.6g J; %s",
-                            t, ke, m->solver.energy_growth, scale, rj__blowup_causes(m, causes, sizeof causes));
+            return rj__stop(m, s, RJ_ERR_BLOWUP,
+                            "t = %.9g s: kinetic energy %.6g J of the rigid links exceeds %g x the "
+                            "initial %.6g J; %s",
+                            t, ke, m->solver.energy_growth, scale,
+                            rj__blowup_causes(m, causes, sizeof causes));
     }
     s->cur = 1 - s->cur;
     s->steps++;
@@ -4120,14 +5678,16 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
 
 /* A node's rotation rate at the end of the step under the loads so far (a body's own node:
    the body's). */
-static RJ__INLINE double rj__rate_pred(const rj_model *m, const double *of, int n, const double *x, const double *y, const double *w,
-                            const double *fx, const double *fy, const double *mz, double kick)
+static RJ__INLINE double rj__rate_pred(const rj_model *m, const double *of, int n, const double *x,
+                                       const double *y, const double *w, const double *fx,
+                                       const double *fy, const double *mz, double kick)
 {
     if (m->ncl && RJ__CL_RIGID(m, n)) {
         const int c = m->node_cl[n];
         const double *oc = RJ__FCL(m, of, c);
         double Fx, Fy, T;
-        if (m->cl_fix[c] == 2) return 0.0;
+        if (m->cl_fix[c] == 2)
+            return 0.0;
         rj__cl_load(m, c, oc, x, y, fx, fy, mz, &Fx, &Fy, &T);
         return oc[4] + kick * T / m->cl_I[c];
     }
@@ -4136,35 +5696,42 @@ static RJ__INLINE double rj__rate_pred(const rj_model *m, const double *of, int 
 
 /* One step; the energy accounts are taken when want_energy is set, at the first step, and
    solver.energy_every steps after the last time. ip: in place (rj__step below). */
-static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, int want_energy, int ip)
+static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, int want_energy,
+                                               int ip)
 {
     const int nn = m->nn;
     /* the stored velocities are v(0) at the start and v^{n-1/2} after: the first kick is
        half a step, which makes the start second-order accurate too */
     const double kick = s->steps == 0 ? 0.5 * m->dt : m->dt;
     const double dt = m->dt;
-    double *cf = s->fd[s->cur];   /* the current frame: its nodes and elements advance here in place */
+    double *cf =
+        s->fd[s->cur]; /* the current frame: its nodes and elements advance here in place */
     const double *of = cf;
     double *nf = s->fd[ip ? 2 : 1 - s->cur];
     const int *oi = s->fi[s->cur];
     int *ni = s->fi[ip ? 2 : 1 - s->cur];
     /* x .. w: the nodes at n (in place: only the nodes the step reads after the beams,
        m->dnode, kept in nf); nx .. nw: at n + 1 */
-    const double *x = RJ__FX(m, ip ? nf : of), *y = RJ__FY(m, ip ? nf : of), *phi = RJ__FPHI(m, ip ? nf : of);
-    const double *vx = RJ__FVX(m, ip ? nf : of), *vy = RJ__FVY(m, ip ? nf : of), *w = RJ__FW(m, ip ? nf : of);
-    double *nx = RJ__FX(m, ip ? cf : nf), *ny = RJ__FY(m, ip ? cf : nf), *nphi = RJ__FPHI(m, ip ? cf : nf);
-    double *nvx = RJ__FVX(m, ip ? cf : nf), *nvy = RJ__FVY(m, ip ? cf : nf), *nw = RJ__FW(m, ip ? cf : nf);
+    const double *x = RJ__FX(m, ip ? nf : of), *y = RJ__FY(m, ip ? nf : of),
+                 *phi = RJ__FPHI(m, ip ? nf : of);
+    const double *vx = RJ__FVX(m, ip ? nf : of), *vy = RJ__FVY(m, ip ? nf : of),
+                 *w = RJ__FW(m, ip ? nf : of);
+    double *nx = RJ__FX(m, ip ? cf : nf), *ny = RJ__FY(m, ip ? cf : nf),
+           *nphi = RJ__FPHI(m, ip ? cf : nf);
+    double *nvx = RJ__FVX(m, ip ? cf : nf), *nvy = RJ__FVY(m, ip ? cf : nf),
+           *nw = RJ__FW(m, ip ? cf : nf);
     double *fx = s->fx, *fy = s->fy, *mz = s->mz;
     const double *osc = RJ__FS(m, of);
     double *nsc = RJ__FS(m, nf);
     const double t = osc[RJ__FS_TIME];
-    double U, V = 0, ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC], lost_l = osc[RJ__FS_LLIM] + osc[RJ__FS_PEND], pend = 0;
-    double fin = 0;   /* the advanced nodes' positions summed: finite while they all are */
+    double U, V = 0, ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC],
+              lost_l = osc[RJ__FS_LLIM] + osc[RJ__FS_PEND], pend = 0;
+    double fin = 0; /* the advanced nodes' positions summed: finite while they all are */
     int i, j, gi;
     rj__adv adv;
     /* the accounts when asked, at the start, or K steps after the last ones (no division) */
-    const int en = want_energy || m->solver.energy_every <= 1 || s->steps == 0
-                   || t - osc[RJ__FS_ETIME] > ((double)m->solver.energy_every - 0.5) * m->dt;
+    const int en = want_energy || m->solver.energy_every <= 1 || s->steps == 0 ||
+                   t - osc[RJ__FS_ETIME] > ((double) m->solver.energy_every - 0.5) * m->dt;
 
     /* 1. beams: internal forces at x^n, updated chord angles into the new frame; every node
        advanced at once (v^{n+1/2}, x^{n+1}), the joints' nodes again in part 4 (in place,
@@ -4173,18 +5740,50 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
         double *kp[6];
         const double *cp[6];
         int k;
-        kp[0] = RJ__FX(m, nf); kp[1] = RJ__FY(m, nf); kp[2] = RJ__FPHI(m, nf); kp[3] = RJ__FVX(m, nf); kp[4] = RJ__FVY(m, nf); kp[5] = RJ__FW(m, nf);
-        cp[0] = RJ__FX(m, of); cp[1] = RJ__FY(m, of); cp[2] = RJ__FPHI(m, of); cp[3] = RJ__FVX(m, of); cp[4] = RJ__FVY(m, of); cp[5] = RJ__FW(m, of);
-        for (i = 0; i < m->ndn; i++) for (k = 0; k < 6; k++) kp[k][m->dnode[i]] = cp[k][m->dnode[i]];
+        kp[0] = RJ__FX(m, nf);
+        kp[1] = RJ__FY(m, nf);
+        kp[2] = RJ__FPHI(m, nf);
+        kp[3] = RJ__FVX(m, nf);
+        kp[4] = RJ__FVY(m, nf);
+        kp[5] = RJ__FW(m, nf);
+        cp[0] = RJ__FX(m, of);
+        cp[1] = RJ__FY(m, of);
+        cp[2] = RJ__FPHI(m, of);
+        cp[3] = RJ__FVX(m, of);
+        cp[4] = RJ__FVY(m, of);
+        cp[5] = RJ__FW(m, of);
+        for (i = 0; i < m->ndn; i++)
+            for (k = 0; k < 6; k++)
+                kp[k][m->dnode[i]] = cp[k][m->dnode[i]];
     }
-    adv.kick = kick; adv.dt = dt; adv.vx = RJ__FVX(m, of); adv.vy = RJ__FVY(m, of); adv.w = RJ__FW(m, of);
-    adv.ti = m->tinv; adv.ri = m->rinv; adv.km = m->kmass; adv.kj = m->krot;
-    adv.nx = nx; adv.ny = ny; adv.nphi = nphi; adv.nvx = nvx; adv.nvy = nvy; adv.nw = nw; adv.kn = s->kn;
-    adv.fx = fx; adv.fy = fy; adv.mz = mz; adv.en = en; adv.ip = ip;
+    adv.kick = kick;
+    adv.dt = dt;
+    adv.vx = RJ__FVX(m, of);
+    adv.vy = RJ__FVY(m, of);
+    adv.w = RJ__FW(m, of);
+    adv.ti = m->tinv;
+    adv.ri = m->rinv;
+    adv.km = m->kmass;
+    adv.kj = m->krot;
+    adv.nx = nx;
+    adv.ny = ny;
+    adv.nphi = nphi;
+    adv.nvx = nvx;
+    adv.nvy = nvy;
+    adv.nw = nw;
+    adv.kn = s->kn;
+    adv.fx = fx;
+    adv.fy = fy;
+    adv.mz = mz;
+    adv.en = en;
+    adv.ip = ip;
     adv.fin = &fin;
-    U = rj__beam_pass(m, RJ__FX(m, of), RJ__FY(m, of), RJ__FPHI(m, of), RJ__FBETA(m, of), RJ__FCX(m, of), RJ__FCY(m, of), s->eu,
-                      RJ__FBETA(m, ip ? cf : nf), RJ__FCX(m, ip ? cf : nf), RJ__FCY(m, ip ? cf : nf), fx, fy, mz, &adv);
-    adv.vx = vx; adv.vy = vy; adv.w = w;   /* part 4 advances the joints' nodes from x .. w */
+    U = rj__beam_pass(m, RJ__FX(m, of), RJ__FY(m, of), RJ__FPHI(m, of), RJ__FBETA(m, of),
+                      RJ__FCX(m, of), RJ__FCY(m, of), s->eu, RJ__FBETA(m, ip ? cf : nf),
+                      RJ__FCX(m, ip ? cf : nf), RJ__FCY(m, ip ? cf : nf), fx, fy, mz, &adv);
+    adv.vx = vx;
+    adv.vy = vy;
+    adv.w = w; /* part 4 advances the joints' nodes from x .. w */
 
     nsc[RJ__FS_WARN] = osc[RJ__FS_WARN];
     /* 2. joints: rate, status flag (Eqs 7-13), table/spring/damping/limit torques */
@@ -4198,7 +5797,14 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
         rate = rj__joint_rate(J, &g, vx, vy, w, NULL, NULL);
         tq = rj__element(m, s, j, oj, nj_, oi[j], &ni[j], rate, t, RJ__FS(m, nf), &p, &V);
         rj__apply_torque(J, &g, tq, fx, fy, mz);
-        sc[0] = g.ax; sc[1] = g.ay; sc[2] = g.bx; sc[3] = g.by; sc[4] = rate; sc[5] = p; sc[6] = g.a2; sc[7] = g.b2;
+        sc[0] = g.ax;
+        sc[1] = g.ay;
+        sc[2] = g.bx;
+        sc[3] = g.by;
+        sc[4] = rate;
+        sc[5] = p;
+        sc[6] = g.a2;
+        sc[7] = g.b2;
     }
 
     /* 3. Coulomb friction: the torque that would stop the relative rotation in this step,
@@ -4210,29 +5816,48 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
         rj__jgeo g;
         double pvx[4], pvy[4], c, ratep, tau;
         int nodes[4], k;
-        if (!(d->friction > 0)) continue;
-        g.ax = sc[0]; g.ay = sc[1]; g.bx = sc[2]; g.by = sc[3]; g.a2 = sc[6]; g.b2 = sc[7];
+        if (!(d->friction > 0))
+            continue;
+        g.ax = sc[0];
+        g.ay = sc[1];
+        g.bx = sc[2];
+        g.by = sc[3];
+        g.a2 = sc[6];
+        g.b2 = sc[7];
         if (!J->chord) {
             ratep = rj__rate_pred(m, of, J->nJ, x, y, w, fx, fy, mz, kick);
-            if (J->nI >= 0) ratep -= rj__rate_pred(m, of, J->nI, x, y, w, fx, fy, mz, kick);
+            if (J->nI >= 0)
+                ratep -= rj__rate_pred(m, of, J->nI, x, y, w, fx, fy, mz, kick);
         } else {
-            nodes[0] = J->nI; nodes[1] = J->nK; nodes[2] = J->nJ; nodes[3] = J->nL;
+            nodes[0] = J->nI;
+            nodes[1] = J->nK;
+            nodes[2] = J->nJ;
+            nodes[3] = J->nL;
             for (k = 0; k < 4; k++) {
                 int n = nodes[k];
-                if (n < 0) { pvx[k] = pvy[k] = 0; continue; }
+                if (n < 0) {
+                    pvx[k] = pvy[k] = 0;
+                    continue;
+                }
                 if (m->tinv[n] == 0 && m->einv[n] > 0) {
                     /* grouped node: the group's acceleration */
                     double sx = 0, sy = 0, ginv = m->einv[n];
                     const int g0 = m->node_grp[n];
                     int q;
-                    for (q = m->grp_first[g0]; q < m->grp_first[g0 + 1]; q++) { sx += fx[m->grp_node[q]]; sy += fy[m->grp_node[q]]; }
-                    pvx[k] = vx[n] + kick * sx * ginv; pvy[k] = vy[n] + kick * sy * ginv;
+                    for (q = m->grp_first[g0]; q < m->grp_first[g0 + 1]; q++) {
+                        sx += fx[m->grp_node[q]];
+                        sy += fy[m->grp_node[q]];
+                    }
+                    pvx[k] = vx[n] + kick * sx * ginv;
+                    pvy[k] = vy[n] + kick * sy * ginv;
                 } else {
-                    pvx[k] = vx[n] + kick * fx[n] * m->tinv[n]; pvy[k] = vy[n] + kick * fy[n] * m->tinv[n];
+                    pvx[k] = vx[n] + kick * fx[n] * m->tinv[n];
+                    pvy[k] = vy[n] + kick * fy[n] * m->tinv[n];
                 }
             }
             ratep = (g.bx * (pvy[3] - pvy[2]) - g.by * (pvx[3] - pvx[2])) / g.b2;
-            if (J->nK >= 0) ratep -= (g.ax * (pvy[1] - pvy[0]) - g.ay * (pvx[1] - pvx[0])) / g.a2;
+            if (J->nK >= 0)
+                ratep -= (g.ax * (pvy[1] - pvy[0]) - g.ay * (pvx[1] - pvx[0])) / g.a2;
         }
         c = kick * rj__joint_compliance(m, J, &g);
         tau = rj__friction(ratep, c, d->friction);
@@ -4245,25 +5870,38 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
        are redone below); kinetic energy at n as v^{n-1/2}.v^{n+1/2} */
     {
         const double *km = m->kmass, *kj = m->krot;
-        for (i = 0; i < m->ndn; i++) rj__advance_node(&adv, m->dnode[i], fx[m->dnode[i]], fy[m->dnode[i]], mz[m->dnode[i]], x, y, phi);
+        for (i = 0; i < m->ndn; i++)
+            rj__advance_node(&adv, m->dnode[i], fx[m->dnode[i]], fy[m->dnode[i]], mz[m->dnode[i]],
+                             x, y, phi);
         ke = en ? rj__sum8(s->kn, nn) : 0.0;
         if (s->steps == 0) {
             /* at the start the pair is v^{-1/2} = 2 v(0) - v^{1/2} and v^{1/2} */
             ke = 0;
             for (i = 0; i < nn; i++)
-                ke += km[i] * ((2 * vx[i] - nvx[i]) * nvx[i] + (2 * vy[i] - nvy[i]) * nvy[i]) + kj[i] * (2 * w[i] - nw[i]) * nw[i];
+                ke += km[i] * ((2 * vx[i] - nvx[i]) * nvx[i] + (2 * vy[i] - nvy[i]) * nvy[i]) +
+                      kj[i] * (2 * w[i] - nw[i]) * nw[i];
         }
     }
     for (gi = 0; gi < m->ng; gi++) {
         const int f0 = m->grp_first[gi], f1 = m->grp_first[gi + 1], r = m->grp_node[f0];
         double sx = 0, sy = 0, msum = 0, ux, uy;
         int q;
-        for (q = f0; q < f1; q++) { sx += fx[m->grp_node[q]]; sy += fy[m->grp_node[q]]; msum += m->mass[m->grp_node[q]]; }
-        ux = vx[r] + kick * sx * m->grp_inv[gi]; uy = vy[r] + kick * sy * m->grp_inv[gi];
-        if (m->grp_inv[gi] > 0) ke += s->steps == 0 ? msum * ((2 * vx[r] - ux) * ux + (2 * vy[r] - uy) * uy) : msum * (vx[r] * ux + vy[r] * uy);
+        for (q = f0; q < f1; q++) {
+            sx += fx[m->grp_node[q]];
+            sy += fy[m->grp_node[q]];
+            msum += m->mass[m->grp_node[q]];
+        }
+        ux = vx[r] + kick * sx * m->grp_inv[gi];
+        uy = vy[r] + kick * sy * m->grp_inv[gi];
+        if (m->grp_inv[gi] > 0)
+            ke += s->steps == 0 ? msum * ((2 * vx[r] - ux) * ux + (2 * vy[r] - uy) * uy)
+                                : msum * (vx[r] * ux + vy[r] * uy);
         for (q = f0; q < f1; q++) {
             const int n = m->grp_node[q];
-            nvx[n] = ux; nvy[n] = uy; nx[n] = x[n] + dt * ux; ny[n] = y[n] + dt * uy;
+            nvx[n] = ux;
+            nvy[n] = uy;
+            nx[n] = x[n] + dt * ux;
+            ny[n] = y[n] + dt * uy;
             fin += nx[n] + ny[n];
         }
     }
@@ -4272,14 +5910,21 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
         const double *oc = RJ__FCL(m, of, gi);
         double *nc = RJ__FCL(m, nf, gi), Fx, Fy, T;
         int q;
-        if (m->cl_first[gi] == m->cl_first[gi + 1]) continue;
+        if (m->cl_first[gi] == m->cl_first[gi + 1])
+            continue;
         memcpy(nc, oc, 6 * sizeof(double));
-        if (m->cl_fix[gi] == 2) continue;
+        if (m->cl_fix[gi] == 2)
+            continue;
         rj__cl_load(m, gi, oc, x, y, fx, fy, mz, &Fx, &Fy, &T);
-        if (m->cl_fix[gi] == 0) { nc[2] = oc[2] + kick * Fx / m->cl_M[gi]; nc[3] = oc[3] + kick * Fy / m->cl_M[gi]; }
+        if (m->cl_fix[gi] == 0) {
+            nc[2] = oc[2] + kick * Fx / m->cl_M[gi];
+            nc[3] = oc[3] + kick * Fy / m->cl_M[gi];
+        }
         nc[4] = oc[4] + kick * T / m->cl_I[gi];
         ke += rj__cl_ke2(m, gi, oc, nc, s->steps == 0);
-        for (q = m->cl_first[gi]; q < m->cl_first[gi + 1]; q++) if (RJ__CL_RIGID(m, m->cl_node[q])) nw[m->cl_node[q]] = nc[4];
+        for (q = m->cl_first[gi]; q < m->cl_first[gi + 1]; q++)
+            if (RJ__CL_RIGID(m, m->cl_node[q]))
+                nw[m->cl_node[q]] = nc[4];
     }
     ke *= 0.5;
 
@@ -4292,55 +5937,87 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
         rj__jgeo g;
         double w1, w2, ratep;
         int flag = ni[j];
-        g.ax = sc[0]; g.ay = sc[1]; g.bx = sc[2]; g.by = sc[3]; g.a2 = sc[6]; g.b2 = sc[7];
+        g.ax = sc[0];
+        g.ay = sc[1];
+        g.bx = sc[2];
+        g.by = sc[3];
+        g.a2 = sc[6];
+        g.b2 = sc[7];
         ratep = rj__joint_rate(J, &g, nvx, nvy, nw, &w1, &w2);
         /* velocity-level methods: a joint released under RC13 (rate pointing out at the
            step's start) that the step's kick turns back in while still past its limit is in
            contact again now, not one step later: that lag let the bodies behind ratchet it
            through the stop (stress suite: 48 deg in a 1000:1 chain) */
-        if (flag == RJ_FREE && (d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_ENERGY || d->method == RJ_METHOD_FORCED)) {
+        if (flag == RJ_FREE && (d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_ENERGY ||
+                                d->method == RJ_METHOD_FORCED)) {
             const double run = RJ__FJ(m, of, j)[RJ__JD_THETA], rp = ratep;
-            if (run <= J->rev && rp < 0) { flag = ni[j] = RJ_AT_REVERSE; sc[5] = J->rev - run; }
-            else if (run >= J->fwd && rp > 0) { flag = ni[j] = RJ_AT_FORWARD; sc[5] = J->fwd - run; }
+            if (run <= J->rev && rp < 0) {
+                flag = ni[j] = RJ_AT_REVERSE;
+                sc[5] = J->rev - run;
+            } else if (run >= J->fwd && rp > 0) {
+                flag = ni[j] = RJ_AT_FORWARD;
+                sc[5] = J->fwd - run;
+            }
         }
-        if (flag != RJ_FREE && (d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_ENERGY || d->method == RJ_METHOD_FORCED)) {
+        if (flag != RJ_FREE && (d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_ENERGY ||
+                                d->method == RJ_METHOD_FORCED)) {
             if (rj__into_limit(flag, ratep)) {
                 double o1 = w1, o2 = w2, m1 = 0, m2 = 0, loss = 0;
-                rj__joint_rate(J, &g, vx, vy, w, &m1, &m2);   /* the bodies' rates at n - 1/2 */
-                if (d->method == RJ_METHOD_MOMENTUM) rj_momentum_balance(J->I1, J->I2, flag == RJ_LOCKED ? 0.0 : d->restitution, &w1, &w2);
-                else if (d->method == RJ_METHOD_ENERGY && flag != RJ_LOCKED) rj_energy_balance(J->I1, J->I2, &w1, &w2);
-                else rj_momentum_balance(J->I1, J->I2, 0.0, &w1, &w2);   /* forced, or energy while locked: plastic */
-                if (!rj__finite(J->I1)) w1 = o1;
-                if (!rj__finite(J->I2)) w2 = o2;
+                rj__joint_rate(J, &g, vx, vy, w, &m1, &m2); /* the bodies' rates at n - 1/2 */
+                if (d->method == RJ_METHOD_MOMENTUM)
+                    rj_momentum_balance(J->I1, J->I2, flag == RJ_LOCKED ? 0.0 : d->restitution, &w1,
+                                        &w2);
+                else if (d->method == RJ_METHOD_ENERGY && flag != RJ_LOCKED)
+                    rj_energy_balance(J->I1, J->I2, &w1, &w2);
+                else
+                    rj_momentum_balance(J->I1, J->I2, 0.0, &w1,
+                                        &w2); /* forced, or energy while locked: plastic */
+                if (!rj__finite(J->I1))
+                    w1 = o1;
+                if (!rj__finite(J->I2))
+                    w2 = o2;
                 /* in the kinetic energy's form 1/2 v^{n-1/2}.v^{n+1/2} a jump from w_b to w_b'
                    loses 1/2 I_b (w_b^{n-1/2} + w_b') (w_b - w_b') per body (the second half
                    is the next step's share): a latch that only cancels the step's small
                    relative rate loses almost nothing, as a workless constraint should */
-                if (rj__finite(J->I1)) { loss += 0.5 * J->I1 * m1 * (o1 - w1); pend += 0.5 * J->I1 * w1 * (o1 - w1); }
-                if (rj__finite(J->I2)) { loss += 0.5 * J->I2 * m2 * (o2 - w2); pend += 0.5 * J->I2 * w2 * (o2 - w2); }
+                if (rj__finite(J->I1)) {
+                    loss += 0.5 * J->I1 * m1 * (o1 - w1);
+                    pend += 0.5 * J->I1 * w1 * (o1 - w1);
+                }
+                if (rj__finite(J->I2)) {
+                    loss += 0.5 * J->I2 * m2 * (o2 - w2);
+                    pend += 0.5 * J->I2 * w2 * (o2 - w2);
+                }
                 /* the latch's angular impulse on body 2 (body 1 takes the opposite) */
                 nj_[RJ__JD_IMPULSE] = rj__finite(J->I2) ? J->I2 * (w2 - o2) : -J->I1 * (w1 - o1);
                 rj__spin(J, &g, w1 - o1, w2 - o2, nvx, nvy, nw);
-                {   /* the bodies' new rates move their nodes (rj__spin changes nK and nL only with
+                { /* the bodies' new rates move their nodes (rj__spin changes nK and nL only with
                        a chord reference) */
-                    const int nodes[4] = { J->nI, J->chord ? J->nK : -1, J->nJ, J->chord ? J->nL : -1 };
+                    const int nodes[4] = { J->nI, J->chord ? J->nK : -1, J->nJ,
+                                           J->chord ? J->nL : -1 };
                     int k;
                     for (k = 0; k < 4; k++) {
                         const int n = nodes[k];
-                        if (n < 0) continue;
-                        nx[n] = x[n] + dt * nvx[n]; ny[n] = y[n] + dt * nvy[n]; nphi[n] = phi[n] + dt * nw[n];
+                        if (n < 0)
+                            continue;
+                        nx[n] = x[n] + dt * nvx[n];
+                        ny[n] = y[n] + dt * nvy[n];
+                        nphi[n] = phi[n] + dt * nw[n];
                         fin += (nx[n] + ny[n]) + nphi[n];
                         if (m->ncl && RJ__CL_RIGID(m, n)) {
                             /* a body's node: the whole body takes the new rate */
                             const int c = m->node_cl[n];
                             int q;
                             RJ__FCL(m, nf, c)[4] = nw[n];
-                            for (q = m->cl_first[c]; q < m->cl_first[c + 1]; q++) if (RJ__CL_RIGID(m, m->cl_node[q])) nw[m->cl_node[q]] = nw[n];
+                            for (q = m->cl_first[c]; q < m->cl_first[c + 1]; q++)
+                                if (RJ__CL_RIGID(m, m->cl_node[q]))
+                                    nw[m->cl_node[q]] = nw[n];
                         }
                     }
                 }
                 /* this step's half; the half with the new rates is the next step's (pend) */
-                lost_l += loss; ke -= loss;
+                lost_l += loss;
+                ke -= loss;
                 ratep = rj__joint_rate(J, &g, nvx, nvy, nw, NULL, NULL);
             }
         }
@@ -4351,8 +6028,11 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     for (gi = 0; gi < m->ncl; gi++) {
         const double *oc = RJ__FCL(m, of, gi);
         double *nc = RJ__FCL(m, nf, gi);
-        if (m->cl_first[gi] == m->cl_first[gi + 1]) continue;
-        nc[0] = oc[0] + dt * nc[2]; nc[1] = oc[1] + dt * nc[3]; nc[5] = oc[5] + dt * nc[4];
+        if (m->cl_first[gi] == m->cl_first[gi + 1])
+            continue;
+        nc[0] = oc[0] + dt * nc[2];
+        nc[1] = oc[1] + dt * nc[3];
+        nc[5] = oc[5] + dt * nc[4];
         fin += rj__cl_pose(m, gi, nc, x, y, dt, 1, nx, ny, nphi, nvx, nvy, nw);
     }
     if (m->any_inext) {
@@ -4369,7 +6049,8 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
         }
         if (en) {
             for (i = 0; i < nn; i++) {
-                const double vmx = s->steps == 0 ? 2 * vx[i] - nvx[i] : vx[i], vmy = s->steps == 0 ? 2 * vy[i] - nvy[i] : vy[i];
+                const double vmx = s->steps == 0 ? 2 * vx[i] - nvx[i] : vx[i],
+                             vmy = s->steps == 0 ? 2 * vy[i] - nvy[i] : vy[i];
                 const double vmw = s->steps == 0 ? 2 * w[i] - nw[i] : w[i];
                 k0 += m->kmass[i] * (vmx * nvx[i] + vmy * nvy[i]) + m->krot[i] * vmw * nw[i];
             }
@@ -4377,12 +6058,16 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
                 const int r0 = m->grp_node[m->grp_first[gi]];
                 double msum = 0;
                 int q;
-                if (!(m->grp_inv[gi] > 0)) continue;
-                for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++) msum += m->mass[m->grp_node[q]];
-                k0 += msum * ((s->steps == 0 ? 2 * vx[r0] - nvx[r0] : vx[r0]) * nvx[r0] + (s->steps == 0 ? 2 * vy[r0] - nvy[r0] : vy[r0]) * nvy[r0]);
+                if (!(m->grp_inv[gi] > 0))
+                    continue;
+                for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++)
+                    msum += m->mass[m->grp_node[q]];
+                k0 += msum * ((s->steps == 0 ? 2 * vx[r0] - nvx[r0] : vx[r0]) * nvx[r0] +
+                              (s->steps == 0 ? 2 * vy[r0] - nvy[r0] : vy[r0]) * nvy[r0]);
             }
             for (gi = 0; gi < m->ncl; gi++)
-                if (m->cl_first[gi] < m->cl_first[gi + 1] && m->cl_fix[gi] != 2) k0 += rj__cl_ke2(m, gi, RJ__FCL(m, of, gi), RJ__FCL(m, nf, gi), s->steps == 0);
+                if (m->cl_first[gi] < m->cl_first[gi + 1] && m->cl_fix[gi] != 2)
+                    k0 += rj__cl_ke2(m, gi, RJ__FCL(m, of, gi), RJ__FCL(m, nf, gi), s->steps == 0);
             ke = 0.5 * k0;
         }
     }
@@ -4398,14 +6083,21 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
         raw = rj__joint_raw(J, &g, nphi);
         dth = J->chord ? rj__wrap(raw - nj_[RJ__JD_THETA]) : raw - nj_[RJ__JD_THETA];
         if (!(fabs(dth) <= 0.5 * RJ__PI))
-            return rj__stop(m, s, RJ_ERR_TUNNEL, "t = %.9g s: joint %d turned %.4g rad in one step (more than a quarter revolution, pi/2 rad): the step %g s is far too large for its speed%s",
-                            t, j, dth, dt, d->has_forward || d->has_reverse ? "; its limits could be tunnelled" : "");
+            return rj__stop(m, s, RJ_ERR_TUNNEL,
+                            "t = %.9g s: joint %d turned %.4g rad in one step (more than a quarter "
+                            "revolution, pi/2 rad): the step %g s is far too large for its speed%s",
+                            t, j, dth, dt,
+                            d->has_forward || d->has_reverse ? "; its limits could be tunnelled"
+                                                             : "");
         run = nj_[RJ__JD_THETA] + dth;
         if (d->method == RJ_METHOD_FORCED && ni[j] != RJ_FREE) {
             double target = run, p;
-            if (ni[j] == RJ_AT_FORWARD && run > J->fwd) target = J->fwd;
-            else if (ni[j] == RJ_AT_REVERSE && run < J->rev) target = J->rev;
-            else if (ni[j] == RJ_LOCKED) target = nj_[RJ__JD_LOCK];
+            if (ni[j] == RJ_AT_FORWARD && run > J->fwd)
+                target = J->fwd;
+            else if (ni[j] == RJ_AT_REVERSE && run < J->rev)
+                target = J->rev;
+            else if (ni[j] == RJ_LOCKED)
+                target = nj_[RJ__JD_LOCK];
             p = target - run;
             if (p != 0) {
                 rj__turn(J, -p * J->w1, p * J->w2, nx, ny, nphi);
@@ -4414,12 +6106,13 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
                     /* a body's node turned: the body turns (positions only, as above) */
                     const int nodes[2] = { J->nI, J->nJ };
                     int k;
-                    for (k = 0; k < 2; k++) if (nodes[k] >= 0 && RJ__CL_RIGID(m, nodes[k])) {
-                        const int c = m->node_cl[nodes[k]];
-                        double *nc = RJ__FCL(m, nf, c);
-                        nc[5] = nphi[nodes[k]] - (m->phi0[nodes[k]] - m->cl_th0[3 * c]);
-                        fin += rj__cl_pose(m, c, nc, x, y, dt, 0, nx, ny, nphi, nvx, nvy, nw);
-                    }
+                    for (k = 0; k < 2; k++)
+                        if (nodes[k] >= 0 && RJ__CL_RIGID(m, nodes[k])) {
+                            const int c = m->node_cl[nodes[k]];
+                            double *nc = RJ__FCL(m, nf, c);
+                            nc[5] = nphi[nodes[k]] - (m->phi0[nodes[k]] - m->cl_th0[3 * c]);
+                            fin += rj__cl_pose(m, c, nc, x, y, dt, 0, nx, ny, nphi, nvx, nvy, nw);
+                        }
                 }
                 run = J->chord ? target : rj__joint_raw(J, &g, nphi);
             }
@@ -4430,18 +6123,24 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     /* 7. every value the step wrote is finite: fin sums every position it wrote, each from
        the velocity, torque or body motion behind it, on every step; energy accounts and
        blow-up detection (on the steps that take them); commit the frame */
-    if (!rj__finite(fin)) return rj__stop_nonfinite(m, s, ip ? cf : nf, t);
+    if (!rj__finite(fin))
+        return rj__stop_nonfinite(m, s, ip ? cf : nf, t);
     {
         double E, scale, created, e0 = osc[RJ__FS_E0];
-        const double warn = nsc[RJ__FS_WARN];   /* counted in this step already */
+        const double warn = nsc[RJ__FS_WARN]; /* counted in this step already */
         memcpy(nsc, osc, sizeof(double) * RJ__FS_COUNT);
         nsc[RJ__FS_WARN] = warn;
         nsc[RJ__FS_TIME] = t + dt;
-        nsc[RJ__FS_LDAMP] = lost_d; nsc[RJ__FS_LFRIC] = lost_f; nsc[RJ__FS_LLIM] = lost_l; nsc[RJ__FS_PEND] = pend;
+        nsc[RJ__FS_LDAMP] = lost_d;
+        nsc[RJ__FS_LFRIC] = lost_f;
+        nsc[RJ__FS_LLIM] = lost_l;
+        nsc[RJ__FS_PEND] = pend;
         if (en) {
             nsc[RJ__FS_ETIME] = t;
             /* V: springs and tables at x^n, summed by the element in part 2 */
-            nsc[RJ__FS_KE] = ke; nsc[RJ__FS_STRAIN] = U; nsc[RJ__FS_SPRING] = V;
+            nsc[RJ__FS_KE] = ke;
+            nsc[RJ__FS_STRAIN] = U;
+            nsc[RJ__FS_SPRING] = V;
             /* the initial energy in the same discrete form as every later one */
             if (s->steps == 0) {
                 nsc[RJ__FS_E0] = e0 = ke + U + V;
@@ -4454,19 +6153,27 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
             E = U > fabs(ke) ? U : fabs(ke);
             scale = fabs(e0) + fabs(osc[RJ__FS_SPRING]) + 1e-9;
             created = ke + U + V + lost_d + lost_f + lost_l - nsc[RJ__FS_E0];
-            if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) || E > m->solver.energy_growth * (scale + fabs(V))
-                || created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale) {
+            if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) ||
+                E > m->solver.energy_growth * (scale + fabs(V)) || created > RJ__CREATED * scale ||
+                lost_l < -RJ__CREATED * scale) {
                 char causes[400];
                 int bl, bn;
                 rj__worst_node(m, ip ? cf : nf, &bl, &bn);
                 if (created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale)
-                    return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: %.6g J of energy created (balance %.6g J, limit work %.6g J; more than %g of the initial %.6g J); fastest node link %d node %d; %s",
-                                    t, created > -lost_l ? created : -lost_l, created, -lost_l, RJ__CREATED, scale, bl, bn,
-                                    rj__blowup_causes(m, causes, sizeof causes));
+                    return rj__stop(
+                        m, s, RJ_ERR_BLOWUP,
+                        "t = %.9g s: %.6g J of energy created (balance %.6g J, limit work %.6g J; "
+                        "more than %g of the initial %.6g J); fastest node link %d node %d; %s",
+                        t, created > -lost_l ? created : -lost_l, created, -lost_l, RJ__CREATED,
+                        scale, bl, bn, rj__blowup_causes(m, causes, sizeof causes));
                 if (!(E == E) || !rj__finite(E))
-                    return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: non-finite energy, fastest node link %d node %d; %s", t, bl, bn,
-                                    rj__blowup_causes(m, causes, sizeof causes));
-                return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: kinetic or strain energy %.6g J exceeds %g x the initial %.6g J; fastest node link %d node %d; %s",
+                    return rj__stop(
+                        m, s, RJ_ERR_BLOWUP,
+                        "t = %.9g s: non-finite energy, fastest node link %d node %d; %s", t, bl,
+                        bn, rj__blowup_causes(m, causes, sizeof causes));
+                return rj__stop(m, s, RJ_ERR_BLOWUP,
+                                "t = %.9g s: kinetic or strain energy %.6g J exceeds %g x the "
+                                "initial %.6g J; fastest node link %d node %d; %s",
                                 t, E, m->solver.energy_growth, scale, bl, bn,
                                 rj__blowup_causes(m, causes, sizeof causes));
             }
@@ -4474,11 +6181,12 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     }
     if (ip) {
         /* in place: the new scalars, joints and bodies join the advanced nodes */
-        const size_t j0 = RJ__FS_COUNT + 6 * (size_t)nn + 3 * (size_t)m->ne;
+        const size_t j0 = RJ__FS_COUNT + 6 * (size_t) nn + 3 * (size_t) m->ne;
         memcpy(cf, nf, sizeof(double) * RJ__FS_COUNT);
         memcpy(cf + j0, nf + j0, sizeof(double) * (m->frame_doubles - j0));
         memcpy(s->fi[s->cur], ni, sizeof(int) * (m->frame_ints + 1));
-    } else s->cur = 1 - s->cur;
+    } else
+        s->cur = 1 - s->cur;
     s->steps++;
     return RJ_OK;
 }
@@ -4490,8 +6198,14 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
    again, with the same energy requests (s->want): the same bits, so a failed step leaves
    the state as it was, as the double-buffered step does. */
 #define RJ__SNAP 64
-static rj_result rj__step_dbl(const rj_model *m, rj_state *s, int want_energy) { return rj__step_run(m, s, want_energy, 0); }
-static rj_result rj__step_ip(const rj_model *m, rj_state *s, int want_energy) { return rj__step_run(m, s, want_energy, 1); }
+static rj_result rj__step_dbl(const rj_model *m, rj_state *s, int want_energy)
+{
+    return rj__step_run(m, s, want_energy, 0);
+}
+static rj_result rj__step_ip(const rj_model *m, rj_state *s, int want_energy)
+{
+    return rj__step_run(m, s, want_energy, 1);
+}
 static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
 {
     rj_result r;
@@ -4501,83 +6215,170 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
     /* a step too small for the time reached would leave time where it is: rj_run would
        never end */
     if (!(t + m->dt > t))
-        return rj__stop(m, s, RJ_ERR_INVALID, "t = %.17g s: the step %g s no longer advances time (it is below the time's resolution, %g s)", t, m->dt, t * DBL_EPSILON);
-    if (m->rigid) return rj__step_rigid(m, s);
-    if (!m->ip || s->steps == 0) { s->snap = -1; return rj__step_dbl(m, s, want_energy); }
+        return rj__stop(m, s, RJ_ERR_INVALID,
+                        "t = %.17g s: the step %g s no longer advances time (it is below the "
+                        "time's resolution, %g s)",
+                        t, m->dt, t * DBL_EPSILON);
+    if (m->rigid)
+        return rj__step_rigid(m, s);
+    if (!m->ip || s->steps == 0) {
+        s->snap = -1;
+        return rj__step_dbl(m, s, want_energy);
+    }
     if (s->snap < 0 || s->steps - s->snap >= RJ__SNAP) {
         memcpy(s->fd[1 - s->cur], s->fd[s->cur], sizeof(double) * m->frame_doubles);
         memcpy(s->fi[1 - s->cur], s->fi[s->cur], sizeof(int) * (m->frame_ints + 1));
-        s->snap = s->steps; s->want = 0;
+        s->snap = s->steps;
+        s->want = 0;
     }
-    if (want_energy) s->want |= (unsigned long long)1 << (s->steps - s->snap);
+    if (want_energy)
+        s->want |= (unsigned long long) 1 << (s->steps - s->snap);
     r = rj__step_ip(m, s, want_energy);
-    if (r == RJ_OK) return r;
-    memcpy(err, s->err, sizeof err); memcpy(warn, s->warn, sizeof warn);
+    if (r == RJ_OK)
+        return r;
+    memcpy(err, s->err, sizeof err);
+    memcpy(warn, s->warn, sizeof warn);
     n = s->steps;
     memcpy(s->fd[s->cur], s->fd[1 - s->cur], sizeof(double) * m->frame_doubles);
     memcpy(s->fi[s->cur], s->fi[1 - s->cur], sizeof(int) * (m->frame_ints + 1));
     s->steps = s->snap;
     for (k = s->snap; k < n; k++)
-        if (rj__step_ip(m, s, (int)((s->want >> (k - s->snap)) & 1)) != RJ_OK) break;
-    memcpy(s->err, err, sizeof err); memcpy(s->warn, warn, sizeof warn);
+        if (rj__step_ip(m, s, (int) ((s->want >> (k - s->snap)) & 1)) != RJ_OK)
+            break;
+    memcpy(s->err, err, sizeof err);
+    memcpy(s->warn, warn, sizeof warn);
     return r;
 }
 
-RJDEF rj_result rj_step(const rj_model *m, rj_state *s) { return rj__step(m, s, 0); }
+RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
+{
+    return rj__step(m, s, 0);
+}
 
-RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double sample_dt, rj_sample_fn sample, void *user)
+RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double sample_dt,
+                       rj_sample_fn sample, void *user)
 {
     double next;
     rj_result r;
-    if (!m || !s) return RJ_ERR_INVALID;
-    if (!(t_end == t_end) || !(sample_dt >= 0) || !rj__finite(sample_dt)) return RJ_ERR_INVALID;
+    if (!m || !s)
+        return RJ_ERR_INVALID;
+    if (!(t_end == t_end) || !(sample_dt >= 0) || !rj__finite(sample_dt))
+        return RJ_ERR_INVALID;
     /* samples at the steps nearest to k sample_dt (every step when sample_dt is 0) */
     next = sample_dt > 0 ? sample_dt * floor(rj_state_time(s) / sample_dt + 0.5) : rj_state_time(s);
     if (sample && rj_state_time(s) >= next - 0.5 * m->dt) {
-        if (sample(m, s, user)) return RJ_OK;
+        if (sample(m, s, user))
+            return RJ_OK;
         next += sample_dt;
     }
     while (rj_state_time(s) < t_end - 0.5 * m->dt) {
         /* the energy accounts at every sample and at the end (solver.energy_every) */
         const double t1 = rj_state_time(s) + m->dt;
         r = rj__step(m, s, t1 >= t_end - 0.5 * m->dt || (sample && t1 >= next - 0.5 * m->dt));
-        if (r != RJ_OK) return r;
+        if (r != RJ_OK)
+            return r;
         if (sample && rj_state_time(s) >= next - 0.5 * m->dt) {
-            if (sample(m, s, user)) return RJ_OK;
-            if (sample_dt > 0) while (next <= rj_state_time(s) + 0.5 * m->dt) next += sample_dt;
+            if (sample(m, s, user))
+                return RJ_OK;
+            if (sample_dt > 0)
+                while (next <= rj_state_time(s) + 0.5 * m->dt)
+                    next += sample_dt;
         }
     }
     return RJ_OK;
 }
 
-RJDEF const char *rj_state_error(const rj_state *s) { return s->err; }
-RJDEF long rj_state_warning_count(const rj_state *s) { return (long)s->fd[s->cur][RJ__FS_WARN]; }
-RJDEF const char *rj_state_warning(const rj_state *s) { return s->warn; }
+RJDEF const char *rj_state_error(const rj_state *s)
+{
+    return s->err;
+}
+RJDEF long rj_state_warning_count(const rj_state *s)
+{
+    return (long) s->fd[s->cur][RJ__FS_WARN];
+}
+RJDEF const char *rj_state_warning(const rj_state *s)
+{
+    return s->warn;
+}
 
 /* ------------------------------------------------------------------ queries */
-RJDEF int rj_model_warning_count(const rj_model *m) { return m->nwarn; }
-RJDEF const char *rj_model_warnings(const rj_model *m) { return m->warnings; }
-RJDEF double rj_model_dt(const rj_model *m) { return m->dt; }
-RJDEF double rj_model_dt_bound(const rj_model *m) { return m->dt_bound; }
-RJDEF double rj_model_omega_max(const rj_model *m) { return m->omega_max; }
-RJDEF int rj_model_link_count(const rj_model *m) { return m->nl; }
-RJDEF int rj_model_joint_count(const rj_model *m) { return m->nj; }
-RJDEF int rj_model_node_count(const rj_model *m) { return m->nn; }
-RJDEF const rj_link_def *rj_model_link_def(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l < m->nl); return &m->ldef[l]; }
-RJDEF const rj_joint_def *rj_model_joint_def(const rj_model *m, int j) { RJ_ASSERT(j >= 0 && j < m->nj); return &m->jdef[j]; }
-RJDEF int rj_link_node_count(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l < m->nl); return m->ldef[l].elements + 1; }
-RJDEF double rj_link_EA(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l < m->nl); return m->link_EA[l]; }
-RJDEF double rj_link_EI(const rj_model *m, int l) { RJ_ASSERT(l >= 0 && l < m->nl); return m->link_EI[l]; }
-RJDEF double rj_model_dt_eq28(const rj_model *m) { return m->dt_eq28; }
-RJDEF size_t rj_model_work_size(const rj_model *m) { return 6 * (size_t)m->nn + 4 * (size_t)m->ne; }
-RJDEF void rj_model_apply_stiffness(const rj_model *m, const double *u, double *out, double *work) { rj__lz_apply(m, u, out, work); }
+RJDEF int rj_model_warning_count(const rj_model *m)
+{
+    return m->nwarn;
+}
+RJDEF const char *rj_model_warnings(const rj_model *m)
+{
+    return m->warnings;
+}
+RJDEF double rj_model_dt(const rj_model *m)
+{
+    return m->dt;
+}
+RJDEF double rj_model_dt_bound(const rj_model *m)
+{
+    return m->dt_bound;
+}
+RJDEF double rj_model_omega_max(const rj_model *m)
+{
+    return m->omega_max;
+}
+RJDEF int rj_model_link_count(const rj_model *m)
+{
+    return m->nl;
+}
+RJDEF int rj_model_joint_count(const rj_model *m)
+{
+    return m->nj;
+}
+RJDEF int rj_model_node_count(const rj_model *m)
+{
+    return m->nn;
+}
+RJDEF const rj_link_def *rj_model_link_def(const rj_model *m, int l)
+{
+    RJ_ASSERT(l >= 0 && l < m->nl);
+    return &m->ldef[l];
+}
+RJDEF const rj_joint_def *rj_model_joint_def(const rj_model *m, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return &m->jdef[j];
+}
+RJDEF int rj_link_node_count(const rj_model *m, int l)
+{
+    RJ_ASSERT(l >= 0 && l < m->nl);
+    return m->ldef[l].elements + 1;
+}
+RJDEF double rj_link_EA(const rj_model *m, int l)
+{
+    RJ_ASSERT(l >= 0 && l < m->nl);
+    return m->link_EA[l];
+}
+RJDEF double rj_link_EI(const rj_model *m, int l)
+{
+    RJ_ASSERT(l >= 0 && l < m->nl);
+    return m->link_EI[l];
+}
+RJDEF double rj_model_dt_eq28(const rj_model *m)
+{
+    return m->dt_eq28;
+}
+RJDEF size_t rj_model_work_size(const rj_model *m)
+{
+    return 6 * (size_t) m->nn + 4 * (size_t) m->ne;
+}
+RJDEF void rj_model_apply_stiffness(const rj_model *m, const double *u, double *out, double *work)
+{
+    rj__lz_apply(m, u, out, work);
+}
 
 /* the smaller of the joint's two links by rho I l (ground is infinitely large) */
 static double rj__eq31_rho_i_l(const rj_model *m, int j)
 {
     const rj_joint_def *d = &m->jdef[j];
     double v2 = m->link_rho[d->body2] * m->link_I[d->body2] * m->link_l0[d->body2], v1;
-    if (d->body1 < 0) return v2;
+    if (d->body1 < 0)
+        return v2;
     v1 = m->link_rho[d->body1] * m->link_I[d->body1] * m->link_l0[d->body1];
     return v1 < v2 ? v1 : v2;
 }
@@ -4591,9 +6392,11 @@ RJDEF double rj_joint_dt_eq29(const rj_model *m, int j, double K)
     t = m->link_l0[d->body2] / c;
     if (d->body1 >= 0) {
         double t1 = m->link_l0[d->body1] / sqrt(m->ldef[d->body1].E / m->ldef[d->body1].rho);
-        if (t1 < t) t = t1;
+        if (t1 < t)
+            t = t1;
     }
-    if (!(K > 0)) return t;
+    if (!(K > 0))
+        return t;
     t2 = sqrt(rj__eq31_rho_i_l(m, j) / K);
     return t2 < t ? t2 : t;
 }
@@ -4605,49 +6408,89 @@ RJDEF double rj_joint_kmax_eq31(const rj_model *m, int j, double dt)
 RJDEF void rj_joint_inertias(const rj_model *m, int j, double *I1, double *I2)
 {
     RJ_ASSERT(j >= 0 && j < m->nj);
-    if (I1) *I1 = m->jnt[j].I1;
-    if (I2) *I2 = m->jnt[j].I2;
+    if (I1)
+        *I1 = m->jnt[j].I1;
+    if (I2)
+        *I2 = m->jnt[j].I2;
 }
-RJDEF double rj_joint_stiffness(const rj_model *m, int j) { RJ_ASSERT(j >= 0 && j < m->nj); return m->jnt[j].k_limit; }
+RJDEF double rj_joint_stiffness(const rj_model *m, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return m->jnt[j].k_limit;
+}
 
-RJDEF double rj_state_time(const rj_state *s) { return s->fd[s->cur][RJ__FS_TIME]; }
+RJDEF double rj_state_time(const rj_state *s)
+{
+    return s->fd[s->cur][RJ__FS_TIME];
+}
 
-RJDEF long rj_state_steps(const rj_state *s) { return s->steps; }
+RJDEF long rj_state_steps(const rj_state *s)
+{
+    return s->steps;
+}
 
 /* Rigid scenes: the pose and motion of link l from the joint coordinates of a frame,
    walking up to the ground (used by the node queries; the step itself stores only q). */
-static void rj__rig_pose(const rj_model *m, const double *f, int l, double *phi, double *rx, double *ry, double *om, double *vx, double *vy)
+static void rj__rig_pose(const rj_model *m, const double *f, int l, double *phi, double *rx,
+                         double *ry, double *om, double *vx, double *vy)
 {
     int j = m->rb_pjoint[l], p;
     double ph, x, y, o, ux, uy;
     if (j < 0) {
         const rj_link_def *d = &m->ldef[l];
-        *phi = d->angle; *rx = d->x; *ry = d->y; *om = 0; *vx = 0; *vy = 0;
+        *phi = d->angle;
+        *rx = d->x;
+        *ry = d->y;
+        *om = 0;
+        *vx = 0;
+        *vy = 0;
         return;
     }
     p = m->jdef[j].body1;
-    if (p < 0) { ph = m->jdef[j].ground_angle; x = m->jdef[j].ground_x; y = m->jdef[j].ground_y; o = 0; ux = uy = 0; }
-    else {
+    if (p < 0) {
+        ph = m->jdef[j].ground_angle;
+        x = m->jdef[j].ground_x;
+        y = m->jdef[j].ground_y;
+        o = 0;
+        ux = uy = 0;
+    } else {
         double pp, px, py, po, pvx, pvy, c, sn;
         rj__rig_pose(m, f, p, &pp, &px, &py, &po, &pvx, &pvy);
-        c = cos(pp); sn = sin(pp);
-        x = px + m->jpin[j] * c; y = py + m->jpin[j] * sn;
-        ux = pvx - po * m->jpin[j] * sn; uy = pvy + po * m->jpin[j] * c;
-        ph = pp + m->jref[j]; o = po;
+        c = cos(pp);
+        sn = sin(pp);
+        x = px + m->jpin[j] * c;
+        y = py + m->jpin[j] * sn;
+        ux = pvx - po * m->jpin[j] * sn;
+        uy = pvy + po * m->jpin[j] * c;
+        ph = pp + m->jref[j];
+        o = po;
     }
     *phi = ph + RJ__FJ(m, f, j)[RJ__JD_THETA];
     *om = o + RJ__FJ(m, f, j)[RJ__JD_RATE];
-    *rx = x; *ry = y; *vx = ux; *vy = uy;
+    *rx = x;
+    *ry = y;
+    *vx = ux;
+    *vy = uy;
 }
-static void rj__rig_node(const rj_model *m, const rj_state *s, int l, int n, double xy[2], double v[2], double *phi)
+static void rj__rig_node(const rj_model *m, const rj_state *s, int l, int n, double xy[2],
+                         double v[2], double *phi)
 {
     double ph, rx, ry, om, vx, vy, c, sn, d = n * m->link_l0[l];
     rj__rig_pose(m, s->fd[s->cur], l, &ph, &rx, &ry, &om, &vx, &vy);
-    if (phi) *phi = ph;
-    if (!xy && !v) return;
-    c = cos(ph); sn = sin(ph);
-    if (xy) { xy[0] = rx + d * c; xy[1] = ry + d * sn; }
-    if (v) { v[0] = vx - om * d * sn; v[1] = vy + om * d * c; }
+    if (phi)
+        *phi = ph;
+    if (!xy && !v)
+        return;
+    c = cos(ph);
+    sn = sin(ph);
+    if (xy) {
+        xy[0] = rx + d * c;
+        xy[1] = ry + d * sn;
+    }
+    if (v) {
+        v[0] = vx - om * d * sn;
+        v[1] = vy + om * d * c;
+    }
 }
 
 static int rj__node(const rj_model *m, int l, int n)
@@ -4660,46 +6503,72 @@ RJDEF void rj_node_position(const rj_model *m, const rj_state *s, int l, int n, 
 {
     const double *f = s->fd[s->cur];
     int i = rj__node(m, l, n);
-    if (m->rigid) { rj__rig_node(m, s, l, n, xy, NULL, NULL); return; }
-    xy[0] = RJ__FX(m, f)[i]; xy[1] = RJ__FY(m, f)[i];
+    if (m->rigid) {
+        rj__rig_node(m, s, l, n, xy, NULL, NULL);
+        return;
+    }
+    xy[0] = RJ__FX(m, f)[i];
+    xy[1] = RJ__FY(m, f)[i];
 }
 RJDEF void rj_node_velocity(const rj_model *m, const rj_state *s, int l, int n, double v[2])
 {
     const double *f = s->fd[s->cur];
     int i = rj__node(m, l, n);
-    if (m->rigid) { rj__rig_node(m, s, l, n, NULL, v, NULL); return; }
-    v[0] = RJ__FVX(m, f)[i]; v[1] = RJ__FVY(m, f)[i];
+    if (m->rigid) {
+        rj__rig_node(m, s, l, n, NULL, v, NULL);
+        return;
+    }
+    v[0] = RJ__FVX(m, f)[i];
+    v[1] = RJ__FVY(m, f)[i];
 }
 RJDEF double rj_node_rotation(const rj_model *m, const rj_state *s, int l, int n)
 {
     double ph;
-    if (m->rigid) { rj__node(m, l, n); rj__rig_node(m, s, l, n, NULL, NULL, &ph); return ph; }
+    if (m->rigid) {
+        rj__node(m, l, n);
+        rj__rig_node(m, s, l, n, NULL, NULL, &ph);
+        return ph;
+    }
     return RJ__FPHI(m, s->fd[s->cur])[rj__node(m, l, n)];
 }
 RJDEF double rj_node_rate(const rj_model *m, const rj_state *s, int l, int n)
 {
-    if (m->rigid) { double ph, rx, ry, om, vx, vy; rj__node(m, l, n); rj__rig_pose(m, s->fd[s->cur], l, &ph, &rx, &ry, &om, &vx, &vy); return om; }
+    if (m->rigid) {
+        double ph, rx, ry, om, vx, vy;
+        rj__node(m, l, n);
+        rj__rig_pose(m, s->fd[s->cur], l, &ph, &rx, &ry, &om, &vx, &vy);
+        return om;
+    }
     return RJ__FW(m, s->fd[s->cur])[rj__node(m, l, n)];
 }
 RJDEF void rj_node_mass(const rj_model *m, int l, int n, double *mass, double *rinertia)
 {
     int i = rj__node(m, l, n);
-    if (mass) *mass = m->mass[i];
-    if (rinertia) *rinertia = m->rinertia[i];
+    if (mass)
+        *mass = m->mass[i];
+    if (rinertia)
+        *rinertia = m->rinertia[i];
 }
 RJDEF void rj_joint_position(const rj_model *m, const rj_state *s, int j, double xy[2])
 {
     const double *f = s->fd[s->cur];
     RJ_ASSERT(j >= 0 && j < m->nj);
-    if (m->rigid) { rj__rig_node(m, s, m->jdef[j].body2, 0, xy, NULL, NULL); return; }
-    xy[0] = RJ__FX(m, f)[m->jnt[j].nJ]; xy[1] = RJ__FY(m, f)[m->jnt[j].nJ];
+    if (m->rigid) {
+        rj__rig_node(m, s, m->jdef[j].body2, 0, xy, NULL, NULL);
+        return;
+    }
+    xy[0] = RJ__FX(m, f)[m->jnt[j].nJ];
+    xy[1] = RJ__FY(m, f)[m->jnt[j].nJ];
 }
 RJDEF double rj_joint_theta_running(const rj_model *m, const rj_state *s, int j)
 {
     RJ_ASSERT(j >= 0 && j < m->nj);
     return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_THETA];
 }
-RJDEF double rj_joint_theta(const rj_model *m, const rj_state *s, int j) { return rj__mod2pi(rj_joint_theta_running(m, s, j)); }
+RJDEF double rj_joint_theta(const rj_model *m, const rj_state *s, int j)
+{
+    return rj__mod2pi(rj_joint_theta_running(m, s, j));
+}
 RJDEF double rj_joint_rate(const rj_model *m, const rj_state *s, int j)
 {
     RJ_ASSERT(j >= 0 && j < m->nj);
@@ -4718,8 +6587,11 @@ RJDEF double rj_joint_torque(const rj_model *m, const rj_state *s, int j, int c)
     RJ_ASSERT(j >= 0 && j < m->nj);
     RJ_ASSERT(c >= 0 && c < RJ_TORQUE_COUNT);
     jd = RJ__FJ(m, s->fd[s->cur], j);
-    if (c != RJ_TORQUE_TOTAL) return jd[RJ__JD_TQ0 + c];
-    for (k = 0; k < RJ_TORQUE_COUNT; k++) if (k != RJ_TORQUE_TOTAL) t += jd[RJ__JD_TQ0 + k];
+    if (c != RJ_TORQUE_TOTAL)
+        return jd[RJ__JD_TQ0 + c];
+    for (k = 0; k < RJ_TORQUE_COUNT; k++)
+        if (k != RJ_TORQUE_TOTAL)
+            t += jd[RJ__JD_TQ0 + k];
     return t;
 }
 RJDEF double rj_joint_penetration(const rj_model *m, const rj_state *s, int j)
@@ -4729,9 +6601,12 @@ RJDEF double rj_joint_penetration(const rj_model *m, const rj_state *s, int j)
     RJ_ASSERT(j >= 0 && j < m->nj);
     jd = RJ__FJ(m, s->fd[s->cur], j);
     flag = s->fi[s->cur][j];
-    if (flag == RJ_AT_FORWARD) return m->jnt[j].fwd - jd[RJ__JD_THETA];
-    if (flag == RJ_AT_REVERSE) return m->jnt[j].rev - jd[RJ__JD_THETA];
-    if (flag == RJ_LOCKED) return jd[RJ__JD_LOCK] - jd[RJ__JD_THETA];
+    if (flag == RJ_AT_FORWARD)
+        return m->jnt[j].fwd - jd[RJ__JD_THETA];
+    if (flag == RJ_AT_REVERSE)
+        return m->jnt[j].rev - jd[RJ__JD_THETA];
+    if (flag == RJ_LOCKED)
+        return jd[RJ__JD_LOCK] - jd[RJ__JD_THETA];
     return 0.0;
 }
 RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int j)
@@ -4761,14 +6636,21 @@ RJDEF double rj_joint_contact_penetration(const rj_model *m, const rj_state *s, 
 }
 RJDEF void rj_state_energy(const rj_model *m, const rj_state *s, rj_energy *e)
 {
-    (void)m;
+    (void) m;
     const double *sc = RJ__FS(m, s->fd[s->cur]);
-    e->kinetic = sc[RJ__FS_KE]; e->strain = sc[RJ__FS_STRAIN]; e->spring = sc[RJ__FS_SPRING];
-    e->lost_damping = sc[RJ__FS_LDAMP]; e->lost_friction = sc[RJ__FS_LFRIC]; e->lost_limit = sc[RJ__FS_LLIM];
+    e->kinetic = sc[RJ__FS_KE];
+    e->strain = sc[RJ__FS_STRAIN];
+    e->spring = sc[RJ__FS_SPRING];
+    e->lost_damping = sc[RJ__FS_LDAMP];
+    e->lost_friction = sc[RJ__FS_LFRIC];
+    e->lost_limit = sc[RJ__FS_LLIM];
     e->total = e->kinetic + e->strain + e->spring;
     e->balance = e->total + e->lost_damping + e->lost_friction + e->lost_limit - sc[RJ__FS_E0];
 }
-RJDEF double rj_state_energy_time(const rj_state *s) { return s->fd[s->cur][RJ__FS_ETIME]; }
+RJDEF double rj_state_energy_time(const rj_state *s)
+{
+    return s->fd[s->cur][RJ__FS_ETIME];
+}
 
 /* ------------------------------------------------------------------ checkpoints */
 /* Layout: "RJCK" | u32 version | u64 model hash | u64 payload bytes | payload | u64 FNV-1a
@@ -4778,14 +6660,19 @@ RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size
 {
     size_t pay = 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1);
     size_t need = RJ__CK_HEAD + pay + 8;
-    unsigned char *b = (unsigned char *)buf;
+    unsigned char *b = (unsigned char *) buf;
     unsigned int ver = 2;
-    unsigned long long h, pl = pay, st = (unsigned long long)s->steps;
-    if (!buf || size < need) return need;
-    memcpy(b, "RJCK", 4); memcpy(b + 4, &ver, 4); memcpy(b + 8, &m->hash, 8); memcpy(b + 16, &pl, 8);
+    unsigned long long h, pl = pay, st = (unsigned long long) s->steps;
+    if (!buf || size < need)
+        return need;
+    memcpy(b, "RJCK", 4);
+    memcpy(b + 4, &ver, 4);
+    memcpy(b + 8, &m->hash, 8);
+    memcpy(b + 16, &pl, 8);
     memcpy(b + RJ__CK_HEAD, &st, 8);
     memcpy(b + RJ__CK_HEAD + 8, s->fd[s->cur], sizeof(double) * m->frame_doubles);
-    memcpy(b + RJ__CK_HEAD + 8 + sizeof(double) * m->frame_doubles, s->fi[s->cur], sizeof(int) * (m->frame_ints + 1));
+    memcpy(b + RJ__CK_HEAD + 8 + sizeof(double) * m->frame_doubles, s->fi[s->cur],
+           sizeof(int) * (m->frame_ints + 1));
     h = rj__fnv(14695981039346656037ULL, b, RJ__CK_HEAD + pay);
     memcpy(b + RJ__CK_HEAD + pay, &h, 8);
     return need;
@@ -4799,36 +6686,51 @@ RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size
 /* A checkpoint's frame is checked as the model validation checks a definition: every value
    finite, time and counts in range, each joint's flag one its definition allows. Returns 0
    with err filled when a value is out of range. */
-static int rj__ck_frame_ok(const rj_model *m, const double *fd, const int *fi, unsigned long long steps, rj_error *err)
+static int rj__ck_frame_ok(const rj_model *m, const double *fd, const int *fi,
+                           unsigned long long steps, rj_error *err)
 {
     const double *sc = RJ__FS(m, fd);
     size_t k;
     int j;
-    if (steps > (unsigned long long)RJ__CK_MAX_STEPS) {
-        rj__fail(err, RJ_ERR_CHECKPOINT, "steps", (double)steps, "checkpoint counts %.0f steps, more than the %.0f a state counts", (double)steps, RJ__CK_MAX_STEPS);
+    if (steps > (unsigned long long) RJ__CK_MAX_STEPS) {
+        rj__fail(err, RJ_ERR_CHECKPOINT, "steps", (double) steps,
+                 "checkpoint counts %.0f steps, more than the %.0f a state counts", (double) steps,
+                 RJ__CK_MAX_STEPS);
         return 0;
     }
     /* every value finite and within 1e100 in magnitude: no state a model reaches comes near
        it, and sums of such values (a joint's total torque, the energy balance) stay finite */
-    for (k = 0; k < m->frame_doubles; k++) if (!(fabs(fd[k]) <= RJ__CK_MAX_VALUE)) {
-        rj__fail(err, RJ_ERR_CHECKPOINT, "payload", fd[k], "checkpoint holds %g at value %lu: not finite, or beyond the 1e100 that no state reaches", fd[k], (unsigned long)k);
-        return 0;
-    }
+    for (k = 0; k < m->frame_doubles; k++)
+        if (!(fabs(fd[k]) <= RJ__CK_MAX_VALUE)) {
+            rj__fail(err, RJ_ERR_CHECKPOINT, "payload", fd[k],
+                     "checkpoint holds %g at value %lu: not finite, or beyond the 1e100 that no "
+                     "state reaches",
+                     fd[k], (unsigned long) k);
+            return 0;
+        }
     if (!(sc[RJ__FS_TIME] >= 0) || !(sc[RJ__FS_ETIME] <= sc[RJ__FS_TIME])) {
-        rj__fail(err, RJ_ERR_CHECKPOINT, "time", sc[RJ__FS_TIME], "checkpoint time %g s (energy time %g s) is out of range", sc[RJ__FS_TIME], sc[RJ__FS_ETIME]);
+        rj__fail(err, RJ_ERR_CHECKPOINT, "time", sc[RJ__FS_TIME],
+                 "checkpoint time %g s (energy time %g s) is out of range", sc[RJ__FS_TIME],
+                 sc[RJ__FS_ETIME]);
         return 0;
     }
     {
         /* the accounts' sums (rj_state_energy) must be finite too, not only their terms */
         const double total = sc[RJ__FS_KE] + sc[RJ__FS_STRAIN] + sc[RJ__FS_SPRING];
-        const double balance = total + sc[RJ__FS_LDAMP] + sc[RJ__FS_LFRIC] + sc[RJ__FS_LLIM] + sc[RJ__FS_PEND] - sc[RJ__FS_E0];
+        const double balance = total + sc[RJ__FS_LDAMP] + sc[RJ__FS_LFRIC] + sc[RJ__FS_LLIM] +
+                               sc[RJ__FS_PEND] - sc[RJ__FS_E0];
         if (!rj__finite(total) || !rj__finite(balance)) {
-            rj__fail(err, RJ_ERR_CHECKPOINT, "energy", balance, "checkpoint's energy accounts do not add up to a finite total (%g) and balance (%g)", total, balance);
+            rj__fail(err, RJ_ERR_CHECKPOINT, "energy", balance,
+                     "checkpoint's energy accounts do not add up to a finite total (%g) and "
+                     "balance (%g)",
+                     total, balance);
             return 0;
         }
     }
-    if (!(sc[RJ__FS_WARN] >= 0 && sc[RJ__FS_WARN] <= RJ__CK_MAX_STEPS && sc[RJ__FS_WARN] == floor(sc[RJ__FS_WARN]))) {
-        rj__fail(err, RJ_ERR_CHECKPOINT, "warnings", sc[RJ__FS_WARN], "checkpoint warning count %g is not a count", sc[RJ__FS_WARN]);
+    if (!(sc[RJ__FS_WARN] >= 0 && sc[RJ__FS_WARN] <= RJ__CK_MAX_STEPS &&
+          sc[RJ__FS_WARN] == floor(sc[RJ__FS_WARN]))) {
+        rj__fail(err, RJ_ERR_CHECKPOINT, "warnings", sc[RJ__FS_WARN],
+                 "checkpoint warning count %g is not a count", sc[RJ__FS_WARN]);
         return 0;
     }
     for (j = 0; j < m->nj; j++) {
@@ -4836,22 +6738,30 @@ static int rj__ck_frame_ok(const rj_model *m, const double *fd, const int *fi, u
         const double *jd = RJ__FJ(m, fd, j);
         const double times[2] = { jd[RJ__JD_EVENT], jd[RJ__JD_RELEASE] };
         int k2;
-        for (k2 = 0; k2 < 2; k2++) if (!(times[k2] == -1 || (times[k2] >= 0 && times[k2] <= sc[RJ__FS_TIME]))) {
-            rj__fail(err, RJ_ERR_CHECKPOINT, "event", times[k2], "checkpoint gives joint %d an event time of %g s at t = %g s", j, times[k2], sc[RJ__FS_TIME]);
-            return 0;
-        }
+        for (k2 = 0; k2 < 2; k2++)
+            if (!(times[k2] == -1 || (times[k2] >= 0 && times[k2] <= sc[RJ__FS_TIME]))) {
+                rj__fail(err, RJ_ERR_CHECKPOINT, "event", times[k2],
+                         "checkpoint gives joint %d an event time of %g s at t = %g s", j,
+                         times[k2], sc[RJ__FS_TIME]);
+                return 0;
+            }
         if (!(jd[RJ__JD_PEAKP] >= 0)) {
-            rj__fail(err, RJ_ERR_CHECKPOINT, "peak", jd[RJ__JD_PEAKP], "checkpoint gives joint %d a peak penetration of %g rad", j, jd[RJ__JD_PEAKP]);
+            rj__fail(err, RJ_ERR_CHECKPOINT, "peak", jd[RJ__JD_PEAKP],
+                     "checkpoint gives joint %d a peak penetration of %g rad", j, jd[RJ__JD_PEAKP]);
             return 0;
         }
     }
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         const int flag = fi[j];
-        const int ok = flag == RJ_FREE || (flag == RJ_AT_FORWARD && d->has_forward) || (flag == RJ_AT_REVERSE && d->has_reverse)
-                       || (flag == RJ_LOCKED && d->lock && (d->has_forward || d->has_reverse));
-        if (ok) continue;
-        rj__fail(err, RJ_ERR_CHECKPOINT, "flag", flag, "checkpoint gives joint %d the flag %d, which its definition does not allow", j, flag);
+        const int ok = flag == RJ_FREE || (flag == RJ_AT_FORWARD && d->has_forward) ||
+                       (flag == RJ_AT_REVERSE && d->has_reverse) ||
+                       (flag == RJ_LOCKED && d->lock && (d->has_forward || d->has_reverse));
+        if (ok)
+            continue;
+        rj__fail(err, RJ_ERR_CHECKPOINT, "flag", flag,
+                 "checkpoint gives joint %d the flag %d, which its definition does not allow", j,
+                 flag);
         return 0;
     }
     return 1;
@@ -4861,31 +6771,71 @@ static int rj__ck_frame_ok(const rj_model *m, const double *fd, const int *fi, u
    there was not written by rj_state_save. */
 static int rj__ck_spare_ok(const rj_model *m, const int *fi, rj_error *err)
 {
-    if (fi[m->frame_ints] == 0) return 1;
-    rj__fail(err, RJ_ERR_CHECKPOINT, "payload", fi[m->frame_ints], "checkpoint holds %d in its spare slot, which rj_state_save leaves 0", fi[m->frame_ints]);
+    if (fi[m->frame_ints] == 0)
+        return 1;
+    rj__fail(err, RJ_ERR_CHECKPOINT, "payload", fi[m->frame_ints],
+             "checkpoint holds %d in its spare slot, which rj_state_save leaves 0",
+             fi[m->frame_ints]);
     return 0;
 }
 
-RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, size_t size, rj_error *err)
+RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, size_t size,
+                              rj_error *err)
 {
     const size_t pay = 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1);
     const size_t need = RJ__CK_HEAD + pay + 8;
-    const unsigned char *b = (const unsigned char *)buf;
+    const unsigned char *b = (const unsigned char *) buf;
     const unsigned char *fd_bytes = b + RJ__CK_HEAD + 8;
     const unsigned char *fi_bytes = fd_bytes + sizeof(double) * m->frame_doubles;
     unsigned int ver;
     unsigned long long h, hh, mh, pl, st;
     /* the header first: a checkpoint of another model (or none) is told apart from a cut one */
-    if (!buf || size < RJ__CK_HEAD) { rj__fail(err, RJ_ERR_CHECKPOINT, "size", (double)size, "checkpoint of %lu bytes is truncated: this model's checkpoints are %lu bytes", (unsigned long)size, (unsigned long)need); return RJ_ERR_CHECKPOINT; }
-    if (memcmp(b, "RJCK", 4) != 0) { rj__fail(err, RJ_ERR_CHECKPOINT, "magic", 0, "not a revjoint checkpoint (bad magic)"); return RJ_ERR_CHECKPOINT; }
-    memcpy(&ver, b + 4, 4); memcpy(&mh, b + 8, 8); memcpy(&pl, b + 16, 8);
-    if (ver != 2) { rj__fail(err, RJ_ERR_CHECKPOINT, "version", ver, "checkpoint version %u is not supported (2: a joint's latch impulse joined the frame)", ver); return RJ_ERR_CHECKPOINT; }
-    if (mh != m->hash || pl != pay) { rj__fail(err, RJ_ERR_CHECKPOINT, "model", 0, "checkpoint is for another model (its definitions, step or size differ from this model's)"); return RJ_ERR_CHECKPOINT; }
-    if (size < need) { rj__fail(err, RJ_ERR_CHECKPOINT, "size", (double)size, "checkpoint of %lu bytes is truncated: this model's checkpoints are %lu bytes", (unsigned long)size, (unsigned long)need); return RJ_ERR_CHECKPOINT; }
-    if (size > need) { rj__fail(err, RJ_ERR_CHECKPOINT, "size", (double)size, "checkpoint of %lu bytes has %lu bytes after its end: this model's checkpoints are %lu bytes", (unsigned long)size, (unsigned long)(size - need), (unsigned long)need); return RJ_ERR_CHECKPOINT; }
+    if (!buf || size < RJ__CK_HEAD) {
+        rj__fail(err, RJ_ERR_CHECKPOINT, "size", (double) size,
+                 "checkpoint of %lu bytes is truncated: this model's checkpoints are %lu bytes",
+                 (unsigned long) size, (unsigned long) need);
+        return RJ_ERR_CHECKPOINT;
+    }
+    if (memcmp(b, "RJCK", 4) != 0) {
+        rj__fail(err, RJ_ERR_CHECKPOINT, "magic", 0, "not a revjoint checkpoint (bad magic)");
+        return RJ_ERR_CHECKPOINT;
+    }
+    memcpy(&ver, b + 4, 4);
+    memcpy(&mh, b + 8, 8);
+    memcpy(&pl, b + 16, 8);
+    if (ver != 2) {
+        rj__fail(
+            err, RJ_ERR_CHECKPOINT, "version", ver,
+            "checkpoint version %u is not supported (2: a joint's latch impulse joined the frame)",
+            ver);
+        return RJ_ERR_CHECKPOINT;
+    }
+    if (mh != m->hash || pl != pay) {
+        rj__fail(err, RJ_ERR_CHECKPOINT, "model", 0,
+                 "checkpoint is for another model (its definitions, step or size differ from this "
+                 "model's)");
+        return RJ_ERR_CHECKPOINT;
+    }
+    if (size < need) {
+        rj__fail(err, RJ_ERR_CHECKPOINT, "size", (double) size,
+                 "checkpoint of %lu bytes is truncated: this model's checkpoints are %lu bytes",
+                 (unsigned long) size, (unsigned long) need);
+        return RJ_ERR_CHECKPOINT;
+    }
+    if (size > need) {
+        rj__fail(err, RJ_ERR_CHECKPOINT, "size", (double) size,
+                 "checkpoint of %lu bytes has %lu bytes after its end: this model's checkpoints "
+                 "are %lu bytes",
+                 (unsigned long) size, (unsigned long) (size - need), (unsigned long) need);
+        return RJ_ERR_CHECKPOINT;
+    }
     memcpy(&hh, b + RJ__CK_HEAD + pay, 8);
     h = rj__fnv(14695981039346656037ULL, b, RJ__CK_HEAD + pay);
-    if (h != hh) { rj__fail(err, RJ_ERR_CHECKPOINT, "checksum", 0, "checkpoint is corrupted (checksum mismatch)"); return RJ_ERR_CHECKPOINT; }
+    if (h != hh) {
+        rj__fail(err, RJ_ERR_CHECKPOINT, "checksum", 0,
+                 "checkpoint is corrupted (checksum mismatch)");
+        return RJ_ERR_CHECKPOINT;
+    }
     memcpy(&st, b + RJ__CK_HEAD, 8);
     /* the checksum is no seal: every value is checked before the state changes, in the
        frame that is not current (a failed load leaves the state as it was) */
@@ -4893,15 +6843,17 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
         const int spare = 1 - s->cur;
         memcpy(s->fd[spare], fd_bytes, sizeof(double) * m->frame_doubles);
         memcpy(s->fi[spare], fi_bytes, sizeof(int) * (m->frame_ints + 1));
-        if (!rj__ck_frame_ok(m, s->fd[spare], s->fi[spare], st, err) || !rj__ck_spare_ok(m, s->fi[spare], err)) {
-            s->snap = -1;   /* in place the spare frame held the rollback copy: take a new one */
+        if (!rj__ck_frame_ok(m, s->fd[spare], s->fi[spare], st, err) ||
+            !rj__ck_spare_ok(m, s->fi[spare], err)) {
+            s->snap = -1; /* in place the spare frame held the rollback copy: take a new one */
             return RJ_ERR_CHECKPOINT;
         }
         s->cur = spare;
     }
     s->snap = -1;
-    s->steps = (long)st;
-    s->err[0] = 0; s->warn[0] = 0;
+    s->steps = (long) st;
+    s->err[0] = 0;
+    s->warn[0] = 0;
     return RJ_OK;
 }
 /* ------------------------------------------------------------------ scene files */
@@ -4914,51 +6866,104 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
 
 /* keys; index 0 of an item's position array is its section line, key k is at 1 + k */
 enum {
-    RJ__LK_LENGTH, RJ__LK_ELEMENTS, RJ__LK_MATERIAL, RJ__LK_SECTION, RJ__LK_E, RJ__LK_RHO,
-    RJ__LK_AREA, RJ__LK_INERTIA, RJ__LK_WIDTH, RJ__LK_HEIGHT, RJ__LK_LAYERS, RJ__LK_TIP_MASS,
-    RJ__LK_TIP_INERTIA, RJ__LK_ROOT, RJ__LK_X, RJ__LK_Y, RJ__LK_ANGLE, RJ__LK_VX, RJ__LK_VY,
-    RJ__LK_OMEGA, RJ__LK_FIDELITY, RJ__LK_N
+    RJ__LK_LENGTH,
+    RJ__LK_ELEMENTS,
+    RJ__LK_MATERIAL,
+    RJ__LK_SECTION,
+    RJ__LK_E,
+    RJ__LK_RHO,
+    RJ__LK_AREA,
+    RJ__LK_INERTIA,
+    RJ__LK_WIDTH,
+    RJ__LK_HEIGHT,
+    RJ__LK_LAYERS,
+    RJ__LK_TIP_MASS,
+    RJ__LK_TIP_INERTIA,
+    RJ__LK_ROOT,
+    RJ__LK_X,
+    RJ__LK_Y,
+    RJ__LK_ANGLE,
+    RJ__LK_VX,
+    RJ__LK_VY,
+    RJ__LK_OMEGA,
+    RJ__LK_FIDELITY,
+    RJ__LK_N
 };
 enum {
-    RJ__JK_BODY1, RJ__JK_BODY2, RJ__JK_NODE1, RJ__JK_GROUND_X, RJ__JK_GROUND_Y, RJ__JK_GROUND_ANGLE,
-    RJ__JK_ANGLE0, RJ__JK_RATE0, RJ__JK_TABLE, RJ__JK_SPRING, RJ__JK_FORWARD, RJ__JK_REVERSE,
-    RJ__JK_LOCK, RJ__JK_METHOD, RJ__JK_RELEASE, RJ__JK_PENALTY_K, RJ__JK_RESTITUTION,
-    RJ__JK_DAMPING, RJ__JK_FRICTION, RJ__JK_REFERENCE, RJ__JK_N
+    RJ__JK_BODY1,
+    RJ__JK_BODY2,
+    RJ__JK_NODE1,
+    RJ__JK_GROUND_X,
+    RJ__JK_GROUND_Y,
+    RJ__JK_GROUND_ANGLE,
+    RJ__JK_ANGLE0,
+    RJ__JK_RATE0,
+    RJ__JK_TABLE,
+    RJ__JK_SPRING,
+    RJ__JK_FORWARD,
+    RJ__JK_REVERSE,
+    RJ__JK_LOCK,
+    RJ__JK_METHOD,
+    RJ__JK_RELEASE,
+    RJ__JK_PENALTY_K,
+    RJ__JK_RESTITUTION,
+    RJ__JK_DAMPING,
+    RJ__JK_FRICTION,
+    RJ__JK_REFERENCE,
+    RJ__JK_N
 };
-enum { RJ__VK_DT, RJ__VK_ALLOW_UNSTABLE, RJ__VK_ENERGY_GROWTH, RJ__VK_ENERGY_EVERY, RJ__VK_IN_PLACE, RJ__VK_N };
+enum {
+    RJ__VK_DT,
+    RJ__VK_ALLOW_UNSTABLE,
+    RJ__VK_ENERGY_GROWTH,
+    RJ__VK_ENERGY_EVERY,
+    RJ__VK_IN_PLACE,
+    RJ__VK_N
+};
 enum { RJ__SK_NONE, RJ__SK_SOLVER, RJ__SK_MATERIAL, RJ__SK_SECTION, RJ__SK_LINK, RJ__SK_JOINT };
 
 /* char arrays, not pointer arrays: read-only data without relocations */
 static const char rj__sk_kind[6][10] = { "", "solver", "material", "section", "link", "joint" };
 static const char rj__sk_link[RJ__LK_N][12] = {
-    "length", "elements", "material", "section", "E", "rho", "area", "inertia", "width", "height",
-    "layers", "tip_mass", "tip_inertia", "root", "x", "y", "angle", "vx", "vy", "omega", "fidelity"
+    "length",  "elements", "material", "section", "E",        "rho",         "area",
+    "inertia", "width",    "height",   "layers",  "tip_mass", "tip_inertia", "root",
+    "x",       "y",        "angle",    "vx",      "vy",       "omega",       "fidelity"
 };
 static const char rj__sk_joint[RJ__JK_N][13] = {
-    "body1", "body2", "node1", "ground_x", "ground_y", "ground_angle", "angle0", "rate0", "table",
-    "spring", "forward", "reverse", "lock", "method", "release", "penalty_k", "restitution",
-    "damping", "friction", "reference"
+    "body1",   "body2",     "node1",       "ground_x", "ground_y", "ground_angle", "angle0",
+    "rate0",   "table",     "spring",      "forward",  "reverse",  "lock",         "method",
+    "release", "penalty_k", "restitution", "damping",  "friction", "reference"
 };
-static const char rj__sk_solver[RJ__VK_N][15] = { "dt", "allow_unstable", "energy_growth", "energy_every", "in_place" };
-static const char rj__sk_in_place[3][5] = { "auto", "on", "off" };   /* rj_in_place order */
+static const char rj__sk_solver[RJ__VK_N][15] = { "dt", "allow_unstable", "energy_growth",
+                                                  "energy_every", "in_place" };
+static const char rj__sk_in_place[3][5] = { "auto", "on", "off" }; /* rj_in_place order */
 static const char rj__sk_root[4][8] = { "free", "pinned", "clamped", "fixed" };
-static const char rj__sk_fidelity[3][13] = { "flexible", "rigid", "inextensible" };   /* rj_fidelity order */
+static const char rj__sk_fidelity[3][13] = { "flexible", "rigid",
+                                             "inextensible" }; /* rj_fidelity order */
 static const char rj__sk_method[5][9] = { "penalty", "adaptive", "momentum", "forced", "energy" };
 static const char rj__sk_release[2][5] = { "rc12", "rc13" };
 static const char rj__sk_reference[2][8] = { "tangent", "chord" };
 /* each key's SI unit, for messages about unit words ("" none; angles rad, rates rad/s) */
-static const char rj__sk_link_unit[RJ__LK_N][7] = {
-    "m", "", "", "", "Pa", "kg/m^3", "m^2", "m^4", "m", "m", "", "kg", "kg m^2", "", "m", "m", "rad", "m/s", "m/s", "rad/s", ""
-};
+static const char rj__sk_link_unit[RJ__LK_N][7] = { "m",      "",      "",  "",  "Pa",  "kg/m^3",
+                                                    "m^2",    "m^4",   "m", "m", "",    "kg",
+                                                    "kg m^2", "",      "m", "m", "rad", "m/s",
+                                                    "m/s",    "rad/s", "" };
 static const char rj__sk_joint_unit[RJ__JK_N][10] = {
-    "", "", "", "m", "m", "rad", "rad", "rad/s", "N m", "N m/rad", "rad", "rad", "", "", "", "N m/rad", "", "N m s/rad", "N m", ""
+    "",    "",    "", "m", "m", "rad",     "rad", "rad/s",     "N m", "N m/rad",
+    "rad", "rad", "", "",  "",  "N m/rad", "",    "N m s/rad", "N m", ""
 };
 static const char rj__sk_solver_unit[RJ__VK_N][2] = { "s", "", "", "", "" };
 
 #define RJ__SK_MAT_KEYS ((1u << RJ__LK_E) | (1u << RJ__LK_RHO))
-#define RJ__SK_SEC_KEYS ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA) | (1u << RJ__LK_WIDTH) | (1u << RJ__LK_HEIGHT) | (1u << RJ__LK_LAYERS))
+#define RJ__SK_SEC_KEYS                                                                            \
+    ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA) | (1u << RJ__LK_WIDTH) | (1u << RJ__LK_HEIGHT) | \
+     (1u << RJ__LK_LAYERS))
 
-typedef struct rj__stok { const char *s; int len, line, col; char kind; } rj__stok; /* kind 'w', '=', ',' or 'q' (a quoted string, quotes included) */
+typedef struct rj__stok {
+    const char *s;
+    int len, line, col;
+    char kind;
+} rj__stok; /* kind 'w', '=', ',' or 'q' (a quoted string, quotes included) */
 
 /* a material or a section: a partial link definition */
 typedef struct rj__spart {
@@ -4973,7 +6978,7 @@ typedef struct rj__sp {
     size_t len, at;
     int lineno;
     rj_error *err;
-    char dp[8];                 /* the C library's decimal point in the current locale */
+    char dp[8]; /* the C library's decimal point in the current locale */
     int dplen;
     rj__stok *tok;
     int ntok;
@@ -4981,25 +6986,33 @@ typedef struct rj__sp {
     int cap_links, cap_joints;
     rj__spart *mat, *sec;
     int nmat, nsec, cap_mat, cap_sec;
-    int kind, item;             /* current section: kind and index (materials, sections, links, joints) */
-    unsigned seen;              /* keys set in the current section */
-    int link_mat, link_sec;     /* current link's material and section, -1 none */
+    int kind, item; /* current section: kind and index (materials, sections, links, joints) */
+    unsigned seen;  /* keys set in the current section */
+    int link_mat, link_sec; /* current link's material and section, -1 none */
     int solver_seen;
-    int title_line;             /* line of the title statement, 0 none yet */
-    char where[80], forkey[128];  /* message pieces */
-    rj_result code;             /* of the first error */
+    int title_line;              /* line of the title statement, 0 none yet */
+    char where[80], forkey[128]; /* message pieces */
+    rj_result code;              /* of the first error */
 } rj__sp;
 
 /* ------------------------------------------------------------------ small helpers */
-static double rj__sp_nan(void) { return strtod("nan", NULL); }
+static double rj__sp_nan(void)
+{
+    return strtod("nan", NULL);
+}
 
 static void rj__sp_locale(char *dp, int *dplen)
 {
     char t[16];
     int n = snprintf(t, sizeof t, "%.1f", 1.5), k;
     *dplen = 0;
-    if (n >= 3 && n - 2 < 7) for (k = 1; k < n - 1; k++) dp[(*dplen)++] = t[k];
-    if (*dplen == 0) { dp[0] = '.'; *dplen = 1; }
+    if (n >= 3 && n - 2 < 7)
+        for (k = 1; k < n - 1; k++)
+            dp[(*dplen)++] = t[k];
+    if (*dplen == 0) {
+        dp[0] = '.';
+        *dplen = 1;
+    }
     dp[*dplen] = 0;
 }
 
@@ -5011,37 +7024,65 @@ static int rj__sp_strtonum(const char *s, int n, const char *dp, int dplen, doub
     int i = 0, digits = 0, k, o = 0;
     double v;
     char *end;
-    if (n <= 0) return 0;
+    if (n <= 0)
+        return 0;
     {
         int j = (s[0] == '+' || s[0] == '-') ? 1 : 0, m = n - j;
         const char *w = s + j;
-        if ((m == 3 || m == 8) && (((w[0] | 32) == 'i' && (w[1] | 32) == 'n' && (w[2] | 32) == 'f')
-                                   || (m == 3 && (w[0] | 32) == 'n' && (w[1] | 32) == 'a' && (w[2] | 32) == 'n'))) {
-            if (m == 3) return -1;
-            if (((w[3] | 32) == 'i' && (w[4] | 32) == 'n' && (w[5] | 32) == 'i' && (w[6] | 32) == 't' && (w[7] | 32) == 'y')) return -1;
+        if ((m == 3 || m == 8) &&
+            (((w[0] | 32) == 'i' && (w[1] | 32) == 'n' && (w[2] | 32) == 'f') ||
+             (m == 3 && (w[0] | 32) == 'n' && (w[1] | 32) == 'a' && (w[2] | 32) == 'n'))) {
+            if (m == 3)
+                return -1;
+            if (((w[3] | 32) == 'i' && (w[4] | 32) == 'n' && (w[5] | 32) == 'i' &&
+                 (w[6] | 32) == 't' && (w[7] | 32) == 'y'))
+                return -1;
         }
     }
-    if (s[i] == '+' || s[i] == '-') i++;
-    while (i < n && s[i] >= '0' && s[i] <= '9') { i++; digits++; }
-    if (i < n && s[i] == '.') { i++; while (i < n && s[i] >= '0' && s[i] <= '9') { i++; digits++; } }
-    if (!digits) return 0;
+    if (s[i] == '+' || s[i] == '-')
+        i++;
+    while (i < n && s[i] >= '0' && s[i] <= '9') {
+        i++;
+        digits++;
+    }
+    if (i < n && s[i] == '.') {
+        i++;
+        while (i < n && s[i] >= '0' && s[i] <= '9') {
+            i++;
+            digits++;
+        }
+    }
+    if (!digits)
+        return 0;
     if (i < n && (s[i] == 'e' || s[i] == 'E')) {
         int ed = 0;
         i++;
-        if (i < n && (s[i] == '+' || s[i] == '-')) i++;
-        while (i < n && s[i] >= '0' && s[i] <= '9') { i++; ed++; }
-        if (!ed) return 0;
+        if (i < n && (s[i] == '+' || s[i] == '-'))
+            i++;
+        while (i < n && s[i] >= '0' && s[i] <= '9') {
+            i++;
+            ed++;
+        }
+        if (!ed)
+            return 0;
     }
-    if (i != n) return 0;
-    if (n + dplen >= (int)sizeof buf) return -3;
+    if (i != n)
+        return 0;
+    if (n + dplen >= (int) sizeof buf)
+        return -3;
     for (k = 0; k < n; k++) {
-        if (s[k] == '.') { memcpy(buf + o, dp, (size_t)dplen); o += dplen; }
-        else buf[o++] = s[k];
+        if (s[k] == '.') {
+            memcpy(buf + o, dp, (size_t) dplen);
+            o += dplen;
+        } else
+            buf[o++] = s[k];
     }
     buf[o] = 0;
     v = strtod(buf, &end);
-    if (end != buf + o) return 0;
-    if (!(v == v) || v - v != 0.0) return -2;
+    if (end != buf + o)
+        return 0;
+    if (!(v == v) || v - v != 0.0)
+        return -2;
     *out = v;
     return 1;
 }
@@ -5051,15 +7092,25 @@ static int rj__sp_strtoint(const char *s, int n, int *out)
 {
     int i = 0, neg = 0, big = 0;
     long v = 0;
-    if (n <= 0) return 0;
-    if (s[0] == '+' || s[0] == '-') { neg = s[0] == '-'; i = 1; }
-    if (i == n) return 0;
-    for (; i < n; i++) {
-        if (s[i] < '0' || s[i] > '9') return 0;
-        if (v > 200000000L) big = 1; else v = v * 10 + (s[i] - '0');
+    if (n <= 0)
+        return 0;
+    if (s[0] == '+' || s[0] == '-') {
+        neg = s[0] == '-';
+        i = 1;
     }
-    if (big || v > 2000000000L) return -2;
-    *out = (int)(neg ? -v : v);
+    if (i == n)
+        return 0;
+    for (; i < n; i++) {
+        if (s[i] < '0' || s[i] > '9')
+            return 0;
+        if (v > 200000000L)
+            big = 1;
+        else
+            v = v * 10 + (s[i] - '0');
+    }
+    if (big || v > 2000000000L)
+        return -2;
+    *out = (int) (neg ? -v : v);
     return 1;
 }
 
@@ -5069,35 +7120,54 @@ static void rj__sp_quote(char *dst, size_t size, const char *s, int n)
     size_t o = 0;
     int i;
     for (i = 0; i < n && o + 5 < size; i++) {
-        unsigned char c = (unsigned char)s[i];
-        if (i >= 40) { if (o + 4 < size) { memcpy(dst + o, "...", 3); o += 3; } break; }
-        if (c < 0x20 || c >= 0x7f) { snprintf(dst + o, size - o, "\\x%02x", c); o += 4; }
-        else dst[o++] = (char)c;
+        unsigned char c = (unsigned char) s[i];
+        if (i >= 40) {
+            if (o + 4 < size) {
+                memcpy(dst + o, "...", 3);
+                o += 3;
+            }
+            break;
+        }
+        if (c < 0x20 || c >= 0x7f) {
+            snprintf(dst + o, size - o, "\\x%02x", c);
+            o += 4;
+        } else
+            dst[o++] = (char) c;
     }
     dst[o < size ? o : size - 1] = 0;
 }
 
 /* message builder: concatenates up to 7 pieces (NULL skipped) into dst, truncating */
-static void rj__sp_cat(char *dst, size_t size, const char *a, const char *b, const char *c, const char *d, const char *e, const char *f, const char *g)
+static void rj__sp_cat(char *dst, size_t size, const char *a, const char *b, const char *c,
+                       const char *d, const char *e, const char *f, const char *g)
 {
     const char *pc[7];
     size_t o = 0;
     int k;
-    pc[0] = a; pc[1] = b; pc[2] = c; pc[3] = d; pc[4] = e; pc[5] = f; pc[6] = g;
-    if (!size) return;
+    pc[0] = a;
+    pc[1] = b;
+    pc[2] = c;
+    pc[3] = d;
+    pc[4] = e;
+    pc[5] = f;
+    pc[6] = g;
+    if (!size)
+        return;
     for (k = 0; k < 7; k++) {
         size_t n, room;
-        if (!pc[k]) continue;
+        if (!pc[k])
+            continue;
         n = strlen(pc[k]);
         room = size - 1 - o;
-        if (n > room) n = room;
+        if (n > room)
+            n = room;
         memcpy(dst + o, pc[k], n);
         o += n;
     }
     dst[o] = 0;
 }
 
-static const char *rj__sp_itoa(char *buf, long v)   /* buf: 24 bytes */
+static const char *rj__sp_itoa(char *buf, long v) /* buf: 24 bytes */
 {
     snprintf(buf, 24, "%ld", v);
     return buf;
@@ -5111,13 +7181,15 @@ static int rj__sp_fail(rj__sp *P, int line, int col, const char *key, double val
         P->err->code = RJ_ERR_PARSE;
         rj__sp_cat(P->err->field, sizeof P->err->field, key, NULL, NULL, NULL, NULL, NULL, NULL);
         P->err->value = value;
-        rj__sp_cat(P->err->msg, sizeof P->err->msg, P->fname, ":", rj__sp_itoa(l, line), ":", rj__sp_itoa(c, col), ": ", msg);
+        rj__sp_cat(P->err->msg, sizeof P->err->msg, P->fname, ":", rj__sp_itoa(l, line), ":",
+                   rj__sp_itoa(c, col), ": ", msg);
     }
     return 0;
 }
 
 /* msg = a b c d e */
-static int rj__sp_err(rj__sp *P, int line, int col, const char *key, double value, const char *a, const char *b, const char *c, const char *d, const char *e)
+static int rj__sp_err(rj__sp *P, int line, int col, const char *key, double value, const char *a,
+                      const char *b, const char *c, const char *d, const char *e)
 {
     char m[256];
     rj__sp_cat(m, sizeof m, a, b, c, d, e, NULL, NULL);
@@ -5125,7 +7197,9 @@ static int rj__sp_err(rj__sp *P, int line, int col, const char *key, double valu
 }
 
 /* msg = pre 'token text' b c d e */
-static int rj__sp_err_tok5(rj__sp *P, const rj__stok *t, const char *key, double value, const char *pre, const char *b, const char *c, const char *d, const char *e)
+static int rj__sp_err_tok5(rj__sp *P, const rj__stok *t, const char *key, double value,
+                           const char *pre, const char *b, const char *c, const char *d,
+                           const char *e)
 {
     char q[200], m1[256], m[256];
     rj__sp_quote(q, sizeof q, t->s, t->len);
@@ -5135,7 +7209,8 @@ static int rj__sp_err_tok5(rj__sp *P, const rj__stok *t, const char *key, double
 }
 
 /* msg = pre 'token text' b c d */
-static int rj__sp_err_tok(rj__sp *P, const rj__stok *t, const char *key, double value, const char *pre, const char *b, const char *c, const char *d)
+static int rj__sp_err_tok(rj__sp *P, const rj__stok *t, const char *key, double value,
+                          const char *pre, const char *b, const char *c, const char *d)
 {
     char q[200], m[256];
     rj__sp_quote(q, sizeof q, t->s, t->len);
@@ -5146,10 +7221,14 @@ static int rj__sp_err_tok(rj__sp *P, const rj__stok *t, const char *key, double 
 static const char *rj__sp_item_name(const rj__sp *P)
 {
     switch (P->kind) {
-    case RJ__SK_MATERIAL: return P->mat[P->item].name;
-    case RJ__SK_SECTION: return P->sec[P->item].name;
-    case RJ__SK_LINK: return P->f->link_names[P->item];
-    case RJ__SK_JOINT: return P->f->joint_names[P->item];
+    case RJ__SK_MATERIAL:
+        return P->mat[P->item].name;
+    case RJ__SK_SECTION:
+        return P->sec[P->item].name;
+    case RJ__SK_LINK:
+        return P->f->link_names[P->item];
+    case RJ__SK_JOINT:
+        return P->f->joint_names[P->item];
     }
     return "";
 }
@@ -5157,9 +7236,13 @@ static const char *rj__sp_item_name(const rj__sp *P)
 /* " in link 'arm1'" for messages, into P->where */
 static const char *rj__sp_where(rj__sp *P)
 {
-    if (P->kind == RJ__SK_SOLVER) rj__sp_cat(P->where, sizeof P->where, " in solver", NULL, NULL, NULL, NULL, NULL, NULL);
-    else if (P->kind == RJ__SK_NONE) P->where[0] = 0;
-    else rj__sp_cat(P->where, sizeof P->where, " in ", rj__sk_kind[P->kind], " '", rj__sp_item_name(P), "'", NULL, NULL);
+    if (P->kind == RJ__SK_SOLVER)
+        rj__sp_cat(P->where, sizeof P->where, " in solver", NULL, NULL, NULL, NULL, NULL, NULL);
+    else if (P->kind == RJ__SK_NONE)
+        P->where[0] = 0;
+    else
+        rj__sp_cat(P->where, sizeof P->where, " in ", rj__sk_kind[P->kind], " '",
+                   rj__sp_item_name(P), "'", NULL, NULL);
     return P->where;
 }
 
@@ -5173,53 +7256,69 @@ static const char *rj__sp_for(rj__sp *P, const char *key)
 static int rj__sp_is(const rj__stok *t, const char *s)
 {
     size_t n = strlen(s);
-    return t->kind == 'w' && (size_t)t->len == n && memcmp(t->s, s, n) == 0;
+    return t->kind == 'w' && (size_t) t->len == n && memcmp(t->s, s, n) == 0;
 }
 
 static int rj__sp_name_ok(const char *s, int n)
 {
     int i;
-    if (n < 1 || n >= RJ_SCENE_NAME_MAX) return 0;
+    if (n < 1 || n >= RJ_SCENE_NAME_MAX)
+        return 0;
     for (i = 0; i < n; i++) {
         char c = s[i];
         int alpha = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
         int other = (c >= '0' && c <= '9') || c == '.' || c == '-';
-        if (!alpha && !(i > 0 && other)) return 0;
+        if (!alpha && !(i > 0 && other))
+            return 0;
     }
     return 1;
 }
 
-static rj_scene_pos *rj__sp_pos(rj__sp *P, int k)   /* position slot of key k of the current item */
+static rj_scene_pos *rj__sp_pos(rj__sp *P, int k) /* position slot of key k of the current item */
 {
     switch (P->kind) {
-    case RJ__SK_SOLVER: return &P->f->solver_pos_[1 + k];
-    case RJ__SK_MATERIAL: return &P->mat[P->item].pos[1 + k];
-    case RJ__SK_SECTION: return &P->sec[P->item].pos[1 + k];
-    case RJ__SK_LINK: return &P->f->link_pos_[(size_t)P->item * (1 + RJ__LK_N) + 1 + k];
-    default: return &P->f->joint_pos_[(size_t)P->item * (1 + RJ__JK_N) + 1 + k];
+    case RJ__SK_SOLVER:
+        return &P->f->solver_pos_[1 + k];
+    case RJ__SK_MATERIAL:
+        return &P->mat[P->item].pos[1 + k];
+    case RJ__SK_SECTION:
+        return &P->sec[P->item].pos[1 + k];
+    case RJ__SK_LINK:
+        return &P->f->link_pos_[(size_t) P->item * (1 + RJ__LK_N) + 1 + k];
+    default:
+        return &P->f->joint_pos_[(size_t) P->item * (1 + RJ__JK_N) + 1 + k];
     }
 }
 
 /* ------------------------------------------------------------------ suggestions */
-static int rj__sp_lower(int c) { return c >= 'A' && c <= 'Z' ? c + ('a' - 'A') : c; }
+static int rj__sp_lower(int c)
+{
+    return c >= 'A' && c <= 'Z' ? c + ('a' - 'A') : c;
+}
 
 /* edit distance of s[0..n) and b, ignoring case: insertions, deletions, substitutions and
    swaps of two neighbours (optimal string alignment), so 'lenght' is 1 from 'length'.
    99 when the lengths differ by more than 2 (never near enough to suggest). */
 static int rj__sp_dist(const char *s, int n, const char *b)
 {
-    int m = (int)strlen(b), r[3][RJ_SCENE_NAME_MAX + 2], i, j;
-    if (n - m > 2 || m - n > 2 || m > RJ_SCENE_NAME_MAX) return 99;
-    for (j = 0; j <= m; j++) r[0][j] = j;
+    int m = (int) strlen(b), r[3][RJ_SCENE_NAME_MAX + 2], i, j;
+    if (n - m > 2 || m - n > 2 || m > RJ_SCENE_NAME_MAX)
+        return 99;
+    for (j = 0; j <= m; j++)
+        r[0][j] = j;
     for (i = 1; i <= n; i++) {
         int *cur = r[i % 3], *up = r[(i + 2) % 3], *up2 = r[(i + 1) % 3];
-        int ca = rj__sp_lower((unsigned char)s[i - 1]);
+        int ca = rj__sp_lower((unsigned char) s[i - 1]);
         cur[0] = i;
         for (j = 1; j <= m; j++) {
-            int cb = rj__sp_lower((unsigned char)b[j - 1]), v = up[j - 1] + (ca != cb);
-            if (up[j] + 1 < v) v = up[j] + 1;
-            if (cur[j - 1] + 1 < v) v = cur[j - 1] + 1;
-            if (i > 1 && j > 1 && ca == rj__sp_lower((unsigned char)b[j - 2]) && rj__sp_lower((unsigned char)s[i - 2]) == cb && up2[j - 2] + 1 < v) v = up2[j - 2] + 1;
+            int cb = rj__sp_lower((unsigned char) b[j - 1]), v = up[j - 1] + (ca != cb);
+            if (up[j] + 1 < v)
+                v = up[j] + 1;
+            if (cur[j - 1] + 1 < v)
+                v = cur[j - 1] + 1;
+            if (i > 1 && j > 1 && ca == rj__sp_lower((unsigned char) b[j - 2]) &&
+                rj__sp_lower((unsigned char) s[i - 2]) == cb && up2[j - 2] + 1 < v)
+                v = up2[j - 2] + 1;
             cur[j] = v;
         }
     }
@@ -5230,18 +7329,26 @@ static int rj__sp_dist(const char *s, int n, const char *b)
    to s[0..n), or NULL: a suggestion must be within 2 edits of a name of 5 or more
    characters, 1 of 3 or 4, and differ only in case from a shorter one, and be the only one
    that near (a tie suggests nothing rather than a guess). */
-static const char *rj__sp_near(const char *s, int n, const char *names, size_t stride, int count, unsigned mask)
+static const char *rj__sp_near(const char *s, int n, const char *names, size_t stride, int count,
+                               unsigned mask)
 {
     const char *best = NULL;
     int k, bd = 99, ties = 0;
     for (k = 0; k < count; k++) {
-        const char *nm = names + stride * (size_t)k;
-        int len = (int)strlen(nm), d, lim = len >= 5 ? 2 : len >= 3 ? 1 : 0;
-        if (k < 32 && !(mask >> k & 1u)) continue;
+        const char *nm = names + stride * (size_t) k;
+        int len = (int) strlen(nm), d, lim = len >= 5 ? 2 : len >= 3 ? 1 : 0;
+        if (k < 32 && !(mask >> k & 1u))
+            continue;
         d = rj__sp_dist(s, n, nm);
-        if (d > lim || d > bd) continue;
-        if (d == bd) { ties++; continue; }
-        best = nm; bd = d; ties = 0;
+        if (d > lim || d > bd)
+            continue;
+        if (d == bd) {
+            ties++;
+            continue;
+        }
+        best = nm;
+        bd = d;
+        ties = 0;
     }
     return ties ? NULL : best;
 }
@@ -5250,11 +7357,18 @@ static const char *rj__sp_near(const char *s, int n, const char *names, size_t s
 static const char *rj__sp_near_key(const rj__sp *P, const rj__stok *t)
 {
     switch (P->kind) {
-    case RJ__SK_SOLVER: return rj__sp_near(t->s, t->len, rj__sk_solver[0], sizeof rj__sk_solver[0], RJ__VK_N, ~0u);
-    case RJ__SK_JOINT: return rj__sp_near(t->s, t->len, rj__sk_joint[0], sizeof rj__sk_joint[0], RJ__JK_N, ~0u);
-    case RJ__SK_MATERIAL: return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N, RJ__SK_MAT_KEYS);
-    case RJ__SK_SECTION: return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N, RJ__SK_SEC_KEYS);
-    case RJ__SK_LINK: return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N, ~0u);
+    case RJ__SK_SOLVER:
+        return rj__sp_near(t->s, t->len, rj__sk_solver[0], sizeof rj__sk_solver[0], RJ__VK_N, ~0u);
+    case RJ__SK_JOINT:
+        return rj__sp_near(t->s, t->len, rj__sk_joint[0], sizeof rj__sk_joint[0], RJ__JK_N, ~0u);
+    case RJ__SK_MATERIAL:
+        return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N,
+                           RJ__SK_MAT_KEYS);
+    case RJ__SK_SECTION:
+        return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N,
+                           RJ__SK_SEC_KEYS);
+    case RJ__SK_LINK:
+        return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N, ~0u);
     }
     return NULL;
 }
@@ -5263,22 +7377,32 @@ static const char *rj__sp_near_key(const rj__sp *P, const rj__stok *t)
 static const char *rj__sp_mean(char *buf, const char *name)
 {
     buf[0] = 0;
-    if (name) rj__sp_cat(buf, 48, "; did you mean '", name, "'?", NULL, NULL, NULL, NULL);
+    if (name)
+        rj__sp_cat(buf, 48, "; did you mean '", name, "'?", NULL, NULL, NULL, NULL);
     return buf;
 }
 
 /* ------------------------------------------------------------------ unit words
    Numbers are SI without a unit ("length = 1", not "1 m"); only angles and rates take one.
    A unit word after a number, or glued to it, gets a message that says so. */
-static int rj__sp_alpha(unsigned char c) { return ((c | 32) >= 'a' && (c | 32) <= 'z') || c >= 0x80; }
+static int rj__sp_alpha(unsigned char c)
+{
+    return ((c | 32) >= 'a' && (c | 32) <= 'z') || c >= 0x80;
+}
 
 /* the SI unit of key (a key of any section), "" when it has none */
 static const char *rj__sp_unit(const char *key)
 {
     int k;
-    for (k = 0; k < RJ__LK_N; k++) if (strcmp(key, rj__sk_link[k]) == 0) return rj__sk_link_unit[k];
-    for (k = 0; k < RJ__JK_N; k++) if (strcmp(key, rj__sk_joint[k]) == 0) return rj__sk_joint_unit[k];
-    for (k = 0; k < RJ__VK_N; k++) if (strcmp(key, rj__sk_solver[k]) == 0) return rj__sk_solver_unit[k];
+    for (k = 0; k < RJ__LK_N; k++)
+        if (strcmp(key, rj__sk_link[k]) == 0)
+            return rj__sk_link_unit[k];
+    for (k = 0; k < RJ__JK_N; k++)
+        if (strcmp(key, rj__sk_joint[k]) == 0)
+            return rj__sk_joint_unit[k];
+    for (k = 0; k < RJ__VK_N; k++)
+        if (strcmp(key, rj__sk_solver[k]) == 0)
+            return rj__sk_solver_unit[k];
     return "";
 }
 
@@ -5288,33 +7412,45 @@ static int rj__sp_glued(const rj__sp *P, const rj__stok *t)
     int p;
     double x;
     for (p = t->len - 1; p > 0; p--)
-        if (rj__sp_alpha((unsigned char)t->s[p]) && rj__sp_strtonum(t->s, p, P->dp, P->dplen, &x) == 1) return p;
+        if (rj__sp_alpha((unsigned char) t->s[p]) &&
+            rj__sp_strtonum(t->s, p, P->dp, P->dplen, &x) == 1)
+            return p;
     return 0;
 }
 
 /* why the word w after the number num is wrong, into buf (200 bytes): what the key takes,
    and for a prefixed SI unit the number to write ("E is in Pa: write 70e9 for 70 GPa") */
-static const char *rj__sp_unit_hint(char *buf, const char *what, const char *unit, const char *num, int nn, const char *w, int wn)
+static const char *rj__sp_unit_hint(char *buf, const char *what, const char *unit, const char *num,
+                                    int nn, const char *w, int wn)
 {
-    static const char pre[8] = "GMkcmun", ex[7][4] = { "e9", "e6", "e3", "e-2", "e-3", "e-6", "e-9" };
+    static const char pre[8] = "GMkcmun",
+                      ex[7][4] = { "e9", "e6", "e3", "e-2", "e-3", "e-6", "e-9" };
     char q[200], u[200], t[200];
     const char *p = w[0] ? strchr(pre, w[0]) : NULL;
-    int ul = (int)strlen(unit);
+    int ul = (int) strlen(unit);
     rj__sp_quote(q, sizeof q, num, nn);
     rj__sp_quote(u, sizeof u, w, wn);
     if (strcmp(unit, "rad") == 0 || strcmp(unit, "rad/s") == 0) {
-        rj__sp_cat(t, sizeof t, "'", q, ul == 3 ? " deg' or '" : " deg/s' or '", q, ul == 3 ? " rad'" : " rad/s'", NULL, NULL);
-        rj__sp_cat(buf, 200, ul == 3 ? ": an angle is a number in rad, or a number and deg or rad: " : ": a rate is a number in rad/s, or a number and deg/s or rad/s: ", t, NULL, NULL, NULL, NULL, NULL);
+        rj__sp_cat(t, sizeof t, "'", q, ul == 3 ? " deg' or '" : " deg/s' or '", q,
+                   ul == 3 ? " rad'" : " rad/s'", NULL, NULL);
+        rj__sp_cat(buf, 200,
+                   ul == 3 ? ": an angle is a number in rad, or a number and deg or rad: "
+                           : ": a rate is a number in rad/s, or a number and deg/s or rad/s: ",
+                   t, NULL, NULL, NULL, NULL, NULL);
         return buf;
     }
     t[0] = 0;
-    if (ul && wn == ul && memcmp(w, unit, (size_t)ul) == 0) rj__sp_cat(t, sizeof t, " is in ", unit, " already: write ", q, NULL, NULL, NULL);
-    else if (ul && p && wn == ul + 1 && memcmp(w + 1, unit, (size_t)ul) == 0 && !memchr(num, 'e', (size_t)nn) && !memchr(num, 'E', (size_t)nn)) {
+    if (ul && wn == ul && memcmp(w, unit, (size_t) ul) == 0)
+        rj__sp_cat(t, sizeof t, " is in ", unit, " already: write ", q, NULL, NULL, NULL);
+    else if (ul && p && wn == ul + 1 && memcmp(w + 1, unit, (size_t) ul) == 0 &&
+             !memchr(num, 'e', (size_t) nn) && !memchr(num, 'E', (size_t) nn)) {
         char n2[220];
         rj__sp_cat(n2, sizeof n2, q, ex[p - pre], " for ", q, " ", u, NULL);
         rj__sp_cat(t, sizeof t, " is in ", unit, ": write ", n2, NULL, NULL, NULL);
-    } else if (ul) rj__sp_cat(t, sizeof t, " is in ", unit, NULL, NULL, NULL, NULL, NULL);
-    rj__sp_cat(buf, 200, ": quantities are plain numbers in SI units, without a unit word", ul ? " (" : "", ul ? what : "", t, ul ? ")" : "", NULL, NULL);
+    } else if (ul)
+        rj__sp_cat(t, sizeof t, " is in ", unit, NULL, NULL, NULL, NULL, NULL);
+    rj__sp_cat(buf, 200, ": quantities are plain numbers in SI units, without a unit word",
+               ul ? " (" : "", ul ? what : "", t, ul ? ")" : "", NULL, NULL);
     return buf;
 }
 
@@ -5325,18 +7461,25 @@ static int rj__sp_num_err(rj__sp *P, const rj__stok *t, const char *key, int r, 
     char h[200];
     int p = r == 0 ? rj__sp_glued(P, t) : 0;
     h[0] = 0;
-    if (p) rj__sp_unit_hint(h, key, unit, t->s, p, t->s + p, t->len - p);
+    if (p)
+        rj__sp_unit_hint(h, key, unit, t->s, p, t->s + p, t->len - p);
     return rj__sp_err_tok(P, t, key, rj__sp_nan(),
-                          r == -1 ? "not a finite number: " : r == -2 ? "number out of range: " : r == -3 ? "number too long: " : "malformed number ",
+                          r == -1   ? "not a finite number: "
+                          : r == -2 ? "number out of range: "
+                          : r == -3 ? "number too long: "
+                                    : "malformed number ",
                           rj__sp_for(P, key), h, NULL);
 }
 
 static int rj__sp_num(rj__sp *P, const rj__stok *t, const char *key, double *out)
 {
     int r;
-    if (t->kind != 'w') return rj__sp_err_tok(P, t, key, rj__sp_nan(), "expected a number, found ", rj__sp_for(P, key), NULL, NULL);
+    if (t->kind != 'w')
+        return rj__sp_err_tok(P, t, key, rj__sp_nan(), "expected a number, found ",
+                              rj__sp_for(P, key), NULL, NULL);
     r = rj__sp_strtonum(t->s, t->len, P->dp, P->dplen, out);
-    if (r == 1) return 1;
+    if (r == 1)
+        return 1;
     return rj__sp_num_err(P, t, key, r, rj__sp_unit(key));
 }
 
@@ -5344,14 +7487,19 @@ static int rj__sp_int(rj__sp *P, const rj__stok *t, const char *key, int lo, int
 {
     char a[24], b[24], q[200], m[256], m2[256];
     int v = 0, r = t->kind == 'w' ? rj__sp_strtoint(t->s, t->len, &v) : 0;
-    if (r == 1 && v >= lo && v <= hi) { *out = v; return 1; }
+    if (r == 1 && v >= lo && v <= hi) {
+        *out = v;
+        return 1;
+    }
     if (r == 1 || r == -2) {
         rj__sp_quote(q, sizeof q, t->s, t->len);
-        rj__sp_cat(m, sizeof m, key, " = ", q, " is out of range", rj__sp_where(P), ": must be ", rj__sp_itoa(a, lo));
+        rj__sp_cat(m, sizeof m, key, " = ", q, " is out of range", rj__sp_where(P), ": must be ",
+                   rj__sp_itoa(a, lo));
         rj__sp_cat(m2, sizeof m2, m, "..", rj__sp_itoa(b, hi), NULL, NULL, NULL, NULL);
-        return rj__sp_fail(P, t->line, t->col, key, r == 1 ? (double)v : rj__sp_nan(), m2);
+        return rj__sp_fail(P, t->line, t->col, key, r == 1 ? (double) v : rj__sp_nan(), m2);
     }
-    return rj__sp_err_tok(P, t, key, rj__sp_nan(), "expected an integer, found ", rj__sp_for(P, key), NULL, NULL);
+    return rj__sp_err_tok(P, t, key, rj__sp_nan(), "expected an integer, found ",
+                          rj__sp_for(P, key), NULL, NULL);
 }
 
 /* a value with an optional unit: "1.5", "90 deg", "90deg"; units are "deg"/"rad" (angles)
@@ -5366,55 +7514,80 @@ static int rj__sp_angle(rj__sp *P, int *i, int b, const char *key, int rate, dou
         (*i)++;
         if (*i < b && P->tok[*i].kind == 'w') {
             const rj__stok *u = &P->tok[*i];
-            if (rj__sp_is(u, ud)) { v = rj_rad(v); (*i)++; }
-            else if (rj__sp_is(u, ur)) (*i)++;
+            if (rj__sp_is(u, ud)) {
+                v = rj_rad(v);
+                (*i)++;
+            } else if (rj__sp_is(u, ur))
+                (*i)++;
             else if ((u->s[0] >= 'a' && u->s[0] <= 'z') || (u->s[0] >= 'A' && u->s[0] <= 'Z'))
-                return rj__sp_err_tok(P, u, key, v, "unknown unit ", rj__sp_for(P, key), rate ? " (deg/s or rad/s)" : " (deg or rad)", NULL);
+                return rj__sp_err_tok(P, u, key, v, "unknown unit ", rj__sp_for(P, key),
+                                      rate ? " (deg/s or rad/s)" : " (deg or rad)", NULL);
         }
-        if (!(v - v == 0.0)) return rj__sp_err_tok(P, t, key, rj__sp_nan(), "number out of range: ", rj__sp_for(P, key), NULL, NULL);
+        if (!(v - v == 0.0))
+            return rj__sp_err_tok(P, t, key, rj__sp_nan(),
+                                  "number out of range: ", rj__sp_for(P, key), NULL, NULL);
         *out = v;
         return 1;
     }
     /* unit glued to the number */
     if (t->kind == 'w' && t->len > ul) {
-        int isd = memcmp(t->s + t->len - ul, ud, (size_t)ul) == 0, isr = memcmp(t->s + t->len - ul, ur, (size_t)ul) == 0;
+        int isd = memcmp(t->s + t->len - ul, ud, (size_t) ul) == 0,
+            isr = memcmp(t->s + t->len - ul, ur, (size_t) ul) == 0;
         if ((isd || isr) && rj__sp_strtonum(t->s, t->len - ul, P->dp, P->dplen, &v) == 1) {
-            if (isd) v = rj_rad(v);
-            if (!(v - v == 0.0)) return rj__sp_err_tok(P, t, key, rj__sp_nan(), "number out of range: ", rj__sp_for(P, key), NULL, NULL);
+            if (isd)
+                v = rj_rad(v);
+            if (!(v - v == 0.0))
+                return rj__sp_err_tok(P, t, key, rj__sp_nan(),
+                                      "number out of range: ", rj__sp_for(P, key), NULL, NULL);
             (*i)++;
             *out = v;
             return 1;
         }
     }
-    if (t->kind != 'w') return rj__sp_num(P, t, key, &v);   /* reports the right error */
-    return rj__sp_num_err(P, t, key, rj__sp_strtonum(t->s, t->len, P->dp, P->dplen, &v), rate ? "rad/s" : "rad");
+    if (t->kind != 'w')
+        return rj__sp_num(P, t, key, &v); /* reports the right error */
+    return rj__sp_num_err(P, t, key, rj__sp_strtonum(t->s, t->len, P->dp, P->dplen, &v),
+                          rate ? "rad/s" : "rad");
 }
 
 /* range check on an already parsed value; the message shows the text of toks[a..e) */
-static int rj__sp_range(rj__sp *P, int a, int e, const char *key, double v, int ok, const char *rule)
+static int rj__sp_range(rj__sp *P, int a, int e, const char *key, double v, int ok,
+                        const char *rule)
 {
     char q[200], m[256];
     const rj__stok *t = &P->tok[a], *z = &P->tok[e - 1];
-    if (ok) return 1;
-    if (z->line == t->line && z->s >= t->s) rj__sp_quote(q, sizeof q, t->s, (int)(z->s + z->len - t->s));
-    else rj__sp_quote(q, sizeof q, t->s, t->len);
+    if (ok)
+        return 1;
+    if (z->line == t->line && z->s >= t->s)
+        rj__sp_quote(q, sizeof q, t->s, (int) (z->s + z->len - t->s));
+    else
+        rj__sp_quote(q, sizeof q, t->s, t->len);
     rj__sp_cat(m, sizeof m, key, " = ", q, " is out of range", rj__sp_where(P), ": ", rule);
     return rj__sp_fail(P, t->line, t->col, key, v, m);
 }
 
-static int rj__sp_enum(rj__sp *P, const rj__stok *t, const char *key, const char *names, size_t stride, int count, int *out)
+static int rj__sp_enum(rj__sp *P, const rj__stok *t, const char *key, const char *names,
+                       size_t stride, int count, int *out)
 {
     char list[100], tmp[100], q[200], m[256], m2[256], mean[48];
     int k;
-    for (k = 0; k < count; k++) if (rj__sp_is(t, names + stride * (size_t)k)) { *out = k; return 1; }
+    for (k = 0; k < count; k++)
+        if (rj__sp_is(t, names + stride * (size_t) k)) {
+            *out = k;
+            return 1;
+        }
     list[0] = 0;
     for (k = 0; k < count; k++) {
-        rj__sp_cat(tmp, sizeof tmp, list, k ? (k == count - 1 ? " or " : ", ") : "", names + stride * (size_t)k, NULL, NULL, NULL, NULL);
+        rj__sp_cat(tmp, sizeof tmp, list, k ? (k == count - 1 ? " or " : ", ") : "",
+                   names + stride * (size_t) k, NULL, NULL, NULL, NULL);
         memcpy(list, tmp, sizeof list);
     }
     rj__sp_quote(q, sizeof q, t->s, t->len);
-    rj__sp_cat(m, sizeof m, "unknown value '", q, "'", rj__sp_for(P, key), " (expected ", NULL, NULL);
-    rj__sp_cat(m2, sizeof m2, m, list, ")", rj__sp_mean(mean, rj__sp_near(t->s, t->len, names, stride, count, ~0u)), NULL, NULL, NULL);
+    rj__sp_cat(m, sizeof m, "unknown value '", q, "'", rj__sp_for(P, key), " (expected ", NULL,
+               NULL);
+    rj__sp_cat(m2, sizeof m2, m, list, ")",
+               rj__sp_mean(mean, rj__sp_near(t->s, t->len, names, stride, count, ~0u)), NULL, NULL,
+               NULL);
     return rj__sp_fail(P, t->line, t->col, key, rj__sp_nan(), m2);
 }
 
@@ -5422,23 +7595,27 @@ static int rj__sp_bool(rj__sp *P, const rj__stok *t, const char *key, int *out)
 {
     static const char names[4][6] = { "no", "yes", "false", "true" };
     int k = 0;
-    if (!rj__sp_enum(P, t, key, names[0], sizeof names[0], 4, &k)) return 0;
+    if (!rj__sp_enum(P, t, key, names[0], sizeof names[0], 4, &k))
+        return 0;
     *out = k & 1;
     return 1;
 }
 
 static int rj__sp_name_ref(rj__sp *P, const rj__stok *t, const char *key)
 {
-    if (t->kind == 'w' && rj__sp_name_ok(t->s, t->len)) return 1;
-    return rj__sp_err_tok(P, t, key, rj__sp_nan(), "expected a name, found ", rj__sp_for(P, key), NULL, NULL);
+    if (t->kind == 'w' && rj__sp_name_ok(t->s, t->len))
+        return 1;
+    return rj__sp_err_tok(P, t, key, rj__sp_nan(), "expected a name, found ", rj__sp_for(P, key),
+                          NULL, NULL);
 }
 
 static int rj__sp_find(const char *s, int n, const char *names, size_t stride, int count)
 {
     int k;
     for (k = 0; k < count; k++) {
-        const char *nm = names + stride * (size_t)k;
-        if ((int)strlen(nm) == n && memcmp(nm, s, (size_t)n) == 0) return k;
+        const char *nm = names + stride * (size_t) k;
+        if ((int) strlen(nm) == n && memcmp(nm, s, (size_t) n) == 0)
+            return k;
     }
     return -1;
 }
@@ -5452,41 +7629,114 @@ static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *
     const rj__stok *t = &P->tok[a];
     double v = 0;
     switch (k) {
-    case RJ__LK_ELEMENTS: if (!rj__sp_int(P, t, key, 1, 1000000, &d->elements)) return 0; (*i)++; return 1;
-    case RJ__LK_LAYERS: if (!rj__sp_int(P, t, key, 1, 1000, &d->layers)) return 0; (*i)++; return 1;
-    case RJ__LK_ROOT: if (!rj__sp_enum(P, t, key, rj__sk_root[0], sizeof rj__sk_root[0], 4, &d->root)) return 0; (*i)++; return 1;
-    case RJ__LK_FIDELITY: if (!rj__sp_enum(P, t, key, rj__sk_fidelity[0], sizeof rj__sk_fidelity[0], 3, &d->fidelity)) return 0; (*i)++; return 1;
-    case RJ__LK_MATERIAL: case RJ__LK_SECTION: {
+    case RJ__LK_ELEMENTS:
+        if (!rj__sp_int(P, t, key, 1, 1000000, &d->elements))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__LK_LAYERS:
+        if (!rj__sp_int(P, t, key, 1, 1000, &d->layers))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__LK_ROOT:
+        if (!rj__sp_enum(P, t, key, rj__sk_root[0], sizeof rj__sk_root[0], 4, &d->root))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__LK_FIDELITY:
+        if (!rj__sp_enum(P, t, key, rj__sk_fidelity[0], sizeof rj__sk_fidelity[0], 3, &d->fidelity))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__LK_MATERIAL:
+    case RJ__LK_SECTION: {
         const rj__spart *parts = k == RJ__LK_MATERIAL ? P->mat : P->sec;
         int idx, np = k == RJ__LK_MATERIAL ? P->nmat : P->nsec;
         char mean[48];
-        if (!rj__sp_name_ref(P, t, key)) return 0;
+        if (!rj__sp_name_ref(P, t, key))
+            return 0;
         idx = np ? rj__sp_find(t->s, t->len, parts[0].name, sizeof(rj__spart), np) : -1;
-        if (idx < 0) return rj__sp_err_tok(P, t, key, rj__sp_nan(), k == RJ__LK_MATERIAL ? "unknown material " : "unknown section ", rj__sp_where(P),
-                                           " (define it above the link)", np ? rj__sp_mean(mean, rj__sp_near(t->s, t->len, parts[0].name, sizeof(rj__spart), np, ~0u)) : "");
-        if (k == RJ__LK_MATERIAL) P->link_mat = idx; else P->link_sec = idx;
+        if (idx < 0)
+            return rj__sp_err_tok(P, t, key, rj__sp_nan(),
+                                  k == RJ__LK_MATERIAL ? "unknown material " : "unknown section ",
+                                  rj__sp_where(P), " (define it above the link)",
+                                  np ? rj__sp_mean(mean, rj__sp_near(t->s, t->len, parts[0].name,
+                                                                     sizeof(rj__spart), np, ~0u))
+                                     : "");
+        if (k == RJ__LK_MATERIAL)
+            P->link_mat = idx;
+        else
+            P->link_sec = idx;
         (*i)++;
         return 1;
     }
-    case RJ__LK_ANGLE: return rj__sp_angle(P, i, b, key, 0, &d->angle);
-    case RJ__LK_OMEGA: return rj__sp_angle(P, i, b, key, 1, &d->omega);
+    case RJ__LK_ANGLE:
+        return rj__sp_angle(P, i, b, key, 0, &d->angle);
+    case RJ__LK_OMEGA:
+        return rj__sp_angle(P, i, b, key, 1, &d->omega);
     }
-    if (!rj__sp_num(P, t, key, &v)) return 0;
+    if (!rj__sp_num(P, t, key, &v))
+        return 0;
     (*i)++;
     switch (k) {
-    case RJ__LK_LENGTH: if (!RJ__SP_RULE(v > 0 && v <= 1e6, "must be > 0 and <= 1e6 m")) return 0; d->length = v; break;
-    case RJ__LK_E: if (!RJ__SP_RULE(v > 0, "must be > 0 Pa")) return 0; d->E = v; break;
-    case RJ__LK_RHO: if (!RJ__SP_RULE(v > 0, "must be > 0 kg/m^3")) return 0; d->rho = v; break;
-    case RJ__LK_AREA: if (!RJ__SP_RULE(v > 0, "must be > 0 m^2")) return 0; d->area = v; break;
-    case RJ__LK_INERTIA: if (!RJ__SP_RULE(v > 0, "must be > 0 m^4")) return 0; d->inertia = v; break;
-    case RJ__LK_WIDTH: if (!RJ__SP_RULE(v > 0, "must be > 0 m")) return 0; d->width = v; break;
-    case RJ__LK_HEIGHT: if (!RJ__SP_RULE(v >= 0, "must be >= 0 m (> 0 for a rectangular section)")) return 0; d->height = v; break;
-    case RJ__LK_TIP_MASS: if (!RJ__SP_RULE(v >= 0, "must be >= 0 kg")) return 0; d->tip_mass = v; break;
-    case RJ__LK_TIP_INERTIA: if (!RJ__SP_RULE(v >= 0, "must be >= 0 kg m^2")) return 0; d->tip_inertia = v; break;
-    case RJ__LK_X: d->x = v; break;
-    case RJ__LK_Y: d->y = v; break;
-    case RJ__LK_VX: d->vx = v; break;
-    case RJ__LK_VY: d->vy = v; break;
+    case RJ__LK_LENGTH:
+        if (!RJ__SP_RULE(v > 0 && v <= 1e6, "must be > 0 and <= 1e6 m"))
+            return 0;
+        d->length = v;
+        break;
+    case RJ__LK_E:
+        if (!RJ__SP_RULE(v > 0, "must be > 0 Pa"))
+            return 0;
+        d->E = v;
+        break;
+    case RJ__LK_RHO:
+        if (!RJ__SP_RULE(v > 0, "must be > 0 kg/m^3"))
+            return 0;
+        d->rho = v;
+        break;
+    case RJ__LK_AREA:
+        if (!RJ__SP_RULE(v > 0, "must be > 0 m^2"))
+            return 0;
+        d->area = v;
+        break;
+    case RJ__LK_INERTIA:
+        if (!RJ__SP_RULE(v > 0, "must be > 0 m^4"))
+            return 0;
+        d->inertia = v;
+        break;
+    case RJ__LK_WIDTH:
+        if (!RJ__SP_RULE(v > 0, "must be > 0 m"))
+            return 0;
+        d->width = v;
+        break;
+    case RJ__LK_HEIGHT:
+        if (!RJ__SP_RULE(v >= 0, "must be >= 0 m (> 0 for a rectangular section)"))
+            return 0;
+        d->height = v;
+        break;
+    case RJ__LK_TIP_MASS:
+        if (!RJ__SP_RULE(v >= 0, "must be >= 0 kg"))
+            return 0;
+        d->tip_mass = v;
+        break;
+    case RJ__LK_TIP_INERTIA:
+        if (!RJ__SP_RULE(v >= 0, "must be >= 0 kg m^2"))
+            return 0;
+        d->tip_inertia = v;
+        break;
+    case RJ__LK_X:
+        d->x = v;
+        break;
+    case RJ__LK_Y:
+        d->y = v;
+        break;
+    case RJ__LK_VX:
+        d->vx = v;
+        break;
+    case RJ__LK_VY:
+        d->vy = v;
+        break;
     }
     return 1;
 }
@@ -5494,10 +7744,19 @@ static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *
 static int rj__sp_limit(rj__sp *P, int a, int *i, int b, const char *key, int *has, double *lim)
 {
     double v = 0;
-    if (rj__sp_is(&P->tok[a], "none")) { *has = 0; *lim = 0; (*i)++; return 1; }
-    if (!rj__sp_angle(P, i, b, key, 0, &v)) return 0;
-    if (!RJ__SP_RULE(v >= 0 && v < 2.0 * 3.14159265358979323846, "a limit must be in [0, 360) deg, or none")) return 0;
-    *has = 1; *lim = v;
+    if (rj__sp_is(&P->tok[a], "none")) {
+        *has = 0;
+        *lim = 0;
+        (*i)++;
+        return 1;
+    }
+    if (!rj__sp_angle(P, i, b, key, 0, &v))
+        return 0;
+    if (!RJ__SP_RULE(v >= 0 && v < 2.0 * 3.14159265358979323846,
+                     "a limit must be in [0, 360) deg, or none"))
+        return 0;
+    *has = 1;
+    *lim = v;
     return 1;
 }
 
@@ -5510,33 +7769,50 @@ static int rj__sp_table(rj__sp *P, int a, int *i, int b, rj_joint_def *d)
         double v = 0, tq = 0;
         int s = *i;
         if (n == RJ_TABLE_MAX)
-            return rj__sp_err(P, P->tok[s].line, P->tok[s].col, key, rj__sp_nan(), "table has more than ", rj__sp_itoa(nb, RJ_TABLE_MAX), " points", rj__sp_where(P), NULL);
-        if (!rj__sp_angle(P, i, b, key, 0, &v)) return 0;
+            return rj__sp_err(P, P->tok[s].line, P->tok[s].col, key, rj__sp_nan(),
+                              "table has more than ", rj__sp_itoa(nb, RJ_TABLE_MAX), " points",
+                              rj__sp_where(P), NULL);
+        if (!rj__sp_angle(P, i, b, key, 0, &v))
+            return 0;
         a = s;
         /* angles may fall: as in rj_model_create, a fall starts a new run (Eq 4) */
-        if (!RJ__SP_RULE(v >= 0 && v <= 2.0 * 3.14159265358979323846, "table angles must be in [0, 360] deg")) return 0;
+        if (!RJ__SP_RULE(v >= 0 && v <= 2.0 * 3.14159265358979323846,
+                         "table angles must be in [0, 360] deg"))
+            return 0;
         if (*i >= b) {
             const rj__stok *z = &P->tok[*i - 1];
-            return rj__sp_err(P, z->line, z->col + z->len, key, rj__sp_nan(), "missing torque after the table angle", rj__sp_where(P), " (table = angle torque, angle torque, ...)", NULL, NULL);
+            return rj__sp_err(P, z->line, z->col + z->len, key, rj__sp_nan(),
+                              "missing torque after the table angle", rj__sp_where(P),
+                              " (table = angle torque, angle torque, ...)", NULL, NULL);
         }
-        if (!rj__sp_num(P, &P->tok[*i], key, &tq)) return 0;
+        if (!rj__sp_num(P, &P->tok[*i], key, &tq))
+            return 0;
         (*i)++;
-        d->table_angle[n] = v; d->table_torque[n] = tq; n++;
-        if (*i >= b) break;
-        if (P->tok[*i].kind != ',') {   /* "1 Nm": say torques take no unit word */
+        d->table_angle[n] = v;
+        d->table_torque[n] = tq;
+        n++;
+        if (*i >= b)
+            break;
+        if (P->tok[*i].kind != ',') { /* "1 Nm": say torques take no unit word */
             const rj__stok *u = &P->tok[*i], *q = &P->tok[*i - 1];
             char h[200];
             h[0] = 0;
-            if (u->kind == 'w' && rj__sp_alpha((unsigned char)u->s[0])) rj__sp_unit_hint(h, "a torque", "N m", q->s, q->len, u->s, u->len);
-            return rj__sp_err_tok(P, u, key, rj__sp_nan(), "expected ',' or the end of the table, found ", rj__sp_where(P), " (table = angle torque, angle torque, ...)", h);
+            if (u->kind == 'w' && rj__sp_alpha((unsigned char) u->s[0]))
+                rj__sp_unit_hint(h, "a torque", "N m", q->s, q->len, u->s, u->len);
+            return rj__sp_err_tok(P, u, key, rj__sp_nan(),
+                                  "expected ',' or the end of the table, found ", rj__sp_where(P),
+                                  " (table = angle torque, angle torque, ...)", h);
         }
         (*i)++;
         if (*i >= b) {
             const rj__stok *z = &P->tok[*i - 1];
-            return rj__sp_err(P, z->line, z->col, key, rj__sp_nan(), "table ends with ','", rj__sp_where(P), NULL, NULL, NULL);
+            return rj__sp_err(P, z->line, z->col, key, rj__sp_nan(), "table ends with ','",
+                              rj__sp_where(P), NULL, NULL, NULL);
         }
     }
-    if (n < 2) return rj__sp_err(P, P->tok[a].line, P->tok[a].col, key, rj__sp_nan(), "a table needs at least 2 points", rj__sp_where(P), NULL, NULL, NULL);
+    if (n < 2)
+        return rj__sp_err(P, P->tok[a].line, P->tok[a].col, key, rj__sp_nan(),
+                          "a table needs at least 2 points", rj__sp_where(P), NULL, NULL, NULL);
     d->table_count = n;
     return 1;
 }
@@ -5547,60 +7823,135 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
     const rj__stok *t = &P->tok[a];
     double v = 0;
     switch (k) {
-    case RJ__JK_BODY1: case RJ__JK_BODY2: {
+    case RJ__JK_BODY1:
+    case RJ__JK_BODY2: {
         int idx;
-        if (!rj__sp_name_ref(P, t, key)) return 0;
+        if (!rj__sp_name_ref(P, t, key))
+            return 0;
         if (rj__sp_is(t, "ground")) {
-            if (k == RJ__JK_BODY2) return rj__sp_err_tok(P, t, key, rj__sp_nan(), "body2 must be a link, not ", rj__sp_where(P), " (body1 may be ground)", NULL);
-            d->body1 = -1; (*i)++; return 1;
+            if (k == RJ__JK_BODY2)
+                return rj__sp_err_tok(P, t, key, rj__sp_nan(), "body2 must be a link, not ",
+                                      rj__sp_where(P), " (body1 may be ground)", NULL);
+            d->body1 = -1;
+            (*i)++;
+            return 1;
         }
-        idx = P->f->link_count ? rj__sp_find(t->s, t->len, (const char *)P->f->link_names, RJ_SCENE_NAME_MAX, P->f->link_count) : -1;
+        idx = P->f->link_count ? rj__sp_find(t->s, t->len, (const char *) P->f->link_names,
+                                             RJ_SCENE_NAME_MAX, P->f->link_count)
+                               : -1;
         if (idx < 0) {
             char mean[48];
-            rj__sp_mean(mean, P->f->link_count ? rj__sp_near(t->s, t->len, (const char *)P->f->link_names, RJ_SCENE_NAME_MAX, P->f->link_count, ~0u) : NULL);
-            return rj__sp_err_tok(P, t, key, rj__sp_nan(), "unknown link ", rj__sp_for(P, key), " (define links above the joints that use them)", mean);
+            rj__sp_mean(mean, P->f->link_count
+                                  ? rj__sp_near(t->s, t->len, (const char *) P->f->link_names,
+                                                RJ_SCENE_NAME_MAX, P->f->link_count, ~0u)
+                                  : NULL);
+            return rj__sp_err_tok(P, t, key, rj__sp_nan(), "unknown link ", rj__sp_for(P, key),
+                                  " (define links above the joints that use them)", mean);
         }
-        if (k == RJ__JK_BODY1) d->body1 = idx; else d->body2 = idx;
+        if (k == RJ__JK_BODY1)
+            d->body1 = idx;
+        else
+            d->body2 = idx;
         (*i)++;
         return 1;
     }
     case RJ__JK_NODE1:
-        if (rj__sp_is(t, "last")) { d->node1 = -1; (*i)++; return 1; }
-        if (!rj__sp_int(P, t, key, 0, 1000000, &d->node1)) return 0;
-        (*i)++; return 1;
-    case RJ__JK_GROUND_ANGLE: return rj__sp_angle(P, i, b, key, 0, &d->ground_angle);
-    case RJ__JK_ANGLE0:
-        if (!rj__sp_angle(P, i, b, key, 0, &v)) return 0;
-        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, "must be within +-1e6 rad")) return 0;
-        d->angle0 = v; return 1;
-    case RJ__JK_RATE0: return rj__sp_angle(P, i, b, key, 1, &d->rate0);
-    case RJ__JK_TABLE: return rj__sp_table(P, a, i, b, d);
-    case RJ__JK_SPRING:
-        if (!rj__sp_num(P, t, key, &v)) return 0;
+        if (rj__sp_is(t, "last")) {
+            d->node1 = -1;
+            (*i)++;
+            return 1;
+        }
+        if (!rj__sp_int(P, t, key, 0, 1000000, &d->node1))
+            return 0;
         (*i)++;
-        if (!RJ__SP_RULE(v >= 0, "the spring stiffness must be >= 0 N m/rad")) return 0;
+        return 1;
+    case RJ__JK_GROUND_ANGLE:
+        return rj__sp_angle(P, i, b, key, 0, &d->ground_angle);
+    case RJ__JK_ANGLE0:
+        if (!rj__sp_angle(P, i, b, key, 0, &v))
+            return 0;
+        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, "must be within +-1e6 rad"))
+            return 0;
+        d->angle0 = v;
+        return 1;
+    case RJ__JK_RATE0:
+        return rj__sp_angle(P, i, b, key, 1, &d->rate0);
+    case RJ__JK_TABLE:
+        return rj__sp_table(P, a, i, b, d);
+    case RJ__JK_SPRING:
+        if (!rj__sp_num(P, t, key, &v))
+            return 0;
+        (*i)++;
+        if (!RJ__SP_RULE(v >= 0, "the spring stiffness must be >= 0 N m/rad"))
+            return 0;
         d->spring_k = v;
-        if (*i >= b) return rj__sp_err(P, t->line, t->col + t->len, key, rj__sp_nan(), "missing free angle after the stiffness", rj__sp_where(P), " (spring = k angle)", NULL, NULL);
+        if (*i >= b)
+            return rj__sp_err(P, t->line, t->col + t->len, key, rj__sp_nan(),
+                              "missing free angle after the stiffness", rj__sp_where(P),
+                              " (spring = k angle)", NULL, NULL);
         a = *i;
-        if (!rj__sp_angle(P, i, b, key, 0, &v)) return 0;
-        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, "the free angle must be within +-1e6 rad")) return 0;
-        d->spring_free_angle = v; return 1;
-    case RJ__JK_FORWARD: return rj__sp_limit(P, a, i, b, key, &d->has_forward, &d->forward);
-    case RJ__JK_REVERSE: return rj__sp_limit(P, a, i, b, key, &d->has_reverse, &d->reverse);
-    case RJ__JK_LOCK: if (!rj__sp_bool(P, t, key, &d->lock)) return 0; (*i)++; return 1;
-    case RJ__JK_METHOD: if (!rj__sp_enum(P, t, key, rj__sk_method[0], sizeof rj__sk_method[0], 5, &d->method)) return 0; (*i)++; return 1;
-    case RJ__JK_RELEASE: if (!rj__sp_enum(P, t, key, rj__sk_release[0], sizeof rj__sk_release[0], 2, &d->release)) return 0; (*i)++; return 1;
-    case RJ__JK_REFERENCE: if (!rj__sp_enum(P, t, key, rj__sk_reference[0], sizeof rj__sk_reference[0], 2, &d->reference)) return 0; (*i)++; return 1;
+        if (!rj__sp_angle(P, i, b, key, 0, &v))
+            return 0;
+        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, "the free angle must be within +-1e6 rad"))
+            return 0;
+        d->spring_free_angle = v;
+        return 1;
+    case RJ__JK_FORWARD:
+        return rj__sp_limit(P, a, i, b, key, &d->has_forward, &d->forward);
+    case RJ__JK_REVERSE:
+        return rj__sp_limit(P, a, i, b, key, &d->has_reverse, &d->reverse);
+    case RJ__JK_LOCK:
+        if (!rj__sp_bool(P, t, key, &d->lock))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__JK_METHOD:
+        if (!rj__sp_enum(P, t, key, rj__sk_method[0], sizeof rj__sk_method[0], 5, &d->method))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__JK_RELEASE:
+        if (!rj__sp_enum(P, t, key, rj__sk_release[0], sizeof rj__sk_release[0], 2, &d->release))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__JK_REFERENCE:
+        if (!rj__sp_enum(P, t, key, rj__sk_reference[0], sizeof rj__sk_reference[0], 2,
+                         &d->reference))
+            return 0;
+        (*i)++;
+        return 1;
     }
-    if (!rj__sp_num(P, t, key, &v)) return 0;
+    if (!rj__sp_num(P, t, key, &v))
+        return 0;
     (*i)++;
     switch (k) {
-    case RJ__JK_GROUND_X: d->ground_x = v; break;
-    case RJ__JK_GROUND_Y: d->ground_y = v; break;
-    case RJ__JK_PENALTY_K: if (!RJ__SP_RULE(v >= 0, "must be >= 0 N m/rad")) return 0; d->penalty_k = v; break;
-    case RJ__JK_RESTITUTION: if (!RJ__SP_RULE(v >= 0 && v <= 1, "must be in [0, 1]")) return 0; d->restitution = v; break;
-    case RJ__JK_DAMPING: if (!RJ__SP_RULE(v >= 0, "must be >= 0 N m s/rad")) return 0; d->damping = v; break;
-    case RJ__JK_FRICTION: if (!RJ__SP_RULE(v >= 0, "must be >= 0 N m")) return 0; d->friction = v; break;
+    case RJ__JK_GROUND_X:
+        d->ground_x = v;
+        break;
+    case RJ__JK_GROUND_Y:
+        d->ground_y = v;
+        break;
+    case RJ__JK_PENALTY_K:
+        if (!RJ__SP_RULE(v >= 0, "must be >= 0 N m/rad"))
+            return 0;
+        d->penalty_k = v;
+        break;
+    case RJ__JK_RESTITUTION:
+        if (!RJ__SP_RULE(v >= 0 && v <= 1, "must be in [0, 1]"))
+            return 0;
+        d->restitution = v;
+        break;
+    case RJ__JK_DAMPING:
+        if (!RJ__SP_RULE(v >= 0, "must be >= 0 N m s/rad"))
+            return 0;
+        d->damping = v;
+        break;
+    case RJ__JK_FRICTION:
+        if (!RJ__SP_RULE(v >= 0, "must be >= 0 N m"))
+            return 0;
+        d->friction = v;
+        break;
     }
     return 1;
 }
@@ -5610,13 +7961,36 @@ static int rj__sp_solver_key(rj__sp *P, int k, int a, int *i, rj_solver_def *s)
     const char *key = rj__sk_solver[k];
     const rj__stok *t = &P->tok[a];
     double v = 0;
-    if (k == RJ__VK_ALLOW_UNSTABLE) { if (!rj__sp_bool(P, t, key, &s->allow_unstable)) return 0; (*i)++; return 1; }
-    if (k == RJ__VK_ENERGY_EVERY) { if (!rj__sp_int(P, t, key, 1, 1000, &s->energy_every)) return 0; (*i)++; return 1; }
-    if (k == RJ__VK_IN_PLACE) { if (!rj__sp_enum(P, t, key, rj__sk_in_place[0], sizeof rj__sk_in_place[0], 3, &s->in_place)) return 0; (*i)++; return 1; }
-    if (!rj__sp_num(P, t, key, &v)) return 0;
+    if (k == RJ__VK_ALLOW_UNSTABLE) {
+        if (!rj__sp_bool(P, t, key, &s->allow_unstable))
+            return 0;
+        (*i)++;
+        return 1;
+    }
+    if (k == RJ__VK_ENERGY_EVERY) {
+        if (!rj__sp_int(P, t, key, 1, 1000, &s->energy_every))
+            return 0;
+        (*i)++;
+        return 1;
+    }
+    if (k == RJ__VK_IN_PLACE) {
+        if (!rj__sp_enum(P, t, key, rj__sk_in_place[0], sizeof rj__sk_in_place[0], 3, &s->in_place))
+            return 0;
+        (*i)++;
+        return 1;
+    }
+    if (!rj__sp_num(P, t, key, &v))
+        return 0;
     (*i)++;
-    if (k == RJ__VK_DT) { if (!RJ__SP_RULE(v >= 0 && v <= 1, "must be 0 (automatic) or a step in (0, 1] s")) return 0; s->dt = v; }
-    else { if (!RJ__SP_RULE(v > 1, "must be > 1")) return 0; s->energy_growth = v; }
+    if (k == RJ__VK_DT) {
+        if (!RJ__SP_RULE(v >= 0 && v <= 1, "must be 0 (automatic) or a step in (0, 1] s"))
+            return 0;
+        s->dt = v;
+    } else {
+        if (!RJ__SP_RULE(v > 1, "must be > 1"))
+            return 0;
+        s->energy_growth = v;
+    }
     return 1;
 }
 
@@ -5625,26 +7999,43 @@ static int rj__sp_key_index(int kind, const rj__stok *t)
 {
     int k;
     switch (kind) {
-    case RJ__SK_SOLVER: for (k = 0; k < RJ__VK_N; k++) if (rj__sp_is(t, rj__sk_solver[k])) return k; break;
-    case RJ__SK_MATERIAL: case RJ__SK_SECTION: case RJ__SK_LINK: {
-        unsigned allowed = kind == RJ__SK_MATERIAL ? RJ__SK_MAT_KEYS : kind == RJ__SK_SECTION ? RJ__SK_SEC_KEYS : ~0u;
-        for (k = 0; k < RJ__LK_N; k++) if ((allowed >> k & 1u) && rj__sp_is(t, rj__sk_link[k])) return k;
+    case RJ__SK_SOLVER:
+        for (k = 0; k < RJ__VK_N; k++)
+            if (rj__sp_is(t, rj__sk_solver[k]))
+                return k;
+        break;
+    case RJ__SK_MATERIAL:
+    case RJ__SK_SECTION:
+    case RJ__SK_LINK: {
+        unsigned allowed = kind == RJ__SK_MATERIAL  ? RJ__SK_MAT_KEYS
+                           : kind == RJ__SK_SECTION ? RJ__SK_SEC_KEYS
+                                                    : ~0u;
+        for (k = 0; k < RJ__LK_N; k++)
+            if ((allowed >> k & 1u) && rj__sp_is(t, rj__sk_link[k]))
+                return k;
         break;
     }
-    case RJ__SK_JOINT: for (k = 0; k < RJ__JK_N; k++) if (rj__sp_is(t, rj__sk_joint[k])) return k; break;
+    case RJ__SK_JOINT:
+        for (k = 0; k < RJ__JK_N; k++)
+            if (rj__sp_is(t, rj__sk_joint[k]))
+                return k;
+        break;
     }
     return -1;
 }
 
 static const char *rj__sp_key_name(int kind, int k)
 {
-    if (kind == RJ__SK_SOLVER) return rj__sk_solver[k];
-    if (kind == RJ__SK_JOINT) return rj__sk_joint[k];
+    if (kind == RJ__SK_SOLVER)
+        return rj__sk_solver[k];
+    if (kind == RJ__SK_JOINT)
+        return rj__sk_joint[k];
     return rj__sk_link[k];
 }
 
 /* section rules shared by sections and links: eff = keys in effect, pos[k] where key k came from */
-static int rj__sp_check_shape(rj__sp *P, unsigned eff, const rj_link_def *d, const rj_scene_pos *pos, rj_scene_pos head, const char *what)
+static int rj__sp_check_shape(rj__sp *P, unsigned eff, const rj_link_def *d,
+                              const rj_scene_pos *pos, rj_scene_pos head, const char *what)
 {
     unsigned gen = (1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA);
     if (eff & gen) {
@@ -5652,17 +8043,22 @@ static int rj__sp_check_shape(rj__sp *P, unsigned eff, const rj_link_def *d, con
         if ((eff & gen) != gen) {
             int has = (eff >> RJ__LK_AREA & 1u) ? RJ__LK_AREA : RJ__LK_INERTIA;
             rj_scene_pos p = pos[has].line ? pos[has] : head;
-            return rj__sp_err(P, p.line, p.col, rj__sk_link[has], rj__sp_nan(), what, " sets ", rj__sk_link[has],
-                              has == RJ__LK_AREA ? " but not inertia" : " but not area", ": a general section needs both area and inertia");
+            return rj__sp_err(P, p.line, p.col, rj__sk_link[has], rj__sp_nan(), what, " sets ",
+                              rj__sk_link[has],
+                              has == RJ__LK_AREA ? " but not inertia" : " but not area",
+                              ": a general section needs both area and inertia");
         }
-        for (k = RJ__LK_WIDTH; k <= RJ__LK_LAYERS; k++) if (k != RJ__LK_HEIGHT && (eff >> k & 1u)) {
-            rj_scene_pos p = pos[k].line ? pos[k] : head;
-            return rj__sp_err(P, p.line, p.col, rj__sk_link[k], rj__sp_nan(), what, " mixes ", rj__sk_link[k],
-                              " with area/inertia: ", "width and layers apply only to rectangular sections");
-        }
+        for (k = RJ__LK_WIDTH; k <= RJ__LK_LAYERS; k++)
+            if (k != RJ__LK_HEIGHT && (eff >> k & 1u)) {
+                rj_scene_pos p = pos[k].line ? pos[k] : head;
+                return rj__sp_err(
+                    P, p.line, p.col, rj__sk_link[k], rj__sp_nan(), what, " mixes ", rj__sk_link[k],
+                    " with area/inertia: ", "width and layers apply only to rectangular sections");
+            }
     } else if ((eff >> RJ__LK_HEIGHT & 1u) && !(d->height > 0)) {
-        return rj__sp_err(P, pos[RJ__LK_HEIGHT].line, pos[RJ__LK_HEIGHT].col, "height", d->height, what,
-                          " has height = 0: a rectangular section needs height > 0", NULL, NULL, NULL);
+        return rj__sp_err(P, pos[RJ__LK_HEIGHT].line, pos[RJ__LK_HEIGHT].col, "height", d->height,
+                          what, " has height = 0: a rectangular section needs height > 0", NULL,
+                          NULL, NULL);
     }
     return 1;
 }
@@ -5672,71 +8068,105 @@ static int rj__sp_finish(rj__sp *P)
 {
     char what[80];
     switch (P->kind) {
-    case RJ__SK_NONE: case RJ__SK_SOLVER: break;
-    case RJ__SK_MATERIAL: P->mat[P->item].mask = P->seen; break;
+    case RJ__SK_NONE:
+    case RJ__SK_SOLVER:
+        break;
+    case RJ__SK_MATERIAL:
+        P->mat[P->item].mask = P->seen;
+        break;
     case RJ__SK_SECTION: {
         rj__spart *s = &P->sec[P->item];
         s->mask = P->seen;
         rj__sp_cat(what, sizeof what, "section '", s->name, "'", NULL, NULL, NULL, NULL);
-        if (!rj__sp_check_shape(P, s->mask, &s->d, s->pos + 1, s->pos[0], what)) return 0;
+        if (!rj__sp_check_shape(P, s->mask, &s->d, s->pos + 1, s->pos[0], what))
+            return 0;
         break;
     }
     case RJ__SK_LINK: {
         rj_link_def *d = &P->f->links[P->item];
-        rj_scene_pos *pos = &P->f->link_pos_[(size_t)P->item * (1 + RJ__LK_N)];
+        rj_scene_pos *pos = &P->f->link_pos_[(size_t) P->item * (1 + RJ__LK_N)];
         unsigned eff = P->seen;
         int k;
         if (P->link_mat >= 0) {
             const rj__spart *s = &P->mat[P->link_mat];
-            if (!(eff >> RJ__LK_E & 1u) && (s->mask >> RJ__LK_E & 1u)) { d->E = s->d.E; pos[1 + RJ__LK_E] = s->pos[1 + RJ__LK_E]; }
-            if (!(eff >> RJ__LK_RHO & 1u) && (s->mask >> RJ__LK_RHO & 1u)) { d->rho = s->d.rho; pos[1 + RJ__LK_RHO] = s->pos[1 + RJ__LK_RHO]; }
+            if (!(eff >> RJ__LK_E & 1u) && (s->mask >> RJ__LK_E & 1u)) {
+                d->E = s->d.E;
+                pos[1 + RJ__LK_E] = s->pos[1 + RJ__LK_E];
+            }
+            if (!(eff >> RJ__LK_RHO & 1u) && (s->mask >> RJ__LK_RHO & 1u)) {
+                d->rho = s->d.rho;
+                pos[1 + RJ__LK_RHO] = s->pos[1 + RJ__LK_RHO];
+            }
             eff |= s->mask;
         }
         if (P->link_sec >= 0) {
             const rj__spart *s = &P->sec[P->link_sec];
             for (k = RJ__LK_AREA; k <= RJ__LK_LAYERS; k++) {
-                if ((eff >> k & 1u) || !(s->mask >> k & 1u)) continue;
+                if ((eff >> k & 1u) || !(s->mask >> k & 1u))
+                    continue;
                 switch (k) {
-                case RJ__LK_AREA: d->area = s->d.area; break;
-                case RJ__LK_INERTIA: d->inertia = s->d.inertia; break;
-                case RJ__LK_WIDTH: d->width = s->d.width; break;
-                case RJ__LK_HEIGHT: d->height = s->d.height; break;
-                default: d->layers = s->d.layers; break;
+                case RJ__LK_AREA:
+                    d->area = s->d.area;
+                    break;
+                case RJ__LK_INERTIA:
+                    d->inertia = s->d.inertia;
+                    break;
+                case RJ__LK_WIDTH:
+                    d->width = s->d.width;
+                    break;
+                case RJ__LK_HEIGHT:
+                    d->height = s->d.height;
+                    break;
+                default:
+                    d->layers = s->d.layers;
+                    break;
                 }
                 pos[1 + k] = s->pos[1 + k];
             }
             eff |= s->mask;
         }
-        rj__sp_cat(what, sizeof what, "link '", P->f->link_names[P->item], "'", NULL, NULL, NULL, NULL);
-        if (!rj__sp_check_shape(P, eff, d, pos + 1, pos[0], what)) return 0;
-        d->section = (eff & ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA))) ? RJ_SECTION_GENERAL : RJ_SECTION_RECT;
+        rj__sp_cat(what, sizeof what, "link '", P->f->link_names[P->item], "'", NULL, NULL, NULL,
+                   NULL);
+        if (!rj__sp_check_shape(P, eff, d, pos + 1, pos[0], what))
+            return 0;
+        d->section = (eff & ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA))) ? RJ_SECTION_GENERAL
+                                                                            : RJ_SECTION_RECT;
         break;
     }
     case RJ__SK_JOINT: {
         rj_joint_def *d = &P->f->joints[P->item];
-        rj_scene_pos *pos = &P->f->joint_pos_[(size_t)P->item * (1 + RJ__JK_N)];
+        rj_scene_pos *pos = &P->f->joint_pos_[(size_t) P->item * (1 + RJ__JK_N)];
         const char *jn = P->f->joint_names[P->item];
         char a[24], b[24];
         int k;
-        for (k = RJ__JK_BODY1; k <= RJ__JK_BODY2; k++) if (!(P->seen >> k & 1u))
-            return rj__sp_err(P, pos[0].line, pos[0].col, rj__sk_joint[k], rj__sp_nan(), "joint '", jn, "' has no ", rj__sk_joint[k],
-                              k == RJ__JK_BODY1 ? " (ground or a link)" : " (a link)");
+        for (k = RJ__JK_BODY1; k <= RJ__JK_BODY2; k++)
+            if (!(P->seen >> k & 1u))
+                return rj__sp_err(P, pos[0].line, pos[0].col, rj__sk_joint[k], rj__sp_nan(),
+                                  "joint '", jn, "' has no ", rj__sk_joint[k],
+                                  k == RJ__JK_BODY1 ? " (ground or a link)" : " (a link)");
         if (d->body1 == d->body2)
-            return rj__sp_err(P, pos[1 + RJ__JK_BODY2].line, pos[1 + RJ__JK_BODY2].col, "body2", d->body2, "joint '", jn, "' connects link '",
+            return rj__sp_err(P, pos[1 + RJ__JK_BODY2].line, pos[1 + RJ__JK_BODY2].col, "body2",
+                              d->body2, "joint '", jn, "' connects link '",
                               P->f->link_names[d->body2], "' to itself (body1 = body2)");
         if (d->body1 < 0 && (P->seen >> RJ__JK_NODE1 & 1u))
-            return rj__sp_err(P, pos[1 + RJ__JK_NODE1].line, pos[1 + RJ__JK_NODE1].col, "node1", d->node1,
-                              "node1 applies only when body1 is a link, in joint '", jn, "' (body1 = ground)", NULL, NULL);
+            return rj__sp_err(P, pos[1 + RJ__JK_NODE1].line, pos[1 + RJ__JK_NODE1].col, "node1",
+                              d->node1, "node1 applies only when body1 is a link, in joint '", jn,
+                              "' (body1 = ground)", NULL, NULL);
         if (d->body1 >= 0) {
-            for (k = RJ__JK_GROUND_X; k <= RJ__JK_GROUND_ANGLE; k++) if (P->seen >> k & 1u)
-                return rj__sp_err(P, pos[1 + k].line, pos[1 + k].col, rj__sk_joint[k], rj__sp_nan(), rj__sk_joint[k],
-                                  " applies only when body1 = ground, in joint '", jn, "'", NULL);
+            for (k = RJ__JK_GROUND_X; k <= RJ__JK_GROUND_ANGLE; k++)
+                if (P->seen >> k & 1u)
+                    return rj__sp_err(P, pos[1 + k].line, pos[1 + k].col, rj__sk_joint[k],
+                                      rj__sp_nan(), rj__sk_joint[k],
+                                      " applies only when body1 = ground, in joint '", jn, "'",
+                                      NULL);
             if (d->node1 > P->f->links[d->body1].elements) {
                 char m[256];
-                rj__sp_cat(m, sizeof m, "node1 = ", rj__sp_itoa(a, d->node1), " is out of range in joint '", jn, "': link '",
+                rj__sp_cat(m, sizeof m, "node1 = ", rj__sp_itoa(a, d->node1),
+                           " is out of range in joint '", jn, "': link '",
                            P->f->link_names[d->body1], "' has nodes 0..");
-                return rj__sp_err(P, pos[1 + RJ__JK_NODE1].line, pos[1 + RJ__JK_NODE1].col, "node1", d->node1, m,
-                                  rj__sp_itoa(b, P->f->links[d->body1].elements), NULL, NULL, NULL);
+                return rj__sp_err(P, pos[1 + RJ__JK_NODE1].line, pos[1 + RJ__JK_NODE1].col, "node1",
+                                  d->node1, m, rj__sp_itoa(b, P->f->links[d->body1].elements), NULL,
+                                  NULL, NULL);
             }
         }
         break;
@@ -5751,91 +8181,151 @@ static int rj__sp_header(rj__sp *P)
     const rj__stok *t0 = &P->tok[0], *nt;
     char nb[24];
     int kind = 0, k, cap = 0, count = 0, dup = -1;
-    for (k = RJ__SK_SOLVER; k <= RJ__SK_JOINT; k++) if (rj__sp_is(t0, rj__sk_kind[k])) kind = k;
+    for (k = RJ__SK_SOLVER; k <= RJ__SK_JOINT; k++)
+        if (rj__sp_is(t0, rj__sk_kind[k]))
+            kind = k;
     if (!kind) {
         /* "title Solar array": the key without its '=' */
         if (P->kind == RJ__SK_NONE && rj__sp_is(t0, "title"))
-            return rj__sp_err(P, t0->line, t0->col + t0->len, "title", rj__sp_nan(), "missing '=' after 'title' (write title = \"text\")", NULL, NULL, NULL, NULL);
+            return rj__sp_err(P, t0->line, t0->col + t0->len, "title", rj__sp_nan(),
+                              "missing '=' after 'title' (write title = \"text\")", NULL, NULL,
+                              NULL, NULL);
         if (P->kind != RJ__SK_NONE && rj__sp_key_index(P->kind, t0) >= 0) {
             const char *kn = rj__sp_key_name(P->kind, rj__sp_key_index(P->kind, t0));
-            return rj__sp_err(P, t0->line, t0->col + t0->len, kn, rj__sp_nan(), "missing '=' after '", kn, "'", rj__sp_where(P), NULL);
+            return rj__sp_err(P, t0->line, t0->col + t0->len, kn, rj__sp_nan(),
+                              "missing '=' after '", kn, "'", rj__sp_where(P), NULL);
         }
-        {   /* a near section keyword, else a near key of the current section */
-            const char *near = rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 5, ~0u);
+        { /* a near section keyword, else a near key of the current section */
+            const char *near =
+                rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 5, ~0u);
             char mean[48];
-            if (!near && P->kind != RJ__SK_NONE) near = rj__sp_near_key(P, t0);
-            return rj__sp_err_tok(P, t0, "", rj__sp_nan(), P->kind != RJ__SK_NONE ? "unknown key or section " : "unknown section ",
-                                  P->kind != RJ__SK_NONE ? " (a key needs '= value'; sections are solver, material, section, link, joint)"
-                                                         : " (expected solver, material, section, link or joint)", rj__sp_mean(mean, near), NULL);
+            if (!near && P->kind != RJ__SK_NONE)
+                near = rj__sp_near_key(P, t0);
+            return rj__sp_err_tok(
+                P, t0, "", rj__sp_nan(),
+                P->kind != RJ__SK_NONE ? "unknown key or section " : "unknown section ",
+                P->kind != RJ__SK_NONE ? " (a key needs '= value'; sections are solver, material, "
+                                         "section, link, joint)"
+                                       : " (expected solver, material, section, link or joint)",
+                rj__sp_mean(mean, near), NULL);
         }
     }
-    if (!rj__sp_finish(P)) return 0;
+    if (!rj__sp_finish(P))
+        return 0;
     if (kind == RJ__SK_SOLVER) {
-        if (P->ntok > 1) return rj__sp_err_tok(P, &P->tok[1], "", rj__sp_nan(), "unexpected ", " after 'solver' (the solver section has no name)", NULL, NULL);
+        if (P->ntok > 1)
+            return rj__sp_err_tok(P, &P->tok[1], "", rj__sp_nan(), "unexpected ",
+                                  " after 'solver' (the solver section has no name)", NULL, NULL);
         if (P->solver_seen)
-            return rj__sp_err(P, t0->line, t0->col, "solver", rj__sp_nan(), "duplicate solver section (first on line ",
+            return rj__sp_err(P, t0->line, t0->col, "solver", rj__sp_nan(),
+                              "duplicate solver section (first on line ",
                               rj__sp_itoa(nb, P->f->solver_pos_[0].line), ")", NULL, NULL);
         P->solver_seen = 1;
-        P->f->solver_pos_[0].line = t0->line; P->f->solver_pos_[0].col = t0->col;
-        P->kind = kind; P->item = 0; P->seen = 0;
+        P->f->solver_pos_[0].line = t0->line;
+        P->f->solver_pos_[0].col = t0->col;
+        P->kind = kind;
+        P->item = 0;
+        P->seen = 0;
         return 1;
     }
-    if (P->ntok < 2) return rj__sp_err(P, t0->line, t0->col + t0->len, rj__sk_kind[kind], rj__sp_nan(), "missing name after '", rj__sk_kind[kind], "'", NULL, NULL);
+    if (P->ntok < 2)
+        return rj__sp_err(P, t0->line, t0->col + t0->len, rj__sk_kind[kind], rj__sp_nan(),
+                          "missing name after '", rj__sk_kind[kind], "'", NULL, NULL);
     nt = &P->tok[1];
     if (nt->kind != 'w' || !rj__sp_name_ok(nt->s, nt->len))
-        return rj__sp_err_tok(P, nt, rj__sk_kind[kind], rj__sp_nan(), "invalid name ", " after '", rj__sk_kind[kind],
+        return rj__sp_err_tok(P, nt, rj__sk_kind[kind], rj__sp_nan(), "invalid name ", " after '",
+                              rj__sk_kind[kind],
                               "' (1..31 of A-Z a-z 0-9 _ . -, starting with a letter or _)");
-    if (P->ntok > 2) return rj__sp_err_tok(P, &P->tok[2], "", rj__sp_nan(), "unexpected ", " after the name of ", rj__sk_kind[kind], " (one statement per line)");
+    if (P->ntok > 2)
+        return rj__sp_err_tok(P, &P->tok[2], "", rj__sp_nan(), "unexpected ", " after the name of ",
+                              rj__sk_kind[kind], " (one statement per line)");
     switch (kind) {
-    case RJ__SK_MATERIAL: cap = RJ_SCENE_MAX_MATERIALS; count = P->nmat; if (count) dup = rj__sp_find(nt->s, nt->len, P->mat[0].name, sizeof(rj__spart), count); break;
-    case RJ__SK_SECTION: cap = RJ_SCENE_MAX_SECTIONS; count = P->nsec; if (count) dup = rj__sp_find(nt->s, nt->len, P->sec[0].name, sizeof(rj__spart), count); break;
-    case RJ__SK_LINK: cap = RJ_SCENE_MAX_LINKS; count = P->f->link_count; if (count) dup = rj__sp_find(nt->s, nt->len, (const char *)P->f->link_names, RJ_SCENE_NAME_MAX, count); break;
-    default: cap = RJ_SCENE_MAX_JOINTS; count = P->f->joint_count; if (count) dup = rj__sp_find(nt->s, nt->len, (const char *)P->f->joint_names, RJ_SCENE_NAME_MAX, count); break;
+    case RJ__SK_MATERIAL:
+        cap = RJ_SCENE_MAX_MATERIALS;
+        count = P->nmat;
+        if (count)
+            dup = rj__sp_find(nt->s, nt->len, P->mat[0].name, sizeof(rj__spart), count);
+        break;
+    case RJ__SK_SECTION:
+        cap = RJ_SCENE_MAX_SECTIONS;
+        count = P->nsec;
+        if (count)
+            dup = rj__sp_find(nt->s, nt->len, P->sec[0].name, sizeof(rj__spart), count);
+        break;
+    case RJ__SK_LINK:
+        cap = RJ_SCENE_MAX_LINKS;
+        count = P->f->link_count;
+        if (count)
+            dup = rj__sp_find(nt->s, nt->len, (const char *) P->f->link_names, RJ_SCENE_NAME_MAX,
+                              count);
+        break;
+    default:
+        cap = RJ_SCENE_MAX_JOINTS;
+        count = P->f->joint_count;
+        if (count)
+            dup = rj__sp_find(nt->s, nt->len, (const char *) P->f->joint_names, RJ_SCENE_NAME_MAX,
+                              count);
+        break;
     }
     if (dup >= 0) {
-        int line = kind == RJ__SK_MATERIAL ? P->mat[dup].pos[0].line : kind == RJ__SK_SECTION ? P->sec[dup].pos[0].line
-                 : kind == RJ__SK_LINK ? P->f->link_pos_[(size_t)dup * (1 + RJ__LK_N)].line : P->f->joint_pos_[(size_t)dup * (1 + RJ__JK_N)].line;
+        int line = kind == RJ__SK_MATERIAL  ? P->mat[dup].pos[0].line
+                   : kind == RJ__SK_SECTION ? P->sec[dup].pos[0].line
+                   : kind == RJ__SK_LINK    ? P->f->link_pos_[(size_t) dup * (1 + RJ__LK_N)].line
+                                            : P->f->joint_pos_[(size_t) dup * (1 + RJ__JK_N)].line;
         char pre[40];
-        rj__sp_cat(pre, sizeof pre, "duplicate ", rj__sk_kind[kind], " name ", NULL, NULL, NULL, NULL);
-        return rj__sp_err_tok(P, nt, rj__sk_kind[kind], rj__sp_nan(), pre, " (first defined on line ", rj__sp_itoa(nb, line), ")");
+        rj__sp_cat(pre, sizeof pre, "duplicate ", rj__sk_kind[kind], " name ", NULL, NULL, NULL,
+                   NULL);
+        return rj__sp_err_tok(P, nt, rj__sk_kind[kind], rj__sp_nan(), pre,
+                              " (first defined on line ", rj__sp_itoa(nb, line), ")");
     }
-    if (kind == RJ__SK_LINK && rj__sp_is(nt, "ground")) return rj__sp_err_tok(P, nt, "link", rj__sp_nan(), "a link cannot be named ", " (reserved for body1 = ground)", NULL, NULL);
-    {   /* the counting pass sized the arrays; it never counts fewer items than there are */
-        int room = kind == RJ__SK_MATERIAL ? P->cap_mat : kind == RJ__SK_SECTION ? P->cap_sec : kind == RJ__SK_LINK ? P->cap_links : P->cap_joints;
+    if (kind == RJ__SK_LINK && rj__sp_is(nt, "ground"))
+        return rj__sp_err_tok(P, nt, "link", rj__sp_nan(), "a link cannot be named ",
+                              " (reserved for body1 = ground)", NULL, NULL);
+    { /* the counting pass sized the arrays; it never counts fewer items than there are */
+        int room = kind == RJ__SK_MATERIAL  ? P->cap_mat
+                   : kind == RJ__SK_SECTION ? P->cap_sec
+                   : kind == RJ__SK_LINK    ? P->cap_links
+                                            : P->cap_joints;
         if (count >= cap || count >= room)
-            return rj__sp_err(P, t0->line, t0->col, rj__sk_kind[kind], count + 1, "too many ", rj__sk_kind[kind], " sections (at most ", rj__sp_itoa(nb, cap), ")");
+            return rj__sp_err(P, t0->line, t0->col, rj__sk_kind[kind], count + 1, "too many ",
+                              rj__sk_kind[kind], " sections (at most ", rj__sp_itoa(nb, cap), ")");
     }
     {
         rj_scene_pos head;
-        head.line = t0->line; head.col = t0->col;
+        head.line = t0->line;
+        head.col = t0->col;
         switch (kind) {
-        case RJ__SK_MATERIAL: case RJ__SK_SECTION: {
+        case RJ__SK_MATERIAL:
+        case RJ__SK_SECTION: {
             rj__spart *s = kind == RJ__SK_MATERIAL ? &P->mat[P->nmat++] : &P->sec[P->nsec++];
             memset(s, 0, sizeof *s);
-            memcpy(s->name, nt->s, (size_t)nt->len);
+            memcpy(s->name, nt->s, (size_t) nt->len);
             s->d = rj_default_link_def();
             s->pos[0] = head;
             break;
         }
         case RJ__SK_LINK: {
             int n = P->f->link_count++;
-            memcpy(P->f->link_names[n], nt->s, (size_t)nt->len);
+            memcpy(P->f->link_names[n], nt->s, (size_t) nt->len);
             P->f->link_names[n][nt->len] = 0;
             P->f->links[n] = rj_default_link_def();
-            P->f->link_pos_[(size_t)n * (1 + RJ__LK_N)] = head;
-            P->link_mat = -1; P->link_sec = -1;
+            P->f->link_pos_[(size_t) n * (1 + RJ__LK_N)] = head;
+            P->link_mat = -1;
+            P->link_sec = -1;
             break;
         }
         default: {
             int n = P->f->joint_count++;
-            memcpy(P->f->joint_names[n], nt->s, (size_t)nt->len);
+            memcpy(P->f->joint_names[n], nt->s, (size_t) nt->len);
             P->f->joint_names[n][nt->len] = 0;
             P->f->joints[n] = rj_default_joint_def();
-            P->f->joint_pos_[(size_t)n * (1 + RJ__JK_N)] = head;
+            P->f->joint_pos_[(size_t) n * (1 + RJ__JK_N)] = head;
             break;
         }
         }
-        P->kind = kind; P->item = count; P->seen = 0;
+        P->kind = kind;
+        P->item = count;
+        P->seen = 0;
     }
     return 1;
 }
@@ -5848,10 +8338,12 @@ static int rj__sp_trailing(rj__sp *P, int v, const char *kn)
     char q[200], h[200], m[256];
     double x;
     h[0] = 0;
-    if (t->kind == 'w' && rj__sp_alpha((unsigned char)t->s[0]) && n->kind == 'w' && rj__sp_strtonum(n->s, n->len, P->dp, P->dplen, &x) == 1)
+    if (t->kind == 'w' && rj__sp_alpha((unsigned char) t->s[0]) && n->kind == 'w' &&
+        rj__sp_strtonum(n->s, n->len, P->dp, P->dplen, &x) == 1)
         rj__sp_unit_hint(h, kn, rj__sp_unit(kn), n->s, n->len, t->s, t->len);
     rj__sp_quote(q, sizeof q, t->s, t->len);
-    rj__sp_cat(m, sizeof m, "unexpected '", q, "' after the value of '", kn, "'", rj__sp_where(P), h);
+    rj__sp_cat(m, sizeof m, "unexpected '", q, "' after the value of '", kn, "'", rj__sp_where(P),
+               h);
     return rj__sp_fail(P, t->line, t->col, kn, rj__sp_nan(), m);
 }
 
@@ -5863,8 +8355,10 @@ static int rj__sp_unit_word(const rj__sp *P, int v, const char *kn)
     const rj__stok *t = &P->tok[v], *n = &P->tok[v - 1];
     const char *u = rj__sp_unit(kn);
     double x;
-    if (strcmp(u, "rad") == 0 || strcmp(u, "rad/s") == 0 || strcmp(kn, "table") == 0) return 0;
-    return t->kind == 'w' && rj__sp_alpha((unsigned char)t->s[0]) && n->kind == 'w' && rj__sp_strtonum(n->s, n->len, P->dp, P->dplen, &x) == 1;
+    if (strcmp(u, "rad") == 0 || strcmp(u, "rad/s") == 0 || strcmp(kn, "table") == 0)
+        return 0;
+    return t->kind == 'w' && rj__sp_alpha((unsigned char) t->s[0]) && n->kind == 'w' &&
+           rj__sp_strtonum(n->s, n->len, P->dp, P->dplen, &x) == 1;
 }
 
 /* ------------------------------------------------------------------ title */
@@ -5874,8 +8368,9 @@ static int rj__sp_title_bad(const char *s, int n)
 {
     int k;
     for (k = 0; k < n; k++) {
-        unsigned char c = (unsigned char)s[k];
-        if (c < 0x20 || c == 0x7f) return k;
+        unsigned char c = (unsigned char) s[k];
+        if (c < 0x20 || c == 0x7f)
+            return k;
     }
     return -1;
 }
@@ -5887,17 +8382,20 @@ static int rj__sp_title_value(rj__sp *P, const rj__stok *v)
     int n = v->len - 2;
     int bad;
     if (v->kind != 'q')
-        return rj__sp_err_tok(P, v, "title", rj__sp_nan(), "expected a quoted string, found ", " for 'title' (write title = \"text\")", NULL, NULL);
+        return rj__sp_err_tok(P, v, "title", rj__sp_nan(), "expected a quoted string, found ",
+                              " for 'title' (write title = \"text\")", NULL, NULL);
     if (n >= RJ_SCENE_TITLE_MAX) {
-        rj__sp_cat(m, sizeof m, "title of ", rj__sp_itoa(a, n), " bytes is too long (at most ", rj__sp_itoa(b, RJ_SCENE_TITLE_MAX - 1), ")", NULL, NULL);
-        return rj__sp_fail(P, v->line, v->col, "title", (double)n, m);
+        rj__sp_cat(m, sizeof m, "title of ", rj__sp_itoa(a, n), " bytes is too long (at most ",
+                   rj__sp_itoa(b, RJ_SCENE_TITLE_MAX - 1), ")", NULL, NULL);
+        return rj__sp_fail(P, v->line, v->col, "title", (double) n, m);
     }
     bad = rj__sp_title_bad(v->s + 1, n);
     if (bad >= 0) {
-        snprintf(m, sizeof m, "byte 0x%02x in the title: a title is printable text (no tabs)", (unsigned char)v->s[1 + bad]);
+        snprintf(m, sizeof m, "byte 0x%02x in the title: a title is printable text (no tabs)",
+                 (unsigned char) v->s[1 + bad]);
         return rj__sp_fail(P, v->line, v->col + 1 + bad, "title", rj__sp_nan(), m);
     }
-    memcpy(P->f->title, v->s + 1, (size_t)n);
+    memcpy(P->f->title, v->s + 1, (size_t) n);
     P->f->title[n] = 0;
     return 1;
 }
@@ -5908,9 +8406,12 @@ static int rj__sp_title(rj__sp *P, int i, int j)
     const rj__stok *kt = &P->tok[i];
     char nb[24];
     if (P->title_line)
-        return rj__sp_err(P, kt->line, kt->col, "title", rj__sp_nan(), "duplicate title (first set on line ", rj__sp_itoa(nb, P->title_line), ")", NULL, NULL);
+        return rj__sp_err(P, kt->line, kt->col, "title", rj__sp_nan(),
+                          "duplicate title (first set on line ", rj__sp_itoa(nb, P->title_line),
+                          ")", NULL, NULL);
     if (j == i + 2)
-        return rj__sp_err(P, P->tok[i + 1].line, P->tok[i + 1].col + 1, "title", rj__sp_nan(), "missing value for 'title'", NULL, NULL, NULL, NULL);
+        return rj__sp_err(P, P->tok[i + 1].line, P->tok[i + 1].col + 1, "title", rj__sp_nan(),
+                          "missing value for 'title'", NULL, NULL, NULL, NULL);
     if (!rj__sp_title_value(P, &P->tok[i + 2]))
         return 0;
     if (j > i + 3)
@@ -5927,7 +8428,9 @@ static int rj__sp_assignments(rj__sp *P)
         const rj__stok *kt = &P->tok[i];
         const char *kn;
         int j = i + 2, k, v;
-        while (j < P->ntok && !(P->tok[j].kind == 'w' && j + 1 < P->ntok && P->tok[j + 1].kind == '=')) j++;
+        while (j < P->ntok &&
+               !(P->tok[j].kind == 'w' && j + 1 < P->ntok && P->tok[j + 1].kind == '='))
+            j++;
         /* the one statement outside a section: the title, before the first section */
         if (P->kind == RJ__SK_NONE && rj__sp_is(kt, "title")) {
             if (!rj__sp_title(P, i, j))
@@ -5937,35 +8440,60 @@ static int rj__sp_assignments(rj__sp *P)
         }
         if (P->kind == RJ__SK_NONE) {
             char mean[48];
-            return rj__sp_err_tok(P, kt, "", rj__sp_nan(), "key ", " outside any section (start one with solver, material, section, link or joint)",
-                                  rj__sp_mean(mean, rj__sp_near(kt->s, kt->len, "title", 6, 1, ~0u)), NULL);
+            return rj__sp_err_tok(
+                P, kt, "", rj__sp_nan(), "key ",
+                " outside any section (start one with solver, material, section, link or joint)",
+                rj__sp_mean(mean, rj__sp_near(kt->s, kt->len, "title", 6, 1, ~0u)), NULL);
         }
         k = rj__sp_key_index(P->kind, kt);
         /* a title inside a section: say where it belongs */
         if (k < 0 && rj__sp_is(kt, "title"))
-            return rj__sp_err_tok(P, kt, "title", rj__sp_nan(), "unknown key ", rj__sp_where(P), " (a title goes at the top of the file, before the first section)", NULL);
+            return rj__sp_err_tok(
+                P, kt, "title", rj__sp_nan(), "unknown key ", rj__sp_where(P),
+                " (a title goes at the top of the file, before the first section)", NULL);
         if (k < 0) {
             char q[64], mean[48];
             rj__sp_quote(q, sizeof q, kt->s, kt->len);
-            return rj__sp_err_tok(P, kt, q, rj__sp_nan(), "unknown key ", rj__sp_where(P), rj__sp_mean(mean, rj__sp_near_key(P, kt)), NULL);
+            return rj__sp_err_tok(P, kt, q, rj__sp_nan(), "unknown key ", rj__sp_where(P),
+                                  rj__sp_mean(mean, rj__sp_near_key(P, kt)), NULL);
         }
         kn = rj__sp_key_name(P->kind, k);
         if (P->seen >> k & 1u)
-            return rj__sp_err_tok5(P, kt, kn, rj__sp_nan(), "duplicate key ", rj__sp_where(P), " (first set on line ", rj__sp_itoa(nb, rj__sp_pos(P, k)->line), ")");
+            return rj__sp_err_tok5(P, kt, kn, rj__sp_nan(), "duplicate key ", rj__sp_where(P),
+                                   " (first set on line ", rj__sp_itoa(nb, rj__sp_pos(P, k)->line),
+                                   ")");
         if (j == i + 2) {
             const rj__stok *eq = &P->tok[i + 1];
-            return rj__sp_err(P, eq->line, eq->col + 1, kn, rj__sp_nan(), "missing value for '", kn, "'", rj__sp_where(P), NULL);
+            return rj__sp_err(P, eq->line, eq->col + 1, kn, rj__sp_nan(), "missing value for '", kn,
+                              "'", rj__sp_where(P), NULL);
         }
-        if (j > i + 3 && rj__sp_unit_word(P, i + 3, kn)) return rj__sp_trailing(P, i + 3, kn);
+        if (j > i + 3 && rj__sp_unit_word(P, i + 3, kn))
+            return rj__sp_trailing(P, i + 3, kn);
         v = i + 2;
         switch (P->kind) {
-        case RJ__SK_SOLVER: if (!rj__sp_solver_key(P, k, i + 2, &v, &P->f->solver)) return 0; break;
-        case RJ__SK_MATERIAL: if (!rj__sp_link_key(P, k, i + 2, &v, j, &P->mat[P->item].d)) return 0; break;
-        case RJ__SK_SECTION: if (!rj__sp_link_key(P, k, i + 2, &v, j, &P->sec[P->item].d)) return 0; break;
-        case RJ__SK_LINK: if (!rj__sp_link_key(P, k, i + 2, &v, j, &P->f->links[P->item])) return 0; break;
-        default: if (!rj__sp_joint_key(P, k, i + 2, &v, j, &P->f->joints[P->item])) return 0; break;
+        case RJ__SK_SOLVER:
+            if (!rj__sp_solver_key(P, k, i + 2, &v, &P->f->solver))
+                return 0;
+            break;
+        case RJ__SK_MATERIAL:
+            if (!rj__sp_link_key(P, k, i + 2, &v, j, &P->mat[P->item].d))
+                return 0;
+            break;
+        case RJ__SK_SECTION:
+            if (!rj__sp_link_key(P, k, i + 2, &v, j, &P->sec[P->item].d))
+                return 0;
+            break;
+        case RJ__SK_LINK:
+            if (!rj__sp_link_key(P, k, i + 2, &v, j, &P->f->links[P->item]))
+                return 0;
+            break;
+        default:
+            if (!rj__sp_joint_key(P, k, i + 2, &v, j, &P->f->joints[P->item]))
+                return 0;
+            break;
         }
-        if (v < j) return rj__sp_trailing(P, v, kn);
+        if (v < j)
+            return rj__sp_trailing(P, v, kn);
         P->seen |= 1u << k;
         rj__sp_pos(P, k)->line = P->tok[i + 2].line;
         rj__sp_pos(P, k)->col = P->tok[i + 2].col;
@@ -5975,7 +8503,10 @@ static int rj__sp_assignments(rj__sp *P)
 }
 
 /* ------------------------------------------------------------------ lines */
-static int rj__sp_is_sep(unsigned char c) { return c == ' ' || c == '\t' || c == '=' || c == ',' || c == '#' || c < 0x20 || c == 0x7f; }
+static int rj__sp_is_sep(unsigned char c)
+{
+    return c == ' ' || c == '\t' || c == '=' || c == ',' || c == '#' || c < 0x20 || c == 0x7f;
+}
 
 /* Text is printable bytes, tabs and line ends (LF, CR). A NUL or another control byte
    anywhere, comments included, means the input is not a scene file, most likely a binary
@@ -5986,13 +8517,20 @@ static int rj__sp_text(rj__sp *P)
     size_t k, bol = 0;
     int line = 1;
     for (k = 0; k < P->len; k++) {
-        unsigned char c = (unsigned char)P->text[k];
+        unsigned char c = (unsigned char) P->text[k];
         char m[200];
-        if (c == '\n') { line++; bol = k + 1; continue; }
-        if ((c >= 0x20 && c != 0x7f) || c == '\t' || c == '\r') continue;
-        snprintf(m, sizeof m, "not a text scene file: byte 0x%02x at byte offset %lu is a %s (a scene file has only printable characters, tabs and line ends)",
-                 c, (unsigned long)k, c ? "control character" : "NUL");
-        return rj__sp_fail(P, line, (int)(k - bol) + 1, "", (double)c, m);
+        if (c == '\n') {
+            line++;
+            bol = k + 1;
+            continue;
+        }
+        if ((c >= 0x20 && c != 0x7f) || c == '\t' || c == '\r')
+            continue;
+        snprintf(m, sizeof m,
+                 "not a text scene file: byte 0x%02x at byte offset %lu is a %s (a scene file has "
+                 "only printable characters, tabs and line ends)",
+                 c, (unsigned long) k, c ? "control character" : "NUL");
+        return rj__sp_fail(P, line, (int) (k - bol) + 1, "", (double) c, m);
     }
     return 1;
 }
@@ -6002,17 +8540,18 @@ static int rj__sp_text(rj__sp *P)
    '"'. Titles need spaces, which separate tokens everywhere else. */
 static int rj__sp_quoted(rj__sp *P, const char *s, size_t rest, size_t *k)
 {
-    const char *close = rest > 1 ? (const char *)memchr(s + 1, '"', rest - 1) : NULL;
+    const char *close = rest > 1 ? (const char *) memchr(s + 1, '"', rest - 1) : NULL;
     rj__stok *t = &P->tok[P->ntok];
     if (!close)
-        return rj__sp_fail(P, P->lineno, (int)*k + 1, "", rj__sp_nan(), "unterminated string: no closing '\"' on this line");
+        return rj__sp_fail(P, P->lineno, (int) *k + 1, "", rj__sp_nan(),
+                           "unterminated string: no closing '\"' on this line");
     t->s = s;
-    t->len = (int)(close - s) + 1;
+    t->len = (int) (close - s) + 1;
     t->line = P->lineno;
-    t->col = (int)*k + 1;
+    t->col = (int) *k + 1;
     t->kind = 'q';
     P->ntok++;
-    *k += (size_t)t->len;
+    *k += (size_t) t->len;
     return 1;
 }
 
@@ -6021,13 +8560,16 @@ static int rj__sp_quoted(rj__sp *P, const char *s, size_t rest, size_t *k)
 static int rj__sp_next(rj__sp *P)
 {
     P->ntok = 0;
-    if (P->at >= P->len) return 0;
+    if (P->at >= P->len)
+        return 0;
     for (;;) {
         size_t start = P->at, end = start, n, k;
         char m[120];
-        while (end < P->len && P->text[end] != '\n') end++;
+        while (end < P->len && P->text[end] != '\n')
+            end++;
         n = end - start;
-        if (n && P->text[end - 1] == '\r') n--;
+        if (n && P->text[end - 1] == '\r')
+            n--;
         P->lineno++;
         P->at = end < P->len ? end + 1 : end;
         if (n > RJ_SCENE_MAX_LINE) {
@@ -6037,17 +8579,24 @@ static int rj__sp_next(rj__sp *P)
         }
         for (k = 0; k < n;) {
             const char *s = P->text + start + k;
-            unsigned char c = (unsigned char)*s;
-            if (c == '#') break;
-            if (c == ' ' || c == '\t') { k++; continue; }
-            if (c < 0x20 || c == 0x7f) {   /* only a CR gets here: rj__sp_text let no other through */
-                snprintf(m, sizeof m, "invalid character 0x%02x (a carriage return ends a line only before a line feed)", c);
-                rj__sp_fail(P, P->lineno, (int)k + 1, "", rj__sp_nan(), m);
+            unsigned char c = (unsigned char) *s;
+            if (c == '#')
+                break;
+            if (c == ' ' || c == '\t') {
+                k++;
+                continue;
+            }
+            if (c < 0x20 || c == 0x7f) { /* only a CR gets here: rj__sp_text let no other through */
+                snprintf(m, sizeof m,
+                         "invalid character 0x%02x (a carriage return ends a line only before a "
+                         "line feed)",
+                         c);
+                rj__sp_fail(P, P->lineno, (int) k + 1, "", rj__sp_nan(), m);
                 return -1;
             }
             if (P->ntok == RJ_SCENE_MAX_TOKENS) {
                 snprintf(m, sizeof m, "statement has more than %d tokens", RJ_SCENE_MAX_TOKENS);
-                rj__sp_fail(P, P->lineno, (int)k + 1, "", rj__sp_nan(), m);
+                rj__sp_fail(P, P->lineno, (int) k + 1, "", rj__sp_nan(), m);
                 return -1;
             }
             /* a quoted string runs to the next '"' on the same line (no escapes) */
@@ -6058,16 +8607,25 @@ static int rj__sp_next(rj__sp *P)
             }
             {
                 rj__stok *t = &P->tok[P->ntok++];
-                t->s = s; t->line = P->lineno; t->col = (int)k + 1;
-                if (c == '=' || c == ',') { t->kind = (char)c; t->len = 1; k++; }
-                else {
+                t->s = s;
+                t->line = P->lineno;
+                t->col = (int) k + 1;
+                if (c == '=' || c == ',') {
+                    t->kind = (char) c;
+                    t->len = 1;
+                    k++;
+                } else {
                     size_t e = k + 1;
-                    while (e < n && !rj__sp_is_sep((unsigned char)P->text[start + e])) e++;
-                    t->kind = 'w'; t->len = (int)(e - k); k = e;
+                    while (e < n && !rj__sp_is_sep((unsigned char) P->text[start + e]))
+                        e++;
+                    t->kind = 'w';
+                    t->len = (int) (e - k);
+                    k = e;
                 }
             }
         }
-        if (!(P->ntok > 0 && P->tok[P->ntok - 1].kind == ',' && P->at < P->len)) return 1;
+        if (!(P->ntok > 0 && P->tok[P->ntok - 1].kind == ',' && P->at < P->len))
+            return 1;
     }
 }
 
@@ -6077,25 +8635,35 @@ static void rj__sp_count(const char *text, size_t len, int counts[6])
 {
     size_t at = 0;
     int k;
-    for (k = 0; k < 6; k++) counts[k] = 0;
+    for (k = 0; k < 6; k++)
+        counts[k] = 0;
     while (at < len) {
         size_t e, w;
-        while (at < len && (text[at] == ' ' || text[at] == '\t')) at++;
+        while (at < len && (text[at] == ' ' || text[at] == '\t'))
+            at++;
         w = at;
-        while (at < len && !rj__sp_is_sep((unsigned char)text[at])) at++;
+        while (at < len && !rj__sp_is_sep((unsigned char) text[at]))
+            at++;
         e = at;
-        while (at < len && (text[at] == ' ' || text[at] == '\t')) at++;
+        while (at < len && (text[at] == ' ' || text[at] == '\t'))
+            at++;
         if (e > w && !(at < len && text[at] == '=')) {
             for (k = RJ__SK_MATERIAL; k <= RJ__SK_JOINT; k++) {
                 size_t n = strlen(rj__sk_kind[k]);
                 if (e - w == n && memcmp(text + w, rj__sk_kind[k], n) == 0) {
-                    int cap = k == RJ__SK_MATERIAL ? RJ_SCENE_MAX_MATERIALS : k == RJ__SK_SECTION ? RJ_SCENE_MAX_SECTIONS : k == RJ__SK_LINK ? RJ_SCENE_MAX_LINKS : RJ_SCENE_MAX_JOINTS;
-                    if (counts[k] < cap) counts[k]++;
+                    int cap = k == RJ__SK_MATERIAL  ? RJ_SCENE_MAX_MATERIALS
+                              : k == RJ__SK_SECTION ? RJ_SCENE_MAX_SECTIONS
+                              : k == RJ__SK_LINK    ? RJ_SCENE_MAX_LINKS
+                                                    : RJ_SCENE_MAX_JOINTS;
+                    if (counts[k] < cap)
+                        counts[k]++;
                 }
             }
         }
-        while (at < len && text[at] != '\n') at++;
-        if (at < len) at++;
+        while (at < len && text[at] != '\n')
+            at++;
+        if (at < len)
+            at++;
     }
 }
 
@@ -6107,7 +8675,8 @@ static size_t rj__sp_carve(size_t *off, size_t n, size_t el)
 }
 
 /* field "links[3].rho" / "joints[1].table_angle[2]" / "solver.dt" -> position in f */
-static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_pos *pos, char *item, size_t isize)
+static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_pos *pos,
+                            char *item, size_t isize)
 {
     int idx = 0, k, digits = 0, joint;
     const char *p;
@@ -6115,43 +8684,78 @@ static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_
     size_t n = 0;
     item[0] = 0;
     if (strncmp(field, "solver.", 7) == 0) {
-        for (k = 0; k < RJ__VK_N; k++) if (strcmp(field + 7, rj__sk_solver[k]) == 0 && f->solver_pos_[1 + k].line) { *pos = f->solver_pos_[1 + k]; return 1; }
-        if (f->solver_pos_[0].line) { *pos = f->solver_pos_[0]; return 1; }
+        for (k = 0; k < RJ__VK_N; k++)
+            if (strcmp(field + 7, rj__sk_solver[k]) == 0 && f->solver_pos_[1 + k].line) {
+                *pos = f->solver_pos_[1 + k];
+                return 1;
+            }
+        if (f->solver_pos_[0].line) {
+            *pos = f->solver_pos_[0];
+            return 1;
+        }
         return 0;
     }
-    if (strncmp(field, "links[", 6) == 0) { joint = 0; p = field + 6; }
-    else if (strncmp(field, "joints[", 7) == 0) { joint = 1; p = field + 7; }
-    else return 0;
-    while (*p >= '0' && *p <= '9' && digits < 7) { idx = idx * 10 + (*p - '0'); p++; digits++; }
-    if (!digits || *p != ']') return 0;
+    if (strncmp(field, "links[", 6) == 0) {
+        joint = 0;
+        p = field + 6;
+    } else if (strncmp(field, "joints[", 7) == 0) {
+        joint = 1;
+        p = field + 7;
+    } else
+        return 0;
+    while (*p >= '0' && *p <= '9' && digits < 7) {
+        idx = idx * 10 + (*p - '0');
+        p++;
+        digits++;
+    }
+    if (!digits || *p != ']')
+        return 0;
     p++;
-    if (joint ? idx >= f->joint_count : idx >= f->link_count) return 0;
+    if (joint ? idx >= f->joint_count : idx >= f->link_count)
+        return 0;
     if (*p == '.') {
         p++;
-        while (p[n] && p[n] != '[' && n + 1 < sizeof name) { name[n] = p[n]; n++; }
+        while (p[n] && p[n] != '[' && n + 1 < sizeof name) {
+            name[n] = p[n];
+            n++;
+        }
     }
     name[n] = 0;
-    rj__sp_cat(item, isize, joint ? " (joint '" : " (link '", joint ? f->joint_names[idx] : f->link_names[idx], "')", NULL, NULL, NULL, NULL);
+    rj__sp_cat(item, isize, joint ? " (joint '" : " (link '",
+               joint ? f->joint_names[idx] : f->link_names[idx], "')", NULL, NULL, NULL, NULL);
     if (!joint) {
-        const rj_scene_pos *lp = &f->link_pos_[(size_t)idx * (1 + RJ__LK_N)];
+        const rj_scene_pos *lp = &f->link_pos_[(size_t) idx * (1 + RJ__LK_N)];
         *pos = lp[0];
-        for (k = 0; k < RJ__LK_N; k++) if (strcmp(name, rj__sk_link[k]) == 0 && lp[1 + k].line) *pos = lp[1 + k];
+        for (k = 0; k < RJ__LK_N; k++)
+            if (strcmp(name, rj__sk_link[k]) == 0 && lp[1 + k].line)
+                *pos = lp[1 + k];
         if (strcmp(name, "section") == 0) {
-            if (lp[1 + RJ__LK_SECTION].line) *pos = lp[1 + RJ__LK_SECTION];
-            else if (lp[1 + RJ__LK_AREA].line) *pos = lp[1 + RJ__LK_AREA];
+            if (lp[1 + RJ__LK_SECTION].line)
+                *pos = lp[1 + RJ__LK_SECTION];
+            else if (lp[1 + RJ__LK_AREA].line)
+                *pos = lp[1 + RJ__LK_AREA];
         }
     } else {
-        const rj_scene_pos *jp = &f->joint_pos_[(size_t)idx * (1 + RJ__JK_N)];
+        const rj_scene_pos *jp = &f->joint_pos_[(size_t) idx * (1 + RJ__JK_N)];
         int key = -1;
         *pos = jp[0];
-        for (k = 0; k < RJ__JK_N; k++) if (strcmp(name, rj__sk_joint[k]) == 0) key = k;
-        if (strncmp(name, "table_", 6) == 0) key = RJ__JK_TABLE;
-        if (strncmp(name, "spring_", 7) == 0) key = RJ__JK_SPRING;
-        if (strcmp(name, "has_forward") == 0) key = RJ__JK_FORWARD;
-        if (strcmp(name, "has_reverse") == 0) key = RJ__JK_REVERSE;
-        if (key == RJ__JK_PENALTY_K && !jp[1 + key].line) key = RJ__JK_METHOD;
-        if (key == RJ__JK_FORWARD && !jp[1 + key].line) key = RJ__JK_REVERSE;
-        if (key >= 0 && jp[1 + key].line) *pos = jp[1 + key];
+        for (k = 0; k < RJ__JK_N; k++)
+            if (strcmp(name, rj__sk_joint[k]) == 0)
+                key = k;
+        if (strncmp(name, "table_", 6) == 0)
+            key = RJ__JK_TABLE;
+        if (strncmp(name, "spring_", 7) == 0)
+            key = RJ__JK_SPRING;
+        if (strcmp(name, "has_forward") == 0)
+            key = RJ__JK_FORWARD;
+        if (strcmp(name, "has_reverse") == 0)
+            key = RJ__JK_REVERSE;
+        if (key == RJ__JK_PENALTY_K && !jp[1 + key].line)
+            key = RJ__JK_METHOD;
+        if (key == RJ__JK_FORWARD && !jp[1 + key].line)
+            key = RJ__JK_REVERSE;
+        if (key >= 0 && jp[1 + key].line)
+            *pos = jp[1 + key];
     }
     return pos->line > 0;
 }
@@ -6161,19 +8765,20 @@ RJDEF void rj_scene_file_locate(const rj_scene_file *f, rj_error *err)
 {
     char m[sizeof err->msg], item[80];
     rj_scene_pos pos;
-    if (!f || !err) return;
-    if (rj__sp_field_pos(f, err->field, &pos, item, sizeof item))
-    {
+    if (!f || !err)
+        return;
+    if (rj__sp_field_pos(f, err->field, &pos, item, sizeof item)) {
         char l[24], c[24], m1[sizeof err->msg];
-        rj__sp_cat(m1, sizeof m1, f->filename, ":", rj__sp_itoa(l, pos.line), ":", rj__sp_itoa(c, pos.col), ": ", NULL);
+        rj__sp_cat(m1, sizeof m1, f->filename, ":", rj__sp_itoa(l, pos.line), ":",
+                   rj__sp_itoa(c, pos.col), ": ", NULL);
         rj__sp_cat(m, sizeof m, m1, err->msg, item, NULL, NULL, NULL, NULL);
-    }
-    else
+    } else
         rj__sp_cat(m, sizeof m, f->filename, ": ", err->msg, NULL, NULL, NULL, NULL);
     memcpy(err->msg, m, sizeof m);
 }
 
-RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *filename, rj_scene_file *out, rj_error *err, void *alloc_ctx)
+RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *filename,
+                                  rj_scene_file *out, rj_error *err, void *alloc_ctx)
 {
     rj__sp P;
     rj_scene_file F;
@@ -6182,108 +8787,148 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     char *block = NULL, *work = NULL;
     memset(&P, 0, sizeof P);
     memset(&F, 0, sizeof F);
-    if (err) { err->code = RJ_OK; err->field[0] = 0; err->msg[0] = 0; err->value = 0; }
+    if (err) {
+        err->code = RJ_OK;
+        err->field[0] = 0;
+        err->msg[0] = 0;
+        err->value = 0;
+    }
     P.fname = filename ? filename : "<input>";
     P.err = err;
     if (!out || (!text && len)) {
-        if (err) { err->code = RJ_ERR_INVALID; snprintf(err->field, sizeof err->field, "%s", out ? "text" : "out"); err->value = 0; snprintf(err->msg, sizeof err->msg, "%s is NULL", out ? "text" : "out"); }
-        if (out) memset(out, 0, sizeof *out);
+        if (err) {
+            err->code = RJ_ERR_INVALID;
+            snprintf(err->field, sizeof err->field, "%s", out ? "text" : "out");
+            err->value = 0;
+            snprintf(err->msg, sizeof err->msg, "%s is NULL", out ? "text" : "out");
+        }
+        if (out)
+            memset(out, 0, sizeof *out);
         return RJ_ERR_INVALID;
     }
     memset(out, 0, sizeof *out);
     if (len > RJ_SCENE_MAX_BYTES) {
         char m[120];
-        snprintf(m, sizeof m, "input of %lu bytes is larger than the %lu a scene file may have", (unsigned long)len, (unsigned long)RJ_SCENE_MAX_BYTES);
-        rj__sp_fail(&P, 1, 1, "", (double)len, m);
+        snprintf(m, sizeof m, "input of %lu bytes is larger than the %lu a scene file may have",
+                 (unsigned long) len, (unsigned long) RJ_SCENE_MAX_BYTES);
+        rj__sp_fail(&P, 1, 1, "", (double) len, m);
         return RJ_ERR_PARSE;
     }
-    P.text = text ? text : ""; P.len = len;
-    if (!rj__sp_text(&P)) return RJ_ERR_PARSE;
+    P.text = text ? text : "";
+    P.len = len;
+    if (!rj__sp_text(&P))
+        return RJ_ERR_PARSE;
     rj__sp_locale(P.dp, &P.dplen);
     rj__sp_count(P.text, len, counts);
-    P.cap_links = counts[RJ__SK_LINK]; P.cap_joints = counts[RJ__SK_JOINT];
-    P.cap_mat = counts[RJ__SK_MATERIAL]; P.cap_sec = counts[RJ__SK_SECTION];
+    P.cap_links = counts[RJ__SK_LINK];
+    P.cap_joints = counts[RJ__SK_JOINT];
+    P.cap_mat = counts[RJ__SK_MATERIAL];
+    P.cap_sec = counts[RJ__SK_SECTION];
     /* the result block */
-    o_links = rj__sp_carve(&off, (size_t)P.cap_links, sizeof(rj_link_def));
-    o_joints = rj__sp_carve(&off, (size_t)P.cap_joints, sizeof(rj_joint_def));
-    o_lpos = rj__sp_carve(&off, (size_t)P.cap_links * (1 + RJ__LK_N), sizeof(rj_scene_pos));
-    o_jpos = rj__sp_carve(&off, (size_t)P.cap_joints * (1 + RJ__JK_N), sizeof(rj_scene_pos));
-    o_lnames = rj__sp_carve(&off, (size_t)P.cap_links, RJ_SCENE_NAME_MAX);
-    o_jnames = rj__sp_carve(&off, (size_t)P.cap_joints, RJ_SCENE_NAME_MAX);
-    block = (char *)RJ_MALLOC(off + 16, alloc_ctx);
+    o_links = rj__sp_carve(&off, (size_t) P.cap_links, sizeof(rj_link_def));
+    o_joints = rj__sp_carve(&off, (size_t) P.cap_joints, sizeof(rj_joint_def));
+    o_lpos = rj__sp_carve(&off, (size_t) P.cap_links * (1 + RJ__LK_N), sizeof(rj_scene_pos));
+    o_jpos = rj__sp_carve(&off, (size_t) P.cap_joints * (1 + RJ__JK_N), sizeof(rj_scene_pos));
+    o_lnames = rj__sp_carve(&off, (size_t) P.cap_links, RJ_SCENE_NAME_MAX);
+    o_jnames = rj__sp_carve(&off, (size_t) P.cap_joints, RJ_SCENE_NAME_MAX);
+    block = (char *) RJ_MALLOC(off + 16, alloc_ctx);
     /* the parser's workspace: tokens, materials, sections */
     off = 0;
     w_tok = rj__sp_carve(&off, RJ_SCENE_MAX_TOKENS, sizeof(rj__stok));
-    w_mat = rj__sp_carve(&off, (size_t)P.cap_mat, sizeof(rj__spart));
-    w_sec = rj__sp_carve(&off, (size_t)P.cap_sec, sizeof(rj__spart));
-    work = block ? (char *)RJ_MALLOC(off + 16, alloc_ctx) : NULL;
+    w_mat = rj__sp_carve(&off, (size_t) P.cap_mat, sizeof(rj__spart));
+    w_sec = rj__sp_carve(&off, (size_t) P.cap_sec, sizeof(rj__spart));
+    work = block ? (char *) RJ_MALLOC(off + 16, alloc_ctx) : NULL;
     if (!block || !work) {
-        if (block) RJ_FREE(block, alloc_ctx);
-        if (err) { err->code = RJ_ERR_NOMEM; snprintf(err->field, sizeof err->field, "size"); err->value = (double)off; rj__sp_cat(err->msg, sizeof err->msg, P.fname, ": out of memory", NULL, NULL, NULL, NULL, NULL); }
+        if (block)
+            RJ_FREE(block, alloc_ctx);
+        if (err) {
+            err->code = RJ_ERR_NOMEM;
+            snprintf(err->field, sizeof err->field, "size");
+            err->value = (double) off;
+            rj__sp_cat(err->msg, sizeof err->msg, P.fname, ": out of memory", NULL, NULL, NULL,
+                       NULL, NULL);
+        }
         return RJ_ERR_NOMEM;
     }
-    memset(block, 0, o_jnames + (size_t)P.cap_joints * RJ_SCENE_NAME_MAX);
-    F.links = (rj_link_def *)(void *)(block + o_links);
-    F.joints = (rj_joint_def *)(void *)(block + o_joints);
-    F.link_pos_ = (rj_scene_pos *)(void *)(block + o_lpos);
-    F.joint_pos_ = (rj_scene_pos *)(void *)(block + o_jpos);
-    F.link_names = (char (*)[RJ_SCENE_NAME_MAX])(void *)(block + o_lnames);
-    F.joint_names = (char (*)[RJ_SCENE_NAME_MAX])(void *)(block + o_jnames);
+    memset(block, 0, o_jnames + (size_t) P.cap_joints * RJ_SCENE_NAME_MAX);
+    F.links = (rj_link_def *) (void *) (block + o_links);
+    F.joints = (rj_joint_def *) (void *) (block + o_joints);
+    F.link_pos_ = (rj_scene_pos *) (void *) (block + o_lpos);
+    F.joint_pos_ = (rj_scene_pos *) (void *) (block + o_jpos);
+    F.link_names = (char(*)[RJ_SCENE_NAME_MAX])(void *) (block + o_lnames);
+    F.joint_names = (char(*)[RJ_SCENE_NAME_MAX])(void *) (block + o_jnames);
     F.solver = rj_default_solver_def();
-    F.block_ = block; F.alloc_ctx_ = alloc_ctx;
+    F.block_ = block;
+    F.alloc_ctx_ = alloc_ctx;
     rj__sp_cat(F.filename, sizeof F.filename, P.fname, NULL, NULL, NULL, NULL, NULL, NULL);
     P.f = &F;
-    P.tok = (rj__stok *)(void *)(work + w_tok);
-    P.mat = (rj__spart *)(void *)(work + w_mat);
-    P.sec = (rj__spart *)(void *)(work + w_sec);
+    P.tok = (rj__stok *) (void *) (work + w_tok);
+    P.mat = (rj__spart *) (void *) (work + w_mat);
+    P.sec = (rj__spart *) (void *) (work + w_sec);
     P.kind = RJ__SK_NONE;
 
     while ((r = rj__sp_next(&P)) > 0) {
-        if (!P.ntok) continue;
-        if (P.tok[0].kind != 'w') { rj__sp_err_tok(&P, &P.tok[0], "", rj__sp_nan(), "expected a key or a section keyword, found ", NULL, NULL, NULL); goto fail; }
-        if (P.ntok >= 2 && P.tok[1].kind == '=') { if (!rj__sp_assignments(&P)) goto fail; }
-        else if (!rj__sp_header(&P)) goto fail;
+        if (!P.ntok)
+            continue;
+        if (P.tok[0].kind != 'w') {
+            rj__sp_err_tok(&P, &P.tok[0], "", rj__sp_nan(),
+                           "expected a key or a section keyword, found ", NULL, NULL, NULL);
+            goto fail;
+        }
+        if (P.ntok >= 2 && P.tok[1].kind == '=') {
+            if (!rj__sp_assignments(&P))
+                goto fail;
+        } else if (!rj__sp_header(&P))
+            goto fail;
     }
-    if (r < 0 || !rj__sp_finish(&P)) goto fail;
+    if (r < 0 || !rj__sp_finish(&P))
+        goto fail;
     if (F.link_count == 0) {
-        rj__sp_fail(&P, P.lineno > 0 ? P.lineno : 1, 1, "link_count", 0, "the scene has no links (a scene needs at least one 'link' section)");
+        rj__sp_fail(&P, P.lineno > 0 ? P.lineno : 1, 1, "link_count", 0,
+                    "the scene has no links (a scene needs at least one 'link' section)");
         goto fail;
     }
     RJ_FREE(work, alloc_ctx);
     work = NULL;
-    {   /* the model's own validation, located in the file */
+    { /* the model's own validation, located in the file */
         rj_scene_def sd = rj_scene_file_def(&F);
         rj_error me;
         if (rj__validate_all(&sd, &me, alloc_ctx) != RJ_OK) {
             rj_scene_file_locate(&F, &me);
             P.code = me.code;
-            if (err) *err = me;
+            if (err)
+                *err = me;
             goto fail;
         }
     }
     *out = F;
     return RJ_OK;
 fail:
-    if (work) RJ_FREE(work, alloc_ctx);
+    if (work)
+        RJ_FREE(work, alloc_ctx);
     RJ_FREE(block, alloc_ctx);
     memset(out, 0, sizeof *out);
     return P.code != RJ_OK ? P.code : RJ_ERR_PARSE;
 }
 
-RJDEF rj_result rj_scene_parse(const char *text, size_t len, const char *filename, rj_scene_file *out, rj_error *err)
+RJDEF rj_result rj_scene_parse(const char *text, size_t len, const char *filename,
+                               rj_scene_file *out, rj_error *err)
 {
     return rj_scene_parse_ex(text, len, filename, out, err, NULL);
 }
 
 /* a failure of rj_scene_load: "path: what: the system's reason" when errnum is set (the
    user needs to know whether the file is missing, unreadable or a directory) */
-static rj_result rj__sp_load_fail(rj_error *err, rj_result code, const char *path, const char *what, int errnum, double value)
+static rj_result rj__sp_load_fail(rj_error *err, rj_result code, const char *path, const char *what,
+                                  int errnum, double value)
 {
-    if (!err) return code;
+    if (!err)
+        return code;
     err->code = code;
     snprintf(err->field, sizeof err->field, "%s", code == RJ_ERR_NOMEM ? "size" : "path");
     err->value = value;
-    rj__sp_cat(err->msg, sizeof err->msg, path, ": ", what, errnum ? ": " : "", errnum ? strerror(errnum) : "", NULL, NULL);
+    rj__sp_cat(err->msg, sizeof err->msg, path, ": ", what, errnum ? ": " : "",
+               errnum ? strerror(errnum) : "", NULL, NULL);
     return code;
 }
 
@@ -6292,26 +8937,38 @@ static rj_result rj__sp_load_fail(rj_error *err, rj_result code, const char *pat
 static rj_result rj__sp_read(FILE *fp, const char *path, char **buf, size_t *n, rj_error *err)
 {
     size_t cap = 0;
-    *buf = NULL; *n = 0;
+    *buf = NULL;
+    *n = 0;
     for (;;) {
         size_t got;
         if (*n == cap) {
             size_t nc = cap ? cap * 2 : 65536;
             char *nb;
-            if (nc > (size_t)RJ_SCENE_MAX_BYTES + 1) nc = (size_t)RJ_SCENE_MAX_BYTES + 1;
-            if (cap > RJ_SCENE_MAX_BYTES) return rj__sp_load_fail(err, RJ_ERR_PARSE, path, "the file is larger than 64 MiB (RJ_SCENE_MAX_BYTES)", 0, (double)*n);
-            nb = (char *)RJ_MALLOC(nc, NULL);
-            if (!nb) return rj__sp_load_fail(err, RJ_ERR_NOMEM, path, "out of memory reading the file", 0, (double)nc);
-            if (*n) memcpy(nb, *buf, *n);
-            if (*buf) RJ_FREE(*buf, NULL);
-            *buf = nb; cap = nc;
+            if (nc > (size_t) RJ_SCENE_MAX_BYTES + 1)
+                nc = (size_t) RJ_SCENE_MAX_BYTES + 1;
+            if (cap > RJ_SCENE_MAX_BYTES)
+                return rj__sp_load_fail(err, RJ_ERR_PARSE, path,
+                                        "the file is larger than 64 MiB (RJ_SCENE_MAX_BYTES)", 0,
+                                        (double) *n);
+            nb = (char *) RJ_MALLOC(nc, NULL);
+            if (!nb)
+                return rj__sp_load_fail(err, RJ_ERR_NOMEM, path, "out of memory reading the file",
+                                        0, (double) nc);
+            if (*n)
+                memcpy(nb, *buf, *n);
+            if (*buf)
+                RJ_FREE(*buf, NULL);
+            *buf = nb;
+            cap = nc;
         }
         errno = 0;
         got = fread(*buf + *n, 1, cap - *n, fp);
         *n += got;
-        if (got == 0) break;
+        if (got == 0)
+            break;
     }
-    if (ferror(fp)) return rj__sp_load_fail(err, RJ_ERR_PARSE, path, "cannot read the file", errno, errno);
+    if (ferror(fp))
+        return rj__sp_load_fail(err, RJ_ERR_PARSE, path, "cannot read the file", errno, errno);
     return RJ_OK;
 }
 
@@ -6321,56 +8978,82 @@ RJDEF rj_result rj_scene_load(const char *path, rj_scene_file *out, rj_error *er
     char *buf = NULL;
     size_t n = 0;
     rj_result r;
-    if (out) memset(out, 0, sizeof *out);
+    if (out)
+        memset(out, 0, sizeof *out);
     if (!path || !out) {
-        if (err) { err->code = RJ_ERR_INVALID; snprintf(err->field, sizeof err->field, "%s", path ? "out" : "path"); err->value = 0; snprintf(err->msg, sizeof err->msg, "%s is NULL", path ? "out" : "path"); }
+        if (err) {
+            err->code = RJ_ERR_INVALID;
+            snprintf(err->field, sizeof err->field, "%s", path ? "out" : "path");
+            err->value = 0;
+            snprintf(err->msg, sizeof err->msg, "%s is NULL", path ? "out" : "path");
+        }
         return RJ_ERR_INVALID;
     }
     errno = 0;
     fp = fopen(path, "rb");
-    if (!fp) return rj__sp_load_fail(err, RJ_ERR_PARSE, path, "cannot open the file for reading", errno, errno);
+    if (!fp)
+        return rj__sp_load_fail(err, RJ_ERR_PARSE, path, "cannot open the file for reading", errno,
+                                errno);
     r = rj__sp_read(fp, path, &buf, &n, err);
     fclose(fp);
-    if (r == RJ_OK) r = rj_scene_parse_ex(buf, n, path, out, err, NULL);
-    if (buf) RJ_FREE(buf, NULL);
+    if (r == RJ_OK)
+        r = rj_scene_parse_ex(buf, n, path, out, err, NULL);
+    if (buf)
+        RJ_FREE(buf, NULL);
     return r;
 }
 
 RJDEF rj_scene_def rj_scene_file_def(const rj_scene_file *f)
 {
     rj_scene_def d = rj_default_scene_def();
-    if (!f) return d;
-    d.links = f->links; d.link_count = f->link_count;
-    d.joints = f->joints; d.joint_count = f->joint_count;
+    if (!f)
+        return d;
+    d.links = f->links;
+    d.link_count = f->link_count;
+    d.joints = f->joints;
+    d.joint_count = f->joint_count;
     d.solver = f->solver;
     return d;
 }
 
 RJDEF void rj_scene_file_free(rj_scene_file *f)
 {
-    if (!f) return;
-    if (f->block_) RJ_FREE(f->block_, f->alloc_ctx_);
+    if (!f)
+        return;
+    if (f->block_)
+        RJ_FREE(f->block_, f->alloc_ctx_);
     memset(f, 0, sizeof *f);
 }
 
 RJDEF int rj_scene_link_index(const rj_scene_file *f, const char *name)
 {
     int k;
-    if (!f || !name) return -1;
-    for (k = 0; k < f->link_count; k++) if (strcmp(f->link_names[k], name) == 0) return k;
+    if (!f || !name)
+        return -1;
+    for (k = 0; k < f->link_count; k++)
+        if (strcmp(f->link_names[k], name) == 0)
+            return k;
     return -1;
 }
 
 RJDEF int rj_scene_joint_index(const rj_scene_file *f, const char *name)
 {
     int k;
-    if (!f || !name) return -1;
-    for (k = 0; k < f->joint_count; k++) if (strcmp(f->joint_names[k], name) == 0) return k;
+    if (!f || !name)
+        return -1;
+    for (k = 0; k < f->joint_count; k++)
+        if (strcmp(f->joint_names[k], name) == 0)
+            return k;
     return -1;
 }
 
 /* ------------------------------------------------------------------ writer */
-typedef struct rj__sw { char *buf; size_t size, n; char dp[8]; int dplen; } rj__sw;
+typedef struct rj__sw {
+    char *buf;
+    size_t size, n;
+    char dp[8];
+    int dplen;
+} rj__sw;
 
 static void rj__sw_put(rj__sw *W, const char *s)
 {
@@ -6385,18 +9068,24 @@ static void rj__sw_put(rj__sw *W, const char *s)
 
 /* text of v with '.' whatever the locale; returns whether it reads back as target
    (through rj_rad when deg) */
-static int rj__sw_fmt(const rj__sw *W, double v, int fixed, int p, int deg, double target, char *out, size_t size)
+static int rj__sw_fmt(const rj__sw *W, double v, int fixed, int p, int deg, double target,
+                      char *out, size_t size)
 {
     char t[400];
     double back = 0;
     int k, o = 0, n = snprintf(t, sizeof t, fixed ? "%.*f" : "%.*g", p, v);
-    if (n < 0 || n >= (int)sizeof t) n = 0;
-    for (k = 0; k < n && o + 1 < (int)size; ) {
-        if (W->dp[0] != '.' && k + W->dplen <= n && memcmp(t + k, W->dp, (size_t)W->dplen) == 0) { out[o++] = '.'; k += W->dplen; }
-        else out[o++] = t[k++];
+    if (n < 0 || n >= (int) sizeof t)
+        n = 0;
+    for (k = 0; k < n && o + 1 < (int) size;) {
+        if (W->dp[0] != '.' && k + W->dplen <= n && memcmp(t + k, W->dp, (size_t) W->dplen) == 0) {
+            out[o++] = '.';
+            k += W->dplen;
+        } else
+            out[o++] = t[k++];
     }
     out[o] = 0;
-    return k == n && rj__sp_strtonum(out, o, W->dp, W->dplen, &back) == 1 && (deg ? rj_rad(back) : back) == target;
+    return k == n && rj__sp_strtonum(out, o, W->dp, W->dplen, &back) == 1 &&
+           (deg ? rj_rad(back) : back) == target;
 }
 
 /* shortest text of v that reads back as target: %.Ng (N = 1..17) or, for moderate
@@ -6405,10 +9094,21 @@ static int rj__sw_num_try(const rj__sw *W, double v, int deg, double target, cha
 {
     char g[64], f[64];
     int p, okg = 0, okf = 0;
-    for (p = 1; p <= 17 && !okg; p++) okg = rj__sw_fmt(W, v, 0, p, deg, target, g, sizeof g);
-    if (fabs(v) < 1e15) for (p = 0; p <= 17 && !okf; p++) okf = rj__sw_fmt(W, v, 1, p, deg, target, f, sizeof f);
-    if (okf && (!okg || strlen(f) <= strlen(g))) { memcpy(out, f, strlen(f) + 1 < size ? strlen(f) + 1 : size); out[size - 1] = 0; return 1; }
-    if (okg) { memcpy(out, g, strlen(g) + 1 < size ? strlen(g) + 1 : size); out[size - 1] = 0; return 1; }
+    for (p = 1; p <= 17 && !okg; p++)
+        okg = rj__sw_fmt(W, v, 0, p, deg, target, g, sizeof g);
+    if (fabs(v) < 1e15)
+        for (p = 0; p <= 17 && !okf; p++)
+            okf = rj__sw_fmt(W, v, 1, p, deg, target, f, sizeof f);
+    if (okf && (!okg || strlen(f) <= strlen(g))) {
+        memcpy(out, f, strlen(f) + 1 < size ? strlen(f) + 1 : size);
+        out[size - 1] = 0;
+        return 1;
+    }
+    if (okg) {
+        memcpy(out, g, strlen(g) + 1 < size ? strlen(g) + 1 : size);
+        out[size - 1] = 0;
+        return 1;
+    }
     rj__sw_fmt(W, v, 0, 17, deg, target, out, size);
     return 0;
 }
@@ -6434,13 +9134,24 @@ static void rj__sw_angle(rj__sw *W, double v, int rate)
     rj__sw_put(W, rate ? " rad/s" : " rad");
 }
 
-static void rj__sw_key(rj__sw *W, const char *key) { rj__sw_put(W, "  "); rj__sw_put(W, key); rj__sw_put(W, " = "); }
+static void rj__sw_key(rj__sw *W, const char *key)
+{
+    rj__sw_put(W, "  ");
+    rj__sw_put(W, key);
+    rj__sw_put(W, " = ");
+}
 
-static int rj__sw_finite(double v) { return v - v == 0.0; }
+static int rj__sw_finite(double v)
+{
+    return v - v == 0.0;
+}
 
 /* whether v differs from def in its bits, not only in value: -0.0 must be written (a
    ground pin at x = -0.0 puts -0.0 into the node positions), so it reads back as -0.0 */
-static int rj__sw_set(double v, double def) { return memcmp(&v, &def, sizeof v) != 0; }
+static int rj__sw_set(double v, double def)
+{
+    return memcmp(&v, &def, sizeof v) != 0;
+}
 
 /* whether the writer can express the link: its enums in range and every number it writes
    finite. Fields the model ignores are not written, so anything in them is fine: width and
@@ -6449,11 +9160,26 @@ static int rj__sw_link_ok(const rj_link_def *d)
 {
     double v[14];
     int k, gen = d->section == RJ_SECTION_GENERAL;
-    if (d->root < 0 || d->root > 3 || (d->section != RJ_SECTION_RECT && !gen)
-        || d->fidelity < RJ_LINK_FLEXIBLE || d->fidelity > RJ_LINK_INEXTENSIBLE) return 0;
-    v[0] = d->length; v[1] = d->E; v[2] = d->rho; v[3] = d->height; v[4] = d->tip_mass; v[5] = d->tip_inertia; v[6] = d->x;
-    v[7] = d->y; v[8] = d->angle; v[9] = d->vx; v[10] = d->vy; v[11] = d->omega; v[12] = gen ? d->area : d->width; v[13] = gen ? d->inertia : 0;
-    for (k = 0; k < 14; k++) if (!rj__sw_finite(v[k])) return 0;
+    if (d->root < 0 || d->root > 3 || (d->section != RJ_SECTION_RECT && !gen) ||
+        d->fidelity < RJ_LINK_FLEXIBLE || d->fidelity > RJ_LINK_INEXTENSIBLE)
+        return 0;
+    v[0] = d->length;
+    v[1] = d->E;
+    v[2] = d->rho;
+    v[3] = d->height;
+    v[4] = d->tip_mass;
+    v[5] = d->tip_inertia;
+    v[6] = d->x;
+    v[7] = d->y;
+    v[8] = d->angle;
+    v[9] = d->vx;
+    v[10] = d->vy;
+    v[11] = d->omega;
+    v[12] = gen ? d->area : d->width;
+    v[13] = gen ? d->inertia : 0;
+    for (k = 0; k < 14; k++)
+        if (!rj__sw_finite(v[k]))
+            return 0;
     return 1;
 }
 
@@ -6463,37 +9189,66 @@ static int rj__sw_joint_ok(const rj_joint_def *d, int link_count)
 {
     double v[8];
     int k;
-    if (d->body1 < -1 || d->body1 >= link_count || d->body2 < 0 || d->body2 >= link_count) return 0;
-    if ((d->lock & ~1) || (d->has_forward & ~1) || (d->has_reverse & ~1) || d->table_count < 0 || d->table_count > RJ_TABLE_MAX
-        || d->method < 0 || d->method > 4 || d->release < 0 || d->release > 1 || d->reference < 0 || d->reference > 1) return 0;
-    v[0] = d->angle0; v[1] = d->rate0; v[2] = d->spring_k; v[3] = d->spring_free_angle; v[4] = d->penalty_k; v[5] = d->restitution;
-    v[6] = d->damping; v[7] = d->friction;
-    for (k = 0; k < 8; k++) if (!rj__sw_finite(v[k])) return 0;
-    if (d->body1 < 0 && !(rj__sw_finite(d->ground_x) && rj__sw_finite(d->ground_y) && rj__sw_finite(d->ground_angle))) return 0;
-    if ((d->has_forward && !rj__sw_finite(d->forward)) || (d->has_reverse && !rj__sw_finite(d->reverse))) return 0;
-    for (k = 0; k < d->table_count; k++) if (!rj__sw_finite(d->table_angle[k]) || !rj__sw_finite(d->table_torque[k])) return 0;
+    if (d->body1 < -1 || d->body1 >= link_count || d->body2 < 0 || d->body2 >= link_count)
+        return 0;
+    if ((d->lock & ~1) || (d->has_forward & ~1) || (d->has_reverse & ~1) || d->table_count < 0 ||
+        d->table_count > RJ_TABLE_MAX || d->method < 0 || d->method > 4 || d->release < 0 ||
+        d->release > 1 || d->reference < 0 || d->reference > 1)
+        return 0;
+    v[0] = d->angle0;
+    v[1] = d->rate0;
+    v[2] = d->spring_k;
+    v[3] = d->spring_free_angle;
+    v[4] = d->penalty_k;
+    v[5] = d->restitution;
+    v[6] = d->damping;
+    v[7] = d->friction;
+    for (k = 0; k < 8; k++)
+        if (!rj__sw_finite(v[k]))
+            return 0;
+    if (d->body1 < 0 && !(rj__sw_finite(d->ground_x) && rj__sw_finite(d->ground_y) &&
+                          rj__sw_finite(d->ground_angle)))
+        return 0;
+    if ((d->has_forward && !rj__sw_finite(d->forward)) ||
+        (d->has_reverse && !rj__sw_finite(d->reverse)))
+        return 0;
+    for (k = 0; k < d->table_count; k++)
+        if (!rj__sw_finite(d->table_angle[k]) || !rj__sw_finite(d->table_torque[k]))
+            return 0;
     return 1;
 }
 
 /* names and numbers first: rj_scene_write writes nothing for a scene it cannot write */
-static int rj__sw_ok(const rj_scene_def *sc, const char *const *link_names, const char *const *joint_names)
+static int rj__sw_ok(const rj_scene_def *sc, const char *const *link_names,
+                     const char *const *joint_names)
 {
     const rj_solver_def *s = &sc->solver;
     int i, k;
     for (k = 0; k < 2; k++) {
         const char *const *names = k ? joint_names : link_names;
         int n = k ? sc->joint_count : sc->link_count, a, b;
-        if (!names) continue;
+        if (!names)
+            continue;
         for (a = 0; a < n; a++) {
-            if (!names[a] || !rj__sp_name_ok(names[a], (int)strlen(names[a]))) return 0;
-            if (!k && strcmp(names[a], "ground") == 0) return 0;
-            for (b = 0; b < a; b++) if (names[b] && strcmp(names[a], names[b]) == 0) return 0;
+            if (!names[a] || !rj__sp_name_ok(names[a], (int) strlen(names[a])))
+                return 0;
+            if (!k && strcmp(names[a], "ground") == 0)
+                return 0;
+            for (b = 0; b < a; b++)
+                if (names[b] && strcmp(names[a], names[b]) == 0)
+                    return 0;
         }
     }
-    if (!rj__sw_finite(s->dt) || !rj__sw_finite(s->energy_growth) || (s->allow_unstable != 0 && s->allow_unstable != 1)
-        || s->energy_every < 1 || s->energy_every > 1000 || s->in_place < RJ_IN_PLACE_AUTO || s->in_place > RJ_IN_PLACE_OFF) return 0;
-    for (i = 0; i < sc->link_count; i++) if (!rj__sw_link_ok(&sc->links[i])) return 0;
-    for (i = 0; i < sc->joint_count; i++) if (!rj__sw_joint_ok(&sc->joints[i], sc->link_count)) return 0;
+    if (!rj__sw_finite(s->dt) || !rj__sw_finite(s->energy_growth) ||
+        (s->allow_unstable != 0 && s->allow_unstable != 1) || s->energy_every < 1 ||
+        s->energy_every > 1000 || s->in_place < RJ_IN_PLACE_AUTO || s->in_place > RJ_IN_PLACE_OFF)
+        return 0;
+    for (i = 0; i < sc->link_count; i++)
+        if (!rj__sw_link_ok(&sc->links[i]))
+            return 0;
+    for (i = 0; i < sc->joint_count; i++)
+        if (!rj__sw_joint_ok(&sc->joints[i], sc->link_count))
+            return 0;
     return 1;
 }
 
@@ -6501,7 +9256,10 @@ static int rj__sw_ok(const rj_scene_def *sc, const char *const *link_names, cons
 static void rj__sw_name(rj__sw *W, const char *const *names, const char *prefix, int i)
 {
     char nm[40];
-    if (names) { rj__sw_put(W, names[i]); return; }
+    if (names) {
+        rj__sw_put(W, names[i]);
+        return;
+    }
     snprintf(nm, sizeof nm, "%s%d", prefix, i);
     rj__sw_put(W, nm);
 }
@@ -6511,14 +9269,34 @@ static void rj__sw_solver(rj__sw *W, const rj_solver_def *s)
 {
     rj_solver_def S0 = rj_default_solver_def();
     char nm[40];
-    if (!rj__sw_set(s->dt, S0.dt) && !s->allow_unstable && !rj__sw_set(s->energy_growth, S0.energy_growth)
-        && s->energy_every == S0.energy_every && s->in_place == S0.in_place) return;
+    if (!rj__sw_set(s->dt, S0.dt) && !s->allow_unstable &&
+        !rj__sw_set(s->energy_growth, S0.energy_growth) && s->energy_every == S0.energy_every &&
+        s->in_place == S0.in_place)
+        return;
     rj__sw_put(W, "solver\n");
-    if (rj__sw_set(s->dt, S0.dt)) { rj__sw_key(W, "dt"); rj__sw_num(W, s->dt); rj__sw_put(W, "\n"); }
-    if (s->allow_unstable) { rj__sw_key(W, "allow_unstable"); rj__sw_put(W, "yes\n"); }
-    if (rj__sw_set(s->energy_growth, S0.energy_growth)) { rj__sw_key(W, "energy_growth"); rj__sw_num(W, s->energy_growth); rj__sw_put(W, "\n"); }
-    if (s->energy_every != S0.energy_every) { snprintf(nm, sizeof nm, "  energy_every = %d\n", s->energy_every); rj__sw_put(W, nm); }
-    if (s->in_place != S0.in_place) { rj__sw_key(W, "in_place"); rj__sw_put(W, rj__sk_in_place[s->in_place]); rj__sw_put(W, "\n"); }
+    if (rj__sw_set(s->dt, S0.dt)) {
+        rj__sw_key(W, "dt");
+        rj__sw_num(W, s->dt);
+        rj__sw_put(W, "\n");
+    }
+    if (s->allow_unstable) {
+        rj__sw_key(W, "allow_unstable");
+        rj__sw_put(W, "yes\n");
+    }
+    if (rj__sw_set(s->energy_growth, S0.energy_growth)) {
+        rj__sw_key(W, "energy_growth");
+        rj__sw_num(W, s->energy_growth);
+        rj__sw_put(W, "\n");
+    }
+    if (s->energy_every != S0.energy_every) {
+        snprintf(nm, sizeof nm, "  energy_every = %d\n", s->energy_every);
+        rj__sw_put(W, nm);
+    }
+    if (s->in_place != S0.in_place) {
+        rj__sw_key(W, "in_place");
+        rj__sw_put(W, rj__sk_in_place[s->in_place]);
+        rj__sw_put(W, "\n");
+    }
 }
 
 /* a link section; root_link: the link hangs from no joint (else x, y, angle are unused) */
@@ -6526,29 +9304,69 @@ static void rj__sw_link(rj__sw *W, const rj_link_def *d, int root_link)
 {
     rj_link_def L0 = rj_default_link_def();
     char nm[40];
-    rj__sw_key(W, "length"); rj__sw_num(W, d->length);
-    snprintf(nm, sizeof nm, "  elements = %d\n", d->elements); rj__sw_put(W, nm);
-    rj__sw_key(W, "E"); rj__sw_num(W, d->E); rj__sw_put(W, "  rho = "); rj__sw_num(W, d->rho); rj__sw_put(W, "\n");
+    rj__sw_key(W, "length");
+    rj__sw_num(W, d->length);
+    snprintf(nm, sizeof nm, "  elements = %d\n", d->elements);
+    rj__sw_put(W, nm);
+    rj__sw_key(W, "E");
+    rj__sw_num(W, d->E);
+    rj__sw_put(W, "  rho = ");
+    rj__sw_num(W, d->rho);
+    rj__sw_put(W, "\n");
     if (d->section == RJ_SECTION_GENERAL) {
-        rj__sw_key(W, "area"); rj__sw_num(W, d->area); rj__sw_put(W, "  inertia = "); rj__sw_num(W, d->inertia);
-        if (rj__sw_set(d->height, L0.height)) { rj__sw_put(W, "  height = "); rj__sw_num(W, d->height); }
+        rj__sw_key(W, "area");
+        rj__sw_num(W, d->area);
+        rj__sw_put(W, "  inertia = ");
+        rj__sw_num(W, d->inertia);
+        if (rj__sw_set(d->height, L0.height)) {
+            rj__sw_put(W, "  height = ");
+            rj__sw_num(W, d->height);
+        }
     } else {
-        rj__sw_key(W, "width"); rj__sw_num(W, d->width); rj__sw_put(W, "  height = "); rj__sw_num(W, d->height);
-        if (d->layers != L0.layers) { snprintf(nm, sizeof nm, "  layers = %d", d->layers); rj__sw_put(W, nm); }
+        rj__sw_key(W, "width");
+        rj__sw_num(W, d->width);
+        rj__sw_put(W, "  height = ");
+        rj__sw_num(W, d->height);
+        if (d->layers != L0.layers) {
+            snprintf(nm, sizeof nm, "  layers = %d", d->layers);
+            rj__sw_put(W, nm);
+        }
     }
     rj__sw_put(W, "\n");
     if (rj__sw_set(d->tip_mass, 0) || rj__sw_set(d->tip_inertia, 0)) {
-        rj__sw_key(W, "tip_mass"); rj__sw_num(W, d->tip_mass); rj__sw_put(W, "  tip_inertia = "); rj__sw_num(W, d->tip_inertia); rj__sw_put(W, "\n");
+        rj__sw_key(W, "tip_mass");
+        rj__sw_num(W, d->tip_mass);
+        rj__sw_put(W, "  tip_inertia = ");
+        rj__sw_num(W, d->tip_inertia);
+        rj__sw_put(W, "\n");
     }
-    if (d->root != L0.root) { rj__sw_key(W, "root"); rj__sw_put(W, rj__sk_root[d->root]); rj__sw_put(W, "\n"); }
-    if (d->fidelity != L0.fidelity) { rj__sw_key(W, "fidelity"); rj__sw_put(W, rj__sk_fidelity[d->fidelity]); rj__sw_put(W, "\n"); }
+    if (d->root != L0.root) {
+        rj__sw_key(W, "root");
+        rj__sw_put(W, rj__sk_root[d->root]);
+        rj__sw_put(W, "\n");
+    }
+    if (d->fidelity != L0.fidelity) {
+        rj__sw_key(W, "fidelity");
+        rj__sw_put(W, rj__sk_fidelity[d->fidelity]);
+        rj__sw_put(W, "\n");
+    }
     if (rj__sw_set(d->x, 0) || rj__sw_set(d->y, 0) || rj__sw_set(d->angle, 0)) {
-        rj__sw_key(W, "x"); rj__sw_num(W, d->x); rj__sw_put(W, "  y = "); rj__sw_num(W, d->y);
-        rj__sw_put(W, "  angle = "); rj__sw_angle(W, d->angle, 0); rj__sw_put(W, root_link ? "\n" : "   # unused: the link hangs from a joint\n");
+        rj__sw_key(W, "x");
+        rj__sw_num(W, d->x);
+        rj__sw_put(W, "  y = ");
+        rj__sw_num(W, d->y);
+        rj__sw_put(W, "  angle = ");
+        rj__sw_angle(W, d->angle, 0);
+        rj__sw_put(W, root_link ? "\n" : "   # unused: the link hangs from a joint\n");
     }
     if (rj__sw_set(d->vx, 0) || rj__sw_set(d->vy, 0) || rj__sw_set(d->omega, 0)) {
-        rj__sw_key(W, "vx"); rj__sw_num(W, d->vx); rj__sw_put(W, "  vy = "); rj__sw_num(W, d->vy);
-        rj__sw_put(W, "  omega = "); rj__sw_angle(W, d->omega, 1); rj__sw_put(W, "\n");
+        rj__sw_key(W, "vx");
+        rj__sw_num(W, d->vx);
+        rj__sw_put(W, "  vy = ");
+        rj__sw_num(W, d->vy);
+        rj__sw_put(W, "  omega = ");
+        rj__sw_angle(W, d->omega, 1);
+        rj__sw_put(W, "\n");
     }
 }
 
@@ -6556,11 +9374,15 @@ static void rj__sw_link(rj__sw *W, const rj_link_def *d, int root_link)
 static void rj__sw_table(rj__sw *W, const rj_joint_def *d)
 {
     int k;
-    if (d->table_count <= 0) return;
+    if (d->table_count <= 0)
+        return;
     rj__sw_key(W, "table");
     for (k = 0; k < d->table_count; k++) {
-        if (k) rj__sw_put(W, k % 4 == 0 ? ",\n    " : ", ");
-        rj__sw_angle(W, d->table_angle[k], 0); rj__sw_put(W, " "); rj__sw_num(W, d->table_torque[k]);
+        if (k)
+            rj__sw_put(W, k % 4 == 0 ? ",\n    " : ", ");
+        rj__sw_angle(W, d->table_angle[k], 0);
+        rj__sw_put(W, " ");
+        rj__sw_num(W, d->table_torque[k]);
     }
     rj__sw_put(W, "\n");
 }
@@ -6569,24 +9391,67 @@ static void rj__sw_table(rj__sw *W, const rj_joint_def *d)
 static void rj__sw_joint_rest(rj__sw *W, const rj_joint_def *d)
 {
     rj_joint_def J0 = rj_default_joint_def();
-    rj__sw_key(W, "angle0"); rj__sw_angle(W, d->angle0, 0);
-    if (rj__sw_set(d->rate0, 0)) { rj__sw_put(W, "  rate0 = "); rj__sw_angle(W, d->rate0, 1); }
+    rj__sw_key(W, "angle0");
+    rj__sw_angle(W, d->angle0, 0);
+    if (rj__sw_set(d->rate0, 0)) {
+        rj__sw_put(W, "  rate0 = ");
+        rj__sw_angle(W, d->rate0, 1);
+    }
     rj__sw_put(W, "\n");
     rj__sw_table(W, d);
-    if (rj__sw_set(d->spring_k, J0.spring_k) || rj__sw_set(d->spring_free_angle, J0.spring_free_angle)) {
-        rj__sw_key(W, "spring"); rj__sw_num(W, d->spring_k); rj__sw_put(W, " "); rj__sw_angle(W, d->spring_free_angle, 0); rj__sw_put(W, "\n");
+    if (rj__sw_set(d->spring_k, J0.spring_k) ||
+        rj__sw_set(d->spring_free_angle, J0.spring_free_angle)) {
+        rj__sw_key(W, "spring");
+        rj__sw_num(W, d->spring_k);
+        rj__sw_put(W, " ");
+        rj__sw_angle(W, d->spring_free_angle, 0);
+        rj__sw_put(W, "\n");
     }
-    if (d->has_forward) { rj__sw_key(W, "forward"); rj__sw_angle(W, d->forward, 0); rj__sw_put(W, "\n"); }
-    if (d->has_reverse) { rj__sw_key(W, "reverse"); rj__sw_angle(W, d->reverse, 0); rj__sw_put(W, "\n"); }
-    if (d->lock) { rj__sw_key(W, "lock"); rj__sw_put(W, "yes\n"); }
-    rj__sw_key(W, "method"); rj__sw_put(W, rj__sk_method[d->method]);
-    if (d->release != J0.release) { rj__sw_put(W, "  release = "); rj__sw_put(W, rj__sk_release[d->release]); }
-    if (d->reference != J0.reference) { rj__sw_put(W, "  reference = "); rj__sw_put(W, rj__sk_reference[d->reference]); }
+    if (d->has_forward) {
+        rj__sw_key(W, "forward");
+        rj__sw_angle(W, d->forward, 0);
+        rj__sw_put(W, "\n");
+    }
+    if (d->has_reverse) {
+        rj__sw_key(W, "reverse");
+        rj__sw_angle(W, d->reverse, 0);
+        rj__sw_put(W, "\n");
+    }
+    if (d->lock) {
+        rj__sw_key(W, "lock");
+        rj__sw_put(W, "yes\n");
+    }
+    rj__sw_key(W, "method");
+    rj__sw_put(W, rj__sk_method[d->method]);
+    if (d->release != J0.release) {
+        rj__sw_put(W, "  release = ");
+        rj__sw_put(W, rj__sk_release[d->release]);
+    }
+    if (d->reference != J0.reference) {
+        rj__sw_put(W, "  reference = ");
+        rj__sw_put(W, rj__sk_reference[d->reference]);
+    }
     rj__sw_put(W, "\n");
-    if (rj__sw_set(d->penalty_k, 0)) { rj__sw_key(W, "penalty_k"); rj__sw_num(W, d->penalty_k); rj__sw_put(W, "\n"); }
-    if (rj__sw_set(d->restitution, 0)) { rj__sw_key(W, "restitution"); rj__sw_num(W, d->restitution); rj__sw_put(W, "\n"); }
-    if (rj__sw_set(d->damping, 0)) { rj__sw_key(W, "damping"); rj__sw_num(W, d->damping); rj__sw_put(W, "\n"); }
-    if (rj__sw_set(d->friction, 0)) { rj__sw_key(W, "friction"); rj__sw_num(W, d->friction); rj__sw_put(W, "\n"); }
+    if (rj__sw_set(d->penalty_k, 0)) {
+        rj__sw_key(W, "penalty_k");
+        rj__sw_num(W, d->penalty_k);
+        rj__sw_put(W, "\n");
+    }
+    if (rj__sw_set(d->restitution, 0)) {
+        rj__sw_key(W, "restitution");
+        rj__sw_num(W, d->restitution);
+        rj__sw_put(W, "\n");
+    }
+    if (rj__sw_set(d->damping, 0)) {
+        rj__sw_key(W, "damping");
+        rj__sw_num(W, d->damping);
+        rj__sw_put(W, "\n");
+    }
+    if (rj__sw_set(d->friction, 0)) {
+        rj__sw_key(W, "friction");
+        rj__sw_num(W, d->friction);
+        rj__sw_put(W, "\n");
+    }
 }
 
 /* a joint section: bodies, node1 when body1 is a link, ground_* when it is ground */
@@ -6594,13 +9459,26 @@ static void rj__sw_joint(rj__sw *W, const rj_joint_def *d, const char *const *li
 {
     char nm[40];
     rj__sw_key(W, "body1");
-    if (d->body1 < 0) rj__sw_put(W, "ground"); else rj__sw_name(W, link_names, "link", d->body1);
-    rj__sw_put(W, "  body2 = "); rj__sw_name(W, link_names, "link", d->body2);
-    if (d->body1 >= 0 && d->node1 != -1) { snprintf(nm, sizeof nm, "  node1 = %d", d->node1); rj__sw_put(W, nm); }
+    if (d->body1 < 0)
+        rj__sw_put(W, "ground");
+    else
+        rj__sw_name(W, link_names, "link", d->body1);
+    rj__sw_put(W, "  body2 = ");
+    rj__sw_name(W, link_names, "link", d->body2);
+    if (d->body1 >= 0 && d->node1 != -1) {
+        snprintf(nm, sizeof nm, "  node1 = %d", d->node1);
+        rj__sw_put(W, nm);
+    }
     rj__sw_put(W, "\n");
-    if (d->body1 < 0 && (rj__sw_set(d->ground_x, 0) || rj__sw_set(d->ground_y, 0) || rj__sw_set(d->ground_angle, 0))) {
-        rj__sw_key(W, "ground_x"); rj__sw_num(W, d->ground_x); rj__sw_put(W, "  ground_y = "); rj__sw_num(W, d->ground_y);
-        rj__sw_put(W, "  ground_angle = "); rj__sw_angle(W, d->ground_angle, 0); rj__sw_put(W, "\n");
+    if (d->body1 < 0 && (rj__sw_set(d->ground_x, 0) || rj__sw_set(d->ground_y, 0) ||
+                         rj__sw_set(d->ground_angle, 0))) {
+        rj__sw_key(W, "ground_x");
+        rj__sw_num(W, d->ground_x);
+        rj__sw_put(W, "  ground_y = ");
+        rj__sw_num(W, d->ground_y);
+        rj__sw_put(W, "  ground_angle = ");
+        rj__sw_angle(W, d->ground_angle, 0);
+        rj__sw_put(W, "\n");
     }
     rj__sw_joint_rest(W, d);
 }
@@ -6617,7 +9495,7 @@ static int rj__sw_title_ok(const char *title)
         return 0;
     if (memchr(title, '"', n))
         return 0;
-    return rj__sp_title_bad(title, (int)n) < 0;
+    return rj__sp_title_bad(title, (int) n) < 0;
 }
 
 /* the title line, none for an empty title (which reads back as "" too) */
@@ -6630,34 +9508,49 @@ static void rj__sw_title(rj__sw *W, const char *title)
     rj__sw_put(W, "\"\n");
 }
 
-RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_names, const char *const *joint_names, char *buf, size_t size)
+RJDEF size_t rj_scene_write(const rj_scene_def *sc, const char *const *link_names,
+                            const char *const *joint_names, char *buf, size_t size)
 {
     return rj_scene_write_ex(sc, link_names, joint_names, NULL, buf, size);
 }
 
-RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_names, const char *const *joint_names,
-                               const char *title, char *buf, size_t size)
+RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_names,
+                               const char *const *joint_names, const char *title, char *buf,
+                               size_t size)
 {
     rj__sw W;
     int i, k;
-    if (buf && size) buf[0] = 0;
-    if (!sc || sc->link_count < 1 || sc->link_count > RJ_SCENE_MAX_LINKS || !sc->links
-        || sc->joint_count < 0 || sc->joint_count > RJ_SCENE_MAX_JOINTS || (sc->joint_count && !sc->joints)) return 0;
-    if (!rj__sw_ok(sc, link_names, joint_names)) return 0;
-    if (!rj__sw_title_ok(title)) return 0;
-    W.buf = buf; W.size = buf ? size : 0; W.n = 0;
+    if (buf && size)
+        buf[0] = 0;
+    if (!sc || sc->link_count < 1 || sc->link_count > RJ_SCENE_MAX_LINKS || !sc->links ||
+        sc->joint_count < 0 || sc->joint_count > RJ_SCENE_MAX_JOINTS ||
+        (sc->joint_count && !sc->joints))
+        return 0;
+    if (!rj__sw_ok(sc, link_names, joint_names))
+        return 0;
+    if (!rj__sw_title_ok(title))
+        return 0;
+    W.buf = buf;
+    W.size = buf ? size : 0;
+    W.n = 0;
     rj__sp_locale(W.dp, &W.dplen);
     rj__sw_put(&W, "# revjoint scene (written by rj_scene_write, revjoint.h " RJ_VERSION ")\n");
     rj__sw_title(&W, title);
     rj__sw_solver(&W, &sc->solver);
     for (i = 0; i < sc->link_count; i++) {
         int root_link = 1;
-        for (k = 0; k < sc->joint_count; k++) if (sc->joints[k].body2 == i) root_link = 0;
-        rj__sw_put(&W, "link "); rj__sw_name(&W, link_names, "link", i); rj__sw_put(&W, "\n");
+        for (k = 0; k < sc->joint_count; k++)
+            if (sc->joints[k].body2 == i)
+                root_link = 0;
+        rj__sw_put(&W, "link ");
+        rj__sw_name(&W, link_names, "link", i);
+        rj__sw_put(&W, "\n");
         rj__sw_link(&W, &sc->links[i], root_link);
     }
     for (i = 0; i < sc->joint_count; i++) {
-        rj__sw_put(&W, "joint "); rj__sw_name(&W, joint_names, "joint", i); rj__sw_put(&W, "\n");
+        rj__sw_put(&W, "joint ");
+        rj__sw_name(&W, joint_names, "joint", i);
+        rj__sw_put(&W, "\n");
         rj__sw_joint(&W, &sc->joints[i], link_names);
     }
     return W.n;
