@@ -5341,6 +5341,782 @@ static double rj__rig_setup(rj_model *m, double *scratch)
     return lam;
 }
 
+/* A node's rotation rate at the end of the step under the loads so far (a body's own node:
+   the body's). */
+static RJ__INLINE double rj__rate_pred(const rj_model *m, const double *of, int n, const double *x,
+                                       const double *y, const double *w, const double *fx,
+                                       const double *fy, const double *mz, double kick)
+{
+    if (m->ncl && RJ__CL_RIGID(m, n)) {
+        const int c = m->node_cl[n];
+        const double *oc = RJ__FCL(m, of, c);
+        double Fx, Fy, T;
+        if (m->cl_fix[c] == 2)
+            return 0.0;
+        rj__cl_load(m, c, oc, x, y, fx, fy, mz, &Fx, &Fy, &T);
+        return oc[4] + kick * T / m->cl_I[c];
+    }
+    return w[n] + kick * mz[n] * m->rinv[n];
+}
+
+/* The frames one step reads and writes. Double-buffered, the step reads the current frame
+   and writes the other; in place (rj__step), the nodes and elements advance in the current
+   frame itself, and the third frame (s->fd[2]) takes the joints, bodies and scalars at
+   n + 1 and keeps the values at n of the nodes the step reads after the beams (m->dnode). */
+typedef struct rj__frames {
+    double *current;          /* s->fd[s->cur] */
+    const double *old;        /* the values at n: the current frame */
+    double *next;             /* joints, bodies and scalars at n + 1 */
+    double *advanced;         /* nodes and elements at n + 1: next, or current in place */
+    const int *old_flags;     /* joint flags at n */
+    int *new_flags;           /* at n + 1 */
+    const double *x, *y, *phi, *vx, *vy, *w;   /* nodes at n (in place: from next) */
+    double *nx, *ny, *nphi, *nvx, *nvy, *nw;   /* nodes at n + 1 */
+    const double *old_scalars;                 /* time, accounts at n */
+    double *new_scalars;                       /* at n + 1 */
+    double t, dt;
+    double kick;              /* dt, or dt / 2 at the first step (from v(0)) */
+    int first;                /* the first step */
+    int en;                   /* this step takes the energy accounts */
+    int ip;                   /* in place */
+} rj__frames;
+
+/* What a step adds up for the energy accounts, in J. */
+typedef struct rj__sums {
+    double strain;            /* the beams' strain energy at x^n */
+    double spring;            /* the joints' springs and tables at n */
+    double kinetic;           /* 1/2 v^{n-1/2} . v^{n+1/2} */
+    double lost_damping, lost_friction, lost_limit;   /* since the start */
+    double pending;           /* a jump's loss the next step takes (its second half) */
+} rj__sums;
+
+/* The frames and step constants: the accounts when asked, at the start, or
+   solver.energy_every steps after the last ones (no division). The nodes' arrays are
+   rj__frames_nodes'. */
+static RJ__FORCE_INLINE void rj__frames_open(const rj_model *m, rj_state *s, int want_energy,
+                                              int ip, rj__frames *f)
+{
+    double *current = s->fd[s->cur];
+    double *next = s->fd[ip ? 2 : 1 - s->cur];
+    f->current = current;
+    f->old = current;
+    f->next = next;
+    f->advanced = ip ? current : next;
+    f->old_flags = s->fi[s->cur];
+    f->new_flags = s->fi[ip ? 2 : 1 - s->cur];
+    f->old_scalars = RJ__FS(m, current);
+    f->new_scalars = RJ__FS(m, next);
+    f->t = f->old_scalars[RJ__FS_TIME];
+    f->dt = m->dt;
+    f->first = s->steps == 0;
+    /* the stored velocities are v(0) at the start and v^{n-1/2} after: the first kick is
+       half a step, which makes the start second-order accurate too */
+    f->kick = f->first ? 0.5 * m->dt : m->dt;
+    f->en = want_energy || m->solver.energy_every <= 1 || s->steps == 0 ||
+            f->t - f->old_scalars[RJ__FS_ETIME] >
+                ((double) m->solver.energy_every - 0.5) * m->dt;
+    f->ip = ip;
+}
+
+/* The nodes at n (in place: kept in the next frame) and at n + 1. */
+static RJ__FORCE_INLINE void rj__frames_nodes(const rj_model *m, rj__frames *f)
+{
+    const double *at_n = f->ip ? f->next : f->current;
+    double *advanced = f->advanced;
+    f->x = RJ__FX(m, at_n);
+    f->y = RJ__FY(m, at_n);
+    f->phi = RJ__FPHI(m, at_n);
+    f->vx = RJ__FVX(m, at_n);
+    f->vy = RJ__FVY(m, at_n);
+    f->w = RJ__FW(m, at_n);
+    f->nx = RJ__FX(m, advanced);
+    f->ny = RJ__FY(m, advanced);
+    f->nphi = RJ__FPHI(m, advanced);
+    f->nvx = RJ__FVX(m, advanced);
+    f->nvy = RJ__FVY(m, advanced);
+    f->nw = RJ__FW(m, advanced);
+}
+
+/* The accounts carried from the step before. */
+static RJ__FORCE_INLINE void rj__sums_open(const double *old_scalars, rj__sums *e)
+{
+    e->strain = 0;
+    e->spring = 0;
+    e->kinetic = 0;
+    e->lost_damping = old_scalars[RJ__FS_LDAMP];
+    e->lost_friction = old_scalars[RJ__FS_LFRIC];
+    e->lost_limit = old_scalars[RJ__FS_LLIM] + old_scalars[RJ__FS_PEND];
+    e->pending = 0;
+}
+
+/* Stage 1, the beams: internal forces at x^n and the new chord angles; every node advanced
+   at once (v^{n+1/2}, x^{n+1}); the joints' nodes are advanced again in stage 4 (in place,
+   from their values at n, kept first). */
+static RJ__FORCE_INLINE void rj__stage_beams(const rj_model *m, rj_state *s, const rj__frames *f,
+                                              rj__adv *adv, rj__sums *e)
+{
+    const double *old = f->old;
+    double *next = f->next;
+    if (f->ip) {
+        double *kept[6];
+        const double *at_n[6];
+        int i, k;
+        kept[0] = RJ__FX(m, next);
+        kept[1] = RJ__FY(m, next);
+        kept[2] = RJ__FPHI(m, next);
+        kept[3] = RJ__FVX(m, next);
+        kept[4] = RJ__FVY(m, next);
+        kept[5] = RJ__FW(m, next);
+        at_n[0] = RJ__FX(m, old);
+        at_n[1] = RJ__FY(m, old);
+        at_n[2] = RJ__FPHI(m, old);
+        at_n[3] = RJ__FVX(m, old);
+        at_n[4] = RJ__FVY(m, old);
+        at_n[5] = RJ__FW(m, old);
+        for (i = 0; i < m->ndn; i++)
+            for (k = 0; k < 6; k++)
+                kept[k][m->dnode[i]] = at_n[k][m->dnode[i]];
+    }
+    adv->kick = f->kick;
+    adv->dt = f->dt;
+    adv->vx = RJ__FVX(m, old);
+    adv->vy = RJ__FVY(m, old);
+    adv->w = RJ__FW(m, old);
+    adv->ti = m->tinv;
+    adv->ri = m->rinv;
+    adv->km = m->kmass;
+    adv->kj = m->krot;
+    adv->nx = f->nx;
+    adv->ny = f->ny;
+    adv->nphi = f->nphi;
+    adv->nvx = f->nvx;
+    adv->nvy = f->nvy;
+    adv->nw = f->nw;
+    adv->kn = s->kn;
+    adv->fx = s->fx;
+    adv->fy = s->fy;
+    adv->mz = s->mz;
+    adv->en = f->en;
+    adv->ip = f->ip;
+    e->strain = rj__beam_pass(m, RJ__FX(m, old), RJ__FY(m, old), RJ__FPHI(m, old),
+                              RJ__FBETA(m, old), RJ__FCX(m, old), RJ__FCY(m, old), s->eu,
+                              RJ__FBETA(m, f->advanced), RJ__FCX(m, f->advanced),
+                              RJ__FCY(m, f->advanced), s->fx, s->fy, s->mz, adv);
+    /* stage 4 advances the joints' nodes from their values at n */
+    adv->vx = f->vx;
+    adv->vy = f->vy;
+    adv->w = f->w;
+}
+
+/* Stage 2, the joints' element: rate, flag (Eqs 7-13), table, spring, damping and limit
+   torques (Eqs 4, 22, 27) on the nodes; the geometry and rate kept in s->jsc for the
+   stages after. */
+static RJ__FORCE_INLINE void rj__stage_joint_torques(const rj_model *m, rj_state *s,
+                                                      const rj__frames *f, rj__sums *e)
+{
+    /* the element sums the springs' energy through a pointer: a local of its own keeps the
+       other sums out of memory */
+    double spring = e->spring;
+    int j;
+    f->new_scalars[RJ__FS_WARN] = f->old_scalars[RJ__FS_WARN];
+    for (j = 0; j < m->nj; j++) {
+        const rj__joint *J = &m->jnt[j];
+        const double *old_joint = RJ__FJ(m, f->old, j);
+        double *new_joint = RJ__FJ(m, f->next, j);
+        double *kept = s->jsc + 8 * j;
+        rj__jgeo g;
+        double rate, penetration, torque;
+        rj__joint_geo(m, J, f->x, f->y, &g);
+        rate = rj__joint_rate(J, &g, f->vx, f->vy, f->w, NULL, NULL);
+        torque = rj__element(m, s, j, old_joint, new_joint, f->old_flags[j], &f->new_flags[j],
+                             rate, f->t, f->new_scalars, &penetration, &spring);
+        rj__apply_torque(J, &g, torque, s->fx, s->fy, s->mz);
+        kept[0] = g.ax;
+        kept[1] = g.ay;
+        kept[2] = g.bx;
+        kept[3] = g.by;
+        kept[4] = rate;
+        kept[5] = penetration;
+        kept[6] = g.a2;
+        kept[7] = g.b2;
+    }
+    e->spring = spring;
+}
+
+/* The joint geometry stage 2 kept. */
+static RJ__FORCE_INLINE void rj__kept_geo(const double *kept, rj__jgeo *g)
+{
+    g->ax = kept[0];
+    g->ay = kept[1];
+    g->bx = kept[2];
+    g->by = kept[3];
+    g->a2 = kept[6];
+    g->b2 = kept[7];
+}
+
+/* A node's velocity at the end of the step under the forces so far (a grouped node: its
+   group's). */
+static RJ__FORCE_INLINE void rj__velocity_pred(const rj_model *m, const rj_state *s, const rj__frames *f,
+                                         int n, double *pvx, double *pvy)
+{
+    const double kick = f->kick;
+    if (m->tinv[n] == 0 && m->einv[n] > 0) {
+        /* grouped node: the group's acceleration */
+        double sx = 0, sy = 0, ginv = m->einv[n];
+        const int g0 = m->node_grp[n];
+        int q;
+        for (q = m->grp_first[g0]; q < m->grp_first[g0 + 1]; q++) {
+            sx += s->fx[m->grp_node[q]];
+            sy += s->fy[m->grp_node[q]];
+        }
+        *pvx = f->vx[n] + kick * sx * ginv;
+        *pvy = f->vy[n] + kick * sy * ginv;
+    } else {
+        *pvx = f->vx[n] + kick * s->fx[n] * m->tinv[n];
+        *pvy = f->vy[n] + kick * s->fy[n] * m->tinv[n];
+    }
+}
+
+/* The relative rate joint J would end the step with under the forces so far. */
+static RJ__FORCE_INLINE double rj__joint_rate_pred(const rj_model *m, const rj_state *s,
+                                             const rj__frames *f, const rj__joint *J,
+                                             const rj__jgeo *g)
+{
+    double pvx[4], pvy[4], ratep;
+    int nodes[4], k;
+    if (!J->chord) {
+        ratep = rj__rate_pred(m, f->old, J->nJ, f->x, f->y, f->w, s->fx, s->fy, s->mz, f->kick);
+        if (J->nI >= 0)
+            ratep -= rj__rate_pred(m, f->old, J->nI, f->x, f->y, f->w, s->fx, s->fy, s->mz,
+                                   f->kick);
+        return ratep;
+    }
+    nodes[0] = J->nI;
+    nodes[1] = J->nK;
+    nodes[2] = J->nJ;
+    nodes[3] = J->nL;
+    for (k = 0; k < 4; k++) {
+        if (nodes[k] < 0) {
+            pvx[k] = pvy[k] = 0;
+            continue;
+        }
+        rj__velocity_pred(m, s, f, nodes[k], &pvx[k], &pvy[k]);
+    }
+    ratep = (g->bx * (pvy[3] - pvy[2]) - g->by * (pvx[3] - pvx[2])) / g->b2;
+    if (J->nK >= 0)
+        ratep -= (g->ax * (pvy[1] - pvy[0]) - g->ay * (pvx[1] - pvx[0])) / g->a2;
+    return ratep;
+}
+
+/* Stage 3, Coulomb friction: the torque that would stop the relative rotation in this
+   step, capped at T_f, with every other force known; it never reverses the rate and holds
+   a stuck joint exactly. */
+static RJ__FORCE_INLINE void rj__stage_friction(const rj_model *m, rj_state *s,
+                                                 const rj__frames *f)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const rj__joint *J = &m->jnt[j];
+        double *new_joint = RJ__FJ(m, f->next, j);
+        rj__jgeo g;
+        double ratep, compliance, tau;
+        if (!(d->friction > 0))
+            continue;
+        rj__kept_geo(s->jsc + 8 * j, &g);
+        ratep = rj__joint_rate_pred(m, s, f, J, &g);
+        compliance = f->kick * rj__joint_compliance(m, J, &g);
+        tau = rj__friction(ratep, compliance, d->friction);
+        rj__apply_torque(J, &g, tau, s->fx, s->fy, s->mz);
+        new_joint[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
+    }
+}
+
+/* Stage 4a: v^{n+1/2} and x^{n+1} of the nodes the joints acted on (the beam pass advanced
+   the rest); the kinetic energy at n as v^{n-1/2}.v^{n+1/2}, from v^{-1/2} = 2 v(0) -
+   v^{1/2} at the start. */
+static RJ__FORCE_INLINE void rj__update_joint_nodes(const rj_model *m, rj_state *s,
+                                                     const rj__frames *f, const rj__adv *adv,
+                                                     rj__sums *e)
+{
+    const double *km = m->kmass, *kj = m->krot;
+    const double *vx = f->vx, *vy = f->vy, *w = f->w;
+    const double *nvx = f->nvx, *nvy = f->nvy, *nw = f->nw;
+    double ke;
+    int i;
+    for (i = 0; i < m->ndn; i++) {
+        const int n = m->dnode[i];
+        rj__advance_node(adv, n, s->fx[n], s->fy[n], s->mz[n], f->x, f->y, f->phi);
+    }
+    ke = f->en ? rj__sum8(s->kn, m->nn) : 0.0;
+    if (f->first) {
+        ke = 0;
+        for (i = 0; i < m->nn; i++)
+            ke += km[i] * ((2 * vx[i] - nvx[i]) * nvx[i] + (2 * vy[i] - nvy[i]) * nvy[i]) +
+                  kj[i] * (2 * w[i] - nw[i]) * nw[i];
+    }
+    e->kinetic = ke;
+}
+
+/* Stage 4b: groups of nodes that move together (a pin shared by links) take their summed
+   force on their summed mass. */
+static RJ__FORCE_INLINE void rj__update_groups(const rj_model *m, rj_state *s, const rj__frames *f,
+                                                rj__sums *e, double *fin)
+{
+    const double *vx = f->vx, *vy = f->vy;
+    int gi;
+    for (gi = 0; gi < m->ng; gi++) {
+        const int f0 = m->grp_first[gi], f1 = m->grp_first[gi + 1], r = m->grp_node[f0];
+        double sx = 0, sy = 0, msum = 0, ux, uy;
+        int q;
+        for (q = f0; q < f1; q++) {
+            sx += s->fx[m->grp_node[q]];
+            sy += s->fy[m->grp_node[q]];
+            msum += m->mass[m->grp_node[q]];
+        }
+        ux = vx[r] + f->kick * sx * m->grp_inv[gi];
+        uy = vy[r] + f->kick * sy * m->grp_inv[gi];
+        if (m->grp_inv[gi] > 0)
+            e->kinetic += f->first ? msum * ((2 * vx[r] - ux) * ux + (2 * vy[r] - uy) * uy)
+                                   : msum * (vx[r] * ux + vy[r] * uy);
+        for (q = f0; q < f1; q++) {
+            const int n = m->grp_node[q];
+            f->nvx[n] = ux;
+            f->nvy[n] = uy;
+            f->nx[n] = f->x[n] + f->dt * ux;
+            f->ny[n] = f->y[n] + f->dt * uy;
+            *fin += f->nx[n] + f->ny[n];
+        }
+    }
+}
+
+/* Stage 4c: rigid bodies in mixed scenes: anchor velocity and rate at n + 1/2. */
+static RJ__FORCE_INLINE void rj__update_bodies(const rj_model *m, rj_state *s, const rj__frames *f,
+                                                rj__sums *e)
+{
+    int gi;
+    for (gi = 0; gi < m->ncl; gi++) {
+        const double *oc = RJ__FCL(m, f->old, gi);
+        double *nc = RJ__FCL(m, f->next, gi), Fx, Fy, T;
+        int q;
+        if (m->cl_first[gi] == m->cl_first[gi + 1])
+            continue;
+        memcpy(nc, oc, 6 * sizeof(double));
+        if (m->cl_fix[gi] == 2)
+            continue;
+        rj__cl_load(m, gi, oc, f->x, f->y, s->fx, s->fy, s->mz, &Fx, &Fy, &T);
+        if (m->cl_fix[gi] == 0) {
+            nc[2] = oc[2] + f->kick * Fx / m->cl_M[gi];
+            nc[3] = oc[3] + f->kick * Fy / m->cl_M[gi];
+        }
+        nc[4] = oc[4] + f->kick * T / m->cl_I[gi];
+        e->kinetic += rj__cl_ke2(m, gi, oc, nc, f->first);
+        for (q = m->cl_first[gi]; q < m->cl_first[gi + 1]; q++)
+            if (RJ__CL_RIGID(m, m->cl_node[q]))
+                f->nw[m->cl_node[q]] = nc[4];
+    }
+}
+
+/* Stage 4, the update: velocities at n + 1/2 and positions at n + 1 (grouped nodes and
+   nodes a velocity-level method changes are redone after). */
+static RJ__FORCE_INLINE void rj__stage_update(const rj_model *m, rj_state *s, const rj__frames *f,
+                                               const rj__adv *adv, rj__sums *e, double *fin)
+{
+    rj__update_joint_nodes(m, s, f, adv, e);
+    rj__update_groups(m, s, f, e, fin);
+    rj__update_bodies(m, s, f, e);
+    e->kinetic *= 0.5;
+}
+
+/* Is this a velocity-level limit method (a jump in the rates at the limit)? */
+static RJ__INLINE int rj__velocity_method(int method)
+{
+    return method == RJ_METHOD_MOMENTUM || method == RJ_METHOD_ENERGY ||
+           method == RJ_METHOD_FORCED;
+}
+
+/* A velocity-level joint released under RC13 (rate pointing out at the step's start) that
+   the step's kick turns back in while still past its limit is in contact again now, not one
+   step later: that lag let the bodies behind ratchet it through the stop (stress suite:
+   48 deg in a 1000:1 chain). Returns the flag. */
+static RJ__FORCE_INLINE int rj__recontact(const rj__joint *J, const double *old_joint, double ratep,
+                                    int *new_flag, double *kept)
+{
+    const double run = old_joint[RJ__JD_THETA];
+    if (run <= J->rev && ratep < 0) {
+        *new_flag = RJ_AT_REVERSE;
+        kept[5] = J->rev - run;
+    } else if (run >= J->fwd && ratep > 0) {
+        *new_flag = RJ_AT_FORWARD;
+        kept[5] = J->fwd - run;
+    }
+    return *new_flag;
+}
+
+/* After a jump, the joint's nodes move with the new rates (rj__spin changes nK and nL only
+   with a chord reference); a rigid body's node carries its whole body. */
+static RJ__FORCE_INLINE void rj__jump_nodes(const rj_model *m, const rj__frames *f, const rj__joint *J,
+                                      double *fin)
+{
+    const int nodes[4] = { J->nI, J->chord ? J->nK : -1, J->nJ, J->chord ? J->nL : -1 };
+    int k;
+    for (k = 0; k < 4; k++) {
+        const int n = nodes[k];
+        if (n < 0)
+            continue;
+        f->nx[n] = f->x[n] + f->dt * f->nvx[n];
+        f->ny[n] = f->y[n] + f->dt * f->nvy[n];
+        f->nphi[n] = f->phi[n] + f->dt * f->nw[n];
+        *fin += (f->nx[n] + f->ny[n]) + f->nphi[n];
+        if (m->ncl && RJ__CL_RIGID(m, n)) {
+            const int c = m->node_cl[n];
+            int q;
+            RJ__FCL(m, f->next, c)[4] = f->nw[n];
+            for (q = m->cl_first[c]; q < m->cl_first[c + 1]; q++)
+                if (RJ__CL_RIGID(m, m->cl_node[q]))
+                    f->nw[m->cl_node[q]] = f->nw[n];
+        }
+    }
+}
+
+/* The jump of one velocity-level joint turning into its limit (momentum: Eqs 23-24 with
+   e; energy: Eq 26; forced, or any while locked: plastic). In the kinetic energy's form
+   1/2 v^{n-1/2}.v^{n+1/2} a jump from w_b to w_b' loses 1/2 I_b (w_b^{n-1/2} + w_b')
+   (w_b - w_b') per body: this step takes the first half, the next the second (pending).
+   A latch that only cancels the step's small relative rate loses almost nothing, as a
+   workless constraint should. Returns the rate after. */
+static RJ__FORCE_INLINE double rj__joint_jump(const rj_model *m, const rj__frames *f, int j, int flag,
+                                        const rj__jgeo *g, double w1, double w2, rj__sums *e,
+                                        double *fin)
+{
+    const rj_joint_def *d = &m->jdef[j];
+    const rj__joint *J = &m->jnt[j];
+    double *new_joint = RJ__FJ(m, f->next, j);
+    const double o1 = w1, o2 = w2;
+    double m1 = 0, m2 = 0, loss = 0;
+    /* the bodies' rates at n - 1/2 */
+    rj__joint_rate(J, g, f->vx, f->vy, f->w, &m1, &m2);
+    if (d->method == RJ_METHOD_MOMENTUM)
+        rj_momentum_balance(J->I1, J->I2, flag == RJ_LOCKED ? 0.0 : d->restitution, &w1, &w2);
+    else if (d->method == RJ_METHOD_ENERGY && flag != RJ_LOCKED)
+        rj_energy_balance(J->I1, J->I2, &w1, &w2);
+    else
+        rj_momentum_balance(J->I1, J->I2, 0.0, &w1, &w2);
+    if (!rj__finite(J->I1))
+        w1 = o1;
+    if (!rj__finite(J->I2))
+        w2 = o2;
+    if (rj__finite(J->I1)) {
+        loss += 0.5 * J->I1 * m1 * (o1 - w1);
+        e->pending += 0.5 * J->I1 * w1 * (o1 - w1);
+    }
+    if (rj__finite(J->I2)) {
+        loss += 0.5 * J->I2 * m2 * (o2 - w2);
+        e->pending += 0.5 * J->I2 * w2 * (o2 - w2);
+    }
+    /* the latch's angular impulse on body 2 (body 1 takes the opposite) */
+    new_joint[RJ__JD_IMPULSE] = rj__finite(J->I2) ? J->I2 * (w2 - o2) : -J->I1 * (w1 - o1);
+    rj__spin(J, g, w1 - o1, w2 - o2, f->nvx, f->nvy, f->nw);
+    rj__jump_nodes(m, f, J, fin);
+    e->lost_limit += loss;
+    e->kinetic -= loss;
+    return rj__joint_rate(J, g, f->nvx, f->nvy, f->nw, NULL, NULL);
+}
+
+/* Stage 5, the limits' velocity-level responses, and the work of the joint torques. */
+static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_state *s,
+                                                        const rj__frames *f, rj__sums *e,
+                                                        double *fin)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const rj__joint *J = &m->jnt[j];
+        double *new_joint = RJ__FJ(m, f->next, j), *kept = s->jsc + 8 * j;
+        const double *old_joint = RJ__FJ(m, f->old, j);
+        rj__jgeo g;
+        double w1, w2, ratep;
+        int flag = f->new_flags[j];
+        rj__kept_geo(kept, &g);
+        ratep = rj__joint_rate(J, &g, f->nvx, f->nvy, f->nw, &w1, &w2);
+        if (flag == RJ_FREE && rj__velocity_method(d->method))
+            flag = rj__recontact(J, old_joint, ratep, &f->new_flags[j], kept);
+        if (flag != RJ_FREE && rj__velocity_method(d->method) && rj__into_limit(flag, ratep))
+            ratep = rj__joint_jump(m, f, j, flag, &g, w1, w2, e, fin);
+        rj__element_work(old_joint, new_joint, kept[4], f->dt, &e->lost_damping,
+                         &e->lost_friction, &e->lost_limit);
+        new_joint[RJ__JD_RATE] = ratep;
+    }
+}
+
+/* Stage 6a: rigid bodies' poses at n + 1. */
+static RJ__FORCE_INLINE void rj__constrain_bodies(const rj_model *m, const rj__frames *f,
+                                                   double *fin)
+{
+    int gi;
+    for (gi = 0; gi < m->ncl; gi++) {
+        const double *oc = RJ__FCL(m, f->old, gi);
+        double *nc = RJ__FCL(m, f->next, gi);
+        if (m->cl_first[gi] == m->cl_first[gi + 1])
+            continue;
+        nc[0] = oc[0] + f->dt * nc[2];
+        nc[1] = oc[1] + f->dt * nc[3];
+        nc[5] = oc[5] + f->dt * nc[4];
+        *fin += rj__cl_pose(m, gi, nc, f->x, f->y, f->dt, 1, f->nx, f->ny, f->nphi, f->nvx,
+                            f->nvy, f->nw);
+    }
+}
+
+/* The kinetic energy again, with the projected velocities (inextensible links). */
+static RJ__FORCE_INLINE double rj__kinetic_again(const rj_model *m, const rj__frames *f)
+{
+    const double *vx = f->vx, *vy = f->vy, *w = f->w;
+    const double *nvx = f->nvx, *nvy = f->nvy, *nw = f->nw;
+    const int first = f->first;
+    double k0 = 0;
+    int i, gi;
+    for (i = 0; i < m->nn; i++) {
+        const double vmx = first ? 2 * vx[i] - nvx[i] : vx[i],
+                     vmy = first ? 2 * vy[i] - nvy[i] : vy[i];
+        const double vmw = first ? 2 * w[i] - nw[i] : w[i];
+        k0 += m->kmass[i] * (vmx * nvx[i] + vmy * nvy[i]) + m->krot[i] * vmw * nw[i];
+    }
+    for (gi = 0; gi < m->ng; gi++) {
+        const int r0 = m->grp_node[m->grp_first[gi]];
+        double msum = 0;
+        int q;
+        if (!(m->grp_inv[gi] > 0))
+            continue;
+        for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++)
+            msum += m->mass[m->grp_node[q]];
+        k0 += msum * ((first ? 2 * vx[r0] - nvx[r0] : vx[r0]) * nvx[r0] +
+                      (first ? 2 * vy[r0] - nvy[r0] : vy[r0]) * nvy[r0]);
+    }
+    for (gi = 0; gi < m->ncl; gi++)
+        if (m->cl_first[gi] < m->cl_first[gi + 1] && m->cl_fix[gi] != 2)
+            k0 += rj__cl_ke2(m, gi, RJ__FCL(m, f->old, gi), RJ__FCL(m, f->next, gi), first);
+    return 0.5 * k0;
+}
+
+/* Stage 6, constraints on positions: rigid bodies' poses; inextensible links projected
+   (constraint forces do no work: the velocities follow the projected positions, and the
+   kinetic energy is taken again with them). */
+static RJ__FORCE_INLINE void rj__stage_constraints(const rj_model *m, rj_state *s,
+                                                    const rj__frames *f, rj__sums *e, double *fin)
+{
+    const double *x = f->x, *y = f->y;
+    double *nx = f->nx, *ny = f->ny;
+    double idt;
+    int i;
+    rj__constrain_bodies(m, f, fin);
+    if (!m->any_inext)
+        return;
+    idt = 1.0 / f->dt;
+    rj__shake(m, s, x, y, nx, ny);
+    for (i = 0; i < m->nn; i++) {
+        f->nvx[i] = (nx[i] - x[i]) * idt;
+        f->nvy[i] = (ny[i] - y[i]) * idt;
+        /* velocities from positions: summed too (see rj__cl_pose) */
+        *fin += ((nx[i] + ny[i]) + f->nphi[i]) + (f->nvx[i] + f->nvy[i]);
+    }
+    if (f->en)
+        e->kinetic = rj__kinetic_again(m, f);
+}
+
+/* Forced displacement (sec. 3): a joint past its limit, or off its lock, turned back by p;
+   a rigid body's node turns its body (positions only). Returns the running angle. */
+static RJ__FORCE_INLINE double rj__force_back(const rj_model *m, const rj__frames *f, int j,
+                                        const rj__jgeo *g, double run, double *fin)
+{
+    const rj__joint *J = &m->jnt[j];
+    const int flag = f->new_flags[j];
+    double target = run, p;
+    int k;
+    if (flag == RJ_AT_FORWARD && run > J->fwd)
+        target = J->fwd;
+    else if (flag == RJ_AT_REVERSE && run < J->rev)
+        target = J->rev;
+    else if (flag == RJ_LOCKED)
+        target = RJ__FJ(m, f->next, j)[RJ__JD_LOCK];
+    p = target - run;
+    if (p == 0)
+        return run;
+    rj__turn(J, -p * J->w1, p * J->w2, f->nx, f->ny, f->nphi);
+    *fin += rj__joint_nodes_sum(J, f->nx, f->ny, f->nphi);
+    if (m->ncl) {
+        const int nodes[2] = { J->nI, J->nJ };
+        for (k = 0; k < 2; k++)
+            if (nodes[k] >= 0 && RJ__CL_RIGID(m, nodes[k])) {
+                const int c = m->node_cl[nodes[k]];
+                double *nc = RJ__FCL(m, f->next, c);
+                nc[5] = f->nphi[nodes[k]] - (m->phi0[nodes[k]] - m->cl_th0[3 * c]);
+                *fin += rj__cl_pose(m, c, nc, f->x, f->y, f->dt, 0, f->nx, f->ny, f->nphi,
+                                    f->nvx, f->nvy, f->nw);
+            }
+    }
+    return J->chord ? target : rj__joint_raw(J, g, f->nphi);
+}
+
+/* Stage 7, the joints' running angles at n + 1 (unwrapped in chord mode), and forced
+   displacement back to the limit. */
+static RJ__FORCE_INLINE rj_result rj__stage_joint_angles(const rj_model *m, rj_state *s,
+                                                          const rj__frames *f, double *fin)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const rj__joint *J = &m->jnt[j];
+        double *new_joint = RJ__FJ(m, f->next, j);
+        rj__jgeo g;
+        double raw, turn, run;
+        rj__joint_geo(m, J, f->nx, f->ny, &g);
+        raw = rj__joint_raw(J, &g, f->nphi);
+        turn = J->chord ? rj__wrap(raw - new_joint[RJ__JD_THETA]) : raw - new_joint[RJ__JD_THETA];
+        if (!(fabs(turn) <= 0.5 * RJ__PI))
+            return rj__stop(m, s, RJ_ERR_TUNNEL,
+                            "t = %.9g s: joint %d turned %.4g rad in one step (more than a quarter "
+                            "revolution, pi/2 rad): the step %g s is far too large for its speed%s",
+                            f->t, j, turn, f->dt,
+                            d->has_forward || d->has_reverse ? "; its limits could be tunnelled"
+                                                             : "");
+        run = new_joint[RJ__JD_THETA] + turn;
+        if (d->method == RJ_METHOD_FORCED && f->new_flags[j] != RJ_FREE)
+            run = rj__force_back(m, f, j, &g, run, fin);
+        new_joint[RJ__JD_THETA] = run;
+    }
+    return RJ_OK;
+}
+
+/* The energy tests' verdict when they fail: the message, naming the test, the fastest
+   node (frame; NULL for rigid links in joint coordinates) and the likely causes. */
+static rj_result rj__energy_stop(const rj_model *m, rj_state *s, const double *frame, double t,
+                                 rj__sums e, double scale, double created)
+{
+    const double ke = e.kinetic, U = e.strain, lost_l = e.lost_limit;
+    const double E = U > fabs(ke) ? U : fabs(ke);
+    char buffer[400], where[80];
+    const char *causes;
+    if (frame) {
+        int bl, bn;
+        rj__worst_node(m, frame, &bl, &bn);
+        snprintf(where, sizeof where, "fastest node link %d node %d", bl, bn);
+    } else
+        snprintf(where, sizeof where, "rigid links in joint coordinates");
+    causes = rj__blowup_causes(m, buffer, sizeof buffer);
+    if (created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale)
+        return rj__stop(m, s, RJ_ERR_BLOWUP,
+                        "t = %.9g s: %.6g J of energy created (balance %.6g J, limit work %.6g J; "
+                        "more than %g of the initial %.6g J); %s; %s",
+                        t, created > -lost_l ? created : -lost_l, created, -lost_l, RJ__CREATED,
+                        scale, where, causes);
+    if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l))
+        return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: non-finite energy, %s; %s", t, where,
+                        causes);
+    return rj__stop(m, s, RJ_ERR_BLOWUP,
+                    "t = %.9g s: kinetic or strain energy %.6g J exceeds %g x the initial %.6g J; "
+                    "%s; %s",
+                    t, E, m->solver.energy_growth, scale, where, causes);
+}
+
+/* The energy tests, the same for every link model. An unstable mode alternates in sign:
+   v^{n-1/2}.v^{n+1/2} turns negative while the strain grows, and their sum is what the
+   scheme conserves, so each is tested alone; and limit responses are dissipative, so energy
+   they put in means chatter. frame: the nodes to name the fastest of (NULL: rigid links in
+   joint coordinates). e0 is the initial energy, old_spring the springs' energy at n - 1. */
+static RJ__FORCE_INLINE rj_result rj__energy_check(const rj_model *m, rj_state *s,
+                                                   const double *frame, double t,
+                                                   const rj__sums *e, double old_spring,
+                                                   double e0)
+{
+    const double ke = e->kinetic, U = e->strain, V = e->spring, lost_l = e->lost_limit;
+    const double E = U > fabs(ke) ? U : fabs(ke);
+    const double scale = fabs(e0) + fabs(old_spring) + 1e-9;
+    const double created = ke + U + V + e->lost_damping + e->lost_friction + lost_l - e0;
+    if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) ||
+        E > m->solver.energy_growth * (scale + fabs(V)) || created > RJ__CREATED * scale ||
+        lost_l < -RJ__CREATED * scale)
+        return rj__energy_stop(m, s, frame, t, *e, scale, created);
+    return RJ_OK;
+}
+
+/* The new frame's scalars: time, the accounts (on the steps that take them; the initial
+   energy in the same discrete form as every later one), and the energy tests. */
+static RJ__FORCE_INLINE rj_result rj__step_accounts(const rj_model *m, rj_state *s,
+                                                     const rj__frames *f, rj__sums *e)
+{
+    const double *osc = f->old_scalars;
+    double *nsc = f->new_scalars;
+    const double warn = nsc[RJ__FS_WARN]; /* counted in this step already */
+    memcpy(nsc, osc, sizeof(double) * RJ__FS_COUNT);
+    nsc[RJ__FS_WARN] = warn;
+    nsc[RJ__FS_TIME] = f->t + f->dt;
+    nsc[RJ__FS_LDAMP] = e->lost_damping;
+    nsc[RJ__FS_LFRIC] = e->lost_friction;
+    nsc[RJ__FS_LLIM] = e->lost_limit;
+    nsc[RJ__FS_PEND] = e->pending;
+    if (!f->en)
+        return RJ_OK;
+    nsc[RJ__FS_ETIME] = f->t;
+    nsc[RJ__FS_KE] = e->kinetic;
+    nsc[RJ__FS_STRAIN] = e->strain;
+    nsc[RJ__FS_SPRING] = e->spring;
+    if (f->first) {
+        nsc[RJ__FS_E0] = e->kinetic + e->strain + e->spring;
+        nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0;
+        e->lost_damping = e->lost_friction = e->lost_limit = 0;
+    }
+    return rj__energy_check(m, s, f->advanced, f->t, e, osc[RJ__FS_SPRING], nsc[RJ__FS_E0]);
+}
+
+/* The step's end: in place, the new scalars, joints and bodies join the advanced nodes;
+   double-buffered, the frames swap. */
+static RJ__FORCE_INLINE void rj__step_commit(const rj_model *m, rj_state *s, const rj__frames *f)
+{
+    if (f->ip) {
+        const size_t j0 = RJ__FS_COUNT + 6 * (size_t) m->nn + 3 * (size_t) m->ne;
+        memcpy(f->current, f->next, sizeof(double) * RJ__FS_COUNT);
+        memcpy(f->current + j0, f->next + j0, sizeof(double) * (m->frame_doubles - j0));
+        memcpy(s->fi[s->cur], f->new_flags, sizeof(int) * (m->frame_ints + 1));
+    } else
+        s->cur = 1 - s->cur;
+    s->steps++;
+}
+
+/* One step of flexible, inextensible and mixed scenes, stage by stage; the energy accounts
+   are taken when want_energy is set, at the first step, and solver.energy_every steps after
+   the last time. ip: in place (rj__step below). Every stage adds to fin the positions it
+   wrote, each from the velocity, torque or body motion behind it: finite while they all
+   are. A new force enters between stages 2 and 3, so that friction sees it. */
+static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, int want_energy,
+                                               int ip)
+{
+    rj__frames f;
+    rj__sums e;
+    rj__adv adv;
+    rj_result r;
+    double fin = 0;
+    rj__frames_open(m, s, want_energy, ip, &f);
+    rj__frames_nodes(m, &f);
+    rj__sums_open(f.old_scalars, &e);
+    adv.fin = &fin;
+    rj__stage_beams(m, s, &f, &adv, &e);
+    rj__stage_joint_torques(m, s, &f, &e);
+    rj__stage_friction(m, s, &f);
+    rj__stage_update(m, s, &f, &adv, &e, &fin);
+    rj__stage_velocity_limits(m, s, &f, &e, &fin);
+    rj__stage_constraints(m, s, &f, &e, &fin);
+    r = rj__stage_joint_angles(m, s, &f, &fin);
+    if (r != RJ_OK)
+        return r;
+    if (!rj__finite(fin))
+        return rj__stop_nonfinite(m, s, f.advanced, f.t);
+    r = rj__step_accounts(m, s, &f, &e);
+    if (r != RJ_OK)
+        return r;
+    rj__step_commit(m, s, &f);
+    return RJ_OK;
+}
+
 /* Does joint j take plastic impulses at this flag (locked, forced, or e = 0 at a limit)? */
 static int rj__rig_plastic(const rj_joint_def *d, int flag)
 {
@@ -5464,87 +6240,110 @@ static void rj__rig_plastic_set(const rj_model *m, rj__rig *r, const int *ni, in
     }
 }
 
-/* One step of a rigid-link scene: central differences in joint coordinates. The work that
-   does not wait for the new rates (spring energy, frame scalars) comes early, so that the
-   end of a step, between the new angles and the next step's kinematics, stays short. */
-static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
+/* Rigid step, stage 1: q^n, rates q'^{n-1/2} and the predicted q'^n for the centripetal
+   terms; the kinematics, M(q^n) and its factor; the new frame's scalars (the element
+   counts late contacts in RJ__FS_WARN). */
+static RJ__FORCE_INLINE rj_result rj__rig_stage_kinematics(const rj_model *m, rj_state *s,
+                                                            const rj__frames *f, rj__rig *r)
 {
-    const int n = m->nj, first = s->steps == 0;
-    const double dt = m->dt, kick = first ? 0.5 * dt : dt; /* half a kick from q'(0) */
-    const double *of = s->fd[s->cur];
-    double *nf = s->fd[1 - s->cur];
-    const int *oi = s->fi[s->cur];
-    int *ni = s->fi[1 - s->cur];
-    const double *osc = RJ__FS(m, of);
-    double *nsc = RJ__FS(m, nf);
-    const double *ofj = RJ__FJ(m, of, 0);
-    double *nfj = RJ__FJ(m, nf, 0);
-    const double t = osc[RJ__FS_TIME];
-    double ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC],
-           lost_l = osc[RJ__FS_LLIM] + osc[RJ__FS_PEND], V, pend = 0;
-    double *RJ__RESTRICT q, *RJ__RESTRICT qd, *RJ__RESTRICT qdp, *RJ__RESTRICT qdd, *RJ__RESTRICT Q,
-        *hq, *W;
-    const double *M, *L;
-    rj__rig r;
-    int j, k, jumped = 0, last_jump = -1, impact = 0;
-    rj__rig_map(m, s->rsc, &r);
-    q = r.q;
-    qd = r.qd;
-    qdp = r.qdp;
-    qdd = r.qdd;
-    hq = r.h;
-    Q = r.Q;
-    M = r.M;
-    L = r.L;
-    W = r.W;
-    /* 1. state: q^n, rates q'^{n-1/2}, predicted q'^n for the centripetal terms */
+    const double *old_scalars = f->old_scalars;
+    double *new_scalars = f->new_scalars;
+    double *RJ__RESTRICT q = r->q, *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp;
+    const double *old_joints = RJ__FJ(m, f->old, 0);
+    const double dt = f->dt;
+    const int n = m->nj;
+    int j;
     for (j = 0; j < n; j++) {
-        const double *oj = ofj + (size_t) RJ__JD_COUNT * j;
-        q[j] = oj[RJ__JD_THETA];
-        qd[j] = oj[RJ__JD_RATE];
-        qdp[j] = qd[j] + 0.5 * dt * oj[RJ__JD_QDD];
+        const double *old_joint = old_joints + (size_t) RJ__JD_COUNT * j;
+        q[j] = old_joint[RJ__JD_THETA];
+        qd[j] = old_joint[RJ__JD_RATE];
+        qdp[j] = qd[j] + 0.5 * dt * old_joint[RJ__JD_QDD];
     }
-    rj__rig_kin(m, &r, q, NULL, qdp);
-    /* the new frame's scalars (the element counts late contacts in RJ__FS_WARN) */
-    V = 0;
-    memcpy(nsc, osc, sizeof(double) * RJ__FS_COUNT);
-    nsc[RJ__FS_TIME] = t + dt;
-    nsc[RJ__FS_ETIME] = t;
-    nsc[RJ__FS_STRAIN] = 0;
-    rj__rig_mass(m, &r);
-    if (rj__chol(n, r.M, r.L))
+    rj__rig_kin(m, r, r->q, NULL, r->qdp);
+    memcpy(new_scalars, old_scalars, sizeof(double) * RJ__FS_COUNT);
+    new_scalars[RJ__FS_TIME] = f->t + f->dt;
+    new_scalars[RJ__FS_ETIME] = f->t;
+    new_scalars[RJ__FS_STRAIN] = 0;
+    rj__rig_mass(m, r);
+    if (rj__chol(m->nj, r->M, r->L))
         return rj__stop(m, s, RJ_ERR_BLOWUP,
-                        "t = %.9g s: the rigid mass matrix is not positive definite", t);
-    /* 2. the element: torques as generalised forces */
+                        "t = %.9g s: the rigid mass matrix is not positive definite", f->t);
+    return RJ_OK;
+}
+
+/* Rigid step, stage 2: the element's torques as generalised forces, less the centripetal
+   bias; the accelerations M^-1 Q. */
+static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *s,
+                                                    const rj__frames *f, rj__rig *r, rj__sums *e)
+{
+    const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT bias = r->h;
+    double *RJ__RESTRICT Q = r->Q;
+    const double *old_joints = RJ__FJ(m, f->old, 0);
+    double *new_joints = RJ__FJ(m, f->next, 0);
+    const double t = f->t;
+    const int n = m->nj;
+    double spring = 0;
+    int j;
     for (j = 0; j < n; j++) {
-        double p;
-        Q[j] = rj__element(m, s, j, ofj + (size_t) RJ__JD_COUNT * j,
-                           nfj + (size_t) RJ__JD_COUNT * j, oi[j], &ni[j], qd[j], t, nsc, &p, &V) -
-               hq[j];
+        const size_t at = (size_t) RJ__JD_COUNT * j;
+        double penetration;
+        const double torque =
+            rj__element(m, s, j, old_joints + at, new_joints + at, f->old_flags[j],
+                        &f->new_flags[j], qd[j], t, f->new_scalars, &penetration, &spring);
+        Q[j] = torque - bias[j];
     }
-    nsc[RJ__FS_SPRING] = V; /* springs and tables at q^n, from the element */
-    rj__chol_solve(n, L, Q, qdd);
-    /* 3. friction, joint by joint, with the column M^-1 e_j (kept in W for step 5) */
+    /* springs and tables at q^n, from the element */
+    f->new_scalars[RJ__FS_SPRING] = spring;
+    e->spring = spring;
+    rj__chol_solve(m->nj, r->L, r->Q, r->qdd);
+}
+
+/* Rigid step, stage 3: friction, joint by joint, with the column M^-1 e_j (kept in W for
+   the impulses). */
+static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj__frames *f,
+                                                     rj__rig *r)
+{
+    const int n = m->nj;
+    const double *RJ__RESTRICT qd = r->qd;
+    double *RJ__RESTRICT qdd = r->qdd, *W = r->W;
+    int j, k;
     for (j = 0; j < n; j++)
         if (m->jdef[j].friction > 0)
-            rj__chol_unit(n, L, j, W + (size_t) j * n);
+            rj__chol_unit(n, r->L, j, W + (size_t) j * n);
     for (j = 0; j < n; j++) {
         const double tf = m->jdef[j].friction, *w = W + (size_t) j * n;
         double tau;
         if (!(tf > 0))
             continue;
-        tau = rj__friction(qd[j] + kick * qdd[j], kick * w[j], tf);
+        tau = rj__friction(qd[j] + f->kick * qdd[j], f->kick * w[j], tf);
         for (k = 0; k < n; k++)
             qdd[k] += w[k] * tau;
-        nfj[(size_t) RJ__JD_COUNT * j + RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
+        RJ__FJ(m, f->next, j)[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
     }
-    /* 4. rates q'^{n+1/2} */
-    for (j = 0; j < n; j++)
-        qdp[j] = qd[j] + kick * qdd[j];
-    /* 5. velocity-level methods: an impulse along q_j to e times the reversed rate (plastic
-       while locked or for forced displacement). hq keeps the rates before the jumps. */
+}
+
+/* What the rigid step's impulses did: how many joints took one alone, the last of them,
+   and whether any was an impact (a new contact or lock, or a bounce). */
+typedef struct rj__rig_jumps {
+    int count, last, impact;
+} rj__rig_jumps;
+
+/* Rigid step, stage 5a: velocity-level methods, joint by joint: an impulse along q_j to e
+   times the reversed rate (plastic while locked or for forced displacement). r->h keeps the
+   rates before the jumps. */
+static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj__frames *f,
+                                                      rj__rig *r, rj__rig_jumps *jumps)
+{
+    const int n = m->nj;
+    const double *RJ__RESTRICT q = r->q;
+    double *RJ__RESTRICT qdp = r->qdp, *RJ__RESTRICT rates_before = r->h, *W = r->W;
+    const double *L = r->L;
+    int *ni = f->new_flags;
+    int j, k;
     for (j = 0; j < n; j++) {
         const rj_joint_def *d = &m->jdef[j];
+        const double *w = W + (size_t) j * n;
+        double e, lam;
         if (!(d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED))
             continue;
         /* re-contact within the step, as for flexible links */
@@ -5554,63 +6353,99 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
             ni[j] = RJ_AT_FORWARD;
         if (ni[j] == RJ_FREE || !rj__into_limit(ni[j], qdp[j]))
             continue;
-        {
-            const double e =
-                (d->method == RJ_METHOD_MOMENTUM && ni[j] != RJ_LOCKED) ? d->restitution : 0.0;
-            const double *w = W + (size_t) j * n;
-            double lam;
-            if (!jumped)
-                for (k = 0; k < n; k++)
-                    hq[k] = qdp[k];
-            jumped++;
-            last_jump = j;
-            /* a new contact or lock, or a bounce: the rates jump */
-            if (ni[j] != oi[j] || e > 0)
-                impact = 1;
-            if (!(d->friction > 0))
-                rj__chol_unit(n, L, j, W + (size_t) j * n); /* else step 3 made it */
-            lam = (-e * qdp[j] - qdp[j]) / w[j];
+        e = (d->method == RJ_METHOD_MOMENTUM && ni[j] != RJ_LOCKED) ? d->restitution : 0.0;
+        if (!jumps->count)
             for (k = 0; k < n; k++)
-                qdp[k] += w[k] * lam;
-        }
+                rates_before[k] = qdp[k];
+        jumps->count++;
+        jumps->last = j;
+        if (ni[j] != f->old_flags[j] || e > 0)
+            jumps->impact = 1;
+        /* stage 3 made the column of a joint with friction */
+        if (!(d->friction > 0))
+            rj__chol_unit(n, L, j, W + (size_t) j * n);
+        lam = (-e * qdp[j] - qdp[j]) / w[j];
+        for (k = 0; k < n; k++)
+            qdp[k] += w[k] * lam;
     }
-    /* one joint's impulse moves the others (M^-1 couples them), so the plastic ones (locked,
-       or e = 0 at a limit and turning into it) take their impulses together: W_SS lam =
-       -q'_S with W = M^-1, S the set; a contact whose impulse would pull is dropped and the
-       set solved again. One joint after another (as above, alone) left a locked joint
-       drifting at up to 0.3 deg/s in the fidelity benchmark's rigid solar array; sweeping
-       that to convergence took hundreds of passes (W is ill-conditioned along a chain).
-       The set starts with every locked joint and every plastic contact that turns into its
-       limit or whose rate the impulses above changed: a later joint's impulse moves an
-       earlier one off the rate its own impulse gave it. */
-    if (jumped)
-        rj__rig_plastic_set(m, &r, ni, jumped, last_jump);
-    /* Without an impact the jumps only keep locked joints and resting contacts at rest, and
-       (q'^{n+1/2} - q'^{n-1/2}) / kick is the constrained acceleration: the next step's
-       centripetal terms predict q'^{n+1} from it, not from the unconstrained one, which
-       turns a locked joint at up to dt / 2 times its reaction over its inertia. */
-    if (jumped && !impact)
+}
+
+/* Rigid step, stage 5b: the jumps' loss in the kinetic energy's form: 1/2 q'^{n-1/2} M
+   (q'_before - q'_after) now, 1/2 q'_after M (q'_before - q'_after) with the next step
+   (pending); the generalised impulse along q_j is the latch's angular impulse on body 2. */
+static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__frames *f,
+                                                const rj__rig *r, rj__sums *e)
+{
+    const int n = m->nj, first = f->first;
+    const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp;
+    const double *RJ__RESTRICT rates_before = r->h, *M = r->M;
+    double *new_joints = RJ__FJ(m, f->next, 0);
+    double lost_limit = e->lost_limit, pending = e->pending;
+    int j, k;
+    for (j = 0; j < n; j++) {
+        const double *Mj = M + (size_t) j * n;
+        double sum = 0;
+        for (k = 0; k < n; k++)
+            sum += Mj[k] * (rates_before[k] - qdp[k]);
+        lost_limit += 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
+        pending += 0.5 * qdp[j] * sum;
+        new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_IMPULSE] = -sum;
+    }
+    e->lost_limit = lost_limit;
+    e->pending = pending;
+}
+
+/* Rigid step, stages 4 and 5: rates q'^{n+1/2}, then the velocity-level limit methods.
+   Without an impact the jumps only keep locked joints and resting contacts at rest, and
+   (q'^{n+1/2} - q'^{n-1/2}) / kick is the constrained acceleration: the next step's
+   centripetal terms predict q'^{n+1} from it, not from the unconstrained one, which turns a
+   locked joint at up to dt / 2 times its reaction over its inertia. */
+static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj__frames *f,
+                                                  rj__rig *r, rj__sums *e)
+{
+    const int n = m->nj;
+    const double kick = f->kick;
+    const double *RJ__RESTRICT qd = r->qd;
+    double *RJ__RESTRICT qdp = r->qdp, *RJ__RESTRICT qdd = r->qdd;
+    rj__rig_jumps jumps;
+    int j;
+    for (j = 0; j < n; j++)
+        qdp[j] = qd[j] + kick * qdd[j];
+    jumps.count = 0;
+    jumps.last = -1;
+    jumps.impact = 0;
+    rj__rig_single_impulses(m, f, r, &jumps);
+    if (!jumps.count)
+        return;
+    rj__rig_plastic_set(m, r, f->new_flags, jumps.count, jumps.last);
+    if (!jumps.impact)
         for (j = 0; j < n; j++)
             qdd[j] = (qdp[j] - qd[j]) / kick;
-    /* the jumps' loss in the kinetic energy's form: 1/2 q'^{n-1/2} M (q'_before - q'_after)
-       now, 1/2 q'_after M (q'_before - q'_after) with the next step (pend); nothing without
-       a jump */
-    if (jumped)
-        for (j = 0; j < n; j++) {
-            const double *Mj = M + (size_t) j * n;
-            double sum = 0;
-            for (k = 0; k < n; k++)
-                sum += Mj[k] * (hq[k] - qdp[k]);
-            lost_l += 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
-            pend += 0.5 * qdp[j] * sum;
-            /* the generalised impulse along q_j: the latch's angular impulse on body 2 */
-            nfj[(size_t) RJ__JD_COUNT * j + RJ__JD_IMPULSE] = -sum;
-        }
-    /* 6. positions, forced displacement, work of the joint torques */
+    rj__rig_jump_loss(m, f, r, e);
+}
+
+/* Rigid step, stage 6: angles q^{n+1}, forced displacement back to the limit, and the
+   work of the joint torques. */
+static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_state *s,
+                                                        const rj__frames *f, const rj__rig *r,
+                                                        rj__sums *e)
+{
+    const double *RJ__RESTRICT q = r->q, *RJ__RESTRICT qdp = r->qdp;
+    const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdd = r->qdd;
+    const double *old_joints = RJ__FJ(m, f->old, 0);
+    double *new_joints = RJ__FJ(m, f->next, 0);
+    const double dt = f->dt;
+    const int n = m->nj;
+    double lost_damping = e->lost_damping;
+    double lost_friction = e->lost_friction;
+    double lost_limit = e->lost_limit;
+    const int *ni = f->new_flags;
+    int j;
     for (j = 0; j < n; j++) {
         const rj_joint_def *d = &m->jdef[j];
-        const double *oj = ofj + (size_t) RJ__JD_COUNT * j;
-        double *nj_ = nfj + (size_t) RJ__JD_COUNT * j, qn = q[j] + dt * qdp[j];
+        const double *old_joint = old_joints + (size_t) RJ__JD_COUNT * j;
+        double *new_joint = new_joints + (size_t) RJ__JD_COUNT * j;
+        double qn = q[j] + dt * qdp[j];
         if (d->method == RJ_METHOD_FORCED && ni[j] != RJ_FREE) {
             const rj__joint *J = &m->jnt[j];
             if (ni[j] == RJ_AT_FORWARD && qn > J->fwd)
@@ -5618,20 +6453,38 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
             else if (ni[j] == RJ_AT_REVERSE && qn < J->rev)
                 qn = J->rev;
             else if (ni[j] == RJ_LOCKED)
-                qn = nj_[RJ__JD_LOCK];
+                qn = new_joint[RJ__JD_LOCK];
         }
         if (!(fabs(qn - q[j]) <= 0.5 * RJ__PI))
             return rj__stop(m, s, RJ_ERR_TUNNEL,
                             "t = %.9g s: joint %d turned %.4g rad in one step (more than a quarter "
                             "revolution, pi/2 rad): the step %g s is far too large for its speed",
-                            t, j, qn - q[j], dt);
-        nj_[RJ__JD_THETA] = qn;
-        nj_[RJ__JD_RATE] = qdp[j];
-        nj_[RJ__JD_QDD] = qdd[j];
-        rj__element_work(oj, nj_, qd[j], dt, &lost_d, &lost_f, &lost_l);
+                            f->t, j, qn - q[j], dt);
+        new_joint[RJ__JD_THETA] = qn;
+        new_joint[RJ__JD_RATE] = qdp[j];
+        new_joint[RJ__JD_QDD] = qdd[j];
+        rj__element_work(old_joint, new_joint, qd[j], dt, &lost_damping, &lost_friction,
+                         &lost_limit);
     }
-    /* 7. kinetic energy 1/2 q'^{n-1/2} M q'^{n+1/2} (q'^{-1/2} = 2 q'(0) - q'^{1/2}),
-       energies, blow-up check, commit (nodes are computed when queried: rj__rig_pose) */
+    e->lost_damping = lost_damping;
+    e->lost_friction = lost_friction;
+    e->lost_limit = lost_limit;
+    return RJ_OK;
+}
+
+/* Rigid step, stage 7: the kinetic energy 1/2 q'^{n-1/2} M q'^{n+1/2} (q'^{-1/2} = 2 q'(0)
+   - q'^{1/2}), the accounts (every step) and the energy tests; commit (nodes are computed
+   when queried: rj__rig_pose). */
+static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_state *s,
+                                                          const rj__frames *f, const rj__rig *r,
+                                                          rj__sums *e)
+{
+    const int n = m->nj, first = f->first;
+    const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp, *M = r->M;
+    double *new_scalars = f->new_scalars;
+    double ke = 0;
+    rj_result res;
+    int j, k;
     for (j = 0; j < n; j++) {
         const double *Mj = M + (size_t) j * n;
         double sum = 0;
@@ -5639,556 +6492,49 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
             sum += Mj[k] * qdp[k];
         ke += 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
     }
-    nsc[RJ__FS_KE] = ke;
-    nsc[RJ__FS_LDAMP] = lost_d;
-    nsc[RJ__FS_LFRIC] = lost_f;
-    nsc[RJ__FS_LLIM] = lost_l;
-    nsc[RJ__FS_PEND] = pend;
-    if (first) {
-        nsc[RJ__FS_E0] = ke + V;
-        nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0;
-        lost_d = lost_f = lost_l = 0;
+    e->kinetic = ke;
+    new_scalars[RJ__FS_KE] = ke;
+    new_scalars[RJ__FS_LDAMP] = e->lost_damping;
+    new_scalars[RJ__FS_LFRIC] = e->lost_friction;
+    new_scalars[RJ__FS_LLIM] = e->lost_limit;
+    new_scalars[RJ__FS_PEND] = e->pending;
+    if (f->first) {
+        new_scalars[RJ__FS_E0] = ke + e->spring;
+        new_scalars[RJ__FS_LDAMP] = new_scalars[RJ__FS_LFRIC] = new_scalars[RJ__FS_LLIM] = 0;
+        e->lost_damping = e->lost_friction = e->lost_limit = 0;
     }
-    {
-        const double scale = fabs(nsc[RJ__FS_E0]) + fabs(osc[RJ__FS_SPRING]) + 1e-9;
-        const double created = ke + V + lost_d + lost_f + lost_l - nsc[RJ__FS_E0];
-        char causes[400];
-        /* the same tests and messages as for flexible links (rj_step, part 7) */
-        if (created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale)
-            return rj__stop(m, s, RJ_ERR_BLOWUP,
-                            "t = %.9g s: %.6g J of energy created (balance %.6g J, limit work %.6g "
-                            "J; more than %g of the initial %.6g J); %s",
-                            t, created > -lost_l ? created : -lost_l, created, -lost_l, RJ__CREATED,
-                            scale, rj__blowup_causes(m, causes, sizeof causes));
-        if (!rj__finite(ke) || !rj__finite(lost_l))
-            return rj__stop(m, s, RJ_ERR_BLOWUP,
-                            "t = %.9g s: non-finite energy of the rigid links; %s", t,
-                            rj__blowup_causes(m, causes, sizeof causes));
-        if (fabs(ke) > m->solver.energy_growth * (scale + fabs(V)))
-            return rj__stop(m, s, RJ_ERR_BLOWUP,
-                            "t = %.9g s: kinetic energy %.6g J of the rigid links exceeds %g x the "
-                            "initial %.6g J; %s",
-                            t, ke, m->solver.energy_growth, scale,
-                            rj__blowup_causes(m, causes, sizeof causes));
-    }
+    res = rj__energy_check(m, s, NULL, f->t, e, f->old_scalars[RJ__FS_SPRING],
+                           new_scalars[RJ__FS_E0]);
+    if (res != RJ_OK)
+        return res;
     s->cur = 1 - s->cur;
     s->steps++;
     return RJ_OK;
 }
 
-/* A node's rotation rate at the end of the step under the loads so far (a body's own node:
-   the body's). */
-static RJ__INLINE double rj__rate_pred(const rj_model *m, const double *of, int n, const double *x,
-                                       const double *y, const double *w, const double *fx,
-                                       const double *fy, const double *mz, double kick)
+/* One step of a rigid-link scene: central differences in joint coordinates, stage by
+   stage as for flexible links (rj__step_run). The work that does not wait for the new
+   rates (spring energy, frame scalars) comes early, so that the end of a step, between the
+   new angles and the next step's kinematics, stays short. */
+static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
 {
-    if (m->ncl && RJ__CL_RIGID(m, n)) {
-        const int c = m->node_cl[n];
-        const double *oc = RJ__FCL(m, of, c);
-        double Fx, Fy, T;
-        if (m->cl_fix[c] == 2)
-            return 0.0;
-        rj__cl_load(m, c, oc, x, y, fx, fy, mz, &Fx, &Fy, &T);
-        return oc[4] + kick * T / m->cl_I[c];
-    }
-    return w[n] + kick * mz[n] * m->rinv[n];
-}
-
-/* One step; the energy accounts are taken when want_energy is set, at the first step, and
-   solver.energy_every steps after the last time. ip: in place (rj__step below). */
-static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, int want_energy,
-                                               int ip)
-{
-    const int nn = m->nn;
-    /* the stored velocities are v(0) at the start and v^{n-1/2} after: the first kick is
-       half a step, which makes the start second-order accurate too */
-    const double kick = s->steps == 0 ? 0.5 * m->dt : m->dt;
-    const double dt = m->dt;
-    double *cf =
-        s->fd[s->cur]; /* the current frame: its nodes and elements advance here in place */
-    const double *of = cf;
-    double *nf = s->fd[ip ? 2 : 1 - s->cur];
-    const int *oi = s->fi[s->cur];
-    int *ni = s->fi[ip ? 2 : 1 - s->cur];
-    /* x .. w: the nodes at n (in place: only the nodes the step reads after the beams,
-       m->dnode, kept in nf); nx .. nw: at n + 1 */
-    const double *x = RJ__FX(m, ip ? nf : of), *y = RJ__FY(m, ip ? nf : of),
-                 *phi = RJ__FPHI(m, ip ? nf : of);
-    const double *vx = RJ__FVX(m, ip ? nf : of), *vy = RJ__FVY(m, ip ? nf : of),
-                 *w = RJ__FW(m, ip ? nf : of);
-    double *nx = RJ__FX(m, ip ? cf : nf), *ny = RJ__FY(m, ip ? cf : nf),
-           *nphi = RJ__FPHI(m, ip ? cf : nf);
-    double *nvx = RJ__FVX(m, ip ? cf : nf), *nvy = RJ__FVY(m, ip ? cf : nf),
-           *nw = RJ__FW(m, ip ? cf : nf);
-    double *fx = s->fx, *fy = s->fy, *mz = s->mz;
-    const double *osc = RJ__FS(m, of);
-    double *nsc = RJ__FS(m, nf);
-    const double t = osc[RJ__FS_TIME];
-    double U, V = 0, ke = 0, lost_d = osc[RJ__FS_LDAMP], lost_f = osc[RJ__FS_LFRIC],
-              lost_l = osc[RJ__FS_LLIM] + osc[RJ__FS_PEND], pend = 0;
-    double fin = 0; /* the advanced nodes' positions summed: finite while they all are */
-    int i, j, gi;
-    rj__adv adv;
-    /* the accounts when asked, at the start, or K steps after the last ones (no division) */
-    const int en = want_energy || m->solver.energy_every <= 1 || s->steps == 0 ||
-                   t - osc[RJ__FS_ETIME] > ((double) m->solver.energy_every - 0.5) * m->dt;
-
-    /* 1. beams: internal forces at x^n, updated chord angles into the new frame; every node
-       advanced at once (v^{n+1/2}, x^{n+1}), the joints' nodes again in part 4 (in place,
-       from their values at n, kept first) */
-    if (ip) {
-        double *kp[6];
-        const double *cp[6];
-        int k;
-        kp[0] = RJ__FX(m, nf);
-        kp[1] = RJ__FY(m, nf);
-        kp[2] = RJ__FPHI(m, nf);
-        kp[3] = RJ__FVX(m, nf);
-        kp[4] = RJ__FVY(m, nf);
-        kp[5] = RJ__FW(m, nf);
-        cp[0] = RJ__FX(m, of);
-        cp[1] = RJ__FY(m, of);
-        cp[2] = RJ__FPHI(m, of);
-        cp[3] = RJ__FVX(m, of);
-        cp[4] = RJ__FVY(m, of);
-        cp[5] = RJ__FW(m, of);
-        for (i = 0; i < m->ndn; i++)
-            for (k = 0; k < 6; k++)
-                kp[k][m->dnode[i]] = cp[k][m->dnode[i]];
-    }
-    adv.kick = kick;
-    adv.dt = dt;
-    adv.vx = RJ__FVX(m, of);
-    adv.vy = RJ__FVY(m, of);
-    adv.w = RJ__FW(m, of);
-    adv.ti = m->tinv;
-    adv.ri = m->rinv;
-    adv.km = m->kmass;
-    adv.kj = m->krot;
-    adv.nx = nx;
-    adv.ny = ny;
-    adv.nphi = nphi;
-    adv.nvx = nvx;
-    adv.nvy = nvy;
-    adv.nw = nw;
-    adv.kn = s->kn;
-    adv.fx = fx;
-    adv.fy = fy;
-    adv.mz = mz;
-    adv.en = en;
-    adv.ip = ip;
-    adv.fin = &fin;
-    U = rj__beam_pass(m, RJ__FX(m, of), RJ__FY(m, of), RJ__FPHI(m, of), RJ__FBETA(m, of),
-                      RJ__FCX(m, of), RJ__FCY(m, of), s->eu, RJ__FBETA(m, ip ? cf : nf),
-                      RJ__FCX(m, ip ? cf : nf), RJ__FCY(m, ip ? cf : nf), fx, fy, mz, &adv);
-    adv.vx = vx;
-    adv.vy = vy;
-    adv.w = w; /* part 4 advances the joints' nodes from x .. w */
-
-    nsc[RJ__FS_WARN] = osc[RJ__FS_WARN];
-    /* 2. joints: rate, status flag (Eqs 7-13), table/spring/damping/limit torques */
-    for (j = 0; j < m->nj; j++) {
-        const rj__joint *J = &m->jnt[j];
-        const double *oj = RJ__FJ(m, of, j);
-        double *nj_ = RJ__FJ(m, nf, j), *sc = s->jsc + 8 * j;
-        rj__jgeo g;
-        double rate, p, tq;
-        rj__joint_geo(m, J, x, y, &g);
-        rate = rj__joint_rate(J, &g, vx, vy, w, NULL, NULL);
-        tq = rj__element(m, s, j, oj, nj_, oi[j], &ni[j], rate, t, RJ__FS(m, nf), &p, &V);
-        rj__apply_torque(J, &g, tq, fx, fy, mz);
-        sc[0] = g.ax;
-        sc[1] = g.ay;
-        sc[2] = g.bx;
-        sc[3] = g.by;
-        sc[4] = rate;
-        sc[5] = p;
-        sc[6] = g.a2;
-        sc[7] = g.b2;
-    }
-
-    /* 3. Coulomb friction: the torque that would stop the relative rotation in this step,
-       capped at T_f; it never reverses the rate and holds a stuck joint exactly. */
-    for (j = 0; j < m->nj; j++) {
-        const rj_joint_def *d = &m->jdef[j];
-        const rj__joint *J = &m->jnt[j];
-        double *nj_ = RJ__FJ(m, nf, j), *sc = s->jsc + 8 * j;
-        rj__jgeo g;
-        double pvx[4], pvy[4], c, ratep, tau;
-        int nodes[4], k;
-        if (!(d->friction > 0))
-            continue;
-        g.ax = sc[0];
-        g.ay = sc[1];
-        g.bx = sc[2];
-        g.by = sc[3];
-        g.a2 = sc[6];
-        g.b2 = sc[7];
-        if (!J->chord) {
-            ratep = rj__rate_pred(m, of, J->nJ, x, y, w, fx, fy, mz, kick);
-            if (J->nI >= 0)
-                ratep -= rj__rate_pred(m, of, J->nI, x, y, w, fx, fy, mz, kick);
-        } else {
-            nodes[0] = J->nI;
-            nodes[1] = J->nK;
-            nodes[2] = J->nJ;
-            nodes[3] = J->nL;
-            for (k = 0; k < 4; k++) {
-                int n = nodes[k];
-                if (n < 0) {
-                    pvx[k] = pvy[k] = 0;
-                    continue;
-                }
-                if (m->tinv[n] == 0 && m->einv[n] > 0) {
-                    /* grouped node: the group's acceleration */
-                    double sx = 0, sy = 0, ginv = m->einv[n];
-                    const int g0 = m->node_grp[n];
-                    int q;
-                    for (q = m->grp_first[g0]; q < m->grp_first[g0 + 1]; q++) {
-                        sx += fx[m->grp_node[q]];
-                        sy += fy[m->grp_node[q]];
-                    }
-                    pvx[k] = vx[n] + kick * sx * ginv;
-                    pvy[k] = vy[n] + kick * sy * ginv;
-                } else {
-                    pvx[k] = vx[n] + kick * fx[n] * m->tinv[n];
-                    pvy[k] = vy[n] + kick * fy[n] * m->tinv[n];
-                }
-            }
-            ratep = (g.bx * (pvy[3] - pvy[2]) - g.by * (pvx[3] - pvx[2])) / g.b2;
-            if (J->nK >= 0)
-                ratep -= (g.ax * (pvy[1] - pvy[0]) - g.ay * (pvx[1] - pvx[0])) / g.a2;
-        }
-        c = kick * rj__joint_compliance(m, J, &g);
-        tau = rj__friction(ratep, c, d->friction);
-        rj__apply_torque(J, &g, tau, fx, fy, mz);
-        nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
-    }
-
-    /* 4. velocities v^{n+1/2} and positions x^{n+1} of the nodes the joints acted on (the
-       beam pass advanced the rest; grouped nodes and nodes a velocity-level method changes
-       are redone below); kinetic energy at n as v^{n-1/2}.v^{n+1/2} */
-    {
-        const double *km = m->kmass, *kj = m->krot;
-        for (i = 0; i < m->ndn; i++)
-            rj__advance_node(&adv, m->dnode[i], fx[m->dnode[i]], fy[m->dnode[i]], mz[m->dnode[i]],
-                             x, y, phi);
-        ke = en ? rj__sum8(s->kn, nn) : 0.0;
-        if (s->steps == 0) {
-            /* at the start the pair is v^{-1/2} = 2 v(0) - v^{1/2} and v^{1/2} */
-            ke = 0;
-            for (i = 0; i < nn; i++)
-                ke += km[i] * ((2 * vx[i] - nvx[i]) * nvx[i] + (2 * vy[i] - nvy[i]) * nvy[i]) +
-                      kj[i] * (2 * w[i] - nw[i]) * nw[i];
-        }
-    }
-    for (gi = 0; gi < m->ng; gi++) {
-        const int f0 = m->grp_first[gi], f1 = m->grp_first[gi + 1], r = m->grp_node[f0];
-        double sx = 0, sy = 0, msum = 0, ux, uy;
-        int q;
-        for (q = f0; q < f1; q++) {
-            sx += fx[m->grp_node[q]];
-            sy += fy[m->grp_node[q]];
-            msum += m->mass[m->grp_node[q]];
-        }
-        ux = vx[r] + kick * sx * m->grp_inv[gi];
-        uy = vy[r] + kick * sy * m->grp_inv[gi];
-        if (m->grp_inv[gi] > 0)
-            ke += s->steps == 0 ? msum * ((2 * vx[r] - ux) * ux + (2 * vy[r] - uy) * uy)
-                                : msum * (vx[r] * ux + vy[r] * uy);
-        for (q = f0; q < f1; q++) {
-            const int n = m->grp_node[q];
-            nvx[n] = ux;
-            nvy[n] = uy;
-            nx[n] = x[n] + dt * ux;
-            ny[n] = y[n] + dt * uy;
-            fin += nx[n] + ny[n];
-        }
-    }
-    for (gi = 0; gi < m->ncl; gi++) {
-        /* rigid bodies: anchor velocity and rate at n + 1/2 */
-        const double *oc = RJ__FCL(m, of, gi);
-        double *nc = RJ__FCL(m, nf, gi), Fx, Fy, T;
-        int q;
-        if (m->cl_first[gi] == m->cl_first[gi + 1])
-            continue;
-        memcpy(nc, oc, 6 * sizeof(double));
-        if (m->cl_fix[gi] == 2)
-            continue;
-        rj__cl_load(m, gi, oc, x, y, fx, fy, mz, &Fx, &Fy, &T);
-        if (m->cl_fix[gi] == 0) {
-            nc[2] = oc[2] + kick * Fx / m->cl_M[gi];
-            nc[3] = oc[3] + kick * Fy / m->cl_M[gi];
-        }
-        nc[4] = oc[4] + kick * T / m->cl_I[gi];
-        ke += rj__cl_ke2(m, gi, oc, nc, s->steps == 0);
-        for (q = m->cl_first[gi]; q < m->cl_first[gi + 1]; q++)
-            if (RJ__CL_RIGID(m, m->cl_node[q]))
-                nw[m->cl_node[q]] = nc[4];
-    }
-    ke *= 0.5;
-
-    /* 5. velocity-level limit methods and the work of joint torques */
-    for (j = 0; j < m->nj; j++) {
-        const rj_joint_def *d = &m->jdef[j];
-        const rj__joint *J = &m->jnt[j];
-        double *nj_ = RJ__FJ(m, nf, j), *sc = s->jsc + 8 * j;
-        const double *oj = RJ__FJ(m, of, j);
-        rj__jgeo g;
-        double w1, w2, ratep;
-        int flag = ni[j];
-        g.ax = sc[0];
-        g.ay = sc[1];
-        g.bx = sc[2];
-        g.by = sc[3];
-        g.a2 = sc[6];
-        g.b2 = sc[7];
-        ratep = rj__joint_rate(J, &g, nvx, nvy, nw, &w1, &w2);
-        /* velocity-level methods: a joint released under RC13 (rate pointing out at the
-           step's start) that the step's kick turns back in while still past its limit is in
-           contact again now, not one step later: that lag let the bodies behind ratchet it
-           through the stop (stress suite: 48 deg in a 1000:1 chain) */
-        if (flag == RJ_FREE && (d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_ENERGY ||
-                                d->method == RJ_METHOD_FORCED)) {
-            const double run = RJ__FJ(m, of, j)[RJ__JD_THETA], rp = ratep;
-            if (run <= J->rev && rp < 0) {
-                flag = ni[j] = RJ_AT_REVERSE;
-                sc[5] = J->rev - run;
-            } else if (run >= J->fwd && rp > 0) {
-                flag = ni[j] = RJ_AT_FORWARD;
-                sc[5] = J->fwd - run;
-            }
-        }
-        if (flag != RJ_FREE && (d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_ENERGY ||
-                                d->method == RJ_METHOD_FORCED)) {
-            if (rj__into_limit(flag, ratep)) {
-                double o1 = w1, o2 = w2, m1 = 0, m2 = 0, loss = 0;
-                rj__joint_rate(J, &g, vx, vy, w, &m1, &m2); /* the bodies' rates at n - 1/2 */
-                if (d->method == RJ_METHOD_MOMENTUM)
-                    rj_momentum_balance(J->I1, J->I2, flag == RJ_LOCKED ? 0.0 : d->restitution, &w1,
-                                        &w2);
-                else if (d->method == RJ_METHOD_ENERGY && flag != RJ_LOCKED)
-                    rj_energy_balance(J->I1, J->I2, &w1, &w2);
-                else
-                    rj_momentum_balance(J->I1, J->I2, 0.0, &w1,
-                                        &w2); /* forced, or energy while locked: plastic */
-                if (!rj__finite(J->I1))
-                    w1 = o1;
-                if (!rj__finite(J->I2))
-                    w2 = o2;
-                /* in the kinetic energy's form 1/2 v^{n-1/2}.v^{n+1/2} a jump from w_b to w_b'
-                   loses 1/2 I_b (w_b^{n-1/2} + w_b') (w_b - w_b') per body (the second half
-                   is the next step's share): a latch that only cancels the step's small
-                   relative rate loses almost nothing, as a workless constraint should */
-                if (rj__finite(J->I1)) {
-                    loss += 0.5 * J->I1 * m1 * (o1 - w1);
-                    pend += 0.5 * J->I1 * w1 * (o1 - w1);
-                }
-                if (rj__finite(J->I2)) {
-                    loss += 0.5 * J->I2 * m2 * (o2 - w2);
-                    pend += 0.5 * J->I2 * w2 * (o2 - w2);
-                }
-                /* the latch's angular impulse on body 2 (body 1 takes the opposite) */
-                nj_[RJ__JD_IMPULSE] = rj__finite(J->I2) ? J->I2 * (w2 - o2) : -J->I1 * (w1 - o1);
-                rj__spin(J, &g, w1 - o1, w2 - o2, nvx, nvy, nw);
-                { /* the bodies' new rates move their nodes (rj__spin changes nK and nL only with
-                       a chord reference) */
-                    const int nodes[4] = { J->nI, J->chord ? J->nK : -1, J->nJ,
-                                           J->chord ? J->nL : -1 };
-                    int k;
-                    for (k = 0; k < 4; k++) {
-                        const int n = nodes[k];
-                        if (n < 0)
-                            continue;
-                        nx[n] = x[n] + dt * nvx[n];
-                        ny[n] = y[n] + dt * nvy[n];
-                        nphi[n] = phi[n] + dt * nw[n];
-                        fin += (nx[n] + ny[n]) + nphi[n];
-                        if (m->ncl && RJ__CL_RIGID(m, n)) {
-                            /* a body's node: the whole body takes the new rate */
-                            const int c = m->node_cl[n];
-                            int q;
-                            RJ__FCL(m, nf, c)[4] = nw[n];
-                            for (q = m->cl_first[c]; q < m->cl_first[c + 1]; q++)
-                                if (RJ__CL_RIGID(m, m->cl_node[q]))
-                                    nw[m->cl_node[q]] = nw[n];
-                        }
-                    }
-                }
-                /* this step's half; the half with the new rates is the next step's (pend) */
-                lost_l += loss;
-                ke -= loss;
-                ratep = rj__joint_rate(J, &g, nvx, nvy, nw, NULL, NULL);
-            }
-        }
-        rj__element_work(oj, nj_, sc[4], dt, &lost_d, &lost_f, &lost_l);
-        nj_[RJ__JD_RATE] = ratep;
-    }
-
-    for (gi = 0; gi < m->ncl; gi++) {
-        const double *oc = RJ__FCL(m, of, gi);
-        double *nc = RJ__FCL(m, nf, gi);
-        if (m->cl_first[gi] == m->cl_first[gi + 1])
-            continue;
-        nc[0] = oc[0] + dt * nc[2];
-        nc[1] = oc[1] + dt * nc[3];
-        nc[5] = oc[5] + dt * nc[4];
-        fin += rj__cl_pose(m, gi, nc, x, y, dt, 1, nx, ny, nphi, nvx, nvy, nw);
-    }
-    if (m->any_inext) {
-        /* constraint forces do no work: the velocities follow the projected positions, and
-           the kinetic energy is taken again with them */
-        double k0 = 0;
-        const double idt = 1.0 / dt;
-        rj__shake(m, s, x, y, nx, ny);
-        for (i = 0; i < nn; i++) {
-            nvx[i] = (nx[i] - x[i]) * idt;
-            nvy[i] = (ny[i] - y[i]) * idt;
-            /* velocities from positions: summed too (see rj__cl_pose) */
-            fin += ((nx[i] + ny[i]) + nphi[i]) + (nvx[i] + nvy[i]);
-        }
-        if (en) {
-            for (i = 0; i < nn; i++) {
-                const double vmx = s->steps == 0 ? 2 * vx[i] - nvx[i] : vx[i],
-                             vmy = s->steps == 0 ? 2 * vy[i] - nvy[i] : vy[i];
-                const double vmw = s->steps == 0 ? 2 * w[i] - nw[i] : w[i];
-                k0 += m->kmass[i] * (vmx * nvx[i] + vmy * nvy[i]) + m->krot[i] * vmw * nw[i];
-            }
-            for (gi = 0; gi < m->ng; gi++) {
-                const int r0 = m->grp_node[m->grp_first[gi]];
-                double msum = 0;
-                int q;
-                if (!(m->grp_inv[gi] > 0))
-                    continue;
-                for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++)
-                    msum += m->mass[m->grp_node[q]];
-                k0 += msum * ((s->steps == 0 ? 2 * vx[r0] - nvx[r0] : vx[r0]) * nvx[r0] +
-                              (s->steps == 0 ? 2 * vy[r0] - nvy[r0] : vy[r0]) * nvy[r0]);
-            }
-            for (gi = 0; gi < m->ncl; gi++)
-                if (m->cl_first[gi] < m->cl_first[gi + 1] && m->cl_fix[gi] != 2)
-                    k0 += rj__cl_ke2(m, gi, RJ__FCL(m, of, gi), RJ__FCL(m, nf, gi), s->steps == 0);
-            ke = 0.5 * k0;
-        }
-    }
-
-    /* 6. running angles (unwrapped in chord mode), forced displacement back to the limit */
-    for (j = 0; j < m->nj; j++) {
-        const rj_joint_def *d = &m->jdef[j];
-        const rj__joint *J = &m->jnt[j];
-        double *nj_ = RJ__FJ(m, nf, j);
-        rj__jgeo g;
-        double raw, dth, run;
-        rj__joint_geo(m, J, nx, ny, &g);
-        raw = rj__joint_raw(J, &g, nphi);
-        dth = J->chord ? rj__wrap(raw - nj_[RJ__JD_THETA]) : raw - nj_[RJ__JD_THETA];
-        if (!(fabs(dth) <= 0.5 * RJ__PI))
-            return rj__stop(m, s, RJ_ERR_TUNNEL,
-                            "t = %.9g s: joint %d turned %.4g rad in one step (more than a quarter "
-                            "revolution, pi/2 rad): the step %g s is far too large for its speed%s",
-                            t, j, dth, dt,
-                            d->has_forward || d->has_reverse ? "; its limits could be tunnelled"
-                                                             : "");
-        run = nj_[RJ__JD_THETA] + dth;
-        if (d->method == RJ_METHOD_FORCED && ni[j] != RJ_FREE) {
-            double target = run, p;
-            if (ni[j] == RJ_AT_FORWARD && run > J->fwd)
-                target = J->fwd;
-            else if (ni[j] == RJ_AT_REVERSE && run < J->rev)
-                target = J->rev;
-            else if (ni[j] == RJ_LOCKED)
-                target = nj_[RJ__JD_LOCK];
-            p = target - run;
-            if (p != 0) {
-                rj__turn(J, -p * J->w1, p * J->w2, nx, ny, nphi);
-                fin += rj__joint_nodes_sum(J, nx, ny, nphi);
-                if (m->ncl) {
-                    /* a body's node turned: the body turns (positions only, as above) */
-                    const int nodes[2] = { J->nI, J->nJ };
-                    int k;
-                    for (k = 0; k < 2; k++)
-                        if (nodes[k] >= 0 && RJ__CL_RIGID(m, nodes[k])) {
-                            const int c = m->node_cl[nodes[k]];
-                            double *nc = RJ__FCL(m, nf, c);
-                            nc[5] = nphi[nodes[k]] - (m->phi0[nodes[k]] - m->cl_th0[3 * c]);
-                            fin += rj__cl_pose(m, c, nc, x, y, dt, 0, nx, ny, nphi, nvx, nvy, nw);
-                        }
-                }
-                run = J->chord ? target : rj__joint_raw(J, &g, nphi);
-            }
-        }
-        nj_[RJ__JD_THETA] = run;
-    }
-
-    /* 7. every value the step wrote is finite: fin sums every position it wrote, each from
-       the velocity, torque or body motion behind it, on every step; energy accounts and
-       blow-up detection (on the steps that take them); commit the frame */
-    if (!rj__finite(fin))
-        return rj__stop_nonfinite(m, s, ip ? cf : nf, t);
-    {
-        double E, scale, created, e0 = osc[RJ__FS_E0];
-        const double warn = nsc[RJ__FS_WARN]; /* counted in this step already */
-        memcpy(nsc, osc, sizeof(double) * RJ__FS_COUNT);
-        nsc[RJ__FS_WARN] = warn;
-        nsc[RJ__FS_TIME] = t + dt;
-        nsc[RJ__FS_LDAMP] = lost_d;
-        nsc[RJ__FS_LFRIC] = lost_f;
-        nsc[RJ__FS_LLIM] = lost_l;
-        nsc[RJ__FS_PEND] = pend;
-        if (en) {
-            nsc[RJ__FS_ETIME] = t;
-            /* V: springs and tables at x^n, summed by the element in part 2 */
-            nsc[RJ__FS_KE] = ke;
-            nsc[RJ__FS_STRAIN] = U;
-            nsc[RJ__FS_SPRING] = V;
-            /* the initial energy in the same discrete form as every later one */
-            if (s->steps == 0) {
-                nsc[RJ__FS_E0] = e0 = ke + U + V;
-                nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0;
-                lost_d = lost_f = lost_l = 0;
-            }
-            /* an unstable mode alternates in sign: v^{n-1/2}.v^{n+1/2} turns negative while the
-               strain grows, and their sum is what the scheme conserves, so each is tested alone;
-               and limit responses are dissipative, so energy they put in means chatter */
-            E = U > fabs(ke) ? U : fabs(ke);
-            scale = fabs(e0) + fabs(osc[RJ__FS_SPRING]) + 1e-9;
-            created = ke + U + V + lost_d + lost_f + lost_l - nsc[RJ__FS_E0];
-            if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) ||
-                E > m->solver.energy_growth * (scale + fabs(V)) || created > RJ__CREATED * scale ||
-                lost_l < -RJ__CREATED * scale) {
-                char causes[400];
-                int bl, bn;
-                rj__worst_node(m, ip ? cf : nf, &bl, &bn);
-                if (created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale)
-                    return rj__stop(
-                        m, s, RJ_ERR_BLOWUP,
-                        "t = %.9g s: %.6g J of energy created (balance %.6g J, limit work %.6g J; "
-                        "more than %g of the initial %.6g J); fastest node link %d node %d; %s",
-                        t, created > -lost_l ? created : -lost_l, created, -lost_l, RJ__CREATED,
-                        scale, bl, bn, rj__blowup_causes(m, causes, sizeof causes));
-                if (!(E == E) || !rj__finite(E))
-                    return rj__stop(
-                        m, s, RJ_ERR_BLOWUP,
-                        "t = %.9g s: non-finite energy, fastest node link %d node %d; %s", t, bl,
-                        bn, rj__blowup_causes(m, causes, sizeof causes));
-                return rj__stop(m, s, RJ_ERR_BLOWUP,
-                                "t = %.9g s: kinetic or strain energy %.6g J exceeds %g x the "
-                                "initial %.6g J; fastest node link %d node %d; %s",
-                                t, E, m->solver.energy_growth, scale, bl, bn,
-                                rj__blowup_causes(m, causes, sizeof causes));
-            }
-        }
-    }
-    if (ip) {
-        /* in place: the new scalars, joints and bodies join the advanced nodes */
-        const size_t j0 = RJ__FS_COUNT + 6 * (size_t) nn + 3 * (size_t) m->ne;
-        memcpy(cf, nf, sizeof(double) * RJ__FS_COUNT);
-        memcpy(cf + j0, nf + j0, sizeof(double) * (m->frame_doubles - j0));
-        memcpy(s->fi[s->cur], ni, sizeof(int) * (m->frame_ints + 1));
-    } else
-        s->cur = 1 - s->cur;
-    s->steps++;
-    return RJ_OK;
+    rj__frames f;
+    rj__sums e;
+    rj__rig r;
+    rj_result res;
+    rj__frames_open(m, s, 1, 0, &f);
+    rj__sums_open(f.old_scalars, &e);
+    rj__rig_map(m, s->rsc, &r);
+    res = rj__rig_stage_kinematics(m, s, &f, &r);
+    if (res != RJ_OK)
+        return res;
+    rj__rig_stage_torques(m, s, &f, &r, &e);
+    rj__rig_stage_friction(m, &f, &r);
+    rj__rig_stage_rates(m, &f, &r, &e);
+    res = rj__rig_stage_angles(m, s, &f, &r, &e);
+    if (res != RJ_OK)
+        return res;
+    return rj__rig_stage_accounts(m, s, &f, &r, &e);
 }
 
 /* The step. In place (rj_model.ip: solver.in_place, never with inextensible links; after
