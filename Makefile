@@ -21,7 +21,8 @@ SAN     = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omi
 
 HDR     = revjoint.h
 RENDER  = render/rj_render.c render/rj_render.h
-EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B)/sweep $(B)/studies $(B)/rj $(B)/segmented
+EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B)/sweep $(B)/studies $(B)/rj $(B)/segmented \
+          $(B)/peer_side
 TESTS   = $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_benchmarks $(B)/test_rigid2 \
           $(B)/test_render $(B)/csvdiff $(B)/test_core_asan $(B)/test_dynamics_asan $(B)/test_beam_asan \
           $(B)/test_core_clang $(B)/test_cpp $(B)/test_state $(B)/test_state_asan $(B)/test_scene $(B)/test_scene_asan $(B)/test_mixed $(B)/test_mixed_asan $(B)/test_robust $(B)/test_robust_asan $(B)/stress
@@ -73,6 +74,10 @@ $(B)/bench: bench/bench.c examples/scenes.h examples/rigid2.h $(HDR) $(RENDER) |
 	$(CC) $(ALLCF) bench/bench.c render/rj_render.c -o $@ $(GL)
 $(B)/segmented: bench/segmented.c examples/scenes.h $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
+# revjoint.h side by side with the MuJoCo peer; it runs build/peer_mujoco as a program, so
+# it builds without MuJoCo
+$(B)/peer_side: bench/peer_side.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) | $(B)
+	$(CC) $(ALLCF) bench/peer_side.c render/rj_render.c -o $@ $(GL)
 # the MuJoCo peer of the deployment (docs/validation.md); needs libmujoco-dev, which
 # nothing else here does
 peer: | $(B)
@@ -137,14 +142,21 @@ stress: deps $(B)/stress
 	@mkdir -p out
 	@sh tests/run.sh "$(B)/stress --table out/stress.md"
 
-# Speed against error: BENCHMARKS.md and the work-precision plots (about 6 minutes)
+# Speed against error: BENCHMARKS.md and the work-precision plots (about 7 minutes); with
+# MuJoCo installed (libmujoco-dev) also section 7, revjoint.h side by side with the peer
+# (build/peer_side, about 1.5 minutes more)
 NATIVE_CF = -std=c99 -O3 -march=native -Wall -Wextra -pedantic -Werror -ffp-contract=off
 $(B)/bench_native: bench/bench.c examples/scenes.h examples/rigid2.h $(HDR) $(RENDER) | $(B)
 	$(CC) $(NATIVE_CF) -I. -DBENCH_CFLAGS='"$(NATIVE_CF)"' bench/bench.c render/rj_render.c -o $@ $(GL)
-bench: deps $(B)/bench $(B)/bench_native
+bench: deps $(B)/bench $(B)/bench_native $(B)/peer_side
 	@mkdir -p docs out
 	$(B)/bench_native --only throughput --out out/bench_native.md
-	$(B)/bench --out BENCHMARKS.md --plot docs/work_precision.png --native out/bench_native.md
+	@rm -f out/peer.md
+	@if [ -f /usr/include/mujoco/mujoco.h ]; then \
+	  $(MAKE) peer && $(B)/peer_side --out out/peer.md --plot docs/peer_work_precision.png; \
+	else echo "make bench: no MuJoCo (libmujoco-dev), so no side-by-side section"; fi
+	$(B)/bench --out BENCHMARKS.md --plot docs/work_precision.png --native out/bench_native.md \
+	  $$(test -f out/peer.md && echo --peer out/peer.md)
 
 # Fuzzing with clang's libFuzzer, ASan and UBSan (undefined behaviour stops the run), one
 # process per target: the scene-file parser, checkpoint loading (rj_state_load) and model

@@ -6,7 +6,8 @@
    build/bench [--out FILE.md] [--plot FILE.png] [--quick] [--only fidelity|features]
 
    Sections: 1 throughput, 2 deployment and 3 impact (speed against error), 4 fidelity (which
-   link model for which job), 5 feature cost (time per step with each joint feature).
+   link model for which job), 5 feature cost (time per step with each joint feature), 6 model
+   build, 7 side by side with a MuJoCo peer (build/peer_side's section, quoted by --peer).
 
    Wall times are clock_gettime(CLOCK_MONOTONIC) around rj_step / rj_run only (model and
    state creation, resets and reference bookkeeping are outside the timed region). */
@@ -29,6 +30,7 @@
 
 static const char usage[] =
     "usage: bench [--out FILE.md] [--plot FILE.png] [--quick] [--only fidelity|features|throughput|build] [--native FILE.md]\n"
+    "             [--peer FILE.md]\n"
     "  --out FILE.md    markdown report (default BENCHMARKS.md)\n"
     "  --plot FILE.png  work-precision plot of the deployment, q before joint 2 locks; a second\n"
     "                   plot (tip amplitude) goes to FILE_tip.png (default docs/work_precision.png)\n"
@@ -39,7 +41,9 @@ static const char usage[] =
     "                   (section 1's step costs alone, as a fragment for --native), or build\n"
     "                   (section 6: model build time and memory, 10 to 10000 links)\n"
     "  --native FILE.md the throughput fragment of a build with other flags (make bench: -O3\n"
-    "                   -march=native), quoted in section 1 and the headline\n";
+    "                   -march=native), quoted in section 1 and the headline\n"
+    "  --peer FILE.md   the side-by-side section of build/peer_side (make bench, when MuJoCo is\n"
+    "                   installed), quoted as section 7 of the full report\n";
 
 /* ------------------------------------------------------------------ settings */
 typedef struct settings {
@@ -1919,6 +1923,30 @@ static void build_section(void)
     md("\n");
 }
 
+/* A whole markdown fragment (--peer), NULL when it cannot be read; the caller frees it. */
+static char *read_fragment(const char *path)
+{
+    FILE *g = fopen(path, "r");
+    char *p = NULL;
+    size_t n = 0;
+    size_t got;
+    if (!g) return NULL;
+    do {
+        char *q = (char *)realloc(p, n + 4097);
+        if (!q) {
+            free(p);
+            fclose(g);
+            return NULL;
+        }
+        p = q;
+        got = fread(p + n, 1, 4096, g);
+        n += got;
+    } while (got == 4096);
+    p[n] = 0;
+    fclose(g);
+    return p;
+}
+
 static void features_report(void)
 {
     const fres *b = &FT.res[0];
@@ -2021,6 +2049,8 @@ int main(int argc, char **argv)
     double iref_unconverged[3] = { 0, 0, 0 };
     int i, j, k, ndr = 0, nir = 0, cores, plot_failed = 0, only = 0, out_given = 0, plot_given = 0;
     const char *native = NULL;
+    const char *peer = NULL;
+    char *peer_md = NULL;
     static char native_md[2048];
     double paper_w[32], paper_c[32], paper_med = 0, paper_cpu = 0, paper16_med = 0, paper16_cpu = 0, t_total;
     long paper_steps = 0;
@@ -2038,6 +2068,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--plot") && i + 1 < argc) { plot = argv[++i]; plot_given = 1; }
         else if (!strcmp(argv[i], "--quick")) S.quick = 1;
         else if (!strcmp(argv[i], "--native") && i + 1 < argc) native = argv[++i];
+        else if (!strcmp(argv[i], "--peer") && i + 1 < argc) peer = argv[++i];
         else if (!strcmp(argv[i], "--only") && i + 1 < argc) {
             i++;
             if (!strcmp(argv[i], "fidelity")) only = 1;
@@ -2055,6 +2086,11 @@ int main(int argc, char **argv)
         native_md[n] = 0;
         if (g) fclose(g);
         else fprintf(stderr, "bench: --native %s: cannot read it; section 1 goes without it\n", native);
+    }
+    /* the MuJoCo side-by-side section of build/peer_side, quoted whole as section 7 */
+    if (peer) {
+        peer_md = read_fragment(peer);
+        if (!peer_md) fprintf(stderr, "bench: --peer %s: cannot read it; the report goes without section 7\n", peer);
     }
     for (i = 0; i < argc; i++) {
         size_t used = strlen(cmd);
@@ -2476,6 +2512,8 @@ int main(int argc, char **argv)
     if (FT.ran) features_report();
     /* section 6 times model builds itself; it runs last so its report follows section 5 */
     if (!only || only == 4) build_section();
+    if (!only && peer_md) md("## 7. Side by side with a MuJoCo peer\n\n%s\n", peer_md);
+    free(peer_md);
 
 
     t_total = now() - T_START;
