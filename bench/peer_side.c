@@ -82,8 +82,12 @@ static const spec SPECS[] = {
     { KIND_SEGMENTED, 8, 0, 0 },
     { KIND_SEGMENTED, 10, 0, 0 },
     { KIND_SEGMENTED, 10, 0, 2e-4 },
+    { KIND_SEGMENTED, 20, 0, 0 },
     { KIND_FLEXIBLE, 10, 0, 0 },
     { KIND_FLEXIBLE, 20, 0, 0 },
+    { KIND_FLEXIBLE, 20, 0, 4e-6 },
+    { KIND_FLEXIBLE, 40, 0, 0 },
+    { KIND_FLEXIBLE, 40, 0, 2e-6 },
     { KIND_INEXTENSIBLE, 5, 0, 0 },
 };
 #define NSPECS ((int)(sizeof SPECS / sizeof SPECS[0]))
@@ -904,6 +908,51 @@ static void report_table(text *b, const row *rows, int n, int rounds, int peer_m
     put(b, "\n");
 }
 
+/* Is ours at least as accurate as peer on all five measures, up to what the reference
+   resolves (a third of its own convergence check in each)? */
+static int as_accurate(const row *ours, const row *peer, const reference *ref)
+{
+    const double angle = ref->check.dq2 / 3;
+    const double freq[2] = { fabs(ref->check.freq[0]) / 3, fabs(ref->check.freq[1]) / 3 };
+    const double rms = fabs(ref->check.rms) / 3;
+    if (ours->e.dq1 > peer->e.dq1 + angle || ours->e.dq2 > peer->e.dq2 + angle) return 0;
+    if (fabs(ours->e.freq[0]) > fabs(peer->e.freq[0]) + freq[0]) return 0;
+    if (fabs(ours->e.freq[1]) > fabs(peer->e.freq[1]) + freq[1]) return 0;
+    return fabs(ours->e.rms) <= fabs(peer->e.rms) + rms;
+}
+
+/* For each of the peer's settings, the cheapest of ours that is at least as accurate on
+   every measure, and the ratio of their CPU times. */
+static void report_verdict(text *b, const row *rows, int n, const reference *ref)
+{
+    char name[200], mine[200];
+    int i, k;
+    put(b, "For each of the peer's settings, the cheapest revjoint.h setting above that is at "
+           "least as accurate on all five measures (each within what the reference resolves, "
+           "a third of its own convergence check):\n\n");
+    put(b, "| the peer | CPU (ms) | revjoint.h | CPU (ms) | time ratio |\n");
+    put(b, "|---|---:|---|---:|---:|\n");
+    for (i = 0; i < n; i++) {
+        const row *peer = &rows[i];
+        const row *best = NULL;
+        if (peer->sp.kind != KIND_PEER || !peer->ok) continue;
+        for (k = 0; k < n; k++) {
+            const row *r = &rows[k];
+            if (r->sp.kind == KIND_PEER || !r->ok || !as_accurate(r, peer, ref)) continue;
+            if (!best || r->cpu_median < best->cpu_median) best = r;
+        }
+        row_name(peer, name, sizeof name);
+        if (!best) {
+            put(b, "| %s | %.1f | none | | |\n", name, 1e3 * peer->cpu_median);
+            continue;
+        }
+        row_name(best, mine, sizeof mine);
+        put(b, "| %s | %.1f | %s | %.1f | %.2f |\n", name, 1e3 * peer->cpu_median, mine,
+            1e3 * best->cpu_median, peer->cpu_median / best->cpu_median);
+    }
+    put(b, "\n");
+}
+
 /* the plots, the command and, when it was missing, why the peer has no rows */
 static void report_tail(text *b, const options *o, const char *freq_plot, const char *missing)
 {
@@ -1134,6 +1183,7 @@ static int write_report(const options *o, const reference *ref, const row *rows,
     report_intro(&b, o);
     report_reference(&b, ref);
     report_table(&b, rows, NSPECS, o->rounds, missing[0] != '\0');
+    if (!missing[0]) report_verdict(&b, rows, NSPECS, ref);
     report_tail(&b, o, freq_plot, missing);
     if (o->out && cli_mkparent("peer_side", o->out) != 0) return -1;
     if (cli_open(&out, "peer_side", o->out) != 0) return -1;

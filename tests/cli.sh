@@ -19,6 +19,8 @@ t 2 "impact rejects an unknown method" $B/impact --method magic
 t 2 "impact rejects NaN" $B/impact --K nan
 t 2 "deploy rejects zero elements" $B/deploy --elements 0
 t 2 "deploy rejects a missing value" $B/deploy --dt
+t 2 "deploy --links pieces rejects more than 100 pieces per link" $B/deploy --links pieces --elements 101
+t 2 "deploy --links pieces rejects --method (its latches are momentum)" $B/deploy --links pieces --method adaptive
 t 2 "animate rejects an unknown scene" $B/animate --scene nowhere
 t 1 "impact refuses a step above the stability bound (clear error, status 1)" $B/impact --dt 15e-6
 
