@@ -25,7 +25,7 @@ EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B
           $(B)/peer_side
 TESTS   = $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_benchmarks $(B)/test_rigid2 \
           $(B)/test_render $(B)/csvdiff $(B)/test_core_asan $(B)/test_dynamics_asan $(B)/test_beam_asan \
-          $(B)/test_core_clang $(B)/test_cpp $(B)/test_state $(B)/test_state_asan $(B)/test_scene $(B)/test_scene_asan $(B)/test_mixed $(B)/test_mixed_asan $(B)/test_robust $(B)/test_robust_asan $(B)/stress
+          $(B)/test_core_clang $(B)/test_cpp $(B)/test_state $(B)/test_state_asan $(B)/test_scene $(B)/test_scene_asan $(B)/test_mixed $(B)/test_mixed_asan $(B)/test_loads $(B)/test_loads_asan $(B)/test_robust $(B)/test_robust_asan $(B)/stress
 
 .PHONY: all deps test demo golden bench stress clean check-header valgrind fuzz peer
 all: deps $(EXAMPLES)
@@ -105,7 +105,7 @@ test: deps $(EXAMPLES) $(TESTS)
 	  "$(B)/test_core" "$(B)/test_core_clang" "$(B)/test_cpp" "$(B)/test_beam" "$(B)/test_dynamics" \
 	  "$(B)/test_benchmarks" "$(B)/test_rigid2" "$(B)/test_state" \
 	  "$(B)/test_core_asan" "$(B)/test_beam_asan" "$(B)/test_dynamics_asan" "$(B)/test_state_asan" \
-	  "$(B)/test_scene" "$(B)/test_scene_asan" "$(B)/test_mixed" "$(B)/test_mixed_asan" \
+	  "$(B)/test_scene" "$(B)/test_scene_asan" "$(B)/test_mixed" "$(B)/test_mixed_asan" "$(B)/test_loads" "$(B)/test_loads_asan" \
 	  "$(B)/test_robust" "$(B)/test_robust_asan" \
 	  "$(B)/stress --short" \
 	  "sh tests/readme.sh $(B)" \

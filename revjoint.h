@@ -115,7 +115,8 @@ typedef enum rj_result {
     RJ_ERR_BLOWUP,      /* non-finite value or energy growth beyond the bound */
     RJ_ERR_TUNNEL,      /* a joint turned more than a quarter revolution (pi/2 rad) in one step */
     RJ_ERR_CHECKPOINT,  /* a checkpoint buffer is truncated, corrupted or for another model */
-    RJ_ERR_PARSE        /* scene text malformed */
+    RJ_ERR_PARSE,       /* scene text malformed */
+    RJ_ERR_NOT_CONVERGED /* rj_settle: no equilibrium within its steps */
 } rj_result;
 
 /* Validation and runtime error details, filled by the calls that take it (may be NULL). */
@@ -258,7 +259,9 @@ typedef struct rj_joint_def {
 /* Solver definition. Defaults (rj_default_solver_def):
      dt 0 s (0 = use 0.9 x the stability bound); allow_unstable 0;
      energy_growth 10 (blow-up when total energy exceeds 10 x max(initial energy, energy put
-     in by springs) + 1e-9 J); energy_every 1.
+     in by springs) + 1e-9 J); energy_every 1; gravity 0 0 m/s^2.
+   gravity: a uniform acceleration on every mass of every link model (nodes, tip masses,
+   rigid links and bodies); its potential -m g . x is the energy account rj_energy.gravity.
    energy_every K > 1: the kinetic, strain and spring energies (rj_state_energy) and the
    energy-based blow-up checks are taken K steps after the last time only, and on the step
    before each of rj_run's samples and its last step, so sampled histories and the state
@@ -281,6 +284,7 @@ typedef struct rj_solver_def {
     double energy_growth; /* > 1 */
     int energy_every;     /* 1 .. 1000 steps */
     int in_place;         /* rj_in_place */
+    double gravity[2];    /* m/s^2, the acceleration of gravity (x, y); default 0 0 */
     unsigned cookie;
 } rj_solver_def;
 
@@ -296,6 +300,7 @@ typedef struct rj_scene_def {
 /* Energy accounts, J. total = kinetic + strain + spring; balance = total + lost - initial. */
 typedef struct rj_energy {
     double kinetic, strain, spring; /* spring: torsion springs and tables */
+    double gravity;                 /* the potential of gravity, -sum m g . x */
     double lost_damping, lost_friction, lost_limit;
     double total, balance;
 } rj_energy;
@@ -344,6 +349,16 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s);
 typedef int (*rj_sample_fn)(const rj_model *m, const rj_state *s, void *user);
 RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double sample_dt,
                        rj_sample_fn sample, void *user);
+/* Static equilibrium under the present loads (gravity, springs, limits) by dynamic
+   relaxation with kinetic damping: steps on, and at each peak of the kinetic energy sets
+   every velocity to zero, until a peak's kinetic energy is below tol times the potential
+   energy that moved (strain, springs and gravity's, since the start; tol in (0, 1), 1e-12
+   is tight). Then the equilibrium becomes the start: time, step count, energy accounts and
+   joint events restart from zero, velocities zero, joint flags and running angles kept.
+   Returns RJ_OK; RJ_ERR_INVALID for bad arguments; RJ_ERR_NOT_CONVERGED (the state at
+   max_steps kept, its velocities zeroed) when it has not settled within max_steps; a step's
+   error as rj_step. */
+RJDEF rj_result rj_settle(const rj_model *m, rj_state *s, double tol, long max_steps);
 /* Last step error text (empty when none). */
 RJDEF const char *rj_state_error(const rj_state *s);
 /* Warnings so far (a contact caught more than 0.05 rad past its limit, or past the whole
@@ -481,7 +496,8 @@ typedef struct rj_scene_file {
     char title[RJ_SCENE_TITLE_MAX];       /* title = "..." at the top of the file; "" when none */
     rj_scene_pos *link_pos_, *joint_pos_; /* per item: header, then the value of each key */
     rj_scene_pos
-        solver_pos_[6]; /* header, then dt, allow_unstable, energy_growth, energy_every, in_place */
+        solver_pos_[7]; /* header, then dt, allow_unstable, energy_growth, energy_every, in_place,
+                           gravity */
     void *block_, *alloc_ctx_;
 } rj_scene_file;
 
@@ -706,6 +722,7 @@ enum {
     RJ__FS_E0,
     RJ__FS_WARN,
     RJ__FS_PEND,
+    RJ__FS_GRAV, /* the potential of gravity at x^n */
     RJ__FS_COUNT
 };
 
@@ -839,6 +856,7 @@ enum {
     RJ__RL_COUNT = 24
 };
 static void rj__rig_map(const rj_model *m, double *base, rj__rig *r);
+static double rj__gravity_potential(const rj_model *m, const double *x, const double *y);
 static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd,
                         const double *qdp);
 static void rj__rig_nodes(const rj_model *m, const rj__rig *r, double *f);
@@ -932,6 +950,8 @@ RJDEF const char *rj_result_str(rj_result r)
         return "bad checkpoint";
     case RJ_ERR_PARSE:
         return "scene text malformed";
+    case RJ_ERR_NOT_CONVERGED:
+        return "not settled";
     }
     return "unknown result";
 }
@@ -1206,6 +1226,11 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
                  sc->solver.energy_every);
         return 0;
     }
+    if (!rj__check_num(err, "solver.gravity[0]", sc->solver.gravity[0], -1e6, 1, 1e6, 1,
+                       "must be a finite acceleration within +-1e6 m/s^2") ||
+        !rj__check_num(err, "solver.gravity[1]", sc->solver.gravity[1], -1e6, 1, 1e6, 1,
+                       "must be a finite acceleration within +-1e6 m/s^2"))
+        return 0;
     if (sc->solver.allow_unstable != 0 && sc->solver.allow_unstable != 1) {
         rj__fail(err, RJ_ERR_INVALID, "solver.allow_unstable", sc->solver.allow_unstable,
                  "solver.allow_unstable = %d is invalid: must be 0 or 1",
@@ -3240,6 +3265,8 @@ static unsigned long long rj__model_hash(const rj_model *m)
     }
     h = rj__fnv(h, m->mass, sizeof(double) * (size_t) m->nn);
     h = rj__fnv(h, m->x0, sizeof(double) * (size_t) m->nn);
+    h = rj__fnv_d(h, m->solver.gravity[0]);
+    h = rj__fnv_d(h, m->solver.gravity[1]);
     return h;
 }
 
@@ -4490,7 +4517,8 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
         sc[RJ__FS_KE] = ke;
         sc[RJ__FS_STRAIN] = U;
         sc[RJ__FS_SPRING] = rj__spring_energy(m, f);
-        sc[RJ__FS_E0] = ke + U + sc[RJ__FS_SPRING];
+        sc[RJ__FS_GRAV] = rj__gravity_potential(m, RJ__FX(m, f), RJ__FY(m, f));
+        sc[RJ__FS_E0] = ke + U + sc[RJ__FS_SPRING] + sc[RJ__FS_GRAV];
     }
 }
 
@@ -5377,6 +5405,7 @@ typedef struct rj__frames {
     double t, dt;
     double kick;              /* dt, or dt / 2 at the first step (from v(0)) */
     int first;                /* the first step */
+    int gravity;              /* the scene has gravity */
     int en;                   /* this step takes the energy accounts */
     int ip;                   /* in place */
 } rj__frames;
@@ -5385,10 +5414,31 @@ typedef struct rj__frames {
 typedef struct rj__sums {
     double strain;            /* the beams' strain energy at x^n */
     double spring;            /* the joints' springs and tables at n */
+    double gravity;           /* gravity's potential at n, -sum m g . x */
     double kinetic;           /* 1/2 v^{n-1/2} . v^{n+1/2} */
     double lost_damping, lost_friction, lost_limit;   /* since the start */
     double pending;           /* a jump's loss the next step takes (its second half) */
 } rj__sums;
+
+/* The first moment sum m r of a rigid body's own link (rod and tip mass) at node
+   positions x, y; its nodes carry no mass of their own. */
+static void rj__cl_own_moment(const rj_model *m, int c, const double *x, const double *y,
+                              double *mx, double *my)
+{
+    const rj_link_def *d = &m->ldef[c];
+    const int n0 = m->link_first[c], nt = m->link_first[c + 1] - 1;
+    const double area = d->section == RJ_SECTION_RECT ? d->width * d->height : d->area;
+    const double rod = d->rho * area * d->length, own = rod + d->tip_mass;
+    const double along = (rod * 0.5 + d->tip_mass) / own; /* the centre, as a fraction */
+    *mx = own * (x[n0] + along * (x[nt] - x[n0]));
+    *my = own * (y[n0] + along * (y[nt] - y[n0]));
+}
+
+/* Does the scene have gravity? */
+static RJ__FORCE_INLINE int rj__gravity_on(const rj_model *m)
+{
+    return m->solver.gravity[0] != 0 || m->solver.gravity[1] != 0;
+}
 
 /* The frames and step constants: the accounts when asked, at the start, or
    solver.energy_every steps after the last ones (no division). The nodes' arrays are
@@ -5409,6 +5459,7 @@ static RJ__FORCE_INLINE void rj__frames_open(const rj_model *m, rj_state *s, int
     f->t = f->old_scalars[RJ__FS_TIME];
     f->dt = m->dt;
     f->first = s->steps == 0;
+    f->gravity = rj__gravity_on(m);
     /* the stored velocities are v(0) at the start and v^{n-1/2} after: the first kick is
        half a step, which makes the start second-order accurate too */
     f->kick = f->first ? 0.5 * m->dt : m->dt;
@@ -5442,6 +5493,7 @@ static RJ__FORCE_INLINE void rj__sums_open(const double *old_scalars, rj__sums *
 {
     e->strain = 0;
     e->spring = 0;
+    e->gravity = 0;
     e->kinetic = 0;
     e->lost_damping = old_scalars[RJ__FS_LDAMP];
     e->lost_friction = old_scalars[RJ__FS_LFRIC];
@@ -5632,6 +5684,51 @@ static RJ__FORCE_INLINE void rj__stage_friction(const rj_model *m, rj_state *s,
     }
 }
 
+/* Gravity's potential -sum m g . x at the nodes x, y (rigid bodies' own links from their
+   nodes' positions too). */
+static double rj__gravity_potential(const rj_model *m, const double *x, const double *y)
+{
+    const double gx = m->solver.gravity[0], gy = m->solver.gravity[1];
+    double sum = 0;
+    int i;
+    /* every node's mass (a body's own nodes carry none; the nodes its pins carry do) */
+    for (i = 0; i < m->nn; i++)
+        sum += m->mass[i] * (gx * x[i] + gy * y[i]);
+    for (i = 0; i < m->ncl; i++) {
+        double mx, my;
+        if (m->cl_first[i] == m->cl_first[i + 1])
+            continue;
+        rj__cl_own_moment(m, i, x, y, &mx, &my);
+        sum += gx * mx + gy * my;
+    }
+    return -sum;
+}
+
+/* Stage 4, gravity: a uniform acceleration, so every node that moves on its own (kmass > 0)
+   takes kick g on top of the update the beams and joints gave it, and its share of the
+   kinetic energy the matching v^{n-1/2} . kick g; groups and bodies take it in their own
+   updates. Its potential at x^n joins the accounts. In place is off with gravity (the
+   velocities at n of most nodes are gone by now). */
+static RJ__FORCE_INLINE void rj__gravity_kick(const rj_model *m, rj_state *s, const rj__frames *f,
+                                               rj__sums *e, double *fin)
+{
+    const double dvx = f->kick * m->solver.gravity[0], dvy = f->kick * m->solver.gravity[1];
+    const double dt = f->dt;
+    int i;
+    for (i = 0; i < m->nn; i++) {
+        if (!(m->kmass[i] > 0))
+            continue;
+        s->kn[i] += m->kmass[i] * (f->vx[i] * dvx + f->vy[i] * dvy);
+        f->nvx[i] += dvx;
+        f->nvy[i] += dvy;
+        f->nx[i] += dt * dvx;
+        f->ny[i] += dt * dvy;
+        *fin += f->nx[i] + f->ny[i];
+    }
+    if (f->en)
+        e->gravity = rj__gravity_potential(m, f->x, f->y);
+}
+
 /* Stage 4a: v^{n+1/2} and x^{n+1} of the nodes the joints acted on (the beam pass advanced
    the rest); the kinetic energy at n as v^{n-1/2}.v^{n+1/2}, from v^{-1/2} = 2 v(0) -
    v^{1/2} at the start. */
@@ -5648,6 +5745,8 @@ static RJ__FORCE_INLINE void rj__update_joint_nodes(const rj_model *m, rj_state 
         const int n = m->dnode[i];
         rj__advance_node(adv, n, s->fx[n], s->fy[n], s->mz[n], f->x, f->y, f->phi);
     }
+    if (f->gravity)
+        rj__gravity_kick(m, s, f, e, adv->fin);
     ke = f->en ? rj__sum8(s->kn, m->nn) : 0.0;
     if (f->first) {
         ke = 0;
@@ -5676,6 +5775,10 @@ static RJ__FORCE_INLINE void rj__update_groups(const rj_model *m, rj_state *s, c
         }
         ux = vx[r] + f->kick * sx * m->grp_inv[gi];
         uy = vy[r] + f->kick * sy * m->grp_inv[gi];
+        if (f->gravity && m->grp_inv[gi] > 0) {
+            ux += f->kick * m->solver.gravity[0];
+            uy += f->kick * m->solver.gravity[1];
+        }
         if (m->grp_inv[gi] > 0)
             e->kinetic += f->first ? msum * ((2 * vx[r] - ux) * ux + (2 * vy[r] - uy) * uy)
                                    : msum * (vx[r] * ux + vy[r] * uy);
@@ -5688,6 +5791,30 @@ static RJ__FORCE_INLINE void rj__update_groups(const rj_model *m, rj_state *s, c
             *fin += f->nx[n] + f->ny[n];
         }
     }
+}
+
+/* Gravity on a rigid body of a mixed scene: M g at its centre of mass (the link's rod and
+   tip mass, and the nodes of other links its pins carry), a moment about its anchor when
+   the anchor is a pin rather than the centre. */
+static void rj__cl_gravity(const rj_model *m, int c, const double *oc, const double *x,
+                           const double *y, double *Fx, double *Fy, double *T)
+{
+    const int n0 = m->link_first[c], nt = m->link_first[c + 1] - 1;
+    const double gx = m->solver.gravity[0], gy = m->solver.gravity[1];
+    double mx, my;
+    int k;
+    rj__cl_own_moment(m, c, x, y, &mx, &my);
+    for (k = m->cl_first[c]; k < m->cl_first[c + 1]; k++) {
+        const int n = m->cl_node[k];
+        if (n >= n0 && n <= nt)
+            continue;
+        mx += m->mass[n] * x[n];
+        my += m->mass[n] * y[n];
+    }
+    /* M g, and its moment about the anchor: sum m (r - anchor) x g */
+    *Fx += m->cl_M[c] * gx;
+    *Fy += m->cl_M[c] * gy;
+    *T += (mx - m->cl_M[c] * oc[0]) * gy - (my - m->cl_M[c] * oc[1]) * gx;
 }
 
 /* Stage 4c: rigid bodies in mixed scenes: anchor velocity and rate at n + 1/2. */
@@ -5705,6 +5832,8 @@ static RJ__FORCE_INLINE void rj__update_bodies(const rj_model *m, rj_state *s, c
         if (m->cl_fix[gi] == 2)
             continue;
         rj__cl_load(m, gi, oc, f->x, f->y, s->fx, s->fy, s->mz, &Fx, &Fy, &T);
+        if (f->gravity)
+            rj__cl_gravity(m, gi, oc, f->x, f->y, &Fx, &Fy, &T);
         if (m->cl_fix[gi] == 0) {
             nc[2] = oc[2] + f->kick * Fx / m->cl_M[gi];
             nc[3] = oc[3] + f->kick * Fy / m->cl_M[gi];
@@ -6030,8 +6159,11 @@ static RJ__FORCE_INLINE rj_result rj__energy_check(const rj_model *m, rj_state *
 {
     const double ke = e->kinetic, U = e->strain, V = e->spring, lost_l = e->lost_limit;
     const double E = U > fabs(ke) ? U : fabs(ke);
-    const double scale = fabs(e0) + fabs(old_spring) + 1e-9;
-    const double created = ke + U + V + e->lost_damping + e->lost_friction + lost_l - e0;
+    /* the initial energy less gravity's potential now: what gravity has released since the
+       start may turn into kinetic energy */
+    const double scale = fabs(e0 - e->gravity) + fabs(old_spring) + 1e-9;
+    const double created =
+        ke + U + V + e->gravity + e->lost_damping + e->lost_friction + lost_l - e0;
     if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) ||
         E > m->solver.energy_growth * (scale + fabs(V)) || created > RJ__CREATED * scale ||
         lost_l < -RJ__CREATED * scale)
@@ -6060,8 +6192,9 @@ static RJ__FORCE_INLINE rj_result rj__step_accounts(const rj_model *m, rj_state 
     nsc[RJ__FS_KE] = e->kinetic;
     nsc[RJ__FS_STRAIN] = e->strain;
     nsc[RJ__FS_SPRING] = e->spring;
+    nsc[RJ__FS_GRAV] = e->gravity;
     if (f->first) {
-        nsc[RJ__FS_E0] = e->kinetic + e->strain + e->spring;
+        nsc[RJ__FS_E0] = e->kinetic + e->strain + e->spring + e->gravity;
         nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0;
         e->lost_damping = e->lost_friction = e->lost_limit = 0;
     }
@@ -6271,6 +6404,26 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_kinematics(const rj_model *m, rj
     return RJ_OK;
 }
 
+/* Gravity in joint coordinates: joint j carries the subtree beyond it, whose first moment
+   about its pin is S_j (rj__rig_mass), so gravity's generalised force is S_j x g; its
+   potential is -sum m g . c over the moving links. */
+static void rj__rig_gravity(const rj_model *m, const rj__rig *r, double *Q, rj__sums *e)
+{
+    const double gx = m->solver.gravity[0], gy = m->solver.gravity[1];
+    double potential = 0;
+    int j, l;
+    for (j = 0; j < m->nj; j++) {
+        const double *sub = r->lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
+        Q[j] += sub[RJ__RL_SUB_SX] * gy - sub[RJ__RL_SUB_SY] * gx;
+    }
+    for (l = 0; l < m->nl; l++) {
+        const double *b = r->lk + RJ__RL_COUNT * (size_t) l;
+        if (m->rb_pjoint[l] >= 0)
+            potential -= m->rb_mass[l] * (gx * b[RJ__RL_CX] + gy * b[RJ__RL_CY]);
+    }
+    e->gravity = potential;
+}
+
 /* Rigid step, stage 2: the element's torques as generalised forces, less the centripetal
    bias; the accelerations M^-1 Q. */
 static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *s,
@@ -6292,6 +6445,8 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
                         &f->new_flags[j], qd[j], t, f->new_scalars, &penetration, &spring);
         Q[j] = torque - bias[j];
     }
+    if (rj__gravity_on(m))
+        rj__rig_gravity(m, r, Q, e);
     /* springs and tables at q^n, from the element */
     f->new_scalars[RJ__FS_SPRING] = spring;
     e->spring = spring;
@@ -6498,8 +6653,9 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
     new_scalars[RJ__FS_LFRIC] = e->lost_friction;
     new_scalars[RJ__FS_LLIM] = e->lost_limit;
     new_scalars[RJ__FS_PEND] = e->pending;
+    new_scalars[RJ__FS_GRAV] = e->gravity;
     if (f->first) {
-        new_scalars[RJ__FS_E0] = ke + e->spring;
+        new_scalars[RJ__FS_E0] = ke + e->spring + e->gravity;
         new_scalars[RJ__FS_LDAMP] = new_scalars[RJ__FS_LFRIC] = new_scalars[RJ__FS_LLIM] = 0;
         e->lost_damping = e->lost_friction = e->lost_limit = 0;
     }
@@ -6567,7 +6723,8 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
                         t, m->dt, t * DBL_EPSILON);
     if (m->rigid)
         return rj__step_rigid(m, s);
-    if (!m->ip || s->steps == 0) {
+    /* in place needs no node's velocity at n after the beams: gravity's kinetic energy does */
+    if (!m->ip || s->steps == 0 || rj__gravity_on(m)) {
         s->snap = -1;
         return rj__step_dbl(m, s, want_energy);
     }
@@ -6632,6 +6789,117 @@ RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double samp
         }
     }
     return RJ_OK;
+}
+
+/* Every velocity of the current frame to zero: nodes, bodies, joint rates (and the rigid
+   solver's predicted accelerations). The state then starts again from rest where it is:
+   the next step is a first step (a half kick, the energy accounts from there), and the
+   in-place copy is dropped, as it would replay steps from before the change. */
+static void rj__zero_velocities(const rj_model *m, rj_state *s)
+{
+    double *f = s->fd[s->cur];
+    int i;
+    memset(RJ__FVX(m, f), 0, sizeof(double) * (size_t) m->nn);
+    memset(RJ__FVY(m, f), 0, sizeof(double) * (size_t) m->nn);
+    memset(RJ__FW(m, f), 0, sizeof(double) * (size_t) m->nn);
+    for (i = 0; i < m->ncl; i++) {
+        double *c = RJ__FCL(m, f, i);
+        c[2] = c[3] = c[4] = 0;
+    }
+    for (i = 0; i < m->nj; i++) {
+        double *jd = RJ__FJ(m, f, i);
+        jd[RJ__JD_RATE] = 0;
+        jd[RJ__JD_QDD] = 0;
+    }
+    s->snap = -1;
+    s->steps = 0;
+}
+
+/* The settled state as a new start: time, steps, accounts and joint events from zero. */
+static void rj__restart(const rj_model *m, rj_state *s)
+{
+    double *f = s->fd[s->cur];
+    double *sc = RJ__FS(m, f);
+    const double warn = sc[RJ__FS_WARN], strain = sc[RJ__FS_STRAIN];
+    const double spring = sc[RJ__FS_SPRING], gravity = sc[RJ__FS_GRAV];
+    int j;
+    rj__zero_velocities(m, s);
+    /* the potential energies of the last step stand until the first step takes them again */
+    memset(sc, 0, sizeof(double) * RJ__FS_COUNT);
+    sc[RJ__FS_WARN] = warn;
+    sc[RJ__FS_STRAIN] = strain;
+    sc[RJ__FS_SPRING] = spring;
+    sc[RJ__FS_GRAV] = gravity;
+    sc[RJ__FS_E0] = strain + spring + gravity;
+    for (j = 0; j < m->nj; j++) {
+        double *jd = RJ__FJ(m, f, j);
+        jd[RJ__JD_EVENT] = -1;
+        jd[RJ__JD_RELEASE] = -1;
+        jd[RJ__JD_PEAKP] = 0;
+        jd[RJ__JD_IMPULSE] = 0;
+    }
+}
+
+/* The potential energy the settling has moved: strain and springs, and gravity's change. */
+static double rj__settle_scale(const double *sc, double gravity_start)
+{
+    return fabs(sc[RJ__FS_STRAIN]) + fabs(sc[RJ__FS_SPRING]) +
+           fabs(sc[RJ__FS_GRAV] - gravity_start) + 1e-300;
+}
+
+/* Kinetic damping: every velocity to zero at each peak of the kinetic energy. A peak below
+   tol times the potential energy moved is not yet the end: from rest, a mode far slower
+   than the others can take many steps to show, while the faster ones make small peaks
+   first. So the state must then stay below it, without damping, for 1.5 times the longest
+   rise from rest to a peak seen so far (that slow mode's quarter period, once it has
+   shown). */
+RJDEF rj_result rj_settle(const rj_model *m, rj_state *s, double tol, long max_steps)
+{
+    double previous = 0, gravity_start;
+    long k, rise = 0, longest_rise = 1, quiet = -1;
+    if (!m || !s || !(tol > 0 && tol < 1) || max_steps < 1)
+        return RJ_ERR_INVALID;
+    gravity_start = RJ__FS(m, s->fd[s->cur])[RJ__FS_GRAV];
+    rj__zero_velocities(m, s);
+    for (k = 0; k < max_steps; k++) {
+        const double *sc;
+        double ke, limit;
+        rj_result r = rj__step(m, s, 1);
+        if (r != RJ_OK)
+            return r;
+        sc = RJ__FS(m, s->fd[s->cur]);
+        ke = sc[RJ__FS_KE];
+        limit = tol * rj__settle_scale(sc, gravity_start);
+        rise++;
+        if (quiet >= 0) {
+            /* checking: quiet for long enough means settled; a rise means not yet */
+            if (ke > limit)
+                quiet = -1;
+            else if (++quiet >= longest_rise + longest_rise / 2) {
+                rj__restart(m, s);
+                return RJ_OK;
+            }
+        }
+        if (ke >= previous) {
+            previous = ke;
+            continue;
+        }
+        /* past a peak */
+        if (quiet < 0 && previous <= limit)
+            quiet = 0;
+        if (quiet < 0) {
+            if (rise > longest_rise)
+                longest_rise = rise;
+            rj__zero_velocities(m, s);
+            previous = 0;
+            rise = 0;
+        }
+    }
+    rj__zero_velocities(m, s);
+    return rj__stop(m, s, RJ_ERR_NOT_CONVERGED,
+                    "rj_settle: not settled within %ld steps (the last kinetic energy peak %.3g J; "
+                    "tol %g)",
+                    max_steps, previous, tol);
 }
 
 RJDEF const char *rj_state_error(const rj_state *s)
@@ -6987,10 +7255,11 @@ RJDEF void rj_state_energy(const rj_model *m, const rj_state *s, rj_energy *e)
     e->kinetic = sc[RJ__FS_KE];
     e->strain = sc[RJ__FS_STRAIN];
     e->spring = sc[RJ__FS_SPRING];
+    e->gravity = sc[RJ__FS_GRAV];
     e->lost_damping = sc[RJ__FS_LDAMP];
     e->lost_friction = sc[RJ__FS_LFRIC];
     e->lost_limit = sc[RJ__FS_LLIM];
-    e->total = e->kinetic + e->strain + e->spring;
+    e->total = e->kinetic + e->strain + e->spring + e->gravity;
     e->balance = e->total + e->lost_damping + e->lost_friction + e->lost_limit - sc[RJ__FS_E0];
 }
 RJDEF double rj_state_energy_time(const rj_state *s)
@@ -7007,7 +7276,7 @@ RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size
     size_t pay = 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1);
     size_t need = RJ__CK_HEAD + pay + 8;
     unsigned char *b = (unsigned char *) buf;
-    unsigned int ver = 2;
+    unsigned int ver = 3;
     unsigned long long h, pl = pay, st = (unsigned long long) s->steps;
     if (!buf || size < need)
         return need;
@@ -7149,11 +7418,11 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
     memcpy(&ver, b + 4, 4);
     memcpy(&mh, b + 8, 8);
     memcpy(&pl, b + 16, 8);
-    if (ver != 2) {
-        rj__fail(
-            err, RJ_ERR_CHECKPOINT, "version", ver,
-            "checkpoint version %u is not supported (2: a joint's latch impulse joined the frame)",
-            ver);
+    if (ver != 3) {
+        rj__fail(err, RJ_ERR_CHECKPOINT, "version", ver,
+                 "checkpoint version %u is not supported (3: gravity's potential joined the "
+                 "frame)",
+                 ver);
         return RJ_ERR_CHECKPOINT;
     }
     if (mh != m->hash || pl != pay) {
@@ -7264,6 +7533,7 @@ enum {
     RJ__VK_ENERGY_GROWTH,
     RJ__VK_ENERGY_EVERY,
     RJ__VK_IN_PLACE,
+    RJ__VK_GRAVITY,
     RJ__VK_N
 };
 enum { RJ__SK_NONE, RJ__SK_SOLVER, RJ__SK_MATERIAL, RJ__SK_SECTION, RJ__SK_LINK, RJ__SK_JOINT };
@@ -7280,8 +7550,8 @@ static const char rj__sk_joint[RJ__JK_N][13] = {
     "rate0",   "table",     "spring",      "forward",  "reverse",  "lock",         "method",
     "release", "penalty_k", "restitution", "damping",  "friction", "reference"
 };
-static const char rj__sk_solver[RJ__VK_N][15] = { "dt", "allow_unstable", "energy_growth",
-                                                  "energy_every", "in_place" };
+static const char rj__sk_solver[RJ__VK_N][15] = { "dt",           "allow_unstable", "energy_growth",
+                                                  "energy_every", "in_place",       "gravity" };
 static const char rj__sk_in_place[3][5] = { "auto", "on", "off" }; /* rj_in_place order */
 static const char rj__sk_root[4][8] = { "free", "pinned", "clamped", "fixed" };
 static const char rj__sk_fidelity[3][13] = { "flexible", "rigid",
@@ -7298,7 +7568,7 @@ static const char rj__sk_joint_unit[RJ__JK_N][10] = {
     "",    "",    "", "m", "m", "rad",     "rad", "rad/s",     "N m", "N m/rad",
     "rad", "rad", "", "",  "",  "N m/rad", "",    "N m s/rad", "N m", ""
 };
-static const char rj__sk_solver_unit[RJ__VK_N][2] = { "s", "", "", "", "" };
+static const char rj__sk_solver_unit[RJ__VK_N][6] = { "s", "", "", "", "", "m/s^2" };
 
 #define RJ__SK_MAT_KEYS ((1u << RJ__LK_E) | (1u << RJ__LK_RHO))
 #define RJ__SK_SEC_KEYS                                                                            \
@@ -8302,11 +8572,36 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
     return 1;
 }
 
-static int rj__sp_solver_key(rj__sp *P, int k, int a, int *i, rj_solver_def *s)
+/* gravity = gx gy (m/s^2): two numbers */
+static int rj__sp_gravity(rj__sp *P, int a, int *i, int b, rj_solver_def *s)
+{
+    const char *key = "gravity";
+    const rj__stok *t = &P->tok[a];
+    int k;
+    for (k = 0; k < 2; k++) {
+        double v = 0;
+        t = &P->tok[*i];
+        if (k == 1 && *i >= b)
+            return rj__sp_err(P, P->tok[a].line, P->tok[a].col + P->tok[a].len, key, rj__sp_nan(),
+                              "missing y component", rj__sp_where(P),
+                              " (gravity = gx gy, in m/s^2)", NULL, NULL);
+        if (!rj__sp_num(P, t, key, &v))
+            return 0;
+        (*i)++;
+        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, "each component must be within +-1e6 m/s^2"))
+            return 0;
+        s->gravity[k] = v;
+    }
+    return 1;
+}
+
+static int rj__sp_solver_key(rj__sp *P, int k, int a, int *i, int b, rj_solver_def *s)
 {
     const char *key = rj__sk_solver[k];
     const rj__stok *t = &P->tok[a];
     double v = 0;
+    if (k == RJ__VK_GRAVITY)
+        return rj__sp_gravity(P, a, i, b, s);
     if (k == RJ__VK_ALLOW_UNSTABLE) {
         if (!rj__sp_bool(P, t, key, &s->allow_unstable))
             return 0;
@@ -8818,7 +9113,7 @@ static int rj__sp_assignments(rj__sp *P)
         v = i + 2;
         switch (P->kind) {
         case RJ__SK_SOLVER:
-            if (!rj__sp_solver_key(P, k, i + 2, &v, &P->f->solver))
+            if (!rj__sp_solver_key(P, k, i + 2, &v, j, &P->f->solver))
                 return 0;
             break;
         case RJ__SK_MATERIAL:
@@ -9586,6 +9881,7 @@ static int rj__sw_ok(const rj_scene_def *sc, const char *const *link_names,
         }
     }
     if (!rj__sw_finite(s->dt) || !rj__sw_finite(s->energy_growth) ||
+        !rj__sw_finite(s->gravity[0]) || !rj__sw_finite(s->gravity[1]) ||
         (s->allow_unstable != 0 && s->allow_unstable != 1) || s->energy_every < 1 ||
         s->energy_every > 1000 || s->in_place < RJ_IN_PLACE_AUTO || s->in_place > RJ_IN_PLACE_OFF)
         return 0;
@@ -9617,7 +9913,7 @@ static void rj__sw_solver(rj__sw *W, const rj_solver_def *s)
     char nm[40];
     if (!rj__sw_set(s->dt, S0.dt) && !s->allow_unstable &&
         !rj__sw_set(s->energy_growth, S0.energy_growth) && s->energy_every == S0.energy_every &&
-        s->in_place == S0.in_place)
+        s->in_place == S0.in_place && s->gravity[0] == 0 && s->gravity[1] == 0)
         return;
     rj__sw_put(W, "solver\n");
     if (rj__sw_set(s->dt, S0.dt)) {
@@ -9641,6 +9937,13 @@ static void rj__sw_solver(rj__sw *W, const rj_solver_def *s)
     if (s->in_place != S0.in_place) {
         rj__sw_key(W, "in_place");
         rj__sw_put(W, rj__sk_in_place[s->in_place]);
+        rj__sw_put(W, "\n");
+    }
+    if (s->gravity[0] != 0 || s->gravity[1] != 0) {
+        rj__sw_key(W, "gravity");
+        rj__sw_num(W, s->gravity[0]);
+        rj__sw_put(W, " ");
+        rj__sw_num(W, s->gravity[1]);
         rj__sw_put(W, "\n");
     }
 }

@@ -56,13 +56,17 @@ static const char usage_run[] =
     "  --progress         progress line on standard error (percent, simulated time,\n"
     "                     steps/s, ETA); without it only on a terminal, after 2 s of wall time\n"
     "  --force            run even above 1e8 steps (refused otherwise)\n"
+    "  --settle           start from the static equilibrium under the scene's loads (gravity,\n"
+    "                     springs, limits): rj_settle, kinetic damping, to 1e-12 of the\n"
+    "                     potential energy moved, at most 1e7 steps; time starts at 0 there\n"
     "  Columns: t (s); for each joint J: J.theta_deg (running angle), J.rate (rad/s), J.flag\n"
     "  (0 free, 1 at the forward limit, 2 at the reverse limit, 3 locked), J.torque_spring,\n"
     "  J.torque_table, J.torque_damping, J.torque_friction, J.torque_limit (N m on body 2),\n"
     "  J.latch_impulse (N m s that a velocity-level limit applied in the last step); for each\n"
     "  link L: L.tip_x, L.tip_y (m), L.tip_defl (m: the last node's distance from the\n"
     "  tangent at node 0, counter-clockwise positive); for each probe L.N.x, L.N.y (m),\n"
-    "  L.N.phi (rad); E_kin, E_strain, E_spring (J), W_damping, W_friction, W_limit (J lost\n"
+    "  L.N.phi (rad); E_kin, E_strain, E_spring, E_gravity (J: gravity's potential, -m g . x),\n"
+    "  W_damping, W_friction, W_limit (J lost\n"
     "  so far), E_balance (J: energy + losses - initial; rj_state_energy at the row's step).\n"
     "  Standard error: the model's warnings, then events as they happen (contacts, locks,\n"
     "  releases, late contacts; at the time of the state the library decided them on, as\n"
@@ -143,6 +147,7 @@ typedef struct opts {
     const char **probes;
     int nprobes, what, w, h, progress, force;
     int plain;   /* rj animate: build/animate's frames, without the reading aids */
+    int settle;  /* rj run: start from the static equilibrium (rj_settle) */
 } opts;
 
 /* The defaults of every subcommand; the sizes are those of build/deploy's plot and of
@@ -189,6 +194,7 @@ static int opt_own(cli *c, opts *o, const char *a)
     else if (o->cmd == CMD_RUN && !strcmp(a, "--sample")) o->sample = cli_num(c, a, 0, 1e6);
     else if (o->cmd == CMD_RUN && !strcmp(a, "--nodes")) o->nodes = cli_str(c, a);
     else if (o->cmd == CMD_RUN && !strcmp(a, "--probe")) o->probes[o->nprobes++] = cli_str(c, a);
+    else if (o->cmd == CMD_RUN && !strcmp(a, "--settle")) o->settle = 1;
     else if (o->cmd == CMD_PLOT && !strcmp(a, "--what")) o->what = cli_choice(c, a, what_names, 4);
     else if (o->cmd == CMD_ANIMATE && !strcmp(a, "--fps")) o->fps = cli_num(c, a, 1e-3, 1e9);
     else if (o->cmd == CMD_ANIMATE && !strcmp(a, "--mp4")) o->mp4 = cli_str(c, a);
@@ -633,8 +639,8 @@ static const char *const joint_cols[] = { "theta_deg", "rate", "flag", "torque_s
                                           "torque_damping", "torque_friction", "torque_limit", "latch_impulse" };
 static const char *const link_cols[] = { "tip_x", "tip_y", "tip_defl" };
 static const char *const probe_cols[] = { "x", "y", "phi" };
-static const char *const energy_cols[] = { "E_kin", "E_strain", "E_spring", "W_damping", "W_friction",
-                                           "W_limit", "E_balance" };
+static const char *const energy_cols[] = { "E_kin", "E_strain", "E_spring", "E_gravity", "W_damping",
+                                           "W_friction", "W_limit", "E_balance" };
 #define NCOLS(a) ((int)(sizeof(a) / sizeof((a)[0])))
 
 /* The header line: every column named from the file's own link and joint names. */
@@ -679,8 +685,8 @@ static void csv_energy(cli_out *o, const rj_model *m, const rj_state *s)
 {
     rj_energy e;
     rj_state_energy(m, s, &e);
-    cli_put(o, fprintf(o->f, ",%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", e.kinetic, e.strain, e.spring,
-                       e.lost_damping, e.lost_friction, e.lost_limit, e.balance));
+    cli_put(o, fprintf(o->f, ",%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", e.kinetic, e.strain,
+                       e.spring, e.gravity, e.lost_damping, e.lost_friction, e.lost_limit, e.balance));
 }
 
 /* One row. A reader that went away (EPIPE on standard output) stops the run quietly. */
@@ -777,6 +783,25 @@ static int run_outputs(const opts *o, csv_sink *c, cli_out *nodes)
     return 0;
 }
 
+/* rj run --settle: the state to the static equilibrium before the history starts. Returns 0,
+   or 1 (the library's message) when it does not settle. */
+static int run_settle(runner *r, const scene *sc)
+{
+    const rj_result res = rj_settle(sc->m, r->s, 1e-12, 10000000L);
+    int j;
+    if (res != RJ_OK) {
+        fprintf(stderr, "rj run: --settle: %s\n", rj_state_error(r->s));
+        return 1;
+    }
+    /* the joints' flags as settled, for the events that follow */
+    for (j = 0; j < rj_model_joint_count(sc->m); j++) {
+        r->jl[j].flag = rj_joint_flag(sc->m, r->s, j);
+        r->jl[j].shown = r->jl[j].flag;
+    }
+    fprintf(stderr, "rj run: settled to the static equilibrium; time starts there\n");
+    return 0;
+}
+
 /* The run and what it leaves: the history's end, the nodes, the summary. */
 static int run_go(runner *r, csv_sink *c, cli_out *nodes)
 {
@@ -828,6 +853,7 @@ static int cmd_run(int argc, char **argv)
         st = runner_init(&r, &sc, "rj run", o.t_end, o.sample, o.progress) != 0 ? 1 : 0;
         r.sink = csv_sink_fn;
         r.data = &c;
+        if (st == 0 && o.settle) st = run_settle(&r, &sc);
         if (st == 0) st = run_go(&r, &c, &nodes);
         runner_free(&r);
     }

@@ -18,7 +18,7 @@ header() {
                        for (i = 1; i <= n; i++) printf ",%s.%s", $2, c[i] }
        $1 == "link" { links[++nl] = $2 }
        END { for (k = 1; k <= nl; k++) printf ",%s.tip_x,%s.tip_y,%s.tip_defl", links[k], links[k], links[k];
-             print ",E_kin,E_strain,E_spring,W_damping,W_friction,W_limit,E_balance" }' "$1"
+             print ",E_kin,E_strain,E_spring,E_gravity,W_damping,W_friction,W_limit,E_balance" }' "$1"
 }
 # a joint's lock and first-contact times from an rj run summary on stderr: "LOCK FIRST"
 summary_times() { # file, joint
@@ -53,16 +53,16 @@ m 2 "nodes 0..10" "run --probe with a node past the link's last is refused" $B/r
 # ---- rj run against build/deploy on the same scene: the joint angles row for row
 $B/rj run $S/deploy.rjs --t-end 3.5 --csv $T/rj_deploy.csv 2>$T/rj_deploy.err
 $B/deploy --scene $S/deploy.rjs --t-end 3.5 --csv $T/deploy.csv 2>$T/deploy.err
-# rj: t, j1 (2-10), j2 (11-19), arm1 (20-22), arm2 (23-25), energies (26-32); deploy from
-# 33: t (%.6f: within half its last digit), q1 = j1 (deg), q2 = j2 - 180 (deg), rates, flags, tip2_x, tip2_y (%.10g)
+# rj: t, j1 (2-10), j2 (11-19), arm1 (20-22), arm2 (23-25), energies (26-33); deploy from
+# 34: t (%.6f: within half its last digit), q1 = j1 (deg), q2 = j2 - 180 (deg), rates, flags, tip2_x, tip2_y (%.10g)
 res=$(paste -d, $T/rj_deploy.csv $T/deploy.csv | awk -F, '
   NR == 1 { next }
-  { n++; d = $1 - $33; if (d < 0) d = -d; if (d > 5.001e-7) bad = bad " t@" $33
-    if ($2 != $34) bad = bad " q1@" $33
-    d = $11 - ($35 + 180); if (d < 0) d = -d; if (d > 2e-7) bad = bad " q2@" $33
-    if ($3 != $36 || $12 != $37) bad = bad " rates@" $33
-    if ($4 != $38 || $13 != $39) bad = bad " flags@" $33
-    if ($23 != $40 || $24 != $41) bad = bad " tip2@" $33 }
+  { n++; d = $1 - $34; if (d < 0) d = -d; if (d > 5.001e-7) bad = bad " t@" $34
+    if ($2 != $35) bad = bad " q1@" $34
+    d = $11 - ($36 + 180); if (d < 0) d = -d; if (d > 2e-7) bad = bad " q2@" $34
+    if ($3 != $37 || $12 != $38) bad = bad " rates@" $34
+    if ($4 != $39 || $13 != $40) bad = bad " flags@" $34
+    if ($23 != $41 || $24 != $42) bad = bad " tip2@" $34 }
   END { print n, substr(bad, 1, 200) }')
 if [ "$res" = "3501 " ] && [ $(wc -l < $T/rj_deploy.csv) = $(wc -l < $T/deploy.csv) ]; then
   echo "PASS rj: run deploy.rjs = build/deploy --scene deploy.rjs row for row to 3.5 s (3501 rows: t, q1, q2 to the printed digits, rates, flags, tip 2 exact; joint 2 locks)"

@@ -1,0 +1,454 @@
+/* Loads: gravity on every link model, against what we did not tune: the pendulum's exact
+   period (complete elliptic integral), the free fall's parabola, beam theory's sag of a
+   cantilever, and the energy balance. */
+#define REVJOINT_IMPLEMENTATION
+#include "../revjoint.h"
+#include "rjt.h"
+#include <math.h>
+#include <string.h>
+
+#define G 9.81
+#define PI 3.14159265358979323846
+
+/* K(k), the complete elliptic integral of the first kind, by the arithmetic-geometric
+   mean: K = pi / (2 AGM(1, sqrt(1 - k^2))). */
+static double elliptic_k(double k)
+{
+    double a = 1.0, b = sqrt(1.0 - k * k);
+    int i;
+    for (i = 0; i < 40; i++) {
+        const double an = 0.5 * (a + b);
+        b = sqrt(a * b);
+        a = an;
+    }
+    return PI / (2.0 * a);
+}
+
+/* An aluminium bar 1 m long, 20 x 10 mm. */
+static rj_link_def bar(int fidelity, int elements)
+{
+    rj_link_def l = rj_default_link_def();
+    l.length = 1.0;
+    l.elements = elements;
+    l.E = 70e9;
+    l.rho = 2700;
+    l.section = RJ_SECTION_RECT;
+    l.width = 0.02;
+    l.height = 0.01;
+    l.fidelity = fidelity;
+    return l;
+}
+
+/* Mass, first moment and inertia about node 0 of a link as the model lumps it. */
+static void lumped_body(const rj_model *m, const rj_state *s, int link, double *mass, double *moment,
+                        double *inertia)
+{
+    const int n = rj_link_node_count(m, link);
+    double x0[2];
+    int k;
+    *mass = *moment = *inertia = 0;
+    rj_node_position(m, s, link, 0, x0);
+    for (k = 0; k < n; k++) {
+        double mk, jk, xk[2];
+        rj_node_mass(m, link, k, &mk, &jk);
+        rj_node_position(m, s, link, k, xk);
+        {
+            const double r = hypot(xk[0] - x0[0], xk[1] - x0[1]);
+            *mass += mk;
+            *moment += mk * r;
+            *inertia += mk * r * r + jk;
+        }
+    }
+}
+
+/* The pendulum's angle from the downward vertical, and the times it passes the bottom
+   going one way (linear interpolation between steps). */
+typedef struct swing {
+    double phi_prev, t_prev;
+    double crossing[8];
+    int crossings;
+} swing;
+
+static int swing_sample(const rj_model *m, const rj_state *s, void *user)
+{
+    swing *w = (swing *)user;
+    const double t = rj_state_time(s);
+    const double phi = rj_joint_theta_running(m, s, 0) + 0.5 * PI;
+    if (t > 0 && w->phi_prev > 0 && phi <= 0 && w->crossings < 8)
+        w->crossing[w->crossings++] = w->t_prev + (t - w->t_prev) * w->phi_prev / (w->phi_prev - phi);
+    w->phi_prev = phi;
+    w->t_prev = t;
+    return 0;
+}
+
+/* A bar pinned at the origin, released from rest at 150 deg from the downward vertical:
+   its period against 4 sqrt(I / (m g d)) K(sin(75 deg)) with the model's own lumped I and
+   m d (for rigid links the continuous rod's). */
+static void test_pendulum(rjt_ctx *c, int fidelity, int elements, double dt, double tol,
+                          const char *what)
+{
+    const double amplitude = 150.0 * PI / 180.0;
+    rj_link_def l = bar(fidelity, elements);
+    rj_joint_def j = rj_default_joint_def();
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m;
+    rj_state *s;
+    rj_error err;
+    swing w;
+    double mass, moment, inertia, exact, period;
+    char name[200];
+    j.body1 = -1;
+    j.body2 = 0;
+    j.angle0 = amplitude - 0.5 * PI;
+    sc.links = &l;
+    sc.link_count = 1;
+    sc.joints = &j;
+    sc.joint_count = 1;
+    sc.solver.dt = dt;
+    sc.solver.gravity[1] = -G;
+    snprintf(name, sizeof name, "pendulum from 150 deg, %s: period against the elliptic integral", what);
+    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) {
+        rjt_check(c, 0, name, "%s", err.msg);
+        return;
+    }
+    rj_state_create(m, &s, NULL);
+    lumped_body(m, s, 0, &mass, &moment, &inertia);
+    if (fidelity == RJ_LINK_RIGID) {
+        const double rod = l.rho * l.width * l.height * l.length;
+        mass = rod;
+        moment = rod * l.length / 2;
+        inertia = rod * l.length * l.length / 3;
+    }
+    exact = 4.0 * sqrt(inertia / (moment * G)) * elliptic_k(sin(0.5 * amplitude));
+    memset(&w, 0, sizeof w);
+    w.phi_prev = amplitude;
+    if (rj_run(m, s, 2.2 * exact, 0, swing_sample, &w) != RJ_OK || w.crossings < 2) {
+        rjt_check(c, 0, name, "%s (%d crossings)", rj_state_error(s), w.crossings);
+    } else {
+        rj_energy e;
+        period = w.crossing[1] - w.crossing[0];
+        rjt_check(c, fabs(period / exact - 1) < tol, name, "%.7f s against %.7f s (%+.2e; within %.0e), dt %.3g s",
+                  period, exact, period / exact - 1, tol, rj_model_dt(m));
+        rj_state_energy(m, s, &e);
+        snprintf(name, sizeof name, "pendulum, %s: the energy balance with gravity closes", what);
+        rjt_check(c, fabs(e.balance) < 1e-6 * (fabs(e.gravity) + e.kinetic) && e.gravity != 0, name,
+                  "balance %.3g J (within 1e-6 of %.4g J), gravity's potential %.6g J, kinetic %.6g J",
+                  e.balance, fabs(e.gravity) + e.kinetic, e.gravity, e.kinetic);
+    }
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
+/* The same pendulum as a rigid body in a mixed scene (a free flexible bar beside it makes
+   the scene mixed): the body's update takes gravity at its centre. */
+static void test_mixed_pendulum(rjt_ctx *c)
+{
+    const double amplitude = 150.0 * PI / 180.0;
+    rj_link_def l[2];
+    rj_joint_def j = rj_default_joint_def();
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m;
+    rj_state *s;
+    rj_error err;
+    swing w;
+    double rod, exact, period;
+    const char *name = "pendulum from 150 deg, rigid body in a mixed scene: period against the elliptic integral";
+    l[0] = bar(RJ_LINK_RIGID, 1);
+    l[1] = bar(RJ_LINK_FLEXIBLE, 4);
+    l[1].x = 5.0;
+    j.body1 = -1;
+    j.body2 = 0;
+    j.angle0 = amplitude - 0.5 * PI;
+    sc.links = l;
+    sc.link_count = 2;
+    sc.joints = &j;
+    sc.joint_count = 1;
+    sc.solver.gravity[1] = -G;
+    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) {
+        rjt_check(c, 0, name, "%s", err.msg);
+        return;
+    }
+    rj_state_create(m, &s, NULL);
+    rod = l[0].rho * l[0].width * l[0].height * l[0].length;
+    exact = 4.0 * sqrt(rod * l[0].length * l[0].length / 3 / (rod * l[0].length / 2 * G)) *
+            elliptic_k(sin(0.5 * amplitude));
+    memset(&w, 0, sizeof w);
+    w.phi_prev = amplitude;
+    if (rj_run(m, s, 2.2 * exact, 0, swing_sample, &w) != RJ_OK || w.crossings < 2) {
+        rjt_check(c, 0, name, "%s (%d crossings)", rj_state_error(s), w.crossings);
+    } else {
+        period = w.crossing[1] - w.crossing[0];
+        rjt_check(c, fabs(period / exact - 1) < 1e-4, name, "%.7f s against %.7f s (%+.2e), dt %.3g s", period,
+                  exact, period / exact - 1, rj_model_dt(m));
+    }
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
+/* A free bar thrown with a spin: its centre of mass on the exact parabola, its chord
+   turning uniformly. */
+static void test_free_flight(rjt_ctx *c)
+{
+    rj_link_def l = bar(RJ_LINK_FLEXIBLE, 8);
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m;
+    rj_state *s;
+    rj_error err;
+    double c0[2] = { 0, 0 }, v0[2] = { 0, 0 }, total = 0, worst = 0, worst_turn = 0, theta0;
+    int k, n, step;
+    l.vx = 3.0;
+    l.vy = 4.0;
+    l.omega = 2.0;
+    l.angle = 0.3;
+    sc.links = &l;
+    sc.link_count = 1;
+    sc.solver.gravity[0] = 1.5;
+    sc.solver.gravity[1] = -G;
+    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) {
+        rjt_check(c, 0, "free flight under gravity", "%s", err.msg);
+        return;
+    }
+    rj_state_create(m, &s, NULL);
+    n = rj_link_node_count(m, 0);
+    for (k = 0; k < n; k++) {
+        double mk, jk, xk[2], vk[2];
+        rj_node_mass(m, 0, k, &mk, &jk);
+        rj_node_position(m, s, 0, k, xk);
+        rj_node_velocity(m, s, 0, k, vk);
+        c0[0] += mk * xk[0];
+        c0[1] += mk * xk[1];
+        v0[0] += mk * vk[0];
+        v0[1] += mk * vk[1];
+        total += mk;
+    }
+    c0[0] /= total;
+    c0[1] /= total;
+    v0[0] /= total;
+    v0[1] /= total;
+    theta0 = l.angle;
+    for (step = 0; step < 200; step++) {
+        double cm[2] = { 0, 0 }, a[2], b[2], t, want[2], turn;
+        if (rj_run(m, s, rj_state_time(s) + 0.005, 0, NULL, NULL) != RJ_OK) break;
+        t = rj_state_time(s);
+        for (k = 0; k < n; k++) {
+            double mk, jk, xk[2];
+            rj_node_mass(m, 0, k, &mk, &jk);
+            rj_node_position(m, s, 0, k, xk);
+            cm[0] += mk * xk[0] / total;
+            cm[1] += mk * xk[1] / total;
+        }
+        want[0] = c0[0] + v0[0] * t + 0.5 * 1.5 * t * t;
+        want[1] = c0[1] + v0[1] * t - 0.5 * G * t * t;
+        if (hypot(cm[0] - want[0], cm[1] - want[1]) > worst) worst = hypot(cm[0] - want[0], cm[1] - want[1]);
+        rj_node_position(m, s, 0, 0, a);
+        rj_node_position(m, s, 0, n - 1, b);
+        turn = atan2(b[1] - a[1], b[0] - a[0]) - (theta0 + l.omega * t);
+        turn = atan2(sin(turn), cos(turn));
+        if (fabs(turn) > worst_turn) worst_turn = fabs(turn);
+    }
+    rjt_check(c, step == 200 && worst < 1e-9, "free flight under gravity: the centre of mass on the exact parabola for 1 s",
+              "largest distance %.3g m after %d of 200 samples", worst, step);
+    rjt_check(c, step == 200 && worst_turn < 1e-6, "free flight under gravity: the chord turns uniformly (gravity puts no moment on it)",
+              "largest departure %.3g rad", worst_turn);
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
+/* A horizontal cantilever under its own weight, settled (rj_settle): its tip sag against
+   w L^4 / (8 EI) (small deflection: 0.6 % of the length, where the large-deflection
+   correction is below 1e-5). */
+static double settled_sag(int elements, char *msg, size_t n)
+{
+    rj_link_def l = bar(RJ_LINK_FLEXIBLE, elements);
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m;
+    rj_state *s;
+    rj_error err;
+    double tip[2];
+    rj_result r;
+    l.root = RJ_ROOT_CLAMPED;
+    sc.links = &l;
+    sc.link_count = 1;
+    sc.solver.gravity[1] = -G;
+    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) {
+        snprintf(msg, n, "%s", err.msg);
+        return NAN;
+    }
+    if (rj_state_create(m, &s, NULL) != RJ_OK) {
+        rj_model_destroy(m, NULL);
+        return NAN;
+    }
+    r = rj_settle(m, s, 1e-12, 2000000);
+    rj_node_position(m, s, 0, elements, tip);
+    if (r != RJ_OK) snprintf(msg, n, "%.600s", rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+    return r == RJ_OK ? -tip[1] : NAN;
+}
+
+/* The tip deflection of lumped loads w L / N on a beam theory cantilever: the load the
+   model's lumped masses put on it, for its own discretisation error. */
+static double lumped_load_sag(int n, double w, double L, double EI)
+{
+    const double h = L / n;
+    double sum = 0;
+    int k;
+    for (k = 1; k <= n; k++) {
+        const double P = k < n ? w * h : 0.5 * w * h, x = k * h;
+        sum += P * x * x * (3 * L - x) / (6 * EI);
+    }
+    return sum;
+}
+
+static void test_sag(rjt_ctx *c)
+{
+    rj_link_def l = bar(RJ_LINK_FLEXIBLE, 1);
+    const double A = l.width * l.height, I = l.width * l.height * l.height * l.height / 12;
+    const double w = l.rho * A * G, sag = w * pow(l.length, 4) / (8 * l.E * I);
+    static const int meshes[3] = { 5, 10, 20 };
+    double err[3];
+    char msg[700] = "", name[200];
+    int k;
+    for (k = 0; k < 3; k++) {
+        const double got = settled_sag(meshes[k], msg, sizeof msg);
+        const double lumped = lumped_load_sag(meshes[k], w, l.length, l.E * I);
+        err[k] = got / sag - 1;
+        snprintf(name, sizeof name, "cantilever sag under its own weight, %d elements (rj_settle): tip against beam theory with the model's lumped loads", meshes[k]);
+        rjt_check(c, fabs(got / lumped - 1) < 1e-4, name, "%.7g m against %.7g m (%+.4f %%; w L^4 / (8 EI) %.7g m, %+.4f %%) %s",
+                  got, lumped, 100 * (got / lumped - 1), sag, 100 * err[k], msg);
+    }
+    rjt_check(c, fabs(err[2]) < fabs(err[1]) && fabs(err[1]) < fabs(err[0]) && fabs(err[2]) < 1e-3 && fabs(err[0] / err[1]) > 3.5,
+              "cantilever sag: against w L^4 / (8 EI) the error falls at second order, below 0.1 % at 20 elements",
+              "%+.4f / %+.4f / %+.4f %% at 5 / 10 / 20 elements", 100 * err[0], 100 * err[1], 100 * err[2]);
+}
+
+/* A model that would step in place steps double-buffered under gravity (the kinetic
+   energy needs every node's velocity at n): the same bits as in_place off. */
+static void test_in_place(rjt_ctx *c)
+{
+    rj_link_def l = bar(RJ_LINK_FLEXIBLE, 30);
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m[2];
+    rj_state *s[2];
+    rj_error err;
+    double tip[2][2];
+    rj_energy e[2];
+    int k;
+    l.root = RJ_ROOT_CLAMPED;
+    sc.links = &l;
+    sc.link_count = 1;
+    sc.solver.gravity[1] = -G;
+    for (k = 0; k < 2; k++) {
+        sc.solver.in_place = k == 0 ? RJ_IN_PLACE_ON : RJ_IN_PLACE_OFF;
+        if (rj_model_create(&sc, &m[k], &err, NULL) != RJ_OK || rj_state_create(m[k], &s[k], NULL) != RJ_OK) {
+            rjt_check(c, 0, "gravity with solver.in_place on", "%s", err.msg);
+            return;
+        }
+        rj_run(m[k], s[k], 0.05, 0, NULL, NULL);
+        rj_node_position(m[k], s[k], 0, 30, tip[k]);
+        rj_state_energy(m[k], s[k], &e[k]);
+    }
+    rjt_check(c, tip[0][0] == tip[1][0] && tip[0][1] == tip[1][1] && e[0].balance == e[1].balance && fabs(e[0].balance) < 1e-9,
+              "gravity with solver.in_place on: the same bits as off, the balance closed",
+              "tip y %.12g / %.12g m, balance %.3g / %.3g J", tip[0][1], tip[1][1], e[0].balance, e[1].balance);
+    for (k = 0; k < 2; k++) {
+        rj_state_destroy(s[k], NULL);
+        rj_model_destroy(m[k], NULL);
+    }
+}
+
+/* Bad gravity is refused naming the field. */
+static void test_refusals(rjt_ctx *c)
+{
+    rj_link_def l = bar(RJ_LINK_FLEXIBLE, 4);
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m = NULL;
+    rj_error err;
+    sc.links = &l;
+    sc.link_count = 1;
+    sc.solver.gravity[0] = NAN;
+    rjt_check(c, rj_model_create(&sc, &m, &err, NULL) == RJ_ERR_INVALID && strstr(err.msg, "gravity") != NULL,
+              "a non-finite gravity is refused, naming the field", "%s", err.msg);
+    if (m) rj_model_destroy(m, NULL);
+}
+
+/* Scene files: gravity = gx gy in the solver section, written back as read; a missing
+   component or a bad value is refused naming the key. */
+static void test_scene_file(rjt_ctx *c)
+{
+    static const char text[] = "solver\n  gravity = 0.5 -9.81\nlink a\n  length = 1\n"
+                               "  elements = 2\n  E = 7e10\n  rho = 2700\n  area = 2e-4\n"
+                               "  inertia = 1.6e-9\n";
+    static const char missing[] = "solver\n  gravity = -9.81\nlink a\n  length = 1\n";
+    static const char nan_text[] = "solver\n  gravity = 0 nan\nlink a\n  length = 1\n";
+    rj_scene_file f, g;
+    rj_error err;
+    char buf[4096];
+    size_t n;
+    int ok = rj_scene_parse(text, sizeof text - 1, "g.rjs", &f, &err) == RJ_OK;
+    rjt_check(c, ok && f.solver.gravity[0] == 0.5 && f.solver.gravity[1] == -9.81,
+              "scene file: gravity = gx gy is read", "%g %g", ok ? f.solver.gravity[0] : NAN,
+              ok ? f.solver.gravity[1] : NAN);
+    if (ok) {
+        rj_scene_def d = rj_scene_file_def(&f);
+        n = rj_scene_write(&d, NULL, NULL, buf, sizeof buf);
+        ok = n > 0 && n <= sizeof buf && rj_scene_parse(buf, n - 1, "w.rjs", &g, &err) == RJ_OK;
+        rjt_check(c, ok && g.solver.gravity[0] == 0.5 && g.solver.gravity[1] == -9.81,
+                  "scene file: gravity is written back and reads the same", "%s", ok ? "same" : err.msg);
+        if (ok) rj_scene_file_free(&g);
+        rj_scene_file_free(&f);
+    }
+    ok = rj_scene_parse(missing, sizeof missing - 1, "m.rjs", &f, &err) == RJ_ERR_PARSE;
+    rjt_check(c, ok && strstr(err.msg, "gravity") != NULL && strstr(err.msg, "missing") != NULL,
+              "scene file: gravity with one component is refused", "%s", err.msg);
+    if (!ok) rj_scene_file_free(&f);
+    ok = rj_scene_parse(nan_text, sizeof nan_text - 1, "n.rjs", &f, &err) == RJ_ERR_PARSE;
+    rjt_check(c, ok && strstr(err.msg, "gravity") != NULL, "scene file: a non-finite gravity is refused",
+              "%s", err.msg);
+    if (!ok) rj_scene_file_free(&f);
+}
+
+/* rj_settle refuses bad arguments, and says so when it has not settled in its steps. */
+static void test_settle_arguments(rjt_ctx *c)
+{
+    rj_link_def l = bar(RJ_LINK_FLEXIBLE, 4);
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m;
+    rj_state *s;
+    rj_error err;
+    rj_result r0, r1, r2;
+    l.root = RJ_ROOT_CLAMPED;
+    sc.links = &l;
+    sc.link_count = 1;
+    sc.solver.gravity[1] = -G;
+    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK || rj_state_create(m, &s, NULL) != RJ_OK) {
+        rjt_check(c, 0, "rj_settle's arguments", "%s", err.msg);
+        return;
+    }
+    r0 = rj_settle(m, s, 0, 100);
+    r1 = rj_settle(m, s, 1e-12, 0);
+    r2 = rj_settle(m, s, 1e-12, 3);
+    rjt_check(c, r0 == RJ_ERR_INVALID && r1 == RJ_ERR_INVALID, "rj_settle refuses tol 0 and max_steps 0",
+              "%s, %s", rj_result_str(r0), rj_result_str(r1));
+    rjt_check(c, r2 == RJ_ERR_NOT_CONVERGED && strstr(rj_state_error(s), "not settled") != NULL,
+              "rj_settle reports a state not settled within its steps", "%s: %s", rj_result_str(r2),
+              rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
+int main(void)
+{
+    rjt_ctx c = { 0, 0 };
+    test_pendulum(&c, RJ_LINK_RIGID, 1, 2.5e-4, 1e-4, "rigid link (joint coordinates)");
+    test_pendulum(&c, RJ_LINK_INEXTENSIBLE, 20, 0, 1e-4, "inextensible link, 20 elements");
+    test_pendulum(&c, RJ_LINK_FLEXIBLE, 20, 0, 1e-4, "stiff flexible link, 20 elements");
+    test_mixed_pendulum(&c);
+    test_free_flight(&c);
+    test_sag(&c);
+    test_in_place(&c);
+    test_refusals(&c);
+    test_scene_file(&c);
+    test_settle_arguments(&c);
+    return rjt_summary(&c, "test_loads");
+}
