@@ -109,13 +109,13 @@ extern "C" {
 /* Result codes. */
 typedef enum rj_result {
     RJ_OK = 0,
-    RJ_ERR_INVALID,     /* a definition field or an argument is out of range */
-    RJ_ERR_NOMEM,       /* allocation failed or caller's block too small */
-    RJ_ERR_UNSTABLE_DT, /* dt above the stability bound and not overridden */
-    RJ_ERR_BLOWUP,      /* non-finite value or energy growth beyond the bound */
-    RJ_ERR_TUNNEL,      /* a joint turned more than a quarter revolution (pi/2 rad) in one step */
-    RJ_ERR_CHECKPOINT,  /* a checkpoint buffer is truncated, corrupted or for another model */
-    RJ_ERR_PARSE,       /* scene text malformed */
+    RJ_ERR_INVALID,      /* a definition field or an argument is out of range */
+    RJ_ERR_NOMEM,        /* allocation failed or caller's block too small */
+    RJ_ERR_UNSTABLE_DT,  /* dt above the stability bound and not overridden */
+    RJ_ERR_BLOWUP,       /* non-finite value or energy growth beyond the bound */
+    RJ_ERR_TUNNEL,       /* a joint turned more than a quarter revolution (pi/2 rad) in one step */
+    RJ_ERR_CHECKPOINT,   /* a checkpoint buffer is truncated, corrupted or for another model */
+    RJ_ERR_PARSE,        /* scene text malformed */
     RJ_ERR_NOT_CONVERGED /* rj_settle: no equilibrium within its steps */
 } rj_result;
 
@@ -277,7 +277,8 @@ typedef struct rj_joint_def {
    step leaves the state as it was either way, and the results are the same bits. It costs a
    third frame of memory, and a few copies per step that only pay from a few hundred nodes
    on: AUTO uses it from RJ_IN_PLACE_NODES nodes (400; a compile-time setting). Scenes with
-   inextensible links never step in place (SHAKE reads every node's old position). */
+   inextensible links never step in place (SHAKE reads every node's old position), nor do
+   scenes with gravity (its share of the kinetic energy reads every node's old velocity). */
 typedef struct rj_solver_def {
     double dt;            /* s, >= 0 */
     int allow_unstable;   /* accept dt above the bound */
@@ -730,7 +731,8 @@ struct rj_model {
     size_t bytes;
     unsigned long long hash;
     int nl, nj, nn, ne, ng;
-    int rigid; /* all links rigid: joint coordinates */
+    int rigid;       /* all links rigid: joint coordinates */
+    int has_gravity; /* solver.gravity is not zero */
     double *rb_mass, *rb_icm,
         *rb_dcm;    /* (nl) rigid link mass, inertia about its centre, root-to-centre distance */
     int *rb_pjoint; /* (nl) joint whose body2 the link is, -1 if fixed */
@@ -3843,6 +3845,7 @@ static void rj__init_copy_defs(rj_model *m, const rj_scene_def *sc)
     memcpy(m->ldef, sc->links, sizeof(rj_link_def) * (size_t) m->nl);
     if (m->nj)
         memcpy(m->jdef, sc->joints, sizeof(rj_joint_def) * (size_t) m->nj);
+    m->has_gravity = sc->solver.gravity[0] != 0 || sc->solver.gravity[1] != 0;
 }
 
 /* A link's section: area and second moment (layers integrate EA and EI exactly for the
@@ -4584,7 +4587,10 @@ static void rj__init_frames(rj_model *m)
 static void rj__init_in_place(rj_model *m)
 {
     int i, q;
-    m->ip = !m->rigid && !m->any_inext && m->solver.in_place != RJ_IN_PLACE_OFF &&
+    /* not with inextensible links (SHAKE reads every node at n) or gravity (its kinetic
+       energy share reads every node's velocity at n) */
+    m->ip = !m->rigid && !m->any_inext && !m->has_gravity &&
+            m->solver.in_place != RJ_IN_PLACE_OFF &&
             (m->solver.in_place == RJ_IN_PLACE_ON || m->nn >= RJ_IN_PLACE_NODES);
     for (i = 0; i < m->ng && m->ip; i++)
         for (q = m->grp_first[i]; q < m->grp_first[i + 1]; q++)
@@ -5719,32 +5725,32 @@ static RJ__INLINE double rj__rate_pred(const rj_model *m, const double *of, int 
    frame itself, and the third frame (s->fd[2]) takes the joints, bodies and scalars at
    n + 1 and keeps the values at n of the nodes the step reads after the beams (m->dnode). */
 typedef struct rj__frames {
-    double *current;          /* s->fd[s->cur] */
-    const double *old;        /* the values at n: the current frame */
-    double *next;             /* joints, bodies and scalars at n + 1 */
-    double *advanced;         /* nodes and elements at n + 1: next, or current in place */
-    const int *old_flags;     /* joint flags at n */
-    int *new_flags;           /* at n + 1 */
-    const double *x, *y, *phi, *vx, *vy, *w;   /* nodes at n (in place: from next) */
-    double *nx, *ny, *nphi, *nvx, *nvy, *nw;   /* nodes at n + 1 */
-    const double *old_scalars;                 /* time, accounts at n */
-    double *new_scalars;                       /* at n + 1 */
+    double *current;      /* s->fd[s->cur] */
+    const double *old;    /* the values at n: the current frame */
+    double *next;         /* joints, bodies and scalars at n + 1 */
+    double *advanced;     /* nodes and elements at n + 1: next, or current in place */
+    const int *old_flags; /* joint flags at n */
+    int *new_flags;       /* at n + 1 */
+    const double *x, *y, *phi, *vx, *vy, *w; /* nodes at n (in place: from next) */
+    double *nx, *ny, *nphi, *nvx, *nvy, *nw; /* nodes at n + 1 */
+    const double *old_scalars;               /* time, accounts at n */
+    double *new_scalars;                     /* at n + 1 */
     double t, dt;
-    double kick;              /* dt, or dt / 2 at the first step (from v(0)) */
-    int first;                /* the first step */
-    int gravity;              /* the scene has gravity */
-    int en;                   /* this step takes the energy accounts */
-    int ip;                   /* in place */
+    double kick; /* dt, or dt / 2 at the first step (from v(0)) */
+    int first;   /* the first step */
+    int gravity; /* the scene has gravity */
+    int en;      /* this step takes the energy accounts */
+    int ip;      /* in place */
 } rj__frames;
 
 /* What a step adds up for the energy accounts, in J. */
 typedef struct rj__sums {
-    double strain;            /* the beams' strain energy at x^n */
-    double spring;            /* the joints' springs and tables at n */
-    double gravity;           /* gravity's potential at n, -sum m g . x */
-    double kinetic;           /* 1/2 v^{n-1/2} . v^{n+1/2} */
-    double lost_damping, lost_friction, lost_limit;   /* since the start */
-    double pending;           /* a jump's loss the next step takes (its second half) */
+    double strain;                                  /* the beams' strain energy at x^n */
+    double spring;                                  /* the joints' springs and tables at n */
+    double gravity;                                 /* gravity's potential at n, -sum m g . x */
+    double kinetic;                                 /* 1/2 v^{n-1/2} . v^{n+1/2} */
+    double lost_damping, lost_friction, lost_limit; /* since the start */
+    double pending; /* a jump's loss the next step takes (its second half) */
 } rj__sums;
 
 /* The first moment sum m r of a rigid body's own link (rod and tip mass) at node
@@ -5764,14 +5770,14 @@ static void rj__cl_own_moment(const rj_model *m, int c, const double *x, const d
 /* Does the scene have gravity? */
 static RJ__FORCE_INLINE int rj__gravity_on(const rj_model *m)
 {
-    return m->solver.gravity[0] != 0 || m->solver.gravity[1] != 0;
+    return m->has_gravity;
 }
 
 /* The frames and step constants: the accounts when asked, at the start, or
    solver.energy_every steps after the last ones (no division). The nodes' arrays are
    rj__frames_nodes'. */
 static RJ__FORCE_INLINE void rj__frames_open(const rj_model *m, rj_state *s, int want_energy,
-                                              int ip, rj__frames *f)
+                                             int ip, rj__frames *f)
 {
     double *current = s->fd[s->cur];
     double *next = s->fd[ip ? 2 : 1 - s->cur];
@@ -5791,8 +5797,7 @@ static RJ__FORCE_INLINE void rj__frames_open(const rj_model *m, rj_state *s, int
        half a step, which makes the start second-order accurate too */
     f->kick = f->first ? 0.5 * m->dt : m->dt;
     f->en = want_energy || m->solver.energy_every <= 1 || s->steps == 0 ||
-            f->t - f->old_scalars[RJ__FS_ETIME] >
-                ((double) m->solver.energy_every - 0.5) * m->dt;
+            f->t - f->old_scalars[RJ__FS_ETIME] > ((double) m->solver.energy_every - 0.5) * m->dt;
     f->ip = ip;
 }
 
@@ -5832,7 +5837,7 @@ static RJ__FORCE_INLINE void rj__sums_open(const double *old_scalars, rj__sums *
    at once (v^{n+1/2}, x^{n+1}); the joints' nodes are advanced again in stage 4 (in place,
    from their values at n, kept first). */
 static RJ__FORCE_INLINE void rj__stage_beams(const rj_model *m, rj_state *s, const rj__frames *f,
-                                              rj__adv *adv, rj__sums *e)
+                                             rj__adv *adv, rj__sums *e)
 {
     const double *old = f->old;
     double *next = f->next;
@@ -5877,10 +5882,10 @@ static RJ__FORCE_INLINE void rj__stage_beams(const rj_model *m, rj_state *s, con
     adv->mz = s->mz;
     adv->en = f->en;
     adv->ip = f->ip;
-    e->strain = rj__beam_pass(m, RJ__FX(m, old), RJ__FY(m, old), RJ__FPHI(m, old),
-                              RJ__FBETA(m, old), RJ__FCX(m, old), RJ__FCY(m, old), s->eu,
-                              RJ__FBETA(m, f->advanced), RJ__FCX(m, f->advanced),
-                              RJ__FCY(m, f->advanced), s->fx, s->fy, s->mz, adv);
+    e->strain =
+        rj__beam_pass(m, RJ__FX(m, old), RJ__FY(m, old), RJ__FPHI(m, old), RJ__FBETA(m, old),
+                      RJ__FCX(m, old), RJ__FCY(m, old), s->eu, RJ__FBETA(m, f->advanced),
+                      RJ__FCX(m, f->advanced), RJ__FCY(m, f->advanced), s->fx, s->fy, s->mz, adv);
     /* stage 4 advances the joints' nodes from their values at n */
     adv->vx = f->vx;
     adv->vy = f->vy;
@@ -5891,7 +5896,7 @@ static RJ__FORCE_INLINE void rj__stage_beams(const rj_model *m, rj_state *s, con
    torques (Eqs 4, 22, 27) on the nodes; the geometry and rate kept in s->jsc for the
    stages after. */
 static RJ__FORCE_INLINE void rj__stage_joint_torques(const rj_model *m, rj_state *s,
-                                                      const rj__frames *f, rj__sums *e)
+                                                     const rj__frames *f, rj__sums *e)
 {
     /* the element sums the springs' energy through a pointer: a local of its own keeps the
        other sums out of memory */
@@ -5907,8 +5912,8 @@ static RJ__FORCE_INLINE void rj__stage_joint_torques(const rj_model *m, rj_state
         double rate, penetration, torque;
         rj__joint_geo(m, J, f->x, f->y, &g);
         rate = rj__joint_rate(J, &g, f->vx, f->vy, f->w, NULL, NULL);
-        torque = rj__element(m, s, j, old_joint, new_joint, f->old_flags[j], &f->new_flags[j],
-                             rate, f->t, f->new_scalars, &penetration, &spring);
+        torque = rj__element(m, s, j, old_joint, new_joint, f->old_flags[j], &f->new_flags[j], rate,
+                             f->t, f->new_scalars, &penetration, &spring);
         rj__apply_torque(J, &g, torque, s->fx, s->fy, s->mz);
         kept[0] = g.ax;
         kept[1] = g.ay;
@@ -5935,8 +5940,8 @@ static RJ__FORCE_INLINE void rj__kept_geo(const double *kept, rj__jgeo *g)
 
 /* A node's velocity at the end of the step under the forces so far (a grouped node: its
    group's). */
-static RJ__FORCE_INLINE void rj__velocity_pred(const rj_model *m, const rj_state *s, const rj__frames *f,
-                                         int n, double *pvx, double *pvy)
+static RJ__FORCE_INLINE void rj__velocity_pred(const rj_model *m, const rj_state *s,
+                                               const rj__frames *f, int n, double *pvx, double *pvy)
 {
     const double kick = f->kick;
     if (m->tinv[n] == 0 && m->einv[n] > 0) {
@@ -5958,16 +5963,16 @@ static RJ__FORCE_INLINE void rj__velocity_pred(const rj_model *m, const rj_state
 
 /* The relative rate joint J would end the step with under the forces so far. */
 static RJ__FORCE_INLINE double rj__joint_rate_pred(const rj_model *m, const rj_state *s,
-                                             const rj__frames *f, const rj__joint *J,
-                                             const rj__jgeo *g)
+                                                   const rj__frames *f, const rj__joint *J,
+                                                   const rj__jgeo *g)
 {
     double pvx[4], pvy[4], ratep;
     int nodes[4], k;
     if (!J->chord) {
         ratep = rj__rate_pred(m, f->old, J->nJ, f->x, f->y, f->w, s->fx, s->fy, s->mz, f->kick);
         if (J->nI >= 0)
-            ratep -= rj__rate_pred(m, f->old, J->nI, f->x, f->y, f->w, s->fx, s->fy, s->mz,
-                                   f->kick);
+            ratep -=
+                rj__rate_pred(m, f->old, J->nI, f->x, f->y, f->w, s->fx, s->fy, s->mz, f->kick);
         return ratep;
     }
     nodes[0] = J->nI;
@@ -5990,8 +5995,7 @@ static RJ__FORCE_INLINE double rj__joint_rate_pred(const rj_model *m, const rj_s
 /* Stage 3, Coulomb friction: the torque that would stop the relative rotation in this
    step, capped at T_f, with every other force known; it never reverses the rate and holds
    a stuck joint exactly. */
-static RJ__FORCE_INLINE void rj__stage_friction(const rj_model *m, rj_state *s,
-                                                 const rj__frames *f)
+static RJ__FORCE_INLINE void rj__stage_friction(const rj_model *m, rj_state *s, const rj__frames *f)
 {
     int j;
     for (j = 0; j < m->nj; j++) {
@@ -6037,7 +6041,7 @@ static double rj__gravity_potential(const rj_model *m, const double *x, const do
    updates. Its potential at x^n joins the accounts. In place is off with gravity (the
    velocities at n of most nodes are gone by now). */
 static RJ__FORCE_INLINE void rj__gravity_kick(const rj_model *m, rj_state *s, const rj__frames *f,
-                                               rj__sums *e, double *fin)
+                                              rj__sums *e, double *fin)
 {
     const double dvx = f->kick * m->solver.gravity[0], dvy = f->kick * m->solver.gravity[1];
     const double dt = f->dt;
@@ -6060,8 +6064,8 @@ static RJ__FORCE_INLINE void rj__gravity_kick(const rj_model *m, rj_state *s, co
    the rest); the kinetic energy at n as v^{n-1/2}.v^{n+1/2}, from v^{-1/2} = 2 v(0) -
    v^{1/2} at the start. */
 static RJ__FORCE_INLINE void rj__update_joint_nodes(const rj_model *m, rj_state *s,
-                                                     const rj__frames *f, const rj__adv *adv,
-                                                     rj__sums *e)
+                                                    const rj__frames *f, const rj__adv *adv,
+                                                    rj__sums *e)
 {
     const double *km = m->kmass, *kj = m->krot;
     const double *vx = f->vx, *vy = f->vy, *w = f->w;
@@ -6087,7 +6091,7 @@ static RJ__FORCE_INLINE void rj__update_joint_nodes(const rj_model *m, rj_state 
 /* Stage 4b: groups of nodes that move together (a pin shared by links) take their summed
    force on their summed mass. */
 static RJ__FORCE_INLINE void rj__update_groups(const rj_model *m, rj_state *s, const rj__frames *f,
-                                                rj__sums *e, double *fin)
+                                               rj__sums *e, double *fin)
 {
     const double *vx = f->vx, *vy = f->vy;
     int gi;
@@ -6146,7 +6150,7 @@ static void rj__cl_gravity(const rj_model *m, int c, const double *oc, const dou
 
 /* Stage 4c: rigid bodies in mixed scenes: anchor velocity and rate at n + 1/2. */
 static RJ__FORCE_INLINE void rj__update_bodies(const rj_model *m, rj_state *s, const rj__frames *f,
-                                                rj__sums *e)
+                                               rj__sums *e)
 {
     int gi;
     for (gi = 0; gi < m->ncl; gi++) {
@@ -6176,7 +6180,7 @@ static RJ__FORCE_INLINE void rj__update_bodies(const rj_model *m, rj_state *s, c
 /* Stage 4, the update: velocities at n + 1/2 and positions at n + 1 (grouped nodes and
    nodes a velocity-level method changes are redone after). */
 static RJ__FORCE_INLINE void rj__stage_update(const rj_model *m, rj_state *s, const rj__frames *f,
-                                               const rj__adv *adv, rj__sums *e, double *fin)
+                                              const rj__adv *adv, rj__sums *e, double *fin)
 {
     rj__update_joint_nodes(m, s, f, adv, e);
     rj__update_groups(m, s, f, e, fin);
@@ -6187,8 +6191,7 @@ static RJ__FORCE_INLINE void rj__stage_update(const rj_model *m, rj_state *s, co
 /* Is this a velocity-level limit method (a jump in the rates at the limit)? */
 static RJ__INLINE int rj__velocity_method(int method)
 {
-    return method == RJ_METHOD_MOMENTUM || method == RJ_METHOD_ENERGY ||
-           method == RJ_METHOD_FORCED;
+    return method == RJ_METHOD_MOMENTUM || method == RJ_METHOD_ENERGY || method == RJ_METHOD_FORCED;
 }
 
 /* A velocity-level joint released under RC13 (rate pointing out at the step's start) that
@@ -6196,7 +6199,7 @@ static RJ__INLINE int rj__velocity_method(int method)
    step later: that lag let the bodies behind ratchet it through the stop (stress suite:
    48 deg in a 1000:1 chain). Returns the flag. */
 static RJ__FORCE_INLINE int rj__recontact(const rj__joint *J, const double *old_joint, double ratep,
-                                    int *new_flag, double *kept)
+                                          int *new_flag, double *kept)
 {
     const double run = old_joint[RJ__JD_THETA];
     if (run <= J->rev && ratep < 0) {
@@ -6211,8 +6214,8 @@ static RJ__FORCE_INLINE int rj__recontact(const rj__joint *J, const double *old_
 
 /* After a jump, the joint's nodes move with the new rates (rj__spin changes nK and nL only
    with a chord reference); a rigid body's node carries its whole body. */
-static RJ__FORCE_INLINE void rj__jump_nodes(const rj_model *m, const rj__frames *f, const rj__joint *J,
-                                      double *fin)
+static RJ__FORCE_INLINE void rj__jump_nodes(const rj_model *m, const rj__frames *f,
+                                            const rj__joint *J, double *fin)
 {
     const int nodes[4] = { J->nI, J->chord ? J->nK : -1, J->nJ, J->chord ? J->nL : -1 };
     int k;
@@ -6241,9 +6244,9 @@ static RJ__FORCE_INLINE void rj__jump_nodes(const rj_model *m, const rj__frames 
    (w_b - w_b') per body: this step takes the first half, the next the second (pending).
    A latch that only cancels the step's small relative rate loses almost nothing, as a
    workless constraint should. Returns the rate after. */
-static RJ__FORCE_INLINE double rj__joint_jump(const rj_model *m, const rj__frames *f, int j, int flag,
-                                        const rj__jgeo *g, double w1, double w2, rj__sums *e,
-                                        double *fin)
+static RJ__FORCE_INLINE double rj__joint_jump(const rj_model *m, const rj__frames *f, int j,
+                                              int flag, const rj__jgeo *g, double w1, double w2,
+                                              rj__sums *e, double *fin)
 {
     const rj_joint_def *d = &m->jdef[j];
     const rj__joint *J = &m->jnt[j];
@@ -6281,8 +6284,8 @@ static RJ__FORCE_INLINE double rj__joint_jump(const rj_model *m, const rj__frame
 
 /* Stage 5, the limits' velocity-level responses, and the work of the joint torques. */
 static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_state *s,
-                                                        const rj__frames *f, rj__sums *e,
-                                                        double *fin)
+                                                       const rj__frames *f, rj__sums *e,
+                                                       double *fin)
 {
     int j;
     for (j = 0; j < m->nj; j++) {
@@ -6299,15 +6302,15 @@ static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_sta
             flag = rj__recontact(J, old_joint, ratep, &f->new_flags[j], kept);
         if (flag != RJ_FREE && rj__velocity_method(d->method) && rj__into_limit(flag, ratep))
             ratep = rj__joint_jump(m, f, j, flag, &g, w1, w2, e, fin);
-        rj__element_work(old_joint, new_joint, kept[4], f->dt, &e->lost_damping,
-                         &e->lost_friction, &e->lost_limit);
+        rj__element_work(old_joint, new_joint, kept[4], f->dt, &e->lost_damping, &e->lost_friction,
+                         &e->lost_limit);
         new_joint[RJ__JD_RATE] = ratep;
     }
 }
 
 /* Stage 6a: rigid bodies' poses at n + 1. */
 static RJ__FORCE_INLINE void rj__constrain_bodies(const rj_model *m, const rj__frames *f,
-                                                   double *fin)
+                                                  double *fin)
 {
     int gi;
     for (gi = 0; gi < m->ncl; gi++) {
@@ -6318,8 +6321,8 @@ static RJ__FORCE_INLINE void rj__constrain_bodies(const rj_model *m, const rj__f
         nc[0] = oc[0] + f->dt * nc[2];
         nc[1] = oc[1] + f->dt * nc[3];
         nc[5] = oc[5] + f->dt * nc[4];
-        *fin += rj__cl_pose(m, gi, nc, f->x, f->y, f->dt, 1, f->nx, f->ny, f->nphi, f->nvx,
-                            f->nvy, f->nw);
+        *fin += rj__cl_pose(m, gi, nc, f->x, f->y, f->dt, 1, f->nx, f->ny, f->nphi, f->nvx, f->nvy,
+                            f->nw);
     }
 }
 
@@ -6358,7 +6361,7 @@ static RJ__FORCE_INLINE double rj__kinetic_again(const rj_model *m, const rj__fr
    (constraint forces do no work: the velocities follow the projected positions, and the
    kinetic energy is taken again with them). */
 static RJ__FORCE_INLINE void rj__stage_constraints(const rj_model *m, rj_state *s,
-                                                    const rj__frames *f, rj__sums *e, double *fin)
+                                                   const rj__frames *f, rj__sums *e, double *fin)
 {
     const double *x = f->x, *y = f->y;
     double *nx = f->nx, *ny = f->ny;
@@ -6382,7 +6385,7 @@ static RJ__FORCE_INLINE void rj__stage_constraints(const rj_model *m, rj_state *
 /* Forced displacement (sec. 3): a joint past its limit, or off its lock, turned back by p;
    a rigid body's node turns its body (positions only). Returns the running angle. */
 static RJ__FORCE_INLINE double rj__force_back(const rj_model *m, const rj__frames *f, int j,
-                                        const rj__jgeo *g, double run, double *fin)
+                                              const rj__jgeo *g, double run, double *fin)
 {
     const rj__joint *J = &m->jnt[j];
     const int flag = f->new_flags[j];
@@ -6406,8 +6409,8 @@ static RJ__FORCE_INLINE double rj__force_back(const rj_model *m, const rj__frame
                 const int c = m->node_cl[nodes[k]];
                 double *nc = RJ__FCL(m, f->next, c);
                 nc[5] = f->nphi[nodes[k]] - (m->phi0[nodes[k]] - m->cl_th0[3 * c]);
-                *fin += rj__cl_pose(m, c, nc, f->x, f->y, f->dt, 0, f->nx, f->ny, f->nphi,
-                                    f->nvx, f->nvy, f->nw);
+                *fin += rj__cl_pose(m, c, nc, f->x, f->y, f->dt, 0, f->nx, f->ny, f->nphi, f->nvx,
+                                    f->nvy, f->nw);
             }
     }
     return J->chord ? target : rj__joint_raw(J, g, f->nphi);
@@ -6416,7 +6419,7 @@ static RJ__FORCE_INLINE double rj__force_back(const rj_model *m, const rj__frame
 /* Stage 7, the joints' running angles at n + 1 (unwrapped in chord mode), and forced
    displacement back to the limit. */
 static RJ__FORCE_INLINE rj_result rj__stage_joint_angles(const rj_model *m, rj_state *s,
-                                                          const rj__frames *f, double *fin)
+                                                         const rj__frames *f, double *fin)
 {
     int j;
     for (j = 0; j < m->nj; j++) {
@@ -6480,9 +6483,8 @@ static rj_result rj__energy_stop(const rj_model *m, rj_state *s, const double *f
    they put in means chatter. frame: the nodes to name the fastest of (NULL: rigid links in
    joint coordinates). e0 is the initial energy, old_spring the springs' energy at n - 1. */
 static RJ__FORCE_INLINE rj_result rj__energy_check(const rj_model *m, rj_state *s,
-                                                   const double *frame, double t,
-                                                   const rj__sums *e, double old_spring,
-                                                   double e0)
+                                                   const double *frame, double t, const rj__sums *e,
+                                                   double old_spring, double e0)
 {
     const double ke = e->kinetic, U = e->strain, V = e->spring, lost_l = e->lost_limit;
     const double E = U > fabs(ke) ? U : fabs(ke);
@@ -6501,7 +6503,7 @@ static RJ__FORCE_INLINE rj_result rj__energy_check(const rj_model *m, rj_state *
 /* The new frame's scalars: time, the accounts (on the steps that take them; the initial
    energy in the same discrete form as every later one), and the energy tests. */
 static RJ__FORCE_INLINE rj_result rj__step_accounts(const rj_model *m, rj_state *s,
-                                                     const rj__frames *f, rj__sums *e)
+                                                    const rj__frames *f, rj__sums *e)
 {
     const double *osc = f->old_scalars;
     double *nsc = f->new_scalars;
@@ -6704,7 +6706,7 @@ static void rj__rig_plastic_set(const rj_model *m, rj__rig *r, const int *ni, in
    terms; the kinematics, M(q^n) and its factor; the new frame's scalars (the element
    counts late contacts in RJ__FS_WARN). */
 static RJ__FORCE_INLINE rj_result rj__rig_stage_kinematics(const rj_model *m, rj_state *s,
-                                                            const rj__frames *f, rj__rig *r)
+                                                           const rj__frames *f, rj__rig *r)
 {
     const double *old_scalars = f->old_scalars;
     double *new_scalars = f->new_scalars;
@@ -6754,7 +6756,7 @@ static void rj__rig_gravity(const rj_model *m, const rj__rig *r, double *Q, rj__
 /* Rigid step, stage 2: the element's torques as generalised forces, less the centripetal
    bias; the accelerations M^-1 Q. */
 static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *s,
-                                                    const rj__frames *f, rj__rig *r, rj__sums *e)
+                                                   const rj__frames *f, rj__rig *r, rj__sums *e)
 {
     const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT bias = r->h;
     double *RJ__RESTRICT Q = r->Q;
@@ -6783,7 +6785,7 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
 /* Rigid step, stage 3: friction, joint by joint, with the column M^-1 e_j (kept in W for
    the impulses). */
 static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj__frames *f,
-                                                     rj__rig *r)
+                                                    rj__rig *r)
 {
     const int n = m->nj;
     const double *RJ__RESTRICT qd = r->qd;
@@ -6814,7 +6816,7 @@ typedef struct rj__rig_jumps {
    times the reversed rate (plastic while locked or for forced displacement). r->h keeps the
    rates before the jumps. */
 static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj__frames *f,
-                                                      rj__rig *r, rj__rig_jumps *jumps)
+                                                     rj__rig *r, rj__rig_jumps *jumps)
 {
     const int n = m->nj;
     const double *RJ__RESTRICT q = r->q;
@@ -6856,7 +6858,7 @@ static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj
    (q'_before - q'_after) now, 1/2 q'_after M (q'_before - q'_after) with the next step
    (pending); the generalised impulse along q_j is the latch's angular impulse on body 2. */
 static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__frames *f,
-                                                const rj__rig *r, rj__sums *e)
+                                               const rj__rig *r, rj__sums *e)
 {
     const int n = m->nj, first = f->first;
     const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp;
@@ -6882,8 +6884,8 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
    (q'^{n+1/2} - q'^{n-1/2}) / kick is the constrained acceleration: the next step's
    centripetal terms predict q'^{n+1} from it, not from the unconstrained one, which turns a
    locked joint at up to dt / 2 times its reaction over its inertia. */
-static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj__frames *f,
-                                                  rj__rig *r, rj__sums *e)
+static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj__frames *f, rj__rig *r,
+                                                 rj__sums *e)
 {
     const int n = m->nj;
     const double kick = f->kick;
@@ -6909,8 +6911,8 @@ static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj__fr
 /* Rigid step, stage 6: angles q^{n+1}, forced displacement back to the limit, and the
    work of the joint torques. */
 static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_state *s,
-                                                        const rj__frames *f, const rj__rig *r,
-                                                        rj__sums *e)
+                                                       const rj__frames *f, const rj__rig *r,
+                                                       rj__sums *e)
 {
     const double *RJ__RESTRICT q = r->q, *RJ__RESTRICT qdp = r->qdp;
     const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdd = r->qdd;
@@ -6958,8 +6960,8 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_sta
    - q'^{1/2}), the accounts (every step) and the energy tests; commit (nodes are computed
    when queried: rj__rig_pose). */
 static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_state *s,
-                                                          const rj__frames *f, const rj__rig *r,
-                                                          rj__sums *e)
+                                                         const rj__frames *f, const rj__rig *r,
+                                                         rj__sums *e)
 {
     const int n = m->nj, first = f->first;
     const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp, *M = r->M;
@@ -7050,8 +7052,7 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
                         t, m->dt, t * DBL_EPSILON);
     if (m->rigid)
         return rj__step_rigid(m, s);
-    /* in place needs no node's velocity at n after the beams: gravity's kinetic energy does */
-    if (!m->ip || s->steps == 0 || rj__gravity_on(m)) {
+    if (!m->ip || s->steps == 0) {
         s->snap = -1;
         return rj__step_dbl(m, s, want_energy);
     }
