@@ -21,7 +21,7 @@ SAN     = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omi
 
 HDR     = revjoint.h
 RENDER  = render/rj_render.c render/rj_render.h
-EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B)/sweep $(B)/studies $(B)/rj $(B)/segmented \
+EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B)/sweep $(B)/studies $(B)/rj $(B)/segmented $(B)/pd_arm \
           $(B)/peer_side
 TESTS   = $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_benchmarks $(B)/test_rigid2 \
           $(B)/test_render $(B)/csvdiff $(B)/test_core_asan $(B)/test_dynamics_asan $(B)/test_beam_asan \
@@ -73,6 +73,8 @@ $(B)/stress: tests/stress.c tests/rjt.h examples/scenes.h $(HDR) | $(B)
 $(B)/bench: bench/bench.c examples/scenes.h examples/rigid2.h $(HDR) $(RENDER) | $(B)
 	$(CC) $(ALLCF) bench/bench.c render/rj_render.c -o $@ $(GL)
 $(B)/segmented: bench/segmented.c examples/scenes.h $(HDR) | $(B)
+	$(CC) $(ALLCF) $< -o $@ -lm
+$(B)/pd_arm: examples/pd_arm.c examples/scenes.h examples/cli.h $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
 # revjoint.h side by side with the MuJoCo peer; it runs build/peer_mujoco as a program, so
 # it builds without MuJoCo

@@ -302,6 +302,7 @@ typedef struct rj_scene_def {
 typedef struct rj_energy {
     double kinetic, strain, spring; /* spring: torsion springs and tables */
     double gravity;                 /* the potential of gravity, -sum m g . x */
+    double work_applied;            /* J done on the model by the caller's inputs so far */
     double lost_damping, lost_friction, lost_limit;
     double total, balance;
 } rj_energy;
@@ -362,6 +363,12 @@ RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double samp
 RJDEF rj_result rj_settle(const rj_model *m, rj_state *s, double tol, long max_steps);
 /* Last step error text (empty when none). */
 RJDEF const char *rj_state_error(const rj_state *s);
+/* The caller's torques on the joints, one per joint (N m on body 2 and the opposite on body
+   1, counter-clockwise positive), applied by every step until changed, as a controller or a
+   motor would; zero after rj_state_create and rj_state_reset; copied by rj_state_copy and
+   saved in checkpoints. Their work is rj_energy.work_applied. The first call switches them
+   on: a state that never asks pays nothing per step. */
+RJDEF double *rj_state_joint_torques(const rj_model *m, rj_state *s);
 /* Warnings so far (a contact caught more than 0.05 rad past its limit, or past the whole
    limited range: tunnelling) and the latest warning's text. */
 RJDEF long rj_state_warning_count(const rj_state *s);
@@ -707,6 +714,7 @@ enum {
     RJ__JD_P0,
     RJ__JD_QDD,
     RJ__JD_IMPULSE,
+    RJ__JD_INPUT, /* the caller's torque applied in the step that made this frame */
     RJ__JD_TQ0,
     RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT
 };
@@ -724,6 +732,7 @@ enum {
     RJ__FS_WARN,
     RJ__FS_PEND,
     RJ__FS_GRAV, /* the potential of gravity at x^n */
+    RJ__FS_WORK, /* the work of the caller's inputs since the start */
     RJ__FS_COUNT
 };
 
@@ -813,6 +822,8 @@ struct rj_state {
     double *eu,
         *ebt; /* (ne) element strain energies; scratch (chord angles at reset, SHAKE's active flags) */
     double *jsc; /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
+    double *input_torque; /* (nj) the caller's joint torques, N m on body 2 (kept until changed) */
+    int inputs;           /* rj_state_joint_torques was called: the step applies them */
     double *
         rsc; /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch); mixed: body impulses (3 nl) */
     char err[640];
@@ -4698,7 +4709,7 @@ RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
     size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, eu, ebt, jsc,
-        rsc;
+        rsc, input_torque;
 } rj__slayout;
 
 static void rj__state_layout(const rj_model *m, rj__slayout *L)
@@ -4723,6 +4734,7 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->jsc = rj__carve(&off, (size_t) m->nj * 8 + 1, sizeof(double));
     L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl) : 3 * (size_t) m->ncl + 1,
                        sizeof(double));
+    L->input_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
     L->total = off == (size_t) -1 ? off : off + RJ__ALIGN;
 }
 
@@ -4776,6 +4788,8 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
     int j, i;
     s->cur = 0;
     s->steps = 0;
+    memset(s->input_torque, 0, sizeof(double) * (size_t) m->nj);
+    s->inputs = 0;
     s->snap = -1;
     s->err[0] = 0;
     s->warn[0] = 0;
@@ -4888,6 +4902,7 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->kn = (double *) (void *) (base + L.kn);
     s->jsc = (double *) (void *) (base + L.jsc);
     s->rsc = (double *) (void *) (base + L.rsc);
+    s->input_torque = (double *) (void *) (base + L.input_torque);
     rj_state_reset(m, s);
     *out = s;
     return RJ_OK;
@@ -4930,6 +4945,8 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
     dst->cur = 0;
     dst->steps = src->steps;
     dst->snap = -1;
+    memcpy(dst->input_torque, src->input_torque, sizeof(double) * (size_t) m->nj);
+    dst->inputs = src->inputs;
     memcpy(dst->err, src->err, sizeof dst->err);
     memcpy(dst->warn, src->warn, sizeof dst->warn);
     return RJ_OK;
@@ -5324,6 +5341,13 @@ static RJ__FORCE_INLINE void rj__element_work(const double *oj, const double *nj
     *ll -= 0.5 * dt *
            (nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * rate_m +
             oj[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * oj[RJ__JD_RATE]);
+}
+
+/* The work of the caller's torque over the step, in the form of rj__element_work. */
+static RJ__FORCE_INLINE double rj__input_work(const double *oj, const double *nj_, double rate_m,
+                                              double dt)
+{
+    return 0.5 * dt * (nj_[RJ__JD_INPUT] * rate_m + oj[RJ__JD_INPUT] * oj[RJ__JD_RATE]);
 }
 
 /* ------------------------------------------------------------------ rigid links */
@@ -5750,6 +5774,7 @@ typedef struct rj__sums {
     double gravity;                                 /* gravity's potential at n, -sum m g . x */
     double kinetic;                                 /* 1/2 v^{n-1/2} . v^{n+1/2} */
     double lost_damping, lost_friction, lost_limit; /* since the start */
+    double work;    /* done by the caller's inputs since the start */
     double pending; /* a jump's loss the next step takes (its second half) */
 } rj__sums;
 
@@ -5830,6 +5855,7 @@ static RJ__FORCE_INLINE void rj__sums_open(const double *old_scalars, rj__sums *
     e->lost_damping = old_scalars[RJ__FS_LDAMP];
     e->lost_friction = old_scalars[RJ__FS_LFRIC];
     e->lost_limit = old_scalars[RJ__FS_LLIM] + old_scalars[RJ__FS_PEND];
+    e->work = old_scalars[RJ__FS_WORK];
     e->pending = 0;
 }
 
@@ -5990,6 +6016,32 @@ static RJ__FORCE_INLINE double rj__joint_rate_pred(const rj_model *m, const rj_s
     if (J->nK >= 0)
         ratep -= (g->ax * (pvy[1] - pvy[0]) - g->ay * (pvx[1] - pvx[0])) / g->a2;
     return ratep;
+}
+
+/* Stage 2b, applied loads: the caller's joint torques (rj_state_joint_torques), on the
+   joint geometry stage 2 kept, before friction so that it sees them. */
+static void rj__stage_inputs(const rj_model *m, rj_state *s, double *next)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const double torque = s->input_torque[j];
+        rj__jgeo g;
+        rj__kept_geo(s->jsc + 8 * j, &g);
+        rj__apply_torque(&m->jnt[j], &g, torque, s->fx, s->fy, s->mz);
+        RJ__FJ(m, next, j)[RJ__JD_INPUT] = torque;
+    }
+}
+
+/* The work of the caller's joint torques over the step (after the velocity-level limits,
+   which set the joints' rates at n + 1/2). */
+static double rj__inputs_work(const rj_model *m, const rj_state *s, const double *old,
+                              const double *next)
+{
+    double work = 0;
+    int j;
+    for (j = 0; j < m->nj; j++)
+        work += rj__input_work(RJ__FJ(m, old, j), RJ__FJ(m, next, j), s->jsc[8 * j + 4], m->dt);
+    return work;
 }
 
 /* Stage 3, Coulomb friction: the torque that would stop the relative rotation in this
@@ -6488,11 +6540,12 @@ static RJ__FORCE_INLINE rj_result rj__energy_check(const rj_model *m, rj_state *
 {
     const double ke = e->kinetic, U = e->strain, V = e->spring, lost_l = e->lost_limit;
     const double E = U > fabs(ke) ? U : fabs(ke);
-    /* the initial energy less gravity's potential now: what gravity has released since the
-       start may turn into kinetic energy */
-    const double scale = fabs(e0 - e->gravity) + fabs(old_spring) + 1e-9;
+    /* the initial energy less gravity's potential now, plus the inputs' work: what gravity
+       has released and the caller has put in may turn into kinetic energy */
+    const double outside = e->gravity - e->work; /* what gravity and the caller account for */
+    const double scale = fabs(e0 - outside) + fabs(old_spring) + 1e-9;
     const double created =
-        ke + U + V + e->gravity + e->lost_damping + e->lost_friction + lost_l - e0;
+        ke + U + V + outside + e->lost_damping + e->lost_friction + lost_l - e0;
     if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) ||
         E > m->solver.energy_growth * (scale + fabs(V)) || created > RJ__CREATED * scale ||
         lost_l < -RJ__CREATED * scale)
@@ -6515,6 +6568,7 @@ static RJ__FORCE_INLINE rj_result rj__step_accounts(const rj_model *m, rj_state 
     nsc[RJ__FS_LFRIC] = e->lost_friction;
     nsc[RJ__FS_LLIM] = e->lost_limit;
     nsc[RJ__FS_PEND] = e->pending;
+    nsc[RJ__FS_WORK] = e->work;
     if (!f->en)
         return RJ_OK;
     nsc[RJ__FS_ETIME] = f->t;
@@ -6524,8 +6578,8 @@ static RJ__FORCE_INLINE rj_result rj__step_accounts(const rj_model *m, rj_state 
     nsc[RJ__FS_GRAV] = e->gravity;
     if (f->first) {
         nsc[RJ__FS_E0] = e->kinetic + e->strain + e->spring + e->gravity;
-        nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = 0;
-        e->lost_damping = e->lost_friction = e->lost_limit = 0;
+        nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = nsc[RJ__FS_WORK] = 0;
+        e->lost_damping = e->lost_friction = e->lost_limit = e->work = 0;
     }
     return rj__energy_check(m, s, f->advanced, f->t, e, osc[RJ__FS_SPRING], nsc[RJ__FS_E0]);
 }
@@ -6548,7 +6602,7 @@ static RJ__FORCE_INLINE void rj__step_commit(const rj_model *m, rj_state *s, con
    are taken when want_energy is set, at the first step, and solver.energy_every steps after
    the last time. ip: in place (rj__step below). Every stage adds to fin the positions it
    wrote, each from the velocity, torque or body motion behind it: finite while they all
-   are. A new force enters between stages 2 and 3, so that friction sees it. */
+   are. Applied loads enter between stages 2 and 3, so that friction sees them. */
 static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, int want_energy,
                                                int ip)
 {
@@ -6557,15 +6611,20 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     rj__adv adv;
     rj_result r;
     double fin = 0;
+    const int inputs = s->inputs;
     rj__frames_open(m, s, want_energy, ip, &f);
     rj__frames_nodes(m, &f);
     rj__sums_open(f.old_scalars, &e);
     adv.fin = &fin;
     rj__stage_beams(m, s, &f, &adv, &e);
     rj__stage_joint_torques(m, s, &f, &e);
+    if (inputs)
+        rj__stage_inputs(m, s, f.next);
     rj__stage_friction(m, s, &f);
     rj__stage_update(m, s, &f, &adv, &e, &fin);
     rj__stage_velocity_limits(m, s, &f, &e, &fin);
+    if (inputs)
+        e.work += rj__inputs_work(m, s, f.old, f.next);
     rj__stage_constraints(m, s, &f, &e, &fin);
     r = rj__stage_joint_angles(m, s, &f, &fin);
     if (r != RJ_OK)
@@ -6774,6 +6833,12 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
                         &f->new_flags[j], qd[j], t, f->new_scalars, &penetration, &spring);
         Q[j] = torque - bias[j];
     }
+    /* the caller's torques: generalised forces on their joints */
+    if (s->inputs)
+        for (j = 0; j < n; j++) {
+            Q[j] += s->input_torque[j];
+            new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_INPUT] = s->input_torque[j];
+        }
     if (rj__gravity_on(m))
         rj__rig_gravity(m, r, Q, e);
     /* springs and tables at q^n, from the element */
@@ -6949,6 +7014,8 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_sta
         new_joint[RJ__JD_QDD] = qdd[j];
         rj__element_work(old_joint, new_joint, qd[j], dt, &lost_damping, &lost_friction,
                          &lost_limit);
+        if (s->inputs)
+            e->work += rj__input_work(old_joint, new_joint, qd[j], dt);
     }
     e->lost_damping = lost_damping;
     e->lost_friction = lost_friction;
@@ -6983,10 +7050,12 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
     new_scalars[RJ__FS_LLIM] = e->lost_limit;
     new_scalars[RJ__FS_PEND] = e->pending;
     new_scalars[RJ__FS_GRAV] = e->gravity;
+    new_scalars[RJ__FS_WORK] = e->work;
     if (f->first) {
         new_scalars[RJ__FS_E0] = ke + e->spring + e->gravity;
         new_scalars[RJ__FS_LDAMP] = new_scalars[RJ__FS_LFRIC] = new_scalars[RJ__FS_LLIM] = 0;
-        e->lost_damping = e->lost_friction = e->lost_limit = 0;
+        new_scalars[RJ__FS_WORK] = 0;
+        e->lost_damping = e->lost_friction = e->lost_limit = e->work = 0;
     }
     res = rj__energy_check(m, s, NULL, f->t, e, f->old_scalars[RJ__FS_SPRING],
                            new_scalars[RJ__FS_E0]);
@@ -7228,6 +7297,14 @@ RJDEF rj_result rj_settle(const rj_model *m, rj_state *s, double tol, long max_s
                     "rj_settle: not settled within %ld steps (the last kinetic energy peak %.3g J; "
                     "tol %g)",
                     max_steps, previous, tol);
+}
+
+RJDEF double *rj_state_joint_torques(const rj_model *m, rj_state *s)
+{
+    RJ_ASSERT(m && s);
+    (void) m;
+    s->inputs = 1;
+    return s->input_torque;
 }
 
 RJDEF const char *rj_state_error(const rj_state *s)
@@ -7587,8 +7664,10 @@ RJDEF void rj_state_energy(const rj_model *m, const rj_state *s, rj_energy *e)
     e->lost_damping = sc[RJ__FS_LDAMP];
     e->lost_friction = sc[RJ__FS_LFRIC];
     e->lost_limit = sc[RJ__FS_LLIM];
+    e->work_applied = sc[RJ__FS_WORK];
     e->total = e->kinetic + e->strain + e->spring + e->gravity;
-    e->balance = e->total + e->lost_damping + e->lost_friction + e->lost_limit - sc[RJ__FS_E0];
+    e->balance = e->total + e->lost_damping + e->lost_friction + e->lost_limit - e->work_applied -
+                 sc[RJ__FS_E0];
 }
 RJDEF double rj_state_energy_time(const rj_state *s)
 {
@@ -7597,13 +7676,22 @@ RJDEF double rj_state_energy_time(const rj_state *s)
 
 /* ------------------------------------------------------------------ checkpoints */
 /* Layout: "RJCK" | u32 version | u64 model hash | u64 payload bytes | payload | u64 FNV-1a
-   of everything before it. Payload: steps (i64), frame doubles, frame ints. */
+   of everything before it. Payload: steps (i64), frame doubles, frame ints, then the
+   caller's inputs: whether they are on (a double, 0 or 1) and the joint torques (nj). */
 #define RJ__CK_HEAD 24
+/* the payload's bytes */
+static size_t rj__ck_payload(const rj_model *m)
+{
+    return 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1) +
+           sizeof(double) * ((size_t) m->nj + 1);
+}
 RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size_t size)
 {
-    size_t pay = 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1);
+    size_t pay = rj__ck_payload(m);
     size_t need = RJ__CK_HEAD + pay + 8;
     unsigned char *b = (unsigned char *) buf;
+    unsigned char *in_bytes;
+    const double inputs = s->inputs ? 1.0 : 0.0;
     unsigned int ver = 3;
     unsigned long long h, pl = pay, st = (unsigned long long) s->steps;
     if (!buf || size < need)
@@ -7616,6 +7704,10 @@ RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size
     memcpy(b + RJ__CK_HEAD + 8, s->fd[s->cur], sizeof(double) * m->frame_doubles);
     memcpy(b + RJ__CK_HEAD + 8 + sizeof(double) * m->frame_doubles, s->fi[s->cur],
            sizeof(int) * (m->frame_ints + 1));
+    in_bytes = b + RJ__CK_HEAD + 8 + sizeof(double) * m->frame_doubles +
+               sizeof(int) * (m->frame_ints + 1);
+    memcpy(in_bytes, &inputs, sizeof(double));
+    memcpy(in_bytes + sizeof(double), s->input_torque, sizeof(double) * (size_t) m->nj);
     h = rj__fnv(14695981039346656037ULL, b, RJ__CK_HEAD + pay);
     memcpy(b + RJ__CK_HEAD + pay, &h, 8);
     return need;
@@ -7722,14 +7814,45 @@ static int rj__ck_spare_ok(const rj_model *m, const int *fi, rj_error *err)
     return 0;
 }
 
+/* The checkpoint's inputs: the switch 0 or 1, each torque finite within 1e100. */
+static int rj__ck_inputs_ok(const rj_model *m, const unsigned char *in_bytes, rj_error *err)
+{
+    double v;
+    int j;
+    memcpy(&v, in_bytes, sizeof(double));
+    if (!(v == 0 || v == 1)) {
+        rj__fail(err, RJ_ERR_CHECKPOINT, "inputs", v,
+                 "checkpoint's inputs switch is %g, not 0 or 1", v);
+        return 0;
+    }
+    for (j = 0; j < m->nj; j++) {
+        memcpy(&v, in_bytes + sizeof(double) * (size_t) (j + 1), sizeof(double));
+        if (!(fabs(v) <= RJ__CK_MAX_VALUE)) {
+            rj__fail(err, RJ_ERR_CHECKPOINT, "input_torque", v,
+                     "checkpoint's input torque of joint %d is %g: not finite within 1e100 N m",
+                     j, v);
+            return 0;
+        }
+    }
+    return 1;
+}
+static void rj__ck_inputs_load(const rj_model *m, rj_state *s, const unsigned char *in_bytes)
+{
+    double v;
+    memcpy(&v, in_bytes, sizeof(double));
+    s->inputs = v == 1;
+    memcpy(s->input_torque, in_bytes + sizeof(double), sizeof(double) * (size_t) m->nj);
+}
+
 RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, size_t size,
                               rj_error *err)
 {
-    const size_t pay = 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1);
+    const size_t pay = rj__ck_payload(m);
     const size_t need = RJ__CK_HEAD + pay + 8;
     const unsigned char *b = (const unsigned char *) buf;
     const unsigned char *fd_bytes = b + RJ__CK_HEAD + 8;
     const unsigned char *fi_bytes = fd_bytes + sizeof(double) * m->frame_doubles;
+    const unsigned char *in_bytes = fi_bytes + sizeof(int) * (m->frame_ints + 1);
     unsigned int ver;
     unsigned long long h, hh, mh, pl, st;
     /* the header first: a checkpoint of another model (or none) is told apart from a cut one */
@@ -7748,8 +7871,8 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
     memcpy(&pl, b + 16, 8);
     if (ver != 3) {
         rj__fail(err, RJ_ERR_CHECKPOINT, "version", ver,
-                 "checkpoint version %u is not supported (3: gravity's potential joined the "
-                 "frame)",
+                 "checkpoint version %u is not supported (3: gravity's potential, the inputs' "
+                 "work and the caller's joint torques joined it)",
                  ver);
         return RJ_ERR_CHECKPOINT;
     }
@@ -7787,11 +7910,12 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
         memcpy(s->fd[spare], fd_bytes, sizeof(double) * m->frame_doubles);
         memcpy(s->fi[spare], fi_bytes, sizeof(int) * (m->frame_ints + 1));
         if (!rj__ck_frame_ok(m, s->fd[spare], s->fi[spare], st, err) ||
-            !rj__ck_spare_ok(m, s->fi[spare], err)) {
+            !rj__ck_spare_ok(m, s->fi[spare], err) || !rj__ck_inputs_ok(m, in_bytes, err)) {
             s->snap = -1; /* in place the spare frame held the rollback copy: take a new one */
             return RJ_ERR_CHECKPOINT;
         }
         s->cur = spare;
+        rj__ck_inputs_load(m, s, in_bytes);
     }
     s->snap = -1;
     s->steps = (long) st;

@@ -21,6 +21,9 @@ t 2 "deploy rejects zero elements" $B/deploy --elements 0
 t 2 "deploy rejects a missing value" $B/deploy --dt
 t 2 "deploy --links pieces rejects more than 100 pieces per link" $B/deploy --links pieces --elements 101
 t 2 "deploy --links pieces rejects --method (its latches are momentum)" $B/deploy --links pieces --method adaptive
+ok "pd_arm: the PD controller swings the flexible arm to within 0.5 deg of 90 deg in 4 s, its work in the balance" \
+  "$B/pd_arm --csv /dev/null 2>&1 | awk '/the arm at/ { a = \$5 - 90; if (a < 0) a = -a; b = \$(NF - 1); if (b < 0) b = -b; exit !(a < 0.5 && b < 1e-6) } END { if (NR == 0) exit 1 }'"
+t 2 "pd_arm rejects an unknown option" $B/pd_arm --bogus
 t 2 "animate rejects an unknown scene" $B/animate --scene nowhere
 t 1 "impact refuses a step above the stability bound (clear error, status 1)" $B/impact --dt 15e-6
 

@@ -357,6 +357,77 @@ static void test_in_place(rjt_ctx *c)
     }
 }
 
+/* A pinned bar under gravity driven by the caller's joint torque, flexible or rigid. */
+static int driven_bar(int fidelity, rj_model **m, rj_state **s)
+{
+    rj_link_def l = bar(fidelity, fidelity == RJ_LINK_RIGID ? 1 : 10);
+    rj_joint_def j = rj_default_joint_def();
+    rj_scene_def sc = rj_default_scene_def();
+    rj_error err;
+    j.body1 = -1;
+    j.body2 = 0;
+    j.angle0 = 0;
+    j.friction = 0.2;
+    j.damping = fidelity == RJ_LINK_RIGID ? 0.05 : 0;
+    sc.links = &l;
+    sc.link_count = 1;
+    sc.joints = &j;
+    sc.joint_count = 1;
+    sc.solver.gravity[1] = -G;
+    sc.solver.dt = fidelity == RJ_LINK_RIGID ? 2.5e-4 : 0;
+    if (rj_model_create(&sc, m, &err, NULL) != RJ_OK) {
+        printf("  (%s)\n", err.msg);
+        return 0;
+    }
+    return rj_state_create(*m, s, NULL) == RJ_OK;
+}
+
+/* The caller's torques: their work closes the energy balance (with gravity, friction and
+   damping at work too), and a checkpoint taken with them set resumes bit for bit. */
+static void test_inputs(rjt_ctx *c)
+{
+    int fidelity;
+    for (fidelity = 0; fidelity < 2; fidelity++) {
+        const int fid = fidelity ? RJ_LINK_RIGID : RJ_LINK_FLEXIBLE;
+        const char *what = fidelity ? "rigid link (joint coordinates)" : "flexible link";
+        rj_model *m;
+        rj_state *s, *s2;
+        rj_energy e;
+        double *torque, tip_a[2], tip_b[2];
+        unsigned char buf[1 << 16];
+        char name[200];
+        size_t n;
+        int k, same;
+        if (!driven_bar(fid, &m, &s) || rj_state_create(m, &s2, NULL) != RJ_OK) {
+            rjt_check(c, 0, "the caller's joint torques", "the model did not build");
+            return;
+        }
+        torque = rj_state_joint_torques(m, s);
+        /* a torque that changes every 0.1 s, as a controller's would */
+        for (k = 0; k < 10; k++) {
+            torque[0] = 3.0 + 2.0 * sin(k);
+            rj_run(m, s, 0.1 * (k + 1), 0, NULL, NULL);
+        }
+        rj_state_energy(m, s, &e);
+        snprintf(name, sizeof name, "caller's joint torque on a %s under gravity: its work closes the balance", what);
+        rjt_check(c, e.work_applied > 0.5 && fabs(e.balance) < 1e-6 * e.work_applied, name,
+                  "work %.6g J, balance %.3g J (kinetic %.4g, gravity %.4g, friction %.4g, damping %.4g J)",
+                  e.work_applied, e.balance, e.kinetic, e.gravity, e.lost_friction, e.lost_damping);
+        n = rj_state_save(m, s, buf, sizeof buf);
+        rj_run(m, s, 1.5, 0, NULL, NULL);
+        same = n <= sizeof buf && rj_state_load(m, s2, buf, n, NULL) == RJ_OK;
+        if (same) rj_run(m, s2, 1.5, 0, NULL, NULL);
+        rj_node_position(m, s, 0, rj_link_node_count(m, 0) - 1, tip_a);
+        rj_node_position(m, s2, 0, rj_link_node_count(m, 0) - 1, tip_b);
+        snprintf(name, sizeof name, "checkpoint with the caller's torque set resumes bit for bit, %s", what);
+        rjt_check(c, same && tip_a[0] == tip_b[0] && tip_a[1] == tip_b[1] && rj_state_joint_torques(m, s2)[0] == torque[0],
+                  name, "tip (%.12g, %.12g) against (%.12g, %.12g)", tip_a[0], tip_a[1], tip_b[0], tip_b[1]);
+        rj_state_destroy(s, NULL);
+        rj_state_destroy(s2, NULL);
+        rj_model_destroy(m, NULL);
+    }
+}
+
 /* Bad gravity is refused naming the field. */
 static void test_refusals(rjt_ctx *c)
 {
@@ -447,6 +518,7 @@ int main(void)
     test_free_flight(&c);
     test_sag(&c);
     test_in_place(&c);
+    test_inputs(&c);
     test_refusals(&c);
     test_scene_file(&c);
     test_settle_arguments(&c);

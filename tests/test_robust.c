@@ -188,12 +188,12 @@ static void reseal(unsigned char *ck, size_t size)
 }
 
 /* Offsets in a checkpoint: the frame's doubles start after the 24-byte header and the
-   step count; its scalars first (time at 0, the warning count at 9), then the nodes'
+   step count; its 13 scalars first (time at 0, the warning count at 9), then the nodes'
    x values. */
 #define CK_DOUBLES 32
 #define CK_TIME 0
 #define CK_WARN 9
-#define CK_X0 11
+#define CK_X0 13
 
 static void test_no_usable_step(void)
 {
@@ -519,7 +519,8 @@ static void test_checkpoints(void)
     edit = (unsigned char *)malloc(size + 16);
     rj_state_save(m, s, ck, size);
     memcpy(&pay, ck + 16, 8);
-    frame_doubles = (size_t)(pay - 8 - sizeof(int) * 3) / 8;   /* 2 joint flags and a spare */
+    /* 2 joint flags and a spare; after them the inputs' switch and the 2 joints' torques */
+    frame_doubles = (size_t)(pay - 8 - sizeof(int) * 3 - 8 * 3) / 8;
     /* crafted values behind a valid checksum */
     memcpy(edit, ck, size);
     memcpy(edit + CK_DOUBLES + 8 * frame_doubles + sizeof(int), &flag, sizeof flag);
