@@ -821,7 +821,7 @@ struct rj_state {
         *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
     double *eu,
         *ebt; /* (ne) element strain energies; scratch (chord angles at reset, SHAKE's active flags) */
-    double *jsc; /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
+    double *jsc;          /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
     double *input_torque; /* (nj) the caller's joint torques, N m on body 2 (kept until changed) */
     int inputs;           /* rj_state_joint_torques was called: the step applies them */
     double *
@@ -6018,11 +6018,31 @@ static RJ__FORCE_INLINE double rj__joint_rate_pred(const rj_model *m, const rj_s
     return ratep;
 }
 
-/* Stage 2b, applied loads: the caller's joint torques (rj_state_joint_torques), on the
-   joint geometry stage 2 kept, before friction so that it sees them. */
-static void rj__stage_inputs(const rj_model *m, rj_state *s, double *next)
+/* The caller's torques are numbers the step can use: finite, within 1e100 N m (the
+   checkpoints' bound). Else the step stops naming the joint, the state as it was. */
+static int rj__inputs_ok(const rj_model *m, rj_state *s)
 {
     int j;
+    for (j = 0; j < m->nj; j++) {
+        const double torque = s->input_torque[j];
+        if (fabs(torque) <= 1e100)
+            continue;
+        rj__stop(m, s, RJ_ERR_INVALID,
+                 "t = %.9g s: rj_state_joint_torques()[%d] = %g N m is not a finite torque "
+                 "within 1e100 N m",
+                 RJ__FS(m, s->fd[s->cur])[RJ__FS_TIME], j, torque);
+        return 0;
+    }
+    return 1;
+}
+
+/* Stage 2b, applied loads: the caller's joint torques (rj_state_joint_torques), on the
+   joint geometry stage 2 kept, before friction so that it sees them. */
+static rj_result rj__stage_inputs(const rj_model *m, rj_state *s, double *next)
+{
+    int j;
+    if (!rj__inputs_ok(m, s))
+        return RJ_ERR_INVALID;
     for (j = 0; j < m->nj; j++) {
         const double torque = s->input_torque[j];
         rj__jgeo g;
@@ -6030,6 +6050,7 @@ static void rj__stage_inputs(const rj_model *m, rj_state *s, double *next)
         rj__apply_torque(&m->jnt[j], &g, torque, s->fx, s->fy, s->mz);
         RJ__FJ(m, next, j)[RJ__JD_INPUT] = torque;
     }
+    return RJ_OK;
 }
 
 /* The work of the caller's joint torques over the step (after the velocity-level limits,
@@ -6544,8 +6565,7 @@ static RJ__FORCE_INLINE rj_result rj__energy_check(const rj_model *m, rj_state *
        has released and the caller has put in may turn into kinetic energy */
     const double outside = e->gravity - e->work; /* what gravity and the caller account for */
     const double scale = fabs(e0 - outside) + fabs(old_spring) + 1e-9;
-    const double created =
-        ke + U + V + outside + e->lost_damping + e->lost_friction + lost_l - e0;
+    const double created = ke + U + V + outside + e->lost_damping + e->lost_friction + lost_l - e0;
     if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) ||
         E > m->solver.energy_growth * (scale + fabs(V)) || created > RJ__CREATED * scale ||
         lost_l < -RJ__CREATED * scale)
@@ -6618,8 +6638,11 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     adv.fin = &fin;
     rj__stage_beams(m, s, &f, &adv, &e);
     rj__stage_joint_torques(m, s, &f, &e);
-    if (inputs)
-        rj__stage_inputs(m, s, f.next);
+    if (inputs) {
+        r = rj__stage_inputs(m, s, f.next);
+        if (r != RJ_OK)
+            return r;
+    }
     rj__stage_friction(m, s, &f);
     rj__stage_update(m, s, &f, &adv, &e, &fin);
     rj__stage_velocity_limits(m, s, &f, &e, &fin);
@@ -6833,7 +6856,7 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
                         &f->new_flags[j], qd[j], t, f->new_scalars, &penetration, &spring);
         Q[j] = torque - bias[j];
     }
-    /* the caller's torques: generalised forces on their joints */
+    /* the caller's torques: generalised forces on their joints (rj__step_rigid checked them) */
     if (s->inputs)
         for (j = 0; j < n; j++) {
             Q[j] += s->input_torque[j];
@@ -7079,6 +7102,8 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
     rj__frames_open(m, s, 1, 0, &f);
     rj__sums_open(f.old_scalars, &e);
     rj__rig_map(m, s->rsc, &r);
+    if (s->inputs && !rj__inputs_ok(m, s))
+        return RJ_ERR_INVALID;
     res = rj__rig_stage_kinematics(m, s, &f, &r);
     if (res != RJ_OK)
         return res;
@@ -7704,8 +7729,8 @@ RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size
     memcpy(b + RJ__CK_HEAD + 8, s->fd[s->cur], sizeof(double) * m->frame_doubles);
     memcpy(b + RJ__CK_HEAD + 8 + sizeof(double) * m->frame_doubles, s->fi[s->cur],
            sizeof(int) * (m->frame_ints + 1));
-    in_bytes = b + RJ__CK_HEAD + 8 + sizeof(double) * m->frame_doubles +
-               sizeof(int) * (m->frame_ints + 1);
+    in_bytes =
+        b + RJ__CK_HEAD + 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1);
     memcpy(in_bytes, &inputs, sizeof(double));
     memcpy(in_bytes + sizeof(double), s->input_torque, sizeof(double) * (size_t) m->nj);
     h = rj__fnv(14695981039346656037ULL, b, RJ__CK_HEAD + pay);
@@ -7829,8 +7854,8 @@ static int rj__ck_inputs_ok(const rj_model *m, const unsigned char *in_bytes, rj
         memcpy(&v, in_bytes + sizeof(double) * (size_t) (j + 1), sizeof(double));
         if (!(fabs(v) <= RJ__CK_MAX_VALUE)) {
             rj__fail(err, RJ_ERR_CHECKPOINT, "input_torque", v,
-                     "checkpoint's input torque of joint %d is %g: not finite within 1e100 N m",
-                     j, v);
+                     "checkpoint's input torque of joint %d is %g: not finite within 1e100 N m", j,
+                     v);
             return 0;
         }
     }

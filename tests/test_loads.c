@@ -422,6 +422,19 @@ static void test_inputs(rjt_ctx *c)
         snprintf(name, sizeof name, "checkpoint with the caller's torque set resumes bit for bit, %s", what);
         rjt_check(c, same && tip_a[0] == tip_b[0] && tip_a[1] == tip_b[1] && rj_state_joint_torques(m, s2)[0] == torque[0],
                   name, "tip (%.12g, %.12g) against (%.12g, %.12g)", tip_a[0], tip_a[1], tip_b[0], tip_b[1]);
+        /* a torque that is not a number stops the step, naming it, the state unchanged */
+        {
+            unsigned char before[1 << 16], after[1 << 16];
+            size_t nb;
+            rj_result r;
+            torque[0] = NAN;
+            nb = rj_state_save(m, s, before, sizeof before);
+            r = rj_step(m, s);
+            rj_state_save(m, s, after, sizeof after);
+            snprintf(name, sizeof name, "a caller's torque that is NaN is refused by the step, the state unchanged, %s", what);
+            rjt_check(c, r == RJ_ERR_INVALID && strstr(rj_state_error(s), "rj_state_joint_torques()[0]") != NULL &&
+                      memcmp(before, after, nb) == 0, name, "%s: %s", rj_result_str(r), rj_state_error(s));
+        }
         rj_state_destroy(s, NULL);
         rj_state_destroy(s2, NULL);
         rj_model_destroy(m, NULL);
