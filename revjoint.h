@@ -7842,10 +7842,12 @@ static int rj__ck_spare_ok(const rj_model *m, const int *fi, rj_error *err)
 /* The checkpoint's inputs: the switch 0 or 1, each torque finite within 1e100. */
 static int rj__ck_inputs_ok(const rj_model *m, const unsigned char *in_bytes, rj_error *err)
 {
+    static const double off = 0.0, on = 1.0;
     double v;
     int j;
     memcpy(&v, in_bytes, sizeof(double));
-    if (!(v == 0 || v == 1)) {
+    /* the very bytes of 0 or 1 (not -0), so that a loaded state saves back the same bytes */
+    if (memcmp(in_bytes, &off, sizeof off) != 0 && memcmp(in_bytes, &on, sizeof on) != 0) {
         rj__fail(err, RJ_ERR_CHECKPOINT, "inputs", v,
                  "checkpoint's inputs switch is %g, not 0 or 1", v);
         return 0;

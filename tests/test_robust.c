@@ -526,6 +526,12 @@ static void test_checkpoints(void)
     memcpy(edit + CK_DOUBLES + 8 * frame_doubles + sizeof(int), &flag, sizeof flag);
     reseal(edit, size);
     ck_refused("joint flag 7", "flag", m, s, edit, size);
+    /* the inputs' switch as -0: it would load and save back other bytes */
+    memcpy(edit, ck, size);
+    v = -0.0;
+    memcpy(edit + CK_DOUBLES + 8 * frame_doubles + sizeof(int) * 3, &v, 8);
+    reseal(edit, size);
+    ck_refused("an inputs switch of -0", "inputs switch", m, s, edit, size);
     memcpy(edit, ck, size);
     v = HUGE_VAL;
     memcpy(edit + CK_DOUBLES + 8 * (CK_X0 + 3), &v, 8);
