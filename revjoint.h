@@ -2631,6 +2631,13 @@ static void rj__place(const rj_model *m, int l, double px, double py, double ang
     ((m)->node_cl[n] >= 0 && (n) >= (m)->link_first[(m)->node_cl[n]] &&                            \
      (n) < (m)->link_first[(m)->node_cl[n] + 1])
 
+/* A section's area as the rigid bodies take it: width x height for a rectangle (not its
+   layers' sum), else the given area. */
+static double rj__plain_area(const rj_link_def *d)
+{
+    return d->section == RJ_SECTION_RECT ? d->width * d->height : d->area;
+}
+
 static int rj__clusters(rj_model *m, rj_error *err)
 {
     int l, i, gi, k, cnt = 0, ng = 0, q = 0;
@@ -2674,7 +2681,7 @@ static int rj__clusters(rj_model *m, rj_error *err)
             }
         }
         /* the link as a body: rod plus tip mass, as in scenes of rigid links */
-        A = d->section == RJ_SECTION_RECT ? d->width * d->height : d->area;
+        A = rj__plain_area(d);
         mr = d->rho * A * d->length;
         mt = mr + d->tip_mass;
         dc = (mr * 0.5 * d->length + d->tip_mass * d->length) / mt;
@@ -4194,7 +4201,7 @@ static void rj__init_rigid_bodies(rj_model *m)
     int l;
     for (l = 0; l < m->nl; l++) {
         const rj_link_def *d = &m->ldef[l];
-        const double A = d->section == RJ_SECTION_RECT ? d->width * d->height : d->area;
+        const double A = rj__plain_area(d);
         const double rod = d->rho * A * d->length;
         const double total = rod + d->tip_mass;
         const double dc = (rod * 0.5 * d->length + d->tip_mass * d->length) / total;
@@ -5762,7 +5769,6 @@ typedef struct rj__frames {
     double t, dt;
     double kick; /* dt, or dt / 2 at the first step (from v(0)) */
     int first;   /* the first step */
-    int gravity; /* the scene has gravity */
     int en;      /* this step takes the energy accounts */
     int ip;      /* in place */
 } rj__frames;
@@ -5785,17 +5791,11 @@ static void rj__cl_own_moment(const rj_model *m, int c, const double *x, const d
 {
     const rj_link_def *d = &m->ldef[c];
     const int n0 = m->link_first[c], nt = m->link_first[c + 1] - 1;
-    const double area = d->section == RJ_SECTION_RECT ? d->width * d->height : d->area;
+    const double area = rj__plain_area(d);
     const double rod = d->rho * area * d->length, own = rod + d->tip_mass;
     const double along = (rod * 0.5 + d->tip_mass) / own; /* the centre, as a fraction */
     *mx = own * (x[n0] + along * (x[nt] - x[n0]));
     *my = own * (y[n0] + along * (y[nt] - y[n0]));
-}
-
-/* Does the scene have gravity? */
-static RJ__FORCE_INLINE int rj__gravity_on(const rj_model *m)
-{
-    return m->has_gravity;
 }
 
 /* The frames and step constants: the accounts when asked, at the start, or
@@ -5817,7 +5817,6 @@ static RJ__FORCE_INLINE void rj__frames_open(const rj_model *m, rj_state *s, int
     f->t = f->old_scalars[RJ__FS_TIME];
     f->dt = m->dt;
     f->first = s->steps == 0;
-    f->gravity = rj__gravity_on(m);
     /* the stored velocities are v(0) at the start and v^{n-1/2} after: the first kick is
        half a step, which makes the start second-order accurate too */
     f->kick = f->first ? 0.5 * m->dt : m->dt;
@@ -6149,7 +6148,7 @@ static RJ__FORCE_INLINE void rj__update_joint_nodes(const rj_model *m, rj_state 
         const int n = m->dnode[i];
         rj__advance_node(adv, n, s->fx[n], s->fy[n], s->mz[n], f->x, f->y, f->phi);
     }
-    if (f->gravity)
+    if (m->has_gravity)
         rj__gravity_kick(m, s, f, e, adv->fin);
     ke = f->en ? rj__sum8(s->kn, m->nn) : 0.0;
     if (f->first) {
@@ -6179,7 +6178,7 @@ static RJ__FORCE_INLINE void rj__update_groups(const rj_model *m, rj_state *s, c
         }
         ux = vx[r] + f->kick * sx * m->grp_inv[gi];
         uy = vy[r] + f->kick * sy * m->grp_inv[gi];
-        if (f->gravity && m->grp_inv[gi] > 0) {
+        if (m->has_gravity && m->grp_inv[gi] > 0) {
             ux += f->kick * m->solver.gravity[0];
             uy += f->kick * m->solver.gravity[1];
         }
@@ -6236,7 +6235,7 @@ static RJ__FORCE_INLINE void rj__update_bodies(const rj_model *m, rj_state *s, c
         if (m->cl_fix[gi] == 2)
             continue;
         rj__cl_load(m, gi, oc, f->x, f->y, s->fx, s->fy, s->mz, &Fx, &Fy, &T);
-        if (f->gravity)
+        if (m->has_gravity)
             rj__cl_gravity(m, gi, oc, f->x, f->y, &Fx, &Fy, &T);
         if (m->cl_fix[gi] == 0) {
             nc[2] = oc[2] + f->kick * Fx / m->cl_M[gi];
@@ -6862,7 +6861,7 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
             Q[j] += s->input_torque[j];
             new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_INPUT] = s->input_torque[j];
         }
-    if (rj__gravity_on(m))
+    if (m->has_gravity)
         rj__rig_gravity(m, r, Q, e);
     /* springs and tables at q^n, from the element */
     f->new_scalars[RJ__FS_SPRING] = spring;

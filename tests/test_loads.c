@@ -39,6 +39,15 @@ static rj_link_def bar(int fidelity, int elements)
     return l;
 }
 
+/* The scene of a bar clamped horizontal at the origin under gravity (l outlives sc). */
+static void cantilever_scene(rj_link_def *l, rj_scene_def *sc)
+{
+    l->root = RJ_ROOT_CLAMPED;
+    sc->links = l;
+    sc->link_count = 1;
+    sc->solver.gravity[1] = -G;
+}
+
 /* Mass, first moment and inertia about node 0 of a link as the model lumps it. */
 static void lumped_body(const rj_model *m, const rj_state *s, int link, double *mass, double *moment,
                         double *inertia)
@@ -266,10 +275,7 @@ static double settled_sag(int elements, char *msg, size_t n)
     rj_error err;
     double tip[2];
     rj_result r;
-    l.root = RJ_ROOT_CLAMPED;
-    sc.links = &l;
-    sc.link_count = 1;
-    sc.solver.gravity[1] = -G;
+    cantilever_scene(&l, &sc);
     if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) {
         snprintf(msg, n, "%s", err.msg);
         return NAN;
@@ -334,10 +340,7 @@ static void test_in_place(rjt_ctx *c)
     double tip[2][2];
     rj_energy e[2];
     int k;
-    l.root = RJ_ROOT_CLAMPED;
-    sc.links = &l;
-    sc.link_count = 1;
-    sc.solver.gravity[1] = -G;
+    cantilever_scene(&l, &sc);
     for (k = 0; k < 2; k++) {
         sc.solver.in_place = k == 0 ? RJ_IN_PLACE_ON : RJ_IN_PLACE_OFF;
         if (rj_model_create(&sc, &m[k], &err, NULL) != RJ_OK || rj_state_create(m[k], &s[k], NULL) != RJ_OK) {
@@ -501,10 +504,7 @@ static void test_settle_arguments(rjt_ctx *c)
     rj_state *s;
     rj_error err;
     rj_result r0, r1, r2;
-    l.root = RJ_ROOT_CLAMPED;
-    sc.links = &l;
-    sc.link_count = 1;
-    sc.solver.gravity[1] = -G;
+    cantilever_scene(&l, &sc);
     if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK || rj_state_create(m, &s, NULL) != RJ_OK) {
         rjt_check(c, 0, "rj_settle's arguments", "%s", err.msg);
         return;
