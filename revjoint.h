@@ -289,20 +289,44 @@ typedef struct rj_solver_def {
     unsigned cookie;
 } rj_solver_def;
 
-/* A whole scene. The arrays are read during rj_model_create only. */
+/* Applied load definition: a force and a moment on one node of one link, scaled in time
+   by a table. Defaults (rj_default_load_def): link 0, node -1 (the link's last node);
+   force 0 0 N; moment 0 N m; follower 0; no table (constant).
+   force: N, in the global frame; with follower 1, in the node's own frame (x along the
+   section's rotation, the link's axis where it starts straight; y normal to it), so that it
+   turns with the node, as a thruster or a pressure on the tip would. moment: N m,
+   counter-clockwise. table: table_count points (time, factor) with times strictly
+   increasing; the load is factor(t) (force, moment), linear between the points and held at
+   the end values outside them. Every load's work is rj_energy.work_applied. */
+typedef struct rj_load_def {
+    int link;                          /* link index */
+    int node;                          /* node of the link, 0 .. elements; -1 = the last */
+    double force[2];                   /* N (x, y) */
+    double moment;                     /* N m */
+    int follower;                      /* 0: global frame; 1: turns with the node */
+    int table_count;                   /* 0 (constant), or 1..RJ_TABLE_MAX points */
+    double table_time[RJ_TABLE_MAX];   /* s, strictly increasing */
+    double table_factor[RJ_TABLE_MAX]; /* the load's scale at table_time */
+    unsigned cookie;
+} rj_load_def;
+
+/* A whole scene. The arrays are read during rj_model_create only. loads (load_count of
+   them) may be NULL when load_count is 0. */
 typedef struct rj_scene_def {
     const rj_link_def *links;
     int link_count;
     const rj_joint_def *joints;
     int joint_count;
     rj_solver_def solver;
+    const rj_load_def *loads;
+    int load_count;
 } rj_scene_def;
 
 /* Energy accounts, J. total = kinetic + strain + spring; balance = total + lost - initial. */
 typedef struct rj_energy {
     double kinetic, strain, spring; /* spring: torsion springs and tables */
     double gravity;                 /* the potential of gravity, -sum m g . x */
-    double work_applied;            /* J done on the model by the caller's inputs so far */
+    double work_applied; /* J done on the model by the applied loads and caller's inputs so far */
     double lost_damping, lost_friction, lost_limit;
     double total, balance;
 } rj_energy;
@@ -318,6 +342,7 @@ RJDEF double rj_deg(double rad);
 RJDEF rj_link_def rj_default_link_def(void);
 RJDEF rj_joint_def rj_default_joint_def(void);
 RJDEF rj_solver_def rj_default_solver_def(void);
+RJDEF rj_load_def rj_default_load_def(void);
 RJDEF rj_scene_def rj_default_scene_def(void);
 /* Result code as text. */
 RJDEF const char *rj_result_str(rj_result r);
@@ -369,6 +394,14 @@ RJDEF const char *rj_state_error(const rj_state *s);
    saved in checkpoints. Their work is rj_energy.work_applied. The first call switches them
    on: a state that never asks pays nothing per step. */
 RJDEF double *rj_state_joint_torques(const rj_model *m, rj_state *s);
+/* The caller's forces and moments on the nodes, three per node in the scene's node order
+   (fx N, fy N, moment N m, in the global frame; link l's node k is entry
+   3 (first node of l + k), rj_model_node_index), applied by every step until changed
+   (MuJoCo's xfrc_applied); zero after rj_state_create and rj_state_reset; copied by
+   rj_state_copy and saved in checkpoints. Their work is rj_energy.work_applied. The first
+   call switches them on: a state that never asks pays nothing per step (one that does
+   steps double-buffered: the kick they give a node reads its old velocity). */
+RJDEF double *rj_state_node_forces(const rj_model *m, rj_state *s);
 /* Warnings so far (a contact caught more than 0.05 rad past its limit, or past the whole
    limited range: tunnelling) and the latest warning's text. */
 RJDEF long rj_state_warning_count(const rj_state *s);
@@ -389,6 +422,10 @@ RJDEF int rj_model_node_count(const rj_model *m);
 RJDEF const rj_link_def *rj_model_link_def(const rj_model *m, int link);
 RJDEF const rj_joint_def *rj_model_joint_def(const rj_model *m, int joint);
 RJDEF int rj_link_node_count(const rj_model *m, int link); /* elements + 1 */
+/* Node k of link l in the scene's node order (-1 for the last), -1 when out of range. */
+RJDEF int rj_model_node_index(const rj_model *m, int link, int node);
+RJDEF int rj_model_load_count(const rj_model *m);
+RJDEF const rj_load_def *rj_model_load_def(const rj_model *m, int load);
 /* Lumped mass (kg) and rotary inertia (kg m^2) of a node, tip mass included (a rigid
    link's node in a mixed scene: 0 and its body's inertia, see rj_fidelity). */
 RJDEF void rj_node_mass(const rj_model *m, int link, int node, double *mass, double *rinertia);
@@ -656,14 +693,17 @@ typedef long long rj__vl4 __attribute__((vector_size(32)));
 #endif
 #if defined(__GNUC__) || defined(__clang__)
 #define RJ__FORCE_INLINE __attribute__((always_inline)) RJ__INLINE
+#define RJ__NOINLINE     __attribute__((noinline))
 #else
 #define RJ__FORCE_INLINE RJ__INLINE
+#define RJ__NOINLINE
 #endif
 #define RJ__PI            3.14159265358979323846
 #define RJ__TWO_PI        6.28318530717958647692
 #define RJ__COOKIE_LINK   0x524a4c4bu
 #define RJ__COOKIE_JOINT  0x524a4a54u
 #define RJ__COOKIE_SOLVER 0x524a534fu
+#define RJ__COOKIE_LOAD   0x524a4c44u
 #define RJ__ALIGN         16
 /* Margin on 2/omega_max: covers the Lanczos estimate (a lower bound of omega_max) and the
    geometric stiffness the linearisation leaves out. */
@@ -740,8 +780,11 @@ struct rj_model {
     size_t bytes;
     unsigned long long hash;
     int nl, nj, nn, ne, ng;
-    int rigid;       /* all links rigid: joint coordinates */
-    int has_gravity; /* solver.gravity is not zero */
+    int rigid;         /* all links rigid: joint coordinates */
+    int has_gravity;   /* solver.gravity is not zero */
+    int nload;         /* applied loads (scene loads) */
+    rj_load_def *load; /* (nload) their definitions */
+    int *load_node;    /* (nload) the node each acts on, in the scene's node order */
     double *rb_mass, *rb_icm,
         *rb_dcm;    /* (nl) rigid link mass, inertia about its centre, root-to-centre distance */
     int *rb_pjoint; /* (nl) joint whose body2 the link is, -1 if fixed */
@@ -824,6 +867,9 @@ struct rj_state {
     double *jsc;          /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
     double *input_torque; /* (nj) the caller's joint torques, N m on body 2 (kept until changed) */
     int inputs;           /* rj_state_joint_torques was called: the step applies them */
+    double *input_node;   /* (3 nn) the caller's node forces fx fy mz (kept until changed) */
+    int node_inputs;      /* rj_state_node_forces was called: the step applies them */
+    double *load_now;     /* (3 nload) the applied loads' fx fy mz at t^n, for their work */
     double *
         rsc; /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch); mixed: body impulses (3 nl) */
     char err[640];
@@ -1033,6 +1079,17 @@ RJDEF rj_solver_def rj_default_solver_def(void)
     d.cookie = RJ__COOKIE_SOLVER;
     return d;
 }
+RJDEF rj_load_def rj_default_load_def(void)
+{
+    rj_load_def d;
+    memset(&d, 0, sizeof d);
+    d.link = 0;
+    d.node = -1;
+    d.follower = 0;
+    d.table_count = 0;
+    d.cookie = RJ__COOKIE_LOAD;
+    return d;
+}
 RJDEF rj_scene_def rj_default_scene_def(void)
 {
     rj_scene_def d;
@@ -1191,6 +1248,96 @@ static int rj__all_rigid(const rj_scene_def *sc)
     for (i = 0; i < sc->link_count; i++)
         if (sc->links[i].fidelity != RJ_LINK_RIGID)
             return 0;
+    return 1;
+}
+
+/* A load's time table: 1..RJ_TABLE_MAX points, times finite and strictly increasing,
+   factors finite within 1e100. */
+static int rj__validate_load_table(const rj_load_def *d, int i, rj_error *err)
+{
+    char f[64];
+    int k;
+    if (d->table_count < 0 || d->table_count > RJ_TABLE_MAX) {
+        RJ__FIELD(f, "loads[%d].table_count", i);
+        rj__fail(err, RJ_ERR_INVALID, f, d->table_count,
+                 "%s = %d is invalid: must be 0 (constant) or 1..%d points", f, d->table_count,
+                 RJ_TABLE_MAX);
+        return 0;
+    }
+    for (k = 0; k < d->table_count; k++) {
+        snprintf(f, sizeof f, "loads[%d].table_time[%d]", i, k);
+        if (!rj__check_num(err, f, d->table_time[k], -1e100, 1, 1e100, 1, "must be a finite time"))
+            return 0;
+        if (k > 0 && !(d->table_time[k] > d->table_time[k - 1])) {
+            rj__fail(err, RJ_ERR_INVALID, f, d->table_time[k],
+                     "%s = %g is invalid: the table's times must increase strictly (the point "
+                     "before is at %g s)",
+                     f, d->table_time[k], d->table_time[k - 1]);
+            return 0;
+        }
+        snprintf(f, sizeof f, "loads[%d].table_factor[%d]", i, k);
+        if (!rj__check_num(err, f, d->table_factor[k], -1e100, 1, 1e100, 1,
+                           "must be a finite factor within 1e100"))
+            return 0;
+    }
+    return 1;
+}
+
+/* Applied loads: a known link and node, finite force and moment, a table in time. */
+static int rj__validate_loads(const rj_scene_def *sc, rj_error *err)
+{
+    char f[64];
+    int i;
+    if (sc->load_count < 0 || sc->load_count > 100000 || (sc->load_count > 0 && !sc->loads)) {
+        rj__fail(err, RJ_ERR_INVALID, "load_count", sc->load_count,
+                 "load_count = %d is invalid: need 0..100000 loads and a loads array",
+                 sc->load_count);
+        return 0;
+    }
+    for (i = 0; i < sc->load_count; i++) {
+        const rj_load_def *d = &sc->loads[i];
+        if (d->cookie != RJ__COOKIE_LOAD) {
+            RJ__FIELD(f, "loads[%d]", i);
+            rj__fail(err, RJ_ERR_INVALID, f, 0, "%s was not initialised with rj_default_load_def()",
+                     f);
+            return 0;
+        }
+        if (d->link < 0 || d->link >= sc->link_count) {
+            RJ__FIELD(f, "loads[%d].link", i);
+            rj__fail(err, RJ_ERR_INVALID, f, d->link,
+                     "%s = %d is invalid: the scene has links 0..%d", f, d->link,
+                     sc->link_count - 1);
+            return 0;
+        }
+        if (d->node < -1 || d->node > sc->links[d->link].elements) {
+            RJ__FIELD(f, "loads[%d].node", i);
+            rj__fail(err, RJ_ERR_INVALID, f, d->node,
+                     "%s = %d is invalid: link %d has nodes 0..%d (-1: the last)", f, d->node,
+                     d->link, sc->links[d->link].elements);
+            return 0;
+        }
+        RJ__FIELD(f, "loads[%d].force[0]", i);
+        if (!rj__check_num(err, f, d->force[0], -1e100, 1, 1e100, 1,
+                           "must be a finite force within 1e100 N"))
+            return 0;
+        RJ__FIELD(f, "loads[%d].force[1]", i);
+        if (!rj__check_num(err, f, d->force[1], -1e100, 1, 1e100, 1,
+                           "must be a finite force within 1e100 N"))
+            return 0;
+        RJ__FIELD(f, "loads[%d].moment", i);
+        if (!rj__check_num(err, f, d->moment, -1e100, 1, 1e100, 1,
+                           "must be a finite moment within 1e100 N m"))
+            return 0;
+        if (d->follower != 0 && d->follower != 1) {
+            RJ__FIELD(f, "loads[%d].follower", i);
+            rj__fail(err, RJ_ERR_INVALID, f, d->follower,
+                     "%s = %d is invalid: must be 0 (global frame) or 1 (turns with the node)", f,
+                     d->follower);
+            return 0;
+        }
+        if (!rj__validate_load_table(d, i, err))
+            return 0;
+    }
     return 1;
 }
 
@@ -1544,7 +1691,7 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
                          f);
                 return 0;
             }
-    return 1;
+    return rj__validate_loads(sc, err);
 }
 
 /* Node and element totals, counted in size_t; 0 when they pass RJ__MAX_NODES. */
@@ -1756,14 +1903,15 @@ typedef struct rj__layout {
     size_t node_cl, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
     size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
-        link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, lz;
+        link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, lz;
 } rj__layout;
 
 /* The model's block: every array linear in the scene; rigid scenes (joint coordinates)
    add their dense joint-space matrices (nj^2). The building scratch lz holds the Lanczos
    vectors and the joint-graph checks (rj__validate_graph: 2 nl + nj ints). */
-static void rj__model_layout(int nl, int nj, size_t nn, size_t ne, int rigid, rj__layout *L)
+static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__layout *L)
 {
+    const int nl = sc->link_count, nj = sc->joint_count, rigid = rj__all_rigid(sc);
     size_t off = sizeof(rj_model);
     L->ldef = rj__carve(&off, (size_t) nl, sizeof(rj_link_def));
     L->jdef = rj__carve(&off, (size_t) nj, sizeof(rj_joint_def));
@@ -1815,6 +1963,8 @@ static void rj__model_layout(int nl, int nj, size_t nn, size_t ne, int rigid, rj
     L->vy0 = rj__carve(&off, (size_t) nn, sizeof(double));
     L->w0 = rj__carve(&off, (size_t) nn, sizeof(double));
     L->beta0 = rj__carve(&off, (size_t) ne, sizeof(double));
+    L->load = rj__carve(&off, (size_t) sc->load_count + 1, sizeof(rj_load_def));
+    L->load_node = rj__carve(&off, (size_t) sc->load_count + 1, sizeof(int));
     L->lz = rj__carve(&off,
                       15 * nn + 10 * ne + 8 + RJ__GRAPH_SCRATCH(nl, nj) +
                           (rigid ? rj__rigid_scratch(nj, nl) + (size_t) nj * nj : 0),
@@ -1831,7 +1981,7 @@ RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
         return 0;
     if (!rj__counts(scene, &nn, &ne, err))
         return 0;
-    rj__model_layout(scene->link_count, scene->joint_count, nn, ne, rj__all_rigid(scene), &L);
+    rj__model_layout(scene, nn, ne, &L);
     if (L.total == (size_t) -1) {
         rj__fail(err, RJ_ERR_NOMEM, "links", (double) nn,
                  "a model of %.0f nodes needs more bytes than size_t counts here", (double) nn);
@@ -3218,6 +3368,24 @@ static unsigned long long rj__fnv_i(unsigned long long h, int v)
 /* The model's identity for checkpoints: every definition field that a state's meaning
    depends on (field by field: a struct's padding bytes are not defined), the step in use,
    and the masses and start positions derived from them. */
+/* A load's definition into the model's hash. */
+static unsigned long long rj__fnv_load(unsigned long long h, const rj_load_def *d)
+{
+    int k;
+    h = rj__fnv_i(h, d->link);
+    h = rj__fnv_i(h, d->node);
+    h = rj__fnv_d(h, d->force[0]);
+    h = rj__fnv_d(h, d->force[1]);
+    h = rj__fnv_d(h, d->moment);
+    h = rj__fnv_i(h, d->follower);
+    h = rj__fnv_i(h, d->table_count);
+    for (k = 0; k < d->table_count; k++) {
+        h = rj__fnv_d(h, d->table_time[k]);
+        h = rj__fnv_d(h, d->table_factor[k]);
+    }
+    return h;
+}
+
 static unsigned long long rj__model_hash(const rj_model *m)
 {
     unsigned long long h = 14695981039346656037ULL;
@@ -3287,6 +3455,8 @@ static unsigned long long rj__model_hash(const rj_model *m)
     h = rj__fnv(h, m->x0, sizeof(double) * (size_t) m->nn);
     h = rj__fnv_d(h, m->solver.gravity[0]);
     h = rj__fnv_d(h, m->solver.gravity[1]);
+    for (k = 0; k < m->nload; k++)
+        h = rj__fnv_load(h, &m->load[k]);
     return h;
 }
 
@@ -3770,7 +3940,7 @@ static rj_result rj__init_check_args(const rj_scene_def *sc, void *mem, size_t s
     if (!rj_model_size(sc, err ? err : &size_err))
         return err ? err->code : size_err.code;
     rj__counts(sc, nodes, elements, err);
-    rj__model_layout(sc->link_count, sc->joint_count, *nodes, *elements, rj__all_rigid(sc), L);
+    rj__model_layout(sc, *nodes, *elements, L);
     if (!mem || size < L->total) {
         rj__fail(err, RJ_ERR_NOMEM, "size", (double) size,
                  "memory block of %lu bytes is smaller than the %lu the model needs",
@@ -3853,6 +4023,8 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(vy0, double);
     RJ__SET(w0, double);
     RJ__SET(beta0, double);
+    RJ__SET(load, rj_load_def);
+    RJ__SET(load_node, int);
     RJ__SET(lz, double);
 #undef RJ__SET
 }
@@ -3864,6 +4036,9 @@ static void rj__init_copy_defs(rj_model *m, const rj_scene_def *sc)
     if (m->nj)
         memcpy(m->jdef, sc->joints, sizeof(rj_joint_def) * (size_t) m->nj);
     m->has_gravity = sc->solver.gravity[0] != 0 || sc->solver.gravity[1] != 0;
+    m->nload = sc->load_count;
+    if (m->nload)
+        memcpy(m->load, sc->loads, sizeof(rj_load_def) * (size_t) m->nload);
 }
 
 /* A link's section: area and second moment (layers integrate EA and EI exactly for the
@@ -3954,6 +4129,17 @@ static void rj__init_links(rj_model *m)
         rj__link_section(&m->ldef[l], &area, &inertia);
         rj__init_link_constants(m, l, area, inertia);
         rj__init_link_masses(m, l, area, inertia);
+    }
+}
+
+/* The node each applied load acts on, in the scene's node order (-1: the link's last). */
+static void rj__init_load_nodes(rj_model *m)
+{
+    int k;
+    for (k = 0; k < m->nload; k++) {
+        const rj_load_def *d = &m->load[k];
+        const int node = d->node < 0 ? m->ldef[d->link].elements : d->node;
+        m->load_node[k] = m->link_first[d->link] + node;
     }
 }
 
@@ -4521,7 +4707,7 @@ static void rj__init_dt_eq28(rj_model *m)
 }
 
 /* The nodes the step advances again after the joints, once each and in ascending order:
-   every node a joint applies a torque or force to, rigid links' nodes (their bodies move
+   every node a joint or an applied load acts on, rigid links' nodes (their bodies move
    them), and every link's end nodes (tip masses: not the link's uniform values). mark
    (nn ints) keeps which they are for rj__init_link_uniform. */
 static void rj__init_step_nodes(rj_model *m, int *mark)
@@ -4537,6 +4723,8 @@ static void rj__init_step_nodes(rj_model *m, int *mark)
             if (nodes[k] >= 0)
                 mark[nodes[k]] = 1;
     }
+    for (k = 0; k < m->nload; k++)
+        mark[m->load_node[k]] = 1;
     for (l = 0; l < m->nl; l++) {
         const int n0 = m->link_first[l], ne_l = m->ldef[l].elements;
         if (m->ldef[l].fidelity == RJ_LINK_RIGID)
@@ -4639,6 +4827,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         return RJ_ERR_INVALID;
     rj__init_copy_defs(m, sc);
     rj__init_links(m);
+    rj__init_load_nodes(m);
     if (!rj__check_links(m, err))
         return RJ_ERR_INVALID;
     rj__init_joint_nodes(m);
@@ -4716,7 +4905,7 @@ RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
     size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, eu, ebt, jsc,
-        rsc, input_torque;
+        rsc, input_torque, input_node, load_now;
 } rj__slayout;
 
 static void rj__state_layout(const rj_model *m, rj__slayout *L)
@@ -4742,6 +4931,8 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl) : 3 * (size_t) m->ncl + 1,
                        sizeof(double));
     L->input_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
+    L->input_node = rj__carve(&off, 3 * (size_t) m->nn, sizeof(double));
+    L->load_now = rj__carve(&off, 3 * (size_t) m->nload + 1, sizeof(double));
     L->total = off == (size_t) -1 ? off : off + RJ__ALIGN;
 }
 
@@ -4797,6 +4988,8 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
     s->steps = 0;
     memset(s->input_torque, 0, sizeof(double) * (size_t) m->nj);
     s->inputs = 0;
+    memset(s->input_node, 0, 3 * sizeof(double) * (size_t) m->nn);
+    s->node_inputs = 0;
     s->snap = -1;
     s->err[0] = 0;
     s->warn[0] = 0;
@@ -4910,6 +5103,8 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->jsc = (double *) (void *) (base + L.jsc);
     s->rsc = (double *) (void *) (base + L.rsc);
     s->input_torque = (double *) (void *) (base + L.input_torque);
+    s->input_node = (double *) (void *) (base + L.input_node);
+    s->load_now = (double *) (void *) (base + L.load_now);
     rj_state_reset(m, s);
     *out = s;
     return RJ_OK;
@@ -4954,6 +5149,8 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
     dst->snap = -1;
     memcpy(dst->input_torque, src->input_torque, sizeof(double) * (size_t) m->nj);
     dst->inputs = src->inputs;
+    memcpy(dst->input_node, src->input_node, 3 * sizeof(double) * (size_t) m->nn);
+    dst->node_inputs = src->node_inputs;
     memcpy(dst->err, src->err, sizeof dst->err);
     memcpy(dst->warn, src->warn, sizeof dst->warn);
     return RJ_OK;
@@ -6035,8 +6232,8 @@ static int rj__inputs_ok(const rj_model *m, rj_state *s)
     return 1;
 }
 
-/* Stage 2b, applied loads: the caller's joint torques (rj_state_joint_torques), on the
-   joint geometry stage 2 kept, before friction so that it sees them. */
+/* The caller's joint torques (rj_state_joint_torques), on the joint geometry stage 2
+   kept. */
 static rj_result rj__stage_inputs(const rj_model *m, rj_state *s, double *next)
 {
     int j;
@@ -6061,6 +6258,189 @@ static double rj__inputs_work(const rj_model *m, const rj_state *s, const double
     int j;
     for (j = 0; j < m->nj; j++)
         work += rj__input_work(RJ__FJ(m, old, j), RJ__FJ(m, next, j), s->jsc[8 * j + 4], m->dt);
+    return work;
+}
+
+/* A load's factor at time t: its table, linear between the points, held outside them
+   (1 without a table). */
+static double rj__load_factor(const rj_load_def *d, double t)
+{
+    const int last = d->table_count - 1;
+    int k;
+    if (d->table_count == 0)
+        return 1.0;
+    if (!(t > d->table_time[0]))
+        return d->table_factor[0];
+    for (k = 1; k <= last; k++)
+        if (t < d->table_time[k]) {
+            const double t0 = d->table_time[k - 1], t1 = d->table_time[k];
+            const double f0 = d->table_factor[k - 1], f1 = d->table_factor[k];
+            return f0 + (f1 - f0) * ((t - t0) / (t1 - t0));
+        }
+    return d->table_factor[last];
+}
+
+/* A load's force (global frame) and moment at time t on a node turned to phi: a follower
+   load's force is given in the node's frame and turns with it. */
+static void rj__load_value(const rj_load_def *d, double t, double phi, double out[3])
+{
+    const double scale = rj__load_factor(d, t);
+    const double fx = scale * d->force[0], fy = scale * d->force[1];
+    if (d->follower) {
+        const double c = cos(phi), s = sin(phi);
+        out[0] = c * fx - s * fy;
+        out[1] = s * fx + c * fy;
+    } else {
+        out[0] = fx;
+        out[1] = fy;
+    }
+    out[2] = scale * d->moment;
+}
+
+/* Stage 2c, the model's applied loads at t^n on their nodes (the step advances them after
+   the joints: m->dnode), kept in s->load_now for their work; phi: the nodes' rotations at
+   n. */
+static void rj__stage_loads(const rj_model *m, rj_state *s, double t, const double *phi)
+{
+    int k;
+    for (k = 0; k < m->nload; k++) {
+        const int n = m->load_node[k];
+        double *value = s->load_now + 3 * k;
+        rj__load_value(&m->load[k], t, phi[n], value);
+        s->fx[n] += value[0];
+        s->fy[n] += value[1];
+        s->mz[n] += value[2];
+    }
+}
+
+/* The caller's node forces are numbers the step can use (as rj__inputs_ok). */
+static int rj__node_inputs_ok(const rj_model *m, rj_state *s)
+{
+    const size_t count = 3 * (size_t) m->nn;
+    size_t i;
+    for (i = 0; i < count; i++) {
+        const double value = s->input_node[i];
+        if (fabs(value) <= 1e100)
+            continue;
+        rj__stop(m, s, RJ_ERR_INVALID,
+                 "t = %.9g s: rj_state_node_forces()[%lu] = %g (node %lu, %s) is not a finite "
+                 "value within 1e100",
+                 RJ__FS(m, s->fd[s->cur])[RJ__FS_TIME], (unsigned long) i, value,
+                 (unsigned long) (i / 3), i % 3 == 2 ? "moment, N m" : "force, N");
+        return 0;
+    }
+    return 1;
+}
+
+/* Stage 2d, the caller's node forces on the nodes the step advances after the joints
+   (m->dnode); the others, which the beam pass has advanced, take theirs as a kick in
+   stage 4 (rj__node_inputs_kick). */
+static rj_result rj__stage_node_inputs(const rj_model *m, rj_state *s)
+{
+    int i;
+    if (!rj__node_inputs_ok(m, s))
+        return RJ_ERR_INVALID;
+    for (i = 0; i < m->ndn; i++) {
+        const int n = m->dnode[i];
+        const double *in = s->input_node + 3 * (size_t) n;
+        s->fx[n] += in[0];
+        s->fy[n] += in[1];
+        s->mz[n] += in[2];
+    }
+    return RJ_OK;
+}
+
+/* Stage 4, the caller's forces on the nodes the beam pass advanced (not in m->dnode):
+   v^{n+1/2} takes kick f / m on top, x^{n+1} follows, and the node's share of the kinetic
+   energy the matching v^{n-1/2} . kick f. at_n, advanced: the frames of the nodes at n
+   and at n + 1 (rj__frames_nodes). */
+static RJ__NOINLINE void rj__node_inputs_kick(const rj_model *m, rj_state *s, const double *at_n,
+                                              double *advanced, double kick, double *fin)
+{
+    const double *vx = RJ__FVX(m, at_n), *vy = RJ__FVY(m, at_n), *w = RJ__FW(m, at_n);
+    double *nx = RJ__FX(m, advanced), *ny = RJ__FY(m, advanced), *nphi = RJ__FPHI(m, advanced);
+    double *nvx = RJ__FVX(m, advanced), *nvy = RJ__FVY(m, advanced), *nw = RJ__FW(m, advanced);
+    int i, d = 0;
+    for (i = 0; i < m->nn; i++) {
+        const double *in = s->input_node + 3 * (size_t) i;
+        double dvx, dvy, dw;
+        if (d < m->ndn && m->dnode[d] == i) {
+            d++;
+            continue;
+        }
+        dvx = kick * in[0] * m->tinv[i];
+        dvy = kick * in[1] * m->tinv[i];
+        dw = kick * in[2] * m->rinv[i];
+        s->kn[i] += m->kmass[i] * (vx[i] * dvx + vy[i] * dvy) + m->krot[i] * w[i] * dw;
+        nvx[i] += dvx;
+        nvy[i] += dvy;
+        nw[i] += dw;
+        nx[i] += m->dt * dvx;
+        ny[i] += m->dt * dvy;
+        nphi[i] += m->dt * dw;
+        *fin += (nx[i] + ny[i]) + nphi[i];
+    }
+}
+
+/* The work of a force and moment held over the step at node n, in the form of
+   rj__input_work: (x^{n+1} - x^{n-1}) / 2 . f, from the velocities either side of t^n. */
+static double rj__node_work(const rj_model *m, const double *at_n, const double *advanced, int n,
+                            const double *value)
+{
+    const double vx = RJ__FVX(m, at_n)[n] + RJ__FVX(m, advanced)[n];
+    const double vy = RJ__FVY(m, at_n)[n] + RJ__FVY(m, advanced)[n];
+    const double w = RJ__FW(m, at_n)[n] + RJ__FW(m, advanced)[n];
+    return 0.5 * m->dt * (value[0] * vx + value[1] * vy + value[2] * w);
+}
+
+/* The work of the applied loads and the caller's node forces over the step (after the
+   constraints, which set the velocities at n + 1/2). */
+static double rj__loads_work(const rj_model *m, const rj_state *s, const double *at_n,
+                             const double *advanced)
+{
+    double work = 0;
+    int k;
+    for (k = 0; k < m->nload; k++)
+        work += rj__node_work(m, at_n, advanced, m->load_node[k], s->load_now + 3 * k);
+    if (s->node_inputs)
+        for (k = 0; k < m->nn; k++)
+            work += rj__node_work(m, at_n, advanced, k, s->input_node + 3 * (size_t) k);
+    return work;
+}
+
+/* Stage 2b, applied loads: the caller's joint torques, the model's loads and the
+   caller's node forces, in that order, before friction so that it sees them. next: the
+   new frame; t, phi: the time and the nodes' rotations at n. This stage and its work take
+   plain values, not the step's frames, and are never inlined: a scene that applies nothing
+   pays one test for both. */
+static RJ__NOINLINE rj_result rj__stage_applied(const rj_model *m, rj_state *s, double *next,
+                                                double t, const double *phi)
+{
+    rj_result r;
+    if (s->inputs) {
+        r = rj__stage_inputs(m, s, next);
+        if (r != RJ_OK)
+            return r;
+    }
+    if (m->nload)
+        rj__stage_loads(m, s, t, phi);
+    if (s->node_inputs)
+        return rj__stage_node_inputs(m, s);
+    return RJ_OK;
+}
+
+/* The work of what stage 2b applied, over the step (after the velocity-level limits and
+   the constraints, which set the rates and velocities at n + 1/2): old, next: the frames at
+   n and n + 1; at_n, advanced: the nodes' (rj__frames_nodes). */
+static RJ__NOINLINE double rj__applied_work(const rj_model *m, const rj_state *s, const double *old,
+                                            const double *next, const double *at_n,
+                                            const double *advanced)
+{
+    double work = 0;
+    if (s->inputs)
+        work += rj__inputs_work(m, s, old, next);
+    if (m->nload || s->node_inputs)
+        work += rj__loads_work(m, s, at_n, advanced);
     return work;
 }
 
@@ -6150,6 +6530,8 @@ static RJ__FORCE_INLINE void rj__update_joint_nodes(const rj_model *m, rj_state 
     }
     if (m->has_gravity)
         rj__gravity_kick(m, s, f, e, adv->fin);
+    if (s->node_inputs)
+        rj__node_inputs_kick(m, s, f->current, f->advanced, f->kick, adv->fin);
     ke = f->en ? rj__sum8(s->kn, m->nn) : 0.0;
     if (f->first) {
         ke = 0;
@@ -6630,24 +7012,24 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     rj__adv adv;
     rj_result r;
     double fin = 0;
-    const int inputs = s->inputs;
+    const int applied = s->inputs | s->node_inputs | m->nload; /* rj__stage_applied's */
     rj__frames_open(m, s, want_energy, ip, &f);
     rj__frames_nodes(m, &f);
     rj__sums_open(f.old_scalars, &e);
     adv.fin = &fin;
     rj__stage_beams(m, s, &f, &adv, &e);
     rj__stage_joint_torques(m, s, &f, &e);
-    if (inputs) {
-        r = rj__stage_inputs(m, s, f.next);
+    if (applied) {
+        r = rj__stage_applied(m, s, f.next, f.t, f.phi);
         if (r != RJ_OK)
             return r;
     }
     rj__stage_friction(m, s, &f);
     rj__stage_update(m, s, &f, &adv, &e, &fin);
     rj__stage_velocity_limits(m, s, &f, &e, &fin);
-    if (inputs)
-        e.work += rj__inputs_work(m, s, f.old, f.next);
     rj__stage_constraints(m, s, &f, &e, &fin);
+    if (applied)
+        e.work += rj__applied_work(m, s, f.old, f.next, f.ip ? f.next : f.current, f.advanced);
     r = rj__stage_joint_angles(m, s, &f, &fin);
     if (r != RJ_OK)
         return r;
@@ -6834,6 +7216,48 @@ static void rj__rig_gravity(const rj_model *m, const rj__rig *r, double *Q, rj__
     e->gravity = potential;
 }
 
+/* A force (global frame) and moment on node k of rigid link l, at q^n: a generalised force
+   (p - P_j) x f + moment on every joint j between the link and the ground (P_j its pin),
+   added to the joints' RJ__JD_INPUT in new_joints. */
+static void rj__rig_node_load(const rj_model *m, const rj__rig *r, int l, int k,
+                              const double *value, double *new_joints)
+{
+    const double *b = r->lk + RJ__RL_COUNT * (size_t) l;
+    const double along = k * m->link_l0[l];
+    const double px = b[RJ__RL_RX] + along * b[RJ__RL_EC];
+    const double py = b[RJ__RL_RY] + along * b[RJ__RL_ES];
+    int j;
+    for (j = m->rb_pjoint[l]; j >= 0; j = rj__rig_up(m, j)) {
+        const double *pin = r->lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
+        const double dx = px - pin[RJ__RL_RX], dy = py - pin[RJ__RL_RY];
+        new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_INPUT] +=
+            dx * value[1] - dy * value[0] + value[2];
+    }
+}
+
+/* The model's loads at t^n and the caller's node forces in joint coordinates. */
+static void rj__rig_loads(const rj_model *m, const rj_state *s, const rj__rig *r, double t,
+                          double *new_joints)
+{
+    int k, l;
+    for (k = 0; k < m->nload; k++) {
+        const rj_load_def *d = &m->load[k];
+        const int node = m->load_node[k] - m->link_first[d->link];
+        const double phi = r->lk[RJ__RL_COUNT * (size_t) d->link + RJ__RL_PHI];
+        double value[3];
+        rj__load_value(d, t, phi, value);
+        rj__rig_node_load(m, r, d->link, node, value, new_joints);
+    }
+    if (!s->node_inputs)
+        return;
+    for (l = 0; l < m->nl; l++)
+        for (k = 0; k <= m->ldef[l].elements; k++) {
+            const double *in = s->input_node + 3 * (size_t) (m->link_first[l] + k);
+            if (in[0] != 0 || in[1] != 0 || in[2] != 0)
+                rj__rig_node_load(m, r, l, k, in, new_joints);
+        }
+}
+
 /* Rigid step, stage 2: the element's torques as generalised forces, less the centripetal
    bias; the accelerations M^-1 Q. */
 static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *s,
@@ -6855,12 +7279,16 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
                         &f->new_flags[j], qd[j], t, f->new_scalars, &penetration, &spring);
         Q[j] = torque - bias[j];
     }
-    /* the caller's torques: generalised forces on their joints (rj__step_rigid checked them) */
-    if (s->inputs)
-        for (j = 0; j < n; j++) {
-            Q[j] += s->input_torque[j];
-            new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_INPUT] = s->input_torque[j];
-        }
+    /* the caller's torques, the loads and the caller's node forces: generalised forces on
+       the joints, kept in the new frame for their work (rj__step_rigid checked them) */
+    if (s->inputs || m->nload || s->node_inputs) {
+        for (j = 0; j < n; j++)
+            new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_INPUT] =
+                s->inputs ? s->input_torque[j] : 0.0;
+        rj__rig_loads(m, s, r, t, new_joints);
+        for (j = 0; j < n; j++)
+            Q[j] += new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_INPUT];
+    }
     if (m->has_gravity)
         rj__rig_gravity(m, r, Q, e);
     /* springs and tables at q^n, from the element */
@@ -7011,6 +7439,7 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_sta
     double lost_friction = e->lost_friction;
     double lost_limit = e->lost_limit;
     const int *ni = f->new_flags;
+    const int applied = s->inputs || m->nload || s->node_inputs; /* RJ__JD_INPUT written */
     int j;
     for (j = 0; j < n; j++) {
         const rj_joint_def *d = &m->jdef[j];
@@ -7036,7 +7465,7 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_sta
         new_joint[RJ__JD_QDD] = qdd[j];
         rj__element_work(old_joint, new_joint, qd[j], dt, &lost_damping, &lost_friction,
                          &lost_limit);
-        if (s->inputs)
+        if (applied)
             e->work += rj__input_work(old_joint, new_joint, qd[j], dt);
     }
     e->lost_damping = lost_damping;
@@ -7103,6 +7532,8 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
     rj__rig_map(m, s->rsc, &r);
     if (s->inputs && !rj__inputs_ok(m, s))
         return RJ_ERR_INVALID;
+    if (s->node_inputs && !rj__node_inputs_ok(m, s))
+        return RJ_ERR_INVALID;
     res = rj__rig_stage_kinematics(m, s, &f, &r);
     if (res != RJ_OK)
         return res;
@@ -7145,7 +7576,8 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
                         t, m->dt, t * DBL_EPSILON);
     if (m->rigid)
         return rj__step_rigid(m, s);
-    if (!m->ip || s->steps == 0) {
+    /* the caller's node forces kick nodes from their old velocities: double-buffered */
+    if (!m->ip || s->steps == 0 || s->node_inputs) {
         s->snap = -1;
         return rj__step_dbl(m, s, want_energy);
     }
@@ -7331,6 +7763,14 @@ RJDEF double *rj_state_joint_torques(const rj_model *m, rj_state *s)
     return s->input_torque;
 }
 
+RJDEF double *rj_state_node_forces(const rj_model *m, rj_state *s)
+{
+    RJ_ASSERT(m && s);
+    (void) m;
+    s->node_inputs = 1;
+    return s->input_node;
+}
+
 RJDEF const char *rj_state_error(const rj_state *s)
 {
     return s->err;
@@ -7391,6 +7831,21 @@ RJDEF int rj_link_node_count(const rj_model *m, int l)
 {
     RJ_ASSERT(l >= 0 && l < m->nl);
     return m->ldef[l].elements + 1;
+}
+RJDEF int rj_model_node_index(const rj_model *m, int l, int k)
+{
+    if (!m || l < 0 || l >= m->nl || k < -1 || k > m->ldef[l].elements)
+        return -1;
+    return m->link_first[l] + (k < 0 ? m->ldef[l].elements : k);
+}
+RJDEF int rj_model_load_count(const rj_model *m)
+{
+    return m->nload;
+}
+RJDEF const rj_load_def *rj_model_load_def(const rj_model *m, int k)
+{
+    RJ_ASSERT(k >= 0 && k < m->nload);
+    return &m->load[k];
 }
 RJDEF double rj_link_EA(const rj_model *m, int l)
 {
@@ -7701,13 +8156,23 @@ RJDEF double rj_state_energy_time(const rj_state *s)
 /* ------------------------------------------------------------------ checkpoints */
 /* Layout: "RJCK" | u32 version | u64 model hash | u64 payload bytes | payload | u64 FNV-1a
    of everything before it. Payload: steps (i64), frame doubles, frame ints, then the
-   caller's inputs: whether they are on (a double, 0 or 1) and the joint torques (nj). */
+   caller's inputs: whether the joint torques are on (a double, 0 or 1) and the torques
+   (nj), then whether the node forces are on and the forces (3 nn). */
 #define RJ__CK_HEAD 24
 /* the payload's bytes */
 static size_t rj__ck_payload(const rj_model *m)
 {
     return 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1) +
-           sizeof(double) * ((size_t) m->nj + 1);
+           sizeof(double) * ((size_t) m->nj + 1) + sizeof(double) * (3 * (size_t) m->nn + 1);
+}
+/* An input block's bytes: its switch (0 or 1, a double), then its count values. */
+static unsigned char *rj__ck_put_inputs(unsigned char *at, int on, const double *values,
+                                        size_t count)
+{
+    const double flag = on ? 1.0 : 0.0;
+    memcpy(at, &flag, sizeof(double));
+    memcpy(at + sizeof(double), values, sizeof(double) * count);
+    return at + sizeof(double) * (count + 1);
 }
 RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size_t size)
 {
@@ -7715,8 +8180,7 @@ RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size
     size_t need = RJ__CK_HEAD + pay + 8;
     unsigned char *b = (unsigned char *) buf;
     unsigned char *in_bytes;
-    const double inputs = s->inputs ? 1.0 : 0.0;
-    unsigned int ver = 3;
+    unsigned int ver = 4;
     unsigned long long h, pl = pay, st = (unsigned long long) s->steps;
     if (!buf || size < need)
         return need;
@@ -7730,8 +8194,8 @@ RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size
            sizeof(int) * (m->frame_ints + 1));
     in_bytes =
         b + RJ__CK_HEAD + 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1);
-    memcpy(in_bytes, &inputs, sizeof(double));
-    memcpy(in_bytes + sizeof(double), s->input_torque, sizeof(double) * (size_t) m->nj);
+    in_bytes = rj__ck_put_inputs(in_bytes, s->inputs, s->input_torque, (size_t) m->nj);
+    rj__ck_put_inputs(in_bytes, s->node_inputs, s->input_node, 3 * (size_t) m->nn);
     h = rj__fnv(14695981039346656037ULL, b, RJ__CK_HEAD + pay);
     memcpy(b + RJ__CK_HEAD + pay, &h, 8);
     return need;
@@ -7838,36 +8302,51 @@ static int rj__ck_spare_ok(const rj_model *m, const int *fi, rj_error *err)
     return 0;
 }
 
-/* The checkpoint's inputs: the switch 0 or 1, each torque finite within 1e100. */
-static int rj__ck_inputs_ok(const rj_model *m, const unsigned char *in_bytes, rj_error *err)
+/* A checkpoint's input block (rj__ck_put_inputs): the switch 0 or 1, each value finite
+   within 1e100. field names the block (and the switch: field with "s" after it). */
+static int rj__ck_input_block_ok(const unsigned char *at, size_t count, const char *field,
+                                 const char *what, rj_error *err)
 {
     static const double off = 0.0, on = 1.0;
     double v;
-    int j;
-    memcpy(&v, in_bytes, sizeof(double));
+    size_t k;
+    memcpy(&v, at, sizeof(double));
     /* the very bytes of 0 or 1 (not -0), so that a loaded state saves back the same bytes */
-    if (memcmp(in_bytes, &off, sizeof off) != 0 && memcmp(in_bytes, &on, sizeof on) != 0) {
+    if (memcmp(at, &off, sizeof off) != 0 && memcmp(at, &on, sizeof on) != 0) {
         rj__fail(err, RJ_ERR_CHECKPOINT, "inputs", v,
-                 "checkpoint's inputs switch is %g, not 0 or 1", v);
+                 "checkpoint's switch of the %ss is %g, not 0 or 1", what, v);
         return 0;
     }
-    for (j = 0; j < m->nj; j++) {
-        memcpy(&v, in_bytes + sizeof(double) * (size_t) (j + 1), sizeof(double));
+    for (k = 0; k < count; k++) {
+        memcpy(&v, at + sizeof(double) * (k + 1), sizeof(double));
         if (!(fabs(v) <= RJ__CK_MAX_VALUE)) {
-            rj__fail(err, RJ_ERR_CHECKPOINT, "input_torque", v,
-                     "checkpoint's input torque of joint %d is %g: not finite within 1e100 N m", j,
+            rj__fail(err, RJ_ERR_CHECKPOINT, field, v,
+                     "checkpoint's %s %lu is %g: not finite within 1e100", what, (unsigned long) k,
                      v);
             return 0;
         }
     }
     return 1;
 }
+/* The checkpoint's inputs: the joint torques' block, then the node forces'. */
+static int rj__ck_inputs_ok(const rj_model *m, const unsigned char *in_bytes, rj_error *err)
+{
+    const size_t nj = (size_t) m->nj;
+    return rj__ck_input_block_ok(in_bytes, nj, "input_torque", "input torque", err) &&
+           rj__ck_input_block_ok(in_bytes + sizeof(double) * (nj + 1), 3 * (size_t) m->nn,
+                                 "input_node", "input node force", err);
+}
 static void rj__ck_inputs_load(const rj_model *m, rj_state *s, const unsigned char *in_bytes)
 {
+    const size_t nj = (size_t) m->nj;
+    const unsigned char *node_bytes = in_bytes + sizeof(double) * (nj + 1);
     double v;
     memcpy(&v, in_bytes, sizeof(double));
     s->inputs = v == 1;
-    memcpy(s->input_torque, in_bytes + sizeof(double), sizeof(double) * (size_t) m->nj);
+    memcpy(s->input_torque, in_bytes + sizeof(double), sizeof(double) * nj);
+    memcpy(&v, node_bytes, sizeof(double));
+    s->node_inputs = v == 1;
+    memcpy(s->input_node, node_bytes + sizeof(double), 3 * sizeof(double) * (size_t) m->nn);
 }
 
 RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, size_t size,
@@ -7895,10 +8374,10 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
     memcpy(&ver, b + 4, 4);
     memcpy(&mh, b + 8, 8);
     memcpy(&pl, b + 16, 8);
-    if (ver != 3) {
+    if (ver != 4) {
         rj__fail(err, RJ_ERR_CHECKPOINT, "version", ver,
-                 "checkpoint version %u is not supported (3: gravity's potential, the inputs' "
-                 "work and the caller's joint torques joined it)",
+                 "checkpoint version %u is not supported (4: the caller's node forces joined "
+                 "it)",
                  ver);
         return RJ_ERR_CHECKPOINT;
     }

@@ -519,8 +519,9 @@ static void test_checkpoints(void)
     edit = (unsigned char *)malloc(size + 16);
     rj_state_save(m, s, ck, size);
     memcpy(&pay, ck + 16, 8);
-    /* 2 joint flags and a spare; after them the inputs' switch and the 2 joints' torques */
-    frame_doubles = (size_t)(pay - 8 - sizeof(int) * 3 - 8 * 3) / 8;
+    /* 2 joint flags and a spare; after them the inputs' switch and the 2 joints' torques,
+       then the node forces' switch and 3 values per node */
+    frame_doubles = (size_t)(pay - 8 - sizeof(int) * 3 - 8 * 3 - 8 * (3 * (size_t)rj_model_node_count(m) + 1)) / 8;
     /* crafted values behind a valid checksum */
     memcpy(edit, ck, size);
     memcpy(edit + CK_DOUBLES + 8 * frame_doubles + sizeof(int), &flag, sizeof flag);
@@ -531,7 +532,17 @@ static void test_checkpoints(void)
     v = -0.0;
     memcpy(edit + CK_DOUBLES + 8 * frame_doubles + sizeof(int) * 3, &v, 8);
     reseal(edit, size);
-    ck_refused("an inputs switch of -0", "inputs switch", m, s, edit, size);
+    ck_refused("an inputs switch of -0", "switch of the input torques", m, s, edit, size);
+    /* the node forces' switch as -0, and a node force of NaN */
+    memcpy(edit, ck, size);
+    memcpy(edit + CK_DOUBLES + 8 * frame_doubles + sizeof(int) * 3 + 8 * 3, &v, 8);
+    reseal(edit, size);
+    ck_refused("a node forces' switch of -0", "switch of the input node forces", m, s, edit, size);
+    memcpy(edit, ck, size);
+    v = NAN;
+    memcpy(edit + CK_DOUBLES + 8 * frame_doubles + sizeof(int) * 3 + 8 * 4 + 8 * 5, &v, 8);
+    reseal(edit, size);
+    ck_refused("a node force of NaN", "input node force 5 is nan", m, s, edit, size);
     memcpy(edit, ck, size);
     v = HUGE_VAL;
     memcpy(edit + CK_DOUBLES + 8 * (CK_X0 + 3), &v, 8);
