@@ -513,6 +513,7 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2); /* E
 #ifndef RJ_NO_SCENE_FILES
 #define RJ_SCENE_MAX_LINKS     256
 #define RJ_SCENE_MAX_JOINTS    256
+#define RJ_SCENE_MAX_LOADS     256
 #define RJ_SCENE_MAX_MATERIALS 64
 #define RJ_SCENE_MAX_SECTIONS  64
 #define RJ_SCENE_MAX_LINE      1024 /* characters per line, line end excluded */
@@ -528,7 +529,7 @@ typedef struct rj_scene_pos {
 
 /* A parsed scene. Everything lives in one block from RJ_MALLOC; rj_scene_file_free
    releases it. links[i] and link_names[i] are the i-th link section in order of
-   appearance, likewise for joints. The fields ending in _ are private. */
+   appearance, likewise for joints and loads. The fields ending in _ are private. */
 typedef struct rj_scene_file {
     rj_link_def *links;
     int link_count;
@@ -544,6 +545,10 @@ typedef struct rj_scene_file {
         solver_pos_[7]; /* header, then dt, allow_unstable, energy_growth, energy_every, in_place,
                            gravity */
     void *block_, *alloc_ctx_;
+    rj_load_def *loads;
+    int load_count;
+    char (*load_names)[RJ_SCENE_NAME_MAX];
+    rj_scene_pos *load_pos_;
 } rj_scene_file;
 
 /* Parses len bytes of text (need not be NUL-terminated) named filename in messages
@@ -578,8 +583,9 @@ RJDEF void rj_scene_file_locate(const rj_scene_file *f, rj_error *err);
    call with size 0 to learn the size. link_names / joint_names may be NULL ("link0", ...,
    "joint0", ...); given names must be valid (1..31 of [A-Za-z0-9_.-], not starting with a
    digit, '.' or '-'; a link not named "ground") and unique. Returns 0 (and writes nothing)
-   for an unwritable scene: counts outside 1..RJ_SCENE_MAX_LINKS / 0..RJ_SCENE_MAX_JOINTS,
-   a body index out of range, a non-finite number in a field it writes, a bad name. Reading
+   for an unwritable scene: counts outside 1..RJ_SCENE_MAX_LINKS / 0..RJ_SCENE_MAX_JOINTS /
+   0..RJ_SCENE_MAX_LOADS, a body or load index out of range, a non-finite number in a field
+   it writes, a bad name. Loads are written as load0, load1, ... Reading
    the text back with rj_scene_parse gives every field the model uses bit for bit, -0.0
    included (numbers are written in their shortest round-trip form, angles in deg when that
    round-trips, else in rad), so any scene rj_model_create accepts within those counts
@@ -869,7 +875,8 @@ struct rj_state {
     int inputs;           /* rj_state_joint_torques was called: the step applies them */
     double *input_node;   /* (3 nn) the caller's node forces fx fy mz (kept until changed) */
     int node_inputs;      /* rj_state_node_forces was called: the step applies them */
-    double *load_now;     /* (3 nload) the applied loads' fx fy mz at t^n, for their work */
+    double *node_applied; /* (3 nn) the node forces the last step applied, for their work */
+    double step_work;     /* the work of the loads and node forces in the step under way */
     double *
         rsc; /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch); mixed: body impulses (3 nl) */
     char err[640];
@@ -4905,7 +4912,7 @@ RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
     size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, eu, ebt, jsc,
-        rsc, input_torque, input_node, load_now;
+        rsc, input_torque, input_node, node_applied;
 } rj__slayout;
 
 static void rj__state_layout(const rj_model *m, rj__slayout *L)
@@ -4932,7 +4939,7 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
                        sizeof(double));
     L->input_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
     L->input_node = rj__carve(&off, 3 * (size_t) m->nn, sizeof(double));
-    L->load_now = rj__carve(&off, 3 * (size_t) m->nload + 1, sizeof(double));
+    L->node_applied = rj__carve(&off, 3 * (size_t) m->nn, sizeof(double));
     L->total = off == (size_t) -1 ? off : off + RJ__ALIGN;
 }
 
@@ -4989,6 +4996,7 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
     memset(s->input_torque, 0, sizeof(double) * (size_t) m->nj);
     s->inputs = 0;
     memset(s->input_node, 0, 3 * sizeof(double) * (size_t) m->nn);
+    memset(s->node_applied, 0, 3 * sizeof(double) * (size_t) m->nn);
     s->node_inputs = 0;
     s->snap = -1;
     s->err[0] = 0;
@@ -5104,7 +5112,7 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->rsc = (double *) (void *) (base + L.rsc);
     s->input_torque = (double *) (void *) (base + L.input_torque);
     s->input_node = (double *) (void *) (base + L.input_node);
-    s->load_now = (double *) (void *) (base + L.load_now);
+    s->node_applied = (double *) (void *) (base + L.node_applied);
     rj_state_reset(m, s);
     *out = s;
     return RJ_OK;
@@ -5150,6 +5158,7 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
     memcpy(dst->input_torque, src->input_torque, sizeof(double) * (size_t) m->nj);
     dst->inputs = src->inputs;
     memcpy(dst->input_node, src->input_node, 3 * sizeof(double) * (size_t) m->nn);
+    memcpy(dst->node_applied, src->node_applied, 3 * sizeof(double) * (size_t) m->nn);
     dst->node_inputs = src->node_inputs;
     memcpy(dst->err, src->err, sizeof dst->err);
     memcpy(dst->warn, src->warn, sizeof dst->warn);
@@ -6297,20 +6306,37 @@ static void rj__load_value(const rj_load_def *d, double t, double phi, double ou
     out[2] = scale * d->moment;
 }
 
-/* Stage 2c, the model's applied loads at t^n on their nodes (the step advances them after
-   the joints: m->dnode), kept in s->load_now for their work; phi: the nodes' rotations at
-   n. */
-static void rj__stage_loads(const rj_model *m, rj_state *s, double t, const double *phi)
+/* The work of a force and moment held at node n over the step, now at t^n and prev at
+   t^{n-1}: (prev + now) / 2 . (x^n - x^{n-1}), the trapezoid whose sum is exactly the
+   change it makes in the kinetic energy of the central-difference pair (as
+   rj__input_work); at_n: the frame of the nodes at n (v^{n-1/2}). */
+static double rj__node_work(const rj_model *m, const double *at_n, int n, const double *now,
+                            const double *prev)
 {
+    const double vx = RJ__FVX(m, at_n)[n], vy = RJ__FVY(m, at_n)[n], w = RJ__FW(m, at_n)[n];
+    return 0.5 * m->dt *
+           ((now[0] + prev[0]) * vx + (now[1] + prev[1]) * vy + (now[2] + prev[2]) * w);
+}
+
+/* Stage 2c, the model's applied loads at t^n on their nodes (the step advances them after
+   the joints: m->dnode); returns their work over the step before (the loads at t^{n-1}
+   are their definitions' at t - dt, on the node turned back by dt w^{n-1/2}). */
+static double rj__stage_loads(const rj_model *m, rj_state *s, double t, const double *at_n)
+{
+    const double *phi = RJ__FPHI(m, at_n), *w = RJ__FW(m, at_n);
+    double work = 0;
     int k;
     for (k = 0; k < m->nload; k++) {
         const int n = m->load_node[k];
-        double *value = s->load_now + 3 * k;
-        rj__load_value(&m->load[k], t, phi[n], value);
-        s->fx[n] += value[0];
-        s->fy[n] += value[1];
-        s->mz[n] += value[2];
+        double now[3], prev[3];
+        rj__load_value(&m->load[k], t, phi[n], now);
+        rj__load_value(&m->load[k], t - m->dt, phi[n] - m->dt * w[n], prev);
+        s->fx[n] += now[0];
+        s->fy[n] += now[1];
+        s->mz[n] += now[2];
+        work += rj__node_work(m, at_n, n, now, prev);
     }
+    return work;
 }
 
 /* The caller's node forces are numbers the step can use (as rj__inputs_ok). */
@@ -6334,9 +6360,11 @@ static int rj__node_inputs_ok(const rj_model *m, rj_state *s)
 
 /* Stage 2d, the caller's node forces on the nodes the step advances after the joints
    (m->dnode); the others, which the beam pass has advanced, take theirs as a kick in
-   stage 4 (rj__node_inputs_kick). */
-static rj_result rj__stage_node_inputs(const rj_model *m, rj_state *s)
+   stage 4 (rj__node_inputs_kick). Their work over the step before, with the forces the
+   last step applied (s->node_applied), into s->step_work. */
+static rj_result rj__stage_node_inputs(const rj_model *m, rj_state *s, const double *at_n)
 {
+    double work = 0;
     int i;
     if (!rj__node_inputs_ok(m, s))
         return RJ_ERR_INVALID;
@@ -6347,6 +6375,10 @@ static rj_result rj__stage_node_inputs(const rj_model *m, rj_state *s)
         s->fy[n] += in[1];
         s->mz[n] += in[2];
     }
+    for (i = 0; i < m->nn; i++)
+        work += rj__node_work(m, at_n, i, s->input_node + 3 * (size_t) i,
+                              s->node_applied + 3 * (size_t) i);
+    s->step_work += work;
     return RJ_OK;
 }
 
@@ -6382,66 +6414,35 @@ static RJ__NOINLINE void rj__node_inputs_kick(const rj_model *m, rj_state *s, co
     }
 }
 
-/* The work of a force and moment held over the step at node n, in the form of
-   rj__input_work: (x^{n+1} - x^{n-1}) / 2 . f, from the velocities either side of t^n. */
-static double rj__node_work(const rj_model *m, const double *at_n, const double *advanced, int n,
-                            const double *value)
-{
-    const double vx = RJ__FVX(m, at_n)[n] + RJ__FVX(m, advanced)[n];
-    const double vy = RJ__FVY(m, at_n)[n] + RJ__FVY(m, advanced)[n];
-    const double w = RJ__FW(m, at_n)[n] + RJ__FW(m, advanced)[n];
-    return 0.5 * m->dt * (value[0] * vx + value[1] * vy + value[2] * w);
-}
-
-/* The work of the applied loads and the caller's node forces over the step (after the
-   constraints, which set the velocities at n + 1/2). */
-static double rj__loads_work(const rj_model *m, const rj_state *s, const double *at_n,
-                             const double *advanced)
-{
-    double work = 0;
-    int k;
-    for (k = 0; k < m->nload; k++)
-        work += rj__node_work(m, at_n, advanced, m->load_node[k], s->load_now + 3 * k);
-    if (s->node_inputs)
-        for (k = 0; k < m->nn; k++)
-            work += rj__node_work(m, at_n, advanced, k, s->input_node + 3 * (size_t) k);
-    return work;
-}
-
 /* Stage 2b, applied loads: the caller's joint torques, the model's loads and the
-   caller's node forces, in that order, before friction so that it sees them. next: the
-   new frame; t, phi: the time and the nodes' rotations at n. This stage and its work take
-   plain values, not the step's frames, and are never inlined: a scene that applies nothing
-   pays one test for both. */
+   caller's node forces, in that order, before friction so that it sees them; the work of
+   the last two over the step before in s->step_work. next: the new frame; t: the time at
+   n; at_n: the frame of the nodes at n. This stage and rj__applied_work take plain
+   values, not the step's frames, and are never inlined: a scene that applies nothing pays
+   one test for both. */
 static RJ__NOINLINE rj_result rj__stage_applied(const rj_model *m, rj_state *s, double *next,
-                                                double t, const double *phi)
+                                                double t, const double *at_n)
 {
     rj_result r;
+    s->step_work = 0;
     if (s->inputs) {
         r = rj__stage_inputs(m, s, next);
         if (r != RJ_OK)
             return r;
     }
     if (m->nload)
-        rj__stage_loads(m, s, t, phi);
+        s->step_work += rj__stage_loads(m, s, t, at_n);
     if (s->node_inputs)
-        return rj__stage_node_inputs(m, s);
+        return rj__stage_node_inputs(m, s, at_n);
     return RJ_OK;
 }
 
-/* The work of what stage 2b applied, over the step (after the velocity-level limits and
-   the constraints, which set the rates and velocities at n + 1/2): old, next: the frames at
-   n and n + 1; at_n, advanced: the nodes' (rj__frames_nodes). */
+/* The work of the caller's joint torques over the step (after the velocity-level limits,
+   which set the joints' rates): old, next: the frames at n and n + 1. */
 static RJ__NOINLINE double rj__applied_work(const rj_model *m, const rj_state *s, const double *old,
-                                            const double *next, const double *at_n,
-                                            const double *advanced)
+                                            const double *next)
 {
-    double work = 0;
-    if (s->inputs)
-        work += rj__inputs_work(m, s, old, next);
-    if (m->nload || s->node_inputs)
-        work += rj__loads_work(m, s, at_n, advanced);
-    return work;
+    return s->inputs ? rj__inputs_work(m, s, old, next) : 0.0;
 }
 
 /* Stage 3, Coulomb friction: the torque that would stop the relative rotation in this
@@ -7020,16 +7021,17 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     rj__stage_beams(m, s, &f, &adv, &e);
     rj__stage_joint_torques(m, s, &f, &e);
     if (applied) {
-        r = rj__stage_applied(m, s, f.next, f.t, f.phi);
+        r = rj__stage_applied(m, s, f.next, f.t, f.ip ? f.next : f.current);
         if (r != RJ_OK)
             return r;
+        e.work += s->step_work;
     }
     rj__stage_friction(m, s, &f);
     rj__stage_update(m, s, &f, &adv, &e, &fin);
     rj__stage_velocity_limits(m, s, &f, &e, &fin);
-    rj__stage_constraints(m, s, &f, &e, &fin);
     if (applied)
-        e.work += rj__applied_work(m, s, f.old, f.next, f.ip ? f.next : f.current, f.advanced);
+        e.work += rj__applied_work(m, s, f.old, f.next);
+    rj__stage_constraints(m, s, &f, &e, &fin);
     r = rj__stage_joint_angles(m, s, &f, &fin);
     if (r != RJ_OK)
         return r;
@@ -7579,7 +7581,11 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
     /* the caller's node forces kick nodes from their old velocities: double-buffered */
     if (!m->ip || s->steps == 0 || s->node_inputs) {
         s->snap = -1;
-        return rj__step_dbl(m, s, want_energy);
+        r = rj__step_dbl(m, s, want_energy);
+        /* what a step applied is the next one's forces at n - 1 (their work) */
+        if (s->node_inputs && r == RJ_OK)
+            memcpy(s->node_applied, s->input_node, 3 * sizeof(double) * (size_t) m->nn);
+        return r;
     }
     if (s->snap < 0 || s->steps - s->snap >= RJ__SNAP) {
         memcpy(s->fd[1 - s->cur], s->fd[s->cur], sizeof(double) * m->frame_doubles);
@@ -8157,13 +8163,14 @@ RJDEF double rj_state_energy_time(const rj_state *s)
 /* Layout: "RJCK" | u32 version | u64 model hash | u64 payload bytes | payload | u64 FNV-1a
    of everything before it. Payload: steps (i64), frame doubles, frame ints, then the
    caller's inputs: whether the joint torques are on (a double, 0 or 1) and the torques
-   (nj), then whether the node forces are on and the forces (3 nn). */
+   (nj), then whether the node forces are on, the forces (3 nn) and those the last step
+   applied (3 nn). */
 #define RJ__CK_HEAD 24
 /* the payload's bytes */
 static size_t rj__ck_payload(const rj_model *m)
 {
     return 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1) +
-           sizeof(double) * ((size_t) m->nj + 1) + sizeof(double) * (3 * (size_t) m->nn + 1);
+           sizeof(double) * ((size_t) m->nj + 1) + sizeof(double) * (6 * (size_t) m->nn + 1);
 }
 /* An input block's bytes: its switch (0 or 1, a double), then its count values. */
 static unsigned char *rj__ck_put_inputs(unsigned char *at, int on, const double *values,
@@ -8195,7 +8202,8 @@ RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size
     in_bytes =
         b + RJ__CK_HEAD + 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1);
     in_bytes = rj__ck_put_inputs(in_bytes, s->inputs, s->input_torque, (size_t) m->nj);
-    rj__ck_put_inputs(in_bytes, s->node_inputs, s->input_node, 3 * (size_t) m->nn);
+    in_bytes = rj__ck_put_inputs(in_bytes, s->node_inputs, s->input_node, 3 * (size_t) m->nn);
+    memcpy(in_bytes, s->node_applied, 3 * sizeof(double) * (size_t) m->nn);
     h = rj__fnv(14695981039346656037ULL, b, RJ__CK_HEAD + pay);
     memcpy(b + RJ__CK_HEAD + pay, &h, 8);
     return need;
@@ -8333,7 +8341,7 @@ static int rj__ck_inputs_ok(const rj_model *m, const unsigned char *in_bytes, rj
 {
     const size_t nj = (size_t) m->nj;
     return rj__ck_input_block_ok(in_bytes, nj, "input_torque", "input torque", err) &&
-           rj__ck_input_block_ok(in_bytes + sizeof(double) * (nj + 1), 3 * (size_t) m->nn,
+           rj__ck_input_block_ok(in_bytes + sizeof(double) * (nj + 1), 6 * (size_t) m->nn,
                                  "input_node", "input node force", err);
 }
 static void rj__ck_inputs_load(const rj_model *m, rj_state *s, const unsigned char *in_bytes)
@@ -8347,6 +8355,8 @@ static void rj__ck_inputs_load(const rj_model *m, rj_state *s, const unsigned ch
     memcpy(&v, node_bytes, sizeof(double));
     s->node_inputs = v == 1;
     memcpy(s->input_node, node_bytes + sizeof(double), 3 * sizeof(double) * (size_t) m->nn);
+    memcpy(s->node_applied, node_bytes + sizeof(double) * (3 * (size_t) m->nn + 1),
+           3 * sizeof(double) * (size_t) m->nn);
 }
 
 RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, size_t size,
@@ -8485,6 +8495,15 @@ enum {
     RJ__JK_N
 };
 enum {
+    RJ__AK_LINK,
+    RJ__AK_NODE,
+    RJ__AK_FORCE,
+    RJ__AK_MOMENT,
+    RJ__AK_TABLE,
+    RJ__AK_FOLLOWER,
+    RJ__AK_N
+};
+enum {
     RJ__VK_DT,
     RJ__VK_ALLOW_UNSTABLE,
     RJ__VK_ENERGY_GROWTH,
@@ -8493,10 +8512,23 @@ enum {
     RJ__VK_GRAVITY,
     RJ__VK_N
 };
-enum { RJ__SK_NONE, RJ__SK_SOLVER, RJ__SK_MATERIAL, RJ__SK_SECTION, RJ__SK_LINK, RJ__SK_JOINT };
+enum {
+    RJ__SK_NONE,
+    RJ__SK_SOLVER,
+    RJ__SK_MATERIAL,
+    RJ__SK_SECTION,
+    RJ__SK_LINK,
+    RJ__SK_JOINT,
+    RJ__SK_LOAD,
+    RJ__SK_COUNT
+};
 
 /* char arrays, not pointer arrays: read-only data without relocations */
-static const char rj__sk_kind[6][10] = { "", "solver", "material", "section", "link", "joint" };
+static const char rj__sk_kind[RJ__SK_COUNT][10] = { "",     "solver", "material", "section",
+                                                    "link", "joint",  "load" };
+static const char rj__sk_load[RJ__AK_N][9] = { "link",   "node",  "force",
+                                               "moment", "table", "follower" };
+static const char rj__sk_load_unit[RJ__AK_N][4] = { "", "", "N", "N m", "", "" };
 static const char rj__sk_link[RJ__LK_N][12] = {
     "length",  "elements", "material", "section", "E",        "rho",         "area",
     "inertia", "width",    "height",   "layers",  "tip_mass", "tip_inertia", "root",
@@ -8556,7 +8588,7 @@ typedef struct rj__sp {
     rj__stok *tok;
     int ntok;
     rj_scene_file *f;
-    int cap_links, cap_joints;
+    int cap_links, cap_joints, cap_loads;
     rj__spart *mat, *sec;
     int nmat, nsec, cap_mat, cap_sec;
     int kind, item; /* current section: kind and index (materials, sections, links, joints) */
@@ -8802,6 +8834,8 @@ static const char *rj__sp_item_name(const rj__sp *P)
         return P->f->link_names[P->item];
     case RJ__SK_JOINT:
         return P->f->joint_names[P->item];
+    case RJ__SK_LOAD:
+        return P->f->load_names[P->item];
     }
     return "";
 }
@@ -8858,6 +8892,8 @@ static rj_scene_pos *rj__sp_pos(rj__sp *P, int k) /* position slot of key k of t
         return &P->sec[P->item].pos[1 + k];
     case RJ__SK_LINK:
         return &P->f->link_pos_[(size_t) P->item * (1 + RJ__LK_N) + 1 + k];
+    case RJ__SK_LOAD:
+        return &P->f->load_pos_[(size_t) P->item * (1 + RJ__AK_N) + 1 + k];
     default:
         return &P->f->joint_pos_[(size_t) P->item * (1 + RJ__JK_N) + 1 + k];
     }
@@ -8942,6 +8978,8 @@ static const char *rj__sp_near_key(const rj__sp *P, const rj__stok *t)
                            RJ__SK_SEC_KEYS);
     case RJ__SK_LINK:
         return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N, ~0u);
+    case RJ__SK_LOAD:
+        return rj__sp_near(t->s, t->len, rj__sk_load[0], sizeof rj__sk_load[0], RJ__AK_N, ~0u);
     }
     return NULL;
 }
@@ -8976,6 +9014,9 @@ static const char *rj__sp_unit(const char *key)
     for (k = 0; k < RJ__VK_N; k++)
         if (strcmp(key, rj__sk_solver[k]) == 0)
             return rj__sk_solver_unit[k];
+    for (k = 0; k < RJ__AK_N; k++)
+        if (strcmp(key, rj__sk_load[k]) == 0)
+            return rj__sk_load_unit[k];
     return "";
 }
 
@@ -9592,6 +9633,115 @@ static int rj__sp_solver_key(rj__sp *P, int k, int a, int *i, int b, rj_solver_d
     return 1;
 }
 
+/* a load's table = time factor, time factor, ...: 1..RJ_TABLE_MAX points, times in s
+   (strictly increasing: rj_model_create checks it, naming the point) */
+static int rj__sp_load_table(rj__sp *P, int *i, int b, rj_load_def *d)
+{
+    const char *key = "table";
+    char nb[24];
+    int n = 0;
+    for (;;) {
+        const int s = *i;
+        double time = 0, factor = 0;
+        if (n == RJ_TABLE_MAX)
+            return rj__sp_err(P, P->tok[s].line, P->tok[s].col, key, rj__sp_nan(),
+                              "table has more than ", rj__sp_itoa(nb, RJ_TABLE_MAX), " points",
+                              rj__sp_where(P), NULL);
+        if (!rj__sp_num(P, &P->tok[*i], key, &time))
+            return 0;
+        (*i)++;
+        if (*i >= b || P->tok[*i].kind == ',') {
+            const rj__stok *z = &P->tok[*i - 1];
+            return rj__sp_err(P, z->line, z->col + z->len, key, rj__sp_nan(),
+                              "missing factor after the table time", rj__sp_where(P),
+                              " (table = time factor, time factor, ...)", NULL, NULL);
+        }
+        if (!rj__sp_num(P, &P->tok[*i], key, &factor))
+            return 0;
+        (*i)++;
+        d->table_time[n] = time;
+        d->table_factor[n] = factor;
+        n++;
+        if (*i >= b || P->tok[*i].kind != ',')
+            break;
+        (*i)++;
+        if (*i >= b) {
+            const rj__stok *z = &P->tok[*i - 1];
+            return rj__sp_err(P, z->line, z->col, key, rj__sp_nan(), "table ends with ','",
+                              rj__sp_where(P), NULL, NULL, NULL);
+        }
+    }
+    d->table_count = n;
+    return 1;
+}
+
+/* a load's link: a link defined above it */
+static int rj__sp_load_link(rj__sp *P, const rj__stok *t, int *i, rj_load_def *d)
+{
+    int idx;
+    if (!rj__sp_name_ref(P, t, "link"))
+        return 0;
+    idx = P->f->link_count ? rj__sp_find(t->s, t->len, (const char *) P->f->link_names,
+                                         RJ_SCENE_NAME_MAX, P->f->link_count)
+                           : -1;
+    if (idx < 0) {
+        char mean[48];
+        rj__sp_mean(mean, P->f->link_count
+                              ? rj__sp_near(t->s, t->len, (const char *) P->f->link_names,
+                                            RJ_SCENE_NAME_MAX, P->f->link_count, ~0u)
+                              : NULL);
+        return rj__sp_err_tok(P, t, "link", rj__sp_nan(), "unknown link ", rj__sp_for(P, "link"),
+                              " (define links above the loads that use them)", mean);
+    }
+    d->link = idx;
+    (*i)++;
+    return 1;
+}
+
+static int rj__sp_load_key(rj__sp *P, int k, int a, int *i, int b, rj_load_def *d)
+{
+    const char *key = rj__sk_load[k];
+    const rj__stok *t = &P->tok[a];
+    switch (k) {
+    case RJ__AK_LINK:
+        return rj__sp_load_link(P, t, i, d);
+    case RJ__AK_NODE:
+        if (rj__sp_is(t, "last")) {
+            d->node = -1;
+            (*i)++;
+            return 1;
+        }
+        if (!rj__sp_int(P, t, key, 0, 1000000, &d->node))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__AK_FORCE:
+        if (!rj__sp_num(P, t, key, &d->force[0]))
+            return 0;
+        (*i)++;
+        if (*i >= b)
+            return rj__sp_err(P, t->line, t->col + t->len, key, rj__sp_nan(),
+                              "missing y component after the x component", rj__sp_where(P),
+                              " (force = fx fy, in N)", NULL, NULL);
+        if (!rj__sp_num(P, &P->tok[*i], key, &d->force[1]))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__AK_MOMENT:
+        if (!rj__sp_num(P, t, key, &d->moment))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__AK_TABLE:
+        return rj__sp_load_table(P, i, b, d);
+    default:
+        if (!rj__sp_bool(P, t, key, &d->follower))
+            return 0;
+        (*i)++;
+        return 1;
+    }
+}
+
 /* ------------------------------------------------------------------ sections */
 static int rj__sp_key_index(int kind, const rj__stok *t)
 {
@@ -9618,6 +9768,11 @@ static int rj__sp_key_index(int kind, const rj__stok *t)
             if (rj__sp_is(t, rj__sk_joint[k]))
                 return k;
         break;
+    case RJ__SK_LOAD:
+        for (k = 0; k < RJ__AK_N; k++)
+            if (rj__sp_is(t, rj__sk_load[k]))
+                return k;
+        break;
     }
     return -1;
 }
@@ -9628,6 +9783,8 @@ static const char *rj__sp_key_name(int kind, int k)
         return rj__sk_solver[k];
     if (kind == RJ__SK_JOINT)
         return rj__sk_joint[k];
+    if (kind == RJ__SK_LOAD)
+        return rj__sk_load[k];
     return rj__sk_link[k];
 }
 
@@ -9659,6 +9816,24 @@ static int rj__sp_check_shape(rj__sp *P, unsigned eff, const rj_link_def *d,
                           NULL, NULL);
     }
     return 1;
+}
+
+/* a load names its link, and a node the link has */
+static int rj__sp_finish_load(rj__sp *P)
+{
+    const rj_load_def *d = &P->f->loads[P->item];
+    const rj_scene_pos *pos = &P->f->load_pos_[(size_t) P->item * (1 + RJ__AK_N)];
+    const char *name = P->f->load_names[P->item];
+    char a[24], b[24], m[256];
+    if (!(P->seen >> RJ__AK_LINK & 1u))
+        return rj__sp_err(P, pos[0].line, pos[0].col, "link", rj__sp_nan(), "load '", name,
+                          "' has no link (the link it acts on)", NULL, NULL);
+    if (d->node <= P->f->links[d->link].elements)
+        return 1;
+    rj__sp_cat(m, sizeof m, "node = ", rj__sp_itoa(a, d->node), " is out of range in load '", name,
+               "': link '", P->f->link_names[d->link], "' has nodes 0..");
+    return rj__sp_err(P, pos[1 + RJ__AK_NODE].line, pos[1 + RJ__AK_NODE].col, "node", d->node, m,
+                      rj__sp_itoa(b, P->f->links[d->link].elements), " (or last)", NULL, NULL);
 }
 
 /* checks and completes the section that ends here */
@@ -9769,6 +9944,10 @@ static int rj__sp_finish(rj__sp *P)
         }
         break;
     }
+    case RJ__SK_LOAD:
+        if (!rj__sp_finish_load(P))
+            return 0;
+        break;
     }
     P->kind = RJ__SK_NONE;
     return 1;
@@ -9779,7 +9958,7 @@ static int rj__sp_header(rj__sp *P)
     const rj__stok *t0 = &P->tok[0], *nt;
     char nb[24];
     int kind = 0, k, cap = 0, count = 0, dup = -1;
-    for (k = RJ__SK_SOLVER; k <= RJ__SK_JOINT; k++)
+    for (k = RJ__SK_SOLVER; k <= RJ__SK_LOAD; k++)
         if (rj__sp_is(t0, rj__sk_kind[k]))
             kind = k;
     if (!kind) {
@@ -9795,7 +9974,7 @@ static int rj__sp_header(rj__sp *P)
         }
         { /* a near section keyword, else a near key of the current section */
             const char *near =
-                rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 5, ~0u);
+                rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 6, ~0u);
             char mean[48];
             if (!near && P->kind != RJ__SK_NONE)
                 near = rj__sp_near_key(P, t0);
@@ -9803,8 +9982,9 @@ static int rj__sp_header(rj__sp *P)
                 P, t0, "", rj__sp_nan(),
                 P->kind != RJ__SK_NONE ? "unknown key or section " : "unknown section ",
                 P->kind != RJ__SK_NONE ? " (a key needs '= value'; sections are solver, material, "
-                                         "section, link, joint)"
-                                       : " (expected solver, material, section, link or joint)",
+                                         "section, link, joint, load)"
+                                       : " (expected solver, material, section, link, joint or "
+                                         "load)",
                 rj__sp_mean(mean, near), NULL);
         }
     }
@@ -9857,6 +10037,13 @@ static int rj__sp_header(rj__sp *P)
             dup = rj__sp_find(nt->s, nt->len, (const char *) P->f->link_names, RJ_SCENE_NAME_MAX,
                               count);
         break;
+    case RJ__SK_LOAD:
+        cap = RJ_SCENE_MAX_LOADS;
+        count = P->f->load_count;
+        if (count)
+            dup = rj__sp_find(nt->s, nt->len, (const char *) P->f->load_names, RJ_SCENE_NAME_MAX,
+                              count);
+        break;
     default:
         cap = RJ_SCENE_MAX_JOINTS;
         count = P->f->joint_count;
@@ -9869,6 +10056,7 @@ static int rj__sp_header(rj__sp *P)
         int line = kind == RJ__SK_MATERIAL  ? P->mat[dup].pos[0].line
                    : kind == RJ__SK_SECTION ? P->sec[dup].pos[0].line
                    : kind == RJ__SK_LINK    ? P->f->link_pos_[(size_t) dup * (1 + RJ__LK_N)].line
+                   : kind == RJ__SK_LOAD    ? P->f->load_pos_[(size_t) dup * (1 + RJ__AK_N)].line
                                             : P->f->joint_pos_[(size_t) dup * (1 + RJ__JK_N)].line;
         char pre[40];
         rj__sp_cat(pre, sizeof pre, "duplicate ", rj__sk_kind[kind], " name ", NULL, NULL, NULL,
@@ -9883,6 +10071,7 @@ static int rj__sp_header(rj__sp *P)
         int room = kind == RJ__SK_MATERIAL  ? P->cap_mat
                    : kind == RJ__SK_SECTION ? P->cap_sec
                    : kind == RJ__SK_LINK    ? P->cap_links
+                   : kind == RJ__SK_LOAD    ? P->cap_loads
                                             : P->cap_joints;
         if (count >= cap || count >= room)
             return rj__sp_err(P, t0->line, t0->col, rj__sk_kind[kind], count + 1, "too many ",
@@ -9910,6 +10099,14 @@ static int rj__sp_header(rj__sp *P)
             P->f->link_pos_[(size_t) n * (1 + RJ__LK_N)] = head;
             P->link_mat = -1;
             P->link_sec = -1;
+            break;
+        }
+        case RJ__SK_LOAD: {
+            int n = P->f->load_count++;
+            memcpy(P->f->load_names[n], nt->s, (size_t) nt->len);
+            P->f->load_names[n][nt->len] = 0;
+            P->f->loads[n] = rj_default_load_def();
+            P->f->load_pos_[(size_t) n * (1 + RJ__AK_N)] = head;
             break;
         }
         default: {
@@ -10040,7 +10237,8 @@ static int rj__sp_assignments(rj__sp *P)
             char mean[48];
             return rj__sp_err_tok(
                 P, kt, "", rj__sp_nan(), "key ",
-                " outside any section (start one with solver, material, section, link or joint)",
+                " outside any section (start one with solver, material, section, link, joint or "
+                "load)",
                 rj__sp_mean(mean, rj__sp_near(kt->s, kt->len, "title", 6, 1, ~0u)), NULL);
         }
         k = rj__sp_key_index(P->kind, kt);
@@ -10083,6 +10281,10 @@ static int rj__sp_assignments(rj__sp *P)
             break;
         case RJ__SK_LINK:
             if (!rj__sp_link_key(P, k, i + 2, &v, j, &P->f->links[P->item]))
+                return 0;
+            break;
+        case RJ__SK_LOAD:
+            if (!rj__sp_load_key(P, k, i + 2, &v, j, &P->f->loads[P->item]))
                 return 0;
             break;
         default:
@@ -10229,11 +10431,11 @@ static int rj__sp_next(rj__sp *P)
 
 /* counting pass: an upper bound on each kind of section (a first word that is a section
    keyword and is not followed by '='), capped one above the limits */
-static void rj__sp_count(const char *text, size_t len, int counts[6])
+static void rj__sp_count(const char *text, size_t len, int counts[RJ__SK_COUNT])
 {
     size_t at = 0;
     int k;
-    for (k = 0; k < 6; k++)
+    for (k = 0; k < RJ__SK_COUNT; k++)
         counts[k] = 0;
     while (at < len) {
         size_t e, w;
@@ -10246,12 +10448,13 @@ static void rj__sp_count(const char *text, size_t len, int counts[6])
         while (at < len && (text[at] == ' ' || text[at] == '\t'))
             at++;
         if (e > w && !(at < len && text[at] == '=')) {
-            for (k = RJ__SK_MATERIAL; k <= RJ__SK_JOINT; k++) {
+            for (k = RJ__SK_MATERIAL; k <= RJ__SK_LOAD; k++) {
                 size_t n = strlen(rj__sk_kind[k]);
                 if (e - w == n && memcmp(text + w, rj__sk_kind[k], n) == 0) {
                     int cap = k == RJ__SK_MATERIAL  ? RJ_SCENE_MAX_MATERIALS
                               : k == RJ__SK_SECTION ? RJ_SCENE_MAX_SECTIONS
                               : k == RJ__SK_LINK    ? RJ_SCENE_MAX_LINKS
+                              : k == RJ__SK_LOAD    ? RJ_SCENE_MAX_LOADS
                                                     : RJ_SCENE_MAX_JOINTS;
                     if (counts[k] < cap)
                         counts[k]++;
@@ -10270,6 +10473,32 @@ static size_t rj__sp_carve(size_t *off, size_t n, size_t el)
     size_t at = (*off + 15) / 16 * 16;
     *off = at + n * el;
     return at;
+}
+
+/* field "loads[2].force[1]" -> position in f (the key's value, else the section line) */
+static int rj__sp_load_pos(const rj_scene_file *f, const char *field, rj_scene_pos *pos, char *item,
+                           size_t isize)
+{
+    const rj_scene_pos *ap;
+    const char *p = field + 6;
+    int idx = 0, digits = 0, k;
+    while (*p >= '0' && *p <= '9' && digits < 7) {
+        idx = idx * 10 + (*p - '0');
+        p++;
+        digits++;
+    }
+    if (!digits || *p != ']' || idx >= f->load_count)
+        return 0;
+    p++;
+    ap = &f->load_pos_[(size_t) idx * (1 + RJ__AK_N)];
+    *pos = ap[0];
+    for (k = 0; k < RJ__AK_N && *p == '.'; k++) {
+        const size_t n = strlen(rj__sk_load[k]);
+        if (strncmp(p + 1, rj__sk_load[k], n) == 0 && ap[1 + k].line)
+            *pos = ap[1 + k];
+    }
+    rj__sp_cat(item, isize, " (load '", f->load_names[idx], "')", NULL, NULL, NULL, NULL);
+    return pos->line > 0;
 }
 
 /* field "links[3].rho" / "joints[1].table_angle[2]" / "solver.dt" -> position in f */
@@ -10293,6 +10522,8 @@ static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_
         }
         return 0;
     }
+    if (strncmp(field, "loads[", 6) == 0)
+        return rj__sp_load_pos(f, field, pos, item, isize);
     if (strncmp(field, "links[", 6) == 0) {
         joint = 0;
         p = field + 6;
@@ -10380,8 +10611,9 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
 {
     rj__sp P;
     rj_scene_file F;
-    int counts[6], r;
+    int counts[RJ__SK_COUNT], r;
     size_t off = 0, o_links, o_joints, o_lpos, o_jpos, o_lnames, o_jnames, w_tok, w_mat, w_sec;
+    size_t o_loads, o_apos, o_anames;
     char *block = NULL, *work = NULL;
     memset(&P, 0, sizeof P);
     memset(&F, 0, sizeof F);
@@ -10422,12 +10654,16 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     P.cap_joints = counts[RJ__SK_JOINT];
     P.cap_mat = counts[RJ__SK_MATERIAL];
     P.cap_sec = counts[RJ__SK_SECTION];
+    P.cap_loads = counts[RJ__SK_LOAD];
     /* the result block */
     o_links = rj__sp_carve(&off, (size_t) P.cap_links, sizeof(rj_link_def));
     o_joints = rj__sp_carve(&off, (size_t) P.cap_joints, sizeof(rj_joint_def));
     o_lpos = rj__sp_carve(&off, (size_t) P.cap_links * (1 + RJ__LK_N), sizeof(rj_scene_pos));
     o_jpos = rj__sp_carve(&off, (size_t) P.cap_joints * (1 + RJ__JK_N), sizeof(rj_scene_pos));
     o_lnames = rj__sp_carve(&off, (size_t) P.cap_links, RJ_SCENE_NAME_MAX);
+    o_loads = rj__sp_carve(&off, (size_t) P.cap_loads, sizeof(rj_load_def));
+    o_apos = rj__sp_carve(&off, (size_t) P.cap_loads * (1 + RJ__AK_N), sizeof(rj_scene_pos));
+    o_anames = rj__sp_carve(&off, (size_t) P.cap_loads, RJ_SCENE_NAME_MAX);
     o_jnames = rj__sp_carve(&off, (size_t) P.cap_joints, RJ_SCENE_NAME_MAX);
     block = (char *) RJ_MALLOC(off + 16, alloc_ctx);
     /* the parser's workspace: tokens, materials, sections */
@@ -10455,6 +10691,9 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     F.joint_pos_ = (rj_scene_pos *) (void *) (block + o_jpos);
     F.link_names = (char(*)[RJ_SCENE_NAME_MAX])(void *) (block + o_lnames);
     F.joint_names = (char(*)[RJ_SCENE_NAME_MAX])(void *) (block + o_jnames);
+    F.loads = (rj_load_def *) (void *) (block + o_loads);
+    F.load_pos_ = (rj_scene_pos *) (void *) (block + o_apos);
+    F.load_names = (char(*)[RJ_SCENE_NAME_MAX])(void *) (block + o_anames);
     F.solver = rj_default_solver_def();
     F.block_ = block;
     F.alloc_ctx_ = alloc_ctx;
@@ -10611,6 +10850,8 @@ RJDEF rj_scene_def rj_scene_file_def(const rj_scene_file *f)
     d.joints = f->joints;
     d.joint_count = f->joint_count;
     d.solver = f->solver;
+    d.loads = f->loads;
+    d.load_count = f->load_count;
     return d;
 }
 
@@ -10817,6 +11058,23 @@ static int rj__sw_joint_ok(const rj_joint_def *d, int link_count)
 }
 
 /* names and numbers first: rj_scene_write writes nothing for a scene it cannot write */
+/* whether the writer can express the load: a link and node the scene has, finite
+   numbers, a table of 0..RJ_TABLE_MAX points (its order is the model's to check) */
+static int rj__sw_load_ok(const rj_load_def *d, const rj_scene_def *sc)
+{
+    int k;
+    if (d->link < 0 || d->link >= sc->link_count || d->node < -1 ||
+        d->node > sc->links[d->link].elements || (d->follower != 0 && d->follower != 1) ||
+        d->table_count < 0 || d->table_count > RJ_TABLE_MAX)
+        return 0;
+    if (!rj__sw_finite(d->force[0]) || !rj__sw_finite(d->force[1]) || !rj__sw_finite(d->moment))
+        return 0;
+    for (k = 0; k < d->table_count; k++)
+        if (!rj__sw_finite(d->table_time[k]) || !rj__sw_finite(d->table_factor[k]))
+            return 0;
+    return 1;
+}
+
 static int rj__sw_ok(const rj_scene_def *sc, const char *const *link_names,
                      const char *const *joint_names)
 {
@@ -10847,6 +11105,9 @@ static int rj__sw_ok(const rj_scene_def *sc, const char *const *link_names,
             return 0;
     for (i = 0; i < sc->joint_count; i++)
         if (!rj__sw_joint_ok(&sc->joints[i], sc->link_count))
+            return 0;
+    for (i = 0; i < sc->load_count; i++)
+        if (!rj__sw_load_ok(&sc->loads[i], sc))
             return 0;
     return 1;
 }
@@ -11089,6 +11350,46 @@ static void rj__sw_joint(rj__sw *W, const rj_joint_def *d, const char *const *li
     rj__sw_joint_rest(W, d);
 }
 
+/* a load section's keys: the link always, the others when they differ from the
+   defaults (in their bits: -0.0 is written) */
+static void rj__sw_load(rj__sw *W, const rj_load_def *d, const char *const *link_names)
+{
+    char nm[40];
+    int k;
+    rj__sw_key(W, "link");
+    rj__sw_name(W, link_names, "link", d->link);
+    if (d->node != -1) {
+        snprintf(nm, sizeof nm, "  node = %d", d->node);
+        rj__sw_put(W, nm);
+    }
+    rj__sw_put(W, "\n");
+    if (rj__sw_set(d->force[0], 0) || rj__sw_set(d->force[1], 0)) {
+        rj__sw_key(W, "force");
+        rj__sw_num(W, d->force[0]);
+        rj__sw_put(W, " ");
+        rj__sw_num(W, d->force[1]);
+        rj__sw_put(W, "\n");
+    }
+    if (rj__sw_set(d->moment, 0)) {
+        rj__sw_key(W, "moment");
+        rj__sw_num(W, d->moment);
+        rj__sw_put(W, "\n");
+    }
+    if (d->follower)
+        rj__sw_put(W, "  follower = yes\n");
+    if (d->table_count <= 0)
+        return;
+    rj__sw_key(W, "table");
+    for (k = 0; k < d->table_count; k++) {
+        if (k)
+            rj__sw_put(W, k % 4 == 0 ? ",\n    " : ", ");
+        rj__sw_num(W, d->table_time[k]);
+        rj__sw_put(W, " ");
+        rj__sw_num(W, d->table_factor[k]);
+    }
+    rj__sw_put(W, "\n");
+}
+
 /* whether a file can hold title: shorter than RJ_SCENE_TITLE_MAX, no '"', no control byte
    (what rj__sp_title_value accepts); NULL is no title */
 static int rj__sw_title_ok(const char *title)
@@ -11130,7 +11431,8 @@ RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_n
         buf[0] = 0;
     if (!sc || sc->link_count < 1 || sc->link_count > RJ_SCENE_MAX_LINKS || !sc->links ||
         sc->joint_count < 0 || sc->joint_count > RJ_SCENE_MAX_JOINTS ||
-        (sc->joint_count && !sc->joints))
+        (sc->joint_count && !sc->joints) || sc->load_count < 0 ||
+        sc->load_count > RJ_SCENE_MAX_LOADS || (sc->load_count && !sc->loads))
         return 0;
     if (!rj__sw_ok(sc, link_names, joint_names))
         return 0;
@@ -11158,6 +11460,12 @@ RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_n
         rj__sw_name(&W, joint_names, "joint", i);
         rj__sw_put(&W, "\n");
         rj__sw_joint(&W, &sc->joints[i], link_names);
+    }
+    for (i = 0; i < sc->load_count; i++) {
+        rj__sw_put(&W, "load ");
+        rj__sw_name(&W, NULL, "load", i);
+        rj__sw_put(&W, "\n");
+        rj__sw_load(&W, &sc->loads[i], link_names);
     }
     return W.n;
 }

@@ -66,7 +66,7 @@ static const char usage_run[] =
     "  link L: L.tip_x, L.tip_y (m), L.tip_defl (m: the last node's distance from the\n"
     "  tangent at node 0, counter-clockwise positive); for each probe L.N.x, L.N.y (m),\n"
     "  L.N.phi (rad); E_kin, E_strain, E_spring, E_gravity (J: gravity's potential, -m g . x),\n"
-    "  W_damping, W_friction, W_limit (J lost\n"
+    "  W_applied (J: work of the scene's loads so far), W_damping, W_friction, W_limit (J lost\n"
     "  so far), E_balance (J: energy + losses - initial; rj_state_energy at the row's step).\n"
     "  Standard error: the model's warnings, then events as they happen (contacts, locks,\n"
     "  releases, late contacts; at the time of the state the library decided them on, as\n"
@@ -639,8 +639,8 @@ static const char *const joint_cols[] = { "theta_deg", "rate", "flag", "torque_s
                                           "torque_damping", "torque_friction", "torque_limit", "latch_impulse" };
 static const char *const link_cols[] = { "tip_x", "tip_y", "tip_defl" };
 static const char *const probe_cols[] = { "x", "y", "phi" };
-static const char *const energy_cols[] = { "E_kin", "E_strain", "E_spring", "E_gravity", "W_damping",
-                                           "W_friction", "W_limit", "E_balance" };
+static const char *const energy_cols[] = { "E_kin", "E_strain", "E_spring", "E_gravity", "W_applied",
+                                           "W_damping", "W_friction", "W_limit", "E_balance" };
 #define NCOLS(a) ((int)(sizeof(a) / sizeof((a)[0])))
 
 /* The header line: every column named from the file's own link and joint names. */
@@ -685,8 +685,9 @@ static void csv_energy(cli_out *o, const rj_model *m, const rj_state *s)
 {
     rj_energy e;
     rj_state_energy(m, s, &e);
-    cli_put(o, fprintf(o->f, ",%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", e.kinetic, e.strain,
-                       e.spring, e.gravity, e.lost_damping, e.lost_friction, e.lost_limit, e.balance));
+    cli_put(o, fprintf(o->f, ",%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", e.kinetic, e.strain,
+                       e.spring, e.gravity, e.work_applied, e.lost_damping, e.lost_friction, e.lost_limit,
+                       e.balance));
 }
 
 /* One row. A reader that went away (EPIPE on standard output) stops the run quietly. */

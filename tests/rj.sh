@@ -18,7 +18,7 @@ header() {
                        for (i = 1; i <= n; i++) printf ",%s.%s", $2, c[i] }
        $1 == "link" { links[++nl] = $2 }
        END { for (k = 1; k <= nl; k++) printf ",%s.tip_x,%s.tip_y,%s.tip_defl", links[k], links[k], links[k];
-             print ",E_kin,E_strain,E_spring,E_gravity,W_damping,W_friction,W_limit,E_balance" }' "$1"
+             print ",E_kin,E_strain,E_spring,E_gravity,W_applied,W_damping,W_friction,W_limit,E_balance" }' "$1"
 }
 # a joint's lock and first-contact times from an rj run summary on stderr: "LOCK FIRST"
 summary_times() { # file, joint

@@ -495,6 +495,55 @@ static void test_scene_file(rjt_ctx *c)
     if (!ok) rj_scene_file_free(&f);
 }
 
+/* Scene files: load sections read into rj_load_def, written back and read the same; a
+   load with no link, a node the link does not have, a table that goes back in time, a
+   misspelt key and a force with one component are refused at their line and column. */
+static void test_load_sections(rjt_ctx *c)
+{
+    static const char text[] = "link beam\n  length = 1\n  elements = 20\n  root = clamped\n"
+                               "load tip\n  link = beam  node = last\n  force = 0 -1166.5\n"
+                               "  table = 0 0, 0.1 1\n"
+                               "load twist\n  link = beam\n  node = 10\n  moment = 2.5\n"
+                               "  follower = yes\n";
+    static const struct {
+        const char *text, *what, *needle;
+    } bad[5] = {
+        { "link a\n  length = 1\nload l\n  force = 1 2\n", "a load with no link", "g.rjs:3:1: load 'l' has no link" },
+        { "link a\n  length = 1\n  elements = 4\nload l\n  link = a\n  node = 5\n", "a node the link does not have",
+          "g.rjs:6:10: node = 5 is out of range in load 'l': link 'a' has nodes 0..4" },
+        { "link a\n  length = 1\nload l\n  link = a\n  force = 1 0\n  table = 0 0, 1 1, 0.5 2\n",
+          "a table that goes back in time", "g.rjs:6:11: loads[0].table_time[2] = 0.5 is invalid" },
+        { "link a\n  length = 1\nload l\n  link = a\n  forse = 1 0\n", "a misspelt key", "did you mean 'force'" },
+        { "link a\n  length = 1\nload l\n  link = a\n  force = 1\n", "a force with one component",
+          "missing y component" },
+    };
+    rj_scene_file f, g;
+    rj_error err;
+    char buf[4096], name[160];
+    size_t n;
+    int ok = rj_scene_parse(text, sizeof text - 1, "g.rjs", &f, &err) == RJ_OK, k;
+    rjt_check(c, ok && f.load_count == 2 && f.loads[0].link == 0 && f.loads[0].node == -1 &&
+                  f.loads[0].force[1] == -1166.5 && f.loads[0].table_count == 2 && f.loads[0].table_time[1] == 0.1 &&
+                  f.loads[1].node == 10 && f.loads[1].moment == 2.5 && f.loads[1].follower == 1 &&
+                  strcmp(f.load_names[1], "twist") == 0,
+              "scene file: load sections are read", "%s", ok ? "2 loads as written" : err.msg);
+    if (ok) {
+        rj_scene_def d = rj_scene_file_def(&f);
+        n = rj_scene_write(&d, NULL, NULL, buf, sizeof buf);
+        ok = n > 0 && n < sizeof buf && rj_scene_parse(buf, n, "w.rjs", &g, &err) == RJ_OK;
+        rjt_check(c, ok && g.load_count == 2 && memcmp(g.loads, f.loads, 2 * sizeof(rj_load_def)) == 0,
+                  "scene file: loads are written back and read the same bits", "%s", ok ? "same" : err.msg);
+        if (ok) rj_scene_file_free(&g);
+        rj_scene_file_free(&f);
+    }
+    for (k = 0; k < 5; k++) {
+        ok = rj_scene_parse(bad[k].text, strlen(bad[k].text), "g.rjs", &f, &err) != RJ_OK;
+        snprintf(name, sizeof name, "scene file: %s is refused, located", bad[k].what);
+        rjt_check(c, ok && strstr(err.msg, bad[k].needle) != NULL, name, "%s", err.msg);
+        if (!ok) rj_scene_file_free(&f);
+    }
+}
+
 /* rj_settle refuses bad arguments, and says so when it has not settled in its steps. */
 static void test_settle_arguments(rjt_ctx *c)
 {
@@ -534,6 +583,7 @@ int main(void)
     test_inputs(&c);
     test_refusals(&c);
     test_scene_file(&c);
+    test_load_sections(&c);
     test_settle_arguments(&c);
     return rjt_summary(&c, "test_loads");
 }

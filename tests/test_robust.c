@@ -520,8 +520,8 @@ static void test_checkpoints(void)
     rj_state_save(m, s, ck, size);
     memcpy(&pay, ck + 16, 8);
     /* 2 joint flags and a spare; after them the inputs' switch and the 2 joints' torques,
-       then the node forces' switch and 3 values per node */
-    frame_doubles = (size_t)(pay - 8 - sizeof(int) * 3 - 8 * 3 - 8 * (3 * (size_t)rj_model_node_count(m) + 1)) / 8;
+       then the node forces' switch, 3 values per node, and 3 per node the last step applied */
+    frame_doubles = (size_t)(pay - 8 - sizeof(int) * 3 - 8 * 3 - 8 * (6 * (size_t)rj_model_node_count(m) + 1)) / 8;
     /* crafted values behind a valid checksum */
     memcpy(edit, ck, size);
     memcpy(edit + CK_DOUBLES + 8 * frame_doubles + sizeof(int), &flag, sizeof flag);
