@@ -876,7 +876,9 @@ struct rj_state {
     double *input_node;   /* (3 nn) the caller's node forces fx fy mz (kept until changed) */
     int node_inputs;      /* rj_state_node_forces was called: the step applies them */
     double *node_applied; /* (3 nn) the node forces the last step applied, for their work */
-    double step_work;     /* the work of the loads and node forces in the step under way */
+    int *kick_node;       /* (nn) nodes the step under way kicks with their node forces */
+    int kicks;
+    double step_work; /* the work of the loads and node forces in the step under way */
     double *
         rsc; /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch); mixed: body impulses (3 nl) */
     char err[640];
@@ -4912,7 +4914,7 @@ RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
     size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, eu, ebt, jsc,
-        rsc, input_torque, input_node, node_applied;
+        rsc, input_torque, input_node, node_applied, kick_node;
 } rj__slayout;
 
 static void rj__state_layout(const rj_model *m, rj__slayout *L)
@@ -4940,6 +4942,7 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->input_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
     L->input_node = rj__carve(&off, 3 * (size_t) m->nn, sizeof(double));
     L->node_applied = rj__carve(&off, 3 * (size_t) m->nn, sizeof(double));
+    L->kick_node = rj__carve(&off, (size_t) m->nn, sizeof(int));
     L->total = off == (size_t) -1 ? off : off + RJ__ALIGN;
 }
 
@@ -5113,6 +5116,7 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->input_torque = (double *) (void *) (base + L.input_torque);
     s->input_node = (double *) (void *) (base + L.input_node);
     s->node_applied = (double *) (void *) (base + L.node_applied);
+    s->kick_node = (int *) (void *) (base + L.kick_node);
     rj_state_reset(m, s);
     *out = s;
     return RJ_OK;
@@ -6339,50 +6343,65 @@ static double rj__stage_loads(const rj_model *m, rj_state *s, double t, const do
     return work;
 }
 
-/* The caller's node forces are numbers the step can use (as rj__inputs_ok). */
-static int rj__node_inputs_ok(const rj_model *m, rj_state *s)
+/* A caller's node force that is not a number the step can use (finite, within 1e100, the
+   checkpoints' bound) stops the step, naming it, the state as it was. */
+static int rj__node_input_ok(const rj_model *m, rj_state *s, int n)
 {
-    const size_t count = 3 * (size_t) m->nn;
-    size_t i;
-    for (i = 0; i < count; i++) {
-        const double value = s->input_node[i];
-        if (fabs(value) <= 1e100)
+    const double *in = s->input_node + 3 * (size_t) n;
+    int k;
+    for (k = 0; k < 3; k++) {
+        if (fabs(in[k]) <= 1e100)
             continue;
         rj__stop(m, s, RJ_ERR_INVALID,
-                 "t = %.9g s: rj_state_node_forces()[%lu] = %g (node %lu, %s) is not a finite "
+                 "t = %.9g s: rj_state_node_forces()[%d] = %g (node %d, %s) is not a finite "
                  "value within 1e100",
-                 RJ__FS(m, s->fd[s->cur])[RJ__FS_TIME], (unsigned long) i, value,
-                 (unsigned long) (i / 3), i % 3 == 2 ? "moment, N m" : "force, N");
+                 RJ__FS(m, s->fd[s->cur])[RJ__FS_TIME], 3 * n + k, in[k], n,
+                 k == 2 ? "moment, N m" : "force, N");
         return 0;
     }
     return 1;
 }
 
-/* Stage 2d, the caller's node forces on the nodes the step advances after the joints
-   (m->dnode); the others, which the beam pass has advanced, take theirs as a kick in
-   stage 4 (rj__node_inputs_kick). Their work over the step before, with the forces the
-   last step applied (s->node_applied), into s->step_work. */
+/* The node forces' sizes now and at the last step, summed: 0 when there are none to
+   apply nor to account for (NaN for a NaN: the stage then refuses it). Branch-free, as most
+   nodes of most states have none. */
+static RJ__INLINE double rj__node_input_size(const double *in, const double *prev)
+{
+    return (fabs(in[0]) + fabs(in[1])) + (fabs(in[2]) + fabs(prev[0])) +
+           (fabs(prev[1]) + fabs(prev[2]));
+}
+
+/* Stage 2d, the caller's node forces, only where they or the last step's are not zero:
+   on the nodes the step advances after the joints (m->dnode) with the joints' forces; the
+   others, which the beam pass has advanced, are listed in s->kick_node for a kick in stage
+   4 (rj__node_inputs_kick). Their work over the step before, with the forces the last
+   step applied (s->node_applied), into s->step_work. */
 static rj_result rj__stage_node_inputs(const rj_model *m, rj_state *s, const double *at_n)
 {
     double work = 0;
-    int i;
-    if (!rj__node_inputs_ok(m, s))
-        return RJ_ERR_INVALID;
-    for (i = 0; i < m->ndn; i++) {
-        const int n = m->dnode[i];
-        const double *in = s->input_node + 3 * (size_t) n;
-        s->fx[n] += in[0];
-        s->fy[n] += in[1];
-        s->mz[n] += in[2];
+    int i, kicks = 0;
+    for (i = 0; i < m->nn; i++) {
+        const double *in = s->input_node + 3 * (size_t) i;
+        const double *prev = s->node_applied + 3 * (size_t) i;
+        if (rj__node_input_size(in, prev) == 0)
+            continue;
+        if (!rj__node_input_ok(m, s, i))
+            return RJ_ERR_INVALID;
+        work += rj__node_work(m, at_n, i, in, prev);
+        if (!rj__is_dnode(m, i)) {
+            s->kick_node[kicks++] = i;
+            continue;
+        }
+        s->fx[i] += in[0];
+        s->fy[i] += in[1];
+        s->mz[i] += in[2];
     }
-    for (i = 0; i < m->nn; i++)
-        work += rj__node_work(m, at_n, i, s->input_node + 3 * (size_t) i,
-                              s->node_applied + 3 * (size_t) i);
+    s->kicks = kicks;
     s->step_work += work;
     return RJ_OK;
 }
 
-/* Stage 4, the caller's forces on the nodes the beam pass advanced (not in m->dnode):
+/* Stage 4, the caller's forces on the nodes the beam pass advanced (s->kick_node):
    v^{n+1/2} takes kick f / m on top, x^{n+1} follows, and the node's share of the kinetic
    energy the matching v^{n-1/2} . kick f. at_n, advanced: the frames of the nodes at n
    and at n + 1 (rj__frames_nodes). */
@@ -6392,17 +6411,13 @@ static RJ__NOINLINE void rj__node_inputs_kick(const rj_model *m, rj_state *s, co
     const double *vx = RJ__FVX(m, at_n), *vy = RJ__FVY(m, at_n), *w = RJ__FW(m, at_n);
     double *nx = RJ__FX(m, advanced), *ny = RJ__FY(m, advanced), *nphi = RJ__FPHI(m, advanced);
     double *nvx = RJ__FVX(m, advanced), *nvy = RJ__FVY(m, advanced), *nw = RJ__FW(m, advanced);
-    int i, d = 0;
-    for (i = 0; i < m->nn; i++) {
+    int k;
+    for (k = 0; k < s->kicks; k++) {
+        const int i = s->kick_node[k];
         const double *in = s->input_node + 3 * (size_t) i;
-        double dvx, dvy, dw;
-        if (d < m->ndn && m->dnode[d] == i) {
-            d++;
-            continue;
-        }
-        dvx = kick * in[0] * m->tinv[i];
-        dvy = kick * in[1] * m->tinv[i];
-        dw = kick * in[2] * m->rinv[i];
+        const double dvx = kick * in[0] * m->tinv[i];
+        const double dvy = kick * in[1] * m->tinv[i];
+        const double dw = kick * in[2] * m->rinv[i];
         s->kn[i] += m->kmass[i] * (vx[i] * dvx + vy[i] * dvy) + m->krot[i] * w[i] * dw;
         nvx[i] += dvx;
         nvy[i] += dvy;
@@ -7476,6 +7491,16 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_sta
     return RJ_OK;
 }
 
+/* The caller's node forces, every one a number the step can use (rj__node_input_ok). */
+static int rj__rig_node_inputs_ok(const rj_model *m, rj_state *s)
+{
+    int i;
+    for (i = 0; i < m->nn; i++)
+        if (!rj__node_input_ok(m, s, i))
+            return 0;
+    return 1;
+}
+
 /* Rigid step, stage 7: the kinetic energy 1/2 q'^{n-1/2} M q'^{n+1/2} (q'^{-1/2} = 2 q'(0)
    - q'^{1/2}), the accounts (every step) and the energy tests; commit (nodes are computed
    when queried: rj__rig_pose). */
@@ -7534,7 +7559,7 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
     rj__rig_map(m, s->rsc, &r);
     if (s->inputs && !rj__inputs_ok(m, s))
         return RJ_ERR_INVALID;
-    if (s->node_inputs && !rj__node_inputs_ok(m, s))
+    if (s->node_inputs && !rj__rig_node_inputs_ok(m, s))
         return RJ_ERR_INVALID;
     res = rj__rig_stage_kinematics(m, s, &f, &r);
     if (res != RJ_OK)

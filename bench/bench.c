@@ -6,8 +6,9 @@
    build/bench [--out FILE.md] [--plot FILE.png] [--quick] [--only fidelity|features]
 
    Sections: 1 throughput, 2 deployment and 3 impact (speed against error), 4 fidelity (which
-   link model for which job), 5 feature cost (time per step with each joint feature), 6 model
-   build, 7 side by side with a MuJoCo peer (build/peer_side's section, quoted by --peer).
+   link model for which job), 5 feature cost (time per step with each joint or load
+   feature), 6 model build, 7 side by side with a MuJoCo peer (build/peer_side's section,
+   quoted by --peer).
 
    Wall times are clock_gettime(CLOCK_MONOTONIC) around rj_step / rj_run only (model and
    state creation, resets and reference bookkeeping are outside the timed region). */
@@ -36,7 +37,7 @@ static const char usage[] =
     "                   plot (tip amplitude) goes to FILE_tip.png (default docs/work_precision.png)\n"
     "  --quick          a short smoke-test version (< 40 s); its numbers are not converged\n"
     "  --only SECTION   one section alone: fidelity (section 4, about 80 s, with its own\n"
-    "                   40-element deployment reference) or features (section 5, about 40 s);\n"
+    "                   40-element deployment reference) or features (section 5, about 55 s);\n"
     "                   the report goes to standard output unless --out is given; throughput\n"
     "                   (section 1's step costs alone, as a fragment for --native), or build\n"
     "                   (section 6: model build time and memory, 10 to 10000 links)\n"
@@ -1605,11 +1606,22 @@ static void fidelity_report(void)
    one joint between them) with one joint feature at a time on the joint between the links:
    a scene should pay only for what it uses. All scenes run at the same dt; the ladder is
    timed round-robin (every round runs every scene once) so that load changes on a shared
-   machine hit all scenes alike. */
+   machine hit all scenes alike. The load rows are the bare scene with one load feature
+   instead: gravity, a caller's input (set on the state after every reset) or a load in
+   the model. */
 enum { FT_NONE = 0, FT_FREE, FT_LOCKED, FT_CONTACT };
+/* load features (fspec.load) */
+enum { FT_LOAD_NONE = 0, FT_GRAVITY, FT_JOINT_TORQUE, FT_NODE_FORCE, FT_LOAD_CONSTANT, FT_LOAD_FOLLOWER };
+#define FT_GRAVITY_Y (-9.81)      /* m/s^2, solver.gravity (0, FT_GRAVITY_Y) */
+#define FT_TORQUE 0.1             /* N m, the caller's constant torque on joint 2 */
+#define FT_TIP_FORCE_Y (-1.0)     /* N, the caller's force and the constant load on link 2's tip (0, this) */
+#define FT_FOLLOWER_Y 1.0         /* N, the follower load across link 2's tip (0, this) in the tip's frame */
+static const double ft_follower_time[4] = { 0.0, 4.0, 8.0, 12.0 };   /* s, its table */
+static const double ft_follower_factor[4] = { 0.0, 1.0, -1.0, 1.0 };
 typedef struct fspec {
     const char *name;
     int spring, damping, friction, table, limit, lstate, layers, chord, fid;
+    int load;                     /* FT_LOAD_NONE or one load feature */
 } fspec;
 typedef struct fres {
     int ok;
@@ -1620,11 +1632,13 @@ typedef struct fres {
     long samples, on, locked;                  /* joint 2's flag at the end of every chunk: count, not free, latched */
     int touched, released;                     /* runs with a contact (rj_joint_event_time), with a release (rj_joint_release_time) */
     double first_contact, tsim;                /* s, latest first contact over the runs; simulated time of a run */
+    double acct;                               /* load rows: the load's account at the end of the last run (J) */
+    int acted;                                 /* load rows: runs that ended with that account nonzero */
 } fres;
 
 #define FT_CHUNKS 100
 
-#define FT_MAX 24
+#define FT_MAX 32
 static struct {
     int ran, n, rounds;
     fspec spec[FT_MAX];
@@ -1634,7 +1648,7 @@ static struct {
     double shortest;               /* s, the shortest timed run */
 } FT;
 
-static void ft_scene(const fspec *f, double dt, double K, rj_link_def L[2], rj_joint_def J[2], rj_scene_def *sc)
+static void ft_scene(const fspec *f, double dt, double K, rj_link_def L[2], rj_joint_def J[2], rj_load_def LD[1], rj_scene_def *sc)
 {
     int i;
     for (i = 0; i < 2; i++) {
@@ -1670,22 +1684,52 @@ static void ft_scene(const fspec *f, double dt, double K, rj_link_def L[2], rj_j
     *sc = rj_default_scene_def();
     sc->links = L; sc->link_count = 2; sc->joints = J; sc->joint_count = 2;
     sc->solver.dt = dt;
+    if (f->load == FT_GRAVITY) sc->solver.gravity[1] = FT_GRAVITY_Y;
+    if (f->load == FT_LOAD_CONSTANT || f->load == FT_LOAD_FOLLOWER) {
+        /* a load in the model on link 2's tip (node -1: its last node) */
+        LD[0] = rj_default_load_def();
+        LD[0].link = 1; LD[0].node = -1;
+        if (f->load == FT_LOAD_CONSTANT) LD[0].force[1] = FT_TIP_FORCE_Y;
+        else {
+            LD[0].force[1] = FT_FOLLOWER_Y; LD[0].follower = 1;
+            LD[0].table_count = 4;
+            for (i = 0; i < 4; i++) { LD[0].table_time[i] = ft_follower_time[i]; LD[0].table_factor[i] = ft_follower_factor[i]; }
+        }
+        sc->loads = LD; sc->load_count = 1;
+    }
+}
+
+/* rj_state_reset, then the caller's inputs of a load row: the reset zeroes them and switches
+   them off, so they are set again after every reset (outside the timed region) */
+static void ft_reset(const fspec *f, const rj_model *m, rj_state *s)
+{
+    rj_state_reset(m, s);
+    if (f->load == FT_JOINT_TORQUE) rj_state_joint_torques(m, s)[1] = FT_TORQUE;
+    if (f->load == FT_NODE_FORCE) rj_state_node_forces(m, s)[3 * rj_model_node_index(m, 1, -1) + 1] = FT_TIP_FORCE_Y;
+}
+
+/* a load row's account at the end of a run: gravity's potential, or the work of the load or input */
+static double ft_load_account(const fspec *f, const rj_model *m, const rj_state *s)
+{
+    rj_energy e;
+    rj_state_energy(m, s, &e);
+    return f->load == FT_GRAVITY ? e.gravity : e.work_applied;
 }
 
 /* builds scene f at dt (0: automatic); penalty: K = Eq 31 at dt, halved until the bound accepts it */
 static rj_result ft_build(const fspec *f, double dt, double *K, rj_model **m, rj_error *err)
 {
-    rj_link_def L[2]; rj_joint_def J[2]; rj_scene_def sc;
+    rj_link_def L[2]; rj_joint_def J[2]; rj_load_def LD[1]; rj_scene_def sc;
     rj_result r;
     int i;
     *K = 0;
-    ft_scene(f, dt, 1.0, L, J, &sc);
+    ft_scene(f, dt, 1.0, L, J, LD, &sc);
     r = rj_model_create(&sc, m, err, NULL);
     if (r != RJ_OK || f->limit != RJ_METHOD_PENALTY) return r;
     *K = rj_joint_kmax_eq31(*m, 1, rj_model_dt(*m));
     rj_model_destroy(*m, NULL);
     for (i = 0; i < 40; i++) {
-        ft_scene(f, dt, *K, L, J, &sc);
+        ft_scene(f, dt, *K, L, J, LD, &sc);
         r = rj_model_create(&sc, m, err, NULL);
         if (r != RJ_ERR_UNSTABLE_DT) return r;
         *K *= 0.5;
@@ -1698,6 +1742,14 @@ static void ft_add(const char *name, int spring, int damping, int friction, int 
     fspec *f = &FT.spec[FT.n++];
     f->name = name; f->spring = spring; f->damping = damping; f->friction = friction; f->table = table;
     f->limit = limit; f->lstate = lstate; f->layers = layers; f->chord = chord; f->fid = fid;
+    f->load = FT_LOAD_NONE;
+}
+
+/* the bare scene with one load feature */
+static void ft_add_load(const char *name, int load)
+{
+    ft_add(name, 0, 0, 0, 0, -1, FT_NONE, 1, 0, RJ_LINK_FLEXIBLE);
+    FT.spec[FT.n - 1].load = load;
 }
 
 static void features_section(void)
@@ -1733,6 +1785,11 @@ static void features_section(void)
     ft_add("everything on, chord reference, penalty limits", 1, 1, 1, 1, RJ_METHOD_PENALTY, FT_FREE, 8, 1, RJ_LINK_FLEXIBLE);
     ft_add("inextensible links (bare joints)", 0, 0, 0, 0, -1, FT_NONE, 1, 0, RJ_LINK_INEXTENSIBLE);
     ft_add("rigid links (bare joints)", 0, 0, 0, 0, -1, FT_NONE, 1, 0, RJ_LINK_RIGID);
+    ft_add_load("+ gravity (solver.gravity 0 -9.81)", FT_GRAVITY);
+    ft_add_load("+ caller's joint torques (rj_state_joint_torques, a constant 0.1 N m on joint 2)", FT_JOINT_TORQUE);
+    ft_add_load("+ caller's node forces (rj_state_node_forces, a force on the tip)", FT_NODE_FORCE);
+    ft_add_load("+ applied load at the tip, constant", FT_LOAD_CONSTANT);
+    ft_add_load("+ applied load at the tip, follower, with a 4-point time table", FT_LOAD_FOLLOWER);
     /* one dt for all: the smallest automatic dt of the flexible scenes (penalty with K = Eq 31 at
        it) among those that the library also accepts when that dt is given explicitly */
     FT.dt = HUGE_VAL;
@@ -1762,7 +1819,7 @@ static void features_section(void)
         if (rj_state_create(M[i], &ST[i], NULL) != RJ_OK) { snprintf(o->msg, sizeof o->msg, "no memory"); rj_model_destroy(M[i], NULL); M[i] = NULL; continue; }
         /* a first trial run of at least a quarter of min_time */
         for (;;) {
-            rj_state_reset(M[i], ST[i]);
+            ft_reset(&FT.spec[i], M[i], ST[i]);
             t = now();
             for (j = 0; j < n; j++) if (rj_step(M[i], ST[i]) != RJ_OK) break;
             t = now() - t;
@@ -1781,7 +1838,7 @@ static void features_section(void)
             long j;
             double t;
             if (!FT.res[i].ok) continue;
-            rj_state_reset(M[i], ST[i]);
+            ft_reset(&FT.spec[i], M[i], ST[i]);
             t = now();
             for (j = 0; j < trial_n[i]; j++) if (rj_step(M[i], ST[i]) != RJ_OK) break;
             t = now() - t;
@@ -1795,7 +1852,7 @@ static void features_section(void)
        The scene's cost relative to the bare scene is then taken round by round (paired). */
     for (k = 0; k < rounds; k++) {
         int q, c;
-        for (i = 0; i < FT.n; i++) { W[i][k] = C[i][k] = 0; if (FT.res[i].ok) rj_state_reset(M[i], ST[i]); }
+        for (i = 0; i < FT.n; i++) { W[i][k] = C[i][k] = 0; if (FT.res[i].ok) ft_reset(&FT.spec[i], M[i], ST[i]); }
         for (c = 0; c < FT_CHUNKS; c++) {
             for (q = 0; q < FT.n; q++) {
                 fres *o;
@@ -1827,6 +1884,11 @@ static void features_section(void)
             if (tr >= 0) o->released++;
             o->first_contact = fmax(o->first_contact, te);
             o->tsim = rj_state_time(ST[i]);
+            if (FT.spec[i].load != FT_LOAD_NONE) {
+                /* the load acted in the timed steps: its account is nonzero at the end of the run */
+                o->acct = ft_load_account(&FT.spec[i], M[i], ST[i]);
+                if (o->acct != 0) o->acted++;
+            }
             if (FT.shortest == 0 || W[i][k] < FT.shortest) FT.shortest = W[i][k];
             W[i][k] *= 1e9 / FT.res[i].steps; C[i][k] *= 1e9 / FT.res[i].steps;
         }
@@ -1849,7 +1911,9 @@ static void features_section(void)
             o->mn = o->mx = W[i][0];
             for (k = 1; k < rounds; k++) { o->mn = fmin(o->mn, W[i][k]); o->mx = fmax(o->mx, W[i][k]); }
             /* what joint 2 did: the library's first-contact and release times of every run, and its flag at every chunk end */
-            if (f->limit < 0) snprintf(o->state, sizeof o->state, "%.3g s simulated", o->tsim);
+            if (f->load == FT_GRAVITY) snprintf(o->state, sizeof o->state, "%.3g s simulated; gravity's potential nonzero at the end of %d of %d runs (%.3g J)", o->tsim, o->acted, FT.rounds, o->acct);
+            else if (f->load != FT_LOAD_NONE) snprintf(o->state, sizeof o->state, "%.3g s simulated; the load's work nonzero at the end of %d of %d runs (%.3g J)", o->tsim, o->acted, FT.rounds, o->acct);
+            else if (f->limit < 0) snprintf(o->state, sizeof o->state, "%.3g s simulated", o->tsim);
             else if (f->lstate == FT_FREE && !o->touched) snprintf(o->state, sizeof o->state, "free throughout (%.3g s)", o->tsim);
             else if (f->lstate == FT_LOCKED && o->locked == o->samples && !o->released)
                 snprintf(o->state, sizeof o->state, "latched from %.3g ms to the end (%.3g s)", 1e3 * o->first_contact, o->tsim);
@@ -1963,6 +2027,15 @@ static void features_report(void)
        "Joint 2's column checks that the scene did what its name says: the library's first-contact and release times after every run, "
        "and joint 2's flag at every chunk end (outside the timed region).\n\n",
        FT.dt * 1e6, FT.min_time, FT.shortest, FT.rounds, FT_CHUNKS);
+    md("The load rows (after the link models) are the bare scene, joints bare, with one load feature instead: gravity (`solver.gravity` = (0, %g) m/s^2, in the plane of the motion); "
+       "a caller's input, set on the state after every reset, outside the timed region (`rj_state_reset` zeroes the inputs and switches them off): "
+       "%g N m on joint 2 (`rj_state_joint_torques`), or a force (0, %g) N on link 2's tip (`rj_state_node_forces`); "
+       "or a load in the model on link 2's tip (`rj_scene_def.loads`): the same (0, %g) N, constant, or (0, %g) N in the tip's own frame (across the link; `follower` 1) "
+       "scaled by the table (%g s, %g), (%g s, %g), (%g s, %g), (%g s, %g). They change the motion (joint 2 is free, so link 2 swings under them), which leaves the cost of a step "
+       "alone; their column gives, instead of joint 2's limits, gravity's potential or the work of the load (`rj_energy`) at the end of every run: nonzero means it acted in the timed steps. "
+       "The bare scene and the rows above them use none of these: their times are what a scene that does not use them pays.\n\n",
+       FT_GRAVITY_Y, FT_TORQUE, FT_TIP_FORCE_Y, FT_TIP_FORCE_Y, FT_FOLLOWER_Y,
+       ft_follower_time[0], ft_follower_factor[0], ft_follower_time[1], ft_follower_factor[1], ft_follower_time[2], ft_follower_factor[2], ft_follower_time[3], ft_follower_factor[3]);
     md("| scene | joint 2 during the run | steps per run | ns / step, wall median | wall min | wall max | CPU median | vs bare, wall (range) | vs bare, CPU |\n");
     md("|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
     for (i = 0; i < FT.n; i++) {
@@ -1986,7 +2059,7 @@ static void features_report(void)
         double spread = (b->mx - b->mn) / b->mn;
         int nbig = 0, nsmall = 0, nunc = 0;
         md("Reading: the bare scene costs %.0f ns per step (%.1f ns per node-step over its 22 nodes; its rounds spread by %.0f %%, max over min). ", b->med, b->med / 22.0, 100 * spread);
-        md("Joint and section features that add more than 5 %% in every round: ");
+        md("Joint, section and load features that add more than 5 %% in every round: ");
         for (i = 1; i < FT.n; i++) {
             const fres *o = &FT.res[i];
             if (!o->ok || FT.spec[i].fid != RJ_LINK_FLEXIBLE) continue;
@@ -2025,11 +2098,15 @@ static void headline_fidelity_features(void)
         else md("; no level meets the vibration criterion.\n");
     }
     if (FT.ran && FT.res[0].ok) {
-        int i, w = -1;
-        for (i = 1; i < FT.n; i++)
-            if (FT.res[i].ok && FT.spec[i].fid == RJ_LINK_FLEXIBLE && (w < 0 || FT.res[i].ratio > FT.res[w].ratio)) w = i;
+        int i, w = -1, wl = -1;
+        for (i = 1; i < FT.n; i++) {
+            if (!FT.res[i].ok || FT.spec[i].fid != RJ_LINK_FLEXIBLE) continue;
+            if (FT.spec[i].load == FT_LOAD_NONE) { if (w < 0 || FT.res[i].ratio > FT.res[w].ratio) w = i; }
+            else if (wl < 0 || FT.res[i].ratio > FT.res[wl].ratio) wl = i;
+        }
         md("- Feature cost (section 5): the bare two-link scene takes **%.0f ns per step**", FT.res[0].med);
         if (w >= 0) md("; the dearest combination of joint features is *%s* at %+.0f %%", FT.spec[w].name, 100 * (FT.res[w].ratio - 1));
+        if (wl >= 0) md("; the dearest load feature is *%s* at %+.0f %%", FT.spec[wl].name, 100 * (FT.res[wl].ratio - 1));
         md(".\n");
     }
 }

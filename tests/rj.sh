@@ -199,4 +199,15 @@ ok "run --settle: the cantilever starts from its sag under gravity and stays the
      { d = -\$y / 5.694705e-3 - 1; if (d < 0) d = -d; if (d > 3e-5 || \$g >= 0) exit 1; n++ } END { exit n < 5 }' $T/sag.csv"
 ok "run without --settle: the same cantilever starts straight" \
   "$B/rj run $T/cantilever.rjs --t-end 0 --csv - 2>/dev/null | awk -F, 'NR == 2 { exit !(\$3 == 0) }'"
+
+# ---- a load section: the elastica scene settles to the classical large-deflection shape
+# (tip v/L 0.8106090, u/L 0.5549956 at P L^2 / EI = 10: tests/elastica_ref.py) within the
+# mesh error of 40 elements (second order: 8e-5 measured), and its load did the work
+$B/rj run $S/elastica.rjs --settle --t-end 0 --csv $T/elastica.csv 2>$T/elastica.err
+ok "run --settle: the elastica scene's tip against the large-deflection solution" \
+  "grep -q 'settled to the static equilibrium' $T/elastica.err && awk -F, 'NR == 2 { v = -\$3 - 0.8106090; u = 1 - \$2 - 0.5549956;
+     if (v < 0) v = -v; if (u < 0) u = -u; exit !(v < 2e-4 && u < 2e-4) }' $T/elastica.csv"
+ok "run: the elastica scene's ramped load does work, and the balance closes" \
+  "$B/rj run $S/elastica.rjs --t-end 0.6 --sample 0.1 --csv - 2>/dev/null | awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) { if (\$i == \"W_applied\") w = i; if (\$i == \"E_balance\") b = i } next }
+     { last_w = \$w; bal = \$b < 0 ? -\$b : \$b; if (bal > 1e-6 * (last_w + 1e-3)) exit 1 } END { exit !(last_w > 1) }'"
 exit 0
