@@ -6513,17 +6513,22 @@ static RJ__FORCE_INLINE void rj__gravity_kick(const rj_model *m, rj_state *s, co
 {
     const double dvx = f->kick * m->solver.gravity[0], dvy = f->kick * m->solver.gravity[1];
     const double dt = f->dt;
+    const double *RJ__RESTRICT kmass = m->kmass, *RJ__RESTRICT vx = f->vx, *RJ__RESTRICT vy = f->vy;
+    double *RJ__RESTRICT kn = s->kn, *RJ__RESTRICT nvx = f->nvx, *RJ__RESTRICT nvy = f->nvy;
+    double *RJ__RESTRICT nx = f->nx, *RJ__RESTRICT ny = f->ny;
+    double sum = 0; /* the positions written, for the finite test */
     int i;
     for (i = 0; i < m->nn; i++) {
-        if (!(m->kmass[i] > 0))
+        if (!(kmass[i] > 0))
             continue;
-        s->kn[i] += m->kmass[i] * (f->vx[i] * dvx + f->vy[i] * dvy);
-        f->nvx[i] += dvx;
-        f->nvy[i] += dvy;
-        f->nx[i] += dt * dvx;
-        f->ny[i] += dt * dvy;
-        *fin += f->nx[i] + f->ny[i];
+        kn[i] += kmass[i] * (vx[i] * dvx + vy[i] * dvy);
+        nvx[i] += dvx;
+        nvy[i] += dvy;
+        nx[i] += dt * dvx;
+        ny[i] += dt * dvy;
+        sum += nx[i] + ny[i];
     }
+    *fin += sum;
     if (f->en)
         e->gravity = rj__gravity_potential(m, f->x, f->y);
 }
