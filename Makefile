@@ -25,7 +25,7 @@ EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B
           $(B)/peer_side
 TESTS   = $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_benchmarks $(B)/test_rigid2 \
           $(B)/test_render $(B)/csvdiff $(B)/test_core_asan $(B)/test_dynamics_asan $(B)/test_beam_asan \
-          $(B)/test_core_clang $(B)/test_cpp $(B)/test_state $(B)/test_state_asan $(B)/test_scene $(B)/test_scene_asan $(B)/test_mixed $(B)/test_mixed_asan $(B)/test_loads $(B)/test_loads_asan $(B)/test_robust $(B)/test_robust_asan $(B)/stress
+          $(B)/test_core_clang $(B)/test_cpp $(B)/test_state $(B)/test_state_asan $(B)/test_scene $(B)/test_scene_asan $(B)/test_mixed $(B)/test_mixed_asan $(B)/test_loads $(B)/test_loads_asan $(B)/test_applied $(B)/test_applied_asan $(B)/test_robust $(B)/test_robust_asan $(B)/stress
 
 .PHONY: all deps test demo golden bench stress clean check-header valgrind fuzz peer
 all: deps $(EXAMPLES)
@@ -53,11 +53,11 @@ $(B)/quickstart: examples/quickstart.c $(HDR) | $(B)
 $(B)/pngdiff: render/pngdiff.c $(RENDER) | $(B)
 	$(CC) $(ALLCF) -DRJR_PNG_ONLY render/pngdiff.c render/rj_render.c -o $@ $(GL)
 
-$(B)/test_%: tests/test_%.c tests/rjt.h examples/scenes.h examples/rigid2.h $(HDR) | $(B)
+$(B)/test_%: tests/test_%.c tests/rjt.h tests/rjt_loads.h examples/scenes.h examples/rigid2.h $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
 $(B)/test_render: tests/test_render.c tests/rjt.h examples/scenes.h $(HDR) $(RENDER) | $(B)
 	$(CC) $(ALLCF) tests/test_render.c render/rj_render.c -o $@ $(GL)
-$(B)/test_%_asan: tests/test_%.c tests/rjt.h examples/scenes.h $(HDR) | $(B)
+$(B)/test_%_asan: tests/test_%.c tests/rjt.h tests/rjt_loads.h examples/scenes.h $(HDR) | $(B)
 	$(CC) $(WARN) $(SAN) -I. $< -o $@ -lm
 $(B)/test_core_clang: tests/test_core.c tests/rjt.h examples/scenes.h $(HDR) | $(B)
 	clang $(WARN) -O2 -I. tests/test_core.c -o $@ -lm
@@ -107,7 +107,7 @@ test: deps $(EXAMPLES) $(TESTS)
 	  "$(B)/test_core" "$(B)/test_core_clang" "$(B)/test_cpp" "$(B)/test_beam" "$(B)/test_dynamics" \
 	  "$(B)/test_benchmarks" "$(B)/test_rigid2" "$(B)/test_state" \
 	  "$(B)/test_core_asan" "$(B)/test_beam_asan" "$(B)/test_dynamics_asan" "$(B)/test_state_asan" \
-	  "$(B)/test_scene" "$(B)/test_scene_asan" "$(B)/test_mixed" "$(B)/test_mixed_asan" "$(B)/test_loads" "$(B)/test_loads_asan" \
+	  "$(B)/test_scene" "$(B)/test_scene_asan" "$(B)/test_mixed" "$(B)/test_mixed_asan" "$(B)/test_loads" "$(B)/test_loads_asan" "$(B)/test_applied" "$(B)/test_applied_asan" \
 	  "$(B)/test_robust" "$(B)/test_robust_asan" \
 	  "/usr/bin/python3 tests/elastica_ref.py" \
 	  "$(B)/stress --short" \

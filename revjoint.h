@@ -1260,6 +1260,34 @@ static int rj__all_rigid(const rj_scene_def *sc)
     return 1;
 }
 
+/* An array of the scene: count in fewest..100000 and the array there when count > 0.
+   name: "link" for link_count and a links array. */
+static int rj__check_array(rj_error *err, const char *name, int count, int fewest,
+                           const void *array)
+{
+    char field[32];
+    if (count >= fewest && count <= 100000 && (count == 0 || array))
+        return 1;
+    snprintf(field, sizeof field, "%s_count", name);
+    rj__fail(err, RJ_ERR_INVALID, field, count,
+             "%s = %d is invalid: need %d..100000 %ss and a %ss array", field, count, fewest, name,
+             name);
+    return 0;
+}
+
+/* Item i of a definitions array (field "links[%d]") was made by its default function
+   (maker, "rj_default_link_def()"): its cookie. */
+static int rj__check_cookie(rj_error *err, const char *field_format, int i, unsigned cookie,
+                            unsigned want, const char *maker)
+{
+    char f[64];
+    if (cookie == want)
+        return 1;
+    RJ__FIELD(f, field_format, i);
+    rj__fail(err, RJ_ERR_INVALID, f, 0, "%s was not initialised with %s", f, maker);
+    return 0;
+}
+
 /* A load's time table: 1..RJ_TABLE_MAX points, times finite and strictly increasing,
    factors finite within 1e100. */
 static int rj__validate_load_table(const rj_load_def *d, int i, rj_error *err)
@@ -1297,20 +1325,13 @@ static int rj__validate_loads(const rj_scene_def *sc, rj_error *err)
 {
     char f[64];
     int i;
-    if (sc->load_count < 0 || sc->load_count > 100000 || (sc->load_count > 0 && !sc->loads)) {
-        rj__fail(err, RJ_ERR_INVALID, "load_count", sc->load_count,
-                 "load_count = %d is invalid: need 0..100000 loads and a loads array",
-                 sc->load_count);
+    if (!rj__check_array(err, "load", sc->load_count, 0, sc->loads))
         return 0;
-    }
     for (i = 0; i < sc->load_count; i++) {
         const rj_load_def *d = &sc->loads[i];
-        if (d->cookie != RJ__COOKIE_LOAD) {
-            RJ__FIELD(f, "loads[%d]", i);
-            rj__fail(err, RJ_ERR_INVALID, f, 0, "%s was not initialised with rj_default_load_def()",
-                     f);
+        if (!rj__check_cookie(err, "loads[%d]", i, d->cookie, RJ__COOKIE_LOAD,
+                              "rj_default_load_def()"))
             return 0;
-        }
         if (d->link < 0 || d->link >= sc->link_count) {
             RJ__FIELD(f, "loads[%d].link", i);
             rj__fail(err, RJ_ERR_INVALID, f, d->link,
@@ -1359,18 +1380,9 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
         rj__fail(err, RJ_ERR_INVALID, "scene", 0, "scene is NULL");
         return 0;
     }
-    if (sc->link_count < 1 || sc->link_count > 100000 || !sc->links) {
-        rj__fail(err, RJ_ERR_INVALID, "link_count", sc->link_count,
-                 "link_count = %d is invalid: need 1..100000 links and a links array",
-                 sc->link_count);
+    if (!rj__check_array(err, "link", sc->link_count, 1, sc->links) ||
+        !rj__check_array(err, "joint", sc->joint_count, 0, sc->joints))
         return 0;
-    }
-    if (sc->joint_count < 0 || sc->joint_count > 100000 || (sc->joint_count > 0 && !sc->joints)) {
-        rj__fail(err, RJ_ERR_INVALID, "joint_count", sc->joint_count,
-                 "joint_count = %d is invalid: need 0..100000 joints and a joints array",
-                 sc->joint_count);
-        return 0;
-    }
     if (sc->solver.cookie != RJ__COOKIE_SOLVER) {
         rj__fail(err, RJ_ERR_INVALID, "solver", 0,
                  "solver was not initialised with rj_default_solver_def()");
@@ -1408,12 +1420,9 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
     }
     for (i = 0; i < sc->link_count; i++) {
         const rj_link_def *L = &sc->links[i];
-        if (L->cookie != RJ__COOKIE_LINK) {
-            RJ__FIELD(f, "links[%d]", i);
-            rj__fail(err, RJ_ERR_INVALID, f, 0, "%s was not initialised with rj_default_link_def()",
-                     f);
+        if (!rj__check_cookie(err, "links[%d]", i, L->cookie, RJ__COOKIE_LINK,
+                              "rj_default_link_def()"))
             return 0;
-        }
         RJ__FIELD(f, "links[%d].length", i);
         if (!rj__check_num(err, f, L->length, 0, 0, 1e6, 1, "must be in (0, 1e6] m"))
             return 0;
@@ -1496,12 +1505,9 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
     for (j = 0; j < sc->joint_count; j++) {
         const rj_joint_def *J = &sc->joints[j];
         int k;
-        if (J->cookie != RJ__COOKIE_JOINT) {
-            RJ__FIELD(f, "joints[%d]", j);
-            rj__fail(err, RJ_ERR_INVALID, f, 0,
-                     "%s was not initialised with rj_default_joint_def()", f);
+        if (!rj__check_cookie(err, "joints[%d]", j, J->cookie, RJ__COOKIE_JOINT,
+                              "rj_default_joint_def()"))
             return 0;
-        }
         if (J->body1 < -1 || J->body1 >= sc->link_count) {
             RJ__FIELD(f, "joints[%d].body1", j);
             rj__fail(err, RJ_ERR_INVALID, f, J->body1,
@@ -9404,61 +9410,140 @@ static int rj__sp_limit(rj__sp *P, int a, int *i, int b, const char *key, int *h
     return 1;
 }
 
-static int rj__sp_table(rj__sp *P, int a, int *i, int b, rj_joint_def *d)
+/* a link defined above the statement, named by t, into *link; users: what names links
+   (the message's "define links above the joints that use them") */
+static int rj__sp_link_ref(rj__sp *P, const rj__stok *t, const char *key, const char *users,
+                           int *link)
+{
+    const int idx = P->f->link_count ? rj__sp_find(t->s, t->len, (const char *) P->f->link_names,
+                                                   RJ_SCENE_NAME_MAX, P->f->link_count)
+                                     : -1;
+    char mean[48], tail[64];
+    if (idx >= 0) {
+        *link = idx;
+        return 1;
+    }
+    rj__sp_mean(mean, P->f->link_count ? rj__sp_near(t->s, t->len, (const char *) P->f->link_names,
+                                                     RJ_SCENE_NAME_MAX, P->f->link_count, ~0u)
+                                       : NULL);
+    rj__sp_cat(tail, sizeof tail, " (define links above the ", users, " that use them)", NULL, NULL,
+               NULL, NULL);
+    return rj__sp_err_tok(P, t, key, rj__sp_nan(), "unknown link ", rj__sp_for(P, key), tail, mean);
+}
+
+/* a node of a link: last (-1) or its index (the link's range is checked when its section
+   ends) */
+static int rj__sp_node_ref(rj__sp *P, const rj__stok *t, const char *key, int *i, int *node)
+{
+    if (rj__sp_is(t, "last"))
+        *node = -1;
+    else if (!rj__sp_int(P, t, key, 0, 1000000, node))
+        return 0;
+    (*i)++;
+    return 1;
+}
+
+/* What a table's pairs hold: the first an angle (deg or rad, in [0, 360] deg) or a plain
+   number, the second a plain number; their names and the second's unit for messages; the
+   fewest points a table has. */
+typedef struct rj__sp_form {
+    int angles;
+    const char *first, *second, *second_what, *second_unit, *shape;
+    int fewest;
+} rj__sp_form;
+
+/* the first value of a table's pair into *v (a: where it starts, for the range rule) */
+static int rj__sp_pair_first(rj__sp *P, int *i, int b, const rj__sp_form *t, double *out)
 {
     const char *key = "table";
-    char nb[24];
-    int n = 0;
-    for (;;) {
-        double v = 0, tq = 0;
-        int s = *i;
+    const int a = *i;
+    double v = 0;
+    if (!t->angles) {
+        if (!rj__sp_num(P, &P->tok[*i], key, out))
+            return 0;
+        (*i)++;
+        return 1;
+    }
+    if (!rj__sp_angle(P, i, b, key, 0, &v))
+        return 0;
+    /* angles may fall: as in rj_model_create, a fall starts a new run (Eq 4) */
+    if (!RJ__SP_RULE(v >= 0 && v <= 2.0 * 3.14159265358979323846,
+                     "table angles must be in [0, 360] deg"))
+        return 0;
+    *out = v;
+    return 1;
+}
+
+/* after a pair: the end of the table, or ',' and another pair; "1 Nm" gets why the
+   second takes no unit word. Returns 1 at the end, 2 for another pair, 0 on an error. */
+static int rj__sp_pair_next(rj__sp *P, int *i, int b, const rj__sp_form *t)
+{
+    const char *key = "table";
+    if (*i >= b)
+        return 1;
+    if (P->tok[*i].kind != ',') {
+        const rj__stok *u = &P->tok[*i], *q = &P->tok[*i - 1];
+        char h[200];
+        h[0] = 0;
+        if (t->second_unit && u->kind == 'w' && rj__sp_alpha((unsigned char) u->s[0]))
+            rj__sp_unit_hint(h, t->second_what, t->second_unit, q->s, q->len, u->s, u->len);
+        return rj__sp_err_tok(P, u, key, rj__sp_nan(),
+                              "expected ',' or the end of the table, found ", rj__sp_where(P),
+                              t->shape, h);
+    }
+    (*i)++;
+    if (*i >= b) {
+        const rj__stok *z = &P->tok[*i - 1];
+        return rj__sp_err(P, z->line, z->col, key, rj__sp_nan(), "table ends with ','",
+                          rj__sp_where(P), NULL, NULL, NULL);
+    }
+    return 2;
+}
+
+/* table = a b, a b, ...: t->fewest .. RJ_TABLE_MAX pairs into first[] and second[] */
+static int rj__sp_pairs(rj__sp *P, int *i, int b, const rj__sp_form *t, double *first,
+                        double *second, int *count)
+{
+    const char *key = "table";
+    char nb[24], missing[64];
+    int n = 0, a = *i, more = 2;
+    while (more == 2) {
+        a = *i;
         if (n == RJ_TABLE_MAX)
-            return rj__sp_err(P, P->tok[s].line, P->tok[s].col, key, rj__sp_nan(),
+            return rj__sp_err(P, P->tok[a].line, P->tok[a].col, key, rj__sp_nan(),
                               "table has more than ", rj__sp_itoa(nb, RJ_TABLE_MAX), " points",
                               rj__sp_where(P), NULL);
-        if (!rj__sp_angle(P, i, b, key, 0, &v))
+        if (!rj__sp_pair_first(P, i, b, t, &first[n]))
             return 0;
-        a = s;
-        /* angles may fall: as in rj_model_create, a fall starts a new run (Eq 4) */
-        if (!RJ__SP_RULE(v >= 0 && v <= 2.0 * 3.14159265358979323846,
-                         "table angles must be in [0, 360] deg"))
-            return 0;
-        if (*i >= b) {
+        if (*i >= b || P->tok[*i].kind == ',') {
             const rj__stok *z = &P->tok[*i - 1];
-            return rj__sp_err(P, z->line, z->col + z->len, key, rj__sp_nan(),
-                              "missing torque after the table angle", rj__sp_where(P),
-                              " (table = angle torque, angle torque, ...)", NULL, NULL);
+            rj__sp_cat(missing, sizeof missing, "missing ", t->second, " after the table ",
+                       t->first, NULL, NULL, NULL);
+            return rj__sp_err(P, z->line, z->col + z->len, key, rj__sp_nan(), missing,
+                              rj__sp_where(P), t->shape, NULL, NULL);
         }
-        if (!rj__sp_num(P, &P->tok[*i], key, &tq))
+        if (!rj__sp_num(P, &P->tok[*i], key, &second[n]))
             return 0;
         (*i)++;
-        d->table_angle[n] = v;
-        d->table_torque[n] = tq;
         n++;
-        if (*i >= b)
-            break;
-        if (P->tok[*i].kind != ',') { /* "1 Nm": say torques take no unit word */
-            const rj__stok *u = &P->tok[*i], *q = &P->tok[*i - 1];
-            char h[200];
-            h[0] = 0;
-            if (u->kind == 'w' && rj__sp_alpha((unsigned char) u->s[0]))
-                rj__sp_unit_hint(h, "a torque", "N m", q->s, q->len, u->s, u->len);
-            return rj__sp_err_tok(P, u, key, rj__sp_nan(),
-                                  "expected ',' or the end of the table, found ", rj__sp_where(P),
-                                  " (table = angle torque, angle torque, ...)", h);
-        }
-        (*i)++;
-        if (*i >= b) {
-            const rj__stok *z = &P->tok[*i - 1];
-            return rj__sp_err(P, z->line, z->col, key, rj__sp_nan(), "table ends with ','",
-                              rj__sp_where(P), NULL, NULL, NULL);
-        }
+        more = rj__sp_pair_next(P, i, b, t);
+        if (!more)
+            return 0;
     }
-    if (n < 2)
+    if (n < t->fewest)
         return rj__sp_err(P, P->tok[a].line, P->tok[a].col, key, rj__sp_nan(),
                           "a table needs at least 2 points", rj__sp_where(P), NULL, NULL, NULL);
-    d->table_count = n;
+    *count = n;
     return 1;
+}
+
+/* a joint's table = angle torque, angle torque, ... (Eq 4) */
+static int rj__sp_table(rj__sp *P, int *i, int b, rj_joint_def *d)
+{
+    static const rj__sp_form form = {
+        1, "angle", "torque", "a torque", "N m", " (table = angle torque, angle torque, ...)", 2
+    };
+    return rj__sp_pairs(P, i, b, &form, d->table_angle, d->table_torque, &d->table_count);
 }
 
 static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def *d)
@@ -9480,18 +9565,8 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
             (*i)++;
             return 1;
         }
-        idx = P->f->link_count ? rj__sp_find(t->s, t->len, (const char *) P->f->link_names,
-                                             RJ_SCENE_NAME_MAX, P->f->link_count)
-                               : -1;
-        if (idx < 0) {
-            char mean[48];
-            rj__sp_mean(mean, P->f->link_count
-                                  ? rj__sp_near(t->s, t->len, (const char *) P->f->link_names,
-                                                RJ_SCENE_NAME_MAX, P->f->link_count, ~0u)
-                                  : NULL);
-            return rj__sp_err_tok(P, t, key, rj__sp_nan(), "unknown link ", rj__sp_for(P, key),
-                                  " (define links above the joints that use them)", mean);
-        }
+        if (!rj__sp_link_ref(P, t, key, "joints", &idx))
+            return 0;
         if (k == RJ__JK_BODY1)
             d->body1 = idx;
         else
@@ -9500,15 +9575,7 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
         return 1;
     }
     case RJ__JK_NODE1:
-        if (rj__sp_is(t, "last")) {
-            d->node1 = -1;
-            (*i)++;
-            return 1;
-        }
-        if (!rj__sp_int(P, t, key, 0, 1000000, &d->node1))
-            return 0;
-        (*i)++;
-        return 1;
+        return rj__sp_node_ref(P, t, key, i, &d->node1);
     case RJ__JK_GROUND_ANGLE:
         return rj__sp_angle(P, i, b, key, 0, &d->ground_angle);
     case RJ__JK_ANGLE0:
@@ -9521,7 +9588,7 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
     case RJ__JK_RATE0:
         return rj__sp_angle(P, i, b, key, 1, &d->rate0);
     case RJ__JK_TABLE:
-        return rj__sp_table(P, a, i, b, d);
+        return rj__sp_table(P, i, b, d);
     case RJ__JK_SPRING:
         if (!rj__sp_num(P, t, key, &v))
             return 0;
@@ -9667,65 +9734,10 @@ static int rj__sp_solver_key(rj__sp *P, int k, int a, int *i, int b, rj_solver_d
    (strictly increasing: rj_model_create checks it, naming the point) */
 static int rj__sp_load_table(rj__sp *P, int *i, int b, rj_load_def *d)
 {
-    const char *key = "table";
-    char nb[24];
-    int n = 0;
-    for (;;) {
-        const int s = *i;
-        double time = 0, factor = 0;
-        if (n == RJ_TABLE_MAX)
-            return rj__sp_err(P, P->tok[s].line, P->tok[s].col, key, rj__sp_nan(),
-                              "table has more than ", rj__sp_itoa(nb, RJ_TABLE_MAX), " points",
-                              rj__sp_where(P), NULL);
-        if (!rj__sp_num(P, &P->tok[*i], key, &time))
-            return 0;
-        (*i)++;
-        if (*i >= b || P->tok[*i].kind == ',') {
-            const rj__stok *z = &P->tok[*i - 1];
-            return rj__sp_err(P, z->line, z->col + z->len, key, rj__sp_nan(),
-                              "missing factor after the table time", rj__sp_where(P),
-                              " (table = time factor, time factor, ...)", NULL, NULL);
-        }
-        if (!rj__sp_num(P, &P->tok[*i], key, &factor))
-            return 0;
-        (*i)++;
-        d->table_time[n] = time;
-        d->table_factor[n] = factor;
-        n++;
-        if (*i >= b || P->tok[*i].kind != ',')
-            break;
-        (*i)++;
-        if (*i >= b) {
-            const rj__stok *z = &P->tok[*i - 1];
-            return rj__sp_err(P, z->line, z->col, key, rj__sp_nan(), "table ends with ','",
-                              rj__sp_where(P), NULL, NULL, NULL);
-        }
-    }
-    d->table_count = n;
-    return 1;
-}
-
-/* a load's link: a link defined above it */
-static int rj__sp_load_link(rj__sp *P, const rj__stok *t, int *i, rj_load_def *d)
-{
-    int idx;
-    if (!rj__sp_name_ref(P, t, "link"))
-        return 0;
-    idx = P->f->link_count ? rj__sp_find(t->s, t->len, (const char *) P->f->link_names,
-                                         RJ_SCENE_NAME_MAX, P->f->link_count)
-                           : -1;
-    if (idx < 0) {
-        char mean[48];
-        rj__sp_mean(mean, P->f->link_count
-                              ? rj__sp_near(t->s, t->len, (const char *) P->f->link_names,
-                                            RJ_SCENE_NAME_MAX, P->f->link_count, ~0u)
-                              : NULL);
-        return rj__sp_err_tok(P, t, "link", rj__sp_nan(), "unknown link ", rj__sp_for(P, "link"),
-                              " (define links above the loads that use them)", mean);
-    }
-    d->link = idx;
-    (*i)++;
-    return 1;
+    static const rj__sp_form form = { 0,    "time", "factor",
+                                      NULL, NULL,   " (table = time factor, time factor, ...)",
+                                      1 };
+    return rj__sp_pairs(P, i, b, &form, d->table_time, d->table_factor, &d->table_count);
 }
 
 static int rj__sp_load_key(rj__sp *P, int k, int a, int *i, int b, rj_load_def *d)
@@ -9734,17 +9746,12 @@ static int rj__sp_load_key(rj__sp *P, int k, int a, int *i, int b, rj_load_def *
     const rj__stok *t = &P->tok[a];
     switch (k) {
     case RJ__AK_LINK:
-        return rj__sp_load_link(P, t, i, d);
-    case RJ__AK_NODE:
-        if (rj__sp_is(t, "last")) {
-            d->node = -1;
-            (*i)++;
-            return 1;
-        }
-        if (!rj__sp_int(P, t, key, 0, 1000000, &d->node))
+        if (!rj__sp_name_ref(P, t, key) || !rj__sp_link_ref(P, t, key, "loads", &d->link))
             return 0;
         (*i)++;
         return 1;
+    case RJ__AK_NODE:
+        return rj__sp_node_ref(P, t, key, i, &d->node);
     case RJ__AK_FORCE:
         if (!rj__sp_num(P, t, key, &d->force[0]))
             return 0;

@@ -5,24 +5,11 @@
 #include "../revjoint.h"
 #include "rjt.h"
 #include <math.h>
+#include "rjt_loads.h"
 #include <string.h>
 
 #define G 9.81
 #define PI 3.14159265358979323846
-
-/* K(k), the complete elliptic integral of the first kind, by the arithmetic-geometric
-   mean: K = pi / (2 AGM(1, sqrt(1 - k^2))). */
-static double elliptic_k(double k)
-{
-    double a = 1.0, b = sqrt(1.0 - k * k);
-    int i;
-    for (i = 0; i < 40; i++) {
-        const double an = 0.5 * (a + b);
-        b = sqrt(a * b);
-        a = an;
-    }
-    return PI / (2.0 * a);
-}
 
 /* An aluminium bar 1 m long, 20 x 10 mm. */
 static rj_link_def bar(int fidelity, int elements)
@@ -48,47 +35,7 @@ static void cantilever_scene(rj_link_def *l, rj_scene_def *sc)
     sc->solver.gravity[1] = -G;
 }
 
-/* Mass, first moment and inertia about node 0 of a link as the model lumps it. */
-static void lumped_body(const rj_model *m, const rj_state *s, int link, double *mass, double *moment,
-                        double *inertia)
-{
-    const int n = rj_link_node_count(m, link);
-    double x0[2];
-    int k;
-    *mass = *moment = *inertia = 0;
-    rj_node_position(m, s, link, 0, x0);
-    for (k = 0; k < n; k++) {
-        double mk, jk, xk[2];
-        rj_node_mass(m, link, k, &mk, &jk);
-        rj_node_position(m, s, link, k, xk);
-        {
-            const double r = hypot(xk[0] - x0[0], xk[1] - x0[1]);
-            *mass += mk;
-            *moment += mk * r;
-            *inertia += mk * r * r + jk;
-        }
-    }
-}
 
-/* The pendulum's angle from the downward vertical, and the times it passes the bottom
-   going one way (linear interpolation between steps). */
-typedef struct swing {
-    double phi_prev, t_prev;
-    double crossing[8];
-    int crossings;
-} swing;
-
-static int swing_sample(const rj_model *m, const rj_state *s, void *user)
-{
-    swing *w = (swing *)user;
-    const double t = rj_state_time(s);
-    const double phi = rj_joint_theta_running(m, s, 0) + 0.5 * PI;
-    if (t > 0 && w->phi_prev > 0 && phi <= 0 && w->crossings < 8)
-        w->crossing[w->crossings++] = w->t_prev + (t - w->t_prev) * w->phi_prev / (w->phi_prev - phi);
-    w->phi_prev = phi;
-    w->t_prev = t;
-    return 0;
-}
 
 /* A bar pinned at the origin, released from rest at 150 deg from the downward vertical:
    its period against 4 sqrt(I / (m g d)) K(sin(75 deg)) with the model's own lumped I and
