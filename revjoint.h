@@ -721,8 +721,6 @@ typedef long long rj__vl4 __attribute__((vector_size(32)));
    more than this share of the initial energy: springs, friction, damping and limits do not
    create energy, so that means chatter at a limit or a step above the bound: the step stops */
 #define RJ__CREATED 0.02
-/* joints whose spring stiffness is remembered while the bound is searched (more use the spring) */
-#define RJ__BOUND_JOINTS 256
 /* Nodes a model may hold: node indices are ints, and the building scratch indexes up to
    25 values per node with them */
 #define RJ__MAX_NODES 50000000
@@ -745,6 +743,7 @@ typedef struct rj__joint {
     double w1, w2;   /* I2/(I1+I2), I1/(I1+I2): share of a correction taken by body 1 / body 2 */
     double k_limit;  /* stiffness at the limits (penalty_k or K_AP), N m/rad */
     double k_lin;    /* linear stiffness for the stability bound, N m/rad */
+    double k_free;   /* k_lin without the limits (springs and tables), N m/rad */
     double fwd, rev; /* running (unwrapped) limits, rad; +-inf when disabled */
     double tv_turn;  /* table potential of a full turn, J */
 } rj__joint;
@@ -2408,7 +2407,7 @@ static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, 
    pay for them (the paper's settings ran 1.3x slower). */
 /* In place, element i's old chord angle (k 0) or chord (1, 2) while the chunk's elements
    run: kept in EB for the first nb elements (RJ__ELEM_STEP), else still at p[i]. */
-#define RJ__OLD(p, k) (i < nb ? EB[(k) *RJ__CHUNK + i] : (p)[i])
+#define RJ__OLD(p, k) (ip && i < nb ? EB[(k) *RJ__CHUNK + i] : (p)[i])
 #define RJ__BEAM_PASS(NAME, ATTR, W, ELEM, NODE, IP, RQ)                                                                                                    \
     ATTR static int NAME(const rj_model *m, const double *x, const double *y, const double *phi,                                                            \
                          const double *beta, const double *cx, const double *cy, double *eu,                                                                \
@@ -3904,8 +3903,7 @@ static int rj__usable_step(const rj_model *m, rj_error *err)
    rj_model_init use it. The phases run one after another, so every view but the chords
    starts at the area's start and each phase leaves nothing the next one reads. The chords
    sit after the Lanczos vectors, where rj__lz_apply reads them, and stay there for
-   rj_model_apply_stiffness (in a scene of rigid links alone the power iteration's scratch
-   may run over them). */
+   rj_model_apply_stiffness; the rigid links' power iteration works after them. */
 typedef struct rj__build_scratch {
     int *graph;                /* RJ__GRAPH_SCRATCH(nl, nj) ints: rj__validate_graph */
     int *pin_groups;           /* nn + ng ints: rj__pin_groups */
@@ -3913,7 +3911,7 @@ typedef struct rj__build_scratch {
     int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
     double *lanczos;           /* 3 vectors of 3 nn, the chords, a work area: rj__omega2_max */
     double *chord_x, *chord_y; /* (ne each) the initial chords, at lanczos + 9 nn */
-    double *rigid_bound;       /* rj__rigid_scratch(nj, nl) + nj^2 doubles: rj__rig_setup */
+    double *rigid_bound;       /* rj__rigid_scratch(nj, nl) + nj^2 doubles after the chords */
     int *step_node_mark;       /* nn ints: rj__init_step_nodes */
 } rj__build_scratch;
 
@@ -3928,7 +3926,7 @@ static void rj__build_scratch_carve(const rj_model *m, rj__build_scratch *s)
     s->lanczos = m->lz;
     s->chord_x = m->lz + 9 * (size_t) m->nn;
     s->chord_y = s->chord_x + m->ne;
-    s->rigid_bound = m->lz;
+    s->rigid_bound = s->chord_y + m->ne;
     s->step_node_mark = (int *) area;
 }
 
@@ -3956,7 +3954,13 @@ static rj_result rj__init_check_args(const rj_scene_def *sc, void *mem, size_t s
         return err ? err->code : size_err.code;
     rj__counts(sc, nodes, elements, err);
     rj__model_layout(sc, *nodes, *elements, L);
-    if (!mem || size < L->total) {
+    if (!mem) {
+        rj__fail(err, RJ_ERR_NOMEM, "mem", 0,
+                 "mem is NULL: the model needs a block of %lu bytes (rj_model_size)",
+                 (unsigned long) L->total);
+        return RJ_ERR_NOMEM;
+    }
+    if (size < L->total) {
         rj__fail(err, RJ_ERR_NOMEM, "size", (double) size,
                  "memory block of %lu bytes is smaller than the %lu the model needs",
                  (unsigned long) size, (unsigned long) L->total);
@@ -4497,10 +4501,9 @@ static double rj__init_bound(rj_model *m, const rj__build_scratch *s, double dam
 
 /* What the search for the step carries: dt depends on K_AP and K_AP on dt. */
 typedef struct rj__dt_search {
-    double spring_k_lin[RJ__BOUND_JOINTS]; /* the joints' k_lin without limits */
-    double damp_rate;                      /* the fastest joint damping rate, 1/s */
-    double om2_no_adaptive;                /* omega_max^2 without the adaptive limits */
-    double dt;                             /* the step under test */
+    double damp_rate;       /* the fastest joint damping rate, 1/s */
+    double om2_no_adaptive; /* omega_max^2 without the adaptive limits */
+    double dt;              /* the step under test */
 } rj__dt_search;
 
 /* A penalty limit switches on and off with the contact, which pumps energy long before the
@@ -4533,7 +4536,7 @@ static void rj__count_adaptive_limits(rj_model *m, const rj__dt_search *q)
         if (!(d->has_forward || d->has_reverse) || d->method != RJ_METHOD_ADAPTIVE)
             continue;
         J->k_limit = m->rigid ? 1.0 / (J->minv * dt * dt) : rj_k_adaptive(J->I1, J->I2, dt);
-        J->k_lin = (j < RJ__BOUND_JOINTS ? q->spring_k_lin[j] : d->spring_k) + 2.0 * J->k_limit;
+        J->k_lin = J->k_free + 2.0 * J->k_limit;
     }
 }
 
@@ -4607,8 +4610,8 @@ static rj_result rj__init_step(rj_model *m, const rj_scene_def *sc, const rj__bu
     rj__dt_search q;
     int j, any_adaptive;
     double om2;
-    for (j = 0; j < m->nj && j < RJ__BOUND_JOINTS; j++)
-        q.spring_k_lin[j] = m->jnt[j].k_lin;
+    for (j = 0; j < m->nj; j++)
+        m->jnt[j].k_free = m->jnt[j].k_lin;
     m->omega_links = rj__omega_of(rj__bound_omega2(m, s));
     q.damp_rate = rj__damping_rate(m);
     any_adaptive = rj__count_penalty_limits(m);

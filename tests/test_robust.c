@@ -768,6 +768,91 @@ static void test_latch_load(void)
     }
 }
 
+/* The step search counts every joint's springs and tables with its adaptive limits, the
+   301st as the first: a chain of 300 links whose one stiff joint (a steep table and
+   adaptive limits) sets the step, given first or last in the joints array. (The search
+   once kept the first 256 joints' stiffness only; the last one's table went missing and
+   its step came out longer.) */
+static rj_result chain_model(int special_last, rj_model **m, rj_error *err)
+{
+    enum { N = 300 };
+    static rj_link_def L[N];
+    static rj_joint_def J[N];
+    rj_scene_def sc = rj_default_scene_def();
+    const int special = N / 2;
+    int i;
+    for (i = 0; i < N; i++) {
+        const int slot = special_last ? (i == special ? N - 1 : i > special ? i - 1 : i) : i;
+        L[i] = rj_default_link_def();
+        L[i].length = 0.1;
+        L[i].elements = 1;
+        L[i].height = 0.02;
+        L[i].width = 0.02;
+        J[slot] = rj_default_joint_def();
+        J[slot].body1 = i - 1;
+        J[slot].body2 = i;
+        J[slot].angle0 = 3.14159265358979323846;
+        if (i != special)
+            continue;
+        J[slot].table_count = 3;
+        J[slot].table_angle[0] = 3.0;
+        J[slot].table_angle[1] = 3.14159265358979323846;
+        J[slot].table_angle[2] = 3.3;
+        J[slot].table_torque[0] = -2e5;
+        J[slot].table_torque[1] = 0;
+        J[slot].table_torque[2] = 2e5;
+        J[slot].has_forward = 1;
+        J[slot].forward = 4.0;
+        J[slot].method = RJ_METHOD_ADAPTIVE;
+    }
+    sc.links = L;
+    sc.link_count = N;
+    sc.joints = J;
+    sc.joint_count = N;
+    return rj_model_create(&sc, m, err, NULL);
+}
+
+static void test_many_joints(void)
+{
+    rj_model *first = NULL, *last = NULL;
+    rj_error err;
+    const int ok = chain_model(0, &first, &err) == RJ_OK && chain_model(1, &last, &err) == RJ_OK;
+    const double a = ok ? rj_model_dt(first) : 0, b = ok ? rj_model_dt(last) : 0;
+    rjt_check(&T, ok && fabs(b / a - 1) < 1e-9,
+              "step search: the 300th joint's table counts as the first's (300 joints, adaptive limits)",
+              "dt %.10g s with the stiff joint first, %.10g s last (%+.2e) %s", a, b, ok ? b / a - 1 : 0.0,
+              ok ? "" : err.msg);
+    if (first) rj_model_destroy(first, NULL);
+    if (last) rj_model_destroy(last, NULL);
+}
+
+/* rj_model_init into the caller's memory: no block and a short block are refused with
+   their own words, the exact size builds. */
+static void test_model_block(void)
+{
+    rj_link_def l = rj_default_link_def();
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m = NULL;
+    rj_error err;
+    size_t size;
+    void *mem;
+    rj_result r;
+    sc.links = &l;
+    sc.link_count = 1;
+    size = rj_model_size(&sc, &err);
+    r = rj_model_init(&sc, NULL, size, &m, &err);
+    rjt_check(&T, r == RJ_ERR_NOMEM && strcmp(err.field, "mem") == 0 && strstr(err.msg, "NULL") != NULL,
+              "rj_model_init: no block is refused as no block", "[%s] %s", err.field, err.msg);
+    mem = malloc(size);
+    r = rj_model_init(&sc, mem, size - 1, &m, &err);
+    rjt_check(&T, r == RJ_ERR_NOMEM && strcmp(err.field, "size") == 0 && strstr(err.msg, "smaller") != NULL,
+              "rj_model_init: a block one byte short is refused naming both sizes", "[%s] %s", err.field, err.msg);
+    r = rj_model_init(&sc, mem, size, &m, &err);
+    rjt_check(&T, r == RJ_OK && m != NULL && rj_model_node_count(m) == l.elements + 1,
+              "rj_model_init: the size rj_model_size gives builds the model", "%s", r == RJ_OK ? "built" : err.msg);
+    free(mem);
+}
+
 int main(void)
 {
     test_damping_bound();
@@ -779,5 +864,7 @@ int main(void)
     test_messages();
     test_limits();
     test_latch_load();
+    test_many_joints();
+    test_model_block();
     return rjt_summary(&T, "test_robust");
 }
