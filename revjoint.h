@@ -278,7 +278,7 @@ typedef struct rj_joint_def {
    third frame of memory, and a few copies per step that only pay from a few hundred nodes
    on: AUTO uses it from RJ_IN_PLACE_NODES nodes (400; a compile-time setting). Scenes with
    inextensible links never step in place (SHAKE reads every node's old position), nor do
-   scenes with gravity (its share of the kinetic energy reads every node's old velocity). */
+   states given node forces (rj_state_node_forces: their kick reads a node's old velocity). */
 typedef struct rj_solver_def {
     double dt;            /* s, >= 0 */
     int allow_unstable;   /* accept dt above the bound */
@@ -2236,6 +2236,8 @@ typedef struct rj__adv {
     double *fx, *fy, *mz; /* node forces, for the nodes advanced again (rj_model.dnode) */
     int en;               /* this step takes the energy accounts (solver.energy_every) */
     int ip;               /* in place: the pass writes the nodes and elements where it reads them */
+    int grav;             /* gravity: every moving node's force gains its kinetic mass times g */
+    double gx, gy;        /* m/s^2, the acceleration of gravity */
     double *fin; /* the sum of every advanced node's x + y + phi: finite while they all are */
 } rj__adv;
 
@@ -2261,10 +2263,16 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
 /* W nodes from node k on (chunk-relative), in lanes; UNI: the link's uniform node values in
    tiv .. kjv, else each node's own; ST: their forces are stored too; EN: their shares of
    the kinetic energy. */
-#define RJ__NODE_STEP(VD, k, UNI, ST, EN)                                                          \
+#define RJ__NODE_STEP(VD, k, UNI, ST, EN, GR)                                                      \
     {                                                                                              \
         VD f0, f1, g0, g1, m1, m2, fxv, fyv, mzv, vxv, vyv, wv, t, tiv = tiu, riv = riu,           \
                                                                    kmv = kmu, kjv = kju;           \
+        if (!UNI) {                                                                                \
+            RJ__VLD(tiv, ti + k);                                                                  \
+            RJ__VLD(riv, ri + k);                                                                  \
+            RJ__VLD(kmv, km + k);                                                                  \
+            RJ__VLD(kjv, kj + k);                                                                  \
+        }                                                                                          \
         RJ__VLD(f0, F + k);                                                                        \
         RJ__VLD(f1, F + k + 1);                                                                    \
         RJ__VLD(g0, F + RJ__FROW + k);                                                             \
@@ -2274,20 +2282,29 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
         fxv = f0 - f1;                                                                             \
         fyv = g0 - g1;                                                                             \
         mzv = -m2 - m1;                                                                            \
-        if (ST) {                                                                                  \
+        if (ST && !GR) {                                                                           \
             RJ__VST(fx + k, fxv);                                                                  \
             RJ__VST(fy + k, fyv);                                                                  \
             RJ__VST(mz + k, mzv);                                                                  \
         }                                                                                          \
+        if (ST &&                                                                                  \
+            GR) { /* each node's own m g in the forces kept for the nodes advanced           \
+                           again (the uniform values below are not theirs) */     \
+            VD kmn, gfx, gfy;                                                                      \
+            RJ__VLD(kmn, km + k);                                                                  \
+            gfx = fxv + kmn * gxv;                                                                 \
+            gfy = fyv + kmn * gyv;                                                                 \
+            RJ__VST(fx + k, gfx);                                                                  \
+            RJ__VST(fy + k, gfy);                                                                  \
+            RJ__VST(mz + k, mzv);                                                                  \
+        }                                                                                          \
+        if (GR) { /* gravity, m g, on nodes that move on their own (kmass 0 else) */               \
+            fxv = fxv + kmv * gxv;                                                                 \
+            fyv = fyv + kmv * gyv;                                                                 \
+        }                                                                                          \
         RJ__VLD(vxv, vx + k);                                                                      \
         RJ__VLD(vyv, vy + k);                                                                      \
         RJ__VLD(wv, w + k);                                                                        \
-        if (!UNI) {                                                                                \
-            RJ__VLD(tiv, ti + k);                                                                  \
-            RJ__VLD(riv, ri + k);                                                                  \
-            RJ__VLD(kmv, km + k);                                                                  \
-            RJ__VLD(kjv, kj + k);                                                                  \
-        }                                                                                          \
         {                                                                                          \
             const VD ux_ = vxv + kick * fxv * tiv, uy_ = vyv + kick * fyv * tiv,                   \
                      uw_ = wv + kick * mzv * riv;                                                  \
@@ -2313,10 +2330,10 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
     }
 /* The node pass in lanes of W doubles over all cnt >= W nodes (RJ__LANES_OVER), their
    forces stored too if store is set and their kinetic-energy shares if en is; returns cnt. */
-#define RJ__NODE_LANES(W, VD, ATTR)                                                                \
-    ATTR static RJ__FORCE_INLINE int rj__node_lanes##W(                                            \
-        int cnt, int n, const double *un, const rj__adv *a, const double *RJ__RESTRICT F,          \
-        const double *x_, const double *y_, const double *phi_, int store, int en)                 \
+#define RJ__NODE_LANES(W, VD, ATTR, NAME, GR)                                                      \
+    ATTR static RJ__FORCE_INLINE int NAME(int cnt, int n, const double *un, const rj__adv *a,      \
+                                          const double *RJ__RESTRICT F, const double *x_,          \
+                                          const double *y_, const double *phi_, int store, int en) \
     {                                                                                              \
         double *RJ__RESTRICT fx = a->fx + n, *RJ__RESTRICT fy = a->fy + n,                         \
                              *RJ__RESTRICT mz = a->mz + n;                                         \
@@ -2329,7 +2346,8 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
         double *nx = a->nx + n, *ny = a->ny + n, *nphi = a->nphi + n;                              \
         double *nvx = a->nvx + n, *nvy = a->nvy + n, *nw = a->nw + n;                              \
         double *RJ__RESTRICT kn = a->kn + n;                                                       \
-        VD tiu = { 0 }, riu = { 0 }, kmu = { 0 }, kju = { 0 }, fin = { 0 };                        \
+        VD tiu = { 0 }, riu = { 0 }, kmu = { 0 }, kju = { 0 }, gxv = { 0 }, gyv = { 0 },           \
+           fin = { 0 };                                                                            \
         double fin_sum = 0;                                                                        \
         int k;                                                                                     \
         for (k = 0; k < W; k++) {                                                                  \
@@ -2338,17 +2356,22 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
             kmu[k] = un[2];                                                                        \
             kju[k] = un[3];                                                                        \
         }                                                                                          \
+        if (GR)                                                                                    \
+            for (k = 0; k < W; k++) {                                                              \
+                gxv[k] = a->gx;                                                                    \
+                gyv[k] = a->gy;                                                                    \
+            }                                                                                      \
         switch ((un[4] != 0 ? 4 : 0) + (store ? 2 : 0) + (en ? 1 : 0)) {                           \
         case 4:                                                                                    \
-            RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 0, 0)) break;                        \
+            RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 0, 0, GR)) break;                    \
         case 5:                                                                                    \
-            RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 0, 1)) break;                        \
+            RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 0, 1, GR)) break;                    \
         case 6:                                                                                    \
-            RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 1, 0)) break;                        \
+            RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 1, 0, GR)) break;                    \
         case 7:                                                                                    \
-            RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 1, 1)) break;                        \
+            RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 1, 1, 1, GR)) break;                    \
         default: /* per-node values: rare; forces and energy shares always stored */               \
-            RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 0, 1, 1))                               \
+            RJ__LANES_OVER(k, cnt, W, RJ__NODE_STEP(VD, k, 0, 1, 1, GR))                           \
         }                                                                                          \
         /* the new positions' sum: NaN or infinite when one of them is */                          \
         for (k = 0; k < W; k++)                                                                    \
@@ -2356,11 +2379,15 @@ static RJ__INLINE void rj__advance_node(const rj__adv *a, int i, double fx, doub
         *a->fin += fin_sum;                                                                        \
         return cnt;                                                                                \
     }
+/* each width twice: without gravity (the code scenes ran before gravity existed) and
+   with it (m g added to the forces of the nodes the pass advances) */
 #ifdef RJ__LANES2
-RJ__NODE_LANES(2, rj__vd2, )
+RJ__NODE_LANES(2, rj__vd2, , rj__node_lanes2, 0)
+RJ__NODE_LANES(2, rj__vd2, , rj__node_lanes2g, 1)
 #endif
 #ifdef RJ__LANES4
-RJ__NODE_LANES(4, rj__vd4, RJ__AVX2)
+RJ__NODE_LANES(4, rj__vd4, RJ__AVX2, rj__node_lanes4, 0)
+RJ__NODE_LANES(4, rj__vd4, RJ__AVX2, rj__node_lanes4g, 1)
 #endif
 #endif
 
@@ -2383,7 +2410,12 @@ static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, 
         return;
     }
     for (; k < cnt; k++) {
-        const double fxv = FX[k] - FX[k + 1], fyv = FY[k] - FY[k + 1], mzv = -M2[k] - M1[k + 1];
+        double fxv = FX[k] - FX[k + 1], fyv = FY[k] - FY[k + 1];
+        const double mzv = -M2[k] - M1[k + 1];
+        if (a->grav) { /* as the lanes: m g on every node that moves on its own */
+            fxv = fxv + a->km[n + k] * a->gx;
+            fyv = fyv + a->km[n + k] * a->gy;
+        }
         fx[n + k] = fxv;
         fy[n + k] = fyv;
         mz[n + k] = mzv;
@@ -2408,7 +2440,7 @@ static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, 
 /* In place, element i's old chord angle (k 0) or chord (1, 2) while the chunk's elements
    run: kept in EB for the first nb elements (RJ__ELEM_STEP), else still at p[i]. */
 #define RJ__OLD(p, k) (ip && i < nb ? EB[(k) *RJ__CHUNK + i] : (p)[i])
-#define RJ__BEAM_PASS(NAME, ATTR, W, ELEM, NODE, IP, RQ)                                                                                                    \
+#define RJ__BEAM_PASS(NAME, ATTR, W, ELEM, NODE, NODEG, IP, RQ)                                                                                             \
     ATTR static int NAME(const rj_model *m, const double *x, const double *y, const double *phi,                                                            \
                          const double *beta, const double *cx, const double *cy, double *eu,                                                                \
                          double *beta_out, double *cx_out, double *cy_out, double *fx, double *fy,                                                          \
@@ -2492,10 +2524,14 @@ static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, 
                link's last node with the last chunk; their forces are stored in the chunks                                                            \
                that hold nodes the step advances again (m->dnode: a link's end nodes, and                                                             \
                inner ones only in scenes with dn_inner) */ \
-                i = adv && W > 1 && nc + last >= W                                                                                                          \
-                        ? NODE(ip ? (nc + last) / W * W : nc + last, na, m->link_un + 5 * l, adv,                                                           \
-                               FB, x, y, phi, c0 == 0 || last || m->dn_inner, en)                                                                           \
-                        : 0;                                                                                                                                \
+                i = 0;                                                                                                                                      \
+                if (adv && W > 1 && nc + last >= W) {                                                                                                       \
+                    const int cnt_ = ip ? (nc + last) / W * W : nc + last;                                                                                  \
+                    const int store_ = c0 == 0 || last || m->dn_inner;                                                                                      \
+                    i = adv->grav                                                                                                                           \
+                            ? NODEG(cnt_, na, m->link_un + 5 * l, adv, FB, x, y, phi, store_, en)                                                           \
+                            : NODE(cnt_, na, m->link_un + 5 * l, adv, FB, x, y, phi, store_, en);                                                           \
+                }                                                                                                                                           \
                 if (i < nc + last)                                                                                                                          \
                     rj__node_scalar(i, nc + last, na, FB, fx, fy, mz, x, y, phi, adv);                                                                      \
                 FX[0] = FX[nc];                                                                                                                             \
@@ -2508,12 +2544,15 @@ static void rj__node_scalar(int k, int cnt, int n, const double *F, double *fx, 
     }
 
 #ifdef RJ__LANES4
-RJ__BEAM_PASS(rj__beam_pass4, RJ__AVX2, 4, rj__elem_lanes4, rj__node_lanes4, 0, RJ__RESTRICT)
-RJ__BEAM_PASS(rj__beam_pass4ip, RJ__AVX2, 4, rj__elem_lanes4ip, rj__node_lanes4, 1, )
+RJ__BEAM_PASS(rj__beam_pass4, RJ__AVX2, 4, rj__elem_lanes4, rj__node_lanes4, rj__node_lanes4g, 0,
+              RJ__RESTRICT)
+RJ__BEAM_PASS(rj__beam_pass4ip, RJ__AVX2, 4, rj__elem_lanes4ip, rj__node_lanes4, rj__node_lanes4g,
+              1, )
 #endif
 #ifdef RJ__LANES2
-RJ__BEAM_PASS(rj__beam_pass2, , 2, rj__elem_lanes2, rj__node_lanes2, 0, RJ__RESTRICT)
-RJ__BEAM_PASS(rj__beam_pass2ip, , 2, rj__elem_lanes2ip, rj__node_lanes2, 1, )
+RJ__BEAM_PASS(rj__beam_pass2, , 2, rj__elem_lanes2, rj__node_lanes2, rj__node_lanes2g, 0,
+              RJ__RESTRICT)
+RJ__BEAM_PASS(rj__beam_pass2ip, , 2, rj__elem_lanes2ip, rj__node_lanes2, rj__node_lanes2g, 1, )
 #endif
 #ifndef RJ__LANES
 static int rj__elem_none(int ne, const double *kc, const double *xa, const double *ya,
@@ -2551,8 +2590,8 @@ static int rj__node_none(int cnt, int n, const double *un, const rj__adv *a, con
     (void) en;
     return cnt * 0;
 }
-RJ__BEAM_PASS(rj__beam_pass1, , 1, rj__elem_none, rj__node_none, 0, RJ__RESTRICT)
-RJ__BEAM_PASS(rj__beam_pass1ip, , 1, rj__elem_none, rj__node_none, 1, )
+RJ__BEAM_PASS(rj__beam_pass1, , 1, rj__elem_none, rj__node_none, rj__node_none, 0, RJ__RESTRICT)
+RJ__BEAM_PASS(rj__beam_pass1ip, , 1, rj__elem_none, rj__node_none, rj__node_none, 1, )
 #endif
 
 /* Internal forces at x (see RJ__BEAM_PASS), in the widest lanes the CPU has. */
@@ -4811,10 +4850,8 @@ static void rj__init_frames(rj_model *m)
 static void rj__init_in_place(rj_model *m)
 {
     int i, q;
-    /* not with inextensible links (SHAKE reads every node at n) or gravity (its kinetic
-       energy share reads every node's velocity at n) */
-    m->ip = !m->rigid && !m->any_inext && !m->has_gravity &&
-            m->solver.in_place != RJ_IN_PLACE_OFF &&
+    /* not with inextensible links (SHAKE reads every node at n) */
+    m->ip = !m->rigid && !m->any_inext && m->solver.in_place != RJ_IN_PLACE_OFF &&
             (m->solver.in_place == RJ_IN_PLACE_ON || m->nn >= RJ_IN_PLACE_NODES);
     for (i = 0; i < m->ng && m->ip; i++)
         for (q = m->grp_first[i]; q < m->grp_first[i + 1]; q++)
@@ -6085,6 +6122,9 @@ static RJ__FORCE_INLINE void rj__stage_beams(const rj_model *m, rj_state *s, con
 {
     const double *old = f->old;
     double *next = f->next;
+    /* gravity's potential at x^n, before the pass advances the nodes (in place too) */
+    if (m->has_gravity && f->en)
+        e->gravity = rj__gravity_potential(m, RJ__FX(m, old), RJ__FY(m, old));
     if (f->ip) {
         double *kept[6];
         const double *at_n[6];
@@ -6126,6 +6166,9 @@ static RJ__FORCE_INLINE void rj__stage_beams(const rj_model *m, rj_state *s, con
     adv->mz = s->mz;
     adv->en = f->en;
     adv->ip = f->ip;
+    adv->grav = m->has_gravity;
+    adv->gx = m->solver.gravity[0];
+    adv->gy = m->solver.gravity[1];
     e->strain =
         rj__beam_pass(m, RJ__FX(m, old), RJ__FY(m, old), RJ__FPHI(m, old), RJ__FBETA(m, old),
                       RJ__FCX(m, old), RJ__FCY(m, old), s->eu, RJ__FBETA(m, f->advanced),
@@ -6494,7 +6537,8 @@ static RJ__FORCE_INLINE void rj__stage_friction(const rj_model *m, rj_state *s, 
 
 /* Gravity's potential -sum m g . x at the nodes x, y (rigid bodies' own links from their
    nodes' positions too). */
-static double rj__gravity_potential(const rj_model *m, const double *x, const double *y)
+static RJ__NOINLINE double rj__gravity_potential(const rj_model *m, const double *x,
+                                                 const double *y)
 {
     const double gx = m->solver.gravity[0], gy = m->solver.gravity[1];
     double sum = 0;
@@ -6510,36 +6554,6 @@ static double rj__gravity_potential(const rj_model *m, const double *x, const do
         sum += gx * mx + gy * my;
     }
     return -sum;
-}
-
-/* Stage 4, gravity: a uniform acceleration, so every node that moves on its own (kmass > 0)
-   takes kick g on top of the update the beams and joints gave it, and its share of the
-   kinetic energy the matching v^{n-1/2} . kick g; groups and bodies take it in their own
-   updates. Its potential at x^n joins the accounts. In place is off with gravity (the
-   velocities at n of most nodes are gone by now). */
-static RJ__FORCE_INLINE void rj__gravity_kick(const rj_model *m, rj_state *s, const rj__frames *f,
-                                              rj__sums *e, double *fin)
-{
-    const double dvx = f->kick * m->solver.gravity[0], dvy = f->kick * m->solver.gravity[1];
-    const double dt = f->dt;
-    const double *RJ__RESTRICT kmass = m->kmass, *RJ__RESTRICT vx = f->vx, *RJ__RESTRICT vy = f->vy;
-    double *RJ__RESTRICT kn = s->kn, *RJ__RESTRICT nvx = f->nvx, *RJ__RESTRICT nvy = f->nvy;
-    double *RJ__RESTRICT nx = f->nx, *RJ__RESTRICT ny = f->ny;
-    double sum = 0; /* the positions written, for the finite test */
-    int i;
-    for (i = 0; i < m->nn; i++) {
-        if (!(kmass[i] > 0))
-            continue;
-        kn[i] += kmass[i] * (vx[i] * dvx + vy[i] * dvy);
-        nvx[i] += dvx;
-        nvy[i] += dvy;
-        nx[i] += dt * dvx;
-        ny[i] += dt * dvy;
-        sum += nx[i] + ny[i];
-    }
-    *fin += sum;
-    if (f->en)
-        e->gravity = rj__gravity_potential(m, f->x, f->y);
 }
 
 /* Stage 4a: v^{n+1/2} and x^{n+1} of the nodes the joints acted on (the beam pass advanced
@@ -6558,8 +6572,6 @@ static RJ__FORCE_INLINE void rj__update_joint_nodes(const rj_model *m, rj_state 
         const int n = m->dnode[i];
         rj__advance_node(adv, n, s->fx[n], s->fy[n], s->mz[n], f->x, f->y, f->phi);
     }
-    if (m->has_gravity)
-        rj__gravity_kick(m, s, f, e, adv->fin);
     if (s->node_inputs)
         rj__node_inputs_kick(m, s, f->current, f->advanced, f->kick, adv->fin);
     ke = f->en ? rj__sum8(s->kn, m->nn) : 0.0;
@@ -9543,9 +9555,9 @@ static int rj__sp_pairs(rj__sp *P, int *i, int b, const rj__sp_form *t, double *
 /* a joint's table = angle torque, angle torque, ... (Eq 4) */
 static int rj__sp_table(rj__sp *P, int *i, int b, rj_joint_def *d)
 {
-    static const rj__sp_form form = {
-        1, "angle", "torque", "a torque", "N m", " (table = angle torque, angle torque, ...)", 2
-    };
+    const rj__sp_form form = { 1,          "angle", "torque",
+                               "a torque", "N m",   " (table = angle torque, angle torque, ...)",
+                               2 };
     return rj__sp_pairs(P, i, b, &form, d->table_angle, d->table_torque, &d->table_count);
 }
 
@@ -9737,9 +9749,9 @@ static int rj__sp_solver_key(rj__sp *P, int k, int a, int *i, int b, rj_solver_d
    (strictly increasing: rj_model_create checks it, naming the point) */
 static int rj__sp_load_table(rj__sp *P, int *i, int b, rj_load_def *d)
 {
-    static const rj__sp_form form = { 0,    "time", "factor",
-                                      NULL, NULL,   " (table = time factor, time factor, ...)",
-                                      1 };
+    const rj__sp_form form = { 0,    "time", "factor",
+                               NULL, NULL,   " (table = time factor, time factor, ...)",
+                               1 };
     return rj__sp_pairs(P, i, b, &form, d->table_time, d->table_factor, &d->table_count);
 }
 

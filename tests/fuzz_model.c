@@ -8,8 +8,17 @@
    joints default to a chain from ground),
    the solver from rj_default_solver_def(), then a few fields of each overwritten with values
    drawn from NaN, +-inf, denormals, huge and tiny numbers, zero, negatives, ordinary values
-   and raw bytes (ints: small ones, INT_MIN, INT_MAX, element-count edges, raw bytes). A read
-   past the end of the input gives zeros.
+   and raw bytes (ints: small ones, INT_MIN, INT_MAX, element-count edges, raw bytes). After
+   the joints, 0..3 applied loads (sc.loads, load_count; NULL when 0) from
+   rj_default_load_def() (load i on link i mod the link count, its last node, force 0 -1 N),
+   their fields drawn the same way (link, node, force, moment, follower, the time table's
+   count and points, or a whole table with strictly increasing times 1 s .. 1 ns apart);
+   one count byte in 64 instead gives a load_count from the int pool with loads NULL. Last,
+   the caller's inputs of the state the checks step: a byte whose bits switch on
+   rj_state_joint_torques / rj_state_node_forces, then for each up to 3 entries set from
+   the same value pool (NaN and inf too: the step must refuse them). A read past the end of
+   the input gives zeros, so an input that stops after the joints has no loads and no
+   inputs.
    Scenes with a link of more than RJ_FUZZ_MAX_ELEMENTS elements are only validated
    (rj_model_size); one input in 16 is such a scene on purpose, with up to 4096 links copied
    from the first eight (so the node count can pass 2^31). Then:
@@ -21,9 +30,12 @@
      flexible or inextensible link, an omega_max that is finite and at least half of
      sqrt(u.Au) for unit vectors u (a Rayleigh quotient of rj_model_apply_stiffness, whose
      every value must be finite), so a bound the model does not have is caught;
+   - it must hold the scene's loads as given (rj_model_load_count, rj_model_load_def: the
+     same bytes);
    - its state (rj_state_create) must be finite (node positions, velocities, rotations,
-     energies), and each of a few rj_step calls must return an error with a message, or
-     RJ_OK with a finite state after every step.
+     energies, the applied work), and, with the decoded inputs set, each of a few rj_step
+     calls must return an error with a message, or RJ_OK with a finite state after every
+     step.
    Every violation prints "fuzz_model: <what>" and aborts. The same file with
    -DFUZZ_MODEL_PRINT (no -fsanitize=fuzzer) is a program that prints the scene an input
    file stands for (the fields that differ from the defaults) and then runs the checks on it:
@@ -45,6 +57,8 @@
 #endif
 #define FZ_MAX_LINKS 8
 #define FZ_MAX_JOINTS 8
+#define FZ_MAX_LOADS 3
+#define FZ_MAX_INPUTS 3
 #define FZ_HUGE_LINKS 4096
 #define FZ_STEPS 5
 
@@ -185,6 +199,37 @@ static void fz_joint(fz_in *in, rj_joint_def *J, int j, int nl)
     }
 }
 
+/* load i starts on link i mod nl (fz_decode's count before the huge copies), its last
+   node, with a force of 1 N down: the defaults' zero force would apply nothing */
+static void fz_load(fz_in *in, rj_load_def *D, int i, int nl)
+{
+    int k, n = (int)(fz_u8(in) % 6);
+    *D = rj_default_load_def();
+    D->link = i % nl;
+    D->force[1] = -1.0;
+    for (k = 0; k < n; k++) {
+        switch (fz_u8(in) % 11) {
+        case 0: D->link = fz_int(in); break;
+        case 1: D->node = fz_int(in); break;
+        case 2: D->force[0] = fz_double(in); break;
+        case 3: D->force[1] = fz_double(in); break;
+        case 4: D->moment = fz_double(in); break;
+        case 5: D->follower = fz_int(in); break;
+        case 6: D->table_count = fz_int(in); break;
+        case 7: D->table_time[fz_u8(in) % RJ_TABLE_MAX] = fz_double(in); break;
+        case 8: D->table_factor[fz_u8(in) % RJ_TABLE_MAX] = fz_double(in); break;
+        case 9: {                                    /* a whole valid-looking table: times 0, h, 2h, ... */
+            int c = 1 + (int)(fz_u8(in) % RJ_TABLE_MAX), p;
+            double h = pow(10.0, -(double)(fz_u8(in) % 10));
+            D->table_count = c;
+            for (p = 0; p < c; p++) { D->table_time[p] = h * p; D->table_factor[p] = fz_double(in); }
+            break;
+        }
+        default: if (fz_u8(in) == 0) D->cookie = fz_u32(in); break;
+        }
+    }
+}
+
 static void fz_solver(fz_in *in, rj_solver_def *S)
 {
     int k, n = (int)(fz_u8(in) % 4);
@@ -198,6 +243,31 @@ static void fz_solver(fz_in *in, rj_solver_def *S)
         case 4: S->in_place = fz_int(in); break;
         default: if (fz_u8(in) == 0) S->cookie = fz_u32(in); break;
         }
+    }
+}
+
+/* the caller's inputs set on the state before the steps: entry index (taken modulo the
+   count of the model) and value; and, for the printer, the link count fz_load saw */
+typedef struct fz_inputs {
+    int torques_on, forces_on, nt, nf, nl0;
+    unsigned t_at[FZ_MAX_INPUTS], f_at[FZ_MAX_INPUTS];
+    double t_val[FZ_MAX_INPUTS], f_val[FZ_MAX_INPUTS];
+} fz_inputs;
+
+static void fz_read_inputs(fz_in *in, fz_inputs *I)
+{
+    unsigned sw = fz_u8(in);
+    int k;
+    memset(I, 0, sizeof *I);
+    I->torques_on = sw & 1;
+    I->forces_on = (sw >> 1) & 1;
+    if (I->torques_on) {
+        I->nt = (int)(fz_u8(in) % (FZ_MAX_INPUTS + 1));
+        for (k = 0; k < I->nt; k++) { I->t_at[k] = fz_u16(in); I->t_val[k] = fz_double(in); }
+    }
+    if (I->forces_on) {
+        I->nf = (int)(fz_u8(in) % (FZ_MAX_INPUTS + 1));
+        for (k = 0; k < I->nf; k++) { I->f_at[k] = fz_u16(in); I->f_val[k] = fz_double(in); }
     }
 }
 
@@ -227,13 +297,15 @@ static void fz_check_state(const rj_model *m, const rj_state *s, const char *whe
         if (flag < RJ_FREE || flag > RJ_LOCKED) fz_fail("%s: joint %d flag %d", when, j, flag);
     }
     rj_state_energy(m, s, &e);
-    if (!fz_finite(e.kinetic) || !fz_finite(e.strain) || !fz_finite(e.spring) || !fz_finite(e.total) || !fz_finite(e.balance))
-        fz_fail("%s: energy not finite: kinetic %g strain %g spring %g total %g balance %g", when, e.kinetic, e.strain, e.spring, e.total, e.balance);
+    if (!fz_finite(e.kinetic) || !fz_finite(e.strain) || !fz_finite(e.spring) || !fz_finite(e.gravity) || !fz_finite(e.work_applied)
+        || !fz_finite(e.total) || !fz_finite(e.balance))
+        fz_fail("%s: energy not finite: kinetic %g strain %g spring %g gravity %g work %g total %g balance %g", when,
+                e.kinetic, e.strain, e.spring, e.gravity, e.work_applied, e.total, e.balance);
     if (!fz_finite(rj_state_time(s))) fz_fail("%s: time %g", when, rj_state_time(s));
 }
 
 /* a built model: its step, bound and masses, its linearisation, then a state and a few steps */
-static void fz_check_model(const rj_scene_def *sc, rj_model *m)
+static void fz_check_model(const rj_scene_def *sc, const fz_inputs *I, rj_model *m)
 {
     double dt = rj_model_dt(m), bound = rj_model_dt_bound(m), om = rj_model_omega_max(m), diag = 0;
     int l, i, nn = 0, flexible = 0, k;
@@ -257,6 +329,9 @@ static void fz_check_model(const rj_scene_def *sc, rj_model *m)
         }
     }
     if (rj_model_node_count(m) != nn) fz_fail("model node count %d, links give %d", rj_model_node_count(m), nn);
+    if (rj_model_load_count(m) != sc->load_count) fz_fail("model has %d loads, the scene %d", rj_model_load_count(m), sc->load_count);
+    for (l = 0; l < sc->load_count; l++)
+        if (memcmp(rj_model_load_def(m, l), &sc->loads[l], sizeof(rj_load_def)) != 0) fz_fail("model's load %d differs from the scene's", l);
     if (flexible) {
         /* unit vectors on up to 48 DOFs spread over the model: each u.Au is a lower bound of omega_max^2 */
         const int n = 3 * nn, stride = n / 48 + 1;
@@ -277,6 +352,15 @@ static void fz_check_model(const rj_scene_def *sc, rj_model *m)
     r = rj_state_create(m, &s, NULL);
     if (r != RJ_OK) fz_fail("rj_state_create returned %d", (int)r);
     fz_check_state(m, s, "initial state");
+    if (I->torques_on) {
+        double *tq = rj_state_joint_torques(m, s);
+        const int nj = rj_model_joint_count(m);
+        for (k = 0; k < I->nt && nj > 0; k++) tq[I->t_at[k] % (unsigned)nj] = I->t_val[k];
+    }
+    if (I->forces_on) {
+        double *fn = rj_state_node_forces(m, s);
+        for (k = 0; k < I->nf; k++) fn[I->f_at[k] % (unsigned)(3 * nn)] = I->f_val[k];
+    }
     for (k = 0; k < FZ_STEPS; k++) {
         const double t = rj_state_time(s);
         r = rj_step(m, s);
@@ -292,15 +376,18 @@ static void fz_check_model(const rj_scene_def *sc, rj_model *m)
 }
 
 /* ---------------------------------------------------------------- the target */
-/* The scene an input stands for: links and joints are malloc'd at their exact counts (so a
-   read past them is caught); *build is 0 for scenes that are only validated. */
-static rj_scene_def fz_decode(const uint8_t *data, size_t size, int *build)
+/* The scene an input stands for: links, joints and loads are malloc'd at their exact counts
+   (so a read past them is caught); *build is 0 for scenes that are only validated; *I the
+   caller's inputs for the steps. */
+static rj_scene_def fz_decode(const uint8_t *data, size_t size, int *build, fz_inputs *I)
 {
     fz_in in;
     rj_link_def tmpl[FZ_MAX_LINKS], *links;
     rj_joint_def *joints;
+    rj_load_def *loads = NULL;
     rj_scene_def sc;
-    int nl, nj, i, huge;
+    int nl, nj, i, huge, nl0, nload;
+    unsigned lsel;
     in.p = data; in.n = size; in.at = 0;
     nl = 1 + (int)(fz_u8(&in) % FZ_MAX_LINKS);
     nj = (int)(fz_u8(&in) % (FZ_MAX_JOINTS + 1));
@@ -308,6 +395,7 @@ static rj_scene_def fz_decode(const uint8_t *data, size_t size, int *build)
     sc = rj_default_scene_def();
     fz_solver(&in, &sc.solver);
     for (i = 0; i < nl; i++) fz_link(&in, &tmpl[i]);
+    nl0 = nl;
     *build = 1;
     if (huge) {                                      /* many copies of the links, validated only */
         int n = 1 + (int)(fz_u16(&in) % FZ_HUGE_LINKS);
@@ -325,8 +413,21 @@ static rj_scene_def fz_decode(const uint8_t *data, size_t size, int *build)
     joints = (rj_joint_def *)malloc(sizeof(rj_joint_def) * (size_t)(nj ? nj : 1));
     if (!joints) abort();
     for (i = 0; i < nj; i++) fz_joint(&in, &joints[i], i, nl);
+    lsel = fz_u8(&in);
+    if (lsel % 64 == 63) nload = fz_int(&in);         /* rarely: a count with no array */
+    else {
+        nload = (int)(lsel % (FZ_MAX_LOADS + 1));
+        if (nload) {
+            loads = (rj_load_def *)malloc(sizeof(rj_load_def) * (size_t)nload);
+            if (!loads) abort();
+            for (i = 0; i < nload; i++) fz_load(&in, &loads[i], i, nl0);
+        }
+    }
+    fz_read_inputs(&in, I);
+    I->nl0 = nl0;
     for (i = 0; i < nl; i++) if (links[i].elements > RJ_FUZZ_MAX_ELEMENTS) *build = 0;
     sc.links = links; sc.link_count = nl; sc.joints = joints; sc.joint_count = nj;
+    sc.loads = loads; sc.load_count = nload;
     return sc;
 }
 
@@ -334,11 +435,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     rj_scene_def sc;
+    fz_inputs inputs;
     rj_error err;
     int i, build;
     double nodes = 0;
     size_t need;
-    sc = fz_decode(data, size, &build);
+    sc = fz_decode(data, size, &build, &inputs);
     for (i = 0; i < sc.link_count; i++) nodes += (double)sc.links[i].elements + 1.0;
     memset(&err, 0, sizeof err);
     need = rj_model_size(&sc, &err);
@@ -351,7 +453,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         r = rj_model_create(&sc, &m, &err, NULL);
         if (r == RJ_OK) {
             if (need == 0) fz_fail("rj_model_create accepted a scene rj_model_size rejected (%s)", err.msg);
-            fz_check_model(&sc, m);
+            fz_check_model(&sc, &inputs, m);
             rj_model_destroy(m, NULL);
         } else {
             fz_check_error("rj_model_create", r, &err);
@@ -360,6 +462,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     free((void *)sc.links);
     free((void *)sc.joints);
+    free((void *)sc.loads);
     return 0;
 }
 
@@ -380,6 +483,8 @@ int main(int argc, char **argv)
     size_t n;
     int i, k, build, shown;
     rj_scene_def sc;
+    fz_inputs inputs;
+    rj_load_def D0 = rj_default_load_def();
     rj_link_def L0 = rj_default_link_def();
     rj_joint_def J0 = rj_default_joint_def();
     const rj_solver_def S0 = rj_default_solver_def();
@@ -388,8 +493,9 @@ int main(int argc, char **argv)
     L0.elements = 3;                                 /* fz_link's starting point */
     n = fread(buf, 1, sizeof buf, f);
     fclose(f);
-    sc = fz_decode(buf, n, &build);
-    printf("%d links, %d joints%s\n", sc.link_count, sc.joint_count, build ? "" : " (validated only)");
+    sc = fz_decode(buf, n, &build, &inputs);
+    printf("%d links, %d joints, %d loads%s%s\n", sc.link_count, sc.joint_count, sc.load_count,
+           sc.load_count && !sc.loads ? " (no array)" : "", build ? "" : " (validated only)");
     fz_pd("solver", 0, "dt", sc.solver.dt, S0.dt); fz_pi("solver", 0, "allow_unstable", sc.solver.allow_unstable, S0.allow_unstable);
     fz_pd("solver", 0, "energy_growth", sc.solver.energy_growth, S0.energy_growth); fz_pi("solver", 0, "energy_every", sc.solver.energy_every, S0.energy_every);
     fz_pi("solver", 0, "in_place", sc.solver.in_place, S0.in_place); fz_pi("solver", 0, "cookie", (long)sc.solver.cookie, (long)S0.cookie);
@@ -425,8 +531,32 @@ int main(int argc, char **argv)
         fz_pd("joints", i, "damping", J->damping, J0.damping); fz_pd("joints", i, "friction", J->friction, J0.friction);
         fz_pi("joints", i, "reference", J->reference, J0.reference); fz_pi("joints", i, "cookie", (long)J->cookie, (long)J0.cookie);
     }
+    for (i = 0; sc.loads && i < sc.load_count; i++) {
+        const rj_load_def *D = &sc.loads[i];
+        D0.link = i % inputs.nl0; D0.force[1] = -1.0;   /* fz_load's starting point */
+        fz_pi("loads", i, "link", D->link, D0.link); fz_pi("loads", i, "node", D->node, D0.node);
+        fz_pd("loads", i, "force[0]", D->force[0], D0.force[0]); fz_pd("loads", i, "force[1]", D->force[1], D0.force[1]);
+        fz_pd("loads", i, "moment", D->moment, D0.moment); fz_pi("loads", i, "follower", D->follower, D0.follower);
+        fz_pi("loads", i, "table_count", D->table_count, D0.table_count);
+        for (k = 0; k < RJ_TABLE_MAX; k++) {
+            if (D->table_time[k] != 0 || D->table_factor[k] != 0 || k < D->table_count)
+                printf("loads[%d].table[%d] = %.17g %.17g\n", i, k, D->table_time[k], D->table_factor[k]);
+        }
+        fz_pi("loads", i, "cookie", (long)D->cookie, (long)D0.cookie);
+    }
+    if (inputs.torques_on) {
+        printf("joint torques on\n");
+        for (k = 0; k < inputs.nt; k++) printf("joint torque [%u mod %d] = %.17g\n", inputs.t_at[k], sc.joint_count, inputs.t_val[k]);
+    }
+    if (inputs.forces_on) {
+        printf("node forces on\n");
+        long nn = 0;
+        for (k = 0; k < sc.link_count; k++) nn += sc.links[k].elements + 1L;
+        for (k = 0; k < inputs.nf; k++) printf("node force [%u mod %ld] = %.17g\n", inputs.f_at[k], 3 * nn, inputs.f_val[k]);
+    }
     free((void *)sc.links);
     free((void *)sc.joints);
+    free((void *)sc.loads);
     fflush(stdout);
     return LLVMFuzzerTestOneInput(buf, n);
 }

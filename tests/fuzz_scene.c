@@ -3,7 +3,9 @@
      clang -g -O1 -fsanitize=fuzzer,address,undefined tests/fuzz_scene.c -I. -o /tmp/fuzz_scene -lm
      mkdir -p /tmp/fuzz_corpus && /tmp/fuzz_scene -jobs=1 -max_total_time=600 -max_len=8192 /tmp/fuzz_corpus tests/fuzz_corpus
    For every input: parse it; when it parses, check the writer's round trip (write, parse
-   again, every field the model uses equal, else abort) and build a model with
+   again, every field the model uses equal, the solver's gravity and the load sections'
+   fields included (not their names: the writer names loads load0, load1, ...), else abort)
+   and build a model with
    rj_model_create, step it 10 times, free everything. Models above RJ_FUZZ_MAX_NODES nodes
    are only validated (rj_model_size), not built: the parser accepts up to 256 links of up to
    10^6 elements each, which is a legal scene but no unit of fuzzing work. */
@@ -23,10 +25,10 @@
 static int fz_same(const rj_scene_file *a, const rj_scene_file *b)
 {
     int i, k;
-    if (a->link_count != b->link_count || a->joint_count != b->joint_count) return 0;
+    if (a->link_count != b->link_count || a->joint_count != b->joint_count || a->load_count != b->load_count) return 0;
     {
         const rj_solver_def *x = &a->solver, *y = &b->solver;
-        FZ(dt) FZ(allow_unstable) FZ(energy_growth) FZ(energy_every) FZ(in_place)
+        FZ(dt) FZ(allow_unstable) FZ(energy_growth) FZ(energy_every) FZ(in_place) FZ(gravity[0]) FZ(gravity[1])
     }
     for (i = 0; i < a->link_count; i++) {
         const rj_link_def *x = &a->links[i], *y = &b->links[i];
@@ -47,6 +49,11 @@ static int fz_same(const rj_scene_file *a, const rj_scene_file *b)
         if (x->has_forward) { FZ(forward) }
         if (x->has_reverse) { FZ(reverse) }
         for (k = 0; k < x->table_count; k++) { FZ(table_angle[k]) FZ(table_torque[k]) }
+    }
+    for (i = 0; i < a->load_count; i++) {
+        const rj_load_def *x = &a->loads[i], *y = &b->loads[i];
+        FZ(link) FZ(node) FZ(force[0]) FZ(force[1]) FZ(moment) FZ(follower) FZ(table_count)
+        for (k = 0; k < x->table_count; k++) { FZ(table_time[k]) FZ(table_factor[k]) }
     }
     return 1;
 }

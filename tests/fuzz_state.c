@@ -4,27 +4,36 @@
      mkdir -p /tmp/fuzz_work_state && /tmp/fuzz_state -jobs=1 -max_total_time=600 -max_len=4096 /tmp/fuzz_work_state tests/fuzz_corpus_state
    The same file with -DFUZZ_STATE_CORPUS (no -fsanitize=fuzzer) is a program that writes the
    seed corpus into the directory it is given: one valid checkpoint of each model, raw and
-   with a few checksummed edits.
-   Five fixed small models (a flexible two-link chain with limits and locks, a mixed rigid and
-   flexible scene, an all-rigid chain, an inextensible link, a flexible link stepping in place)
-   are built once, stepped, and checkpointed with rj_state_save. Input: byte 0 picks the model,
-   byte 1 the mode, the rest is
+   with a few checksummed edits (the last switches both input blocks on and sets a value).
+   Six fixed small models are built once, stepped, and checkpointed with rj_state_save
+   (version 4): a flexible two-link chain with limits and locks; a mixed rigid and flexible
+   scene stepping with the caller's node forces on; an all-rigid chain with a model load,
+   the caller's joint torques and node forces on; an inextensible link with a joint torque
+   on; a flexible link stepping in place; and a flexible link carrying a rigid one under
+   gravity, three model loads (a tip force scaled by a time table, a follower force and
+   moment, a constant moment), joint torques and node forces on. So the checkpoints hold
+   both input blocks switched off, and on with nonzero torques, forces and "last applied"
+   forces. Input: byte 0 picks the model, byte 1 the mode, the rest is
      mode 0: the checkpoint itself (raw bytes, exact-size copy so over-reads are caught);
      mode 1: the payload of the model's valid checkpoint, header and checksum kept valid;
-     mode 2: edits to the valid checkpoint (steps, a double or int of the frame, any byte,
-             the size), then the checksum recomputed (FNV-1a, as rj_state_save does), so
-             the input reaches the validation behind the checksum;
+     mode 2: edits to the valid checkpoint (steps, a double or int of the frame, a value or
+             a switch of the input blocks, any byte, the size), then the checksum recomputed
+             (FNV-1a, as rj_state_save does), so the input reaches the validation behind the
+             checksum;
      mode 3: the same edits, checksum not recomputed.
    A successful load must give a state whose every public query is finite and within its
-   documented range, that saves back to the same bytes, and that steps: each rj_step returns
-   an error with a message and the state unchanged, or RJ_OK with one more step, a time not
-   earlier, and a state that passes the same checks. A failed load must name the error and leave the state as it was (its saved
-   bytes, error and warning text). Every violation prints "fuzz_state: <what>" and aborts.
+   documented range, that saves back to the same bytes (the whole checkpoint: frame and
+   both input blocks), and that steps: each rj_step returns an error with a message and the
+   state unchanged (its saved bytes, inputs included), or RJ_OK with one more step, a time
+   not earlier, and a state that passes the same checks. A failed load must name the error
+   and leave the state as it was (its saved bytes, error and warning text). Every violation
+   prints "fuzz_state: <what>" and aborts.
    With -DRJ_FUZZ_STEP_ONLY the loaded state's own values are not checked (the load lets
    any finite number and any flag through, which stops a run at once): only what the steps
    do with them (sanitizers, finite nodes after RJ_OK, a failed step changing nothing).
    With -DFUZZ_STATE_PRINT (no -fsanitize=fuzzer) the file is a program that prints how an
-   input's checkpoint differs from the valid one, value by value, then runs the checks:
+   input's checkpoint differs from the valid one, value by value, then runs the checks,
+   saying whether the load and each step succeeded:
      clang -g -O1 -fsanitize=address,undefined -DFUZZ_STATE_PRINT tests/fuzz_state.c -I. -o /tmp/fuzz_state_print -lm */
 #include <float.h>
 #include <limits.h>
@@ -39,8 +48,10 @@
 #include "../revjoint.h"
 #include "../examples/scenes.h"
 
-#define FZ_MODELS 5
+#define FZ_MODELS 6
 #define FZ_HEAD 24          /* "RJCK", version, model hash, payload length (rj_state_save) */
+#define FZ_SCALARS 13       /* the frame's scalars (fz_slot_name) */
+#define FZ_JD 16            /* doubles per joint in the frame (fz_slot_name) */
 #define FZ_STEPS 5
 
 typedef struct fz_model {
@@ -51,11 +62,14 @@ typedef struct fz_model {
     unsigned char *ck;      /* its checkpoint */
     size_t n;               /* checkpoint bytes */
     size_t nd, ni;          /* frame doubles and ints in the payload */
+    size_t in_at, nin;      /* the input blocks: their offset, their doubles (switch + nj
+                               torques, switch + 3 nn forces + 3 nn last applied) */
 } fz_model;
 
 static fz_model fz_m[FZ_MODELS];
 static int fz_ready;
 static const char *fz_what = "";   /* the current input's model and mode, for the messages */
+static int fz_verbose;             /* the printer: say what the load and the steps did */
 
 static void fz_fail(const char *fmt, ...)
 {
@@ -88,6 +102,15 @@ static rj_scene_def fz_scene(rj_link_def *L, int nl, rj_joint_def *J, int nj)
     return sc;
 }
 
+/* the caller's inputs a model's state steps with (before its first step): joint torques
+   and node forces, nonzero where set */
+typedef struct fz_inputs {
+    int torques, forces;    /* switch on */
+    int nt, nf;
+    int t_at[3], f_at[4];   /* joint; node-force entry (3 per node: fx, fy, moment) */
+    double t_val[3], f_val[4];
+} fz_inputs;
+
 /* the paper's deployment at 3 elements per link: springs drive both joints into their locks */
 static rj_scene_def fz_chain(rj_link_def L[2], rj_joint_def J[2])
 {
@@ -111,9 +134,11 @@ static rj_scene_def fz_mixed(rj_link_def L[2], rj_joint_def J[2])
     return fz_scene(L, 2, J, 2);
 }
 
-/* three rigid links from ground: a limit that locks, a spring with a table, a penalty limit */
-static rj_scene_def fz_rigid(rj_link_def L[3], rj_joint_def J[3])
+/* three rigid links from ground: a limit that locks, a spring with a table, a penalty limit;
+   a constant force on the last link's tip */
+static rj_scene_def fz_rigid(rj_link_def L[3], rj_joint_def J[3], rj_load_def D[1])
 {
+    rj_scene_def sc;
     int i;
     for (i = 0; i < 3; i++) { L[i] = rj_default_link_def(); L[i].fidelity = RJ_LINK_RIGID; L[i].elements = 2; L[i].length = 0.4; }
     for (i = 0; i < 3; i++) { J[i] = rj_default_joint_def(); J[i].body1 = i - 1; J[i].body2 = i; }
@@ -122,7 +147,10 @@ static rj_scene_def fz_rigid(rj_link_def L[3], rj_joint_def J[3])
     J[1].table_count = 3; J[1].table_angle[0] = 0.0; J[1].table_angle[1] = 3.0; J[1].table_angle[2] = 6.0;
     J[1].table_torque[0] = 0.1; J[1].table_torque[1] = 0.3; J[1].table_torque[2] = 0.0;
     J[2].has_reverse = 1; J[2].reverse = 2.9; J[2].method = RJ_METHOD_PENALTY; J[2].penalty_k = 500.0; J[2].rate0 = -5.0;
-    return fz_scene(L, 3, J, 3);
+    D[0] = rj_default_load_def(); D[0].link = 2; D[0].force[0] = 0.3; D[0].force[1] = -0.8;
+    sc = fz_scene(L, 3, J, 3);
+    sc.loads = D; sc.load_count = 1;
+    return sc;
 }
 
 /* an inextensible link turning from ground into a penalty limit, with a table torque */
@@ -147,24 +175,79 @@ static rj_scene_def fz_inplace(rj_link_def L[1], rj_joint_def J[1])
     return sc;
 }
 
+/* a flexible link on a damped ground spring carrying a rigid link at its tip, under gravity
+   and loads: a force on the rigid tip rising and falling by a table, a follower force and
+   moment on the flexible link's middle, a constant moment at its root */
+static rj_scene_def fz_loaded(rj_link_def L[2], rj_joint_def J[2], rj_load_def D[3])
+{
+    rj_scene_def sc;
+    L[0] = rj_default_link_def(); L[0].elements = 4; L[0].length = 0.6; L[0].height = 0.02;
+    L[1] = rj_default_link_def(); L[1].fidelity = RJ_LINK_RIGID; L[1].elements = 2; L[1].length = 0.3; L[1].height = 0.02;
+    J[0] = rj_default_joint_def(); J[0].spring_k = 200.0; J[0].damping = 0.05;
+    J[1] = rj_default_joint_def(); J[1].body1 = 0; J[1].body2 = 1; J[1].spring_k = 5.0; J[1].friction = 0.01;
+    J[1].has_reverse = 1; J[1].reverse = 2.5;
+    D[0] = rj_default_load_def(); D[0].link = 1; D[0].force[0] = 2.0; D[0].force[1] = -5.0;
+    D[0].table_count = 3; D[0].table_time[0] = 0.0; D[0].table_time[1] = 0.02; D[0].table_time[2] = 0.1;
+    D[0].table_factor[0] = 0.0; D[0].table_factor[1] = 1.0; D[0].table_factor[2] = 0.5;
+    D[1] = rj_default_load_def(); D[1].link = 0; D[1].node = 2; D[1].follower = 1; D[1].force[0] = 0.5; D[1].force[1] = 3.0; D[1].moment = 0.2;
+    D[2] = rj_default_load_def(); D[2].link = 0; D[2].node = 0; D[2].force[1] = 0.0; D[2].moment = -0.5;
+    sc = fz_scene(L, 2, J, 2);
+    sc.loads = D; sc.load_count = 3;
+    sc.solver.gravity[1] = -9.81;
+    return sc;
+}
+
 static void fz_build(int k)
 {
     rj_link_def L[3];
     rj_joint_def J[3];
+    rj_load_def D[3];
     rj_scene_def sc;
     rj_error err;
     fz_model *f = &fz_m[k];
+    fz_inputs in;
     long i, steps = 2000;
+    memset(&in, 0, sizeof in);
     switch (k) {
     case 0: sc = fz_chain(L, J); f->name = "chain"; steps = 400000; break;
-    case 1: sc = fz_mixed(L, J); f->name = "mixed"; break;
-    case 2: sc = fz_rigid(L, J); f->name = "rigid"; break;
-    case 3: sc = fz_inext(L, J); f->name = "inextensible"; break;
-    default: sc = fz_inplace(L, J); f->name = "in-place"; break;
+    case 1:
+        sc = fz_mixed(L, J); f->name = "mixed";
+        in.forces = 1; in.nf = 3;                                      /* the rigid link's tip, the flexible tip */
+        in.f_at[0] = 3 * 2 + 1; in.f_val[0] = -0.5;
+        in.f_at[1] = 3 * 7 + 0; in.f_val[1] = 0.2; in.f_at[2] = 3 * 7 + 2; in.f_val[2] = 0.01;
+        break;
+    case 2:
+        sc = fz_rigid(L, J, D); f->name = "rigid";
+        in.torques = 1; in.nt = 2; in.t_at[0] = 0; in.t_val[0] = 0.1; in.t_at[1] = 2; in.t_val[1] = -0.05;
+        in.forces = 1; in.nf = 2; in.f_at[0] = 3 * 5 + 1; in.f_val[0] = -0.3; in.f_at[1] = 3 * 8 + 2; in.f_val[1] = 0.02;
+        break;
+    case 3:
+        sc = fz_inext(L, J); f->name = "inextensible";
+        in.torques = 1; in.nt = 1; in.t_at[0] = 0; in.t_val[0] = 0.2;
+        break;
+    case 4: sc = fz_inplace(L, J); f->name = "in-place"; break;
+    default:
+        sc = fz_loaded(L, J, D); f->name = "loaded";
+        in.torques = 1; in.nt = 2; in.t_at[0] = 0; in.t_val[0] = 0.3; in.t_at[1] = 1; in.t_val[1] = -0.1;
+        in.forces = 1; in.nf = 4;                                      /* flexible tip, rigid tip */
+        in.f_at[0] = 3 * 4 + 0; in.f_val[0] = 0.4; in.f_at[1] = 3 * 4 + 2; in.f_val[1] = 0.05;
+        in.f_at[2] = 3 * 7 + 1; in.f_val[2] = -1.0; in.f_at[3] = 3 * 1 + 1; in.f_val[3] = 0.7;
+        break;
     }
     if (rj_model_create(&sc, &f->m, &err, NULL) != RJ_OK) { fprintf(stderr, "fuzz_state: model %s: %s\n", f->name, err.msg); abort(); }
     if (rj_state_create(f->m, &f->base, NULL) != RJ_OK || rj_state_create(f->m, &f->s, NULL) != RJ_OK
         || rj_state_create(f->m, &f->keep, NULL) != RJ_OK) { fprintf(stderr, "fuzz_state: states of %s\n", f->name); abort(); }
+    if (in.torques) {
+        double *tq = rj_state_joint_torques(f->m, f->base);
+        for (i = 0; i < in.nt; i++) tq[in.t_at[i]] = in.t_val[i];
+    }
+    if (in.forces) {
+        double *fn = rj_state_node_forces(f->m, f->base);
+        for (i = 0; i < in.nf; i++) {
+            if (in.f_at[i] >= 3 * rj_model_node_count(f->m)) { fprintf(stderr, "fuzz_state: model %s: node force %d\n", f->name, in.f_at[i]); abort(); }
+            fn[in.f_at[i]] = in.f_val[i];
+        }
+    }
     /* step into the interesting part: the chain until its first joint has locked (then a
        little more), the others a fixed number of steps; stop at an error */
     for (i = 0; i < steps; i++) {
@@ -175,7 +258,10 @@ static void fz_build(int k)
     f->ck = (unsigned char *)malloc(f->n);
     if (!f->ck || rj_state_save(f->m, f->base, f->ck, f->n) != f->n) abort();
     f->ni = (size_t)rj_model_joint_count(f->m) + 1;
-    f->nd = (f->n - FZ_HEAD - 8 - 8 - sizeof(int) * f->ni) / sizeof(double);
+    f->nin = (size_t)rj_model_joint_count(f->m) + 1 + 6 * (size_t)rj_model_node_count(f->m) + 1;
+    f->nd = (f->n - FZ_HEAD - 8 - 8 - sizeof(int) * f->ni - sizeof(double) * f->nin) / sizeof(double);
+    f->in_at = FZ_HEAD + 8 + sizeof(double) * f->nd + sizeof(int) * f->ni;
+    if (f->in_at + sizeof(double) * f->nin + 8 != f->n) { fprintf(stderr, "fuzz_state: model %s: checkpoint layout\n", f->name); abort(); }
 }
 
 static void fz_init(void)
@@ -202,10 +288,10 @@ static void fz_check_state(const rj_model *m, const rj_state *s, const char *whe
     if (rj_state_warning_count(s) < 0) fz_fail("%s: warning count %ld < 0", when, rj_state_warning_count(s));
     if (memchr(rj_state_error(s), 0, 640) == NULL || memchr(rj_state_warning(s), 0, 200) == NULL) fz_fail("%s: error or warning text not terminated", when);
     rj_state_energy(m, s, &e);
-    if (!fz_finite(e.kinetic) || !fz_finite(e.strain) || !fz_finite(e.spring) || !fz_finite(e.lost_damping)
-        || !fz_finite(e.lost_friction) || !fz_finite(e.lost_limit) || !fz_finite(e.total) || !fz_finite(e.balance))
-        fz_fail("%s: energy not finite: kinetic %g strain %g spring %g lost %g %g %g total %g balance %g", when,
-                e.kinetic, e.strain, e.spring, e.lost_damping, e.lost_friction, e.lost_limit, e.total, e.balance);
+    if (!fz_finite(e.kinetic) || !fz_finite(e.strain) || !fz_finite(e.spring) || !fz_finite(e.gravity) || !fz_finite(e.work_applied)
+        || !fz_finite(e.lost_damping) || !fz_finite(e.lost_friction) || !fz_finite(e.lost_limit) || !fz_finite(e.total) || !fz_finite(e.balance))
+        fz_fail("%s: energy not finite: kinetic %g strain %g spring %g gravity %g work %g lost %g %g %g total %g balance %g", when,
+                e.kinetic, e.strain, e.spring, e.gravity, e.work_applied, e.lost_damping, e.lost_friction, e.lost_limit, e.total, e.balance);
     for (l = 0; l < rj_model_link_count(m); l++) for (i = 0; i < rj_link_node_count(m, l); i++) {
         double r, w;
         rj_node_position(m, s, l, i, xy);
@@ -277,6 +363,15 @@ static int fz_special_int(unsigned k)
     static const int v[] = { 0, 1, 2, 3, 4, 7, -1, -2, 255, 256, 65536, INT_MAX, INT_MIN };
     return v[k % (sizeof v / sizeof v[0])];
 }
+/* an input block's switch: 0 or 1 (the only ones rj_state_save writes), and near misses */
+static double fz_special_switch(unsigned k)
+{
+    static const double v[] = { 1.0, 0.0, -0.0, 2.0, 0.5, -1.0, 1.0000000000000002, 4.9e-324, HUGE_VAL, 0.0 /* NaN, below */ };
+    const unsigned n = sizeof v / sizeof v[0];
+    k %= n;
+    if (k == n - 1) return nan("");
+    return v[k];
+}
 
 /* edits to a copy of the valid checkpoint; returns the buffer and its size in *size */
 static unsigned char *fz_edit(const fz_model *f, fz_in *in, size_t *size)
@@ -287,7 +382,7 @@ static unsigned char *fz_edit(const fz_model *f, fz_in *in, size_t *size)
     if (!b) abort();
     memcpy(b, f->ck, f->n);
     while (in->at < in->n && ops++ < 64) {
-        unsigned op = fz_u8(in) % 7;
+        unsigned op = fz_u8(in) % 9;
         size_t at;
         if (op == 0) {                                  /* the step counter */
             long long st = fz_special_steps(fz_u8(in));
@@ -303,6 +398,17 @@ static unsigned char *fz_edit(const fz_model *f, fz_in *in, size_t *size)
             at = FZ_HEAD + 8 + sizeof(double) * f->nd + sizeof(int) * (fz_u8(in) % f->ni);
             v = fz_special_int(fz_u8(in));
             memcpy(b + at, &v, sizeof v);
+        } else if (op == 7) {                           /* a value of the input blocks (switches included) */
+            double v;
+            at = f->in_at + sizeof(double) * (fz_u16(in) % f->nin);
+            v = fz_special(fz_u8(in));
+            memcpy(b + at, &v, 8);
+        } else if (op == 8) {                           /* an input block's switch */
+            const size_t nj = f->ni - 1;
+            double v;
+            at = f->in_at + (fz_u8(in) & 1 ? sizeof(double) * (nj + 1) : 0);
+            v = fz_special_switch(fz_u8(in));
+            memcpy(b + at, &v, 8);
         } else if (op == 4 || op == 5) {                /* any byte, header included */
             at = fz_u16(in) % n;
             if (op == 4) b[at] = (unsigned char)fz_u8(in); else b[at] ^= (unsigned char)(1u << (fz_u8(in) % 8));
@@ -382,6 +488,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memcpy(warn_before, rj_state_warning(f->s), sizeof warn_before);
     memset(&err, 0, sizeof err);
     r = rj_state_load(f->m, f->s, buf, n, &err);
+    if (fz_verbose) printf("load: %s\n", r == RJ_OK ? "ok" : err.msg);
     if (r != RJ_OK) {
         if (r != RJ_ERR_CHECKPOINT) fz_fail("load returned %d, not RJ_ERR_CHECKPOINT", (int)r);
         if (err.code != r || err.msg[0] == 0 || err.field[0] == 0 || memchr(err.msg, 0, sizeof err.msg) == NULL)
@@ -404,6 +511,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             double t = rj_state_time(f->s);
             unsigned char *b0 = fz_save(f, f->s);
             r = rj_step(f->m, f->s);
+            if (fz_verbose) printf("step %d: %s\n", k, r == RJ_OK ? "ok" : rj_state_error(f->s));
             if (r != RJ_OK) {
                 unsigned char *b1 = fz_save(f, f->s);
                 if (rj_state_error(f->s)[0] == 0) fz_fail("step %d returned %d without an error message", k, (int)r);
@@ -431,24 +539,40 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 }
 
 #ifdef FUZZ_STATE_PRINT
-/* the name of payload value k of model f: the frame layout of revjoint.h's rj_state (node
-   arrays, element arrays, per-joint records, scalars, rigid bodies), as it is today */
+/* the name of payload value k of model f: the frame layout of revjoint.h's rj_state
+   (scalars, node arrays, element arrays, per-joint records, rigid bodies), as it is today */
 static void fz_slot_name(const fz_model *f, size_t k, char *out, size_t size)
 {
-    static const char *sc[] = { "time", "energy time", "kinetic", "strain", "spring", "lost damping", "lost friction", "lost limit", "initial energy", "warnings", "pending limit loss" };
+    static const char *sc[FZ_SCALARS] = { "time", "energy time", "kinetic", "strain", "spring", "lost damping", "lost friction", "lost limit",
+                                          "initial energy", "warnings", "pending limit loss", "gravity potential", "work applied" };
     static const char *na[] = { "x", "y", "phi", "vx", "vy", "w" }, *ea[] = { "beta", "chord x", "chord y" };
-    static const char *jd[] = { "theta", "rate", "lock angle", "event time", "release time", "peak penetration", "contact penetration", "qdd",
-                                "torque table", "torque spring", "torque damping", "torque friction", "torque limit", "torque total" };
+    static const char *jd[FZ_JD] = { "theta", "rate", "lock angle", "event time", "release time", "peak penetration", "contact penetration", "qdd",
+                                     "impulse", "input torque applied", "torque table", "torque spring", "torque damping", "torque friction",
+                                     "torque limit", "torque total" };
     const size_t nn = (size_t)rj_model_node_count(f->m), nl = (size_t)rj_model_link_count(f->m), ne = nn - nl, nj = f->ni - 1;
-    if (k < 11) { snprintf(out, size, "%s", sc[k]); return; }
-    k -= 11;
+    if (k < FZ_SCALARS) { snprintf(out, size, "%s", sc[k]); return; }
+    k -= FZ_SCALARS;
     if (k < 6 * nn) { snprintf(out, size, "node %lu %s", (unsigned long)(k % nn), na[k / nn]); return; }
     k -= 6 * nn;
     if (k < 3 * ne) { snprintf(out, size, "element %lu %s", (unsigned long)(k % ne), ea[k / ne]); return; }
     k -= 3 * ne;
-    if (k < 14 * nj) { snprintf(out, size, "joint %lu %s", (unsigned long)(k / 14), jd[k % 14]); return; }
-    k -= 14 * nj;
+    if (k < FZ_JD * nj) { snprintf(out, size, "joint %lu %s", (unsigned long)(k / FZ_JD), jd[k % FZ_JD]); return; }
+    k -= FZ_JD * nj;
     snprintf(out, size, "rigid body %lu value %lu", (unsigned long)(k / 6), (unsigned long)(k % 6));
+}
+/* the name of input-block value k (rj_state_save's version 4 blocks) */
+static void fz_input_name(const fz_model *f, size_t k, char *out, size_t size)
+{
+    static const char *comp[] = { "fx", "fy", "moment" };
+    const size_t nn = (size_t)rj_model_node_count(f->m), nj = f->ni - 1;
+    if (k == 0) { snprintf(out, size, "joint torques' switch"); return; }
+    if (k <= nj) { snprintf(out, size, "joint %lu input torque", (unsigned long)(k - 1)); return; }
+    k -= nj + 1;
+    if (k == 0) { snprintf(out, size, "node forces' switch"); return; }
+    k -= 1;
+    if (k < 3 * nn) { snprintf(out, size, "node %lu input %s", (unsigned long)(k / 3), comp[k % 3]); return; }
+    k -= 3 * nn;
+    snprintf(out, size, "node %lu %s the last step applied", (unsigned long)(k / 3), comp[k % 3]);
 }
 /* prints how an input file's checkpoint differs from its model's valid one, then runs the
    checks on it */
@@ -490,15 +614,25 @@ int main(int argc, char **argv)
         memcpy(&a, b + at, sizeof a); memcpy(&v, f->ck + at, sizeof v);
         printf("int %lu (%s): %d (valid %d)\n", (unsigned long)k, k + 1 < f->ni ? "joint flag" : "unused", a, v);
     }
+    for (k = 0; k < f->nin; k++) {
+        size_t at = f->in_at + 8 * k;
+        double a, v;
+        char name[64];
+        if (at + 8 > m || !memcmp(b + at, f->ck + at, 8)) continue;
+        memcpy(&a, b + at, 8); memcpy(&v, f->ck + at, 8);
+        fz_input_name(f, k, name, sizeof name);
+        printf("input %lu (%s): %.17g (valid %.17g)\n", (unsigned long)k, name, a, v);
+    }
     if (m >= 8 && memcmp(b + n - 8, f->ck + f->n - 8, 8)) printf("checksum differs%s\n", mode == 2 || mode == 1 ? " (recomputed)" : "");
     free(b);
+    fz_verbose = 1;
     fflush(stdout);
     return LLVMFuzzerTestOneInput(data, size);
 }
 #endif
 
 #ifdef FUZZ_STATE_CORPUS
-/* writes the seed corpus: per model a raw valid checkpoint and two checksummed edits */
+/* writes the seed corpus: per model a raw valid checkpoint and three checksummed edits */
 int main(int argc, char **argv)
 {
     int k;
@@ -507,19 +641,24 @@ int main(int argc, char **argv)
     fz_init();
     for (k = 0; k < FZ_MODELS; k++) {
         const fz_model *f = &fz_m[k];
-        static const unsigned char edits[2][4] = { { 0, 1, 0, 1 }, { 1, 0, 0, 7 } };   /* steps 1; time 64 s */
+        /* steps 1; time 64 s; both input blocks on (switch 1) and the last node's input fy 3 N */
+        unsigned char edits[3][10] = { { 0, 1, 0, 1 }, { 1, 0, 0, 7 }, { 8, 0, 0, 8, 1, 0, 7, 0, 0, 5 } };
+        static const size_t elen[3] = { 4, 4, 10 };
+        const unsigned fy = (unsigned)(f->ni - 1 + 2 + 3 * (size_t)(rj_model_node_count(f->m) - 1) + 1);
         FILE *o;
         int e;
+        edits[2][7] = (unsigned char)(fy & 255); edits[2][8] = (unsigned char)(fy >> 8);
         snprintf(path, sizeof path, "%s/ck_%d_raw", argv[1], k);
         if (!(o = fopen(path, "wb"))) return 1;
         fputc(k, o); fputc(0, o); fwrite(f->ck, 1, f->n, o); fclose(o);
-        for (e = 0; e < 2; e++) {
+        for (e = 0; e < 3; e++) {
             snprintf(path, sizeof path, "%s/ck_%d_edit%d", argv[1], k, e);
             if (!(o = fopen(path, "wb"))) return 1;
-            fputc(k, o); fputc(2, o); fwrite(edits[e], 1, sizeof edits[e], o); fclose(o);
+            fputc(k, o); fputc(2, o); fwrite(edits[e], 1, elen[e], o); fclose(o);
         }
-        printf("%s: %lu bytes, %lu frame doubles, %lu ints, %ld steps, t = %g s\n", f->name, (unsigned long)f->n,
-               (unsigned long)f->nd, (unsigned long)f->ni, rj_state_steps(f->base), rj_state_time(f->base));
+        printf("%s: %lu bytes, %lu frame doubles, %lu ints, %lu input doubles, %ld steps, t = %g s, %d loads%s%s\n", f->name,
+               (unsigned long)f->n, (unsigned long)f->nd, (unsigned long)f->ni, (unsigned long)f->nin, rj_state_steps(f->base),
+               rj_state_time(f->base), rj_model_load_count(f->m), rj_state_error(f->base)[0] ? "; stopped: " : "", rj_state_error(f->base));
     }
     return 0;
 }

@@ -16,7 +16,7 @@ header() {
   awk 'BEGIN { printf "t" }
        $1 == "joint" { n = split("theta_deg rate flag torque_spring torque_table torque_damping torque_friction torque_limit latch_impulse", c, " ");
                        for (i = 1; i <= n; i++) printf ",%s.%s", $2, c[i] }
-       $1 == "link" { links[++nl] = $2 }
+       $1 == "link" && $2 != "=" { links[++nl] = $2 }
        END { for (k = 1; k <= nl; k++) printf ",%s.tip_x,%s.tip_y,%s.tip_defl", links[k], links[k], links[k];
              print ",E_kin,E_strain,E_spring,E_gravity,W_applied,W_damping,W_friction,W_limit,E_balance" }' "$1"
 }
@@ -53,16 +53,16 @@ m 2 "nodes 0..10" "run --probe with a node past the link's last is refused" $B/r
 # ---- rj run against build/deploy on the same scene: the joint angles row for row
 $B/rj run $S/deploy.rjs --t-end 3.5 --csv $T/rj_deploy.csv 2>$T/rj_deploy.err
 $B/deploy --scene $S/deploy.rjs --t-end 3.5 --csv $T/deploy.csv 2>$T/deploy.err
-# rj: t, j1 (2-10), j2 (11-19), arm1 (20-22), arm2 (23-25), energies (26-33); deploy from
-# 34: t (%.6f: within half its last digit), q1 = j1 (deg), q2 = j2 - 180 (deg), rates, flags, tip2_x, tip2_y (%.10g)
+# rj: t, j1 (2-10), j2 (11-19), arm1 (20-22), arm2 (23-25), energies (26-34); deploy from
+# 35: t (%.6f: within half its last digit), q1 = j1 (deg), q2 = j2 - 180 (deg), rates, flags, tip2_x, tip2_y (%.10g)
 res=$(paste -d, $T/rj_deploy.csv $T/deploy.csv | awk -F, '
   NR == 1 { next }
-  { n++; d = $1 - $34; if (d < 0) d = -d; if (d > 5.001e-7) bad = bad " t@" $34
-    if ($2 != $35) bad = bad " q1@" $34
-    d = $11 - ($36 + 180); if (d < 0) d = -d; if (d > 2e-7) bad = bad " q2@" $34
-    if ($3 != $37 || $12 != $38) bad = bad " rates@" $34
-    if ($4 != $39 || $13 != $40) bad = bad " flags@" $34
-    if ($23 != $41 || $24 != $42) bad = bad " tip2@" $34 }
+  { n++; d = $1 - $35; if (d < 0) d = -d; if (d > 5.001e-7) bad = bad " t@" $35
+    if ($2 != $36) bad = bad " q1@" $35
+    d = $11 - ($37 + 180); if (d < 0) d = -d; if (d > 2e-7) bad = bad " q2@" $35
+    if ($3 != $38 || $12 != $39) bad = bad " rates@" $35
+    if ($4 != $40 || $13 != $41) bad = bad " flags@" $35
+    if ($23 != $42 || $24 != $43) bad = bad " tip2@" $35 }
   END { print n, substr(bad, 1, 200) }')
 if [ "$res" = "3501 " ] && [ $(wc -l < $T/rj_deploy.csv) = $(wc -l < $T/deploy.csv) ]; then
   echo "PASS rj: run deploy.rjs = build/deploy --scene deploy.rjs row for row to 3.5 s (3501 rows: t, q1, q2 to the printed digits, rates, flags, tip 2 exact; joint 2 locks)"

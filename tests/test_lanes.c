@@ -179,6 +179,26 @@ int main(void)
         sc.solver.energy_every = 7;
         rc |= run("the same, energy_every 7", &sc, 0.02);
     }
+    {   /* gravity and applied loads: a free link of 300 elements (two chunks) with a tip mass,
+           thrown under gravity, a tabled follower force and moment on node 150 (inner: it is
+           advanced again after the joints) and a dead force on its tip */
+        rj_link_def L = rj_default_link_def();
+        rj_load_def ld[2];
+        rj_scene_def sc = rj_default_scene_def();
+        L.height = 0.01; L.elements = 300; L.omega = 1.0; L.vy = 0.3; L.tip_mass = 0.5;
+        ld[0] = rj_default_load_def();
+        ld[0].node = 150; ld[0].force[1] = 40.0; ld[0].moment = 2.0; ld[0].follower = 1;
+        ld[0].table_count = 3;
+        ld[0].table_time[0] = 0.0; ld[0].table_time[1] = 0.01; ld[0].table_time[2] = 0.03;
+        ld[0].table_factor[0] = 0.0; ld[0].table_factor[1] = 1.0; ld[0].table_factor[2] = -0.5;
+        ld[1] = rj_default_load_def();
+        ld[1].force[0] = -15.0;
+        sc.links = &L; sc.link_count = 1; sc.loads = ld; sc.load_count = 2;
+        sc.solver.gravity[0] = 2.0; sc.solver.gravity[1] = -9.81;
+        rc |= run("gravity and loads 300 el", &sc, 0.05);
+    }
+    rc |= run_file("examples/scenes/flexible_pendulum.rjs", 0.5);
+    rc |= run_file("examples/scenes/elastica.rjs", 0.2);
     rc |= run_file("examples/scenes/deploy.rjs", 1.0);
     rc |= run_file("examples/scenes/solar_array.rjs", 0.5);
     rc |= run_file("examples/scenes/solar_array_bus.rjs", 0.5);
