@@ -33,8 +33,8 @@
 static const char usage_main[] =
     "usage: rj SUBCOMMAND SCENE.rjs [options]\n"
     "  run      simulate the scene; CSV history, events and a summary\n"
-    "  check    validate the scene; links, joints, the step and what sets it, the cost of\n"
-    "           a simulated second, warnings\n"
+    "  check    validate the scene; links, joints, gravity and loads, the step and what sets\n"
+    "           it, the cost of a simulated second, warnings\n"
     "  plot     simulate and plot joint angles, limit torques, tip deflections or energies\n"
     "  animate  simulate and render PNG frames (and an MP4 with ffmpeg, when installed)\n"
     "  rj SUBCOMMAND --help   that subcommand's options (rj help SUBCOMMAND too)\n"
@@ -84,7 +84,8 @@ static const char usage_run[] =
 static const char usage_check[] =
     "usage: rj check SCENE.rjs [--dt S]\n"
     "  Validates the scene and prints the model: links (model, elements, length, mass),\n"
-    "  joints (bodies, spring, table, limits, lock, method, friction, damping), the step\n"
+    "  joints (bodies, spring, table, limits, lock, method, friction, damping), gravity and\n"
+    "  the loads (node, force and its frame, moment, table), the step\n"
     "  (dt, the stability bound, omega_max, and what sets them: the fastest link on its own,\n"
     "  the stiffest joint), the cost of one simulated second here (200-step batches timed),\n"
     "  and warnings (the model's own, penalty stiffness above Eq 31, a heavy tip mass on a\n"
@@ -956,6 +957,32 @@ static void check_joints(const scene *sc)
     }
 }
 
+/* Gravity and one line a load: its node, force (and frame), moment, table. Nothing when
+   the scene has neither. */
+static void check_loads(const scene *sc)
+{
+    const rj_model *m = sc->m;
+    const rj_solver_def *sv = &sc->f.solver;
+    int k;
+    if (sv->gravity[0] != 0 || sv->gravity[1] != 0)
+        printf("gravity: (%g, %g) m/s^2\n", sv->gravity[0], sv->gravity[1]);
+    if (rj_model_load_count(m) == 0) return;
+    printf("loads: %d\n", rj_model_load_count(m));
+    for (k = 0; k < rj_model_load_count(m); k++) {
+        const rj_load_def *d = rj_model_load_def(m, k);
+        char node[32], table[96];
+        if (d->node < 0) snprintf(node, sizeof node, "last node");
+        else snprintf(node, sizeof node, "node %d", d->node);
+        table[0] = '\0';
+        if (d->table_count > 0)
+            snprintf(table, sizeof table, "; a table of %d points from %g to %g s", d->table_count,
+                     d->table_time[0], d->table_time[d->table_count - 1]);
+        printf("  %-12s %s %s: force (%g, %g) N %s, moment %g N m%s\n", sc->f.load_names[k],
+               link_name(sc, d->link), node, d->force[0], d->force[1],
+               d->follower ? "turning with the node" : "fixed", d->moment, table);
+    }
+}
+
 /* omega_max of one link alone (its root as defined, no joints): how fast its own modes
    are, beams and tip mass. Rigid links have none (0); NaN when it cannot be built. */
 static double link_omega(const rj_model *m, int l)
@@ -1175,6 +1202,7 @@ static int cmd_check(int argc, char **argv)
     printf("%s: valid\n", o.scene);
     check_links(&sc);
     check_joints(&sc);
+    check_loads(&sc);
     check_dt(&sc);
     check_binding(&sc);
     check_cost(&sc);

@@ -150,6 +150,9 @@ for f in $S/*.rjs; do
     "$B/rj check $f > $T/check.txt && grep -q '^links: ' $T/check.txt && grep -q '^joints: ' $T/check.txt \
      && grep -q 'stability bound' $T/check.txt && grep -q 'the bound is set by ' $T/check.txt && grep -q '^cost: 1 simulated second' $T/check.txt"
 done
+ok "check elastica.rjs: its load, node, force and table; flexible_pendulum.rjs: its gravity" \
+  "$B/rj check $S/elastica.rjs | grep -qx '  tip          beam last node: force (0, -74.6667) N fixed, moment 0 N m; a table of 2 points from 0 to 0.5 s' \
+   && $B/rj check $S/flexible_pendulum.rjs | grep -qx 'gravity: (0, -9.81) m/s^2' && ! $B/rj check $S/deploy.rjs | grep -q '^loads:\\|^gravity:'"
 ok "check impact.rjs: the adaptive hinge sets the bound, deploy.rjs: link arm2 does" \
   "$B/rj check $S/impact.rjs | grep -q 'set by joint hinge' && $B/rj check $S/deploy.rjs | grep -q 'set by link arm2'"
 printf 'link a\n  length 1\n' > $T/syntax.rjs
