@@ -875,9 +875,8 @@ struct rj_state {
     double *input_node;   /* (3 nn) the caller's node forces fx fy mz (kept until changed) */
     int node_inputs;      /* rj_state_node_forces was called: the step applies them */
     double *node_applied; /* (3 nn) the node forces the last step applied, for their work */
-    int *kick_node;       /* (nn) nodes the step under way kicks with their node forces */
-    int kicks;
-    double step_work; /* the work of the loads and node forces in the step under way */
+    double step_work;     /* the work of the loads and node forces in the step under way */
+    double step_fin;      /* the positions their kicks wrote, summed (the finite test) */
     double *
         rsc; /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch); mixed: body impulses (3 nl) */
     char err[640];
@@ -4960,7 +4959,7 @@ RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
     size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, eu, ebt, jsc,
-        rsc, input_torque, input_node, node_applied, kick_node;
+        rsc, input_torque, input_node, node_applied;
 } rj__slayout;
 
 static void rj__state_layout(const rj_model *m, rj__slayout *L)
@@ -4988,7 +4987,6 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->input_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
     L->input_node = rj__carve(&off, 3 * (size_t) m->nn, sizeof(double));
     L->node_applied = rj__carve(&off, 3 * (size_t) m->nn, sizeof(double));
-    L->kick_node = rj__carve(&off, (size_t) m->nn, sizeof(int));
     L->total = off == (size_t) -1 ? off : off + RJ__ALIGN;
 }
 
@@ -5162,7 +5160,6 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->input_torque = (double *) (void *) (base + L.input_torque);
     s->input_node = (double *) (void *) (base + L.input_node);
     s->node_applied = (double *) (void *) (base + L.node_applied);
-    s->kick_node = (int *) (void *) (base + L.kick_node);
     rj_state_reset(m, s);
     *out = s;
     return RJ_OK;
@@ -6423,15 +6420,40 @@ static RJ__INLINE double rj__node_input_size(const double *in, const double *pre
            (fabs(prev[1]) + fabs(prev[2]));
 }
 
-/* Stage 2d, the caller's node forces, only where they or the last step's are not zero:
-   on the nodes the step advances after the joints (m->dnode) with the joints' forces; the
-   others, which the beam pass has advanced, are listed in s->kick_node for a kick in stage
-   4 (rj__node_inputs_kick). Their work over the step before, with the forces the last
-   step applied (s->node_applied), into s->step_work. */
-static rj_result rj__stage_node_inputs(const rj_model *m, rj_state *s, const double *at_n)
+/* The caller's force on node i, which the beam pass has advanced already (not in
+   m->dnode): v^{n+1/2} takes kick f / m on top, x^{n+1} follows, and the node's share of
+   the kinetic energy the matching v^{n-1/2} . kick f. at_n, advanced: the frames of the
+   nodes at n and at n + 1 (rj__frames_nodes). Returns the new position's x + y + phi. */
+static double rj__node_kick(const rj_model *m, rj_state *s, int i, const double *at_n,
+                            double *advanced, double kick)
 {
-    double work = 0;
-    int i, kicks = 0;
+    const double *in = s->input_node + 3 * (size_t) i;
+    const double dvx = kick * in[0] * m->tinv[i];
+    const double dvy = kick * in[1] * m->tinv[i];
+    const double dw = kick * in[2] * m->rinv[i];
+    const double vx = RJ__FVX(m, at_n)[i], vy = RJ__FVY(m, at_n)[i], w = RJ__FW(m, at_n)[i];
+    double *nx = RJ__FX(m, advanced), *ny = RJ__FY(m, advanced), *nphi = RJ__FPHI(m, advanced);
+    double *nvx = RJ__FVX(m, advanced), *nvy = RJ__FVY(m, advanced), *nw = RJ__FW(m, advanced);
+    s->kn[i] += m->kmass[i] * (vx * dvx + vy * dvy) + m->krot[i] * w * dw;
+    nvx[i] += dvx;
+    nvy[i] += dvy;
+    nw[i] += dw;
+    nx[i] += m->dt * dvx;
+    ny[i] += m->dt * dvy;
+    nphi[i] += m->dt * dw;
+    return (nx[i] + ny[i]) + nphi[i];
+}
+
+/* Stage 2d, the caller's node forces, only where they or the last step's are not zero:
+   with the joints' forces on the nodes the step advances after the joints (m->dnode); as
+   a kick on the others, which the beam pass has advanced (their sum of new positions
+   into s->step_fin). Their work over the step before, with the forces the last step
+   applied (s->node_applied), into s->step_work. */
+static rj_result rj__stage_node_inputs(const rj_model *m, rj_state *s, const double *at_n,
+                                       double *advanced, double kick)
+{
+    double work = 0, fin = 0;
+    int i;
     for (i = 0; i < m->nn; i++) {
         const double *in = s->input_node + 3 * (size_t) i;
         const double *prev = s->node_applied + 3 * (size_t) i;
@@ -6441,57 +6463,32 @@ static rj_result rj__stage_node_inputs(const rj_model *m, rj_state *s, const dou
             return RJ_ERR_INVALID;
         work += rj__node_work(m, at_n, i, in, prev);
         if (!rj__is_dnode(m, i)) {
-            s->kick_node[kicks++] = i;
+            fin += rj__node_kick(m, s, i, at_n, advanced, kick);
             continue;
         }
         s->fx[i] += in[0];
         s->fy[i] += in[1];
         s->mz[i] += in[2];
     }
-    s->kicks = kicks;
+    s->step_fin = fin;
     s->step_work += work;
     return RJ_OK;
-}
-
-/* Stage 4, the caller's forces on the nodes the beam pass advanced (s->kick_node):
-   v^{n+1/2} takes kick f / m on top, x^{n+1} follows, and the node's share of the kinetic
-   energy the matching v^{n-1/2} . kick f. at_n, advanced: the frames of the nodes at n
-   and at n + 1 (rj__frames_nodes). */
-static RJ__NOINLINE void rj__node_inputs_kick(const rj_model *m, rj_state *s, const double *at_n,
-                                              double *advanced, double kick, double *fin)
-{
-    const double *vx = RJ__FVX(m, at_n), *vy = RJ__FVY(m, at_n), *w = RJ__FW(m, at_n);
-    double *nx = RJ__FX(m, advanced), *ny = RJ__FY(m, advanced), *nphi = RJ__FPHI(m, advanced);
-    double *nvx = RJ__FVX(m, advanced), *nvy = RJ__FVY(m, advanced), *nw = RJ__FW(m, advanced);
-    int k;
-    for (k = 0; k < s->kicks; k++) {
-        const int i = s->kick_node[k];
-        const double *in = s->input_node + 3 * (size_t) i;
-        const double dvx = kick * in[0] * m->tinv[i];
-        const double dvy = kick * in[1] * m->tinv[i];
-        const double dw = kick * in[2] * m->rinv[i];
-        s->kn[i] += m->kmass[i] * (vx[i] * dvx + vy[i] * dvy) + m->krot[i] * w[i] * dw;
-        nvx[i] += dvx;
-        nvy[i] += dvy;
-        nw[i] += dw;
-        nx[i] += m->dt * dvx;
-        ny[i] += m->dt * dvy;
-        nphi[i] += m->dt * dw;
-        *fin += (nx[i] + ny[i]) + nphi[i];
-    }
 }
 
 /* Stage 2b, applied loads: the caller's joint torques, the model's loads and the
    caller's node forces, in that order, before friction so that it sees them; the work of
    the last two over the step before in s->step_work. next: the new frame; t: the time at
-   n; at_n: the frame of the nodes at n. This stage and rj__applied_work take plain
+   n; at_n, advanced: the frames of the nodes at n and n + 1; kick: the step's velocity
+   kick per unit acceleration. This stage and rj__applied_work take plain
    values, not the step's frames, and are never inlined: a scene that applies nothing pays
    one test for both. */
 static RJ__NOINLINE rj_result rj__stage_applied(const rj_model *m, rj_state *s, double *next,
-                                                double t, const double *at_n)
+                                                double t, const double *at_n, double *advanced,
+                                                double kick)
 {
     rj_result r;
     s->step_work = 0;
+    s->step_fin = 0;
     if (s->inputs) {
         r = rj__stage_inputs(m, s, next);
         if (r != RJ_OK)
@@ -6500,7 +6497,7 @@ static RJ__NOINLINE rj_result rj__stage_applied(const rj_model *m, rj_state *s, 
     if (m->nload)
         s->step_work += rj__stage_loads(m, s, t, at_n);
     if (s->node_inputs)
-        return rj__stage_node_inputs(m, s, at_n);
+        return rj__stage_node_inputs(m, s, at_n, advanced, kick);
     return RJ_OK;
 }
 
@@ -6572,8 +6569,6 @@ static RJ__FORCE_INLINE void rj__update_joint_nodes(const rj_model *m, rj_state 
         const int n = m->dnode[i];
         rj__advance_node(adv, n, s->fx[n], s->fy[n], s->mz[n], f->x, f->y, f->phi);
     }
-    if (s->node_inputs)
-        rj__node_inputs_kick(m, s, f->current, f->advanced, f->kick, adv->fin);
     ke = f->en ? rj__sum8(s->kn, m->nn) : 0.0;
     if (f->first) {
         ke = 0;
@@ -7062,10 +7057,11 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     rj__stage_beams(m, s, &f, &adv, &e);
     rj__stage_joint_torques(m, s, &f, &e);
     if (applied) {
-        r = rj__stage_applied(m, s, f.next, f.t, f.ip ? f.next : f.current);
+        r = rj__stage_applied(m, s, f.next, f.t, f.ip ? f.next : f.current, f.advanced, f.kick);
         if (r != RJ_OK)
             return r;
         e.work += s->step_work;
+        fin += s->step_fin;
     }
     rj__stage_friction(m, s, &f);
     rj__stage_update(m, s, &f, &adv, &e, &fin);
