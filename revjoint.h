@@ -4195,8 +4195,7 @@ static void rj__init_load_nodes(rj_model *m)
     int k;
     for (k = 0; k < m->nload; k++) {
         const rj_load_def *d = &m->load[k];
-        const int node = d->node < 0 ? m->ldef[d->link].elements : d->node;
-        m->load_node[k] = m->link_first[d->link] + node;
+        m->load_node[k] = rj_model_node_index(m, d->link, d->node);
     }
 }
 
