@@ -380,12 +380,21 @@ RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double samp
    relaxation with kinetic damping: steps on, and at each peak of the kinetic energy sets
    every velocity to zero, until a peak's kinetic energy is below tol times the potential
    energy that moved (strain, springs and gravity's, since the start; tol in (0, 1), 1e-12
-   is tight). Then the equilibrium becomes the start: time, step count, energy accounts and
-   joint events restart from zero, velocities zero, joint flags and running angles kept.
+   is tight), or below the energy of round-off. A scene already at rest settles at once.
+   Time runs while it settles, so a load's table acts as it would in a run (a ramp brings a
+   load on gently); it settles only past the last point of every load's table, where the
+   loads stay constant, and the settled state keeps that time: the run goes on under the
+   loads it settled under. The step count,
+   energy accounts and joint events restart from zero, velocities zero, joint flags and
+   running angles kept (rj_state_steps counts the steps since the last start from rest).
    Returns RJ_OK; RJ_ERR_INVALID for bad arguments; RJ_ERR_NOT_CONVERGED (the state at
    max_steps kept, its velocities zeroed) when it has not settled within max_steps; a step's
    error as rj_step. */
 RJDEF rj_result rj_settle(const rj_model *m, rj_state *s, double tol, long max_steps);
+/* rj_settle with progress(m, s, user) called every 4096 steps (NULL: never); a nonzero
+   return stops the settling with RJ_ERR_NOT_CONVERGED, the velocities zeroed. */
+RJDEF rj_result rj_settle_ex(const rj_model *m, rj_state *s, double tol, long max_steps,
+                             rj_sample_fn progress, void *user);
 /* Last step error text (empty when none). */
 RJDEF const char *rj_state_error(const rj_state *s);
 /* The caller's torques on the joints, one per joint (N m on body 2 and the opposite on body
@@ -451,6 +460,8 @@ RJDEF void rj_model_apply_stiffness(const rj_model *m, const double *u, double *
 
 /* State queries. */
 RJDEF double rj_state_time(const rj_state *s);
+/* Steps since the state last started from rest: rj_state_create, rj_state_reset, rj_settle
+   (time, rj_state_time, runs on through rj_settle). */
 RJDEF long rj_state_steps(const rj_state *s);
 RJDEF void rj_node_position(const rj_model *m, const rj_state *s, int link, int node, double xy[2]);
 RJDEF void rj_node_velocity(const rj_model *m, const rj_state *s, int link, int node, double v[2]);
@@ -874,6 +885,9 @@ struct rj_state {
     int inputs;           /* rj_state_joint_torques was called: the step applies them */
     double *input_node;   /* (3 nn) the caller's node forces fx fy mz (kept until changed) */
     int node_inputs;      /* rj_state_node_forces was called: the step applies them */
+    double settle_scale;  /* rj_settle under way: the potential energy it has moved, J (else 0) */
+    double *snap_torque;  /* (nj) in place: the caller's joint torques since snap */
+    int snap_inputs;      /* in place: inputs (on or off) since snap */
     double *node_applied; /* (3 nn) the node forces the last step applied, for their work */
     double step_work;     /* the work of the loads and node forces in the step under way */
     double step_fin;      /* the positions their kicks wrote, summed (the finite test) */
@@ -4958,7 +4972,7 @@ RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
     size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, eu, ebt, jsc,
-        rsc, input_torque, input_node, node_applied;
+        rsc, input_torque, input_node, node_applied, snap_torque;
 } rj__slayout;
 
 static void rj__state_layout(const rj_model *m, rj__slayout *L)
@@ -4984,6 +4998,7 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl) : 3 * (size_t) m->ncl + 1,
                        sizeof(double));
     L->input_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
+    L->snap_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
     L->input_node = rj__carve(&off, 3 * (size_t) m->nn, sizeof(double));
     L->node_applied = rj__carve(&off, 3 * (size_t) m->nn, sizeof(double));
     L->total = off == (size_t) -1 ? off : off + RJ__ALIGN;
@@ -5044,6 +5059,7 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
     memset(s->input_node, 0, 3 * sizeof(double) * (size_t) m->nn);
     memset(s->node_applied, 0, 3 * sizeof(double) * (size_t) m->nn);
     s->node_inputs = 0;
+    s->settle_scale = 0;
     s->snap = -1;
     s->err[0] = 0;
     s->warn[0] = 0;
@@ -5157,6 +5173,7 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->jsc = (double *) (void *) (base + L.jsc);
     s->rsc = (double *) (void *) (base + L.rsc);
     s->input_torque = (double *) (void *) (base + L.input_torque);
+    s->snap_torque = (double *) (void *) (base + L.snap_torque);
     s->input_node = (double *) (void *) (base + L.input_node);
     s->node_applied = (double *) (void *) (base + L.node_applied);
     rj_state_reset(m, s);
@@ -5206,6 +5223,7 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
     memcpy(dst->input_node, src->input_node, 3 * sizeof(double) * (size_t) m->nn);
     memcpy(dst->node_applied, src->node_applied, 3 * sizeof(double) * (size_t) m->nn);
     dst->node_inputs = src->node_inputs;
+    dst->settle_scale = 0;
     memcpy(dst->err, src->err, sizeof dst->err);
     memcpy(dst->warn, src->warn, sizeof dst->warn);
     return RJ_OK;
@@ -6293,13 +6311,11 @@ static int rj__inputs_ok(const rj_model *m, rj_state *s)
     return 1;
 }
 
-/* The caller's joint torques (rj_state_joint_torques), on the joint geometry stage 2
-   kept. */
+/* The caller's joint torques (rj_state_joint_torques, checked by rj__step before the
+   step began), on the joint geometry stage 2 kept. */
 static rj_result rj__stage_inputs(const rj_model *m, rj_state *s, double *next)
 {
     int j;
-    if (!rj__inputs_ok(m, s))
-        return RJ_ERR_INVALID;
     for (j = 0; j < m->nj; j++) {
         const double torque = s->input_torque[j];
         rj__jgeo g;
@@ -6981,13 +6997,23 @@ static RJ__FORCE_INLINE rj_result rj__energy_check(const rj_model *m, rj_state *
     /* the initial energy less gravity's potential now, plus the inputs' work: what gravity
        has released and the caller has put in may turn into kinetic energy */
     const double outside = e->gravity - e->work; /* what gravity and the caller account for */
-    const double scale = fabs(e0 - outside) + fabs(old_spring) + 1e-9;
+    const double scale = fabs(e0 - outside) + fabs(old_spring) + s->settle_scale + 1e-9;
     const double created = ke + U + V + outside + e->lost_damping + e->lost_friction + lost_l - e0;
     if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) ||
         E > m->solver.energy_growth * (scale + fabs(V)) || created > RJ__CREATED * scale ||
         lost_l < -RJ__CREATED * scale)
         return rj__energy_stop(m, s, frame, t, *e, scale, created);
     return RJ_OK;
+}
+
+/* The accounts of a first step (from rest): the energy there is the initial energy, and
+   the losses and work start from zero. */
+static void rj__first_accounts(double *new_scalars, rj__sums *e, double energy)
+{
+    new_scalars[RJ__FS_E0] = energy;
+    new_scalars[RJ__FS_LDAMP] = new_scalars[RJ__FS_LFRIC] = new_scalars[RJ__FS_WORK] = 0;
+    new_scalars[RJ__FS_LLIM] = 0;
+    e->lost_damping = e->lost_friction = e->work = e->lost_limit = 0;
 }
 
 /* The new frame's scalars: time, the accounts (on the steps that take them; the initial
@@ -7013,11 +7039,8 @@ static RJ__FORCE_INLINE rj_result rj__step_accounts(const rj_model *m, rj_state 
     nsc[RJ__FS_STRAIN] = e->strain;
     nsc[RJ__FS_SPRING] = e->spring;
     nsc[RJ__FS_GRAV] = e->gravity;
-    if (f->first) {
-        nsc[RJ__FS_E0] = e->kinetic + e->strain + e->spring + e->gravity;
-        nsc[RJ__FS_LDAMP] = nsc[RJ__FS_LFRIC] = nsc[RJ__FS_LLIM] = nsc[RJ__FS_WORK] = 0;
-        e->lost_damping = e->lost_friction = e->lost_limit = e->work = 0;
-    }
+    if (f->first)
+        rj__first_accounts(nsc, e, e->kinetic + e->strain + e->spring + e->gravity);
     return rj__energy_check(m, s, f->advanced, f->t, e, osc[RJ__FS_SPRING], nsc[RJ__FS_E0]);
 }
 
@@ -7550,12 +7573,8 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
     new_scalars[RJ__FS_PEND] = e->pending;
     new_scalars[RJ__FS_GRAV] = e->gravity;
     new_scalars[RJ__FS_WORK] = e->work;
-    if (f->first) {
-        new_scalars[RJ__FS_E0] = ke + e->spring + e->gravity;
-        new_scalars[RJ__FS_LDAMP] = new_scalars[RJ__FS_LFRIC] = new_scalars[RJ__FS_LLIM] = 0;
-        new_scalars[RJ__FS_WORK] = 0;
-        e->lost_damping = e->lost_friction = e->lost_limit = e->work = 0;
-    }
+    if (f->first)
+        rj__first_accounts(new_scalars, e, ke + e->spring + e->gravity);
     res = rj__energy_check(m, s, NULL, f->t, e, f->old_scalars[RJ__FS_SPRING],
                            new_scalars[RJ__FS_E0]);
     if (res != RJ_OK)
@@ -7598,9 +7617,21 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
    the first step) it writes the nodes and elements where it reads them, which halves what a
    large model moves through the caches each step; the other frame then holds a copy of the
    state taken at most RJ__SNAP steps before. A step that fails puts that copy back and takes the steps since
-   again, with the same energy requests (s->want): the same bits, so a failed step leaves
-   the state as it was, as the double-buffered step does. */
+   again, with the same energy requests (s->want) and the same inputs: the same bits, so a
+   failed step leaves the state as it was, as the double-buffered step does. */
 #define RJ__SNAP 64
+
+/* In place: whether the caller's inputs are those every step since the copy took, so that
+   a replay takes them again. A change steps double-buffered once; the copy is then taken
+   anew with the new inputs. Every caller input the in-place step reads belongs here (the
+   node forces always step double-buffered). */
+static int rj__inputs_since_snap(const rj_model *m, const rj_state *s)
+{
+    if (s->inputs != s->snap_inputs)
+        return 0;
+    return !s->inputs ||
+           memcmp(s->snap_torque, s->input_torque, sizeof(double) * (size_t) m->nj) == 0;
+}
 static rj_result rj__step_dbl(const rj_model *m, rj_state *s, int want_energy)
 {
     return rj__step_run(m, s, want_energy, 0);
@@ -7624,8 +7655,13 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
                         t, m->dt, t * DBL_EPSILON);
     if (m->rigid)
         return rj__step_rigid(m, s);
-    /* the caller's node forces kick nodes from their old velocities: double-buffered */
-    if (!m->ip || s->steps == 0 || s->node_inputs) {
+    /* the caller's torques checked before anything moves */
+    if (s->inputs && !rj__inputs_ok(m, s))
+        return RJ_ERR_INVALID;
+    /* the caller's node forces kick nodes from their old velocities: double-buffered; so
+       is a step whose inputs differ from those since the in-place copy */
+    if (!m->ip || s->steps == 0 || s->node_inputs ||
+        (s->snap >= 0 && !rj__inputs_since_snap(m, s))) {
         s->snap = -1;
         r = rj__step_dbl(m, s, want_energy);
         /* what a step applied is the next one's forces at n - 1 (their work) */
@@ -7638,6 +7674,8 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
         memcpy(s->fi[1 - s->cur], s->fi[s->cur], sizeof(int) * (m->frame_ints + 1));
         s->snap = s->steps;
         s->want = 0;
+        s->snap_inputs = s->inputs;
+        memcpy(s->snap_torque, s->input_torque, sizeof(double) * (size_t) m->nj);
     }
     if (want_energy)
         s->want |= (unsigned long long) 1 << (s->steps - s->snap);
@@ -7720,17 +7758,23 @@ static void rj__zero_velocities(const rj_model *m, rj_state *s)
     s->steps = 0;
 }
 
-/* The settled state as a new start: time, steps, accounts and joint events from zero. */
+/* The settled state as a new start: step count, accounts and joint events from zero; time
+   goes on from where the settling left it, so that a load's table reads on from the value
+   it settled under. */
 static void rj__restart(const rj_model *m, rj_state *s)
 {
     double *f = s->fd[s->cur];
     double *sc = RJ__FS(m, f);
     const double warn = sc[RJ__FS_WARN], strain = sc[RJ__FS_STRAIN];
     const double spring = sc[RJ__FS_SPRING], gravity = sc[RJ__FS_GRAV];
+    const double time = sc[RJ__FS_TIME];
     int j;
+    s->settle_scale = 0;
     rj__zero_velocities(m, s);
     /* the potential energies of the last step stand until the first step takes them again */
     memset(sc, 0, sizeof(double) * RJ__FS_COUNT);
+    sc[RJ__FS_TIME] = time;
+    sc[RJ__FS_ETIME] = time;
     sc[RJ__FS_WARN] = warn;
     sc[RJ__FS_STRAIN] = strain;
     sc[RJ__FS_SPRING] = spring;
@@ -7752,59 +7796,166 @@ static double rj__settle_scale(const double *sc, double gravity_start)
            fabs(sc[RJ__FS_GRAV] - gravity_start) + 1e-300;
 }
 
+/* The energy of round-off: what the links store when every node is off by 64 ulps of its
+   link's length, axially and in height under gravity. A kinetic energy below it cannot be
+   told from rest, whatever the tolerance asks: it is the absolute floor of rj_settle's
+   threshold (a scene at rest shows round-off peaks, not zero). */
+static double rj__settle_floor(const rj_model *m)
+{
+    const double slip = 64.0 * DBL_EPSILON;
+    const double g = sqrt(m->solver.gravity[0] * m->solver.gravity[0] +
+                          m->solver.gravity[1] * m->solver.gravity[1]);
+    double floor_energy = 0;
+    int l;
+    for (l = 0; l < m->nl; l++) {
+        const rj_link_def *d = &m->ldef[l];
+        const double mass = d->rho * rj__plain_area(d) * d->length + d->tip_mass;
+        floor_energy += m->link_EA[l] * d->length * slip * slip;
+        floor_energy += mass * g * d->length * slip;
+    }
+    return floor_energy;
+}
+
+/* The time from which every load is constant: its table's last point (it holds its last
+   factor after it); 0 without tables. */
+static double rj__loads_steady_time(const rj_model *m)
+{
+    double steady = 0;
+    int k;
+    for (k = 0; k < m->nload; k++) {
+        const rj_load_def *d = &m->load[k];
+        if (d->table_count > 0 && d->table_time[d->table_count - 1] > steady)
+            steady = d->table_time[d->table_count - 1];
+    }
+    return steady;
+}
+
+/* What rj_settle carries from step to step. */
+typedef struct rj__settle_run {
+    double previous;     /* the kinetic energy of the step before, J */
+    double gravity;      /* gravity's potential at the start, J */
+    double floor_energy; /* the threshold's absolute floor, J (rj__settle_floor) */
+    double steady;       /* the time from which the loads are constant, s */
+    long rise;           /* steps since the last restart from rest */
+    long longest_rise;   /* the longest rise from rest to a peak seen so far */
+    long quiet;          /* steps below the threshold since checking began (-1: not checking) */
+} rj__settle_run;
+
+/* One settling step's verdict on the kinetic energy ke against the threshold limit:
+   1 settled; 0 go on; the velocities are zeroed at a peak. A peak below the threshold
+   starts the check, and so does a kinetic energy that stays exactly where it was below it
+   (nothing moves: a scene already at rest has no peak to show). */
+static int rj__settle_judge(const rj_model *m, rj_state *s, rj__settle_run *q, double ke,
+                            double limit)
+{
+    q->rise++;
+    if (q->quiet >= 0) {
+        /* checking: quiet for long enough means settled; a rise means not yet */
+        if (ke > limit)
+            q->quiet = -1;
+        else if (++q->quiet >= q->longest_rise + q->longest_rise / 2)
+            return 1;
+    }
+    if (ke > q->previous || (ke == q->previous && ke > limit)) {
+        q->previous = ke;
+        return 0;
+    }
+    /* past a peak, or at rest */
+    if (q->quiet < 0 && q->previous <= limit)
+        q->quiet = 0;
+    if (q->quiet < 0) {
+        if (q->rise > q->longest_rise)
+            q->longest_rise = q->rise;
+        rj__zero_velocities(m, s);
+        q->previous = 0;
+        q->rise = 0;
+    }
+    return 0;
+}
+
+/* The arguments rj_settle takes: tol in (0, 1), at least one step. Else RJ_ERR_INVALID
+   with the argument named in rj_state_error. */
+static rj_result rj__settle_args(const rj_model *m, rj_state *s, double tol, long max_steps)
+{
+    if (!(tol > 0 && tol < 1))
+        return rj__stop(m, s, RJ_ERR_INVALID,
+                        "rj_settle: tol = %g is invalid: it must be in (0, 1) (1e-12 is tight)",
+                        tol);
+    if (max_steps < 1)
+        return rj__stop(m, s, RJ_ERR_INVALID,
+                        "rj_settle: max_steps = %ld is invalid: it must be at least 1",
+                        max_steps);
+    return RJ_OK;
+}
+
 /* Kinetic damping: every velocity to zero at each peak of the kinetic energy. A peak below
    tol times the potential energy moved is not yet the end: from rest, a mode far slower
    than the others can take many steps to show, while the faster ones make small peaks
    first. So the state must then stay below it, without damping, for 1.5 times the longest
    rise from rest to a peak seen so far (that slow mode's quarter period, once it has
-   shown). */
-RJDEF rj_result rj_settle(const rj_model *m, rj_state *s, double tol, long max_steps)
+   shown). progress (when not NULL) is called every RJ__SETTLE_EVERY steps; a nonzero
+   return stops the settling. */
+#define RJ__SETTLE_EVERY 4096
+RJDEF rj_result rj_settle_ex(const rj_model *m, rj_state *s, double tol, long max_steps,
+                             rj_sample_fn progress, void *user)
 {
-    double previous = 0, gravity_start;
-    long k, rise = 0, longest_rise = 1, quiet = -1;
-    if (!m || !s || !(tol > 0 && tol < 1) || max_steps < 1)
+    rj__settle_run q;
+    long k;
+    rj_result r;
+    if (!m || !s)
         return RJ_ERR_INVALID;
-    gravity_start = RJ__FS(m, s->fd[s->cur])[RJ__FS_GRAV];
+    r = rj__settle_args(m, s, tol, max_steps);
+    if (r != RJ_OK)
+        return r;
+    s->err[0] = 0;
+    q.previous = 0;
+    q.gravity = RJ__FS(m, s->fd[s->cur])[RJ__FS_GRAV];
+    q.floor_energy = rj__settle_floor(m);
+    q.steady = rj__loads_steady_time(m);
+    q.rise = 0;
+    q.longest_rise = 1;
+    q.quiet = -1;
     rj__zero_velocities(m, s);
     for (k = 0; k < max_steps; k++) {
         const double *sc;
-        double ke, limit;
-        rj_result r = rj__step(m, s, 1);
-        if (r != RJ_OK)
+        double moved;
+        r = rj__step(m, s, 1);
+        if (r != RJ_OK) {
+            s->settle_scale = 0;
             return r;
+        }
         sc = RJ__FS(m, s->fd[s->cur]);
-        ke = sc[RJ__FS_KE];
-        limit = tol * rj__settle_scale(sc, gravity_start);
-        rise++;
-        if (quiet >= 0) {
-            /* checking: quiet for long enough means settled; a rise means not yet */
-            if (ke > limit)
-                quiet = -1;
-            else if (++quiet >= longest_rise + longest_rise / 2) {
-                rj__restart(m, s);
-                return RJ_OK;
-            }
+        moved = rj__settle_scale(sc, q.gravity);
+        /* each restart from rest starts the accounts again, from an energy that shrinks as
+           the state settles: the blow-up tests measure against what the settling moved */
+        if (moved > s->settle_scale)
+            s->settle_scale = moved;
+        /* settled only under the loads that act from then on: past their tables */
+        if (rj__settle_judge(m, s, &q, sc[RJ__FS_KE], tol * moved + q.floor_energy) &&
+            sc[RJ__FS_TIME] >= q.steady) {
+            rj__restart(m, s);
+            return RJ_OK;
         }
-        if (ke >= previous) {
-            previous = ke;
-            continue;
-        }
-        /* past a peak */
-        if (quiet < 0 && previous <= limit)
-            quiet = 0;
-        if (quiet < 0) {
-            if (rise > longest_rise)
-                longest_rise = rise;
+        if (progress && (k + 1) % RJ__SETTLE_EVERY == 0 && progress(m, s, user)) {
+            s->settle_scale = 0;
             rj__zero_velocities(m, s);
-            previous = 0;
-            rise = 0;
+            return rj__stop(m, s, RJ_ERR_NOT_CONVERGED,
+                            "rj_settle: stopped by the caller after %ld steps (t = %.9g s)",
+                            k + 1, rj_state_time(s));
         }
     }
+    s->settle_scale = 0;
     rj__zero_velocities(m, s);
     return rj__stop(m, s, RJ_ERR_NOT_CONVERGED,
-                    "rj_settle: not settled within %ld steps (the last kinetic energy peak %.3g J; "
-                    "tol %g)",
-                    max_steps, previous, tol);
+                    "rj_settle: not settled within %ld steps (t = %.9g s; the last kinetic "
+                    "energy peak %.3g J; tol %g of the %.3g J of potential energy moved)",
+                    max_steps, rj_state_time(s), q.previous, tol,
+                    rj__settle_scale(RJ__FS(m, s->fd[s->cur]), q.gravity));
+}
+
+RJDEF rj_result rj_settle(const rj_model *m, rj_state *s, double tol, long max_steps)
+{
+    return rj_settle_ex(m, s, tol, max_steps, NULL, NULL);
 }
 
 RJDEF double *rj_state_joint_torques(const rj_model *m, rj_state *s)

@@ -853,6 +853,239 @@ static void test_model_block(void)
     free(mem);
 }
 
+/* ------------------------------------------------------------------ a failed step in place */
+
+/* What a state is, for comparing two: every node's position and velocity, every joint's
+   angle, rate and flag, time and steps, hashed bit for bit. */
+static unsigned long long state_digest(const rj_model *m, const rj_state *s)
+{
+    unsigned long long h = 14695981039346656037ULL;
+    const double t = rj_state_time(s);
+    const long steps = rj_state_steps(s);
+    int l, k, j;
+    h = rj__fnv(h, &t, sizeof t);
+    h = rj__fnv(h, &steps, sizeof steps);
+    for (l = 0; l < rj_model_link_count(m); l++)
+        for (k = 0; k < rj_link_node_count(m, l); k++) {
+            double p[2], v[2], r[2];
+            rj_node_position(m, s, l, k, p);
+            rj_node_velocity(m, s, l, k, v);
+            r[0] = rj_node_rotation(m, s, l, k);
+            r[1] = rj_node_rate(m, s, l, k);
+            h = rj__fnv(h, p, sizeof p);
+            h = rj__fnv(h, v, sizeof v);
+            h = rj__fnv(h, r, sizeof r);
+        }
+    for (j = 0; j < rj_model_joint_count(m); j++) {
+        const double th = rj_joint_theta_running(m, s, j), w = rj_joint_rate(m, s, j);
+        const int flag = rj_joint_flag(m, s, j);
+        h = rj__fnv(h, &th, sizeof th);
+        h = rj__fnv(h, &w, sizeof w);
+        h = rj__fnv(h, &flag, sizeof flag);
+    }
+    return h;
+}
+
+/* Two flexible links of 300 elements: a model that steps in place. */
+static rj_model *in_place_model(void)
+{
+    rj_link_def links[2];
+    rj_joint_def joints[2];
+    rj_scene_def scene = rj_default_scene_def();
+    rj_model *m = NULL;
+    rj_error err;
+    int i;
+    for (i = 0; i < 2; i++) {
+        links[i] = rj_default_link_def();
+        links[i].height = 0.01;
+        links[i].elements = 300;
+        joints[i] = rj_default_joint_def();
+        joints[i].body1 = i - 1;
+        joints[i].body2 = i;
+        joints[i].spring_k = 20;
+        joints[i].spring_free_angle = rj_rad(90);
+    }
+    joints[1].angle0 = rj_rad(180);
+    scene.links = links;
+    scene.link_count = 2;
+    scene.joints = joints;
+    scene.joint_count = 2;
+    if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK)
+        printf("in_place_model: %s\n", err.msg);
+    return m;
+}
+
+/* A step that fails leaves the state as it was, in place too: a bad torque is refused
+   before anything moves, and a torque that makes a later step fail does not replay the
+   steps before it with itself. */
+static void test_in_place_rollback(void)
+{
+    rj_model *m = in_place_model();
+    rj_state *s;
+    double *torque;
+    unsigned long long before;
+    const double bad[3] = { NAN, INFINITY, 1e101 };
+    long k, failed_at = -1;
+    int i, same = 1;
+    if (!rjt_check(&T, m != NULL && m->ip, "rollback: the model steps in place", "ip %d",
+                   m ? m->ip : -1))
+        return;
+    rj_state_create(m, &s, NULL);
+    torque = rj_state_joint_torques(m, s);
+    for (k = 0; k < 500; k++)
+        rj_step(m, s);
+    before = state_digest(m, s);
+    for (i = 0; i < 3; i++) {
+        rj_result r;
+        torque[1] = bad[i];
+        r = rj_step(m, s);
+        same &= r == RJ_ERR_INVALID && state_digest(m, s) == before && rj_state_steps(s) == 500;
+    }
+    rjt_check(&T, same, "rollback: a NaN, infinite or 1e101 torque leaves the state at step 500",
+              "steps %ld", rj_state_steps(s));
+    /* a valid but huge torque: the step that fails must leave the state of the step before */
+    torque[1] = 2e5;
+    for (k = 0; k < 5000 && failed_at < 0; k++) {
+        before = state_digest(m, s);
+        if (rj_step(m, s) != RJ_OK)
+            failed_at = rj_state_steps(s);
+    }
+    rjt_check(&T, failed_at > 500 && state_digest(m, s) == before,
+              "rollback: the step a 2e5 N m torque makes fail leaves the state before it",
+              "failed at step %ld (state %s)", failed_at,
+              state_digest(m, s) == before ? "as it was" : "changed");
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
+/* ------------------------------------------------------------------ rj_settle */
+
+/* A scene already at rest settles at once: one unloaded link, no gravity, no springs. */
+static void test_settle_at_rest(void)
+{
+    rj_link_def link = rj_default_link_def();
+    rj_joint_def joint = rj_default_joint_def();
+    rj_scene_def scene = rj_default_scene_def();
+    rj_model *m;
+    rj_state *s;
+    rj_error err;
+    rj_result r;
+    joint.body1 = -1;
+    joint.body2 = 0;
+    scene.links = &link;
+    scene.link_count = 1;
+    scene.joints = &joint;
+    scene.joint_count = 1;
+    if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) {
+        rjt_check(&T, 0, "settle at rest: model", "%s", err.msg);
+        return;
+    }
+    rj_state_create(m, &s, NULL);
+    r = rj_settle(m, s, 1e-12, 1000);
+    rjt_check(&T, r == RJ_OK, "settle: a scene at rest settles within 1000 steps", "%s (%s)",
+              rj_result_str(r), rj_state_error(s));
+    /* bad arguments are named, not the previous error kept */
+    r = rj_settle(m, s, 0, 1000);
+    rjt_check(&T, r == RJ_ERR_INVALID && strstr(rj_state_error(s), "tol = 0") != NULL,
+              "settle: tol 0 is refused by name", "%s", rj_state_error(s));
+    r = rj_settle(m, s, 1e-12, 0);
+    rjt_check(&T, r == RJ_ERR_INVALID && strstr(rj_state_error(s), "max_steps = 0") != NULL,
+              "settle: max_steps 0 is refused by name", "%s", rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
+/* A link falling under gravity onto an adaptive limit just below it: every restart from
+   rest starts the accounts again while the limit holds energy, which it then gives back;
+   measured against the energy of the last restart that read as energy created. */
+static void test_settle_on_a_limit(void)
+{
+    static const int starts[3] = { 60, 300, 330 };
+    int i, settled = 0;
+    char last[200] = "";
+    for (i = 0; i < 3; i++) {
+        rj_link_def link = rj_default_link_def();
+        rj_joint_def joint = rj_default_joint_def();
+        rj_scene_def scene = rj_default_scene_def();
+        rj_model *m;
+        rj_state *s;
+        rj_error err;
+        link.height = 0.01;
+        joint.body1 = -1;
+        joint.body2 = 0;
+        joint.angle0 = rj_rad(starts[i]);
+        joint.has_reverse = 1;
+        joint.reverse = rj_rad(starts[i] - 1);
+        joint.lock = 1;
+        scene.links = &link;
+        scene.link_count = 1;
+        scene.joints = &joint;
+        scene.joint_count = 1;
+        scene.solver.gravity[1] = -9.81;
+        if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) {
+            snprintf(last, sizeof last, "%.150s", err.msg);
+            continue;
+        }
+        if (rj_state_create(m, &s, NULL) != RJ_OK)
+            continue;
+        if (rj_settle(m, s, 1e-12, 300000) == RJ_OK)
+            settled++;
+        else
+            snprintf(last, sizeof last, "from %d deg: %.150s", starts[i], rj_state_error(s));
+        rj_state_destroy(s, NULL);
+        rj_model_destroy(m, NULL);
+    }
+    rjt_check(&T, settled == 3, "settle: a link falling onto a locking adaptive limit settles",
+              "%d of 3 %s", settled, last);
+}
+
+/* The elastica's load is ramped on by a table over 0.5 s. The settled state keeps its
+   time, so the run goes on under the load it settled under: the tip stays where it
+   settled (a reset to t = 0, where the table gives 0, whips it up). */
+static void test_settle_keeps_time(void)
+{
+    static const char text[] =
+        "link beam\n  length = 1\n  elements = 20\n  E = 70e9\n  rho = 2700\n"
+        "  width = 0.02\n  height = 0.004\n  root = clamped\n"
+        "load tip\n  link = beam\n  node = last\n  force = 0 -74.66666666666667\n"
+        "  table = 0 0, 0.5 1\n";
+    rj_scene_file f;
+    rj_scene_def def;
+    rj_error err;
+    rj_model *m;
+    rj_state *s;
+    double tip0[2], tip[2], worst = 0, t0;
+    int k;
+    if (rj_scene_parse(text, sizeof text - 1, "elastica", &f, &err) != RJ_OK) {
+        rjt_check(&T, 0, "settle keeps time: scene", "%s", err.msg);
+        return;
+    }
+    def = rj_scene_file_def(&f);
+    if (rj_model_create(&def, &m, &err, NULL) != RJ_OK) {
+        rjt_check(&T, 0, "settle keeps time: scene", "%s", err.msg);
+        return;
+    }
+    rj_state_create(m, &s, NULL);
+    if (!rjt_check(&T, rj_settle(m, s, 1e-12, 10000000L) == RJ_OK, "settle keeps time: settles",
+                   "%s", rj_state_error(s)))
+        return;
+    t0 = rj_state_time(s);
+    rj_node_position(m, s, 0, 20, tip0);
+    for (k = 0; k < 2000; k++) {
+        rj_step(m, s);
+        rj_node_position(m, s, 0, 20, tip);
+        if (fabs(tip[1] - tip0[1]) > worst)
+            worst = fabs(tip[1] - tip0[1]);
+    }
+    rjt_check(&T, t0 > 0.5 && worst < 1e-6,
+              "settle keeps time: past the ramp, the tip stays where it settled",
+              "time %.4g s, tip y %.5f m, moves %.3g m in 2000 steps (<= 1e-6)", t0, tip0[1],
+              worst);
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+    rj_scene_file_free(&f);
+}
+
 int main(void)
 {
     test_damping_bound();
@@ -866,5 +1099,9 @@ int main(void)
     test_latch_load();
     test_many_joints();
     test_model_block();
+    test_in_place_rollback();
+    test_settle_at_rest();
+    test_settle_on_a_limit();
+    test_settle_keeps_time();
     return rjt_summary(&T, "test_robust");
 }
