@@ -4591,25 +4591,49 @@ static void rj__count_adaptive_limits(rj_model *m, const rj__dt_search *q)
     }
 }
 
-/* The next step to test from omega^2(dt) ~ a + b / dt^2 (a: without the adaptive limits,
-   b from this pass), whose 0.9 x bound step solves a dt^2 + b = (0.9 x 2 x margin)^2.
-   K_AP = I_red / dt^2: omega dt of the adaptive limits does not fall with dt, so when they
-   alone are above the bound (or the passes run out) no step is stable: refused. */
+/* The step whose 0.9 x bound holds with omega^2(dt) ~ a + b / dt^2 (a: without the
+   adaptive limits, b from this pass) and the joints' damping rate d: with c = 0.9 x 2 x
+   margin, the bound dt (d/2 + sqrt(omega^2 + d^2/4)) <= c (rj__dt_bound_of) is
+   a dt^2 + c d dt + b - c^2 <= 0, whose positive root is the step; b < c^2. */
+static double rj__adaptive_dt_root(double a, double b, double d, double c, double dt_now)
+{
+    const double room = c * c - b;
+    if (a > 0)
+        return 2.0 * room / (c * d + sqrt(c * c * d * d + 4.0 * a * room));
+    if (d > 0)
+        return room / (c * d);
+    return dt_now;
+}
+
+/* The next step to test. K_AP = I_red / dt^2: omega dt of the adaptive limits does not
+   fall with dt, so when they alone are above the bound no step is stable: refused; so is
+   a search that has not settled in its passes, with what it reached. */
 static int rj__next_adaptive_dt(rj_model *m, rj__dt_search *q, double om2, int pass, rj_error *err)
 {
-    const double c2 = (0.9 * RJ__DT_MARGIN * 2.0) * (0.9 * RJ__DT_MARGIN * 2.0);
+    const double c = 0.9 * RJ__DT_MARGIN * 2.0;
     const double b = (om2 - q->om2_no_adaptive) * q->dt * q->dt;
-    if (b >= c2 || pass == 19) {
+    if (b >= c * c) {
         rj__fail(err, RJ_ERR_UNSTABLE_DT, "solver.dt", q->dt,
                  "no stable step for the adaptive limits: their stiffness K_AP (Eq 21) "
                  "grows as 1/dt^2, so their omega dt, %.3g with the limits counted as in "
-                 "the bound, "
-                 "is the same at every dt and above the %.3g the automatic step allows; use "
-                 "RJ_METHOD_MOMENTUM (or penalty with a fixed K) for these joints%s",
-                 sqrt(b), sqrt(c2), m->rigid ? ", as rigid links usually want" : "");
+                 "the bound, is the same at every dt and not below the %.3g the automatic "
+                 "step allows; use RJ_METHOD_MOMENTUM (or penalty with a fixed K) for these "
+                 "joints%s",
+                 sqrt(b), c, m->rigid ? ", as rigid links usually want" : "");
         return 0;
     }
-    q->dt = q->om2_no_adaptive > 0 ? sqrt((c2 - b) / q->om2_no_adaptive) : q->dt;
+    if (pass == 19) {
+        rj__fail(err, RJ_ERR_UNSTABLE_DT, "solver.dt", q->dt,
+                 "no stable step found for the adaptive limits: after 20 passes the step "
+                 "%.4g s is still above 0.9 x its bound %.4g s (the adaptive limits' omega "
+                 "dt %.3g, the joints' damping rate %.4g 1/s); give solver.dt below the "
+                 "bound with solver.allow_unstable, or use RJ_METHOD_MOMENTUM for these "
+                 "joints",
+                 q->dt, m->dt_bound, sqrt(b), q->damp_rate);
+        return 0;
+    }
+    /* a step that small always has a bound at least as large: never go past it */
+    q->dt = rj__adaptive_dt_root(q->om2_no_adaptive, b, q->damp_rate, c, q->dt);
     if (q->dt > 0.9 * m->dt_bound)
         q->dt = 0.9 * m->dt_bound;
     return 1;

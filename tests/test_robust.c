@@ -1086,6 +1086,63 @@ static void test_settle_keeps_time(void)
     rj_scene_file_free(&f);
 }
 
+/* ------------------------------------------------------------------ damping with latches */
+
+/* The README's two-link strip with a damper on both hinges and the adaptive latch:
+   the automatic step exists (the damping's dt d falls with dt while the latch's omega dt
+   stays), and the run at it is stable. */
+static void test_damped_latch_step(void)
+{
+    static const double kc[3][2] = { { 20, 2 }, { 200, 5 }, { 20, 20 } };
+    int i;
+    for (i = 0; i < 3; i++) {
+        rj_link_def links[2] = { rj_default_link_def(), rj_default_link_def() };
+        rj_joint_def joints[2] = { rj_default_joint_def(), rj_default_joint_def() };
+        rj_scene_def scene = rj_default_scene_def();
+        rj_model *m;
+        rj_state *s;
+        rj_error err;
+        rj_result r;
+        char name[96];
+        links[0].height = links[1].height = 0.01;
+        joints[0].body1 = -1;
+        joints[0].body2 = 0;
+        joints[0].angle0 = 0;
+        joints[0].spring_k = kc[i][0];
+        joints[0].spring_free_angle = rj_rad(90);
+        joints[0].damping = kc[i][1];
+        joints[1].body1 = 0;
+        joints[1].body2 = 1;
+        joints[1].has_reverse = 1;
+        joints[1].reverse = rj_rad(150);
+        joints[1].lock = 1;
+        joints[1].spring_k = 5;
+        joints[1].spring_free_angle = rj_rad(90);
+        joints[1].damping = kc[i][1];
+        scene.links = links;
+        scene.link_count = 2;
+        scene.joints = joints;
+        scene.joint_count = 2;
+        snprintf(name, sizeof name, "damped latch: k = %g, c = %g has an automatic step",
+                 kc[i][0], kc[i][1]);
+        r = rj_model_create(&scene, &m, &err, NULL);
+        if (!rjt_check(&T, r == RJ_OK, name, "%.200s", r == RJ_OK ? "" : err.msg))
+            continue;
+        rjt_check(&T, rj_model_dt(m) <= rj_model_dt_bound(m), name, "dt %.4g s <= bound %.4g s",
+                  rj_model_dt(m), rj_model_dt_bound(m));
+        rj_state_create(m, &s, NULL);
+        r = rj_run(m, s, 0.5, 0, NULL, NULL);
+        /* c = 20 damps the hinge so hard that it has not reached its latch in 0.5 s */
+        snprintf(name, sizeof name, "damped latch: k = %g, c = %g runs 0.5 s%s", kc[i][0],
+                 kc[i][1], i < 2 ? " and latches" : "");
+        rjt_check(&T, r == RJ_OK && (i == 2 || rj_joint_flag(m, s, 1) == RJ_LOCKED), name,
+                  "%s, flag %d %.150s", rj_result_str(r), rj_joint_flag(m, s, 1),
+                  rj_state_error(s));
+        rj_state_destroy(s, NULL);
+        rj_model_destroy(m, NULL);
+    }
+}
+
 int main(void)
 {
     test_damping_bound();
@@ -1103,5 +1160,6 @@ int main(void)
     test_settle_at_rest();
     test_settle_on_a_limit();
     test_settle_keeps_time();
+    test_damped_latch_step();
     return rjt_summary(&T, "test_robust");
 }
