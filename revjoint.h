@@ -3670,20 +3670,44 @@ static void rj__limit_warnings(rj_model *m)
     }
 }
 
+/* The node whose group a joint's pin joins: its pin node, or, when that node is itself a
+   root pinned to another node (a joint on node 0 of a link that hangs from a joint), that
+   node's, followed up the tree. up[n] is the node root n is pinned to (-1: none); each
+   path is pointed at its end as it is walked, so the whole pass stays linear. */
+static int rj__pin_anchor(int *up, int node)
+{
+    int end = node;
+    while (up[end] >= 0)
+        end = up[end];
+    while (up[node] >= 0) {
+        const int next = up[node];
+        up[node] = end;
+        node = next;
+    }
+    return end;
+}
+
 /* Pin groups: each body1 pin node with every body2 root pinned to it, in the order of
-   their first joint; members the pin node, then the roots in joint order. Linear in the
-   joints, with scratch of nn + ng ints (a group per node, then each group's fill cursor);
-   node_grp is -1 on entry. Returns the number of groups. */
+   their first joint; members the pin node, then the roots in joint order. A pin on a root
+   that is pinned itself joins that root's group (rj__pin_anchor): pinned nodes form one
+   group however they are reached. Linear in the joints, with scratch of 2 nn + ng ints
+   (each node's anchor, a group per node, then each group's fill cursor); node_grp is -1
+   on entry. Returns the number of groups. */
 static int rj__pin_groups(rj_model *m, int *scratch)
 {
-    int *group_of = scratch, *cursor = scratch + m->nn;
+    int *up = scratch, *group_of = scratch + m->nn, *cursor = scratch + 2 * (size_t) m->nn;
     int ng = 0, j, g;
-    for (j = 0; j < m->nn; j++)
+    for (j = 0; j < m->nn; j++) {
         group_of[j] = -1;
-    /* count: the pin node and one root per joint */
+        up[j] = -1;
+    }
+    for (j = 0; j < m->nj; j++)
+        if (m->jnt[j].nI >= 0)
+            up[m->jnt[j].nJ] = m->jnt[j].nI;
+    /* count: the anchor and one root per joint */
     m->grp_first[0] = 0;
     for (j = 0; j < m->nj; j++) {
-        const int pin = m->jnt[j].nI;
+        const int pin = m->jnt[j].nI < 0 ? -1 : rj__pin_anchor(up, m->jnt[j].nI);
         if (pin < 0)
             continue;
         if (group_of[pin] < 0) {
@@ -3697,9 +3721,9 @@ static int rj__pin_groups(rj_model *m, int *scratch)
         m->grp_first[g + 1] += m->grp_first[g];
     for (g = 0; g < ng; g++)
         cursor[g] = m->grp_first[g] + 1;
-    /* fill: the pin node first, then the roots in joint order */
+    /* fill: the anchor first, then the roots in joint order */
     for (j = 0; j < m->nj; j++) {
-        const int pin = m->jnt[j].nI;
+        const int pin = m->jnt[j].nI < 0 ? -1 : rj__pin_anchor(up, m->jnt[j].nI);
         if (pin < 0)
             continue;
         g = group_of[pin];
@@ -3958,7 +3982,7 @@ static int rj__usable_step(const rj_model *m, rj_error *err)
    rj_model_apply_stiffness; the rigid links' power iteration works after them. */
 typedef struct rj__build_scratch {
     int *graph;                /* RJ__GRAPH_SCRATCH(nl, nj) ints: rj__validate_graph */
-    int *pin_groups;           /* nn + ng ints: rj__pin_groups */
+    int *pin_groups;           /* 2 nn + ng ints: rj__pin_groups */
     int *placement;            /* 3 nl ints: rj__place_all */
     int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
     double *lanczos;           /* 3 vectors of 3 nn, the chords, a work area: rj__omega2_max */

@@ -1,8 +1,13 @@
 /* rj_render.c - see rj_render.h. */
+/* POSIX for open, fstat, lstat and unlink: a failed PNG write removes only a file it made */
+#define _POSIX_C_SOURCE 200809L
 #define GL_GLEXT_PROTOTYPES 1
 #include "rj_render.h"
 
 #include <errno.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdio.h>
@@ -2181,12 +2186,18 @@ int rjr_plot(rjr_context *c, const rjr_plot_def *d)
 
 /* ---- PNG -------------------------------------------------------------------------------- */
 
-typedef struct png_errctx { char *err; size_t errlen; } png_errctx;
+/* What a failed write leaves for the message: the caller's buffer, and the file, whose
+   error flag tells a system error (errno: a full disk) from one of libpng's own. */
+typedef struct png_errctx { char *err; size_t errlen; FILE *f; const char *path; } png_errctx;
 
 static void png_error_cb(png_structp png, png_const_charp msg)
 {
     png_errctx *e = (png_errctx *)png_get_error_ptr(png);
-    if (e && e->err && e->errlen) snprintf(e->err, e->errlen, "libpng: %s", msg);
+    const int sys = errno;
+    if (e && e->err && e->errlen && e->f && ferror(e->f) && sys)
+        snprintf(e->err, e->errlen, "error writing %.200s: %s", e->path, strerror(sys));
+    else if (e && e->err && e->errlen)
+        snprintf(e->err, e->errlen, "libpng: %s", msg);
     png_longjmp(png, 1);
 }
 
@@ -2229,22 +2240,57 @@ static int png_encode(FILE *f, const unsigned char *rgb, int w, int h, png_errct
     return 0;
 }
 
+/* The file a PNG goes to, opened as fopen(path, "wb") would, and whether this call
+   created it (O_EXCL): a failed write may remove only such a file. What was there before
+   (a device such as /dev/full, a file of someone else's) is left where it is. */
+static FILE *png_open(const char *path, int *created)
+{
+    FILE *f;
+    int e, fd = open(path, O_WRONLY | O_CREAT | O_EXCL, 0666);
+    *created = fd >= 0;
+    if (fd < 0 && errno == EEXIST) fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0666);
+    if (fd < 0) return NULL;
+    f = fdopen(fd, "wb");
+    if (f) return f;
+    /* the reason is fdopen's: close and unlink must not overwrite it */
+    e = errno;
+    close(fd);
+    if (*created) unlink(path);
+    errno = e;
+    return NULL;
+}
+
+/* After a failed write: removes the file this call created, and only when the path still
+   names that very file (same device and inode, a regular file). */
+static void png_discard(const char *path, const struct stat *made)
+{
+    struct stat now;
+    if (lstat(path, &now) != 0 || !S_ISREG(now.st_mode)) return;
+    if (now.st_dev != made->st_dev || now.st_ino != made->st_ino) return;
+    unlink(path);
+}
+
 int rjr_write_png(const char *path, const unsigned char *rgb, int w, int h, char *err, size_t errlen)
 {
     FILE *f;
     png_errctx ec;
-    int r;
+    struct stat made;
+    int r, created;
     char m[300];
     set_err(err, errlen, "");
     if (!path || !rgb || w < 1 || h < 1) { set_err(err, errlen, "rjr_write_png: bad arguments"); return -1; }
-    f = fopen(path, "wb");
+    f = png_open(path, &created);
     if (!f) {
         snprintf(m, sizeof m, "cannot open %.200s for writing: %s", path, strerror(errno));
         set_err(err, errlen, m);
         return -1;
     }
+    /* the file as created, to know it again before removing anything */
+    created = created && fstat(fileno(f), &made) == 0;
     ec.err = err;
     ec.errlen = errlen;
+    ec.f = f;
+    ec.path = path;
     r = png_encode(f, rgb, w, h, &ec);
     if (r != 0 && err && errlen && !err[0]) set_err(err, errlen, "libpng: write failed");
     if (fclose(f) != 0 && r == 0) {
@@ -2252,7 +2298,7 @@ int rjr_write_png(const char *path, const unsigned char *rgb, int w, int h, char
         set_err(err, errlen, m);
         r = -1;
     }
-    if (r != 0) remove(path);
+    if (r != 0 && created) png_discard(path, &made);
     return r;
 }
 

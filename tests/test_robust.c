@@ -1143,6 +1143,59 @@ static void test_damped_latch_step(void)
     }
 }
 
+/* ------------------------------------------------------------------ pins reached twice */
+
+/* Three flexible links: L1 hangs from L0's tip, and L2 is pinned to node 0 of L1, which
+   is the node L1 hangs by. All three nodes are one pin: under gravity they must stay
+   together and the energy balance close (two groups for one node tore the pin apart). */
+static void test_pin_on_a_pinned_root(void)
+{
+    rj_link_def links[3];
+    rj_joint_def joints[3];
+    rj_scene_def scene = rj_default_scene_def();
+    rj_model *m;
+    rj_state *s;
+    rj_error err;
+    rj_result r;
+    rj_energy e;
+    double a[2], b[2], c[2], gap;
+    int i;
+    for (i = 0; i < 3; i++) {
+        links[i] = rj_default_link_def();
+        links[i].height = 0.01;
+        joints[i] = rj_default_joint_def();
+        joints[i].body2 = i;
+    }
+    joints[0].body1 = -1;
+    joints[1].body1 = 0;
+    joints[1].angle0 = rj_rad(150);
+    joints[2].body1 = 1;
+    joints[2].node1 = 0;
+    joints[2].angle0 = rj_rad(90);
+    scene.links = links;
+    scene.link_count = 3;
+    scene.joints = joints;
+    scene.joint_count = 3;
+    scene.solver.gravity[1] = -9.81;
+    if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) {
+        rjt_check(&T, 0, "pin on a pinned root: model", "%s", err.msg);
+        return;
+    }
+    rj_state_create(m, &s, NULL);
+    r = rj_run(m, s, 0.2, 0, NULL, NULL);
+    rj_node_position(m, s, 0, rj_link_node_count(m, 0) - 1, a);
+    rj_node_position(m, s, 1, 0, b);
+    rj_node_position(m, s, 2, 0, c);
+    gap = fabs(a[0] - b[0]) + fabs(a[1] - b[1]) + fabs(b[0] - c[0]) + fabs(b[1] - c[1]);
+    rj_state_energy(m, s, &e);
+    rjt_check(&T, r == RJ_OK && gap == 0 && fabs(e.balance) < 1e-6 * (fabs(e.gravity) + 1),
+              "pin on a pinned root: one pin for three links, the balance closed",
+              "%s, pins %.3g m apart, balance %.3g J %.150s", rj_result_str(r), gap, e.balance,
+              rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
 int main(void)
 {
     test_damping_bound();
@@ -1161,5 +1214,6 @@ int main(void)
     test_settle_on_a_limit();
     test_settle_keeps_time();
     test_damped_latch_step();
+    test_pin_on_a_pinned_root();
     return rjt_summary(&T, "test_robust");
 }
