@@ -1252,6 +1252,22 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2)
 /* ------------------------------------------------------------------ validation */
 #define RJ__FIELD(buf, fmt, i) snprintf(buf, sizeof buf, fmt, i)
 
+/* The largest values a definition may hold, with the one rule each states (validation and
+   the scene parser say the same). Far beyond any material or mechanism, and small enough
+   that what the step, the energy accounts and a checkpoint (whose values stay within
+   1e100) compute from them stays within reach: a link of 1e6 m, 1e6 m deep, of 1e30 kg/m^3
+   under 1e5 m/s^2 has a potential of about 1e65 J. */
+#define RJ__RULE_E "must be in (0, 1e30] Pa"
+#define RJ__RULE_RHO "must be in (0, 1e30] kg/m^3"
+#define RJ__RULE_SIZE "must be in (0, 1e6] m"
+#define RJ__RULE_AREA "must be in (0, 1e12] m^2"
+#define RJ__RULE_INERTIA "must be in (0, 1e24] m^4"
+#define RJ__RULE_DEPTH "must be in [0, 1e6] m (> 0 for a rectangular section)"
+#define RJ__RULE_TIP_MASS "must be in [0, 1e40] kg"
+#define RJ__RULE_TIP_INERTIA "must be in [0, 1e50] kg m^2"
+#define RJ__RULE_GRAVITY "each component must be a finite acceleration within +-1e5 m/s^2"
+#define RJ__MAX_GRAVITY 1e5
+
 static int rj__check_num(rj_error *err, const char *field, double v, double lo, int lo_incl,
                          double hi, int hi_incl, const char *what)
 {
@@ -1301,7 +1317,7 @@ static int rj__check_cookie(rj_error *err, const char *field_format, int i, unsi
 }
 
 /* A load's time table: 1..RJ_TABLE_MAX points, times finite and strictly increasing,
-   factors finite within 1e100. */
+   within +-1e9 s, factors within +-1e6. */
 static int rj__validate_load_table(const rj_load_def *d, int i, rj_error *err)
 {
     char f[64];
@@ -1315,7 +1331,9 @@ static int rj__validate_load_table(const rj_load_def *d, int i, rj_error *err)
     }
     for (k = 0; k < d->table_count; k++) {
         snprintf(f, sizeof f, "loads[%d].table_time[%d]", i, k);
-        if (!rj__check_num(err, f, d->table_time[k], -1e100, 1, 1e100, 1, "must be a finite time"))
+        if (!rj__check_num(err, f, d->table_time[k], -1e9, 1, 1e9, 1,
+                           "must be a finite time within +-1e9 s (further than any run "
+                           "reaches, where a step no longer resolves the table)"))
             return 0;
         if (k > 0 && !(d->table_time[k] > d->table_time[k - 1])) {
             rj__fail(err, RJ_ERR_INVALID, f, d->table_time[k],
@@ -1325,8 +1343,8 @@ static int rj__validate_load_table(const rj_load_def *d, int i, rj_error *err)
             return 0;
         }
         snprintf(f, sizeof f, "loads[%d].table_factor[%d]", i, k);
-        if (!rj__check_num(err, f, d->table_factor[k], -1e100, 1, 1e100, 1,
-                           "must be a finite factor within 1e100"))
+        if (!rj__check_num(err, f, d->table_factor[k], -1e6, 1, 1e6, 1,
+                           "must be a finite factor within +-1e6"))
             return 0;
     }
     return 1;
@@ -1359,16 +1377,16 @@ static int rj__validate_loads(const rj_scene_def *sc, rj_error *err)
             return 0;
         }
         RJ__FIELD(f, "loads[%d].force[0]", i);
-        if (!rj__check_num(err, f, d->force[0], -1e100, 1, 1e100, 1,
-                           "must be a finite force within 1e100 N"))
+        if (!rj__check_num(err, f, d->force[0], -1e30, 1, 1e30, 1,
+                           "must be a finite force within +-1e30 N"))
             return 0;
         RJ__FIELD(f, "loads[%d].force[1]", i);
-        if (!rj__check_num(err, f, d->force[1], -1e100, 1, 1e100, 1,
-                           "must be a finite force within 1e100 N"))
+        if (!rj__check_num(err, f, d->force[1], -1e30, 1, 1e30, 1,
+                           "must be a finite force within +-1e30 N"))
             return 0;
         RJ__FIELD(f, "loads[%d].moment", i);
-        if (!rj__check_num(err, f, d->moment, -1e100, 1, 1e100, 1,
-                           "must be a finite moment within 1e100 N m"))
+        if (!rj__check_num(err, f, d->moment, -1e30, 1, 1e30, 1,
+                           "must be a finite moment within +-1e30 N m"))
             return 0;
         if (d->follower != 0 && d->follower != 1) {
             RJ__FIELD(f, "loads[%d].follower", i);
@@ -1419,10 +1437,10 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
                  sc->solver.energy_every);
         return 0;
     }
-    if (!rj__check_num(err, "solver.gravity[0]", sc->solver.gravity[0], -1e6, 1, 1e6, 1,
-                       "must be a finite acceleration within +-1e6 m/s^2") ||
-        !rj__check_num(err, "solver.gravity[1]", sc->solver.gravity[1], -1e6, 1, 1e6, 1,
-                       "must be a finite acceleration within +-1e6 m/s^2"))
+    if (!rj__check_num(err, "solver.gravity[0]", sc->solver.gravity[0], -RJ__MAX_GRAVITY, 1,
+                       RJ__MAX_GRAVITY, 1, RJ__RULE_GRAVITY) ||
+        !rj__check_num(err, "solver.gravity[1]", sc->solver.gravity[1], -RJ__MAX_GRAVITY, 1,
+                       RJ__MAX_GRAVITY, 1, RJ__RULE_GRAVITY))
         return 0;
     if (sc->solver.allow_unstable != 0 && sc->solver.allow_unstable != 1) {
         rj__fail(err, RJ_ERR_INVALID, "solver.allow_unstable", sc->solver.allow_unstable,
@@ -1445,10 +1463,10 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
             return 0;
         }
         RJ__FIELD(f, "links[%d].E", i);
-        if (!rj__check_num(err, f, L->E, 0, 0, inf, 0, "must be > 0 Pa"))
+        if (!rj__check_num(err, f, L->E, 0, 0, 1e30, 1, RJ__RULE_E))
             return 0;
         RJ__FIELD(f, "links[%d].rho", i);
-        if (!rj__check_num(err, f, L->rho, 0, 0, inf, 0, "must be > 0 kg/m^3"))
+        if (!rj__check_num(err, f, L->rho, 0, 0, 1e30, 1, RJ__RULE_RHO))
             return 0;
         if (L->section != RJ_SECTION_RECT && L->section != RJ_SECTION_GENERAL) {
             RJ__FIELD(f, "links[%d].section", i);
@@ -1458,10 +1476,10 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
         }
         if (L->section == RJ_SECTION_RECT) {
             RJ__FIELD(f, "links[%d].width", i);
-            if (!rj__check_num(err, f, L->width, 0, 0, inf, 0, "must be > 0 m"))
+            if (!rj__check_num(err, f, L->width, 0, 0, 1e6, 1, RJ__RULE_SIZE))
                 return 0;
             RJ__FIELD(f, "links[%d].height", i);
-            if (!rj__check_num(err, f, L->height, 0, 0, inf, 0, "must be > 0 m"))
+            if (!rj__check_num(err, f, L->height, 0, 0, 1e6, 1, RJ__RULE_SIZE))
                 return 0;
             if (L->layers < 1 || L->layers > 1000) {
                 RJ__FIELD(f, "links[%d].layers", i);
@@ -1471,20 +1489,20 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
             }
         } else {
             RJ__FIELD(f, "links[%d].area", i);
-            if (!rj__check_num(err, f, L->area, 0, 0, inf, 0, "must be > 0 m^2"))
+            if (!rj__check_num(err, f, L->area, 0, 0, 1e12, 1, RJ__RULE_AREA))
                 return 0;
             RJ__FIELD(f, "links[%d].inertia", i);
-            if (!rj__check_num(err, f, L->inertia, 0, 0, inf, 0, "must be > 0 m^4"))
+            if (!rj__check_num(err, f, L->inertia, 0, 0, 1e24, 1, RJ__RULE_INERTIA))
                 return 0;
             RJ__FIELD(f, "links[%d].height", i);
-            if (!rj__check_num(err, f, L->height, 0, 1, inf, 0, "must be >= 0 m"))
+            if (!rj__check_num(err, f, L->height, 0, 1, 1e6, 1, RJ__RULE_DEPTH))
                 return 0;
         }
         RJ__FIELD(f, "links[%d].tip_mass", i);
-        if (!rj__check_num(err, f, L->tip_mass, 0, 1, inf, 0, "must be >= 0 kg"))
+        if (!rj__check_num(err, f, L->tip_mass, 0, 1, 1e40, 1, RJ__RULE_TIP_MASS))
             return 0;
         RJ__FIELD(f, "links[%d].tip_inertia", i);
-        if (!rj__check_num(err, f, L->tip_inertia, 0, 1, inf, 0, "must be >= 0 kg m^2"))
+        if (!rj__check_num(err, f, L->tip_inertia, 0, 1, 1e50, 1, RJ__RULE_TIP_INERTIA))
             return 0;
         if (L->root < RJ_ROOT_FREE || L->root > RJ_ROOT_FIXED) {
             RJ__FIELD(f, "links[%d].root", i);
@@ -4699,6 +4717,25 @@ static void rj__init_limit_stiffness(rj_model *m, double dt)
     }
 }
 
+/* Rigid scenes without stiff joints: no stiffness bounds the step, so it is 1 ms at most,
+   and 0.004 of the time a link takes to swing under gravity, sqrt(l / g), for the shortest
+   link (measured on the two-link strip with its adaptive latch under 1e4 and 1e5 m/s^2:
+   0.003 of it runs, 0.01 blows up as the latch catches; at 9.81 m/s^2 this binds only
+   links under 0.6 m). */
+static double rj__rigid_dt_cap(const rj_model *m)
+{
+    const double g = sqrt(m->solver.gravity[0] * m->solver.gravity[0] +
+                          m->solver.gravity[1] * m->solver.gravity[1]);
+    double cap = 1e-3, shortest = HUGE_VAL;
+    int l;
+    for (l = 0; l < m->nl; l++)
+        if (m->ldef[l].length < shortest)
+            shortest = m->ldef[l].length;
+    if (g > 0 && 0.004 * sqrt(shortest / g) < cap)
+        cap = 0.004 * sqrt(shortest / g);
+    return cap;
+}
+
 /* Stability: omega_max of beams + springs + tables alone (kept for the refusal's advice),
    then with the limits counted; joint damping acts on the rates it lags (Eq 27 on
    v^{n-1/2}): it shortens the step. The step: solver.dt, or 0.9 x the bound (rigid scenes
@@ -4716,8 +4753,8 @@ static rj_result rj__init_step(rj_model *m, const rj_scene_def *sc, const rj__bu
     any_adaptive = rj__count_penalty_limits(m);
     om2 = rj__init_bound(m, s, q.damp_rate);
     q.dt = sc->solver.dt > 0 ? sc->solver.dt : 0.9 * m->dt_bound;
-    if (m->rigid && sc->solver.dt <= 0 && q.dt > 1e-3)
-        q.dt = 1e-3;
+    if (m->rigid && sc->solver.dt <= 0 && q.dt > rj__rigid_dt_cap(m))
+        q.dt = rj__rigid_dt_cap(m);
     q.om2_no_adaptive = om2;
     if (any_adaptive && !rj__search_adaptive_dt(m, sc, s, &q, err))
         return RJ_ERR_UNSTABLE_DT;
@@ -5290,15 +5327,52 @@ static rj_result rj__stop(const rj_model *m, rj_state *s, rj_result r, const cha
     return r;
 }
 
+/* Where a rigid scene's blow-up shows: the fastest joint of the new frame and its
+   rotation per step. In joint coordinates no stiffness bounds the step; the step's energy
+   error is second order in dt, and grows where a long chain whips or folds on itself (its
+   mass matrix nears singular), which no bound foresees. */
+static void rj__rig_fastest(const rj_model *m, const rj_state *s, char *where, size_t size)
+{
+    const double *next = s->fd[1 - s->cur];
+    double fastest = 0;
+    int j, worst = -1;
+    for (j = 0; j < m->nj; j++) {
+        const double rate = fabs(RJ__FJ(m, next, j)[RJ__JD_RATE]);
+        if (rate > fastest) {
+            fastest = rate;
+            worst = j;
+        }
+    }
+    if (worst < 0 || !rj__finite(fastest)) {
+        snprintf(where, size, "rigid links in joint coordinates");
+        return;
+    }
+    snprintf(where, size,
+             "rigid links in joint coordinates (fastest joint %d at %.4g rad/s, %.3g rad a "
+             "step): the step's energy error is second order in dt (half the step, a quarter "
+             "of the error) and grows as a long chain whips or folds; a smaller solver.dt, "
+             "or inextensible links for a chain of many",
+             worst, fastest, fastest * m->dt);
+}
+
 /* The causes of a blow-up that this model can have, for the step's messages: only what
-   the model holds (a step above the bound, limits and how they respond, stiff joints),
-   else what every model has (fast rotation, which the linearised bound leaves out). */
-static const char *rj__blowup_causes(const rj_model *m, char *buf, size_t size)
+   the model holds (a step above the bound, loads whose work is most of the energy in
+   motion, limits and how they respond, stiff joints), else what every model has (fast rotation, which the linearised bound leaves out). */
+static const char *rj__blowup_causes(const rj_model *m, int applied, double work, double moving,
+                                     char *buf, size_t size)
 {
     int j, stiff_limit = 0, velocity_limit = 0, springs = 0;
     if (m->dt > m->dt_bound)
         return "the step is above the stability bound: use a smaller solver.dt, or 0 for the "
                "automatic step";
+    /* loads and the caller's inputs whose work is most of the energy in motion */
+    if (applied && fabs(work) > 0.5 * moving && work == work) {
+        snprintf(buf, size,
+                 "the applied loads and the caller's torques and forces (%.3g J of work): "
+                 "loads that large move the model faster than its step can follow",
+                 -work);
+        return buf;
+    }
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         const int limits = d->has_forward || d->has_reverse;
@@ -5310,6 +5384,10 @@ static const char *rj__blowup_causes(const rj_model *m, char *buf, size_t size)
             springs = 1;
     }
     buf[0] = 0;
+    if (applied)
+        rj__cat(buf, size,
+                "the applied loads or the caller's torques and forces, if they move a node "
+                "farther in a step than its elements can follow; ");
     if (stiff_limit)
         rj__cat(buf, size,
                 "a penalty or adaptive limit caught late (it stores about the relative kinetic "
@@ -7007,15 +7085,16 @@ static rj_result rj__energy_stop(const rj_model *m, rj_state *s, const double *f
 {
     const double ke = e.kinetic, U = e.strain, lost_l = e.lost_limit;
     const double E = U > fabs(ke) ? U : fabs(ke);
-    char buffer[400], where[80];
+    char buffer[400], where[400];
     const char *causes;
     if (frame) {
         int bl, bn;
         rj__worst_node(m, frame, &bl, &bn);
         snprintf(where, sizeof where, "fastest node link %d node %d", bl, bn);
     } else
-        snprintf(where, sizeof where, "rigid links in joint coordinates");
-    causes = rj__blowup_causes(m, buffer, sizeof buffer);
+        rj__rig_fastest(m, s, where, sizeof where);
+    causes = rj__blowup_causes(m, m->nload > 0 || s->inputs || s->node_inputs, e.work,
+                               fabs(ke) + fabs(U), buffer, sizeof buffer);
     if (created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale)
         return rj__stop(m, s, RJ_ERR_BLOWUP,
                         "t = %.9g s: %.6g J of energy created (balance %.6g J, limit work %.6g J; "
@@ -9545,42 +9624,42 @@ static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *
         d->length = v;
         break;
     case RJ__LK_E:
-        if (!RJ__SP_RULE(v > 0, "must be > 0 Pa"))
+        if (!RJ__SP_RULE(v > 0 && v <= 1e30, RJ__RULE_E))
             return 0;
         d->E = v;
         break;
     case RJ__LK_RHO:
-        if (!RJ__SP_RULE(v > 0, "must be > 0 kg/m^3"))
+        if (!RJ__SP_RULE(v > 0 && v <= 1e30, RJ__RULE_RHO))
             return 0;
         d->rho = v;
         break;
     case RJ__LK_AREA:
-        if (!RJ__SP_RULE(v > 0, "must be > 0 m^2"))
+        if (!RJ__SP_RULE(v > 0 && v <= 1e12, RJ__RULE_AREA))
             return 0;
         d->area = v;
         break;
     case RJ__LK_INERTIA:
-        if (!RJ__SP_RULE(v > 0, "must be > 0 m^4"))
+        if (!RJ__SP_RULE(v > 0 && v <= 1e24, RJ__RULE_INERTIA))
             return 0;
         d->inertia = v;
         break;
     case RJ__LK_WIDTH:
-        if (!RJ__SP_RULE(v > 0, "must be > 0 m"))
+        if (!RJ__SP_RULE(v > 0 && v <= 1e6, RJ__RULE_SIZE))
             return 0;
         d->width = v;
         break;
     case RJ__LK_HEIGHT:
-        if (!RJ__SP_RULE(v >= 0, "must be >= 0 m (> 0 for a rectangular section)"))
+        if (!RJ__SP_RULE(v >= 0 && v <= 1e6, RJ__RULE_DEPTH))
             return 0;
         d->height = v;
         break;
     case RJ__LK_TIP_MASS:
-        if (!RJ__SP_RULE(v >= 0, "must be >= 0 kg"))
+        if (!RJ__SP_RULE(v >= 0 && v <= 1e40, RJ__RULE_TIP_MASS))
             return 0;
         d->tip_mass = v;
         break;
     case RJ__LK_TIP_INERTIA:
-        if (!RJ__SP_RULE(v >= 0, "must be >= 0 kg m^2"))
+        if (!RJ__SP_RULE(v >= 0 && v <= 1e50, RJ__RULE_TIP_INERTIA))
             return 0;
         d->tip_inertia = v;
         break;
@@ -9892,7 +9971,7 @@ static int rj__sp_gravity(rj__sp *P, int a, int *i, int b, rj_solver_def *s)
         if (!rj__sp_num(P, t, key, &v))
             return 0;
         (*i)++;
-        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, "each component must be within +-1e6 m/s^2"))
+        if (!RJ__SP_RULE(v >= -RJ__MAX_GRAVITY && v <= RJ__MAX_GRAVITY, RJ__RULE_GRAVITY))
             return 0;
         s->gravity[k] = v;
     }
