@@ -10477,6 +10477,9 @@ static int rj__sp_unit_word(const rj__sp *P, int v, const char *kn)
     double x;
     if (strcmp(u, "rad") == 0 || strcmp(u, "rad/s") == 0 || strcmp(kn, "table") == 0)
         return 0;
+    /* nan and inf spelled out are numbers, not units: the value's parse names them */
+    if (t->kind == 'w' && rj__sp_strtonum(t->s, t->len, P->dp, P->dplen, &x) == -1)
+        return 0;
     return t->kind == 'w' && rj__sp_alpha((unsigned char) t->s[0]) && n->kind == 'w' &&
            rj__sp_strtonum(n->s, n->len, P->dp, P->dplen, &x) == 1;
 }

@@ -1232,6 +1232,18 @@ static void test_bounds_carried(void)
                   r == RJ_OK ? "accepted" : err.msg);
     }
     {
+        /* nan spelled out as a second component is a number that is not finite, not a unit */
+        static const char nan_text[] = "solver\n  gravity = 0 nan\n";
+        rj_scene_file f;
+        rj_error err;
+        const rj_result r = rj_scene_parse(nan_text, sizeof nan_text - 1, "nan", &f, &err);
+        if (r == RJ_OK)
+            rj_scene_file_free(&f);
+        rjt_check(&T, r != RJ_OK && strstr(err.msg, "not a finite number") != NULL,
+                  "bounds: gravity = 0 nan is named a non-finite number", "%s",
+                  r == RJ_OK ? "accepted" : err.msg);
+    }
+    {
         /* a model at the largest density and gravity: its own checkpoint loads back */
         rj_link_def link = rj_default_link_def();
         rj_joint_def pin = rj_default_joint_def();
