@@ -486,6 +486,10 @@ RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s,
                                  int joint); /* first limit contact or lock, s; -1 if none */
 RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s,
                                    int joint); /* latest release from a limit, s; -1 if none */
+/* The first time the joint's two links passed through each other (its angle turned
+   through a multiple of 360 deg, where they lie over each other; links do not contact
+   each other), s; -1 if never, and always -1 for a joint to ground. Also a warning. */
+RJDEF double rj_joint_overlap_time(const rj_model *m, const rj_state *s, int joint);
 RJDEF double rj_joint_peak_penetration(const rj_model *m, const rj_state *s,
                                        int joint); /* rad, largest |penetration| so far */
 RJDEF double rj_joint_contact_penetration(
@@ -770,7 +774,9 @@ enum {
     RJ__JD_P0,
     RJ__JD_QDD,
     RJ__JD_IMPULSE,
-    RJ__JD_INPUT, /* the caller's torque applied in the step that made this frame */
+    RJ__JD_INPUT,   /* the caller's torque applied in the step that made this frame */
+    RJ__JD_SIDE,    /* the band of 360 deg the angle was last clearly in (0.5: not yet) */
+    RJ__JD_OVERLAP, /* the first time the two links passed through each other, s (-1) */
     RJ__JD_TQ0,
     RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT
 };
@@ -5177,6 +5183,8 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
                               : rj__joint_rate(&m->jnt[j], &g, m->vx0, m->vy0, m->w0, NULL, NULL);
         jd[RJ__JD_EVENT] = -1;
         jd[RJ__JD_RELEASE] = -1;
+        jd[RJ__JD_SIDE] = 0.5;
+        jd[RJ__JD_OVERLAP] = -1;
     }
     if (m->rigid) {
         /* nodes from the joint-coordinate kinematics, so that both descriptions agree */
@@ -5641,6 +5649,33 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
     }
 }
 
+/* Links do not contact each other: where a joint between two links turns through a
+   multiple of 360 deg, its two links lie over each other and pass through. That is
+   reported once per joint, as a warning and its time (rj_joint_overlap_time): when the
+   angle is clearly (1 deg) inside a band of 360 deg other than the one it was last
+   clearly in. A hinge stowed folded at 0 or 360 deg, or vibrating there, has not passed. */
+#define RJ__OVERLAP_MARGIN 0.0174532925199432958
+static void rj__overlap(const rj_model *m, rj_state *s, int j, double run, double t,
+                        const double *oj, double *nj_, double *nsc)
+{
+    const double turns = run / RJ__TWO_PI;
+    const double band = floor(turns);
+    const double inside = (turns - band) * RJ__TWO_PI;
+    const double side = oj[RJ__JD_SIDE];
+    if (inside < RJ__OVERLAP_MARGIN || inside > RJ__TWO_PI - RJ__OVERLAP_MARGIN)
+        return;
+    nj_[RJ__JD_SIDE] = band;
+    if (side == band || side != floor(side) || oj[RJ__JD_OVERLAP] >= 0)
+        return;
+    nj_[RJ__JD_OVERLAP] = t;
+    nsc[RJ__FS_WARN] += 1;
+    snprintf(s->warn, sizeof s->warn,
+             "t = %.9g s: joint %d turned through %.0f deg: its links %d and %d passed "
+             "through each other (links do not contact each other)",
+             t, j, rj_deg(band > side ? band * RJ__TWO_PI : side * RJ__TWO_PI),
+             m->jdef[j].body1, m->jdef[j].body2);
+}
+
 /* The revolute element for one joint and one step, shared by every link model: status
    flag (Eqs 7-13), contact bookkeeping, penetration (Eq 19), and the torques on body 2 from
    the table (Eq 4), the torsion spring, damping (Eq 27) and the penalty / adaptive limit
@@ -5680,6 +5715,8 @@ static double rj__element(const rj_model *m, rj_state *s, int j, const double *o
     }
     if (flag == RJ_FREE && oflag != RJ_FREE)
         nj_[RJ__JD_RELEASE] = t; /* latest release */
+    if (d->body1 >= 0)
+        rj__overlap(m, s, j, run, t, oj, nj_, nsc);
     *nflag = flag;
     /* Eq 19 penetration */
     if (flag == RJ_AT_FORWARD)
@@ -7911,6 +7948,7 @@ static void rj__restart(const rj_model *m, rj_state *s)
         double *jd = RJ__FJ(m, f, j);
         jd[RJ__JD_EVENT] = -1;
         jd[RJ__JD_RELEASE] = -1;
+        jd[RJ__JD_OVERLAP] = -1;
         jd[RJ__JD_PEAKP] = 0;
         jd[RJ__JD_IMPULSE] = 0;
     }
@@ -8452,6 +8490,11 @@ RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s, int j)
     RJ_ASSERT(j >= 0 && j < m->nj);
     return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_RELEASE];
 }
+RJDEF double rj_joint_overlap_time(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_OVERLAP];
+}
 RJDEF double rj_joint_peak_penetration(const rj_model *m, const rj_state *s, int j)
 {
     RJ_ASSERT(j >= 0 && j < m->nj);
@@ -8511,7 +8554,7 @@ RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size
     size_t need = RJ__CK_HEAD + pay + 8;
     unsigned char *b = (unsigned char *) buf;
     unsigned char *in_bytes;
-    unsigned int ver = 4;
+    unsigned int ver = 5;
     unsigned long long h, pl = pay, st = (unsigned long long) s->steps;
     if (!buf || size < need)
         return need;
@@ -8708,10 +8751,10 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
     memcpy(&ver, b + 4, 4);
     memcpy(&mh, b + 8, 8);
     memcpy(&pl, b + 16, 8);
-    if (ver != 4) {
+    if (ver != 5) {
         rj__fail(err, RJ_ERR_CHECKPOINT, "version", ver,
-                 "checkpoint version %u is not supported (4: the caller's node forces joined "
-                 "it)",
+                 "checkpoint version %u is not supported (5: each joint's record of its links "
+                 "passing through each other joined it)",
                  ver);
         return RJ_ERR_CHECKPOINT;
     }

@@ -1318,6 +1318,61 @@ static void test_blowup_causes(void)
     rj_scene_file_free(&f);
 }
 
+/* ------------------------------------------------------------------ links passing through */
+
+/* Two links whose hinge spring drives the second through 360 deg, where it lies over the
+   first: reported once, with its time and a warning. The same links stowed folded at
+   360 deg and opening to 180 deg never pass through. */
+static void test_links_pass_through(void)
+{
+    int pass;
+    for (pass = 0; pass < 2; pass++) {
+        rj_link_def links[2] = { rj_default_link_def(), rj_default_link_def() };
+        rj_joint_def joints[2] = { rj_default_joint_def(), rj_default_joint_def() };
+        rj_scene_def scene = rj_default_scene_def();
+        rj_model *m;
+        rj_state *s;
+        rj_error err;
+        rj_result r;
+        double t_over;
+        links[0].height = links[1].height = 0.01;
+        joints[0].body1 = -1;
+        joints[0].body2 = 0;
+        joints[1].body1 = 0;
+        joints[1].body2 = 1;
+        joints[1].angle0 = rj_rad(pass == 0 ? 300 : 360);
+        joints[1].spring_k = 5;
+        joints[1].spring_free_angle = rj_rad(pass == 0 ? 420 : 180);
+        joints[1].damping = 0.05;
+        scene.links = links;
+        scene.link_count = 2;
+        scene.joints = joints;
+        scene.joint_count = 2;
+        if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) {
+            rjt_check(&T, 0, "pass through: model", "%s", err.msg);
+            return;
+        }
+        if (rj_state_create(m, &s, NULL) != RJ_OK)
+            return;
+        r = rj_run(m, s, 0.5, 0, NULL, NULL);
+        t_over = rj_joint_overlap_time(m, s, 1);
+        if (pass == 0)
+            rjt_check(&T, r == RJ_OK && t_over > 0 && rj_state_warning_count(s) >= 1 &&
+                              strstr(rj_state_warning(s), "passed through each other") != NULL &&
+                              rj_joint_overlap_time(m, s, 0) < 0,
+                      "pass through: a hinge turned through 360 deg is reported once",
+                      "t %.4g s, %ld warnings: %s", t_over, rj_state_warning_count(s),
+                      rj_state_warning(s));
+        else
+            rjt_check(&T, r == RJ_OK && t_over < 0 && rj_state_warning_count(s) == 0,
+                      "pass through: a hinge opening from folded at 360 deg is not",
+                      "t %.4g s, angle %.1f deg, %ld warnings", t_over,
+                      rj_deg(rj_joint_theta_running(m, s, 1)), rj_state_warning_count(s));
+        rj_state_destroy(s, NULL);
+        rj_model_destroy(m, NULL);
+    }
+}
+
 int main(void)
 {
     test_damping_bound();
@@ -1339,5 +1394,6 @@ int main(void)
     test_pin_on_a_pinned_root();
     test_bounds_carried();
     test_blowup_causes();
+    test_links_pass_through();
     return rjt_summary(&T, "test_robust");
 }
