@@ -213,4 +213,27 @@ ok "run --settle: the elastica scene's tip against the large-deflection solution
 ok "run: the elastica scene's ramped load does work, and the balance closes" \
   "$B/rj run $S/elastica.rjs --t-end 0.6 --sample 0.1 --csv - 2>/dev/null | awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) { if (\$i == \"W_applied\") w = i; if (\$i == \"E_balance\") b = i } next }
      { last_w = \$w; bal = \$b < 0 ? -\$b : \$b; if (bal > 1e-6 * (last_w + 1e-3)) exit 1 } END { exit !(last_w > 1) }'"
+
+# ---- a PNG that cannot be written: a clear message, and nothing the program did not
+# create is removed. As root, a private copy of /dev/full first (so that a regression
+# removes the copy, not /dev/full); /dev/full itself only once the copy survived.
+dev_ok=0
+if mknod $T/full c 1 7 2>/dev/null; then
+  m 1 "cannot write $T/full: error writing $T/full: No space left on device" "plot --out onto a full device (a copy of /dev/full) fails (1) saying why" \
+    $B/rj plot $S/deploy.rjs --t-end 0.01 --out $T/full
+  if [ -c $T/full ]; then dev_ok=1; echo "PASS rj: plot --out a device that cannot be written: the device is still there"
+  else echo "FAIL rj: plot --out a device that cannot be written removed it"; fi
+elif [ "$(id -u)" != 0 ]; then dev_ok=1; fi
+if [ $dev_ok = 1 ] && [ -w /dev/full ]; then
+  m 1 "cannot write /dev/full: .*No space left on device" "plot --out /dev/full fails (1) saying why" $B/rj plot $S/deploy.rjs --t-end 0.01 --out /dev/full
+  ok "plot --out /dev/full: /dev/full is still a character device" "[ -c /dev/full ]"
+else echo "SKIP rj: plot --out /dev/full (no /dev/full, or its copy did not survive)"; fi
+# a file size limit (ulimit -f, SIGXFSZ ignored) makes writing a regular file fail: a file
+# that was there is left (cut short), one the plot created is removed
+echo keep > $T/kept.png
+m 1 "cannot write $T/kept.png: error writing $T/kept.png: File too large" "plot --out a file whose write fails (file size limit) fails (1) saying why" \
+  sh -c "trap '' XFSZ; ulimit -f 1; exec $B/rj plot $S/deploy.rjs --t-end 0.01 --out $T/kept.png"
+ok "plot: a file that was there before a failed write is not removed" "[ -f $T/kept.png ]"
+sh -c "trap '' XFSZ; ulimit -f 1; exec $B/rj plot $S/deploy.rjs --t-end 0.01 --out $T/made.png" 2>/dev/null
+ok "plot: a file the failed write created is removed, not left half written" "[ ! -e $T/made.png ]"
 exit 0
