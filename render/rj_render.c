@@ -2015,6 +2015,64 @@ static void draw_series(rjr_context *c, const rjr_plot_def *d, const rjr_series 
     series_run_flush(c, s, k, w, col);
 }
 
+/* ---- marker labels: placed so that none hides another ------------------------------
+   A label sits at the foot of its dashed line, to the right of it (to the left when it
+   would leave the plot), in one of the rows stacked up from the x axis. Its preferred
+   row is the marker's index modulo 3, the layout labels always had; a label that would
+   overlap one already drawn (locks close in time) takes the next free row up, then the
+   other side of its line; only when every row of the plot's height is taken does it keep
+   its preferred place. */
+typedef struct mark_box { double l, t, r, b; } mark_box;   /* the white backing, px */
+typedef struct mark_area { double x0, y0, x1, y1, fs; } mark_area; /* plot area, font px */
+
+/* The backing of a label of width lw at the line xm, in row, on the right or the left. */
+static mark_box mark_at(const mark_area *a, double xm, double lw, int row, int right)
+{
+    mark_box b;
+    const double ly = a->y1 - 6 - a->fs - row * floor(a->fs * 1.7);
+    const double lx = right ? floor(xm) + 5 : floor(xm) - 4 - lw;
+    b.l = lx - 2;
+    b.t = ly - 3;
+    b.r = b.l + ceil(lw) + 4;
+    b.b = b.t + a->fs + 6;
+    return b;
+}
+
+/* Whether box b overlaps one of the n boxes placed (touching is not overlapping). */
+static int mark_hits(const mark_box *b, const mark_box *placed, int n)
+{
+    int k;
+    for (k = 0; k < n; k++)
+        if (b->l < placed[k].r && placed[k].l < b->r && b->t < placed[k].b && placed[k].t < b->b) return 1;
+    return 0;
+}
+
+/* Whether box b lies inside the plot area (rows above the top are not used). */
+static int mark_fits(const mark_area *a, const mark_box *b)
+{
+    return b->t >= a->y0 + 2 && b->l >= a->x0 && b->r <= a->x1;
+}
+
+/* The place of a label of width lw at the line xm, its preferred row pref, against the
+   n labels placed before it: the preferred row and side when free, else the first free
+   of the other rows (low to high) on that side, then of every row on the other side. */
+static mark_box mark_place(const mark_area *a, double xm, double lw, int pref,
+                             const mark_box *placed, int n)
+{
+    const int right = xm + 5 + lw <= a->x1 - 3;
+    const mark_box first = mark_at(a, xm, lw, pref, right);
+    int side, row;
+    if (!mark_hits(&first, placed, n)) return first;
+    for (side = 0; side < 2; side++) {
+        for (row = 0; row < 64; row++) {
+            const mark_box b = mark_at(a, xm, lw, row, side ? !right : right);
+            if (b.t < a->y0 + 2) break;
+            if (mark_fits(a, &b) && !mark_hits(&b, placed, n)) return b;
+        }
+    }
+    return first;
+}
+
 int rjr_plot_rect(rjr_context *c, const rjr_plot_def *d, int rx, int ry, int rw, int rh)
 {
     axis ax, ay;
@@ -2158,17 +2216,19 @@ int rjr_plot_rect(rjr_context *c, const rjr_plot_def *d, int rx, int ry, int rw,
         }
     }
 
-    /* marker labels, staggered in three rows, on a white backing */
-    for (i = 0; i < d->marker_count && i < RJR_MAX_MARKERS; i++) {
-        double xm = axis_map(&ax, d->markers[i].x, x0, x1), ly, lw, lx;
-        int right_side;
-        if (!isfinite(xm) || xm < x0 || xm > x1 || !d->markers[i].label) continue;
-        ly = y1 - 6 - fs - (i % 3) * floor(fs * 1.7);
-        lw = rjr_text_width(d->markers[i].label, fs);
-        right_side = xm + 5 + lw <= x1 - 3;
-        lx = right_side ? floor(xm) + 5 : floor(xm) - 4 - lw;
-        rjr_rect(c, lx - 2, ly - 3, ceil(lw) + 4, fs + 6, 0xffffff);
-        rjr_text(c, lx, ly, fs, 0.0, RJR_LEFT | RJR_TOP, 0x5a34a8, d->markers[i].label);
+    /* marker labels on a white backing, in rows that do not overlap (mark_place) */
+    {
+        mark_box placed[RJR_MAX_MARKERS];
+        const mark_area area = { x0, y0, x1, y1, fs };
+        int n = 0;
+        for (i = 0; i < d->marker_count && i < RJR_MAX_MARKERS; i++) {
+            const double xm = axis_map(&ax, d->markers[i].x, x0, x1);
+            if (!isfinite(xm) || xm < x0 || xm > x1 || !d->markers[i].label) continue;
+            placed[n] = mark_place(&area, xm, rjr_text_width(d->markers[i].label, fs), i % 3, placed, n);
+            rjr_rect(c, placed[n].l, placed[n].t, placed[n].r - placed[n].l, placed[n].b - placed[n].t, 0xffffff);
+            rjr_text(c, placed[n].l + 2, placed[n].t + 3, fs, 0.0, RJR_LEFT | RJR_TOP, 0x5a34a8, d->markers[i].label);
+            n++;
+        }
     }
     return c->failed ? -1 : 0;
 }

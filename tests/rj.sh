@@ -236,4 +236,40 @@ m 1 "cannot write $T/kept.png: error writing $T/kept.png: File too large" "plot 
 ok "plot: a file that was there before a failed write is not removed" "[ -f $T/kept.png ]"
 sh -c "trap '' XFSZ; ulimit -f 1; exec $B/rj plot $S/deploy.rjs --t-end 0.01 --out $T/made.png" 2>/dev/null
 ok "plot: a file the failed write created is removed, not left half written" "[ ! -e $T/made.png ]"
+
+# ---- plot labels that do not hide each other: four locks, j1's and j4's 11 ms apart
+# (both in the first row of labels as they were), against the same locks far apart. The
+# labels' text pixels (their colour exactly, 0x5a34a8) count the same when none covers
+# another.
+locks() { # file, j4's forward limit (deg): rigid links turning at 1 rad/s lock at it
+  : > $1
+  for j in 1 2 3 4; do
+    case $j in 1) f=17.1887;; 2) f=34.3775;; 3) f=51.5662;; 4) f=$2;; esac
+    printf 'link a%d\n  fidelity = rigid  length = 1\njoint j%d\n  body1 = ground  body2 = a%d  ground_y = %d\n  angle0 = 0 deg  rate0 = 1  forward = %s deg  lock = yes\n' $j $j $j $j $f >> $1
+  done
+}
+locks $T/locks_close.rjs 17.7617
+locks $T/locks_far.rjs 5.7296
+# the number of pixels of one colour in each PNG rjr_write_png wrote (8-bit RGB, filter none)
+cat > $T/purple.py <<'PY'
+import sys, zlib, struct
+def count(path, want):
+    d = open(path, 'rb').read()
+    i, idat, w, h = 8, b'', 0, 0
+    while i < len(d):
+        n, t = struct.unpack('>I4s', d[i:i + 8])
+        if t == b'IHDR': w, h = struct.unpack('>II', d[i + 8:i + 16])
+        if t == b'IDAT': idat += d[i + 8:i + 8 + n]
+        i += 12 + n
+    raw = zlib.decompress(idat)
+    rows = [raw[y * (3 * w + 1):(y + 1) * (3 * w + 1)] for y in range(h)]
+    return sum(sum(1 for x in range(w) if r[1 + 3 * x:4 + 3 * x] == want) for r in rows if r[0] == 0)
+print(*[count(p, bytes.fromhex('5a34a8')) for p in sys.argv[1:]])
+PY
+if [ -x /usr/bin/python3 ]; then
+  $B/rj plot $T/locks_close.rjs --out $T/locks_close.png 2>/dev/null
+  $B/rj plot $T/locks_far.rjs --out $T/locks_far.png 2>/dev/null
+  set -- $(/usr/bin/python3 $T/purple.py $T/locks_close.png $T/locks_far.png)
+  ok "plot --what angles: lock labels 11 ms apart do not hide each other (label pixels $1 close, $2 far apart)" "[ -n '$1' ] && [ '$1' -gt 0 ] && [ '$1' = '$2' ]"
+else echo "SKIP rj: no /usr/bin/python3 to count the plot's label pixels"; fi
 exit 0
