@@ -48,18 +48,40 @@ static inline const char *cli_str(cli *c, const char *opt)
     if (v[0] == '-' && v[1] == '-') cli_die(c, "option %s needs a value, got option '%s'", opt, v);
     return v;
 }
-/* finite number in [lo, hi]; the whole text must be the number (no blanks around it) */
+/* Whether s is a decimal number as people write it: an optional sign, digits with an
+   optional point, an optional exponent; nothing else. strtod also reads hex ("0x10" is
+   16), "nan", "inf" and leading blanks, none of which a command line means as a number. */
+static inline int cli_is_decimal(const char *s)
+{
+    int digits = 0;
+    if (*s == '+' || *s == '-') s++;
+    for (; isdigit((unsigned char)*s); s++) digits++;
+    if (*s == '.') s++;
+    for (; isdigit((unsigned char)*s); s++) digits++;
+    if (!digits) return 0;
+    if (*s != 'e' && *s != 'E') return *s == '\0';
+    s++;
+    if (*s == '+' || *s == '-') s++;
+    if (!isdigit((unsigned char)*s)) return 0;
+    while (isdigit((unsigned char)*s)) s++;
+    return *s == '\0';
+}
+/* finite decimal number in [lo, hi]; the whole text must be the number (no blanks, hex,
+   nan or inf) */
 static inline double cli_num(cli *c, const char *opt, double lo, double hi)
 {
     const char *s = cli_str(c, opt);
     char *end;
-    double v;
-    errno = 0;
-    v = strtod(s, &end);
-    /* strtod skips leading blanks: " 1e-6" is not what the user meant to type either */
-    if (end == s || *end || errno || isspace((unsigned char)s[0]) || !(v >= lo && v <= hi)) {
+    double v = 0;
+    int ok = cli_is_decimal(s);
+    if (ok) {
+        errno = 0;
+        v = strtod(s, &end);
+        ok = end != s && !*end && !errno && v >= lo && v <= hi;
+    }
+    if (!ok) {
         char range[96];
-        snprintf(range, sizeof range, "a number in [%g, %g]", lo, hi);
+        snprintf(range, sizeof range, "a finite decimal number in [%g, %g]", lo, hi);
         cli_bad(c, opt, s, range);
     }
     return v;
@@ -113,13 +135,79 @@ static inline void cli_pair(cli *c, const char *opt, char sep, int *a, int *b,
     *a = (int)x;
     *b = (int)y;
 }
-/* value must be one of names[0..n-1]; returns its index */
+/* ---- "did you mean": the nearest name to a misspelt one -----------------------------------
+   The rule of the scene parser (revjoint.h, rj__sp_near): a suggestion is within 2 edits
+   (insertions, deletions, changes, swaps of neighbours; case ignored) of a name of 5 or
+   more characters, 1 of 3 or 4, case only of a shorter one, and the only one that near:
+   a tie suggests nothing rather than a guess. */
+static inline int cli_lower(int ch) { return tolower((unsigned char)ch); }
+/* The optimal-string-alignment distance between a and b; 99 when their lengths differ by
+   more than 2 or b is long (no suggestion is that far). */
+static inline int cli_dist(const char *a, const char *b)
+{
+    int r[3][66], i, j;
+    const int n = (int)strlen(a), m = (int)strlen(b);
+    if (n - m > 2 || m - n > 2 || m > 64) return 99;
+    for (j = 0; j <= m; j++) r[0][j] = j;
+    for (i = 1; i <= n; i++) {
+        int *cur = r[i % 3], *up = r[(i + 2) % 3], *up2 = r[(i + 1) % 3];
+        cur[0] = i;
+        for (j = 1; j <= m; j++) {
+            int v = up[j - 1] + (cli_lower(a[i - 1]) != cli_lower(b[j - 1]));
+            if (up[j] + 1 < v) v = up[j] + 1;
+            if (cur[j - 1] + 1 < v) v = cur[j - 1] + 1;
+            /* two neighbours swapped are one edit */
+            if (i > 1 && j > 1 && cli_lower(a[i - 1]) == cli_lower(b[j - 2]) &&
+                cli_lower(a[i - 2]) == cli_lower(b[j - 1]) && up2[j - 2] + 1 < v)
+                v = up2[j - 2] + 1;
+            cur[j] = v;
+        }
+    }
+    return r[n % 3][m];
+}
+/* The one name among names[0..n-1] near s by the rule above, or NULL. */
+static inline const char *cli_nearest(const char *s, const char *const *names, int n)
+{
+    const char *best = NULL;
+    int k, bd = 99, ties = 0;
+    for (k = 0; k < n; k++) {
+        const int len = (int)strlen(names[k]), lim = len >= 5 ? 2 : len >= 3 ? 1 : 0;
+        const int d = cli_dist(s, names[k]);
+        if (d > lim || d > bd) continue;
+        if (d == bd) {
+            ties++;
+            continue;
+        }
+        best = names[k];
+        bd = d;
+        ties = 0;
+    }
+    return ties ? NULL : best;
+}
+/* "unknown WHAT 'S'; did you mean 'NAME'?" (without the suggestion when none is near),
+   then the usage; exits 2. what is "option" or "subcommand". */
+static inline void cli_unknown(const cli *c, const char *what, const char *s, const char *const *names, int n)
+{
+    const char *near = cli_nearest(s, names, n);
+    fprintf(stderr, "%s: unknown %s '%s'", c->argv[0], what, s);
+    if (near) fprintf(stderr, "; did you mean '%s'?", near);
+    fprintf(stderr, "\n%s", c->usage);
+    exit(2);
+}
+/* value must be one of names[0..n-1]; returns its index. Else the message lists them all,
+   with the nearest suggested. */
 static inline int cli_choice(cli *c, const char *opt, const char *const *names, int n)
 {
     const char *s = cli_str(c, opt);
+    const char *near = cli_nearest(s, names, n);
     int k;
     for (k = 0; k < n; k++) if (strcmp(s, names[k]) == 0) return k;
-    cli_die(c, "option %s: unknown value '%s'", opt, s);
+    fprintf(stderr, "%s: option %s: unknown value '%s' (one of: ", c->argv[0], opt, s);
+    for (k = 0; k < n; k++) fprintf(stderr, "%s%s", k ? ", " : "", names[k]);
+    fputc(')', stderr);
+    if (near) fprintf(stderr, "; did you mean '%s'?", near);
+    fprintf(stderr, "\n%s", c->usage);
+    exit(2);
     return -1;
 }
 static const char *const cli_methods[] = { "penalty", "adaptive", "momentum", "forced", "energy" };
@@ -298,6 +386,19 @@ static inline void cli_check_steps(const char *prog, double t_end, double dt, in
     if (force || !(n > CLI_MAX_STEPS)) return;
     fprintf(stderr, "%s: about %.3g steps (t-end %g s / dt %.3g s), more than the %.0e steps "
             "run without asking; --force runs it anyway\n", prog, n, t_end, dt, CLI_MAX_STEPS);
+    exit(2);
+}
+/* cli_check_steps with up to extra steps before the run (rj run --settle's settling,
+   counted at its most, what says what they are): exits 2 when the two together exceed
+   CLI_MAX_STEPS, unless force. */
+static inline void cli_check_steps_plus(const char *prog, double t_end, double dt, double extra,
+                                        const char *what, int force)
+{
+    const double n = t_end / dt;
+    if (force || !(n + extra > CLI_MAX_STEPS)) return;
+    fprintf(stderr, "%s: about %.3g steps (t-end %g s / dt %.3g s) and up to %.3g %s, more than "
+            "the %.0e steps run without asking; --force runs it anyway\n", prog, n, t_end, dt, extra,
+            what, CLI_MAX_STEPS);
     exit(2);
 }
 /* Exits 2 when about n frames exceed CLI_MAX_FRAMES, unless force. */

@@ -12,22 +12,29 @@
 #include "scenes.h"
 #include "cli.h"
 #include <pthread.h>
+#include <time.h>
 
 static const char usage[] =
     "usage: sweep [options]\n"
     "  --samples N            Monte Carlo samples (default 64)\n"
     "  --grid K               instead: K values per varied parameter (K^4 samples)\n"
-    "  --friction-pct P       friction varied by +-P %% (default 20)\n"
+    "  --friction-pct P       friction varied by +-P % (default 20)\n"
     "  --preload-deg D        spring free angles varied by +-D deg (default 5)\n"
-    "  --tip-pct P            tip masses varied by +-P %% (default 10)\n"
-    "  --dt-pct P             step varied by -P %% .. 0 (default 0)\n"
+    "  --tip-pct P            tip masses varied by +-P % (default 10)\n"
+    "  --dt-pct P             step varied by -P % .. 0 (default 0)\n"
     "  --links rigid|flexible|inextensible   link model (default rigid: fast)\n"
     "  --t-end S              simulated time (default 8)\n"
     "  --threads T            worker threads (default 2)\n"
-    "  --shard i/n            run only samples k with k %% n == i (default 0/1)\n"
+    "  --shard i/n            run only samples k with k % n == i (default 0/1)\n"
     "  --seed S               random seed (default 1)\n"
     "  --csv FILE             output (default standard output)\n"
-    "  --force                run even above 1e8 steps a sample (refused otherwise)\n";
+    "  --force                run even above 1e8 steps a sample (refused otherwise)\n"
+    "  --progress             progress line on standard error (samples done, rate, ETA);\n"
+    "                         without it only on a terminal, after 2 s of wall time\n";
+/* the options, for "did you mean" after a misspelt one */
+static const char *const opt_names[] = { "--samples", "--grid", "--friction-pct", "--preload-deg", "--tip-pct",
+                                         "--dt-pct", "--links", "--t-end", "--threads", "--shard", "--seed",
+                                         "--csv", "--force", "--progress", "--help" };
 
 typedef struct job {
     int grid, samples, links, shard_i, shard_n, next, done;
@@ -109,6 +116,58 @@ static void run_sample(const job *jb, int k, char *row, size_t rowlen)
     rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
 }
 
+/* Wall time in seconds on the monotonic clock. */
+static double wall_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The samples this shard runs: k < samples with k % n == i. */
+static int shard_total(const job *jb)
+{
+    return jb->samples / jb->shard_n + (jb->shard_i < jb->samples % jb->shard_n ? 1 : 0);
+}
+
+/* The progress line: samples done of the shard's, the rate and the remaining wall time at
+   it; on a terminal redrawn in place (tty), otherwise a line each time. */
+static void progress_line(int done, int total, double el, int tty)
+{
+    const double rate = el > 0 ? done / el : 0.0;
+    const double eta = done > 0 ? el * (total - done) / done : 0.0;
+    fprintf(stderr, "%ssweep: %d / %d samples (%.1f %%), %.1f s, %.3g samples/s, ETA %.0f s%s", tty ? "\r" : "", done,
+            total, 100.0 * done / (total > 0 ? total : 1), el, rate, eta, tty ? "   " : "\n");
+}
+
+/* Waits until the workers have run every sample of the shard, with a progress line on
+   standard error meanwhile: with --progress from half a second on (every second, every
+   quarter on a terminal); without it only on a terminal, after 2 s. A long sweep (--grid
+   50 is 6.25 million samples) is otherwise silent for hours. */
+static void progress_wait(job *jb, int always)
+{
+    const int total = shard_total(jb), tty = isatty(2);
+    const double wall0 = wall_now();
+    const struct timespec nap = { 0, 20000000L };
+    double next = wall0 + (always ? 0.5 : 2.0);
+    int done = 0, shown = 0;
+    while (done < total) {
+        double now;
+        nanosleep(&nap, NULL);
+        pthread_mutex_lock(&jb->lock);
+        done = jb->done;
+        pthread_mutex_unlock(&jb->lock);
+        now = wall_now();
+        if ((!always && !tty) || now < next) continue;
+        progress_line(done, total, now - wall0, tty);
+        shown = tty;
+        next = now + (tty ? 0.25 : 1.0);
+    }
+    /* the end: on a terminal the line is cleared, into a file --progress says it */
+    if (shown) fprintf(stderr, "\r%79s\r", "");
+    if (always && !tty) progress_line(done, total, wall_now() - wall0, 0);
+}
+
 /* --seed takes an integer in [0, 1e15] */
 #define SEED_MAX 1000000000000000LL
 
@@ -144,7 +203,7 @@ int main(int argc, char **argv)
     cli c;
     job jb;
     const char *csv = NULL, *a;
-    int threads = 2, t, k, fails = 0, n = 0, force = 0;
+    int threads = 2, t, k, fails = 0, n = 0, force = 0, progress = 0, started;
     pthread_t th[64];
     cli_out out;
     memset(&jb, 0, sizeof jb);
@@ -168,8 +227,9 @@ int main(int argc, char **argv)
             if (jb.shard_i >= jb.shard_n) cli_bad(&c, a, c.argv[c.i], "i/n with 0 <= i < n");
         }
         else if (!strcmp(a, "--force")) force = 1;
+        else if (!strcmp(a, "--progress")) progress = 1;
         else if (!strcmp(a, "--help") || !strcmp(a, "-h")) { fputs(usage, stdout); return 0; }
-        else cli_die(&c, "unknown option '%s'%s", a, "");
+        else cli_unknown(&c, "option", a, opt_names, (int)(sizeof opt_names / sizeof opt_names[0]));
     }
     if (jb.grid > 0) jb.samples = jb.grid * jb.grid * jb.grid * jb.grid;
     /* refuse samples that would not end: the smallest step a sample can get is the
@@ -187,8 +247,13 @@ int main(int argc, char **argv)
     if (cli_open(&out, "sweep", csv) != 0) return 1;
     jb.rows = (char **)calloc((size_t)jb.samples, sizeof(char *));
     pthread_mutex_init(&jb.lock, NULL);
-    for (t = 0; t < threads; t++) pthread_create(&th[t], NULL, worker, &jb);
-    for (t = 0; t < threads; t++) pthread_join(th[t], NULL);
+    /* the workers run the samples while this thread reports progress; without a worker
+       (none could be started) this thread runs them */
+    for (started = 0; started < threads; started++)
+        if (pthread_create(&th[started], NULL, worker, &jb) != 0) break;
+    if (started == 0) worker(&jb);
+    progress_wait(&jb, progress);
+    for (t = 0; t < started; t++) pthread_join(th[t], NULL);
     if (jb.shard_i == 0) cli_put(&out, fputs(head, out.f));
     for (k = 0; k < jb.samples; k++) if (jb.rows[k]) {
         cli_put(&out, fputs(jb.rows[k], out.f));

@@ -12,3 +12,18 @@ cat $T/s0.csv $T/s1.csv $T/s2.csv | sort > $T/shards.csv; sort $T/one.csv > $T/o
 if cmp -s $T/shards.csv $T/one_sorted.csv; then echo "PASS sweep: shards 0/3, 1/3, 2/3 together equal the unsharded run"; else echo "FAIL sweep: shards differ from the unsharded run"; fi
 f=$(awk -F, 'NR>1 && $10 != 0' $T/one.csv | wc -l)
 [ "$f" -eq 0 ] && echo "PASS sweep: every one of 24 samples (friction +-20 %, preload +-5 deg, tip mass +-10 %) locks both joints" || echo "FAIL sweep: $f samples failed to lock"
+# progress on standard error (a --grid 50 sweep is 6.25 million samples): with --progress a
+# line at the end into a file or pipe, the rows the same as without it
+$B/sweep --samples 24 --progress --csv $T/prog.csv 2>$T/prog.err
+if grep -Eq '^sweep: 24 / 24 samples \(100.0 %\), [0-9.]+ s, .* samples/s, ETA 0 s$' $T/prog.err && cmp -s $T/prog.csv $T/one.csv; then
+  echo "PASS sweep: --progress prints samples done, rate and ETA on standard error; the rows unchanged"
+else echo "FAIL sweep: --progress: $(head -c 300 $T/prog.err)"; fi
+# the usage is printed with fputs: a percent sign is written as one
+if $B/sweep --help | grep -q 'friction varied by +-P % (default 20)' && ! $B/sweep --help | grep -q '%%'; then
+  echo "PASS sweep: --help prints '%', not '%%'"
+else echo "FAIL sweep: --help: $($B/sweep --help | grep '%' | head -2)"; fi
+# a misspelt option gets the nearest one; numbers are decimal
+if $B/sweep --samles 3 2>&1 | grep -q "^.*sweep: unknown option '--samles'; did you mean '--samples'?" \
+   && $B/sweep --t-end 0x10 2>&1 | grep -q "option --t-end: bad value '0x10' (need a finite decimal number"; then
+  echo "PASS sweep: --samles: did you mean '--samples'; --t-end 0x10 (hex) is refused"
+else echo "FAIL sweep: no suggestion for --samles, or hex taken as a number"; fi
