@@ -171,16 +171,68 @@ static void opts_default(opts *o, int cmd, int argc)
     }
 }
 
-/* Options of more than one subcommand; returns 1 when a was one of them. */
+/* Every option and the subcommands that take it: an option is parsed only for these, and
+   a misspelt one is matched against them for "did you mean". */
+typedef struct optname { const char *name; int cmds; } optname;
+#define CMD_SIM (CMD_RUN | CMD_PLOT | CMD_ANIMATE)
+#define CMD_ALL (CMD_SIM | CMD_CHECK)
+static const optname optnames[] = {
+    { "--help", CMD_ALL },     { "--t-end", CMD_SIM },  { "--dt", CMD_ALL },
+    { "--progress", CMD_SIM }, { "--force", CMD_SIM },  { "--out", CMD_PLOT | CMD_ANIMATE },
+    { "--size", CMD_PLOT | CMD_ANIMATE },               { "--csv", CMD_RUN },
+    { "--sample", CMD_RUN },   { "--nodes", CMD_RUN },  { "--probe", CMD_RUN },
+    { "--settle", CMD_RUN },   { "--what", CMD_PLOT },  { "--fps", CMD_ANIMATE },
+    { "--mp4", CMD_ANIMATE },  { "--plain", CMD_ANIMATE }
+};
+#define NOPTS ((int)(sizeof optnames / sizeof optnames[0]))
+static const char *const cmd_names[] = { "run", "check", "plot", "animate" };
+
+/* The subcommand's name for a CMD_* bit. */
+static const char *cmd_name(int cmd)
+{
+    int k;
+    for (k = 0; k < 4; k++)
+        if (cmd == 1 << k) return cmd_names[k];
+    return "?";
+}
+
+/* The CMD_* bits of the subcommands that take option a (0: none does). */
+static int opt_cmds(const char *a)
+{
+    int k;
+    for (k = 0; k < NOPTS; k++)
+        if (!strcmp(a, optnames[k].name)) return optnames[k].cmds;
+    return 0;
+}
+
+/* An option this subcommand does not take: another's is named as such, anything else
+   gets the nearest of this subcommand's options. Exits 2 with the usage. */
+static void opt_unknown(const cli *c, int cmd, const char *a)
+{
+    const char *names[NOPTS];
+    const int other = opt_cmds(a);
+    int k, n = 0;
+    if (other) {
+        for (k = 0; k < 4 && !(other & 1 << k); k++) {}
+        fprintf(stderr, "%s: unknown option '%s' (rj %s takes it, not rj %s)\n%s", c->argv[0], a, cmd_name(1 << k),
+                cmd_name(cmd), c->usage);
+        exit(2);
+    }
+    for (k = 0; k < NOPTS; k++)
+        if (optnames[k].cmds & cmd) names[n++] = optnames[k].name;
+    cli_unknown(c, "option", a, names, n);
+}
+
+/* Options of more than one subcommand (opts_parse has checked that this one takes a);
+   returns 1 when a was one of them. */
 static int opt_shared(cli *c, opts *o, const char *a)
 {
-    const int sim = CMD_RUN | CMD_PLOT | CMD_ANIMATE;
-    if ((o->cmd & sim) && !strcmp(a, "--t-end")) o->t_end = cli_num(c, a, 0, 1e6);
+    if (!strcmp(a, "--t-end")) o->t_end = cli_num(c, a, 0, 1e6);
     else if (!strcmp(a, "--dt")) o->dt = cli_num(c, a, 0, 1);
-    else if ((o->cmd & sim) && !strcmp(a, "--progress")) o->progress = 1;
-    else if ((o->cmd & sim) && !strcmp(a, "--force")) o->force = 1;
-    else if ((o->cmd & (CMD_PLOT | CMD_ANIMATE)) && !strcmp(a, "--out")) o->out = cli_str(c, a);
-    else if ((o->cmd & (CMD_PLOT | CMD_ANIMATE)) && !strcmp(a, "--size")) {
+    else if (!strcmp(a, "--progress")) o->progress = 1;
+    else if (!strcmp(a, "--force")) o->force = 1;
+    else if (!strcmp(a, "--out")) o->out = cli_str(c, a);
+    else if (!strcmp(a, "--size")) {
         /* each side 16 .. 8192 pixels, as build/animate */
         static const int lim[4] = { 16, 8192, 16, 8192 };
         cli_pair(c, a, 'x', &o->w, &o->h, lim, "WxH, each 16..8192");
@@ -188,18 +240,18 @@ static int opt_shared(cli *c, opts *o, const char *a)
     return 1;
 }
 
-/* Options of one subcommand each; returns 1 when a was one of them. */
+/* Options of one subcommand each (checked by opts_parse); returns 1 when a was one. */
 static int opt_own(cli *c, opts *o, const char *a)
 {
-    if (o->cmd == CMD_RUN && !strcmp(a, "--csv")) o->csv = cli_str(c, a);
-    else if (o->cmd == CMD_RUN && !strcmp(a, "--sample")) o->sample = cli_num(c, a, 0, 1e6);
-    else if (o->cmd == CMD_RUN && !strcmp(a, "--nodes")) o->nodes = cli_str(c, a);
-    else if (o->cmd == CMD_RUN && !strcmp(a, "--probe")) o->probes[o->nprobes++] = cli_str(c, a);
-    else if (o->cmd == CMD_RUN && !strcmp(a, "--settle")) o->settle = 1;
-    else if (o->cmd == CMD_PLOT && !strcmp(a, "--what")) o->what = cli_choice(c, a, what_names, 4);
-    else if (o->cmd == CMD_ANIMATE && !strcmp(a, "--fps")) o->fps = cli_num(c, a, 1e-3, 1e9);
-    else if (o->cmd == CMD_ANIMATE && !strcmp(a, "--mp4")) o->mp4 = cli_str(c, a);
-    else if (o->cmd == CMD_ANIMATE && !strcmp(a, "--plain")) o->plain = 1;
+    if (!strcmp(a, "--csv")) o->csv = cli_str(c, a);
+    else if (!strcmp(a, "--sample")) o->sample = cli_num(c, a, 0, 1e6);
+    else if (!strcmp(a, "--nodes")) o->nodes = cli_str(c, a);
+    else if (!strcmp(a, "--probe")) o->probes[o->nprobes++] = cli_str(c, a);
+    else if (!strcmp(a, "--settle")) o->settle = 1;
+    else if (!strcmp(a, "--what")) o->what = cli_choice(c, a, what_names, 4);
+    else if (!strcmp(a, "--fps")) o->fps = cli_num(c, a, 1e-3, 1e9);
+    else if (!strcmp(a, "--mp4")) o->mp4 = cli_str(c, a);
+    else if (!strcmp(a, "--plain")) o->plain = 1;
     else return 0;
     return 1;
 }
@@ -220,8 +272,8 @@ static void opts_parse(opts *o, int cmd, int argc, char **argv, const char *usag
             fputs(usage, stdout);
             exit(0);
         }
+        if (a[0] == '-' && !(opt_cmds(a) & cmd)) opt_unknown(&c, cmd, a);
         if (opt_shared(&c, o, a) || opt_own(&c, o, a)) continue;
-        if (a[0] == '-') cli_die(&c, "unknown option '%s'%s", a, "");
         if (o->scene) cli_die(&c, "one scene file only: unexpected argument '%s'%s", a, "");
         o->scene = a;
     }
@@ -1656,9 +1708,11 @@ typedef int (*cmd_fn)(int argc, char **argv);
    so that cli.h's messages name it. */
 int main(int argc, char **argv)
 {
-    static const char *const names[] = { "run", "check", "plot", "animate" };
     static const cmd_fn cmds[] = { cmd_run, cmd_check, cmd_plot, cmd_animate };
+    /* what a misspelt subcommand is matched against */
+    static const char *const words[] = { "run", "check", "plot", "animate", "help" };
     char prog[32];
+    cli c;
     int k;
     /* a reader that goes away (rj run x.rjs | head) shows up as EPIPE on the write, which
        the run treats as a quiet end, instead of killing the program */
@@ -1673,12 +1727,17 @@ int main(int argc, char **argv)
         argv[2] = (char *)"--help";
     }
     for (k = 0; argc >= 2 && k < 4; k++) {
-        if (strcmp(argv[1], names[k]) != 0) continue;
-        snprintf(prog, sizeof prog, "rj %s", names[k]);
+        if (strcmp(argv[1], cmd_names[k]) != 0) continue;
+        snprintf(prog, sizeof prog, "rj %s", cmd_names[k]);
         argv[1] = prog;
         return cmds[k](argc - 1, argv + 1);
     }
-    if (argc >= 2) fprintf(stderr, "rj: unknown subcommand '%s'\n", argv[1]);
+    c.argc = argc;
+    c.argv = argv;
+    c.i = 1;
+    c.usage = usage_main;
+    argv[0] = (char *)"rj";
+    if (argc >= 2) cli_unknown(&c, "subcommand", argv[1], words, 5);
     fputs(usage_main, stderr);
     return 2;
 }

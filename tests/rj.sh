@@ -272,4 +272,20 @@ if [ -x /usr/bin/python3 ]; then
   set -- $(/usr/bin/python3 $T/purple.py $T/locks_close.png $T/locks_far.png)
   ok "plot --what angles: lock labels 11 ms apart do not hide each other (label pixels $1 close, $2 far apart)" "[ -n '$1' ] && [ '$1' -gt 0 ] && [ '$1' = '$2' ]"
 else echo "SKIP rj: no /usr/bin/python3 to count the plot's label pixels"; fi
+
+# ---- numbers are decimal, finite where they must be, the option and value named
+m 2 "option --t-end: bad value '0x10' \(need a finite decimal number" "run --t-end 0x10 (hex) is refused" $B/rj run $S/deploy.rjs --t-end 0x10 --csv /dev/null
+m 2 "option --sample: bad value 'nan' \(need a finite decimal number" "run --sample nan is refused" $B/rj run $S/deploy.rjs --sample nan --csv /dev/null
+m 2 "option --fps: bad value 'inf' \(need a finite decimal number" "animate --fps inf is refused" $B/rj animate $S/deploy.rjs --fps inf --out $T/inf
+m 2 "option --dt: bad value '1e' " "check --dt 1e (an exponent without digits) is refused" $B/rj check $S/deploy.rjs --dt 1e
+
+# ---- "did you mean": options, subcommands and values
+m 2 "^rj run: unknown option '--tend'; did you mean '--t-end'\?" "run --tend: did you mean '--t-end'" $B/rj run $S/deploy.rjs --tend 1
+m 2 "^rj run: unknown option '--setle'; did you mean '--settle'\?" "run --setle: did you mean '--settle'" $B/rj run $S/deploy.rjs --setle
+m 2 "^rj: unknown subcommand 'runn'; did you mean 'run'\?" "rj runn: did you mean 'run'" $B/rj runn $S/deploy.rjs
+m 2 "^rj: unknown subcommand 'chek'; did you mean 'check'\?" "rj chek: did you mean 'check'" $B/rj chek $S/deploy.rjs
+m 2 "^rj check: unknown option '--csv' \(rj run takes it, not rj check\)" "check --csv: named as rj run's option" $B/rj check $S/deploy.rjs --csv x.csv
+m 2 "option --what: unknown value 'angle' \(one of: angles, torques, tips, energy\); did you mean 'angles'\?" \
+  "plot --what angle: the values listed, did you mean 'angles'" $B/rj plot $S/deploy.rjs --what angle --out $T/x.png
+m 2 "^rj run: unknown option '--zzz'$" "run --zzz: nothing near, no suggestion" $B/rj run $S/deploy.rjs --zzz
 exit 0
