@@ -82,7 +82,7 @@ static const char usage_run[] =
     "  an output that cannot be opened, a run above 1e8 steps without --force.\n";
 
 static const char usage_check[] =
-    "usage: rj check SCENE.rjs [--dt S]\n"
+    "usage: rj check SCENE.rjs [--dt S] [--progress]\n"
     "  Validates the scene and prints the model: links (model, elements, length, mass),\n"
     "  joints (bodies, spring, table, limits, lock, method, friction, damping), gravity and\n"
     "  the loads (node, force and its frame, moment, table), the step\n"
@@ -90,8 +90,14 @@ static const char usage_check[] =
     "  the stiffest joint), the cost of one simulated second here (200-step batches timed),\n"
     "  and warnings (the model's own, penalty stiffness above Eq 31, a heavy tip mass on a\n"
     "  coarse mesh, a step near or above the bound).\n"
+    "  The steps are timed from the scene's start: a scene whose steps fail there (a blow-up,\n"
+    "  a step too large) is not valid; the first line and the cost line say so.\n"
     "  --dt S             time step, instead of the file's solver.dt (0 = automatic)\n"
-    "  Exit status: 0 valid, 2 invalid (file:line:col: message) or bad usage.\n";
+    "  --progress         each phase (building the model, each link alone, timing the steps)\n"
+    "                     on standard error as it starts, with the wall time; without it\n"
+    "                     once the check has taken 1 s (a link of 1e6 elements: minutes)\n"
+    "  Exit status: 0 valid; 1 the scene loads but a step fails (the library's message on\n"
+    "  standard error); 2 invalid (file:line:col: message) or bad usage.\n";
 
 static const char usage_plot[] =
     "usage: rj plot SCENE.rjs --out FILE.png [options]\n"
@@ -178,7 +184,7 @@ typedef struct optname { const char *name; int cmds; } optname;
 #define CMD_ALL (CMD_SIM | CMD_CHECK)
 static const optname optnames[] = {
     { "--help", CMD_ALL },     { "--t-end", CMD_SIM },  { "--dt", CMD_ALL },
-    { "--progress", CMD_SIM }, { "--force", CMD_SIM },  { "--out", CMD_PLOT | CMD_ANIMATE },
+    { "--progress", CMD_ALL }, { "--force", CMD_SIM },  { "--out", CMD_PLOT | CMD_ANIMATE },
     { "--size", CMD_PLOT | CMD_ANIMATE },               { "--csv", CMD_RUN },
     { "--sample", CMD_RUN },   { "--nodes", CMD_RUN },  { "--probe", CMD_RUN },
     { "--settle", CMD_RUN },   { "--what", CMD_PLOT },  { "--fps", CMD_ANIMATE },
@@ -919,6 +925,74 @@ static int cmd_run(int argc, char **argv)
 
 /* ================================================================ rj check */
 
+/* ---- rj check's progress
+   Building the model (Lanczos for the step bound), building each link alone and timing the
+   steps take minutes on a link of a million elements, and building reports nothing while it
+   runs. So each phase is announced on standard error, with the wall time it started at:
+   all of them with --progress; otherwise once the check has taken 1 s, the phase under way
+   by a timer (SIGALRM: its handler only write()s the line prepared for it) and every phase
+   after it directly. */
+static volatile sig_atomic_t check_late;   /* phases are announced as they start */
+static volatile sig_atomic_t check_told;   /* the current phase's line is out (or none) */
+static volatile sig_atomic_t check_len;    /* its length */
+static char check_line[256];               /* the current phase's line */
+static double check_wall0;                 /* s, monotonic clock at the check's start */
+
+/* The timer, 1 s into the check: from now on phases are announced, this one at once. */
+static void check_alarm(int sig)
+{
+    (void)sig;
+    check_late = 1;
+    if (check_told) return;
+    check_told = 1;
+    if (write(2, check_line, (size_t)check_len) < 0) return;
+}
+
+/* Starts the check's clock; the timer, or with --progress every phase from the start.
+   SA_RESTART: the timer must not cut a write to standard output short. */
+static void check_progress_start(int always)
+{
+    struct sigaction sa;
+    check_wall0 = wall_now();
+    check_late = always;
+    check_told = 1;
+    if (always) return;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = check_alarm;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESTART;
+    if (sigaction(SIGALRM, &sa, NULL) == 0) alarm(1);
+}
+
+/* A phase starts: its line goes out now when the check is late, else it waits for the
+   timer. SIGALRM is held while the line changes, so the handler never reads half of it. */
+static void check_phase(const char *fmt, ...)
+{
+    sigset_t alrm, old;
+    va_list ap;
+    char text[200];
+    int len;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    sigemptyset(&alrm);
+    sigaddset(&alrm, SIGALRM);
+    sigprocmask(SIG_BLOCK, &alrm, &old);
+    len = snprintf(check_line, sizeof check_line, "rj check: %.1f s: %s\n", wall_now() - check_wall0, text);
+    check_len = len < 0 ? 0 : len < (int)sizeof check_line ? len : (int)sizeof check_line - 1;
+    check_told = check_late;
+    sigprocmask(SIG_SETMASK, &old, NULL);
+    if (check_late) fputs(check_line, stderr);
+}
+
+/* The check is over: no timer; when phases were announced, the end is too. */
+static void check_progress_stop(void)
+{
+    alarm(0);
+    check_told = 1;
+    if (check_late) fprintf(stderr, "rj check: %.1f s: done\n", wall_now() - check_wall0);
+}
+
 static const char *const fidelity_names[] = { "flexible", "rigid", "inextensible" };
 static const char *const root_names[] = { "free", "pinned", "clamped", "fixed" };
 
@@ -1107,7 +1181,10 @@ static void check_binding(const scene *sc)
     double lo = 0, jo = 0, jk = 0;
     int l, j, lb = -1, jb = -1;
     for (l = 0; l < rj_model_link_count(m); l++) {
-        const double w = link_omega(m, l);
+        double w;
+        check_phase("building link %s alone (%d elements) for its own step bound", link_name(sc, l),
+                    rj_model_link_def(m, l)->elements);
+        w = link_omega(m, l);
         if (!(w > lo)) continue;
         lo = w;
         lb = l;
@@ -1145,15 +1222,26 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* What timing the steps found: the median batch, or the step that failed and why. */
+typedef struct cost {
+    double per;          /* s a step: the median batch / 200 (batches > 0) */
+    int batches;         /* batches timed */
+    int failed;          /* a step failed */
+    double t_fail;       /* s, the time of the state the failed step left */
+    char msg[640];       /* the library's message (rj_state_error) */
+} cost;
+
 /* The cost of one simulated second here: 200-step batches timed after one batch of
    warm-up (the first steps fault pages in), until 10 ms or 15 batches; the median batch,
-   extrapolated to 1 / dt steps. */
-static void check_cost(const scene *sc)
+   extrapolated to 1 / dt steps. A step that fails stops the timing and is kept in c. */
+static void cost_measure(const scene *sc, cost *c)
 {
     const rj_model *m = sc->m;
     rj_state *s;
-    double b[15], total = 0, per;
+    double b[15], total = 0;
     int n = 0;
+    memset(c, 0, sizeof *c);
+    check_phase("timing 200-step batches (%d nodes)", rj_model_node_count(m));
     if (rj_state_create(m, &s, NULL) != RJ_OK) return;
     b[0] = time_batch(m, s);
     while (b[0] >= 0 && n < 15 && total < 0.01) {
@@ -1161,15 +1249,24 @@ static void check_cost(const scene *sc)
         if (b[n] < 0) break;
         total += b[n++];
     }
-    if (n > 0 && b[n - 1] >= 0) {
-        qsort(b, (size_t)n, sizeof b[0], cmp_double);
-        per = b[n / 2] / 200;
-        printf("cost: 1 simulated second = %.6g steps, about %.3g s here (%.3g us a step: the median of %d batches of 200)\n",
-               1.0 / rj_model_dt(m), per / rj_model_dt(m), 1e6 * per, n);
-    } else {
-        printf("cost: the first steps fail at t = %.6g s: %s\n", rj_state_time(s), rj_state_error(s));
-    }
+    c->failed = rj_state_error(s)[0] != '\0';
+    c->t_fail = rj_state_time(s);
+    snprintf(c->msg, sizeof c->msg, "%s", rj_state_error(s));
+    c->batches = n;
+    qsort(b, (size_t)n, sizeof b[0], cmp_double);
+    c->per = n > 0 ? b[n / 2] / 200 : 0;
     rj_state_destroy(s, NULL);
+}
+
+/* The cost line, and the failed step when there was one. */
+static void cost_print(const scene *sc, const cost *c)
+{
+    const double dt = rj_model_dt(sc->m);
+    if (c->batches > 0)
+        printf("cost: 1 simulated second = %.6g steps, about %.3g s here (%.3g us a step: the median of %d batches of 200)\n",
+               1.0 / dt, c->per / dt, 1e6 * c->per, c->batches);
+    if (c->failed && c->batches == 0) printf("cost: the first steps fail at t = %.6g s: %s\n", c->t_fail, c->msg);
+    else if (c->failed) printf("cost: then a step fails at t = %.6g s: %s\n", c->t_fail, c->msg);
 }
 
 /* One warning line; counts them. */
@@ -1243,24 +1340,38 @@ static void check_warnings(const scene *sc)
     if (count == 0) printf("warnings: none\n");
 }
 
-/* rj check: valid scenes print their report and exit 0; invalid ones exit 2 in scene_open. */
+/* rj check: valid scenes print their report and exit 0; invalid ones exit 2 in scene_open.
+   A scene whose steps fail while they are timed cannot be simulated: it is not valid, and
+   the check says why and exits 1. The steps are timed first, so that the first line can
+   say so; the phases go to standard error on a long check. */
 static int cmd_check(int argc, char **argv)
 {
     opts o;
     scene sc;
+    cost c;
     opts_parse(&o, CMD_CHECK, argc, argv, usage_check);
     free((void *)o.probes);
-    if (scene_open(&sc, o.scene, o.dt) != 0) return 2;
-    printf("%s: valid\n", o.scene);
+    check_progress_start(o.progress);
+    check_phase("loading %s and building its model (the step bound: Lanczos on the whole model)", o.scene);
+    if (scene_open(&sc, o.scene, o.dt) != 0) {
+        check_progress_stop();
+        return 2;
+    }
+    cost_measure(&sc, &c);
+    if (c.failed) printf("%s: not valid: it cannot be simulated: a step fails at t = %.6g s\n", o.scene, c.t_fail);
+    else printf("%s: valid\n", o.scene);
     check_links(&sc);
     check_joints(&sc);
     check_loads(&sc);
     check_dt(&sc);
     check_binding(&sc);
-    check_cost(&sc);
+    cost_print(&sc, &c);
     check_warnings(&sc);
+    check_progress_stop();
     scene_close(&sc);
-    return 0;
+    if (!c.failed) return 0;
+    fprintf(stderr, "rj check: %s cannot be simulated: %s\n", o.scene, c.msg);
+    return 1;
 }
 
 /* ================================================================ rj plot */

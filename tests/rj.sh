@@ -165,8 +165,10 @@ m 2 "^$T/range.rjs:2:12: length = -1 is out of range" "check on an invalid value
 m 2 "^$T/model.rjs:3:[0-9]+: joints\[0\].penalty_k = 0 is invalid.*joint 'j'" "check on a scene the model rejects: 2, located by rj_scene_file_locate" $B/rj check $T/model.rjs
 printf 'solver\n  dt = 0\nlink a\n  length = 1  elements = 4  tip_mass = 200\njoint j1\n  body1 = ground  body2 = a\n  angle0 = 100 deg  forward = 90 deg\n' > $T/warn.rjs
 sed 's/penalty_k = 1014.8544308316433/penalty_k = 5000/' $S/deploy.rjs > $T/eq31.rjs
+# (this scene's adaptive limit, caught 10 deg late, may blow up its first steps: rj check
+# then says it is not valid and exits 1, and still prints the warnings, which are checked here)
 ok "check warns: a limit the joint starts past (the model's, named), a heavy tip mass on 4 elements, K above Eq 31" \
-  "$B/rj check $T/warn.rjs > $T/w.txt && grep -q \"starts 10 deg past its forward limit (joint 'j1')\" $T/w.txt \
+  "$B/rj check $T/warn.rjs > $T/w.txt 2>/dev/null; grep -q \"starts 10 deg past its forward limit (joint 'j1')\" $T/w.txt \
    && grep -q 'link a: tip mass 200 kg is 7.38 x' $T/w.txt && $B/rj check $T/eq31.rjs | grep -q 'joint j2: penalty_k 5000 N m/rad is above Eq 31'"
 ok "check warns of nothing on deploy.rjs" "$B/rj check $S/deploy.rjs | grep -qx 'warnings: none'"
 
@@ -288,4 +290,22 @@ m 2 "^rj check: unknown option '--csv' \(rj run takes it, not rj check\)" "check
 m 2 "option --what: unknown value 'angle' \(one of: angles, torques, tips, energy\); did you mean 'angles'\?" \
   "plot --what angle: the values listed, did you mean 'angles'" $B/rj plot $S/deploy.rjs --what angle --out $T/x.png
 m 2 "^rj run: unknown option '--zzz'$" "run --zzz: nothing near, no suggestion" $B/rj run $S/deploy.rjs --zzz
+
+# ---- rj check on a scene whose first steps fail (dt above the bound, allow_unstable: a
+# blow-up within 20 steps): not valid, status 1, the library's reason on standard error
+$B/rj check $T/blowup.rjs > $T/check_blowup.txt 2>$T/check_blowup.err; st=$?
+ok "check on a scene whose first steps blow up: status 1 ($st), 'not valid', the cost line and standard error say why" \
+  "[ $st = 1 ] && head -1 $T/check_blowup.txt | grep -q ': not valid: it cannot be simulated: a step fails at t = ' \
+   && ! grep -q ': valid\$' $T/check_blowup.txt && grep -q '^cost: the first steps fail at t = ' $T/check_blowup.txt \
+   && grep -q 'cannot be simulated: t = .*exceeds' $T/check_blowup.err"
+# progress: every phase with --progress; without it once the check has taken 1 s (a
+# 30000-element link: about 2 s here, building it twice)
+ok "check --progress: the phases on standard error, with the wall time, and the end" \
+  "$B/rj check $S/deploy.rjs --progress 2>&1 >/dev/null | grep -Eq '^rj check: [0-9.]+ s: timing 200-step batches \(22 nodes\)' \
+   && $B/rj check $S/deploy.rjs --progress 2>&1 >/dev/null | grep -Eq '^rj check: [0-9.]+ s: done'"
+printf 'link beam\n  length = 1  elements = 30000\n  root = clamped\n' > $T/long_check.rjs
+$B/rj check $T/long_check.rjs > $T/long_check.txt 2>$T/long_check.err; st=$?
+ok "check of a 30000-element link (over 1 s) without --progress: its phases on standard error, status 0 ($st)" \
+  "[ $st = 0 ] && grep -Eq '^rj check: [0-9.]+ s: (building|timing)' $T/long_check.err && grep -Eq '^rj check: [0-9.]+ s: done' $T/long_check.err \
+   && head -1 $T/long_check.txt | grep -q ': valid\$'"
 exit 0
