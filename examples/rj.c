@@ -28,6 +28,10 @@
 /* a flag change is printed once it has held this long (s): the end of an impact's contact
    is the start of a free interval of at least 0.1 ms in BENCHMARKS.md's impact tables */
 #define EVENT_HOLD 1e-4
+/* rj run --settle: rj_settle's tolerance (a peak's kinetic energy against the potential
+   energy moved: tight) and its most steps, counted in the bound on a run's length */
+#define SETTLE_TOL 1e-12
+#define SETTLE_MAX_STEPS 1e7
 
 /* Usage texts: rj --help, and each subcommand's --help (also printed after bad usage). */
 static const char usage_main[] =
@@ -45,20 +49,28 @@ static const char usage_main[] =
 static const char usage_run[] =
     "usage: rj run SCENE.rjs [options]\n"
     "  Simulates the scene and writes its history as CSV, one row per sample.\n"
-    "  --t-end S          simulated time (default 1 s: scene files have no duration)\n"
+    "  --t-end S          simulated time (default 1 s: scene files have no duration); with\n"
+    "                     --settle it counts from the settled state\n"
     "  --dt S             time step, instead of the file's solver.dt (0 = automatic,\n"
     "                     0.9 x the stability bound)\n"
-    "  --sample S         row interval: a row at the step nearest to each multiple of S\n"
-    "                     (default 0.001 s: every step when the step is longer; 0 = every step)\n"
+    "  --sample S         row interval: a row at the step nearest to each multiple of S from\n"
+    "                     the run's start (default 0.001 s: every step when the step is\n"
+    "                     longer; 0 = every step)\n"
     "  --csv FILE         the history (default, or -, standard output)\n"
     "  --probe LINK:NODE  add that node's x, y, phi (repeatable; NODE an index or 'last')\n"
     "  --nodes FILE       every node at the end: link,node,x,y,phi\n"
     "  --progress         progress line on standard error (percent, simulated time,\n"
     "                     steps/s, ETA); without it only on a terminal, after 2 s of wall time\n"
-    "  --force            run even above 1e8 steps (refused otherwise)\n"
+    "  --force            run even above 1e8 steps (refused otherwise; with --settle its\n"
+    "                     1e7 steps at most count too)\n"
     "  --settle           start from the static equilibrium under the scene's loads (gravity,\n"
-    "                     springs, limits): rj_settle, kinetic damping, to 1e-12 of the\n"
-    "                     potential energy moved, at most 1e7 steps; time starts at 0 there\n"
+    "                     springs, limits, tabled loads past their last point):\n"
+    "                     rj_settle_ex, kinetic damping, to 1e-12 of the potential energy\n"
+    "                     moved, at most 1e7 steps. Time runs while it settles and is kept:\n"
+    "                     the run starts at the settled time (said on standard error), goes\n"
+    "                     on for --t-end, and the t column is the library's time; steps,\n"
+    "                     losses and work in the energy columns count from there. Progress\n"
+    "                     (steps, time) as the run's: --progress, or on a terminal after 2 s\n"
     "  Columns: t (s); for each joint J: J.theta_deg (running angle), J.rate (rad/s), J.flag\n"
     "  (0 free, 1 at the forward limit, 2 at the reverse limit, 3 locked), J.torque_spring,\n"
     "  J.torque_table, J.torque_damping, J.torque_friction, J.torque_limit (N m on body 2),\n"
@@ -413,8 +425,8 @@ struct runner {
     const scene *sc;
     const char *prog;
     rj_state *s;
-    double t_end;
-    double every, next;      /* samples at the steps nearest to multiples of every */
+    double t0, t_end;        /* s: the run's start (the settled time after --settle), its length */
+    double every, next;      /* samples at the steps nearest to t0 + multiples of every */
     double t_prev;           /* s, time of the state before the latest step */
     long sampled;            /* steps at the latest sample (-1: none yet) */
     long warns;              /* state warnings printed so far */
@@ -484,10 +496,10 @@ static void progress_clear(runner *r)
    that rate; on a terminal it is redrawn in place, otherwise a line each time. */
 static void progress_print(runner *r, const rj_state *s, double now)
 {
-    const double t = rj_state_time(s), el = now - r->pr.wall0;
-    const double frac = r->t_end > 0 && t < r->t_end ? t / r->t_end : 1.0;
+    const double t = rj_state_time(s), el = now - r->pr.wall0, done = t - r->t0;
+    const double frac = r->t_end > 0 && done < r->t_end ? done / r->t_end : 1.0;
     const double rate = el > 0 ? (double)rj_state_steps(s) / el : 0.0;
-    const double eta = t > 0 ? el * (r->t_end - t) / t : 0.0;
+    const double eta = done > 0 ? el * (r->t_end - done) / done : 0.0;
     fprintf(stderr, "%s%s: %5.1f %%  t = %.4g s  %.3g steps/s  ETA %.0f s%s", r->pr.tty ? "\r" : "",
             r->prog, 100.0 * frac, t, rate, eta > 0 ? eta : 0.0, r->pr.tty ? "   " : "\n");
     r->pr.shown = r->pr.tty;
@@ -627,15 +639,19 @@ static int on_step(const rj_model *m, const rj_state *s, void *u)
     return 0;
 }
 
-/* Runs to t_end. A failed step leaves the last good state: it is sampled too (unless it
-   just was), so that a history ends there. Returns rj_run's result. */
+/* Runs for t_end from the state's time (0, or where --settle left it). A failed step
+   leaves the last good state: it is sampled too (unless it just was), so that a history
+   ends there. Returns rj_run's result. */
 static rj_result runner_go(runner *r)
 {
     rj_result res;
     int j;
+    r->t0 = rj_state_time(r->s);
+    r->next = r->t0;
+    r->t_prev = r->t0;
     r->pr.wall0 = wall_now();
     r->pr.next = r->pr.wall0 + (r->pr.mode == PROGRESS_ALWAYS ? 0.5 : 0.0);
-    res = rj_run(r->sc->m, r->s, r->t_end, 0, on_step, r);
+    res = rj_run(r->sc->m, r->s, r->t0 + r->t_end, 0, on_step, r);
     r->wall = wall_now() - r->pr.wall0;
     /* --progress into a file or pipe ends with the line of the end */
     if (r->pr.mode == PROGRESS_ALWAYS && !r->pr.tty && r->stop != STOP_QUIET) progress_print(r, r->s, wall_now());
@@ -843,12 +859,46 @@ static int run_outputs(const opts *o, csv_sink *c, cli_out *nodes)
     return 0;
 }
 
-/* rj run --settle: the state to the static equilibrium before the history starts. Returns 0,
-   or 1 (the library's message) when it does not settle. */
+/* rj run --settle: what the settling's progress line needs. */
+typedef struct settling {
+    runner *r;
+    double t_start;          /* s, the state's time when the settling began */
+    double wall0;            /* s, monotonic clock at that moment */
+} settling;
+
+/* rj_settle_ex's callback (every 4096 steps): the progress line of the settling, under the
+   run's rule (--progress, or on a terminal after 2 s). Steps are counted from the time:
+   the library restarts its own count at each start from rest. Never stops it. */
+static int settle_progress(const rj_model *m, const rj_state *s, void *user)
+{
+    settling *g = (settling *)user;
+    runner *r = g->r;
+    const double now = wall_now(), el = now - g->wall0;
+    const double steps = floor((rj_state_time(s) - g->t_start) / rj_model_dt(m) + 0.5);
+    if (r->pr.mode == PROGRESS_OFF || now < r->pr.next) return 0;
+    if (r->pr.mode == PROGRESS_TTY && el < 2.0) return 0;
+    fprintf(stderr, "%s%s: settling: %.0f steps (at most %.0e), t = %.4g s, %.3g steps/s%s", r->pr.tty ? "\r" : "",
+            r->prog, steps, SETTLE_MAX_STEPS, rj_state_time(s), el > 0 ? steps / el : 0.0, r->pr.tty ? "   " : "\n");
+    r->pr.shown = r->pr.tty;
+    r->pr.next = now + (r->pr.tty ? 0.25 : 1.0);
+    return 0;
+}
+
+/* rj run --settle: the state to the static equilibrium before the history starts. The
+   library keeps the time the settling reached (a tabled load goes on from there), so the
+   run starts at that time and lasts --t-end. Returns 0, or 1 (the library's message) when
+   it does not settle. */
 static int run_settle(runner *r, const scene *sc)
 {
-    const rj_result res = rj_settle(sc->m, r->s, 1e-12, 10000000L);
+    settling g;
+    rj_result res;
     int j;
+    g.r = r;
+    g.t_start = rj_state_time(r->s);
+    g.wall0 = wall_now();
+    r->pr.next = g.wall0 + (r->pr.mode == PROGRESS_ALWAYS ? 0.5 : 0.0);
+    res = rj_settle_ex(sc->m, r->s, SETTLE_TOL, (long)SETTLE_MAX_STEPS, settle_progress, &g);
+    progress_clear(r);
     if (res != RJ_OK) {
         fprintf(stderr, "rj run: --settle: %s\n", rj_state_error(r->s));
         return 1;
@@ -858,7 +908,10 @@ static int run_settle(runner *r, const scene *sc)
         r->jl[j].flag = rj_joint_flag(sc->m, r->s, j);
         r->jl[j].shown = r->jl[j].flag;
     }
-    fprintf(stderr, "rj run: settled to the static equilibrium; time starts there\n");
+    fprintf(stderr, "rj run: settled to the static equilibrium at t = %.9g s (%.0f steps, wall %.3f s); "
+            "time starts there: the run goes on to t = %.9g s (--t-end %g s)\n", rj_state_time(r->s),
+            floor((rj_state_time(r->s) - g.t_start) / rj_model_dt(sc->m) + 0.5), wall_now() - g.wall0,
+            rj_state_time(r->s) + r->t_end, r->t_end);
     return 0;
 }
 
@@ -902,7 +955,9 @@ static int cmd_run(int argc, char **argv)
     if (scene_open(&sc, o.scene, o.dt) != 0) return 2;
     pr = (probe *)malloc(sizeof(probe) * (size_t)(o.nprobes + 1));
     if (pr && probes_resolve(&sc, &o, pr) == 0) {
-        cli_check_steps("rj run", o.t_end, rj_model_dt(sc.m), o.force);
+        /* the settling's steps count at their most, with the run's */
+        cli_check_steps_plus("rj run", o.t_end, rj_model_dt(sc.m), o.settle ? SETTLE_MAX_STEPS : 0,
+                             "settling steps (--settle)", o.force);
         st = run_outputs(&o, &c, &nodes);
     }
     if (pr && st == 0) {

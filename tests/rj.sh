@@ -308,4 +308,22 @@ $B/rj check $T/long_check.rjs > $T/long_check.txt 2>$T/long_check.err; st=$?
 ok "check of a 30000-element link (over 1 s) without --progress: its phases on standard error, status 0 ($st)" \
   "[ $st = 0 ] && grep -Eq '^rj check: [0-9.]+ s: (building|timing)' $T/long_check.err && grep -Eq '^rj check: [0-9.]+ s: done' $T/long_check.err \
    && head -1 $T/long_check.txt | grep -q ': valid\$'"
+
+# ---- --settle keeps the library's time: the elastica's load ramps on over 0.5 s, so it
+# settles past 0.5 s; the run starts there (its first row), lasts --t-end from there, and
+# the message says at what time it settled
+$B/rj run $S/elastica.rjs --settle --t-end 0.01 --sample 0.005 --csv $T/settle_t.csv 2>$T/settle_t.err
+ts=$(sed -n 's/.*settled to the static equilibrium at t = \([^ ]*\) s.*/\1/p' $T/settle_t.err)
+ok "run --settle: the run starts at the settled time ($ts s, past the load's ramp) and lasts --t-end 0.01 s from it: 3 rows at 5 ms" \
+  "[ -n '$ts' ] && awk -F, -v ts='$ts' 'NR == 1 { next } { t[++n] = \$1 }
+     END { d = t[1] - ts; if (d < 0) d = -d; e = t[n] - t[1] - 0.01; if (e < 0) e = -e; exit !(n == 3 && ts > 0.5 && d < 1e-8 && e < 5e-6) }' $T/settle_t.csv"
+# settling shows progress: a 300-element cantilever settles in about a second
+sed 's/elements = 10/elements = 300/' $T/cantilever.rjs > $T/cantilever300.rjs
+$B/rj run $T/cantilever300.rjs --settle --t-end 0 --progress --csv /dev/null 2>$T/settle_p.err
+ok "run --settle --progress: progress lines while it settles (steps, time), then the settled time" \
+  "grep -Eq '^rj run: settling: [0-9]+ steps \(at most 1e\+07\), t = ' $T/settle_p.err && grep -q 'settled to the static equilibrium at t = ' $T/settle_p.err"
+# the bound on a run's length counts the settling's 1e7 steps: 700 s of deploy.rjs are
+# 9.3e7 steps, under 1e8 alone, over it with --settle
+m 2 "9.33e\+07 steps.*up to 1e\+07 settling steps.*--force" "run --settle --t-end 700: the run's and the settling's steps together are refused (2)" \
+  timeout 60 $B/rj run $S/deploy.rjs --settle --t-end 700 --csv /dev/null
 exit 0
