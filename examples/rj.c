@@ -82,8 +82,11 @@ static const char usage_run[] =
     "  so far), E_balance (J: energy + losses - initial; rj_state_energy at the row's step).\n"
     "  Standard error: the model's warnings, then events as they happen (contacts, locks,\n"
     "  releases, late contacts; at the time of the state the library decided them on, as\n"
-    "  rj_joint_event_time), then a summary: per joint the first contact, the lock, peak\n"
-    "  penetration, peak |limit torque|, peak |latch impulse|; steps, wall time, steps/s.\n"
+    "  rj_joint_event_time; the links of a joint passing through each other, once per\n"
+    "  joint, as rj_joint_overlap_time: links do not contact each other), then a summary:\n"
+    "  per joint the first contact, the lock, peak penetration, peak |limit torque|, peak\n"
+    "  |latch impulse|, and between two links when they overlapped; steps, wall time,\n"
+    "  steps/s.\n"
     "  A lock and the first contact are printed at once, other flag changes once they have\n"
     "  held 0.1 ms (adaptive and RC13 contacts toggle the flag step by step); the summary\n"
     "  counts every change. Events and peaks are checked every step, so the energy\n"
@@ -403,6 +406,7 @@ typedef struct jlog {
     int shown;               /* the flag the latest event line reported */
     int pend;                /* a change not printed yet (-1: none) */
     double pend_t;           /* s, its time */
+    double overlap_t;        /* s, when its links passed through each other (-1: never) */
 } jlog;
 
 enum { PROGRESS_OFF = 0, PROGRESS_TTY, PROGRESS_ALWAYS };
@@ -469,6 +473,7 @@ static int runner_init(runner *r, const scene *sc, const char *prog, double t_en
         r->jl[j].shown = r->jl[j].flag;
         r->jl[j].pend = -1;
         r->jl[j].lock_t = -1;
+        r->jl[j].overlap_t = -1;
     }
     r->pr.tty = isatty(2);
     r->pr.mode = progress_opt ? PROGRESS_ALWAYS : r->pr.tty ? PROGRESS_TTY : PROGRESS_OFF;
@@ -584,12 +589,47 @@ static void pending_check(runner *r, const rj_state *s, int j, int force)
     if (force || rj_state_time(s) - L->pend_t >= EVENT_HOLD) event_print(r, s, j, L->pend, L->pend_t);
 }
 
-/* The flags, the peaks and the state's warnings after each step. */
+/* A joint's two links passed through each other (links do not contact each other; the
+   library records the first time, rj_joint_overlap_time): an event line, once per joint,
+   with the multiple of 360 deg its angle turned through, the one nearest to it now.
+   Returns 1 when this step reported one. */
+static int overlap_check(runner *r, const rj_state *s, int j)
+{
+    const rj_model *m = r->sc->m;
+    const rj_joint_def *d = rj_model_joint_def(m, j);
+    const double t = rj_joint_overlap_time(m, s, j);
+    const double turn = 360.0 * floor(rj_deg(rj_joint_theta_running(m, s, j)) / 360.0 + 0.5);
+    if (r->jl[j].overlap_t >= 0 || t < 0 || d->body1 < 0) return 0;
+    r->jl[j].overlap_t = t;
+    progress_clear(r);
+    fprintf(stderr, "%s: t = %.9g s: %s: links %s and %s passed through each other (it turned through %g deg; "
+            "links do not contact each other)\n", r->prog, t, joint_name(r->sc, j), link_name(r->sc, d->body1),
+            link_name(r->sc, d->body2), turn);
+    return 1;
+}
+
+/* The state's latest warning, when the count has grown by more than the overlaps this
+   step reported: the library counts each overlap as a warning too, and the event line
+   has said it already. */
+static void warning_check(runner *r, const rj_state *s, int overlaps)
+{
+    const long count = rj_state_warning_count(s);
+    const long fresh = count - r->warns;
+    char prefix[48];
+    if (fresh == 0) return;
+    r->warns = count;
+    if (fresh <= overlaps) return;
+    snprintf(prefix, sizeof prefix, "%s: warning: ", r->prog);
+    progress_clear(r);
+    print_named(r->sc, prefix, rj_state_warning(s), (int)strlen(rj_state_warning(s)));
+}
+
+/* The flags, the peaks, the overlaps and the state's warnings after each step. */
 static void step_check(runner *r, const rj_state *s)
 {
     const rj_model *m = r->sc->m;
     const int nj = rj_model_joint_count(m);
-    int j;
+    int j, overlaps = 0;
     for (j = 0; j < nj; j++) {
         jlog *L = &r->jl[j];
         const int f = rj_joint_flag(m, s, j);
@@ -599,15 +639,9 @@ static void step_check(runner *r, const rj_state *s)
         pending_check(r, s, j, 0);
         if (tl > L->peak_limit) L->peak_limit = tl;
         if (li > L->peak_latch) L->peak_latch = li;
+        overlaps += overlap_check(r, s, j);
     }
-    if (rj_state_warning_count(s) != r->warns) {
-        char prefix[48];
-        const char *w = rj_state_warning(s);
-        r->warns = rj_state_warning_count(s);
-        snprintf(prefix, sizeof prefix, "%s: warning: ", r->prog);
-        progress_clear(r);
-        print_named(r->sc, prefix, w, (int)strlen(w));
-    }
+    warning_check(r, s, overlaps);
 }
 
 /* rj_run's own rule, kept here because rj_run calls on_step at every step: a sample at
@@ -670,17 +704,23 @@ static const char *time_text(double t, char *buf, size_t n)
 }
 
 /* A joint's summary line: the first contact (the library's rj_joint_event_time), the
-   lock seen by the per-step check, the counts and the peaks. */
+   lock seen by the per-step check, the counts and the peaks; for a joint between two
+   links, when they first passed through each other. */
 static void joint_summary(const runner *r, int j)
 {
     const rj_model *m = r->sc->m;
     const jlog *L = &r->jl[j];
-    char a[40], b[40];
+    char a[40], b[40], c[64];
+    c[0] = '\0';
+    if (rj_model_joint_def(m, j)->body1 >= 0) {
+        time_text(L->overlap_t, a, sizeof a);
+        snprintf(c, sizeof c, ", links overlap %s", a);
+    }
     fprintf(stderr, "%s: %s: first contact %s, lock %s, %ld contacts, %ld releases, peak penetration %.4g deg, "
-            "peak |limit torque| %.4g N m, peak |latch impulse| %.4g N m s\n",
+            "peak |limit torque| %.4g N m, peak |latch impulse| %.4g N m s%s\n",
             r->prog, joint_name(r->sc, j), time_text(rj_joint_event_time(m, r->s, j), a, sizeof a),
             time_text(L->lock_t, b, sizeof b), L->contacts, L->releases,
-            rj_deg(rj_joint_peak_penetration(m, r->s, j)), L->peak_limit, L->peak_latch);
+            rj_deg(rj_joint_peak_penetration(m, r->s, j)), L->peak_limit, L->peak_latch, c);
 }
 
 /* The summary on standard error; a stopped simulation gets the library's message. */

@@ -326,4 +326,15 @@ ok "run --settle --progress: progress lines while it settles (steps, time), then
 # 9.3e7 steps, under 1e8 alone, over it with --settle
 m 2 "9.33e\+07 steps.*up to 1e\+07 settling steps.*--force" "run --settle --t-end 700: the run's and the settling's steps together are refused (2)" \
   timeout 60 $B/rj run $S/deploy.rjs --settle --t-end 700 --csv /dev/null
+
+# ---- links that pass through each other: a rigid link turning at 10 rad/s about the tip
+# of a fixed one, from straight (180 deg), lies over it at 360 deg (t = 0.314 s; reported
+# once it is 1 deg past, 0.316 s) and again at 720 deg: one event line, not repeated as
+# a warning, and the summary's time
+printf 'link a\n  fidelity = rigid  length = 1  root = fixed\nlink b\n  fidelity = rigid  length = 1\njoint j2\n  body1 = a  body2 = b  angle0 = 180 deg  rate0 = 10\n' > $T/overlap.rjs
+$B/rj run $T/overlap.rjs --t-end 1 --csv /dev/null 2>$T/overlap.err
+ok "run: a joint whose links pass through each other: one event (t = 0.316 s, 360 deg), no warning repeating it, the summary's time" \
+  "[ \$(grep -c 'passed through each other' $T/overlap.err) = 1 ] \
+   && grep -qx 'rj run: t = 0.316 s: j2: links a and b passed through each other (it turned through 360 deg; links do not contact each other)' $T/overlap.err \
+   && grep -q '^rj run: j2: first contact none, .*, links overlap 0.316 s\$' $T/overlap.err"
 exit 0
