@@ -984,6 +984,31 @@ static void test_settle_at_rest(void)
     r = rj_settle(m, s, 1e-12, 1000);
     rjt_check(&T, r == RJ_OK, "settle: a scene at rest settles within 1000 steps", "%s (%s)",
               rj_result_str(r), rj_state_error(s));
+    /* a fine cantilever under gravity is not at rest: its first steps' kinetic energy
+       (2e-15 J at 2000 elements) is far below the sag's, and it must not pass for rest */
+    {
+        rj_link_def fine = rj_default_link_def();
+        rj_scene_def hang = rj_default_scene_def();
+        rj_model *mf;
+        rj_state *sf;
+        fine.elements = 2000;
+        fine.width = 0.02;
+        fine.height = 0.01;
+        fine.root = RJ_ROOT_CLAMPED;
+        hang.links = &fine;
+        hang.link_count = 1;
+        hang.solver.gravity[1] = -9.81;
+        if (rj_model_create(&hang, &mf, &err, NULL) == RJ_OK &&
+            rj_state_create(mf, &sf, NULL) == RJ_OK) {
+            r = rj_settle(mf, sf, 1e-12, 1000);
+            rjt_check(&T, r == RJ_ERR_NOT_CONVERGED,
+                      "settle: a 2000-element cantilever under gravity is not at rest in 1000 "
+                      "steps", "%s after %.3g s", rj_result_str(r), rj_state_time(sf));
+            rj_state_destroy(sf, NULL);
+            rj_model_destroy(mf, NULL);
+        } else
+            rjt_check(&T, 0, "settle: fine cantilever model", "%s", err.msg);
+    }
     /* bad arguments are named, not the previous error kept */
     r = rj_settle(m, s, 0, 1000);
     rjt_check(&T, r == RJ_ERR_INVALID && strstr(rj_state_error(s), "tol = 0") != NULL,
