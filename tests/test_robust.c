@@ -853,7 +853,47 @@ static void test_model_block(void)
     free(mem);
 }
 
+/* The model of a scene file's text, or NULL with a FAIL line naming the check. */
+static rj_model *model_of_text(const char *check, const char *text)
+{
+    rj_scene_file f;
+    rj_scene_def def;
+    rj_error err;
+    rj_model *m = NULL;
+    if (rj_scene_parse(text, strlen(text), check, &f, &err) != RJ_OK) {
+        rjt_check(&T, 0, check, "the scene is refused: %s", err.msg);
+        return NULL;
+    }
+    def = rj_scene_file_def(&f);
+    if (rj_model_create(&def, &m, &err, NULL) != RJ_OK) {
+        rjt_check(&T, 0, check, "the model is refused: %s", err.msg);
+        m = NULL;
+    }
+    rj_scene_file_free(&f);
+    return m;
+}
+
 /* ------------------------------------------------------------------ a failed step in place */
+
+/* The model of these links and joints under gravity g (down), or NULL with a FAIL line
+   that names the check and the refusal. */
+static rj_model *model_of(const char *check, rj_link_def *links, int link_count,
+                          rj_joint_def *joints, int joint_count, double g)
+{
+    rj_scene_def scene = rj_default_scene_def();
+    rj_model *m = NULL;
+    rj_error err;
+    scene.links = links;
+    scene.link_count = link_count;
+    scene.joints = joints;
+    scene.joint_count = joint_count;
+    scene.solver.gravity[1] = -g;
+    if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) {
+        rjt_check(&T, 0, check, "the model is refused: %s", err.msg);
+        return NULL;
+    }
+    return m;
+}
 
 /* What a state is, for comparing two: every node's position and velocity, every joint's
    angle, rate and flag, time and steps, hashed bit for bit. */
@@ -891,9 +931,6 @@ static rj_model *in_place_model(void)
 {
     rj_link_def links[2];
     rj_joint_def joints[2];
-    rj_scene_def scene = rj_default_scene_def();
-    rj_model *m = NULL;
-    rj_error err;
     int i;
     for (i = 0; i < 2; i++) {
         links[i] = rj_default_link_def();
@@ -906,13 +943,7 @@ static rj_model *in_place_model(void)
         joints[i].spring_free_angle = rj_rad(90);
     }
     joints[1].angle0 = rj_rad(180);
-    scene.links = links;
-    scene.link_count = 2;
-    scene.joints = joints;
-    scene.joint_count = 2;
-    if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK)
-        printf("in_place_model: %s\n", err.msg);
-    return m;
+    return model_of("rollback: model", links, 2, joints, 2, 0);
 }
 
 /* A step that fails leaves the state as it was, in place too: a bad torque is refused
@@ -965,22 +996,14 @@ static void test_settle_at_rest(void)
 {
     rj_link_def link = rj_default_link_def();
     rj_joint_def joint = rj_default_joint_def();
-    rj_scene_def scene = rj_default_scene_def();
     rj_model *m;
     rj_state *s;
-    rj_error err;
     rj_result r;
     joint.body1 = -1;
     joint.body2 = 0;
-    scene.links = &link;
-    scene.link_count = 1;
-    scene.joints = &joint;
-    scene.joint_count = 1;
-    if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) {
-        rjt_check(&T, 0, "settle at rest: model", "%s", err.msg);
+    m = model_of("settle at rest: model", &link, 1, &joint, 1, 0);
+    if (!m || rj_state_create(m, &s, NULL) != RJ_OK)
         return;
-    }
-    rj_state_create(m, &s, NULL);
     r = rj_settle(m, s, 1e-12, 1000);
     rjt_check(&T, r == RJ_OK, "settle: a scene at rest settles within 1000 steps", "%s (%s)",
               rj_result_str(r), rj_state_error(s));
@@ -988,26 +1011,21 @@ static void test_settle_at_rest(void)
        (2e-15 J at 2000 elements) is far below the sag's, and it must not pass for rest */
     {
         rj_link_def fine = rj_default_link_def();
-        rj_scene_def hang = rj_default_scene_def();
         rj_model *mf;
         rj_state *sf;
         fine.elements = 2000;
         fine.width = 0.02;
         fine.height = 0.01;
         fine.root = RJ_ROOT_CLAMPED;
-        hang.links = &fine;
-        hang.link_count = 1;
-        hang.solver.gravity[1] = -9.81;
-        if (rj_model_create(&hang, &mf, &err, NULL) == RJ_OK &&
-            rj_state_create(mf, &sf, NULL) == RJ_OK) {
+        mf = model_of("settle: fine cantilever model", &fine, 1, NULL, 0, 9.81);
+        if (mf && rj_state_create(mf, &sf, NULL) == RJ_OK) {
             r = rj_settle(mf, sf, 1e-12, 1000);
             rjt_check(&T, r == RJ_ERR_NOT_CONVERGED,
                       "settle: a 2000-element cantilever under gravity is not at rest in 1000 "
                       "steps", "%s after %.3g s", rj_result_str(r), rj_state_time(sf));
             rj_state_destroy(sf, NULL);
-            rj_model_destroy(mf, NULL);
-        } else
-            rjt_check(&T, 0, "settle: fine cantilever model", "%s", err.msg);
+        }
+        rj_model_destroy(mf, NULL);
     }
     /* bad arguments are named, not the previous error kept */
     r = rj_settle(m, s, 0, 1000);
@@ -1031,10 +1049,8 @@ static void test_settle_on_a_limit(void)
     for (i = 0; i < 3; i++) {
         rj_link_def link = rj_default_link_def();
         rj_joint_def joint = rj_default_joint_def();
-        rj_scene_def scene = rj_default_scene_def();
         rj_model *m;
         rj_state *s;
-        rj_error err;
         link.height = 0.01;
         joint.body1 = -1;
         joint.body2 = 0;
@@ -1042,16 +1058,8 @@ static void test_settle_on_a_limit(void)
         joint.has_reverse = 1;
         joint.reverse = rj_rad(starts[i] - 1);
         joint.lock = 1;
-        scene.links = &link;
-        scene.link_count = 1;
-        scene.joints = &joint;
-        scene.joint_count = 1;
-        scene.solver.gravity[1] = -9.81;
-        if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) {
-            snprintf(last, sizeof last, "%.150s", err.msg);
-            continue;
-        }
-        if (rj_state_create(m, &s, NULL) != RJ_OK)
+        m = model_of("settle on a limit: model", &link, 1, &joint, 1, 9.81);
+        if (!m || rj_state_create(m, &s, NULL) != RJ_OK)
             continue;
         if (rj_settle(m, s, 1e-12, 300000) == RJ_OK)
             settled++;
@@ -1074,23 +1082,12 @@ static void test_settle_keeps_time(void)
         "  width = 0.02\n  height = 0.004\n  root = clamped\n"
         "load tip\n  link = beam\n  node = last\n  force = 0 -74.66666666666667\n"
         "  table = 0 0, 0.5 1\n";
-    rj_scene_file f;
-    rj_scene_def def;
-    rj_error err;
-    rj_model *m;
+    rj_model *m = model_of_text("settle keeps time: scene", text);
     rj_state *s;
     double tip0[2], tip[2], worst = 0, t0;
     int k;
-    if (rj_scene_parse(text, sizeof text - 1, "elastica", &f, &err) != RJ_OK) {
-        rjt_check(&T, 0, "settle keeps time: scene", "%s", err.msg);
+    if (!m || rj_state_create(m, &s, NULL) != RJ_OK)
         return;
-    }
-    def = rj_scene_file_def(&f);
-    if (rj_model_create(&def, &m, &err, NULL) != RJ_OK) {
-        rjt_check(&T, 0, "settle keeps time: scene", "%s", err.msg);
-        return;
-    }
-    rj_state_create(m, &s, NULL);
     if (!rjt_check(&T, rj_settle(m, s, 1e-12, 10000000L) == RJ_OK, "settle keeps time: settles",
                    "%s", rj_state_error(s)))
         return;
@@ -1108,7 +1105,6 @@ static void test_settle_keeps_time(void)
               worst);
     rj_state_destroy(s, NULL);
     rj_model_destroy(m, NULL);
-    rj_scene_file_free(&f);
 }
 
 /* ------------------------------------------------------------------ damping with latches */
@@ -1177,10 +1173,8 @@ static void test_pin_on_a_pinned_root(void)
 {
     rj_link_def links[3];
     rj_joint_def joints[3];
-    rj_scene_def scene = rj_default_scene_def();
     rj_model *m;
     rj_state *s;
-    rj_error err;
     rj_result r;
     rj_energy e;
     double a[2], b[2], c[2], gap;
@@ -1197,16 +1191,9 @@ static void test_pin_on_a_pinned_root(void)
     joints[2].body1 = 1;
     joints[2].node1 = 0;
     joints[2].angle0 = rj_rad(90);
-    scene.links = links;
-    scene.link_count = 3;
-    scene.joints = joints;
-    scene.joint_count = 3;
-    scene.solver.gravity[1] = -9.81;
-    if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) {
-        rjt_check(&T, 0, "pin on a pinned root: model", "%s", err.msg);
+    m = model_of("pin on a pinned root: model", links, 3, joints, 3, 9.81);
+    if (!m || rj_state_create(m, &s, NULL) != RJ_OK)
         return;
-    }
-    rj_state_create(m, &s, NULL);
     r = rj_run(m, s, 0.2, 0, NULL, NULL);
     rj_node_position(m, s, 0, rj_link_node_count(m, 0) - 1, a);
     rj_node_position(m, s, 1, 0, b);
@@ -1272,7 +1259,6 @@ static void test_bounds_carried(void)
         /* a model at the largest density and gravity: its own checkpoint loads back */
         rj_link_def link = rj_default_link_def();
         rj_joint_def pin = rj_default_joint_def();
-        rj_scene_def scene = rj_default_scene_def();
         rj_model *m;
         rj_state *s;
         rj_error err;
@@ -1286,16 +1272,9 @@ static void test_bounds_carried(void)
         pin.body1 = -1;
         pin.body2 = 0;
         pin.angle0 = 0.5;
-        scene.links = &link;
-        scene.link_count = 1;
-        scene.joints = &pin;
-        scene.joint_count = 1;
-        scene.solver.gravity[1] = -1e5;
-        if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) {
-            rjt_check(&T, 0, "bounds: the largest model's checkpoint loads back", "%s", err.msg);
+        m = model_of("bounds: the largest model", &link, 1, &pin, 1, 1e5);
+        if (!m || rj_state_create(m, &s, NULL) != RJ_OK)
             return;
-        }
-        rj_state_create(m, &s, NULL);
         while (rj_state_steps(s) < 100 && rj_step(m, s) == RJ_OK) {
         }
         size = rj_state_save(m, s, NULL, 0);
@@ -1317,30 +1296,17 @@ static void test_blowup_causes(void)
     static const char text[] =
         "link a\n  length = 1\n  height = 0.01\n  root = clamped\n"
         "load f\n  link = a\n  node = last\n  force = 0 -1e12\n";
-    rj_scene_file f;
-    rj_scene_def def;
-    rj_error err;
-    rj_model *m;
+    rj_model *m = model_of_text("causes: model", text);
     rj_state *s;
     rj_result r;
-    if (rj_scene_parse(text, sizeof text - 1, "causes", &f, &err) != RJ_OK) {
-        rjt_check(&T, 0, "causes: scene", "%s", err.msg);
+    if (!m || rj_state_create(m, &s, NULL) != RJ_OK)
         return;
-    }
-    def = rj_scene_file_def(&f);
-    if (rj_model_create(&def, &m, &err, NULL) != RJ_OK) {
-        rjt_check(&T, 0, "causes: model", "%s", err.msg);
-        rj_scene_file_free(&f);
-        return;
-    }
-    rj_state_create(m, &s, NULL);
     r = rj_run(m, s, 1000 * rj_model_dt(m), 0, NULL, NULL);
     rjt_check(&T, r != RJ_OK && strstr(rj_state_error(s), "applied loads") != NULL,
               "causes: a 1e12 N load's blow-up is blamed on the loads", "%.300s",
               rj_state_error(s));
     rj_state_destroy(s, NULL);
     rj_model_destroy(m, NULL);
-    rj_scene_file_free(&f);
 }
 
 /* ------------------------------------------------------------------ links passing through */
@@ -1354,10 +1320,8 @@ static void test_links_pass_through(void)
     for (pass = 0; pass < 2; pass++) {
         rj_link_def links[2] = { rj_default_link_def(), rj_default_link_def() };
         rj_joint_def joints[2] = { rj_default_joint_def(), rj_default_joint_def() };
-        rj_scene_def scene = rj_default_scene_def();
         rj_model *m;
         rj_state *s;
-        rj_error err;
         rj_result r;
         double t_over;
         links[0].height = links[1].height = 0.01;
@@ -1369,15 +1333,8 @@ static void test_links_pass_through(void)
         joints[1].spring_k = 5;
         joints[1].spring_free_angle = rj_rad(pass == 0 ? 420 : 180);
         joints[1].damping = 0.05;
-        scene.links = links;
-        scene.link_count = 2;
-        scene.joints = joints;
-        scene.joint_count = 2;
-        if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) {
-            rjt_check(&T, 0, "pass through: model", "%s", err.msg);
-            return;
-        }
-        if (rj_state_create(m, &s, NULL) != RJ_OK)
+        m = model_of("pass through: model", links, 2, joints, 2, 0);
+        if (!m || rj_state_create(m, &s, NULL) != RJ_OK)
             return;
         r = rj_run(m, s, 0.5, 0, NULL, NULL);
         t_over = rj_joint_overlap_time(m, s, 1);
