@@ -36,14 +36,14 @@ deps:
 $(B):
 	@mkdir -p $(B)
 
-$(B)/impact: examples/impact.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) | $(B)
-	$(CC) $(ALLCF) examples/impact.c render/rj_render.c -o $@ $(GL)
-$(B)/deploy: examples/deploy.c examples/scenes.h examples/cli.h examples/rigid2.h $(HDR) $(RENDER) | $(B)
-	$(CC) $(ALLCF) examples/deploy.c render/rj_render.c -o $@ $(GL)
-$(B)/animate: examples/animate.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) | $(B)
-	$(CC) $(ALLCF) examples/animate.c render/rj_render.c -o $@ $(GL)
-$(B)/rj: examples/rj.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) | $(B)
-	$(CC) $(ALLCF) examples/rj.c render/rj_render.c -o $@ $(GL)
+$(B)/impact: examples/impact.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) $(B)/rj_render.o | $(B)
+	$(CC) $(ALLCF) examples/impact.c $(B)/rj_render.o -o $@ $(GL)
+$(B)/deploy: examples/deploy.c examples/scenes.h examples/cli.h examples/rigid2.h $(HDR) $(RENDER) $(B)/rj_render.o | $(B)
+	$(CC) $(ALLCF) examples/deploy.c $(B)/rj_render.o -o $@ $(GL)
+$(B)/animate: examples/animate.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) $(B)/rj_render.o | $(B)
+	$(CC) $(ALLCF) examples/animate.c $(B)/rj_render.o -o $@ $(GL)
+$(B)/rj: examples/rj.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) $(B)/rj_render.o | $(B)
+	$(CC) $(ALLCF) examples/rj.c $(B)/rj_render.o -o $@ $(GL)
 $(B)/sweep: examples/sweep.c examples/scenes.h examples/cli.h $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm -lpthread
 $(B)/studies: examples/studies.c examples/scenes.h examples/rigid2.h examples/cli.h $(HDR) | $(B)
@@ -53,33 +53,57 @@ $(B)/quickstart: examples/quickstart.c $(HDR) | $(B)
 $(B)/pngdiff: render/pngdiff.c $(RENDER) | $(B)
 	$(CC) $(ALLCF) -DRJR_PNG_ONLY render/pngdiff.c render/rj_render.c -o $@ $(GL)
 
-$(B)/test_%: tests/test_%.c tests/rjt.h tests/rjt_loads.h examples/scenes.h examples/rigid2.h $(HDR) | $(B)
+# The implementation compiled once per flavour (tests/rjt_impl.c); the test programs that
+# use the public API alone include the header plain and link it, as a program of several
+# files would. The others (private internals, their own RJ_MALLOC) compile it themselves.
+TDEPS   = tests/rjt.h tests/rjt_loads.h examples/scenes.h examples/rigid2.h $(HDR)
+LINKED  = $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_benchmarks $(B)/test_loads \
+          $(B)/test_applied
+LINKED_ASAN = $(B)/test_core_asan $(B)/test_beam_asan $(B)/test_dynamics_asan \
+          $(B)/test_loads_asan $(B)/test_applied_asan
+$(B)/rj_impl.o: tests/rjt_impl.c $(HDR) | $(B)
+	$(CC) $(ALLCF) -c $< -o $@
+$(B)/rj_impl_asan.o: tests/rjt_impl.c $(HDR) | $(B)
+	$(CC) $(WARN) $(SAN) -I. -c $< -o $@
+$(B)/rj_impl_clang.o: tests/rjt_impl.c $(HDR) | $(B)
+	clang $(WARN) -O2 -I. -c $< -o $@
+$(B)/rj_impl_cpp.o: tests/rjt_impl.c $(HDR) | $(B)
+	g++ -x c++ -std=c++11 -Wall -Wextra -pedantic -Werror -O2 -I. -c $< -o $@
+# the renderer compiled once for the tests
+$(B)/rj_render.o: render/rj_render.c render/rj_render.h | $(B)
+	$(CC) $(ALLCF) $(shell pkg-config --cflags osmesa libpng 2>/dev/null) -c $< -o $@
+
+$(LINKED): $(B)/test_%: tests/test_%.c $(TDEPS) $(B)/rj_impl.o | $(B)
+	$(CC) $(ALLCF) $< $(B)/rj_impl.o -o $@ -lm
+$(LINKED_ASAN): $(B)/test_%_asan: tests/test_%.c $(TDEPS) $(B)/rj_impl_asan.o | $(B)
+	$(CC) $(WARN) $(SAN) -I. $< $(B)/rj_impl_asan.o -o $@ -lm
+$(B)/test_%: tests/test_%.c $(TDEPS) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
-$(B)/test_render: tests/test_render.c tests/rjt.h examples/scenes.h $(HDR) $(RENDER) | $(B)
-	$(CC) $(ALLCF) tests/test_render.c render/rj_render.c -o $@ $(GL)
-$(B)/test_%_asan: tests/test_%.c tests/rjt.h tests/rjt_loads.h examples/scenes.h $(HDR) | $(B)
+$(B)/test_render: tests/test_render.c tests/rjt.h examples/scenes.h $(HDR) $(B)/rj_impl.o $(B)/rj_render.o | $(B)
+	$(CC) $(ALLCF) tests/test_render.c $(B)/rj_render.o $(B)/rj_impl.o -o $@ $(GL)
+$(B)/test_%_asan: tests/test_%.c $(TDEPS) | $(B)
 	$(CC) $(WARN) $(SAN) -I. $< -o $@ -lm
-$(B)/test_core_clang: tests/test_core.c tests/rjt.h examples/scenes.h $(HDR) | $(B)
-	clang $(WARN) -O2 -I. tests/test_core.c -o $@ -lm
-$(B)/test_cpp: tests/test_core.c tests/rjt.h examples/scenes.h $(HDR) | $(B)
-	g++ -x c++ -std=c++11 -Wall -Wextra -pedantic -Werror -O2 -I. tests/test_core.c -o $@ -lm
+$(B)/test_core_clang: tests/test_core.c tests/rjt.h examples/scenes.h $(HDR) $(B)/rj_impl_clang.o | $(B)
+	clang $(WARN) -O2 -I. tests/test_core.c $(B)/rj_impl_clang.o -o $@ -lm
+$(B)/test_cpp: tests/test_core.c tests/rjt.h examples/scenes.h $(HDR) $(B)/rj_impl_cpp.o | $(B)
+	g++ -x c++ -std=c++11 -Wall -Wextra -pedantic -Werror -O2 -I. tests/test_core.c -x none $(B)/rj_impl_cpp.o -o $@ -lm
 # test code formats long diagnostics into fixed buffers: truncation there is harmless
 $(B)/test_scene: tests/test_scene.c tests/rjt.h examples/scenes.h $(HDR) | $(B)
 	$(CC) $(ALLCF) -Wno-format-truncation $< -o $@ -lm
 $(B)/test_scene_asan: tests/test_scene.c examples/scenes.h $(HDR) | $(B)
 	$(CC) $(WARN) -Wno-format-truncation $(SAN) -I. $< -o $@ -lm
-$(B)/stress: tests/stress.c tests/rjt.h examples/scenes.h $(HDR) | $(B)
-	$(CC) $(ALLCF) -Wno-format-truncation $< -o $@ -lm
-$(B)/bench: bench/bench.c examples/scenes.h examples/rigid2.h $(HDR) $(RENDER) | $(B)
-	$(CC) $(ALLCF) bench/bench.c render/rj_render.c -o $@ $(GL)
+$(B)/stress: tests/stress.c tests/rjt.h examples/scenes.h $(HDR) $(B)/rj_impl.o | $(B)
+	$(CC) $(ALLCF) -Wno-format-truncation $< $(B)/rj_impl.o -o $@ -lm
+$(B)/bench: bench/bench.c examples/scenes.h examples/rigid2.h $(HDR) $(RENDER) $(B)/rj_render.o | $(B)
+	$(CC) $(ALLCF) bench/bench.c $(B)/rj_render.o -o $@ $(GL)
 $(B)/segmented: bench/segmented.c examples/scenes.h $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
 $(B)/pd_arm: examples/pd_arm.c examples/scenes.h examples/cli.h $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
 # revjoint.h side by side with the MuJoCo peer; it runs build/peer_mujoco as a program, so
 # it builds without MuJoCo
-$(B)/peer_side: bench/peer_side.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) | $(B)
-	$(CC) $(ALLCF) bench/peer_side.c render/rj_render.c -o $@ $(GL)
+$(B)/peer_side: bench/peer_side.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) $(B)/rj_render.o | $(B)
+	$(CC) $(ALLCF) bench/peer_side.c $(B)/rj_render.o -o $@ $(GL)
 # the MuJoCo peer of the deployment (docs/validation.md); needs libmujoco-dev, which
 # nothing else here does
 peer: | $(B)
@@ -102,7 +126,11 @@ check-header: | $(B)
 
 GOLDEN_IMPACT = $(foreach m,penalty adaptive momentum forced energy,$(foreach r,rc12 rc13,$(m)_$(r)))
 
-test: deps $(EXAMPLES) $(TESTS)
+# make test builds on every processor by itself, after deps (which may install the
+# packages the build needs), then runs the tests as many at once (tests/run.sh)
+NPROC  := $(shell nproc 2>/dev/null || echo 1)
+test: deps
+	@$(MAKE) -s -j$(NPROC) $(EXAMPLES) $(TESTS)
 	@sh tests/run.sh "$(MAKE) -s check-header" \
 	  "$(B)/test_core" "$(B)/test_core_clang" "$(B)/test_cpp" "$(B)/test_beam" "$(B)/test_dynamics" \
 	  "$(B)/test_benchmarks" "$(B)/test_rigid2" "$(B)/test_state" \

@@ -19,8 +19,9 @@
 #include <string.h>
 #include <math.h>
 #include <time.h>
-#define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
+/* pi as the library writes it (the stress scenes place angles with it) */
+#define ST_PI 3.14159265358979323846
 #include "../examples/scenes.h"
 #include "rjt.h"
 
@@ -668,7 +669,7 @@ static void build_chain(scn *b)
         beyond += mass[i];
         b->J[i] = rj_default_joint_def();
         b->J[i].body1 = i - 1; b->J[i].body2 = i;
-        b->J[i].angle0 = i == 0 ? 0.0 : RJ__PI;
+        b->J[i].angle0 = i == 0 ? 0.0 : ST_PI;
         b->J[i].spring_k = CH_ALPHA * I;          /* N m/rad; torque at start = k x 1 rad */
         b->J[i].spring_free_angle = b->J[i].angle0 + sgn * 1.0;
     }
@@ -702,8 +703,8 @@ static void chain_limits(scn *b, double dt, double tstar, int lock)
         double a0 = b->J[j].angle0, d = tr.d[j];
         b->J[j].has_forward = b->J[j].has_reverse = 1;
         b->J[j].lock = lock;
-        if (d > 0) { b->J[j].forward = fmod(a0 + d + 4 * RJ__PI, 2 * RJ__PI); b->J[j].reverse = fmod(a0 - rj_rad(30) + 4 * RJ__PI, 2 * RJ__PI); }
-        else { b->J[j].reverse = fmod(a0 + d + 4 * RJ__PI, 2 * RJ__PI); b->J[j].forward = fmod(a0 + rj_rad(30) + 4 * RJ__PI, 2 * RJ__PI); }
+        if (d > 0) { b->J[j].forward = fmod(a0 + d + 4 * ST_PI, 2 * ST_PI); b->J[j].reverse = fmod(a0 - rj_rad(30) + 4 * ST_PI, 2 * ST_PI); }
+        else { b->J[j].reverse = fmod(a0 + d + 4 * ST_PI, 2 * ST_PI); b->J[j].forward = fmod(a0 + rj_rad(30) + 4 * ST_PI, 2 * ST_PI); }
         printf("  joint %d: moves %+.4f deg by %.0f ms (max %.4f), %s limit at %.4f deg\n", j, rj_deg(d), tstar * 1e3, rj_deg(tr.dmax[j]),
                d > 0 ? "forward" : "reverse", rj_deg(d > 0 ? b->J[j].forward : b->J[j].reverse));
     }
@@ -880,7 +881,7 @@ static void check4(rjt_ctx *c)
             if (fabs(cr.p0[0]) < pmin) pmin = fabs(cr.p0[0]);
             if (fabs(cr.p0[0]) > pmax) pmax = fabs(cr.p0[0]);
             /* passed through: carried on into the free range beyond the stop (half a turn past it) */
-            if (t.run_max > fwd + RJ__PI || t.run_min < rev - RJ__PI) {
+            if (t.run_max > fwd + ST_PI || t.run_min < rev - ST_PI) {
                 len = strlen(thru);
                 snprintf(thru + len, sizeof thru - len, " %s/%s [%.1f, %.1f] deg", method_name(meth), release_name(relv), rj_deg(t.run_min), rj_deg(t.run_max));
             }
@@ -959,9 +960,9 @@ static int seam_hook(const rj_model *m, const rj_state *s, void *user)
 /* angle wrapped into (-pi, pi] */
 static double wrap_pi(double a)
 {
-    double r = fmod(a + RJ__PI, 2 * RJ__PI);
-    if (r < 0) r += 2 * RJ__PI;
-    return r - RJ__PI;
+    double r = fmod(a + ST_PI, 2 * ST_PI);
+    if (r < 0) r += 2 * ST_PI;
+    return r - ST_PI;
 }
 static void build_seam(scn *b, const seam_case *sc, int lock)
 {
@@ -1172,7 +1173,7 @@ static void build_stickslip(scn *b, double ratio)
     b->J[0].body1 = -1; b->J[0].body2 = 0; b->J[0].angle0 = rj_rad(90.0);
     b->J[0].friction = SS_TF;
     b->J[0].table_count = 2;
-    b->J[0].table_angle[0] = 0.0; b->J[0].table_angle[1] = 2 * RJ__PI;
+    b->J[0].table_angle[0] = 0.0; b->J[0].table_angle[1] = 2 * ST_PI;
     b->J[0].table_torque[0] = b->J[0].table_torque[1] = -ratio * SS_TF;
     b->J[0].has_forward = 1; b->J[0].forward = rj_rad(110.0);
     b->J[0].has_reverse = 1; b->J[0].reverse = rj_rad(70.0);
@@ -1286,8 +1287,8 @@ static void build_locked(scn *b)
     }
     b->J[0].angle0 = 0.0; b->J[0].has_forward = 1; b->J[0].forward = rj_rad(3.0);
     b->J[0].spring_k = 2.0; b->J[0].spring_free_angle = 1.0;
-    b->J[1].angle0 = RJ__PI; b->J[1].has_reverse = 1; b->J[1].reverse = rj_rad(177.0);
-    b->J[1].spring_k = 1.0; b->J[1].spring_free_angle = RJ__PI - 1.0;
+    b->J[1].angle0 = ST_PI; b->J[1].has_reverse = 1; b->J[1].reverse = rj_rad(177.0);
+    b->J[1].spring_k = 1.0; b->J[1].spring_free_angle = ST_PI - 1.0;
     b->sc = rj_default_scene_def();
     b->sc.link_count = 2; b->sc.joint_count = 2;
     scn_fix(b);

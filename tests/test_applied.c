@@ -4,7 +4,6 @@
    of a pendulum driven by a dead force instead of gravity, and the energy balance; then the
    two ways of giving a force agree, checkpoints and copies keep the node forces, bad loads
    and bad node forces are refused naming them, and stepping in place changes no bit. */
-#define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "rjt.h"
 #include <math.h>

@@ -1,6 +1,5 @@
 /* Link model against beam theory: cantilever bending frequencies (Euler-Bernoulli), axial
    wave speed sqrt(E/rho), static tip deflection F L^3 / 3EI, and the stability bound. */
-#define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "rjt.h"
 #include <stdlib.h>

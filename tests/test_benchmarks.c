@@ -1,5 +1,4 @@
 /* The paper's two benchmarks (secs. 4 and 5): what physics and the paper let us assert. */
-#define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "../examples/scenes.h"
 #include "../examples/rigid2.h"

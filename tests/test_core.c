@@ -1,5 +1,4 @@
 /* The element's equations against hand-worked numbers, and validation of every field. */
-#define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "../examples/scenes.h"
 #include "rjt.h"

@@ -1,7 +1,6 @@
 /* Loads: gravity on every link model, against what we did not tune: the pendulum's exact
    period (complete elliptic integral), the free fall's parabola, beam theory's sag of a
    cantilever, and the energy balance. */
-#define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "rjt.h"
 #include <math.h>

@@ -5,7 +5,6 @@
    shift must both exceed the limit. On failure the rendered image and a difference image
    are written next to the golden one.
    usage: test_render [--write-golden] [--golden-dir DIR] */
-#define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "../examples/scenes.h"
 #include "../render/rj_render.h"
