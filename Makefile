@@ -1,4 +1,5 @@
-# revjoint.h - build, tests, demo, benchmarks. The library itself is revjoint.h alone.
+# revjoint.h - build, tests, demo, benchmarks. The library itself is revjoint.h alone,
+# generated from its parts in src/ (tools/amalgamate.sh; make rebuilds it).
 #   make          examples and tools into build/
 #   make demo     the deployment benchmark: CSV history, frames and a plot into out/
 #   make test     every test; ends with one line "N passed, M failed"
@@ -35,6 +36,10 @@ deps:
 
 $(B):
 	@mkdir -p $(B)
+
+# The header is generated: src/*.h joined in the order of src/parts.txt. Edit src/.
+$(HDR): $(wildcard src/*.h) src/parts.txt tools/amalgamate.sh
+	@sh tools/amalgamate.sh
 
 $(B)/impact: examples/impact.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) $(B)/rj_render.o | $(B)
 	$(CC) $(ALLCF) examples/impact.c $(B)/rj_render.o -o $@ $(GL)
@@ -129,9 +134,10 @@ GOLDEN_IMPACT = $(foreach m,penalty adaptive momentum forced energy,$(foreach r,
 # make test builds on every processor by itself, after deps (which may install the
 # packages the build needs), then runs the tests as many at once (tests/run.sh)
 NPROC  := $(shell nproc 2>/dev/null || echo 1)
-test: deps
+test: deps | $(B)
+	@sh tools/amalgamate.sh --check > $(B)/amalgamate.txt 2>&1 || true
 	@$(MAKE) -s -j$(NPROC) $(EXAMPLES) $(TESTS)
-	@sh tests/run.sh "$(MAKE) -s check-header" \
+	@sh tests/run.sh "cat $(B)/amalgamate.txt" "$(MAKE) -s check-header" \
 	  "$(B)/test_core" "$(B)/test_core_clang" "$(B)/test_cpp" "$(B)/test_beam" "$(B)/test_dynamics" \
 	  "$(B)/test_benchmarks" "$(B)/test_rigid2" "$(B)/test_state" \
 	  "$(B)/test_core_asan" "$(B)/test_beam_asan" "$(B)/test_dynamics_asan" "$(B)/test_state_asan" \

@@ -2,6 +2,9 @@
    locking, resistive torque, friction and damping (Wong, Hamouda & Hashmi 2002).
    MIT licence, see the end of the file.
 
+   This file is generated: it joins the parts in src/ in the order of src/parts.txt
+   (tools/amalgamate.sh, run by make). Edit the parts, never this file.
+
    "sec. N" and "Eq N" below and in the comments are the sections and equations of the
    paper: S. V. Wong, A. M. S. Hamouda, M. S. J. Hashmi, "Development of Revolute-Joint
    Element with Rotation Limits, Locking, Resistive Moment and Damping", Engineering with
@@ -5322,7 +5325,7 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
     return RJ_OK;
 }
 
-/* ------------------------------------------------------------------ the step */
+/* ------------------------------------------------------------------ a failed step: its message */
 static rj_result rj__stop(const rj_model *m, rj_state *s, rj_result r, const char *fmt, ...)
 {
     va_list ap;
@@ -5462,6 +5465,7 @@ static rj_result rj__stop_nonfinite(const rj_model *m, rj_state *s, const double
                     t, m->dt > m->dt_bound ? " (the step is above the stability bound)" : "");
 }
 
+/* ------------------------------------------------------------------ SHAKE: inextensible links */
 /* Inextensible links: SHAKE. After the position update, Newton iterations on the element
    length constraints |x_{i+1} - x_i|^2 = l0^2 with corrections along the previous chords
    e_i^n, dx_k = 2 w_k (lambda_{k-1} e_{k-1}^n - lambda_k e_k^n) (w: inverse masses, the
@@ -5649,6 +5653,7 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
     }
 }
 
+/* ------------------------------------------------------------------ the joint element */
 /* Links do not contact each other: where a joint between two links turns through a
    multiple of 360 deg, its two links lie over each other and pass through. That is
    reported once per joint, as a warning and its time (rj_joint_overlap_time): when the
@@ -6166,6 +6171,7 @@ static double rj__rig_setup(rj_model *m, double *scratch)
     return lam;
 }
 
+/* ------------------------------------------------------------------ the step: its stages */
 /* A node's rotation rate at the end of the step under the loads so far (a body's own node:
    the body's). */
 static RJ__INLINE double rj__rate_pred(const rj_model *m, const double *of, int n, const double *x,
@@ -7267,6 +7273,7 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     return RJ_OK;
 }
 
+/* ------------------------------------------------------------------ the rigid step */
 /* Does joint j take plastic impulses at this flag (locked, forced, or e = 0 at a limit)? */
 static int rj__rig_plastic(const rj_joint_def *d, int flag)
 {
@@ -7777,6 +7784,7 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
     return rj__rig_stage_accounts(m, s, &f, &r, &e);
 }
 
+/* ------------------------------------------------------------------ stepping and running */
 /* The step. In place (rj_model.ip: solver.in_place, never with inextensible links; after
    the first step) it writes the nodes and elements where it reads them, which halves what a
    large model moves through the caches each step; the other frame then holds a copy of the
@@ -7898,6 +7906,7 @@ RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double samp
     return RJ_OK;
 }
 
+/* ------------------------------------------------------------------ settling */
 /* Every velocity of the current frame to zero: nodes, bodies, joint rates (and the rigid
    solver's predicted accelerations). The state then starts again from rest where it is:
    the next step is a first step (a half kick, the energy accounts from there), and the
@@ -8121,6 +8130,7 @@ RJDEF rj_result rj_settle(const rj_model *m, rj_state *s, double tol, long max_s
     return rj_settle_ex(m, s, tol, max_steps, NULL, NULL);
 }
 
+/* ------------------------------------------------------------------ inputs and queries */
 RJDEF double *rj_state_joint_torques(const rj_model *m, rj_state *s)
 {
     RJ_ASSERT(m && s);
@@ -11839,6 +11849,7 @@ RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_n
     return W.n;
 }
 #endif /* RJ_NO_SCENE_FILES */
+/* ------------------------------------------------------------------ end of the implementation */
 #if defined(RJ__FP_PRAGMAS) && defined(__clang__)
 #pragma float_control(pop)
 #elif defined(RJ__FP_PRAGMAS)

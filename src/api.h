@@ -1,0 +1,629 @@
+/* revjoint.h v0.1 - planar flexible links joined by revolute joints with rotation limits,
+   locking, resistive torque, friction and damping (Wong, Hamouda & Hashmi 2002).
+   MIT licence, see the end of the file.
+
+   This file is generated: it joins the parts in src/ in the order of src/parts.txt
+   (tools/amalgamate.sh, run by make). Edit the parts, never this file.
+
+   "sec. N" and "Eq N" below and in the comments are the sections and equations of the
+   paper: S. V. Wong, A. M. S. Hamouda, M. S. J. Hashmi, "Development of Revolute-Joint
+   Element with Rotation Limits, Locking, Resistive Moment and Damping", Engineering with
+   Computers 18 (2002) 1-13. Documentation: README.md, docs/modelling.md (how to describe
+   a mechanism), docs/scene-format.md, docs/design.md (the readings of the paper taken).
+
+USAGE
+   In exactly one C or C++ file:
+       #define REVJOINT_IMPLEMENTATION
+       #include "revjoint.h"
+   Everywhere else just #include "revjoint.h". Depends on libc and libm only.
+
+CONFIGURATION MACROS (define before including the implementation)
+   RJ_STATIC                 make every function static (private to one translation unit)
+   RJ_MALLOC(sz,ctx), RJ_FREE(p,ctx)
+                             allocator used by rj_model_create / rj_state_create and the
+                             scene parser (define both or neither); ctx is the user pointer
+                             given to those calls
+   RJ_ASSERT(x)              programmer-error checks (NULL, index out of range); default assert
+   RJ_NO_SIMD                plain scalar loops instead of GCC/Clang vector lanes in the step
+                             (same results to the bit: tests/lanes.sh)
+   RJ_NO_DISPATCH            on x86-64 without -mavx, do not also compile the lane kernels
+                             for AVX2 (chosen per step when the CPU has it); 2-lane only
+   RJ_NO_SCENE_FILES         leave out the scene-file parser and writer (rj_scene_*)
+   RJ_IN_PLACE_NODES         with solver.in_place AUTO, models of at least this many nodes
+                             step in place (default 400; 0: every model that can)
+
+QUICK START
+   rj_link_def links[2]; rj_joint_def joints[2]; rj_solver_def solver; rj_scene_def scene;
+   rj_model *m; rj_state *s; rj_error err;
+   links[0] = rj_default_link_def(); links[1] = rj_default_link_def();
+   joints[0] = rj_default_joint_def(); joints[0].body1 = -1; joints[0].body2 = 0;
+   joints[1] = rj_default_joint_def(); joints[1].body1 = 0;  joints[1].body2 = 1;
+   joints[1].spring_k = 0.5; joints[1].spring_free_angle = rj_rad(90.0);
+   solver = rj_default_solver_def();
+   scene = rj_default_scene_def();
+   scene.links = links; scene.link_count = 2; scene.joints = joints; scene.joint_count = 2;
+   scene.solver = solver;
+   if (rj_model_create(&scene, &m, &err, NULL) != RJ_OK) { puts(err.msg); return 1; }
+   rj_state_create(m, &s, NULL);
+   while (rj_state_time(s) < 1.0) if (rj_step(m, s) != RJ_OK) break;
+   printf("theta = %g deg\n", rj_deg(rj_joint_theta(m, s, 1)));
+   rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+
+CONCEPTS
+   Model and state. rj_model is built once from definition structs, validated, and never
+   changes; rj_state holds everything that moves (two time levels of the central-difference
+   pair, joint flags, running angles, energy accounts). Every simulation call takes
+   (const rj_model *, rj_state *): many states may share one model, from many threads.
+
+   Units and signs. SI throughout; angles in radians, counter-clockwise positive. rj_rad()
+   and rj_deg() convert at the edges.
+
+   Links. A link is a planar, geometrically nonlinear Euler-Bernoulli beam of `elements`
+   co-rotational Hermite elements, nodes 0..elements, node 0 at its root. Each node has a
+   position (x, y) and a rotation phi. Mass is lumped: rho A l / 2 per element end on the
+   translations, max(rho A l^3 / 78, rho I l / 2) per element end on the rotation. A link
+   may instead be inextensible or rigid (rj_fidelity).
+
+   Joints. Joint j pins node 0 of link body2 to node node1 of link body1 (or to a ground
+   point when body1 = -1). Its rotary location theta (sec. 3.1, Eqs 1-3) is the
+   counter-clockwise angle from body 1's direction at the pin, pointing back towards body
+   1's root (I->K; for ground, the fixed direction ground_angle), to body 2's direction
+   (J->L). Two links that continue each other have theta = pi. It starts at angle0; by
+   default (RJ_REF_TANGENT) it follows the pin nodes' rotations, with RJ_REF_CHORD the
+   paper's chords. theta is tracked as an unwrapped running angle: a joint never jumps
+   across 0/2pi, limits and springs use it.
+
+   Stability. Central differences are stable while dt < 2 / omega_max. rj_model_create
+   computes omega_max of the linearised model (beams, tip masses, joint stiffnesses and
+   damping in use) by Lanczos iteration, uses 0.9 x its bound when solver.dt is 0, and
+   refuses a larger solver dt unless solver.allow_unstable is set. rj_model_dt_eq28,
+   rj_joint_dt_eq29 and rj_joint_kmax_eq31 give the paper's Eqs 28, 29 and 31 (sec. 3.7)
+   for comparison.
+
+   Scene files. rj_scene_load / rj_scene_parse read a small text format into the same
+   definition structs and rj_scene_write writes it back (docs/scene-format.md).
+
+ERRORS
+   Functions that can fail return rj_result. Validation fills an rj_error with the field
+   name, the bad value and a sentence. A failed call changes none of the caller's objects.
+   rj_step stops with RJ_ERR_BLOWUP or RJ_ERR_TUNNEL and leaves the last good state intact.
+
+THREAD SAFETY
+   No globals. A model may be shared read-only by any number of threads; a state belongs
+   to one thread at a time.
+*/
+#ifndef REVJOINT_H
+#define REVJOINT_H
+
+#include <stddef.h>
+
+#ifdef RJ_STATIC
+#define RJDEF static
+#else
+#define RJDEF extern
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define RJ_VERSION "0.1.0"
+
+/* Result codes. */
+typedef enum rj_result {
+    RJ_OK = 0,
+    RJ_ERR_INVALID,      /* a definition field or an argument is out of range */
+    RJ_ERR_NOMEM,        /* allocation failed or caller's block too small */
+    RJ_ERR_UNSTABLE_DT,  /* dt above the stability bound and not overridden */
+    RJ_ERR_BLOWUP,       /* non-finite value or energy growth beyond the bound */
+    RJ_ERR_TUNNEL,       /* a joint turned more than a quarter revolution (pi/2 rad) in one step */
+    RJ_ERR_CHECKPOINT,   /* a checkpoint buffer is truncated, corrupted or for another model */
+    RJ_ERR_PARSE,        /* scene text malformed */
+    RJ_ERR_NOT_CONVERGED /* rj_settle: no equilibrium within its steps */
+} rj_result;
+
+/* Validation and runtime error details, filled by the calls that take it (may be NULL). */
+typedef struct rj_error {
+    rj_result code;
+    char field[64]; /* e.g. "joints[1].forward" */
+    double value;   /* the offending value (NaN when not numeric) */
+    char msg[512];  /* one full sentence */
+} rj_error;
+
+/* Root support of a link that is not the body2 of any joint. */
+typedef enum rj_root { RJ_ROOT_FREE = 0, RJ_ROOT_PINNED, RJ_ROOT_CLAMPED, RJ_ROOT_FIXED } rj_root;
+
+/* Link model. RJ_LINK_RIGID links have no bending or axial freedom. A rigid link is a
+   uniform rod (rho A L, rho A L^3/12 about its centre) with its tip mass and inertia.
+   - A scene of rigid links only is integrated in joint coordinates (one per joint), so its
+     step is limited only by the joints' stiffnesses; every rigid link then hangs from one
+     joint or is RJ_ROOT_FIXED, RJ_METHOD_ENERGY is not available, and the nodes are kept
+     only to report and draw the links.
+   - In a scene with flexible or inextensible links too, each rigid link is one rigid body
+     (free, turning about a fixed pin, or held) carrying its nodes, which are massless
+     attachment points (rj_node_mass gives mass 0 and the body's inertia about its
+     anchor), and the nodes of other links pinned to it. Two rigid links may not be pinned
+     together there, and joints on a rigid link use RJ_REF_TANGENT; the flexible links
+     set the step. */
+/* RJ_LINK_INEXTENSIBLE links bend like flexible ones, but their element lengths are
+   constraints (SHAKE projection along the previous chords, a tridiagonal solve per link),
+   so the axial wave no longer limits the step: only bending does. They mix freely with
+   flexible links. */
+typedef enum rj_fidelity { RJ_LINK_FLEXIBLE = 0, RJ_LINK_RIGID, RJ_LINK_INEXTENSIBLE } rj_fidelity;
+
+/* Section description. */
+typedef enum rj_section { RJ_SECTION_RECT = 0, RJ_SECTION_GENERAL } rj_section;
+
+/* Limit response methods (the paper's sec. 3.4, Eqs 14-26). */
+typedef enum rj_method {
+    RJ_METHOD_PENALTY = 0, /* user stiffness penalty_k (COMBIN7-like) */
+    RJ_METHOD_ADAPTIVE,    /* K_AP = I1 I2 / ((I1 + I2) dt^2), Eq 21 */
+    RJ_METHOD_MOMENTUM,    /* momentum balance with restitution e, Eqs 23-24 */
+    RJ_METHOD_FORCED,      /* forced displacement back to the limit */
+    RJ_METHOD_ENERGY       /* energy conservation, Eqs 25-26 */
+} rj_method;
+
+/* How a joint measures its rotary location and applies its torques.
+   RJ_REF_TANGENT (default): theta from the nodal rotations (the beam's tangent directions)
+     at the pin, torques as moments on those rotations; I1, I2 are the pin nodes' rotary
+     inertias. Converges at second order with mesh refinement (docs/validation.md: 10 vs 40 elements).
+   RJ_REF_CHORD: the paper's literal form, theta from the chords I->K and J->L, torques as
+     force couples on them; I1, I2 = m_K |IK|^2, m_L |JL|^2. First order in the element
+     length, because a couple over the first element is not a moment at the pin. */
+typedef enum rj_reference { RJ_REF_TANGENT = 0, RJ_REF_CHORD } rj_reference;
+
+/* Release rules (Eqs 8-13: RC12 position-based, RC13 velocity-based). */
+typedef enum rj_release { RJ_RELEASE_RC12 = 0, RJ_RELEASE_RC13 } rj_release;
+/* Where the step writes the nodes and elements (rj_solver_def.in_place): AUTO in place from
+   RJ_IN_PLACE_NODES (400) nodes on, ON whenever the scene allows, OFF never (see the solver). */
+typedef enum rj_in_place { RJ_IN_PLACE_AUTO = 0, RJ_IN_PLACE_ON, RJ_IN_PLACE_OFF } rj_in_place;
+
+/* Joint status flag, Eq 7. */
+typedef enum rj_flag { RJ_FREE = 0, RJ_AT_FORWARD = 1, RJ_AT_REVERSE = 2, RJ_LOCKED = 3 } rj_flag;
+
+/* Torque components (about the joint, acting on body 2; body 1 gets the opposite). */
+typedef enum rj_torque {
+    RJ_TORQUE_TABLE = 0,
+    RJ_TORQUE_SPRING,
+    RJ_TORQUE_DAMPING,
+    RJ_TORQUE_FRICTION,
+    RJ_TORQUE_LIMIT,
+    RJ_TORQUE_TOTAL,
+    RJ_TORQUE_COUNT
+} rj_torque;
+
+/* Link definition. Defaults (rj_default_link_def):
+     length 1 m; elements 10; E 70e9 Pa; rho 2710 kg/m^3;
+     section RJ_SECTION_RECT, width 0.05 m, height 0.2 m (in-plane depth), layers 1;
+     area 0 m^2, inertia 0 m^4 (used only by RJ_SECTION_GENERAL);
+     tip_mass 0 kg, tip_inertia 0 kg m^2;
+     root RJ_ROOT_FREE; x 0 m, y 0 m, angle 0 rad (root placement, used when the link is not
+     the body2 of a joint); vx, vy 0 m/s, omega 0 rad/s (initial rigid motion of a root link); fidelity RJ_LINK_FLEXIBLE. */
+typedef struct rj_link_def {
+    double length;        /* m, > 0 */
+    int elements;         /* >= 1 */
+    double E;             /* Young's modulus, Pa, > 0 */
+    double rho;           /* density, kg/m^3, > 0 */
+    int section;          /* rj_section */
+    double width;         /* m, out-of-plane width (RECT) */
+    double height;        /* m, in-plane depth (RECT; drawn thickness for GENERAL if > 0) */
+    int layers;           /* >= 1, layers across the depth (RECT); elastic layers cost nothing */
+    double area;          /* m^2 (GENERAL) */
+    double inertia;       /* m^4 second moment of area (GENERAL) */
+    double tip_mass;      /* kg, >= 0, point mass at the last node */
+    double tip_inertia;   /* kg m^2, >= 0, rotary inertia of the tip mass about its centre */
+    int root;             /* rj_root */
+    double x, y, angle;   /* m, m, rad */
+    double vx, vy, omega; /* m/s, m/s, rad/s */
+    int fidelity;         /* rj_fidelity */
+    unsigned cookie;      /* set by rj_default_link_def; catches undefaulted structs */
+} rj_link_def;
+
+/* Joint definition. Defaults (rj_default_joint_def):
+     body1 -1 (ground), node1 -1 (last node of body1), body2 0;
+     ground_x 0 m, ground_y 0 m, ground_angle 0 rad;
+     angle0 pi rad (straight), rate0 0 rad/s;
+     table none (table_count 0); spring_k 0 N m/rad, spring_free_angle pi rad;
+     has_forward 0, forward 0 rad; has_reverse 0, reverse 0 rad; lock 0;
+     method RJ_METHOD_ADAPTIVE, release RJ_RELEASE_RC13, penalty_k 0 N m/rad (0 with
+     RJ_METHOD_PENALTY is invalid), restitution 0;
+     damping 0 N m s/rad, friction 0 N m; reference RJ_REF_TANGENT. */
+#define RJ_TABLE_MAX 32
+typedef struct rj_joint_def {
+    int body1; /* link index, or -1 for ground */
+    int node1; /* node of body1 carrying the pin; -1 = last node */
+    int body2; /* link index; pinned at its node 0 */
+    double ground_x, ground_y,
+        ground_angle; /* m, m, rad: pin and reference direction when body1 = -1 */
+    double angle0;    /* rad, initial rotary location (start of the running angle; any real) */
+    double rate0;     /* rad/s, initial theta_dot */
+    int table_count;  /* 0, or 2..RJ_TABLE_MAX points */
+    double table_angle[RJ_TABLE_MAX];  /* rad, in [0, 2 pi]; segment i runs from point i to i+1
+                                          when the angle rises; a fall starts a new run, so
+                                          later segments may overlap earlier ones (Eq 4) */
+    double table_torque[RJ_TABLE_MAX]; /* N m, resistive torque at table_angle */
+    double spring_k; /* N m/rad, >= 0: torque -spring_k (theta_run - spring_free_angle) on body 2 */
+    double spring_free_angle; /* rad, on the running angle (may lie outside [0, 2 pi)) */
+    int has_forward;          /* forward limit enabled */
+    double forward;           /* rad, theta_f in [0, 2 pi) */
+    int has_reverse;          /* reverse limit enabled */
+    double reverse;           /* rad, theta_r in [0, 2 pi) */
+    int lock;                 /* bLock: latch for good at the first limit reached */
+    int method;               /* rj_method */
+    int release;              /* rj_release */
+    double penalty_k;         /* N m/rad, RJ_METHOD_PENALTY */
+    double restitution;       /* e in [0, 1], RJ_METHOD_MOMENTUM */
+    double damping;           /* C, N m s/rad, >= 0 (Eq 27) */
+    double friction;          /* T_f, N m, >= 0 */
+    int reference;            /* rj_reference */
+    unsigned cookie;
+} rj_joint_def;
+
+/* Solver definition. Defaults (rj_default_solver_def):
+     dt 0 s (0 = use 0.9 x the stability bound); allow_unstable 0;
+     energy_growth 10 (blow-up when total energy exceeds 10 x max(initial energy, energy put
+     in by springs) + 1e-9 J); energy_every 1; gravity 0 0 m/s^2.
+   gravity: a uniform acceleration on every mass of every link model (nodes, tip masses,
+   rigid links and bodies); its potential -m g . x is the energy account rj_energy.gravity.
+   energy_every K > 1: the kinetic, strain and spring energies (rj_state_energy) and the
+   energy-based blow-up checks are taken K steps after the last time only, and on the step
+   before each of rj_run's samples and its last step, so sampled histories and the state
+   rj_run leaves are the same as with K = 1;
+   between them rj_state_energy keeps the last ones (rj_state_energy_time says when). Positions,
+   velocities and the work of damping, friction and limits are the same bits either way;
+   flexible links' steps take about a quarter fewer instructions (sh bench/instr.sh);
+   a blow-up is caught up to K - 1 steps later. Rigid-only scenes take it every step.
+   in_place (rj_in_place, default AUTO): the step advances the nodes and elements where they
+   are instead of into a second frame, which halves what a large model moves through the
+   caches (1.36-1.49x faster at 2000 elements in make bench, docs/performance.md); it keeps a copy of the state
+   at most 64 steps old and, when a step fails, takes the steps since it again, so a failed
+   step leaves the state as it was either way, and the results are the same bits. It costs a
+   third frame of memory, and a few copies per step that only pay from a few hundred nodes
+   on: AUTO uses it from RJ_IN_PLACE_NODES nodes (400; a compile-time setting). Scenes with
+   inextensible links never step in place (SHAKE reads every node's old position), nor do
+   states given node forces (rj_state_node_forces: their kick reads a node's old velocity). */
+typedef struct rj_solver_def {
+    double dt;            /* s, >= 0 */
+    int allow_unstable;   /* accept dt above the bound */
+    double energy_growth; /* > 1 */
+    int energy_every;     /* 1 .. 1000 steps */
+    int in_place;         /* rj_in_place */
+    double gravity[2];    /* m/s^2, the acceleration of gravity (x, y); default 0 0 */
+    unsigned cookie;
+} rj_solver_def;
+
+/* Applied load definition: a force and a moment on one node of one link, scaled in time
+   by a table. Defaults (rj_default_load_def): link 0, node -1 (the link's last node);
+   force 0 0 N; moment 0 N m; follower 0; no table (constant).
+   force: N, in the global frame; with follower 1, in the node's own frame (x along the
+   section's rotation, the link's axis where it starts straight; y normal to it), so that it
+   turns with the node, as a thruster or a pressure on the tip would. moment: N m,
+   counter-clockwise. table: table_count points (time, factor) with times strictly
+   increasing; the load is factor(t) (force, moment), linear between the points and held at
+   the end values outside them. Every load's work is rj_energy.work_applied. */
+typedef struct rj_load_def {
+    int link;                          /* link index */
+    int node;                          /* node of the link, 0 .. elements; -1 = the last */
+    double force[2];                   /* N (x, y) */
+    double moment;                     /* N m */
+    int follower;                      /* 0: global frame; 1: turns with the node */
+    int table_count;                   /* 0 (constant), or 1..RJ_TABLE_MAX points */
+    double table_time[RJ_TABLE_MAX];   /* s, strictly increasing */
+    double table_factor[RJ_TABLE_MAX]; /* the load's scale at table_time */
+    unsigned cookie;
+} rj_load_def;
+
+/* A whole scene. The arrays are read during rj_model_create only. loads (load_count of
+   them) may be NULL when load_count is 0. */
+typedef struct rj_scene_def {
+    const rj_link_def *links;
+    int link_count;
+    const rj_joint_def *joints;
+    int joint_count;
+    rj_solver_def solver;
+    const rj_load_def *loads;
+    int load_count;
+} rj_scene_def;
+
+/* Energy accounts, J. total = kinetic + strain + spring; balance = total + lost - initial. */
+typedef struct rj_energy {
+    double kinetic, strain, spring; /* spring: torsion springs and tables */
+    double gravity;                 /* the potential of gravity, -sum m g . x */
+    double work_applied; /* J done on the model by the applied loads and caller's inputs so far */
+    double lost_damping, lost_friction, lost_limit;
+    double total, balance;
+} rj_energy;
+
+typedef struct rj_model rj_model;
+typedef struct rj_state rj_state;
+
+/* Degree/radian helpers. */
+RJDEF double rj_rad(double deg);
+RJDEF double rj_deg(double rad);
+
+/* Definition structs with every default filled in. */
+RJDEF rj_link_def rj_default_link_def(void);
+RJDEF rj_joint_def rj_default_joint_def(void);
+RJDEF rj_solver_def rj_default_solver_def(void);
+RJDEF rj_load_def rj_default_load_def(void);
+RJDEF rj_scene_def rj_default_scene_def(void);
+/* Result code as text. */
+RJDEF const char *rj_result_str(rj_result r);
+
+/* Validates the scene and builds a model. rj_model_size checks every field and the totals
+   and gives the bytes rj_model_init needs (0 when the scene is invalid, with err filled);
+   rj_model_init builds into the caller's block (aligned to 16), checking the joint graph
+   too (one joint per body2, no loops; it needs the block's scratch for that, so that
+   every check is linear in the scene) and refusing a model with no usable step;
+   rj_model_create allocates one block with RJ_MALLOC. */
+RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err);
+RJDEF rj_result rj_model_init(const rj_scene_def *scene, void *mem, size_t size, rj_model **out,
+                              rj_error *err);
+RJDEF rj_result rj_model_create(const rj_scene_def *scene, rj_model **out, rj_error *err,
+                                void *alloc_ctx);
+RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx);
+
+/* States: size query, init into caller memory, or allocate; reset to the initial conditions. */
+RJDEF size_t rj_state_size(const rj_model *m);
+RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_state **out);
+RJDEF rj_result rj_state_create(const rj_model *m, rj_state **out, void *alloc_ctx);
+RJDEF void rj_state_destroy(rj_state *s, void *alloc_ctx);
+RJDEF void rj_state_reset(const rj_model *m, rj_state *s);
+RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *src);
+
+/* One central-difference step of the model's dt. Never allocates, prints or reads. */
+RJDEF rj_result rj_step(const rj_model *m, rj_state *s);
+/* Steps until time >= t_end (to half a step); calls sample(m, s, user) at the start and at
+   the step nearest to every multiple of sample_dt (every step when sample_dt is 0). A
+   nonzero return from sample stops the run. */
+typedef int (*rj_sample_fn)(const rj_model *m, const rj_state *s, void *user);
+RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double sample_dt,
+                       rj_sample_fn sample, void *user);
+/* Static equilibrium under the present loads (gravity, springs, limits) by dynamic
+   relaxation with kinetic damping: steps on, and at each peak of the kinetic energy sets
+   every velocity to zero, until a peak's kinetic energy is below tol times the potential
+   energy that moved (strain, springs and gravity's, since the start; tol in (0, 1), 1e-12
+   is tight), or below the energy of round-off. A scene already at rest settles at once.
+   Time runs while it settles, so a load's table acts as it would in a run (a ramp brings a
+   load on gently); it settles only past the last point of every load's table, where the
+   loads stay constant, and the settled state keeps that time: the run goes on under the
+   loads it settled under. The step count,
+   energy accounts and joint events restart from zero, velocities zero, joint flags and
+   running angles kept (rj_state_steps counts the steps since the last start from rest).
+   Returns RJ_OK; RJ_ERR_INVALID for bad arguments; RJ_ERR_NOT_CONVERGED (the state at
+   max_steps kept, its velocities zeroed) when it has not settled within max_steps; a step's
+   error as rj_step. */
+RJDEF rj_result rj_settle(const rj_model *m, rj_state *s, double tol, long max_steps);
+/* rj_settle with progress(m, s, user) called every 4096 steps (NULL: never); a nonzero
+   return stops the settling with RJ_ERR_NOT_CONVERGED, the velocities zeroed. */
+RJDEF rj_result rj_settle_ex(const rj_model *m, rj_state *s, double tol, long max_steps,
+                             rj_sample_fn progress, void *user);
+/* Last step error text (empty when none). */
+RJDEF const char *rj_state_error(const rj_state *s);
+/* The caller's torques on the joints, one per joint (N m on body 2 and the opposite on body
+   1, counter-clockwise positive), applied by every step until changed, as a controller or a
+   motor would; zero after rj_state_create and rj_state_reset; copied by rj_state_copy and
+   saved in checkpoints. Their work is rj_energy.work_applied. The first call switches them
+   on: a state that never asks pays nothing per step. */
+RJDEF double *rj_state_joint_torques(const rj_model *m, rj_state *s);
+/* The caller's forces and moments on the nodes, three per node in the scene's node order
+   (fx N, fy N, moment N m, in the global frame; link l's node k is entry
+   3 (first node of l + k), rj_model_node_index), applied by every step until changed
+   (MuJoCo's xfrc_applied); zero after rj_state_create and rj_state_reset; copied by
+   rj_state_copy and saved in checkpoints. Their work is rj_energy.work_applied. The first
+   call switches them on: a state that never asks pays nothing per step (one that does
+   steps double-buffered: the kick they give a node reads its old velocity). */
+RJDEF double *rj_state_node_forces(const rj_model *m, rj_state *s);
+/* Warnings so far (a contact caught more than 0.05 rad past its limit, or past the whole
+   limited range: tunnelling) and the latest warning's text. */
+RJDEF long rj_state_warning_count(const rj_state *s);
+RJDEF const char *rj_state_warning(const rj_state *s);
+
+/* Model queries. */
+/* Warnings about the definitions, found while building (a limit the joint starts past,
+   or that its spring never drives it to): their number, and their text, one per line
+   ("" when none). The model is built and usable either way. */
+RJDEF int rj_model_warning_count(const rj_model *m);
+RJDEF const char *rj_model_warnings(const rj_model *m);
+RJDEF double rj_model_dt(const rj_model *m);        /* s, step in use */
+RJDEF double rj_model_dt_bound(const rj_model *m);  /* s, 2/omega_max of the linearised model */
+RJDEF double rj_model_omega_max(const rj_model *m); /* rad/s */
+RJDEF int rj_model_link_count(const rj_model *m);
+RJDEF int rj_model_joint_count(const rj_model *m);
+RJDEF int rj_model_node_count(const rj_model *m);
+RJDEF const rj_link_def *rj_model_link_def(const rj_model *m, int link);
+RJDEF const rj_joint_def *rj_model_joint_def(const rj_model *m, int joint);
+RJDEF int rj_link_node_count(const rj_model *m, int link); /* elements + 1 */
+/* Node k of link l in the scene's node order (-1 for the last), -1 when out of range. */
+RJDEF int rj_model_node_index(const rj_model *m, int link, int node);
+RJDEF int rj_model_load_count(const rj_model *m);
+RJDEF const rj_load_def *rj_model_load_def(const rj_model *m, int load);
+/* Lumped mass (kg) and rotary inertia (kg m^2) of a node, tip mass included (a rigid
+   link's node in a mixed scene: 0 and its body's inertia, see rj_fidelity). */
+RJDEF void rj_node_mass(const rj_model *m, int link, int node, double *mass, double *rinertia);
+RJDEF double rj_link_EA(const rj_model *m, int link);
+RJDEF double rj_link_EI(const rj_model *m, int link);
+/* Paper's bounds: Eq 28 dt = l / c of the shortest element of the joint's two links;
+   Eq 29 min(Eq 28, sqrt(rho I l / K)); Eq 31 K_max = 0.81 rho I l / dt^2 (I second moment,
+   rho, l of the smaller of the two links; ground counts as infinitely large). */
+RJDEF double rj_model_dt_eq28(const rj_model *m);
+RJDEF double rj_joint_dt_eq29(const rj_model *m, int joint, double K);
+RJDEF double rj_joint_kmax_eq31(const rj_model *m, int joint, double dt);
+/* Joint inertias I1, I2 (kg m^2) of the reference segments, and the stiffness the joint
+   uses at its limits with the model's dt (K_AP for adaptive, penalty_k for penalty). */
+RJDEF void rj_joint_inertias(const rj_model *m, int joint, double *I1, double *I2);
+RJDEF double rj_joint_stiffness(const rj_model *m, int joint);
+
+/* The linearised model at the initial configuration, for modal analysis and tests: out =
+   M^-1/2 K M^-1/2 u over 3 x node_count DOFs (x, y, phi per node; fixed DOFs and all but
+   the first node of a pin group give 0). Its eigenvalues are omega^2. work holds
+   rj_model_work_size(m) doubles. */
+RJDEF size_t rj_model_work_size(const rj_model *m);
+RJDEF void rj_model_apply_stiffness(const rj_model *m, const double *u, double *out, double *work);
+
+/* State queries. */
+RJDEF double rj_state_time(const rj_state *s);
+/* Steps since the state last started from rest: rj_state_create, rj_state_reset, rj_settle
+   (time, rj_state_time, runs on through rj_settle). */
+RJDEF long rj_state_steps(const rj_state *s);
+RJDEF void rj_node_position(const rj_model *m, const rj_state *s, int link, int node, double xy[2]);
+RJDEF void rj_node_velocity(const rj_model *m, const rj_state *s, int link, int node, double v[2]);
+RJDEF double rj_node_rotation(const rj_model *m, const rj_state *s, int link, int node);
+RJDEF double rj_node_rate(const rj_model *m, const rj_state *s, int link, int node); /* rad/s */
+RJDEF void rj_joint_position(const rj_model *m, const rj_state *s, int joint, double xy[2]);
+RJDEF double rj_joint_theta(const rj_model *m, const rj_state *s, int joint); /* [0, 2 pi) */
+RJDEF double rj_joint_theta_running(const rj_model *m, const rj_state *s,
+                                    int joint);                              /* unwrapped */
+RJDEF double rj_joint_rate(const rj_model *m, const rj_state *s, int joint); /* rad/s */
+RJDEF int rj_joint_flag(const rj_model *m, const rj_state *s, int joint);    /* rj_flag */
+RJDEF double rj_joint_torque(const rj_model *m, const rj_state *s, int joint, int component);
+RJDEF double rj_joint_penetration(const rj_model *m, const rj_state *s, int joint); /* rad, Eq 19 */
+/* N m s: the angular impulse on body 2 that a velocity-level limit response (momentum,
+   forced, energy: Eqs 23-26) applied in the last step, 0 in a step without one. Those
+   methods latch by a jump in the rates, so their RJ_TORQUE_LIMIT is 0; while a joint is
+   held at its limit, impulse / dt is the mean constraint torque over the step, the latch
+   load. Penalty and adaptive limits report theirs as RJ_TORQUE_LIMIT instead (the torque
+   of a spring whose stiffness is a numerical choice: see docs/validation.md). */
+RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int joint);
+RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s,
+                                 int joint); /* first limit contact or lock, s; -1 if none */
+RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s,
+                                   int joint); /* latest release from a limit, s; -1 if none */
+/* The first time the joint's two links passed through each other (its angle turned
+   through a multiple of 360 deg, where they lie over each other; links do not contact
+   each other), s; -1 if never, and always -1 for a joint to ground. Also a warning. */
+RJDEF double rj_joint_overlap_time(const rj_model *m, const rj_state *s, int joint);
+RJDEF double rj_joint_peak_penetration(const rj_model *m, const rj_state *s,
+                                       int joint); /* rad, largest |penetration| so far */
+RJDEF double rj_joint_contact_penetration(
+    const rj_model *m, const rj_state *s,
+    int joint); /* rad, penetration when the latest contact was detected */
+/* Energy accounts at time rj_state_energy_time(s) = time - dt (with solver.energy_every
+   K > 1: of the last step that took them, at most K steps back; rj_run takes them before
+   every sample and at its end): the kinetic energy of the central-difference pair is
+   1/2 m v^{n-1/2}.v^{n+1/2}, which closes the balance exactly for linear systems. */
+RJDEF void rj_state_energy(const rj_model *m, const rj_state *s, rj_energy *e);
+RJDEF double rj_state_energy_time(const rj_state *s);
+
+/* Checkpoints: a state to and from bytes. rj_state_save returns the bytes needed when buf
+   is NULL or too small (and writes nothing then). rj_state_load rejects a truncated,
+   corrupted or foreign buffer and leaves the state unchanged. */
+RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size_t size);
+RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, size_t size,
+                              rj_error *err);
+
+/* The element's pure equations, exposed for tests and for users' own codes. */
+RJDEF double rj_rotary_location(double ax, double ay, double bx,
+                                double by); /* Eqs 1-3, [0, 2 pi) */
+RJDEF double rj_table_torque(const double *angle, const double *torque, int count,
+                             double theta);                        /* Eq 4 */
+RJDEF int rj_blimit(double theta, double forward, double reverse); /* Eq 6 */
+RJDEF int rj_flag_next(int prev, int beyond_forward, int beyond_reverse, double rate, int lock,
+                       int release);                         /* Eqs 7-13 */
+RJDEF double rj_k_adaptive(double I1, double I2, double dt); /* Eq 21 */
+RJDEF void rj_momentum_balance(double I1, double I2, double e, double *w1,
+                               double *w2);                                 /* Eqs 23-24 */
+RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2); /* Eqs 25-26 */
+
+/* ------------------------------------------------------------------ scene files
+   A small, strict, line-oriented text format for whole scenes (docs/scene-format.md). Define
+   RJ_NO_SCENE_FILES to compile this part out. */
+#ifndef RJ_NO_SCENE_FILES
+#define RJ_SCENE_MAX_LINKS     256
+#define RJ_SCENE_MAX_JOINTS    256
+#define RJ_SCENE_MAX_LOADS     256
+#define RJ_SCENE_MAX_MATERIALS 64
+#define RJ_SCENE_MAX_SECTIONS  64
+#define RJ_SCENE_MAX_LINE      1024 /* characters per line, line end excluded */
+#define RJ_SCENE_MAX_TOKENS    512 /* tokens per statement (a statement may continue after a ',') */
+#define RJ_SCENE_NAME_MAX      32  /* names are 1..31 characters */
+#define RJ_SCENE_MAX_BYTES     (64u << 20) /* input size */
+#define RJ_SCENE_TITLE_MAX     128         /* a title is 0..127 bytes */
+
+/* A place in the file: 1-based line and column (column counts bytes); line 0 = nowhere. */
+typedef struct rj_scene_pos {
+    int line, col;
+} rj_scene_pos;
+
+/* A parsed scene. Everything lives in one block from RJ_MALLOC; rj_scene_file_free
+   releases it. links[i] and link_names[i] are the i-th link section in order of
+   appearance, likewise for joints and loads. The fields ending in _ are private. */
+typedef struct rj_scene_file {
+    rj_link_def *links;
+    int link_count;
+    rj_joint_def *joints;
+    int joint_count;
+    rj_solver_def solver;
+    char (*link_names)[RJ_SCENE_NAME_MAX];
+    char (*joint_names)[RJ_SCENE_NAME_MAX];
+    char filename[96];                    /* as given to rj_scene_parse (truncated) */
+    char title[RJ_SCENE_TITLE_MAX];       /* title = "..." at the top of the file; "" when none */
+    rj_scene_pos *link_pos_, *joint_pos_; /* per item: header, then the value of each key */
+    rj_scene_pos
+        solver_pos_[7]; /* header, then dt, allow_unstable, energy_growth, energy_every, in_place,
+                           gravity */
+    void *block_, *alloc_ctx_;
+    rj_load_def *loads;
+    int load_count;
+    char (*load_names)[RJ_SCENE_NAME_MAX];
+    rj_scene_pos *load_pos_;
+} rj_scene_file;
+
+/* Parses len bytes of text (need not be NUL-terminated) named filename in messages
+   (NULL: "<input>"). On success fills *out. On failure returns RJ_ERR_PARSE (syntax, a value
+   out of range, an unknown name, a limit exceeded) or the code of rj_model_create's
+   validation (RJ_ERR_INVALID) for a scene that parses but that the model rejects, with
+   err->msg "file:line:col: message" (the line and column of the offending text), err->field
+   the key (or the model's field), err->value the offending number (NaN when not numeric);
+   nothing is left allocated and *out is zeroed (rj_scene_file_free on it is a no-op).
+   alloc_ctx is passed to RJ_MALLOC / RJ_FREE (rj_scene_parse passes NULL). */
+RJDEF rj_result rj_scene_parse(const char *text, size_t len, const char *filename,
+                               rj_scene_file *out, rj_error *err);
+RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *filename,
+                                  rj_scene_file *out, rj_error *err, void *alloc_ctx);
+/* Reads the file at path (at most RJ_SCENE_MAX_BYTES) and parses it. A file that cannot
+   be opened or read gives RJ_ERR_PARSE, err->field "path", err->value errno and err->msg
+   "path: cannot open the file for reading: " and the system's reason (strerror). */
+RJDEF rj_result rj_scene_load(const char *path, rj_scene_file *out, rj_error *err);
+/* A scene definition pointing into f (valid until rj_scene_file_free). */
+RJDEF rj_scene_def rj_scene_file_def(const rj_scene_file *f);
+RJDEF void rj_scene_file_free(rj_scene_file *f);
+/* Index of the link or joint with that name, -1 if none. */
+RJDEF int rj_scene_link_index(const rj_scene_file *f, const char *name);
+RJDEF int rj_scene_joint_index(const rj_scene_file *f, const char *name);
+/* For an error from rj_model_create (or rj_model_size/init) on rj_scene_file_def(f): puts
+   "file:line:col: " before err->msg, pointing at the key its err->field names (or at the
+   link's or joint's section line), and the item's name after it. Call once per error;
+   an error whose field names no item gets "file: " only. */
+RJDEF void rj_scene_file_locate(const rj_scene_file *f, rj_error *err);
+/* Writes the scene as scene-file text into buf (size bytes, always NUL-terminated when
+   size > 0) and returns the length of the whole text (excluding the NUL), like snprintf:
+   call with size 0 to learn the size. link_names / joint_names may be NULL ("link0", ...,
+   "joint0", ...); given names must be valid (1..31 of [A-Za-z0-9_.-], not starting with a
+   digit, '.' or '-'; a link not named "ground") and unique. Returns 0 (and writes nothing)
+   for an unwritable scene: counts outside 1..RJ_SCENE_MAX_LINKS / 0..RJ_SCENE_MAX_JOINTS /
+   0..RJ_SCENE_MAX_LOADS, a body or load index out of range, a non-finite number in a field
+   it writes, a bad name. Loads are written as load0, load1, ... Reading
+   the text back with rj_scene_parse gives every field the model uses bit for bit, -0.0
+   included (numbers are written in their shortest round-trip form, angles in deg when that
+   round-trips, else in rad), so any scene rj_model_create accepts within those counts
+   builds the same model from the text. Fields the model ignores (width/layers of a general
+   section, area/inertia of a rectangular one, the value of a disabled limit, table points
+   past table_count, node1 and ground_* where they do not apply) are not written, so they
+   may hold anything (NaN too), and come back as their defaults. */
+RJDEF size_t rj_scene_write(const rj_scene_def *scene, const char *const *link_names,
+                            const char *const *joint_names, char *buf, size_t size);
+/* rj_scene_write with a title line (title = "...") after the header comment, which
+   rj_scene_parse reads back into rj_scene_file.title. title NULL or "" writes none (that is
+   rj_scene_write). Returns 0 (and writes nothing) also for a title that a file cannot hold:
+   RJ_SCENE_TITLE_MAX bytes or more, a '"', or a control byte (tab included). */
+RJDEF size_t rj_scene_write_ex(const rj_scene_def *scene, const char *const *link_names,
+                               const char *const *joint_names, const char *title, char *buf,
+                               size_t size);
+#endif /* RJ_NO_SCENE_FILES */
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* REVJOINT_H */
+

@@ -1,0 +1,1142 @@
+/* ------------------------------------------------------------------ rigid bodies in mixed scenes */
+/* A rigid link among flexible ones is one rigid body. It carries its own nodes, whose
+   translation and rotation follow it, and the nodes pinned to them, whose translation
+   follows it while their rotation stays free (the pin). The body's state is its anchor
+   (the centre of mass, or the fixed pin it turns about), the anchor's velocity, its rate
+   and its angle; node forces act on it at their points, node moments on its own nodes
+   add to its torque. Its nodes are massless attachment points; the body's mass and
+   inertia are the link's exact ones (rod, tip mass and inertia) plus the pinned nodes'
+   lumped masses. The step is the same central difference: rates at half steps, the
+   nodes placed by the exact rotation, so the body stays rigid to round-off. */
+#define RJ__FCL(m, f, c) ((f) + (m)->cl_off + 6 * (size_t) (c))
+#define RJ__CL_RIGID(m, n)                                                                         \
+    ((m)->node_cl[n] >= 0 && (n) >= (m)->link_first[(m)->node_cl[n]] &&                            \
+     (n) < (m)->link_first[(m)->node_cl[n] + 1])
+
+/* A section's area as the rigid bodies take it: width x height for a rectangle (not its
+   layers' sum), else the given area. */
+static double rj__plain_area(const rj_link_def *d)
+{
+    return d->section == RJ_SECTION_RECT ? d->width * d->height : d->area;
+}
+
+static int rj__clusters(rj_model *m, rj_error *err)
+{
+    int l, i, gi, k, cnt = 0, ng = 0, q = 0;
+    for (l = 0; l < m->nl; l++) {
+        const rj_link_def *d = &m->ldef[l];
+        const int n0 = m->link_first[l], nt = m->link_first[l + 1] - 1;
+        double A, mr, mt, dc, ux, uy, cx, cy, vcx, vcy, M, ax, ay, vax, vay, I, w0 = m->w0[n0];
+        int nfix = 0, fixn = -1, held = 0;
+        m->cl_first[l] = cnt;
+        if (d->fidelity != RJ_LINK_RIGID)
+            continue;
+        for (i = n0; i <= nt; i++) {
+            m->cl_node[cnt++] = i;
+            m->node_cl[i] = l;
+        }
+        for (gi = 0; gi < m->ng; gi++) {
+            int has = 0;
+            for (k = m->grp_first[gi]; k < m->grp_first[gi + 1]; k++)
+                if (m->grp_node[k] >= n0 && m->grp_node[k] <= nt)
+                    has = 1;
+            if (!has)
+                continue;
+            if (m->grp_inv[gi] == 0) {
+                nfix++;
+                fixn = m->grp_node[m->grp_first[gi]];
+            } /* pinned to something fixed */
+            for (k = m->grp_first[gi]; k < m->grp_first[gi + 1]; k++) {
+                const int n = m->grp_node[k];
+                if (m->node_cl[n] < 0) {
+                    m->cl_node[cnt++] = n;
+                    m->node_cl[n] = l;
+                }
+            }
+        }
+        for (i = n0; i <= nt; i++) {
+            if (m->rinv[i] == 0)
+                held = 1; /* clamped or fixed */
+            if (m->node_grp[i] < 0 && m->tinv[i] == 0) {
+                nfix++;
+                fixn = i;
+            }
+        }
+        /* the link as a body: rod plus tip mass, as in scenes of rigid links */
+        A = rj__plain_area(d);
+        mr = d->rho * A * d->length;
+        mt = mr + d->tip_mass;
+        dc = (mr * 0.5 * d->length + d->tip_mass * d->length) / mt;
+        ux = (m->x0[nt] - m->x0[n0]) / d->length;
+        uy = (m->y0[nt] - m->y0[n0]) / d->length;
+        cx = m->x0[n0] + dc * ux;
+        cy = m->y0[n0] + dc * uy;
+        vcx = m->vx0[n0] - w0 * (cy - m->y0[n0]);
+        vcy = m->vy0[n0] + w0 * (cx - m->x0[n0]);
+        M = mt;
+        ax = mt * cx;
+        ay = mt * cy;
+        vax = mt * vcx;
+        vay = mt * vcy;
+        for (k = m->cl_first[l]; k < cnt; k++) {
+            const int n = m->cl_node[k];
+            if (n >= n0 && n <= nt)
+                continue;
+            M += m->mass[n];
+            ax += m->mass[n] * m->x0[n];
+            ay += m->mass[n] * m->y0[n];
+            vax += m->mass[n] * m->vx0[n];
+            vay += m->mass[n] * m->vy0[n];
+        }
+        ax /= M;
+        ay /= M;
+        vax /= M;
+        vay /= M;
+        m->cl_fix[l] = held || nfix > 1 ? 2 : nfix;
+        if (nfix >= 1) {
+            ax = m->x0[fixn];
+            ay = m->y0[fixn];
+            vax = vay = 0;
+        }
+        if (m->cl_fix[l] == 2) {
+            vax = vay = 0;
+            w0 = 0;
+        }
+        I = mr * d->length * d->length / 12.0 +
+            mr * (0.5 * d->length - dc) * (0.5 * d->length - dc) +
+            d->tip_mass * (d->length - dc) * (d->length - dc) + d->tip_inertia +
+            mt * ((cx - ax) * (cx - ax) + (cy - ay) * (cy - ay));
+        for (k = m->cl_first[l]; k < cnt; k++) {
+            const int n = m->cl_node[k];
+            if (n < n0 || n > nt)
+                I += m->mass[n] *
+                     ((m->x0[n] - ax) * (m->x0[n] - ax) + (m->y0[n] - ay) * (m->y0[n] - ay));
+        }
+        m->cl_M[l] = M;
+        m->cl_I[l] = I;
+        m->cl_th0[3 * l] = m->phi0[n0];
+        m->cl_th0[3 * l + 1] = vax;
+        m->cl_th0[3 * l + 2] = vay;
+        for (k = m->cl_first[l]; k < cnt; k++) {
+            const int n = m->cl_node[k];
+            const int own = n >= n0 && n <= nt;
+            m->cl_rx[n] = m->x0[n] - ax;
+            m->cl_ry[n] = m->y0[n] - ay;
+            m->einv[n] = 0;
+            m->kmass[n] = 0;
+            /* a pinned node's translation is the body's point there: its largest inverse
+               mass (1/M + r^2/I) stands in for it in the stability bound and in the rate
+               predictions of joints between flexible links at that node; the body's
+               update overwrites what the node update does with it */
+            m->tinv[n] = own || m->cl_fix[l] == 2
+                             ? 0.0
+                             : (m->cl_fix[l] == 0 ? 1.0 / M : 0.0) +
+                                   (m->cl_rx[n] * m->cl_rx[n] + m->cl_ry[n] * m->cl_ry[n]) / I;
+            /* the initial velocities of the rigid motion */
+            m->vx0[n] = vax - w0 * m->cl_ry[n];
+            m->vy0[n] = vay + w0 * m->cl_rx[n];
+            if (own) {
+                m->krot[n] = 0;
+                m->mass[n] = 0;
+                m->rinertia[n] = I;
+                m->rinv[n] = m->cl_fix[l] == 2 ? 0.0 : 1.0 / I;
+                m->w0[n] = w0;
+            }
+        }
+    }
+    m->cl_first[m->nl] = cnt;
+    /* pin groups holding a body's node are the body's now */
+    for (gi = 0; gi < m->ng; gi++) {
+        const int f0 = m->grp_first[gi], f1 = m->grp_first[gi + 1];
+        int absorbed = m->node_cl[m->grp_node[f0]] >= 0;
+        if (absorbed) {
+            for (k = f0; k < f1; k++)
+                m->node_grp[m->grp_node[k]] = -1;
+            continue;
+        }
+        m->grp_inv[ng] = m->grp_inv[gi];
+        for (k = f0; k < f1; k++) {
+            m->grp_node[q++] = m->grp_node[k];
+            m->node_grp[m->grp_node[k]] = ng;
+        }
+        m->grp_first[++ng] = q;
+    }
+    m->ng = ng;
+    (void) err;
+    return 1;
+}
+
+/* Twice a body's kinetic energy in the v^{n-1/2}.v^{n+1/2} form (first step: v(0) given). */
+static double rj__cl_ke2(const rj_model *m, int c, const double *oc, const double *nc, int first)
+{
+    const double vx = first ? 2 * oc[2] - nc[2] : oc[2], vy = first ? 2 * oc[3] - nc[3] : oc[3],
+                 w = first ? 2 * oc[4] - nc[4] : oc[4];
+    return (m->cl_fix[c] == 0 ? m->cl_M[c] * (vx * nc[2] + vy * nc[3]) : 0.0) +
+           m->cl_I[c] * w * nc[4];
+}
+
+/* The body's torque about its anchor and force from the node loads (x, y at step n). */
+static void rj__cl_load(const rj_model *m, int c, const double *oc, const double *x,
+                        const double *y, const double *fx, const double *fy, const double *mz,
+                        double *Fx, double *Fy, double *T)
+{
+    int k;
+    *Fx = *Fy = *T = 0;
+    for (k = m->cl_first[c]; k < m->cl_first[c + 1]; k++) {
+        const int n = m->cl_node[k];
+        *Fx += fx[n];
+        *Fy += fy[n];
+        *T += (x[n] - oc[0]) * fy[n] - (y[n] - oc[1]) * fx[n];
+        if (RJ__CL_RIGID(m, n))
+            *T += mz[n];
+    }
+}
+
+/* Places the body's members at its record (anchor, angle); with setv the node velocities
+   become the chord velocities (x^{n+1} - x^n)/dt and its own nodes take its rate. */
+static double rj__cl_pose(const rj_model *m, int c, const double *nc, const double *x,
+                          const double *y, double dt, int setv, double *nx, double *ny,
+                          double *nphi, double *nvx, double *nvy, double *nw)
+{
+    const double th0 = m->cl_th0[3 * c], co = cos(nc[5] - th0), sn = sin(nc[5] - th0);
+    double sum = nc[4]; /* the positions written and the rate: finite while they all are */
+    int k;
+    for (k = m->cl_first[c]; k < m->cl_first[c + 1]; k++) {
+        const int n = m->cl_node[k];
+        const double px = nc[0] + co * m->cl_rx[n] - sn * m->cl_ry[n],
+                     py = nc[1] + sn * m->cl_rx[n] + co * m->cl_ry[n];
+        if (setv) {
+            nvx[n] = (px - x[n]) / dt;
+            nvy[n] = (py - y[n]) / dt;
+        }
+        nx[n] = px;
+        ny[n] = py;
+        if (RJ__CL_RIGID(m, n)) {
+            nphi[n] = nc[5] + (m->phi0[n] - th0);
+            if (setv)
+                nw[n] = nc[4];
+        }
+        sum += (px + py) + nphi[n];
+        /* the velocities come from positions here, not the other way round: a position of
+           1e308 m at n (a crafted state) makes them infinite while both positions are finite */
+        if (setv)
+            sum += nvx[n] + nvy[n];
+    }
+    return sum;
+}
+
+/* Finite differences move every degree of freedom by one step h along d = M^-1/2 u. Each
+   DOF has a natural move s: 1e-7 of its link's element in translation, 1e-7 rad in
+   rotation, over sqrt of its inverse mass; h |u| must stay below s for every DOF (the
+   linearisation), and the DOFs whose s is far larger would then move by less than their
+   coordinates resolve (a 1e-9 m link beside 1 m ones, a 1e-300 m wide one: their bounds
+   came out 1e8 times too long). So the DOFs are grouped in classes of s a factor 2^13
+   apart (ilogb / 13), and K d is summed over the classes, each differenced with its own
+   step. A DOF that cannot move (inverse mass 0) has s = 0 and no class. */
+static double rj__lz_inv(const rj_model *m, int i, int k)
+{
+    if (k == 2)
+        return m->rinv[i];
+    if (m->node_grp[i] >= 0)
+        return m->grp_inv[m->node_grp[i]];
+    return m->tinv[i];
+}
+
+/* s of DOF k of node i (0, 1: translation, 2: rotation), the node's link given. */
+static double rj__lz_scale(const rj_model *m, int i, int k, int link)
+{
+    const double w = rj__lz_inv(m, i, k);
+    if (!(w > 0))
+        return 0.0;
+    return (k == 2 ? 1e-7 : 1e-7 * m->link_l0[link]) / sqrt(w);
+}
+
+static int rj__lz_class(double scale)
+{
+    return ilogb(scale) / 13;
+}
+
+/* Whether a DOF of natural move s is in class c (every movable DOF when all is set). */
+static int rj__lz_in(double scale, int c, int all)
+{
+    return scale > 0 && (all || rj__lz_class(scale) == c);
+}
+
+/* The range of classes among the movable DOFs; lo > hi when none can move. */
+static void rj__lz_classes(const rj_model *m, int *lo, int *hi)
+{
+    int l, i, k;
+    *lo = 1;
+    *hi = 0;
+    for (l = 0; l < m->nl; l++)
+        for (i = m->link_first[l]; i < m->link_first[l + 1]; i++)
+            for (k = 0; k < 3; k += 2) {
+                const double scale = rj__lz_scale(m, i, k, l);
+                int c;
+                if (!(scale > 0))
+                    continue;
+                c = rj__lz_class(scale);
+                if (*lo > *hi) {
+                    *lo = c;
+                    *hi = c;
+                }
+                if (c < *lo)
+                    *lo = c;
+                if (c > *hi)
+                    *hi = c;
+            }
+}
+
+/* The DOFs of a node: its translation's u (its group's first member's) and rotation's. */
+static void rj__lz_u(const rj_model *m, const double *u, int i, double *ux, double *uy, double *uw)
+{
+    const int r = m->node_grp[i] >= 0 ? m->grp_node[m->grp_first[m->node_grp[i]]] : i;
+    *ux = u[3 * r];
+    *uy = u[3 * r + 1];
+    *uw = u[3 * i + 2];
+}
+
+/* The step for class c: the largest h whose moves h |u| stay within every moving DOF's s.
+   0 when u is 0 on the class. */
+static double rj__lz_step(const rj_model *m, const double *u, int c, int all)
+{
+    double h = HUGE_VAL;
+    int l, i;
+    for (l = 0; l < m->nl; l++)
+        for (i = m->link_first[l]; i < m->link_first[l + 1]; i++) {
+            const double st = rj__lz_scale(m, i, 0, l), sr = rj__lz_scale(m, i, 2, l);
+            double ux, uy, uw, ut;
+            rj__lz_u(m, u, i, &ux, &uy, &uw);
+            ut = fabs(ux) > fabs(uy) ? fabs(ux) : fabs(uy);
+            if (rj__lz_in(st, c, all) && ut > 0 && st / ut < h)
+                h = st / ut;
+            if (rj__lz_in(sr, c, all) && fabs(uw) > 0 && sr / fabs(uw) < h)
+                h = sr / fabs(uw);
+        }
+    return h == HUGE_VAL ? 0.0 : h;
+}
+
+/* The nodes moved by sh along d = M^-1/2 u on class c. */
+static void rj__lz_move(const rj_model *m, const double *u, double sh, int c, int all, double *x,
+                        double *y, double *p)
+{
+    int l, i;
+    for (l = 0; l < m->nl; l++)
+        for (i = m->link_first[l]; i < m->link_first[l + 1]; i++) {
+            const int moves = rj__lz_in(rj__lz_scale(m, i, 0, l), c, all),
+                      turns = rj__lz_in(rj__lz_scale(m, i, 2, l), c, all);
+            const double st = sqrt(rj__lz_inv(m, i, 0));
+            double ux, uy, uw;
+            rj__lz_u(m, u, i, &ux, &uy, &uw);
+            x[i] = m->x0[i] + (moves ? sh * ux * st : 0.0);
+            y[i] = m->y0[i] + (moves ? sh * uy * st : 0.0);
+            p[i] = m->phi0[i] + (turns ? sh * uw * sqrt(m->rinv[i]) : 0.0);
+        }
+}
+
+/* Linear stiffness operator for the stability bound: out = M^-1/2 K M^-1/2 u over the
+   3 nn node DOFs (translations of grouped nodes live at the group's first member). K is
+   the tangent of the internal forces (central differences on rj__beam_pass) plus
+   k_lin g g^T of every joint, summed over the classes of natural move (rj__lz_class). */
+static void rj__lz_apply(const rj_model *m, const double *u, double *out, double *work)
+{
+    const int nn = m->nn, ne = m->ne;
+    double *x = work, *y = work + nn, *p = work + 2 * nn, *fx = work + 3 * nn, *fy = work + 4 * nn,
+           *mz = work + 5 * nn;
+    double *eu = work + 6 * nn, *bt = eu + ne;
+    double *cxo = bt + ne, *cyo = cxo + ne;
+    const double *cx = m->lz + 9 * (size_t) nn, *cy = cx + ne;
+    int i, sgn, gi, j, c, lo, hi, all;
+    for (i = 0; i < 3 * nn; i++)
+        out[i] = 0.0;
+    rj__lz_classes(m, &lo, &hi);
+    all = lo == hi;
+    if (lo > hi)
+        return;
+    for (c = lo; c <= hi; c++) {
+        const double h = rj__lz_step(m, u, c, all);
+        if (h == 0.0)
+            continue;
+        for (sgn = -1; sgn <= 1; sgn += 2) {
+            rj__lz_move(m, u, sgn * h, c, all, x, y, p);
+            rj__beam_pass(m, x, y, p, m->beta0, cx, cy, eu, bt, cxo, cyo, fx, fy, mz, NULL);
+            /* joints: -k_lin (theta - theta0) g, linearised */
+            for (j = 0; j < m->nj; j++) {
+                const rj__joint *J = &m->jnt[j];
+                rj__jgeo g0, g1;
+                double th0, th1;
+                if (J->k_lin <= 0)
+                    continue;
+                rj__joint_geo(m, J, m->x0, m->y0, &g0);
+                rj__joint_geo(m, J, x, y, &g1);
+                th0 = rj__joint_raw(J, &g0, m->phi0);
+                th1 = rj__joint_raw(J, &g1, p);
+                rj__apply_torque(J, &g0, -J->k_lin * rj__wrap(th1 - th0), fx, fy, mz);
+            }
+            /* out += -sgn * f / (2h), contracted to DOFs */
+            for (i = 0; i < nn; i++) {
+                out[3 * i] += -sgn * fx[i] * sqrt(m->tinv[i]) / (2 * h);
+                out[3 * i + 1] += -sgn * fy[i] * sqrt(m->tinv[i]) / (2 * h);
+                out[3 * i + 2] += -sgn * mz[i] * sqrt(m->rinv[i]) / (2 * h);
+            }
+            for (gi = 0; gi < m->ng; gi++) {
+                int r = m->grp_node[m->grp_first[gi]];
+                double sx = 0, sy = 0, si = sqrt(m->grp_inv[gi]);
+                for (j = m->grp_first[gi]; j < m->grp_first[gi + 1]; j++) {
+                    sx += fx[m->grp_node[j]];
+                    sy += fy[m->grp_node[j]];
+                }
+                out[3 * r] += -sgn * sx * si / (2 * h);
+                out[3 * r + 1] += -sgn * sy * si / (2 * h);
+            }
+        }
+    }
+}
+
+/* Largest eigenvalue of a symmetric tridiagonal matrix (Sturm bisection), k <=
+   RJ__LANCZOS_ITERS. The matrix is scaled to entries of order 1 first: the recurrence
+   squares the off-diagonal, which for a model of omega^2 ~ 1e-166 (a link of 1e150
+   kg/m^3) underflowed and cut omega_max by 6. */
+static double rj__tridiag_max(const double *al_in, const double *be_in, int k)
+{
+    double al[RJ__LANCZOS_ITERS], be[RJ__LANCZOS_ITERS], scale = 0;
+    double lo = 0, hi = 0, mid;
+    int i, it;
+    for (i = 0; i < k; i++) {
+        if (fabs(al_in[i]) > scale)
+            scale = fabs(al_in[i]);
+        if (fabs(be_in[i]) > scale)
+            scale = fabs(be_in[i]);
+    }
+    if (scale == 0)
+        return 0;
+    for (i = 0; i < k; i++) {
+        al[i] = al_in[i] / scale;
+        be[i] = be_in[i] / scale;
+    }
+    for (i = 0; i < k; i++) {
+        double r = fabs(i > 0 ? be[i - 1] : 0) + fabs(i + 1 < k ? be[i] : 0);
+        if (al[i] + r > hi)
+            hi = al[i] + r;
+        if (al[i] - r < lo)
+            lo = al[i] - r;
+    }
+    for (it = 0; it < 200; it++) {
+        int cnt = 0;
+        double q = 1.0;
+        mid = 0.5 * (lo + hi);
+        for (i = 0; i < k; i++) {
+            q = al[i] - mid - (i > 0 ? be[i - 1] * be[i - 1] / q : 0.0);
+            if (q == 0.0)
+                q = 1e-300;
+            if (q < 0)
+                cnt++;
+        }
+        if (cnt == k)
+            hi = mid;
+        else
+            lo = mid; /* cnt = number of eigenvalues below mid */
+        if (hi - lo <= 1e-14 * fabs(hi))
+            break;
+    }
+    return hi * scale;
+}
+
+/* The 2-norm of v[0 .. n), scaled by its largest entry so that the squares neither
+   underflow (omega^2 ~ 1e-166 for a link of 1e150 kg/m^3) nor overflow. */
+static double rj__norm(const double *v, int n)
+{
+    double big = 0, sum = 0;
+    int i;
+    for (i = 0; i < n; i++)
+        if (fabs(v[i]) > big)
+            big = fabs(v[i]);
+    if (big == 0 || !rj__finite(big))
+        return big;
+    for (i = 0; i < n; i++)
+        sum += (v[i] / big) * (v[i] / big);
+    return big * sqrt(sum);
+}
+
+/* omega_max^2 of the linearised model by Lanczos (no reorthogonalisation: ghosts do not
+   move the extreme Ritz value). */
+static double rj__omega2_max(rj_model *m, double *lanczos)
+{
+    const int n = 3 * m->nn;
+    double *v0 = lanczos, *v1 = lanczos + m->nn * 3, *w = lanczos + m->nn * 6;
+    double *work = lanczos + 9 * (size_t) m->nn + 2 * (size_t) m->ne;
+    double al[RJ__LANCZOS_ITERS], be[RJ__LANCZOS_ITERS], nrm = 0, lam;
+    int i, k, kmax;
+    /* start vector: deterministic, all DOFs */
+    for (i = 0; i < n; i++) {
+        v1[i] = 1.0 + 0.37 * sin(1.0 + i);
+        v0[i] = 0;
+    }
+    for (i = 0; i < m->nn; i++) {
+        if (m->tinv[i] == 0) {
+            v1[3 * i] = 0;
+            v1[3 * i + 1] = 0;
+        }
+        if (m->rinv[i] == 0)
+            v1[3 * i + 2] = 0;
+    }
+    for (i = 0; i < m->ng; i++) {
+        int r = m->grp_node[m->grp_first[i]];
+        if (m->grp_inv[i] > 0) {
+            v1[3 * r] = 1.0;
+            v1[3 * r + 1] = 0.7;
+        }
+    }
+    for (i = 0; i < n; i++)
+        nrm += v1[i] * v1[i];
+    if (nrm == 0)
+        return 0;
+    nrm = sqrt(nrm);
+    for (i = 0; i < n; i++)
+        v1[i] /= nrm;
+    kmax = n < RJ__LANCZOS_ITERS ? n : RJ__LANCZOS_ITERS;
+    for (k = 0; k < kmax; k++) {
+        double a = 0, b = 0, *t;
+        rj__lz_apply(m, v1, w, work);
+        for (i = 0; i < n; i++)
+            a += w[i] * v1[i];
+        al[k] = a;
+        for (i = 0; i < n; i++)
+            w[i] -= a * v1[i] + (k > 0 ? be[k - 1] * v0[i] : 0.0);
+        b = rj__norm(w, n);
+        be[k] = b;
+        if (b < 1e-12 * fabs(a) || b == 0) {
+            k++;
+            break;
+        }
+        for (i = 0; i < n; i++)
+            w[i] /= b;
+        t = v0;
+        v0 = v1;
+        v1 = w;
+        w = t;
+    }
+    /* a NaN or an infinity in the recurrence: no finite frequency (the bound refuses it) */
+    for (i = 0; i < k; i++)
+        if (!rj__finite(al[i]) || !rj__finite(be[i]))
+            return HUGE_VAL;
+    lam = rj__tridiag_max(al, be, k);
+    return lam;
+}
+
+/* A joint's rate change per unit torque impulse at the start (1/I_red): (M^-1)_jj in
+   joint coordinates for rigid scenes, else from the pin nodes (rj__joint_compliance). */
+static double rj__joint_compliance0(const rj_model *m, int j)
+{
+    rj__jgeo g;
+    if (m->rigid)
+        return m->jnt[j].minv;
+    rj__joint_geo(m, &m->jnt[j], m->x0, m->y0, &g);
+    return rj__joint_compliance(m, &m->jnt[j], &g);
+}
+
+/* The fastest damping rate a joint's damper gives the bodies it joins, 1/s: C times the
+   rate change per unit torque impulse (1/I_red), the largest over the joints. */
+static double rj__damping_rate(const rj_model *m)
+{
+    double worst = 0;
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        double rate;
+        if (!(m->jdef[j].damping > 0))
+            continue;
+        rate = m->jdef[j].damping * rj__joint_compliance0(m, j);
+        if (rate > worst)
+            worst = rate;
+    }
+    return worst;
+}
+
+/* Central differences with damping on the lagged velocity are stable for a mode of
+   frequency omega and damping ratio zeta while dt <= (2/omega)(sqrt(1 + zeta^2) - zeta);
+   with 2 zeta omega = d (the damping rate) that is dt <= 2 / (d/2 + sqrt(omega^2 + d^2/4)),
+   which holds for omega = 0 too (dt <= 2/d). The fastest mode paired with the fastest
+   damping rate bounds every pairing the model can have. No stiffness and no damping:
+   nothing bounds the step (rigid bodies alone), 1 s stands for that. */
+static double rj__dt_bound_of(double omega, double damp_rate)
+{
+    const double half = 0.5 * damp_rate;
+    const double denom = half + sqrt(omega * omega + half * half);
+    if (denom == 0)
+        return 1.0;
+    return RJ__DT_MARGIN * 2.0 / denom; /* NaN or 0 when omega is NaN or infinite */
+}
+
+/* omega from the eigenvalue estimate: a round-off negative is 0; NaN stays NaN, so that
+   a model whose stiffness or mass leaves doubles behind is refused, not given a bound */
+static double rj__omega_of(double om2)
+{
+    if (om2 == om2 && om2 < 0)
+        return 0;
+    return sqrt(om2);
+}
+
+static unsigned long long rj__fnv(unsigned long long h, const void *p, size_t n)
+{
+    const unsigned char *c = (const unsigned char *) p;
+    size_t i;
+    for (i = 0; i < n; i++) {
+        h ^= c[i];
+        h *= 1099511628211ULL;
+    }
+    return h;
+}
+
+/* FNV-1a of a double or an int (their bytes), one value at a time. */
+static unsigned long long rj__fnv_d(unsigned long long h, double v)
+{
+    return rj__fnv(h, &v, sizeof v);
+}
+static unsigned long long rj__fnv_i(unsigned long long h, int v)
+{
+    return rj__fnv(h, &v, sizeof v);
+}
+
+/* The model's identity for checkpoints: every definition field that a state's meaning
+   depends on (field by field: a struct's padding bytes are not defined), the step in use,
+   and the masses and start positions derived from them. */
+/* A load's definition into the model's hash. */
+static unsigned long long rj__fnv_load(unsigned long long h, const rj_load_def *d)
+{
+    int k;
+    h = rj__fnv_i(h, d->link);
+    h = rj__fnv_i(h, d->node);
+    h = rj__fnv_d(h, d->force[0]);
+    h = rj__fnv_d(h, d->force[1]);
+    h = rj__fnv_d(h, d->moment);
+    h = rj__fnv_i(h, d->follower);
+    h = rj__fnv_i(h, d->table_count);
+    for (k = 0; k < d->table_count; k++) {
+        h = rj__fnv_d(h, d->table_time[k]);
+        h = rj__fnv_d(h, d->table_factor[k]);
+    }
+    return h;
+}
+
+static unsigned long long rj__model_hash(const rj_model *m)
+{
+    unsigned long long h = 14695981039346656037ULL;
+    int l, j, k;
+    h = rj__fnv_i(h, m->nn);
+    h = rj__fnv_i(h, m->ne);
+    h = rj__fnv_i(h, m->nj);
+    h = rj__fnv_d(h, m->dt);
+    for (l = 0; l < m->nl; l++) {
+        const rj_link_def *d = &m->ldef[l];
+        const double v[19] = { d->length,
+                               d->E,
+                               d->rho,
+                               d->width,
+                               d->height,
+                               d->area,
+                               d->inertia,
+                               d->tip_mass,
+                               d->tip_inertia,
+                               d->x,
+                               d->y,
+                               d->angle,
+                               d->vx,
+                               d->vy,
+                               d->omega,
+                               (double) d->elements,
+                               (double) d->section,
+                               (double) d->layers,
+                               (double) d->root };
+        for (k = 0; k < 19; k++)
+            h = rj__fnv_d(h, v[k]);
+        h = rj__fnv_i(h, d->fidelity);
+    }
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const double v[21] = { (double) d->body1,
+                               (double) d->node1,
+                               (double) d->body2,
+                               d->ground_x,
+                               d->ground_y,
+                               d->ground_angle,
+                               d->angle0,
+                               d->rate0,
+                               d->spring_k,
+                               d->spring_free_angle,
+                               (double) d->has_forward,
+                               d->forward,
+                               (double) d->has_reverse,
+                               d->reverse,
+                               (double) d->lock,
+                               (double) d->method,
+                               (double) d->release,
+                               d->penalty_k,
+                               d->restitution,
+                               d->damping,
+                               d->friction };
+        for (k = 0; k < 21; k++)
+            h = rj__fnv_d(h, v[k]);
+        h = rj__fnv_i(h, d->reference);
+        h = rj__fnv_i(h, d->table_count);
+        for (k = 0; k < d->table_count; k++) {
+            h = rj__fnv_d(h, d->table_angle[k]);
+            h = rj__fnv_d(h, d->table_torque[k]);
+        }
+    }
+    h = rj__fnv(h, m->mass, sizeof(double) * (size_t) m->nn);
+    h = rj__fnv(h, m->x0, sizeof(double) * (size_t) m->nn);
+    h = rj__fnv_d(h, m->solver.gravity[0]);
+    h = rj__fnv_d(h, m->solver.gravity[1]);
+    for (k = 0; k < m->nload; k++)
+        h = rj__fnv_load(h, &m->load[k]);
+    return h;
+}
+
+/* Is node n one of m->dnode (ascending)? */
+static int rj__is_dnode(const rj_model *m, int n)
+{
+    int lo = 0, hi = m->ndn;
+    while (lo < hi) {
+        const int mid = lo + (hi - lo) / 2;
+        if (m->dnode[mid] < n)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < m->ndn && m->dnode[lo] == n;
+}
+
+/* The link and the node within it of global node i (binary search on link_first). */
+static void rj__node_of(const rj_model *m, int i, int *link, int *node)
+{
+    int lo = 0, hi = m->nl - 1;
+    while (lo < hi) {
+        const int mid = lo + (hi - lo + 1) / 2;
+        if (m->link_first[mid] <= i)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    *link = lo;
+    *node = i - m->link_first[lo];
+}
+
+/* A link whose sizes and material leave doubles behind (an element length whose square
+   underflows, a stiffness or a mass that overflows or vanishes) has no usable step or no
+   finite energy: refused here, naming the link and the quantity, before anything uses it. */
+static int rj__check_links(const rj_model *m, rj_error *err)
+{
+    char f[64];
+    int l, k;
+    for (l = 0; l < m->nl; l++) {
+        const rj_link_def *d = &m->ldef[l];
+        const double *kc = m->link_kc + 4 * (size_t) l;
+        const int n0 = m->link_first[l];
+        const char *what = NULL;
+        double value = 0;
+        if (!(kc[2] >= DBL_MIN) || !rj__finite(kc[3])) {
+            what = "its element length squared";
+            value = kc[2];
+        } else if (!(m->link_EA[l] >= DBL_MIN) || !rj__finite(m->link_EA[l])) {
+            what = "its axial stiffness EA (N)";
+            value = m->link_EA[l];
+        } else if (!(m->link_EI[l] >= DBL_MIN) || !rj__finite(m->link_EI[l])) {
+            what = "its bending stiffness EI (N m^2)";
+            value = m->link_EI[l];
+        } else if (!rj__finite(kc[0]) || !rj__finite(kc[1])) {
+            what = "its element stiffness EI/l0 or EA/l0";
+            value = rj__finite(kc[0]) ? kc[1] : kc[0];
+        }
+        for (k = 0; !what && k <= d->elements; k++) {
+            const double mass = m->mass[n0 + k], rot = m->rinertia[n0 + k];
+            if (!(mass >= DBL_MIN) || !rj__finite(mass) || !rj__finite(1.0 / mass)) {
+                what = "a node's mass (kg)";
+                value = mass;
+            } else if (!(rot >= DBL_MIN) || !rj__finite(rot) || !rj__finite(1.0 / rot)) {
+                what = "a node's rotary inertia (kg m^2)";
+                value = rot;
+            }
+        }
+        if (!what)
+            continue;
+        RJ__FIELD(f, "links[%d]", l);
+        rj__fail(err, RJ_ERR_INVALID, f, value,
+                 "links[%d] (length %g m, %d elements, E %g Pa, rho %g kg/m^3) gives %s = %g, "
+                 "which is zero, infinite or below what doubles resolve: no step is usable; scale "
+                 "the link's sizes or material into range",
+                 l, d->length, d->elements, d->E, d->rho, what, value);
+        return 0;
+    }
+    return 1;
+}
+
+/* Adds one warning line to the model's list (as much as fits). */
+static void rj__model_warn(rj_model *m, const char *fmt, ...)
+{
+    char line[320];
+    va_list ap;
+    int wanted;
+    va_start(ap, fmt);
+    wanted = vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    rj__fit_words(line, sizeof line, wanted);
+    m->nwarn++;
+    if (strlen(m->warnings) + strlen(line) + 2 > sizeof m->warnings)
+        return;
+    rj__cat(m->warnings, sizeof m->warnings, line);
+    rj__cat(m->warnings, sizeof m->warnings, "\n");
+}
+
+/* Limits a careful engineer would question: one the joint starts past, and one its spring
+   never drives it to (the spring comes to rest at its free angle first, or turns the joint
+   away from its only limit). Running angles (the limits as the joint meets them from
+   angle0, J->fwd and J->rev), in degrees in the text. */
+static void rj__limit_warnings(rj_model *m)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const rj__joint *J = &m->jnt[j];
+        const double start = d->angle0, rest = d->spring_free_angle;
+        const int drive = d->spring_k > 0 ? (rest > start) - (rest < start) : 0;
+        if (!d->has_forward && !d->has_reverse)
+            continue;
+        if (d->has_forward && start > J->fwd)
+            rj__model_warn(m, "joints[%d] starts %.4g deg past its forward limit", j,
+                           rj_deg(start - J->fwd));
+        else if (d->has_reverse && start < J->rev)
+            rj__model_warn(m, "joints[%d] starts %.4g deg past its reverse limit", j,
+                           rj_deg(J->rev - start));
+        else if (drive > 0 && d->has_forward && J->fwd > rest)
+            rj__model_warn(m,
+                           "joints[%d]: its spring turns it forward from %.4g deg and rests at "
+                           "%.4g deg, short of its forward limit, met at %.4g deg: the spring "
+                           "alone never brings it there%s",
+                           j, rj_deg(start), rj_deg(rest), rj_deg(J->fwd),
+                           d->lock ? " (it never latches)" : "");
+        else if (drive < 0 && d->has_reverse && J->rev < rest)
+            rj__model_warn(m,
+                           "joints[%d]: its spring turns it in reverse from %.4g deg and rests at "
+                           "%.4g deg, short of its reverse limit, met at %.4g deg: the spring "
+                           "alone never brings it there%s",
+                           j, rj_deg(start), rj_deg(rest), rj_deg(J->rev),
+                           d->lock ? " (it never latches)" : "");
+        else if (drive > 0 && !d->has_forward)
+            rj__model_warn(
+                m,
+                "joints[%d]: its spring turns it forward from %.4g deg, away from its only limit "
+                "(reverse, met at %.4g deg): the spring alone never brings it there%s",
+                j, rj_deg(start), rj_deg(J->rev), d->lock ? " (it never latches)" : "");
+        else if (drive < 0 && !d->has_reverse)
+            rj__model_warn(
+                m,
+                "joints[%d]: its spring turns it in reverse from %.4g deg, away from its only "
+                "limit (forward, met at %.4g deg): the spring alone never brings it there%s",
+                j, rj_deg(start), rj_deg(J->fwd), d->lock ? " (it never latches)" : "");
+    }
+}
+
+/* The node whose group a joint's pin joins: its pin node, or, when that node is itself a
+   root pinned to another node (a joint on node 0 of a link that hangs from a joint), that
+   node's, followed up the tree. up[n] is the node root n is pinned to (-1: none); each
+   path is pointed at its end as it is walked, so the whole pass stays linear. */
+static int rj__pin_anchor(int *up, int node)
+{
+    int end = node;
+    while (up[end] >= 0)
+        end = up[end];
+    while (up[node] >= 0) {
+        const int next = up[node];
+        up[node] = end;
+        node = next;
+    }
+    return end;
+}
+
+/* Pin groups: each body1 pin node with every body2 root pinned to it, in the order of
+   their first joint; members the pin node, then the roots in joint order. A pin on a root
+   that is pinned itself joins that root's group (rj__pin_anchor): pinned nodes form one
+   group however they are reached. Linear in the joints, with scratch of 2 nn + ng ints
+   (each node's anchor, a group per node, then each group's fill cursor); node_grp is -1
+   on entry. Returns the number of groups. */
+static int rj__pin_groups(rj_model *m, int *scratch)
+{
+    int *up = scratch, *group_of = scratch + m->nn, *cursor = scratch + 2 * (size_t) m->nn;
+    int ng = 0, j, g;
+    for (j = 0; j < m->nn; j++) {
+        group_of[j] = -1;
+        up[j] = -1;
+    }
+    for (j = 0; j < m->nj; j++)
+        if (m->jnt[j].nI >= 0)
+            up[m->jnt[j].nJ] = m->jnt[j].nI;
+    /* count: the anchor and one root per joint */
+    m->grp_first[0] = 0;
+    for (j = 0; j < m->nj; j++) {
+        const int pin = m->jnt[j].nI < 0 ? -1 : rj__pin_anchor(up, m->jnt[j].nI);
+        if (pin < 0)
+            continue;
+        if (group_of[pin] < 0) {
+            group_of[pin] = ng;
+            m->grp_first[ng + 1] = 1;
+            ng++;
+        }
+        m->grp_first[group_of[pin] + 1]++;
+    }
+    for (g = 0; g < ng; g++)
+        m->grp_first[g + 1] += m->grp_first[g];
+    for (g = 0; g < ng; g++)
+        cursor[g] = m->grp_first[g] + 1;
+    /* fill: the anchor first, then the roots in joint order */
+    for (j = 0; j < m->nj; j++) {
+        const int pin = m->jnt[j].nI < 0 ? -1 : rj__pin_anchor(up, m->jnt[j].nI);
+        if (pin < 0)
+            continue;
+        g = group_of[pin];
+        m->grp_node[m->grp_first[g]] = pin;
+        m->grp_node[cursor[g]++] = m->jnt[j].nJ;
+    }
+    return ng;
+}
+
+/* Inextensible chains: each starts at an inextensible link not hanging from the tip of
+   another inextensible link, and follows while the tip carries exactly one inextensible
+   child. Linear in the scene, with scratch of 2 nl + 2 nn ints: each link's use and
+   joint, each node's count of inextensible children and its last one. */
+static void rj__inext_chains(rj_model *m, int *scratch)
+{
+    int *used = scratch, *joint_of = scratch + m->nl;
+    int *children = scratch + 2 * (size_t) m->nl, *child_of = children + m->nn;
+    int cnt = 0, l, j, k;
+    for (l = 0; l < m->nl; l++) {
+        used[l] = 0;
+        joint_of[l] = -1;
+    }
+    for (k = 0; k < m->nn; k++) {
+        children[k] = 0;
+        child_of[k] = -1;
+    }
+    for (j = 0; j < m->nj; j++) {
+        joint_of[m->jdef[j].body2] = j;
+        if (m->jnt[j].nI < 0 || m->ldef[m->jdef[j].body2].fidelity != RJ_LINK_INEXTENSIBLE)
+            continue;
+        children[m->jnt[j].nI]++;
+        child_of[m->jnt[j].nI] = m->jdef[j].body2;
+    }
+    m->nch = 0;
+    m->ch_first[0] = 0;
+    for (l = 0; l < m->nl; l++) {
+        const int pj = joint_of[l];
+        int cur = l;
+        if (m->ldef[l].fidelity != RJ_LINK_INEXTENSIBLE || used[l])
+            continue;
+        if (pj >= 0) {
+            const int b1 = m->jdef[pj].body1;
+            /* the only inextensible child at an inextensible parent's tip continues its chain */
+            if (b1 >= 0 && m->ldef[b1].fidelity == RJ_LINK_INEXTENSIBLE &&
+                m->jnt[pj].nI == m->link_first[b1 + 1] - 1 && children[m->jnt[pj].nI] == 1)
+                continue;
+        }
+        for (;;) {
+            const int n0 = m->link_first[cur], ne = m->ldef[cur].elements,
+                      first = cnt == m->ch_first[m->nch];
+            const int tip = n0 + ne;
+            used[cur] = 1;
+            for (k = first ? 0 : 1; k <= ne; k++) {
+                m->ch_node[cnt] = n0 + k;
+                m->ch_l0sq[cnt] = m->link_l0[cur] * m->link_l0[cur];
+                cnt++;
+            }
+            if (children[tip] != 1 || used[child_of[tip]])
+                break;
+            cur = child_of[tip];
+        }
+        m->ch_first[++m->nch] = cnt;
+    }
+}
+
+/* Places one link (its joint j, or its own root placement when j < 0) from its parent's
+   nodes, which are placed already. */
+static void rj__place_link(rj_model *m, int l, int j)
+{
+    const rj_link_def *ld = &m->ldef[l];
+    const rj_joint_def *d;
+    const rj__joint *J;
+    double px, py, refang, om1 = 0, vpx = 0, vpy = 0;
+    if (j < 0) {
+        rj__place(m, l, ld->x, ld->y, ld->angle, ld->vx, ld->vy, ld->omega, m->x0, m->y0, m->phi0,
+                  m->vx0, m->vy0, m->w0);
+        return;
+    }
+    d = &m->jdef[j];
+    J = &m->jnt[j];
+    if (d->body1 < 0) {
+        px = d->ground_x;
+        py = d->ground_y;
+        refang = d->ground_angle;
+    } else {
+        px = m->x0[J->nI];
+        py = m->y0[J->nI];
+        refang = atan2(m->y0[J->nK] - py, m->x0[J->nK] - px);
+        om1 = m->w0[J->nI];
+        vpx = m->vx0[J->nI];
+        vpy = m->vy0[J->nI];
+        if (m->ldef[d->body1].root == RJ_ROOT_FIXED) {
+            om1 = 0;
+            vpx = 0;
+            vpy = 0;
+        }
+    }
+    rj__place(m, l, px, py, refang + d->angle0, vpx, vpy, om1 + d->rate0, m->x0, m->y0, m->phi0,
+              m->vx0, m->vy0, m->w0);
+}
+
+/* Initial placement of every link after the link it hangs from (the graph is a forest),
+   in time linear in the scene: scratch of 3 nl ints (placed flags, each link's joint, a
+   path of links still to place). */
+static void rj__place_all(rj_model *m, int *scratch)
+{
+    int *placed = scratch, *joint_of = scratch + m->nl, *path = scratch + 2 * (size_t) m->nl;
+    int l, j;
+    for (l = 0; l < m->nl; l++) {
+        placed[l] = 0;
+        joint_of[l] = -1;
+    }
+    for (j = 0; j < m->nj; j++)
+        joint_of[m->jdef[j].body2] = j;
+    for (l = 0; l < m->nl; l++) {
+        int depth = 0, cur = l;
+        /* up to the first placed link or a root, then down again */
+        while (cur >= 0 && !placed[cur]) {
+            path[depth++] = cur;
+            cur = joint_of[cur] >= 0 ? m->jdef[joint_of[cur]].body1 : -1;
+        }
+        while (depth > 0) {
+            cur = path[--depth];
+            rj__place_link(m, cur, joint_of[cur]);
+            placed[cur] = 1;
+        }
+    }
+}
+
+/* Every element's placed chord has its rest length to 1e-8: far from the origin the
+   coordinates no longer resolve an element (a root at x = 1e12 m rounds 0.1 m elements by
+   1e-3), and the rounding would start as strain energy that the step then releases. */
+static int rj__placement_resolved(const rj_model *m, rj_error *err)
+{
+    int l, k;
+    for (l = 0; l < m->nl; l++) {
+        const double l0 = m->link_l0[l];
+        for (k = m->link_first[l]; k < m->link_first[l + 1] - 1; k++) {
+            const double chord = hypot(m->x0[k + 1] - m->x0[k], m->y0[k + 1] - m->y0[k]);
+            char f[64];
+            if (fabs(chord - l0) <= 1e-8 * l0)
+                continue;
+            RJ__FIELD(f, "links[%d]", l);
+            rj__fail(err, RJ_ERR_INVALID, f, m->x0[k],
+                     "links[%d] is placed where doubles do not resolve its %g m elements (node %d "
+                     "at x = %g m, y = %g m, spacing %g m): place the mechanism nearer the origin",
+                     l, l0, k - m->link_first[l], m->x0[k], m->y0[k], fabs(m->x0[k]) * DBL_EPSILON);
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* The links alone have a usable bound, so a joint's stiffness or damping takes it below
+   RJ__MIN_BOUND: named, with what it gives on its own. */
+static int rj__joint_unusable(const rj_model *m, rj_error *err)
+{
+    int j, worst = 0;
+    double fastest = -1;
+    char f[64];
+    for (j = 0; j < m->nj; j++) {
+        const double c = rj__joint_compliance0(m, j);
+        const double rate = sqrt(m->jnt[j].k_lin * c) + m->jdef[j].damping * c;
+        if (rate > fastest) {
+            fastest = rate;
+            worst = j;
+        }
+    }
+    RJ__FIELD(f, "joints[%d]", worst);
+    rj__fail(err, RJ_ERR_INVALID, f, m->dt_bound,
+             "no usable step: the stability bound is %g s (at least 1e-15 s is needed); the links "
+             "alone would allow %g s, and joints[%d] (spring %g N m/rad, penalty K %g N m/rad, "
+             "damping %g N m s/rad) "
+             "gives about %g rad/s on its own: its stiffness or damping is outside the range of "
+             "mechanisms",
+             m->dt_bound, rj__dt_bound_of(m->omega_links, 0), worst, m->jdef[worst].spring_k,
+             m->jdef[worst].penalty_k, m->jdef[worst].damping, fastest);
+    return 0;
+}
+
+/* The step and its bound must be finite positive numbers, and the initial state finite
+   (its kinetic energy and the joints' spring energy too). */
+static int rj__usable_step(const rj_model *m, rj_error *err)
+{
+    double ke = 0;
+    int i, link, node;
+    if ((!(m->dt_bound >= RJ__MIN_BOUND) || !rj__finite(m->dt_bound)) &&
+        rj__dt_bound_of(m->omega_links, 0) >= RJ__MIN_BOUND)
+        return rj__joint_unusable(m, err);
+    if (!(m->dt_bound >= RJ__MIN_BOUND) || !rj__finite(m->dt_bound) || !(m->dt > 0) ||
+        !rj__finite(m->dt)) {
+        /* name the link with the shortest wave transit l0 / c (Eq 28) */
+        int l, fastest = 0;
+        double best = HUGE_VAL;
+        char f[64];
+        for (l = 0; l < m->nl; l++) {
+            const double transit = m->link_l0[l] / sqrt(m->ldef[l].E / m->ldef[l].rho);
+            if (transit < best) {
+                best = transit;
+                fastest = l;
+            }
+        }
+        RJ__FIELD(f, "links[%d]", fastest);
+        rj__fail(err, RJ_ERR_INVALID, f, m->dt,
+                 "no usable step: the stability bound is %g s (omega_max %g rad/s; at least 1e-15 "
+                 "s is needed) and the step %g s; links[%d] (length %g m, %d elements, E %g Pa, "
+                 "rho %g kg/m^3; element wave transit %g s, Eq 28) "
+                 "or a joint's stiffness or damping is outside the range of mechanisms (SI units: "
+                 "m, Pa, kg/m^3)",
+                 m->dt_bound, m->omega_max, m->dt, fastest, m->ldef[fastest].length,
+                 m->ldef[fastest].elements, m->ldef[fastest].E, m->ldef[fastest].rho, best);
+        return 0;
+    }
+    for (i = 0; i < m->nn; i++) {
+        const double v = m->x0[i] + m->y0[i] + m->phi0[i];
+        ke += m->mass[i] * (m->vx0[i] * m->vx0[i] + m->vy0[i] * m->vy0[i]) +
+              m->rinertia[i] * m->w0[i] * m->w0[i];
+        if (rj__finite(v) && rj__finite(ke))
+            continue;
+        rj__node_of(m, i, &link, &node);
+        {
+            char f[64];
+            RJ__FIELD(f, "links[%d]", link);
+            rj__fail(err, RJ_ERR_INVALID, f, rj__finite(v) ? ke : v,
+                     "links[%d] node %d starts with a non-finite %s: the placement or the initial "
+                     "velocities are outside what doubles resolve",
+                     link, node, rj__finite(v) ? "kinetic energy" : "position");
+        }
+        return 0;
+    }
+    if (!rj__placement_resolved(m, err))
+        return 0;
+    for (i = 0; i < m->nj; i++) {
+        const rj_joint_def *d = &m->jdef[i];
+        const double twist = d->angle0 - d->spring_free_angle;
+        if (rj__finite(0.5 * d->spring_k * twist * twist))
+            continue;
+        {
+            char f[64];
+            RJ__FIELD(f, "joints[%d].spring_k", i);
+            rj__fail(err, RJ_ERR_INVALID, f, d->spring_k,
+                     "joints[%d] starts with a non-finite spring energy (spring_k %g N m/rad, %g "
+                     "rad from its free angle)",
+                     i, d->spring_k, twist);
+        }
+        return 0;
+    }
+    return 1;
+}
+

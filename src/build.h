@@ -1,0 +1,1062 @@
+/* ------------------------------------------------------------------ building the model */
+/* The model's building area (m->lz, sized by rj__model_layout) as the phases of
+   rj_model_init use it. The phases run one after another, so every view but the chords
+   starts at the area's start and each phase leaves nothing the next one reads. The chords
+   sit after the Lanczos vectors, where rj__lz_apply reads them, and stay there for
+   rj_model_apply_stiffness; the rigid links' power iteration works after them. */
+typedef struct rj__build_scratch {
+    int *graph;                /* RJ__GRAPH_SCRATCH(nl, nj) ints: rj__validate_graph */
+    int *pin_groups;           /* 2 nn + ng ints: rj__pin_groups */
+    int *placement;            /* 3 nl ints: rj__place_all */
+    int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
+    double *lanczos;           /* 3 vectors of 3 nn, the chords, a work area: rj__omega2_max */
+    double *chord_x, *chord_y; /* (ne each) the initial chords, at lanczos + 9 nn */
+    double *rigid_bound;       /* rj__rigid_scratch(nj, nl) + nj^2 doubles after the chords */
+    int *step_node_mark;       /* nn ints: rj__init_step_nodes */
+} rj__build_scratch;
+
+/* Points every phase's scratch into the building area. */
+static void rj__build_scratch_carve(const rj_model *m, rj__build_scratch *s)
+{
+    void *area = m->lz;
+    s->graph = (int *) area;
+    s->pin_groups = (int *) area;
+    s->placement = (int *) area;
+    s->chains = (int *) area;
+    s->lanczos = m->lz;
+    s->chord_x = m->lz + 9 * (size_t) m->nn;
+    s->chord_y = s->chord_x + m->ne;
+    s->rigid_bound = s->chord_y + m->ne;
+    s->step_node_mark = (int *) area;
+}
+
+/* Before anything is written: err cleared, out given, the scene's fields and totals valid
+   (rj_model_size), and a block as large as the layout that *L gets. */
+static rj_result rj__init_check_args(const rj_scene_def *sc, void *mem, size_t size, rj_model **out,
+                                     size_t *nodes, size_t *elements, rj__layout *L, rj_error *err)
+{
+    rj_error size_err;
+    /* set on every path: compilers cannot tell that a refusal's code is never RJ_OK */
+    *nodes = 0;
+    *elements = 0;
+    memset(L, 0, sizeof *L);
+    if (err) {
+        err->code = RJ_OK;
+        err->field[0] = 0;
+        err->msg[0] = 0;
+        err->value = 0;
+    }
+    if (!out) {
+        rj__fail(err, RJ_ERR_INVALID, "out", 0, "out is NULL");
+        return RJ_ERR_INVALID;
+    }
+    if (!rj_model_size(sc, err ? err : &size_err))
+        return err ? err->code : size_err.code;
+    rj__counts(sc, nodes, elements, err);
+    rj__model_layout(sc, *nodes, *elements, L);
+    if (!mem) {
+        rj__fail(err, RJ_ERR_NOMEM, "mem", 0,
+                 "mem is NULL: the model needs a block of %lu bytes (rj_model_size)",
+                 (unsigned long) L->total);
+        return RJ_ERR_NOMEM;
+    }
+    if (size < L->total) {
+        rj__fail(err, RJ_ERR_NOMEM, "size", (double) size,
+                 "memory block of %lu bytes is smaller than the %lu the model needs",
+                 (unsigned long) size, (unsigned long) L->total);
+        return RJ_ERR_NOMEM;
+    }
+    return RJ_OK;
+}
+
+/* The model sits at the block's first 16-byte boundary, zeroed, with its counts. */
+static rj_model *rj__init_block(const rj_scene_def *sc, void *mem, const rj__layout *L,
+                                size_t nodes, size_t elements)
+{
+    char *base = (char *) mem;
+    rj_model *m;
+    base += (RJ__ALIGN - ((size_t) base % RJ__ALIGN)) % RJ__ALIGN;
+    memset(base, 0, L->total - RJ__ALIGN);
+    m = (rj_model *) (void *) base;
+    m->bytes = L->total - RJ__ALIGN;
+    m->nl = sc->link_count;
+    m->nj = sc->joint_count;
+    m->nn = (int) nodes;
+    m->ne = (int) elements;
+    m->solver = sc->solver;
+    return m;
+}
+
+/* The model's arrays at the offsets of the layout (rj__model_layout), after the struct. */
+static void rj__init_arrays(rj_model *m, const rj__layout *L)
+{
+    char *base = (char *) (void *) m;
+#define RJ__SET(field, type) m->field = (type *) (void *) (base + L->field)
+    RJ__SET(ldef, rj_link_def);
+    RJ__SET(jdef, rj_joint_def);
+    RJ__SET(jnt, rj__joint);
+    RJ__SET(link_first, int);
+    RJ__SET(link_efirst, int);
+    RJ__SET(link_l0, double);
+    RJ__SET(link_EA, double);
+    RJ__SET(link_EI, double);
+    RJ__SET(link_rho, double);
+    RJ__SET(link_I, double);
+    RJ__SET(ch_first, int);
+    RJ__SET(ch_node, int);
+    RJ__SET(ch_l0sq, double);
+    RJ__SET(node_cl, int);
+    RJ__SET(cl_first, int);
+    RJ__SET(cl_node, int);
+    RJ__SET(cl_fix, int);
+    RJ__SET(cl_M, double);
+    RJ__SET(cl_I, double);
+    RJ__SET(cl_th0, double);
+    RJ__SET(cl_rx, double);
+    RJ__SET(cl_ry, double);
+    RJ__SET(rb_mass, double);
+    RJ__SET(rb_icm, double);
+    RJ__SET(rb_dcm, double);
+    RJ__SET(rb_pjoint, int);
+    RJ__SET(jorder, int);
+    RJ__SET(jpin, double);
+    RJ__SET(jref, double);
+    RJ__SET(mass, double);
+    RJ__SET(rinertia, double);
+    RJ__SET(tinv, double);
+    RJ__SET(rinv, double);
+    RJ__SET(einv, double);
+    RJ__SET(kmass, double);
+    RJ__SET(krot, double);
+    RJ__SET(grp_first, int);
+    RJ__SET(grp_node, int);
+    RJ__SET(node_grp, int);
+    RJ__SET(grp_inv, double);
+    RJ__SET(dnode, int);
+    RJ__SET(link_un, double);
+    RJ__SET(link_kc, double);
+    RJ__SET(x0, double);
+    RJ__SET(y0, double);
+    RJ__SET(phi0, double);
+    RJ__SET(vx0, double);
+    RJ__SET(vy0, double);
+    RJ__SET(w0, double);
+    RJ__SET(beta0, double);
+    RJ__SET(load, rj_load_def);
+    RJ__SET(load_node, int);
+    RJ__SET(lz, double);
+#undef RJ__SET
+}
+
+/* The model keeps its own copy of the definitions: the scene's arrays may go. */
+static void rj__init_copy_defs(rj_model *m, const rj_scene_def *sc)
+{
+    memcpy(m->ldef, sc->links, sizeof(rj_link_def) * (size_t) m->nl);
+    if (m->nj)
+        memcpy(m->jdef, sc->joints, sizeof(rj_joint_def) * (size_t) m->nj);
+    m->has_gravity = sc->solver.gravity[0] != 0 || sc->solver.gravity[1] != 0;
+    m->nload = sc->load_count;
+    if (m->nload)
+        memcpy(m->load, sc->loads, sizeof(rj_load_def) * (size_t) m->nload);
+}
+
+/* A link's section: area and second moment (layers integrate EA and EI exactly for the
+   elastic rectangle). */
+static void rj__link_section(const rj_link_def *d, double *area, double *inertia)
+{
+    double A = 0, I = 0, layer;
+    int k;
+    if (d->section != RJ_SECTION_RECT) {
+        *area = d->area;
+        *inertia = d->inertia;
+        return;
+    }
+    layer = d->height / d->layers;
+    for (k = 0; k < d->layers; k++) {
+        const double z = -0.5 * d->height + (k + 0.5) * layer;
+        A += d->width * layer;
+        I += d->width * layer * layer * layer / 12.0 + d->width * layer * z * z;
+    }
+    *area = A;
+    *inertia = I;
+}
+
+/* Link l's node and element ranges, its element length and stiffnesses, and the element's
+   constants: EI/l0, EA/l0 (0 for inextensible links: a constraint instead), l0^2,
+   1/(2 l0^2). */
+static void rj__init_link_constants(rj_model *m, int l, double area, double inertia)
+{
+    const rj_link_def *d = &m->ldef[l];
+    const double l0 = d->length / d->elements;
+    double *kc = m->link_kc + 4 * (size_t) l;
+    m->link_first[l + 1] = m->link_first[l] + d->elements + 1;
+    m->link_efirst[l + 1] = m->link_efirst[l] + d->elements;
+    m->link_l0[l] = l0;
+    m->link_EA[l] = d->E * area;
+    m->link_EI[l] = d->E * inertia;
+    kc[0] = m->link_EI[l] / l0;
+    kc[1] = d->fidelity == RJ_LINK_INEXTENSIBLE ? 0.0 : m->link_EA[l] / l0;
+    kc[2] = l0 * l0;
+    kc[3] = 0.5 / kc[2];
+    m->link_rho[l] = d->rho;
+    m->link_I[l] = inertia;
+}
+
+/* Link l's lumped masses and rotary inertias (each element gives each of its two nodes
+   end_mass and end_rot, the larger of the rod's and the section's rotary share; the tip
+   mass sits on the last node), their inverses, and the roots that hold them (inverse 0). */
+static void rj__init_link_masses(rj_model *m, int l, double area, double inertia)
+{
+    const rj_link_def *d = &m->ldef[l];
+    const double l0 = m->link_l0[l];
+    const double end_mass = 0.5 * d->rho * area * l0;
+    const int n0 = m->link_first[l];
+    double end_rot = d->rho * area * l0 * l0 * l0 / 78.0;
+    int k;
+    if (0.5 * d->rho * inertia * l0 > end_rot)
+        end_rot = 0.5 * d->rho * inertia * l0;
+    for (k = 0; k <= d->elements; k++) {
+        const double elements_here = (k == 0 || k == d->elements) ? 1.0 : 2.0;
+        m->mass[n0 + k] = elements_here * end_mass;
+        m->rinertia[n0 + k] = elements_here * end_rot;
+    }
+    m->mass[n0 + d->elements] += d->tip_mass;
+    m->rinertia[n0 + d->elements] += d->tip_inertia;
+    for (k = 0; k <= d->elements; k++) {
+        m->tinv[n0 + k] = 1.0 / m->mass[n0 + k];
+        m->rinv[n0 + k] = 1.0 / m->rinertia[n0 + k];
+    }
+    if (d->root == RJ_ROOT_PINNED || d->root == RJ_ROOT_CLAMPED)
+        m->tinv[n0] = 0;
+    if (d->root == RJ_ROOT_CLAMPED)
+        m->rinv[n0] = 0;
+    if (d->root == RJ_ROOT_FIXED)
+        for (k = 0; k <= d->elements; k++) {
+            m->tinv[n0 + k] = 0;
+            m->rinv[n0 + k] = 0;
+        }
+}
+
+/* Every link's section, constants and masses, link by link. */
+static void rj__init_links(rj_model *m)
+{
+    int l;
+    m->link_first[0] = 0;
+    m->link_efirst[0] = 0;
+    for (l = 0; l < m->nl; l++) {
+        double area, inertia;
+        rj__link_section(&m->ldef[l], &area, &inertia);
+        rj__init_link_constants(m, l, area, inertia);
+        rj__init_link_masses(m, l, area, inertia);
+    }
+}
+
+/* The node each applied load acts on, in the scene's node order (-1: the link's last). */
+static void rj__init_load_nodes(rj_model *m)
+{
+    int k;
+    for (k = 0; k < m->nload; k++) {
+        const rj_load_def *d = &m->load[k];
+        m->load_node[k] = rj_model_node_index(m, d->link, d->node);
+    }
+}
+
+/* Each joint's nodes: nI pin on body 1 and nK its neighbour (-1 for ground), nJ body 2's
+   node 0 and nL its neighbour. A root pinned to ground does not translate. The nodes'
+   effective inverse masses start as their own. */
+static void rj__init_joint_nodes(rj_model *m)
+{
+    int i, j;
+    for (i = 0; i < m->nn; i++)
+        m->einv[i] = m->tinv[i];
+    for (i = 0; i < m->nn; i++)
+        m->node_grp[i] = -1;
+    m->grp_first[0] = 0;
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        rj__joint *J = &m->jnt[j];
+        const int body2_root = m->link_first[d->body2];
+        J->nJ = body2_root;
+        J->nL = body2_root + 1;
+        if (d->body1 < 0) {
+            J->nI = -1;
+            J->nK = -1;
+            J->gax = cos(d->ground_angle);
+            J->gay = sin(d->ground_angle);
+            m->tinv[body2_root] = 0;
+            m->einv[body2_root] = 0;
+        } else {
+            const int pin = d->node1 < 0 ? m->ldef[d->body1].elements : d->node1;
+            J->nI = m->link_first[d->body1] + pin;
+            J->nK = J->nI + (pin > 0 ? -1 : 1);
+        }
+    }
+}
+
+/* Pin groups (body 1's pin node and every body 2 root pinned to it share their
+   translation): the group's inverse mass (0 when a member is held) becomes each member's
+   effective one, and the members' own translation is the group's (tinv 0). */
+static void rj__init_pin_groups(rj_model *m, int *scratch)
+{
+    int group, k;
+    m->ng = rj__pin_groups(m, scratch);
+    for (group = 0; group < m->ng; group++) {
+        double mass_sum = 0;
+        int held = 0;
+        for (k = m->grp_first[group]; k < m->grp_first[group + 1]; k++) {
+            const int node = m->grp_node[k];
+            mass_sum += m->mass[node];
+            if (m->tinv[node] == 0)
+                held = 1;
+        }
+        m->grp_inv[group] = held ? 0.0 : 1.0 / mass_sum;
+        for (k = m->grp_first[group]; k < m->grp_first[group + 1]; k++) {
+            m->einv[m->grp_node[k]] = m->grp_inv[group];
+            m->tinv[m->grp_node[k]] = 0;
+            m->node_grp[m->grp_node[k]] = group;
+        }
+    }
+}
+
+/* The masses and rotary inertias the kinetic energy counts node by node (0 for held or
+   grouped nodes: a group's translation is counted once, by the step). */
+static void rj__init_energy_masses(rj_model *m)
+{
+    int i;
+    for (i = 0; i < m->nn; i++) {
+        m->kmass[i] = m->tinv[i] > 0 ? m->mass[i] : 0.0;
+        m->krot[i] = m->rinv[i] > 0 ? m->rinertia[i] : 0.0;
+    }
+}
+
+/* The initial state: each link placed after the link it hangs from, and no initial
+   velocity where the node cannot move (fixed links, held translations and rotations). */
+static void rj__init_placement(rj_model *m, int *scratch)
+{
+    int i, l, k;
+    rj__place_all(m, scratch);
+    for (l = 0; l < m->nl; l++) {
+        if (m->ldef[l].root != RJ_ROOT_FIXED)
+            continue;
+        for (k = m->link_first[l]; k < m->link_first[l + 1]; k++) {
+            m->vx0[k] = 0;
+            m->vy0[k] = 0;
+            m->w0[k] = 0;
+        }
+    }
+    for (i = 0; i < m->nn; i++)
+        if (m->einv[i] == 0) {
+            m->vx0[i] = 0;
+            m->vy0[i] = 0;
+        }
+    for (i = 0; i < m->nn; i++)
+        if (m->rinv[i] == 0)
+            m->w0[i] = 0;
+}
+
+/* Each element's initial chord angle, on the same branch as its first node's rotation, so
+   phi - beta starts near 0. */
+static void rj__init_chord_angles(rj_model *m)
+{
+    int l, k;
+    for (l = 0; l < m->nl; l++)
+        for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++) {
+            const int a = m->link_first[l] + (k - m->link_efirst[l]);
+            const double chord = atan2(m->y0[a + 1] - m->y0[a], m->x0[a + 1] - m->x0[a]);
+            m->beta0[k] = m->phi0[a] + rj__wrap(chord - m->phi0[a]);
+        }
+}
+
+/* Rigid links in a scene with flexible ones move as bodies (clusters, rj__clusters); a
+   scene of rigid links alone runs in joint coordinates instead and has none. */
+static int rj__init_clusters(rj_model *m, const rj_scene_def *sc, rj_error *err)
+{
+    int i, l;
+    for (i = 0; i < m->nn; i++)
+        m->node_cl[i] = -1;
+    if (!rj__all_rigid(sc))
+        for (l = 0; l < m->nl; l++)
+            if (m->ldef[l].fidelity == RJ_LINK_RIGID)
+                m->ncl = m->nl;
+    if (m->ncl && !rj__clusters(m, err))
+        return 0;
+    return 1;
+}
+
+/* Joint j's inertias on either side (chord reference: from the neighbour nodes' effective
+   masses; tangent: the pin nodes' rotary inertias; HUGE_VAL where held), the weights that
+   split its torque between them, and the tangent reference's angle offset. */
+static void rj__init_joint_inertias(rj_model *m, int j)
+{
+    const rj_joint_def *d = &m->jdef[j];
+    rj__joint *J = &m->jnt[j];
+    rj__jgeo g;
+    J->chord = d->reference == RJ_REF_CHORD;
+    rj__joint_geo(m, J, m->x0, m->y0, &g);
+    if (J->chord) {
+        J->I1 = (J->nK >= 0 && m->einv[J->nK] > 0) ? g.a2 / m->einv[J->nK] : HUGE_VAL;
+        J->I2 = m->einv[J->nL] > 0 ? g.b2 / m->einv[J->nL] : HUGE_VAL;
+    } else {
+        J->I1 = (J->nI >= 0 && m->rinv[J->nI] > 0) ? m->rinertia[J->nI] : HUGE_VAL;
+        J->I2 = m->rinv[J->nJ] > 0 ? m->rinertia[J->nJ] : HUGE_VAL;
+        J->off = d->angle0 - m->phi0[J->nJ] + (J->nI >= 0 ? m->phi0[J->nI] : 0.0);
+    }
+    if (!rj__finite(J->I1)) {
+        J->w1 = 0;
+        J->w2 = 1;
+    } else if (!rj__finite(J->I2)) {
+        J->w1 = 1;
+        J->w2 = 0;
+    } else {
+        J->w1 = J->I2 / (J->I1 + J->I2);
+        J->w2 = J->I1 / (J->I1 + J->I2);
+    }
+}
+
+/* A joint's limits on the running angle. Both enabled: the free arc runs counter-clockwise
+   from reverse to forward; a start inside the limited arc counts as past the nearer limit.
+   One limit (a wall): the reverse limit is the largest theta_r + 2 pi k <= angle0 + pi/2,
+   the forward limit the smallest theta_f + 2 pi k >= angle0 - pi/2, so a start up to
+   90 deg past it counts as penetrated. */
+static void rj__init_running_limits(const rj_joint_def *d, rj__joint *J)
+{
+    if (d->has_forward && d->has_reverse) {
+        const double free_arc = rj__mod2pi(d->forward - d->reverse);
+        const double past_reverse = rj__mod2pi(d->angle0 - d->reverse);
+        if (past_reverse <= free_arc) {
+            J->rev = d->angle0 - past_reverse;
+            J->fwd = J->rev + free_arc;
+        } else if (past_reverse - free_arc <= RJ__TWO_PI - past_reverse) {
+            J->fwd = d->angle0 - (past_reverse - free_arc);
+            J->rev = J->fwd - free_arc;
+        } else {
+            J->rev = d->angle0 + (RJ__TWO_PI - past_reverse);
+            J->fwd = J->rev + free_arc;
+        }
+        return;
+    }
+    J->fwd = HUGE_VAL;
+    J->rev = -HUGE_VAL;
+    if (d->has_reverse)
+        J->rev =
+            d->reverse + RJ__TWO_PI * floor((d->angle0 + 0.5 * RJ__PI - d->reverse) / RJ__TWO_PI);
+    if (d->has_forward)
+        J->fwd =
+            d->forward + RJ__TWO_PI * ceil((d->angle0 - 0.5 * RJ__PI - d->forward) / RJ__TWO_PI);
+}
+
+/* The steepest the torque table gets anywhere (N m/rad): at each rising segment, the sum
+   of the slopes of every rising segment that overlaps it (later runs add, Eq 4). */
+static double rj__table_stiffness(const rj_joint_def *d)
+{
+    const double *angle = d->table_angle, *torque = d->table_torque;
+    double steepest = 0;
+    int k, k2;
+    for (k = 0; k + 1 < d->table_count; k++) {
+        double slopes = 0;
+        if (!(angle[k + 1] > angle[k]))
+            continue;
+        for (k2 = 0; k2 + 1 < d->table_count; k2++) {
+            if (!(angle[k2 + 1] > angle[k2]))
+                continue;
+            if (angle[k2 + 1] < angle[k] || angle[k2] > angle[k + 1])
+                continue;
+            slopes += fabs((torque[k2 + 1] - torque[k2]) / (angle[k2 + 1] - angle[k2]));
+        }
+        if (slopes > steepest)
+            steepest = slopes;
+    }
+    return steepest;
+}
+
+/* Every joint's constants: inertias, limits on the running angle, the table's potential
+   over a turn, and the linear stiffness of its spring and table (limits come later). */
+static void rj__init_joint_constants(rj_model *m)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        rj__joint *J = &m->jnt[j];
+        rj__init_joint_inertias(m, j);
+        rj__init_running_limits(d, J);
+        J->tv_turn = d->table_count ? rj__table_potential(d->table_angle, d->table_torque,
+                                                          d->table_count, RJ__TWO_PI)
+                                    : 0.0;
+        J->k_lin = d->spring_k + rj__table_stiffness(d);
+        J->k_limit = 0;
+    }
+}
+
+/* Inextensible links: the chains SHAKE solves (links joined tip to root form one). */
+static void rj__init_inextensible(rj_model *m, int *scratch)
+{
+    int l;
+    for (l = 0; l < m->nl; l++)
+        if (m->ldef[l].fidelity == RJ_LINK_INEXTENSIBLE)
+            m->any_inext = 1;
+    if (m->any_inext)
+        rj__inext_chains(m, scratch);
+}
+
+/* Rigid scenes: each link as a body (rod plus tip mass): its mass, the distance of its
+   centre of mass from the root, and its inertia about that centre. */
+static void rj__init_rigid_bodies(rj_model *m)
+{
+    int l;
+    for (l = 0; l < m->nl; l++) {
+        const rj_link_def *d = &m->ldef[l];
+        const double A = rj__plain_area(d);
+        const double rod = d->rho * A * d->length;
+        const double total = rod + d->tip_mass;
+        const double dc = (rod * 0.5 * d->length + d->tip_mass * d->length) / total;
+        m->rb_mass[l] = total;
+        m->rb_dcm[l] = dc;
+        m->rb_icm[l] = rod * d->length * d->length / 12.0 +
+                       rod * (0.5 * d->length - dc) * (0.5 * d->length - dc) +
+                       d->tip_mass * (d->length - dc) * (d->length - dc) + d->tip_inertia;
+        m->rb_pjoint[l] = -1;
+    }
+}
+
+/* Rigid scenes: each link's joint to its parent, and each joint's pin along body 1 with
+   the reference direction there (pi at a node past the root: I->K points back). */
+static void rj__init_rigid_pins(rj_model *m)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        m->rb_pjoint[d->body2] = j;
+        if (d->body1 >= 0) {
+            const int pin = d->node1 < 0 ? m->ldef[d->body1].elements : d->node1;
+            m->jpin[j] = pin * m->link_l0[d->body1];
+            m->jref[j] = pin > 0 ? RJ__PI : 0.0;
+        } else {
+            m->jpin[j] = 0;
+            m->jref[j] = 0;
+        }
+    }
+}
+
+/* Rigid scenes: the joints in an order with parents before children (the kinematics run
+   down the tree). */
+static void rj__init_joint_order(rj_model *m)
+{
+    int placed = 0, pass, j, k;
+    for (pass = 0; placed < m->nj && pass <= m->nj; pass++)
+        for (j = 0; j < m->nj; j++) {
+            const int b1 = m->jdef[j].body1;
+            int done = 0, ready = b1 < 0 || m->rb_pjoint[b1] < 0;
+            for (k = 0; k < placed; k++) {
+                if (m->jorder[k] == j)
+                    done = 1;
+                if (b1 >= 0 && m->jorder[k] == m->rb_pjoint[b1])
+                    ready = 1;
+            }
+            if (!done && ready)
+                m->jorder[placed++] = j;
+        }
+}
+
+/* Links held by constraints: SHAKE's inextensible chains, and in a scene of rigid links
+   alone (joint coordinates) the bodies, pins and joint order. */
+static void rj__init_rigid(rj_model *m, const rj_scene_def *sc, int *chain_scratch)
+{
+    m->rigid = rj__all_rigid(sc);
+    rj__init_inextensible(m, chain_scratch);
+    if (!m->rigid)
+        return;
+    rj__init_rigid_bodies(m);
+    rj__init_rigid_pins(m);
+    rj__init_joint_order(m);
+}
+
+/* The initial chords, which the Lanczos operator (rj__lz_apply) linearises about. */
+static void rj__init_chords(const rj_model *m, const rj__build_scratch *s)
+{
+    int l, k;
+    for (l = 0; l < m->nl; l++)
+        for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++) {
+            const int a = m->link_first[l] + (k - m->link_efirst[l]);
+            s->chord_x[k] = m->x0[a + 1] - m->x0[a];
+            s->chord_y[k] = m->y0[a + 1] - m->y0[a];
+        }
+}
+
+/* omega_max^2 at the stiffnesses in m->jnt: power iteration in joint coordinates for
+   rigid scenes (it also sets each joint's 1/I_red, J->minv), Lanczos otherwise. */
+static double rj__bound_omega2(rj_model *m, const rj__build_scratch *s)
+{
+    return m->rigid ? rj__rig_setup(m, s->rigid_bound) : rj__omega2_max(m, s->lanczos);
+}
+
+/* omega_max and the stability bound at the stiffnesses in m->jnt; returns omega_max^2. */
+static double rj__init_bound(rj_model *m, const rj__build_scratch *s, double damp_rate)
+{
+    const double om2 = rj__bound_omega2(m, s);
+    m->omega_max = rj__omega_of(om2);
+    m->dt_bound = rj__dt_bound_of(m->omega_max, damp_rate);
+    return om2;
+}
+
+/* What the search for the step carries: dt depends on K_AP and K_AP on dt. */
+typedef struct rj__dt_search {
+    double damp_rate;       /* the fastest joint damping rate, 1/s */
+    double om2_no_adaptive; /* omega_max^2 without the adaptive limits */
+    double dt;              /* the step under test */
+} rj__dt_search;
+
+/* A penalty limit switches on and off with the contact, which pumps energy long before the
+   linear bound: measured on the impact benchmark, RC13 contact blows up at omega dt = 1.67
+   where the same spring always on is stable. Counting it as 4 K keeps omega dt <= 1, where
+   switching was never seen to pump. Returns whether any joint has adaptive limits. */
+static int rj__count_penalty_limits(rj_model *m)
+{
+    int j, any_adaptive = 0;
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const int limited = d->has_forward || d->has_reverse;
+        if (limited && d->method == RJ_METHOD_PENALTY)
+            m->jnt[j].k_lin += 4.0 * d->penalty_k;
+        if (limited && d->method == RJ_METHOD_ADAPTIVE)
+            any_adaptive = 1;
+    }
+    return any_adaptive;
+}
+
+/* The adaptive limits' K_AP at the step under test (rigid: the joint's own effective
+   inertia 1 / (M^-1)_jj, Eq 21 for two free bodies), counted twice in k_lin. */
+static void rj__count_adaptive_limits(rj_model *m, const rj__dt_search *q)
+{
+    const double dt = q->dt;
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        rj__joint *J = &m->jnt[j];
+        if (!(d->has_forward || d->has_reverse) || d->method != RJ_METHOD_ADAPTIVE)
+            continue;
+        J->k_limit = m->rigid ? 1.0 / (J->minv * dt * dt) : rj_k_adaptive(J->I1, J->I2, dt);
+        J->k_lin = J->k_free + 2.0 * J->k_limit;
+    }
+}
+
+/* The step whose 0.9 x bound holds with omega^2(dt) ~ a + b / dt^2 (a: without the
+   adaptive limits, b from this pass) and the joints' damping rate d: with c = 0.9 x 2 x
+   margin, the bound dt (d/2 + sqrt(omega^2 + d^2/4)) <= c (rj__dt_bound_of) is
+   a dt^2 + c d dt + b - c^2 <= 0, whose positive root is the step; b < c^2. */
+static double rj__adaptive_dt_root(double a, double b, double d, double c, double dt_now)
+{
+    const double room = c * c - b;
+    if (a > 0)
+        return 2.0 * room / (c * d + sqrt(c * c * d * d + 4.0 * a * room));
+    if (d > 0)
+        return room / (c * d);
+    return dt_now;
+}
+
+/* The next step to test. K_AP = I_red / dt^2: omega dt of the adaptive limits does not
+   fall with dt, so when they alone are above the bound no step is stable: refused; so is
+   a search that has not settled in its passes, with what it reached. */
+static int rj__next_adaptive_dt(rj_model *m, rj__dt_search *q, double om2, int pass, rj_error *err)
+{
+    const double c = 0.9 * RJ__DT_MARGIN * 2.0;
+    const double b = (om2 - q->om2_no_adaptive) * q->dt * q->dt;
+    if (b >= c * c) {
+        rj__fail(err, RJ_ERR_UNSTABLE_DT, "solver.dt", q->dt,
+                 "no stable step for the adaptive limits: their stiffness K_AP (Eq 21) "
+                 "grows as 1/dt^2, so their omega dt, %.3g with the limits counted as in "
+                 "the bound, is the same at every dt and not below the %.3g the automatic "
+                 "step allows; use RJ_METHOD_MOMENTUM (or penalty with a fixed K) for these "
+                 "joints%s",
+                 sqrt(b), c, m->rigid ? ", as rigid links usually want" : "");
+        return 0;
+    }
+    if (pass == 19) {
+        rj__fail(err, RJ_ERR_UNSTABLE_DT, "solver.dt", q->dt,
+                 "no stable step found for the adaptive limits: after 20 passes the step "
+                 "%.4g s is still above 0.9 x its bound %.4g s (the adaptive limits' omega "
+                 "dt %.3g, the joints' damping rate %.4g 1/s); give solver.dt below the "
+                 "bound with solver.allow_unstable, or use RJ_METHOD_MOMENTUM for these "
+                 "joints",
+                 q->dt, m->dt_bound, sqrt(b), q->damp_rate);
+        return 0;
+    }
+    /* a step that small always has a bound at least as large: never go past it */
+    q->dt = rj__adaptive_dt_root(q->om2_no_adaptive, b, q->damp_rate, c, q->dt);
+    if (q->dt > 0.9 * m->dt_bound)
+        q->dt = 0.9 * m->dt_bound;
+    return 1;
+}
+
+/* Adaptive limits: K_AP = I_red/dt^2 gives omega dt = 1 on its own. Contact chatter near
+   the links' bound pumps energy with it too (stress suite: RC13 impacts blew up at 0.95 x
+   the bound with K_AP counted once), so it counts twice; K_AP grows as dt shrinks, so the
+   automatic dt is searched (rj__next_adaptive_dt); each pass checks the step it settles
+   on. A given dt is taken as it is, with its bound. */
+static int rj__search_adaptive_dt(rj_model *m, const rj_scene_def *sc, const rj__build_scratch *s,
+                                  rj__dt_search *q, rj_error *err)
+{
+    const int passes = sc->solver.dt > 0 ? 1 : 20;
+    int pass;
+    for (pass = 0; pass < passes; pass++) {
+        double om2;
+        rj__count_adaptive_limits(m, q);
+        om2 = rj__init_bound(m, s, q->damp_rate);
+        if (sc->solver.dt > 0 || q->dt <= 0.9 * m->dt_bound * 1.000001)
+            break;
+        if (!rj__next_adaptive_dt(m, q, om2, pass, err))
+            return 0;
+    }
+    return 1;
+}
+
+/* The limits' stiffness in use: a penalty limit's K, an adaptive limit's K_AP at dt. */
+static void rj__init_limit_stiffness(rj_model *m, double dt)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        rj__joint *J = &m->jnt[j];
+        if (d->method == RJ_METHOD_PENALTY)
+            J->k_limit = d->penalty_k;
+        if (d->method == RJ_METHOD_ADAPTIVE)
+            J->k_limit = m->rigid ? 1.0 / (J->minv * dt * dt) : rj_k_adaptive(J->I1, J->I2, dt);
+    }
+}
+
+/* Rigid scenes without stiff joints: no stiffness bounds the step, so it is 1 ms at most,
+   and 0.004 of the time a link takes to swing under gravity, sqrt(l / g), for the shortest
+   link (measured on the two-link strip with its adaptive latch under 1e4 and 1e5 m/s^2:
+   0.003 of it runs, 0.01 blows up as the latch catches; at 9.81 m/s^2 this binds only
+   links under 0.6 m). */
+static double rj__rigid_dt_cap(const rj_model *m)
+{
+    const double g = sqrt(m->solver.gravity[0] * m->solver.gravity[0] +
+                          m->solver.gravity[1] * m->solver.gravity[1]);
+    double cap = 1e-3, shortest = HUGE_VAL;
+    int l;
+    for (l = 0; l < m->nl; l++)
+        if (m->ldef[l].length < shortest)
+            shortest = m->ldef[l].length;
+    if (g > 0 && 0.004 * sqrt(shortest / g) < cap)
+        cap = 0.004 * sqrt(shortest / g);
+    return cap;
+}
+
+/* Stability: omega_max of beams + springs + tables alone (kept for the refusal's advice),
+   then with the limits counted; joint damping acts on the rates it lags (Eq 27 on
+   v^{n-1/2}): it shortens the step. The step: solver.dt, or 0.9 x the bound (rigid scenes
+   without stiff joints are not bounded: 1 ms at most), searched with adaptive limits. */
+static rj_result rj__init_step(rj_model *m, const rj_scene_def *sc, const rj__build_scratch *s,
+                               rj_error *err)
+{
+    rj__dt_search q;
+    int j, any_adaptive;
+    double om2;
+    for (j = 0; j < m->nj; j++)
+        m->jnt[j].k_free = m->jnt[j].k_lin;
+    m->omega_links = rj__omega_of(rj__bound_omega2(m, s));
+    q.damp_rate = rj__damping_rate(m);
+    any_adaptive = rj__count_penalty_limits(m);
+    om2 = rj__init_bound(m, s, q.damp_rate);
+    q.dt = sc->solver.dt > 0 ? sc->solver.dt : 0.9 * m->dt_bound;
+    if (m->rigid && sc->solver.dt <= 0 && q.dt > rj__rigid_dt_cap(m))
+        q.dt = rj__rigid_dt_cap(m);
+    q.om2_no_adaptive = om2;
+    if (any_adaptive && !rj__search_adaptive_dt(m, sc, s, &q, err))
+        return RJ_ERR_UNSTABLE_DT;
+    rj__init_limit_stiffness(m, q.dt);
+    m->dt = q.dt;
+    return RJ_OK;
+}
+
+/* The joint whose stiffness on its own gives the highest omega = sqrt(k_lin c) at the
+   start (c: 1/I_red), with that omega and c; -1 when none gives more than 0. */
+static int rj__stiffest_joint(const rj_model *m, double *omega, double *compliance)
+{
+    int j, worst = -1;
+    *omega = 0;
+    *compliance = 0;
+    for (j = 0; j < m->nj; j++) {
+        const double c = rj__joint_compliance0(m, j);
+        const double om = sqrt(m->jnt[j].k_lin * c);
+        if (om > *omega) {
+            *omega = om;
+            worst = j;
+            *compliance = c;
+        }
+    }
+    return worst;
+}
+
+/* The advice a step above the bound gets: what the stiffest joint's limit admits when it
+   alone is above omega dt = 1, or the links' own bound when they alone are above it. */
+static void rj__unstable_dt_advice(const rj_model *m, int worst, double omega, double compliance,
+                                   char *extra, size_t size)
+{
+    extra[0] = 0;
+    if (worst >= 0 && omega * m->dt > 1.0) {
+        const double room = (RJ__DT_MARGIN * 2.0 / m->dt) * (RJ__DT_MARGIN * 2.0 / m->dt) -
+                            m->omega_links * m->omega_links;
+        /* what this bound admits for a penalty limit (counted 4 K, added to the links'
+           omega^2) */
+        const double k_ok = room > 0 ? room / (4.0 * compliance) : 0.0;
+        if (m->jdef[worst].method == RJ_METHOD_ADAPTIVE)
+            snprintf(extra, size,
+                     "; joint %d's adaptive limit gives about omega dt = %.3g, and its K_AP "
+                     "(Eq 21) grows as 1/dt^2, so a smaller dt helps little: "
+                     "solver.dt = 0 finds the largest stable step if there is one, or use "
+                     "RJ_METHOD_MOMENTUM%s",
+                     worst, omega * m->dt, m->rigid ? " (rigid links)" : " or a penalty K");
+        else if (room > 0 && !m->rigid)
+            snprintf(extra, size,
+                     "; joint %d's stiffness gives omega dt = %.3g: this model accepts a "
+                     "penalty K up to about %.4g N m/rad at this dt (Eq 31 would give %.4g)",
+                     worst, omega * m->dt, k_ok, rj_joint_kmax_eq31(m, worst, m->dt));
+        else if (room > 0)
+            snprintf(extra, size,
+                     "; joint %d's stiffness gives omega dt = %.3g: this model accepts a "
+                     "penalty K up to about %.4g N m/rad at this dt",
+                     worst, omega * m->dt, k_ok);
+    }
+    if (m->omega_links > 0 && m->dt > RJ__DT_MARGIN * 2.0 / m->omega_links)
+        snprintf(extra, size, "; the links alone need dt <= %.4g s",
+                 RJ__DT_MARGIN * 2.0 / m->omega_links);
+}
+
+/* A given step above the bound is refused (unless solver.allow_unstable), naming the
+   stiffest joint when a joint, not a link, sets the bound. */
+static rj_result rj__refuse_unstable_dt(const rj_model *m, rj_error *err)
+{
+    double omega, compliance;
+    char extra[240];
+    const int worst = rj__stiffest_joint(m, &omega, &compliance);
+    const int adaptive_worst =
+        worst >= 0 && omega * m->dt > 1.0 && m->jdef[worst].method == RJ_METHOD_ADAPTIVE;
+    rj__unstable_dt_advice(m, worst, omega, compliance, extra, sizeof extra);
+    rj__fail(err, RJ_ERR_UNSTABLE_DT, "solver.dt", m->dt,
+             "solver.dt = %.9g s is above the stability bound %.9g s (omega_max %g rad/s)%s; %s",
+             m->dt, m->dt_bound, m->omega_max, extra,
+             adaptive_worst ? "or set solver.allow_unstable"
+                            : "use a smaller dt or set solver.allow_unstable");
+    return RJ_ERR_UNSTABLE_DT;
+}
+
+/* The step in use must be stable (unless solver.allow_unstable) and usable: a bound or a
+   step that is not a finite positive number leaves nothing to run, nor does a start that
+   is not finite. */
+static rj_result rj__check_step(const rj_model *m, const rj_scene_def *sc, rj_error *err)
+{
+    if (m->dt > m->dt_bound && !sc->solver.allow_unstable)
+        return rj__refuse_unstable_dt(m, err);
+    if (!rj__usable_step(m, err))
+        return RJ_ERR_INVALID;
+    return RJ_OK;
+}
+
+/* Eq 28 over the whole model: the shortest element wave transit l0 / c. */
+static void rj__init_dt_eq28(rj_model *m)
+{
+    int l;
+    m->dt_eq28 = HUGE_VAL;
+    for (l = 0; l < m->nl; l++) {
+        const double wave_speed = sqrt(m->ldef[l].E / m->ldef[l].rho);
+        const double transit = m->link_l0[l] / wave_speed;
+        if (transit < m->dt_eq28)
+            m->dt_eq28 = transit;
+    }
+}
+
+/* The nodes the step advances again after the joints, once each and in ascending order:
+   every node a joint or an applied load acts on, rigid links' nodes (their bodies move
+   them), and every link's end nodes (tip masses: not the link's uniform values). mark
+   (nn ints) keeps which they are for rj__init_link_uniform. */
+static void rj__init_step_nodes(rj_model *m, int *mark)
+{
+    int i, j, l, k;
+    m->ndn = 0;
+    for (i = 0; i < m->nn; i++)
+        mark[i] = 0;
+    for (j = 0; j < m->nj; j++) {
+        const rj__joint *J = &m->jnt[j];
+        const int nodes[4] = { J->nI, J->nJ, J->chord ? J->nK : -1, J->chord ? J->nL : -1 };
+        for (k = 0; k < 4; k++)
+            if (nodes[k] >= 0)
+                mark[nodes[k]] = 1;
+    }
+    for (k = 0; k < m->nload; k++)
+        mark[m->load_node[k]] = 1;
+    for (l = 0; l < m->nl; l++) {
+        const int n0 = m->link_first[l], ne_l = m->ldef[l].elements;
+        if (m->ldef[l].fidelity == RJ_LINK_RIGID)
+            for (k = n0; k <= n0 + ne_l; k++)
+                mark[k] = 1;
+        mark[n0 + ne_l] = 1;
+        mark[n0] = 1;
+    }
+    for (i = 0; i < m->nn; i++)
+        if (mark[i])
+            m->dnode[m->ndn++] = i;
+    m->dn_inner = 0;
+    for (l = 0; l < m->nl; l++) {
+        const int n0 = m->link_first[l], ne_l = m->ldef[l].elements;
+        if (m->ldef[l].fidelity != RJ_LINK_RIGID)
+            for (k = n0 + 1; k < n0 + ne_l; k++)
+                if (mark[k])
+                    m->dn_inner = 1;
+    }
+}
+
+/* A link whose other (unmarked) nodes share their inverse masses and energy weights
+   (uniform sections: all of them) lets the fused pass read four numbers instead of four
+   arrays: tinv, rinv, kmass, krot, and 1 when they all agree. */
+static void rj__init_link_uniform(rj_model *m, const int *mark)
+{
+    int l, k;
+    for (l = 0; l < m->nl; l++) {
+        const int n0 = m->link_first[l], ne_l = m->ldef[l].elements;
+        double *u = m->link_un + 5 * l;
+        int first = 1, same = 1;
+        u[3] = 0;
+        u[2] = 0;
+        u[1] = 0;
+        u[0] = 0;
+        for (k = n0; k <= n0 + ne_l; k++) {
+            if (mark[k])
+                continue;
+            if (first) {
+                u[0] = m->tinv[k];
+                u[1] = m->rinv[k];
+                u[2] = m->kmass[k];
+                u[3] = m->krot[k];
+                first = 0;
+            } else if (!(u[0] == m->tinv[k] && u[1] == m->rinv[k] && u[2] == m->kmass[k] &&
+                         u[3] == m->krot[k]))
+                same = 0;
+        }
+        u[4] = same;
+    }
+}
+
+/* A frame's size: nodes, elements (beta, chords), joints, scalars, then the clusters'
+   records; and its flags, one per joint. */
+static void rj__init_frames(rj_model *m)
+{
+    m->frame_doubles =
+        6 * (size_t) m->nn + 3 * (size_t) m->ne + RJ__JD_COUNT * (size_t) m->nj + RJ__FS_COUNT;
+    m->cl_off = m->frame_doubles;
+    m->frame_doubles += 6 * (size_t) m->ncl;
+    m->frame_ints = (size_t) m->nj;
+}
+
+/* In place: not with inextensible links (SHAKE reads every node at n), and only if every
+   node of a pin group or a rigid body is one the step keeps (m->dnode: it is). */
+static void rj__init_in_place(rj_model *m)
+{
+    int i, q;
+    /* not with inextensible links (SHAKE reads every node at n) */
+    m->ip = !m->rigid && !m->any_inext && m->solver.in_place != RJ_IN_PLACE_OFF &&
+            (m->solver.in_place == RJ_IN_PLACE_ON || m->nn >= RJ_IN_PLACE_NODES);
+    for (i = 0; i < m->ng && m->ip; i++)
+        for (q = m->grp_first[i]; q < m->grp_first[i + 1]; q++)
+            if (!rj__is_dnode(m, m->grp_node[q]))
+                m->ip = 0;
+    for (i = 0; i < m->ncl && m->ip; i++)
+        for (q = m->cl_first[i]; q < m->cl_first[i + 1]; q++)
+            if (!rj__is_dnode(m, m->cl_node[q]))
+                m->ip = 0;
+}
+
+/* The model, phase by phase. A refusal returns at the first error, the checks in their
+   order: arguments and fields, the joint graph, the links' numbers, the step. */
+RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj_model **out,
+                              rj_error *err)
+{
+    rj__layout L;
+    rj__build_scratch s;
+    rj_model *m;
+    size_t nodes, elements;
+    rj_result r = rj__init_check_args(sc, mem, size, out, &nodes, &elements, &L, err);
+    if (r != RJ_OK)
+        return r;
+    m = rj__init_block(sc, mem, &L, nodes, elements);
+    rj__init_arrays(m, &L);
+    rj__build_scratch_carve(m, &s);
+    if (!rj__validate_graph(sc, s.graph, err))
+        return RJ_ERR_INVALID;
+    rj__init_copy_defs(m, sc);
+    rj__init_links(m);
+    rj__init_load_nodes(m);
+    if (!rj__check_links(m, err))
+        return RJ_ERR_INVALID;
+    rj__init_joint_nodes(m);
+    rj__init_pin_groups(m, s.pin_groups);
+    rj__init_energy_masses(m);
+    rj__init_placement(m, s.placement);
+    rj__init_chord_angles(m);
+    if (!rj__init_clusters(m, sc, err))
+        return RJ_ERR_INVALID;
+    rj__init_joint_constants(m);
+    rj__init_rigid(m, sc, s.chains);
+    rj__init_chords(m, &s);
+    rj__limit_warnings(m);
+    r = rj__init_step(m, sc, &s, err);
+    if (r != RJ_OK)
+        return r;
+    r = rj__check_step(m, sc, err);
+    if (r != RJ_OK)
+        return r;
+    rj__init_dt_eq28(m);
+    rj__init_step_nodes(m, s.step_node_mark);
+    rj__init_link_uniform(m, s.step_node_mark);
+    rj__init_frames(m);
+    rj__init_in_place(m);
+    m->hash = rj__model_hash(m);
+    *out = m;
+    return RJ_OK;
+}
+
+RJDEF rj_result rj_model_create(const rj_scene_def *scene, rj_model **out, rj_error *err,
+                                void *alloc_ctx)
+{
+    size_t sz;
+    void *mem;
+    rj_result r;
+    rj_error size_err;
+    (void) alloc_ctx;
+    if (!out) {
+        rj__fail(err, RJ_ERR_INVALID, "out", 0, "out is NULL");
+        return RJ_ERR_INVALID;
+    }
+    sz = rj_model_size(scene, err ? err : &size_err);
+    if (!sz)
+        return err ? err->code : size_err.code;
+    mem = RJ_MALLOC(sz, alloc_ctx);
+    if (!mem) {
+        rj__fail(err, RJ_ERR_NOMEM, "size", (double) sz, "could not allocate %lu bytes",
+                 (unsigned long) sz);
+        return RJ_ERR_NOMEM;
+    }
+    r = rj_model_init(scene, mem, sz, out, err);
+    if (r != RJ_OK) {
+        RJ_FREE(mem, alloc_ctx);
+        return r;
+    }
+    /* remember the raw pointer for free: the model sits at the aligned start of mem */
+    if ((void *) *out != mem) {
+        /* alignment moved the start; keep it simple: allocators return 16-aligned blocks */
+        RJ_FREE(mem, alloc_ctx);
+        rj__fail(err, RJ_ERR_NOMEM, "size", 0,
+                 "RJ_MALLOC returned a block not aligned to 16 bytes");
+        *out = NULL;
+        return RJ_ERR_NOMEM;
+    }
+    return RJ_OK;
+}
+
+RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
+{
+    (void) alloc_ctx;
+    if (m)
+        RJ_FREE(m, alloc_ctx);
+}
+

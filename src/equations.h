@@ -1,0 +1,126 @@
+/* ------------------------------------------------------------------ pure element equations */
+/* Eqs 1-3: angle from a to b, counter-clockwise, in [0, 2 pi). */
+RJDEF double rj_rotary_location(double ax, double ay, double bx, double by)
+{
+    return rj__mod2pi(atan2(ax * by - ay * bx, ax * bx + ay * by));
+}
+
+/* Eq 4: sum over segments containing theta of the linear interpolant; overlapping segments add. */
+RJDEF double rj_table_torque(const double *angle, const double *torque, int count, double theta)
+{
+    double t = 0.0;
+    int i;
+    for (i = 0; i + 1 < count; i++) {
+        double a0 = angle[i], a1 = angle[i + 1];
+        if (a1 > a0 && theta >= a0 && theta <= a1)
+            t += torque[i] + (theta - a0) / (a1 - a0) * (torque[i + 1] - torque[i]);
+    }
+    return t;
+}
+
+/* Integral of Eq 4 from 0 to theta (the table's potential). */
+static double rj__table_potential(const double *angle, const double *torque, int count,
+                                  double theta)
+{
+    double v = 0.0;
+    int i;
+    for (i = 0; i + 1 < count; i++) {
+        double a0 = angle[i], a1 = angle[i + 1], hi, k;
+        if (!(a1 > a0) || theta <= a0)
+            continue;
+        hi = theta < a1 ? theta : a1;
+        k = (torque[i + 1] - torque[i]) / (a1 - a0);
+        v += (hi - a0) * (torque[i] + 0.5 * k * (hi - a0));
+    }
+    return v;
+}
+
+/* Eq 6: bLimit for wrapped theta. forward > reverse: limited outside (reverse, forward);
+   forward < reverse: limited inside [forward, reverse] (free range wraps through 0). */
+RJDEF int rj_blimit(double theta, double forward, double reverse)
+{
+    if (forward > reverse)
+        return theta >= forward || theta <= reverse;
+    if (forward < reverse)
+        return theta >= forward && theta <= reverse;
+    return theta == forward;
+}
+
+/* Eqs 7-13: next status flag. beyond_forward / beyond_reverse split bLimit by side (our
+   reading: a body past the forward limit cannot be "at the reverse limit"). */
+RJDEF int rj_flag_next(int prev, int beyond_forward, int beyond_reverse, double rate, int lock,
+                       int release)
+{
+    if (prev == RJ_LOCKED)
+        return RJ_LOCKED; /* never released */
+    if (lock && (beyond_forward || beyond_reverse))
+        return RJ_LOCKED;             /* Eq 7, L = 3 */
+    if (release == RJ_RELEASE_RC12) { /* Eqs 8, 9, 12 */
+        if (beyond_forward && (prev == RJ_AT_FORWARD || (prev == RJ_FREE && rate >= 0)))
+            return RJ_AT_FORWARD;
+        if (beyond_reverse && (prev == RJ_AT_REVERSE || (prev == RJ_FREE && rate <= 0)))
+            return RJ_AT_REVERSE;
+        return RJ_FREE;
+    }
+    /* RC13, Eqs 10, 11, 13: the motion must still point into the limit */
+    if (beyond_forward && (prev == RJ_FREE || prev == RJ_AT_FORWARD) && rate >= 0)
+        return RJ_AT_FORWARD;
+    if (beyond_reverse && (prev == RJ_FREE || prev == RJ_AT_REVERSE) && rate <= 0)
+        return RJ_AT_REVERSE;
+    return RJ_FREE;
+}
+
+/* Eq 21. I1 or I2 may be infinite (ground). */
+RJDEF double rj_k_adaptive(double I1, double I2, double dt)
+{
+    double ired;
+    if (!rj__finite(I1))
+        ired = I2;
+    else if (!rj__finite(I2))
+        ired = I1;
+    else
+        ired = I1 * I2 / (I1 + I2);
+    return ired / (dt * dt);
+}
+
+/* Eqs 23-24: w2' = (w2 (I2 - I1 e) + I1 w1 (1 + e)) / (I1 + I2), w1' = w2' - e (w1 - w2),
+   written with the shares so that an infinite I1 (ground) works. */
+RJDEF void rj_momentum_balance(double I1, double I2, double e, double *w1, double *w2)
+{
+    double a1, a2, o1 = *w1, o2 = *w2, n1, n2;
+    if (!rj__finite(I1)) {
+        a1 = 1.0;
+        a2 = 0.0;
+    } else if (!rj__finite(I2)) {
+        a1 = 0.0;
+        a2 = 1.0;
+    } else {
+        a1 = I1 / (I1 + I2);
+        a2 = I2 / (I1 + I2);
+    }
+    n2 = o2 * (a2 - a1 * e) + a1 * o1 * (1.0 + e);
+    n1 = n2 - e * (o1 - o2);
+    *w1 = n1;
+    *w2 = n2;
+}
+
+/* Eqs 25-26: common velocity with the kinetic energy kept. */
+RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2)
+{
+    double a1, a2, s, w;
+    if (!rj__finite(I1)) {
+        a1 = 1.0;
+        a2 = 0.0;
+    } else if (!rj__finite(I2)) {
+        a1 = 0.0;
+        a2 = 1.0;
+    } else {
+        a1 = I1 / (I1 + I2);
+        a2 = I2 / (I1 + I2);
+    }
+    s = a1 * *w1 * fabs(*w1) + a2 * *w2 * fabs(*w2);
+    w = (s >= 0 ? 1.0 : -1.0) * sqrt(fabs(s));
+    *w1 = w;
+    *w2 = w;
+}
+

@@ -1,0 +1,418 @@
+/* ==================================================================== IMPLEMENTATION */
+#if defined(REVJOINT_IMPLEMENTATION) && !defined(REVJOINT_IMPLEMENTATION_DONE)
+#define REVJOINT_IMPLEMENTATION_DONE
+#include <math.h>
+#include <float.h>
+#include <string.h>
+#include <stdio.h>
+#include <stdarg.h>
+
+#if defined(RJ_MALLOC) != defined(RJ_FREE)
+#error "define both RJ_MALLOC and RJ_FREE, or neither"
+#endif
+#ifndef RJ_MALLOC
+#include <stdlib.h>
+#define RJ_MALLOC(sz, ctx) ((void) (ctx), malloc(sz))
+#define RJ_FREE(p, ctx)    ((void) (ctx), free(p))
+#endif
+/* With solver.in_place AUTO, models of at least this many nodes step in place (rj__step):
+   below it a link's two frames (144 bytes per node) fit a 48 KB L1 data cache anyway, and
+   in place costs copies of each chunk's chord angles and chords. Measured on a free link:
+   slower in place at 100 and 200 elements, faster at 500 (docs/performance.md). */
+#ifndef RJ_IN_PLACE_NODES
+#define RJ_IN_PLACE_NODES 400
+#endif
+#ifndef RJ_ASSERT
+#include <assert.h>
+#define RJ_ASSERT(x) assert(x)
+#endif
+/* No FMA contraction in the library, whatever the including file's flags (gcc's GNU modes
+   contract by default, clang's default mode within an expression; clang's
+   -ffp-contract=fast ignores the pragma by design): the same bits from every build and
+   lane width (tests/lanes.sh), -march=native included. The caller's code after the header
+   keeps its own setting. (float_control needs clang 11, Apple's 13; older clangs and
+   other compilers get no pragma.) */
+#if defined(__clang__)
+#if (!defined(__apple_build_version__) && __clang_major__ >= 11) || __clang_major__ >= 13
+#define RJ__FP_PRAGMAS 1
+#pragma float_control(push)
+#pragma clang fp contract(off)
+#endif
+#elif defined(__GNUC__) && !defined(__INTEL_COMPILER)
+#define RJ__FP_PRAGMAS 1
+#pragma GCC push_options
+#pragma GCC optimize("fp-contract=off")
+#endif
+
+#if defined(__cplusplus) && (defined(__GNUC__) || defined(_MSC_VER))
+#define RJ__RESTRICT __restrict
+#elif defined(__STDC_VERSION__) && __STDC_VERSION__ >= 199901L
+#define RJ__RESTRICT restrict
+#else
+#define RJ__RESTRICT
+#endif
+/* The beam pass uses GCC/Clang vector extensions where they exist (RJ_NO_SIMD turns them
+   off): lanes of 4 doubles where the compiler targets AVX, 2 otherwise, and on x86-64
+   without -mavx both, the 4-lane kernels compiled for AVX2 and chosen per step when the CPU
+   has it (RJ_NO_DISPATCH turns that off). No FMA (see above). Every lane does the scalar
+   code's operations in the scalar code's order, so results are bit-identical in every
+   case (tests/lanes.sh). 8-lane AVX-512 kernels were tried and measured no faster beyond
+   this machine's noise (docs/performance.md), so there are none. */
+#if !defined(RJ_NO_SIMD) && (defined(__GNUC__) || defined(__clang__))
+#define RJ__LANES 1
+typedef double rj__vd2 __attribute__((vector_size(16)));
+typedef long long rj__vl2 __attribute__((vector_size(16)));
+typedef double rj__vd4 __attribute__((vector_size(32)));
+typedef long long rj__vl4 __attribute__((vector_size(32)));
+#define RJ__VLD(v, p) memcpy(&(v), (p), sizeof(v))
+#define RJ__VST(p, v) memcpy((p), &(v), sizeof(v))
+#if defined(__AVX__)
+#define RJ__LANES4 1
+#elif defined(__x86_64__) && !defined(RJ_NO_DISPATCH) &&                                           \
+    ((defined(__clang__) && __clang_major__ >= 4) || (!defined(__clang__) && __GNUC__ >= 6))
+#define RJ__LANES2   1
+#define RJ__LANES4   1
+#define RJ__DISPATCH 1
+#define RJ__AVX2     __attribute__((target("avx2")))
+#else
+#define RJ__LANES2 1
+#endif
+#endif
+#ifndef RJ__AVX2
+#define RJ__AVX2
+#endif
+#if defined(__cplusplus) || (defined(__STDC_VERSION__) && __STDC_VERSION__ >= 199901L)
+#define RJ__INLINE inline
+#else
+#define RJ__INLINE
+#endif
+#if defined(__GNUC__) || defined(__clang__)
+#define RJ__FORCE_INLINE __attribute__((always_inline)) RJ__INLINE
+#define RJ__NOINLINE     __attribute__((noinline))
+#else
+#define RJ__FORCE_INLINE RJ__INLINE
+#define RJ__NOINLINE
+#endif
+#define RJ__PI            3.14159265358979323846
+#define RJ__TWO_PI        6.28318530717958647692
+#define RJ__COOKIE_LINK   0x524a4c4bu
+#define RJ__COOKIE_JOINT  0x524a4a54u
+#define RJ__COOKIE_SOLVER 0x524a534fu
+#define RJ__COOKIE_LOAD   0x524a4c44u
+#define RJ__ALIGN         16
+/* Margin on 2/omega_max: covers the Lanczos estimate (a lower bound of omega_max) and the
+   geometric stiffness the linearisation leaves out. */
+#define RJ__DT_MARGIN     0.98
+#define RJ__LANCZOS_ITERS 160
+/* a contact first seen more than this far past its limit is reported as caught late */
+#define RJ__LATE 0.05
+/* neither the energy balance (total + dissipated - initial) nor the limits' work may put in
+   more than this share of the initial energy: springs, friction, damping and limits do not
+   create energy, so that means chatter at a limit or a step above the bound: the step stops */
+#define RJ__CREATED 0.02
+/* Nodes a model may hold: node indices are ints, and the building scratch indexes up to
+   25 values per node with them */
+#define RJ__MAX_NODES 50000000
+/* The shortest stability bound a model may have, s: below a femtosecond no mechanism is
+   followed (a run of one second would take 1e15 steps), and what gets there is a link of
+   atomic size or an unphysical material, usually numbers in the wrong units */
+#define RJ__MIN_BOUND 1e-15
+/* ints of scratch the joint-graph checks take (rj__validate_graph) */
+#define RJ__GRAPH_SCRATCH(nl, nj) (2 * (size_t) (nl) + (size_t) (nj) + 1)
+
+/* ------------------------------------------------------------------ internal types */
+typedef struct rj__joint {
+    int nI, nK, nJ,
+        nL; /* global nodes: pin on body 1, its neighbour, pin on body 2, its neighbour; nI = nK = -1 for ground */
+    int chord;       /* RJ_REF_CHORD */
+    double off;      /* tangent mode: theta = off + phi_J - phi_I */
+    double minv;     /* rigid scenes: (M^-1)_jj, rate change per unit torque impulse */
+    double gax, gay; /* ground reference direction (unit) when nK < 0 */
+    double I1, I2;   /* reference-segment inertias, kg m^2 (I1 = inf for ground/fixed) */
+    double w1, w2;   /* I2/(I1+I2), I1/(I1+I2): share of a correction taken by body 1 / body 2 */
+    double k_limit;  /* stiffness at the limits (penalty_k or K_AP), N m/rad */
+    double k_lin;    /* linear stiffness for the stability bound, N m/rad */
+    double k_free;   /* k_lin without the limits (springs and tables), N m/rad */
+    double fwd, rev; /* running (unwrapped) limits, rad; +-inf when disabled */
+    double tv_turn;  /* table potential of a full turn, J */
+} rj__joint;
+
+/* Per-joint values in a frame (doubles), then per-joint ints. */
+enum {
+    RJ__JD_THETA = 0,
+    RJ__JD_RATE,
+    RJ__JD_LOCK,
+    RJ__JD_EVENT,
+    RJ__JD_RELEASE,
+    RJ__JD_PEAKP,
+    RJ__JD_P0,
+    RJ__JD_QDD,
+    RJ__JD_IMPULSE,
+    RJ__JD_INPUT,   /* the caller's torque applied in the step that made this frame */
+    RJ__JD_SIDE,    /* the band of 360 deg the angle was last clearly in (0.5: not yet) */
+    RJ__JD_OVERLAP, /* the first time the two links passed through each other, s (-1) */
+    RJ__JD_TQ0,
+    RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT
+};
+/* Frame scalars. */
+enum {
+    RJ__FS_TIME = 0,
+    RJ__FS_ETIME,
+    RJ__FS_KE,
+    RJ__FS_STRAIN,
+    RJ__FS_SPRING,
+    RJ__FS_LDAMP,
+    RJ__FS_LFRIC,
+    RJ__FS_LLIM,
+    RJ__FS_E0,
+    RJ__FS_WARN,
+    RJ__FS_PEND,
+    RJ__FS_GRAV, /* the potential of gravity at x^n */
+    RJ__FS_WORK, /* the work of the caller's inputs since the start */
+    RJ__FS_COUNT
+};
+
+struct rj_model {
+    size_t bytes;
+    unsigned long long hash;
+    int nl, nj, nn, ne, ng;
+    int rigid;         /* all links rigid: joint coordinates */
+    int has_gravity;   /* solver.gravity is not zero */
+    int nload;         /* applied loads (scene loads) */
+    rj_load_def *load; /* (nload) their definitions */
+    int *load_node;    /* (nload) the node each acts on, in the scene's node order */
+    double *rb_mass, *rb_icm,
+        *rb_dcm;    /* (nl) rigid link mass, inertia about its centre, root-to-centre distance */
+    int *rb_pjoint; /* (nl) joint whose body2 the link is, -1 if fixed */
+    int *jorder;    /* (nj) joints with parents before children */
+    double *jpin,
+        *jref; /* (nj) pin distance along body 1 from its root; reference offset (pi or 0) */
+    double dt, dt_bound, omega_max, dt_eq28, omega_links;
+    rj_solver_def solver;
+    rj_link_def *ldef;         /* (nl) */
+    rj_joint_def *jdef;        /* (nj) */
+    rj__joint *jnt;            /* (nj) */
+    int *link_first;           /* (nl+1) first node of each link; nodes of a link are contiguous */
+    int *link_efirst;          /* (nl+1) first element of each link */
+    double *link_l0;           /* (nl) element rest length, m */
+    double *link_EA, *link_EI; /* (nl) N, N m^2 */
+    double *link_rho, *link_I; /* (nl) kg/m^3, m^4 */
+    int any_inext;             /* some link is RJ_LINK_INEXTENSIBLE */
+    /* mixed scenes: each rigid link is one rigid body (a cluster) carrying its own nodes
+       (rotation and translation follow the body) and the nodes pinned to them (translation
+       follows, rotation free); cluster c is link c, other links have no members */
+    int ncl;                 /* nl in a mixed scene, else 0 */
+    int *node_cl;            /* (nn) cluster of a node, -1 if none */
+    int *cl_first, *cl_node; /* (nl+1), (nn) members */
+    int *cl_fix;             /* (nl) 0 free body, 1 turns about a fixed pin (the anchor), 2 held */
+    double *cl_M, *cl_I;     /* (nl) mass, inertia about the anchor (centre of mass, or the pin) */
+    double *
+        cl_th0; /* (3 nl) body angle at the start (its nodes' phi0), anchor velocity at the start */
+    double *cl_rx, *cl_ry; /* (nn) member offsets from the anchor at the start */
+    size_t
+        cl_off; /* frame offset of the clusters' records: anchor x y, its velocity, omega, angle */
+    int nch;    /* inextensible chains: links joined tip to root form one chain */
+    int *ch_first;           /* (nl+1) first entry of each chain in ch_node */
+    int *ch_node;            /* (nn+nl) node indices along the chains (a shared pin once) */
+    double *ch_l0sq;         /* (nn+nl) squared rest length of the element after each entry */
+    double *mass, *rinertia; /* (nn) lumped translational mass kg, rotary inertia kg m^2 */
+    double *tinv; /* (nn) 1/mass for free ungrouped nodes, 0 for fixed or grouped nodes */
+    double *rinv; /* (nn) 1/rinertia, 0 for fixed rotations */
+    double *einv; /* (nn) effective translational 1/mass (group's for grouped nodes) */
+    double *kmass,
+        *krot; /* (nn) mass / rotary inertia counted in the kinetic energy (0 for fixed or grouped) */
+    int *grp_first; /* (ng+1) */
+    int ndn;        /* nodes whose forces change after the beams, and links' end nodes */
+    int dn_inner;   /* some flexible link has such a node inside (not at an end) */
+    int ip;         /* the step runs in place (rj__step, RJ_IN_PLACE_NODES) */
+    int *
+        dnode; /* (ndn) those nodes and every link's end nodes: the fused beam pass advances them again */
+    double *
+        link_un; /* (5 nl) a link's other nodes' tinv, rinv, kmass, krot, and 1 when they all agree */
+    double *
+        link_kc; /* (4 nl) a link's element constants: EI/l0, EA/l0 (0 if inextensible), l0^2, 1/(2 l0^2) */
+    int *grp_node;   /* (members) */
+    int *node_grp;   /* (nn) group of a node, -1 if none */
+    double *grp_inv; /* (ng) 1/sum of member masses, 0 if a member is fixed */
+    double *x0, *y0, *phi0, *vx0, *vy0, *w0; /* (nn) initial conditions */
+    double *beta0;                           /* (ne) initial chord angles */
+    double *lz;                              /* building scratch (rj__build_scratch) */
+    int nwarn;            /* warnings about the definitions (rj_model_warnings) */
+    char warnings[1024];  /* their text, one per line */
+    size_t frame_doubles; /* doubles in a frame */
+    size_t frame_ints;
+};
+
+struct rj_state {
+    size_t bytes;
+    int cur; /* index of the current frame */
+    long steps;
+    double
+        *fd[3]; /* frames: x y phi vx vy w (nn each), beta cx cy (ne each), joints (nj*JD), scalars;
+                                 in place (rj_model.ip) fd[2] takes the step's new joints and scalars */
+    int *fi[3]; /* frames: flags (nj) */
+    long snap;  /* in place: the other frame is a copy of the state at this step (-1: none) */
+    unsigned long long
+        want; /* in place: the energy requests of the steps since snap (bit k: step snap + k) */
+    double *fx, *fy, *mz; /* (nn) forces */
+    double *kn;           /* (nn) each node's share of twice the kinetic energy */
+    double *sha, *shb, *shc,
+        *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
+    double *eu,
+        *ebt; /* (ne) element strain energies; scratch (chord angles at reset, SHAKE's active flags) */
+    double *jsc;          /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
+    double *input_torque; /* (nj) the caller's joint torques, N m on body 2 (kept until changed) */
+    int inputs;           /* rj_state_joint_torques was called: the step applies them */
+    double *input_node;   /* (3 nn) the caller's node forces fx fy mz (kept until changed) */
+    int node_inputs;      /* rj_state_node_forces was called: the step applies them */
+    double settle_scale;  /* rj_settle under way: the potential energy it has moved, J (else 0) */
+    double *snap_torque;  /* (nj) in place: the caller's joint torques since snap */
+    int snap_inputs;      /* in place: inputs (on or off) since snap */
+    double *node_applied; /* (3 nn) the node forces the last step applied, for their work */
+    double step_work;     /* the work of the loads and node forces in the step under way */
+    double step_fin;      /* the positions their kicks wrote, summed (the finite test) */
+    double *
+        rsc; /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch); mixed: body impulses (3 nl) */
+    char err[640];
+    char warn[200]; /* latest warning (late contact), written only when one occurs */
+};
+
+static size_t rj__rigid_scratch(int nj, int nl);
+static double rj__rig_setup(rj_model *m, double *scratch);
+typedef struct rj__rig {
+    double *M, *L, *W, *q, *qd, *qdp, *qdd, *Q, *h, *x,
+        *tmp; /* n x n (W: columns of M^-1), n each (tmp 2 n) */
+    double *S, *SL, *lam, *act,
+        *rhs;   /* the plastic joints' impulse system: n x n, its factor, n each */
+    double *lk; /* per link, RJ__RL_COUNT values: rj__rig_kin */
+} rj__rig;
+/* a link's record in rj__rig.lk: angle and its cos, sin; root; centre; their accelerations
+   (centripetal, at the predicted rates); predicted angular rate; rate and root velocity;
+   then the subtree the link's parent joint carries (rj__rig_mass): its mass, first moment
+   and inertia about the joint's pin, its sum of m a and that sum's moment about the pin */
+enum {
+    RJ__RL_PHI = 0,
+    RJ__RL_EC,
+    RJ__RL_ES,
+    RJ__RL_RX,
+    RJ__RL_RY,
+    RJ__RL_CX,
+    RJ__RL_CY,
+    RJ__RL_ARX,
+    RJ__RL_ARY,
+    RJ__RL_ACX,
+    RJ__RL_ACY,
+    RJ__RL_OMB,
+    RJ__RL_OM,
+    RJ__RL_VX,
+    RJ__RL_VY,
+    RJ__RL_SUB_M,
+    RJ__RL_SUB_SX,
+    RJ__RL_SUB_SY,
+    RJ__RL_SUB_J,
+    RJ__RL_SUB_FX,
+    RJ__RL_SUB_FY,
+    RJ__RL_SUB_N,
+    RJ__RL_COUNT = 24
+};
+static void rj__rig_map(const rj_model *m, double *base, rj__rig *r);
+static double rj__gravity_potential(const rj_model *m, const double *x, const double *y);
+static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd,
+                        const double *qdp);
+static void rj__rig_nodes(const rj_model *m, const rj__rig *r, double *f);
+
+/* ------------------------------------------------------------------ small helpers */
+RJDEF double rj_rad(double deg)
+{
+    return deg * (RJ__PI / 180.0);
+}
+RJDEF double rj_deg(double rad)
+{
+    return rad * (180.0 / RJ__PI);
+}
+
+static double rj__mod2pi(double a)
+{
+    double r = fmod(a, RJ__TWO_PI);
+    if (r < 0)
+        r += RJ__TWO_PI;
+    if (r >= RJ__TWO_PI)
+        r = 0.0;
+    return r;
+}
+/* wrap into (-pi, pi] */
+static double rj__wrap(double a)
+{
+    double r = rj__mod2pi(a + RJ__PI) - RJ__PI;
+    if (r <= -RJ__PI)
+        r += RJ__TWO_PI;
+    return r;
+}
+static int rj__finite(double x)
+{
+    return x == x && x - x == 0.0;
+}
+
+/* Appends text to a NUL-terminated buffer, as much as fits. */
+static void rj__cat(char *buf, size_t size, const char *text)
+{
+    size_t n = strlen(buf);
+    while (*text && n + 1 < size)
+        buf[n++] = *text++;
+    buf[n] = 0;
+}
+
+/* A message that did not fit its buffer (vsnprintf wanted `wanted` chars) ends at its last
+   whole word with "...", never in the middle of one. */
+static void rj__fit_words(char *buf, size_t size, int wanted)
+{
+    size_t end;
+    if (wanted >= 0 && (size_t) wanted < size)
+        return;
+    end = size - 4;
+    while (end > 0 && buf[end] != ' ')
+        end--;
+    memcpy(buf + end, "...", 4);
+}
+
+static void rj__fail(rj_error *err, rj_result code, const char *field, double value,
+                     const char *fmt, ...)
+{
+    va_list ap;
+    int wanted;
+    if (!err)
+        return;
+    err->code = code;
+    snprintf(err->field, sizeof err->field, "%s", field);
+    err->value = value;
+    va_start(ap, fmt);
+    wanted = vsnprintf(err->msg, sizeof err->msg, fmt, ap);
+    va_end(ap);
+    rj__fit_words(err->msg, sizeof err->msg, wanted);
+}
+
+RJDEF const char *rj_result_str(rj_result r)
+{
+    switch (r) {
+    case RJ_OK:
+        return "ok";
+    case RJ_ERR_INVALID:
+        return "invalid input";
+    case RJ_ERR_NOMEM:
+        return "out of memory";
+    case RJ_ERR_UNSTABLE_DT:
+        return "time step above the stability bound";
+    case RJ_ERR_BLOWUP:
+        return "numerical blow-up";
+    case RJ_ERR_TUNNEL:
+        return "joint turned more than a quarter revolution (pi/2 rad) in one step";
+    case RJ_ERR_CHECKPOINT:
+        return "bad checkpoint";
+    case RJ_ERR_PARSE:
+        return "scene text malformed";
+    case RJ_ERR_NOT_CONVERGED:
+        return "not settled";
+    }
+    return "unknown result";
+}
+

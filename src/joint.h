@@ -1,0 +1,142 @@
+/* ------------------------------------------------------------------ the joint element */
+/* Links do not contact each other: where a joint between two links turns through a
+   multiple of 360 deg, its two links lie over each other and pass through. That is
+   reported once per joint, as a warning and its time (rj_joint_overlap_time): when the
+   angle is clearly (1 deg) inside a band of 360 deg other than the one it was last
+   clearly in. A hinge stowed folded at 0 or 360 deg, or vibrating there, has not passed. */
+#define RJ__OVERLAP_MARGIN 0.0174532925199432958
+static void rj__overlap(const rj_model *m, rj_state *s, int j, double run, double t,
+                        const double *oj, double *nj_, double *nsc)
+{
+    const double turns = run / RJ__TWO_PI;
+    const double band = floor(turns);
+    const double inside = (turns - band) * RJ__TWO_PI;
+    const double side = oj[RJ__JD_SIDE];
+    if (inside < RJ__OVERLAP_MARGIN || inside > RJ__TWO_PI - RJ__OVERLAP_MARGIN)
+        return;
+    nj_[RJ__JD_SIDE] = band;
+    if (side == band || side != floor(side) || oj[RJ__JD_OVERLAP] >= 0)
+        return;
+    nj_[RJ__JD_OVERLAP] = t;
+    nsc[RJ__FS_WARN] += 1;
+    snprintf(s->warn, sizeof s->warn,
+             "t = %.9g s: joint %d turned through %.0f deg: its links %d and %d passed "
+             "through each other (links do not contact each other)",
+             t, j, rj_deg(band > side ? band * RJ__TWO_PI : side * RJ__TWO_PI),
+             m->jdef[j].body1, m->jdef[j].body2);
+}
+
+/* The revolute element for one joint and one step, shared by every link model: status
+   flag (Eqs 7-13), contact bookkeeping, penetration (Eq 19), and the torques on body 2 from
+   the table (Eq 4), the torsion spring, damping (Eq 27) and the penalty / adaptive limit
+   (Eq 22). Writes the components into the new frame's joint record (friction is added
+   later) and returns the torque to apply now; *p_out receives the penetration. */
+static double rj__element(const rj_model *m, rj_state *s, int j, const double *oj, double *nj_,
+                          int oflag, int *nflag, double rate, double t, double *nsc, double *p_out,
+                          double *v_acc)
+{
+    const rj_joint_def *d = &m->jdef[j];
+    const rj__joint *J = &m->jnt[j];
+    const double run = oj[RJ__JD_THETA];
+    double tq_table = 0, tq_spring = 0, tq_damp = 0, tq_lim = 0, p = 0;
+    const int bf = run >= J->fwd, br = run <= J->rev;
+    const int flag = rj_flag_next(oflag, bf, br, rate, d->lock, d->release);
+    memcpy(nj_, oj, sizeof(double) * RJ__JD_COUNT);
+    nj_[RJ__JD_IMPULSE] = 0; /* a velocity-level latch sets it in this step */
+    if (flag == RJ_LOCKED && oflag != RJ_LOCKED)
+        nj_[RJ__JD_LOCK] = bf ? J->fwd : J->rev;
+    if (flag != RJ_FREE && oj[RJ__JD_EVENT] < 0)
+        nj_[RJ__JD_EVENT] = t;
+    if (flag != RJ_FREE && oflag == RJ_FREE) {
+        /* a new contact: how far past the limit was it caught? */
+        double p0 =
+            flag == RJ_AT_FORWARD || (flag == RJ_LOCKED && bf) ? J->fwd - run : J->rev - run;
+        double width =
+            (rj__finite(J->fwd) && rj__finite(J->rev)) ? RJ__TWO_PI - (J->fwd - J->rev) : HUGE_VAL;
+        nj_[RJ__JD_P0] = p0;
+        if (fabs(p0) > RJ__LATE || fabs(p0) > width) {
+            nsc[RJ__FS_WARN] += 1;
+            snprintf(s->warn, sizeof s->warn,
+                     "t = %.9g s: joint %d caught its limit %.4g rad late%s (rate %.4g rad/s, step "
+                     "%.3g s)",
+                     t, j, fabs(p0), fabs(p0) > width ? ", past the whole limited range" : "", rate,
+                     m->dt);
+        }
+    }
+    if (flag == RJ_FREE && oflag != RJ_FREE)
+        nj_[RJ__JD_RELEASE] = t; /* latest release */
+    if (d->body1 >= 0)
+        rj__overlap(m, s, j, run, t, oj, nj_, nsc);
+    *nflag = flag;
+    /* Eq 19 penetration */
+    if (flag == RJ_AT_FORWARD)
+        p = J->fwd - run;
+    else if (flag == RJ_AT_REVERSE)
+        p = J->rev - run;
+    else if (flag == RJ_LOCKED)
+        p = nj_[RJ__JD_LOCK] - run;
+    if (fabs(p) > nj_[RJ__JD_PEAKP])
+        nj_[RJ__JD_PEAKP] = fabs(p);
+    /* Eq 4 table, torsion spring, Eq 27 damping (resistive: minus on body 2) */
+    { /* the potentials join v_acc as in rj__spring_energy */
+        double tt;
+        rj__joint_potential(d, J, run, v_acc, &tt);
+        if (d->table_count)
+            tq_table = -tt;
+    }
+    if (d->spring_k > 0)
+        tq_spring = -d->spring_k * (run - d->spring_free_angle);
+    if (d->damping > 0)
+        tq_damp = -d->damping * rate;
+    /* Eq 22 / penalty: tau_2 = K p while at a limit */
+    if (flag != RJ_FREE && (d->method == RJ_METHOD_PENALTY || d->method == RJ_METHOD_ADAPTIVE))
+        tq_lim = J->k_limit * p;
+    nj_[RJ__JD_TQ0 + RJ_TORQUE_TABLE] = tq_table;
+    nj_[RJ__JD_TQ0 + RJ_TORQUE_SPRING] = tq_spring;
+    nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] = tq_damp;
+    nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] = tq_lim;
+    nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = 0;
+    *p_out = p;
+    return tq_table + tq_spring + tq_damp + tq_lim;
+}
+
+/* Coulomb friction: the torque that stops the relative rotation within the step (ratep is
+   the rate the step would end with, c the rate change per unit torque), capped at T_f. */
+static double rj__friction(double ratep, double c, double tf)
+{
+    double tau = c > 0 ? -ratep / c : 0;
+    return tau > tf ? tf : (tau < -tf ? -tf : tau);
+}
+
+/* Does a velocity-level method act (the rate still points into the limit, or any rate
+   while locked)? */
+static int rj__into_limit(int flag, double ratep)
+{
+    return (flag == RJ_AT_FORWARD && ratep > 0) || (flag == RJ_AT_REVERSE && ratep < 0) ||
+           (flag == RJ_LOCKED && ratep != 0);
+}
+
+/* Work of the joint's non-conservative torques over the step, in the form that matches
+   the kinetic energy 1/2 v^{n-1/2}.v^{n+1/2}: dt/2 (tau^n rate^{n-1/2} + tau^{n-1} times the
+   previous step's end rate, same geometry). */
+static RJ__FORCE_INLINE void rj__element_work(const double *oj, const double *nj_, double rate_m,
+                                              double dt, double *ld, double *lf, double *ll)
+{
+    *ld -= 0.5 * dt *
+           (nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] * rate_m +
+            oj[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] * oj[RJ__JD_RATE]);
+    *lf -= 0.5 * dt *
+           (nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] * rate_m +
+            oj[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] * oj[RJ__JD_RATE]);
+    *ll -= 0.5 * dt *
+           (nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * rate_m +
+            oj[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * oj[RJ__JD_RATE]);
+}
+
+/* The work of the caller's torque over the step, in the form of rj__element_work. */
+static RJ__FORCE_INLINE double rj__input_work(const double *oj, const double *nj_, double rate_m,
+                                              double dt)
+{
+    return 0.5 * dt * (nj_[RJ__JD_INPUT] * rate_m + oj[RJ__JD_INPUT] * oj[RJ__JD_RATE]);
+}
+

@@ -1,0 +1,131 @@
+/* ------------------------------------------------------------------ memory layout */
+/* The next aligned offset for count elements; a block past what size_t counts (a 32-bit
+   size_t) saturates at (size_t)-1, which no allocation satisfies. */
+static size_t rj__carve(size_t *off, size_t count, size_t elsize)
+{
+    const size_t full = (size_t) -1;
+    size_t at;
+    if (*off > full - 2 * RJ__ALIGN)
+        return *off = full;
+    at = (*off + RJ__ALIGN - 1) / RJ__ALIGN * RJ__ALIGN;
+    if (count > (full - 2 * RJ__ALIGN - at) / elsize)
+        return *off = full;
+    *off = at + count * elsize;
+    return at;
+}
+
+typedef struct rj__layout {
+    size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho,
+        link_I;
+    size_t node_cl, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
+    size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin,
+        jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
+        link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, lz;
+} rj__layout;
+
+/* The model's block: every array linear in the scene; rigid scenes (joint coordinates)
+   add their dense joint-space matrices (nj^2). The building scratch lz holds the Lanczos
+   vectors and the joint-graph checks (rj__validate_graph: 2 nl + nj ints). */
+static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__layout *L)
+{
+    const int nl = sc->link_count, nj = sc->joint_count, rigid = rj__all_rigid(sc);
+    size_t off = sizeof(rj_model);
+    L->ldef = rj__carve(&off, (size_t) nl, sizeof(rj_link_def));
+    L->jdef = rj__carve(&off, (size_t) nj, sizeof(rj_joint_def));
+    L->jnt = rj__carve(&off, (size_t) nj, sizeof(rj__joint));
+    L->link_first = rj__carve(&off, (size_t) nl + 1, sizeof(int));
+    L->link_efirst = rj__carve(&off, (size_t) nl + 1, sizeof(int));
+    L->link_l0 = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->link_EA = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->link_EI = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->link_rho = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->link_I = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->ch_first = rj__carve(&off, (size_t) nl + 1, sizeof(int));
+    L->node_cl = rj__carve(&off, (size_t) nn, sizeof(int));
+    L->cl_first = rj__carve(&off, (size_t) nl + 1, sizeof(int));
+    L->cl_node = rj__carve(&off, (size_t) nn, sizeof(int));
+    L->cl_fix = rj__carve(&off, (size_t) nl, sizeof(int));
+    L->cl_M = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->cl_I = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->cl_th0 = rj__carve(&off, (size_t) 3 * nl, sizeof(double));
+    L->cl_rx = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->cl_ry = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->ch_node = rj__carve(&off, (size_t) nn + nl, sizeof(int));
+    L->ch_l0sq = rj__carve(&off, (size_t) nn + nl, sizeof(double));
+    L->rb_mass = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->rb_icm = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->rb_dcm = rj__carve(&off, (size_t) nl, sizeof(double));
+    L->rb_pjoint = rj__carve(&off, (size_t) nl, sizeof(int));
+    L->jorder = rj__carve(&off, (size_t) nj + 1, sizeof(int));
+    L->jpin = rj__carve(&off, (size_t) nj + 1, sizeof(double));
+    L->jref = rj__carve(&off, (size_t) nj + 1, sizeof(double));
+    L->mass = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->rinertia = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->tinv = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->rinv = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->einv = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->kmass = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->krot = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->grp_first = rj__carve(&off, (size_t) nj + 1, sizeof(int));
+    L->grp_node = rj__carve(&off, (size_t) 2 * nj + 1, sizeof(int));
+    L->node_grp = rj__carve(&off, (size_t) nn, sizeof(int));
+    L->grp_inv = rj__carve(&off, (size_t) nj + 1, sizeof(double));
+    L->dnode = rj__carve(&off, (size_t) nn + 1, sizeof(int));
+    L->link_un = rj__carve(&off, (size_t) 5 * nl + 1, sizeof(double));
+    L->link_kc = rj__carve(&off, (size_t) 4 * nl + 1, sizeof(double));
+    L->x0 = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->y0 = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->phi0 = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->vx0 = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->vy0 = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->w0 = rj__carve(&off, (size_t) nn, sizeof(double));
+    L->beta0 = rj__carve(&off, (size_t) ne, sizeof(double));
+    L->load = rj__carve(&off, (size_t) sc->load_count + 1, sizeof(rj_load_def));
+    L->load_node = rj__carve(&off, (size_t) sc->load_count + 1, sizeof(int));
+    L->lz = rj__carve(&off,
+                      15 * nn + 10 * ne + 8 + RJ__GRAPH_SCRATCH(nl, nj) +
+                          (rigid ? rj__rigid_scratch(nj, nl) + (size_t) nj * nj : 0),
+                      sizeof(double));
+    L->total = off == (size_t) -1 ? off : off + RJ__ALIGN;
+}
+
+
+RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err)
+{
+    rj__layout L;
+    size_t nn, ne;
+    if (!rj__validate(scene, err))
+        return 0;
+    if (!rj__counts(scene, &nn, &ne, err))
+        return 0;
+    rj__model_layout(scene, nn, ne, &L);
+    if (L.total == (size_t) -1) {
+        rj__fail(err, RJ_ERR_NOMEM, "links", (double) nn,
+                 "a model of %.0f nodes needs more bytes than size_t counts here", (double) nn);
+        return 0;
+    }
+    return L.total;
+}
+
+/* Everything rj_model_init checks before it builds: the fields (rj_model_size) and the
+   joint graph, whose scratch comes from RJ_MALLOC (the scene parser's check). */
+static rj_result rj__validate_all(const rj_scene_def *scene, rj_error *err, void *alloc_ctx)
+{
+    rj_error local;
+    rj_error *e = err ? err : &local;
+    int *scratch;
+    int ok;
+    if (!rj_model_size(scene, e))
+        return e->code;
+    scratch = (int *) RJ_MALLOC(
+        sizeof(int) * RJ__GRAPH_SCRATCH(scene->link_count, scene->joint_count), alloc_ctx);
+    if (!scratch) {
+        rj__fail(e, RJ_ERR_NOMEM, "joint_count", scene->joint_count,
+                 "could not allocate the joint graph's scratch");
+        return RJ_ERR_NOMEM;
+    }
+    ok = rj__validate_graph(scene, scratch, e);
+    RJ_FREE(scratch, alloc_ctx);
+    return ok ? RJ_OK : RJ_ERR_INVALID;
+}
+

@@ -1,0 +1,404 @@
+/* ------------------------------------------------------------------ inputs and queries */
+RJDEF double *rj_state_joint_torques(const rj_model *m, rj_state *s)
+{
+    RJ_ASSERT(m && s);
+    (void) m;
+    s->inputs = 1;
+    return s->input_torque;
+}
+
+RJDEF double *rj_state_node_forces(const rj_model *m, rj_state *s)
+{
+    RJ_ASSERT(m && s);
+    (void) m;
+    s->node_inputs = 1;
+    return s->input_node;
+}
+
+RJDEF const char *rj_state_error(const rj_state *s)
+{
+    return s->err;
+}
+RJDEF long rj_state_warning_count(const rj_state *s)
+{
+    return (long) s->fd[s->cur][RJ__FS_WARN];
+}
+RJDEF const char *rj_state_warning(const rj_state *s)
+{
+    return s->warn;
+}
+
+/* ------------------------------------------------------------------ queries */
+RJDEF int rj_model_warning_count(const rj_model *m)
+{
+    return m->nwarn;
+}
+RJDEF const char *rj_model_warnings(const rj_model *m)
+{
+    return m->warnings;
+}
+RJDEF double rj_model_dt(const rj_model *m)
+{
+    return m->dt;
+}
+RJDEF double rj_model_dt_bound(const rj_model *m)
+{
+    return m->dt_bound;
+}
+RJDEF double rj_model_omega_max(const rj_model *m)
+{
+    return m->omega_max;
+}
+RJDEF int rj_model_link_count(const rj_model *m)
+{
+    return m->nl;
+}
+RJDEF int rj_model_joint_count(const rj_model *m)
+{
+    return m->nj;
+}
+RJDEF int rj_model_node_count(const rj_model *m)
+{
+    return m->nn;
+}
+RJDEF const rj_link_def *rj_model_link_def(const rj_model *m, int l)
+{
+    RJ_ASSERT(l >= 0 && l < m->nl);
+    return &m->ldef[l];
+}
+RJDEF const rj_joint_def *rj_model_joint_def(const rj_model *m, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return &m->jdef[j];
+}
+RJDEF int rj_link_node_count(const rj_model *m, int l)
+{
+    RJ_ASSERT(l >= 0 && l < m->nl);
+    return m->ldef[l].elements + 1;
+}
+RJDEF int rj_model_node_index(const rj_model *m, int l, int k)
+{
+    if (!m || l < 0 || l >= m->nl || k < -1 || k > m->ldef[l].elements)
+        return -1;
+    return m->link_first[l] + (k < 0 ? m->ldef[l].elements : k);
+}
+RJDEF int rj_model_load_count(const rj_model *m)
+{
+    return m->nload;
+}
+RJDEF const rj_load_def *rj_model_load_def(const rj_model *m, int k)
+{
+    RJ_ASSERT(k >= 0 && k < m->nload);
+    return &m->load[k];
+}
+RJDEF double rj_link_EA(const rj_model *m, int l)
+{
+    RJ_ASSERT(l >= 0 && l < m->nl);
+    return m->link_EA[l];
+}
+RJDEF double rj_link_EI(const rj_model *m, int l)
+{
+    RJ_ASSERT(l >= 0 && l < m->nl);
+    return m->link_EI[l];
+}
+RJDEF double rj_model_dt_eq28(const rj_model *m)
+{
+    return m->dt_eq28;
+}
+RJDEF size_t rj_model_work_size(const rj_model *m)
+{
+    return 6 * (size_t) m->nn + 4 * (size_t) m->ne;
+}
+RJDEF void rj_model_apply_stiffness(const rj_model *m, const double *u, double *out, double *work)
+{
+    rj__lz_apply(m, u, out, work);
+}
+
+/* the smaller of the joint's two links by rho I l (ground is infinitely large) */
+static double rj__eq31_rho_i_l(const rj_model *m, int j)
+{
+    const rj_joint_def *d = &m->jdef[j];
+    double v2 = m->link_rho[d->body2] * m->link_I[d->body2] * m->link_l0[d->body2], v1;
+    if (d->body1 < 0)
+        return v2;
+    v1 = m->link_rho[d->body1] * m->link_I[d->body1] * m->link_l0[d->body1];
+    return v1 < v2 ? v1 : v2;
+}
+RJDEF double rj_joint_dt_eq29(const rj_model *m, int j, double K)
+{
+    const rj_joint_def *d;
+    double t, c, t2;
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    d = &m->jdef[j];
+    c = sqrt(m->ldef[d->body2].E / m->ldef[d->body2].rho);
+    t = m->link_l0[d->body2] / c;
+    if (d->body1 >= 0) {
+        double t1 = m->link_l0[d->body1] / sqrt(m->ldef[d->body1].E / m->ldef[d->body1].rho);
+        if (t1 < t)
+            t = t1;
+    }
+    if (!(K > 0))
+        return t;
+    t2 = sqrt(rj__eq31_rho_i_l(m, j) / K);
+    return t2 < t ? t2 : t;
+}
+RJDEF double rj_joint_kmax_eq31(const rj_model *m, int j, double dt)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return 0.81 * rj__eq31_rho_i_l(m, j) / (dt * dt);
+}
+RJDEF void rj_joint_inertias(const rj_model *m, int j, double *I1, double *I2)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    if (I1)
+        *I1 = m->jnt[j].I1;
+    if (I2)
+        *I2 = m->jnt[j].I2;
+}
+RJDEF double rj_joint_stiffness(const rj_model *m, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return m->jnt[j].k_limit;
+}
+
+RJDEF double rj_state_time(const rj_state *s)
+{
+    return s->fd[s->cur][RJ__FS_TIME];
+}
+
+RJDEF long rj_state_steps(const rj_state *s)
+{
+    return s->steps;
+}
+
+/* Rigid scenes: the pose and motion of link l from the joint coordinates of a frame,
+   walking up to the ground (used by the node queries; the step itself stores only q). */
+static void rj__rig_pose(const rj_model *m, const double *f, int l, double *phi, double *rx,
+                         double *ry, double *om, double *vx, double *vy)
+{
+    int j = m->rb_pjoint[l], p;
+    double ph, x, y, o, ux, uy;
+    if (j < 0) {
+        const rj_link_def *d = &m->ldef[l];
+        *phi = d->angle;
+        *rx = d->x;
+        *ry = d->y;
+        *om = 0;
+        *vx = 0;
+        *vy = 0;
+        return;
+    }
+    p = m->jdef[j].body1;
+    if (p < 0) {
+        ph = m->jdef[j].ground_angle;
+        x = m->jdef[j].ground_x;
+        y = m->jdef[j].ground_y;
+        o = 0;
+        ux = uy = 0;
+    } else {
+        double pp, px, py, po, pvx, pvy, c, sn;
+        rj__rig_pose(m, f, p, &pp, &px, &py, &po, &pvx, &pvy);
+        c = cos(pp);
+        sn = sin(pp);
+        x = px + m->jpin[j] * c;
+        y = py + m->jpin[j] * sn;
+        ux = pvx - po * m->jpin[j] * sn;
+        uy = pvy + po * m->jpin[j] * c;
+        ph = pp + m->jref[j];
+        o = po;
+    }
+    *phi = ph + RJ__FJ(m, f, j)[RJ__JD_THETA];
+    *om = o + RJ__FJ(m, f, j)[RJ__JD_RATE];
+    *rx = x;
+    *ry = y;
+    *vx = ux;
+    *vy = uy;
+}
+static void rj__rig_node(const rj_model *m, const rj_state *s, int l, int n, double xy[2],
+                         double v[2], double *phi)
+{
+    double ph, rx, ry, om, vx, vy, c, sn, d = n * m->link_l0[l];
+    rj__rig_pose(m, s->fd[s->cur], l, &ph, &rx, &ry, &om, &vx, &vy);
+    if (phi)
+        *phi = ph;
+    if (!xy && !v)
+        return;
+    c = cos(ph);
+    sn = sin(ph);
+    if (xy) {
+        xy[0] = rx + d * c;
+        xy[1] = ry + d * sn;
+    }
+    if (v) {
+        v[0] = vx - om * d * sn;
+        v[1] = vy + om * d * c;
+    }
+}
+
+static int rj__node(const rj_model *m, int l, int n)
+{
+    RJ_ASSERT(l >= 0 && l < m->nl);
+    RJ_ASSERT(n >= 0 && n <= m->ldef[l].elements);
+    return m->link_first[l] + n;
+}
+RJDEF void rj_node_position(const rj_model *m, const rj_state *s, int l, int n, double xy[2])
+{
+    const double *f = s->fd[s->cur];
+    int i = rj__node(m, l, n);
+    if (m->rigid) {
+        rj__rig_node(m, s, l, n, xy, NULL, NULL);
+        return;
+    }
+    xy[0] = RJ__FX(m, f)[i];
+    xy[1] = RJ__FY(m, f)[i];
+}
+RJDEF void rj_node_velocity(const rj_model *m, const rj_state *s, int l, int n, double v[2])
+{
+    const double *f = s->fd[s->cur];
+    int i = rj__node(m, l, n);
+    if (m->rigid) {
+        rj__rig_node(m, s, l, n, NULL, v, NULL);
+        return;
+    }
+    v[0] = RJ__FVX(m, f)[i];
+    v[1] = RJ__FVY(m, f)[i];
+}
+RJDEF double rj_node_rotation(const rj_model *m, const rj_state *s, int l, int n)
+{
+    double ph;
+    if (m->rigid) {
+        rj__node(m, l, n);
+        rj__rig_node(m, s, l, n, NULL, NULL, &ph);
+        return ph;
+    }
+    return RJ__FPHI(m, s->fd[s->cur])[rj__node(m, l, n)];
+}
+RJDEF double rj_node_rate(const rj_model *m, const rj_state *s, int l, int n)
+{
+    if (m->rigid) {
+        double ph, rx, ry, om, vx, vy;
+        rj__node(m, l, n);
+        rj__rig_pose(m, s->fd[s->cur], l, &ph, &rx, &ry, &om, &vx, &vy);
+        return om;
+    }
+    return RJ__FW(m, s->fd[s->cur])[rj__node(m, l, n)];
+}
+RJDEF void rj_node_mass(const rj_model *m, int l, int n, double *mass, double *rinertia)
+{
+    int i = rj__node(m, l, n);
+    if (mass)
+        *mass = m->mass[i];
+    if (rinertia)
+        *rinertia = m->rinertia[i];
+}
+RJDEF void rj_joint_position(const rj_model *m, const rj_state *s, int j, double xy[2])
+{
+    const double *f = s->fd[s->cur];
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    if (m->rigid) {
+        rj__rig_node(m, s, m->jdef[j].body2, 0, xy, NULL, NULL);
+        return;
+    }
+    xy[0] = RJ__FX(m, f)[m->jnt[j].nJ];
+    xy[1] = RJ__FY(m, f)[m->jnt[j].nJ];
+}
+RJDEF double rj_joint_theta_running(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_THETA];
+}
+RJDEF double rj_joint_theta(const rj_model *m, const rj_state *s, int j)
+{
+    return rj__mod2pi(rj_joint_theta_running(m, s, j));
+}
+RJDEF double rj_joint_rate(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_RATE];
+}
+RJDEF int rj_joint_flag(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return s->fi[s->cur][j];
+}
+RJDEF double rj_joint_torque(const rj_model *m, const rj_state *s, int j, int c)
+{
+    const double *jd;
+    double t = 0;
+    int k;
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    RJ_ASSERT(c >= 0 && c < RJ_TORQUE_COUNT);
+    jd = RJ__FJ(m, s->fd[s->cur], j);
+    if (c != RJ_TORQUE_TOTAL)
+        return jd[RJ__JD_TQ0 + c];
+    for (k = 0; k < RJ_TORQUE_COUNT; k++)
+        if (k != RJ_TORQUE_TOTAL)
+            t += jd[RJ__JD_TQ0 + k];
+    return t;
+}
+RJDEF double rj_joint_penetration(const rj_model *m, const rj_state *s, int j)
+{
+    const double *jd;
+    int flag;
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    jd = RJ__FJ(m, s->fd[s->cur], j);
+    flag = s->fi[s->cur][j];
+    if (flag == RJ_AT_FORWARD)
+        return m->jnt[j].fwd - jd[RJ__JD_THETA];
+    if (flag == RJ_AT_REVERSE)
+        return m->jnt[j].rev - jd[RJ__JD_THETA];
+    if (flag == RJ_LOCKED)
+        return jd[RJ__JD_LOCK] - jd[RJ__JD_THETA];
+    return 0.0;
+}
+RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_IMPULSE];
+}
+RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_EVENT];
+}
+RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_RELEASE];
+}
+RJDEF double rj_joint_overlap_time(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_OVERLAP];
+}
+RJDEF double rj_joint_peak_penetration(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_PEAKP];
+}
+RJDEF double rj_joint_contact_penetration(const rj_model *m, const rj_state *s, int j)
+{
+    RJ_ASSERT(j >= 0 && j < m->nj);
+    return RJ__FJ(m, s->fd[s->cur], j)[RJ__JD_P0];
+}
+RJDEF void rj_state_energy(const rj_model *m, const rj_state *s, rj_energy *e)
+{
+    (void) m;
+    const double *sc = RJ__FS(m, s->fd[s->cur]);
+    e->kinetic = sc[RJ__FS_KE];
+    e->strain = sc[RJ__FS_STRAIN];
+    e->spring = sc[RJ__FS_SPRING];
+    e->gravity = sc[RJ__FS_GRAV];
+    e->lost_damping = sc[RJ__FS_LDAMP];
+    e->lost_friction = sc[RJ__FS_LFRIC];
+    e->lost_limit = sc[RJ__FS_LLIM];
+    e->work_applied = sc[RJ__FS_WORK];
+    e->total = e->kinetic + e->strain + e->spring + e->gravity;
+    e->balance = e->total + e->lost_damping + e->lost_friction + e->lost_limit - e->work_applied -
+                 sc[RJ__FS_E0];
+}
+RJDEF double rj_state_energy_time(const rj_state *s)
+{
+    return s->fd[s->cur][RJ__FS_ETIME];
+}
+

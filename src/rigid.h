@@ -1,0 +1,376 @@
+/* ------------------------------------------------------------------ rigid links */
+/* Scenes of rigid links are integrated in joint coordinates q (the joints' running
+   angles), so nothing but the joints limits the step. Kinematics run down the tree
+   (parents first): phi_child = phi_parent + ref + q_j (ref = pi: the reference direction
+   I->K points back along body 1), pins and centres follow. The equations of motion
+   M(q) q'' = Q - h(q, q') come from the bodies' Jacobians: d c_b / d q_j = z x (c_b - P_j)
+   and d phi_b / d q_j = 1 for every joint j on b's path to the ground; h collects the
+   centripetal accelerations -omega^2 r of every segment. The element (flags, torques,
+   friction, methods) is the same code as for flexible links; a joint torque is a
+   generalised force on q_j, and a velocity jump is an impulse along q_j. */
+static size_t rj__rigid_scratch(int nj, int nl)
+{
+    return 5 * (size_t) nj * nj + 13 * (size_t) nj + RJ__RL_COUNT * (size_t) nl + 8;
+}
+
+
+/* the rigid solver's scratch: matrices n x n, vectors n (tmp 2 n), link records */
+static void rj__rig_map(const rj_model *m, double *base, rj__rig *r)
+{
+    const size_t n = (size_t) m->nj;
+    r->M = base;
+    r->h = r->M + n * n;
+    r->L = r->h + n;
+    r->W = r->L + n * n;
+    r->q = r->W + n * n;
+    r->qd = r->q + n;
+    r->qdp = r->qd + n;
+    r->qdd = r->qdp + n;
+    r->Q = r->qdd + n;
+    r->x = r->Q + n;
+    r->tmp = r->x + n;
+    r->S = r->tmp + 2 * n;
+    r->SL = r->S + n * n;
+    r->lam = r->SL + n * n;
+    r->act = r->lam + n;
+    r->rhs = r->act + n;
+    r->lk = r->rhs + n;
+}
+
+/* The joint above joint j on the way to the ground (-1 at a root). */
+static int rj__rig_up(const rj_model *m, int j)
+{
+    const int b1 = m->jdef[j].body1;
+    return b1 >= 0 ? m->rb_pjoint[b1] : -1;
+}
+
+/* Positions, velocities (rates qd; skipped when qd is NULL, as the step needs none) and
+   centripetal accelerations (rates qdp) of every link, into the link records; cos and sin
+   of a hanging link's angle are kept there for its children. */
+static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd,
+                        const double *qdp)
+{
+    double *lk = r->lk;
+    int k, l;
+    for (l = 0; l < m->nl; l++)
+        if (m->rb_pjoint[l] < 0) {
+            const rj_link_def *d = &m->ldef[l];
+            double *b = lk + RJ__RL_COUNT * (size_t) l;
+            b[RJ__RL_PHI] = d->angle;
+            b[RJ__RL_RX] = d->x;
+            b[RJ__RL_RY] = d->y;
+            b[RJ__RL_OM] = b[RJ__RL_VX] = b[RJ__RL_VY] = b[RJ__RL_ARX] = b[RJ__RL_ARY] =
+                b[RJ__RL_OMB] = 0;
+        }
+    for (k = 0; k < m->nj; k++) {
+        const int j = m->jorder[k];
+        const rj_joint_def *jd = &m->jdef[j];
+        const int p = jd->body1, c = jd->body2;
+        double *RJ__RESTRICT b = lk + RJ__RL_COUNT * (size_t) c;
+        const double dc = m->rb_dcm[c];
+        double ph, ex, ey, omb, rx, ry, arx, ary;
+        if (p < 0) {
+            ph = jd->ground_angle + q[j];
+            omb = qdp[j];
+            rx = jd->ground_x;
+            ry = jd->ground_y;
+            arx = ary = 0;
+            if (qd) {
+                b[RJ__RL_OM] = qd[j];
+                b[RJ__RL_VX] = b[RJ__RL_VY] = 0;
+            }
+        } else {
+            const double *pb = lk + RJ__RL_COUNT * (size_t) p;
+            const double s = m->jpin[j], ompb = pb[RJ__RL_OMB];
+            double cp, sp;
+            if (m->rb_pjoint[p] >= 0) {
+                cp = pb[RJ__RL_EC];
+                sp = pb[RJ__RL_ES];
+            } /* parents come first */
+            else {
+                cp = cos(pb[RJ__RL_PHI]);
+                sp = sin(pb[RJ__RL_PHI]);
+            } /* a fixed link */
+            ph = pb[RJ__RL_PHI] + m->jref[j] + q[j];
+            omb = ompb + qdp[j];
+            rx = pb[RJ__RL_RX] + s * cp;
+            ry = pb[RJ__RL_RY] + s * sp;
+            arx = pb[RJ__RL_ARX] - ompb * ompb * s * cp;
+            ary = pb[RJ__RL_ARY] - ompb * ompb * s * sp;
+            if (qd) {
+                const double omp = pb[RJ__RL_OM];
+                b[RJ__RL_OM] = omp + qd[j];
+                b[RJ__RL_VX] = pb[RJ__RL_VX] - omp * s * sp;
+                b[RJ__RL_VY] = pb[RJ__RL_VY] + omp * s * cp;
+            }
+        }
+        ex = cos(ph);
+        ey = sin(ph);
+        b[RJ__RL_PHI] = ph;
+        b[RJ__RL_EC] = ex;
+        b[RJ__RL_ES] = ey;
+        b[RJ__RL_RX] = rx;
+        b[RJ__RL_RY] = ry;
+        b[RJ__RL_ARX] = arx;
+        b[RJ__RL_ARY] = ary;
+        b[RJ__RL_OMB] = omb; /* the angular rate used for the centripetal terms */
+        b[RJ__RL_CX] = rx + dc * ex;
+        b[RJ__RL_CY] = ry + dc * ey;
+        b[RJ__RL_ACX] = arx - omb * omb * dc * ex;
+        b[RJ__RL_ACY] = ary - omb * omb * dc * ey;
+    }
+}
+
+/* One link's own share of the subtree sums of its parent joint (pin P, centre c):
+   mass m, first moment m (c - P), inertia I + m |c - P|^2 about P, m a and its moment
+   m (c - P) x a, with a the centre's centripetal acceleration. */
+static void rj__rig_own(const rj_model *m, int link, double *b)
+{
+    const double mass = m->rb_mass[link];
+    const double dx = b[RJ__RL_CX] - b[RJ__RL_RX];
+    const double dy = b[RJ__RL_CY] - b[RJ__RL_RY];
+    b[RJ__RL_SUB_M] = mass;
+    b[RJ__RL_SUB_SX] = mass * dx;
+    b[RJ__RL_SUB_SY] = mass * dy;
+    b[RJ__RL_SUB_J] = m->rb_icm[link] + mass * (dx * dx + dy * dy);
+    b[RJ__RL_SUB_FX] = mass * b[RJ__RL_ACX];
+    b[RJ__RL_SUB_FY] = mass * b[RJ__RL_ACY];
+    b[RJ__RL_SUB_N] = mass * (dx * b[RJ__RL_ACY] - dy * b[RJ__RL_ACX]);
+}
+
+/* Adds a complete subtree (record sub, pin at sub's root) to its parent's sums, moved
+   from the child's pin to the parent's by d = P_child - P_parent (parallel axes). */
+static void rj__rig_gather(const double *sub, double *parent)
+{
+    const double dx = sub[RJ__RL_RX] - parent[RJ__RL_RX];
+    const double dy = sub[RJ__RL_RY] - parent[RJ__RL_RY];
+    const double mass = sub[RJ__RL_SUB_M];
+    const double moment = dx * sub[RJ__RL_SUB_SX] + dy * sub[RJ__RL_SUB_SY];
+    parent[RJ__RL_SUB_M] += mass;
+    parent[RJ__RL_SUB_J] += sub[RJ__RL_SUB_J] + 2 * moment + mass * (dx * dx + dy * dy);
+    parent[RJ__RL_SUB_SX] += sub[RJ__RL_SUB_SX] + mass * dx;
+    parent[RJ__RL_SUB_SY] += sub[RJ__RL_SUB_SY] + mass * dy;
+    parent[RJ__RL_SUB_FX] += sub[RJ__RL_SUB_FX];
+    parent[RJ__RL_SUB_FY] += sub[RJ__RL_SUB_FY];
+    parent[RJ__RL_SUB_N] += sub[RJ__RL_SUB_N] + dx * sub[RJ__RL_SUB_FY] - dy * sub[RJ__RL_SUB_FX];
+}
+
+/* Mass matrix M(q) and bias h (with the centripetal accelerations from rj__rig_kin), by
+   composite bodies. Joint j turns the subtree beyond it (its body 2 and all that hangs
+   from it): with that subtree's inertia J_j and first moment S_j about j's pin P_j,
+   M_jj = J_j, and M_jk = J_j + (P_j - P_k) . S_j for every joint k above j (zero for
+   joints on other branches); h_j is the moment of the subtree's m a about P_j. The sums
+   are gathered leaves first, in O(n); the pairs cost four flops each. */
+static void rj__rig_mass(const rj_model *m, rj__rig *r)
+{
+    const int n = m->nj;
+    double *M = r->M, *h = r->h, *lk = r->lk;
+    int i, k;
+    for (i = 0; i < n * n; i++)
+        M[i] = 0;
+    for (k = 0; k < n; k++) {
+        const int body = m->jdef[k].body2;
+        rj__rig_own(m, body, lk + RJ__RL_COUNT * (size_t) body);
+    }
+    /* jorder has parents before children: backwards, a subtree is whole when gathered */
+    for (k = n - 1; k >= 0; k--) {
+        const int j = m->jorder[k];
+        const int parent = m->jdef[j].body1;
+        const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
+        h[j] = sub[RJ__RL_SUB_N];
+        M[(size_t) j * n + j] = sub[RJ__RL_SUB_J];
+        if (parent < 0 || m->rb_pjoint[parent] < 0)
+            continue; /* on the ground or a fixed link */
+        rj__rig_gather(sub, lk + RJ__RL_COUNT * (size_t) parent);
+    }
+    for (k = 0; k < n; k++) {
+        const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[k].body2;
+        int up;
+        for (up = rj__rig_up(m, k); up >= 0; up = rj__rig_up(m, up)) {
+            const double *pin = lk + RJ__RL_COUNT * (size_t) m->jdef[up].body2;
+            const double dx = sub[RJ__RL_RX] - pin[RJ__RL_RX];
+            const double dy = sub[RJ__RL_RY] - pin[RJ__RL_RY];
+            const double v = sub[RJ__RL_SUB_J] + dx * sub[RJ__RL_SUB_SX] + dy * sub[RJ__RL_SUB_SY];
+            M[(size_t) k * n + up] = v;
+            M[(size_t) up * n + k] = v;
+        }
+    }
+}
+
+/* Cholesky factor of the n x n SPD matrix M into L (lower), and solves L L^T x = b. The
+   2 x 2 case (a two-link arm) is written out: the same operations in the same order as
+   the loops, without their overhead, which dominates at that size. */
+static int rj__chol(int n, const double *M, double *L)
+{
+    int i, j, k;
+    if (n == 2) {
+        double sum = M[0];
+        if (!(sum > 0))
+            return -1;
+        L[0] = sqrt(sum);
+        L[2] = M[2] / L[0];
+        sum = M[3] - L[2] * L[2];
+        if (!(sum > 0))
+            return -1;
+        L[3] = sqrt(sum);
+        return 0;
+    }
+    for (i = 0; i < n; i++) {
+        const double *Mi = M + (size_t) i * n;
+        double *Li = L + (size_t) i * n, sum;
+        for (j = 0; j < i; j++) {
+            const double *Lj = L + (size_t) j * n;
+            sum = Mi[j];
+            for (k = 0; k < j; k++)
+                sum -= Li[k] * Lj[k];
+            Li[j] = sum / Lj[j];
+        }
+        sum = Mi[i];
+        for (k = 0; k < i; k++)
+            sum -= Li[k] * Li[k];
+        if (!(sum > 0))
+            return -1;
+        Li[i] = sqrt(sum);
+    }
+    return 0;
+}
+static void rj__chol_solve(int n, const double *L, const double *b, double *x)
+{
+    int i, k;
+    if (n == 2) {
+        const double x0 = b[0] / L[0], x1 = (b[1] - L[2] * x0) / L[3] / L[3];
+        x[1] = x1;
+        x[0] = (x0 - L[2] * x1) / L[0];
+        return;
+    }
+    for (i = 0; i < n; i++) {
+        const double *Li = L + (size_t) i * n;
+        double sum = b[i];
+        for (k = 0; k < i; k++)
+            sum -= Li[k] * x[k];
+        x[i] = sum / Li[i];
+    }
+    for (i = n - 1; i >= 0; i--) {
+        double sum = x[i];
+        for (k = i + 1; k < n; k++)
+            sum -= L[(size_t) k * n + i] * x[k];
+        x[i] = sum / L[(size_t) i * n + i];
+    }
+}
+/* Column j of M^-1: rj__chol_solve with b = e_j, without the arithmetic on its leading
+   zeros (the forward pass gives exact zeros above j, and 1 / L_jj at j). */
+static void rj__chol_unit(int n, const double *L, int j, double *x)
+{
+    int i, k;
+    if (n == 2) {
+        const double x0 = j ? 0.0 : 1.0 / L[0],
+                     x1 = (j ? 1.0 / L[3] : (0.0 - L[2] * x0) / L[3]) / L[3];
+        x[1] = x1;
+        x[0] = (x0 - L[2] * x1) / L[0];
+        return;
+    }
+    x[j] = 1.0 / L[(size_t) j * n + j];
+    for (i = j + 1; i < n; i++) {
+        const double *Li = L + (size_t) i * n;
+        double sum = 0;
+        for (k = j; k < i; k++)
+            sum -= Li[k] * x[k];
+        x[i] = sum / Li[i];
+    }
+    for (i = n - 1; i >= 0; i--) {
+        double sum = i >= j ? x[i] : 0.0;
+        for (k = i + 1; k < n; k++)
+            sum -= L[(size_t) k * n + i] * x[k];
+        x[i] = sum / L[(size_t) i * n + i];
+    }
+}
+
+/* Writes the links' nodes (for queries and drawing) from the kinematics. */
+static void rj__rig_nodes(const rj_model *m, const rj__rig *r, double *f)
+{
+    double *x = RJ__FX(m, f), *y = RJ__FY(m, f), *phi = RJ__FPHI(m, f), *vx = RJ__FVX(m, f),
+           *vy = RJ__FVY(m, f), *w = RJ__FW(m, f);
+    int l, i;
+    for (l = 0; l < m->nl; l++) {
+        const double *b = r->lk + RJ__RL_COUNT * (size_t) l;
+        const double c = cos(b[RJ__RL_PHI]), s = sin(b[RJ__RL_PHI]), l0 = m->link_l0[l];
+        for (i = 0; i <= m->ldef[l].elements; i++) {
+            const int k = m->link_first[l] + i;
+            x[k] = b[RJ__RL_RX] + i * l0 * c;
+            y[k] = b[RJ__RL_RY] + i * l0 * s;
+            phi[k] = b[RJ__RL_PHI];
+            vx[k] = b[RJ__RL_VX] - b[RJ__RL_OM] * i * l0 * s;
+            vy[k] = b[RJ__RL_VY] + b[RJ__RL_OM] * i * l0 * c;
+            w[k] = b[RJ__RL_OM];
+        }
+    }
+}
+
+/* Rigid-link model constants and the stability bound: omega_max^2 = largest eigenvalue of
+   K^1/2 M^-1 K^1/2 at the initial configuration (power iteration), K the joints' linear
+   stiffnesses (limits counted as for flexible links). Returns omega_max^2. */
+static double rj__rig_setup(rj_model *m, double *scratch)
+{
+    rj__rig r;
+    const int n = m->nj;
+    double *minv = scratch + rj__rigid_scratch(m->nj, m->nl), lam = 0, *v, *u;
+    int j, k, it;
+    rj__rig_map(m, scratch, &r);
+    for (j = 0; j < n; j++) {
+        r.q[j] = m->jdef[j].angle0;
+        r.qd[j] = r.qdp[j] = 0;
+    }
+    rj__rig_kin(m, &r, r.q, r.qd, r.qdp);
+    rj__rig_mass(m, &r);
+    if (n == 0 || rj__chol(n, r.M, r.L))
+        return 0;
+    for (j = 0; j < n; j++) {
+        for (k = 0; k < n; k++)
+            r.tmp[k] = k == j ? 1.0 : 0.0;
+        rj__chol_solve(n, r.L, r.tmp, minv + (size_t) j * n);
+    }
+    for (j = 0; j < n; j++) {
+        rj__joint *J = &m->jnt[j];
+        const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
+        double dx, dy;
+        J->I2 = m->rb_icm[b2] + m->rb_mass[b2] * m->rb_dcm[b2] * m->rb_dcm[b2];
+        if (b1 < 0 || m->rb_pjoint[b1] < 0)
+            J->I1 = HUGE_VAL;
+        else {
+            dx = r.lk[RJ__RL_COUNT * (size_t) b1 + RJ__RL_CX] -
+                 r.lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_RX];
+            dy = r.lk[RJ__RL_COUNT * (size_t) b1 + RJ__RL_CY] -
+                 r.lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_RY];
+            J->I1 = m->rb_icm[b1] + m->rb_mass[b1] * (dx * dx + dy * dy);
+        }
+        J->w1 = rj__finite(J->I1) ? J->I2 / (J->I1 + J->I2) : 0;
+        J->w2 = 1 - J->w1;
+        J->minv = minv[(size_t) j * n + j]; /* rate change per unit torque impulse: 1 / I_red */
+    }
+    /* power iteration on K^1/2 M^-1 K^1/2 */
+    v = r.x;
+    u = r.tmp;
+    for (j = 0; j < n; j++)
+        v[j] = 1.0 + 0.1 * j;
+    for (it = 0; it < 500; it++) {
+        double nrm = 0;
+        for (j = 0; j < n; j++) {
+            double sum = 0;
+            for (k = 0; k < n; k++)
+                sum += minv[(size_t) j * n + k] * sqrt(m->jnt[k].k_lin) * v[k];
+            u[j] = sqrt(m->jnt[j].k_lin) * sum;
+        }
+        for (j = 0; j < n; j++)
+            nrm += u[j] * u[j];
+        nrm = sqrt(nrm);
+        if (nrm == 0)
+            return 0;
+        lam = 0;
+        for (j = 0; j < n; j++)
+            lam += v[j] * u[j];
+        for (j = 0; j < n; j++)
+            v[j] = u[j] / nrm;
+    }
+    return lam;
+}
+

@@ -1,0 +1,2452 @@
+/* ------------------------------------------------------------------ scene files */
+#ifndef RJ_NO_SCENE_FILES
+#include <string.h>
+#include <stdlib.h>
+#include <math.h>
+#include <stdio.h>
+#include <errno.h>
+
+/* keys; index 0 of an item's position array is its section line, key k is at 1 + k */
+enum {
+    RJ__LK_LENGTH,
+    RJ__LK_ELEMENTS,
+    RJ__LK_MATERIAL,
+    RJ__LK_SECTION,
+    RJ__LK_E,
+    RJ__LK_RHO,
+    RJ__LK_AREA,
+    RJ__LK_INERTIA,
+    RJ__LK_WIDTH,
+    RJ__LK_HEIGHT,
+    RJ__LK_LAYERS,
+    RJ__LK_TIP_MASS,
+    RJ__LK_TIP_INERTIA,
+    RJ__LK_ROOT,
+    RJ__LK_X,
+    RJ__LK_Y,
+    RJ__LK_ANGLE,
+    RJ__LK_VX,
+    RJ__LK_VY,
+    RJ__LK_OMEGA,
+    RJ__LK_FIDELITY,
+    RJ__LK_N
+};
+enum {
+    RJ__JK_BODY1,
+    RJ__JK_BODY2,
+    RJ__JK_NODE1,
+    RJ__JK_GROUND_X,
+    RJ__JK_GROUND_Y,
+    RJ__JK_GROUND_ANGLE,
+    RJ__JK_ANGLE0,
+    RJ__JK_RATE0,
+    RJ__JK_TABLE,
+    RJ__JK_SPRING,
+    RJ__JK_FORWARD,
+    RJ__JK_REVERSE,
+    RJ__JK_LOCK,
+    RJ__JK_METHOD,
+    RJ__JK_RELEASE,
+    RJ__JK_PENALTY_K,
+    RJ__JK_RESTITUTION,
+    RJ__JK_DAMPING,
+    RJ__JK_FRICTION,
+    RJ__JK_REFERENCE,
+    RJ__JK_N
+};
+enum {
+    RJ__AK_LINK,
+    RJ__AK_NODE,
+    RJ__AK_FORCE,
+    RJ__AK_MOMENT,
+    RJ__AK_TABLE,
+    RJ__AK_FOLLOWER,
+    RJ__AK_N
+};
+enum {
+    RJ__VK_DT,
+    RJ__VK_ALLOW_UNSTABLE,
+    RJ__VK_ENERGY_GROWTH,
+    RJ__VK_ENERGY_EVERY,
+    RJ__VK_IN_PLACE,
+    RJ__VK_GRAVITY,
+    RJ__VK_N
+};
+enum {
+    RJ__SK_NONE,
+    RJ__SK_SOLVER,
+    RJ__SK_MATERIAL,
+    RJ__SK_SECTION,
+    RJ__SK_LINK,
+    RJ__SK_JOINT,
+    RJ__SK_LOAD,
+    RJ__SK_COUNT
+};
+
+/* char arrays, not pointer arrays: read-only data without relocations */
+static const char rj__sk_kind[RJ__SK_COUNT][10] = { "",     "solver", "material", "section",
+                                                    "link", "joint",  "load" };
+static const char rj__sk_load[RJ__AK_N][9] = { "link",   "node",  "force",
+                                               "moment", "table", "follower" };
+static const char rj__sk_load_unit[RJ__AK_N][4] = { "", "", "N", "N m", "", "" };
+static const char rj__sk_link[RJ__LK_N][12] = {
+    "length",  "elements", "material", "section", "E",        "rho",         "area",
+    "inertia", "width",    "height",   "layers",  "tip_mass", "tip_inertia", "root",
+    "x",       "y",        "angle",    "vx",      "vy",       "omega",       "fidelity"
+};
+static const char rj__sk_joint[RJ__JK_N][13] = {
+    "body1",   "body2",     "node1",       "ground_x", "ground_y", "ground_angle", "angle0",
+    "rate0",   "table",     "spring",      "forward",  "reverse",  "lock",         "method",
+    "release", "penalty_k", "restitution", "damping",  "friction", "reference"
+};
+static const char rj__sk_solver[RJ__VK_N][15] = { "dt",           "allow_unstable", "energy_growth",
+                                                  "energy_every", "in_place",       "gravity" };
+static const char rj__sk_in_place[3][5] = { "auto", "on", "off" }; /* rj_in_place order */
+static const char rj__sk_root[4][8] = { "free", "pinned", "clamped", "fixed" };
+static const char rj__sk_fidelity[3][13] = { "flexible", "rigid",
+                                             "inextensible" }; /* rj_fidelity order */
+static const char rj__sk_method[5][9] = { "penalty", "adaptive", "momentum", "forced", "energy" };
+static const char rj__sk_release[2][5] = { "rc12", "rc13" };
+static const char rj__sk_reference[2][8] = { "tangent", "chord" };
+/* each key's SI unit, for messages about unit words ("" none; angles rad, rates rad/s) */
+static const char rj__sk_link_unit[RJ__LK_N][7] = { "m",      "",      "",  "",  "Pa",  "kg/m^3",
+                                                    "m^2",    "m^4",   "m", "m", "",    "kg",
+                                                    "kg m^2", "",      "m", "m", "rad", "m/s",
+                                                    "m/s",    "rad/s", "" };
+static const char rj__sk_joint_unit[RJ__JK_N][10] = {
+    "",    "",    "", "m", "m", "rad",     "rad", "rad/s",     "N m", "N m/rad",
+    "rad", "rad", "", "",  "",  "N m/rad", "",    "N m s/rad", "N m", ""
+};
+static const char rj__sk_solver_unit[RJ__VK_N][6] = { "s", "", "", "", "", "m/s^2" };
+
+#define RJ__SK_MAT_KEYS ((1u << RJ__LK_E) | (1u << RJ__LK_RHO))
+#define RJ__SK_SEC_KEYS                                                                            \
+    ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA) | (1u << RJ__LK_WIDTH) | (1u << RJ__LK_HEIGHT) | \
+     (1u << RJ__LK_LAYERS))
+
+typedef struct rj__stok {
+    const char *s;
+    int len, line, col;
+    char kind;
+} rj__stok; /* kind 'w', '=', ',' or 'q' (a quoted string, quotes included) */
+
+/* a material or a section: a partial link definition */
+typedef struct rj__spart {
+    char name[RJ_SCENE_NAME_MAX];
+    rj_link_def d;
+    unsigned mask;
+    rj_scene_pos pos[1 + RJ__LK_N];
+} rj__spart;
+
+typedef struct rj__sp {
+    const char *text, *fname;
+    size_t len, at;
+    int lineno;
+    rj_error *err;
+    char dp[8]; /* the C library's decimal point in the current locale */
+    int dplen;
+    rj__stok *tok;
+    int ntok;
+    rj_scene_file *f;
+    int cap_links, cap_joints, cap_loads;
+    rj__spart *mat, *sec;
+    int nmat, nsec, cap_mat, cap_sec;
+    int kind, item; /* current section: kind and index (materials, sections, links, joints) */
+    unsigned seen;  /* keys set in the current section */
+    int link_mat, link_sec; /* current link's material and section, -1 none */
+    int solver_seen;
+    int title_line;              /* line of the title statement, 0 none yet */
+    char where[80], forkey[128]; /* message pieces */
+    rj_result code;              /* of the first error */
+} rj__sp;
+
+/* ------------------------------------------------------------------ small helpers */
+static double rj__sp_nan(void)
+{
+    return strtod("nan", NULL);
+}
+
+static void rj__sp_locale(char *dp, int *dplen)
+{
+    char t[16];
+    int n = snprintf(t, sizeof t, "%.1f", 1.5), k;
+    *dplen = 0;
+    if (n >= 3 && n - 2 < 7)
+        for (k = 1; k < n - 1; k++)
+            dp[(*dplen)++] = t[k];
+    if (*dplen == 0) {
+        dp[0] = '.';
+        *dplen = 1;
+    }
+    dp[*dplen] = 0;
+}
+
+/* strict decimal number: [+-]? (d+ (. d*)? | . d+) ([eE] [+-]? d+)?
+   returns 1 ok, 0 malformed, -1 nan/inf spelled out, -2 out of range, -3 too long */
+static int rj__sp_strtonum(const char *s, int n, const char *dp, int dplen, double *out)
+{
+    char buf[160];
+    int i = 0, digits = 0, k, o = 0;
+    double v;
+    char *end;
+    if (n <= 0)
+        return 0;
+    {
+        int j = (s[0] == '+' || s[0] == '-') ? 1 : 0, m = n - j;
+        const char *w = s + j;
+        if ((m == 3 || m == 8) &&
+            (((w[0] | 32) == 'i' && (w[1] | 32) == 'n' && (w[2] | 32) == 'f') ||
+             (m == 3 && (w[0] | 32) == 'n' && (w[1] | 32) == 'a' && (w[2] | 32) == 'n'))) {
+            if (m == 3)
+                return -1;
+            if (((w[3] | 32) == 'i' && (w[4] | 32) == 'n' && (w[5] | 32) == 'i' &&
+                 (w[6] | 32) == 't' && (w[7] | 32) == 'y'))
+                return -1;
+        }
+    }
+    if (s[i] == '+' || s[i] == '-')
+        i++;
+    while (i < n && s[i] >= '0' && s[i] <= '9') {
+        i++;
+        digits++;
+    }
+    if (i < n && s[i] == '.') {
+        i++;
+        while (i < n && s[i] >= '0' && s[i] <= '9') {
+            i++;
+            digits++;
+        }
+    }
+    if (!digits)
+        return 0;
+    if (i < n && (s[i] == 'e' || s[i] == 'E')) {
+        int ed = 0;
+        i++;
+        if (i < n && (s[i] == '+' || s[i] == '-'))
+            i++;
+        while (i < n && s[i] >= '0' && s[i] <= '9') {
+            i++;
+            ed++;
+        }
+        if (!ed)
+            return 0;
+    }
+    if (i != n)
+        return 0;
+    if (n + dplen >= (int) sizeof buf)
+        return -3;
+    for (k = 0; k < n; k++) {
+        if (s[k] == '.') {
+            memcpy(buf + o, dp, (size_t) dplen);
+            o += dplen;
+        } else
+            buf[o++] = s[k];
+    }
+    buf[o] = 0;
+    v = strtod(buf, &end);
+    if (end != buf + o)
+        return 0;
+    if (!(v == v) || v - v != 0.0)
+        return -2;
+    *out = v;
+    return 1;
+}
+
+/* strict integer: [+-]? d+ ; returns 1 ok, 0 malformed, -2 beyond +-2e9 */
+static int rj__sp_strtoint(const char *s, int n, int *out)
+{
+    int i = 0, neg = 0, big = 0;
+    long v = 0;
+    if (n <= 0)
+        return 0;
+    if (s[0] == '+' || s[0] == '-') {
+        neg = s[0] == '-';
+        i = 1;
+    }
+    if (i == n)
+        return 0;
+    for (; i < n; i++) {
+        if (s[i] < '0' || s[i] > '9')
+            return 0;
+        if (v > 200000000L)
+            big = 1;
+        else
+            v = v * 10 + (s[i] - '0');
+    }
+    if (big || v > 2000000000L)
+        return -2;
+    *out = (int) (neg ? -v : v);
+    return 1;
+}
+
+/* text for messages: at most 40 characters, control and non-ASCII bytes as \xNN */
+static void rj__sp_quote(char *dst, size_t size, const char *s, int n)
+{
+    size_t o = 0;
+    int i;
+    for (i = 0; i < n && o + 5 < size; i++) {
+        unsigned char c = (unsigned char) s[i];
+        if (i >= 40) {
+            if (o + 4 < size) {
+                memcpy(dst + o, "...", 3);
+                o += 3;
+            }
+            break;
+        }
+        if (c < 0x20 || c >= 0x7f) {
+            snprintf(dst + o, size - o, "\\x%02x", c);
+            o += 4;
+        } else
+            dst[o++] = (char) c;
+    }
+    dst[o < size ? o : size - 1] = 0;
+}
+
+/* message builder: concatenates up to 7 pieces (NULL skipped) into dst, truncating */
+static void rj__sp_cat(char *dst, size_t size, const char *a, const char *b, const char *c,
+                       const char *d, const char *e, const char *f, const char *g)
+{
+    const char *pc[7];
+    size_t o = 0;
+    int k;
+    pc[0] = a;
+    pc[1] = b;
+    pc[2] = c;
+    pc[3] = d;
+    pc[4] = e;
+    pc[5] = f;
+    pc[6] = g;
+    if (!size)
+        return;
+    for (k = 0; k < 7; k++) {
+        size_t n, room;
+        if (!pc[k])
+            continue;
+        n = strlen(pc[k]);
+        room = size - 1 - o;
+        if (n > room)
+            n = room;
+        memcpy(dst + o, pc[k], n);
+        o += n;
+    }
+    dst[o] = 0;
+}
+
+static const char *rj__sp_itoa(char *buf, long v) /* buf: 24 bytes */
+{
+    snprintf(buf, 24, "%ld", v);
+    return buf;
+}
+
+static int rj__sp_fail(rj__sp *P, int line, int col, const char *key, double value, const char *msg)
+{
+    char l[24], c[24];
+    P->code = RJ_ERR_PARSE;
+    if (P->err) {
+        P->err->code = RJ_ERR_PARSE;
+        rj__sp_cat(P->err->field, sizeof P->err->field, key, NULL, NULL, NULL, NULL, NULL, NULL);
+        P->err->value = value;
+        rj__sp_cat(P->err->msg, sizeof P->err->msg, P->fname, ":", rj__sp_itoa(l, line), ":",
+                   rj__sp_itoa(c, col), ": ", msg);
+    }
+    return 0;
+}
+
+/* msg = a b c d e */
+static int rj__sp_err(rj__sp *P, int line, int col, const char *key, double value, const char *a,
+                      const char *b, const char *c, const char *d, const char *e)
+{
+    char m[256];
+    rj__sp_cat(m, sizeof m, a, b, c, d, e, NULL, NULL);
+    return rj__sp_fail(P, line, col, key, value, m);
+}
+
+/* msg = pre 'token text' b c d e */
+static int rj__sp_err_tok5(rj__sp *P, const rj__stok *t, const char *key, double value,
+                           const char *pre, const char *b, const char *c, const char *d,
+                           const char *e)
+{
+    char q[200], m1[256], m[256];
+    rj__sp_quote(q, sizeof q, t->s, t->len);
+    rj__sp_cat(m1, sizeof m1, pre, "'", q, "'", NULL, NULL, NULL);
+    rj__sp_cat(m, sizeof m, m1, b, c, d, e, NULL, NULL);
+    return rj__sp_fail(P, t->line, t->col, key, value, m);
+}
+
+/* msg = pre 'token text' b c d */
+static int rj__sp_err_tok(rj__sp *P, const rj__stok *t, const char *key, double value,
+                          const char *pre, const char *b, const char *c, const char *d)
+{
+    char q[200], m[256];
+    rj__sp_quote(q, sizeof q, t->s, t->len);
+    rj__sp_cat(m, sizeof m, pre, "'", q, "'", b, c, d);
+    return rj__sp_fail(P, t->line, t->col, key, value, m);
+}
+
+static const char *rj__sp_item_name(const rj__sp *P)
+{
+    switch (P->kind) {
+    case RJ__SK_MATERIAL:
+        return P->mat[P->item].name;
+    case RJ__SK_SECTION:
+        return P->sec[P->item].name;
+    case RJ__SK_LINK:
+        return P->f->link_names[P->item];
+    case RJ__SK_JOINT:
+        return P->f->joint_names[P->item];
+    case RJ__SK_LOAD:
+        return P->f->load_names[P->item];
+    }
+    return "";
+}
+
+/* " in link 'arm1'" for messages, into P->where */
+static const char *rj__sp_where(rj__sp *P)
+{
+    if (P->kind == RJ__SK_SOLVER)
+        rj__sp_cat(P->where, sizeof P->where, " in solver", NULL, NULL, NULL, NULL, NULL, NULL);
+    else if (P->kind == RJ__SK_NONE)
+        P->where[0] = 0;
+    else
+        rj__sp_cat(P->where, sizeof P->where, " in ", rj__sk_kind[P->kind], " '",
+                   rj__sp_item_name(P), "'", NULL, NULL);
+    return P->where;
+}
+
+/* " for 'key' in link 'arm1'" into P->forkey */
+static const char *rj__sp_for(rj__sp *P, const char *key)
+{
+    rj__sp_cat(P->forkey, sizeof P->forkey, " for '", key, "'", rj__sp_where(P), NULL, NULL, NULL);
+    return P->forkey;
+}
+
+static int rj__sp_is(const rj__stok *t, const char *s)
+{
+    size_t n = strlen(s);
+    return t->kind == 'w' && (size_t) t->len == n && memcmp(t->s, s, n) == 0;
+}
+
+static int rj__sp_name_ok(const char *s, int n)
+{
+    int i;
+    if (n < 1 || n >= RJ_SCENE_NAME_MAX)
+        return 0;
+    for (i = 0; i < n; i++) {
+        char c = s[i];
+        int alpha = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_';
+        int other = (c >= '0' && c <= '9') || c == '.' || c == '-';
+        if (!alpha && !(i > 0 && other))
+            return 0;
+    }
+    return 1;
+}
+
+static rj_scene_pos *rj__sp_pos(rj__sp *P, int k) /* position slot of key k of the current item */
+{
+    switch (P->kind) {
+    case RJ__SK_SOLVER:
+        return &P->f->solver_pos_[1 + k];
+    case RJ__SK_MATERIAL:
+        return &P->mat[P->item].pos[1 + k];
+    case RJ__SK_SECTION:
+        return &P->sec[P->item].pos[1 + k];
+    case RJ__SK_LINK:
+        return &P->f->link_pos_[(size_t) P->item * (1 + RJ__LK_N) + 1 + k];
+    case RJ__SK_LOAD:
+        return &P->f->load_pos_[(size_t) P->item * (1 + RJ__AK_N) + 1 + k];
+    default:
+        return &P->f->joint_pos_[(size_t) P->item * (1 + RJ__JK_N) + 1 + k];
+    }
+}
+
+/* ------------------------------------------------------------------ suggestions */
+static int rj__sp_lower(int c)
+{
+    return c >= 'A' && c <= 'Z' ? c + ('a' - 'A') : c;
+}
+
+/* edit distance of s[0..n) and b, ignoring case: insertions, deletions, substitutions and
+   swaps of two neighbours (optimal string alignment), so 'lenght' is 1 from 'length'.
+   99 when the lengths differ by more than 2 (never near enough to suggest). */
+static int rj__sp_dist(const char *s, int n, const char *b)
+{
+    int m = (int) strlen(b), r[3][RJ_SCENE_NAME_MAX + 2], i, j;
+    if (n - m > 2 || m - n > 2 || m > RJ_SCENE_NAME_MAX)
+        return 99;
+    for (j = 0; j <= m; j++)
+        r[0][j] = j;
+    for (i = 1; i <= n; i++) {
+        int *cur = r[i % 3], *up = r[(i + 2) % 3], *up2 = r[(i + 1) % 3];
+        int ca = rj__sp_lower((unsigned char) s[i - 1]);
+        cur[0] = i;
+        for (j = 1; j <= m; j++) {
+            int cb = rj__sp_lower((unsigned char) b[j - 1]), v = up[j - 1] + (ca != cb);
+            if (up[j] + 1 < v)
+                v = up[j] + 1;
+            if (cur[j - 1] + 1 < v)
+                v = cur[j - 1] + 1;
+            if (i > 1 && j > 1 && ca == rj__sp_lower((unsigned char) b[j - 2]) &&
+                rj__sp_lower((unsigned char) s[i - 2]) == cb && up2[j - 2] + 1 < v)
+                v = up2[j - 2] + 1;
+            cur[j] = v;
+        }
+    }
+    return r[n % 3][m];
+}
+
+/* The name among names[k] (stride apart, k < count; for k < 32 only those in mask) nearest
+   to s[0..n), or NULL: a suggestion must be within 2 edits of a name of 5 or more
+   characters, 1 of 3 or 4, and differ only in case from a shorter one, and be the only one
+   that near (a tie suggests nothing rather than a guess). */
+static const char *rj__sp_near(const char *s, int n, const char *names, size_t stride, int count,
+                               unsigned mask)
+{
+    const char *best = NULL;
+    int k, bd = 99, ties = 0;
+    for (k = 0; k < count; k++) {
+        const char *nm = names + stride * (size_t) k;
+        int len = (int) strlen(nm), d, lim = len >= 5 ? 2 : len >= 3 ? 1 : 0;
+        if (k < 32 && !(mask >> k & 1u))
+            continue;
+        d = rj__sp_dist(s, n, nm);
+        if (d > lim || d > bd)
+            continue;
+        if (d == bd) {
+            ties++;
+            continue;
+        }
+        best = nm;
+        bd = d;
+        ties = 0;
+    }
+    return ties ? NULL : best;
+}
+
+/* the key of the current section nearest to t (rj__sp_near), NULL when none is */
+static const char *rj__sp_near_key(const rj__sp *P, const rj__stok *t)
+{
+    switch (P->kind) {
+    case RJ__SK_SOLVER:
+        return rj__sp_near(t->s, t->len, rj__sk_solver[0], sizeof rj__sk_solver[0], RJ__VK_N, ~0u);
+    case RJ__SK_JOINT:
+        return rj__sp_near(t->s, t->len, rj__sk_joint[0], sizeof rj__sk_joint[0], RJ__JK_N, ~0u);
+    case RJ__SK_MATERIAL:
+        return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N,
+                           RJ__SK_MAT_KEYS);
+    case RJ__SK_SECTION:
+        return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N,
+                           RJ__SK_SEC_KEYS);
+    case RJ__SK_LINK:
+        return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N, ~0u);
+    case RJ__SK_LOAD:
+        return rj__sp_near(t->s, t->len, rj__sk_load[0], sizeof rj__sk_load[0], RJ__AK_N, ~0u);
+    }
+    return NULL;
+}
+
+/* "; did you mean 'name'?" into buf (buf: 48 bytes), "" when name is NULL */
+static const char *rj__sp_mean(char *buf, const char *name)
+{
+    buf[0] = 0;
+    if (name)
+        rj__sp_cat(buf, 48, "; did you mean '", name, "'?", NULL, NULL, NULL, NULL);
+    return buf;
+}
+
+/* ------------------------------------------------------------------ unit words
+   Numbers are SI without a unit ("length = 1", not "1 m"); only angles and rates take one.
+   A unit word after a number, or glued to it, gets a message that says so. */
+static int rj__sp_alpha(unsigned char c)
+{
+    return ((c | 32) >= 'a' && (c | 32) <= 'z') || c >= 0x80;
+}
+
+/* the SI unit of key (a key of any section), "" when it has none */
+static const char *rj__sp_unit(const char *key)
+{
+    int k;
+    for (k = 0; k < RJ__LK_N; k++)
+        if (strcmp(key, rj__sk_link[k]) == 0)
+            return rj__sk_link_unit[k];
+    for (k = 0; k < RJ__JK_N; k++)
+        if (strcmp(key, rj__sk_joint[k]) == 0)
+            return rj__sk_joint_unit[k];
+    for (k = 0; k < RJ__VK_N; k++)
+        if (strcmp(key, rj__sk_solver[k]) == 0)
+            return rj__sk_solver_unit[k];
+    for (k = 0; k < RJ__AK_N; k++)
+        if (strcmp(key, rj__sk_load[k]) == 0)
+            return rj__sk_load_unit[k];
+    return "";
+}
+
+/* the end of the number that starts t when a word is glued to it ("1mm" -> 1), else 0 */
+static int rj__sp_glued(const rj__sp *P, const rj__stok *t)
+{
+    int p;
+    double x;
+    for (p = t->len - 1; p > 0; p--)
+        if (rj__sp_alpha((unsigned char) t->s[p]) &&
+            rj__sp_strtonum(t->s, p, P->dp, P->dplen, &x) == 1)
+            return p;
+    return 0;
+}
+
+/* why the word w after the number num is wrong, into buf (200 bytes): what the key takes,
+   and for a prefixed SI unit the number to write ("E is in Pa: write 70e9 for 70 GPa") */
+static const char *rj__sp_unit_hint(char *buf, const char *what, const char *unit, const char *num,
+                                    int nn, const char *w, int wn)
+{
+    static const char pre[8] = "GMkcmun",
+                      ex[7][4] = { "e9", "e6", "e3", "e-2", "e-3", "e-6", "e-9" };
+    char q[200], u[200], t[200];
+    const char *p = w[0] ? strchr(pre, w[0]) : NULL;
+    int ul = (int) strlen(unit);
+    rj__sp_quote(q, sizeof q, num, nn);
+    rj__sp_quote(u, sizeof u, w, wn);
+    if (strcmp(unit, "rad") == 0 || strcmp(unit, "rad/s") == 0) {
+        rj__sp_cat(t, sizeof t, "'", q, ul == 3 ? " deg' or '" : " deg/s' or '", q,
+                   ul == 3 ? " rad'" : " rad/s'", NULL, NULL);
+        rj__sp_cat(buf, 200,
+                   ul == 3 ? ": an angle is a number in rad, or a number and deg or rad: "
+                           : ": a rate is a number in rad/s, or a number and deg/s or rad/s: ",
+                   t, NULL, NULL, NULL, NULL, NULL);
+        return buf;
+    }
+    t[0] = 0;
+    if (ul && wn == ul && memcmp(w, unit, (size_t) ul) == 0)
+        rj__sp_cat(t, sizeof t, " is in ", unit, " already: write ", q, NULL, NULL, NULL);
+    else if (ul && p && wn == ul + 1 && memcmp(w + 1, unit, (size_t) ul) == 0 &&
+             !memchr(num, 'e', (size_t) nn) && !memchr(num, 'E', (size_t) nn)) {
+        char n2[220];
+        rj__sp_cat(n2, sizeof n2, q, ex[p - pre], " for ", q, " ", u, NULL);
+        rj__sp_cat(t, sizeof t, " is in ", unit, ": write ", n2, NULL, NULL, NULL);
+    } else if (ul)
+        rj__sp_cat(t, sizeof t, " is in ", unit, NULL, NULL, NULL, NULL, NULL);
+    rj__sp_cat(buf, 200, ": quantities are plain numbers in SI units, without a unit word",
+               ul ? " (" : "", ul ? what : "", t, ul ? ")" : "", NULL, NULL);
+    return buf;
+}
+
+/* ------------------------------------------------------------------ values */
+/* a number that did not read (r from rj__sp_strtonum); unit: what key takes, for the hint */
+static int rj__sp_num_err(rj__sp *P, const rj__stok *t, const char *key, int r, const char *unit)
+{
+    char h[200];
+    int p = r == 0 ? rj__sp_glued(P, t) : 0;
+    h[0] = 0;
+    if (p)
+        rj__sp_unit_hint(h, key, unit, t->s, p, t->s + p, t->len - p);
+    return rj__sp_err_tok(P, t, key, rj__sp_nan(),
+                          r == -1   ? "not a finite number: "
+                          : r == -2 ? "number out of range: "
+                          : r == -3 ? "number too long: "
+                                    : "malformed number ",
+                          rj__sp_for(P, key), h, NULL);
+}
+
+static int rj__sp_num(rj__sp *P, const rj__stok *t, const char *key, double *out)
+{
+    int r;
+    if (t->kind != 'w')
+        return rj__sp_err_tok(P, t, key, rj__sp_nan(), "expected a number, found ",
+                              rj__sp_for(P, key), NULL, NULL);
+    r = rj__sp_strtonum(t->s, t->len, P->dp, P->dplen, out);
+    if (r == 1)
+        return 1;
+    return rj__sp_num_err(P, t, key, r, rj__sp_unit(key));
+}
+
+static int rj__sp_int(rj__sp *P, const rj__stok *t, const char *key, int lo, int hi, int *out)
+{
+    char a[24], b[24], q[200], m[256], m2[256];
+    int v = 0, r = t->kind == 'w' ? rj__sp_strtoint(t->s, t->len, &v) : 0;
+    if (r == 1 && v >= lo && v <= hi) {
+        *out = v;
+        return 1;
+    }
+    if (r == 1 || r == -2) {
+        rj__sp_quote(q, sizeof q, t->s, t->len);
+        rj__sp_cat(m, sizeof m, key, " = ", q, " is out of range", rj__sp_where(P), ": must be ",
+                   rj__sp_itoa(a, lo));
+        rj__sp_cat(m2, sizeof m2, m, "..", rj__sp_itoa(b, hi), NULL, NULL, NULL, NULL);
+        return rj__sp_fail(P, t->line, t->col, key, r == 1 ? (double) v : rj__sp_nan(), m2);
+    }
+    return rj__sp_err_tok(P, t, key, rj__sp_nan(), "expected an integer, found ",
+                          rj__sp_for(P, key), NULL, NULL);
+}
+
+/* a value with an optional unit: "1.5", "90 deg", "90deg"; units are "deg"/"rad" (angles)
+   or "deg/s"/"rad/s" (rates), rad when none. Reads toks[*i..b), advances *i. */
+static int rj__sp_angle(rj__sp *P, int *i, int b, const char *key, int rate, double *out)
+{
+    const rj__stok *t = &P->tok[*i];
+    const char *ud = rate ? "deg/s" : "deg", *ur = rate ? "rad/s" : "rad";
+    int ul = rate ? 5 : 3;
+    double v;
+    if (t->kind == 'w' && rj__sp_strtonum(t->s, t->len, P->dp, P->dplen, &v) == 1) {
+        (*i)++;
+        if (*i < b && P->tok[*i].kind == 'w') {
+            const rj__stok *u = &P->tok[*i];
+            if (rj__sp_is(u, ud)) {
+                v = rj_rad(v);
+                (*i)++;
+            } else if (rj__sp_is(u, ur))
+                (*i)++;
+            else if ((u->s[0] >= 'a' && u->s[0] <= 'z') || (u->s[0] >= 'A' && u->s[0] <= 'Z'))
+                return rj__sp_err_tok(P, u, key, v, "unknown unit ", rj__sp_for(P, key),
+                                      rate ? " (deg/s or rad/s)" : " (deg or rad)", NULL);
+        }
+        if (!(v - v == 0.0))
+            return rj__sp_err_tok(P, t, key, rj__sp_nan(),
+                                  "number out of range: ", rj__sp_for(P, key), NULL, NULL);
+        *out = v;
+        return 1;
+    }
+    /* unit glued to the number */
+    if (t->kind == 'w' && t->len > ul) {
+        int isd = memcmp(t->s + t->len - ul, ud, (size_t) ul) == 0,
+            isr = memcmp(t->s + t->len - ul, ur, (size_t) ul) == 0;
+        if ((isd || isr) && rj__sp_strtonum(t->s, t->len - ul, P->dp, P->dplen, &v) == 1) {
+            if (isd)
+                v = rj_rad(v);
+            if (!(v - v == 0.0))
+                return rj__sp_err_tok(P, t, key, rj__sp_nan(),
+                                      "number out of range: ", rj__sp_for(P, key), NULL, NULL);
+            (*i)++;
+            *out = v;
+            return 1;
+        }
+    }
+    if (t->kind != 'w')
+        return rj__sp_num(P, t, key, &v); /* reports the right error */
+    return rj__sp_num_err(P, t, key, rj__sp_strtonum(t->s, t->len, P->dp, P->dplen, &v),
+                          rate ? "rad/s" : "rad");
+}
+
+/* range check on an already parsed value; the message shows the text of toks[a..e) */
+static int rj__sp_range(rj__sp *P, int a, int e, const char *key, double v, int ok,
+                        const char *rule)
+{
+    char q[200], m[256];
+    const rj__stok *t = &P->tok[a], *z = &P->tok[e - 1];
+    if (ok)
+        return 1;
+    if (z->line == t->line && z->s >= t->s)
+        rj__sp_quote(q, sizeof q, t->s, (int) (z->s + z->len - t->s));
+    else
+        rj__sp_quote(q, sizeof q, t->s, t->len);
+    rj__sp_cat(m, sizeof m, key, " = ", q, " is out of range", rj__sp_where(P), ": ", rule);
+    return rj__sp_fail(P, t->line, t->col, key, v, m);
+}
+
+static int rj__sp_enum(rj__sp *P, const rj__stok *t, const char *key, const char *names,
+                       size_t stride, int count, int *out)
+{
+    char list[100], tmp[100], q[200], m[256], m2[256], mean[48];
+    int k;
+    for (k = 0; k < count; k++)
+        if (rj__sp_is(t, names + stride * (size_t) k)) {
+            *out = k;
+            return 1;
+        }
+    list[0] = 0;
+    for (k = 0; k < count; k++) {
+        rj__sp_cat(tmp, sizeof tmp, list, k ? (k == count - 1 ? " or " : ", ") : "",
+                   names + stride * (size_t) k, NULL, NULL, NULL, NULL);
+        memcpy(list, tmp, sizeof list);
+    }
+    rj__sp_quote(q, sizeof q, t->s, t->len);
+    rj__sp_cat(m, sizeof m, "unknown value '", q, "'", rj__sp_for(P, key), " (expected ", NULL,
+               NULL);
+    rj__sp_cat(m2, sizeof m2, m, list, ")",
+               rj__sp_mean(mean, rj__sp_near(t->s, t->len, names, stride, count, ~0u)), NULL, NULL,
+               NULL);
+    return rj__sp_fail(P, t->line, t->col, key, rj__sp_nan(), m2);
+}
+
+static int rj__sp_bool(rj__sp *P, const rj__stok *t, const char *key, int *out)
+{
+    static const char names[4][6] = { "no", "yes", "false", "true" };
+    int k = 0;
+    if (!rj__sp_enum(P, t, key, names[0], sizeof names[0], 4, &k))
+        return 0;
+    *out = k & 1;
+    return 1;
+}
+
+static int rj__sp_name_ref(rj__sp *P, const rj__stok *t, const char *key)
+{
+    if (t->kind == 'w' && rj__sp_name_ok(t->s, t->len))
+        return 1;
+    return rj__sp_err_tok(P, t, key, rj__sp_nan(), "expected a name, found ", rj__sp_for(P, key),
+                          NULL, NULL);
+}
+
+static int rj__sp_find(const char *s, int n, const char *names, size_t stride, int count)
+{
+    int k;
+    for (k = 0; k < count; k++) {
+        const char *nm = names + stride * (size_t) k;
+        if ((int) strlen(nm) == n && memcmp(nm, s, (size_t) n) == 0)
+            return k;
+    }
+    return -1;
+}
+
+/* ------------------------------------------------------------------ keys */
+#define RJ__SP_RULE(cond, rule) rj__sp_range(P, a, *i, key, v, (cond), (rule))
+
+static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *d)
+{
+    const char *key = rj__sk_link[k];
+    const rj__stok *t = &P->tok[a];
+    double v = 0;
+    switch (k) {
+    case RJ__LK_ELEMENTS:
+        if (!rj__sp_int(P, t, key, 1, 1000000, &d->elements))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__LK_LAYERS:
+        if (!rj__sp_int(P, t, key, 1, 1000, &d->layers))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__LK_ROOT:
+        if (!rj__sp_enum(P, t, key, rj__sk_root[0], sizeof rj__sk_root[0], 4, &d->root))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__LK_FIDELITY:
+        if (!rj__sp_enum(P, t, key, rj__sk_fidelity[0], sizeof rj__sk_fidelity[0], 3, &d->fidelity))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__LK_MATERIAL:
+    case RJ__LK_SECTION: {
+        const rj__spart *parts = k == RJ__LK_MATERIAL ? P->mat : P->sec;
+        int idx, np = k == RJ__LK_MATERIAL ? P->nmat : P->nsec;
+        char mean[48];
+        if (!rj__sp_name_ref(P, t, key))
+            return 0;
+        idx = np ? rj__sp_find(t->s, t->len, parts[0].name, sizeof(rj__spart), np) : -1;
+        if (idx < 0)
+            return rj__sp_err_tok(P, t, key, rj__sp_nan(),
+                                  k == RJ__LK_MATERIAL ? "unknown material " : "unknown section ",
+                                  rj__sp_where(P), " (define it above the link)",
+                                  np ? rj__sp_mean(mean, rj__sp_near(t->s, t->len, parts[0].name,
+                                                                     sizeof(rj__spart), np, ~0u))
+                                     : "");
+        if (k == RJ__LK_MATERIAL)
+            P->link_mat = idx;
+        else
+            P->link_sec = idx;
+        (*i)++;
+        return 1;
+    }
+    case RJ__LK_ANGLE:
+        return rj__sp_angle(P, i, b, key, 0, &d->angle);
+    case RJ__LK_OMEGA:
+        return rj__sp_angle(P, i, b, key, 1, &d->omega);
+    }
+    if (!rj__sp_num(P, t, key, &v))
+        return 0;
+    (*i)++;
+    switch (k) {
+    case RJ__LK_LENGTH:
+        if (!RJ__SP_RULE(v > 0 && v <= 1e6, "must be > 0 and <= 1e6 m"))
+            return 0;
+        d->length = v;
+        break;
+    case RJ__LK_E:
+        if (!RJ__SP_RULE(v > 0 && v <= 1e30, RJ__RULE_E))
+            return 0;
+        d->E = v;
+        break;
+    case RJ__LK_RHO:
+        if (!RJ__SP_RULE(v > 0 && v <= 1e30, RJ__RULE_RHO))
+            return 0;
+        d->rho = v;
+        break;
+    case RJ__LK_AREA:
+        if (!RJ__SP_RULE(v > 0 && v <= 1e12, RJ__RULE_AREA))
+            return 0;
+        d->area = v;
+        break;
+    case RJ__LK_INERTIA:
+        if (!RJ__SP_RULE(v > 0 && v <= 1e24, RJ__RULE_INERTIA))
+            return 0;
+        d->inertia = v;
+        break;
+    case RJ__LK_WIDTH:
+        if (!RJ__SP_RULE(v > 0 && v <= 1e6, RJ__RULE_SIZE))
+            return 0;
+        d->width = v;
+        break;
+    case RJ__LK_HEIGHT:
+        if (!RJ__SP_RULE(v >= 0 && v <= 1e6, RJ__RULE_DEPTH))
+            return 0;
+        d->height = v;
+        break;
+    case RJ__LK_TIP_MASS:
+        if (!RJ__SP_RULE(v >= 0 && v <= 1e40, RJ__RULE_TIP_MASS))
+            return 0;
+        d->tip_mass = v;
+        break;
+    case RJ__LK_TIP_INERTIA:
+        if (!RJ__SP_RULE(v >= 0 && v <= 1e50, RJ__RULE_TIP_INERTIA))
+            return 0;
+        d->tip_inertia = v;
+        break;
+    case RJ__LK_X:
+        d->x = v;
+        break;
+    case RJ__LK_Y:
+        d->y = v;
+        break;
+    case RJ__LK_VX:
+        d->vx = v;
+        break;
+    case RJ__LK_VY:
+        d->vy = v;
+        break;
+    }
+    return 1;
+}
+
+static int rj__sp_limit(rj__sp *P, int a, int *i, int b, const char *key, int *has, double *lim)
+{
+    double v = 0;
+    if (rj__sp_is(&P->tok[a], "none")) {
+        *has = 0;
+        *lim = 0;
+        (*i)++;
+        return 1;
+    }
+    if (!rj__sp_angle(P, i, b, key, 0, &v))
+        return 0;
+    if (!RJ__SP_RULE(v >= 0 && v < 2.0 * 3.14159265358979323846,
+                     "a limit must be in [0, 360) deg, or none"))
+        return 0;
+    *has = 1;
+    *lim = v;
+    return 1;
+}
+
+/* a link defined above the statement, named by t, into *link; users: what names links
+   (the message's "define links above the joints that use them") */
+static int rj__sp_link_ref(rj__sp *P, const rj__stok *t, const char *key, const char *users,
+                           int *link)
+{
+    const int idx = P->f->link_count ? rj__sp_find(t->s, t->len, (const char *) P->f->link_names,
+                                                   RJ_SCENE_NAME_MAX, P->f->link_count)
+                                     : -1;
+    char mean[48], tail[64];
+    if (idx >= 0) {
+        *link = idx;
+        return 1;
+    }
+    rj__sp_mean(mean, P->f->link_count ? rj__sp_near(t->s, t->len, (const char *) P->f->link_names,
+                                                     RJ_SCENE_NAME_MAX, P->f->link_count, ~0u)
+                                       : NULL);
+    rj__sp_cat(tail, sizeof tail, " (define links above the ", users, " that use them)", NULL, NULL,
+               NULL, NULL);
+    return rj__sp_err_tok(P, t, key, rj__sp_nan(), "unknown link ", rj__sp_for(P, key), tail, mean);
+}
+
+/* a node of a link: last (-1) or its index (the link's range is checked when its section
+   ends) */
+static int rj__sp_node_ref(rj__sp *P, const rj__stok *t, const char *key, int *i, int *node)
+{
+    if (rj__sp_is(t, "last"))
+        *node = -1;
+    else if (!rj__sp_int(P, t, key, 0, 1000000, node))
+        return 0;
+    (*i)++;
+    return 1;
+}
+
+/* What a table's pairs hold: the first an angle (deg or rad, in [0, 360] deg) or a plain
+   number, the second a plain number; their names and the second's unit for messages; the
+   fewest points a table has. */
+typedef struct rj__sp_form {
+    int angles;
+    const char *first, *second, *second_what, *second_unit, *shape;
+    int fewest;
+} rj__sp_form;
+
+/* the first value of a table's pair into *v (a: where it starts, for the range rule) */
+static int rj__sp_pair_first(rj__sp *P, int *i, int b, const rj__sp_form *t, double *out)
+{
+    const char *key = "table";
+    const int a = *i;
+    double v = 0;
+    if (!t->angles) {
+        if (!rj__sp_num(P, &P->tok[*i], key, out))
+            return 0;
+        (*i)++;
+        return 1;
+    }
+    if (!rj__sp_angle(P, i, b, key, 0, &v))
+        return 0;
+    /* angles may fall: as in rj_model_create, a fall starts a new run (Eq 4) */
+    if (!RJ__SP_RULE(v >= 0 && v <= 2.0 * 3.14159265358979323846,
+                     "table angles must be in [0, 360] deg"))
+        return 0;
+    *out = v;
+    return 1;
+}
+
+/* after a pair: the end of the table, or ',' and another pair; "1 Nm" gets why the
+   second takes no unit word. Returns 1 at the end, 2 for another pair, 0 on an error. */
+static int rj__sp_pair_next(rj__sp *P, int *i, int b, const rj__sp_form *t)
+{
+    const char *key = "table";
+    if (*i >= b)
+        return 1;
+    if (P->tok[*i].kind != ',') {
+        const rj__stok *u = &P->tok[*i], *q = &P->tok[*i - 1];
+        char h[200];
+        h[0] = 0;
+        if (t->second_unit && u->kind == 'w' && rj__sp_alpha((unsigned char) u->s[0]))
+            rj__sp_unit_hint(h, t->second_what, t->second_unit, q->s, q->len, u->s, u->len);
+        return rj__sp_err_tok(P, u, key, rj__sp_nan(),
+                              "expected ',' or the end of the table, found ", rj__sp_where(P),
+                              t->shape, h);
+    }
+    (*i)++;
+    if (*i >= b) {
+        const rj__stok *z = &P->tok[*i - 1];
+        return rj__sp_err(P, z->line, z->col, key, rj__sp_nan(), "table ends with ','",
+                          rj__sp_where(P), NULL, NULL, NULL);
+    }
+    return 2;
+}
+
+/* table = a b, a b, ...: t->fewest .. RJ_TABLE_MAX pairs into first[] and second[] */
+static int rj__sp_pairs(rj__sp *P, int *i, int b, const rj__sp_form *t, double *first,
+                        double *second, int *count)
+{
+    const char *key = "table";
+    char nb[24], missing[64];
+    int n = 0, a = *i, more = 2;
+    while (more == 2) {
+        a = *i;
+        if (n == RJ_TABLE_MAX)
+            return rj__sp_err(P, P->tok[a].line, P->tok[a].col, key, rj__sp_nan(),
+                              "table has more than ", rj__sp_itoa(nb, RJ_TABLE_MAX), " points",
+                              rj__sp_where(P), NULL);
+        if (!rj__sp_pair_first(P, i, b, t, &first[n]))
+            return 0;
+        if (*i >= b || P->tok[*i].kind == ',') {
+            const rj__stok *z = &P->tok[*i - 1];
+            rj__sp_cat(missing, sizeof missing, "missing ", t->second, " after the table ",
+                       t->first, NULL, NULL, NULL);
+            return rj__sp_err(P, z->line, z->col + z->len, key, rj__sp_nan(), missing,
+                              rj__sp_where(P), t->shape, NULL, NULL);
+        }
+        if (!rj__sp_num(P, &P->tok[*i], key, &second[n]))
+            return 0;
+        (*i)++;
+        n++;
+        more = rj__sp_pair_next(P, i, b, t);
+        if (!more)
+            return 0;
+    }
+    if (n < t->fewest)
+        return rj__sp_err(P, P->tok[a].line, P->tok[a].col, key, rj__sp_nan(),
+                          "a table needs at least 2 points", rj__sp_where(P), NULL, NULL, NULL);
+    *count = n;
+    return 1;
+}
+
+/* a joint's table = angle torque, angle torque, ... (Eq 4) */
+static int rj__sp_table(rj__sp *P, int *i, int b, rj_joint_def *d)
+{
+    const rj__sp_form form = { 1,          "angle", "torque",
+                               "a torque", "N m",   " (table = angle torque, angle torque, ...)",
+                               2 };
+    return rj__sp_pairs(P, i, b, &form, d->table_angle, d->table_torque, &d->table_count);
+}
+
+static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def *d)
+{
+    const char *key = rj__sk_joint[k];
+    const rj__stok *t = &P->tok[a];
+    double v = 0;
+    switch (k) {
+    case RJ__JK_BODY1:
+    case RJ__JK_BODY2: {
+        int idx;
+        if (!rj__sp_name_ref(P, t, key))
+            return 0;
+        if (rj__sp_is(t, "ground")) {
+            if (k == RJ__JK_BODY2)
+                return rj__sp_err_tok(P, t, key, rj__sp_nan(), "body2 must be a link, not ",
+                                      rj__sp_where(P), " (body1 may be ground)", NULL);
+            d->body1 = -1;
+            (*i)++;
+            return 1;
+        }
+        if (!rj__sp_link_ref(P, t, key, "joints", &idx))
+            return 0;
+        if (k == RJ__JK_BODY1)
+            d->body1 = idx;
+        else
+            d->body2 = idx;
+        (*i)++;
+        return 1;
+    }
+    case RJ__JK_NODE1:
+        return rj__sp_node_ref(P, t, key, i, &d->node1);
+    case RJ__JK_GROUND_ANGLE:
+        return rj__sp_angle(P, i, b, key, 0, &d->ground_angle);
+    case RJ__JK_ANGLE0:
+        if (!rj__sp_angle(P, i, b, key, 0, &v))
+            return 0;
+        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, "must be within +-1e6 rad"))
+            return 0;
+        d->angle0 = v;
+        return 1;
+    case RJ__JK_RATE0:
+        return rj__sp_angle(P, i, b, key, 1, &d->rate0);
+    case RJ__JK_TABLE:
+        return rj__sp_table(P, i, b, d);
+    case RJ__JK_SPRING:
+        if (!rj__sp_num(P, t, key, &v))
+            return 0;
+        (*i)++;
+        if (!RJ__SP_RULE(v >= 0, "the spring stiffness must be >= 0 N m/rad"))
+            return 0;
+        d->spring_k = v;
+        if (*i >= b)
+            return rj__sp_err(P, t->line, t->col + t->len, key, rj__sp_nan(),
+                              "missing free angle after the stiffness", rj__sp_where(P),
+                              " (spring = k angle)", NULL, NULL);
+        a = *i;
+        if (!rj__sp_angle(P, i, b, key, 0, &v))
+            return 0;
+        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, "the free angle must be within +-1e6 rad"))
+            return 0;
+        d->spring_free_angle = v;
+        return 1;
+    case RJ__JK_FORWARD:
+        return rj__sp_limit(P, a, i, b, key, &d->has_forward, &d->forward);
+    case RJ__JK_REVERSE:
+        return rj__sp_limit(P, a, i, b, key, &d->has_reverse, &d->reverse);
+    case RJ__JK_LOCK:
+        if (!rj__sp_bool(P, t, key, &d->lock))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__JK_METHOD:
+        if (!rj__sp_enum(P, t, key, rj__sk_method[0], sizeof rj__sk_method[0], 5, &d->method))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__JK_RELEASE:
+        if (!rj__sp_enum(P, t, key, rj__sk_release[0], sizeof rj__sk_release[0], 2, &d->release))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__JK_REFERENCE:
+        if (!rj__sp_enum(P, t, key, rj__sk_reference[0], sizeof rj__sk_reference[0], 2,
+                         &d->reference))
+            return 0;
+        (*i)++;
+        return 1;
+    }
+    if (!rj__sp_num(P, t, key, &v))
+        return 0;
+    (*i)++;
+    switch (k) {
+    case RJ__JK_GROUND_X:
+        d->ground_x = v;
+        break;
+    case RJ__JK_GROUND_Y:
+        d->ground_y = v;
+        break;
+    case RJ__JK_PENALTY_K:
+        if (!RJ__SP_RULE(v >= 0, "must be >= 0 N m/rad"))
+            return 0;
+        d->penalty_k = v;
+        break;
+    case RJ__JK_RESTITUTION:
+        if (!RJ__SP_RULE(v >= 0 && v <= 1, "must be in [0, 1]"))
+            return 0;
+        d->restitution = v;
+        break;
+    case RJ__JK_DAMPING:
+        if (!RJ__SP_RULE(v >= 0, "must be >= 0 N m s/rad"))
+            return 0;
+        d->damping = v;
+        break;
+    case RJ__JK_FRICTION:
+        if (!RJ__SP_RULE(v >= 0, "must be >= 0 N m"))
+            return 0;
+        d->friction = v;
+        break;
+    }
+    return 1;
+}
+
+/* gravity = gx gy (m/s^2): two numbers */
+static int rj__sp_gravity(rj__sp *P, int a, int *i, int b, rj_solver_def *s)
+{
+    const char *key = "gravity";
+    const rj__stok *t = &P->tok[a];
+    int k;
+    for (k = 0; k < 2; k++) {
+        double v = 0;
+        t = &P->tok[*i];
+        if (k == 1 && *i >= b)
+            return rj__sp_err(P, P->tok[a].line, P->tok[a].col + P->tok[a].len, key, rj__sp_nan(),
+                              "missing y component", rj__sp_where(P),
+                              " (gravity = gx gy, in m/s^2)", NULL, NULL);
+        if (!rj__sp_num(P, t, key, &v))
+            return 0;
+        (*i)++;
+        if (!RJ__SP_RULE(v >= -RJ__MAX_GRAVITY && v <= RJ__MAX_GRAVITY, RJ__RULE_GRAVITY))
+            return 0;
+        s->gravity[k] = v;
+    }
+    return 1;
+}
+
+static int rj__sp_solver_key(rj__sp *P, int k, int a, int *i, int b, rj_solver_def *s)
+{
+    const char *key = rj__sk_solver[k];
+    const rj__stok *t = &P->tok[a];
+    double v = 0;
+    if (k == RJ__VK_GRAVITY)
+        return rj__sp_gravity(P, a, i, b, s);
+    if (k == RJ__VK_ALLOW_UNSTABLE) {
+        if (!rj__sp_bool(P, t, key, &s->allow_unstable))
+            return 0;
+        (*i)++;
+        return 1;
+    }
+    if (k == RJ__VK_ENERGY_EVERY) {
+        if (!rj__sp_int(P, t, key, 1, 1000, &s->energy_every))
+            return 0;
+        (*i)++;
+        return 1;
+    }
+    if (k == RJ__VK_IN_PLACE) {
+        if (!rj__sp_enum(P, t, key, rj__sk_in_place[0], sizeof rj__sk_in_place[0], 3, &s->in_place))
+            return 0;
+        (*i)++;
+        return 1;
+    }
+    if (!rj__sp_num(P, t, key, &v))
+        return 0;
+    (*i)++;
+    if (k == RJ__VK_DT) {
+        if (!RJ__SP_RULE(v >= 0 && v <= 1, "must be 0 (automatic) or a step in (0, 1] s"))
+            return 0;
+        s->dt = v;
+    } else {
+        if (!RJ__SP_RULE(v > 1, "must be > 1"))
+            return 0;
+        s->energy_growth = v;
+    }
+    return 1;
+}
+
+/* a load's table = time factor, time factor, ...: 1..RJ_TABLE_MAX points, times in s
+   (strictly increasing: rj_model_create checks it, naming the point) */
+static int rj__sp_load_table(rj__sp *P, int *i, int b, rj_load_def *d)
+{
+    const rj__sp_form form = { 0,    "time", "factor",
+                               NULL, NULL,   " (table = time factor, time factor, ...)",
+                               1 };
+    return rj__sp_pairs(P, i, b, &form, d->table_time, d->table_factor, &d->table_count);
+}
+
+static int rj__sp_load_key(rj__sp *P, int k, int a, int *i, int b, rj_load_def *d)
+{
+    const char *key = rj__sk_load[k];
+    const rj__stok *t = &P->tok[a];
+    switch (k) {
+    case RJ__AK_LINK:
+        if (!rj__sp_name_ref(P, t, key) || !rj__sp_link_ref(P, t, key, "loads", &d->link))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__AK_NODE:
+        return rj__sp_node_ref(P, t, key, i, &d->node);
+    case RJ__AK_FORCE:
+        if (!rj__sp_num(P, t, key, &d->force[0]))
+            return 0;
+        (*i)++;
+        if (*i >= b)
+            return rj__sp_err(P, t->line, t->col + t->len, key, rj__sp_nan(),
+                              "missing y component after the x component", rj__sp_where(P),
+                              " (force = fx fy, in N)", NULL, NULL);
+        if (!rj__sp_num(P, &P->tok[*i], key, &d->force[1]))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__AK_MOMENT:
+        if (!rj__sp_num(P, t, key, &d->moment))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__AK_TABLE:
+        return rj__sp_load_table(P, i, b, d);
+    default:
+        if (!rj__sp_bool(P, t, key, &d->follower))
+            return 0;
+        (*i)++;
+        return 1;
+    }
+}
+
+/* ------------------------------------------------------------------ sections */
+static int rj__sp_key_index(int kind, const rj__stok *t)
+{
+    int k;
+    switch (kind) {
+    case RJ__SK_SOLVER:
+        for (k = 0; k < RJ__VK_N; k++)
+            if (rj__sp_is(t, rj__sk_solver[k]))
+                return k;
+        break;
+    case RJ__SK_MATERIAL:
+    case RJ__SK_SECTION:
+    case RJ__SK_LINK: {
+        unsigned allowed = kind == RJ__SK_MATERIAL  ? RJ__SK_MAT_KEYS
+                           : kind == RJ__SK_SECTION ? RJ__SK_SEC_KEYS
+                                                    : ~0u;
+        for (k = 0; k < RJ__LK_N; k++)
+            if ((allowed >> k & 1u) && rj__sp_is(t, rj__sk_link[k]))
+                return k;
+        break;
+    }
+    case RJ__SK_JOINT:
+        for (k = 0; k < RJ__JK_N; k++)
+            if (rj__sp_is(t, rj__sk_joint[k]))
+                return k;
+        break;
+    case RJ__SK_LOAD:
+        for (k = 0; k < RJ__AK_N; k++)
+            if (rj__sp_is(t, rj__sk_load[k]))
+                return k;
+        break;
+    }
+    return -1;
+}
+
+static const char *rj__sp_key_name(int kind, int k)
+{
+    if (kind == RJ__SK_SOLVER)
+        return rj__sk_solver[k];
+    if (kind == RJ__SK_JOINT)
+        return rj__sk_joint[k];
+    if (kind == RJ__SK_LOAD)
+        return rj__sk_load[k];
+    return rj__sk_link[k];
+}
+
+/* section rules shared by sections and links: eff = keys in effect, pos[k] where key k came from */
+static int rj__sp_check_shape(rj__sp *P, unsigned eff, const rj_link_def *d,
+                              const rj_scene_pos *pos, rj_scene_pos head, const char *what)
+{
+    unsigned gen = (1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA);
+    if (eff & gen) {
+        int k;
+        if ((eff & gen) != gen) {
+            int has = (eff >> RJ__LK_AREA & 1u) ? RJ__LK_AREA : RJ__LK_INERTIA;
+            rj_scene_pos p = pos[has].line ? pos[has] : head;
+            return rj__sp_err(P, p.line, p.col, rj__sk_link[has], rj__sp_nan(), what, " sets ",
+                              rj__sk_link[has],
+                              has == RJ__LK_AREA ? " but not inertia" : " but not area",
+                              ": a general section needs both area and inertia");
+        }
+        for (k = RJ__LK_WIDTH; k <= RJ__LK_LAYERS; k++)
+            if (k != RJ__LK_HEIGHT && (eff >> k & 1u)) {
+                rj_scene_pos p = pos[k].line ? pos[k] : head;
+                return rj__sp_err(
+                    P, p.line, p.col, rj__sk_link[k], rj__sp_nan(), what, " mixes ", rj__sk_link[k],
+                    " with area/inertia: ", "width and layers apply only to rectangular sections");
+            }
+    } else if ((eff >> RJ__LK_HEIGHT & 1u) && !(d->height > 0)) {
+        return rj__sp_err(P, pos[RJ__LK_HEIGHT].line, pos[RJ__LK_HEIGHT].col, "height", d->height,
+                          what, " has height = 0: a rectangular section needs height > 0", NULL,
+                          NULL, NULL);
+    }
+    return 1;
+}
+
+/* a load names its link, and a node the link has */
+static int rj__sp_finish_load(rj__sp *P)
+{
+    const rj_load_def *d = &P->f->loads[P->item];
+    const rj_scene_pos *pos = &P->f->load_pos_[(size_t) P->item * (1 + RJ__AK_N)];
+    const char *name = P->f->load_names[P->item];
+    char a[24], b[24], m[256];
+    if (!(P->seen >> RJ__AK_LINK & 1u))
+        return rj__sp_err(P, pos[0].line, pos[0].col, "link", rj__sp_nan(), "load '", name,
+                          "' has no link (the link it acts on)", NULL, NULL);
+    if (d->node <= P->f->links[d->link].elements)
+        return 1;
+    rj__sp_cat(m, sizeof m, "node = ", rj__sp_itoa(a, d->node), " is out of range in load '", name,
+               "': link '", P->f->link_names[d->link], "' has nodes 0..");
+    return rj__sp_err(P, pos[1 + RJ__AK_NODE].line, pos[1 + RJ__AK_NODE].col, "node", d->node, m,
+                      rj__sp_itoa(b, P->f->links[d->link].elements), " (or last)", NULL, NULL);
+}
+
+/* checks and completes the section that ends here */
+static int rj__sp_finish(rj__sp *P)
+{
+    char what[80];
+    switch (P->kind) {
+    case RJ__SK_NONE:
+    case RJ__SK_SOLVER:
+        break;
+    case RJ__SK_MATERIAL:
+        P->mat[P->item].mask = P->seen;
+        break;
+    case RJ__SK_SECTION: {
+        rj__spart *s = &P->sec[P->item];
+        s->mask = P->seen;
+        rj__sp_cat(what, sizeof what, "section '", s->name, "'", NULL, NULL, NULL, NULL);
+        if (!rj__sp_check_shape(P, s->mask, &s->d, s->pos + 1, s->pos[0], what))
+            return 0;
+        break;
+    }
+    case RJ__SK_LINK: {
+        rj_link_def *d = &P->f->links[P->item];
+        rj_scene_pos *pos = &P->f->link_pos_[(size_t) P->item * (1 + RJ__LK_N)];
+        unsigned eff = P->seen;
+        int k;
+        if (P->link_mat >= 0) {
+            const rj__spart *s = &P->mat[P->link_mat];
+            if (!(eff >> RJ__LK_E & 1u) && (s->mask >> RJ__LK_E & 1u)) {
+                d->E = s->d.E;
+                pos[1 + RJ__LK_E] = s->pos[1 + RJ__LK_E];
+            }
+            if (!(eff >> RJ__LK_RHO & 1u) && (s->mask >> RJ__LK_RHO & 1u)) {
+                d->rho = s->d.rho;
+                pos[1 + RJ__LK_RHO] = s->pos[1 + RJ__LK_RHO];
+            }
+            eff |= s->mask;
+        }
+        if (P->link_sec >= 0) {
+            const rj__spart *s = &P->sec[P->link_sec];
+            for (k = RJ__LK_AREA; k <= RJ__LK_LAYERS; k++) {
+                if ((eff >> k & 1u) || !(s->mask >> k & 1u))
+                    continue;
+                switch (k) {
+                case RJ__LK_AREA:
+                    d->area = s->d.area;
+                    break;
+                case RJ__LK_INERTIA:
+                    d->inertia = s->d.inertia;
+                    break;
+                case RJ__LK_WIDTH:
+                    d->width = s->d.width;
+                    break;
+                case RJ__LK_HEIGHT:
+                    d->height = s->d.height;
+                    break;
+                default:
+                    d->layers = s->d.layers;
+                    break;
+                }
+                pos[1 + k] = s->pos[1 + k];
+            }
+            eff |= s->mask;
+        }
+        rj__sp_cat(what, sizeof what, "link '", P->f->link_names[P->item], "'", NULL, NULL, NULL,
+                   NULL);
+        if (!rj__sp_check_shape(P, eff, d, pos + 1, pos[0], what))
+            return 0;
+        d->section = (eff & ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA))) ? RJ_SECTION_GENERAL
+                                                                            : RJ_SECTION_RECT;
+        break;
+    }
+    case RJ__SK_JOINT: {
+        rj_joint_def *d = &P->f->joints[P->item];
+        rj_scene_pos *pos = &P->f->joint_pos_[(size_t) P->item * (1 + RJ__JK_N)];
+        const char *jn = P->f->joint_names[P->item];
+        char a[24], b[24];
+        int k;
+        for (k = RJ__JK_BODY1; k <= RJ__JK_BODY2; k++)
+            if (!(P->seen >> k & 1u))
+                return rj__sp_err(P, pos[0].line, pos[0].col, rj__sk_joint[k], rj__sp_nan(),
+                                  "joint '", jn, "' has no ", rj__sk_joint[k],
+                                  k == RJ__JK_BODY1 ? " (ground or a link)" : " (a link)");
+        if (d->body1 == d->body2)
+            return rj__sp_err(P, pos[1 + RJ__JK_BODY2].line, pos[1 + RJ__JK_BODY2].col, "body2",
+                              d->body2, "joint '", jn, "' connects link '",
+                              P->f->link_names[d->body2], "' to itself (body1 = body2)");
+        if (d->body1 < 0 && (P->seen >> RJ__JK_NODE1 & 1u))
+            return rj__sp_err(P, pos[1 + RJ__JK_NODE1].line, pos[1 + RJ__JK_NODE1].col, "node1",
+                              d->node1, "node1 applies only when body1 is a link, in joint '", jn,
+                              "' (body1 = ground)", NULL, NULL);
+        if (d->body1 >= 0) {
+            for (k = RJ__JK_GROUND_X; k <= RJ__JK_GROUND_ANGLE; k++)
+                if (P->seen >> k & 1u)
+                    return rj__sp_err(P, pos[1 + k].line, pos[1 + k].col, rj__sk_joint[k],
+                                      rj__sp_nan(), rj__sk_joint[k],
+                                      " applies only when body1 = ground, in joint '", jn, "'",
+                                      NULL);
+            if (d->node1 > P->f->links[d->body1].elements) {
+                char m[256];
+                rj__sp_cat(m, sizeof m, "node1 = ", rj__sp_itoa(a, d->node1),
+                           " is out of range in joint '", jn, "': link '",
+                           P->f->link_names[d->body1], "' has nodes 0..");
+                return rj__sp_err(P, pos[1 + RJ__JK_NODE1].line, pos[1 + RJ__JK_NODE1].col, "node1",
+                                  d->node1, m, rj__sp_itoa(b, P->f->links[d->body1].elements), NULL,
+                                  NULL, NULL);
+            }
+        }
+        break;
+    }
+    case RJ__SK_LOAD:
+        if (!rj__sp_finish_load(P))
+            return 0;
+        break;
+    }
+    P->kind = RJ__SK_NONE;
+    return 1;
+}
+
+static int rj__sp_header(rj__sp *P)
+{
+    const rj__stok *t0 = &P->tok[0], *nt;
+    char nb[24];
+    int kind = 0, k, cap = 0, count = 0, dup = -1;
+    for (k = RJ__SK_SOLVER; k <= RJ__SK_LOAD; k++)
+        if (rj__sp_is(t0, rj__sk_kind[k]))
+            kind = k;
+    if (!kind) {
+        /* "title Solar array": the key without its '=' */
+        if (P->kind == RJ__SK_NONE && rj__sp_is(t0, "title"))
+            return rj__sp_err(P, t0->line, t0->col + t0->len, "title", rj__sp_nan(),
+                              "missing '=' after 'title' (write title = \"text\")", NULL, NULL,
+                              NULL, NULL);
+        if (P->kind != RJ__SK_NONE && rj__sp_key_index(P->kind, t0) >= 0) {
+            const char *kn = rj__sp_key_name(P->kind, rj__sp_key_index(P->kind, t0));
+            return rj__sp_err(P, t0->line, t0->col + t0->len, kn, rj__sp_nan(),
+                              "missing '=' after '", kn, "'", rj__sp_where(P), NULL);
+        }
+        { /* a near section keyword, else a near key of the current section */
+            const char *near =
+                rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 6, ~0u);
+            char mean[48];
+            if (!near && P->kind != RJ__SK_NONE)
+                near = rj__sp_near_key(P, t0);
+            return rj__sp_err_tok(
+                P, t0, "", rj__sp_nan(),
+                P->kind != RJ__SK_NONE ? "unknown key or section " : "unknown section ",
+                P->kind != RJ__SK_NONE ? " (a key needs '= value'; sections are solver, material, "
+                                         "section, link, joint, load)"
+                                       : " (expected solver, material, section, link, joint or "
+                                         "load)",
+                rj__sp_mean(mean, near), NULL);
+        }
+    }
+    if (!rj__sp_finish(P))
+        return 0;
+    if (kind == RJ__SK_SOLVER) {
+        if (P->ntok > 1)
+            return rj__sp_err_tok(P, &P->tok[1], "", rj__sp_nan(), "unexpected ",
+                                  " after 'solver' (the solver section has no name)", NULL, NULL);
+        if (P->solver_seen)
+            return rj__sp_err(P, t0->line, t0->col, "solver", rj__sp_nan(),
+                              "duplicate solver section (first on line ",
+                              rj__sp_itoa(nb, P->f->solver_pos_[0].line), ")", NULL, NULL);
+        P->solver_seen = 1;
+        P->f->solver_pos_[0].line = t0->line;
+        P->f->solver_pos_[0].col = t0->col;
+        P->kind = kind;
+        P->item = 0;
+        P->seen = 0;
+        return 1;
+    }
+    if (P->ntok < 2)
+        return rj__sp_err(P, t0->line, t0->col + t0->len, rj__sk_kind[kind], rj__sp_nan(),
+                          "missing name after '", rj__sk_kind[kind], "'", NULL, NULL);
+    nt = &P->tok[1];
+    if (nt->kind != 'w' || !rj__sp_name_ok(nt->s, nt->len))
+        return rj__sp_err_tok(P, nt, rj__sk_kind[kind], rj__sp_nan(), "invalid name ", " after '",
+                              rj__sk_kind[kind],
+                              "' (1..31 of A-Z a-z 0-9 _ . -, starting with a letter or _)");
+    if (P->ntok > 2)
+        return rj__sp_err_tok(P, &P->tok[2], "", rj__sp_nan(), "unexpected ", " after the name of ",
+                              rj__sk_kind[kind], " (one statement per line)");
+    switch (kind) {
+    case RJ__SK_MATERIAL:
+        cap = RJ_SCENE_MAX_MATERIALS;
+        count = P->nmat;
+        if (count)
+            dup = rj__sp_find(nt->s, nt->len, P->mat[0].name, sizeof(rj__spart), count);
+        break;
+    case RJ__SK_SECTION:
+        cap = RJ_SCENE_MAX_SECTIONS;
+        count = P->nsec;
+        if (count)
+            dup = rj__sp_find(nt->s, nt->len, P->sec[0].name, sizeof(rj__spart), count);
+        break;
+    case RJ__SK_LINK:
+        cap = RJ_SCENE_MAX_LINKS;
+        count = P->f->link_count;
+        if (count)
+            dup = rj__sp_find(nt->s, nt->len, (const char *) P->f->link_names, RJ_SCENE_NAME_MAX,
+                              count);
+        break;
+    case RJ__SK_LOAD:
+        cap = RJ_SCENE_MAX_LOADS;
+        count = P->f->load_count;
+        if (count)
+            dup = rj__sp_find(nt->s, nt->len, (const char *) P->f->load_names, RJ_SCENE_NAME_MAX,
+                              count);
+        break;
+    default:
+        cap = RJ_SCENE_MAX_JOINTS;
+        count = P->f->joint_count;
+        if (count)
+            dup = rj__sp_find(nt->s, nt->len, (const char *) P->f->joint_names, RJ_SCENE_NAME_MAX,
+                              count);
+        break;
+    }
+    if (dup >= 0) {
+        int line = kind == RJ__SK_MATERIAL  ? P->mat[dup].pos[0].line
+                   : kind == RJ__SK_SECTION ? P->sec[dup].pos[0].line
+                   : kind == RJ__SK_LINK    ? P->f->link_pos_[(size_t) dup * (1 + RJ__LK_N)].line
+                   : kind == RJ__SK_LOAD    ? P->f->load_pos_[(size_t) dup * (1 + RJ__AK_N)].line
+                                            : P->f->joint_pos_[(size_t) dup * (1 + RJ__JK_N)].line;
+        char pre[40];
+        rj__sp_cat(pre, sizeof pre, "duplicate ", rj__sk_kind[kind], " name ", NULL, NULL, NULL,
+                   NULL);
+        return rj__sp_err_tok(P, nt, rj__sk_kind[kind], rj__sp_nan(), pre,
+                              " (first defined on line ", rj__sp_itoa(nb, line), ")");
+    }
+    if (kind == RJ__SK_LINK && rj__sp_is(nt, "ground"))
+        return rj__sp_err_tok(P, nt, "link", rj__sp_nan(), "a link cannot be named ",
+                              " (reserved for body1 = ground)", NULL, NULL);
+    { /* the counting pass sized the arrays; it never counts fewer items than there are */
+        int room = kind == RJ__SK_MATERIAL  ? P->cap_mat
+                   : kind == RJ__SK_SECTION ? P->cap_sec
+                   : kind == RJ__SK_LINK    ? P->cap_links
+                   : kind == RJ__SK_LOAD    ? P->cap_loads
+                                            : P->cap_joints;
+        if (count >= cap || count >= room)
+            return rj__sp_err(P, t0->line, t0->col, rj__sk_kind[kind], count + 1, "too many ",
+                              rj__sk_kind[kind], " sections (at most ", rj__sp_itoa(nb, cap), ")");
+    }
+    {
+        rj_scene_pos head;
+        head.line = t0->line;
+        head.col = t0->col;
+        switch (kind) {
+        case RJ__SK_MATERIAL:
+        case RJ__SK_SECTION: {
+            rj__spart *s = kind == RJ__SK_MATERIAL ? &P->mat[P->nmat++] : &P->sec[P->nsec++];
+            memset(s, 0, sizeof *s);
+            memcpy(s->name, nt->s, (size_t) nt->len);
+            s->d = rj_default_link_def();
+            s->pos[0] = head;
+            break;
+        }
+        case RJ__SK_LINK: {
+            int n = P->f->link_count++;
+            memcpy(P->f->link_names[n], nt->s, (size_t) nt->len);
+            P->f->link_names[n][nt->len] = 0;
+            P->f->links[n] = rj_default_link_def();
+            P->f->link_pos_[(size_t) n * (1 + RJ__LK_N)] = head;
+            P->link_mat = -1;
+            P->link_sec = -1;
+            break;
+        }
+        case RJ__SK_LOAD: {
+            int n = P->f->load_count++;
+            memcpy(P->f->load_names[n], nt->s, (size_t) nt->len);
+            P->f->load_names[n][nt->len] = 0;
+            P->f->loads[n] = rj_default_load_def();
+            P->f->load_pos_[(size_t) n * (1 + RJ__AK_N)] = head;
+            break;
+        }
+        default: {
+            int n = P->f->joint_count++;
+            memcpy(P->f->joint_names[n], nt->s, (size_t) nt->len);
+            P->f->joint_names[n][nt->len] = 0;
+            P->f->joints[n] = rj_default_joint_def();
+            P->f->joint_pos_[(size_t) n * (1 + RJ__JK_N)] = head;
+            break;
+        }
+        }
+        P->kind = kind;
+        P->item = count;
+        P->seen = 0;
+    }
+    return 1;
+}
+
+/* text after a complete value of key kn at toks[v]; a unit word right after a number
+   ("length = 1 m", "E = 70 GPa") gets why numbers take none */
+static int rj__sp_trailing(rj__sp *P, int v, const char *kn)
+{
+    const rj__stok *t = &P->tok[v], *n = &P->tok[v - 1];
+    char q[200], h[200], m[256];
+    double x;
+    h[0] = 0;
+    if (t->kind == 'w' && rj__sp_alpha((unsigned char) t->s[0]) && n->kind == 'w' &&
+        rj__sp_strtonum(n->s, n->len, P->dp, P->dplen, &x) == 1)
+        rj__sp_unit_hint(h, kn, rj__sp_unit(kn), n->s, n->len, t->s, t->len);
+    rj__sp_quote(q, sizeof q, t->s, t->len);
+    rj__sp_cat(m, sizeof m, "unexpected '", q, "' after the value of '", kn, "'", rj__sp_where(P),
+               h);
+    return rj__sp_fail(P, t->line, t->col, kn, rj__sp_nan(), m);
+}
+
+/* whether toks[v] is a unit word after the number that starts the value of kn: checked
+   before the value, so "dt = 10 us" says so instead of that 10 s is out of range. Not for
+   angles and tables, whose numbers take deg or rad. */
+static int rj__sp_unit_word(const rj__sp *P, int v, const char *kn)
+{
+    const rj__stok *t = &P->tok[v], *n = &P->tok[v - 1];
+    const char *u = rj__sp_unit(kn);
+    double x;
+    if (strcmp(u, "rad") == 0 || strcmp(u, "rad/s") == 0 || strcmp(kn, "table") == 0)
+        return 0;
+    /* nan and inf spelled out are numbers, not units: the value's parse names them */
+    if (t->kind == 'w' && rj__sp_strtonum(t->s, t->len, P->dp, P->dplen, &x) == -1)
+        return 0;
+    return t->kind == 'w' && rj__sp_alpha((unsigned char) t->s[0]) && n->kind == 'w' &&
+           rj__sp_strtonum(n->s, n->len, P->dp, P->dplen, &x) == 1;
+}
+
+/* ------------------------------------------------------------------ title */
+/* The first byte of a title that a file cannot hold on one line (a control byte: tab, CR),
+   -1 when there is none. The writer refuses the same bytes, so what it writes reads back. */
+static int rj__sp_title_bad(const char *s, int n)
+{
+    int k;
+    for (k = 0; k < n; k++) {
+        unsigned char c = (unsigned char) s[k];
+        if (c < 0x20 || c == 0x7f)
+            return k;
+    }
+    return -1;
+}
+
+/* a title's value: one quoted string, at most RJ_SCENE_TITLE_MAX - 1 bytes of text */
+static int rj__sp_title_value(rj__sp *P, const rj__stok *v)
+{
+    char a[24], b[24], m[120];
+    int n = v->len - 2;
+    int bad;
+    if (v->kind != 'q')
+        return rj__sp_err_tok(P, v, "title", rj__sp_nan(), "expected a quoted string, found ",
+                              " for 'title' (write title = \"text\")", NULL, NULL);
+    if (n >= RJ_SCENE_TITLE_MAX) {
+        rj__sp_cat(m, sizeof m, "title of ", rj__sp_itoa(a, n), " bytes is too long (at most ",
+                   rj__sp_itoa(b, RJ_SCENE_TITLE_MAX - 1), ")", NULL, NULL);
+        return rj__sp_fail(P, v->line, v->col, "title", (double) n, m);
+    }
+    bad = rj__sp_title_bad(v->s + 1, n);
+    if (bad >= 0) {
+        snprintf(m, sizeof m, "byte 0x%02x in the title: a title is printable text (no tabs)",
+                 (unsigned char) v->s[1 + bad]);
+        return rj__sp_fail(P, v->line, v->col + 1 + bad, "title", rj__sp_nan(), m);
+    }
+    memcpy(P->f->title, v->s + 1, (size_t) n);
+    P->f->title[n] = 0;
+    return 1;
+}
+
+/* title = "text", before the first section (toks[i..j)): once, a value, nothing after it */
+static int rj__sp_title(rj__sp *P, int i, int j)
+{
+    const rj__stok *kt = &P->tok[i];
+    char nb[24];
+    if (P->title_line)
+        return rj__sp_err(P, kt->line, kt->col, "title", rj__sp_nan(),
+                          "duplicate title (first set on line ", rj__sp_itoa(nb, P->title_line),
+                          ")", NULL, NULL);
+    if (j == i + 2)
+        return rj__sp_err(P, P->tok[i + 1].line, P->tok[i + 1].col + 1, "title", rj__sp_nan(),
+                          "missing value for 'title'", NULL, NULL, NULL, NULL);
+    if (!rj__sp_title_value(P, &P->tok[i + 2]))
+        return 0;
+    if (j > i + 3)
+        return rj__sp_trailing(P, i + 3, "title");
+    P->title_line = kt->line;
+    return 1;
+}
+
+static int rj__sp_assignments(rj__sp *P)
+{
+    int i = 0;
+    char nb[24];
+    while (i < P->ntok) {
+        const rj__stok *kt = &P->tok[i];
+        const char *kn;
+        int j = i + 2, k, v;
+        while (j < P->ntok &&
+               !(P->tok[j].kind == 'w' && j + 1 < P->ntok && P->tok[j + 1].kind == '='))
+            j++;
+        /* the one statement outside a section: the title, before the first section */
+        if (P->kind == RJ__SK_NONE && rj__sp_is(kt, "title")) {
+            if (!rj__sp_title(P, i, j))
+                return 0;
+            i = j;
+            continue;
+        }
+        if (P->kind == RJ__SK_NONE) {
+            char mean[48];
+            return rj__sp_err_tok(
+                P, kt, "", rj__sp_nan(), "key ",
+                " outside any section (start one with solver, material, section, link, joint or "
+                "load)",
+                rj__sp_mean(mean, rj__sp_near(kt->s, kt->len, "title", 6, 1, ~0u)), NULL);
+        }
+        k = rj__sp_key_index(P->kind, kt);
+        /* a title inside a section: say where it belongs */
+        if (k < 0 && rj__sp_is(kt, "title"))
+            return rj__sp_err_tok(
+                P, kt, "title", rj__sp_nan(), "unknown key ", rj__sp_where(P),
+                " (a title goes at the top of the file, before the first section)", NULL);
+        if (k < 0) {
+            char q[64], mean[48];
+            rj__sp_quote(q, sizeof q, kt->s, kt->len);
+            return rj__sp_err_tok(P, kt, q, rj__sp_nan(), "unknown key ", rj__sp_where(P),
+                                  rj__sp_mean(mean, rj__sp_near_key(P, kt)), NULL);
+        }
+        kn = rj__sp_key_name(P->kind, k);
+        if (P->seen >> k & 1u)
+            return rj__sp_err_tok5(P, kt, kn, rj__sp_nan(), "duplicate key ", rj__sp_where(P),
+                                   " (first set on line ", rj__sp_itoa(nb, rj__sp_pos(P, k)->line),
+                                   ")");
+        if (j == i + 2) {
+            const rj__stok *eq = &P->tok[i + 1];
+            return rj__sp_err(P, eq->line, eq->col + 1, kn, rj__sp_nan(), "missing value for '", kn,
+                              "'", rj__sp_where(P), NULL);
+        }
+        if (j > i + 3 && rj__sp_unit_word(P, i + 3, kn))
+            return rj__sp_trailing(P, i + 3, kn);
+        v = i + 2;
+        switch (P->kind) {
+        case RJ__SK_SOLVER:
+            if (!rj__sp_solver_key(P, k, i + 2, &v, j, &P->f->solver))
+                return 0;
+            break;
+        case RJ__SK_MATERIAL:
+            if (!rj__sp_link_key(P, k, i + 2, &v, j, &P->mat[P->item].d))
+                return 0;
+            break;
+        case RJ__SK_SECTION:
+            if (!rj__sp_link_key(P, k, i + 2, &v, j, &P->sec[P->item].d))
+                return 0;
+            break;
+        case RJ__SK_LINK:
+            if (!rj__sp_link_key(P, k, i + 2, &v, j, &P->f->links[P->item]))
+                return 0;
+            break;
+        case RJ__SK_LOAD:
+            if (!rj__sp_load_key(P, k, i + 2, &v, j, &P->f->loads[P->item]))
+                return 0;
+            break;
+        default:
+            if (!rj__sp_joint_key(P, k, i + 2, &v, j, &P->f->joints[P->item]))
+                return 0;
+            break;
+        }
+        if (v < j)
+            return rj__sp_trailing(P, v, kn);
+        P->seen |= 1u << k;
+        rj__sp_pos(P, k)->line = P->tok[i + 2].line;
+        rj__sp_pos(P, k)->col = P->tok[i + 2].col;
+        i = j;
+    }
+    return 1;
+}
+
+/* ------------------------------------------------------------------ lines */
+static int rj__sp_is_sep(unsigned char c)
+{
+    return c == ' ' || c == '\t' || c == '=' || c == ',' || c == '#' || c < 0x20 || c == 0x7f;
+}
+
+/* Text is printable bytes, tabs and line ends (LF, CR). A NUL or another control byte
+   anywhere, comments included, means the input is not a scene file, most likely a binary
+   one: say so, with the first such byte and where it is, before parsing reports whatever
+   its first "line" happens to look like (often one longer than RJ_SCENE_MAX_LINE). */
+static int rj__sp_text(rj__sp *P)
+{
+    size_t k, bol = 0;
+    int line = 1;
+    for (k = 0; k < P->len; k++) {
+        unsigned char c = (unsigned char) P->text[k];
+        char m[200];
+        if (c == '\n') {
+            line++;
+            bol = k + 1;
+            continue;
+        }
+        if ((c >= 0x20 && c != 0x7f) || c == '\t' || c == '\r')
+            continue;
+        snprintf(m, sizeof m,
+                 "not a text scene file: byte 0x%02x at byte offset %lu is a %s (a scene file has "
+                 "only printable characters, tabs and line ends)",
+                 c, (unsigned long) k, c ? "control character" : "NUL");
+        return rj__sp_fail(P, line, (int) (k - bol) + 1, "", (double) c, m);
+    }
+    return 1;
+}
+
+/* a quoted string at s (its opening '"'), rest bytes to the line end, at column *k + 1:
+   a 'q' token with the quotes, *k past it; 0 (the error set) when the line has no closing
+   '"'. Titles need spaces, which separate tokens everywhere else. */
+static int rj__sp_quoted(rj__sp *P, const char *s, size_t rest, size_t *k)
+{
+    const char *close = rest > 1 ? (const char *) memchr(s + 1, '"', rest - 1) : NULL;
+    rj__stok *t = &P->tok[P->ntok];
+    if (!close)
+        return rj__sp_fail(P, P->lineno, (int) *k + 1, "", rj__sp_nan(),
+                           "unterminated string: no closing '\"' on this line");
+    t->s = s;
+    t->len = (int) (close - s) + 1;
+    t->line = P->lineno;
+    t->col = (int) *k + 1;
+    t->kind = 'q';
+    P->ntok++;
+    *k += (size_t) t->len;
+    return 1;
+}
+
+/* next statement into P->tok: returns 1 (maybe empty), 0 at the end, -1 on error.
+   A line whose last token is ',' continues on the next line. */
+static int rj__sp_next(rj__sp *P)
+{
+    P->ntok = 0;
+    if (P->at >= P->len)
+        return 0;
+    for (;;) {
+        size_t start = P->at, end = start, n, k;
+        char m[120];
+        while (end < P->len && P->text[end] != '\n')
+            end++;
+        n = end - start;
+        if (n && P->text[end - 1] == '\r')
+            n--;
+        P->lineno++;
+        P->at = end < P->len ? end + 1 : end;
+        if (n > RJ_SCENE_MAX_LINE) {
+            snprintf(m, sizeof m, "line is longer than %d characters", RJ_SCENE_MAX_LINE);
+            rj__sp_fail(P, P->lineno, RJ_SCENE_MAX_LINE + 1, "", rj__sp_nan(), m);
+            return -1;
+        }
+        for (k = 0; k < n;) {
+            const char *s = P->text + start + k;
+            unsigned char c = (unsigned char) *s;
+            if (c == '#')
+                break;
+            if (c == ' ' || c == '\t') {
+                k++;
+                continue;
+            }
+            if (c < 0x20 || c == 0x7f) { /* only a CR gets here: rj__sp_text let no other through */
+                snprintf(m, sizeof m,
+                         "invalid character 0x%02x (a carriage return ends a line only before a "
+                         "line feed)",
+                         c);
+                rj__sp_fail(P, P->lineno, (int) k + 1, "", rj__sp_nan(), m);
+                return -1;
+            }
+            if (P->ntok == RJ_SCENE_MAX_TOKENS) {
+                snprintf(m, sizeof m, "statement has more than %d tokens", RJ_SCENE_MAX_TOKENS);
+                rj__sp_fail(P, P->lineno, (int) k + 1, "", rj__sp_nan(), m);
+                return -1;
+            }
+            /* a quoted string runs to the next '"' on the same line (no escapes) */
+            if (c == '"') {
+                if (!rj__sp_quoted(P, s, n - k, &k))
+                    return -1;
+                continue;
+            }
+            {
+                rj__stok *t = &P->tok[P->ntok++];
+                t->s = s;
+                t->line = P->lineno;
+                t->col = (int) k + 1;
+                if (c == '=' || c == ',') {
+                    t->kind = (char) c;
+                    t->len = 1;
+                    k++;
+                } else {
+                    size_t e = k + 1;
+                    while (e < n && !rj__sp_is_sep((unsigned char) P->text[start + e]))
+                        e++;
+                    t->kind = 'w';
+                    t->len = (int) (e - k);
+                    k = e;
+                }
+            }
+        }
+        if (!(P->ntok > 0 && P->tok[P->ntok - 1].kind == ',' && P->at < P->len))
+            return 1;
+    }
+}
+
+/* counting pass: an upper bound on each kind of section (a first word that is a section
+   keyword and is not followed by '='), capped one above the limits */
+static void rj__sp_count(const char *text, size_t len, int counts[RJ__SK_COUNT])
+{
+    size_t at = 0;
+    int k;
+    for (k = 0; k < RJ__SK_COUNT; k++)
+        counts[k] = 0;
+    while (at < len) {
+        size_t e, w;
+        while (at < len && (text[at] == ' ' || text[at] == '\t'))
+            at++;
+        w = at;
+        while (at < len && !rj__sp_is_sep((unsigned char) text[at]))
+            at++;
+        e = at;
+        while (at < len && (text[at] == ' ' || text[at] == '\t'))
+            at++;
+        if (e > w && !(at < len && text[at] == '=')) {
+            for (k = RJ__SK_MATERIAL; k <= RJ__SK_LOAD; k++) {
+                size_t n = strlen(rj__sk_kind[k]);
+                if (e - w == n && memcmp(text + w, rj__sk_kind[k], n) == 0) {
+                    int cap = k == RJ__SK_MATERIAL  ? RJ_SCENE_MAX_MATERIALS
+                              : k == RJ__SK_SECTION ? RJ_SCENE_MAX_SECTIONS
+                              : k == RJ__SK_LINK    ? RJ_SCENE_MAX_LINKS
+                              : k == RJ__SK_LOAD    ? RJ_SCENE_MAX_LOADS
+                                                    : RJ_SCENE_MAX_JOINTS;
+                    if (counts[k] < cap)
+                        counts[k]++;
+                }
+            }
+        }
+        while (at < len && text[at] != '\n')
+            at++;
+        if (at < len)
+            at++;
+    }
+}
+
+static size_t rj__sp_carve(size_t *off, size_t n, size_t el)
+{
+    size_t at = (*off + 15) / 16 * 16;
+    *off = at + n * el;
+    return at;
+}
+
+/* field "loads[2].force[1]" -> position in f (the key's value, else the section line) */
+static int rj__sp_load_pos(const rj_scene_file *f, const char *field, rj_scene_pos *pos, char *item,
+                           size_t isize)
+{
+    const rj_scene_pos *ap;
+    const char *p = field + 6;
+    int idx = 0, digits = 0, k;
+    while (*p >= '0' && *p <= '9' && digits < 7) {
+        idx = idx * 10 + (*p - '0');
+        p++;
+        digits++;
+    }
+    if (!digits || *p != ']' || idx >= f->load_count)
+        return 0;
+    p++;
+    ap = &f->load_pos_[(size_t) idx * (1 + RJ__AK_N)];
+    *pos = ap[0];
+    for (k = 0; k < RJ__AK_N && *p == '.'; k++) {
+        const size_t n = strlen(rj__sk_load[k]);
+        if (strncmp(p + 1, rj__sk_load[k], n) == 0 && ap[1 + k].line)
+            *pos = ap[1 + k];
+    }
+    rj__sp_cat(item, isize, " (load '", f->load_names[idx], "')", NULL, NULL, NULL, NULL);
+    return pos->line > 0;
+}
+
+/* field "links[3].rho" / "joints[1].table_angle[2]" / "solver.dt" -> position in f */
+static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_pos *pos,
+                            char *item, size_t isize)
+{
+    int idx = 0, k, digits = 0, joint;
+    const char *p;
+    char name[40];
+    size_t n = 0;
+    item[0] = 0;
+    if (strncmp(field, "solver.", 7) == 0) {
+        for (k = 0; k < RJ__VK_N; k++)
+            if (strcmp(field + 7, rj__sk_solver[k]) == 0 && f->solver_pos_[1 + k].line) {
+                *pos = f->solver_pos_[1 + k];
+                return 1;
+            }
+        if (f->solver_pos_[0].line) {
+            *pos = f->solver_pos_[0];
+            return 1;
+        }
+        return 0;
+    }
+    if (strncmp(field, "loads[", 6) == 0)
+        return rj__sp_load_pos(f, field, pos, item, isize);
+    if (strncmp(field, "links[", 6) == 0) {
+        joint = 0;
+        p = field + 6;
+    } else if (strncmp(field, "joints[", 7) == 0) {
+        joint = 1;
+        p = field + 7;
+    } else
+        return 0;
+    while (*p >= '0' && *p <= '9' && digits < 7) {
+        idx = idx * 10 + (*p - '0');
+        p++;
+        digits++;
+    }
+    if (!digits || *p != ']')
+        return 0;
+    p++;
+    if (joint ? idx >= f->joint_count : idx >= f->link_count)
+        return 0;
+    if (*p == '.') {
+        p++;
+        while (p[n] && p[n] != '[' && n + 1 < sizeof name) {
+            name[n] = p[n];
+            n++;
+        }
+    }
+    name[n] = 0;
+    rj__sp_cat(item, isize, joint ? " (joint '" : " (link '",
+               joint ? f->joint_names[idx] : f->link_names[idx], "')", NULL, NULL, NULL, NULL);
+    if (!joint) {
+        const rj_scene_pos *lp = &f->link_pos_[(size_t) idx * (1 + RJ__LK_N)];
+        *pos = lp[0];
+        for (k = 0; k < RJ__LK_N; k++)
+            if (strcmp(name, rj__sk_link[k]) == 0 && lp[1 + k].line)
+                *pos = lp[1 + k];
+        if (strcmp(name, "section") == 0) {
+            if (lp[1 + RJ__LK_SECTION].line)
+                *pos = lp[1 + RJ__LK_SECTION];
+            else if (lp[1 + RJ__LK_AREA].line)
+                *pos = lp[1 + RJ__LK_AREA];
+        }
+    } else {
+        const rj_scene_pos *jp = &f->joint_pos_[(size_t) idx * (1 + RJ__JK_N)];
+        int key = -1;
+        *pos = jp[0];
+        for (k = 0; k < RJ__JK_N; k++)
+            if (strcmp(name, rj__sk_joint[k]) == 0)
+                key = k;
+        if (strncmp(name, "table_", 6) == 0)
+            key = RJ__JK_TABLE;
+        if (strncmp(name, "spring_", 7) == 0)
+            key = RJ__JK_SPRING;
+        if (strcmp(name, "has_forward") == 0)
+            key = RJ__JK_FORWARD;
+        if (strcmp(name, "has_reverse") == 0)
+            key = RJ__JK_REVERSE;
+        if (key == RJ__JK_PENALTY_K && !jp[1 + key].line)
+            key = RJ__JK_METHOD;
+        if (key == RJ__JK_FORWARD && !jp[1 + key].line)
+            key = RJ__JK_REVERSE;
+        if (key >= 0 && jp[1 + key].line)
+            *pos = jp[1 + key];
+    }
+    return pos->line > 0;
+}
+
+/* ------------------------------------------------------------------ public */
+RJDEF void rj_scene_file_locate(const rj_scene_file *f, rj_error *err)
+{
+    char m[sizeof err->msg], item[80];
+    rj_scene_pos pos;
+    if (!f || !err)
+        return;
+    if (rj__sp_field_pos(f, err->field, &pos, item, sizeof item)) {
+        char l[24], c[24], m1[sizeof err->msg];
+        rj__sp_cat(m1, sizeof m1, f->filename, ":", rj__sp_itoa(l, pos.line), ":",
+                   rj__sp_itoa(c, pos.col), ": ", NULL);
+        rj__sp_cat(m, sizeof m, m1, err->msg, item, NULL, NULL, NULL, NULL);
+    } else
+        rj__sp_cat(m, sizeof m, f->filename, ": ", err->msg, NULL, NULL, NULL, NULL);
+    memcpy(err->msg, m, sizeof m);
+}
+
+RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *filename,
+                                  rj_scene_file *out, rj_error *err, void *alloc_ctx)
+{
+    rj__sp P;
+    rj_scene_file F;
+    int counts[RJ__SK_COUNT], r;
+    size_t off = 0, o_links, o_joints, o_lpos, o_jpos, o_lnames, o_jnames, w_tok, w_mat, w_sec;
+    size_t o_loads, o_apos, o_anames;
+    char *block = NULL, *work = NULL;
+    memset(&P, 0, sizeof P);
+    memset(&F, 0, sizeof F);
+    if (err) {
+        err->code = RJ_OK;
+        err->field[0] = 0;
+        err->msg[0] = 0;
+        err->value = 0;
+    }
+    P.fname = filename ? filename : "<input>";
+    P.err = err;
+    if (!out || (!text && len)) {
+        if (err) {
+            err->code = RJ_ERR_INVALID;
+            snprintf(err->field, sizeof err->field, "%s", out ? "text" : "out");
+            err->value = 0;
+            snprintf(err->msg, sizeof err->msg, "%s is NULL", out ? "text" : "out");
+        }
+        if (out)
+            memset(out, 0, sizeof *out);
+        return RJ_ERR_INVALID;
+    }
+    memset(out, 0, sizeof *out);
+    if (len > RJ_SCENE_MAX_BYTES) {
+        char m[120];
+        snprintf(m, sizeof m, "input of %lu bytes is larger than the %lu a scene file may have",
+                 (unsigned long) len, (unsigned long) RJ_SCENE_MAX_BYTES);
+        rj__sp_fail(&P, 1, 1, "", (double) len, m);
+        return RJ_ERR_PARSE;
+    }
+    P.text = text ? text : "";
+    P.len = len;
+    if (!rj__sp_text(&P))
+        return RJ_ERR_PARSE;
+    rj__sp_locale(P.dp, &P.dplen);
+    rj__sp_count(P.text, len, counts);
+    P.cap_links = counts[RJ__SK_LINK];
+    P.cap_joints = counts[RJ__SK_JOINT];
+    P.cap_mat = counts[RJ__SK_MATERIAL];
+    P.cap_sec = counts[RJ__SK_SECTION];
+    P.cap_loads = counts[RJ__SK_LOAD];
+    /* the result block */
+    o_links = rj__sp_carve(&off, (size_t) P.cap_links, sizeof(rj_link_def));
+    o_joints = rj__sp_carve(&off, (size_t) P.cap_joints, sizeof(rj_joint_def));
+    o_lpos = rj__sp_carve(&off, (size_t) P.cap_links * (1 + RJ__LK_N), sizeof(rj_scene_pos));
+    o_jpos = rj__sp_carve(&off, (size_t) P.cap_joints * (1 + RJ__JK_N), sizeof(rj_scene_pos));
+    o_lnames = rj__sp_carve(&off, (size_t) P.cap_links, RJ_SCENE_NAME_MAX);
+    o_loads = rj__sp_carve(&off, (size_t) P.cap_loads, sizeof(rj_load_def));
+    o_apos = rj__sp_carve(&off, (size_t) P.cap_loads * (1 + RJ__AK_N), sizeof(rj_scene_pos));
+    o_anames = rj__sp_carve(&off, (size_t) P.cap_loads, RJ_SCENE_NAME_MAX);
+    o_jnames = rj__sp_carve(&off, (size_t) P.cap_joints, RJ_SCENE_NAME_MAX);
+    block = (char *) RJ_MALLOC(off + 16, alloc_ctx);
+    /* the parser's workspace: tokens, materials, sections */
+    off = 0;
+    w_tok = rj__sp_carve(&off, RJ_SCENE_MAX_TOKENS, sizeof(rj__stok));
+    w_mat = rj__sp_carve(&off, (size_t) P.cap_mat, sizeof(rj__spart));
+    w_sec = rj__sp_carve(&off, (size_t) P.cap_sec, sizeof(rj__spart));
+    work = block ? (char *) RJ_MALLOC(off + 16, alloc_ctx) : NULL;
+    if (!block || !work) {
+        if (block)
+            RJ_FREE(block, alloc_ctx);
+        if (err) {
+            err->code = RJ_ERR_NOMEM;
+            snprintf(err->field, sizeof err->field, "size");
+            err->value = (double) off;
+            rj__sp_cat(err->msg, sizeof err->msg, P.fname, ": out of memory", NULL, NULL, NULL,
+                       NULL, NULL);
+        }
+        return RJ_ERR_NOMEM;
+    }
+    memset(block, 0, o_jnames + (size_t) P.cap_joints * RJ_SCENE_NAME_MAX);
+    F.links = (rj_link_def *) (void *) (block + o_links);
+    F.joints = (rj_joint_def *) (void *) (block + o_joints);
+    F.link_pos_ = (rj_scene_pos *) (void *) (block + o_lpos);
+    F.joint_pos_ = (rj_scene_pos *) (void *) (block + o_jpos);
+    F.link_names = (char(*)[RJ_SCENE_NAME_MAX])(void *) (block + o_lnames);
+    F.joint_names = (char(*)[RJ_SCENE_NAME_MAX])(void *) (block + o_jnames);
+    F.loads = (rj_load_def *) (void *) (block + o_loads);
+    F.load_pos_ = (rj_scene_pos *) (void *) (block + o_apos);
+    F.load_names = (char(*)[RJ_SCENE_NAME_MAX])(void *) (block + o_anames);
+    F.solver = rj_default_solver_def();
+    F.block_ = block;
+    F.alloc_ctx_ = alloc_ctx;
+    rj__sp_cat(F.filename, sizeof F.filename, P.fname, NULL, NULL, NULL, NULL, NULL, NULL);
+    P.f = &F;
+    P.tok = (rj__stok *) (void *) (work + w_tok);
+    P.mat = (rj__spart *) (void *) (work + w_mat);
+    P.sec = (rj__spart *) (void *) (work + w_sec);
+    P.kind = RJ__SK_NONE;
+
+    while ((r = rj__sp_next(&P)) > 0) {
+        if (!P.ntok)
+            continue;
+        if (P.tok[0].kind != 'w') {
+            rj__sp_err_tok(&P, &P.tok[0], "", rj__sp_nan(),
+                           "expected a key or a section keyword, found ", NULL, NULL, NULL);
+            goto fail;
+        }
+        if (P.ntok >= 2 && P.tok[1].kind == '=') {
+            if (!rj__sp_assignments(&P))
+                goto fail;
+        } else if (!rj__sp_header(&P))
+            goto fail;
+    }
+    if (r < 0 || !rj__sp_finish(&P))
+        goto fail;
+    if (F.link_count == 0) {
+        rj__sp_fail(&P, P.lineno > 0 ? P.lineno : 1, 1, "link_count", 0,
+                    "the scene has no links (a scene needs at least one 'link' section)");
+        goto fail;
+    }
+    RJ_FREE(work, alloc_ctx);
+    work = NULL;
+    { /* the model's own validation, located in the file */
+        rj_scene_def sd = rj_scene_file_def(&F);
+        rj_error me;
+        if (rj__validate_all(&sd, &me, alloc_ctx) != RJ_OK) {
+            rj_scene_file_locate(&F, &me);
+            P.code = me.code;
+            if (err)
+                *err = me;
+            goto fail;
+        }
+    }
+    *out = F;
+    return RJ_OK;
+fail:
+    if (work)
+        RJ_FREE(work, alloc_ctx);
+    RJ_FREE(block, alloc_ctx);
+    memset(out, 0, sizeof *out);
+    return P.code != RJ_OK ? P.code : RJ_ERR_PARSE;
+}
+
+RJDEF rj_result rj_scene_parse(const char *text, size_t len, const char *filename,
+                               rj_scene_file *out, rj_error *err)
+{
+    return rj_scene_parse_ex(text, len, filename, out, err, NULL);
+}
+
+/* a failure of rj_scene_load: "path: what: the system's reason" when errnum is set (the
+   user needs to know whether the file is missing, unreadable or a directory) */
+static rj_result rj__sp_load_fail(rj_error *err, rj_result code, const char *path, const char *what,
+                                  int errnum, double value)
+{
+    if (!err)
+        return code;
+    err->code = code;
+    snprintf(err->field, sizeof err->field, "%s", code == RJ_ERR_NOMEM ? "size" : "path");
+    err->value = value;
+    rj__sp_cat(err->msg, sizeof err->msg, path, ": ", what, errnum ? ": " : "",
+               errnum ? strerror(errnum) : "", NULL, NULL);
+    return code;
+}
+
+/* reads all of fp into *buf (RJ_MALLOC; the caller frees it, also on failure), at most
+   RJ_SCENE_MAX_BYTES */
+static rj_result rj__sp_read(FILE *fp, const char *path, char **buf, size_t *n, rj_error *err)
+{
+    size_t cap = 0;
+    *buf = NULL;
+    *n = 0;
+    for (;;) {
+        size_t got;
+        if (*n == cap) {
+            size_t nc = cap ? cap * 2 : 65536;
+            char *nb;
+            if (nc > (size_t) RJ_SCENE_MAX_BYTES + 1)
+                nc = (size_t) RJ_SCENE_MAX_BYTES + 1;
+            if (cap > RJ_SCENE_MAX_BYTES)
+                return rj__sp_load_fail(err, RJ_ERR_PARSE, path,
+                                        "the file is larger than 64 MiB (RJ_SCENE_MAX_BYTES)", 0,
+                                        (double) *n);
+            nb = (char *) RJ_MALLOC(nc, NULL);
+            if (!nb)
+                return rj__sp_load_fail(err, RJ_ERR_NOMEM, path, "out of memory reading the file",
+                                        0, (double) nc);
+            if (*n)
+                memcpy(nb, *buf, *n);
+            if (*buf)
+                RJ_FREE(*buf, NULL);
+            *buf = nb;
+            cap = nc;
+        }
+        errno = 0;
+        got = fread(*buf + *n, 1, cap - *n, fp);
+        *n += got;
+        if (got == 0)
+            break;
+    }
+    if (ferror(fp))
+        return rj__sp_load_fail(err, RJ_ERR_PARSE, path, "cannot read the file", errno, errno);
+    return RJ_OK;
+}
+
+RJDEF rj_result rj_scene_load(const char *path, rj_scene_file *out, rj_error *err)
+{
+    FILE *fp;
+    char *buf = NULL;
+    size_t n = 0;
+    rj_result r;
+    if (out)
+        memset(out, 0, sizeof *out);
+    if (!path || !out) {
+        if (err) {
+            err->code = RJ_ERR_INVALID;
+            snprintf(err->field, sizeof err->field, "%s", path ? "out" : "path");
+            err->value = 0;
+            snprintf(err->msg, sizeof err->msg, "%s is NULL", path ? "out" : "path");
+        }
+        return RJ_ERR_INVALID;
+    }
+    errno = 0;
+    fp = fopen(path, "rb");
+    if (!fp)
+        return rj__sp_load_fail(err, RJ_ERR_PARSE, path, "cannot open the file for reading", errno,
+                                errno);
+    r = rj__sp_read(fp, path, &buf, &n, err);
+    fclose(fp);
+    if (r == RJ_OK)
+        r = rj_scene_parse_ex(buf, n, path, out, err, NULL);
+    if (buf)
+        RJ_FREE(buf, NULL);
+    return r;
+}
+
+RJDEF rj_scene_def rj_scene_file_def(const rj_scene_file *f)
+{
+    rj_scene_def d = rj_default_scene_def();
+    if (!f)
+        return d;
+    d.links = f->links;
+    d.link_count = f->link_count;
+    d.joints = f->joints;
+    d.joint_count = f->joint_count;
+    d.solver = f->solver;
+    d.loads = f->loads;
+    d.load_count = f->load_count;
+    return d;
+}
+
+RJDEF void rj_scene_file_free(rj_scene_file *f)
+{
+    if (!f)
+        return;
+    if (f->block_)
+        RJ_FREE(f->block_, f->alloc_ctx_);
+    memset(f, 0, sizeof *f);
+}
+
+RJDEF int rj_scene_link_index(const rj_scene_file *f, const char *name)
+{
+    int k;
+    if (!f || !name)
+        return -1;
+    for (k = 0; k < f->link_count; k++)
+        if (strcmp(f->link_names[k], name) == 0)
+            return k;
+    return -1;
+}
+
+RJDEF int rj_scene_joint_index(const rj_scene_file *f, const char *name)
+{
+    int k;
+    if (!f || !name)
+        return -1;
+    for (k = 0; k < f->joint_count; k++)
+        if (strcmp(f->joint_names[k], name) == 0)
+            return k;
+    return -1;
+}
+

@@ -1,0 +1,262 @@
+/* ------------------------------------------------------------------ states */
+typedef struct rj__slayout {
+    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, eu, ebt, jsc,
+        rsc, input_torque, input_node, node_applied, snap_torque;
+} rj__slayout;
+
+static void rj__state_layout(const rj_model *m, rj__slayout *L)
+{
+    size_t off = sizeof(rj_state);
+    L->fd0 = rj__carve(&off, m->frame_doubles, sizeof(double));
+    L->fd1 = rj__carve(&off, m->frame_doubles, sizeof(double));
+    L->fi0 = rj__carve(&off, m->frame_ints + 1, sizeof(int));
+    L->fi1 = rj__carve(&off, m->frame_ints + 1, sizeof(int));
+    L->fd2 = rj__carve(&off, m->ip ? m->frame_doubles : 0, sizeof(double));
+    L->fi2 = rj__carve(&off, m->ip ? m->frame_ints + 1 : 0, sizeof(int));
+    L->fx = rj__carve(&off, (size_t) m->nn, sizeof(double));
+    L->fy = rj__carve(&off, (size_t) m->nn, sizeof(double));
+    L->mz = rj__carve(&off, (size_t) m->nn, sizeof(double));
+    L->kn = rj__carve(&off, (size_t) m->nn, sizeof(double));
+    L->sha = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
+    L->shb = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
+    L->shc = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
+    L->shr = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
+    L->eu = rj__carve(&off, (size_t) m->ne, sizeof(double));
+    L->ebt = rj__carve(&off, (size_t) m->ne, sizeof(double));
+    L->jsc = rj__carve(&off, (size_t) m->nj * 8 + 1, sizeof(double));
+    L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl) : 3 * (size_t) m->ncl + 1,
+                       sizeof(double));
+    L->input_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
+    L->snap_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
+    L->input_node = rj__carve(&off, 3 * (size_t) m->nn, sizeof(double));
+    L->node_applied = rj__carve(&off, 3 * (size_t) m->nn, sizeof(double));
+    L->total = off == (size_t) -1 ? off : off + RJ__ALIGN;
+}
+
+RJDEF size_t rj_state_size(const rj_model *m)
+{
+    rj__slayout L;
+    RJ_ASSERT(m);
+    rj__state_layout(m, &L);
+    return L.total;
+}
+
+/* frame accessors */
+#define RJ__FX(m, f)    ((f) + RJ__FS_COUNT)
+#define RJ__FY(m, f)    ((f) + RJ__FS_COUNT + (m)->nn)
+#define RJ__FPHI(m, f)  ((f) + RJ__FS_COUNT + 2 * (size_t) (m)->nn)
+#define RJ__FVX(m, f)   ((f) + RJ__FS_COUNT + 3 * (size_t) (m)->nn)
+#define RJ__FVY(m, f)   ((f) + RJ__FS_COUNT + 4 * (size_t) (m)->nn)
+#define RJ__FW(m, f)    ((f) + RJ__FS_COUNT + 5 * (size_t) (m)->nn)
+#define RJ__FBETA(m, f) ((f) + RJ__FS_COUNT + 6 * (size_t) (m)->nn)
+#define RJ__FCX(m, f)   ((f) + RJ__FS_COUNT + 6 * (size_t) (m)->nn + (m)->ne)
+#define RJ__FCY(m, f)   ((f) + RJ__FS_COUNT + 6 * (size_t) (m)->nn + 2 * (size_t) (m)->ne)
+#define RJ__FJ(m, f, j)                                                                            \
+    ((f) + RJ__FS_COUNT + 6 * (size_t) (m)->nn + 3 * (size_t) (m)->ne + RJ__JD_COUNT * (size_t) (j))
+#define RJ__FS(m, f) (f)
+
+/* One joint's spring and table potentials at the running angle run, added to *V (spring
+   first, then table: every caller sums in this order, so the totals agree to the bit); the
+   table's torque goes to *table_torque. */
+static void rj__joint_potential(const rj_joint_def *d, const rj__joint *J, double run, double *V,
+                                double *table_torque)
+{
+    *table_torque = 0;
+    if (d->spring_k > 0)
+        *V += 0.5 * d->spring_k * (run - d->spring_free_angle) * (run - d->spring_free_angle);
+    if (d->table_count)
+        *V += rj__table_turns_potential(d, J, run, table_torque);
+}
+
+static double rj__spring_energy(const rj_model *m, const double *f)
+{
+    double V = 0, t;
+    int j;
+    for (j = 0; j < m->nj; j++)
+        rj__joint_potential(&m->jdef[j], &m->jnt[j], RJ__FJ(m, f, j)[RJ__JD_THETA], &V, &t);
+    return V;
+}
+
+RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
+{
+    double *f = s->fd[0], *sc;
+    int j, i;
+    s->cur = 0;
+    s->steps = 0;
+    memset(s->input_torque, 0, sizeof(double) * (size_t) m->nj);
+    s->inputs = 0;
+    memset(s->input_node, 0, 3 * sizeof(double) * (size_t) m->nn);
+    memset(s->node_applied, 0, 3 * sizeof(double) * (size_t) m->nn);
+    s->node_inputs = 0;
+    s->settle_scale = 0;
+    s->snap = -1;
+    s->err[0] = 0;
+    s->warn[0] = 0;
+    memset(s->fd[0], 0, sizeof(double) * m->frame_doubles);
+    memset(s->fd[1], 0, sizeof(double) * m->frame_doubles);
+    memset(s->fi[0], 0, sizeof(int) * (m->frame_ints + 1));
+    memset(s->fi[1], 0, sizeof(int) * (m->frame_ints + 1));
+    memcpy(RJ__FX(m, f), m->x0, sizeof(double) * (size_t) m->nn);
+    memcpy(RJ__FY(m, f), m->y0, sizeof(double) * (size_t) m->nn);
+    memcpy(RJ__FPHI(m, f), m->phi0, sizeof(double) * (size_t) m->nn);
+    memcpy(RJ__FVX(m, f), m->vx0, sizeof(double) * (size_t) m->nn);
+    memcpy(RJ__FVY(m, f), m->vy0, sizeof(double) * (size_t) m->nn);
+    memcpy(RJ__FW(m, f), m->w0, sizeof(double) * (size_t) m->nn);
+    memcpy(RJ__FBETA(m, f), m->beta0, sizeof(double) * (size_t) m->ne);
+    for (i = 0; i < m->nl; i++) {
+        int k;
+        for (k = m->link_efirst[i]; k < m->link_efirst[i + 1]; k++) {
+            int a = m->link_first[i] + (k - m->link_efirst[i]);
+            RJ__FCX(m, f)[k] = m->x0[a + 1] - m->x0[a];
+            RJ__FCY(m, f)[k] = m->y0[a + 1] - m->y0[a];
+        }
+    }
+    for (j = 0; j < m->nj; j++) {
+        double *jd = RJ__FJ(m, f, j);
+        rj__jgeo g;
+        rj__joint_geo(m, &m->jnt[j], m->x0, m->y0, &g);
+        jd[RJ__JD_THETA] = m->jdef[j].angle0;
+        jd[RJ__JD_RATE] = m->rigid
+                              ? m->jdef[j].rate0
+                              : rj__joint_rate(&m->jnt[j], &g, m->vx0, m->vy0, m->w0, NULL, NULL);
+        jd[RJ__JD_EVENT] = -1;
+        jd[RJ__JD_RELEASE] = -1;
+        jd[RJ__JD_SIDE] = 0.5;
+        jd[RJ__JD_OVERLAP] = -1;
+    }
+    if (m->rigid) {
+        /* nodes from the joint-coordinate kinematics, so that both descriptions agree */
+        rj__rig r;
+        rj__rig_map(m, s->rsc, &r);
+        for (j = 0; j < m->nj; j++) {
+            r.q[j] = m->jdef[j].angle0;
+            r.qd[j] = m->jdef[j].rate0;
+        }
+        rj__rig_kin(m, &r, r.q, r.qd, r.qd);
+        rj__rig_nodes(m, &r, f);
+    }
+    sc = RJ__FS(m, f);
+    {
+        double ke = 0, U;
+        for (i = 0; i < m->nn; i++)
+            ke += 0.5 * m->mass[i] * (m->vx0[i] * m->vx0[i] + m->vy0[i] * m->vy0[i]) *
+                      (m->einv[i] > 0) +
+                  0.5 * m->rinertia[i] * m->w0[i] * m->w0[i] *
+                      (m->rinv[i] > 0 && !RJ__CL_RIGID(m, i));
+        for (i = 0; i < m->ncl; i++) {
+            /* rigid bodies: anchor, its velocity, rate, angle */
+            double *c = RJ__FCL(m, f, i);
+            const int n0 = m->link_first[i];
+            if (m->cl_first[i] == m->cl_first[i + 1])
+                continue;
+            c[0] = m->x0[n0] - m->cl_rx[n0];
+            c[1] = m->y0[n0] - m->cl_ry[n0];
+            c[2] = m->cl_th0[3 * i + 1];
+            c[3] = m->cl_th0[3 * i + 2];
+            c[4] = m->w0[n0];
+            c[5] = m->cl_th0[3 * i];
+            ke += 0.5 * m->cl_M[i] * (c[2] * c[2] + c[3] * c[3]) * (m->cl_fix[i] == 0) +
+                  0.5 * m->cl_I[i] * c[4] * c[4];
+        }
+        double *o = s->fd[1]; /* scratch for the chords, cleared again below */
+        U = rj__beam_pass(m, m->x0, m->y0, m->phi0, m->beta0, RJ__FCX(m, f), RJ__FCY(m, f), s->eu,
+                          s->ebt, RJ__FCX(m, o), RJ__FCY(m, o), s->fx, s->fy, s->mz, NULL);
+        memset(o, 0, sizeof(double) * m->frame_doubles);
+        sc[RJ__FS_KE] = ke;
+        sc[RJ__FS_STRAIN] = U;
+        sc[RJ__FS_SPRING] = rj__spring_energy(m, f);
+        sc[RJ__FS_GRAV] = rj__gravity_potential(m, RJ__FX(m, f), RJ__FY(m, f));
+        sc[RJ__FS_E0] = ke + U + sc[RJ__FS_SPRING] + sc[RJ__FS_GRAV];
+    }
+}
+
+RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_state **out)
+{
+    rj__slayout L;
+    rj_state *s;
+    char *base;
+    if (!m || !out)
+        return RJ_ERR_INVALID;
+    rj__state_layout(m, &L);
+    if (!mem || size < L.total)
+        return RJ_ERR_NOMEM;
+    base = (char *) mem;
+    base += (RJ__ALIGN - ((size_t) base % RJ__ALIGN)) % RJ__ALIGN;
+    memset(base, 0, L.total - RJ__ALIGN);
+    s = (rj_state *) (void *) base;
+    s->bytes = L.total - RJ__ALIGN;
+    s->fd[0] = (double *) (void *) (base + L.fd0);
+    s->fd[1] = (double *) (void *) (base + L.fd1);
+    s->fi[0] = (int *) (void *) (base + L.fi0);
+    s->fi[1] = (int *) (void *) (base + L.fi1);
+    s->fd[2] = m->ip ? (double *) (void *) (base + L.fd2) : NULL;
+    s->fi[2] = m->ip ? (int *) (void *) (base + L.fi2) : NULL;
+    s->fx = (double *) (void *) (base + L.fx);
+    s->fy = (double *) (void *) (base + L.fy);
+    s->mz = (double *) (void *) (base + L.mz);
+    s->sha = (double *) (void *) (base + L.sha);
+    s->shb = (double *) (void *) (base + L.shb);
+    s->shc = (double *) (void *) (base + L.shc);
+    s->shr = (double *) (void *) (base + L.shr);
+    s->eu = (double *) (void *) (base + L.eu);
+    s->ebt = (double *) (void *) (base + L.ebt);
+    s->kn = (double *) (void *) (base + L.kn);
+    s->jsc = (double *) (void *) (base + L.jsc);
+    s->rsc = (double *) (void *) (base + L.rsc);
+    s->input_torque = (double *) (void *) (base + L.input_torque);
+    s->snap_torque = (double *) (void *) (base + L.snap_torque);
+    s->input_node = (double *) (void *) (base + L.input_node);
+    s->node_applied = (double *) (void *) (base + L.node_applied);
+    rj_state_reset(m, s);
+    *out = s;
+    return RJ_OK;
+}
+
+RJDEF rj_result rj_state_create(const rj_model *m, rj_state **out, void *alloc_ctx)
+{
+    size_t sz;
+    void *mem;
+    rj_result r;
+    (void) alloc_ctx;
+    if (!m || !out)
+        return RJ_ERR_INVALID;
+    sz = rj_state_size(m);
+    mem = RJ_MALLOC(sz, alloc_ctx);
+    if (!mem)
+        return RJ_ERR_NOMEM;
+    r = rj_state_init(m, mem, sz, out);
+    if (r != RJ_OK || (void *) *out != mem) {
+        RJ_FREE(mem, alloc_ctx);
+        *out = NULL;
+        return r != RJ_OK ? r : RJ_ERR_NOMEM;
+    }
+    return RJ_OK;
+}
+
+RJDEF void rj_state_destroy(rj_state *s, void *alloc_ctx)
+{
+    (void) alloc_ctx;
+    if (s)
+        RJ_FREE(s, alloc_ctx);
+}
+
+RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *src)
+{
+    if (!m || !dst || !src)
+        return RJ_ERR_INVALID;
+    memcpy(dst->fd[0], src->fd[src->cur], sizeof(double) * m->frame_doubles);
+    memcpy(dst->fi[0], src->fi[src->cur], sizeof(int) * (m->frame_ints + 1));
+    dst->cur = 0;
+    dst->steps = src->steps;
+    dst->snap = -1;
+    memcpy(dst->input_torque, src->input_torque, sizeof(double) * (size_t) m->nj);
+    dst->inputs = src->inputs;
+    memcpy(dst->input_node, src->input_node, 3 * sizeof(double) * (size_t) m->nn);
+    memcpy(dst->node_applied, src->node_applied, 3 * sizeof(double) * (size_t) m->nn);
+    dst->node_inputs = src->node_inputs;
+    dst->settle_scale = 0;
+    memcpy(dst->err, src->err, sizeof dst->err);
+    memcpy(dst->warn, src->warn, sizeof dst->warn);
+    return RJ_OK;
+}
+

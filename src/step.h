@@ -1,0 +1,1102 @@
+/* ------------------------------------------------------------------ the step: its stages */
+/* A node's rotation rate at the end of the step under the loads so far (a body's own node:
+   the body's). */
+static RJ__INLINE double rj__rate_pred(const rj_model *m, const double *of, int n, const double *x,
+                                       const double *y, const double *w, const double *fx,
+                                       const double *fy, const double *mz, double kick)
+{
+    if (m->ncl && RJ__CL_RIGID(m, n)) {
+        const int c = m->node_cl[n];
+        const double *oc = RJ__FCL(m, of, c);
+        double Fx, Fy, T;
+        if (m->cl_fix[c] == 2)
+            return 0.0;
+        rj__cl_load(m, c, oc, x, y, fx, fy, mz, &Fx, &Fy, &T);
+        return oc[4] + kick * T / m->cl_I[c];
+    }
+    return w[n] + kick * mz[n] * m->rinv[n];
+}
+
+/* The frames one step reads and writes. Double-buffered, the step reads the current frame
+   and writes the other; in place (rj__step), the nodes and elements advance in the current
+   frame itself, and the third frame (s->fd[2]) takes the joints, bodies and scalars at
+   n + 1 and keeps the values at n of the nodes the step reads after the beams (m->dnode). */
+typedef struct rj__frames {
+    double *current;      /* s->fd[s->cur] */
+    const double *old;    /* the values at n: the current frame */
+    double *next;         /* joints, bodies and scalars at n + 1 */
+    double *advanced;     /* nodes and elements at n + 1: next, or current in place */
+    const int *old_flags; /* joint flags at n */
+    int *new_flags;       /* at n + 1 */
+    const double *x, *y, *phi, *vx, *vy, *w; /* nodes at n (in place: from next) */
+    double *nx, *ny, *nphi, *nvx, *nvy, *nw; /* nodes at n + 1 */
+    const double *old_scalars;               /* time, accounts at n */
+    double *new_scalars;                     /* at n + 1 */
+    double t, dt;
+    double kick; /* dt, or dt / 2 at the first step (from v(0)) */
+    int first;   /* the first step */
+    int en;      /* this step takes the energy accounts */
+    int ip;      /* in place */
+} rj__frames;
+
+/* What a step adds up for the energy accounts, in J. */
+typedef struct rj__sums {
+    double strain;                                  /* the beams' strain energy at x^n */
+    double spring;                                  /* the joints' springs and tables at n */
+    double gravity;                                 /* gravity's potential at n, -sum m g . x */
+    double kinetic;                                 /* 1/2 v^{n-1/2} . v^{n+1/2} */
+    double lost_damping, lost_friction, lost_limit; /* since the start */
+    double work;    /* done by the caller's inputs since the start */
+    double pending; /* a jump's loss the next step takes (its second half) */
+} rj__sums;
+
+/* The first moment sum m r of a rigid body's own link (rod and tip mass) at node
+   positions x, y; its nodes carry no mass of their own. */
+static void rj__cl_own_moment(const rj_model *m, int c, const double *x, const double *y,
+                              double *mx, double *my)
+{
+    const rj_link_def *d = &m->ldef[c];
+    const int n0 = m->link_first[c], nt = m->link_first[c + 1] - 1;
+    const double area = rj__plain_area(d);
+    const double rod = d->rho * area * d->length, own = rod + d->tip_mass;
+    const double along = (rod * 0.5 + d->tip_mass) / own; /* the centre, as a fraction */
+    *mx = own * (x[n0] + along * (x[nt] - x[n0]));
+    *my = own * (y[n0] + along * (y[nt] - y[n0]));
+}
+
+/* The frames and step constants: the accounts when asked, at the start, or
+   solver.energy_every steps after the last ones (no division). The nodes' arrays are
+   rj__frames_nodes'. */
+static RJ__FORCE_INLINE void rj__frames_open(const rj_model *m, rj_state *s, int want_energy,
+                                             int ip, rj__frames *f)
+{
+    double *current = s->fd[s->cur];
+    double *next = s->fd[ip ? 2 : 1 - s->cur];
+    f->current = current;
+    f->old = current;
+    f->next = next;
+    f->advanced = ip ? current : next;
+    f->old_flags = s->fi[s->cur];
+    f->new_flags = s->fi[ip ? 2 : 1 - s->cur];
+    f->old_scalars = RJ__FS(m, current);
+    f->new_scalars = RJ__FS(m, next);
+    f->t = f->old_scalars[RJ__FS_TIME];
+    f->dt = m->dt;
+    f->first = s->steps == 0;
+    /* the stored velocities are v(0) at the start and v^{n-1/2} after: the first kick is
+       half a step, which makes the start second-order accurate too */
+    f->kick = f->first ? 0.5 * m->dt : m->dt;
+    f->en = want_energy || m->solver.energy_every <= 1 || s->steps == 0 ||
+            f->t - f->old_scalars[RJ__FS_ETIME] > ((double) m->solver.energy_every - 0.5) * m->dt;
+    f->ip = ip;
+}
+
+/* The nodes at n (in place: kept in the next frame) and at n + 1. */
+static RJ__FORCE_INLINE void rj__frames_nodes(const rj_model *m, rj__frames *f)
+{
+    const double *at_n = f->ip ? f->next : f->current;
+    double *advanced = f->advanced;
+    f->x = RJ__FX(m, at_n);
+    f->y = RJ__FY(m, at_n);
+    f->phi = RJ__FPHI(m, at_n);
+    f->vx = RJ__FVX(m, at_n);
+    f->vy = RJ__FVY(m, at_n);
+    f->w = RJ__FW(m, at_n);
+    f->nx = RJ__FX(m, advanced);
+    f->ny = RJ__FY(m, advanced);
+    f->nphi = RJ__FPHI(m, advanced);
+    f->nvx = RJ__FVX(m, advanced);
+    f->nvy = RJ__FVY(m, advanced);
+    f->nw = RJ__FW(m, advanced);
+}
+
+/* The accounts carried from the step before. */
+static RJ__FORCE_INLINE void rj__sums_open(const double *old_scalars, rj__sums *e)
+{
+    e->strain = 0;
+    e->spring = 0;
+    e->gravity = 0;
+    e->kinetic = 0;
+    e->lost_damping = old_scalars[RJ__FS_LDAMP];
+    e->lost_friction = old_scalars[RJ__FS_LFRIC];
+    e->lost_limit = old_scalars[RJ__FS_LLIM] + old_scalars[RJ__FS_PEND];
+    e->work = old_scalars[RJ__FS_WORK];
+    e->pending = 0;
+}
+
+/* Stage 1, the beams: internal forces at x^n and the new chord angles; every node advanced
+   at once (v^{n+1/2}, x^{n+1}); the joints' nodes are advanced again in stage 4 (in place,
+   from their values at n, kept first). */
+static RJ__FORCE_INLINE void rj__stage_beams(const rj_model *m, rj_state *s, const rj__frames *f,
+                                             rj__adv *adv, rj__sums *e)
+{
+    const double *old = f->old;
+    double *next = f->next;
+    /* gravity's potential at x^n, before the pass advances the nodes (in place too) */
+    if (m->has_gravity && f->en)
+        e->gravity = rj__gravity_potential(m, RJ__FX(m, old), RJ__FY(m, old));
+    if (f->ip) {
+        double *kept[6];
+        const double *at_n[6];
+        int i, k;
+        kept[0] = RJ__FX(m, next);
+        kept[1] = RJ__FY(m, next);
+        kept[2] = RJ__FPHI(m, next);
+        kept[3] = RJ__FVX(m, next);
+        kept[4] = RJ__FVY(m, next);
+        kept[5] = RJ__FW(m, next);
+        at_n[0] = RJ__FX(m, old);
+        at_n[1] = RJ__FY(m, old);
+        at_n[2] = RJ__FPHI(m, old);
+        at_n[3] = RJ__FVX(m, old);
+        at_n[4] = RJ__FVY(m, old);
+        at_n[5] = RJ__FW(m, old);
+        for (i = 0; i < m->ndn; i++)
+            for (k = 0; k < 6; k++)
+                kept[k][m->dnode[i]] = at_n[k][m->dnode[i]];
+    }
+    adv->kick = f->kick;
+    adv->dt = f->dt;
+    adv->vx = RJ__FVX(m, old);
+    adv->vy = RJ__FVY(m, old);
+    adv->w = RJ__FW(m, old);
+    adv->ti = m->tinv;
+    adv->ri = m->rinv;
+    adv->km = m->kmass;
+    adv->kj = m->krot;
+    adv->nx = f->nx;
+    adv->ny = f->ny;
+    adv->nphi = f->nphi;
+    adv->nvx = f->nvx;
+    adv->nvy = f->nvy;
+    adv->nw = f->nw;
+    adv->kn = s->kn;
+    adv->fx = s->fx;
+    adv->fy = s->fy;
+    adv->mz = s->mz;
+    adv->en = f->en;
+    adv->ip = f->ip;
+    adv->grav = m->has_gravity;
+    adv->gx = m->solver.gravity[0];
+    adv->gy = m->solver.gravity[1];
+    e->strain =
+        rj__beam_pass(m, RJ__FX(m, old), RJ__FY(m, old), RJ__FPHI(m, old), RJ__FBETA(m, old),
+                      RJ__FCX(m, old), RJ__FCY(m, old), s->eu, RJ__FBETA(m, f->advanced),
+                      RJ__FCX(m, f->advanced), RJ__FCY(m, f->advanced), s->fx, s->fy, s->mz, adv);
+    /* stage 4 advances the joints' nodes from their values at n */
+    adv->vx = f->vx;
+    adv->vy = f->vy;
+    adv->w = f->w;
+}
+
+/* Stage 2, the joints' element: rate, flag (Eqs 7-13), table, spring, damping and limit
+   torques (Eqs 4, 22, 27) on the nodes; the geometry and rate kept in s->jsc for the
+   stages after. */
+static RJ__FORCE_INLINE void rj__stage_joint_torques(const rj_model *m, rj_state *s,
+                                                     const rj__frames *f, rj__sums *e)
+{
+    /* the element sums the springs' energy through a pointer: a local of its own keeps the
+       other sums out of memory */
+    double spring = e->spring;
+    int j;
+    f->new_scalars[RJ__FS_WARN] = f->old_scalars[RJ__FS_WARN];
+    for (j = 0; j < m->nj; j++) {
+        const rj__joint *J = &m->jnt[j];
+        const double *old_joint = RJ__FJ(m, f->old, j);
+        double *new_joint = RJ__FJ(m, f->next, j);
+        double *kept = s->jsc + 8 * j;
+        rj__jgeo g;
+        double rate, penetration, torque;
+        rj__joint_geo(m, J, f->x, f->y, &g);
+        rate = rj__joint_rate(J, &g, f->vx, f->vy, f->w, NULL, NULL);
+        torque = rj__element(m, s, j, old_joint, new_joint, f->old_flags[j], &f->new_flags[j], rate,
+                             f->t, f->new_scalars, &penetration, &spring);
+        rj__apply_torque(J, &g, torque, s->fx, s->fy, s->mz);
+        kept[0] = g.ax;
+        kept[1] = g.ay;
+        kept[2] = g.bx;
+        kept[3] = g.by;
+        kept[4] = rate;
+        kept[5] = penetration;
+        kept[6] = g.a2;
+        kept[7] = g.b2;
+    }
+    e->spring = spring;
+}
+
+/* The joint geometry stage 2 kept. */
+static RJ__FORCE_INLINE void rj__kept_geo(const double *kept, rj__jgeo *g)
+{
+    g->ax = kept[0];
+    g->ay = kept[1];
+    g->bx = kept[2];
+    g->by = kept[3];
+    g->a2 = kept[6];
+    g->b2 = kept[7];
+}
+
+/* A node's velocity at the end of the step under the forces so far (a grouped node: its
+   group's). */
+static RJ__FORCE_INLINE void rj__velocity_pred(const rj_model *m, const rj_state *s,
+                                               const rj__frames *f, int n, double *pvx, double *pvy)
+{
+    const double kick = f->kick;
+    if (m->tinv[n] == 0 && m->einv[n] > 0) {
+        /* grouped node: the group's acceleration */
+        double sx = 0, sy = 0, ginv = m->einv[n];
+        const int g0 = m->node_grp[n];
+        int q;
+        for (q = m->grp_first[g0]; q < m->grp_first[g0 + 1]; q++) {
+            sx += s->fx[m->grp_node[q]];
+            sy += s->fy[m->grp_node[q]];
+        }
+        *pvx = f->vx[n] + kick * sx * ginv;
+        *pvy = f->vy[n] + kick * sy * ginv;
+    } else {
+        *pvx = f->vx[n] + kick * s->fx[n] * m->tinv[n];
+        *pvy = f->vy[n] + kick * s->fy[n] * m->tinv[n];
+    }
+}
+
+/* The relative rate joint J would end the step with under the forces so far. */
+static RJ__FORCE_INLINE double rj__joint_rate_pred(const rj_model *m, const rj_state *s,
+                                                   const rj__frames *f, const rj__joint *J,
+                                                   const rj__jgeo *g)
+{
+    double pvx[4], pvy[4], ratep;
+    int nodes[4], k;
+    if (!J->chord) {
+        ratep = rj__rate_pred(m, f->old, J->nJ, f->x, f->y, f->w, s->fx, s->fy, s->mz, f->kick);
+        if (J->nI >= 0)
+            ratep -=
+                rj__rate_pred(m, f->old, J->nI, f->x, f->y, f->w, s->fx, s->fy, s->mz, f->kick);
+        return ratep;
+    }
+    nodes[0] = J->nI;
+    nodes[1] = J->nK;
+    nodes[2] = J->nJ;
+    nodes[3] = J->nL;
+    for (k = 0; k < 4; k++) {
+        if (nodes[k] < 0) {
+            pvx[k] = pvy[k] = 0;
+            continue;
+        }
+        rj__velocity_pred(m, s, f, nodes[k], &pvx[k], &pvy[k]);
+    }
+    ratep = (g->bx * (pvy[3] - pvy[2]) - g->by * (pvx[3] - pvx[2])) / g->b2;
+    if (J->nK >= 0)
+        ratep -= (g->ax * (pvy[1] - pvy[0]) - g->ay * (pvx[1] - pvx[0])) / g->a2;
+    return ratep;
+}
+
+/* The caller's torques are numbers the step can use: finite, within 1e100 N m (the
+   checkpoints' bound). Else the step stops naming the joint, the state as it was. */
+static int rj__inputs_ok(const rj_model *m, rj_state *s)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const double torque = s->input_torque[j];
+        if (fabs(torque) <= 1e100)
+            continue;
+        rj__stop(m, s, RJ_ERR_INVALID,
+                 "t = %.9g s: rj_state_joint_torques()[%d] = %g N m is not a finite torque "
+                 "within 1e100 N m",
+                 RJ__FS(m, s->fd[s->cur])[RJ__FS_TIME], j, torque);
+        return 0;
+    }
+    return 1;
+}
+
+/* The caller's joint torques (rj_state_joint_torques, checked by rj__step before the
+   step began), on the joint geometry stage 2 kept. */
+static rj_result rj__stage_inputs(const rj_model *m, rj_state *s, double *next)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const double torque = s->input_torque[j];
+        rj__jgeo g;
+        rj__kept_geo(s->jsc + 8 * j, &g);
+        rj__apply_torque(&m->jnt[j], &g, torque, s->fx, s->fy, s->mz);
+        RJ__FJ(m, next, j)[RJ__JD_INPUT] = torque;
+    }
+    return RJ_OK;
+}
+
+/* The work of the caller's joint torques over the step (after the velocity-level limits,
+   which set the joints' rates at n + 1/2). */
+static double rj__inputs_work(const rj_model *m, const rj_state *s, const double *old,
+                              const double *next)
+{
+    double work = 0;
+    int j;
+    for (j = 0; j < m->nj; j++)
+        work += rj__input_work(RJ__FJ(m, old, j), RJ__FJ(m, next, j), s->jsc[8 * j + 4], m->dt);
+    return work;
+}
+
+/* A load's factor at time t: its table, linear between the points, held outside them
+   (1 without a table). */
+static double rj__load_factor(const rj_load_def *d, double t)
+{
+    const int last = d->table_count - 1;
+    int k;
+    if (d->table_count == 0)
+        return 1.0;
+    if (!(t > d->table_time[0]))
+        return d->table_factor[0];
+    for (k = 1; k <= last; k++)
+        if (t < d->table_time[k]) {
+            const double t0 = d->table_time[k - 1], t1 = d->table_time[k];
+            const double f0 = d->table_factor[k - 1], f1 = d->table_factor[k];
+            return f0 + (f1 - f0) * ((t - t0) / (t1 - t0));
+        }
+    return d->table_factor[last];
+}
+
+/* A load's force (global frame) and moment at time t on a node turned to phi: a follower
+   load's force is given in the node's frame and turns with it. */
+static void rj__load_value(const rj_load_def *d, double t, double phi, double out[3])
+{
+    const double scale = rj__load_factor(d, t);
+    const double fx = scale * d->force[0], fy = scale * d->force[1];
+    if (d->follower) {
+        const double c = cos(phi), s = sin(phi);
+        out[0] = c * fx - s * fy;
+        out[1] = s * fx + c * fy;
+    } else {
+        out[0] = fx;
+        out[1] = fy;
+    }
+    out[2] = scale * d->moment;
+}
+
+/* The work of a force and moment held at node n over the step, now at t^n and prev at
+   t^{n-1}: (prev + now) / 2 . (x^n - x^{n-1}), the trapezoid whose sum is exactly the
+   change it makes in the kinetic energy of the central-difference pair (as
+   rj__input_work); at_n: the frame of the nodes at n (v^{n-1/2}). */
+static double rj__node_work(const rj_model *m, const double *at_n, int n, const double *now,
+                            const double *prev)
+{
+    const double vx = RJ__FVX(m, at_n)[n], vy = RJ__FVY(m, at_n)[n], w = RJ__FW(m, at_n)[n];
+    return 0.5 * m->dt *
+           ((now[0] + prev[0]) * vx + (now[1] + prev[1]) * vy + (now[2] + prev[2]) * w);
+}
+
+/* Stage 2c, the model's applied loads at t^n on their nodes (the step advances them after
+   the joints: m->dnode); returns their work over the step before (the loads at t^{n-1}
+   are their definitions' at t - dt, on the node turned back by dt w^{n-1/2}). */
+static double rj__stage_loads(const rj_model *m, rj_state *s, double t, const double *at_n)
+{
+    const double *phi = RJ__FPHI(m, at_n), *w = RJ__FW(m, at_n);
+    double work = 0;
+    int k;
+    for (k = 0; k < m->nload; k++) {
+        const int n = m->load_node[k];
+        double now[3], prev[3];
+        rj__load_value(&m->load[k], t, phi[n], now);
+        rj__load_value(&m->load[k], t - m->dt, phi[n] - m->dt * w[n], prev);
+        s->fx[n] += now[0];
+        s->fy[n] += now[1];
+        s->mz[n] += now[2];
+        work += rj__node_work(m, at_n, n, now, prev);
+    }
+    return work;
+}
+
+/* A caller's node force that is not a number the step can use (finite, within 1e100, the
+   checkpoints' bound) stops the step, naming it, the state as it was. */
+static int rj__node_input_ok(const rj_model *m, rj_state *s, int n)
+{
+    const double *in = s->input_node + 3 * (size_t) n;
+    int k;
+    for (k = 0; k < 3; k++) {
+        if (fabs(in[k]) <= 1e100)
+            continue;
+        rj__stop(m, s, RJ_ERR_INVALID,
+                 "t = %.9g s: rj_state_node_forces()[%d] = %g (node %d, %s) is not a finite "
+                 "value within 1e100",
+                 RJ__FS(m, s->fd[s->cur])[RJ__FS_TIME], 3 * n + k, in[k], n,
+                 k == 2 ? "moment, N m" : "force, N");
+        return 0;
+    }
+    return 1;
+}
+
+/* The node forces' sizes now and at the last step, summed: 0 when there are none to
+   apply nor to account for (NaN for a NaN: the stage then refuses it). Branch-free, as most
+   nodes of most states have none. */
+static RJ__INLINE double rj__node_input_size(const double *in, const double *prev)
+{
+    return (fabs(in[0]) + fabs(in[1])) + (fabs(in[2]) + fabs(prev[0])) +
+           (fabs(prev[1]) + fabs(prev[2]));
+}
+
+/* The caller's force on node i, which the beam pass has advanced already (not in
+   m->dnode): v^{n+1/2} takes kick f / m on top, x^{n+1} follows, and the node's share of
+   the kinetic energy the matching v^{n-1/2} . kick f. at_n, advanced: the frames of the
+   nodes at n and at n + 1 (rj__frames_nodes). Returns the new position's x + y + phi. */
+static double rj__node_kick(const rj_model *m, rj_state *s, int i, const double *at_n,
+                            double *advanced, double kick)
+{
+    const double *in = s->input_node + 3 * (size_t) i;
+    const double dvx = kick * in[0] * m->tinv[i];
+    const double dvy = kick * in[1] * m->tinv[i];
+    const double dw = kick * in[2] * m->rinv[i];
+    const double vx = RJ__FVX(m, at_n)[i], vy = RJ__FVY(m, at_n)[i], w = RJ__FW(m, at_n)[i];
+    double *nx = RJ__FX(m, advanced), *ny = RJ__FY(m, advanced), *nphi = RJ__FPHI(m, advanced);
+    double *nvx = RJ__FVX(m, advanced), *nvy = RJ__FVY(m, advanced), *nw = RJ__FW(m, advanced);
+    s->kn[i] += m->kmass[i] * (vx * dvx + vy * dvy) + m->krot[i] * w * dw;
+    nvx[i] += dvx;
+    nvy[i] += dvy;
+    nw[i] += dw;
+    nx[i] += m->dt * dvx;
+    ny[i] += m->dt * dvy;
+    nphi[i] += m->dt * dw;
+    return (nx[i] + ny[i]) + nphi[i];
+}
+
+/* Stage 2d, the caller's node forces, only where they or the last step's are not zero:
+   with the joints' forces on the nodes the step advances after the joints (m->dnode); as
+   a kick on the others, which the beam pass has advanced (their sum of new positions
+   into s->step_fin). Their work over the step before, with the forces the last step
+   applied (s->node_applied), into s->step_work. */
+static rj_result rj__stage_node_inputs(const rj_model *m, rj_state *s, const double *at_n,
+                                       double *advanced, double kick)
+{
+    double work = 0, fin = 0;
+    int i;
+    for (i = 0; i < m->nn; i++) {
+        const double *in = s->input_node + 3 * (size_t) i;
+        const double *prev = s->node_applied + 3 * (size_t) i;
+        if (rj__node_input_size(in, prev) == 0)
+            continue;
+        if (!rj__node_input_ok(m, s, i))
+            return RJ_ERR_INVALID;
+        work += rj__node_work(m, at_n, i, in, prev);
+        if (!rj__is_dnode(m, i)) {
+            fin += rj__node_kick(m, s, i, at_n, advanced, kick);
+            continue;
+        }
+        s->fx[i] += in[0];
+        s->fy[i] += in[1];
+        s->mz[i] += in[2];
+    }
+    s->step_fin = fin;
+    s->step_work += work;
+    return RJ_OK;
+}
+
+/* Stage 2b, applied loads: the caller's joint torques, the model's loads and the
+   caller's node forces, in that order, before friction so that it sees them; the work of
+   the last two over the step before in s->step_work. next: the new frame; t: the time at
+   n; at_n, advanced: the frames of the nodes at n and n + 1; kick: the step's velocity
+   kick per unit acceleration. This stage and rj__applied_work take plain
+   values, not the step's frames, and are never inlined: a scene that applies nothing pays
+   one test for both. */
+static RJ__NOINLINE rj_result rj__stage_applied(const rj_model *m, rj_state *s, double *next,
+                                                double t, const double *at_n, double *advanced,
+                                                double kick)
+{
+    rj_result r;
+    s->step_work = 0;
+    s->step_fin = 0;
+    if (s->inputs) {
+        r = rj__stage_inputs(m, s, next);
+        if (r != RJ_OK)
+            return r;
+    }
+    if (m->nload)
+        s->step_work += rj__stage_loads(m, s, t, at_n);
+    if (s->node_inputs)
+        return rj__stage_node_inputs(m, s, at_n, advanced, kick);
+    return RJ_OK;
+}
+
+/* The work of the caller's joint torques over the step (after the velocity-level limits,
+   which set the joints' rates): old, next: the frames at n and n + 1. */
+static RJ__NOINLINE double rj__applied_work(const rj_model *m, const rj_state *s, const double *old,
+                                            const double *next)
+{
+    return s->inputs ? rj__inputs_work(m, s, old, next) : 0.0;
+}
+
+/* Stage 3, Coulomb friction: the torque that would stop the relative rotation in this
+   step, capped at T_f, with every other force known; it never reverses the rate and holds
+   a stuck joint exactly. */
+static RJ__FORCE_INLINE void rj__stage_friction(const rj_model *m, rj_state *s, const rj__frames *f)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const rj__joint *J = &m->jnt[j];
+        double *new_joint = RJ__FJ(m, f->next, j);
+        rj__jgeo g;
+        double ratep, compliance, tau;
+        if (!(d->friction > 0))
+            continue;
+        rj__kept_geo(s->jsc + 8 * j, &g);
+        ratep = rj__joint_rate_pred(m, s, f, J, &g);
+        compliance = f->kick * rj__joint_compliance(m, J, &g);
+        tau = rj__friction(ratep, compliance, d->friction);
+        rj__apply_torque(J, &g, tau, s->fx, s->fy, s->mz);
+        new_joint[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
+    }
+}
+
+/* Gravity's potential -sum m g . x at the nodes x, y (rigid bodies' own links from their
+   nodes' positions too). */
+static RJ__NOINLINE double rj__gravity_potential(const rj_model *m, const double *x,
+                                                 const double *y)
+{
+    const double gx = m->solver.gravity[0], gy = m->solver.gravity[1];
+    double sum = 0;
+    int i;
+    /* every node's mass (a body's own nodes carry none; the nodes its pins carry do) */
+    for (i = 0; i < m->nn; i++)
+        sum += m->mass[i] * (gx * x[i] + gy * y[i]);
+    for (i = 0; i < m->ncl; i++) {
+        double mx, my;
+        if (m->cl_first[i] == m->cl_first[i + 1])
+            continue;
+        rj__cl_own_moment(m, i, x, y, &mx, &my);
+        sum += gx * mx + gy * my;
+    }
+    return -sum;
+}
+
+/* Stage 4a: v^{n+1/2} and x^{n+1} of the nodes the joints acted on (the beam pass advanced
+   the rest); the kinetic energy at n as v^{n-1/2}.v^{n+1/2}, from v^{-1/2} = 2 v(0) -
+   v^{1/2} at the start. */
+static RJ__FORCE_INLINE void rj__update_joint_nodes(const rj_model *m, rj_state *s,
+                                                    const rj__frames *f, const rj__adv *adv,
+                                                    rj__sums *e)
+{
+    const double *km = m->kmass, *kj = m->krot;
+    const double *vx = f->vx, *vy = f->vy, *w = f->w;
+    const double *nvx = f->nvx, *nvy = f->nvy, *nw = f->nw;
+    double ke;
+    int i;
+    for (i = 0; i < m->ndn; i++) {
+        const int n = m->dnode[i];
+        rj__advance_node(adv, n, s->fx[n], s->fy[n], s->mz[n], f->x, f->y, f->phi);
+    }
+    ke = f->en ? rj__sum8(s->kn, m->nn) : 0.0;
+    if (f->first) {
+        ke = 0;
+        for (i = 0; i < m->nn; i++)
+            ke += km[i] * ((2 * vx[i] - nvx[i]) * nvx[i] + (2 * vy[i] - nvy[i]) * nvy[i]) +
+                  kj[i] * (2 * w[i] - nw[i]) * nw[i];
+    }
+    e->kinetic = ke;
+}
+
+/* Stage 4b: groups of nodes that move together (a pin shared by links) take their summed
+   force on their summed mass. */
+static RJ__FORCE_INLINE void rj__update_groups(const rj_model *m, rj_state *s, const rj__frames *f,
+                                               rj__sums *e, double *fin)
+{
+    const double *vx = f->vx, *vy = f->vy;
+    int gi;
+    for (gi = 0; gi < m->ng; gi++) {
+        const int f0 = m->grp_first[gi], f1 = m->grp_first[gi + 1], r = m->grp_node[f0];
+        double sx = 0, sy = 0, msum = 0, ux, uy;
+        int q;
+        for (q = f0; q < f1; q++) {
+            sx += s->fx[m->grp_node[q]];
+            sy += s->fy[m->grp_node[q]];
+            msum += m->mass[m->grp_node[q]];
+        }
+        ux = vx[r] + f->kick * sx * m->grp_inv[gi];
+        uy = vy[r] + f->kick * sy * m->grp_inv[gi];
+        if (m->has_gravity && m->grp_inv[gi] > 0) {
+            ux += f->kick * m->solver.gravity[0];
+            uy += f->kick * m->solver.gravity[1];
+        }
+        if (m->grp_inv[gi] > 0)
+            e->kinetic += f->first ? msum * ((2 * vx[r] - ux) * ux + (2 * vy[r] - uy) * uy)
+                                   : msum * (vx[r] * ux + vy[r] * uy);
+        for (q = f0; q < f1; q++) {
+            const int n = m->grp_node[q];
+            f->nvx[n] = ux;
+            f->nvy[n] = uy;
+            f->nx[n] = f->x[n] + f->dt * ux;
+            f->ny[n] = f->y[n] + f->dt * uy;
+            *fin += f->nx[n] + f->ny[n];
+        }
+    }
+}
+
+/* Gravity on a rigid body of a mixed scene: M g at its centre of mass (the link's rod and
+   tip mass, and the nodes of other links its pins carry), a moment about its anchor when
+   the anchor is a pin rather than the centre. */
+static void rj__cl_gravity(const rj_model *m, int c, const double *oc, const double *x,
+                           const double *y, double *Fx, double *Fy, double *T)
+{
+    const int n0 = m->link_first[c], nt = m->link_first[c + 1] - 1;
+    const double gx = m->solver.gravity[0], gy = m->solver.gravity[1];
+    double mx, my;
+    int k;
+    rj__cl_own_moment(m, c, x, y, &mx, &my);
+    for (k = m->cl_first[c]; k < m->cl_first[c + 1]; k++) {
+        const int n = m->cl_node[k];
+        if (n >= n0 && n <= nt)
+            continue;
+        mx += m->mass[n] * x[n];
+        my += m->mass[n] * y[n];
+    }
+    /* M g, and its moment about the anchor: sum m (r - anchor) x g */
+    *Fx += m->cl_M[c] * gx;
+    *Fy += m->cl_M[c] * gy;
+    *T += (mx - m->cl_M[c] * oc[0]) * gy - (my - m->cl_M[c] * oc[1]) * gx;
+}
+
+/* Stage 4c: rigid bodies in mixed scenes: anchor velocity and rate at n + 1/2. */
+static RJ__FORCE_INLINE void rj__update_bodies(const rj_model *m, rj_state *s, const rj__frames *f,
+                                               rj__sums *e)
+{
+    int gi;
+    for (gi = 0; gi < m->ncl; gi++) {
+        const double *oc = RJ__FCL(m, f->old, gi);
+        double *nc = RJ__FCL(m, f->next, gi), Fx, Fy, T;
+        int q;
+        if (m->cl_first[gi] == m->cl_first[gi + 1])
+            continue;
+        memcpy(nc, oc, 6 * sizeof(double));
+        if (m->cl_fix[gi] == 2)
+            continue;
+        rj__cl_load(m, gi, oc, f->x, f->y, s->fx, s->fy, s->mz, &Fx, &Fy, &T);
+        if (m->has_gravity)
+            rj__cl_gravity(m, gi, oc, f->x, f->y, &Fx, &Fy, &T);
+        if (m->cl_fix[gi] == 0) {
+            nc[2] = oc[2] + f->kick * Fx / m->cl_M[gi];
+            nc[3] = oc[3] + f->kick * Fy / m->cl_M[gi];
+        }
+        nc[4] = oc[4] + f->kick * T / m->cl_I[gi];
+        e->kinetic += rj__cl_ke2(m, gi, oc, nc, f->first);
+        for (q = m->cl_first[gi]; q < m->cl_first[gi + 1]; q++)
+            if (RJ__CL_RIGID(m, m->cl_node[q]))
+                f->nw[m->cl_node[q]] = nc[4];
+    }
+}
+
+/* Stage 4, the update: velocities at n + 1/2 and positions at n + 1 (grouped nodes and
+   nodes a velocity-level method changes are redone after). */
+static RJ__FORCE_INLINE void rj__stage_update(const rj_model *m, rj_state *s, const rj__frames *f,
+                                              const rj__adv *adv, rj__sums *e, double *fin)
+{
+    rj__update_joint_nodes(m, s, f, adv, e);
+    rj__update_groups(m, s, f, e, fin);
+    rj__update_bodies(m, s, f, e);
+    e->kinetic *= 0.5;
+}
+
+/* Is this a velocity-level limit method (a jump in the rates at the limit)? */
+static RJ__INLINE int rj__velocity_method(int method)
+{
+    return method == RJ_METHOD_MOMENTUM || method == RJ_METHOD_ENERGY || method == RJ_METHOD_FORCED;
+}
+
+/* A velocity-level joint released under RC13 (rate pointing out at the step's start) that
+   the step's kick turns back in while still past its limit is in contact again now, not one
+   step later: that lag let the bodies behind ratchet it through the stop (stress suite:
+   48 deg in a 1000:1 chain). Returns the flag. */
+static RJ__FORCE_INLINE int rj__recontact(const rj__joint *J, const double *old_joint, double ratep,
+                                          int *new_flag, double *kept)
+{
+    const double run = old_joint[RJ__JD_THETA];
+    if (run <= J->rev && ratep < 0) {
+        *new_flag = RJ_AT_REVERSE;
+        kept[5] = J->rev - run;
+    } else if (run >= J->fwd && ratep > 0) {
+        *new_flag = RJ_AT_FORWARD;
+        kept[5] = J->fwd - run;
+    }
+    return *new_flag;
+}
+
+/* After a jump, the joint's nodes move with the new rates (rj__spin changes nK and nL only
+   with a chord reference); a rigid body's node carries its whole body. */
+static RJ__FORCE_INLINE void rj__jump_nodes(const rj_model *m, const rj__frames *f,
+                                            const rj__joint *J, double *fin)
+{
+    const int nodes[4] = { J->nI, J->chord ? J->nK : -1, J->nJ, J->chord ? J->nL : -1 };
+    int k;
+    for (k = 0; k < 4; k++) {
+        const int n = nodes[k];
+        if (n < 0)
+            continue;
+        f->nx[n] = f->x[n] + f->dt * f->nvx[n];
+        f->ny[n] = f->y[n] + f->dt * f->nvy[n];
+        f->nphi[n] = f->phi[n] + f->dt * f->nw[n];
+        *fin += (f->nx[n] + f->ny[n]) + f->nphi[n];
+        if (m->ncl && RJ__CL_RIGID(m, n)) {
+            const int c = m->node_cl[n];
+            int q;
+            RJ__FCL(m, f->next, c)[4] = f->nw[n];
+            for (q = m->cl_first[c]; q < m->cl_first[c + 1]; q++)
+                if (RJ__CL_RIGID(m, m->cl_node[q]))
+                    f->nw[m->cl_node[q]] = f->nw[n];
+        }
+    }
+}
+
+/* The jump of one velocity-level joint turning into its limit (momentum: Eqs 23-24 with
+   e; energy: Eq 26; forced, or any while locked: plastic). In the kinetic energy's form
+   1/2 v^{n-1/2}.v^{n+1/2} a jump from w_b to w_b' loses 1/2 I_b (w_b^{n-1/2} + w_b')
+   (w_b - w_b') per body: this step takes the first half, the next the second (pending).
+   A latch that only cancels the step's small relative rate loses almost nothing, as a
+   workless constraint should. Returns the rate after. */
+static RJ__FORCE_INLINE double rj__joint_jump(const rj_model *m, const rj__frames *f, int j,
+                                              int flag, const rj__jgeo *g, double w1, double w2,
+                                              rj__sums *e, double *fin)
+{
+    const rj_joint_def *d = &m->jdef[j];
+    const rj__joint *J = &m->jnt[j];
+    double *new_joint = RJ__FJ(m, f->next, j);
+    const double o1 = w1, o2 = w2;
+    double m1 = 0, m2 = 0, loss = 0;
+    /* the bodies' rates at n - 1/2 */
+    rj__joint_rate(J, g, f->vx, f->vy, f->w, &m1, &m2);
+    if (d->method == RJ_METHOD_MOMENTUM)
+        rj_momentum_balance(J->I1, J->I2, flag == RJ_LOCKED ? 0.0 : d->restitution, &w1, &w2);
+    else if (d->method == RJ_METHOD_ENERGY && flag != RJ_LOCKED)
+        rj_energy_balance(J->I1, J->I2, &w1, &w2);
+    else
+        rj_momentum_balance(J->I1, J->I2, 0.0, &w1, &w2);
+    if (!rj__finite(J->I1))
+        w1 = o1;
+    if (!rj__finite(J->I2))
+        w2 = o2;
+    if (rj__finite(J->I1)) {
+        loss += 0.5 * J->I1 * m1 * (o1 - w1);
+        e->pending += 0.5 * J->I1 * w1 * (o1 - w1);
+    }
+    if (rj__finite(J->I2)) {
+        loss += 0.5 * J->I2 * m2 * (o2 - w2);
+        e->pending += 0.5 * J->I2 * w2 * (o2 - w2);
+    }
+    /* the latch's angular impulse on body 2 (body 1 takes the opposite) */
+    new_joint[RJ__JD_IMPULSE] = rj__finite(J->I2) ? J->I2 * (w2 - o2) : -J->I1 * (w1 - o1);
+    rj__spin(J, g, w1 - o1, w2 - o2, f->nvx, f->nvy, f->nw);
+    rj__jump_nodes(m, f, J, fin);
+    e->lost_limit += loss;
+    e->kinetic -= loss;
+    return rj__joint_rate(J, g, f->nvx, f->nvy, f->nw, NULL, NULL);
+}
+
+/* Stage 5, the limits' velocity-level responses, and the work of the joint torques. */
+static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_state *s,
+                                                       const rj__frames *f, rj__sums *e,
+                                                       double *fin)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const rj__joint *J = &m->jnt[j];
+        double *new_joint = RJ__FJ(m, f->next, j), *kept = s->jsc + 8 * j;
+        const double *old_joint = RJ__FJ(m, f->old, j);
+        rj__jgeo g;
+        double w1, w2, ratep;
+        int flag = f->new_flags[j];
+        rj__kept_geo(kept, &g);
+        ratep = rj__joint_rate(J, &g, f->nvx, f->nvy, f->nw, &w1, &w2);
+        if (flag == RJ_FREE && rj__velocity_method(d->method))
+            flag = rj__recontact(J, old_joint, ratep, &f->new_flags[j], kept);
+        if (flag != RJ_FREE && rj__velocity_method(d->method) && rj__into_limit(flag, ratep))
+            ratep = rj__joint_jump(m, f, j, flag, &g, w1, w2, e, fin);
+        rj__element_work(old_joint, new_joint, kept[4], f->dt, &e->lost_damping, &e->lost_friction,
+                         &e->lost_limit);
+        new_joint[RJ__JD_RATE] = ratep;
+    }
+}
+
+/* Stage 6a: rigid bodies' poses at n + 1. */
+static RJ__FORCE_INLINE void rj__constrain_bodies(const rj_model *m, const rj__frames *f,
+                                                  double *fin)
+{
+    int gi;
+    for (gi = 0; gi < m->ncl; gi++) {
+        const double *oc = RJ__FCL(m, f->old, gi);
+        double *nc = RJ__FCL(m, f->next, gi);
+        if (m->cl_first[gi] == m->cl_first[gi + 1])
+            continue;
+        nc[0] = oc[0] + f->dt * nc[2];
+        nc[1] = oc[1] + f->dt * nc[3];
+        nc[5] = oc[5] + f->dt * nc[4];
+        *fin += rj__cl_pose(m, gi, nc, f->x, f->y, f->dt, 1, f->nx, f->ny, f->nphi, f->nvx, f->nvy,
+                            f->nw);
+    }
+}
+
+/* The kinetic energy again, with the projected velocities (inextensible links). */
+static RJ__FORCE_INLINE double rj__kinetic_again(const rj_model *m, const rj__frames *f)
+{
+    const double *vx = f->vx, *vy = f->vy, *w = f->w;
+    const double *nvx = f->nvx, *nvy = f->nvy, *nw = f->nw;
+    const int first = f->first;
+    double k0 = 0;
+    int i, gi;
+    for (i = 0; i < m->nn; i++) {
+        const double vmx = first ? 2 * vx[i] - nvx[i] : vx[i],
+                     vmy = first ? 2 * vy[i] - nvy[i] : vy[i];
+        const double vmw = first ? 2 * w[i] - nw[i] : w[i];
+        k0 += m->kmass[i] * (vmx * nvx[i] + vmy * nvy[i]) + m->krot[i] * vmw * nw[i];
+    }
+    for (gi = 0; gi < m->ng; gi++) {
+        const int r0 = m->grp_node[m->grp_first[gi]];
+        double msum = 0;
+        int q;
+        if (!(m->grp_inv[gi] > 0))
+            continue;
+        for (q = m->grp_first[gi]; q < m->grp_first[gi + 1]; q++)
+            msum += m->mass[m->grp_node[q]];
+        k0 += msum * ((first ? 2 * vx[r0] - nvx[r0] : vx[r0]) * nvx[r0] +
+                      (first ? 2 * vy[r0] - nvy[r0] : vy[r0]) * nvy[r0]);
+    }
+    for (gi = 0; gi < m->ncl; gi++)
+        if (m->cl_first[gi] < m->cl_first[gi + 1] && m->cl_fix[gi] != 2)
+            k0 += rj__cl_ke2(m, gi, RJ__FCL(m, f->old, gi), RJ__FCL(m, f->next, gi), first);
+    return 0.5 * k0;
+}
+
+/* Stage 6, constraints on positions: rigid bodies' poses; inextensible links projected
+   (constraint forces do no work: the velocities follow the projected positions, and the
+   kinetic energy is taken again with them). */
+static RJ__FORCE_INLINE void rj__stage_constraints(const rj_model *m, rj_state *s,
+                                                   const rj__frames *f, rj__sums *e, double *fin)
+{
+    const double *x = f->x, *y = f->y;
+    double *nx = f->nx, *ny = f->ny;
+    double idt;
+    int i;
+    rj__constrain_bodies(m, f, fin);
+    if (!m->any_inext)
+        return;
+    idt = 1.0 / f->dt;
+    rj__shake(m, s, x, y, nx, ny);
+    for (i = 0; i < m->nn; i++) {
+        f->nvx[i] = (nx[i] - x[i]) * idt;
+        f->nvy[i] = (ny[i] - y[i]) * idt;
+        /* velocities from positions: summed too (see rj__cl_pose) */
+        *fin += ((nx[i] + ny[i]) + f->nphi[i]) + (f->nvx[i] + f->nvy[i]);
+    }
+    if (f->en)
+        e->kinetic = rj__kinetic_again(m, f);
+}
+
+/* Forced displacement (sec. 3): a joint past its limit, or off its lock, turned back by p;
+   a rigid body's node turns its body (positions only). Returns the running angle. */
+static RJ__FORCE_INLINE double rj__force_back(const rj_model *m, const rj__frames *f, int j,
+                                              const rj__jgeo *g, double run, double *fin)
+{
+    const rj__joint *J = &m->jnt[j];
+    const int flag = f->new_flags[j];
+    double target = run, p;
+    int k;
+    if (flag == RJ_AT_FORWARD && run > J->fwd)
+        target = J->fwd;
+    else if (flag == RJ_AT_REVERSE && run < J->rev)
+        target = J->rev;
+    else if (flag == RJ_LOCKED)
+        target = RJ__FJ(m, f->next, j)[RJ__JD_LOCK];
+    p = target - run;
+    if (p == 0)
+        return run;
+    rj__turn(J, -p * J->w1, p * J->w2, f->nx, f->ny, f->nphi);
+    *fin += rj__joint_nodes_sum(J, f->nx, f->ny, f->nphi);
+    if (m->ncl) {
+        const int nodes[2] = { J->nI, J->nJ };
+        for (k = 0; k < 2; k++)
+            if (nodes[k] >= 0 && RJ__CL_RIGID(m, nodes[k])) {
+                const int c = m->node_cl[nodes[k]];
+                double *nc = RJ__FCL(m, f->next, c);
+                nc[5] = f->nphi[nodes[k]] - (m->phi0[nodes[k]] - m->cl_th0[3 * c]);
+                *fin += rj__cl_pose(m, c, nc, f->x, f->y, f->dt, 0, f->nx, f->ny, f->nphi, f->nvx,
+                                    f->nvy, f->nw);
+            }
+    }
+    return J->chord ? target : rj__joint_raw(J, g, f->nphi);
+}
+
+/* Stage 7, the joints' running angles at n + 1 (unwrapped in chord mode), and forced
+   displacement back to the limit. */
+static RJ__FORCE_INLINE rj_result rj__stage_joint_angles(const rj_model *m, rj_state *s,
+                                                         const rj__frames *f, double *fin)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const rj__joint *J = &m->jnt[j];
+        double *new_joint = RJ__FJ(m, f->next, j);
+        rj__jgeo g;
+        double raw, turn, run;
+        rj__joint_geo(m, J, f->nx, f->ny, &g);
+        raw = rj__joint_raw(J, &g, f->nphi);
+        turn = J->chord ? rj__wrap(raw - new_joint[RJ__JD_THETA]) : raw - new_joint[RJ__JD_THETA];
+        if (!(fabs(turn) <= 0.5 * RJ__PI))
+            return rj__stop(m, s, RJ_ERR_TUNNEL,
+                            "t = %.9g s: joint %d turned %.4g rad in one step (more than a quarter "
+                            "revolution, pi/2 rad): the step %g s is far too large for its speed%s",
+                            f->t, j, turn, f->dt,
+                            d->has_forward || d->has_reverse ? "; its limits could be tunnelled"
+                                                             : "");
+        run = new_joint[RJ__JD_THETA] + turn;
+        if (d->method == RJ_METHOD_FORCED && f->new_flags[j] != RJ_FREE)
+            run = rj__force_back(m, f, j, &g, run, fin);
+        new_joint[RJ__JD_THETA] = run;
+    }
+    return RJ_OK;
+}
+
+/* The energy tests' verdict when they fail: the message, naming the test, the fastest
+   node (frame; NULL for rigid links in joint coordinates) and the likely causes. */
+static rj_result rj__energy_stop(const rj_model *m, rj_state *s, const double *frame, double t,
+                                 rj__sums e, double scale, double created)
+{
+    const double ke = e.kinetic, U = e.strain, lost_l = e.lost_limit;
+    const double E = U > fabs(ke) ? U : fabs(ke);
+    char buffer[400], where[400];
+    const char *causes;
+    if (frame) {
+        int bl, bn;
+        rj__worst_node(m, frame, &bl, &bn);
+        snprintf(where, sizeof where, "fastest node link %d node %d", bl, bn);
+    } else
+        rj__rig_fastest(m, s, where, sizeof where);
+    causes = rj__blowup_causes(m, m->nload > 0 || s->inputs || s->node_inputs, e.work,
+                               fabs(ke) + fabs(U), buffer, sizeof buffer);
+    if (created > RJ__CREATED * scale || lost_l < -RJ__CREATED * scale)
+        return rj__stop(m, s, RJ_ERR_BLOWUP,
+                        "t = %.9g s: %.6g J of energy created (balance %.6g J, limit work %.6g J; "
+                        "more than %g of the initial %.6g J); %s; %s",
+                        t, created > -lost_l ? created : -lost_l, created, -lost_l, RJ__CREATED,
+                        scale, where, causes);
+    if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l))
+        return rj__stop(m, s, RJ_ERR_BLOWUP, "t = %.9g s: non-finite energy, %s; %s", t, where,
+                        causes);
+    return rj__stop(m, s, RJ_ERR_BLOWUP,
+                    "t = %.9g s: kinetic or strain energy %.6g J exceeds %g x the initial %.6g J; "
+                    "%s; %s",
+                    t, E, m->solver.energy_growth, scale, where, causes);
+}
+
+/* The energy tests, the same for every link model. An unstable mode alternates in sign:
+   v^{n-1/2}.v^{n+1/2} turns negative while the strain grows, and their sum is what the
+   scheme conserves, so each is tested alone; and limit responses are dissipative, so energy
+   they put in means chatter. frame: the nodes to name the fastest of (NULL: rigid links in
+   joint coordinates). e0 is the initial energy, old_spring the springs' energy at n - 1. */
+static RJ__FORCE_INLINE rj_result rj__energy_check(const rj_model *m, rj_state *s,
+                                                   const double *frame, double t, const rj__sums *e,
+                                                   double old_spring, double e0)
+{
+    const double ke = e->kinetic, U = e->strain, V = e->spring, lost_l = e->lost_limit;
+    const double E = U > fabs(ke) ? U : fabs(ke);
+    /* the initial energy less gravity's potential now, plus the inputs' work: what gravity
+       has released and the caller has put in may turn into kinetic energy */
+    const double outside = e->gravity - e->work; /* what gravity and the caller account for */
+    const double scale = fabs(e0 - outside) + fabs(old_spring) + s->settle_scale + 1e-9;
+    const double created = ke + U + V + outside + e->lost_damping + e->lost_friction + lost_l - e0;
+    if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) ||
+        E > m->solver.energy_growth * (scale + fabs(V)) || created > RJ__CREATED * scale ||
+        lost_l < -RJ__CREATED * scale)
+        return rj__energy_stop(m, s, frame, t, *e, scale, created);
+    return RJ_OK;
+}
+
+/* The accounts of a first step (from rest): the energy there is the initial energy, and
+   the losses and work start from zero. */
+static void rj__first_accounts(double *new_scalars, rj__sums *e, double energy)
+{
+    new_scalars[RJ__FS_E0] = energy;
+    new_scalars[RJ__FS_LDAMP] = new_scalars[RJ__FS_LFRIC] = new_scalars[RJ__FS_WORK] = 0;
+    new_scalars[RJ__FS_LLIM] = 0;
+    e->lost_damping = e->lost_friction = e->work = e->lost_limit = 0;
+}
+
+/* The new frame's scalars: time, the accounts (on the steps that take them; the initial
+   energy in the same discrete form as every later one), and the energy tests. */
+static RJ__FORCE_INLINE rj_result rj__step_accounts(const rj_model *m, rj_state *s,
+                                                    const rj__frames *f, rj__sums *e)
+{
+    const double *osc = f->old_scalars;
+    double *nsc = f->new_scalars;
+    const double warn = nsc[RJ__FS_WARN]; /* counted in this step already */
+    memcpy(nsc, osc, sizeof(double) * RJ__FS_COUNT);
+    nsc[RJ__FS_WARN] = warn;
+    nsc[RJ__FS_TIME] = f->t + f->dt;
+    nsc[RJ__FS_LDAMP] = e->lost_damping;
+    nsc[RJ__FS_LFRIC] = e->lost_friction;
+    nsc[RJ__FS_LLIM] = e->lost_limit;
+    nsc[RJ__FS_PEND] = e->pending;
+    nsc[RJ__FS_WORK] = e->work;
+    if (!f->en)
+        return RJ_OK;
+    nsc[RJ__FS_ETIME] = f->t;
+    nsc[RJ__FS_KE] = e->kinetic;
+    nsc[RJ__FS_STRAIN] = e->strain;
+    nsc[RJ__FS_SPRING] = e->spring;
+    nsc[RJ__FS_GRAV] = e->gravity;
+    if (f->first)
+        rj__first_accounts(nsc, e, e->kinetic + e->strain + e->spring + e->gravity);
+    return rj__energy_check(m, s, f->advanced, f->t, e, osc[RJ__FS_SPRING], nsc[RJ__FS_E0]);
+}
+
+/* The step's end: in place, the new scalars, joints and bodies join the advanced nodes;
+   double-buffered, the frames swap. */
+static RJ__FORCE_INLINE void rj__step_commit(const rj_model *m, rj_state *s, const rj__frames *f)
+{
+    if (f->ip) {
+        const size_t j0 = RJ__FS_COUNT + 6 * (size_t) m->nn + 3 * (size_t) m->ne;
+        memcpy(f->current, f->next, sizeof(double) * RJ__FS_COUNT);
+        memcpy(f->current + j0, f->next + j0, sizeof(double) * (m->frame_doubles - j0));
+        memcpy(s->fi[s->cur], f->new_flags, sizeof(int) * (m->frame_ints + 1));
+    } else
+        s->cur = 1 - s->cur;
+    s->steps++;
+}
+
+/* One step of flexible, inextensible and mixed scenes, stage by stage; the energy accounts
+   are taken when want_energy is set, at the first step, and solver.energy_every steps after
+   the last time. ip: in place (rj__step below). Every stage adds to fin the positions it
+   wrote, each from the velocity, torque or body motion behind it: finite while they all
+   are. Applied loads enter between stages 2 and 3, so that friction sees them. */
+static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, int want_energy,
+                                               int ip)
+{
+    rj__frames f;
+    rj__sums e;
+    rj__adv adv;
+    rj_result r;
+    double fin = 0;
+    const int applied = s->inputs | s->node_inputs | m->nload; /* rj__stage_applied's */
+    rj__frames_open(m, s, want_energy, ip, &f);
+    rj__frames_nodes(m, &f);
+    rj__sums_open(f.old_scalars, &e);
+    adv.fin = &fin;
+    rj__stage_beams(m, s, &f, &adv, &e);
+    rj__stage_joint_torques(m, s, &f, &e);
+    if (applied) {
+        r = rj__stage_applied(m, s, f.next, f.t, f.ip ? f.next : f.current, f.advanced, f.kick);
+        if (r != RJ_OK)
+            return r;
+        e.work += s->step_work;
+        fin += s->step_fin;
+    }
+    rj__stage_friction(m, s, &f);
+    rj__stage_update(m, s, &f, &adv, &e, &fin);
+    rj__stage_velocity_limits(m, s, &f, &e, &fin);
+    if (applied)
+        e.work += rj__applied_work(m, s, f.old, f.next);
+    rj__stage_constraints(m, s, &f, &e, &fin);
+    r = rj__stage_joint_angles(m, s, &f, &fin);
+    if (r != RJ_OK)
+        return r;
+    if (!rj__finite(fin))
+        return rj__stop_nonfinite(m, s, f.advanced, f.t);
+    r = rj__step_accounts(m, s, &f, &e);
+    if (r != RJ_OK)
+        return r;
+    rj__step_commit(m, s, &f);
+    return RJ_OK;
+}
+
