@@ -778,7 +778,9 @@ enum {
     RJ__JD_QDD,
     RJ__JD_IMPULSE,
     RJ__JD_INPUT,   /* the caller's torque applied in the step that made this frame */
-    RJ__JD_SIDE,    /* the band of 360 deg the angle was last clearly in (0.5: not yet) */
+    RJ__JD_ZONE_LO, /* rad: the zone the angle is in, a band of 360 deg less 1 deg at each */
+    RJ__JD_ZONE_HI, /* end or 1 deg about a fold between two (1e99 and -1e99: none yet) */
+    RJ__JD_BAND,    /* rad: the start of the last band's zone (1e99: none yet) */
     RJ__JD_OVERLAP, /* the first time the two links passed through each other, s (-1) */
     RJ__JD_TQ0,
     RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT
@@ -5186,7 +5188,9 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
                               : rj__joint_rate(&m->jnt[j], &g, m->vx0, m->vy0, m->w0, NULL, NULL);
         jd[RJ__JD_EVENT] = -1;
         jd[RJ__JD_RELEASE] = -1;
-        jd[RJ__JD_SIDE] = 0.5;
+        jd[RJ__JD_ZONE_LO] = 1e99;
+        jd[RJ__JD_ZONE_HI] = -1e99;
+        jd[RJ__JD_BAND] = 1e99;
         jd[RJ__JD_OVERLAP] = -1;
     }
     if (m->rigid) {
@@ -5658,27 +5662,43 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
    multiple of 360 deg, its two links lie over each other and pass through. That is
    reported once per joint, as a warning and its time (rj_joint_overlap_time): when the
    angle is clearly (1 deg) inside a band of 360 deg other than the one it was last
-   clearly in. A hinge stowed folded at 0 or 360 deg, or vibrating there, has not passed. */
+   clearly in. A hinge stowed folded at 0 or 360 deg, or vibrating there, has not passed.
+   The zone the angle is in (a band's clear inside, or a fold) is kept in the joint's
+   record, so that a step costs two comparisons while the angle stays in it. */
 #define RJ__OVERLAP_MARGIN 0.0174532925199432958
-static void rj__overlap(const rj_model *m, rj_state *s, int j, double run, double t,
-                        const double *oj, double *nj_, double *nsc)
+static void rj__overlap_band(const rj_model *m, rj_state *s, int j, double run, double t,
+                             const double *oj, double *nj_, double *nsc)
 {
-    const double turns = run / RJ__TWO_PI;
-    const double band = floor(turns);
-    const double inside = (turns - band) * RJ__TWO_PI;
-    const double side = oj[RJ__JD_SIDE];
-    if (inside < RJ__OVERLAP_MARGIN || inside > RJ__TWO_PI - RJ__OVERLAP_MARGIN)
+    const double band = floor(run / RJ__TWO_PI);
+    const double lo = band * RJ__TWO_PI + RJ__OVERLAP_MARGIN;
+    const double hi = (band + 1) * RJ__TWO_PI - RJ__OVERLAP_MARGIN;
+    const double last_lo = oj[RJ__JD_BAND];
+    /* at a fold: its zone, 1 deg either side, decides nothing */
+    if (run < lo || run > hi) {
+        const double fold = run < lo ? band * RJ__TWO_PI : (band + 1) * RJ__TWO_PI;
+        nj_[RJ__JD_ZONE_LO] = fold - RJ__OVERLAP_MARGIN;
+        nj_[RJ__JD_ZONE_HI] = fold + RJ__OVERLAP_MARGIN;
         return;
-    nj_[RJ__JD_SIDE] = band;
-    if (side == band || side != floor(side) || oj[RJ__JD_OVERLAP] >= 0)
+    }
+    nj_[RJ__JD_ZONE_LO] = lo;
+    nj_[RJ__JD_ZONE_HI] = hi;
+    nj_[RJ__JD_BAND] = lo;
+    if (last_lo == 1e99 || last_lo == lo || oj[RJ__JD_OVERLAP] >= 0)
         return;
     nj_[RJ__JD_OVERLAP] = t;
     nsc[RJ__FS_WARN] += 1;
     snprintf(s->warn, sizeof s->warn,
              "t = %.9g s: joint %d turned through %.0f deg: its links %d and %d passed "
              "through each other (links do not contact each other)",
-             t, j, rj_deg(band > side ? band * RJ__TWO_PI : side * RJ__TWO_PI),
+             t, j, rj_deg(lo > last_lo ? lo - RJ__OVERLAP_MARGIN : hi + RJ__OVERLAP_MARGIN),
              m->jdef[j].body1, m->jdef[j].body2);
+}
+static RJ__FORCE_INLINE void rj__overlap(const rj_model *m, rj_state *s, int j, double run,
+                                         double t, const double *oj, double *nj_, double *nsc)
+{
+    if (run >= oj[RJ__JD_ZONE_LO] && run <= oj[RJ__JD_ZONE_HI])
+        return;
+    rj__overlap_band(m, s, j, run, t, oj, nj_, nsc);
 }
 
 /* The revolute element for one joint and one step, shared by every link model: status

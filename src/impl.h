@@ -149,7 +149,9 @@ enum {
     RJ__JD_QDD,
     RJ__JD_IMPULSE,
     RJ__JD_INPUT,   /* the caller's torque applied in the step that made this frame */
-    RJ__JD_SIDE,    /* the band of 360 deg the angle was last clearly in (0.5: not yet) */
+    RJ__JD_ZONE_LO, /* rad: the zone the angle is in, a band of 360 deg less 1 deg at each */
+    RJ__JD_ZONE_HI, /* end or 1 deg about a fold between two (1e99 and -1e99: none yet) */
+    RJ__JD_BAND,    /* rad: the start of the last band's zone (1e99: none yet) */
     RJ__JD_OVERLAP, /* the first time the two links passed through each other, s (-1) */
     RJ__JD_TQ0,
     RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT
