@@ -62,10 +62,8 @@ $(B)/pngdiff: render/pngdiff.c $(RENDER) | $(B)
 # use the public API alone include the header plain and link it, as a program of several
 # files would. The others (private internals, their own RJ_MALLOC) compile it themselves.
 TDEPS   = tests/rjt.h tests/rjt_loads.h examples/scenes.h examples/rigid2.h $(HDR)
-LINKED  = $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_benchmarks $(B)/test_loads \
-          $(B)/test_applied
-LINKED_ASAN = $(B)/test_core_asan $(B)/test_beam_asan $(B)/test_dynamics_asan \
-          $(B)/test_loads_asan $(B)/test_applied_asan
+LINKED  = $(B)/test_core $(B)/test_beam $(B)/test_benchmarks $(B)/test_loads $(B)/test_applied
+LINKED_ASAN = $(B)/test_core_asan $(B)/test_beam_asan $(B)/test_loads_asan $(B)/test_applied_asan
 $(B)/rj_impl.o: tests/rjt_impl.c $(HDR) | $(B)
 	$(CC) $(ALLCF) -c $< -o $@
 $(B)/rj_impl_asan.o: tests/rjt_impl.c $(HDR) | $(B)

@@ -1,4 +1,5 @@
 /* Dynamics: conservation laws, energy balance, limit methods, locks, friction, damping. */
+#define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "../examples/scenes.h"
 #include "rjt.h"
