@@ -41,18 +41,22 @@ $(B):
 $(HDR): $(wildcard src/*.h) src/parts.txt tools/amalgamate.sh
 	@sh tools/amalgamate.sh
 
-$(B)/impact: examples/impact.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) $(B)/rj_render.o | $(B)
-	$(CC) $(ALLCF) examples/impact.c $(B)/rj_render.o -o $@ $(GL)
-$(B)/deploy: examples/deploy.c examples/scenes.h examples/cli.h examples/rigid2.h $(HDR) $(RENDER) $(B)/rj_render.o | $(B)
-	$(CC) $(ALLCF) examples/deploy.c $(B)/rj_render.o -o $@ $(GL)
-$(B)/animate: examples/animate.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) $(B)/rj_render.o | $(B)
-	$(CC) $(ALLCF) examples/animate.c $(B)/rj_render.o -o $@ $(GL)
-$(B)/rj: examples/rj.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) $(B)/rj_render.o | $(B)
-	$(CC) $(ALLCF) examples/rj.c $(B)/rj_render.o -o $@ $(GL)
-$(B)/sweep: examples/sweep.c examples/scenes.h examples/cli.h $(HDR) | $(B)
-	$(CC) $(ALLCF) $< -o $@ -lm -lpthread
-$(B)/studies: examples/studies.c examples/scenes.h examples/rigid2.h examples/cli.h $(HDR) | $(B)
-	$(CC) $(ALLCF) $< -o $@ -lm
+# The examples are single files, each defining REVJOINT_IMPLEMENTATION as a user's would.
+# Built here they link the implementation compiled once ($(B)/rj_impl.o; EXCF sets the
+# header's latch that skips it in their own file): the same code, compiled once.
+EXCF    = $(ALLCF) -DREVJOINT_IMPLEMENTATION_DONE
+$(B)/impact: examples/impact.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) $(B)/rj_render.o $(B)/rj_impl.o | $(B)
+	$(CC) $(EXCF) examples/impact.c $(B)/rj_render.o $(B)/rj_impl.o -o $@ $(GL)
+$(B)/deploy: examples/deploy.c examples/scenes.h examples/cli.h examples/rigid2.h $(HDR) $(RENDER) $(B)/rj_render.o $(B)/rj_impl.o | $(B)
+	$(CC) $(EXCF) examples/deploy.c $(B)/rj_render.o $(B)/rj_impl.o -o $@ $(GL)
+$(B)/animate: examples/animate.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) $(B)/rj_render.o $(B)/rj_impl.o | $(B)
+	$(CC) $(EXCF) examples/animate.c $(B)/rj_render.o $(B)/rj_impl.o -o $@ $(GL)
+$(B)/rj: examples/rj.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) $(B)/rj_render.o $(B)/rj_impl.o | $(B)
+	$(CC) $(EXCF) examples/rj.c $(B)/rj_render.o $(B)/rj_impl.o -o $@ $(GL)
+$(B)/sweep: examples/sweep.c examples/scenes.h examples/cli.h $(HDR) $(B)/rj_impl.o | $(B)
+	$(CC) $(EXCF) $< $(B)/rj_impl.o -o $@ -lm -lpthread
+$(B)/studies: examples/studies.c examples/scenes.h examples/rigid2.h examples/cli.h $(HDR) $(B)/rj_impl.o | $(B)
+	$(CC) $(EXCF) $< $(B)/rj_impl.o -o $@ -lm
 $(B)/quickstart: examples/quickstart.c $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
 $(B)/pngdiff: render/pngdiff.c $(RENDER) | $(B)
@@ -60,10 +64,22 @@ $(B)/pngdiff: render/pngdiff.c $(RENDER) | $(B)
 
 # The implementation compiled once per flavour (tests/rjt_impl.c); the test programs that
 # use the public API alone include the header plain and link it, as a program of several
-# files would. The others (private internals, their own RJ_MALLOC) compile it themselves.
+# files would; the two that watch the library's memory link it compiled with their
+# allocation hooks (tests/rjt_impl_hooked.c). test_mixed reads private internals and
+# compiles it itself.
 TDEPS   = tests/rjt.h tests/rjt_loads.h examples/scenes.h examples/rigid2.h $(HDR)
-LINKED  = $(B)/test_core $(B)/test_beam $(B)/test_benchmarks $(B)/test_loads $(B)/test_applied
-LINKED_ASAN = $(B)/test_core_asan $(B)/test_beam_asan $(B)/test_loads_asan $(B)/test_applied_asan
+LINKED  = $(B)/test_core $(B)/test_beam $(B)/test_benchmarks $(B)/test_loads $(B)/test_applied \
+          $(B)/test_robust $(B)/test_dynamics
+LINKED_ASAN = $(B)/test_core_asan $(B)/test_beam_asan $(B)/test_loads_asan $(B)/test_applied_asan \
+          $(B)/test_robust_asan $(B)/test_dynamics_asan
+$(B)/rj_impl_hooked.o: tests/rjt_impl_hooked.c tests/rjt_alloc.h $(HDR) | $(B)
+	$(CC) $(ALLCF) -c $< -o $@
+$(B)/rj_impl_hooked_asan.o: tests/rjt_impl_hooked.c tests/rjt_alloc.h $(HDR) | $(B)
+	$(CC) $(WARN) $(SAN) -I. -c $< -o $@
+$(B)/test_state: tests/test_state.c tests/rjt_alloc.h $(TDEPS) $(B)/rj_impl_hooked.o | $(B)
+	$(CC) $(ALLCF) $< $(B)/rj_impl_hooked.o -o $@ -lm
+$(B)/test_state_asan: tests/test_state.c tests/rjt_alloc.h $(TDEPS) $(B)/rj_impl_hooked_asan.o | $(B)
+	$(CC) $(WARN) $(SAN) -I. $< $(B)/rj_impl_hooked_asan.o -o $@ -lm
 $(B)/rj_impl.o: tests/rjt_impl.c $(HDR) | $(B)
 	$(CC) $(ALLCF) -c $< -o $@
 $(B)/rj_impl_asan.o: tests/rjt_impl.c $(HDR) | $(B)
@@ -91,18 +107,18 @@ $(B)/test_core_clang: tests/test_core.c tests/rjt.h examples/scenes.h $(HDR) $(B
 $(B)/test_cpp: tests/test_core.c tests/rjt.h examples/scenes.h $(HDR) $(B)/rj_impl_cpp.o | $(B)
 	g++ -x c++ -std=c++11 -Wall -Wextra -pedantic -Werror -O2 -I. tests/test_core.c -x none $(B)/rj_impl_cpp.o -o $@ -lm
 # test code formats long diagnostics into fixed buffers: truncation there is harmless
-$(B)/test_scene: tests/test_scene.c tests/rjt.h examples/scenes.h $(HDR) | $(B)
-	$(CC) $(ALLCF) -Wno-format-truncation $< -o $@ -lm
-$(B)/test_scene_asan: tests/test_scene.c examples/scenes.h $(HDR) | $(B)
-	$(CC) $(WARN) -Wno-format-truncation $(SAN) -I. $< -o $@ -lm
+$(B)/test_scene: tests/test_scene.c tests/rjt_alloc.h $(TDEPS) $(B)/rj_impl_hooked.o | $(B)
+	$(CC) $(ALLCF) -Wno-format-truncation $< $(B)/rj_impl_hooked.o -o $@ -lm
+$(B)/test_scene_asan: tests/test_scene.c tests/rjt_alloc.h $(TDEPS) $(B)/rj_impl_hooked_asan.o | $(B)
+	$(CC) $(WARN) -Wno-format-truncation $(SAN) -I. $< $(B)/rj_impl_hooked_asan.o -o $@ -lm
 $(B)/stress: tests/stress.c tests/rjt.h examples/scenes.h $(HDR) $(B)/rj_impl.o | $(B)
 	$(CC) $(ALLCF) -Wno-format-truncation $< $(B)/rj_impl.o -o $@ -lm
 $(B)/bench: bench/bench.c examples/scenes.h examples/rigid2.h $(HDR) $(RENDER) $(B)/rj_render.o | $(B)
 	$(CC) $(ALLCF) bench/bench.c $(B)/rj_render.o -o $@ $(GL)
 $(B)/segmented: bench/segmented.c examples/scenes.h $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
-$(B)/pd_arm: examples/pd_arm.c examples/scenes.h examples/cli.h $(HDR) | $(B)
-	$(CC) $(ALLCF) $< -o $@ -lm
+$(B)/pd_arm: examples/pd_arm.c examples/scenes.h examples/cli.h $(HDR) $(B)/rj_impl.o | $(B)
+	$(CC) $(EXCF) $< $(B)/rj_impl.o -o $@ -lm
 # revjoint.h side by side with the MuJoCo peer; it runs build/peer_mujoco as a program, so
 # it builds without MuJoCo
 $(B)/peer_side: bench/peer_side.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) $(B)/rj_render.o | $(B)

@@ -107,7 +107,7 @@ static void run_sample(const job *jb, int k, char *row, size_t rowlen)
         double d;
         r = rj_step(m, s);
         if (r != RJ_OK) break;
-        if (jb->links != 1 && s->steps % 16 == 0 && fabs(d = scene_tip_defl(m, s, 1)) > peakdefl) peakdefl = fabs(d);
+        if (jb->links != 1 && rj_state_steps(s) % 16 == 0 && fabs(d = scene_tip_defl(m, s, 1)) > peakdefl) peakdefl = fabs(d);
     }
     snprintf(row, rowlen, "%d,%.6f,%.6f,%.6f,%.6g,%.6f,%.6f,%.6g,%.6g,%d,\"%s\"\n", k, fscale, pre, tscale, dt,
              rj_joint_event_time(m, s, 0), rj_joint_event_time(m, s, 1), rj_joint_peak_penetration(m, s, 1), peakdefl,

@@ -431,6 +431,9 @@ RJDEF double rj_model_omega_max(const rj_model *m); /* rad/s */
 RJDEF int rj_model_link_count(const rj_model *m);
 RJDEF int rj_model_joint_count(const rj_model *m);
 RJDEF int rj_model_node_count(const rj_model *m);
+/* Whether the step advances the nodes where they are (solver.in_place: AUTO from
+   RJ_IN_PLACE_NODES nodes on, never with inextensible links); 1 or 0. */
+RJDEF int rj_model_in_place(const rj_model *m);
 RJDEF const rj_link_def *rj_model_link_def(const rj_model *m, int link);
 RJDEF const rj_joint_def *rj_model_joint_def(const rj_model *m, int joint);
 RJDEF int rj_link_node_count(const rj_model *m, int link); /* elements + 1 */

@@ -61,6 +61,10 @@ RJDEF int rj_model_node_count(const rj_model *m)
 {
     return m->nn;
 }
+RJDEF int rj_model_in_place(const rj_model *m)
+{
+    return m->ip;
+}
 RJDEF const rj_link_def *rj_model_link_def(const rj_model *m, int l)
 {
     RJ_ASSERT(l >= 0 && l < m->nl);

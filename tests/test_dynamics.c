@@ -1,8 +1,11 @@
 /* Dynamics: conservation laws, energy balance, limit methods, locks, friction, damping. */
-#define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "../examples/scenes.h"
 #include "rjt.h"
+/* the library's default (its implementation is compiled once, without the macro) */
+#ifndef RJ_IN_PLACE_NODES
+#define RJ_IN_PLACE_NODES 400
+#endif
 #include <string.h>
 
 static rj_model *build(rj_link_def *L, int nl, rj_joint_def *J, int nj, double dt)

@@ -1,8 +1,7 @@
-/* test_scene.c - tests of the scene-file parser and writer (scene/rj_scene.h).
-   One line per check, "PASS name: details" or "FAIL name: details", then
-   "test_scene: N passed, M failed"; exit status 1 when any failed.
-   Build (from the repository root):
-     cc -std=c99 -Wall -Wextra -pedantic -Werror -fsanitize=address,undefined scene/test_scene.c -o build/test_scene -lm
+/* test_scene.c - tests of the scene-file parser and writer (src/scene_parse.h,
+   src/scene_write.h). One line per check, "PASS name: details" or "FAIL name: details",
+   then "test_scene: N passed, M failed"; exit status 1 when any failed. Built by make
+   (build/test_scene, build/test_scene_asan), linked with tests/rjt_impl_hooked.c.
    Run from the repository root, or pass the directory holding deploy.rjs etc.:
      build/test_scene [examples/scenes] */
 #include <stdio.h>
@@ -13,27 +12,25 @@
 #include <time.h>
 #include <errno.h>
 
-/* every allocation of the library and the parser goes through here: live blocks are
-   counted, and a context can make the n-th allocation fail */
+/* every allocation of the library and the parser goes through here (the implementation
+   is tests/rjt_impl_hooked.c): live blocks are counted, and a context can make the n-th
+   allocation fail */
+#include "rjt_alloc.h"
 typedef struct talloc { long live, total, fail_at; } talloc;
 static talloc g_alloc;
-static void *t_malloc(size_t sz, void *ctx)
+void *rjt_malloc(size_t sz, void *ctx)
 {
     talloc *a = ctx ? (talloc *)ctx : &g_alloc;
     if (a->fail_at > 0 && a->total + 1 == a->fail_at) { a->total++; return NULL; }
     a->total++; a->live++;
     return malloc(sz);
 }
-static void t_free(void *p, void *ctx)
+void rjt_free(void *p, void *ctx)
 {
     talloc *a = ctx ? (talloc *)ctx : &g_alloc;
     if (p) a->live--;
     free(p);
 }
-#define RJ_MALLOC(sz, ctx) t_malloc((sz), (ctx))
-#define RJ_FREE(p, ctx) t_free((p), (ctx))
-
-#define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include "../examples/scenes.h"
 

@@ -5,11 +5,10 @@
 #include <stdio.h>
 /* counting allocator, installed through the library's RJ_MALLOC / RJ_FREE hooks */
 typedef struct counter { long allocs, frees; } counter;
-static void *count_malloc(size_t n, void *ctx) { if (ctx) ((counter *)ctx)->allocs++; return malloc(n); }
-static void count_free(void *p, void *ctx) { if (ctx && p) ((counter *)ctx)->frees++; free(p); }
-#define RJ_MALLOC(sz, ctx) count_malloc(sz, ctx)
-#define RJ_FREE(p, ctx) count_free(p, ctx)
-#define REVJOINT_IMPLEMENTATION
+/* (the implementation is tests/rjt_impl_hooked.c) */
+#include "rjt_alloc.h"
+void *rjt_malloc(size_t n, void *ctx) { if (ctx) ((counter *)ctx)->allocs++; return malloc(n); }
+void rjt_free(void *p, void *ctx) { if (ctx && p) ((counter *)ctx)->frees++; free(p); }
 #include "../revjoint.h"
 #include "../examples/scenes.h"
 #include "rjt.h"
