@@ -754,8 +754,6 @@ static const char *const joint_cols[] = { "theta_deg", "rate", "flag", "torque_s
                                           "torque_damping", "torque_friction", "torque_limit", "latch_impulse" };
 static const char *const link_cols[] = { "tip_x", "tip_y", "tip_defl" };
 static const char *const probe_cols[] = { "x", "y", "phi" };
-static const char *const energy_cols[] = { "E_kin", "E_strain", "E_spring", "E_gravity", "W_applied",
-                                           "W_damping", "W_friction", "W_limit", "E_balance" };
 #define NCOLS(a) ((int)(sizeof(a) / sizeof((a)[0])))
 
 /* The header line: every column named from the file's own link and joint names. */
@@ -771,8 +769,9 @@ static void csv_header(csv_sink *c, const scene *sc)
     for (i = 0; i < c->nprobes; i++)
         for (k = 0; k < NCOLS(probe_cols); k++)
             cli_put(&c->out, fprintf(c->out.f, ",%s.%d.%s", link_name(sc, c->probes[i].link), c->probes[i].node, probe_cols[k]));
-    for (k = 0; k < NCOLS(energy_cols); k++) cli_put(&c->out, fprintf(c->out.f, ",%s", energy_cols[k]));
-    cli_put(&c->out, fputs("\n", c->out.f));
+    /* the library's energy accounts, then their balance */
+    for (k = 0; k < rj_energy_account_count(); k++) cli_put(&c->out, fprintf(c->out.f, ",%s", rj_energy_account_name(k)));
+    cli_put(&c->out, fputs(",E_balance\n", c->out.f));
 }
 
 /* A joint's columns: angle in degrees (running, so it never jumps at 360), rate, flag,
@@ -799,10 +798,10 @@ static void csv_link(cli_out *o, const rj_model *m, const rj_state *s, int l)
 static void csv_energy(cli_out *o, const rj_model *m, const rj_state *s)
 {
     rj_energy e;
+    int k;
     rj_state_energy(m, s, &e);
-    cli_put(o, fprintf(o->f, ",%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", e.kinetic, e.strain,
-                       e.spring, e.gravity, e.work_applied, e.lost_damping, e.lost_friction, e.lost_limit,
-                       e.balance));
+    for (k = 0; k < rj_energy_account_count(); k++) cli_put(o, fprintf(o->f, ",%.10g", rj_energy_account(&e, k)));
+    cli_put(o, fprintf(o->f, ",%.10g\n", e.balance));
 }
 
 /* One row. A reader that went away (EPIPE on standard output) stops the run quietly. */

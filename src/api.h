@@ -334,6 +334,13 @@ typedef struct rj_energy {
     double total, balance;
 } rj_energy;
 
+/* The accounts of rj_energy by number, in rj run's order (its columns E_kin ... W_limit;
+   the balance and the total follow from them): how many, account k's column name, and
+   its value in e. */
+RJDEF int rj_energy_account_count(void);
+RJDEF const char *rj_energy_account_name(int k);
+RJDEF double rj_energy_account(const rj_energy *e, int k);
+
 typedef struct rj_model rj_model;
 typedef struct rj_state rj_state;
 

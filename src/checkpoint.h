@@ -86,9 +86,8 @@ static int rj__ck_frame_ok(const rj_model *m, const double *fd, const int *fi,
     }
     {
         /* the accounts' sums (rj_state_energy) must be finite too, not only their terms */
-        const double total = sc[RJ__FS_KE] + sc[RJ__FS_STRAIN] + sc[RJ__FS_SPRING];
-        const double balance = total + sc[RJ__FS_LDAMP] + sc[RJ__FS_LFRIC] + sc[RJ__FS_LLIM] +
-                               sc[RJ__FS_PEND] - sc[RJ__FS_E0];
+        double total;
+        const double balance = rj__accounts_read(sc, NULL, &total) + sc[RJ__FS_PEND];
         if (!rj__finite(total) || !rj__finite(balance)) {
             rj__fail(err, RJ_ERR_CHECKPOINT, "energy", balance,
                      "checkpoint's energy accounts do not add up to a finite total (%g) and "

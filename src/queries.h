@@ -388,18 +388,7 @@ RJDEF double rj_joint_contact_penetration(const rj_model *m, const rj_state *s, 
 RJDEF void rj_state_energy(const rj_model *m, const rj_state *s, rj_energy *e)
 {
     (void) m;
-    const double *sc = RJ__FS(m, s->fd[s->cur]);
-    e->kinetic = sc[RJ__FS_KE];
-    e->strain = sc[RJ__FS_STRAIN];
-    e->spring = sc[RJ__FS_SPRING];
-    e->gravity = sc[RJ__FS_GRAV];
-    e->lost_damping = sc[RJ__FS_LDAMP];
-    e->lost_friction = sc[RJ__FS_LFRIC];
-    e->lost_limit = sc[RJ__FS_LLIM];
-    e->work_applied = sc[RJ__FS_WORK];
-    e->total = e->kinetic + e->strain + e->spring + e->gravity;
-    e->balance = e->total + e->lost_damping + e->lost_friction + e->lost_limit - e->work_applied -
-                 sc[RJ__FS_E0];
+    e->balance = rj__accounts_read(RJ__FS(m, s->fd[s->cur]), e, &e->total);
 }
 RJDEF double rj_state_energy_time(const rj_state *s)
 {

@@ -1008,8 +1008,7 @@ static RJ__FORCE_INLINE rj_result rj__energy_check(const rj_model *m, rj_state *
 static void rj__first_accounts(double *new_scalars, rj__sums *e, double energy)
 {
     new_scalars[RJ__FS_E0] = energy;
-    new_scalars[RJ__FS_LDAMP] = new_scalars[RJ__FS_LFRIC] = new_scalars[RJ__FS_WORK] = 0;
-    new_scalars[RJ__FS_LLIM] = 0;
+    rj__accounts_zero(new_scalars);
     e->lost_damping = e->lost_friction = e->work = e->lost_limit = 0;
 }
 

@@ -7,7 +7,7 @@ out=$($B/quickstart) && echo "$out" | grep -q "joint 1 at" && echo "PASS quickst
 # The README's scene-file quick start: every `build/rj` line of its shell blocks runs, from a
 # copy of the repository's examples in a fresh folder (so out/ does not exist yet), and
 # leaves the files it names.
-W=$(pwd)/$B/readme_rj
+case $B in /*) W=$B/readme_rj ;; *) W=$(pwd)/$B/readme_rj ;; esac
 rm -rf $W && mkdir -p $W && cp -r examples $W/ && mkdir -p $W/build && cp $B/rj $W/build/
 awk '/^```sh$/{on=1; next} /^```$/{on=0} on && /^build\/rj /' README.md | sed 's/ *#.*$//' > $W/commands.sh
 n=$(wc -l < $W/commands.sh)

@@ -70,6 +70,6 @@ for count in "$dir"/*.count; do
   pass=$((pass + p)); fail=$((fail + f))
 done
 [ "$(ls "$dir" | grep -c '\.count$')" -eq $# ] || { echo "FAIL tests/run.sh: a command left no count"; fail=$((fail + 1)); }
-echo "make test: $(elapsed "$start" "$(now)") s wall, $jobs at once"
+echo "tests: $(elapsed "$start" "$(now)") s wall, $jobs at once"
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -1360,6 +1360,53 @@ static void test_links_pass_through(void)
     }
 }
 
+/* ------------------------------------------------------------------ the account table */
+
+/* The accounts by number are rj_energy's fields, in rj run's order, and the total and the
+   balance are theirs: a link swinging under gravity on a damped hinge with friction. */
+static void test_account_table(void)
+{
+    static const char *const names[8] = { "E_kin",     "E_strain",  "E_spring",   "E_gravity",
+                                          "W_applied", "W_damping", "W_friction", "W_limit" };
+    rj_link_def link = rj_default_link_def();
+    rj_joint_def joint = rj_default_joint_def();
+    rj_model *m;
+    rj_state *s;
+    rj_energy e;
+    double fields[8];
+    int k, same = rj_energy_account_count() == 8;
+    link.height = 0.01;
+    joint.body1 = -1;
+    joint.body2 = 0;
+    joint.angle0 = 0;
+    joint.damping = 0.01;
+    joint.friction = 0.02;
+    m = model_of("accounts: model", &link, 1, &joint, 1, 9.81);
+    if (!m || rj_state_create(m, &s, NULL) != RJ_OK)
+        return;
+    rj_run(m, s, 0.2, 0, NULL, NULL);
+    rj_state_energy(m, s, &e);
+    fields[0] = e.kinetic;
+    fields[1] = e.strain;
+    fields[2] = e.spring;
+    fields[3] = e.gravity;
+    fields[4] = e.work_applied;
+    fields[5] = e.lost_damping;
+    fields[6] = e.lost_friction;
+    fields[7] = e.lost_limit;
+    for (k = 0; same && k < 8; k++)
+        same = strcmp(rj_energy_account_name(k), names[k]) == 0 &&
+               rj_energy_account(&e, k) == fields[k];
+    rjt_check(&T, same && e.total == e.kinetic + e.strain + e.spring + e.gravity &&
+                      e.lost_damping > 0 && e.lost_friction > 0 &&
+                      fabs(e.balance) < 1e-6 * (fabs(e.gravity) + 1),
+              "accounts: the table gives rj_energy's fields in rj run's order, and their sums",
+              "%d accounts, damping %.3g J, friction %.3g J, balance %.3g J",
+              rj_energy_account_count(), e.lost_damping, e.lost_friction, e.balance);
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
 int main(void)
 {
     test_damping_bound();
@@ -1382,5 +1429,6 @@ int main(void)
     test_bounds_carried();
     test_blowup_causes();
     test_links_pass_through();
+    test_account_table();
     return rjt_summary(&T, "test_robust");
 }
