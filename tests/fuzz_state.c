@@ -6,7 +6,7 @@
    seed corpus into the directory it is given: one valid checkpoint of each model, raw and
    with a few checksummed edits (the last switches both input blocks on and sets a value).
    Six fixed small models are built once, stepped, and checkpointed with rj_state_save
-   (version 4): a flexible two-link chain with limits and locks; a mixed rigid and flexible
+   (version 5): a flexible two-link chain with limits and locks; a mixed rigid and flexible
    scene stepping with the caller's node forces on; an all-rigid chain with a model load,
    the caller's joint torques and node forces on; an inextensible link with a joint torque
    on; a flexible link stepping in place; and a flexible link carrying a rigid one under
@@ -560,7 +560,7 @@ static void fz_slot_name(const fz_model *f, size_t k, char *out, size_t size)
     k -= FZ_JD * nj;
     snprintf(out, size, "rigid body %lu value %lu", (unsigned long)(k / 6), (unsigned long)(k % 6));
 }
-/* the name of input-block value k (rj_state_save's version 4 blocks) */
+/* the name of input-block value k (rj_state_save's version 5 blocks) */
 static void fz_input_name(const fz_model *f, size_t k, char *out, size_t size)
 {
     static const char *comp[] = { "fx", "fy", "moment" };
