@@ -1362,6 +1362,14 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2)
 #define RJ__RULE_DEPTH "must be in [0, 1e6] m (> 0 for a rectangular section)"
 #define RJ__RULE_TIP_MASS "must be in [0, 1e40] kg"
 #define RJ__RULE_TIP_INERTIA "must be in [0, 1e50] kg m^2"
+#define RJ__RULE_LENGTH "must be in (0, 1e6] m"
+#define RJ__RULE_ANGLE "must be a finite angle within +-1e6 rad"
+#define RJ__RULE_STIFFNESS "must be >= 0 N m/rad"
+#define RJ__RULE_RESTITUTION "must be in [0, 1]"
+#define RJ__RULE_DAMPING "must be >= 0 N m s/rad"
+#define RJ__RULE_FRICTION "must be >= 0 N m"
+#define RJ__RULE_DT "must be 0 (automatic) or a step in (0, 1] s"
+#define RJ__RULE_GROWTH "must be > 1"
 #define RJ__RULE_GRAVITY "each component must be a finite acceleration within +-1e5 m/s^2"
 #define RJ__MAX_GRAVITY 1e5
 
@@ -1515,11 +1523,10 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
                  "solver was not initialised with rj_default_solver_def()");
         return 0;
     }
-    if (!rj__check_num(err, "solver.dt", sc->solver.dt, 0, 1, 1.0, 1,
-                       "must be 0 (automatic) or a step in (0, 1] s"))
+    if (!rj__check_num(err, "solver.dt", sc->solver.dt, 0, 1, 1.0, 1, RJ__RULE_DT))
         return 0;
     if (!rj__check_num(err, "solver.energy_growth", sc->solver.energy_growth, 1.0, 0, inf, 0,
-                       "must be > 1"))
+                       RJ__RULE_GROWTH))
         return 0;
     if (sc->solver.in_place < RJ_IN_PLACE_AUTO || sc->solver.in_place > RJ_IN_PLACE_OFF) {
         rj__fail(err, RJ_ERR_INVALID, "solver.in_place", sc->solver.in_place,
@@ -1551,7 +1558,7 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
                               "rj_default_link_def()"))
             return 0;
         RJ__FIELD(f, "links[%d].length", i);
-        if (!rj__check_num(err, f, L->length, 0, 0, 1e6, 1, "must be in (0, 1e6] m"))
+        if (!rj__check_num(err, f, L->length, 0, 0, 1e6, 1, RJ__RULE_LENGTH))
             return 0;
         if (L->elements < 1 || L->elements > 1000000) {
             RJ__FIELD(f, "links[%d].elements", i);
@@ -1680,7 +1687,7 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
         if (!rj__check_num(err, f, J->ground_angle, -inf, 0, inf, 0, "must be finite"))
             return 0;
         RJ__FIELD(f, "joints[%d].angle0", j);
-        if (!rj__check_num(err, f, J->angle0, -1e6, 1, 1e6, 1, "must be a finite angle in rad"))
+        if (!rj__check_num(err, f, J->angle0, -1e6, 1, 1e6, 1, RJ__RULE_ANGLE))
             return 0;
         RJ__FIELD(f, "joints[%d].rate0", j);
         if (!rj__check_num(err, f, J->rate0, -inf, 0, inf, 0, "must be finite"))
@@ -1702,11 +1709,10 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
                 return 0;
         }
         RJ__FIELD(f, "joints[%d].spring_k", j);
-        if (!rj__check_num(err, f, J->spring_k, 0, 1, inf, 0, "must be >= 0 N m/rad"))
+        if (!rj__check_num(err, f, J->spring_k, 0, 1, inf, 0, RJ__RULE_STIFFNESS))
             return 0;
         RJ__FIELD(f, "joints[%d].spring_free_angle", j);
-        if (!rj__check_num(err, f, J->spring_free_angle, -1e6, 1, 1e6, 1,
-                           "must be a finite angle in rad"))
+        if (!rj__check_num(err, f, J->spring_free_angle, -1e6, 1, 1e6, 1, RJ__RULE_ANGLE))
             return 0;
         if (J->has_forward != 0 && J->has_forward != 1) {
             RJ__FIELD(f, "joints[%d].has_forward", j);
@@ -1762,7 +1768,7 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
             return 0;
         }
         RJ__FIELD(f, "joints[%d].penalty_k", j);
-        if (!rj__check_num(err, f, J->penalty_k, 0, 1, inf, 0, "must be >= 0 N m/rad"))
+        if (!rj__check_num(err, f, J->penalty_k, 0, 1, inf, 0, RJ__RULE_STIFFNESS))
             return 0;
         if (J->method == RJ_METHOD_PENALTY && (J->has_forward || J->has_reverse) &&
             !(J->penalty_k > 0)) {
@@ -1772,13 +1778,13 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
             return 0;
         }
         RJ__FIELD(f, "joints[%d].restitution", j);
-        if (!rj__check_num(err, f, J->restitution, 0, 1, 1, 1, "must be in [0, 1]"))
+        if (!rj__check_num(err, f, J->restitution, 0, 1, 1, 1, RJ__RULE_RESTITUTION))
             return 0;
         RJ__FIELD(f, "joints[%d].damping", j);
-        if (!rj__check_num(err, f, J->damping, 0, 1, inf, 0, "must be >= 0 N m s/rad"))
+        if (!rj__check_num(err, f, J->damping, 0, 1, inf, 0, RJ__RULE_DAMPING))
             return 0;
         RJ__FIELD(f, "joints[%d].friction", j);
-        if (!rj__check_num(err, f, J->friction, 0, 1, inf, 0, "must be >= 0 N m"))
+        if (!rj__check_num(err, f, J->friction, 0, 1, inf, 0, RJ__RULE_FRICTION))
             return 0;
         if (J->reference != RJ_REF_TANGENT && J->reference != RJ_REF_CHORD) {
             RJ__FIELD(f, "joints[%d].reference", j);
@@ -9767,7 +9773,7 @@ static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *
     (*i)++;
     switch (k) {
     case RJ__LK_LENGTH:
-        if (!RJ__SP_RULE(v > 0 && v <= 1e6, "must be > 0 and <= 1e6 m"))
+        if (!RJ__SP_RULE(v > 0 && v <= 1e6, RJ__RULE_LENGTH))
             return 0;
         d->length = v;
         break;
@@ -10017,7 +10023,7 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
     case RJ__JK_ANGLE0:
         if (!rj__sp_angle(P, i, b, key, 0, &v))
             return 0;
-        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, "must be within +-1e6 rad"))
+        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, RJ__RULE_ANGLE))
             return 0;
         d->angle0 = v;
         return 1;
@@ -10029,7 +10035,7 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
         if (!rj__sp_num(P, t, key, &v))
             return 0;
         (*i)++;
-        if (!RJ__SP_RULE(v >= 0, "the spring stiffness must be >= 0 N m/rad"))
+        if (!RJ__SP_RULE(v >= 0, "the spring stiffness " RJ__RULE_STIFFNESS))
             return 0;
         d->spring_k = v;
         if (*i >= b)
@@ -10039,7 +10045,7 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
         a = *i;
         if (!rj__sp_angle(P, i, b, key, 0, &v))
             return 0;
-        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, "the free angle must be within +-1e6 rad"))
+        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, "the free angle " RJ__RULE_ANGLE))
             return 0;
         d->spring_free_angle = v;
         return 1;
@@ -10080,22 +10086,22 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
         d->ground_y = v;
         break;
     case RJ__JK_PENALTY_K:
-        if (!RJ__SP_RULE(v >= 0, "must be >= 0 N m/rad"))
+        if (!RJ__SP_RULE(v >= 0, RJ__RULE_STIFFNESS))
             return 0;
         d->penalty_k = v;
         break;
     case RJ__JK_RESTITUTION:
-        if (!RJ__SP_RULE(v >= 0 && v <= 1, "must be in [0, 1]"))
+        if (!RJ__SP_RULE(v >= 0 && v <= 1, RJ__RULE_RESTITUTION))
             return 0;
         d->restitution = v;
         break;
     case RJ__JK_DAMPING:
-        if (!RJ__SP_RULE(v >= 0, "must be >= 0 N m s/rad"))
+        if (!RJ__SP_RULE(v >= 0, RJ__RULE_DAMPING))
             return 0;
         d->damping = v;
         break;
     case RJ__JK_FRICTION:
-        if (!RJ__SP_RULE(v >= 0, "must be >= 0 N m"))
+        if (!RJ__SP_RULE(v >= 0, RJ__RULE_FRICTION))
             return 0;
         d->friction = v;
         break;
@@ -10155,11 +10161,11 @@ static int rj__sp_solver_key(rj__sp *P, int k, int a, int *i, int b, rj_solver_d
         return 0;
     (*i)++;
     if (k == RJ__VK_DT) {
-        if (!RJ__SP_RULE(v >= 0 && v <= 1, "must be 0 (automatic) or a step in (0, 1] s"))
+        if (!RJ__SP_RULE(v >= 0 && v <= 1, RJ__RULE_DT))
             return 0;
         s->dt = v;
     } else {
-        if (!RJ__SP_RULE(v > 1, "must be > 1"))
+        if (!RJ__SP_RULE(v > 1, RJ__RULE_GROWTH))
             return 0;
         s->energy_growth = v;
     }

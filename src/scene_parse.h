@@ -855,7 +855,7 @@ static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *
     (*i)++;
     switch (k) {
     case RJ__LK_LENGTH:
-        if (!RJ__SP_RULE(v > 0 && v <= 1e6, "must be > 0 and <= 1e6 m"))
+        if (!RJ__SP_RULE(v > 0 && v <= 1e6, RJ__RULE_LENGTH))
             return 0;
         d->length = v;
         break;
@@ -1105,7 +1105,7 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
     case RJ__JK_ANGLE0:
         if (!rj__sp_angle(P, i, b, key, 0, &v))
             return 0;
-        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, "must be within +-1e6 rad"))
+        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, RJ__RULE_ANGLE))
             return 0;
         d->angle0 = v;
         return 1;
@@ -1117,7 +1117,7 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
         if (!rj__sp_num(P, t, key, &v))
             return 0;
         (*i)++;
-        if (!RJ__SP_RULE(v >= 0, "the spring stiffness must be >= 0 N m/rad"))
+        if (!RJ__SP_RULE(v >= 0, "the spring stiffness " RJ__RULE_STIFFNESS))
             return 0;
         d->spring_k = v;
         if (*i >= b)
@@ -1127,7 +1127,7 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
         a = *i;
         if (!rj__sp_angle(P, i, b, key, 0, &v))
             return 0;
-        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, "the free angle must be within +-1e6 rad"))
+        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, "the free angle " RJ__RULE_ANGLE))
             return 0;
         d->spring_free_angle = v;
         return 1;
@@ -1168,22 +1168,22 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
         d->ground_y = v;
         break;
     case RJ__JK_PENALTY_K:
-        if (!RJ__SP_RULE(v >= 0, "must be >= 0 N m/rad"))
+        if (!RJ__SP_RULE(v >= 0, RJ__RULE_STIFFNESS))
             return 0;
         d->penalty_k = v;
         break;
     case RJ__JK_RESTITUTION:
-        if (!RJ__SP_RULE(v >= 0 && v <= 1, "must be in [0, 1]"))
+        if (!RJ__SP_RULE(v >= 0 && v <= 1, RJ__RULE_RESTITUTION))
             return 0;
         d->restitution = v;
         break;
     case RJ__JK_DAMPING:
-        if (!RJ__SP_RULE(v >= 0, "must be >= 0 N m s/rad"))
+        if (!RJ__SP_RULE(v >= 0, RJ__RULE_DAMPING))
             return 0;
         d->damping = v;
         break;
     case RJ__JK_FRICTION:
-        if (!RJ__SP_RULE(v >= 0, "must be >= 0 N m"))
+        if (!RJ__SP_RULE(v >= 0, RJ__RULE_FRICTION))
             return 0;
         d->friction = v;
         break;
@@ -1243,11 +1243,11 @@ static int rj__sp_solver_key(rj__sp *P, int k, int a, int *i, int b, rj_solver_d
         return 0;
     (*i)++;
     if (k == RJ__VK_DT) {
-        if (!RJ__SP_RULE(v >= 0 && v <= 1, "must be 0 (automatic) or a step in (0, 1] s"))
+        if (!RJ__SP_RULE(v >= 0 && v <= 1, RJ__RULE_DT))
             return 0;
         s->dt = v;
     } else {
-        if (!RJ__SP_RULE(v > 1, "must be > 1"))
+        if (!RJ__SP_RULE(v > 1, RJ__RULE_GROWTH))
             return 0;
         s->energy_growth = v;
     }

@@ -763,7 +763,7 @@ static void test_errors(void)
     EP("error: integer expected", "link a\n  elements = 2.5\n", 2, 14, "expected an integer, found '2.5'", "elements");
     EP("error: integer too large", "link a\n  elements = 99999999999\n", 2, 14, "elements = 99999999999 is out of range in link 'a': must be 1..1000000", "elements");
     EP("error: zero elements", "link a\n  elements = 0\n", 2, 14, "elements = 0 is out of range in link 'a': must be 1..1000000", "elements");
-    EP("error: negative length", "link a\n  length = -1\n", 2, 12, "length = -1 is out of range in link 'a': must be > 0 and <= 1e6 m", "length");
+    EP("error: negative length", "link a\n  length = -1\n", 2, 12, "length = -1 is out of range in link 'a': must be in (0, 1e6] m", "length");
     EP("error: zero E", "material m\n  E = 0\n", 2, 7, "E = 0 is out of range in material 'm': must be in (0, 1e30] Pa", "E");
     EP("error: zero layers", "section s\n  layers = 0\n", 2, 12, "layers = 0 is out of range in section 's'", "layers");
     EP("error: negative tip mass", "link a\n  tip_mass = -0.1\n", 2, 14, "tip_mass = -0.1 is out of range", "tip_mass");
