@@ -8114,6 +8114,7 @@ static double rj__loads_steady_time(const rj_model *m)
 /* What rj_settle carries from step to step. */
 typedef struct rj__settle_run {
     double previous;     /* the kinetic energy of the step before, J */
+    double last_peak;    /* the kinetic energy at the latest peak, J */
     double gravity;      /* gravity's potential at the start, J */
     double floor_energy; /* the threshold's absolute floor, J (rj__settle_floor) */
     double steady;       /* the time from which the loads are constant, s */
@@ -8144,6 +8145,7 @@ static int rj__settle_judge(const rj_model *m, rj_state *s, rj__settle_run *q, d
         return 0;
     }
     /* past a peak, or at rest */
+    q->last_peak = q->previous;
     if (q->quiet < 0 && q->previous <= limit)
         q->quiet = 0;
     if (q->quiet < 0) {
@@ -8154,6 +8156,21 @@ static int rj__settle_judge(const rj_model *m, rj_state *s, rj__settle_run *q, d
         q->rise = 0;
     }
     return 0;
+}
+
+/* The settling's start: from rest, with the threshold's floor, the time from which the
+   loads are constant, and gravity's potential to measure what it moves from. */
+static void rj__settle_start(const rj_model *m, rj_state *s, rj__settle_run *q)
+{
+    q->previous = 0;
+    q->last_peak = 0;
+    q->gravity = RJ__FS(m, s->fd[s->cur])[RJ__FS_GRAV];
+    q->floor_energy = rj__settle_floor(m);
+    q->steady = rj__loads_steady_time(m);
+    q->rise = 0;
+    q->longest_rise = 1;
+    q->quiet = -1;
+    rj__zero_velocities(m, s);
 }
 
 /* The arguments rj_settle takes: tol in (0, 1), at least one step. Else RJ_ERR_INVALID
@@ -8191,14 +8208,7 @@ RJDEF rj_result rj_settle_ex(const rj_model *m, rj_state *s, double tol, long ma
     if (r != RJ_OK)
         return r;
     s->err[0] = 0;
-    q.previous = 0;
-    q.gravity = RJ__FS(m, s->fd[s->cur])[RJ__FS_GRAV];
-    q.floor_energy = rj__settle_floor(m);
-    q.steady = rj__loads_steady_time(m);
-    q.rise = 0;
-    q.longest_rise = 1;
-    q.quiet = -1;
-    rj__zero_velocities(m, s);
+    rj__settle_start(m, s, &q);
     for (k = 0; k < max_steps; k++) {
         const double *sc;
         double moved;
@@ -8232,7 +8242,7 @@ RJDEF rj_result rj_settle_ex(const rj_model *m, rj_state *s, double tol, long ma
     return rj__stop(m, s, RJ_ERR_NOT_CONVERGED,
                     "rj_settle: not settled within %ld steps (t = %.9g s; the last kinetic "
                     "energy peak %.3g J; tol %g of the %.3g J of potential energy moved)",
-                    max_steps, rj_state_time(s), q.previous, tol,
+                    max_steps, rj_state_time(s), q.last_peak, tol,
                     rj__settle_scale(RJ__FS(m, s->fd[s->cur]), q.gravity));
 }
 
