@@ -157,7 +157,7 @@ test: deps | $(B)
 	  "$(B)/test_core_asan" "$(B)/test_beam_asan" "$(B)/test_dynamics_asan" "$(B)/test_state_asan" \
 	  "$(B)/test_scene" "$(B)/test_scene_asan" "$(B)/test_mixed" "$(B)/test_mixed_asan" "$(B)/test_loads" "$(B)/test_loads_asan" "$(B)/test_applied" "$(B)/test_applied_asan" \
 	  "$(B)/test_robust" "$(B)/test_robust_asan" \
-	  "/usr/bin/python3 tests/elastica_ref.py" \
+	  "/usr/bin/python3 tests/elastica_ref.py" "/usr/bin/python3 tests/keys.py" \
 	  "$(B)/stress --short" \
 	  "sh tests/readme.sh $(B)" \
 	  "sh tests/golden.sh $(B)" \
