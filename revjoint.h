@@ -776,6 +776,10 @@ typedef struct rj__joint {
     double tv_turn;  /* table potential of a full turn, J */
 } rj__joint;
 
+/* An angle no joint reaches (within the 1e100 a checkpoint carries): the empty zone of the
+   overlap record (RJ__JD_ZONE_LO above RJ__JD_ZONE_HI), and no band yet. */
+#define RJ__NO_ZONE 1e99
+
 /* Per-joint values in a frame (doubles), then per-joint ints. */
 enum {
     RJ__JD_THETA = 0,
@@ -789,8 +793,8 @@ enum {
     RJ__JD_IMPULSE,
     RJ__JD_INPUT,   /* the caller's torque applied in the step that made this frame */
     RJ__JD_ZONE_LO, /* rad: the zone the angle is in, a band of 360 deg less 1 deg at each */
-    RJ__JD_ZONE_HI, /* end or 1 deg about a fold between two (1e99 and -1e99: none yet) */
-    RJ__JD_BAND,    /* rad: the start of the last band's zone (1e99: none yet) */
+    RJ__JD_ZONE_HI, /* end or 1 deg about a fold (RJ__NO_ZONE and -RJ__NO_ZONE: none yet) */
+    RJ__JD_BAND,    /* rad: the start of the last band's zone (RJ__NO_ZONE: none yet) */
     RJ__JD_OVERLAP, /* the first time the two links passed through each other, s (-1) */
     RJ__JD_TQ0,
     RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT
@@ -1356,13 +1360,12 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2)
    under 1e5 m/s^2 has a potential of about 1e65 J. */
 #define RJ__RULE_E "must be in (0, 1e30] Pa"
 #define RJ__RULE_RHO "must be in (0, 1e30] kg/m^3"
-#define RJ__RULE_SIZE "must be in (0, 1e6] m"
 #define RJ__RULE_AREA "must be in (0, 1e12] m^2"
 #define RJ__RULE_INERTIA "must be in (0, 1e24] m^4"
 #define RJ__RULE_DEPTH "must be in [0, 1e6] m (> 0 for a rectangular section)"
 #define RJ__RULE_TIP_MASS "must be in [0, 1e40] kg"
 #define RJ__RULE_TIP_INERTIA "must be in [0, 1e50] kg m^2"
-#define RJ__RULE_LENGTH "must be in (0, 1e6] m"
+#define RJ__RULE_LENGTH "must be in (0, 1e6] m" /* a link's length, a section's width and height */
 #define RJ__RULE_ANGLE "must be a finite angle within +-1e6 rad"
 #define RJ__RULE_STIFFNESS "must be >= 0 N m/rad"
 #define RJ__RULE_RESTITUTION "must be in [0, 1]"
@@ -1580,10 +1583,10 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
         }
         if (L->section == RJ_SECTION_RECT) {
             RJ__FIELD(f, "links[%d].width", i);
-            if (!rj__check_num(err, f, L->width, 0, 0, 1e6, 1, RJ__RULE_SIZE))
+            if (!rj__check_num(err, f, L->width, 0, 0, 1e6, 1, RJ__RULE_LENGTH))
                 return 0;
             RJ__FIELD(f, "links[%d].height", i);
-            if (!rj__check_num(err, f, L->height, 0, 0, 1e6, 1, RJ__RULE_SIZE))
+            if (!rj__check_num(err, f, L->height, 0, 0, 1e6, 1, RJ__RULE_LENGTH))
                 return 0;
             if (L->layers < 1 || L->layers > 1000) {
                 RJ__FIELD(f, "links[%d].layers", i);
@@ -4856,8 +4859,11 @@ static rj_result rj__init_step(rj_model *m, const rj_scene_def *sc, const rj__bu
     any_adaptive = rj__count_penalty_limits(m);
     om2 = rj__init_bound(m, s, q.damp_rate);
     q.dt = sc->solver.dt > 0 ? sc->solver.dt : 0.9 * m->dt_bound;
-    if (m->rigid && sc->solver.dt <= 0 && q.dt > rj__rigid_dt_cap(m))
-        q.dt = rj__rigid_dt_cap(m);
+    if (m->rigid && sc->solver.dt <= 0) {
+        const double cap = rj__rigid_dt_cap(m);
+        if (q.dt > cap)
+            q.dt = cap;
+    }
     q.om2_no_adaptive = om2;
     if (any_adaptive && !rj__search_adaptive_dt(m, sc, s, &q, err))
         return RJ_ERR_UNSTABLE_DT;
@@ -5280,9 +5286,9 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
                               : rj__joint_rate(&m->jnt[j], &g, m->vx0, m->vy0, m->w0, NULL, NULL);
         jd[RJ__JD_EVENT] = -1;
         jd[RJ__JD_RELEASE] = -1;
-        jd[RJ__JD_ZONE_LO] = 1e99;
-        jd[RJ__JD_ZONE_HI] = -1e99;
-        jd[RJ__JD_BAND] = 1e99;
+        jd[RJ__JD_ZONE_LO] = RJ__NO_ZONE;
+        jd[RJ__JD_ZONE_HI] = -RJ__NO_ZONE;
+        jd[RJ__JD_BAND] = RJ__NO_ZONE;
         jd[RJ__JD_OVERLAP] = -1;
     }
     if (m->rigid) {
@@ -5464,7 +5470,8 @@ static void rj__rig_fastest(const rj_model *m, const rj_state *s, char *where, s
 
 /* The causes of a blow-up that this model can have, for the step's messages: only what
    the model holds (a step above the bound, loads whose work is most of the energy in
-   motion, limits and how they respond, stiff joints), else what every model has (fast rotation, which the linearised bound leaves out). */
+   motion, limits and how they respond, stiff joints), else what every model has (fast
+   rotation, which the linearised bound leaves out). */
 static const char *rj__blowup_causes(const rj_model *m, int applied, double work, double moving,
                                      char *buf, size_t size)
 {
@@ -5775,7 +5782,7 @@ static void rj__overlap_band(const rj_model *m, rj_state *s, int j, double run, 
     nj_[RJ__JD_ZONE_LO] = lo;
     nj_[RJ__JD_ZONE_HI] = hi;
     nj_[RJ__JD_BAND] = lo;
-    if (last_lo == 1e99 || last_lo == lo || oj[RJ__JD_OVERLAP] >= 0)
+    if (last_lo == RJ__NO_ZONE || last_lo == lo || oj[RJ__JD_OVERLAP] >= 0)
         return;
     nj_[RJ__JD_OVERLAP] = t;
     nsc[RJ__FS_WARN] += 1;
@@ -6594,7 +6601,7 @@ static int rj__inputs_ok(const rj_model *m, rj_state *s)
 
 /* The caller's joint torques (rj_state_joint_torques, checked by rj__step before the
    step began), on the joint geometry stage 2 kept. */
-static rj_result rj__stage_inputs(const rj_model *m, rj_state *s, double *next)
+static void rj__stage_inputs(const rj_model *m, rj_state *s, double *next)
 {
     int j;
     for (j = 0; j < m->nj; j++) {
@@ -6604,7 +6611,6 @@ static rj_result rj__stage_inputs(const rj_model *m, rj_state *s, double *next)
         rj__apply_torque(&m->jnt[j], &g, torque, s->fx, s->fy, s->mz);
         RJ__FJ(m, next, j)[RJ__JD_INPUT] = torque;
     }
-    return RJ_OK;
 }
 
 /* The work of the caller's joint torques over the step (after the velocity-level limits,
@@ -6782,14 +6788,10 @@ static RJ__NOINLINE rj_result rj__stage_applied(const rj_model *m, rj_state *s, 
                                                 double t, const double *at_n, double *advanced,
                                                 double kick)
 {
-    rj_result r;
     s->step_work = 0;
     s->step_fin = 0;
-    if (s->inputs) {
-        r = rj__stage_inputs(m, s, next);
-        if (r != RJ_OK)
-            return r;
-    }
+    if (s->inputs)
+        rj__stage_inputs(m, s, next);
     if (m->nload)
         s->step_work += rj__stage_loads(m, s, t, at_n);
     if (s->node_inputs)
@@ -8053,7 +8055,6 @@ static void rj__restart(const rj_model *m, rj_state *s)
     const double spring = sc[RJ__FS_SPRING], gravity = sc[RJ__FS_GRAV];
     const double time = sc[RJ__FS_TIME];
     int j;
-    s->settle_scale = 0;
     rj__zero_velocities(m, s);
     /* the potential energies of the last step stand until the first step takes them again */
     memset(sc, 0, sizeof(double) * RJ__FS_COUNT);
@@ -8194,13 +8195,51 @@ static rj_result rj__settle_args(const rj_model *m, rj_state *s, double tol, lon
    first. So the state must then stay below it, without damping, for 1.5 times the longest
    rise from rest to a peak seen so far (that slow mode's quarter period, once it has
    shown). progress (when not NULL) is called every RJ__SETTLE_EVERY steps; a nonzero
-   return stops the settling. */
+   return stops the settling. The steps, from a start at rest (rj__settle_start). */
 #define RJ__SETTLE_EVERY 4096
+static rj_result rj__settle_steps(const rj_model *m, rj_state *s, rj__settle_run *q, double tol,
+                                  long max_steps, rj_sample_fn progress, void *user)
+{
+    long k;
+    for (k = 0; k < max_steps; k++) {
+        const double *sc;
+        double moved;
+        const rj_result r = rj__step(m, s, 1);
+        if (r != RJ_OK)
+            return r;
+        sc = RJ__FS(m, s->fd[s->cur]);
+        moved = rj__settle_scale(sc, q->gravity);
+        /* each restart from rest starts the accounts again, from an energy that shrinks as
+           the state settles: the blow-up tests measure against what the settling moved */
+        if (moved > s->settle_scale)
+            s->settle_scale = moved;
+        /* settled only under the loads that act from then on: past their tables */
+        if (rj__settle_judge(m, s, q, sc[RJ__FS_KE], tol * moved + q->floor_energy) &&
+            sc[RJ__FS_TIME] >= q->steady) {
+            rj__restart(m, s);
+            return RJ_OK;
+        }
+        if (progress && (k + 1) % RJ__SETTLE_EVERY == 0 && progress(m, s, user)) {
+            rj__zero_velocities(m, s);
+            return rj__stop(m, s, RJ_ERR_NOT_CONVERGED,
+                            "rj_settle: stopped by the caller after %ld steps (t = %.9g s)",
+                            k + 1, rj_state_time(s));
+        }
+    }
+    rj__zero_velocities(m, s);
+    return rj__stop(m, s, RJ_ERR_NOT_CONVERGED,
+                    "rj_settle: not settled within %ld steps (t = %.9g s; the last kinetic "
+                    "energy peak %.3g J; tol %g of the %.3g J of potential energy moved)",
+                    max_steps, rj_state_time(s), q->last_peak, tol,
+                    rj__settle_scale(RJ__FS(m, s->fd[s->cur]), q->gravity));
+}
+
+/* rj_settle with progress: the settling's scale for the blow-up tests holds while it
+   steps, whatever ends it. */
 RJDEF rj_result rj_settle_ex(const rj_model *m, rj_state *s, double tol, long max_steps,
                              rj_sample_fn progress, void *user)
 {
     rj__settle_run q;
-    long k;
     rj_result r;
     if (!m || !s)
         return RJ_ERR_INVALID;
@@ -8209,41 +8248,9 @@ RJDEF rj_result rj_settle_ex(const rj_model *m, rj_state *s, double tol, long ma
         return r;
     s->err[0] = 0;
     rj__settle_start(m, s, &q);
-    for (k = 0; k < max_steps; k++) {
-        const double *sc;
-        double moved;
-        r = rj__step(m, s, 1);
-        if (r != RJ_OK) {
-            s->settle_scale = 0;
-            return r;
-        }
-        sc = RJ__FS(m, s->fd[s->cur]);
-        moved = rj__settle_scale(sc, q.gravity);
-        /* each restart from rest starts the accounts again, from an energy that shrinks as
-           the state settles: the blow-up tests measure against what the settling moved */
-        if (moved > s->settle_scale)
-            s->settle_scale = moved;
-        /* settled only under the loads that act from then on: past their tables */
-        if (rj__settle_judge(m, s, &q, sc[RJ__FS_KE], tol * moved + q.floor_energy) &&
-            sc[RJ__FS_TIME] >= q.steady) {
-            rj__restart(m, s);
-            return RJ_OK;
-        }
-        if (progress && (k + 1) % RJ__SETTLE_EVERY == 0 && progress(m, s, user)) {
-            s->settle_scale = 0;
-            rj__zero_velocities(m, s);
-            return rj__stop(m, s, RJ_ERR_NOT_CONVERGED,
-                            "rj_settle: stopped by the caller after %ld steps (t = %.9g s)",
-                            k + 1, rj_state_time(s));
-        }
-    }
+    r = rj__settle_steps(m, s, &q, tol, max_steps, progress, user);
     s->settle_scale = 0;
-    rj__zero_velocities(m, s);
-    return rj__stop(m, s, RJ_ERR_NOT_CONVERGED,
-                    "rj_settle: not settled within %ld steps (t = %.9g s; the last kinetic "
-                    "energy peak %.3g J; tol %g of the %.3g J of potential energy moved)",
-                    max_steps, rj_state_time(s), q.last_peak, tol,
-                    rj__settle_scale(RJ__FS(m, s->fd[s->cur]), q.gravity));
+    return r;
 }
 
 RJDEF rj_result rj_settle(const rj_model *m, rj_state *s, double tol, long max_steps)
@@ -9808,7 +9815,7 @@ static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *
         d->inertia = v;
         break;
     case RJ__LK_WIDTH:
-        if (!RJ__SP_RULE(v > 0 && v <= 1e6, RJ__RULE_SIZE))
+        if (!RJ__SP_RULE(v > 0 && v <= 1e6, RJ__RULE_LENGTH))
             return 0;
         d->width = v;
         break;

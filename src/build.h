@@ -759,8 +759,11 @@ static rj_result rj__init_step(rj_model *m, const rj_scene_def *sc, const rj__bu
     any_adaptive = rj__count_penalty_limits(m);
     om2 = rj__init_bound(m, s, q.damp_rate);
     q.dt = sc->solver.dt > 0 ? sc->solver.dt : 0.9 * m->dt_bound;
-    if (m->rigid && sc->solver.dt <= 0 && q.dt > rj__rigid_dt_cap(m))
-        q.dt = rj__rigid_dt_cap(m);
+    if (m->rigid && sc->solver.dt <= 0) {
+        const double cap = rj__rigid_dt_cap(m);
+        if (q.dt > cap)
+            q.dt = cap;
+    }
     q.om2_no_adaptive = om2;
     if (any_adaptive && !rj__search_adaptive_dt(m, sc, s, &q, err))
         return RJ_ERR_UNSTABLE_DT;

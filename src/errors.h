@@ -41,7 +41,8 @@ static void rj__rig_fastest(const rj_model *m, const rj_state *s, char *where, s
 
 /* The causes of a blow-up that this model can have, for the step's messages: only what
    the model holds (a step above the bound, loads whose work is most of the energy in
-   motion, limits and how they respond, stiff joints), else what every model has (fast rotation, which the linearised bound leaves out). */
+   motion, limits and how they respond, stiff joints), else what every model has (fast
+   rotation, which the linearised bound leaves out). */
 static const char *rj__blowup_causes(const rj_model *m, int applied, double work, double moving,
                                      char *buf, size_t size)
 {

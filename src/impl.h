@@ -137,6 +137,10 @@ typedef struct rj__joint {
     double tv_turn;  /* table potential of a full turn, J */
 } rj__joint;
 
+/* An angle no joint reaches (within the 1e100 a checkpoint carries): the empty zone of the
+   overlap record (RJ__JD_ZONE_LO above RJ__JD_ZONE_HI), and no band yet. */
+#define RJ__NO_ZONE 1e99
+
 /* Per-joint values in a frame (doubles), then per-joint ints. */
 enum {
     RJ__JD_THETA = 0,
@@ -150,8 +154,8 @@ enum {
     RJ__JD_IMPULSE,
     RJ__JD_INPUT,   /* the caller's torque applied in the step that made this frame */
     RJ__JD_ZONE_LO, /* rad: the zone the angle is in, a band of 360 deg less 1 deg at each */
-    RJ__JD_ZONE_HI, /* end or 1 deg about a fold between two (1e99 and -1e99: none yet) */
-    RJ__JD_BAND,    /* rad: the start of the last band's zone (1e99: none yet) */
+    RJ__JD_ZONE_HI, /* end or 1 deg about a fold (RJ__NO_ZONE and -RJ__NO_ZONE: none yet) */
+    RJ__JD_BAND,    /* rad: the start of the last band's zone (RJ__NO_ZONE: none yet) */
     RJ__JD_OVERLAP, /* the first time the two links passed through each other, s (-1) */
     RJ__JD_TQ0,
     RJ__JD_COUNT = RJ__JD_TQ0 + RJ_TORQUE_COUNT

@@ -24,7 +24,7 @@ static void rj__overlap_band(const rj_model *m, rj_state *s, int j, double run, 
     nj_[RJ__JD_ZONE_LO] = lo;
     nj_[RJ__JD_ZONE_HI] = hi;
     nj_[RJ__JD_BAND] = lo;
-    if (last_lo == 1e99 || last_lo == lo || oj[RJ__JD_OVERLAP] >= 0)
+    if (last_lo == RJ__NO_ZONE || last_lo == lo || oj[RJ__JD_OVERLAP] >= 0)
         return;
     nj_[RJ__JD_OVERLAP] = t;
     nsc[RJ__FS_WARN] += 1;

@@ -880,7 +880,7 @@ static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *
         d->inertia = v;
         break;
     case RJ__LK_WIDTH:
-        if (!RJ__SP_RULE(v > 0 && v <= 1e6, RJ__RULE_SIZE))
+        if (!RJ__SP_RULE(v > 0 && v <= 1e6, RJ__RULE_LENGTH))
             return 0;
         d->width = v;
         break;

@@ -34,7 +34,6 @@ static void rj__restart(const rj_model *m, rj_state *s)
     const double spring = sc[RJ__FS_SPRING], gravity = sc[RJ__FS_GRAV];
     const double time = sc[RJ__FS_TIME];
     int j;
-    s->settle_scale = 0;
     rj__zero_velocities(m, s);
     /* the potential energies of the last step stand until the first step takes them again */
     memset(sc, 0, sizeof(double) * RJ__FS_COUNT);
@@ -175,13 +174,51 @@ static rj_result rj__settle_args(const rj_model *m, rj_state *s, double tol, lon
    first. So the state must then stay below it, without damping, for 1.5 times the longest
    rise from rest to a peak seen so far (that slow mode's quarter period, once it has
    shown). progress (when not NULL) is called every RJ__SETTLE_EVERY steps; a nonzero
-   return stops the settling. */
+   return stops the settling. The steps, from a start at rest (rj__settle_start). */
 #define RJ__SETTLE_EVERY 4096
+static rj_result rj__settle_steps(const rj_model *m, rj_state *s, rj__settle_run *q, double tol,
+                                  long max_steps, rj_sample_fn progress, void *user)
+{
+    long k;
+    for (k = 0; k < max_steps; k++) {
+        const double *sc;
+        double moved;
+        const rj_result r = rj__step(m, s, 1);
+        if (r != RJ_OK)
+            return r;
+        sc = RJ__FS(m, s->fd[s->cur]);
+        moved = rj__settle_scale(sc, q->gravity);
+        /* each restart from rest starts the accounts again, from an energy that shrinks as
+           the state settles: the blow-up tests measure against what the settling moved */
+        if (moved > s->settle_scale)
+            s->settle_scale = moved;
+        /* settled only under the loads that act from then on: past their tables */
+        if (rj__settle_judge(m, s, q, sc[RJ__FS_KE], tol * moved + q->floor_energy) &&
+            sc[RJ__FS_TIME] >= q->steady) {
+            rj__restart(m, s);
+            return RJ_OK;
+        }
+        if (progress && (k + 1) % RJ__SETTLE_EVERY == 0 && progress(m, s, user)) {
+            rj__zero_velocities(m, s);
+            return rj__stop(m, s, RJ_ERR_NOT_CONVERGED,
+                            "rj_settle: stopped by the caller after %ld steps (t = %.9g s)",
+                            k + 1, rj_state_time(s));
+        }
+    }
+    rj__zero_velocities(m, s);
+    return rj__stop(m, s, RJ_ERR_NOT_CONVERGED,
+                    "rj_settle: not settled within %ld steps (t = %.9g s; the last kinetic "
+                    "energy peak %.3g J; tol %g of the %.3g J of potential energy moved)",
+                    max_steps, rj_state_time(s), q->last_peak, tol,
+                    rj__settle_scale(RJ__FS(m, s->fd[s->cur]), q->gravity));
+}
+
+/* rj_settle with progress: the settling's scale for the blow-up tests holds while it
+   steps, whatever ends it. */
 RJDEF rj_result rj_settle_ex(const rj_model *m, rj_state *s, double tol, long max_steps,
                              rj_sample_fn progress, void *user)
 {
     rj__settle_run q;
-    long k;
     rj_result r;
     if (!m || !s)
         return RJ_ERR_INVALID;
@@ -190,41 +227,9 @@ RJDEF rj_result rj_settle_ex(const rj_model *m, rj_state *s, double tol, long ma
         return r;
     s->err[0] = 0;
     rj__settle_start(m, s, &q);
-    for (k = 0; k < max_steps; k++) {
-        const double *sc;
-        double moved;
-        r = rj__step(m, s, 1);
-        if (r != RJ_OK) {
-            s->settle_scale = 0;
-            return r;
-        }
-        sc = RJ__FS(m, s->fd[s->cur]);
-        moved = rj__settle_scale(sc, q.gravity);
-        /* each restart from rest starts the accounts again, from an energy that shrinks as
-           the state settles: the blow-up tests measure against what the settling moved */
-        if (moved > s->settle_scale)
-            s->settle_scale = moved;
-        /* settled only under the loads that act from then on: past their tables */
-        if (rj__settle_judge(m, s, &q, sc[RJ__FS_KE], tol * moved + q.floor_energy) &&
-            sc[RJ__FS_TIME] >= q.steady) {
-            rj__restart(m, s);
-            return RJ_OK;
-        }
-        if (progress && (k + 1) % RJ__SETTLE_EVERY == 0 && progress(m, s, user)) {
-            s->settle_scale = 0;
-            rj__zero_velocities(m, s);
-            return rj__stop(m, s, RJ_ERR_NOT_CONVERGED,
-                            "rj_settle: stopped by the caller after %ld steps (t = %.9g s)",
-                            k + 1, rj_state_time(s));
-        }
-    }
+    r = rj__settle_steps(m, s, &q, tol, max_steps, progress, user);
     s->settle_scale = 0;
-    rj__zero_velocities(m, s);
-    return rj__stop(m, s, RJ_ERR_NOT_CONVERGED,
-                    "rj_settle: not settled within %ld steps (t = %.9g s; the last kinetic "
-                    "energy peak %.3g J; tol %g of the %.3g J of potential energy moved)",
-                    max_steps, rj_state_time(s), q.last_peak, tol,
-                    rj__settle_scale(RJ__FS(m, s->fd[s->cur]), q.gravity));
+    return r;
 }
 
 RJDEF rj_result rj_settle(const rj_model *m, rj_state *s, double tol, long max_steps)

@@ -121,9 +121,9 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
                               : rj__joint_rate(&m->jnt[j], &g, m->vx0, m->vy0, m->w0, NULL, NULL);
         jd[RJ__JD_EVENT] = -1;
         jd[RJ__JD_RELEASE] = -1;
-        jd[RJ__JD_ZONE_LO] = 1e99;
-        jd[RJ__JD_ZONE_HI] = -1e99;
-        jd[RJ__JD_BAND] = 1e99;
+        jd[RJ__JD_ZONE_LO] = RJ__NO_ZONE;
+        jd[RJ__JD_ZONE_HI] = -RJ__NO_ZONE;
+        jd[RJ__JD_BAND] = RJ__NO_ZONE;
         jd[RJ__JD_OVERLAP] = -1;
     }
     if (m->rigid) {

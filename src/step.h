@@ -309,7 +309,7 @@ static int rj__inputs_ok(const rj_model *m, rj_state *s)
 
 /* The caller's joint torques (rj_state_joint_torques, checked by rj__step before the
    step began), on the joint geometry stage 2 kept. */
-static rj_result rj__stage_inputs(const rj_model *m, rj_state *s, double *next)
+static void rj__stage_inputs(const rj_model *m, rj_state *s, double *next)
 {
     int j;
     for (j = 0; j < m->nj; j++) {
@@ -319,7 +319,6 @@ static rj_result rj__stage_inputs(const rj_model *m, rj_state *s, double *next)
         rj__apply_torque(&m->jnt[j], &g, torque, s->fx, s->fy, s->mz);
         RJ__FJ(m, next, j)[RJ__JD_INPUT] = torque;
     }
-    return RJ_OK;
 }
 
 /* The work of the caller's joint torques over the step (after the velocity-level limits,
@@ -497,14 +496,10 @@ static RJ__NOINLINE rj_result rj__stage_applied(const rj_model *m, rj_state *s, 
                                                 double t, const double *at_n, double *advanced,
                                                 double kick)
 {
-    rj_result r;
     s->step_work = 0;
     s->step_fin = 0;
-    if (s->inputs) {
-        r = rj__stage_inputs(m, s, next);
-        if (r != RJ_OK)
-            return r;
-    }
+    if (s->inputs)
+        rj__stage_inputs(m, s, next);
     if (m->nload)
         s->step_work += rj__stage_loads(m, s, t, at_n);
     if (s->node_inputs)

@@ -8,13 +8,12 @@
    under 1e5 m/s^2 has a potential of about 1e65 J. */
 #define RJ__RULE_E "must be in (0, 1e30] Pa"
 #define RJ__RULE_RHO "must be in (0, 1e30] kg/m^3"
-#define RJ__RULE_SIZE "must be in (0, 1e6] m"
 #define RJ__RULE_AREA "must be in (0, 1e12] m^2"
 #define RJ__RULE_INERTIA "must be in (0, 1e24] m^4"
 #define RJ__RULE_DEPTH "must be in [0, 1e6] m (> 0 for a rectangular section)"
 #define RJ__RULE_TIP_MASS "must be in [0, 1e40] kg"
 #define RJ__RULE_TIP_INERTIA "must be in [0, 1e50] kg m^2"
-#define RJ__RULE_LENGTH "must be in (0, 1e6] m"
+#define RJ__RULE_LENGTH "must be in (0, 1e6] m" /* a link's length, a section's width and height */
 #define RJ__RULE_ANGLE "must be a finite angle within +-1e6 rad"
 #define RJ__RULE_STIFFNESS "must be >= 0 N m/rad"
 #define RJ__RULE_RESTITUTION "must be in [0, 1]"
@@ -232,10 +231,10 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
         }
         if (L->section == RJ_SECTION_RECT) {
             RJ__FIELD(f, "links[%d].width", i);
-            if (!rj__check_num(err, f, L->width, 0, 0, 1e6, 1, RJ__RULE_SIZE))
+            if (!rj__check_num(err, f, L->width, 0, 0, 1e6, 1, RJ__RULE_LENGTH))
                 return 0;
             RJ__FIELD(f, "links[%d].height", i);
-            if (!rj__check_num(err, f, L->height, 0, 0, 1e6, 1, RJ__RULE_SIZE))
+            if (!rj__check_num(err, f, L->height, 0, 0, 1e6, 1, RJ__RULE_LENGTH))
                 return 0;
             if (L->layers < 1 || L->layers > 1000) {
                 RJ__FIELD(f, "links[%d].layers", i);
