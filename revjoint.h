@@ -645,6 +645,7 @@ RJDEF size_t rj_scene_write_ex(const rj_scene_def *scene, const char *const *lin
 #include <string.h>
 #include <stdio.h>
 #include <stdarg.h>
+#include <stddef.h>
 
 #if defined(RJ_MALLOC) != defined(RJ_FREE)
 #error "define both RJ_MALLOC and RJ_FREE, or neither"
@@ -1137,78 +1138,464 @@ static void rj__accounts_zero(double *scalars)
         if (rj__accounts[k].kind != RJ__ACC_ENERGY)
             scalars[rj__accounts[k].slot] = 0;
 }
+/* ------------------------------------------------------------------ definition fields */
+/* Every member of a definition (rj_link_def, rj_joint_def, rj_solver_def, rj_load_def) is
+   one row of its kind's table below: its scene key, unit, kind of value, default, range
+   with the one sentence that states it, when it applies, how the writer puts it in a
+   scene file, and where it enters the model's hash. The defaults (rj_default_*_def),
+   validation (rj__validate), the scene parser, the scene writer and the model hash read
+   these rows; docs/scene-format.md's key table is checked against them (tests/keys.py).
+   Rules that tie members together (a lock needs a limit, a body is a link the scene has)
+   are code, grouped by concept in validate.h.
+
+   Row k of a table, for k below the kind's key count (RJ__LK_N, RJ__JK_N, RJ__VK_N,
+   RJ__AK_N), is the scene key k, in the order the enums below give. Members that no key
+   sets alone follow: a member derived from other keys (a link's section shape) and the
+   second parts of keys that take two (a spring's free angle, a limit's on/off flag). */
+
+/* keys; index 0 of an item's position array is its section line, key k is at 1 + k */
+enum {
+    RJ__LK_LENGTH,
+    RJ__LK_ELEMENTS,
+    RJ__LK_MATERIAL,
+    RJ__LK_SECTION,
+    RJ__LK_E,
+    RJ__LK_RHO,
+    RJ__LK_AREA,
+    RJ__LK_INERTIA,
+    RJ__LK_WIDTH,
+    RJ__LK_HEIGHT,
+    RJ__LK_LAYERS,
+    RJ__LK_TIP_MASS,
+    RJ__LK_TIP_INERTIA,
+    RJ__LK_ROOT,
+    RJ__LK_X,
+    RJ__LK_Y,
+    RJ__LK_ANGLE,
+    RJ__LK_VX,
+    RJ__LK_VY,
+    RJ__LK_OMEGA,
+    RJ__LK_FIDELITY,
+    RJ__LK_N,
+    RJ__LF_SHAPE = RJ__LK_N, /* members no key sets alone */
+    RJ__LF_N
+};
+enum {
+    RJ__JK_BODY1,
+    RJ__JK_BODY2,
+    RJ__JK_NODE1,
+    RJ__JK_GROUND_X,
+    RJ__JK_GROUND_Y,
+    RJ__JK_GROUND_ANGLE,
+    RJ__JK_ANGLE0,
+    RJ__JK_RATE0,
+    RJ__JK_TABLE,
+    RJ__JK_SPRING,
+    RJ__JK_FORWARD,
+    RJ__JK_REVERSE,
+    RJ__JK_LOCK,
+    RJ__JK_METHOD,
+    RJ__JK_RELEASE,
+    RJ__JK_PENALTY_K,
+    RJ__JK_RESTITUTION,
+    RJ__JK_DAMPING,
+    RJ__JK_FRICTION,
+    RJ__JK_REFERENCE,
+    RJ__JK_N,
+    RJ__JF_FREE_ANGLE = RJ__JK_N,
+    RJ__JF_HAS_FORWARD,
+    RJ__JF_HAS_REVERSE,
+    RJ__JF_N
+};
+enum {
+    RJ__AK_LINK,
+    RJ__AK_NODE,
+    RJ__AK_FORCE,
+    RJ__AK_MOMENT,
+    RJ__AK_TABLE,
+    RJ__AK_FOLLOWER,
+    RJ__AK_N,
+    RJ__AF_N = RJ__AK_N
+};
+enum {
+    RJ__VK_DT,
+    RJ__VK_ALLOW_UNSTABLE,
+    RJ__VK_ENERGY_GROWTH,
+    RJ__VK_ENERGY_EVERY,
+    RJ__VK_IN_PLACE,
+    RJ__VK_GRAVITY,
+    RJ__VK_N,
+    RJ__VF_N = RJ__VK_N
+};
+
+/* What a row holds, and so how it is read, checked and written. */
+enum {
+    RJ__FT_REAL,  /* a number, SI */
+    RJ__FT_ANGLE, /* rad; a file may say deg */
+    RJ__FT_RATE,  /* rad/s; a file may say deg/s */
+    RJ__FT_INT,   /* an int in [lo, hi] */
+    RJ__FT_ENUM,  /* an int 0 .. count - 1 named by names in files */
+    RJ__FT_BOOL,  /* an int 0 or 1: no / yes in files */
+    RJ__FT_VEC2,  /* two numbers (x, y), each in the range */
+    RJ__FT_LINK,  /* an int: a link of the scene (a joint's body1 may be -1, ground) */
+    RJ__FT_NODE,  /* an int: a node of a link, -1 its last ("last" in files) */
+    RJ__FT_TABLE, /* an int count, then two arrays of RJ_TABLE_MAX doubles from aux */
+    RJ__FT_LIMIT, /* an angle in [lo, hi), on when the int at aux is 1 ("none" when off) */
+    RJ__FT_PART,  /* no member: a file names a material or section to take values from */
+    RJ__FT_N
+};
+
+/* When a row is checked and written: always, or only for one section shape; GROUND and
+   ON_LINK rows are checked always and written only for a joint on ground or on a link. */
+enum {
+    RJ__WHEN_ALL,
+    RJ__WHEN_RECT,
+    RJ__WHEN_GENERAL,
+    RJ__WHEN_GROUND,
+    RJ__WHEN_ON_LINK,
+    RJ__WHEN_PLACE /* a link's placement: with a note when a joint places the link */
+};
+
+/* How the writer puts a row in a file: always; when it differs from its default in its
+   bits (-0.0 is written); with its line (when any row of the line differs); or not at
+   all (a part of another key, written with it). Rows of one line number follow each
+   other and share a line. */
+enum { RJ__WR_ALWAYS, RJ__WR_SET, RJ__WR_LINE, RJ__WR_NONE };
+
+typedef struct rj__field {
+    const char *key;    /* the scene key; for a member that no key sets alone, its C name */
+    const char *member; /* the C member in messages ("length", "gravity"); NULL for PART */
+    const char *unit;   /* SI unit, "" none */
+    int offset;         /* of the member in its definition; -1 for PART */
+    int aux;            /* TABLE: the first array's offset; LIMIT: the flag's; else -1 */
+    unsigned char type; /* RJ__FT_* */
+    unsigned char when; /* RJ__WHEN_* */
+    unsigned char write, line; /* RJ__WR_*, line number among the item's lines */
+    signed char hash_at;       /* its place in the model hash, -1 not hashed */
+    char hash_as;              /* 'd' as a double, 'i' as an int */
+    int part_of;               /* the key row this member is a second part of, else -1 */
+    double def;                /* the default (VEC2: of both) */
+    double lo, hi;              /* the range (ENUM: 0 .. count - 1) */
+    unsigned char lo_in, hi_in; /* whether the range includes its ends */
+    const char *rule;           /* the sentence a value outside the range gets */
+    const char *names;          /* ENUM: count names of stride bytes; BOOL: NULL */
+    unsigned char stride, count;
+} rj__field;
+
+/* The sentences of rules that several rows share. */
+#define RJ__RULE_LENGTH "must be in (0, 1e6] m" /* a link's length, a section's width */
+#define RJ__RULE_ANGLE "must be a finite angle within +-1e6 rad"
+#define RJ__RULE_STIFFNESS "must be >= 0 N m/rad"
+#define RJ__RULE_FINITE "must be finite"
+#define RJ__RULE_LIMIT "a limit must be in [0, 2 pi) rad, [0, 360) deg"
+#define RJ__RULE_BOOL "0 or 1"
+
+/* enum names in files, in the enums' order: char arrays, not pointer arrays (read-only
+   data without relocations) */
+static const char rj__sk_in_place[3][5] = { "auto", "on", "off" };
+static const char rj__sk_root[4][8] = { "free", "pinned", "clamped", "fixed" };
+static const char rj__sk_fidelity[3][13] = { "flexible", "rigid", "inextensible" };
+static const char rj__sk_method[5][9] = { "penalty", "adaptive", "momentum", "forced", "energy" };
+static const char rj__sk_release[2][5] = { "rc12", "rc13" };
+static const char rj__sk_reference[2][8] = { "tangent", "chord" };
+static const char rj__sk_shape[2][8] = { "rect", "general" };
+
+#define RJ__NAMES(a) a[0], (unsigned char) sizeof a[0], (unsigned char) (sizeof a / sizeof a[0])
+#define RJ__NO_NAMES NULL, 0, 0
+#define RJ__OFF(T, m) (int) offsetof(T, m)
+
+
+/* Range columns: lo, whether lo is in, hi, whether hi is in. */
+#define RJ__R(lo, lo_in, hi, hi_in) lo, hi, lo_in, hi_in
+#define RJ__ANY RJ__R(-HUGE_VAL, 0, HUGE_VAL, 0)
+
+/* A row of member m of the definition RJ__DEF: key, unit, type, when, write, line, hash
+   place and form, default, range and its sentence. */
+#define RJ__F(key, m, unit, type, when, wr, line, hat, has, def, range, rule)                 \
+    {                                                                                         \
+        key, #m, unit, RJ__OFF(RJ__DEF, m), -1, type, when, wr, line, hat, has, -1, def,      \
+            range, rule, RJ__NO_NAMES                                                         \
+    }
+/* An enum member's row: its names in files; validation's sentence names its C values. */
+#define RJ__FE(key, m, names, wr, line, hat, has, def, rule)                                  \
+    {                                                                                         \
+        key, #m, "", RJ__OFF(RJ__DEF, m), -1, RJ__FT_ENUM, RJ__WHEN_ALL, wr, line, hat, has,  \
+            -1, def, RJ__R(0.0, 1, (double) (sizeof names / sizeof names[0]) - 1, 1), rule,   \
+            RJ__NAMES(names)                                                                  \
+    }
+/* A row with an aux offset (TABLE, LIMIT) or one that is a part of key row part_of. */
+#define RJ__FA(key, m, unit, type, aux, part_of, wr, line, hat, has, def, range, rule, st)      \
+    {                                                                                         \
+        key, #m, unit, RJ__OFF(RJ__DEF, m), aux, type, RJ__WHEN_ALL, wr, line, hat, has,      \
+            part_of, def, range, rule, NULL, st, 0                                            \
+    }
+/* A key that names a material or a section (no member). */
+#define RJ__FPART(key)                                                                        \
+    {                                                                                         \
+        key, NULL, "", -1, -1, RJ__FT_PART, RJ__WHEN_ALL, RJ__WR_NONE, 0, -1, 'd', -1, 0.0,   \
+            RJ__ANY, "", RJ__NO_NAMES                                                         \
+    }
+
+#define RJ__DEF rj_link_def
+static const rj__field rj__link_fields[RJ__LF_N] = {
+    RJ__F("length", length, "m", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 0, 'd', 1.0,
+          RJ__R(0.0, 0, 1e6, 1), RJ__RULE_LENGTH),
+    RJ__F("elements", elements, "", RJ__FT_INT, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 15, 'd', 10.0,
+          RJ__R(1.0, 1, 1e6, 1), "must be 1..1000000"),
+    RJ__FPART("material"),
+    RJ__FPART("section"),
+    RJ__F("E", E, "Pa", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_ALWAYS, 2, 1, 'd', 70e9,
+          RJ__R(0.0, 0, 1e30, 1), "must be in (0, 1e30] Pa"),
+    RJ__F("rho", rho, "kg/m^3", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_ALWAYS, 2, 2, 'd', 2710.0,
+          RJ__R(0.0, 0, 1e30, 1), "must be in (0, 1e30] kg/m^3"),
+    RJ__F("area", area, "m^2", RJ__FT_REAL, RJ__WHEN_GENERAL, RJ__WR_ALWAYS, 3, 5, 'd', 0.0,
+          RJ__R(0.0, 0, 1e12, 1), "must be in (0, 1e12] m^2"),
+    RJ__F("inertia", inertia, "m^4", RJ__FT_REAL, RJ__WHEN_GENERAL, RJ__WR_ALWAYS, 3, 6, 'd',
+          0.0, RJ__R(0.0, 0, 1e24, 1), "must be in (0, 1e24] m^4"),
+    RJ__F("width", width, "m", RJ__FT_REAL, RJ__WHEN_RECT, RJ__WR_ALWAYS, 3, 3, 'd', 0.05,
+          RJ__R(0.0, 0, 1e6, 1), RJ__RULE_LENGTH),
+    /* the in-plane depth; a general section's drawn thickness (> 0 for a rectangle: a
+       rule of the section's shape) */
+    RJ__F("height", height, "m", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_ALWAYS, 3, 4, 'd', 0.2,
+          RJ__R(0.0, 1, 1e6, 1), "must be in [0, 1e6] m (> 0 for a rectangular section)"),
+    RJ__F("layers", layers, "", RJ__FT_INT, RJ__WHEN_RECT, RJ__WR_SET, 3, 17, 'd', 1.0,
+          RJ__R(1.0, 1, 1000.0, 1), "must be 1..1000"),
+    RJ__F("tip_mass", tip_mass, "kg", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_LINE, 4, 7, 'd', 0.0,
+          RJ__R(0.0, 1, 1e40, 1), "must be in [0, 1e40] kg"),
+    RJ__F("tip_inertia", tip_inertia, "kg m^2", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_LINE, 4, 8,
+          'd', 0.0, RJ__R(0.0, 1, 1e50, 1), "must be in [0, 1e50] kg m^2"),
+    RJ__FE("root", root, rj__sk_root, RJ__WR_SET, 5, 18, 'd', 0.0,
+           "RJ_ROOT_FREE, _PINNED, _CLAMPED or _FIXED"),
+    RJ__F("x", x, "m", RJ__FT_REAL, RJ__WHEN_PLACE, RJ__WR_LINE, 6, 9, 'd', 0.0, RJ__ANY,
+          RJ__RULE_FINITE),
+    RJ__F("y", y, "m", RJ__FT_REAL, RJ__WHEN_PLACE, RJ__WR_LINE, 6, 10, 'd', 0.0, RJ__ANY,
+          RJ__RULE_FINITE),
+    /* within 1e6 rad, as angle0: beyond it a rotation of 1e-7 rad (the stability bound's
+       finite differences) falls below what the angle's double resolves */
+    RJ__F("angle", angle, "rad", RJ__FT_ANGLE, RJ__WHEN_PLACE, RJ__WR_LINE, 6, 11, 'd', 0.0,
+          RJ__R(-1e6, 1, 1e6, 1), RJ__RULE_ANGLE),
+    RJ__F("vx", vx, "m/s", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_LINE, 7, 12, 'd', 0.0, RJ__ANY,
+          RJ__RULE_FINITE),
+    RJ__F("vy", vy, "m/s", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_LINE, 7, 13, 'd', 0.0, RJ__ANY,
+          RJ__RULE_FINITE),
+    RJ__F("omega", omega, "rad/s", RJ__FT_RATE, RJ__WHEN_ALL, RJ__WR_LINE, 7, 14, 'd', 0.0,
+          RJ__ANY, RJ__RULE_FINITE),
+    RJ__FE("fidelity", fidelity, rj__sk_fidelity, RJ__WR_SET, 8, 19, 'i', 0.0,
+           "RJ_LINK_FLEXIBLE, RJ_LINK_RIGID or RJ_LINK_INEXTENSIBLE"),
+    /* derived: area and inertia in a file make a general section */
+    RJ__FE("section", section, rj__sk_shape, RJ__WR_NONE, 0, 16, 'd', 0.0,
+           "RJ_SECTION_RECT or RJ_SECTION_GENERAL"),
+};
+#undef RJ__DEF
+
+#define RJ__DEF rj_joint_def
+static const rj__field rj__joint_fields[RJ__JF_N] = {
+    RJ__F("body1", body1, "", RJ__FT_LINK, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 0, 'd', -1.0,
+          RJ__ANY, ""),
+    RJ__F("body2", body2, "", RJ__FT_LINK, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 2, 'd', 0.0, RJ__ANY,
+          ""),
+    RJ__F("node1", node1, "", RJ__FT_NODE, RJ__WHEN_ON_LINK, RJ__WR_SET, 1, 1, 'd', -1.0,
+          RJ__ANY, ""),
+    RJ__F("ground_x", ground_x, "m", RJ__FT_REAL, RJ__WHEN_GROUND, RJ__WR_LINE, 2, 3, 'd', 0.0,
+          RJ__ANY, RJ__RULE_FINITE),
+    RJ__F("ground_y", ground_y, "m", RJ__FT_REAL, RJ__WHEN_GROUND, RJ__WR_LINE, 2, 4, 'd', 0.0,
+          RJ__ANY, RJ__RULE_FINITE),
+    RJ__F("ground_angle", ground_angle, "rad", RJ__FT_ANGLE, RJ__WHEN_GROUND, RJ__WR_LINE, 2, 5,
+          'd', 0.0, RJ__ANY, RJ__RULE_FINITE),
+    RJ__F("angle0", angle0, "rad", RJ__FT_ANGLE, RJ__WHEN_ALL, RJ__WR_ALWAYS, 3, 6, 'd', RJ__PI,
+          RJ__R(-1e6, 1, 1e6, 1), RJ__RULE_ANGLE),
+    RJ__F("rate0", rate0, "rad/s", RJ__FT_RATE, RJ__WHEN_ALL, RJ__WR_SET, 3, 7, 'd', 0.0,
+          RJ__ANY, RJ__RULE_FINITE),
+    /* angle torque pairs (Eq 4); first column angles (stride 1) */
+    RJ__FA("table", table_count, "N m", RJ__FT_TABLE, RJ__OFF(rj_joint_def, table_angle), -1,
+           RJ__WR_SET, 4, 22, 'i', 0.0, RJ__R(2.0, 1, RJ_TABLE_MAX, 1), "", 1),
+    RJ__FA("spring", spring_k, "N m/rad", RJ__FT_REAL, -1, -1, RJ__WR_LINE, 5, 8, 'd', 0.0,
+           RJ__R(0.0, 1, HUGE_VAL, 0), RJ__RULE_STIFFNESS, 0),
+    RJ__FA("forward", forward, "rad", RJ__FT_LIMIT, RJ__OFF(rj_joint_def, has_forward), -1,
+           RJ__WR_SET, 6, 11, 'd', 0.0, RJ__R(0.0, 1, RJ__TWO_PI, 0), RJ__RULE_LIMIT, 0),
+    RJ__FA("reverse", reverse, "rad", RJ__FT_LIMIT, RJ__OFF(rj_joint_def, has_reverse), -1,
+           RJ__WR_SET, 7, 13, 'd', 0.0, RJ__R(0.0, 1, RJ__TWO_PI, 0), RJ__RULE_LIMIT, 0),
+    RJ__F("lock", lock, "", RJ__FT_BOOL, RJ__WHEN_ALL, RJ__WR_SET, 8, 14, 'd', 0.0,
+          RJ__R(0.0, 1, 1.0, 1), RJ__RULE_BOOL),
+    RJ__FE("method", method, rj__sk_method, RJ__WR_ALWAYS, 9, 15, 'd', RJ_METHOD_ADAPTIVE,
+           "one of RJ_METHOD_PENALTY..RJ_METHOD_ENERGY"),
+    RJ__FE("release", release, rj__sk_release, RJ__WR_SET, 9, 16, 'd', RJ_RELEASE_RC13,
+           "RJ_RELEASE_RC12 or RJ_RELEASE_RC13"),
+    RJ__F("penalty_k", penalty_k, "N m/rad", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 10, 17, 'd',
+          0.0, RJ__R(0.0, 1, HUGE_VAL, 0), RJ__RULE_STIFFNESS),
+    RJ__F("restitution", restitution, "", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 11, 18, 'd',
+          0.0, RJ__R(0.0, 1, 1.0, 1), "must be in [0, 1]"),
+    RJ__F("damping", damping, "N m s/rad", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 12, 19, 'd',
+          0.0, RJ__R(0.0, 1, HUGE_VAL, 0), "must be >= 0 N m s/rad"),
+    RJ__F("friction", friction, "N m", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 13, 20, 'd', 0.0,
+          RJ__R(0.0, 1, HUGE_VAL, 0), "must be >= 0 N m"),
+    RJ__FE("reference", reference, rj__sk_reference, RJ__WR_SET, 14, 21, 'i', 0.0,
+           "RJ_REF_TANGENT or RJ_REF_CHORD"),
+    /* second parts: spring = k angle; a limit's on/off */
+    RJ__FA("spring_free_angle", spring_free_angle, "rad", RJ__FT_ANGLE, -1, RJ__JK_SPRING,
+           RJ__WR_NONE, 5, 9, 'd', RJ__PI, RJ__R(-1e6, 1, 1e6, 1), RJ__RULE_ANGLE, 0),
+    RJ__FA("has_forward", has_forward, "", RJ__FT_BOOL, -1, RJ__JK_FORWARD, RJ__WR_NONE, 6, 10,
+           'd', 0.0, RJ__R(0.0, 1, 1.0, 1), RJ__RULE_BOOL, 0),
+    RJ__FA("has_reverse", has_reverse, "", RJ__FT_BOOL, -1, RJ__JK_REVERSE, RJ__WR_NONE, 7, 12,
+           'd', 0.0, RJ__R(0.0, 1, 1.0, 1), RJ__RULE_BOOL, 0),
+};
+#undef RJ__DEF
+
+#define RJ__DEF rj_solver_def
+static const rj__field rj__solver_fields[RJ__VF_N] = {
+    RJ__F("dt", dt, "s", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 1, -1, 'd', 0.0,
+          RJ__R(0.0, 1, 1.0, 1), "must be 0 (automatic) or a step in (0, 1] s"),
+    RJ__F("allow_unstable", allow_unstable, "", RJ__FT_BOOL, RJ__WHEN_ALL, RJ__WR_SET, 2, -1,
+          'd', 0.0, RJ__R(0.0, 1, 1.0, 1), "must be 0 or 1"),
+    RJ__F("energy_growth", energy_growth, "", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 3, -1, 'd',
+          10.0, RJ__R(1.0, 0, HUGE_VAL, 0), "must be > 1"),
+    RJ__F("energy_every", energy_every, "", RJ__FT_INT, RJ__WHEN_ALL, RJ__WR_SET, 4, -1, 'd',
+          1.0, RJ__R(1.0, 1, 1000.0, 1), "must be 1..1000 steps"),
+    RJ__FE("in_place", in_place, rj__sk_in_place, RJ__WR_SET, 5, -1, 'd', RJ_IN_PLACE_AUTO,
+           "must be RJ_IN_PLACE_AUTO (0), RJ_IN_PLACE_ON (1) or RJ_IN_PLACE_OFF (2)"),
+    RJ__F("gravity", gravity, "m/s^2", RJ__FT_VEC2, RJ__WHEN_ALL, RJ__WR_SET, 6, 0, 'd', 0.0,
+          RJ__R(-1e5, 1, 1e5, 1),
+          "each component must be a finite acceleration within +-1e5 m/s^2"),
+};
+#undef RJ__DEF
+
+#define RJ__DEF rj_load_def
+static const rj__field rj__load_fields[RJ__AF_N] = {
+    RJ__F("link", link, "", RJ__FT_LINK, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 0, 'i', 0.0, RJ__ANY,
+          ""),
+    RJ__F("node", node, "", RJ__FT_NODE, RJ__WHEN_ALL, RJ__WR_SET, 1, 1, 'i', -1.0, RJ__ANY, ""),
+    RJ__F("force", force, "N", RJ__FT_VEC2, RJ__WHEN_ALL, RJ__WR_SET, 2, 2, 'd', 0.0,
+          RJ__R(-1e30, 1, 1e30, 1), "must be a finite force within +-1e30 N"),
+    RJ__F("moment", moment, "N m", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 3, 3, 'd', 0.0,
+          RJ__R(-1e30, 1, 1e30, 1), "must be a finite moment within +-1e30 N m"),
+    /* time factor pairs */
+    RJ__FA("table", table_count, "", RJ__FT_TABLE, RJ__OFF(rj_load_def, table_time), -1,
+           RJ__WR_SET, 4, 5, 'i', 0.0, RJ__R(1.0, 1, RJ_TABLE_MAX, 1), "", 0),
+    RJ__F("follower", follower, "", RJ__FT_BOOL, RJ__WHEN_ALL, RJ__WR_SET, 5, 4, 'i', 0.0,
+          RJ__R(0.0, 1, 1.0, 1), "must be 0 (global frame) or 1 (turns with the node)"),
+};
+#undef RJ__DEF
+
+/* ------------------------------------------------------------------ reading rows */
+/* The definition kinds, and each one's table. */
+enum { RJ__DEF_LINK, RJ__DEF_JOINT, RJ__DEF_SOLVER, RJ__DEF_LOAD };
+
+static const rj__field *rj__fields(int kind, int *count)
+{
+    switch (kind) {
+    case RJ__DEF_LINK:
+        *count = RJ__LF_N;
+        return rj__link_fields;
+    case RJ__DEF_JOINT:
+        *count = RJ__JF_N;
+        return rj__joint_fields;
+    case RJ__DEF_SOLVER:
+        *count = RJ__VF_N;
+        return rj__solver_fields;
+    default:
+        *count = RJ__AF_N;
+        return rj__load_fields;
+    }
+}
+
+/* The double at row r of def (VEC2: component c). */
+static double rj__row_real(const void *def, const rj__field *r, int c)
+{
+    double v;
+    memcpy(&v, (const char *) def + r->offset + c * sizeof(double), sizeof v);
+    return v;
+}
+
+static void rj__row_set_real(void *def, const rj__field *r, int c, double v)
+{
+    memcpy((char *) def + r->offset + c * sizeof(double), &v, sizeof v);
+}
+
+/* The int at row r of def (INT, ENUM, BOOL, LINK, NODE, a TABLE's count); at the flag of
+   a LIMIT. */
+static int rj__row_int(const void *def, const rj__field *r)
+{
+    int v;
+    const int at = r->type == RJ__FT_LIMIT ? r->aux : r->offset;
+    memcpy(&v, (const char *) def + at, sizeof v);
+    return v;
+}
+
+static void rj__row_set_int(void *def, const rj__field *r, int v)
+{
+    memcpy((char *) def + r->offset, &v, sizeof v);
+}
+
+/* Whether row r holds a double (REAL, ANGLE, RATE, LIMIT, VEC2) rather than an int. */
+static int rj__row_is_real(const rj__field *r)
+{
+    return r->type == RJ__FT_REAL || r->type == RJ__FT_ANGLE || r->type == RJ__FT_RATE ||
+           r->type == RJ__FT_LIMIT || r->type == RJ__FT_VEC2;
+}
+
+/* Every member of def at its default: zeros, then each row's default. */
+static void rj__rows_default(void *def, size_t size, int kind)
+{
+    int n, k;
+    const rj__field *t = rj__fields(kind, &n);
+    memset(def, 0, size);
+    for (k = 0; k < n; k++) {
+        const rj__field *r = &t[k];
+        if (r->type == RJ__FT_PART)
+            continue;
+        if (rj__row_is_real(r)) {
+            rj__row_set_real(def, r, 0, r->def);
+            if (r->type == RJ__FT_VEC2)
+                rj__row_set_real(def, r, 1, r->def);
+        } else
+            rj__row_set_int(def, r, (int) r->def);
+    }
+}
+
+/* Whether row r applies to a link of section shape (-1: not a link) and is checked
+   (write 0) or written (write 1) for a joint on ground (or not). */
+static int rj__row_applies(const rj__field *r, int shape, int on_ground, int write)
+{
+    switch (r->when) {
+    case RJ__WHEN_RECT:
+        return shape == RJ_SECTION_RECT;
+    case RJ__WHEN_GENERAL:
+        return shape == RJ_SECTION_GENERAL;
+    case RJ__WHEN_GROUND:
+        return !write || on_ground;
+    case RJ__WHEN_ON_LINK:
+        return !write || !on_ground;
+    default:
+        return 1;
+    }
+}
 /* ------------------------------------------------------------------ defaults */
+/* Each definition's defaults are its rows' (fields.h); the cookie marks it as made here. */
 RJDEF rj_link_def rj_default_link_def(void)
 {
     rj_link_def d;
-    memset(&d, 0, sizeof d);
-    d.length = 1.0;
-    d.elements = 10;
-    d.E = 70e9;
-    d.rho = 2710.0;
-    d.section = RJ_SECTION_RECT;
-    d.width = 0.05;
-    d.height = 0.2;
-    d.layers = 1;
-    d.area = 0.0;
-    d.inertia = 0.0;
-    d.tip_mass = 0.0;
-    d.tip_inertia = 0.0;
-    d.root = RJ_ROOT_FREE;
-    d.x = d.y = d.angle = 0.0;
-    d.vx = d.vy = d.omega = 0.0;
-    d.fidelity = RJ_LINK_FLEXIBLE;
+    rj__rows_default(&d, sizeof d, RJ__DEF_LINK);
     d.cookie = RJ__COOKIE_LINK;
     return d;
 }
 RJDEF rj_joint_def rj_default_joint_def(void)
 {
     rj_joint_def d;
-    memset(&d, 0, sizeof d);
-    d.body1 = -1;
-    d.node1 = -1;
-    d.body2 = 0;
-    d.ground_x = d.ground_y = d.ground_angle = 0.0;
-    d.angle0 = RJ__PI;
-    d.rate0 = 0.0;
-    d.table_count = 0;
-    d.spring_k = 0.0;
-    d.spring_free_angle = RJ__PI;
-    d.has_forward = 0;
-    d.forward = 0.0;
-    d.has_reverse = 0;
-    d.reverse = 0.0;
-    d.lock = 0;
-    d.method = RJ_METHOD_ADAPTIVE;
-    d.release = RJ_RELEASE_RC13;
-    d.penalty_k = 0.0;
-    d.restitution = 0.0;
-    d.damping = 0.0;
-    d.friction = 0.0;
-    d.reference = RJ_REF_TANGENT;
+    rj__rows_default(&d, sizeof d, RJ__DEF_JOINT);
     d.cookie = RJ__COOKIE_JOINT;
     return d;
 }
 RJDEF rj_solver_def rj_default_solver_def(void)
 {
     rj_solver_def d;
-    memset(&d, 0, sizeof d);
-    d.dt = 0.0;
-    d.allow_unstable = 0;
-    d.energy_growth = 10.0;
-    d.energy_every = 1;
-    d.in_place = RJ_IN_PLACE_AUTO;
+    rj__rows_default(&d, sizeof d, RJ__DEF_SOLVER);
     d.cookie = RJ__COOKIE_SOLVER;
     return d;
 }
 RJDEF rj_load_def rj_default_load_def(void)
 {
     rj_load_def d;
-    memset(&d, 0, sizeof d);
-    d.link = 0;
-    d.node = -1;
-    d.follower = 0;
-    d.table_count = 0;
+    rj__rows_default(&d, sizeof d, RJ__DEF_LOAD);
     d.cookie = RJ__COOKIE_LOAD;
     return d;
 }
@@ -1223,7 +1610,6 @@ RJDEF rj_scene_def rj_default_scene_def(void)
     d.solver = rj_default_solver_def();
     return d;
 }
-
 /* ------------------------------------------------------------------ pure element equations */
 /* Eqs 1-3: angle from a to b, counter-clockwise, in [0, 2 pi). */
 RJDEF double rj_rotary_location(double ax, double ay, double bx, double by)
@@ -1353,28 +1739,11 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2)
 /* ------------------------------------------------------------------ validation */
 #define RJ__FIELD(buf, fmt, i) snprintf(buf, sizeof buf, fmt, i)
 
-/* The largest values a definition may hold, with the one rule each states (validation and
-   the scene parser say the same). Far beyond any material or mechanism, and small enough
-   that what the step, the energy accounts and a checkpoint (whose values stay within
-   1e100) compute from them stays within reach: a link of 1e6 m, 1e6 m deep, of 1e30 kg/m^3
-   under 1e5 m/s^2 has a potential of about 1e65 J. */
-#define RJ__RULE_E "must be in (0, 1e30] Pa"
-#define RJ__RULE_RHO "must be in (0, 1e30] kg/m^3"
-#define RJ__RULE_AREA "must be in (0, 1e12] m^2"
-#define RJ__RULE_INERTIA "must be in (0, 1e24] m^4"
-#define RJ__RULE_DEPTH "must be in [0, 1e6] m (> 0 for a rectangular section)"
-#define RJ__RULE_TIP_MASS "must be in [0, 1e40] kg"
-#define RJ__RULE_TIP_INERTIA "must be in [0, 1e50] kg m^2"
-#define RJ__RULE_LENGTH "must be in (0, 1e6] m" /* a link's length, a section's width and height */
-#define RJ__RULE_ANGLE "must be a finite angle within +-1e6 rad"
-#define RJ__RULE_STIFFNESS "must be >= 0 N m/rad"
-#define RJ__RULE_RESTITUTION "must be in [0, 1]"
-#define RJ__RULE_DAMPING "must be >= 0 N m s/rad"
-#define RJ__RULE_FRICTION "must be >= 0 N m"
-#define RJ__RULE_DT "must be 0 (automatic) or a step in (0, 1] s"
-#define RJ__RULE_GROWTH "must be > 1"
-#define RJ__RULE_GRAVITY "each component must be a finite acceleration within +-1e5 m/s^2"
-#define RJ__MAX_GRAVITY 1e5
+/* The ranges of single members, and their sentences, are the rows of fields.h. They are
+   far beyond any material or mechanism, and small enough that what the step, the energy
+   accounts and a checkpoint (whose values stay within 1e100) compute from them stays
+   within reach: a link of 1e6 m, 1e6 m deep, of 1e30 kg/m^3 under 1e5 m/s^2 has a
+   potential of about 1e65 J. */
 
 static int rj__check_num(rj_error *err, const char *field, double v, double lo, int lo_incl,
                          double hi, int hi_incl, const char *what)
@@ -1384,6 +1753,55 @@ static int rj__check_num(rj_error *err, const char *field, double v, double lo, 
         rj__fail(err, RJ_ERR_INVALID, field, v, "%s = %g is invalid: %s", field, v, what);
         return 0;
     }
+    return 1;
+}
+
+/* Row r of def, item (a prefix such as "links[3]", "solver"): its value in the row's
+   range, or the row's sentence. Rows of links, nodes and tables are checked by their
+   concepts' code. */
+static int rj__check_row(rj_error *err, const char *item, const rj__field *r, const void *def)
+{
+    char f[64];
+    int v;
+    snprintf(f, sizeof f, "%s.%s", item, r->member ? r->member : r->key);
+    switch (r->type) {
+    case RJ__FT_REAL:
+    case RJ__FT_ANGLE:
+    case RJ__FT_RATE:
+    case RJ__FT_LIMIT:
+        return rj__check_num(err, f, rj__row_real(def, r, 0), r->lo, r->lo_in, r->hi, r->hi_in,
+                             r->rule);
+    case RJ__FT_VEC2:
+        for (v = 0; v < 2; v++) {
+            snprintf(f, sizeof f, "%s.%s[%d]", item, r->member, v);
+            if (!rj__check_num(err, f, rj__row_real(def, r, v), r->lo, r->lo_in, r->hi,
+                               r->hi_in, r->rule))
+                return 0;
+        }
+        return 1;
+    case RJ__FT_INT:
+    case RJ__FT_ENUM:
+    case RJ__FT_BOOL:
+        v = rj__row_int(def, r);
+        if (v >= r->lo && v <= r->hi)
+            return 1;
+        rj__fail(err, RJ_ERR_INVALID, f, v, "%s = %d is invalid: %s", f, v, r->rule);
+        return 0;
+    default:
+        return 1;
+    }
+}
+
+/* Every row of a definition of kind (fields.h) that applies to it, in the table's
+   order; shape: a link's section shape, -1 for other kinds. */
+static int rj__check_rows(rj_error *err, const char *item, int kind, const void *def,
+                          int shape)
+{
+    int n, k;
+    const rj__field *t = rj__fields(kind, &n);
+    for (k = 0; k < n; k++)
+        if (rj__row_applies(&t[k], shape, 0, 0) && !rj__check_row(err, item, &t[k], def))
+            return 0;
     return 1;
 }
 
@@ -1458,10 +1876,10 @@ static int rj__validate_load_table(const rj_load_def *d, int i, rj_error *err)
     return 1;
 }
 
-/* Applied loads: a known link and node, finite force and moment, a table in time. */
+/* Applied loads: a known link and node, the rows' ranges, a table in time. */
 static int rj__validate_loads(const rj_scene_def *sc, rj_error *err)
 {
-    char f[64];
+    char f[64], item[32];
     int i;
     if (!rj__check_array(err, "load", sc->load_count, 0, sc->loads))
         return 0;
@@ -1484,355 +1902,169 @@ static int rj__validate_loads(const rj_scene_def *sc, rj_error *err)
                      d->link, sc->links[d->link].elements);
             return 0;
         }
-        RJ__FIELD(f, "loads[%d].force[0]", i);
-        if (!rj__check_num(err, f, d->force[0], -1e30, 1, 1e30, 1,
-                           "must be a finite force within +-1e30 N"))
+        RJ__FIELD(item, "loads[%d]", i);
+        if (!rj__check_rows(err, item, RJ__DEF_LOAD, d, -1))
             return 0;
-        RJ__FIELD(f, "loads[%d].force[1]", i);
-        if (!rj__check_num(err, f, d->force[1], -1e30, 1, 1e30, 1,
-                           "must be a finite force within +-1e30 N"))
-            return 0;
-        RJ__FIELD(f, "loads[%d].moment", i);
-        if (!rj__check_num(err, f, d->moment, -1e30, 1, 1e30, 1,
-                           "must be a finite moment within +-1e30 N m"))
-            return 0;
-        if (d->follower != 0 && d->follower != 1) {
-            RJ__FIELD(f, "loads[%d].follower", i);
-            rj__fail(err, RJ_ERR_INVALID, f, d->follower,
-                     "%s = %d is invalid: must be 0 (global frame) or 1 (turns with the node)", f,
-                     d->follower);
-            return 0;
-        }
         if (!rj__validate_load_table(d, i, err))
             return 0;
     }
     return 1;
 }
 
-static int rj__validate(const rj_scene_def *sc, rj_error *err)
+/* The solver: its rows. */
+static int rj__validate_solver(const rj_solver_def *s, rj_error *err)
 {
-    char f[64];
-    int i, j;
-    double inf = HUGE_VAL;
-    if (!sc) {
-        rj__fail(err, RJ_ERR_INVALID, "scene", 0, "scene is NULL");
-        return 0;
-    }
-    if (!rj__check_array(err, "link", sc->link_count, 1, sc->links) ||
-        !rj__check_array(err, "joint", sc->joint_count, 0, sc->joints))
-        return 0;
-    if (sc->solver.cookie != RJ__COOKIE_SOLVER) {
+    if (s->cookie != RJ__COOKIE_SOLVER) {
         rj__fail(err, RJ_ERR_INVALID, "solver", 0,
                  "solver was not initialised with rj_default_solver_def()");
         return 0;
     }
-    if (!rj__check_num(err, "solver.dt", sc->solver.dt, 0, 1, 1.0, 1, RJ__RULE_DT))
+    return rj__check_rows(err, "solver", RJ__DEF_SOLVER, s, -1);
+}
+
+/* Link i: its section's shape first (which rows apply depends on it), then its rows; a
+   rectangle's height is > 0. */
+static int rj__validate_link(const rj_link_def *L, int i, rj_error *err)
+{
+    char f[64], item[32];
+    if (!rj__check_cookie(err, "links[%d]", i, L->cookie, RJ__COOKIE_LINK,
+                          "rj_default_link_def()"))
         return 0;
-    if (!rj__check_num(err, "solver.energy_growth", sc->solver.energy_growth, 1.0, 0, inf, 0,
-                       RJ__RULE_GROWTH))
+    RJ__FIELD(item, "links[%d]", i);
+    if (!rj__check_row(err, item, &rj__link_fields[RJ__LF_SHAPE], L))
         return 0;
-    if (sc->solver.in_place < RJ_IN_PLACE_AUTO || sc->solver.in_place > RJ_IN_PLACE_OFF) {
-        rj__fail(err, RJ_ERR_INVALID, "solver.in_place", sc->solver.in_place,
-                 "solver.in_place = %d is invalid: must be RJ_IN_PLACE_AUTO (0), RJ_IN_PLACE_ON "
-                 "(1) or RJ_IN_PLACE_OFF (2)",
-                 sc->solver.in_place);
+    if (!rj__check_rows(err, item, RJ__DEF_LINK, L, L->section))
         return 0;
-    }
-    if (sc->solver.energy_every < 1 || sc->solver.energy_every > 1000) {
-        rj__fail(err, RJ_ERR_INVALID, "solver.energy_every", sc->solver.energy_every,
-                 "solver.energy_every = %d is invalid: must be 1 .. 1000 steps",
-                 sc->solver.energy_every);
-        return 0;
-    }
-    if (!rj__check_num(err, "solver.gravity[0]", sc->solver.gravity[0], -RJ__MAX_GRAVITY, 1,
-                       RJ__MAX_GRAVITY, 1, RJ__RULE_GRAVITY) ||
-        !rj__check_num(err, "solver.gravity[1]", sc->solver.gravity[1], -RJ__MAX_GRAVITY, 1,
-                       RJ__MAX_GRAVITY, 1, RJ__RULE_GRAVITY))
-        return 0;
-    if (sc->solver.allow_unstable != 0 && sc->solver.allow_unstable != 1) {
-        rj__fail(err, RJ_ERR_INVALID, "solver.allow_unstable", sc->solver.allow_unstable,
-                 "solver.allow_unstable = %d is invalid: must be 0 or 1",
-                 sc->solver.allow_unstable);
+    if (L->section == RJ_SECTION_RECT && !(L->height > 0)) {
+        const rj__field *r = &rj__link_fields[RJ__LK_HEIGHT];
+        RJ__FIELD(f, "links[%d].height", i);
+        rj__fail(err, RJ_ERR_INVALID, f, L->height, "%s = %g is invalid: %s", f, L->height,
+                 r->rule);
         return 0;
     }
-    for (i = 0; i < sc->link_count; i++) {
-        const rj_link_def *L = &sc->links[i];
-        if (!rj__check_cookie(err, "links[%d]", i, L->cookie, RJ__COOKIE_LINK,
-                              "rj_default_link_def()"))
+    return 1;
+}
+
+/* Joint j's bodies: links of the scene (body1 may be ground), two of them, a node body1
+   has, and body2 free to hang from the joint. */
+static int rj__validate_bodies(const rj_scene_def *sc, const rj_joint_def *J, int j,
+                               rj_error *err)
+{
+    char f[64];
+    if (J->body1 < -1 || J->body1 >= sc->link_count) {
+        RJ__FIELD(f, "joints[%d].body1", j);
+        rj__fail(err, RJ_ERR_INVALID, f, J->body1,
+                 "%s = %d is invalid: a link index 0..%d or -1 for ground", f, J->body1,
+                 sc->link_count - 1);
+        return 0;
+    }
+    if (J->body2 < 0 || J->body2 >= sc->link_count) {
+        RJ__FIELD(f, "joints[%d].body2", j);
+        rj__fail(err, RJ_ERR_INVALID, f, J->body2, "%s = %d is invalid: a link index 0..%d", f,
+                 J->body2, sc->link_count - 1);
+        return 0;
+    }
+    if (J->body1 == J->body2) {
+        RJ__FIELD(f, "joints[%d].body2", j);
+        rj__fail(err, RJ_ERR_INVALID, f, J->body2,
+                 "%s = %d is invalid: a joint cannot connect link %d to itself", f, J->body2,
+                 J->body2);
+        return 0;
+    }
+    if (J->body1 >= 0 && (J->node1 < -1 || J->node1 > sc->links[J->body1].elements)) {
+        RJ__FIELD(f, "joints[%d].node1", j);
+        rj__fail(err, RJ_ERR_INVALID, f, J->node1,
+                 "%s = %d is invalid: a node 0..%d of link %d, or -1 for its last node", f,
+                 J->node1, sc->links[J->body1].elements, J->body1);
+        return 0;
+    }
+    if (sc->links[J->body2].root != RJ_ROOT_FREE) {
+        RJ__FIELD(f, "links[%d].root", J->body2);
+        rj__fail(err, RJ_ERR_INVALID, f, sc->links[J->body2].root,
+                 "%s = %d is invalid: link %d is body2 of joint %d, its root must be RJ_ROOT_FREE",
+                 f, sc->links[J->body2].root, J->body2, j);
+        return 0;
+    }
+    return 1;
+}
+
+/* A joint's table (Eq 4): 0, or 2..RJ_TABLE_MAX points, angles in [0, 2 pi], finite
+   torques. */
+static int rj__validate_joint_table(const rj_joint_def *J, int j, rj_error *err)
+{
+    char f[64];
+    int k;
+    if (J->table_count != 0 && (J->table_count < 2 || J->table_count > RJ_TABLE_MAX)) {
+        RJ__FIELD(f, "joints[%d].table_count", j);
+        rj__fail(err, RJ_ERR_INVALID, f, J->table_count, "%s = %d is invalid: 0, or 2..%d points",
+                 f, J->table_count, RJ_TABLE_MAX);
+        return 0;
+    }
+    for (k = 0; k < J->table_count; k++) {
+        snprintf(f, sizeof f, "joints[%d].table_angle[%d]", j, k);
+        if (!rj__check_num(err, f, J->table_angle[k], 0, 1, RJ__TWO_PI, 1,
+                           "must be in [0, 2 pi] rad"))
             return 0;
-        RJ__FIELD(f, "links[%d].length", i);
-        if (!rj__check_num(err, f, L->length, 0, 0, 1e6, 1, RJ__RULE_LENGTH))
-            return 0;
-        if (L->elements < 1 || L->elements > 1000000) {
-            RJ__FIELD(f, "links[%d].elements", i);
-            rj__fail(err, RJ_ERR_INVALID, f, L->elements, "%s = %d is invalid: must be 1..1000000",
-                     f, L->elements);
-            return 0;
-        }
-        RJ__FIELD(f, "links[%d].E", i);
-        if (!rj__check_num(err, f, L->E, 0, 0, 1e30, 1, RJ__RULE_E))
-            return 0;
-        RJ__FIELD(f, "links[%d].rho", i);
-        if (!rj__check_num(err, f, L->rho, 0, 0, 1e30, 1, RJ__RULE_RHO))
-            return 0;
-        if (L->section != RJ_SECTION_RECT && L->section != RJ_SECTION_GENERAL) {
-            RJ__FIELD(f, "links[%d].section", i);
-            rj__fail(err, RJ_ERR_INVALID, f, L->section,
-                     "%s = %d is invalid: RJ_SECTION_RECT or RJ_SECTION_GENERAL", f, L->section);
-            return 0;
-        }
-        if (L->section == RJ_SECTION_RECT) {
-            RJ__FIELD(f, "links[%d].width", i);
-            if (!rj__check_num(err, f, L->width, 0, 0, 1e6, 1, RJ__RULE_LENGTH))
-                return 0;
-            RJ__FIELD(f, "links[%d].height", i);
-            if (!rj__check_num(err, f, L->height, 0, 0, 1e6, 1, RJ__RULE_LENGTH))
-                return 0;
-            if (L->layers < 1 || L->layers > 1000) {
-                RJ__FIELD(f, "links[%d].layers", i);
-                rj__fail(err, RJ_ERR_INVALID, f, L->layers, "%s = %d is invalid: must be 1..1000",
-                         f, L->layers);
-                return 0;
-            }
-        } else {
-            RJ__FIELD(f, "links[%d].area", i);
-            if (!rj__check_num(err, f, L->area, 0, 0, 1e12, 1, RJ__RULE_AREA))
-                return 0;
-            RJ__FIELD(f, "links[%d].inertia", i);
-            if (!rj__check_num(err, f, L->inertia, 0, 0, 1e24, 1, RJ__RULE_INERTIA))
-                return 0;
-            RJ__FIELD(f, "links[%d].height", i);
-            if (!rj__check_num(err, f, L->height, 0, 1, 1e6, 1, RJ__RULE_DEPTH))
-                return 0;
-        }
-        RJ__FIELD(f, "links[%d].tip_mass", i);
-        if (!rj__check_num(err, f, L->tip_mass, 0, 1, 1e40, 1, RJ__RULE_TIP_MASS))
-            return 0;
-        RJ__FIELD(f, "links[%d].tip_inertia", i);
-        if (!rj__check_num(err, f, L->tip_inertia, 0, 1, 1e50, 1, RJ__RULE_TIP_INERTIA))
-            return 0;
-        if (L->root < RJ_ROOT_FREE || L->root > RJ_ROOT_FIXED) {
-            RJ__FIELD(f, "links[%d].root", i);
-            rj__fail(err, RJ_ERR_INVALID, f, L->root,
-                     "%s = %d is invalid: RJ_ROOT_FREE, _PINNED, _CLAMPED or _FIXED", f, L->root);
-            return 0;
-        }
-        RJ__FIELD(f, "links[%d].x", i);
-        if (!rj__check_num(err, f, L->x, -inf, 0, inf, 0, "must be finite"))
-            return 0;
-        RJ__FIELD(f, "links[%d].y", i);
-        if (!rj__check_num(err, f, L->y, -inf, 0, inf, 0, "must be finite"))
-            return 0;
-        /* within 1e6 rad, as angle0: beyond it a rotation of 1e-7 rad (the stability bound's
-           finite differences) falls below what the angle's double resolves */
-        RJ__FIELD(f, "links[%d].angle", i);
-        if (!rj__check_num(err, f, L->angle, -1e6, 1, 1e6, 1,
-                           "must be a finite angle within 1e6 rad"))
-            return 0;
-        RJ__FIELD(f, "links[%d].vx", i);
-        if (!rj__check_num(err, f, L->vx, -inf, 0, inf, 0, "must be finite"))
-            return 0;
-        RJ__FIELD(f, "links[%d].vy", i);
-        if (!rj__check_num(err, f, L->vy, -inf, 0, inf, 0, "must be finite"))
-            return 0;
-        RJ__FIELD(f, "links[%d].omega", i);
-        if (!rj__check_num(err, f, L->omega, -inf, 0, inf, 0, "must be finite"))
+        snprintf(f, sizeof f, "joints[%d].table_torque[%d]", j, k);
+        if (!rj__check_num(err, f, J->table_torque[k], -HUGE_VAL, 0, HUGE_VAL, 0,
+                           RJ__RULE_FINITE))
             return 0;
     }
-    for (j = 0; j < sc->joint_count; j++) {
-        const rj_joint_def *J = &sc->joints[j];
-        int k;
-        if (!rj__check_cookie(err, "joints[%d]", j, J->cookie, RJ__COOKIE_JOINT,
-                              "rj_default_joint_def()"))
-            return 0;
-        if (J->body1 < -1 || J->body1 >= sc->link_count) {
-            RJ__FIELD(f, "joints[%d].body1", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->body1,
-                     "%s = %d is invalid: a link index 0..%d or -1 for ground", f, J->body1,
-                     sc->link_count - 1);
-            return 0;
-        }
-        if (J->body2 < 0 || J->body2 >= sc->link_count) {
-            RJ__FIELD(f, "joints[%d].body2", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->body2, "%s = %d is invalid: a link index 0..%d", f,
-                     J->body2, sc->link_count - 1);
-            return 0;
-        }
-        if (J->body1 == J->body2) {
-            RJ__FIELD(f, "joints[%d].body2", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->body2,
-                     "%s = %d is invalid: a joint cannot connect link %d to itself", f, J->body2,
-                     J->body2);
-            return 0;
-        }
-        if (J->body1 >= 0 && (J->node1 < -1 || J->node1 > sc->links[J->body1].elements)) {
-            RJ__FIELD(f, "joints[%d].node1", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->node1,
-                     "%s = %d is invalid: a node 0..%d of link %d, or -1 for its last node", f,
-                     J->node1, sc->links[J->body1].elements, J->body1);
-            return 0;
-        }
-        if (sc->links[J->body2].root != RJ_ROOT_FREE) {
-            RJ__FIELD(f, "links[%d].root", J->body2);
-            rj__fail(
-                err, RJ_ERR_INVALID, f, sc->links[J->body2].root,
-                "%s = %d is invalid: link %d is body2 of joint %d, its root must be RJ_ROOT_FREE",
-                f, sc->links[J->body2].root, J->body2, j);
-            return 0;
-        }
-        RJ__FIELD(f, "joints[%d].ground_x", j);
-        if (!rj__check_num(err, f, J->ground_x, -inf, 0, inf, 0, "must be finite"))
-            return 0;
-        RJ__FIELD(f, "joints[%d].ground_y", j);
-        if (!rj__check_num(err, f, J->ground_y, -inf, 0, inf, 0, "must be finite"))
-            return 0;
-        RJ__FIELD(f, "joints[%d].ground_angle", j);
-        if (!rj__check_num(err, f, J->ground_angle, -inf, 0, inf, 0, "must be finite"))
-            return 0;
-        RJ__FIELD(f, "joints[%d].angle0", j);
-        if (!rj__check_num(err, f, J->angle0, -1e6, 1, 1e6, 1, RJ__RULE_ANGLE))
-            return 0;
-        RJ__FIELD(f, "joints[%d].rate0", j);
-        if (!rj__check_num(err, f, J->rate0, -inf, 0, inf, 0, "must be finite"))
-            return 0;
-        if (J->table_count != 0 && (J->table_count < 2 || J->table_count > RJ_TABLE_MAX)) {
-            RJ__FIELD(f, "joints[%d].table_count", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->table_count,
-                     "%s = %d is invalid: 0, or 2..%d points", f, J->table_count, RJ_TABLE_MAX);
-            return 0;
-        }
-        for (k = 0; k < J->table_count; k++) {
-            char g[64];
-            snprintf(g, sizeof g, "joints[%d].table_angle[%d]", j, k);
-            if (!rj__check_num(err, g, J->table_angle[k], 0, 1, RJ__TWO_PI, 1,
-                               "must be in [0, 2 pi] rad"))
-                return 0;
-            snprintf(g, sizeof g, "joints[%d].table_torque[%d]", j, k);
-            if (!rj__check_num(err, g, J->table_torque[k], -inf, 0, inf, 0, "must be finite"))
-                return 0;
-        }
-        RJ__FIELD(f, "joints[%d].spring_k", j);
-        if (!rj__check_num(err, f, J->spring_k, 0, 1, inf, 0, RJ__RULE_STIFFNESS))
-            return 0;
-        RJ__FIELD(f, "joints[%d].spring_free_angle", j);
-        if (!rj__check_num(err, f, J->spring_free_angle, -1e6, 1, 1e6, 1, RJ__RULE_ANGLE))
-            return 0;
-        if (J->has_forward != 0 && J->has_forward != 1) {
-            RJ__FIELD(f, "joints[%d].has_forward", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->has_forward, "%s = %d is invalid: 0 or 1", f,
-                     J->has_forward);
-            return 0;
-        }
-        if (J->has_reverse != 0 && J->has_reverse != 1) {
-            RJ__FIELD(f, "joints[%d].has_reverse", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->has_reverse, "%s = %d is invalid: 0 or 1", f,
-                     J->has_reverse);
-            return 0;
-        }
-        if (J->lock != 0 && J->lock != 1) {
-            RJ__FIELD(f, "joints[%d].lock", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->lock, "%s = %d is invalid: 0 or 1", f, J->lock);
-            return 0;
-        }
+    return 1;
+}
+
+/* A joint's limits: a lock latches at one, two limits leave a free range between them,
+   and a penalty limit has a stiffness. */
+static int rj__validate_limits(const rj_joint_def *J, int j, rj_error *err)
+{
+    char f[64];
+    if (J->lock && !J->has_forward && !J->has_reverse) {
+        RJ__FIELD(f, "joints[%d].lock", j);
+        rj__fail(err, RJ_ERR_INVALID, f, J->lock,
+                 "%s = 1 is invalid: a lock latches at a limit, and joint %d has none (set "
+                 "has_forward or has_reverse)",
+                 f, j);
+        return 0;
+    }
+    if (J->has_forward && J->has_reverse && J->forward == J->reverse) {
         RJ__FIELD(f, "joints[%d].forward", j);
-        if (!rj__check_num(err, f, J->forward, 0, 1, RJ__TWO_PI, 0,
-                           "a limit must be in [0, 2 pi) rad"))
-            return 0;
-        RJ__FIELD(f, "joints[%d].reverse", j);
-        if (!rj__check_num(err, f, J->reverse, 0, 1, RJ__TWO_PI, 0,
-                           "a limit must be in [0, 2 pi) rad"))
-            return 0;
-        if (J->lock && !J->has_forward && !J->has_reverse) {
-            RJ__FIELD(f, "joints[%d].lock", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->lock,
-                     "%s = 1 is invalid: a lock latches at a limit, and joint %d has none (set "
-                     "has_forward or has_reverse)",
-                     f, j);
-            return 0;
-        }
-        if (J->has_forward && J->has_reverse && J->forward == J->reverse) {
-            RJ__FIELD(f, "joints[%d].forward", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->forward,
-                     "%s = %g is invalid: equal to the reverse limit leaves no free range", f,
-                     J->forward);
-            return 0;
-        }
-        if (J->method < RJ_METHOD_PENALTY || J->method > RJ_METHOD_ENERGY) {
-            RJ__FIELD(f, "joints[%d].method", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->method,
-                     "%s = %d is invalid: one of RJ_METHOD_PENALTY..RJ_METHOD_ENERGY", f,
-                     J->method);
-            return 0;
-        }
-        if (J->release != RJ_RELEASE_RC12 && J->release != RJ_RELEASE_RC13) {
-            RJ__FIELD(f, "joints[%d].release", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->release,
-                     "%s = %d is invalid: RJ_RELEASE_RC12 or RJ_RELEASE_RC13", f, J->release);
-            return 0;
-        }
+        rj__fail(err, RJ_ERR_INVALID, f, J->forward,
+                 "%s = %g is invalid: equal to the reverse limit leaves no free range", f,
+                 J->forward);
+        return 0;
+    }
+    if (J->method == RJ_METHOD_PENALTY && (J->has_forward || J->has_reverse) &&
+        !(J->penalty_k > 0)) {
         RJ__FIELD(f, "joints[%d].penalty_k", j);
-        if (!rj__check_num(err, f, J->penalty_k, 0, 1, inf, 0, RJ__RULE_STIFFNESS))
-            return 0;
-        if (J->method == RJ_METHOD_PENALTY && (J->has_forward || J->has_reverse) &&
-            !(J->penalty_k > 0)) {
-            rj__fail(err, RJ_ERR_INVALID, f, J->penalty_k,
-                     "%s = %g is invalid: RJ_METHOD_PENALTY with a limit needs a stiffness > 0", f,
-                     J->penalty_k);
-            return 0;
-        }
-        RJ__FIELD(f, "joints[%d].restitution", j);
-        if (!rj__check_num(err, f, J->restitution, 0, 1, 1, 1, RJ__RULE_RESTITUTION))
-            return 0;
-        RJ__FIELD(f, "joints[%d].damping", j);
-        if (!rj__check_num(err, f, J->damping, 0, 1, inf, 0, RJ__RULE_DAMPING))
-            return 0;
-        RJ__FIELD(f, "joints[%d].friction", j);
-        if (!rj__check_num(err, f, J->friction, 0, 1, inf, 0, RJ__RULE_FRICTION))
-            return 0;
-        if (J->reference != RJ_REF_TANGENT && J->reference != RJ_REF_CHORD) {
-            RJ__FIELD(f, "joints[%d].reference", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->reference,
-                     "%s = %d is invalid: RJ_REF_TANGENT or RJ_REF_CHORD", f, J->reference);
-            return 0;
-        }
+        rj__fail(err, RJ_ERR_INVALID, f, J->penalty_k,
+                 "%s = %g is invalid: RJ_METHOD_PENALTY with a limit needs a stiffness > 0", f,
+                 J->penalty_k);
+        return 0;
     }
-    for (i = 0; i < sc->link_count; i++) {
-        const rj_link_def *L = &sc->links[i];
-        if (L->fidelity != RJ_LINK_FLEXIBLE && L->fidelity != RJ_LINK_RIGID &&
-            L->fidelity != RJ_LINK_INEXTENSIBLE) {
-            RJ__FIELD(f, "links[%d].fidelity", i);
-            rj__fail(err, RJ_ERR_INVALID, f, L->fidelity,
-                     "%s = %d is invalid: RJ_LINK_FLEXIBLE, RJ_LINK_RIGID or RJ_LINK_INEXTENSIBLE",
-                     f, L->fidelity);
-            return 0;
-        }
-    }
-    /* mixed scenes: a rigid link is one rigid body, with flexible links pinned to it */
-    if (!rj__all_rigid(sc))
-        for (j = 0; j < sc->joint_count; j++) {
-            const rj_joint_def *J = &sc->joints[j];
-            const int r1 = J->body1 >= 0 && sc->links[J->body1].fidelity == RJ_LINK_RIGID,
-                      r2 = sc->links[J->body2].fidelity == RJ_LINK_RIGID;
-            if (r1 && r2) {
-                RJ__FIELD(f, "joints[%d].body2", j);
-                rj__fail(err, RJ_ERR_INVALID, f, J->body2,
-                         "%s = %d is invalid: joint %d pins two rigid links (%d and %d) in a scene "
-                         "with flexible links, which is not supported: make every link rigid, or "
-                         "one of the two flexible",
-                         f, J->body2, j, J->body1, J->body2);
-                return 0;
-            }
-            if ((r1 || r2) && J->reference == RJ_REF_CHORD) {
-                RJ__FIELD(f, "joints[%d].reference", j);
-                rj__fail(err, RJ_ERR_INVALID, f, J->reference,
-                         "%s = RJ_REF_CHORD is invalid: joint %d holds rigid link %d in a scene "
-                         "with flexible links; use RJ_REF_TANGENT (on a rigid link the chord and "
-                         "the tangent are the same line)",
-                         f, j, r1 ? J->body1 : J->body2);
-                return 0;
-            }
-        }
-    if (rj__all_rigid(sc))
+    return 1;
+}
+
+/* Joint j: its bodies, its rows, its table, its limits. */
+static int rj__validate_joint(const rj_scene_def *sc, int j, rj_error *err)
+{
+    const rj_joint_def *J = &sc->joints[j];
+    char item[32];
+    if (!rj__check_cookie(err, "joints[%d]", j, J->cookie, RJ__COOKIE_JOINT,
+                          "rj_default_joint_def()"))
+        return 0;
+    RJ__FIELD(item, "joints[%d]", j);
+    return rj__validate_bodies(sc, J, j, err) && rj__check_rows(err, item, RJ__DEF_JOINT, J, -1) &&
+           rj__validate_joint_table(J, j, err) && rj__validate_limits(J, j, err);
+}
+
+/* Mixed scenes (a rigid link is one rigid body, with flexible links pinned to it): no
+   joint between two rigid links, and tangent references on rigid links. Scenes of
+   rigid links alone have no energy method. */
+static int rj__validate_mixed(const rj_scene_def *sc, rj_error *err)
+{
+    char f[64];
+    int j;
+    if (rj__all_rigid(sc)) {
         for (j = 0; j < sc->joint_count; j++)
             if (sc->joints[j].method == RJ_METHOD_ENERGY) {
                 RJ__FIELD(f, "joints[%d].method", j);
@@ -1842,7 +2074,53 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
                          f);
                 return 0;
             }
-    return rj__validate_loads(sc, err);
+        return 1;
+    }
+    for (j = 0; j < sc->joint_count; j++) {
+        const rj_joint_def *J = &sc->joints[j];
+        const int r1 = J->body1 >= 0 && sc->links[J->body1].fidelity == RJ_LINK_RIGID,
+                  r2 = sc->links[J->body2].fidelity == RJ_LINK_RIGID;
+        if (r1 && r2) {
+            RJ__FIELD(f, "joints[%d].body2", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->body2,
+                     "%s = %d is invalid: joint %d pins two rigid links (%d and %d) in a scene "
+                     "with flexible links, which is not supported: make every link rigid, or "
+                     "one of the two flexible",
+                     f, J->body2, j, J->body1, J->body2);
+            return 0;
+        }
+        if ((r1 || r2) && J->reference == RJ_REF_CHORD) {
+            RJ__FIELD(f, "joints[%d].reference", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->reference,
+                     "%s = RJ_REF_CHORD is invalid: joint %d holds rigid link %d in a scene "
+                     "with flexible links; use RJ_REF_TANGENT (on a rigid link the chord and "
+                     "the tangent are the same line)",
+                     f, j, r1 ? J->body1 : J->body2);
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static int rj__validate(const rj_scene_def *sc, rj_error *err)
+{
+    int i, j;
+    if (!sc) {
+        rj__fail(err, RJ_ERR_INVALID, "scene", 0, "scene is NULL");
+        return 0;
+    }
+    if (!rj__check_array(err, "link", sc->link_count, 1, sc->links) ||
+        !rj__check_array(err, "joint", sc->joint_count, 0, sc->joints))
+        return 0;
+    if (!rj__validate_solver(&sc->solver, err))
+        return 0;
+    for (i = 0; i < sc->link_count; i++)
+        if (!rj__validate_link(&sc->links[i], i, err))
+            return 0;
+    for (j = 0; j < sc->joint_count; j++)
+        if (!rj__validate_joint(sc, j, err))
+            return 0;
+    return rj__validate_mixed(sc, err) && rj__validate_loads(sc, err);
 }
 
 /* Node and element totals, counted in size_t; 0 when they pass RJ__MAX_NODES. */
@@ -3555,98 +3833,80 @@ static unsigned long long rj__fnv_i(unsigned long long h, int v)
     return rj__fnv(h, &v, sizeof v);
 }
 
-/* The model's identity for checkpoints: every definition field that a state's meaning
-   depends on (field by field: a struct's padding bytes are not defined), the step in use,
-   and the masses and start positions derived from them. */
-/* A load's definition into the model's hash. */
-static unsigned long long rj__fnv_load(unsigned long long h, const rj_load_def *d)
+/* Row r of def into the hash: as its hash form says (an int as a double or as an int;
+   a vector's two components; a table's count and its pairs). */
+static unsigned long long rj__fnv_row(unsigned long long h, const rj__field *r, const void *def)
+{
+    int k, n;
+    if (r->type == RJ__FT_TABLE) {
+        const double *first = (const double *) (const void *) ((const char *) def + r->aux);
+        n = rj__row_int(def, r);
+        h = rj__fnv_i(h, n);
+        for (k = 0; k < n; k++) {
+            h = rj__fnv_d(h, first[k]);
+            h = rj__fnv_d(h, first[RJ_TABLE_MAX + k]);
+        }
+        return h;
+    }
+    if (rj__row_is_real(r)) {
+        h = rj__fnv_d(h, rj__row_real(def, r, 0));
+        return r->type == RJ__FT_VEC2 ? rj__fnv_d(h, rj__row_real(def, r, 1)) : h;
+    }
+    memcpy(&n, (const char *) def + r->offset, sizeof n);
+    return r->hash_as == 'i' ? rj__fnv_i(h, n) : rj__fnv_d(h, (double) n);
+}
+
+/* The rows of kind in the order of their hash places: into order (room for 64), their
+   count returned. */
+static int rj__hash_order(int kind, const rj__field **order)
+{
+    int n, k, at, count = 0;
+    const rj__field *t = rj__fields(kind, &n);
+    for (at = 0; count < 64; at++) {
+        const int before = count;
+        for (k = 0; k < n && count < 64; k++)
+            if (t[k].hash_at == at)
+                order[count++] = &t[k];
+        if (count == before)
+            return count;
+    }
+    return count;
+}
+
+/* A definition into the hash: its rows in hash order (rj__hash_order). */
+static unsigned long long rj__fnv_def(unsigned long long h, const rj__field *const *order,
+                                      int count, const void *def)
 {
     int k;
-    h = rj__fnv_i(h, d->link);
-    h = rj__fnv_i(h, d->node);
-    h = rj__fnv_d(h, d->force[0]);
-    h = rj__fnv_d(h, d->force[1]);
-    h = rj__fnv_d(h, d->moment);
-    h = rj__fnv_i(h, d->follower);
-    h = rj__fnv_i(h, d->table_count);
-    for (k = 0; k < d->table_count; k++) {
-        h = rj__fnv_d(h, d->table_time[k]);
-        h = rj__fnv_d(h, d->table_factor[k]);
-    }
+    for (k = 0; k < count; k++)
+        h = rj__fnv_row(h, order[k], def);
     return h;
 }
 
+/* The model's identity for checkpoints: every definition member that a state's meaning
+   depends on (member by member, in the order of the rows' hash places: a struct's
+   padding bytes are not defined), the step in use, and the masses and start positions
+   derived from them. */
 static unsigned long long rj__model_hash(const rj_model *m)
 {
     unsigned long long h = 14695981039346656037ULL;
+    const rj__field *lo[64], *jo[64], *so[64], *ao[64];
+    const int nlo = rj__hash_order(RJ__DEF_LINK, lo), njo = rj__hash_order(RJ__DEF_JOINT, jo);
+    const int nso = rj__hash_order(RJ__DEF_SOLVER, so), nao = rj__hash_order(RJ__DEF_LOAD, ao);
     int l, j, k;
     h = rj__fnv_i(h, m->nn);
     h = rj__fnv_i(h, m->ne);
     h = rj__fnv_i(h, m->nj);
     h = rj__fnv_d(h, m->dt);
-    for (l = 0; l < m->nl; l++) {
-        const rj_link_def *d = &m->ldef[l];
-        const double v[19] = { d->length,
-                               d->E,
-                               d->rho,
-                               d->width,
-                               d->height,
-                               d->area,
-                               d->inertia,
-                               d->tip_mass,
-                               d->tip_inertia,
-                               d->x,
-                               d->y,
-                               d->angle,
-                               d->vx,
-                               d->vy,
-                               d->omega,
-                               (double) d->elements,
-                               (double) d->section,
-                               (double) d->layers,
-                               (double) d->root };
-        for (k = 0; k < 19; k++)
-            h = rj__fnv_d(h, v[k]);
-        h = rj__fnv_i(h, d->fidelity);
-    }
-    for (j = 0; j < m->nj; j++) {
-        const rj_joint_def *d = &m->jdef[j];
-        const double v[21] = { (double) d->body1,
-                               (double) d->node1,
-                               (double) d->body2,
-                               d->ground_x,
-                               d->ground_y,
-                               d->ground_angle,
-                               d->angle0,
-                               d->rate0,
-                               d->spring_k,
-                               d->spring_free_angle,
-                               (double) d->has_forward,
-                               d->forward,
-                               (double) d->has_reverse,
-                               d->reverse,
-                               (double) d->lock,
-                               (double) d->method,
-                               (double) d->release,
-                               d->penalty_k,
-                               d->restitution,
-                               d->damping,
-                               d->friction };
-        for (k = 0; k < 21; k++)
-            h = rj__fnv_d(h, v[k]);
-        h = rj__fnv_i(h, d->reference);
-        h = rj__fnv_i(h, d->table_count);
-        for (k = 0; k < d->table_count; k++) {
-            h = rj__fnv_d(h, d->table_angle[k]);
-            h = rj__fnv_d(h, d->table_torque[k]);
-        }
-    }
+    for (l = 0; l < m->nl; l++)
+        h = rj__fnv_def(h, lo, nlo, &m->ldef[l]);
+    for (j = 0; j < m->nj; j++)
+        h = rj__fnv_def(h, jo, njo, &m->jdef[j]);
     h = rj__fnv(h, m->mass, sizeof(double) * (size_t) m->nn);
     h = rj__fnv(h, m->x0, sizeof(double) * (size_t) m->nn);
-    h = rj__fnv_d(h, m->solver.gravity[0]);
-    h = rj__fnv_d(h, m->solver.gravity[1]);
+    h = rj__fnv_def(h, so, nso, &m->solver);
     for (k = 0; k < m->nload; k++)
-        h = rj__fnv_load(h, &m->load[k]);
+        h = rj__fnv_def(h, ao, nao, &m->load[k]);
     return h;
 }
 
@@ -8941,72 +9201,6 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
 #include <stdio.h>
 #include <errno.h>
 
-/* keys; index 0 of an item's position array is its section line, key k is at 1 + k */
-enum {
-    RJ__LK_LENGTH,
-    RJ__LK_ELEMENTS,
-    RJ__LK_MATERIAL,
-    RJ__LK_SECTION,
-    RJ__LK_E,
-    RJ__LK_RHO,
-    RJ__LK_AREA,
-    RJ__LK_INERTIA,
-    RJ__LK_WIDTH,
-    RJ__LK_HEIGHT,
-    RJ__LK_LAYERS,
-    RJ__LK_TIP_MASS,
-    RJ__LK_TIP_INERTIA,
-    RJ__LK_ROOT,
-    RJ__LK_X,
-    RJ__LK_Y,
-    RJ__LK_ANGLE,
-    RJ__LK_VX,
-    RJ__LK_VY,
-    RJ__LK_OMEGA,
-    RJ__LK_FIDELITY,
-    RJ__LK_N
-};
-enum {
-    RJ__JK_BODY1,
-    RJ__JK_BODY2,
-    RJ__JK_NODE1,
-    RJ__JK_GROUND_X,
-    RJ__JK_GROUND_Y,
-    RJ__JK_GROUND_ANGLE,
-    RJ__JK_ANGLE0,
-    RJ__JK_RATE0,
-    RJ__JK_TABLE,
-    RJ__JK_SPRING,
-    RJ__JK_FORWARD,
-    RJ__JK_REVERSE,
-    RJ__JK_LOCK,
-    RJ__JK_METHOD,
-    RJ__JK_RELEASE,
-    RJ__JK_PENALTY_K,
-    RJ__JK_RESTITUTION,
-    RJ__JK_DAMPING,
-    RJ__JK_FRICTION,
-    RJ__JK_REFERENCE,
-    RJ__JK_N
-};
-enum {
-    RJ__AK_LINK,
-    RJ__AK_NODE,
-    RJ__AK_FORCE,
-    RJ__AK_MOMENT,
-    RJ__AK_TABLE,
-    RJ__AK_FOLLOWER,
-    RJ__AK_N
-};
-enum {
-    RJ__VK_DT,
-    RJ__VK_ALLOW_UNSTABLE,
-    RJ__VK_ENERGY_GROWTH,
-    RJ__VK_ENERGY_EVERY,
-    RJ__VK_IN_PLACE,
-    RJ__VK_GRAVITY,
-    RJ__VK_N
-};
 enum {
     RJ__SK_NONE,
     RJ__SK_SOLVER,
@@ -9021,39 +9215,6 @@ enum {
 /* char arrays, not pointer arrays: read-only data without relocations */
 static const char rj__sk_kind[RJ__SK_COUNT][10] = { "",     "solver", "material", "section",
                                                     "link", "joint",  "load" };
-static const char rj__sk_load[RJ__AK_N][9] = { "link",   "node",  "force",
-                                               "moment", "table", "follower" };
-static const char rj__sk_load_unit[RJ__AK_N][4] = { "", "", "N", "N m", "", "" };
-static const char rj__sk_link[RJ__LK_N][12] = {
-    "length",  "elements", "material", "section", "E",        "rho",         "area",
-    "inertia", "width",    "height",   "layers",  "tip_mass", "tip_inertia", "root",
-    "x",       "y",        "angle",    "vx",      "vy",       "omega",       "fidelity"
-};
-static const char rj__sk_joint[RJ__JK_N][13] = {
-    "body1",   "body2",     "node1",       "ground_x", "ground_y", "ground_angle", "angle0",
-    "rate0",   "table",     "spring",      "forward",  "reverse",  "lock",         "method",
-    "release", "penalty_k", "restitution", "damping",  "friction", "reference"
-};
-static const char rj__sk_solver[RJ__VK_N][15] = { "dt",           "allow_unstable", "energy_growth",
-                                                  "energy_every", "in_place",       "gravity" };
-static const char rj__sk_in_place[3][5] = { "auto", "on", "off" }; /* rj_in_place order */
-static const char rj__sk_root[4][8] = { "free", "pinned", "clamped", "fixed" };
-static const char rj__sk_fidelity[3][13] = { "flexible", "rigid",
-                                             "inextensible" }; /* rj_fidelity order */
-static const char rj__sk_method[5][9] = { "penalty", "adaptive", "momentum", "forced", "energy" };
-static const char rj__sk_release[2][5] = { "rc12", "rc13" };
-static const char rj__sk_reference[2][8] = { "tangent", "chord" };
-/* each key's SI unit, for messages about unit words ("" none; angles rad, rates rad/s) */
-static const char rj__sk_link_unit[RJ__LK_N][7] = { "m",      "",      "",  "",  "Pa",  "kg/m^3",
-                                                    "m^2",    "m^4",   "m", "m", "",    "kg",
-                                                    "kg m^2", "",      "m", "m", "rad", "m/s",
-                                                    "m/s",    "rad/s", "" };
-static const char rj__sk_joint_unit[RJ__JK_N][10] = {
-    "",    "",    "", "m", "m", "rad",     "rad", "rad/s",     "N m", "N m/rad",
-    "rad", "rad", "", "",  "",  "N m/rad", "",    "N m s/rad", "N m", ""
-};
-static const char rj__sk_solver_unit[RJ__VK_N][6] = { "s", "", "", "", "", "m/s^2" };
-
 #define RJ__SK_MAT_KEYS ((1u << RJ__LK_E) | (1u << RJ__LK_RHO))
 #define RJ__SK_SEC_KEYS                                                                            \
     ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA) | (1u << RJ__LK_WIDTH) | (1u << RJ__LK_HEIGHT) | \
@@ -9429,52 +9590,64 @@ static int rj__sp_dist(const char *s, int n, const char *b)
     return r[n % 3][m];
 }
 
-/* The name among names[k] (stride apart, k < count; for k < 32 only those in mask) nearest
-   to s[0..n), or NULL: a suggestion must be within 2 edits of a name of 5 or more
-   characters, 1 of 3 or 4, and differ only in case from a shorter one, and be the only one
-   that near (a tie suggests nothing rather than a guess). */
-static const char *rj__sp_near(const char *s, int n, const char *names, size_t stride, int count,
-                               unsigned mask)
+/* The nearest so far (*best at *bd edits, *ties others as near) with name nm also
+   weighed: a suggestion must be within 2 edits of a name of 5 or more characters, 1 of 3
+   or 4, and differ only in case from a shorter one. */
+static void rj__sp_weigh(const char *s, int n, const char *nm, const char **best, int *bd,
+                         int *ties)
+{
+    const int len = (int) strlen(nm), lim = len >= 5 ? 2 : len >= 3 ? 1 : 0;
+    const int d = rj__sp_dist(s, n, nm);
+    if (d > lim || d > *bd)
+        return;
+    if (d == *bd) {
+        (*ties)++;
+        return;
+    }
+    *best = nm;
+    *bd = d;
+    *ties = 0;
+}
+
+/* The name among names[k] (stride apart, k < count) nearest to s[0..n), or NULL when none
+   is near (rj__sp_weigh) or two are as near (a tie suggests nothing rather than a guess). */
+static const char *rj__sp_near(const char *s, int n, const char *names, size_t stride, int count)
 {
     const char *best = NULL;
     int k, bd = 99, ties = 0;
-    for (k = 0; k < count; k++) {
-        const char *nm = names + stride * (size_t) k;
-        int len = (int) strlen(nm), d, lim = len >= 5 ? 2 : len >= 3 ? 1 : 0;
-        if (k < 32 && !(mask >> k & 1u))
-            continue;
-        d = rj__sp_dist(s, n, nm);
-        if (d > lim || d > bd)
-            continue;
-        if (d == bd) {
-            ties++;
-            continue;
-        }
-        best = nm;
-        bd = d;
-        ties = 0;
-    }
+    for (k = 0; k < count; k++)
+        rj__sp_weigh(s, n, names + stride * (size_t) k, &best, &bd, &ties);
     return ties ? NULL : best;
 }
 
-/* the key of the current section nearest to t (rj__sp_near), NULL when none is */
+/* The same among the keys of rows (the first count; for k < 32 only those in mask). */
+static const char *rj__sp_near_row(const char *s, int n, const rj__field *rows, int count,
+                                   unsigned mask)
+{
+    const char *best = NULL;
+    int k, bd = 99, ties = 0;
+    for (k = 0; k < count; k++)
+        if (k >= 32 || (mask >> k & 1u))
+            rj__sp_weigh(s, n, rows[k].key, &best, &bd, &ties);
+    return ties ? NULL : best;
+}
+
+/* the key of the current section nearest to t (rj__sp_near_row), NULL when none is */
 static const char *rj__sp_near_key(const rj__sp *P, const rj__stok *t)
 {
     switch (P->kind) {
     case RJ__SK_SOLVER:
-        return rj__sp_near(t->s, t->len, rj__sk_solver[0], sizeof rj__sk_solver[0], RJ__VK_N, ~0u);
+        return rj__sp_near_row(t->s, t->len, rj__solver_fields, RJ__VK_N, ~0u);
     case RJ__SK_JOINT:
-        return rj__sp_near(t->s, t->len, rj__sk_joint[0], sizeof rj__sk_joint[0], RJ__JK_N, ~0u);
+        return rj__sp_near_row(t->s, t->len, rj__joint_fields, RJ__JK_N, ~0u);
     case RJ__SK_MATERIAL:
-        return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N,
-                           RJ__SK_MAT_KEYS);
+        return rj__sp_near_row(t->s, t->len, rj__link_fields, RJ__LK_N, RJ__SK_MAT_KEYS);
     case RJ__SK_SECTION:
-        return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N,
-                           RJ__SK_SEC_KEYS);
+        return rj__sp_near_row(t->s, t->len, rj__link_fields, RJ__LK_N, RJ__SK_SEC_KEYS);
     case RJ__SK_LINK:
-        return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N, ~0u);
+        return rj__sp_near_row(t->s, t->len, rj__link_fields, RJ__LK_N, ~0u);
     case RJ__SK_LOAD:
-        return rj__sp_near(t->s, t->len, rj__sk_load[0], sizeof rj__sk_load[0], RJ__AK_N, ~0u);
+        return rj__sp_near_row(t->s, t->len, rj__load_fields, RJ__AK_N, ~0u);
     }
     return NULL;
 }
@@ -9496,22 +9669,16 @@ static int rj__sp_alpha(unsigned char c)
     return ((c | 32) >= 'a' && (c | 32) <= 'z') || c >= 0x80;
 }
 
-/* the SI unit of key (a key of any section), "" when it has none */
+/* the SI unit of key (a key of any section's rows), "" when it has none */
 static const char *rj__sp_unit(const char *key)
 {
-    int k;
-    for (k = 0; k < RJ__LK_N; k++)
-        if (strcmp(key, rj__sk_link[k]) == 0)
-            return rj__sk_link_unit[k];
-    for (k = 0; k < RJ__JK_N; k++)
-        if (strcmp(key, rj__sk_joint[k]) == 0)
-            return rj__sk_joint_unit[k];
-    for (k = 0; k < RJ__VK_N; k++)
-        if (strcmp(key, rj__sk_solver[k]) == 0)
-            return rj__sk_solver_unit[k];
-    for (k = 0; k < RJ__AK_N; k++)
-        if (strcmp(key, rj__sk_load[k]) == 0)
-            return rj__sk_load_unit[k];
+    int kind, n, k;
+    for (kind = RJ__DEF_LINK; kind <= RJ__DEF_LOAD; kind++) {
+        const rj__field *t = rj__fields(kind, &n);
+        for (k = 0; k < n; k++)
+            if (strcmp(key, t[k].key) == 0)
+                return t[k].unit;
+    }
     return "";
 }
 
@@ -9592,7 +9759,9 @@ static int rj__sp_num(rj__sp *P, const rj__stok *t, const char *key, double *out
     return rj__sp_num_err(P, t, key, r, rj__sp_unit(key));
 }
 
-static int rj__sp_int(rj__sp *P, const rj__stok *t, const char *key, int lo, int hi, int *out)
+/* an int in lo..hi; out of range, the sentence rule (NULL: "must be lo..hi") */
+static int rj__sp_int(rj__sp *P, const rj__stok *t, const char *key, int lo, int hi,
+                      const char *rule, int *out)
 {
     char a[24], b[24], q[200], m[256], m2[256];
     int v = 0, r = t->kind == 'w' ? rj__sp_strtoint(t->s, t->len, &v) : 0;
@@ -9602,9 +9771,12 @@ static int rj__sp_int(rj__sp *P, const rj__stok *t, const char *key, int lo, int
     }
     if (r == 1 || r == -2) {
         rj__sp_quote(q, sizeof q, t->s, t->len);
-        rj__sp_cat(m, sizeof m, key, " = ", q, " is out of range", rj__sp_where(P), ": must be ",
-                   rj__sp_itoa(a, lo));
-        rj__sp_cat(m2, sizeof m2, m, "..", rj__sp_itoa(b, hi), NULL, NULL, NULL, NULL);
+        rj__sp_cat(m, sizeof m, key, " = ", q, " is out of range", rj__sp_where(P), ": ", NULL);
+        if (rule)
+            rj__sp_cat(m2, sizeof m2, m, rule, NULL, NULL, NULL, NULL, NULL);
+        else
+            rj__sp_cat(m2, sizeof m2, m, "must be ", rj__sp_itoa(a, lo), "..", rj__sp_itoa(b, hi),
+                       NULL, NULL);
         return rj__sp_fail(P, t->line, t->col, key, r == 1 ? (double) v : rj__sp_nan(), m2);
     }
     return rj__sp_err_tok(P, t, key, rj__sp_nan(), "expected an integer, found ",
@@ -9695,7 +9867,7 @@ static int rj__sp_enum(rj__sp *P, const rj__stok *t, const char *key, const char
     rj__sp_cat(m, sizeof m, "unknown value '", q, "'", rj__sp_for(P, key), " (expected ", NULL,
                NULL);
     rj__sp_cat(m2, sizeof m2, m, list, ")",
-               rj__sp_mean(mean, rj__sp_near(t->s, t->len, names, stride, count, ~0u)), NULL, NULL,
+               rj__sp_mean(mean, rj__sp_near(t->s, t->len, names, stride, count)), NULL, NULL,
                NULL);
     return rj__sp_fail(P, t->line, t->col, key, rj__sp_nan(), m2);
 }
@@ -9732,126 +9904,123 @@ static int rj__sp_find(const char *s, int n, const char *names, size_t stride, i
 /* ------------------------------------------------------------------ keys */
 #define RJ__SP_RULE(cond, rule) rj__sp_range(P, a, *i, key, v, (cond), (rule))
 
-static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *d)
+/* whether v is in row r's range */
+static int rj__sp_in_range(const rj__field *r, double v)
 {
-    const char *key = rj__sk_link[k];
-    const rj__stok *t = &P->tok[a];
-    double v = 0;
-    switch (k) {
-    case RJ__LK_ELEMENTS:
-        if (!rj__sp_int(P, t, key, 1, 1000000, &d->elements))
+    return (r->lo_in ? v >= r->lo : v > r->lo) && (r->hi_in ? v <= r->hi : v < r->hi);
+}
+
+/* key = x y: two numbers, each in row r's range */
+static int rj__sp_vec2(rj__sp *P, const rj__field *r, int a, int *i, int b, void *def)
+{
+    const char *key = r->key;
+    char shape[64];
+    int c;
+    for (c = 0; c < 2; c++) {
+        double v = 0;
+        if (c == 1 && *i >= b) {
+            const rj__stok *z = &P->tok[*i - 1];
+            const char x[2] = { key[0], 0 };
+            rj__sp_cat(shape, sizeof shape, " (", key, " = ", x, "x ", x, "y, in ");
+            return rj__sp_err(P, z->line, z->col + z->len, key, rj__sp_nan(),
+                              "missing y component after the x component", rj__sp_where(P),
+                              shape, r->unit, ")");
+        }
+        a = *i;
+        if (!rj__sp_num(P, &P->tok[*i], key, &v))
             return 0;
         (*i)++;
-        return 1;
-    case RJ__LK_LAYERS:
-        if (!rj__sp_int(P, t, key, 1, 1000, &d->layers))
+        if (!RJ__SP_RULE(rj__sp_in_range(r, v), r->rule))
             return 0;
-        (*i)++;
-        return 1;
-    case RJ__LK_ROOT:
-        if (!rj__sp_enum(P, t, key, rj__sk_root[0], sizeof rj__sk_root[0], 4, &d->root))
-            return 0;
-        (*i)++;
-        return 1;
-    case RJ__LK_FIDELITY:
-        if (!rj__sp_enum(P, t, key, rj__sk_fidelity[0], sizeof rj__sk_fidelity[0], 3, &d->fidelity))
-            return 0;
-        (*i)++;
-        return 1;
-    case RJ__LK_MATERIAL:
-    case RJ__LK_SECTION: {
-        const rj__spart *parts = k == RJ__LK_MATERIAL ? P->mat : P->sec;
-        int idx, np = k == RJ__LK_MATERIAL ? P->nmat : P->nsec;
-        char mean[48];
-        if (!rj__sp_name_ref(P, t, key))
-            return 0;
-        idx = np ? rj__sp_find(t->s, t->len, parts[0].name, sizeof(rj__spart), np) : -1;
-        if (idx < 0)
-            return rj__sp_err_tok(P, t, key, rj__sp_nan(),
-                                  k == RJ__LK_MATERIAL ? "unknown material " : "unknown section ",
-                                  rj__sp_where(P), " (define it above the link)",
-                                  np ? rj__sp_mean(mean, rj__sp_near(t->s, t->len, parts[0].name,
-                                                                     sizeof(rj__spart), np, ~0u))
-                                     : "");
-        if (k == RJ__LK_MATERIAL)
-            P->link_mat = idx;
-        else
-            P->link_sec = idx;
-        (*i)++;
-        return 1;
-    }
-    case RJ__LK_ANGLE:
-        return rj__sp_angle(P, i, b, key, 0, &d->angle);
-    case RJ__LK_OMEGA:
-        return rj__sp_angle(P, i, b, key, 1, &d->omega);
-    }
-    if (!rj__sp_num(P, t, key, &v))
-        return 0;
-    (*i)++;
-    switch (k) {
-    case RJ__LK_LENGTH:
-        if (!RJ__SP_RULE(v > 0 && v <= 1e6, RJ__RULE_LENGTH))
-            return 0;
-        d->length = v;
-        break;
-    case RJ__LK_E:
-        if (!RJ__SP_RULE(v > 0 && v <= 1e30, RJ__RULE_E))
-            return 0;
-        d->E = v;
-        break;
-    case RJ__LK_RHO:
-        if (!RJ__SP_RULE(v > 0 && v <= 1e30, RJ__RULE_RHO))
-            return 0;
-        d->rho = v;
-        break;
-    case RJ__LK_AREA:
-        if (!RJ__SP_RULE(v > 0 && v <= 1e12, RJ__RULE_AREA))
-            return 0;
-        d->area = v;
-        break;
-    case RJ__LK_INERTIA:
-        if (!RJ__SP_RULE(v > 0 && v <= 1e24, RJ__RULE_INERTIA))
-            return 0;
-        d->inertia = v;
-        break;
-    case RJ__LK_WIDTH:
-        if (!RJ__SP_RULE(v > 0 && v <= 1e6, RJ__RULE_LENGTH))
-            return 0;
-        d->width = v;
-        break;
-    case RJ__LK_HEIGHT:
-        if (!RJ__SP_RULE(v >= 0 && v <= 1e6, RJ__RULE_DEPTH))
-            return 0;
-        d->height = v;
-        break;
-    case RJ__LK_TIP_MASS:
-        if (!RJ__SP_RULE(v >= 0 && v <= 1e40, RJ__RULE_TIP_MASS))
-            return 0;
-        d->tip_mass = v;
-        break;
-    case RJ__LK_TIP_INERTIA:
-        if (!RJ__SP_RULE(v >= 0 && v <= 1e50, RJ__RULE_TIP_INERTIA))
-            return 0;
-        d->tip_inertia = v;
-        break;
-    case RJ__LK_X:
-        d->x = v;
-        break;
-    case RJ__LK_Y:
-        d->y = v;
-        break;
-    case RJ__LK_VX:
-        d->vx = v;
-        break;
-    case RJ__LK_VY:
-        d->vy = v;
-        break;
+        rj__row_set_real(def, r, c, v);
     }
     return 1;
 }
 
+/* a key whose row r says all (a number, an angle or rate, an int, an enum, a yes/no, a
+   vector): a value of its type in its range, into def */
+static int rj__sp_row(rj__sp *P, const rj__field *r, int a, int *i, int b, void *def)
+{
+    const char *key = r->key;
+    const rj__stok *t = &P->tok[a];
+    double v = 0;
+    int n = 0;
+    switch (r->type) {
+    case RJ__FT_INT:
+        if (!rj__sp_int(P, t, key, (int) r->lo, (int) r->hi, r->rule, &n))
+            return 0;
+        rj__row_set_int(def, r, n);
+        (*i)++;
+        return 1;
+    case RJ__FT_ENUM:
+        if (!rj__sp_enum(P, t, key, r->names, r->stride, r->count, &n))
+            return 0;
+        rj__row_set_int(def, r, n);
+        (*i)++;
+        return 1;
+    case RJ__FT_BOOL:
+        if (!rj__sp_bool(P, t, key, &n))
+            return 0;
+        rj__row_set_int(def, r, n);
+        (*i)++;
+        return 1;
+    case RJ__FT_VEC2:
+        return rj__sp_vec2(P, r, a, i, b, def);
+    case RJ__FT_ANGLE:
+    case RJ__FT_RATE:
+        if (!rj__sp_angle(P, i, b, key, r->type == RJ__FT_RATE, &v))
+            return 0;
+        break;
+    default:
+        if (!rj__sp_num(P, t, key, &v))
+            return 0;
+        (*i)++;
+    }
+    if (!RJ__SP_RULE(rj__sp_in_range(r, v), r->rule))
+        return 0;
+    rj__row_set_real(def, r, 0, v);
+    return 1;
+}
+
+/* material = NAME, section = NAME: a part defined above the link */
+static int rj__sp_part(rj__sp *P, int k, const rj__stok *t)
+{
+    const char *key = rj__link_fields[k].key;
+    const rj__spart *parts = k == RJ__LK_MATERIAL ? P->mat : P->sec;
+    int idx, np = k == RJ__LK_MATERIAL ? P->nmat : P->nsec;
+    char mean[48];
+    if (!rj__sp_name_ref(P, t, key))
+        return 0;
+    idx = np ? rj__sp_find(t->s, t->len, parts[0].name, sizeof(rj__spart), np) : -1;
+    if (idx < 0)
+        return rj__sp_err_tok(P, t, key, rj__sp_nan(),
+                              k == RJ__LK_MATERIAL ? "unknown material " : "unknown section ",
+                              rj__sp_where(P), " (define it above the link)",
+                              np ? rj__sp_mean(mean, rj__sp_near(t->s, t->len, parts[0].name,
+                                                                 sizeof(rj__spart), np))
+                                 : "");
+    if (k == RJ__LK_MATERIAL)
+        P->link_mat = idx;
+    else
+        P->link_sec = idx;
+    return 1;
+}
+
+static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *d)
+{
+    if (rj__link_fields[k].type == RJ__FT_PART) {
+        if (!rj__sp_part(P, k, &P->tok[a]))
+            return 0;
+        (*i)++;
+        return 1;
+    }
+    return rj__sp_row(P, &rj__link_fields[k], a, i, b, d);
+}
+
+/* forward / reverse = an angle in the limits' range, or none */
 static int rj__sp_limit(rj__sp *P, int a, int *i, int b, const char *key, int *has, double *lim)
 {
+    char rule[96];
     double v = 0;
     if (rj__sp_is(&P->tok[a], "none")) {
         *has = 0;
@@ -9861,8 +10030,9 @@ static int rj__sp_limit(rj__sp *P, int a, int *i, int b, const char *key, int *h
     }
     if (!rj__sp_angle(P, i, b, key, 0, &v))
         return 0;
-    if (!RJ__SP_RULE(v >= 0 && v < 2.0 * 3.14159265358979323846,
-                     "a limit must be in [0, 360) deg, or none"))
+    rj__sp_cat(rule, sizeof rule, rj__joint_fields[RJ__JK_FORWARD].rule, ", or none", NULL,
+               NULL, NULL, NULL, NULL);
+    if (!RJ__SP_RULE(rj__sp_in_range(&rj__joint_fields[RJ__JK_FORWARD], v), rule))
         return 0;
     *has = 1;
     *lim = v;
@@ -9883,7 +10053,7 @@ static int rj__sp_link_ref(rj__sp *P, const rj__stok *t, const char *key, const 
         return 1;
     }
     rj__sp_mean(mean, P->f->link_count ? rj__sp_near(t->s, t->len, (const char *) P->f->link_names,
-                                                     RJ_SCENE_NAME_MAX, P->f->link_count, ~0u)
+                                                     RJ_SCENE_NAME_MAX, P->f->link_count)
                                        : NULL);
     rj__sp_cat(tail, sizeof tail, " (define links above the ", users, " that use them)", NULL, NULL,
                NULL, NULL);
@@ -9896,7 +10066,7 @@ static int rj__sp_node_ref(rj__sp *P, const rj__stok *t, const char *key, int *i
 {
     if (rj__sp_is(t, "last"))
         *node = -1;
-    else if (!rj__sp_int(P, t, key, 0, 1000000, node))
+    else if (!rj__sp_int(P, t, key, 0, 1000000, NULL, node))
         return 0;
     (*i)++;
     return 1;
@@ -10005,188 +10175,86 @@ static int rj__sp_table(rj__sp *P, int *i, int b, rj_joint_def *d)
     return rj__sp_pairs(P, i, b, &form, d->table_angle, d->table_torque, &d->table_count);
 }
 
-static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def *d)
+/* body1 = ground or a link, body2 = a link */
+static int rj__sp_body(rj__sp *P, int k, const rj__stok *t, rj_joint_def *d)
 {
-    const char *key = rj__sk_joint[k];
-    const rj__stok *t = &P->tok[a];
-    double v = 0;
-    switch (k) {
-    case RJ__JK_BODY1:
-    case RJ__JK_BODY2: {
-        int idx;
-        if (!rj__sp_name_ref(P, t, key))
-            return 0;
-        if (rj__sp_is(t, "ground")) {
-            if (k == RJ__JK_BODY2)
-                return rj__sp_err_tok(P, t, key, rj__sp_nan(), "body2 must be a link, not ",
-                                      rj__sp_where(P), " (body1 may be ground)", NULL);
-            d->body1 = -1;
-            (*i)++;
-            return 1;
-        }
-        if (!rj__sp_link_ref(P, t, key, "joints", &idx))
-            return 0;
-        if (k == RJ__JK_BODY1)
-            d->body1 = idx;
-        else
-            d->body2 = idx;
-        (*i)++;
-        return 1;
-    }
-    case RJ__JK_NODE1:
-        return rj__sp_node_ref(P, t, key, i, &d->node1);
-    case RJ__JK_GROUND_ANGLE:
-        return rj__sp_angle(P, i, b, key, 0, &d->ground_angle);
-    case RJ__JK_ANGLE0:
-        if (!rj__sp_angle(P, i, b, key, 0, &v))
-            return 0;
-        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, RJ__RULE_ANGLE))
-            return 0;
-        d->angle0 = v;
-        return 1;
-    case RJ__JK_RATE0:
-        return rj__sp_angle(P, i, b, key, 1, &d->rate0);
-    case RJ__JK_TABLE:
-        return rj__sp_table(P, i, b, d);
-    case RJ__JK_SPRING:
-        if (!rj__sp_num(P, t, key, &v))
-            return 0;
-        (*i)++;
-        if (!RJ__SP_RULE(v >= 0, "the spring stiffness " RJ__RULE_STIFFNESS))
-            return 0;
-        d->spring_k = v;
-        if (*i >= b)
-            return rj__sp_err(P, t->line, t->col + t->len, key, rj__sp_nan(),
-                              "missing free angle after the stiffness", rj__sp_where(P),
-                              " (spring = k angle)", NULL, NULL);
-        a = *i;
-        if (!rj__sp_angle(P, i, b, key, 0, &v))
-            return 0;
-        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, "the free angle " RJ__RULE_ANGLE))
-            return 0;
-        d->spring_free_angle = v;
-        return 1;
-    case RJ__JK_FORWARD:
-        return rj__sp_limit(P, a, i, b, key, &d->has_forward, &d->forward);
-    case RJ__JK_REVERSE:
-        return rj__sp_limit(P, a, i, b, key, &d->has_reverse, &d->reverse);
-    case RJ__JK_LOCK:
-        if (!rj__sp_bool(P, t, key, &d->lock))
-            return 0;
-        (*i)++;
-        return 1;
-    case RJ__JK_METHOD:
-        if (!rj__sp_enum(P, t, key, rj__sk_method[0], sizeof rj__sk_method[0], 5, &d->method))
-            return 0;
-        (*i)++;
-        return 1;
-    case RJ__JK_RELEASE:
-        if (!rj__sp_enum(P, t, key, rj__sk_release[0], sizeof rj__sk_release[0], 2, &d->release))
-            return 0;
-        (*i)++;
-        return 1;
-    case RJ__JK_REFERENCE:
-        if (!rj__sp_enum(P, t, key, rj__sk_reference[0], sizeof rj__sk_reference[0], 2,
-                         &d->reference))
-            return 0;
-        (*i)++;
-        return 1;
-    }
-    if (!rj__sp_num(P, t, key, &v))
+    const char *key = rj__joint_fields[k].key;
+    int idx;
+    if (!rj__sp_name_ref(P, t, key))
         return 0;
-    (*i)++;
-    switch (k) {
-    case RJ__JK_GROUND_X:
-        d->ground_x = v;
-        break;
-    case RJ__JK_GROUND_Y:
-        d->ground_y = v;
-        break;
-    case RJ__JK_PENALTY_K:
-        if (!RJ__SP_RULE(v >= 0, RJ__RULE_STIFFNESS))
-            return 0;
-        d->penalty_k = v;
-        break;
-    case RJ__JK_RESTITUTION:
-        if (!RJ__SP_RULE(v >= 0 && v <= 1, RJ__RULE_RESTITUTION))
-            return 0;
-        d->restitution = v;
-        break;
-    case RJ__JK_DAMPING:
-        if (!RJ__SP_RULE(v >= 0, RJ__RULE_DAMPING))
-            return 0;
-        d->damping = v;
-        break;
-    case RJ__JK_FRICTION:
-        if (!RJ__SP_RULE(v >= 0, RJ__RULE_FRICTION))
-            return 0;
-        d->friction = v;
-        break;
+    if (rj__sp_is(t, "ground")) {
+        if (k == RJ__JK_BODY2)
+            return rj__sp_err_tok(P, t, key, rj__sp_nan(), "body2 must be a link, not ",
+                                  rj__sp_where(P), " (body1 may be ground)", NULL);
+        d->body1 = -1;
+        return 1;
     }
+    if (!rj__sp_link_ref(P, t, key, "joints", &idx))
+        return 0;
+    if (k == RJ__JK_BODY1)
+        d->body1 = idx;
+    else
+        d->body2 = idx;
     return 1;
 }
 
-/* gravity = gx gy (m/s^2): two numbers */
-static int rj__sp_gravity(rj__sp *P, int a, int *i, int b, rj_solver_def *s)
+/* spring = k angle: a stiffness and a free angle, each in its row's range */
+static int rj__sp_spring(rj__sp *P, int a, int *i, int b, rj_joint_def *d)
 {
-    const char *key = "gravity";
+    const rj__field *rk = &rj__joint_fields[RJ__JK_SPRING];
+    const rj__field *ra = &rj__joint_fields[RJ__JF_FREE_ANGLE];
+    const char *key = rk->key;
     const rj__stok *t = &P->tok[a];
-    int k;
-    for (k = 0; k < 2; k++) {
-        double v = 0;
-        t = &P->tok[*i];
-        if (k == 1 && *i >= b)
-            return rj__sp_err(P, P->tok[a].line, P->tok[a].col + P->tok[a].len, key, rj__sp_nan(),
-                              "missing y component", rj__sp_where(P),
-                              " (gravity = gx gy, in m/s^2)", NULL, NULL);
-        if (!rj__sp_num(P, t, key, &v))
+    char rule[128];
+    double v = 0;
+    if (!rj__sp_num(P, t, key, &v))
+        return 0;
+    (*i)++;
+    rj__sp_cat(rule, sizeof rule, "the spring stiffness ", rk->rule, NULL, NULL, NULL, NULL,
+               NULL);
+    if (!RJ__SP_RULE(rj__sp_in_range(rk, v), rule))
+        return 0;
+    d->spring_k = v;
+    if (*i >= b)
+        return rj__sp_err(P, t->line, t->col + t->len, key, rj__sp_nan(),
+                          "missing free angle after the stiffness", rj__sp_where(P),
+                          " (spring = k angle)", NULL, NULL);
+    a = *i;
+    if (!rj__sp_angle(P, i, b, key, 0, &v))
+        return 0;
+    rj__sp_cat(rule, sizeof rule, "the free angle ", ra->rule, NULL, NULL, NULL, NULL, NULL);
+    if (!RJ__SP_RULE(rj__sp_in_range(ra, v), rule))
+        return 0;
+    d->spring_free_angle = v;
+    return 1;
+}
+
+static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def *d)
+{
+    const rj__field *r = &rj__joint_fields[k];
+    switch (r->type) {
+    case RJ__FT_LINK:
+        if (!rj__sp_body(P, k, &P->tok[a], d))
             return 0;
         (*i)++;
-        if (!RJ__SP_RULE(v >= -RJ__MAX_GRAVITY && v <= RJ__MAX_GRAVITY, RJ__RULE_GRAVITY))
-            return 0;
-        s->gravity[k] = v;
+        return 1;
+    case RJ__FT_NODE:
+        return rj__sp_node_ref(P, &P->tok[a], r->key, i, &d->node1);
+    case RJ__FT_TABLE:
+        return rj__sp_table(P, i, b, d);
+    case RJ__FT_LIMIT:
+        return k == RJ__JK_FORWARD
+                   ? rj__sp_limit(P, a, i, b, r->key, &d->has_forward, &d->forward)
+                   : rj__sp_limit(P, a, i, b, r->key, &d->has_reverse, &d->reverse);
     }
-    return 1;
+    if (k == RJ__JK_SPRING)
+        return rj__sp_spring(P, a, i, b, d);
+    return rj__sp_row(P, r, a, i, b, d);
 }
 
 static int rj__sp_solver_key(rj__sp *P, int k, int a, int *i, int b, rj_solver_def *s)
 {
-    const char *key = rj__sk_solver[k];
-    const rj__stok *t = &P->tok[a];
-    double v = 0;
-    if (k == RJ__VK_GRAVITY)
-        return rj__sp_gravity(P, a, i, b, s);
-    if (k == RJ__VK_ALLOW_UNSTABLE) {
-        if (!rj__sp_bool(P, t, key, &s->allow_unstable))
-            return 0;
-        (*i)++;
-        return 1;
-    }
-    if (k == RJ__VK_ENERGY_EVERY) {
-        if (!rj__sp_int(P, t, key, 1, 1000, &s->energy_every))
-            return 0;
-        (*i)++;
-        return 1;
-    }
-    if (k == RJ__VK_IN_PLACE) {
-        if (!rj__sp_enum(P, t, key, rj__sk_in_place[0], sizeof rj__sk_in_place[0], 3, &s->in_place))
-            return 0;
-        (*i)++;
-        return 1;
-    }
-    if (!rj__sp_num(P, t, key, &v))
-        return 0;
-    (*i)++;
-    if (k == RJ__VK_DT) {
-        if (!RJ__SP_RULE(v >= 0 && v <= 1, RJ__RULE_DT))
-            return 0;
-        s->dt = v;
-    } else {
-        if (!RJ__SP_RULE(v > 1, RJ__RULE_GROWTH))
-            return 0;
-        s->energy_growth = v;
-    }
-    return 1;
+    return rj__sp_row(P, &rj__solver_fields[k], a, i, b, s);
 }
 
 /* a load's table = time factor, time factor, ...: 1..RJ_TABLE_MAX points, times in s
@@ -10201,41 +10269,20 @@ static int rj__sp_load_table(rj__sp *P, int *i, int b, rj_load_def *d)
 
 static int rj__sp_load_key(rj__sp *P, int k, int a, int *i, int b, rj_load_def *d)
 {
-    const char *key = rj__sk_load[k];
+    const rj__field *r = &rj__load_fields[k];
     const rj__stok *t = &P->tok[a];
-    switch (k) {
-    case RJ__AK_LINK:
-        if (!rj__sp_name_ref(P, t, key) || !rj__sp_link_ref(P, t, key, "loads", &d->link))
+    switch (r->type) {
+    case RJ__FT_LINK:
+        if (!rj__sp_name_ref(P, t, r->key) || !rj__sp_link_ref(P, t, r->key, "loads", &d->link))
             return 0;
         (*i)++;
         return 1;
-    case RJ__AK_NODE:
-        return rj__sp_node_ref(P, t, key, i, &d->node);
-    case RJ__AK_FORCE:
-        if (!rj__sp_num(P, t, key, &d->force[0]))
-            return 0;
-        (*i)++;
-        if (*i >= b)
-            return rj__sp_err(P, t->line, t->col + t->len, key, rj__sp_nan(),
-                              "missing y component after the x component", rj__sp_where(P),
-                              " (force = fx fy, in N)", NULL, NULL);
-        if (!rj__sp_num(P, &P->tok[*i], key, &d->force[1]))
-            return 0;
-        (*i)++;
-        return 1;
-    case RJ__AK_MOMENT:
-        if (!rj__sp_num(P, t, key, &d->moment))
-            return 0;
-        (*i)++;
-        return 1;
-    case RJ__AK_TABLE:
+    case RJ__FT_NODE:
+        return rj__sp_node_ref(P, t, r->key, i, &d->node);
+    case RJ__FT_TABLE:
         return rj__sp_load_table(P, i, b, d);
-    default:
-        if (!rj__sp_bool(P, t, key, &d->follower))
-            return 0;
-        (*i)++;
-        return 1;
     }
+    return rj__sp_row(P, r, a, i, b, d);
 }
 
 /* ------------------------------------------------------------------ sections */
@@ -10245,7 +10292,7 @@ static int rj__sp_key_index(int kind, const rj__stok *t)
     switch (kind) {
     case RJ__SK_SOLVER:
         for (k = 0; k < RJ__VK_N; k++)
-            if (rj__sp_is(t, rj__sk_solver[k]))
+            if (rj__sp_is(t, rj__solver_fields[k].key))
                 return k;
         break;
     case RJ__SK_MATERIAL:
@@ -10255,18 +10302,18 @@ static int rj__sp_key_index(int kind, const rj__stok *t)
                            : kind == RJ__SK_SECTION ? RJ__SK_SEC_KEYS
                                                     : ~0u;
         for (k = 0; k < RJ__LK_N; k++)
-            if ((allowed >> k & 1u) && rj__sp_is(t, rj__sk_link[k]))
+            if ((allowed >> k & 1u) && rj__sp_is(t, rj__link_fields[k].key))
                 return k;
         break;
     }
     case RJ__SK_JOINT:
         for (k = 0; k < RJ__JK_N; k++)
-            if (rj__sp_is(t, rj__sk_joint[k]))
+            if (rj__sp_is(t, rj__joint_fields[k].key))
                 return k;
         break;
     case RJ__SK_LOAD:
         for (k = 0; k < RJ__AK_N; k++)
-            if (rj__sp_is(t, rj__sk_load[k]))
+            if (rj__sp_is(t, rj__load_fields[k].key))
                 return k;
         break;
     }
@@ -10276,12 +10323,12 @@ static int rj__sp_key_index(int kind, const rj__stok *t)
 static const char *rj__sp_key_name(int kind, int k)
 {
     if (kind == RJ__SK_SOLVER)
-        return rj__sk_solver[k];
+        return rj__solver_fields[k].key;
     if (kind == RJ__SK_JOINT)
-        return rj__sk_joint[k];
+        return rj__joint_fields[k].key;
     if (kind == RJ__SK_LOAD)
-        return rj__sk_load[k];
-    return rj__sk_link[k];
+        return rj__load_fields[k].key;
+    return rj__link_fields[k].key;
 }
 
 /* section rules shared by sections and links: eff = keys in effect, pos[k] where key k came from */
@@ -10294,8 +10341,8 @@ static int rj__sp_check_shape(rj__sp *P, unsigned eff, const rj_link_def *d,
         if ((eff & gen) != gen) {
             int has = (eff >> RJ__LK_AREA & 1u) ? RJ__LK_AREA : RJ__LK_INERTIA;
             rj_scene_pos p = pos[has].line ? pos[has] : head;
-            return rj__sp_err(P, p.line, p.col, rj__sk_link[has], rj__sp_nan(), what, " sets ",
-                              rj__sk_link[has],
+            return rj__sp_err(P, p.line, p.col, rj__link_fields[has].key, rj__sp_nan(), what, " sets ",
+                              rj__link_fields[has].key,
                               has == RJ__LK_AREA ? " but not inertia" : " but not area",
                               ": a general section needs both area and inertia");
         }
@@ -10303,7 +10350,7 @@ static int rj__sp_check_shape(rj__sp *P, unsigned eff, const rj_link_def *d,
             if (k != RJ__LK_HEIGHT && (eff >> k & 1u)) {
                 rj_scene_pos p = pos[k].line ? pos[k] : head;
                 return rj__sp_err(
-                    P, p.line, p.col, rj__sk_link[k], rj__sp_nan(), what, " mixes ", rj__sk_link[k],
+                    P, p.line, p.col, rj__link_fields[k].key, rj__sp_nan(), what, " mixes ", rj__link_fields[k].key,
                     " with area/inertia: ", "width and layers apply only to rectangular sections");
             }
     } else if ((eff >> RJ__LK_HEIGHT & 1u) && !(d->height > 0)) {
@@ -10410,8 +10457,8 @@ static int rj__sp_finish(rj__sp *P)
         int k;
         for (k = RJ__JK_BODY1; k <= RJ__JK_BODY2; k++)
             if (!(P->seen >> k & 1u))
-                return rj__sp_err(P, pos[0].line, pos[0].col, rj__sk_joint[k], rj__sp_nan(),
-                                  "joint '", jn, "' has no ", rj__sk_joint[k],
+                return rj__sp_err(P, pos[0].line, pos[0].col, rj__joint_fields[k].key, rj__sp_nan(),
+                                  "joint '", jn, "' has no ", rj__joint_fields[k].key,
                                   k == RJ__JK_BODY1 ? " (ground or a link)" : " (a link)");
         if (d->body1 == d->body2)
             return rj__sp_err(P, pos[1 + RJ__JK_BODY2].line, pos[1 + RJ__JK_BODY2].col, "body2",
@@ -10424,8 +10471,8 @@ static int rj__sp_finish(rj__sp *P)
         if (d->body1 >= 0) {
             for (k = RJ__JK_GROUND_X; k <= RJ__JK_GROUND_ANGLE; k++)
                 if (P->seen >> k & 1u)
-                    return rj__sp_err(P, pos[1 + k].line, pos[1 + k].col, rj__sk_joint[k],
-                                      rj__sp_nan(), rj__sk_joint[k],
+                    return rj__sp_err(P, pos[1 + k].line, pos[1 + k].col, rj__joint_fields[k].key,
+                                      rj__sp_nan(), rj__joint_fields[k].key,
                                       " applies only when body1 = ground, in joint '", jn, "'",
                                       NULL);
             if (d->node1 > P->f->links[d->body1].elements) {
@@ -10470,7 +10517,7 @@ static int rj__sp_header(rj__sp *P)
         }
         { /* a near section keyword, else a near key of the current section */
             const char *near =
-                rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 6, ~0u);
+                rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 6);
             char mean[48];
             if (!near && P->kind != RJ__SK_NONE)
                 near = rj__sp_near_key(P, t0);
@@ -10738,7 +10785,7 @@ static int rj__sp_assignments(rj__sp *P)
                 P, kt, "", rj__sp_nan(), "key ",
                 " outside any section (start one with solver, material, section, link, joint or "
                 "load)",
-                rj__sp_mean(mean, rj__sp_near(kt->s, kt->len, "title", 6, 1, ~0u)), NULL);
+                rj__sp_mean(mean, rj__sp_near(kt->s, kt->len, "title", 6, 1)), NULL);
         }
         k = rj__sp_key_index(P->kind, kt);
         /* a title inside a section: say where it belongs */
@@ -10992,8 +11039,8 @@ static int rj__sp_load_pos(const rj_scene_file *f, const char *field, rj_scene_p
     ap = &f->load_pos_[(size_t) idx * (1 + RJ__AK_N)];
     *pos = ap[0];
     for (k = 0; k < RJ__AK_N && *p == '.'; k++) {
-        const size_t n = strlen(rj__sk_load[k]);
-        if (strncmp(p + 1, rj__sk_load[k], n) == 0 && ap[1 + k].line)
+        const size_t n = strlen(rj__load_fields[k].key);
+        if (strncmp(p + 1, rj__load_fields[k].key, n) == 0 && ap[1 + k].line)
             *pos = ap[1 + k];
     }
     rj__sp_cat(item, isize, " (load '", f->load_names[idx], "')", NULL, NULL, NULL, NULL);
@@ -11011,7 +11058,7 @@ static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_
     item[0] = 0;
     if (strncmp(field, "solver.", 7) == 0) {
         for (k = 0; k < RJ__VK_N; k++)
-            if (strcmp(field + 7, rj__sk_solver[k]) == 0 && f->solver_pos_[1 + k].line) {
+            if (strcmp(field + 7, rj__solver_fields[k].key) == 0 && f->solver_pos_[1 + k].line) {
                 *pos = f->solver_pos_[1 + k];
                 return 1;
             }
@@ -11055,7 +11102,7 @@ static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_
         const rj_scene_pos *lp = &f->link_pos_[(size_t) idx * (1 + RJ__LK_N)];
         *pos = lp[0];
         for (k = 0; k < RJ__LK_N; k++)
-            if (strcmp(name, rj__sk_link[k]) == 0 && lp[1 + k].line)
+            if (strcmp(name, rj__link_fields[k].key) == 0 && lp[1 + k].line)
                 *pos = lp[1 + k];
         if (strcmp(name, "section") == 0) {
             if (lp[1 + RJ__LK_SECTION].line)
@@ -11068,7 +11115,7 @@ static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_
         int key = -1;
         *pos = jp[0];
         for (k = 0; k < RJ__JK_N; k++)
-            if (strcmp(name, rj__sk_joint[k]) == 0)
+            if (strcmp(name, rj__joint_fields[k].key) == 0)
                 key = k;
         if (strncmp(name, "table_", 6) == 0)
             key = RJ__JK_TABLE;

@@ -597,98 +597,80 @@ static unsigned long long rj__fnv_i(unsigned long long h, int v)
     return rj__fnv(h, &v, sizeof v);
 }
 
-/* The model's identity for checkpoints: every definition field that a state's meaning
-   depends on (field by field: a struct's padding bytes are not defined), the step in use,
-   and the masses and start positions derived from them. */
-/* A load's definition into the model's hash. */
-static unsigned long long rj__fnv_load(unsigned long long h, const rj_load_def *d)
+/* Row r of def into the hash: as its hash form says (an int as a double or as an int;
+   a vector's two components; a table's count and its pairs). */
+static unsigned long long rj__fnv_row(unsigned long long h, const rj__field *r, const void *def)
+{
+    int k, n;
+    if (r->type == RJ__FT_TABLE) {
+        const double *first = (const double *) (const void *) ((const char *) def + r->aux);
+        n = rj__row_int(def, r);
+        h = rj__fnv_i(h, n);
+        for (k = 0; k < n; k++) {
+            h = rj__fnv_d(h, first[k]);
+            h = rj__fnv_d(h, first[RJ_TABLE_MAX + k]);
+        }
+        return h;
+    }
+    if (rj__row_is_real(r)) {
+        h = rj__fnv_d(h, rj__row_real(def, r, 0));
+        return r->type == RJ__FT_VEC2 ? rj__fnv_d(h, rj__row_real(def, r, 1)) : h;
+    }
+    memcpy(&n, (const char *) def + r->offset, sizeof n);
+    return r->hash_as == 'i' ? rj__fnv_i(h, n) : rj__fnv_d(h, (double) n);
+}
+
+/* The rows of kind in the order of their hash places: into order (room for 64), their
+   count returned. */
+static int rj__hash_order(int kind, const rj__field **order)
+{
+    int n, k, at, count = 0;
+    const rj__field *t = rj__fields(kind, &n);
+    for (at = 0; count < 64; at++) {
+        const int before = count;
+        for (k = 0; k < n && count < 64; k++)
+            if (t[k].hash_at == at)
+                order[count++] = &t[k];
+        if (count == before)
+            return count;
+    }
+    return count;
+}
+
+/* A definition into the hash: its rows in hash order (rj__hash_order). */
+static unsigned long long rj__fnv_def(unsigned long long h, const rj__field *const *order,
+                                      int count, const void *def)
 {
     int k;
-    h = rj__fnv_i(h, d->link);
-    h = rj__fnv_i(h, d->node);
-    h = rj__fnv_d(h, d->force[0]);
-    h = rj__fnv_d(h, d->force[1]);
-    h = rj__fnv_d(h, d->moment);
-    h = rj__fnv_i(h, d->follower);
-    h = rj__fnv_i(h, d->table_count);
-    for (k = 0; k < d->table_count; k++) {
-        h = rj__fnv_d(h, d->table_time[k]);
-        h = rj__fnv_d(h, d->table_factor[k]);
-    }
+    for (k = 0; k < count; k++)
+        h = rj__fnv_row(h, order[k], def);
     return h;
 }
 
+/* The model's identity for checkpoints: every definition member that a state's meaning
+   depends on (member by member, in the order of the rows' hash places: a struct's
+   padding bytes are not defined), the step in use, and the masses and start positions
+   derived from them. */
 static unsigned long long rj__model_hash(const rj_model *m)
 {
     unsigned long long h = 14695981039346656037ULL;
+    const rj__field *lo[64], *jo[64], *so[64], *ao[64];
+    const int nlo = rj__hash_order(RJ__DEF_LINK, lo), njo = rj__hash_order(RJ__DEF_JOINT, jo);
+    const int nso = rj__hash_order(RJ__DEF_SOLVER, so), nao = rj__hash_order(RJ__DEF_LOAD, ao);
     int l, j, k;
     h = rj__fnv_i(h, m->nn);
     h = rj__fnv_i(h, m->ne);
     h = rj__fnv_i(h, m->nj);
     h = rj__fnv_d(h, m->dt);
-    for (l = 0; l < m->nl; l++) {
-        const rj_link_def *d = &m->ldef[l];
-        const double v[19] = { d->length,
-                               d->E,
-                               d->rho,
-                               d->width,
-                               d->height,
-                               d->area,
-                               d->inertia,
-                               d->tip_mass,
-                               d->tip_inertia,
-                               d->x,
-                               d->y,
-                               d->angle,
-                               d->vx,
-                               d->vy,
-                               d->omega,
-                               (double) d->elements,
-                               (double) d->section,
-                               (double) d->layers,
-                               (double) d->root };
-        for (k = 0; k < 19; k++)
-            h = rj__fnv_d(h, v[k]);
-        h = rj__fnv_i(h, d->fidelity);
-    }
-    for (j = 0; j < m->nj; j++) {
-        const rj_joint_def *d = &m->jdef[j];
-        const double v[21] = { (double) d->body1,
-                               (double) d->node1,
-                               (double) d->body2,
-                               d->ground_x,
-                               d->ground_y,
-                               d->ground_angle,
-                               d->angle0,
-                               d->rate0,
-                               d->spring_k,
-                               d->spring_free_angle,
-                               (double) d->has_forward,
-                               d->forward,
-                               (double) d->has_reverse,
-                               d->reverse,
-                               (double) d->lock,
-                               (double) d->method,
-                               (double) d->release,
-                               d->penalty_k,
-                               d->restitution,
-                               d->damping,
-                               d->friction };
-        for (k = 0; k < 21; k++)
-            h = rj__fnv_d(h, v[k]);
-        h = rj__fnv_i(h, d->reference);
-        h = rj__fnv_i(h, d->table_count);
-        for (k = 0; k < d->table_count; k++) {
-            h = rj__fnv_d(h, d->table_angle[k]);
-            h = rj__fnv_d(h, d->table_torque[k]);
-        }
-    }
+    for (l = 0; l < m->nl; l++)
+        h = rj__fnv_def(h, lo, nlo, &m->ldef[l]);
+    for (j = 0; j < m->nj; j++)
+        h = rj__fnv_def(h, jo, njo, &m->jdef[j]);
     h = rj__fnv(h, m->mass, sizeof(double) * (size_t) m->nn);
     h = rj__fnv(h, m->x0, sizeof(double) * (size_t) m->nn);
-    h = rj__fnv_d(h, m->solver.gravity[0]);
-    h = rj__fnv_d(h, m->solver.gravity[1]);
+    h = rj__fnv_def(h, so, nso, &m->solver);
     for (k = 0; k < m->nload; k++)
-        h = rj__fnv_load(h, &m->load[k]);
+        h = rj__fnv_def(h, ao, nao, &m->load[k]);
     return h;
 }
 

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <stdio.h>
 #include <stdarg.h>
+#include <stddef.h>
 
 #if defined(RJ_MALLOC) != defined(RJ_FREE)
 #error "define both RJ_MALLOC and RJ_FREE, or neither"

@@ -6,72 +6,6 @@
 #include <stdio.h>
 #include <errno.h>
 
-/* keys; index 0 of an item's position array is its section line, key k is at 1 + k */
-enum {
-    RJ__LK_LENGTH,
-    RJ__LK_ELEMENTS,
-    RJ__LK_MATERIAL,
-    RJ__LK_SECTION,
-    RJ__LK_E,
-    RJ__LK_RHO,
-    RJ__LK_AREA,
-    RJ__LK_INERTIA,
-    RJ__LK_WIDTH,
-    RJ__LK_HEIGHT,
-    RJ__LK_LAYERS,
-    RJ__LK_TIP_MASS,
-    RJ__LK_TIP_INERTIA,
-    RJ__LK_ROOT,
-    RJ__LK_X,
-    RJ__LK_Y,
-    RJ__LK_ANGLE,
-    RJ__LK_VX,
-    RJ__LK_VY,
-    RJ__LK_OMEGA,
-    RJ__LK_FIDELITY,
-    RJ__LK_N
-};
-enum {
-    RJ__JK_BODY1,
-    RJ__JK_BODY2,
-    RJ__JK_NODE1,
-    RJ__JK_GROUND_X,
-    RJ__JK_GROUND_Y,
-    RJ__JK_GROUND_ANGLE,
-    RJ__JK_ANGLE0,
-    RJ__JK_RATE0,
-    RJ__JK_TABLE,
-    RJ__JK_SPRING,
-    RJ__JK_FORWARD,
-    RJ__JK_REVERSE,
-    RJ__JK_LOCK,
-    RJ__JK_METHOD,
-    RJ__JK_RELEASE,
-    RJ__JK_PENALTY_K,
-    RJ__JK_RESTITUTION,
-    RJ__JK_DAMPING,
-    RJ__JK_FRICTION,
-    RJ__JK_REFERENCE,
-    RJ__JK_N
-};
-enum {
-    RJ__AK_LINK,
-    RJ__AK_NODE,
-    RJ__AK_FORCE,
-    RJ__AK_MOMENT,
-    RJ__AK_TABLE,
-    RJ__AK_FOLLOWER,
-    RJ__AK_N
-};
-enum {
-    RJ__VK_DT,
-    RJ__VK_ALLOW_UNSTABLE,
-    RJ__VK_ENERGY_GROWTH,
-    RJ__VK_ENERGY_EVERY,
-    RJ__VK_IN_PLACE,
-    RJ__VK_GRAVITY,
-    RJ__VK_N
-};
 enum {
     RJ__SK_NONE,
     RJ__SK_SOLVER,
@@ -86,39 +20,6 @@ enum {
 /* char arrays, not pointer arrays: read-only data without relocations */
 static const char rj__sk_kind[RJ__SK_COUNT][10] = { "",     "solver", "material", "section",
                                                     "link", "joint",  "load" };
-static const char rj__sk_load[RJ__AK_N][9] = { "link",   "node",  "force",
-                                               "moment", "table", "follower" };
-static const char rj__sk_load_unit[RJ__AK_N][4] = { "", "", "N", "N m", "", "" };
-static const char rj__sk_link[RJ__LK_N][12] = {
-    "length",  "elements", "material", "section", "E",        "rho",         "area",
-    "inertia", "width",    "height",   "layers",  "tip_mass", "tip_inertia", "root",
-    "x",       "y",        "angle",    "vx",      "vy",       "omega",       "fidelity"
-};
-static const char rj__sk_joint[RJ__JK_N][13] = {
-    "body1",   "body2",     "node1",       "ground_x", "ground_y", "ground_angle", "angle0",
-    "rate0",   "table",     "spring",      "forward",  "reverse",  "lock",         "method",
-    "release", "penalty_k", "restitution", "damping",  "friction", "reference"
-};
-static const char rj__sk_solver[RJ__VK_N][15] = { "dt",           "allow_unstable", "energy_growth",
-                                                  "energy_every", "in_place",       "gravity" };
-static const char rj__sk_in_place[3][5] = { "auto", "on", "off" }; /* rj_in_place order */
-static const char rj__sk_root[4][8] = { "free", "pinned", "clamped", "fixed" };
-static const char rj__sk_fidelity[3][13] = { "flexible", "rigid",
-                                             "inextensible" }; /* rj_fidelity order */
-static const char rj__sk_method[5][9] = { "penalty", "adaptive", "momentum", "forced", "energy" };
-static const char rj__sk_release[2][5] = { "rc12", "rc13" };
-static const char rj__sk_reference[2][8] = { "tangent", "chord" };
-/* each key's SI unit, for messages about unit words ("" none; angles rad, rates rad/s) */
-static const char rj__sk_link_unit[RJ__LK_N][7] = { "m",      "",      "",  "",  "Pa",  "kg/m^3",
-                                                    "m^2",    "m^4",   "m", "m", "",    "kg",
-                                                    "kg m^2", "",      "m", "m", "rad", "m/s",
-                                                    "m/s",    "rad/s", "" };
-static const char rj__sk_joint_unit[RJ__JK_N][10] = {
-    "",    "",    "", "m", "m", "rad",     "rad", "rad/s",     "N m", "N m/rad",
-    "rad", "rad", "", "",  "",  "N m/rad", "",    "N m s/rad", "N m", ""
-};
-static const char rj__sk_solver_unit[RJ__VK_N][6] = { "s", "", "", "", "", "m/s^2" };
-
 #define RJ__SK_MAT_KEYS ((1u << RJ__LK_E) | (1u << RJ__LK_RHO))
 #define RJ__SK_SEC_KEYS                                                                            \
     ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA) | (1u << RJ__LK_WIDTH) | (1u << RJ__LK_HEIGHT) | \
@@ -494,52 +395,64 @@ static int rj__sp_dist(const char *s, int n, const char *b)
     return r[n % 3][m];
 }
 
-/* The name among names[k] (stride apart, k < count; for k < 32 only those in mask) nearest
-   to s[0..n), or NULL: a suggestion must be within 2 edits of a name of 5 or more
-   characters, 1 of 3 or 4, and differ only in case from a shorter one, and be the only one
-   that near (a tie suggests nothing rather than a guess). */
-static const char *rj__sp_near(const char *s, int n, const char *names, size_t stride, int count,
-                               unsigned mask)
+/* The nearest so far (*best at *bd edits, *ties others as near) with name nm also
+   weighed: a suggestion must be within 2 edits of a name of 5 or more characters, 1 of 3
+   or 4, and differ only in case from a shorter one. */
+static void rj__sp_weigh(const char *s, int n, const char *nm, const char **best, int *bd,
+                         int *ties)
+{
+    const int len = (int) strlen(nm), lim = len >= 5 ? 2 : len >= 3 ? 1 : 0;
+    const int d = rj__sp_dist(s, n, nm);
+    if (d > lim || d > *bd)
+        return;
+    if (d == *bd) {
+        (*ties)++;
+        return;
+    }
+    *best = nm;
+    *bd = d;
+    *ties = 0;
+}
+
+/* The name among names[k] (stride apart, k < count) nearest to s[0..n), or NULL when none
+   is near (rj__sp_weigh) or two are as near (a tie suggests nothing rather than a guess). */
+static const char *rj__sp_near(const char *s, int n, const char *names, size_t stride, int count)
 {
     const char *best = NULL;
     int k, bd = 99, ties = 0;
-    for (k = 0; k < count; k++) {
-        const char *nm = names + stride * (size_t) k;
-        int len = (int) strlen(nm), d, lim = len >= 5 ? 2 : len >= 3 ? 1 : 0;
-        if (k < 32 && !(mask >> k & 1u))
-            continue;
-        d = rj__sp_dist(s, n, nm);
-        if (d > lim || d > bd)
-            continue;
-        if (d == bd) {
-            ties++;
-            continue;
-        }
-        best = nm;
-        bd = d;
-        ties = 0;
-    }
+    for (k = 0; k < count; k++)
+        rj__sp_weigh(s, n, names + stride * (size_t) k, &best, &bd, &ties);
     return ties ? NULL : best;
 }
 
-/* the key of the current section nearest to t (rj__sp_near), NULL when none is */
+/* The same among the keys of rows (the first count; for k < 32 only those in mask). */
+static const char *rj__sp_near_row(const char *s, int n, const rj__field *rows, int count,
+                                   unsigned mask)
+{
+    const char *best = NULL;
+    int k, bd = 99, ties = 0;
+    for (k = 0; k < count; k++)
+        if (k >= 32 || (mask >> k & 1u))
+            rj__sp_weigh(s, n, rows[k].key, &best, &bd, &ties);
+    return ties ? NULL : best;
+}
+
+/* the key of the current section nearest to t (rj__sp_near_row), NULL when none is */
 static const char *rj__sp_near_key(const rj__sp *P, const rj__stok *t)
 {
     switch (P->kind) {
     case RJ__SK_SOLVER:
-        return rj__sp_near(t->s, t->len, rj__sk_solver[0], sizeof rj__sk_solver[0], RJ__VK_N, ~0u);
+        return rj__sp_near_row(t->s, t->len, rj__solver_fields, RJ__VK_N, ~0u);
     case RJ__SK_JOINT:
-        return rj__sp_near(t->s, t->len, rj__sk_joint[0], sizeof rj__sk_joint[0], RJ__JK_N, ~0u);
+        return rj__sp_near_row(t->s, t->len, rj__joint_fields, RJ__JK_N, ~0u);
     case RJ__SK_MATERIAL:
-        return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N,
-                           RJ__SK_MAT_KEYS);
+        return rj__sp_near_row(t->s, t->len, rj__link_fields, RJ__LK_N, RJ__SK_MAT_KEYS);
     case RJ__SK_SECTION:
-        return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N,
-                           RJ__SK_SEC_KEYS);
+        return rj__sp_near_row(t->s, t->len, rj__link_fields, RJ__LK_N, RJ__SK_SEC_KEYS);
     case RJ__SK_LINK:
-        return rj__sp_near(t->s, t->len, rj__sk_link[0], sizeof rj__sk_link[0], RJ__LK_N, ~0u);
+        return rj__sp_near_row(t->s, t->len, rj__link_fields, RJ__LK_N, ~0u);
     case RJ__SK_LOAD:
-        return rj__sp_near(t->s, t->len, rj__sk_load[0], sizeof rj__sk_load[0], RJ__AK_N, ~0u);
+        return rj__sp_near_row(t->s, t->len, rj__load_fields, RJ__AK_N, ~0u);
     }
     return NULL;
 }
@@ -561,22 +474,16 @@ static int rj__sp_alpha(unsigned char c)
     return ((c | 32) >= 'a' && (c | 32) <= 'z') || c >= 0x80;
 }
 
-/* the SI unit of key (a key of any section), "" when it has none */
+/* the SI unit of key (a key of any section's rows), "" when it has none */
 static const char *rj__sp_unit(const char *key)
 {
-    int k;
-    for (k = 0; k < RJ__LK_N; k++)
-        if (strcmp(key, rj__sk_link[k]) == 0)
-            return rj__sk_link_unit[k];
-    for (k = 0; k < RJ__JK_N; k++)
-        if (strcmp(key, rj__sk_joint[k]) == 0)
-            return rj__sk_joint_unit[k];
-    for (k = 0; k < RJ__VK_N; k++)
-        if (strcmp(key, rj__sk_solver[k]) == 0)
-            return rj__sk_solver_unit[k];
-    for (k = 0; k < RJ__AK_N; k++)
-        if (strcmp(key, rj__sk_load[k]) == 0)
-            return rj__sk_load_unit[k];
+    int kind, n, k;
+    for (kind = RJ__DEF_LINK; kind <= RJ__DEF_LOAD; kind++) {
+        const rj__field *t = rj__fields(kind, &n);
+        for (k = 0; k < n; k++)
+            if (strcmp(key, t[k].key) == 0)
+                return t[k].unit;
+    }
     return "";
 }
 
@@ -657,7 +564,9 @@ static int rj__sp_num(rj__sp *P, const rj__stok *t, const char *key, double *out
     return rj__sp_num_err(P, t, key, r, rj__sp_unit(key));
 }
 
-static int rj__sp_int(rj__sp *P, const rj__stok *t, const char *key, int lo, int hi, int *out)
+/* an int in lo..hi; out of range, the sentence rule (NULL: "must be lo..hi") */
+static int rj__sp_int(rj__sp *P, const rj__stok *t, const char *key, int lo, int hi,
+                      const char *rule, int *out)
 {
     char a[24], b[24], q[200], m[256], m2[256];
     int v = 0, r = t->kind == 'w' ? rj__sp_strtoint(t->s, t->len, &v) : 0;
@@ -667,9 +576,12 @@ static int rj__sp_int(rj__sp *P, const rj__stok *t, const char *key, int lo, int
     }
     if (r == 1 || r == -2) {
         rj__sp_quote(q, sizeof q, t->s, t->len);
-        rj__sp_cat(m, sizeof m, key, " = ", q, " is out of range", rj__sp_where(P), ": must be ",
-                   rj__sp_itoa(a, lo));
-        rj__sp_cat(m2, sizeof m2, m, "..", rj__sp_itoa(b, hi), NULL, NULL, NULL, NULL);
+        rj__sp_cat(m, sizeof m, key, " = ", q, " is out of range", rj__sp_where(P), ": ", NULL);
+        if (rule)
+            rj__sp_cat(m2, sizeof m2, m, rule, NULL, NULL, NULL, NULL, NULL);
+        else
+            rj__sp_cat(m2, sizeof m2, m, "must be ", rj__sp_itoa(a, lo), "..", rj__sp_itoa(b, hi),
+                       NULL, NULL);
         return rj__sp_fail(P, t->line, t->col, key, r == 1 ? (double) v : rj__sp_nan(), m2);
     }
     return rj__sp_err_tok(P, t, key, rj__sp_nan(), "expected an integer, found ",
@@ -760,7 +672,7 @@ static int rj__sp_enum(rj__sp *P, const rj__stok *t, const char *key, const char
     rj__sp_cat(m, sizeof m, "unknown value '", q, "'", rj__sp_for(P, key), " (expected ", NULL,
                NULL);
     rj__sp_cat(m2, sizeof m2, m, list, ")",
-               rj__sp_mean(mean, rj__sp_near(t->s, t->len, names, stride, count, ~0u)), NULL, NULL,
+               rj__sp_mean(mean, rj__sp_near(t->s, t->len, names, stride, count)), NULL, NULL,
                NULL);
     return rj__sp_fail(P, t->line, t->col, key, rj__sp_nan(), m2);
 }
@@ -797,126 +709,123 @@ static int rj__sp_find(const char *s, int n, const char *names, size_t stride, i
 /* ------------------------------------------------------------------ keys */
 #define RJ__SP_RULE(cond, rule) rj__sp_range(P, a, *i, key, v, (cond), (rule))
 
-static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *d)
+/* whether v is in row r's range */
+static int rj__sp_in_range(const rj__field *r, double v)
 {
-    const char *key = rj__sk_link[k];
-    const rj__stok *t = &P->tok[a];
-    double v = 0;
-    switch (k) {
-    case RJ__LK_ELEMENTS:
-        if (!rj__sp_int(P, t, key, 1, 1000000, &d->elements))
+    return (r->lo_in ? v >= r->lo : v > r->lo) && (r->hi_in ? v <= r->hi : v < r->hi);
+}
+
+/* key = x y: two numbers, each in row r's range */
+static int rj__sp_vec2(rj__sp *P, const rj__field *r, int a, int *i, int b, void *def)
+{
+    const char *key = r->key;
+    char shape[64];
+    int c;
+    for (c = 0; c < 2; c++) {
+        double v = 0;
+        if (c == 1 && *i >= b) {
+            const rj__stok *z = &P->tok[*i - 1];
+            const char x[2] = { key[0], 0 };
+            rj__sp_cat(shape, sizeof shape, " (", key, " = ", x, "x ", x, "y, in ");
+            return rj__sp_err(P, z->line, z->col + z->len, key, rj__sp_nan(),
+                              "missing y component after the x component", rj__sp_where(P),
+                              shape, r->unit, ")");
+        }
+        a = *i;
+        if (!rj__sp_num(P, &P->tok[*i], key, &v))
             return 0;
         (*i)++;
-        return 1;
-    case RJ__LK_LAYERS:
-        if (!rj__sp_int(P, t, key, 1, 1000, &d->layers))
+        if (!RJ__SP_RULE(rj__sp_in_range(r, v), r->rule))
             return 0;
-        (*i)++;
-        return 1;
-    case RJ__LK_ROOT:
-        if (!rj__sp_enum(P, t, key, rj__sk_root[0], sizeof rj__sk_root[0], 4, &d->root))
-            return 0;
-        (*i)++;
-        return 1;
-    case RJ__LK_FIDELITY:
-        if (!rj__sp_enum(P, t, key, rj__sk_fidelity[0], sizeof rj__sk_fidelity[0], 3, &d->fidelity))
-            return 0;
-        (*i)++;
-        return 1;
-    case RJ__LK_MATERIAL:
-    case RJ__LK_SECTION: {
-        const rj__spart *parts = k == RJ__LK_MATERIAL ? P->mat : P->sec;
-        int idx, np = k == RJ__LK_MATERIAL ? P->nmat : P->nsec;
-        char mean[48];
-        if (!rj__sp_name_ref(P, t, key))
-            return 0;
-        idx = np ? rj__sp_find(t->s, t->len, parts[0].name, sizeof(rj__spart), np) : -1;
-        if (idx < 0)
-            return rj__sp_err_tok(P, t, key, rj__sp_nan(),
-                                  k == RJ__LK_MATERIAL ? "unknown material " : "unknown section ",
-                                  rj__sp_where(P), " (define it above the link)",
-                                  np ? rj__sp_mean(mean, rj__sp_near(t->s, t->len, parts[0].name,
-                                                                     sizeof(rj__spart), np, ~0u))
-                                     : "");
-        if (k == RJ__LK_MATERIAL)
-            P->link_mat = idx;
-        else
-            P->link_sec = idx;
-        (*i)++;
-        return 1;
-    }
-    case RJ__LK_ANGLE:
-        return rj__sp_angle(P, i, b, key, 0, &d->angle);
-    case RJ__LK_OMEGA:
-        return rj__sp_angle(P, i, b, key, 1, &d->omega);
-    }
-    if (!rj__sp_num(P, t, key, &v))
-        return 0;
-    (*i)++;
-    switch (k) {
-    case RJ__LK_LENGTH:
-        if (!RJ__SP_RULE(v > 0 && v <= 1e6, RJ__RULE_LENGTH))
-            return 0;
-        d->length = v;
-        break;
-    case RJ__LK_E:
-        if (!RJ__SP_RULE(v > 0 && v <= 1e30, RJ__RULE_E))
-            return 0;
-        d->E = v;
-        break;
-    case RJ__LK_RHO:
-        if (!RJ__SP_RULE(v > 0 && v <= 1e30, RJ__RULE_RHO))
-            return 0;
-        d->rho = v;
-        break;
-    case RJ__LK_AREA:
-        if (!RJ__SP_RULE(v > 0 && v <= 1e12, RJ__RULE_AREA))
-            return 0;
-        d->area = v;
-        break;
-    case RJ__LK_INERTIA:
-        if (!RJ__SP_RULE(v > 0 && v <= 1e24, RJ__RULE_INERTIA))
-            return 0;
-        d->inertia = v;
-        break;
-    case RJ__LK_WIDTH:
-        if (!RJ__SP_RULE(v > 0 && v <= 1e6, RJ__RULE_LENGTH))
-            return 0;
-        d->width = v;
-        break;
-    case RJ__LK_HEIGHT:
-        if (!RJ__SP_RULE(v >= 0 && v <= 1e6, RJ__RULE_DEPTH))
-            return 0;
-        d->height = v;
-        break;
-    case RJ__LK_TIP_MASS:
-        if (!RJ__SP_RULE(v >= 0 && v <= 1e40, RJ__RULE_TIP_MASS))
-            return 0;
-        d->tip_mass = v;
-        break;
-    case RJ__LK_TIP_INERTIA:
-        if (!RJ__SP_RULE(v >= 0 && v <= 1e50, RJ__RULE_TIP_INERTIA))
-            return 0;
-        d->tip_inertia = v;
-        break;
-    case RJ__LK_X:
-        d->x = v;
-        break;
-    case RJ__LK_Y:
-        d->y = v;
-        break;
-    case RJ__LK_VX:
-        d->vx = v;
-        break;
-    case RJ__LK_VY:
-        d->vy = v;
-        break;
+        rj__row_set_real(def, r, c, v);
     }
     return 1;
 }
 
+/* a key whose row r says all (a number, an angle or rate, an int, an enum, a yes/no, a
+   vector): a value of its type in its range, into def */
+static int rj__sp_row(rj__sp *P, const rj__field *r, int a, int *i, int b, void *def)
+{
+    const char *key = r->key;
+    const rj__stok *t = &P->tok[a];
+    double v = 0;
+    int n = 0;
+    switch (r->type) {
+    case RJ__FT_INT:
+        if (!rj__sp_int(P, t, key, (int) r->lo, (int) r->hi, r->rule, &n))
+            return 0;
+        rj__row_set_int(def, r, n);
+        (*i)++;
+        return 1;
+    case RJ__FT_ENUM:
+        if (!rj__sp_enum(P, t, key, r->names, r->stride, r->count, &n))
+            return 0;
+        rj__row_set_int(def, r, n);
+        (*i)++;
+        return 1;
+    case RJ__FT_BOOL:
+        if (!rj__sp_bool(P, t, key, &n))
+            return 0;
+        rj__row_set_int(def, r, n);
+        (*i)++;
+        return 1;
+    case RJ__FT_VEC2:
+        return rj__sp_vec2(P, r, a, i, b, def);
+    case RJ__FT_ANGLE:
+    case RJ__FT_RATE:
+        if (!rj__sp_angle(P, i, b, key, r->type == RJ__FT_RATE, &v))
+            return 0;
+        break;
+    default:
+        if (!rj__sp_num(P, t, key, &v))
+            return 0;
+        (*i)++;
+    }
+    if (!RJ__SP_RULE(rj__sp_in_range(r, v), r->rule))
+        return 0;
+    rj__row_set_real(def, r, 0, v);
+    return 1;
+}
+
+/* material = NAME, section = NAME: a part defined above the link */
+static int rj__sp_part(rj__sp *P, int k, const rj__stok *t)
+{
+    const char *key = rj__link_fields[k].key;
+    const rj__spart *parts = k == RJ__LK_MATERIAL ? P->mat : P->sec;
+    int idx, np = k == RJ__LK_MATERIAL ? P->nmat : P->nsec;
+    char mean[48];
+    if (!rj__sp_name_ref(P, t, key))
+        return 0;
+    idx = np ? rj__sp_find(t->s, t->len, parts[0].name, sizeof(rj__spart), np) : -1;
+    if (idx < 0)
+        return rj__sp_err_tok(P, t, key, rj__sp_nan(),
+                              k == RJ__LK_MATERIAL ? "unknown material " : "unknown section ",
+                              rj__sp_where(P), " (define it above the link)",
+                              np ? rj__sp_mean(mean, rj__sp_near(t->s, t->len, parts[0].name,
+                                                                 sizeof(rj__spart), np))
+                                 : "");
+    if (k == RJ__LK_MATERIAL)
+        P->link_mat = idx;
+    else
+        P->link_sec = idx;
+    return 1;
+}
+
+static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *d)
+{
+    if (rj__link_fields[k].type == RJ__FT_PART) {
+        if (!rj__sp_part(P, k, &P->tok[a]))
+            return 0;
+        (*i)++;
+        return 1;
+    }
+    return rj__sp_row(P, &rj__link_fields[k], a, i, b, d);
+}
+
+/* forward / reverse = an angle in the limits' range, or none */
 static int rj__sp_limit(rj__sp *P, int a, int *i, int b, const char *key, int *has, double *lim)
 {
+    char rule[96];
     double v = 0;
     if (rj__sp_is(&P->tok[a], "none")) {
         *has = 0;
@@ -926,8 +835,9 @@ static int rj__sp_limit(rj__sp *P, int a, int *i, int b, const char *key, int *h
     }
     if (!rj__sp_angle(P, i, b, key, 0, &v))
         return 0;
-    if (!RJ__SP_RULE(v >= 0 && v < 2.0 * 3.14159265358979323846,
-                     "a limit must be in [0, 360) deg, or none"))
+    rj__sp_cat(rule, sizeof rule, rj__joint_fields[RJ__JK_FORWARD].rule, ", or none", NULL,
+               NULL, NULL, NULL, NULL);
+    if (!RJ__SP_RULE(rj__sp_in_range(&rj__joint_fields[RJ__JK_FORWARD], v), rule))
         return 0;
     *has = 1;
     *lim = v;
@@ -948,7 +858,7 @@ static int rj__sp_link_ref(rj__sp *P, const rj__stok *t, const char *key, const 
         return 1;
     }
     rj__sp_mean(mean, P->f->link_count ? rj__sp_near(t->s, t->len, (const char *) P->f->link_names,
-                                                     RJ_SCENE_NAME_MAX, P->f->link_count, ~0u)
+                                                     RJ_SCENE_NAME_MAX, P->f->link_count)
                                        : NULL);
     rj__sp_cat(tail, sizeof tail, " (define links above the ", users, " that use them)", NULL, NULL,
                NULL, NULL);
@@ -961,7 +871,7 @@ static int rj__sp_node_ref(rj__sp *P, const rj__stok *t, const char *key, int *i
 {
     if (rj__sp_is(t, "last"))
         *node = -1;
-    else if (!rj__sp_int(P, t, key, 0, 1000000, node))
+    else if (!rj__sp_int(P, t, key, 0, 1000000, NULL, node))
         return 0;
     (*i)++;
     return 1;
@@ -1070,188 +980,86 @@ static int rj__sp_table(rj__sp *P, int *i, int b, rj_joint_def *d)
     return rj__sp_pairs(P, i, b, &form, d->table_angle, d->table_torque, &d->table_count);
 }
 
-static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def *d)
+/* body1 = ground or a link, body2 = a link */
+static int rj__sp_body(rj__sp *P, int k, const rj__stok *t, rj_joint_def *d)
 {
-    const char *key = rj__sk_joint[k];
-    const rj__stok *t = &P->tok[a];
-    double v = 0;
-    switch (k) {
-    case RJ__JK_BODY1:
-    case RJ__JK_BODY2: {
-        int idx;
-        if (!rj__sp_name_ref(P, t, key))
-            return 0;
-        if (rj__sp_is(t, "ground")) {
-            if (k == RJ__JK_BODY2)
-                return rj__sp_err_tok(P, t, key, rj__sp_nan(), "body2 must be a link, not ",
-                                      rj__sp_where(P), " (body1 may be ground)", NULL);
-            d->body1 = -1;
-            (*i)++;
-            return 1;
-        }
-        if (!rj__sp_link_ref(P, t, key, "joints", &idx))
-            return 0;
-        if (k == RJ__JK_BODY1)
-            d->body1 = idx;
-        else
-            d->body2 = idx;
-        (*i)++;
-        return 1;
-    }
-    case RJ__JK_NODE1:
-        return rj__sp_node_ref(P, t, key, i, &d->node1);
-    case RJ__JK_GROUND_ANGLE:
-        return rj__sp_angle(P, i, b, key, 0, &d->ground_angle);
-    case RJ__JK_ANGLE0:
-        if (!rj__sp_angle(P, i, b, key, 0, &v))
-            return 0;
-        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, RJ__RULE_ANGLE))
-            return 0;
-        d->angle0 = v;
-        return 1;
-    case RJ__JK_RATE0:
-        return rj__sp_angle(P, i, b, key, 1, &d->rate0);
-    case RJ__JK_TABLE:
-        return rj__sp_table(P, i, b, d);
-    case RJ__JK_SPRING:
-        if (!rj__sp_num(P, t, key, &v))
-            return 0;
-        (*i)++;
-        if (!RJ__SP_RULE(v >= 0, "the spring stiffness " RJ__RULE_STIFFNESS))
-            return 0;
-        d->spring_k = v;
-        if (*i >= b)
-            return rj__sp_err(P, t->line, t->col + t->len, key, rj__sp_nan(),
-                              "missing free angle after the stiffness", rj__sp_where(P),
-                              " (spring = k angle)", NULL, NULL);
-        a = *i;
-        if (!rj__sp_angle(P, i, b, key, 0, &v))
-            return 0;
-        if (!RJ__SP_RULE(v >= -1e6 && v <= 1e6, "the free angle " RJ__RULE_ANGLE))
-            return 0;
-        d->spring_free_angle = v;
-        return 1;
-    case RJ__JK_FORWARD:
-        return rj__sp_limit(P, a, i, b, key, &d->has_forward, &d->forward);
-    case RJ__JK_REVERSE:
-        return rj__sp_limit(P, a, i, b, key, &d->has_reverse, &d->reverse);
-    case RJ__JK_LOCK:
-        if (!rj__sp_bool(P, t, key, &d->lock))
-            return 0;
-        (*i)++;
-        return 1;
-    case RJ__JK_METHOD:
-        if (!rj__sp_enum(P, t, key, rj__sk_method[0], sizeof rj__sk_method[0], 5, &d->method))
-            return 0;
-        (*i)++;
-        return 1;
-    case RJ__JK_RELEASE:
-        if (!rj__sp_enum(P, t, key, rj__sk_release[0], sizeof rj__sk_release[0], 2, &d->release))
-            return 0;
-        (*i)++;
-        return 1;
-    case RJ__JK_REFERENCE:
-        if (!rj__sp_enum(P, t, key, rj__sk_reference[0], sizeof rj__sk_reference[0], 2,
-                         &d->reference))
-            return 0;
-        (*i)++;
-        return 1;
-    }
-    if (!rj__sp_num(P, t, key, &v))
+    const char *key = rj__joint_fields[k].key;
+    int idx;
+    if (!rj__sp_name_ref(P, t, key))
         return 0;
-    (*i)++;
-    switch (k) {
-    case RJ__JK_GROUND_X:
-        d->ground_x = v;
-        break;
-    case RJ__JK_GROUND_Y:
-        d->ground_y = v;
-        break;
-    case RJ__JK_PENALTY_K:
-        if (!RJ__SP_RULE(v >= 0, RJ__RULE_STIFFNESS))
-            return 0;
-        d->penalty_k = v;
-        break;
-    case RJ__JK_RESTITUTION:
-        if (!RJ__SP_RULE(v >= 0 && v <= 1, RJ__RULE_RESTITUTION))
-            return 0;
-        d->restitution = v;
-        break;
-    case RJ__JK_DAMPING:
-        if (!RJ__SP_RULE(v >= 0, RJ__RULE_DAMPING))
-            return 0;
-        d->damping = v;
-        break;
-    case RJ__JK_FRICTION:
-        if (!RJ__SP_RULE(v >= 0, RJ__RULE_FRICTION))
-            return 0;
-        d->friction = v;
-        break;
+    if (rj__sp_is(t, "ground")) {
+        if (k == RJ__JK_BODY2)
+            return rj__sp_err_tok(P, t, key, rj__sp_nan(), "body2 must be a link, not ",
+                                  rj__sp_where(P), " (body1 may be ground)", NULL);
+        d->body1 = -1;
+        return 1;
     }
+    if (!rj__sp_link_ref(P, t, key, "joints", &idx))
+        return 0;
+    if (k == RJ__JK_BODY1)
+        d->body1 = idx;
+    else
+        d->body2 = idx;
     return 1;
 }
 
-/* gravity = gx gy (m/s^2): two numbers */
-static int rj__sp_gravity(rj__sp *P, int a, int *i, int b, rj_solver_def *s)
+/* spring = k angle: a stiffness and a free angle, each in its row's range */
+static int rj__sp_spring(rj__sp *P, int a, int *i, int b, rj_joint_def *d)
 {
-    const char *key = "gravity";
+    const rj__field *rk = &rj__joint_fields[RJ__JK_SPRING];
+    const rj__field *ra = &rj__joint_fields[RJ__JF_FREE_ANGLE];
+    const char *key = rk->key;
     const rj__stok *t = &P->tok[a];
-    int k;
-    for (k = 0; k < 2; k++) {
-        double v = 0;
-        t = &P->tok[*i];
-        if (k == 1 && *i >= b)
-            return rj__sp_err(P, P->tok[a].line, P->tok[a].col + P->tok[a].len, key, rj__sp_nan(),
-                              "missing y component", rj__sp_where(P),
-                              " (gravity = gx gy, in m/s^2)", NULL, NULL);
-        if (!rj__sp_num(P, t, key, &v))
+    char rule[128];
+    double v = 0;
+    if (!rj__sp_num(P, t, key, &v))
+        return 0;
+    (*i)++;
+    rj__sp_cat(rule, sizeof rule, "the spring stiffness ", rk->rule, NULL, NULL, NULL, NULL,
+               NULL);
+    if (!RJ__SP_RULE(rj__sp_in_range(rk, v), rule))
+        return 0;
+    d->spring_k = v;
+    if (*i >= b)
+        return rj__sp_err(P, t->line, t->col + t->len, key, rj__sp_nan(),
+                          "missing free angle after the stiffness", rj__sp_where(P),
+                          " (spring = k angle)", NULL, NULL);
+    a = *i;
+    if (!rj__sp_angle(P, i, b, key, 0, &v))
+        return 0;
+    rj__sp_cat(rule, sizeof rule, "the free angle ", ra->rule, NULL, NULL, NULL, NULL, NULL);
+    if (!RJ__SP_RULE(rj__sp_in_range(ra, v), rule))
+        return 0;
+    d->spring_free_angle = v;
+    return 1;
+}
+
+static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def *d)
+{
+    const rj__field *r = &rj__joint_fields[k];
+    switch (r->type) {
+    case RJ__FT_LINK:
+        if (!rj__sp_body(P, k, &P->tok[a], d))
             return 0;
         (*i)++;
-        if (!RJ__SP_RULE(v >= -RJ__MAX_GRAVITY && v <= RJ__MAX_GRAVITY, RJ__RULE_GRAVITY))
-            return 0;
-        s->gravity[k] = v;
+        return 1;
+    case RJ__FT_NODE:
+        return rj__sp_node_ref(P, &P->tok[a], r->key, i, &d->node1);
+    case RJ__FT_TABLE:
+        return rj__sp_table(P, i, b, d);
+    case RJ__FT_LIMIT:
+        return k == RJ__JK_FORWARD
+                   ? rj__sp_limit(P, a, i, b, r->key, &d->has_forward, &d->forward)
+                   : rj__sp_limit(P, a, i, b, r->key, &d->has_reverse, &d->reverse);
     }
-    return 1;
+    if (k == RJ__JK_SPRING)
+        return rj__sp_spring(P, a, i, b, d);
+    return rj__sp_row(P, r, a, i, b, d);
 }
 
 static int rj__sp_solver_key(rj__sp *P, int k, int a, int *i, int b, rj_solver_def *s)
 {
-    const char *key = rj__sk_solver[k];
-    const rj__stok *t = &P->tok[a];
-    double v = 0;
-    if (k == RJ__VK_GRAVITY)
-        return rj__sp_gravity(P, a, i, b, s);
-    if (k == RJ__VK_ALLOW_UNSTABLE) {
-        if (!rj__sp_bool(P, t, key, &s->allow_unstable))
-            return 0;
-        (*i)++;
-        return 1;
-    }
-    if (k == RJ__VK_ENERGY_EVERY) {
-        if (!rj__sp_int(P, t, key, 1, 1000, &s->energy_every))
-            return 0;
-        (*i)++;
-        return 1;
-    }
-    if (k == RJ__VK_IN_PLACE) {
-        if (!rj__sp_enum(P, t, key, rj__sk_in_place[0], sizeof rj__sk_in_place[0], 3, &s->in_place))
-            return 0;
-        (*i)++;
-        return 1;
-    }
-    if (!rj__sp_num(P, t, key, &v))
-        return 0;
-    (*i)++;
-    if (k == RJ__VK_DT) {
-        if (!RJ__SP_RULE(v >= 0 && v <= 1, RJ__RULE_DT))
-            return 0;
-        s->dt = v;
-    } else {
-        if (!RJ__SP_RULE(v > 1, RJ__RULE_GROWTH))
-            return 0;
-        s->energy_growth = v;
-    }
-    return 1;
+    return rj__sp_row(P, &rj__solver_fields[k], a, i, b, s);
 }
 
 /* a load's table = time factor, time factor, ...: 1..RJ_TABLE_MAX points, times in s
@@ -1266,41 +1074,20 @@ static int rj__sp_load_table(rj__sp *P, int *i, int b, rj_load_def *d)
 
 static int rj__sp_load_key(rj__sp *P, int k, int a, int *i, int b, rj_load_def *d)
 {
-    const char *key = rj__sk_load[k];
+    const rj__field *r = &rj__load_fields[k];
     const rj__stok *t = &P->tok[a];
-    switch (k) {
-    case RJ__AK_LINK:
-        if (!rj__sp_name_ref(P, t, key) || !rj__sp_link_ref(P, t, key, "loads", &d->link))
+    switch (r->type) {
+    case RJ__FT_LINK:
+        if (!rj__sp_name_ref(P, t, r->key) || !rj__sp_link_ref(P, t, r->key, "loads", &d->link))
             return 0;
         (*i)++;
         return 1;
-    case RJ__AK_NODE:
-        return rj__sp_node_ref(P, t, key, i, &d->node);
-    case RJ__AK_FORCE:
-        if (!rj__sp_num(P, t, key, &d->force[0]))
-            return 0;
-        (*i)++;
-        if (*i >= b)
-            return rj__sp_err(P, t->line, t->col + t->len, key, rj__sp_nan(),
-                              "missing y component after the x component", rj__sp_where(P),
-                              " (force = fx fy, in N)", NULL, NULL);
-        if (!rj__sp_num(P, &P->tok[*i], key, &d->force[1]))
-            return 0;
-        (*i)++;
-        return 1;
-    case RJ__AK_MOMENT:
-        if (!rj__sp_num(P, t, key, &d->moment))
-            return 0;
-        (*i)++;
-        return 1;
-    case RJ__AK_TABLE:
+    case RJ__FT_NODE:
+        return rj__sp_node_ref(P, t, r->key, i, &d->node);
+    case RJ__FT_TABLE:
         return rj__sp_load_table(P, i, b, d);
-    default:
-        if (!rj__sp_bool(P, t, key, &d->follower))
-            return 0;
-        (*i)++;
-        return 1;
     }
+    return rj__sp_row(P, r, a, i, b, d);
 }
 
 /* ------------------------------------------------------------------ sections */
@@ -1310,7 +1097,7 @@ static int rj__sp_key_index(int kind, const rj__stok *t)
     switch (kind) {
     case RJ__SK_SOLVER:
         for (k = 0; k < RJ__VK_N; k++)
-            if (rj__sp_is(t, rj__sk_solver[k]))
+            if (rj__sp_is(t, rj__solver_fields[k].key))
                 return k;
         break;
     case RJ__SK_MATERIAL:
@@ -1320,18 +1107,18 @@ static int rj__sp_key_index(int kind, const rj__stok *t)
                            : kind == RJ__SK_SECTION ? RJ__SK_SEC_KEYS
                                                     : ~0u;
         for (k = 0; k < RJ__LK_N; k++)
-            if ((allowed >> k & 1u) && rj__sp_is(t, rj__sk_link[k]))
+            if ((allowed >> k & 1u) && rj__sp_is(t, rj__link_fields[k].key))
                 return k;
         break;
     }
     case RJ__SK_JOINT:
         for (k = 0; k < RJ__JK_N; k++)
-            if (rj__sp_is(t, rj__sk_joint[k]))
+            if (rj__sp_is(t, rj__joint_fields[k].key))
                 return k;
         break;
     case RJ__SK_LOAD:
         for (k = 0; k < RJ__AK_N; k++)
-            if (rj__sp_is(t, rj__sk_load[k]))
+            if (rj__sp_is(t, rj__load_fields[k].key))
                 return k;
         break;
     }
@@ -1341,12 +1128,12 @@ static int rj__sp_key_index(int kind, const rj__stok *t)
 static const char *rj__sp_key_name(int kind, int k)
 {
     if (kind == RJ__SK_SOLVER)
-        return rj__sk_solver[k];
+        return rj__solver_fields[k].key;
     if (kind == RJ__SK_JOINT)
-        return rj__sk_joint[k];
+        return rj__joint_fields[k].key;
     if (kind == RJ__SK_LOAD)
-        return rj__sk_load[k];
-    return rj__sk_link[k];
+        return rj__load_fields[k].key;
+    return rj__link_fields[k].key;
 }
 
 /* section rules shared by sections and links: eff = keys in effect, pos[k] where key k came from */
@@ -1359,8 +1146,8 @@ static int rj__sp_check_shape(rj__sp *P, unsigned eff, const rj_link_def *d,
         if ((eff & gen) != gen) {
             int has = (eff >> RJ__LK_AREA & 1u) ? RJ__LK_AREA : RJ__LK_INERTIA;
             rj_scene_pos p = pos[has].line ? pos[has] : head;
-            return rj__sp_err(P, p.line, p.col, rj__sk_link[has], rj__sp_nan(), what, " sets ",
-                              rj__sk_link[has],
+            return rj__sp_err(P, p.line, p.col, rj__link_fields[has].key, rj__sp_nan(), what, " sets ",
+                              rj__link_fields[has].key,
                               has == RJ__LK_AREA ? " but not inertia" : " but not area",
                               ": a general section needs both area and inertia");
         }
@@ -1368,7 +1155,7 @@ static int rj__sp_check_shape(rj__sp *P, unsigned eff, const rj_link_def *d,
             if (k != RJ__LK_HEIGHT && (eff >> k & 1u)) {
                 rj_scene_pos p = pos[k].line ? pos[k] : head;
                 return rj__sp_err(
-                    P, p.line, p.col, rj__sk_link[k], rj__sp_nan(), what, " mixes ", rj__sk_link[k],
+                    P, p.line, p.col, rj__link_fields[k].key, rj__sp_nan(), what, " mixes ", rj__link_fields[k].key,
                     " with area/inertia: ", "width and layers apply only to rectangular sections");
             }
     } else if ((eff >> RJ__LK_HEIGHT & 1u) && !(d->height > 0)) {
@@ -1475,8 +1262,8 @@ static int rj__sp_finish(rj__sp *P)
         int k;
         for (k = RJ__JK_BODY1; k <= RJ__JK_BODY2; k++)
             if (!(P->seen >> k & 1u))
-                return rj__sp_err(P, pos[0].line, pos[0].col, rj__sk_joint[k], rj__sp_nan(),
-                                  "joint '", jn, "' has no ", rj__sk_joint[k],
+                return rj__sp_err(P, pos[0].line, pos[0].col, rj__joint_fields[k].key, rj__sp_nan(),
+                                  "joint '", jn, "' has no ", rj__joint_fields[k].key,
                                   k == RJ__JK_BODY1 ? " (ground or a link)" : " (a link)");
         if (d->body1 == d->body2)
             return rj__sp_err(P, pos[1 + RJ__JK_BODY2].line, pos[1 + RJ__JK_BODY2].col, "body2",
@@ -1489,8 +1276,8 @@ static int rj__sp_finish(rj__sp *P)
         if (d->body1 >= 0) {
             for (k = RJ__JK_GROUND_X; k <= RJ__JK_GROUND_ANGLE; k++)
                 if (P->seen >> k & 1u)
-                    return rj__sp_err(P, pos[1 + k].line, pos[1 + k].col, rj__sk_joint[k],
-                                      rj__sp_nan(), rj__sk_joint[k],
+                    return rj__sp_err(P, pos[1 + k].line, pos[1 + k].col, rj__joint_fields[k].key,
+                                      rj__sp_nan(), rj__joint_fields[k].key,
                                       " applies only when body1 = ground, in joint '", jn, "'",
                                       NULL);
             if (d->node1 > P->f->links[d->body1].elements) {
@@ -1535,7 +1322,7 @@ static int rj__sp_header(rj__sp *P)
         }
         { /* a near section keyword, else a near key of the current section */
             const char *near =
-                rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 6, ~0u);
+                rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 6);
             char mean[48];
             if (!near && P->kind != RJ__SK_NONE)
                 near = rj__sp_near_key(P, t0);
@@ -1803,7 +1590,7 @@ static int rj__sp_assignments(rj__sp *P)
                 P, kt, "", rj__sp_nan(), "key ",
                 " outside any section (start one with solver, material, section, link, joint or "
                 "load)",
-                rj__sp_mean(mean, rj__sp_near(kt->s, kt->len, "title", 6, 1, ~0u)), NULL);
+                rj__sp_mean(mean, rj__sp_near(kt->s, kt->len, "title", 6, 1)), NULL);
         }
         k = rj__sp_key_index(P->kind, kt);
         /* a title inside a section: say where it belongs */
@@ -2057,8 +1844,8 @@ static int rj__sp_load_pos(const rj_scene_file *f, const char *field, rj_scene_p
     ap = &f->load_pos_[(size_t) idx * (1 + RJ__AK_N)];
     *pos = ap[0];
     for (k = 0; k < RJ__AK_N && *p == '.'; k++) {
-        const size_t n = strlen(rj__sk_load[k]);
-        if (strncmp(p + 1, rj__sk_load[k], n) == 0 && ap[1 + k].line)
+        const size_t n = strlen(rj__load_fields[k].key);
+        if (strncmp(p + 1, rj__load_fields[k].key, n) == 0 && ap[1 + k].line)
             *pos = ap[1 + k];
     }
     rj__sp_cat(item, isize, " (load '", f->load_names[idx], "')", NULL, NULL, NULL, NULL);
@@ -2076,7 +1863,7 @@ static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_
     item[0] = 0;
     if (strncmp(field, "solver.", 7) == 0) {
         for (k = 0; k < RJ__VK_N; k++)
-            if (strcmp(field + 7, rj__sk_solver[k]) == 0 && f->solver_pos_[1 + k].line) {
+            if (strcmp(field + 7, rj__solver_fields[k].key) == 0 && f->solver_pos_[1 + k].line) {
                 *pos = f->solver_pos_[1 + k];
                 return 1;
             }
@@ -2120,7 +1907,7 @@ static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_
         const rj_scene_pos *lp = &f->link_pos_[(size_t) idx * (1 + RJ__LK_N)];
         *pos = lp[0];
         for (k = 0; k < RJ__LK_N; k++)
-            if (strcmp(name, rj__sk_link[k]) == 0 && lp[1 + k].line)
+            if (strcmp(name, rj__link_fields[k].key) == 0 && lp[1 + k].line)
                 *pos = lp[1 + k];
         if (strcmp(name, "section") == 0) {
             if (lp[1 + RJ__LK_SECTION].line)
@@ -2133,7 +1920,7 @@ static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_
         int key = -1;
         *pos = jp[0];
         for (k = 0; k < RJ__JK_N; k++)
-            if (strcmp(name, rj__sk_joint[k]) == 0)
+            if (strcmp(name, rj__joint_fields[k].key) == 0)
                 key = k;
         if (strncmp(name, "table_", 6) == 0)
             key = RJ__JK_TABLE;

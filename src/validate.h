@@ -1,28 +1,11 @@
 /* ------------------------------------------------------------------ validation */
 #define RJ__FIELD(buf, fmt, i) snprintf(buf, sizeof buf, fmt, i)
 
-/* The largest values a definition may hold, with the one rule each states (validation and
-   the scene parser say the same). Far beyond any material or mechanism, and small enough
-   that what the step, the energy accounts and a checkpoint (whose values stay within
-   1e100) compute from them stays within reach: a link of 1e6 m, 1e6 m deep, of 1e30 kg/m^3
-   under 1e5 m/s^2 has a potential of about 1e65 J. */
-#define RJ__RULE_E "must be in (0, 1e30] Pa"
-#define RJ__RULE_RHO "must be in (0, 1e30] kg/m^3"
-#define RJ__RULE_AREA "must be in (0, 1e12] m^2"
-#define RJ__RULE_INERTIA "must be in (0, 1e24] m^4"
-#define RJ__RULE_DEPTH "must be in [0, 1e6] m (> 0 for a rectangular section)"
-#define RJ__RULE_TIP_MASS "must be in [0, 1e40] kg"
-#define RJ__RULE_TIP_INERTIA "must be in [0, 1e50] kg m^2"
-#define RJ__RULE_LENGTH "must be in (0, 1e6] m" /* a link's length, a section's width and height */
-#define RJ__RULE_ANGLE "must be a finite angle within +-1e6 rad"
-#define RJ__RULE_STIFFNESS "must be >= 0 N m/rad"
-#define RJ__RULE_RESTITUTION "must be in [0, 1]"
-#define RJ__RULE_DAMPING "must be >= 0 N m s/rad"
-#define RJ__RULE_FRICTION "must be >= 0 N m"
-#define RJ__RULE_DT "must be 0 (automatic) or a step in (0, 1] s"
-#define RJ__RULE_GROWTH "must be > 1"
-#define RJ__RULE_GRAVITY "each component must be a finite acceleration within +-1e5 m/s^2"
-#define RJ__MAX_GRAVITY 1e5
+/* The ranges of single members, and their sentences, are the rows of fields.h. They are
+   far beyond any material or mechanism, and small enough that what the step, the energy
+   accounts and a checkpoint (whose values stay within 1e100) compute from them stays
+   within reach: a link of 1e6 m, 1e6 m deep, of 1e30 kg/m^3 under 1e5 m/s^2 has a
+   potential of about 1e65 J. */
 
 static int rj__check_num(rj_error *err, const char *field, double v, double lo, int lo_incl,
                          double hi, int hi_incl, const char *what)
@@ -32,6 +15,55 @@ static int rj__check_num(rj_error *err, const char *field, double v, double lo, 
         rj__fail(err, RJ_ERR_INVALID, field, v, "%s = %g is invalid: %s", field, v, what);
         return 0;
     }
+    return 1;
+}
+
+/* Row r of def, item (a prefix such as "links[3]", "solver"): its value in the row's
+   range, or the row's sentence. Rows of links, nodes and tables are checked by their
+   concepts' code. */
+static int rj__check_row(rj_error *err, const char *item, const rj__field *r, const void *def)
+{
+    char f[64];
+    int v;
+    snprintf(f, sizeof f, "%s.%s", item, r->member ? r->member : r->key);
+    switch (r->type) {
+    case RJ__FT_REAL:
+    case RJ__FT_ANGLE:
+    case RJ__FT_RATE:
+    case RJ__FT_LIMIT:
+        return rj__check_num(err, f, rj__row_real(def, r, 0), r->lo, r->lo_in, r->hi, r->hi_in,
+                             r->rule);
+    case RJ__FT_VEC2:
+        for (v = 0; v < 2; v++) {
+            snprintf(f, sizeof f, "%s.%s[%d]", item, r->member, v);
+            if (!rj__check_num(err, f, rj__row_real(def, r, v), r->lo, r->lo_in, r->hi,
+                               r->hi_in, r->rule))
+                return 0;
+        }
+        return 1;
+    case RJ__FT_INT:
+    case RJ__FT_ENUM:
+    case RJ__FT_BOOL:
+        v = rj__row_int(def, r);
+        if (v >= r->lo && v <= r->hi)
+            return 1;
+        rj__fail(err, RJ_ERR_INVALID, f, v, "%s = %d is invalid: %s", f, v, r->rule);
+        return 0;
+    default:
+        return 1;
+    }
+}
+
+/* Every row of a definition of kind (fields.h) that applies to it, in the table's
+   order; shape: a link's section shape, -1 for other kinds. */
+static int rj__check_rows(rj_error *err, const char *item, int kind, const void *def,
+                          int shape)
+{
+    int n, k;
+    const rj__field *t = rj__fields(kind, &n);
+    for (k = 0; k < n; k++)
+        if (rj__row_applies(&t[k], shape, 0, 0) && !rj__check_row(err, item, &t[k], def))
+            return 0;
     return 1;
 }
 
@@ -106,10 +138,10 @@ static int rj__validate_load_table(const rj_load_def *d, int i, rj_error *err)
     return 1;
 }
 
-/* Applied loads: a known link and node, finite force and moment, a table in time. */
+/* Applied loads: a known link and node, the rows' ranges, a table in time. */
 static int rj__validate_loads(const rj_scene_def *sc, rj_error *err)
 {
-    char f[64];
+    char f[64], item[32];
     int i;
     if (!rj__check_array(err, "load", sc->load_count, 0, sc->loads))
         return 0;
@@ -132,355 +164,169 @@ static int rj__validate_loads(const rj_scene_def *sc, rj_error *err)
                      d->link, sc->links[d->link].elements);
             return 0;
         }
-        RJ__FIELD(f, "loads[%d].force[0]", i);
-        if (!rj__check_num(err, f, d->force[0], -1e30, 1, 1e30, 1,
-                           "must be a finite force within +-1e30 N"))
+        RJ__FIELD(item, "loads[%d]", i);
+        if (!rj__check_rows(err, item, RJ__DEF_LOAD, d, -1))
             return 0;
-        RJ__FIELD(f, "loads[%d].force[1]", i);
-        if (!rj__check_num(err, f, d->force[1], -1e30, 1, 1e30, 1,
-                           "must be a finite force within +-1e30 N"))
-            return 0;
-        RJ__FIELD(f, "loads[%d].moment", i);
-        if (!rj__check_num(err, f, d->moment, -1e30, 1, 1e30, 1,
-                           "must be a finite moment within +-1e30 N m"))
-            return 0;
-        if (d->follower != 0 && d->follower != 1) {
-            RJ__FIELD(f, "loads[%d].follower", i);
-            rj__fail(err, RJ_ERR_INVALID, f, d->follower,
-                     "%s = %d is invalid: must be 0 (global frame) or 1 (turns with the node)", f,
-                     d->follower);
-            return 0;
-        }
         if (!rj__validate_load_table(d, i, err))
             return 0;
     }
     return 1;
 }
 
-static int rj__validate(const rj_scene_def *sc, rj_error *err)
+/* The solver: its rows. */
+static int rj__validate_solver(const rj_solver_def *s, rj_error *err)
 {
-    char f[64];
-    int i, j;
-    double inf = HUGE_VAL;
-    if (!sc) {
-        rj__fail(err, RJ_ERR_INVALID, "scene", 0, "scene is NULL");
-        return 0;
-    }
-    if (!rj__check_array(err, "link", sc->link_count, 1, sc->links) ||
-        !rj__check_array(err, "joint", sc->joint_count, 0, sc->joints))
-        return 0;
-    if (sc->solver.cookie != RJ__COOKIE_SOLVER) {
+    if (s->cookie != RJ__COOKIE_SOLVER) {
         rj__fail(err, RJ_ERR_INVALID, "solver", 0,
                  "solver was not initialised with rj_default_solver_def()");
         return 0;
     }
-    if (!rj__check_num(err, "solver.dt", sc->solver.dt, 0, 1, 1.0, 1, RJ__RULE_DT))
+    return rj__check_rows(err, "solver", RJ__DEF_SOLVER, s, -1);
+}
+
+/* Link i: its section's shape first (which rows apply depends on it), then its rows; a
+   rectangle's height is > 0. */
+static int rj__validate_link(const rj_link_def *L, int i, rj_error *err)
+{
+    char f[64], item[32];
+    if (!rj__check_cookie(err, "links[%d]", i, L->cookie, RJ__COOKIE_LINK,
+                          "rj_default_link_def()"))
         return 0;
-    if (!rj__check_num(err, "solver.energy_growth", sc->solver.energy_growth, 1.0, 0, inf, 0,
-                       RJ__RULE_GROWTH))
+    RJ__FIELD(item, "links[%d]", i);
+    if (!rj__check_row(err, item, &rj__link_fields[RJ__LF_SHAPE], L))
         return 0;
-    if (sc->solver.in_place < RJ_IN_PLACE_AUTO || sc->solver.in_place > RJ_IN_PLACE_OFF) {
-        rj__fail(err, RJ_ERR_INVALID, "solver.in_place", sc->solver.in_place,
-                 "solver.in_place = %d is invalid: must be RJ_IN_PLACE_AUTO (0), RJ_IN_PLACE_ON "
-                 "(1) or RJ_IN_PLACE_OFF (2)",
-                 sc->solver.in_place);
+    if (!rj__check_rows(err, item, RJ__DEF_LINK, L, L->section))
         return 0;
-    }
-    if (sc->solver.energy_every < 1 || sc->solver.energy_every > 1000) {
-        rj__fail(err, RJ_ERR_INVALID, "solver.energy_every", sc->solver.energy_every,
-                 "solver.energy_every = %d is invalid: must be 1 .. 1000 steps",
-                 sc->solver.energy_every);
-        return 0;
-    }
-    if (!rj__check_num(err, "solver.gravity[0]", sc->solver.gravity[0], -RJ__MAX_GRAVITY, 1,
-                       RJ__MAX_GRAVITY, 1, RJ__RULE_GRAVITY) ||
-        !rj__check_num(err, "solver.gravity[1]", sc->solver.gravity[1], -RJ__MAX_GRAVITY, 1,
-                       RJ__MAX_GRAVITY, 1, RJ__RULE_GRAVITY))
-        return 0;
-    if (sc->solver.allow_unstable != 0 && sc->solver.allow_unstable != 1) {
-        rj__fail(err, RJ_ERR_INVALID, "solver.allow_unstable", sc->solver.allow_unstable,
-                 "solver.allow_unstable = %d is invalid: must be 0 or 1",
-                 sc->solver.allow_unstable);
+    if (L->section == RJ_SECTION_RECT && !(L->height > 0)) {
+        const rj__field *r = &rj__link_fields[RJ__LK_HEIGHT];
+        RJ__FIELD(f, "links[%d].height", i);
+        rj__fail(err, RJ_ERR_INVALID, f, L->height, "%s = %g is invalid: %s", f, L->height,
+                 r->rule);
         return 0;
     }
-    for (i = 0; i < sc->link_count; i++) {
-        const rj_link_def *L = &sc->links[i];
-        if (!rj__check_cookie(err, "links[%d]", i, L->cookie, RJ__COOKIE_LINK,
-                              "rj_default_link_def()"))
+    return 1;
+}
+
+/* Joint j's bodies: links of the scene (body1 may be ground), two of them, a node body1
+   has, and body2 free to hang from the joint. */
+static int rj__validate_bodies(const rj_scene_def *sc, const rj_joint_def *J, int j,
+                               rj_error *err)
+{
+    char f[64];
+    if (J->body1 < -1 || J->body1 >= sc->link_count) {
+        RJ__FIELD(f, "joints[%d].body1", j);
+        rj__fail(err, RJ_ERR_INVALID, f, J->body1,
+                 "%s = %d is invalid: a link index 0..%d or -1 for ground", f, J->body1,
+                 sc->link_count - 1);
+        return 0;
+    }
+    if (J->body2 < 0 || J->body2 >= sc->link_count) {
+        RJ__FIELD(f, "joints[%d].body2", j);
+        rj__fail(err, RJ_ERR_INVALID, f, J->body2, "%s = %d is invalid: a link index 0..%d", f,
+                 J->body2, sc->link_count - 1);
+        return 0;
+    }
+    if (J->body1 == J->body2) {
+        RJ__FIELD(f, "joints[%d].body2", j);
+        rj__fail(err, RJ_ERR_INVALID, f, J->body2,
+                 "%s = %d is invalid: a joint cannot connect link %d to itself", f, J->body2,
+                 J->body2);
+        return 0;
+    }
+    if (J->body1 >= 0 && (J->node1 < -1 || J->node1 > sc->links[J->body1].elements)) {
+        RJ__FIELD(f, "joints[%d].node1", j);
+        rj__fail(err, RJ_ERR_INVALID, f, J->node1,
+                 "%s = %d is invalid: a node 0..%d of link %d, or -1 for its last node", f,
+                 J->node1, sc->links[J->body1].elements, J->body1);
+        return 0;
+    }
+    if (sc->links[J->body2].root != RJ_ROOT_FREE) {
+        RJ__FIELD(f, "links[%d].root", J->body2);
+        rj__fail(err, RJ_ERR_INVALID, f, sc->links[J->body2].root,
+                 "%s = %d is invalid: link %d is body2 of joint %d, its root must be RJ_ROOT_FREE",
+                 f, sc->links[J->body2].root, J->body2, j);
+        return 0;
+    }
+    return 1;
+}
+
+/* A joint's table (Eq 4): 0, or 2..RJ_TABLE_MAX points, angles in [0, 2 pi], finite
+   torques. */
+static int rj__validate_joint_table(const rj_joint_def *J, int j, rj_error *err)
+{
+    char f[64];
+    int k;
+    if (J->table_count != 0 && (J->table_count < 2 || J->table_count > RJ_TABLE_MAX)) {
+        RJ__FIELD(f, "joints[%d].table_count", j);
+        rj__fail(err, RJ_ERR_INVALID, f, J->table_count, "%s = %d is invalid: 0, or 2..%d points",
+                 f, J->table_count, RJ_TABLE_MAX);
+        return 0;
+    }
+    for (k = 0; k < J->table_count; k++) {
+        snprintf(f, sizeof f, "joints[%d].table_angle[%d]", j, k);
+        if (!rj__check_num(err, f, J->table_angle[k], 0, 1, RJ__TWO_PI, 1,
+                           "must be in [0, 2 pi] rad"))
             return 0;
-        RJ__FIELD(f, "links[%d].length", i);
-        if (!rj__check_num(err, f, L->length, 0, 0, 1e6, 1, RJ__RULE_LENGTH))
-            return 0;
-        if (L->elements < 1 || L->elements > 1000000) {
-            RJ__FIELD(f, "links[%d].elements", i);
-            rj__fail(err, RJ_ERR_INVALID, f, L->elements, "%s = %d is invalid: must be 1..1000000",
-                     f, L->elements);
-            return 0;
-        }
-        RJ__FIELD(f, "links[%d].E", i);
-        if (!rj__check_num(err, f, L->E, 0, 0, 1e30, 1, RJ__RULE_E))
-            return 0;
-        RJ__FIELD(f, "links[%d].rho", i);
-        if (!rj__check_num(err, f, L->rho, 0, 0, 1e30, 1, RJ__RULE_RHO))
-            return 0;
-        if (L->section != RJ_SECTION_RECT && L->section != RJ_SECTION_GENERAL) {
-            RJ__FIELD(f, "links[%d].section", i);
-            rj__fail(err, RJ_ERR_INVALID, f, L->section,
-                     "%s = %d is invalid: RJ_SECTION_RECT or RJ_SECTION_GENERAL", f, L->section);
-            return 0;
-        }
-        if (L->section == RJ_SECTION_RECT) {
-            RJ__FIELD(f, "links[%d].width", i);
-            if (!rj__check_num(err, f, L->width, 0, 0, 1e6, 1, RJ__RULE_LENGTH))
-                return 0;
-            RJ__FIELD(f, "links[%d].height", i);
-            if (!rj__check_num(err, f, L->height, 0, 0, 1e6, 1, RJ__RULE_LENGTH))
-                return 0;
-            if (L->layers < 1 || L->layers > 1000) {
-                RJ__FIELD(f, "links[%d].layers", i);
-                rj__fail(err, RJ_ERR_INVALID, f, L->layers, "%s = %d is invalid: must be 1..1000",
-                         f, L->layers);
-                return 0;
-            }
-        } else {
-            RJ__FIELD(f, "links[%d].area", i);
-            if (!rj__check_num(err, f, L->area, 0, 0, 1e12, 1, RJ__RULE_AREA))
-                return 0;
-            RJ__FIELD(f, "links[%d].inertia", i);
-            if (!rj__check_num(err, f, L->inertia, 0, 0, 1e24, 1, RJ__RULE_INERTIA))
-                return 0;
-            RJ__FIELD(f, "links[%d].height", i);
-            if (!rj__check_num(err, f, L->height, 0, 1, 1e6, 1, RJ__RULE_DEPTH))
-                return 0;
-        }
-        RJ__FIELD(f, "links[%d].tip_mass", i);
-        if (!rj__check_num(err, f, L->tip_mass, 0, 1, 1e40, 1, RJ__RULE_TIP_MASS))
-            return 0;
-        RJ__FIELD(f, "links[%d].tip_inertia", i);
-        if (!rj__check_num(err, f, L->tip_inertia, 0, 1, 1e50, 1, RJ__RULE_TIP_INERTIA))
-            return 0;
-        if (L->root < RJ_ROOT_FREE || L->root > RJ_ROOT_FIXED) {
-            RJ__FIELD(f, "links[%d].root", i);
-            rj__fail(err, RJ_ERR_INVALID, f, L->root,
-                     "%s = %d is invalid: RJ_ROOT_FREE, _PINNED, _CLAMPED or _FIXED", f, L->root);
-            return 0;
-        }
-        RJ__FIELD(f, "links[%d].x", i);
-        if (!rj__check_num(err, f, L->x, -inf, 0, inf, 0, "must be finite"))
-            return 0;
-        RJ__FIELD(f, "links[%d].y", i);
-        if (!rj__check_num(err, f, L->y, -inf, 0, inf, 0, "must be finite"))
-            return 0;
-        /* within 1e6 rad, as angle0: beyond it a rotation of 1e-7 rad (the stability bound's
-           finite differences) falls below what the angle's double resolves */
-        RJ__FIELD(f, "links[%d].angle", i);
-        if (!rj__check_num(err, f, L->angle, -1e6, 1, 1e6, 1,
-                           "must be a finite angle within 1e6 rad"))
-            return 0;
-        RJ__FIELD(f, "links[%d].vx", i);
-        if (!rj__check_num(err, f, L->vx, -inf, 0, inf, 0, "must be finite"))
-            return 0;
-        RJ__FIELD(f, "links[%d].vy", i);
-        if (!rj__check_num(err, f, L->vy, -inf, 0, inf, 0, "must be finite"))
-            return 0;
-        RJ__FIELD(f, "links[%d].omega", i);
-        if (!rj__check_num(err, f, L->omega, -inf, 0, inf, 0, "must be finite"))
+        snprintf(f, sizeof f, "joints[%d].table_torque[%d]", j, k);
+        if (!rj__check_num(err, f, J->table_torque[k], -HUGE_VAL, 0, HUGE_VAL, 0,
+                           RJ__RULE_FINITE))
             return 0;
     }
-    for (j = 0; j < sc->joint_count; j++) {
-        const rj_joint_def *J = &sc->joints[j];
-        int k;
-        if (!rj__check_cookie(err, "joints[%d]", j, J->cookie, RJ__COOKIE_JOINT,
-                              "rj_default_joint_def()"))
-            return 0;
-        if (J->body1 < -1 || J->body1 >= sc->link_count) {
-            RJ__FIELD(f, "joints[%d].body1", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->body1,
-                     "%s = %d is invalid: a link index 0..%d or -1 for ground", f, J->body1,
-                     sc->link_count - 1);
-            return 0;
-        }
-        if (J->body2 < 0 || J->body2 >= sc->link_count) {
-            RJ__FIELD(f, "joints[%d].body2", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->body2, "%s = %d is invalid: a link index 0..%d", f,
-                     J->body2, sc->link_count - 1);
-            return 0;
-        }
-        if (J->body1 == J->body2) {
-            RJ__FIELD(f, "joints[%d].body2", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->body2,
-                     "%s = %d is invalid: a joint cannot connect link %d to itself", f, J->body2,
-                     J->body2);
-            return 0;
-        }
-        if (J->body1 >= 0 && (J->node1 < -1 || J->node1 > sc->links[J->body1].elements)) {
-            RJ__FIELD(f, "joints[%d].node1", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->node1,
-                     "%s = %d is invalid: a node 0..%d of link %d, or -1 for its last node", f,
-                     J->node1, sc->links[J->body1].elements, J->body1);
-            return 0;
-        }
-        if (sc->links[J->body2].root != RJ_ROOT_FREE) {
-            RJ__FIELD(f, "links[%d].root", J->body2);
-            rj__fail(
-                err, RJ_ERR_INVALID, f, sc->links[J->body2].root,
-                "%s = %d is invalid: link %d is body2 of joint %d, its root must be RJ_ROOT_FREE",
-                f, sc->links[J->body2].root, J->body2, j);
-            return 0;
-        }
-        RJ__FIELD(f, "joints[%d].ground_x", j);
-        if (!rj__check_num(err, f, J->ground_x, -inf, 0, inf, 0, "must be finite"))
-            return 0;
-        RJ__FIELD(f, "joints[%d].ground_y", j);
-        if (!rj__check_num(err, f, J->ground_y, -inf, 0, inf, 0, "must be finite"))
-            return 0;
-        RJ__FIELD(f, "joints[%d].ground_angle", j);
-        if (!rj__check_num(err, f, J->ground_angle, -inf, 0, inf, 0, "must be finite"))
-            return 0;
-        RJ__FIELD(f, "joints[%d].angle0", j);
-        if (!rj__check_num(err, f, J->angle0, -1e6, 1, 1e6, 1, RJ__RULE_ANGLE))
-            return 0;
-        RJ__FIELD(f, "joints[%d].rate0", j);
-        if (!rj__check_num(err, f, J->rate0, -inf, 0, inf, 0, "must be finite"))
-            return 0;
-        if (J->table_count != 0 && (J->table_count < 2 || J->table_count > RJ_TABLE_MAX)) {
-            RJ__FIELD(f, "joints[%d].table_count", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->table_count,
-                     "%s = %d is invalid: 0, or 2..%d points", f, J->table_count, RJ_TABLE_MAX);
-            return 0;
-        }
-        for (k = 0; k < J->table_count; k++) {
-            char g[64];
-            snprintf(g, sizeof g, "joints[%d].table_angle[%d]", j, k);
-            if (!rj__check_num(err, g, J->table_angle[k], 0, 1, RJ__TWO_PI, 1,
-                               "must be in [0, 2 pi] rad"))
-                return 0;
-            snprintf(g, sizeof g, "joints[%d].table_torque[%d]", j, k);
-            if (!rj__check_num(err, g, J->table_torque[k], -inf, 0, inf, 0, "must be finite"))
-                return 0;
-        }
-        RJ__FIELD(f, "joints[%d].spring_k", j);
-        if (!rj__check_num(err, f, J->spring_k, 0, 1, inf, 0, RJ__RULE_STIFFNESS))
-            return 0;
-        RJ__FIELD(f, "joints[%d].spring_free_angle", j);
-        if (!rj__check_num(err, f, J->spring_free_angle, -1e6, 1, 1e6, 1, RJ__RULE_ANGLE))
-            return 0;
-        if (J->has_forward != 0 && J->has_forward != 1) {
-            RJ__FIELD(f, "joints[%d].has_forward", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->has_forward, "%s = %d is invalid: 0 or 1", f,
-                     J->has_forward);
-            return 0;
-        }
-        if (J->has_reverse != 0 && J->has_reverse != 1) {
-            RJ__FIELD(f, "joints[%d].has_reverse", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->has_reverse, "%s = %d is invalid: 0 or 1", f,
-                     J->has_reverse);
-            return 0;
-        }
-        if (J->lock != 0 && J->lock != 1) {
-            RJ__FIELD(f, "joints[%d].lock", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->lock, "%s = %d is invalid: 0 or 1", f, J->lock);
-            return 0;
-        }
+    return 1;
+}
+
+/* A joint's limits: a lock latches at one, two limits leave a free range between them,
+   and a penalty limit has a stiffness. */
+static int rj__validate_limits(const rj_joint_def *J, int j, rj_error *err)
+{
+    char f[64];
+    if (J->lock && !J->has_forward && !J->has_reverse) {
+        RJ__FIELD(f, "joints[%d].lock", j);
+        rj__fail(err, RJ_ERR_INVALID, f, J->lock,
+                 "%s = 1 is invalid: a lock latches at a limit, and joint %d has none (set "
+                 "has_forward or has_reverse)",
+                 f, j);
+        return 0;
+    }
+    if (J->has_forward && J->has_reverse && J->forward == J->reverse) {
         RJ__FIELD(f, "joints[%d].forward", j);
-        if (!rj__check_num(err, f, J->forward, 0, 1, RJ__TWO_PI, 0,
-                           "a limit must be in [0, 2 pi) rad"))
-            return 0;
-        RJ__FIELD(f, "joints[%d].reverse", j);
-        if (!rj__check_num(err, f, J->reverse, 0, 1, RJ__TWO_PI, 0,
-                           "a limit must be in [0, 2 pi) rad"))
-            return 0;
-        if (J->lock && !J->has_forward && !J->has_reverse) {
-            RJ__FIELD(f, "joints[%d].lock", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->lock,
-                     "%s = 1 is invalid: a lock latches at a limit, and joint %d has none (set "
-                     "has_forward or has_reverse)",
-                     f, j);
-            return 0;
-        }
-        if (J->has_forward && J->has_reverse && J->forward == J->reverse) {
-            RJ__FIELD(f, "joints[%d].forward", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->forward,
-                     "%s = %g is invalid: equal to the reverse limit leaves no free range", f,
-                     J->forward);
-            return 0;
-        }
-        if (J->method < RJ_METHOD_PENALTY || J->method > RJ_METHOD_ENERGY) {
-            RJ__FIELD(f, "joints[%d].method", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->method,
-                     "%s = %d is invalid: one of RJ_METHOD_PENALTY..RJ_METHOD_ENERGY", f,
-                     J->method);
-            return 0;
-        }
-        if (J->release != RJ_RELEASE_RC12 && J->release != RJ_RELEASE_RC13) {
-            RJ__FIELD(f, "joints[%d].release", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->release,
-                     "%s = %d is invalid: RJ_RELEASE_RC12 or RJ_RELEASE_RC13", f, J->release);
-            return 0;
-        }
+        rj__fail(err, RJ_ERR_INVALID, f, J->forward,
+                 "%s = %g is invalid: equal to the reverse limit leaves no free range", f,
+                 J->forward);
+        return 0;
+    }
+    if (J->method == RJ_METHOD_PENALTY && (J->has_forward || J->has_reverse) &&
+        !(J->penalty_k > 0)) {
         RJ__FIELD(f, "joints[%d].penalty_k", j);
-        if (!rj__check_num(err, f, J->penalty_k, 0, 1, inf, 0, RJ__RULE_STIFFNESS))
-            return 0;
-        if (J->method == RJ_METHOD_PENALTY && (J->has_forward || J->has_reverse) &&
-            !(J->penalty_k > 0)) {
-            rj__fail(err, RJ_ERR_INVALID, f, J->penalty_k,
-                     "%s = %g is invalid: RJ_METHOD_PENALTY with a limit needs a stiffness > 0", f,
-                     J->penalty_k);
-            return 0;
-        }
-        RJ__FIELD(f, "joints[%d].restitution", j);
-        if (!rj__check_num(err, f, J->restitution, 0, 1, 1, 1, RJ__RULE_RESTITUTION))
-            return 0;
-        RJ__FIELD(f, "joints[%d].damping", j);
-        if (!rj__check_num(err, f, J->damping, 0, 1, inf, 0, RJ__RULE_DAMPING))
-            return 0;
-        RJ__FIELD(f, "joints[%d].friction", j);
-        if (!rj__check_num(err, f, J->friction, 0, 1, inf, 0, RJ__RULE_FRICTION))
-            return 0;
-        if (J->reference != RJ_REF_TANGENT && J->reference != RJ_REF_CHORD) {
-            RJ__FIELD(f, "joints[%d].reference", j);
-            rj__fail(err, RJ_ERR_INVALID, f, J->reference,
-                     "%s = %d is invalid: RJ_REF_TANGENT or RJ_REF_CHORD", f, J->reference);
-            return 0;
-        }
+        rj__fail(err, RJ_ERR_INVALID, f, J->penalty_k,
+                 "%s = %g is invalid: RJ_METHOD_PENALTY with a limit needs a stiffness > 0", f,
+                 J->penalty_k);
+        return 0;
     }
-    for (i = 0; i < sc->link_count; i++) {
-        const rj_link_def *L = &sc->links[i];
-        if (L->fidelity != RJ_LINK_FLEXIBLE && L->fidelity != RJ_LINK_RIGID &&
-            L->fidelity != RJ_LINK_INEXTENSIBLE) {
-            RJ__FIELD(f, "links[%d].fidelity", i);
-            rj__fail(err, RJ_ERR_INVALID, f, L->fidelity,
-                     "%s = %d is invalid: RJ_LINK_FLEXIBLE, RJ_LINK_RIGID or RJ_LINK_INEXTENSIBLE",
-                     f, L->fidelity);
-            return 0;
-        }
-    }
-    /* mixed scenes: a rigid link is one rigid body, with flexible links pinned to it */
-    if (!rj__all_rigid(sc))
-        for (j = 0; j < sc->joint_count; j++) {
-            const rj_joint_def *J = &sc->joints[j];
-            const int r1 = J->body1 >= 0 && sc->links[J->body1].fidelity == RJ_LINK_RIGID,
-                      r2 = sc->links[J->body2].fidelity == RJ_LINK_RIGID;
-            if (r1 && r2) {
-                RJ__FIELD(f, "joints[%d].body2", j);
-                rj__fail(err, RJ_ERR_INVALID, f, J->body2,
-                         "%s = %d is invalid: joint %d pins two rigid links (%d and %d) in a scene "
-                         "with flexible links, which is not supported: make every link rigid, or "
-                         "one of the two flexible",
-                         f, J->body2, j, J->body1, J->body2);
-                return 0;
-            }
-            if ((r1 || r2) && J->reference == RJ_REF_CHORD) {
-                RJ__FIELD(f, "joints[%d].reference", j);
-                rj__fail(err, RJ_ERR_INVALID, f, J->reference,
-                         "%s = RJ_REF_CHORD is invalid: joint %d holds rigid link %d in a scene "
-                         "with flexible links; use RJ_REF_TANGENT (on a rigid link the chord and "
-                         "the tangent are the same line)",
-                         f, j, r1 ? J->body1 : J->body2);
-                return 0;
-            }
-        }
-    if (rj__all_rigid(sc))
+    return 1;
+}
+
+/* Joint j: its bodies, its rows, its table, its limits. */
+static int rj__validate_joint(const rj_scene_def *sc, int j, rj_error *err)
+{
+    const rj_joint_def *J = &sc->joints[j];
+    char item[32];
+    if (!rj__check_cookie(err, "joints[%d]", j, J->cookie, RJ__COOKIE_JOINT,
+                          "rj_default_joint_def()"))
+        return 0;
+    RJ__FIELD(item, "joints[%d]", j);
+    return rj__validate_bodies(sc, J, j, err) && rj__check_rows(err, item, RJ__DEF_JOINT, J, -1) &&
+           rj__validate_joint_table(J, j, err) && rj__validate_limits(J, j, err);
+}
+
+/* Mixed scenes (a rigid link is one rigid body, with flexible links pinned to it): no
+   joint between two rigid links, and tangent references on rigid links. Scenes of
+   rigid links alone have no energy method. */
+static int rj__validate_mixed(const rj_scene_def *sc, rj_error *err)
+{
+    char f[64];
+    int j;
+    if (rj__all_rigid(sc)) {
         for (j = 0; j < sc->joint_count; j++)
             if (sc->joints[j].method == RJ_METHOD_ENERGY) {
                 RJ__FIELD(f, "joints[%d].method", j);
@@ -490,7 +336,53 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
                          f);
                 return 0;
             }
-    return rj__validate_loads(sc, err);
+        return 1;
+    }
+    for (j = 0; j < sc->joint_count; j++) {
+        const rj_joint_def *J = &sc->joints[j];
+        const int r1 = J->body1 >= 0 && sc->links[J->body1].fidelity == RJ_LINK_RIGID,
+                  r2 = sc->links[J->body2].fidelity == RJ_LINK_RIGID;
+        if (r1 && r2) {
+            RJ__FIELD(f, "joints[%d].body2", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->body2,
+                     "%s = %d is invalid: joint %d pins two rigid links (%d and %d) in a scene "
+                     "with flexible links, which is not supported: make every link rigid, or "
+                     "one of the two flexible",
+                     f, J->body2, j, J->body1, J->body2);
+            return 0;
+        }
+        if ((r1 || r2) && J->reference == RJ_REF_CHORD) {
+            RJ__FIELD(f, "joints[%d].reference", j);
+            rj__fail(err, RJ_ERR_INVALID, f, J->reference,
+                     "%s = RJ_REF_CHORD is invalid: joint %d holds rigid link %d in a scene "
+                     "with flexible links; use RJ_REF_TANGENT (on a rigid link the chord and "
+                     "the tangent are the same line)",
+                     f, j, r1 ? J->body1 : J->body2);
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static int rj__validate(const rj_scene_def *sc, rj_error *err)
+{
+    int i, j;
+    if (!sc) {
+        rj__fail(err, RJ_ERR_INVALID, "scene", 0, "scene is NULL");
+        return 0;
+    }
+    if (!rj__check_array(err, "link", sc->link_count, 1, sc->links) ||
+        !rj__check_array(err, "joint", sc->joint_count, 0, sc->joints))
+        return 0;
+    if (!rj__validate_solver(&sc->solver, err))
+        return 0;
+    for (i = 0; i < sc->link_count; i++)
+        if (!rj__validate_link(&sc->links[i], i, err))
+            return 0;
+    for (j = 0; j < sc->joint_count; j++)
+        if (!rj__validate_joint(sc, j, err))
+            return 0;
+    return rj__validate_mixed(sc, err) && rj__validate_loads(sc, err);
 }
 
 /* Node and element totals, counted in size_t; 0 when they pass RJ__MAX_NODES. */

@@ -1228,7 +1228,7 @@ static void test_bounds_carried(void)
         "link a\n  length = 1\nload f\n  link = a\n  node = last\n  force = 0 -1e200\n",
         "link a\n  length = 1\n  E = 1e300\n",
     };
-    static const char *const fields[5] = { "rho", "gravity", "1e+100", "1e+200", "E" };
+    static const char *const fields[5] = { "rho", "gravity", "1e+100", "force = -1e200", "E" };
     int i;
     for (i = 0; i < 5; i++) {
         rj_scene_file f;

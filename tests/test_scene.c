@@ -776,7 +776,7 @@ static void test_errors(void)
     EP("error: energy_every not an integer", "solver\n  energy_every = 2.5\nlink a\n", 2, 18, "energy_every", "energy_every");
     EP("error: in_place sideways", "solver\n  in_place = sideways\nlink a\n", 2, 14, "unknown value 'sideways' for 'in_place' in solver (expected auto, on or off)", "in_place");
     EP("error: bad boolean", "solver\n  allow_unstable = maybe\nlink a\n", 2, 20, "unknown value 'maybe' for 'allow_unstable' in solver (expected no, yes, false or true)", "allow_unstable");
-    EP("error: limit at 360 deg", J2 "  forward = 360 deg\n", 5, 13, "forward = 360 deg is out of range in joint 'j': a limit must be in [0, 360) deg, or none", "forward");
+    EP("error: limit at 360 deg", J2 "  forward = 360 deg\n", 5, 13, "forward = 360 deg is out of range in joint 'j': a limit must be in [0, 2 pi) rad, [0, 360) deg, or none", "forward");
     EP("error: negative limit", J2 "  reverse = -1deg\n", 5, 13, "reverse = -1deg is out of range", "reverse");
     EP("error: limit of 2 pi rad", J2 "  forward = 6.283185307179586\n", 5, 13, "out of range", "forward");
     EP("error: restitution above 1", J2 "  restitution = 1.5\n", 5, 17, "restitution = 1.5 is out of range in joint 'j': must be in [0, 1]", "restitution");

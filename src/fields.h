@@ -1,0 +1,431 @@
+/* ------------------------------------------------------------------ definition fields */
+/* Every member of a definition (rj_link_def, rj_joint_def, rj_solver_def, rj_load_def) is
+   one row of its kind's table below: its scene key, unit, kind of value, default, range
+   with the one sentence that states it, when it applies, how the writer puts it in a
+   scene file, and where it enters the model's hash. The defaults (rj_default_*_def),
+   validation (rj__validate), the scene parser, the scene writer and the model hash read
+   these rows; docs/scene-format.md's key table is checked against them (tests/keys.py).
+   Rules that tie members together (a lock needs a limit, a body is a link the scene has)
+   are code, grouped by concept in validate.h.
+
+   Row k of a table, for k below the kind's key count (RJ__LK_N, RJ__JK_N, RJ__VK_N,
+   RJ__AK_N), is the scene key k, in the order the enums below give. Members that no key
+   sets alone follow: a member derived from other keys (a link's section shape) and the
+   second parts of keys that take two (a spring's free angle, a limit's on/off flag). */
+
+/* keys; index 0 of an item's position array is its section line, key k is at 1 + k */
+enum {
+    RJ__LK_LENGTH,
+    RJ__LK_ELEMENTS,
+    RJ__LK_MATERIAL,
+    RJ__LK_SECTION,
+    RJ__LK_E,
+    RJ__LK_RHO,
+    RJ__LK_AREA,
+    RJ__LK_INERTIA,
+    RJ__LK_WIDTH,
+    RJ__LK_HEIGHT,
+    RJ__LK_LAYERS,
+    RJ__LK_TIP_MASS,
+    RJ__LK_TIP_INERTIA,
+    RJ__LK_ROOT,
+    RJ__LK_X,
+    RJ__LK_Y,
+    RJ__LK_ANGLE,
+    RJ__LK_VX,
+    RJ__LK_VY,
+    RJ__LK_OMEGA,
+    RJ__LK_FIDELITY,
+    RJ__LK_N,
+    RJ__LF_SHAPE = RJ__LK_N, /* members no key sets alone */
+    RJ__LF_N
+};
+enum {
+    RJ__JK_BODY1,
+    RJ__JK_BODY2,
+    RJ__JK_NODE1,
+    RJ__JK_GROUND_X,
+    RJ__JK_GROUND_Y,
+    RJ__JK_GROUND_ANGLE,
+    RJ__JK_ANGLE0,
+    RJ__JK_RATE0,
+    RJ__JK_TABLE,
+    RJ__JK_SPRING,
+    RJ__JK_FORWARD,
+    RJ__JK_REVERSE,
+    RJ__JK_LOCK,
+    RJ__JK_METHOD,
+    RJ__JK_RELEASE,
+    RJ__JK_PENALTY_K,
+    RJ__JK_RESTITUTION,
+    RJ__JK_DAMPING,
+    RJ__JK_FRICTION,
+    RJ__JK_REFERENCE,
+    RJ__JK_N,
+    RJ__JF_FREE_ANGLE = RJ__JK_N,
+    RJ__JF_HAS_FORWARD,
+    RJ__JF_HAS_REVERSE,
+    RJ__JF_N
+};
+enum {
+    RJ__AK_LINK,
+    RJ__AK_NODE,
+    RJ__AK_FORCE,
+    RJ__AK_MOMENT,
+    RJ__AK_TABLE,
+    RJ__AK_FOLLOWER,
+    RJ__AK_N,
+    RJ__AF_N = RJ__AK_N
+};
+enum {
+    RJ__VK_DT,
+    RJ__VK_ALLOW_UNSTABLE,
+    RJ__VK_ENERGY_GROWTH,
+    RJ__VK_ENERGY_EVERY,
+    RJ__VK_IN_PLACE,
+    RJ__VK_GRAVITY,
+    RJ__VK_N,
+    RJ__VF_N = RJ__VK_N
+};
+
+/* What a row holds, and so how it is read, checked and written. */
+enum {
+    RJ__FT_REAL,  /* a number, SI */
+    RJ__FT_ANGLE, /* rad; a file may say deg */
+    RJ__FT_RATE,  /* rad/s; a file may say deg/s */
+    RJ__FT_INT,   /* an int in [lo, hi] */
+    RJ__FT_ENUM,  /* an int 0 .. count - 1 named by names in files */
+    RJ__FT_BOOL,  /* an int 0 or 1: no / yes in files */
+    RJ__FT_VEC2,  /* two numbers (x, y), each in the range */
+    RJ__FT_LINK,  /* an int: a link of the scene (a joint's body1 may be -1, ground) */
+    RJ__FT_NODE,  /* an int: a node of a link, -1 its last ("last" in files) */
+    RJ__FT_TABLE, /* an int count, then two arrays of RJ_TABLE_MAX doubles from aux */
+    RJ__FT_LIMIT, /* an angle in [lo, hi), on when the int at aux is 1 ("none" when off) */
+    RJ__FT_PART,  /* no member: a file names a material or section to take values from */
+    RJ__FT_N
+};
+
+/* When a row is checked and written: always, or only for one section shape; GROUND and
+   ON_LINK rows are checked always and written only for a joint on ground or on a link. */
+enum {
+    RJ__WHEN_ALL,
+    RJ__WHEN_RECT,
+    RJ__WHEN_GENERAL,
+    RJ__WHEN_GROUND,
+    RJ__WHEN_ON_LINK,
+    RJ__WHEN_PLACE /* a link's placement: with a note when a joint places the link */
+};
+
+/* How the writer puts a row in a file: always; when it differs from its default in its
+   bits (-0.0 is written); with its line (when any row of the line differs); or not at
+   all (a part of another key, written with it). Rows of one line number follow each
+   other and share a line. */
+enum { RJ__WR_ALWAYS, RJ__WR_SET, RJ__WR_LINE, RJ__WR_NONE };
+
+typedef struct rj__field {
+    const char *key;    /* the scene key; for a member that no key sets alone, its C name */
+    const char *member; /* the C member in messages ("length", "gravity"); NULL for PART */
+    const char *unit;   /* SI unit, "" none */
+    int offset;         /* of the member in its definition; -1 for PART */
+    int aux;            /* TABLE: the first array's offset; LIMIT: the flag's; else -1 */
+    unsigned char type; /* RJ__FT_* */
+    unsigned char when; /* RJ__WHEN_* */
+    unsigned char write, line; /* RJ__WR_*, line number among the item's lines */
+    signed char hash_at;       /* its place in the model hash, -1 not hashed */
+    char hash_as;              /* 'd' as a double, 'i' as an int */
+    int part_of;               /* the key row this member is a second part of, else -1 */
+    double def;                /* the default (VEC2: of both) */
+    double lo, hi;              /* the range (ENUM: 0 .. count - 1) */
+    unsigned char lo_in, hi_in; /* whether the range includes its ends */
+    const char *rule;           /* the sentence a value outside the range gets */
+    const char *names;          /* ENUM: count names of stride bytes; BOOL: NULL */
+    unsigned char stride, count;
+} rj__field;
+
+/* The sentences of rules that several rows share. */
+#define RJ__RULE_LENGTH "must be in (0, 1e6] m" /* a link's length, a section's width */
+#define RJ__RULE_ANGLE "must be a finite angle within +-1e6 rad"
+#define RJ__RULE_STIFFNESS "must be >= 0 N m/rad"
+#define RJ__RULE_FINITE "must be finite"
+#define RJ__RULE_LIMIT "a limit must be in [0, 2 pi) rad, [0, 360) deg"
+#define RJ__RULE_BOOL "0 or 1"
+
+/* enum names in files, in the enums' order: char arrays, not pointer arrays (read-only
+   data without relocations) */
+static const char rj__sk_in_place[3][5] = { "auto", "on", "off" };
+static const char rj__sk_root[4][8] = { "free", "pinned", "clamped", "fixed" };
+static const char rj__sk_fidelity[3][13] = { "flexible", "rigid", "inextensible" };
+static const char rj__sk_method[5][9] = { "penalty", "adaptive", "momentum", "forced", "energy" };
+static const char rj__sk_release[2][5] = { "rc12", "rc13" };
+static const char rj__sk_reference[2][8] = { "tangent", "chord" };
+static const char rj__sk_shape[2][8] = { "rect", "general" };
+
+#define RJ__NAMES(a) a[0], (unsigned char) sizeof a[0], (unsigned char) (sizeof a / sizeof a[0])
+#define RJ__NO_NAMES NULL, 0, 0
+#define RJ__OFF(T, m) (int) offsetof(T, m)
+
+
+/* Range columns: lo, whether lo is in, hi, whether hi is in. */
+#define RJ__R(lo, lo_in, hi, hi_in) lo, hi, lo_in, hi_in
+#define RJ__ANY RJ__R(-HUGE_VAL, 0, HUGE_VAL, 0)
+
+/* A row of member m of the definition RJ__DEF: key, unit, type, when, write, line, hash
+   place and form, default, range and its sentence. */
+#define RJ__F(key, m, unit, type, when, wr, line, hat, has, def, range, rule)                 \
+    {                                                                                         \
+        key, #m, unit, RJ__OFF(RJ__DEF, m), -1, type, when, wr, line, hat, has, -1, def,      \
+            range, rule, RJ__NO_NAMES                                                         \
+    }
+/* An enum member's row: its names in files; validation's sentence names its C values. */
+#define RJ__FE(key, m, names, wr, line, hat, has, def, rule)                                  \
+    {                                                                                         \
+        key, #m, "", RJ__OFF(RJ__DEF, m), -1, RJ__FT_ENUM, RJ__WHEN_ALL, wr, line, hat, has,  \
+            -1, def, RJ__R(0.0, 1, (double) (sizeof names / sizeof names[0]) - 1, 1), rule,   \
+            RJ__NAMES(names)                                                                  \
+    }
+/* A row with an aux offset (TABLE, LIMIT) or one that is a part of key row part_of. */
+#define RJ__FA(key, m, unit, type, aux, part_of, wr, line, hat, has, def, range, rule, st)      \
+    {                                                                                         \
+        key, #m, unit, RJ__OFF(RJ__DEF, m), aux, type, RJ__WHEN_ALL, wr, line, hat, has,      \
+            part_of, def, range, rule, NULL, st, 0                                            \
+    }
+/* A key that names a material or a section (no member). */
+#define RJ__FPART(key)                                                                        \
+    {                                                                                         \
+        key, NULL, "", -1, -1, RJ__FT_PART, RJ__WHEN_ALL, RJ__WR_NONE, 0, -1, 'd', -1, 0.0,   \
+            RJ__ANY, "", RJ__NO_NAMES                                                         \
+    }
+
+#define RJ__DEF rj_link_def
+static const rj__field rj__link_fields[RJ__LF_N] = {
+    RJ__F("length", length, "m", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 0, 'd', 1.0,
+          RJ__R(0.0, 0, 1e6, 1), RJ__RULE_LENGTH),
+    RJ__F("elements", elements, "", RJ__FT_INT, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 15, 'd', 10.0,
+          RJ__R(1.0, 1, 1e6, 1), "must be 1..1000000"),
+    RJ__FPART("material"),
+    RJ__FPART("section"),
+    RJ__F("E", E, "Pa", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_ALWAYS, 2, 1, 'd', 70e9,
+          RJ__R(0.0, 0, 1e30, 1), "must be in (0, 1e30] Pa"),
+    RJ__F("rho", rho, "kg/m^3", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_ALWAYS, 2, 2, 'd', 2710.0,
+          RJ__R(0.0, 0, 1e30, 1), "must be in (0, 1e30] kg/m^3"),
+    RJ__F("area", area, "m^2", RJ__FT_REAL, RJ__WHEN_GENERAL, RJ__WR_ALWAYS, 3, 5, 'd', 0.0,
+          RJ__R(0.0, 0, 1e12, 1), "must be in (0, 1e12] m^2"),
+    RJ__F("inertia", inertia, "m^4", RJ__FT_REAL, RJ__WHEN_GENERAL, RJ__WR_ALWAYS, 3, 6, 'd',
+          0.0, RJ__R(0.0, 0, 1e24, 1), "must be in (0, 1e24] m^4"),
+    RJ__F("width", width, "m", RJ__FT_REAL, RJ__WHEN_RECT, RJ__WR_ALWAYS, 3, 3, 'd', 0.05,
+          RJ__R(0.0, 0, 1e6, 1), RJ__RULE_LENGTH),
+    /* the in-plane depth; a general section's drawn thickness (> 0 for a rectangle: a
+       rule of the section's shape) */
+    RJ__F("height", height, "m", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_ALWAYS, 3, 4, 'd', 0.2,
+          RJ__R(0.0, 1, 1e6, 1), "must be in [0, 1e6] m (> 0 for a rectangular section)"),
+    RJ__F("layers", layers, "", RJ__FT_INT, RJ__WHEN_RECT, RJ__WR_SET, 3, 17, 'd', 1.0,
+          RJ__R(1.0, 1, 1000.0, 1), "must be 1..1000"),
+    RJ__F("tip_mass", tip_mass, "kg", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_LINE, 4, 7, 'd', 0.0,
+          RJ__R(0.0, 1, 1e40, 1), "must be in [0, 1e40] kg"),
+    RJ__F("tip_inertia", tip_inertia, "kg m^2", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_LINE, 4, 8,
+          'd', 0.0, RJ__R(0.0, 1, 1e50, 1), "must be in [0, 1e50] kg m^2"),
+    RJ__FE("root", root, rj__sk_root, RJ__WR_SET, 5, 18, 'd', 0.0,
+           "RJ_ROOT_FREE, _PINNED, _CLAMPED or _FIXED"),
+    RJ__F("x", x, "m", RJ__FT_REAL, RJ__WHEN_PLACE, RJ__WR_LINE, 6, 9, 'd', 0.0, RJ__ANY,
+          RJ__RULE_FINITE),
+    RJ__F("y", y, "m", RJ__FT_REAL, RJ__WHEN_PLACE, RJ__WR_LINE, 6, 10, 'd', 0.0, RJ__ANY,
+          RJ__RULE_FINITE),
+    /* within 1e6 rad, as angle0: beyond it a rotation of 1e-7 rad (the stability bound's
+       finite differences) falls below what the angle's double resolves */
+    RJ__F("angle", angle, "rad", RJ__FT_ANGLE, RJ__WHEN_PLACE, RJ__WR_LINE, 6, 11, 'd', 0.0,
+          RJ__R(-1e6, 1, 1e6, 1), RJ__RULE_ANGLE),
+    RJ__F("vx", vx, "m/s", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_LINE, 7, 12, 'd', 0.0, RJ__ANY,
+          RJ__RULE_FINITE),
+    RJ__F("vy", vy, "m/s", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_LINE, 7, 13, 'd', 0.0, RJ__ANY,
+          RJ__RULE_FINITE),
+    RJ__F("omega", omega, "rad/s", RJ__FT_RATE, RJ__WHEN_ALL, RJ__WR_LINE, 7, 14, 'd', 0.0,
+          RJ__ANY, RJ__RULE_FINITE),
+    RJ__FE("fidelity", fidelity, rj__sk_fidelity, RJ__WR_SET, 8, 19, 'i', 0.0,
+           "RJ_LINK_FLEXIBLE, RJ_LINK_RIGID or RJ_LINK_INEXTENSIBLE"),
+    /* derived: area and inertia in a file make a general section */
+    RJ__FE("section", section, rj__sk_shape, RJ__WR_NONE, 0, 16, 'd', 0.0,
+           "RJ_SECTION_RECT or RJ_SECTION_GENERAL"),
+};
+#undef RJ__DEF
+
+#define RJ__DEF rj_joint_def
+static const rj__field rj__joint_fields[RJ__JF_N] = {
+    RJ__F("body1", body1, "", RJ__FT_LINK, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 0, 'd', -1.0,
+          RJ__ANY, ""),
+    RJ__F("body2", body2, "", RJ__FT_LINK, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 2, 'd', 0.0, RJ__ANY,
+          ""),
+    RJ__F("node1", node1, "", RJ__FT_NODE, RJ__WHEN_ON_LINK, RJ__WR_SET, 1, 1, 'd', -1.0,
+          RJ__ANY, ""),
+    RJ__F("ground_x", ground_x, "m", RJ__FT_REAL, RJ__WHEN_GROUND, RJ__WR_LINE, 2, 3, 'd', 0.0,
+          RJ__ANY, RJ__RULE_FINITE),
+    RJ__F("ground_y", ground_y, "m", RJ__FT_REAL, RJ__WHEN_GROUND, RJ__WR_LINE, 2, 4, 'd', 0.0,
+          RJ__ANY, RJ__RULE_FINITE),
+    RJ__F("ground_angle", ground_angle, "rad", RJ__FT_ANGLE, RJ__WHEN_GROUND, RJ__WR_LINE, 2, 5,
+          'd', 0.0, RJ__ANY, RJ__RULE_FINITE),
+    RJ__F("angle0", angle0, "rad", RJ__FT_ANGLE, RJ__WHEN_ALL, RJ__WR_ALWAYS, 3, 6, 'd', RJ__PI,
+          RJ__R(-1e6, 1, 1e6, 1), RJ__RULE_ANGLE),
+    RJ__F("rate0", rate0, "rad/s", RJ__FT_RATE, RJ__WHEN_ALL, RJ__WR_SET, 3, 7, 'd', 0.0,
+          RJ__ANY, RJ__RULE_FINITE),
+    /* angle torque pairs (Eq 4); first column angles (stride 1) */
+    RJ__FA("table", table_count, "N m", RJ__FT_TABLE, RJ__OFF(rj_joint_def, table_angle), -1,
+           RJ__WR_SET, 4, 22, 'i', 0.0, RJ__R(2.0, 1, RJ_TABLE_MAX, 1), "", 1),
+    RJ__FA("spring", spring_k, "N m/rad", RJ__FT_REAL, -1, -1, RJ__WR_LINE, 5, 8, 'd', 0.0,
+           RJ__R(0.0, 1, HUGE_VAL, 0), RJ__RULE_STIFFNESS, 0),
+    RJ__FA("forward", forward, "rad", RJ__FT_LIMIT, RJ__OFF(rj_joint_def, has_forward), -1,
+           RJ__WR_SET, 6, 11, 'd', 0.0, RJ__R(0.0, 1, RJ__TWO_PI, 0), RJ__RULE_LIMIT, 0),
+    RJ__FA("reverse", reverse, "rad", RJ__FT_LIMIT, RJ__OFF(rj_joint_def, has_reverse), -1,
+           RJ__WR_SET, 7, 13, 'd', 0.0, RJ__R(0.0, 1, RJ__TWO_PI, 0), RJ__RULE_LIMIT, 0),
+    RJ__F("lock", lock, "", RJ__FT_BOOL, RJ__WHEN_ALL, RJ__WR_SET, 8, 14, 'd', 0.0,
+          RJ__R(0.0, 1, 1.0, 1), RJ__RULE_BOOL),
+    RJ__FE("method", method, rj__sk_method, RJ__WR_ALWAYS, 9, 15, 'd', RJ_METHOD_ADAPTIVE,
+           "one of RJ_METHOD_PENALTY..RJ_METHOD_ENERGY"),
+    RJ__FE("release", release, rj__sk_release, RJ__WR_SET, 9, 16, 'd', RJ_RELEASE_RC13,
+           "RJ_RELEASE_RC12 or RJ_RELEASE_RC13"),
+    RJ__F("penalty_k", penalty_k, "N m/rad", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 10, 17, 'd',
+          0.0, RJ__R(0.0, 1, HUGE_VAL, 0), RJ__RULE_STIFFNESS),
+    RJ__F("restitution", restitution, "", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 11, 18, 'd',
+          0.0, RJ__R(0.0, 1, 1.0, 1), "must be in [0, 1]"),
+    RJ__F("damping", damping, "N m s/rad", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 12, 19, 'd',
+          0.0, RJ__R(0.0, 1, HUGE_VAL, 0), "must be >= 0 N m s/rad"),
+    RJ__F("friction", friction, "N m", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 13, 20, 'd', 0.0,
+          RJ__R(0.0, 1, HUGE_VAL, 0), "must be >= 0 N m"),
+    RJ__FE("reference", reference, rj__sk_reference, RJ__WR_SET, 14, 21, 'i', 0.0,
+           "RJ_REF_TANGENT or RJ_REF_CHORD"),
+    /* second parts: spring = k angle; a limit's on/off */
+    RJ__FA("spring_free_angle", spring_free_angle, "rad", RJ__FT_ANGLE, -1, RJ__JK_SPRING,
+           RJ__WR_NONE, 5, 9, 'd', RJ__PI, RJ__R(-1e6, 1, 1e6, 1), RJ__RULE_ANGLE, 0),
+    RJ__FA("has_forward", has_forward, "", RJ__FT_BOOL, -1, RJ__JK_FORWARD, RJ__WR_NONE, 6, 10,
+           'd', 0.0, RJ__R(0.0, 1, 1.0, 1), RJ__RULE_BOOL, 0),
+    RJ__FA("has_reverse", has_reverse, "", RJ__FT_BOOL, -1, RJ__JK_REVERSE, RJ__WR_NONE, 7, 12,
+           'd', 0.0, RJ__R(0.0, 1, 1.0, 1), RJ__RULE_BOOL, 0),
+};
+#undef RJ__DEF
+
+#define RJ__DEF rj_solver_def
+static const rj__field rj__solver_fields[RJ__VF_N] = {
+    RJ__F("dt", dt, "s", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 1, -1, 'd', 0.0,
+          RJ__R(0.0, 1, 1.0, 1), "must be 0 (automatic) or a step in (0, 1] s"),
+    RJ__F("allow_unstable", allow_unstable, "", RJ__FT_BOOL, RJ__WHEN_ALL, RJ__WR_SET, 2, -1,
+          'd', 0.0, RJ__R(0.0, 1, 1.0, 1), "must be 0 or 1"),
+    RJ__F("energy_growth", energy_growth, "", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 3, -1, 'd',
+          10.0, RJ__R(1.0, 0, HUGE_VAL, 0), "must be > 1"),
+    RJ__F("energy_every", energy_every, "", RJ__FT_INT, RJ__WHEN_ALL, RJ__WR_SET, 4, -1, 'd',
+          1.0, RJ__R(1.0, 1, 1000.0, 1), "must be 1..1000 steps"),
+    RJ__FE("in_place", in_place, rj__sk_in_place, RJ__WR_SET, 5, -1, 'd', RJ_IN_PLACE_AUTO,
+           "must be RJ_IN_PLACE_AUTO (0), RJ_IN_PLACE_ON (1) or RJ_IN_PLACE_OFF (2)"),
+    RJ__F("gravity", gravity, "m/s^2", RJ__FT_VEC2, RJ__WHEN_ALL, RJ__WR_SET, 6, 0, 'd', 0.0,
+          RJ__R(-1e5, 1, 1e5, 1),
+          "each component must be a finite acceleration within +-1e5 m/s^2"),
+};
+#undef RJ__DEF
+
+#define RJ__DEF rj_load_def
+static const rj__field rj__load_fields[RJ__AF_N] = {
+    RJ__F("link", link, "", RJ__FT_LINK, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 0, 'i', 0.0, RJ__ANY,
+          ""),
+    RJ__F("node", node, "", RJ__FT_NODE, RJ__WHEN_ALL, RJ__WR_SET, 1, 1, 'i', -1.0, RJ__ANY, ""),
+    RJ__F("force", force, "N", RJ__FT_VEC2, RJ__WHEN_ALL, RJ__WR_SET, 2, 2, 'd', 0.0,
+          RJ__R(-1e30, 1, 1e30, 1), "must be a finite force within +-1e30 N"),
+    RJ__F("moment", moment, "N m", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 3, 3, 'd', 0.0,
+          RJ__R(-1e30, 1, 1e30, 1), "must be a finite moment within +-1e30 N m"),
+    /* time factor pairs */
+    RJ__FA("table", table_count, "", RJ__FT_TABLE, RJ__OFF(rj_load_def, table_time), -1,
+           RJ__WR_SET, 4, 5, 'i', 0.0, RJ__R(1.0, 1, RJ_TABLE_MAX, 1), "", 0),
+    RJ__F("follower", follower, "", RJ__FT_BOOL, RJ__WHEN_ALL, RJ__WR_SET, 5, 4, 'i', 0.0,
+          RJ__R(0.0, 1, 1.0, 1), "must be 0 (global frame) or 1 (turns with the node)"),
+};
+#undef RJ__DEF
+
+/* ------------------------------------------------------------------ reading rows */
+/* The definition kinds, and each one's table. */
+enum { RJ__DEF_LINK, RJ__DEF_JOINT, RJ__DEF_SOLVER, RJ__DEF_LOAD };
+
+static const rj__field *rj__fields(int kind, int *count)
+{
+    switch (kind) {
+    case RJ__DEF_LINK:
+        *count = RJ__LF_N;
+        return rj__link_fields;
+    case RJ__DEF_JOINT:
+        *count = RJ__JF_N;
+        return rj__joint_fields;
+    case RJ__DEF_SOLVER:
+        *count = RJ__VF_N;
+        return rj__solver_fields;
+    default:
+        *count = RJ__AF_N;
+        return rj__load_fields;
+    }
+}
+
+/* The double at row r of def (VEC2: component c). */
+static double rj__row_real(const void *def, const rj__field *r, int c)
+{
+    double v;
+    memcpy(&v, (const char *) def + r->offset + c * sizeof(double), sizeof v);
+    return v;
+}
+
+static void rj__row_set_real(void *def, const rj__field *r, int c, double v)
+{
+    memcpy((char *) def + r->offset + c * sizeof(double), &v, sizeof v);
+}
+
+/* The int at row r of def (INT, ENUM, BOOL, LINK, NODE, a TABLE's count); at the flag of
+   a LIMIT. */
+static int rj__row_int(const void *def, const rj__field *r)
+{
+    int v;
+    const int at = r->type == RJ__FT_LIMIT ? r->aux : r->offset;
+    memcpy(&v, (const char *) def + at, sizeof v);
+    return v;
+}
+
+static void rj__row_set_int(void *def, const rj__field *r, int v)
+{
+    memcpy((char *) def + r->offset, &v, sizeof v);
+}
+
+/* Whether row r holds a double (REAL, ANGLE, RATE, LIMIT, VEC2) rather than an int. */
+static int rj__row_is_real(const rj__field *r)
+{
+    return r->type == RJ__FT_REAL || r->type == RJ__FT_ANGLE || r->type == RJ__FT_RATE ||
+           r->type == RJ__FT_LIMIT || r->type == RJ__FT_VEC2;
+}
+
+/* Every member of def at its default: zeros, then each row's default. */
+static void rj__rows_default(void *def, size_t size, int kind)
+{
+    int n, k;
+    const rj__field *t = rj__fields(kind, &n);
+    memset(def, 0, size);
+    for (k = 0; k < n; k++) {
+        const rj__field *r = &t[k];
+        if (r->type == RJ__FT_PART)
+            continue;
+        if (rj__row_is_real(r)) {
+            rj__row_set_real(def, r, 0, r->def);
+            if (r->type == RJ__FT_VEC2)
+                rj__row_set_real(def, r, 1, r->def);
+        } else
+            rj__row_set_int(def, r, (int) r->def);
+    }
+}
+
+/* Whether row r applies to a link of section shape (-1: not a link) and is checked
+   (write 0) or written (write 1) for a joint on ground (or not). */
+static int rj__row_applies(const rj__field *r, int shape, int on_ground, int write)
+{
+    switch (r->when) {
+    case RJ__WHEN_RECT:
+        return shape == RJ_SECTION_RECT;
+    case RJ__WHEN_GENERAL:
+        return shape == RJ_SECTION_GENERAL;
+    case RJ__WHEN_GROUND:
+        return !write || on_ground;
+    case RJ__WHEN_ON_LINK:
+        return !write || !on_ground;
+    default:
+        return 1;
+    }
+}
