@@ -11538,93 +11538,208 @@ static int rj__sw_set(double v, double def)
     return memcmp(&v, &def, sizeof v) != 0;
 }
 
-/* whether the writer can express the link: its enums in range and every number it writes
-   finite. Fields the model ignores are not written, so anything in them is fine: width and
-   layers of a general section, area and inertia of a rectangular one. */
-static int rj__sw_link_ok(const rj_link_def *d)
+/* Row r of def differs from its default: in its bits for numbers (-0.0 is written), an
+   enabled limit, a table with points; with the parts written after it (a spring's free
+   angle). rows: its kind's table. */
+static int rj__sw_row_set(const rj__field *rows, int n, int k, const void *def)
 {
-    double v[14];
-    int k, gen = d->section == RJ_SECTION_GENERAL;
-    if (d->root < 0 || d->root > 3 || (d->section != RJ_SECTION_RECT && !gen) ||
-        d->fidelity < RJ_LINK_FLEXIBLE || d->fidelity > RJ_LINK_INEXTENSIBLE)
-        return 0;
-    v[0] = d->length;
-    v[1] = d->E;
-    v[2] = d->rho;
-    v[3] = d->height;
-    v[4] = d->tip_mass;
-    v[5] = d->tip_inertia;
-    v[6] = d->x;
-    v[7] = d->y;
-    v[8] = d->angle;
-    v[9] = d->vx;
-    v[10] = d->vy;
-    v[11] = d->omega;
-    v[12] = gen ? d->area : d->width;
-    v[13] = gen ? d->inertia : 0;
-    for (k = 0; k < 14; k++)
-        if (!rj__sw_finite(v[k]))
-            return 0;
-    return 1;
+    const rj__field *r = &rows[k];
+    int p;
+    switch (r->type) {
+    case RJ__FT_LIMIT:
+    case RJ__FT_TABLE:
+        return rj__row_int(def, r) != 0;
+    case RJ__FT_VEC2:
+        if (rj__sw_set(rj__row_real(def, r, 1), r->def))
+            return 1;
+        /* fall through */
+    case RJ__FT_REAL:
+    case RJ__FT_ANGLE:
+    case RJ__FT_RATE:
+        if (rj__sw_set(rj__row_real(def, r, 0), r->def))
+            return 1;
+        break;
+    default:
+        if (rj__row_int(def, r) != (int) r->def)
+            return 1;
+    }
+    for (p = 0; p < n; p++)
+        if (rows[p].part_of == k && rj__sw_set(rj__row_real(def, &rows[p], 0), rows[p].def))
+            return 1;
+    return 0;
 }
 
-/* the same for a joint: ground_* are written only when body1 is ground, a limit's value
-   only when it is enabled, table points only up to table_count */
-static int rj__sw_joint_ok(const rj_joint_def *d, int link_count)
+/* What the writer knows of the item besides its rows. */
+typedef struct rj__sw_item {
+    int shape;                     /* a link's section shape, else -1 */
+    int on_ground;                 /* a joint's body1 is ground */
+    int root_link;                 /* a link no joint places */
+    const char *const *link_names; /* names of the scene's links, or NULL */
+} rj__sw_item;
+
+/* Whether the writer writes row k of def (its kind's rows, the first nk keys). */
+static int rj__sw_wanted(const rj__field *rows, int n, int nk, int k, const void *def,
+                         const rj__sw_item *it)
 {
-    double v[8];
+    const rj__field *r = &rows[k];
+    int q;
+    if (r->write == RJ__WR_NONE || r->type == RJ__FT_PART ||
+        !rj__row_applies(r, it->shape, it->on_ground, 1))
+        return 0;
+    if (r->write == RJ__WR_ALWAYS)
+        return 1;
+    if (r->write == RJ__WR_SET)
+        return rj__sw_row_set(rows, n, k, def);
+    for (q = 0; q < nk; q++)
+        if (rows[q].line == r->line && rows[q].write == RJ__WR_LINE &&
+            rj__row_applies(&rows[q], it->shape, it->on_ground, 1) &&
+            rj__sw_row_set(rows, n, q, def))
+            return 1;
+    return 0;
+}
+
+/* A table's pairs, four to a line (a line ending in ',' continues); the first column
+   angles when the row says so (stride 1). */
+static void rj__sw_pairs(rj__sw *W, const rj__field *r, const void *def)
+{
+    const double *first = (const double *) (const void *) ((const char *) def + r->aux);
+    const int count = rj__row_int(def, r);
     int k;
-    if (d->body1 < -1 || d->body1 >= link_count || d->body2 < 0 || d->body2 >= link_count)
-        return 0;
-    if ((d->lock & ~1) || (d->has_forward & ~1) || (d->has_reverse & ~1) || d->table_count < 0 ||
-        d->table_count > RJ_TABLE_MAX || d->method < 0 || d->method > 4 || d->release < 0 ||
-        d->release > 1 || d->reference < 0 || d->reference > 1)
-        return 0;
-    v[0] = d->angle0;
-    v[1] = d->rate0;
-    v[2] = d->spring_k;
-    v[3] = d->spring_free_angle;
-    v[4] = d->penalty_k;
-    v[5] = d->restitution;
-    v[6] = d->damping;
-    v[7] = d->friction;
-    for (k = 0; k < 8; k++)
-        if (!rj__sw_finite(v[k]))
-            return 0;
-    if (d->body1 < 0 && !(rj__sw_finite(d->ground_x) && rj__sw_finite(d->ground_y) &&
-                          rj__sw_finite(d->ground_angle)))
-        return 0;
-    if ((d->has_forward && !rj__sw_finite(d->forward)) ||
-        (d->has_reverse && !rj__sw_finite(d->reverse)))
-        return 0;
-    for (k = 0; k < d->table_count; k++)
-        if (!rj__sw_finite(d->table_angle[k]) || !rj__sw_finite(d->table_torque[k]))
-            return 0;
+    for (k = 0; k < count; k++) {
+        if (k)
+            rj__sw_put(W, k % 4 == 0 ? ",\n    " : ", ");
+        if (r->stride == 1)
+            rj__sw_angle(W, first[k], 0);
+        else
+            rj__sw_num(W, first[k]);
+        rj__sw_put(W, " ");
+        rj__sw_num(W, first[RJ_TABLE_MAX + k]);
+    }
+}
+
+/* names[i], or prefix and i when the caller gave no names */
+static void rj__sw_name(rj__sw *W, const char *const *names, const char *prefix, int i)
+{
+    char nm[40];
+    if (names) {
+        rj__sw_put(W, names[i]);
+        return;
+    }
+    snprintf(nm, sizeof nm, "%s%d", prefix, i);
+    rj__sw_put(W, nm);
+}
+
+/* The value of row r of def as a file says it. */
+static void rj__sw_value(rj__sw *W, const rj__field *r, const void *def, const rj__sw_item *it)
+{
+    char nm[24];
+    const int v = rj__row_is_real(r) || r->type == RJ__FT_TABLE ? 0 : rj__row_int(def, r);
+    switch (r->type) {
+    case RJ__FT_REAL:
+        rj__sw_num(W, rj__row_real(def, r, 0));
+        return;
+    case RJ__FT_ANGLE:
+    case RJ__FT_RATE:
+    case RJ__FT_LIMIT:
+        rj__sw_angle(W, rj__row_real(def, r, 0), r->type == RJ__FT_RATE);
+        return;
+    case RJ__FT_VEC2:
+        rj__sw_num(W, rj__row_real(def, r, 0));
+        rj__sw_put(W, " ");
+        rj__sw_num(W, rj__row_real(def, r, 1));
+        return;
+    case RJ__FT_TABLE:
+        rj__sw_pairs(W, r, def);
+        return;
+    case RJ__FT_ENUM:
+        rj__sw_put(W, r->names + (size_t) r->stride * (size_t) v);
+        return;
+    case RJ__FT_BOOL:
+        rj__sw_put(W, v ? "yes" : "no");
+        return;
+    case RJ__FT_LINK:
+        if (v < 0)
+            rj__sw_put(W, "ground");
+        else
+            rj__sw_name(W, it->link_names, "link", v);
+        return;
+    default:
+        snprintf(nm, sizeof nm, "%d", v);
+        rj__sw_put(W, nm);
+    }
+}
+
+/* The keys of an item of kind, in its rows' order, rows of one line number on one line:
+   "  key = value  key = value"; the parts of a key after its value ("spring = k angle"). */
+static void rj__sw_rows(rj__sw *W, int kind, const void *def, const rj__sw_item *it)
+{
+    int n, nk, k, p, line = -1, place = 0;
+    const rj__field *rows = rj__fields(kind, &n);
+    nk = kind == RJ__DEF_LINK ? RJ__LK_N : kind == RJ__DEF_JOINT ? RJ__JK_N : n;
+    for (k = 0; k < nk; k++) {
+        const rj__field *r = &rows[k];
+        if (!rj__sw_wanted(rows, n, nk, k, def, it))
+            continue;
+        if (line >= 0 && r->line != line) {
+            rj__sw_put(W, place ? "   # unused: the link hangs from a joint\n" : "\n");
+            place = 0;
+        }
+        line = r->line;
+        place |= r->when == RJ__WHEN_PLACE && !it->root_link;
+        rj__sw_key(W, r->key);
+        rj__sw_value(W, r, def, it);
+        for (p = nk; p < n; p++)
+            if (rows[p].part_of == k && rows[p].type != RJ__FT_BOOL) {
+                rj__sw_put(W, " ");
+                rj__sw_value(W, &rows[p], def, it);
+            }
+    }
+    if (line >= 0)
+        rj__sw_put(W, place ? "   # unused: the link hangs from a joint\n" : "\n");
+}
+
+/* Whether the writer can express the item's rows that it would write: enums, yes/no and
+   ints in range, tables of 0..RJ_TABLE_MAX points, numbers finite. Members the model
+   ignores are not written, so anything in them is fine: width and layers of a general
+   section, area and inertia of a rectangular one, a limit that is off, ground_* of a
+   joint on a link. */
+static int rj__sw_rows_ok(int kind, const void *def, int shape, int on_ground)
+{
+    int n, k, c;
+    const rj__field *rows = rj__fields(kind, &n);
+    for (k = 0; k < n; k++) {
+        const rj__field *r = &rows[k];
+        const int parts = r->type == RJ__FT_VEC2 ? 2 : 1;
+        if (r->type == RJ__FT_PART || !rj__row_applies(r, shape, on_ground, 1))
+            continue;
+        if (r->type == RJ__FT_TABLE) {
+            const double *first = (const double *) (const void *) ((const char *) def + r->aux);
+            const int count = rj__row_int(def, r);
+            if (count < 0 || count > RJ_TABLE_MAX)
+                return 0;
+            for (c = 0; c < count; c++)
+                if (!rj__sw_finite(first[c]) || !rj__sw_finite(first[RJ_TABLE_MAX + c]))
+                    return 0;
+        } else if (r->type == RJ__FT_LIMIT) {
+            if (rj__row_int(def, r) && !rj__sw_finite(rj__row_real(def, r, 0)))
+                return 0;
+        } else if (rj__row_is_real(r)) {
+            for (c = 0; c < parts; c++)
+                if (!rj__sw_finite(rj__row_real(def, r, c)))
+                    return 0;
+        } else if (r->type == RJ__FT_ENUM || r->type == RJ__FT_BOOL || r->type == RJ__FT_INT) {
+            const int v = rj__row_int(def, r);
+            if (v < r->lo || v > r->hi)
+                return 0;
+        }
+    }
     return 1;
 }
 
 /* names and numbers first: rj_scene_write writes nothing for a scene it cannot write */
-/* whether the writer can express the load: a link and node the scene has, finite
-   numbers, a table of 0..RJ_TABLE_MAX points (its order is the model's to check) */
-static int rj__sw_load_ok(const rj_load_def *d, const rj_scene_def *sc)
-{
-    int k;
-    if (d->link < 0 || d->link >= sc->link_count || d->node < -1 ||
-        d->node > sc->links[d->link].elements || (d->follower != 0 && d->follower != 1) ||
-        d->table_count < 0 || d->table_count > RJ_TABLE_MAX)
-        return 0;
-    if (!rj__sw_finite(d->force[0]) || !rj__sw_finite(d->force[1]) || !rj__sw_finite(d->moment))
-        return 0;
-    for (k = 0; k < d->table_count; k++)
-        if (!rj__sw_finite(d->table_time[k]) || !rj__sw_finite(d->table_factor[k]))
-            return 0;
-    return 1;
-}
-
 static int rj__sw_ok(const rj_scene_def *sc, const char *const *link_names,
                      const char *const *joint_names)
 {
-    const rj_solver_def *s = &sc->solver;
     int i, k;
     for (k = 0; k < 2; k++) {
         const char *const *names = k ? joint_names : link_names;
@@ -11641,299 +11756,40 @@ static int rj__sw_ok(const rj_scene_def *sc, const char *const *link_names,
                     return 0;
         }
     }
-    if (!rj__sw_finite(s->dt) || !rj__sw_finite(s->energy_growth) ||
-        !rj__sw_finite(s->gravity[0]) || !rj__sw_finite(s->gravity[1]) ||
-        (s->allow_unstable != 0 && s->allow_unstable != 1) || s->energy_every < 1 ||
-        s->energy_every > 1000 || s->in_place < RJ_IN_PLACE_AUTO || s->in_place > RJ_IN_PLACE_OFF)
+    if (!rj__sw_rows_ok(RJ__DEF_SOLVER, &sc->solver, -1, 0))
         return 0;
-    for (i = 0; i < sc->link_count; i++)
-        if (!rj__sw_link_ok(&sc->links[i]))
+    for (i = 0; i < sc->link_count; i++) {
+        const rj_link_def *d = &sc->links[i];
+        if (!rj__sw_rows_ok(RJ__DEF_LINK, d, d->section, 0))
             return 0;
-    for (i = 0; i < sc->joint_count; i++)
-        if (!rj__sw_joint_ok(&sc->joints[i], sc->link_count))
-            return 0;
-    for (i = 0; i < sc->load_count; i++)
-        if (!rj__sw_load_ok(&sc->loads[i], sc))
-            return 0;
-    return 1;
-}
-
-/* names[i], or prefix and i when the caller gave no names */
-static void rj__sw_name(rj__sw *W, const char *const *names, const char *prefix, int i)
-{
-    char nm[40];
-    if (names) {
-        rj__sw_put(W, names[i]);
-        return;
     }
-    snprintf(nm, sizeof nm, "%s%d", prefix, i);
-    rj__sw_put(W, nm);
+    for (i = 0; i < sc->joint_count; i++) {
+        const rj_joint_def *d = &sc->joints[i];
+        if (d->body1 < -1 || d->body1 >= sc->link_count || d->body2 < 0 ||
+            d->body2 >= sc->link_count || !rj__sw_rows_ok(RJ__DEF_JOINT, d, -1, d->body1 < 0))
+            return 0;
+    }
+    for (i = 0; i < sc->load_count; i++) {
+        const rj_load_def *d = &sc->loads[i];
+        if (d->link < 0 || d->link >= sc->link_count || d->node < -1 ||
+            d->node > sc->links[d->link].elements || !rj__sw_rows_ok(RJ__DEF_LOAD, d, -1, 0))
+            return 0;
+    }
+    return 1;
 }
 
 /* the solver section, only when some value differs from the defaults */
 static void rj__sw_solver(rj__sw *W, const rj_solver_def *s)
 {
-    rj_solver_def S0 = rj_default_solver_def();
-    char nm[40];
-    if (!rj__sw_set(s->dt, S0.dt) && !s->allow_unstable &&
-        !rj__sw_set(s->energy_growth, S0.energy_growth) && s->energy_every == S0.energy_every &&
-        s->in_place == S0.in_place && s->gravity[0] == 0 && s->gravity[1] == 0)
+    const rj__sw_item it = { -1, 0, 1, NULL };
+    int k;
+    for (k = 0; k < RJ__VF_N; k++)
+        if (rj__sw_row_set(rj__solver_fields, RJ__VF_N, k, s))
+            break;
+    if (k == RJ__VF_N)
         return;
     rj__sw_put(W, "solver\n");
-    if (rj__sw_set(s->dt, S0.dt)) {
-        rj__sw_key(W, "dt");
-        rj__sw_num(W, s->dt);
-        rj__sw_put(W, "\n");
-    }
-    if (s->allow_unstable) {
-        rj__sw_key(W, "allow_unstable");
-        rj__sw_put(W, "yes\n");
-    }
-    if (rj__sw_set(s->energy_growth, S0.energy_growth)) {
-        rj__sw_key(W, "energy_growth");
-        rj__sw_num(W, s->energy_growth);
-        rj__sw_put(W, "\n");
-    }
-    if (s->energy_every != S0.energy_every) {
-        snprintf(nm, sizeof nm, "  energy_every = %d\n", s->energy_every);
-        rj__sw_put(W, nm);
-    }
-    if (s->in_place != S0.in_place) {
-        rj__sw_key(W, "in_place");
-        rj__sw_put(W, rj__sk_in_place[s->in_place]);
-        rj__sw_put(W, "\n");
-    }
-    if (s->gravity[0] != 0 || s->gravity[1] != 0) {
-        rj__sw_key(W, "gravity");
-        rj__sw_num(W, s->gravity[0]);
-        rj__sw_put(W, " ");
-        rj__sw_num(W, s->gravity[1]);
-        rj__sw_put(W, "\n");
-    }
-}
-
-/* a link section; root_link: the link hangs from no joint (else x, y, angle are unused) */
-static void rj__sw_link(rj__sw *W, const rj_link_def *d, int root_link)
-{
-    rj_link_def L0 = rj_default_link_def();
-    char nm[40];
-    rj__sw_key(W, "length");
-    rj__sw_num(W, d->length);
-    snprintf(nm, sizeof nm, "  elements = %d\n", d->elements);
-    rj__sw_put(W, nm);
-    rj__sw_key(W, "E");
-    rj__sw_num(W, d->E);
-    rj__sw_put(W, "  rho = ");
-    rj__sw_num(W, d->rho);
-    rj__sw_put(W, "\n");
-    if (d->section == RJ_SECTION_GENERAL) {
-        rj__sw_key(W, "area");
-        rj__sw_num(W, d->area);
-        rj__sw_put(W, "  inertia = ");
-        rj__sw_num(W, d->inertia);
-        if (rj__sw_set(d->height, L0.height)) {
-            rj__sw_put(W, "  height = ");
-            rj__sw_num(W, d->height);
-        }
-    } else {
-        rj__sw_key(W, "width");
-        rj__sw_num(W, d->width);
-        rj__sw_put(W, "  height = ");
-        rj__sw_num(W, d->height);
-        if (d->layers != L0.layers) {
-            snprintf(nm, sizeof nm, "  layers = %d", d->layers);
-            rj__sw_put(W, nm);
-        }
-    }
-    rj__sw_put(W, "\n");
-    if (rj__sw_set(d->tip_mass, 0) || rj__sw_set(d->tip_inertia, 0)) {
-        rj__sw_key(W, "tip_mass");
-        rj__sw_num(W, d->tip_mass);
-        rj__sw_put(W, "  tip_inertia = ");
-        rj__sw_num(W, d->tip_inertia);
-        rj__sw_put(W, "\n");
-    }
-    if (d->root != L0.root) {
-        rj__sw_key(W, "root");
-        rj__sw_put(W, rj__sk_root[d->root]);
-        rj__sw_put(W, "\n");
-    }
-    if (d->fidelity != L0.fidelity) {
-        rj__sw_key(W, "fidelity");
-        rj__sw_put(W, rj__sk_fidelity[d->fidelity]);
-        rj__sw_put(W, "\n");
-    }
-    if (rj__sw_set(d->x, 0) || rj__sw_set(d->y, 0) || rj__sw_set(d->angle, 0)) {
-        rj__sw_key(W, "x");
-        rj__sw_num(W, d->x);
-        rj__sw_put(W, "  y = ");
-        rj__sw_num(W, d->y);
-        rj__sw_put(W, "  angle = ");
-        rj__sw_angle(W, d->angle, 0);
-        rj__sw_put(W, root_link ? "\n" : "   # unused: the link hangs from a joint\n");
-    }
-    if (rj__sw_set(d->vx, 0) || rj__sw_set(d->vy, 0) || rj__sw_set(d->omega, 0)) {
-        rj__sw_key(W, "vx");
-        rj__sw_num(W, d->vx);
-        rj__sw_put(W, "  vy = ");
-        rj__sw_num(W, d->vy);
-        rj__sw_put(W, "  omega = ");
-        rj__sw_angle(W, d->omega, 1);
-        rj__sw_put(W, "\n");
-    }
-}
-
-/* a joint's table, four points to a line (a line ending in ',' continues) */
-static void rj__sw_table(rj__sw *W, const rj_joint_def *d)
-{
-    int k;
-    if (d->table_count <= 0)
-        return;
-    rj__sw_key(W, "table");
-    for (k = 0; k < d->table_count; k++) {
-        if (k)
-            rj__sw_put(W, k % 4 == 0 ? ",\n    " : ", ");
-        rj__sw_angle(W, d->table_angle[k], 0);
-        rj__sw_put(W, " ");
-        rj__sw_num(W, d->table_torque[k]);
-    }
-    rj__sw_put(W, "\n");
-}
-
-/* the keys after a joint's bodies */
-static void rj__sw_joint_rest(rj__sw *W, const rj_joint_def *d)
-{
-    rj_joint_def J0 = rj_default_joint_def();
-    rj__sw_key(W, "angle0");
-    rj__sw_angle(W, d->angle0, 0);
-    if (rj__sw_set(d->rate0, 0)) {
-        rj__sw_put(W, "  rate0 = ");
-        rj__sw_angle(W, d->rate0, 1);
-    }
-    rj__sw_put(W, "\n");
-    rj__sw_table(W, d);
-    if (rj__sw_set(d->spring_k, J0.spring_k) ||
-        rj__sw_set(d->spring_free_angle, J0.spring_free_angle)) {
-        rj__sw_key(W, "spring");
-        rj__sw_num(W, d->spring_k);
-        rj__sw_put(W, " ");
-        rj__sw_angle(W, d->spring_free_angle, 0);
-        rj__sw_put(W, "\n");
-    }
-    if (d->has_forward) {
-        rj__sw_key(W, "forward");
-        rj__sw_angle(W, d->forward, 0);
-        rj__sw_put(W, "\n");
-    }
-    if (d->has_reverse) {
-        rj__sw_key(W, "reverse");
-        rj__sw_angle(W, d->reverse, 0);
-        rj__sw_put(W, "\n");
-    }
-    if (d->lock) {
-        rj__sw_key(W, "lock");
-        rj__sw_put(W, "yes\n");
-    }
-    rj__sw_key(W, "method");
-    rj__sw_put(W, rj__sk_method[d->method]);
-    if (d->release != J0.release) {
-        rj__sw_put(W, "  release = ");
-        rj__sw_put(W, rj__sk_release[d->release]);
-    }
-    if (d->reference != J0.reference) {
-        rj__sw_put(W, "  reference = ");
-        rj__sw_put(W, rj__sk_reference[d->reference]);
-    }
-    rj__sw_put(W, "\n");
-    if (rj__sw_set(d->penalty_k, 0)) {
-        rj__sw_key(W, "penalty_k");
-        rj__sw_num(W, d->penalty_k);
-        rj__sw_put(W, "\n");
-    }
-    if (rj__sw_set(d->restitution, 0)) {
-        rj__sw_key(W, "restitution");
-        rj__sw_num(W, d->restitution);
-        rj__sw_put(W, "\n");
-    }
-    if (rj__sw_set(d->damping, 0)) {
-        rj__sw_key(W, "damping");
-        rj__sw_num(W, d->damping);
-        rj__sw_put(W, "\n");
-    }
-    if (rj__sw_set(d->friction, 0)) {
-        rj__sw_key(W, "friction");
-        rj__sw_num(W, d->friction);
-        rj__sw_put(W, "\n");
-    }
-}
-
-/* a joint section: bodies, node1 when body1 is a link, ground_* when it is ground */
-static void rj__sw_joint(rj__sw *W, const rj_joint_def *d, const char *const *link_names)
-{
-    char nm[40];
-    rj__sw_key(W, "body1");
-    if (d->body1 < 0)
-        rj__sw_put(W, "ground");
-    else
-        rj__sw_name(W, link_names, "link", d->body1);
-    rj__sw_put(W, "  body2 = ");
-    rj__sw_name(W, link_names, "link", d->body2);
-    if (d->body1 >= 0 && d->node1 != -1) {
-        snprintf(nm, sizeof nm, "  node1 = %d", d->node1);
-        rj__sw_put(W, nm);
-    }
-    rj__sw_put(W, "\n");
-    if (d->body1 < 0 && (rj__sw_set(d->ground_x, 0) || rj__sw_set(d->ground_y, 0) ||
-                         rj__sw_set(d->ground_angle, 0))) {
-        rj__sw_key(W, "ground_x");
-        rj__sw_num(W, d->ground_x);
-        rj__sw_put(W, "  ground_y = ");
-        rj__sw_num(W, d->ground_y);
-        rj__sw_put(W, "  ground_angle = ");
-        rj__sw_angle(W, d->ground_angle, 0);
-        rj__sw_put(W, "\n");
-    }
-    rj__sw_joint_rest(W, d);
-}
-
-/* a load section's keys: the link always, the others when they differ from the
-   defaults (in their bits: -0.0 is written) */
-static void rj__sw_load(rj__sw *W, const rj_load_def *d, const char *const *link_names)
-{
-    char nm[40];
-    int k;
-    rj__sw_key(W, "link");
-    rj__sw_name(W, link_names, "link", d->link);
-    if (d->node != -1) {
-        snprintf(nm, sizeof nm, "  node = %d", d->node);
-        rj__sw_put(W, nm);
-    }
-    rj__sw_put(W, "\n");
-    if (rj__sw_set(d->force[0], 0) || rj__sw_set(d->force[1], 0)) {
-        rj__sw_key(W, "force");
-        rj__sw_num(W, d->force[0]);
-        rj__sw_put(W, " ");
-        rj__sw_num(W, d->force[1]);
-        rj__sw_put(W, "\n");
-    }
-    if (rj__sw_set(d->moment, 0)) {
-        rj__sw_key(W, "moment");
-        rj__sw_num(W, d->moment);
-        rj__sw_put(W, "\n");
-    }
-    if (d->follower)
-        rj__sw_put(W, "  follower = yes\n");
-    if (d->table_count <= 0)
-        return;
-    rj__sw_key(W, "table");
-    for (k = 0; k < d->table_count; k++) {
-        if (k)
-            rj__sw_put(W, k % 4 == 0 ? ",\n    " : ", ");
-        rj__sw_num(W, d->table_time[k]);
-        rj__sw_put(W, " ");
-        rj__sw_num(W, d->table_factor[k]);
-    }
-    rj__sw_put(W, "\n");
+    rj__sw_rows(W, RJ__DEF_SOLVER, s, &it);
 }
 
 /* whether a file can hold title: shorter than RJ_SCENE_TITLE_MAX, no '"', no control byte
@@ -11972,6 +11828,7 @@ RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_n
                                size_t size)
 {
     rj__sw W;
+    rj__sw_item item;
     int i, k;
     if (buf && size)
         buf[0] = 0;
@@ -11984,6 +11841,7 @@ RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_n
         return 0;
     if (!rj__sw_title_ok(title))
         return 0;
+    item.link_names = link_names;
     W.buf = buf;
     W.size = buf ? size : 0;
     W.n = 0;
@@ -11999,19 +11857,28 @@ RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_n
         rj__sw_put(&W, "link ");
         rj__sw_name(&W, link_names, "link", i);
         rj__sw_put(&W, "\n");
-        rj__sw_link(&W, &sc->links[i], root_link);
+        item.shape = sc->links[i].section;
+        item.on_ground = 0;
+        item.root_link = root_link;
+        rj__sw_rows(&W, RJ__DEF_LINK, &sc->links[i], &item);
     }
     for (i = 0; i < sc->joint_count; i++) {
         rj__sw_put(&W, "joint ");
         rj__sw_name(&W, joint_names, "joint", i);
         rj__sw_put(&W, "\n");
-        rj__sw_joint(&W, &sc->joints[i], link_names);
+        item.shape = -1;
+        item.on_ground = sc->joints[i].body1 < 0;
+        item.root_link = 1;
+        rj__sw_rows(&W, RJ__DEF_JOINT, &sc->joints[i], &item);
     }
     for (i = 0; i < sc->load_count; i++) {
         rj__sw_put(&W, "load ");
         rj__sw_name(&W, NULL, "load", i);
         rj__sw_put(&W, "\n");
-        rj__sw_load(&W, &sc->loads[i], link_names);
+        item.shape = -1;
+        item.on_ground = 0;
+        item.root_link = 1;
+        rj__sw_rows(&W, RJ__DEF_LOAD, &sc->loads[i], &item);
     }
     return W.n;
 }
