@@ -5,7 +5,7 @@
 # text claims is checked against what the runs wrote.
 B=${1:-build}
 R=$(pwd)
-W=$R/$B/tutorial_run
+case "$B" in /*) W=$B/tutorial_run ;; *) W=$R/$B/tutorial_run ;; esac
 rm -rf "$W" && mkdir -p "$W/build" "$W/mine" || exit 1
 cp revjoint.h "$W/" && cp "$B/rj" "$W/build/" || { echo "FAIL tutorial: cannot set up $W"; exit 0; }
 printf 'all:\n\t@true\n' > "$W/Makefile"   # `make` is the reader's build; rj is built already
