@@ -1756,27 +1756,37 @@ static int rj__check_num(rj_error *err, const char *field, double v, double lo, 
     return 1;
 }
 
+/* Whether v is finite and in row r's range. */
+static int rj__row_in_range(const rj__field *r, double v)
+{
+    return rj__finite(v) && (r->lo_in ? v >= r->lo : v > r->lo) &&
+           (r->hi_in ? v <= r->hi : v < r->hi);
+}
+
 /* Row r of def, item (a prefix such as "links[3]", "solver"): its value in the row's
-   range, or the row's sentence. Rows of links, nodes and tables are checked by their
+   range, or the row's sentence (the field's name is written only then: validation is
+   linear in the scene, and cheap). Rows of links, nodes and tables are checked by their
    concepts' code. */
 static int rj__check_row(rj_error *err, const char *item, const rj__field *r, const void *def)
 {
     char f[64];
-    int v;
-    snprintf(f, sizeof f, "%s.%s", item, r->member ? r->member : r->key);
+    int c, v;
     switch (r->type) {
     case RJ__FT_REAL:
     case RJ__FT_ANGLE:
     case RJ__FT_RATE:
     case RJ__FT_LIMIT:
-        return rj__check_num(err, f, rj__row_real(def, r, 0), r->lo, r->lo_in, r->hi, r->hi_in,
-                             r->rule);
     case RJ__FT_VEC2:
-        for (v = 0; v < 2; v++) {
-            snprintf(f, sizeof f, "%s.%s[%d]", item, r->member, v);
-            if (!rj__check_num(err, f, rj__row_real(def, r, v), r->lo, r->lo_in, r->hi,
-                               r->hi_in, r->rule))
-                return 0;
+        for (c = 0; c < (r->type == RJ__FT_VEC2 ? 2 : 1); c++) {
+            const double x = rj__row_real(def, r, c);
+            if (rj__row_in_range(r, x))
+                continue;
+            if (r->type == RJ__FT_VEC2)
+                snprintf(f, sizeof f, "%s.%s[%d]", item, r->member, c);
+            else
+                snprintf(f, sizeof f, "%s.%s", item, r->member);
+            rj__fail(err, RJ_ERR_INVALID, f, x, "%s = %g is invalid: %s", f, x, r->rule);
+            return 0;
         }
         return 1;
     case RJ__FT_INT:
@@ -1785,6 +1795,7 @@ static int rj__check_row(rj_error *err, const char *item, const rj__field *r, co
         v = rj__row_int(def, r);
         if (v >= r->lo && v <= r->hi)
             return 1;
+        snprintf(f, sizeof f, "%s.%s", item, r->member);
         rj__fail(err, RJ_ERR_INVALID, f, v, "%s = %d is invalid: %s", f, v, r->rule);
         return 0;
     default:
