@@ -1919,17 +1919,12 @@ static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_
         const rj_scene_pos *jp = &f->joint_pos_[(size_t) idx * (1 + RJ__JK_N)];
         int key = -1;
         *pos = jp[0];
-        for (k = 0; k < RJ__JK_N; k++)
-            if (strcmp(name, rj__joint_fields[k].key) == 0)
-                key = k;
+        /* the key of the member's row, or of the key it is a part of */
+        for (k = 0; k < RJ__JF_N; k++)
+            if (strcmp(name, rj__joint_fields[k].member) == 0)
+                key = rj__joint_fields[k].part_of >= 0 ? rj__joint_fields[k].part_of : k;
         if (strncmp(name, "table_", 6) == 0)
             key = RJ__JK_TABLE;
-        if (strncmp(name, "spring_", 7) == 0)
-            key = RJ__JK_SPRING;
-        if (strcmp(name, "has_forward") == 0)
-            key = RJ__JK_FORWARD;
-        if (strcmp(name, "has_reverse") == 0)
-            key = RJ__JK_REVERSE;
         if (key == RJ__JK_PENALTY_K && !jp[1 + key].line)
             key = RJ__JK_METHOD;
         if (key == RJ__JK_FORWARD && !jp[1 + key].line)
