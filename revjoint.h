@@ -188,6 +188,7 @@ typedef enum rj_torque {
     RJ_TORQUE_DAMPING,
     RJ_TORQUE_FRICTION,
     RJ_TORQUE_LIMIT,
+    RJ_TORQUE_DRIVE, /* the joint's actuator (rj_actuator_def) */
     RJ_TORQUE_TOTAL,
     RJ_TORQUE_COUNT
 } rj_torque;
@@ -313,6 +314,46 @@ typedef struct rj_load_def {
     unsigned cookie;
 } rj_load_def;
 
+/* Actuator definition: a motor on one joint, acting on body 2 (body 1 takes the
+   reaction), in every link model. A joint has at most one. Defaults
+   (rj_default_actuator_def): joint 0, type RJ_ACTUATOR_TORQUE, torque 0 N m, no table;
+   stall_torque 0 N m, no_load_speed 1 rad/s, no cutoff; kp 0 N m/rad, kd 0 N m s/rad,
+   torque_max 0 N m (no bound), target pi rad.
+   RJ_ACTUATOR_TORQUE: torque times the table's factor at t (time factor pairs, as a
+     load's: linear between the points, held at the end values; none: 1).
+   RJ_ACTUATOR_DC: a DC motor's line, stall_torque (1 - rate / no_load_speed) for the
+     joint's rate, within +-|stall_torque|; both of one sign, the direction it drives.
+     With a cutoff (an angle in [0, 2 pi), as a limit's) it is off while the joint's angle
+     is at or past the cutoff's first crossing in that direction from angle0: an
+     end-of-travel switch.
+   RJ_ACTUATOR_SERVO: kp (target - theta_run) - kd rate, within +-torque_max when it is
+     > 0; target on the running angle (as spring_free_angle).
+   The rate is the one joint damping reads (Eq 27), so kd and a DC motor's slope
+   stall_torque / no_load_speed are dampers and kp a spring to the stability bound. The
+   torque is RJ_TORQUE_DRIVE; its work is rj_energy.work_drive. */
+typedef enum rj_actuator_type {
+    RJ_ACTUATOR_TORQUE = 0,
+    RJ_ACTUATOR_DC,
+    RJ_ACTUATOR_SERVO
+} rj_actuator_type;
+typedef struct rj_actuator_def {
+    int joint;                         /* joint index */
+    int type;                          /* rj_actuator_type */
+    double torque;                     /* N m (TORQUE) */
+    int table_count;                   /* 0 (constant), or 1..RJ_TABLE_MAX points (TORQUE) */
+    double table_time[RJ_TABLE_MAX];   /* s, strictly increasing */
+    double table_factor[RJ_TABLE_MAX]; /* the torque's scale at table_time */
+    double stall_torque;               /* N m (DC) */
+    double no_load_speed;              /* rad/s, not 0, the sign of stall_torque (DC) */
+    int has_cutoff;                    /* the cutoff is on (DC) */
+    double cutoff;                     /* rad, in [0, 2 pi) (DC) */
+    double kp;                         /* N m/rad, >= 0 (SERVO) */
+    double kd;                         /* N m s/rad, >= 0 (SERVO) */
+    double torque_max;                 /* N m, >= 0, 0: no bound (SERVO) */
+    double target;                     /* rad, on the running angle (SERVO) */
+    unsigned cookie;
+} rj_actuator_def;
+
 /* A whole scene. The arrays are read during rj_model_create only. loads (load_count of
    them) may be NULL when load_count is 0. */
 typedef struct rj_scene_def {
@@ -323,6 +364,8 @@ typedef struct rj_scene_def {
     rj_solver_def solver;
     const rj_load_def *loads;
     int load_count;
+    const rj_actuator_def *actuators; /* may be NULL when actuator_count is 0 */
+    int actuator_count;
 } rj_scene_def;
 
 /* Energy accounts, J. total = kinetic + strain + spring; balance = total + lost - initial. */
@@ -330,6 +373,7 @@ typedef struct rj_energy {
     double kinetic, strain, spring; /* spring: torsion springs and tables */
     double gravity;                 /* the potential of gravity, -sum m g . x */
     double work_applied; /* J done on the model by the applied loads and caller's inputs so far */
+    double work_drive;   /* J done on the model by the joints' actuators so far */
     double lost_damping, lost_friction, lost_limit;
     double total, balance;
 } rj_energy;
@@ -343,6 +387,11 @@ RJDEF double rj_energy_account(const rj_energy *e, int k);
 
 typedef struct rj_model rj_model;
 typedef struct rj_state rj_state;
+/* Whether account k can move in model m (W_drive needs actuators): rj run writes only
+   those. */
+RJDEF int rj_energy_account_in(const rj_model *m, int k);
+/* The model's actuators (rj_scene_def.actuator_count). */
+RJDEF int rj_model_actuator_count(const rj_model *m);
 
 /* Degree/radian helpers. */
 RJDEF double rj_rad(double deg);
@@ -353,6 +402,7 @@ RJDEF rj_link_def rj_default_link_def(void);
 RJDEF rj_joint_def rj_default_joint_def(void);
 RJDEF rj_solver_def rj_default_solver_def(void);
 RJDEF rj_load_def rj_default_load_def(void);
+RJDEF rj_actuator_def rj_default_actuator_def(void);
 RJDEF rj_scene_def rj_default_scene_def(void);
 /* Result code as text. */
 RJDEF const char *rj_result_str(rj_result r);
@@ -542,6 +592,7 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2); /* E
 #define RJ_SCENE_MAX_LINKS     256
 #define RJ_SCENE_MAX_JOINTS    256
 #define RJ_SCENE_MAX_LOADS     256
+#define RJ_SCENE_MAX_ACTUATORS 256
 #define RJ_SCENE_MAX_MATERIALS 64
 #define RJ_SCENE_MAX_SECTIONS  64
 #define RJ_SCENE_MAX_LINE      1024 /* characters per line, line end excluded */
@@ -577,6 +628,10 @@ typedef struct rj_scene_file {
     int load_count;
     char (*load_names)[RJ_SCENE_NAME_MAX];
     rj_scene_pos *load_pos_;
+    rj_actuator_def *actuators;
+    int actuator_count;
+    char (*actuator_names)[RJ_SCENE_NAME_MAX];
+    rj_scene_pos *actuator_pos_;
 } rj_scene_file;
 
 /* Parses len bytes of text (need not be NUL-terminated) named filename in messages
@@ -739,6 +794,7 @@ typedef long long rj__vl4 __attribute__((vector_size(32)));
 #define RJ__COOKIE_JOINT  0x524a4a54u
 #define RJ__COOKIE_SOLVER 0x524a534fu
 #define RJ__COOKIE_LOAD   0x524a4c44u
+#define RJ__COOKIE_ACTUATOR 0x524a4143u
 #define RJ__ALIGN         16
 /* Margin on 2/omega_max: covers the Lanczos estimate (a lower bound of omega_max) and the
    geometric stiffness the linearisation leaves out. */
@@ -775,6 +831,9 @@ typedef struct rj__joint {
     double k_free;   /* k_lin without the limits (springs and tables), N m/rad */
     double fwd, rev; /* running (unwrapped) limits, rad; +-inf when disabled */
     double tv_turn;  /* table potential of a full turn, J */
+    double c_lin;    /* linear damping for the stability bound (damper, actuator), N m s/rad */
+    const rj_actuator_def *act; /* its actuator, or NULL */
+    double cut;      /* a DC motor's cutoff on the running angle; +-inf: none */
 } rj__joint;
 
 /* An angle no joint reaches (within the 1e100 a checkpoint carries): the empty zone of the
@@ -815,6 +874,7 @@ enum {
     RJ__FS_PEND,
     RJ__FS_GRAV, /* the potential of gravity at x^n */
     RJ__FS_WORK, /* the work of the caller's inputs since the start */
+    RJ__FS_DRIVE, /* the work of the actuators since the start */
     RJ__FS_COUNT
 };
 
@@ -825,6 +885,8 @@ struct rj_model {
     int rigid;         /* all links rigid: joint coordinates */
     int has_gravity;   /* solver.gravity is not zero */
     int nload;         /* applied loads (scene loads) */
+    int nact;          /* actuators */
+    rj_actuator_def *act; /* (nact) their definitions */
     rj_load_def *load; /* (nload) their definitions */
     int *load_node;    /* (nload) the node each acts on, in the scene's node order */
     double *rb_mass, *rb_icm,
@@ -1070,22 +1132,26 @@ RJDEF const char *rj_result_str(rj_result r)
    step accumulates each account where its physics is (rj__sums). An account is a row
    here, a frame scalar (RJ__FS_*), a field of rj_energy and its physics. */
 enum rj__account_kind { RJ__ACC_ENERGY = 0, RJ__ACC_LOSS, RJ__ACC_WORK };
+/* What a model needs for an account to move: nothing (every model), actuators. */
+enum rj__account_need { RJ__NEED_NONE = 0, RJ__NEED_ACTUATORS };
 typedef struct rj__account {
     char column[12]; /* rj run's column name */
     int slot;        /* RJ__FS_* */
     int kind;        /* rj__account_kind */
     size_t field;    /* offsetof(rj_energy, ...) */
+    int need;        /* rj__account_need */
 } rj__account;
-#define RJ__ACCOUNT_COUNT 8
+#define RJ__ACCOUNT_COUNT 9
 static const rj__account rj__accounts[RJ__ACCOUNT_COUNT] = {
-    { "E_kin", RJ__FS_KE, RJ__ACC_ENERGY, offsetof(rj_energy, kinetic) },
-    { "E_strain", RJ__FS_STRAIN, RJ__ACC_ENERGY, offsetof(rj_energy, strain) },
-    { "E_spring", RJ__FS_SPRING, RJ__ACC_ENERGY, offsetof(rj_energy, spring) },
-    { "E_gravity", RJ__FS_GRAV, RJ__ACC_ENERGY, offsetof(rj_energy, gravity) },
-    { "W_applied", RJ__FS_WORK, RJ__ACC_WORK, offsetof(rj_energy, work_applied) },
-    { "W_damping", RJ__FS_LDAMP, RJ__ACC_LOSS, offsetof(rj_energy, lost_damping) },
-    { "W_friction", RJ__FS_LFRIC, RJ__ACC_LOSS, offsetof(rj_energy, lost_friction) },
-    { "W_limit", RJ__FS_LLIM, RJ__ACC_LOSS, offsetof(rj_energy, lost_limit) },
+    { "E_kin", RJ__FS_KE, RJ__ACC_ENERGY, offsetof(rj_energy, kinetic), RJ__NEED_NONE },
+    { "E_strain", RJ__FS_STRAIN, RJ__ACC_ENERGY, offsetof(rj_energy, strain), RJ__NEED_NONE },
+    { "E_spring", RJ__FS_SPRING, RJ__ACC_ENERGY, offsetof(rj_energy, spring), RJ__NEED_NONE },
+    { "E_gravity", RJ__FS_GRAV, RJ__ACC_ENERGY, offsetof(rj_energy, gravity), RJ__NEED_NONE },
+    { "W_applied", RJ__FS_WORK, RJ__ACC_WORK, offsetof(rj_energy, work_applied), RJ__NEED_NONE },
+    { "W_drive", RJ__FS_DRIVE, RJ__ACC_WORK, offsetof(rj_energy, work_drive), RJ__NEED_ACTUATORS },
+    { "W_damping", RJ__FS_LDAMP, RJ__ACC_LOSS, offsetof(rj_energy, lost_damping), RJ__NEED_NONE },
+    { "W_friction", RJ__FS_LFRIC, RJ__ACC_LOSS, offsetof(rj_energy, lost_friction), RJ__NEED_NONE },
+    { "W_limit", RJ__FS_LLIM, RJ__ACC_LOSS, offsetof(rj_energy, lost_limit), RJ__NEED_NONE },
 };
 
 RJDEF int rj_energy_account_count(void)
@@ -1097,6 +1163,17 @@ RJDEF const char *rj_energy_account_name(int k)
 {
     RJ_ASSERT(k >= 0 && k < RJ__ACCOUNT_COUNT);
     return rj__accounts[k].column;
+}
+
+RJDEF int rj_energy_account_in(const rj_model *m, int k)
+{
+    RJ_ASSERT(m && k >= 0 && k < RJ__ACCOUNT_COUNT);
+    return rj__accounts[k].need != RJ__NEED_ACTUATORS || m->nact > 0;
+}
+
+RJDEF int rj_model_actuator_count(const rj_model *m)
+{
+    return m->nact;
 }
 
 RJDEF double rj_energy_account(const rj_energy *e, int k)
@@ -1139,8 +1216,8 @@ static void rj__accounts_zero(double *scalars)
             scalars[rj__accounts[k].slot] = 0;
 }
 /* ------------------------------------------------------------------ definition fields */
-/* Every member of a definition (rj_link_def, rj_joint_def, rj_solver_def, rj_load_def) is
-   one row of its kind's table below: its scene key, unit, kind of value, default, range
+/* Every member of a definition (rj_link_def, rj_joint_def, rj_solver_def, rj_load_def,
+   rj_actuator_def) is one row of its kind's table below: its scene key, unit, kind of value, default, range
    with the one sentence that states it, when it applies, how the writer puts it in a
    scene file, and where it enters the model's hash. The defaults (rj_default_*_def),
    validation (rj__validate), the scene parser, the scene writer and the model hash read
@@ -1218,6 +1295,22 @@ enum {
     RJ__AF_N = RJ__AK_N
 };
 enum {
+    RJ__CK_JOINT,
+    RJ__CK_TYPE,
+    RJ__CK_TORQUE,
+    RJ__CK_TABLE,
+    RJ__CK_STALL_TORQUE,
+    RJ__CK_NO_LOAD_SPEED,
+    RJ__CK_CUTOFF,
+    RJ__CK_KP,
+    RJ__CK_KD,
+    RJ__CK_TORQUE_MAX,
+    RJ__CK_TARGET,
+    RJ__CK_N,
+    RJ__CF_HAS_CUTOFF = RJ__CK_N,
+    RJ__CF_N
+};
+enum {
     RJ__VK_DT,
     RJ__VK_ALLOW_UNSTABLE,
     RJ__VK_ENERGY_GROWTH,
@@ -1238,6 +1331,7 @@ enum {
     RJ__FT_BOOL,  /* an int 0 or 1: no / yes in files */
     RJ__FT_VEC2,  /* two numbers (x, y), each in the range */
     RJ__FT_LINK,  /* an int: a link of the scene (a joint's body1 may be -1, ground) */
+    RJ__FT_JOINT, /* an int: a joint of the scene */
     RJ__FT_NODE,  /* an int: a node of a link, -1 its last ("last" in files) */
     RJ__FT_TABLE, /* an int count, then two arrays of RJ_TABLE_MAX doubles from aux */
     RJ__FT_LIMIT, /* an angle in [lo, hi), on when the int at aux is 1 ("none" when off) */
@@ -1245,12 +1339,16 @@ enum {
     RJ__FT_N
 };
 
-/* When a row is checked and written: always, or only for one section shape; GROUND and
-   ON_LINK rows are checked always and written only for a joint on ground or on a link. */
+/* When a row is checked and written: always, or only for one variant of its item (a
+   link's section shape, an actuator's type); GROUND and ON_LINK rows are checked always
+   and written only for a joint on ground or on a link. */
 enum {
     RJ__WHEN_ALL,
     RJ__WHEN_RECT,
     RJ__WHEN_GENERAL,
+    RJ__WHEN_TORQUE,
+    RJ__WHEN_DC,
+    RJ__WHEN_SERVO,
     RJ__WHEN_GROUND,
     RJ__WHEN_ON_LINK,
     RJ__WHEN_PLACE /* a link's placement: with a note when a joint places the link */
@@ -1299,6 +1397,7 @@ static const char rj__sk_method[5][9] = { "penalty", "adaptive", "momentum", "fo
 static const char rj__sk_release[2][5] = { "rc12", "rc13" };
 static const char rj__sk_reference[2][8] = { "tangent", "chord" };
 static const char rj__sk_shape[2][8] = { "rect", "general" };
+static const char rj__sk_actuator[3][7] = { "torque", "dc", "servo" };
 
 #define RJ__NAMES(a) a[0], (unsigned char) sizeof a[0], (unsigned char) (sizeof a / sizeof a[0])
 #define RJ__NO_NAMES NULL, 0, 0
@@ -1476,9 +1575,52 @@ static const rj__field rj__load_fields[RJ__AF_N] = {
 };
 #undef RJ__DEF
 
+/* A row of an actuator's member m that applies to one type (when). */
+#define RJ__FC(key, m, unit, type, when, wr, line, hat, def, range, rule)                     \
+    {                                                                                         \
+        key, #m, unit, RJ__OFF(RJ__DEF, m), -1, type, when, wr, line, hat, 'd', -1, def,      \
+            range, rule, RJ__NO_NAMES                                                         \
+    }
+
+#define RJ__DEF rj_actuator_def
+static const rj__field rj__actuator_fields[RJ__CF_N] = {
+    RJ__F("joint", joint, "", RJ__FT_JOINT, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 0, 'i', 0.0,
+          RJ__ANY, ""),
+    RJ__FE("type", type, rj__sk_actuator, RJ__WR_ALWAYS, 1, 1, 'i', RJ_ACTUATOR_TORQUE,
+           "RJ_ACTUATOR_TORQUE, RJ_ACTUATOR_DC or RJ_ACTUATOR_SERVO"),
+    RJ__FC("torque", torque, "N m", RJ__FT_REAL, RJ__WHEN_TORQUE, RJ__WR_ALWAYS, 2, 2, 0.0,
+           RJ__R(-1e30, 1, 1e30, 1), "must be a finite torque within +-1e30 N m"),
+    /* time factor pairs, as a load's */
+    { "table", "table_count", "", RJ__OFF(rj_actuator_def, table_count),
+      RJ__OFF(rj_actuator_def, table_time), RJ__FT_TABLE, RJ__WHEN_TORQUE, RJ__WR_SET, 3, 3,
+      'i', -1, 0.0, RJ__R(1.0, 1, RJ_TABLE_MAX, 1), "", NULL, 0, 0 },
+    RJ__FC("stall_torque", stall_torque, "N m", RJ__FT_REAL, RJ__WHEN_DC, RJ__WR_ALWAYS, 4, 4,
+           0.0, RJ__R(-1e30, 1, 1e30, 1), "must be a finite torque within +-1e30 N m"),
+    RJ__FC("no_load_speed", no_load_speed, "rad/s", RJ__FT_RATE, RJ__WHEN_DC, RJ__WR_ALWAYS, 4,
+           5, 1.0, RJ__R(-1e6, 1, 1e6, 1),
+           "must be a rate within +-1e6 rad/s, not 0, of the stall torque's sign"),
+    { "cutoff", "cutoff", "rad", RJ__OFF(rj_actuator_def, cutoff),
+      RJ__OFF(rj_actuator_def, has_cutoff), RJ__FT_LIMIT, RJ__WHEN_DC, RJ__WR_SET, 5, 7, 'd', -1,
+      0.0, RJ__R(0.0, 1, RJ__TWO_PI, 0), "a cutoff must be in [0, 2 pi) rad, [0, 360) deg", NULL,
+      0, 0 },
+    RJ__FC("kp", kp, "N m/rad", RJ__FT_REAL, RJ__WHEN_SERVO, RJ__WR_ALWAYS, 6, 8, 0.0,
+           RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m/rad"),
+    RJ__FC("kd", kd, "N m s/rad", RJ__FT_REAL, RJ__WHEN_SERVO, RJ__WR_ALWAYS, 6, 9, 0.0,
+           RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m s/rad"),
+    RJ__FC("torque_max", torque_max, "N m", RJ__FT_REAL, RJ__WHEN_SERVO, RJ__WR_SET, 7, 10, 0.0,
+           RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m (0: no bound)"),
+    RJ__FC("target", target, "rad", RJ__FT_ANGLE, RJ__WHEN_SERVO, RJ__WR_ALWAYS, 8, 11, RJ__PI,
+           RJ__R(-1e6, 1, 1e6, 1), RJ__RULE_ANGLE),
+    /* the cutoff's on/off */
+    { "has_cutoff", "has_cutoff", "", RJ__OFF(rj_actuator_def, has_cutoff), -1, RJ__FT_BOOL,
+      RJ__WHEN_DC, RJ__WR_NONE, 5, 6, 'i', RJ__CK_CUTOFF, 0.0, RJ__R(0.0, 1, 1.0, 1),
+      RJ__RULE_BOOL, NULL, 0, 0 },
+};
+#undef RJ__DEF
+
 /* ------------------------------------------------------------------ reading rows */
 /* The definition kinds, and each one's table. */
-enum { RJ__DEF_LINK, RJ__DEF_JOINT, RJ__DEF_SOLVER, RJ__DEF_LOAD };
+enum { RJ__DEF_LINK, RJ__DEF_JOINT, RJ__DEF_SOLVER, RJ__DEF_LOAD, RJ__DEF_ACTUATOR };
 
 static const rj__field *rj__fields(int kind, int *count)
 {
@@ -1492,9 +1634,29 @@ static const rj__field *rj__fields(int kind, int *count)
     case RJ__DEF_SOLVER:
         *count = RJ__VF_N;
         return rj__solver_fields;
-    default:
+    case RJ__DEF_LOAD:
         *count = RJ__AF_N;
         return rj__load_fields;
+    default:
+        *count = RJ__CF_N;
+        return rj__actuator_fields;
+    }
+}
+
+/* How many of kind's rows are scene keys (the first ones). */
+static int rj__key_count(int kind)
+{
+    switch (kind) {
+    case RJ__DEF_LINK:
+        return RJ__LK_N;
+    case RJ__DEF_JOINT:
+        return RJ__JK_N;
+    case RJ__DEF_SOLVER:
+        return RJ__VK_N;
+    case RJ__DEF_LOAD:
+        return RJ__AK_N;
+    default:
+        return RJ__CK_N;
     }
 }
 
@@ -1552,15 +1714,22 @@ static void rj__rows_default(void *def, size_t size, int kind)
     }
 }
 
-/* Whether row r applies to a link of section shape (-1: not a link) and is checked
-   (write 0) or written (write 1) for a joint on ground (or not). */
-static int rj__row_applies(const rj__field *r, int shape, int on_ground, int write)
+/* Whether row r applies to an item of variant (a link's section shape, an actuator's
+   type; -1 for other kinds) and is checked (write 0) or written (write 1) for a joint on
+   ground (or not). */
+static int rj__row_applies(const rj__field *r, int variant, int on_ground, int write)
 {
     switch (r->when) {
     case RJ__WHEN_RECT:
-        return shape == RJ_SECTION_RECT;
+        return variant == RJ_SECTION_RECT;
     case RJ__WHEN_GENERAL:
-        return shape == RJ_SECTION_GENERAL;
+        return variant == RJ_SECTION_GENERAL;
+    case RJ__WHEN_TORQUE:
+        return variant == RJ_ACTUATOR_TORQUE;
+    case RJ__WHEN_DC:
+        return variant == RJ_ACTUATOR_DC;
+    case RJ__WHEN_SERVO:
+        return variant == RJ_ACTUATOR_SERVO;
     case RJ__WHEN_GROUND:
         return !write || on_ground;
     case RJ__WHEN_ON_LINK:
@@ -1608,6 +1777,13 @@ RJDEF rj_scene_def rj_default_scene_def(void)
     d.joints = NULL;
     d.joint_count = 0;
     d.solver = rj_default_solver_def();
+    return d;
+}
+RJDEF rj_actuator_def rj_default_actuator_def(void)
+{
+    rj_actuator_def d;
+    rj__rows_default(&d, sizeof d, RJ__DEF_ACTUATOR);
+    d.cookie = RJ__COOKIE_ACTUATOR;
     return d;
 }
 /* ------------------------------------------------------------------ pure element equations */
@@ -1736,6 +1912,26 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2)
     *w2 = w;
 }
 
+
+/* A factor in time from a table of count points (times strictly increasing): linear
+   between the points, held at the end values outside them; 1 without a table (a load's,
+   an actuator's). */
+static double rj__time_factor(int count, const double *time, const double *factor, double t)
+{
+    const int last = count - 1;
+    int k;
+    if (count == 0)
+        return 1.0;
+    if (!(t > time[0]))
+        return factor[0];
+    for (k = 1; k <= last; k++)
+        if (t < time[k]) {
+            const double t0 = time[k - 1], t1 = time[k];
+            const double f0 = factor[k - 1], f1 = factor[k];
+            return f0 + (f1 - f0) * ((t - t0) / (t1 - t0));
+        }
+    return factor[last];
+}
 /* ------------------------------------------------------------------ validation */
 #define RJ__FIELD(buf, fmt, i) snprintf(buf, sizeof buf, fmt, i)
 
@@ -1853,34 +2049,36 @@ static int rj__check_cookie(rj_error *err, const char *field_format, int i, unsi
     return 0;
 }
 
-/* A load's time table: 1..RJ_TABLE_MAX points, times finite and strictly increasing,
-   within +-1e9 s, factors within +-1e6. */
-static int rj__validate_load_table(const rj_load_def *d, int i, rj_error *err)
+/* A table in time (a load's, an actuator's) of item (prefix "loads[2]"): 0 (constant) or
+   1..RJ_TABLE_MAX points, times finite and strictly increasing, within +-1e9 s, factors
+   within +-1e6. */
+static int rj__validate_time_table(rj_error *err, const char *item, int count,
+                                   const double *time, const double *factor)
 {
     char f[64];
     int k;
-    if (d->table_count < 0 || d->table_count > RJ_TABLE_MAX) {
-        RJ__FIELD(f, "loads[%d].table_count", i);
-        rj__fail(err, RJ_ERR_INVALID, f, d->table_count,
-                 "%s = %d is invalid: must be 0 (constant) or 1..%d points", f, d->table_count,
+    if (count < 0 || count > RJ_TABLE_MAX) {
+        snprintf(f, sizeof f, "%s.table_count", item);
+        rj__fail(err, RJ_ERR_INVALID, f, count,
+                 "%s = %d is invalid: must be 0 (constant) or 1..%d points", f, count,
                  RJ_TABLE_MAX);
         return 0;
     }
-    for (k = 0; k < d->table_count; k++) {
-        snprintf(f, sizeof f, "loads[%d].table_time[%d]", i, k);
-        if (!rj__check_num(err, f, d->table_time[k], -1e9, 1, 1e9, 1,
+    for (k = 0; k < count; k++) {
+        snprintf(f, sizeof f, "%s.table_time[%d]", item, k);
+        if (!rj__check_num(err, f, time[k], -1e9, 1, 1e9, 1,
                            "must be a finite time within +-1e9 s (further than any run "
                            "reaches, where a step no longer resolves the table)"))
             return 0;
-        if (k > 0 && !(d->table_time[k] > d->table_time[k - 1])) {
-            rj__fail(err, RJ_ERR_INVALID, f, d->table_time[k],
+        if (k > 0 && !(time[k] > time[k - 1])) {
+            rj__fail(err, RJ_ERR_INVALID, f, time[k],
                      "%s = %g is invalid: the table's times must increase strictly (the point "
                      "before is at %g s)",
-                     f, d->table_time[k], d->table_time[k - 1]);
+                     f, time[k], time[k - 1]);
             return 0;
         }
-        snprintf(f, sizeof f, "loads[%d].table_factor[%d]", i, k);
-        if (!rj__check_num(err, f, d->table_factor[k], -1e6, 1, 1e6, 1,
+        snprintf(f, sizeof f, "%s.table_factor[%d]", item, k);
+        if (!rj__check_num(err, f, factor[k], -1e6, 1, 1e6, 1,
                            "must be a finite factor within +-1e6"))
             return 0;
     }
@@ -1916,7 +2114,7 @@ static int rj__validate_loads(const rj_scene_def *sc, rj_error *err)
         RJ__FIELD(item, "loads[%d]", i);
         if (!rj__check_rows(err, item, RJ__DEF_LOAD, d, -1))
             return 0;
-        if (!rj__validate_load_table(d, i, err))
+        if (!rj__validate_time_table(err, item, d->table_count, d->table_time, d->table_factor))
             return 0;
     }
     return 1;
@@ -2113,6 +2311,70 @@ static int rj__validate_mixed(const rj_scene_def *sc, rj_error *err)
     return 1;
 }
 
+/* Actuator i's joint: one of the scene's, driven by no other actuator before it. */
+static int rj__validate_actuator_joint(const rj_scene_def *sc, int i, rj_error *err)
+{
+    const rj_actuator_def *d = &sc->actuators[i];
+    char f[64];
+    int k;
+    RJ__FIELD(f, "actuators[%d].joint", i);
+    if (d->joint < 0 || d->joint >= sc->joint_count) {
+        rj__fail(err, RJ_ERR_INVALID, f, d->joint, "%s = %d is invalid: the scene has joints 0..%d",
+                 f, d->joint, sc->joint_count - 1);
+        return 0;
+    }
+    for (k = 0; k < i; k++)
+        if (sc->actuators[k].joint == d->joint) {
+            rj__fail(err, RJ_ERR_INVALID, f, d->joint,
+                     "%s = %d is invalid: actuators[%d] drives joint %d already (a joint has "
+                     "at most one actuator)",
+                     f, d->joint, k, d->joint);
+            return 0;
+        }
+    return 1;
+}
+
+/* A DC motor's no-load speed: not 0, and of its stall torque's sign (the direction it
+   drives). */
+static int rj__validate_dc(const rj_actuator_def *d, int i, rj_error *err)
+{
+    const rj__field *r = &rj__actuator_fields[RJ__CK_NO_LOAD_SPEED];
+    char f[64];
+    if (d->type != RJ_ACTUATOR_DC)
+        return 1;
+    if (d->no_load_speed != 0 && !(d->stall_torque * d->no_load_speed < 0))
+        return 1;
+    RJ__FIELD(f, "actuators[%d].no_load_speed", i);
+    rj__fail(err, RJ_ERR_INVALID, f, d->no_load_speed, "%s = %g is invalid: %s (%g N m)", f,
+             d->no_load_speed, r->rule, d->stall_torque);
+    return 0;
+}
+
+/* Actuators: a joint each, the rows of their type, a table in time. */
+static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
+{
+    char item[32];
+    int i;
+    if (!rj__check_array(err, "actuator", sc->actuator_count, 0, sc->actuators))
+        return 0;
+    for (i = 0; i < sc->actuator_count; i++) {
+        const rj_actuator_def *d = &sc->actuators[i];
+        if (!rj__check_cookie(err, "actuators[%d]", i, d->cookie, RJ__COOKIE_ACTUATOR,
+                              "rj_default_actuator_def()"))
+            return 0;
+        RJ__FIELD(item, "actuators[%d]", i);
+        if (!rj__check_row(err, item, &rj__actuator_fields[RJ__CK_TYPE], d) ||
+            !rj__validate_actuator_joint(sc, i, err) ||
+            !rj__check_rows(err, item, RJ__DEF_ACTUATOR, d, d->type) ||
+            !rj__validate_dc(d, i, err))
+            return 0;
+        if (d->type == RJ_ACTUATOR_TORQUE &&
+            !rj__validate_time_table(err, item, d->table_count, d->table_time, d->table_factor))
+            return 0;
+    }
+    return 1;
+}
+
 static int rj__validate(const rj_scene_def *sc, rj_error *err)
 {
     int i, j;
@@ -2131,7 +2393,8 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
     for (j = 0; j < sc->joint_count; j++)
         if (!rj__validate_joint(sc, j, err))
             return 0;
-    return rj__validate_mixed(sc, err) && rj__validate_loads(sc, err);
+    return rj__validate_mixed(sc, err) && rj__validate_loads(sc, err) &&
+           rj__validate_actuators(sc, err);
 }
 
 /* Node and element totals, counted in size_t; 0 when they pass RJ__MAX_NODES. */
@@ -2343,7 +2606,7 @@ typedef struct rj__layout {
     size_t node_cl, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
     size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
-        link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, lz;
+        link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, lz;
 } rj__layout;
 
 /* The model's block: every array linear in the scene; rigid scenes (joint coordinates)
@@ -2405,6 +2668,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->beta0 = rj__carve(&off, (size_t) ne, sizeof(double));
     L->load = rj__carve(&off, (size_t) sc->load_count + 1, sizeof(rj_load_def));
     L->load_node = rj__carve(&off, (size_t) sc->load_count + 1, sizeof(int));
+    L->act = rj__carve(&off, (size_t) sc->actuator_count + 1, sizeof(rj_actuator_def));
     L->lz = rj__carve(&off,
                       15 * nn + 10 * ne + 8 + RJ__GRAPH_SCRATCH(nl, nj) +
                           (rigid ? rj__rigid_scratch(nj, nl) + (size_t) nj * nj : 0),
@@ -3790,9 +4054,9 @@ static double rj__damping_rate(const rj_model *m)
     int j;
     for (j = 0; j < m->nj; j++) {
         double rate;
-        if (!(m->jdef[j].damping > 0))
+        if (!(m->jnt[j].c_lin > 0))
             continue;
-        rate = m->jdef[j].damping * rj__joint_compliance0(m, j);
+        rate = m->jnt[j].c_lin * rj__joint_compliance0(m, j);
         if (rate > worst)
             worst = rate;
     }
@@ -3904,6 +4168,8 @@ static unsigned long long rj__model_hash(const rj_model *m)
     const rj__field *lo[64], *jo[64], *so[64], *ao[64];
     const int nlo = rj__hash_order(RJ__DEF_LINK, lo), njo = rj__hash_order(RJ__DEF_JOINT, jo);
     const int nso = rj__hash_order(RJ__DEF_SOLVER, so), nao = rj__hash_order(RJ__DEF_LOAD, ao);
+    const rj__field *co[64];
+    const int nco = rj__hash_order(RJ__DEF_ACTUATOR, co);
     int l, j, k;
     h = rj__fnv_i(h, m->nn);
     h = rj__fnv_i(h, m->ne);
@@ -3918,6 +4184,8 @@ static unsigned long long rj__model_hash(const rj_model *m)
     h = rj__fnv_def(h, so, nso, &m->solver);
     for (k = 0; k < m->nload; k++)
         h = rj__fnv_def(h, ao, nao, &m->load[k]);
+    for (k = 0; k < m->nact; k++)
+        h = rj__fnv_def(h, co, nco, &m->act[k]);
     return h;
 }
 
@@ -4281,7 +4549,7 @@ static int rj__joint_unusable(const rj_model *m, rj_error *err)
     char f[64];
     for (j = 0; j < m->nj; j++) {
         const double c = rj__joint_compliance0(m, j);
-        const double rate = sqrt(m->jnt[j].k_lin * c) + m->jdef[j].damping * c;
+        const double rate = sqrt(m->jnt[j].k_lin * c) + m->jnt[j].c_lin * c;
         if (rate > fastest) {
             fastest = rate;
             worst = j;
@@ -4515,6 +4783,7 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(beta0, double);
     RJ__SET(load, rj_load_def);
     RJ__SET(load_node, int);
+    RJ__SET(act, rj_actuator_def);
     RJ__SET(lz, double);
 #undef RJ__SET
 }
@@ -4529,6 +4798,9 @@ static void rj__init_copy_defs(rj_model *m, const rj_scene_def *sc)
     m->nload = sc->load_count;
     if (m->nload)
         memcpy(m->load, sc->loads, sizeof(rj_load_def) * (size_t) m->nload);
+    m->nact = sc->actuator_count;
+    if (m->nact)
+        memcpy(m->act, sc->actuators, sizeof(rj_actuator_def) * (size_t) m->nact);
 }
 
 /* A link's section: area and second moment (layers integrate EA and EI exactly for the
@@ -4840,11 +5112,40 @@ static double rj__table_stiffness(const rj_joint_def *d)
     return steepest;
 }
 
+/* A DC motor's cutoff on the running angle: its first crossing from angle0 in the
+   direction the motor drives (angle0 itself when they are the same angle). */
+static double rj__running_cutoff(const rj_actuator_def *a, double angle0)
+{
+    const double ahead = rj__mod2pi(a->cutoff - angle0);
+    if (a->no_load_speed > 0)
+        return angle0 + ahead;
+    return ahead == 0 ? angle0 : angle0 - (RJ__TWO_PI - ahead);
+}
+
+/* An actuator on its joint: the joint keeps it; a servo's gain is a spring and its
+   damping, like a DC motor's slope, a damper to the stability bound; a cutoff on the
+   running angle. */
+static void rj__init_actuator(rj_model *m, const rj_actuator_def *a)
+{
+    rj__joint *J = &m->jnt[a->joint];
+    J->act = a;
+    if (a->type == RJ_ACTUATOR_SERVO) {
+        J->k_lin += a->kp;
+        J->c_lin += a->kd;
+    }
+    if (a->type == RJ_ACTUATOR_DC) {
+        J->c_lin += a->stall_torque / a->no_load_speed;
+        if (a->has_cutoff)
+            J->cut = rj__running_cutoff(a, m->jdef[a->joint].angle0);
+    }
+}
+
 /* Every joint's constants: inertias, limits on the running angle, the table's potential
-   over a turn, and the linear stiffness of its spring and table (limits come later). */
+   over a turn, and the linear stiffness of its spring and table (limits come later); its
+   actuator. */
 static void rj__init_joint_constants(rj_model *m)
 {
-    int j;
+    int j, k;
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         rj__joint *J = &m->jnt[j];
@@ -4855,7 +5156,12 @@ static void rj__init_joint_constants(rj_model *m)
                                     : 0.0;
         J->k_lin = d->spring_k + rj__table_stiffness(d);
         J->k_limit = 0;
+        J->c_lin = d->damping;
+        J->act = NULL;
+        J->cut = HUGE_VAL;
     }
+    for (k = 0; k < m->nact; k++)
+        rj__init_actuator(m, &m->act[k]);
 }
 
 /* Inextensible links: the chains SHAKE solves (links joined tip to root form one). */
@@ -6071,6 +6377,33 @@ static RJ__FORCE_INLINE void rj__overlap(const rj_model *m, rj_state *s, int j, 
     rj__overlap_band(m, s, j, run, t, oj, nj_, nsc);
 }
 
+/* A value within +-cap. */
+static double rj__clamp(double v, double cap)
+{
+    return v > cap ? cap : (v < -cap ? -cap : v);
+}
+
+/* The torque of joint J's actuator on body 2 at t, the joint at its running angle run
+   with the rate damping reads (rj_actuator_def). */
+static double rj__drive_torque(const rj__joint *J, double run, double rate, double t)
+{
+    const rj_actuator_def *a = J->act;
+    double tq;
+    switch (a->type) {
+    case RJ_ACTUATOR_TORQUE:
+        return a->torque * rj__time_factor(a->table_count, a->table_time, a->table_factor, t);
+    case RJ_ACTUATOR_DC:
+        /* off at or past the cutoff, in the direction it drives */
+        if (a->has_cutoff && (a->no_load_speed > 0 ? run >= J->cut : run <= J->cut))
+            return 0;
+        tq = a->stall_torque * (1.0 - rate / a->no_load_speed);
+        return rj__clamp(tq, fabs(a->stall_torque));
+    default:
+        tq = a->kp * (a->target - run) - a->kd * rate;
+        return a->torque_max > 0 ? rj__clamp(tq, a->torque_max) : tq;
+    }
+}
+
 /* The revolute element for one joint and one step, shared by every link model: status
    flag (Eqs 7-13), contact bookkeeping, penetration (Eq 19), and the torques on body 2 from
    the table (Eq 4), the torsion spring, damping (Eq 27) and the penalty / adaptive limit
@@ -6083,7 +6416,7 @@ static double rj__element(const rj_model *m, rj_state *s, int j, const double *o
     const rj_joint_def *d = &m->jdef[j];
     const rj__joint *J = &m->jnt[j];
     const double run = oj[RJ__JD_THETA];
-    double tq_table = 0, tq_spring = 0, tq_damp = 0, tq_lim = 0, p = 0;
+    double tq_table = 0, tq_spring = 0, tq_damp = 0, tq_lim = 0, tq_drive = 0, p = 0;
     const int bf = run >= J->fwd, br = run <= J->rev;
     const int flag = rj_flag_next(oflag, bf, br, rate, d->lock, d->release);
     memcpy(nj_, oj, sizeof(double) * RJ__JD_COUNT);
@@ -6133,6 +6466,8 @@ static double rj__element(const rj_model *m, rj_state *s, int j, const double *o
         tq_spring = -d->spring_k * (run - d->spring_free_angle);
     if (d->damping > 0)
         tq_damp = -d->damping * rate;
+    if (J->act)
+        tq_drive = rj__drive_torque(J, run, rate, t);
     /* Eq 22 / penalty: tau_2 = K p while at a limit */
     if (flag != RJ_FREE && (d->method == RJ_METHOD_PENALTY || d->method == RJ_METHOD_ADAPTIVE))
         tq_lim = J->k_limit * p;
@@ -6141,8 +6476,9 @@ static double rj__element(const rj_model *m, rj_state *s, int j, const double *o
     nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] = tq_damp;
     nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] = tq_lim;
     nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = 0;
+    nj_[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = tq_drive;
     *p_out = p;
-    return tq_table + tq_spring + tq_damp + tq_lim;
+    return tq_table + tq_spring + tq_damp + tq_lim + tq_drive;
 }
 
 /* Coulomb friction: the torque that stops the relative rotation within the step (ratep is
@@ -6176,6 +6512,15 @@ static RJ__FORCE_INLINE void rj__element_work(const double *oj, const double *nj
     *ll -= 0.5 * dt *
            (nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * rate_m +
             oj[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * oj[RJ__JD_RATE]);
+}
+
+/* The work of the joint's actuator over the step, in the form of rj__element_work. */
+static RJ__FORCE_INLINE double rj__drive_work(const double *oj, const double *nj_, double rate_m,
+                                              double dt)
+{
+    return 0.5 * dt *
+           (nj_[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] * rate_m +
+            oj[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] * oj[RJ__JD_RATE]);
 }
 
 /* The work of the caller's torque over the step, in the form of rj__element_work. */
@@ -6610,6 +6955,7 @@ typedef struct rj__sums {
     double kinetic;                                 /* 1/2 v^{n-1/2} . v^{n+1/2} */
     double lost_damping, lost_friction, lost_limit; /* since the start */
     double work;    /* done by the caller's inputs since the start */
+    double drive;   /* done by the actuators since the start */
     double pending; /* a jump's loss the next step takes (its second half) */
 } rj__sums;
 
@@ -6684,6 +7030,7 @@ static RJ__FORCE_INLINE void rj__sums_open(const double *old_scalars, rj__sums *
     e->lost_friction = old_scalars[RJ__FS_LFRIC];
     e->lost_limit = old_scalars[RJ__FS_LLIM] + old_scalars[RJ__FS_PEND];
     e->work = old_scalars[RJ__FS_WORK];
+    e->drive = old_scalars[RJ__FS_DRIVE];
     e->pending = 0;
 }
 
@@ -6900,19 +7247,7 @@ static double rj__inputs_work(const rj_model *m, const rj_state *s, const double
    (1 without a table). */
 static double rj__load_factor(const rj_load_def *d, double t)
 {
-    const int last = d->table_count - 1;
-    int k;
-    if (d->table_count == 0)
-        return 1.0;
-    if (!(t > d->table_time[0]))
-        return d->table_factor[0];
-    for (k = 1; k <= last; k++)
-        if (t < d->table_time[k]) {
-            const double t0 = d->table_time[k - 1], t1 = d->table_time[k];
-            const double f0 = d->table_factor[k - 1], f1 = d->table_factor[k];
-            return f0 + (f1 - f0) * ((t - t0) / (t1 - t0));
-        }
-    return d->table_factor[last];
+    return rj__time_factor(d->table_count, d->table_time, d->table_factor, t);
 }
 
 /* A load's force (global frame) and moment at time t on a node turned to phi: a follower
@@ -7364,6 +7699,8 @@ static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_sta
             ratep = rj__joint_jump(m, f, j, flag, &g, w1, w2, e, fin);
         rj__element_work(old_joint, new_joint, kept[4], f->dt, &e->lost_damping, &e->lost_friction,
                          &e->lost_limit);
+        if (J->act)
+            e->drive += rj__drive_work(old_joint, new_joint, kept[4], f->dt);
         new_joint[RJ__JD_RATE] = ratep;
     }
 }
@@ -7551,7 +7888,7 @@ static RJ__FORCE_INLINE rj_result rj__energy_check(const rj_model *m, rj_state *
     const double E = U > fabs(ke) ? U : fabs(ke);
     /* the initial energy less gravity's potential now, plus the inputs' work: what gravity
        has released and the caller has put in may turn into kinetic energy */
-    const double outside = e->gravity - e->work; /* what gravity and the caller account for */
+    const double outside = e->gravity - e->work - e->drive; /* gravity, the caller, the drives */
     const double scale = fabs(e0 - outside) + fabs(old_spring) + s->settle_scale + 1e-9;
     const double created = ke + U + V + outside + e->lost_damping + e->lost_friction + lost_l - e0;
     if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) ||
@@ -7567,7 +7904,7 @@ static void rj__first_accounts(double *new_scalars, rj__sums *e, double energy)
 {
     new_scalars[RJ__FS_E0] = energy;
     rj__accounts_zero(new_scalars);
-    e->lost_damping = e->lost_friction = e->work = e->lost_limit = 0;
+    e->lost_damping = e->lost_friction = e->work = e->lost_limit = e->drive = 0;
 }
 
 /* The new frame's scalars: time, the accounts (on the steps that take them; the initial
@@ -7586,6 +7923,7 @@ static RJ__FORCE_INLINE rj_result rj__step_accounts(const rj_model *m, rj_state 
     nsc[RJ__FS_LLIM] = e->lost_limit;
     nsc[RJ__FS_PEND] = e->pending;
     nsc[RJ__FS_WORK] = e->work;
+    nsc[RJ__FS_DRIVE] = e->drive;
     if (!f->en)
         return RJ_OK;
     nsc[RJ__FS_ETIME] = f->t;
@@ -8083,6 +8421,8 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_sta
                          &lost_limit);
         if (applied)
             e->work += rj__input_work(old_joint, new_joint, qd[j], dt);
+        if (m->jnt[j].act)
+            e->drive += rj__drive_work(old_joint, new_joint, qd[j], dt);
     }
     e->lost_damping = lost_damping;
     e->lost_friction = lost_friction;
@@ -8128,6 +8468,7 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
     new_scalars[RJ__FS_PEND] = e->pending;
     new_scalars[RJ__FS_GRAV] = e->gravity;
     new_scalars[RJ__FS_WORK] = e->work;
+    new_scalars[RJ__FS_DRIVE] = e->drive;
     if (f->first)
         rj__first_accounts(new_scalars, e, ke + e->spring + e->gravity);
     res = rj__energy_check(m, s, NULL, f->t, e, f->old_scalars[RJ__FS_SPRING],
@@ -8933,6 +9274,8 @@ RJDEF double rj_state_energy_time(const rj_state *s)
    (nj), then whether the node forces are on, the forces (3 nn) and those the last step
    applied (3 nn). */
 #define RJ__CK_HEAD 24
+/* the layout's version: 6 since the actuators' torque and work joined each frame */
+#define RJ__CK_VERSION 6u
 /* the payload's bytes */
 static size_t rj__ck_payload(const rj_model *m)
 {
@@ -8954,7 +9297,7 @@ RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size
     size_t need = RJ__CK_HEAD + pay + 8;
     unsigned char *b = (unsigned char *) buf;
     unsigned char *in_bytes;
-    unsigned int ver = 5;
+    unsigned int ver = RJ__CK_VERSION;
     unsigned long long h, pl = pay, st = (unsigned long long) s->steps;
     if (!buf || size < need)
         return need;
@@ -9150,11 +9493,11 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
     memcpy(&ver, b + 4, 4);
     memcpy(&mh, b + 8, 8);
     memcpy(&pl, b + 16, 8);
-    if (ver != 5) {
+    if (ver != RJ__CK_VERSION) {
         rj__fail(err, RJ_ERR_CHECKPOINT, "version", ver,
-                 "checkpoint version %u is not supported (5: each joint's record of its links "
-                 "passing through each other joined it)",
-                 ver);
+                 "checkpoint version %u is not supported (%u: the actuators' torque and work "
+                 "joined each frame)",
+                 ver, RJ__CK_VERSION);
         return RJ_ERR_CHECKPOINT;
     }
     if (mh != m->hash || pl != pay) {
@@ -9220,12 +9563,13 @@ enum {
     RJ__SK_LINK,
     RJ__SK_JOINT,
     RJ__SK_LOAD,
+    RJ__SK_ACTUATOR,
     RJ__SK_COUNT
 };
 
 /* char arrays, not pointer arrays: read-only data without relocations */
-static const char rj__sk_kind[RJ__SK_COUNT][10] = { "",     "solver", "material", "section",
-                                                    "link", "joint",  "load" };
+static const char rj__sk_kind[RJ__SK_COUNT][10] = { "",      "solver", "material", "section",
+                                                    "link",  "joint",  "load",     "actuator" };
 #define RJ__SK_MAT_KEYS ((1u << RJ__LK_E) | (1u << RJ__LK_RHO))
 #define RJ__SK_SEC_KEYS                                                                            \
     ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA) | (1u << RJ__LK_WIDTH) | (1u << RJ__LK_HEIGHT) | \
@@ -9255,7 +9599,7 @@ typedef struct rj__sp {
     rj__stok *tok;
     int ntok;
     rj_scene_file *f;
-    int cap_links, cap_joints, cap_loads;
+    int cap_links, cap_joints, cap_loads, cap_acts;
     rj__spart *mat, *sec;
     int nmat, nsec, cap_mat, cap_sec;
     int kind, item; /* current section: kind and index (materials, sections, links, joints) */
@@ -9503,6 +9847,8 @@ static const char *rj__sp_item_name(const rj__sp *P)
         return P->f->joint_names[P->item];
     case RJ__SK_LOAD:
         return P->f->load_names[P->item];
+    case RJ__SK_ACTUATOR:
+        return P->f->actuator_names[P->item];
     }
     return "";
 }
@@ -9561,6 +9907,8 @@ static rj_scene_pos *rj__sp_pos(rj__sp *P, int k) /* position slot of key k of t
         return &P->f->link_pos_[(size_t) P->item * (1 + RJ__LK_N) + 1 + k];
     case RJ__SK_LOAD:
         return &P->f->load_pos_[(size_t) P->item * (1 + RJ__AK_N) + 1 + k];
+    case RJ__SK_ACTUATOR:
+        return &P->f->actuator_pos_[(size_t) P->item * (1 + RJ__CK_N) + 1 + k];
     default:
         return &P->f->joint_pos_[(size_t) P->item * (1 + RJ__JK_N) + 1 + k];
     }
@@ -9659,6 +10007,8 @@ static const char *rj__sp_near_key(const rj__sp *P, const rj__stok *t)
         return rj__sp_near_row(t->s, t->len, rj__link_fields, RJ__LK_N, ~0u);
     case RJ__SK_LOAD:
         return rj__sp_near_row(t->s, t->len, rj__load_fields, RJ__AK_N, ~0u);
+    case RJ__SK_ACTUATOR:
+        return rj__sp_near_row(t->s, t->len, rj__actuator_fields, RJ__CK_N, ~0u);
     }
     return NULL;
 }
@@ -10028,9 +10378,11 @@ static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *
     return rj__sp_row(P, &rj__link_fields[k], a, i, b, d);
 }
 
-/* forward / reverse = an angle in the limits' range, or none */
-static int rj__sp_limit(rj__sp *P, int a, int *i, int b, const char *key, int *has, double *lim)
+/* forward / reverse / cutoff = an angle in row r's range, or none */
+static int rj__sp_limit(rj__sp *P, const rj__field *r, int a, int *i, int b, int *has,
+                        double *lim)
 {
+    const char *key = r->key;
     char rule[96];
     double v = 0;
     if (rj__sp_is(&P->tok[a], "none")) {
@@ -10041,9 +10393,8 @@ static int rj__sp_limit(rj__sp *P, int a, int *i, int b, const char *key, int *h
     }
     if (!rj__sp_angle(P, i, b, key, 0, &v))
         return 0;
-    rj__sp_cat(rule, sizeof rule, rj__joint_fields[RJ__JK_FORWARD].rule, ", or none", NULL,
-               NULL, NULL, NULL, NULL);
-    if (!RJ__SP_RULE(rj__sp_in_range(&rj__joint_fields[RJ__JK_FORWARD], v), rule))
+    rj__sp_cat(rule, sizeof rule, r->rule, ", or none", NULL, NULL, NULL, NULL, NULL);
+    if (!RJ__SP_RULE(rj__sp_in_range(r, v), rule))
         return 0;
     *has = 1;
     *lim = v;
@@ -10254,9 +10605,8 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
     case RJ__FT_TABLE:
         return rj__sp_table(P, i, b, d);
     case RJ__FT_LIMIT:
-        return k == RJ__JK_FORWARD
-                   ? rj__sp_limit(P, a, i, b, r->key, &d->has_forward, &d->forward)
-                   : rj__sp_limit(P, a, i, b, r->key, &d->has_reverse, &d->reverse);
+        return k == RJ__JK_FORWARD ? rj__sp_limit(P, r, a, i, b, &d->has_forward, &d->forward)
+                                   : rj__sp_limit(P, r, a, i, b, &d->has_reverse, &d->reverse);
     }
     if (k == RJ__JK_SPRING)
         return rj__sp_spring(P, a, i, b, d);
@@ -10296,6 +10646,77 @@ static int rj__sp_load_key(rj__sp *P, int k, int a, int *i, int b, rj_load_def *
     return rj__sp_row(P, r, a, i, b, d);
 }
 
+/* joint = NAME: a joint defined above the actuator */
+static int rj__sp_joint_ref(rj__sp *P, const rj__stok *t, const char *key, int *joint)
+{
+    const int idx = P->f->joint_count
+                        ? rj__sp_find(t->s, t->len, (const char *) P->f->joint_names,
+                                      RJ_SCENE_NAME_MAX, P->f->joint_count)
+                        : -1;
+    char mean[48];
+    if (!rj__sp_name_ref(P, t, key))
+        return 0;
+    if (idx >= 0) {
+        *joint = idx;
+        return 1;
+    }
+    rj__sp_mean(mean, P->f->joint_count
+                          ? rj__sp_near(t->s, t->len, (const char *) P->f->joint_names,
+                                        RJ_SCENE_NAME_MAX, P->f->joint_count)
+                          : NULL);
+    return rj__sp_err_tok(P, t, key, rj__sp_nan(), "unknown joint ", rj__sp_for(P, key),
+                          " (define joints above the actuators that drive them)", mean);
+}
+
+/* an actuator's table = time factor, time factor, ... (as a load's) */
+static int rj__sp_actuator_table(rj__sp *P, int *i, int b, rj_actuator_def *d)
+{
+    const rj__sp_form form = { 0,    "time", "factor",
+                               NULL, NULL,   " (table = time factor, time factor, ...)",
+                               1 };
+    return rj__sp_pairs(P, i, b, &form, d->table_time, d->table_factor, &d->table_count);
+}
+
+static int rj__sp_actuator_key(rj__sp *P, int k, int a, int *i, int b, rj_actuator_def *d)
+{
+    const rj__field *r = &rj__actuator_fields[k];
+    switch (r->type) {
+    case RJ__FT_JOINT:
+        if (!rj__sp_joint_ref(P, &P->tok[a], r->key, &d->joint))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__FT_TABLE:
+        return rj__sp_actuator_table(P, i, b, d);
+    case RJ__FT_LIMIT:
+        return rj__sp_limit(P, r, a, i, b, &d->has_cutoff, &d->cutoff);
+    }
+    return rj__sp_row(P, r, a, i, b, d);
+}
+
+/* an actuator names its joint, and sets only keys of its type */
+static int rj__sp_finish_actuator(rj__sp *P)
+{
+    const rj_actuator_def *d = &P->f->actuators[P->item];
+    const rj_scene_pos *pos = &P->f->actuator_pos_[(size_t) P->item * (1 + RJ__CK_N)];
+    const char *name = P->f->actuator_names[P->item];
+    int k;
+    if (!(P->seen >> RJ__CK_JOINT & 1u))
+        return rj__sp_err(P, pos[0].line, pos[0].col, "joint", rj__sp_nan(), "actuator '", name,
+                          "' has no joint (the joint it drives)", NULL, NULL);
+    for (k = 0; k < RJ__CK_N; k++) {
+        const rj__field *r = &rj__actuator_fields[k];
+        char m[128];
+        if (!(P->seen >> k & 1u) || rj__row_applies(r, d->type, 0, 0))
+            continue;
+        rj__sp_cat(m, sizeof m, r->key, " does not apply to type = ", rj__sk_actuator[d->type],
+                   ", in actuator '", name, "'", NULL);
+        return rj__sp_err(P, pos[1 + k].line, pos[1 + k].col, r->key, rj__sp_nan(), m, NULL, NULL,
+                          NULL, NULL);
+    }
+    return 1;
+}
+
 /* ------------------------------------------------------------------ sections */
 static int rj__sp_key_index(int kind, const rj__stok *t)
 {
@@ -10327,6 +10748,11 @@ static int rj__sp_key_index(int kind, const rj__stok *t)
             if (rj__sp_is(t, rj__load_fields[k].key))
                 return k;
         break;
+    case RJ__SK_ACTUATOR:
+        for (k = 0; k < RJ__CK_N; k++)
+            if (rj__sp_is(t, rj__actuator_fields[k].key))
+                return k;
+        break;
     }
     return -1;
 }
@@ -10339,6 +10765,8 @@ static const char *rj__sp_key_name(int kind, int k)
         return rj__joint_fields[k].key;
     if (kind == RJ__SK_LOAD)
         return rj__load_fields[k].key;
+    if (kind == RJ__SK_ACTUATOR)
+        return rj__actuator_fields[k].key;
     return rj__link_fields[k].key;
 }
 
@@ -10502,6 +10930,10 @@ static int rj__sp_finish(rj__sp *P)
         if (!rj__sp_finish_load(P))
             return 0;
         break;
+    case RJ__SK_ACTUATOR:
+        if (!rj__sp_finish_actuator(P))
+            return 0;
+        break;
     }
     P->kind = RJ__SK_NONE;
     return 1;
@@ -10512,7 +10944,7 @@ static int rj__sp_header(rj__sp *P)
     const rj__stok *t0 = &P->tok[0], *nt;
     char nb[24];
     int kind = 0, k, cap = 0, count = 0, dup = -1;
-    for (k = RJ__SK_SOLVER; k <= RJ__SK_LOAD; k++)
+    for (k = RJ__SK_SOLVER; k <= RJ__SK_ACTUATOR; k++)
         if (rj__sp_is(t0, rj__sk_kind[k]))
             kind = k;
     if (!kind) {
@@ -10528,7 +10960,7 @@ static int rj__sp_header(rj__sp *P)
         }
         { /* a near section keyword, else a near key of the current section */
             const char *near =
-                rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 6);
+                rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 7);
             char mean[48];
             if (!near && P->kind != RJ__SK_NONE)
                 near = rj__sp_near_key(P, t0);
@@ -10536,9 +10968,9 @@ static int rj__sp_header(rj__sp *P)
                 P, t0, "", rj__sp_nan(),
                 P->kind != RJ__SK_NONE ? "unknown key or section " : "unknown section ",
                 P->kind != RJ__SK_NONE ? " (a key needs '= value'; sections are solver, material, "
-                                         "section, link, joint, load)"
-                                       : " (expected solver, material, section, link, joint or "
-                                         "load)",
+                                         "section, link, joint, load, actuator)"
+                                       : " (expected solver, material, section, link, joint, "
+                                         "load or actuator)",
                 rj__sp_mean(mean, near), NULL);
         }
     }
@@ -10598,6 +11030,13 @@ static int rj__sp_header(rj__sp *P)
             dup = rj__sp_find(nt->s, nt->len, (const char *) P->f->load_names, RJ_SCENE_NAME_MAX,
                               count);
         break;
+    case RJ__SK_ACTUATOR:
+        cap = RJ_SCENE_MAX_ACTUATORS;
+        count = P->f->actuator_count;
+        if (count)
+            dup = rj__sp_find(nt->s, nt->len, (const char *) P->f->actuator_names,
+                              RJ_SCENE_NAME_MAX, count);
+        break;
     default:
         cap = RJ_SCENE_MAX_JOINTS;
         count = P->f->joint_count;
@@ -10611,6 +11050,8 @@ static int rj__sp_header(rj__sp *P)
                    : kind == RJ__SK_SECTION ? P->sec[dup].pos[0].line
                    : kind == RJ__SK_LINK    ? P->f->link_pos_[(size_t) dup * (1 + RJ__LK_N)].line
                    : kind == RJ__SK_LOAD    ? P->f->load_pos_[(size_t) dup * (1 + RJ__AK_N)].line
+                   : kind == RJ__SK_ACTUATOR
+                       ? P->f->actuator_pos_[(size_t) dup * (1 + RJ__CK_N)].line
                                             : P->f->joint_pos_[(size_t) dup * (1 + RJ__JK_N)].line;
         char pre[40];
         rj__sp_cat(pre, sizeof pre, "duplicate ", rj__sk_kind[kind], " name ", NULL, NULL, NULL,
@@ -10626,6 +11067,7 @@ static int rj__sp_header(rj__sp *P)
                    : kind == RJ__SK_SECTION ? P->cap_sec
                    : kind == RJ__SK_LINK    ? P->cap_links
                    : kind == RJ__SK_LOAD    ? P->cap_loads
+                   : kind == RJ__SK_ACTUATOR ? P->cap_acts
                                             : P->cap_joints;
         if (count >= cap || count >= room)
             return rj__sp_err(P, t0->line, t0->col, rj__sk_kind[kind], count + 1, "too many ",
@@ -10661,6 +11103,14 @@ static int rj__sp_header(rj__sp *P)
             P->f->load_names[n][nt->len] = 0;
             P->f->loads[n] = rj_default_load_def();
             P->f->load_pos_[(size_t) n * (1 + RJ__AK_N)] = head;
+            break;
+        }
+        case RJ__SK_ACTUATOR: {
+            int n = P->f->actuator_count++;
+            memcpy(P->f->actuator_names[n], nt->s, (size_t) nt->len);
+            P->f->actuator_names[n][nt->len] = 0;
+            P->f->actuators[n] = rj_default_actuator_def();
+            P->f->actuator_pos_[(size_t) n * (1 + RJ__CK_N)] = head;
             break;
         }
         default: {
@@ -10794,8 +11244,8 @@ static int rj__sp_assignments(rj__sp *P)
             char mean[48];
             return rj__sp_err_tok(
                 P, kt, "", rj__sp_nan(), "key ",
-                " outside any section (start one with solver, material, section, link, joint or "
-                "load)",
+                " outside any section (start one with solver, material, section, link, joint, "
+                "load or actuator)",
                 rj__sp_mean(mean, rj__sp_near(kt->s, kt->len, "title", 6, 1)), NULL);
         }
         k = rj__sp_key_index(P->kind, kt);
@@ -10842,6 +11292,10 @@ static int rj__sp_assignments(rj__sp *P)
             break;
         case RJ__SK_LOAD:
             if (!rj__sp_load_key(P, k, i + 2, &v, j, &P->f->loads[P->item]))
+                return 0;
+            break;
+        case RJ__SK_ACTUATOR:
+            if (!rj__sp_actuator_key(P, k, i + 2, &v, j, &P->f->actuators[P->item]))
                 return 0;
             break;
         default:
@@ -11005,13 +11459,14 @@ static void rj__sp_count(const char *text, size_t len, int counts[RJ__SK_COUNT])
         while (at < len && (text[at] == ' ' || text[at] == '\t'))
             at++;
         if (e > w && !(at < len && text[at] == '=')) {
-            for (k = RJ__SK_MATERIAL; k <= RJ__SK_LOAD; k++) {
+            for (k = RJ__SK_MATERIAL; k <= RJ__SK_ACTUATOR; k++) {
                 size_t n = strlen(rj__sk_kind[k]);
                 if (e - w == n && memcmp(text + w, rj__sk_kind[k], n) == 0) {
                     int cap = k == RJ__SK_MATERIAL  ? RJ_SCENE_MAX_MATERIALS
                               : k == RJ__SK_SECTION ? RJ_SCENE_MAX_SECTIONS
                               : k == RJ__SK_LINK    ? RJ_SCENE_MAX_LINKS
                               : k == RJ__SK_LOAD    ? RJ_SCENE_MAX_LOADS
+                              : k == RJ__SK_ACTUATOR ? RJ_SCENE_MAX_ACTUATORS
                                                     : RJ_SCENE_MAX_JOINTS;
                     if (counts[k] < cap)
                         counts[k]++;
@@ -11032,29 +11487,39 @@ static size_t rj__sp_carve(size_t *off, size_t n, size_t el)
     return at;
 }
 
-/* field "loads[2].force[1]" -> position in f (the key's value, else the section line) */
-static int rj__sp_load_pos(const rj_scene_file *f, const char *field, rj_scene_pos *pos, char *item,
-                           size_t isize)
+/* field "loads[2].force[1]" (prefix "loads[") -> position in f: the key's value, else
+   the item's section line. Items of count, their positions (1 + nk per item), names,
+   kind's rows; what: "load". */
+static int rj__sp_item_pos(const char *field, const char *prefix, int count,
+                           const rj_scene_pos *all, char (*names)[RJ_SCENE_NAME_MAX], int kind,
+                           const char *what, rj_scene_pos *pos, char *item, size_t isize)
 {
     const rj_scene_pos *ap;
-    const char *p = field + 6;
-    int idx = 0, digits = 0, k;
+    const char *p = field + strlen(prefix);
+    const int nk = rj__key_count(kind);
+    int n, idx = 0, digits = 0, k;
+    const rj__field *rows = rj__fields(kind, &n);
     while (*p >= '0' && *p <= '9' && digits < 7) {
         idx = idx * 10 + (*p - '0');
         p++;
         digits++;
     }
-    if (!digits || *p != ']' || idx >= f->load_count)
+    if (!digits || *p != ']' || idx >= count)
         return 0;
     p++;
-    ap = &f->load_pos_[(size_t) idx * (1 + RJ__AK_N)];
+    ap = &all[(size_t) idx * (1 + nk)];
     *pos = ap[0];
-    for (k = 0; k < RJ__AK_N && *p == '.'; k++) {
-        const size_t n = strlen(rj__load_fields[k].key);
-        if (strncmp(p + 1, rj__load_fields[k].key, n) == 0 && ap[1 + k].line)
-            *pos = ap[1 + k];
+    for (k = 0; k < n && *p == '.'; k++) {
+        /* the member's name, or the key's at its start ("table" of "table_time[2]") */
+        const int key = rows[k].part_of >= 0 ? rows[k].part_of : k;
+        const char *member = rows[k].member ? rows[k].member : rows[k].key;
+        const size_t len = strlen(member), klen = strlen(rows[k].key);
+        const int named = strncmp(p + 1, member, len) == 0 &&
+                          (p[1 + len] == 0 || p[1 + len] == '[');
+        if (key < nk && (named || strncmp(p + 1, rows[k].key, klen) == 0) && ap[1 + key].line)
+            *pos = ap[1 + key];
     }
-    rj__sp_cat(item, isize, " (load '", f->load_names[idx], "')", NULL, NULL, NULL, NULL);
+    rj__sp_cat(item, isize, " (", what, " '", names[idx], "')", NULL, NULL);
     return pos->line > 0;
 }
 
@@ -11080,7 +11545,11 @@ static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_
         return 0;
     }
     if (strncmp(field, "loads[", 6) == 0)
-        return rj__sp_load_pos(f, field, pos, item, isize);
+        return rj__sp_item_pos(field, "loads[", f->load_count, f->load_pos_, f->load_names,
+                               RJ__DEF_LOAD, "load", pos, item, isize);
+    if (strncmp(field, "actuators[", 10) == 0)
+        return rj__sp_item_pos(field, "actuators[", f->actuator_count, f->actuator_pos_,
+                               f->actuator_names, RJ__DEF_ACTUATOR, "actuator", pos, item, isize);
     if (strncmp(field, "links[", 6) == 0) {
         joint = 0;
         p = field + 6;
@@ -11165,7 +11634,7 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     rj_scene_file F;
     int counts[RJ__SK_COUNT], r;
     size_t off = 0, o_links, o_joints, o_lpos, o_jpos, o_lnames, o_jnames, w_tok, w_mat, w_sec;
-    size_t o_loads, o_apos, o_anames;
+    size_t o_loads, o_apos, o_anames, o_acts, o_cpos, o_cnames;
     char *block = NULL, *work = NULL;
     memset(&P, 0, sizeof P);
     memset(&F, 0, sizeof F);
@@ -11207,6 +11676,7 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     P.cap_mat = counts[RJ__SK_MATERIAL];
     P.cap_sec = counts[RJ__SK_SECTION];
     P.cap_loads = counts[RJ__SK_LOAD];
+    P.cap_acts = counts[RJ__SK_ACTUATOR];
     /* the result block */
     o_links = rj__sp_carve(&off, (size_t) P.cap_links, sizeof(rj_link_def));
     o_joints = rj__sp_carve(&off, (size_t) P.cap_joints, sizeof(rj_joint_def));
@@ -11216,6 +11686,9 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     o_loads = rj__sp_carve(&off, (size_t) P.cap_loads, sizeof(rj_load_def));
     o_apos = rj__sp_carve(&off, (size_t) P.cap_loads * (1 + RJ__AK_N), sizeof(rj_scene_pos));
     o_anames = rj__sp_carve(&off, (size_t) P.cap_loads, RJ_SCENE_NAME_MAX);
+    o_acts = rj__sp_carve(&off, (size_t) P.cap_acts, sizeof(rj_actuator_def));
+    o_cpos = rj__sp_carve(&off, (size_t) P.cap_acts * (1 + RJ__CK_N), sizeof(rj_scene_pos));
+    o_cnames = rj__sp_carve(&off, (size_t) P.cap_acts, RJ_SCENE_NAME_MAX);
     o_jnames = rj__sp_carve(&off, (size_t) P.cap_joints, RJ_SCENE_NAME_MAX);
     block = (char *) RJ_MALLOC(off + 16, alloc_ctx);
     /* the parser's workspace: tokens, materials, sections */
@@ -11246,6 +11719,9 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     F.loads = (rj_load_def *) (void *) (block + o_loads);
     F.load_pos_ = (rj_scene_pos *) (void *) (block + o_apos);
     F.load_names = (char(*)[RJ_SCENE_NAME_MAX])(void *) (block + o_anames);
+    F.actuators = (rj_actuator_def *) (void *) (block + o_acts);
+    F.actuator_pos_ = (rj_scene_pos *) (void *) (block + o_cpos);
+    F.actuator_names = (char(*)[RJ_SCENE_NAME_MAX])(void *) (block + o_cnames);
     F.solver = rj_default_solver_def();
     F.block_ = block;
     F.alloc_ctx_ = alloc_ctx;
@@ -11404,6 +11880,8 @@ RJDEF rj_scene_def rj_scene_file_def(const rj_scene_file *f)
     d.solver = f->solver;
     d.loads = f->loads;
     d.load_count = f->load_count;
+    d.actuators = f->actuators;
+    d.actuator_count = f->actuator_count;
     return d;
 }
 
@@ -11580,7 +12058,8 @@ typedef struct rj__sw_item {
     int shape;                     /* a link's section shape, else -1 */
     int on_ground;                 /* a joint's body1 is ground */
     int root_link;                 /* a link no joint places */
-    const char *const *link_names; /* names of the scene's links, or NULL */
+    const char *const *link_names;  /* names of the scene's links, or NULL */
+    const char *const *joint_names; /* names of the scene's joints, or NULL */
 } rj__sw_item;
 
 /* Whether the writer writes row k of def (its kind's rows, the first nk keys). */
@@ -11669,6 +12148,9 @@ static void rj__sw_value(rj__sw *W, const rj__field *r, const void *def, const r
         else
             rj__sw_name(W, it->link_names, "link", v);
         return;
+    case RJ__FT_JOINT:
+        rj__sw_name(W, it->joint_names, "joint", v);
+        return;
     default:
         snprintf(nm, sizeof nm, "%d", v);
         rj__sw_put(W, nm);
@@ -11681,7 +12163,7 @@ static void rj__sw_rows(rj__sw *W, int kind, const void *def, const rj__sw_item 
 {
     int n, nk, k, p, line = -1, place = 0;
     const rj__field *rows = rj__fields(kind, &n);
-    nk = kind == RJ__DEF_LINK ? RJ__LK_N : kind == RJ__DEF_JOINT ? RJ__JK_N : n;
+    nk = rj__key_count(kind);
     for (k = 0; k < nk; k++) {
         const rj__field *r = &rows[k];
         if (!rj__sw_wanted(rows, n, nk, k, def, it))
@@ -11781,13 +12263,19 @@ static int rj__sw_ok(const rj_scene_def *sc, const char *const *link_names,
             d->node > sc->links[d->link].elements || !rj__sw_rows_ok(RJ__DEF_LOAD, d, -1, 0))
             return 0;
     }
+    for (i = 0; i < sc->actuator_count; i++) {
+        const rj_actuator_def *d = &sc->actuators[i];
+        if (d->joint < 0 || d->joint >= sc->joint_count ||
+            !rj__sw_rows_ok(RJ__DEF_ACTUATOR, d, d->type, 0))
+            return 0;
+    }
     return 1;
 }
 
 /* the solver section, only when some value differs from the defaults */
 static void rj__sw_solver(rj__sw *W, const rj_solver_def *s)
 {
-    const rj__sw_item it = { -1, 0, 1, NULL };
+    const rj__sw_item it = { -1, 0, 1, NULL, NULL };
     int k;
     for (k = 0; k < RJ__VF_N; k++)
         if (rj__sw_row_set(rj__solver_fields, RJ__VF_N, k, s))
@@ -11841,13 +12329,16 @@ RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_n
     if (!sc || sc->link_count < 1 || sc->link_count > RJ_SCENE_MAX_LINKS || !sc->links ||
         sc->joint_count < 0 || sc->joint_count > RJ_SCENE_MAX_JOINTS ||
         (sc->joint_count && !sc->joints) || sc->load_count < 0 ||
-        sc->load_count > RJ_SCENE_MAX_LOADS || (sc->load_count && !sc->loads))
+        sc->load_count > RJ_SCENE_MAX_LOADS || (sc->load_count && !sc->loads) ||
+        sc->actuator_count < 0 || sc->actuator_count > RJ_SCENE_MAX_ACTUATORS ||
+        (sc->actuator_count && !sc->actuators))
         return 0;
     if (!rj__sw_ok(sc, link_names, joint_names))
         return 0;
     if (!rj__sw_title_ok(title))
         return 0;
     item.link_names = link_names;
+    item.joint_names = joint_names;
     W.buf = buf;
     W.size = buf ? size : 0;
     W.n = 0;
@@ -11885,6 +12376,13 @@ RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_n
         item.on_ground = 0;
         item.root_link = 1;
         rj__sw_rows(&W, RJ__DEF_LOAD, &sc->loads[i], &item);
+    }
+    for (i = 0; i < sc->actuator_count; i++) {
+        rj__sw_put(&W, "actuator ");
+        rj__sw_name(&W, NULL, "actuator", i);
+        rj__sw_put(&W, "\n");
+        item.shape = sc->actuators[i].type;
+        rj__sw_rows(&W, RJ__DEF_ACTUATOR, &sc->actuators[i], &item);
     }
     return W.n;
 }

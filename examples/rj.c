@@ -74,11 +74,13 @@ static const char usage_run[] =
     "  Columns: t (s); for each joint J: J.theta_deg (running angle), J.rate (rad/s), J.flag\n"
     "  (0 free, 1 at the forward limit, 2 at the reverse limit, 3 locked), J.torque_spring,\n"
     "  J.torque_table, J.torque_damping, J.torque_friction, J.torque_limit (N m on body 2),\n"
-    "  J.latch_impulse (N m s that a velocity-level limit applied in the last step); for each\n"
+    "  J.latch_impulse (N m s that a velocity-level limit applied in the last step), and in\n"
+    "  scenes with actuators J.torque_drive (N m, the actuator's); for each\n"
     "  link L: L.tip_x, L.tip_y (m), L.tip_defl (m: the last node's distance from the\n"
     "  tangent at node 0, counter-clockwise positive); for each probe L.N.x, L.N.y (m),\n"
     "  L.N.phi (rad); E_kin, E_strain, E_spring, E_gravity (J: gravity's potential, -m g . x),\n"
-    "  W_applied (J: work of the scene's loads so far), W_damping, W_friction, W_limit (J lost\n"
+    "  W_applied (J: work of the scene's loads so far), W_drive (J: the actuators' work, in\n"
+    "  scenes with actuators), W_damping, W_friction, W_limit (J lost\n"
     "  so far), E_balance (J: energy + losses - initial; rj_state_energy at the row's step).\n"
     "  Standard error: the model's warnings, then events as they happen (contacts, locks,\n"
     "  releases, late contacts; at the time of the state the library decided them on, as\n"
@@ -762,15 +764,18 @@ static void csv_header(csv_sink *c, const scene *sc)
     const rj_model *m = sc->m;
     int i, k;
     cli_put(&c->out, fputs("t", c->out.f));
-    for (i = 0; i < rj_model_joint_count(m); i++)
+    for (i = 0; i < rj_model_joint_count(m); i++) {
         for (k = 0; k < NCOLS(joint_cols); k++) cli_put(&c->out, fprintf(c->out.f, ",%s.%s", joint_name(sc, i), joint_cols[k]));
+        if (rj_model_actuator_count(m)) cli_put(&c->out, fprintf(c->out.f, ",%s.torque_drive", joint_name(sc, i)));
+    }
     for (i = 0; i < rj_model_link_count(m); i++)
         for (k = 0; k < NCOLS(link_cols); k++) cli_put(&c->out, fprintf(c->out.f, ",%s.%s", link_name(sc, i), link_cols[k]));
     for (i = 0; i < c->nprobes; i++)
         for (k = 0; k < NCOLS(probe_cols); k++)
             cli_put(&c->out, fprintf(c->out.f, ",%s.%d.%s", link_name(sc, c->probes[i].link), c->probes[i].node, probe_cols[k]));
     /* the library's energy accounts, then their balance */
-    for (k = 0; k < rj_energy_account_count(); k++) cli_put(&c->out, fprintf(c->out.f, ",%s", rj_energy_account_name(k)));
+    for (k = 0; k < rj_energy_account_count(); k++)
+        if (rj_energy_account_in(m, k)) cli_put(&c->out, fprintf(c->out.f, ",%s", rj_energy_account_name(k)));
     cli_put(&c->out, fputs(",E_balance\n", c->out.f));
 }
 
@@ -783,6 +788,8 @@ static void csv_joint(cli_out *o, const rj_model *m, const rj_state *s, int j)
                        rj_joint_torque(m, s, j, RJ_TORQUE_SPRING), rj_joint_torque(m, s, j, RJ_TORQUE_TABLE),
                        rj_joint_torque(m, s, j, RJ_TORQUE_DAMPING), rj_joint_torque(m, s, j, RJ_TORQUE_FRICTION),
                        rj_joint_torque(m, s, j, RJ_TORQUE_LIMIT), rj_joint_latch_impulse(m, s, j)));
+    /* the actuator's torque, in scenes that have actuators */
+    if (rj_model_actuator_count(m)) cli_put(o, fprintf(o->f, ",%.10g", rj_joint_torque(m, s, j, RJ_TORQUE_DRIVE)));
 }
 
 /* Tip position and the tip's deflection from the tangent at node 0 (second order in the
@@ -800,7 +807,8 @@ static void csv_energy(cli_out *o, const rj_model *m, const rj_state *s)
     rj_energy e;
     int k;
     rj_state_energy(m, s, &e);
-    for (k = 0; k < rj_energy_account_count(); k++) cli_put(o, fprintf(o->f, ",%.10g", rj_energy_account(&e, k)));
+    for (k = 0; k < rj_energy_account_count(); k++)
+        if (rj_energy_account_in(m, k)) cli_put(o, fprintf(o->f, ",%.10g", rj_energy_account(&e, k)));
     cli_put(o, fprintf(o->f, ",%.10g\n", e.balance));
 }
 

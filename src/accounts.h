@@ -6,22 +6,26 @@
    step accumulates each account where its physics is (rj__sums). An account is a row
    here, a frame scalar (RJ__FS_*), a field of rj_energy and its physics. */
 enum rj__account_kind { RJ__ACC_ENERGY = 0, RJ__ACC_LOSS, RJ__ACC_WORK };
+/* What a model needs for an account to move: nothing (every model), actuators. */
+enum rj__account_need { RJ__NEED_NONE = 0, RJ__NEED_ACTUATORS };
 typedef struct rj__account {
     char column[12]; /* rj run's column name */
     int slot;        /* RJ__FS_* */
     int kind;        /* rj__account_kind */
     size_t field;    /* offsetof(rj_energy, ...) */
+    int need;        /* rj__account_need */
 } rj__account;
-#define RJ__ACCOUNT_COUNT 8
+#define RJ__ACCOUNT_COUNT 9
 static const rj__account rj__accounts[RJ__ACCOUNT_COUNT] = {
-    { "E_kin", RJ__FS_KE, RJ__ACC_ENERGY, offsetof(rj_energy, kinetic) },
-    { "E_strain", RJ__FS_STRAIN, RJ__ACC_ENERGY, offsetof(rj_energy, strain) },
-    { "E_spring", RJ__FS_SPRING, RJ__ACC_ENERGY, offsetof(rj_energy, spring) },
-    { "E_gravity", RJ__FS_GRAV, RJ__ACC_ENERGY, offsetof(rj_energy, gravity) },
-    { "W_applied", RJ__FS_WORK, RJ__ACC_WORK, offsetof(rj_energy, work_applied) },
-    { "W_damping", RJ__FS_LDAMP, RJ__ACC_LOSS, offsetof(rj_energy, lost_damping) },
-    { "W_friction", RJ__FS_LFRIC, RJ__ACC_LOSS, offsetof(rj_energy, lost_friction) },
-    { "W_limit", RJ__FS_LLIM, RJ__ACC_LOSS, offsetof(rj_energy, lost_limit) },
+    { "E_kin", RJ__FS_KE, RJ__ACC_ENERGY, offsetof(rj_energy, kinetic), RJ__NEED_NONE },
+    { "E_strain", RJ__FS_STRAIN, RJ__ACC_ENERGY, offsetof(rj_energy, strain), RJ__NEED_NONE },
+    { "E_spring", RJ__FS_SPRING, RJ__ACC_ENERGY, offsetof(rj_energy, spring), RJ__NEED_NONE },
+    { "E_gravity", RJ__FS_GRAV, RJ__ACC_ENERGY, offsetof(rj_energy, gravity), RJ__NEED_NONE },
+    { "W_applied", RJ__FS_WORK, RJ__ACC_WORK, offsetof(rj_energy, work_applied), RJ__NEED_NONE },
+    { "W_drive", RJ__FS_DRIVE, RJ__ACC_WORK, offsetof(rj_energy, work_drive), RJ__NEED_ACTUATORS },
+    { "W_damping", RJ__FS_LDAMP, RJ__ACC_LOSS, offsetof(rj_energy, lost_damping), RJ__NEED_NONE },
+    { "W_friction", RJ__FS_LFRIC, RJ__ACC_LOSS, offsetof(rj_energy, lost_friction), RJ__NEED_NONE },
+    { "W_limit", RJ__FS_LLIM, RJ__ACC_LOSS, offsetof(rj_energy, lost_limit), RJ__NEED_NONE },
 };
 
 RJDEF int rj_energy_account_count(void)
@@ -33,6 +37,17 @@ RJDEF const char *rj_energy_account_name(int k)
 {
     RJ_ASSERT(k >= 0 && k < RJ__ACCOUNT_COUNT);
     return rj__accounts[k].column;
+}
+
+RJDEF int rj_energy_account_in(const rj_model *m, int k)
+{
+    RJ_ASSERT(m && k >= 0 && k < RJ__ACCOUNT_COUNT);
+    return rj__accounts[k].need != RJ__NEED_ACTUATORS || m->nact > 0;
+}
+
+RJDEF int rj_model_actuator_count(const rj_model *m)
+{
+    return m->nact;
 }
 
 RJDEF double rj_energy_account(const rj_energy *e, int k)

@@ -188,6 +188,7 @@ typedef enum rj_torque {
     RJ_TORQUE_DAMPING,
     RJ_TORQUE_FRICTION,
     RJ_TORQUE_LIMIT,
+    RJ_TORQUE_DRIVE, /* the joint's actuator (rj_actuator_def) */
     RJ_TORQUE_TOTAL,
     RJ_TORQUE_COUNT
 } rj_torque;
@@ -313,6 +314,46 @@ typedef struct rj_load_def {
     unsigned cookie;
 } rj_load_def;
 
+/* Actuator definition: a motor on one joint, acting on body 2 (body 1 takes the
+   reaction), in every link model. A joint has at most one. Defaults
+   (rj_default_actuator_def): joint 0, type RJ_ACTUATOR_TORQUE, torque 0 N m, no table;
+   stall_torque 0 N m, no_load_speed 1 rad/s, no cutoff; kp 0 N m/rad, kd 0 N m s/rad,
+   torque_max 0 N m (no bound), target pi rad.
+   RJ_ACTUATOR_TORQUE: torque times the table's factor at t (time factor pairs, as a
+     load's: linear between the points, held at the end values; none: 1).
+   RJ_ACTUATOR_DC: a DC motor's line, stall_torque (1 - rate / no_load_speed) for the
+     joint's rate, within +-|stall_torque|; both of one sign, the direction it drives.
+     With a cutoff (an angle in [0, 2 pi), as a limit's) it is off while the joint's angle
+     is at or past the cutoff's first crossing in that direction from angle0: an
+     end-of-travel switch.
+   RJ_ACTUATOR_SERVO: kp (target - theta_run) - kd rate, within +-torque_max when it is
+     > 0; target on the running angle (as spring_free_angle).
+   The rate is the one joint damping reads (Eq 27), so kd and a DC motor's slope
+   stall_torque / no_load_speed are dampers and kp a spring to the stability bound. The
+   torque is RJ_TORQUE_DRIVE; its work is rj_energy.work_drive. */
+typedef enum rj_actuator_type {
+    RJ_ACTUATOR_TORQUE = 0,
+    RJ_ACTUATOR_DC,
+    RJ_ACTUATOR_SERVO
+} rj_actuator_type;
+typedef struct rj_actuator_def {
+    int joint;                         /* joint index */
+    int type;                          /* rj_actuator_type */
+    double torque;                     /* N m (TORQUE) */
+    int table_count;                   /* 0 (constant), or 1..RJ_TABLE_MAX points (TORQUE) */
+    double table_time[RJ_TABLE_MAX];   /* s, strictly increasing */
+    double table_factor[RJ_TABLE_MAX]; /* the torque's scale at table_time */
+    double stall_torque;               /* N m (DC) */
+    double no_load_speed;              /* rad/s, not 0, the sign of stall_torque (DC) */
+    int has_cutoff;                    /* the cutoff is on (DC) */
+    double cutoff;                     /* rad, in [0, 2 pi) (DC) */
+    double kp;                         /* N m/rad, >= 0 (SERVO) */
+    double kd;                         /* N m s/rad, >= 0 (SERVO) */
+    double torque_max;                 /* N m, >= 0, 0: no bound (SERVO) */
+    double target;                     /* rad, on the running angle (SERVO) */
+    unsigned cookie;
+} rj_actuator_def;
+
 /* A whole scene. The arrays are read during rj_model_create only. loads (load_count of
    them) may be NULL when load_count is 0. */
 typedef struct rj_scene_def {
@@ -323,6 +364,8 @@ typedef struct rj_scene_def {
     rj_solver_def solver;
     const rj_load_def *loads;
     int load_count;
+    const rj_actuator_def *actuators; /* may be NULL when actuator_count is 0 */
+    int actuator_count;
 } rj_scene_def;
 
 /* Energy accounts, J. total = kinetic + strain + spring; balance = total + lost - initial. */
@@ -330,6 +373,7 @@ typedef struct rj_energy {
     double kinetic, strain, spring; /* spring: torsion springs and tables */
     double gravity;                 /* the potential of gravity, -sum m g . x */
     double work_applied; /* J done on the model by the applied loads and caller's inputs so far */
+    double work_drive;   /* J done on the model by the joints' actuators so far */
     double lost_damping, lost_friction, lost_limit;
     double total, balance;
 } rj_energy;
@@ -343,6 +387,11 @@ RJDEF double rj_energy_account(const rj_energy *e, int k);
 
 typedef struct rj_model rj_model;
 typedef struct rj_state rj_state;
+/* Whether account k can move in model m (W_drive needs actuators): rj run writes only
+   those. */
+RJDEF int rj_energy_account_in(const rj_model *m, int k);
+/* The model's actuators (rj_scene_def.actuator_count). */
+RJDEF int rj_model_actuator_count(const rj_model *m);
 
 /* Degree/radian helpers. */
 RJDEF double rj_rad(double deg);
@@ -353,6 +402,7 @@ RJDEF rj_link_def rj_default_link_def(void);
 RJDEF rj_joint_def rj_default_joint_def(void);
 RJDEF rj_solver_def rj_default_solver_def(void);
 RJDEF rj_load_def rj_default_load_def(void);
+RJDEF rj_actuator_def rj_default_actuator_def(void);
 RJDEF rj_scene_def rj_default_scene_def(void);
 /* Result code as text. */
 RJDEF const char *rj_result_str(rj_result r);
@@ -542,6 +592,7 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2); /* E
 #define RJ_SCENE_MAX_LINKS     256
 #define RJ_SCENE_MAX_JOINTS    256
 #define RJ_SCENE_MAX_LOADS     256
+#define RJ_SCENE_MAX_ACTUATORS 256
 #define RJ_SCENE_MAX_MATERIALS 64
 #define RJ_SCENE_MAX_SECTIONS  64
 #define RJ_SCENE_MAX_LINE      1024 /* characters per line, line end excluded */
@@ -577,6 +628,10 @@ typedef struct rj_scene_file {
     int load_count;
     char (*load_names)[RJ_SCENE_NAME_MAX];
     rj_scene_pos *load_pos_;
+    rj_actuator_def *actuators;
+    int actuator_count;
+    char (*actuator_names)[RJ_SCENE_NAME_MAX];
+    rj_scene_pos *actuator_pos_;
 } rj_scene_file;
 
 /* Parses len bytes of text (need not be NUL-terminated) named filename in messages

@@ -543,9 +543,9 @@ static double rj__damping_rate(const rj_model *m)
     int j;
     for (j = 0; j < m->nj; j++) {
         double rate;
-        if (!(m->jdef[j].damping > 0))
+        if (!(m->jnt[j].c_lin > 0))
             continue;
-        rate = m->jdef[j].damping * rj__joint_compliance0(m, j);
+        rate = m->jnt[j].c_lin * rj__joint_compliance0(m, j);
         if (rate > worst)
             worst = rate;
     }
@@ -657,6 +657,8 @@ static unsigned long long rj__model_hash(const rj_model *m)
     const rj__field *lo[64], *jo[64], *so[64], *ao[64];
     const int nlo = rj__hash_order(RJ__DEF_LINK, lo), njo = rj__hash_order(RJ__DEF_JOINT, jo);
     const int nso = rj__hash_order(RJ__DEF_SOLVER, so), nao = rj__hash_order(RJ__DEF_LOAD, ao);
+    const rj__field *co[64];
+    const int nco = rj__hash_order(RJ__DEF_ACTUATOR, co);
     int l, j, k;
     h = rj__fnv_i(h, m->nn);
     h = rj__fnv_i(h, m->ne);
@@ -671,6 +673,8 @@ static unsigned long long rj__model_hash(const rj_model *m)
     h = rj__fnv_def(h, so, nso, &m->solver);
     for (k = 0; k < m->nload; k++)
         h = rj__fnv_def(h, ao, nao, &m->load[k]);
+    for (k = 0; k < m->nact; k++)
+        h = rj__fnv_def(h, co, nco, &m->act[k]);
     return h;
 }
 
@@ -1034,7 +1038,7 @@ static int rj__joint_unusable(const rj_model *m, rj_error *err)
     char f[64];
     for (j = 0; j < m->nj; j++) {
         const double c = rj__joint_compliance0(m, j);
-        const double rate = sqrt(m->jnt[j].k_lin * c) + m->jdef[j].damping * c;
+        const double rate = sqrt(m->jnt[j].k_lin * c) + m->jnt[j].c_lin * c;
         if (rate > fastest) {
             fastest = rate;
             worst = j;

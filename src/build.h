@@ -144,6 +144,7 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(beta0, double);
     RJ__SET(load, rj_load_def);
     RJ__SET(load_node, int);
+    RJ__SET(act, rj_actuator_def);
     RJ__SET(lz, double);
 #undef RJ__SET
 }
@@ -158,6 +159,9 @@ static void rj__init_copy_defs(rj_model *m, const rj_scene_def *sc)
     m->nload = sc->load_count;
     if (m->nload)
         memcpy(m->load, sc->loads, sizeof(rj_load_def) * (size_t) m->nload);
+    m->nact = sc->actuator_count;
+    if (m->nact)
+        memcpy(m->act, sc->actuators, sizeof(rj_actuator_def) * (size_t) m->nact);
 }
 
 /* A link's section: area and second moment (layers integrate EA and EI exactly for the
@@ -469,11 +473,40 @@ static double rj__table_stiffness(const rj_joint_def *d)
     return steepest;
 }
 
+/* A DC motor's cutoff on the running angle: its first crossing from angle0 in the
+   direction the motor drives (angle0 itself when they are the same angle). */
+static double rj__running_cutoff(const rj_actuator_def *a, double angle0)
+{
+    const double ahead = rj__mod2pi(a->cutoff - angle0);
+    if (a->no_load_speed > 0)
+        return angle0 + ahead;
+    return ahead == 0 ? angle0 : angle0 - (RJ__TWO_PI - ahead);
+}
+
+/* An actuator on its joint: the joint keeps it; a servo's gain is a spring and its
+   damping, like a DC motor's slope, a damper to the stability bound; a cutoff on the
+   running angle. */
+static void rj__init_actuator(rj_model *m, const rj_actuator_def *a)
+{
+    rj__joint *J = &m->jnt[a->joint];
+    J->act = a;
+    if (a->type == RJ_ACTUATOR_SERVO) {
+        J->k_lin += a->kp;
+        J->c_lin += a->kd;
+    }
+    if (a->type == RJ_ACTUATOR_DC) {
+        J->c_lin += a->stall_torque / a->no_load_speed;
+        if (a->has_cutoff)
+            J->cut = rj__running_cutoff(a, m->jdef[a->joint].angle0);
+    }
+}
+
 /* Every joint's constants: inertias, limits on the running angle, the table's potential
-   over a turn, and the linear stiffness of its spring and table (limits come later). */
+   over a turn, and the linear stiffness of its spring and table (limits come later); its
+   actuator. */
 static void rj__init_joint_constants(rj_model *m)
 {
-    int j;
+    int j, k;
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         rj__joint *J = &m->jnt[j];
@@ -484,7 +517,12 @@ static void rj__init_joint_constants(rj_model *m)
                                     : 0.0;
         J->k_lin = d->spring_k + rj__table_stiffness(d);
         J->k_limit = 0;
+        J->c_lin = d->damping;
+        J->act = NULL;
+        J->cut = HUGE_VAL;
     }
+    for (k = 0; k < m->nact; k++)
+        rj__init_actuator(m, &m->act[k]);
 }
 
 /* Inextensible links: the chains SHAKE solves (links joined tip to root form one). */

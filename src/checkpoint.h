@@ -5,6 +5,8 @@
    (nj), then whether the node forces are on, the forces (3 nn) and those the last step
    applied (3 nn). */
 #define RJ__CK_HEAD 24
+/* the layout's version: 6 since the actuators' torque and work joined each frame */
+#define RJ__CK_VERSION 6u
 /* the payload's bytes */
 static size_t rj__ck_payload(const rj_model *m)
 {
@@ -26,7 +28,7 @@ RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size
     size_t need = RJ__CK_HEAD + pay + 8;
     unsigned char *b = (unsigned char *) buf;
     unsigned char *in_bytes;
-    unsigned int ver = 5;
+    unsigned int ver = RJ__CK_VERSION;
     unsigned long long h, pl = pay, st = (unsigned long long) s->steps;
     if (!buf || size < need)
         return need;
@@ -222,11 +224,11 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
     memcpy(&ver, b + 4, 4);
     memcpy(&mh, b + 8, 8);
     memcpy(&pl, b + 16, 8);
-    if (ver != 5) {
+    if (ver != RJ__CK_VERSION) {
         rj__fail(err, RJ_ERR_CHECKPOINT, "version", ver,
-                 "checkpoint version %u is not supported (5: each joint's record of its links "
-                 "passing through each other joined it)",
-                 ver);
+                 "checkpoint version %u is not supported (%u: the actuators' torque and work "
+                 "joined each frame)",
+                 ver, RJ__CK_VERSION);
         return RJ_ERR_CHECKPOINT;
     }
     if (mh != m->hash || pl != pay) {

@@ -39,3 +39,10 @@ RJDEF rj_scene_def rj_default_scene_def(void)
     d.solver = rj_default_solver_def();
     return d;
 }
+RJDEF rj_actuator_def rj_default_actuator_def(void)
+{
+    rj_actuator_def d;
+    rj__rows_default(&d, sizeof d, RJ__DEF_ACTUATOR);
+    d.cookie = RJ__COOKIE_ACTUATOR;
+    return d;
+}

@@ -124,3 +124,23 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2)
     *w2 = w;
 }
 
+
+/* A factor in time from a table of count points (times strictly increasing): linear
+   between the points, held at the end values outside them; 1 without a table (a load's,
+   an actuator's). */
+static double rj__time_factor(int count, const double *time, const double *factor, double t)
+{
+    const int last = count - 1;
+    int k;
+    if (count == 0)
+        return 1.0;
+    if (!(t > time[0]))
+        return factor[0];
+    for (k = 1; k <= last; k++)
+        if (t < time[k]) {
+            const double t0 = time[k - 1], t1 = time[k];
+            const double f0 = factor[k - 1], f1 = factor[k];
+            return f0 + (f1 - f0) * ((t - t0) / (t1 - t0));
+        }
+    return factor[last];
+}

@@ -1,6 +1,6 @@
 /* ------------------------------------------------------------------ definition fields */
-/* Every member of a definition (rj_link_def, rj_joint_def, rj_solver_def, rj_load_def) is
-   one row of its kind's table below: its scene key, unit, kind of value, default, range
+/* Every member of a definition (rj_link_def, rj_joint_def, rj_solver_def, rj_load_def,
+   rj_actuator_def) is one row of its kind's table below: its scene key, unit, kind of value, default, range
    with the one sentence that states it, when it applies, how the writer puts it in a
    scene file, and where it enters the model's hash. The defaults (rj_default_*_def),
    validation (rj__validate), the scene parser, the scene writer and the model hash read
@@ -78,6 +78,22 @@ enum {
     RJ__AF_N = RJ__AK_N
 };
 enum {
+    RJ__CK_JOINT,
+    RJ__CK_TYPE,
+    RJ__CK_TORQUE,
+    RJ__CK_TABLE,
+    RJ__CK_STALL_TORQUE,
+    RJ__CK_NO_LOAD_SPEED,
+    RJ__CK_CUTOFF,
+    RJ__CK_KP,
+    RJ__CK_KD,
+    RJ__CK_TORQUE_MAX,
+    RJ__CK_TARGET,
+    RJ__CK_N,
+    RJ__CF_HAS_CUTOFF = RJ__CK_N,
+    RJ__CF_N
+};
+enum {
     RJ__VK_DT,
     RJ__VK_ALLOW_UNSTABLE,
     RJ__VK_ENERGY_GROWTH,
@@ -98,6 +114,7 @@ enum {
     RJ__FT_BOOL,  /* an int 0 or 1: no / yes in files */
     RJ__FT_VEC2,  /* two numbers (x, y), each in the range */
     RJ__FT_LINK,  /* an int: a link of the scene (a joint's body1 may be -1, ground) */
+    RJ__FT_JOINT, /* an int: a joint of the scene */
     RJ__FT_NODE,  /* an int: a node of a link, -1 its last ("last" in files) */
     RJ__FT_TABLE, /* an int count, then two arrays of RJ_TABLE_MAX doubles from aux */
     RJ__FT_LIMIT, /* an angle in [lo, hi), on when the int at aux is 1 ("none" when off) */
@@ -105,12 +122,16 @@ enum {
     RJ__FT_N
 };
 
-/* When a row is checked and written: always, or only for one section shape; GROUND and
-   ON_LINK rows are checked always and written only for a joint on ground or on a link. */
+/* When a row is checked and written: always, or only for one variant of its item (a
+   link's section shape, an actuator's type); GROUND and ON_LINK rows are checked always
+   and written only for a joint on ground or on a link. */
 enum {
     RJ__WHEN_ALL,
     RJ__WHEN_RECT,
     RJ__WHEN_GENERAL,
+    RJ__WHEN_TORQUE,
+    RJ__WHEN_DC,
+    RJ__WHEN_SERVO,
     RJ__WHEN_GROUND,
     RJ__WHEN_ON_LINK,
     RJ__WHEN_PLACE /* a link's placement: with a note when a joint places the link */
@@ -159,6 +180,7 @@ static const char rj__sk_method[5][9] = { "penalty", "adaptive", "momentum", "fo
 static const char rj__sk_release[2][5] = { "rc12", "rc13" };
 static const char rj__sk_reference[2][8] = { "tangent", "chord" };
 static const char rj__sk_shape[2][8] = { "rect", "general" };
+static const char rj__sk_actuator[3][7] = { "torque", "dc", "servo" };
 
 #define RJ__NAMES(a) a[0], (unsigned char) sizeof a[0], (unsigned char) (sizeof a / sizeof a[0])
 #define RJ__NO_NAMES NULL, 0, 0
@@ -336,9 +358,52 @@ static const rj__field rj__load_fields[RJ__AF_N] = {
 };
 #undef RJ__DEF
 
+/* A row of an actuator's member m that applies to one type (when). */
+#define RJ__FC(key, m, unit, type, when, wr, line, hat, def, range, rule)                     \
+    {                                                                                         \
+        key, #m, unit, RJ__OFF(RJ__DEF, m), -1, type, when, wr, line, hat, 'd', -1, def,      \
+            range, rule, RJ__NO_NAMES                                                         \
+    }
+
+#define RJ__DEF rj_actuator_def
+static const rj__field rj__actuator_fields[RJ__CF_N] = {
+    RJ__F("joint", joint, "", RJ__FT_JOINT, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 0, 'i', 0.0,
+          RJ__ANY, ""),
+    RJ__FE("type", type, rj__sk_actuator, RJ__WR_ALWAYS, 1, 1, 'i', RJ_ACTUATOR_TORQUE,
+           "RJ_ACTUATOR_TORQUE, RJ_ACTUATOR_DC or RJ_ACTUATOR_SERVO"),
+    RJ__FC("torque", torque, "N m", RJ__FT_REAL, RJ__WHEN_TORQUE, RJ__WR_ALWAYS, 2, 2, 0.0,
+           RJ__R(-1e30, 1, 1e30, 1), "must be a finite torque within +-1e30 N m"),
+    /* time factor pairs, as a load's */
+    { "table", "table_count", "", RJ__OFF(rj_actuator_def, table_count),
+      RJ__OFF(rj_actuator_def, table_time), RJ__FT_TABLE, RJ__WHEN_TORQUE, RJ__WR_SET, 3, 3,
+      'i', -1, 0.0, RJ__R(1.0, 1, RJ_TABLE_MAX, 1), "", NULL, 0, 0 },
+    RJ__FC("stall_torque", stall_torque, "N m", RJ__FT_REAL, RJ__WHEN_DC, RJ__WR_ALWAYS, 4, 4,
+           0.0, RJ__R(-1e30, 1, 1e30, 1), "must be a finite torque within +-1e30 N m"),
+    RJ__FC("no_load_speed", no_load_speed, "rad/s", RJ__FT_RATE, RJ__WHEN_DC, RJ__WR_ALWAYS, 4,
+           5, 1.0, RJ__R(-1e6, 1, 1e6, 1),
+           "must be a rate within +-1e6 rad/s, not 0, of the stall torque's sign"),
+    { "cutoff", "cutoff", "rad", RJ__OFF(rj_actuator_def, cutoff),
+      RJ__OFF(rj_actuator_def, has_cutoff), RJ__FT_LIMIT, RJ__WHEN_DC, RJ__WR_SET, 5, 7, 'd', -1,
+      0.0, RJ__R(0.0, 1, RJ__TWO_PI, 0), "a cutoff must be in [0, 2 pi) rad, [0, 360) deg", NULL,
+      0, 0 },
+    RJ__FC("kp", kp, "N m/rad", RJ__FT_REAL, RJ__WHEN_SERVO, RJ__WR_ALWAYS, 6, 8, 0.0,
+           RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m/rad"),
+    RJ__FC("kd", kd, "N m s/rad", RJ__FT_REAL, RJ__WHEN_SERVO, RJ__WR_ALWAYS, 6, 9, 0.0,
+           RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m s/rad"),
+    RJ__FC("torque_max", torque_max, "N m", RJ__FT_REAL, RJ__WHEN_SERVO, RJ__WR_SET, 7, 10, 0.0,
+           RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m (0: no bound)"),
+    RJ__FC("target", target, "rad", RJ__FT_ANGLE, RJ__WHEN_SERVO, RJ__WR_ALWAYS, 8, 11, RJ__PI,
+           RJ__R(-1e6, 1, 1e6, 1), RJ__RULE_ANGLE),
+    /* the cutoff's on/off */
+    { "has_cutoff", "has_cutoff", "", RJ__OFF(rj_actuator_def, has_cutoff), -1, RJ__FT_BOOL,
+      RJ__WHEN_DC, RJ__WR_NONE, 5, 6, 'i', RJ__CK_CUTOFF, 0.0, RJ__R(0.0, 1, 1.0, 1),
+      RJ__RULE_BOOL, NULL, 0, 0 },
+};
+#undef RJ__DEF
+
 /* ------------------------------------------------------------------ reading rows */
 /* The definition kinds, and each one's table. */
-enum { RJ__DEF_LINK, RJ__DEF_JOINT, RJ__DEF_SOLVER, RJ__DEF_LOAD };
+enum { RJ__DEF_LINK, RJ__DEF_JOINT, RJ__DEF_SOLVER, RJ__DEF_LOAD, RJ__DEF_ACTUATOR };
 
 static const rj__field *rj__fields(int kind, int *count)
 {
@@ -352,9 +417,29 @@ static const rj__field *rj__fields(int kind, int *count)
     case RJ__DEF_SOLVER:
         *count = RJ__VF_N;
         return rj__solver_fields;
-    default:
+    case RJ__DEF_LOAD:
         *count = RJ__AF_N;
         return rj__load_fields;
+    default:
+        *count = RJ__CF_N;
+        return rj__actuator_fields;
+    }
+}
+
+/* How many of kind's rows are scene keys (the first ones). */
+static int rj__key_count(int kind)
+{
+    switch (kind) {
+    case RJ__DEF_LINK:
+        return RJ__LK_N;
+    case RJ__DEF_JOINT:
+        return RJ__JK_N;
+    case RJ__DEF_SOLVER:
+        return RJ__VK_N;
+    case RJ__DEF_LOAD:
+        return RJ__AK_N;
+    default:
+        return RJ__CK_N;
     }
 }
 
@@ -412,15 +497,22 @@ static void rj__rows_default(void *def, size_t size, int kind)
     }
 }
 
-/* Whether row r applies to a link of section shape (-1: not a link) and is checked
-   (write 0) or written (write 1) for a joint on ground (or not). */
-static int rj__row_applies(const rj__field *r, int shape, int on_ground, int write)
+/* Whether row r applies to an item of variant (a link's section shape, an actuator's
+   type; -1 for other kinds) and is checked (write 0) or written (write 1) for a joint on
+   ground (or not). */
+static int rj__row_applies(const rj__field *r, int variant, int on_ground, int write)
 {
     switch (r->when) {
     case RJ__WHEN_RECT:
-        return shape == RJ_SECTION_RECT;
+        return variant == RJ_SECTION_RECT;
     case RJ__WHEN_GENERAL:
-        return shape == RJ_SECTION_GENERAL;
+        return variant == RJ_SECTION_GENERAL;
+    case RJ__WHEN_TORQUE:
+        return variant == RJ_ACTUATOR_TORQUE;
+    case RJ__WHEN_DC:
+        return variant == RJ_ACTUATOR_DC;
+    case RJ__WHEN_SERVO:
+        return variant == RJ_ACTUATOR_SERVO;
     case RJ__WHEN_GROUND:
         return !write || on_ground;
     case RJ__WHEN_ON_LINK:

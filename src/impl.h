@@ -100,6 +100,7 @@ typedef long long rj__vl4 __attribute__((vector_size(32)));
 #define RJ__COOKIE_JOINT  0x524a4a54u
 #define RJ__COOKIE_SOLVER 0x524a534fu
 #define RJ__COOKIE_LOAD   0x524a4c44u
+#define RJ__COOKIE_ACTUATOR 0x524a4143u
 #define RJ__ALIGN         16
 /* Margin on 2/omega_max: covers the Lanczos estimate (a lower bound of omega_max) and the
    geometric stiffness the linearisation leaves out. */
@@ -136,6 +137,9 @@ typedef struct rj__joint {
     double k_free;   /* k_lin without the limits (springs and tables), N m/rad */
     double fwd, rev; /* running (unwrapped) limits, rad; +-inf when disabled */
     double tv_turn;  /* table potential of a full turn, J */
+    double c_lin;    /* linear damping for the stability bound (damper, actuator), N m s/rad */
+    const rj_actuator_def *act; /* its actuator, or NULL */
+    double cut;      /* a DC motor's cutoff on the running angle; +-inf: none */
 } rj__joint;
 
 /* An angle no joint reaches (within the 1e100 a checkpoint carries): the empty zone of the
@@ -176,6 +180,7 @@ enum {
     RJ__FS_PEND,
     RJ__FS_GRAV, /* the potential of gravity at x^n */
     RJ__FS_WORK, /* the work of the caller's inputs since the start */
+    RJ__FS_DRIVE, /* the work of the actuators since the start */
     RJ__FS_COUNT
 };
 
@@ -186,6 +191,8 @@ struct rj_model {
     int rigid;         /* all links rigid: joint coordinates */
     int has_gravity;   /* solver.gravity is not zero */
     int nload;         /* applied loads (scene loads) */
+    int nact;          /* actuators */
+    rj_actuator_def *act; /* (nact) their definitions */
     rj_load_def *load; /* (nload) their definitions */
     int *load_node;    /* (nload) the node each acts on, in the scene's node order */
     double *rb_mass, *rb_icm,

@@ -42,6 +42,33 @@ static RJ__FORCE_INLINE void rj__overlap(const rj_model *m, rj_state *s, int j, 
     rj__overlap_band(m, s, j, run, t, oj, nj_, nsc);
 }
 
+/* A value within +-cap. */
+static double rj__clamp(double v, double cap)
+{
+    return v > cap ? cap : (v < -cap ? -cap : v);
+}
+
+/* The torque of joint J's actuator on body 2 at t, the joint at its running angle run
+   with the rate damping reads (rj_actuator_def). */
+static double rj__drive_torque(const rj__joint *J, double run, double rate, double t)
+{
+    const rj_actuator_def *a = J->act;
+    double tq;
+    switch (a->type) {
+    case RJ_ACTUATOR_TORQUE:
+        return a->torque * rj__time_factor(a->table_count, a->table_time, a->table_factor, t);
+    case RJ_ACTUATOR_DC:
+        /* off at or past the cutoff, in the direction it drives */
+        if (a->has_cutoff && (a->no_load_speed > 0 ? run >= J->cut : run <= J->cut))
+            return 0;
+        tq = a->stall_torque * (1.0 - rate / a->no_load_speed);
+        return rj__clamp(tq, fabs(a->stall_torque));
+    default:
+        tq = a->kp * (a->target - run) - a->kd * rate;
+        return a->torque_max > 0 ? rj__clamp(tq, a->torque_max) : tq;
+    }
+}
+
 /* The revolute element for one joint and one step, shared by every link model: status
    flag (Eqs 7-13), contact bookkeeping, penetration (Eq 19), and the torques on body 2 from
    the table (Eq 4), the torsion spring, damping (Eq 27) and the penalty / adaptive limit
@@ -54,7 +81,7 @@ static double rj__element(const rj_model *m, rj_state *s, int j, const double *o
     const rj_joint_def *d = &m->jdef[j];
     const rj__joint *J = &m->jnt[j];
     const double run = oj[RJ__JD_THETA];
-    double tq_table = 0, tq_spring = 0, tq_damp = 0, tq_lim = 0, p = 0;
+    double tq_table = 0, tq_spring = 0, tq_damp = 0, tq_lim = 0, tq_drive = 0, p = 0;
     const int bf = run >= J->fwd, br = run <= J->rev;
     const int flag = rj_flag_next(oflag, bf, br, rate, d->lock, d->release);
     memcpy(nj_, oj, sizeof(double) * RJ__JD_COUNT);
@@ -104,6 +131,8 @@ static double rj__element(const rj_model *m, rj_state *s, int j, const double *o
         tq_spring = -d->spring_k * (run - d->spring_free_angle);
     if (d->damping > 0)
         tq_damp = -d->damping * rate;
+    if (J->act)
+        tq_drive = rj__drive_torque(J, run, rate, t);
     /* Eq 22 / penalty: tau_2 = K p while at a limit */
     if (flag != RJ_FREE && (d->method == RJ_METHOD_PENALTY || d->method == RJ_METHOD_ADAPTIVE))
         tq_lim = J->k_limit * p;
@@ -112,8 +141,9 @@ static double rj__element(const rj_model *m, rj_state *s, int j, const double *o
     nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] = tq_damp;
     nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] = tq_lim;
     nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = 0;
+    nj_[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = tq_drive;
     *p_out = p;
-    return tq_table + tq_spring + tq_damp + tq_lim;
+    return tq_table + tq_spring + tq_damp + tq_lim + tq_drive;
 }
 
 /* Coulomb friction: the torque that stops the relative rotation within the step (ratep is
@@ -147,6 +177,15 @@ static RJ__FORCE_INLINE void rj__element_work(const double *oj, const double *nj
     *ll -= 0.5 * dt *
            (nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * rate_m +
             oj[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * oj[RJ__JD_RATE]);
+}
+
+/* The work of the joint's actuator over the step, in the form of rj__element_work. */
+static RJ__FORCE_INLINE double rj__drive_work(const double *oj, const double *nj_, double rate_m,
+                                              double dt)
+{
+    return 0.5 * dt *
+           (nj_[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] * rate_m +
+            oj[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] * oj[RJ__JD_RATE]);
 }
 
 /* The work of the caller's torque over the step, in the form of rj__element_work. */

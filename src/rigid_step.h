@@ -424,6 +424,8 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_sta
                          &lost_limit);
         if (applied)
             e->work += rj__input_work(old_joint, new_joint, qd[j], dt);
+        if (m->jnt[j].act)
+            e->drive += rj__drive_work(old_joint, new_joint, qd[j], dt);
     }
     e->lost_damping = lost_damping;
     e->lost_friction = lost_friction;
@@ -469,6 +471,7 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
     new_scalars[RJ__FS_PEND] = e->pending;
     new_scalars[RJ__FS_GRAV] = e->gravity;
     new_scalars[RJ__FS_WORK] = e->work;
+    new_scalars[RJ__FS_DRIVE] = e->drive;
     if (f->first)
         rj__first_accounts(new_scalars, e, ke + e->spring + e->gravity);
     res = rj__energy_check(m, s, NULL, f->t, e, f->old_scalars[RJ__FS_SPRING],

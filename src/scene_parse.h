@@ -14,12 +14,13 @@ enum {
     RJ__SK_LINK,
     RJ__SK_JOINT,
     RJ__SK_LOAD,
+    RJ__SK_ACTUATOR,
     RJ__SK_COUNT
 };
 
 /* char arrays, not pointer arrays: read-only data without relocations */
-static const char rj__sk_kind[RJ__SK_COUNT][10] = { "",     "solver", "material", "section",
-                                                    "link", "joint",  "load" };
+static const char rj__sk_kind[RJ__SK_COUNT][10] = { "",      "solver", "material", "section",
+                                                    "link",  "joint",  "load",     "actuator" };
 #define RJ__SK_MAT_KEYS ((1u << RJ__LK_E) | (1u << RJ__LK_RHO))
 #define RJ__SK_SEC_KEYS                                                                            \
     ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA) | (1u << RJ__LK_WIDTH) | (1u << RJ__LK_HEIGHT) | \
@@ -49,7 +50,7 @@ typedef struct rj__sp {
     rj__stok *tok;
     int ntok;
     rj_scene_file *f;
-    int cap_links, cap_joints, cap_loads;
+    int cap_links, cap_joints, cap_loads, cap_acts;
     rj__spart *mat, *sec;
     int nmat, nsec, cap_mat, cap_sec;
     int kind, item; /* current section: kind and index (materials, sections, links, joints) */
@@ -297,6 +298,8 @@ static const char *rj__sp_item_name(const rj__sp *P)
         return P->f->joint_names[P->item];
     case RJ__SK_LOAD:
         return P->f->load_names[P->item];
+    case RJ__SK_ACTUATOR:
+        return P->f->actuator_names[P->item];
     }
     return "";
 }
@@ -355,6 +358,8 @@ static rj_scene_pos *rj__sp_pos(rj__sp *P, int k) /* position slot of key k of t
         return &P->f->link_pos_[(size_t) P->item * (1 + RJ__LK_N) + 1 + k];
     case RJ__SK_LOAD:
         return &P->f->load_pos_[(size_t) P->item * (1 + RJ__AK_N) + 1 + k];
+    case RJ__SK_ACTUATOR:
+        return &P->f->actuator_pos_[(size_t) P->item * (1 + RJ__CK_N) + 1 + k];
     default:
         return &P->f->joint_pos_[(size_t) P->item * (1 + RJ__JK_N) + 1 + k];
     }
@@ -453,6 +458,8 @@ static const char *rj__sp_near_key(const rj__sp *P, const rj__stok *t)
         return rj__sp_near_row(t->s, t->len, rj__link_fields, RJ__LK_N, ~0u);
     case RJ__SK_LOAD:
         return rj__sp_near_row(t->s, t->len, rj__load_fields, RJ__AK_N, ~0u);
+    case RJ__SK_ACTUATOR:
+        return rj__sp_near_row(t->s, t->len, rj__actuator_fields, RJ__CK_N, ~0u);
     }
     return NULL;
 }
@@ -822,9 +829,11 @@ static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *
     return rj__sp_row(P, &rj__link_fields[k], a, i, b, d);
 }
 
-/* forward / reverse = an angle in the limits' range, or none */
-static int rj__sp_limit(rj__sp *P, int a, int *i, int b, const char *key, int *has, double *lim)
+/* forward / reverse / cutoff = an angle in row r's range, or none */
+static int rj__sp_limit(rj__sp *P, const rj__field *r, int a, int *i, int b, int *has,
+                        double *lim)
 {
+    const char *key = r->key;
     char rule[96];
     double v = 0;
     if (rj__sp_is(&P->tok[a], "none")) {
@@ -835,9 +844,8 @@ static int rj__sp_limit(rj__sp *P, int a, int *i, int b, const char *key, int *h
     }
     if (!rj__sp_angle(P, i, b, key, 0, &v))
         return 0;
-    rj__sp_cat(rule, sizeof rule, rj__joint_fields[RJ__JK_FORWARD].rule, ", or none", NULL,
-               NULL, NULL, NULL, NULL);
-    if (!RJ__SP_RULE(rj__sp_in_range(&rj__joint_fields[RJ__JK_FORWARD], v), rule))
+    rj__sp_cat(rule, sizeof rule, r->rule, ", or none", NULL, NULL, NULL, NULL, NULL);
+    if (!RJ__SP_RULE(rj__sp_in_range(r, v), rule))
         return 0;
     *has = 1;
     *lim = v;
@@ -1048,9 +1056,8 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
     case RJ__FT_TABLE:
         return rj__sp_table(P, i, b, d);
     case RJ__FT_LIMIT:
-        return k == RJ__JK_FORWARD
-                   ? rj__sp_limit(P, a, i, b, r->key, &d->has_forward, &d->forward)
-                   : rj__sp_limit(P, a, i, b, r->key, &d->has_reverse, &d->reverse);
+        return k == RJ__JK_FORWARD ? rj__sp_limit(P, r, a, i, b, &d->has_forward, &d->forward)
+                                   : rj__sp_limit(P, r, a, i, b, &d->has_reverse, &d->reverse);
     }
     if (k == RJ__JK_SPRING)
         return rj__sp_spring(P, a, i, b, d);
@@ -1090,6 +1097,77 @@ static int rj__sp_load_key(rj__sp *P, int k, int a, int *i, int b, rj_load_def *
     return rj__sp_row(P, r, a, i, b, d);
 }
 
+/* joint = NAME: a joint defined above the actuator */
+static int rj__sp_joint_ref(rj__sp *P, const rj__stok *t, const char *key, int *joint)
+{
+    const int idx = P->f->joint_count
+                        ? rj__sp_find(t->s, t->len, (const char *) P->f->joint_names,
+                                      RJ_SCENE_NAME_MAX, P->f->joint_count)
+                        : -1;
+    char mean[48];
+    if (!rj__sp_name_ref(P, t, key))
+        return 0;
+    if (idx >= 0) {
+        *joint = idx;
+        return 1;
+    }
+    rj__sp_mean(mean, P->f->joint_count
+                          ? rj__sp_near(t->s, t->len, (const char *) P->f->joint_names,
+                                        RJ_SCENE_NAME_MAX, P->f->joint_count)
+                          : NULL);
+    return rj__sp_err_tok(P, t, key, rj__sp_nan(), "unknown joint ", rj__sp_for(P, key),
+                          " (define joints above the actuators that drive them)", mean);
+}
+
+/* an actuator's table = time factor, time factor, ... (as a load's) */
+static int rj__sp_actuator_table(rj__sp *P, int *i, int b, rj_actuator_def *d)
+{
+    const rj__sp_form form = { 0,    "time", "factor",
+                               NULL, NULL,   " (table = time factor, time factor, ...)",
+                               1 };
+    return rj__sp_pairs(P, i, b, &form, d->table_time, d->table_factor, &d->table_count);
+}
+
+static int rj__sp_actuator_key(rj__sp *P, int k, int a, int *i, int b, rj_actuator_def *d)
+{
+    const rj__field *r = &rj__actuator_fields[k];
+    switch (r->type) {
+    case RJ__FT_JOINT:
+        if (!rj__sp_joint_ref(P, &P->tok[a], r->key, &d->joint))
+            return 0;
+        (*i)++;
+        return 1;
+    case RJ__FT_TABLE:
+        return rj__sp_actuator_table(P, i, b, d);
+    case RJ__FT_LIMIT:
+        return rj__sp_limit(P, r, a, i, b, &d->has_cutoff, &d->cutoff);
+    }
+    return rj__sp_row(P, r, a, i, b, d);
+}
+
+/* an actuator names its joint, and sets only keys of its type */
+static int rj__sp_finish_actuator(rj__sp *P)
+{
+    const rj_actuator_def *d = &P->f->actuators[P->item];
+    const rj_scene_pos *pos = &P->f->actuator_pos_[(size_t) P->item * (1 + RJ__CK_N)];
+    const char *name = P->f->actuator_names[P->item];
+    int k;
+    if (!(P->seen >> RJ__CK_JOINT & 1u))
+        return rj__sp_err(P, pos[0].line, pos[0].col, "joint", rj__sp_nan(), "actuator '", name,
+                          "' has no joint (the joint it drives)", NULL, NULL);
+    for (k = 0; k < RJ__CK_N; k++) {
+        const rj__field *r = &rj__actuator_fields[k];
+        char m[128];
+        if (!(P->seen >> k & 1u) || rj__row_applies(r, d->type, 0, 0))
+            continue;
+        rj__sp_cat(m, sizeof m, r->key, " does not apply to type = ", rj__sk_actuator[d->type],
+                   ", in actuator '", name, "'", NULL);
+        return rj__sp_err(P, pos[1 + k].line, pos[1 + k].col, r->key, rj__sp_nan(), m, NULL, NULL,
+                          NULL, NULL);
+    }
+    return 1;
+}
+
 /* ------------------------------------------------------------------ sections */
 static int rj__sp_key_index(int kind, const rj__stok *t)
 {
@@ -1121,6 +1199,11 @@ static int rj__sp_key_index(int kind, const rj__stok *t)
             if (rj__sp_is(t, rj__load_fields[k].key))
                 return k;
         break;
+    case RJ__SK_ACTUATOR:
+        for (k = 0; k < RJ__CK_N; k++)
+            if (rj__sp_is(t, rj__actuator_fields[k].key))
+                return k;
+        break;
     }
     return -1;
 }
@@ -1133,6 +1216,8 @@ static const char *rj__sp_key_name(int kind, int k)
         return rj__joint_fields[k].key;
     if (kind == RJ__SK_LOAD)
         return rj__load_fields[k].key;
+    if (kind == RJ__SK_ACTUATOR)
+        return rj__actuator_fields[k].key;
     return rj__link_fields[k].key;
 }
 
@@ -1296,6 +1381,10 @@ static int rj__sp_finish(rj__sp *P)
         if (!rj__sp_finish_load(P))
             return 0;
         break;
+    case RJ__SK_ACTUATOR:
+        if (!rj__sp_finish_actuator(P))
+            return 0;
+        break;
     }
     P->kind = RJ__SK_NONE;
     return 1;
@@ -1306,7 +1395,7 @@ static int rj__sp_header(rj__sp *P)
     const rj__stok *t0 = &P->tok[0], *nt;
     char nb[24];
     int kind = 0, k, cap = 0, count = 0, dup = -1;
-    for (k = RJ__SK_SOLVER; k <= RJ__SK_LOAD; k++)
+    for (k = RJ__SK_SOLVER; k <= RJ__SK_ACTUATOR; k++)
         if (rj__sp_is(t0, rj__sk_kind[k]))
             kind = k;
     if (!kind) {
@@ -1322,7 +1411,7 @@ static int rj__sp_header(rj__sp *P)
         }
         { /* a near section keyword, else a near key of the current section */
             const char *near =
-                rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 6);
+                rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 7);
             char mean[48];
             if (!near && P->kind != RJ__SK_NONE)
                 near = rj__sp_near_key(P, t0);
@@ -1330,9 +1419,9 @@ static int rj__sp_header(rj__sp *P)
                 P, t0, "", rj__sp_nan(),
                 P->kind != RJ__SK_NONE ? "unknown key or section " : "unknown section ",
                 P->kind != RJ__SK_NONE ? " (a key needs '= value'; sections are solver, material, "
-                                         "section, link, joint, load)"
-                                       : " (expected solver, material, section, link, joint or "
-                                         "load)",
+                                         "section, link, joint, load, actuator)"
+                                       : " (expected solver, material, section, link, joint, "
+                                         "load or actuator)",
                 rj__sp_mean(mean, near), NULL);
         }
     }
@@ -1392,6 +1481,13 @@ static int rj__sp_header(rj__sp *P)
             dup = rj__sp_find(nt->s, nt->len, (const char *) P->f->load_names, RJ_SCENE_NAME_MAX,
                               count);
         break;
+    case RJ__SK_ACTUATOR:
+        cap = RJ_SCENE_MAX_ACTUATORS;
+        count = P->f->actuator_count;
+        if (count)
+            dup = rj__sp_find(nt->s, nt->len, (const char *) P->f->actuator_names,
+                              RJ_SCENE_NAME_MAX, count);
+        break;
     default:
         cap = RJ_SCENE_MAX_JOINTS;
         count = P->f->joint_count;
@@ -1405,6 +1501,8 @@ static int rj__sp_header(rj__sp *P)
                    : kind == RJ__SK_SECTION ? P->sec[dup].pos[0].line
                    : kind == RJ__SK_LINK    ? P->f->link_pos_[(size_t) dup * (1 + RJ__LK_N)].line
                    : kind == RJ__SK_LOAD    ? P->f->load_pos_[(size_t) dup * (1 + RJ__AK_N)].line
+                   : kind == RJ__SK_ACTUATOR
+                       ? P->f->actuator_pos_[(size_t) dup * (1 + RJ__CK_N)].line
                                             : P->f->joint_pos_[(size_t) dup * (1 + RJ__JK_N)].line;
         char pre[40];
         rj__sp_cat(pre, sizeof pre, "duplicate ", rj__sk_kind[kind], " name ", NULL, NULL, NULL,
@@ -1420,6 +1518,7 @@ static int rj__sp_header(rj__sp *P)
                    : kind == RJ__SK_SECTION ? P->cap_sec
                    : kind == RJ__SK_LINK    ? P->cap_links
                    : kind == RJ__SK_LOAD    ? P->cap_loads
+                   : kind == RJ__SK_ACTUATOR ? P->cap_acts
                                             : P->cap_joints;
         if (count >= cap || count >= room)
             return rj__sp_err(P, t0->line, t0->col, rj__sk_kind[kind], count + 1, "too many ",
@@ -1455,6 +1554,14 @@ static int rj__sp_header(rj__sp *P)
             P->f->load_names[n][nt->len] = 0;
             P->f->loads[n] = rj_default_load_def();
             P->f->load_pos_[(size_t) n * (1 + RJ__AK_N)] = head;
+            break;
+        }
+        case RJ__SK_ACTUATOR: {
+            int n = P->f->actuator_count++;
+            memcpy(P->f->actuator_names[n], nt->s, (size_t) nt->len);
+            P->f->actuator_names[n][nt->len] = 0;
+            P->f->actuators[n] = rj_default_actuator_def();
+            P->f->actuator_pos_[(size_t) n * (1 + RJ__CK_N)] = head;
             break;
         }
         default: {
@@ -1588,8 +1695,8 @@ static int rj__sp_assignments(rj__sp *P)
             char mean[48];
             return rj__sp_err_tok(
                 P, kt, "", rj__sp_nan(), "key ",
-                " outside any section (start one with solver, material, section, link, joint or "
-                "load)",
+                " outside any section (start one with solver, material, section, link, joint, "
+                "load or actuator)",
                 rj__sp_mean(mean, rj__sp_near(kt->s, kt->len, "title", 6, 1)), NULL);
         }
         k = rj__sp_key_index(P->kind, kt);
@@ -1636,6 +1743,10 @@ static int rj__sp_assignments(rj__sp *P)
             break;
         case RJ__SK_LOAD:
             if (!rj__sp_load_key(P, k, i + 2, &v, j, &P->f->loads[P->item]))
+                return 0;
+            break;
+        case RJ__SK_ACTUATOR:
+            if (!rj__sp_actuator_key(P, k, i + 2, &v, j, &P->f->actuators[P->item]))
                 return 0;
             break;
         default:
@@ -1799,13 +1910,14 @@ static void rj__sp_count(const char *text, size_t len, int counts[RJ__SK_COUNT])
         while (at < len && (text[at] == ' ' || text[at] == '\t'))
             at++;
         if (e > w && !(at < len && text[at] == '=')) {
-            for (k = RJ__SK_MATERIAL; k <= RJ__SK_LOAD; k++) {
+            for (k = RJ__SK_MATERIAL; k <= RJ__SK_ACTUATOR; k++) {
                 size_t n = strlen(rj__sk_kind[k]);
                 if (e - w == n && memcmp(text + w, rj__sk_kind[k], n) == 0) {
                     int cap = k == RJ__SK_MATERIAL  ? RJ_SCENE_MAX_MATERIALS
                               : k == RJ__SK_SECTION ? RJ_SCENE_MAX_SECTIONS
                               : k == RJ__SK_LINK    ? RJ_SCENE_MAX_LINKS
                               : k == RJ__SK_LOAD    ? RJ_SCENE_MAX_LOADS
+                              : k == RJ__SK_ACTUATOR ? RJ_SCENE_MAX_ACTUATORS
                                                     : RJ_SCENE_MAX_JOINTS;
                     if (counts[k] < cap)
                         counts[k]++;
@@ -1826,29 +1938,39 @@ static size_t rj__sp_carve(size_t *off, size_t n, size_t el)
     return at;
 }
 
-/* field "loads[2].force[1]" -> position in f (the key's value, else the section line) */
-static int rj__sp_load_pos(const rj_scene_file *f, const char *field, rj_scene_pos *pos, char *item,
-                           size_t isize)
+/* field "loads[2].force[1]" (prefix "loads[") -> position in f: the key's value, else
+   the item's section line. Items of count, their positions (1 + nk per item), names,
+   kind's rows; what: "load". */
+static int rj__sp_item_pos(const char *field, const char *prefix, int count,
+                           const rj_scene_pos *all, char (*names)[RJ_SCENE_NAME_MAX], int kind,
+                           const char *what, rj_scene_pos *pos, char *item, size_t isize)
 {
     const rj_scene_pos *ap;
-    const char *p = field + 6;
-    int idx = 0, digits = 0, k;
+    const char *p = field + strlen(prefix);
+    const int nk = rj__key_count(kind);
+    int n, idx = 0, digits = 0, k;
+    const rj__field *rows = rj__fields(kind, &n);
     while (*p >= '0' && *p <= '9' && digits < 7) {
         idx = idx * 10 + (*p - '0');
         p++;
         digits++;
     }
-    if (!digits || *p != ']' || idx >= f->load_count)
+    if (!digits || *p != ']' || idx >= count)
         return 0;
     p++;
-    ap = &f->load_pos_[(size_t) idx * (1 + RJ__AK_N)];
+    ap = &all[(size_t) idx * (1 + nk)];
     *pos = ap[0];
-    for (k = 0; k < RJ__AK_N && *p == '.'; k++) {
-        const size_t n = strlen(rj__load_fields[k].key);
-        if (strncmp(p + 1, rj__load_fields[k].key, n) == 0 && ap[1 + k].line)
-            *pos = ap[1 + k];
+    for (k = 0; k < n && *p == '.'; k++) {
+        /* the member's name, or the key's at its start ("table" of "table_time[2]") */
+        const int key = rows[k].part_of >= 0 ? rows[k].part_of : k;
+        const char *member = rows[k].member ? rows[k].member : rows[k].key;
+        const size_t len = strlen(member), klen = strlen(rows[k].key);
+        const int named = strncmp(p + 1, member, len) == 0 &&
+                          (p[1 + len] == 0 || p[1 + len] == '[');
+        if (key < nk && (named || strncmp(p + 1, rows[k].key, klen) == 0) && ap[1 + key].line)
+            *pos = ap[1 + key];
     }
-    rj__sp_cat(item, isize, " (load '", f->load_names[idx], "')", NULL, NULL, NULL, NULL);
+    rj__sp_cat(item, isize, " (", what, " '", names[idx], "')", NULL, NULL);
     return pos->line > 0;
 }
 
@@ -1874,7 +1996,11 @@ static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_
         return 0;
     }
     if (strncmp(field, "loads[", 6) == 0)
-        return rj__sp_load_pos(f, field, pos, item, isize);
+        return rj__sp_item_pos(field, "loads[", f->load_count, f->load_pos_, f->load_names,
+                               RJ__DEF_LOAD, "load", pos, item, isize);
+    if (strncmp(field, "actuators[", 10) == 0)
+        return rj__sp_item_pos(field, "actuators[", f->actuator_count, f->actuator_pos_,
+                               f->actuator_names, RJ__DEF_ACTUATOR, "actuator", pos, item, isize);
     if (strncmp(field, "links[", 6) == 0) {
         joint = 0;
         p = field + 6;
@@ -1959,7 +2085,7 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     rj_scene_file F;
     int counts[RJ__SK_COUNT], r;
     size_t off = 0, o_links, o_joints, o_lpos, o_jpos, o_lnames, o_jnames, w_tok, w_mat, w_sec;
-    size_t o_loads, o_apos, o_anames;
+    size_t o_loads, o_apos, o_anames, o_acts, o_cpos, o_cnames;
     char *block = NULL, *work = NULL;
     memset(&P, 0, sizeof P);
     memset(&F, 0, sizeof F);
@@ -2001,6 +2127,7 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     P.cap_mat = counts[RJ__SK_MATERIAL];
     P.cap_sec = counts[RJ__SK_SECTION];
     P.cap_loads = counts[RJ__SK_LOAD];
+    P.cap_acts = counts[RJ__SK_ACTUATOR];
     /* the result block */
     o_links = rj__sp_carve(&off, (size_t) P.cap_links, sizeof(rj_link_def));
     o_joints = rj__sp_carve(&off, (size_t) P.cap_joints, sizeof(rj_joint_def));
@@ -2010,6 +2137,9 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     o_loads = rj__sp_carve(&off, (size_t) P.cap_loads, sizeof(rj_load_def));
     o_apos = rj__sp_carve(&off, (size_t) P.cap_loads * (1 + RJ__AK_N), sizeof(rj_scene_pos));
     o_anames = rj__sp_carve(&off, (size_t) P.cap_loads, RJ_SCENE_NAME_MAX);
+    o_acts = rj__sp_carve(&off, (size_t) P.cap_acts, sizeof(rj_actuator_def));
+    o_cpos = rj__sp_carve(&off, (size_t) P.cap_acts * (1 + RJ__CK_N), sizeof(rj_scene_pos));
+    o_cnames = rj__sp_carve(&off, (size_t) P.cap_acts, RJ_SCENE_NAME_MAX);
     o_jnames = rj__sp_carve(&off, (size_t) P.cap_joints, RJ_SCENE_NAME_MAX);
     block = (char *) RJ_MALLOC(off + 16, alloc_ctx);
     /* the parser's workspace: tokens, materials, sections */
@@ -2040,6 +2170,9 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     F.loads = (rj_load_def *) (void *) (block + o_loads);
     F.load_pos_ = (rj_scene_pos *) (void *) (block + o_apos);
     F.load_names = (char(*)[RJ_SCENE_NAME_MAX])(void *) (block + o_anames);
+    F.actuators = (rj_actuator_def *) (void *) (block + o_acts);
+    F.actuator_pos_ = (rj_scene_pos *) (void *) (block + o_cpos);
+    F.actuator_names = (char(*)[RJ_SCENE_NAME_MAX])(void *) (block + o_cnames);
     F.solver = rj_default_solver_def();
     F.block_ = block;
     F.alloc_ctx_ = alloc_ctx;
@@ -2198,6 +2331,8 @@ RJDEF rj_scene_def rj_scene_file_def(const rj_scene_file *f)
     d.solver = f->solver;
     d.loads = f->loads;
     d.load_count = f->load_count;
+    d.actuators = f->actuators;
+    d.actuator_count = f->actuator_count;
     return d;
 }
 

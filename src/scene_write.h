@@ -140,7 +140,8 @@ typedef struct rj__sw_item {
     int shape;                     /* a link's section shape, else -1 */
     int on_ground;                 /* a joint's body1 is ground */
     int root_link;                 /* a link no joint places */
-    const char *const *link_names; /* names of the scene's links, or NULL */
+    const char *const *link_names;  /* names of the scene's links, or NULL */
+    const char *const *joint_names; /* names of the scene's joints, or NULL */
 } rj__sw_item;
 
 /* Whether the writer writes row k of def (its kind's rows, the first nk keys). */
@@ -229,6 +230,9 @@ static void rj__sw_value(rj__sw *W, const rj__field *r, const void *def, const r
         else
             rj__sw_name(W, it->link_names, "link", v);
         return;
+    case RJ__FT_JOINT:
+        rj__sw_name(W, it->joint_names, "joint", v);
+        return;
     default:
         snprintf(nm, sizeof nm, "%d", v);
         rj__sw_put(W, nm);
@@ -241,7 +245,7 @@ static void rj__sw_rows(rj__sw *W, int kind, const void *def, const rj__sw_item 
 {
     int n, nk, k, p, line = -1, place = 0;
     const rj__field *rows = rj__fields(kind, &n);
-    nk = kind == RJ__DEF_LINK ? RJ__LK_N : kind == RJ__DEF_JOINT ? RJ__JK_N : n;
+    nk = rj__key_count(kind);
     for (k = 0; k < nk; k++) {
         const rj__field *r = &rows[k];
         if (!rj__sw_wanted(rows, n, nk, k, def, it))
@@ -341,13 +345,19 @@ static int rj__sw_ok(const rj_scene_def *sc, const char *const *link_names,
             d->node > sc->links[d->link].elements || !rj__sw_rows_ok(RJ__DEF_LOAD, d, -1, 0))
             return 0;
     }
+    for (i = 0; i < sc->actuator_count; i++) {
+        const rj_actuator_def *d = &sc->actuators[i];
+        if (d->joint < 0 || d->joint >= sc->joint_count ||
+            !rj__sw_rows_ok(RJ__DEF_ACTUATOR, d, d->type, 0))
+            return 0;
+    }
     return 1;
 }
 
 /* the solver section, only when some value differs from the defaults */
 static void rj__sw_solver(rj__sw *W, const rj_solver_def *s)
 {
-    const rj__sw_item it = { -1, 0, 1, NULL };
+    const rj__sw_item it = { -1, 0, 1, NULL, NULL };
     int k;
     for (k = 0; k < RJ__VF_N; k++)
         if (rj__sw_row_set(rj__solver_fields, RJ__VF_N, k, s))
@@ -401,13 +411,16 @@ RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_n
     if (!sc || sc->link_count < 1 || sc->link_count > RJ_SCENE_MAX_LINKS || !sc->links ||
         sc->joint_count < 0 || sc->joint_count > RJ_SCENE_MAX_JOINTS ||
         (sc->joint_count && !sc->joints) || sc->load_count < 0 ||
-        sc->load_count > RJ_SCENE_MAX_LOADS || (sc->load_count && !sc->loads))
+        sc->load_count > RJ_SCENE_MAX_LOADS || (sc->load_count && !sc->loads) ||
+        sc->actuator_count < 0 || sc->actuator_count > RJ_SCENE_MAX_ACTUATORS ||
+        (sc->actuator_count && !sc->actuators))
         return 0;
     if (!rj__sw_ok(sc, link_names, joint_names))
         return 0;
     if (!rj__sw_title_ok(title))
         return 0;
     item.link_names = link_names;
+    item.joint_names = joint_names;
     W.buf = buf;
     W.size = buf ? size : 0;
     W.n = 0;
@@ -445,6 +458,13 @@ RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_n
         item.on_ground = 0;
         item.root_link = 1;
         rj__sw_rows(&W, RJ__DEF_LOAD, &sc->loads[i], &item);
+    }
+    for (i = 0; i < sc->actuator_count; i++) {
+        rj__sw_put(&W, "actuator ");
+        rj__sw_name(&W, NULL, "actuator", i);
+        rj__sw_put(&W, "\n");
+        item.shape = sc->actuators[i].type;
+        rj__sw_rows(&W, RJ__DEF_ACTUATOR, &sc->actuators[i], &item);
     }
     return W.n;
 }

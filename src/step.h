@@ -47,6 +47,7 @@ typedef struct rj__sums {
     double kinetic;                                 /* 1/2 v^{n-1/2} . v^{n+1/2} */
     double lost_damping, lost_friction, lost_limit; /* since the start */
     double work;    /* done by the caller's inputs since the start */
+    double drive;   /* done by the actuators since the start */
     double pending; /* a jump's loss the next step takes (its second half) */
 } rj__sums;
 
@@ -121,6 +122,7 @@ static RJ__FORCE_INLINE void rj__sums_open(const double *old_scalars, rj__sums *
     e->lost_friction = old_scalars[RJ__FS_LFRIC];
     e->lost_limit = old_scalars[RJ__FS_LLIM] + old_scalars[RJ__FS_PEND];
     e->work = old_scalars[RJ__FS_WORK];
+    e->drive = old_scalars[RJ__FS_DRIVE];
     e->pending = 0;
 }
 
@@ -337,19 +339,7 @@ static double rj__inputs_work(const rj_model *m, const rj_state *s, const double
    (1 without a table). */
 static double rj__load_factor(const rj_load_def *d, double t)
 {
-    const int last = d->table_count - 1;
-    int k;
-    if (d->table_count == 0)
-        return 1.0;
-    if (!(t > d->table_time[0]))
-        return d->table_factor[0];
-    for (k = 1; k <= last; k++)
-        if (t < d->table_time[k]) {
-            const double t0 = d->table_time[k - 1], t1 = d->table_time[k];
-            const double f0 = d->table_factor[k - 1], f1 = d->table_factor[k];
-            return f0 + (f1 - f0) * ((t - t0) / (t1 - t0));
-        }
-    return d->table_factor[last];
+    return rj__time_factor(d->table_count, d->table_time, d->table_factor, t);
 }
 
 /* A load's force (global frame) and moment at time t on a node turned to phi: a follower
@@ -801,6 +791,8 @@ static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_sta
             ratep = rj__joint_jump(m, f, j, flag, &g, w1, w2, e, fin);
         rj__element_work(old_joint, new_joint, kept[4], f->dt, &e->lost_damping, &e->lost_friction,
                          &e->lost_limit);
+        if (J->act)
+            e->drive += rj__drive_work(old_joint, new_joint, kept[4], f->dt);
         new_joint[RJ__JD_RATE] = ratep;
     }
 }
@@ -988,7 +980,7 @@ static RJ__FORCE_INLINE rj_result rj__energy_check(const rj_model *m, rj_state *
     const double E = U > fabs(ke) ? U : fabs(ke);
     /* the initial energy less gravity's potential now, plus the inputs' work: what gravity
        has released and the caller has put in may turn into kinetic energy */
-    const double outside = e->gravity - e->work; /* what gravity and the caller account for */
+    const double outside = e->gravity - e->work - e->drive; /* gravity, the caller, the drives */
     const double scale = fabs(e0 - outside) + fabs(old_spring) + s->settle_scale + 1e-9;
     const double created = ke + U + V + outside + e->lost_damping + e->lost_friction + lost_l - e0;
     if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) ||
@@ -1004,7 +996,7 @@ static void rj__first_accounts(double *new_scalars, rj__sums *e, double energy)
 {
     new_scalars[RJ__FS_E0] = energy;
     rj__accounts_zero(new_scalars);
-    e->lost_damping = e->lost_friction = e->work = e->lost_limit = 0;
+    e->lost_damping = e->lost_friction = e->work = e->lost_limit = e->drive = 0;
 }
 
 /* The new frame's scalars: time, the accounts (on the steps that take them; the initial
@@ -1023,6 +1015,7 @@ static RJ__FORCE_INLINE rj_result rj__step_accounts(const rj_model *m, rj_state 
     nsc[RJ__FS_LLIM] = e->lost_limit;
     nsc[RJ__FS_PEND] = e->pending;
     nsc[RJ__FS_WORK] = e->work;
+    nsc[RJ__FS_DRIVE] = e->drive;
     if (!f->en)
         return RJ_OK;
     nsc[RJ__FS_ETIME] = f->t;

@@ -115,34 +115,36 @@ static int rj__check_cookie(rj_error *err, const char *field_format, int i, unsi
     return 0;
 }
 
-/* A load's time table: 1..RJ_TABLE_MAX points, times finite and strictly increasing,
-   within +-1e9 s, factors within +-1e6. */
-static int rj__validate_load_table(const rj_load_def *d, int i, rj_error *err)
+/* A table in time (a load's, an actuator's) of item (prefix "loads[2]"): 0 (constant) or
+   1..RJ_TABLE_MAX points, times finite and strictly increasing, within +-1e9 s, factors
+   within +-1e6. */
+static int rj__validate_time_table(rj_error *err, const char *item, int count,
+                                   const double *time, const double *factor)
 {
     char f[64];
     int k;
-    if (d->table_count < 0 || d->table_count > RJ_TABLE_MAX) {
-        RJ__FIELD(f, "loads[%d].table_count", i);
-        rj__fail(err, RJ_ERR_INVALID, f, d->table_count,
-                 "%s = %d is invalid: must be 0 (constant) or 1..%d points", f, d->table_count,
+    if (count < 0 || count > RJ_TABLE_MAX) {
+        snprintf(f, sizeof f, "%s.table_count", item);
+        rj__fail(err, RJ_ERR_INVALID, f, count,
+                 "%s = %d is invalid: must be 0 (constant) or 1..%d points", f, count,
                  RJ_TABLE_MAX);
         return 0;
     }
-    for (k = 0; k < d->table_count; k++) {
-        snprintf(f, sizeof f, "loads[%d].table_time[%d]", i, k);
-        if (!rj__check_num(err, f, d->table_time[k], -1e9, 1, 1e9, 1,
+    for (k = 0; k < count; k++) {
+        snprintf(f, sizeof f, "%s.table_time[%d]", item, k);
+        if (!rj__check_num(err, f, time[k], -1e9, 1, 1e9, 1,
                            "must be a finite time within +-1e9 s (further than any run "
                            "reaches, where a step no longer resolves the table)"))
             return 0;
-        if (k > 0 && !(d->table_time[k] > d->table_time[k - 1])) {
-            rj__fail(err, RJ_ERR_INVALID, f, d->table_time[k],
+        if (k > 0 && !(time[k] > time[k - 1])) {
+            rj__fail(err, RJ_ERR_INVALID, f, time[k],
                      "%s = %g is invalid: the table's times must increase strictly (the point "
                      "before is at %g s)",
-                     f, d->table_time[k], d->table_time[k - 1]);
+                     f, time[k], time[k - 1]);
             return 0;
         }
-        snprintf(f, sizeof f, "loads[%d].table_factor[%d]", i, k);
-        if (!rj__check_num(err, f, d->table_factor[k], -1e6, 1, 1e6, 1,
+        snprintf(f, sizeof f, "%s.table_factor[%d]", item, k);
+        if (!rj__check_num(err, f, factor[k], -1e6, 1, 1e6, 1,
                            "must be a finite factor within +-1e6"))
             return 0;
     }
@@ -178,7 +180,7 @@ static int rj__validate_loads(const rj_scene_def *sc, rj_error *err)
         RJ__FIELD(item, "loads[%d]", i);
         if (!rj__check_rows(err, item, RJ__DEF_LOAD, d, -1))
             return 0;
-        if (!rj__validate_load_table(d, i, err))
+        if (!rj__validate_time_table(err, item, d->table_count, d->table_time, d->table_factor))
             return 0;
     }
     return 1;
@@ -375,6 +377,70 @@ static int rj__validate_mixed(const rj_scene_def *sc, rj_error *err)
     return 1;
 }
 
+/* Actuator i's joint: one of the scene's, driven by no other actuator before it. */
+static int rj__validate_actuator_joint(const rj_scene_def *sc, int i, rj_error *err)
+{
+    const rj_actuator_def *d = &sc->actuators[i];
+    char f[64];
+    int k;
+    RJ__FIELD(f, "actuators[%d].joint", i);
+    if (d->joint < 0 || d->joint >= sc->joint_count) {
+        rj__fail(err, RJ_ERR_INVALID, f, d->joint, "%s = %d is invalid: the scene has joints 0..%d",
+                 f, d->joint, sc->joint_count - 1);
+        return 0;
+    }
+    for (k = 0; k < i; k++)
+        if (sc->actuators[k].joint == d->joint) {
+            rj__fail(err, RJ_ERR_INVALID, f, d->joint,
+                     "%s = %d is invalid: actuators[%d] drives joint %d already (a joint has "
+                     "at most one actuator)",
+                     f, d->joint, k, d->joint);
+            return 0;
+        }
+    return 1;
+}
+
+/* A DC motor's no-load speed: not 0, and of its stall torque's sign (the direction it
+   drives). */
+static int rj__validate_dc(const rj_actuator_def *d, int i, rj_error *err)
+{
+    const rj__field *r = &rj__actuator_fields[RJ__CK_NO_LOAD_SPEED];
+    char f[64];
+    if (d->type != RJ_ACTUATOR_DC)
+        return 1;
+    if (d->no_load_speed != 0 && !(d->stall_torque * d->no_load_speed < 0))
+        return 1;
+    RJ__FIELD(f, "actuators[%d].no_load_speed", i);
+    rj__fail(err, RJ_ERR_INVALID, f, d->no_load_speed, "%s = %g is invalid: %s (%g N m)", f,
+             d->no_load_speed, r->rule, d->stall_torque);
+    return 0;
+}
+
+/* Actuators: a joint each, the rows of their type, a table in time. */
+static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
+{
+    char item[32];
+    int i;
+    if (!rj__check_array(err, "actuator", sc->actuator_count, 0, sc->actuators))
+        return 0;
+    for (i = 0; i < sc->actuator_count; i++) {
+        const rj_actuator_def *d = &sc->actuators[i];
+        if (!rj__check_cookie(err, "actuators[%d]", i, d->cookie, RJ__COOKIE_ACTUATOR,
+                              "rj_default_actuator_def()"))
+            return 0;
+        RJ__FIELD(item, "actuators[%d]", i);
+        if (!rj__check_row(err, item, &rj__actuator_fields[RJ__CK_TYPE], d) ||
+            !rj__validate_actuator_joint(sc, i, err) ||
+            !rj__check_rows(err, item, RJ__DEF_ACTUATOR, d, d->type) ||
+            !rj__validate_dc(d, i, err))
+            return 0;
+        if (d->type == RJ_ACTUATOR_TORQUE &&
+            !rj__validate_time_table(err, item, d->table_count, d->table_time, d->table_factor))
+            return 0;
+    }
+    return 1;
+}
+
 static int rj__validate(const rj_scene_def *sc, rj_error *err)
 {
     int i, j;
@@ -393,7 +459,8 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
     for (j = 0; j < sc->joint_count; j++)
         if (!rj__validate_joint(sc, j, err))
             return 0;
-    return rj__validate_mixed(sc, err) && rj__validate_loads(sc, err);
+    return rj__validate_mixed(sc, err) && rj__validate_loads(sc, err) &&
+           rj__validate_actuators(sc, err);
 }
 
 /* Node and element totals, counted in size_t; 0 when they pass RJ__MAX_NODES. */
