@@ -1211,6 +1211,30 @@ static void check_loads(const scene *sc)
     }
 }
 
+/* The actuators, one line each: type, joint and what drives it. */
+static void check_actuators(const scene *sc)
+{
+    const rj_model *m = sc->m;
+    int k;
+    if (rj_model_actuator_count(m) == 0) return;
+    printf("actuators: %d\n", rj_model_actuator_count(m));
+    for (k = 0; k < rj_model_actuator_count(m); k++) {
+        const rj_actuator_def *d = rj_model_actuator_def(m, k);
+        printf("  %-12s on %s: ", sc->f.actuator_names[k], joint_name(sc, d->joint));
+        if (d->type == RJ_ACTUATOR_TORQUE)
+            printf("torque %g N m%s\n", d->torque, d->table_count ? " times its table" : "");
+        else if (d->type == RJ_ACTUATOR_DC) {
+            printf("DC motor, stall %g N m, no load %g rad/s", d->stall_torque, d->no_load_speed);
+            if (d->has_cutoff) printf(", off from %g deg", rj_deg(d->cutoff));
+            printf("\n");
+        } else {
+            printf("servo to %g deg, kp %g N m/rad, kd %g N m s/rad", rj_deg(d->target), d->kp, d->kd);
+            if (d->torque_max > 0) printf(", within +-%g N m", d->torque_max);
+            printf("\n");
+        }
+    }
+}
+
 /* omega_max of one link alone (its root as defined, no joints): how fast its own modes
    are, beams and tip mass. Rigid links have none (0); NaN when it cannot be built. */
 static double link_omega(const rj_model *m, int l)
@@ -1465,6 +1489,7 @@ static int cmd_check(int argc, char **argv)
     check_links(&sc);
     check_joints(&sc);
     check_loads(&sc);
+    check_actuators(&sc);
     check_dt(&sc);
     check_binding(&sc);
     cost_print(&sc, &c);

@@ -498,6 +498,7 @@ RJDEF int rj_link_node_count(const rj_model *m, int link); /* elements + 1 */
 RJDEF int rj_model_node_index(const rj_model *m, int link, int node);
 RJDEF int rj_model_load_count(const rj_model *m);
 RJDEF const rj_load_def *rj_model_load_def(const rj_model *m, int load);
+RJDEF const rj_actuator_def *rj_model_actuator_def(const rj_model *m, int actuator);
 /* Lumped mass (kg) and rotary inertia (kg m^2) of a node, tip mass included (a rigid
    link's node in a mixed scene: 0 and its body's inertia, see rj_fidelity). */
 RJDEF void rj_node_mass(const rj_model *m, int link, int node, double *mass, double *rinertia);

@@ -81,7 +81,7 @@ static double rj__element(const rj_model *m, rj_state *s, int j, const double *o
     const rj_joint_def *d = &m->jdef[j];
     const rj__joint *J = &m->jnt[j];
     const double run = oj[RJ__JD_THETA];
-    double tq_table = 0, tq_spring = 0, tq_damp = 0, tq_lim = 0, tq_drive = 0, p = 0;
+    double tq_table = 0, tq_spring = 0, tq_damp = 0, tq_lim = 0, tq, p = 0;
     const int bf = run >= J->fwd, br = run <= J->rev;
     const int flag = rj_flag_next(oflag, bf, br, rate, d->lock, d->release);
     memcpy(nj_, oj, sizeof(double) * RJ__JD_COUNT);
@@ -131,8 +131,6 @@ static double rj__element(const rj_model *m, rj_state *s, int j, const double *o
         tq_spring = -d->spring_k * (run - d->spring_free_angle);
     if (d->damping > 0)
         tq_damp = -d->damping * rate;
-    if (J->act)
-        tq_drive = rj__drive_torque(J, run, rate, t);
     /* Eq 22 / penalty: tau_2 = K p while at a limit */
     if (flag != RJ_FREE && (d->method == RJ_METHOD_PENALTY || d->method == RJ_METHOD_ADAPTIVE))
         tq_lim = J->k_limit * p;
@@ -141,9 +139,15 @@ static double rj__element(const rj_model *m, rj_state *s, int j, const double *o
     nj_[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] = tq_damp;
     nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] = tq_lim;
     nj_[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = 0;
-    nj_[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = tq_drive;
     *p_out = p;
-    return tq_table + tq_spring + tq_damp + tq_lim + tq_drive;
+    tq = tq_table + tq_spring + tq_damp + tq_lim;
+    /* the actuator: its slot stays 0 (copied from the old record) on a joint without */
+    if (J->act) {
+        const double tq_drive = rj__drive_torque(J, run, rate, t);
+        nj_[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = tq_drive;
+        tq += tq_drive;
+    }
+    return tq;
 }
 
 /* Coulomb friction: the torque that stops the relative rotation within the step (ratep is

@@ -95,6 +95,11 @@ RJDEF const rj_load_def *rj_model_load_def(const rj_model *m, int k)
     RJ_ASSERT(k >= 0 && k < m->nload);
     return &m->load[k];
 }
+RJDEF const rj_actuator_def *rj_model_actuator_def(const rj_model *m, int k)
+{
+    RJ_ASSERT(k >= 0 && k < m->nact);
+    return &m->act[k];
+}
 RJDEF double rj_link_EA(const rj_model *m, int l)
 {
     RJ_ASSERT(l >= 0 && l < m->nl);

@@ -21,8 +21,10 @@ FIELDS = "src/fields.h"
 PARSER = "src/scene_parse.h"
 DOC = "docs/scene-format.md"
 TABLES = {"link": "rj__link_fields", "joint": "rj__joint_fields",
-          "solver": "rj__solver_fields", "load": "rj__load_fields"}
-COUNTS = {"link": "RJ__LK_", "joint": "RJ__JK_", "solver": "RJ__VK_", "load": "RJ__AK_"}
+          "solver": "rj__solver_fields", "load": "rj__load_fields",
+          "actuator": "rj__actuator_fields"}
+COUNTS = {"link": "RJ__LK_", "joint": "RJ__JK_", "solver": "RJ__VK_", "load": "RJ__AK_",
+          "actuator": "RJ__CK_"}
 
 
 def split_args(body):
@@ -45,21 +47,25 @@ def split_args(body):
 
 
 def calls(text):
-    """(macro, args) for each RJ__F / RJ__FE / RJ__FA / RJ__FPART row in text, in order."""
+    """(macro, args) for each RJ__F / RJ__FC / RJ__FE / RJ__FA / RJ__FPART row or brace
+    row { "key", ... } in text, in order."""
     out, i = [], 0
-    pat = re.compile(r"\b(RJ__FPART|RJ__FE|RJ__FA|RJ__F)\(")
+    pat = re.compile(r"\b(RJ__FPART|RJ__FE|RJ__FA|RJ__FC|RJ__F)\(|(\{) \"")
     while True:
         m = pat.search(text, i)
         if not m:
             return out
-        j, depth, quoted = m.end(), 1, False
+        brace = m.group(2) is not None
+        start = m.start(2) + 1 if brace else m.end()
+        opens, closes = ("{", "}") if brace else ("(", ")")
+        j, depth, quoted = start, 1, False
         while depth:
             if text[j] == '"':
                 quoted = not quoted
             elif not quoted:
-                depth += {"(": 1, ")": -1}.get(text[j], 0)
+                depth += {opens: 1, closes: -1}.get(text[j], 0)
             j += 1
-        out.append((m.group(1), split_args(text[m.end():j - 1])))
+        out.append(("BRACE" if brace else m.group(1), split_args(text[start:j - 1])))
         i = j
 
 
@@ -67,6 +73,7 @@ def value(expr):
     """A default's C expression as a number."""
     expr = expr.replace("RJ__PI", repr(math.pi)).replace("RJ_METHOD_ADAPTIVE", "1")
     expr = expr.replace("RJ_RELEASE_RC13", "1").replace("RJ_IN_PLACE_AUTO", "0")
+    expr = expr.replace("RJ_ACTUATOR_TORQUE", "0")
     return float(eval(expr, {"__builtins__": {}}))
 
 
@@ -83,6 +90,11 @@ def rows_of(text, name):
             rows.append((key, "", None, False))
         elif macro == "RJ__FE":
             rows.append((key, "", None, False))
+        elif macro == "BRACE":
+            numeric = a[5] in ("RJ__FT_REAL", "RJ__FT_ANGLE", "RJ__FT_RATE")
+            rows.append((key, a[2].strip('"'), value(a[12]), numeric))
+        elif macro == "RJ__FC":
+            rows.append((key, a[2].strip('"'), value(a[8]), True))
         elif macro == "RJ__FA":
             numeric = a[3] in ("RJ__FT_REAL", "RJ__FT_ANGLE", "RJ__FT_RATE")
             rows.append((key, a[2].strip('"'), value(a[10]), numeric))
