@@ -354,6 +354,25 @@ typedef struct rj_actuator_def {
     unsigned cookie;
 } rj_actuator_def;
 
+/* Coupling definition: a cable loop tying two joints (a closed cable loop, CCL, that
+   makes every panel of an array open in step). The elastic cable holds
+   e = (theta_b - angle0_b) - ratio (theta_a - angle0_a) - offset at 0, on the running
+   angles' changes from their starts (so offset 0 is a cable slack-free at the start),
+   with the torque -stiffness e - damping de/dt on joint b and ratio times its opposite on
+   joint a (the virtual work of a cable over pulleys of ratio). Defaults
+   (rj_default_coupling_def): joint_a 0, joint_b 1, ratio 1, offset 0 rad, stiffness
+   0 N m/rad, damping 0 N m s/rad. Its torques are reported in the two joints' spring and
+   damping components (RJ_TORQUE_SPRING, RJ_TORQUE_DAMPING); its energy is in
+   rj_energy.spring, its damping's work in lost_damping; the stability bound counts both. */
+typedef struct rj_coupling_def {
+    int joint_a, joint_b; /* joint indices, two different joints */
+    double ratio;         /* theta_b follows ratio theta_a; within +-1e6 */
+    double offset;        /* rad, within +-1e6 */
+    double stiffness;     /* N m/rad, >= 0: the cable loop's torsional stiffness at joint b */
+    double damping;       /* N m s/rad, >= 0 */
+    unsigned cookie;
+} rj_coupling_def;
+
 /* A whole scene. The arrays are read during rj_model_create only. loads (load_count of
    them) may be NULL when load_count is 0. */
 typedef struct rj_scene_def {
@@ -366,6 +385,8 @@ typedef struct rj_scene_def {
     int load_count;
     const rj_actuator_def *actuators; /* may be NULL when actuator_count is 0 */
     int actuator_count;
+    const rj_coupling_def *couplings; /* may be NULL when coupling_count is 0 */
+    int coupling_count;
 } rj_scene_def;
 
 /* Energy accounts, J. total = kinetic + strain + spring; balance = total + lost - initial. */
@@ -403,6 +424,7 @@ RJDEF rj_joint_def rj_default_joint_def(void);
 RJDEF rj_solver_def rj_default_solver_def(void);
 RJDEF rj_load_def rj_default_load_def(void);
 RJDEF rj_actuator_def rj_default_actuator_def(void);
+RJDEF rj_coupling_def rj_default_coupling_def(void);
 RJDEF rj_scene_def rj_default_scene_def(void);
 /* Result code as text. */
 RJDEF const char *rj_result_str(rj_result r);
@@ -499,6 +521,8 @@ RJDEF int rj_model_node_index(const rj_model *m, int link, int node);
 RJDEF int rj_model_load_count(const rj_model *m);
 RJDEF const rj_load_def *rj_model_load_def(const rj_model *m, int load);
 RJDEF const rj_actuator_def *rj_model_actuator_def(const rj_model *m, int actuator);
+RJDEF int rj_model_coupling_count(const rj_model *m);
+RJDEF const rj_coupling_def *rj_model_coupling_def(const rj_model *m, int coupling);
 /* Lumped mass (kg) and rotary inertia (kg m^2) of a node, tip mass included (a rigid
    link's node in a mixed scene: 0 and its body's inertia, see rj_fidelity). */
 RJDEF void rj_node_mass(const rj_model *m, int link, int node, double *mass, double *rinertia);
@@ -594,6 +618,7 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2); /* E
 #define RJ_SCENE_MAX_JOINTS    256
 #define RJ_SCENE_MAX_LOADS     256
 #define RJ_SCENE_MAX_ACTUATORS 256
+#define RJ_SCENE_MAX_COUPLINGS 256
 #define RJ_SCENE_MAX_MATERIALS 64
 #define RJ_SCENE_MAX_SECTIONS  64
 #define RJ_SCENE_MAX_LINE      1024 /* characters per line, line end excluded */
@@ -633,6 +658,10 @@ typedef struct rj_scene_file {
     int actuator_count;
     char (*actuator_names)[RJ_SCENE_NAME_MAX];
     rj_scene_pos *actuator_pos_;
+    rj_coupling_def *couplings;
+    int coupling_count;
+    char (*coupling_names)[RJ_SCENE_NAME_MAX];
+    rj_scene_pos *coupling_pos_;
 } rj_scene_file;
 
 /* Parses len bytes of text (need not be NUL-terminated) named filename in messages
@@ -796,6 +825,7 @@ typedef long long rj__vl4 __attribute__((vector_size(32)));
 #define RJ__COOKIE_SOLVER 0x524a534fu
 #define RJ__COOKIE_LOAD   0x524a4c44u
 #define RJ__COOKIE_ACTUATOR 0x524a4143u
+#define RJ__COOKIE_COUPLING 0x524a4350u
 #define RJ__ALIGN         16
 /* Margin on 2/omega_max: covers the Lanczos estimate (a lower bound of omega_max) and the
    geometric stiffness the linearisation leaves out. */
@@ -888,6 +918,8 @@ struct rj_model {
     int nload;         /* applied loads (scene loads) */
     int nact;          /* actuators */
     rj_actuator_def *act; /* (nact) their definitions */
+    int ncp;              /* couplings */
+    rj_coupling_def *cp;  /* (ncp) their definitions */
     rj_load_def *load; /* (nload) their definitions */
     int *load_node;    /* (nload) the node each acts on, in the scene's node order */
     double *rb_mass, *rb_icm,
@@ -1218,7 +1250,7 @@ static void rj__accounts_zero(double *scalars)
 }
 /* ------------------------------------------------------------------ definition fields */
 /* Every member of a definition (rj_link_def, rj_joint_def, rj_solver_def, rj_load_def,
-   rj_actuator_def) is one row of its kind's table below: its scene key, unit, kind of value, default, range
+   rj_actuator_def, rj_coupling_def) is one row of its kind's table below: its scene key, unit, kind of value, default, range
    with the one sentence that states it, when it applies, how the writer puts it in a
    scene file, and where it enters the model's hash. The defaults (rj_default_*_def),
    validation (rj__validate), the scene parser, the scene writer and the model hash read
@@ -1310,6 +1342,16 @@ enum {
     RJ__CK_N,
     RJ__CF_HAS_CUTOFF = RJ__CK_N,
     RJ__CF_N
+};
+enum {
+    RJ__PK_JOINTS,
+    RJ__PK_RATIO,
+    RJ__PK_OFFSET,
+    RJ__PK_STIFFNESS,
+    RJ__PK_DAMPING,
+    RJ__PK_N,
+    RJ__PF_JOINT_B = RJ__PK_N,
+    RJ__PF_N
 };
 enum {
     RJ__VK_DT,
@@ -1619,9 +1661,34 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
 };
 #undef RJ__DEF
 
+#define RJ__DEF rj_coupling_def
+static const rj__field rj__coupling_fields[RJ__PF_N] = {
+    /* joints = A B: joint_a, then its part joint_b */
+    RJ__F("joints", joint_a, "", RJ__FT_JOINT, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 0, 'i', 0.0,
+          RJ__ANY, ""),
+    RJ__F("ratio", ratio, "", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 2, 2, 'd', 1.0,
+          RJ__R(-1e6, 1, 1e6, 1), "must be a finite ratio within +-1e6"),
+    RJ__F("offset", offset, "rad", RJ__FT_ANGLE, RJ__WHEN_ALL, RJ__WR_SET, 2, 3, 'd', 0.0,
+          RJ__R(-1e6, 1, 1e6, 1), RJ__RULE_ANGLE),
+    RJ__F("stiffness", stiffness, "N m/rad", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_ALWAYS, 3, 4, 'd',
+          0.0, RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m/rad"),
+    RJ__F("damping", damping, "N m s/rad", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 3, 5, 'd', 0.0,
+          RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m s/rad"),
+    RJ__FA("joint_b", joint_b, "", RJ__FT_JOINT, -1, RJ__PK_JOINTS, RJ__WR_NONE, 1, 1, 'i', 1.0,
+           RJ__ANY, "", 0),
+};
+#undef RJ__DEF
+
 /* ------------------------------------------------------------------ reading rows */
 /* The definition kinds, and each one's table. */
-enum { RJ__DEF_LINK, RJ__DEF_JOINT, RJ__DEF_SOLVER, RJ__DEF_LOAD, RJ__DEF_ACTUATOR };
+enum {
+    RJ__DEF_LINK,
+    RJ__DEF_JOINT,
+    RJ__DEF_SOLVER,
+    RJ__DEF_LOAD,
+    RJ__DEF_ACTUATOR,
+    RJ__DEF_COUPLING
+};
 
 static const rj__field *rj__fields(int kind, int *count)
 {
@@ -1638,9 +1705,12 @@ static const rj__field *rj__fields(int kind, int *count)
     case RJ__DEF_LOAD:
         *count = RJ__AF_N;
         return rj__load_fields;
-    default:
+    case RJ__DEF_ACTUATOR:
         *count = RJ__CF_N;
         return rj__actuator_fields;
+    default:
+        *count = RJ__PF_N;
+        return rj__coupling_fields;
     }
 }
 
@@ -1656,8 +1726,10 @@ static int rj__key_count(int kind)
         return RJ__VK_N;
     case RJ__DEF_LOAD:
         return RJ__AK_N;
-    default:
+    case RJ__DEF_ACTUATOR:
         return RJ__CK_N;
+    default:
+        return RJ__PK_N;
     }
 }
 
@@ -1785,6 +1857,13 @@ RJDEF rj_actuator_def rj_default_actuator_def(void)
     rj_actuator_def d;
     rj__rows_default(&d, sizeof d, RJ__DEF_ACTUATOR);
     d.cookie = RJ__COOKIE_ACTUATOR;
+    return d;
+}
+RJDEF rj_coupling_def rj_default_coupling_def(void)
+{
+    rj_coupling_def d;
+    rj__rows_default(&d, sizeof d, RJ__DEF_COUPLING);
+    d.cookie = RJ__COOKIE_COUPLING;
     return d;
 }
 /* ------------------------------------------------------------------ pure element equations */
@@ -2376,6 +2455,39 @@ static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
     return 1;
 }
 
+/* Couplings: two different joints of the scene, and the rows. */
+static int rj__validate_couplings(const rj_scene_def *sc, rj_error *err)
+{
+    char f[64], item[32];
+    int i;
+    if (!rj__check_array(err, "coupling", sc->coupling_count, 0, sc->couplings))
+        return 0;
+    for (i = 0; i < sc->coupling_count; i++) {
+        const rj_coupling_def *d = &sc->couplings[i];
+        if (!rj__check_cookie(err, "couplings[%d]", i, d->cookie, RJ__COOKIE_COUPLING,
+                              "rj_default_coupling_def()"))
+            return 0;
+        if (d->joint_a < 0 || d->joint_a >= sc->joint_count) {
+            RJ__FIELD(f, "couplings[%d].joint_a", i);
+            rj__fail(err, RJ_ERR_INVALID, f, d->joint_a,
+                     "%s = %d is invalid: the scene has joints 0..%d", f, d->joint_a,
+                     sc->joint_count - 1);
+            return 0;
+        }
+        if (d->joint_b < 0 || d->joint_b >= sc->joint_count || d->joint_b == d->joint_a) {
+            RJ__FIELD(f, "couplings[%d].joint_b", i);
+            rj__fail(err, RJ_ERR_INVALID, f, d->joint_b,
+                     "%s = %d is invalid: a joint 0..%d other than joint_a (%d)", f, d->joint_b,
+                     sc->joint_count - 1, d->joint_a);
+            return 0;
+        }
+        RJ__FIELD(item, "couplings[%d]", i);
+        if (!rj__check_rows(err, item, RJ__DEF_COUPLING, d, -1))
+            return 0;
+    }
+    return 1;
+}
+
 static int rj__validate(const rj_scene_def *sc, rj_error *err)
 {
     int i, j;
@@ -2395,7 +2507,7 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
         if (!rj__validate_joint(sc, j, err))
             return 0;
     return rj__validate_mixed(sc, err) && rj__validate_loads(sc, err) &&
-           rj__validate_actuators(sc, err);
+           rj__validate_actuators(sc, err) && rj__validate_couplings(sc, err);
 }
 
 /* Node and element totals, counted in size_t; 0 when they pass RJ__MAX_NODES. */
@@ -2607,7 +2719,7 @@ typedef struct rj__layout {
     size_t node_cl, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
     size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
-        link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, lz;
+        link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, cp, lz;
 } rj__layout;
 
 /* The model's block: every array linear in the scene; rigid scenes (joint coordinates)
@@ -2670,6 +2782,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->load = rj__carve(&off, (size_t) sc->load_count + 1, sizeof(rj_load_def));
     L->load_node = rj__carve(&off, (size_t) sc->load_count + 1, sizeof(int));
     L->act = rj__carve(&off, (size_t) sc->actuator_count + 1, sizeof(rj_actuator_def));
+    L->cp = rj__carve(&off, (size_t) sc->coupling_count + 1, sizeof(rj_coupling_def));
     L->lz = rj__carve(&off,
                       15 * nn + 10 * ne + 8 + RJ__GRAPH_SCRATCH(nl, nj) +
                           (rigid ? rj__rigid_scratch(nj, nl) + (size_t) nj * nj : 0),
@@ -3510,6 +3623,32 @@ static void rj__place(const rj_model *m, int l, double px, double py, double ang
     }
 }
 
+
+/* Coupling c's torques on joint b, elastic and damping (joint a takes -ratio times each),
+   from the joints' running angles and rates; *energy gains the cable's 1/2 k e^2. */
+static void rj__coupling_torques(const rj_model *m, const rj_coupling_def *c, double th_a,
+                                 double th_b, double w_a, double w_b, double *elastic,
+                                 double *damp, double *energy)
+{
+    const double turn_a = th_a - m->jdef[c->joint_a].angle0;
+    const double turn_b = th_b - m->jdef[c->joint_b].angle0;
+    const double e = turn_b - c->ratio * turn_a - c->offset;
+    *elastic = -c->stiffness * e;
+    *damp = -c->damping * (w_b - c->ratio * w_a);
+    *energy += 0.5 * c->stiffness * e * e;
+}
+
+/* Coupling c's torques into the two joints' new records (their spring and damping
+   components); returns the total on joint b. */
+static double rj__coupling_record(const rj_coupling_def *c, double elastic, double damp,
+                                  double *rec_a, double *rec_b)
+{
+    rec_b[RJ__JD_TQ0 + RJ_TORQUE_SPRING] += elastic;
+    rec_b[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] += damp;
+    rec_a[RJ__JD_TQ0 + RJ_TORQUE_SPRING] -= c->ratio * elastic;
+    rec_a[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] -= c->ratio * damp;
+    return elastic + damp;
+}
 /* ------------------------------------------------------------------ rigid bodies in mixed scenes */
 /* A rigid link among flexible ones is one rigid body. It carries its own nodes, whose
    translation and rotation follow it, and the nodes pinned to them, whose translation
@@ -3846,6 +3985,31 @@ static void rj__lz_move(const rj_model *m, const double *u, double sh, int c, in
         }
 }
 
+/* The cable loops' linearised torques -k e at the displaced nodes x, y, p (e from the
+   joints' turns off the start), for the stability bound's operator. */
+static void rj__lz_couplings(const rj_model *m, const double *x, const double *y,
+                             const double *p, double *fx, double *fy, double *mz)
+{
+    int k, side;
+    for (k = 0; k < m->ncp; k++) {
+        const rj_coupling_def *c = &m->cp[k];
+        const int joint[2] = { c->joint_a, c->joint_b };
+        rj__jgeo g0[2], g1;
+        double turn[2], e;
+        if (!(c->stiffness > 0))
+            continue;
+        for (side = 0; side < 2; side++) {
+            const rj__joint *J = &m->jnt[joint[side]];
+            rj__joint_geo(m, J, m->x0, m->y0, &g0[side]);
+            rj__joint_geo(m, J, x, y, &g1);
+            turn[side] = rj__wrap(rj__joint_raw(J, &g1, p) - rj__joint_raw(J, &g0[side], m->phi0));
+        }
+        e = turn[1] - c->ratio * turn[0];
+        rj__apply_torque(&m->jnt[c->joint_b], &g0[1], -c->stiffness * e, fx, fy, mz);
+        rj__apply_torque(&m->jnt[c->joint_a], &g0[0], c->ratio * c->stiffness * e, fx, fy, mz);
+    }
+}
+
 /* Linear stiffness operator for the stability bound: out = M^-1/2 K M^-1/2 u over the
    3 nn node DOFs (translations of grouped nodes live at the group's first member). K is
    the tangent of the internal forces (central differences on rj__beam_pass) plus
@@ -3885,6 +4049,7 @@ static void rj__lz_apply(const rj_model *m, const double *u, double *out, double
                 th1 = rj__joint_raw(J, &g1, p);
                 rj__apply_torque(J, &g0, -J->k_lin * rj__wrap(th1 - th0), fx, fy, mz);
             }
+            rj__lz_couplings(m, x, y, p, fx, fy, mz);
             /* out += -sgn * f / (2h), contracted to DOFs */
             for (i = 0; i < nn; i++) {
                 out[3 * i] += -sgn * fx[i] * sqrt(m->tinv[i]) / (2 * h);
@@ -4061,6 +4226,15 @@ static double rj__damping_rate(const rj_model *m)
         if (rate > worst)
             worst = rate;
     }
+    /* a cable loop's damper acts on both joints' rates, joint a through the ratio */
+    for (j = 0; j < m->ncp; j++) {
+        const rj_coupling_def *c = &m->cp[j];
+        const double rate = c->damping * (rj__joint_compliance0(m, c->joint_b) +
+                                          c->ratio * c->ratio *
+                                              rj__joint_compliance0(m, c->joint_a));
+        if (rate > worst)
+            worst = rate;
+    }
     return worst;
 }
 
@@ -4169,8 +4343,9 @@ static unsigned long long rj__model_hash(const rj_model *m)
     const rj__field *lo[64], *jo[64], *so[64], *ao[64];
     const int nlo = rj__hash_order(RJ__DEF_LINK, lo), njo = rj__hash_order(RJ__DEF_JOINT, jo);
     const int nso = rj__hash_order(RJ__DEF_SOLVER, so), nao = rj__hash_order(RJ__DEF_LOAD, ao);
-    const rj__field *co[64];
+    const rj__field *co[64], *po[64];
     const int nco = rj__hash_order(RJ__DEF_ACTUATOR, co);
+    const int npo = rj__hash_order(RJ__DEF_COUPLING, po);
     int l, j, k;
     h = rj__fnv_i(h, m->nn);
     h = rj__fnv_i(h, m->ne);
@@ -4187,6 +4362,8 @@ static unsigned long long rj__model_hash(const rj_model *m)
         h = rj__fnv_def(h, ao, nao, &m->load[k]);
     for (k = 0; k < m->nact; k++)
         h = rj__fnv_def(h, co, nco, &m->act[k]);
+    for (k = 0; k < m->ncp; k++)
+        h = rj__fnv_def(h, po, npo, &m->cp[k]);
     return h;
 }
 
@@ -4785,6 +4962,7 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(load, rj_load_def);
     RJ__SET(load_node, int);
     RJ__SET(act, rj_actuator_def);
+    RJ__SET(cp, rj_coupling_def);
     RJ__SET(lz, double);
 #undef RJ__SET
 }
@@ -4802,6 +4980,9 @@ static void rj__init_copy_defs(rj_model *m, const rj_scene_def *sc)
     m->nact = sc->actuator_count;
     if (m->nact)
         memcpy(m->act, sc->actuators, sizeof(rj_actuator_def) * (size_t) m->nact);
+    m->ncp = sc->coupling_count;
+    if (m->ncp)
+        memcpy(m->cp, sc->couplings, sizeof(rj_coupling_def) * (size_t) m->ncp);
 }
 
 /* A link's section: area and second moment (layers integrate EA and EI exactly for the
@@ -5817,6 +5998,12 @@ static double rj__spring_energy(const rj_model *m, const double *f)
     int j;
     for (j = 0; j < m->nj; j++)
         rj__joint_potential(&m->jdef[j], &m->jnt[j], RJ__FJ(m, f, j)[RJ__JD_THETA], &V, &t);
+    for (j = 0; j < m->ncp; j++) {
+        const rj_coupling_def *c = &m->cp[j];
+        double elastic, damp;
+        rj__coupling_torques(m, c, RJ__FJ(m, f, c->joint_a)[RJ__JD_THETA],
+                             RJ__FJ(m, f, c->joint_b)[RJ__JD_THETA], 0, 0, &elastic, &damp, &V);
+    }
     return V;
 }
 
@@ -6843,6 +7030,51 @@ static void rj__rig_nodes(const rj_model *m, const rj__rig *r, double *f)
     }
 }
 
+/* K v for the joints' stiffnesses and the cable loops' (k w w^T, w = e_b - ratio e_a). */
+static void rj__rig_stiffness(const rj_model *m, const double *v, double *kv)
+{
+    int j;
+    for (j = 0; j < m->nj; j++)
+        kv[j] = m->jnt[j].k_lin * v[j];
+    for (j = 0; j < m->ncp; j++) {
+        const rj_coupling_def *c = &m->cp[j];
+        const double e = v[c->joint_b] - c->ratio * v[c->joint_a];
+        kv[c->joint_b] += c->stiffness * e;
+        kv[c->joint_a] -= c->ratio * c->stiffness * e;
+    }
+}
+
+/* omega_max^2 with cable loops, whose stiffness ties joints: the largest eigenvalue of
+   M^-1 K by power iteration (K is no longer diagonal; the iterates' growth converges to
+   it). v, u, kv: nj doubles each. */
+static double rj__rig_coupled_bound(const rj_model *m, const double *minv, double *v,
+                                    double *u, double *kv)
+{
+    const int n = m->nj;
+    double lam = 0;
+    int j, k, it;
+    for (j = 0; j < n; j++)
+        v[j] = 1.0 + 0.1 * j;
+    for (it = 0; it < 500; it++) {
+        double nrm = 0, nv = 0;
+        rj__rig_stiffness(m, v, kv);
+        for (j = 0; j < n; j++) {
+            double sum = 0;
+            for (k = 0; k < n; k++)
+                sum += minv[(size_t) j * n + k] * kv[k];
+            u[j] = sum;
+            nrm += sum * sum;
+            nv += v[j] * v[j];
+        }
+        if (nrm == 0)
+            return 0;
+        lam = sqrt(nrm / nv);
+        for (j = 0; j < n; j++)
+            v[j] = u[j] / sqrt(nrm);
+    }
+    return lam;
+}
+
 /* Rigid-link model constants and the stability bound: omega_max^2 = largest eigenvalue of
    K^1/2 M^-1 K^1/2 at the initial configuration (power iteration), K the joints' linear
    stiffnesses (limits counted as for flexible links). Returns omega_max^2. */
@@ -6884,6 +7116,8 @@ static double rj__rig_setup(rj_model *m, double *scratch)
         J->w2 = 1 - J->w1;
         J->minv = minv[(size_t) j * n + j]; /* rate change per unit torque impulse: 1 / I_red */
     }
+    if (m->ncp)
+        return rj__rig_coupled_bound(m, minv, r.x, r.tmp, r.q);
     /* power iteration on K^1/2 M^-1 K^1/2 */
     v = r.x;
     u = r.tmp;
@@ -7104,6 +7338,40 @@ static RJ__FORCE_INLINE void rj__stage_beams(const rj_model *m, rj_state *s, con
     adv->w = f->w;
 }
 
+/* The joint geometry stage 2 kept. */
+static RJ__FORCE_INLINE void rj__kept_geo(const double *kept, rj__jgeo *g)
+{
+    g->ax = kept[0];
+    g->ay = kept[1];
+    g->bx = kept[2];
+    g->by = kept[3];
+    g->a2 = kept[6];
+    g->b2 = kept[7];
+}
+
+/* Stage 2 of scenes with couplings: each cable loop's torques on its two joints' nodes,
+   from their running angles at n and the rates the element read (kept in s->jsc). */
+static void rj__stage_couplings(const rj_model *m, rj_state *s, const rj__frames *f,
+                                double *spring)
+{
+    int k;
+    for (k = 0; k < m->ncp; k++) {
+        const rj_coupling_def *c = &m->cp[k];
+        const double *kept_a = s->jsc + 8 * c->joint_a, *kept_b = s->jsc + 8 * c->joint_b;
+        double *rec_a = RJ__FJ(m, f->next, c->joint_a), *rec_b = RJ__FJ(m, f->next, c->joint_b);
+        double elastic, damp, on_b;
+        rj__jgeo g;
+        rj__coupling_torques(m, c, RJ__FJ(m, f->old, c->joint_a)[RJ__JD_THETA],
+                             RJ__FJ(m, f->old, c->joint_b)[RJ__JD_THETA], kept_a[4], kept_b[4],
+                             &elastic, &damp, spring);
+        on_b = rj__coupling_record(c, elastic, damp, rec_a, rec_b);
+        rj__kept_geo(kept_b, &g);
+        rj__apply_torque(&m->jnt[c->joint_b], &g, on_b, s->fx, s->fy, s->mz);
+        rj__kept_geo(kept_a, &g);
+        rj__apply_torque(&m->jnt[c->joint_a], &g, -c->ratio * on_b, s->fx, s->fy, s->mz);
+    }
+}
+
 /* Stage 2, the joints' element: rate, flag (Eqs 7-13), table, spring, damping and limit
    torques (Eqs 4, 22, 27) on the nodes; the geometry and rate kept in s->jsc for the
    stages after. */
@@ -7136,19 +7404,11 @@ static RJ__FORCE_INLINE void rj__stage_joint_torques(const rj_model *m, rj_state
         kept[6] = g.a2;
         kept[7] = g.b2;
     }
+    if (m->ncp)
+        rj__stage_couplings(m, s, f, &spring);
     e->spring = spring;
 }
 
-/* The joint geometry stage 2 kept. */
-static RJ__FORCE_INLINE void rj__kept_geo(const double *kept, rj__jgeo *g)
-{
-    g->ax = kept[0];
-    g->ay = kept[1];
-    g->bx = kept[2];
-    g->by = kept[3];
-    g->a2 = kept[6];
-    g->b2 = kept[7];
-}
 
 /* A node's velocity at the end of the step under the forces so far (a grouped node: its
    group's). */
@@ -8238,6 +8498,19 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
                         &f->new_flags[j], qd[j], t, f->new_scalars, &penetration, &spring);
         Q[j] = torque - bias[j];
     }
+    /* cable loops: their torques on both joints, from q^n and the rates the element read */
+    for (j = 0; j < m->ncp; j++) {
+        const rj_coupling_def *c = &m->cp[j];
+        const size_t at_a = (size_t) RJ__JD_COUNT * c->joint_a;
+        const size_t at_b = (size_t) RJ__JD_COUNT * c->joint_b;
+        double elastic, damp, on_b;
+        rj__coupling_torques(m, c, old_joints[at_a + RJ__JD_THETA],
+                             old_joints[at_b + RJ__JD_THETA], qd[c->joint_a], qd[c->joint_b],
+                             &elastic, &damp, &spring);
+        on_b = rj__coupling_record(c, elastic, damp, new_joints + at_a, new_joints + at_b);
+        Q[c->joint_b] += on_b;
+        Q[c->joint_a] -= c->ratio * on_b;
+    }
     /* the caller's torques, the loads and the caller's node forces: generalised forces on
        the joints, kept in the new frame for their work (rj__step_rigid checked them) */
     if (s->inputs || m->nload || s->node_inputs) {
@@ -8977,6 +9250,15 @@ RJDEF const rj_actuator_def *rj_model_actuator_def(const rj_model *m, int k)
     RJ_ASSERT(k >= 0 && k < m->nact);
     return &m->act[k];
 }
+RJDEF int rj_model_coupling_count(const rj_model *m)
+{
+    return m->ncp;
+}
+RJDEF const rj_coupling_def *rj_model_coupling_def(const rj_model *m, int k)
+{
+    RJ_ASSERT(k >= 0 && k < m->ncp);
+    return &m->cp[k];
+}
 RJDEF double rj_link_EA(const rj_model *m, int l)
 {
     RJ_ASSERT(l >= 0 && l < m->nl);
@@ -9574,12 +9856,14 @@ enum {
     RJ__SK_JOINT,
     RJ__SK_LOAD,
     RJ__SK_ACTUATOR,
+    RJ__SK_COUPLING,
     RJ__SK_COUNT
 };
 
 /* char arrays, not pointer arrays: read-only data without relocations */
-static const char rj__sk_kind[RJ__SK_COUNT][10] = { "",      "solver", "material", "section",
-                                                    "link",  "joint",  "load",     "actuator" };
+static const char rj__sk_kind[RJ__SK_COUNT][10] = { "",     "solver", "material", "section",
+                                                    "link", "joint",  "load",     "actuator",
+                                                    "coupling" };
 #define RJ__SK_MAT_KEYS ((1u << RJ__LK_E) | (1u << RJ__LK_RHO))
 #define RJ__SK_SEC_KEYS                                                                            \
     ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA) | (1u << RJ__LK_WIDTH) | (1u << RJ__LK_HEIGHT) | \
@@ -9609,7 +9893,7 @@ typedef struct rj__sp {
     rj__stok *tok;
     int ntok;
     rj_scene_file *f;
-    int cap_links, cap_joints, cap_loads, cap_acts;
+    int cap_links, cap_joints, cap_loads, cap_acts, cap_cps;
     rj__spart *mat, *sec;
     int nmat, nsec, cap_mat, cap_sec;
     int kind, item; /* current section: kind and index (materials, sections, links, joints) */
@@ -9859,6 +10143,8 @@ static const char *rj__sp_item_name(const rj__sp *P)
         return P->f->load_names[P->item];
     case RJ__SK_ACTUATOR:
         return P->f->actuator_names[P->item];
+    case RJ__SK_COUPLING:
+        return P->f->coupling_names[P->item];
     }
     return "";
 }
@@ -9919,6 +10205,8 @@ static rj_scene_pos *rj__sp_pos(rj__sp *P, int k) /* position slot of key k of t
         return &P->f->load_pos_[(size_t) P->item * (1 + RJ__AK_N) + 1 + k];
     case RJ__SK_ACTUATOR:
         return &P->f->actuator_pos_[(size_t) P->item * (1 + RJ__CK_N) + 1 + k];
+    case RJ__SK_COUPLING:
+        return &P->f->coupling_pos_[(size_t) P->item * (1 + RJ__PK_N) + 1 + k];
     default:
         return &P->f->joint_pos_[(size_t) P->item * (1 + RJ__JK_N) + 1 + k];
     }
@@ -10019,6 +10307,8 @@ static const char *rj__sp_near_key(const rj__sp *P, const rj__stok *t)
         return rj__sp_near_row(t->s, t->len, rj__load_fields, RJ__AK_N, ~0u);
     case RJ__SK_ACTUATOR:
         return rj__sp_near_row(t->s, t->len, rj__actuator_fields, RJ__CK_N, ~0u);
+    case RJ__SK_COUPLING:
+        return rj__sp_near_row(t->s, t->len, rj__coupling_fields, RJ__PK_N, ~0u);
     }
     return NULL;
 }
@@ -10044,7 +10334,7 @@ static int rj__sp_alpha(unsigned char c)
 static const char *rj__sp_unit(const char *key)
 {
     int kind, n, k;
-    for (kind = RJ__DEF_LINK; kind <= RJ__DEF_LOAD; kind++) {
+    for (kind = RJ__DEF_LINK; kind <= RJ__DEF_COUPLING; kind++) {
         const rj__field *t = rj__fields(kind, &n);
         for (k = 0; k < n; k++)
             if (strcmp(key, t[k].key) == 0)
@@ -10727,6 +11017,43 @@ static int rj__sp_finish_actuator(rj__sp *P)
     return 1;
 }
 
+/* joints = A B: two joints defined above the coupling */
+static int rj__sp_coupling_key(rj__sp *P, int k, int a, int *i, int b, rj_coupling_def *d)
+{
+    const rj__field *r = &rj__coupling_fields[k];
+    if (k != RJ__PK_JOINTS)
+        return rj__sp_row(P, r, a, i, b, d);
+    if (!rj__sp_joint_ref(P, &P->tok[a], r->key, &d->joint_a))
+        return 0;
+    (*i)++;
+    if (*i >= b) {
+        const rj__stok *z = &P->tok[a];
+        return rj__sp_err(P, z->line, z->col + z->len, r->key, rj__sp_nan(),
+                          "missing the second joint", rj__sp_where(P), " (joints = A B)", NULL,
+                          NULL);
+    }
+    if (!rj__sp_joint_ref(P, &P->tok[*i], r->key, &d->joint_b))
+        return 0;
+    (*i)++;
+    return 1;
+}
+
+/* a coupling names its two joints, and they differ */
+static int rj__sp_finish_coupling(rj__sp *P)
+{
+    const rj_coupling_def *d = &P->f->couplings[P->item];
+    const rj_scene_pos *pos = &P->f->coupling_pos_[(size_t) P->item * (1 + RJ__PK_N)];
+    const char *name = P->f->coupling_names[P->item];
+    if (!(P->seen >> RJ__PK_JOINTS & 1u))
+        return rj__sp_err(P, pos[0].line, pos[0].col, "joints", rj__sp_nan(), "coupling '",
+                          name, "' has no joints (joints = A B)", NULL, NULL);
+    if (d->joint_a == d->joint_b)
+        return rj__sp_err(P, pos[1 + RJ__PK_JOINTS].line, pos[1 + RJ__PK_JOINTS].col, "joints",
+                          rj__sp_nan(), "coupling '", name, "' ties joint '",
+                          P->f->joint_names[d->joint_a], "' to itself");
+    return 1;
+}
+
 /* ------------------------------------------------------------------ sections */
 static int rj__sp_key_index(int kind, const rj__stok *t)
 {
@@ -10763,6 +11090,11 @@ static int rj__sp_key_index(int kind, const rj__stok *t)
             if (rj__sp_is(t, rj__actuator_fields[k].key))
                 return k;
         break;
+    case RJ__SK_COUPLING:
+        for (k = 0; k < RJ__PK_N; k++)
+            if (rj__sp_is(t, rj__coupling_fields[k].key))
+                return k;
+        break;
     }
     return -1;
 }
@@ -10777,6 +11109,8 @@ static const char *rj__sp_key_name(int kind, int k)
         return rj__load_fields[k].key;
     if (kind == RJ__SK_ACTUATOR)
         return rj__actuator_fields[k].key;
+    if (kind == RJ__SK_COUPLING)
+        return rj__coupling_fields[k].key;
     return rj__link_fields[k].key;
 }
 
@@ -10944,6 +11278,10 @@ static int rj__sp_finish(rj__sp *P)
         if (!rj__sp_finish_actuator(P))
             return 0;
         break;
+    case RJ__SK_COUPLING:
+        if (!rj__sp_finish_coupling(P))
+            return 0;
+        break;
     }
     P->kind = RJ__SK_NONE;
     return 1;
@@ -10954,7 +11292,7 @@ static int rj__sp_header(rj__sp *P)
     const rj__stok *t0 = &P->tok[0], *nt;
     char nb[24];
     int kind = 0, k, cap = 0, count = 0, dup = -1;
-    for (k = RJ__SK_SOLVER; k <= RJ__SK_ACTUATOR; k++)
+    for (k = RJ__SK_SOLVER; k <= RJ__SK_COUPLING; k++)
         if (rj__sp_is(t0, rj__sk_kind[k]))
             kind = k;
     if (!kind) {
@@ -10970,7 +11308,7 @@ static int rj__sp_header(rj__sp *P)
         }
         { /* a near section keyword, else a near key of the current section */
             const char *near =
-                rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 7);
+                rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 8);
             char mean[48];
             if (!near && P->kind != RJ__SK_NONE)
                 near = rj__sp_near_key(P, t0);
@@ -10978,9 +11316,9 @@ static int rj__sp_header(rj__sp *P)
                 P, t0, "", rj__sp_nan(),
                 P->kind != RJ__SK_NONE ? "unknown key or section " : "unknown section ",
                 P->kind != RJ__SK_NONE ? " (a key needs '= value'; sections are solver, material, "
-                                         "section, link, joint, load, actuator)"
+                                         "section, link, joint, load, actuator, coupling)"
                                        : " (expected solver, material, section, link, joint, "
-                                         "load or actuator)",
+                                         "load, actuator or coupling)",
                 rj__sp_mean(mean, near), NULL);
         }
     }
@@ -11047,6 +11385,13 @@ static int rj__sp_header(rj__sp *P)
             dup = rj__sp_find(nt->s, nt->len, (const char *) P->f->actuator_names,
                               RJ_SCENE_NAME_MAX, count);
         break;
+    case RJ__SK_COUPLING:
+        cap = RJ_SCENE_MAX_COUPLINGS;
+        count = P->f->coupling_count;
+        if (count)
+            dup = rj__sp_find(nt->s, nt->len, (const char *) P->f->coupling_names,
+                              RJ_SCENE_NAME_MAX, count);
+        break;
     default:
         cap = RJ_SCENE_MAX_JOINTS;
         count = P->f->joint_count;
@@ -11062,6 +11407,8 @@ static int rj__sp_header(rj__sp *P)
                    : kind == RJ__SK_LOAD    ? P->f->load_pos_[(size_t) dup * (1 + RJ__AK_N)].line
                    : kind == RJ__SK_ACTUATOR
                        ? P->f->actuator_pos_[(size_t) dup * (1 + RJ__CK_N)].line
+                   : kind == RJ__SK_COUPLING
+                       ? P->f->coupling_pos_[(size_t) dup * (1 + RJ__PK_N)].line
                                             : P->f->joint_pos_[(size_t) dup * (1 + RJ__JK_N)].line;
         char pre[40];
         rj__sp_cat(pre, sizeof pre, "duplicate ", rj__sk_kind[kind], " name ", NULL, NULL, NULL,
@@ -11078,6 +11425,7 @@ static int rj__sp_header(rj__sp *P)
                    : kind == RJ__SK_LINK    ? P->cap_links
                    : kind == RJ__SK_LOAD    ? P->cap_loads
                    : kind == RJ__SK_ACTUATOR ? P->cap_acts
+                   : kind == RJ__SK_COUPLING ? P->cap_cps
                                             : P->cap_joints;
         if (count >= cap || count >= room)
             return rj__sp_err(P, t0->line, t0->col, rj__sk_kind[kind], count + 1, "too many ",
@@ -11121,6 +11469,14 @@ static int rj__sp_header(rj__sp *P)
             P->f->actuator_names[n][nt->len] = 0;
             P->f->actuators[n] = rj_default_actuator_def();
             P->f->actuator_pos_[(size_t) n * (1 + RJ__CK_N)] = head;
+            break;
+        }
+        case RJ__SK_COUPLING: {
+            int n = P->f->coupling_count++;
+            memcpy(P->f->coupling_names[n], nt->s, (size_t) nt->len);
+            P->f->coupling_names[n][nt->len] = 0;
+            P->f->couplings[n] = rj_default_coupling_def();
+            P->f->coupling_pos_[(size_t) n * (1 + RJ__PK_N)] = head;
             break;
         }
         default: {
@@ -11255,7 +11611,7 @@ static int rj__sp_assignments(rj__sp *P)
             return rj__sp_err_tok(
                 P, kt, "", rj__sp_nan(), "key ",
                 " outside any section (start one with solver, material, section, link, joint, "
-                "load or actuator)",
+                "load, actuator or coupling)",
                 rj__sp_mean(mean, rj__sp_near(kt->s, kt->len, "title", 6, 1)), NULL);
         }
         k = rj__sp_key_index(P->kind, kt);
@@ -11306,6 +11662,10 @@ static int rj__sp_assignments(rj__sp *P)
             break;
         case RJ__SK_ACTUATOR:
             if (!rj__sp_actuator_key(P, k, i + 2, &v, j, &P->f->actuators[P->item]))
+                return 0;
+            break;
+        case RJ__SK_COUPLING:
+            if (!rj__sp_coupling_key(P, k, i + 2, &v, j, &P->f->couplings[P->item]))
                 return 0;
             break;
         default:
@@ -11469,7 +11829,7 @@ static void rj__sp_count(const char *text, size_t len, int counts[RJ__SK_COUNT])
         while (at < len && (text[at] == ' ' || text[at] == '\t'))
             at++;
         if (e > w && !(at < len && text[at] == '=')) {
-            for (k = RJ__SK_MATERIAL; k <= RJ__SK_ACTUATOR; k++) {
+            for (k = RJ__SK_MATERIAL; k <= RJ__SK_COUPLING; k++) {
                 size_t n = strlen(rj__sk_kind[k]);
                 if (e - w == n && memcmp(text + w, rj__sk_kind[k], n) == 0) {
                     int cap = k == RJ__SK_MATERIAL  ? RJ_SCENE_MAX_MATERIALS
@@ -11477,6 +11837,7 @@ static void rj__sp_count(const char *text, size_t len, int counts[RJ__SK_COUNT])
                               : k == RJ__SK_LINK    ? RJ_SCENE_MAX_LINKS
                               : k == RJ__SK_LOAD    ? RJ_SCENE_MAX_LOADS
                               : k == RJ__SK_ACTUATOR ? RJ_SCENE_MAX_ACTUATORS
+                              : k == RJ__SK_COUPLING ? RJ_SCENE_MAX_COUPLINGS
                                                     : RJ_SCENE_MAX_JOINTS;
                     if (counts[k] < cap)
                         counts[k]++;
@@ -11557,6 +11918,9 @@ static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_
     if (strncmp(field, "loads[", 6) == 0)
         return rj__sp_item_pos(field, "loads[", f->load_count, f->load_pos_, f->load_names,
                                RJ__DEF_LOAD, "load", pos, item, isize);
+    if (strncmp(field, "couplings[", 10) == 0)
+        return rj__sp_item_pos(field, "couplings[", f->coupling_count, f->coupling_pos_,
+                               f->coupling_names, RJ__DEF_COUPLING, "coupling", pos, item, isize);
     if (strncmp(field, "actuators[", 10) == 0)
         return rj__sp_item_pos(field, "actuators[", f->actuator_count, f->actuator_pos_,
                                f->actuator_names, RJ__DEF_ACTUATOR, "actuator", pos, item, isize);
@@ -11644,7 +12008,7 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     rj_scene_file F;
     int counts[RJ__SK_COUNT], r;
     size_t off = 0, o_links, o_joints, o_lpos, o_jpos, o_lnames, o_jnames, w_tok, w_mat, w_sec;
-    size_t o_loads, o_apos, o_anames, o_acts, o_cpos, o_cnames;
+    size_t o_loads, o_apos, o_anames, o_acts, o_cpos, o_cnames, o_cps, o_ppos, o_pnames;
     char *block = NULL, *work = NULL;
     memset(&P, 0, sizeof P);
     memset(&F, 0, sizeof F);
@@ -11687,6 +12051,7 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     P.cap_sec = counts[RJ__SK_SECTION];
     P.cap_loads = counts[RJ__SK_LOAD];
     P.cap_acts = counts[RJ__SK_ACTUATOR];
+    P.cap_cps = counts[RJ__SK_COUPLING];
     /* the result block */
     o_links = rj__sp_carve(&off, (size_t) P.cap_links, sizeof(rj_link_def));
     o_joints = rj__sp_carve(&off, (size_t) P.cap_joints, sizeof(rj_joint_def));
@@ -11699,6 +12064,9 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     o_acts = rj__sp_carve(&off, (size_t) P.cap_acts, sizeof(rj_actuator_def));
     o_cpos = rj__sp_carve(&off, (size_t) P.cap_acts * (1 + RJ__CK_N), sizeof(rj_scene_pos));
     o_cnames = rj__sp_carve(&off, (size_t) P.cap_acts, RJ_SCENE_NAME_MAX);
+    o_cps = rj__sp_carve(&off, (size_t) P.cap_cps, sizeof(rj_coupling_def));
+    o_ppos = rj__sp_carve(&off, (size_t) P.cap_cps * (1 + RJ__PK_N), sizeof(rj_scene_pos));
+    o_pnames = rj__sp_carve(&off, (size_t) P.cap_cps, RJ_SCENE_NAME_MAX);
     o_jnames = rj__sp_carve(&off, (size_t) P.cap_joints, RJ_SCENE_NAME_MAX);
     block = (char *) RJ_MALLOC(off + 16, alloc_ctx);
     /* the parser's workspace: tokens, materials, sections */
@@ -11732,6 +12100,9 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     F.actuators = (rj_actuator_def *) (void *) (block + o_acts);
     F.actuator_pos_ = (rj_scene_pos *) (void *) (block + o_cpos);
     F.actuator_names = (char(*)[RJ_SCENE_NAME_MAX])(void *) (block + o_cnames);
+    F.couplings = (rj_coupling_def *) (void *) (block + o_cps);
+    F.coupling_pos_ = (rj_scene_pos *) (void *) (block + o_ppos);
+    F.coupling_names = (char(*)[RJ_SCENE_NAME_MAX])(void *) (block + o_pnames);
     F.solver = rj_default_solver_def();
     F.block_ = block;
     F.alloc_ctx_ = alloc_ctx;
@@ -11892,6 +12263,8 @@ RJDEF rj_scene_def rj_scene_file_def(const rj_scene_file *f)
     d.load_count = f->load_count;
     d.actuators = f->actuators;
     d.actuator_count = f->actuator_count;
+    d.couplings = f->couplings;
+    d.coupling_count = f->coupling_count;
     return d;
 }
 
@@ -12279,6 +12652,12 @@ static int rj__sw_ok(const rj_scene_def *sc, const char *const *link_names,
             !rj__sw_rows_ok(RJ__DEF_ACTUATOR, d, d->type, 0))
             return 0;
     }
+    for (i = 0; i < sc->coupling_count; i++) {
+        const rj_coupling_def *d = &sc->couplings[i];
+        if (d->joint_a < 0 || d->joint_a >= sc->joint_count || d->joint_b < 0 ||
+            d->joint_b >= sc->joint_count || !rj__sw_rows_ok(RJ__DEF_COUPLING, d, -1, 0))
+            return 0;
+    }
     return 1;
 }
 
@@ -12341,7 +12720,8 @@ RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_n
         (sc->joint_count && !sc->joints) || sc->load_count < 0 ||
         sc->load_count > RJ_SCENE_MAX_LOADS || (sc->load_count && !sc->loads) ||
         sc->actuator_count < 0 || sc->actuator_count > RJ_SCENE_MAX_ACTUATORS ||
-        (sc->actuator_count && !sc->actuators))
+        (sc->actuator_count && !sc->actuators) || sc->coupling_count < 0 ||
+        sc->coupling_count > RJ_SCENE_MAX_COUPLINGS || (sc->coupling_count && !sc->couplings))
         return 0;
     if (!rj__sw_ok(sc, link_names, joint_names))
         return 0;
@@ -12393,6 +12773,13 @@ RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_n
         rj__sw_put(&W, "\n");
         item.shape = sc->actuators[i].type;
         rj__sw_rows(&W, RJ__DEF_ACTUATOR, &sc->actuators[i], &item);
+    }
+    for (i = 0; i < sc->coupling_count; i++) {
+        rj__sw_put(&W, "coupling ");
+        rj__sw_name(&W, NULL, "coupling", i);
+        rj__sw_put(&W, "\n");
+        item.shape = -1;
+        rj__sw_rows(&W, RJ__DEF_COUPLING, &sc->couplings[i], &item);
     }
     return W.n;
 }

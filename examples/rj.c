@@ -1235,6 +1235,22 @@ static void check_actuators(const scene *sc)
     }
 }
 
+/* The cable loops, one line each. */
+static void check_couplings(const scene *sc)
+{
+    const rj_model *m = sc->m;
+    int k;
+    if (rj_model_coupling_count(m) == 0) return;
+    printf("couplings: %d\n", rj_model_coupling_count(m));
+    for (k = 0; k < rj_model_coupling_count(m); k++) {
+        const rj_coupling_def *d = rj_model_coupling_def(m, k);
+        printf("  %-12s %s follows %g x %s", sc->f.coupling_names[k], joint_name(sc, d->joint_b), d->ratio,
+               joint_name(sc, d->joint_a));
+        if (d->offset != 0) printf(" %+g deg", rj_deg(d->offset));
+        printf(": stiffness %g N m/rad, damping %g N m s/rad\n", d->stiffness, d->damping);
+    }
+}
+
 /* omega_max of one link alone (its root as defined, no joints): how fast its own modes
    are, beams and tip mass. Rigid links have none (0); NaN when it cannot be built. */
 static double link_omega(const rj_model *m, int l)
@@ -1490,6 +1506,7 @@ static int cmd_check(int argc, char **argv)
     check_joints(&sc);
     check_loads(&sc);
     check_actuators(&sc);
+    check_couplings(&sc);
     check_dt(&sc);
     check_binding(&sc);
     cost_print(&sc, &c);

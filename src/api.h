@@ -354,6 +354,25 @@ typedef struct rj_actuator_def {
     unsigned cookie;
 } rj_actuator_def;
 
+/* Coupling definition: a cable loop tying two joints (a closed cable loop, CCL, that
+   makes every panel of an array open in step). The elastic cable holds
+   e = (theta_b - angle0_b) - ratio (theta_a - angle0_a) - offset at 0, on the running
+   angles' changes from their starts (so offset 0 is a cable slack-free at the start),
+   with the torque -stiffness e - damping de/dt on joint b and ratio times its opposite on
+   joint a (the virtual work of a cable over pulleys of ratio). Defaults
+   (rj_default_coupling_def): joint_a 0, joint_b 1, ratio 1, offset 0 rad, stiffness
+   0 N m/rad, damping 0 N m s/rad. Its torques are reported in the two joints' spring and
+   damping components (RJ_TORQUE_SPRING, RJ_TORQUE_DAMPING); its energy is in
+   rj_energy.spring, its damping's work in lost_damping; the stability bound counts both. */
+typedef struct rj_coupling_def {
+    int joint_a, joint_b; /* joint indices, two different joints */
+    double ratio;         /* theta_b follows ratio theta_a; within +-1e6 */
+    double offset;        /* rad, within +-1e6 */
+    double stiffness;     /* N m/rad, >= 0: the cable loop's torsional stiffness at joint b */
+    double damping;       /* N m s/rad, >= 0 */
+    unsigned cookie;
+} rj_coupling_def;
+
 /* A whole scene. The arrays are read during rj_model_create only. loads (load_count of
    them) may be NULL when load_count is 0. */
 typedef struct rj_scene_def {
@@ -366,6 +385,8 @@ typedef struct rj_scene_def {
     int load_count;
     const rj_actuator_def *actuators; /* may be NULL when actuator_count is 0 */
     int actuator_count;
+    const rj_coupling_def *couplings; /* may be NULL when coupling_count is 0 */
+    int coupling_count;
 } rj_scene_def;
 
 /* Energy accounts, J. total = kinetic + strain + spring; balance = total + lost - initial. */
@@ -403,6 +424,7 @@ RJDEF rj_joint_def rj_default_joint_def(void);
 RJDEF rj_solver_def rj_default_solver_def(void);
 RJDEF rj_load_def rj_default_load_def(void);
 RJDEF rj_actuator_def rj_default_actuator_def(void);
+RJDEF rj_coupling_def rj_default_coupling_def(void);
 RJDEF rj_scene_def rj_default_scene_def(void);
 /* Result code as text. */
 RJDEF const char *rj_result_str(rj_result r);
@@ -499,6 +521,8 @@ RJDEF int rj_model_node_index(const rj_model *m, int link, int node);
 RJDEF int rj_model_load_count(const rj_model *m);
 RJDEF const rj_load_def *rj_model_load_def(const rj_model *m, int load);
 RJDEF const rj_actuator_def *rj_model_actuator_def(const rj_model *m, int actuator);
+RJDEF int rj_model_coupling_count(const rj_model *m);
+RJDEF const rj_coupling_def *rj_model_coupling_def(const rj_model *m, int coupling);
 /* Lumped mass (kg) and rotary inertia (kg m^2) of a node, tip mass included (a rigid
    link's node in a mixed scene: 0 and its body's inertia, see rj_fidelity). */
 RJDEF void rj_node_mass(const rj_model *m, int link, int node, double *mass, double *rinertia);
@@ -594,6 +618,7 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2); /* E
 #define RJ_SCENE_MAX_JOINTS    256
 #define RJ_SCENE_MAX_LOADS     256
 #define RJ_SCENE_MAX_ACTUATORS 256
+#define RJ_SCENE_MAX_COUPLINGS 256
 #define RJ_SCENE_MAX_MATERIALS 64
 #define RJ_SCENE_MAX_SECTIONS  64
 #define RJ_SCENE_MAX_LINE      1024 /* characters per line, line end excluded */
@@ -633,6 +658,10 @@ typedef struct rj_scene_file {
     int actuator_count;
     char (*actuator_names)[RJ_SCENE_NAME_MAX];
     rj_scene_pos *actuator_pos_;
+    rj_coupling_def *couplings;
+    int coupling_count;
+    char (*coupling_names)[RJ_SCENE_NAME_MAX];
+    rj_scene_pos *coupling_pos_;
 } rj_scene_file;
 
 /* Parses len bytes of text (need not be NUL-terminated) named filename in messages

@@ -334,6 +334,31 @@ static void rj__lz_move(const rj_model *m, const double *u, double sh, int c, in
         }
 }
 
+/* The cable loops' linearised torques -k e at the displaced nodes x, y, p (e from the
+   joints' turns off the start), for the stability bound's operator. */
+static void rj__lz_couplings(const rj_model *m, const double *x, const double *y,
+                             const double *p, double *fx, double *fy, double *mz)
+{
+    int k, side;
+    for (k = 0; k < m->ncp; k++) {
+        const rj_coupling_def *c = &m->cp[k];
+        const int joint[2] = { c->joint_a, c->joint_b };
+        rj__jgeo g0[2], g1;
+        double turn[2], e;
+        if (!(c->stiffness > 0))
+            continue;
+        for (side = 0; side < 2; side++) {
+            const rj__joint *J = &m->jnt[joint[side]];
+            rj__joint_geo(m, J, m->x0, m->y0, &g0[side]);
+            rj__joint_geo(m, J, x, y, &g1);
+            turn[side] = rj__wrap(rj__joint_raw(J, &g1, p) - rj__joint_raw(J, &g0[side], m->phi0));
+        }
+        e = turn[1] - c->ratio * turn[0];
+        rj__apply_torque(&m->jnt[c->joint_b], &g0[1], -c->stiffness * e, fx, fy, mz);
+        rj__apply_torque(&m->jnt[c->joint_a], &g0[0], c->ratio * c->stiffness * e, fx, fy, mz);
+    }
+}
+
 /* Linear stiffness operator for the stability bound: out = M^-1/2 K M^-1/2 u over the
    3 nn node DOFs (translations of grouped nodes live at the group's first member). K is
    the tangent of the internal forces (central differences on rj__beam_pass) plus
@@ -373,6 +398,7 @@ static void rj__lz_apply(const rj_model *m, const double *u, double *out, double
                 th1 = rj__joint_raw(J, &g1, p);
                 rj__apply_torque(J, &g0, -J->k_lin * rj__wrap(th1 - th0), fx, fy, mz);
             }
+            rj__lz_couplings(m, x, y, p, fx, fy, mz);
             /* out += -sgn * f / (2h), contracted to DOFs */
             for (i = 0; i < nn; i++) {
                 out[3 * i] += -sgn * fx[i] * sqrt(m->tinv[i]) / (2 * h);
@@ -549,6 +575,15 @@ static double rj__damping_rate(const rj_model *m)
         if (rate > worst)
             worst = rate;
     }
+    /* a cable loop's damper acts on both joints' rates, joint a through the ratio */
+    for (j = 0; j < m->ncp; j++) {
+        const rj_coupling_def *c = &m->cp[j];
+        const double rate = c->damping * (rj__joint_compliance0(m, c->joint_b) +
+                                          c->ratio * c->ratio *
+                                              rj__joint_compliance0(m, c->joint_a));
+        if (rate > worst)
+            worst = rate;
+    }
     return worst;
 }
 
@@ -657,8 +692,9 @@ static unsigned long long rj__model_hash(const rj_model *m)
     const rj__field *lo[64], *jo[64], *so[64], *ao[64];
     const int nlo = rj__hash_order(RJ__DEF_LINK, lo), njo = rj__hash_order(RJ__DEF_JOINT, jo);
     const int nso = rj__hash_order(RJ__DEF_SOLVER, so), nao = rj__hash_order(RJ__DEF_LOAD, ao);
-    const rj__field *co[64];
+    const rj__field *co[64], *po[64];
     const int nco = rj__hash_order(RJ__DEF_ACTUATOR, co);
+    const int npo = rj__hash_order(RJ__DEF_COUPLING, po);
     int l, j, k;
     h = rj__fnv_i(h, m->nn);
     h = rj__fnv_i(h, m->ne);
@@ -675,6 +711,8 @@ static unsigned long long rj__model_hash(const rj_model *m)
         h = rj__fnv_def(h, ao, nao, &m->load[k]);
     for (k = 0; k < m->nact; k++)
         h = rj__fnv_def(h, co, nco, &m->act[k]);
+    for (k = 0; k < m->ncp; k++)
+        h = rj__fnv_def(h, po, npo, &m->cp[k]);
     return h;
 }
 

@@ -145,6 +145,7 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(load, rj_load_def);
     RJ__SET(load_node, int);
     RJ__SET(act, rj_actuator_def);
+    RJ__SET(cp, rj_coupling_def);
     RJ__SET(lz, double);
 #undef RJ__SET
 }
@@ -162,6 +163,9 @@ static void rj__init_copy_defs(rj_model *m, const rj_scene_def *sc)
     m->nact = sc->actuator_count;
     if (m->nact)
         memcpy(m->act, sc->actuators, sizeof(rj_actuator_def) * (size_t) m->nact);
+    m->ncp = sc->coupling_count;
+    if (m->ncp)
+        memcpy(m->cp, sc->couplings, sizeof(rj_coupling_def) * (size_t) m->ncp);
 }
 
 /* A link's section: area and second moment (layers integrate EA and EI exactly for the

@@ -46,3 +46,10 @@ RJDEF rj_actuator_def rj_default_actuator_def(void)
     d.cookie = RJ__COOKIE_ACTUATOR;
     return d;
 }
+RJDEF rj_coupling_def rj_default_coupling_def(void)
+{
+    rj_coupling_def d;
+    rj__rows_default(&d, sizeof d, RJ__DEF_COUPLING);
+    d.cookie = RJ__COOKIE_COUPLING;
+    return d;
+}

@@ -1,6 +1,6 @@
 /* ------------------------------------------------------------------ definition fields */
 /* Every member of a definition (rj_link_def, rj_joint_def, rj_solver_def, rj_load_def,
-   rj_actuator_def) is one row of its kind's table below: its scene key, unit, kind of value, default, range
+   rj_actuator_def, rj_coupling_def) is one row of its kind's table below: its scene key, unit, kind of value, default, range
    with the one sentence that states it, when it applies, how the writer puts it in a
    scene file, and where it enters the model's hash. The defaults (rj_default_*_def),
    validation (rj__validate), the scene parser, the scene writer and the model hash read
@@ -92,6 +92,16 @@ enum {
     RJ__CK_N,
     RJ__CF_HAS_CUTOFF = RJ__CK_N,
     RJ__CF_N
+};
+enum {
+    RJ__PK_JOINTS,
+    RJ__PK_RATIO,
+    RJ__PK_OFFSET,
+    RJ__PK_STIFFNESS,
+    RJ__PK_DAMPING,
+    RJ__PK_N,
+    RJ__PF_JOINT_B = RJ__PK_N,
+    RJ__PF_N
 };
 enum {
     RJ__VK_DT,
@@ -401,9 +411,34 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
 };
 #undef RJ__DEF
 
+#define RJ__DEF rj_coupling_def
+static const rj__field rj__coupling_fields[RJ__PF_N] = {
+    /* joints = A B: joint_a, then its part joint_b */
+    RJ__F("joints", joint_a, "", RJ__FT_JOINT, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 0, 'i', 0.0,
+          RJ__ANY, ""),
+    RJ__F("ratio", ratio, "", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 2, 2, 'd', 1.0,
+          RJ__R(-1e6, 1, 1e6, 1), "must be a finite ratio within +-1e6"),
+    RJ__F("offset", offset, "rad", RJ__FT_ANGLE, RJ__WHEN_ALL, RJ__WR_SET, 2, 3, 'd', 0.0,
+          RJ__R(-1e6, 1, 1e6, 1), RJ__RULE_ANGLE),
+    RJ__F("stiffness", stiffness, "N m/rad", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_ALWAYS, 3, 4, 'd',
+          0.0, RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m/rad"),
+    RJ__F("damping", damping, "N m s/rad", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 3, 5, 'd', 0.0,
+          RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m s/rad"),
+    RJ__FA("joint_b", joint_b, "", RJ__FT_JOINT, -1, RJ__PK_JOINTS, RJ__WR_NONE, 1, 1, 'i', 1.0,
+           RJ__ANY, "", 0),
+};
+#undef RJ__DEF
+
 /* ------------------------------------------------------------------ reading rows */
 /* The definition kinds, and each one's table. */
-enum { RJ__DEF_LINK, RJ__DEF_JOINT, RJ__DEF_SOLVER, RJ__DEF_LOAD, RJ__DEF_ACTUATOR };
+enum {
+    RJ__DEF_LINK,
+    RJ__DEF_JOINT,
+    RJ__DEF_SOLVER,
+    RJ__DEF_LOAD,
+    RJ__DEF_ACTUATOR,
+    RJ__DEF_COUPLING
+};
 
 static const rj__field *rj__fields(int kind, int *count)
 {
@@ -420,9 +455,12 @@ static const rj__field *rj__fields(int kind, int *count)
     case RJ__DEF_LOAD:
         *count = RJ__AF_N;
         return rj__load_fields;
-    default:
+    case RJ__DEF_ACTUATOR:
         *count = RJ__CF_N;
         return rj__actuator_fields;
+    default:
+        *count = RJ__PF_N;
+        return rj__coupling_fields;
     }
 }
 
@@ -438,8 +476,10 @@ static int rj__key_count(int kind)
         return RJ__VK_N;
     case RJ__DEF_LOAD:
         return RJ__AK_N;
-    default:
+    case RJ__DEF_ACTUATOR:
         return RJ__CK_N;
+    default:
+        return RJ__PK_N;
     }
 }
 

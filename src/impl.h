@@ -101,6 +101,7 @@ typedef long long rj__vl4 __attribute__((vector_size(32)));
 #define RJ__COOKIE_SOLVER 0x524a534fu
 #define RJ__COOKIE_LOAD   0x524a4c44u
 #define RJ__COOKIE_ACTUATOR 0x524a4143u
+#define RJ__COOKIE_COUPLING 0x524a4350u
 #define RJ__ALIGN         16
 /* Margin on 2/omega_max: covers the Lanczos estimate (a lower bound of omega_max) and the
    geometric stiffness the linearisation leaves out. */
@@ -193,6 +194,8 @@ struct rj_model {
     int nload;         /* applied loads (scene loads) */
     int nact;          /* actuators */
     rj_actuator_def *act; /* (nact) their definitions */
+    int ncp;              /* couplings */
+    rj_coupling_def *cp;  /* (ncp) their definitions */
     rj_load_def *load; /* (nload) their definitions */
     int *load_node;    /* (nload) the node each acts on, in the scene's node order */
     double *rb_mass, *rb_icm,

@@ -194,3 +194,29 @@ static void rj__place(const rj_model *m, int l, double px, double py, double ang
     }
 }
 
+
+/* Coupling c's torques on joint b, elastic and damping (joint a takes -ratio times each),
+   from the joints' running angles and rates; *energy gains the cable's 1/2 k e^2. */
+static void rj__coupling_torques(const rj_model *m, const rj_coupling_def *c, double th_a,
+                                 double th_b, double w_a, double w_b, double *elastic,
+                                 double *damp, double *energy)
+{
+    const double turn_a = th_a - m->jdef[c->joint_a].angle0;
+    const double turn_b = th_b - m->jdef[c->joint_b].angle0;
+    const double e = turn_b - c->ratio * turn_a - c->offset;
+    *elastic = -c->stiffness * e;
+    *damp = -c->damping * (w_b - c->ratio * w_a);
+    *energy += 0.5 * c->stiffness * e * e;
+}
+
+/* Coupling c's torques into the two joints' new records (their spring and damping
+   components); returns the total on joint b. */
+static double rj__coupling_record(const rj_coupling_def *c, double elastic, double damp,
+                                  double *rec_a, double *rec_b)
+{
+    rec_b[RJ__JD_TQ0 + RJ_TORQUE_SPRING] += elastic;
+    rec_b[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] += damp;
+    rec_a[RJ__JD_TQ0 + RJ_TORQUE_SPRING] -= c->ratio * elastic;
+    rec_a[RJ__JD_TQ0 + RJ_TORQUE_DAMPING] -= c->ratio * damp;
+    return elastic + damp;
+}

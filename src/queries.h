@@ -100,6 +100,15 @@ RJDEF const rj_actuator_def *rj_model_actuator_def(const rj_model *m, int k)
     RJ_ASSERT(k >= 0 && k < m->nact);
     return &m->act[k];
 }
+RJDEF int rj_model_coupling_count(const rj_model *m)
+{
+    return m->ncp;
+}
+RJDEF const rj_coupling_def *rj_model_coupling_def(const rj_model *m, int k)
+{
+    RJ_ASSERT(k >= 0 && k < m->ncp);
+    return &m->cp[k];
+}
 RJDEF double rj_link_EA(const rj_model *m, int l)
 {
     RJ_ASSERT(l >= 0 && l < m->nl);

@@ -306,6 +306,51 @@ static void rj__rig_nodes(const rj_model *m, const rj__rig *r, double *f)
     }
 }
 
+/* K v for the joints' stiffnesses and the cable loops' (k w w^T, w = e_b - ratio e_a). */
+static void rj__rig_stiffness(const rj_model *m, const double *v, double *kv)
+{
+    int j;
+    for (j = 0; j < m->nj; j++)
+        kv[j] = m->jnt[j].k_lin * v[j];
+    for (j = 0; j < m->ncp; j++) {
+        const rj_coupling_def *c = &m->cp[j];
+        const double e = v[c->joint_b] - c->ratio * v[c->joint_a];
+        kv[c->joint_b] += c->stiffness * e;
+        kv[c->joint_a] -= c->ratio * c->stiffness * e;
+    }
+}
+
+/* omega_max^2 with cable loops, whose stiffness ties joints: the largest eigenvalue of
+   M^-1 K by power iteration (K is no longer diagonal; the iterates' growth converges to
+   it). v, u, kv: nj doubles each. */
+static double rj__rig_coupled_bound(const rj_model *m, const double *minv, double *v,
+                                    double *u, double *kv)
+{
+    const int n = m->nj;
+    double lam = 0;
+    int j, k, it;
+    for (j = 0; j < n; j++)
+        v[j] = 1.0 + 0.1 * j;
+    for (it = 0; it < 500; it++) {
+        double nrm = 0, nv = 0;
+        rj__rig_stiffness(m, v, kv);
+        for (j = 0; j < n; j++) {
+            double sum = 0;
+            for (k = 0; k < n; k++)
+                sum += minv[(size_t) j * n + k] * kv[k];
+            u[j] = sum;
+            nrm += sum * sum;
+            nv += v[j] * v[j];
+        }
+        if (nrm == 0)
+            return 0;
+        lam = sqrt(nrm / nv);
+        for (j = 0; j < n; j++)
+            v[j] = u[j] / sqrt(nrm);
+    }
+    return lam;
+}
+
 /* Rigid-link model constants and the stability bound: omega_max^2 = largest eigenvalue of
    K^1/2 M^-1 K^1/2 at the initial configuration (power iteration), K the joints' linear
    stiffnesses (limits counted as for flexible links). Returns omega_max^2. */
@@ -347,6 +392,8 @@ static double rj__rig_setup(rj_model *m, double *scratch)
         J->w2 = 1 - J->w1;
         J->minv = minv[(size_t) j * n + j]; /* rate change per unit torque impulse: 1 / I_red */
     }
+    if (m->ncp)
+        return rj__rig_coupled_bound(m, minv, r.x, r.tmp, r.q);
     /* power iteration on K^1/2 M^-1 K^1/2 */
     v = r.x;
     u = r.tmp;

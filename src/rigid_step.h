@@ -236,6 +236,19 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
                         &f->new_flags[j], qd[j], t, f->new_scalars, &penetration, &spring);
         Q[j] = torque - bias[j];
     }
+    /* cable loops: their torques on both joints, from q^n and the rates the element read */
+    for (j = 0; j < m->ncp; j++) {
+        const rj_coupling_def *c = &m->cp[j];
+        const size_t at_a = (size_t) RJ__JD_COUNT * c->joint_a;
+        const size_t at_b = (size_t) RJ__JD_COUNT * c->joint_b;
+        double elastic, damp, on_b;
+        rj__coupling_torques(m, c, old_joints[at_a + RJ__JD_THETA],
+                             old_joints[at_b + RJ__JD_THETA], qd[c->joint_a], qd[c->joint_b],
+                             &elastic, &damp, &spring);
+        on_b = rj__coupling_record(c, elastic, damp, new_joints + at_a, new_joints + at_b);
+        Q[c->joint_b] += on_b;
+        Q[c->joint_a] -= c->ratio * on_b;
+    }
     /* the caller's torques, the loads and the caller's node forces: generalised forces on
        the joints, kept in the new frame for their work (rj__step_rigid checked them) */
     if (s->inputs || m->nload || s->node_inputs) {

@@ -15,12 +15,14 @@ enum {
     RJ__SK_JOINT,
     RJ__SK_LOAD,
     RJ__SK_ACTUATOR,
+    RJ__SK_COUPLING,
     RJ__SK_COUNT
 };
 
 /* char arrays, not pointer arrays: read-only data without relocations */
-static const char rj__sk_kind[RJ__SK_COUNT][10] = { "",      "solver", "material", "section",
-                                                    "link",  "joint",  "load",     "actuator" };
+static const char rj__sk_kind[RJ__SK_COUNT][10] = { "",     "solver", "material", "section",
+                                                    "link", "joint",  "load",     "actuator",
+                                                    "coupling" };
 #define RJ__SK_MAT_KEYS ((1u << RJ__LK_E) | (1u << RJ__LK_RHO))
 #define RJ__SK_SEC_KEYS                                                                            \
     ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA) | (1u << RJ__LK_WIDTH) | (1u << RJ__LK_HEIGHT) | \
@@ -50,7 +52,7 @@ typedef struct rj__sp {
     rj__stok *tok;
     int ntok;
     rj_scene_file *f;
-    int cap_links, cap_joints, cap_loads, cap_acts;
+    int cap_links, cap_joints, cap_loads, cap_acts, cap_cps;
     rj__spart *mat, *sec;
     int nmat, nsec, cap_mat, cap_sec;
     int kind, item; /* current section: kind and index (materials, sections, links, joints) */
@@ -300,6 +302,8 @@ static const char *rj__sp_item_name(const rj__sp *P)
         return P->f->load_names[P->item];
     case RJ__SK_ACTUATOR:
         return P->f->actuator_names[P->item];
+    case RJ__SK_COUPLING:
+        return P->f->coupling_names[P->item];
     }
     return "";
 }
@@ -360,6 +364,8 @@ static rj_scene_pos *rj__sp_pos(rj__sp *P, int k) /* position slot of key k of t
         return &P->f->load_pos_[(size_t) P->item * (1 + RJ__AK_N) + 1 + k];
     case RJ__SK_ACTUATOR:
         return &P->f->actuator_pos_[(size_t) P->item * (1 + RJ__CK_N) + 1 + k];
+    case RJ__SK_COUPLING:
+        return &P->f->coupling_pos_[(size_t) P->item * (1 + RJ__PK_N) + 1 + k];
     default:
         return &P->f->joint_pos_[(size_t) P->item * (1 + RJ__JK_N) + 1 + k];
     }
@@ -460,6 +466,8 @@ static const char *rj__sp_near_key(const rj__sp *P, const rj__stok *t)
         return rj__sp_near_row(t->s, t->len, rj__load_fields, RJ__AK_N, ~0u);
     case RJ__SK_ACTUATOR:
         return rj__sp_near_row(t->s, t->len, rj__actuator_fields, RJ__CK_N, ~0u);
+    case RJ__SK_COUPLING:
+        return rj__sp_near_row(t->s, t->len, rj__coupling_fields, RJ__PK_N, ~0u);
     }
     return NULL;
 }
@@ -485,7 +493,7 @@ static int rj__sp_alpha(unsigned char c)
 static const char *rj__sp_unit(const char *key)
 {
     int kind, n, k;
-    for (kind = RJ__DEF_LINK; kind <= RJ__DEF_LOAD; kind++) {
+    for (kind = RJ__DEF_LINK; kind <= RJ__DEF_COUPLING; kind++) {
         const rj__field *t = rj__fields(kind, &n);
         for (k = 0; k < n; k++)
             if (strcmp(key, t[k].key) == 0)
@@ -1168,6 +1176,43 @@ static int rj__sp_finish_actuator(rj__sp *P)
     return 1;
 }
 
+/* joints = A B: two joints defined above the coupling */
+static int rj__sp_coupling_key(rj__sp *P, int k, int a, int *i, int b, rj_coupling_def *d)
+{
+    const rj__field *r = &rj__coupling_fields[k];
+    if (k != RJ__PK_JOINTS)
+        return rj__sp_row(P, r, a, i, b, d);
+    if (!rj__sp_joint_ref(P, &P->tok[a], r->key, &d->joint_a))
+        return 0;
+    (*i)++;
+    if (*i >= b) {
+        const rj__stok *z = &P->tok[a];
+        return rj__sp_err(P, z->line, z->col + z->len, r->key, rj__sp_nan(),
+                          "missing the second joint", rj__sp_where(P), " (joints = A B)", NULL,
+                          NULL);
+    }
+    if (!rj__sp_joint_ref(P, &P->tok[*i], r->key, &d->joint_b))
+        return 0;
+    (*i)++;
+    return 1;
+}
+
+/* a coupling names its two joints, and they differ */
+static int rj__sp_finish_coupling(rj__sp *P)
+{
+    const rj_coupling_def *d = &P->f->couplings[P->item];
+    const rj_scene_pos *pos = &P->f->coupling_pos_[(size_t) P->item * (1 + RJ__PK_N)];
+    const char *name = P->f->coupling_names[P->item];
+    if (!(P->seen >> RJ__PK_JOINTS & 1u))
+        return rj__sp_err(P, pos[0].line, pos[0].col, "joints", rj__sp_nan(), "coupling '",
+                          name, "' has no joints (joints = A B)", NULL, NULL);
+    if (d->joint_a == d->joint_b)
+        return rj__sp_err(P, pos[1 + RJ__PK_JOINTS].line, pos[1 + RJ__PK_JOINTS].col, "joints",
+                          rj__sp_nan(), "coupling '", name, "' ties joint '",
+                          P->f->joint_names[d->joint_a], "' to itself");
+    return 1;
+}
+
 /* ------------------------------------------------------------------ sections */
 static int rj__sp_key_index(int kind, const rj__stok *t)
 {
@@ -1204,6 +1249,11 @@ static int rj__sp_key_index(int kind, const rj__stok *t)
             if (rj__sp_is(t, rj__actuator_fields[k].key))
                 return k;
         break;
+    case RJ__SK_COUPLING:
+        for (k = 0; k < RJ__PK_N; k++)
+            if (rj__sp_is(t, rj__coupling_fields[k].key))
+                return k;
+        break;
     }
     return -1;
 }
@@ -1218,6 +1268,8 @@ static const char *rj__sp_key_name(int kind, int k)
         return rj__load_fields[k].key;
     if (kind == RJ__SK_ACTUATOR)
         return rj__actuator_fields[k].key;
+    if (kind == RJ__SK_COUPLING)
+        return rj__coupling_fields[k].key;
     return rj__link_fields[k].key;
 }
 
@@ -1385,6 +1437,10 @@ static int rj__sp_finish(rj__sp *P)
         if (!rj__sp_finish_actuator(P))
             return 0;
         break;
+    case RJ__SK_COUPLING:
+        if (!rj__sp_finish_coupling(P))
+            return 0;
+        break;
     }
     P->kind = RJ__SK_NONE;
     return 1;
@@ -1395,7 +1451,7 @@ static int rj__sp_header(rj__sp *P)
     const rj__stok *t0 = &P->tok[0], *nt;
     char nb[24];
     int kind = 0, k, cap = 0, count = 0, dup = -1;
-    for (k = RJ__SK_SOLVER; k <= RJ__SK_ACTUATOR; k++)
+    for (k = RJ__SK_SOLVER; k <= RJ__SK_COUPLING; k++)
         if (rj__sp_is(t0, rj__sk_kind[k]))
             kind = k;
     if (!kind) {
@@ -1411,7 +1467,7 @@ static int rj__sp_header(rj__sp *P)
         }
         { /* a near section keyword, else a near key of the current section */
             const char *near =
-                rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 7);
+                rj__sp_near(t0->s, t0->len, rj__sk_kind[1], sizeof rj__sk_kind[0], 8);
             char mean[48];
             if (!near && P->kind != RJ__SK_NONE)
                 near = rj__sp_near_key(P, t0);
@@ -1419,9 +1475,9 @@ static int rj__sp_header(rj__sp *P)
                 P, t0, "", rj__sp_nan(),
                 P->kind != RJ__SK_NONE ? "unknown key or section " : "unknown section ",
                 P->kind != RJ__SK_NONE ? " (a key needs '= value'; sections are solver, material, "
-                                         "section, link, joint, load, actuator)"
+                                         "section, link, joint, load, actuator, coupling)"
                                        : " (expected solver, material, section, link, joint, "
-                                         "load or actuator)",
+                                         "load, actuator or coupling)",
                 rj__sp_mean(mean, near), NULL);
         }
     }
@@ -1488,6 +1544,13 @@ static int rj__sp_header(rj__sp *P)
             dup = rj__sp_find(nt->s, nt->len, (const char *) P->f->actuator_names,
                               RJ_SCENE_NAME_MAX, count);
         break;
+    case RJ__SK_COUPLING:
+        cap = RJ_SCENE_MAX_COUPLINGS;
+        count = P->f->coupling_count;
+        if (count)
+            dup = rj__sp_find(nt->s, nt->len, (const char *) P->f->coupling_names,
+                              RJ_SCENE_NAME_MAX, count);
+        break;
     default:
         cap = RJ_SCENE_MAX_JOINTS;
         count = P->f->joint_count;
@@ -1503,6 +1566,8 @@ static int rj__sp_header(rj__sp *P)
                    : kind == RJ__SK_LOAD    ? P->f->load_pos_[(size_t) dup * (1 + RJ__AK_N)].line
                    : kind == RJ__SK_ACTUATOR
                        ? P->f->actuator_pos_[(size_t) dup * (1 + RJ__CK_N)].line
+                   : kind == RJ__SK_COUPLING
+                       ? P->f->coupling_pos_[(size_t) dup * (1 + RJ__PK_N)].line
                                             : P->f->joint_pos_[(size_t) dup * (1 + RJ__JK_N)].line;
         char pre[40];
         rj__sp_cat(pre, sizeof pre, "duplicate ", rj__sk_kind[kind], " name ", NULL, NULL, NULL,
@@ -1519,6 +1584,7 @@ static int rj__sp_header(rj__sp *P)
                    : kind == RJ__SK_LINK    ? P->cap_links
                    : kind == RJ__SK_LOAD    ? P->cap_loads
                    : kind == RJ__SK_ACTUATOR ? P->cap_acts
+                   : kind == RJ__SK_COUPLING ? P->cap_cps
                                             : P->cap_joints;
         if (count >= cap || count >= room)
             return rj__sp_err(P, t0->line, t0->col, rj__sk_kind[kind], count + 1, "too many ",
@@ -1562,6 +1628,14 @@ static int rj__sp_header(rj__sp *P)
             P->f->actuator_names[n][nt->len] = 0;
             P->f->actuators[n] = rj_default_actuator_def();
             P->f->actuator_pos_[(size_t) n * (1 + RJ__CK_N)] = head;
+            break;
+        }
+        case RJ__SK_COUPLING: {
+            int n = P->f->coupling_count++;
+            memcpy(P->f->coupling_names[n], nt->s, (size_t) nt->len);
+            P->f->coupling_names[n][nt->len] = 0;
+            P->f->couplings[n] = rj_default_coupling_def();
+            P->f->coupling_pos_[(size_t) n * (1 + RJ__PK_N)] = head;
             break;
         }
         default: {
@@ -1696,7 +1770,7 @@ static int rj__sp_assignments(rj__sp *P)
             return rj__sp_err_tok(
                 P, kt, "", rj__sp_nan(), "key ",
                 " outside any section (start one with solver, material, section, link, joint, "
-                "load or actuator)",
+                "load, actuator or coupling)",
                 rj__sp_mean(mean, rj__sp_near(kt->s, kt->len, "title", 6, 1)), NULL);
         }
         k = rj__sp_key_index(P->kind, kt);
@@ -1747,6 +1821,10 @@ static int rj__sp_assignments(rj__sp *P)
             break;
         case RJ__SK_ACTUATOR:
             if (!rj__sp_actuator_key(P, k, i + 2, &v, j, &P->f->actuators[P->item]))
+                return 0;
+            break;
+        case RJ__SK_COUPLING:
+            if (!rj__sp_coupling_key(P, k, i + 2, &v, j, &P->f->couplings[P->item]))
                 return 0;
             break;
         default:
@@ -1910,7 +1988,7 @@ static void rj__sp_count(const char *text, size_t len, int counts[RJ__SK_COUNT])
         while (at < len && (text[at] == ' ' || text[at] == '\t'))
             at++;
         if (e > w && !(at < len && text[at] == '=')) {
-            for (k = RJ__SK_MATERIAL; k <= RJ__SK_ACTUATOR; k++) {
+            for (k = RJ__SK_MATERIAL; k <= RJ__SK_COUPLING; k++) {
                 size_t n = strlen(rj__sk_kind[k]);
                 if (e - w == n && memcmp(text + w, rj__sk_kind[k], n) == 0) {
                     int cap = k == RJ__SK_MATERIAL  ? RJ_SCENE_MAX_MATERIALS
@@ -1918,6 +1996,7 @@ static void rj__sp_count(const char *text, size_t len, int counts[RJ__SK_COUNT])
                               : k == RJ__SK_LINK    ? RJ_SCENE_MAX_LINKS
                               : k == RJ__SK_LOAD    ? RJ_SCENE_MAX_LOADS
                               : k == RJ__SK_ACTUATOR ? RJ_SCENE_MAX_ACTUATORS
+                              : k == RJ__SK_COUPLING ? RJ_SCENE_MAX_COUPLINGS
                                                     : RJ_SCENE_MAX_JOINTS;
                     if (counts[k] < cap)
                         counts[k]++;
@@ -1998,6 +2077,9 @@ static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_
     if (strncmp(field, "loads[", 6) == 0)
         return rj__sp_item_pos(field, "loads[", f->load_count, f->load_pos_, f->load_names,
                                RJ__DEF_LOAD, "load", pos, item, isize);
+    if (strncmp(field, "couplings[", 10) == 0)
+        return rj__sp_item_pos(field, "couplings[", f->coupling_count, f->coupling_pos_,
+                               f->coupling_names, RJ__DEF_COUPLING, "coupling", pos, item, isize);
     if (strncmp(field, "actuators[", 10) == 0)
         return rj__sp_item_pos(field, "actuators[", f->actuator_count, f->actuator_pos_,
                                f->actuator_names, RJ__DEF_ACTUATOR, "actuator", pos, item, isize);
@@ -2085,7 +2167,7 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     rj_scene_file F;
     int counts[RJ__SK_COUNT], r;
     size_t off = 0, o_links, o_joints, o_lpos, o_jpos, o_lnames, o_jnames, w_tok, w_mat, w_sec;
-    size_t o_loads, o_apos, o_anames, o_acts, o_cpos, o_cnames;
+    size_t o_loads, o_apos, o_anames, o_acts, o_cpos, o_cnames, o_cps, o_ppos, o_pnames;
     char *block = NULL, *work = NULL;
     memset(&P, 0, sizeof P);
     memset(&F, 0, sizeof F);
@@ -2128,6 +2210,7 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     P.cap_sec = counts[RJ__SK_SECTION];
     P.cap_loads = counts[RJ__SK_LOAD];
     P.cap_acts = counts[RJ__SK_ACTUATOR];
+    P.cap_cps = counts[RJ__SK_COUPLING];
     /* the result block */
     o_links = rj__sp_carve(&off, (size_t) P.cap_links, sizeof(rj_link_def));
     o_joints = rj__sp_carve(&off, (size_t) P.cap_joints, sizeof(rj_joint_def));
@@ -2140,6 +2223,9 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     o_acts = rj__sp_carve(&off, (size_t) P.cap_acts, sizeof(rj_actuator_def));
     o_cpos = rj__sp_carve(&off, (size_t) P.cap_acts * (1 + RJ__CK_N), sizeof(rj_scene_pos));
     o_cnames = rj__sp_carve(&off, (size_t) P.cap_acts, RJ_SCENE_NAME_MAX);
+    o_cps = rj__sp_carve(&off, (size_t) P.cap_cps, sizeof(rj_coupling_def));
+    o_ppos = rj__sp_carve(&off, (size_t) P.cap_cps * (1 + RJ__PK_N), sizeof(rj_scene_pos));
+    o_pnames = rj__sp_carve(&off, (size_t) P.cap_cps, RJ_SCENE_NAME_MAX);
     o_jnames = rj__sp_carve(&off, (size_t) P.cap_joints, RJ_SCENE_NAME_MAX);
     block = (char *) RJ_MALLOC(off + 16, alloc_ctx);
     /* the parser's workspace: tokens, materials, sections */
@@ -2173,6 +2259,9 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     F.actuators = (rj_actuator_def *) (void *) (block + o_acts);
     F.actuator_pos_ = (rj_scene_pos *) (void *) (block + o_cpos);
     F.actuator_names = (char(*)[RJ_SCENE_NAME_MAX])(void *) (block + o_cnames);
+    F.couplings = (rj_coupling_def *) (void *) (block + o_cps);
+    F.coupling_pos_ = (rj_scene_pos *) (void *) (block + o_ppos);
+    F.coupling_names = (char(*)[RJ_SCENE_NAME_MAX])(void *) (block + o_pnames);
     F.solver = rj_default_solver_def();
     F.block_ = block;
     F.alloc_ctx_ = alloc_ctx;
@@ -2333,6 +2422,8 @@ RJDEF rj_scene_def rj_scene_file_def(const rj_scene_file *f)
     d.load_count = f->load_count;
     d.actuators = f->actuators;
     d.actuator_count = f->actuator_count;
+    d.couplings = f->couplings;
+    d.coupling_count = f->coupling_count;
     return d;
 }
 

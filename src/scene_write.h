@@ -351,6 +351,12 @@ static int rj__sw_ok(const rj_scene_def *sc, const char *const *link_names,
             !rj__sw_rows_ok(RJ__DEF_ACTUATOR, d, d->type, 0))
             return 0;
     }
+    for (i = 0; i < sc->coupling_count; i++) {
+        const rj_coupling_def *d = &sc->couplings[i];
+        if (d->joint_a < 0 || d->joint_a >= sc->joint_count || d->joint_b < 0 ||
+            d->joint_b >= sc->joint_count || !rj__sw_rows_ok(RJ__DEF_COUPLING, d, -1, 0))
+            return 0;
+    }
     return 1;
 }
 
@@ -413,7 +419,8 @@ RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_n
         (sc->joint_count && !sc->joints) || sc->load_count < 0 ||
         sc->load_count > RJ_SCENE_MAX_LOADS || (sc->load_count && !sc->loads) ||
         sc->actuator_count < 0 || sc->actuator_count > RJ_SCENE_MAX_ACTUATORS ||
-        (sc->actuator_count && !sc->actuators))
+        (sc->actuator_count && !sc->actuators) || sc->coupling_count < 0 ||
+        sc->coupling_count > RJ_SCENE_MAX_COUPLINGS || (sc->coupling_count && !sc->couplings))
         return 0;
     if (!rj__sw_ok(sc, link_names, joint_names))
         return 0;
@@ -465,6 +472,13 @@ RJDEF size_t rj_scene_write_ex(const rj_scene_def *sc, const char *const *link_n
         rj__sw_put(&W, "\n");
         item.shape = sc->actuators[i].type;
         rj__sw_rows(&W, RJ__DEF_ACTUATOR, &sc->actuators[i], &item);
+    }
+    for (i = 0; i < sc->coupling_count; i++) {
+        rj__sw_put(&W, "coupling ");
+        rj__sw_name(&W, NULL, "coupling", i);
+        rj__sw_put(&W, "\n");
+        item.shape = -1;
+        rj__sw_rows(&W, RJ__DEF_COUPLING, &sc->couplings[i], &item);
     }
     return W.n;
 }

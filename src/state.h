@@ -74,6 +74,12 @@ static double rj__spring_energy(const rj_model *m, const double *f)
     int j;
     for (j = 0; j < m->nj; j++)
         rj__joint_potential(&m->jdef[j], &m->jnt[j], RJ__FJ(m, f, j)[RJ__JD_THETA], &V, &t);
+    for (j = 0; j < m->ncp; j++) {
+        const rj_coupling_def *c = &m->cp[j];
+        double elastic, damp;
+        rj__coupling_torques(m, c, RJ__FJ(m, f, c->joint_a)[RJ__JD_THETA],
+                             RJ__FJ(m, f, c->joint_b)[RJ__JD_THETA], 0, 0, &elastic, &damp, &V);
+    }
     return V;
 }
 

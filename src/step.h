@@ -191,6 +191,40 @@ static RJ__FORCE_INLINE void rj__stage_beams(const rj_model *m, rj_state *s, con
     adv->w = f->w;
 }
 
+/* The joint geometry stage 2 kept. */
+static RJ__FORCE_INLINE void rj__kept_geo(const double *kept, rj__jgeo *g)
+{
+    g->ax = kept[0];
+    g->ay = kept[1];
+    g->bx = kept[2];
+    g->by = kept[3];
+    g->a2 = kept[6];
+    g->b2 = kept[7];
+}
+
+/* Stage 2 of scenes with couplings: each cable loop's torques on its two joints' nodes,
+   from their running angles at n and the rates the element read (kept in s->jsc). */
+static void rj__stage_couplings(const rj_model *m, rj_state *s, const rj__frames *f,
+                                double *spring)
+{
+    int k;
+    for (k = 0; k < m->ncp; k++) {
+        const rj_coupling_def *c = &m->cp[k];
+        const double *kept_a = s->jsc + 8 * c->joint_a, *kept_b = s->jsc + 8 * c->joint_b;
+        double *rec_a = RJ__FJ(m, f->next, c->joint_a), *rec_b = RJ__FJ(m, f->next, c->joint_b);
+        double elastic, damp, on_b;
+        rj__jgeo g;
+        rj__coupling_torques(m, c, RJ__FJ(m, f->old, c->joint_a)[RJ__JD_THETA],
+                             RJ__FJ(m, f->old, c->joint_b)[RJ__JD_THETA], kept_a[4], kept_b[4],
+                             &elastic, &damp, spring);
+        on_b = rj__coupling_record(c, elastic, damp, rec_a, rec_b);
+        rj__kept_geo(kept_b, &g);
+        rj__apply_torque(&m->jnt[c->joint_b], &g, on_b, s->fx, s->fy, s->mz);
+        rj__kept_geo(kept_a, &g);
+        rj__apply_torque(&m->jnt[c->joint_a], &g, -c->ratio * on_b, s->fx, s->fy, s->mz);
+    }
+}
+
 /* Stage 2, the joints' element: rate, flag (Eqs 7-13), table, spring, damping and limit
    torques (Eqs 4, 22, 27) on the nodes; the geometry and rate kept in s->jsc for the
    stages after. */
@@ -223,19 +257,11 @@ static RJ__FORCE_INLINE void rj__stage_joint_torques(const rj_model *m, rj_state
         kept[6] = g.a2;
         kept[7] = g.b2;
     }
+    if (m->ncp)
+        rj__stage_couplings(m, s, f, &spring);
     e->spring = spring;
 }
 
-/* The joint geometry stage 2 kept. */
-static RJ__FORCE_INLINE void rj__kept_geo(const double *kept, rj__jgeo *g)
-{
-    g->ax = kept[0];
-    g->ay = kept[1];
-    g->bx = kept[2];
-    g->by = kept[3];
-    g->a2 = kept[6];
-    g->b2 = kept[7];
-}
 
 /* A node's velocity at the end of the step under the forces so far (a grouped node: its
    group's). */

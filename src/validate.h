@@ -441,6 +441,39 @@ static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
     return 1;
 }
 
+/* Couplings: two different joints of the scene, and the rows. */
+static int rj__validate_couplings(const rj_scene_def *sc, rj_error *err)
+{
+    char f[64], item[32];
+    int i;
+    if (!rj__check_array(err, "coupling", sc->coupling_count, 0, sc->couplings))
+        return 0;
+    for (i = 0; i < sc->coupling_count; i++) {
+        const rj_coupling_def *d = &sc->couplings[i];
+        if (!rj__check_cookie(err, "couplings[%d]", i, d->cookie, RJ__COOKIE_COUPLING,
+                              "rj_default_coupling_def()"))
+            return 0;
+        if (d->joint_a < 0 || d->joint_a >= sc->joint_count) {
+            RJ__FIELD(f, "couplings[%d].joint_a", i);
+            rj__fail(err, RJ_ERR_INVALID, f, d->joint_a,
+                     "%s = %d is invalid: the scene has joints 0..%d", f, d->joint_a,
+                     sc->joint_count - 1);
+            return 0;
+        }
+        if (d->joint_b < 0 || d->joint_b >= sc->joint_count || d->joint_b == d->joint_a) {
+            RJ__FIELD(f, "couplings[%d].joint_b", i);
+            rj__fail(err, RJ_ERR_INVALID, f, d->joint_b,
+                     "%s = %d is invalid: a joint 0..%d other than joint_a (%d)", f, d->joint_b,
+                     sc->joint_count - 1, d->joint_a);
+            return 0;
+        }
+        RJ__FIELD(item, "couplings[%d]", i);
+        if (!rj__check_rows(err, item, RJ__DEF_COUPLING, d, -1))
+            return 0;
+    }
+    return 1;
+}
+
 static int rj__validate(const rj_scene_def *sc, rj_error *err)
 {
     int i, j;
@@ -460,7 +493,7 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
         if (!rj__validate_joint(sc, j, err))
             return 0;
     return rj__validate_mixed(sc, err) && rj__validate_loads(sc, err) &&
-           rj__validate_actuators(sc, err);
+           rj__validate_actuators(sc, err) && rj__validate_couplings(sc, err);
 }
 
 /* Node and element totals, counted in size_t; 0 when they pass RJ__MAX_NODES. */

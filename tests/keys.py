@@ -22,9 +22,9 @@ PARSER = "src/scene_parse.h"
 DOC = "docs/scene-format.md"
 TABLES = {"link": "rj__link_fields", "joint": "rj__joint_fields",
           "solver": "rj__solver_fields", "load": "rj__load_fields",
-          "actuator": "rj__actuator_fields"}
+          "actuator": "rj__actuator_fields", "coupling": "rj__coupling_fields"}
 COUNTS = {"link": "RJ__LK_", "joint": "RJ__JK_", "solver": "RJ__VK_", "load": "RJ__AK_",
-          "actuator": "RJ__CK_"}
+          "actuator": "RJ__CK_", "coupling": "RJ__PK_"}
 
 
 def split_args(body):

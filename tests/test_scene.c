@@ -724,7 +724,7 @@ static void test_errors(void)
     char *s;
     /* structure */
     EP("error: unknown section", "link a\nfoo bar\n", 2, 1, "unknown key or section 'foo'", "");
-    EP("error: unknown section at the top", "foo bar\n", 1, 1, "unknown section 'foo' (expected solver, material, section, link, joint, load or actuator)", "");
+    EP("error: unknown section at the top", "foo bar\n", 1, 1, "unknown section 'foo' (expected solver, material, section, link, joint, load, actuator or coupling)", "");
     EP("error: key outside any section", "length = 1\nlink a\n", 1, 1, "key 'length' outside any section", "");
     EP("error: line starts with '='", "link a\n = 3\n", 2, 2, "expected a key or a section keyword, found '='", "");
     EP("error: section name missing", "link\n", 1, 5, "missing name after 'link'", "link");
@@ -909,9 +909,9 @@ static void test_suggestions(void)
     EP("did you mean: swapped letters in a key", "link arm1\n  lenght = 1\n", 2, 3, "unknown key 'lenght' in link 'arm1'; did you mean 'length'?", "lenght");
     EP("did you mean: a key in the wrong case", "material m\n  e = 7e10\n", 2, 3, "unknown key 'e' in material 'm'; did you mean 'E'?", "e");
     EP("did you mean: a dropped letter in a solver key", "solver\n  energy_evry = 4\nlink a\n", 2, 3, "; did you mean 'energy_every'?", "energy_evry");
-    EP("did you mean: a section keyword", "lnk a\n", 1, 1, "unknown section 'lnk' (expected solver, material, section, link, joint, load or actuator); did you mean 'link'?", "");
-    EP("did you mean: a section keyword inside a section", "link a\njiont j\n", 2, 1, "unknown key or section 'jiont' (a key needs '= value'; sections are solver, material, section, link, joint, load, actuator); did you mean 'joint'?", "");
-    EP("did you mean: a key without '=' and misspelt", "link a\n  lenth 1\n", 2, 3, "unknown key or section 'lenth' (a key needs '= value'; sections are solver, material, section, link, joint, load, actuator); did you mean 'length'?", "");
+    EP("did you mean: a section keyword", "lnk a\n", 1, 1, "unknown section 'lnk' (expected solver, material, section, link, joint, load, actuator or coupling); did you mean 'link'?", "");
+    EP("did you mean: a section keyword inside a section", "link a\njiont j\n", 2, 1, "unknown key or section 'jiont' (a key needs '= value'; sections are solver, material, section, link, joint, load, actuator, coupling); did you mean 'joint'?", "");
+    EP("did you mean: a key without '=' and misspelt", "link a\n  lenth 1\n", 2, 3, "unknown key or section 'lenth' (a key needs '= value'; sections are solver, material, section, link, joint, load, actuator, coupling); did you mean 'length'?", "");
     EP("did you mean: a method", J2 "  method = adaptiv\n", 5, 12, "unknown value 'adaptiv' for 'method' in joint 'j' (expected penalty, adaptive, momentum, forced or energy); did you mean 'adaptive'?", "method");
     EP("did you mean: a boolean", J2 "  lock = Yes\n", 5, 10, "; did you mean 'yes'?", "lock");
     EP("did you mean: a root support", "link a\n  root = clampd\n", 2, 10, "; did you mean 'clamped'?", "root");
@@ -990,7 +990,7 @@ static void test_title_errors(void)
     EP("title error: missing value", "title =\nlink a\n", 1, 8, "missing value for 'title'", "title");
     EP("title error: text after the closing quote", "title = \"Solar\" array\nlink a\n", 1, 17, "unexpected 'array' after the value of 'title'", "title");
     EP("title error: a tab inside", "title = \"Solar\tarray\"\nlink a\n", 1, 15, "byte 0x09 in the title: a title is printable text (no tabs)", "title");
-    EP("title error: misspelt key at the top", "titel = \"x\"\nlink a\n", 1, 1, "key 'titel' outside any section (start one with solver, material, section, link, joint, load or actuator); did you mean 'title'?", "");
+    EP("title error: misspelt key at the top", "titel = \"x\"\nlink a\n", 1, 1, "key 'titel' outside any section (start one with solver, material, section, link, joint, load, actuator or coupling); did you mean 'title'?", "");
     EP("title error: a quoted string where a number goes", "link a\n  length = \"1\"\n", 2, 12, "expected a number, found '\"1\"' for 'length' in link 'a'", "length");
     EP("title error: a quoted name", "link \"a b\"\n", 1, 6, "invalid name '\"a b\"' after 'link'", "link");
 }
