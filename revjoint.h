@@ -7350,26 +7350,30 @@ static RJ__FORCE_INLINE void rj__kept_geo(const double *kept, rj__jgeo *g)
 }
 
 /* Stage 2 of scenes with couplings: each cable loop's torques on its two joints' nodes,
-   from their running angles at n and the rates the element read (kept in s->jsc). */
-static void rj__stage_couplings(const rj_model *m, rj_state *s, const rj__frames *f,
-                                double *spring)
+   from their running angles at n and the rates the element read (kept in s->jsc); returns
+   the loops' energy. Apart (not inlined, given the frames' pointers, not their record,
+   whose address would keep it out of registers): a scene without loops pays one test. */
+static RJ__NOINLINE double rj__stage_couplings(const rj_model *m, rj_state *s, const double *old,
+                                               double *next)
 {
+    double energy = 0;
     int k;
     for (k = 0; k < m->ncp; k++) {
         const rj_coupling_def *c = &m->cp[k];
         const double *kept_a = s->jsc + 8 * c->joint_a, *kept_b = s->jsc + 8 * c->joint_b;
-        double *rec_a = RJ__FJ(m, f->next, c->joint_a), *rec_b = RJ__FJ(m, f->next, c->joint_b);
+        double *rec_a = RJ__FJ(m, next, c->joint_a), *rec_b = RJ__FJ(m, next, c->joint_b);
         double elastic, damp, on_b;
         rj__jgeo g;
-        rj__coupling_torques(m, c, RJ__FJ(m, f->old, c->joint_a)[RJ__JD_THETA],
-                             RJ__FJ(m, f->old, c->joint_b)[RJ__JD_THETA], kept_a[4], kept_b[4],
-                             &elastic, &damp, spring);
+        rj__coupling_torques(m, c, RJ__FJ(m, old, c->joint_a)[RJ__JD_THETA],
+                             RJ__FJ(m, old, c->joint_b)[RJ__JD_THETA], kept_a[4], kept_b[4],
+                             &elastic, &damp, &energy);
         on_b = rj__coupling_record(c, elastic, damp, rec_a, rec_b);
         rj__kept_geo(kept_b, &g);
         rj__apply_torque(&m->jnt[c->joint_b], &g, on_b, s->fx, s->fy, s->mz);
         rj__kept_geo(kept_a, &g);
         rj__apply_torque(&m->jnt[c->joint_a], &g, -c->ratio * on_b, s->fx, s->fy, s->mz);
     }
+    return energy;
 }
 
 /* Stage 2, the joints' element: rate, flag (Eqs 7-13), table, spring, damping and limit
@@ -7404,8 +7408,6 @@ static RJ__FORCE_INLINE void rj__stage_joint_torques(const rj_model *m, rj_state
         kept[6] = g.a2;
         kept[7] = g.b2;
     }
-    if (m->ncp)
-        rj__stage_couplings(m, s, f, &spring);
     e->spring = spring;
 }
 
@@ -8235,6 +8237,8 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     adv.fin = &fin;
     rj__stage_beams(m, s, &f, &adv, &e);
     rj__stage_joint_torques(m, s, &f, &e);
+    if (m->ncp)
+        e.spring += rj__stage_couplings(m, s, f.old, f.next);
     if (applied) {
         r = rj__stage_applied(m, s, f.next, f.t, f.ip ? f.next : f.current, f.advanced, f.kick);
         if (r != RJ_OK)
