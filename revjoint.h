@@ -328,14 +328,24 @@ typedef struct rj_load_def {
      end-of-travel switch.
    RJ_ACTUATOR_SERVO: kp (target - theta_run) - kd rate, within +-torque_max when it is
      > 0; target on the running angle (as spring_free_angle).
+   RJ_ACTUATOR_PRESCRIBED: the joint's angle follows a profile exactly (to round-off): held
+     at angle0 until start (s), then angle0 + the profile of (t - start): RJ_PROFILE_RAMP
+     profile_value (rad/s) times it; RJ_PROFILE_CYCLOIDAL rest to rest through
+     profile_value (rad) in profile_time (s); RJ_PROFILE_SPINUP to profile_value (rad/s)
+     in profile_time TS (s), (OMEGA/TS) [t^2/2 + (TS/2 pi)^2 (cos(2 pi t/TS) - 1)] for
+     t < TS, then OMEGA (t - TS/2). The torque it takes is RJ_TORQUE_DRIVE (the impulse
+     that keeps the joint on its profile, over the step). A prescribed joint has no limits
+     or lock (refused). rj_settle holds it at its start.
    The rate is the one joint damping reads (Eq 27), so kd and a DC motor's slope
    stall_torque / no_load_speed are dampers and kp a spring to the stability bound. The
    torque is RJ_TORQUE_DRIVE; its work is rj_energy.work_drive. */
 typedef enum rj_actuator_type {
     RJ_ACTUATOR_TORQUE = 0,
     RJ_ACTUATOR_DC,
-    RJ_ACTUATOR_SERVO
+    RJ_ACTUATOR_SERVO,
+    RJ_ACTUATOR_PRESCRIBED
 } rj_actuator_type;
+typedef enum rj_profile { RJ_PROFILE_RAMP = 0, RJ_PROFILE_CYCLOIDAL, RJ_PROFILE_SPINUP } rj_profile;
 typedef struct rj_actuator_def {
     int joint;                         /* joint index */
     int type;                          /* rj_actuator_type */
@@ -351,6 +361,10 @@ typedef struct rj_actuator_def {
     double kd;                         /* N m s/rad, >= 0 (SERVO) */
     double torque_max;                 /* N m, >= 0, 0: no bound (SERVO) */
     double target;                     /* rad, on the running angle (SERVO) */
+    int profile;                       /* rj_profile (PRESCRIBED) */
+    double profile_value;              /* rad/s (RAMP, SPINUP) or rad (CYCLOIDAL) */
+    double profile_time;               /* s, > 0 (CYCLOIDAL: duration, SPINUP: TS) */
+    double start;                      /* s, when the profile begins (PRESCRIBED) */
     unsigned cookie;
 } rj_actuator_def;
 
@@ -906,6 +920,7 @@ enum {
     RJ__FS_GRAV, /* the potential of gravity at x^n */
     RJ__FS_WORK, /* the work of the caller's inputs since the start */
     RJ__FS_DRIVE, /* the work of the actuators since the start */
+    RJ__FS_DPEND, /* a prescribed joint's impulse's work the next step takes (its half) */
     RJ__FS_COUNT
 };
 
@@ -917,6 +932,7 @@ struct rj_model {
     int has_gravity;   /* solver.gravity is not zero */
     int nload;         /* applied loads (scene loads) */
     int nact;          /* actuators */
+    int npres;         /* of them prescribed (RJ_ACTUATOR_PRESCRIBED) */
     rj_actuator_def *act; /* (nact) their definitions */
     int ncp;              /* couplings */
     rj_coupling_def *cp;  /* (ncp) their definitions */
@@ -1007,6 +1023,7 @@ struct rj_state {
     double *input_node;   /* (3 nn) the caller's node forces fx fy mz (kept until changed) */
     int node_inputs;      /* rj_state_node_forces was called: the step applies them */
     double settle_scale;  /* rj_settle under way: the potential energy it has moved, J (else 0) */
+    int settling;         /* rj_settle under way: prescribed joints hold their profiles' start */
     double *snap_torque;  /* (nj) in place: the caller's joint torques since snap */
     int snap_inputs;      /* in place: inputs (on or off) since snap */
     double *node_applied; /* (3 nn) the node forces the last step applied, for their work */
@@ -1339,8 +1356,12 @@ enum {
     RJ__CK_KD,
     RJ__CK_TORQUE_MAX,
     RJ__CK_TARGET,
+    RJ__CK_PROFILE,
+    RJ__CK_START,
     RJ__CK_N,
     RJ__CF_HAS_CUTOFF = RJ__CK_N,
+    RJ__CF_PROFILE_VALUE,
+    RJ__CF_PROFILE_TIME,
     RJ__CF_N
 };
 enum {
@@ -1379,6 +1400,7 @@ enum {
     RJ__FT_TABLE, /* an int count, then two arrays of RJ_TABLE_MAX doubles from aux */
     RJ__FT_LIMIT, /* an angle in [lo, hi), on when the int at aux is 1 ("none" when off) */
     RJ__FT_PART,  /* no member: a file names a material or section to take values from */
+    RJ__FT_PROFILE, /* an enum (rj_profile) and its numbers, its parts ("ramp 0.5 rad/s") */
     RJ__FT_N
 };
 
@@ -1392,6 +1414,7 @@ enum {
     RJ__WHEN_TORQUE,
     RJ__WHEN_DC,
     RJ__WHEN_SERVO,
+    RJ__WHEN_PRESCRIBED,
     RJ__WHEN_GROUND,
     RJ__WHEN_ON_LINK,
     RJ__WHEN_PLACE /* a link's placement: with a note when a joint places the link */
@@ -1440,7 +1463,8 @@ static const char rj__sk_method[5][9] = { "penalty", "adaptive", "momentum", "fo
 static const char rj__sk_release[2][5] = { "rc12", "rc13" };
 static const char rj__sk_reference[2][8] = { "tangent", "chord" };
 static const char rj__sk_shape[2][8] = { "rect", "general" };
-static const char rj__sk_actuator[3][7] = { "torque", "dc", "servo" };
+static const char rj__sk_actuator[4][11] = { "torque", "dc", "servo", "prescribed" };
+static const char rj__sk_profile[3][10] = { "ramp", "cycloidal", "spinup" };
 
 #define RJ__NAMES(a) a[0], (unsigned char) sizeof a[0], (unsigned char) (sizeof a / sizeof a[0])
 #define RJ__NO_NAMES NULL, 0, 0
@@ -1630,7 +1654,7 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
     RJ__F("joint", joint, "", RJ__FT_JOINT, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 0, 'i', 0.0,
           RJ__ANY, ""),
     RJ__FE("type", type, rj__sk_actuator, RJ__WR_ALWAYS, 1, 1, 'i', RJ_ACTUATOR_TORQUE,
-           "RJ_ACTUATOR_TORQUE, RJ_ACTUATOR_DC or RJ_ACTUATOR_SERVO"),
+           "RJ_ACTUATOR_TORQUE, _DC, _SERVO or _PRESCRIBED"),
     RJ__FC("torque", torque, "N m", RJ__FT_REAL, RJ__WHEN_TORQUE, RJ__WR_ALWAYS, 2, 2, 0.0,
            RJ__R(-1e30, 1, 1e30, 1), "must be a finite torque within +-1e30 N m"),
     /* time factor pairs, as a load's */
@@ -1654,10 +1678,24 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
            RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m (0: no bound)"),
     RJ__FC("target", target, "rad", RJ__FT_ANGLE, RJ__WHEN_SERVO, RJ__WR_ALWAYS, 8, 11, RJ__PI,
            RJ__R(-1e6, 1, 1e6, 1), RJ__RULE_ANGLE),
+    /* ramp RATE, cycloidal ANGLE DURATION, spinup OMEGA TS */
+    { "profile", "profile", "", RJ__OFF(rj_actuator_def, profile), -1, RJ__FT_PROFILE,
+      RJ__WHEN_PRESCRIBED, RJ__WR_ALWAYS, 9, 12, 'i', -1, 0.0, RJ__R(0.0, 1, 2.0, 1),
+      "RJ_PROFILE_RAMP, _CYCLOIDAL or _SPINUP", RJ__NAMES(rj__sk_profile) },
+    RJ__FC("start", start, "s", RJ__FT_REAL, RJ__WHEN_PRESCRIBED, RJ__WR_SET, 9, 15, 0.0,
+           RJ__R(-1e9, 1, 1e9, 1), "must be a finite time within +-1e9 s"),
     /* the cutoff's on/off */
     { "has_cutoff", "has_cutoff", "", RJ__OFF(rj_actuator_def, has_cutoff), -1, RJ__FT_BOOL,
       RJ__WHEN_DC, RJ__WR_NONE, 5, 6, 'i', RJ__CK_CUTOFF, 0.0, RJ__R(0.0, 1, 1.0, 1),
       RJ__RULE_BOOL, NULL, 0, 0 },
+    /* the profile's numbers */
+    { "profile_value", "profile_value", "", RJ__OFF(rj_actuator_def, profile_value), -1,
+      RJ__FT_REAL, RJ__WHEN_PRESCRIBED, RJ__WR_NONE, 9, 13, 'd', RJ__CK_PROFILE, 0.0,
+      RJ__R(-1e6, 1, 1e6, 1), "must be a finite rate or angle within +-1e6 (rad/s or rad)",
+      NULL, 0, 0 },
+    { "profile_time", "profile_time", "s", RJ__OFF(rj_actuator_def, profile_time), -1,
+      RJ__FT_REAL, RJ__WHEN_PRESCRIBED, RJ__WR_NONE, 9, 14, 'd', RJ__CK_PROFILE, 1.0,
+      RJ__R(0.0, 0, 1e9, 1), "must be a time in (0, 1e9] s", NULL, 0, 0 },
 };
 #undef RJ__DEF
 
@@ -1803,6 +1841,8 @@ static int rj__row_applies(const rj__field *r, int variant, int on_ground, int w
         return variant == RJ_ACTUATOR_DC;
     case RJ__WHEN_SERVO:
         return variant == RJ_ACTUATOR_SERVO;
+    case RJ__WHEN_PRESCRIBED:
+        return variant == RJ_ACTUATOR_PRESCRIBED;
     case RJ__WHEN_GROUND:
         return !write || on_ground;
     case RJ__WHEN_ON_LINK:
@@ -1993,6 +2033,30 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2)
 }
 
 
+/* A prescribed joint's running angle at t (rj_actuator_def, RJ_ACTUATOR_PRESCRIBED):
+   angle0 until start, then angle0 plus the profile of the time since. */
+static double rj__profile_angle(const rj_actuator_def *a, double angle0, double t)
+{
+    const double tau = t - a->start, v = a->profile_value, T = a->profile_time;
+    double x;
+    if (!(tau > 0))
+        return angle0;
+    switch (a->profile) {
+    case RJ_PROFILE_RAMP:
+        return angle0 + v * tau;
+    case RJ_PROFILE_CYCLOIDAL:
+        if (tau >= T)
+            return angle0 + v;
+        x = tau / T;
+        return angle0 + v * (x - sin(2.0 * RJ__PI * x) / (2.0 * RJ__PI));
+    default:
+        if (tau >= T)
+            return angle0 + v * (tau - 0.5 * T);
+        x = T / (2.0 * RJ__PI);
+        return angle0 + (v / T) * (0.5 * tau * tau + x * x * (cos(tau / x) - 1.0));
+    }
+}
+
 /* A factor in time from a table of count points (times strictly increasing): linear
    between the points, held at the end values outside them; 1 without a table (a load's,
    an actuator's). */
@@ -2068,6 +2132,7 @@ static int rj__check_row(rj_error *err, const char *item, const rj__field *r, co
     case RJ__FT_INT:
     case RJ__FT_ENUM:
     case RJ__FT_BOOL:
+    case RJ__FT_PROFILE:
         v = rj__row_int(def, r);
         if (v >= r->lo && v <= r->hi)
             return 1;
@@ -2430,6 +2495,23 @@ static int rj__validate_dc(const rj_actuator_def *d, int i, rj_error *err)
     return 0;
 }
 
+/* A prescribed joint's angle follows its profile: a limit or a lock on it is refused. */
+static int rj__validate_prescribed(const rj_scene_def *sc, const rj_actuator_def *d, int i,
+                                   rj_error *err)
+{
+    const rj_joint_def *J = &sc->joints[d->joint];
+    char f[64];
+    if (d->type != RJ_ACTUATOR_PRESCRIBED || (!J->has_forward && !J->has_reverse && !J->lock))
+        return 1;
+    RJ__FIELD(f, "actuators[%d].type", i);
+    rj__fail(err, RJ_ERR_INVALID, f, d->type,
+             "%s = RJ_ACTUATOR_PRESCRIBED is invalid: joint %d has a limit or a lock, and a "
+             "prescribed joint's angle follows its profile alone (remove the limits, or drive "
+             "it with a servo)",
+             f, d->joint);
+    return 0;
+}
+
 /* Actuators: a joint each, the rows of their type, a table in time. */
 static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
 {
@@ -2446,7 +2528,7 @@ static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
         if (!rj__check_row(err, item, &rj__actuator_fields[RJ__CK_TYPE], d) ||
             !rj__validate_actuator_joint(sc, i, err) ||
             !rj__check_rows(err, item, RJ__DEF_ACTUATOR, d, d->type) ||
-            !rj__validate_dc(d, i, err))
+            !rj__validate_dc(d, i, err) || !rj__validate_prescribed(sc, d, i, err))
             return 0;
         if (d->type == RJ_ACTUATOR_TORQUE &&
             !rj__validate_time_table(err, item, d->table_count, d->table_time, d->table_factor))
@@ -5311,6 +5393,7 @@ static void rj__init_actuator(rj_model *m, const rj_actuator_def *a)
 {
     rj__joint *J = &m->jnt[a->joint];
     J->act = a;
+    m->npres += a->type == RJ_ACTUATOR_PRESCRIBED;
     if (a->type == RJ_ACTUATOR_SERVO) {
         J->k_lin += a->kp;
         J->c_lin += a->kd;
@@ -6586,9 +6669,11 @@ static double rj__drive_torque(const rj__joint *J, double run, double rate, doub
             return 0;
         tq = a->stall_torque * (1.0 - rate / a->no_load_speed);
         return rj__clamp(tq, fabs(a->stall_torque));
-    default:
+    case RJ_ACTUATOR_SERVO:
         tq = a->kp * (a->target - run) - a->kd * rate;
         return a->torque_max > 0 ? rj__clamp(tq, a->torque_max) : tq;
+    default: /* prescribed: its torque is the impulse that keeps it on its profile */
+        return 0;
     }
 }
 
@@ -6704,6 +6789,22 @@ static RJ__FORCE_INLINE void rj__element_work(const double *oj, const double *nj
     *ll -= 0.5 * dt *
            (nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * rate_m +
             oj[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * oj[RJ__JD_RATE]);
+}
+
+/* Whether joint J's angle follows a profile (its actuator is prescribed). */
+static RJ__INLINE int rj__prescribed(const rj__joint *J)
+{
+    return J->act && J->act->type == RJ_ACTUATOR_PRESCRIBED;
+}
+
+/* The rate that takes a prescribed joint from its running angle run at t to its profile
+   at t + dt (held at its start while rj_settle runs). */
+static double rj__prescribed_rate(const rj_model *m, const rj_state *s, int j, double run,
+                                  double t, double dt)
+{
+    const rj_actuator_def *a = m->jnt[j].act;
+    const double at = s->settling ? a->start : t + dt;
+    return (rj__profile_angle(a, m->jdef[j].angle0, at) - run) / dt;
 }
 
 /* The work of the joint's actuator over the step, in the form of rj__element_work. */
@@ -7195,6 +7296,7 @@ typedef struct rj__sums {
     double lost_damping, lost_friction, lost_limit; /* since the start */
     double work;    /* done by the caller's inputs since the start */
     double drive;   /* done by the actuators since the start */
+    double drive_pending; /* a prescribed joint's impulse's work the next step takes */
     double pending; /* a jump's loss the next step takes (its second half) */
 } rj__sums;
 
@@ -7269,7 +7371,8 @@ static RJ__FORCE_INLINE void rj__sums_open(const double *old_scalars, rj__sums *
     e->lost_friction = old_scalars[RJ__FS_LFRIC];
     e->lost_limit = old_scalars[RJ__FS_LLIM] + old_scalars[RJ__FS_PEND];
     e->work = old_scalars[RJ__FS_WORK];
-    e->drive = old_scalars[RJ__FS_DRIVE];
+    e->drive = old_scalars[RJ__FS_DRIVE] + old_scalars[RJ__FS_DPEND];
+    e->drive_pending = 0;
     e->pending = 0;
 }
 
@@ -7944,6 +8047,59 @@ static RJ__FORCE_INLINE double rj__joint_jump(const rj_model *m, const rj__frame
     return rj__joint_rate(J, g, f->nvx, f->nvy, f->nw, NULL, NULL);
 }
 
+/* The bodies' rates w1, w2 (inertias I1, I2; infinite for ground or a fixed body) moved,
+   their angular momentum kept, to the relative rate w2 - w1 = target. */
+static void rj__rate_to(double I1, double I2, double target, double *w1, double *w2)
+{
+    if (!rj__finite(I1)) {
+        *w2 = *w1 + target;
+        return;
+    }
+    if (!rj__finite(I2)) {
+        *w1 = *w2 - target;
+        return;
+    }
+    {
+        const double mean = (I1 * *w1 + I2 * *w2) / (I1 + I2);
+        *w1 = mean - I2 / (I1 + I2) * target;
+        *w2 = mean + I1 / (I1 + I2) * target;
+    }
+}
+
+/* A prescribed joint's rate at n + 1/2 set so that its angle at n + 1 is its profile's
+   (held at the start while rj_settle runs): a jump of the pin nodes' rates that keeps
+   their momentum, as a latch's (rj__joint_jump), whose work in the kinetic energy's form
+   is the drive's, this step's half now and the next's pending; its impulse over the kick
+   is the drive torque. Returns the rate after. */
+static double rj__prescribe(const rj_model *m, const rj_state *s, const rj__frames *f, int j,
+                            const rj__jgeo *g, double w1, double w2, rj__sums *e, double *fin)
+{
+    const rj__joint *J = &m->jnt[j];
+    const double run = RJ__FJ(m, f->old, j)[RJ__JD_THETA];
+    const double target = rj__prescribed_rate(m, s, j, run, f->t, f->dt);
+    const double o1 = w1, o2 = w2;
+    double *new_joint = RJ__FJ(m, f->next, j);
+    double m1 = 0, m2 = 0, work = 0, impulse;
+    /* the bodies' rates at n - 1/2 */
+    rj__joint_rate(J, g, f->vx, f->vy, f->w, &m1, &m2);
+    rj__rate_to(J->I1, J->I2, target, &w1, &w2);
+    if (rj__finite(J->I1)) {
+        work -= 0.5 * J->I1 * m1 * (o1 - w1);
+        e->drive_pending -= 0.5 * J->I1 * w1 * (o1 - w1);
+    }
+    if (rj__finite(J->I2)) {
+        work -= 0.5 * J->I2 * m2 * (o2 - w2);
+        e->drive_pending -= 0.5 * J->I2 * w2 * (o2 - w2);
+    }
+    impulse = rj__finite(J->I2) ? J->I2 * (w2 - o2) : -J->I1 * (w1 - o1);
+    new_joint[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = impulse / f->kick;
+    rj__spin(J, g, w1 - o1, w2 - o2, f->nvx, f->nvy, f->nw);
+    rj__jump_nodes(m, f, J, fin);
+    e->drive += work;
+    e->kinetic += work;
+    return rj__joint_rate(J, g, f->nvx, f->nvy, f->nw, NULL, NULL);
+}
+
 /* Stage 5, the limits' velocity-level responses, and the work of the joint torques. */
 static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_state *s,
                                                        const rj__frames *f, rj__sums *e,
@@ -7960,13 +8116,15 @@ static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_sta
         int flag = f->new_flags[j];
         rj__kept_geo(kept, &g);
         ratep = rj__joint_rate(J, &g, f->nvx, f->nvy, f->nw, &w1, &w2);
+        if (rj__prescribed(J))
+            ratep = rj__prescribe(m, s, f, j, &g, w1, w2, e, fin);
         if (flag == RJ_FREE && rj__velocity_method(d->method))
             flag = rj__recontact(J, old_joint, ratep, &f->new_flags[j], kept);
         if (flag != RJ_FREE && rj__velocity_method(d->method) && rj__into_limit(flag, ratep))
             ratep = rj__joint_jump(m, f, j, flag, &g, w1, w2, e, fin);
         rj__element_work(old_joint, new_joint, kept[4], f->dt, &e->lost_damping, &e->lost_friction,
                          &e->lost_limit);
-        if (J->act)
+        if (J->act && !rj__prescribed(J)) /* a prescribed joint's work is its jump's */
             e->drive += rj__drive_work(old_joint, new_joint, kept[4], f->dt);
         new_joint[RJ__JD_RATE] = ratep;
     }
@@ -8172,6 +8330,7 @@ static void rj__first_accounts(double *new_scalars, rj__sums *e, double energy)
     new_scalars[RJ__FS_E0] = energy;
     rj__accounts_zero(new_scalars);
     e->lost_damping = e->lost_friction = e->work = e->lost_limit = e->drive = 0;
+    new_scalars[RJ__FS_DPEND] = e->drive_pending;
 }
 
 /* The new frame's scalars: time, the accounts (on the steps that take them; the initial
@@ -8191,6 +8350,7 @@ static RJ__FORCE_INLINE rj_result rj__step_accounts(const rj_model *m, rj_state 
     nsc[RJ__FS_PEND] = e->pending;
     nsc[RJ__FS_WORK] = e->work;
     nsc[RJ__FS_DRIVE] = e->drive;
+    nsc[RJ__FS_DPEND] = e->drive_pending;
     if (!f->en)
         return RJ_OK;
     nsc[RJ__FS_ETIME] = f->t;
@@ -8277,8 +8437,9 @@ static int rj__rig_plastic(const rj_joint_def *d, int flag)
 /* W_SS lam = -q'_S for the k joints flagged in act, as a compact k x k system (W's
    columns for them in r->W); lam in r->lam, in the order of the set. Nonzero when the
    system is singular. */
-static int rj__rig_set_solve(int n, int k, rj__rig *r, const double *qdp)
+static int rj__rig_set_solve(const rj_model *m, int k, rj__rig *r, const double *qdp)
 {
+    const int n = m->nj;
     const double *act = r->act, *W = r->W;
     double *S = r->S, *rhs = r->rhs;
     int a, b, row = 0;
@@ -8292,7 +8453,8 @@ static int rj__rig_set_solve(int n, int k, rj__rig *r, const double *qdp)
             S[(size_t) row * k + col] = W[(size_t) b * n + a];
             col++;
         }
-        rhs[row] = -qdp[a];
+        /* a prescribed joint's target rate (rj__rig_targets), else rest */
+        rhs[row] = m->npres ? r->x[a] - qdp[a] : -qdp[a];
         row++;
     }
     if (rj__chol(k, S, r->SL))
@@ -8301,10 +8463,11 @@ static int rj__rig_set_solve(int n, int k, rj__rig *r, const double *qdp)
     return 0;
 }
 
-/* Drops from the set every contact (not a lock) whose impulse would pull it off its
-   limit; returns how many it dropped. */
-static int rj__rig_set_drop(int n, const int *ni, rj__rig *r)
+/* Drops from the set every contact (not a lock, not a prescribed joint) whose impulse would
+   pull it off its limit; returns how many it dropped. */
+static int rj__rig_set_drop(const rj_model *m, const int *ni, rj__rig *r)
 {
+    const int n = m->nj;
     int a, row = 0, dropped = 0;
     for (a = 0; a < n; a++) {
         double lam;
@@ -8312,7 +8475,7 @@ static int rj__rig_set_drop(int n, const int *ni, rj__rig *r)
             continue;
         lam = r->lam[row];
         row++;
-        if (ni[a] == RJ_LOCKED)
+        if (ni[a] == RJ_LOCKED || rj__prescribed(&m->jnt[a]))
             continue;
         if ((ni[a] == RJ_AT_FORWARD && lam > 0) || (ni[a] == RJ_AT_REVERSE && lam < 0)) {
             r->act[a] = 0;
@@ -8341,6 +8504,8 @@ static void rj__rig_plastic_set(const rj_model *m, rj__rig *r, const int *ni, in
     for (j = 0; j < n; j++) {
         const int moved = qdp[j] != rates_before[j] || rj__into_limit(ni[j], qdp[j]);
         act[j] = rj__rig_plastic(&m->jdef[j], ni[j]) && (ni[j] == RJ_LOCKED || moved) ? 1.0 : 0.0;
+        if (rj__prescribed(&m->jnt[j]))
+            act[j] = 1.0;
     }
     for (pass = 0; pass <= n && changed; pass++) {
         int k = 0, row = 0, locked = 0;
@@ -8362,9 +8527,9 @@ static void rj__rig_plastic_set(const rj_model *m, rj__rig *r, const int *ni, in
         for (j = 0; j < n; j++)
             if (act[j] != 0)
                 rj__chol_unit(n, r->L, j, r->W + (size_t) j * n);
-        if (rj__rig_set_solve(n, k, r, qdp))
+        if (rj__rig_set_solve(m, k, r, qdp))
             return;
-        if (rj__rig_set_drop(n, ni, r)) {
+        if (rj__rig_set_drop(m, ni, r)) {
             changed = 1;
             continue;
         }
@@ -8619,15 +8784,38 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
     int j, k;
     for (j = 0; j < n; j++) {
         const double *Mj = M + (size_t) j * n;
-        double sum = 0;
+        double *record = new_joints + (size_t) RJ__JD_COUNT * j;
+        double sum = 0, now;
         for (k = 0; k < n; k++)
             sum += Mj[k] * (rates_before[k] - qdp[k]);
-        lost_limit += 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
+        now = 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
+        /* a prescribed joint's impulse is its drive's: torque and work */
+        if (rj__prescribed(&m->jnt[j])) {
+            e->drive -= now;
+            e->drive_pending -= 0.5 * qdp[j] * sum;
+            record[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = -sum / f->kick;
+            continue;
+        }
+        lost_limit += now;
         pending += 0.5 * qdp[j] * sum;
-        new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_IMPULSE] = -sum;
+        record[RJ__JD_IMPULSE] = -sum;
     }
     e->lost_limit = lost_limit;
     e->pending = pending;
+}
+
+/* The prescribed joints' rates at n + 1/2 into r->x (0 for the others), and the rates
+   before any impulse into r->h: the plastic set takes them with its locks. */
+static void rj__rig_targets(const rj_model *m, const rj_state *s, const rj__frames *f,
+                            rj__rig *r)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        r->x[j] = rj__prescribed(&m->jnt[j])
+                      ? rj__prescribed_rate(m, s, j, r->q[j], f->t, f->dt)
+                      : 0.0;
+        r->h[j] = r->qdp[j];
+    }
 }
 
 /* Rigid step, stages 4 and 5: rates q'^{n+1/2}, then the velocity-level limit methods.
@@ -8635,8 +8823,8 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
    (q'^{n+1/2} - q'^{n-1/2}) / kick is the constrained acceleration: the next step's
    centripetal terms predict q'^{n+1} from it, not from the unconstrained one, which turns a
    locked joint at up to dt / 2 times its reaction over its inertia. */
-static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj__frames *f, rj__rig *r,
-                                                 rj__sums *e)
+static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj_state *s,
+                                                 const rj__frames *f, rj__rig *r, rj__sums *e)
 {
     const int n = m->nj;
     const double kick = f->kick;
@@ -8649,8 +8837,10 @@ static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj__fr
     jumps.count = 0;
     jumps.last = -1;
     jumps.impact = 0;
+    if (m->npres)
+        rj__rig_targets(m, s, f, r);
     rj__rig_single_impulses(m, f, r, &jumps);
-    if (!jumps.count)
+    if (!jumps.count && !m->npres)
         return;
     rj__rig_plastic_set(m, r, f->new_flags, jumps.count, jumps.last);
     if (!jumps.impact)
@@ -8703,7 +8893,7 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_sta
                          &lost_limit);
         if (applied)
             e->work += rj__input_work(old_joint, new_joint, qd[j], dt);
-        if (m->jnt[j].act)
+        if (m->jnt[j].act && !rj__prescribed(&m->jnt[j]))
             e->drive += rj__drive_work(old_joint, new_joint, qd[j], dt);
     }
     e->lost_damping = lost_damping;
@@ -8751,6 +8941,7 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
     new_scalars[RJ__FS_GRAV] = e->gravity;
     new_scalars[RJ__FS_WORK] = e->work;
     new_scalars[RJ__FS_DRIVE] = e->drive;
+    new_scalars[RJ__FS_DPEND] = e->drive_pending;
     if (f->first)
         rj__first_accounts(new_scalars, e, ke + e->spring + e->gravity);
     res = rj__energy_check(m, s, NULL, f->t, e, f->old_scalars[RJ__FS_SPRING],
@@ -8784,7 +8975,7 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
         return res;
     rj__rig_stage_torques(m, s, &f, &r, &e);
     rj__rig_stage_friction(m, &f, &r);
-    rj__rig_stage_rates(m, &f, &r, &e);
+    rj__rig_stage_rates(m, s, &f, &r, &e);
     res = rj__rig_stage_angles(m, s, &f, &r, &e);
     if (res != RJ_OK)
         return res;
@@ -9142,7 +9333,9 @@ RJDEF rj_result rj_settle_ex(const rj_model *m, rj_state *s, double tol, long ma
         return r;
     s->err[0] = 0;
     rj__settle_start(m, s, &q);
+    s->settling = 1;
     r = rj__settle_steps(m, s, &q, tol, max_steps, progress, user);
+    s->settling = 0;
     s->settle_scale = 0;
     return r;
 }
@@ -10981,10 +11174,50 @@ static int rj__sp_actuator_table(rj__sp *P, int *i, int b, rj_actuator_def *d)
     return rj__sp_pairs(P, i, b, &form, d->table_time, d->table_factor, &d->table_count);
 }
 
+/* profile = ramp RATE | cycloidal ANGLE DURATION | spinup OMEGA TS: the name, then its
+   numbers in their rows' ranges (rates and angles may say deg/s or deg) */
+static int rj__sp_profile(rj__sp *P, int a, int *i, int b, rj_actuator_def *d)
+{
+    const rj__field *rv = &rj__actuator_fields[RJ__CF_PROFILE_VALUE];
+    const rj__field *rt = &rj__actuator_fields[RJ__CF_PROFILE_TIME];
+    const char *key = "profile";
+    static const char shape[] = " (profile = ramp RATE, cycloidal ANGLE DURATION or spinup "
+                                "OMEGA TS)";
+    double v = 0;
+    if (!rj__sp_enum(P, &P->tok[a], key, rj__sk_profile[0], sizeof rj__sk_profile[0], 3,
+                     &d->profile))
+        return 0;
+    (*i)++;
+    if (*i >= b)
+        return rj__sp_err(P, P->tok[a].line, P->tok[a].col + P->tok[a].len, key, rj__sp_nan(),
+                          "missing the profile's numbers", rj__sp_where(P), shape, NULL, NULL);
+    a = *i;
+    if (!rj__sp_angle(P, i, b, key, d->profile != RJ_PROFILE_CYCLOIDAL, &v))
+        return 0;
+    if (!RJ__SP_RULE(rj__sp_in_range(rv, v), rv->rule))
+        return 0;
+    d->profile_value = v;
+    if (d->profile == RJ_PROFILE_RAMP)
+        return 1;
+    if (*i >= b)
+        return rj__sp_err(P, P->tok[a].line, P->tok[a].col + P->tok[a].len, key, rj__sp_nan(),
+                          "missing the profile's time", rj__sp_where(P), shape, NULL, NULL);
+    a = *i;
+    if (!rj__sp_num(P, &P->tok[a], key, &v))
+        return 0;
+    (*i)++;
+    if (!RJ__SP_RULE(rj__sp_in_range(rt, v), rt->rule))
+        return 0;
+    d->profile_time = v;
+    return 1;
+}
+
 static int rj__sp_actuator_key(rj__sp *P, int k, int a, int *i, int b, rj_actuator_def *d)
 {
     const rj__field *r = &rj__actuator_fields[k];
     switch (r->type) {
+    case RJ__FT_PROFILE:
+        return rj__sp_profile(P, a, i, b, d);
     case RJ__FT_JOINT:
         if (!rj__sp_joint_ref(P, &P->tok[a], r->key, &d->joint))
             return 0;
@@ -12501,6 +12734,18 @@ static void rj__sw_name(rj__sw *W, const char *const *names, const char *prefix,
     rj__sw_put(W, nm);
 }
 
+/* A prescribed actuator's profile: its name and numbers ("cycloidal 90 deg 2"). */
+static void rj__sw_profile(rj__sw *W, const rj_actuator_def *d)
+{
+    rj__sw_put(W, rj__sk_profile[d->profile]);
+    rj__sw_put(W, " ");
+    rj__sw_angle(W, d->profile_value, d->profile != RJ_PROFILE_CYCLOIDAL);
+    if (d->profile == RJ_PROFILE_RAMP)
+        return;
+    rj__sw_put(W, " ");
+    rj__sw_num(W, d->profile_time);
+}
+
 /* The value of row r of def as a file says it. */
 static void rj__sw_value(rj__sw *W, const rj__field *r, const void *def, const rj__sw_item *it)
 {
@@ -12538,6 +12783,9 @@ static void rj__sw_value(rj__sw *W, const rj__field *r, const void *def, const r
     case RJ__FT_JOINT:
         rj__sw_name(W, it->joint_names, "joint", v);
         return;
+    case RJ__FT_PROFILE:
+        rj__sw_profile(W, (const rj_actuator_def *) def);
+        return;
     default:
         snprintf(nm, sizeof nm, "%d", v);
         rj__sw_put(W, nm);
@@ -12564,7 +12812,8 @@ static void rj__sw_rows(rj__sw *W, int kind, const void *def, const rj__sw_item 
         rj__sw_key(W, r->key);
         rj__sw_value(W, r, def, it);
         for (p = nk; p < n; p++)
-            if (rows[p].part_of == k && rows[p].type != RJ__FT_BOOL) {
+            if (rows[p].part_of == k && rows[p].type != RJ__FT_BOOL &&
+                r->type != RJ__FT_PROFILE) {
                 rj__sw_put(W, " ");
                 rj__sw_value(W, &rows[p], def, it);
             }
@@ -12602,7 +12851,8 @@ static int rj__sw_rows_ok(int kind, const void *def, int shape, int on_ground)
             for (c = 0; c < parts; c++)
                 if (!rj__sw_finite(rj__row_real(def, r, c)))
                     return 0;
-        } else if (r->type == RJ__FT_ENUM || r->type == RJ__FT_BOOL || r->type == RJ__FT_INT) {
+        } else if (r->type == RJ__FT_ENUM || r->type == RJ__FT_BOOL || r->type == RJ__FT_INT ||
+                   r->type == RJ__FT_PROFILE) {
             const int v = rj__row_int(def, r);
             if (v < r->lo || v > r->hi)
                 return 0;

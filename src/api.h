@@ -328,14 +328,24 @@ typedef struct rj_load_def {
      end-of-travel switch.
    RJ_ACTUATOR_SERVO: kp (target - theta_run) - kd rate, within +-torque_max when it is
      > 0; target on the running angle (as spring_free_angle).
+   RJ_ACTUATOR_PRESCRIBED: the joint's angle follows a profile exactly (to round-off): held
+     at angle0 until start (s), then angle0 + the profile of (t - start): RJ_PROFILE_RAMP
+     profile_value (rad/s) times it; RJ_PROFILE_CYCLOIDAL rest to rest through
+     profile_value (rad) in profile_time (s); RJ_PROFILE_SPINUP to profile_value (rad/s)
+     in profile_time TS (s), (OMEGA/TS) [t^2/2 + (TS/2 pi)^2 (cos(2 pi t/TS) - 1)] for
+     t < TS, then OMEGA (t - TS/2). The torque it takes is RJ_TORQUE_DRIVE (the impulse
+     that keeps the joint on its profile, over the step). A prescribed joint has no limits
+     or lock (refused). rj_settle holds it at its start.
    The rate is the one joint damping reads (Eq 27), so kd and a DC motor's slope
    stall_torque / no_load_speed are dampers and kp a spring to the stability bound. The
    torque is RJ_TORQUE_DRIVE; its work is rj_energy.work_drive. */
 typedef enum rj_actuator_type {
     RJ_ACTUATOR_TORQUE = 0,
     RJ_ACTUATOR_DC,
-    RJ_ACTUATOR_SERVO
+    RJ_ACTUATOR_SERVO,
+    RJ_ACTUATOR_PRESCRIBED
 } rj_actuator_type;
+typedef enum rj_profile { RJ_PROFILE_RAMP = 0, RJ_PROFILE_CYCLOIDAL, RJ_PROFILE_SPINUP } rj_profile;
 typedef struct rj_actuator_def {
     int joint;                         /* joint index */
     int type;                          /* rj_actuator_type */
@@ -351,6 +361,10 @@ typedef struct rj_actuator_def {
     double kd;                         /* N m s/rad, >= 0 (SERVO) */
     double torque_max;                 /* N m, >= 0, 0: no bound (SERVO) */
     double target;                     /* rad, on the running angle (SERVO) */
+    int profile;                       /* rj_profile (PRESCRIBED) */
+    double profile_value;              /* rad/s (RAMP, SPINUP) or rad (CYCLOIDAL) */
+    double profile_time;               /* s, > 0 (CYCLOIDAL: duration, SPINUP: TS) */
+    double start;                      /* s, when the profile begins (PRESCRIBED) */
     unsigned cookie;
 } rj_actuator_def;
 

@@ -494,6 +494,7 @@ static void rj__init_actuator(rj_model *m, const rj_actuator_def *a)
 {
     rj__joint *J = &m->jnt[a->joint];
     J->act = a;
+    m->npres += a->type == RJ_ACTUATOR_PRESCRIBED;
     if (a->type == RJ_ACTUATOR_SERVO) {
         J->k_lin += a->kp;
         J->c_lin += a->kd;

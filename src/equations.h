@@ -125,6 +125,30 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2)
 }
 
 
+/* A prescribed joint's running angle at t (rj_actuator_def, RJ_ACTUATOR_PRESCRIBED):
+   angle0 until start, then angle0 plus the profile of the time since. */
+static double rj__profile_angle(const rj_actuator_def *a, double angle0, double t)
+{
+    const double tau = t - a->start, v = a->profile_value, T = a->profile_time;
+    double x;
+    if (!(tau > 0))
+        return angle0;
+    switch (a->profile) {
+    case RJ_PROFILE_RAMP:
+        return angle0 + v * tau;
+    case RJ_PROFILE_CYCLOIDAL:
+        if (tau >= T)
+            return angle0 + v;
+        x = tau / T;
+        return angle0 + v * (x - sin(2.0 * RJ__PI * x) / (2.0 * RJ__PI));
+    default:
+        if (tau >= T)
+            return angle0 + v * (tau - 0.5 * T);
+        x = T / (2.0 * RJ__PI);
+        return angle0 + (v / T) * (0.5 * tau * tau + x * x * (cos(tau / x) - 1.0));
+    }
+}
+
 /* A factor in time from a table of count points (times strictly increasing): linear
    between the points, held at the end values outside them; 1 without a table (a load's,
    an actuator's). */

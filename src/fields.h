@@ -89,8 +89,12 @@ enum {
     RJ__CK_KD,
     RJ__CK_TORQUE_MAX,
     RJ__CK_TARGET,
+    RJ__CK_PROFILE,
+    RJ__CK_START,
     RJ__CK_N,
     RJ__CF_HAS_CUTOFF = RJ__CK_N,
+    RJ__CF_PROFILE_VALUE,
+    RJ__CF_PROFILE_TIME,
     RJ__CF_N
 };
 enum {
@@ -129,6 +133,7 @@ enum {
     RJ__FT_TABLE, /* an int count, then two arrays of RJ_TABLE_MAX doubles from aux */
     RJ__FT_LIMIT, /* an angle in [lo, hi), on when the int at aux is 1 ("none" when off) */
     RJ__FT_PART,  /* no member: a file names a material or section to take values from */
+    RJ__FT_PROFILE, /* an enum (rj_profile) and its numbers, its parts ("ramp 0.5 rad/s") */
     RJ__FT_N
 };
 
@@ -142,6 +147,7 @@ enum {
     RJ__WHEN_TORQUE,
     RJ__WHEN_DC,
     RJ__WHEN_SERVO,
+    RJ__WHEN_PRESCRIBED,
     RJ__WHEN_GROUND,
     RJ__WHEN_ON_LINK,
     RJ__WHEN_PLACE /* a link's placement: with a note when a joint places the link */
@@ -190,7 +196,8 @@ static const char rj__sk_method[5][9] = { "penalty", "adaptive", "momentum", "fo
 static const char rj__sk_release[2][5] = { "rc12", "rc13" };
 static const char rj__sk_reference[2][8] = { "tangent", "chord" };
 static const char rj__sk_shape[2][8] = { "rect", "general" };
-static const char rj__sk_actuator[3][7] = { "torque", "dc", "servo" };
+static const char rj__sk_actuator[4][11] = { "torque", "dc", "servo", "prescribed" };
+static const char rj__sk_profile[3][10] = { "ramp", "cycloidal", "spinup" };
 
 #define RJ__NAMES(a) a[0], (unsigned char) sizeof a[0], (unsigned char) (sizeof a / sizeof a[0])
 #define RJ__NO_NAMES NULL, 0, 0
@@ -380,7 +387,7 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
     RJ__F("joint", joint, "", RJ__FT_JOINT, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 0, 'i', 0.0,
           RJ__ANY, ""),
     RJ__FE("type", type, rj__sk_actuator, RJ__WR_ALWAYS, 1, 1, 'i', RJ_ACTUATOR_TORQUE,
-           "RJ_ACTUATOR_TORQUE, RJ_ACTUATOR_DC or RJ_ACTUATOR_SERVO"),
+           "RJ_ACTUATOR_TORQUE, _DC, _SERVO or _PRESCRIBED"),
     RJ__FC("torque", torque, "N m", RJ__FT_REAL, RJ__WHEN_TORQUE, RJ__WR_ALWAYS, 2, 2, 0.0,
            RJ__R(-1e30, 1, 1e30, 1), "must be a finite torque within +-1e30 N m"),
     /* time factor pairs, as a load's */
@@ -404,10 +411,24 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
            RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m (0: no bound)"),
     RJ__FC("target", target, "rad", RJ__FT_ANGLE, RJ__WHEN_SERVO, RJ__WR_ALWAYS, 8, 11, RJ__PI,
            RJ__R(-1e6, 1, 1e6, 1), RJ__RULE_ANGLE),
+    /* ramp RATE, cycloidal ANGLE DURATION, spinup OMEGA TS */
+    { "profile", "profile", "", RJ__OFF(rj_actuator_def, profile), -1, RJ__FT_PROFILE,
+      RJ__WHEN_PRESCRIBED, RJ__WR_ALWAYS, 9, 12, 'i', -1, 0.0, RJ__R(0.0, 1, 2.0, 1),
+      "RJ_PROFILE_RAMP, _CYCLOIDAL or _SPINUP", RJ__NAMES(rj__sk_profile) },
+    RJ__FC("start", start, "s", RJ__FT_REAL, RJ__WHEN_PRESCRIBED, RJ__WR_SET, 9, 15, 0.0,
+           RJ__R(-1e9, 1, 1e9, 1), "must be a finite time within +-1e9 s"),
     /* the cutoff's on/off */
     { "has_cutoff", "has_cutoff", "", RJ__OFF(rj_actuator_def, has_cutoff), -1, RJ__FT_BOOL,
       RJ__WHEN_DC, RJ__WR_NONE, 5, 6, 'i', RJ__CK_CUTOFF, 0.0, RJ__R(0.0, 1, 1.0, 1),
       RJ__RULE_BOOL, NULL, 0, 0 },
+    /* the profile's numbers */
+    { "profile_value", "profile_value", "", RJ__OFF(rj_actuator_def, profile_value), -1,
+      RJ__FT_REAL, RJ__WHEN_PRESCRIBED, RJ__WR_NONE, 9, 13, 'd', RJ__CK_PROFILE, 0.0,
+      RJ__R(-1e6, 1, 1e6, 1), "must be a finite rate or angle within +-1e6 (rad/s or rad)",
+      NULL, 0, 0 },
+    { "profile_time", "profile_time", "s", RJ__OFF(rj_actuator_def, profile_time), -1,
+      RJ__FT_REAL, RJ__WHEN_PRESCRIBED, RJ__WR_NONE, 9, 14, 'd', RJ__CK_PROFILE, 1.0,
+      RJ__R(0.0, 0, 1e9, 1), "must be a time in (0, 1e9] s", NULL, 0, 0 },
 };
 #undef RJ__DEF
 
@@ -553,6 +574,8 @@ static int rj__row_applies(const rj__field *r, int variant, int on_ground, int w
         return variant == RJ_ACTUATOR_DC;
     case RJ__WHEN_SERVO:
         return variant == RJ_ACTUATOR_SERVO;
+    case RJ__WHEN_PRESCRIBED:
+        return variant == RJ_ACTUATOR_PRESCRIBED;
     case RJ__WHEN_GROUND:
         return !write || on_ground;
     case RJ__WHEN_ON_LINK:

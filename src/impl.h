@@ -182,6 +182,7 @@ enum {
     RJ__FS_GRAV, /* the potential of gravity at x^n */
     RJ__FS_WORK, /* the work of the caller's inputs since the start */
     RJ__FS_DRIVE, /* the work of the actuators since the start */
+    RJ__FS_DPEND, /* a prescribed joint's impulse's work the next step takes (its half) */
     RJ__FS_COUNT
 };
 
@@ -193,6 +194,7 @@ struct rj_model {
     int has_gravity;   /* solver.gravity is not zero */
     int nload;         /* applied loads (scene loads) */
     int nact;          /* actuators */
+    int npres;         /* of them prescribed (RJ_ACTUATOR_PRESCRIBED) */
     rj_actuator_def *act; /* (nact) their definitions */
     int ncp;              /* couplings */
     rj_coupling_def *cp;  /* (ncp) their definitions */
@@ -283,6 +285,7 @@ struct rj_state {
     double *input_node;   /* (3 nn) the caller's node forces fx fy mz (kept until changed) */
     int node_inputs;      /* rj_state_node_forces was called: the step applies them */
     double settle_scale;  /* rj_settle under way: the potential energy it has moved, J (else 0) */
+    int settling;         /* rj_settle under way: prescribed joints hold their profiles' start */
     double *snap_torque;  /* (nj) in place: the caller's joint torques since snap */
     int snap_inputs;      /* in place: inputs (on or off) since snap */
     double *node_applied; /* (3 nn) the node forces the last step applied, for their work */

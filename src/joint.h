@@ -63,9 +63,11 @@ static double rj__drive_torque(const rj__joint *J, double run, double rate, doub
             return 0;
         tq = a->stall_torque * (1.0 - rate / a->no_load_speed);
         return rj__clamp(tq, fabs(a->stall_torque));
-    default:
+    case RJ_ACTUATOR_SERVO:
         tq = a->kp * (a->target - run) - a->kd * rate;
         return a->torque_max > 0 ? rj__clamp(tq, a->torque_max) : tq;
+    default: /* prescribed: its torque is the impulse that keeps it on its profile */
+        return 0;
     }
 }
 
@@ -181,6 +183,22 @@ static RJ__FORCE_INLINE void rj__element_work(const double *oj, const double *nj
     *ll -= 0.5 * dt *
            (nj_[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * rate_m +
             oj[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] * oj[RJ__JD_RATE]);
+}
+
+/* Whether joint J's angle follows a profile (its actuator is prescribed). */
+static RJ__INLINE int rj__prescribed(const rj__joint *J)
+{
+    return J->act && J->act->type == RJ_ACTUATOR_PRESCRIBED;
+}
+
+/* The rate that takes a prescribed joint from its running angle run at t to its profile
+   at t + dt (held at its start while rj_settle runs). */
+static double rj__prescribed_rate(const rj_model *m, const rj_state *s, int j, double run,
+                                  double t, double dt)
+{
+    const rj_actuator_def *a = m->jnt[j].act;
+    const double at = s->settling ? a->start : t + dt;
+    return (rj__profile_angle(a, m->jdef[j].angle0, at) - run) / dt;
 }
 
 /* The work of the joint's actuator over the step, in the form of rj__element_work. */

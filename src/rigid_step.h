@@ -11,8 +11,9 @@ static int rj__rig_plastic(const rj_joint_def *d, int flag)
 /* W_SS lam = -q'_S for the k joints flagged in act, as a compact k x k system (W's
    columns for them in r->W); lam in r->lam, in the order of the set. Nonzero when the
    system is singular. */
-static int rj__rig_set_solve(int n, int k, rj__rig *r, const double *qdp)
+static int rj__rig_set_solve(const rj_model *m, int k, rj__rig *r, const double *qdp)
 {
+    const int n = m->nj;
     const double *act = r->act, *W = r->W;
     double *S = r->S, *rhs = r->rhs;
     int a, b, row = 0;
@@ -26,7 +27,8 @@ static int rj__rig_set_solve(int n, int k, rj__rig *r, const double *qdp)
             S[(size_t) row * k + col] = W[(size_t) b * n + a];
             col++;
         }
-        rhs[row] = -qdp[a];
+        /* a prescribed joint's target rate (rj__rig_targets), else rest */
+        rhs[row] = m->npres ? r->x[a] - qdp[a] : -qdp[a];
         row++;
     }
     if (rj__chol(k, S, r->SL))
@@ -35,10 +37,11 @@ static int rj__rig_set_solve(int n, int k, rj__rig *r, const double *qdp)
     return 0;
 }
 
-/* Drops from the set every contact (not a lock) whose impulse would pull it off its
-   limit; returns how many it dropped. */
-static int rj__rig_set_drop(int n, const int *ni, rj__rig *r)
+/* Drops from the set every contact (not a lock, not a prescribed joint) whose impulse would
+   pull it off its limit; returns how many it dropped. */
+static int rj__rig_set_drop(const rj_model *m, const int *ni, rj__rig *r)
 {
+    const int n = m->nj;
     int a, row = 0, dropped = 0;
     for (a = 0; a < n; a++) {
         double lam;
@@ -46,7 +49,7 @@ static int rj__rig_set_drop(int n, const int *ni, rj__rig *r)
             continue;
         lam = r->lam[row];
         row++;
-        if (ni[a] == RJ_LOCKED)
+        if (ni[a] == RJ_LOCKED || rj__prescribed(&m->jnt[a]))
             continue;
         if ((ni[a] == RJ_AT_FORWARD && lam > 0) || (ni[a] == RJ_AT_REVERSE && lam < 0)) {
             r->act[a] = 0;
@@ -75,6 +78,8 @@ static void rj__rig_plastic_set(const rj_model *m, rj__rig *r, const int *ni, in
     for (j = 0; j < n; j++) {
         const int moved = qdp[j] != rates_before[j] || rj__into_limit(ni[j], qdp[j]);
         act[j] = rj__rig_plastic(&m->jdef[j], ni[j]) && (ni[j] == RJ_LOCKED || moved) ? 1.0 : 0.0;
+        if (rj__prescribed(&m->jnt[j]))
+            act[j] = 1.0;
     }
     for (pass = 0; pass <= n && changed; pass++) {
         int k = 0, row = 0, locked = 0;
@@ -96,9 +101,9 @@ static void rj__rig_plastic_set(const rj_model *m, rj__rig *r, const int *ni, in
         for (j = 0; j < n; j++)
             if (act[j] != 0)
                 rj__chol_unit(n, r->L, j, r->W + (size_t) j * n);
-        if (rj__rig_set_solve(n, k, r, qdp))
+        if (rj__rig_set_solve(m, k, r, qdp))
             return;
-        if (rj__rig_set_drop(n, ni, r)) {
+        if (rj__rig_set_drop(m, ni, r)) {
             changed = 1;
             continue;
         }
@@ -353,15 +358,38 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
     int j, k;
     for (j = 0; j < n; j++) {
         const double *Mj = M + (size_t) j * n;
-        double sum = 0;
+        double *record = new_joints + (size_t) RJ__JD_COUNT * j;
+        double sum = 0, now;
         for (k = 0; k < n; k++)
             sum += Mj[k] * (rates_before[k] - qdp[k]);
-        lost_limit += 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
+        now = 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
+        /* a prescribed joint's impulse is its drive's: torque and work */
+        if (rj__prescribed(&m->jnt[j])) {
+            e->drive -= now;
+            e->drive_pending -= 0.5 * qdp[j] * sum;
+            record[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = -sum / f->kick;
+            continue;
+        }
+        lost_limit += now;
         pending += 0.5 * qdp[j] * sum;
-        new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_IMPULSE] = -sum;
+        record[RJ__JD_IMPULSE] = -sum;
     }
     e->lost_limit = lost_limit;
     e->pending = pending;
+}
+
+/* The prescribed joints' rates at n + 1/2 into r->x (0 for the others), and the rates
+   before any impulse into r->h: the plastic set takes them with its locks. */
+static void rj__rig_targets(const rj_model *m, const rj_state *s, const rj__frames *f,
+                            rj__rig *r)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        r->x[j] = rj__prescribed(&m->jnt[j])
+                      ? rj__prescribed_rate(m, s, j, r->q[j], f->t, f->dt)
+                      : 0.0;
+        r->h[j] = r->qdp[j];
+    }
 }
 
 /* Rigid step, stages 4 and 5: rates q'^{n+1/2}, then the velocity-level limit methods.
@@ -369,8 +397,8 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
    (q'^{n+1/2} - q'^{n-1/2}) / kick is the constrained acceleration: the next step's
    centripetal terms predict q'^{n+1} from it, not from the unconstrained one, which turns a
    locked joint at up to dt / 2 times its reaction over its inertia. */
-static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj__frames *f, rj__rig *r,
-                                                 rj__sums *e)
+static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj_state *s,
+                                                 const rj__frames *f, rj__rig *r, rj__sums *e)
 {
     const int n = m->nj;
     const double kick = f->kick;
@@ -383,8 +411,10 @@ static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj__fr
     jumps.count = 0;
     jumps.last = -1;
     jumps.impact = 0;
+    if (m->npres)
+        rj__rig_targets(m, s, f, r);
     rj__rig_single_impulses(m, f, r, &jumps);
-    if (!jumps.count)
+    if (!jumps.count && !m->npres)
         return;
     rj__rig_plastic_set(m, r, f->new_flags, jumps.count, jumps.last);
     if (!jumps.impact)
@@ -437,7 +467,7 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_sta
                          &lost_limit);
         if (applied)
             e->work += rj__input_work(old_joint, new_joint, qd[j], dt);
-        if (m->jnt[j].act)
+        if (m->jnt[j].act && !rj__prescribed(&m->jnt[j]))
             e->drive += rj__drive_work(old_joint, new_joint, qd[j], dt);
     }
     e->lost_damping = lost_damping;
@@ -485,6 +515,7 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
     new_scalars[RJ__FS_GRAV] = e->gravity;
     new_scalars[RJ__FS_WORK] = e->work;
     new_scalars[RJ__FS_DRIVE] = e->drive;
+    new_scalars[RJ__FS_DPEND] = e->drive_pending;
     if (f->first)
         rj__first_accounts(new_scalars, e, ke + e->spring + e->gravity);
     res = rj__energy_check(m, s, NULL, f->t, e, f->old_scalars[RJ__FS_SPRING],
@@ -518,7 +549,7 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
         return res;
     rj__rig_stage_torques(m, s, &f, &r, &e);
     rj__rig_stage_friction(m, &f, &r);
-    rj__rig_stage_rates(m, &f, &r, &e);
+    rj__rig_stage_rates(m, s, &f, &r, &e);
     res = rj__rig_stage_angles(m, s, &f, &r, &e);
     if (res != RJ_OK)
         return res;

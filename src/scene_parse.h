@@ -1136,10 +1136,50 @@ static int rj__sp_actuator_table(rj__sp *P, int *i, int b, rj_actuator_def *d)
     return rj__sp_pairs(P, i, b, &form, d->table_time, d->table_factor, &d->table_count);
 }
 
+/* profile = ramp RATE | cycloidal ANGLE DURATION | spinup OMEGA TS: the name, then its
+   numbers in their rows' ranges (rates and angles may say deg/s or deg) */
+static int rj__sp_profile(rj__sp *P, int a, int *i, int b, rj_actuator_def *d)
+{
+    const rj__field *rv = &rj__actuator_fields[RJ__CF_PROFILE_VALUE];
+    const rj__field *rt = &rj__actuator_fields[RJ__CF_PROFILE_TIME];
+    const char *key = "profile";
+    static const char shape[] = " (profile = ramp RATE, cycloidal ANGLE DURATION or spinup "
+                                "OMEGA TS)";
+    double v = 0;
+    if (!rj__sp_enum(P, &P->tok[a], key, rj__sk_profile[0], sizeof rj__sk_profile[0], 3,
+                     &d->profile))
+        return 0;
+    (*i)++;
+    if (*i >= b)
+        return rj__sp_err(P, P->tok[a].line, P->tok[a].col + P->tok[a].len, key, rj__sp_nan(),
+                          "missing the profile's numbers", rj__sp_where(P), shape, NULL, NULL);
+    a = *i;
+    if (!rj__sp_angle(P, i, b, key, d->profile != RJ_PROFILE_CYCLOIDAL, &v))
+        return 0;
+    if (!RJ__SP_RULE(rj__sp_in_range(rv, v), rv->rule))
+        return 0;
+    d->profile_value = v;
+    if (d->profile == RJ_PROFILE_RAMP)
+        return 1;
+    if (*i >= b)
+        return rj__sp_err(P, P->tok[a].line, P->tok[a].col + P->tok[a].len, key, rj__sp_nan(),
+                          "missing the profile's time", rj__sp_where(P), shape, NULL, NULL);
+    a = *i;
+    if (!rj__sp_num(P, &P->tok[a], key, &v))
+        return 0;
+    (*i)++;
+    if (!RJ__SP_RULE(rj__sp_in_range(rt, v), rt->rule))
+        return 0;
+    d->profile_time = v;
+    return 1;
+}
+
 static int rj__sp_actuator_key(rj__sp *P, int k, int a, int *i, int b, rj_actuator_def *d)
 {
     const rj__field *r = &rj__actuator_fields[k];
     switch (r->type) {
+    case RJ__FT_PROFILE:
+        return rj__sp_profile(P, a, i, b, d);
     case RJ__FT_JOINT:
         if (!rj__sp_joint_ref(P, &P->tok[a], r->key, &d->joint))
             return 0;

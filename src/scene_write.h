@@ -196,6 +196,18 @@ static void rj__sw_name(rj__sw *W, const char *const *names, const char *prefix,
     rj__sw_put(W, nm);
 }
 
+/* A prescribed actuator's profile: its name and numbers ("cycloidal 90 deg 2"). */
+static void rj__sw_profile(rj__sw *W, const rj_actuator_def *d)
+{
+    rj__sw_put(W, rj__sk_profile[d->profile]);
+    rj__sw_put(W, " ");
+    rj__sw_angle(W, d->profile_value, d->profile != RJ_PROFILE_CYCLOIDAL);
+    if (d->profile == RJ_PROFILE_RAMP)
+        return;
+    rj__sw_put(W, " ");
+    rj__sw_num(W, d->profile_time);
+}
+
 /* The value of row r of def as a file says it. */
 static void rj__sw_value(rj__sw *W, const rj__field *r, const void *def, const rj__sw_item *it)
 {
@@ -233,6 +245,9 @@ static void rj__sw_value(rj__sw *W, const rj__field *r, const void *def, const r
     case RJ__FT_JOINT:
         rj__sw_name(W, it->joint_names, "joint", v);
         return;
+    case RJ__FT_PROFILE:
+        rj__sw_profile(W, (const rj_actuator_def *) def);
+        return;
     default:
         snprintf(nm, sizeof nm, "%d", v);
         rj__sw_put(W, nm);
@@ -259,7 +274,8 @@ static void rj__sw_rows(rj__sw *W, int kind, const void *def, const rj__sw_item 
         rj__sw_key(W, r->key);
         rj__sw_value(W, r, def, it);
         for (p = nk; p < n; p++)
-            if (rows[p].part_of == k && rows[p].type != RJ__FT_BOOL) {
+            if (rows[p].part_of == k && rows[p].type != RJ__FT_BOOL &&
+                r->type != RJ__FT_PROFILE) {
                 rj__sw_put(W, " ");
                 rj__sw_value(W, &rows[p], def, it);
             }
@@ -297,7 +313,8 @@ static int rj__sw_rows_ok(int kind, const void *def, int shape, int on_ground)
             for (c = 0; c < parts; c++)
                 if (!rj__sw_finite(rj__row_real(def, r, c)))
                     return 0;
-        } else if (r->type == RJ__FT_ENUM || r->type == RJ__FT_BOOL || r->type == RJ__FT_INT) {
+        } else if (r->type == RJ__FT_ENUM || r->type == RJ__FT_BOOL || r->type == RJ__FT_INT ||
+                   r->type == RJ__FT_PROFILE) {
             const int v = rj__row_int(def, r);
             if (v < r->lo || v > r->hi)
                 return 0;

@@ -227,7 +227,9 @@ RJDEF rj_result rj_settle_ex(const rj_model *m, rj_state *s, double tol, long ma
         return r;
     s->err[0] = 0;
     rj__settle_start(m, s, &q);
+    s->settling = 1;
     r = rj__settle_steps(m, s, &q, tol, max_steps, progress, user);
+    s->settling = 0;
     s->settle_scale = 0;
     return r;
 }

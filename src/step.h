@@ -48,6 +48,7 @@ typedef struct rj__sums {
     double lost_damping, lost_friction, lost_limit; /* since the start */
     double work;    /* done by the caller's inputs since the start */
     double drive;   /* done by the actuators since the start */
+    double drive_pending; /* a prescribed joint's impulse's work the next step takes */
     double pending; /* a jump's loss the next step takes (its second half) */
 } rj__sums;
 
@@ -122,7 +123,8 @@ static RJ__FORCE_INLINE void rj__sums_open(const double *old_scalars, rj__sums *
     e->lost_friction = old_scalars[RJ__FS_LFRIC];
     e->lost_limit = old_scalars[RJ__FS_LLIM] + old_scalars[RJ__FS_PEND];
     e->work = old_scalars[RJ__FS_WORK];
-    e->drive = old_scalars[RJ__FS_DRIVE];
+    e->drive = old_scalars[RJ__FS_DRIVE] + old_scalars[RJ__FS_DPEND];
+    e->drive_pending = 0;
     e->pending = 0;
 }
 
@@ -797,6 +799,59 @@ static RJ__FORCE_INLINE double rj__joint_jump(const rj_model *m, const rj__frame
     return rj__joint_rate(J, g, f->nvx, f->nvy, f->nw, NULL, NULL);
 }
 
+/* The bodies' rates w1, w2 (inertias I1, I2; infinite for ground or a fixed body) moved,
+   their angular momentum kept, to the relative rate w2 - w1 = target. */
+static void rj__rate_to(double I1, double I2, double target, double *w1, double *w2)
+{
+    if (!rj__finite(I1)) {
+        *w2 = *w1 + target;
+        return;
+    }
+    if (!rj__finite(I2)) {
+        *w1 = *w2 - target;
+        return;
+    }
+    {
+        const double mean = (I1 * *w1 + I2 * *w2) / (I1 + I2);
+        *w1 = mean - I2 / (I1 + I2) * target;
+        *w2 = mean + I1 / (I1 + I2) * target;
+    }
+}
+
+/* A prescribed joint's rate at n + 1/2 set so that its angle at n + 1 is its profile's
+   (held at the start while rj_settle runs): a jump of the pin nodes' rates that keeps
+   their momentum, as a latch's (rj__joint_jump), whose work in the kinetic energy's form
+   is the drive's, this step's half now and the next's pending; its impulse over the kick
+   is the drive torque. Returns the rate after. */
+static double rj__prescribe(const rj_model *m, const rj_state *s, const rj__frames *f, int j,
+                            const rj__jgeo *g, double w1, double w2, rj__sums *e, double *fin)
+{
+    const rj__joint *J = &m->jnt[j];
+    const double run = RJ__FJ(m, f->old, j)[RJ__JD_THETA];
+    const double target = rj__prescribed_rate(m, s, j, run, f->t, f->dt);
+    const double o1 = w1, o2 = w2;
+    double *new_joint = RJ__FJ(m, f->next, j);
+    double m1 = 0, m2 = 0, work = 0, impulse;
+    /* the bodies' rates at n - 1/2 */
+    rj__joint_rate(J, g, f->vx, f->vy, f->w, &m1, &m2);
+    rj__rate_to(J->I1, J->I2, target, &w1, &w2);
+    if (rj__finite(J->I1)) {
+        work -= 0.5 * J->I1 * m1 * (o1 - w1);
+        e->drive_pending -= 0.5 * J->I1 * w1 * (o1 - w1);
+    }
+    if (rj__finite(J->I2)) {
+        work -= 0.5 * J->I2 * m2 * (o2 - w2);
+        e->drive_pending -= 0.5 * J->I2 * w2 * (o2 - w2);
+    }
+    impulse = rj__finite(J->I2) ? J->I2 * (w2 - o2) : -J->I1 * (w1 - o1);
+    new_joint[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = impulse / f->kick;
+    rj__spin(J, g, w1 - o1, w2 - o2, f->nvx, f->nvy, f->nw);
+    rj__jump_nodes(m, f, J, fin);
+    e->drive += work;
+    e->kinetic += work;
+    return rj__joint_rate(J, g, f->nvx, f->nvy, f->nw, NULL, NULL);
+}
+
 /* Stage 5, the limits' velocity-level responses, and the work of the joint torques. */
 static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_state *s,
                                                        const rj__frames *f, rj__sums *e,
@@ -813,13 +868,15 @@ static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_sta
         int flag = f->new_flags[j];
         rj__kept_geo(kept, &g);
         ratep = rj__joint_rate(J, &g, f->nvx, f->nvy, f->nw, &w1, &w2);
+        if (rj__prescribed(J))
+            ratep = rj__prescribe(m, s, f, j, &g, w1, w2, e, fin);
         if (flag == RJ_FREE && rj__velocity_method(d->method))
             flag = rj__recontact(J, old_joint, ratep, &f->new_flags[j], kept);
         if (flag != RJ_FREE && rj__velocity_method(d->method) && rj__into_limit(flag, ratep))
             ratep = rj__joint_jump(m, f, j, flag, &g, w1, w2, e, fin);
         rj__element_work(old_joint, new_joint, kept[4], f->dt, &e->lost_damping, &e->lost_friction,
                          &e->lost_limit);
-        if (J->act)
+        if (J->act && !rj__prescribed(J)) /* a prescribed joint's work is its jump's */
             e->drive += rj__drive_work(old_joint, new_joint, kept[4], f->dt);
         new_joint[RJ__JD_RATE] = ratep;
     }
@@ -1025,6 +1082,7 @@ static void rj__first_accounts(double *new_scalars, rj__sums *e, double energy)
     new_scalars[RJ__FS_E0] = energy;
     rj__accounts_zero(new_scalars);
     e->lost_damping = e->lost_friction = e->work = e->lost_limit = e->drive = 0;
+    new_scalars[RJ__FS_DPEND] = e->drive_pending;
 }
 
 /* The new frame's scalars: time, the accounts (on the steps that take them; the initial
@@ -1044,6 +1102,7 @@ static RJ__FORCE_INLINE rj_result rj__step_accounts(const rj_model *m, rj_state 
     nsc[RJ__FS_PEND] = e->pending;
     nsc[RJ__FS_WORK] = e->work;
     nsc[RJ__FS_DRIVE] = e->drive;
+    nsc[RJ__FS_DPEND] = e->drive_pending;
     if (!f->en)
         return RJ_OK;
     nsc[RJ__FS_ETIME] = f->t;

@@ -54,6 +54,7 @@ static int rj__check_row(rj_error *err, const char *item, const rj__field *r, co
     case RJ__FT_INT:
     case RJ__FT_ENUM:
     case RJ__FT_BOOL:
+    case RJ__FT_PROFILE:
         v = rj__row_int(def, r);
         if (v >= r->lo && v <= r->hi)
             return 1;
@@ -416,6 +417,23 @@ static int rj__validate_dc(const rj_actuator_def *d, int i, rj_error *err)
     return 0;
 }
 
+/* A prescribed joint's angle follows its profile: a limit or a lock on it is refused. */
+static int rj__validate_prescribed(const rj_scene_def *sc, const rj_actuator_def *d, int i,
+                                   rj_error *err)
+{
+    const rj_joint_def *J = &sc->joints[d->joint];
+    char f[64];
+    if (d->type != RJ_ACTUATOR_PRESCRIBED || (!J->has_forward && !J->has_reverse && !J->lock))
+        return 1;
+    RJ__FIELD(f, "actuators[%d].type", i);
+    rj__fail(err, RJ_ERR_INVALID, f, d->type,
+             "%s = RJ_ACTUATOR_PRESCRIBED is invalid: joint %d has a limit or a lock, and a "
+             "prescribed joint's angle follows its profile alone (remove the limits, or drive "
+             "it with a servo)",
+             f, d->joint);
+    return 0;
+}
+
 /* Actuators: a joint each, the rows of their type, a table in time. */
 static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
 {
@@ -432,7 +450,7 @@ static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
         if (!rj__check_row(err, item, &rj__actuator_fields[RJ__CK_TYPE], d) ||
             !rj__validate_actuator_joint(sc, i, err) ||
             !rj__check_rows(err, item, RJ__DEF_ACTUATOR, d, d->type) ||
-            !rj__validate_dc(d, i, err))
+            !rj__validate_dc(d, i, err) || !rj__validate_prescribed(sc, d, i, err))
             return 0;
         if (d->type == RJ_ACTUATOR_TORQUE &&
             !rj__validate_time_table(err, item, d->table_count, d->table_time, d->table_factor))
