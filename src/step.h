@@ -823,7 +823,8 @@ static void rj__rate_to(double I1, double I2, double target, double *w1, double 
    their momentum, as a latch's (rj__joint_jump), whose work in the kinetic energy's form
    is the drive's, this step's half now and the next's pending; its impulse over the kick
    is the drive torque. Returns the rate after. */
-static double rj__prescribe(const rj_model *m, const rj_state *s, const rj__frames *f, int j,
+static RJ__FORCE_INLINE double rj__prescribe(const rj_model *m, const rj_state *s,
+                                              const rj__frames *f, int j,
                             const rj__jgeo *g, double w1, double w2, rj__sums *e, double *fin)
 {
     const rj__joint *J = &m->jnt[j];
@@ -852,12 +853,32 @@ static double rj__prescribe(const rj_model *m, const rj_state *s, const rj__fram
     return rj__joint_rate(J, g, f->nvx, f->nvy, f->nw, NULL, NULL);
 }
 
+/* Stage 5 of scenes with prescribed joints: each one's jump onto its profile, before the
+   limits' responses (a prescribed joint has none). */
+static RJ__FORCE_INLINE void rj__stage_prescribed(const rj_model *m, rj_state *s,
+                                                  const rj__frames *f, rj__sums *e, double *fin)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const rj__joint *J = &m->jnt[j];
+        rj__jgeo g;
+        double w1, w2;
+        if (!rj__prescribed(J))
+            continue;
+        rj__kept_geo(s->jsc + 8 * j, &g);
+        rj__joint_rate(J, &g, f->nvx, f->nvy, f->nw, &w1, &w2);
+        rj__prescribe(m, s, f, j, &g, w1, w2, e, fin);
+    }
+}
+
 /* Stage 5, the limits' velocity-level responses, and the work of the joint torques. */
 static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_state *s,
                                                        const rj__frames *f, rj__sums *e,
                                                        double *fin)
 {
     int j;
+    if (m->npres)
+        rj__stage_prescribed(m, s, f, e, fin);
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         const rj__joint *J = &m->jnt[j];
@@ -868,8 +889,6 @@ static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_sta
         int flag = f->new_flags[j];
         rj__kept_geo(kept, &g);
         ratep = rj__joint_rate(J, &g, f->nvx, f->nvy, f->nw, &w1, &w2);
-        if (rj__prescribed(J))
-            ratep = rj__prescribe(m, s, f, j, &g, w1, w2, e, fin);
         if (flag == RJ_FREE && rj__velocity_method(d->method))
             flag = rj__recontact(J, old_joint, ratep, &f->new_flags[j], kept);
         if (flag != RJ_FREE && rj__velocity_method(d->method) && rj__into_limit(flag, ratep))
