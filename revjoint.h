@@ -2176,7 +2176,7 @@ static int rj__check_array(rj_error *err, const char *name, int count, int fewes
         return 1;
     snprintf(field, sizeof field, "%s_count", name);
     rj__fail(err, RJ_ERR_INVALID, field, count,
-             "%s = %d is invalid: need %d..100000 %ss and a %ss array", field, count, fewest, name,
+             "%s = %d is invalid: need %d..100000 %ss and the %ss array", field, count, fewest, name,
              name);
     return 0;
 }

@@ -14,11 +14,16 @@ P=rj
 # the header rj run must write for a scene file: its joints' and links' names from the file
 header() {
   awk 'BEGIN { printf "t" }
-       $1 == "joint" { n = split("theta_deg rate flag torque_spring torque_table torque_damping torque_friction torque_limit latch_impulse", c, " ");
-                       for (i = 1; i <= n; i++) printf ",%s.%s", $2, c[i] }
+       $1 == "joint" && $2 != "=" { joints[++nj] = $2 }
        $1 == "link" && $2 != "=" { links[++nl] = $2 }
-       END { for (k = 1; k <= nl; k++) printf ",%s.tip_x,%s.tip_y,%s.tip_defl", links[k], links[k], links[k];
-             print ",E_kin,E_strain,E_spring,E_gravity,W_applied,W_damping,W_friction,W_limit,E_balance" }' "$1"
+       $1 == "actuator" && $2 != "=" { drives = 1 }
+       END { n = split("theta_deg rate flag torque_spring torque_table torque_damping torque_friction torque_limit latch_impulse", c, " ");
+             for (j = 1; j <= nj; j++) {
+               for (i = 1; i <= n; i++) printf ",%s.%s", joints[j], c[i]
+               if (drives) printf ",%s.torque_drive", joints[j]
+             }
+             for (k = 1; k <= nl; k++) printf ",%s.tip_x,%s.tip_y,%s.tip_defl", links[k], links[k], links[k];
+             print ",E_kin,E_strain,E_spring,E_gravity,W_applied" (drives ? ",W_drive" : "") ",W_damping,W_friction,W_limit,E_balance" }' "$1"
 }
 # a joint's lock and first-contact times from an rj run summary on stderr: "LOCK FIRST"
 summary_times() { # file, joint

@@ -763,8 +763,8 @@ static void test_refusals(rjt_ctx *c)
     b.a[0].kp = 10;
     b.a[0].kd = NAN;
     refuse(c, &b, "actuators[0].kd", "a NaN kd");
-    b.a[0].type = 3;
-    refuse(c, &b, "actuators[0].type", "type 3");
+    b.a[0].type = 4; /* past RJ_ACTUATOR_PRESCRIBED */
+    refuse(c, &b, "actuators[0].type", "type 4");
     b.a[0].type = -1;
     refuse(c, &b, "actuators[0].type", "type -1");
     memset(&b.a[0], 0, sizeof b.a[0]);
