@@ -336,6 +336,12 @@ typedef struct rj_load_def {
      t < TS, then OMEGA (t - TS/2). The torque it takes is RJ_TORQUE_DRIVE (the impulse
      that keeps the joint on its profile, over the step). A prescribed joint has no limits
      or lock (refused). rj_settle holds it at its start.
+   Every type may have a rotor: rotor_inertia (kg m^2) behind a gear of ratio N, whose
+   reflected inertia N^2 rotor_inertia acts on the joint's relative rotation (in the mass,
+   the kinetic energy and the stability bound: a damper's rate over it is what keeps a
+   servo's kd on a flexible arm's light pin well behaved). A rotor needs the tangent
+   reference and, in a scene with flexible links, two flexible bodies (or ground) and a
+   pin node of its own.
    The rate is the one joint damping reads (Eq 27), so kd and a DC motor's slope
    stall_torque / no_load_speed are dampers and kp a spring to the stability bound. The
    torque is RJ_TORQUE_DRIVE; its work is rj_energy.work_drive. */
@@ -365,6 +371,8 @@ typedef struct rj_actuator_def {
     double profile_value;              /* rad/s (RAMP, SPINUP) or rad (CYCLOIDAL) */
     double profile_time;               /* s, > 0 (CYCLOIDAL: duration, SPINUP: TS) */
     double start;                      /* s, when the profile begins (PRESCRIBED) */
+    double rotor_inertia;              /* kg m^2, >= 0: the motor's rotor */
+    double gear_ratio;                 /* N, the rotor turns N times the joint; not 0 */
     unsigned cookie;
 } rj_actuator_def;
 
@@ -879,6 +887,7 @@ typedef struct rj__joint {
     double c_lin;    /* linear damping for the stability bound (damper, actuator), N m s/rad */
     const rj_actuator_def *act; /* its actuator, or NULL */
     double cut;      /* a DC motor's cutoff on the running angle; +-inf: none */
+    double rotor;    /* its actuator's reflected rotor inertia N^2 J, kg m^2 (0: none) */
 } rj__joint;
 
 /* An angle no joint reaches (within the 1e100 a checkpoint carries): the empty zone of the
@@ -933,6 +942,7 @@ struct rj_model {
     int nload;         /* applied loads (scene loads) */
     int nact;          /* actuators */
     int npres;         /* of them prescribed (RJ_ACTUATOR_PRESCRIBED) */
+    int nrotor;        /* of them with a rotor (rotor_inertia > 0) */
     rj_actuator_def *act; /* (nact) their definitions */
     int ncp;              /* couplings */
     rj_coupling_def *cp;  /* (ncp) their definitions */
@@ -1358,6 +1368,8 @@ enum {
     RJ__CK_TARGET,
     RJ__CK_PROFILE,
     RJ__CK_START,
+    RJ__CK_ROTOR_INERTIA,
+    RJ__CK_GEAR_RATIO,
     RJ__CK_N,
     RJ__CF_HAS_CUTOFF = RJ__CK_N,
     RJ__CF_PROFILE_VALUE,
@@ -1684,6 +1696,11 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
       "RJ_PROFILE_RAMP, _CYCLOIDAL or _SPINUP", RJ__NAMES(rj__sk_profile) },
     RJ__FC("start", start, "s", RJ__FT_REAL, RJ__WHEN_PRESCRIBED, RJ__WR_SET, 9, 15, 0.0,
            RJ__R(-1e9, 1, 1e9, 1), "must be a finite time within +-1e9 s"),
+    /* the rotor behind its gear, for every type */
+    RJ__FC("rotor_inertia", rotor_inertia, "kg m^2", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_LINE, 10,
+           16, 0.0, RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] kg m^2"),
+    RJ__FC("gear_ratio", gear_ratio, "", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_LINE, 10, 17, 1.0,
+           RJ__R(-1e6, 1, 1e6, 1), "must be a finite ratio within +-1e6, not 0"),
     /* the cutoff's on/off */
     { "has_cutoff", "has_cutoff", "", RJ__OFF(rj_actuator_def, has_cutoff), -1, RJ__FT_BOOL,
       RJ__WHEN_DC, RJ__WR_NONE, 5, 6, 'i', RJ__CK_CUTOFF, 0.0, RJ__R(0.0, 1, 1.0, 1),
@@ -2512,6 +2529,58 @@ static int rj__validate_prescribed(const rj_scene_def *sc, const rj_actuator_def
     return 0;
 }
 
+/* Joint j's pin on body 1 as (link, node), node -1 for ground; body 2's is (body2, 0). */
+static void rj__pin_of(const rj_scene_def *sc, int j, int *link, int *node)
+{
+    const rj_joint_def *J = &sc->joints[j];
+    *link = J->body1;
+    *node = J->body1 < 0 ? -1 : J->node1 < 0 ? sc->links[J->body1].elements : J->node1;
+}
+
+/* Whether joints j and k share a pin node (their rotors would couple one node twice). */
+static int rj__pins_meet(const rj_scene_def *sc, int j, int k)
+{
+    int lj, nj, lk, nk;
+    rj__pin_of(sc, j, &lj, &nj);
+    rj__pin_of(sc, k, &lk, &nk);
+    return (lj >= 0 && lj == lk && nj == nk) || (lj == sc->joints[k].body2 && nj == 0) ||
+           (lk == sc->joints[j].body2 && nk == 0);
+}
+
+/* A motor's rotor: a gear ratio not 0; on a joint with the tangent reference, between
+   flexible bodies (or ground) unless every link is rigid, with pin nodes no other rotor's
+   joint uses. */
+static int rj__validate_rotor(const rj_scene_def *sc, int i, rj_error *err)
+{
+    const rj_actuator_def *d = &sc->actuators[i];
+    const rj_joint_def *J = &sc->joints[d->joint];
+    const char *why = NULL;
+    char f[64];
+    int k;
+    if (d->gear_ratio == 0) {
+        RJ__FIELD(f, "actuators[%d].gear_ratio", i);
+        rj__fail(err, RJ_ERR_INVALID, f, 0, "%s = 0 is invalid: %s", f,
+                 rj__actuator_fields[RJ__CK_GEAR_RATIO].rule);
+        return 0;
+    }
+    if (!(d->rotor_inertia > 0) || rj__all_rigid(sc))
+        return 1;
+    if (J->reference != RJ_REF_TANGENT)
+        why = "its joint uses the chord reference (a rotor needs the tangent)";
+    else if (sc->links[J->body2].fidelity == RJ_LINK_RIGID ||
+             (J->body1 >= 0 && sc->links[J->body1].fidelity == RJ_LINK_RIGID))
+        why = "its joint holds a rigid link in a scene with flexible links";
+    for (k = 0; k < i && !why; k++)
+        if (sc->actuators[k].rotor_inertia > 0 && rj__pins_meet(sc, d->joint, sc->actuators[k].joint))
+            why = "its joint shares a pin node with another rotor's joint";
+    if (!why)
+        return 1;
+    RJ__FIELD(f, "actuators[%d].rotor_inertia", i);
+    rj__fail(err, RJ_ERR_INVALID, f, d->rotor_inertia, "%s = %g is not supported: %s", f,
+             d->rotor_inertia, why);
+    return 0;
+}
+
 /* Actuators: a joint each, the rows of their type, a table in time. */
 static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
 {
@@ -2528,7 +2597,8 @@ static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
         if (!rj__check_row(err, item, &rj__actuator_fields[RJ__CK_TYPE], d) ||
             !rj__validate_actuator_joint(sc, i, err) ||
             !rj__check_rows(err, item, RJ__DEF_ACTUATOR, d, d->type) ||
-            !rj__validate_dc(d, i, err) || !rj__validate_prescribed(sc, d, i, err))
+            !rj__validate_dc(d, i, err) || !rj__validate_prescribed(sc, d, i, err) ||
+            !rj__validate_rotor(sc, i, err))
             return 0;
         if (d->type == RJ_ACTUATOR_TORQUE &&
             !rj__validate_time_table(err, item, d->table_count, d->table_time, d->table_factor))
@@ -3603,8 +3673,11 @@ static RJ__INLINE double rj__joint_compliance(const rj_model *m, const rj__joint
                                               const rj__jgeo *g)
 {
     double c, px, py;
-    if (!J->chord)
-        return m->rinv[J->nJ] + (J->nI >= 0 ? m->rinv[J->nI] : 0.0);
+    if (!J->chord) {
+        /* a rotor's reflected inertia on the relative rotation (rj__stage_rotors) */
+        c = m->rinv[J->nJ] + (J->nI >= 0 ? m->rinv[J->nI] : 0.0);
+        return J->rotor > 0 ? c / (1.0 + J->rotor * c) : c;
+    }
     c = m->einv[J->nL] / g->b2;
     px = g->by / g->b2;
     py = -g->bx / g->b2; /* g_J = -perp(b)/|b|^2 */
@@ -5393,6 +5466,8 @@ static void rj__init_actuator(rj_model *m, const rj_actuator_def *a)
 {
     rj__joint *J = &m->jnt[a->joint];
     J->act = a;
+    J->rotor = a->gear_ratio * a->gear_ratio * a->rotor_inertia;
+    m->nrotor += J->rotor > 0;
     m->npres += a->type == RJ_ACTUATOR_PRESCRIBED;
     if (a->type == RJ_ACTUATOR_SERVO) {
         J->k_lin += a->kp;
@@ -5424,6 +5499,7 @@ static void rj__init_joint_constants(rj_model *m)
         J->c_lin = d->damping;
         J->act = NULL;
         J->cut = HUGE_VAL;
+        J->rotor = 0;
     }
     for (k = 0; k < m->nact; k++)
         rj__init_actuator(m, &m->act[k]);
@@ -6985,8 +7061,9 @@ static void rj__rig_gather(const double *sub, double *parent)
    from it): with that subtree's inertia J_j and first moment S_j about j's pin P_j,
    M_jj = J_j, and M_jk = J_j + (P_j - P_k) . S_j for every joint k above j (zero for
    joints on other branches); h_j is the moment of the subtree's m a about P_j. The sums
-   are gathered leaves first, in O(n); the pairs cost four flops each. */
-static void rj__rig_mass(const rj_model *m, rj__rig *r)
+   are gathered leaves first, in O(n); the pairs cost four flops each. Without the
+   motors' rotors (rj__rig_mass adds them). */
+static void rj__rig_mass_links(const rj_model *m, rj__rig *r)
 {
     const int n = m->nj;
     double *M = r->M, *h = r->h, *lk = r->lk;
@@ -7020,6 +7097,17 @@ static void rj__rig_mass(const rj_model *m, rj__rig *r)
             M[(size_t) up * n + k] = v;
         }
     }
+}
+
+/* M(q): the links', and each motor's rotor, whose reflected inertia acts on its joint's
+   rate. */
+static void rj__rig_mass(const rj_model *m, rj__rig *r)
+{
+    const int n = m->nj;
+    int k;
+    rj__rig_mass_links(m, r);
+    for (k = 0; k < n; k++)
+        r->M[(size_t) k * n + k] += m->jnt[k].rotor;
 }
 
 /* Cholesky factor of the n x n SPD matrix M into L (lower), and solves L L^T x = b. The
@@ -7944,10 +8032,91 @@ static RJ__FORCE_INLINE void rj__update_bodies(const rj_model *m, rj_state *s, c
 
 /* Stage 4, the update: velocities at n + 1/2 and positions at n + 1 (grouped nodes and
    nodes a velocity-level method changes are redone after). */
+/* The pin nodes' rates at n - 1/2 and n + 1/2 and their angles, for the rotors' stage
+   (given apart from the step's frames, whose record keeps its registers). */
+typedef struct rj__pins {
+    const double *w, *phi;
+    double *nw, *nphi;
+    double dt;
+    int first;
+} rj__pins;
+
+/* What the rotors' stage returns: the kinetic energy's change in its form, and the sum
+   of the angles it moved (finite while they are). */
+typedef struct rj__rotor_sums {
+    double ke, fin;
+} rj__rotor_sums;
+
+/* One rotor's share of its joint's pin rotations: the rates the step gave the two pin nodes
+   (each on its own rotary inertia) moved to those of the 2 x 2 mass that the rotor's
+   reflected inertia Jr couples, diag(I_I, I_J) + Jr [1 -1; -1 1] (Sherman-Morrison: the
+   relative change shrinks by 1 + Jr (1/I_I + 1/I_J), the momentum kept), their angles
+   after, and the kinetic energy's change in its form (sum of kn, the rotor's Jr w w'). */
+static void rj__rotor_pins(const rj_model *m, const rj__pins *p, const rj__joint *J,
+                           rj__rotor_sums *out)
+{
+    const int nI = J->nI, nJ = J->nJ, first = p->first;
+    const double riI = nI >= 0 ? m->rinv[nI] : 0.0, riJ = m->rinv[nJ];
+    const double *w = p->w, *kj = m->krot;
+    const double wI = nI >= 0 ? w[nI] : 0.0, oI = nI >= 0 ? p->nw[nI] : 0.0, oJ = p->nw[nJ];
+    const double share = J->rotor * ((oJ - w[nJ]) - (oI - wI)) /
+                         (1.0 + J->rotor * (riI + riJ));
+    const double uI = oI + share * riI, uJ = oJ - share * riJ;
+    const double rel_m = w[nJ] - wI, rel_p = uJ - uI;
+    /* each node's kn, before and after, and the rotor's */
+    out->ke += first ? kj[nJ] * ((2 * w[nJ] - uJ) * uJ - (2 * w[nJ] - oJ) * oJ)
+                     : kj[nJ] * w[nJ] * (uJ - oJ);
+    out->ke += J->rotor * (first ? (2 * rel_m - rel_p) * rel_p : rel_m * rel_p);
+    p->nw[nJ] = uJ;
+    p->nphi[nJ] = p->phi[nJ] + p->dt * uJ;
+    out->fin += p->nphi[nJ];
+    if (nI < 0)
+        return;
+    out->ke += first ? kj[nI] * ((2 * wI - uI) * uI - (2 * wI - oI) * oI)
+                     : kj[nI] * wI * (uI - oI);
+    p->nw[nI] = uI;
+    p->nphi[nI] = p->phi[nI] + p->dt * uI;
+    out->fin += p->nphi[nI];
+}
+
+/* Stage 4c of scenes with rotors: every rotor's joint pins (rj__rotor_pins). Apart (not
+   inlined): a scene without rotors pays one test. */
+static RJ__NOINLINE rj__rotor_sums rj__stage_rotors(const rj_model *m, rj__pins p)
+{
+    rj__rotor_sums out;
+    int j;
+    out.ke = 0;
+    out.fin = 0;
+    for (j = 0; j < m->nj; j++)
+        if (m->jnt[j].rotor > 0)
+            rj__rotor_pins(m, &p, &m->jnt[j], &out);
+    return out;
+}
+
+/* The rotors' stage on the step's frames. */
+static RJ__FORCE_INLINE void rj__update_rotors(const rj_model *m, const rj__frames *f,
+                                               rj__sums *e, double *fin)
+{
+    rj__pins p;
+    rj__rotor_sums out;
+    p.w = f->w;
+    p.phi = f->phi;
+    p.nw = f->nw;
+    p.nphi = f->nphi;
+    p.dt = f->dt;
+    p.first = f->first;
+    out = rj__stage_rotors(m, p);
+    *fin += out.fin;
+    if (f->en || f->first)
+        e->kinetic += out.ke;
+}
+
 static RJ__FORCE_INLINE void rj__stage_update(const rj_model *m, rj_state *s, const rj__frames *f,
                                               const rj__adv *adv, rj__sums *e, double *fin)
 {
     rj__update_joint_nodes(m, s, f, adv, e);
+    if (m->nrotor)
+        rj__update_rotors(m, f, e, fin);
     rj__update_groups(m, s, f, e, fin);
     rj__update_bodies(m, s, f, e);
     e->kinetic *= 0.5;
@@ -8038,8 +8207,12 @@ static RJ__FORCE_INLINE double rj__joint_jump(const rj_model *m, const rj__frame
         loss += 0.5 * J->I2 * m2 * (o2 - w2);
         e->pending += 0.5 * J->I2 * w2 * (o2 - w2);
     }
+    /* a rotor spins with the relative rate: its share of the jump */
+    loss += 0.5 * J->rotor * (m2 - m1) * ((o2 - o1) - (w2 - w1));
+    e->pending += 0.5 * J->rotor * (w2 - w1) * ((o2 - o1) - (w2 - w1));
     /* the latch's angular impulse on body 2 (body 1 takes the opposite) */
-    new_joint[RJ__JD_IMPULSE] = rj__finite(J->I2) ? J->I2 * (w2 - o2) : -J->I1 * (w1 - o1);
+    new_joint[RJ__JD_IMPULSE] = (rj__finite(J->I2) ? J->I2 * (w2 - o2) : -J->I1 * (w1 - o1)) +
+                                J->rotor * ((w2 - w1) - (o2 - o1));
     rj__spin(J, g, w1 - o1, w2 - o2, f->nvx, f->nvy, f->nw);
     rj__jump_nodes(m, f, J, fin);
     e->lost_limit += loss;
@@ -8092,7 +8265,10 @@ static RJ__FORCE_INLINE double rj__prescribe(const rj_model *m, const rj_state *
         work -= 0.5 * J->I2 * m2 * (o2 - w2);
         e->drive_pending -= 0.5 * J->I2 * w2 * (o2 - w2);
     }
+    work -= 0.5 * J->rotor * (m2 - m1) * ((o2 - o1) - (w2 - w1));
+    e->drive_pending -= 0.5 * J->rotor * (w2 - w1) * ((o2 - o1) - (w2 - w1));
     impulse = rj__finite(J->I2) ? J->I2 * (w2 - o2) : -J->I1 * (w1 - o1);
+    impulse += J->rotor * ((w2 - w1) - (o2 - o1));
     new_joint[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = impulse / f->kick;
     rj__spin(J, g, w1 - o1, w2 - o2, f->nvx, f->nvy, f->nw);
     rj__jump_nodes(m, f, J, fin);

@@ -336,6 +336,12 @@ typedef struct rj_load_def {
      t < TS, then OMEGA (t - TS/2). The torque it takes is RJ_TORQUE_DRIVE (the impulse
      that keeps the joint on its profile, over the step). A prescribed joint has no limits
      or lock (refused). rj_settle holds it at its start.
+   Every type may have a rotor: rotor_inertia (kg m^2) behind a gear of ratio N, whose
+   reflected inertia N^2 rotor_inertia acts on the joint's relative rotation (in the mass,
+   the kinetic energy and the stability bound: a damper's rate over it is what keeps a
+   servo's kd on a flexible arm's light pin well behaved). A rotor needs the tangent
+   reference and, in a scene with flexible links, two flexible bodies (or ground) and a
+   pin node of its own.
    The rate is the one joint damping reads (Eq 27), so kd and a DC motor's slope
    stall_torque / no_load_speed are dampers and kp a spring to the stability bound. The
    torque is RJ_TORQUE_DRIVE; its work is rj_energy.work_drive. */
@@ -365,6 +371,8 @@ typedef struct rj_actuator_def {
     double profile_value;              /* rad/s (RAMP, SPINUP) or rad (CYCLOIDAL) */
     double profile_time;               /* s, > 0 (CYCLOIDAL: duration, SPINUP: TS) */
     double start;                      /* s, when the profile begins (PRESCRIBED) */
+    double rotor_inertia;              /* kg m^2, >= 0: the motor's rotor */
+    double gear_ratio;                 /* N, the rotor turns N times the joint; not 0 */
     unsigned cookie;
 } rj_actuator_def;
 

@@ -494,6 +494,8 @@ static void rj__init_actuator(rj_model *m, const rj_actuator_def *a)
 {
     rj__joint *J = &m->jnt[a->joint];
     J->act = a;
+    J->rotor = a->gear_ratio * a->gear_ratio * a->rotor_inertia;
+    m->nrotor += J->rotor > 0;
     m->npres += a->type == RJ_ACTUATOR_PRESCRIBED;
     if (a->type == RJ_ACTUATOR_SERVO) {
         J->k_lin += a->kp;
@@ -525,6 +527,7 @@ static void rj__init_joint_constants(rj_model *m)
         J->c_lin = d->damping;
         J->act = NULL;
         J->cut = HUGE_VAL;
+        J->rotor = 0;
     }
     for (k = 0; k < m->nact; k++)
         rj__init_actuator(m, &m->act[k]);

@@ -91,6 +91,8 @@ enum {
     RJ__CK_TARGET,
     RJ__CK_PROFILE,
     RJ__CK_START,
+    RJ__CK_ROTOR_INERTIA,
+    RJ__CK_GEAR_RATIO,
     RJ__CK_N,
     RJ__CF_HAS_CUTOFF = RJ__CK_N,
     RJ__CF_PROFILE_VALUE,
@@ -417,6 +419,11 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
       "RJ_PROFILE_RAMP, _CYCLOIDAL or _SPINUP", RJ__NAMES(rj__sk_profile) },
     RJ__FC("start", start, "s", RJ__FT_REAL, RJ__WHEN_PRESCRIBED, RJ__WR_SET, 9, 15, 0.0,
            RJ__R(-1e9, 1, 1e9, 1), "must be a finite time within +-1e9 s"),
+    /* the rotor behind its gear, for every type */
+    RJ__FC("rotor_inertia", rotor_inertia, "kg m^2", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_LINE, 10,
+           16, 0.0, RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] kg m^2"),
+    RJ__FC("gear_ratio", gear_ratio, "", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_LINE, 10, 17, 1.0,
+           RJ__R(-1e6, 1, 1e6, 1), "must be a finite ratio within +-1e6, not 0"),
     /* the cutoff's on/off */
     { "has_cutoff", "has_cutoff", "", RJ__OFF(rj_actuator_def, has_cutoff), -1, RJ__FT_BOOL,
       RJ__WHEN_DC, RJ__WR_NONE, 5, 6, 'i', RJ__CK_CUTOFF, 0.0, RJ__R(0.0, 1, 1.0, 1),

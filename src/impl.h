@@ -141,6 +141,7 @@ typedef struct rj__joint {
     double c_lin;    /* linear damping for the stability bound (damper, actuator), N m s/rad */
     const rj_actuator_def *act; /* its actuator, or NULL */
     double cut;      /* a DC motor's cutoff on the running angle; +-inf: none */
+    double rotor;    /* its actuator's reflected rotor inertia N^2 J, kg m^2 (0: none) */
 } rj__joint;
 
 /* An angle no joint reaches (within the 1e100 a checkpoint carries): the empty zone of the
@@ -195,6 +196,7 @@ struct rj_model {
     int nload;         /* applied loads (scene loads) */
     int nact;          /* actuators */
     int npres;         /* of them prescribed (RJ_ACTUATOR_PRESCRIBED) */
+    int nrotor;        /* of them with a rotor (rotor_inertia > 0) */
     rj_actuator_def *act; /* (nact) their definitions */
     int ncp;              /* couplings */
     rj_coupling_def *cp;  /* (ncp) their definitions */

@@ -92,8 +92,11 @@ static RJ__INLINE double rj__joint_compliance(const rj_model *m, const rj__joint
                                               const rj__jgeo *g)
 {
     double c, px, py;
-    if (!J->chord)
-        return m->rinv[J->nJ] + (J->nI >= 0 ? m->rinv[J->nI] : 0.0);
+    if (!J->chord) {
+        /* a rotor's reflected inertia on the relative rotation (rj__stage_rotors) */
+        c = m->rinv[J->nJ] + (J->nI >= 0 ? m->rinv[J->nI] : 0.0);
+        return J->rotor > 0 ? c / (1.0 + J->rotor * c) : c;
+    }
     c = m->einv[J->nL] / g->b2;
     px = g->by / g->b2;
     py = -g->bx / g->b2; /* g_J = -perp(b)/|b|^2 */

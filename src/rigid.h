@@ -160,8 +160,9 @@ static void rj__rig_gather(const double *sub, double *parent)
    from it): with that subtree's inertia J_j and first moment S_j about j's pin P_j,
    M_jj = J_j, and M_jk = J_j + (P_j - P_k) . S_j for every joint k above j (zero for
    joints on other branches); h_j is the moment of the subtree's m a about P_j. The sums
-   are gathered leaves first, in O(n); the pairs cost four flops each. */
-static void rj__rig_mass(const rj_model *m, rj__rig *r)
+   are gathered leaves first, in O(n); the pairs cost four flops each. Without the
+   motors' rotors (rj__rig_mass adds them). */
+static void rj__rig_mass_links(const rj_model *m, rj__rig *r)
 {
     const int n = m->nj;
     double *M = r->M, *h = r->h, *lk = r->lk;
@@ -195,6 +196,17 @@ static void rj__rig_mass(const rj_model *m, rj__rig *r)
             M[(size_t) up * n + k] = v;
         }
     }
+}
+
+/* M(q): the links', and each motor's rotor, whose reflected inertia acts on its joint's
+   rate. */
+static void rj__rig_mass(const rj_model *m, rj__rig *r)
+{
+    const int n = m->nj;
+    int k;
+    rj__rig_mass_links(m, r);
+    for (k = 0; k < n; k++)
+        r->M[(size_t) k * n + k] += m->jnt[k].rotor;
 }
 
 /* Cholesky factor of the n x n SPD matrix M into L (lower), and solves L L^T x = b. The

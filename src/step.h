@@ -696,10 +696,91 @@ static RJ__FORCE_INLINE void rj__update_bodies(const rj_model *m, rj_state *s, c
 
 /* Stage 4, the update: velocities at n + 1/2 and positions at n + 1 (grouped nodes and
    nodes a velocity-level method changes are redone after). */
+/* The pin nodes' rates at n - 1/2 and n + 1/2 and their angles, for the rotors' stage
+   (given apart from the step's frames, whose record keeps its registers). */
+typedef struct rj__pins {
+    const double *w, *phi;
+    double *nw, *nphi;
+    double dt;
+    int first;
+} rj__pins;
+
+/* What the rotors' stage returns: the kinetic energy's change in its form, and the sum
+   of the angles it moved (finite while they are). */
+typedef struct rj__rotor_sums {
+    double ke, fin;
+} rj__rotor_sums;
+
+/* One rotor's share of its joint's pin rotations: the rates the step gave the two pin nodes
+   (each on its own rotary inertia) moved to those of the 2 x 2 mass that the rotor's
+   reflected inertia Jr couples, diag(I_I, I_J) + Jr [1 -1; -1 1] (Sherman-Morrison: the
+   relative change shrinks by 1 + Jr (1/I_I + 1/I_J), the momentum kept), their angles
+   after, and the kinetic energy's change in its form (sum of kn, the rotor's Jr w w'). */
+static void rj__rotor_pins(const rj_model *m, const rj__pins *p, const rj__joint *J,
+                           rj__rotor_sums *out)
+{
+    const int nI = J->nI, nJ = J->nJ, first = p->first;
+    const double riI = nI >= 0 ? m->rinv[nI] : 0.0, riJ = m->rinv[nJ];
+    const double *w = p->w, *kj = m->krot;
+    const double wI = nI >= 0 ? w[nI] : 0.0, oI = nI >= 0 ? p->nw[nI] : 0.0, oJ = p->nw[nJ];
+    const double share = J->rotor * ((oJ - w[nJ]) - (oI - wI)) /
+                         (1.0 + J->rotor * (riI + riJ));
+    const double uI = oI + share * riI, uJ = oJ - share * riJ;
+    const double rel_m = w[nJ] - wI, rel_p = uJ - uI;
+    /* each node's kn, before and after, and the rotor's */
+    out->ke += first ? kj[nJ] * ((2 * w[nJ] - uJ) * uJ - (2 * w[nJ] - oJ) * oJ)
+                     : kj[nJ] * w[nJ] * (uJ - oJ);
+    out->ke += J->rotor * (first ? (2 * rel_m - rel_p) * rel_p : rel_m * rel_p);
+    p->nw[nJ] = uJ;
+    p->nphi[nJ] = p->phi[nJ] + p->dt * uJ;
+    out->fin += p->nphi[nJ];
+    if (nI < 0)
+        return;
+    out->ke += first ? kj[nI] * ((2 * wI - uI) * uI - (2 * wI - oI) * oI)
+                     : kj[nI] * wI * (uI - oI);
+    p->nw[nI] = uI;
+    p->nphi[nI] = p->phi[nI] + p->dt * uI;
+    out->fin += p->nphi[nI];
+}
+
+/* Stage 4c of scenes with rotors: every rotor's joint pins (rj__rotor_pins). Apart (not
+   inlined): a scene without rotors pays one test. */
+static RJ__NOINLINE rj__rotor_sums rj__stage_rotors(const rj_model *m, rj__pins p)
+{
+    rj__rotor_sums out;
+    int j;
+    out.ke = 0;
+    out.fin = 0;
+    for (j = 0; j < m->nj; j++)
+        if (m->jnt[j].rotor > 0)
+            rj__rotor_pins(m, &p, &m->jnt[j], &out);
+    return out;
+}
+
+/* The rotors' stage on the step's frames. */
+static RJ__FORCE_INLINE void rj__update_rotors(const rj_model *m, const rj__frames *f,
+                                               rj__sums *e, double *fin)
+{
+    rj__pins p;
+    rj__rotor_sums out;
+    p.w = f->w;
+    p.phi = f->phi;
+    p.nw = f->nw;
+    p.nphi = f->nphi;
+    p.dt = f->dt;
+    p.first = f->first;
+    out = rj__stage_rotors(m, p);
+    *fin += out.fin;
+    if (f->en || f->first)
+        e->kinetic += out.ke;
+}
+
 static RJ__FORCE_INLINE void rj__stage_update(const rj_model *m, rj_state *s, const rj__frames *f,
                                               const rj__adv *adv, rj__sums *e, double *fin)
 {
     rj__update_joint_nodes(m, s, f, adv, e);
+    if (m->nrotor)
+        rj__update_rotors(m, f, e, fin);
     rj__update_groups(m, s, f, e, fin);
     rj__update_bodies(m, s, f, e);
     e->kinetic *= 0.5;
@@ -790,8 +871,12 @@ static RJ__FORCE_INLINE double rj__joint_jump(const rj_model *m, const rj__frame
         loss += 0.5 * J->I2 * m2 * (o2 - w2);
         e->pending += 0.5 * J->I2 * w2 * (o2 - w2);
     }
+    /* a rotor spins with the relative rate: its share of the jump */
+    loss += 0.5 * J->rotor * (m2 - m1) * ((o2 - o1) - (w2 - w1));
+    e->pending += 0.5 * J->rotor * (w2 - w1) * ((o2 - o1) - (w2 - w1));
     /* the latch's angular impulse on body 2 (body 1 takes the opposite) */
-    new_joint[RJ__JD_IMPULSE] = rj__finite(J->I2) ? J->I2 * (w2 - o2) : -J->I1 * (w1 - o1);
+    new_joint[RJ__JD_IMPULSE] = (rj__finite(J->I2) ? J->I2 * (w2 - o2) : -J->I1 * (w1 - o1)) +
+                                J->rotor * ((w2 - w1) - (o2 - o1));
     rj__spin(J, g, w1 - o1, w2 - o2, f->nvx, f->nvy, f->nw);
     rj__jump_nodes(m, f, J, fin);
     e->lost_limit += loss;
@@ -844,7 +929,10 @@ static RJ__FORCE_INLINE double rj__prescribe(const rj_model *m, const rj_state *
         work -= 0.5 * J->I2 * m2 * (o2 - w2);
         e->drive_pending -= 0.5 * J->I2 * w2 * (o2 - w2);
     }
+    work -= 0.5 * J->rotor * (m2 - m1) * ((o2 - o1) - (w2 - w1));
+    e->drive_pending -= 0.5 * J->rotor * (w2 - w1) * ((o2 - o1) - (w2 - w1));
     impulse = rj__finite(J->I2) ? J->I2 * (w2 - o2) : -J->I1 * (w1 - o1);
+    impulse += J->rotor * ((w2 - w1) - (o2 - o1));
     new_joint[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = impulse / f->kick;
     rj__spin(J, g, w1 - o1, w2 - o2, f->nvx, f->nvy, f->nw);
     rj__jump_nodes(m, f, J, fin);

@@ -434,6 +434,58 @@ static int rj__validate_prescribed(const rj_scene_def *sc, const rj_actuator_def
     return 0;
 }
 
+/* Joint j's pin on body 1 as (link, node), node -1 for ground; body 2's is (body2, 0). */
+static void rj__pin_of(const rj_scene_def *sc, int j, int *link, int *node)
+{
+    const rj_joint_def *J = &sc->joints[j];
+    *link = J->body1;
+    *node = J->body1 < 0 ? -1 : J->node1 < 0 ? sc->links[J->body1].elements : J->node1;
+}
+
+/* Whether joints j and k share a pin node (their rotors would couple one node twice). */
+static int rj__pins_meet(const rj_scene_def *sc, int j, int k)
+{
+    int lj, nj, lk, nk;
+    rj__pin_of(sc, j, &lj, &nj);
+    rj__pin_of(sc, k, &lk, &nk);
+    return (lj >= 0 && lj == lk && nj == nk) || (lj == sc->joints[k].body2 && nj == 0) ||
+           (lk == sc->joints[j].body2 && nk == 0);
+}
+
+/* A motor's rotor: a gear ratio not 0; on a joint with the tangent reference, between
+   flexible bodies (or ground) unless every link is rigid, with pin nodes no other rotor's
+   joint uses. */
+static int rj__validate_rotor(const rj_scene_def *sc, int i, rj_error *err)
+{
+    const rj_actuator_def *d = &sc->actuators[i];
+    const rj_joint_def *J = &sc->joints[d->joint];
+    const char *why = NULL;
+    char f[64];
+    int k;
+    if (d->gear_ratio == 0) {
+        RJ__FIELD(f, "actuators[%d].gear_ratio", i);
+        rj__fail(err, RJ_ERR_INVALID, f, 0, "%s = 0 is invalid: %s", f,
+                 rj__actuator_fields[RJ__CK_GEAR_RATIO].rule);
+        return 0;
+    }
+    if (!(d->rotor_inertia > 0) || rj__all_rigid(sc))
+        return 1;
+    if (J->reference != RJ_REF_TANGENT)
+        why = "its joint uses the chord reference (a rotor needs the tangent)";
+    else if (sc->links[J->body2].fidelity == RJ_LINK_RIGID ||
+             (J->body1 >= 0 && sc->links[J->body1].fidelity == RJ_LINK_RIGID))
+        why = "its joint holds a rigid link in a scene with flexible links";
+    for (k = 0; k < i && !why; k++)
+        if (sc->actuators[k].rotor_inertia > 0 && rj__pins_meet(sc, d->joint, sc->actuators[k].joint))
+            why = "its joint shares a pin node with another rotor's joint";
+    if (!why)
+        return 1;
+    RJ__FIELD(f, "actuators[%d].rotor_inertia", i);
+    rj__fail(err, RJ_ERR_INVALID, f, d->rotor_inertia, "%s = %g is not supported: %s", f,
+             d->rotor_inertia, why);
+    return 0;
+}
+
 /* Actuators: a joint each, the rows of their type, a table in time. */
 static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
 {
@@ -450,7 +502,8 @@ static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
         if (!rj__check_row(err, item, &rj__actuator_fields[RJ__CK_TYPE], d) ||
             !rj__validate_actuator_joint(sc, i, err) ||
             !rj__check_rows(err, item, RJ__DEF_ACTUATOR, d, d->type) ||
-            !rj__validate_dc(d, i, err) || !rj__validate_prescribed(sc, d, i, err))
+            !rj__validate_dc(d, i, err) || !rj__validate_prescribed(sc, d, i, err) ||
+            !rj__validate_rotor(sc, i, err))
             return 0;
         if (d->type == RJ_ACTUATOR_TORQUE &&
             !rj__validate_time_table(err, item, d->table_count, d->table_time, d->table_factor))
