@@ -184,6 +184,7 @@ enum {
     RJ__FS_WORK, /* the work of the caller's inputs since the start */
     RJ__FS_DRIVE, /* the work of the actuators since the start */
     RJ__FS_DPEND, /* a prescribed joint's impulse's work the next step takes (its half) */
+    RJ__FS_DFLOW, /* the actuators' work moved so far, sum of |its change| (J): a scale */
     RJ__FS_COUNT
 };
 

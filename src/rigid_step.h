@@ -516,6 +516,8 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
     new_scalars[RJ__FS_WORK] = e->work;
     new_scalars[RJ__FS_DRIVE] = e->drive;
     new_scalars[RJ__FS_DPEND] = e->drive_pending;
+    if (m->nact)
+        rj__drive_flow(f->old_scalars, new_scalars, e);
     if (f->first)
         rj__first_accounts(new_scalars, e, ke + e->spring + e->gravity);
     res = rj__energy_check(m, s, NULL, f->t, e, f->old_scalars[RJ__FS_SPRING],

@@ -49,6 +49,7 @@ typedef struct rj__sums {
     double work;    /* done by the caller's inputs since the start */
     double drive;   /* done by the actuators since the start */
     double drive_pending; /* a prescribed joint's impulse's work the next step takes */
+    double drive_flow;    /* the actuators' work moved, sum of |its change| (a scale) */
     double pending; /* a jump's loss the next step takes (its second half) */
 } rj__sums;
 
@@ -125,6 +126,7 @@ static RJ__FORCE_INLINE void rj__sums_open(const double *old_scalars, rj__sums *
     e->work = old_scalars[RJ__FS_WORK];
     e->drive = old_scalars[RJ__FS_DRIVE] + old_scalars[RJ__FS_DPEND];
     e->drive_pending = 0;
+    e->drive_flow = old_scalars[RJ__FS_DFLOW];
     e->pending = 0;
 }
 
@@ -1173,13 +1175,24 @@ static RJ__FORCE_INLINE rj_result rj__energy_check(const rj_model *m, rj_state *
     /* the initial energy less gravity's potential now, plus the inputs' work: what gravity
        has released and the caller has put in may turn into kinetic energy */
     const double outside = e->gravity - e->work - e->drive; /* gravity, the caller, the drives */
-    const double scale = fabs(e0 - outside) + fabs(old_spring) + s->settle_scale + 1e-9;
+    /* a drive that lifts a load and holds it moves energy that outside nets out */
+    const double scale =
+        fabs(e0 - outside) + fabs(old_spring) + s->settle_scale + e->drive_flow + 1e-9;
     const double created = ke + U + V + outside + e->lost_damping + e->lost_friction + lost_l - e0;
     if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) ||
         E > m->solver.energy_growth * (scale + fabs(V)) || created > RJ__CREATED * scale ||
         lost_l < -RJ__CREATED * scale)
         return rj__energy_stop(m, s, frame, t, *e, scale, created);
     return RJ_OK;
+}
+
+/* The actuators' work moved this step, into the flow the energy tests scale by. */
+static void rj__drive_flow(const double *osc, double *nsc, rj__sums *e)
+{
+    const double before = osc[RJ__FS_DRIVE] + osc[RJ__FS_DPEND];
+    const double after = e->drive + e->drive_pending;
+    e->drive_flow += fabs(after - before);
+    nsc[RJ__FS_DFLOW] = e->drive_flow;
 }
 
 /* The accounts of a first step (from rest): the energy there is the initial energy, and
@@ -1210,6 +1223,8 @@ static RJ__FORCE_INLINE rj_result rj__step_accounts(const rj_model *m, rj_state 
     nsc[RJ__FS_WORK] = e->work;
     nsc[RJ__FS_DRIVE] = e->drive;
     nsc[RJ__FS_DPEND] = e->drive_pending;
+    if (m->nact)
+        rj__drive_flow(osc, nsc, e);
     if (!f->en)
         return RJ_OK;
     nsc[RJ__FS_ETIME] = f->t;

@@ -4,9 +4,13 @@
    cutoff, a servo's static droop under gravity (P control: m g d / kp) and its clamp, a
    tabled torque on a flexible link and the energy balance; then bad actuators are refused
    naming the field, scene files read and write actuators, and W_drive is an account of
-   the models with actuators only. */
+   the models with actuators only. Prescribed motion: a cycloidal stroke on a rigid arm
+   under gravity takes I alpha + M1 g cos(theta) to the scheme's truncation and round-off,
+   on a flexible arm (with and without a rotor) the pin follows the profile to round-off
+   with the balance closed, and rj_settle holds a profile at its start. */
 #include "../revjoint.h"
 #include "rjt.h"
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -1079,6 +1083,161 @@ static void test_checkpoint(rjt_ctx *c)
     close_bench(m, s);
 }
 
+/* ------------------------------------------------------------------ prescribed motion */
+
+/* A cycloidal stroke's angle and acceleration, A (x - sin(2 pi x) / 2 pi), x = tau / T. */
+static double cyc_angle(double A, double T, double tau)
+{
+    const double x = tau / T;
+    return tau <= 0 ? 0 : tau >= T ? A : A * (x - sin(2 * PI * x) / (2 * PI));
+}
+static double cyc_accel(double A, double T, double tau)
+{
+    return tau <= 0 || tau >= T ? 0 : A * 2 * PI / (T * T) * sin(2 * PI * tau / T);
+}
+
+/* A rigid arm under gravity on a cycloidal profile (90 deg in 1 s from t = 0.1 s): the
+   angle is the profile's to round-off, and the drive torque at each step's start is
+   I alpha + M1 g cos(theta) (M1 the arm's first moment) within the truncation and the
+   round-off of the angle's second difference; the balance closes with W_drive. */
+static void test_prescribed_rigid(rjt_ctx *c)
+{
+    const double A = PI / 2, T = 1.0, start = 0.1, dt = 5e-5;
+    bench b;
+    rj_model *m;
+    rj_state *s;
+    char msg[300] = "";
+    double I, M1, worst_angle = 0, worst_torque = 0, peak = 0, bal = 0, trunc, round_off;
+    long k;
+    one_arm(&b, RJ_LINK_RIGID, 4);
+    b.a[0].type = RJ_ACTUATOR_PRESCRIBED;
+    b.a[0].profile = RJ_PROFILE_CYCLOIDAL;
+    b.a[0].profile_value = A;
+    b.a[0].profile_time = T;
+    b.a[0].start = start;
+    b.sc.solver.dt = dt;
+    b.sc.solver.gravity[1] = -G;
+    I = arm_inertia(&b.l[0]);
+    M1 = arm_moment(&b.l[0]);
+    if (!open_bench(&b, &m, &s, msg, sizeof msg)) {
+        rjt_check(c, 0, "prescribed cycloidal stroke on a rigid arm", "%s", msg);
+        return;
+    }
+    for (k = 0; k < (long) (1.5 / dt); k++) {
+        const double t0 = rj_state_time(s);
+        double want, got, th;
+        rj_energy e;
+        if (rj_step(m, s) != RJ_OK)
+            break;
+        th = rj_joint_theta_running(m, s, 0);
+        if (fabs(th - cyc_angle(A, T, rj_state_time(s) - start)) > worst_angle)
+            worst_angle = fabs(th - cyc_angle(A, T, rj_state_time(s) - start));
+        want = I * cyc_accel(A, T, t0 - start) + M1 * G * cos(cyc_angle(A, T, t0 - start));
+        got = rj_joint_torque(m, s, 0, RJ_TORQUE_DRIVE);
+        if (fabs(want) > peak)
+            peak = fabs(want);
+        /* not the step that starts the stroke or the one that ends it: the profile's jerk
+           jumps there, and the step's second difference of the angle is I alpha one step
+           later (9e-5 N m here) */
+        if (fabs(t0 - start) > 1.5 * dt && fabs(t0 - start - T) > 1.5 * dt &&
+            fabs(got - want) > worst_torque)
+            worst_torque = fabs(got - want);
+        rj_state_energy(m, s, &e);
+        if (fabs(e.balance) > bal)
+            bal = fabs(e.balance);
+    }
+    /* the step's torque is I times the angle's second difference: off I alpha by
+       I dt^2 / 12 max|theta^(4)| (truncation) and by the round-off of the angles'
+       differences, 8 eps A / dt^2 times I at most */
+    trunc = I * dt * dt / 12 * A * pow(2 * PI / T, 3) / T;
+    round_off = I * 8 * DBL_EPSILON * A / (dt * dt);
+    rjt_check(c, worst_angle < 1e-12 && worst_torque < trunc + round_off &&
+                     bal < 1e-8 * M1 * G, /* of the lift's work, second order in dt */
+              "prescribed cycloidal stroke on a rigid arm under gravity: angle to round-off, "
+              "torque = I alpha + M1 g cos(theta) within the scheme's truncation and round-off",
+              "%ld steps of %g s: max |theta - profile| %.3g rad, max |torque - exact| %.3g N m "
+              "= %.2g of the peak %.6g N m (bound: truncation %.3g + round-off %.3g N m; I %.6g "
+              "kg m^2), max |balance| %.3g J",
+              k, dt, worst_angle, worst_torque, worst_torque / peak, peak, trunc, round_off, I,
+              bal);
+    close_bench(m, s);
+}
+
+/* The same stroke on a flexible arm: the pin's angle is the profile's to round-off (the
+   arm bends behind it) and the balance closes; a rotor behind a gear changes neither. */
+static void test_prescribed_flexible(rjt_ctx *c, double rotor)
+{
+    const double A = PI / 2, T = 1.0;
+    bench b;
+    rj_model *m;
+    rj_state *s;
+    char msg[300] = "", name[160];
+    double worst = 0, bal = 0, work = 0, peak = 0;
+    long k = 0;
+    one_arm(&b, RJ_LINK_FLEXIBLE, 8);
+    b.a[0].type = RJ_ACTUATOR_PRESCRIBED;
+    b.a[0].profile = RJ_PROFILE_CYCLOIDAL;
+    b.a[0].profile_value = A;
+    b.a[0].profile_time = T;
+    b.a[0].rotor_inertia = rotor;
+    b.a[0].gear_ratio = 50;
+    snprintf(name, sizeof name,
+             "prescribed cycloidal stroke on a flexible arm%s: the pin's angle to round-off, "
+             "the balance closed", rotor > 0 ? " with a rotor" : "");
+    if (!open_bench(&b, &m, &s, msg, sizeof msg)) {
+        rjt_check(c, 0, name, "%s", msg);
+        return;
+    }
+    while (rj_state_time(s) < 1.5) {
+        rj_energy e;
+        double d;
+        if (rj_step(m, s) != RJ_OK)
+            break;
+        d = fabs(rj_joint_theta_running(m, s, 0) - cyc_angle(A, T, rj_state_time(s)));
+        if (d > worst)
+            worst = d;
+        rj_state_energy(m, s, &e);
+        if (fabs(e.balance) > bal)
+            bal = fabs(e.balance);
+        if (e.work_drive > peak)
+            peak = e.work_drive;
+        work = e.work_drive;
+        k++;
+    }
+    rjt_check(c, rj_state_time(s) >= 1.5 && worst < 1e-12 && bal < 1e-7 * peak, name,
+              "%ld steps to t = %.4g s: max |theta - profile| %.3g rad, max |balance| %.3g J "
+              "(W_drive peak %.6g J, at the end %.3g J: the stroke gives back what it put in "
+              "but the arm's ringing)",
+              k, rj_state_time(s), worst, bal, peak, work);
+    close_bench(m, s);
+}
+
+/* rj_settle holds a prescribed joint at its start: a ramp that would turn the arm at
+   1 rad/s leaves it at angle0 while the arm settles under gravity. */
+static void test_prescribed_settle(rjt_ctx *c)
+{
+    bench b;
+    rj_model *m;
+    rj_state *s;
+    char msg[300] = "";
+    rj_result r;
+    one_arm(&b, RJ_LINK_FLEXIBLE, 4);
+    b.a[0].type = RJ_ACTUATOR_PRESCRIBED;
+    b.a[0].profile = RJ_PROFILE_RAMP;
+    b.a[0].profile_value = 1.0;
+    b.sc.solver.gravity[1] = -G;
+    if (!open_bench(&b, &m, &s, msg, sizeof msg)) {
+        rjt_check(c, 0, "rj_settle holds a prescribed joint at its start", "%s", msg);
+        return;
+    }
+    r = rj_settle(m, s, 1e-10, 2000000);
+    rjt_check(c, r == RJ_OK && fabs(rj_joint_theta_running(m, s, 0)) < 1e-12,
+              "rj_settle holds a prescribed joint at its start",
+              "result %d at t = %.4g s, theta %.3g rad (angle0 0)", (int) r, rj_state_time(s),
+              rj_joint_theta_running(m, s, 0));
+    close_bench(m, s);
+}
+
 int main(void)
 {
     rjt_ctx c = { 0, 0 };
@@ -1098,5 +1257,9 @@ int main(void)
     test_scene_errors(&c);
     test_account(&c);
     test_checkpoint(&c);
+    test_prescribed_rigid(&c);
+    test_prescribed_flexible(&c, 0);
+    test_prescribed_flexible(&c, 1e-4);
+    test_prescribed_settle(&c);
     return rjt_summary(&c, "test_drive");
 }
