@@ -1227,11 +1227,21 @@ static void check_actuators(const scene *sc)
             printf("DC motor, stall %g N m, no load %g rad/s", d->stall_torque, d->no_load_speed);
             if (d->has_cutoff) printf(", off from %g deg", rj_deg(d->cutoff));
             printf("\n");
-        } else {
+        } else if (d->type == RJ_ACTUATOR_SERVO) {
             printf("servo to %g deg, kp %g N m/rad, kd %g N m s/rad", rj_deg(d->target), d->kp, d->kd);
             if (d->torque_max > 0) printf(", within +-%g N m", d->torque_max);
             printf("\n");
+        } else {
+            static const char *const names[3] = { "ramp at", "cycloidal stroke of", "spin-up to" };
+            printf("prescribed %s %g %s", names[d->profile],
+                   d->profile == RJ_PROFILE_CYCLOIDAL ? rj_deg(d->profile_value) : d->profile_value,
+                   d->profile == RJ_PROFILE_CYCLOIDAL ? "deg" : "rad/s");
+            if (d->profile != RJ_PROFILE_RAMP) printf(" in %g s", d->profile_time);
+            printf(" from t = %g s\n", d->start);
         }
+        if (d->rotor_inertia > 0)
+            printf("  %-12s rotor %g kg m^2 behind %g:1 (reflected %g kg m^2)\n", "", d->rotor_inertia,
+                   d->gear_ratio, d->gear_ratio * d->gear_ratio * d->rotor_inertia);
     }
 }
 
