@@ -527,7 +527,7 @@ RJDEF const char *rj_state_warning(const rj_state *s);
 RJDEF int rj_model_warning_count(const rj_model *m);
 RJDEF const char *rj_model_warnings(const rj_model *m);
 RJDEF double rj_model_dt(const rj_model *m);        /* s, step in use */
-RJDEF double rj_model_dt_bound(const rj_model *m);  /* s, 2/omega_max of the linearised model */
+RJDEF double rj_model_dt_bound(const rj_model *m);  /* s, 0.98 x 2/omega_max of the linearised model */
 RJDEF double rj_model_omega_max(const rj_model *m); /* rad/s */
 RJDEF int rj_model_link_count(const rj_model *m);
 RJDEF int rj_model_joint_count(const rj_model *m);

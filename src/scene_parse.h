@@ -1108,6 +1108,10 @@ static int rj__sp_load_key(rj__sp *P, int k, int a, int *i, int b, rj_load_def *
 /* joint = NAME: a joint defined above the actuator */
 static int rj__sp_joint_ref(rj__sp *P, const rj__stok *t, const char *key, int *joint)
 {
+    const char *users = P->kind == RJ__SK_COUPLING ? " (define joints above the couplings that "
+                                                     "tie them)"
+                                                   : " (define joints above the actuators "
+                                                     "that drive them)";
     const int idx = P->f->joint_count
                         ? rj__sp_find(t->s, t->len, (const char *) P->f->joint_names,
                                       RJ_SCENE_NAME_MAX, P->f->joint_count)
@@ -1123,8 +1127,8 @@ static int rj__sp_joint_ref(rj__sp *P, const rj__stok *t, const char *key, int *
                           ? rj__sp_near(t->s, t->len, (const char *) P->f->joint_names,
                                         RJ_SCENE_NAME_MAX, P->f->joint_count)
                           : NULL);
-    return rj__sp_err_tok(P, t, key, rj__sp_nan(), "unknown joint ", rj__sp_for(P, key),
-                          " (define joints above the actuators that drive them)", mean);
+    return rj__sp_err_tok(P, t, key, rj__sp_nan(), "unknown joint ", rj__sp_for(P, key), users,
+                          mean);
 }
 
 /* an actuator's table = time factor, time factor, ... (as a load's) */
