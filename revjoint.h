@@ -327,7 +327,8 @@ typedef struct rj_load_def {
      is at or past the cutoff's first crossing in that direction from angle0: an
      end-of-travel switch.
    RJ_ACTUATOR_SERVO: kp (target - theta_run) - kd rate, within +-torque_max when it is
-     > 0; target on the running angle (as spring_free_angle).
+     > 0; target on the running angle (as spring_free_angle), plus a profile (below) of
+     the time since start when one is given (the default, a ramp of 0, holds it).
    RJ_ACTUATOR_PRESCRIBED: the joint's angle follows a profile exactly (to round-off): held
      at angle0 until start (s), then angle0 + the profile of (t - start): RJ_PROFILE_RAMP
      profile_value (rad/s) times it; RJ_PROFILE_CYCLOIDAL rest to rest through
@@ -1428,6 +1429,7 @@ enum {
     RJ__WHEN_DC,
     RJ__WHEN_SERVO,
     RJ__WHEN_PRESCRIBED,
+    RJ__WHEN_PROFILED, /* a servo's or a prescribed joint's profile */
     RJ__WHEN_GROUND,
     RJ__WHEN_ON_LINK,
     RJ__WHEN_PLACE /* a link's placement: with a note when a joint places the link */
@@ -1693,9 +1695,9 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
            RJ__R(-1e6, 1, 1e6, 1), RJ__RULE_ANGLE),
     /* ramp RATE, cycloidal ANGLE DURATION, spinup OMEGA TS */
     { "profile", "profile", "", RJ__OFF(rj_actuator_def, profile), -1, RJ__FT_PROFILE,
-      RJ__WHEN_PRESCRIBED, RJ__WR_ALWAYS, 9, 12, 'i', -1, 0.0, RJ__R(0.0, 1, 2.0, 1),
+      RJ__WHEN_PROFILED, RJ__WR_SET, 9, 12, 'i', -1, 0.0, RJ__R(0.0, 1, 2.0, 1),
       "RJ_PROFILE_RAMP, _CYCLOIDAL or _SPINUP", RJ__NAMES(rj__sk_profile) },
-    RJ__FC("start", start, "s", RJ__FT_REAL, RJ__WHEN_PRESCRIBED, RJ__WR_SET, 9, 15, 0.0,
+    RJ__FC("start", start, "s", RJ__FT_REAL, RJ__WHEN_PROFILED, RJ__WR_SET, 9, 15, 0.0,
            RJ__R(-1e9, 1, 1e9, 1), "must be a finite time within +-1e9 s"),
     /* the rotor behind its gear, for every type */
     RJ__FC("rotor_inertia", rotor_inertia, "kg m^2", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_LINE, 10,
@@ -1708,11 +1710,11 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
       RJ__RULE_BOOL, NULL, 0, 0 },
     /* the profile's numbers */
     { "profile_value", "profile_value", "", RJ__OFF(rj_actuator_def, profile_value), -1,
-      RJ__FT_REAL, RJ__WHEN_PRESCRIBED, RJ__WR_NONE, 9, 13, 'd', RJ__CK_PROFILE, 0.0,
+      RJ__FT_REAL, RJ__WHEN_PROFILED, RJ__WR_NONE, 9, 13, 'd', RJ__CK_PROFILE, 0.0,
       RJ__R(-1e6, 1, 1e6, 1), "must be a finite rate or angle within +-1e6 (rad/s or rad)",
       NULL, 0, 0 },
     { "profile_time", "profile_time", "s", RJ__OFF(rj_actuator_def, profile_time), -1,
-      RJ__FT_REAL, RJ__WHEN_PRESCRIBED, RJ__WR_NONE, 9, 14, 'd', RJ__CK_PROFILE, 1.0,
+      RJ__FT_REAL, RJ__WHEN_PROFILED, RJ__WR_NONE, 9, 14, 'd', RJ__CK_PROFILE, 1.0,
       RJ__R(0.0, 0, 1e9, 1), "must be a time in (0, 1e9] s", NULL, 0, 0 },
 };
 #undef RJ__DEF
@@ -1861,6 +1863,8 @@ static int rj__row_applies(const rj__field *r, int variant, int on_ground, int w
         return variant == RJ_ACTUATOR_SERVO;
     case RJ__WHEN_PRESCRIBED:
         return variant == RJ_ACTUATOR_PRESCRIBED;
+    case RJ__WHEN_PROFILED:
+        return variant == RJ_ACTUATOR_SERVO || variant == RJ_ACTUATOR_PRESCRIBED;
     case RJ__WHEN_GROUND:
         return !write || on_ground;
     case RJ__WHEN_ON_LINK:
@@ -6738,7 +6742,8 @@ static double rj__clamp(double v, double cap)
 
 /* The torque of joint J's actuator on body 2 at t, the joint at its running angle run
    with the rate damping reads (rj_actuator_def). */
-static double rj__drive_torque(const rj__joint *J, double run, double rate, double t)
+static double rj__drive_torque(const rj_state *s, const rj__joint *J, double run, double rate,
+                               double t)
 {
     const rj_actuator_def *a = J->act;
     double tq;
@@ -6752,7 +6757,9 @@ static double rj__drive_torque(const rj__joint *J, double run, double rate, doub
         tq = a->stall_torque * (1.0 - rate / a->no_load_speed);
         return rj__clamp(tq, fabs(a->stall_torque));
     case RJ_ACTUATOR_SERVO:
-        tq = a->kp * (a->target - run) - a->kd * rate;
+        /* its target follows the profile from start (none: ramp 0), held while settling */
+        tq = a->kp * (rj__profile_angle(a, a->target, s->settling ? a->start : t) - run) -
+             a->kd * rate;
         return a->torque_max > 0 ? rj__clamp(tq, a->torque_max) : tq;
     default: /* prescribed: its torque is the impulse that keeps it on its profile */
         return 0;
@@ -6833,7 +6840,7 @@ static double rj__element(const rj_model *m, rj_state *s, int j, const double *o
     tq = tq_table + tq_spring + tq_damp + tq_lim;
     /* the actuator: its slot stays 0 (copied from the old record) on a joint without */
     if (J->act) {
-        const double tq_drive = rj__drive_torque(J, run, rate, t);
+        const double tq_drive = rj__drive_torque(s, J, run, rate, t);
         nj_[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = tq_drive;
         tq += tq_drive;
     }

@@ -1228,7 +1228,10 @@ static void check_actuators(const scene *sc)
             if (d->has_cutoff) printf(", off from %g deg", rj_deg(d->cutoff));
             printf("\n");
         } else if (d->type == RJ_ACTUATOR_SERVO) {
-            printf("servo to %g deg, kp %g N m/rad, kd %g N m s/rad", rj_deg(d->target), d->kp, d->kd);
+            printf("servo to %g deg", rj_deg(d->target));
+            if (d->profile != RJ_PROFILE_RAMP || d->profile_value != 0)
+                printf(" along a profile from t = %g s", d->start);
+            printf(", kp %g N m/rad, kd %g N m s/rad", d->kp, d->kd);
             if (d->torque_max > 0) printf(", within +-%g N m", d->torque_max);
             printf("\n");
         } else {

@@ -327,7 +327,8 @@ typedef struct rj_load_def {
      is at or past the cutoff's first crossing in that direction from angle0: an
      end-of-travel switch.
    RJ_ACTUATOR_SERVO: kp (target - theta_run) - kd rate, within +-torque_max when it is
-     > 0; target on the running angle (as spring_free_angle).
+     > 0; target on the running angle (as spring_free_angle), plus a profile (below) of
+     the time since start when one is given (the default, a ramp of 0, holds it).
    RJ_ACTUATOR_PRESCRIBED: the joint's angle follows a profile exactly (to round-off): held
      at angle0 until start (s), then angle0 + the profile of (t - start): RJ_PROFILE_RAMP
      profile_value (rad/s) times it; RJ_PROFILE_CYCLOIDAL rest to rest through

@@ -150,6 +150,7 @@ enum {
     RJ__WHEN_DC,
     RJ__WHEN_SERVO,
     RJ__WHEN_PRESCRIBED,
+    RJ__WHEN_PROFILED, /* a servo's or a prescribed joint's profile */
     RJ__WHEN_GROUND,
     RJ__WHEN_ON_LINK,
     RJ__WHEN_PLACE /* a link's placement: with a note when a joint places the link */
@@ -415,9 +416,9 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
            RJ__R(-1e6, 1, 1e6, 1), RJ__RULE_ANGLE),
     /* ramp RATE, cycloidal ANGLE DURATION, spinup OMEGA TS */
     { "profile", "profile", "", RJ__OFF(rj_actuator_def, profile), -1, RJ__FT_PROFILE,
-      RJ__WHEN_PRESCRIBED, RJ__WR_ALWAYS, 9, 12, 'i', -1, 0.0, RJ__R(0.0, 1, 2.0, 1),
+      RJ__WHEN_PROFILED, RJ__WR_SET, 9, 12, 'i', -1, 0.0, RJ__R(0.0, 1, 2.0, 1),
       "RJ_PROFILE_RAMP, _CYCLOIDAL or _SPINUP", RJ__NAMES(rj__sk_profile) },
-    RJ__FC("start", start, "s", RJ__FT_REAL, RJ__WHEN_PRESCRIBED, RJ__WR_SET, 9, 15, 0.0,
+    RJ__FC("start", start, "s", RJ__FT_REAL, RJ__WHEN_PROFILED, RJ__WR_SET, 9, 15, 0.0,
            RJ__R(-1e9, 1, 1e9, 1), "must be a finite time within +-1e9 s"),
     /* the rotor behind its gear, for every type */
     RJ__FC("rotor_inertia", rotor_inertia, "kg m^2", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_LINE, 10,
@@ -430,11 +431,11 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
       RJ__RULE_BOOL, NULL, 0, 0 },
     /* the profile's numbers */
     { "profile_value", "profile_value", "", RJ__OFF(rj_actuator_def, profile_value), -1,
-      RJ__FT_REAL, RJ__WHEN_PRESCRIBED, RJ__WR_NONE, 9, 13, 'd', RJ__CK_PROFILE, 0.0,
+      RJ__FT_REAL, RJ__WHEN_PROFILED, RJ__WR_NONE, 9, 13, 'd', RJ__CK_PROFILE, 0.0,
       RJ__R(-1e6, 1, 1e6, 1), "must be a finite rate or angle within +-1e6 (rad/s or rad)",
       NULL, 0, 0 },
     { "profile_time", "profile_time", "s", RJ__OFF(rj_actuator_def, profile_time), -1,
-      RJ__FT_REAL, RJ__WHEN_PRESCRIBED, RJ__WR_NONE, 9, 14, 'd', RJ__CK_PROFILE, 1.0,
+      RJ__FT_REAL, RJ__WHEN_PROFILED, RJ__WR_NONE, 9, 14, 'd', RJ__CK_PROFILE, 1.0,
       RJ__R(0.0, 0, 1e9, 1), "must be a time in (0, 1e9] s", NULL, 0, 0 },
 };
 #undef RJ__DEF
@@ -583,6 +584,8 @@ static int rj__row_applies(const rj__field *r, int variant, int on_ground, int w
         return variant == RJ_ACTUATOR_SERVO;
     case RJ__WHEN_PRESCRIBED:
         return variant == RJ_ACTUATOR_PRESCRIBED;
+    case RJ__WHEN_PROFILED:
+        return variant == RJ_ACTUATOR_SERVO || variant == RJ_ACTUATOR_PRESCRIBED;
     case RJ__WHEN_GROUND:
         return !write || on_ground;
     case RJ__WHEN_ON_LINK:

@@ -50,7 +50,8 @@ static double rj__clamp(double v, double cap)
 
 /* The torque of joint J's actuator on body 2 at t, the joint at its running angle run
    with the rate damping reads (rj_actuator_def). */
-static double rj__drive_torque(const rj__joint *J, double run, double rate, double t)
+static double rj__drive_torque(const rj_state *s, const rj__joint *J, double run, double rate,
+                               double t)
 {
     const rj_actuator_def *a = J->act;
     double tq;
@@ -64,7 +65,9 @@ static double rj__drive_torque(const rj__joint *J, double run, double rate, doub
         tq = a->stall_torque * (1.0 - rate / a->no_load_speed);
         return rj__clamp(tq, fabs(a->stall_torque));
     case RJ_ACTUATOR_SERVO:
-        tq = a->kp * (a->target - run) - a->kd * rate;
+        /* its target follows the profile from start (none: ramp 0), held while settling */
+        tq = a->kp * (rj__profile_angle(a, a->target, s->settling ? a->start : t) - run) -
+             a->kd * rate;
         return a->torque_max > 0 ? rj__clamp(tq, a->torque_max) : tq;
     default: /* prescribed: its torque is the impulse that keeps it on its profile */
         return 0;
@@ -145,7 +148,7 @@ static double rj__element(const rj_model *m, rj_state *s, int j, const double *o
     tq = tq_table + tq_spring + tq_damp + tq_lim;
     /* the actuator: its slot stays 0 (copied from the old record) on a joint without */
     if (J->act) {
-        const double tq_drive = rj__drive_torque(J, run, rate, t);
+        const double tq_drive = rj__drive_torque(s, J, run, rate, t);
         nj_[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = tq_drive;
         tq += tq_drive;
     }

@@ -1307,6 +1307,52 @@ static void test_spinup(rjt_ctx *c)
               b.peak, b.t_peak, a.peak, a.t_peak, -quasi, b.after, a.after);
 }
 
+/* examples/scenes/servo_arm.rjs: a servo with a geared rotor swings a flexible arm along
+   a cycloidal target to 60 deg and settles on it, feeding back the joint's own rate; its
+   automatic step is the links' (without the rotor the derivative gain on the pin node's
+   small inertia takes it down). */
+static void test_servo_arm(rjt_ctx *c)
+{
+    rj_scene_file f;
+    rj_scene_def sc;
+    rj_model *m = NULL, *m0 = NULL;
+    rj_state *s;
+    rj_error err;
+    rj_actuator_def bare;
+    double dt_rotor = 0, dt_bare = 0, worst = 0;
+    if (rj_scene_load("examples/scenes/servo_arm.rjs", &f, &err) != RJ_OK) {
+        rjt_check(c, 0, "servo_arm.rjs: a servo with a rotor settles on its target", "%s",
+                  err.msg);
+        return;
+    }
+    sc = rj_scene_file_def(&f);
+    if (rj_model_create(&sc, &m, &err, NULL) == RJ_OK && rj_state_create(m, &s, NULL) == RJ_OK) {
+        dt_rotor = rj_model_dt(m);
+        while (rj_state_time(s) < 3 && rj_step(m, s) == RJ_OK)
+            if (rj_state_time(s) > 2.5 &&
+                fabs(rj_joint_theta_running(m, s, 0) - PI / 3) > worst)
+                worst = fabs(rj_joint_theta_running(m, s, 0) - PI / 3);
+        rjt_check(c, rj_state_time(s) >= 3 && worst < 1e-5,
+                  "servo_arm.rjs: a servo with a rotor swings a flexible arm to 60 deg and "
+                  "settles on it with the joint's own rate fed back",
+                  "t %.4g s, max |theta - 60 deg| after 2.5 s %.3g rad, dt %.4g s",
+                  rj_state_time(s), worst, dt_rotor);
+        rj_state_destroy(s, NULL);
+    }
+    bare = f.actuators[0];
+    f.actuators[0].rotor_inertia = 0;
+    if (rj_model_create(&sc, &m0, &err, NULL) == RJ_OK)
+        dt_bare = rj_model_dt(m0);
+    f.actuators[0] = bare;
+    rjt_check(c, m && dt_bare > 0 && dt_rotor > 2 * dt_bare,
+              "servo_arm.rjs: the rotor keeps the automatic step (the derivative gain acts "
+              "on the pin node's inertia without it)",
+              "dt %.4g s with the rotor, %.4g s without", dt_rotor, dt_bare);
+    rj_model_destroy(m, NULL);
+    rj_model_destroy(m0, NULL);
+    rj_scene_file_free(&f);
+}
+
 int main(void)
 {
     rjt_ctx c = { 0, 0 };
@@ -1331,5 +1377,6 @@ int main(void)
     test_prescribed_flexible(&c, 1e-4);
     test_prescribed_settle(&c);
     test_spinup(&c);
+    test_servo_arm(&c);
     return rjt_summary(&c, "test_drive");
 }
