@@ -386,13 +386,20 @@ typedef struct rj_actuator_def {
    (rj_default_coupling_def): joint_a 0, joint_b 1, ratio 1, offset 0 rad, stiffness
    0 N m/rad, damping 0 N m s/rad. Its torques are reported in the two joints' spring and
    damping components (RJ_TORQUE_SPRING, RJ_TORQUE_DAMPING); its energy is in
-   rj_energy.spring, its damping's work in lost_damping; the stability bound counts both. */
+   rj_energy.spring, its damping's work in lost_damping; the stability bound counts both.
+   exact = 1: a constraint instead of a cable: e is held at 0 to round-off (each step's
+   impulse on the two joints, reported over the step in their spring components; its
+   share of the kinetic energy's discrete form is counted with the limits', lost_limit);
+   stiffness and damping must then be 0. Exact couplings need the tangent reference and,
+   with flexible links, no rigid link at their joints; they are resolved after the
+   latches of the step. */
 typedef struct rj_coupling_def {
     int joint_a, joint_b; /* joint indices, two different joints */
     double ratio;         /* theta_b follows ratio theta_a; within +-1e6 */
     double offset;        /* rad, within +-1e6 */
     double stiffness;     /* N m/rad, >= 0: the cable loop's torsional stiffness at joint b */
     double damping;       /* N m s/rad, >= 0 */
+    int exact;            /* 1: a constraint (no stiffness, no damping) */
     unsigned cookie;
 } rj_coupling_def;
 
@@ -947,6 +954,7 @@ struct rj_model {
     int nrotor;        /* of them with a rotor (rotor_inertia > 0) */
     rj_actuator_def *act; /* (nact) their definitions */
     int ncp;              /* couplings */
+    int nexact;           /* of them exact (constraints) */
     rj_coupling_def *cp;  /* (ncp) their definitions */
     rj_load_def *load; /* (nload) their definitions */
     int *load_node;    /* (nload) the node each acts on, in the scene's node order */
@@ -1384,6 +1392,7 @@ enum {
     RJ__PK_OFFSET,
     RJ__PK_STIFFNESS,
     RJ__PK_DAMPING,
+    RJ__PK_EXACT,
     RJ__PK_N,
     RJ__PF_JOINT_B = RJ__PK_N,
     RJ__PF_N
@@ -1732,6 +1741,8 @@ static const rj__field rj__coupling_fields[RJ__PF_N] = {
           0.0, RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m/rad"),
     RJ__F("damping", damping, "N m s/rad", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 3, 5, 'd', 0.0,
           RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m s/rad"),
+    RJ__F("exact", exact, "", RJ__FT_BOOL, RJ__WHEN_ALL, RJ__WR_SET, 4, 6, 'i', 0.0,
+          RJ__R(0.0, 1, 1.0, 1), "must be 0 (a cable) or 1 (a constraint)"),
     RJ__FA("joint_b", joint_b, "", RJ__FT_JOINT, -1, RJ__PK_JOINTS, RJ__WR_NONE, 1, 1, 'i', 1.0,
            RJ__ANY, "", 0),
 };
@@ -2612,6 +2623,35 @@ static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
     return 1;
 }
 
+/* An exact coupling is a constraint: no stiffness or damping of its own; on joints with
+   the tangent reference, and in a scene with flexible links, none holding a rigid link. */
+static int rj__validate_exact(const rj_scene_def *sc, const rj_coupling_def *d, int i,
+                              rj_error *err)
+{
+    const int joint[2] = { d->joint_a, d->joint_b };
+    const char *why = NULL;
+    char f[64];
+    int k;
+    if (!d->exact)
+        return 1;
+    if (d->stiffness != 0 || d->damping != 0)
+        why = "an exact coupling is a constraint: give it no stiffness or damping";
+    for (k = 0; k < 2 && !why; k++) {
+        const rj_joint_def *J = &sc->joints[joint[k]];
+        if (J->reference != RJ_REF_TANGENT)
+            why = "an exact coupling needs the tangent reference on both joints";
+        else if (!rj__all_rigid(sc) && (sc->links[J->body2].fidelity == RJ_LINK_RIGID ||
+                                        (J->body1 >= 0 &&
+                                         sc->links[J->body1].fidelity == RJ_LINK_RIGID)))
+            why = "an exact coupling's joint holds a rigid link in a scene with flexible links";
+    }
+    if (!why)
+        return 1;
+    RJ__FIELD(f, "couplings[%d].exact", i);
+    rj__fail(err, RJ_ERR_INVALID, f, 1, "%s = 1 is not supported: %s", f, why);
+    return 0;
+}
+
 /* Couplings: two different joints of the scene, and the rows. */
 static int rj__validate_couplings(const rj_scene_def *sc, rj_error *err)
 {
@@ -2639,7 +2679,8 @@ static int rj__validate_couplings(const rj_scene_def *sc, rj_error *err)
             return 0;
         }
         RJ__FIELD(item, "couplings[%d]", i);
-        if (!rj__check_rows(err, item, RJ__DEF_COUPLING, d, -1))
+        if (!rj__check_rows(err, item, RJ__DEF_COUPLING, d, -1) ||
+            !rj__validate_exact(sc, d, i, err))
             return 0;
     }
     return 1;
@@ -5130,6 +5171,7 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
 /* The model keeps its own copy of the definitions: the scene's arrays may go. */
 static void rj__init_copy_defs(rj_model *m, const rj_scene_def *sc)
 {
+    int k;
     memcpy(m->ldef, sc->links, sizeof(rj_link_def) * (size_t) m->nl);
     if (m->nj)
         memcpy(m->jdef, sc->joints, sizeof(rj_joint_def) * (size_t) m->nj);
@@ -5143,6 +5185,8 @@ static void rj__init_copy_defs(rj_model *m, const rj_scene_def *sc)
     m->ncp = sc->coupling_count;
     if (m->ncp)
         memcpy(m->cp, sc->couplings, sizeof(rj_coupling_def) * (size_t) m->ncp);
+    for (k = 0; k < m->ncp; k++)
+        m->nexact += m->cp[k].exact;
 }
 
 /* A link's section: area and second moment (layers integrate EA and EI exactly for the
@@ -8310,6 +8354,73 @@ static RJ__FORCE_INLINE void rj__stage_prescribed(const rj_model *m, rj_state *s
     }
 }
 
+/* A torque impulse P on joint J's pins at its node rates (the opposite on body 1): node
+   rates move by P over their rotary inertias; the kinetic energy's discrete form loses
+   what the latches' jumps count, this step's half (returned) and the next's (*pending). */
+static double rj__pin_impulse(const rj_model *m, const rj__frames *f, const rj__joint *J,
+                              double P, double *pending, double *fin)
+{
+    const int node[2] = { J->nJ, J->nI };
+    double loss = 0;
+    int k;
+    for (k = 0; k < 2; k++) {
+        const int n = node[k];
+        double before, after;
+        if (n < 0 || !(m->rinv[n] > 0))
+            continue;
+        before = f->nw[n];
+        after = before + (k == 0 ? P : -P) * m->rinv[n];
+        /* the first step's kinetic energy is 1/2 I (2 w^0 - w^{1/2}) w^{1/2} */
+        loss += 0.5 * (f->first ? 2 * f->w[n] - before - after : f->w[n]) * (before - after) /
+                m->rinv[n];
+        *pending += 0.5 * after * (before - after) / m->rinv[n];
+        f->nw[n] = after;
+    }
+    rj__jump_nodes(m, f, J, fin);
+    return loss;
+}
+
+/* Joint j's rate at n + 1/2 from the nodes' now, its compliance into *comp. */
+static double rj__rate_now(const rj_model *m, const rj_state *s, const rj__frames *f, int j,
+                           double *comp)
+{
+    rj__jgeo g;
+    rj__kept_geo(s->jsc + 8 * j, &g);
+    if (comp)
+        *comp = rj__joint_compliance(m, &m->jnt[j], &g);
+    return rj__joint_rate(&m->jnt[j], &g, f->nvx, f->nvy, f->nw, NULL, NULL);
+}
+
+/* Stage 5c of scenes with exact couplings: each one's impulse pair, P on joint b and
+   -ratio P on joint a, that lands e at 0 at n + 1 (P = -residual over the pair's
+   compliance, c_b + ratio^2 c_a), after the latches; reported as the joints' spring
+   torques over the kick, its discrete energy with the limits'. */
+static RJ__FORCE_INLINE void rj__stage_exact(const rj_model *m, const rj_state *s,
+                                             const rj__frames *f, rj__sums *e, double *fin)
+{
+    int k;
+    for (k = 0; k < m->ncp; k++) {
+        const rj_coupling_def *c = &m->cp[k];
+        const int a = c->joint_a, b = c->joint_b;
+        double *rec_a = RJ__FJ(m, f->next, a), *rec_b = RJ__FJ(m, f->next, b);
+        double e_n, rate, P, ca, cb, loss;
+        if (!c->exact)
+            continue;
+        e_n = (RJ__FJ(m, f->old, b)[RJ__JD_THETA] - m->jdef[b].angle0) -
+              c->ratio * (RJ__FJ(m, f->old, a)[RJ__JD_THETA] - m->jdef[a].angle0) - c->offset;
+        rate = rj__rate_now(m, s, f, b, &cb) - c->ratio * rj__rate_now(m, s, f, a, &ca);
+        P = -(rate + e_n / f->dt) / (cb + c->ratio * c->ratio * ca);
+        loss = rj__pin_impulse(m, f, &m->jnt[b], P, &e->pending, fin);
+        loss += rj__pin_impulse(m, f, &m->jnt[a], -c->ratio * P, &e->pending, fin);
+        e->lost_limit += loss;
+        e->kinetic -= loss;
+        rec_b[RJ__JD_TQ0 + RJ_TORQUE_SPRING] += P / f->kick;
+        rec_a[RJ__JD_TQ0 + RJ_TORQUE_SPRING] -= c->ratio * P / f->kick;
+        rec_b[RJ__JD_RATE] = rj__rate_now(m, s, f, b, NULL);
+        rec_a[RJ__JD_RATE] = rj__rate_now(m, s, f, a, NULL);
+    }
+}
+
 /* Stage 5, the limits' velocity-level responses, and the work of the joint torques. */
 static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_state *s,
                                                        const rj__frames *f, rj__sums *e,
@@ -8338,6 +8449,8 @@ static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_sta
             e->drive += rj__drive_work(old_joint, new_joint, kept[4], f->dt);
         new_joint[RJ__JD_RATE] = ratep;
     }
+    if (m->nexact)
+        rj__stage_exact(m, s, f, e, fin);
 }
 
 /* Stage 6a: rigid bodies' poses at n + 1. */
@@ -9021,7 +9134,8 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
         }
         lost_limit += now;
         pending += 0.5 * qdp[j] * sum;
-        record[RJ__JD_IMPULSE] = -sum;
+        /* the latches' impulse: less an exact coupling's, reported as a torque */
+        record[RJ__JD_IMPULSE] = -sum - (m->nexact ? r->x[j] : 0.0);
     }
     e->lost_limit = lost_limit;
     e->pending = pending;
@@ -9038,6 +9152,42 @@ static void rj__rig_targets(const rj_model *m, const rj_state *s, const rj__fram
                       ? rj__prescribed_rate(m, s, j, r->q[j], f->t, f->dt)
                       : 0.0;
         r->h[j] = r->qdp[j];
+    }
+}
+
+/* Rigid step, stage 5c: each exact coupling's impulse along w = e_b - ratio e_a, P =
+   -(w . q' + e^n / dt) / (w . M^-1 w), which lands e at 0 at n + 1 (after the latches);
+   reported as the two joints' spring torques over the kick (rj__rig_jump_loss counts its
+   energy with the latches' and keeps it out of their impulses: r->x). r->tmp: w, M^-1 w. */
+static void rj__rig_exact(const rj_model *m, const rj__frames *f, rj__rig *r)
+{
+    const int n = m->nj;
+    double *w = r->tmp, *mw = r->tmp + n, *new_joints = RJ__FJ(m, f->next, 0);
+    int k, j;
+    /* r->x (the prescribed targets, spent by now): each joint's coupling impulse */
+    for (j = 0; j < n; j++)
+        r->x[j] = 0;
+    for (k = 0; k < m->ncp; k++) {
+        const rj_coupling_def *c = &m->cp[k];
+        const int a = c->joint_a, b = c->joint_b;
+        const double e_n = (r->q[b] - m->jdef[b].angle0) -
+                           c->ratio * (r->q[a] - m->jdef[a].angle0) - c->offset;
+        double P;
+        if (!c->exact)
+            continue;
+        for (j = 0; j < n; j++)
+            w[j] = 0;
+        w[b] = 1;
+        w[a] = -c->ratio;
+        rj__chol_solve(n, r->L, w, mw);
+        P = -(r->qdp[b] - c->ratio * r->qdp[a] + e_n / f->dt) / (mw[b] - c->ratio * mw[a]);
+        for (j = 0; j < n; j++)
+            r->qdp[j] += mw[j] * P;
+        r->x[b] += P;
+        r->x[a] -= c->ratio * P;
+        new_joints[(size_t) RJ__JD_COUNT * b + RJ__JD_TQ0 + RJ_TORQUE_SPRING] += P / f->kick;
+        new_joints[(size_t) RJ__JD_COUNT * a + RJ__JD_TQ0 + RJ_TORQUE_SPRING] -=
+            c->ratio * P / f->kick;
     }
 }
 
@@ -9063,9 +9213,15 @@ static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj_sta
     if (m->npres)
         rj__rig_targets(m, s, f, r);
     rj__rig_single_impulses(m, f, r, &jumps);
-    if (!jumps.count && !m->npres)
+    if (!jumps.count && !m->npres && !m->nexact)
         return;
-    rj__rig_plastic_set(m, r, f->new_flags, jumps.count, jumps.last);
+    if (!jumps.count && !m->npres)
+        for (j = 0; j < n; j++)
+            r->h[j] = qdp[j];
+    if (jumps.count || m->npres)
+        rj__rig_plastic_set(m, r, f->new_flags, jumps.count, jumps.last);
+    if (m->nexact)
+        rj__rig_exact(m, f, r);
     if (!jumps.impact)
         for (j = 0; j < n; j++)
             qdd[j] = (qdp[j] - qd[j]) / kick;

@@ -386,13 +386,20 @@ typedef struct rj_actuator_def {
    (rj_default_coupling_def): joint_a 0, joint_b 1, ratio 1, offset 0 rad, stiffness
    0 N m/rad, damping 0 N m s/rad. Its torques are reported in the two joints' spring and
    damping components (RJ_TORQUE_SPRING, RJ_TORQUE_DAMPING); its energy is in
-   rj_energy.spring, its damping's work in lost_damping; the stability bound counts both. */
+   rj_energy.spring, its damping's work in lost_damping; the stability bound counts both.
+   exact = 1: a constraint instead of a cable: e is held at 0 to round-off (each step's
+   impulse on the two joints, reported over the step in their spring components; its
+   share of the kinetic energy's discrete form is counted with the limits', lost_limit);
+   stiffness and damping must then be 0. Exact couplings need the tangent reference and,
+   with flexible links, no rigid link at their joints; they are resolved after the
+   latches of the step. */
 typedef struct rj_coupling_def {
     int joint_a, joint_b; /* joint indices, two different joints */
     double ratio;         /* theta_b follows ratio theta_a; within +-1e6 */
     double offset;        /* rad, within +-1e6 */
     double stiffness;     /* N m/rad, >= 0: the cable loop's torsional stiffness at joint b */
     double damping;       /* N m s/rad, >= 0 */
+    int exact;            /* 1: a constraint (no stiffness, no damping) */
     unsigned cookie;
 } rj_coupling_def;
 

@@ -153,6 +153,7 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
 /* The model keeps its own copy of the definitions: the scene's arrays may go. */
 static void rj__init_copy_defs(rj_model *m, const rj_scene_def *sc)
 {
+    int k;
     memcpy(m->ldef, sc->links, sizeof(rj_link_def) * (size_t) m->nl);
     if (m->nj)
         memcpy(m->jdef, sc->joints, sizeof(rj_joint_def) * (size_t) m->nj);
@@ -166,6 +167,8 @@ static void rj__init_copy_defs(rj_model *m, const rj_scene_def *sc)
     m->ncp = sc->coupling_count;
     if (m->ncp)
         memcpy(m->cp, sc->couplings, sizeof(rj_coupling_def) * (size_t) m->ncp);
+    for (k = 0; k < m->ncp; k++)
+        m->nexact += m->cp[k].exact;
 }
 
 /* A link's section: area and second moment (layers integrate EA and EI exactly for the

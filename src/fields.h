@@ -105,6 +105,7 @@ enum {
     RJ__PK_OFFSET,
     RJ__PK_STIFFNESS,
     RJ__PK_DAMPING,
+    RJ__PK_EXACT,
     RJ__PK_N,
     RJ__PF_JOINT_B = RJ__PK_N,
     RJ__PF_N
@@ -453,6 +454,8 @@ static const rj__field rj__coupling_fields[RJ__PF_N] = {
           0.0, RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m/rad"),
     RJ__F("damping", damping, "N m s/rad", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 3, 5, 'd', 0.0,
           RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m s/rad"),
+    RJ__F("exact", exact, "", RJ__FT_BOOL, RJ__WHEN_ALL, RJ__WR_SET, 4, 6, 'i', 0.0,
+          RJ__R(0.0, 1, 1.0, 1), "must be 0 (a cable) or 1 (a constraint)"),
     RJ__FA("joint_b", joint_b, "", RJ__FT_JOINT, -1, RJ__PK_JOINTS, RJ__WR_NONE, 1, 1, 'i', 1.0,
            RJ__ANY, "", 0),
 };

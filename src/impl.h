@@ -200,6 +200,7 @@ struct rj_model {
     int nrotor;        /* of them with a rotor (rotor_inertia > 0) */
     rj_actuator_def *act; /* (nact) their definitions */
     int ncp;              /* couplings */
+    int nexact;           /* of them exact (constraints) */
     rj_coupling_def *cp;  /* (ncp) their definitions */
     rj_load_def *load; /* (nload) their definitions */
     int *load_node;    /* (nload) the node each acts on, in the scene's node order */

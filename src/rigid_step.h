@@ -372,7 +372,8 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
         }
         lost_limit += now;
         pending += 0.5 * qdp[j] * sum;
-        record[RJ__JD_IMPULSE] = -sum;
+        /* the latches' impulse: less an exact coupling's, reported as a torque */
+        record[RJ__JD_IMPULSE] = -sum - (m->nexact ? r->x[j] : 0.0);
     }
     e->lost_limit = lost_limit;
     e->pending = pending;
@@ -389,6 +390,42 @@ static void rj__rig_targets(const rj_model *m, const rj_state *s, const rj__fram
                       ? rj__prescribed_rate(m, s, j, r->q[j], f->t, f->dt)
                       : 0.0;
         r->h[j] = r->qdp[j];
+    }
+}
+
+/* Rigid step, stage 5c: each exact coupling's impulse along w = e_b - ratio e_a, P =
+   -(w . q' + e^n / dt) / (w . M^-1 w), which lands e at 0 at n + 1 (after the latches);
+   reported as the two joints' spring torques over the kick (rj__rig_jump_loss counts its
+   energy with the latches' and keeps it out of their impulses: r->x). r->tmp: w, M^-1 w. */
+static void rj__rig_exact(const rj_model *m, const rj__frames *f, rj__rig *r)
+{
+    const int n = m->nj;
+    double *w = r->tmp, *mw = r->tmp + n, *new_joints = RJ__FJ(m, f->next, 0);
+    int k, j;
+    /* r->x (the prescribed targets, spent by now): each joint's coupling impulse */
+    for (j = 0; j < n; j++)
+        r->x[j] = 0;
+    for (k = 0; k < m->ncp; k++) {
+        const rj_coupling_def *c = &m->cp[k];
+        const int a = c->joint_a, b = c->joint_b;
+        const double e_n = (r->q[b] - m->jdef[b].angle0) -
+                           c->ratio * (r->q[a] - m->jdef[a].angle0) - c->offset;
+        double P;
+        if (!c->exact)
+            continue;
+        for (j = 0; j < n; j++)
+            w[j] = 0;
+        w[b] = 1;
+        w[a] = -c->ratio;
+        rj__chol_solve(n, r->L, w, mw);
+        P = -(r->qdp[b] - c->ratio * r->qdp[a] + e_n / f->dt) / (mw[b] - c->ratio * mw[a]);
+        for (j = 0; j < n; j++)
+            r->qdp[j] += mw[j] * P;
+        r->x[b] += P;
+        r->x[a] -= c->ratio * P;
+        new_joints[(size_t) RJ__JD_COUNT * b + RJ__JD_TQ0 + RJ_TORQUE_SPRING] += P / f->kick;
+        new_joints[(size_t) RJ__JD_COUNT * a + RJ__JD_TQ0 + RJ_TORQUE_SPRING] -=
+            c->ratio * P / f->kick;
     }
 }
 
@@ -414,9 +451,15 @@ static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj_sta
     if (m->npres)
         rj__rig_targets(m, s, f, r);
     rj__rig_single_impulses(m, f, r, &jumps);
-    if (!jumps.count && !m->npres)
+    if (!jumps.count && !m->npres && !m->nexact)
         return;
-    rj__rig_plastic_set(m, r, f->new_flags, jumps.count, jumps.last);
+    if (!jumps.count && !m->npres)
+        for (j = 0; j < n; j++)
+            r->h[j] = qdp[j];
+    if (jumps.count || m->npres)
+        rj__rig_plastic_set(m, r, f->new_flags, jumps.count, jumps.last);
+    if (m->nexact)
+        rj__rig_exact(m, f, r);
     if (!jumps.impact)
         for (j = 0; j < n; j++)
             qdd[j] = (qdp[j] - qd[j]) / kick;

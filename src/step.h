@@ -961,6 +961,73 @@ static RJ__FORCE_INLINE void rj__stage_prescribed(const rj_model *m, rj_state *s
     }
 }
 
+/* A torque impulse P on joint J's pins at its node rates (the opposite on body 1): node
+   rates move by P over their rotary inertias; the kinetic energy's discrete form loses
+   what the latches' jumps count, this step's half (returned) and the next's (*pending). */
+static double rj__pin_impulse(const rj_model *m, const rj__frames *f, const rj__joint *J,
+                              double P, double *pending, double *fin)
+{
+    const int node[2] = { J->nJ, J->nI };
+    double loss = 0;
+    int k;
+    for (k = 0; k < 2; k++) {
+        const int n = node[k];
+        double before, after;
+        if (n < 0 || !(m->rinv[n] > 0))
+            continue;
+        before = f->nw[n];
+        after = before + (k == 0 ? P : -P) * m->rinv[n];
+        /* the first step's kinetic energy is 1/2 I (2 w^0 - w^{1/2}) w^{1/2} */
+        loss += 0.5 * (f->first ? 2 * f->w[n] - before - after : f->w[n]) * (before - after) /
+                m->rinv[n];
+        *pending += 0.5 * after * (before - after) / m->rinv[n];
+        f->nw[n] = after;
+    }
+    rj__jump_nodes(m, f, J, fin);
+    return loss;
+}
+
+/* Joint j's rate at n + 1/2 from the nodes' now, its compliance into *comp. */
+static double rj__rate_now(const rj_model *m, const rj_state *s, const rj__frames *f, int j,
+                           double *comp)
+{
+    rj__jgeo g;
+    rj__kept_geo(s->jsc + 8 * j, &g);
+    if (comp)
+        *comp = rj__joint_compliance(m, &m->jnt[j], &g);
+    return rj__joint_rate(&m->jnt[j], &g, f->nvx, f->nvy, f->nw, NULL, NULL);
+}
+
+/* Stage 5c of scenes with exact couplings: each one's impulse pair, P on joint b and
+   -ratio P on joint a, that lands e at 0 at n + 1 (P = -residual over the pair's
+   compliance, c_b + ratio^2 c_a), after the latches; reported as the joints' spring
+   torques over the kick, its discrete energy with the limits'. */
+static RJ__FORCE_INLINE void rj__stage_exact(const rj_model *m, const rj_state *s,
+                                             const rj__frames *f, rj__sums *e, double *fin)
+{
+    int k;
+    for (k = 0; k < m->ncp; k++) {
+        const rj_coupling_def *c = &m->cp[k];
+        const int a = c->joint_a, b = c->joint_b;
+        double *rec_a = RJ__FJ(m, f->next, a), *rec_b = RJ__FJ(m, f->next, b);
+        double e_n, rate, P, ca, cb, loss;
+        if (!c->exact)
+            continue;
+        e_n = (RJ__FJ(m, f->old, b)[RJ__JD_THETA] - m->jdef[b].angle0) -
+              c->ratio * (RJ__FJ(m, f->old, a)[RJ__JD_THETA] - m->jdef[a].angle0) - c->offset;
+        rate = rj__rate_now(m, s, f, b, &cb) - c->ratio * rj__rate_now(m, s, f, a, &ca);
+        P = -(rate + e_n / f->dt) / (cb + c->ratio * c->ratio * ca);
+        loss = rj__pin_impulse(m, f, &m->jnt[b], P, &e->pending, fin);
+        loss += rj__pin_impulse(m, f, &m->jnt[a], -c->ratio * P, &e->pending, fin);
+        e->lost_limit += loss;
+        e->kinetic -= loss;
+        rec_b[RJ__JD_TQ0 + RJ_TORQUE_SPRING] += P / f->kick;
+        rec_a[RJ__JD_TQ0 + RJ_TORQUE_SPRING] -= c->ratio * P / f->kick;
+        rec_b[RJ__JD_RATE] = rj__rate_now(m, s, f, b, NULL);
+        rec_a[RJ__JD_RATE] = rj__rate_now(m, s, f, a, NULL);
+    }
+}
+
 /* Stage 5, the limits' velocity-level responses, and the work of the joint torques. */
 static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_state *s,
                                                        const rj__frames *f, rj__sums *e,
@@ -989,6 +1056,8 @@ static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_sta
             e->drive += rj__drive_work(old_joint, new_joint, kept[4], f->dt);
         new_joint[RJ__JD_RATE] = ratep;
     }
+    if (m->nexact)
+        rj__stage_exact(m, s, f, e, fin);
 }
 
 /* Stage 6a: rigid bodies' poses at n + 1. */

@@ -512,6 +512,35 @@ static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
     return 1;
 }
 
+/* An exact coupling is a constraint: no stiffness or damping of its own; on joints with
+   the tangent reference, and in a scene with flexible links, none holding a rigid link. */
+static int rj__validate_exact(const rj_scene_def *sc, const rj_coupling_def *d, int i,
+                              rj_error *err)
+{
+    const int joint[2] = { d->joint_a, d->joint_b };
+    const char *why = NULL;
+    char f[64];
+    int k;
+    if (!d->exact)
+        return 1;
+    if (d->stiffness != 0 || d->damping != 0)
+        why = "an exact coupling is a constraint: give it no stiffness or damping";
+    for (k = 0; k < 2 && !why; k++) {
+        const rj_joint_def *J = &sc->joints[joint[k]];
+        if (J->reference != RJ_REF_TANGENT)
+            why = "an exact coupling needs the tangent reference on both joints";
+        else if (!rj__all_rigid(sc) && (sc->links[J->body2].fidelity == RJ_LINK_RIGID ||
+                                        (J->body1 >= 0 &&
+                                         sc->links[J->body1].fidelity == RJ_LINK_RIGID)))
+            why = "an exact coupling's joint holds a rigid link in a scene with flexible links";
+    }
+    if (!why)
+        return 1;
+    RJ__FIELD(f, "couplings[%d].exact", i);
+    rj__fail(err, RJ_ERR_INVALID, f, 1, "%s = 1 is not supported: %s", f, why);
+    return 0;
+}
+
 /* Couplings: two different joints of the scene, and the rows. */
 static int rj__validate_couplings(const rj_scene_def *sc, rj_error *err)
 {
@@ -539,7 +568,8 @@ static int rj__validate_couplings(const rj_scene_def *sc, rj_error *err)
             return 0;
         }
         RJ__FIELD(item, "couplings[%d]", i);
-        if (!rj__check_rows(err, item, RJ__DEF_COUPLING, d, -1))
+        if (!rj__check_rows(err, item, RJ__DEF_COUPLING, d, -1) ||
+            !rj__validate_exact(sc, d, i, err))
             return 0;
     }
     return 1;

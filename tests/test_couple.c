@@ -828,6 +828,67 @@ static void test_scene_errors(rjt_ctx *c)
     scene_error(c, "coupling c\n  stiffness = 10\n", "no joints", "no joints key");
 }
 
+/* An exact coupling (a constraint, no cable): the rigid pair follows the exact tie at the
+   scheme's second order in dt, the stretch is 0 to round-off and the balance closes, at
+   1 and 0.5 ms; flexible panels keep the stretch at 0 to round-off too. */
+static double exact_tie_error(int fidelity, double dt, double *e_peak, double *balance,
+                              char *msg, size_t n)
+{
+    pair p;
+    rods r;
+    rj_model *m;
+    rj_state *s;
+    double q = TH10, w = 0, err = 0;
+    int sub, i;
+    pair_make(&p, fidelity, 0, 0);
+    p.cable.exact = 1;
+    p.scene.solver.dt = dt;
+    r = rods_of(p.link);
+    *e_peak = *balance = 0;
+    if (!pair_build(&p, &m, &s, msg, n))
+        return -1;
+    sub = (int) ceil(rj_model_dt(m) / 1e-5);
+    while (rj_state_time(s) < T_END - 0.5 * rj_model_dt(m)) {
+        rj_energy e;
+        if (rj_step(m, s) != RJ_OK) {
+            snprintf(msg, n, "rj_step: %s", rj_state_error(s));
+            pair_free(m, s);
+            return -1;
+        }
+        for (i = 0; i < sub; i++)
+            exact_rk4(&r, &q, &w, rj_model_dt(m) / sub);
+        err = fmax(err, fabs(rj_joint_theta_running(m, s, 0) - q));
+        *e_peak = fmax(*e_peak, fabs(stretch(m, s, &p.cable)));
+        rj_state_energy(m, s, &e);
+        *balance = fmax(*balance, fabs(e.balance));
+    }
+    pair_free(m, s);
+    return err;
+}
+
+static void test_exact(rjt_ctx *c)
+{
+    char msg[300] = "";
+    double e1, e2, b1, b2, ef, bf;
+    const double d1 = exact_tie_error(RJ_LINK_RIGID, 1e-3, &e1, &b1, msg, sizeof msg);
+    const double d2 = exact_tie_error(RJ_LINK_RIGID, 5e-4, &e2, &b2, msg, sizeof msg);
+    const double df = exact_tie_error(RJ_LINK_FLEXIBLE, 0, &ef, &bf, msg, sizeof msg);
+    /* the balance as test_energy's: within 1e-4 of the spring's initial energy, falling
+       as dt^2 */
+    const double e0 = 0.5 * K1 * (TH10 - FREE1) * (TH10 - FREE1);
+    rjt_check(c, d1 > 0 && d2 > 0 && d1 / d2 > 3.5 && d1 / d2 < 4.5 && e1 < 1e-12 &&
+                     e2 < 1e-12 && b1 < 1e-4 * e0 && b2 < 0.3 * b1,
+              "exact coupling, rigid pair: the exact tie at second order in dt, the stretch "
+              "0 to round-off",
+              "max |theta1 - exact tie| %.3g rad at dt 1 ms, %.3g at 0.5 ms (ratio %.2f); "
+              "max |e| %.3g, %.3g rad; max |balance| %.3g, %.3g J of %.3g J %s",
+              d1, d2, d1 / d2, e1, e2, b1, b2, e0, msg);
+    rjt_check(c, df >= 0 && ef < 1e-12 && bf < 1e-6 * e0,
+              "exact coupling, flexible pair: the stretch 0 to round-off, the balance closed",
+              "max |e| %.3g rad, max |balance| %.3g J (theta1 within %.3g rad of the rigid "
+              "tie: the panels bend) %s", ef, bf, df, msg);
+}
+
 int main(void)
 {
     rjt_ctx c = { 0, 0 };
@@ -845,5 +906,6 @@ int main(void)
     test_refusals(&c);
     test_scene_roundtrip(&c);
     test_scene_errors(&c);
+    test_exact(&c);
     return rjt_summary(&c, "test_couple");
 }
