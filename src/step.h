@@ -998,34 +998,54 @@ static double rj__rate_now(const rj_model *m, const rj_state *s, const rj__frame
     return rj__joint_rate(&m->jnt[j], &g, f->nvx, f->nvy, f->nw, NULL, NULL);
 }
 
+/* What the exact couplings' stage returns: this step's share of their impulses' loss,
+   the next step's, and the sum of the angles they moved (finite while they are). */
+typedef struct rj__exact_sums {
+    double loss, pending, fin;
+} rj__exact_sums;
+
 /* Stage 5c of scenes with exact couplings: each one's impulse pair, P on joint b and
    -ratio P on joint a, that lands e at 0 at n + 1 (P = -residual over the pair's
    compliance, c_b + ratio^2 c_a), after the latches; reported as the joints' spring
-   torques over the kick, its discrete energy with the limits'. */
-static RJ__FORCE_INLINE void rj__stage_exact(const rj_model *m, const rj_state *s,
-                                             const rj__frames *f, rj__sums *e, double *fin)
+   torques over the kick, its discrete energy with the limits'. Apart (not inlined; the
+   frames' record by value and the sums returned: a pointer to the record would keep it
+   out of registers in the whole step), so a scene without them pays one test. */
+static RJ__NOINLINE rj__exact_sums rj__stage_exact(const rj_model *m, const rj_state *s,
+                                                   rj__frames f)
 {
+    rj__exact_sums out;
     int k;
+    out.loss = out.pending = out.fin = 0;
     for (k = 0; k < m->ncp; k++) {
         const rj_coupling_def *c = &m->cp[k];
         const int a = c->joint_a, b = c->joint_b;
-        double *rec_a = RJ__FJ(m, f->next, a), *rec_b = RJ__FJ(m, f->next, b);
-        double e_n, rate, P, ca, cb, loss;
+        double *rec_a = RJ__FJ(m, f.next, a), *rec_b = RJ__FJ(m, f.next, b);
+        double e_n, rate, P, ca, cb;
         if (!c->exact)
             continue;
-        e_n = (RJ__FJ(m, f->old, b)[RJ__JD_THETA] - m->jdef[b].angle0) -
-              c->ratio * (RJ__FJ(m, f->old, a)[RJ__JD_THETA] - m->jdef[a].angle0) - c->offset;
-        rate = rj__rate_now(m, s, f, b, &cb) - c->ratio * rj__rate_now(m, s, f, a, &ca);
-        P = -(rate + e_n / f->dt) / (cb + c->ratio * c->ratio * ca);
-        loss = rj__pin_impulse(m, f, &m->jnt[b], P, &e->pending, fin);
-        loss += rj__pin_impulse(m, f, &m->jnt[a], -c->ratio * P, &e->pending, fin);
-        e->lost_limit += loss;
-        e->kinetic -= loss;
-        rec_b[RJ__JD_TQ0 + RJ_TORQUE_SPRING] += P / f->kick;
-        rec_a[RJ__JD_TQ0 + RJ_TORQUE_SPRING] -= c->ratio * P / f->kick;
-        rec_b[RJ__JD_RATE] = rj__rate_now(m, s, f, b, NULL);
-        rec_a[RJ__JD_RATE] = rj__rate_now(m, s, f, a, NULL);
+        e_n = (RJ__FJ(m, f.old, b)[RJ__JD_THETA] - m->jdef[b].angle0) -
+              c->ratio * (RJ__FJ(m, f.old, a)[RJ__JD_THETA] - m->jdef[a].angle0) - c->offset;
+        rate = rj__rate_now(m, s, &f, b, &cb) - c->ratio * rj__rate_now(m, s, &f, a, &ca);
+        P = -(rate + e_n / f.dt) / (cb + c->ratio * c->ratio * ca);
+        out.loss += rj__pin_impulse(m, &f, &m->jnt[b], P, &out.pending, &out.fin);
+        out.loss += rj__pin_impulse(m, &f, &m->jnt[a], -c->ratio * P, &out.pending, &out.fin);
+        rec_b[RJ__JD_TQ0 + RJ_TORQUE_SPRING] += P / f.kick;
+        rec_a[RJ__JD_TQ0 + RJ_TORQUE_SPRING] -= c->ratio * P / f.kick;
+        rec_b[RJ__JD_RATE] = rj__rate_now(m, s, &f, b, NULL);
+        rec_a[RJ__JD_RATE] = rj__rate_now(m, s, &f, a, NULL);
     }
+    return out;
+}
+
+/* The exact couplings' stage on the step's frames and sums. */
+static RJ__FORCE_INLINE void rj__update_exact(const rj_model *m, const rj_state *s,
+                                              const rj__frames *f, rj__sums *e, double *fin)
+{
+    const rj__exact_sums out = rj__stage_exact(m, s, *f);
+    e->lost_limit += out.loss;
+    e->kinetic -= out.loss;
+    e->pending += out.pending;
+    *fin += out.fin;
 }
 
 /* Stage 5, the limits' velocity-level responses, and the work of the joint torques. */
@@ -1056,8 +1076,6 @@ static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_sta
             e->drive += rj__drive_work(old_joint, new_joint, kept[4], f->dt);
         new_joint[RJ__JD_RATE] = ratep;
     }
-    if (m->nexact)
-        rj__stage_exact(m, s, f, e, fin);
 }
 
 /* Stage 6a: rigid bodies' poses at n + 1. */
@@ -1352,6 +1370,8 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     rj__stage_friction(m, s, &f);
     rj__stage_update(m, s, &f, &adv, &e, &fin);
     rj__stage_velocity_limits(m, s, &f, &e, &fin);
+    if (m->nexact)
+        rj__update_exact(m, s, &f, &e, &fin);
     if (applied)
         e.work += rj__applied_work(m, s, f.old, f.next);
     rj__stage_constraints(m, s, &f, &e, &fin);
