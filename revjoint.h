@@ -334,7 +334,10 @@ typedef struct rj_load_def {
      profile_value (rad/s) times it; RJ_PROFILE_CYCLOIDAL rest to rest through
      profile_value (rad) in profile_time (s); RJ_PROFILE_SPINUP to profile_value (rad/s)
      in profile_time TS (s), (OMEGA/TS) [t^2/2 + (TS/2 pi)^2 (cos(2 pi t/TS) - 1)] for
-     t < TS, then OMEGA (t - TS/2). The torque it takes is RJ_TORQUE_DRIVE (the impulse
+     t < TS, then OMEGA (t - TS/2); RJ_PROFILE_TABLE the actuator's table read as times
+     and angles (rad), the cubic spline through them with rest at both ends (rate and
+     acceleration continuous in between), held at the first angle before its first time
+     and at the last after. The torque it takes is RJ_TORQUE_DRIVE (the impulse
      that keeps the joint on its profile, over the step). A prescribed joint has no limits
      or lock (refused). rj_settle holds it at its start.
    Every type may have a rotor: rotor_inertia (kg m^2) behind a gear of ratio N, whose
@@ -352,14 +355,20 @@ typedef enum rj_actuator_type {
     RJ_ACTUATOR_SERVO,
     RJ_ACTUATOR_PRESCRIBED
 } rj_actuator_type;
-typedef enum rj_profile { RJ_PROFILE_RAMP = 0, RJ_PROFILE_CYCLOIDAL, RJ_PROFILE_SPINUP } rj_profile;
+typedef enum rj_profile {
+    RJ_PROFILE_RAMP = 0,
+    RJ_PROFILE_CYCLOIDAL,
+    RJ_PROFILE_SPINUP,
+    RJ_PROFILE_TABLE
+} rj_profile;
 typedef struct rj_actuator_def {
     int joint;                         /* joint index */
     int type;                          /* rj_actuator_type */
     double torque;                     /* N m (TORQUE) */
-    int table_count;                   /* 0 (constant), or 1..RJ_TABLE_MAX points (TORQUE) */
+    int table_count;                   /* 0, or 1..RJ_TABLE_MAX points (TORQUE; a profile
+                                          table: 2..RJ_TABLE_MAX) */
     double table_time[RJ_TABLE_MAX];   /* s, strictly increasing */
-    double table_factor[RJ_TABLE_MAX]; /* the torque's scale at table_time */
+    double table_factor[RJ_TABLE_MAX]; /* the torque's scale; a profile table's angle, rad */
     double stall_torque;               /* N m (DC) */
     double no_load_speed;              /* rad/s, not 0, the sign of stall_torque (DC) */
     int has_cutoff;                    /* the cutoff is on (DC) */
@@ -896,6 +905,7 @@ typedef struct rj__joint {
     const rj_actuator_def *act; /* its actuator, or NULL */
     double cut;      /* a DC motor's cutoff on the running angle; +-inf: none */
     double rotor;    /* its actuator's reflected rotor inertia N^2 J, kg m^2 (0: none) */
+    const double *spline; /* its actuator's profile table's second derivatives, or NULL */
 } rj__joint;
 
 /* An angle no joint reaches (within the 1e100 a checkpoint carries): the empty zone of the
@@ -953,6 +963,7 @@ struct rj_model {
     int npres;         /* of them prescribed (RJ_ACTUATOR_PRESCRIBED) */
     int nrotor;        /* of them with a rotor (rotor_inertia > 0) */
     rj_actuator_def *act; /* (nact) their definitions */
+    double *spl;          /* (nact x RJ_TABLE_MAX) profile tables' spline (rj__spline_build) */
     int ncp;              /* couplings */
     int nexact;           /* of them exact (constraints) */
     rj_coupling_def *cp;  /* (ncp) their definitions */
@@ -1439,6 +1450,7 @@ enum {
     RJ__WHEN_SERVO,
     RJ__WHEN_PRESCRIBED,
     RJ__WHEN_PROFILED, /* a servo's or a prescribed joint's profile */
+    RJ__WHEN_TABLED,   /* a torque's table, or a profile's */
     RJ__WHEN_GROUND,
     RJ__WHEN_ON_LINK,
     RJ__WHEN_PLACE /* a link's placement: with a note when a joint places the link */
@@ -1488,7 +1500,7 @@ static const char rj__sk_release[2][5] = { "rc12", "rc13" };
 static const char rj__sk_reference[2][8] = { "tangent", "chord" };
 static const char rj__sk_shape[2][8] = { "rect", "general" };
 static const char rj__sk_actuator[4][11] = { "torque", "dc", "servo", "prescribed" };
-static const char rj__sk_profile[3][10] = { "ramp", "cycloidal", "spinup" };
+static const char rj__sk_profile[4][10] = { "ramp", "cycloidal", "spinup", "table" };
 
 #define RJ__NAMES(a) a[0], (unsigned char) sizeof a[0], (unsigned char) (sizeof a / sizeof a[0])
 #define RJ__NO_NAMES NULL, 0, 0
@@ -1683,7 +1695,7 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
            RJ__R(-1e30, 1, 1e30, 1), "must be a finite torque within +-1e30 N m"),
     /* time factor pairs, as a load's */
     { "table", "table_count", "", RJ__OFF(rj_actuator_def, table_count),
-      RJ__OFF(rj_actuator_def, table_time), RJ__FT_TABLE, RJ__WHEN_TORQUE, RJ__WR_SET, 3, 3,
+      RJ__OFF(rj_actuator_def, table_time), RJ__FT_TABLE, RJ__WHEN_TABLED, RJ__WR_SET, 3, 3,
       'i', -1, 0.0, RJ__R(1.0, 1, RJ_TABLE_MAX, 1), "", NULL, 0, 0 },
     RJ__FC("stall_torque", stall_torque, "N m", RJ__FT_REAL, RJ__WHEN_DC, RJ__WR_ALWAYS, 4, 4,
            0.0, RJ__R(-1e30, 1, 1e30, 1), "must be a finite torque within +-1e30 N m"),
@@ -1704,8 +1716,8 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
            RJ__R(-1e6, 1, 1e6, 1), RJ__RULE_ANGLE),
     /* ramp RATE, cycloidal ANGLE DURATION, spinup OMEGA TS */
     { "profile", "profile", "", RJ__OFF(rj_actuator_def, profile), -1, RJ__FT_PROFILE,
-      RJ__WHEN_PROFILED, RJ__WR_SET, 9, 12, 'i', -1, 0.0, RJ__R(0.0, 1, 2.0, 1),
-      "RJ_PROFILE_RAMP, _CYCLOIDAL or _SPINUP", RJ__NAMES(rj__sk_profile) },
+      RJ__WHEN_PROFILED, RJ__WR_SET, 9, 12, 'i', -1, 0.0, RJ__R(0.0, 1, 3.0, 1),
+      "RJ_PROFILE_RAMP, _CYCLOIDAL, _SPINUP or _TABLE", RJ__NAMES(rj__sk_profile) },
     RJ__FC("start", start, "s", RJ__FT_REAL, RJ__WHEN_PROFILED, RJ__WR_SET, 9, 15, 0.0,
            RJ__R(-1e9, 1, 1e9, 1), "must be a finite time within +-1e9 s"),
     /* the rotor behind its gear, for every type */
@@ -1875,7 +1887,9 @@ static int rj__row_applies(const rj__field *r, int variant, int on_ground, int w
     case RJ__WHEN_PRESCRIBED:
         return variant == RJ_ACTUATOR_PRESCRIBED;
     case RJ__WHEN_PROFILED:
-        return variant == RJ_ACTUATOR_SERVO || variant == RJ_ACTUATOR_PRESCRIBED;
+    case RJ__WHEN_TABLED:
+        return variant == RJ_ACTUATOR_SERVO || variant == RJ_ACTUATOR_PRESCRIBED ||
+               (r->when == RJ__WHEN_TABLED && variant == RJ_ACTUATOR_TORQUE);
     case RJ__WHEN_GROUND:
         return !write || on_ground;
     case RJ__WHEN_ON_LINK:
@@ -2068,10 +2082,51 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2)
 
 /* A prescribed joint's running angle at t (rj_actuator_def, RJ_ACTUATOR_PRESCRIBED):
    angle0 until start, then angle0 plus the profile of the time since. */
-static double rj__profile_angle(const rj_actuator_def *a, double angle0, double t)
+/* The clamped cubic spline (rest at both ends) through n points (x strictly increasing,
+   y): its second derivatives into M, by the tridiagonal solve (Thomas; work: n doubles). */
+static void rj__spline_build(int n, const double *x, const double *y, double *M, double *work)
+{
+    int i;
+    /* rows: h_{i-1} M_{i-1} + 2 (h_{i-1} + h_i) M_i + h_i M_{i+1} = 6 (slope_i - slope_{i-1}),
+       ends: 2 h M_0 + h M_1 = 6 slope_0, h M_{n-2} + 2 h M_{n-1} = -6 slope_{n-2} */
+    for (i = 0; i < n; i++) {
+        const double hl = i > 0 ? x[i] - x[i - 1] : 0, hr = i < n - 1 ? x[i + 1] - x[i] : 0;
+        const double sl = i > 0 ? (y[i] - y[i - 1]) / hl : 0;
+        const double sr = i < n - 1 ? (y[i + 1] - y[i]) / hr : 0;
+        const double diag = 2 * (hl + hr), rhs = 6 * (sr - sl);
+        const double m = i > 0 ? hl / work[i - 1] : 0;
+        work[i] = diag - m * hl;
+        M[i] = rhs - m * (i > 0 ? M[i - 1] : 0);
+    }
+    for (i = n - 1; i >= 0; i--) {
+        const double hr = i < n - 1 ? x[i + 1] - x[i] : 0;
+        M[i] = (M[i] - (i < n - 1 ? hr * M[i + 1] : 0)) / work[i];
+    }
+}
+
+/* The spline of rj__spline_build at t, held at the end values outside [x_0, x_{n-1}]. */
+static double rj__spline_at(int n, const double *x, const double *y, const double *M, double t)
+{
+    int k;
+    if (!(t > x[0]))
+        return y[0];
+    for (k = 1; k < n; k++)
+        if (t < x[k]) {
+            const double h = x[k] - x[k - 1], A = (x[k] - t) / h, B = 1 - A;
+            return A * y[k - 1] + B * y[k] +
+                   ((A * A * A - A) * M[k - 1] + (B * B * B - B) * M[k]) * h * h / 6;
+        }
+    return y[n - 1];
+}
+
+static double rj__profile_angle(const rj_actuator_def *a, const double *spline, double angle0,
+                                double t)
 {
     const double tau = t - a->start, v = a->profile_value, T = a->profile_time;
     double x;
+    if (a->profile == RJ_PROFILE_TABLE)
+        return angle0 + rj__spline_at(a->table_count, a->table_time, a->table_factor, spline,
+                                      tau);
     if (!(tau > 0))
         return angle0;
     switch (a->profile) {
@@ -2597,6 +2652,30 @@ static int rj__validate_rotor(const rj_scene_def *sc, int i, rj_error *err)
     return 0;
 }
 
+/* A servo's or a prescribed joint's table is its profile's (profile = table): 2 points at
+   least, and a prescribed one starts at 0 rad (the joint starts at angle0); without that
+   profile it has none. */
+static int rj__validate_profile_table(const rj_actuator_def *d, int i, rj_error *err)
+{
+    const char *why = NULL;
+    char f[64];
+    if (d->type == RJ_ACTUATOR_TORQUE || d->type == RJ_ACTUATOR_DC)
+        return 1;
+    if (d->profile != RJ_PROFILE_TABLE && d->table_count != 0)
+        why = "a table applies with profile = table";
+    else if (d->profile == RJ_PROFILE_TABLE && d->table_count < 2)
+        why = "profile = table needs a table of 2 points at least";
+    else if (d->profile == RJ_PROFILE_TABLE && d->type == RJ_ACTUATOR_PRESCRIBED &&
+             d->table_factor[0] != 0)
+        why = "a prescribed table's first angle is 0 rad (the joint starts at angle0)";
+    if (!why)
+        return 1;
+    RJ__FIELD(f, "actuators[%d].table_count", i);
+    rj__fail(err, RJ_ERR_INVALID, f, d->table_count, "%s = %d is invalid: %s", f,
+             d->table_count, why);
+    return 0;
+}
+
 /* Actuators: a joint each, the rows of their type, a table in time. */
 static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
 {
@@ -2616,8 +2695,8 @@ static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
             !rj__validate_dc(d, i, err) || !rj__validate_prescribed(sc, d, i, err) ||
             !rj__validate_rotor(sc, i, err))
             return 0;
-        if (d->type == RJ_ACTUATOR_TORQUE &&
-            !rj__validate_time_table(err, item, d->table_count, d->table_time, d->table_factor))
+        if (!rj__validate_time_table(err, item, d->table_count, d->table_time, d->table_factor) ||
+            !rj__validate_profile_table(d, i, err))
             return 0;
     }
     return 1;
@@ -2917,7 +2996,7 @@ typedef struct rj__layout {
     size_t node_cl, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
     size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
-        link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, cp, lz;
+        link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
 } rj__layout;
 
 /* The model's block: every array linear in the scene; rigid scenes (joint coordinates)
@@ -2980,6 +3059,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->load = rj__carve(&off, (size_t) sc->load_count + 1, sizeof(rj_load_def));
     L->load_node = rj__carve(&off, (size_t) sc->load_count + 1, sizeof(int));
     L->act = rj__carve(&off, (size_t) sc->actuator_count + 1, sizeof(rj_actuator_def));
+    L->spl = rj__carve(&off, ((size_t) sc->actuator_count + 1) * RJ_TABLE_MAX, sizeof(double));
     L->cp = rj__carve(&off, (size_t) sc->coupling_count + 1, sizeof(rj_coupling_def));
     L->lz = rj__carve(&off,
                       15 * nn + 10 * ne + 8 + RJ__GRAPH_SCRATCH(nl, nj) +
@@ -5163,6 +5243,7 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(load, rj_load_def);
     RJ__SET(load_node, int);
     RJ__SET(act, rj_actuator_def);
+    RJ__SET(spl, double);
     RJ__SET(cp, rj_coupling_def);
     RJ__SET(lz, double);
 #undef RJ__SET
@@ -5516,6 +5597,11 @@ static void rj__init_actuator(rj_model *m, const rj_actuator_def *a)
     rj__joint *J = &m->jnt[a->joint];
     J->act = a;
     J->rotor = a->gear_ratio * a->gear_ratio * a->rotor_inertia;
+    if (a->type != RJ_ACTUATOR_TORQUE && a->profile == RJ_PROFILE_TABLE) {
+        double *M = m->spl + (size_t) (a - m->act) * RJ_TABLE_MAX, work[RJ_TABLE_MAX];
+        rj__spline_build(a->table_count, a->table_time, a->table_factor, M, work);
+        J->spline = M;
+    }
     m->nrotor += J->rotor > 0;
     m->npres += a->type == RJ_ACTUATOR_PRESCRIBED;
     if (a->type == RJ_ACTUATOR_SERVO) {
@@ -5549,6 +5635,7 @@ static void rj__init_joint_constants(rj_model *m)
         J->act = NULL;
         J->cut = HUGE_VAL;
         J->rotor = 0;
+        J->spline = NULL;
     }
     for (k = 0; k < m->nact; k++)
         rj__init_actuator(m, &m->act[k]);
@@ -6802,7 +6889,8 @@ static double rj__drive_torque(const rj_state *s, const rj__joint *J, double run
         return rj__clamp(tq, fabs(a->stall_torque));
     case RJ_ACTUATOR_SERVO:
         /* its target follows the profile from start (none: ramp 0), held while settling */
-        tq = a->kp * (rj__profile_angle(a, a->target, s->settling ? a->start : t) - run) -
+        tq = a->kp * (rj__profile_angle(a, J->spline, a->target, s->settling ? a->start : t) -
+                      run) -
              a->kd * rate;
         return a->torque_max > 0 ? rj__clamp(tq, a->torque_max) : tq;
     default: /* prescribed: its torque is the impulse that keeps it on its profile */
@@ -6937,7 +7025,7 @@ static double rj__prescribed_rate(const rj_model *m, const rj_state *s, int j, d
 {
     const rj_actuator_def *a = m->jnt[j].act;
     const double at = s->settling ? a->start : t + dt;
-    return (rj__profile_angle(a, m->jdef[j].angle0, at) - run) / dt;
+    return (rj__profile_angle(a, m->jnt[j].spline, m->jdef[j].angle0, at) - run) / dt;
 }
 
 /* The work of the joint's actuator over the step, in the form of rj__element_work. */
@@ -8313,8 +8401,12 @@ static RJ__FORCE_INLINE double rj__prescribe(const rj_model *m, const rj_state *
     const double o1 = w1, o2 = w2;
     double *new_joint = RJ__FJ(m, f->next, j);
     double m1 = 0, m2 = 0, work = 0, impulse;
-    /* the bodies' rates at n - 1/2 */
+    /* the bodies' rates at n - 1/2 (at the first step, 2 w^0 less those before the jump) */
     rj__joint_rate(J, g, f->vx, f->vy, f->w, &m1, &m2);
+    if (f->first) {
+        m1 = 2 * m1 - o1;
+        m2 = 2 * m2 - o2;
+    }
     rj__rate_to(J->I1, J->I2, target, &w1, &w2);
     if (rj__finite(J->I1)) {
         work -= 0.5 * J->I1 * m1 * (o1 - w1);
@@ -8370,8 +8462,8 @@ static double rj__pin_impulse(const rj_model *m, const rj__frames *f, const rj__
             continue;
         before = f->nw[n];
         after = before + (k == 0 ? P : -P) * m->rinv[n];
-        /* the first step's kinetic energy is 1/2 I (2 w^0 - w^{1/2}) w^{1/2} */
-        loss += 0.5 * (f->first ? 2 * f->w[n] - before - after : f->w[n]) * (before - after) /
+        /* the first step's w^{-1/2} is 2 w^0 less the rate before the impulse */
+        loss += 0.5 * (f->first ? 2 * f->w[n] - before : f->w[n]) * (before - after) /
                 m->rinv[n];
         *pending += 0.5 * after * (before - after) / m->rinv[n];
         f->nw[n] = after;
@@ -8679,9 +8771,13 @@ static void rj__drive_flow(const double *osc, double *nsc, rj__sums *e)
    the losses and work start from zero. */
 static void rj__first_accounts(double *new_scalars, rj__sums *e, double energy)
 {
-    new_scalars[RJ__FS_E0] = energy;
+    /* a prescribed joint driven from the start has put its first step's work into the
+       energy there: the initial energy is the one before it, and the work is kept (its
+       second half, pending, is the next step's) */
+    new_scalars[RJ__FS_E0] = energy - e->drive;
     rj__accounts_zero(new_scalars);
-    e->lost_damping = e->lost_friction = e->work = e->lost_limit = e->drive = 0;
+    e->lost_damping = e->lost_friction = e->work = e->lost_limit = 0;
+    new_scalars[RJ__FS_DRIVE] = e->drive;
     new_scalars[RJ__FS_DPEND] = e->drive_pending;
 }
 
@@ -9144,7 +9240,8 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
         double sum = 0, now;
         for (k = 0; k < n; k++)
             sum += Mj[k] * (rates_before[k] - qdp[k]);
-        now = 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
+        /* the first step's q'^{-1/2} is 2 q'(0) less the rates before any impulse */
+        now = 0.5 * (first ? 2 * qd[j] - rates_before[j] : qd[j]) * sum;
         /* a prescribed joint's impulse is its drive's: torque and work */
         if (rj__prescribed(&m->jnt[j])) {
             e->drive -= now;
@@ -9227,6 +9324,10 @@ static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj_sta
     int j;
     for (j = 0; j < n; j++)
         qdp[j] = qd[j] + kick * qdd[j];
+    /* the first step's kinetic energy reads the rates before any impulse (Q is spent) */
+    if (f->first)
+        for (j = 0; j < n; j++)
+            r->Q[j] = qdp[j];
     jumps.count = 0;
     jumps.last = -1;
     jumps.impact = 0;
@@ -9329,7 +9430,9 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
         double sum = 0;
         for (k = 0; k < n; k++)
             sum += Mj[k] * qdp[k];
-        ke += 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
+        /* the first step's q'^{-1/2}: 2 q'(0) less the rates before the step's impulses
+           (kept in Q by rj__rig_stage_rates), which an impulse does not move */
+        ke += 0.5 * (first ? 2 * qd[j] - r->Q[j] : qd[j]) * sum;
     }
     e->kinetic = ke;
     new_scalars[RJ__FS_KE] = ke;
@@ -11586,13 +11689,15 @@ static int rj__sp_profile(rj__sp *P, int a, int *i, int b, rj_actuator_def *d)
     const rj__field *rv = &rj__actuator_fields[RJ__CF_PROFILE_VALUE];
     const rj__field *rt = &rj__actuator_fields[RJ__CF_PROFILE_TIME];
     const char *key = "profile";
-    static const char shape[] = " (profile = ramp RATE, cycloidal ANGLE DURATION or spinup "
-                                "OMEGA TS)";
+    static const char shape[] = " (profile = ramp RATE, cycloidal ANGLE DURATION, spinup "
+                                "OMEGA TS or table)";
     double v = 0;
-    if (!rj__sp_enum(P, &P->tok[a], key, rj__sk_profile[0], sizeof rj__sk_profile[0], 3,
+    if (!rj__sp_enum(P, &P->tok[a], key, rj__sk_profile[0], sizeof rj__sk_profile[0], 4,
                      &d->profile))
         return 0;
     (*i)++;
+    if (d->profile == RJ_PROFILE_TABLE) /* its points are the table's */
+        return 1;
     if (*i >= b)
         return rj__sp_err(P, P->tok[a].line, P->tok[a].col + P->tok[a].len, key, rj__sp_nan(),
                           "missing the profile's numbers", rj__sp_where(P), shape, NULL, NULL);
@@ -13143,6 +13248,8 @@ static void rj__sw_name(rj__sw *W, const char *const *names, const char *prefix,
 static void rj__sw_profile(rj__sw *W, const rj_actuator_def *d)
 {
     rj__sw_put(W, rj__sk_profile[d->profile]);
+    if (d->profile == RJ_PROFILE_TABLE) /* its points are the table's */
+        return;
     rj__sw_put(W, " ");
     rj__sw_angle(W, d->profile_value, d->profile != RJ_PROFILE_CYCLOIDAL);
     if (d->profile == RJ_PROFILE_RAMP)

@@ -1236,10 +1236,15 @@ static void check_actuators(const scene *sc)
             printf("\n");
         } else {
             static const char *const names[3] = { "ramp at", "cycloidal stroke of", "spin-up to" };
-            printf("prescribed %s %g %s", names[d->profile],
-                   d->profile == RJ_PROFILE_CYCLOIDAL ? rj_deg(d->profile_value) : d->profile_value,
-                   d->profile == RJ_PROFILE_CYCLOIDAL ? "deg" : "rad/s");
-            if (d->profile != RJ_PROFILE_RAMP) printf(" in %g s", d->profile_time);
+            if (d->profile == RJ_PROFILE_TABLE)
+                printf("prescribed along a table of %d points over %g s", d->table_count,
+                       d->table_time[d->table_count - 1] - d->table_time[0]);
+            else
+                printf("prescribed %s %g %s", names[d->profile],
+                       d->profile == RJ_PROFILE_CYCLOIDAL ? rj_deg(d->profile_value) : d->profile_value,
+                       d->profile == RJ_PROFILE_CYCLOIDAL ? "deg" : "rad/s");
+            if (d->profile == RJ_PROFILE_CYCLOIDAL || d->profile == RJ_PROFILE_SPINUP)
+                printf(" in %g s", d->profile_time);
             printf(" from t = %g s\n", d->start);
         }
         if (d->rotor_inertia > 0)

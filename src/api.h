@@ -334,7 +334,10 @@ typedef struct rj_load_def {
      profile_value (rad/s) times it; RJ_PROFILE_CYCLOIDAL rest to rest through
      profile_value (rad) in profile_time (s); RJ_PROFILE_SPINUP to profile_value (rad/s)
      in profile_time TS (s), (OMEGA/TS) [t^2/2 + (TS/2 pi)^2 (cos(2 pi t/TS) - 1)] for
-     t < TS, then OMEGA (t - TS/2). The torque it takes is RJ_TORQUE_DRIVE (the impulse
+     t < TS, then OMEGA (t - TS/2); RJ_PROFILE_TABLE the actuator's table read as times
+     and angles (rad), the cubic spline through them with rest at both ends (rate and
+     acceleration continuous in between), held at the first angle before its first time
+     and at the last after. The torque it takes is RJ_TORQUE_DRIVE (the impulse
      that keeps the joint on its profile, over the step). A prescribed joint has no limits
      or lock (refused). rj_settle holds it at its start.
    Every type may have a rotor: rotor_inertia (kg m^2) behind a gear of ratio N, whose
@@ -352,14 +355,20 @@ typedef enum rj_actuator_type {
     RJ_ACTUATOR_SERVO,
     RJ_ACTUATOR_PRESCRIBED
 } rj_actuator_type;
-typedef enum rj_profile { RJ_PROFILE_RAMP = 0, RJ_PROFILE_CYCLOIDAL, RJ_PROFILE_SPINUP } rj_profile;
+typedef enum rj_profile {
+    RJ_PROFILE_RAMP = 0,
+    RJ_PROFILE_CYCLOIDAL,
+    RJ_PROFILE_SPINUP,
+    RJ_PROFILE_TABLE
+} rj_profile;
 typedef struct rj_actuator_def {
     int joint;                         /* joint index */
     int type;                          /* rj_actuator_type */
     double torque;                     /* N m (TORQUE) */
-    int table_count;                   /* 0 (constant), or 1..RJ_TABLE_MAX points (TORQUE) */
+    int table_count;                   /* 0, or 1..RJ_TABLE_MAX points (TORQUE; a profile
+                                          table: 2..RJ_TABLE_MAX) */
     double table_time[RJ_TABLE_MAX];   /* s, strictly increasing */
-    double table_factor[RJ_TABLE_MAX]; /* the torque's scale at table_time */
+    double table_factor[RJ_TABLE_MAX]; /* the torque's scale; a profile table's angle, rad */
     double stall_torque;               /* N m (DC) */
     double no_load_speed;              /* rad/s, not 0, the sign of stall_torque (DC) */
     int has_cutoff;                    /* the cutoff is on (DC) */

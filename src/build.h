@@ -145,6 +145,7 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(load, rj_load_def);
     RJ__SET(load_node, int);
     RJ__SET(act, rj_actuator_def);
+    RJ__SET(spl, double);
     RJ__SET(cp, rj_coupling_def);
     RJ__SET(lz, double);
 #undef RJ__SET
@@ -498,6 +499,11 @@ static void rj__init_actuator(rj_model *m, const rj_actuator_def *a)
     rj__joint *J = &m->jnt[a->joint];
     J->act = a;
     J->rotor = a->gear_ratio * a->gear_ratio * a->rotor_inertia;
+    if (a->type != RJ_ACTUATOR_TORQUE && a->profile == RJ_PROFILE_TABLE) {
+        double *M = m->spl + (size_t) (a - m->act) * RJ_TABLE_MAX, work[RJ_TABLE_MAX];
+        rj__spline_build(a->table_count, a->table_time, a->table_factor, M, work);
+        J->spline = M;
+    }
     m->nrotor += J->rotor > 0;
     m->npres += a->type == RJ_ACTUATOR_PRESCRIBED;
     if (a->type == RJ_ACTUATOR_SERVO) {
@@ -531,6 +537,7 @@ static void rj__init_joint_constants(rj_model *m)
         J->act = NULL;
         J->cut = HUGE_VAL;
         J->rotor = 0;
+        J->spline = NULL;
     }
     for (k = 0; k < m->nact; k++)
         rj__init_actuator(m, &m->act[k]);

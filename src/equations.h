@@ -127,10 +127,51 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2)
 
 /* A prescribed joint's running angle at t (rj_actuator_def, RJ_ACTUATOR_PRESCRIBED):
    angle0 until start, then angle0 plus the profile of the time since. */
-static double rj__profile_angle(const rj_actuator_def *a, double angle0, double t)
+/* The clamped cubic spline (rest at both ends) through n points (x strictly increasing,
+   y): its second derivatives into M, by the tridiagonal solve (Thomas; work: n doubles). */
+static void rj__spline_build(int n, const double *x, const double *y, double *M, double *work)
+{
+    int i;
+    /* rows: h_{i-1} M_{i-1} + 2 (h_{i-1} + h_i) M_i + h_i M_{i+1} = 6 (slope_i - slope_{i-1}),
+       ends: 2 h M_0 + h M_1 = 6 slope_0, h M_{n-2} + 2 h M_{n-1} = -6 slope_{n-2} */
+    for (i = 0; i < n; i++) {
+        const double hl = i > 0 ? x[i] - x[i - 1] : 0, hr = i < n - 1 ? x[i + 1] - x[i] : 0;
+        const double sl = i > 0 ? (y[i] - y[i - 1]) / hl : 0;
+        const double sr = i < n - 1 ? (y[i + 1] - y[i]) / hr : 0;
+        const double diag = 2 * (hl + hr), rhs = 6 * (sr - sl);
+        const double m = i > 0 ? hl / work[i - 1] : 0;
+        work[i] = diag - m * hl;
+        M[i] = rhs - m * (i > 0 ? M[i - 1] : 0);
+    }
+    for (i = n - 1; i >= 0; i--) {
+        const double hr = i < n - 1 ? x[i + 1] - x[i] : 0;
+        M[i] = (M[i] - (i < n - 1 ? hr * M[i + 1] : 0)) / work[i];
+    }
+}
+
+/* The spline of rj__spline_build at t, held at the end values outside [x_0, x_{n-1}]. */
+static double rj__spline_at(int n, const double *x, const double *y, const double *M, double t)
+{
+    int k;
+    if (!(t > x[0]))
+        return y[0];
+    for (k = 1; k < n; k++)
+        if (t < x[k]) {
+            const double h = x[k] - x[k - 1], A = (x[k] - t) / h, B = 1 - A;
+            return A * y[k - 1] + B * y[k] +
+                   ((A * A * A - A) * M[k - 1] + (B * B * B - B) * M[k]) * h * h / 6;
+        }
+    return y[n - 1];
+}
+
+static double rj__profile_angle(const rj_actuator_def *a, const double *spline, double angle0,
+                                double t)
 {
     const double tau = t - a->start, v = a->profile_value, T = a->profile_time;
     double x;
+    if (a->profile == RJ_PROFILE_TABLE)
+        return angle0 + rj__spline_at(a->table_count, a->table_time, a->table_factor, spline,
+                                      tau);
     if (!(tau > 0))
         return angle0;
     switch (a->profile) {

@@ -152,6 +152,7 @@ enum {
     RJ__WHEN_SERVO,
     RJ__WHEN_PRESCRIBED,
     RJ__WHEN_PROFILED, /* a servo's or a prescribed joint's profile */
+    RJ__WHEN_TABLED,   /* a torque's table, or a profile's */
     RJ__WHEN_GROUND,
     RJ__WHEN_ON_LINK,
     RJ__WHEN_PLACE /* a link's placement: with a note when a joint places the link */
@@ -201,7 +202,7 @@ static const char rj__sk_release[2][5] = { "rc12", "rc13" };
 static const char rj__sk_reference[2][8] = { "tangent", "chord" };
 static const char rj__sk_shape[2][8] = { "rect", "general" };
 static const char rj__sk_actuator[4][11] = { "torque", "dc", "servo", "prescribed" };
-static const char rj__sk_profile[3][10] = { "ramp", "cycloidal", "spinup" };
+static const char rj__sk_profile[4][10] = { "ramp", "cycloidal", "spinup", "table" };
 
 #define RJ__NAMES(a) a[0], (unsigned char) sizeof a[0], (unsigned char) (sizeof a / sizeof a[0])
 #define RJ__NO_NAMES NULL, 0, 0
@@ -396,7 +397,7 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
            RJ__R(-1e30, 1, 1e30, 1), "must be a finite torque within +-1e30 N m"),
     /* time factor pairs, as a load's */
     { "table", "table_count", "", RJ__OFF(rj_actuator_def, table_count),
-      RJ__OFF(rj_actuator_def, table_time), RJ__FT_TABLE, RJ__WHEN_TORQUE, RJ__WR_SET, 3, 3,
+      RJ__OFF(rj_actuator_def, table_time), RJ__FT_TABLE, RJ__WHEN_TABLED, RJ__WR_SET, 3, 3,
       'i', -1, 0.0, RJ__R(1.0, 1, RJ_TABLE_MAX, 1), "", NULL, 0, 0 },
     RJ__FC("stall_torque", stall_torque, "N m", RJ__FT_REAL, RJ__WHEN_DC, RJ__WR_ALWAYS, 4, 4,
            0.0, RJ__R(-1e30, 1, 1e30, 1), "must be a finite torque within +-1e30 N m"),
@@ -417,8 +418,8 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
            RJ__R(-1e6, 1, 1e6, 1), RJ__RULE_ANGLE),
     /* ramp RATE, cycloidal ANGLE DURATION, spinup OMEGA TS */
     { "profile", "profile", "", RJ__OFF(rj_actuator_def, profile), -1, RJ__FT_PROFILE,
-      RJ__WHEN_PROFILED, RJ__WR_SET, 9, 12, 'i', -1, 0.0, RJ__R(0.0, 1, 2.0, 1),
-      "RJ_PROFILE_RAMP, _CYCLOIDAL or _SPINUP", RJ__NAMES(rj__sk_profile) },
+      RJ__WHEN_PROFILED, RJ__WR_SET, 9, 12, 'i', -1, 0.0, RJ__R(0.0, 1, 3.0, 1),
+      "RJ_PROFILE_RAMP, _CYCLOIDAL, _SPINUP or _TABLE", RJ__NAMES(rj__sk_profile) },
     RJ__FC("start", start, "s", RJ__FT_REAL, RJ__WHEN_PROFILED, RJ__WR_SET, 9, 15, 0.0,
            RJ__R(-1e9, 1, 1e9, 1), "must be a finite time within +-1e9 s"),
     /* the rotor behind its gear, for every type */
@@ -588,7 +589,9 @@ static int rj__row_applies(const rj__field *r, int variant, int on_ground, int w
     case RJ__WHEN_PRESCRIBED:
         return variant == RJ_ACTUATOR_PRESCRIBED;
     case RJ__WHEN_PROFILED:
-        return variant == RJ_ACTUATOR_SERVO || variant == RJ_ACTUATOR_PRESCRIBED;
+    case RJ__WHEN_TABLED:
+        return variant == RJ_ACTUATOR_SERVO || variant == RJ_ACTUATOR_PRESCRIBED ||
+               (r->when == RJ__WHEN_TABLED && variant == RJ_ACTUATOR_TORQUE);
     case RJ__WHEN_GROUND:
         return !write || on_ground;
     case RJ__WHEN_ON_LINK:

@@ -142,6 +142,7 @@ typedef struct rj__joint {
     const rj_actuator_def *act; /* its actuator, or NULL */
     double cut;      /* a DC motor's cutoff on the running angle; +-inf: none */
     double rotor;    /* its actuator's reflected rotor inertia N^2 J, kg m^2 (0: none) */
+    const double *spline; /* its actuator's profile table's second derivatives, or NULL */
 } rj__joint;
 
 /* An angle no joint reaches (within the 1e100 a checkpoint carries): the empty zone of the
@@ -199,6 +200,7 @@ struct rj_model {
     int npres;         /* of them prescribed (RJ_ACTUATOR_PRESCRIBED) */
     int nrotor;        /* of them with a rotor (rotor_inertia > 0) */
     rj_actuator_def *act; /* (nact) their definitions */
+    double *spl;          /* (nact x RJ_TABLE_MAX) profile tables' spline (rj__spline_build) */
     int ncp;              /* couplings */
     int nexact;           /* of them exact (constraints) */
     rj_coupling_def *cp;  /* (ncp) their definitions */

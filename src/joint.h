@@ -66,7 +66,8 @@ static double rj__drive_torque(const rj_state *s, const rj__joint *J, double run
         return rj__clamp(tq, fabs(a->stall_torque));
     case RJ_ACTUATOR_SERVO:
         /* its target follows the profile from start (none: ramp 0), held while settling */
-        tq = a->kp * (rj__profile_angle(a, a->target, s->settling ? a->start : t) - run) -
+        tq = a->kp * (rj__profile_angle(a, J->spline, a->target, s->settling ? a->start : t) -
+                      run) -
              a->kd * rate;
         return a->torque_max > 0 ? rj__clamp(tq, a->torque_max) : tq;
     default: /* prescribed: its torque is the impulse that keeps it on its profile */
@@ -201,7 +202,7 @@ static double rj__prescribed_rate(const rj_model *m, const rj_state *s, int j, d
 {
     const rj_actuator_def *a = m->jnt[j].act;
     const double at = s->settling ? a->start : t + dt;
-    return (rj__profile_angle(a, m->jdef[j].angle0, at) - run) / dt;
+    return (rj__profile_angle(a, m->jnt[j].spline, m->jdef[j].angle0, at) - run) / dt;
 }
 
 /* The work of the joint's actuator over the step, in the form of rj__element_work. */

@@ -20,7 +20,7 @@ typedef struct rj__layout {
     size_t node_cl, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
     size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
-        link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, cp, lz;
+        link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
 } rj__layout;
 
 /* The model's block: every array linear in the scene; rigid scenes (joint coordinates)
@@ -83,6 +83,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->load = rj__carve(&off, (size_t) sc->load_count + 1, sizeof(rj_load_def));
     L->load_node = rj__carve(&off, (size_t) sc->load_count + 1, sizeof(int));
     L->act = rj__carve(&off, (size_t) sc->actuator_count + 1, sizeof(rj_actuator_def));
+    L->spl = rj__carve(&off, ((size_t) sc->actuator_count + 1) * RJ_TABLE_MAX, sizeof(double));
     L->cp = rj__carve(&off, (size_t) sc->coupling_count + 1, sizeof(rj_coupling_def));
     L->lz = rj__carve(&off,
                       15 * nn + 10 * ne + 8 + RJ__GRAPH_SCRATCH(nl, nj) +

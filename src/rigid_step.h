@@ -362,7 +362,8 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
         double sum = 0, now;
         for (k = 0; k < n; k++)
             sum += Mj[k] * (rates_before[k] - qdp[k]);
-        now = 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
+        /* the first step's q'^{-1/2} is 2 q'(0) less the rates before any impulse */
+        now = 0.5 * (first ? 2 * qd[j] - rates_before[j] : qd[j]) * sum;
         /* a prescribed joint's impulse is its drive's: torque and work */
         if (rj__prescribed(&m->jnt[j])) {
             e->drive -= now;
@@ -445,6 +446,10 @@ static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj_sta
     int j;
     for (j = 0; j < n; j++)
         qdp[j] = qd[j] + kick * qdd[j];
+    /* the first step's kinetic energy reads the rates before any impulse (Q is spent) */
+    if (f->first)
+        for (j = 0; j < n; j++)
+            r->Q[j] = qdp[j];
     jumps.count = 0;
     jumps.last = -1;
     jumps.impact = 0;
@@ -547,7 +552,9 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
         double sum = 0;
         for (k = 0; k < n; k++)
             sum += Mj[k] * qdp[k];
-        ke += 0.5 * (first ? 2 * qd[j] - qdp[j] : qd[j]) * sum;
+        /* the first step's q'^{-1/2}: 2 q'(0) less the rates before the step's impulses
+           (kept in Q by rj__rig_stage_rates), which an impulse does not move */
+        ke += 0.5 * (first ? 2 * qd[j] - r->Q[j] : qd[j]) * sum;
     }
     e->kinetic = ke;
     new_scalars[RJ__FS_KE] = ke;

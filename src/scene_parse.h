@@ -1147,13 +1147,15 @@ static int rj__sp_profile(rj__sp *P, int a, int *i, int b, rj_actuator_def *d)
     const rj__field *rv = &rj__actuator_fields[RJ__CF_PROFILE_VALUE];
     const rj__field *rt = &rj__actuator_fields[RJ__CF_PROFILE_TIME];
     const char *key = "profile";
-    static const char shape[] = " (profile = ramp RATE, cycloidal ANGLE DURATION or spinup "
-                                "OMEGA TS)";
+    static const char shape[] = " (profile = ramp RATE, cycloidal ANGLE DURATION, spinup "
+                                "OMEGA TS or table)";
     double v = 0;
-    if (!rj__sp_enum(P, &P->tok[a], key, rj__sk_profile[0], sizeof rj__sk_profile[0], 3,
+    if (!rj__sp_enum(P, &P->tok[a], key, rj__sk_profile[0], sizeof rj__sk_profile[0], 4,
                      &d->profile))
         return 0;
     (*i)++;
+    if (d->profile == RJ_PROFILE_TABLE) /* its points are the table's */
+        return 1;
     if (*i >= b)
         return rj__sp_err(P, P->tok[a].line, P->tok[a].col + P->tok[a].len, key, rj__sp_nan(),
                           "missing the profile's numbers", rj__sp_where(P), shape, NULL, NULL);

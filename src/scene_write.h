@@ -200,6 +200,8 @@ static void rj__sw_name(rj__sw *W, const char *const *names, const char *prefix,
 static void rj__sw_profile(rj__sw *W, const rj_actuator_def *d)
 {
     rj__sw_put(W, rj__sk_profile[d->profile]);
+    if (d->profile == RJ_PROFILE_TABLE) /* its points are the table's */
+        return;
     rj__sw_put(W, " ");
     rj__sw_angle(W, d->profile_value, d->profile != RJ_PROFILE_CYCLOIDAL);
     if (d->profile == RJ_PROFILE_RAMP)

@@ -920,8 +920,12 @@ static RJ__FORCE_INLINE double rj__prescribe(const rj_model *m, const rj_state *
     const double o1 = w1, o2 = w2;
     double *new_joint = RJ__FJ(m, f->next, j);
     double m1 = 0, m2 = 0, work = 0, impulse;
-    /* the bodies' rates at n - 1/2 */
+    /* the bodies' rates at n - 1/2 (at the first step, 2 w^0 less those before the jump) */
     rj__joint_rate(J, g, f->vx, f->vy, f->w, &m1, &m2);
+    if (f->first) {
+        m1 = 2 * m1 - o1;
+        m2 = 2 * m2 - o2;
+    }
     rj__rate_to(J->I1, J->I2, target, &w1, &w2);
     if (rj__finite(J->I1)) {
         work -= 0.5 * J->I1 * m1 * (o1 - w1);
@@ -977,8 +981,8 @@ static double rj__pin_impulse(const rj_model *m, const rj__frames *f, const rj__
             continue;
         before = f->nw[n];
         after = before + (k == 0 ? P : -P) * m->rinv[n];
-        /* the first step's kinetic energy is 1/2 I (2 w^0 - w^{1/2}) w^{1/2} */
-        loss += 0.5 * (f->first ? 2 * f->w[n] - before - after : f->w[n]) * (before - after) /
+        /* the first step's w^{-1/2} is 2 w^0 less the rate before the impulse */
+        loss += 0.5 * (f->first ? 2 * f->w[n] - before : f->w[n]) * (before - after) /
                 m->rinv[n];
         *pending += 0.5 * after * (before - after) / m->rinv[n];
         f->nw[n] = after;
@@ -1286,9 +1290,13 @@ static void rj__drive_flow(const double *osc, double *nsc, rj__sums *e)
    the losses and work start from zero. */
 static void rj__first_accounts(double *new_scalars, rj__sums *e, double energy)
 {
-    new_scalars[RJ__FS_E0] = energy;
+    /* a prescribed joint driven from the start has put its first step's work into the
+       energy there: the initial energy is the one before it, and the work is kept (its
+       second half, pending, is the next step's) */
+    new_scalars[RJ__FS_E0] = energy - e->drive;
     rj__accounts_zero(new_scalars);
-    e->lost_damping = e->lost_friction = e->work = e->lost_limit = e->drive = 0;
+    e->lost_damping = e->lost_friction = e->work = e->lost_limit = 0;
+    new_scalars[RJ__FS_DRIVE] = e->drive;
     new_scalars[RJ__FS_DPEND] = e->drive_pending;
 }
 

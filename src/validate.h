@@ -486,6 +486,30 @@ static int rj__validate_rotor(const rj_scene_def *sc, int i, rj_error *err)
     return 0;
 }
 
+/* A servo's or a prescribed joint's table is its profile's (profile = table): 2 points at
+   least, and a prescribed one starts at 0 rad (the joint starts at angle0); without that
+   profile it has none. */
+static int rj__validate_profile_table(const rj_actuator_def *d, int i, rj_error *err)
+{
+    const char *why = NULL;
+    char f[64];
+    if (d->type == RJ_ACTUATOR_TORQUE || d->type == RJ_ACTUATOR_DC)
+        return 1;
+    if (d->profile != RJ_PROFILE_TABLE && d->table_count != 0)
+        why = "a table applies with profile = table";
+    else if (d->profile == RJ_PROFILE_TABLE && d->table_count < 2)
+        why = "profile = table needs a table of 2 points at least";
+    else if (d->profile == RJ_PROFILE_TABLE && d->type == RJ_ACTUATOR_PRESCRIBED &&
+             d->table_factor[0] != 0)
+        why = "a prescribed table's first angle is 0 rad (the joint starts at angle0)";
+    if (!why)
+        return 1;
+    RJ__FIELD(f, "actuators[%d].table_count", i);
+    rj__fail(err, RJ_ERR_INVALID, f, d->table_count, "%s = %d is invalid: %s", f,
+             d->table_count, why);
+    return 0;
+}
+
 /* Actuators: a joint each, the rows of their type, a table in time. */
 static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
 {
@@ -505,8 +529,8 @@ static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
             !rj__validate_dc(d, i, err) || !rj__validate_prescribed(sc, d, i, err) ||
             !rj__validate_rotor(sc, i, err))
             return 0;
-        if (d->type == RJ_ACTUATOR_TORQUE &&
-            !rj__validate_time_table(err, item, d->table_count, d->table_time, d->table_factor))
+        if (!rj__validate_time_table(err, item, d->table_count, d->table_time, d->table_factor) ||
+            !rj__validate_profile_table(d, i, err))
             return 0;
     }
     return 1;

@@ -1353,6 +1353,84 @@ static void test_servo_arm(rjt_ctx *c)
     rj_scene_file_free(&f);
 }
 
+/* A prescribed table (0 0, 0.5 0.3, 1 1.2, 1.5 pi/2 rad) on a rigid arm: the angle passes
+   through every point to round-off and is held after the last, the spline's rate and
+   acceleration (the drive torque over I) are continuous across the points (no jump beyond
+   the step's own change), and a ramp from rest (a rate jump at t = 0) closes its balance
+   from the first step. */
+static void test_prescribed_table(rjt_ctx *c)
+{
+    static const double tt[4] = { 0, 0.5, 1.0, 1.5 }, ta[4] = { 0, 0.3, 1.2, PI / 2 };
+    const double dt = 1e-4;
+    bench b;
+    rj_model *m;
+    rj_state *s;
+    char msg[300] = "";
+    double worst_point = 0, jump = 0, last_tq = 0, bal = 0, held = 0;
+    int k, step = 0;
+    one_arm(&b, RJ_LINK_RIGID, 4);
+    b.a[0].type = RJ_ACTUATOR_PRESCRIBED;
+    b.a[0].profile = RJ_PROFILE_TABLE;
+    b.a[0].table_count = 4;
+    for (k = 0; k < 4; k++) {
+        b.a[0].table_time[k] = tt[k];
+        b.a[0].table_factor[k] = ta[k];
+    }
+    b.sc.solver.dt = dt;
+    if (!open_bench(&b, &m, &s, msg, sizeof msg)) {
+        rjt_check(c, 0, "a prescribed table on a rigid arm", "%s", msg);
+        return;
+    }
+    while (rj_state_time(s) < 2 - 0.5 * dt && rj_step(m, s) == RJ_OK) {
+        const double t = rj_state_time(s), tq = rj_joint_torque(m, s, 0, RJ_TORQUE_DRIVE);
+        rj_energy e;
+        for (k = 0; k < 4; k++)
+            if (fabs(t - tt[k]) < 0.5 * dt)
+                worst_point = fmax(worst_point, fabs(rj_joint_theta_running(m, s, 0) - ta[k]));
+        if (t > 1.5 + dt)
+            held = fmax(held, fabs(rj_joint_theta_running(m, s, 0) - ta[3]));
+        if (step > 1 && t < 1.5 - dt)
+            jump = fmax(jump, fabs(tq - last_tq));
+        last_tq = tq;
+        rj_state_energy(m, s, &e);
+        bal = fmax(bal, fabs(e.balance));
+        step++;
+    }
+    rjt_check(c, rj_state_time(s) > 2 - dt && worst_point < 1e-12 && held < 1e-12 &&
+                     jump < 1e-2 && bal < 1e-9,
+              "a prescribed table on a rigid arm: through its points, held after, rate and "
+              "acceleration continuous, the balance closed",
+              "%d steps: max |theta - point| %.3g rad, after the last %.3g rad; largest "
+              "change of the drive torque between steps %.3g N m (a jump in acceleration "
+              "would show I x its size); max |balance| %.3g J",
+              step, worst_point, held, jump, bal);
+    close_bench(m, s);
+    /* a profile that starts at a rate: the impulse at t = 0 is the drive's */
+    one_arm(&b, RJ_LINK_RIGID, 4);
+    b.a[0].type = RJ_ACTUATOR_PRESCRIBED;
+    b.a[0].profile_value = 1.0;
+    b.sc.solver.dt = dt;
+    bal = 0;
+    if (!open_bench(&b, &m, &s, msg, sizeof msg))
+        return;
+    while (rj_state_time(s) < 0.5 && rj_step(m, s) == RJ_OK) {
+        rj_energy e;
+        rj_state_energy(m, s, &e);
+        bal = fmax(bal, fabs(e.balance));
+    }
+    {
+        rj_energy e;
+        rj_state_energy(m, s, &e);
+        rjt_check(c, rj_state_time(s) >= 0.5 && bal < 1e-12 &&
+                         fabs(e.work_drive - 0.5 * arm_inertia(&b.l[0])) < 1e-12,
+                  "a ramp from rest on a rigid arm: the start's impulse is the drive's work, "
+                  "1/2 I w^2, and the balance closes from the first step",
+                  "t %.4g s, W_drive %.15g J against 1/2 I w^2 = %.15g J, max |balance| "
+                  "%.3g J", rj_state_time(s), e.work_drive, 0.5 * arm_inertia(&b.l[0]), bal);
+    }
+    close_bench(m, s);
+}
+
 int main(void)
 {
     rjt_ctx c = { 0, 0 };
@@ -1378,5 +1456,6 @@ int main(void)
     test_prescribed_settle(&c);
     test_spinup(&c);
     test_servo_arm(&c);
+    test_prescribed_table(&c);
     return rjt_summary(&c, "test_drive");
 }
