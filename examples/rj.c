@@ -1306,6 +1306,23 @@ static double joint_omega(const rj_model *m, int j, double *k_out)
     return sqrt(k * c);
 }
 
+/* A joint's compliance 1/I1 + 1/I2 (ground or a fixed body: its side 0). */
+static double joint_compliance(const rj_model *m, int j)
+{
+    double I1, I2;
+    rj_joint_inertias(m, j, &I1, &I2);
+    return (rj_model_joint_def(m, j)->body1 >= 0 && I1 > 0 ? 1.0 / I1 : 0.0) + (I2 > 0 ? 1.0 / I2 : 0.0);
+}
+
+/* A cable loop's omega on its own: sqrt(k (c_b + ratio^2 c_a)), its stiffness over the two
+   joints' compliances. */
+static double loop_omega(const rj_model *m, int k)
+{
+    const rj_coupling_def *d = rj_model_coupling_def(m, k);
+    return sqrt(d->stiffness * (joint_compliance(m, d->joint_b) +
+                                d->ratio * d->ratio * joint_compliance(m, d->joint_a)));
+}
+
 /* Where the step comes from: the file (or --dt), or the library's automatic choice, 0.9 x
    the bound unless capped (rigid links without stiff joints: 1 ms). */
 static const char *dt_source(const scene *sc)
@@ -1356,6 +1373,22 @@ static void check_binding(const scene *sc)
         jo = w;
         jb = j;
         jk = k;
+    }
+    {
+        /* a cable loop can be the stiffest thing too */
+        double co = 0;
+        int k, cb = -1;
+        for (k = 0; k < rj_model_coupling_count(m); k++)
+            if (loop_omega(m, k) > co) {
+                co = loop_omega(m, k);
+                cb = k;
+            }
+        if (cb >= 0 && co > lo && co > jo) {
+            printf("  stiffest cable loop: %s, omega ~ sqrt(k (c_b + ratio^2 c_a)) = %.4g rad/s (%.0f %% of omega_max)\n",
+                   sc->f.coupling_names[cb], co, 100 * co / om);
+            printf("  the bound is set by cable loop %s\n", sc->f.coupling_names[cb]);
+            return;
+        }
     }
     if (lb >= 0) printf("  fastest link on its own: %s, omega %.4g rad/s (%.0f %% of omega_max)\n", link_name(sc, lb), lo, 100 * lo / om);
     if (jb >= 0) printf("  stiffest joint: %s, omega ~ sqrt(k (1/I1 + 1/I2)) = %.4g rad/s with k = %.4g N m/rad (%.0f %% of omega_max)\n",
