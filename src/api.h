@@ -27,7 +27,9 @@ CONFIGURATION MACROS (define before including the implementation)
    RJ_NO_SIMD                plain scalar loops instead of GCC/Clang vector lanes in the step
                              (same results to the bit: tests/lanes.sh)
    RJ_NO_DISPATCH            on x86-64 without -mavx, do not also compile the lane kernels
-                             for AVX2 (chosen per step when the CPU has it); 2-lane only
+                             for AVX2 (chosen per step when the CPU has it): 2-lane kernels
+                             only, the faster build for CPUs without AVX2 (with dispatch
+                             these run the scalar loops)
    RJ_NO_SCENE_FILES         leave out the scene-file parser and writer (rj_scene_*)
    RJ_IN_PLACE_NODES         with solver.in_place AUTO, models of at least this many nodes
                              step in place (default 400; 0: every model that can)

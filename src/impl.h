@@ -53,30 +53,34 @@
 #define RJ__RESTRICT
 #endif
 /* The beam pass uses GCC/Clang vector extensions where they exist (RJ_NO_SIMD turns them
-   off): lanes of 4 doubles where the compiler targets AVX, 2 otherwise, and on x86-64
-   without -mavx both, the 4-lane kernels compiled for AVX2 and chosen per step when the CPU
-   has it (RJ_NO_DISPATCH turns that off). No FMA (see above). Every lane does the scalar
-   code's operations in the scalar code's order, so results are bit-identical in every
-   case (tests/lanes.sh). 8-lane AVX-512 kernels were tried and measured no faster beyond
-   this machine's noise (docs/performance.md), so there are none. */
+   off): its kernels are written once on the lane vector rj__vd of RJ__VW doubles. Where the
+   pass is compiled for AVX that is 4 doubles: with -mavx, and on x86-64 without it, where
+   the pass is compiled twice, once for AVX2 (RJ__AVX2) and chosen per step when the CPU
+   has it (RJ_NO_DISPATCH turns that off); the copy for CPUs without AVX2 then takes the
+   scalar loops (src/beam.h). Elsewhere (RJ_NO_DISPATCH, ARM) 2 doubles, one SSE2 or NEON
+   register: a type is one per translation unit, and gcc keeps a 4-double vector it cannot
+   hold in registers on the stack (docs/performance.md). No FMA (see above). Every lane does the scalar code's operations
+   in the scalar code's order, so results are bit-identical in every case
+   (tests/lanes.sh). 8-lane AVX-512 kernels were tried and measured no faster beyond this
+   machine's noise (docs/performance.md), so there are none. */
 #if !defined(RJ_NO_SIMD) && (defined(__GNUC__) || defined(__clang__))
 #define RJ__LANES 1
 typedef double rj__vd2 __attribute__((vector_size(16)));
-typedef long long rj__vl2 __attribute__((vector_size(16)));
-typedef double rj__vd4 __attribute__((vector_size(32)));
-typedef long long rj__vl4 __attribute__((vector_size(32)));
 #define RJ__VLD(v, p) memcpy(&(v), (p), sizeof(v))
 #define RJ__VST(p, v) memcpy((p), &(v), sizeof(v))
-#if defined(__AVX__)
-#define RJ__LANES4 1
-#elif defined(__x86_64__) && !defined(RJ_NO_DISPATCH) &&                                           \
+#if !defined(__AVX__) && defined(__x86_64__) && !defined(RJ_NO_DISPATCH) &&                        \
     ((defined(__clang__) && __clang_major__ >= 4) || (!defined(__clang__) && __GNUC__ >= 6))
-#define RJ__LANES2   1
-#define RJ__LANES4   1
 #define RJ__DISPATCH 1
 #define RJ__AVX2     __attribute__((target("avx2")))
+#endif
+#if defined(__AVX__) || defined(RJ__DISPATCH)
+#define RJ__VW 4
+typedef double rj__vd __attribute__((vector_size(32)));
+typedef long long rj__vl __attribute__((vector_size(32)));
 #else
-#define RJ__LANES2 1
+#define RJ__VW 2
+typedef double rj__vd __attribute__((vector_size(16)));
+typedef long long rj__vl __attribute__((vector_size(16)));
 #endif
 #endif
 #ifndef RJ__AVX2
