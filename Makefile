@@ -140,9 +140,8 @@ check-header: | $(B)
 	  else echo "FAIL header warnings with $$cc:"; cat $(B)/impl_$$cc.log; fi; done
 	@if g++ -x c++ -Wall -Wextra -pedantic -Werror -I. -c $(B)/impl.c -o $(B)/impl_cpp.o 2>$(B)/impl_cpp.log; \
 	  then echo "PASS header compiles as C++ (g++ -Wall -Wextra -pedantic -Werror)"; else echo "FAIL header as C++:"; cat $(B)/impl_cpp.log; fi
-	@g=$$(objdump -t $(B)/impl_gcc.o | grep ' O ' | grep -E '[[:space:]](\.data|\.bss|\.sdata|\.sbss|\*COM\*)' | \
-	  grep -v '\.data\.rel\.ro' | awk '{print $$NF}'); \
-	  if [ -z "$$g" ]; then echo "PASS no mutable globals in the implementation (objdump: const tables of pointers sit in .data.rel.ro)"; else echo "FAIL mutable globals: $$g"; fi
+	@g=$$(nm $(B)/impl_gcc.o | awk '$$2 ~ /^[BbDdCGS]$$/ {print $$3}'); \
+	  if [ -z "$$g" ]; then echo "PASS no mutable globals in the implementation (nm)"; else echo "FAIL mutable globals: $$g"; fi
 
 GOLDEN_IMPACT = $(foreach m,penalty adaptive momentum forced energy,$(foreach r,rc12 rc13,$(m)_$(r)))
 

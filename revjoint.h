@@ -1304,9 +1304,9 @@ static void rj__accounts_zero(double *scalars)
 }
 /* ------------------------------------------------------------------ definition fields */
 /* Every member of a definition (rj_link_def, rj_joint_def, rj_solver_def, rj_load_def,
-   rj_actuator_def, rj_coupling_def) is one row of its kind's table below: its scene key, unit, kind of value, default, range
-   with the one sentence that states it, when it applies, how the writer puts it in a
-   scene file, and where it enters the model's hash. The defaults (rj_default_*_def),
+   rj_actuator_def, rj_coupling_def) is one row of its kind's table below: its scene key,
+   unit, kind of value, default, range with the one sentence that states it, when it
+   applies, how the writer puts it in a scene file, and where it enters the model's hash. The defaults (rj_default_*_def),
    validation (rj__validate), the scene parser, the scene writer and the model hash read
    these rows; docs/scene-format.md's key table is checked against them (tests/keys.py).
    Rules that tie members together (a lock needs a limit, a body is a link the scene has)
@@ -1468,10 +1468,26 @@ enum {
    other and share a line. */
 enum { RJ__WR_ALWAYS, RJ__WR_SET, RJ__WR_LINE, RJ__WR_NONE };
 
+/* The enum names a row may point to (rj__names_of): none, or one of the rj__sk_* lists. */
+enum {
+    RJ__NM_NONE,
+    RJ__NM_ROOT,
+    RJ__NM_FIDELITY,
+    RJ__NM_SHAPE,
+    RJ__NM_METHOD,
+    RJ__NM_RELEASE,
+    RJ__NM_REFERENCE,
+    RJ__NM_IN_PLACE,
+    RJ__NM_ACTUATOR,
+    RJ__NM_PROFILE
+};
+
+/* A row is read-only data without relocations (char arrays and a names index, no
+   pointers), so the tables sit in .rodata. */
 typedef struct rj__field {
-    const char *key;    /* the scene key; for a member that no key sets alone, its C name */
-    const char *member; /* the C member in messages ("length", "gravity"); NULL for PART */
-    const char *unit;   /* SI unit, "" none */
+    char key[20];    /* the scene key; for a member that no key sets alone, its C name */
+    char member[20]; /* the C member in messages ("length", "gravity"); "" for PART */
+    char unit[12];   /* SI unit, "" none */
     int offset;         /* of the member in its definition; -1 for PART */
     int aux;            /* TABLE: the first array's offset; LIMIT: the flag's; else -1 */
     unsigned char type; /* RJ__FT_* */
@@ -1483,8 +1499,9 @@ typedef struct rj__field {
     double def;                /* the default (VEC2: of both) */
     double lo, hi;              /* the range (ENUM: 0 .. count - 1) */
     unsigned char lo_in, hi_in; /* whether the range includes its ends */
-    const char *rule;           /* the sentence a value outside the range gets */
-    const char *names;          /* ENUM: count names of stride bytes; BOOL: NULL */
+    char rule[80]; /* the sentence a value outside the range gets (a C++ build refuses a
+                      longer literal: the header's check compiles it so) */
+    unsigned char names;        /* ENUM, PROFILE: RJ__NM_* of its count names, stride apart */
     unsigned char stride, count;
 } rj__field;
 
@@ -1508,8 +1525,8 @@ static const char rj__sk_shape[2][8] = { "rect", "general" };
 static const char rj__sk_actuator[4][11] = { "torque", "dc", "servo", "prescribed" };
 static const char rj__sk_profile[4][10] = { "ramp", "cycloidal", "spinup", "table" };
 
-#define RJ__NAMES(a) a[0], (unsigned char) sizeof a[0], (unsigned char) (sizeof a / sizeof a[0])
-#define RJ__NO_NAMES NULL, 0, 0
+#define RJ__NAMES(id, a) id, (unsigned char) sizeof a[0], (unsigned char) (sizeof a / sizeof a[0])
+#define RJ__NO_NAMES RJ__NM_NONE, 0, 0
 #define RJ__OFF(T, m) (int) offsetof(T, m)
 
 
@@ -1525,22 +1542,22 @@ static const char rj__sk_profile[4][10] = { "ramp", "cycloidal", "spinup", "tabl
             range, rule, RJ__NO_NAMES                                                         \
     }
 /* An enum member's row: its names in files; validation's sentence names its C values. */
-#define RJ__FE(key, m, names, wr, line, hat, has, def, rule)                                  \
+#define RJ__FE(key, m, id, names, wr, line, hat, has, def, rule)                              \
     {                                                                                         \
         key, #m, "", RJ__OFF(RJ__DEF, m), -1, RJ__FT_ENUM, RJ__WHEN_ALL, wr, line, hat, has,  \
             -1, def, RJ__R(0.0, 1, (double) (sizeof names / sizeof names[0]) - 1, 1), rule,   \
-            RJ__NAMES(names)                                                                  \
+            RJ__NAMES(id, names)                                                              \
     }
 /* A row with an aux offset (TABLE, LIMIT) or one that is a part of key row part_of. */
 #define RJ__FA(key, m, unit, type, aux, part_of, wr, line, hat, has, def, range, rule, st)      \
     {                                                                                         \
         key, #m, unit, RJ__OFF(RJ__DEF, m), aux, type, RJ__WHEN_ALL, wr, line, hat, has,      \
-            part_of, def, range, rule, NULL, st, 0                                            \
+            part_of, def, range, rule, RJ__NM_NONE, st, 0                                     \
     }
 /* A key that names a material or a section (no member). */
 #define RJ__FPART(key)                                                                        \
     {                                                                                         \
-        key, NULL, "", -1, -1, RJ__FT_PART, RJ__WHEN_ALL, RJ__WR_NONE, 0, -1, 'd', -1, 0.0,   \
+        key, "", "", -1, -1, RJ__FT_PART, RJ__WHEN_ALL, RJ__WR_NONE, 0, -1, 'd', -1, 0.0,     \
             RJ__ANY, "", RJ__NO_NAMES                                                         \
     }
 
@@ -1572,7 +1589,7 @@ static const rj__field rj__link_fields[RJ__LF_N] = {
           RJ__R(0.0, 1, 1e40, 1), "must be in [0, 1e40] kg"),
     RJ__F("tip_inertia", tip_inertia, "kg m^2", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_LINE, 4, 8,
           'd', 0.0, RJ__R(0.0, 1, 1e50, 1), "must be in [0, 1e50] kg m^2"),
-    RJ__FE("root", root, rj__sk_root, RJ__WR_SET, 5, 18, 'd', 0.0,
+    RJ__FE("root", root, RJ__NM_ROOT, rj__sk_root, RJ__WR_SET, 5, 18, 'd', 0.0,
            "RJ_ROOT_FREE, _PINNED, _CLAMPED or _FIXED"),
     RJ__F("x", x, "m", RJ__FT_REAL, RJ__WHEN_PLACE, RJ__WR_LINE, 6, 9, 'd', 0.0, RJ__ANY,
           RJ__RULE_FINITE),
@@ -1588,10 +1605,10 @@ static const rj__field rj__link_fields[RJ__LF_N] = {
           RJ__RULE_FINITE),
     RJ__F("omega", omega, "rad/s", RJ__FT_RATE, RJ__WHEN_ALL, RJ__WR_LINE, 7, 14, 'd', 0.0,
           RJ__ANY, RJ__RULE_FINITE),
-    RJ__FE("fidelity", fidelity, rj__sk_fidelity, RJ__WR_SET, 8, 19, 'i', 0.0,
+    RJ__FE("fidelity", fidelity, RJ__NM_FIDELITY, rj__sk_fidelity, RJ__WR_SET, 8, 19, 'i', 0.0,
            "RJ_LINK_FLEXIBLE, RJ_LINK_RIGID or RJ_LINK_INEXTENSIBLE"),
     /* derived: area and inertia in a file make a general section */
-    RJ__FE("section", section, rj__sk_shape, RJ__WR_NONE, 0, 16, 'd', 0.0,
+    RJ__FE("section", section, RJ__NM_SHAPE, rj__sk_shape, RJ__WR_NONE, 0, 16, 'd', 0.0,
            "RJ_SECTION_RECT or RJ_SECTION_GENERAL"),
 };
 #undef RJ__DEF
@@ -1625,9 +1642,11 @@ static const rj__field rj__joint_fields[RJ__JF_N] = {
            RJ__WR_SET, 7, 13, 'd', 0.0, RJ__R(0.0, 1, RJ__TWO_PI, 0), RJ__RULE_LIMIT, 0),
     RJ__F("lock", lock, "", RJ__FT_BOOL, RJ__WHEN_ALL, RJ__WR_SET, 8, 14, 'd', 0.0,
           RJ__R(0.0, 1, 1.0, 1), RJ__RULE_BOOL),
-    RJ__FE("method", method, rj__sk_method, RJ__WR_ALWAYS, 9, 15, 'd', RJ_METHOD_ADAPTIVE,
+    RJ__FE("method", method, RJ__NM_METHOD, rj__sk_method,
+           RJ__WR_ALWAYS, 9, 15, 'd', RJ_METHOD_ADAPTIVE,
            "one of RJ_METHOD_PENALTY..RJ_METHOD_ENERGY"),
-    RJ__FE("release", release, rj__sk_release, RJ__WR_SET, 9, 16, 'd', RJ_RELEASE_RC13,
+    RJ__FE("release", release, RJ__NM_RELEASE, rj__sk_release,
+           RJ__WR_SET, 9, 16, 'd', RJ_RELEASE_RC13,
            "RJ_RELEASE_RC12 or RJ_RELEASE_RC13"),
     RJ__F("penalty_k", penalty_k, "N m/rad", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 10, 17, 'd',
           0.0, RJ__R(0.0, 1, HUGE_VAL, 0), RJ__RULE_STIFFNESS),
@@ -1637,7 +1656,7 @@ static const rj__field rj__joint_fields[RJ__JF_N] = {
           0.0, RJ__R(0.0, 1, HUGE_VAL, 0), "must be >= 0 N m s/rad"),
     RJ__F("friction", friction, "N m", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 13, 20, 'd', 0.0,
           RJ__R(0.0, 1, HUGE_VAL, 0), "must be >= 0 N m"),
-    RJ__FE("reference", reference, rj__sk_reference, RJ__WR_SET, 14, 21, 'i', 0.0,
+    RJ__FE("reference", reference, RJ__NM_REFERENCE, rj__sk_reference, RJ__WR_SET, 14, 21, 'i', 0.0,
            "RJ_REF_TANGENT or RJ_REF_CHORD"),
     /* second parts: spring = k angle; a limit's on/off */
     RJ__FA("spring_free_angle", spring_free_angle, "rad", RJ__FT_ANGLE, -1, RJ__JK_SPRING,
@@ -1659,7 +1678,8 @@ static const rj__field rj__solver_fields[RJ__VF_N] = {
           10.0, RJ__R(1.0, 0, HUGE_VAL, 0), "must be > 1"),
     RJ__F("energy_every", energy_every, "", RJ__FT_INT, RJ__WHEN_ALL, RJ__WR_SET, 4, -1, 'd',
           1.0, RJ__R(1.0, 1, 1000.0, 1), "must be 1..1000 steps"),
-    RJ__FE("in_place", in_place, rj__sk_in_place, RJ__WR_SET, 5, -1, 'd', RJ_IN_PLACE_AUTO,
+    RJ__FE("in_place", in_place, RJ__NM_IN_PLACE, rj__sk_in_place,
+           RJ__WR_SET, 5, -1, 'd', RJ_IN_PLACE_AUTO,
            "must be RJ_IN_PLACE_AUTO (0), RJ_IN_PLACE_ON (1) or RJ_IN_PLACE_OFF (2)"),
     RJ__F("gravity", gravity, "m/s^2", RJ__FT_VEC2, RJ__WHEN_ALL, RJ__WR_SET, 6, 0, 'd', 0.0,
           RJ__R(-1e5, 1, 1e5, 1),
@@ -1695,14 +1715,15 @@ static const rj__field rj__load_fields[RJ__AF_N] = {
 static const rj__field rj__actuator_fields[RJ__CF_N] = {
     RJ__F("joint", joint, "", RJ__FT_JOINT, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 0, 'i', 0.0,
           RJ__ANY, ""),
-    RJ__FE("type", type, rj__sk_actuator, RJ__WR_ALWAYS, 1, 1, 'i', RJ_ACTUATOR_TORQUE,
+    RJ__FE("type", type, RJ__NM_ACTUATOR, rj__sk_actuator,
+           RJ__WR_ALWAYS, 1, 1, 'i', RJ_ACTUATOR_TORQUE,
            "RJ_ACTUATOR_TORQUE, _DC, _SERVO or _PRESCRIBED"),
     RJ__FC("torque", torque, "N m", RJ__FT_REAL, RJ__WHEN_TORQUE, RJ__WR_ALWAYS, 2, 2, 0.0,
            RJ__R(-1e30, 1, 1e30, 1), "must be a finite torque within +-1e30 N m"),
     /* time factor pairs, as a load's */
     { "table", "table_count", "", RJ__OFF(rj_actuator_def, table_count),
       RJ__OFF(rj_actuator_def, table_time), RJ__FT_TABLE, RJ__WHEN_TABLED, RJ__WR_SET, 3, 3,
-      'i', -1, 0.0, RJ__R(1.0, 1, RJ_TABLE_MAX, 1), "", NULL, 0, 0 },
+      'i', -1, 0.0, RJ__R(1.0, 1, RJ_TABLE_MAX, 1), "", RJ__NM_NONE, 0, 0 },
     RJ__FC("stall_torque", stall_torque, "N m", RJ__FT_REAL, RJ__WHEN_DC, RJ__WR_ALWAYS, 4, 4,
            0.0, RJ__R(-1e30, 1, 1e30, 1), "must be a finite torque within +-1e30 N m"),
     RJ__FC("no_load_speed", no_load_speed, "rad/s", RJ__FT_RATE, RJ__WHEN_DC, RJ__WR_ALWAYS, 4,
@@ -1710,8 +1731,8 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
            "must be a rate within +-1e6 rad/s, not 0, of the stall torque's sign"),
     { "cutoff", "cutoff", "rad", RJ__OFF(rj_actuator_def, cutoff),
       RJ__OFF(rj_actuator_def, has_cutoff), RJ__FT_LIMIT, RJ__WHEN_DC, RJ__WR_SET, 5, 7, 'd', -1,
-      0.0, RJ__R(0.0, 1, RJ__TWO_PI, 0), "a cutoff must be in [0, 2 pi) rad, [0, 360) deg", NULL,
-      0, 0 },
+      0.0, RJ__R(0.0, 1, RJ__TWO_PI, 0), "a cutoff must be in [0, 2 pi) rad, [0, 360) deg",
+      RJ__NM_NONE, 0, 0 },
     RJ__FC("kp", kp, "N m/rad", RJ__FT_REAL, RJ__WHEN_SERVO, RJ__WR_ALWAYS, 6, 8, 0.0,
            RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] N m/rad"),
     RJ__FC("kd", kd, "N m s/rad", RJ__FT_REAL, RJ__WHEN_SERVO, RJ__WR_ALWAYS, 6, 9, 0.0,
@@ -1723,7 +1744,7 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
     /* ramp RATE, cycloidal ANGLE DURATION, spinup OMEGA TS */
     { "profile", "profile", "", RJ__OFF(rj_actuator_def, profile), -1, RJ__FT_PROFILE,
       RJ__WHEN_PROFILED, RJ__WR_SET, 9, 12, 'i', -1, 0.0, RJ__R(0.0, 1, 3.0, 1),
-      "RJ_PROFILE_RAMP, _CYCLOIDAL, _SPINUP or _TABLE", RJ__NAMES(rj__sk_profile) },
+      "RJ_PROFILE_RAMP, _CYCLOIDAL, _SPINUP or _TABLE", RJ__NAMES(RJ__NM_PROFILE, rj__sk_profile) },
     RJ__FC("start", start, "s", RJ__FT_REAL, RJ__WHEN_PROFILED, RJ__WR_SET, 9, 15, 0.0,
            RJ__R(-1e9, 1, 1e9, 1), "must be a finite time within +-1e9 s"),
     /* the rotor behind its gear, for every type */
@@ -1734,15 +1755,15 @@ static const rj__field rj__actuator_fields[RJ__CF_N] = {
     /* the cutoff's on/off */
     { "has_cutoff", "has_cutoff", "", RJ__OFF(rj_actuator_def, has_cutoff), -1, RJ__FT_BOOL,
       RJ__WHEN_DC, RJ__WR_NONE, 5, 6, 'i', RJ__CK_CUTOFF, 0.0, RJ__R(0.0, 1, 1.0, 1),
-      RJ__RULE_BOOL, NULL, 0, 0 },
+      RJ__RULE_BOOL, RJ__NM_NONE, 0, 0 },
     /* the profile's numbers */
     { "profile_value", "profile_value", "", RJ__OFF(rj_actuator_def, profile_value), -1,
       RJ__FT_REAL, RJ__WHEN_PROFILED, RJ__WR_NONE, 9, 13, 'd', RJ__CK_PROFILE, 0.0,
       RJ__R(-1e6, 1, 1e6, 1), "must be a finite rate or angle within +-1e6 (rad/s or rad)",
-      NULL, 0, 0 },
+      RJ__NM_NONE, 0, 0 },
     { "profile_time", "profile_time", "s", RJ__OFF(rj_actuator_def, profile_time), -1,
       RJ__FT_REAL, RJ__WHEN_PROFILED, RJ__WR_NONE, 9, 14, 'd', RJ__CK_PROFILE, 1.0,
-      RJ__R(0.0, 0, 1e9, 1), "must be a time in (0, 1e9] s", NULL, 0, 0 },
+      RJ__R(0.0, 0, 1e9, 1), "must be a time in (0, 1e9] s", RJ__NM_NONE, 0, 0 },
 };
 #undef RJ__DEF
 
@@ -1767,6 +1788,33 @@ static const rj__field rj__coupling_fields[RJ__PF_N] = {
 #undef RJ__DEF
 
 /* ------------------------------------------------------------------ reading rows */
+/* The enum names of a row (its names index): count names, stride bytes apart. */
+static const char *rj__names_of(int id)
+{
+    switch (id) {
+    case RJ__NM_ROOT:
+        return rj__sk_root[0];
+    case RJ__NM_FIDELITY:
+        return rj__sk_fidelity[0];
+    case RJ__NM_SHAPE:
+        return rj__sk_shape[0];
+    case RJ__NM_METHOD:
+        return rj__sk_method[0];
+    case RJ__NM_RELEASE:
+        return rj__sk_release[0];
+    case RJ__NM_REFERENCE:
+        return rj__sk_reference[0];
+    case RJ__NM_IN_PLACE:
+        return rj__sk_in_place[0];
+    case RJ__NM_ACTUATOR:
+        return rj__sk_actuator[0];
+    case RJ__NM_PROFILE:
+        return rj__sk_profile[0];
+    default:
+        return "";
+    }
+}
+
 /* The definition kinds, and each one's table. */
 enum {
     RJ__DEF_LINK,
@@ -11555,7 +11603,7 @@ static int rj__sp_row(rj__sp *P, const rj__field *r, int a, int *i, int b, void 
         (*i)++;
         return 1;
     case RJ__FT_ENUM:
-        if (!rj__sp_enum(P, t, key, r->names, r->stride, r->count, &n))
+        if (!rj__sp_enum(P, t, key, rj__names_of(r->names), r->stride, r->count, &n))
             return 0;
         rj__row_set_int(def, r, n);
         (*i)++;
@@ -12870,7 +12918,7 @@ static int rj__sp_item_pos(const char *field, const char *prefix, int count,
     for (k = 0; k < n && *p == '.'; k++) {
         /* the member's name, or the key's at its start ("table" of "table_time[2]") */
         const int key = rows[k].part_of >= 0 ? rows[k].part_of : k;
-        const char *member = rows[k].member ? rows[k].member : rows[k].key;
+        const char *member = rows[k].member[0] ? rows[k].member : rows[k].key;
         const size_t len = strlen(member), klen = strlen(rows[k].key);
         const int named = strncmp(p + 1, member, len) == 0 &&
                           (p[1 + len] == 0 || p[1 + len] == '[');
@@ -13521,7 +13569,7 @@ static void rj__sw_value(rj__sw *W, const rj__field *r, const void *def, const r
         rj__sw_pairs(W, r, def);
         return;
     case RJ__FT_ENUM:
-        rj__sw_put(W, r->names + (size_t) r->stride * (size_t) v);
+        rj__sw_put(W, rj__names_of(r->names) + (size_t) r->stride * (size_t) v);
         return;
     case RJ__FT_BOOL:
         rj__sw_put(W, v ? "yes" : "no");

@@ -773,7 +773,7 @@ static int rj__sp_row(rj__sp *P, const rj__field *r, int a, int *i, int b, void 
         (*i)++;
         return 1;
     case RJ__FT_ENUM:
-        if (!rj__sp_enum(P, t, key, r->names, r->stride, r->count, &n))
+        if (!rj__sp_enum(P, t, key, rj__names_of(r->names), r->stride, r->count, &n))
             return 0;
         rj__row_set_int(def, r, n);
         (*i)++;
@@ -2088,7 +2088,7 @@ static int rj__sp_item_pos(const char *field, const char *prefix, int count,
     for (k = 0; k < n && *p == '.'; k++) {
         /* the member's name, or the key's at its start ("table" of "table_time[2]") */
         const int key = rows[k].part_of >= 0 ? rows[k].part_of : k;
-        const char *member = rows[k].member ? rows[k].member : rows[k].key;
+        const char *member = rows[k].member[0] ? rows[k].member : rows[k].key;
         const size_t len = strlen(member), klen = strlen(rows[k].key);
         const int named = strncmp(p + 1, member, len) == 0 &&
                           (p[1 + len] == 0 || p[1 + len] == '[');

@@ -233,7 +233,7 @@ static void rj__sw_value(rj__sw *W, const rj__field *r, const void *def, const r
         rj__sw_pairs(W, r, def);
         return;
     case RJ__FT_ENUM:
-        rj__sw_put(W, r->names + (size_t) r->stride * (size_t) v);
+        rj__sw_put(W, rj__names_of(r->names) + (size_t) r->stride * (size_t) v);
         return;
     case RJ__FT_BOOL:
         rj__sw_put(W, v ? "yes" : "no");
