@@ -972,6 +972,7 @@ struct rj_model {
     double *spl;          /* (nact x RJ_TABLE_MAX) profile tables' spline (rj__spline_build) */
     int ncp;              /* couplings */
     int nexact;           /* of them exact (constraints) */
+    int nmotion;          /* prescribed joints and exact couplings: the step's rows */
     rj_coupling_def *cp;  /* (ncp) their definitions */
     rj_load_def *load; /* (nload) their definitions */
     int *load_node;    /* (nload) the node each acts on, in the scene's node order */
@@ -1037,6 +1038,52 @@ struct rj_model {
     size_t frame_ints;
 };
 
+/* Constraint rows (src/rows.h tells what they are and how they are solved). */
+enum rj__row_kind {
+    RJ__ROW_LOCK,       /* a locked joint: q'_j = 0 */
+    RJ__ROW_CONTACT,    /* a plastic contact at its limit: q'_j = 0, its impulse pushing */
+    RJ__ROW_PRESCRIBED, /* a prescribed joint: its profile's angle at n + 1 */
+    RJ__ROW_COUPLING    /* an exact coupling: e = 0 at n + 1 */
+};
+
+/* One term of a row: coef times joint's rate. */
+typedef struct rj__term {
+    int joint;
+    double coef;
+} rj__term;
+
+/* One row: its kind and owner (a joint, or a coupling), its terms in the pool, whether
+   the solve holds it, its target rate, its impulse's bounds and the impulse it took. */
+typedef struct rj__row {
+    int kind, owner;
+    int first, count;
+    int active;
+    const double *col; /* joint coordinates: M^-1 J^T (rj__row_column) */
+    double target;
+    double lo, hi;
+    double lam;
+    double before; /* node space: J v before the impulses (the first step's work) */
+} rj__row;
+
+/* A step's rows and their terms (the state's storage, rj__rows_capacity). */
+typedef struct rj__rows {
+    rj__row *row;
+    rj__term *term;
+    int count, terms;
+} rj__rows;
+
+/* At most one row per joint (a lock, a contact or a profile) and one per exact coupling;
+   one term per joint's row, two per coupling's. */
+static int rj__rows_capacity(int nj, int ncp)
+{
+    return nj + ncp + 1;
+}
+
+static int rj__terms_capacity(int nj, int ncp)
+{
+    return nj + 2 * ncp + 1;
+}
+
 struct rj_state {
     size_t bytes;
     int cur; /* index of the current frame */
@@ -1068,17 +1115,21 @@ struct rj_state {
     double step_fin;      /* the positions their kicks wrote, summed (the finite test) */
     double *
         rsc; /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch); mixed: body impulses (3 nl) */
+    rj__row *rows;    /* the step's constraint rows (rj__rows_capacity) */
+    rj__term *terms;  /* their terms (rj__terms_capacity) */
+    double *rsys;     /* node space: the rows' system, its factor, right side and impulses */
     char err[640];
     char warn[200]; /* latest warning (late contact), written only when one occurs */
 };
 
-static size_t rj__rigid_scratch(int nj, int nl);
+static size_t rj__rigid_scratch(int nj, int nl, int ncp);
 static double rj__rig_setup(rj_model *m, double *scratch);
 typedef struct rj__rig {
     double *M, *L, *W, *q, *qd, *qdp, *qdd, *Q, *h, *x,
         *tmp; /* n x n (W: columns of M^-1), n each (tmp 2 n) */
-    double *S, *SL, *lam, *act,
-        *rhs;   /* the plastic joints' impulse system: n x n, its factor, n each */
+    double *S, *SL, *lam,
+        *rhs;   /* the rows' system (src/rows.h): R x R, its factor, R each (R rows at most) */
+    double *Y;  /* the rows' M^-1 J^T that are not a column of M^-1: n each, one per coupling */
     double *lk; /* per link, RJ__RL_COUNT values: rj__rig_kin */
 } rj__rig;
 /* a link's record in rj__rig.lk: angle and its cos, sin; root; centre; their accelerations
@@ -3117,7 +3168,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->cp = rj__carve(&off, (size_t) sc->coupling_count + 1, sizeof(rj_coupling_def));
     L->lz = rj__carve(&off,
                       15 * nn + 10 * ne + 8 + RJ__GRAPH_SCRATCH(nl, nj) +
-                          (rigid ? rj__rigid_scratch(nj, nl) + (size_t) nj * nj : 0),
+                          (rigid ? rj__rigid_scratch(nj, nl, sc->coupling_count) + (size_t) nj * nj : 0),
                       sizeof(double));
     L->total = off == (size_t) -1 ? off : off + RJ__ALIGN;
 }
@@ -5397,7 +5448,7 @@ typedef struct rj__build_scratch {
     int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
     double *lanczos;           /* 3 vectors of 3 nn, the chords, a work area: rj__omega2_max */
     double *chord_x, *chord_y; /* (ne each) the initial chords, at lanczos + 9 nn */
-    double *rigid_bound;       /* rj__rigid_scratch(nj, nl) + nj^2 doubles after the chords */
+    double *rigid_bound;       /* rj__rigid_scratch(nj, nl, ncp) + nj^2 doubles after the chords */
     int *step_node_mark;       /* nn ints: rj__init_step_nodes */
 } rj__build_scratch;
 
@@ -5556,6 +5607,7 @@ static void rj__init_copy_defs(rj_model *m, const rj_scene_def *sc)
         memcpy(m->cp, sc->couplings, sizeof(rj_coupling_def) * (size_t) m->ncp);
     for (k = 0; k < m->ncp; k++)
         m->nexact += m->cp[k].exact;
+    m->nmotion += m->nexact;
 }
 
 /* A link's section: area and second moment (layers integrate EA and EI exactly for the
@@ -5892,6 +5944,7 @@ static void rj__init_actuator(rj_model *m, const rj_actuator_def *a)
     }
     m->nrotor += J->rotor > 0;
     m->npres += a->type == RJ_ACTUATOR_PRESCRIBED;
+    m->nmotion += a->type == RJ_ACTUATOR_PRESCRIBED;
     if (a->type == RJ_ACTUATOR_SERVO) {
         J->k_lin += a->kp;
         J->c_lin += a->kd;
@@ -6513,7 +6566,7 @@ RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
     size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, eu, ebt, jsc,
-        rsc, input_torque, input_node, node_applied, snap_torque;
+        rsc, rows, terms, rsys, input_torque, input_node, node_applied, snap_torque;
 } rj__slayout;
 
 static void rj__state_layout(const rj_model *m, rj__slayout *L)
@@ -6536,8 +6589,12 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->eu = rj__carve(&off, (size_t) m->ne, sizeof(double));
     L->ebt = rj__carve(&off, (size_t) m->ne, sizeof(double));
     L->jsc = rj__carve(&off, (size_t) m->nj * 8 + 1, sizeof(double));
-    L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl) : 3 * (size_t) m->ncl + 1,
+    L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl, m->ncp) : 3 * (size_t) m->ncl + 1,
                        sizeof(double));
+    L->rows = rj__carve(&off, (size_t) rj__rows_capacity(m->nj, m->ncp), sizeof(rj__row));
+    L->terms = rj__carve(&off, (size_t) rj__terms_capacity(m->nj, m->ncp), sizeof(rj__term));
+    L->rsys = rj__carve(&off, 2 * (size_t) m->nmotion * (size_t) (m->nmotion + 1) + 1,
+                        sizeof(double));
     L->input_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
     L->snap_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
     L->input_node = rj__carve(&off, 3 * (size_t) m->nn, sizeof(double));
@@ -6723,6 +6780,9 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->kn = (double *) (void *) (base + L.kn);
     s->jsc = (double *) (void *) (base + L.jsc);
     s->rsc = (double *) (void *) (base + L.rsc);
+    s->rows = (rj__row *) (void *) (base + L.rows);
+    s->terms = (rj__term *) (void *) (base + L.terms);
+    s->rsys = (double *) (void *) (base + L.rsys);
     s->input_torque = (double *) (void *) (base + L.input_torque);
     s->snap_torque = (double *) (void *) (base + L.snap_torque);
     s->input_node = (double *) (void *) (base + L.input_node);
@@ -7342,16 +7402,18 @@ static RJ__FORCE_INLINE double rj__input_work(const double *oj, const double *nj
    centripetal accelerations -omega^2 r of every segment. The element (flags, torques,
    friction, methods) is the same code as for flexible links; a joint torque is a
    generalised force on q_j, and a velocity jump is an impulse along q_j. */
-static size_t rj__rigid_scratch(int nj, int nl)
+static size_t rj__rigid_scratch(int nj, int nl, int ncp)
 {
-    return 5 * (size_t) nj * nj + 13 * (size_t) nj + RJ__RL_COUNT * (size_t) nl + 8;
+    const size_t n = (size_t) nj, rows = (size_t) rj__rows_capacity(nj, ncp);
+    return 3 * n * n + 2 * rows * rows + (size_t) ncp * n + 10 * n + 3 * rows +
+           RJ__RL_COUNT * (size_t) nl + 8;
 }
 
 
 /* the rigid solver's scratch: matrices n x n, vectors n (tmp 2 n), link records */
 static void rj__rig_map(const rj_model *m, double *base, rj__rig *r)
 {
-    const size_t n = (size_t) m->nj;
+    const size_t n = (size_t) m->nj, rows = (size_t) rj__rows_capacity(m->nj, m->ncp);
     r->M = base;
     r->h = r->M + n * n;
     r->L = r->h + n;
@@ -7364,11 +7426,11 @@ static void rj__rig_map(const rj_model *m, double *base, rj__rig *r)
     r->x = r->Q + n;
     r->tmp = r->x + n;
     r->S = r->tmp + 2 * n;
-    r->SL = r->S + n * n;
-    r->lam = r->SL + n * n;
-    r->act = r->lam + n;
-    r->rhs = r->act + n;
-    r->lk = r->rhs + n;
+    r->SL = r->S + rows * rows;
+    r->lam = r->SL + rows * rows;
+    r->rhs = r->lam + rows;
+    r->Y = r->rhs + rows;
+    r->lk = r->Y + (size_t) m->ncp * n;
 }
 
 /* The joint above joint j on the way to the ground (-1 at a root). */
@@ -7704,7 +7766,7 @@ static double rj__rig_setup(rj_model *m, double *scratch)
 {
     rj__rig r;
     const int n = m->nj;
-    double *minv = scratch + rj__rigid_scratch(m->nj, m->nl), lam = 0, *v, *u;
+    double *minv = scratch + rj__rigid_scratch(m->nj, m->nl, m->ncp), lam = 0, *v, *u;
     int j, k, it;
     rj__rig_map(m, scratch, &r);
     for (j = 0; j < n; j++) {
@@ -7767,6 +7829,253 @@ static double rj__rig_setup(rj_model *m, double *scratch)
     return lam;
 }
 
+/* ------------------------------------------------------------------ constraint rows */
+/* A constraint row holds a combination of joint rates, J q' = sum_t coef_t q'_(joint_t),
+   at a target rate over the step, n + 1/2, by an impulse lam along J^T within bounds
+   [lo, hi]. A row with a position to keep (a profile, a coupling's e = 0) aims its target
+   rate at that position at n + 1: target = (position(t + dt) - position(t)) / dt.
+
+   Rows are the one way the step imposes motion. Every kind is built the same way (its
+   terms, target and bounds) and solved by the space its scene steps in:
+   - joint coordinates (rigid scenes): W lam = target - J q' with W = J M^-1 J^T, dense,
+     over the active rows, a bounded row that would pull dropped and the set solved
+     again (rj__rows_solve_dense);
+   - node space (flexible and mixed scenes): a row's impulse is a pair of torque
+     impulses on its joints' pins (rj__joint_impulse); W from the joints' gives, solved
+     at once (rj__rows_direct), then swept row by row until none misses (rows whose
+     joints share a pin node or a body, which W leaves out, need the sweeps).
+   The work of a row's impulse in the kinetic energy's discrete form is
+   -1/2 lam J q'^{n-1/2} now and -1/2 lam J q'^{n+1/2} with the next step (the latches'
+   rule, rj__joint_jump), whatever the space.
+
+   Kinds: a locked joint (rigid scenes), a plastic contact at a limit (rigid scenes,
+   pushing only), a prescribed joint, an exact coupling. The closed loops' rows are the
+   next kind: rows of J over the joints around a loop. */
+/* Opens row of kind for owner; its terms follow with rj__row_term. */
+static rj__row *rj__row_open(rj__rows *R, int kind, int owner, double target, double lo,
+                             double hi)
+{
+    rj__row *row = &R->row[R->count];
+    R->count++;
+    row->kind = kind;
+    row->owner = owner;
+    row->first = R->terms;
+    row->count = 0;
+    row->active = 1;
+    row->target = target;
+    row->lo = lo;
+    row->hi = hi;
+    row->lam = 0;
+    return row;
+}
+
+static void rj__row_term(rj__rows *R, rj__row *row, int joint, double coef)
+{
+    R->term[R->terms].joint = joint;
+    R->term[R->terms].coef = coef;
+    R->terms++;
+    row->count++;
+}
+
+/* J x for a vector x over the joints. */
+static double rj__row_dot(const rj__rows *R, const rj__row *row, const double *x)
+{
+    const rj__term *t = R->term + row->first;
+    double sum = 0;
+    int k;
+    for (k = 0; k < row->count; k++)
+        sum += t[k].coef * x[t[k].joint];
+    return sum;
+}
+
+/* Whether the row is one joint's rate alone (its column of M^-1 is W's). */
+static int rj__row_unit(const rj__rows *R, const rj__row *row)
+{
+    return row->count == 1 && R->term[row->first].coef == 1.0;
+}
+
+/* A prescribed joint's row: its rate lands it on its profile at n + 1. */
+static void rj__row_prescribed(const rj_model *m, const rj_state *s, rj__rows *R, int j,
+                               double run, double t, double dt)
+{
+    const double target = rj__prescribed_rate(m, s, j, run, t, dt);
+    rj__row *row = rj__row_open(R, RJ__ROW_PRESCRIBED, j, target, -HUGE_VAL, HUGE_VAL);
+    rj__row_term(R, row, j, 1.0);
+}
+
+/* Exact coupling k's row, from the joints' running angles at n (stride apart in
+   angles): e = (theta_b - angle0_b) - ratio (theta_a - angle0_a) - offset back to 0 at
+   n + 1, along w = e_b - ratio e_a. */
+static void rj__row_coupling(const rj_model *m, rj__rows *R, int k, const double *angles,
+                             size_t stride, double dt)
+{
+    const rj_coupling_def *c = &m->cp[k];
+    const int a = c->joint_a, b = c->joint_b;
+    const double theta_a = angles[stride * (size_t) a], theta_b = angles[stride * (size_t) b];
+    const double e_n =
+        (theta_b - m->jdef[b].angle0) - c->ratio * (theta_a - m->jdef[a].angle0) - c->offset;
+    rj__row *row = rj__row_open(R, RJ__ROW_COUPLING, k, -e_n / dt, -HUGE_VAL, HUGE_VAL);
+    rj__row_term(R, row, b, 1.0);
+    rj__row_term(R, row, a, -c->ratio);
+}
+
+/* The exact couplings' rows. */
+static void rj__rows_couplings(const rj_model *m, rj__rows *R, const double *angles,
+                               size_t stride, double dt)
+{
+    int k;
+    for (k = 0; k < m->ncp; k++)
+        if (m->cp[k].exact)
+            rj__row_coupling(m, R, k, angles, stride, dt);
+}
+
+/* Whether a pushing-only row's rate has turned against its bound: a contact whose
+   impulse may only be negative (its forward limit) holds rates up to its target. */
+static int rj__row_violated(const rj__row *row, double rate)
+{
+    if (row->hi == 0)
+        return rate > row->target;
+    if (row->lo == 0)
+        return rate < row->target;
+    return 0;
+}
+
+/* Whether an active row's impulse lies outside its bounds (a bounded row that pulls). */
+static int rj__row_pulls(const rj__row *row, double lam)
+{
+    return lam > row->hi || lam < row->lo;
+}
+
+/* What the dense solve works in: M's factor, M^-1's columns for the joints (W, n x n,
+   column j at W + j n), the other rows' M^-1 J^T (Y, n each), the system and its factor
+   (S, SL: R x R), vectors (lam, rhs: R; scratch: n), and the row a single impulse
+   before the solve already holds exactly (-1: none), which alone needs no solve. */
+typedef struct rj__dense {
+    int n;
+    const double *L;
+    double *W, *Y, *S, *SL, *lam, *rhs, *scratch;
+    int held;
+} rj__dense;
+
+/* A row's M^-1 J^T: W's column for a unit row (made here), else the next column of Y
+   (the other rows before it took *others). */
+static const double *rj__row_column(const rj__rows *R, const rj__row *row, const rj__dense *D,
+                                    int *others)
+{
+    const int n = D->n;
+    double *y, *scratch = D->scratch;
+    int k;
+    if (rj__row_unit(R, row)) {
+        const int j = R->term[row->first].joint;
+        y = D->W + (size_t) j * n;
+        rj__chol_unit(n, D->L, j, y);
+        return y;
+    }
+    y = D->Y + (size_t) *others * n;
+    (*others)++;
+    for (k = 0; k < n; k++)
+        scratch[k] = 0;
+    for (k = 0; k < row->count; k++)
+        scratch[R->term[row->first + k].joint] += R->term[row->first + k].coef;
+    rj__chol_solve(n, D->L, scratch, y);
+    return y;
+}
+
+/* The active rows' system S lam = target - J q', its factor in SL; a singular one (rows
+   that repeat each other) is regularised by 1e-12 of its largest diagonal, a least-
+   squares answer. Returns the number of active rows, -1 when even that fails. */
+static int rj__rows_system(const rj__rows *R, const rj__dense *D, const double *qdp)
+{
+    int a, b, k = 0, row = 0;
+    double largest = 0;
+    for (a = 0; a < R->count; a++)
+        k += R->row[a].active;
+    for (a = 0; a < R->count; a++) {
+        int c = 0;
+        if (!R->row[a].active)
+            continue;
+        for (b = 0; b < R->count; b++) {
+            if (!R->row[b].active)
+                continue;
+            D->S[(size_t) row * k + c] = rj__row_dot(R, &R->row[a], R->row[b].col);
+            c++;
+        }
+        D->rhs[row] = R->row[a].target - rj__row_dot(R, &R->row[a], qdp);
+        if (D->S[(size_t) row * k + row] > largest)
+            largest = D->S[(size_t) row * k + row];
+        row++;
+    }
+    if (!rj__chol(k, D->S, D->SL))
+        return k;
+    for (a = 0; a < k; a++)
+        D->S[(size_t) a * k + a] += 1e-12 * largest;
+    return rj__chol(k, D->S, D->SL) ? -1 : k;
+}
+
+/* One pass of the dense solve: the active rows' impulses into D->lam; rows that would
+   pull leave the set (returns 1: solve again); else the impulses move q' and the rows
+   keep them (returns 0). -1: no solution. */
+static int rj__rows_pass(rj__rows *R, const rj__dense *D, double *qdp)
+{
+    const int n = D->n;
+    int a, i, k, row = 0, dropped = 0;
+    k = rj__rows_system(R, D, qdp);
+    if (k < 0)
+        return -1;
+    rj__chol_solve(k, D->SL, D->rhs, D->lam);
+    for (a = 0; a < R->count; a++) {
+        if (!R->row[a].active)
+            continue;
+        if (rj__row_pulls(&R->row[a], R->row[a].lam + D->lam[row])) {
+            R->row[a].active = 0;
+            dropped = 1;
+        }
+        row++;
+    }
+    if (dropped)
+        return 1;
+    row = 0;
+    for (a = 0; a < R->count; a++) {
+        if (!R->row[a].active)
+            continue;
+        for (i = 0; i < n; i++)
+            qdp[i] += R->row[a].col[i] * D->lam[row];
+        R->row[a].lam += D->lam[row];
+        row++;
+    }
+    return 0;
+}
+
+/* The rows in joint coordinates: passes until no bounded row pulls and none left out
+   is violated (at most one pass per row and one more). Returns 0, or -1 when the system
+   has no solution. */
+static int rj__rows_solve_dense(rj__rows *R, const rj__dense *D, double *qdp)
+{
+    int a, pass, changed = 1, others = 0;
+    for (a = 0; a < R->count; a++)
+        R->row[a].col = rj__row_column(R, &R->row[a], D, &others);
+    for (pass = 0; pass <= R->count && changed; pass++) {
+        int any = 0, step;
+        for (a = 0; a < R->count; a++)
+            any += R->row[a].active;
+        /* none, or only the row a single impulse held exactly */
+        if (!any || (any == 1 && D->held >= 0 && R->row[D->held].active))
+            return 0;
+        step = rj__rows_pass(R, D, qdp);
+        if (step < 0)
+            return -1;
+        changed = step;
+        /* a bounded row left out that the impulses turned against its bound joins */
+        for (a = 0; a < R->count; a++) {
+            rj__row *row = &R->row[a];
+            if (row->active || !rj__row_violated(row, rj__row_dot(R, row, qdp)))
+                continue;
+            row->active = 1;
+            changed = 1;
+        }
+    }
+    return 0;
+}
 /* ------------------------------------------------------------------ the step: its stages */
 /* A node's rotation rate at the end of the step under the loads so far (a body's own node:
    the body's). */
@@ -8655,166 +8964,224 @@ static RJ__FORCE_INLINE double rj__joint_jump(const rj_model *m, const rj__frame
     return rj__joint_rate(J, g, f->nvx, f->nvy, f->nw, NULL, NULL);
 }
 
-/* The bodies' rates w1, w2 (inertias I1, I2; infinite for ground or a fixed body) moved,
-   their angular momentum kept, to the relative rate w2 - w1 = target. */
-static void rj__rate_to(double I1, double I2, double target, double *w1, double *w2)
-{
-    if (!rj__finite(I1)) {
-        *w2 = *w1 + target;
-        return;
-    }
-    if (!rj__finite(I2)) {
-        *w1 = *w2 - target;
-        return;
-    }
-    {
-        const double mean = (I1 * *w1 + I2 * *w2) / (I1 + I2);
-        *w1 = mean - I2 / (I1 + I2) * target;
-        *w2 = mean + I1 / (I1 + I2) * target;
-    }
-}
-
-/* A prescribed joint's rate at n + 1/2 set so that its angle at n + 1 is its profile's
-   (held at the start while rj_settle runs): a jump of the pin nodes' rates that keeps
-   their momentum, as a latch's (rj__joint_jump), whose work in the kinetic energy's form
-   is the drive's, this step's half now and the next's pending; its impulse over the kick
-   is the drive torque. Returns the rate after. */
-static RJ__FORCE_INLINE double rj__prescribe(const rj_model *m, const rj_state *s,
-                                              const rj__frames *f, int j,
-                            const rj__jgeo *g, double w1, double w2, rj__sums *e, double *fin)
-{
-    const rj__joint *J = &m->jnt[j];
-    const double run = RJ__FJ(m, f->old, j)[RJ__JD_THETA];
-    const double target = rj__prescribed_rate(m, s, j, run, f->t, f->dt);
-    const double o1 = w1, o2 = w2;
-    double *new_joint = RJ__FJ(m, f->next, j);
-    double m1 = 0, m2 = 0, work = 0, impulse;
-    /* the bodies' rates at n - 1/2 (at the first step, 2 w^0 less those before the jump) */
-    rj__joint_rate(J, g, f->vx, f->vy, f->w, &m1, &m2);
-    if (f->first) {
-        m1 = 2 * m1 - o1;
-        m2 = 2 * m2 - o2;
-    }
-    rj__rate_to(J->I1, J->I2, target, &w1, &w2);
-    if (rj__finite(J->I1)) {
-        work -= 0.5 * J->I1 * m1 * (o1 - w1);
-        e->drive_pending -= 0.5 * J->I1 * w1 * (o1 - w1);
-    }
-    if (rj__finite(J->I2)) {
-        work -= 0.5 * J->I2 * m2 * (o2 - w2);
-        e->drive_pending -= 0.5 * J->I2 * w2 * (o2 - w2);
-    }
-    work -= 0.5 * J->rotor * (m2 - m1) * ((o2 - o1) - (w2 - w1));
-    e->drive_pending -= 0.5 * J->rotor * (w2 - w1) * ((o2 - o1) - (w2 - w1));
-    impulse = rj__finite(J->I2) ? J->I2 * (w2 - o2) : -J->I1 * (w1 - o1);
-    impulse += J->rotor * ((w2 - w1) - (o2 - o1));
-    new_joint[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = impulse / f->kick;
-    rj__spin(J, g, w1 - o1, w2 - o2, f->nvx, f->nvy, f->nw);
-    rj__jump_nodes(m, f, J, fin);
-    e->drive += work;
-    e->kinetic += work;
-    return rj__joint_rate(J, g, f->nvx, f->nvy, f->nw, NULL, NULL);
-}
-
-/* Stage 5 of scenes with prescribed joints: each one's jump onto its profile, before the
-   limits' responses (a prescribed joint has none). */
-static RJ__FORCE_INLINE void rj__stage_prescribed(const rj_model *m, rj_state *s,
-                                                  const rj__frames *f, rj__sums *e, double *fin)
-{
-    int j;
-    for (j = 0; j < m->nj; j++) {
-        const rj__joint *J = &m->jnt[j];
-        rj__jgeo g;
-        double w1, w2;
-        if (!rj__prescribed(J))
-            continue;
-        rj__kept_geo(s->jsc + 8 * j, &g);
-        rj__joint_rate(J, &g, f->nvx, f->nvy, f->nw, &w1, &w2);
-        rj__prescribe(m, s, f, j, &g, w1, w2, e, fin);
-    }
-}
-
-/* A torque impulse P on joint J's pins at its node rates (the opposite on body 1): node
-   rates move by P over their rotary inertias; the kinetic energy's discrete form loses
-   what the latches' jumps count, this step's half (returned) and the next's (*pending). */
-static double rj__pin_impulse(const rj_model *m, const rj__frames *f, const rj__joint *J,
-                              double P, double *pending, double *fin)
-{
-    const int node[2] = { J->nJ, J->nI };
-    double loss = 0;
-    int k;
-    for (k = 0; k < 2; k++) {
-        const int n = node[k];
-        double before, after;
-        if (n < 0 || !(m->rinv[n] > 0))
-            continue;
-        before = f->nw[n];
-        after = before + (k == 0 ? P : -P) * m->rinv[n];
-        /* the first step's w^{-1/2} is 2 w^0 less the rate before the impulse */
-        loss += 0.5 * (f->first ? 2 * f->w[n] - before : f->w[n]) * (before - after) /
-                m->rinv[n];
-        *pending += 0.5 * after * (before - after) / m->rinv[n];
-        f->nw[n] = after;
-    }
-    rj__jump_nodes(m, f, J, fin);
-    return loss;
-}
-
-/* Joint j's rate at n + 1/2 from the nodes' now, its compliance into *comp. */
-static double rj__rate_now(const rj_model *m, const rj_state *s, const rj__frames *f, int j,
-                           double *comp)
+/* Joint j's rate at n + 1/2 from the nodes' now. */
+static double rj__rate_now(const rj_model *m, const rj_state *s, const rj__frames *f, int j)
 {
     rj__jgeo g;
     rj__kept_geo(s->jsc + 8 * j, &g);
-    if (comp)
-        *comp = rj__joint_compliance(m, &m->jnt[j], &g);
     return rj__joint_rate(&m->jnt[j], &g, f->nvx, f->nvy, f->nw, NULL, NULL);
 }
 
-/* What the exact couplings' stage returns: this step's share of their impulses' loss,
-   the next step's, and the sum of the angles they moved (finite while they are). */
-typedef struct rj__exact_sums {
-    double loss, pending, fin;
-} rj__exact_sums;
-
-/* Stage 5c of scenes with exact couplings: each one's impulse pair, P on joint b and
-   -ratio P on joint a, that lands e at 0 at n + 1 (P = -residual over the pair's
-   compliance, c_b + ratio^2 c_a), after the latches; reported as the joints' spring
-   torques over the kick, its discrete energy with the limits'. Apart (not inlined; the
-   frames' record by value and the sums returned: a pointer to the record would keep it
-   out of registers in the whole step), so a scene without them pays one test. */
-static RJ__NOINLINE rj__exact_sums rj__stage_exact(const rj_model *m, const rj_state *s,
-                                                   rj__frames f)
+/* Joint j's rate from the nodes' rates at n - 1/2 (at the first step, at 0). */
+static double rj__rate_back(const rj_model *m, const rj_state *s, const rj__frames *f, int j)
 {
-    rj__exact_sums out;
+    rj__jgeo g;
+    rj__kept_geo(s->jsc + 8 * j, &g);
+    return rj__joint_rate(&m->jnt[j], &g, f->vx, f->vy, f->w, NULL, NULL);
+}
+
+/* The rate change of joint J per unit torque impulse on its pins, and each body's share:
+   1 / I over 1 + rotor c0 (c0 = 1/I1 + 1/I2; a rotor's reflected inertia acts on the
+   relative rotation; ground or a fixed body, I infinite, takes none). */
+static double rj__joint_give(const rj__joint *J, double *give1, double *give2)
+{
+    const double c1 = rj__finite(J->I1) ? 1.0 / J->I1 : 0.0;
+    const double c2 = rj__finite(J->I2) ? 1.0 / J->I2 : 0.0;
+    const double share = 1.0 / (1.0 + J->rotor * (c1 + c2));
+    if (give1)
+        *give1 = c1 * share;
+    if (give2)
+        *give2 = c2 * share;
+    return (c1 + c2) * share;
+}
+
+/* A torque impulse P on joint j's pins (P on body 2, -P on body 1): the bodies' rates move
+   by their gives (rj__joint_give), the nodes with them. The momentum I1 w1 + I2 w2 is
+   kept, as a latch's jump keeps it (rj__joint_jump). */
+static void rj__joint_impulse(const rj_model *m, const rj_state *s, const rj__frames *f, int j,
+                              double P, double *fin)
+{
+    const rj__joint *J = &m->jnt[j];
+    double give1, give2;
+    rj__jgeo g;
+    rj__kept_geo(s->jsc + 8 * j, &g);
+    rj__joint_give(J, &give1, &give2);
+    rj__spin(J, &g, -P * give1, P * give2, f->nvx, f->nvy, f->nw);
+    rj__jump_nodes(m, f, J, fin);
+}
+
+/* Row's impulse P: P coef on each of its joints; the row keeps the sum. */
+static void rj__row_impulse(const rj_model *m, const rj_state *s, const rj__frames *f,
+                            const rj__rows *R, rj__row *row, double P, double *fin)
+{
     int k;
-    out.loss = out.pending = out.fin = 0;
-    for (k = 0; k < m->ncp; k++) {
-        const rj_coupling_def *c = &m->cp[k];
-        const int a = c->joint_a, b = c->joint_b;
-        double *rec_a = RJ__FJ(m, f.next, a), *rec_b = RJ__FJ(m, f.next, b);
-        double e_n, rate, P, ca, cb;
-        if (!c->exact)
-            continue;
-        e_n = (RJ__FJ(m, f.old, b)[RJ__JD_THETA] - m->jdef[b].angle0) -
-              c->ratio * (RJ__FJ(m, f.old, a)[RJ__JD_THETA] - m->jdef[a].angle0) - c->offset;
-        rate = rj__rate_now(m, s, &f, b, &cb) - c->ratio * rj__rate_now(m, s, &f, a, &ca);
-        P = -(rate + e_n / f.dt) / (cb + c->ratio * c->ratio * ca);
-        out.loss += rj__pin_impulse(m, &f, &m->jnt[b], P, &out.pending, &out.fin);
-        out.loss += rj__pin_impulse(m, &f, &m->jnt[a], -c->ratio * P, &out.pending, &out.fin);
-        rec_b[RJ__JD_TQ0 + RJ_TORQUE_SPRING] += P / f.kick;
-        rec_a[RJ__JD_TQ0 + RJ_TORQUE_SPRING] -= c->ratio * P / f.kick;
-        rec_b[RJ__JD_RATE] = rj__rate_now(m, s, &f, b, NULL);
-        rec_a[RJ__JD_RATE] = rj__rate_now(m, s, &f, a, NULL);
+    for (k = 0; k < row->count; k++)
+        rj__joint_impulse(m, s, f, R->term[row->first + k].joint,
+                          R->term[row->first + k].coef * P, fin);
+    row->lam += P;
+}
+
+/* A row's rate J v at n + 1/2 now, and its give J M^-1 J^T (the terms' joints apart). */
+static double rj__row_rate(const rj_model *m, const rj_state *s, const rj__frames *f,
+                           const rj__rows *R, const rj__row *row, double *give)
+{
+    double rate = 0, sum = 0;
+    int k;
+    for (k = 0; k < row->count; k++) {
+        const rj__term *t = &R->term[row->first + k];
+        rate += t->coef * rj__rate_now(m, s, f, t->joint);
+        sum += t->coef * t->coef * rj__joint_give(&m->jnt[t->joint], NULL, NULL);
     }
+    if (give)
+        *give = sum;
+    return rate;
+}
+
+/* Node space's rows system W lam = target - J v, W_ab = sum over the joints both rows
+   name of coef_a coef_b give_j: exact while no two of their joints share a pin node or a
+   body (else the sweeps after it finish the work); in s->rsys (rows k: k x k, its factor,
+   k, k). A singular W (rows that repeat each other) is regularised by 1e-12 of its
+   largest diagonal, a least-squares answer. */
+static void rj__rows_direct(const rj_model *m, const rj_state *s, const rj__frames *f,
+                            rj__rows *R, double *fin)
+{
+    const int k = R->count;
+    double *S = s->rsys, *SL = S + (size_t) k * k, *rhs = SL + (size_t) k * k, *lam = rhs + k;
+    double largest = 0;
+    int a, b, p, q;
+    for (a = 0; a < k; a++) {
+        const rj__row *ra = &R->row[a];
+        for (b = 0; b < k; b++) {
+            const rj__row *rb = &R->row[b];
+            double sum = 0;
+            for (p = 0; p < ra->count; p++)
+                for (q = 0; q < rb->count; q++) {
+                    const rj__term *tp = &R->term[ra->first + p], *tq = &R->term[rb->first + q];
+                    if (tp->joint == tq->joint)
+                        sum += tp->coef * tq->coef * rj__joint_give(&m->jnt[tp->joint], NULL, NULL);
+                }
+            S[(size_t) a * k + b] = sum;
+        }
+        rhs[a] = ra->target - rj__row_rate(m, s, f, R, ra, NULL);
+        largest = fmax(largest, S[(size_t) a * k + a]);
+    }
+    if (rj__chol(k, S, SL)) {
+        for (a = 0; a < k; a++)
+            S[(size_t) a * k + a] += 1e-12 * largest;
+        if (rj__chol(k, S, SL))
+            return;
+    }
+    rj__chol_solve(k, SL, rhs, lam);
+    for (a = 0; a < k; a++)
+        rj__row_impulse(m, s, f, R, &R->row[a], lam[a], fin);
+}
+
+/* One sweep over the rows: each one's impulse to its target, its terms' joints in turn,
+   where it misses by more than 1e-15 rad at n + 1 (its rate's miss times dt). Returns
+   how many took one. */
+static int rj__rows_sweep(const rj_model *m, const rj_state *s, const rj__frames *f,
+                          rj__rows *R, double *fin)
+{
+    int a, moved = 0;
+    for (a = 0; a < R->count; a++) {
+        rj__row *row = &R->row[a];
+        double give;
+        const double rate = rj__row_rate(m, s, f, R, row, &give);
+        if (!(fabs(row->target - rate) * f->dt > 1e-15))
+            continue;
+        rj__row_impulse(m, s, f, R, row, (row->target - rate) / give, fin);
+        moved++;
+    }
+    return moved;
+}
+
+/* The node-space rows' rates before any impulse, for the first step's work. */
+static void rj__rows_before(const rj_model *m, const rj_state *s, const rj__frames *f,
+                            rj__rows *R)
+{
+    int a;
+    for (a = 0; a < R->count; a++)
+        R->row[a].before = rj__row_rate(m, s, f, R, &R->row[a], NULL);
+}
+
+/* What the rows' stage returns: the work of the prescribed joints' impulses, this step's
+   and the next's; the exact couplings' loss, this step's and the next's; the sum of the
+   positions they moved (finite while they are). */
+typedef struct rj__rows_sums {
+    double drive, drive_pending, loss, pending, fin;
+} rj__rows_sums;
+
+/* A row's impulse in the accounts and the joints' records: -1/2 lam J v^{n-1/2} now and
+   -1/2 lam J v^{n+1/2} with the next step, as the drive's work (a prescribed joint: its
+   torque) or the limits' loss (an exact coupling: its torque in the spring columns). */
+static void rj__row_account(const rj_model *m, const rj_state *s, const rj__frames *f,
+                            const rj__rows *R, const rj__row *row, rj__rows_sums *out)
+{
+    double back = 0, after = 0;
+    int k;
+    for (k = 0; k < row->count; k++) {
+        const rj__term *t = &R->term[row->first + k];
+        const double rate = rj__rate_now(m, s, f, t->joint);
+        double *record = RJ__FJ(m, f->next, t->joint);
+        back += t->coef * rj__rate_back(m, s, f, t->joint);
+        after += t->coef * rate;
+        record[RJ__JD_RATE] = rate;
+        if (row->kind == RJ__ROW_PRESCRIBED)
+            record[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = row->lam / f->kick;
+        else
+            record[RJ__JD_TQ0 + RJ_TORQUE_SPRING] += t->coef * row->lam / f->kick;
+    }
+    /* the first step's J v^{-1/2}: 2 J v(0) less the rate before the impulses */
+    if (f->first)
+        back = 2 * back - row->before;
+    if (row->kind == RJ__ROW_PRESCRIBED) {
+        out->drive += 0.5 * row->lam * back;
+        out->drive_pending += 0.5 * row->lam * after;
+    } else {
+        out->loss -= 0.5 * row->lam * back;
+        out->pending -= 0.5 * row->lam * after;
+    }
+}
+/* Stage 5c of scenes with prescribed joints or exact couplings: their rows (src/rows.h)
+   in node space, before the latches: the prescribed joints land on their profiles, the
+   couplings' e at 0, at n + 1. Several rows are solved together (rj__rows_direct), then
+   swept one by one until none misses its target by more than 1e-15 rad (at most 100
+   sweeps; rows whose joints share a pin node or a body need them). Apart (not inlined; the frames' record by value and the
+   sums returned: a pointer to the record would keep it out of registers in the whole
+   step), so a scene without rows pays one test. */
+static RJ__NOINLINE rj__rows_sums rj__stage_rows(const rj_model *m, const rj_state *s,
+                                                 rj__frames f)
+{
+    rj__rows_sums out;
+    rj__rows R;
+    int j, sweep;
+    memset(&out, 0, sizeof out);
+    R.row = s->rows;
+    R.term = s->terms;
+    R.count = R.terms = 0;
+    for (j = 0; j < m->nj; j++)
+        if (rj__prescribed(&m->jnt[j]))
+            rj__row_prescribed(m, s, &R, j, RJ__FJ(m, f.old, j)[RJ__JD_THETA], f.t, f.dt);
+    rj__rows_couplings(m, &R, RJ__FJ(m, f.old, 0) + RJ__JD_THETA, RJ__JD_COUNT, f.dt);
+    rj__rows_before(m, s, &f, &R);
+    if (R.count > 1)
+        rj__rows_direct(m, s, &f, &R, &out.fin);
+    for (sweep = 0; sweep < 100; sweep++)
+        if (!rj__rows_sweep(m, s, &f, &R, &out.fin))
+            break;
+    for (j = 0; j < R.count; j++)
+        rj__row_account(m, s, &f, &R, &R.row[j], &out);
     return out;
 }
 
-/* The exact couplings' stage on the step's frames and sums. */
-static RJ__FORCE_INLINE void rj__update_exact(const rj_model *m, const rj_state *s,
-                                              const rj__frames *f, rj__sums *e, double *fin)
+/* The rows' stage on the step's frames and sums. */
+static RJ__FORCE_INLINE void rj__update_rows(const rj_model *m, const rj_state *s,
+                                             const rj__frames *f, rj__sums *e, double *fin)
 {
-    const rj__exact_sums out = rj__stage_exact(m, s, *f);
+    const rj__rows_sums out = rj__stage_rows(m, s, *f);
+    e->drive += out.drive;
+    e->kinetic += out.drive;
+    e->drive_pending += out.drive_pending;
     e->lost_limit += out.loss;
     e->kinetic -= out.loss;
     e->pending += out.pending;
@@ -8827,8 +9194,8 @@ static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_sta
                                                        double *fin)
 {
     int j;
-    if (m->npres)
-        rj__stage_prescribed(m, s, f, e, fin);
+    if (m->nmotion)
+        rj__update_rows(m, s, f, e, fin);
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         const rj__joint *J = &m->jnt[j];
@@ -9147,8 +9514,6 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     rj__stage_friction(m, s, &f);
     rj__stage_update(m, s, &f, &adv, &e, &fin);
     rj__stage_velocity_limits(m, s, &f, &e, &fin);
-    if (m->nexact)
-        rj__update_exact(m, s, &f, &e, &fin);
     if (applied)
         e.work += rj__applied_work(m, s, f.old, f.next);
     rj__stage_constraints(m, s, &f, &e, &fin);
@@ -9174,123 +9539,119 @@ static int rj__rig_plastic(const rj_joint_def *d, int flag)
     return flag == RJ_LOCKED || d->method == RJ_METHOD_FORCED || d->restitution == 0;
 }
 
-/* W_SS lam = -q'_S for the k joints flagged in act, as a compact k x k system (W's
-   columns for them in r->W); lam in r->lam, in the order of the set. Nonzero when the
-   system is singular. */
-static int rj__rig_set_solve(const rj_model *m, int k, rj__rig *r, const double *qdp)
+/* What the rigid step's impulses did: how many joints took one alone, the last of them,
+   and whether any was an impact (a new contact or lock, or a bounce). */
+typedef struct rj__rig_jumps {
+    int count, last, impact;
+} rj__rig_jumps;
+
+/* Rigid step, stage 5b: the rows in joint coordinates (src/rows.h), in joint order: a
+   prescribed joint's profile; a locked joint; a plastic contact, held from the start when
+   it turns into its limit or a single impulse moved its rate (a later joint's impulse
+   moves an earlier one off the rate its own gave it; r->h holds the rates before them);
+   then the exact couplings. The joints' impulses move each other (M^-1 couples them), so
+   they are solved together: one joint after another (as the single impulses) left a
+   locked joint drifting at up to 0.3 deg/s in the fidelity benchmark's rigid solar
+   array, and sweeping that to convergence took hundreds of passes (W is ill-conditioned
+   along a chain). */
+static void rj__rig_rows_build(const rj_model *m, const rj_state *s, const rj__frames *f,
+                               const rj__rig *r, rj__rows *R)
 {
-    const int n = m->nj;
-    const double *act = r->act, *W = r->W;
-    double *S = r->S, *rhs = r->rhs;
-    int a, b, row = 0;
-    for (a = 0; a < n; a++) {
-        int col = 0;
-        if (act[a] == 0)
+    const int *ni = f->new_flags;
+    int j;
+    R->count = R->terms = 0;
+    for (j = 0; j < m->nj; j++) {
+        const double rate = r->qdp[j];
+        const int forward = ni[j] == RJ_AT_FORWARD;
+        rj__row *row;
+        if (rj__prescribed(&m->jnt[j])) {
+            rj__row_prescribed(m, s, R, j, r->q[j], f->t, f->dt);
             continue;
-        for (b = 0; b < n; b++) {
-            if (act[b] == 0)
-                continue;
-            S[(size_t) row * k + col] = W[(size_t) b * n + a];
-            col++;
         }
-        /* a prescribed joint's target rate (rj__rig_targets), else rest */
-        rhs[row] = m->npres ? r->x[a] - qdp[a] : -qdp[a];
-        row++;
+        if (!rj__rig_plastic(&m->jdef[j], ni[j]))
+            continue;
+        if (ni[j] == RJ_LOCKED)
+            row = rj__row_open(R, RJ__ROW_LOCK, j, 0.0, -HUGE_VAL, HUGE_VAL);
+        else {
+            row = rj__row_open(R, RJ__ROW_CONTACT, j, 0.0, forward ? -HUGE_VAL : 0.0,
+                               forward ? 0.0 : HUGE_VAL);
+            row->active = rate != r->h[j] || rj__into_limit(ni[j], rate);
+        }
+        rj__row_term(R, row, j, 1.0);
     }
-    if (rj__chol(k, S, r->SL))
-        return 1;
-    rj__chol_solve(k, r->SL, rhs, r->lam);
-    return 0;
+    rj__rows_couplings(m, R, r->q, 1, f->dt);
 }
 
-/* Drops from the set every contact (not a lock, not a prescribed joint) whose impulse would
-   pull it off its limit; returns how many it dropped. */
-static int rj__rig_set_drop(const rj_model *m, const int *ni, rj__rig *r)
+/* The row of the one joint that took a single impulse (which held it exactly), or -1. */
+static int rj__rig_held_row(const rj__rows *R, const rj__rig_jumps *jumps)
 {
-    const int n = m->nj;
-    int a, row = 0, dropped = 0;
-    for (a = 0; a < n; a++) {
-        double lam;
-        if (r->act[a] == 0)
-            continue;
-        lam = r->lam[row];
-        row++;
-        if (ni[a] == RJ_LOCKED || rj__prescribed(&m->jnt[a]))
-            continue;
-        if ((ni[a] == RJ_AT_FORWARD && lam > 0) || (ni[a] == RJ_AT_REVERSE && lam < 0)) {
-            r->act[a] = 0;
-            dropped++;
-        }
-    }
-    return dropped;
+    int a;
+    if (jumps->count != 1)
+        return -1;
+    for (a = 0; a < R->count; a++)
+        if (R->row[a].kind <= RJ__ROW_CONTACT && R->row[a].owner == jumps->last)
+            return a;
+    return -1;
 }
 
-/* One joint's impulse moves the others (M^-1 couples them), so the plastic ones take
-   their impulses together: W_SS lam = -q'_S with W = M^-1, S the set; a contact whose
-   impulse would pull is dropped and the set solved again. One joint after another (as
-   the single impulses before this) left a locked joint drifting at up to 0.3 deg/s in the
-   fidelity benchmark's rigid solar array; sweeping that to convergence took hundreds of
-   passes (W is ill-conditioned along a chain). The set starts with every locked joint and
-   every plastic contact that turns into its limit or whose rate the single impulses
-   changed: a later joint's impulse moves an earlier one off the rate its own gave it.
-   r->h holds the rates before the impulses. */
-static void rj__rig_plastic_set(const rj_model *m, rj__rig *r, const int *ni, int jumped,
-                                int last_jump)
+/* The exact couplings' impulses: each joint's share into r->x (rj__rig_jump_loss keeps
+   it out of the latches' impulses), their torques into the joints' spring columns. */
+static void rj__rig_coupling_torques(const rj_model *m, const rj__frames *f, const rj__rows *R,
+                                     rj__rig *r)
 {
-    const int n = m->nj;
-    double *qdp = r->qdp, *act = r->act;
-    const double *rates_before = r->h;
-    int j, pass, changed = 1;
-    for (j = 0; j < n; j++) {
-        const int moved = qdp[j] != rates_before[j] || rj__into_limit(ni[j], qdp[j]);
-        act[j] = rj__rig_plastic(&m->jdef[j], ni[j]) && (ni[j] == RJ_LOCKED || moved) ? 1.0 : 0.0;
-        if (rj__prescribed(&m->jnt[j]))
-            act[j] = 1.0;
-    }
-    for (pass = 0; pass <= n && changed; pass++) {
-        int k = 0, row = 0, locked = 0;
-        changed = 0;
-        for (j = 0; j < n; j++)
-            k += act[j] != 0;
-        /* none, or only the one joint that took an impulse before: that was exact */
-        if (k == 0 || (k == 1 && jumped == 1 && act[last_jump] != 0))
-            return;
-        /* every joint locked (no contact could pull): q' = 0, which the system would
-           give to round-off */
-        for (j = 0; j < n; j++)
-            locked += ni[j] == RJ_LOCKED;
-        if (locked == n) {
-            for (j = 0; j < n; j++)
-                qdp[j] = 0;
-            return;
-        }
-        for (j = 0; j < n; j++)
-            if (act[j] != 0)
-                rj__chol_unit(n, r->L, j, r->W + (size_t) j * n);
-        if (rj__rig_set_solve(m, k, r, qdp))
-            return;
-        if (rj__rig_set_drop(m, ni, r)) {
-            changed = 1;
+    double *new_joints = RJ__FJ(m, f->next, 0);
+    int a, k;
+    for (k = 0; k < m->nj; k++)
+        r->x[k] = 0;
+    for (a = 0; a < R->count; a++) {
+        const rj__row *row = &R->row[a];
+        if (row->kind != RJ__ROW_COUPLING)
             continue;
-        }
-        for (j = 0; j < n; j++) {
-            const double *w = r->W + (size_t) j * n;
-            int i;
-            if (act[j] == 0)
-                continue;
-            for (i = 0; i < n; i++)
-                qdp[i] += w[i] * r->lam[row];
-            row++;
-        }
-        /* a plastic contact the impulses turned into its limit joins the set */
-        for (j = 0; j < n; j++) {
-            if (act[j] != 0 || !rj__rig_plastic(&m->jdef[j], ni[j]) ||
-                !rj__into_limit(ni[j], qdp[j]))
-                continue;
-            act[j] = 1;
-            changed = 1;
+        for (k = 0; k < row->count; k++) {
+            const rj__term *t = &R->term[row->first + k];
+            const double impulse = t->coef * row->lam;
+            r->x[t->joint] += impulse;
+            new_joints[(size_t) RJ__JD_COUNT * t->joint + RJ__JD_TQ0 + RJ_TORQUE_SPRING] +=
+                impulse / f->kick;
         }
     }
+}
+
+/* The rows' solve: none to do when the only row held is the one a single impulse held;
+   with every joint locked (and no coupling) q' = 0, which the system gives to round-off. */
+static void rj__rig_rows(const rj_model *m, const rj_state *s, const rj__frames *f, rj__rig *r,
+                         const rj__rig_jumps *jumps)
+{
+    rj__rows R;
+    rj__dense D;
+    int j, active = 0, locked = 0;
+    R.row = s->rows;
+    R.term = s->terms;
+    rj__rig_rows_build(m, s, f, r, &R);
+    D.held = rj__rig_held_row(&R, jumps);
+    for (j = 0; j < R.count; j++)
+        active += R.row[j].active;
+    for (j = 0; j < m->nj; j++)
+        locked += f->new_flags[j] == RJ_LOCKED;
+    if (active == 0 || (active == 1 && D.held >= 0 && R.row[D.held].active))
+        return;
+    if (locked == m->nj && !m->nexact) {
+        for (j = 0; j < m->nj; j++)
+            r->qdp[j] = 0;
+        return;
+    }
+    D.n = m->nj;
+    D.L = r->L;
+    D.W = r->W;
+    D.Y = r->Y;
+    D.S = r->S;
+    D.SL = r->SL;
+    D.lam = r->lam;
+    D.rhs = r->rhs;
+    D.scratch = r->tmp;
+    rj__rows_solve_dense(&R, &D, r->qdp);
+    if (m->nexact)
+        rj__rig_coupling_torques(m, f, &R, r);
 }
 
 /* Rigid step, stage 1: q^n, rates q'^{n-1/2} and the predicted q'^n for the centripetal
@@ -9462,12 +9823,6 @@ static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj_
     }
 }
 
-/* What the rigid step's impulses did: how many joints took one alone, the last of them,
-   and whether any was an impact (a new contact or lock, or a bounce). */
-typedef struct rj__rig_jumps {
-    int count, last, impact;
-} rj__rig_jumps;
-
 /* Rigid step, stage 5a: velocity-level methods, joint by joint: an impulse along q_j to e
    times the reversed rate (plastic while locked or for forced displacement). r->h keeps the
    rates before the jumps. */
@@ -9525,75 +9880,29 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
     for (j = 0; j < n; j++) {
         const double *Mj = M + (size_t) j * n;
         double *record = new_joints + (size_t) RJ__JD_COUNT * j;
-        double sum = 0, now;
+        /* an exact coupling's share of the joint's impulse (its work is the limits') */
+        const double coupled = m->nexact ? r->x[j] : 0.0;
+        /* the first step's q'^{-1/2} is 2 q'(0) less the rates before any impulse */
+        const double back = first ? 2 * qd[j] - rates_before[j] : qd[j];
+        double sum = 0;
         for (k = 0; k < n; k++)
             sum += Mj[k] * (rates_before[k] - qdp[k]);
-        /* the first step's q'^{-1/2} is 2 q'(0) less the rates before any impulse */
-        now = 0.5 * (first ? 2 * qd[j] - rates_before[j] : qd[j]) * sum;
-        /* a prescribed joint's impulse is its drive's: torque and work */
+        /* a prescribed joint's impulse, less a coupling's, is its drive's: torque and work */
         if (rj__prescribed(&m->jnt[j])) {
-            e->drive -= now;
-            e->drive_pending -= 0.5 * qdp[j] * sum;
-            record[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = -sum / f->kick;
-            continue;
+            const double driven = sum + coupled;
+            e->drive -= 0.5 * back * driven;
+            e->drive_pending -= 0.5 * qdp[j] * driven;
+            record[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = -driven / f->kick;
+            sum = -coupled;
         }
-        lost_limit += now;
+        lost_limit += 0.5 * back * sum;
         pending += 0.5 * qdp[j] * sum;
         /* the latches' impulse: less an exact coupling's, reported as a torque */
-        record[RJ__JD_IMPULSE] = -sum - (m->nexact ? r->x[j] : 0.0);
+        if (!rj__prescribed(&m->jnt[j]))
+            record[RJ__JD_IMPULSE] = -sum - coupled;
     }
     e->lost_limit = lost_limit;
     e->pending = pending;
-}
-
-/* The prescribed joints' rates at n + 1/2 into r->x (0 for the others), and the rates
-   before any impulse into r->h: the plastic set takes them with its locks. */
-static void rj__rig_targets(const rj_model *m, const rj_state *s, const rj__frames *f,
-                            rj__rig *r)
-{
-    int j;
-    for (j = 0; j < m->nj; j++) {
-        r->x[j] = rj__prescribed(&m->jnt[j])
-                      ? rj__prescribed_rate(m, s, j, r->q[j], f->t, f->dt)
-                      : 0.0;
-        r->h[j] = r->qdp[j];
-    }
-}
-
-/* Rigid step, stage 5c: each exact coupling's impulse along w = e_b - ratio e_a, P =
-   -(w . q' + e^n / dt) / (w . M^-1 w), which lands e at 0 at n + 1 (after the latches);
-   reported as the two joints' spring torques over the kick (rj__rig_jump_loss counts its
-   energy with the latches' and keeps it out of their impulses: r->x). r->tmp: w, M^-1 w. */
-static void rj__rig_exact(const rj_model *m, const rj__frames *f, rj__rig *r)
-{
-    const int n = m->nj;
-    double *w = r->tmp, *mw = r->tmp + n, *new_joints = RJ__FJ(m, f->next, 0);
-    int k, j;
-    /* r->x (the prescribed targets, spent by now): each joint's coupling impulse */
-    for (j = 0; j < n; j++)
-        r->x[j] = 0;
-    for (k = 0; k < m->ncp; k++) {
-        const rj_coupling_def *c = &m->cp[k];
-        const int a = c->joint_a, b = c->joint_b;
-        const double e_n = (r->q[b] - m->jdef[b].angle0) -
-                           c->ratio * (r->q[a] - m->jdef[a].angle0) - c->offset;
-        double P;
-        if (!c->exact)
-            continue;
-        for (j = 0; j < n; j++)
-            w[j] = 0;
-        w[b] = 1;
-        w[a] = -c->ratio;
-        rj__chol_solve(n, r->L, w, mw);
-        P = -(r->qdp[b] - c->ratio * r->qdp[a] + e_n / f->dt) / (mw[b] - c->ratio * mw[a]);
-        for (j = 0; j < n; j++)
-            r->qdp[j] += mw[j] * P;
-        r->x[b] += P;
-        r->x[a] -= c->ratio * P;
-        new_joints[(size_t) RJ__JD_COUNT * b + RJ__JD_TQ0 + RJ_TORQUE_SPRING] += P / f->kick;
-        new_joints[(size_t) RJ__JD_COUNT * a + RJ__JD_TQ0 + RJ_TORQUE_SPRING] -=
-            c->ratio * P / f->kick;
-    }
 }
 
 /* Rigid step, stages 4 and 5: rates q'^{n+1/2}, then the velocity-level limit methods.
@@ -9619,18 +9928,13 @@ static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj_sta
     jumps.count = 0;
     jumps.last = -1;
     jumps.impact = 0;
-    if (m->npres)
-        rj__rig_targets(m, s, f, r);
     rj__rig_single_impulses(m, f, r, &jumps);
     if (!jumps.count && !m->npres && !m->nexact)
         return;
-    if (!jumps.count && !m->npres)
+    if (!jumps.count)
         for (j = 0; j < n; j++)
             r->h[j] = qdp[j];
-    if (jumps.count || m->npres)
-        rj__rig_plastic_set(m, r, f->new_flags, jumps.count, jumps.last);
-    if (m->nexact)
-        rj__rig_exact(m, f, r);
+    rj__rig_rows(m, s, f, r, &jumps);
     if (!jumps.impact)
         for (j = 0; j < n; j++)
             qdd[j] = (qdp[j] - qd[j]) / kick;

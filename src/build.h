@@ -11,7 +11,7 @@ typedef struct rj__build_scratch {
     int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
     double *lanczos;           /* 3 vectors of 3 nn, the chords, a work area: rj__omega2_max */
     double *chord_x, *chord_y; /* (ne each) the initial chords, at lanczos + 9 nn */
-    double *rigid_bound;       /* rj__rigid_scratch(nj, nl) + nj^2 doubles after the chords */
+    double *rigid_bound;       /* rj__rigid_scratch(nj, nl, ncp) + nj^2 doubles after the chords */
     int *step_node_mark;       /* nn ints: rj__init_step_nodes */
 } rj__build_scratch;
 
@@ -170,6 +170,7 @@ static void rj__init_copy_defs(rj_model *m, const rj_scene_def *sc)
         memcpy(m->cp, sc->couplings, sizeof(rj_coupling_def) * (size_t) m->ncp);
     for (k = 0; k < m->ncp; k++)
         m->nexact += m->cp[k].exact;
+    m->nmotion += m->nexact;
 }
 
 /* A link's section: area and second moment (layers integrate EA and EI exactly for the
@@ -506,6 +507,7 @@ static void rj__init_actuator(rj_model *m, const rj_actuator_def *a)
     }
     m->nrotor += J->rotor > 0;
     m->npres += a->type == RJ_ACTUATOR_PRESCRIBED;
+    m->nmotion += a->type == RJ_ACTUATOR_PRESCRIBED;
     if (a->type == RJ_ACTUATOR_SERVO) {
         J->k_lin += a->kp;
         J->c_lin += a->kd;

@@ -207,6 +207,7 @@ struct rj_model {
     double *spl;          /* (nact x RJ_TABLE_MAX) profile tables' spline (rj__spline_build) */
     int ncp;              /* couplings */
     int nexact;           /* of them exact (constraints) */
+    int nmotion;          /* prescribed joints and exact couplings: the step's rows */
     rj_coupling_def *cp;  /* (ncp) their definitions */
     rj_load_def *load; /* (nload) their definitions */
     int *load_node;    /* (nload) the node each acts on, in the scene's node order */
@@ -272,6 +273,52 @@ struct rj_model {
     size_t frame_ints;
 };
 
+/* Constraint rows (src/rows.h tells what they are and how they are solved). */
+enum rj__row_kind {
+    RJ__ROW_LOCK,       /* a locked joint: q'_j = 0 */
+    RJ__ROW_CONTACT,    /* a plastic contact at its limit: q'_j = 0, its impulse pushing */
+    RJ__ROW_PRESCRIBED, /* a prescribed joint: its profile's angle at n + 1 */
+    RJ__ROW_COUPLING    /* an exact coupling: e = 0 at n + 1 */
+};
+
+/* One term of a row: coef times joint's rate. */
+typedef struct rj__term {
+    int joint;
+    double coef;
+} rj__term;
+
+/* One row: its kind and owner (a joint, or a coupling), its terms in the pool, whether
+   the solve holds it, its target rate, its impulse's bounds and the impulse it took. */
+typedef struct rj__row {
+    int kind, owner;
+    int first, count;
+    int active;
+    const double *col; /* joint coordinates: M^-1 J^T (rj__row_column) */
+    double target;
+    double lo, hi;
+    double lam;
+    double before; /* node space: J v before the impulses (the first step's work) */
+} rj__row;
+
+/* A step's rows and their terms (the state's storage, rj__rows_capacity). */
+typedef struct rj__rows {
+    rj__row *row;
+    rj__term *term;
+    int count, terms;
+} rj__rows;
+
+/* At most one row per joint (a lock, a contact or a profile) and one per exact coupling;
+   one term per joint's row, two per coupling's. */
+static int rj__rows_capacity(int nj, int ncp)
+{
+    return nj + ncp + 1;
+}
+
+static int rj__terms_capacity(int nj, int ncp)
+{
+    return nj + 2 * ncp + 1;
+}
+
 struct rj_state {
     size_t bytes;
     int cur; /* index of the current frame */
@@ -303,17 +350,21 @@ struct rj_state {
     double step_fin;      /* the positions their kicks wrote, summed (the finite test) */
     double *
         rsc; /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch); mixed: body impulses (3 nl) */
+    rj__row *rows;    /* the step's constraint rows (rj__rows_capacity) */
+    rj__term *terms;  /* their terms (rj__terms_capacity) */
+    double *rsys;     /* node space: the rows' system, its factor, right side and impulses */
     char err[640];
     char warn[200]; /* latest warning (late contact), written only when one occurs */
 };
 
-static size_t rj__rigid_scratch(int nj, int nl);
+static size_t rj__rigid_scratch(int nj, int nl, int ncp);
 static double rj__rig_setup(rj_model *m, double *scratch);
 typedef struct rj__rig {
     double *M, *L, *W, *q, *qd, *qdp, *qdd, *Q, *h, *x,
         *tmp; /* n x n (W: columns of M^-1), n each (tmp 2 n) */
-    double *S, *SL, *lam, *act,
-        *rhs;   /* the plastic joints' impulse system: n x n, its factor, n each */
+    double *S, *SL, *lam,
+        *rhs;   /* the rows' system (src/rows.h): R x R, its factor, R each (R rows at most) */
+    double *Y;  /* the rows' M^-1 J^T that are not a column of M^-1: n each, one per coupling */
     double *lk; /* per link, RJ__RL_COUNT values: rj__rig_kin */
 } rj__rig;
 /* a link's record in rj__rig.lk: angle and its cos, sin; root; centre; their accelerations

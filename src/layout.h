@@ -87,7 +87,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->cp = rj__carve(&off, (size_t) sc->coupling_count + 1, sizeof(rj_coupling_def));
     L->lz = rj__carve(&off,
                       15 * nn + 10 * ne + 8 + RJ__GRAPH_SCRATCH(nl, nj) +
-                          (rigid ? rj__rigid_scratch(nj, nl) + (size_t) nj * nj : 0),
+                          (rigid ? rj__rigid_scratch(nj, nl, sc->coupling_count) + (size_t) nj * nj : 0),
                       sizeof(double));
     L->total = off == (size_t) -1 ? off : off + RJ__ALIGN;
 }

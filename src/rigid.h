@@ -8,16 +8,18 @@
    centripetal accelerations -omega^2 r of every segment. The element (flags, torques,
    friction, methods) is the same code as for flexible links; a joint torque is a
    generalised force on q_j, and a velocity jump is an impulse along q_j. */
-static size_t rj__rigid_scratch(int nj, int nl)
+static size_t rj__rigid_scratch(int nj, int nl, int ncp)
 {
-    return 5 * (size_t) nj * nj + 13 * (size_t) nj + RJ__RL_COUNT * (size_t) nl + 8;
+    const size_t n = (size_t) nj, rows = (size_t) rj__rows_capacity(nj, ncp);
+    return 3 * n * n + 2 * rows * rows + (size_t) ncp * n + 10 * n + 3 * rows +
+           RJ__RL_COUNT * (size_t) nl + 8;
 }
 
 
 /* the rigid solver's scratch: matrices n x n, vectors n (tmp 2 n), link records */
 static void rj__rig_map(const rj_model *m, double *base, rj__rig *r)
 {
-    const size_t n = (size_t) m->nj;
+    const size_t n = (size_t) m->nj, rows = (size_t) rj__rows_capacity(m->nj, m->ncp);
     r->M = base;
     r->h = r->M + n * n;
     r->L = r->h + n;
@@ -30,11 +32,11 @@ static void rj__rig_map(const rj_model *m, double *base, rj__rig *r)
     r->x = r->Q + n;
     r->tmp = r->x + n;
     r->S = r->tmp + 2 * n;
-    r->SL = r->S + n * n;
-    r->lam = r->SL + n * n;
-    r->act = r->lam + n;
-    r->rhs = r->act + n;
-    r->lk = r->rhs + n;
+    r->SL = r->S + rows * rows;
+    r->lam = r->SL + rows * rows;
+    r->rhs = r->lam + rows;
+    r->Y = r->rhs + rows;
+    r->lk = r->Y + (size_t) m->ncp * n;
 }
 
 /* The joint above joint j on the way to the ground (-1 at a root). */
@@ -370,7 +372,7 @@ static double rj__rig_setup(rj_model *m, double *scratch)
 {
     rj__rig r;
     const int n = m->nj;
-    double *minv = scratch + rj__rigid_scratch(m->nj, m->nl), lam = 0, *v, *u;
+    double *minv = scratch + rj__rigid_scratch(m->nj, m->nl, m->ncp), lam = 0, *v, *u;
     int j, k, it;
     rj__rig_map(m, scratch, &r);
     for (j = 0; j < n; j++) {

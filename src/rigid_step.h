@@ -8,123 +8,119 @@ static int rj__rig_plastic(const rj_joint_def *d, int flag)
     return flag == RJ_LOCKED || d->method == RJ_METHOD_FORCED || d->restitution == 0;
 }
 
-/* W_SS lam = -q'_S for the k joints flagged in act, as a compact k x k system (W's
-   columns for them in r->W); lam in r->lam, in the order of the set. Nonzero when the
-   system is singular. */
-static int rj__rig_set_solve(const rj_model *m, int k, rj__rig *r, const double *qdp)
+/* What the rigid step's impulses did: how many joints took one alone, the last of them,
+   and whether any was an impact (a new contact or lock, or a bounce). */
+typedef struct rj__rig_jumps {
+    int count, last, impact;
+} rj__rig_jumps;
+
+/* Rigid step, stage 5b: the rows in joint coordinates (src/rows.h), in joint order: a
+   prescribed joint's profile; a locked joint; a plastic contact, held from the start when
+   it turns into its limit or a single impulse moved its rate (a later joint's impulse
+   moves an earlier one off the rate its own gave it; r->h holds the rates before them);
+   then the exact couplings. The joints' impulses move each other (M^-1 couples them), so
+   they are solved together: one joint after another (as the single impulses) left a
+   locked joint drifting at up to 0.3 deg/s in the fidelity benchmark's rigid solar
+   array, and sweeping that to convergence took hundreds of passes (W is ill-conditioned
+   along a chain). */
+static void rj__rig_rows_build(const rj_model *m, const rj_state *s, const rj__frames *f,
+                               const rj__rig *r, rj__rows *R)
 {
-    const int n = m->nj;
-    const double *act = r->act, *W = r->W;
-    double *S = r->S, *rhs = r->rhs;
-    int a, b, row = 0;
-    for (a = 0; a < n; a++) {
-        int col = 0;
-        if (act[a] == 0)
+    const int *ni = f->new_flags;
+    int j;
+    R->count = R->terms = 0;
+    for (j = 0; j < m->nj; j++) {
+        const double rate = r->qdp[j];
+        const int forward = ni[j] == RJ_AT_FORWARD;
+        rj__row *row;
+        if (rj__prescribed(&m->jnt[j])) {
+            rj__row_prescribed(m, s, R, j, r->q[j], f->t, f->dt);
             continue;
-        for (b = 0; b < n; b++) {
-            if (act[b] == 0)
-                continue;
-            S[(size_t) row * k + col] = W[(size_t) b * n + a];
-            col++;
         }
-        /* a prescribed joint's target rate (rj__rig_targets), else rest */
-        rhs[row] = m->npres ? r->x[a] - qdp[a] : -qdp[a];
-        row++;
+        if (!rj__rig_plastic(&m->jdef[j], ni[j]))
+            continue;
+        if (ni[j] == RJ_LOCKED)
+            row = rj__row_open(R, RJ__ROW_LOCK, j, 0.0, -HUGE_VAL, HUGE_VAL);
+        else {
+            row = rj__row_open(R, RJ__ROW_CONTACT, j, 0.0, forward ? -HUGE_VAL : 0.0,
+                               forward ? 0.0 : HUGE_VAL);
+            row->active = rate != r->h[j] || rj__into_limit(ni[j], rate);
+        }
+        rj__row_term(R, row, j, 1.0);
     }
-    if (rj__chol(k, S, r->SL))
-        return 1;
-    rj__chol_solve(k, r->SL, rhs, r->lam);
-    return 0;
+    rj__rows_couplings(m, R, r->q, 1, f->dt);
 }
 
-/* Drops from the set every contact (not a lock, not a prescribed joint) whose impulse would
-   pull it off its limit; returns how many it dropped. */
-static int rj__rig_set_drop(const rj_model *m, const int *ni, rj__rig *r)
+/* The row of the one joint that took a single impulse (which held it exactly), or -1. */
+static int rj__rig_held_row(const rj__rows *R, const rj__rig_jumps *jumps)
 {
-    const int n = m->nj;
-    int a, row = 0, dropped = 0;
-    for (a = 0; a < n; a++) {
-        double lam;
-        if (r->act[a] == 0)
-            continue;
-        lam = r->lam[row];
-        row++;
-        if (ni[a] == RJ_LOCKED || rj__prescribed(&m->jnt[a]))
-            continue;
-        if ((ni[a] == RJ_AT_FORWARD && lam > 0) || (ni[a] == RJ_AT_REVERSE && lam < 0)) {
-            r->act[a] = 0;
-            dropped++;
-        }
-    }
-    return dropped;
+    int a;
+    if (jumps->count != 1)
+        return -1;
+    for (a = 0; a < R->count; a++)
+        if (R->row[a].kind <= RJ__ROW_CONTACT && R->row[a].owner == jumps->last)
+            return a;
+    return -1;
 }
 
-/* One joint's impulse moves the others (M^-1 couples them), so the plastic ones take
-   their impulses together: W_SS lam = -q'_S with W = M^-1, S the set; a contact whose
-   impulse would pull is dropped and the set solved again. One joint after another (as
-   the single impulses before this) left a locked joint drifting at up to 0.3 deg/s in the
-   fidelity benchmark's rigid solar array; sweeping that to convergence took hundreds of
-   passes (W is ill-conditioned along a chain). The set starts with every locked joint and
-   every plastic contact that turns into its limit or whose rate the single impulses
-   changed: a later joint's impulse moves an earlier one off the rate its own gave it.
-   r->h holds the rates before the impulses. */
-static void rj__rig_plastic_set(const rj_model *m, rj__rig *r, const int *ni, int jumped,
-                                int last_jump)
+/* The exact couplings' impulses: each joint's share into r->x (rj__rig_jump_loss keeps
+   it out of the latches' impulses), their torques into the joints' spring columns. */
+static void rj__rig_coupling_torques(const rj_model *m, const rj__frames *f, const rj__rows *R,
+                                     rj__rig *r)
 {
-    const int n = m->nj;
-    double *qdp = r->qdp, *act = r->act;
-    const double *rates_before = r->h;
-    int j, pass, changed = 1;
-    for (j = 0; j < n; j++) {
-        const int moved = qdp[j] != rates_before[j] || rj__into_limit(ni[j], qdp[j]);
-        act[j] = rj__rig_plastic(&m->jdef[j], ni[j]) && (ni[j] == RJ_LOCKED || moved) ? 1.0 : 0.0;
-        if (rj__prescribed(&m->jnt[j]))
-            act[j] = 1.0;
-    }
-    for (pass = 0; pass <= n && changed; pass++) {
-        int k = 0, row = 0, locked = 0;
-        changed = 0;
-        for (j = 0; j < n; j++)
-            k += act[j] != 0;
-        /* none, or only the one joint that took an impulse before: that was exact */
-        if (k == 0 || (k == 1 && jumped == 1 && act[last_jump] != 0))
-            return;
-        /* every joint locked (no contact could pull): q' = 0, which the system would
-           give to round-off */
-        for (j = 0; j < n; j++)
-            locked += ni[j] == RJ_LOCKED;
-        if (locked == n) {
-            for (j = 0; j < n; j++)
-                qdp[j] = 0;
-            return;
-        }
-        for (j = 0; j < n; j++)
-            if (act[j] != 0)
-                rj__chol_unit(n, r->L, j, r->W + (size_t) j * n);
-        if (rj__rig_set_solve(m, k, r, qdp))
-            return;
-        if (rj__rig_set_drop(m, ni, r)) {
-            changed = 1;
+    double *new_joints = RJ__FJ(m, f->next, 0);
+    int a, k;
+    for (k = 0; k < m->nj; k++)
+        r->x[k] = 0;
+    for (a = 0; a < R->count; a++) {
+        const rj__row *row = &R->row[a];
+        if (row->kind != RJ__ROW_COUPLING)
             continue;
-        }
-        for (j = 0; j < n; j++) {
-            const double *w = r->W + (size_t) j * n;
-            int i;
-            if (act[j] == 0)
-                continue;
-            for (i = 0; i < n; i++)
-                qdp[i] += w[i] * r->lam[row];
-            row++;
-        }
-        /* a plastic contact the impulses turned into its limit joins the set */
-        for (j = 0; j < n; j++) {
-            if (act[j] != 0 || !rj__rig_plastic(&m->jdef[j], ni[j]) ||
-                !rj__into_limit(ni[j], qdp[j]))
-                continue;
-            act[j] = 1;
-            changed = 1;
+        for (k = 0; k < row->count; k++) {
+            const rj__term *t = &R->term[row->first + k];
+            const double impulse = t->coef * row->lam;
+            r->x[t->joint] += impulse;
+            new_joints[(size_t) RJ__JD_COUNT * t->joint + RJ__JD_TQ0 + RJ_TORQUE_SPRING] +=
+                impulse / f->kick;
         }
     }
+}
+
+/* The rows' solve: none to do when the only row held is the one a single impulse held;
+   with every joint locked (and no coupling) q' = 0, which the system gives to round-off. */
+static void rj__rig_rows(const rj_model *m, const rj_state *s, const rj__frames *f, rj__rig *r,
+                         const rj__rig_jumps *jumps)
+{
+    rj__rows R;
+    rj__dense D;
+    int j, active = 0, locked = 0;
+    R.row = s->rows;
+    R.term = s->terms;
+    rj__rig_rows_build(m, s, f, r, &R);
+    D.held = rj__rig_held_row(&R, jumps);
+    for (j = 0; j < R.count; j++)
+        active += R.row[j].active;
+    for (j = 0; j < m->nj; j++)
+        locked += f->new_flags[j] == RJ_LOCKED;
+    if (active == 0 || (active == 1 && D.held >= 0 && R.row[D.held].active))
+        return;
+    if (locked == m->nj && !m->nexact) {
+        for (j = 0; j < m->nj; j++)
+            r->qdp[j] = 0;
+        return;
+    }
+    D.n = m->nj;
+    D.L = r->L;
+    D.W = r->W;
+    D.Y = r->Y;
+    D.S = r->S;
+    D.SL = r->SL;
+    D.lam = r->lam;
+    D.rhs = r->rhs;
+    D.scratch = r->tmp;
+    rj__rows_solve_dense(&R, &D, r->qdp);
+    if (m->nexact)
+        rj__rig_coupling_torques(m, f, &R, r);
 }
 
 /* Rigid step, stage 1: q^n, rates q'^{n-1/2} and the predicted q'^n for the centripetal
@@ -296,12 +292,6 @@ static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj_
     }
 }
 
-/* What the rigid step's impulses did: how many joints took one alone, the last of them,
-   and whether any was an impact (a new contact or lock, or a bounce). */
-typedef struct rj__rig_jumps {
-    int count, last, impact;
-} rj__rig_jumps;
-
 /* Rigid step, stage 5a: velocity-level methods, joint by joint: an impulse along q_j to e
    times the reversed rate (plastic while locked or for forced displacement). r->h keeps the
    rates before the jumps. */
@@ -359,75 +349,29 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
     for (j = 0; j < n; j++) {
         const double *Mj = M + (size_t) j * n;
         double *record = new_joints + (size_t) RJ__JD_COUNT * j;
-        double sum = 0, now;
+        /* an exact coupling's share of the joint's impulse (its work is the limits') */
+        const double coupled = m->nexact ? r->x[j] : 0.0;
+        /* the first step's q'^{-1/2} is 2 q'(0) less the rates before any impulse */
+        const double back = first ? 2 * qd[j] - rates_before[j] : qd[j];
+        double sum = 0;
         for (k = 0; k < n; k++)
             sum += Mj[k] * (rates_before[k] - qdp[k]);
-        /* the first step's q'^{-1/2} is 2 q'(0) less the rates before any impulse */
-        now = 0.5 * (first ? 2 * qd[j] - rates_before[j] : qd[j]) * sum;
-        /* a prescribed joint's impulse is its drive's: torque and work */
+        /* a prescribed joint's impulse, less a coupling's, is its drive's: torque and work */
         if (rj__prescribed(&m->jnt[j])) {
-            e->drive -= now;
-            e->drive_pending -= 0.5 * qdp[j] * sum;
-            record[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = -sum / f->kick;
-            continue;
+            const double driven = sum + coupled;
+            e->drive -= 0.5 * back * driven;
+            e->drive_pending -= 0.5 * qdp[j] * driven;
+            record[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = -driven / f->kick;
+            sum = -coupled;
         }
-        lost_limit += now;
+        lost_limit += 0.5 * back * sum;
         pending += 0.5 * qdp[j] * sum;
         /* the latches' impulse: less an exact coupling's, reported as a torque */
-        record[RJ__JD_IMPULSE] = -sum - (m->nexact ? r->x[j] : 0.0);
+        if (!rj__prescribed(&m->jnt[j]))
+            record[RJ__JD_IMPULSE] = -sum - coupled;
     }
     e->lost_limit = lost_limit;
     e->pending = pending;
-}
-
-/* The prescribed joints' rates at n + 1/2 into r->x (0 for the others), and the rates
-   before any impulse into r->h: the plastic set takes them with its locks. */
-static void rj__rig_targets(const rj_model *m, const rj_state *s, const rj__frames *f,
-                            rj__rig *r)
-{
-    int j;
-    for (j = 0; j < m->nj; j++) {
-        r->x[j] = rj__prescribed(&m->jnt[j])
-                      ? rj__prescribed_rate(m, s, j, r->q[j], f->t, f->dt)
-                      : 0.0;
-        r->h[j] = r->qdp[j];
-    }
-}
-
-/* Rigid step, stage 5c: each exact coupling's impulse along w = e_b - ratio e_a, P =
-   -(w . q' + e^n / dt) / (w . M^-1 w), which lands e at 0 at n + 1 (after the latches);
-   reported as the two joints' spring torques over the kick (rj__rig_jump_loss counts its
-   energy with the latches' and keeps it out of their impulses: r->x). r->tmp: w, M^-1 w. */
-static void rj__rig_exact(const rj_model *m, const rj__frames *f, rj__rig *r)
-{
-    const int n = m->nj;
-    double *w = r->tmp, *mw = r->tmp + n, *new_joints = RJ__FJ(m, f->next, 0);
-    int k, j;
-    /* r->x (the prescribed targets, spent by now): each joint's coupling impulse */
-    for (j = 0; j < n; j++)
-        r->x[j] = 0;
-    for (k = 0; k < m->ncp; k++) {
-        const rj_coupling_def *c = &m->cp[k];
-        const int a = c->joint_a, b = c->joint_b;
-        const double e_n = (r->q[b] - m->jdef[b].angle0) -
-                           c->ratio * (r->q[a] - m->jdef[a].angle0) - c->offset;
-        double P;
-        if (!c->exact)
-            continue;
-        for (j = 0; j < n; j++)
-            w[j] = 0;
-        w[b] = 1;
-        w[a] = -c->ratio;
-        rj__chol_solve(n, r->L, w, mw);
-        P = -(r->qdp[b] - c->ratio * r->qdp[a] + e_n / f->dt) / (mw[b] - c->ratio * mw[a]);
-        for (j = 0; j < n; j++)
-            r->qdp[j] += mw[j] * P;
-        r->x[b] += P;
-        r->x[a] -= c->ratio * P;
-        new_joints[(size_t) RJ__JD_COUNT * b + RJ__JD_TQ0 + RJ_TORQUE_SPRING] += P / f->kick;
-        new_joints[(size_t) RJ__JD_COUNT * a + RJ__JD_TQ0 + RJ_TORQUE_SPRING] -=
-            c->ratio * P / f->kick;
-    }
 }
 
 /* Rigid step, stages 4 and 5: rates q'^{n+1/2}, then the velocity-level limit methods.
@@ -453,18 +397,13 @@ static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj_sta
     jumps.count = 0;
     jumps.last = -1;
     jumps.impact = 0;
-    if (m->npres)
-        rj__rig_targets(m, s, f, r);
     rj__rig_single_impulses(m, f, r, &jumps);
     if (!jumps.count && !m->npres && !m->nexact)
         return;
-    if (!jumps.count && !m->npres)
+    if (!jumps.count)
         for (j = 0; j < n; j++)
             r->h[j] = qdp[j];
-    if (jumps.count || m->npres)
-        rj__rig_plastic_set(m, r, f->new_flags, jumps.count, jumps.last);
-    if (m->nexact)
-        rj__rig_exact(m, f, r);
+    rj__rig_rows(m, s, f, r, &jumps);
     if (!jumps.impact)
         for (j = 0; j < n; j++)
             qdd[j] = (qdp[j] - qd[j]) / kick;

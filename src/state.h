@@ -1,7 +1,7 @@
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
     size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, eu, ebt, jsc,
-        rsc, input_torque, input_node, node_applied, snap_torque;
+        rsc, rows, terms, rsys, input_torque, input_node, node_applied, snap_torque;
 } rj__slayout;
 
 static void rj__state_layout(const rj_model *m, rj__slayout *L)
@@ -24,8 +24,12 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->eu = rj__carve(&off, (size_t) m->ne, sizeof(double));
     L->ebt = rj__carve(&off, (size_t) m->ne, sizeof(double));
     L->jsc = rj__carve(&off, (size_t) m->nj * 8 + 1, sizeof(double));
-    L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl) : 3 * (size_t) m->ncl + 1,
+    L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl, m->ncp) : 3 * (size_t) m->ncl + 1,
                        sizeof(double));
+    L->rows = rj__carve(&off, (size_t) rj__rows_capacity(m->nj, m->ncp), sizeof(rj__row));
+    L->terms = rj__carve(&off, (size_t) rj__terms_capacity(m->nj, m->ncp), sizeof(rj__term));
+    L->rsys = rj__carve(&off, 2 * (size_t) m->nmotion * (size_t) (m->nmotion + 1) + 1,
+                        sizeof(double));
     L->input_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
     L->snap_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
     L->input_node = rj__carve(&off, 3 * (size_t) m->nn, sizeof(double));
@@ -211,6 +215,9 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->kn = (double *) (void *) (base + L.kn);
     s->jsc = (double *) (void *) (base + L.jsc);
     s->rsc = (double *) (void *) (base + L.rsc);
+    s->rows = (rj__row *) (void *) (base + L.rows);
+    s->terms = (rj__term *) (void *) (base + L.terms);
+    s->rsys = (double *) (void *) (base + L.rsys);
     s->input_torque = (double *) (void *) (base + L.input_torque);
     s->snap_torque = (double *) (void *) (base + L.snap_torque);
     s->input_node = (double *) (void *) (base + L.input_node);

@@ -886,166 +886,224 @@ static RJ__FORCE_INLINE double rj__joint_jump(const rj_model *m, const rj__frame
     return rj__joint_rate(J, g, f->nvx, f->nvy, f->nw, NULL, NULL);
 }
 
-/* The bodies' rates w1, w2 (inertias I1, I2; infinite for ground or a fixed body) moved,
-   their angular momentum kept, to the relative rate w2 - w1 = target. */
-static void rj__rate_to(double I1, double I2, double target, double *w1, double *w2)
-{
-    if (!rj__finite(I1)) {
-        *w2 = *w1 + target;
-        return;
-    }
-    if (!rj__finite(I2)) {
-        *w1 = *w2 - target;
-        return;
-    }
-    {
-        const double mean = (I1 * *w1 + I2 * *w2) / (I1 + I2);
-        *w1 = mean - I2 / (I1 + I2) * target;
-        *w2 = mean + I1 / (I1 + I2) * target;
-    }
-}
-
-/* A prescribed joint's rate at n + 1/2 set so that its angle at n + 1 is its profile's
-   (held at the start while rj_settle runs): a jump of the pin nodes' rates that keeps
-   their momentum, as a latch's (rj__joint_jump), whose work in the kinetic energy's form
-   is the drive's, this step's half now and the next's pending; its impulse over the kick
-   is the drive torque. Returns the rate after. */
-static RJ__FORCE_INLINE double rj__prescribe(const rj_model *m, const rj_state *s,
-                                              const rj__frames *f, int j,
-                            const rj__jgeo *g, double w1, double w2, rj__sums *e, double *fin)
-{
-    const rj__joint *J = &m->jnt[j];
-    const double run = RJ__FJ(m, f->old, j)[RJ__JD_THETA];
-    const double target = rj__prescribed_rate(m, s, j, run, f->t, f->dt);
-    const double o1 = w1, o2 = w2;
-    double *new_joint = RJ__FJ(m, f->next, j);
-    double m1 = 0, m2 = 0, work = 0, impulse;
-    /* the bodies' rates at n - 1/2 (at the first step, 2 w^0 less those before the jump) */
-    rj__joint_rate(J, g, f->vx, f->vy, f->w, &m1, &m2);
-    if (f->first) {
-        m1 = 2 * m1 - o1;
-        m2 = 2 * m2 - o2;
-    }
-    rj__rate_to(J->I1, J->I2, target, &w1, &w2);
-    if (rj__finite(J->I1)) {
-        work -= 0.5 * J->I1 * m1 * (o1 - w1);
-        e->drive_pending -= 0.5 * J->I1 * w1 * (o1 - w1);
-    }
-    if (rj__finite(J->I2)) {
-        work -= 0.5 * J->I2 * m2 * (o2 - w2);
-        e->drive_pending -= 0.5 * J->I2 * w2 * (o2 - w2);
-    }
-    work -= 0.5 * J->rotor * (m2 - m1) * ((o2 - o1) - (w2 - w1));
-    e->drive_pending -= 0.5 * J->rotor * (w2 - w1) * ((o2 - o1) - (w2 - w1));
-    impulse = rj__finite(J->I2) ? J->I2 * (w2 - o2) : -J->I1 * (w1 - o1);
-    impulse += J->rotor * ((w2 - w1) - (o2 - o1));
-    new_joint[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = impulse / f->kick;
-    rj__spin(J, g, w1 - o1, w2 - o2, f->nvx, f->nvy, f->nw);
-    rj__jump_nodes(m, f, J, fin);
-    e->drive += work;
-    e->kinetic += work;
-    return rj__joint_rate(J, g, f->nvx, f->nvy, f->nw, NULL, NULL);
-}
-
-/* Stage 5 of scenes with prescribed joints: each one's jump onto its profile, before the
-   limits' responses (a prescribed joint has none). */
-static RJ__FORCE_INLINE void rj__stage_prescribed(const rj_model *m, rj_state *s,
-                                                  const rj__frames *f, rj__sums *e, double *fin)
-{
-    int j;
-    for (j = 0; j < m->nj; j++) {
-        const rj__joint *J = &m->jnt[j];
-        rj__jgeo g;
-        double w1, w2;
-        if (!rj__prescribed(J))
-            continue;
-        rj__kept_geo(s->jsc + 8 * j, &g);
-        rj__joint_rate(J, &g, f->nvx, f->nvy, f->nw, &w1, &w2);
-        rj__prescribe(m, s, f, j, &g, w1, w2, e, fin);
-    }
-}
-
-/* A torque impulse P on joint J's pins at its node rates (the opposite on body 1): node
-   rates move by P over their rotary inertias; the kinetic energy's discrete form loses
-   what the latches' jumps count, this step's half (returned) and the next's (*pending). */
-static double rj__pin_impulse(const rj_model *m, const rj__frames *f, const rj__joint *J,
-                              double P, double *pending, double *fin)
-{
-    const int node[2] = { J->nJ, J->nI };
-    double loss = 0;
-    int k;
-    for (k = 0; k < 2; k++) {
-        const int n = node[k];
-        double before, after;
-        if (n < 0 || !(m->rinv[n] > 0))
-            continue;
-        before = f->nw[n];
-        after = before + (k == 0 ? P : -P) * m->rinv[n];
-        /* the first step's w^{-1/2} is 2 w^0 less the rate before the impulse */
-        loss += 0.5 * (f->first ? 2 * f->w[n] - before : f->w[n]) * (before - after) /
-                m->rinv[n];
-        *pending += 0.5 * after * (before - after) / m->rinv[n];
-        f->nw[n] = after;
-    }
-    rj__jump_nodes(m, f, J, fin);
-    return loss;
-}
-
-/* Joint j's rate at n + 1/2 from the nodes' now, its compliance into *comp. */
-static double rj__rate_now(const rj_model *m, const rj_state *s, const rj__frames *f, int j,
-                           double *comp)
+/* Joint j's rate at n + 1/2 from the nodes' now. */
+static double rj__rate_now(const rj_model *m, const rj_state *s, const rj__frames *f, int j)
 {
     rj__jgeo g;
     rj__kept_geo(s->jsc + 8 * j, &g);
-    if (comp)
-        *comp = rj__joint_compliance(m, &m->jnt[j], &g);
     return rj__joint_rate(&m->jnt[j], &g, f->nvx, f->nvy, f->nw, NULL, NULL);
 }
 
-/* What the exact couplings' stage returns: this step's share of their impulses' loss,
-   the next step's, and the sum of the angles they moved (finite while they are). */
-typedef struct rj__exact_sums {
-    double loss, pending, fin;
-} rj__exact_sums;
-
-/* Stage 5c of scenes with exact couplings: each one's impulse pair, P on joint b and
-   -ratio P on joint a, that lands e at 0 at n + 1 (P = -residual over the pair's
-   compliance, c_b + ratio^2 c_a), after the latches; reported as the joints' spring
-   torques over the kick, its discrete energy with the limits'. Apart (not inlined; the
-   frames' record by value and the sums returned: a pointer to the record would keep it
-   out of registers in the whole step), so a scene without them pays one test. */
-static RJ__NOINLINE rj__exact_sums rj__stage_exact(const rj_model *m, const rj_state *s,
-                                                   rj__frames f)
+/* Joint j's rate from the nodes' rates at n - 1/2 (at the first step, at 0). */
+static double rj__rate_back(const rj_model *m, const rj_state *s, const rj__frames *f, int j)
 {
-    rj__exact_sums out;
+    rj__jgeo g;
+    rj__kept_geo(s->jsc + 8 * j, &g);
+    return rj__joint_rate(&m->jnt[j], &g, f->vx, f->vy, f->w, NULL, NULL);
+}
+
+/* The rate change of joint J per unit torque impulse on its pins, and each body's share:
+   1 / I over 1 + rotor c0 (c0 = 1/I1 + 1/I2; a rotor's reflected inertia acts on the
+   relative rotation; ground or a fixed body, I infinite, takes none). */
+static double rj__joint_give(const rj__joint *J, double *give1, double *give2)
+{
+    const double c1 = rj__finite(J->I1) ? 1.0 / J->I1 : 0.0;
+    const double c2 = rj__finite(J->I2) ? 1.0 / J->I2 : 0.0;
+    const double share = 1.0 / (1.0 + J->rotor * (c1 + c2));
+    if (give1)
+        *give1 = c1 * share;
+    if (give2)
+        *give2 = c2 * share;
+    return (c1 + c2) * share;
+}
+
+/* A torque impulse P on joint j's pins (P on body 2, -P on body 1): the bodies' rates move
+   by their gives (rj__joint_give), the nodes with them. The momentum I1 w1 + I2 w2 is
+   kept, as a latch's jump keeps it (rj__joint_jump). */
+static void rj__joint_impulse(const rj_model *m, const rj_state *s, const rj__frames *f, int j,
+                              double P, double *fin)
+{
+    const rj__joint *J = &m->jnt[j];
+    double give1, give2;
+    rj__jgeo g;
+    rj__kept_geo(s->jsc + 8 * j, &g);
+    rj__joint_give(J, &give1, &give2);
+    rj__spin(J, &g, -P * give1, P * give2, f->nvx, f->nvy, f->nw);
+    rj__jump_nodes(m, f, J, fin);
+}
+
+/* Row's impulse P: P coef on each of its joints; the row keeps the sum. */
+static void rj__row_impulse(const rj_model *m, const rj_state *s, const rj__frames *f,
+                            const rj__rows *R, rj__row *row, double P, double *fin)
+{
     int k;
-    out.loss = out.pending = out.fin = 0;
-    for (k = 0; k < m->ncp; k++) {
-        const rj_coupling_def *c = &m->cp[k];
-        const int a = c->joint_a, b = c->joint_b;
-        double *rec_a = RJ__FJ(m, f.next, a), *rec_b = RJ__FJ(m, f.next, b);
-        double e_n, rate, P, ca, cb;
-        if (!c->exact)
-            continue;
-        e_n = (RJ__FJ(m, f.old, b)[RJ__JD_THETA] - m->jdef[b].angle0) -
-              c->ratio * (RJ__FJ(m, f.old, a)[RJ__JD_THETA] - m->jdef[a].angle0) - c->offset;
-        rate = rj__rate_now(m, s, &f, b, &cb) - c->ratio * rj__rate_now(m, s, &f, a, &ca);
-        P = -(rate + e_n / f.dt) / (cb + c->ratio * c->ratio * ca);
-        out.loss += rj__pin_impulse(m, &f, &m->jnt[b], P, &out.pending, &out.fin);
-        out.loss += rj__pin_impulse(m, &f, &m->jnt[a], -c->ratio * P, &out.pending, &out.fin);
-        rec_b[RJ__JD_TQ0 + RJ_TORQUE_SPRING] += P / f.kick;
-        rec_a[RJ__JD_TQ0 + RJ_TORQUE_SPRING] -= c->ratio * P / f.kick;
-        rec_b[RJ__JD_RATE] = rj__rate_now(m, s, &f, b, NULL);
-        rec_a[RJ__JD_RATE] = rj__rate_now(m, s, &f, a, NULL);
+    for (k = 0; k < row->count; k++)
+        rj__joint_impulse(m, s, f, R->term[row->first + k].joint,
+                          R->term[row->first + k].coef * P, fin);
+    row->lam += P;
+}
+
+/* A row's rate J v at n + 1/2 now, and its give J M^-1 J^T (the terms' joints apart). */
+static double rj__row_rate(const rj_model *m, const rj_state *s, const rj__frames *f,
+                           const rj__rows *R, const rj__row *row, double *give)
+{
+    double rate = 0, sum = 0;
+    int k;
+    for (k = 0; k < row->count; k++) {
+        const rj__term *t = &R->term[row->first + k];
+        rate += t->coef * rj__rate_now(m, s, f, t->joint);
+        sum += t->coef * t->coef * rj__joint_give(&m->jnt[t->joint], NULL, NULL);
     }
+    if (give)
+        *give = sum;
+    return rate;
+}
+
+/* Node space's rows system W lam = target - J v, W_ab = sum over the joints both rows
+   name of coef_a coef_b give_j: exact while no two of their joints share a pin node or a
+   body (else the sweeps after it finish the work); in s->rsys (rows k: k x k, its factor,
+   k, k). A singular W (rows that repeat each other) is regularised by 1e-12 of its
+   largest diagonal, a least-squares answer. */
+static void rj__rows_direct(const rj_model *m, const rj_state *s, const rj__frames *f,
+                            rj__rows *R, double *fin)
+{
+    const int k = R->count;
+    double *S = s->rsys, *SL = S + (size_t) k * k, *rhs = SL + (size_t) k * k, *lam = rhs + k;
+    double largest = 0;
+    int a, b, p, q;
+    for (a = 0; a < k; a++) {
+        const rj__row *ra = &R->row[a];
+        for (b = 0; b < k; b++) {
+            const rj__row *rb = &R->row[b];
+            double sum = 0;
+            for (p = 0; p < ra->count; p++)
+                for (q = 0; q < rb->count; q++) {
+                    const rj__term *tp = &R->term[ra->first + p], *tq = &R->term[rb->first + q];
+                    if (tp->joint == tq->joint)
+                        sum += tp->coef * tq->coef * rj__joint_give(&m->jnt[tp->joint], NULL, NULL);
+                }
+            S[(size_t) a * k + b] = sum;
+        }
+        rhs[a] = ra->target - rj__row_rate(m, s, f, R, ra, NULL);
+        largest = fmax(largest, S[(size_t) a * k + a]);
+    }
+    if (rj__chol(k, S, SL)) {
+        for (a = 0; a < k; a++)
+            S[(size_t) a * k + a] += 1e-12 * largest;
+        if (rj__chol(k, S, SL))
+            return;
+    }
+    rj__chol_solve(k, SL, rhs, lam);
+    for (a = 0; a < k; a++)
+        rj__row_impulse(m, s, f, R, &R->row[a], lam[a], fin);
+}
+
+/* One sweep over the rows: each one's impulse to its target, its terms' joints in turn,
+   where it misses by more than 1e-15 rad at n + 1 (its rate's miss times dt). Returns
+   how many took one. */
+static int rj__rows_sweep(const rj_model *m, const rj_state *s, const rj__frames *f,
+                          rj__rows *R, double *fin)
+{
+    int a, moved = 0;
+    for (a = 0; a < R->count; a++) {
+        rj__row *row = &R->row[a];
+        double give;
+        const double rate = rj__row_rate(m, s, f, R, row, &give);
+        if (!(fabs(row->target - rate) * f->dt > 1e-15))
+            continue;
+        rj__row_impulse(m, s, f, R, row, (row->target - rate) / give, fin);
+        moved++;
+    }
+    return moved;
+}
+
+/* The node-space rows' rates before any impulse, for the first step's work. */
+static void rj__rows_before(const rj_model *m, const rj_state *s, const rj__frames *f,
+                            rj__rows *R)
+{
+    int a;
+    for (a = 0; a < R->count; a++)
+        R->row[a].before = rj__row_rate(m, s, f, R, &R->row[a], NULL);
+}
+
+/* What the rows' stage returns: the work of the prescribed joints' impulses, this step's
+   and the next's; the exact couplings' loss, this step's and the next's; the sum of the
+   positions they moved (finite while they are). */
+typedef struct rj__rows_sums {
+    double drive, drive_pending, loss, pending, fin;
+} rj__rows_sums;
+
+/* A row's impulse in the accounts and the joints' records: -1/2 lam J v^{n-1/2} now and
+   -1/2 lam J v^{n+1/2} with the next step, as the drive's work (a prescribed joint: its
+   torque) or the limits' loss (an exact coupling: its torque in the spring columns). */
+static void rj__row_account(const rj_model *m, const rj_state *s, const rj__frames *f,
+                            const rj__rows *R, const rj__row *row, rj__rows_sums *out)
+{
+    double back = 0, after = 0;
+    int k;
+    for (k = 0; k < row->count; k++) {
+        const rj__term *t = &R->term[row->first + k];
+        const double rate = rj__rate_now(m, s, f, t->joint);
+        double *record = RJ__FJ(m, f->next, t->joint);
+        back += t->coef * rj__rate_back(m, s, f, t->joint);
+        after += t->coef * rate;
+        record[RJ__JD_RATE] = rate;
+        if (row->kind == RJ__ROW_PRESCRIBED)
+            record[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = row->lam / f->kick;
+        else
+            record[RJ__JD_TQ0 + RJ_TORQUE_SPRING] += t->coef * row->lam / f->kick;
+    }
+    /* the first step's J v^{-1/2}: 2 J v(0) less the rate before the impulses */
+    if (f->first)
+        back = 2 * back - row->before;
+    if (row->kind == RJ__ROW_PRESCRIBED) {
+        out->drive += 0.5 * row->lam * back;
+        out->drive_pending += 0.5 * row->lam * after;
+    } else {
+        out->loss -= 0.5 * row->lam * back;
+        out->pending -= 0.5 * row->lam * after;
+    }
+}
+/* Stage 5c of scenes with prescribed joints or exact couplings: their rows (src/rows.h)
+   in node space, before the latches: the prescribed joints land on their profiles, the
+   couplings' e at 0, at n + 1. Several rows are solved together (rj__rows_direct), then
+   swept one by one until none misses its target by more than 1e-15 rad (at most 100
+   sweeps; rows whose joints share a pin node or a body need them). Apart (not inlined; the frames' record by value and the
+   sums returned: a pointer to the record would keep it out of registers in the whole
+   step), so a scene without rows pays one test. */
+static RJ__NOINLINE rj__rows_sums rj__stage_rows(const rj_model *m, const rj_state *s,
+                                                 rj__frames f)
+{
+    rj__rows_sums out;
+    rj__rows R;
+    int j, sweep;
+    memset(&out, 0, sizeof out);
+    R.row = s->rows;
+    R.term = s->terms;
+    R.count = R.terms = 0;
+    for (j = 0; j < m->nj; j++)
+        if (rj__prescribed(&m->jnt[j]))
+            rj__row_prescribed(m, s, &R, j, RJ__FJ(m, f.old, j)[RJ__JD_THETA], f.t, f.dt);
+    rj__rows_couplings(m, &R, RJ__FJ(m, f.old, 0) + RJ__JD_THETA, RJ__JD_COUNT, f.dt);
+    rj__rows_before(m, s, &f, &R);
+    if (R.count > 1)
+        rj__rows_direct(m, s, &f, &R, &out.fin);
+    for (sweep = 0; sweep < 100; sweep++)
+        if (!rj__rows_sweep(m, s, &f, &R, &out.fin))
+            break;
+    for (j = 0; j < R.count; j++)
+        rj__row_account(m, s, &f, &R, &R.row[j], &out);
     return out;
 }
 
-/* The exact couplings' stage on the step's frames and sums. */
-static RJ__FORCE_INLINE void rj__update_exact(const rj_model *m, const rj_state *s,
-                                              const rj__frames *f, rj__sums *e, double *fin)
+/* The rows' stage on the step's frames and sums. */
+static RJ__FORCE_INLINE void rj__update_rows(const rj_model *m, const rj_state *s,
+                                             const rj__frames *f, rj__sums *e, double *fin)
 {
-    const rj__exact_sums out = rj__stage_exact(m, s, *f);
+    const rj__rows_sums out = rj__stage_rows(m, s, *f);
+    e->drive += out.drive;
+    e->kinetic += out.drive;
+    e->drive_pending += out.drive_pending;
     e->lost_limit += out.loss;
     e->kinetic -= out.loss;
     e->pending += out.pending;
@@ -1058,8 +1116,8 @@ static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_sta
                                                        double *fin)
 {
     int j;
-    if (m->npres)
-        rj__stage_prescribed(m, s, f, e, fin);
+    if (m->nmotion)
+        rj__update_rows(m, s, f, e, fin);
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         const rj__joint *J = &m->jnt[j];
@@ -1378,8 +1436,6 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     rj__stage_friction(m, s, &f);
     rj__stage_update(m, s, &f, &adv, &e, &fin);
     rj__stage_velocity_limits(m, s, &f, &e, &fin);
-    if (m->nexact)
-        rj__update_exact(m, s, &f, &e, &fin);
     if (applied)
         e.work += rj__applied_work(m, s, f.old, f.next);
     rj__stage_constraints(m, s, &f, &e, &fin);

@@ -1,0 +1,247 @@
+/* ------------------------------------------------------------------ constraint rows */
+/* A constraint row holds a combination of joint rates, J q' = sum_t coef_t q'_(joint_t),
+   at a target rate over the step, n + 1/2, by an impulse lam along J^T within bounds
+   [lo, hi]. A row with a position to keep (a profile, a coupling's e = 0) aims its target
+   rate at that position at n + 1: target = (position(t + dt) - position(t)) / dt.
+
+   Rows are the one way the step imposes motion. Every kind is built the same way (its
+   terms, target and bounds) and solved by the space its scene steps in:
+   - joint coordinates (rigid scenes): W lam = target - J q' with W = J M^-1 J^T, dense,
+     over the active rows, a bounded row that would pull dropped and the set solved
+     again (rj__rows_solve_dense);
+   - node space (flexible and mixed scenes): a row's impulse is a pair of torque
+     impulses on its joints' pins (rj__joint_impulse); W from the joints' gives, solved
+     at once (rj__rows_direct), then swept row by row until none misses (rows whose
+     joints share a pin node or a body, which W leaves out, need the sweeps).
+   The work of a row's impulse in the kinetic energy's discrete form is
+   -1/2 lam J q'^{n-1/2} now and -1/2 lam J q'^{n+1/2} with the next step (the latches'
+   rule, rj__joint_jump), whatever the space.
+
+   Kinds: a locked joint (rigid scenes), a plastic contact at a limit (rigid scenes,
+   pushing only), a prescribed joint, an exact coupling. The closed loops' rows are the
+   next kind: rows of J over the joints around a loop. */
+/* Opens row of kind for owner; its terms follow with rj__row_term. */
+static rj__row *rj__row_open(rj__rows *R, int kind, int owner, double target, double lo,
+                             double hi)
+{
+    rj__row *row = &R->row[R->count];
+    R->count++;
+    row->kind = kind;
+    row->owner = owner;
+    row->first = R->terms;
+    row->count = 0;
+    row->active = 1;
+    row->target = target;
+    row->lo = lo;
+    row->hi = hi;
+    row->lam = 0;
+    return row;
+}
+
+static void rj__row_term(rj__rows *R, rj__row *row, int joint, double coef)
+{
+    R->term[R->terms].joint = joint;
+    R->term[R->terms].coef = coef;
+    R->terms++;
+    row->count++;
+}
+
+/* J x for a vector x over the joints. */
+static double rj__row_dot(const rj__rows *R, const rj__row *row, const double *x)
+{
+    const rj__term *t = R->term + row->first;
+    double sum = 0;
+    int k;
+    for (k = 0; k < row->count; k++)
+        sum += t[k].coef * x[t[k].joint];
+    return sum;
+}
+
+/* Whether the row is one joint's rate alone (its column of M^-1 is W's). */
+static int rj__row_unit(const rj__rows *R, const rj__row *row)
+{
+    return row->count == 1 && R->term[row->first].coef == 1.0;
+}
+
+/* A prescribed joint's row: its rate lands it on its profile at n + 1. */
+static void rj__row_prescribed(const rj_model *m, const rj_state *s, rj__rows *R, int j,
+                               double run, double t, double dt)
+{
+    const double target = rj__prescribed_rate(m, s, j, run, t, dt);
+    rj__row *row = rj__row_open(R, RJ__ROW_PRESCRIBED, j, target, -HUGE_VAL, HUGE_VAL);
+    rj__row_term(R, row, j, 1.0);
+}
+
+/* Exact coupling k's row, from the joints' running angles at n (stride apart in
+   angles): e = (theta_b - angle0_b) - ratio (theta_a - angle0_a) - offset back to 0 at
+   n + 1, along w = e_b - ratio e_a. */
+static void rj__row_coupling(const rj_model *m, rj__rows *R, int k, const double *angles,
+                             size_t stride, double dt)
+{
+    const rj_coupling_def *c = &m->cp[k];
+    const int a = c->joint_a, b = c->joint_b;
+    const double theta_a = angles[stride * (size_t) a], theta_b = angles[stride * (size_t) b];
+    const double e_n =
+        (theta_b - m->jdef[b].angle0) - c->ratio * (theta_a - m->jdef[a].angle0) - c->offset;
+    rj__row *row = rj__row_open(R, RJ__ROW_COUPLING, k, -e_n / dt, -HUGE_VAL, HUGE_VAL);
+    rj__row_term(R, row, b, 1.0);
+    rj__row_term(R, row, a, -c->ratio);
+}
+
+/* The exact couplings' rows. */
+static void rj__rows_couplings(const rj_model *m, rj__rows *R, const double *angles,
+                               size_t stride, double dt)
+{
+    int k;
+    for (k = 0; k < m->ncp; k++)
+        if (m->cp[k].exact)
+            rj__row_coupling(m, R, k, angles, stride, dt);
+}
+
+/* Whether a pushing-only row's rate has turned against its bound: a contact whose
+   impulse may only be negative (its forward limit) holds rates up to its target. */
+static int rj__row_violated(const rj__row *row, double rate)
+{
+    if (row->hi == 0)
+        return rate > row->target;
+    if (row->lo == 0)
+        return rate < row->target;
+    return 0;
+}
+
+/* Whether an active row's impulse lies outside its bounds (a bounded row that pulls). */
+static int rj__row_pulls(const rj__row *row, double lam)
+{
+    return lam > row->hi || lam < row->lo;
+}
+
+/* What the dense solve works in: M's factor, M^-1's columns for the joints (W, n x n,
+   column j at W + j n), the other rows' M^-1 J^T (Y, n each), the system and its factor
+   (S, SL: R x R), vectors (lam, rhs: R; scratch: n), and the row a single impulse
+   before the solve already holds exactly (-1: none), which alone needs no solve. */
+typedef struct rj__dense {
+    int n;
+    const double *L;
+    double *W, *Y, *S, *SL, *lam, *rhs, *scratch;
+    int held;
+} rj__dense;
+
+/* A row's M^-1 J^T: W's column for a unit row (made here), else the next column of Y
+   (the other rows before it took *others). */
+static const double *rj__row_column(const rj__rows *R, const rj__row *row, const rj__dense *D,
+                                    int *others)
+{
+    const int n = D->n;
+    double *y, *scratch = D->scratch;
+    int k;
+    if (rj__row_unit(R, row)) {
+        const int j = R->term[row->first].joint;
+        y = D->W + (size_t) j * n;
+        rj__chol_unit(n, D->L, j, y);
+        return y;
+    }
+    y = D->Y + (size_t) *others * n;
+    (*others)++;
+    for (k = 0; k < n; k++)
+        scratch[k] = 0;
+    for (k = 0; k < row->count; k++)
+        scratch[R->term[row->first + k].joint] += R->term[row->first + k].coef;
+    rj__chol_solve(n, D->L, scratch, y);
+    return y;
+}
+
+/* The active rows' system S lam = target - J q', its factor in SL; a singular one (rows
+   that repeat each other) is regularised by 1e-12 of its largest diagonal, a least-
+   squares answer. Returns the number of active rows, -1 when even that fails. */
+static int rj__rows_system(const rj__rows *R, const rj__dense *D, const double *qdp)
+{
+    int a, b, k = 0, row = 0;
+    double largest = 0;
+    for (a = 0; a < R->count; a++)
+        k += R->row[a].active;
+    for (a = 0; a < R->count; a++) {
+        int c = 0;
+        if (!R->row[a].active)
+            continue;
+        for (b = 0; b < R->count; b++) {
+            if (!R->row[b].active)
+                continue;
+            D->S[(size_t) row * k + c] = rj__row_dot(R, &R->row[a], R->row[b].col);
+            c++;
+        }
+        D->rhs[row] = R->row[a].target - rj__row_dot(R, &R->row[a], qdp);
+        if (D->S[(size_t) row * k + row] > largest)
+            largest = D->S[(size_t) row * k + row];
+        row++;
+    }
+    if (!rj__chol(k, D->S, D->SL))
+        return k;
+    for (a = 0; a < k; a++)
+        D->S[(size_t) a * k + a] += 1e-12 * largest;
+    return rj__chol(k, D->S, D->SL) ? -1 : k;
+}
+
+/* One pass of the dense solve: the active rows' impulses into D->lam; rows that would
+   pull leave the set (returns 1: solve again); else the impulses move q' and the rows
+   keep them (returns 0). -1: no solution. */
+static int rj__rows_pass(rj__rows *R, const rj__dense *D, double *qdp)
+{
+    const int n = D->n;
+    int a, i, k, row = 0, dropped = 0;
+    k = rj__rows_system(R, D, qdp);
+    if (k < 0)
+        return -1;
+    rj__chol_solve(k, D->SL, D->rhs, D->lam);
+    for (a = 0; a < R->count; a++) {
+        if (!R->row[a].active)
+            continue;
+        if (rj__row_pulls(&R->row[a], R->row[a].lam + D->lam[row])) {
+            R->row[a].active = 0;
+            dropped = 1;
+        }
+        row++;
+    }
+    if (dropped)
+        return 1;
+    row = 0;
+    for (a = 0; a < R->count; a++) {
+        if (!R->row[a].active)
+            continue;
+        for (i = 0; i < n; i++)
+            qdp[i] += R->row[a].col[i] * D->lam[row];
+        R->row[a].lam += D->lam[row];
+        row++;
+    }
+    return 0;
+}
+
+/* The rows in joint coordinates: passes until no bounded row pulls and none left out
+   is violated (at most one pass per row and one more). Returns 0, or -1 when the system
+   has no solution. */
+static int rj__rows_solve_dense(rj__rows *R, const rj__dense *D, double *qdp)
+{
+    int a, pass, changed = 1, others = 0;
+    for (a = 0; a < R->count; a++)
+        R->row[a].col = rj__row_column(R, &R->row[a], D, &others);
+    for (pass = 0; pass <= R->count && changed; pass++) {
+        int any = 0, step;
+        for (a = 0; a < R->count; a++)
+            any += R->row[a].active;
+        /* none, or only the row a single impulse held exactly */
+        if (!any || (any == 1 && D->held >= 0 && R->row[D->held].active))
+            return 0;
+        step = rj__rows_pass(R, D, qdp);
+        if (step < 0)
+            return -1;
+        changed = step;
+        /* a bounded row left out that the impulses turned against its bound joins */
+        for (a = 0; a < R->count; a++) {
+            rj__row *row = &R->row[a];
+            if (row->active || !rj__row_violated(row, rj__row_dot(R, row, qdp)))
+                continue;
+            row->active = 1;
+            changed = 1;
+        }
+    }
+    return 0;
+}
