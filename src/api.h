@@ -401,9 +401,10 @@ typedef struct rj_actuator_def {
    exact = 1: a constraint instead of a cable: e is held at 0 to round-off (each step's
    impulse on the two joints, reported over the step in their spring components; its
    share of the kinetic energy's discrete form is counted with the limits', lost_limit);
-   stiffness and damping must then be 0. Exact couplings need the tangent reference and,
-   with flexible links, no rigid link at their joints; they are resolved after the
-   latches of the step. */
+   stiffness and damping must then be 0. Exact couplings need the tangent reference. They
+   are constraint rows, solved together with the step's prescribed joints (and, with
+   rigid links only, its locked joints and plastic contacts); with flexible links before
+   the latches' jumps, with rigid links after the single joints' impulses. */
 typedef struct rj_coupling_def {
     int joint_a, joint_b; /* joint indices, two different joints */
     double ratio;         /* theta_b follows ratio theta_a; within +-1e6 */

@@ -10,9 +10,9 @@
      over the active rows, a bounded row that would pull dropped and the set solved
      again (rj__rows_solve_dense);
    - node space (flexible and mixed scenes): a row's impulse is a pair of torque
-     impulses on its joints' pins (rj__joint_impulse); W from the joints' gives, solved
-     at once (rj__rows_direct), then swept row by row until none misses (rows whose
-     joints share a pin node or a body, which W leaves out, need the sweeps).
+     impulses on its joints' pins (rj__joint_impulse); W from the joints' gives and the
+     bodies they share (rj__joint_cross), solved at once (rj__rows_direct), then swept
+     row by row until none misses (a check that finds round-off).
    The work of a row's impulse in the kinetic energy's discrete form is
    -1/2 lam J q'^{n-1/2} now and -1/2 lam J q'^{n+1/2} with the next step (the latches'
    rule, rj__joint_jump), whatever the space.

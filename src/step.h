@@ -917,6 +917,36 @@ static double rj__joint_give(const rj__joint *J, double *give1, double *give2)
     return (c1 + c2) * share;
 }
 
+/* Which body turns with side (1 or 2) of joint J: its pin node, or the rigid body of a
+   mixed scene whose own node it is (-2 less the body's link); -1 for ground. */
+static int rj__side_body(const rj_model *m, const rj__joint *J, int side)
+{
+    const int n = side == 2 ? J->nJ : J->nI;
+    if (n < 0)
+        return -1;
+    if (m->ncl && RJ__CL_RIGID(m, n))
+        return -2 - m->node_cl[n];
+    return n;
+}
+
+/* Joint q's rate change per unit torque impulse on joint p: each side of p moves its
+   body by its give, and each side of q that turns with the same body sees it. */
+static double rj__joint_cross(const rj_model *m, int p, int q)
+{
+    const rj__joint *Jp = &m->jnt[p], *Jq = &m->jnt[q];
+    double give[3], sum = 0;
+    int a, b;
+    rj__joint_give(Jp, &give[1], &give[2]);
+    for (a = 1; a <= 2; a++)
+        for (b = 1; b <= 2; b++) {
+            const int body = rj__side_body(m, Jp, a);
+            if (body == -1 || body != rj__side_body(m, Jq, b))
+                continue;
+            sum += (a == b ? 1.0 : -1.0) * give[a];
+        }
+    return sum;
+}
+
 /* A torque impulse P on joint j's pins (P on body 2, -P on body 1): the bodies' rates move
    by their gives (rj__joint_give), the nodes with them. The momentum I1 w1 + I2 w2 is
    kept, as a latch's jump keeps it (rj__joint_jump). */
@@ -943,25 +973,26 @@ static void rj__row_impulse(const rj_model *m, const rj_state *s, const rj__fram
     row->lam += P;
 }
 
-/* A row's rate J v at n + 1/2 now, and its give J M^-1 J^T (the terms' joints apart). */
+/* A row's rate J v at n + 1/2 now, and its give J M^-1 J^T (rj__joint_cross). */
 static double rj__row_rate(const rj_model *m, const rj_state *s, const rj__frames *f,
                            const rj__rows *R, const rj__row *row, double *give)
 {
+    const rj__term *t = R->term + row->first;
     double rate = 0, sum = 0;
-    int k;
+    int k, q;
     for (k = 0; k < row->count; k++) {
-        const rj__term *t = &R->term[row->first + k];
-        rate += t->coef * rj__rate_now(m, s, f, t->joint);
-        sum += t->coef * t->coef * rj__joint_give(&m->jnt[t->joint], NULL, NULL);
+        rate += t[k].coef * rj__rate_now(m, s, f, t[k].joint);
+        for (q = 0; q < row->count && give; q++)
+            sum += t[k].coef * t[q].coef * rj__joint_cross(m, t[k].joint, t[q].joint);
     }
     if (give)
         *give = sum;
     return rate;
 }
 
-/* Node space's rows system W lam = target - J v, W_ab = sum over the joints both rows
-   name of coef_a coef_b give_j: exact while no two of their joints share a pin node or a
-   body (else the sweeps after it finish the work); in s->rsys (rows k: k x k, its factor,
+/* Node space's rows system W lam = target - J v, W_ab = sum over the rows' joints p, q
+   of coef_p coef_q times q's rate change per unit impulse on p (rj__joint_cross: the
+   sides they share); in s->rsys (rows k: k x k, its factor,
    k, k). A singular W (rows that repeat each other) is regularised by 1e-12 of its
    largest diagonal, a least-squares answer. */
 static void rj__rows_direct(const rj_model *m, const rj_state *s, const rj__frames *f,
@@ -979,8 +1010,7 @@ static void rj__rows_direct(const rj_model *m, const rj_state *s, const rj__fram
             for (p = 0; p < ra->count; p++)
                 for (q = 0; q < rb->count; q++) {
                     const rj__term *tp = &R->term[ra->first + p], *tq = &R->term[rb->first + q];
-                    if (tp->joint == tq->joint)
-                        sum += tp->coef * tq->coef * rj__joint_give(&m->jnt[tp->joint], NULL, NULL);
+                    sum += tp->coef * tq->coef * rj__joint_cross(m, tp->joint, tq->joint);
                 }
             S[(size_t) a * k + b] = sum;
         }
@@ -1068,7 +1098,7 @@ static void rj__row_account(const rj_model *m, const rj_state *s, const rj__fram
    in node space, before the latches: the prescribed joints land on their profiles, the
    couplings' e at 0, at n + 1. Several rows are solved together (rj__rows_direct), then
    swept one by one until none misses its target by more than 1e-15 rad (at most 100
-   sweeps; rows whose joints share a pin node or a body need them). Apart (not inlined; the frames' record by value and the
+   sweeps; after the solve the first finds round-off). Apart (not inlined; the frames' record by value and the
    sums returned: a pointer to the record would keep it out of registers in the whole
    step), so a scene without rows pays one test. */
 static RJ__NOINLINE rj__rows_sums rj__stage_rows(const rj_model *m, const rj_state *s,

@@ -537,7 +537,8 @@ static int rj__validate_actuators(const rj_scene_def *sc, rj_error *err)
 }
 
 /* An exact coupling is a constraint: no stiffness or damping of its own; on joints with
-   the tangent reference, and in a scene with flexible links, none holding a rigid link. */
+   the tangent reference (a chord's impulse moves the chord's far nodes, whose work the
+   rows' form does not count). */
 static int rj__validate_exact(const rj_scene_def *sc, const rj_coupling_def *d, int i,
                               rj_error *err)
 {
@@ -553,10 +554,6 @@ static int rj__validate_exact(const rj_scene_def *sc, const rj_coupling_def *d, 
         const rj_joint_def *J = &sc->joints[joint[k]];
         if (J->reference != RJ_REF_TANGENT)
             why = "an exact coupling needs the tangent reference on both joints";
-        else if (!rj__all_rigid(sc) && (sc->links[J->body2].fidelity == RJ_LINK_RIGID ||
-                                        (J->body1 >= 0 &&
-                                         sc->links[J->body1].fidelity == RJ_LINK_RIGID)))
-            why = "an exact coupling's joint holds a rigid link in a scene with flexible links";
     }
     if (!why)
         return 1;

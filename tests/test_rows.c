@@ -138,6 +138,61 @@ static void test_meeting_rows(rjt_ctx *c)
     }
 }
 
+/* The chain with p2 a rigid link among flexible ones (a rigid body of a mixed scene,
+   whose rotation its two joints share). */
+static void test_mixed_rows(rjt_ctx *c)
+{
+    char text[2048], *p;
+    measured o;
+    snprintf(text, sizeof text, "%s%s", CHAIN, CHAIN_LOOPS);
+    p = strstr(text, "link p2");
+    p = strstr(p, "height = 0.01") + strlen("height = 0.01");
+    memmove(p + strlen("  fidelity = rigid"), p, strlen(p) + 1);
+    memcpy(p, "  fidelity = rigid", strlen("  fidelity = rigid"));
+    run_chain(text, -1, &o);
+    rjt_check(c, o.result == RJ_OK && o.angle < 1e-12 && o.e < 1e-12 && o.drive > 0 &&
+                     o.balance < 1e-4 * o.drive,
+              "rows that meet on a rigid body of a mixed scene",
+              "max |h1 - profile| %.3g rad, max |e| %.3g rad, max |balance| %.3g J of a "
+              "drive's work up to %.3g J %s", o.angle, o.e, o.balance, o.drive, o.msg);
+}
+
+/* An exact coupling is refused, naming its field, with stiffness or on a chord joint. */
+static void test_refusals(rjt_ctx *c)
+{
+    static const char *tails[2] = {
+        "coupling c12\n  joints = h1 h2  ratio = -2  exact = yes  stiffness = 10\n",
+        "coupling c12\n  joints = h1 h2  ratio = -2  exact = yes\n"
+    };
+    int k;
+    for (k = 0; k < 2; k++) {
+        char text[2048];
+        rj_scene_file f;
+        rj_scene_def d;
+        rj_error err;
+        rj_model *m = NULL;
+        rj_result r;
+        snprintf(text, sizeof text, "%s%s", CHAIN, tails[k]);
+        /* the file's reader refuses what the model would, with line and column */
+        if (rj_scene_parse(text, strlen(text), "rows.rjs", &f, &err) != RJ_OK) {
+            rjt_check(c, err.code == RJ_ERR_INVALID && strstr(err.msg, "couplings[0].exact"),
+                      "exact coupling refused with its field named", "%s (scene file): %s",
+                      k ? "chord reference" : "stiffness", err.msg);
+            continue;
+        }
+        d = rj_scene_file_def(&f);
+        if (k == 1)
+            ((rj_joint_def *) d.joints)[1].reference = RJ_REF_CHORD;
+        r = rj_model_create(&d, &m, &err, NULL);
+        rjt_check(c, r == RJ_ERR_INVALID && strstr(err.msg, "couplings[0].exact") != NULL,
+                  "exact coupling refused with its field named",
+                  "%s: %s", k ? "chord reference" : "stiffness", err.msg);
+        if (r == RJ_OK)
+            rj_model_destroy(m, NULL);
+        rj_scene_file_free(&f);
+    }
+}
+
 /* The chain's text with solver.dt = dt. */
 static void chain_at(double dt, char *text, size_t n)
 {
@@ -263,6 +318,8 @@ int main(void)
     rjt_ctx c = { 0, 0 };
     test_meeting_rows(&c);
     test_rows_order(&c);
+    test_mixed_rows(&c);
+    test_refusals(&c);
     test_redundant_rows(&c);
     test_array(&c);
     return rjt_summary(&c, "test_rows");
