@@ -66,8 +66,11 @@ CONCEPTS
    translations, max(rho A l^3 / 78, rho I l / 2) per element end on the rotation. A link
    may instead be inextensible or rigid (rj_fidelity).
 
-   Joints. Joint j pins node 0 of link body2 to node node1 of link body1 (or to a ground
-   point when body1 = -1). Its rotary location theta (sec. 3.1, Eqs 1-3) is the
+   Joints. Joint j pins node node2 of link body2 (node 0 unless set) to node node1 of link
+   body1 (or to a ground point when body1 = -1). A link hangs from its first joint as
+   body2; a later joint with the same body2 closes a loop (every link flexible), and must
+   find its pins together, moving together, at its angle0 where the other joints place
+   the links. Its rotary location theta (sec. 3.1, Eqs 1-3) is the
    counter-clockwise angle from body 1's direction at the pin, pointing back towards body
    1's root (I->K; for ground, the fixed direction ground_angle), to body 2's direction
    (J->L). Two links that continue each other have theta = pi. It starts at angle0; by
@@ -223,7 +226,7 @@ typedef struct rj_link_def {
 } rj_link_def;
 
 /* Joint definition. Defaults (rj_default_joint_def):
-     body1 -1 (ground), node1 -1 (last node of body1), body2 0;
+     body1 -1 (ground), node1 -1 (last node of body1), body2 0, node2 0 (its first node);
      ground_x 0 m, ground_y 0 m, ground_angle 0 rad;
      angle0 pi rad (straight), rate0 0 rad/s;
      table none (table_count 0); spring_k 0 N m/rad, spring_free_angle pi rad;
@@ -235,6 +238,7 @@ typedef struct rj_link_def {
 typedef struct rj_joint_def {
     int body1; /* link index, or -1 for ground */
     int node1; /* node of body1 carrying the pin; -1 = last node */
+    int node2; /* node of body2 carrying the pin; 0 (default) its first, -1 its last */
     int body2; /* link index; pinned at its node 0 */
     double ground_x, ground_y,
         ground_angle; /* m, m, rad: pin and reference direction when body1 = -1 */
@@ -898,6 +902,7 @@ typedef struct rj__joint {
     int nI, nK, nJ,
         nL; /* global nodes: pin on body 1, its neighbour, pin on body 2, its neighbour; nI = nK = -1 for ground */
     int chord;       /* RJ_REF_CHORD */
+    int loop;        /* it closes a loop: its body2 hangs from an earlier joint */
     double off;      /* tangent mode: theta = off + phi_J - phi_I */
     double minv;     /* rigid scenes: (M^-1)_jj, rate change per unit torque impulse */
     double gax, gay; /* ground reference direction (unit) when nK < 0 */
@@ -1400,6 +1405,7 @@ enum {
     RJ__JK_BODY1,
     RJ__JK_BODY2,
     RJ__JK_NODE1,
+    RJ__JK_NODE2,
     RJ__JK_GROUND_X,
     RJ__JK_GROUND_Y,
     RJ__JK_GROUND_ANGLE,
@@ -1672,6 +1678,9 @@ static const rj__field rj__joint_fields[RJ__JF_N] = {
     RJ__F("body2", body2, "", RJ__FT_LINK, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 2, 'd', 0.0, RJ__ANY,
           ""),
     RJ__F("node1", node1, "", RJ__FT_NODE, RJ__WHEN_ON_LINK, RJ__WR_SET, 1, 1, 'd', -1.0,
+          RJ__ANY, ""),
+    /* hashed only when set: every scene before it pins node 0 and keeps its hash */
+    RJ__F("node2", node2, "", RJ__FT_NODE, RJ__WHEN_ALL, RJ__WR_SET, 1, 23, 'z', 0.0,
           RJ__ANY, ""),
     RJ__F("ground_x", ground_x, "m", RJ__FT_REAL, RJ__WHEN_GROUND, RJ__WR_LINE, 2, 3, 'd', 0.0,
           RJ__ANY, RJ__RULE_FINITE),
@@ -2526,6 +2535,22 @@ static int rj__validate_bodies(const rj_scene_def *sc, const rj_joint_def *J, in
                  J->node1, sc->links[J->body1].elements, J->body1);
         return 0;
     }
+    if (J->node2 < -1 || J->node2 > sc->links[J->body2].elements) {
+        RJ__FIELD(f, "joints[%d].node2", j);
+        rj__fail(err, RJ_ERR_INVALID, f, J->node2,
+                 "%s = %d is invalid: a node 0..%d of link %d, or -1 for its last node", f,
+                 J->node2, sc->links[J->body2].elements, J->body2);
+        return 0;
+    }
+    if (J->node2 != 0 &&
+        (J->reference != RJ_REF_TANGENT || sc->links[J->body2].fidelity != RJ_LINK_FLEXIBLE)) {
+        RJ__FIELD(f, "joints[%d].node2", j);
+        rj__fail(err, RJ_ERR_INVALID, f, J->node2,
+                 "%s = %d is not supported: a pin away from body2's first node needs a flexible "
+                 "body2 and the tangent reference",
+                 f, J->node2);
+        return 0;
+    }
     if (sc->links[J->body2].root != RJ_ROOT_FREE) {
         RJ__FIELD(f, "links[%d].root", J->body2);
         rj__fail(err, RJ_ERR_INVALID, f, sc->links[J->body2].root,
@@ -2910,6 +2935,27 @@ static int rj__counts(const rj_scene_def *sc, size_t *nn, size_t *ne, rj_error *
     return 1;
 }
 
+/* A joint that closes a loop (its body2 hangs from joint first): every link of the scene
+   flexible (loops through rigid or inextensible links are not supported yet). */
+static int rj__validate_loop_joint(const rj_scene_def *sc, int j, int first, rj_error *err)
+{
+    const int b2 = sc->joints[j].body2;
+    char f[64];
+    int l;
+    for (l = 0; l < sc->link_count; l++)
+        if (sc->links[l].fidelity != RJ_LINK_FLEXIBLE)
+            break;
+    if (l == sc->link_count)
+        return 1;
+    RJ__FIELD(f, "joints[%d].body2", j);
+    rj__fail(err, RJ_ERR_INVALID, f, b2,
+             "%s = %d closes a loop (link %d hangs from joint %d), which is supported when "
+             "every link is flexible: link %d is %s",
+             f, b2, b2, first, l,
+             sc->links[l].fidelity == RJ_LINK_RIGID ? "rigid" : "inextensible");
+    return 0;
+}
+
 /* The link a link hangs from (-1: ground or none), given each link's joint in parent. */
 static int rj__up(const rj_scene_def *sc, const int *parent, int link)
 {
@@ -3026,18 +3072,14 @@ static int rj__validate_graph(const rj_scene_def *sc, int *scratch, rj_error *er
     int i, j;
     for (i = 0; i < nl; i++)
         parent[i] = -1;
-    /* a link hangs from one joint: parent[] holds the joint it hangs from */
+    /* a link hangs from its first joint as body2: parent[] holds it; a later joint with
+       the same body2 closes a loop */
     for (j = 0; j < sc->joint_count; j++) {
         const int b2 = sc->joints[j].body2;
-        if (parent[b2] >= 0) {
-            RJ__FIELD(f, "joints[%d].body2", j);
-            rj__fail(err, RJ_ERR_INVALID, f, b2,
-                     "%s = %d is invalid: link %d is already body2 of joint %d (a link hangs from "
-                     "one joint)",
-                     f, b2, b2, parent[b2]);
+        if (parent[b2] >= 0 && !rj__validate_loop_joint(sc, j, parent[b2], err))
             return 0;
-        }
-        parent[b2] = j;
+        if (parent[b2] < 0)
+            parent[b2] = j;
     }
     if (rj__all_rigid(sc))
         for (i = 0; i < nl; i++)
@@ -3064,10 +3106,10 @@ static int rj__validate_graph(const rj_scene_def *sc, int *scratch, rj_error *er
         }
         if (cur >= 0 && mark[cur] == 1) {
             RJ__FIELD(f, "links[%d]", i);
-            rj__fail(
-                err, RJ_ERR_INVALID, f, i,
-                "joints form a closed loop through link %d; only chains and trees are supported",
-                i);
+            rj__fail(err, RJ_ERR_INVALID, f, i,
+                     "the joints that hang links from each other form a loop through link %d "
+                     "that no joint holds to the ground or a fixed link",
+                     i);
             return 0;
         }
         top = cur;
@@ -4224,14 +4266,16 @@ static double rj__table_turns_potential(const rj_joint_def *d, const rj__joint *
 }
 
 /* ------------------------------------------------------------------ model build */
-static void rj__place(const rj_model *m, int l, double px, double py, double ang, double vpx,
-                      double vpy, double om, double *x, double *y, double *phi, double *vx,
-                      double *vy, double *w)
+/* Places link l straight at angle ang with its node at on (px, py), turning at om about
+   it while that node moves at (vpx, vpy). */
+static void rj__place(const rj_model *m, int l, int at, double px, double py, double ang,
+                      double vpx, double vpy, double om, double *x, double *y, double *phi,
+                      double *vx, double *vy, double *w)
 {
     int i, n0 = m->link_first[l], ne = m->ldef[l].elements;
     double c = cos(ang), s = sin(ang), l0 = m->link_l0[l];
     for (i = 0; i <= ne; i++) {
-        double rx = c * l0 * i, ry = s * l0 * i;
+        double rx = c * l0 * (i - at), ry = s * l0 * (i - at);
         x[n0 + i] = px + rx;
         y[n0 + i] = py + ry;
         phi[n0 + i] = ang;
@@ -4921,6 +4965,9 @@ static unsigned long long rj__fnv_row(unsigned long long h, const rj__field *r, 
         return r->type == RJ__FT_VEC2 ? rj__fnv_d(h, rj__row_real(def, r, 1)) : h;
     }
     memcpy(&n, (const char *) def + r->offset, sizeof n);
+    /* 'z': an int hashed only when it differs from its default */
+    if (r->hash_as == 'z')
+        return n == (int) r->def ? h : rj__fnv_i(h, n);
     return r->hash_as == 'i' ? rj__fnv_i(h, n) : rj__fnv_d(h, (double) n);
 }
 
@@ -5129,66 +5176,97 @@ static void rj__limit_warnings(rj_model *m)
     }
 }
 
-/* The node whose group a joint's pin joins: its pin node, or, when that node is itself a
-   root pinned to another node (a joint on node 0 of a link that hangs from a joint), that
-   node's, followed up the tree. up[n] is the node root n is pinned to (-1: none); each
-   path is pointed at its end as it is walked, so the whole pass stays linear. */
-static int rj__pin_anchor(int *up, int node)
+/* The root of node's set (union-find, each path pointed at its root as it is walked). */
+static int rj__set_root(int *set, int node)
 {
-    int end = node;
-    while (up[end] >= 0)
-        end = up[end];
-    while (up[node] >= 0) {
-        const int next = up[node];
-        up[node] = end;
+    int root = node;
+    while (set[root] != root)
+        root = set[root];
+    while (set[node] != root) {
+        const int next = set[node];
+        set[node] = root;
         node = next;
     }
-    return end;
+    return root;
 }
 
-/* Pin groups: each body1 pin node with every body2 root pinned to it, in the order of
-   their first joint; members the pin node, then the roots in joint order. A pin on a root
-   that is pinned itself joins that root's group (rj__pin_anchor): pinned nodes form one
-   group however they are reached. Linear in the joints, with scratch of 2 nn + ng ints
-   (each node's anchor, a group per node, then each group's fill cursor); node_grp is -1
-   on entry. Returns the number of groups. */
+/* Adds node to group g at its cursor unless it is a member already (mark[node] = g). */
+static void rj__group_add(rj_model *m, int *mark, int *cursor, int g, int node)
+{
+    if (mark[node] >= 0)
+        return;
+    mark[node] = g;
+    m->grp_node[cursor[g]++] = node;
+}
+
+/* Pin groups: the nodes that joints pin together, each set of them one group, in the
+   order of their first joint. Its first member is its anchor: the first body1 pin (in
+   joint order) that no joint pins as a body2 node (a chain's top), else the first body1
+   pin (a loop); then the body2 pins in joint order, then any other body1 pin. In a scene
+   without loops that is each body1 pin node with the body2 nodes pinned to it however
+   they are reached. Linear in the joints, with scratch of 4 nn + ng ints (each node's
+   set, mark, anchor and group, then each group's fill cursor); node_grp is -1 on entry.
+   Returns the number of groups. */
 static int rj__pin_groups(rj_model *m, int *scratch)
 {
-    int *up = scratch, *group_of = scratch + m->nn, *cursor = scratch + 2 * (size_t) m->nn;
-    int ng = 0, j, g;
-    for (j = 0; j < m->nn; j++) {
-        group_of[j] = -1;
-        up[j] = -1;
+    const int nn = m->nn;
+    int *set = scratch, *mark = scratch + nn, *anchor = scratch + 2 * (size_t) nn;
+    int *gid = scratch + 3 * (size_t) nn, *cursor = scratch + 4 * (size_t) nn;
+    int ng = 0, j, i, g;
+    for (i = 0; i < nn; i++) {
+        set[i] = i;
+        mark[i] = -1;
+        anchor[i] = -1;
+        gid[i] = -1;
+    }
+    /* the sets, and the body2 pins marked -2 */
+    for (j = 0; j < m->nj; j++) {
+        const rj__joint *J = &m->jnt[j];
+        if (J->nI < 0)
+            continue;
+        set[rj__set_root(set, J->nJ)] = rj__set_root(set, J->nI);
+        mark[J->nJ] = -2;
+    }
+    /* each set's anchor and group number */
+    for (j = 0; j < m->nj; j++) {
+        const int pin = m->jnt[j].nI;
+        int r;
+        if (pin < 0)
+            continue;
+        r = rj__set_root(set, pin);
+        if (anchor[r] < 0 || (mark[anchor[r]] == -2 && mark[pin] != -2))
+            anchor[r] = pin;
+        if (gid[r] < 0)
+            gid[r] = ng++;
+    }
+    /* counts, then the fill */
+    for (g = 0; g <= ng; g++)
+        m->grp_first[g] = 0;
+    for (i = 0; i < nn; i++) {
+        const int r = rj__set_root(set, i);
+        if (gid[r] >= 0)
+            m->grp_first[gid[r] + 1]++;
+    }
+    for (g = 0; g < ng; g++) {
+        m->grp_first[g + 1] += m->grp_first[g];
+        cursor[g] = m->grp_first[g];
+    }
+    for (i = 0; i < nn; i++)
+        mark[i] = -1;
+    for (j = 0; j < m->nj; j++) {
+        const rj__joint *J = &m->jnt[j];
+        int r;
+        if (J->nI < 0)
+            continue;
+        r = rj__set_root(set, J->nI);
+        rj__group_add(m, mark, cursor, gid[r], anchor[r]);
     }
     for (j = 0; j < m->nj; j++)
         if (m->jnt[j].nI >= 0)
-            up[m->jnt[j].nJ] = m->jnt[j].nI;
-    /* count: the anchor and one root per joint */
-    m->grp_first[0] = 0;
-    for (j = 0; j < m->nj; j++) {
-        const int pin = m->jnt[j].nI < 0 ? -1 : rj__pin_anchor(up, m->jnt[j].nI);
-        if (pin < 0)
-            continue;
-        if (group_of[pin] < 0) {
-            group_of[pin] = ng;
-            m->grp_first[ng + 1] = 1;
-            ng++;
-        }
-        m->grp_first[group_of[pin] + 1]++;
-    }
-    for (g = 0; g < ng; g++)
-        m->grp_first[g + 1] += m->grp_first[g];
-    for (g = 0; g < ng; g++)
-        cursor[g] = m->grp_first[g] + 1;
-    /* fill: the anchor first, then the roots in joint order */
-    for (j = 0; j < m->nj; j++) {
-        const int pin = m->jnt[j].nI < 0 ? -1 : rj__pin_anchor(up, m->jnt[j].nI);
-        if (pin < 0)
-            continue;
-        g = group_of[pin];
-        m->grp_node[m->grp_first[g]] = pin;
-        m->grp_node[cursor[g]++] = m->jnt[j].nJ;
-    }
+            rj__group_add(m, mark, cursor, gid[rj__set_root(set, m->jnt[j].nI)], m->jnt[j].nJ);
+    for (j = 0; j < m->nj; j++)
+        if (m->jnt[j].nI >= 0)
+            rj__group_add(m, mark, cursor, gid[rj__set_root(set, m->jnt[j].nI)], m->jnt[j].nI);
     return ng;
 }
 
@@ -5257,7 +5335,7 @@ static void rj__place_link(rj_model *m, int l, int j)
     const rj__joint *J;
     double px, py, refang, om1 = 0, vpx = 0, vpy = 0;
     if (j < 0) {
-        rj__place(m, l, ld->x, ld->y, ld->angle, ld->vx, ld->vy, ld->omega, m->x0, m->y0, m->phi0,
+        rj__place(m, l, 0, ld->x, ld->y, ld->angle, ld->vx, ld->vy, ld->omega, m->x0, m->y0, m->phi0,
                   m->vx0, m->vy0, m->w0);
         return;
     }
@@ -5280,13 +5358,14 @@ static void rj__place_link(rj_model *m, int l, int j)
             vpy = 0;
         }
     }
-    rj__place(m, l, px, py, refang + d->angle0, vpx, vpy, om1 + d->rate0, m->x0, m->y0, m->phi0,
+    rj__place(m, l, J->nJ - m->link_first[l], px, py, refang + d->angle0, vpx, vpy, om1 + d->rate0,
+              m->x0, m->y0, m->phi0,
               m->vx0, m->vy0, m->w0);
 }
 
-/* Initial placement of every link after the link it hangs from (the graph is a forest),
-   in time linear in the scene: scratch of 3 nl ints (placed flags, each link's joint, a
-   path of links still to place). */
+/* Initial placement of every link after the link it hangs from (its first joint as body2:
+   the joints that close loops place nothing), in time linear in the scene: scratch of
+   3 nl ints (placed flags, each link's joint, a path of links still to place). */
 static void rj__place_all(rj_model *m, int *scratch)
 {
     int *placed = scratch, *joint_of = scratch + m->nl, *path = scratch + 2 * (size_t) m->nl;
@@ -5296,7 +5375,8 @@ static void rj__place_all(rj_model *m, int *scratch)
         joint_of[l] = -1;
     }
     for (j = 0; j < m->nj; j++)
-        joint_of[m->jdef[j].body2] = j;
+        if (!m->jnt[j].loop)
+            joint_of[m->jdef[j].body2] = j;
     for (l = 0; l < m->nl; l++) {
         int depth = 0, cur = l;
         /* up to the first placed link or a root, then down again */
@@ -5330,6 +5410,74 @@ static int rj__placement_resolved(const rj_model *m, rj_error *err)
                      "links[%d] is placed where doubles do not resolve its %g m elements (node %d "
                      "at x = %g m, y = %g m, spacing %g m): place the mechanism nearer the origin",
                      l, l0, k - m->link_first[l], m->x0[k], m->y0[k], fabs(m->x0[k]) * DBL_EPSILON);
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* Where joint J pins body 1 at the start, its velocity there, and the direction theta
+   is measured from (ground: the fixed point and direction). */
+static void rj__pin1_start(const rj_model *m, const rj_joint_def *d, const rj__joint *J,
+                           double p[2], double v[2], double *ref)
+{
+    if (d->body1 < 0) {
+        p[0] = d->ground_x;
+        p[1] = d->ground_y;
+        v[0] = v[1] = 0;
+        *ref = d->ground_angle;
+        return;
+    }
+    p[0] = m->x0[J->nI];
+    p[1] = m->y0[J->nI];
+    v[0] = m->vx0[J->nI];
+    v[1] = m->vy0[J->nI];
+    *ref = atan2(m->y0[J->nK] - p[1], m->x0[J->nK] - p[0]);
+}
+
+/* A joint that closes a loop must find its pins together where the other joints place
+   the links (within 1e-9 of the longest link), moving together, at its angle0 (within
+   1e-9 rad): otherwise the gap, the velocity or the angle it finds is named. */
+static int rj__loops_closed(const rj_model *m, rj_error *err)
+{
+    double longest = 0;
+    int j, l;
+    char f[64];
+    for (l = 0; l < m->nl; l++)
+        longest = fmax(longest, m->ldef[l].length);
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const rj__joint *J = &m->jnt[j];
+        double p[2], v[2], ref, gap, slip, turn;
+        if (!J->loop)
+            continue;
+        rj__pin1_start(m, d, J, p, v, &ref);
+        gap = hypot(m->x0[J->nJ] - p[0], m->y0[J->nJ] - p[1]);
+        slip = hypot(m->vx0[J->nJ] - v[0], m->vy0[J->nJ] - v[1]);
+        turn = remainder(m->phi0[J->nJ] - ref - d->angle0, RJ__TWO_PI);
+        if (gap > 1e-9 * longest) {
+            RJ__FIELD(f, "joints[%d]", j);
+            rj__fail(err, RJ_ERR_INVALID, f, gap,
+                     "joints[%d] closes a loop, but the other joints place its pins %.6g m apart "
+                     "(body1 at %.9g, %.9g m; body2 at %.9g, %.9g m): the loop does not close at "
+                     "these angle0",
+                     j, gap, p[0], p[1], m->x0[J->nJ], m->y0[J->nJ]);
+            return 0;
+        }
+        if (slip > 1e-9 * (1 + hypot(v[0], v[1]))) {
+            RJ__FIELD(f, "joints[%d]", j);
+            rj__fail(err, RJ_ERR_INVALID, f, slip,
+                     "joints[%d] closes a loop, but its pins start %.6g m/s apart: the rate0 of "
+                     "the loop's joints do not close it",
+                     j, slip);
+            return 0;
+        }
+        if (fabs(turn) > 1e-9) {
+            RJ__FIELD(f, "joints[%d].angle0", j);
+            rj__fail(err, RJ_ERR_INVALID, f, d->angle0,
+                     "%s = %.12g rad (%.9g deg) is not the angle its loop places it at, %.12g rad "
+                     "(%.9g deg)",
+                     f, d->angle0, rj_deg(d->angle0), d->angle0 + turn, rj_deg(d->angle0 + turn));
             return 0;
         }
     }
@@ -5413,7 +5561,7 @@ static int rj__usable_step(const rj_model *m, rj_error *err)
         }
         return 0;
     }
-    if (!rj__placement_resolved(m, err))
+    if (!rj__placement_resolved(m, err) || !rj__loops_closed(m, err))
         return 0;
     for (i = 0; i < m->nj; i++) {
         const rj_joint_def *d = &m->jdef[i];
@@ -5441,7 +5589,7 @@ static int rj__usable_step(const rj_model *m, rj_error *err)
    rj_model_apply_stiffness; the rigid links' power iteration works after them. */
 typedef struct rj__build_scratch {
     int *graph;                /* RJ__GRAPH_SCRATCH(nl, nj) ints: rj__validate_graph */
-    int *pin_groups;           /* 2 nn + ng ints: rj__pin_groups */
+    int *pin_groups;           /* 4 nn + ng ints: rj__pin_groups */
     int *placement;            /* 3 nl ints: rj__place_all */
     int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
     double *lanczos;           /* 3 vectors of 3 nn, the chords, a work area: rj__omega2_max */
@@ -5710,8 +5858,9 @@ static void rj__init_load_nodes(rj_model *m)
 }
 
 /* Each joint's nodes: nI pin on body 1 and nK its neighbour (-1 for ground), nJ body 2's
-   node 0 and nL its neighbour. A root pinned to ground does not translate. The nodes'
-   effective inverse masses start as their own. */
+   pin (node2: node 0 unless set) and nL its neighbour (towards the tip, or back from the
+   tip). A node pinned to ground does not translate. The nodes' effective inverse masses
+   start as their own. */
 static void rj__init_joint_nodes(rj_model *m)
 {
     int i, j;
@@ -5720,19 +5869,30 @@ static void rj__init_joint_nodes(rj_model *m)
     for (i = 0; i < m->nn; i++)
         m->node_grp[i] = -1;
     m->grp_first[0] = 0;
+    /* a link's first joint as body2 hangs it; a later one closes a loop (node_grp of its
+       root marks it hung until the pin groups take node_grp over) */
+    for (j = 0; j < m->nj; j++) {
+        const int root = m->link_first[m->jdef[j].body2];
+        m->jnt[j].loop = m->node_grp[root] == 1;
+        m->node_grp[root] = 1;
+    }
+    for (i = 0; i < m->nn; i++)
+        m->node_grp[i] = -1;
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         rj__joint *J = &m->jnt[j];
-        const int body2_root = m->link_first[d->body2];
-        J->nJ = body2_root;
-        J->nL = body2_root + 1;
+        const int ne2 = m->ldef[d->body2].elements;
+        const int at = d->node2 < 0 ? ne2 : d->node2;
+        const int pin2 = m->link_first[d->body2] + at;
+        J->nJ = pin2;
+        J->nL = pin2 + (at < ne2 ? 1 : -1);
         if (d->body1 < 0) {
             J->nI = -1;
             J->nK = -1;
             J->gax = cos(d->ground_angle);
             J->gay = sin(d->ground_angle);
-            m->tinv[body2_root] = 0;
-            m->einv[body2_root] = 0;
+            m->tinv[pin2] = 0;
+            m->einv[pin2] = 0;
         } else {
             const int pin = d->node1 < 0 ? m->ldef[d->body1].elements : d->node1;
             J->nI = m->link_first[d->body1] + pin;
@@ -12222,7 +12382,7 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
         (*i)++;
         return 1;
     case RJ__FT_NODE:
-        return rj__sp_node_ref(P, &P->tok[a], r->key, i, &d->node1);
+        return rj__sp_node_ref(P, &P->tok[a], r->key, i, k == RJ__JK_NODE2 ? &d->node2 : &d->node1);
     case RJ__FT_TABLE:
         return rj__sp_table(P, i, b, d);
     case RJ__FT_LIMIT:
@@ -12618,6 +12778,15 @@ static int rj__sp_finish(rj__sp *P)
             return rj__sp_err(P, pos[1 + RJ__JK_NODE1].line, pos[1 + RJ__JK_NODE1].col, "node1",
                               d->node1, "node1 applies only when body1 is a link, in joint '", jn,
                               "' (body1 = ground)", NULL, NULL);
+        if (d->node2 > P->f->links[d->body2].elements) {
+            char m[256];
+            rj__sp_cat(m, sizeof m, "node2 = ", rj__sp_itoa(a, d->node2),
+                       " is out of range in joint '", jn, "': link '",
+                       P->f->link_names[d->body2], "' has nodes 0..");
+            return rj__sp_err(P, pos[1 + RJ__JK_NODE2].line, pos[1 + RJ__JK_NODE2].col, "node2",
+                              d->node2, m, rj__sp_itoa(b, P->f->links[d->body2].elements), NULL,
+                              NULL, NULL);
+        }
         if (d->body1 >= 0) {
             for (k = RJ__JK_GROUND_X; k <= RJ__JK_GROUND_ANGLE; k++)
                 if (P->seen >> k & 1u)
@@ -13917,6 +14086,14 @@ static void rj__sw_value(rj__sw *W, const rj__field *r, const void *def, const r
         return;
     case RJ__FT_PROFILE:
         rj__sw_profile(W, (const rj_actuator_def *) def);
+        return;
+    case RJ__FT_NODE:
+        if (v < 0) {
+            rj__sw_put(W, "last");
+            return;
+        }
+        snprintf(nm, sizeof nm, "%d", v);
+        rj__sw_put(W, nm);
         return;
     default:
         snprintf(nm, sizeof nm, "%d", v);

@@ -1167,22 +1167,55 @@ static void joint_features(const rj_model *m, int j, char *buf, size_t n)
     if (!buf[0]) cat(buf, n, "; bare (no spring, table, limit, friction or damping)");
 }
 
-/* One line a joint: its bodies (and pin node when not the last), start angle, features. */
+/* Whether joint j closes a loop: an earlier joint has the same body2 (a link hangs from
+   its first joint as body2). */
+static int closes_loop(const rj_model *m, int j)
+{
+    int k;
+    for (k = 0; k < j; k++)
+        if (rj_model_joint_def(m, k)->body2 == rj_model_joint_def(m, j)->body2) return 1;
+    return 0;
+}
+
+/* The mechanism's mobility as rigid bars (Gruebler's count): 3 a moving link, less 2 a
+   joint, 2 a pinned root, 3 a clamped one. */
+static int gruebler(const rj_model *m)
+{
+    int l, dof = 0;
+    for (l = 0; l < rj_model_link_count(m); l++) {
+        const rj_link_def *d = rj_model_link_def(m, l);
+        if (d->root == RJ_ROOT_FIXED) continue;
+        dof += 3;
+        if (d->root == RJ_ROOT_PINNED) dof -= 2;
+        if (d->root == RJ_ROOT_CLAMPED) dof -= 3;
+    }
+    return dof - 2 * rj_model_joint_count(m);
+}
+
+/* One line a joint: its bodies (and pin nodes when not the defaults), start angle,
+   features; then the loops and the mobility. */
 static void check_joints(const scene *sc)
 {
     const rj_model *m = sc->m;
-    int j;
+    int j, loops = 0;
     printf("joints: %d\n", rj_model_joint_count(m));
     for (j = 0; j < rj_model_joint_count(m); j++) {
         const rj_joint_def *d = rj_model_joint_def(m, j);
-        char feat[640], b1[64];
+        char feat[640], b1[64], b2[64];
         if (d->body1 < 0) snprintf(b1, sizeof b1, "ground");
         else if (d->node1 < 0) snprintf(b1, sizeof b1, "%s", link_name(sc, d->body1));
         else snprintf(b1, sizeof b1, "%s node %d", link_name(sc, d->body1), d->node1);
+        if (d->node2 == 0) snprintf(b2, sizeof b2, "%s", link_name(sc, d->body2));
+        else if (d->node2 < 0) snprintf(b2, sizeof b2, "%s last node", link_name(sc, d->body2));
+        else snprintf(b2, sizeof b2, "%s node %d", link_name(sc, d->body2), d->node2);
         joint_features(m, j, feat, sizeof feat);
-        printf("  %-12s %s -> %s, starts at %g deg: %s\n", joint_name(sc, j), b1, link_name(sc, d->body2),
-               rj_deg(d->angle0), feat + 2);
+        printf("  %-12s %s -> %s, starts at %g deg%s: %s\n", joint_name(sc, j), b1, b2,
+               rj_deg(d->angle0), closes_loop(m, j) ? ", closes a loop" : "", feat + 2);
+        loops += closes_loop(m, j);
     }
+    if (loops)
+        printf("loops: %d; as rigid bars the mechanism has %d degree%s of freedom (Gruebler)\n", loops,
+               gruebler(m), gruebler(m) == 1 ? "" : "s");
 }
 
 /* Gravity and one line a load: its node, force (and frame), moment, table. Nothing when

@@ -66,8 +66,11 @@ CONCEPTS
    translations, max(rho A l^3 / 78, rho I l / 2) per element end on the rotation. A link
    may instead be inextensible or rigid (rj_fidelity).
 
-   Joints. Joint j pins node 0 of link body2 to node node1 of link body1 (or to a ground
-   point when body1 = -1). Its rotary location theta (sec. 3.1, Eqs 1-3) is the
+   Joints. Joint j pins node node2 of link body2 (node 0 unless set) to node node1 of link
+   body1 (or to a ground point when body1 = -1). A link hangs from its first joint as
+   body2; a later joint with the same body2 closes a loop (every link flexible), and must
+   find its pins together, moving together, at its angle0 where the other joints place
+   the links. Its rotary location theta (sec. 3.1, Eqs 1-3) is the
    counter-clockwise angle from body 1's direction at the pin, pointing back towards body
    1's root (I->K; for ground, the fixed direction ground_angle), to body 2's direction
    (J->L). Two links that continue each other have theta = pi. It starts at angle0; by
@@ -223,7 +226,7 @@ typedef struct rj_link_def {
 } rj_link_def;
 
 /* Joint definition. Defaults (rj_default_joint_def):
-     body1 -1 (ground), node1 -1 (last node of body1), body2 0;
+     body1 -1 (ground), node1 -1 (last node of body1), body2 0, node2 0 (its first node);
      ground_x 0 m, ground_y 0 m, ground_angle 0 rad;
      angle0 pi rad (straight), rate0 0 rad/s;
      table none (table_count 0); spring_k 0 N m/rad, spring_free_angle pi rad;
@@ -235,6 +238,7 @@ typedef struct rj_link_def {
 typedef struct rj_joint_def {
     int body1; /* link index, or -1 for ground */
     int node1; /* node of body1 carrying the pin; -1 = last node */
+    int node2; /* node of body2 carrying the pin; 0 (default) its first, -1 its last */
     int body2; /* link index; pinned at its node 0 */
     double ground_x, ground_y,
         ground_angle; /* m, m, rad: pin and reference direction when body1 = -1 */

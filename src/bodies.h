@@ -652,6 +652,9 @@ static unsigned long long rj__fnv_row(unsigned long long h, const rj__field *r, 
         return r->type == RJ__FT_VEC2 ? rj__fnv_d(h, rj__row_real(def, r, 1)) : h;
     }
     memcpy(&n, (const char *) def + r->offset, sizeof n);
+    /* 'z': an int hashed only when it differs from its default */
+    if (r->hash_as == 'z')
+        return n == (int) r->def ? h : rj__fnv_i(h, n);
     return r->hash_as == 'i' ? rj__fnv_i(h, n) : rj__fnv_d(h, (double) n);
 }
 
@@ -860,66 +863,97 @@ static void rj__limit_warnings(rj_model *m)
     }
 }
 
-/* The node whose group a joint's pin joins: its pin node, or, when that node is itself a
-   root pinned to another node (a joint on node 0 of a link that hangs from a joint), that
-   node's, followed up the tree. up[n] is the node root n is pinned to (-1: none); each
-   path is pointed at its end as it is walked, so the whole pass stays linear. */
-static int rj__pin_anchor(int *up, int node)
+/* The root of node's set (union-find, each path pointed at its root as it is walked). */
+static int rj__set_root(int *set, int node)
 {
-    int end = node;
-    while (up[end] >= 0)
-        end = up[end];
-    while (up[node] >= 0) {
-        const int next = up[node];
-        up[node] = end;
+    int root = node;
+    while (set[root] != root)
+        root = set[root];
+    while (set[node] != root) {
+        const int next = set[node];
+        set[node] = root;
         node = next;
     }
-    return end;
+    return root;
 }
 
-/* Pin groups: each body1 pin node with every body2 root pinned to it, in the order of
-   their first joint; members the pin node, then the roots in joint order. A pin on a root
-   that is pinned itself joins that root's group (rj__pin_anchor): pinned nodes form one
-   group however they are reached. Linear in the joints, with scratch of 2 nn + ng ints
-   (each node's anchor, a group per node, then each group's fill cursor); node_grp is -1
-   on entry. Returns the number of groups. */
+/* Adds node to group g at its cursor unless it is a member already (mark[node] = g). */
+static void rj__group_add(rj_model *m, int *mark, int *cursor, int g, int node)
+{
+    if (mark[node] >= 0)
+        return;
+    mark[node] = g;
+    m->grp_node[cursor[g]++] = node;
+}
+
+/* Pin groups: the nodes that joints pin together, each set of them one group, in the
+   order of their first joint. Its first member is its anchor: the first body1 pin (in
+   joint order) that no joint pins as a body2 node (a chain's top), else the first body1
+   pin (a loop); then the body2 pins in joint order, then any other body1 pin. In a scene
+   without loops that is each body1 pin node with the body2 nodes pinned to it however
+   they are reached. Linear in the joints, with scratch of 4 nn + ng ints (each node's
+   set, mark, anchor and group, then each group's fill cursor); node_grp is -1 on entry.
+   Returns the number of groups. */
 static int rj__pin_groups(rj_model *m, int *scratch)
 {
-    int *up = scratch, *group_of = scratch + m->nn, *cursor = scratch + 2 * (size_t) m->nn;
-    int ng = 0, j, g;
-    for (j = 0; j < m->nn; j++) {
-        group_of[j] = -1;
-        up[j] = -1;
+    const int nn = m->nn;
+    int *set = scratch, *mark = scratch + nn, *anchor = scratch + 2 * (size_t) nn;
+    int *gid = scratch + 3 * (size_t) nn, *cursor = scratch + 4 * (size_t) nn;
+    int ng = 0, j, i, g;
+    for (i = 0; i < nn; i++) {
+        set[i] = i;
+        mark[i] = -1;
+        anchor[i] = -1;
+        gid[i] = -1;
+    }
+    /* the sets, and the body2 pins marked -2 */
+    for (j = 0; j < m->nj; j++) {
+        const rj__joint *J = &m->jnt[j];
+        if (J->nI < 0)
+            continue;
+        set[rj__set_root(set, J->nJ)] = rj__set_root(set, J->nI);
+        mark[J->nJ] = -2;
+    }
+    /* each set's anchor and group number */
+    for (j = 0; j < m->nj; j++) {
+        const int pin = m->jnt[j].nI;
+        int r;
+        if (pin < 0)
+            continue;
+        r = rj__set_root(set, pin);
+        if (anchor[r] < 0 || (mark[anchor[r]] == -2 && mark[pin] != -2))
+            anchor[r] = pin;
+        if (gid[r] < 0)
+            gid[r] = ng++;
+    }
+    /* counts, then the fill */
+    for (g = 0; g <= ng; g++)
+        m->grp_first[g] = 0;
+    for (i = 0; i < nn; i++) {
+        const int r = rj__set_root(set, i);
+        if (gid[r] >= 0)
+            m->grp_first[gid[r] + 1]++;
+    }
+    for (g = 0; g < ng; g++) {
+        m->grp_first[g + 1] += m->grp_first[g];
+        cursor[g] = m->grp_first[g];
+    }
+    for (i = 0; i < nn; i++)
+        mark[i] = -1;
+    for (j = 0; j < m->nj; j++) {
+        const rj__joint *J = &m->jnt[j];
+        int r;
+        if (J->nI < 0)
+            continue;
+        r = rj__set_root(set, J->nI);
+        rj__group_add(m, mark, cursor, gid[r], anchor[r]);
     }
     for (j = 0; j < m->nj; j++)
         if (m->jnt[j].nI >= 0)
-            up[m->jnt[j].nJ] = m->jnt[j].nI;
-    /* count: the anchor and one root per joint */
-    m->grp_first[0] = 0;
-    for (j = 0; j < m->nj; j++) {
-        const int pin = m->jnt[j].nI < 0 ? -1 : rj__pin_anchor(up, m->jnt[j].nI);
-        if (pin < 0)
-            continue;
-        if (group_of[pin] < 0) {
-            group_of[pin] = ng;
-            m->grp_first[ng + 1] = 1;
-            ng++;
-        }
-        m->grp_first[group_of[pin] + 1]++;
-    }
-    for (g = 0; g < ng; g++)
-        m->grp_first[g + 1] += m->grp_first[g];
-    for (g = 0; g < ng; g++)
-        cursor[g] = m->grp_first[g] + 1;
-    /* fill: the anchor first, then the roots in joint order */
-    for (j = 0; j < m->nj; j++) {
-        const int pin = m->jnt[j].nI < 0 ? -1 : rj__pin_anchor(up, m->jnt[j].nI);
-        if (pin < 0)
-            continue;
-        g = group_of[pin];
-        m->grp_node[m->grp_first[g]] = pin;
-        m->grp_node[cursor[g]++] = m->jnt[j].nJ;
-    }
+            rj__group_add(m, mark, cursor, gid[rj__set_root(set, m->jnt[j].nI)], m->jnt[j].nJ);
+    for (j = 0; j < m->nj; j++)
+        if (m->jnt[j].nI >= 0)
+            rj__group_add(m, mark, cursor, gid[rj__set_root(set, m->jnt[j].nI)], m->jnt[j].nI);
     return ng;
 }
 
@@ -988,7 +1022,7 @@ static void rj__place_link(rj_model *m, int l, int j)
     const rj__joint *J;
     double px, py, refang, om1 = 0, vpx = 0, vpy = 0;
     if (j < 0) {
-        rj__place(m, l, ld->x, ld->y, ld->angle, ld->vx, ld->vy, ld->omega, m->x0, m->y0, m->phi0,
+        rj__place(m, l, 0, ld->x, ld->y, ld->angle, ld->vx, ld->vy, ld->omega, m->x0, m->y0, m->phi0,
                   m->vx0, m->vy0, m->w0);
         return;
     }
@@ -1011,13 +1045,14 @@ static void rj__place_link(rj_model *m, int l, int j)
             vpy = 0;
         }
     }
-    rj__place(m, l, px, py, refang + d->angle0, vpx, vpy, om1 + d->rate0, m->x0, m->y0, m->phi0,
+    rj__place(m, l, J->nJ - m->link_first[l], px, py, refang + d->angle0, vpx, vpy, om1 + d->rate0,
+              m->x0, m->y0, m->phi0,
               m->vx0, m->vy0, m->w0);
 }
 
-/* Initial placement of every link after the link it hangs from (the graph is a forest),
-   in time linear in the scene: scratch of 3 nl ints (placed flags, each link's joint, a
-   path of links still to place). */
+/* Initial placement of every link after the link it hangs from (its first joint as body2:
+   the joints that close loops place nothing), in time linear in the scene: scratch of
+   3 nl ints (placed flags, each link's joint, a path of links still to place). */
 static void rj__place_all(rj_model *m, int *scratch)
 {
     int *placed = scratch, *joint_of = scratch + m->nl, *path = scratch + 2 * (size_t) m->nl;
@@ -1027,7 +1062,8 @@ static void rj__place_all(rj_model *m, int *scratch)
         joint_of[l] = -1;
     }
     for (j = 0; j < m->nj; j++)
-        joint_of[m->jdef[j].body2] = j;
+        if (!m->jnt[j].loop)
+            joint_of[m->jdef[j].body2] = j;
     for (l = 0; l < m->nl; l++) {
         int depth = 0, cur = l;
         /* up to the first placed link or a root, then down again */
@@ -1061,6 +1097,74 @@ static int rj__placement_resolved(const rj_model *m, rj_error *err)
                      "links[%d] is placed where doubles do not resolve its %g m elements (node %d "
                      "at x = %g m, y = %g m, spacing %g m): place the mechanism nearer the origin",
                      l, l0, k - m->link_first[l], m->x0[k], m->y0[k], fabs(m->x0[k]) * DBL_EPSILON);
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* Where joint J pins body 1 at the start, its velocity there, and the direction theta
+   is measured from (ground: the fixed point and direction). */
+static void rj__pin1_start(const rj_model *m, const rj_joint_def *d, const rj__joint *J,
+                           double p[2], double v[2], double *ref)
+{
+    if (d->body1 < 0) {
+        p[0] = d->ground_x;
+        p[1] = d->ground_y;
+        v[0] = v[1] = 0;
+        *ref = d->ground_angle;
+        return;
+    }
+    p[0] = m->x0[J->nI];
+    p[1] = m->y0[J->nI];
+    v[0] = m->vx0[J->nI];
+    v[1] = m->vy0[J->nI];
+    *ref = atan2(m->y0[J->nK] - p[1], m->x0[J->nK] - p[0]);
+}
+
+/* A joint that closes a loop must find its pins together where the other joints place
+   the links (within 1e-9 of the longest link), moving together, at its angle0 (within
+   1e-9 rad): otherwise the gap, the velocity or the angle it finds is named. */
+static int rj__loops_closed(const rj_model *m, rj_error *err)
+{
+    double longest = 0;
+    int j, l;
+    char f[64];
+    for (l = 0; l < m->nl; l++)
+        longest = fmax(longest, m->ldef[l].length);
+    for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const rj__joint *J = &m->jnt[j];
+        double p[2], v[2], ref, gap, slip, turn;
+        if (!J->loop)
+            continue;
+        rj__pin1_start(m, d, J, p, v, &ref);
+        gap = hypot(m->x0[J->nJ] - p[0], m->y0[J->nJ] - p[1]);
+        slip = hypot(m->vx0[J->nJ] - v[0], m->vy0[J->nJ] - v[1]);
+        turn = remainder(m->phi0[J->nJ] - ref - d->angle0, RJ__TWO_PI);
+        if (gap > 1e-9 * longest) {
+            RJ__FIELD(f, "joints[%d]", j);
+            rj__fail(err, RJ_ERR_INVALID, f, gap,
+                     "joints[%d] closes a loop, but the other joints place its pins %.6g m apart "
+                     "(body1 at %.9g, %.9g m; body2 at %.9g, %.9g m): the loop does not close at "
+                     "these angle0",
+                     j, gap, p[0], p[1], m->x0[J->nJ], m->y0[J->nJ]);
+            return 0;
+        }
+        if (slip > 1e-9 * (1 + hypot(v[0], v[1]))) {
+            RJ__FIELD(f, "joints[%d]", j);
+            rj__fail(err, RJ_ERR_INVALID, f, slip,
+                     "joints[%d] closes a loop, but its pins start %.6g m/s apart: the rate0 of "
+                     "the loop's joints do not close it",
+                     j, slip);
+            return 0;
+        }
+        if (fabs(turn) > 1e-9) {
+            RJ__FIELD(f, "joints[%d].angle0", j);
+            rj__fail(err, RJ_ERR_INVALID, f, d->angle0,
+                     "%s = %.12g rad (%.9g deg) is not the angle its loop places it at, %.12g rad "
+                     "(%.9g deg)",
+                     f, d->angle0, rj_deg(d->angle0), d->angle0 + turn, rj_deg(d->angle0 + turn));
             return 0;
         }
     }
@@ -1144,7 +1248,7 @@ static int rj__usable_step(const rj_model *m, rj_error *err)
         }
         return 0;
     }
-    if (!rj__placement_resolved(m, err))
+    if (!rj__placement_resolved(m, err) || !rj__loops_closed(m, err))
         return 0;
     for (i = 0; i < m->nj; i++) {
         const rj_joint_def *d = &m->jdef[i];

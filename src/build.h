@@ -6,7 +6,7 @@
    rj_model_apply_stiffness; the rigid links' power iteration works after them. */
 typedef struct rj__build_scratch {
     int *graph;                /* RJ__GRAPH_SCRATCH(nl, nj) ints: rj__validate_graph */
-    int *pin_groups;           /* 2 nn + ng ints: rj__pin_groups */
+    int *pin_groups;           /* 4 nn + ng ints: rj__pin_groups */
     int *placement;            /* 3 nl ints: rj__place_all */
     int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
     double *lanczos;           /* 3 vectors of 3 nn, the chords, a work area: rj__omega2_max */
@@ -275,8 +275,9 @@ static void rj__init_load_nodes(rj_model *m)
 }
 
 /* Each joint's nodes: nI pin on body 1 and nK its neighbour (-1 for ground), nJ body 2's
-   node 0 and nL its neighbour. A root pinned to ground does not translate. The nodes'
-   effective inverse masses start as their own. */
+   pin (node2: node 0 unless set) and nL its neighbour (towards the tip, or back from the
+   tip). A node pinned to ground does not translate. The nodes' effective inverse masses
+   start as their own. */
 static void rj__init_joint_nodes(rj_model *m)
 {
     int i, j;
@@ -285,19 +286,30 @@ static void rj__init_joint_nodes(rj_model *m)
     for (i = 0; i < m->nn; i++)
         m->node_grp[i] = -1;
     m->grp_first[0] = 0;
+    /* a link's first joint as body2 hangs it; a later one closes a loop (node_grp of its
+       root marks it hung until the pin groups take node_grp over) */
+    for (j = 0; j < m->nj; j++) {
+        const int root = m->link_first[m->jdef[j].body2];
+        m->jnt[j].loop = m->node_grp[root] == 1;
+        m->node_grp[root] = 1;
+    }
+    for (i = 0; i < m->nn; i++)
+        m->node_grp[i] = -1;
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         rj__joint *J = &m->jnt[j];
-        const int body2_root = m->link_first[d->body2];
-        J->nJ = body2_root;
-        J->nL = body2_root + 1;
+        const int ne2 = m->ldef[d->body2].elements;
+        const int at = d->node2 < 0 ? ne2 : d->node2;
+        const int pin2 = m->link_first[d->body2] + at;
+        J->nJ = pin2;
+        J->nL = pin2 + (at < ne2 ? 1 : -1);
         if (d->body1 < 0) {
             J->nI = -1;
             J->nK = -1;
             J->gax = cos(d->ground_angle);
             J->gay = sin(d->ground_angle);
-            m->tinv[body2_root] = 0;
-            m->einv[body2_root] = 0;
+            m->tinv[pin2] = 0;
+            m->einv[pin2] = 0;
         } else {
             const int pin = d->node1 < 0 ? m->ldef[d->body1].elements : d->node1;
             J->nI = m->link_first[d->body1] + pin;

@@ -44,6 +44,7 @@ enum {
     RJ__JK_BODY1,
     RJ__JK_BODY2,
     RJ__JK_NODE1,
+    RJ__JK_NODE2,
     RJ__JK_GROUND_X,
     RJ__JK_GROUND_Y,
     RJ__JK_GROUND_ANGLE,
@@ -316,6 +317,9 @@ static const rj__field rj__joint_fields[RJ__JF_N] = {
     RJ__F("body2", body2, "", RJ__FT_LINK, RJ__WHEN_ALL, RJ__WR_ALWAYS, 1, 2, 'd', 0.0, RJ__ANY,
           ""),
     RJ__F("node1", node1, "", RJ__FT_NODE, RJ__WHEN_ON_LINK, RJ__WR_SET, 1, 1, 'd', -1.0,
+          RJ__ANY, ""),
+    /* hashed only when set: every scene before it pins node 0 and keeps its hash */
+    RJ__F("node2", node2, "", RJ__FT_NODE, RJ__WHEN_ALL, RJ__WR_SET, 1, 23, 'z', 0.0,
           RJ__ANY, ""),
     RJ__F("ground_x", ground_x, "m", RJ__FT_REAL, RJ__WHEN_GROUND, RJ__WR_LINE, 2, 3, 'd', 0.0,
           RJ__ANY, RJ__RULE_FINITE),

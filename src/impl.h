@@ -132,6 +132,7 @@ typedef struct rj__joint {
     int nI, nK, nJ,
         nL; /* global nodes: pin on body 1, its neighbour, pin on body 2, its neighbour; nI = nK = -1 for ground */
     int chord;       /* RJ_REF_CHORD */
+    int loop;        /* it closes a loop: its body2 hangs from an earlier joint */
     double off;      /* tangent mode: theta = off + phi_J - phi_I */
     double minv;     /* rigid scenes: (M^-1)_jj, rate change per unit torque impulse */
     double gax, gay; /* ground reference direction (unit) when nK < 0 */

@@ -180,14 +180,16 @@ static double rj__table_turns_potential(const rj_joint_def *d, const rj__joint *
 }
 
 /* ------------------------------------------------------------------ model build */
-static void rj__place(const rj_model *m, int l, double px, double py, double ang, double vpx,
-                      double vpy, double om, double *x, double *y, double *phi, double *vx,
-                      double *vy, double *w)
+/* Places link l straight at angle ang with its node at on (px, py), turning at om about
+   it while that node moves at (vpx, vpy). */
+static void rj__place(const rj_model *m, int l, int at, double px, double py, double ang,
+                      double vpx, double vpy, double om, double *x, double *y, double *phi,
+                      double *vx, double *vy, double *w)
 {
     int i, n0 = m->link_first[l], ne = m->ldef[l].elements;
     double c = cos(ang), s = sin(ang), l0 = m->link_l0[l];
     for (i = 0; i <= ne; i++) {
-        double rx = c * l0 * i, ry = s * l0 * i;
+        double rx = c * l0 * (i - at), ry = s * l0 * (i - at);
         x[n0 + i] = px + rx;
         y[n0 + i] = py + ry;
         phi[n0 + i] = ang;

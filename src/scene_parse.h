@@ -1060,7 +1060,7 @@ static int rj__sp_joint_key(rj__sp *P, int k, int a, int *i, int b, rj_joint_def
         (*i)++;
         return 1;
     case RJ__FT_NODE:
-        return rj__sp_node_ref(P, &P->tok[a], r->key, i, &d->node1);
+        return rj__sp_node_ref(P, &P->tok[a], r->key, i, k == RJ__JK_NODE2 ? &d->node2 : &d->node1);
     case RJ__FT_TABLE:
         return rj__sp_table(P, i, b, d);
     case RJ__FT_LIMIT:
@@ -1456,6 +1456,15 @@ static int rj__sp_finish(rj__sp *P)
             return rj__sp_err(P, pos[1 + RJ__JK_NODE1].line, pos[1 + RJ__JK_NODE1].col, "node1",
                               d->node1, "node1 applies only when body1 is a link, in joint '", jn,
                               "' (body1 = ground)", NULL, NULL);
+        if (d->node2 > P->f->links[d->body2].elements) {
+            char m[256];
+            rj__sp_cat(m, sizeof m, "node2 = ", rj__sp_itoa(a, d->node2),
+                       " is out of range in joint '", jn, "': link '",
+                       P->f->link_names[d->body2], "' has nodes 0..");
+            return rj__sp_err(P, pos[1 + RJ__JK_NODE2].line, pos[1 + RJ__JK_NODE2].col, "node2",
+                              d->node2, m, rj__sp_itoa(b, P->f->links[d->body2].elements), NULL,
+                              NULL, NULL);
+        }
         if (d->body1 >= 0) {
             for (k = RJ__JK_GROUND_X; k <= RJ__JK_GROUND_ANGLE; k++)
                 if (P->seen >> k & 1u)

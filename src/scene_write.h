@@ -250,6 +250,14 @@ static void rj__sw_value(rj__sw *W, const rj__field *r, const void *def, const r
     case RJ__FT_PROFILE:
         rj__sw_profile(W, (const rj_actuator_def *) def);
         return;
+    case RJ__FT_NODE:
+        if (v < 0) {
+            rj__sw_put(W, "last");
+            return;
+        }
+        snprintf(nm, sizeof nm, "%d", v);
+        rj__sw_put(W, nm);
+        return;
     default:
         snprintf(nm, sizeof nm, "%d", v);
         rj__sw_put(W, nm);

@@ -254,6 +254,22 @@ static int rj__validate_bodies(const rj_scene_def *sc, const rj_joint_def *J, in
                  J->node1, sc->links[J->body1].elements, J->body1);
         return 0;
     }
+    if (J->node2 < -1 || J->node2 > sc->links[J->body2].elements) {
+        RJ__FIELD(f, "joints[%d].node2", j);
+        rj__fail(err, RJ_ERR_INVALID, f, J->node2,
+                 "%s = %d is invalid: a node 0..%d of link %d, or -1 for its last node", f,
+                 J->node2, sc->links[J->body2].elements, J->body2);
+        return 0;
+    }
+    if (J->node2 != 0 &&
+        (J->reference != RJ_REF_TANGENT || sc->links[J->body2].fidelity != RJ_LINK_FLEXIBLE)) {
+        RJ__FIELD(f, "joints[%d].node2", j);
+        rj__fail(err, RJ_ERR_INVALID, f, J->node2,
+                 "%s = %d is not supported: a pin away from body2's first node needs a flexible "
+                 "body2 and the tangent reference",
+                 f, J->node2);
+        return 0;
+    }
     if (sc->links[J->body2].root != RJ_ROOT_FREE) {
         RJ__FIELD(f, "links[%d].root", J->body2);
         rj__fail(err, RJ_ERR_INVALID, f, sc->links[J->body2].root,
@@ -638,6 +654,27 @@ static int rj__counts(const rj_scene_def *sc, size_t *nn, size_t *ne, rj_error *
     return 1;
 }
 
+/* A joint that closes a loop (its body2 hangs from joint first): every link of the scene
+   flexible (loops through rigid or inextensible links are not supported yet). */
+static int rj__validate_loop_joint(const rj_scene_def *sc, int j, int first, rj_error *err)
+{
+    const int b2 = sc->joints[j].body2;
+    char f[64];
+    int l;
+    for (l = 0; l < sc->link_count; l++)
+        if (sc->links[l].fidelity != RJ_LINK_FLEXIBLE)
+            break;
+    if (l == sc->link_count)
+        return 1;
+    RJ__FIELD(f, "joints[%d].body2", j);
+    rj__fail(err, RJ_ERR_INVALID, f, b2,
+             "%s = %d closes a loop (link %d hangs from joint %d), which is supported when "
+             "every link is flexible: link %d is %s",
+             f, b2, b2, first, l,
+             sc->links[l].fidelity == RJ_LINK_RIGID ? "rigid" : "inextensible");
+    return 0;
+}
+
 /* The link a link hangs from (-1: ground or none), given each link's joint in parent. */
 static int rj__up(const rj_scene_def *sc, const int *parent, int link)
 {
@@ -754,18 +791,14 @@ static int rj__validate_graph(const rj_scene_def *sc, int *scratch, rj_error *er
     int i, j;
     for (i = 0; i < nl; i++)
         parent[i] = -1;
-    /* a link hangs from one joint: parent[] holds the joint it hangs from */
+    /* a link hangs from its first joint as body2: parent[] holds it; a later joint with
+       the same body2 closes a loop */
     for (j = 0; j < sc->joint_count; j++) {
         const int b2 = sc->joints[j].body2;
-        if (parent[b2] >= 0) {
-            RJ__FIELD(f, "joints[%d].body2", j);
-            rj__fail(err, RJ_ERR_INVALID, f, b2,
-                     "%s = %d is invalid: link %d is already body2 of joint %d (a link hangs from "
-                     "one joint)",
-                     f, b2, b2, parent[b2]);
+        if (parent[b2] >= 0 && !rj__validate_loop_joint(sc, j, parent[b2], err))
             return 0;
-        }
-        parent[b2] = j;
+        if (parent[b2] < 0)
+            parent[b2] = j;
     }
     if (rj__all_rigid(sc))
         for (i = 0; i < nl; i++)
@@ -792,10 +825,10 @@ static int rj__validate_graph(const rj_scene_def *sc, int *scratch, rj_error *er
         }
         if (cur >= 0 && mark[cur] == 1) {
             RJ__FIELD(f, "links[%d]", i);
-            rj__fail(
-                err, RJ_ERR_INVALID, f, i,
-                "joints form a closed loop through link %d; only chains and trees are supported",
-                i);
+            rj__fail(err, RJ_ERR_INVALID, f, i,
+                     "the joints that hang links from each other form a loop through link %d "
+                     "that no joint holds to the ground or a fixed link",
+                     i);
             return 0;
         }
         top = cur;

@@ -1,0 +1,292 @@
+/* Closed loops against what we did not tune.
+   - A crank-rocker four-bar of flexible bars under gravity, released from rest, against
+     the exact one-degree-of-freedom motion of the same bars made rigid (Lagrange's
+     equation in the crank angle, the loop closed by Newton at every evaluation, RK4):
+     the crank's angle converges to it as E grows (the bars' own compliance, 1/E), the
+     loop-closing joint's angle follows the rocker's and the coupler's, its pins stay
+     together (one pin group), and the energy balance closes.
+   - A joint pinning an interior node of its body2 (node2), and the refusals: a loop that
+     does not close (the gap named), a loop joint at the wrong angle0 (the right one
+     named), a loop through a rigid link, node2 on a chord joint.
+   Every check prints what it measured. */
+#include "../revjoint.h"
+#include "rjt.h"
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+#define G 9.81
+
+/* The four-bar: ground pivots O2 = (0, 0) and O4 = (1, 0) m, crank a = 0.3 m, coupler
+   b = 1 m, rocker c = 0.8 m (Grashof: 0.3 + 1 <= 0.8 + 1, the crank turns fully), all
+   20 x 20 mm aluminium bars; the crank starts at 60 deg, the coupler and rocker where the
+   loop closes (upper branch): computed by close_loop, written with 17 digits. */
+#define BAR_A 0.3
+#define BAR_B 1.0
+#define BAR_C 0.8
+#define GROUND_D 1.0
+#define CRANK0 (PI / 3)
+
+/* theta3, theta4 that close the loop at crank angle th2, by Newton from *t3, *t4. */
+static int close_loop(double th2, double *t3, double *t4)
+{
+    int it;
+    for (it = 0; it < 50; it++) {
+        const double c3 = cos(*t3), s3 = sin(*t3), c4 = cos(*t4), s4 = sin(*t4);
+        const double fx = BAR_A * cos(th2) + BAR_B * c3 - GROUND_D - BAR_C * c4;
+        const double fy = BAR_A * sin(th2) + BAR_B * s3 - BAR_C * s4;
+        /* d/dt3 (b c3, b s3) = (-b s3, b c3); d/dt4 -(c c4, c s4) = (c s4, -c c4) */
+        const double j11 = -BAR_B * s3, j12 = BAR_C * s4, j21 = BAR_B * c3, j22 = -BAR_C * c4;
+        const double det = j11 * j22 - j12 * j21;
+        const double d3 = (fx * j22 - fy * j12) / det, d4 = (j11 * fy - j21 * fx) / det;
+        *t3 -= d3;
+        *t4 -= d4;
+        if (fabs(d3) + fabs(d4) < 1e-15)
+            return 1;
+    }
+    return 0;
+}
+
+/* A bar's rigid mass properties from the model's lumped nodes: mass, first moment and
+   second moment (rotary inertias included) about its node 0 along the bar. */
+typedef struct bar {
+    double m, s, J;
+} bar;
+
+static bar bar_of(const rj_model *m, int link, double length)
+{
+    const int n = rj_link_node_count(m, link);
+    bar b = { 0, 0, 0 };
+    int k;
+    for (k = 0; k < n; k++) {
+        double mass, rot;
+        const double x = length * k / (n - 1);
+        rj_node_mass(m, link, k, &mass, &rot);
+        b.m += mass;
+        b.s += mass * x;
+        b.J += mass * x * x + rot;
+    }
+    return b;
+}
+
+/* The rigid four-bar: its bars, and the loop's last solution (Newton starts there). */
+typedef struct rigid4 {
+    bar crank, coupler, rocker;
+    double t3, t4;
+} rigid4;
+
+/* Generalised mass M(th2) and potential V(th2), the loop closed at th2. */
+static void mass_potential(rigid4 *r, double th2, double *M, double *V, double *t3, double *t4)
+{
+    double k3, k4, det, c3, s3, c4, s4;
+    *t3 = r->t3;
+    *t4 = r->t4;
+    close_loop(th2, t3, t4);
+    c3 = cos(*t3);
+    s3 = sin(*t3);
+    c4 = cos(*t4);
+    s4 = sin(*t4);
+    /* rates per unit crank rate: a w2 perp(e2) + b w3 perp(e3) - c w4 perp(e4) = 0 */
+    det = (-BAR_B * s3) * (-BAR_C * c4) - (BAR_C * s4) * (BAR_B * c3);
+    k3 = ((BAR_A * sin(th2)) * (-BAR_C * c4) - (BAR_C * s4) * (-BAR_A * cos(th2))) / det;
+    k4 = ((-BAR_B * s3) * (-BAR_A * cos(th2)) - (BAR_B * c3) * (BAR_A * sin(th2))) / det;
+    *M = r->crank.J + r->coupler.m * BAR_A * BAR_A +
+         2 * BAR_A * k3 * r->coupler.s * cos(*t3 - th2) + r->coupler.J * k3 * k3 +
+         r->rocker.J * k4 * k4;
+    *V = G * (r->crank.s * sin(th2) + r->coupler.m * BAR_A * sin(th2) + r->coupler.s * s3 +
+              r->rocker.s * s4);
+}
+
+/* th2'' from Lagrange's equation M th2'' + M'/2 th2'^2 + V' = 0 (M', V' by central
+   differences, step 1e-6 rad). */
+static double crank_accel(rigid4 *r, double th2, double w2)
+{
+    const double h = 1e-6;
+    double Mp, Vp, Mm, Vm, M, V, t3, t4;
+    mass_potential(r, th2 + h, &Mp, &Vp, &t3, &t4);
+    mass_potential(r, th2 - h, &Mm, &Vm, &t3, &t4);
+    mass_potential(r, th2, &M, &V, &t3, &t4);
+    r->t3 = t3;
+    r->t4 = t4;
+    return -(0.5 * (Mp - Mm) / (2 * h) * w2 * w2 + (Vp - Vm) / (2 * h)) / M;
+}
+
+static void rigid_rk4(rigid4 *r, double *q, double *w, double h)
+{
+    const double a1 = crank_accel(r, *q, *w);
+    const double a2 = crank_accel(r, *q + 0.5 * h * *w, *w + 0.5 * h * a1);
+    const double a3 = crank_accel(r, *q + 0.5 * h * (*w + 0.5 * h * a1), *w + 0.5 * h * a2);
+    const double a4 = crank_accel(r, *q + h * (*w + 0.5 * h * a2), *w + h * a3);
+    *q += h * (*w + h * (a1 + a2 + a3) / 6);
+    *w += h * (a1 + 2 * a2 + 2 * a3 + a4) / 6;
+    crank_accel(r, *q, *w);
+}
+
+/* The scene at modulus E (Pa), the loop's angles from close_loop. */
+static void fourbar_text(double E, char *text, size_t n)
+{
+    double t3 = 0.5, t4 = 1.5;
+    close_loop(CRANK0, &t3, &t4);
+    snprintf(text, n,
+             "solver\n  dt = 0\n  gravity = 0 -9.81\n"
+             "material al\n  E = %.17g  rho = 2700\n"
+             "section bar\n  width = 0.02  height = 0.02\n"
+             "link crank\n  length = %.17g  elements = 3  material = al  section = bar\n"
+             "link coupler\n  length = %.17g  elements = 10  material = al  section = bar\n"
+             "link rocker\n  length = %.17g  elements = 8  material = al  section = bar\n"
+             "joint o2\n  body1 = ground  body2 = crank  angle0 = %.17g\n"
+             "joint a\n  body1 = crank  body2 = coupler  angle0 = %.17g\n"
+             "joint o4\n  body1 = ground  body2 = rocker  ground_x = %.17g  angle0 = %.17g\n"
+             "joint b\n  body1 = coupler  body2 = rocker  node2 = last  angle0 = %.17g\n",
+             E, BAR_A, BAR_B, BAR_C, CRANK0, t3 - (CRANK0 + PI), GROUND_D, t4, t4 - (t3 + PI));
+}
+
+/* What a four-bar run measured against the rigid motion over t_end. */
+typedef struct fourbar_run {
+    double crank, loop_angle, gap, balance, energy;
+    rj_result result;
+    char msg[700];
+} fourbar_run;
+
+/* Builds the model of text; 0 with o->msg filled when it fails. */
+static int build(const char *text, rj_model **m, rj_state **s, rj_error *err)
+{
+    rj_scene_file f;
+    rj_scene_def d;
+    rj_result r = rj_scene_parse(text, strlen(text), "fourbar.rjs", &f, err);
+    if (r != RJ_OK)
+        return 0;
+    d = rj_scene_file_def(&f);
+    r = rj_model_create(&d, m, err, NULL);
+    rj_scene_file_free(&f);
+    if (r != RJ_OK)
+        return 0;
+    rj_state_create(*m, s, NULL);
+    return 1;
+}
+
+/* One step of both; the worst differences so far into o. */
+static void compare_step(const rj_model *m, const rj_state *s, rigid4 *r, double q, fourbar_run *o)
+{
+    double xy1[2], xy2[2], theta_b;
+    rj_energy e;
+    o->crank = fmax(o->crank, fabs(rj_joint_theta_running(m, s, 0) - q));
+    /* the loop joint: rocker against coupler reversed, 2 pi apart at most by its turns */
+    theta_b = rj_joint_theta_running(m, s, 3);
+    o->loop_angle = fmax(o->loop_angle, fabs(remainder(theta_b - (r->t4 - r->t3 - PI), 2 * PI)));
+    rj_node_position(m, s, 1, rj_link_node_count(m, 1) - 1, xy1);
+    rj_node_position(m, s, 2, rj_link_node_count(m, 2) - 1, xy2);
+    o->gap = fmax(o->gap, hypot(xy1[0] - xy2[0], xy1[1] - xy2[1]));
+    rj_state_energy(m, s, &e);
+    o->balance = fmax(o->balance, fabs(e.balance));
+    o->energy = fmax(o->energy, fabs(e.kinetic));
+}
+
+static void run_fourbar(double E, double t_end, fourbar_run *o)
+{
+    char text[2048];
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    rigid4 r;
+    double q = CRANK0, w = 0;
+    memset(o, 0, sizeof *o);
+    fourbar_text(E, text, sizeof text);
+    if (!build(text, &m, &s, &err)) {
+        o->result = err.code;
+        snprintf(o->msg, sizeof o->msg, "%s", err.msg);
+        return;
+    }
+    r.crank = bar_of(m, 0, BAR_A);
+    r.coupler = bar_of(m, 1, BAR_B);
+    r.rocker = bar_of(m, 2, BAR_C);
+    r.t3 = 0.5;
+    r.t4 = 1.5;
+    crank_accel(&r, q, w);
+    while (rj_state_time(s) < t_end && o->result == RJ_OK) {
+        const double dt = rj_model_dt(m);
+        o->result = rj_step(m, s);
+        rigid_rk4(&r, &q, &w, dt);
+        compare_step(m, s, &r, q, o);
+    }
+    if (o->result != RJ_OK)
+        snprintf(o->msg, sizeof o->msg, "t = %g s: %s", rj_state_time(s), rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
+static void test_fourbar(rjt_ctx *c)
+{
+    static const double E[3] = { 7e8, 7e9, 7e10 };
+    fourbar_run o[3];
+    int k;
+    for (k = 0; k < 3; k++)
+        run_fourbar(E[k], 1.0, &o[k]);
+    for (k = 0; k < 3; k++)
+        /* the pins one group (round-off apart); the balance the scheme's error */
+        rjt_check(c, o[k].result == RJ_OK && o[k].gap < 1e-12 && o[k].balance < 1e-5 * o[k].energy &&
+                         o[k].loop_angle < o[k].crank,
+                  "four-bar of flexible bars: the loop closed, the balance closed",
+                  "E %.0e Pa: max |crank - rigid| %.3g rad, max |loop joint - rigid| %.3g rad, "
+                  "pin gap %.3g m, max |balance| %.3g J of %.3g J kinetic %s",
+                  E[k], o[k].crank, o[k].loop_angle, o[k].gap, o[k].balance, o[k].energy,
+                  o[k].msg);
+    rjt_check(c, o[0].crank / o[1].crank > 5 && o[1].crank / o[2].crank > 5 && o[2].crank < 1e-2,
+              "four-bar: the crank converges to the rigid motion as E grows",
+              "max |crank - rigid| over 1 s: %.3g, %.3g, %.3g rad at E 7e8, 7e9, 7e10 Pa "
+              "(ratios %.1f, %.1f)",
+              o[0].crank, o[1].crank, o[2].crank, o[0].crank / o[1].crank,
+              o[1].crank / o[2].crank);
+}
+
+/* Builds text with the edit applied (find replaced by put); the result and message. */
+static rj_result edited(const char *find, const char *put, rj_error *err)
+{
+    char text[2048], out[2048];
+    const char *at;
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    fourbar_text(7e10, text, sizeof text);
+    at = strstr(text, find);
+    if (!at) {
+        snprintf(err->msg, sizeof err->msg, "no '%s' in the scene", find);
+        return RJ_ERR_PARSE;
+    }
+    snprintf(out, sizeof out, "%.*s%s%s", (int) (at - text), text, put, at + strlen(find));
+    if (!build(out, &m, &s, err))
+        return err->code;
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+    err->msg[0] = 0;
+    return RJ_OK;
+}
+
+static void test_refusals(rjt_ctx *c)
+{
+    static const char *const cases[][4] = {
+        /* find, put, the message must hold, what */
+        { "ground_x = 1 ", "ground_x = 1.01 ", "apart", "a loop that does not close" },
+        { "node2 = last  angle0 = -2.13", "node2 = last  angle0 = -2.03",
+          "joints[3].angle0", "a loop joint at the wrong angle0" },
+        { "elements = 10", "elements = 1  fidelity = rigid", "closes a loop",
+          "a loop through a rigid link" },
+        { "node2 = last", "node2 = last  reference = chord", "node2", "node2 on a chord joint" },
+    };
+    int k;
+    for (k = 0; k < 4; k++) {
+        rj_error err;
+        const rj_result r = edited(cases[k][0], cases[k][1], &err);
+        rjt_check(c, r != RJ_OK && strstr(err.msg, cases[k][2]) != NULL,
+                  "closed loops: bad input refused, the field named", "%s: %s", cases[k][3],
+                  err.msg);
+    }
+}
+
+int main(void)
+{
+    rjt_ctx c = { 0, 0 };
+    test_fourbar(&c);
+    test_refusals(&c);
+    return rjt_summary(&c, "test_loops");
+}
