@@ -99,7 +99,7 @@ static const char usage_run[] =
     "  an output that cannot be opened, a run above 1e8 steps without --force.\n";
 
 static const char usage_check[] =
-    "usage: rj check SCENE.rjs [--dt S] [--progress]\n"
+    "usage: rj check SCENE.rjs [--dt S] [--progress] [--assemble FILE]\n"
     "  Validates the scene and prints the model: links (model, elements, length, mass),\n"
     "  joints (bodies, spring, table, limits, lock, method, friction, damping), gravity and\n"
     "  the loads (node, force and its frame, moment, table), the step\n"
@@ -110,6 +110,9 @@ static const char usage_check[] =
     "  The steps are timed from the scene's start: a scene whose steps fail there (a blow-up,\n"
     "  a step too large) is not valid; the first line and the cost line say so.\n"
     "  --dt S             time step, instead of the file's solver.dt (0 = automatic)\n"
+    "  --assemble FILE    close the scene's loops first (rj_scene_assemble: the angle0 of\n"
+    "                     the joints on each loop but its first move the least that closes\n"
+    "                     it), write the corrected scene to FILE and check that\n"
     "  --progress         each phase (building the model, each link alone, timing the steps)\n"
     "                     on standard error as it starts, with the wall time; without it\n"
     "                     once the check has taken 1 s (a link of 1e6 elements: minutes)\n"
@@ -168,6 +171,7 @@ typedef struct opts {
     const char *scene;
     double t_end, dt, sample, fps;   /* dt < 0: the file's */
     const char *csv, *nodes, *out, *mp4;
+    const char *assemble; /* rj check: where the scene with its loops closed goes */
     const char **probes;
     int nprobes, what, w, h, progress, force;
     int plain;   /* rj animate: build/animate's frames, without the reading aids */
@@ -205,7 +209,7 @@ static const optname optnames[] = {
     { "--size", CMD_PLOT | CMD_ANIMATE },               { "--csv", CMD_RUN },
     { "--sample", CMD_RUN },   { "--nodes", CMD_RUN },  { "--probe", CMD_RUN },
     { "--settle", CMD_RUN },   { "--what", CMD_PLOT },  { "--fps", CMD_ANIMATE },
-    { "--mp4", CMD_ANIMATE },  { "--plain", CMD_ANIMATE }
+    { "--mp4", CMD_ANIMATE },  { "--plain", CMD_ANIMATE }, { "--assemble", CMD_CHECK }
 };
 #define NOPTS ((int)(sizeof optnames / sizeof optnames[0]))
 static const char *const cmd_names[] = { "run", "check", "plot", "animate" };
@@ -275,6 +279,7 @@ static int opt_own(cli *c, opts *o, const char *a)
     else if (!strcmp(a, "--fps")) o->fps = cli_num(c, a, 1e-3, 1e9);
     else if (!strcmp(a, "--mp4")) o->mp4 = cli_str(c, a);
     else if (!strcmp(a, "--plain")) o->plain = 1;
+    else if (!strcmp(a, "--assemble")) o->assemble = cli_str(c, a);
     else return 0;
     return 1;
 }
@@ -1570,6 +1575,62 @@ static void check_warnings(const scene *sc)
    A scene whose steps fail while they are timed cannot be simulated: it is not valid, and
    the check says why and exits 1. The steps are timed first, so that the first line can
    say so; the phases go to standard error on a long check. */
+/* The scene text of f with its joints J, into a new buffer (NULL: out of memory). */
+static char *scene_text(const rj_scene_file *f, const rj_joint_def *J)
+{
+    rj_scene_def d = rj_scene_file_def(f);
+    const char **ln = (const char **)malloc(sizeof(char *) * (size_t)(d.link_count + d.joint_count + 1));
+    char *buf = NULL;
+    size_t n;
+    int k;
+    if (!ln) return NULL;
+    for (k = 0; k < d.link_count; k++) ln[k] = f->link_names[k];
+    for (k = 0; k < d.joint_count; k++) ln[d.link_count + k] = f->joint_names[k];
+    d.joints = J;
+    n = rj_scene_write_ex(&d, ln, ln + d.link_count, f->title, NULL, 0);
+    if (n) buf = (char *)malloc(n + 1);
+    if (buf) rj_scene_write_ex(&d, ln, ln + d.link_count, f->title, buf, n + 1);
+    free((void *)ln);
+    return buf;
+}
+
+/* rj check --assemble FILE: the scene's loops closed (rj_scene_assemble), written to FILE.
+   0, or 2 with the message on standard error. */
+static int check_assemble(const char *path, const char *out)
+{
+    rj_scene_file f;
+    rj_error e;
+    rj_scene_def d;
+    rj_joint_def *J;
+    char *text = NULL;
+    FILE *fp;
+    int k, moved = 0, rc = 2;
+    if (rj_scene_load(path, &f, &e) != RJ_OK) {
+        fprintf(stderr, "%s\n", e.msg);
+        return 2;
+    }
+    d = rj_scene_file_def(&f);
+    J = (rj_joint_def *)malloc(sizeof(rj_joint_def) * (size_t)(d.joint_count + 1));
+    if (J) memcpy(J, d.joints, sizeof(rj_joint_def) * (size_t)d.joint_count);
+    if (!J) fprintf(stderr, "rj: out of memory\n");
+    else if (rj_scene_assemble(&d, J, &e) != RJ_OK) {
+        rj_scene_file_locate(&f, &e);
+        fprintf(stderr, "%s\n", e.msg);
+    } else if (!(text = scene_text(&f, J))) fprintf(stderr, "rj: out of memory\n");
+    else if (!(fp = fopen(out, "w"))) fprintf(stderr, "rj check: cannot write %s: %s\n", out, strerror(errno));
+    else {
+        const int ok = fputs(text, fp) >= 0;
+        if (fclose(fp) == 0 && ok) rc = 0;
+        else fprintf(stderr, "rj check: writing %s failed\n", out);
+    }
+    for (k = 0; J && k < d.joint_count; k++) moved += J[k].angle0 != d.joints[k].angle0;
+    if (rc == 0) fprintf(stderr, "rj check: %s: its loops closed (%d angle0 moved), written to %s\n", path, moved, out);
+    free(text);
+    free(J);
+    rj_scene_file_free(&f);
+    return rc;
+}
+
 static int cmd_check(int argc, char **argv)
 {
     opts o;
@@ -1577,6 +1638,10 @@ static int cmd_check(int argc, char **argv)
     cost c;
     opts_parse(&o, CMD_CHECK, argc, argv, usage_check);
     free((void *)o.probes);
+    if (o.assemble) {
+        if (check_assemble(o.scene, o.assemble) != 0) return 2;
+        o.scene = o.assemble;
+    }
     check_progress_start(o.progress);
     check_phase("loading %s and building its model (the step bound: Lanczos on the whole model)", o.scene);
     if (scene_open(&sc, o.scene, o.dt) != 0) {

@@ -484,6 +484,17 @@ RJDEF const char *rj_result_str(rj_result r);
 RJDEF size_t rj_model_size(const rj_scene_def *scene, rj_error *err);
 RJDEF rj_result rj_model_init(const rj_scene_def *scene, void *mem, size_t size, rj_model **out,
                               rj_error *err);
+/* Closes the scene's loops (rj_model_create refuses a loop that does not close where the
+   tree of first joints places the links): moves the angle0 of the joints on each loop,
+   all but the loop's first joint (its input: a four-bar's crank keeps its angle), by the
+   least change (in the sum of their squares) that closes every loop to 1e-13 of the
+   longest link, then sets each joint that closes a loop to the angle0 the geometry gives
+   it. joints: the caller's copy of scene->joints (joint_count entries), corrected in
+   place; scene->joints is not read. RJ_ERR_INVALID, err naming the loop's joint and how
+   far apart its pins stay at best, when a loop cannot close; or the scene's first invalid
+   field. Allocates its working arrays (RJ_MALLOC) and frees them. */
+RJDEF rj_result rj_scene_assemble(const rj_scene_def *scene, rj_joint_def *joints,
+                                  rj_error *err);
 RJDEF rj_result rj_model_create(const rj_scene_def *scene, rj_model **out, rj_error *err,
                                 void *alloc_ctx);
 RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx);

@@ -168,6 +168,17 @@ m 2 "^$T/syntax.rjs:2:[0-9]+: " "check on a syntax error: 2, file:line:col" $B/r
 m 2 "^$T/unknown.rjs:2:3: unknown key 'lenght' in link 'a'; did you mean 'length'\?" "check on an unknown key: 2, the parser's message" $B/rj check $T/unknown.rjs
 m 2 "^$T/range.rjs:2:12: length = -1 is out of range" "check on an invalid value: 2, file:line:col" $B/rj check $T/range.rjs
 m 2 "^$T/model.rjs:3:[0-9]+: joints\[0\].penalty_k = 0 is invalid.*joint 'j'" "check on a scene the model rejects: 2, located by rj_scene_file_locate" $B/rj check $T/model.rjs
+# ---- rj check --assemble: the four-bar written a few degrees off
+sed -e 's/^  angle0 = -3.618177287764351 .*/  angle0 = -205 deg/' -e 's/^  angle0 = 1.581333937590354 .*/  angle0 = 88 deg/' \
+    -e 's/^  angle0 = -2.1308716330214788 .*/  angle0 = -125 deg/' $S/fourbar.rjs > $T/fourbar_off.rjs
+m 2 "joints\[3\] closes a loop, but the other joints place its pins" "check on a four-bar whose loop does not close: 2, the gap named" $B/rj check $T/fourbar_off.rjs
+ok "check --assemble: the loop closed, written, and that scene valid with the crank at 60 deg" \
+  "$B/rj check $T/fourbar_off.rjs --assemble $T/fourbar_closed.rjs > $T/asm.txt 2>$T/asm.err \
+   && grep -qx '$T/fourbar_closed.rjs: valid' $T/asm.txt && grep -q 'closes a loop' $T/asm.txt \
+   && grep -q '(3 angle0 moved)' $T/asm.err && grep -q '^  angle0 = 60 deg' $T/fourbar_closed.rjs"
+sed -e 's/^  length = 1.0  elements = 10/  length = 0.05  elements = 10/' $S/fourbar.rjs > $T/fourbar_short.rjs
+m 2 "joints\[3\] closes cannot close: its pins stay 0.0388194 m apart at best" "check --assemble on a loop that cannot close: 2, its least gap named" \
+  $B/rj check $T/fourbar_short.rjs --assemble $T/never.rjs
 printf 'solver\n  dt = 0\nlink a\n  length = 1  elements = 4  tip_mass = 200\njoint j1\n  body1 = ground  body2 = a\n  angle0 = 100 deg  forward = 90 deg\n' > $T/warn.rjs
 sed 's/penalty_k = 1014.8544308316433/penalty_k = 5000/' $S/deploy.rjs > $T/eq31.rjs
 # (this scene's adaptive limit, caught 10 deg late, may blow up its first steps: rj check

@@ -283,10 +283,64 @@ static void test_refusals(rjt_ctx *c)
     }
 }
 
+/* rj_scene_assemble from angles a few degrees off: the crank (the loop's first joint)
+   keeps 60 deg, the others land on close_loop's closed-form-free Newton solution to
+   round-off, and the scene builds; a coupler too short to reach is refused, the gap
+   named. */
+static void test_assemble(rjt_ctx *c)
+{
+    char text[2048];
+    rj_scene_file f;
+    rj_scene_def d;
+    rj_joint_def J[4];
+    rj_error err;
+    rj_model *m = NULL;
+    rj_result r = RJ_ERR_PARSE, built = RJ_ERR_PARSE;
+    double t3 = 0.5, t4 = 1.5, worst = 0, gap = 0;
+    const double offs[4] = { 0, 0.05, -0.02, 0.07 };
+    int k;
+    close_loop(CRANK0, &t3, &t4);
+    fourbar_text(7e10, text, sizeof text);
+    if (rj_scene_parse(text, strlen(text), "fourbar.rjs", &f, &err) == RJ_OK) {
+        const double want[4] = { CRANK0, t3 - (CRANK0 + PI), t4, t4 - (t3 + PI) };
+        d = rj_scene_file_def(&f);
+        memcpy(J, d.joints, sizeof J);
+        for (k = 0; k < 4; k++)
+            J[k].angle0 += offs[k];
+        r = rj_scene_assemble(&d, J, &err);
+        for (k = 0; k < 4; k++)
+            worst = fmax(worst, fabs(J[k].angle0 - want[k]));
+        d.joints = J;
+        built = rj_model_create(&d, &m, &err, NULL);
+        if (built == RJ_OK)
+            rj_model_destroy(m, NULL);
+        /* a coupler of 0.05 m: the crank tip is 0.89 m from O4, beyond 0.05 + 0.8 */
+        memcpy(J, rj_scene_file_def(&f).joints, sizeof J);
+        ((rj_link_def *) d.links)[1].length = 0.05;
+        d.joints = f.joints;
+        if (rj_scene_assemble(&d, J, &err) == RJ_ERR_INVALID && strstr(err.msg, "joints[3]"))
+            gap = err.value;
+        rj_scene_file_free(&f);
+    }
+    rjt_check(c, r == RJ_OK && built == RJ_OK && worst < 1e-12,
+              "assembly: a four-bar written 1 to 4 deg off closes to round-off",
+              "max |angle0 - closed loop| %.3g rad (the crank held at 60 deg); model %s",
+              worst, rj_result_str(built));
+    {
+        /* the least gap: the crank tip's distance from O4 less the two links' reach */
+        const double reach = hypot(GROUND_D - BAR_A * cos(CRANK0), BAR_A * sin(CRANK0));
+        const double least = reach - (0.05 + BAR_C);
+        rjt_check(c, fabs(gap - least) < 1e-9 * least,
+                  "assembly: a loop that cannot close is refused, its least gap named",
+                  "%.9g m against %.9g m: %s", gap, least, err.msg);
+    }
+}
+
 int main(void)
 {
     rjt_ctx c = { 0, 0 };
     test_fourbar(&c);
     test_refusals(&c);
+    test_assemble(&c);
     return rjt_summary(&c, "test_loops");
 }
