@@ -971,7 +971,8 @@ enum {
     RJ__FS_WORK, /* the work of the caller's inputs since the start */
     RJ__FS_DRIVE, /* the work of the actuators since the start */
     RJ__FS_DPEND, /* a prescribed joint's impulse's work the next step takes (its half) */
-    RJ__FS_DFLOW, /* the actuators' work moved so far, sum of |its change| (J): a scale */
+    RJ__FS_DFLOW, /* the actuators' work and gravity's potential moved so far, sum of |their
+                     changes| (J): a scale */
     RJ__FS_COUNT
 };
 
@@ -996,7 +997,11 @@ struct rj_model {
     double *rb_mass, *rb_icm,
         *rb_dcm;    /* (nl) rigid link mass, inertia about its centre, root-to-centre distance */
     int *rb_pjoint; /* (nl) joint whose body2 the link is, -1 if fixed */
-    int *jorder;    /* (nj) joints with parents before children */
+    int *jorder;    /* (nq) the tree's joints with parents before children */
+    int nq;         /* joint coordinates: the tree's joints (nj less those closing loops) */
+    int nloop;      /* joints that close loops */
+    int *qj;        /* (nq) coordinate k's joint */
+    int *jq;        /* (nj) joint j's coordinate, -1 for a joint that closes a loop */
     double *jpin,
         *jref; /* (nj) pin distance along body 1 from its root; reference offset (pi or 0) */
     double dt, dt_bound, omega_max, dt_eq28, omega_links;
@@ -1060,7 +1065,8 @@ enum rj__row_kind {
     RJ__ROW_LOCK,       /* a locked joint: q'_j = 0 */
     RJ__ROW_CONTACT,    /* a plastic contact at its limit: q'_j = 0, its impulse pushing */
     RJ__ROW_PRESCRIBED, /* a prescribed joint: its profile's angle at n + 1 */
-    RJ__ROW_COUPLING    /* an exact coupling: e = 0 at n + 1 */
+    RJ__ROW_COUPLING,   /* an exact coupling: e = 0 at n + 1 */
+    RJ__ROW_LOOP        /* a loop joint's pins together (x or y), in joint coordinates */
 };
 
 /* One term of a row: coef times joint's rate. */
@@ -1139,7 +1145,7 @@ struct rj_state {
     char warn[200]; /* latest warning (late contact), written only when one occurs */
 };
 
-static size_t rj__rigid_scratch(int nj, int nl, int ncp);
+static size_t rj__rigid_scratch(int nj, int nl, int ncp, int nloop);
 static double rj__rig_setup(rj_model *m, double *scratch);
 typedef struct rj__rig {
     double *M, *L, *W, *q, *qd, *qdp, *qdd, *Q, *h, *x,
@@ -1178,7 +1184,8 @@ enum {
     RJ__RL_SUB_N,
     RJ__RL_COUNT = 24
 };
-static void rj__rig_map(const rj_model *m, double *base, rj__rig *r);
+static void rj__rig_map(const rj_model *m, double *base, rj__rig *r, int nloop);
+static double rj__rig_loop_rate(const rj_model *m, int j, const double *qd, double *g);
 static double rj__gravity_potential(const rj_model *m, const double *x, const double *y);
 static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd,
                         const double *qdp);
@@ -2554,11 +2561,14 @@ static int rj__validate_bodies(const rj_scene_def *sc, const rj_joint_def *J, in
         return 0;
     }
     if (J->node2 != 0 &&
-        (J->reference != RJ_REF_TANGENT || sc->links[J->body2].fidelity != RJ_LINK_FLEXIBLE)) {
+        (J->reference != RJ_REF_TANGENT ||
+         sc->links[J->body2].fidelity == RJ_LINK_INEXTENSIBLE ||
+         (sc->links[J->body2].fidelity == RJ_LINK_RIGID && !rj__all_rigid(sc)))) {
         RJ__FIELD(f, "joints[%d].node2", j);
         rj__fail(err, RJ_ERR_INVALID, f, J->node2,
-                 "%s = %d is not supported: a pin away from body2's first node needs a flexible "
-                 "body2 and the tangent reference",
+                 "%s = %d is not supported: a pin away from body2's first node needs the "
+                 "tangent reference and a flexible body2 (or, with rigid links only, a joint "
+                 "that closes a loop)",
                  f, J->node2);
         return 0;
     }
@@ -2946,13 +2956,46 @@ static int rj__counts(const rj_scene_def *sc, size_t *nn, size_t *ne, rj_error *
     return 1;
 }
 
+/* What a joint that closes a loop among rigid links may not have yet (its element's
+   velocity-level parts and the rows that name it): the field, or NULL. */
+static const char *rj__rigid_loop_refusal(const rj_scene_def *sc, int j, char *f, size_t n)
+{
+    const rj_joint_def *d = &sc->joints[j];
+    int k;
+    if (d->has_forward || d->has_reverse)
+        snprintf(f, n, "joints[%d].%s", j, d->has_forward ? "forward" : "reverse");
+    else if (d->friction > 0)
+        snprintf(f, n, "joints[%d].friction", j);
+    else
+        f[0] = 0;
+    for (k = 0; k < sc->actuator_count && !f[0]; k++)
+        if (sc->actuators[k].joint == j)
+            snprintf(f, n, "actuators[%d].joint", k);
+    for (k = 0; k < sc->coupling_count && !f[0]; k++)
+        if (sc->couplings[k].joint_a == j || sc->couplings[k].joint_b == j)
+            snprintf(f, n, "couplings[%d].joint_%c", k, sc->couplings[k].joint_a == j ? 'a' : 'b');
+    return f[0] ? f : NULL;
+}
+
 /* A joint that closes a loop (its body2 hangs from joint first): every link of the scene
-   flexible (loops through rigid or inextensible links are not supported yet). */
+   flexible, or every link rigid (then without limits, friction, an actuator or a
+   coupling on it, yet); loops through inextensible links, or through rigid links among
+   flexible ones, are not supported yet. */
 static int rj__validate_loop_joint(const rj_scene_def *sc, int j, int first, rj_error *err)
 {
     const int b2 = sc->joints[j].body2;
     char f[64];
     int l;
+    if (rj__all_rigid(sc)) {
+        if (!rj__rigid_loop_refusal(sc, j, f, sizeof f))
+            return 1;
+        rj__fail(err, RJ_ERR_INVALID, f, j,
+                 "%s is not supported: joint %d closes a loop among rigid links, which takes no "
+                 "limits, friction, actuator or coupling yet (its spring, table and damping "
+                 "work)",
+                 f, j);
+        return 0;
+    }
     for (l = 0; l < sc->link_count; l++)
         if (sc->links[l].fidelity != RJ_LINK_FLEXIBLE)
             break;
@@ -2961,7 +3004,7 @@ static int rj__validate_loop_joint(const rj_scene_def *sc, int j, int first, rj_
     RJ__FIELD(f, "joints[%d].body2", j);
     rj__fail(err, RJ_ERR_INVALID, f, b2,
              "%s = %d closes a loop (link %d hangs from joint %d), which is supported when "
-             "every link is flexible: link %d is %s",
+             "every link is flexible, or every link rigid: link %d is %s",
              f, b2, b2, first, l,
              sc->links[l].fidelity == RJ_LINK_RIGID ? "rigid" : "inextensible");
     return 0;
@@ -3089,8 +3132,18 @@ static int rj__validate_graph(const rj_scene_def *sc, int *scratch, rj_error *er
         const int b2 = sc->joints[j].body2;
         if (parent[b2] >= 0 && !rj__validate_loop_joint(sc, j, parent[b2], err))
             return 0;
-        if (parent[b2] < 0)
-            parent[b2] = j;
+        if (parent[b2] >= 0)
+            continue;
+        parent[b2] = j;
+        /* joint coordinates pin a hanging rigid link at its root */
+        if (sc->joints[j].node2 != 0 && sc->links[b2].fidelity == RJ_LINK_RIGID) {
+            RJ__FIELD(f, "joints[%d].node2", j);
+            rj__fail(err, RJ_ERR_INVALID, f, sc->joints[j].node2,
+                     "%s = %d is not supported: a rigid link hangs from its first joint at its "
+                     "node 0 (a pin elsewhere closes a loop)",
+                     f, sc->joints[j].node2);
+            return 0;
+        }
     }
     if (rj__all_rigid(sc))
         for (i = 0; i < nl; i++)
@@ -3150,7 +3203,7 @@ typedef struct rj__layout {
     size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho,
         link_I;
     size_t node_cl, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
-    size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin,
+    size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, qj, jq, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
         link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
 } rj__layout;
@@ -3189,6 +3242,8 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->rb_dcm = rj__carve(&off, (size_t) nl, sizeof(double));
     L->rb_pjoint = rj__carve(&off, (size_t) nl, sizeof(int));
     L->jorder = rj__carve(&off, (size_t) nj + 1, sizeof(int));
+    L->qj = rj__carve(&off, (size_t) nj + 1, sizeof(int));
+    L->jq = rj__carve(&off, (size_t) nj + 1, sizeof(int));
     L->jpin = rj__carve(&off, (size_t) nj + 1, sizeof(double));
     L->jref = rj__carve(&off, (size_t) nj + 1, sizeof(double));
     L->mass = rj__carve(&off, (size_t) nn, sizeof(double));
@@ -3219,7 +3274,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->cp = rj__carve(&off, (size_t) sc->coupling_count + 1, sizeof(rj_coupling_def));
     L->lz = rj__carve(&off,
                       15 * nn + 10 * ne + 8 + RJ__GRAPH_SCRATCH(nl, nj) +
-                          (rigid ? rj__rigid_scratch(nj, nl, sc->coupling_count) + (size_t) nj * nj : 0),
+                          (rigid ? rj__rigid_scratch(nj, nl, sc->coupling_count, 0) + (size_t) nj * nj : 0),
                       sizeof(double));
     L->total = off == (size_t) -1 ? off : off + RJ__ALIGN;
 }
@@ -5605,7 +5660,7 @@ typedef struct rj__build_scratch {
     int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
     double *lanczos;           /* 3 vectors of 3 nn, the chords, a work area: rj__omega2_max */
     double *chord_x, *chord_y; /* (ne each) the initial chords, at lanczos + 9 nn */
-    double *rigid_bound;       /* rj__rigid_scratch(nj, nl, ncp) + nj^2 doubles after the chords */
+    double *rigid_bound;       /* rj__rigid_scratch(nj, nl, ncp, 0) + nj^2 doubles after the chords */
     int *step_node_mark;       /* nn ints: rj__init_step_nodes */
 } rj__build_scratch;
 
@@ -5713,6 +5768,8 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(rb_dcm, double);
     RJ__SET(rb_pjoint, int);
     RJ__SET(jorder, int);
+    RJ__SET(qj, int);
+    RJ__SET(jq, int);
     RJ__SET(jpin, double);
     RJ__SET(jref, double);
     RJ__SET(mass, double);
@@ -5882,10 +5939,17 @@ static void rj__init_joint_nodes(rj_model *m)
     m->grp_first[0] = 0;
     /* a link's first joint as body2 hangs it; a later one closes a loop (node_grp of its
        root marks it hung until the pin groups take node_grp over) */
+    m->nq = m->nloop = 0;
     for (j = 0; j < m->nj; j++) {
         const int root = m->link_first[m->jdef[j].body2];
         m->jnt[j].loop = m->node_grp[root] == 1;
         m->node_grp[root] = 1;
+        /* the tree's joints are the joint coordinates of rigid scenes */
+        m->jq[j] = m->jnt[j].loop ? -1 : m->nq;
+        if (m->jnt[j].loop)
+            m->nloop++;
+        else
+            m->qj[m->nq++] = j;
     }
     for (i = 0; i < m->nn; i++)
         m->node_grp[i] = -1;
@@ -6189,7 +6253,8 @@ static void rj__init_rigid_pins(rj_model *m)
     int j;
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
-        m->rb_pjoint[d->body2] = j;
+        if (!m->jnt[j].loop)
+            m->rb_pjoint[d->body2] = j;
         if (d->body1 >= 0) {
             const int pin = d->node1 < 0 ? m->ldef[d->body1].elements : d->node1;
             m->jpin[j] = pin * m->link_l0[d->body1];
@@ -6201,15 +6266,15 @@ static void rj__init_rigid_pins(rj_model *m)
     }
 }
 
-/* Rigid scenes: the joints in an order with parents before children (the kinematics run
-   down the tree). */
+/* Rigid scenes: the tree's joints in an order with parents before children (the
+   kinematics run down the tree). */
 static void rj__init_joint_order(rj_model *m)
 {
     int placed = 0, pass, j, k;
-    for (pass = 0; placed < m->nj && pass <= m->nj; pass++)
+    for (pass = 0; placed < m->nq && pass <= m->nj; pass++)
         for (j = 0; j < m->nj; j++) {
             const int b1 = m->jdef[j].body1;
-            int done = 0, ready = b1 < 0 || m->rb_pjoint[b1] < 0;
+            int done = m->jnt[j].loop, ready = b1 < 0 || m->rb_pjoint[b1] < 0;
             for (k = 0; k < placed; k++) {
                 if (m->jorder[k] == j)
                     done = 1;
@@ -6758,10 +6823,15 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->eu = rj__carve(&off, (size_t) m->ne, sizeof(double));
     L->ebt = rj__carve(&off, (size_t) m->ne, sizeof(double));
     L->jsc = rj__carve(&off, (size_t) m->nj * 8 + 1, sizeof(double));
-    L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl, m->ncp) : 3 * (size_t) m->ncl + 1,
+    L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl, m->ncp, m->nloop) : 3 * (size_t) m->ncl + 1,
                        sizeof(double));
-    L->rows = rj__carve(&off, (size_t) rj__rows_capacity(m->nj, m->ncp), sizeof(rj__row));
-    L->terms = rj__carve(&off, (size_t) rj__terms_capacity(m->nj, m->ncp), sizeof(rj__term));
+    /* a loop's two rows name every coordinate at most */
+    L->rows = rj__carve(&off, (size_t) rj__rows_capacity(m->nj, m->ncp + m->nloop),
+                        sizeof(rj__row));
+    L->terms = rj__carve(&off,
+                         (size_t) rj__terms_capacity(m->nj, m->ncp) +
+                             4 * (size_t) m->nloop * (size_t) m->nq,
+                         sizeof(rj__term));
     L->rsys = rj__carve(&off, 2 * (size_t) m->nmotion * (size_t) (m->nmotion + 1) + 1,
                         sizeof(double));
     L->input_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
@@ -6873,11 +6943,15 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
     if (m->rigid) {
         /* nodes from the joint-coordinate kinematics, so that both descriptions agree */
         rj__rig r;
-        rj__rig_map(m, s->rsc, &r);
-        for (j = 0; j < m->nj; j++) {
-            r.q[j] = m->jdef[j].angle0;
-            r.qd[j] = m->jdef[j].rate0;
+        rj__rig_map(m, s->rsc, &r, m->nloop);
+        for (j = 0; j < m->nq; j++) {
+            r.q[j] = m->jdef[m->qj[j]].angle0;
+            r.qd[j] = m->jdef[m->qj[j]].rate0;
         }
+        /* a loop joint turns at the rate its loop gives it (g . q') */
+        for (j = 0; j < m->nj && m->nloop; j++)
+            if (m->jq[j] < 0)
+                RJ__FJ(m, f, j)[RJ__JD_RATE] = rj__rig_loop_rate(m, j, r.qd, r.tmp);
         rj__rig_kin(m, &r, r.q, r.qd, r.qd);
         rj__rig_nodes(m, &r, f);
     }
@@ -7571,18 +7645,22 @@ static RJ__FORCE_INLINE double rj__input_work(const double *oj, const double *nj
    centripetal accelerations -omega^2 r of every segment. The element (flags, torques,
    friction, methods) is the same code as for flexible links; a joint torque is a
    generalised force on q_j, and a velocity jump is an impulse along q_j. */
-static size_t rj__rigid_scratch(int nj, int nl, int ncp)
+/* The rigid solver's scratch for nj joints, nl links, ncp couplings and nloop joints that
+   close loops (0 where no rows are solved: the stability bound's setup): matrices n x n,
+   vectors n, the rows' system (a row per joint, per coupling, and two per loop less the
+   loop joint's own) and the columns of the rows that are not one joint's rate. */
+static size_t rj__rigid_scratch(int nj, int nl, int ncp, int nloop)
 {
-    const size_t n = (size_t) nj, rows = (size_t) rj__rows_capacity(nj, ncp);
-    return 3 * n * n + 2 * rows * rows + (size_t) ncp * n + 10 * n + 3 * rows +
+    const size_t n = (size_t) nj, rows = (size_t) rj__rows_capacity(nj, ncp + nloop);
+    const size_t others = (size_t) ncp + 2 * (size_t) nloop;
+    return 3 * n * n + 2 * rows * rows + others * n + 10 * n + 3 * rows +
            RJ__RL_COUNT * (size_t) nl + 8;
 }
 
-
 /* the rigid solver's scratch: matrices n x n, vectors n (tmp 2 n), link records */
-static void rj__rig_map(const rj_model *m, double *base, rj__rig *r)
+static void rj__rig_map(const rj_model *m, double *base, rj__rig *r, int nloop)
 {
-    const size_t n = (size_t) m->nj, rows = (size_t) rj__rows_capacity(m->nj, m->ncp);
+    const size_t n = (size_t) m->nj, rows = (size_t) rj__rows_capacity(m->nj, m->ncp + nloop);
     r->M = base;
     r->h = r->M + n * n;
     r->L = r->h + n;
@@ -7599,7 +7677,7 @@ static void rj__rig_map(const rj_model *m, double *base, rj__rig *r)
     r->lam = r->SL + rows * rows;
     r->rhs = r->lam + rows;
     r->Y = r->rhs + rows;
-    r->lk = r->Y + (size_t) m->ncp * n;
+    r->lk = r->Y + ((size_t) m->ncp + 2 * (size_t) nloop) * n;
 }
 
 /* The joint above joint j on the way to the ground (-1 at a root). */
@@ -7611,7 +7689,8 @@ static int rj__rig_up(const rj_model *m, int j)
 
 /* Positions, velocities (rates qd; skipped when qd is NULL, as the step needs none) and
    centripetal accelerations (rates qdp) of every link, into the link records; cos and sin
-   of a hanging link's angle are kept there for its children. */
+   of a hanging link's angle are kept there for its children. q, qd, qdp are over the
+   joint coordinates (the tree's joints: m->jq). */
 static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd,
                         const double *qdp)
 {
@@ -7627,21 +7706,21 @@ static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const do
             b[RJ__RL_OM] = b[RJ__RL_VX] = b[RJ__RL_VY] = b[RJ__RL_ARX] = b[RJ__RL_ARY] =
                 b[RJ__RL_OMB] = 0;
         }
-    for (k = 0; k < m->nj; k++) {
-        const int j = m->jorder[k];
+    for (k = 0; k < m->nq; k++) {
+        const int j = m->jorder[k], qi = m->jq[j];
         const rj_joint_def *jd = &m->jdef[j];
         const int p = jd->body1, c = jd->body2;
         double *RJ__RESTRICT b = lk + RJ__RL_COUNT * (size_t) c;
         const double dc = m->rb_dcm[c];
         double ph, ex, ey, omb, rx, ry, arx, ary;
         if (p < 0) {
-            ph = jd->ground_angle + q[j];
-            omb = qdp[j];
+            ph = jd->ground_angle + q[qi];
+            omb = qdp[qi];
             rx = jd->ground_x;
             ry = jd->ground_y;
             arx = ary = 0;
             if (qd) {
-                b[RJ__RL_OM] = qd[j];
+                b[RJ__RL_OM] = qd[qi];
                 b[RJ__RL_VX] = b[RJ__RL_VY] = 0;
             }
         } else {
@@ -7656,15 +7735,15 @@ static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const do
                 cp = cos(pb[RJ__RL_PHI]);
                 sp = sin(pb[RJ__RL_PHI]);
             } /* a fixed link */
-            ph = pb[RJ__RL_PHI] + m->jref[j] + q[j];
-            omb = ompb + qdp[j];
+            ph = pb[RJ__RL_PHI] + m->jref[j] + q[qi];
+            omb = ompb + qdp[qi];
             rx = pb[RJ__RL_RX] + s * cp;
             ry = pb[RJ__RL_RY] + s * sp;
             arx = pb[RJ__RL_ARX] - ompb * ompb * s * cp;
             ary = pb[RJ__RL_ARY] - ompb * ompb * s * sp;
             if (qd) {
                 const double omp = pb[RJ__RL_OM];
-                b[RJ__RL_OM] = omp + qd[j];
+                b[RJ__RL_OM] = omp + qd[qi];
                 b[RJ__RL_VX] = pb[RJ__RL_VX] - omp * s * sp;
                 b[RJ__RL_VY] = pb[RJ__RL_VY] + omp * s * cp;
             }
@@ -7729,36 +7808,36 @@ static void rj__rig_gather(const double *sub, double *parent)
    motors' rotors (rj__rig_mass adds them). */
 static void rj__rig_mass_links(const rj_model *m, rj__rig *r)
 {
-    const int n = m->nj;
+    const int n = m->nq;
     double *M = r->M, *h = r->h, *lk = r->lk;
     int i, k;
     for (i = 0; i < n * n; i++)
         M[i] = 0;
     for (k = 0; k < n; k++) {
-        const int body = m->jdef[k].body2;
+        const int body = m->jdef[m->qj[k]].body2;
         rj__rig_own(m, body, lk + RJ__RL_COUNT * (size_t) body);
     }
     /* jorder has parents before children: backwards, a subtree is whole when gathered */
     for (k = n - 1; k >= 0; k--) {
-        const int j = m->jorder[k];
+        const int j = m->jorder[k], qi = m->jq[j];
         const int parent = m->jdef[j].body1;
         const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
-        h[j] = sub[RJ__RL_SUB_N];
-        M[(size_t) j * n + j] = sub[RJ__RL_SUB_J];
+        h[qi] = sub[RJ__RL_SUB_N];
+        M[(size_t) qi * n + qi] = sub[RJ__RL_SUB_J];
         if (parent < 0 || m->rb_pjoint[parent] < 0)
             continue; /* on the ground or a fixed link */
         rj__rig_gather(sub, lk + RJ__RL_COUNT * (size_t) parent);
     }
     for (k = 0; k < n; k++) {
-        const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[k].body2;
+        const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[m->qj[k]].body2;
         int up;
-        for (up = rj__rig_up(m, k); up >= 0; up = rj__rig_up(m, up)) {
+        for (up = rj__rig_up(m, m->qj[k]); up >= 0; up = rj__rig_up(m, up)) {
             const double *pin = lk + RJ__RL_COUNT * (size_t) m->jdef[up].body2;
             const double dx = sub[RJ__RL_RX] - pin[RJ__RL_RX];
             const double dy = sub[RJ__RL_RY] - pin[RJ__RL_RY];
             const double v = sub[RJ__RL_SUB_J] + dx * sub[RJ__RL_SUB_SX] + dy * sub[RJ__RL_SUB_SY];
-            M[(size_t) k * n + up] = v;
-            M[(size_t) up * n + k] = v;
+            M[(size_t) k * n + m->jq[up]] = v;
+            M[(size_t) m->jq[up] * n + k] = v;
         }
     }
 }
@@ -7767,11 +7846,11 @@ static void rj__rig_mass_links(const rj_model *m, rj__rig *r)
    rate. */
 static void rj__rig_mass(const rj_model *m, rj__rig *r)
 {
-    const int n = m->nj;
+    const int n = m->nq;
     int k;
     rj__rig_mass_links(m, r);
     for (k = 0; k < n; k++)
-        r->M[(size_t) k * n + k] += m->jnt[k].rotor;
+        r->M[(size_t) k * n + k] += m->jnt[m->qj[k]].rotor;
 }
 
 /* Cholesky factor of the n x n SPD matrix M into L (lower), and solves L L^T x = b. The
@@ -7883,17 +7962,55 @@ static void rj__rig_nodes(const rj_model *m, const rj__rig *r, double *f)
     }
 }
 
-/* K v for the joints' stiffnesses and the cable loops' (k w w^T, w = e_b - ratio e_a). */
-static void rj__rig_stiffness(const rj_model *m, const double *v, double *kv)
+/* The gradient of the angle of joint j, which closes a loop, over the coordinates: +1 for
+   each tree joint on body 2's path to the ground, -1 on body 1's (a joint on both
+   cancels): its angle is angle0 + g . (q - q(0)), its rate g . q'. */
+static void rj__rig_loop_gradient(const rj_model *m, int j, double *g)
 {
-    int j;
-    for (j = 0; j < m->nj; j++)
-        kv[j] = m->jnt[j].k_lin * v[j];
+    int k, up;
+    for (k = 0; k < m->nq; k++)
+        g[k] = 0;
+    for (up = m->rb_pjoint[m->jdef[j].body2]; up >= 0; up = rj__rig_up(m, up))
+        g[m->jq[up]] += 1;
+    if (m->jdef[j].body1 >= 0)
+        for (up = m->rb_pjoint[m->jdef[j].body1]; up >= 0; up = rj__rig_up(m, up))
+            g[m->jq[up]] -= 1;
+}
+
+/* The rate of joint j, which closes a loop, at coordinate rates qd (g: nq doubles). */
+static double rj__rig_loop_rate(const rj_model *m, int j, const double *qd, double *g)
+{
+    double rate = 0;
+    int k;
+    rj__rig_loop_gradient(m, j, g);
+    for (k = 0; k < m->nq; k++)
+        rate += g[k] * qd[k];
+    return rate;
+}
+
+/* K v for the joints' stiffnesses (a loop joint's k g g^T), and the cable loops' (k w w^T,
+   w = e_b - ratio e_a); g: nq doubles of scratch. */
+static void rj__rig_stiffness(const rj_model *m, const double *v, double *kv, double *g)
+{
+    int j, k;
+    for (k = 0; k < m->nq; k++)
+        kv[k] = m->jnt[m->qj[k]].k_lin * v[k];
+    for (j = 0; j < m->nj && m->nloop; j++) {
+        double gv = 0;
+        if (m->jq[j] >= 0 || m->jnt[j].k_lin == 0)
+            continue;
+        rj__rig_loop_gradient(m, j, g);
+        for (k = 0; k < m->nq; k++)
+            gv += g[k] * v[k];
+        for (k = 0; k < m->nq; k++)
+            kv[k] += m->jnt[j].k_lin * g[k] * gv;
+    }
     for (j = 0; j < m->ncp; j++) {
         const rj_coupling_def *c = &m->cp[j];
-        const double e = v[c->joint_b] - c->ratio * v[c->joint_a];
-        kv[c->joint_b] += c->stiffness * e;
-        kv[c->joint_a] -= c->ratio * c->stiffness * e;
+        const int a = m->jq[c->joint_a], b = m->jq[c->joint_b];
+        const double e = v[b] - c->ratio * v[a];
+        kv[b] += c->stiffness * e;
+        kv[a] -= c->ratio * c->stiffness * e;
     }
 }
 
@@ -7901,16 +8018,16 @@ static void rj__rig_stiffness(const rj_model *m, const double *v, double *kv)
    M^-1 K by power iteration (K is no longer diagonal; the iterates' growth converges to
    it). v, u, kv: nj doubles each. */
 static double rj__rig_coupled_bound(const rj_model *m, const double *minv, double *v,
-                                    double *u, double *kv)
+                                    double *u, double *kv, double *g)
 {
-    const int n = m->nj;
+    const int n = m->nq;
     double lam = 0;
     int j, k, it;
     for (j = 0; j < n; j++)
         v[j] = 1.0 + 0.1 * j;
     for (it = 0; it < 500; it++) {
         double nrm = 0, nv = 0;
-        rj__rig_stiffness(m, v, kv);
+        rj__rig_stiffness(m, v, kv, g);
         for (j = 0; j < n; j++) {
             double sum = 0;
             for (k = 0; k < n; k++)
@@ -7928,18 +8045,45 @@ static double rj__rig_coupled_bound(const rj_model *m, const double *minv, doubl
     return lam;
 }
 
+/* Each loop joint's rate change per unit torque impulse, g^T M^-1 g, and the inertias
+   its element reads (those of its bodies about the pin, as a tree joint's); g, mg: nq
+   doubles of scratch. */
+static void rj__rig_loop_minv(rj_model *m, const double *minv, double *g, double *mg)
+{
+    const int n = m->nq;
+    int j, a, b;
+    for (j = 0; j < m->nj; j++) {
+        rj__joint *J = &m->jnt[j];
+        double c = 0;
+        if (m->jq[j] >= 0)
+            continue;
+        rj__rig_loop_gradient(m, j, g);
+        for (a = 0; a < n; a++) {
+            mg[a] = 0;
+            for (b = 0; b < n; b++)
+                mg[a] += minv[(size_t) a * n + b] * g[b];
+            c += g[a] * mg[a];
+        }
+        J->minv = c;
+        J->I2 = 1.0 / c;
+        J->I1 = HUGE_VAL;
+        J->w1 = 0;
+        J->w2 = 1;
+    }
+}
+
 /* Rigid-link model constants and the stability bound: omega_max^2 = largest eigenvalue of
    K^1/2 M^-1 K^1/2 at the initial configuration (power iteration), K the joints' linear
    stiffnesses (limits counted as for flexible links). Returns omega_max^2. */
 static double rj__rig_setup(rj_model *m, double *scratch)
 {
     rj__rig r;
-    const int n = m->nj;
-    double *minv = scratch + rj__rigid_scratch(m->nj, m->nl, m->ncp), lam = 0, *v, *u;
+    const int n = m->nq;
+    double *minv = scratch + rj__rigid_scratch(m->nj, m->nl, m->ncp, 0), lam = 0, *v, *u;
     int j, k, it;
-    rj__rig_map(m, scratch, &r);
+    rj__rig_map(m, scratch, &r, 0);
     for (j = 0; j < n; j++) {
-        r.q[j] = m->jdef[j].angle0;
+        r.q[j] = m->jdef[m->qj[j]].angle0;
         r.qd[j] = r.qdp[j] = 0;
     }
     rj__rig_kin(m, &r, r.q, r.qd, r.qdp);
@@ -7951,7 +8095,8 @@ static double rj__rig_setup(rj_model *m, double *scratch)
             r.tmp[k] = k == j ? 1.0 : 0.0;
         rj__chol_solve(n, r.L, r.tmp, minv + (size_t) j * n);
     }
-    for (j = 0; j < n; j++) {
+    for (k = 0; k < n; k++) {
+        const int j = m->qj[k];
         rj__joint *J = &m->jnt[j];
         const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
         double dx, dy;
@@ -7967,10 +8112,12 @@ static double rj__rig_setup(rj_model *m, double *scratch)
         }
         J->w1 = rj__finite(J->I1) ? J->I2 / (J->I1 + J->I2) : 0;
         J->w2 = 1 - J->w1;
-        J->minv = minv[(size_t) j * n + j]; /* rate change per unit torque impulse: 1 / I_red */
+        J->minv = minv[(size_t) k * n + k]; /* rate change per unit torque impulse: 1 / I_red */
     }
-    if (m->ncp)
-        return rj__rig_coupled_bound(m, minv, r.x, r.tmp, r.q);
+    if (m->nloop)
+        rj__rig_loop_minv(m, minv, r.qd, r.qdp);
+    if (m->ncp || m->nloop)
+        return rj__rig_coupled_bound(m, minv, r.x, r.tmp, r.q, r.qd);
     /* power iteration on K^1/2 M^-1 K^1/2 */
     v = r.x;
     u = r.tmp;
@@ -7981,8 +8128,8 @@ static double rj__rig_setup(rj_model *m, double *scratch)
         for (j = 0; j < n; j++) {
             double sum = 0;
             for (k = 0; k < n; k++)
-                sum += minv[(size_t) j * n + k] * sqrt(m->jnt[k].k_lin) * v[k];
-            u[j] = sqrt(m->jnt[j].k_lin) * sum;
+                sum += minv[(size_t) j * n + k] * sqrt(m->jnt[m->qj[k]].k_lin) * v[k];
+            u[j] = sqrt(m->jnt[m->qj[j]].k_lin) * sum;
         }
         for (j = 0; j < n; j++)
             nrm += u[j] * u[j];
@@ -8063,26 +8210,28 @@ static int rj__row_unit(const rj__rows *R, const rj__row *row)
     return row->count == 1 && R->term[row->first].coef == 1.0;
 }
 
-/* A prescribed joint's row: its rate lands it on its profile at n + 1. */
-static void rj__row_prescribed(const rj_model *m, const rj_state *s, rj__rows *R, int j,
+/* A prescribed joint's row: its rate lands it on its profile at n + 1; its term at index
+   at (the joint, or its coordinate in joint coordinates). */
+static void rj__row_prescribed(const rj_model *m, const rj_state *s, rj__rows *R, int j, int at,
                                double run, double t, double dt)
 {
     const double target = rj__prescribed_rate(m, s, j, run, t, dt);
     rj__row *row = rj__row_open(R, RJ__ROW_PRESCRIBED, j, target, -HUGE_VAL, HUGE_VAL);
-    rj__row_term(R, row, j, 1.0);
+    rj__row_term(R, row, at, 1.0);
 }
 
 /* Exact coupling k's row, from the joints' running angles at n (stride apart in
    angles): e = (theta_b - angle0_b) - ratio (theta_a - angle0_a) - offset back to 0 at
-   n + 1, along w = e_b - ratio e_a. */
+   n + 1, along w = e_b - ratio e_a. map: a joint's index in angles and terms (its
+   coordinate in joint coordinates), NULL for the joint itself. */
 static void rj__row_coupling(const rj_model *m, rj__rows *R, int k, const double *angles,
-                             size_t stride, double dt)
+                             size_t stride, const int *map, double dt)
 {
     const rj_coupling_def *c = &m->cp[k];
-    const int a = c->joint_a, b = c->joint_b;
+    const int a = map ? map[c->joint_a] : c->joint_a, b = map ? map[c->joint_b] : c->joint_b;
     const double theta_a = angles[stride * (size_t) a], theta_b = angles[stride * (size_t) b];
-    const double e_n =
-        (theta_b - m->jdef[b].angle0) - c->ratio * (theta_a - m->jdef[a].angle0) - c->offset;
+    const double e_n = (theta_b - m->jdef[c->joint_b].angle0) -
+                       c->ratio * (theta_a - m->jdef[c->joint_a].angle0) - c->offset;
     rj__row *row = rj__row_open(R, RJ__ROW_COUPLING, k, -e_n / dt, -HUGE_VAL, HUGE_VAL);
     rj__row_term(R, row, b, 1.0);
     rj__row_term(R, row, a, -c->ratio);
@@ -8090,12 +8239,12 @@ static void rj__row_coupling(const rj_model *m, rj__rows *R, int k, const double
 
 /* The exact couplings' rows. */
 static void rj__rows_couplings(const rj_model *m, rj__rows *R, const double *angles,
-                               size_t stride, double dt)
+                               size_t stride, const int *map, double dt)
 {
     int k;
     for (k = 0; k < m->ncp; k++)
         if (m->cp[k].exact)
-            rj__row_coupling(m, R, k, angles, stride, dt);
+            rj__row_coupling(m, R, k, angles, stride, map, dt);
 }
 
 /* Whether a pushing-only row's rate has turned against its bound: a contact whose
@@ -9752,8 +9901,8 @@ static RJ__NOINLINE rj__rows_sums rj__stage_rows(const rj_model *m, const rj_sta
     R.count = R.terms = 0;
     for (j = 0; j < m->nj; j++)
         if (rj__prescribed(&m->jnt[j]))
-            rj__row_prescribed(m, s, &R, j, RJ__FJ(m, f.old, j)[RJ__JD_THETA], f.t, f.dt);
-    rj__rows_couplings(m, &R, RJ__FJ(m, f.old, 0) + RJ__JD_THETA, RJ__JD_COUNT, f.dt);
+            rj__row_prescribed(m, s, &R, j, j, RJ__FJ(m, f.old, j)[RJ__JD_THETA], f.t, f.dt);
+    rj__rows_couplings(m, &R, RJ__FJ(m, f.old, 0) + RJ__JD_THETA, RJ__JD_COUNT, NULL, f.dt);
     rj__rows_before(m, s, &f, &R);
     if (R.count > 1)
         rj__rows_direct(m, s, &f, &R, &out.fin);
@@ -10013,6 +10162,16 @@ static void rj__drive_flow(const double *osc, double *nsc, rj__sums *e)
     nsc[RJ__FS_DFLOW] = e->drive_flow;
 }
 
+/* Gravity's potential moved since the last accounts (the state's start sets it), into
+   the same flow: a pendulum at the top of its swing has released nothing net, but the
+   scheme's error is on all that moved (a four-bar of rigid bars stopped there with
+   1.1e-6 J "created" of 5.6e-5 J). */
+static void rj__gravity_flow(const double *osc, double *nsc, rj__sums *e)
+{
+    e->drive_flow += fabs(e->gravity - osc[RJ__FS_GRAV]);
+    nsc[RJ__FS_DFLOW] = e->drive_flow;
+}
+
 /* The accounts of a first step (from rest): the energy there is the initial energy, and
    the losses and work start from zero. */
 static void rj__first_accounts(double *new_scalars, rj__sums *e, double energy)
@@ -10053,6 +10212,8 @@ static RJ__FORCE_INLINE rj_result rj__step_accounts(const rj_model *m, rj_state 
     nsc[RJ__FS_KE] = e->kinetic;
     nsc[RJ__FS_STRAIN] = e->strain;
     nsc[RJ__FS_SPRING] = e->spring;
+    if (m->has_gravity)
+        rj__gravity_flow(osc, nsc, e);
     nsc[RJ__FS_GRAV] = e->gravity;
     if (f->first)
         rj__first_accounts(nsc, e, e->kinetic + e->strain + e->spring + e->gravity);
@@ -10136,6 +10297,60 @@ typedef struct rj__rig_jumps {
     int count, last, impact;
 } rj__rig_jumps;
 
+/* Node at of rigid link l where the kinematics put it (r->lk). */
+static void rj__rig_link_node(const rj_model *m, const rj__rig *r, int l, int at, double p[2])
+{
+    const double *b = r->lk + RJ__RL_COUNT * (size_t) l;
+    const double along = at * m->link_l0[l];
+    p[0] = b[RJ__RL_RX] + along * cos(b[RJ__RL_PHI]);
+    p[1] = b[RJ__RL_RY] + along * sin(b[RJ__RL_PHI]);
+}
+
+/* Joint j's pins at the kinematics' positions: on body 1 (or ground) and on body 2. */
+static void rj__rig_pins(const rj_model *m, const rj__rig *r, int j, double p1[2], double p2[2])
+{
+    const rj_joint_def *d = &m->jdef[j];
+    if (d->body1 < 0) {
+        p1[0] = d->ground_x;
+        p1[1] = d->ground_y;
+    } else
+        rj__rig_link_node(m, r, d->body1, d->node1 < 0 ? m->ldef[d->body1].elements : d->node1,
+                          p1);
+    rj__rig_link_node(m, r, d->body2, m->jnt[j].nJ - m->link_first[d->body2], p2);
+}
+
+/* Adds to one loop row (x: axis 0, y: 1) the terms of point p on link l: sign times
+   d p / d q_k = perp(p - P_k) for each tree joint k on l's path to the ground. */
+static void rj__rig_loop_terms(const rj_model *m, const rj__rig *r, rj__rows *R, rj__row *row,
+                               int l, const double p[2], int axis, double sign)
+{
+    int up;
+    for (up = l >= 0 ? m->rb_pjoint[l] : -1; up >= 0; up = rj__rig_up(m, up)) {
+        const double *pin = r->lk + RJ__RL_COUNT * (size_t) m->jdef[up].body2;
+        const double d = axis == 0 ? -(p[1] - pin[RJ__RL_RY]) : p[0] - pin[RJ__RL_RX];
+        rj__row_term(R, row, m->jq[up], sign * d);
+    }
+}
+
+/* The loop joints' rows: their pins' gap p1 - p2 back to 0 at n + 1, in x and in y. A
+   coordinate on both pins' paths appears twice in a row (the dot products sum them). */
+static void rj__rig_loop_rows(const rj_model *m, const rj__rig *r, double dt, rj__rows *R)
+{
+    int j, axis;
+    for (j = 0; j < m->nj; j++) {
+        double p1[2], p2[2];
+        if (m->jq[j] >= 0)
+            continue;
+        rj__rig_pins(m, r, j, p1, p2);
+        for (axis = 0; axis < 2; axis++) {
+            rj__row *row = rj__row_open(R, RJ__ROW_LOOP, j, -(p1[axis] - p2[axis]) / dt,
+                                        -HUGE_VAL, HUGE_VAL);
+            rj__rig_loop_terms(m, r, R, row, m->jdef[j].body1, p1, axis, 1.0);
+            rj__rig_loop_terms(m, r, R, row, m->jdef[j].body2, p2, axis, -1.0);
+        }
+    }
+}
+
 /* Rigid step, stage 5b: the rows in joint coordinates (src/rows.h), in joint order: a
    prescribed joint's profile; a locked joint; a plastic contact, held from the start when
    it turns into its limit or a single impulse moved its rate (a later joint's impulse
@@ -10149,28 +10364,31 @@ static void rj__rig_rows_build(const rj_model *m, const rj_state *s, const rj__f
                                const rj__rig *r, rj__rows *R)
 {
     const int *ni = f->new_flags;
-    int j;
+    int k;
     R->count = R->terms = 0;
-    for (j = 0; j < m->nj; j++) {
-        const double rate = r->qdp[j];
+    for (k = 0; k < m->nq; k++) {
+        const int j = m->qj[k];
+        const double rate = r->qdp[k];
         const int forward = ni[j] == RJ_AT_FORWARD;
         rj__row *row;
         if (rj__prescribed(&m->jnt[j])) {
-            rj__row_prescribed(m, s, R, j, r->q[j], f->t, f->dt);
+            rj__row_prescribed(m, s, R, j, k, r->q[k], f->t, f->dt);
             continue;
         }
         if (!rj__rig_plastic(&m->jdef[j], ni[j]))
             continue;
         if (ni[j] == RJ_LOCKED)
-            row = rj__row_open(R, RJ__ROW_LOCK, j, 0.0, -HUGE_VAL, HUGE_VAL);
+            row = rj__row_open(R, RJ__ROW_LOCK, k, 0.0, -HUGE_VAL, HUGE_VAL);
         else {
-            row = rj__row_open(R, RJ__ROW_CONTACT, j, 0.0, forward ? -HUGE_VAL : 0.0,
+            row = rj__row_open(R, RJ__ROW_CONTACT, k, 0.0, forward ? -HUGE_VAL : 0.0,
                                forward ? 0.0 : HUGE_VAL);
-            row->active = rate != r->h[j] || rj__into_limit(ni[j], rate);
+            row->active = rate != r->h[k] || rj__into_limit(ni[j], rate);
         }
-        rj__row_term(R, row, j, 1.0);
+        rj__row_term(R, row, k, 1.0);
     }
-    rj__rows_couplings(m, R, r->q, 1, f->dt);
+    rj__rows_couplings(m, R, r->q, 1, m->jq, f->dt);
+    if (m->nloop)
+        rj__rig_loop_rows(m, r, f->dt, R);
 }
 
 /* The row of the one joint that took a single impulse (which held it exactly), or -1. */
@@ -10185,26 +10403,66 @@ static int rj__rig_held_row(const rj__rows *R, const rj__rig_jumps *jumps)
     return -1;
 }
 
-/* The exact couplings' impulses: each joint's share into r->x (rj__rig_jump_loss keeps
-   it out of the latches' impulses), their torques into the joints' spring columns. */
+/* The exact couplings' and the loops' impulses: each coordinate's share into r->x
+   (rj__rig_jump_loss keeps it out of the latches' impulses), the couplings' torques into
+   their joints' spring columns. */
 static void rj__rig_coupling_torques(const rj_model *m, const rj__frames *f, const rj__rows *R,
                                      rj__rig *r)
 {
     double *new_joints = RJ__FJ(m, f->next, 0);
     int a, k;
-    for (k = 0; k < m->nj; k++)
+    for (k = 0; k < m->nq; k++)
         r->x[k] = 0;
     for (a = 0; a < R->count; a++) {
         const rj__row *row = &R->row[a];
-        if (row->kind != RJ__ROW_COUPLING)
+        if (row->kind != RJ__ROW_COUPLING && row->kind != RJ__ROW_LOOP)
             continue;
         for (k = 0; k < row->count; k++) {
             const rj__term *t = &R->term[row->first + k];
             const double impulse = t->coef * row->lam;
             r->x[t->joint] += impulse;
-            new_joints[(size_t) RJ__JD_COUNT * t->joint + RJ__JD_TQ0 + RJ_TORQUE_SPRING] +=
-                impulse / f->kick;
+            if (row->kind == RJ__ROW_COUPLING)
+                new_joints[(size_t) RJ__JD_COUNT * m->qj[t->joint] + RJ__JD_TQ0 +
+                           RJ_TORQUE_SPRING] += impulse / f->kick;
         }
+    }
+}
+
+/* The loops' rows on positions (SHAKE): their Jacobian stays the one at q^n, where the
+   pins' forces act, and their targets move until the pins meet at q^{n+1} = q^n + dt
+   q'^{n+1/2}, not only to first order (a row on the rate alone, J(q^n) q' = -gap/dt,
+   leaves the crank of a four-bar off the exact motion at first order in dt); the other
+   rows keep their rates. At most 20 passes, to 1e-14 of the longest link. The
+   kinematics run at the trial q (r->lk is not read again in the step). */
+static void rj__rig_loops_shake(const rj_model *m, const rj__frames *f, rj__rig *r,
+                                rj__rows *R, const rj__dense *D)
+{
+    double *q = r->tmp + m->nq, longest = 0;
+    int pass, k, a, l;
+    for (l = 0; l < m->nl; l++)
+        longest = fmax(longest, m->ldef[l].length);
+    for (pass = 0; pass < 20; pass++) {
+        double worst = 0;
+        for (k = 0; k < m->nq; k++)
+            q[k] = r->q[k] + f->dt * r->qdp[k];
+        rj__rig_kin(m, r, q, NULL, r->qdp);
+        for (a = 0; a < R->count; a++) {
+            rj__row *row = &R->row[a];
+            double p1[2], p2[2], gap;
+            if (row->kind != RJ__ROW_LOOP)
+                continue;
+            rj__rig_pins(m, r, row->owner, p1, p2);
+            /* the x row, then the y row, of each loop joint */
+            gap = (a + 1 < R->count && R->row[a + 1].owner == row->owner &&
+                   R->row[a + 1].kind == RJ__ROW_LOOP)
+                      ? p1[0] - p2[0]
+                      : p1[1] - p2[1];
+            worst = fmax(worst, fabs(gap));
+            row->target = rj__row_dot(R, row, r->qdp) - gap / f->dt;
+        }
+        if (worst <= 1e-14 * longest)
+            return;
+        rj__rows_solve_dense(R, D, r->qdp);
     }
 }
 
@@ -10222,16 +10480,16 @@ static void rj__rig_rows(const rj_model *m, const rj_state *s, const rj__frames 
     D.held = rj__rig_held_row(&R, jumps);
     for (j = 0; j < R.count; j++)
         active += R.row[j].active;
-    for (j = 0; j < m->nj; j++)
-        locked += f->new_flags[j] == RJ_LOCKED;
+    for (j = 0; j < m->nq; j++)
+        locked += f->new_flags[m->qj[j]] == RJ_LOCKED;
     if (active == 0 || (active == 1 && D.held >= 0 && R.row[D.held].active))
         return;
-    if (locked == m->nj && !m->nexact) {
-        for (j = 0; j < m->nj; j++)
+    if (locked == m->nq && !m->nexact && !m->nloop) {
+        for (j = 0; j < m->nq; j++)
             r->qdp[j] = 0;
         return;
     }
-    D.n = m->nj;
+    D.n = m->nq;
     D.L = r->L;
     D.W = r->W;
     D.Y = r->Y;
@@ -10241,7 +10499,9 @@ static void rj__rig_rows(const rj_model *m, const rj_state *s, const rj__frames 
     D.rhs = r->rhs;
     D.scratch = r->tmp;
     rj__rows_solve_dense(&R, &D, r->qdp);
-    if (m->nexact)
+    if (m->nloop)
+        rj__rig_loops_shake(m, f, r, &R, &D);
+    if (m->nexact || m->nloop)
         rj__rig_coupling_torques(m, f, &R, r);
 }
 
@@ -10256,10 +10516,10 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_kinematics(const rj_model *m, rj
     double *RJ__RESTRICT q = r->q, *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp;
     const double *old_joints = RJ__FJ(m, f->old, 0);
     const double dt = f->dt;
-    const int n = m->nj;
+    const int n = m->nq;
     int j;
     for (j = 0; j < n; j++) {
-        const double *old_joint = old_joints + (size_t) RJ__JD_COUNT * j;
+        const double *old_joint = old_joints + (size_t) RJ__JD_COUNT * m->qj[j];
         q[j] = old_joint[RJ__JD_THETA];
         qd[j] = old_joint[RJ__JD_RATE];
         qdp[j] = qd[j] + 0.5 * dt * old_joint[RJ__JD_QDD];
@@ -10270,7 +10530,7 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_kinematics(const rj_model *m, rj
     new_scalars[RJ__FS_ETIME] = f->t;
     new_scalars[RJ__FS_STRAIN] = 0;
     rj__rig_mass(m, r);
-    if (rj__chol(m->nj, r->M, r->L))
+    if (rj__chol(m->nq, r->M, r->L))
         return rj__stop(m, s, RJ_ERR_BLOWUP,
                         "t = %.9g s: the rigid mass matrix is not positive definite", f->t);
     return RJ_OK;
@@ -10284,8 +10544,8 @@ static void rj__rig_gravity(const rj_model *m, const rj__rig *r, double *Q, rj__
     const double gx = m->solver.gravity[0], gy = m->solver.gravity[1];
     double potential = 0;
     int j, l;
-    for (j = 0; j < m->nj; j++) {
-        const double *sub = r->lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
+    for (j = 0; j < m->nq; j++) {
+        const double *sub = r->lk + RJ__RL_COUNT * (size_t) m->jdef[m->qj[j]].body2;
         Q[j] += sub[RJ__RL_SUB_SX] * gy - sub[RJ__RL_SUB_SY] * gx;
     }
     for (l = 0; l < m->nl; l++) {
@@ -10338,6 +10598,38 @@ static void rj__rig_loads(const rj_model *m, const rj_state *s, const rj__rig *r
         }
 }
 
+/* A torque tau at joint j, which closes a loop: tau g on the coordinates (g: nq doubles
+   of scratch). */
+static void rj__rig_loop_force(const rj_model *m, int j, double tau, double *Q, double *g)
+{
+    int k;
+    if (tau == 0)
+        return;
+    rj__rig_loop_gradient(m, j, g);
+    for (k = 0; k < m->nq; k++)
+        Q[k] += tau * g[k];
+}
+
+/* The element on the joints that close loops: each one's torque at the rate and angle
+   its record keeps, as a generalised force on the coordinates. */
+static void rj__rig_loop_torques(const rj_model *m, rj_state *s, const rj__frames *f,
+                                 rj__rig *r, double *spring)
+{
+    const double *old_joints = RJ__FJ(m, f->old, 0);
+    double *new_joints = RJ__FJ(m, f->next, 0);
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const size_t at = (size_t) RJ__JD_COUNT * j;
+        double penetration, torque;
+        if (m->jq[j] >= 0)
+            continue;
+        torque = rj__element(m, s, j, old_joints + at, new_joints + at, f->old_flags[j],
+                             &f->new_flags[j], old_joints[at + RJ__JD_RATE], f->t,
+                             f->new_scalars, &penetration, spring);
+        rj__rig_loop_force(m, j, torque, r->Q, r->tmp);
+    }
+}
+
 /* Rigid step, stage 2: the element's torques as generalised forces, less the centripetal
    bias; the accelerations M^-1 Q. */
 static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *s,
@@ -10348,46 +10640,53 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
     const double *old_joints = RJ__FJ(m, f->old, 0);
     double *new_joints = RJ__FJ(m, f->next, 0);
     const double t = f->t;
-    const int n = m->nj;
+    const int n = m->nq;
     double spring = 0;
     int j;
     for (j = 0; j < n; j++) {
-        const size_t at = (size_t) RJ__JD_COUNT * j;
+        const size_t at = (size_t) RJ__JD_COUNT * m->qj[j];
         double penetration;
         const double torque =
-            rj__element(m, s, j, old_joints + at, new_joints + at, f->old_flags[j],
-                        &f->new_flags[j], qd[j], t, f->new_scalars, &penetration, &spring);
+            rj__element(m, s, m->qj[j], old_joints + at, new_joints + at, f->old_flags[m->qj[j]],
+                        &f->new_flags[m->qj[j]], qd[j], t, f->new_scalars, &penetration, &spring);
         Q[j] = torque - bias[j];
     }
+    if (m->nloop)
+        rj__rig_loop_torques(m, s, f, r, &spring);
     /* cable loops: their torques on both joints, from q^n and the rates the element read */
     for (j = 0; j < m->ncp; j++) {
         const rj_coupling_def *c = &m->cp[j];
         const size_t at_a = (size_t) RJ__JD_COUNT * c->joint_a;
         const size_t at_b = (size_t) RJ__JD_COUNT * c->joint_b;
+        const int a = m->jq[c->joint_a], b = m->jq[c->joint_b];
         double elastic, damp, on_b;
         rj__coupling_torques(m, c, old_joints[at_a + RJ__JD_THETA],
-                             old_joints[at_b + RJ__JD_THETA], qd[c->joint_a], qd[c->joint_b],
-                             &elastic, &damp, &spring);
+                             old_joints[at_b + RJ__JD_THETA], qd[a], qd[b], &elastic, &damp,
+                             &spring);
         on_b = rj__coupling_record(c, elastic, damp, new_joints + at_a, new_joints + at_b);
-        Q[c->joint_b] += on_b;
-        Q[c->joint_a] -= c->ratio * on_b;
+        Q[b] += on_b;
+        Q[a] -= c->ratio * on_b;
     }
     /* the caller's torques, the loads and the caller's node forces: generalised forces on
        the joints, kept in the new frame for their work (rj__step_rigid checked them) */
     if (s->inputs || m->nload || s->node_inputs) {
-        for (j = 0; j < n; j++)
+        for (j = 0; j < m->nj; j++)
             new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_INPUT] =
                 s->inputs ? s->input_torque[j] : 0.0;
         rj__rig_loads(m, s, r, t, new_joints);
         for (j = 0; j < n; j++)
-            Q[j] += new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_INPUT];
+            Q[j] += new_joints[(size_t) RJ__JD_COUNT * m->qj[j] + RJ__JD_INPUT];
+        for (j = 0; j < m->nj && m->nloop; j++)
+            if (m->jq[j] < 0)
+                rj__rig_loop_force(m, j, new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_INPUT],
+                                   Q, r->tmp);
     }
     if (m->has_gravity)
         rj__rig_gravity(m, r, Q, e);
     /* springs and tables at q^n, from the element */
     f->new_scalars[RJ__FS_SPRING] = spring;
     e->spring = spring;
-    rj__chol_solve(m->nj, r->L, r->Q, r->qdd);
+    rj__chol_solve(m->nq, r->L, r->Q, r->qdd);
 }
 
 /* Rigid step, stage 3: friction, joint by joint, with the column M^-1 e_j (kept in W for
@@ -10395,22 +10694,22 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
 static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj__frames *f,
                                                     rj__rig *r)
 {
-    const int n = m->nj;
+    const int n = m->nq;
     const double *RJ__RESTRICT qd = r->qd;
     double *RJ__RESTRICT qdd = r->qdd, *W = r->W;
     int j, k;
     for (j = 0; j < n; j++)
-        if (m->jdef[j].friction > 0)
+        if (m->jdef[m->qj[j]].friction > 0)
             rj__chol_unit(n, r->L, j, W + (size_t) j * n);
     for (j = 0; j < n; j++) {
-        const double tf = m->jdef[j].friction, *w = W + (size_t) j * n;
+        const double tf = m->jdef[m->qj[j]].friction, *w = W + (size_t) j * n;
         double tau;
         if (!(tf > 0))
             continue;
         tau = rj__friction(qd[j] + f->kick * qdd[j], f->kick * w[j], tf);
         for (k = 0; k < n; k++)
             qdd[k] += w[k] * tau;
-        RJ__FJ(m, f->next, j)[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
+        RJ__FJ(m, f->next, m->qj[j])[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
     }
 }
 
@@ -10420,32 +10719,33 @@ static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj_
 static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj__frames *f,
                                                      rj__rig *r, rj__rig_jumps *jumps)
 {
-    const int n = m->nj;
+    const int n = m->nq;
     const double *RJ__RESTRICT q = r->q;
     double *RJ__RESTRICT qdp = r->qdp, *RJ__RESTRICT rates_before = r->h, *W = r->W;
     const double *L = r->L;
     int *ni = f->new_flags;
     int j, k;
     for (j = 0; j < n; j++) {
-        const rj_joint_def *d = &m->jdef[j];
+        const int jj = m->qj[j];
+        const rj_joint_def *d = &m->jdef[jj];
         const double *w = W + (size_t) j * n;
         double e, lam;
         if (!(d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED))
             continue;
         /* re-contact within the step, as for flexible links */
-        if (ni[j] == RJ_FREE && q[j] <= m->jnt[j].rev && qdp[j] < 0)
-            ni[j] = RJ_AT_REVERSE;
-        if (ni[j] == RJ_FREE && q[j] >= m->jnt[j].fwd && qdp[j] > 0)
-            ni[j] = RJ_AT_FORWARD;
-        if (ni[j] == RJ_FREE || !rj__into_limit(ni[j], qdp[j]))
+        if (ni[jj] == RJ_FREE && q[j] <= m->jnt[jj].rev && qdp[j] < 0)
+            ni[jj] = RJ_AT_REVERSE;
+        if (ni[jj] == RJ_FREE && q[j] >= m->jnt[jj].fwd && qdp[j] > 0)
+            ni[jj] = RJ_AT_FORWARD;
+        if (ni[jj] == RJ_FREE || !rj__into_limit(ni[jj], qdp[j]))
             continue;
-        e = (d->method == RJ_METHOD_MOMENTUM && ni[j] != RJ_LOCKED) ? d->restitution : 0.0;
+        e = (d->method == RJ_METHOD_MOMENTUM && ni[jj] != RJ_LOCKED) ? d->restitution : 0.0;
         if (!jumps->count)
             for (k = 0; k < n; k++)
                 rates_before[k] = qdp[k];
         jumps->count++;
         jumps->last = j;
-        if (ni[j] != f->old_flags[j] || e > 0)
+        if (ni[jj] != f->old_flags[jj] || e > 0)
             jumps->impact = 1;
         /* stage 3 made the column of a joint with friction */
         if (!(d->friction > 0))
@@ -10462,7 +10762,7 @@ static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj
 static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__frames *f,
                                                const rj__rig *r, rj__sums *e)
 {
-    const int n = m->nj, first = f->first;
+    const int n = m->nq, first = f->first;
     const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp;
     const double *RJ__RESTRICT rates_before = r->h, *M = r->M;
     double *new_joints = RJ__FJ(m, f->next, 0);
@@ -10470,16 +10770,18 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
     int j, k;
     for (j = 0; j < n; j++) {
         const double *Mj = M + (size_t) j * n;
-        double *record = new_joints + (size_t) RJ__JD_COUNT * j;
-        /* an exact coupling's share of the joint's impulse (its work is the limits') */
-        const double coupled = m->nexact ? r->x[j] : 0.0;
+        const rj__joint *J = &m->jnt[m->qj[j]];
+        double *record = new_joints + (size_t) RJ__JD_COUNT * m->qj[j];
+        /* an exact coupling's or a loop's share of the joint's impulse (its work is the
+           limits') */
+        const double coupled = m->nexact || m->nloop ? r->x[j] : 0.0;
         /* the first step's q'^{-1/2} is 2 q'(0) less the rates before any impulse */
         const double back = first ? 2 * qd[j] - rates_before[j] : qd[j];
         double sum = 0;
         for (k = 0; k < n; k++)
             sum += Mj[k] * (rates_before[k] - qdp[k]);
         /* a prescribed joint's impulse, less a coupling's, is its drive's: torque and work */
-        if (rj__prescribed(&m->jnt[j])) {
+        if (rj__prescribed(J)) {
             const double driven = sum + coupled;
             e->drive -= 0.5 * back * driven;
             e->drive_pending -= 0.5 * qdp[j] * driven;
@@ -10489,7 +10791,7 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
         lost_limit += 0.5 * back * sum;
         pending += 0.5 * qdp[j] * sum;
         /* the latches' impulse: less an exact coupling's, reported as a torque */
-        if (!rj__prescribed(&m->jnt[j]))
+        if (!rj__prescribed(J))
             record[RJ__JD_IMPULSE] = -sum - coupled;
     }
     e->lost_limit = lost_limit;
@@ -10504,7 +10806,7 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
 static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj_state *s,
                                                  const rj__frames *f, rj__rig *r, rj__sums *e)
 {
-    const int n = m->nj;
+    const int n = m->nq;
     const double kick = f->kick;
     const double *RJ__RESTRICT qd = r->qd;
     double *RJ__RESTRICT qdp = r->qdp, *RJ__RESTRICT qdd = r->qdd;
@@ -10520,7 +10822,7 @@ static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj_sta
     jumps.last = -1;
     jumps.impact = 0;
     rj__rig_single_impulses(m, f, r, &jumps);
-    if (!jumps.count && !m->npres && !m->nexact)
+    if (!jumps.count && !m->npres && !m->nexact && !m->nloop)
         return;
     if (!jumps.count)
         for (j = 0; j < n; j++)
@@ -10530,6 +10832,80 @@ static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj_sta
         for (j = 0; j < n; j++)
             qdd[j] = (qdp[j] - qd[j]) / kick;
     rj__rig_jump_loss(m, f, r, e);
+}
+
+/* The loops closed at n + 1: the coordinates' angles moved by the least (in M's metric)
+   that puts every loop joint's pins together, dq = M^-1 J^T (J M^-1 J^T)^-1 (-gap) (the
+   loops' rows on positions, two Newton passes), so that they do not drift apart over a
+   long run. */
+static void rj__rig_loops_project(const rj_model *m, const rj_state *s, const rj__frames *f,
+                                  rj__rig *r)
+{
+    /* r->h (the bias, spent by now) takes the step dq; r->tmp's second half q */
+    double *new_joints = RJ__FJ(m, f->next, 0), *q = r->tmp + m->nq, *dq = r->h;
+    rj__rows R;
+    rj__dense D;
+    int pass, k;
+    R.row = s->rows;
+    R.term = s->terms;
+    D.n = m->nq;
+    D.L = r->L;
+    D.W = r->W;
+    D.Y = r->Y;
+    D.S = r->S;
+    D.SL = r->SL;
+    D.lam = r->lam;
+    D.rhs = r->rhs;
+    D.scratch = r->tmp;
+    D.held = -1;
+    for (pass = 0; pass < 2; pass++) {
+        for (k = 0; k < m->nq; k++) {
+            q[k] = new_joints[(size_t) RJ__JD_COUNT * m->qj[k] + RJ__JD_THETA];
+            dq[k] = 0;
+        }
+        rj__rig_kin(m, r, q, NULL, r->qdp);
+        R.count = R.terms = 0;
+        rj__rig_loop_rows(m, r, 1.0, &R);
+        rj__rows_solve_dense(&R, &D, dq);
+        for (k = 0; k < m->nq; k++)
+            new_joints[(size_t) RJ__JD_COUNT * m->qj[k] + RJ__JD_THETA] += dq[k];
+    }
+}
+
+/* Rigid step, stage 6b, the joints that close loops: the loops closed at n + 1
+   (rj__rig_loops_project), then each loop joint's angle and rate from the coordinates
+   (angle0 + g . (q - q(0)), g . q'), and its element's work as any joint's; r->qdp
+   keeps q'^{n+1/2}. */
+static void rj__rig_loops_close(const rj_model *m, const rj_state *s, const rj__frames *f,
+                                const rj__rig *r, int applied, rj__sums *e,
+                                double *lost_damping, double *lost_friction, double *lost_limit)
+{
+    const double *old_joints = RJ__FJ(m, f->old, 0);
+    double *new_joints = RJ__FJ(m, f->next, 0), *g = r->tmp;
+    rj__rig scratch = *r; /* the same arrays: the projection's kinematics write them */
+    int j, k;
+    rj__rig_loops_project(m, s, f, &scratch);
+    for (j = 0; j < m->nj; j++) {
+        const double *old_joint = old_joints + (size_t) RJ__JD_COUNT * j;
+        double *new_joint = new_joints + (size_t) RJ__JD_COUNT * j;
+        double turn = 0, rate = 0;
+        if (m->jq[j] >= 0)
+            continue;
+        rj__rig_loop_gradient(m, j, g);
+        for (k = 0; k < m->nq; k++) {
+            const int jk = m->qj[k];
+            turn += g[k] * (new_joints[(size_t) RJ__JD_COUNT * jk + RJ__JD_THETA] -
+                            m->jdef[jk].angle0);
+            rate += g[k] * r->qdp[k];
+        }
+        new_joint[RJ__JD_THETA] = m->jdef[j].angle0 + turn;
+        new_joint[RJ__JD_RATE] = rate;
+        new_joint[RJ__JD_QDD] = 0;
+        rj__element_work(old_joint, new_joint, old_joint[RJ__JD_RATE], f->dt, lost_damping,
+                         lost_friction, lost_limit);
+        if (applied)
+            e->work += rj__input_work(old_joint, new_joint, old_joint[RJ__JD_RATE], f->dt);
+    }
 }
 
 /* Rigid step, stage 6: angles q^{n+1}, forced displacement back to the limit, and the
@@ -10543,7 +10919,7 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_sta
     const double *old_joints = RJ__FJ(m, f->old, 0);
     double *new_joints = RJ__FJ(m, f->next, 0);
     const double dt = f->dt;
-    const int n = m->nj;
+    const int n = m->nq;
     double lost_damping = e->lost_damping;
     double lost_friction = e->lost_friction;
     double lost_limit = e->lost_limit;
@@ -10551,24 +10927,25 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_sta
     const int applied = s->inputs || m->nload || s->node_inputs; /* RJ__JD_INPUT written */
     int j;
     for (j = 0; j < n; j++) {
-        const rj_joint_def *d = &m->jdef[j];
-        const double *old_joint = old_joints + (size_t) RJ__JD_COUNT * j;
-        double *new_joint = new_joints + (size_t) RJ__JD_COUNT * j;
+        const int jj = m->qj[j];
+        const rj_joint_def *d = &m->jdef[jj];
+        const double *old_joint = old_joints + (size_t) RJ__JD_COUNT * jj;
+        double *new_joint = new_joints + (size_t) RJ__JD_COUNT * jj;
         double qn = q[j] + dt * qdp[j];
-        if (d->method == RJ_METHOD_FORCED && ni[j] != RJ_FREE) {
-            const rj__joint *J = &m->jnt[j];
-            if (ni[j] == RJ_AT_FORWARD && qn > J->fwd)
+        if (d->method == RJ_METHOD_FORCED && ni[jj] != RJ_FREE) {
+            const rj__joint *J = &m->jnt[jj];
+            if (ni[jj] == RJ_AT_FORWARD && qn > J->fwd)
                 qn = J->fwd;
-            else if (ni[j] == RJ_AT_REVERSE && qn < J->rev)
+            else if (ni[jj] == RJ_AT_REVERSE && qn < J->rev)
                 qn = J->rev;
-            else if (ni[j] == RJ_LOCKED)
+            else if (ni[jj] == RJ_LOCKED)
                 qn = new_joint[RJ__JD_LOCK];
         }
         if (!(fabs(qn - q[j]) <= 0.5 * RJ__PI))
             return rj__stop(m, s, RJ_ERR_TUNNEL,
                             "t = %.9g s: joint %d turned %.4g rad in one step (more than a quarter "
                             "revolution, pi/2 rad): the step %g s is far too large for its speed",
-                            f->t, j, qn - q[j], dt);
+                            f->t, jj, qn - q[j], dt);
         new_joint[RJ__JD_THETA] = qn;
         new_joint[RJ__JD_RATE] = qdp[j];
         new_joint[RJ__JD_QDD] = qdd[j];
@@ -10576,9 +10953,11 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_sta
                          &lost_limit);
         if (applied)
             e->work += rj__input_work(old_joint, new_joint, qd[j], dt);
-        if (m->jnt[j].act && !rj__prescribed(&m->jnt[j]))
+        if (m->jnt[jj].act && !rj__prescribed(&m->jnt[jj]))
             e->drive += rj__drive_work(old_joint, new_joint, qd[j], dt);
     }
+    if (m->nloop)
+        rj__rig_loops_close(m, s, f, r, applied, e, &lost_damping, &lost_friction, &lost_limit);
     e->lost_damping = lost_damping;
     e->lost_friction = lost_friction;
     e->lost_limit = lost_limit;
@@ -10602,7 +10981,7 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
                                                          const rj__frames *f, const rj__rig *r,
                                                          rj__sums *e)
 {
-    const int n = m->nj, first = f->first;
+    const int n = m->nq, first = f->first;
     const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp, *M = r->M;
     double *new_scalars = f->new_scalars;
     double ke = 0;
@@ -10623,6 +11002,8 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
     new_scalars[RJ__FS_LFRIC] = e->lost_friction;
     new_scalars[RJ__FS_LLIM] = e->lost_limit;
     new_scalars[RJ__FS_PEND] = e->pending;
+    if (m->has_gravity)
+        rj__gravity_flow(f->old_scalars, new_scalars, e);
     new_scalars[RJ__FS_GRAV] = e->gravity;
     new_scalars[RJ__FS_WORK] = e->work;
     new_scalars[RJ__FS_DRIVE] = e->drive;
@@ -10652,7 +11033,7 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
     rj_result res;
     rj__frames_open(m, s, 1, 0, &f);
     rj__sums_open(f.old_scalars, &e);
-    rj__rig_map(m, s->rsc, &r);
+    rj__rig_map(m, s->rsc, &r, m->nloop);
     if (s->inputs && !rj__inputs_ok(m, s))
         return RJ_ERR_INVALID;
     if (s->node_inputs && !rj__rig_node_inputs_ok(m, s))
@@ -11348,7 +11729,8 @@ RJDEF void rj_joint_position(const rj_model *m, const rj_state *s, int j, double
     const double *f = s->fd[s->cur];
     RJ_ASSERT(j >= 0 && j < m->nj);
     if (m->rigid) {
-        rj__rig_node(m, s, m->jdef[j].body2, 0, xy, NULL, NULL);
+        rj__rig_node(m, s, m->jdef[j].body2, m->jnt[j].nJ - m->link_first[m->jdef[j].body2], xy,
+                     NULL, NULL);
         return;
     }
     xy[0] = RJ__FX(m, f)[m->jnt[j].nJ];

@@ -11,7 +11,7 @@ typedef struct rj__build_scratch {
     int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
     double *lanczos;           /* 3 vectors of 3 nn, the chords, a work area: rj__omega2_max */
     double *chord_x, *chord_y; /* (ne each) the initial chords, at lanczos + 9 nn */
-    double *rigid_bound;       /* rj__rigid_scratch(nj, nl, ncp) + nj^2 doubles after the chords */
+    double *rigid_bound;       /* rj__rigid_scratch(nj, nl, ncp, 0) + nj^2 doubles after the chords */
     int *step_node_mark;       /* nn ints: rj__init_step_nodes */
 } rj__build_scratch;
 
@@ -119,6 +119,8 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(rb_dcm, double);
     RJ__SET(rb_pjoint, int);
     RJ__SET(jorder, int);
+    RJ__SET(qj, int);
+    RJ__SET(jq, int);
     RJ__SET(jpin, double);
     RJ__SET(jref, double);
     RJ__SET(mass, double);
@@ -288,10 +290,17 @@ static void rj__init_joint_nodes(rj_model *m)
     m->grp_first[0] = 0;
     /* a link's first joint as body2 hangs it; a later one closes a loop (node_grp of its
        root marks it hung until the pin groups take node_grp over) */
+    m->nq = m->nloop = 0;
     for (j = 0; j < m->nj; j++) {
         const int root = m->link_first[m->jdef[j].body2];
         m->jnt[j].loop = m->node_grp[root] == 1;
         m->node_grp[root] = 1;
+        /* the tree's joints are the joint coordinates of rigid scenes */
+        m->jq[j] = m->jnt[j].loop ? -1 : m->nq;
+        if (m->jnt[j].loop)
+            m->nloop++;
+        else
+            m->qj[m->nq++] = j;
     }
     for (i = 0; i < m->nn; i++)
         m->node_grp[i] = -1;
@@ -595,7 +604,8 @@ static void rj__init_rigid_pins(rj_model *m)
     int j;
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
-        m->rb_pjoint[d->body2] = j;
+        if (!m->jnt[j].loop)
+            m->rb_pjoint[d->body2] = j;
         if (d->body1 >= 0) {
             const int pin = d->node1 < 0 ? m->ldef[d->body1].elements : d->node1;
             m->jpin[j] = pin * m->link_l0[d->body1];
@@ -607,15 +617,15 @@ static void rj__init_rigid_pins(rj_model *m)
     }
 }
 
-/* Rigid scenes: the joints in an order with parents before children (the kinematics run
-   down the tree). */
+/* Rigid scenes: the tree's joints in an order with parents before children (the
+   kinematics run down the tree). */
 static void rj__init_joint_order(rj_model *m)
 {
     int placed = 0, pass, j, k;
-    for (pass = 0; placed < m->nj && pass <= m->nj; pass++)
+    for (pass = 0; placed < m->nq && pass <= m->nj; pass++)
         for (j = 0; j < m->nj; j++) {
             const int b1 = m->jdef[j].body1;
-            int done = 0, ready = b1 < 0 || m->rb_pjoint[b1] < 0;
+            int done = m->jnt[j].loop, ready = b1 < 0 || m->rb_pjoint[b1] < 0;
             for (k = 0; k < placed; k++) {
                 if (m->jorder[k] == j)
                     done = 1;

@@ -190,7 +190,8 @@ enum {
     RJ__FS_WORK, /* the work of the caller's inputs since the start */
     RJ__FS_DRIVE, /* the work of the actuators since the start */
     RJ__FS_DPEND, /* a prescribed joint's impulse's work the next step takes (its half) */
-    RJ__FS_DFLOW, /* the actuators' work moved so far, sum of |its change| (J): a scale */
+    RJ__FS_DFLOW, /* the actuators' work and gravity's potential moved so far, sum of |their
+                     changes| (J): a scale */
     RJ__FS_COUNT
 };
 
@@ -215,7 +216,11 @@ struct rj_model {
     double *rb_mass, *rb_icm,
         *rb_dcm;    /* (nl) rigid link mass, inertia about its centre, root-to-centre distance */
     int *rb_pjoint; /* (nl) joint whose body2 the link is, -1 if fixed */
-    int *jorder;    /* (nj) joints with parents before children */
+    int *jorder;    /* (nq) the tree's joints with parents before children */
+    int nq;         /* joint coordinates: the tree's joints (nj less those closing loops) */
+    int nloop;      /* joints that close loops */
+    int *qj;        /* (nq) coordinate k's joint */
+    int *jq;        /* (nj) joint j's coordinate, -1 for a joint that closes a loop */
     double *jpin,
         *jref; /* (nj) pin distance along body 1 from its root; reference offset (pi or 0) */
     double dt, dt_bound, omega_max, dt_eq28, omega_links;
@@ -279,7 +284,8 @@ enum rj__row_kind {
     RJ__ROW_LOCK,       /* a locked joint: q'_j = 0 */
     RJ__ROW_CONTACT,    /* a plastic contact at its limit: q'_j = 0, its impulse pushing */
     RJ__ROW_PRESCRIBED, /* a prescribed joint: its profile's angle at n + 1 */
-    RJ__ROW_COUPLING    /* an exact coupling: e = 0 at n + 1 */
+    RJ__ROW_COUPLING,   /* an exact coupling: e = 0 at n + 1 */
+    RJ__ROW_LOOP        /* a loop joint's pins together (x or y), in joint coordinates */
 };
 
 /* One term of a row: coef times joint's rate. */
@@ -358,7 +364,7 @@ struct rj_state {
     char warn[200]; /* latest warning (late contact), written only when one occurs */
 };
 
-static size_t rj__rigid_scratch(int nj, int nl, int ncp);
+static size_t rj__rigid_scratch(int nj, int nl, int ncp, int nloop);
 static double rj__rig_setup(rj_model *m, double *scratch);
 typedef struct rj__rig {
     double *M, *L, *W, *q, *qd, *qdp, *qdd, *Q, *h, *x,
@@ -397,7 +403,8 @@ enum {
     RJ__RL_SUB_N,
     RJ__RL_COUNT = 24
 };
-static void rj__rig_map(const rj_model *m, double *base, rj__rig *r);
+static void rj__rig_map(const rj_model *m, double *base, rj__rig *r, int nloop);
+static double rj__rig_loop_rate(const rj_model *m, int j, const double *qd, double *g);
 static double rj__gravity_potential(const rj_model *m, const double *x, const double *y);
 static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd,
                         const double *qdp);

@@ -18,7 +18,7 @@ typedef struct rj__layout {
     size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho,
         link_I;
     size_t node_cl, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
-    size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, jpin,
+    size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, qj, jq, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
         link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
 } rj__layout;
@@ -57,6 +57,8 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->rb_dcm = rj__carve(&off, (size_t) nl, sizeof(double));
     L->rb_pjoint = rj__carve(&off, (size_t) nl, sizeof(int));
     L->jorder = rj__carve(&off, (size_t) nj + 1, sizeof(int));
+    L->qj = rj__carve(&off, (size_t) nj + 1, sizeof(int));
+    L->jq = rj__carve(&off, (size_t) nj + 1, sizeof(int));
     L->jpin = rj__carve(&off, (size_t) nj + 1, sizeof(double));
     L->jref = rj__carve(&off, (size_t) nj + 1, sizeof(double));
     L->mass = rj__carve(&off, (size_t) nn, sizeof(double));
@@ -87,7 +89,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->cp = rj__carve(&off, (size_t) sc->coupling_count + 1, sizeof(rj_coupling_def));
     L->lz = rj__carve(&off,
                       15 * nn + 10 * ne + 8 + RJ__GRAPH_SCRATCH(nl, nj) +
-                          (rigid ? rj__rigid_scratch(nj, nl, sc->coupling_count) + (size_t) nj * nj : 0),
+                          (rigid ? rj__rigid_scratch(nj, nl, sc->coupling_count, 0) + (size_t) nj * nj : 0),
                       sizeof(double));
     L->total = off == (size_t) -1 ? off : off + RJ__ALIGN;
 }

@@ -314,7 +314,8 @@ RJDEF void rj_joint_position(const rj_model *m, const rj_state *s, int j, double
     const double *f = s->fd[s->cur];
     RJ_ASSERT(j >= 0 && j < m->nj);
     if (m->rigid) {
-        rj__rig_node(m, s, m->jdef[j].body2, 0, xy, NULL, NULL);
+        rj__rig_node(m, s, m->jdef[j].body2, m->jnt[j].nJ - m->link_first[m->jdef[j].body2], xy,
+                     NULL, NULL);
         return;
     }
     xy[0] = RJ__FX(m, f)[m->jnt[j].nJ];

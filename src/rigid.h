@@ -8,18 +8,22 @@
    centripetal accelerations -omega^2 r of every segment. The element (flags, torques,
    friction, methods) is the same code as for flexible links; a joint torque is a
    generalised force on q_j, and a velocity jump is an impulse along q_j. */
-static size_t rj__rigid_scratch(int nj, int nl, int ncp)
+/* The rigid solver's scratch for nj joints, nl links, ncp couplings and nloop joints that
+   close loops (0 where no rows are solved: the stability bound's setup): matrices n x n,
+   vectors n, the rows' system (a row per joint, per coupling, and two per loop less the
+   loop joint's own) and the columns of the rows that are not one joint's rate. */
+static size_t rj__rigid_scratch(int nj, int nl, int ncp, int nloop)
 {
-    const size_t n = (size_t) nj, rows = (size_t) rj__rows_capacity(nj, ncp);
-    return 3 * n * n + 2 * rows * rows + (size_t) ncp * n + 10 * n + 3 * rows +
+    const size_t n = (size_t) nj, rows = (size_t) rj__rows_capacity(nj, ncp + nloop);
+    const size_t others = (size_t) ncp + 2 * (size_t) nloop;
+    return 3 * n * n + 2 * rows * rows + others * n + 10 * n + 3 * rows +
            RJ__RL_COUNT * (size_t) nl + 8;
 }
 
-
 /* the rigid solver's scratch: matrices n x n, vectors n (tmp 2 n), link records */
-static void rj__rig_map(const rj_model *m, double *base, rj__rig *r)
+static void rj__rig_map(const rj_model *m, double *base, rj__rig *r, int nloop)
 {
-    const size_t n = (size_t) m->nj, rows = (size_t) rj__rows_capacity(m->nj, m->ncp);
+    const size_t n = (size_t) m->nj, rows = (size_t) rj__rows_capacity(m->nj, m->ncp + nloop);
     r->M = base;
     r->h = r->M + n * n;
     r->L = r->h + n;
@@ -36,7 +40,7 @@ static void rj__rig_map(const rj_model *m, double *base, rj__rig *r)
     r->lam = r->SL + rows * rows;
     r->rhs = r->lam + rows;
     r->Y = r->rhs + rows;
-    r->lk = r->Y + (size_t) m->ncp * n;
+    r->lk = r->Y + ((size_t) m->ncp + 2 * (size_t) nloop) * n;
 }
 
 /* The joint above joint j on the way to the ground (-1 at a root). */
@@ -48,7 +52,8 @@ static int rj__rig_up(const rj_model *m, int j)
 
 /* Positions, velocities (rates qd; skipped when qd is NULL, as the step needs none) and
    centripetal accelerations (rates qdp) of every link, into the link records; cos and sin
-   of a hanging link's angle are kept there for its children. */
+   of a hanging link's angle are kept there for its children. q, qd, qdp are over the
+   joint coordinates (the tree's joints: m->jq). */
 static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd,
                         const double *qdp)
 {
@@ -64,21 +69,21 @@ static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const do
             b[RJ__RL_OM] = b[RJ__RL_VX] = b[RJ__RL_VY] = b[RJ__RL_ARX] = b[RJ__RL_ARY] =
                 b[RJ__RL_OMB] = 0;
         }
-    for (k = 0; k < m->nj; k++) {
-        const int j = m->jorder[k];
+    for (k = 0; k < m->nq; k++) {
+        const int j = m->jorder[k], qi = m->jq[j];
         const rj_joint_def *jd = &m->jdef[j];
         const int p = jd->body1, c = jd->body2;
         double *RJ__RESTRICT b = lk + RJ__RL_COUNT * (size_t) c;
         const double dc = m->rb_dcm[c];
         double ph, ex, ey, omb, rx, ry, arx, ary;
         if (p < 0) {
-            ph = jd->ground_angle + q[j];
-            omb = qdp[j];
+            ph = jd->ground_angle + q[qi];
+            omb = qdp[qi];
             rx = jd->ground_x;
             ry = jd->ground_y;
             arx = ary = 0;
             if (qd) {
-                b[RJ__RL_OM] = qd[j];
+                b[RJ__RL_OM] = qd[qi];
                 b[RJ__RL_VX] = b[RJ__RL_VY] = 0;
             }
         } else {
@@ -93,15 +98,15 @@ static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const do
                 cp = cos(pb[RJ__RL_PHI]);
                 sp = sin(pb[RJ__RL_PHI]);
             } /* a fixed link */
-            ph = pb[RJ__RL_PHI] + m->jref[j] + q[j];
-            omb = ompb + qdp[j];
+            ph = pb[RJ__RL_PHI] + m->jref[j] + q[qi];
+            omb = ompb + qdp[qi];
             rx = pb[RJ__RL_RX] + s * cp;
             ry = pb[RJ__RL_RY] + s * sp;
             arx = pb[RJ__RL_ARX] - ompb * ompb * s * cp;
             ary = pb[RJ__RL_ARY] - ompb * ompb * s * sp;
             if (qd) {
                 const double omp = pb[RJ__RL_OM];
-                b[RJ__RL_OM] = omp + qd[j];
+                b[RJ__RL_OM] = omp + qd[qi];
                 b[RJ__RL_VX] = pb[RJ__RL_VX] - omp * s * sp;
                 b[RJ__RL_VY] = pb[RJ__RL_VY] + omp * s * cp;
             }
@@ -166,36 +171,36 @@ static void rj__rig_gather(const double *sub, double *parent)
    motors' rotors (rj__rig_mass adds them). */
 static void rj__rig_mass_links(const rj_model *m, rj__rig *r)
 {
-    const int n = m->nj;
+    const int n = m->nq;
     double *M = r->M, *h = r->h, *lk = r->lk;
     int i, k;
     for (i = 0; i < n * n; i++)
         M[i] = 0;
     for (k = 0; k < n; k++) {
-        const int body = m->jdef[k].body2;
+        const int body = m->jdef[m->qj[k]].body2;
         rj__rig_own(m, body, lk + RJ__RL_COUNT * (size_t) body);
     }
     /* jorder has parents before children: backwards, a subtree is whole when gathered */
     for (k = n - 1; k >= 0; k--) {
-        const int j = m->jorder[k];
+        const int j = m->jorder[k], qi = m->jq[j];
         const int parent = m->jdef[j].body1;
         const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
-        h[j] = sub[RJ__RL_SUB_N];
-        M[(size_t) j * n + j] = sub[RJ__RL_SUB_J];
+        h[qi] = sub[RJ__RL_SUB_N];
+        M[(size_t) qi * n + qi] = sub[RJ__RL_SUB_J];
         if (parent < 0 || m->rb_pjoint[parent] < 0)
             continue; /* on the ground or a fixed link */
         rj__rig_gather(sub, lk + RJ__RL_COUNT * (size_t) parent);
     }
     for (k = 0; k < n; k++) {
-        const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[k].body2;
+        const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[m->qj[k]].body2;
         int up;
-        for (up = rj__rig_up(m, k); up >= 0; up = rj__rig_up(m, up)) {
+        for (up = rj__rig_up(m, m->qj[k]); up >= 0; up = rj__rig_up(m, up)) {
             const double *pin = lk + RJ__RL_COUNT * (size_t) m->jdef[up].body2;
             const double dx = sub[RJ__RL_RX] - pin[RJ__RL_RX];
             const double dy = sub[RJ__RL_RY] - pin[RJ__RL_RY];
             const double v = sub[RJ__RL_SUB_J] + dx * sub[RJ__RL_SUB_SX] + dy * sub[RJ__RL_SUB_SY];
-            M[(size_t) k * n + up] = v;
-            M[(size_t) up * n + k] = v;
+            M[(size_t) k * n + m->jq[up]] = v;
+            M[(size_t) m->jq[up] * n + k] = v;
         }
     }
 }
@@ -204,11 +209,11 @@ static void rj__rig_mass_links(const rj_model *m, rj__rig *r)
    rate. */
 static void rj__rig_mass(const rj_model *m, rj__rig *r)
 {
-    const int n = m->nj;
+    const int n = m->nq;
     int k;
     rj__rig_mass_links(m, r);
     for (k = 0; k < n; k++)
-        r->M[(size_t) k * n + k] += m->jnt[k].rotor;
+        r->M[(size_t) k * n + k] += m->jnt[m->qj[k]].rotor;
 }
 
 /* Cholesky factor of the n x n SPD matrix M into L (lower), and solves L L^T x = b. The
@@ -320,17 +325,55 @@ static void rj__rig_nodes(const rj_model *m, const rj__rig *r, double *f)
     }
 }
 
-/* K v for the joints' stiffnesses and the cable loops' (k w w^T, w = e_b - ratio e_a). */
-static void rj__rig_stiffness(const rj_model *m, const double *v, double *kv)
+/* The gradient of the angle of joint j, which closes a loop, over the coordinates: +1 for
+   each tree joint on body 2's path to the ground, -1 on body 1's (a joint on both
+   cancels): its angle is angle0 + g . (q - q(0)), its rate g . q'. */
+static void rj__rig_loop_gradient(const rj_model *m, int j, double *g)
 {
-    int j;
-    for (j = 0; j < m->nj; j++)
-        kv[j] = m->jnt[j].k_lin * v[j];
+    int k, up;
+    for (k = 0; k < m->nq; k++)
+        g[k] = 0;
+    for (up = m->rb_pjoint[m->jdef[j].body2]; up >= 0; up = rj__rig_up(m, up))
+        g[m->jq[up]] += 1;
+    if (m->jdef[j].body1 >= 0)
+        for (up = m->rb_pjoint[m->jdef[j].body1]; up >= 0; up = rj__rig_up(m, up))
+            g[m->jq[up]] -= 1;
+}
+
+/* The rate of joint j, which closes a loop, at coordinate rates qd (g: nq doubles). */
+static double rj__rig_loop_rate(const rj_model *m, int j, const double *qd, double *g)
+{
+    double rate = 0;
+    int k;
+    rj__rig_loop_gradient(m, j, g);
+    for (k = 0; k < m->nq; k++)
+        rate += g[k] * qd[k];
+    return rate;
+}
+
+/* K v for the joints' stiffnesses (a loop joint's k g g^T), and the cable loops' (k w w^T,
+   w = e_b - ratio e_a); g: nq doubles of scratch. */
+static void rj__rig_stiffness(const rj_model *m, const double *v, double *kv, double *g)
+{
+    int j, k;
+    for (k = 0; k < m->nq; k++)
+        kv[k] = m->jnt[m->qj[k]].k_lin * v[k];
+    for (j = 0; j < m->nj && m->nloop; j++) {
+        double gv = 0;
+        if (m->jq[j] >= 0 || m->jnt[j].k_lin == 0)
+            continue;
+        rj__rig_loop_gradient(m, j, g);
+        for (k = 0; k < m->nq; k++)
+            gv += g[k] * v[k];
+        for (k = 0; k < m->nq; k++)
+            kv[k] += m->jnt[j].k_lin * g[k] * gv;
+    }
     for (j = 0; j < m->ncp; j++) {
         const rj_coupling_def *c = &m->cp[j];
-        const double e = v[c->joint_b] - c->ratio * v[c->joint_a];
-        kv[c->joint_b] += c->stiffness * e;
-        kv[c->joint_a] -= c->ratio * c->stiffness * e;
+        const int a = m->jq[c->joint_a], b = m->jq[c->joint_b];
+        const double e = v[b] - c->ratio * v[a];
+        kv[b] += c->stiffness * e;
+        kv[a] -= c->ratio * c->stiffness * e;
     }
 }
 
@@ -338,16 +381,16 @@ static void rj__rig_stiffness(const rj_model *m, const double *v, double *kv)
    M^-1 K by power iteration (K is no longer diagonal; the iterates' growth converges to
    it). v, u, kv: nj doubles each. */
 static double rj__rig_coupled_bound(const rj_model *m, const double *minv, double *v,
-                                    double *u, double *kv)
+                                    double *u, double *kv, double *g)
 {
-    const int n = m->nj;
+    const int n = m->nq;
     double lam = 0;
     int j, k, it;
     for (j = 0; j < n; j++)
         v[j] = 1.0 + 0.1 * j;
     for (it = 0; it < 500; it++) {
         double nrm = 0, nv = 0;
-        rj__rig_stiffness(m, v, kv);
+        rj__rig_stiffness(m, v, kv, g);
         for (j = 0; j < n; j++) {
             double sum = 0;
             for (k = 0; k < n; k++)
@@ -365,18 +408,45 @@ static double rj__rig_coupled_bound(const rj_model *m, const double *minv, doubl
     return lam;
 }
 
+/* Each loop joint's rate change per unit torque impulse, g^T M^-1 g, and the inertias
+   its element reads (those of its bodies about the pin, as a tree joint's); g, mg: nq
+   doubles of scratch. */
+static void rj__rig_loop_minv(rj_model *m, const double *minv, double *g, double *mg)
+{
+    const int n = m->nq;
+    int j, a, b;
+    for (j = 0; j < m->nj; j++) {
+        rj__joint *J = &m->jnt[j];
+        double c = 0;
+        if (m->jq[j] >= 0)
+            continue;
+        rj__rig_loop_gradient(m, j, g);
+        for (a = 0; a < n; a++) {
+            mg[a] = 0;
+            for (b = 0; b < n; b++)
+                mg[a] += minv[(size_t) a * n + b] * g[b];
+            c += g[a] * mg[a];
+        }
+        J->minv = c;
+        J->I2 = 1.0 / c;
+        J->I1 = HUGE_VAL;
+        J->w1 = 0;
+        J->w2 = 1;
+    }
+}
+
 /* Rigid-link model constants and the stability bound: omega_max^2 = largest eigenvalue of
    K^1/2 M^-1 K^1/2 at the initial configuration (power iteration), K the joints' linear
    stiffnesses (limits counted as for flexible links). Returns omega_max^2. */
 static double rj__rig_setup(rj_model *m, double *scratch)
 {
     rj__rig r;
-    const int n = m->nj;
-    double *minv = scratch + rj__rigid_scratch(m->nj, m->nl, m->ncp), lam = 0, *v, *u;
+    const int n = m->nq;
+    double *minv = scratch + rj__rigid_scratch(m->nj, m->nl, m->ncp, 0), lam = 0, *v, *u;
     int j, k, it;
-    rj__rig_map(m, scratch, &r);
+    rj__rig_map(m, scratch, &r, 0);
     for (j = 0; j < n; j++) {
-        r.q[j] = m->jdef[j].angle0;
+        r.q[j] = m->jdef[m->qj[j]].angle0;
         r.qd[j] = r.qdp[j] = 0;
     }
     rj__rig_kin(m, &r, r.q, r.qd, r.qdp);
@@ -388,7 +458,8 @@ static double rj__rig_setup(rj_model *m, double *scratch)
             r.tmp[k] = k == j ? 1.0 : 0.0;
         rj__chol_solve(n, r.L, r.tmp, minv + (size_t) j * n);
     }
-    for (j = 0; j < n; j++) {
+    for (k = 0; k < n; k++) {
+        const int j = m->qj[k];
         rj__joint *J = &m->jnt[j];
         const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
         double dx, dy;
@@ -404,10 +475,12 @@ static double rj__rig_setup(rj_model *m, double *scratch)
         }
         J->w1 = rj__finite(J->I1) ? J->I2 / (J->I1 + J->I2) : 0;
         J->w2 = 1 - J->w1;
-        J->minv = minv[(size_t) j * n + j]; /* rate change per unit torque impulse: 1 / I_red */
+        J->minv = minv[(size_t) k * n + k]; /* rate change per unit torque impulse: 1 / I_red */
     }
-    if (m->ncp)
-        return rj__rig_coupled_bound(m, minv, r.x, r.tmp, r.q);
+    if (m->nloop)
+        rj__rig_loop_minv(m, minv, r.qd, r.qdp);
+    if (m->ncp || m->nloop)
+        return rj__rig_coupled_bound(m, minv, r.x, r.tmp, r.q, r.qd);
     /* power iteration on K^1/2 M^-1 K^1/2 */
     v = r.x;
     u = r.tmp;
@@ -418,8 +491,8 @@ static double rj__rig_setup(rj_model *m, double *scratch)
         for (j = 0; j < n; j++) {
             double sum = 0;
             for (k = 0; k < n; k++)
-                sum += minv[(size_t) j * n + k] * sqrt(m->jnt[k].k_lin) * v[k];
-            u[j] = sqrt(m->jnt[j].k_lin) * sum;
+                sum += minv[(size_t) j * n + k] * sqrt(m->jnt[m->qj[k]].k_lin) * v[k];
+            u[j] = sqrt(m->jnt[m->qj[j]].k_lin) * sum;
         }
         for (j = 0; j < n; j++)
             nrm += u[j] * u[j];

@@ -14,6 +14,60 @@ typedef struct rj__rig_jumps {
     int count, last, impact;
 } rj__rig_jumps;
 
+/* Node at of rigid link l where the kinematics put it (r->lk). */
+static void rj__rig_link_node(const rj_model *m, const rj__rig *r, int l, int at, double p[2])
+{
+    const double *b = r->lk + RJ__RL_COUNT * (size_t) l;
+    const double along = at * m->link_l0[l];
+    p[0] = b[RJ__RL_RX] + along * cos(b[RJ__RL_PHI]);
+    p[1] = b[RJ__RL_RY] + along * sin(b[RJ__RL_PHI]);
+}
+
+/* Joint j's pins at the kinematics' positions: on body 1 (or ground) and on body 2. */
+static void rj__rig_pins(const rj_model *m, const rj__rig *r, int j, double p1[2], double p2[2])
+{
+    const rj_joint_def *d = &m->jdef[j];
+    if (d->body1 < 0) {
+        p1[0] = d->ground_x;
+        p1[1] = d->ground_y;
+    } else
+        rj__rig_link_node(m, r, d->body1, d->node1 < 0 ? m->ldef[d->body1].elements : d->node1,
+                          p1);
+    rj__rig_link_node(m, r, d->body2, m->jnt[j].nJ - m->link_first[d->body2], p2);
+}
+
+/* Adds to one loop row (x: axis 0, y: 1) the terms of point p on link l: sign times
+   d p / d q_k = perp(p - P_k) for each tree joint k on l's path to the ground. */
+static void rj__rig_loop_terms(const rj_model *m, const rj__rig *r, rj__rows *R, rj__row *row,
+                               int l, const double p[2], int axis, double sign)
+{
+    int up;
+    for (up = l >= 0 ? m->rb_pjoint[l] : -1; up >= 0; up = rj__rig_up(m, up)) {
+        const double *pin = r->lk + RJ__RL_COUNT * (size_t) m->jdef[up].body2;
+        const double d = axis == 0 ? -(p[1] - pin[RJ__RL_RY]) : p[0] - pin[RJ__RL_RX];
+        rj__row_term(R, row, m->jq[up], sign * d);
+    }
+}
+
+/* The loop joints' rows: their pins' gap p1 - p2 back to 0 at n + 1, in x and in y. A
+   coordinate on both pins' paths appears twice in a row (the dot products sum them). */
+static void rj__rig_loop_rows(const rj_model *m, const rj__rig *r, double dt, rj__rows *R)
+{
+    int j, axis;
+    for (j = 0; j < m->nj; j++) {
+        double p1[2], p2[2];
+        if (m->jq[j] >= 0)
+            continue;
+        rj__rig_pins(m, r, j, p1, p2);
+        for (axis = 0; axis < 2; axis++) {
+            rj__row *row = rj__row_open(R, RJ__ROW_LOOP, j, -(p1[axis] - p2[axis]) / dt,
+                                        -HUGE_VAL, HUGE_VAL);
+            rj__rig_loop_terms(m, r, R, row, m->jdef[j].body1, p1, axis, 1.0);
+            rj__rig_loop_terms(m, r, R, row, m->jdef[j].body2, p2, axis, -1.0);
+        }
+    }
+}
+
 /* Rigid step, stage 5b: the rows in joint coordinates (src/rows.h), in joint order: a
    prescribed joint's profile; a locked joint; a plastic contact, held from the start when
    it turns into its limit or a single impulse moved its rate (a later joint's impulse
@@ -27,28 +81,31 @@ static void rj__rig_rows_build(const rj_model *m, const rj_state *s, const rj__f
                                const rj__rig *r, rj__rows *R)
 {
     const int *ni = f->new_flags;
-    int j;
+    int k;
     R->count = R->terms = 0;
-    for (j = 0; j < m->nj; j++) {
-        const double rate = r->qdp[j];
+    for (k = 0; k < m->nq; k++) {
+        const int j = m->qj[k];
+        const double rate = r->qdp[k];
         const int forward = ni[j] == RJ_AT_FORWARD;
         rj__row *row;
         if (rj__prescribed(&m->jnt[j])) {
-            rj__row_prescribed(m, s, R, j, r->q[j], f->t, f->dt);
+            rj__row_prescribed(m, s, R, j, k, r->q[k], f->t, f->dt);
             continue;
         }
         if (!rj__rig_plastic(&m->jdef[j], ni[j]))
             continue;
         if (ni[j] == RJ_LOCKED)
-            row = rj__row_open(R, RJ__ROW_LOCK, j, 0.0, -HUGE_VAL, HUGE_VAL);
+            row = rj__row_open(R, RJ__ROW_LOCK, k, 0.0, -HUGE_VAL, HUGE_VAL);
         else {
-            row = rj__row_open(R, RJ__ROW_CONTACT, j, 0.0, forward ? -HUGE_VAL : 0.0,
+            row = rj__row_open(R, RJ__ROW_CONTACT, k, 0.0, forward ? -HUGE_VAL : 0.0,
                                forward ? 0.0 : HUGE_VAL);
-            row->active = rate != r->h[j] || rj__into_limit(ni[j], rate);
+            row->active = rate != r->h[k] || rj__into_limit(ni[j], rate);
         }
-        rj__row_term(R, row, j, 1.0);
+        rj__row_term(R, row, k, 1.0);
     }
-    rj__rows_couplings(m, R, r->q, 1, f->dt);
+    rj__rows_couplings(m, R, r->q, 1, m->jq, f->dt);
+    if (m->nloop)
+        rj__rig_loop_rows(m, r, f->dt, R);
 }
 
 /* The row of the one joint that took a single impulse (which held it exactly), or -1. */
@@ -63,26 +120,66 @@ static int rj__rig_held_row(const rj__rows *R, const rj__rig_jumps *jumps)
     return -1;
 }
 
-/* The exact couplings' impulses: each joint's share into r->x (rj__rig_jump_loss keeps
-   it out of the latches' impulses), their torques into the joints' spring columns. */
+/* The exact couplings' and the loops' impulses: each coordinate's share into r->x
+   (rj__rig_jump_loss keeps it out of the latches' impulses), the couplings' torques into
+   their joints' spring columns. */
 static void rj__rig_coupling_torques(const rj_model *m, const rj__frames *f, const rj__rows *R,
                                      rj__rig *r)
 {
     double *new_joints = RJ__FJ(m, f->next, 0);
     int a, k;
-    for (k = 0; k < m->nj; k++)
+    for (k = 0; k < m->nq; k++)
         r->x[k] = 0;
     for (a = 0; a < R->count; a++) {
         const rj__row *row = &R->row[a];
-        if (row->kind != RJ__ROW_COUPLING)
+        if (row->kind != RJ__ROW_COUPLING && row->kind != RJ__ROW_LOOP)
             continue;
         for (k = 0; k < row->count; k++) {
             const rj__term *t = &R->term[row->first + k];
             const double impulse = t->coef * row->lam;
             r->x[t->joint] += impulse;
-            new_joints[(size_t) RJ__JD_COUNT * t->joint + RJ__JD_TQ0 + RJ_TORQUE_SPRING] +=
-                impulse / f->kick;
+            if (row->kind == RJ__ROW_COUPLING)
+                new_joints[(size_t) RJ__JD_COUNT * m->qj[t->joint] + RJ__JD_TQ0 +
+                           RJ_TORQUE_SPRING] += impulse / f->kick;
         }
+    }
+}
+
+/* The loops' rows on positions (SHAKE): their Jacobian stays the one at q^n, where the
+   pins' forces act, and their targets move until the pins meet at q^{n+1} = q^n + dt
+   q'^{n+1/2}, not only to first order (a row on the rate alone, J(q^n) q' = -gap/dt,
+   leaves the crank of a four-bar off the exact motion at first order in dt); the other
+   rows keep their rates. At most 20 passes, to 1e-14 of the longest link. The
+   kinematics run at the trial q (r->lk is not read again in the step). */
+static void rj__rig_loops_shake(const rj_model *m, const rj__frames *f, rj__rig *r,
+                                rj__rows *R, const rj__dense *D)
+{
+    double *q = r->tmp + m->nq, longest = 0;
+    int pass, k, a, l;
+    for (l = 0; l < m->nl; l++)
+        longest = fmax(longest, m->ldef[l].length);
+    for (pass = 0; pass < 20; pass++) {
+        double worst = 0;
+        for (k = 0; k < m->nq; k++)
+            q[k] = r->q[k] + f->dt * r->qdp[k];
+        rj__rig_kin(m, r, q, NULL, r->qdp);
+        for (a = 0; a < R->count; a++) {
+            rj__row *row = &R->row[a];
+            double p1[2], p2[2], gap;
+            if (row->kind != RJ__ROW_LOOP)
+                continue;
+            rj__rig_pins(m, r, row->owner, p1, p2);
+            /* the x row, then the y row, of each loop joint */
+            gap = (a + 1 < R->count && R->row[a + 1].owner == row->owner &&
+                   R->row[a + 1].kind == RJ__ROW_LOOP)
+                      ? p1[0] - p2[0]
+                      : p1[1] - p2[1];
+            worst = fmax(worst, fabs(gap));
+            row->target = rj__row_dot(R, row, r->qdp) - gap / f->dt;
+        }
+        if (worst <= 1e-14 * longest)
+            return;
+        rj__rows_solve_dense(R, D, r->qdp);
     }
 }
 
@@ -100,16 +197,16 @@ static void rj__rig_rows(const rj_model *m, const rj_state *s, const rj__frames 
     D.held = rj__rig_held_row(&R, jumps);
     for (j = 0; j < R.count; j++)
         active += R.row[j].active;
-    for (j = 0; j < m->nj; j++)
-        locked += f->new_flags[j] == RJ_LOCKED;
+    for (j = 0; j < m->nq; j++)
+        locked += f->new_flags[m->qj[j]] == RJ_LOCKED;
     if (active == 0 || (active == 1 && D.held >= 0 && R.row[D.held].active))
         return;
-    if (locked == m->nj && !m->nexact) {
-        for (j = 0; j < m->nj; j++)
+    if (locked == m->nq && !m->nexact && !m->nloop) {
+        for (j = 0; j < m->nq; j++)
             r->qdp[j] = 0;
         return;
     }
-    D.n = m->nj;
+    D.n = m->nq;
     D.L = r->L;
     D.W = r->W;
     D.Y = r->Y;
@@ -119,7 +216,9 @@ static void rj__rig_rows(const rj_model *m, const rj_state *s, const rj__frames 
     D.rhs = r->rhs;
     D.scratch = r->tmp;
     rj__rows_solve_dense(&R, &D, r->qdp);
-    if (m->nexact)
+    if (m->nloop)
+        rj__rig_loops_shake(m, f, r, &R, &D);
+    if (m->nexact || m->nloop)
         rj__rig_coupling_torques(m, f, &R, r);
 }
 
@@ -134,10 +233,10 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_kinematics(const rj_model *m, rj
     double *RJ__RESTRICT q = r->q, *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp;
     const double *old_joints = RJ__FJ(m, f->old, 0);
     const double dt = f->dt;
-    const int n = m->nj;
+    const int n = m->nq;
     int j;
     for (j = 0; j < n; j++) {
-        const double *old_joint = old_joints + (size_t) RJ__JD_COUNT * j;
+        const double *old_joint = old_joints + (size_t) RJ__JD_COUNT * m->qj[j];
         q[j] = old_joint[RJ__JD_THETA];
         qd[j] = old_joint[RJ__JD_RATE];
         qdp[j] = qd[j] + 0.5 * dt * old_joint[RJ__JD_QDD];
@@ -148,7 +247,7 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_kinematics(const rj_model *m, rj
     new_scalars[RJ__FS_ETIME] = f->t;
     new_scalars[RJ__FS_STRAIN] = 0;
     rj__rig_mass(m, r);
-    if (rj__chol(m->nj, r->M, r->L))
+    if (rj__chol(m->nq, r->M, r->L))
         return rj__stop(m, s, RJ_ERR_BLOWUP,
                         "t = %.9g s: the rigid mass matrix is not positive definite", f->t);
     return RJ_OK;
@@ -162,8 +261,8 @@ static void rj__rig_gravity(const rj_model *m, const rj__rig *r, double *Q, rj__
     const double gx = m->solver.gravity[0], gy = m->solver.gravity[1];
     double potential = 0;
     int j, l;
-    for (j = 0; j < m->nj; j++) {
-        const double *sub = r->lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
+    for (j = 0; j < m->nq; j++) {
+        const double *sub = r->lk + RJ__RL_COUNT * (size_t) m->jdef[m->qj[j]].body2;
         Q[j] += sub[RJ__RL_SUB_SX] * gy - sub[RJ__RL_SUB_SY] * gx;
     }
     for (l = 0; l < m->nl; l++) {
@@ -216,6 +315,38 @@ static void rj__rig_loads(const rj_model *m, const rj_state *s, const rj__rig *r
         }
 }
 
+/* A torque tau at joint j, which closes a loop: tau g on the coordinates (g: nq doubles
+   of scratch). */
+static void rj__rig_loop_force(const rj_model *m, int j, double tau, double *Q, double *g)
+{
+    int k;
+    if (tau == 0)
+        return;
+    rj__rig_loop_gradient(m, j, g);
+    for (k = 0; k < m->nq; k++)
+        Q[k] += tau * g[k];
+}
+
+/* The element on the joints that close loops: each one's torque at the rate and angle
+   its record keeps, as a generalised force on the coordinates. */
+static void rj__rig_loop_torques(const rj_model *m, rj_state *s, const rj__frames *f,
+                                 rj__rig *r, double *spring)
+{
+    const double *old_joints = RJ__FJ(m, f->old, 0);
+    double *new_joints = RJ__FJ(m, f->next, 0);
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const size_t at = (size_t) RJ__JD_COUNT * j;
+        double penetration, torque;
+        if (m->jq[j] >= 0)
+            continue;
+        torque = rj__element(m, s, j, old_joints + at, new_joints + at, f->old_flags[j],
+                             &f->new_flags[j], old_joints[at + RJ__JD_RATE], f->t,
+                             f->new_scalars, &penetration, spring);
+        rj__rig_loop_force(m, j, torque, r->Q, r->tmp);
+    }
+}
+
 /* Rigid step, stage 2: the element's torques as generalised forces, less the centripetal
    bias; the accelerations M^-1 Q. */
 static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *s,
@@ -226,46 +357,53 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
     const double *old_joints = RJ__FJ(m, f->old, 0);
     double *new_joints = RJ__FJ(m, f->next, 0);
     const double t = f->t;
-    const int n = m->nj;
+    const int n = m->nq;
     double spring = 0;
     int j;
     for (j = 0; j < n; j++) {
-        const size_t at = (size_t) RJ__JD_COUNT * j;
+        const size_t at = (size_t) RJ__JD_COUNT * m->qj[j];
         double penetration;
         const double torque =
-            rj__element(m, s, j, old_joints + at, new_joints + at, f->old_flags[j],
-                        &f->new_flags[j], qd[j], t, f->new_scalars, &penetration, &spring);
+            rj__element(m, s, m->qj[j], old_joints + at, new_joints + at, f->old_flags[m->qj[j]],
+                        &f->new_flags[m->qj[j]], qd[j], t, f->new_scalars, &penetration, &spring);
         Q[j] = torque - bias[j];
     }
+    if (m->nloop)
+        rj__rig_loop_torques(m, s, f, r, &spring);
     /* cable loops: their torques on both joints, from q^n and the rates the element read */
     for (j = 0; j < m->ncp; j++) {
         const rj_coupling_def *c = &m->cp[j];
         const size_t at_a = (size_t) RJ__JD_COUNT * c->joint_a;
         const size_t at_b = (size_t) RJ__JD_COUNT * c->joint_b;
+        const int a = m->jq[c->joint_a], b = m->jq[c->joint_b];
         double elastic, damp, on_b;
         rj__coupling_torques(m, c, old_joints[at_a + RJ__JD_THETA],
-                             old_joints[at_b + RJ__JD_THETA], qd[c->joint_a], qd[c->joint_b],
-                             &elastic, &damp, &spring);
+                             old_joints[at_b + RJ__JD_THETA], qd[a], qd[b], &elastic, &damp,
+                             &spring);
         on_b = rj__coupling_record(c, elastic, damp, new_joints + at_a, new_joints + at_b);
-        Q[c->joint_b] += on_b;
-        Q[c->joint_a] -= c->ratio * on_b;
+        Q[b] += on_b;
+        Q[a] -= c->ratio * on_b;
     }
     /* the caller's torques, the loads and the caller's node forces: generalised forces on
        the joints, kept in the new frame for their work (rj__step_rigid checked them) */
     if (s->inputs || m->nload || s->node_inputs) {
-        for (j = 0; j < n; j++)
+        for (j = 0; j < m->nj; j++)
             new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_INPUT] =
                 s->inputs ? s->input_torque[j] : 0.0;
         rj__rig_loads(m, s, r, t, new_joints);
         for (j = 0; j < n; j++)
-            Q[j] += new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_INPUT];
+            Q[j] += new_joints[(size_t) RJ__JD_COUNT * m->qj[j] + RJ__JD_INPUT];
+        for (j = 0; j < m->nj && m->nloop; j++)
+            if (m->jq[j] < 0)
+                rj__rig_loop_force(m, j, new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_INPUT],
+                                   Q, r->tmp);
     }
     if (m->has_gravity)
         rj__rig_gravity(m, r, Q, e);
     /* springs and tables at q^n, from the element */
     f->new_scalars[RJ__FS_SPRING] = spring;
     e->spring = spring;
-    rj__chol_solve(m->nj, r->L, r->Q, r->qdd);
+    rj__chol_solve(m->nq, r->L, r->Q, r->qdd);
 }
 
 /* Rigid step, stage 3: friction, joint by joint, with the column M^-1 e_j (kept in W for
@@ -273,22 +411,22 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
 static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj__frames *f,
                                                     rj__rig *r)
 {
-    const int n = m->nj;
+    const int n = m->nq;
     const double *RJ__RESTRICT qd = r->qd;
     double *RJ__RESTRICT qdd = r->qdd, *W = r->W;
     int j, k;
     for (j = 0; j < n; j++)
-        if (m->jdef[j].friction > 0)
+        if (m->jdef[m->qj[j]].friction > 0)
             rj__chol_unit(n, r->L, j, W + (size_t) j * n);
     for (j = 0; j < n; j++) {
-        const double tf = m->jdef[j].friction, *w = W + (size_t) j * n;
+        const double tf = m->jdef[m->qj[j]].friction, *w = W + (size_t) j * n;
         double tau;
         if (!(tf > 0))
             continue;
         tau = rj__friction(qd[j] + f->kick * qdd[j], f->kick * w[j], tf);
         for (k = 0; k < n; k++)
             qdd[k] += w[k] * tau;
-        RJ__FJ(m, f->next, j)[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
+        RJ__FJ(m, f->next, m->qj[j])[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
     }
 }
 
@@ -298,32 +436,33 @@ static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj_
 static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj__frames *f,
                                                      rj__rig *r, rj__rig_jumps *jumps)
 {
-    const int n = m->nj;
+    const int n = m->nq;
     const double *RJ__RESTRICT q = r->q;
     double *RJ__RESTRICT qdp = r->qdp, *RJ__RESTRICT rates_before = r->h, *W = r->W;
     const double *L = r->L;
     int *ni = f->new_flags;
     int j, k;
     for (j = 0; j < n; j++) {
-        const rj_joint_def *d = &m->jdef[j];
+        const int jj = m->qj[j];
+        const rj_joint_def *d = &m->jdef[jj];
         const double *w = W + (size_t) j * n;
         double e, lam;
         if (!(d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED))
             continue;
         /* re-contact within the step, as for flexible links */
-        if (ni[j] == RJ_FREE && q[j] <= m->jnt[j].rev && qdp[j] < 0)
-            ni[j] = RJ_AT_REVERSE;
-        if (ni[j] == RJ_FREE && q[j] >= m->jnt[j].fwd && qdp[j] > 0)
-            ni[j] = RJ_AT_FORWARD;
-        if (ni[j] == RJ_FREE || !rj__into_limit(ni[j], qdp[j]))
+        if (ni[jj] == RJ_FREE && q[j] <= m->jnt[jj].rev && qdp[j] < 0)
+            ni[jj] = RJ_AT_REVERSE;
+        if (ni[jj] == RJ_FREE && q[j] >= m->jnt[jj].fwd && qdp[j] > 0)
+            ni[jj] = RJ_AT_FORWARD;
+        if (ni[jj] == RJ_FREE || !rj__into_limit(ni[jj], qdp[j]))
             continue;
-        e = (d->method == RJ_METHOD_MOMENTUM && ni[j] != RJ_LOCKED) ? d->restitution : 0.0;
+        e = (d->method == RJ_METHOD_MOMENTUM && ni[jj] != RJ_LOCKED) ? d->restitution : 0.0;
         if (!jumps->count)
             for (k = 0; k < n; k++)
                 rates_before[k] = qdp[k];
         jumps->count++;
         jumps->last = j;
-        if (ni[j] != f->old_flags[j] || e > 0)
+        if (ni[jj] != f->old_flags[jj] || e > 0)
             jumps->impact = 1;
         /* stage 3 made the column of a joint with friction */
         if (!(d->friction > 0))
@@ -340,7 +479,7 @@ static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj
 static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__frames *f,
                                                const rj__rig *r, rj__sums *e)
 {
-    const int n = m->nj, first = f->first;
+    const int n = m->nq, first = f->first;
     const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp;
     const double *RJ__RESTRICT rates_before = r->h, *M = r->M;
     double *new_joints = RJ__FJ(m, f->next, 0);
@@ -348,16 +487,18 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
     int j, k;
     for (j = 0; j < n; j++) {
         const double *Mj = M + (size_t) j * n;
-        double *record = new_joints + (size_t) RJ__JD_COUNT * j;
-        /* an exact coupling's share of the joint's impulse (its work is the limits') */
-        const double coupled = m->nexact ? r->x[j] : 0.0;
+        const rj__joint *J = &m->jnt[m->qj[j]];
+        double *record = new_joints + (size_t) RJ__JD_COUNT * m->qj[j];
+        /* an exact coupling's or a loop's share of the joint's impulse (its work is the
+           limits') */
+        const double coupled = m->nexact || m->nloop ? r->x[j] : 0.0;
         /* the first step's q'^{-1/2} is 2 q'(0) less the rates before any impulse */
         const double back = first ? 2 * qd[j] - rates_before[j] : qd[j];
         double sum = 0;
         for (k = 0; k < n; k++)
             sum += Mj[k] * (rates_before[k] - qdp[k]);
         /* a prescribed joint's impulse, less a coupling's, is its drive's: torque and work */
-        if (rj__prescribed(&m->jnt[j])) {
+        if (rj__prescribed(J)) {
             const double driven = sum + coupled;
             e->drive -= 0.5 * back * driven;
             e->drive_pending -= 0.5 * qdp[j] * driven;
@@ -367,7 +508,7 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
         lost_limit += 0.5 * back * sum;
         pending += 0.5 * qdp[j] * sum;
         /* the latches' impulse: less an exact coupling's, reported as a torque */
-        if (!rj__prescribed(&m->jnt[j]))
+        if (!rj__prescribed(J))
             record[RJ__JD_IMPULSE] = -sum - coupled;
     }
     e->lost_limit = lost_limit;
@@ -382,7 +523,7 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
 static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj_state *s,
                                                  const rj__frames *f, rj__rig *r, rj__sums *e)
 {
-    const int n = m->nj;
+    const int n = m->nq;
     const double kick = f->kick;
     const double *RJ__RESTRICT qd = r->qd;
     double *RJ__RESTRICT qdp = r->qdp, *RJ__RESTRICT qdd = r->qdd;
@@ -398,7 +539,7 @@ static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj_sta
     jumps.last = -1;
     jumps.impact = 0;
     rj__rig_single_impulses(m, f, r, &jumps);
-    if (!jumps.count && !m->npres && !m->nexact)
+    if (!jumps.count && !m->npres && !m->nexact && !m->nloop)
         return;
     if (!jumps.count)
         for (j = 0; j < n; j++)
@@ -408,6 +549,80 @@ static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj_sta
         for (j = 0; j < n; j++)
             qdd[j] = (qdp[j] - qd[j]) / kick;
     rj__rig_jump_loss(m, f, r, e);
+}
+
+/* The loops closed at n + 1: the coordinates' angles moved by the least (in M's metric)
+   that puts every loop joint's pins together, dq = M^-1 J^T (J M^-1 J^T)^-1 (-gap) (the
+   loops' rows on positions, two Newton passes), so that they do not drift apart over a
+   long run. */
+static void rj__rig_loops_project(const rj_model *m, const rj_state *s, const rj__frames *f,
+                                  rj__rig *r)
+{
+    /* r->h (the bias, spent by now) takes the step dq; r->tmp's second half q */
+    double *new_joints = RJ__FJ(m, f->next, 0), *q = r->tmp + m->nq, *dq = r->h;
+    rj__rows R;
+    rj__dense D;
+    int pass, k;
+    R.row = s->rows;
+    R.term = s->terms;
+    D.n = m->nq;
+    D.L = r->L;
+    D.W = r->W;
+    D.Y = r->Y;
+    D.S = r->S;
+    D.SL = r->SL;
+    D.lam = r->lam;
+    D.rhs = r->rhs;
+    D.scratch = r->tmp;
+    D.held = -1;
+    for (pass = 0; pass < 2; pass++) {
+        for (k = 0; k < m->nq; k++) {
+            q[k] = new_joints[(size_t) RJ__JD_COUNT * m->qj[k] + RJ__JD_THETA];
+            dq[k] = 0;
+        }
+        rj__rig_kin(m, r, q, NULL, r->qdp);
+        R.count = R.terms = 0;
+        rj__rig_loop_rows(m, r, 1.0, &R);
+        rj__rows_solve_dense(&R, &D, dq);
+        for (k = 0; k < m->nq; k++)
+            new_joints[(size_t) RJ__JD_COUNT * m->qj[k] + RJ__JD_THETA] += dq[k];
+    }
+}
+
+/* Rigid step, stage 6b, the joints that close loops: the loops closed at n + 1
+   (rj__rig_loops_project), then each loop joint's angle and rate from the coordinates
+   (angle0 + g . (q - q(0)), g . q'), and its element's work as any joint's; r->qdp
+   keeps q'^{n+1/2}. */
+static void rj__rig_loops_close(const rj_model *m, const rj_state *s, const rj__frames *f,
+                                const rj__rig *r, int applied, rj__sums *e,
+                                double *lost_damping, double *lost_friction, double *lost_limit)
+{
+    const double *old_joints = RJ__FJ(m, f->old, 0);
+    double *new_joints = RJ__FJ(m, f->next, 0), *g = r->tmp;
+    rj__rig scratch = *r; /* the same arrays: the projection's kinematics write them */
+    int j, k;
+    rj__rig_loops_project(m, s, f, &scratch);
+    for (j = 0; j < m->nj; j++) {
+        const double *old_joint = old_joints + (size_t) RJ__JD_COUNT * j;
+        double *new_joint = new_joints + (size_t) RJ__JD_COUNT * j;
+        double turn = 0, rate = 0;
+        if (m->jq[j] >= 0)
+            continue;
+        rj__rig_loop_gradient(m, j, g);
+        for (k = 0; k < m->nq; k++) {
+            const int jk = m->qj[k];
+            turn += g[k] * (new_joints[(size_t) RJ__JD_COUNT * jk + RJ__JD_THETA] -
+                            m->jdef[jk].angle0);
+            rate += g[k] * r->qdp[k];
+        }
+        new_joint[RJ__JD_THETA] = m->jdef[j].angle0 + turn;
+        new_joint[RJ__JD_RATE] = rate;
+        new_joint[RJ__JD_QDD] = 0;
+        rj__element_work(old_joint, new_joint, old_joint[RJ__JD_RATE], f->dt, lost_damping,
+                         lost_friction, lost_limit);
+        if (applied)
+            e->work += rj__input_work(old_joint, new_joint, old_joint[RJ__JD_RATE], f->dt);
+    }
 }
 
 /* Rigid step, stage 6: angles q^{n+1}, forced displacement back to the limit, and the
@@ -421,7 +636,7 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_sta
     const double *old_joints = RJ__FJ(m, f->old, 0);
     double *new_joints = RJ__FJ(m, f->next, 0);
     const double dt = f->dt;
-    const int n = m->nj;
+    const int n = m->nq;
     double lost_damping = e->lost_damping;
     double lost_friction = e->lost_friction;
     double lost_limit = e->lost_limit;
@@ -429,24 +644,25 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_sta
     const int applied = s->inputs || m->nload || s->node_inputs; /* RJ__JD_INPUT written */
     int j;
     for (j = 0; j < n; j++) {
-        const rj_joint_def *d = &m->jdef[j];
-        const double *old_joint = old_joints + (size_t) RJ__JD_COUNT * j;
-        double *new_joint = new_joints + (size_t) RJ__JD_COUNT * j;
+        const int jj = m->qj[j];
+        const rj_joint_def *d = &m->jdef[jj];
+        const double *old_joint = old_joints + (size_t) RJ__JD_COUNT * jj;
+        double *new_joint = new_joints + (size_t) RJ__JD_COUNT * jj;
         double qn = q[j] + dt * qdp[j];
-        if (d->method == RJ_METHOD_FORCED && ni[j] != RJ_FREE) {
-            const rj__joint *J = &m->jnt[j];
-            if (ni[j] == RJ_AT_FORWARD && qn > J->fwd)
+        if (d->method == RJ_METHOD_FORCED && ni[jj] != RJ_FREE) {
+            const rj__joint *J = &m->jnt[jj];
+            if (ni[jj] == RJ_AT_FORWARD && qn > J->fwd)
                 qn = J->fwd;
-            else if (ni[j] == RJ_AT_REVERSE && qn < J->rev)
+            else if (ni[jj] == RJ_AT_REVERSE && qn < J->rev)
                 qn = J->rev;
-            else if (ni[j] == RJ_LOCKED)
+            else if (ni[jj] == RJ_LOCKED)
                 qn = new_joint[RJ__JD_LOCK];
         }
         if (!(fabs(qn - q[j]) <= 0.5 * RJ__PI))
             return rj__stop(m, s, RJ_ERR_TUNNEL,
                             "t = %.9g s: joint %d turned %.4g rad in one step (more than a quarter "
                             "revolution, pi/2 rad): the step %g s is far too large for its speed",
-                            f->t, j, qn - q[j], dt);
+                            f->t, jj, qn - q[j], dt);
         new_joint[RJ__JD_THETA] = qn;
         new_joint[RJ__JD_RATE] = qdp[j];
         new_joint[RJ__JD_QDD] = qdd[j];
@@ -454,9 +670,11 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_angles(const rj_model *m, rj_sta
                          &lost_limit);
         if (applied)
             e->work += rj__input_work(old_joint, new_joint, qd[j], dt);
-        if (m->jnt[j].act && !rj__prescribed(&m->jnt[j]))
+        if (m->jnt[jj].act && !rj__prescribed(&m->jnt[jj]))
             e->drive += rj__drive_work(old_joint, new_joint, qd[j], dt);
     }
+    if (m->nloop)
+        rj__rig_loops_close(m, s, f, r, applied, e, &lost_damping, &lost_friction, &lost_limit);
     e->lost_damping = lost_damping;
     e->lost_friction = lost_friction;
     e->lost_limit = lost_limit;
@@ -480,7 +698,7 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
                                                          const rj__frames *f, const rj__rig *r,
                                                          rj__sums *e)
 {
-    const int n = m->nj, first = f->first;
+    const int n = m->nq, first = f->first;
     const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp, *M = r->M;
     double *new_scalars = f->new_scalars;
     double ke = 0;
@@ -501,6 +719,8 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
     new_scalars[RJ__FS_LFRIC] = e->lost_friction;
     new_scalars[RJ__FS_LLIM] = e->lost_limit;
     new_scalars[RJ__FS_PEND] = e->pending;
+    if (m->has_gravity)
+        rj__gravity_flow(f->old_scalars, new_scalars, e);
     new_scalars[RJ__FS_GRAV] = e->gravity;
     new_scalars[RJ__FS_WORK] = e->work;
     new_scalars[RJ__FS_DRIVE] = e->drive;
@@ -530,7 +750,7 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
     rj_result res;
     rj__frames_open(m, s, 1, 0, &f);
     rj__sums_open(f.old_scalars, &e);
-    rj__rig_map(m, s->rsc, &r);
+    rj__rig_map(m, s->rsc, &r, m->nloop);
     if (s->inputs && !rj__inputs_ok(m, s))
         return RJ_ERR_INVALID;
     if (s->node_inputs && !rj__rig_node_inputs_ok(m, s))

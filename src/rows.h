@@ -63,26 +63,28 @@ static int rj__row_unit(const rj__rows *R, const rj__row *row)
     return row->count == 1 && R->term[row->first].coef == 1.0;
 }
 
-/* A prescribed joint's row: its rate lands it on its profile at n + 1. */
-static void rj__row_prescribed(const rj_model *m, const rj_state *s, rj__rows *R, int j,
+/* A prescribed joint's row: its rate lands it on its profile at n + 1; its term at index
+   at (the joint, or its coordinate in joint coordinates). */
+static void rj__row_prescribed(const rj_model *m, const rj_state *s, rj__rows *R, int j, int at,
                                double run, double t, double dt)
 {
     const double target = rj__prescribed_rate(m, s, j, run, t, dt);
     rj__row *row = rj__row_open(R, RJ__ROW_PRESCRIBED, j, target, -HUGE_VAL, HUGE_VAL);
-    rj__row_term(R, row, j, 1.0);
+    rj__row_term(R, row, at, 1.0);
 }
 
 /* Exact coupling k's row, from the joints' running angles at n (stride apart in
    angles): e = (theta_b - angle0_b) - ratio (theta_a - angle0_a) - offset back to 0 at
-   n + 1, along w = e_b - ratio e_a. */
+   n + 1, along w = e_b - ratio e_a. map: a joint's index in angles and terms (its
+   coordinate in joint coordinates), NULL for the joint itself. */
 static void rj__row_coupling(const rj_model *m, rj__rows *R, int k, const double *angles,
-                             size_t stride, double dt)
+                             size_t stride, const int *map, double dt)
 {
     const rj_coupling_def *c = &m->cp[k];
-    const int a = c->joint_a, b = c->joint_b;
+    const int a = map ? map[c->joint_a] : c->joint_a, b = map ? map[c->joint_b] : c->joint_b;
     const double theta_a = angles[stride * (size_t) a], theta_b = angles[stride * (size_t) b];
-    const double e_n =
-        (theta_b - m->jdef[b].angle0) - c->ratio * (theta_a - m->jdef[a].angle0) - c->offset;
+    const double e_n = (theta_b - m->jdef[c->joint_b].angle0) -
+                       c->ratio * (theta_a - m->jdef[c->joint_a].angle0) - c->offset;
     rj__row *row = rj__row_open(R, RJ__ROW_COUPLING, k, -e_n / dt, -HUGE_VAL, HUGE_VAL);
     rj__row_term(R, row, b, 1.0);
     rj__row_term(R, row, a, -c->ratio);
@@ -90,12 +92,12 @@ static void rj__row_coupling(const rj_model *m, rj__rows *R, int k, const double
 
 /* The exact couplings' rows. */
 static void rj__rows_couplings(const rj_model *m, rj__rows *R, const double *angles,
-                               size_t stride, double dt)
+                               size_t stride, const int *map, double dt)
 {
     int k;
     for (k = 0; k < m->ncp; k++)
         if (m->cp[k].exact)
-            rj__row_coupling(m, R, k, angles, stride, dt);
+            rj__row_coupling(m, R, k, angles, stride, map, dt);
 }
 
 /* Whether a pushing-only row's rate has turned against its bound: a contact whose

@@ -24,10 +24,15 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->eu = rj__carve(&off, (size_t) m->ne, sizeof(double));
     L->ebt = rj__carve(&off, (size_t) m->ne, sizeof(double));
     L->jsc = rj__carve(&off, (size_t) m->nj * 8 + 1, sizeof(double));
-    L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl, m->ncp) : 3 * (size_t) m->ncl + 1,
+    L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl, m->ncp, m->nloop) : 3 * (size_t) m->ncl + 1,
                        sizeof(double));
-    L->rows = rj__carve(&off, (size_t) rj__rows_capacity(m->nj, m->ncp), sizeof(rj__row));
-    L->terms = rj__carve(&off, (size_t) rj__terms_capacity(m->nj, m->ncp), sizeof(rj__term));
+    /* a loop's two rows name every coordinate at most */
+    L->rows = rj__carve(&off, (size_t) rj__rows_capacity(m->nj, m->ncp + m->nloop),
+                        sizeof(rj__row));
+    L->terms = rj__carve(&off,
+                         (size_t) rj__terms_capacity(m->nj, m->ncp) +
+                             4 * (size_t) m->nloop * (size_t) m->nq,
+                         sizeof(rj__term));
     L->rsys = rj__carve(&off, 2 * (size_t) m->nmotion * (size_t) (m->nmotion + 1) + 1,
                         sizeof(double));
     L->input_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
@@ -139,11 +144,15 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
     if (m->rigid) {
         /* nodes from the joint-coordinate kinematics, so that both descriptions agree */
         rj__rig r;
-        rj__rig_map(m, s->rsc, &r);
-        for (j = 0; j < m->nj; j++) {
-            r.q[j] = m->jdef[j].angle0;
-            r.qd[j] = m->jdef[j].rate0;
+        rj__rig_map(m, s->rsc, &r, m->nloop);
+        for (j = 0; j < m->nq; j++) {
+            r.q[j] = m->jdef[m->qj[j]].angle0;
+            r.qd[j] = m->jdef[m->qj[j]].rate0;
         }
+        /* a loop joint turns at the rate its loop gives it (g . q') */
+        for (j = 0; j < m->nj && m->nloop; j++)
+            if (m->jq[j] < 0)
+                RJ__FJ(m, f, j)[RJ__JD_RATE] = rj__rig_loop_rate(m, j, r.qd, r.tmp);
         rj__rig_kin(m, &r, r.q, r.qd, r.qd);
         rj__rig_nodes(m, &r, f);
     }

@@ -262,11 +262,14 @@ static int rj__validate_bodies(const rj_scene_def *sc, const rj_joint_def *J, in
         return 0;
     }
     if (J->node2 != 0 &&
-        (J->reference != RJ_REF_TANGENT || sc->links[J->body2].fidelity != RJ_LINK_FLEXIBLE)) {
+        (J->reference != RJ_REF_TANGENT ||
+         sc->links[J->body2].fidelity == RJ_LINK_INEXTENSIBLE ||
+         (sc->links[J->body2].fidelity == RJ_LINK_RIGID && !rj__all_rigid(sc)))) {
         RJ__FIELD(f, "joints[%d].node2", j);
         rj__fail(err, RJ_ERR_INVALID, f, J->node2,
-                 "%s = %d is not supported: a pin away from body2's first node needs a flexible "
-                 "body2 and the tangent reference",
+                 "%s = %d is not supported: a pin away from body2's first node needs the "
+                 "tangent reference and a flexible body2 (or, with rigid links only, a joint "
+                 "that closes a loop)",
                  f, J->node2);
         return 0;
     }
@@ -654,13 +657,46 @@ static int rj__counts(const rj_scene_def *sc, size_t *nn, size_t *ne, rj_error *
     return 1;
 }
 
+/* What a joint that closes a loop among rigid links may not have yet (its element's
+   velocity-level parts and the rows that name it): the field, or NULL. */
+static const char *rj__rigid_loop_refusal(const rj_scene_def *sc, int j, char *f, size_t n)
+{
+    const rj_joint_def *d = &sc->joints[j];
+    int k;
+    if (d->has_forward || d->has_reverse)
+        snprintf(f, n, "joints[%d].%s", j, d->has_forward ? "forward" : "reverse");
+    else if (d->friction > 0)
+        snprintf(f, n, "joints[%d].friction", j);
+    else
+        f[0] = 0;
+    for (k = 0; k < sc->actuator_count && !f[0]; k++)
+        if (sc->actuators[k].joint == j)
+            snprintf(f, n, "actuators[%d].joint", k);
+    for (k = 0; k < sc->coupling_count && !f[0]; k++)
+        if (sc->couplings[k].joint_a == j || sc->couplings[k].joint_b == j)
+            snprintf(f, n, "couplings[%d].joint_%c", k, sc->couplings[k].joint_a == j ? 'a' : 'b');
+    return f[0] ? f : NULL;
+}
+
 /* A joint that closes a loop (its body2 hangs from joint first): every link of the scene
-   flexible (loops through rigid or inextensible links are not supported yet). */
+   flexible, or every link rigid (then without limits, friction, an actuator or a
+   coupling on it, yet); loops through inextensible links, or through rigid links among
+   flexible ones, are not supported yet. */
 static int rj__validate_loop_joint(const rj_scene_def *sc, int j, int first, rj_error *err)
 {
     const int b2 = sc->joints[j].body2;
     char f[64];
     int l;
+    if (rj__all_rigid(sc)) {
+        if (!rj__rigid_loop_refusal(sc, j, f, sizeof f))
+            return 1;
+        rj__fail(err, RJ_ERR_INVALID, f, j,
+                 "%s is not supported: joint %d closes a loop among rigid links, which takes no "
+                 "limits, friction, actuator or coupling yet (its spring, table and damping "
+                 "work)",
+                 f, j);
+        return 0;
+    }
     for (l = 0; l < sc->link_count; l++)
         if (sc->links[l].fidelity != RJ_LINK_FLEXIBLE)
             break;
@@ -669,7 +705,7 @@ static int rj__validate_loop_joint(const rj_scene_def *sc, int j, int first, rj_
     RJ__FIELD(f, "joints[%d].body2", j);
     rj__fail(err, RJ_ERR_INVALID, f, b2,
              "%s = %d closes a loop (link %d hangs from joint %d), which is supported when "
-             "every link is flexible: link %d is %s",
+             "every link is flexible, or every link rigid: link %d is %s",
              f, b2, b2, first, l,
              sc->links[l].fidelity == RJ_LINK_RIGID ? "rigid" : "inextensible");
     return 0;
@@ -797,8 +833,18 @@ static int rj__validate_graph(const rj_scene_def *sc, int *scratch, rj_error *er
         const int b2 = sc->joints[j].body2;
         if (parent[b2] >= 0 && !rj__validate_loop_joint(sc, j, parent[b2], err))
             return 0;
-        if (parent[b2] < 0)
-            parent[b2] = j;
+        if (parent[b2] >= 0)
+            continue;
+        parent[b2] = j;
+        /* joint coordinates pin a hanging rigid link at its root */
+        if (sc->joints[j].node2 != 0 && sc->links[b2].fidelity == RJ_LINK_RIGID) {
+            RJ__FIELD(f, "joints[%d].node2", j);
+            rj__fail(err, RJ_ERR_INVALID, f, sc->joints[j].node2,
+                     "%s = %d is not supported: a rigid link hangs from its first joint at its "
+                     "node 0 (a pin elsewhere closes a loop)",
+                     f, sc->joints[j].node2);
+            return 0;
+        }
     }
     if (rj__all_rigid(sc))
         for (i = 0; i < nl; i++)

@@ -388,10 +388,90 @@ static void test_scissor(rjt_ctx *c)
     rj_model_destroy(m, NULL);
 }
 
+/* The four-bar of rigid bars (joint coordinates, the loop closed by rows on positions):
+   the crank against the exact motion with the bars' exact mass properties (rods: m,
+   m L / 2, m L^2 / 3 about node 0) over 5 s at dt, its largest error, the largest pin gap
+   and |balance| into o. */
+static void run_rigid(double dt, fourbar_run *o)
+{
+    char text[2048], out[2400], *w = out;
+    const char *t = text;
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    rigid4 r;
+    const double mass = 2700 * 0.02 * 0.02;
+    const double len[3] = { BAR_A, BAR_B, BAR_C };
+    bar *bars[3];
+    double q = CRANK0, w2 = 0;
+    int k;
+    memset(o, 0, sizeof *o);
+    fourbar_text(7e10, text, sizeof text);
+    /* every bar rigid, the step dt */
+    while (*t && w < out + sizeof out - 64) {
+        if (!strncmp(t, "section = bar\n", 14)) {
+            w += sprintf(w, "section = bar  fidelity = rigid\n");
+            t += 14;
+        } else if (!strncmp(t, "dt = 0\n", 7)) {
+            w += sprintf(w, "dt = %.17g\n", dt);
+            t += 7;
+        } else
+            *w++ = *t++;
+    }
+    *w = 0;
+    if (!build(out, &m, &s, &err)) {
+        o->result = err.code;
+        snprintf(o->msg, sizeof o->msg, "%s", err.msg);
+        return;
+    }
+    bars[0] = &r.crank;
+    bars[1] = &r.coupler;
+    bars[2] = &r.rocker;
+    for (k = 0; k < 3; k++) {
+        bars[k]->m = mass * len[k];
+        bars[k]->s = bars[k]->m * len[k] / 2;
+        bars[k]->J = bars[k]->m * len[k] * len[k] / 3;
+    }
+    r.t3 = 0.5;
+    r.t4 = 1.5;
+    crank_accel(&r, q, w2);
+    while (rj_state_time(s) < 5 - 0.5 * dt && o->result == RJ_OK) {
+        o->result = rj_step(m, s);
+        rigid_rk4(&r, &q, &w2, dt);
+        compare_step(m, s, &r, q, o);
+    }
+    if (o->result != RJ_OK)
+        snprintf(o->msg, sizeof o->msg, "t = %g s: %s", rj_state_time(s), rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
+static void test_rigid_fourbar(rjt_ctx *c)
+{
+    fourbar_run a, b, fine;
+    run_rigid(1e-4, &a);
+    run_rigid(5e-5, &b);
+    run_rigid(1.25e-5, &fine);
+    rjt_check(c, a.result == RJ_OK && b.result == RJ_OK && a.crank / b.crank > 3.5 &&
+                     a.crank / b.crank < 4.5 && fine.crank < 1e-6,
+              "four-bar of rigid bars: the crank against the exact motion, second order in dt",
+              "max |crank - exact| over 5 s: %.3g, %.3g, %.3g rad at dt 0.1, 0.05, 0.0125 ms "
+              "(ratio %.2f) %s%s",
+              a.crank, b.crank, fine.crank, a.crank / b.crank, a.msg, b.msg);
+    rjt_check(c, fine.result == RJ_OK && a.gap < 1e-12 && fine.gap < 1e-12 &&
+                     fine.loop_angle < 1e-6 && a.balance / b.balance > 3.5 &&
+                     b.balance < 1e-6 * b.energy,
+              "four-bar of rigid bars: the loop closed to round-off, the balance second order",
+              "pin gap %.3g m over 5 s; loop joint within %.3g rad of the exact; max |balance| "
+              "%.3g, %.3g J at dt 0.1, 0.05 ms of %.3g J kinetic %s",
+              fine.gap, fine.loop_angle, a.balance, b.balance, b.energy, fine.msg);
+}
+
 int main(void)
 {
     rjt_ctx c = { 0, 0 };
     test_scissor(&c);
+    test_rigid_fourbar(&c);
     test_fourbar(&c);
     test_refusals(&c);
     test_assemble(&c);
