@@ -115,6 +115,8 @@ $(B)/stress: tests/stress.c tests/rjt.h examples/scenes.h $(HDR) $(B)/rj_impl.o 
 	$(CC) $(ALLCF) -Wno-format-truncation $< $(B)/rj_impl.o -o $@ -lm
 $(B)/bench: bench/bench.c examples/scenes.h examples/rigid2.h $(HDR) $(RENDER) $(B)/rj_render.o | $(B)
 	$(CC) $(ALLCF) bench/bench.c $(B)/rj_render.o -o $@ $(GL)
+$(B)/a02: bench/a02.c $(HDR) | $(B)
+	$(CC) $(ALLCF) $< -o $@ -lm
 $(B)/segmented: bench/segmented.c examples/scenes.h $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
 $(B)/pd_arm: examples/pd_arm.c examples/scenes.h examples/cli.h $(HDR) $(B)/rj_impl.o | $(B)

@@ -8299,10 +8299,70 @@ static const double *rj__row_column(const rj__rows *R, const rj__row *row, const
     return y;
 }
 
-/* The active rows' system S lam = target - J q', its factor in SL; a singular one (rows
-   that repeat each other) is regularised by 1e-12 of its largest diagonal, a least-
-   squares answer. Returns the number of active rows, -1 when even that fails. */
-static int rj__rows_system(const rj__rows *R, const rj__dense *D, const double *qdp)
+/* The Cholesky factor of the k x k positive semi-definite S into L, a row whose pivot
+   falls below 1e-10 of S's largest diagonal dropped (its column of L zero, its diagonal
+   0): the rows that repeat others (a parallelogram's loops at its flat position) take no
+   impulse, the others what they need. */
+static void rj__chol_psd(int k, const double *S, double *L, double largest)
+{
+    int i, j, p;
+    for (i = 0; i < k * k; i++)
+        L[i] = 0;
+    for (j = 0; j < k; j++) {
+        double d = S[(size_t) j * k + j];
+        for (p = 0; p < j; p++)
+            d -= L[(size_t) j * k + p] * L[(size_t) j * k + p];
+        if (!(d > 1e-10 * largest))
+            continue;
+        L[(size_t) j * k + j] = sqrt(d);
+        for (i = j + 1; i < k; i++) {
+            double v = S[(size_t) i * k + j];
+            for (p = 0; p < j; p++)
+                v -= L[(size_t) i * k + p] * L[(size_t) j * k + p];
+            L[(size_t) i * k + j] = v / L[(size_t) j * k + j];
+        }
+    }
+}
+
+/* Solves L L^T x = b with rj__chol_psd's factor, x 0 on the dropped rows. */
+static void rj__chol_psd_solve(int k, const double *L, const double *b, double *x)
+{
+    int i, p;
+    for (i = 0; i < k; i++) {
+        double v = b[i];
+        if (L[(size_t) i * k + i] == 0) {
+            x[i] = 0;
+            continue;
+        }
+        for (p = 0; p < i; p++)
+            v -= L[(size_t) i * k + p] * x[p];
+        x[i] = v / L[(size_t) i * k + i];
+    }
+    for (i = k - 1; i >= 0; i--) {
+        double v = x[i];
+        if (L[(size_t) i * k + i] == 0)
+            continue;
+        for (p = i + 1; p < k; p++)
+            v -= L[(size_t) p * k + i] * x[p];
+        x[i] = v / L[(size_t) i * k + i];
+    }
+}
+
+/* Whether a Cholesky factor has a pivot below 1e-10 of the largest diagonal (its rows
+   nearly repeat each other: the plain solve would give them huge, opposed impulses). */
+static int rj__chol_nearly_singular(int k, const double *L, double largest)
+{
+    int i;
+    for (i = 0; i < k; i++)
+        if (!(L[(size_t) i * k + i] * L[(size_t) i * k + i] > 1e-10 * largest))
+            return 1;
+    return 0;
+}
+
+/* The active rows' system S lam = target - J q', its factor in SL. Rows that (nearly)
+   repeat each other are dropped from it (rj__chol_psd; D->psd says so to the solve).
+   Returns the number of active rows. */
+static int rj__rows_system(const rj__rows *R, const rj__dense *D, const double *qdp, int *psd)
 {
     int a, b, k = 0, row = 0;
     double largest = 0;
@@ -8323,11 +8383,10 @@ static int rj__rows_system(const rj__rows *R, const rj__dense *D, const double *
             largest = D->S[(size_t) row * k + row];
         row++;
     }
-    if (!rj__chol(k, D->S, D->SL))
-        return k;
-    for (a = 0; a < k; a++)
-        D->S[(size_t) a * k + a] += 1e-12 * largest;
-    return rj__chol(k, D->S, D->SL) ? -1 : k;
+    *psd = rj__chol(k, D->S, D->SL) || rj__chol_nearly_singular(k, D->SL, largest);
+    if (*psd)
+        rj__chol_psd(k, D->S, D->SL, largest);
+    return k;
 }
 
 /* One pass of the dense solve: the active rows' impulses into D->lam; rows that would
@@ -8336,11 +8395,12 @@ static int rj__rows_system(const rj__rows *R, const rj__dense *D, const double *
 static int rj__rows_pass(rj__rows *R, const rj__dense *D, double *qdp)
 {
     const int n = D->n;
-    int a, i, k, row = 0, dropped = 0;
-    k = rj__rows_system(R, D, qdp);
-    if (k < 0)
-        return -1;
-    rj__chol_solve(k, D->SL, D->rhs, D->lam);
+    int a, i, k, row = 0, dropped = 0, psd;
+    k = rj__rows_system(R, D, qdp, &psd);
+    if (psd)
+        rj__chol_psd_solve(k, D->SL, D->rhs, D->lam);
+    else
+        rj__chol_solve(k, D->SL, D->rhs, D->lam);
     for (a = 0; a < R->count; a++) {
         if (!R->row[a].active)
             continue;
@@ -10432,12 +10492,15 @@ static void rj__rig_coupling_torques(const rj_model *m, const rj__frames *f, con
    pins' forces act, and their targets move until the pins meet at q^{n+1} = q^n + dt
    q'^{n+1/2}, not only to first order (a row on the rate alone, J(q^n) q' = -gap/dt,
    leaves the crank of a four-bar off the exact motion at first order in dt); the other
-   rows keep their rates. At most 20 passes, to 1e-14 of the longest link. The
-   kinematics run at the trial q (r->lk is not read again in the step). */
+   rows keep their rates. At most 20 passes, to 1e-14 of the longest link. Near a
+   singular position (a parallelogram going flat) the Jacobian at q^n no longer sees the
+   gap's direction and the passes diverge: the rates of the best pass are kept (r->x
+   holds them) and the projection onto the loop closes what is left. The kinematics run
+   at the trial q (r->lk is not read again in the step). */
 static void rj__rig_loops_shake(const rj_model *m, const rj__frames *f, rj__rig *r,
                                 rj__rows *R, const rj__dense *D)
 {
-    double *q = r->tmp + m->nq, longest = 0;
+    double *q = r->tmp + m->nq, *best_rates = r->x, longest = 0, best = HUGE_VAL;
     int pass, k, a, l;
     for (l = 0; l < m->nl; l++)
         longest = fmax(longest, m->ldef[l].length);
@@ -10460,10 +10523,16 @@ static void rj__rig_loops_shake(const rj_model *m, const rj__frames *f, rj__rig 
             worst = fmax(worst, fabs(gap));
             row->target = rj__row_dot(R, row, r->qdp) - gap / f->dt;
         }
+        if (worst < best) {
+            best = worst;
+            memcpy(best_rates, r->qdp, sizeof(double) * (size_t) m->nq);
+        } else if (worst > 4 * best)
+            break;
         if (worst <= 1e-14 * longest)
             return;
         rj__rows_solve_dense(R, D, r->qdp);
     }
+    memcpy(r->qdp, best_rates, sizeof(double) * (size_t) m->nq);
 }
 
 /* The rows' solve: none to do when the only row held is the one a single impulse held;

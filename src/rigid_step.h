@@ -149,12 +149,15 @@ static void rj__rig_coupling_torques(const rj_model *m, const rj__frames *f, con
    pins' forces act, and their targets move until the pins meet at q^{n+1} = q^n + dt
    q'^{n+1/2}, not only to first order (a row on the rate alone, J(q^n) q' = -gap/dt,
    leaves the crank of a four-bar off the exact motion at first order in dt); the other
-   rows keep their rates. At most 20 passes, to 1e-14 of the longest link. The
-   kinematics run at the trial q (r->lk is not read again in the step). */
+   rows keep their rates. At most 20 passes, to 1e-14 of the longest link. Near a
+   singular position (a parallelogram going flat) the Jacobian at q^n no longer sees the
+   gap's direction and the passes diverge: the rates of the best pass are kept (r->x
+   holds them) and the projection onto the loop closes what is left. The kinematics run
+   at the trial q (r->lk is not read again in the step). */
 static void rj__rig_loops_shake(const rj_model *m, const rj__frames *f, rj__rig *r,
                                 rj__rows *R, const rj__dense *D)
 {
-    double *q = r->tmp + m->nq, longest = 0;
+    double *q = r->tmp + m->nq, *best_rates = r->x, longest = 0, best = HUGE_VAL;
     int pass, k, a, l;
     for (l = 0; l < m->nl; l++)
         longest = fmax(longest, m->ldef[l].length);
@@ -177,10 +180,16 @@ static void rj__rig_loops_shake(const rj_model *m, const rj__frames *f, rj__rig 
             worst = fmax(worst, fabs(gap));
             row->target = rj__row_dot(R, row, r->qdp) - gap / f->dt;
         }
+        if (worst < best) {
+            best = worst;
+            memcpy(best_rates, r->qdp, sizeof(double) * (size_t) m->nq);
+        } else if (worst > 4 * best)
+            break;
         if (worst <= 1e-14 * longest)
             return;
         rj__rows_solve_dense(R, D, r->qdp);
     }
+    memcpy(r->qdp, best_rates, sizeof(double) * (size_t) m->nq);
 }
 
 /* The rows' solve: none to do when the only row held is the one a single impulse held;

@@ -467,9 +467,102 @@ static void test_rigid_fourbar(rjt_ctx *c)
               fine.gap, fine.loop_angle, a.balance, b.balance, b.energy, fine.msg);
 }
 
+/* The IFToMM multibody benchmark A02 (the N four-bar mechanism): 2N + 1 rigid bars of
+   1 m and 1 kg under gravity, N + 1 cranks on a ground line 1 m apart and N couplers
+   between their tips, released with the cranks upright and the first crank's tip B0
+   moving at 1 m/s in x. Its windows are parallelograms, so every crank turns as the first
+   (the exact motion: one pendulum of inertia m L^2 ((N + 1) / 3 + N), gravity's moment
+   m g L cos(theta) ((N + 1) / 2 + N)), and it passes the flat position, where N loops'
+   rows repeat each other, about every second. The scene's text into text. */
+static void a02_text(int N, double dt, char *text, size_t n)
+{
+    size_t at = 0;
+    int i;
+    at += (size_t) snprintf(text + at, n - at,
+                            "solver\n  dt = %g\n  gravity = 0 -9.81\n"
+                            "section bar\n  width = 0.01  height = 0.01\n", dt);
+    for (i = 0; i <= N; i++)
+        at += (size_t) snprintf(text + at, n - at,
+                                "link c%d\n  length = 1  elements = 1  rho = 10000  section = bar"
+                                "  fidelity = rigid\n", i);
+    for (i = 1; i <= N; i++)
+        at += (size_t) snprintf(text + at, n - at,
+                                "link k%d\n  length = 1  elements = 1  rho = 10000  section = bar"
+                                "  fidelity = rigid\n", i);
+    at += (size_t) snprintf(text + at, n - at,
+                            "joint g0\n  body1 = ground  body2 = c0  angle0 = 90 deg  rate0 = -1\n");
+    for (i = 1; i <= N; i++)
+        at += (size_t) snprintf(
+            text + at, n - at,
+            "joint a%d\n  body1 = c%d  body2 = k%d  angle0 = 90 deg  rate0 = 1\n"
+            "joint g%d\n  body1 = ground  body2 = c%d  ground_x = %d  angle0 = 90 deg  rate0 = -1\n"
+            "joint b%d\n  body1 = k%d  body2 = c%d  node2 = last  angle0 = 270 deg\n",
+            i, i - 1, i, i, i, i, i, i, i);
+}
+
+/* The exact crank angle's acceleration of A02 with N windows. */
+static double a02_accel(int N, double theta)
+{
+    return -G * cos(theta) * ((N + 1) / 2.0 + N) / ((N + 1) / 3.0 + N);
+}
+
+/* A02 with N windows for t_end at dt: the largest |B0 x - exact| and |balance|. */
+static void run_a02(int N, double dt, double t_end, fourbar_run *o)
+{
+    static char text[64 * 1024];
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    double th = PI / 2, w = -1;
+    memset(o, 0, sizeof *o);
+    a02_text(N, dt, text, sizeof text);
+    if (!build(text, &m, &s, &err)) {
+        o->result = err.code;
+        snprintf(o->msg, sizeof o->msg, "%s", err.msg);
+        return;
+    }
+    while (rj_state_time(s) < t_end - 0.5 * dt && o->result == RJ_OK) {
+        const double k1 = a02_accel(N, th), k2 = a02_accel(N, th + dt / 2 * w);
+        const double k3 = a02_accel(N, th + dt / 2 * (w + dt / 2 * k1));
+        const double k4 = a02_accel(N, th + dt * (w + dt / 2 * k2));
+        double b0[2];
+        rj_energy e;
+        o->result = rj_step(m, s);
+        th += dt * (w + dt * (k1 + k2 + k3) / 6);
+        w += dt * (k1 + 2 * k2 + 2 * k3 + k4) / 6;
+        rj_node_position(m, s, 0, 1, b0);
+        o->crank = fmax(o->crank, fabs(b0[0] - cos(th)));
+        rj_state_energy(m, s, &e);
+        o->balance = fmax(o->balance, fabs(e.balance));
+        o->energy = fmax(o->energy, fabs(e.kinetic));
+    }
+    if (o->result != RJ_OK)
+        snprintf(o->msg, sizeof o->msg, "t = %g s: %s", rj_state_time(s), rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
+/* A02 at the benchmark's tolerance, 1e-3 m on B0 over 20 s, with 2 and 10 windows (40,
+   the benchmark's own, runs in bench/a02.c: a dense step of 81 coordinates). */
+static void test_a02(rjt_ctx *c)
+{
+    static const int windows[2] = { 2, 10 };
+    int k;
+    for (k = 0; k < 2; k++) {
+        fourbar_run o;
+        run_a02(windows[k], 1e-3, 20, &o);
+        rjt_check(c, o.result == RJ_OK && o.crank < 1e-3,
+                  "A02 N four-bar: through the flat position, B0 against the exact motion",
+                  "N %d, dt 1 ms, 20 s: max |B0 x - exact| %.3g m (the benchmark's tolerance "
+                  "1e-3 m); max |balance| %.3g J of %.3g J kinetic %s",
+                  windows[k], o.crank, o.balance, o.energy, o.msg);
+    }
+}
+
 int main(void)
 {
     rjt_ctx c = { 0, 0 };
+    test_a02(&c);
     test_scissor(&c);
     test_rigid_fourbar(&c);
     test_fourbar(&c);
