@@ -1218,9 +1218,15 @@ static void check_joints(const scene *sc)
                rj_deg(d->angle0), closes_loop(m, j) ? ", closes a loop" : "", feat + 2);
         loops += closes_loop(m, j);
     }
-    if (loops)
-        printf("loops: %d; as rigid bars the mechanism has %d degree%s of freedom (Gruebler)\n", loops,
+    if (loops) {
+        rj_scene_def d = rj_scene_file_def(&sc->f);
+        int mobility, rank;
+        printf("loops: %d; as rigid bars the mechanism has %d degree%s of freedom (Gruebler)", loops,
                gruebler(m), gruebler(m) == 1 ? "" : "s");
+        if (rj_scene_mobility(&d, &mobility, &rank, NULL) == RJ_OK)
+            printf("; its loops' constraints have rank %d of %d, so %d at the start", rank, 2 * loops, mobility);
+        printf("\n");
+    }
 }
 
 /* Gravity and one line a load: its node, force (and frame), moment, table. Nothing when

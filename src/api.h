@@ -495,6 +495,14 @@ RJDEF rj_result rj_model_init(const rj_scene_def *scene, void *mem, size_t size,
    field. Allocates its working arrays (RJ_MALLOC) and frees them. */
 RJDEF rj_result rj_scene_assemble(const rj_scene_def *scene, rj_joint_def *joints,
                                   rj_error *err);
+/* The scene's mobility as rigid bars at its start: the tree's freedom (one a link hanging
+   from a joint, three a free root link, one a pinned root) less the rank its loops'
+   constraints really have there (*rank: the rank of the loops' pin gaps over the joint
+   angles, by elimination, 1e-9 of the largest entry counting as 0). A four-bar: 1, rank
+   2; at a singular position the rank drops and the mobility grows. Allocates its working
+   arrays (RJ_MALLOC) and frees them. */
+RJDEF rj_result rj_scene_mobility(const rj_scene_def *scene, int *mobility, int *rank,
+                                  rj_error *err);
 RJDEF rj_result rj_model_create(const rj_scene_def *scene, rj_model **out, rj_error *err,
                                 void *alloc_ctx);
 RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx);

@@ -132,9 +132,9 @@ static void rj__asm_mark_path(rj__asm *A, int l, int *mark)
     }
 }
 
-/* The unknowns: every tree joint on a loop but each loop's first (lowest index), which
-   keeps its angle0. Returns their count. */
-static int rj__asm_unknowns(rj__asm *A)
+/* The unknowns: every tree joint on a loop but, when hold, each loop's first (lowest
+   index), which keeps its angle0. Returns their count. */
+static int rj__asm_unknowns(rj__asm *A, int hold)
 {
     const int nj = A->sc->joint_count;
     int j, k, nu = 0;
@@ -157,7 +157,7 @@ static int rj__asm_unknowns(rj__asm *A)
             if (A->unknown[k] == -2)
                 A->unknown[k] = -1; /* on a loop: an unknown unless some loop holds it */
         }
-        if (first >= 0)
+        if (first >= 0 && hold)
             A->unknown[first] = -3; /* held: the loop's input */
     }
     for (j = 0; j < nj; j++)
@@ -385,8 +385,101 @@ RJDEF rj_result rj_scene_assemble(const rj_scene_def *scene, rj_joint_def *joint
     }
     rj__asm_carve(&A, block, scene->link_count, scene->joint_count, rows);
     A.nloop = rj__asm_tree(&A);
-    A.nu = rj__asm_unknowns(&A);
+    A.nu = rj__asm_unknowns(&A, 1);
     r = A.nloop ? rj__asm_solve(&A, err) : RJ_OK;
     RJ_FREE(block, NULL);
     return r;
+}
+
+/* The rank of the rows x cols matrix J (stride cols) by Gaussian elimination with partial
+   pivoting, an entry below 1e-9 of J's largest counting as 0. Destroys J. */
+static int rj__asm_rank(double *J, int rows, int cols)
+{
+    double largest = 0;
+    int rank = 0, c, r, k, p;
+    for (k = 0; k < rows * cols; k++)
+        largest = fmax(largest, fabs(J[k]));
+    for (c = 0; c < cols && rank < rows; c++) {
+        for (p = rank, r = rank + 1; r < rows; r++)
+            if (fabs(J[(size_t) r * cols + c]) > fabs(J[(size_t) p * cols + c]))
+                p = r;
+        if (!(fabs(J[(size_t) p * cols + c]) > 1e-9 * largest))
+            continue;
+        for (k = 0; k < cols; k++) {
+            const double t = J[(size_t) p * cols + k];
+            J[(size_t) p * cols + k] = J[(size_t) rank * cols + k];
+            J[(size_t) rank * cols + k] = t;
+        }
+        for (r = rank + 1; r < rows; r++) {
+            const double f = J[(size_t) r * cols + c] / J[(size_t) rank * cols + c];
+            for (k = c; k < cols; k++)
+                J[(size_t) r * cols + k] -= f * J[(size_t) rank * cols + k];
+        }
+        rank++;
+    }
+    return rank;
+}
+
+/* The tree's freedom as rigid bars: one a hanging link, three a free root link, one a
+   pinned root. */
+static int rj__asm_tree_freedom(const rj__asm *A)
+{
+    int l, dof = 0;
+    for (l = 0; l < A->sc->link_count; l++) {
+        const int root = A->sc->links[l].root;
+        if (A->parent[l] >= 0)
+            dof += 1;
+        else if (root == RJ_ROOT_FREE)
+            dof += 3;
+        else if (root == RJ_ROOT_PINNED)
+            dof += 1;
+    }
+    return dof;
+}
+
+RJDEF rj_result rj_scene_mobility(const rj_scene_def *scene, int *mobility, int *rank,
+                                  rj_error *err)
+{
+    rj__asm A;
+    rj_joint_def *joints;
+    rj_scene_def copy;
+    rj_result r;
+    void *block;
+    const int rows = scene ? 2 * scene->joint_count : 0;
+    size_t arrays;
+    if (!scene || !mobility || !rank) {
+        rj__fail(err, RJ_ERR_INVALID, !scene ? "scene" : !mobility ? "mobility" : "rank", 0,
+                 "%s is NULL", !scene ? "scene" : !mobility ? "mobility" : "rank");
+        return RJ_ERR_INVALID;
+    }
+    r = rj__validate_all(scene, err, NULL);
+    if (r != RJ_OK)
+        return r;
+    memset(&A, 0, sizeof A);
+    /* the arrays, then the joints' copy (the Jacobian turns their angle0 and back) */
+    arrays = (rj__asm_carve(&A, NULL, scene->link_count, scene->joint_count, rows) + 15) /
+             16 * 16;
+    block = RJ_MALLOC(arrays + sizeof(rj_joint_def) * ((size_t) scene->joint_count + 1), NULL);
+    if (!block) {
+        rj__fail(err, RJ_ERR_NOMEM, "joint_count", scene->joint_count,
+                 "could not allocate the mobility's arrays");
+        return RJ_ERR_NOMEM;
+    }
+    joints = (rj_joint_def *) (void *) ((char *) block + arrays);
+    memcpy(joints, scene->joints, sizeof(rj_joint_def) * (size_t) scene->joint_count);
+    copy = *scene;
+    copy.joints = joints;
+    A.sc = &copy;
+    A.joints = joints;
+    rj__asm_carve(&A, block, scene->link_count, scene->joint_count, rows);
+    A.nloop = rj__asm_tree(&A);
+    A.nu = rj__asm_unknowns(&A, 0);
+    *rank = 0;
+    if (A.nloop && A.nu) {
+        rj__asm_jacobian(&A);
+        *rank = rj__asm_rank(A.J, 2 * A.nloop, A.nu);
+    }
+    *mobility = rj__asm_tree_freedom(&A) - *rank;
+    RJ_FREE(block, NULL);
+    return RJ_OK;
 }

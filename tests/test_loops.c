@@ -473,9 +473,12 @@ static void test_rigid_fourbar(rjt_ctx *c)
    moving at 1 m/s in x. Its windows are parallelograms, so every crank turns as the first
    (the exact motion: one pendulum of inertia m L^2 ((N + 1) / 3 + N), gravity's moment
    m g L cos(theta) ((N + 1) / 2 + N)), and it passes the flat position, where N loops'
-   rows repeat each other, about every second. The scene's text into text. */
-static void a02_text(int N, double dt, char *text, size_t n)
+   rows repeat each other, about every second. The scene's text into text (flat: the
+   cranks along the ground line instead, the singular position). */
+static void a02_text(int N, double dt, int flat, char *text, size_t n)
 {
+    const char *up = flat ? "0 deg" : "90 deg", *across = flat ? "180 deg" : "90 deg";
+    const char *closing = flat ? "180 deg" : "270 deg";
     size_t at = 0;
     int i;
     at += (size_t) snprintf(text + at, n - at,
@@ -490,14 +493,15 @@ static void a02_text(int N, double dt, char *text, size_t n)
                                 "link k%d\n  length = 1  elements = 1  rho = 10000  section = bar"
                                 "  fidelity = rigid\n", i);
     at += (size_t) snprintf(text + at, n - at,
-                            "joint g0\n  body1 = ground  body2 = c0  angle0 = 90 deg  rate0 = -1\n");
+                            "joint g0\n  body1 = ground  body2 = c0  angle0 = %s  rate0 = -1\n",
+                            up);
     for (i = 1; i <= N; i++)
         at += (size_t) snprintf(
             text + at, n - at,
-            "joint a%d\n  body1 = c%d  body2 = k%d  angle0 = 90 deg  rate0 = 1\n"
-            "joint g%d\n  body1 = ground  body2 = c%d  ground_x = %d  angle0 = 90 deg  rate0 = -1\n"
-            "joint b%d\n  body1 = k%d  body2 = c%d  node2 = last  angle0 = 270 deg\n",
-            i, i - 1, i, i, i, i, i, i, i);
+            "joint a%d\n  body1 = c%d  body2 = k%d  angle0 = %s  rate0 = 1\n"
+            "joint g%d\n  body1 = ground  body2 = c%d  ground_x = %d  angle0 = %s  rate0 = -1\n"
+            "joint b%d\n  body1 = k%d  body2 = c%d  node2 = last  angle0 = %s\n",
+            i, i - 1, i, across, i, i, i, up, i, i, i, closing);
 }
 
 /* The exact crank angle's acceleration of A02 with N windows. */
@@ -515,7 +519,7 @@ static void run_a02(int N, double dt, double t_end, fourbar_run *o)
     rj_error err;
     double th = PI / 2, w = -1;
     memset(o, 0, sizeof *o);
-    a02_text(N, dt, text, sizeof text);
+    a02_text(N, dt, 0, text, sizeof text);
     if (!build(text, &m, &s, &err)) {
         o->result = err.code;
         snprintf(o->msg, sizeof o->msg, "%s", err.msg);
@@ -559,9 +563,48 @@ static void test_a02(rjt_ctx *c)
     }
 }
 
+/* rj_scene_mobility: the rank the loops' constraints have, and the mobility it leaves,
+   against the mechanisms' own: a four-bar 1 (rank 2), the A02 mechanism with 2 windows
+   1 upright (rank 4) and 3 flat (its N + 1 = 3: the windows' loops repeat each other),
+   the free-floating scissor boom 4 (rank 10: three of them its motion as a whole). */
+static void test_mobility(rjt_ctx *c)
+{
+    static char text[16 * 1024];
+    rj_scene_file f;
+    rj_error err;
+    int got[4][2], k;
+    for (k = 0; k < 4; k++) {
+        rj_result r = RJ_ERR_PARSE;
+        got[k][0] = got[k][1] = -1;
+        if (k == 0)
+            fourbar_text(7e10, text, sizeof text);
+        else if (k < 3)
+            a02_text(2, 1e-3, k == 2, text, sizeof text);
+        if (k == 3)
+            r = rj_scene_load("examples/scenes/scissor_boom.rjs", &f, &err);
+        else
+            r = rj_scene_parse(text, strlen(text), "mobility.rjs", &f, &err);
+        if (r == RJ_OK) {
+            rj_scene_def d = rj_scene_file_def(&f);
+            rj_scene_mobility(&d, &got[k][0], &got[k][1], &err);
+            rj_scene_file_free(&f);
+        }
+    }
+    rjt_check(c, got[0][0] == 1 && got[0][1] == 2 && got[1][0] == 1 && got[1][1] == 4 &&
+                     got[3][0] == 4 && got[3][1] == 10,
+              "mobility: the loops' rank and the freedom left",
+              "four-bar %d (rank %d), A02 N = 2 upright %d (rank %d), scissor boom %d (rank %d)",
+              got[0][0], got[0][1], got[1][0], got[1][1], got[3][0], got[3][1]);
+    rjt_check(c, got[2][0] == 3 && got[2][1] == 2,
+              "mobility: a parallelogram mechanism at its flat position, its rank dropped",
+              "A02 N = 2 flat: mobility %d, rank %d (want 3 and 2) %s", got[2][0], got[2][1],
+              got[2][0] < 0 ? err.msg : "");
+}
+
 int main(void)
 {
     rjt_ctx c = { 0, 0 };
+    test_mobility(&c);
     test_a02(&c);
     test_scissor(&c);
     test_rigid_fourbar(&c);
