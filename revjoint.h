@@ -2964,14 +2964,19 @@ static int rj__counts(const rj_scene_def *sc, size_t *nn, size_t *ne, rj_error *
     return 1;
 }
 
-/* What a joint that closes a loop among rigid links may not have yet (its element's
-   velocity-level parts and the rows that name it): the field, or NULL. */
+/* What a joint that closes a loop among rigid links may not have yet (limits met by
+   forced displacement, energy or a bounce, friction, and the rows that name it): the
+   field, or NULL. Its limits by a stiffness (penalty, adaptive) act through the loop as
+   its spring does; plastic ones (momentum, restitution 0) and its lock are rows along
+   the loop. */
 static const char *rj__rigid_loop_refusal(const rj_scene_def *sc, int j, char *f, size_t n)
 {
     const rj_joint_def *d = &sc->joints[j];
+    const int stiff = d->method == RJ_METHOD_PENALTY || d->method == RJ_METHOD_ADAPTIVE;
+    const int plastic = d->method == RJ_METHOD_MOMENTUM && d->restitution == 0;
     int k;
-    if (d->has_forward || d->has_reverse)
-        snprintf(f, n, "joints[%d].%s", j, d->has_forward ? "forward" : "reverse");
+    if ((d->has_forward || d->has_reverse) && !stiff && !plastic)
+        snprintf(f, n, "joints[%d].method", j);
     else if (d->friction > 0)
         snprintf(f, n, "joints[%d].friction", j);
     else
@@ -2999,8 +3004,9 @@ static int rj__validate_loop_joint(const rj_scene_def *sc, int j, int first, rj_
             return 1;
         rj__fail(err, RJ_ERR_INVALID, f, j,
                  "%s is not supported: joint %d closes a loop among rigid links, which takes no "
-                 "limits, friction, actuator or coupling yet (its spring, table and damping "
-                 "work)",
+                 "forced, energy or bouncing limit method, friction, actuator or coupling yet "
+                 "(its spring, table, damping, and limits and lock by penalty, adaptive or "
+                 "plastic momentum work)",
                  f, j);
         return 0;
     }
@@ -10512,6 +10518,37 @@ static void rj__rig_loop_rows(const rj_model *m, const rj__rig *r, double dt, rj
     }
 }
 
+/* The plastic latches of the joints that close loops (momentum with restitution 0): a
+   lock or a contact row along the loop joint's gradient g, its owner -1 - j (no single
+   impulse holds it). */
+static void rj__rig_loop_latches(const rj_model *m, const rj__frames *f, const rj__rig *r,
+                                 rj__rows *R)
+{
+    const int *ni = f->new_flags;
+    double *g = r->tmp;
+    int j, k;
+    for (j = 0; j < m->nj; j++) {
+        const int forward = ni[j] == RJ_AT_FORWARD;
+        double rate = 0;
+        rj__row *row;
+        if (m->jq[j] >= 0 || !rj__rig_plastic(&m->jdef[j], ni[j]))
+            continue;
+        rj__rig_loop_gradient(m, j, g);
+        for (k = 0; k < m->nq; k++)
+            rate += g[k] * r->qdp[k];
+        if (ni[j] == RJ_LOCKED)
+            row = rj__row_open(R, RJ__ROW_LOCK, -1 - j, 0.0, -HUGE_VAL, HUGE_VAL);
+        else {
+            row = rj__row_open(R, RJ__ROW_CONTACT, -1 - j, 0.0, forward ? -HUGE_VAL : 0.0,
+                               forward ? 0.0 : HUGE_VAL);
+            row->active = rj__into_limit(ni[j], rate);
+        }
+        for (k = 0; k < m->nq; k++)
+            if (g[k] != 0)
+                rj__row_term(R, row, k, g[k]);
+    }
+}
+
 /* Rigid step, stage 5b: the rows in joint coordinates (src/rows.h), in joint order: a
    prescribed joint's profile; a locked joint; a plastic contact, held from the start when
    it turns into its limit or a single impulse moved its rate (a later joint's impulse
@@ -10548,8 +10585,10 @@ static void rj__rig_rows_build(const rj_model *m, const rj_state *s, const rj__f
         rj__row_term(R, row, k, 1.0);
     }
     rj__rows_couplings(m, R, r->q, 1, m->jq, f->dt);
-    if (m->nloop)
+    if (m->nloop) {
+        rj__rig_loop_latches(m, f, r, R);
         rj__rig_loop_rows(m, r, f->dt, R);
+    }
 }
 
 /* The row of the one joint that took a single impulse (which held it exactly), or -1. */
@@ -10576,8 +10615,12 @@ static void rj__rig_coupling_torques(const rj_model *m, const rj__frames *f, con
         r->x[k] = 0;
     for (a = 0; a < R->count; a++) {
         const rj__row *row = &R->row[a];
-        if (row->kind != RJ__ROW_COUPLING && row->kind != RJ__ROW_LOOP)
+        const int loop_latch = row->kind <= RJ__ROW_CONTACT && row->owner < 0;
+        if (row->kind != RJ__ROW_COUPLING && row->kind != RJ__ROW_LOOP && !loop_latch)
             continue;
+        /* a loop joint's latch: its impulse on its own record */
+        if (loop_latch)
+            new_joints[(size_t) RJ__JD_COUNT * (-1 - row->owner) + RJ__JD_IMPULSE] = row->lam;
         for (k = 0; k < row->count; k++) {
             const rj__term *t = &R->term[row->first + k];
             const double impulse = t->coef * row->lam;

@@ -68,6 +68,37 @@ static void rj__rig_loop_rows(const rj_model *m, const rj__rig *r, double dt, rj
     }
 }
 
+/* The plastic latches of the joints that close loops (momentum with restitution 0): a
+   lock or a contact row along the loop joint's gradient g, its owner -1 - j (no single
+   impulse holds it). */
+static void rj__rig_loop_latches(const rj_model *m, const rj__frames *f, const rj__rig *r,
+                                 rj__rows *R)
+{
+    const int *ni = f->new_flags;
+    double *g = r->tmp;
+    int j, k;
+    for (j = 0; j < m->nj; j++) {
+        const int forward = ni[j] == RJ_AT_FORWARD;
+        double rate = 0;
+        rj__row *row;
+        if (m->jq[j] >= 0 || !rj__rig_plastic(&m->jdef[j], ni[j]))
+            continue;
+        rj__rig_loop_gradient(m, j, g);
+        for (k = 0; k < m->nq; k++)
+            rate += g[k] * r->qdp[k];
+        if (ni[j] == RJ_LOCKED)
+            row = rj__row_open(R, RJ__ROW_LOCK, -1 - j, 0.0, -HUGE_VAL, HUGE_VAL);
+        else {
+            row = rj__row_open(R, RJ__ROW_CONTACT, -1 - j, 0.0, forward ? -HUGE_VAL : 0.0,
+                               forward ? 0.0 : HUGE_VAL);
+            row->active = rj__into_limit(ni[j], rate);
+        }
+        for (k = 0; k < m->nq; k++)
+            if (g[k] != 0)
+                rj__row_term(R, row, k, g[k]);
+    }
+}
+
 /* Rigid step, stage 5b: the rows in joint coordinates (src/rows.h), in joint order: a
    prescribed joint's profile; a locked joint; a plastic contact, held from the start when
    it turns into its limit or a single impulse moved its rate (a later joint's impulse
@@ -104,8 +135,10 @@ static void rj__rig_rows_build(const rj_model *m, const rj_state *s, const rj__f
         rj__row_term(R, row, k, 1.0);
     }
     rj__rows_couplings(m, R, r->q, 1, m->jq, f->dt);
-    if (m->nloop)
+    if (m->nloop) {
+        rj__rig_loop_latches(m, f, r, R);
         rj__rig_loop_rows(m, r, f->dt, R);
+    }
 }
 
 /* The row of the one joint that took a single impulse (which held it exactly), or -1. */
@@ -132,8 +165,12 @@ static void rj__rig_coupling_torques(const rj_model *m, const rj__frames *f, con
         r->x[k] = 0;
     for (a = 0; a < R->count; a++) {
         const rj__row *row = &R->row[a];
-        if (row->kind != RJ__ROW_COUPLING && row->kind != RJ__ROW_LOOP)
+        const int loop_latch = row->kind <= RJ__ROW_CONTACT && row->owner < 0;
+        if (row->kind != RJ__ROW_COUPLING && row->kind != RJ__ROW_LOOP && !loop_latch)
             continue;
+        /* a loop joint's latch: its impulse on its own record */
+        if (loop_latch)
+            new_joints[(size_t) RJ__JD_COUNT * (-1 - row->owner) + RJ__JD_IMPULSE] = row->lam;
         for (k = 0; k < row->count; k++) {
             const rj__term *t = &R->term[row->first + k];
             const double impulse = t->coef * row->lam;

@@ -657,14 +657,19 @@ static int rj__counts(const rj_scene_def *sc, size_t *nn, size_t *ne, rj_error *
     return 1;
 }
 
-/* What a joint that closes a loop among rigid links may not have yet (its element's
-   velocity-level parts and the rows that name it): the field, or NULL. */
+/* What a joint that closes a loop among rigid links may not have yet (limits met by
+   forced displacement, energy or a bounce, friction, and the rows that name it): the
+   field, or NULL. Its limits by a stiffness (penalty, adaptive) act through the loop as
+   its spring does; plastic ones (momentum, restitution 0) and its lock are rows along
+   the loop. */
 static const char *rj__rigid_loop_refusal(const rj_scene_def *sc, int j, char *f, size_t n)
 {
     const rj_joint_def *d = &sc->joints[j];
+    const int stiff = d->method == RJ_METHOD_PENALTY || d->method == RJ_METHOD_ADAPTIVE;
+    const int plastic = d->method == RJ_METHOD_MOMENTUM && d->restitution == 0;
     int k;
-    if (d->has_forward || d->has_reverse)
-        snprintf(f, n, "joints[%d].%s", j, d->has_forward ? "forward" : "reverse");
+    if ((d->has_forward || d->has_reverse) && !stiff && !plastic)
+        snprintf(f, n, "joints[%d].method", j);
     else if (d->friction > 0)
         snprintf(f, n, "joints[%d].friction", j);
     else
@@ -692,8 +697,9 @@ static int rj__validate_loop_joint(const rj_scene_def *sc, int j, int first, rj_
             return 1;
         rj__fail(err, RJ_ERR_INVALID, f, j,
                  "%s is not supported: joint %d closes a loop among rigid links, which takes no "
-                 "limits, friction, actuator or coupling yet (its spring, table and damping "
-                 "work)",
+                 "forced, energy or bouncing limit method, friction, actuator or coupling yet "
+                 "(its spring, table, damping, and limits and lock by penalty, adaptive or "
+                 "plastic momentum work)",
                  f, j);
         return 0;
     }

@@ -446,6 +446,58 @@ static void run_rigid(double dt, fourbar_run *o)
     rj_model_destroy(m, NULL);
 }
 
+/* The rigid four-bar with a plastic latch on the joint that closes its loop (forward
+   limit 260 deg, lock, momentum with restitution 0: a row along the loop's gradient):
+   it latches, and the whole mechanism stops (0 degrees of freedom left), its kinetic
+   energy in the latch's loss. */
+static void test_rigid_latch(rjt_ctx *c)
+{
+    char text[2048], out[2600], *w = out;
+    const char *t = text;
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    double balance = 0, kinetic = 0, latched = -1;
+    rj_result r = RJ_OK;
+    fourbar_text(7e10, text, sizeof text);
+    while (*t && w < out + sizeof out - 80) {
+        if (!strncmp(t, "section = bar\n", 14)) {
+            w += sprintf(w, "section = bar  fidelity = rigid\n");
+            t += 14;
+        } else if (!strncmp(t, "dt = 0\n", 7)) {
+            w += sprintf(w, "dt = 1e-4\n");
+            t += 7;
+        } else if (!strncmp(t, "node2 = last", 12)) {
+            w += sprintf(w, "node2 = last  forward = 260 deg  lock = yes  method = momentum");
+            t += 12;
+        } else
+            *w++ = *t++;
+    }
+    *w = 0;
+    if (!build(out, &m, &s, &err)) {
+        rjt_check(c, 0, "rigid four-bar: a plastic latch on its loop joint", "%s", err.msg);
+        return;
+    }
+    while (rj_state_time(s) < 2 && r == RJ_OK) {
+        rj_energy e;
+        r = rj_step(m, s);
+        rj_state_energy(m, s, &e);
+        balance = fmax(balance, fabs(e.balance));
+        kinetic = fmax(kinetic, e.kinetic);
+        if (latched < 0 && rj_joint_flag(m, s, 3) == RJ_LOCKED)
+            latched = rj_state_time(s);
+    }
+    rjt_check(c, r == RJ_OK && latched > 0 && rj_joint_flag(m, s, 3) == RJ_LOCKED &&
+                     fabs(rj_joint_rate(m, s, 0)) < 1e-9 && balance < 1e-5 * kinetic,
+              "rigid four-bar: a plastic latch on its loop joint stops the mechanism",
+              "latched at %.4f s at %.4f deg (limit 260 deg = -100 deg); crank rate at 2 s "
+              "%.3g rad/s; max |balance| %.3g J of %.3g J kinetic %s",
+              latched, rj_deg(rj_joint_theta_running(m, s, 3)), rj_joint_rate(m, s, 0), balance,
+              kinetic, r == RJ_OK ? "" : rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
 static void test_rigid_fourbar(rjt_ctx *c)
 {
     fourbar_run a, b, fine;
@@ -608,6 +660,7 @@ int main(void)
     test_a02(&c);
     test_scissor(&c);
     test_rigid_fourbar(&c);
+    test_rigid_latch(&c);
     test_fourbar(&c);
     test_refusals(&c);
     test_assemble(&c);
