@@ -10679,6 +10679,20 @@ static void rj__rig_loops_shake(const rj_model *m, const rj__frames *f, rj__rig 
     memcpy(r->qdp, best_rates, sizeof(double) * (size_t) m->nq);
 }
 
+/* The dense rows' solve's working arrays, in the rigid solver's scratch. */
+static void rj__rig_dense(const rj_model *m, const rj__rig *r, rj__dense *D)
+{
+    D->n = m->nq;
+    D->L = r->L;
+    D->W = r->W;
+    D->Y = r->Y;
+    D->S = r->S;
+    D->SL = r->SL;
+    D->lam = r->lam;
+    D->rhs = r->rhs;
+    D->scratch = r->tmp;
+}
+
 /* The rows' solve: none to do when the only row held is the one a single impulse held;
    with every joint locked (and no coupling) q' = 0, which the system gives to round-off. */
 static void rj__rig_rows(const rj_model *m, const rj_state *s, const rj__frames *f, rj__rig *r,
@@ -10702,15 +10716,7 @@ static void rj__rig_rows(const rj_model *m, const rj_state *s, const rj__frames 
             r->qdp[j] = 0;
         return;
     }
-    D.n = m->nq;
-    D.L = r->L;
-    D.W = r->W;
-    D.Y = r->Y;
-    D.S = r->S;
-    D.SL = r->SL;
-    D.lam = r->lam;
-    D.rhs = r->rhs;
-    D.scratch = r->tmp;
+    rj__rig_dense(m, r, &D);
     rj__rows_solve_dense(&R, &D, r->qdp);
     if (m->nloop)
         rj__rig_loops_shake(m, f, r, &R, &D);
@@ -11061,15 +11067,7 @@ static void rj__rig_loops_project(const rj_model *m, const rj_state *s, const rj
     int pass, k;
     R.row = s->rows;
     R.term = s->terms;
-    D.n = m->nq;
-    D.L = r->L;
-    D.W = r->W;
-    D.Y = r->Y;
-    D.S = r->S;
-    D.SL = r->SL;
-    D.lam = r->lam;
-    D.rhs = r->rhs;
-    D.scratch = r->tmp;
+    rj__rig_dense(m, r, &D);
     D.held = -1;
     for (pass = 0; pass < 2; pass++) {
         for (k = 0; k < m->nq; k++) {
