@@ -272,9 +272,10 @@ static void test_refusals(rjt_ctx *c)
         { "elements = 10", "elements = 1  fidelity = rigid", "closes a loop",
           "a loop through a rigid link" },
         { "node2 = last", "node2 = last  reference = chord", "node2", "node2 on a chord joint" },
+        { "node2 = last", "node2 = 9", "node2 = 9 is out of range", "node2 past the link's last" },
     };
     int k;
-    for (k = 0; k < 4; k++) {
+    for (k = 0; k < 5; k++) {
         rj_error err;
         const rj_result r = edited(cases[k][0], cases[k][1], &err);
         rjt_check(c, r != RJ_OK && strstr(err.msg, cases[k][2]) != NULL,
@@ -498,6 +499,56 @@ static void test_rigid_latch(rjt_ctx *c)
     rj_model_destroy(m, NULL);
 }
 
+/* The rigid four-bar for 1e6 steps of 0.1 ms (100 s, the crank turning over and over):
+   the pins' gap and the balance, sampled every 100 steps. */
+static void test_rigid_long(rjt_ctx *c)
+{
+    char text[2048], out[2600], *w = out;
+    const char *t = text;
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    double balance = 0, kinetic = 0, gap = 0;
+    rj_result r = RJ_OK;
+    long k;
+    fourbar_text(7e10, text, sizeof text);
+    while (*t && w < out + sizeof out - 64) {
+        if (!strncmp(t, "section = bar\n", 14)) {
+            w += sprintf(w, "section = bar  fidelity = rigid\n");
+            t += 14;
+        } else if (!strncmp(t, "dt = 0\n", 7)) {
+            w += sprintf(w, "dt = 1e-4\n");
+            t += 7;
+        } else
+            *w++ = *t++;
+    }
+    *w = 0;
+    if (!build(out, &m, &s, &err)) {
+        rjt_check(c, 0, "rigid four-bar: 1e6 steps", "%s", err.msg);
+        return;
+    }
+    for (k = 0; k < 1000000 && r == RJ_OK; k++) {
+        double a[2], b[2];
+        rj_energy e;
+        r = rj_step(m, s);
+        if (k % 100)
+            continue;
+        rj_state_energy(m, s, &e);
+        balance = fmax(balance, fabs(e.balance));
+        kinetic = fmax(kinetic, e.kinetic);
+        rj_node_position(m, s, 1, rj_link_node_count(m, 1) - 1, a);
+        rj_node_position(m, s, 2, rj_link_node_count(m, 2) - 1, b);
+        gap = fmax(gap, hypot(a[0] - b[0], a[1] - b[1]));
+    }
+    rjt_check(c, r == RJ_OK && gap < 1e-12 && balance < 1e-5 * kinetic,
+              "rigid four-bar: the loop closed and the balance kept over 1e6 steps",
+              "100 s at 0.1 ms: pins at most %.3g m apart; max |balance| %.3g J of %.3g J "
+              "kinetic %s",
+              gap, balance, kinetic, r == RJ_OK ? "" : rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
 static void test_rigid_fourbar(rjt_ctx *c)
 {
     fourbar_run a, b, fine;
@@ -661,6 +712,7 @@ int main(void)
     test_scissor(&c);
     test_rigid_fourbar(&c);
     test_rigid_latch(&c);
+    test_rigid_long(&c);
     test_fourbar(&c);
     test_refusals(&c);
     test_assemble(&c);
