@@ -238,7 +238,8 @@ typedef struct rj_link_def {
 typedef struct rj_joint_def {
     int body1; /* link index, or -1 for ground */
     int node1; /* node of body1 carrying the pin; -1 = last node */
-    int node2; /* node of body2 carrying the pin; 0 (default) its first, -1 its last */
+    int node2; /* node of body2 carrying the pin; 0 (default) its first, -1 its last (the
+                  tangent reference; a flexible body2, or rigid links only) */
     int body2; /* link index; pinned at its node 0 */
     double ground_x, ground_y,
         ground_angle; /* m, m, rad: pin and reference direction when body1 = -1 */
@@ -1190,6 +1191,8 @@ enum {
     RJ__RL_SUB_FX,
     RJ__RL_SUB_FY,
     RJ__RL_SUB_N,
+    RJ__RL_PX, /* the pin of the link's joint (its root unless the joint pins another node) */
+    RJ__RL_PY,
     RJ__RL_COUNT = 24
 };
 static void rj__rig_map(const rj_model *m, double *base, rj__rig *r, int nloop);
@@ -2575,8 +2578,7 @@ static int rj__validate_bodies(const rj_scene_def *sc, const rj_joint_def *J, in
         RJ__FIELD(f, "joints[%d].node2", j);
         rj__fail(err, RJ_ERR_INVALID, f, J->node2,
                  "%s = %d is not supported: a pin away from body2's first node needs the "
-                 "tangent reference and a flexible body2 (or, with rigid links only, a joint "
-                 "that closes a loop)",
+                 "tangent reference and a flexible body2, or rigid links only",
                  f, J->node2);
         return 0;
     }
@@ -3146,18 +3148,8 @@ static int rj__validate_graph(const rj_scene_def *sc, int *scratch, rj_error *er
         const int b2 = sc->joints[j].body2;
         if (parent[b2] >= 0 && !rj__validate_loop_joint(sc, j, parent[b2], err))
             return 0;
-        if (parent[b2] >= 0)
-            continue;
-        parent[b2] = j;
-        /* joint coordinates pin a hanging rigid link at its root */
-        if (sc->joints[j].node2 != 0 && sc->links[b2].fidelity == RJ_LINK_RIGID) {
-            RJ__FIELD(f, "joints[%d].node2", j);
-            rj__fail(err, RJ_ERR_INVALID, f, sc->joints[j].node2,
-                     "%s = %d is not supported: a rigid link hangs from its first joint at its "
-                     "node 0 (a pin elsewhere closes a loop)",
-                     f, sc->joints[j].node2);
-            return 0;
-        }
+        if (parent[b2] < 0)
+            parent[b2] = j;
     }
     if (rj__all_rigid(sc))
         for (i = 0; i < nl; i++)
@@ -7715,8 +7707,8 @@ static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const do
             const rj_link_def *d = &m->ldef[l];
             double *b = lk + RJ__RL_COUNT * (size_t) l;
             b[RJ__RL_PHI] = d->angle;
-            b[RJ__RL_RX] = d->x;
-            b[RJ__RL_RY] = d->y;
+            b[RJ__RL_RX] = b[RJ__RL_PX] = d->x;
+            b[RJ__RL_RY] = b[RJ__RL_PY] = d->y;
             b[RJ__RL_OM] = b[RJ__RL_VX] = b[RJ__RL_VY] = b[RJ__RL_ARX] = b[RJ__RL_ARY] =
                 b[RJ__RL_OMB] = 0;
         }
@@ -7764,6 +7756,20 @@ static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const do
         }
         ex = cos(ph);
         ey = sin(ph);
+        b[RJ__RL_PX] = rx;
+        b[RJ__RL_PY] = ry;
+        /* a pin at node at: the root at -at l0 along the link, moving and turning about it */
+        if (m->jnt[j].nJ != m->link_first[c]) {
+            const double off = (m->jnt[j].nJ - m->link_first[c]) * m->link_l0[c];
+            rx -= off * ex;
+            ry -= off * ey;
+            arx += omb * omb * off * ex;
+            ary += omb * omb * off * ey;
+            if (qd) {
+                b[RJ__RL_VX] += b[RJ__RL_OM] * off * ey;
+                b[RJ__RL_VY] -= b[RJ__RL_OM] * off * ex;
+            }
+        }
         b[RJ__RL_PHI] = ph;
         b[RJ__RL_EC] = ex;
         b[RJ__RL_ES] = ey;
@@ -7785,8 +7791,8 @@ static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const do
 static void rj__rig_own(const rj_model *m, int link, double *b)
 {
     const double mass = m->rb_mass[link];
-    const double dx = b[RJ__RL_CX] - b[RJ__RL_RX];
-    const double dy = b[RJ__RL_CY] - b[RJ__RL_RY];
+    const double dx = b[RJ__RL_CX] - b[RJ__RL_PX];
+    const double dy = b[RJ__RL_CY] - b[RJ__RL_PY];
     b[RJ__RL_SUB_M] = mass;
     b[RJ__RL_SUB_SX] = mass * dx;
     b[RJ__RL_SUB_SY] = mass * dy;
@@ -7800,8 +7806,8 @@ static void rj__rig_own(const rj_model *m, int link, double *b)
    from the child's pin to the parent's by d = P_child - P_parent (parallel axes). */
 static void rj__rig_gather(const double *sub, double *parent)
 {
-    const double dx = sub[RJ__RL_RX] - parent[RJ__RL_RX];
-    const double dy = sub[RJ__RL_RY] - parent[RJ__RL_RY];
+    const double dx = sub[RJ__RL_PX] - parent[RJ__RL_PX];
+    const double dy = sub[RJ__RL_PY] - parent[RJ__RL_PY];
     const double mass = sub[RJ__RL_SUB_M];
     const double moment = dx * sub[RJ__RL_SUB_SX] + dy * sub[RJ__RL_SUB_SY];
     parent[RJ__RL_SUB_M] += mass;
@@ -7847,8 +7853,8 @@ static void rj__rig_mass_links(const rj_model *m, rj__rig *r)
         int up;
         for (up = rj__rig_up(m, m->qj[k]); up >= 0; up = rj__rig_up(m, up)) {
             const double *pin = lk + RJ__RL_COUNT * (size_t) m->jdef[up].body2;
-            const double dx = sub[RJ__RL_RX] - pin[RJ__RL_RX];
-            const double dy = sub[RJ__RL_RY] - pin[RJ__RL_RY];
+            const double dx = sub[RJ__RL_PX] - pin[RJ__RL_PX];
+            const double dy = sub[RJ__RL_PY] - pin[RJ__RL_PY];
             const double v = sub[RJ__RL_SUB_J] + dx * sub[RJ__RL_SUB_SX] + dy * sub[RJ__RL_SUB_SY];
             M[(size_t) k * n + m->jq[up]] = v;
             M[(size_t) m->jq[up] * n + k] = v;
@@ -8113,15 +8119,17 @@ static double rj__rig_setup(rj_model *m, double *scratch)
         const int j = m->qj[k];
         rj__joint *J = &m->jnt[j];
         const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
+        /* body 2's centre from the pin (its root unless the joint pins another node) */
+        const double arm = m->rb_dcm[b2] - (J->nJ - m->link_first[b2]) * m->link_l0[b2];
         double dx, dy;
-        J->I2 = m->rb_icm[b2] + m->rb_mass[b2] * m->rb_dcm[b2] * m->rb_dcm[b2];
+        J->I2 = m->rb_icm[b2] + m->rb_mass[b2] * arm * arm;
         if (b1 < 0 || m->rb_pjoint[b1] < 0)
             J->I1 = HUGE_VAL;
         else {
             dx = r.lk[RJ__RL_COUNT * (size_t) b1 + RJ__RL_CX] -
-                 r.lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_RX];
+                 r.lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_PX];
             dy = r.lk[RJ__RL_COUNT * (size_t) b1 + RJ__RL_CY] -
-                 r.lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_RY];
+                 r.lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_PY];
             J->I1 = m->rb_icm[b1] + m->rb_mass[b1] * (dx * dx + dy * dy);
         }
         J->w1 = rj__finite(J->I1) ? J->I2 / (J->I1 + J->I2) : 0;
@@ -10494,7 +10502,7 @@ static void rj__rig_loop_terms(const rj_model *m, const rj__rig *r, rj__rows *R,
     int up;
     for (up = l >= 0 ? m->rb_pjoint[l] : -1; up >= 0; up = rj__rig_up(m, up)) {
         const double *pin = r->lk + RJ__RL_COUNT * (size_t) m->jdef[up].body2;
-        const double d = axis == 0 ? -(p[1] - pin[RJ__RL_RY]) : p[0] - pin[RJ__RL_RX];
+        const double d = axis == 0 ? -(p[1] - pin[RJ__RL_PY]) : p[0] - pin[RJ__RL_PX];
         rj__row_term(R, row, m->jq[up], sign * d);
     }
 }
@@ -10788,7 +10796,7 @@ static void rj__rig_node_load(const rj_model *m, const rj__rig *r, int l, int k,
     int j;
     for (j = m->rb_pjoint[l]; j >= 0; j = rj__rig_up(m, j)) {
         const double *pin = r->lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
-        const double dx = px - pin[RJ__RL_RX], dy = py - pin[RJ__RL_RY];
+        const double dx = px - pin[RJ__RL_PX], dy = py - pin[RJ__RL_PY];
         new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_INPUT] +=
             dx * value[1] - dy * value[0] + value[2];
     }
@@ -11853,6 +11861,15 @@ static void rj__rig_pose(const rj_model *m, const double *f, int l, double *phi,
     }
     *phi = ph + RJ__FJ(m, f, j)[RJ__JD_THETA];
     *om = o + RJ__FJ(m, f, j)[RJ__JD_RATE];
+    /* a pin at node at: the root at -at l0 along the link */
+    if (m->jnt[j].nJ != m->link_first[l]) {
+        const double off = (m->jnt[j].nJ - m->link_first[l]) * m->link_l0[l];
+        const double c = cos(*phi), sn = sin(*phi);
+        x -= off * c;
+        y -= off * sn;
+        ux += *om * off * sn;
+        uy -= *om * off * c;
+    }
     *rx = x;
     *ry = y;
     *vx = ux;

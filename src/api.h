@@ -238,7 +238,8 @@ typedef struct rj_link_def {
 typedef struct rj_joint_def {
     int body1; /* link index, or -1 for ground */
     int node1; /* node of body1 carrying the pin; -1 = last node */
-    int node2; /* node of body2 carrying the pin; 0 (default) its first, -1 its last */
+    int node2; /* node of body2 carrying the pin; 0 (default) its first, -1 its last (the
+                  tangent reference; a flexible body2, or rigid links only) */
     int body2; /* link index; pinned at its node 0 */
     double ground_x, ground_y,
         ground_angle; /* m, m, rad: pin and reference direction when body1 = -1 */

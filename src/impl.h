@@ -401,6 +401,8 @@ enum {
     RJ__RL_SUB_FX,
     RJ__RL_SUB_FY,
     RJ__RL_SUB_N,
+    RJ__RL_PX, /* the pin of the link's joint (its root unless the joint pins another node) */
+    RJ__RL_PY,
     RJ__RL_COUNT = 24
 };
 static void rj__rig_map(const rj_model *m, double *base, rj__rig *r, int nloop);

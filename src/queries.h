@@ -227,6 +227,15 @@ static void rj__rig_pose(const rj_model *m, const double *f, int l, double *phi,
     }
     *phi = ph + RJ__FJ(m, f, j)[RJ__JD_THETA];
     *om = o + RJ__FJ(m, f, j)[RJ__JD_RATE];
+    /* a pin at node at: the root at -at l0 along the link */
+    if (m->jnt[j].nJ != m->link_first[l]) {
+        const double off = (m->jnt[j].nJ - m->link_first[l]) * m->link_l0[l];
+        const double c = cos(*phi), sn = sin(*phi);
+        x -= off * c;
+        y -= off * sn;
+        ux += *om * off * sn;
+        uy -= *om * off * c;
+    }
     *rx = x;
     *ry = y;
     *vx = ux;

@@ -64,8 +64,8 @@ static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const do
             const rj_link_def *d = &m->ldef[l];
             double *b = lk + RJ__RL_COUNT * (size_t) l;
             b[RJ__RL_PHI] = d->angle;
-            b[RJ__RL_RX] = d->x;
-            b[RJ__RL_RY] = d->y;
+            b[RJ__RL_RX] = b[RJ__RL_PX] = d->x;
+            b[RJ__RL_RY] = b[RJ__RL_PY] = d->y;
             b[RJ__RL_OM] = b[RJ__RL_VX] = b[RJ__RL_VY] = b[RJ__RL_ARX] = b[RJ__RL_ARY] =
                 b[RJ__RL_OMB] = 0;
         }
@@ -113,6 +113,20 @@ static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const do
         }
         ex = cos(ph);
         ey = sin(ph);
+        b[RJ__RL_PX] = rx;
+        b[RJ__RL_PY] = ry;
+        /* a pin at node at: the root at -at l0 along the link, moving and turning about it */
+        if (m->jnt[j].nJ != m->link_first[c]) {
+            const double off = (m->jnt[j].nJ - m->link_first[c]) * m->link_l0[c];
+            rx -= off * ex;
+            ry -= off * ey;
+            arx += omb * omb * off * ex;
+            ary += omb * omb * off * ey;
+            if (qd) {
+                b[RJ__RL_VX] += b[RJ__RL_OM] * off * ey;
+                b[RJ__RL_VY] -= b[RJ__RL_OM] * off * ex;
+            }
+        }
         b[RJ__RL_PHI] = ph;
         b[RJ__RL_EC] = ex;
         b[RJ__RL_ES] = ey;
@@ -134,8 +148,8 @@ static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const do
 static void rj__rig_own(const rj_model *m, int link, double *b)
 {
     const double mass = m->rb_mass[link];
-    const double dx = b[RJ__RL_CX] - b[RJ__RL_RX];
-    const double dy = b[RJ__RL_CY] - b[RJ__RL_RY];
+    const double dx = b[RJ__RL_CX] - b[RJ__RL_PX];
+    const double dy = b[RJ__RL_CY] - b[RJ__RL_PY];
     b[RJ__RL_SUB_M] = mass;
     b[RJ__RL_SUB_SX] = mass * dx;
     b[RJ__RL_SUB_SY] = mass * dy;
@@ -149,8 +163,8 @@ static void rj__rig_own(const rj_model *m, int link, double *b)
    from the child's pin to the parent's by d = P_child - P_parent (parallel axes). */
 static void rj__rig_gather(const double *sub, double *parent)
 {
-    const double dx = sub[RJ__RL_RX] - parent[RJ__RL_RX];
-    const double dy = sub[RJ__RL_RY] - parent[RJ__RL_RY];
+    const double dx = sub[RJ__RL_PX] - parent[RJ__RL_PX];
+    const double dy = sub[RJ__RL_PY] - parent[RJ__RL_PY];
     const double mass = sub[RJ__RL_SUB_M];
     const double moment = dx * sub[RJ__RL_SUB_SX] + dy * sub[RJ__RL_SUB_SY];
     parent[RJ__RL_SUB_M] += mass;
@@ -196,8 +210,8 @@ static void rj__rig_mass_links(const rj_model *m, rj__rig *r)
         int up;
         for (up = rj__rig_up(m, m->qj[k]); up >= 0; up = rj__rig_up(m, up)) {
             const double *pin = lk + RJ__RL_COUNT * (size_t) m->jdef[up].body2;
-            const double dx = sub[RJ__RL_RX] - pin[RJ__RL_RX];
-            const double dy = sub[RJ__RL_RY] - pin[RJ__RL_RY];
+            const double dx = sub[RJ__RL_PX] - pin[RJ__RL_PX];
+            const double dy = sub[RJ__RL_PY] - pin[RJ__RL_PY];
             const double v = sub[RJ__RL_SUB_J] + dx * sub[RJ__RL_SUB_SX] + dy * sub[RJ__RL_SUB_SY];
             M[(size_t) k * n + m->jq[up]] = v;
             M[(size_t) m->jq[up] * n + k] = v;
@@ -462,15 +476,17 @@ static double rj__rig_setup(rj_model *m, double *scratch)
         const int j = m->qj[k];
         rj__joint *J = &m->jnt[j];
         const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
+        /* body 2's centre from the pin (its root unless the joint pins another node) */
+        const double arm = m->rb_dcm[b2] - (J->nJ - m->link_first[b2]) * m->link_l0[b2];
         double dx, dy;
-        J->I2 = m->rb_icm[b2] + m->rb_mass[b2] * m->rb_dcm[b2] * m->rb_dcm[b2];
+        J->I2 = m->rb_icm[b2] + m->rb_mass[b2] * arm * arm;
         if (b1 < 0 || m->rb_pjoint[b1] < 0)
             J->I1 = HUGE_VAL;
         else {
             dx = r.lk[RJ__RL_COUNT * (size_t) b1 + RJ__RL_CX] -
-                 r.lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_RX];
+                 r.lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_PX];
             dy = r.lk[RJ__RL_COUNT * (size_t) b1 + RJ__RL_CY] -
-                 r.lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_RY];
+                 r.lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_PY];
             J->I1 = m->rb_icm[b1] + m->rb_mass[b1] * (dx * dx + dy * dy);
         }
         J->w1 = rj__finite(J->I1) ? J->I2 / (J->I1 + J->I2) : 0;

@@ -44,7 +44,7 @@ static void rj__rig_loop_terms(const rj_model *m, const rj__rig *r, rj__rows *R,
     int up;
     for (up = l >= 0 ? m->rb_pjoint[l] : -1; up >= 0; up = rj__rig_up(m, up)) {
         const double *pin = r->lk + RJ__RL_COUNT * (size_t) m->jdef[up].body2;
-        const double d = axis == 0 ? -(p[1] - pin[RJ__RL_RY]) : p[0] - pin[RJ__RL_RX];
+        const double d = axis == 0 ? -(p[1] - pin[RJ__RL_PY]) : p[0] - pin[RJ__RL_PX];
         rj__row_term(R, row, m->jq[up], sign * d);
     }
 }
@@ -338,7 +338,7 @@ static void rj__rig_node_load(const rj_model *m, const rj__rig *r, int l, int k,
     int j;
     for (j = m->rb_pjoint[l]; j >= 0; j = rj__rig_up(m, j)) {
         const double *pin = r->lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
-        const double dx = px - pin[RJ__RL_RX], dy = py - pin[RJ__RL_RY];
+        const double dx = px - pin[RJ__RL_PX], dy = py - pin[RJ__RL_PY];
         new_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_INPUT] +=
             dx * value[1] - dy * value[0] + value[2];
     }

@@ -268,8 +268,7 @@ static int rj__validate_bodies(const rj_scene_def *sc, const rj_joint_def *J, in
         RJ__FIELD(f, "joints[%d].node2", j);
         rj__fail(err, RJ_ERR_INVALID, f, J->node2,
                  "%s = %d is not supported: a pin away from body2's first node needs the "
-                 "tangent reference and a flexible body2 (or, with rigid links only, a joint "
-                 "that closes a loop)",
+                 "tangent reference and a flexible body2, or rigid links only",
                  f, J->node2);
         return 0;
     }
@@ -839,18 +838,8 @@ static int rj__validate_graph(const rj_scene_def *sc, int *scratch, rj_error *er
         const int b2 = sc->joints[j].body2;
         if (parent[b2] >= 0 && !rj__validate_loop_joint(sc, j, parent[b2], err))
             return 0;
-        if (parent[b2] >= 0)
-            continue;
-        parent[b2] = j;
-        /* joint coordinates pin a hanging rigid link at its root */
-        if (sc->joints[j].node2 != 0 && sc->links[b2].fidelity == RJ_LINK_RIGID) {
-            RJ__FIELD(f, "joints[%d].node2", j);
-            rj__fail(err, RJ_ERR_INVALID, f, sc->joints[j].node2,
-                     "%s = %d is not supported: a rigid link hangs from its first joint at its "
-                     "node 0 (a pin elsewhere closes a loop)",
-                     f, sc->joints[j].node2);
-            return 0;
-        }
+        if (parent[b2] < 0)
+            parent[b2] = j;
     }
     if (rj__all_rigid(sc))
         for (i = 0; i < nl; i++)

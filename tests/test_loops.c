@@ -704,9 +704,106 @@ static void test_mobility(rjt_ctx *c)
               got[2][0] < 0 ? err.msg : "");
 }
 
+/* The scissor boom of rigid strips, A0 held at 80 deg (rigid links must hang or be
+   fixed): each crossing pins a link's middle node (a rigid link hanging at node 2), five
+   loops in joint coordinates; the six crossings latch in one step, and the span between
+   the first and last crossings is the geometry's, 5 x 0.5 m x cos 30 deg. */
+static void test_rigid_scissor(rjt_ctx *c)
+{
+    rj_scene_file f;
+    rj_scene_def d;
+    rj_error err;
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_energy e0, e;
+    double balance = 0, first = -1, last = -1, a[2], b[2], span = 0;
+    const double want = 5 * 0.5 * cos(PI / 6);
+    rj_result r = rj_scene_load("examples/scenes/scissor_boom.rjs", &f, &err);
+    int l, j, locked = 0;
+    if (r == RJ_OK) {
+        d = rj_scene_file_def(&f);
+        for (l = 0; l < d.link_count; l++)
+            ((rj_link_def *) d.links)[l].fidelity = RJ_LINK_RIGID;
+        ((rj_link_def *) d.links)[0].root = RJ_ROOT_FIXED;
+        r = rj_model_create(&d, &m, &err, NULL);
+        rj_scene_file_free(&f);
+    }
+    if (r != RJ_OK) {
+        rjt_check(c, 0, "rigid scissor boom", "%s", err.msg);
+        return;
+    }
+    rj_state_create(m, &s, NULL);
+    rj_state_energy(m, s, &e0);
+    while (rj_state_time(s) < 2 && r == RJ_OK) {
+        int now = 0;
+        r = rj_step(m, s);
+        rj_state_energy(m, s, &e);
+        balance = fmax(balance, fabs(e.balance));
+        for (j = 0; j < rj_model_joint_count(m); j++)
+            now += rj_joint_flag(m, s, j) == RJ_LOCKED;
+        if (now > 0 && first < 0)
+            first = rj_state_time(s);
+        if (now == 6 && last < 0)
+            last = rj_state_time(s);
+    }
+    for (j = 0; j < rj_model_joint_count(m); j++)
+        locked += rj_joint_flag(m, s, j) == RJ_LOCKED;
+    rj_node_position(m, s, 0, 2, a);
+    rj_node_position(m, s, 10, 2, b);
+    span = hypot(a[0] - b[0], a[1] - b[1]);
+    rjt_check(c, r == RJ_OK && locked == 6 && first == last && fabs(span - want) < 1e-3 * want &&
+                     balance < 1e-5 * e0.total,
+              "rigid scissor boom: links hanging at their middle nodes, five loops, latching",
+              "the six crossings latch at %.4f s (the last at %.4f s); span %.6f m against "
+              "%.6f m; max |balance| %.3g J of %.3g J %s",
+              first, last, span, want, balance, e0.total, r == RJ_OK ? "" : rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
+/* A rigid rod of 1 m pinned to the ground at node 1 of 4 (0.25 m from its end, its
+   centre 0.25 m from the pin), released level under gravity: its period against the
+   exact one of a physical pendulum, 4 sqrt(I_p / (m g d)) K(sin 45 deg) with
+   I_p = m (L^2 / 12 + d^2); the time between the rate's first two zeros is half of it. */
+static void test_rigid_interior_pin(rjt_ctx *c)
+{
+    static const char text[] =
+        "solver\n  dt = 1e-4\n  gravity = 0 -9.81\n"
+        "link rod\n  length = 1  elements = 4  rho = 10000  width = 0.01  height = 0.01"
+        "  fidelity = rigid\n"
+        "joint pin\n  body1 = ground  body2 = rod  node2 = 1  angle0 = 0 deg\n";
+    const double K = 1.8540746773013719; /* K(sin 45 deg) */
+    const double want = 4 * sqrt((1.0 / 12 + 0.0625) / (G * 0.25)) * K;
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    double prev = 0, zero[2] = { -1, -1 }, t_prev = 0;
+    int found = 0;
+    if (!build(text, &m, &s, &err)) {
+        rjt_check(c, 0, "rigid rod pinned at an interior node", "%s", err.msg);
+        return;
+    }
+    while (rj_state_time(s) < 3 && found < 2 && rj_step(m, s) == RJ_OK) {
+        const double rate = rj_joint_rate(m, s, 0), t = rj_state_time(s);
+        /* the rate's zero between two steps, by linear interpolation */
+        if (t_prev > 0 && ((prev < 0 && rate >= 0) || (prev > 0 && rate <= 0)))
+            zero[found++] = t_prev + (t - t_prev) * prev / (prev - rate);
+        prev = rate;
+        t_prev = t;
+    }
+    rjt_check(c, found == 2 && fabs(2 * (zero[1] - zero[0]) - want) < 1e-5 * want,
+              "rigid rod pinned at an interior node: the physical pendulum's period",
+              "period %.9f s against %.9f s (%.2g relative)", 2 * (zero[1] - zero[0]), want,
+              (2 * (zero[1] - zero[0]) - want) / want);
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
 int main(void)
 {
     rjt_ctx c = { 0, 0 };
+    test_rigid_interior_pin(&c);
+    test_rigid_scissor(&c);
     test_mobility(&c);
     test_a02(&c);
     test_scissor(&c);
