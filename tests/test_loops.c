@@ -389,14 +389,36 @@ static void test_scissor(rjt_ctx *c)
     rj_model_destroy(m, NULL);
 }
 
+/* The four-bar of rigid bars at step dt, its loop joint b with extra keys (""): the text
+   into out. */
+static void rigid_text(double dt, const char *extra, char *out, size_t n)
+{
+    char text[2048], *w = out;
+    const char *t = text;
+    fourbar_text(7e10, text, sizeof text);
+    while (*t && w < out + n - 128) {
+        if (!strncmp(t, "section = bar\n", 14)) {
+            w += sprintf(w, "section = bar  fidelity = rigid\n");
+            t += 14;
+        } else if (!strncmp(t, "dt = 0\n", 7)) {
+            w += sprintf(w, "dt = %.17g\n", dt);
+            t += 7;
+        } else if (!strncmp(t, "node2 = last", 12)) {
+            w += sprintf(w, "node2 = last%s", extra);
+            t += 12;
+        } else
+            *w++ = *t++;
+    }
+    *w = 0;
+}
+
 /* The four-bar of rigid bars (joint coordinates, the loop closed by rows on positions):
    the crank against the exact motion with the bars' exact mass properties (rods: m,
    m L / 2, m L^2 / 3 about node 0) over 5 s at dt, its largest error, the largest pin gap
    and |balance| into o. */
 static void run_rigid(double dt, fourbar_run *o)
 {
-    char text[2048], out[2400], *w = out;
-    const char *t = text;
+    char out[2600];
     rj_model *m = NULL;
     rj_state *s = NULL;
     rj_error err;
@@ -407,19 +429,7 @@ static void run_rigid(double dt, fourbar_run *o)
     double q = CRANK0, w2 = 0;
     int k;
     memset(o, 0, sizeof *o);
-    fourbar_text(7e10, text, sizeof text);
-    /* every bar rigid, the step dt */
-    while (*t && w < out + sizeof out - 64) {
-        if (!strncmp(t, "section = bar\n", 14)) {
-            w += sprintf(w, "section = bar  fidelity = rigid\n");
-            t += 14;
-        } else if (!strncmp(t, "dt = 0\n", 7)) {
-            w += sprintf(w, "dt = %.17g\n", dt);
-            t += 7;
-        } else
-            *w++ = *t++;
-    }
-    *w = 0;
+    rigid_text(dt, "", out, sizeof out);
     if (!build(out, &m, &s, &err)) {
         o->result = err.code;
         snprintf(o->msg, sizeof o->msg, "%s", err.msg);
@@ -453,28 +463,13 @@ static void run_rigid(double dt, fourbar_run *o)
    energy in the latch's loss. */
 static void test_rigid_latch(rjt_ctx *c)
 {
-    char text[2048], out[2600], *w = out;
-    const char *t = text;
+    char out[2600];
     rj_model *m = NULL;
     rj_state *s = NULL;
     rj_error err;
     double balance = 0, kinetic = 0, latched = -1;
     rj_result r = RJ_OK;
-    fourbar_text(7e10, text, sizeof text);
-    while (*t && w < out + sizeof out - 80) {
-        if (!strncmp(t, "section = bar\n", 14)) {
-            w += sprintf(w, "section = bar  fidelity = rigid\n");
-            t += 14;
-        } else if (!strncmp(t, "dt = 0\n", 7)) {
-            w += sprintf(w, "dt = 1e-4\n");
-            t += 7;
-        } else if (!strncmp(t, "node2 = last", 12)) {
-            w += sprintf(w, "node2 = last  forward = 260 deg  lock = yes  method = momentum");
-            t += 12;
-        } else
-            *w++ = *t++;
-    }
-    *w = 0;
+    rigid_text(1e-4, "  forward = 260 deg  lock = yes  method = momentum", out, sizeof out);
     if (!build(out, &m, &s, &err)) {
         rjt_check(c, 0, "rigid four-bar: a plastic latch on its loop joint", "%s", err.msg);
         return;
@@ -503,26 +498,14 @@ static void test_rigid_latch(rjt_ctx *c)
    the pins' gap and the balance, sampled every 100 steps. */
 static void test_rigid_long(rjt_ctx *c)
 {
-    char text[2048], out[2600], *w = out;
-    const char *t = text;
+    char out[2600];
     rj_model *m = NULL;
     rj_state *s = NULL;
     rj_error err;
     double balance = 0, kinetic = 0, gap = 0;
     rj_result r = RJ_OK;
     long k;
-    fourbar_text(7e10, text, sizeof text);
-    while (*t && w < out + sizeof out - 64) {
-        if (!strncmp(t, "section = bar\n", 14)) {
-            w += sprintf(w, "section = bar  fidelity = rigid\n");
-            t += 14;
-        } else if (!strncmp(t, "dt = 0\n", 7)) {
-            w += sprintf(w, "dt = 1e-4\n");
-            t += 7;
-        } else
-            *w++ = *t++;
-    }
-    *w = 0;
+    rigid_text(1e-4, "", out, sizeof out);
     if (!build(out, &m, &s, &err)) {
         rjt_check(c, 0, "rigid four-bar: 1e6 steps", "%s", err.msg);
         return;
