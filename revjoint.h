@@ -2967,10 +2967,10 @@ static int rj__counts(const rj_scene_def *sc, size_t *nn, size_t *ne, rj_error *
 }
 
 /* What a joint that closes a loop among rigid links may not have yet (limits met by
-   forced displacement, energy or a bounce, friction, and the rows that name it): the
-   field, or NULL. Its limits by a stiffness (penalty, adaptive) act through the loop as
-   its spring does; plastic ones (momentum, restitution 0) and its lock are rows along
-   the loop. */
+   forced displacement, energy or a bounce, a prescribed actuator or a rotor, a
+   coupling): the field, or NULL. Its limits by a stiffness (penalty, adaptive), its
+   friction and its motor's torque act through the loop as its spring does; plastic
+   limits (momentum, restitution 0) and its lock are rows along the loop. */
 static const char *rj__rigid_loop_refusal(const rj_scene_def *sc, int j, char *f, size_t n)
 {
     const rj_joint_def *d = &sc->joints[j];
@@ -2979,13 +2979,15 @@ static const char *rj__rigid_loop_refusal(const rj_scene_def *sc, int j, char *f
     int k;
     if ((d->has_forward || d->has_reverse) && !stiff && !plastic)
         snprintf(f, n, "joints[%d].method", j);
-    else if (d->friction > 0)
-        snprintf(f, n, "joints[%d].friction", j);
     else
         f[0] = 0;
+    /* an actuator's torque acts through the loop as the element's; a prescribed angle
+       or a rotor would be rows and mass along it */
     for (k = 0; k < sc->actuator_count && !f[0]; k++)
-        if (sc->actuators[k].joint == j)
-            snprintf(f, n, "actuators[%d].joint", k);
+        if (sc->actuators[k].joint == j && (sc->actuators[k].type == RJ_ACTUATOR_PRESCRIBED ||
+                                             sc->actuators[k].rotor_inertia > 0))
+            snprintf(f, n, "actuators[%d].%s", k,
+                     sc->actuators[k].type == RJ_ACTUATOR_PRESCRIBED ? "type" : "rotor_inertia");
     for (k = 0; k < sc->coupling_count && !f[0]; k++)
         if (sc->couplings[k].joint_a == j || sc->couplings[k].joint_b == j)
             snprintf(f, n, "couplings[%d].joint_%c", k, sc->couplings[k].joint_a == j ? 'a' : 'b');
@@ -3006,9 +3008,9 @@ static int rj__validate_loop_joint(const rj_scene_def *sc, int j, int first, rj_
             return 1;
         rj__fail(err, RJ_ERR_INVALID, f, j,
                  "%s is not supported: joint %d closes a loop among rigid links, which takes no "
-                 "forced, energy or bouncing limit method, friction, actuator or coupling yet "
-                 "(its spring, table, damping, and limits and lock by penalty, adaptive or "
-                 "plastic momentum work)",
+                 "forced, energy or bouncing limit method, prescribed actuator, rotor or "
+                 "coupling yet (its spring, table, damping, friction, motor torque, and limits "
+                 "and lock by penalty, adaptive or plastic momentum work)",
                  f, j);
         return 0;
     }
@@ -10916,6 +10918,31 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
     rj__chol_solve(m->nq, r->L, r->Q, r->qdd);
 }
 
+/* Friction at the joints that close loops, as at the tree's: the loop's rate g . q' and
+   its give g . M^-1 g (the column M^-1 g into r->Y's first n, spent before the rows). */
+static void rj__rig_loop_friction(const rj_model *m, const rj__frames *f, rj__rig *r)
+{
+    const int n = m->nq;
+    double *g = r->tmp, *y = r->Y;
+    int j, k;
+    for (j = 0; j < m->nj; j++) {
+        const double tf = m->jdef[j].friction;
+        double rate = 0, give = 0, tau;
+        if (m->jq[j] >= 0 || !(tf > 0))
+            continue;
+        rj__rig_loop_gradient(m, j, g);
+        rj__chol_solve(n, r->L, g, y);
+        for (k = 0; k < n; k++) {
+            rate += g[k] * (r->qd[k] + f->kick * r->qdd[k]);
+            give += g[k] * y[k];
+        }
+        tau = rj__friction(rate, f->kick * give, tf);
+        for (k = 0; k < n; k++)
+            r->qdd[k] += y[k] * tau;
+        RJ__FJ(m, f->next, j)[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
+    }
+}
+
 /* Rigid step, stage 3: friction, joint by joint, with the column M^-1 e_j (kept in W for
    the impulses). */
 static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj__frames *f,
@@ -10938,6 +10965,8 @@ static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj_
             qdd[k] += w[k] * tau;
         RJ__FJ(m, f->next, m->qj[j])[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
     }
+    if (m->nloop)
+        rj__rig_loop_friction(m, f, r);
 }
 
 /* Rigid step, stage 5a: velocity-level methods, joint by joint: an impulse along q_j to e
@@ -11124,6 +11153,8 @@ static void rj__rig_loops_close(const rj_model *m, const rj_state *s, const rj__
                          lost_friction, lost_limit);
         if (applied)
             e->work += rj__input_work(old_joint, new_joint, old_joint[RJ__JD_RATE], f->dt);
+        if (m->jnt[j].act)
+            e->drive += rj__drive_work(old_joint, new_joint, old_joint[RJ__JD_RATE], f->dt);
     }
 }
 

@@ -458,6 +458,31 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
     rj__chol_solve(m->nq, r->L, r->Q, r->qdd);
 }
 
+/* Friction at the joints that close loops, as at the tree's: the loop's rate g . q' and
+   its give g . M^-1 g (the column M^-1 g into r->Y's first n, spent before the rows). */
+static void rj__rig_loop_friction(const rj_model *m, const rj__frames *f, rj__rig *r)
+{
+    const int n = m->nq;
+    double *g = r->tmp, *y = r->Y;
+    int j, k;
+    for (j = 0; j < m->nj; j++) {
+        const double tf = m->jdef[j].friction;
+        double rate = 0, give = 0, tau;
+        if (m->jq[j] >= 0 || !(tf > 0))
+            continue;
+        rj__rig_loop_gradient(m, j, g);
+        rj__chol_solve(n, r->L, g, y);
+        for (k = 0; k < n; k++) {
+            rate += g[k] * (r->qd[k] + f->kick * r->qdd[k]);
+            give += g[k] * y[k];
+        }
+        tau = rj__friction(rate, f->kick * give, tf);
+        for (k = 0; k < n; k++)
+            r->qdd[k] += y[k] * tau;
+        RJ__FJ(m, f->next, j)[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
+    }
+}
+
 /* Rigid step, stage 3: friction, joint by joint, with the column M^-1 e_j (kept in W for
    the impulses). */
 static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj__frames *f,
@@ -480,6 +505,8 @@ static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj_
             qdd[k] += w[k] * tau;
         RJ__FJ(m, f->next, m->qj[j])[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
     }
+    if (m->nloop)
+        rj__rig_loop_friction(m, f, r);
 }
 
 /* Rigid step, stage 5a: velocity-level methods, joint by joint: an impulse along q_j to e
@@ -666,6 +693,8 @@ static void rj__rig_loops_close(const rj_model *m, const rj_state *s, const rj__
                          lost_friction, lost_limit);
         if (applied)
             e->work += rj__input_work(old_joint, new_joint, old_joint[RJ__JD_RATE], f->dt);
+        if (m->jnt[j].act)
+            e->drive += rj__drive_work(old_joint, new_joint, old_joint[RJ__JD_RATE], f->dt);
     }
 }
 

@@ -657,10 +657,10 @@ static int rj__counts(const rj_scene_def *sc, size_t *nn, size_t *ne, rj_error *
 }
 
 /* What a joint that closes a loop among rigid links may not have yet (limits met by
-   forced displacement, energy or a bounce, friction, and the rows that name it): the
-   field, or NULL. Its limits by a stiffness (penalty, adaptive) act through the loop as
-   its spring does; plastic ones (momentum, restitution 0) and its lock are rows along
-   the loop. */
+   forced displacement, energy or a bounce, a prescribed actuator or a rotor, a
+   coupling): the field, or NULL. Its limits by a stiffness (penalty, adaptive), its
+   friction and its motor's torque act through the loop as its spring does; plastic
+   limits (momentum, restitution 0) and its lock are rows along the loop. */
 static const char *rj__rigid_loop_refusal(const rj_scene_def *sc, int j, char *f, size_t n)
 {
     const rj_joint_def *d = &sc->joints[j];
@@ -669,13 +669,15 @@ static const char *rj__rigid_loop_refusal(const rj_scene_def *sc, int j, char *f
     int k;
     if ((d->has_forward || d->has_reverse) && !stiff && !plastic)
         snprintf(f, n, "joints[%d].method", j);
-    else if (d->friction > 0)
-        snprintf(f, n, "joints[%d].friction", j);
     else
         f[0] = 0;
+    /* an actuator's torque acts through the loop as the element's; a prescribed angle
+       or a rotor would be rows and mass along it */
     for (k = 0; k < sc->actuator_count && !f[0]; k++)
-        if (sc->actuators[k].joint == j)
-            snprintf(f, n, "actuators[%d].joint", k);
+        if (sc->actuators[k].joint == j && (sc->actuators[k].type == RJ_ACTUATOR_PRESCRIBED ||
+                                             sc->actuators[k].rotor_inertia > 0))
+            snprintf(f, n, "actuators[%d].%s", k,
+                     sc->actuators[k].type == RJ_ACTUATOR_PRESCRIBED ? "type" : "rotor_inertia");
     for (k = 0; k < sc->coupling_count && !f[0]; k++)
         if (sc->couplings[k].joint_a == j || sc->couplings[k].joint_b == j)
             snprintf(f, n, "couplings[%d].joint_%c", k, sc->couplings[k].joint_a == j ? 'a' : 'b');
@@ -696,9 +698,9 @@ static int rj__validate_loop_joint(const rj_scene_def *sc, int j, int first, rj_
             return 1;
         rj__fail(err, RJ_ERR_INVALID, f, j,
                  "%s is not supported: joint %d closes a loop among rigid links, which takes no "
-                 "forced, energy or bouncing limit method, friction, actuator or coupling yet "
-                 "(its spring, table, damping, and limits and lock by penalty, adaptive or "
-                 "plastic momentum work)",
+                 "forced, energy or bouncing limit method, prescribed actuator, rotor or "
+                 "coupling yet (its spring, table, damping, friction, motor torque, and limits "
+                 "and lock by penalty, adaptive or plastic momentum work)",
                  f, j);
         return 0;
     }

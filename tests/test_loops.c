@@ -532,6 +532,46 @@ static void test_rigid_long(rjt_ctx *c)
     rj_model_destroy(m, NULL);
 }
 
+/* The rigid four-bar with friction at its loop joint (1 N m): it swings down and loses
+   its energy, the balance closed with friction's loss; with a DC motor there instead
+   (0.5 N m stall, 10 rad/s): the balance closed with the motor's work. */
+static void test_rigid_loop_joint_torques(rjt_ctx *c)
+{
+    static const char motor[] =
+        "actuator m\n  joint = b  type = dc  stall_torque = 0.5  no_load_speed = 10\n";
+    int k;
+    for (k = 0; k < 2; k++) {
+        char out[2600];
+        rj_model *m = NULL;
+        rj_state *s = NULL;
+        rj_error err;
+        rj_energy e;
+        double balance = 0, scale = 0;
+        rj_result r = RJ_OK;
+        rigid_text(1e-4, k ? "" : "  friction = 1", out, sizeof out - sizeof motor);
+        if (k)
+            strcat(out, motor);
+        if (!build(out, &m, &s, &err)) {
+            rjt_check(c, 0, "rigid four-bar: friction or a motor at its loop joint", "%s",
+                      err.msg);
+            continue;
+        }
+        while (rj_state_time(s) < 10 && r == RJ_OK) {
+            r = rj_step(m, s);
+            rj_state_energy(m, s, &e);
+            balance = fmax(balance, fabs(e.balance));
+            scale = fmax(scale, fabs(k ? e.work_drive : e.lost_friction));
+        }
+        rjt_check(c, r == RJ_OK && scale > 0.1 && balance < 1e-5 * scale,
+                  "rigid four-bar: friction or a motor at its loop joint, the balance closed",
+                  "%s: %s %.4g J; max |balance| %.3g J %s", k ? "DC motor" : "friction 1 N m",
+                  k ? "W_drive up to" : "W_friction", scale, balance,
+                  r == RJ_OK ? "" : rj_state_error(s));
+        rj_state_destroy(s, NULL);
+        rj_model_destroy(m, NULL);
+    }
+}
+
 static void test_rigid_fourbar(rjt_ctx *c)
 {
     fourbar_run a, b, fine;
@@ -792,6 +832,7 @@ int main(void)
     test_scissor(&c);
     test_rigid_fourbar(&c);
     test_rigid_latch(&c);
+    test_rigid_loop_joint_torques(&c);
     test_rigid_long(&c);
     test_fourbar(&c);
     test_refusals(&c);
