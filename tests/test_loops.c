@@ -572,6 +572,46 @@ static void test_rigid_loop_joint_torques(rjt_ctx *c)
     }
 }
 
+/* The rigid four-bar driven at its crank (a prescribed ramp, -2 rad/s, 5 s: the crank
+   turns 1.6 times): the rocker follows the loop's closed kinematics (close_loop at the
+   crank's angle) to round-off, the balance closed with the drive's work. */
+static void test_rigid_driven(rjt_ctx *c)
+{
+    static const char motor[] =
+        "actuator m\n  joint = o2  type = prescribed  profile = ramp -2\n";
+    char out[2600];
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    double worst = 0, crank = 0, balance = 0, drive = 0, t3 = 0.5, t4 = 1.5;
+    rj_result r = RJ_OK;
+    rigid_text(1e-3, "", out, sizeof out - sizeof motor);
+    strcat(out, motor);
+    if (!build(out, &m, &s, &err)) {
+        rjt_check(c, 0, "rigid four-bar driven at its crank", "%s", err.msg);
+        return;
+    }
+    while (rj_state_time(s) < 5 && r == RJ_OK) {
+        rj_energy e;
+        double th2;
+        r = rj_step(m, s);
+        th2 = rj_joint_theta_running(m, s, 0);
+        crank = fmax(crank, fabs(th2 - (CRANK0 - 2 * rj_state_time(s))));
+        close_loop(th2, &t3, &t4);
+        worst = fmax(worst, fabs(remainder(rj_joint_theta_running(m, s, 2) - t4, 2 * PI)));
+        rj_state_energy(m, s, &e);
+        balance = fmax(balance, fabs(e.balance));
+        drive = fmax(drive, fabs(e.work_drive));
+    }
+    rjt_check(c, r == RJ_OK && crank < 1e-12 && worst < 1e-12 && balance < 1e-3 * drive,
+              "rigid four-bar driven at its crank: the rocker on the loop's kinematics",
+              "crank on its ramp to %.3g rad, rocker to %.3g rad of the closed loop over 5 s; "
+              "max |balance| %.3g J of %.3g J of drive work %s",
+              crank, worst, balance, drive, r == RJ_OK ? "" : rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
 static void test_rigid_fourbar(rjt_ctx *c)
 {
     fourbar_run a, b, fine;
@@ -832,6 +872,7 @@ int main(void)
     test_scissor(&c);
     test_rigid_fourbar(&c);
     test_rigid_latch(&c);
+    test_rigid_driven(&c);
     test_rigid_loop_joint_torques(&c);
     test_rigid_long(&c);
     test_fourbar(&c);
