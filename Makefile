@@ -22,7 +22,7 @@ SAN     = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omi
 
 HDR     = revjoint.h
 RENDER  = render/rj_render.c render/rj_render.h
-EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B)/sweep $(B)/studies $(B)/rj $(B)/segmented $(B)/pd_arm \
+EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B)/sweep $(B)/studies $(B)/rj $(B)/segmented $(B)/a02 $(B)/pd_arm \
           $(B)/peer_side
 TESTS   = $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_benchmarks $(B)/test_rigid2 \
           $(B)/test_render $(B)/csvdiff $(B)/test_core_asan $(B)/test_dynamics_asan $(B)/test_beam_asan \
