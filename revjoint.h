@@ -9851,20 +9851,19 @@ static RJ__FORCE_INLINE double rj__joint_jump(const rj_model *m, const rj__frame
     return rj__joint_rate(J, g, f->nvx, f->nvy, f->nw, NULL, NULL);
 }
 
+/* Joint j's rate from node rates vx, vy, w, in the step's kept geometry. */
+static double rj__kept_rate(const rj_model *m, const rj_state *s, int j, const double *vx,
+                            const double *vy, const double *w)
+{
+    rj__jgeo g;
+    rj__kept_geo(s->jsc + 8 * j, &g);
+    return rj__joint_rate(&m->jnt[j], &g, vx, vy, w, NULL, NULL);
+}
+
 /* Joint j's rate at n + 1/2 from the nodes' now. */
 static double rj__rate_now(const rj_model *m, const rj_state *s, const rj__frames *f, int j)
 {
-    rj__jgeo g;
-    rj__kept_geo(s->jsc + 8 * j, &g);
-    return rj__joint_rate(&m->jnt[j], &g, f->nvx, f->nvy, f->nw, NULL, NULL);
-}
-
-/* Joint j's rate from the nodes' rates at n - 1/2 (at the first step, at 0). */
-static double rj__rate_back(const rj_model *m, const rj_state *s, const rj__frames *f, int j)
-{
-    rj__jgeo g;
-    rj__kept_geo(s->jsc + 8 * j, &g);
-    return rj__joint_rate(&m->jnt[j], &g, f->vx, f->vy, f->w, NULL, NULL);
+    return rj__kept_rate(m, s, j, f->nvx, f->nvy, f->nw);
 }
 
 /* The rate change of joint J per unit torque impulse on its pins, and each body's share:
@@ -10040,7 +10039,8 @@ static void rj__row_account(const rj_model *m, const rj_state *s, const rj__fram
         const rj__term *t = &R->term[row->first + k];
         const double rate = rj__rate_now(m, s, f, t->joint);
         double *record = RJ__FJ(m, f->next, t->joint);
-        back += t->coef * rj__rate_back(m, s, f, t->joint);
+        /* from the nodes' rates at n - 1/2 (at the first step, at 0) */
+        back += t->coef * rj__kept_rate(m, s, t->joint, f->vx, f->vy, f->w);
         after += t->coef * rate;
         record[RJ__JD_RATE] = rate;
         if (row->kind == RJ__ROW_PRESCRIBED)
@@ -10655,7 +10655,7 @@ static void rj__rig_loops_shake(const rj_model *m, const rj__frames *f, rj__rig 
                                 rj__rows *R, const rj__dense *D)
 {
     double *q = r->tmp + m->nq, *best_rates = r->x, longest = 0, best = HUGE_VAL;
-    int pass, k, a, l;
+    int pass, k, a, l, axis;
     for (l = 0; l < m->nl; l++)
         longest = fmax(longest, m->ldef[l].length);
     for (pass = 0; pass < 20; pass++) {
@@ -10665,17 +10665,17 @@ static void rj__rig_loops_shake(const rj_model *m, const rj__frames *f, rj__rig 
         rj__rig_kin(m, r, q, NULL, r->qdp);
         for (a = 0; a < R->count; a++) {
             rj__row *row = &R->row[a];
-            double p1[2], p2[2], gap;
+            double p1[2], p2[2];
             if (row->kind != RJ__ROW_LOOP)
                 continue;
             rj__rig_pins(m, r, row->owner, p1, p2);
-            /* the x row, then the y row, of each loop joint */
-            gap = (a + 1 < R->count && R->row[a + 1].owner == row->owner &&
-                   R->row[a + 1].kind == RJ__ROW_LOOP)
-                      ? p1[0] - p2[0]
-                      : p1[1] - p2[1];
-            worst = fmax(worst, fabs(gap));
-            row->target = rj__row_dot(R, row, r->qdp) - gap / f->dt;
+            /* a loop's x row, then its y row (rj__rig_loop_rows) */
+            for (axis = 0; axis < 2; axis++, row++) {
+                const double gap = p1[axis] - p2[axis];
+                worst = fmax(worst, fabs(gap));
+                row->target = rj__row_dot(R, row, r->qdp) - gap / f->dt;
+            }
+            a++;
         }
         if (worst < best) {
             best = worst;

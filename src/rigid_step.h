@@ -195,7 +195,7 @@ static void rj__rig_loops_shake(const rj_model *m, const rj__frames *f, rj__rig 
                                 rj__rows *R, const rj__dense *D)
 {
     double *q = r->tmp + m->nq, *best_rates = r->x, longest = 0, best = HUGE_VAL;
-    int pass, k, a, l;
+    int pass, k, a, l, axis;
     for (l = 0; l < m->nl; l++)
         longest = fmax(longest, m->ldef[l].length);
     for (pass = 0; pass < 20; pass++) {
@@ -205,17 +205,17 @@ static void rj__rig_loops_shake(const rj_model *m, const rj__frames *f, rj__rig 
         rj__rig_kin(m, r, q, NULL, r->qdp);
         for (a = 0; a < R->count; a++) {
             rj__row *row = &R->row[a];
-            double p1[2], p2[2], gap;
+            double p1[2], p2[2];
             if (row->kind != RJ__ROW_LOOP)
                 continue;
             rj__rig_pins(m, r, row->owner, p1, p2);
-            /* the x row, then the y row, of each loop joint */
-            gap = (a + 1 < R->count && R->row[a + 1].owner == row->owner &&
-                   R->row[a + 1].kind == RJ__ROW_LOOP)
-                      ? p1[0] - p2[0]
-                      : p1[1] - p2[1];
-            worst = fmax(worst, fabs(gap));
-            row->target = rj__row_dot(R, row, r->qdp) - gap / f->dt;
+            /* a loop's x row, then its y row (rj__rig_loop_rows) */
+            for (axis = 0; axis < 2; axis++, row++) {
+                const double gap = p1[axis] - p2[axis];
+                worst = fmax(worst, fabs(gap));
+                row->target = rj__row_dot(R, row, r->qdp) - gap / f->dt;
+            }
+            a++;
         }
         if (worst < best) {
             best = worst;

@@ -886,20 +886,19 @@ static RJ__FORCE_INLINE double rj__joint_jump(const rj_model *m, const rj__frame
     return rj__joint_rate(J, g, f->nvx, f->nvy, f->nw, NULL, NULL);
 }
 
+/* Joint j's rate from node rates vx, vy, w, in the step's kept geometry. */
+static double rj__kept_rate(const rj_model *m, const rj_state *s, int j, const double *vx,
+                            const double *vy, const double *w)
+{
+    rj__jgeo g;
+    rj__kept_geo(s->jsc + 8 * j, &g);
+    return rj__joint_rate(&m->jnt[j], &g, vx, vy, w, NULL, NULL);
+}
+
 /* Joint j's rate at n + 1/2 from the nodes' now. */
 static double rj__rate_now(const rj_model *m, const rj_state *s, const rj__frames *f, int j)
 {
-    rj__jgeo g;
-    rj__kept_geo(s->jsc + 8 * j, &g);
-    return rj__joint_rate(&m->jnt[j], &g, f->nvx, f->nvy, f->nw, NULL, NULL);
-}
-
-/* Joint j's rate from the nodes' rates at n - 1/2 (at the first step, at 0). */
-static double rj__rate_back(const rj_model *m, const rj_state *s, const rj__frames *f, int j)
-{
-    rj__jgeo g;
-    rj__kept_geo(s->jsc + 8 * j, &g);
-    return rj__joint_rate(&m->jnt[j], &g, f->vx, f->vy, f->w, NULL, NULL);
+    return rj__kept_rate(m, s, j, f->nvx, f->nvy, f->nw);
 }
 
 /* The rate change of joint J per unit torque impulse on its pins, and each body's share:
@@ -1075,7 +1074,8 @@ static void rj__row_account(const rj_model *m, const rj_state *s, const rj__fram
         const rj__term *t = &R->term[row->first + k];
         const double rate = rj__rate_now(m, s, f, t->joint);
         double *record = RJ__FJ(m, f->next, t->joint);
-        back += t->coef * rj__rate_back(m, s, f, t->joint);
+        /* from the nodes' rates at n - 1/2 (at the first step, at 0) */
+        back += t->coef * rj__kept_rate(m, s, t->joint, f->vx, f->vy, f->w);
         after += t->coef * rate;
         record[RJ__JD_RATE] = rate;
         if (row->kind == RJ__ROW_PRESCRIBED)
