@@ -68,7 +68,8 @@ CONCEPTS
 
    Joints. Joint j pins node node2 of link body2 (node 0 unless set) to node node1 of link
    body1 (or to a ground point when body1 = -1). A link hangs from its first joint as
-   body2; a later joint with the same body2 closes a loop (every link flexible), and must
+   body2; a later joint with the same body2 closes a loop (no link rigid, or every link
+   rigid), and must
    find its pins together, moving together, at its angle0 where the other joints place
    the links. Its rotary location theta (sec. 3.1, Eqs 1-3) is the
    counter-clockwise angle from body 1's direction at the pin, pointing back towards body
@@ -151,9 +152,10 @@ typedef enum rj_root { RJ_ROOT_FREE = 0, RJ_ROOT_PINNED, RJ_ROOT_CLAMPED, RJ_ROO
      together there, and joints on a rigid link use RJ_REF_TANGENT; the flexible links
      set the step. */
 /* RJ_LINK_INEXTENSIBLE links bend like flexible ones, but their element lengths are
-   constraints (SHAKE projection along the previous chords, a tridiagonal solve per link),
-   so the axial wave no longer limits the step: only bending does. They mix freely with
-   flexible links. */
+   constraints (SHAKE projection along the previous chords: a tridiagonal solve per chain
+   of links joined tip to root; chains that meet inside a link or close a loop through a
+   moving pin form one sparse system), so the axial wave no longer limits the step: only
+   bending does. They mix freely with flexible links. */
 typedef enum rj_fidelity { RJ_LINK_FLEXIBLE = 0, RJ_LINK_RIGID, RJ_LINK_INEXTENSIBLE } rj_fidelity;
 
 /* Section description. */
@@ -1041,6 +1043,14 @@ struct rj_model {
     int *ch_first;           /* (nl+1) first entry of each chain in ch_node */
     int *ch_node;            /* (nn+nl) node indices along the chains (a shared pin once) */
     double *ch_l0sq;         /* (nn+nl) squared rest length of the element after each entry */
+    /* inextensible chains that meet: one sparse system (src/shake_graph.h) */
+    int gs_n, gs_nodes;      /* its elements; the nodes they move */
+    size_t gs_prof;          /* entries below the diagonal in the factor's profile */
+    int *gs_na, *gs_nb;      /* (ne) an element's first and second node */
+    int *gs_oa, *gs_ob;      /* (ne) their owners (rj__gs_owner) */
+    int *gs_first, *gs_off;  /* (ne, ne+1) a row's first column, its offset in the profile */
+    int *gs_node, *gs_nown;  /* (nn) the nodes moved, each one's owner */
+    double *gs_l0sq;         /* (ne) squared rest lengths */
     double *mass, *rinertia; /* (nn) lumped translational mass kg, rotary inertia kg m^2 */
     double *tinv; /* (nn) 1/mass for free ungrouped nodes, 0 for fixed or grouped nodes */
     double *rinv; /* (nn) 1/rinertia, 0 for fixed rotations */
@@ -1131,6 +1141,7 @@ struct rj_state {
     double *kn;           /* (nn) each node's share of twice the kinetic energy */
     double *sha, *shb, *shc,
         *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
+    double *gsw; /* (2 gs_prof + 9 gs_n + 2 nn, or none) rj__gs_work */
     double *eu,
         *ebt; /* (ne) element strain energies; scratch (chord angles at reset, SHAKE's active flags) */
     double *jsc;          /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
@@ -2573,12 +2584,11 @@ static int rj__validate_bodies(const rj_scene_def *sc, const rj_joint_def *J, in
     }
     if (J->node2 != 0 &&
         (J->reference != RJ_REF_TANGENT ||
-         sc->links[J->body2].fidelity == RJ_LINK_INEXTENSIBLE ||
          (sc->links[J->body2].fidelity == RJ_LINK_RIGID && !rj__all_rigid(sc)))) {
         RJ__FIELD(f, "joints[%d].node2", j);
         rj__fail(err, RJ_ERR_INVALID, f, J->node2,
                  "%s = %d is not supported: a pin away from body2's first node needs the "
-                 "tangent reference and a flexible body2, or rigid links only",
+                 "tangent reference and a flexible or inextensible body2, or rigid links only",
                  f, J->node2);
         return 0;
     }
@@ -2994,10 +3004,10 @@ static const char *rj__rigid_loop_refusal(const rj_scene_def *sc, int j, char *f
     return f[0] ? f : NULL;
 }
 
-/* A joint that closes a loop (its body2 hangs from joint first): every link of the scene
-   flexible, or every link rigid (then without limits, friction, an actuator or a
-   coupling on it, yet); loops through inextensible links, or through rigid links among
-   flexible ones, are not supported yet. */
+/* A joint that closes a loop (its body2 hangs from joint first): no link of the scene
+   rigid (flexible and inextensible links), or every link rigid (then without the joint
+   parts rj__rigid_loop_refusal names, yet); loops among flexible links and rigid bodies
+   are not supported yet. */
 static int rj__validate_loop_joint(const rj_scene_def *sc, int j, int first, rj_error *err)
 {
     const int b2 = sc->joints[j].body2;
@@ -3015,16 +3025,15 @@ static int rj__validate_loop_joint(const rj_scene_def *sc, int j, int first, rj_
         return 0;
     }
     for (l = 0; l < sc->link_count; l++)
-        if (sc->links[l].fidelity != RJ_LINK_FLEXIBLE)
+        if (sc->links[l].fidelity == RJ_LINK_RIGID)
             break;
     if (l == sc->link_count)
         return 1;
     RJ__FIELD(f, "joints[%d].body2", j);
     rj__fail(err, RJ_ERR_INVALID, f, b2,
              "%s = %d closes a loop (link %d hangs from joint %d), which is supported when "
-             "every link is flexible, or every link rigid: link %d is %s",
-             f, b2, b2, first, l,
-             sc->links[l].fidelity == RJ_LINK_RIGID ? "rigid" : "inextensible");
+             "no link is rigid, or every link is: link %d is rigid among links that are not",
+             f, b2, b2, first, l);
     return 0;
 }
 
@@ -3211,7 +3220,7 @@ typedef struct rj__layout {
     size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho,
         link_I;
     size_t node_cl, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
-    size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, qj, jq, jpin,
+    size_t node_grp, ch_first, ch_node, ch_l0sq, gs_int, gs_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, qj, jq, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
         link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
 } rj__layout;
@@ -3223,6 +3232,9 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
 {
     const int nl = sc->link_count, nj = sc->joint_count, rigid = rj__all_rigid(sc);
     size_t off = sizeof(rj_model);
+    int inext = 0, l;
+    for (l = 0; l < nl; l++)
+        inext |= sc->links[l].fidelity == RJ_LINK_INEXTENSIBLE;
     L->ldef = rj__carve(&off, (size_t) nl, sizeof(rj_link_def));
     L->jdef = rj__carve(&off, (size_t) nj, sizeof(rj_joint_def));
     L->jnt = rj__carve(&off, (size_t) nj, sizeof(rj__joint));
@@ -3245,6 +3257,8 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->cl_ry = rj__carve(&off, (size_t) nn, sizeof(double));
     L->ch_node = rj__carve(&off, (size_t) nn + nl, sizeof(int));
     L->ch_l0sq = rj__carve(&off, (size_t) nn + nl, sizeof(double));
+    L->gs_int = rj__carve(&off, inext ? 6 * ne + 2 * nn + 1 : 0, sizeof(int));
+    L->gs_l0sq = rj__carve(&off, inext ? ne : 0, sizeof(double));
     L->rb_mass = rj__carve(&off, (size_t) nl, sizeof(double));
     L->rb_icm = rj__carve(&off, (size_t) nl, sizeof(double));
     L->rb_dcm = rj__carve(&off, (size_t) nl, sizeof(double));
@@ -5362,6 +5376,9 @@ static void rj__inext_chains(rj_model *m, int *scratch)
         child_of[k] = -1;
     }
     for (j = 0; j < m->nj; j++) {
+        /* a joint closing a loop neither hangs a link nor continues a chain */
+        if (m->jnt[j].loop)
+            continue;
         joint_of[m->jdef[j].body2] = j;
         if (m->jnt[j].nI < 0 || m->ldef[m->jdef[j].body2].fidelity != RJ_LINK_INEXTENSIBLE)
             continue;
@@ -5655,6 +5672,401 @@ static int rj__usable_step(const rj_model *m, rj_error *err)
     return 1;
 }
 
+/* ------------------------------------------------------------------ SHAKE over chains that meet */
+/* Inextensible chains that meet (a chain hanging from inside another, or a loop closed
+   through a moving pin) are not tridiagonal: an element couples to every element that
+   moves one of its nodes. Their elements form one sparse system A lambda = r, with
+   A_ij = 4 sum_k s_ik s_jk w_k (e_i . e_j^n) over the owners k the two share (a pin
+   group or a node; s = -1 at an element's first node, +1 at its second). Built once:
+   the elements ordered by reverse Cuthill-McKee, so the factor's profile (envelope)
+   stays narrow (a chain 1, a ring 2), with its first column per row. Each step factors
+   A in that profile (Crout, no pivoting: A is a small perturbation of J W J^T, which is
+   positive definite away from singular positions) without allocating. A pivot below
+   1e-10 of its diagonal is a redundant element (a flat loop): its lambda is 0. */
+
+/* The element graph's owner of a node: its pin group's first member, or the node;
+   -1 for a node that does not move (inverse mass 0). */
+static int rj__gs_owner(const rj_model *m, int k)
+{
+    const int g = m->node_grp[k];
+    if (m->einv[k] == 0)
+        return -1;
+    return g >= 0 ? m->grp_node[m->grp_first[g]] : k;
+}
+
+/* Chains that meet: a moving pin group holding entries of two chains, or two entries
+   of one chain (a loop). A group on a moving rigid body stays with the chain solver.
+   Marks each such chain (mark: nch ints); count: ng ints. Returns how many. */
+static int rj__gs_mark_chains(const rj_model *m, int *count, int *mark)
+{
+    int c, q, g, marked = 0;
+    for (g = 0; g < m->ng; g++)
+        count[g] = 0;
+    for (q = 0; q < m->ch_first[m->nch]; q++) {
+        g = m->node_grp[m->ch_node[q]];
+        if (g >= 0 && m->grp_inv[g] > 0)
+            count[g]++;
+    }
+    /* a group with a node on a moving body: its chains are solved with the body */
+    for (g = 0; g < m->ng && m->ncl; g++)
+        for (q = m->grp_first[g]; q < m->grp_first[g + 1]; q++) {
+            const int cl = m->node_cl[m->grp_node[q]];
+            if (cl >= 0 && m->cl_fix[cl] != 2)
+                count[g] = 0;
+        }
+    for (c = 0; c < m->nch; c++) {
+        mark[c] = 0;
+        for (q = m->ch_first[c]; q < m->ch_first[c + 1]; q++) {
+            g = m->node_grp[m->ch_node[q]];
+            if (g >= 0 && count[g] >= 2)
+                mark[c] = 1;
+        }
+        marked += mark[c];
+    }
+    return marked;
+}
+
+/* The marked chains' elements (their end nodes, squared lengths) in chain order; the
+   chain list keeps the others, moved down over the taken ones. Returns the count. */
+static int rj__gs_take_chains(rj_model *m, const int *mark, int *na, int *nb, double *l0sq)
+{
+    int c, q, n = 0, kept = 0, kept_chains = 0;
+    for (c = 0; c < m->nch; c++) {
+        const int f0 = m->ch_first[c], f1 = m->ch_first[c + 1];
+        if (!mark[c]) {
+            for (q = f0; q < f1; q++) {
+                m->ch_node[kept + q - f0] = m->ch_node[q];
+                m->ch_l0sq[kept + q - f0] = m->ch_l0sq[q];
+            }
+            kept += f1 - f0;
+            m->ch_first[++kept_chains] = kept;
+            continue;
+        }
+        for (q = f0; q + 1 < f1; q++) {
+            na[n] = m->ch_node[q];
+            nb[n] = m->ch_node[q + 1];
+            l0sq[n] = m->ch_l0sq[q + 1];
+            n++;
+        }
+    }
+    m->nch = kept_chains;
+    return n;
+}
+
+/* The elements that move owner o of each, as lists: list[start[o]] to list[start[o + 1]]
+   (start: nn + 1, list: 2 n). */
+static void rj__gs_owner_lists(const rj_model *m, int n, const int *oa, const int *ob,
+                               int *start, int *list)
+{
+    int k, i;
+    for (k = 0; k <= m->nn; k++)
+        start[k] = 0;
+    for (i = 0; i < n; i++) {
+        if (oa[i] >= 0)
+            start[oa[i] + 1]++;
+        if (ob[i] >= 0 && ob[i] != oa[i])
+            start[ob[i] + 1]++;
+    }
+    for (k = 0; k < m->nn; k++)
+        start[k + 1] += start[k];
+    /* filled through start[o] as a cursor, which ends at the next owner's start */
+    for (i = 0; i < n; i++) {
+        if (oa[i] >= 0)
+            list[start[oa[i]]++] = i;
+        if (ob[i] >= 0 && ob[i] != oa[i])
+            list[start[ob[i]]++] = i;
+    }
+    for (k = m->nn; k > 0; k--)
+        start[k] = start[k - 1];
+    start[0] = 0;
+}
+
+/* Breadth first from element v over the elements sharing an owner, appending to order
+   from *len and marking seen; returns the last element reached (the farthest). */
+static int rj__gs_breadth(int v, const int *oa, const int *ob, const int *start,
+                          const int *list, int *seen, int *order, int *len)
+{
+    int head = *len, last = v;
+    order[(*len)++] = v;
+    seen[v] = 1;
+    while (head < *len) {
+        const int e = order[head++];
+        const int owners[2] = { oa[e], ob[e] };
+        int side, q;
+        last = e;
+        for (side = 0; side < 2; side++) {
+            if (owners[side] < 0)
+                continue;
+            for (q = start[owners[side]]; q < start[owners[side] + 1]; q++)
+                if (!seen[list[q]]) {
+                    seen[list[q]] = 1;
+                    order[(*len)++] = list[q];
+                }
+        }
+    }
+    return last;
+}
+
+/* Reverse Cuthill-McKee without the degree sort: each connected set of elements from
+   its far end (found by one sweep), the whole order then reversed. */
+static void rj__gs_order(int n, const int *oa, const int *ob, const int *start,
+                         const int *list, int *seen, int *order)
+{
+    int i, len = 0;
+    for (i = 0; i < n; i++)
+        seen[i] = 0;
+    for (i = 0; i < n; i++) {
+        int from = len, far, q;
+        if (seen[i])
+            continue;
+        far = rj__gs_breadth(i, oa, ob, start, list, seen, order, &len);
+        for (q = from; q < len; q++)
+            seen[order[q]] = 0;
+        len = from;
+        rj__gs_breadth(far, oa, ob, start, list, seen, order, &len);
+    }
+    for (i = 0; i < n / 2; i++) {
+        const int t = order[i];
+        order[i] = order[n - 1 - i];
+        order[n - 1 - i] = t;
+    }
+}
+
+/* The nodes the elements move (every member of a moving pin group), each with its
+   owner; mark: nn ints. */
+static void rj__gs_nodes(rj_model *m, int *mark)
+{
+    int k, i, side;
+    m->gs_nodes = 0;
+    for (k = 0; k < m->nn; k++)
+        mark[k] = 0;
+    for (i = 0; i < m->gs_n; i++)
+        for (side = 0; side < 2; side++) {
+            const int node = side ? m->gs_nb[i] : m->gs_na[i];
+            const int g = m->node_grp[node];
+            const int first = g >= 0 ? m->grp_first[g] : 0, last = g >= 0 ? m->grp_first[g + 1] : 1;
+            int q;
+            if (rj__gs_owner(m, node) < 0)
+                continue;
+            for (q = first; q < last; q++) {
+                const int member = g >= 0 ? m->grp_node[q] : node;
+                if (mark[member])
+                    continue;
+                mark[member] = 1;
+                m->gs_node[m->gs_nodes] = member;
+                m->gs_nown[m->gs_nodes] = rj__gs_owner(m, node);
+                m->gs_nodes++;
+            }
+        }
+}
+
+/* Builds the system of the chains that meet, taking them from the chain list; scratch
+   from the building area (3 ne doubles and 6 ne + 2 nn + ng + nl + 1 ints). */
+static void rj__gs_build(rj_model *m, double *area)
+{
+    double *l0sq = area;
+    int *na = (int *) (void *) (area + m->ne), *nb = na + m->ne, *oa = nb + m->ne;
+    int *ob = oa + m->ne, *order = ob + m->ne, *seen = order + m->ne;
+    int *start = seen + m->ne, *list = start + m->nn + 1, *count = list + 2 * (size_t) m->ne;
+    int *mark = count + m->ng + 1;
+    int n, i, q;
+    m->gs_n = 0;
+    m->gs_prof = 0;
+    if (!m->nch || !rj__gs_mark_chains(m, count, mark))
+        return;
+    n = rj__gs_take_chains(m, mark, na, nb, l0sq);
+    for (i = 0; i < n; i++) {
+        oa[i] = rj__gs_owner(m, na[i]);
+        ob[i] = rj__gs_owner(m, nb[i]);
+    }
+    rj__gs_owner_lists(m, n, oa, ob, start, list);
+    rj__gs_order(n, oa, ob, start, list, seen, order);
+    /* the elements in the new order; seen becomes each old element's new index */
+    m->gs_n = n;
+    for (i = 0; i < n; i++) {
+        m->gs_na[i] = na[order[i]];
+        m->gs_nb[i] = nb[order[i]];
+        m->gs_oa[i] = oa[order[i]];
+        m->gs_ob[i] = ob[order[i]];
+        m->gs_l0sq[i] = l0sq[order[i]];
+        seen[order[i]] = i;
+    }
+    /* the profile: each row from its first coupled column */
+    m->gs_off[0] = 0;
+    for (i = 0; i < n; i++) {
+        const int owners[2] = { m->gs_oa[i], m->gs_ob[i] };
+        int first = i, side;
+        for (side = 0; side < 2; side++)
+            if (owners[side] >= 0)
+                for (q = start[owners[side]]; q < start[owners[side] + 1]; q++)
+                    if (seen[list[q]] < first)
+                        first = seen[list[q]];
+        m->gs_first[i] = first;
+        m->gs_off[i + 1] = m->gs_off[i] + (i - first);
+    }
+    m->gs_prof = (size_t) m->gs_off[n];
+    rj__gs_nodes(m, start);
+}
+
+/* sum_k s_ik s_jk w_k over the owners elements i and j share (see above). */
+static double rj__gs_shared(const rj_model *m, int i, int j)
+{
+    const int ai = m->gs_oa[i], bi = m->gs_ob[i], aj = m->gs_oa[j], bj = m->gs_ob[j];
+    double sum = 0;
+    if (ai >= 0) {
+        sum += ai == aj ? m->einv[ai] : 0.0;
+        sum -= ai == bj ? m->einv[ai] : 0.0;
+    }
+    if (bi >= 0) {
+        sum -= bi == aj ? m->einv[bi] : 0.0;
+        sum += bi == bj ? m->einv[bi] : 0.0;
+    }
+    return sum;
+}
+
+/* Scratch of the system (rj_state.gsw): the factor's lower and upper profiles, the
+   reciprocal pivots, the residuals, the multipliers, the chords now and at n, and each
+   owner's push. */
+typedef struct rj__gs_work {
+    double *lower, *upper, *dinv, *r, *lam, *cx, *cy, *ox, *oy, *push;
+} rj__gs_work;
+
+static rj__gs_work rj__gs_carve(const rj_model *m, const rj_state *s)
+{
+    rj__gs_work w;
+    const size_t n = (size_t) m->gs_n;
+    w.lower = s->gsw;
+    w.upper = w.lower + m->gs_prof;
+    w.dinv = w.upper + m->gs_prof;
+    w.r = w.dinv + n;
+    w.lam = w.r + n;
+    w.cx = w.lam + n;
+    w.cy = w.cx + n;
+    w.ox = w.cy + n;
+    w.oy = w.ox + n;
+    w.push = w.oy + n;
+    return w;
+}
+
+/* A = L U in the profile (Crout, row by row): row i of L and column i of U from the
+   first coupled column. */
+static void rj__gs_factor(const rj_model *m, const rj__gs_work *w)
+{
+    int i, j, k;
+    for (i = 0; i < m->gs_n; i++) {
+        const int fi = m->gs_first[i];
+        double *li = w->lower + m->gs_off[i] - fi, *ui = w->upper + m->gs_off[i] - fi;
+        double aii, d;
+        for (j = fi; j < i; j++) {
+            const int fj = m->gs_first[j];
+            const double *lj = w->lower + m->gs_off[j] - fj, *uj = w->upper + m->gs_off[j] - fj;
+            const double shared = 4.0 * rj__gs_shared(m, i, j);
+            double aij = shared * (w->cx[i] * w->ox[j] + w->cy[i] * w->oy[j]);
+            double aji = shared * (w->cx[j] * w->ox[i] + w->cy[j] * w->oy[i]);
+            for (k = fi > fj ? fi : fj; k < j; k++) {
+                aij -= li[k] * uj[k];
+                aji -= lj[k] * ui[k];
+            }
+            ui[j] = aji;
+            li[j] = aij * w->dinv[j];
+        }
+        aii = 4.0 * rj__gs_shared(m, i, i) * (w->cx[i] * w->ox[i] + w->cy[i] * w->oy[i]);
+        d = aii;
+        for (k = fi; k < i; k++)
+            d -= li[k] * ui[k];
+        /* a pivot gone with its diagonal: a redundant or unmovable element */
+        w->dinv[i] = aii > 0 && fabs(d) > 1e-10 * aii ? 1.0 / d : 0.0;
+    }
+}
+
+/* lambda = A^-1 r: forward through L, back through U by columns. */
+static void rj__gs_solve(const rj_model *m, const rj__gs_work *w)
+{
+    double *y = w->r;
+    int i, k;
+    for (i = 0; i < m->gs_n; i++) {
+        const int fi = m->gs_first[i];
+        const double *li = w->lower + m->gs_off[i] - fi;
+        for (k = fi; k < i; k++)
+            y[i] -= li[k] * y[k];
+    }
+    for (i = m->gs_n - 1; i >= 0; i--) {
+        const int fi = m->gs_first[i];
+        const double *ui = w->upper + m->gs_off[i] - fi;
+        w->lam[i] = y[i] * w->dinv[i];
+        for (k = fi; k < i; k++)
+            y[k] -= ui[k] * w->lam[i];
+    }
+}
+
+/* Each owner's push sum_i s_i lambda_i e_i^n, then every node it moves by 2 w push. */
+static void rj__gs_move(const rj_model *m, const rj__gs_work *w, double *nx, double *ny)
+{
+    double *push = w->push;
+    int i, q;
+    for (q = 0; q < m->gs_nodes; q++) {
+        push[2 * m->gs_nown[q]] = 0;
+        push[2 * m->gs_nown[q] + 1] = 0;
+    }
+    for (i = 0; i < m->gs_n; i++) {
+        const double px = w->lam[i] * w->ox[i], py = w->lam[i] * w->oy[i];
+        if (m->gs_oa[i] >= 0) {
+            push[2 * m->gs_oa[i]] -= px;
+            push[2 * m->gs_oa[i] + 1] -= py;
+        }
+        if (m->gs_ob[i] >= 0) {
+            push[2 * m->gs_ob[i]] += px;
+            push[2 * m->gs_ob[i] + 1] += py;
+        }
+    }
+    for (q = 0; q < m->gs_nodes; q++) {
+        const int k = m->gs_node[q], o = m->gs_nown[q];
+        nx[k] += 2.0 * m->einv[k] * push[2 * o];
+        ny[k] += 2.0 * m->einv[k] * push[2 * o + 1];
+    }
+}
+
+/* The residuals -g_i = l0^2 - |e_i|^2 (0 for an element nothing moves), the chords now;
+   returns the largest |g_i| / l0^2. */
+static double rj__gs_residuals(const rj_model *m, const rj__gs_work *w, const double *nx,
+                               const double *ny)
+{
+    double worst = 0;
+    int i;
+    for (i = 0; i < m->gs_n; i++) {
+        const double ex = nx[m->gs_nb[i]] - nx[m->gs_na[i]];
+        const double ey = ny[m->gs_nb[i]] - ny[m->gs_na[i]];
+        const int moves = m->gs_oa[i] >= 0 || m->gs_ob[i] >= 0;
+        const double g = moves ? ex * ex + ey * ey - m->gs_l0sq[i] : 0.0;
+        if (fabs(g) > worst * m->gs_l0sq[i])
+            worst = fabs(g) / m->gs_l0sq[i];
+        w->r[i] = -g;
+        w->cx[i] = ex;
+        w->cy[i] = ey;
+    }
+    return worst;
+}
+
+/* Newton iterations on the lengths of the chains that meet; the matrix of the first
+   serves the later ones (it changes with the chords by the size of the correction). */
+static void rj__shake_graph(const rj_model *m, rj_state *s, const double *x, const double *y,
+                            double *nx, double *ny)
+{
+    const rj__gs_work w = rj__gs_carve(m, s);
+    int it, i;
+    for (i = 0; i < m->gs_n; i++) {
+        w.ox[i] = x[m->gs_nb[i]] - x[m->gs_na[i]];
+        w.oy[i] = y[m->gs_nb[i]] - y[m->gs_na[i]];
+    }
+    for (it = 0; it < 8; it++) {
+        if (rj__gs_residuals(m, &w, nx, ny) < 1e-14)
+            break;
+        if (it == 0)
+            rj__gs_factor(m, &w);
+        rj__gs_solve(m, &w);
+        rj__gs_move(m, &w, nx, ny);
+    }
+}
 /* ------------------------------------------------------------------ building the model */
 /* The model's building area (m->lz, sized by rj__model_layout) as the phases of
    rj_model_init use it. The phases run one after another, so every view but the chords
@@ -5807,7 +6219,17 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(spl, double);
     RJ__SET(cp, rj_coupling_def);
     RJ__SET(lz, double);
+    RJ__SET(gs_l0sq, double);
 #undef RJ__SET
+    /* the system of the chains that meet: its int arrays in one block */
+    m->gs_na = (int *) (void *) (base + L->gs_int);
+    m->gs_nb = m->gs_na + m->ne;
+    m->gs_oa = m->gs_nb + m->ne;
+    m->gs_ob = m->gs_oa + m->ne;
+    m->gs_first = m->gs_ob + m->ne;
+    m->gs_off = m->gs_first + m->ne;
+    m->gs_node = m->gs_off + m->ne + 1;
+    m->gs_nown = m->gs_node + m->nn;
 }
 
 /* The model keeps its own copy of the definitions: the scene's arrays may go. */
@@ -6230,8 +6652,10 @@ static void rj__init_inextensible(rj_model *m, int *scratch)
     for (l = 0; l < m->nl; l++)
         if (m->ldef[l].fidelity == RJ_LINK_INEXTENSIBLE)
             m->any_inext = 1;
-    if (m->any_inext)
-        rj__inext_chains(m, scratch);
+    if (!m->any_inext)
+        return;
+    rj__inext_chains(m, scratch);
+    rj__gs_build(m, m->lz);
 }
 
 /* Rigid scenes: each link as a body (rod plus tip mass): its mass, the distance of its
@@ -6807,7 +7231,7 @@ RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
-    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, eu, ebt, jsc,
+    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, gsw, eu, ebt, jsc,
         rsc, rows, terms, rsys, input_torque, input_node, node_applied, snap_torque;
 } rj__slayout;
 
@@ -6828,6 +7252,9 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->shb = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shc = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shr = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
+    L->gsw = rj__carve(&off,
+                       m->gs_n ? 2 * m->gs_prof + 9 * (size_t) m->gs_n + 2 * (size_t) m->nn : 0,
+                       sizeof(double));
     L->eu = rj__carve(&off, (size_t) m->ne, sizeof(double));
     L->ebt = rj__carve(&off, (size_t) m->ne, sizeof(double));
     L->jsc = rj__carve(&off, (size_t) m->nj * 8 + 1, sizeof(double));
@@ -7026,6 +7453,7 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->shb = (double *) (void *) (base + L.shb);
     s->shc = (double *) (void *) (base + L.shc);
     s->shr = (double *) (void *) (base + L.shr);
+    s->gsw = (double *) (void *) (base + L.gsw);
     s->eu = (double *) (void *) (base + L.eu);
     s->ebt = (double *) (void *) (base + L.ebt);
     s->kn = (double *) (void *) (base + L.kn);
@@ -7268,6 +7696,8 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
            *act = s->ebt; /* act: 1 for an element that can move, 0 between two fixed nodes */
     const double dt = m->dt;
     int ch, it, i, q, gi;
+    if (m->gs_n)
+        rj__shake_graph(m, s, x, y, nx, ny);
     for (ch = 0; ch < m->nch; ch++) {
         const int *nd = m->ch_node + m->ch_first[ch],
                   ne = m->ch_first[ch + 1] - m->ch_first[ch] - 1;

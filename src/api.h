@@ -68,7 +68,8 @@ CONCEPTS
 
    Joints. Joint j pins node node2 of link body2 (node 0 unless set) to node node1 of link
    body1 (or to a ground point when body1 = -1). A link hangs from its first joint as
-   body2; a later joint with the same body2 closes a loop (every link flexible), and must
+   body2; a later joint with the same body2 closes a loop (no link rigid, or every link
+   rigid), and must
    find its pins together, moving together, at its angle0 where the other joints place
    the links. Its rotary location theta (sec. 3.1, Eqs 1-3) is the
    counter-clockwise angle from body 1's direction at the pin, pointing back towards body
@@ -151,9 +152,10 @@ typedef enum rj_root { RJ_ROOT_FREE = 0, RJ_ROOT_PINNED, RJ_ROOT_CLAMPED, RJ_ROO
      together there, and joints on a rigid link use RJ_REF_TANGENT; the flexible links
      set the step. */
 /* RJ_LINK_INEXTENSIBLE links bend like flexible ones, but their element lengths are
-   constraints (SHAKE projection along the previous chords, a tridiagonal solve per link),
-   so the axial wave no longer limits the step: only bending does. They mix freely with
-   flexible links. */
+   constraints (SHAKE projection along the previous chords: a tridiagonal solve per chain
+   of links joined tip to root; chains that meet inside a link or close a loop through a
+   moving pin form one sparse system), so the axial wave no longer limits the step: only
+   bending does. They mix freely with flexible links. */
 typedef enum rj_fidelity { RJ_LINK_FLEXIBLE = 0, RJ_LINK_RIGID, RJ_LINK_INEXTENSIBLE } rj_fidelity;
 
 /* Section description. */

@@ -975,6 +975,9 @@ static void rj__inext_chains(rj_model *m, int *scratch)
         child_of[k] = -1;
     }
     for (j = 0; j < m->nj; j++) {
+        /* a joint closing a loop neither hangs a link nor continues a chain */
+        if (m->jnt[j].loop)
+            continue;
         joint_of[m->jdef[j].body2] = j;
         if (m->jnt[j].nI < 0 || m->ldef[m->jdef[j].body2].fidelity != RJ_LINK_INEXTENSIBLE)
             continue;

@@ -150,7 +150,17 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(spl, double);
     RJ__SET(cp, rj_coupling_def);
     RJ__SET(lz, double);
+    RJ__SET(gs_l0sq, double);
 #undef RJ__SET
+    /* the system of the chains that meet: its int arrays in one block */
+    m->gs_na = (int *) (void *) (base + L->gs_int);
+    m->gs_nb = m->gs_na + m->ne;
+    m->gs_oa = m->gs_nb + m->ne;
+    m->gs_ob = m->gs_oa + m->ne;
+    m->gs_first = m->gs_ob + m->ne;
+    m->gs_off = m->gs_first + m->ne;
+    m->gs_node = m->gs_off + m->ne + 1;
+    m->gs_nown = m->gs_node + m->nn;
 }
 
 /* The model keeps its own copy of the definitions: the scene's arrays may go. */
@@ -573,8 +583,10 @@ static void rj__init_inextensible(rj_model *m, int *scratch)
     for (l = 0; l < m->nl; l++)
         if (m->ldef[l].fidelity == RJ_LINK_INEXTENSIBLE)
             m->any_inext = 1;
-    if (m->any_inext)
-        rj__inext_chains(m, scratch);
+    if (!m->any_inext)
+        return;
+    rj__inext_chains(m, scratch);
+    rj__gs_build(m, m->lz);
 }
 
 /* Rigid scenes: each link as a body (rod plus tip mass): its mass, the distance of its

@@ -251,6 +251,14 @@ struct rj_model {
     int *ch_first;           /* (nl+1) first entry of each chain in ch_node */
     int *ch_node;            /* (nn+nl) node indices along the chains (a shared pin once) */
     double *ch_l0sq;         /* (nn+nl) squared rest length of the element after each entry */
+    /* inextensible chains that meet: one sparse system (src/shake_graph.h) */
+    int gs_n, gs_nodes;      /* its elements; the nodes they move */
+    size_t gs_prof;          /* entries below the diagonal in the factor's profile */
+    int *gs_na, *gs_nb;      /* (ne) an element's first and second node */
+    int *gs_oa, *gs_ob;      /* (ne) their owners (rj__gs_owner) */
+    int *gs_first, *gs_off;  /* (ne, ne+1) a row's first column, its offset in the profile */
+    int *gs_node, *gs_nown;  /* (nn) the nodes moved, each one's owner */
+    double *gs_l0sq;         /* (ne) squared rest lengths */
     double *mass, *rinertia; /* (nn) lumped translational mass kg, rotary inertia kg m^2 */
     double *tinv; /* (nn) 1/mass for free ungrouped nodes, 0 for fixed or grouped nodes */
     double *rinv; /* (nn) 1/rinertia, 0 for fixed rotations */
@@ -341,6 +349,7 @@ struct rj_state {
     double *kn;           /* (nn) each node's share of twice the kinetic energy */
     double *sha, *shb, *shc,
         *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
+    double *gsw; /* (2 gs_prof + 9 gs_n + 2 nn, or none) rj__gs_work */
     double *eu,
         *ebt; /* (ne) element strain energies; scratch (chord angles at reset, SHAKE's active flags) */
     double *jsc;          /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */

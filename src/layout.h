@@ -18,7 +18,7 @@ typedef struct rj__layout {
     size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho,
         link_I;
     size_t node_cl, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
-    size_t node_grp, ch_first, ch_node, ch_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, qj, jq, jpin,
+    size_t node_grp, ch_first, ch_node, ch_l0sq, gs_int, gs_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, qj, jq, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
         link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
 } rj__layout;
@@ -30,6 +30,9 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
 {
     const int nl = sc->link_count, nj = sc->joint_count, rigid = rj__all_rigid(sc);
     size_t off = sizeof(rj_model);
+    int inext = 0, l;
+    for (l = 0; l < nl; l++)
+        inext |= sc->links[l].fidelity == RJ_LINK_INEXTENSIBLE;
     L->ldef = rj__carve(&off, (size_t) nl, sizeof(rj_link_def));
     L->jdef = rj__carve(&off, (size_t) nj, sizeof(rj_joint_def));
     L->jnt = rj__carve(&off, (size_t) nj, sizeof(rj__joint));
@@ -52,6 +55,8 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->cl_ry = rj__carve(&off, (size_t) nn, sizeof(double));
     L->ch_node = rj__carve(&off, (size_t) nn + nl, sizeof(int));
     L->ch_l0sq = rj__carve(&off, (size_t) nn + nl, sizeof(double));
+    L->gs_int = rj__carve(&off, inext ? 6 * ne + 2 * nn + 1 : 0, sizeof(int));
+    L->gs_l0sq = rj__carve(&off, inext ? ne : 0, sizeof(double));
     L->rb_mass = rj__carve(&off, (size_t) nl, sizeof(double));
     L->rb_icm = rj__carve(&off, (size_t) nl, sizeof(double));
     L->rb_dcm = rj__carve(&off, (size_t) nl, sizeof(double));

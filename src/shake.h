@@ -34,6 +34,8 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
            *act = s->ebt; /* act: 1 for an element that can move, 0 between two fixed nodes */
     const double dt = m->dt;
     int ch, it, i, q, gi;
+    if (m->gs_n)
+        rj__shake_graph(m, s, x, y, nx, ny);
     for (ch = 0; ch < m->nch; ch++) {
         const int *nd = m->ch_node + m->ch_first[ch],
                   ne = m->ch_first[ch + 1] - m->ch_first[ch] - 1;

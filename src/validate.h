@@ -263,12 +263,11 @@ static int rj__validate_bodies(const rj_scene_def *sc, const rj_joint_def *J, in
     }
     if (J->node2 != 0 &&
         (J->reference != RJ_REF_TANGENT ||
-         sc->links[J->body2].fidelity == RJ_LINK_INEXTENSIBLE ||
          (sc->links[J->body2].fidelity == RJ_LINK_RIGID && !rj__all_rigid(sc)))) {
         RJ__FIELD(f, "joints[%d].node2", j);
         rj__fail(err, RJ_ERR_INVALID, f, J->node2,
                  "%s = %d is not supported: a pin away from body2's first node needs the "
-                 "tangent reference and a flexible body2, or rigid links only",
+                 "tangent reference and a flexible or inextensible body2, or rigid links only",
                  f, J->node2);
         return 0;
     }
@@ -684,10 +683,10 @@ static const char *rj__rigid_loop_refusal(const rj_scene_def *sc, int j, char *f
     return f[0] ? f : NULL;
 }
 
-/* A joint that closes a loop (its body2 hangs from joint first): every link of the scene
-   flexible, or every link rigid (then without limits, friction, an actuator or a
-   coupling on it, yet); loops through inextensible links, or through rigid links among
-   flexible ones, are not supported yet. */
+/* A joint that closes a loop (its body2 hangs from joint first): no link of the scene
+   rigid (flexible and inextensible links), or every link rigid (then without the joint
+   parts rj__rigid_loop_refusal names, yet); loops among flexible links and rigid bodies
+   are not supported yet. */
 static int rj__validate_loop_joint(const rj_scene_def *sc, int j, int first, rj_error *err)
 {
     const int b2 = sc->joints[j].body2;
@@ -705,16 +704,15 @@ static int rj__validate_loop_joint(const rj_scene_def *sc, int j, int first, rj_
         return 0;
     }
     for (l = 0; l < sc->link_count; l++)
-        if (sc->links[l].fidelity != RJ_LINK_FLEXIBLE)
+        if (sc->links[l].fidelity == RJ_LINK_RIGID)
             break;
     if (l == sc->link_count)
         return 1;
     RJ__FIELD(f, "joints[%d].body2", j);
     rj__fail(err, RJ_ERR_INVALID, f, b2,
              "%s = %d closes a loop (link %d hangs from joint %d), which is supported when "
-             "every link is flexible, or every link rigid: link %d is %s",
-             f, b2, b2, first, l,
-             sc->links[l].fidelity == RJ_LINK_RIGID ? "rigid" : "inextensible");
+             "no link is rigid, or every link is: link %d is rigid among links that are not",
+             f, b2, b2, first, l);
     return 0;
 }
 

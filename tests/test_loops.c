@@ -123,28 +123,36 @@ static void rigid_rk4(rigid4 *r, double *q, double *w, double h)
     crank_accel(r, *q, *w);
 }
 
-/* The scene at modulus E (Pa), the loop's angles from close_loop. */
-static void fourbar_text(double E, char *text, size_t n)
+/* The scene at modulus E (Pa), its links of the fidelity named ("" for the default,
+   flexible, or "inextensible") at step dt (0: automatic), the loop's angles from
+   close_loop. */
+static void fourbar_text(double E, const char *fidelity, double dt, char *text, size_t n)
 {
     double t3 = 0.5, t4 = 1.5;
+    char key[64] = "";
+    if (fidelity[0])
+        snprintf(key, sizeof key, "  fidelity = %s\n", fidelity);
     close_loop(CRANK0, &t3, &t4);
     snprintf(text, n,
-             "solver\n  dt = 0\n  gravity = 0 -9.81\n"
+             "solver\n  dt = %.17g\n  gravity = 0 -9.81\n"
              "material al\n  E = %.17g  rho = 2700\n"
              "section bar\n  width = 0.02  height = 0.02\n"
-             "link crank\n  length = %.17g  elements = 3  material = al  section = bar\n"
-             "link coupler\n  length = %.17g  elements = 10  material = al  section = bar\n"
-             "link rocker\n  length = %.17g  elements = 8  material = al  section = bar\n"
+             "link crank\n  length = %.17g  elements = 3  material = al  section = bar\n%s"
+             "link coupler\n  length = %.17g  elements = 10  material = al  section = bar\n%s"
+             "link rocker\n  length = %.17g  elements = 8  material = al  section = bar\n%s"
              "joint o2\n  body1 = ground  body2 = crank  angle0 = %.17g\n"
              "joint a\n  body1 = crank  body2 = coupler  angle0 = %.17g\n"
              "joint o4\n  body1 = ground  body2 = rocker  ground_x = %.17g  angle0 = %.17g\n"
              "joint b\n  body1 = coupler  body2 = rocker  node2 = last  angle0 = %.17g\n",
-             E, BAR_A, BAR_B, BAR_C, CRANK0, t3 - (CRANK0 + PI), GROUND_D, t4, t4 - (t3 + PI));
+             dt, E, BAR_A, key, BAR_B, key, BAR_C, key, CRANK0, t3 - (CRANK0 + PI), GROUND_D, t4,
+             t4 - (t3 + PI));
 }
 
 /* What a four-bar run measured against the rigid motion over t_end. */
 typedef struct fourbar_run {
     double crank, loop_angle, gap, balance, energy;
+    double stretch; /* the largest |element length - l0| / l0 */
+    double dt;      /* the step taken */
     rj_result result;
     char msg[700];
 } fourbar_run;
@@ -166,6 +174,24 @@ static int build(const char *text, rj_model **m, rj_state **s, rj_error *err)
     return 1;
 }
 
+/* The largest relative change of an element's length over the scene's links. */
+static double worst_stretch(const rj_model *m, const rj_state *s)
+{
+    double worst = 0;
+    int l, k;
+    for (l = 0; l < rj_model_link_count(m); l++) {
+        const rj_link_def *d = rj_model_link_def(m, l);
+        const double l0 = d->length / d->elements;
+        for (k = 0; k + 1 < rj_link_node_count(m, l); k++) {
+            double a[2], b[2];
+            rj_node_position(m, s, l, k, a);
+            rj_node_position(m, s, l, k + 1, b);
+            worst = fmax(worst, fabs(hypot(b[0] - a[0], b[1] - a[1]) - l0) / l0);
+        }
+    }
+    return worst;
+}
+
 /* One step of both; the worst differences so far into o. */
 static void compare_step(const rj_model *m, const rj_state *s, rigid4 *r, double q, fourbar_run *o)
 {
@@ -181,9 +207,10 @@ static void compare_step(const rj_model *m, const rj_state *s, rigid4 *r, double
     rj_state_energy(m, s, &e);
     o->balance = fmax(o->balance, fabs(e.balance));
     o->energy = fmax(o->energy, fabs(e.kinetic));
+    o->stretch = fmax(o->stretch, worst_stretch(m, s));
 }
 
-static void run_fourbar(double E, double t_end, fourbar_run *o)
+static void run_fourbar(double E, const char *fidelity, double dt, double t_end, fourbar_run *o)
 {
     char text[2048];
     rj_model *m = NULL;
@@ -192,12 +219,13 @@ static void run_fourbar(double E, double t_end, fourbar_run *o)
     rigid4 r;
     double q = CRANK0, w = 0;
     memset(o, 0, sizeof *o);
-    fourbar_text(E, text, sizeof text);
+    fourbar_text(E, fidelity, dt, text, sizeof text);
     if (!build(text, &m, &s, &err)) {
         o->result = err.code;
         snprintf(o->msg, sizeof o->msg, "%s", err.msg);
         return;
     }
+    o->dt = rj_model_dt(m);
     r.crank = bar_of(m, 0, BAR_A);
     r.coupler = bar_of(m, 1, BAR_B);
     r.rocker = bar_of(m, 2, BAR_C);
@@ -222,7 +250,7 @@ static void test_fourbar(rjt_ctx *c)
     fourbar_run o[3];
     int k;
     for (k = 0; k < 3; k++)
-        run_fourbar(E[k], 1.0, &o[k]);
+        run_fourbar(E[k], "", 0, 1.0, &o[k]);
     for (k = 0; k < 3; k++)
         /* the pins one group (round-off apart); the balance the scheme's error */
         rjt_check(c, o[k].result == RJ_OK && o[k].gap < 1e-12 && o[k].balance < 1e-5 * o[k].energy &&
@@ -240,6 +268,82 @@ static void test_fourbar(rjt_ctx *c)
               o[1].crank / o[2].crank);
 }
 
+/* Inextensible bars: the same convergence to the rigid motion (their bending is what
+   is left), every element held at its length by SHAKE over the chains that meet at the
+   loop's pin. */
+static void test_fourbar_inextensible(rjt_ctx *c)
+{
+    static const double E[3] = { 7e8, 7e9, 7e10 };
+    fourbar_run o[3], half;
+    int k;
+    for (k = 0; k < 3; k++)
+        run_fourbar(E[k], "inextensible", 0, 1.0, &o[k]);
+    for (k = 0; k < 3; k++)
+        rjt_check(c, o[k].result == RJ_OK && o[k].gap < 1e-12 && o[k].stretch < 1e-12 &&
+                         o[k].balance < 2e-5 * o[k].energy,
+                  "four-bar of inextensible bars: the loop closed, the lengths held",
+                  "E %.0e Pa: max |crank - rigid| %.3g rad, pin gap %.3g m, max element "
+                  "stretch %.3g, max |balance| %.3g J of %.3g J kinetic %s",
+                  E[k], o[k].crank, o[k].gap, o[k].stretch, o[k].balance, o[k].energy,
+                  o[k].msg);
+    rjt_check(c, o[0].crank / o[1].crank > 5 && o[1].crank / o[2].crank > 5 && o[2].crank < 1e-2,
+              "four-bar of inextensible bars: the crank converges to the rigid motion",
+              "max |crank - rigid| over 1 s: %.3g, %.3g, %.3g rad at E 7e8, 7e9, 7e10 Pa",
+              o[0].crank, o[1].crank, o[2].crank);
+    /* without the axial bound the soft bars step 10 times longer than flexible ones:
+       their balance is the scheme's second-order error at that step */
+    run_fourbar(E[0], "inextensible", 0.5 * o[0].dt, 1.0, &half);
+    rjt_check(c, half.result == RJ_OK && half.balance < o[0].balance / 3,
+              "four-bar of inextensible bars: the balance second order in dt",
+              "E 7e8 Pa: max |balance| %.3g J at dt %.3g s, %.3g J at half (ratio %.2f) %s",
+              o[0].balance, o[0].dt, half.balance, o[0].balance / half.balance, half.msg);
+}
+
+/* A tree of inextensible links that meet inside a link: a branch hanging from the middle
+   of the first link, beside the link at its tip. Solved chain by chain, the branch's
+   correction moved the first link's middle node after that link was done: lengths off
+   by 1.6e-6 and energy created until the run stopped at 0.87 s. */
+static void test_inextensible_tree(rjt_ctx *c)
+{
+    static const char text[] =
+        "solver\n  dt = 0\n  gravity = 0 -9.81\n"
+        "material al\n  E = 7e10  rho = 2700\n"
+        "section bar\n  width = 0.02  height = 0.02\n"
+        "link main\n  length = 1  elements = 10  material = al  section = bar\n"
+        "  fidelity = inextensible\n"
+        "link branch\n  length = 0.5  elements = 5  material = al  section = bar\n"
+        "  fidelity = inextensible\n"
+        "link end\n  length = 0.5  elements = 5  material = al  section = bar\n"
+        "  fidelity = inextensible\n"
+        "joint o\n  body1 = ground  body2 = main  angle0 = 0\n"
+        "joint b\n  body1 = main  body2 = branch  node1 = 5  angle0 = 0.5\n"
+        "joint c\n  body1 = main  body2 = end  angle0 = 0.3\n";
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    rj_energy e0, e;
+    rj_result r = RJ_OK;
+    double stretch = 0, balance = 0, kinetic = 0;
+    if (!build(text, &m, &s, &err)) {
+        rjt_check(c, 0, "inextensible tree: lengths held where chains meet", "%s", err.msg);
+        return;
+    }
+    rj_state_energy(m, s, &e0);
+    while (rj_state_time(s) < 1.0 && r == RJ_OK) {
+        r = rj_step(m, s);
+        stretch = fmax(stretch, worst_stretch(m, s));
+        rj_state_energy(m, s, &e);
+        balance = fmax(balance, fabs(e.balance));
+        kinetic = fmax(kinetic, e.kinetic);
+    }
+    rjt_check(c, r == RJ_OK && stretch < 1e-12 && balance < 1e-5 * kinetic,
+              "inextensible tree: lengths held where chains meet",
+              "1 s: max element stretch %.3g, max |balance| %.3g J of %.3g J kinetic %s",
+              stretch, balance, kinetic, r == RJ_OK ? "" : rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
 /* Builds text with the edit applied (find replaced by put); the result and message. */
 static rj_result edited(const char *find, const char *put, rj_error *err)
 {
@@ -247,7 +351,7 @@ static rj_result edited(const char *find, const char *put, rj_error *err)
     const char *at;
     rj_model *m = NULL;
     rj_state *s = NULL;
-    fourbar_text(7e10, text, sizeof text);
+    fourbar_text(7e10, "", 0, text, sizeof text);
     at = strstr(text, find);
     if (!at) {
         snprintf(err->msg, sizeof err->msg, "no '%s' in the scene", find);
@@ -301,7 +405,7 @@ static void test_assemble(rjt_ctx *c)
     const double offs[4] = { 0, 0.05, -0.02, 0.07 };
     int k;
     close_loop(CRANK0, &t3, &t4);
-    fourbar_text(7e10, text, sizeof text);
+    fourbar_text(7e10, "", 0, text, sizeof text);
     if (rj_scene_parse(text, strlen(text), "fourbar.rjs", &f, &err) == RJ_OK) {
         const double want[4] = { CRANK0, t3 - (CRANK0 + PI), t4, t4 - (t3 + PI) };
         d = rj_scene_file_def(&f);
@@ -341,8 +445,10 @@ static void test_assemble(rjt_ctx *c)
    and the deployed boom's span between its first and last crossings, averaged over its
    ringing after the latch (0.8 to 1.5 s), against the geometry of 120 deg crossings:
    5 units of 0.5 m cos 30 deg. */
-static void test_scissor(rjt_ctx *c)
+/* The scissor boom of its file, its links of the fidelity given. */
+static void test_scissor(rjt_ctx *c, rj_fidelity fidelity)
 {
+    const char *name = fidelity == RJ_LINK_INEXTENSIBLE ? "inextensible" : "flexible";
     rj_scene_file f;
     rj_scene_def d;
     rj_error err;
@@ -355,11 +461,17 @@ static void test_scissor(rjt_ctx *c)
     rj_result r = rj_scene_load("examples/scenes/scissor_boom.rjs", &f, &err);
     if (r == RJ_OK) {
         d = rj_scene_file_def(&f);
+        for (j = 0; j < d.link_count; j++)
+            ((rj_link_def *) d.links)[j].fidelity = fidelity;
+        /* inextensible links have no axial bound: at the flexible links' step (2.2e-5 s,
+           not 1.7e-4 s) the balance measures the same second-order error */
+        if (fidelity == RJ_LINK_INEXTENSIBLE)
+            ((rj_solver_def *) &d.solver)->dt = 2.2e-5;
         r = rj_model_create(&d, &m, &err, NULL);
         rj_scene_file_free(&f);
     }
     if (r != RJ_OK) {
-        rjt_check(c, 0, "scissor boom: deploys and latches", "%s", err.msg);
+        rjt_check(c, 0, "scissor boom: deploys and latches", "%s links: %s", name, err.msg);
         return;
     }
     rj_state_create(m, &s, NULL);
@@ -382,9 +494,9 @@ static void test_scissor(rjt_ctx *c)
     rjt_check(c, r == RJ_OK && locked == 6 && balance < 1e-5 * e0.total &&
                      fabs(span - want) < 2e-3 * want,
               "scissor boom: five loops deploy and latch; the span the crossings give",
-              "%d crossings locked; mean span %.6f m against %.6f m (%.2g relative; the links "
-              "ring after the latch); max |balance| %.3g J of %.3g J",
-              locked, span, want, (span - want) / want, balance, e0.total);
+              "%s links: %d crossings locked; mean span %.6f m against %.6f m (%.2g relative; "
+              "the links ring after the latch); max |balance| %.3g J of %.3g J",
+              name, locked, span, want, (span - want) / want, balance, e0.total);
     rj_state_destroy(s, NULL);
     rj_model_destroy(m, NULL);
 }
@@ -395,7 +507,7 @@ static void rigid_text(double dt, const char *extra, char *out, size_t n)
 {
     char text[2048], *w = out;
     const char *t = text;
-    fourbar_text(7e10, text, sizeof text);
+    fourbar_text(7e10, "", 0, text, sizeof text);
     while (*t && w < out + n - 128) {
         if (!strncmp(t, "section = bar\n", 14)) {
             w += sprintf(w, "section = bar  fidelity = rigid\n");
@@ -743,7 +855,7 @@ static void test_mobility(rjt_ctx *c)
         rj_result r = RJ_ERR_PARSE;
         got[k][0] = got[k][1] = -1;
         if (k == 0)
-            fourbar_text(7e10, text, sizeof text);
+            fourbar_text(7e10, "", 0, text, sizeof text);
         else if (k < 3)
             a02_text(2, 1e-3, k == 2, text, sizeof text);
         if (k == 3)
@@ -869,13 +981,16 @@ int main(void)
     test_rigid_scissor(&c);
     test_mobility(&c);
     test_a02(&c);
-    test_scissor(&c);
+    test_scissor(&c, RJ_LINK_FLEXIBLE);
+    test_scissor(&c, RJ_LINK_INEXTENSIBLE);
     test_rigid_fourbar(&c);
     test_rigid_latch(&c);
     test_rigid_driven(&c);
     test_rigid_loop_joint_torques(&c);
     test_rigid_long(&c);
     test_fourbar(&c);
+    test_fourbar_inextensible(&c);
+    test_inextensible_tree(&c);
     test_refusals(&c);
     test_assemble(&c);
     return rjt_summary(&c, "test_loops");
