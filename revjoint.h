@@ -68,8 +68,9 @@ CONCEPTS
 
    Joints. Joint j pins node node2 of link body2 (node 0 unless set) to node node1 of link
    body1 (or to a ground point when body1 = -1). A link hangs from its first joint as
-   body2; a later joint with the same body2 closes a loop (no link rigid, or every link
-   rigid), and must
+   body2; a later joint with the same body2 closes a loop (through links of any
+   model; in a scene of rigid links only that joint takes no forced, energy or bouncing
+   limit method, prescribed actuator, rotor or coupling yet), and must
    find its pins together, moving together, at its angle0 where the other joints place
    the links. Its rotary location theta (sec. 3.1, Eqs 1-3) is the
    counter-clockwise angle from body 1's direction at the pin, pointing back towards body
@@ -2583,12 +2584,11 @@ static int rj__validate_bodies(const rj_scene_def *sc, const rj_joint_def *J, in
         return 0;
     }
     if (J->node2 != 0 &&
-        (J->reference != RJ_REF_TANGENT ||
-         (sc->links[J->body2].fidelity == RJ_LINK_RIGID && !rj__all_rigid(sc)))) {
+        J->reference != RJ_REF_TANGENT) {
         RJ__FIELD(f, "joints[%d].node2", j);
         rj__fail(err, RJ_ERR_INVALID, f, J->node2,
                  "%s = %d is not supported: a pin away from body2's first node needs the "
-                 "tangent reference and a flexible or inextensible body2, or rigid links only",
+                 "tangent reference",
                  f, J->node2);
         return 0;
     }
@@ -3004,15 +3004,12 @@ static const char *rj__rigid_loop_refusal(const rj_scene_def *sc, int j, char *f
     return f[0] ? f : NULL;
 }
 
-/* A joint that closes a loop (its body2 hangs from joint first): no link of the scene
-   rigid (flexible and inextensible links), or every link rigid (then without the joint
-   parts rj__rigid_loop_refusal names, yet); loops among flexible links and rigid bodies
-   are not supported yet. */
-static int rj__validate_loop_joint(const rj_scene_def *sc, int j, int first, rj_error *err)
+/* A joint that closes a loop (its body2 hangs from an earlier joint): in a scene of rigid
+   links only, without the joint parts rj__rigid_loop_refusal names, yet; in node space
+   (flexible, inextensible, mixed scenes) with everything a tree joint has. */
+static int rj__validate_loop_joint(const rj_scene_def *sc, int j, rj_error *err)
 {
-    const int b2 = sc->joints[j].body2;
     char f[64];
-    int l;
     if (rj__all_rigid(sc)) {
         if (!rj__rigid_loop_refusal(sc, j, f, sizeof f))
             return 1;
@@ -3024,17 +3021,8 @@ static int rj__validate_loop_joint(const rj_scene_def *sc, int j, int first, rj_
                  f, j);
         return 0;
     }
-    for (l = 0; l < sc->link_count; l++)
-        if (sc->links[l].fidelity == RJ_LINK_RIGID)
-            break;
-    if (l == sc->link_count)
-        return 1;
-    RJ__FIELD(f, "joints[%d].body2", j);
-    rj__fail(err, RJ_ERR_INVALID, f, b2,
-             "%s = %d closes a loop (link %d hangs from joint %d), which is supported when "
-             "no link is rigid, or every link is: link %d is rigid among links that are not",
-             f, b2, b2, first, l);
-    return 0;
+    /* flexible, inextensible and mixed scenes: a loop is one more pin in node space */
+    return 1;
 }
 
 /* The link a link hangs from (-1: ground or none), given each link's joint in parent. */
@@ -3157,7 +3145,7 @@ static int rj__validate_graph(const rj_scene_def *sc, int *scratch, rj_error *er
        the same body2 closes a loop */
     for (j = 0; j < sc->joint_count; j++) {
         const int b2 = sc->joints[j].body2;
-        if (parent[b2] >= 0 && !rj__validate_loop_joint(sc, j, parent[b2], err))
+        if (parent[b2] >= 0 && !rj__validate_loop_joint(sc, j, err))
             return 0;
         if (parent[b2] < 0)
             parent[b2] = j;

@@ -49,7 +49,8 @@ static int close_loop(double th2, double *t3, double *t4)
 }
 
 /* A bar's rigid mass properties from the model's lumped nodes: mass, first moment and
-   second moment (rotary inertias included) about its node 0 along the bar. */
+   second moment (rotary inertias included) about its node 0 along the bar; a rigid
+   link of a mixed scene (its nodes massless) as the uniform rod it is. */
 typedef struct bar {
     double m, s, J;
 } bar;
@@ -57,8 +58,15 @@ typedef struct bar {
 static bar bar_of(const rj_model *m, int link, double length)
 {
     const int n = rj_link_node_count(m, link);
+    const rj_link_def *d = rj_model_link_def(m, link);
     bar b = { 0, 0, 0 };
     int k;
+    if (d->fidelity == RJ_LINK_RIGID) {
+        b.m = d->rho * d->width * d->height * length;
+        b.s = b.m * length / 2;
+        b.J = b.m * length * length / 3;
+        return b;
+    }
     for (k = 0; k < n; k++) {
         double mass, rot;
         const double x = length * k / (n - 1);
@@ -124,14 +132,18 @@ static void rigid_rk4(rigid4 *r, double *q, double *w, double h)
 }
 
 /* The scene at modulus E (Pa), its links of the fidelity named ("" for the default,
-   flexible, or "inextensible") at step dt (0: automatic), the loop's angles from
-   close_loop. */
+   flexible, "inextensible"; a second name after a space for the coupler alone:
+   "flexible rigid") at step dt (0: automatic), the loop's angles from close_loop. */
 static void fourbar_text(double E, const char *fidelity, double dt, char *text, size_t n)
 {
     double t3 = 0.5, t4 = 1.5;
-    char key[64] = "";
-    if (fidelity[0])
-        snprintf(key, sizeof key, "  fidelity = %s\n", fidelity);
+    char key[64] = "", coupler[64] = "", bars[32] = "", middle[32] = "";
+    if (sscanf(fidelity, "%31s %31s", bars, middle) < 2)
+        snprintf(middle, sizeof middle, "%s", bars);
+    if (bars[0])
+        snprintf(key, sizeof key, "  fidelity = %s\n", bars);
+    if (middle[0])
+        snprintf(coupler, sizeof coupler, "  fidelity = %s\n", middle);
     close_loop(CRANK0, &t3, &t4);
     snprintf(text, n,
              "solver\n  dt = %.17g\n  gravity = 0 -9.81\n"
@@ -144,7 +156,7 @@ static void fourbar_text(double E, const char *fidelity, double dt, char *text, 
              "joint a\n  body1 = crank  body2 = coupler  angle0 = %.17g\n"
              "joint o4\n  body1 = ground  body2 = rocker  ground_x = %.17g  angle0 = %.17g\n"
              "joint b\n  body1 = coupler  body2 = rocker  node2 = last  angle0 = %.17g\n",
-             dt, E, BAR_A, key, BAR_B, key, BAR_C, key, CRANK0, t3 - (CRANK0 + PI), GROUND_D, t4,
+             dt, E, BAR_A, key, BAR_B, coupler, BAR_C, key, CRANK0, t3 - (CRANK0 + PI), GROUND_D, t4,
              t4 - (t3 + PI));
 }
 
@@ -153,6 +165,7 @@ typedef struct fourbar_run {
     double crank, loop_angle, gap, balance, energy;
     double stretch; /* the largest |element length - l0| / l0 */
     double dt;      /* the step taken */
+    double midspan; /* the coupler's largest deflection from its chord, m */
     rj_result result;
     char msg[700];
 } fourbar_run;
@@ -192,6 +205,18 @@ static double worst_stretch(const rj_model *m, const rj_state *s)
     return worst;
 }
 
+/* The coupler's deflection at its middle node (5 of 10) from its chord, m. */
+static double coupler_midspan(const rj_model *m, const rj_state *s)
+{
+    double a[2], mid[2], b[2], ux, uy;
+    rj_node_position(m, s, 1, 0, a);
+    rj_node_position(m, s, 1, 5, mid);
+    rj_node_position(m, s, 1, 10, b);
+    ux = b[0] - a[0];
+    uy = b[1] - a[1];
+    return ((mid[0] - a[0]) * uy - (mid[1] - a[1]) * ux) / hypot(ux, uy);
+}
+
 /* One step of both; the worst differences so far into o. */
 static void compare_step(const rj_model *m, const rj_state *s, rigid4 *r, double q, fourbar_run *o)
 {
@@ -208,6 +233,8 @@ static void compare_step(const rj_model *m, const rj_state *s, rigid4 *r, double
     o->balance = fmax(o->balance, fabs(e.balance));
     o->energy = fmax(o->energy, fabs(e.kinetic));
     o->stretch = fmax(o->stretch, worst_stretch(m, s));
+    if (rj_model_link_def(m, 1)->fidelity != RJ_LINK_RIGID)
+        o->midspan = fmax(o->midspan, fabs(coupler_midspan(m, s)));
 }
 
 static void run_fourbar(double E, const char *fidelity, double dt, double t_end, fourbar_run *o)
@@ -266,6 +293,13 @@ static void test_fourbar(rjt_ctx *c)
               "(ratios %.1f, %.1f)",
               o[0].crank, o[1].crank, o[2].crank, o[0].crank / o[1].crank,
               o[1].crank / o[2].crank);
+    /* what is left of the rigid motion: the coupler bends as it swings, less as E grows */
+    rjt_check(c, o[0].midspan > 0.01 && o[0].midspan / o[1].midspan > 5 &&
+                     o[1].midspan / o[2].midspan > 5,
+              "four-bar: the soft coupler bends as it swings, as 1/E",
+              "the coupler's largest midspan deflection from its chord over 1 s: %.3g, %.3g, "
+              "%.3g m at E 7e8, 7e9, 7e10 Pa",
+              o[0].midspan, o[1].midspan, o[2].midspan);
 }
 
 /* Inextensible bars: the same convergence to the rigid motion (their bending is what
@@ -297,6 +331,27 @@ static void test_fourbar_inextensible(rjt_ctx *c)
               "four-bar of inextensible bars: the balance second order in dt",
               "E 7e8 Pa: max |balance| %.3g J at dt %.3g s, %.3g J at half (ratio %.2f) %s",
               o[0].balance, o[0].dt, half.balance, o[0].balance / half.balance, half.msg);
+}
+
+/* A rigid coupler between flexible bars (a loop through a rigid body of a mixed scene):
+   the same convergence to the rigid motion as the bars stiffen. */
+static void test_fourbar_mixed(rjt_ctx *c)
+{
+    static const double E[3] = { 7e8, 7e9, 7e10 };
+    fourbar_run o[3];
+    int k;
+    for (k = 0; k < 3; k++)
+        run_fourbar(E[k], "flexible rigid", 0, 1.0, &o[k]);
+    for (k = 0; k < 3; k++)
+        rjt_check(c, o[k].result == RJ_OK && o[k].gap < 1e-12 && o[k].balance < 1e-5 * o[k].energy,
+                  "four-bar with a rigid coupler: the loop through the body closed",
+                  "E %.0e Pa: max |crank - rigid| %.3g rad, pin gap %.3g m, max |balance| %.3g "
+                  "J of %.3g J kinetic %s",
+                  E[k], o[k].crank, o[k].gap, o[k].balance, o[k].energy, o[k].msg);
+    rjt_check(c, o[0].crank / o[1].crank > 5 && o[1].crank / o[2].crank > 5 && o[2].crank < 1e-2,
+              "four-bar with a rigid coupler: the crank converges to the rigid motion",
+              "max |crank - rigid| over 1 s: %.3g, %.3g, %.3g rad at E 7e8, 7e9, 7e10 Pa",
+              o[0].crank, o[1].crank, o[2].crank);
 }
 
 /* A tree of inextensible links that meet inside a link: a branch hanging from the middle
@@ -345,13 +400,13 @@ static void test_inextensible_tree(rjt_ctx *c)
 }
 
 /* Builds text with the edit applied (find replaced by put); the result and message. */
-static rj_result edited(const char *find, const char *put, rj_error *err)
+static rj_result edited(const char *fidelity, const char *find, const char *put, rj_error *err)
 {
     char text[2048], out[2048];
     const char *at;
     rj_model *m = NULL;
     rj_state *s = NULL;
-    fourbar_text(7e10, "", 0, text, sizeof text);
+    fourbar_text(7e10, fidelity, 0, text, sizeof text);
     at = strstr(text, find);
     if (!at) {
         snprintf(err->msg, sizeof err->msg, "no '%s' in the scene", find);
@@ -368,22 +423,24 @@ static rj_result edited(const char *find, const char *put, rj_error *err)
 
 static void test_refusals(rjt_ctx *c)
 {
-    static const char *const cases[][4] = {
-        /* find, put, the message must hold, what */
-        { "ground_x = 1 ", "ground_x = 1.01 ", "apart", "a loop that does not close" },
-        { "node2 = last  angle0 = -2.13", "node2 = last  angle0 = -2.03",
+    static const char *const cases[][5] = {
+        /* the links' fidelity, find, put, the message must hold, what */
+        { "", "ground_x = 1 ", "ground_x = 1.01 ", "apart", "a loop that does not close" },
+        { "", "node2 = last  angle0 = -2.13", "node2 = last  angle0 = -2.03",
           "joints[3].angle0", "a loop joint at the wrong angle0" },
-        { "elements = 10", "elements = 1  fidelity = rigid", "closes a loop",
-          "a loop through a rigid link" },
-        { "node2 = last", "node2 = last  reference = chord", "node2", "node2 on a chord joint" },
-        { "node2 = last", "node2 = 9", "node2 = 9 is out of range", "node2 past the link's last" },
+        { "flexible rigid", "fidelity = flexible\njoint", "fidelity = rigid\njoint",
+          "pins two rigid links", "a loop joint between two rigid bodies of a mixed scene" },
+        { "", "node2 = last", "node2 = last  reference = chord", "node2",
+          "node2 on a chord joint" },
+        { "", "node2 = last", "node2 = 9", "node2 = 9 is out of range",
+          "node2 past the link's last" },
     };
     int k;
     for (k = 0; k < 5; k++) {
         rj_error err;
-        const rj_result r = edited(cases[k][0], cases[k][1], &err);
-        rjt_check(c, r != RJ_OK && strstr(err.msg, cases[k][2]) != NULL,
-                  "closed loops: bad input refused, the field named", "%s: %s", cases[k][3],
+        const rj_result r = edited(cases[k][0], cases[k][1], cases[k][2], &err);
+        rjt_check(c, r != RJ_OK && strstr(err.msg, cases[k][3]) != NULL,
+                  "closed loops: bad input refused, the field named", "%s: %s", cases[k][4],
                   err.msg);
     }
 }
@@ -445,10 +502,13 @@ static void test_assemble(rjt_ctx *c)
    and the deployed boom's span between its first and last crossings, averaged over its
    ringing after the latch (0.8 to 1.5 s), against the geometry of 120 deg crossings:
    5 units of 0.5 m cos 30 deg. */
-/* The scissor boom of its file, its links of the fidelity given. */
+/* The scissor boom of its file, its links of the fidelity given (RJ_LINK_RIGID: a mixed
+   scene, the A links rigid bodies crossing flexible B links at their middle nodes). */
 static void test_scissor(rjt_ctx *c, rj_fidelity fidelity)
 {
-    const char *name = fidelity == RJ_LINK_INEXTENSIBLE ? "inextensible" : "flexible";
+    const char *name = fidelity == RJ_LINK_INEXTENSIBLE ? "inextensible"
+                       : fidelity == RJ_LINK_RIGID  ? "rigid A and flexible B"
+                                                    : "flexible";
     rj_scene_file f;
     rj_scene_def d;
     rj_error err;
@@ -461,8 +521,10 @@ static void test_scissor(rjt_ctx *c, rj_fidelity fidelity)
     rj_result r = rj_scene_load("examples/scenes/scissor_boom.rjs", &f, &err);
     if (r == RJ_OK) {
         d = rj_scene_file_def(&f);
+        /* the file lists A0, B0, A1, B1, ...: the A links are the even ones */
         for (j = 0; j < d.link_count; j++)
-            ((rj_link_def *) d.links)[j].fidelity = fidelity;
+            if (fidelity != RJ_LINK_RIGID || j % 2 == 0)
+                ((rj_link_def *) d.links)[j].fidelity = fidelity;
         /* inextensible links have no axial bound: at the flexible links' step (2.2e-5 s,
            not 1.7e-4 s) the balance measures the same second-order error */
         if (fidelity == RJ_LINK_INEXTENSIBLE)
@@ -983,6 +1045,7 @@ int main(void)
     test_a02(&c);
     test_scissor(&c, RJ_LINK_FLEXIBLE);
     test_scissor(&c, RJ_LINK_INEXTENSIBLE);
+    test_scissor(&c, RJ_LINK_RIGID);
     test_rigid_fourbar(&c);
     test_rigid_latch(&c);
     test_rigid_driven(&c);
@@ -991,6 +1054,7 @@ int main(void)
     test_fourbar(&c);
     test_fourbar_inextensible(&c);
     test_inextensible_tree(&c);
+    test_fourbar_mixed(&c);
     test_refusals(&c);
     test_assemble(&c);
     return rjt_summary(&c, "test_loops");
