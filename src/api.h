@@ -69,8 +69,7 @@ CONCEPTS
    Joints. Joint j pins node node2 of link body2 (node 0 unless set) to node node1 of link
    body1 (or to a ground point when body1 = -1). A link hangs from its first joint as
    body2; a later joint with the same body2 closes a loop (through links of any
-   model; in a scene of rigid links only that joint takes no forced, energy or bouncing
-   limit method, prescribed actuator, rotor or coupling yet), and must
+   model, with every part of the joint element), and must
    find its pins together, moving together, at its angle0 where the other joints place
    the links. Its rotary location theta (sec. 3.1, Eqs 1-3) is the
    counter-clockwise angle from body 1's direction at the pin, pointing back towards body

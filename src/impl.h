@@ -378,6 +378,7 @@ static double rj__rig_setup(rj_model *m, double *scratch);
 typedef struct rj__rig {
     double *M, *L, *W, *q, *qd, *qdp, *qdd, *Q, *h, *x,
         *tmp; /* n x n (W: columns of M^-1), n each (tmp 2 n) */
+    double *xd; /* n: the impulse of the prescribed loop joints' rows on each coordinate */
     double *S, *SL, *lam,
         *rhs;   /* the rows' system (src/rows.h): R x R, its factor, R each (R rows at most) */
     double *Y;  /* the rows' M^-1 J^T that are not a column of M^-1: n each, one per coupling */

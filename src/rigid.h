@@ -35,7 +35,8 @@ static void rj__rig_map(const rj_model *m, double *base, rj__rig *r, int nloop)
     r->Q = r->qdd + n;
     r->x = r->Q + n;
     r->tmp = r->x + n;
-    r->S = r->tmp + 2 * n;
+    r->xd = r->tmp + 2 * n;
+    r->S = r->xd + n;
     r->SL = r->S + rows * rows;
     r->lam = r->SL + rows * rows;
     r->rhs = r->lam + rows;
@@ -48,6 +49,21 @@ static int rj__rig_up(const rj_model *m, int j)
 {
     const int b1 = m->jdef[j].body1;
     return b1 >= 0 ? m->rb_pjoint[b1] : -1;
+}
+
+/* The gradient of the angle of joint j, which closes a loop, over the coordinates: +1 for
+   each tree joint on body 2's path to the ground, -1 on body 1's (a joint on both
+   cancels): its angle is angle0 + g . (q - q(0)), its rate g . q'. */
+static void rj__rig_loop_gradient(const rj_model *m, int j, double *g)
+{
+    int k, up;
+    for (k = 0; k < m->nq; k++)
+        g[k] = 0;
+    for (up = m->rb_pjoint[m->jdef[j].body2]; up >= 0; up = rj__rig_up(m, up))
+        g[m->jq[up]] += 1;
+    if (m->jdef[j].body1 >= 0)
+        for (up = m->rb_pjoint[m->jdef[j].body1]; up >= 0; up = rj__rig_up(m, up))
+            g[m->jq[up]] -= 1;
 }
 
 /* Positions, velocities (rates qd; skipped when qd is NULL, as the step needs none) and
@@ -219,6 +235,22 @@ static void rj__rig_mass_links(const rj_model *m, rj__rig *r)
     }
 }
 
+/* A rotor on a joint that closes a loop: its kinetic energy I (g . q')^2 / 2 adds I g g^T
+   (g: nq doubles of scratch). */
+static void rj__rig_loop_rotors(const rj_model *m, double *M, double *g)
+{
+    const int n = m->nq;
+    int j, a, b;
+    for (j = 0; j < m->nj; j++) {
+        if (m->jq[j] >= 0 || m->jnt[j].rotor == 0)
+            continue;
+        rj__rig_loop_gradient(m, j, g);
+        for (a = 0; a < n; a++)
+            for (b = 0; b < n; b++)
+                M[(size_t) a * n + b] += m->jnt[j].rotor * g[a] * g[b];
+    }
+}
+
 /* M(q): the links', and each motor's rotor, whose reflected inertia acts on its joint's
    rate. */
 static void rj__rig_mass(const rj_model *m, rj__rig *r)
@@ -228,6 +260,8 @@ static void rj__rig_mass(const rj_model *m, rj__rig *r)
     rj__rig_mass_links(m, r);
     for (k = 0; k < n; k++)
         r->M[(size_t) k * n + k] += m->jnt[m->qj[k]].rotor;
+    if (m->nloop)
+        rj__rig_loop_rotors(m, r->M, r->tmp);
 }
 
 /* Cholesky factor of the n x n SPD matrix M into L (lower), and solves L L^T x = b. The
@@ -339,21 +373,6 @@ static void rj__rig_nodes(const rj_model *m, const rj__rig *r, double *f)
     }
 }
 
-/* The gradient of the angle of joint j, which closes a loop, over the coordinates: +1 for
-   each tree joint on body 2's path to the ground, -1 on body 1's (a joint on both
-   cancels): its angle is angle0 + g . (q - q(0)), its rate g . q'. */
-static void rj__rig_loop_gradient(const rj_model *m, int j, double *g)
-{
-    int k, up;
-    for (k = 0; k < m->nq; k++)
-        g[k] = 0;
-    for (up = m->rb_pjoint[m->jdef[j].body2]; up >= 0; up = rj__rig_up(m, up))
-        g[m->jq[up]] += 1;
-    if (m->jdef[j].body1 >= 0)
-        for (up = m->rb_pjoint[m->jdef[j].body1]; up >= 0; up = rj__rig_up(m, up))
-            g[m->jq[up]] -= 1;
-}
-
 /* The rate of joint j, which closes a loop, at coordinate rates qd (g: nq doubles). */
 static double rj__rig_loop_rate(const rj_model *m, int j, const double *qd, double *g)
 {
@@ -363,6 +382,27 @@ static double rj__rig_loop_rate(const rj_model *m, int j, const double *qd, doub
     for (k = 0; k < m->nq; k++)
         rate += g[k] * qd[k];
     return rate;
+}
+
+/* Joint j's rate at coordinate rates qd: its coordinate's, or for a joint that closes a
+   loop g . qd (g: nq doubles of scratch). */
+static double rj__rig_joint_rate(const rj_model *m, int j, const double *qd, double *g)
+{
+    return m->jq[j] >= 0 ? qd[m->jq[j]] : rj__rig_loop_rate(m, j, qd, g);
+}
+
+/* A torque tau at joint j as a generalised force into Q: on its coordinate, or tau g for
+   a joint that closes a loop (g: nq doubles of scratch). */
+static void rj__rig_joint_force(const rj_model *m, int j, double tau, double *Q, double *g)
+{
+    int k;
+    if (m->jq[j] >= 0) {
+        Q[m->jq[j]] += tau;
+        return;
+    }
+    rj__rig_loop_gradient(m, j, g);
+    for (k = 0; k < m->nq; k++)
+        Q[k] += tau * g[k];
 }
 
 /* K v for the joints' stiffnesses (a loop joint's k g g^T), and the cable loops' (k w w^T,
@@ -384,10 +424,10 @@ static void rj__rig_stiffness(const rj_model *m, const double *v, double *kv, do
     }
     for (j = 0; j < m->ncp; j++) {
         const rj_coupling_def *c = &m->cp[j];
-        const int a = m->jq[c->joint_a], b = m->jq[c->joint_b];
-        const double e = v[b] - c->ratio * v[a];
-        kv[b] += c->stiffness * e;
-        kv[a] -= c->ratio * c->stiffness * e;
+        const double e = rj__rig_joint_rate(m, c->joint_b, v, g) -
+                         c->ratio * rj__rig_joint_rate(m, c->joint_a, v, g);
+        rj__rig_joint_force(m, c->joint_b, c->stiffness * e, kv, g);
+        rj__rig_joint_force(m, c->joint_a, -(c->ratio * c->stiffness * e), kv, g);
     }
 }
 

@@ -68,34 +68,98 @@ static void rj__rig_loop_rows(const rj_model *m, const rj__rig *r, double dt, rj
     }
 }
 
-/* The plastic latches of the joints that close loops (momentum with restitution 0): a
-   lock or a contact row along the loop joint's gradient g, its owner -1 - j (no single
-   impulse holds it). */
-static void rj__rig_loop_latches(const rj_model *m, const rj__frames *f, const rj__rig *r,
-                                 rj__rows *R)
+/* Adds coef times joint j's rate to a row: its coordinate, or g for a joint that closes
+   a loop (g: nq doubles of scratch). */
+static void rj__rig_joint_terms(const rj_model *m, rj__rows *R, rj__row *row, int j, double coef,
+                                double *g)
+{
+    int k;
+    if (m->jq[j] >= 0) {
+        rj__row_term(R, row, m->jq[j], coef);
+        return;
+    }
+    rj__rig_loop_gradient(m, j, g);
+    for (k = 0; k < m->nq; k++)
+        if (g[k] != 0)
+            rj__row_term(R, row, k, coef * g[k]);
+}
+
+/* A loop joint's bounce: at a limit by momentum with e > 0 (its row's target is -e times
+   the rate the loops leave it, rj__rig_loop_bounces). */
+static int rj__rig_loop_bounce(const rj_model *m, const rj__frames *f, int j)
+{
+    const rj_joint_def *d = &m->jdef[j];
+    const int flag = f->new_flags[j];
+    return d->method == RJ_METHOD_MOMENTUM && d->restitution > 0 && flag != RJ_FREE &&
+           flag != RJ_LOCKED;
+}
+
+/* The rows of the joints that close loops, each along the loop joint's gradient g and
+   owned by -1 - j (no single impulse holds it): a prescribed joint's profile; a latch
+   (locked, or at a limit by momentum or forced displacement), a lock or a plastic contact
+   row; a bounce's contact row, its target set once the loops' rows have acted. */
+static void rj__rig_loop_latches(const rj_model *m, const rj_state *s, const rj__frames *f,
+                                 const rj__rig *r, rj__rows *R)
 {
     const int *ni = f->new_flags;
+    const double *old_joints = RJ__FJ(m, f->old, 0);
     double *g = r->tmp;
     int j, k;
     for (j = 0; j < m->nj; j++) {
+        const rj_joint_def *d = &m->jdef[j];
+        const double theta = old_joints[(size_t) RJ__JD_COUNT * j + RJ__JD_THETA];
         const int forward = ni[j] == RJ_AT_FORWARD;
-        double rate = 0;
+        const int velocity_level = d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED;
+        double target;
         rj__row *row;
-        if (m->jq[j] >= 0 || !rj__rig_plastic(&m->jdef[j], ni[j]))
+        if (m->jq[j] >= 0)
+            continue;
+        if (rj__prescribed(&m->jnt[j])) {
+            target = rj__prescribed_rate(m, s, j, theta, f->t, f->dt);
+            row = rj__row_open(R, RJ__ROW_PRESCRIBED, -1 - j, target, -HUGE_VAL, HUGE_VAL);
+            rj__rig_joint_terms(m, R, row, j, 1.0, g);
+            continue;
+        }
+        if (!velocity_level || ni[j] == RJ_FREE)
             continue;
         rj__rig_loop_gradient(m, j, g);
-        for (k = 0; k < m->nq; k++)
-            rate += g[k] * r->qdp[k];
         if (ni[j] == RJ_LOCKED)
             row = rj__row_open(R, RJ__ROW_LOCK, -1 - j, 0.0, -HUGE_VAL, HUGE_VAL);
-        else {
+        else if (rj__rig_loop_bounce(m, f, j)) {
+            row = rj__row_open(R, RJ__ROW_CONTACT, -1 - j, 0.0, -HUGE_VAL, HUGE_VAL);
+            row->active = 0;
+        } else {
+            /* held from the start when its rate, as the loops leave it, turns into the
+               limit (rj__rows_solve_dense takes it in then), not at the rate before them */
             row = rj__row_open(R, RJ__ROW_CONTACT, -1 - j, 0.0, forward ? -HUGE_VAL : 0.0,
                                forward ? 0.0 : HUGE_VAL);
-            row->active = rj__into_limit(ni[j], rate);
+            row->active = 0;
         }
         for (k = 0; k < m->nq; k++)
             if (g[k] != 0)
                 rj__row_term(R, row, k, g[k]);
+    }
+}
+
+/* The exact couplings' rows in a scene with loops: e from the joints' angles at n (a
+   loop joint's from its record), along w = e_b - ratio e_a over the coordinates. */
+static void rj__rig_loop_couplings(const rj_model *m, const rj__frames *f, rj__rows *R,
+                                   double *g)
+{
+    int k;
+    for (k = 0; k < m->ncp; k++) {
+        const rj_coupling_def *c = &m->cp[k];
+        const double theta_a = RJ__FJ(m, f->old, c->joint_a)[RJ__JD_THETA];
+        const double theta_b = RJ__FJ(m, f->old, c->joint_b)[RJ__JD_THETA];
+        double e_n;
+        rj__row *row;
+        if (!c->exact)
+            continue;
+        e_n = (theta_b - m->jdef[c->joint_b].angle0) -
+              c->ratio * (theta_a - m->jdef[c->joint_a].angle0) - c->offset;
+        row = rj__row_open(R, RJ__ROW_COUPLING, k, -e_n / f->dt, -HUGE_VAL, HUGE_VAL);
+        rj__rig_joint_terms(m, R, row, c->joint_b, 1.0, g);
+        rj__rig_joint_terms(m, R, row, c->joint_a, -c->ratio, g);
     }
 }
 
@@ -134,11 +198,13 @@ static void rj__rig_rows_build(const rj_model *m, const rj_state *s, const rj__f
         }
         rj__row_term(R, row, k, 1.0);
     }
-    rj__rows_couplings(m, R, r->q, 1, m->jq, f->dt);
-    if (m->nloop) {
-        rj__rig_loop_latches(m, f, r, R);
-        rj__rig_loop_rows(m, r, f->dt, R);
+    if (!m->nloop) {
+        rj__rows_couplings(m, R, r->q, 1, m->jq, f->dt);
+        return;
     }
+    rj__rig_loop_couplings(m, f, R, r->tmp);
+    rj__rig_loop_latches(m, s, f, r, R);
+    rj__rig_loop_rows(m, r, f->dt, R);
 }
 
 /* The row of the one joint that took a single impulse (which held it exactly), or -1. */
@@ -153,6 +219,36 @@ static int rj__rig_held_row(const rj__rows *R, const rj__rig_jumps *jumps)
     return -1;
 }
 
+/* A prescribed loop joint's row: its impulse over the step is its drive's torque, each
+   coordinate's share into r->xd (rj__rig_jump_loss books their work as the drive's). */
+static void rj__rig_loop_drive(const rj_model *m, const rj__frames *f, const rj__rows *R,
+                               const rj__row *row, rj__rig *r)
+{
+    int k;
+    RJ__FJ(m, f->next, -1 - row->owner)[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = row->lam / f->kick;
+    for (k = 0; k < row->count; k++) {
+        const rj__term *t = &R->term[row->first + k];
+        r->xd[t->joint] += t->coef * row->lam;
+    }
+}
+
+/* An exact coupling's row in a scene with loops: its impulse on each coordinate into r->x,
+   its torques on its two joints (lambda on b, -ratio lambda on a) into their spring
+   columns. */
+static void rj__rig_loop_coupling_torques(const rj_model *m, const rj__frames *f,
+                                          const rj__rows *R, const rj__row *row, rj__rig *r)
+{
+    const rj_coupling_def *c = &m->cp[row->owner];
+    int k;
+    for (k = 0; k < row->count; k++) {
+        const rj__term *t = &R->term[row->first + k];
+        r->x[t->joint] += t->coef * row->lam;
+    }
+    RJ__FJ(m, f->next, c->joint_b)[RJ__JD_TQ0 + RJ_TORQUE_SPRING] += row->lam / f->kick;
+    RJ__FJ(m, f->next, c->joint_a)[RJ__JD_TQ0 + RJ_TORQUE_SPRING] +=
+        -c->ratio * row->lam / f->kick;
+}
+
 /* The exact couplings' and the loops' impulses: each coordinate's share into r->x
    (rj__rig_jump_loss keeps it out of the latches' impulses), the couplings' torques into
    their joints' spring columns. */
@@ -163,9 +259,19 @@ static void rj__rig_coupling_torques(const rj_model *m, const rj__frames *f, con
     int a, k;
     for (k = 0; k < m->nq; k++)
         r->x[k] = 0;
+    for (k = 0; k < m->nq && m->nloop; k++)
+        r->xd[k] = 0;
     for (a = 0; a < R->count; a++) {
         const rj__row *row = &R->row[a];
         const int loop_latch = row->kind <= RJ__ROW_CONTACT && row->owner < 0;
+        if (row->kind == RJ__ROW_PRESCRIBED && row->owner < 0) {
+            rj__rig_loop_drive(m, f, R, row, r);
+            continue;
+        }
+        if (row->kind == RJ__ROW_COUPLING && m->nloop) {
+            rj__rig_loop_coupling_torques(m, f, R, row, r);
+            continue;
+        }
         if (row->kind != RJ__ROW_COUPLING && row->kind != RJ__ROW_LOOP && !loop_latch)
             continue;
         /* a loop joint's latch: its impulse on its own record */
@@ -243,10 +349,61 @@ static void rj__rig_dense(const rj_model *m, const rj__rig *r, rj__dense *D)
     D->scratch = r->tmp;
 }
 
+/* The loop joints' bounces: the rows solved without them (the loops' own rows move the
+   rate at which a loop joint meets its limit), each bounce row then aims at -e times that
+   rate, pushing only, and the rows are solved again from the rates before (kept in
+   r->xd, free until the impulses are shared out). */
+static void rj__rig_loop_bounces(const rj_model *m, const rj__frames *f, rj__rig *r,
+                                 rj__rows *R, const rj__dense *D)
+{
+    int a, any = 0;
+    for (a = 0; a < R->count; a++) {
+        rj__row *row = &R->row[a];
+        int j, forward;
+        double rate;
+        if (row->kind != RJ__ROW_CONTACT || row->owner >= 0)
+            continue;
+        j = -1 - row->owner;
+        if (!rj__rig_loop_bounce(m, f, j))
+            continue;
+        forward = f->new_flags[j] == RJ_AT_FORWARD;
+        rate = rj__row_dot(R, row, r->qdp);
+        row->target = -m->jdef[j].restitution * rate;
+        row->lo = forward ? -HUGE_VAL : 0.0;
+        row->hi = forward ? 0.0 : HUGE_VAL;
+        row->active = rj__into_limit(f->new_flags[j], rate);
+        any |= row->active;
+    }
+    if (!any)
+        return;
+    /* the second solve's impulses are the step's: the first's are dropped with its rates */
+    for (a = 0; a < R->count; a++)
+        R->row[a].lam = 0;
+    memcpy(r->qdp, r->xd, sizeof(double) * (size_t) m->nq);
+    rj__rows_solve_dense(R, D, r->qdp);
+}
+
+/* Whether a loop joint's latch row made an impact (a new contact or lock, or a bounce):
+   then the step's rates are not the constrained motion's (rj__rig_stage_rates). */
+static int rj__rig_loop_impact(const rj_model *m, const rj__frames *f, const rj__rows *R)
+{
+    int a;
+    for (a = 0; a < R->count; a++) {
+        const rj__row *row = &R->row[a];
+        int j;
+        if (row->kind > RJ__ROW_CONTACT || row->owner >= 0 || !row->active)
+            continue;
+        j = -1 - row->owner;
+        if (f->new_flags[j] != f->old_flags[j] || rj__rig_loop_bounce(m, f, j))
+            return 1;
+    }
+    return 0;
+}
+
 /* The rows' solve: none to do when the only row held is the one a single impulse held;
    with every joint locked (and no coupling) q' = 0, which the system gives to round-off. */
 static void rj__rig_rows(const rj_model *m, const rj_state *s, const rj__frames *f, rj__rig *r,
-                         const rj__rig_jumps *jumps)
+                         rj__rig_jumps *jumps)
 {
     rj__rows R;
     rj__dense D;
@@ -267,9 +424,14 @@ static void rj__rig_rows(const rj_model *m, const rj_state *s, const rj__frames 
         return;
     }
     rj__rig_dense(m, r, &D);
-    rj__rows_solve_dense(&R, &D, r->qdp);
     if (m->nloop)
+        memcpy(r->xd, r->qdp, sizeof(double) * (size_t) m->nq);
+    rj__rows_solve_dense(&R, &D, r->qdp);
+    if (m->nloop) {
+        rj__rig_loop_bounces(m, f, r, &R, &D);
         rj__rig_loops_shake(m, f, r, &R, &D);
+        jumps->impact |= rj__rig_loop_impact(m, f, &R);
+    }
     if (m->nexact || m->nloop)
         rj__rig_coupling_torques(m, f, &R, r);
 }
@@ -427,14 +589,15 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
         const rj_coupling_def *c = &m->cp[j];
         const size_t at_a = (size_t) RJ__JD_COUNT * c->joint_a;
         const size_t at_b = (size_t) RJ__JD_COUNT * c->joint_b;
-        const int a = m->jq[c->joint_a], b = m->jq[c->joint_b];
+        const double rate_a = rj__rig_joint_rate(m, c->joint_a, qd, r->tmp);
+        const double rate_b = rj__rig_joint_rate(m, c->joint_b, qd, r->tmp);
         double elastic, damp, on_b;
         rj__coupling_torques(m, c, old_joints[at_a + RJ__JD_THETA],
-                             old_joints[at_b + RJ__JD_THETA], qd[a], qd[b], &elastic, &damp,
+                             old_joints[at_b + RJ__JD_THETA], rate_a, rate_b, &elastic, &damp,
                              &spring);
         on_b = rj__coupling_record(c, elastic, damp, new_joints + at_a, new_joints + at_b);
-        Q[b] += on_b;
-        Q[a] -= c->ratio * on_b;
+        rj__rig_joint_force(m, c->joint_b, on_b, Q, r->tmp);
+        rj__rig_joint_force(m, c->joint_a, -(c->ratio * on_b), Q, r->tmp);
     }
     /* the caller's torques, the loads and the caller's node forces: generalised forces on
        the joints, kept in the new frame for their work (rj__step_rigid checked them) */
@@ -576,6 +739,12 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
         double sum = 0;
         for (k = 0; k < n; k++)
             sum += Mj[k] * (rates_before[k] - qdp[k]);
+        /* a prescribed loop joint's share is its drive's work, not a latch's */
+        if (m->nloop) {
+            e->drive += 0.5 * back * r->xd[j];
+            e->drive_pending += 0.5 * qdp[j] * r->xd[j];
+            sum += r->xd[j];
+        }
         /* a prescribed joint's impulse, less a coupling's, is its drive's: torque and work */
         if (rj__prescribed(J)) {
             const double driven = sum + coupled;
@@ -630,6 +799,37 @@ static RJ__FORCE_INLINE void rj__rig_stage_rates(const rj_model *m, const rj_sta
     rj__rig_jump_loss(m, f, r, e);
 }
 
+/* Forced displacement at the joints that close loops, on positions: a loop joint past its
+   limit, or off its lock angle, goes back to it with the projection (dq, rows at dt = 1),
+   as a tree joint's angle is put back; its rate is the plastic row's. q: the angles at
+   n + 1; g: nq doubles of scratch. */
+static void rj__rig_loop_forced(const rj_model *m, const rj__frames *f, const double *q,
+                                double *g, rj__rows *R)
+{
+    int j, k;
+    for (j = 0; j < m->nj; j++) {
+        const int flag = f->new_flags[j];
+        const rj__joint *J = &m->jnt[j];
+        double theta = m->jdef[j].angle0, back = 0;
+        rj__row *row;
+        if (m->jq[j] >= 0 || m->jdef[j].method != RJ_METHOD_FORCED || flag == RJ_FREE)
+            continue;
+        rj__rig_loop_gradient(m, j, g);
+        for (k = 0; k < m->nq; k++)
+            theta += g[k] * (q[k] - m->jdef[m->qj[k]].angle0);
+        if (flag == RJ_LOCKED)
+            back = RJ__FJ(m, f->next, j)[RJ__JD_LOCK] - theta;
+        else if (flag == RJ_AT_FORWARD && theta > J->fwd)
+            back = J->fwd - theta;
+        else if (flag == RJ_AT_REVERSE && theta < J->rev)
+            back = J->rev - theta;
+        else
+            continue;
+        row = rj__row_open(R, RJ__ROW_LOCK, -1 - j, back, -HUGE_VAL, HUGE_VAL);
+        rj__rig_joint_terms(m, R, row, j, 1.0, g);
+    }
+}
+
 /* The loops closed at n + 1: the coordinates' angles moved by the least (in M's metric)
    that puts every loop joint's pins together, dq = M^-1 J^T (J M^-1 J^T)^-1 (-gap) (the
    loops' rows on positions, two Newton passes), so that they do not drift apart over a
@@ -654,6 +854,7 @@ static void rj__rig_loops_project(const rj_model *m, const rj_state *s, const rj
         rj__rig_kin(m, r, q, NULL, r->qdp);
         R.count = R.terms = 0;
         rj__rig_loop_rows(m, r, 1.0, &R);
+        rj__rig_loop_forced(m, f, q, r->tmp, &R);
         rj__rows_solve_dense(&R, &D, dq);
         for (k = 0; k < m->nq; k++)
             new_joints[(size_t) RJ__JD_COUNT * m->qj[k] + RJ__JD_THETA] += dq[k];
@@ -693,7 +894,8 @@ static void rj__rig_loops_close(const rj_model *m, const rj_state *s, const rj__
                          lost_friction, lost_limit);
         if (applied)
             e->work += rj__input_work(old_joint, new_joint, old_joint[RJ__JD_RATE], f->dt);
-        if (m->jnt[j].act)
+        /* a prescribed loop joint's work is its row's (rj__rig_jump_loss) */
+        if (m->jnt[j].act && !rj__prescribed(&m->jnt[j]))
             e->drive += rj__drive_work(old_joint, new_joint, old_joint[RJ__JD_RATE], f->dt);
     }
 }

@@ -296,6 +296,11 @@ static int rj__rows_solve_dense(rj__rows *R, const rj__dense *D, double *qdp)
         if (step < 0)
             return -1;
         changed = step;
+        /* rows dropped, q' not moved: solve again without them before asking which rows
+           the impulses turn against their bounds (asked of q' before the impulses, a
+           row that pulls is dropped and taken back on every pass, and none acts) */
+        if (step)
+            continue;
         /* a bounded row left out that the impulses turned against its bound joins */
         for (a = 0; a < R->count; a++) {
             rj__row *row = &R->row[a];

@@ -654,55 +654,6 @@ static int rj__counts(const rj_scene_def *sc, size_t *nn, size_t *ne, rj_error *
     return 1;
 }
 
-/* What a joint that closes a loop among rigid links may not have yet (limits met by
-   forced displacement, energy or a bounce, a prescribed actuator or a rotor, a
-   coupling): the field, or NULL. Its limits by a stiffness (penalty, adaptive), its
-   friction and its motor's torque act through the loop as its spring does; plastic
-   limits (momentum, restitution 0) and its lock are rows along the loop. */
-static const char *rj__rigid_loop_refusal(const rj_scene_def *sc, int j, char *f, size_t n)
-{
-    const rj_joint_def *d = &sc->joints[j];
-    const int stiff = d->method == RJ_METHOD_PENALTY || d->method == RJ_METHOD_ADAPTIVE;
-    const int plastic = d->method == RJ_METHOD_MOMENTUM && d->restitution == 0;
-    int k;
-    if ((d->has_forward || d->has_reverse) && !stiff && !plastic)
-        snprintf(f, n, "joints[%d].method", j);
-    else
-        f[0] = 0;
-    /* an actuator's torque acts through the loop as the element's; a prescribed angle
-       or a rotor would be rows and mass along it */
-    for (k = 0; k < sc->actuator_count && !f[0]; k++)
-        if (sc->actuators[k].joint == j && (sc->actuators[k].type == RJ_ACTUATOR_PRESCRIBED ||
-                                             sc->actuators[k].rotor_inertia > 0))
-            snprintf(f, n, "actuators[%d].%s", k,
-                     sc->actuators[k].type == RJ_ACTUATOR_PRESCRIBED ? "type" : "rotor_inertia");
-    for (k = 0; k < sc->coupling_count && !f[0]; k++)
-        if (sc->couplings[k].joint_a == j || sc->couplings[k].joint_b == j)
-            snprintf(f, n, "couplings[%d].joint_%c", k, sc->couplings[k].joint_a == j ? 'a' : 'b');
-    return f[0] ? f : NULL;
-}
-
-/* A joint that closes a loop (its body2 hangs from an earlier joint): in a scene of rigid
-   links only, without the joint parts rj__rigid_loop_refusal names, yet; in node space
-   (flexible, inextensible, mixed scenes) with everything a tree joint has. */
-static int rj__validate_loop_joint(const rj_scene_def *sc, int j, rj_error *err)
-{
-    char f[64];
-    if (rj__all_rigid(sc)) {
-        if (!rj__rigid_loop_refusal(sc, j, f, sizeof f))
-            return 1;
-        rj__fail(err, RJ_ERR_INVALID, f, j,
-                 "%s is not supported: joint %d closes a loop among rigid links, which takes no "
-                 "forced, energy or bouncing limit method, prescribed actuator, rotor or "
-                 "coupling yet (its spring, table, damping, friction, motor torque, and limits "
-                 "and lock by penalty, adaptive or plastic momentum work)",
-                 f, j);
-        return 0;
-    }
-    /* flexible, inextensible and mixed scenes: a loop is one more pin in node space */
-    return 1;
-}
-
 /* The link a link hangs from (-1: ground or none), given each link's joint in parent. */
 static int rj__up(const rj_scene_def *sc, const int *parent, int link)
 {
@@ -820,11 +771,9 @@ static int rj__validate_graph(const rj_scene_def *sc, int *scratch, rj_error *er
     for (i = 0; i < nl; i++)
         parent[i] = -1;
     /* a link hangs from its first joint as body2: parent[] holds it; a later joint with
-       the same body2 closes a loop */
+       the same body2 closes a loop, with every part a tree joint has */
     for (j = 0; j < sc->joint_count; j++) {
         const int b2 = sc->joints[j].body2;
-        if (parent[b2] >= 0 && !rj__validate_loop_joint(sc, j, err))
-            return 0;
         if (parent[b2] < 0)
             parent[b2] = j;
     }

@@ -82,6 +82,8 @@ static bar bar_of(const rj_model *m, int link, double length)
 typedef struct rigid4 {
     bar crank, coupler, rocker;
     double t3, t4;
+    double rotor;   /* a rotor's inertia on the loop joint's rate, kg m^2 */
+    double k_cable; /* a cable loop's stiffness from the crank to the loop joint, N m/rad */
 } rigid4;
 
 /* Generalised mass M(th2) and potential V(th2), the loop closed at th2. */
@@ -104,6 +106,15 @@ static void mass_potential(rigid4 *r, double th2, double *M, double *V, double *
          r->rocker.J * k4 * k4;
     *V = G * (r->crank.s * sin(th2) + r->coupler.m * BAR_A * sin(th2) + r->coupler.s * s3 +
               r->rocker.s * s4);
+    /* the loop joint's angle t4 - t3 - pi turns at k4 - k3 per crank radian; the cable
+       loop stretches by its turn since the start (ratio 1) less the crank's */
+    *M += r->rotor * (k4 - k3) * (k4 - k3);
+    if (r->k_cable > 0) {
+        double t3_0 = 0.5, t4_0 = 1.5, stretch;
+        close_loop(CRANK0, &t3_0, &t4_0);
+        stretch = ((*t4 - *t3) - (t4_0 - t3_0)) - (th2 - CRANK0);
+        *V += 0.5 * r->k_cable * stretch * stretch;
+    }
 }
 
 /* th2'' from Lagrange's equation M th2'' + M'/2 th2'^2 + V' = 0 (M', V' by central
@@ -258,6 +269,8 @@ static void run_fourbar(double E, const char *fidelity, double dt, double t_end,
     r.rocker = bar_of(m, 2, BAR_C);
     r.t3 = 0.5;
     r.t4 = 1.5;
+    r.rotor = 0;
+    r.k_cable = 0;
     crank_accel(&r, q, w);
     while (rj_state_time(s) < t_end && o->result == RJ_OK) {
         const double dt = rj_model_dt(m);
@@ -590,7 +603,11 @@ static void rigid_text(double dt, const char *extra, char *out, size_t n)
    the crank against the exact motion with the bars' exact mass properties (rods: m,
    m L / 2, m L^2 / 3 about node 0) over 5 s at dt, its largest error, the largest pin gap
    and |balance| into o. */
-static void run_rigid(double dt, fourbar_run *o)
+/* The rigid four-bar at step dt with the scene text tail appended (an actuator, a
+   coupling), against the exact motion with a rotor's inertia on the loop joint and a
+   cable loop from the crank to it (rigid4). */
+static void run_rigid_with(double dt, const char *tail, double rotor, double k_cable,
+                           fourbar_run *o)
 {
     char out[2600];
     rj_model *m = NULL;
@@ -603,7 +620,8 @@ static void run_rigid(double dt, fourbar_run *o)
     double q = CRANK0, w2 = 0;
     int k;
     memset(o, 0, sizeof *o);
-    rigid_text(dt, "", out, sizeof out);
+    rigid_text(dt, "", out, sizeof out - strlen(tail));
+    strcat(out, tail);
     if (!build(out, &m, &s, &err)) {
         o->result = err.code;
         snprintf(o->msg, sizeof o->msg, "%s", err.msg);
@@ -619,6 +637,8 @@ static void run_rigid(double dt, fourbar_run *o)
     }
     r.t3 = 0.5;
     r.t4 = 1.5;
+    r.rotor = rotor;
+    r.k_cable = k_cable;
     crank_accel(&r, q, w2);
     while (rj_state_time(s) < 5 - 0.5 * dt && o->result == RJ_OK) {
         o->result = rj_step(m, s);
@@ -782,6 +802,151 @@ static void test_rigid_driven(rjt_ctx *c)
               "crank on its ramp to %.3g rad, rocker to %.3g rad of the closed loop over 5 s; "
               "max |balance| %.3g J of %.3g J of drive work %s",
               crank, worst, balance, drive, r == RJ_OK ? "" : rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
+static void run_rigid(double dt, fourbar_run *o)
+{
+    run_rigid_with(dt, "", 0, 0, o);
+}
+
+/* A rotor on the loop joint (its inertia I on the loop's rate), and a cable loop from the
+   crank to the loop joint: against the exact motion with I (k4 - k3)^2 in the generalised
+   mass and the cable's k e^2 / 2 in the potential, each also against the motion without
+   it (which the test could not tell apart were either ignored). */
+static void test_rigid_loop_rotor_cable(rjt_ctx *c)
+{
+    static const char rotor[] =
+        "actuator m\n  joint = b  type = torque  torque = 0  rotor_inertia = 0.05\n";
+    static const char cable[] = "coupling k\n  joints = o2 b  ratio = 1  stiffness = 20\n";
+    fourbar_run with, without, cabled, loose;
+    run_rigid_with(5e-5, rotor, 0.05, 0, &with);
+    run_rigid_with(5e-5, rotor, 0, 0, &without);
+    run_rigid_with(5e-5, cable, 0, 20, &cabled);
+    run_rigid_with(5e-5, cable, 0, 0, &loose);
+    rjt_check(c, with.result == RJ_OK && with.crank < 1e-5 && without.crank > 1e-2 &&
+                     with.balance < 1e-6 * with.energy,
+              "rigid four-bar: a rotor on its loop joint",
+              "0.05 kg m^2 on the loop's rate: max |crank - exact| %.3g rad over 5 s at dt "
+              "0.05 ms (%.3g rad from the motion without it); max |balance| %.3g J of %.3g J "
+              "kinetic %s",
+              with.crank, without.crank, with.balance, with.energy, with.msg);
+    rjt_check(c, cabled.result == RJ_OK && cabled.crank < 1e-5 && loose.crank > 1e-2 &&
+                     cabled.balance < 1e-6 * cabled.energy,
+              "rigid four-bar: a cable loop from its crank to its loop joint",
+              "20 N m/rad: max |crank - exact| %.3g rad over 5 s at dt 0.05 ms (%.3g rad from "
+              "the motion without it); max |balance| %.3g J of %.3g J kinetic %s",
+              cabled.crank, loose.crank, cabled.balance, cabled.energy, cabled.msg);
+}
+
+/* The loop joint's limit by a bounce (momentum, e = 0.5) and by forced displacement:
+   the loop's rate reversed at e, or the joint put back on its limit. */
+static void run_rigid_limit(const char *keys, double *ratio, double *beyond, double *balance,
+                            double *kinetic, char *msg, size_t n)
+{
+    char out[2600];
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    const double limit = rj_rad(260) - 2 * PI;
+    double rate_before = 0;
+    rj_result r = RJ_OK;
+    *ratio = *beyond = *balance = *kinetic = 0;
+    msg[0] = 0;
+    rigid_text(1e-5, keys, out, sizeof out);
+    if (!build(out, &m, &s, &err)) {
+        snprintf(msg, n, "%s", err.msg);
+        *ratio = HUGE_VAL;
+        return;
+    }
+    while (rj_state_time(s) < 1.5 && r == RJ_OK) {
+        rj_energy e;
+        const int free_before = rj_joint_flag(m, s, 3) == RJ_FREE;
+        const double rate = rj_joint_rate(m, s, 3);
+        r = rj_step(m, s);
+        if (free_before && rj_joint_flag(m, s, 3) != RJ_FREE && *ratio == 0) {
+            rate_before = rate;
+            *ratio = rj_joint_rate(m, s, 3) / rate_before;
+        }
+        if (*ratio != 0)
+            *beyond = fmax(*beyond, rj_joint_theta_running(m, s, 3) - limit);
+        rj_state_energy(m, s, &e);
+        *balance = fmax(*balance, fabs(e.balance));
+        *kinetic = fmax(*kinetic, e.kinetic);
+    }
+    if (r != RJ_OK)
+        snprintf(msg, n, "%s", rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
+static void test_rigid_loop_limits(rjt_ctx *c)
+{
+    double ratio, beyond, balance, kinetic;
+    char msg[600];
+    run_rigid_limit("  forward = 260 deg  method = momentum  restitution = 0.5", &ratio, &beyond,
+                    &balance, &kinetic, msg, sizeof msg);
+    rjt_check(c, fabs(ratio + 0.5) < 0.01 && beyond < 1e-3 && balance < 1e-5 * kinetic,
+              "rigid four-bar: a bounce at its loop joint's limit",
+              "the loop's rate after the contact step over the rate before: %.4f (e = 0.5; the "
+              "step's kick between them); at most %.3g rad past the limit; max |balance| %.3g J "
+              "of %.3g J kinetic %s",
+              ratio, beyond, balance, kinetic, msg);
+    run_rigid_limit("  forward = 260 deg  method = forced", &ratio, &beyond, &balance, &kinetic,
+                    msg, sizeof msg);
+    /* forced displacement moves the joint back without booking that work (the paper's
+       method): the crank's own forced limit in a like place leaves 6.6e-5 J at any dt */
+    rjt_check(c, fabs(ratio) < 0.01 && beyond < 1e-9 && balance < 1e-4 * kinetic,
+              "rigid four-bar: forced displacement at its loop joint's limit",
+              "the loop's rate after the contact step over the rate before: %.3g; at most "
+              "%.3g rad past the limit after it; max |balance| %.3g J of %.3g J kinetic (the "
+              "displacement's work is not booked) %s",
+              ratio, beyond, balance, kinetic, msg);
+}
+
+/* The loop joint prescribed (a cycloidal turn of 20 deg over 1 s): the joint on its
+   profile, the loop closed, the drive's work in the balance. */
+static void test_rigid_loop_prescribed(rjt_ctx *c)
+{
+    static const char motor[] =
+        "actuator m\n  joint = b  type = prescribed  profile = cycloidal 20 deg 1\n";
+    char out[2600];
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    double worst = 0, gap = 0, balance = 0, drive = 0, b0;
+    rj_result r = RJ_OK;
+    rigid_text(1e-3, "", out, sizeof out - sizeof motor);
+    strcat(out, motor);
+    if (!build(out, &m, &s, &err)) {
+        rjt_check(c, 0, "rigid four-bar driven at its loop joint", "%s", err.msg);
+        return;
+    }
+    b0 = rj_joint_theta_running(m, s, 3);
+    while (rj_state_time(s) < 2 && r == RJ_OK) {
+        rj_energy e;
+        const double t = fmin(rj_state_time(s) + 0, 1.0);
+        double want, xy1[2], xy2[2];
+        r = rj_step(m, s);
+        /* cycloidal: theta0 + A (t/T - sin(2 pi t/T) / (2 pi)) */
+        want = b0 + rj_rad(20) * (fmin(rj_state_time(s), 1.0) -
+                                  sin(2 * PI * fmin(rj_state_time(s), 1.0)) / (2 * PI));
+        (void) t;
+        worst = fmax(worst, fabs(rj_joint_theta_running(m, s, 3) - want));
+        rj_node_position(m, s, 1, rj_link_node_count(m, 1) - 1, xy1);
+        rj_node_position(m, s, 2, rj_link_node_count(m, 2) - 1, xy2);
+        gap = fmax(gap, hypot(xy1[0] - xy2[0], xy1[1] - xy2[1]));
+        rj_state_energy(m, s, &e);
+        balance = fmax(balance, fabs(e.balance));
+        drive = fmax(drive, fabs(e.work_drive));
+    }
+    rjt_check(c, r == RJ_OK && worst < 1e-10 && gap < 1e-12 && drive > 0.1 &&
+                     balance < 1e-3 * drive,
+              "rigid four-bar driven at its loop joint: on its profile, the loop closed",
+              "the loop joint on its cycloidal profile to %.3g rad over 2 s; pins %.3g m apart; "
+              "max |balance| %.3g J of %.3g J of drive work %s",
+              worst, gap, balance, drive, r == RJ_OK ? "" : rj_state_error(s));
     rj_state_destroy(s, NULL);
     rj_model_destroy(m, NULL);
 }
@@ -1049,6 +1214,9 @@ int main(void)
     test_rigid_fourbar(&c);
     test_rigid_latch(&c);
     test_rigid_driven(&c);
+    test_rigid_loop_rotor_cable(&c);
+    test_rigid_loop_limits(&c);
+    test_rigid_loop_prescribed(&c);
     test_rigid_loop_joint_torques(&c);
     test_rigid_long(&c);
     test_fourbar(&c);
