@@ -20,9 +20,53 @@ static double rj__plain_area(const rj_link_def *d)
     return d->section == RJ_SECTION_RECT ? d->width * d->height : d->area;
 }
 
+/* The link and the node within it of global node i (binary search on link_first). */
+static void rj__node_of(const rj_model *m, int i, int *link, int *node)
+{
+    int lo = 0, hi = m->nl - 1;
+    while (lo < hi) {
+        const int mid = lo + (hi - lo + 1) / 2;
+        if (m->link_first[mid] <= i)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    *link = lo;
+    *node = i - m->link_first[lo];
+}
+
+/* Whether node n is one of a rigid link's own nodes (its link is a body of the scene). */
+static int rj__rigid_own(const rj_model *m, int n)
+{
+    int link, node;
+    rj__node_of(m, n, &link, &node);
+    return m->ldef[link].fidelity == RJ_LINK_RIGID;
+}
+
+/* A pin group holding nodes of two rigid links: a pin between two bodies (rj__body_pins
+   keeps them together), from body l's node mine to every own node of a later rigid link
+   in the group; a body's members are its own nodes and the group's other nodes. */
+static void rj__body_pin_group(rj_model *m, int l, int gi, int mine)
+{
+    int k;
+    for (k = m->grp_first[gi]; k < m->grp_first[gi + 1]; k++) {
+        const int n = m->grp_node[k];
+        int link, node;
+        if (!rj__rigid_own(m, n))
+            continue;
+        rj__node_of(m, n, &link, &node);
+        if (link <= l)
+            continue;
+        m->bp_node[2 * m->nbp] = mine;
+        m->bp_node[2 * m->nbp + 1] = n;
+        m->nbp++;
+    }
+}
+
 static int rj__clusters(rj_model *m, rj_error *err)
 {
     int l, i, gi, k, cnt = 0, ng = 0, q = 0;
+    m->nbp = 0;
     for (l = 0; l < m->nl; l++) {
         const rj_link_def *d = &m->ldef[l];
         const int n0 = m->link_first[l], nt = m->link_first[l + 1] - 1;
@@ -36,19 +80,23 @@ static int rj__clusters(rj_model *m, rj_error *err)
             m->node_cl[i] = l;
         }
         for (gi = 0; gi < m->ng; gi++) {
-            int has = 0;
+            int has = 0, mine = -1;
             for (k = m->grp_first[gi]; k < m->grp_first[gi + 1]; k++)
-                if (m->grp_node[k] >= n0 && m->grp_node[k] <= nt)
+                if (m->grp_node[k] >= n0 && m->grp_node[k] <= nt) {
                     has = 1;
+                    mine = m->grp_node[k];
+                }
             if (!has)
                 continue;
+            rj__body_pin_group(m, l, gi, mine);
             if (m->grp_inv[gi] == 0) {
                 nfix++;
                 fixn = m->grp_node[m->grp_first[gi]];
             } /* pinned to something fixed */
             for (k = m->grp_first[gi]; k < m->grp_first[gi + 1]; k++) {
                 const int n = m->grp_node[k];
-                if (m->node_cl[n] < 0) {
+                /* another body's own node is that body's: a pin between the two */
+                if (m->node_cl[n] < 0 && !rj__rigid_own(m, n)) {
                     m->cl_node[cnt++] = n;
                     m->node_cl[n] = l;
                 }
@@ -731,21 +779,6 @@ static int rj__is_dnode(const rj_model *m, int n)
             hi = mid;
     }
     return lo < m->ndn && m->dnode[lo] == n;
-}
-
-/* The link and the node within it of global node i (binary search on link_first). */
-static void rj__node_of(const rj_model *m, int i, int *link, int *node)
-{
-    int lo = 0, hi = m->nl - 1;
-    while (lo < hi) {
-        const int mid = lo + (hi - lo + 1) / 2;
-        if (m->link_first[mid] <= i)
-            lo = mid;
-        else
-            hi = mid - 1;
-    }
-    *link = lo;
-    *node = i - m->link_first[lo];
 }
 
 /* A link whose sizes and material leave doubles behind (an element length whose square

@@ -106,6 +106,7 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(ch_node, int);
     RJ__SET(ch_l0sq, double);
     RJ__SET(node_cl, int);
+    RJ__SET(bp_node, int);
     RJ__SET(cl_first, int);
     RJ__SET(cl_node, int);
     RJ__SET(cl_fix, int);
@@ -1053,8 +1054,10 @@ static void rj__init_frames(rj_model *m)
 static void rj__init_in_place(rj_model *m)
 {
     int i, q;
-    /* not with inextensible links (SHAKE reads every node at n) */
-    m->ip = !m->rigid && !m->any_inext && m->solver.in_place != RJ_IN_PLACE_OFF &&
+    /* not with inextensible links or pins between bodies (their projections read every
+       node at n) */
+    m->project = m->any_inext || m->nbp;
+    m->ip = !m->rigid && !m->project && m->solver.in_place != RJ_IN_PLACE_OFF &&
             (m->solver.in_place == RJ_IN_PLACE_ON || m->nn >= RJ_IN_PLACE_NODES);
     for (i = 0; i < m->ng && m->ip; i++)
         for (q = m->grp_first[i]; q < m->grp_first[i + 1]; q++)

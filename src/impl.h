@@ -245,6 +245,9 @@ struct rj_model {
     double *
         cl_th0; /* (3 nl) body angle at the start (its nodes' phi0), anchor velocity at the start */
     double *cl_rx, *cl_ry; /* (nn) member offsets from the anchor at the start */
+    int nbp;               /* pins between two bodies (rj__body_pins) */
+    int project;           /* any_inext or nbp: stage 6 projects positions */
+    int *bp_node;          /* (2 nj) each one's node on the first body, on the second */
     size_t
         cl_off; /* frame offset of the clusters' records: anchor x y, its velocity, omega, angle */
     int nch;    /* inextensible chains: links joined tip to root form one chain */
@@ -350,6 +353,7 @@ struct rj_state {
     double *sha, *shb, *shc,
         *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
     double *gsw; /* (2 gs_prof + 9 gs_n + 2 nn, or none) rj__gs_work */
+    double *bpw; /* (with pins between bodies: 2 (2 nbp)^2 + 4 nbp + 3 ncl) rj__body_pins */
     double *eu,
         *ebt; /* (ne) element strain energies; scratch (chord angles at reset, SHAKE's active flags) */
     double *jsc;          /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */

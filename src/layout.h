@@ -17,7 +17,7 @@ static size_t rj__carve(size_t *off, size_t count, size_t elsize)
 typedef struct rj__layout {
     size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho,
         link_I;
-    size_t node_cl, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
+    size_t node_cl, bp_node, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
     size_t node_grp, ch_first, ch_node, ch_l0sq, gs_int, gs_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, qj, jq, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
         link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
@@ -45,6 +45,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->link_I = rj__carve(&off, (size_t) nl, sizeof(double));
     L->ch_first = rj__carve(&off, (size_t) nl + 1, sizeof(int));
     L->node_cl = rj__carve(&off, (size_t) nn, sizeof(int));
+    L->bp_node = rj__carve(&off, 2 * (size_t) nj + 2, sizeof(int));
     L->cl_first = rj__carve(&off, (size_t) nl + 1, sizeof(int));
     L->cl_node = rj__carve(&off, (size_t) nn, sizeof(int));
     L->cl_fix = rj__carve(&off, (size_t) nl, sizeof(int));

@@ -24,8 +24,8 @@ static double rj__shake_w(const rj_model *m, const rj_state *s, int k, const dou
     return (m->cl_fix[c] == 0 ? 1.0 / m->cl_M[c] : 0.0) + cr * cr / (u2 * m->cl_I[c]);
 }
 
-static void rj__shake(const rj_model *m, rj_state *s, const double *x, const double *y, double *nx,
-                      double *ny)
+static void rj__shake(const rj_model *m, rj_state *s, const double *x, const double *y,
+                             double *nx, double *ny)
 {
     /* element scratch (ne >= chain elements): the factored tridiagonal (multipliers a,
        reciprocal pivots b, upper c), the residuals r, the multipliers lam */
@@ -187,4 +187,5 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
         }
     }
 }
+
 

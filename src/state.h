@@ -1,6 +1,6 @@
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
-    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, gsw, eu, ebt, jsc,
+    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
         rsc, rows, terms, rsys, input_torque, input_node, node_applied, snap_torque;
 } rj__slayout;
 
@@ -23,6 +23,11 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->shr = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->gsw = rj__carve(&off,
                        m->gs_n ? 2 * m->gs_prof + 9 * (size_t) m->gs_n + 2 * (size_t) m->nn : 0,
+                       sizeof(double));
+    L->bpw = rj__carve(&off,
+                       m->nbp ? 8 * (size_t) m->nbp * (size_t) m->nbp + 4 * (size_t) m->nbp +
+                                    3 * (size_t) m->ncl
+                              : 0,
                        sizeof(double));
     L->eu = rj__carve(&off, (size_t) m->ne, sizeof(double));
     L->ebt = rj__carve(&off, (size_t) m->ne, sizeof(double));
@@ -223,6 +228,7 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->shc = (double *) (void *) (base + L.shc);
     s->shr = (double *) (void *) (base + L.shr);
     s->gsw = (double *) (void *) (base + L.gsw);
+    s->bpw = (double *) (void *) (base + L.bpw);
     s->eu = (double *) (void *) (base + L.eu);
     s->ebt = (double *) (void *) (base + L.ebt);
     s->kn = (double *) (void *) (base + L.kn);

@@ -143,18 +143,24 @@ static void rigid_rk4(rigid4 *r, double *q, double *w, double h)
 }
 
 /* The scene at modulus E (Pa), its links of the fidelity named ("" for the default,
-   flexible, "inextensible"; a second name after a space for the coupler alone:
-   "flexible rigid") at step dt (0: automatic), the loop's angles from close_loop. */
+   flexible, "inextensible"; two names for the crank and rocker, then the coupler:
+   "flexible rigid"; three for the crank, the coupler and the rocker) at step dt (0:
+   automatic), the loop's angles from close_loop. */
 static void fourbar_text(double E, const char *fidelity, double dt, char *text, size_t n)
 {
     double t3 = 0.5, t4 = 1.5;
-    char key[64] = "", coupler[64] = "", bars[32] = "", middle[32] = "";
-    if (sscanf(fidelity, "%31s %31s", bars, middle) < 2)
-        snprintf(middle, sizeof middle, "%s", bars);
-    if (bars[0])
-        snprintf(key, sizeof key, "  fidelity = %s\n", bars);
-    if (middle[0])
-        snprintf(coupler, sizeof coupler, "  fidelity = %s\n", middle);
+    char key[64] = "", coupler[64] = "", rocker[64] = "", name[3][32] = { "", "", "" };
+    const int names = sscanf(fidelity, "%31s %31s %31s", name[0], name[1], name[2]);
+    if (names < 2)
+        snprintf(name[1], sizeof name[1], "%s", name[0]);
+    if (names < 3)
+        snprintf(name[2], sizeof name[2], "%s", name[0]);
+    if (name[0][0])
+        snprintf(key, sizeof key, "  fidelity = %s\n", name[0]);
+    if (name[1][0])
+        snprintf(coupler, sizeof coupler, "  fidelity = %s\n", name[1]);
+    if (name[2][0])
+        snprintf(rocker, sizeof rocker, "  fidelity = %s\n", name[2]);
     close_loop(CRANK0, &t3, &t4);
     snprintf(text, n,
              "solver\n  dt = %.17g\n  gravity = 0 -9.81\n"
@@ -167,7 +173,7 @@ static void fourbar_text(double E, const char *fidelity, double dt, char *text, 
              "joint a\n  body1 = crank  body2 = coupler  angle0 = %.17g\n"
              "joint o4\n  body1 = ground  body2 = rocker  ground_x = %.17g  angle0 = %.17g\n"
              "joint b\n  body1 = coupler  body2 = rocker  node2 = last  angle0 = %.17g\n",
-             dt, E, BAR_A, key, BAR_B, coupler, BAR_C, key, CRANK0, t3 - (CRANK0 + PI), GROUND_D, t4,
+             dt, E, BAR_A, key, BAR_B, coupler, BAR_C, rocker, CRANK0, t3 - (CRANK0 + PI), GROUND_D, t4,
              t4 - (t3 + PI));
 }
 
@@ -346,25 +352,36 @@ static void test_fourbar_inextensible(rjt_ctx *c)
               o[0].balance, o[0].dt, half.balance, o[0].balance / half.balance, half.msg);
 }
 
-/* A rigid coupler between flexible bars (a loop through a rigid body of a mixed scene):
-   the same convergence to the rigid motion as the bars stiffen. */
+/* Rigid bodies among flexible bars (a loop through rigid bodies of a mixed scene): a
+   rigid coupler; a rigid crank and coupler (joint a pins two bodies); a rigid coupler
+   and rocker (the loop joint pins two bodies). The same convergence to the rigid motion
+   as the flexible bars stiffen, the pins together, the balance closed. */
 static void test_fourbar_mixed(rjt_ctx *c)
 {
     static const double E[3] = { 7e8, 7e9, 7e10 };
+    static const char *const models[3][2] = {
+        { "flexible rigid", "a rigid coupler" },
+        { "rigid rigid flexible", "a rigid crank and coupler" },
+        { "flexible rigid rigid", "a rigid coupler and rocker" },
+    };
     fourbar_run o[3];
-    int k;
-    for (k = 0; k < 3; k++)
-        run_fourbar(E[k], "flexible rigid", 0, 1.0, &o[k]);
-    for (k = 0; k < 3; k++)
-        rjt_check(c, o[k].result == RJ_OK && o[k].gap < 1e-12 && o[k].balance < 1e-5 * o[k].energy,
-                  "four-bar with a rigid coupler: the loop through the body closed",
-                  "E %.0e Pa: max |crank - rigid| %.3g rad, pin gap %.3g m, max |balance| %.3g "
-                  "J of %.3g J kinetic %s",
-                  E[k], o[k].crank, o[k].gap, o[k].balance, o[k].energy, o[k].msg);
-    rjt_check(c, o[0].crank / o[1].crank > 5 && o[1].crank / o[2].crank > 5 && o[2].crank < 1e-2,
-              "four-bar with a rigid coupler: the crank converges to the rigid motion",
-              "max |crank - rigid| over 1 s: %.3g, %.3g, %.3g rad at E 7e8, 7e9, 7e10 Pa",
-              o[0].crank, o[1].crank, o[2].crank);
+    int k, v;
+    for (v = 0; v < 3; v++) {
+        int closed = 1;
+        for (k = 0; k < 3; k++)
+            run_fourbar(E[k], models[v][0], 0, 1.0, &o[k]);
+        for (k = 0; k < 3; k++)
+            closed &= o[k].result == RJ_OK && o[k].gap < 1e-12 &&
+                      o[k].balance < 1e-5 * o[k].energy;
+        rjt_check(c, closed && o[0].crank / o[1].crank > 5 && o[1].crank / o[2].crank > 5 &&
+                         o[2].crank < 1e-2,
+                  "four-bar with rigid bodies among flexible bars: the loop closed, the rigid "
+                  "motion approached",
+                  "%s: max |crank - rigid| over 1 s %.3g, %.3g, %.3g rad at E 7e8, 7e9, 7e10 "
+                  "Pa; pin gap %.3g m; max |balance| %.3g J of %.3g J kinetic (at 7e10) %s%s",
+                  models[v][1], o[0].crank, o[1].crank, o[2].crank, o[2].gap, o[2].balance,
+                  o[2].energy, o[0].msg, o[2].msg);
+    }
 }
 
 /* A tree of inextensible links that meet inside a link: a branch hanging from the middle
@@ -413,25 +430,73 @@ static void test_inextensible_tree(rjt_ctx *c)
 }
 
 /* Builds text with the edit applied (find replaced by put); the result and message. */
-static rj_result edited(const char *fidelity, const char *find, const char *put, rj_error *err)
+/* The four-bar's text at 7e10 Pa with find replaced by put into out; 0 without find. */
+static int edited_text(const char *fidelity, const char *find, const char *put, char *out,
+                       size_t n)
 {
-    char text[2048], out[2048];
+    char text[2048];
     const char *at;
-    rj_model *m = NULL;
-    rj_state *s = NULL;
     fourbar_text(7e10, fidelity, 0, text, sizeof text);
     at = strstr(text, find);
-    if (!at) {
+    if (!at)
+        return 0;
+    snprintf(out, n, "%.*s%s%s", (int) (at - text), text, put, at + strlen(find));
+    return 1;
+}
+
+static rj_result edited(const char *fidelity, const char *find, const char *put, rj_error *err)
+{
+    char out[2048];
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    if (!edited_text(fidelity, find, put, out, sizeof out)) {
         snprintf(err->msg, sizeof err->msg, "no '%s' in the scene", find);
         return RJ_ERR_PARSE;
     }
-    snprintf(out, sizeof out, "%.*s%s%s", (int) (at - text), text, put, at + strlen(find));
     if (!build(out, &m, &s, err))
         return err->code;
     rj_state_destroy(s, NULL);
     rj_model_destroy(m, NULL);
     err->msg[0] = 0;
     return RJ_OK;
+}
+
+/* A spring and damping on the loop joint between a rigid coupler and a rigid rocker (a
+   joint between two bodies of a mixed scene takes torques): the pins together, the
+   damping's loss in the balance. */
+static void test_body_pair_torques(rjt_ctx *c)
+{
+    char text[2048];
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    rj_energy e;
+    double gap = 0, balance = 0, kinetic = 0;
+    rj_result r = RJ_OK;
+    if (!edited_text("flexible rigid rigid", "node2 = last",
+                     "node2 = last  spring = 2 240 deg  damping = 0.05", text, sizeof text) ||
+        !build(text, &m, &s, &err)) {
+        rjt_check(c, 0, "four-bar: a spring and damping between two rigid bodies", "%s",
+                  err.msg);
+        return;
+    }
+    while (rj_state_time(s) < 2 && r == RJ_OK) {
+        double xy1[2], xy2[2];
+        r = rj_step(m, s);
+        rj_node_position(m, s, 1, rj_link_node_count(m, 1) - 1, xy1);
+        rj_node_position(m, s, 2, rj_link_node_count(m, 2) - 1, xy2);
+        gap = fmax(gap, hypot(xy1[0] - xy2[0], xy1[1] - xy2[1]));
+        rj_state_energy(m, s, &e);
+        balance = fmax(balance, fabs(e.balance));
+        kinetic = fmax(kinetic, e.kinetic);
+    }
+    rjt_check(c, r == RJ_OK && gap < 1e-12 && e.lost_damping > 0.01 && balance < 1e-5 * kinetic,
+              "four-bar: a spring and damping between two rigid bodies",
+              "2 s: pins %.3g m apart; W_damping %.4g J; max |balance| %.3g J of %.3g J "
+              "kinetic %s",
+              gap, e.lost_damping, balance, kinetic, r == RJ_OK ? "" : rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
 }
 
 static void test_refusals(rjt_ctx *c)
@@ -441,8 +506,9 @@ static void test_refusals(rjt_ctx *c)
         { "", "ground_x = 1 ", "ground_x = 1.01 ", "apart", "a loop that does not close" },
         { "", "node2 = last  angle0 = -2.13", "node2 = last  angle0 = -2.03",
           "joints[3].angle0", "a loop joint at the wrong angle0" },
-        { "flexible rigid", "fidelity = flexible\njoint", "fidelity = rigid\njoint",
-          "pins two rigid links", "a loop joint between two rigid bodies of a mixed scene" },
+        { "flexible rigid rigid", "node2 = last", "node2 = last  forward = 260 deg",
+          "forward is not supported",
+          "a limit on a loop joint between two rigid bodies of a mixed scene" },
         { "", "node2 = last", "node2 = last  reference = chord", "node2",
           "node2 on a chord joint" },
         { "", "node2 = last", "node2 = 9", "node2 = 9 is out of range",
@@ -1223,6 +1289,7 @@ int main(void)
     test_fourbar_inextensible(&c);
     test_inextensible_tree(&c);
     test_fourbar_mixed(&c);
+    test_body_pair_torques(&c);
     test_refusals(&c);
     test_assemble(&c);
     return rjt_summary(&c, "test_loops");

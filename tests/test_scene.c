@@ -869,11 +869,6 @@ static void test_errors(void)
     err_case("model error: equal limits", J2 "  forward = 90 deg  reverse = 90 deg\n", 0, RJ_ERR_INVALID, 5, 13, "(joint 'j')", "joints[0].forward");
     err_case("model error: body2 with a root support", "link a\nlink b\n  root = pinned\njoint j\n  body1 = a  body2 = b\n", 0, RJ_ERR_INVALID, 3, 10,
              "its root must be RJ_ROOT_FREE (link 'b')", "links[1].root");
-    err_case("model error: a loop joint pinning two rigid links among flexible ones",
-             "link a\n  fidelity = rigid\nlink b\n  fidelity = rigid\nlink c\njoint j1\n  body1 = ground  body2 = a\n"
-             "joint j2\n  body1 = ground  body2 = b  ground_x = 1\njoint j3\n  body1 = a  body2 = c\n"
-             "joint j4\n  body1 = a  body2 = b\n", 0, RJ_ERR_INVALID, 13, 22,
-             "joint 3 pins two rigid links (0 and 1) in a scene with flexible links, which is not supported: make every link rigid, or one of the two flexible (joint 'j4')", "joints[3].body2");
     err_case("model error: closed loop", "link a\nlink b\njoint j1\n  body1 = a  body2 = b\njoint j2\n  body1 = b  body2 = a\n", 0, RJ_ERR_INVALID, 1, 1,
              "form a loop through link 0 that no joint holds", "links[0]");
     {   /* unstable dt passes the parser; rj_model_create refuses it; locate points at dt */
