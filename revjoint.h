@@ -640,6 +640,13 @@ RJDEF double rj_joint_penetration(const rj_model *m, const rj_state *s, int join
    load. Penalty and adaptive limits report theirs as RJ_TORQUE_LIMIT instead (the torque
    of a spring whose stiffness is a numerical choice: see docs/validation.md). */
 RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int joint);
+/* The force body 1 exerts on body 2 at the joint's pin, N, global x and y, recomputed
+   from the state (the step pays nothing): in scenes of rigid links without loops, the
+   links below the joint's m (a_c - g) less the loads and the caller's forces on them,
+   with the rates at n + 1/2 and the step's accelerations (first order in dt).
+   RJ_ERR_INVALID, force 0, in other scenes (not yet). */
+RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
+                                   double force[2]);
 RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s,
                                  int joint); /* first limit contact or lock, s; -1 if none */
 RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s,
@@ -12777,6 +12784,104 @@ static void rj__rig_pose(const rj_model *m, const double *f, int l, double *phi,
     *vx = ux;
     *vy = uy;
 }
+/* Rigid scenes: link l's angular rate and acceleration, and the acceleration of its root,
+   from a frame's angles, rates and accelerations (each joint's RJ__JD_QDD), walking up
+   to the ground as rj__rig_pose does; the root's position into root. */
+static void rj__rig_accel(const rj_model *m, const double *f, int l, double *om, double *al,
+                          double root[2], double acc[2])
+{
+    const int j = m->rb_pjoint[l];
+    double ph, rx, ry, vx, vy, e[2], off;
+    double a_pin[2] = { 0, 0 }, om_p = 0, al_p = 0;
+    if (j < 0) {
+        *om = *al = 0;
+        root[0] = m->ldef[l].x;
+        root[1] = m->ldef[l].y;
+        acc[0] = acc[1] = 0;
+        return;
+    }
+    rj__rig_pose(m, f, l, &ph, &rx, &ry, om, &vx, &vy);
+    if (m->jdef[j].body1 >= 0) {
+        const int p = m->jdef[j].body1;
+        double p_root[2], p_acc[2], pph, px, py, po, pvx, pvy, d[2];
+        rj__rig_accel(m, f, p, &om_p, &al_p, p_root, p_acc);
+        rj__rig_pose(m, f, p, &pph, &px, &py, &po, &pvx, &pvy);
+        d[0] = m->jpin[j] * cos(pph);
+        d[1] = m->jpin[j] * sin(pph);
+        /* the pin on body 1: a_root + alpha perp(d) - omega^2 d */
+        a_pin[0] = p_acc[0] - al_p * d[1] - om_p * om_p * d[0];
+        a_pin[1] = p_acc[1] + al_p * d[0] - om_p * om_p * d[1];
+    }
+    *al = al_p + RJ__FJ(m, f, j)[RJ__JD_QDD];
+    /* the root sits off the pin by the pin node's distance along the link */
+    off = (m->jnt[j].nJ - m->link_first[l]) * m->link_l0[l];
+    e[0] = cos(ph);
+    e[1] = sin(ph);
+    acc[0] = a_pin[0] + off * (*al * e[1] + *om * *om * e[0]);
+    acc[1] = a_pin[1] + off * (-*al * e[0] + *om * *om * e[1]);
+    root[0] = rx;
+    root[1] = ry;
+}
+
+/* Whether link l hangs, through its parents, from joint j. */
+static int rj__rig_below(const rj_model *m, int l, int j)
+{
+    int up;
+    for (up = m->rb_pjoint[l]; up >= 0; up = rj__rig_up(m, up))
+        if (up == j)
+            return 1;
+    return 0;
+}
+
+/* Rigid scenes without loops: the force body 1 exerts on body 2 at joint j's pin, the
+   sum over the links below it of m (a_c - g) less the loads and the caller's forces on
+   them (Newton's second law for the subtree; the rates at n + 1/2, the accelerations of
+   the step). */
+static void rj__rig_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
+{
+    const double *f = s->fd[s->cur];
+    int l, k;
+    force[0] = force[1] = 0;
+    for (l = 0; l < m->nl; l++) {
+        double om, al, root[2], acc[2], ph, rx, ry, o, vx, vy, e[2];
+        const double dc = m->rb_dcm[l];
+        if (!rj__rig_below(m, l, j))
+            continue;
+        rj__rig_accel(m, f, l, &om, &al, root, acc);
+        rj__rig_pose(m, f, l, &ph, &rx, &ry, &o, &vx, &vy);
+        e[0] = cos(ph);
+        e[1] = sin(ph);
+        /* the centre: a_root + alpha perp(dc e) - omega^2 dc e */
+        force[0] += m->rb_mass[l] * (acc[0] - al * dc * e[1] - om * om * dc * e[0] -
+                                     m->solver.gravity[0]);
+        force[1] += m->rb_mass[l] * (acc[1] + al * dc * e[0] - om * om * dc * e[1] -
+                                     m->solver.gravity[1]);
+        for (k = 0; k < m->nload; k++)
+            if (m->load[k].link == l) {
+                double value[3];
+                rj__load_value(&m->load[k], RJ__FS(m, f)[RJ__FS_TIME], ph, value);
+                force[0] -= value[0];
+                force[1] -= value[1];
+            }
+        for (k = 0; k <= m->ldef[l].elements && s->node_inputs; k++) {
+            const double *in = s->input_node + 3 * (size_t) (m->link_first[l] + k);
+            force[0] -= in[0];
+            force[1] -= in[1];
+        }
+    }
+}
+
+RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
+{
+    RJ_ASSERT(m && s && force && j >= 0 && j < m->nj);
+    if (!m->rigid || m->nloop) {
+        force[0] = force[1] = 0;
+        return RJ_ERR_INVALID;
+    }
+    rj__rig_pin_force(m, s, j, force);
+    return RJ_OK;
+}
+
 static void rj__rig_node(const rj_model *m, const rj_state *s, int l, int n, double xy[2],
                          double v[2], double *phi)
 {

@@ -640,6 +640,13 @@ RJDEF double rj_joint_penetration(const rj_model *m, const rj_state *s, int join
    load. Penalty and adaptive limits report theirs as RJ_TORQUE_LIMIT instead (the torque
    of a spring whose stiffness is a numerical choice: see docs/validation.md). */
 RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int joint);
+/* The force body 1 exerts on body 2 at the joint's pin, N, global x and y, recomputed
+   from the state (the step pays nothing): in scenes of rigid links without loops, the
+   links below the joint's m (a_c - g) less the loads and the caller's forces on them,
+   with the rates at n + 1/2 and the step's accelerations (first order in dt).
+   RJ_ERR_INVALID, force 0, in other scenes (not yet). */
+RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
+                                   double force[2]);
 RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s,
                                  int joint); /* first limit contact or lock, s; -1 if none */
 RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s,

@@ -516,6 +516,108 @@ static void test_settle_arguments(rjt_ctx *c)
     rj_model_destroy(m, NULL);
 }
 
+/* A chain of n rigid 1 m bars (test's bar) from a pin at the origin, the first at angle
+   a0 from the x axis, the rest straight on, at step dt. */
+static int rigid_chain(int n, double a0, double dt, rj_link_def *l, rj_joint_def *j,
+                       rj_model **m, rj_state **s, rj_error *err)
+{
+    rj_scene_def sc = rj_default_scene_def();
+    int k;
+    for (k = 0; k < n; k++) {
+        l[k] = bar(RJ_LINK_RIGID, 1);
+        j[k] = rj_default_joint_def();
+        j[k].body1 = k - 1;
+        j[k].body2 = k;
+        j[k].angle0 = k ? PI : a0;
+    }
+    sc.links = l;
+    sc.link_count = n;
+    sc.joints = j;
+    sc.joint_count = n;
+    sc.solver.dt = dt;
+    sc.solver.gravity[1] = -G;
+    if (rj_model_create(&sc, m, err, NULL) != RJ_OK)
+        return 0;
+    rj_state_create(*m, s, NULL);
+    return 1;
+}
+
+/* The pin force (rj_joint_pin_force) against Newton: a rod hanging at rest carries m g;
+   a chain of two hanging rods carries 2 m g at its root, m g at its middle; a rod
+   released level passes the vertical with 2.5 m g (omega^2 = 3 g / L there, the centre
+   at L / 2). A flexible scene is refused, for now. */
+static void test_pin_force(rjt_ctx *c)
+{
+    rj_link_def l[2];
+    rj_joint_def j[2];
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    const double mass = 2700 * 0.02 * 0.01 * 1.0;
+    double F[2], F2[2], before[2] = { 0, 0 }, at[2] = { 0, 0 }, phi_prev = 0;
+    rj_result r;
+    if (!rigid_chain(2, -0.5 * PI, 1e-4, l, j, &m, &s, &err)) {
+        rjt_check(c, 0, "pin force: hanging chain", "%s", err.msg);
+        return;
+    }
+    rj_run(m, s, 0.1, 0, NULL, NULL);
+    r = rj_joint_pin_force(m, s, 0, F);
+    rj_joint_pin_force(m, s, 1, F2);
+    rjt_check(c, r == RJ_OK && fabs(F[1] / (2 * mass * G) - 1) < 1e-12 && fabs(F[0]) < 1e-12 &&
+                     fabs(F2[1] / (mass * G) - 1) < 1e-12,
+              "pin force: a hanging chain of two rods carries 2 m g at its root, m g between",
+              "root (%.6g, %.9g) N, middle (%.6g, %.9g) N against 2 m g = %.9g N, m g = %.9g N",
+              F[0], F[1], F2[0], F2[1], 2 * mass * G, mass * G);
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+    if (!rigid_chain(1, 0.0, 1e-4, l, j, &m, &s, &err)) {
+        rjt_check(c, 0, "pin force: rod released level", "%s", err.msg);
+        return;
+    }
+    while (rj_state_time(s) < 1.0) {
+        double phi;
+        rj_joint_pin_force(m, s, 0, before);
+        rj_step(m, s);
+        phi = rj_joint_theta_running(m, s, 0);
+        if (phi_prev > -0.5 * PI && phi <= -0.5 * PI) {
+            /* between the two steps, linearly at the vertical */
+            const double w = (phi_prev + 0.5 * PI) / (phi_prev - phi);
+            rj_joint_pin_force(m, s, 0, at);
+            at[0] = before[0] + w * (at[0] - before[0]);
+            at[1] = before[1] + w * (at[1] - before[1]);
+            break;
+        }
+        phi_prev = phi;
+    }
+    rjt_check(c, fabs(at[1] / (2.5 * mass * G) - 1) < 1e-3 && fabs(at[0]) < 1e-3 * mass * G,
+              "pin force: a rod released level passes the vertical with 2.5 m g",
+              "(%.6g, %.6g) N against (0, %.6g) N (%+.2e), dt 0.1 ms", at[0], at[1],
+              2.5 * mass * G, at[1] / (2.5 * mass * G) - 1);
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+    {
+        rj_scene_def sc = rj_default_scene_def();
+        l[0] = bar(RJ_LINK_FLEXIBLE, 4);
+        j[0] = rj_default_joint_def();
+        j[0].body1 = -1;
+        j[0].body2 = 0;
+        sc.links = l;
+        sc.link_count = 1;
+        sc.joints = j;
+        sc.joint_count = 1;
+        r = rj_model_create(&sc, &m, &err, NULL);
+        if (r == RJ_OK) {
+            rj_state_create(m, &s, NULL);
+            r = rj_joint_pin_force(m, s, 0, F);
+            rj_state_destroy(s, NULL);
+            rj_model_destroy(m, NULL);
+        }
+        rjt_check(c, r == RJ_ERR_INVALID && F[0] == 0 && F[1] == 0,
+                  "pin force: not yet in node space (flexible links): refused, force 0",
+                  "result %d, force (%g, %g)", (int) r, F[0], F[1]);
+    }
+}
+
 int main(void)
 {
     rjt_ctx c = { 0, 0 };
@@ -531,5 +633,6 @@ int main(void)
     test_scene_file(&c);
     test_load_sections(&c);
     test_settle_arguments(&c);
+    test_pin_force(&c);
     return rjt_summary(&c, "test_loads");
 }
