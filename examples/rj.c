@@ -75,7 +75,9 @@ static const char usage_run[] =
     "  (0 free, 1 at the forward limit, 2 at the reverse limit, 3 locked), J.torque_spring,\n"
     "  J.torque_table, J.torque_damping, J.torque_friction, J.torque_limit (N m on body 2),\n"
     "  J.latch_impulse (N m s that a velocity-level limit applied in the last step), and in\n"
-    "  scenes with actuators J.torque_drive (N m, the actuator's); for each\n"
+    "  scenes with actuators J.torque_drive (N m, the actuator's); J.Fx, J.Fy (N: the\n"
+    "  force body 1 exerts on body 2 at the pin, empty where rj_joint_pin_force has none\n"
+    "  yet: inextensible links, rigid bodies among flexible ones, rigid loops); for each\n"
     "  link L: L.tip_x, L.tip_y (m), L.tip_defl (m: the last node's distance from the\n"
     "  tangent at node 0, counter-clockwise positive); for each probe L.N.x, L.N.y (m),\n"
     "  L.N.phi (rad); E_kin, E_strain, E_spring, E_gravity (J: gravity's potential, -m g . x),\n"
@@ -772,6 +774,7 @@ static void csv_header(csv_sink *c, const scene *sc)
     for (i = 0; i < rj_model_joint_count(m); i++) {
         for (k = 0; k < NCOLS(joint_cols); k++) cli_put(&c->out, fprintf(c->out.f, ",%s.%s", joint_name(sc, i), joint_cols[k]));
         if (rj_model_actuator_count(m)) cli_put(&c->out, fprintf(c->out.f, ",%s.torque_drive", joint_name(sc, i)));
+        cli_put(&c->out, fprintf(c->out.f, ",%s.Fx,%s.Fy", joint_name(sc, i), joint_name(sc, i)));
     }
     for (i = 0; i < rj_model_link_count(m); i++)
         for (k = 0; k < NCOLS(link_cols); k++) cli_put(&c->out, fprintf(c->out.f, ",%s.%s", link_name(sc, i), link_cols[k]));
@@ -795,6 +798,12 @@ static void csv_joint(cli_out *o, const rj_model *m, const rj_state *s, int j)
                        rj_joint_torque(m, s, j, RJ_TORQUE_LIMIT), rj_joint_latch_impulse(m, s, j)));
     /* the actuator's torque, in scenes that have actuators */
     if (rj_model_actuator_count(m)) cli_put(o, fprintf(o->f, ",%.10g", rj_joint_torque(m, s, j, RJ_TORQUE_DRIVE)));
+    /* the pin force on body 2, empty where the library has none yet (rj_joint_pin_force) */
+    {
+        double F[2];
+        if (rj_joint_pin_force(m, s, j, F) == RJ_OK) cli_put(o, fprintf(o->f, ",%.10g,%.10g", F[0], F[1]));
+        else cli_put(o, fputs(",,", o->f));
+    }
 }
 
 /* Tip position and the tip's deflection from the tangent at node 0 (second order in the

@@ -641,10 +641,15 @@ RJDEF double rj_joint_penetration(const rj_model *m, const rj_state *s, int join
    of a spring whose stiffness is a numerical choice: see docs/validation.md). */
 RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int joint);
 /* The force body 1 exerts on body 2 at the joint's pin, N, global x and y, recomputed
-   from the state (the step pays nothing): in scenes of rigid links without loops, the
-   links below the joint's m (a_c - g) less the loads and the caller's forces on them,
-   with the rates at n + 1/2 and the step's accelerations (first order in dt).
-   RJ_ERR_INVALID, force 0, in other scenes (not yet). */
+   from the state (the step pays nothing).
+   - Rigid links without loops: the links below the joint's m (a_c - g) less the loads
+     and the caller's forces on them, with the rates at n + 1/2 and the step's
+     accelerations (first order in dt).
+   - Flexible links (tangent reference): body 2's pin node's m a - m g less its link's
+     element forces, loads and the caller's force on it, at t^n, a step before the
+     state's time (a from the rates at n - 1/2 and n + 1/2).
+   RJ_ERR_INVALID, force 0, not yet: inextensible links, rigid bodies among flexible
+   links, in-place stepping, a chord reference, loops of rigid links, before a step. */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
 RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s,

@@ -328,14 +328,92 @@ static void rj__rig_pin_force(const rj_model *m, const rj_state *s, int j, doubl
     }
 }
 
+/* Node space: the force on node k from its own link's elements at n (the positions and
+   rotations at n, the chord angles the step took there), as the beam pass gives it. */
+static void rj__elem_node_force(const rj_model *m, const rj_state *s, int k, double out[2])
+{
+    const double *at_n = s->fd[1 - s->cur];
+    const double *x = RJ__FX(m, at_n), *y = RJ__FY(m, at_n), *phi = RJ__FPHI(m, at_n);
+    const double *beta = RJ__FBETA(m, s->fd[s->cur]);
+    rj__elems c;
+    int link, node, side;
+    rj__node_of(m, k, &link, &node);
+    memset(&c, 0, sizeof c);
+    c.kb = m->link_kc[4 * (size_t) link];
+    c.kax = m->link_kc[4 * (size_t) link + 1];
+    c.l0sq = m->link_kc[4 * (size_t) link + 2];
+    c.half_inv_l0sq = m->link_kc[4 * (size_t) link + 3];
+    out[0] = out[1] = 0;
+    /* the element before the node (the node its second) and the one after (its first) */
+    for (side = 0; side < 2; side++) {
+        const int local = side ? node : node - 1;
+        int a;
+        double ex, ey;
+        rj__elem_force f;
+        if (local < 0 || local >= m->ldef[link].elements)
+            continue;
+        a = m->link_first[link] + local;
+        ex = x[a + 1] - x[a];
+        ey = y[a + 1] - y[a];
+        rj__elem_forces(&c, ex, ey, beta[m->link_efirst[link] + local], 1.0 / (ex * ex + ey * ey),
+                        phi[a], phi[a + 1], &f);
+        out[0] += side ? -f.fx : f.fx;
+        out[1] += side ? -f.fy : f.fy;
+    }
+}
+
+/* Node space, flexible links: the force on body 2's pin node from the rest of the pin,
+   m a - m g - (its link's elements, loads and the caller's force on it), at n (the rates
+   at n - 1/2 and n + 1/2 give a; the elements at n, as the step took them). */
+static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
+{
+    const int k = m->jnt[j].nJ;
+    const double *now = s->fd[s->cur], *at_n = s->fd[1 - s->cur];
+    const double kick = s->steps == 1 ? 0.5 * m->dt : m->dt;
+    const double t = RJ__FS(m, now)[RJ__FS_TIME] - m->dt;
+    double elements[2];
+    int q;
+    rj__elem_node_force(m, s, k, elements);
+    force[0] = m->mass[k] * ((RJ__FVX(m, now)[k] - RJ__FVX(m, at_n)[k]) / kick -
+                             m->solver.gravity[0]) -
+               elements[0];
+    force[1] = m->mass[k] * ((RJ__FVY(m, now)[k] - RJ__FVY(m, at_n)[k]) / kick -
+                             m->solver.gravity[1]) -
+               elements[1];
+    for (q = 0; q < m->nload; q++)
+        if (m->load_node[q] == k) {
+            double value[3];
+            rj__load_value(&m->load[q], t, RJ__FPHI(m, at_n)[k], value);
+            force[0] -= value[0];
+            force[1] -= value[1];
+        }
+    if (s->node_inputs) {
+        force[0] -= s->input_node[3 * (size_t) k];
+        force[1] -= s->input_node[3 * (size_t) k + 1];
+    }
+}
+
+/* Where rj_joint_pin_force has no answer yet: node space with inextensible links (their
+   lengths' forces), rigid bodies among them, in-place stepping (no rates at n - 1/2),
+   a chord reference (the joint's forces on the pin node), before a step; loops of rigid
+   links (their rows' forces). */
+static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
+{
+    if (m->rigid)
+        return m->nloop > 0;
+    return m->any_inext || m->ncl || m->ip || m->jnt[j].chord || s->steps == 0;
+}
+
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
 {
     RJ_ASSERT(m && s && force && j >= 0 && j < m->nj);
-    if (!m->rigid || m->nloop) {
-        force[0] = force[1] = 0;
+    force[0] = force[1] = 0;
+    if (rj__pin_force_unknown(m, s, j))
         return RJ_ERR_INVALID;
-    }
-    rj__rig_pin_force(m, s, j, force);
+    if (m->rigid)
+        rj__rig_pin_force(m, s, j, force);
+    else
+        rj__node_pin_force(m, s, j, force);
     return RJ_OK;
 }
 

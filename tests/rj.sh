@@ -21,6 +21,7 @@ header() {
              for (j = 1; j <= nj; j++) {
                for (i = 1; i <= n; i++) printf ",%s.%s", joints[j], c[i]
                if (drives) printf ",%s.torque_drive", joints[j]
+               printf ",%s.Fx,%s.Fy", joints[j], joints[j]
              }
              for (k = 1; k <= nl; k++) printf ",%s.tip_x,%s.tip_y,%s.tip_defl", links[k], links[k], links[k];
              print ",E_kin,E_strain,E_spring,E_gravity,W_applied" (drives ? ",W_drive" : "") ",W_damping,W_friction,W_limit,E_balance" }' "$1"
@@ -49,7 +50,7 @@ $B/rj run $S/impact.rjs --t-end 0.02 --sample 0.005 --probe arm:last --probe bas
 ok "run --probe arm:last --probe base:3: their x, y, phi columns before the energies" \
   "head -1 $T/probe.csv | grep -q ',arm.tip_defl,arm.10.x,arm.10.y,arm.10.phi,base.3.x,base.3.y,base.3.phi,E_kin,'"
 ok "run --probe arm:last: the probe is the tip (the same x, y as arm.tip_x, arm.tip_y)" \
-  "awk -F, 'NR > 1 && (\$14 != \$17 || \$15 != \$18) { exit 1 }' $T/probe.csv"
+  "awk -F, 'NR > 1 && (\$16 != \$19 || \$17 != \$20) { exit 1 }' $T/probe.csv"
 ok "run --nodes: a header and the 22 nodes, by link name" \
   "[ \$(wc -l < $T/nodes.csv) = 23 ] && head -1 $T/nodes.csv | grep -qx 'link,node,x,y,phi' && grep -q '^arm,10,' $T/nodes.csv"
 m 2 "no link 'zzz'" "run --probe with an unknown link is refused" $B/rj run $S/impact.rjs --probe zzz:1 --csv /dev/null
@@ -58,16 +59,17 @@ m 2 "nodes 0..10" "run --probe with a node past the link's last is refused" $B/r
 # ---- rj run against build/deploy on the same scene: the joint angles row for row
 $B/rj run $S/deploy.rjs --t-end 3.5 --csv $T/rj_deploy.csv 2>$T/rj_deploy.err
 $B/deploy --scene $S/deploy.rjs --t-end 3.5 --csv $T/deploy.csv 2>$T/deploy.err
-# rj: t, j1 (2-10), j2 (11-19), arm1 (20-22), arm2 (23-25), energies (26-34); deploy from
-# 35: t (%.6f: within half its last digit), q1 = j1 (deg), q2 = j2 - 180 (deg), rates, flags, tip2_x, tip2_y (%.10g)
+# rj: t, j1 (2-12, its pin force 11-12), j2 (13-23), arm1 (24-26), arm2 (27-29), energies
+# (30-38); deploy from 39: t (%.6f: within half its last digit), q1 = j1 (deg), q2 = j2 -
+# 180 (deg), rates, flags, tip2_x, tip2_y (%.10g)
 res=$(paste -d, $T/rj_deploy.csv $T/deploy.csv | awk -F, '
   NR == 1 { next }
-  { n++; d = $1 - $35; if (d < 0) d = -d; if (d > 5.001e-7) bad = bad " t@" $35
-    if ($2 != $36) bad = bad " q1@" $35
-    d = $11 - ($37 + 180); if (d < 0) d = -d; if (d > 2e-7) bad = bad " q2@" $35
-    if ($3 != $38 || $12 != $39) bad = bad " rates@" $35
-    if ($4 != $40 || $13 != $41) bad = bad " flags@" $35
-    if ($23 != $42 || $24 != $43) bad = bad " tip2@" $35 }
+  { n++; d = $1 - $39; if (d < 0) d = -d; if (d > 5.001e-7) bad = bad " t@" $39
+    if ($2 != $40) bad = bad " q1@" $39
+    d = $13 - ($41 + 180); if (d < 0) d = -d; if (d > 2e-7) bad = bad " q2@" $39
+    if ($3 != $42 || $14 != $43) bad = bad " rates@" $39
+    if ($4 != $44 || $15 != $45) bad = bad " flags@" $39
+    if ($27 != $46 || $28 != $47) bad = bad " tip2@" $39 }
   END { print n, substr(bad, 1, 200) }')
 if [ "$res" = "3501 " ] && [ $(wc -l < $T/rj_deploy.csv) = $(wc -l < $T/deploy.csv) ]; then
   echo "PASS rj: run deploy.rjs = build/deploy --scene deploy.rjs row for row to 3.5 s (3501 rows: t, q1, q2 to the printed digits, rates, flags, tip 2 exact; joint 2 locks)"
