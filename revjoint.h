@@ -647,9 +647,11 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
      accelerations (first order in dt).
    - Flexible links (tangent reference): body 2's pin node's m a - m g less its link's
      element forces, loads and the caller's force on it, at t^n, a step before the
-     state's time (a from the rates at n - 1/2 and n + 1/2).
-   RJ_ERR_INVALID, force 0, not yet: inextensible links, rigid bodies among flexible
-   links, in-place stepping, a chord reference, loops of rigid links, before a step. */
+     state's time (a from the rates at n - 1/2 and n + 1/2); where body 2 is a rigid
+     body of a mixed scene, the same on body 1's flexible node, reversed.
+   RJ_ERR_INVALID, force 0, not yet: inextensible links, a pin between two rigid bodies
+   or a rigid body and the ground in a mixed scene, in-place stepping, a chord reference,
+   loops of rigid links, before a step. */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
 RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s,
@@ -12910,12 +12912,20 @@ static void rj__elem_node_force(const rj_model *m, const rj_state *s, int k, dou
     }
 }
 
+/* A rigid body's own node in a mixed scene (massless: its body carries it)? */
+static int rj__own_body_node(const rj_model *m, int k)
+{
+    return k >= 0 && m->ncl && RJ__CL_RIGID(m, k);
+}
+
 /* Node space, flexible links: the force on body 2's pin node from the rest of the pin,
    m a - m g - (its link's elements, loads and the caller's force on it), at n (the rates
-   at n - 1/2 and n + 1/2 give a; the elements at n, as the step took them). */
+   at n - 1/2 and n + 1/2 give a; the elements at n, as the step took them). When body 2
+   is a rigid body of a mixed scene, the same on body 1's node, reversed. */
 static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
 {
-    const int k = m->jnt[j].nJ;
+    const int k = rj__own_body_node(m, m->jnt[j].nJ) ? m->jnt[j].nI : m->jnt[j].nJ;
+    const double sign = k == m->jnt[j].nJ ? 1.0 : -1.0;
     const double *now = s->fd[s->cur], *at_n = s->fd[1 - s->cur];
     const double kick = s->steps == 1 ? 0.5 * m->dt : m->dt;
     const double t = RJ__FS(m, now)[RJ__FS_TIME] - m->dt;
@@ -12939,17 +12949,22 @@ static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, doub
         force[0] -= s->input_node[3 * (size_t) k];
         force[1] -= s->input_node[3 * (size_t) k + 1];
     }
+    force[0] *= sign;
+    force[1] *= sign;
 }
 
 /* Where rj_joint_pin_force has no answer yet: node space with inextensible links (their
-   lengths' forces), rigid bodies among them, in-place stepping (no rates at n - 1/2),
-   a chord reference (the joint's forces on the pin node), before a step; loops of rigid
-   links (their rows' forces). */
+   lengths' forces), a pin between two rigid bodies (their projection's forces), in-place
+   stepping (no rates at n - 1/2), a chord reference (the joint's forces on the pin
+   node), before a step; loops of rigid links (their rows' forces). */
 static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
 {
+    const rj__joint *J = &m->jnt[j];
     if (m->rigid)
         return m->nloop > 0;
-    return m->any_inext || m->ncl || m->ip || m->jnt[j].chord || s->steps == 0;
+    if (rj__own_body_node(m, J->nJ) && (J->nI < 0 || rj__own_body_node(m, J->nI)))
+        return 1;
+    return m->any_inext || m->ip || J->chord || s->steps == 0;
 }
 
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])

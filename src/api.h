@@ -647,9 +647,11 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
      accelerations (first order in dt).
    - Flexible links (tangent reference): body 2's pin node's m a - m g less its link's
      element forces, loads and the caller's force on it, at t^n, a step before the
-     state's time (a from the rates at n - 1/2 and n + 1/2).
-   RJ_ERR_INVALID, force 0, not yet: inextensible links, rigid bodies among flexible
-   links, in-place stepping, a chord reference, loops of rigid links, before a step. */
+     state's time (a from the rates at n - 1/2 and n + 1/2); where body 2 is a rigid
+     body of a mixed scene, the same on body 1's flexible node, reversed.
+   RJ_ERR_INVALID, force 0, not yet: inextensible links, a pin between two rigid bodies
+   or a rigid body and the ground in a mixed scene, in-place stepping, a chord reference,
+   loops of rigid links, before a step. */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
 RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s,
