@@ -654,6 +654,17 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
    loops of rigid links, before a step. */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
+/* Element element of a flexible link at t^n (a step before the state's time, as the
+   step took it), recomputed from the state: loads[0] the axial force N (N, tension
+   positive), [1] the shear V (N), [2] and [3] the bending moment at its first and its
+   second node (N m), each the force or moment the part of the link beyond the section
+   exerts on the part before it, along the chord, across it (counter-clockwise of the
+   chord) and counter-clockwise; [4] the largest outer-fibre stress |N| / A + |M| h / 2I
+   (Pa; NaN for a general section, whose fibre distance the model does not know).
+   RJ_ERR_INVALID, loads 0: a rigid or inextensible link, in-place stepping, before a
+   step, an element out of range. */
+RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link, int element,
+                                 double loads[5]);
 RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s,
                                  int joint); /* first limit contact or lock, s; -1 if none */
 RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s,
@@ -12878,35 +12889,73 @@ static void rj__rig_pin_force(const rj_model *m, const rj_state *s, int j, doubl
     }
 }
 
-/* Node space: the force on node k from its own link's elements at n (the positions and
-   rotations at n, the chord angles the step took there), as the beam pass gives it. */
-static void rj__elem_node_force(const rj_model *m, const rj_state *s, int k, double out[2])
+/* Node space: element e (local) of link l at n, as the beam pass gives it: the force on
+   its second node, its end moments (the positions and rotations at n, the chord angle
+   the step took there); its chord's unit vector into unit. */
+static void rj__elem_at_n(const rj_model *m, const rj_state *s, int l, int e,
+                          rj__elem_force *f, double unit[2])
 {
     const double *at_n = s->fd[1 - s->cur];
     const double *x = RJ__FX(m, at_n), *y = RJ__FY(m, at_n), *phi = RJ__FPHI(m, at_n);
     const double *beta = RJ__FBETA(m, s->fd[s->cur]);
+    const int a = m->link_first[l] + e;
+    const double ex = x[a + 1] - x[a], ey = y[a + 1] - y[a], len = sqrt(ex * ex + ey * ey);
     rj__elems c;
+    memset(&c, 0, sizeof c);
+    c.kb = m->link_kc[4 * (size_t) l];
+    c.kax = m->link_kc[4 * (size_t) l + 1];
+    c.l0sq = m->link_kc[4 * (size_t) l + 2];
+    c.half_inv_l0sq = m->link_kc[4 * (size_t) l + 3];
+    rj__elem_forces(&c, ex, ey, beta[m->link_efirst[l] + e], 1.0 / (len * len), phi[a],
+                    phi[a + 1], f);
+    unit[0] = ex / len;
+    unit[1] = ey / len;
+}
+
+RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link, int element,
+                                 double loads[5])
+{
+    const rj_link_def *d;
+    rj__elem_force f;
+    double unit[2], A, I;
+    int k;
+    RJ_ASSERT(m && s && loads && link >= 0 && link < m->nl);
+    for (k = 0; k < 5; k++)
+        loads[k] = 0;
+    d = &m->ldef[link];
+    if (element < 0 || element >= d->elements || d->fidelity != RJ_LINK_FLEXIBLE || m->ip ||
+        s->steps == 0)
+        return RJ_ERR_INVALID;
+    rj__elem_at_n(m, s, link, element, &f, unit);
+    /* the part beyond each section on the part before: -(the force on the second node) */
+    loads[0] = -(f.fx * unit[0] + f.fy * unit[1]);
+    loads[1] = -(-f.fx * unit[1] + f.fy * unit[0]);
+    loads[2] = -f.ma;
+    loads[3] = f.mb;
+    A = m->link_EA[link] / d->E;
+    I = m->link_EI[link] / d->E;
+    if (d->section == RJ_SECTION_RECT)
+        loads[4] = fabs(loads[0]) / A + fmax(fabs(loads[2]), fabs(loads[3])) * 0.5 * d->height / I;
+    else
+        loads[4] = NAN;
+    return RJ_OK;
+}
+
+/* Node space: the force on node k from its own link's elements at n (the positions and
+   rotations at n, the chord angles the step took there), as the beam pass gives it. */
+static void rj__elem_node_force(const rj_model *m, const rj_state *s, int k, double out[2])
+{
     int link, node, side;
     rj__node_of(m, k, &link, &node);
-    memset(&c, 0, sizeof c);
-    c.kb = m->link_kc[4 * (size_t) link];
-    c.kax = m->link_kc[4 * (size_t) link + 1];
-    c.l0sq = m->link_kc[4 * (size_t) link + 2];
-    c.half_inv_l0sq = m->link_kc[4 * (size_t) link + 3];
     out[0] = out[1] = 0;
     /* the element before the node (the node its second) and the one after (its first) */
     for (side = 0; side < 2; side++) {
         const int local = side ? node : node - 1;
-        int a;
-        double ex, ey;
         rj__elem_force f;
+        double unit[2];
         if (local < 0 || local >= m->ldef[link].elements)
             continue;
-        a = m->link_first[link] + local;
-        ex = x[a + 1] - x[a];
-        ey = y[a + 1] - y[a];
-        rj__elem_forces(&c, ex, ey, beta[m->link_efirst[link] + local], 1.0 / (ex * ex + ey * ey),
-                        phi[a], phi[a + 1], &f);
+        rj__elem_at_n(m, s, link, local, &f, unit);
         out[0] += side ? -f.fx : f.fx;
         out[1] += side ? -f.fy : f.fy;
     }

@@ -654,6 +654,17 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
    loops of rigid links, before a step. */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
+/* Element element of a flexible link at t^n (a step before the state's time, as the
+   step took it), recomputed from the state: loads[0] the axial force N (N, tension
+   positive), [1] the shear V (N), [2] and [3] the bending moment at its first and its
+   second node (N m), each the force or moment the part of the link beyond the section
+   exerts on the part before it, along the chord, across it (counter-clockwise of the
+   chord) and counter-clockwise; [4] the largest outer-fibre stress |N| / A + |M| h / 2I
+   (Pa; NaN for a general section, whose fibre distance the model does not know).
+   RJ_ERR_INVALID, loads 0: a rigid or inextensible link, in-place stepping, before a
+   step, an element out of range. */
+RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link, int element,
+                                 double loads[5]);
 RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s,
                                  int joint); /* first limit contact or lock, s; -1 if none */
 RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s,

@@ -661,6 +661,62 @@ static void test_pin_force_mixed(rjt_ctx *c)
               r == RJ_OK ? "" : "(failed)");
 }
 
+/* A cantilever of 10 flexible elements under a tip load P (no gravity), settled: every
+   element's section loads against the statics of the deflected shape (the tip load's
+   moment about each node, its components along and across each chord), which hold
+   whatever the beam theory; the first element's at the clamp are the clamp's reaction. */
+static void test_element_loads(rjt_ctx *c)
+{
+    rj_link_def l = bar(RJ_LINK_FLEXIBLE, 10);
+    rj_load_def load = rj_default_load_def();
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    const double P = 2.0;
+    double worst = 0, tip[2], root[5] = { 0, 0, 0, 0, 0 };
+    int e, ok = 0;
+    l.root = RJ_ROOT_CLAMPED;
+    load.link = 0;
+    load.node = -1;
+    load.force[1] = -P;
+    sc.links = &l;
+    sc.link_count = 1;
+    sc.loads = &load;
+    sc.load_count = 1;
+    if (rj_model_create(&sc, &m, &err, NULL) == RJ_OK) {
+        rj_state_create(m, &s, NULL);
+        ok = rj_settle(m, s, 1e-15, 10000000L) == RJ_OK && rj_step(m, s) == RJ_OK;
+        rj_node_position(m, s, 0, 10, tip);
+        for (e = 0; e < 10 && ok; e++) {
+            double a[2], b[2], loads[5], u[2], len, want[4];
+            rj_node_position(m, s, 0, e, a);
+            rj_node_position(m, s, 0, e + 1, b);
+            len = hypot(b[0] - a[0], b[1] - a[1]);
+            u[0] = (b[0] - a[0]) / len;
+            u[1] = (b[1] - a[1]) / len;
+            ok = rj_element_loads(m, s, 0, e, loads) == RJ_OK;
+            /* the tip load (0, -P) on the part before each section */
+            want[0] = -P * u[1];
+            want[1] = -P * u[0];
+            want[2] = -P * (tip[0] - a[0]);
+            want[3] = -P * (tip[0] - b[0]);
+            worst = fmax(worst, fmax(fabs(loads[0] - want[0]), fabs(loads[1] - want[1])) / P);
+            worst = fmax(worst, fmax(fabs(loads[2] - want[2]), fabs(loads[3] - want[3])) / P);
+            if (e == 0)
+                memcpy(root, loads, sizeof root);
+        }
+        rj_state_destroy(s, NULL);
+        rj_model_destroy(m, NULL);
+    }
+    rjt_check(c, ok && worst < 1e-6,
+              "element loads: a cantilever under a tip load, against the statics of its shape",
+              "P = %g N, 10 elements: N, V, M at every element's ends within %.3g of P (N, m); "
+              "at the clamp N %.3g N, V %.6g N, M %.6g N m (P L = %g N m), outer-fibre stress "
+              "%.6g Pa",
+              P, worst, root[0], root[1], root[2], P * l.length, root[4]);
+}
+
 /* The pin force (rj_joint_pin_force) against Newton: a rod hanging at rest carries m g;
    a chain of two hanging rods carries 2 m g at its root, m g at its middle; a rod
    released level passes the vertical with 2.5 m g (omega^2 = 3 g / L there, the centre
@@ -755,5 +811,6 @@ int main(void)
     test_load_sections(&c);
     test_settle_arguments(&c);
     test_pin_force(&c);
+    test_element_loads(&c);
     return rjt_summary(&c, "test_loads");
 }
