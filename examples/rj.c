@@ -58,6 +58,8 @@ static const char usage_run[] =
     "                     longer; 0 = every step)\n"
     "  --csv FILE         the history (default, or -, standard output)\n"
     "  --probe LINK:NODE  add that node's x, y, phi (repeatable; NODE an index or 'last')\n"
+    "  --loads LINK       add L.E.N, L.E.V (N), L.E.M0, L.E.M1 (N m) for each element E\n"
+    "                     (rj_element_loads; empty where there are none; repeatable)\n"
     "  --nodes FILE       every node at the end: link,node,x,y,phi\n"
     "  --progress         progress line on standard error (percent, simulated time,\n"
     "                     steps/s, ETA); without it only on a terminal, after 2 s of wall time\n"
@@ -75,9 +77,8 @@ static const char usage_run[] =
     "  (0 free, 1 at the forward limit, 2 at the reverse limit, 3 locked), J.torque_spring,\n"
     "  J.torque_table, J.torque_damping, J.torque_friction, J.torque_limit (N m on body 2),\n"
     "  J.latch_impulse (N m s that a velocity-level limit applied in the last step), and in\n"
-    "  scenes with actuators J.torque_drive (N m, the actuator's); J.Fx, J.Fy (N: the\n"
-    "  force body 1 exerts on body 2 at the pin, empty where rj_joint_pin_force has none\n"
-    "  yet: inextensible links, rigid bodies among flexible ones, rigid loops); for each\n"
+    "  scenes with actuators J.torque_drive (N m, the actuator's); J.Fx, J.Fy (N on body\n"
+    "  2 at the pin: rj_joint_pin_force, empty where there is none yet); for each\n"
     "  link L: L.tip_x, L.tip_y (m), L.tip_defl (m: the last node's distance from the\n"
     "  tangent at node 0, counter-clockwise positive); for each probe L.N.x, L.N.y (m),\n"
     "  L.N.phi (rad); E_kin, E_strain, E_spring, E_gravity (J: gravity's potential, -m g . x),\n"
@@ -87,14 +88,14 @@ static const char usage_run[] =
     "  Standard error: the model's warnings, then events as they happen (contacts, locks,\n"
     "  releases, late contacts; at the time of the state the library decided them on, as\n"
     "  rj_joint_event_time; the links of a joint passing through each other, once per\n"
-    "  joint, as rj_joint_overlap_time: links do not contact each other), then a summary:\n"
+    "  joint, as rj_joint_overlap_time), then a summary:\n"
     "  per joint the first contact, the lock, peak penetration, peak |limit torque|, peak\n"
     "  |latch impulse|, and between two links when they overlapped; steps, wall time,\n"
     "  steps/s.\n"
     "  A lock and the first contact are printed at once, other flag changes once they have\n"
-    "  held 0.1 ms (adaptive and RC13 contacts toggle the flag step by step); the summary\n"
-    "  counts every change. Events and peaks are checked every step, so the energy\n"
-    "  accounts are taken every step too (solver.energy_every saves nothing here).\n"
+    "  held 0.1 ms (contacts may toggle step by step); the summary counts every change.\n"
+    "  Events and peaks are checked every step, so the energy accounts are taken every\n"
+    "  step too (solver.energy_every saves nothing here).\n"
     "  Exit status: 0 done, also when the reader of standard output stops (rj run x | head);\n"
     "  1 the simulation stopped (the library's message; the CSV ends at the last good\n"
     "  state) or a write failed (full disk); 2 bad usage, an invalid scene, a missing file,\n"
@@ -175,7 +176,8 @@ typedef struct opts {
     const char *csv, *nodes, *out, *mp4;
     const char *assemble; /* rj check: where the scene with its loops closed goes */
     const char **probes;
-    int nprobes, what, w, h, progress, force;
+    const char **loads; /* rj run --loads: link names (the second half of probes' array) */
+    int nprobes, nloads, what, w, h, progress, force;
     int plain;   /* rj animate: build/animate's frames, without the reading aids */
     int settle;  /* rj run: start from the static equilibrium (rj_settle) */
 } opts;
@@ -192,12 +194,13 @@ static void opts_default(opts *o, int cmd, int argc)
     o->fps = 30;
     o->w = cmd == CMD_PLOT ? 900 : 640;
     o->h = cmd == CMD_PLOT ? 560 : 480;
-    /* at most one probe per argument */
-    o->probes = (const char **)malloc(sizeof(char *) * (size_t)(argc > 0 ? argc : 1));
+    /* at most one probe, and one --loads, per argument: one array, two halves */
+    o->probes = (const char **)malloc(sizeof(char *) * 2 * (size_t)(argc > 0 ? argc : 1));
     if (!o->probes) {
         fprintf(stderr, "rj: out of memory\n");
         exit(1);
     }
+    o->loads = o->probes + (argc > 0 ? argc : 1);
 }
 
 /* Every option and the subcommands that take it: an option is parsed only for these, and
@@ -209,7 +212,7 @@ static const optname optnames[] = {
     { "--help", CMD_ALL },     { "--t-end", CMD_SIM },  { "--dt", CMD_ALL },
     { "--progress", CMD_ALL }, { "--force", CMD_SIM },  { "--out", CMD_PLOT | CMD_ANIMATE },
     { "--size", CMD_PLOT | CMD_ANIMATE },               { "--csv", CMD_RUN },
-    { "--sample", CMD_RUN },   { "--nodes", CMD_RUN },  { "--probe", CMD_RUN },
+    { "--sample", CMD_RUN },   { "--nodes", CMD_RUN },  { "--probe", CMD_RUN },   { "--loads", CMD_RUN },
     { "--settle", CMD_RUN },   { "--what", CMD_PLOT },  { "--fps", CMD_ANIMATE },
     { "--mp4", CMD_ANIMATE },  { "--plain", CMD_ANIMATE }, { "--assemble", CMD_CHECK }
 };
@@ -276,6 +279,7 @@ static int opt_own(cli *c, opts *o, const char *a)
     else if (!strcmp(a, "--sample")) o->sample = cli_num(c, a, 0, 1e6);
     else if (!strcmp(a, "--nodes")) o->nodes = cli_str(c, a);
     else if (!strcmp(a, "--probe")) o->probes[o->nprobes++] = cli_str(c, a);
+    else if (!strcmp(a, "--loads")) o->loads[o->nloads++] = cli_str(c, a);
     else if (!strcmp(a, "--settle")) o->settle = 1;
     else if (!strcmp(a, "--what")) o->what = cli_choice(c, a, what_names, 4);
     else if (!strcmp(a, "--fps")) o->fps = cli_num(c, a, 1e-3, 1e9);
@@ -756,6 +760,8 @@ typedef struct csv_sink {
     cli_out out;
     const probe *probes;
     int nprobes;
+    const int *load_links; /* --loads: the links whose elements' loads are columns */
+    int nloads;
 } csv_sink;
 
 /* Column names after each joint's, link's and probe's name, and the energy columns. */
@@ -781,6 +787,12 @@ static void csv_header(csv_sink *c, const scene *sc)
     for (i = 0; i < c->nprobes; i++)
         for (k = 0; k < NCOLS(probe_cols); k++)
             cli_put(&c->out, fprintf(c->out.f, ",%s.%d.%s", link_name(sc, c->probes[i].link), c->probes[i].node, probe_cols[k]));
+    for (i = 0; i < c->nloads; i++) {
+        const int l = c->load_links[i];
+        for (k = 0; k < rj_link_node_count(m, l) - 1; k++)
+            cli_put(&c->out, fprintf(c->out.f, ",%s.%d.N,%s.%d.V,%s.%d.M0,%s.%d.M1", link_name(sc, l), k,
+                                     link_name(sc, l), k, link_name(sc, l), k, link_name(sc, l), k));
+    }
     /* the library's energy accounts, then their balance */
     for (k = 0; k < rj_energy_account_count(); k++)
         if (rj_energy_account_in(m, k)) cli_put(&c->out, fprintf(c->out.f, ",%s", rj_energy_account_name(k)));
@@ -840,6 +852,17 @@ static int csv_sink_fn(runner *r, const rj_state *s)
         rj_node_position(m, s, c->probes[i].link, c->probes[i].node, xy);
         cli_put(&c->out, fprintf(c->out.f, ",%.10g,%.10g,%.10g", xy[0], xy[1],
                                  rj_node_rotation(m, s, c->probes[i].link, c->probes[i].node)));
+    }
+    for (i = 0; i < c->nloads; i++) {
+        int e;
+        for (e = 0; e < rj_link_node_count(m, c->load_links[i]) - 1; e++) {
+            double L[5];
+            /* empty where the library has none (rj_element_loads) */
+            if (rj_element_loads(m, s, c->load_links[i], e, L) == RJ_OK)
+                cli_put(&c->out, fprintf(c->out.f, ",%.10g,%.10g,%.10g,%.10g", L[0], L[1], L[2], L[3]));
+            else
+                cli_put(&c->out, fputs(",,,,", c->out.f));
+        }
     }
     csv_energy(&c->out, m, s);
     if (!c->out.err) return 0;
@@ -1001,6 +1024,22 @@ static int probes_resolve(const scene *sc, const opts *o, probe *pr)
     return 0;
 }
 
+/* The --loads options against the scene, into links (nloads + 1 entries); 0, or 2 after
+   saying which one is wrong. */
+static int loads_resolve(const scene *sc, const opts *o, int *links)
+{
+    int i;
+    for (i = 0; i < o->nloads; i++) {
+        links[i] = rj_scene_link_index(&sc->f, o->loads[i]);
+        if (links[i] < 0) {
+            fprintf(stderr, "rj run: option --loads %s: %s has no link '%s'\n", o->loads[i], sc->path,
+                    o->loads[i]);
+            return 2;
+        }
+    }
+    return 0;
+}
+
 /* rj run: the scene, the probes, the step bound and the outputs are checked before any
    output is written; then the run. */
 static int cmd_run(int argc, char **argv)
@@ -1011,11 +1050,13 @@ static int cmd_run(int argc, char **argv)
     csv_sink c;
     cli_out nodes;
     probe *pr;
+    int *load_links;
     int st = 2;
     opts_parse(&o, CMD_RUN, argc, argv, usage_run);
     if (scene_open(&sc, o.scene, o.dt) != 0) return 2;
     pr = (probe *)malloc(sizeof(probe) * (size_t)(o.nprobes + 1));
-    if (pr && probes_resolve(&sc, &o, pr) == 0) {
+    load_links = (int *)malloc(sizeof(int) * (size_t)(o.nloads + 1));
+    if (pr && load_links && probes_resolve(&sc, &o, pr) == 0 && loads_resolve(&sc, &o, load_links) == 0) {
         /* the settling's steps count at their most, with the run's */
         cli_check_steps_plus("rj run", o.t_end, rj_model_dt(sc.m), o.settle ? SETTLE_MAX_STEPS : 0,
                              "settling steps (--settle)", o.force);
@@ -1024,6 +1065,8 @@ static int cmd_run(int argc, char **argv)
     if (pr && st == 0) {
         c.probes = pr;
         c.nprobes = o.nprobes;
+        c.load_links = load_links;
+        c.nloads = o.nloads;
         model_warnings(&sc, "rj run");
         csv_header(&c, &sc);
         st = runner_init(&r, &sc, "rj run", o.t_end, o.sample, o.progress) != 0 ? 1 : 0;
@@ -1034,9 +1077,10 @@ static int cmd_run(int argc, char **argv)
         runner_free(&r);
     }
     free(pr);
+    free(load_links);
     free((void *)o.probes);
     scene_close(&sc);
-    return pr ? st : 1;
+    return pr && load_links ? st : 1;
 }
 
 /* ================================================================ rj check */

@@ -54,6 +54,12 @@ ok "run --probe arm:last: the probe is the tip (the same x, y as arm.tip_x, arm.
 ok "run --nodes: a header and the 22 nodes, by link name" \
   "[ \$(wc -l < $T/nodes.csv) = 23 ] && head -1 $T/nodes.csv | grep -qx 'link,node,x,y,phi' && grep -q '^arm,10,' $T/nodes.csv"
 m 2 "no link 'zzz'" "run --probe with an unknown link is refused" $B/rj run $S/impact.rjs --probe zzz:1 --csv /dev/null
+m 2 "no link 'zzz'" "run --loads with an unknown link is refused" $B/rj run $S/impact.rjs --loads zzz --csv /dev/null
+$B/rj run $S/deploy.rjs --t-end 0.01 --loads arm2 --csv $T/loads.csv 2>/dev/null
+ok "run --loads arm2: N, V, M0, M1 of its 10 elements, numbers after the first step" \
+  "head -1 $T/loads.csv | tr ',' '\\n' | grep -c '^arm2\\.[0-9]*\\.\\(N\\|V\\|M0\\|M1\\)\$' | grep -qx 40 &&
+   awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if (\$i == \"arm2.0.M0\") k = i; next }
+            NR > 2 && \$k !~ /^-?[0-9]/ { exit 1 }' $T/loads.csv"
 m 2 "nodes 0..10" "run --probe with a node past the link's last is refused" $B/rj run $S/impact.rjs --probe arm:11 --csv /dev/null
 
 # ---- rj run against build/deploy on the same scene: the joint angles row for row
