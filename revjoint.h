@@ -654,6 +654,11 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
    loops of rigid links, before a step. */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
+/* Every joint's pin force at once (2 per joint in forces, as rj_joint_pin_force; NaN
+   where there is none yet): in a scene of rigid links in time linear in the links,
+   where the joint by joint query costs that each (RJ_MALLOC's scratch, RJ_ERR_NOMEM
+   without it). */
+RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double *forces);
 /* Element element of a flexible link at t^n (a step before the state's time, as the
    step took it), recomputed from the state: loads[0] the axial force N (N, tension
    positive), [1] the shear V (N), [2] and [3] the bending moment at its first and its
@@ -12802,89 +12807,109 @@ static void rj__rig_pose(const rj_model *m, const double *f, int l, double *phi,
     *vx = ux;
     *vy = uy;
 }
-/* Rigid scenes: link l's angular rate and acceleration, and the acceleration of its root,
-   from a frame's angles, rates and accelerations (each joint's RJ__JD_QDD), walking up
-   to the ground as rj__rig_pose does; the root's position into root. */
-static void rj__rig_accel(const rj_model *m, const double *f, int l, double *om, double *al,
-                          double root[2], double acc[2])
+/* Rigid scenes: every hanging link's angle, rate, angular acceleration, root and the
+   root's acceleration (7 per link in k), from a frame's angles, rates and accelerations
+   (RJ__JD_QDD), down the tree in joint order (parents first): O(nl). */
+enum { RJ__KA_PHI, RJ__KA_OM, RJ__KA_AL, RJ__KA_RX, RJ__KA_RY, RJ__KA_AX, RJ__KA_AY, RJ__KA_N };
+static void rj__rig_accels(const rj_model *m, const double *f, double *k)
 {
-    const int j = m->rb_pjoint[l];
-    double ph, rx, ry, vx, vy, e[2], off;
-    double a_pin[2] = { 0, 0 }, om_p = 0, al_p = 0;
-    if (j < 0) {
-        *om = *al = 0;
-        root[0] = m->ldef[l].x;
-        root[1] = m->ldef[l].y;
-        acc[0] = acc[1] = 0;
-        return;
-    }
-    rj__rig_pose(m, f, l, &ph, &rx, &ry, om, &vx, &vy);
-    if (m->jdef[j].body1 >= 0) {
-        const int p = m->jdef[j].body1;
-        double p_root[2], p_acc[2], pph, px, py, po, pvx, pvy, d[2];
-        rj__rig_accel(m, f, p, &om_p, &al_p, p_root, p_acc);
-        rj__rig_pose(m, f, p, &pph, &px, &py, &po, &pvx, &pvy);
-        d[0] = m->jpin[j] * cos(pph);
-        d[1] = m->jpin[j] * sin(pph);
-        /* the pin on body 1: a_root + alpha perp(d) - omega^2 d */
-        a_pin[0] = p_acc[0] - al_p * d[1] - om_p * om_p * d[0];
-        a_pin[1] = p_acc[1] + al_p * d[0] - om_p * om_p * d[1];
-    }
-    *al = al_p + RJ__FJ(m, f, j)[RJ__JD_QDD];
-    /* the root sits off the pin by the pin node's distance along the link */
-    off = (m->jnt[j].nJ - m->link_first[l]) * m->link_l0[l];
-    e[0] = cos(ph);
-    e[1] = sin(ph);
-    acc[0] = a_pin[0] + off * (*al * e[1] + *om * *om * e[0]);
-    acc[1] = a_pin[1] + off * (-*al * e[0] + *om * *om * e[1]);
-    root[0] = rx;
-    root[1] = ry;
-}
-
-/* Whether link l hangs, through its parents, from joint j. */
-static int rj__rig_below(const rj_model *m, int l, int j)
-{
-    int up;
-    for (up = m->rb_pjoint[l]; up >= 0; up = rj__rig_up(m, up))
-        if (up == j)
-            return 1;
-    return 0;
-}
-
-/* Rigid scenes without loops: the force body 1 exerts on body 2 at joint j's pin, the
-   sum over the links below it of m (a_c - g) less the loads and the caller's forces on
-   them (Newton's second law for the subtree; the rates at n + 1/2, the accelerations of
-   the step). */
-static void rj__rig_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
-{
-    const double *f = s->fd[s->cur];
-    int l, k;
-    force[0] = force[1] = 0;
+    int q, l;
+    /* a link no joint hangs (fixed, or a free root in joint coordinates) stays put */
     for (l = 0; l < m->nl; l++) {
-        double om, al, root[2], acc[2], ph, rx, ry, o, vx, vy, e[2];
-        const double dc = m->rb_dcm[l];
-        if (!rj__rig_below(m, l, j))
-            continue;
-        rj__rig_accel(m, f, l, &om, &al, root, acc);
-        rj__rig_pose(m, f, l, &ph, &rx, &ry, &o, &vx, &vy);
+        double *kl = k + RJ__KA_N * (size_t) l;
+        memset(kl, 0, sizeof(double) * RJ__KA_N);
+        kl[RJ__KA_PHI] = m->ldef[l].angle;
+        kl[RJ__KA_RX] = m->ldef[l].x;
+        kl[RJ__KA_RY] = m->ldef[l].y;
+    }
+    for (q = 0; q < m->nq; q++) {
+        const int j = m->jorder[q], l = m->jdef[j].body2, p = m->jdef[j].body1;
+        const double *jd = RJ__FJ(m, f, j);
+        double *kl = k + RJ__KA_N * (size_t) l, pin[2], a_pin[2], e[2], ph, om, al, off;
+        if (p < 0) {
+            ph = m->jdef[j].ground_angle;
+            om = al = 0;
+            pin[0] = m->jdef[j].ground_x;
+            pin[1] = m->jdef[j].ground_y;
+            a_pin[0] = a_pin[1] = 0;
+        } else {
+            const double *kp = k + RJ__KA_N * (size_t) p;
+            const double d[2] = { m->jpin[j] * cos(kp[RJ__KA_PHI]), m->jpin[j] * sin(kp[RJ__KA_PHI]) };
+            ph = kp[RJ__KA_PHI] + m->jref[j];
+            om = kp[RJ__KA_OM];
+            al = kp[RJ__KA_AL];
+            pin[0] = kp[RJ__KA_RX] + d[0];
+            pin[1] = kp[RJ__KA_RY] + d[1];
+            /* the pin on body 1: a_root + alpha perp(d) - omega^2 d */
+            a_pin[0] = kp[RJ__KA_AX] - al * d[1] - om * om * d[0];
+            a_pin[1] = kp[RJ__KA_AY] + al * d[0] - om * om * d[1];
+        }
+        ph += jd[RJ__JD_THETA];
+        om += jd[RJ__JD_RATE];
+        al += jd[RJ__JD_QDD];
+        /* the root sits off the pin by the pin node's distance along the link */
+        off = (m->jnt[j].nJ - m->link_first[l]) * m->link_l0[l];
         e[0] = cos(ph);
         e[1] = sin(ph);
+        kl[RJ__KA_PHI] = ph;
+        kl[RJ__KA_OM] = om;
+        kl[RJ__KA_AL] = al;
+        kl[RJ__KA_RX] = pin[0] - off * e[0];
+        kl[RJ__KA_RY] = pin[1] - off * e[1];
+        kl[RJ__KA_AX] = a_pin[0] + off * (al * e[1] + om * om * e[0]);
+        kl[RJ__KA_AY] = a_pin[1] + off * (-al * e[0] + om * om * e[1]);
+    }
+}
+
+/* Rigid scenes without loops: every joint's pin force (2 per joint in forces), the force
+   body 1 exerts on body 2: the sum over the links below of m (a_c - g) less the loads
+   and the caller's forces on them (Newton's second law for the subtree; the rates at
+   n + 1/2, the step's accelerations), gathered up the tree in reverse joint order.
+   work: 9 nl doubles. */
+static void rj__rig_pin_forces(const rj_model *m, const rj_state *s, double *work,
+                               double *forces)
+{
+    const double *f = s->fd[s->cur];
+    double *k = work, *sum = work + RJ__KA_N * (size_t) m->nl;
+    int l, q, i;
+    rj__rig_accels(m, f, k);
+    for (l = 0; l < m->nl; l++) {
+        const double *kl = k + RJ__KA_N * (size_t) l, dc = m->rb_dcm[l];
+        double e[2];
+        sum[2 * l] = sum[2 * l + 1] = 0;
+        if (m->rb_pjoint[l] < 0)
+            continue;
+        e[0] = cos(kl[RJ__KA_PHI]);
+        e[1] = sin(kl[RJ__KA_PHI]);
         /* the centre: a_root + alpha perp(dc e) - omega^2 dc e */
-        force[0] += m->rb_mass[l] * (acc[0] - al * dc * e[1] - om * om * dc * e[0] -
-                                     m->solver.gravity[0]);
-        force[1] += m->rb_mass[l] * (acc[1] + al * dc * e[0] - om * om * dc * e[1] -
-                                     m->solver.gravity[1]);
-        for (k = 0; k < m->nload; k++)
-            if (m->load[k].link == l) {
-                double value[3];
-                rj__load_value(&m->load[k], RJ__FS(m, f)[RJ__FS_TIME], ph, value);
-                force[0] -= value[0];
-                force[1] -= value[1];
-            }
-        for (k = 0; k <= m->ldef[l].elements && s->node_inputs; k++) {
-            const double *in = s->input_node + 3 * (size_t) (m->link_first[l] + k);
-            force[0] -= in[0];
-            force[1] -= in[1];
+        sum[2 * l] = m->rb_mass[l] * (kl[RJ__KA_AX] - kl[RJ__KA_AL] * dc * e[1] -
+                                      kl[RJ__KA_OM] * kl[RJ__KA_OM] * dc * e[0] -
+                                      m->solver.gravity[0]);
+        sum[2 * l + 1] = m->rb_mass[l] * (kl[RJ__KA_AY] + kl[RJ__KA_AL] * dc * e[0] -
+                                          kl[RJ__KA_OM] * kl[RJ__KA_OM] * dc * e[1] -
+                                          m->solver.gravity[1]);
+        for (i = 0; i <= m->ldef[l].elements && s->node_inputs; i++) {
+            const double *in = s->input_node + 3 * (size_t) (m->link_first[l] + i);
+            sum[2 * l] -= in[0];
+            sum[2 * l + 1] -= in[1];
+        }
+    }
+    for (q = 0; q < m->nload; q++) {
+        double value[3];
+        l = m->load[q].link;
+        if (m->rb_pjoint[l] < 0)
+            continue;
+        rj__load_value(&m->load[q], RJ__FS(m, f)[RJ__FS_TIME], k[RJ__KA_N * (size_t) l], value);
+        sum[2 * l] -= value[0];
+        sum[2 * l + 1] -= value[1];
+    }
+    for (q = m->nq - 1; q >= 0; q--) {
+        const int j = m->jorder[q], l2 = m->jdef[j].body2, p = m->jdef[j].body1;
+        forces[2 * j] = sum[2 * l2];
+        forces[2 * j + 1] = sum[2 * l2 + 1];
+        if (p >= 0) {
+            sum[2 * p] += sum[2 * l2];
+            sum[2 * p + 1] += sum[2 * l2 + 1];
         }
     }
 }
@@ -13016,19 +13041,48 @@ static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
     return m->any_inext || m->ip || J->chord || s->steps == 0;
 }
 
+RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double *forces)
+{
+    double *work;
+    int j;
+    RJ_ASSERT(m && s && forces);
+    for (j = 0; j < m->nj; j++) {
+        const int unknown = rj__pin_force_unknown(m, s, j);
+        forces[2 * j] = forces[2 * j + 1] = unknown ? NAN : 0.0;
+        if (!unknown && !m->rigid)
+            rj__node_pin_force(m, s, j, forces + 2 * j);
+    }
+    if (!m->rigid || m->nloop || !m->nj)
+        return RJ_OK;
+    work = (double *) RJ_MALLOC(sizeof(double) * (RJ__KA_N + 2) * ((size_t) m->nl + 1), NULL);
+    if (!work)
+        return RJ_ERR_NOMEM;
+    rj__rig_pin_forces(m, s, work, forces);
+    RJ_FREE(work, NULL);
+    return RJ_OK;
+}
+
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
 {
+    double *all;
+    rj_result r;
     RJ_ASSERT(m && s && force && j >= 0 && j < m->nj);
     force[0] = force[1] = 0;
     if (rj__pin_force_unknown(m, s, j))
         return RJ_ERR_INVALID;
-    if (m->rigid)
-        rj__rig_pin_force(m, s, j, force);
-    else
+    if (!m->rigid) {
         rj__node_pin_force(m, s, j, force);
-    return RJ_OK;
+        return RJ_OK;
+    }
+    all = (double *) RJ_MALLOC(sizeof(double) * 2 * (size_t) m->nj, NULL);
+    if (!all)
+        return RJ_ERR_NOMEM;
+    r = rj_joint_pin_forces(m, s, all);
+    force[0] = all[2 * j];
+    force[1] = all[2 * j + 1];
+    RJ_FREE(all, NULL);
+    return r;
 }
-
 static void rj__rig_node(const rj_model *m, const rj_state *s, int l, int n, double xy[2],
                          double v[2], double *phi)
 {

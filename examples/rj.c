@@ -762,6 +762,7 @@ typedef struct csv_sink {
     int nprobes;
     const int *load_links; /* --loads: the links whose elements' loads are columns */
     int nloads;
+    double *pin; /* every joint's pin force for the row (rj_joint_pin_forces) */
 } csv_sink;
 
 /* Column names after each joint's, link's and probe's name, and the energy columns. */
@@ -801,7 +802,7 @@ static void csv_header(csv_sink *c, const scene *sc)
 
 /* A joint's columns: angle in degrees (running, so it never jumps at 360), rate, flag,
    the torque components and the latch impulse. */
-static void csv_joint(cli_out *o, const rj_model *m, const rj_state *s, int j)
+static void csv_joint(cli_out *o, const rj_model *m, const rj_state *s, int j, const double *pin)
 {
     cli_put(o, fprintf(o->f, ",%.10g,%.10g,%d,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g",
                        rj_deg(rj_joint_theta_running(m, s, j)), rj_joint_rate(m, s, j), rj_joint_flag(m, s, j),
@@ -810,12 +811,9 @@ static void csv_joint(cli_out *o, const rj_model *m, const rj_state *s, int j)
                        rj_joint_torque(m, s, j, RJ_TORQUE_LIMIT), rj_joint_latch_impulse(m, s, j)));
     /* the actuator's torque, in scenes that have actuators */
     if (rj_model_actuator_count(m)) cli_put(o, fprintf(o->f, ",%.10g", rj_joint_torque(m, s, j, RJ_TORQUE_DRIVE)));
-    /* the pin force on body 2, empty where the library has none yet (rj_joint_pin_force) */
-    {
-        double F[2];
-        if (rj_joint_pin_force(m, s, j, F) == RJ_OK) cli_put(o, fprintf(o->f, ",%.10g,%.10g", F[0], F[1]));
-        else cli_put(o, fputs(",,", o->f));
-    }
+    /* the pin force on body 2, empty where the library has none yet (NaN) */
+    if (!isnan(pin[2 * j])) cli_put(o, fprintf(o->f, ",%.10g,%.10g", pin[2 * j], pin[2 * j + 1]));
+    else cli_put(o, fputs(",,", o->f));
 }
 
 /* Tip position and the tip's deflection from the tangent at node 0 (second order in the
@@ -845,7 +843,9 @@ static int csv_sink_fn(runner *r, const rj_state *s)
     const rj_model *m = r->sc->m;
     int i;
     cli_put(&c->out, fprintf(c->out.f, "%.12g", rj_state_time(s)));
-    for (i = 0; i < rj_model_joint_count(m); i++) csv_joint(&c->out, m, s, i);
+    for (i = 0; i < 2 * rj_model_joint_count(m); i++) c->pin[i] = NAN;
+    rj_joint_pin_forces(m, s, c->pin);
+    for (i = 0; i < rj_model_joint_count(m); i++) csv_joint(&c->out, m, s, i, c->pin);
     for (i = 0; i < rj_model_link_count(m); i++) csv_link(&c->out, m, s, i);
     for (i = 0; i < c->nprobes; i++) {
         double xy[2];
@@ -1056,7 +1056,8 @@ static int cmd_run(int argc, char **argv)
     if (scene_open(&sc, o.scene, o.dt) != 0) return 2;
     pr = (probe *)malloc(sizeof(probe) * (size_t)(o.nprobes + 1));
     load_links = (int *)malloc(sizeof(int) * (size_t)(o.nloads + 1));
-    if (pr && load_links && probes_resolve(&sc, &o, pr) == 0 && loads_resolve(&sc, &o, load_links) == 0) {
+    c.pin = (double *)malloc(sizeof(double) * 2 * (size_t)(rj_model_joint_count(sc.m) + 1));
+    if (pr && load_links && c.pin && probes_resolve(&sc, &o, pr) == 0 && loads_resolve(&sc, &o, load_links) == 0) {
         /* the settling's steps count at their most, with the run's */
         cli_check_steps_plus("rj run", o.t_end, rj_model_dt(sc.m), o.settle ? SETTLE_MAX_STEPS : 0,
                              "settling steps (--settle)", o.force);
@@ -1078,9 +1079,10 @@ static int cmd_run(int argc, char **argv)
     }
     free(pr);
     free(load_links);
+    free(c.pin);
     free((void *)o.probes);
     scene_close(&sc);
-    return pr && load_links ? st : 1;
+    return pr && load_links && c.pin ? st : 1;
 }
 
 /* ================================================================ rj check */

@@ -654,6 +654,11 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
    loops of rigid links, before a step. */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
+/* Every joint's pin force at once (2 per joint in forces, as rj_joint_pin_force; NaN
+   where there is none yet): in a scene of rigid links in time linear in the links,
+   where the joint by joint query costs that each (RJ_MALLOC's scratch, RJ_ERR_NOMEM
+   without it). */
+RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double *forces);
 /* Element element of a flexible link at t^n (a step before the state's time, as the
    step took it), recomputed from the state: loads[0] the axial force N (N, tension
    positive), [1] the shear V (N), [2] and [3] the bending moment at its first and its
