@@ -90,8 +90,8 @@ static const char usage_run[] =
     "  rj_joint_event_time; the links of a joint passing through each other, once per\n"
     "  joint, as rj_joint_overlap_time), then a summary:\n"
     "  per joint the first contact, the lock, peak penetration, peak |limit torque|, peak\n"
-    "  |latch impulse|, and between two links when they overlapped; steps, wall time,\n"
-    "  steps/s.\n"
+    "  |latch impulse|, peak |pin force|, and between two links when they overlapped;\n"
+    "  steps, wall time, steps/s.\n"
     "  A lock and the first contact are printed at once, other flag changes once they have\n"
     "  held 0.1 ms (contacts may toggle step by step); the summary counts every change.\n"
     "  Events and peaks are checked every step, so the energy accounts are taken every\n"
@@ -416,6 +416,7 @@ typedef struct jlog {
     long contacts, releases; /* every flag change counted */
     double peak_limit;       /* N m, largest |limit torque| of any step */
     double peak_latch;       /* N m s, largest |latch impulse| of any step */
+    double peak_pin;         /* N, largest |pin force| of any step (-1: none known) */
     int shown;               /* the flag the latest event line reported */
     int pend;                /* a change not printed yet (-1: none) */
     double pend_t;           /* s, its time */
@@ -448,6 +449,7 @@ struct runner {
     long sampled;            /* steps at the latest sample (-1: none yet) */
     long warns;              /* state warnings printed so far */
     jlog *jl;
+    double *pin;             /* every joint's pin force after the latest step */
     sink_fn sink;
     void *data;
     int stop;                /* STOP_*: why a sink stopped the run */
@@ -477,7 +479,8 @@ static int runner_init(runner *r, const scene *sc, const char *prog, double t_en
     r->every = every < rj_model_dt(m) ? 0 : every;
     r->sampled = -1;
     r->jl = (jlog *)calloc((size_t)(nj > 0 ? nj : 1), sizeof *r->jl);
-    if (!r->jl || rj_state_create(m, &r->s, NULL) != RJ_OK) {
+    r->pin = (double *)calloc(2 * (size_t)(nj > 0 ? nj : 1), sizeof *r->pin);
+    if (!r->jl || !r->pin || rj_state_create(m, &r->s, NULL) != RJ_OK) {
         fprintf(stderr, "%s: out of memory\n", prog);
         return -1;
     }
@@ -487,6 +490,7 @@ static int runner_init(runner *r, const scene *sc, const char *prog, double t_en
         r->jl[j].pend = -1;
         r->jl[j].lock_t = -1;
         r->jl[j].overlap_t = -1;
+        r->jl[j].peak_pin = -1;
     }
     r->pr.tty = isatty(2);
     r->pr.mode = progress_opt ? PROGRESS_ALWAYS : r->pr.tty ? PROGRESS_TTY : PROGRESS_OFF;
@@ -498,6 +502,7 @@ static void runner_free(runner *r)
 {
     if (r->s) rj_state_destroy(r->s, NULL);
     free(r->jl);
+    free(r->pin);
 }
 
 /* ---- progress ---- */
@@ -643,15 +648,20 @@ static void step_check(runner *r, const rj_state *s)
     const rj_model *m = r->sc->m;
     const int nj = rj_model_joint_count(m);
     int j, overlaps = 0;
+    /* every joint's pin force (NaN where the library has none) for the peaks */
+    if (rj_joint_pin_forces(m, s, r->pin) != RJ_OK)
+        for (j = 0; j < 2 * nj; j++) r->pin[j] = NAN;
     for (j = 0; j < nj; j++) {
         jlog *L = &r->jl[j];
         const int f = rj_joint_flag(m, s, j);
+        const double pin = hypot(r->pin[2 * j], r->pin[2 * j + 1]);
         const double tl = fabs(rj_joint_torque(m, s, j, RJ_TORQUE_LIMIT));
         const double li = fabs(rj_joint_latch_impulse(m, s, j));
         if (f != L->flag) flag_change(r, s, j, f);
         pending_check(r, s, j, 0);
         if (tl > L->peak_limit) L->peak_limit = tl;
         if (li > L->peak_latch) L->peak_latch = li;
+        if (!isnan(pin) && pin > L->peak_pin) L->peak_pin = pin;
         overlaps += overlap_check(r, s, j);
     }
     warning_check(r, s, overlaps);
@@ -723,17 +733,19 @@ static void joint_summary(const runner *r, int j)
 {
     const rj_model *m = r->sc->m;
     const jlog *L = &r->jl[j];
-    char a[40], b[40], c[64];
+    char a[40], b[40], c[64], p[48];
     c[0] = '\0';
+    if (L->peak_pin >= 0) snprintf(p, sizeof p, "%.4g N", L->peak_pin);
+    else snprintf(p, sizeof p, "none known");
     if (rj_model_joint_def(m, j)->body1 >= 0) {
         time_text(L->overlap_t, a, sizeof a);
         snprintf(c, sizeof c, ", links overlap %s", a);
     }
     fprintf(stderr, "%s: %s: first contact %s, lock %s, %ld contacts, %ld releases, peak penetration %.4g deg, "
-            "peak |limit torque| %.4g N m, peak |latch impulse| %.4g N m s%s\n",
+            "peak |limit torque| %.4g N m, peak |latch impulse| %.4g N m s, peak |pin force| %s%s\n",
             r->prog, joint_name(r->sc, j), time_text(rj_joint_event_time(m, r->s, j), a, sizeof a),
             time_text(L->lock_t, b, sizeof b), L->contacts, L->releases,
-            rj_deg(rj_joint_peak_penetration(m, r->s, j)), L->peak_limit, L->peak_latch, c);
+            rj_deg(rj_joint_peak_penetration(m, r->s, j)), L->peak_limit, L->peak_latch, p, c);
 }
 
 /* The summary on standard error; a stopped simulation gets the library's message. */

@@ -222,6 +222,12 @@ m 1 "$T/blocked/frame_00000.png.*Is a directory" "animate fails (1) naming the f
 # the sag against beam theory with the lumped loads of 10 elements (5.694705e-3 m, within
 # 3e-5: the co-rotational beam's shortening), and it stays there
 printf 'solver\n  gravity = 0 -9.81\nlink beam\n  length = 1  elements = 10\n  E = 7e10  rho = 2700\n  width = 0.02  height = 0.01\n  root = clamped\n' > $T/cantilever.rjs
+# a rigid rod of 0.54 kg released level: its pin carries 2.5 m g = 13.2435 N at the bottom,
+# the largest force of its swing (rj run's summary, from rj_joint_pin_forces)
+printf 'solver\n  dt = 1e-4  gravity = 0 -9.81\nlink rod\n  length = 1  rho = 2700  width = 0.02  height = 0.01\n  fidelity = rigid\njoint pin\n  body1 = ground  body2 = rod  angle0 = 0\n' > $T/rod.rjs
+$B/rj run $T/rod.rjs --t-end 1 --csv /dev/null 2>$T/rod.err
+ok "run: the summary's peak pin force, a rod released level: 2.5 m g at the bottom" \
+  "sed -n 's/.*peak |pin force| \\([0-9.e+-]*\\) N.*/\\1/p' $T/rod.err | awk '{ v = \$1 } END { exit !(NR == 1 && v > 13.2435 * (1 - 1e-3) && v < 13.2435 * (1 + 1e-3)) }'"
 $B/rj run $T/cantilever.rjs --settle --t-end 0.05 --sample 0.01 --csv $T/sag.csv 2>$T/sag.err
 ok "run --settle: the cantilever starts from its sag under gravity and stays there" \
   "grep -q 'settled to the static equilibrium' $T/sag.err && awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) { if (\$i == \"beam.tip_y\") y = i; if (\$i == \"E_gravity\") g = i } next }
