@@ -59,7 +59,7 @@ static const char usage_run[] =
     "  --csv FILE         the history (default, or -, standard output)\n"
     "  --probe LINK:NODE  add that node's x, y, phi (repeatable; NODE an index or 'last')\n"
     "  --loads LINK       add L.E.N, L.E.V (N), L.E.M0, L.E.M1 (N m) for each element E\n"
-    "                     (rj_element_loads; empty where there are none; repeatable)\n"
+    "                     (rj_element_loads; repeatable); the summary: their peaks\n"
     "  --nodes FILE       every node at the end: link,node,x,y,phi\n"
     "  --progress         progress line on standard error (percent, simulated time,\n"
     "                     steps/s, ETA); without it only on a terminal, after 2 s of wall time\n"
@@ -450,6 +450,9 @@ struct runner {
     long warns;              /* state warnings printed so far */
     jlog *jl;
     double *pin;             /* every joint's pin force after the latest step */
+    const int *peak_links;   /* rj run --loads: links whose element loads' peaks are kept */
+    int npeak;
+    double *peak;            /* per such link: |M|, its element, its end (0, 1), when; stress */
     sink_fn sink;
     void *data;
     int stop;                /* STOP_*: why a sink stopped the run */
@@ -503,6 +506,7 @@ static void runner_free(runner *r)
     if (r->s) rj_state_destroy(r->s, NULL);
     free(r->jl);
     free(r->pin);
+    free(r->peak);
 }
 
 /* ---- progress ---- */
@@ -648,6 +652,24 @@ static void step_check(runner *r, const rj_state *s)
     const rj_model *m = r->sc->m;
     const int nj = rj_model_joint_count(m);
     int j, overlaps = 0;
+    /* the --loads links' largest bending moment (where, when) and outer-fibre stress */
+    for (j = 0; j < r->npeak; j++) {
+        double *pk = r->peak + 5 * j;
+        int e;
+        for (e = 0; e < rj_link_node_count(m, r->peak_links[j]) - 1; e++) {
+            double L[5];
+            int end;
+            if (rj_element_loads(m, s, r->peak_links[j], e, L) != RJ_OK) continue;
+            for (end = 0; end < 2; end++)
+                if (fabs(L[2 + end]) > pk[0]) {
+                    pk[0] = fabs(L[2 + end]);
+                    pk[1] = e;
+                    pk[2] = end;
+                    pk[3] = rj_state_time(s) - rj_model_dt(m); /* the loads are at t^n */
+                }
+            if (L[4] > pk[4]) pk[4] = L[4];
+        }
+    }
     /* every joint's pin force (NaN where the library has none) for the peaks */
     if (rj_joint_pin_forces(m, s, r->pin) != RJ_OK)
         for (j = 0; j < 2 * nj; j++) r->pin[j] = NAN;
@@ -761,6 +783,12 @@ static void runner_summary(const runner *r, rj_result res)
             res == RJ_OK && !r->stop ? "done" : "stopped", rj_state_time(r->s), steps, rj_model_dt(r->sc->m), r->wall,
             r->wall > 0 ? (double)steps / r->wall : 0.0);
     for (j = 0; j < rj_model_joint_count(r->sc->m); j++) joint_summary(r, j);
+    for (j = 0; j < r->npeak; j++) {
+        const double *pk = r->peak + 5 * j;
+        fprintf(stderr, "%s: %s: peak |bending moment| %.6g N m at element %d, its %s node, t = %.9g s; "
+                "peak outer-fibre stress %.6g Pa\n", r->prog, link_name(r->sc, r->peak_links[j]), pk[0],
+                (int)pk[1], pk[2] ? "second" : "first", pk[3], pk[4]);
+    }
 }
 
 /* ================================================================ rj run */
@@ -1085,7 +1113,13 @@ static int cmd_run(int argc, char **argv)
         st = runner_init(&r, &sc, "rj run", o.t_end, o.sample, o.progress) != 0 ? 1 : 0;
         r.sink = csv_sink_fn;
         r.data = &c;
+        r.peak_links = load_links;
+        r.npeak = o.nloads;
+        r.peak = (double *)calloc(5 * (size_t)(o.nloads + 1), sizeof(double));
+        if (!r.peak) st = 1;
         if (st == 0 && o.settle) st = run_settle(&r, &sc);
+        /* the peaks count from the run's start, not the settling's */
+        if (st == 0) memset(r.peak, 0, 5 * (size_t)(o.nloads + 1) * sizeof(double));
         if (st == 0) st = run_go(&r, &c, &nodes);
         runner_free(&r);
     }

@@ -222,6 +222,12 @@ m 1 "$T/blocked/frame_00000.png.*Is a directory" "animate fails (1) naming the f
 # the sag against beam theory with the lumped loads of 10 elements (5.694705e-3 m, within
 # 3e-5: the co-rotational beam's shortening), and it stays there
 printf 'solver\n  gravity = 0 -9.81\nlink beam\n  length = 1  elements = 10\n  E = 7e10  rho = 2700\n  width = 0.02  height = 0.01\n  root = clamped\n' > $T/cantilever.rjs
+# a clamped cantilever under a 2 N tip load, settled: the peak bending moment is the
+# clamp's, P times the deflected arm (1.99996 N m: rj_element_loads' statics check)
+printf 'solver\n  gravity = 0 0\nlink beam\n  length = 1  elements = 10\n  E = 7e10  rho = 2700\n  width = 0.02  height = 0.01\n  root = clamped\nload tip\n  link = beam  node = last  force = 0 -2\n' > $T/tipload.rjs
+$B/rj run $T/tipload.rjs --settle --t-end 0.05 --loads beam --csv /dev/null 2>$T/tipload.err
+ok "run --loads: the summary's peak bending moment, a settled cantilever: P L at the clamp" \
+  "grep -q 'beam: peak |bending moment| 1.9999[0-9]* N m at element 0, its first node' $T/tipload.err"
 # a rigid rod of 0.54 kg released level: its pin carries 2.5 m g = 13.2435 N at the bottom,
 # the largest force of its swing (rj run's summary, from rj_joint_pin_forces)
 printf 'solver\n  dt = 1e-4  gravity = 0 -9.81\nlink rod\n  length = 1  rho = 2700  width = 0.02  height = 0.01\n  fidelity = rigid\njoint pin\n  body1 = ground  body2 = rod  angle0 = 0\n' > $T/rod.rjs
