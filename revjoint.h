@@ -4641,6 +4641,22 @@ static void rj__cl_load(const rj_model *m, int c, const double *oc, const double
     }
 }
 
+/* Body c's record pushed by the impulse imp (x, y, and angular about its anchor), as
+   SHAKE and the pins between bodies push it: the anchor and the angle move by imp over
+   the body's mass and inertia, and its rates by that over dt (positions and rates stay
+   each other's chord); a body turning about a fixed pin keeps its anchor. */
+static void rj__cl_push(const rj_model *m, int c, const double *imp, double dt, double *nc)
+{
+    if (m->cl_fix[c] == 0) {
+        nc[0] += imp[0] / m->cl_M[c];
+        nc[1] += imp[1] / m->cl_M[c];
+        nc[2] += imp[0] / (m->cl_M[c] * dt);
+        nc[3] += imp[1] / (m->cl_M[c] * dt);
+    }
+    nc[5] += imp[2] / m->cl_I[c];
+    nc[4] += imp[2] / (m->cl_I[c] * dt);
+}
+
 /* Places the body's members at its record (anchor, angle); with setv the node velocities
    become the chord velocities (x^{n+1} - x^n)/dt and its own nodes take its rate. */
 static double rj__cl_pose(const rj_model *m, int c, const double *nc, const double *x,
@@ -7850,14 +7866,7 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
                     if (m->cl_first[q] == m->cl_first[q + 1] || m->cl_fix[q] == 2 ||
                         (imp[3 * q] == 0 && imp[3 * q + 1] == 0 && imp[3 * q + 2] == 0))
                         continue;
-                    if (m->cl_fix[q] == 0) {
-                        nc[0] += imp[3 * q] / m->cl_M[q];
-                        nc[1] += imp[3 * q + 1] / m->cl_M[q];
-                        nc[2] += imp[3 * q] / (m->cl_M[q] * dt);
-                        nc[3] += imp[3 * q + 1] / (m->cl_M[q] * dt);
-                    }
-                    nc[5] += imp[3 * q + 2] / m->cl_I[q];
-                    nc[4] += imp[3 * q + 2] / (m->cl_I[q] * dt);
+                    rj__cl_push(m, q, imp + 3 * q, dt, nc);
                     rj__cl_pose(m, q, nc, x, y, dt, 1, nx, ny, RJ__FPHI(m, nf), RJ__FVX(m, nf),
                                 RJ__FVY(m, nf), RJ__FW(m, nf));
                 }
@@ -8761,14 +8770,21 @@ static void rj__row_prescribed(const rj_model *m, const rj_state *s, rj__rows *R
    angles): e = (theta_b - angle0_b) - ratio (theta_a - angle0_a) - offset back to 0 at
    n + 1, along w = e_b - ratio e_a. map: a joint's index in angles and terms (its
    coordinate in joint coordinates), NULL for the joint itself. */
+/* Exact coupling c's stretch e at its joints' running angles. */
+static double rj__coupling_stretch(const rj_model *m, const rj_coupling_def *c, double theta_a,
+                                   double theta_b)
+{
+    return (theta_b - m->jdef[c->joint_b].angle0) -
+           c->ratio * (theta_a - m->jdef[c->joint_a].angle0) - c->offset;
+}
+
 static void rj__row_coupling(const rj_model *m, rj__rows *R, int k, const double *angles,
                              size_t stride, const int *map, double dt)
 {
     const rj_coupling_def *c = &m->cp[k];
     const int a = map ? map[c->joint_a] : c->joint_a, b = map ? map[c->joint_b] : c->joint_b;
     const double theta_a = angles[stride * (size_t) a], theta_b = angles[stride * (size_t) b];
-    const double e_n = (theta_b - m->jdef[c->joint_b].angle0) -
-                       c->ratio * (theta_a - m->jdef[c->joint_a].angle0) - c->offset;
+    const double e_n = rj__coupling_stretch(m, c, theta_a, theta_b);
     rj__row *row = rj__row_open(R, RJ__ROW_COUPLING, k, -e_n / dt, -HUGE_VAL, HUGE_VAL);
     rj__row_term(R, row, b, 1.0);
     rj__row_term(R, row, a, -c->ratio);
@@ -10820,14 +10836,7 @@ static void rj__body_pins_move(const rj_model *m, const rj__frames *f, const dou
         double *nc = RJ__FCL(m, f->next, c);
         if (m->cl_fix[c] == 2 || (imp[3 * c] == 0 && imp[3 * c + 1] == 0 && imp[3 * c + 2] == 0))
             continue;
-        if (m->cl_fix[c] == 0) {
-            nc[0] += imp[3 * c] / m->cl_M[c];
-            nc[1] += imp[3 * c + 1] / m->cl_M[c];
-            nc[2] += imp[3 * c] / (m->cl_M[c] * f->dt);
-            nc[3] += imp[3 * c + 1] / (m->cl_M[c] * f->dt);
-        }
-        nc[5] += imp[3 * c + 2] / m->cl_I[c];
-        nc[4] += imp[3 * c + 2] / (m->cl_I[c] * f->dt);
+        rj__cl_push(m, c, imp + 3 * c, f->dt, nc);
         *fin += rj__cl_pose(m, c, nc, f->x, f->y, f->dt, 1, f->nx, f->ny, f->nphi, f->nvx,
                             f->nvy, f->nw);
     }
@@ -10836,7 +10845,7 @@ static void rj__body_pins_move(const rj_model *m, const rj__frames *f, const dou
 /* Pins between two rigid bodies of a mixed scene, on positions: Newton on the pins' gaps
    (the matrix of the first pass serves the later ones; at most 20 passes, to 1e-14 of the
    longest body pinned), the bodies' velocities following their corrections, as SHAKE
-   does for inextensible links. */
+   does for inextensible links; the sum of what it wrote into *fin. */
 static void rj__body_pins(const rj_model *m, rj_state *s, const rj__frames *f, double *fin)
 {
     const int n2 = 2 * m->nbp;
@@ -10866,11 +10875,11 @@ static void rj__body_pins(const rj_model *m, rj_state *s, const rj__frames *f, d
     }
 }
 
-/* Stage 6's projections on positions: the pins between rigid bodies, then the
-   inextensible links' lengths (one call out of the step, as SHAKE alone was). */
-static RJ__NOINLINE double rj__projections(const rj_model *m, rj_state *s, const rj__frames *f)
+/* Stage 6's pins between bodies, out of the step's line, on a copy of its frames (their
+   own address taken cost every step 40 instructions): the sum of what they wrote, for
+   the step's finite test. */
+static RJ__NOINLINE double rj__stage_body_pins(const rj_model *m, rj_state *s, const rj__frames *f)
 {
-    /* the bodies' positions and rates written: summed for the step's finite test */
     double sum = 0;
     rj__body_pins(m, s, f, &sum);
     return sum;
@@ -10891,10 +10900,8 @@ static RJ__FORCE_INLINE void rj__stage_constraints(const rj_model *m, rj_state *
         return;
     idt = 1.0 / f->dt;
     if (m->nbp) {
-        /* a copy goes out: the step's own frames stay in registers (their address taken
-           cost every step 40 instructions) */
         const rj__frames frames = *f;
-        *fin += rj__projections(m, s, &frames);
+        *fin += rj__stage_body_pins(m, s, &frames);
     }
     if (m->any_inext)
         rj__shake(m, s, x, y, nx, ny);
@@ -11308,14 +11315,11 @@ static void rj__rig_loop_couplings(const rj_model *m, const rj__frames *f, rj__r
     int k;
     for (k = 0; k < m->ncp; k++) {
         const rj_coupling_def *c = &m->cp[k];
-        const double theta_a = RJ__FJ(m, f->old, c->joint_a)[RJ__JD_THETA];
-        const double theta_b = RJ__FJ(m, f->old, c->joint_b)[RJ__JD_THETA];
-        double e_n;
+        const double e_n = rj__coupling_stretch(m, c, RJ__FJ(m, f->old, c->joint_a)[RJ__JD_THETA],
+                                                RJ__FJ(m, f->old, c->joint_b)[RJ__JD_THETA]);
         rj__row *row;
         if (!c->exact)
             continue;
-        e_n = (theta_b - m->jdef[c->joint_b].angle0) -
-              c->ratio * (theta_a - m->jdef[c->joint_a].angle0) - c->offset;
         row = rj__row_open(R, RJ__ROW_COUPLING, k, -e_n / f->dt, -HUGE_VAL, HUGE_VAL);
         rj__rig_joint_terms(m, R, row, c->joint_b, 1.0, g);
         rj__rig_joint_terms(m, R, row, c->joint_a, -c->ratio, g);

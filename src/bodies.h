@@ -240,6 +240,22 @@ static void rj__cl_load(const rj_model *m, int c, const double *oc, const double
     }
 }
 
+/* Body c's record pushed by the impulse imp (x, y, and angular about its anchor), as
+   SHAKE and the pins between bodies push it: the anchor and the angle move by imp over
+   the body's mass and inertia, and its rates by that over dt (positions and rates stay
+   each other's chord); a body turning about a fixed pin keeps its anchor. */
+static void rj__cl_push(const rj_model *m, int c, const double *imp, double dt, double *nc)
+{
+    if (m->cl_fix[c] == 0) {
+        nc[0] += imp[0] / m->cl_M[c];
+        nc[1] += imp[1] / m->cl_M[c];
+        nc[2] += imp[0] / (m->cl_M[c] * dt);
+        nc[3] += imp[1] / (m->cl_M[c] * dt);
+    }
+    nc[5] += imp[2] / m->cl_I[c];
+    nc[4] += imp[2] / (m->cl_I[c] * dt);
+}
+
 /* Places the body's members at its record (anchor, angle); with setv the node velocities
    become the chord velocities (x^{n+1} - x^n)/dt and its own nodes take its rate. */
 static double rj__cl_pose(const rj_model *m, int c, const double *nc, const double *x,

@@ -149,14 +149,11 @@ static void rj__rig_loop_couplings(const rj_model *m, const rj__frames *f, rj__r
     int k;
     for (k = 0; k < m->ncp; k++) {
         const rj_coupling_def *c = &m->cp[k];
-        const double theta_a = RJ__FJ(m, f->old, c->joint_a)[RJ__JD_THETA];
-        const double theta_b = RJ__FJ(m, f->old, c->joint_b)[RJ__JD_THETA];
-        double e_n;
+        const double e_n = rj__coupling_stretch(m, c, RJ__FJ(m, f->old, c->joint_a)[RJ__JD_THETA],
+                                                RJ__FJ(m, f->old, c->joint_b)[RJ__JD_THETA]);
         rj__row *row;
         if (!c->exact)
             continue;
-        e_n = (theta_b - m->jdef[c->joint_b].angle0) -
-              c->ratio * (theta_a - m->jdef[c->joint_a].angle0) - c->offset;
         row = rj__row_open(R, RJ__ROW_COUPLING, k, -e_n / f->dt, -HUGE_VAL, HUGE_VAL);
         rj__rig_joint_terms(m, R, row, c->joint_b, 1.0, g);
         rj__rig_joint_terms(m, R, row, c->joint_a, -c->ratio, g);

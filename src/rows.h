@@ -77,14 +77,21 @@ static void rj__row_prescribed(const rj_model *m, const rj_state *s, rj__rows *R
    angles): e = (theta_b - angle0_b) - ratio (theta_a - angle0_a) - offset back to 0 at
    n + 1, along w = e_b - ratio e_a. map: a joint's index in angles and terms (its
    coordinate in joint coordinates), NULL for the joint itself. */
+/* Exact coupling c's stretch e at its joints' running angles. */
+static double rj__coupling_stretch(const rj_model *m, const rj_coupling_def *c, double theta_a,
+                                   double theta_b)
+{
+    return (theta_b - m->jdef[c->joint_b].angle0) -
+           c->ratio * (theta_a - m->jdef[c->joint_a].angle0) - c->offset;
+}
+
 static void rj__row_coupling(const rj_model *m, rj__rows *R, int k, const double *angles,
                              size_t stride, const int *map, double dt)
 {
     const rj_coupling_def *c = &m->cp[k];
     const int a = map ? map[c->joint_a] : c->joint_a, b = map ? map[c->joint_b] : c->joint_b;
     const double theta_a = angles[stride * (size_t) a], theta_b = angles[stride * (size_t) b];
-    const double e_n = (theta_b - m->jdef[c->joint_b].angle0) -
-                       c->ratio * (theta_a - m->jdef[c->joint_a].angle0) - c->offset;
+    const double e_n = rj__coupling_stretch(m, c, theta_a, theta_b);
     rj__row *row = rj__row_open(R, RJ__ROW_COUPLING, k, -e_n / dt, -HUGE_VAL, HUGE_VAL);
     rj__row_term(R, row, b, 1.0);
     rj__row_term(R, row, a, -c->ratio);

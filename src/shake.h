@@ -146,14 +146,7 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
                     if (m->cl_first[q] == m->cl_first[q + 1] || m->cl_fix[q] == 2 ||
                         (imp[3 * q] == 0 && imp[3 * q + 1] == 0 && imp[3 * q + 2] == 0))
                         continue;
-                    if (m->cl_fix[q] == 0) {
-                        nc[0] += imp[3 * q] / m->cl_M[q];
-                        nc[1] += imp[3 * q + 1] / m->cl_M[q];
-                        nc[2] += imp[3 * q] / (m->cl_M[q] * dt);
-                        nc[3] += imp[3 * q + 1] / (m->cl_M[q] * dt);
-                    }
-                    nc[5] += imp[3 * q + 2] / m->cl_I[q];
-                    nc[4] += imp[3 * q + 2] / (m->cl_I[q] * dt);
+                    rj__cl_push(m, q, imp + 3 * q, dt, nc);
                     rj__cl_pose(m, q, nc, x, y, dt, 1, nx, ny, RJ__FPHI(m, nf), RJ__FVX(m, nf),
                                 RJ__FVY(m, nf), RJ__FW(m, nf));
                 }

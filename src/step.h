@@ -1337,14 +1337,7 @@ static void rj__body_pins_move(const rj_model *m, const rj__frames *f, const dou
         double *nc = RJ__FCL(m, f->next, c);
         if (m->cl_fix[c] == 2 || (imp[3 * c] == 0 && imp[3 * c + 1] == 0 && imp[3 * c + 2] == 0))
             continue;
-        if (m->cl_fix[c] == 0) {
-            nc[0] += imp[3 * c] / m->cl_M[c];
-            nc[1] += imp[3 * c + 1] / m->cl_M[c];
-            nc[2] += imp[3 * c] / (m->cl_M[c] * f->dt);
-            nc[3] += imp[3 * c + 1] / (m->cl_M[c] * f->dt);
-        }
-        nc[5] += imp[3 * c + 2] / m->cl_I[c];
-        nc[4] += imp[3 * c + 2] / (m->cl_I[c] * f->dt);
+        rj__cl_push(m, c, imp + 3 * c, f->dt, nc);
         *fin += rj__cl_pose(m, c, nc, f->x, f->y, f->dt, 1, f->nx, f->ny, f->nphi, f->nvx,
                             f->nvy, f->nw);
     }
@@ -1353,7 +1346,7 @@ static void rj__body_pins_move(const rj_model *m, const rj__frames *f, const dou
 /* Pins between two rigid bodies of a mixed scene, on positions: Newton on the pins' gaps
    (the matrix of the first pass serves the later ones; at most 20 passes, to 1e-14 of the
    longest body pinned), the bodies' velocities following their corrections, as SHAKE
-   does for inextensible links. */
+   does for inextensible links; the sum of what it wrote into *fin. */
 static void rj__body_pins(const rj_model *m, rj_state *s, const rj__frames *f, double *fin)
 {
     const int n2 = 2 * m->nbp;
@@ -1383,11 +1376,11 @@ static void rj__body_pins(const rj_model *m, rj_state *s, const rj__frames *f, d
     }
 }
 
-/* Stage 6's projections on positions: the pins between rigid bodies, then the
-   inextensible links' lengths (one call out of the step, as SHAKE alone was). */
-static RJ__NOINLINE double rj__projections(const rj_model *m, rj_state *s, const rj__frames *f)
+/* Stage 6's pins between bodies, out of the step's line, on a copy of its frames (their
+   own address taken cost every step 40 instructions): the sum of what they wrote, for
+   the step's finite test. */
+static RJ__NOINLINE double rj__stage_body_pins(const rj_model *m, rj_state *s, const rj__frames *f)
 {
-    /* the bodies' positions and rates written: summed for the step's finite test */
     double sum = 0;
     rj__body_pins(m, s, f, &sum);
     return sum;
@@ -1408,10 +1401,8 @@ static RJ__FORCE_INLINE void rj__stage_constraints(const rj_model *m, rj_state *
         return;
     idt = 1.0 / f->dt;
     if (m->nbp) {
-        /* a copy goes out: the step's own frames stay in registers (their address taken
-           cost every step 40 instructions) */
         const rj__frames frames = *f;
-        *fin += rj__projections(m, s, &frames);
+        *fin += rj__stage_body_pins(m, s, &frames);
     }
     if (m->any_inext)
         rj__shake(m, s, x, y, nx, ny);

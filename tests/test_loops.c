@@ -271,16 +271,18 @@ static void compare_step(const rj_model *m, const rj_state *s, rigid4 *r, double
         o->midspan = fmax(o->midspan, fabs(coupler_midspan(m, s)));
 }
 
-static void run_fourbar(double E, const char *fidelity, double dt, double t_end, fourbar_run *o)
+/* The scene text against the exact motion (rigid4 of its own bars, bar_of, with a rotor's
+   inertia on the loop joint and a cable loop from the crank to it) over t_end: the worst
+   differences into o. */
+static void run_against_exact(const char *text, double rotor, double k_cable, double t_end,
+                              fourbar_run *o)
 {
-    char text[2048];
     rj_model *m = NULL;
     rj_state *s = NULL;
     rj_error err;
     rigid4 r;
     double q = CRANK0, w = 0;
     memset(o, 0, sizeof *o);
-    fourbar_text(E, fidelity, dt, text, sizeof text);
     if (!build(text, &m, &s, &err)) {
         o->result = err.code;
         snprintf(o->msg, sizeof o->msg, "%s", err.msg);
@@ -292,19 +294,25 @@ static void run_fourbar(double E, const char *fidelity, double dt, double t_end,
     r.rocker = bar_of(m, 2, BAR_C);
     r.t3 = 0.5;
     r.t4 = 1.5;
-    r.rotor = 0;
-    r.k_cable = 0;
+    r.rotor = rotor;
+    r.k_cable = k_cable;
     crank_accel(&r, q, w);
-    while (rj_state_time(s) < t_end && o->result == RJ_OK) {
-        const double dt = rj_model_dt(m);
+    while (rj_state_time(s) < t_end - 0.5 * o->dt && o->result == RJ_OK) {
         o->result = rj_step(m, s);
-        rigid_rk4(&r, &q, &w, dt);
+        rigid_rk4(&r, &q, &w, o->dt);
         compare_step(m, s, &r, q, o);
     }
     if (o->result != RJ_OK)
         snprintf(o->msg, sizeof o->msg, "t = %g s: %s", rj_state_time(s), rj_state_error(s));
     rj_state_destroy(s, NULL);
     rj_model_destroy(m, NULL);
+}
+
+static void run_fourbar(double E, const char *fidelity, double dt, double t_end, fourbar_run *o)
+{
+    char text[2048];
+    fourbar_text(E, fidelity, dt, text, sizeof text);
+    run_against_exact(text, 0, 0, t_end, o);
 }
 
 static void test_fourbar(rjt_ctx *c)
@@ -693,45 +701,9 @@ static void run_rigid_with(double dt, const char *tail, double rotor, double k_c
                            fourbar_run *o)
 {
     char out[2600];
-    rj_model *m = NULL;
-    rj_state *s = NULL;
-    rj_error err;
-    rigid4 r;
-    const double mass = 2700 * 0.02 * 0.02;
-    const double len[3] = { BAR_A, BAR_B, BAR_C };
-    bar *bars[3];
-    double q = CRANK0, w2 = 0;
-    int k;
-    memset(o, 0, sizeof *o);
     rigid_text(dt, "", out, sizeof out - strlen(tail));
     strcat(out, tail);
-    if (!build(out, &m, &s, &err)) {
-        o->result = err.code;
-        snprintf(o->msg, sizeof o->msg, "%s", err.msg);
-        return;
-    }
-    bars[0] = &r.crank;
-    bars[1] = &r.coupler;
-    bars[2] = &r.rocker;
-    for (k = 0; k < 3; k++) {
-        bars[k]->m = mass * len[k];
-        bars[k]->s = bars[k]->m * len[k] / 2;
-        bars[k]->J = bars[k]->m * len[k] * len[k] / 3;
-    }
-    r.t3 = 0.5;
-    r.t4 = 1.5;
-    r.rotor = rotor;
-    r.k_cable = k_cable;
-    crank_accel(&r, q, w2);
-    while (rj_state_time(s) < RIGID_SECONDS - 0.5 * dt && o->result == RJ_OK) {
-        o->result = rj_step(m, s);
-        rigid_rk4(&r, &q, &w2, dt);
-        compare_step(m, s, &r, q, o);
-    }
-    if (o->result != RJ_OK)
-        snprintf(o->msg, sizeof o->msg, "t = %g s: %s", rj_state_time(s), rj_state_error(s));
-    rj_state_destroy(s, NULL);
-    rj_model_destroy(m, NULL);
+    run_against_exact(out, rotor, k_cable, RIGID_SECONDS, o);
 }
 
 /* The rigid four-bar with a plastic latch on the joint that closes its loop (forward
