@@ -690,10 +690,6 @@ static void rigid_text(double dt, const char *extra, char *out, size_t n)
     *w = 0;
 }
 
-/* The four-bar of rigid bars (joint coordinates, the loop closed by rows on positions):
-   the crank against the exact motion with the bars' exact mass properties (rods: m,
-   m L / 2, m L^2 / 3 about node 0) over RIGID_SECONDS at dt, its largest error, the largest pin gap
-   and |balance| into o. */
 /* The rigid four-bar at step dt with the scene text tail appended (an actuator, a
    coupling), against the exact motion with a rotor's inertia on the loop joint and a
    cable loop from the crank to it (rigid4). */
@@ -931,6 +927,10 @@ static void test_loop_checkpoints(rjt_ctx *c)
     }
 }
 
+/* The four-bar of rigid bars (joint coordinates, the loop closed by rows on positions):
+   the crank against the exact motion with the bars' exact mass properties (rods: m,
+   m L / 2, m L^2 / 3 about node 0) over RIGID_SECONDS at dt, its largest error, the
+   largest pin gap and |balance| into o. */
 static void run_rigid(double dt, fourbar_run *o)
 {
     run_rigid_with(dt, "", 0, 0, o);
