@@ -208,7 +208,8 @@ typedef enum rj_torque {
      area 0 m^2, inertia 0 m^4 (used only by RJ_SECTION_GENERAL);
      tip_mass 0 kg, tip_inertia 0 kg m^2;
      root RJ_ROOT_FREE; x 0 m, y 0 m, angle 0 rad (root placement, used when the link is not
-     the body2 of a joint); vx, vy 0 m/s, omega 0 rad/s (initial rigid motion of a root link); fidelity RJ_LINK_FLEXIBLE. */
+     the body2 of a joint); vx, vy 0 m/s, omega 0 rad/s (initial rigid motion of a root link); fidelity RJ_LINK_FLEXIBLE;
+     eta 0 s, damping 0 0, mass_damping 0 1/s (no structural damping). */
 typedef struct rj_link_def {
     double length;        /* m, > 0 */
     int elements;         /* >= 1 */
@@ -226,7 +227,14 @@ typedef struct rj_link_def {
     double x, y, angle;   /* m, m, rad */
     double vx, vy, omega; /* m/s, m/s, rad/s */
     int fidelity;         /* rj_fidelity */
-    unsigned cookie;      /* set by rj_default_link_def; catches undefaulted structs */
+    /* Structural damping (flexible and inextensible links; docs/modelling.md): */
+    double eta;          /* s, >= 0: Kelvin-Voigt, stress E (strain + eta d(strain)/dt) on the
+                            axial and bending strains: mode n damped at ratio eta omega_n / 2 */
+    double damping[2];   /* ratio, Hz: the eta that gives the ratio at that frequency,
+                            ratio / (pi Hz); 0 0 none (not with eta) */
+    double mass_damping; /* 1/s, >= 0: force -mass_damping m v on every node (m omega: its
+                            rotation), mode n damped at ratio mass_damping / (2 omega_n) */
+    unsigned cookie;     /* set by rj_default_link_def; catches undefaulted structs */
 } rj_link_def;
 
 /* Joint definition. Defaults (rj_default_joint_def):
@@ -447,6 +455,7 @@ typedef struct rj_energy {
     double work_applied; /* J done on the model by the applied loads and caller's inputs so far */
     double work_drive;   /* J done on the model by the joints' actuators so far */
     double lost_damping, lost_friction, lost_limit;
+    double lost_structural; /* J dissipated by the links' eta and mass_damping so far */
     double total, balance;
 } rj_energy;
 
@@ -1016,6 +1025,10 @@ enum {
     RJ__FS_DPEND, /* a prescribed joint's impulse's work the next step takes (its half) */
     RJ__FS_DFLOW, /* the actuators' work and gravity's potential moved so far, sum of |their
                      changes| (J): a scale */
+    RJ__FS_LSTRUCT, /* the links' structural damping's loss since the start */
+    RJ__FS_SPEND,   /* its half the next step takes, -dt/2 F_d^n . v^{n+1/2} */
+    RJ__FS_LPLAST,  /* the plastic work since the start */
+    RJ__FS_SPARE,   /* unused: 20 scalars keep the node arrays 32-byte aligned */
     RJ__FS_COUNT
 };
 
@@ -1102,6 +1115,12 @@ struct rj_model {
         link_un; /* (5 nl) a link's other nodes' tinv, rinv, kmass, krot, and 1 when they all agree */
     double *
         link_kc; /* (4 nl) a link's element constants: EI/l0, EA/l0 (0 if inextensible), l0^2, 1/(2 l0^2) */
+    /* structural damping (eta, mass_damping): links that have it take the beam pass's
+       damped path (rj__beam_damped_link) */
+    int nstruct;        /* links with structural damping */
+    int *link_path;     /* (nl) RJ__PATH_*: the beam pass's path for the link */
+    double *link_damp;  /* (2 nl) a link's eta in use (s) and mass_damping (1/s) */
+    double struct_rate; /* 1/s: the fastest damping rate they give a mode, max eta w^2 + a */
     int *grp_node;   /* (members) */
     int *node_grp;   /* (nn) group of a node, -1 if none */
     double *grp_inv; /* (ng) 1/sum of member masses, 0 if a member is fixed */
@@ -1113,6 +1132,10 @@ struct rj_model {
     size_t frame_doubles; /* doubles in a frame */
     size_t frame_ints;
 };
+
+/* The beam pass's path for a link (rj_model.link_path): the fused kernels, none (a rigid
+   link: its body moves its nodes), or the damped path's scalars. */
+enum { RJ__PATH_FUSED = 0, RJ__PATH_RIGID, RJ__PATH_DAMPED };
 
 /* Constraint rows (src/rows.h tells what they are and how they are solved). */
 enum rj__row_kind {
@@ -1174,6 +1197,9 @@ struct rj_state {
         want; /* in place: the energy requests of the steps since snap (bit k: step snap + k) */
     double *fx, *fy, *mz; /* (nn) forces */
     double *kn;           /* (nn) each node's share of twice the kinetic energy */
+    double *damp; /* (3 nn + 1, with structural damping) its forces at n on every node, fx
+                     then fy then mz, and their power at n - 1/2 summed in the step: for its
+                     loss (src/beam_damped.h) */
     double *sha, *shb, *shc,
         *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
     double *gsw; /* (2 gs_prof + 9 gs_n + 2 nn, or none) rj__gs_work */
@@ -1353,16 +1379,17 @@ RJDEF const char *rj_result_str(rj_result r)
    step accumulates each account where its physics is (rj__sums). An account is a row
    here, a frame scalar (RJ__FS_*), a field of rj_energy and its physics. */
 enum rj__account_kind { RJ__ACC_ENERGY = 0, RJ__ACC_LOSS, RJ__ACC_WORK };
-/* What a model needs for an account to move: nothing (every model), actuators. */
-enum rj__account_need { RJ__NEED_NONE = 0, RJ__NEED_ACTUATORS };
+/* What a model needs for an account to move: nothing (every model), actuators, links with
+   structural damping. */
+enum rj__account_need { RJ__NEED_NONE = 0, RJ__NEED_ACTUATORS, RJ__NEED_STRUCTURAL };
 typedef struct rj__account {
-    char column[12]; /* rj run's column name */
+    char column[16]; /* rj run's column name */
     int slot;        /* RJ__FS_* */
     int kind;        /* rj__account_kind */
     size_t field;    /* offsetof(rj_energy, ...) */
     int need;        /* rj__account_need */
 } rj__account;
-#define RJ__ACCOUNT_COUNT 9
+#define RJ__ACCOUNT_COUNT 10
 static const rj__account rj__accounts[RJ__ACCOUNT_COUNT] = {
     { "E_kin", RJ__FS_KE, RJ__ACC_ENERGY, offsetof(rj_energy, kinetic), RJ__NEED_NONE },
     { "E_strain", RJ__FS_STRAIN, RJ__ACC_ENERGY, offsetof(rj_energy, strain), RJ__NEED_NONE },
@@ -1373,6 +1400,8 @@ static const rj__account rj__accounts[RJ__ACCOUNT_COUNT] = {
     { "W_damping", RJ__FS_LDAMP, RJ__ACC_LOSS, offsetof(rj_energy, lost_damping), RJ__NEED_NONE },
     { "W_friction", RJ__FS_LFRIC, RJ__ACC_LOSS, offsetof(rj_energy, lost_friction), RJ__NEED_NONE },
     { "W_limit", RJ__FS_LLIM, RJ__ACC_LOSS, offsetof(rj_energy, lost_limit), RJ__NEED_NONE },
+    { "W_structural", RJ__FS_LSTRUCT, RJ__ACC_LOSS, offsetof(rj_energy, lost_structural),
+      RJ__NEED_STRUCTURAL },
 };
 
 RJDEF int rj_energy_account_count(void)
@@ -1389,7 +1418,14 @@ RJDEF const char *rj_energy_account_name(int k)
 RJDEF int rj_energy_account_in(const rj_model *m, int k)
 {
     RJ_ASSERT(m && k >= 0 && k < RJ__ACCOUNT_COUNT);
-    return rj__accounts[k].need != RJ__NEED_ACTUATORS || m->nact > 0;
+    switch (rj__accounts[k].need) {
+    case RJ__NEED_ACTUATORS:
+        return m->nact > 0;
+    case RJ__NEED_STRUCTURAL:
+        return m->nstruct > 0;
+    default:
+        return 1;
+    }
 }
 
 RJDEF int rj_model_actuator_count(const rj_model *m)
@@ -1474,6 +1510,9 @@ enum {
     RJ__LK_VY,
     RJ__LK_OMEGA,
     RJ__LK_FIDELITY,
+    RJ__LK_ETA,
+    RJ__LK_DAMPING,
+    RJ__LK_MASS_DAMPING,
     RJ__LK_N,
     RJ__LF_SHAPE = RJ__LK_N, /* members no key sets alone */
     RJ__LF_N
@@ -1629,7 +1668,7 @@ typedef struct rj__field {
     unsigned char when; /* RJ__WHEN_* */
     unsigned char write, line; /* RJ__WR_*, line number among the item's lines */
     signed char hash_at;       /* its place in the model hash, -1 not hashed */
-    char hash_as;              /* 'd' as a double, 'i' as an int */
+    char hash_as;              /* 'd' as a double, 'i' as an int, 'z' only when not default */
     int part_of;               /* the key row this member is a second part of, else -1 */
     double def;                /* the default (VEC2: of both) */
     double lo, hi;              /* the range (ENUM: 0 .. count - 1) */
@@ -1742,6 +1781,13 @@ static const rj__field rj__link_fields[RJ__LF_N] = {
           RJ__ANY, RJ__RULE_FINITE),
     RJ__FE("fidelity", fidelity, RJ__NM_FIDELITY, rj__sk_fidelity, RJ__WR_SET, 8, 19, 'i', 0.0,
            "RJ_LINK_FLEXIBLE, RJ_LINK_RIGID or RJ_LINK_INEXTENSIBLE"),
+    /* structural damping: hashed only when set, so scenes without it keep their hash */
+    RJ__F("eta", eta, "s", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 9, 20, 'z', 0.0,
+          RJ__R(0.0, 1, 1e6, 1), "must be in [0, 1e6] s"),
+    RJ__F("damping", damping, "", RJ__FT_VEC2, RJ__WHEN_ALL, RJ__WR_SET, 9, 21, 'z', 0.0,
+          RJ__R(0.0, 1, 1e9, 1), "a ratio and a frequency in Hz, each in [0, 1e9]"),
+    RJ__F("mass_damping", mass_damping, "1/s", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 9, 22,
+          'z', 0.0, RJ__R(0.0, 1, 1e9, 1), "must be in [0, 1e9] 1/s"),
     /* derived: area and inertia in a file make a general section */
     RJ__FE("section", section, RJ__NM_SHAPE, rj__sk_shape, RJ__WR_NONE, 0, 16, 'd', 0.0,
            "RJ_SECTION_RECT or RJ_SECTION_GENERAL"),
@@ -2558,6 +2604,37 @@ static int rj__validate_solver(const rj_solver_def *s, rj_error *err)
 
 /* Link i: its section's shape first (which rows apply depends on it), then its rows; a
    rectangle's height is > 0. */
+/* A link's structural damping: on a link that strains (a rigid one has none to damp), a
+   ratio with its frequency, and eta or the ratio, not both. */
+static int rj__validate_link_damping(const rj_link_def *L, int i, rj_error *err)
+{
+    char f[64];
+    const int any = L->eta > 0 || L->damping[0] > 0 || L->mass_damping > 0;
+    if (any && L->fidelity == RJ_LINK_RIGID) {
+        RJ__FIELD(f, "links[%d].eta", i);
+        rj__fail(err, RJ_ERR_INVALID, f, L->eta,
+                 "links[%d] is rigid: eta, damping and mass_damping damp a link's strain and "
+                 "vibration, which a rigid link does not have (use joint damping)",
+                 i);
+        return 0;
+    }
+    if (L->damping[0] > 0 && !(L->damping[1] > 0)) {
+        RJ__FIELD(f, "links[%d].damping[1]", i);
+        rj__fail(err, RJ_ERR_INVALID, f, L->damping[1],
+                 "%s = %g is invalid: a damping ratio needs the frequency it holds at, > 0 Hz",
+                 f, L->damping[1]);
+        return 0;
+    }
+    if (L->damping[0] > 0 && L->eta > 0) {
+        RJ__FIELD(f, "links[%d].damping", i);
+        rj__fail(err, RJ_ERR_INVALID, f, L->damping[0],
+                 "%s = %g %g and eta = %g: give eta or a damping ratio, not both", f,
+                 L->damping[0], L->damping[1], L->eta);
+        return 0;
+    }
+    return 1;
+}
+
 static int rj__validate_link(const rj_link_def *L, int i, rj_error *err)
 {
     char f[64], item[32];
@@ -2576,7 +2653,7 @@ static int rj__validate_link(const rj_link_def *L, int i, rj_error *err)
                  r->rule);
         return 0;
     }
-    return 1;
+    return rj__validate_link_damping(L, i, err);
 }
 
 /* Joint j's bodies: links of the scene (body1 may be ground), two of them, a node body1
@@ -3221,7 +3298,7 @@ typedef struct rj__layout {
     size_t node_cl, bp_node, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
     size_t node_grp, ch_first, ch_node, ch_l0sq, gs_int, gs_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, qj, jq, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
-        link_un, link_kc, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
+        link_un, link_kc, link_path, link_damp, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
 } rj__layout;
 
 /* The model's block: every array linear in the scene; rigid scenes (joint coordinates)
@@ -3282,6 +3359,8 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->dnode = rj__carve(&off, (size_t) nn + 1, sizeof(int));
     L->link_un = rj__carve(&off, (size_t) 5 * nl + 1, sizeof(double));
     L->link_kc = rj__carve(&off, (size_t) 4 * nl + 1, sizeof(double));
+    L->link_path = rj__carve(&off, (size_t) nl + 1, sizeof(int));
+    L->link_damp = rj__carve(&off, (size_t) 2 * nl + 1, sizeof(double));
     L->x0 = rj__carve(&off, (size_t) nn, sizeof(double));
     L->y0 = rj__carve(&off, (size_t) nn, sizeof(double));
     L->phi0 = rj__carve(&off, (size_t) nn, sizeof(double));
@@ -3666,6 +3745,7 @@ typedef struct rj__adv {
     int grav;             /* gravity: every moving node's force gains its kinetic mass times g */
     double gx, gy;        /* m/s^2, the acceleration of gravity */
     double *fin; /* the sum of every advanced node's x + y + phi: finite while they all are */
+    double *damp; /* structural damping's forces and power (rj_state.damp) */
 } rj__adv;
 
 /* One node's update with its final forces (rj__node_lane_advance does the same operations
@@ -4037,6 +4117,39 @@ static RJ__FORCE_INLINE void rj__beam_chunk(const rj__pass *p, int l, int c0, do
     FB[3 * RJ__FROW] = FB[3 * RJ__FROW + nc];
 }
 
+/* The pass's arguments into its record. */
+static RJ__FORCE_INLINE void rj__pass_open(rj__pass *p, const rj_model *m, const double *x,
+                                           const double *y, const double *phi,
+                                           const double *beta, const double *cx,
+                                           const double *cy, double *eu, double *beta_out,
+                                           double *cx_out, double *cy_out, double *fx,
+                                           double *fy, double *mz, const rj__adv *adv)
+{
+    p->m = m;
+    p->x = x;
+    p->y = y;
+    p->phi = phi;
+    p->beta = beta;
+    p->cx = cx;
+    p->cy = cy;
+    p->eu = eu;
+    p->beta_out = beta_out;
+    p->cx_out = cx_out;
+    p->cy_out = cy_out;
+    p->fx = fx;
+    p->fy = fy;
+    p->mz = mz;
+    p->adv = adv;
+    p->en = !adv || adv->en;
+}
+
+static RJ__NOINLINE void rj__beam_damped_links(const rj_model *m, const double *x,
+                                               const double *y, const double *phi,
+                                               const double *beta, const double *cx,
+                                               const double *cy, double *eu, double *beta_out,
+                                               double *cx_out, double *cy_out, double *fx,
+                                               double *fy, double *mz, const rj__adv *adv);
+
 /* Internal forces at x: element forces summed into the nodes (fx, fy, mz: node b of element
    e gets +ef, node a gets -ef), chunk by chunk; the updated chord angles and this step's
    chords (the next step's references) go to beta_out, cx_out, cy_out; eu receives the
@@ -4057,26 +4170,13 @@ static RJ__FORCE_INLINE int rj__beam_pass_body(const rj_model *m, const double *
     double FB[4 * RJ__FROW];
     double EB[3 * RJ__CHUNK];
     int l, c0;
-    p.m = m;
-    p.x = x;
-    p.y = y;
-    p.phi = phi;
-    p.beta = beta;
-    p.cx = cx;
-    p.cy = cy;
-    p.eu = eu;
-    p.beta_out = beta_out;
-    p.cx_out = cx_out;
-    p.cy_out = cy_out;
-    p.fx = fx;
-    p.fy = fy;
-    p.mz = mz;
-    p.adv = adv;
-    p.en = !adv || adv->en;
+    rj__pass_open(&p, m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
     for (l = 0; l < p.m->nl; l++) {
         const int ne = p.m->link_efirst[l + 1] - p.m->link_efirst[l];
-        if (p.m->ldef[l].fidelity == RJ_LINK_RIGID) {
-            rj__beam_rigid_link(&p, l);
+        /* rigid links here; links with structural damping after the pass */
+        if (p.m->link_path[l] != RJ__PATH_FUSED) {
+            if (p.m->link_path[l] == RJ__PATH_RIGID)
+                rj__beam_rigid_link(&p, l);
             continue;
         }
         /* before the link's first element: -0.0 (node 0 takes -FX[1], the same bits) */
@@ -4170,7 +4270,228 @@ static RJ__FORCE_INLINE double rj__beam_pass(const rj_model *m, const double *x,
     en = (ip ? rj__beam_pass_default_ip : rj__beam_pass_default)(
         m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
 #endif
+    /* forces alone: the links with structural damping on their own path too (the step
+       takes them before the pass, rj__beam_damped_step) */
+    if (m->nstruct && !adv)
+        rj__beam_damped_links(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy,
+                              mz, adv);
     return en ? rj__sum8(eu, m->ne) : 0.0;
+}
+/* ------------------------------------------------------------------ structural damping */
+/* Links with structural damping (rj_link_def.eta, damping, mass_damping) take their own
+   path through the beam pass, in scalars, so that the fused kernels of every other link
+   stay as they are and a scene without it pays nothing.
+
+   Kelvin-Voigt: each element's stress is E (strain + eta d(strain)/dt), on the axial
+   Green strain and on the local end rotations that carry its bending. The viscous part
+   maps to node forces as the elastic part does (rj__elem_forces), with the strains'
+   rates in place of the strains: the Green strain's rate e . e' / l0^2, and the end
+   rotations' rates w_a - beta', w_b - beta', beta' = (e x e') / |e|^2 the chord's turn.
+   Mass-proportional damping adds -mass_damping m v to each node (m w: its rotation).
+   Both act on the velocities at n - 1/2, as the joints' damping does (Eq 27): explicit,
+   bounded by dt <= (2 / omega) (sqrt(1 + zeta^2) - zeta) (rj__structural_rate).
+
+   Their loss joins the accounts in the step's own discrete form: the kinetic energy
+   1/2 v^{n-1/2} M v^{n+1/2} changes over a step by dt/2 v^{n-1/2} . (F^n + F^{n-1}), so the
+   damping forces' share is -dt/2 F_d^n . v^{n-1/2} (summed here) and -dt/2 F_d^n .
+   v^{n+1/2}, which the next step takes (rj__structural_accounts, from the forces kept in
+   rj_state.damp). */
+
+/* The viscous stresses of an element with chord (ex, ey), 1 / |e|^2 inv_l2, chord rate
+   (dex, dey) and end rotation rates wa, wb, for a link with constants kc (rj_model.
+   link_kc) and eta: node b's force, the end moments, and in u the power they develop
+   (<= 0: what the element dissipates, with its sign). */
+static RJ__INLINE void rj__elem_viscous(const double *kc, double eta, double ex, double ey,
+                                        double inv_l2, double dex, double dey, double wa,
+                                        double wb, rj__elem_force *f)
+{
+    /* the Green strain's rate, e . e' / l0^2, and the chord's turn rate */
+    const double eps_rate = (ex * dex + ey * dey) * (2.0 * kc[3]);
+    const double turn = (ex * dey - ey * dex) * inv_l2;
+    const double tha = wa - turn;
+    const double thb = wb - turn;
+    /* the end moments and axial force of rj__elem_forces, on the rates, times eta */
+    const double ma = eta * kc[0] * (4.0 * tha + 2.0 * thb);
+    const double mb = eta * kc[0] * (2.0 * tha + 4.0 * thb);
+    const double nax = eta * kc[1] * eps_rate;
+    const double s = (ma + mb) * inv_l2;
+    f->fx = -nax * ex - s * ey;
+    f->fy = -nax * ey + s * ex;
+    f->ma = ma;
+    f->mb = mb;
+    f->u = -(nax * kc[2] * eps_rate + ma * tha + mb * thb);
+}
+
+/* The chunk's elements 0 .. nc - 1 (first node na) of link l: their viscous forces, at
+   the positions at n and the velocities at n - 1/2, into the rows FD (entry i + 1: element
+   i, as the kernels fill the chunk buffer). */
+static void rj__chunk_viscous(const rj__pass *p, int l, int na, int nc, double *FD)
+{
+    const double *kc = p->m->link_kc + 4 * (size_t) l;
+    const double eta = p->m->link_damp[2 * (size_t) l];
+    const double *x = p->x + na, *y = p->y + na;
+    const double *vx = p->adv->vx + na, *vy = p->adv->vy + na, *w = p->adv->w + na;
+    int i;
+    for (i = 0; i < nc; i++) {
+        const double ex = x[i + 1] - x[i];
+        const double ey = y[i + 1] - y[i];
+        const double inv_l2 = 1.0 / (ex * ex + ey * ey);
+        rj__elem_force f;
+        rj__elem_viscous(kc, eta, ex, ey, inv_l2, vx[i + 1] - vx[i], vy[i + 1] - vy[i], w[i],
+                         w[i + 1], &f);
+        FD[1 + i] = f.fx;
+        FD[RJ__FROW + 1 + i] = f.fy;
+        FD[2 * RJ__FROW + 1 + i] = f.ma;
+        FD[3 * RJ__FROW + 1 + i] = f.mb;
+    }
+}
+
+/* Node n's damping force: the viscous rows FD's (entry k the element before it, k + 1 the
+   one after, as rj__node_scalar reads the chunk buffer) and its mass-proportional share,
+   -alpha m v at n - 1/2; into d (fx, fy, mz). */
+static RJ__INLINE void rj__node_damping(const rj__pass *p, int n, int k, const double *FD,
+                                        double alpha, double d[3])
+{
+    const rj__adv *a = p->adv;
+    d[0] = FD[k] - FD[k + 1] - alpha * p->m->mass[n] * a->vx[n];
+    d[1] = FD[RJ__FROW + k] - FD[RJ__FROW + k + 1] - alpha * p->m->mass[n] * a->vy[n];
+    d[2] = -FD[3 * RJ__FROW + k] - FD[2 * RJ__FROW + k + 1] -
+           alpha * p->m->rinertia[n] * a->w[n];
+}
+
+/* The chunk's nodes na .. na + cnt - 1 in the step: their forces, the elastic ones from
+   the chunk buffer FB with gravity and the damping ones; the damping ones kept
+   (rj_state.damp) and their power at n - 1/2 summed; then advanced (rj__advance_node). */
+static void rj__damped_nodes(const rj__pass *p, int l, int na, int cnt, const double *FB,
+                             const double *FD, double *power)
+{
+    const double alpha = p->m->link_damp[2 * (size_t) l + 1];
+    const rj__adv *a = p->adv;
+    const size_t nn = (size_t) p->m->nn;
+    int k;
+    for (k = 0; k < cnt; k++) {
+        const int n = na + k;
+        double fxv = FB[k] - FB[k + 1];
+        double fyv = FB[RJ__FROW + k] - FB[RJ__FROW + k + 1];
+        double mzv = -FB[3 * RJ__FROW + k] - FB[2 * RJ__FROW + k + 1];
+        double d[3];
+        rj__node_damping(p, n, k, FD, alpha, d);
+        if (a->grav) {
+            fxv += a->km[n] * a->gx;
+            fyv += a->km[n] * a->gy;
+        }
+        fxv += d[0];
+        fyv += d[1];
+        mzv += d[2];
+        p->fx[n] = fxv;
+        p->fy[n] = fyv;
+        p->mz[n] = mzv;
+        a->damp[n] = d[0];
+        a->damp[nn + n] = d[1];
+        a->damp[2 * nn + n] = d[2];
+        *power += d[0] * a->vx[n] + d[1] * a->vy[n] + d[2] * a->w[n];
+        rj__advance_node(a, n, fxv, fyv, mzv, p->x, p->y, p->phi);
+    }
+}
+
+/* The chunk buffer's entries around a link's elements (rj__beam_pass_body's): -0.0
+   before the first, +0.0 after the last (at entry at). */
+static void rj__chunk_edge(double *F, int at, double value)
+{
+    int r;
+    for (r = 0; r < 4; r++)
+        F[r * RJ__FROW + at] = r < 2 ? value : 0.0;
+}
+
+/* Link l with structural damping, chunk by chunk as rj__beam_pass_body takes the others:
+   the elastic element forces by the scalar kernels, the viscous ones beside them, the
+   nodes advanced with both (forces only, without the step: the elastic ones). Its power
+   at n - 1/2 is added to *power. */
+static void rj__beam_damped_link(const rj__pass *p, int l, int ip, double *power)
+{
+    const int n0 = p->m->link_first[l];
+    const int e0 = p->m->link_efirst[l];
+    const int ne = p->m->link_efirst[l + 1] - e0;
+    double FB[4 * RJ__FROW], FD[4 * RJ__FROW], EB[3 * RJ__CHUNK];
+    int c0, r;
+    rj__chunk_edge(FB, 0, -0.0);
+    rj__chunk_edge(FD, 0, 0.0);
+    for (c0 = 0; c0 < ne; c0 += RJ__CHUNK) {
+        const int nc = ne - c0 < RJ__CHUNK ? ne - c0 : RJ__CHUNK;
+        const int last = c0 + nc == ne;
+        rj__elems c;
+        rj__elems_at(&c, p, l, e0 + c0, n0 + c0, FB + 1, ip ? EB : NULL);
+        rj__chunk_elements(&c, nc, p->en, ip, 0);
+        if (last)
+            rj__chunk_edge(FB, nc + 1, 0.0);
+        if (!p->adv) {
+            rj__node_scalar(0, nc + last, n0 + c0, FB, p->fx, p->fy, p->mz, p->x, p->y, p->phi,
+                            NULL);
+        } else {
+            /* without eta the viscous rows are 0 */
+            if (p->m->link_damp[2 * (size_t) l] > 0)
+                rj__chunk_viscous(p, l, n0 + c0, nc, FD);
+            else
+                memset(FD, 0, sizeof FD);
+            if (last)
+                rj__chunk_edge(FD, nc + 1, 0.0);
+            rj__damped_nodes(p, l, n0 + c0, nc + last, FB, FD, power);
+        }
+        /* this chunk's last element is entry 0 of the next */
+        for (r = 0; r < 4; r++) {
+            FB[r * RJ__FROW] = FB[r * RJ__FROW + nc];
+            FD[r * RJ__FROW] = FD[r * RJ__FROW + nc];
+        }
+    }
+}
+
+/* The beam pass's part for the links with structural damping, which the fused pass
+   leaves: after it for forces alone (rj__beam_pass), before it in the step
+   (rj__beam_damped_step). With the step, their power at n - 1/2 goes to rj_state.damp's
+   last entry. */
+static RJ__NOINLINE void rj__beam_damped_links(const rj_model *m, const double *x,
+                                               const double *y, const double *phi,
+                                               const double *beta, const double *cx,
+                                               const double *cy, double *eu, double *beta_out,
+                                               double *cx_out, double *cy_out, double *fx,
+                                               double *fy, double *mz, const rj__adv *adv)
+{
+    rj__pass p;
+    double power = 0;
+    const int ip = adv && adv->ip;
+    int l;
+    rj__pass_open(&p, m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
+    for (l = 0; l < m->nl; l++)
+        if (m->link_path[l] == RJ__PATH_DAMPED)
+            rj__beam_damped_link(&p, l, ip, &power);
+    if (adv)
+        adv->damp[3 * (size_t) m->nn] = power;
+}
+
+/* The structural damping's accounts at the end of a step, from the scalars at n (osc)
+   into those at n + 1 (nsc): its loss, the half the step before left (F_d^{n-1} .
+   v^{n-1/2}) and this step's first (the power at n - 1/2, rj_state.damp), and the half
+   the next step takes, -dt/2 F_d^n . v^{n+1/2} with the velocities vx, vy, w as the step
+   left them. Returns the loss. */
+static RJ__NOINLINE double rj__structural_accounts(const rj_model *m, const rj_state *s,
+                                                   const double *osc, double *nsc,
+                                                   const double *vx, const double *vy,
+                                                   const double *w)
+{
+    const size_t nn = (size_t) m->nn;
+    const double *d = s->damp;
+    double sum = 0;
+    int l, n;
+    for (l = 0; l < m->nl; l++) {
+        if (m->link_path[l] != RJ__PATH_DAMPED)
+            continue;
+        for (n = m->link_first[l]; n < m->link_first[l + 1]; n++)
+            sum += d[n] * vx[n] + d[nn + n] * vy[n] + d[2 * nn + n] * w[n];
+    }
+    nsc[RJ__FS_LSTRUCT] =
+        osc[RJ__FS_LSTRUCT] + osc[RJ__FS_SPEND] - 0.5 * m->dt * d[3 * nn];
+    nsc[RJ__FS_SPEND] = -0.5 * m->dt * sum;
+    return nsc[RJ__FS_LSTRUCT];
 }
 /* ------------------------------------------------------------------ joint kinematics */
 /* The element needs four things from the bodies it joins: the rotary location, its rate,
@@ -5113,7 +5434,12 @@ static unsigned long long rj__fnv_row(unsigned long long h, const rj__field *r, 
         return h;
     }
     if (rj__row_is_real(r)) {
-        h = rj__fnv_d(h, rj__row_real(def, r, 0));
+        const double v0 = rj__row_real(def, r, 0);
+        const double v1 = r->type == RJ__FT_VEC2 ? rj__row_real(def, r, 1) : r->def;
+        /* 'z': hashed only when it differs from its default */
+        if (r->hash_as == 'z' && v0 == r->def && v1 == r->def)
+            return h;
+        h = rj__fnv_d(h, v0);
         return r->type == RJ__FT_VEC2 ? rj__fnv_d(h, rj__row_real(def, r, 1)) : h;
     }
     memcpy(&n, (const char *) def + r->offset, sizeof n);
@@ -6256,6 +6582,8 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(dnode, int);
     RJ__SET(link_un, double);
     RJ__SET(link_kc, double);
+    RJ__SET(link_path, int);
+    RJ__SET(link_damp, double);
     RJ__SET(x0, double);
     RJ__SET(y0, double);
     RJ__SET(phi0, double);
@@ -6381,6 +6709,23 @@ static void rj__init_link_masses(rj_model *m, int l, double area, double inertia
         }
 }
 
+/* Link l's path through the beam pass and its structural damping: eta (given, or from a
+   ratio at a frequency, ratio / (pi f), so that eta omega / 2 is the ratio there) and the
+   mass-proportional rate. */
+static void rj__init_link_damping(rj_model *m, int l)
+{
+    const rj_link_def *d = &m->ldef[l];
+    double *damp = m->link_damp + 2 * (size_t) l;
+    damp[0] = d->damping[0] > 0 ? d->damping[0] / (RJ__PI * d->damping[1]) : d->eta;
+    damp[1] = d->mass_damping;
+    m->link_path[l] = RJ__PATH_FUSED;
+    if (d->fidelity == RJ_LINK_RIGID)
+        m->link_path[l] = RJ__PATH_RIGID;
+    else if (damp[0] > 0 || damp[1] > 0)
+        m->link_path[l] = RJ__PATH_DAMPED;
+    m->nstruct += m->link_path[l] == RJ__PATH_DAMPED;
+}
+
 /* Every link's section, constants and masses, link by link. */
 static void rj__init_links(rj_model *m)
 {
@@ -6392,6 +6737,7 @@ static void rj__init_links(rj_model *m)
         rj__link_section(&m->ldef[l], &area, &inertia);
         rj__init_link_constants(m, l, area, inertia);
         rj__init_link_masses(m, l, area, inertia);
+        rj__init_link_damping(m, l);
     }
 }
 
@@ -6958,9 +7304,43 @@ static double rj__rigid_dt_cap(const rj_model *m)
     return cap;
 }
 
+/* The fastest damping rate 2 zeta omega that the links' structural damping gives a mode:
+   eta omega^2 + mass_damping, at the links' omega_max (a mode's rate is its Rayleigh
+   quotient, at most each part's largest: eta's at the stiffest mode). */
+static double rj__structural_rate(const rj_model *m)
+{
+    double rate = 0;
+    int l;
+    for (l = 0; l < m->nl; l++) {
+        const double *damp = m->link_damp + 2 * (size_t) l;
+        const double r = damp[0] * m->omega_links * m->omega_links + damp[1];
+        if (r > rate)
+            rate = r;
+    }
+    return rate;
+}
+
+/* A warning when the links' structural damping shortens their bound ten times or more:
+   eta acts on every mode at eta omega / 2, the stiffest (an element's axial mode) too. */
+static void rj__structural_warning(rj_model *m)
+{
+    const double plain = rj__dt_bound_of(m->omega_links, 0);
+    const double damped = rj__dt_bound_of(m->omega_links, m->struct_rate);
+    if (!(m->struct_rate > 0) || !(damped * 10 <= plain))
+        return;
+    rj__model_warn(m,
+                   "structural damping shortens the links' stability bound %.3g times "
+                   "(%.3g s to %.3g s): eta damps every mode at eta omega / 2, the stiffest "
+                   "(omega_max %.4g rad/s) at %.3g of critical; mass_damping costs no step",
+                   plain / damped, plain, damped, m->omega_links,
+                   0.5 * m->struct_rate / m->omega_links);
+}
+
 /* Stability: omega_max of beams + springs + tables alone (kept for the refusal's advice),
    then with the limits counted; joint damping acts on the rates it lags (Eq 27 on
-   v^{n-1/2}): it shortens the step. The step: solver.dt, or 0.9 x the bound (rigid scenes
+   v^{n-1/2}): it shortens the step, as the links' structural damping does (on the same
+   rates), by dt <= (2 / omega) (sqrt(1 + zeta^2) - zeta) with 2 zeta omega both rates'
+   sum. The step: solver.dt, or 0.9 x the bound (rigid scenes
    without stiff joints are not bounded: 1 ms at most), searched with adaptive limits. */
 static rj_result rj__init_step(rj_model *m, const rj_scene_def *sc, const rj__build_scratch *s,
                                rj_error *err)
@@ -6971,7 +7351,9 @@ static rj_result rj__init_step(rj_model *m, const rj_scene_def *sc, const rj__bu
     for (j = 0; j < m->nj; j++)
         m->jnt[j].k_free = m->jnt[j].k_lin;
     m->omega_links = rj__omega_of(rj__bound_omega2(m, s));
-    q.damp_rate = rj__damping_rate(m);
+    m->struct_rate = rj__structural_rate(m);
+    q.damp_rate = rj__damping_rate(m) + m->struct_rate;
+    rj__structural_warning(m);
     any_adaptive = rj__count_penalty_limits(m);
     om2 = rj__init_bound(m, s, q.damp_rate);
     q.dt = sc->solver.dt > 0 ? sc->solver.dt : 0.9 * m->dt_bound;
@@ -7037,9 +7419,12 @@ static void rj__unstable_dt_advice(const rj_model *m, int worst, double omega, d
                      "penalty K up to about %.4g N m/rad at this dt",
                      worst, omega * m->dt, k_ok);
     }
-    if (m->omega_links > 0 && m->dt > RJ__DT_MARGIN * 2.0 / m->omega_links)
-        snprintf(extra, size, "; the links alone need dt <= %.4g s",
-                 RJ__DT_MARGIN * 2.0 / m->omega_links);
+    if (m->omega_links > 0 && m->dt > rj__dt_bound_of(m->omega_links, m->struct_rate))
+        snprintf(extra, size, "; the links alone need dt <= %.4g s%s",
+                 rj__dt_bound_of(m->omega_links, m->struct_rate),
+                 m->struct_rate > 0 ? " with their structural damping (eta omega_max^2 + "
+                                      "mass_damping, the rate it gives the stiffest mode)"
+                                    : "");
 }
 
 /* A given step above the bound is refused (unless solver.allow_unstable), naming the
@@ -7283,7 +7668,7 @@ RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
-    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
+    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, damp, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
         rsc, rows, terms, rsys, input_torque, input_node, node_applied, snap_torque;
 } rj__slayout;
 
@@ -7300,6 +7685,7 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->fy = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->mz = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->kn = rj__carve(&off, (size_t) m->nn, sizeof(double));
+    L->damp = rj__carve(&off, m->nstruct ? 3 * (size_t) m->nn + 1 : 0, sizeof(double));
     L->sha = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shb = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shc = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
@@ -7515,6 +7901,7 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->eu = (double *) (void *) (base + L.eu);
     s->ebt = (double *) (void *) (base + L.ebt);
     s->kn = (double *) (void *) (base + L.kn);
+    s->damp = (double *) (void *) (base + L.damp);
     s->jsc = (double *) (void *) (base + L.jsc);
     s->rsc = (double *) (void *) (base + L.rsc);
     s->rows = (rj__row *) (void *) (base + L.rows);
@@ -9545,6 +9932,7 @@ typedef struct rj__sums {
     double gravity;                                 /* gravity's potential at n, -sum m g . x */
     double kinetic;                                 /* 1/2 v^{n-1/2} . v^{n+1/2} */
     double lost_damping, lost_friction, lost_limit; /* since the start */
+    double lost_struct; /* the links' structural damping's loss since the start */
     double work;    /* done by the caller's inputs since the start */
     double drive;   /* done by the actuators since the start */
     double drive_pending; /* a prescribed joint's impulse's work the next step takes */
@@ -9622,11 +10010,31 @@ static RJ__FORCE_INLINE void rj__sums_open(const double *old_scalars, rj__sums *
     e->lost_damping = old_scalars[RJ__FS_LDAMP];
     e->lost_friction = old_scalars[RJ__FS_LFRIC];
     e->lost_limit = old_scalars[RJ__FS_LLIM] + old_scalars[RJ__FS_PEND];
+    e->lost_struct = 0;
     e->work = old_scalars[RJ__FS_WORK];
     e->drive = old_scalars[RJ__FS_DRIVE] + old_scalars[RJ__FS_DPEND];
     e->drive_pending = 0;
     e->drive_flow = old_scalars[RJ__FS_DFLOW];
     e->pending = 0;
+}
+
+/* The step's links with structural damping, from the frame at n (old) into the advanced
+   one, before the fused pass, out of line. It takes a copy of the step's update, never
+   its address, and returns the sum of the positions it wrote (rj__adv.fin): the address
+   of the step's own record, given to it, cost the step 60 instructions on the paper's
+   deployment, which has no damping. */
+static RJ__NOINLINE double rj__beam_damped_step(const rj_model *m, rj_state *s,
+                                                const double *old, double *advanced,
+                                                rj__adv adv)
+{
+    double fin = 0;
+    adv.fin = &fin;
+    adv.damp = s->damp;
+    rj__beam_damped_links(m, RJ__FX(m, old), RJ__FY(m, old), RJ__FPHI(m, old),
+                          RJ__FBETA(m, old), RJ__FCX(m, old), RJ__FCY(m, old), s->eu,
+                          RJ__FBETA(m, advanced), RJ__FCX(m, advanced), RJ__FCY(m, advanced),
+                          s->fx, s->fy, s->mz, &adv);
+    return fin;
 }
 
 /* Stage 1, the beams: internal forces at x^n and the new chord angles; every node advanced
@@ -9684,6 +10092,8 @@ static RJ__FORCE_INLINE void rj__stage_beams(const rj_model *m, rj_state *s, con
     adv->grav = m->has_gravity;
     adv->gx = m->solver.gravity[0];
     adv->gy = m->solver.gravity[1];
+    if (m->nstruct)
+        *adv->fin += rj__beam_damped_step(m, s, old, f->advanced, *adv);
     e->strain =
         rj__beam_pass(m, RJ__FX(m, old), RJ__FY(m, old), RJ__FPHI(m, old), RJ__FBETA(m, old),
                       RJ__FCX(m, old), RJ__FCY(m, old), s->eu, RJ__FBETA(m, f->advanced),
@@ -11028,7 +11438,8 @@ static RJ__FORCE_INLINE rj_result rj__energy_check(const rj_model *m, rj_state *
     /* a drive that lifts a load and holds it moves energy that outside nets out */
     const double scale =
         fabs(e0 - outside) + fabs(old_spring) + s->settle_scale + e->drive_flow + 1e-9;
-    const double created = ke + U + V + outside + e->lost_damping + e->lost_friction + lost_l - e0;
+    const double created = ke + U + V + outside + e->lost_damping + e->lost_friction + lost_l +
+                           e->lost_struct - e0;
     if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) ||
         E > m->solver.energy_growth * (scale + fabs(V)) || created > RJ__CREATED * scale ||
         lost_l < -RJ__CREATED * scale)
@@ -11064,7 +11475,7 @@ static void rj__first_accounts(double *new_scalars, rj__sums *e, double energy)
        second half, pending, is the next step's) */
     new_scalars[RJ__FS_E0] = energy - e->drive;
     rj__accounts_zero(new_scalars);
-    e->lost_damping = e->lost_friction = e->work = e->lost_limit = 0;
+    e->lost_damping = e->lost_friction = e->work = e->lost_limit = e->lost_struct = 0;
     new_scalars[RJ__FS_DRIVE] = e->drive;
     new_scalars[RJ__FS_DPEND] = e->drive_pending;
 }
@@ -11084,6 +11495,8 @@ static RJ__FORCE_INLINE rj_result rj__step_accounts(const rj_model *m, rj_state 
     nsc[RJ__FS_LFRIC] = e->lost_friction;
     nsc[RJ__FS_LLIM] = e->lost_limit;
     nsc[RJ__FS_PEND] = e->pending;
+    if (m->nstruct)
+        e->lost_struct = rj__structural_accounts(m, s, osc, nsc, f->nvx, f->nvy, f->nw);
     nsc[RJ__FS_WORK] = e->work;
     nsc[RJ__FS_DRIVE] = e->drive;
     nsc[RJ__FS_DPEND] = e->drive_pending;
@@ -12920,7 +13333,8 @@ static void rj__rig_pin_forces(const rj_model *m, const rj_state *s, double *wor
 
 /* Node space: element e (local) of link l at n, as the beam pass gives it: the force on
    its second node, its end moments (the positions and rotations at n, the chord angle
-   the step took there); its chord's unit vector into unit. */
+   the step took there; with structural damping its viscous part on the rates at n - 1/2,
+   src/beam_damped.h); its chord's unit vector into unit. */
 static void rj__elem_at_n(const rj_model *m, const rj_state *s, int l, int e,
                           rj__elem_force *f, double unit[2])
 {
@@ -12937,6 +13351,17 @@ static void rj__elem_at_n(const rj_model *m, const rj_state *s, int l, int e,
     c.half_inv_l0sq = m->link_kc[4 * (size_t) l + 3];
     rj__elem_forces(&c, ex, ey, beta[m->link_efirst[l] + e], 1.0 / (len * len), phi[a],
                     phi[a + 1], f);
+    if (m->link_path[l] == RJ__PATH_DAMPED) {
+        const double *vx = RJ__FVX(m, at_n), *vy = RJ__FVY(m, at_n), *w = RJ__FW(m, at_n);
+        rj__elem_force v;
+        rj__elem_viscous(m->link_kc + 4 * (size_t) l, m->link_damp[2 * (size_t) l], ex, ey,
+                         1.0 / (len * len), vx[a + 1] - vx[a], vy[a + 1] - vy[a], w[a],
+                         w[a + 1], &v);
+        f->fx += v.fx;
+        f->fy += v.fy;
+        f->ma += v.ma;
+        f->mb += v.mb;
+    }
     unit[0] = ex / len;
     unit[1] = ey / len;
 }
@@ -12997,7 +13422,8 @@ static int rj__own_body_node(const rj_model *m, int k)
 }
 
 /* Node space, flexible links: the force on body 2's pin node from the rest of the pin,
-   m a - m g - (its link's elements, loads and the caller's force on it), at n (the rates
+   m a - m g - (its link's elements, mass-proportional damping, loads and the caller's
+   force on it), at n (the rates
    at n - 1/2 and n + 1/2 give a; the elements at n, as the step took them). When body 2
    is a rigid body of a mixed scene, the same on body 1's node, reversed. */
 static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
@@ -13008,7 +13434,7 @@ static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, doub
     const double kick = s->steps == 1 ? 0.5 * m->dt : m->dt;
     const double t = RJ__FS(m, now)[RJ__FS_TIME] - m->dt;
     double elements[2];
-    int q;
+    int q, link, node;
     rj__elem_node_force(m, s, k, elements);
     force[0] = m->mass[k] * ((RJ__FVX(m, now)[k] - RJ__FVX(m, at_n)[k]) / kick -
                              m->solver.gravity[0]) -
@@ -13026,6 +13452,12 @@ static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, doub
     if (s->node_inputs) {
         force[0] -= s->input_node[3 * (size_t) k];
         force[1] -= s->input_node[3 * (size_t) k + 1];
+    }
+    rj__node_of(m, k, &link, &node);
+    if (m->link_path[link] == RJ__PATH_DAMPED) {
+        const double alpha = m->link_damp[2 * (size_t) link + 1];
+        force[0] += alpha * m->mass[k] * RJ__FVX(m, at_n)[k];
+        force[1] += alpha * m->mass[k] * RJ__FVY(m, at_n)[k];
     }
     force[0] *= sign;
     force[1] *= sign;
@@ -13272,8 +13704,9 @@ RJDEF double rj_state_energy_time(const rj_state *s)
    (nj), then whether the node forces are on, the forces (3 nn) and those the last step
    applied (3 nn). */
 #define RJ__CK_HEAD 24
-/* the layout's version: 6 since the actuators' torque and work joined each frame */
-#define RJ__CK_VERSION 6u
+/* the layout's version: 7 since the structural damping's and plastic work's accounts
+   joined each frame's scalars */
+#define RJ__CK_VERSION 7u
 /* the payload's bytes */
 static size_t rj__ck_payload(const rj_model *m)
 {
@@ -13570,7 +14003,9 @@ enum {
 static const char rj__sk_kind[RJ__SK_COUNT][10] = { "",     "solver", "material", "section",
                                                     "link", "joint",  "load",     "actuator",
                                                     "coupling" };
-#define RJ__SK_MAT_KEYS ((1u << RJ__LK_E) | (1u << RJ__LK_RHO))
+#define RJ__SK_MAT_KEYS                                                                            \
+    ((1u << RJ__LK_E) | (1u << RJ__LK_RHO) | (1u << RJ__LK_ETA) | (1u << RJ__LK_DAMPING) |        \
+     (1u << RJ__LK_MASS_DAMPING))
 #define RJ__SK_SEC_KEYS                                                                            \
     ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA) | (1u << RJ__LK_WIDTH) | (1u << RJ__LK_HEIGHT) | \
      (1u << RJ__LK_LAYERS))
@@ -14914,6 +15349,24 @@ static int rj__sp_finish_load(rj__sp *P)
                       rj__sp_itoa(b, P->f->links[d->link].elements), " (or last)", NULL, NULL);
 }
 
+/* A link's material: each material key the link leaves out (its keys so far, eff) comes
+   from the material, with its place in the file; returns the keys the link has now. */
+static unsigned rj__sp_take_material(const rj__spart *s, unsigned eff, rj_link_def *d,
+                                     rj_scene_pos *pos)
+{
+    int k;
+    for (k = 0; k < RJ__LK_N; k++) {
+        const rj__field *r = &rj__link_fields[k];
+        if (!(RJ__SK_MAT_KEYS >> k & 1u) || (eff >> k & 1u) || !(s->mask >> k & 1u))
+            continue;
+        rj__row_set_real(d, r, 0, rj__row_real(&s->d, r, 0));
+        if (r->type == RJ__FT_VEC2)
+            rj__row_set_real(d, r, 1, rj__row_real(&s->d, r, 1));
+        pos[1 + k] = s->pos[1 + k];
+    }
+    return eff | s->mask;
+}
+
 /* checks and completes the section that ends here */
 static int rj__sp_finish(rj__sp *P)
 {
@@ -14938,18 +15391,8 @@ static int rj__sp_finish(rj__sp *P)
         rj_scene_pos *pos = &P->f->link_pos_[(size_t) P->item * (1 + RJ__LK_N)];
         unsigned eff = P->seen;
         int k;
-        if (P->link_mat >= 0) {
-            const rj__spart *s = &P->mat[P->link_mat];
-            if (!(eff >> RJ__LK_E & 1u) && (s->mask >> RJ__LK_E & 1u)) {
-                d->E = s->d.E;
-                pos[1 + RJ__LK_E] = s->pos[1 + RJ__LK_E];
-            }
-            if (!(eff >> RJ__LK_RHO & 1u) && (s->mask >> RJ__LK_RHO & 1u)) {
-                d->rho = s->d.rho;
-                pos[1 + RJ__LK_RHO] = s->pos[1 + RJ__LK_RHO];
-            }
-            eff |= s->mask;
-        }
+        if (P->link_mat >= 0)
+            eff = rj__sp_take_material(&P->mat[P->link_mat], eff, d, pos);
         if (P->link_sec >= 0) {
             const rj__spart *s = &P->sec[P->link_sec];
             for (k = RJ__LK_AREA; k <= RJ__LK_LAYERS; k++) {

@@ -6,16 +6,17 @@
    step accumulates each account where its physics is (rj__sums). An account is a row
    here, a frame scalar (RJ__FS_*), a field of rj_energy and its physics. */
 enum rj__account_kind { RJ__ACC_ENERGY = 0, RJ__ACC_LOSS, RJ__ACC_WORK };
-/* What a model needs for an account to move: nothing (every model), actuators. */
-enum rj__account_need { RJ__NEED_NONE = 0, RJ__NEED_ACTUATORS };
+/* What a model needs for an account to move: nothing (every model), actuators, links with
+   structural damping. */
+enum rj__account_need { RJ__NEED_NONE = 0, RJ__NEED_ACTUATORS, RJ__NEED_STRUCTURAL };
 typedef struct rj__account {
-    char column[12]; /* rj run's column name */
+    char column[16]; /* rj run's column name */
     int slot;        /* RJ__FS_* */
     int kind;        /* rj__account_kind */
     size_t field;    /* offsetof(rj_energy, ...) */
     int need;        /* rj__account_need */
 } rj__account;
-#define RJ__ACCOUNT_COUNT 9
+#define RJ__ACCOUNT_COUNT 10
 static const rj__account rj__accounts[RJ__ACCOUNT_COUNT] = {
     { "E_kin", RJ__FS_KE, RJ__ACC_ENERGY, offsetof(rj_energy, kinetic), RJ__NEED_NONE },
     { "E_strain", RJ__FS_STRAIN, RJ__ACC_ENERGY, offsetof(rj_energy, strain), RJ__NEED_NONE },
@@ -26,6 +27,8 @@ static const rj__account rj__accounts[RJ__ACCOUNT_COUNT] = {
     { "W_damping", RJ__FS_LDAMP, RJ__ACC_LOSS, offsetof(rj_energy, lost_damping), RJ__NEED_NONE },
     { "W_friction", RJ__FS_LFRIC, RJ__ACC_LOSS, offsetof(rj_energy, lost_friction), RJ__NEED_NONE },
     { "W_limit", RJ__FS_LLIM, RJ__ACC_LOSS, offsetof(rj_energy, lost_limit), RJ__NEED_NONE },
+    { "W_structural", RJ__FS_LSTRUCT, RJ__ACC_LOSS, offsetof(rj_energy, lost_structural),
+      RJ__NEED_STRUCTURAL },
 };
 
 RJDEF int rj_energy_account_count(void)
@@ -42,7 +45,14 @@ RJDEF const char *rj_energy_account_name(int k)
 RJDEF int rj_energy_account_in(const rj_model *m, int k)
 {
     RJ_ASSERT(m && k >= 0 && k < RJ__ACCOUNT_COUNT);
-    return rj__accounts[k].need != RJ__NEED_ACTUATORS || m->nact > 0;
+    switch (rj__accounts[k].need) {
+    case RJ__NEED_ACTUATORS:
+        return m->nact > 0;
+    case RJ__NEED_STRUCTURAL:
+        return m->nstruct > 0;
+    default:
+        return 1;
+    }
 }
 
 RJDEF int rj_model_actuator_count(const rj_model *m)

@@ -208,7 +208,8 @@ typedef enum rj_torque {
      area 0 m^2, inertia 0 m^4 (used only by RJ_SECTION_GENERAL);
      tip_mass 0 kg, tip_inertia 0 kg m^2;
      root RJ_ROOT_FREE; x 0 m, y 0 m, angle 0 rad (root placement, used when the link is not
-     the body2 of a joint); vx, vy 0 m/s, omega 0 rad/s (initial rigid motion of a root link); fidelity RJ_LINK_FLEXIBLE. */
+     the body2 of a joint); vx, vy 0 m/s, omega 0 rad/s (initial rigid motion of a root link); fidelity RJ_LINK_FLEXIBLE;
+     eta 0 s, damping 0 0, mass_damping 0 1/s (no structural damping). */
 typedef struct rj_link_def {
     double length;        /* m, > 0 */
     int elements;         /* >= 1 */
@@ -226,7 +227,14 @@ typedef struct rj_link_def {
     double x, y, angle;   /* m, m, rad */
     double vx, vy, omega; /* m/s, m/s, rad/s */
     int fidelity;         /* rj_fidelity */
-    unsigned cookie;      /* set by rj_default_link_def; catches undefaulted structs */
+    /* Structural damping (flexible and inextensible links; docs/modelling.md): */
+    double eta;          /* s, >= 0: Kelvin-Voigt, stress E (strain + eta d(strain)/dt) on the
+                            axial and bending strains: mode n damped at ratio eta omega_n / 2 */
+    double damping[2];   /* ratio, Hz: the eta that gives the ratio at that frequency,
+                            ratio / (pi Hz); 0 0 none (not with eta) */
+    double mass_damping; /* 1/s, >= 0: force -mass_damping m v on every node (m omega: its
+                            rotation), mode n damped at ratio mass_damping / (2 omega_n) */
+    unsigned cookie;     /* set by rj_default_link_def; catches undefaulted structs */
 } rj_link_def;
 
 /* Joint definition. Defaults (rj_default_joint_def):
@@ -447,6 +455,7 @@ typedef struct rj_energy {
     double work_applied; /* J done on the model by the applied loads and caller's inputs so far */
     double work_drive;   /* J done on the model by the joints' actuators so far */
     double lost_damping, lost_friction, lost_limit;
+    double lost_structural; /* J dissipated by the links' eta and mass_damping so far */
     double total, balance;
 } rj_energy;
 

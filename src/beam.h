@@ -323,6 +323,7 @@ typedef struct rj__adv {
     int grav;             /* gravity: every moving node's force gains its kinetic mass times g */
     double gx, gy;        /* m/s^2, the acceleration of gravity */
     double *fin; /* the sum of every advanced node's x + y + phi: finite while they all are */
+    double *damp; /* structural damping's forces and power (rj_state.damp) */
 } rj__adv;
 
 /* One node's update with its final forces (rj__node_lane_advance does the same operations
@@ -694,6 +695,39 @@ static RJ__FORCE_INLINE void rj__beam_chunk(const rj__pass *p, int l, int c0, do
     FB[3 * RJ__FROW] = FB[3 * RJ__FROW + nc];
 }
 
+/* The pass's arguments into its record. */
+static RJ__FORCE_INLINE void rj__pass_open(rj__pass *p, const rj_model *m, const double *x,
+                                           const double *y, const double *phi,
+                                           const double *beta, const double *cx,
+                                           const double *cy, double *eu, double *beta_out,
+                                           double *cx_out, double *cy_out, double *fx,
+                                           double *fy, double *mz, const rj__adv *adv)
+{
+    p->m = m;
+    p->x = x;
+    p->y = y;
+    p->phi = phi;
+    p->beta = beta;
+    p->cx = cx;
+    p->cy = cy;
+    p->eu = eu;
+    p->beta_out = beta_out;
+    p->cx_out = cx_out;
+    p->cy_out = cy_out;
+    p->fx = fx;
+    p->fy = fy;
+    p->mz = mz;
+    p->adv = adv;
+    p->en = !adv || adv->en;
+}
+
+static RJ__NOINLINE void rj__beam_damped_links(const rj_model *m, const double *x,
+                                               const double *y, const double *phi,
+                                               const double *beta, const double *cx,
+                                               const double *cy, double *eu, double *beta_out,
+                                               double *cx_out, double *cy_out, double *fx,
+                                               double *fy, double *mz, const rj__adv *adv);
+
 /* Internal forces at x: element forces summed into the nodes (fx, fy, mz: node b of element
    e gets +ef, node a gets -ef), chunk by chunk; the updated chord angles and this step's
    chords (the next step's references) go to beta_out, cx_out, cy_out; eu receives the
@@ -714,26 +748,13 @@ static RJ__FORCE_INLINE int rj__beam_pass_body(const rj_model *m, const double *
     double FB[4 * RJ__FROW];
     double EB[3 * RJ__CHUNK];
     int l, c0;
-    p.m = m;
-    p.x = x;
-    p.y = y;
-    p.phi = phi;
-    p.beta = beta;
-    p.cx = cx;
-    p.cy = cy;
-    p.eu = eu;
-    p.beta_out = beta_out;
-    p.cx_out = cx_out;
-    p.cy_out = cy_out;
-    p.fx = fx;
-    p.fy = fy;
-    p.mz = mz;
-    p.adv = adv;
-    p.en = !adv || adv->en;
+    rj__pass_open(&p, m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
     for (l = 0; l < p.m->nl; l++) {
         const int ne = p.m->link_efirst[l + 1] - p.m->link_efirst[l];
-        if (p.m->ldef[l].fidelity == RJ_LINK_RIGID) {
-            rj__beam_rigid_link(&p, l);
+        /* rigid links here; links with structural damping after the pass */
+        if (p.m->link_path[l] != RJ__PATH_FUSED) {
+            if (p.m->link_path[l] == RJ__PATH_RIGID)
+                rj__beam_rigid_link(&p, l);
             continue;
         }
         /* before the link's first element: -0.0 (node 0 takes -FX[1], the same bits) */
@@ -827,5 +848,10 @@ static RJ__FORCE_INLINE double rj__beam_pass(const rj_model *m, const double *x,
     en = (ip ? rj__beam_pass_default_ip : rj__beam_pass_default)(
         m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
 #endif
+    /* forces alone: the links with structural damping on their own path too (the step
+       takes them before the pass, rj__beam_damped_step) */
+    if (m->nstruct && !adv)
+        rj__beam_damped_links(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy,
+                              mz, adv);
     return en ? rj__sum8(eu, m->ne) : 0.0;
 }

@@ -712,7 +712,12 @@ static unsigned long long rj__fnv_row(unsigned long long h, const rj__field *r, 
         return h;
     }
     if (rj__row_is_real(r)) {
-        h = rj__fnv_d(h, rj__row_real(def, r, 0));
+        const double v0 = rj__row_real(def, r, 0);
+        const double v1 = r->type == RJ__FT_VEC2 ? rj__row_real(def, r, 1) : r->def;
+        /* 'z': hashed only when it differs from its default */
+        if (r->hash_as == 'z' && v0 == r->def && v1 == r->def)
+            return h;
+        h = rj__fnv_d(h, v0);
         return r->type == RJ__FT_VEC2 ? rj__fnv_d(h, rj__row_real(def, r, 1)) : h;
     }
     memcpy(&n, (const char *) def + r->offset, sizeof n);

@@ -138,6 +138,8 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(dnode, int);
     RJ__SET(link_un, double);
     RJ__SET(link_kc, double);
+    RJ__SET(link_path, int);
+    RJ__SET(link_damp, double);
     RJ__SET(x0, double);
     RJ__SET(y0, double);
     RJ__SET(phi0, double);
@@ -263,6 +265,23 @@ static void rj__init_link_masses(rj_model *m, int l, double area, double inertia
         }
 }
 
+/* Link l's path through the beam pass and its structural damping: eta (given, or from a
+   ratio at a frequency, ratio / (pi f), so that eta omega / 2 is the ratio there) and the
+   mass-proportional rate. */
+static void rj__init_link_damping(rj_model *m, int l)
+{
+    const rj_link_def *d = &m->ldef[l];
+    double *damp = m->link_damp + 2 * (size_t) l;
+    damp[0] = d->damping[0] > 0 ? d->damping[0] / (RJ__PI * d->damping[1]) : d->eta;
+    damp[1] = d->mass_damping;
+    m->link_path[l] = RJ__PATH_FUSED;
+    if (d->fidelity == RJ_LINK_RIGID)
+        m->link_path[l] = RJ__PATH_RIGID;
+    else if (damp[0] > 0 || damp[1] > 0)
+        m->link_path[l] = RJ__PATH_DAMPED;
+    m->nstruct += m->link_path[l] == RJ__PATH_DAMPED;
+}
+
 /* Every link's section, constants and masses, link by link. */
 static void rj__init_links(rj_model *m)
 {
@@ -274,6 +293,7 @@ static void rj__init_links(rj_model *m)
         rj__link_section(&m->ldef[l], &area, &inertia);
         rj__init_link_constants(m, l, area, inertia);
         rj__init_link_masses(m, l, area, inertia);
+        rj__init_link_damping(m, l);
     }
 }
 
@@ -840,9 +860,43 @@ static double rj__rigid_dt_cap(const rj_model *m)
     return cap;
 }
 
+/* The fastest damping rate 2 zeta omega that the links' structural damping gives a mode:
+   eta omega^2 + mass_damping, at the links' omega_max (a mode's rate is its Rayleigh
+   quotient, at most each part's largest: eta's at the stiffest mode). */
+static double rj__structural_rate(const rj_model *m)
+{
+    double rate = 0;
+    int l;
+    for (l = 0; l < m->nl; l++) {
+        const double *damp = m->link_damp + 2 * (size_t) l;
+        const double r = damp[0] * m->omega_links * m->omega_links + damp[1];
+        if (r > rate)
+            rate = r;
+    }
+    return rate;
+}
+
+/* A warning when the links' structural damping shortens their bound ten times or more:
+   eta acts on every mode at eta omega / 2, the stiffest (an element's axial mode) too. */
+static void rj__structural_warning(rj_model *m)
+{
+    const double plain = rj__dt_bound_of(m->omega_links, 0);
+    const double damped = rj__dt_bound_of(m->omega_links, m->struct_rate);
+    if (!(m->struct_rate > 0) || !(damped * 10 <= plain))
+        return;
+    rj__model_warn(m,
+                   "structural damping shortens the links' stability bound %.3g times "
+                   "(%.3g s to %.3g s): eta damps every mode at eta omega / 2, the stiffest "
+                   "(omega_max %.4g rad/s) at %.3g of critical; mass_damping costs no step",
+                   plain / damped, plain, damped, m->omega_links,
+                   0.5 * m->struct_rate / m->omega_links);
+}
+
 /* Stability: omega_max of beams + springs + tables alone (kept for the refusal's advice),
    then with the limits counted; joint damping acts on the rates it lags (Eq 27 on
-   v^{n-1/2}): it shortens the step. The step: solver.dt, or 0.9 x the bound (rigid scenes
+   v^{n-1/2}): it shortens the step, as the links' structural damping does (on the same
+   rates), by dt <= (2 / omega) (sqrt(1 + zeta^2) - zeta) with 2 zeta omega both rates'
+   sum. The step: solver.dt, or 0.9 x the bound (rigid scenes
    without stiff joints are not bounded: 1 ms at most), searched with adaptive limits. */
 static rj_result rj__init_step(rj_model *m, const rj_scene_def *sc, const rj__build_scratch *s,
                                rj_error *err)
@@ -853,7 +907,9 @@ static rj_result rj__init_step(rj_model *m, const rj_scene_def *sc, const rj__bu
     for (j = 0; j < m->nj; j++)
         m->jnt[j].k_free = m->jnt[j].k_lin;
     m->omega_links = rj__omega_of(rj__bound_omega2(m, s));
-    q.damp_rate = rj__damping_rate(m);
+    m->struct_rate = rj__structural_rate(m);
+    q.damp_rate = rj__damping_rate(m) + m->struct_rate;
+    rj__structural_warning(m);
     any_adaptive = rj__count_penalty_limits(m);
     om2 = rj__init_bound(m, s, q.damp_rate);
     q.dt = sc->solver.dt > 0 ? sc->solver.dt : 0.9 * m->dt_bound;
@@ -919,9 +975,12 @@ static void rj__unstable_dt_advice(const rj_model *m, int worst, double omega, d
                      "penalty K up to about %.4g N m/rad at this dt",
                      worst, omega * m->dt, k_ok);
     }
-    if (m->omega_links > 0 && m->dt > RJ__DT_MARGIN * 2.0 / m->omega_links)
-        snprintf(extra, size, "; the links alone need dt <= %.4g s",
-                 RJ__DT_MARGIN * 2.0 / m->omega_links);
+    if (m->omega_links > 0 && m->dt > rj__dt_bound_of(m->omega_links, m->struct_rate))
+        snprintf(extra, size, "; the links alone need dt <= %.4g s%s",
+                 rj__dt_bound_of(m->omega_links, m->struct_rate),
+                 m->struct_rate > 0 ? " with their structural damping (eta omega_max^2 + "
+                                      "mass_damping, the rate it gives the stiffest mode)"
+                                    : "");
 }
 
 /* A given step above the bound is refused (unless solver.allow_unstable), naming the

@@ -5,8 +5,9 @@
    (nj), then whether the node forces are on, the forces (3 nn) and those the last step
    applied (3 nn). */
 #define RJ__CK_HEAD 24
-/* the layout's version: 6 since the actuators' torque and work joined each frame */
-#define RJ__CK_VERSION 6u
+/* the layout's version: 7 since the structural damping's and plastic work's accounts
+   joined each frame's scalars */
+#define RJ__CK_VERSION 7u
 /* the payload's bytes */
 static size_t rj__ck_payload(const rj_model *m)
 {

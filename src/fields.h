@@ -36,6 +36,9 @@ enum {
     RJ__LK_VY,
     RJ__LK_OMEGA,
     RJ__LK_FIDELITY,
+    RJ__LK_ETA,
+    RJ__LK_DAMPING,
+    RJ__LK_MASS_DAMPING,
     RJ__LK_N,
     RJ__LF_SHAPE = RJ__LK_N, /* members no key sets alone */
     RJ__LF_N
@@ -191,7 +194,7 @@ typedef struct rj__field {
     unsigned char when; /* RJ__WHEN_* */
     unsigned char write, line; /* RJ__WR_*, line number among the item's lines */
     signed char hash_at;       /* its place in the model hash, -1 not hashed */
-    char hash_as;              /* 'd' as a double, 'i' as an int */
+    char hash_as;              /* 'd' as a double, 'i' as an int, 'z' only when not default */
     int part_of;               /* the key row this member is a second part of, else -1 */
     double def;                /* the default (VEC2: of both) */
     double lo, hi;              /* the range (ENUM: 0 .. count - 1) */
@@ -304,6 +307,13 @@ static const rj__field rj__link_fields[RJ__LF_N] = {
           RJ__ANY, RJ__RULE_FINITE),
     RJ__FE("fidelity", fidelity, RJ__NM_FIDELITY, rj__sk_fidelity, RJ__WR_SET, 8, 19, 'i', 0.0,
            "RJ_LINK_FLEXIBLE, RJ_LINK_RIGID or RJ_LINK_INEXTENSIBLE"),
+    /* structural damping: hashed only when set, so scenes without it keep their hash */
+    RJ__F("eta", eta, "s", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 9, 20, 'z', 0.0,
+          RJ__R(0.0, 1, 1e6, 1), "must be in [0, 1e6] s"),
+    RJ__F("damping", damping, "", RJ__FT_VEC2, RJ__WHEN_ALL, RJ__WR_SET, 9, 21, 'z', 0.0,
+          RJ__R(0.0, 1, 1e9, 1), "a ratio and a frequency in Hz, each in [0, 1e9]"),
+    RJ__F("mass_damping", mass_damping, "1/s", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 9, 22,
+          'z', 0.0, RJ__R(0.0, 1, 1e9, 1), "must be in [0, 1e9] 1/s"),
     /* derived: area and inertia in a file make a general section */
     RJ__FE("section", section, RJ__NM_SHAPE, rj__sk_shape, RJ__WR_NONE, 0, 16, 'd', 0.0,
            "RJ_SECTION_RECT or RJ_SECTION_GENERAL"),

@@ -192,6 +192,10 @@ enum {
     RJ__FS_DPEND, /* a prescribed joint's impulse's work the next step takes (its half) */
     RJ__FS_DFLOW, /* the actuators' work and gravity's potential moved so far, sum of |their
                      changes| (J): a scale */
+    RJ__FS_LSTRUCT, /* the links' structural damping's loss since the start */
+    RJ__FS_SPEND,   /* its half the next step takes, -dt/2 F_d^n . v^{n+1/2} */
+    RJ__FS_LPLAST,  /* the plastic work since the start */
+    RJ__FS_SPARE,   /* unused: 20 scalars keep the node arrays 32-byte aligned */
     RJ__FS_COUNT
 };
 
@@ -278,6 +282,12 @@ struct rj_model {
         link_un; /* (5 nl) a link's other nodes' tinv, rinv, kmass, krot, and 1 when they all agree */
     double *
         link_kc; /* (4 nl) a link's element constants: EI/l0, EA/l0 (0 if inextensible), l0^2, 1/(2 l0^2) */
+    /* structural damping (eta, mass_damping): links that have it take the beam pass's
+       damped path (rj__beam_damped_link) */
+    int nstruct;        /* links with structural damping */
+    int *link_path;     /* (nl) RJ__PATH_*: the beam pass's path for the link */
+    double *link_damp;  /* (2 nl) a link's eta in use (s) and mass_damping (1/s) */
+    double struct_rate; /* 1/s: the fastest damping rate they give a mode, max eta w^2 + a */
     int *grp_node;   /* (members) */
     int *node_grp;   /* (nn) group of a node, -1 if none */
     double *grp_inv; /* (ng) 1/sum of member masses, 0 if a member is fixed */
@@ -289,6 +299,10 @@ struct rj_model {
     size_t frame_doubles; /* doubles in a frame */
     size_t frame_ints;
 };
+
+/* The beam pass's path for a link (rj_model.link_path): the fused kernels, none (a rigid
+   link: its body moves its nodes), or the damped path's scalars. */
+enum { RJ__PATH_FUSED = 0, RJ__PATH_RIGID, RJ__PATH_DAMPED };
 
 /* Constraint rows (src/rows.h tells what they are and how they are solved). */
 enum rj__row_kind {
@@ -350,6 +364,9 @@ struct rj_state {
         want; /* in place: the energy requests of the steps since snap (bit k: step snap + k) */
     double *fx, *fy, *mz; /* (nn) forces */
     double *kn;           /* (nn) each node's share of twice the kinetic energy */
+    double *damp; /* (3 nn + 1, with structural damping) its forces at n on every node, fx
+                     then fy then mz, and their power at n - 1/2 summed in the step: for its
+                     loss (src/beam_damped.h) */
     double *sha, *shb, *shc,
         *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
     double *gsw; /* (2 gs_prof + 9 gs_n + 2 nn, or none) rj__gs_work */

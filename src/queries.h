@@ -350,7 +350,8 @@ static void rj__rig_pin_forces(const rj_model *m, const rj_state *s, double *wor
 
 /* Node space: element e (local) of link l at n, as the beam pass gives it: the force on
    its second node, its end moments (the positions and rotations at n, the chord angle
-   the step took there); its chord's unit vector into unit. */
+   the step took there; with structural damping its viscous part on the rates at n - 1/2,
+   src/beam_damped.h); its chord's unit vector into unit. */
 static void rj__elem_at_n(const rj_model *m, const rj_state *s, int l, int e,
                           rj__elem_force *f, double unit[2])
 {
@@ -367,6 +368,17 @@ static void rj__elem_at_n(const rj_model *m, const rj_state *s, int l, int e,
     c.half_inv_l0sq = m->link_kc[4 * (size_t) l + 3];
     rj__elem_forces(&c, ex, ey, beta[m->link_efirst[l] + e], 1.0 / (len * len), phi[a],
                     phi[a + 1], f);
+    if (m->link_path[l] == RJ__PATH_DAMPED) {
+        const double *vx = RJ__FVX(m, at_n), *vy = RJ__FVY(m, at_n), *w = RJ__FW(m, at_n);
+        rj__elem_force v;
+        rj__elem_viscous(m->link_kc + 4 * (size_t) l, m->link_damp[2 * (size_t) l], ex, ey,
+                         1.0 / (len * len), vx[a + 1] - vx[a], vy[a + 1] - vy[a], w[a],
+                         w[a + 1], &v);
+        f->fx += v.fx;
+        f->fy += v.fy;
+        f->ma += v.ma;
+        f->mb += v.mb;
+    }
     unit[0] = ex / len;
     unit[1] = ey / len;
 }
@@ -427,7 +439,8 @@ static int rj__own_body_node(const rj_model *m, int k)
 }
 
 /* Node space, flexible links: the force on body 2's pin node from the rest of the pin,
-   m a - m g - (its link's elements, loads and the caller's force on it), at n (the rates
+   m a - m g - (its link's elements, mass-proportional damping, loads and the caller's
+   force on it), at n (the rates
    at n - 1/2 and n + 1/2 give a; the elements at n, as the step took them). When body 2
    is a rigid body of a mixed scene, the same on body 1's node, reversed. */
 static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
@@ -438,7 +451,7 @@ static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, doub
     const double kick = s->steps == 1 ? 0.5 * m->dt : m->dt;
     const double t = RJ__FS(m, now)[RJ__FS_TIME] - m->dt;
     double elements[2];
-    int q;
+    int q, link, node;
     rj__elem_node_force(m, s, k, elements);
     force[0] = m->mass[k] * ((RJ__FVX(m, now)[k] - RJ__FVX(m, at_n)[k]) / kick -
                              m->solver.gravity[0]) -
@@ -456,6 +469,12 @@ static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, doub
     if (s->node_inputs) {
         force[0] -= s->input_node[3 * (size_t) k];
         force[1] -= s->input_node[3 * (size_t) k + 1];
+    }
+    rj__node_of(m, k, &link, &node);
+    if (m->link_path[link] == RJ__PATH_DAMPED) {
+        const double alpha = m->link_damp[2 * (size_t) link + 1];
+        force[0] += alpha * m->mass[k] * RJ__FVX(m, at_n)[k];
+        force[1] += alpha * m->mass[k] * RJ__FVY(m, at_n)[k];
     }
     force[0] *= sign;
     force[1] *= sign;

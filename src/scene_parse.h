@@ -23,7 +23,9 @@ enum {
 static const char rj__sk_kind[RJ__SK_COUNT][10] = { "",     "solver", "material", "section",
                                                     "link", "joint",  "load",     "actuator",
                                                     "coupling" };
-#define RJ__SK_MAT_KEYS ((1u << RJ__LK_E) | (1u << RJ__LK_RHO))
+#define RJ__SK_MAT_KEYS                                                                            \
+    ((1u << RJ__LK_E) | (1u << RJ__LK_RHO) | (1u << RJ__LK_ETA) | (1u << RJ__LK_DAMPING) |        \
+     (1u << RJ__LK_MASS_DAMPING))
 #define RJ__SK_SEC_KEYS                                                                            \
     ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA) | (1u << RJ__LK_WIDTH) | (1u << RJ__LK_HEIGHT) | \
      (1u << RJ__LK_LAYERS))
@@ -1367,6 +1369,24 @@ static int rj__sp_finish_load(rj__sp *P)
                       rj__sp_itoa(b, P->f->links[d->link].elements), " (or last)", NULL, NULL);
 }
 
+/* A link's material: each material key the link leaves out (its keys so far, eff) comes
+   from the material, with its place in the file; returns the keys the link has now. */
+static unsigned rj__sp_take_material(const rj__spart *s, unsigned eff, rj_link_def *d,
+                                     rj_scene_pos *pos)
+{
+    int k;
+    for (k = 0; k < RJ__LK_N; k++) {
+        const rj__field *r = &rj__link_fields[k];
+        if (!(RJ__SK_MAT_KEYS >> k & 1u) || (eff >> k & 1u) || !(s->mask >> k & 1u))
+            continue;
+        rj__row_set_real(d, r, 0, rj__row_real(&s->d, r, 0));
+        if (r->type == RJ__FT_VEC2)
+            rj__row_set_real(d, r, 1, rj__row_real(&s->d, r, 1));
+        pos[1 + k] = s->pos[1 + k];
+    }
+    return eff | s->mask;
+}
+
 /* checks and completes the section that ends here */
 static int rj__sp_finish(rj__sp *P)
 {
@@ -1391,18 +1411,8 @@ static int rj__sp_finish(rj__sp *P)
         rj_scene_pos *pos = &P->f->link_pos_[(size_t) P->item * (1 + RJ__LK_N)];
         unsigned eff = P->seen;
         int k;
-        if (P->link_mat >= 0) {
-            const rj__spart *s = &P->mat[P->link_mat];
-            if (!(eff >> RJ__LK_E & 1u) && (s->mask >> RJ__LK_E & 1u)) {
-                d->E = s->d.E;
-                pos[1 + RJ__LK_E] = s->pos[1 + RJ__LK_E];
-            }
-            if (!(eff >> RJ__LK_RHO & 1u) && (s->mask >> RJ__LK_RHO & 1u)) {
-                d->rho = s->d.rho;
-                pos[1 + RJ__LK_RHO] = s->pos[1 + RJ__LK_RHO];
-            }
-            eff |= s->mask;
-        }
+        if (P->link_mat >= 0)
+            eff = rj__sp_take_material(&P->mat[P->link_mat], eff, d, pos);
         if (P->link_sec >= 0) {
             const rj__spart *s = &P->sec[P->link_sec];
             for (k = RJ__LK_AREA; k <= RJ__LK_LAYERS; k++) {

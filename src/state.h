@@ -1,6 +1,6 @@
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
-    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
+    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, damp, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
         rsc, rows, terms, rsys, input_torque, input_node, node_applied, snap_torque;
 } rj__slayout;
 
@@ -17,6 +17,7 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->fy = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->mz = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->kn = rj__carve(&off, (size_t) m->nn, sizeof(double));
+    L->damp = rj__carve(&off, m->nstruct ? 3 * (size_t) m->nn + 1 : 0, sizeof(double));
     L->sha = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shb = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shc = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
@@ -232,6 +233,7 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->eu = (double *) (void *) (base + L.eu);
     s->ebt = (double *) (void *) (base + L.ebt);
     s->kn = (double *) (void *) (base + L.kn);
+    s->damp = (double *) (void *) (base + L.damp);
     s->jsc = (double *) (void *) (base + L.jsc);
     s->rsc = (double *) (void *) (base + L.rsc);
     s->rows = (rj__row *) (void *) (base + L.rows);

@@ -200,6 +200,37 @@ static int rj__validate_solver(const rj_solver_def *s, rj_error *err)
 
 /* Link i: its section's shape first (which rows apply depends on it), then its rows; a
    rectangle's height is > 0. */
+/* A link's structural damping: on a link that strains (a rigid one has none to damp), a
+   ratio with its frequency, and eta or the ratio, not both. */
+static int rj__validate_link_damping(const rj_link_def *L, int i, rj_error *err)
+{
+    char f[64];
+    const int any = L->eta > 0 || L->damping[0] > 0 || L->mass_damping > 0;
+    if (any && L->fidelity == RJ_LINK_RIGID) {
+        RJ__FIELD(f, "links[%d].eta", i);
+        rj__fail(err, RJ_ERR_INVALID, f, L->eta,
+                 "links[%d] is rigid: eta, damping and mass_damping damp a link's strain and "
+                 "vibration, which a rigid link does not have (use joint damping)",
+                 i);
+        return 0;
+    }
+    if (L->damping[0] > 0 && !(L->damping[1] > 0)) {
+        RJ__FIELD(f, "links[%d].damping[1]", i);
+        rj__fail(err, RJ_ERR_INVALID, f, L->damping[1],
+                 "%s = %g is invalid: a damping ratio needs the frequency it holds at, > 0 Hz",
+                 f, L->damping[1]);
+        return 0;
+    }
+    if (L->damping[0] > 0 && L->eta > 0) {
+        RJ__FIELD(f, "links[%d].damping", i);
+        rj__fail(err, RJ_ERR_INVALID, f, L->damping[0],
+                 "%s = %g %g and eta = %g: give eta or a damping ratio, not both", f,
+                 L->damping[0], L->damping[1], L->eta);
+        return 0;
+    }
+    return 1;
+}
+
 static int rj__validate_link(const rj_link_def *L, int i, rj_error *err)
 {
     char f[64], item[32];
@@ -218,7 +249,7 @@ static int rj__validate_link(const rj_link_def *L, int i, rj_error *err)
                  r->rule);
         return 0;
     }
-    return 1;
+    return rj__validate_link_damping(L, i, err);
 }
 
 /* Joint j's bodies: links of the scene (body1 may be ground), two of them, a node body1

@@ -795,6 +795,222 @@ static void test_pin_force(rjt_ctx *c)
     }
 }
 
+/* ---- structural damping: free decay against eta omega_n / 2 and alpha / (2 omega_n) */
+
+/* Mode n (1, 2) of a clamped-free Euler-Bernoulli beam at u = x / L. */
+static double cantilever_mode(int n, double u)
+{
+    const double b = n == 1 ? 1.87510406871196 : 4.69409113297418;
+    const double sg = (sinh(b) - sin(b)) / (cosh(b) + cos(b));
+    return cosh(b * u) - cos(b * u) - sg * (sinh(b * u) - sin(b * u));
+}
+
+/* Link 0's deflection projected on mode n with the lumped masses: its modal coordinate. */
+static double modal_coordinate(const rj_model *m, const rj_state *s, int n, int elements)
+{
+    double num = 0, den = 0;
+    int k;
+    for (k = 0; k <= elements; k++) {
+        const double shape = cantilever_mode(n, (double) k / elements);
+        double mass, rot, xy[2];
+        rj_node_mass(m, 0, k, &mass, &rot);
+        rj_node_position(m, s, 0, k, xy);
+        num += mass * shape * xy[1];
+        den += mass * shape * shape;
+    }
+    return num / den;
+}
+
+/* What a free decay gives: the mode's undamped omega and ratio from its peaks, and the
+   accounts at the end. */
+typedef struct decay {
+    double omega, zeta;
+    rj_energy e;
+    int peaks;
+} decay;
+
+/* The peaks' decay rate sigma and period, by least squares on ln(peak) against time
+   (the first peak, inside the pulse, left out): omega = sqrt(omega_d^2 + sigma^2). */
+static void decay_fit(const double *t, const double *y, int n, decay *d)
+{
+    double st = 0, sy = 0, stt = 0, sty = 0, sigma, wd;
+    int i;
+    const int c = n - 1;
+    for (i = 1; i < n; i++) {
+        st += t[i];
+        sy += log(y[i]);
+        stt += t[i] * t[i];
+        sty += t[i] * log(y[i]);
+    }
+    sigma = -(c * sty - st * sy) / (c * stt - st * st);
+    wd = 2 * PI * (n - 2) / (t[n - 1] - t[1]);
+    d->omega = sqrt(wd * wd + sigma * sigma);
+    d->zeta = sigma / d->omega;
+    d->peaks = n;
+}
+
+/* A stubby aluminium cantilever (1 m, 100 mm deep: its axial modes 200 times its first
+   bending one, so that eta's bound leaves a usable step) struck by a short pulse of
+   forces m_i phi_n(x_i), which the other modes hardly see, then left to ring until
+   t_end. link: its damping. */
+static int free_decay(rj_link_def link, int n, double t_end, decay *d, char *msg, size_t size)
+{
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m;
+    rj_state *s;
+    rj_error err;
+    double *F, t[400], y[400], before = 0, last = 0, last_t = 0;
+    int k, count = 0;
+    link.length = 1.0;
+    link.E = 70e9;
+    link.rho = 2700;
+    link.width = 0.02;
+    link.height = 0.1;
+    link.root = RJ_ROOT_CLAMPED;
+    sc.links = &link;
+    sc.link_count = 1;
+    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) {
+        snprintf(msg, size, "model refused: %.200s", err.msg);
+        return 0;
+    }
+    rj_state_create(m, &s, NULL);
+    F = rj_state_node_forces(m, s);
+    for (k = 0; k <= link.elements; k++) {
+        double mass, rot;
+        rj_node_mass(m, 0, k, &mass, &rot);
+        F[3 * k + 1] = 1e3 * mass * cantilever_mode(n, (double) k / link.elements);
+    }
+    while (rj_state_time(s) < 2e-4)
+        rj_step(m, s);
+    for (k = 0; k <= link.elements; k++)
+        F[3 * k + 1] = 0;
+    /* the modal coordinate's maxima */
+    while (rj_state_time(s) < t_end && rj_step(m, s) == RJ_OK) {
+        const double q = modal_coordinate(m, s, n, link.elements);
+        if (last > before && last >= q && last > 0 && count < 400) {
+            t[count] = last_t;
+            y[count++] = last;
+        }
+        before = last;
+        last = q;
+        last_t = rj_state_time(s);
+    }
+    rj_state_energy(m, s, &d->e);
+    snprintf(msg, size, "dt %.3g s, %.200s", rj_model_dt(m), rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+    if (count < 4)
+        return 0;
+    decay_fit(t, y, count, d);
+    return 1;
+}
+
+/* Two links of 10 elements hanging from a pin under gravity, released level, the second
+   with mass_damping alpha and eta (the damped path when either is > 0); dt: given, or 0. Its
+   tip after 0.1 s into tip (NaN when refused, the message into msg). */
+static rj_result swing_two(double alpha, double eta, double dt, double tip[2], char *msg,
+                           size_t size)
+{
+    rj_link_def l[2];
+    rj_joint_def j[2];
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m;
+    rj_state *s;
+    rj_error err;
+    rj_result r;
+    int k;
+    for (k = 0; k < 2; k++) {
+        l[k] = bar(RJ_LINK_FLEXIBLE, 10);
+        j[k] = rj_default_joint_def();
+        j[k].body1 = k - 1;
+        j[k].body2 = k;
+    }
+    j[0].angle0 = 0;
+    l[1].mass_damping = alpha;
+    l[1].eta = eta;
+    sc.links = l;
+    sc.link_count = 2;
+    sc.joints = j;
+    sc.joint_count = 2;
+    sc.solver.gravity[1] = -G;
+    sc.solver.dt = dt;
+    tip[0] = tip[1] = NAN;
+    r = rj_model_create(&sc, &m, &err, NULL);
+    snprintf(msg, size, "%.300s", r == RJ_OK ? "" : err.msg);
+    if (r != RJ_OK)
+        return r;
+    rj_state_create(m, &s, NULL);
+    r = rj_run(m, s, 0.1, 0, NULL, NULL);
+    rj_node_position(m, s, 1, 10, tip);
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+    return r;
+}
+
+/* The damped path computes the elastic forces and moves the nodes as the fused kernels
+   do: with damping too small to move a bit (eta 1e-300 s, mass_damping 1e-300 1/s) the
+   tip lands on the undamped run's bits. Its bound: a step the undamped links take is
+   refused with eta 1e-3 s (omega_max near 1e5 rad/s: zeta 50 there), naming it. */
+static void test_damping_path(rjt_ctx *c)
+{
+    double plain[2], damped[2], refused[2];
+    char msg[320], msg2[320];
+    rj_result r;
+    swing_two(0, 0, 0, plain, msg, sizeof msg);
+    swing_two(1e-300, 1e-300, 0, damped, msg, sizeof msg);
+    rjt_check(c, plain[0] == damped[0] && plain[1] == damped[1],
+              "damping: the damped path without damping gives the fused kernels' bits",
+              "tip (%.17g, %.17g) and (%.17g, %.17g)", plain[0], plain[1], damped[0], damped[1]);
+    r = swing_two(0, 1e-3, 1e-6, refused, msg, sizeof msg);
+    swing_two(0, 0, 1e-6, plain, msg2, sizeof msg2);
+    rjt_check(c, r == RJ_ERR_UNSTABLE_DT && strstr(msg, "structural damping") && plain[0] == plain[0],
+              "damping: eta's rate shortens the stability bound: a step the undamped links take is refused",
+              "result %d: %s", (int) r, msg);
+}
+
+/* Kelvin-Voigt damping set as 1 % of critical at the beam theory's first frequency
+   (damping = 0.01 82.26 Hz): each of the first two modes decays at eta omega_n / 2 of its
+   own omega; mass-proportional damping at alpha / (2 omega_n); the energy balance holds
+   with the loss in W_structural. */
+static void test_damping_decay(rjt_ctx *c)
+{
+    static const struct {
+        int mode, elements;
+        double ratio, alpha, t_end, tol;
+    } cases[] = {
+        { 1, 10, 0.01, 0, 0.3, 1e-3 },  { 2, 20, 0.01, 0, 0.02, 2e-3 },
+        { 1, 10, 0, 20.0, 0.3, 1e-3 }, { 2, 20, 0, 200.0, 0.1, 1e-3 },
+    };
+    /* f1 = (1.8751^2 / 2 pi) sqrt(E I / (rho A)) / L^2 */
+    const double f1 = 1.87510406871196 * 1.87510406871196 / (2 * PI) *
+                      sqrt(70e9 / 2700 * 0.1 * 0.1 / 12.0);
+    size_t k;
+    for (k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        rj_link_def link = rj_default_link_def();
+        decay d;
+        char msg[300];
+        double eta, want;
+        int ok;
+        link.elements = cases[k].elements;
+        link.damping[0] = cases[k].ratio;
+        link.damping[1] = f1;
+        link.mass_damping = cases[k].alpha;
+        eta = cases[k].ratio / (PI * f1);
+        memset(&d, 0, sizeof d);
+        ok = free_decay(link, cases[k].mode, cases[k].t_end, &d, msg, sizeof msg);
+        want = eta * d.omega / 2 + cases[k].alpha / (2 * d.omega);
+        rjt_check(c, ok && fabs(d.zeta / want - 1) < cases[k].tol &&
+                         fabs(d.e.balance) < 1e-9 * d.e.lost_structural &&
+                         d.e.lost_structural > 0.9 * (d.e.lost_structural + d.e.kinetic + d.e.strain),
+                  cases[k].ratio > 0 ? "damping: Kelvin-Voigt decay of a cantilever mode is eta omega / 2"
+                                     : "damping: mass-proportional decay of a cantilever mode is alpha / (2 omega)",
+                  "mode %d, %d elements: zeta %.6f against %.6f (%.2g off, within %g) at %.2f Hz, "
+                  "%d peaks; W_structural %.4g J, balance %.3g J; %s",
+                  cases[k].mode, cases[k].elements, d.zeta, want, d.zeta / want - 1, cases[k].tol,
+                  d.omega / (2 * PI), d.peaks, d.e.lost_structural, d.e.balance, msg);
+    }
+}
+
 int main(void)
 {
     rjt_ctx c = { 0, 0 };
@@ -812,5 +1028,7 @@ int main(void)
     test_settle_arguments(&c);
     test_pin_force(&c);
     test_element_loads(&c);
+    test_damping_decay(&c);
+    test_damping_path(&c);
     return rjt_summary(&c, "test_loads");
 }

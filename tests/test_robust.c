@@ -1366,16 +1366,17 @@ static void test_links_pass_through(void)
    balance are theirs: a link swinging under gravity on a damped hinge with friction. */
 static void test_account_table(void)
 {
-    static const char *const names[9] = { "E_kin",     "E_strain",  "E_spring",
+    static const char *const names[10] = { "E_kin",     "E_strain",  "E_spring",
                                           "E_gravity", "W_applied", "W_drive",
-                                          "W_damping", "W_friction", "W_limit" };
+                                          "W_damping", "W_friction", "W_limit",
+                                          "W_structural" };
     rj_link_def link = rj_default_link_def();
     rj_joint_def joint = rj_default_joint_def();
     rj_model *m;
     rj_state *s;
     rj_energy e;
-    double fields[9];
-    int k, same = rj_energy_account_count() == 9;
+    double fields[10];
+    int k, same = rj_energy_account_count() == 10;
     link.height = 0.01;
     joint.body1 = -1;
     joint.body2 = 0;
@@ -1396,7 +1397,8 @@ static void test_account_table(void)
     fields[6] = e.lost_damping;
     fields[7] = e.lost_friction;
     fields[8] = e.lost_limit;
-    for (k = 0; same && k < 9; k++)
+    fields[9] = e.lost_structural;
+    for (k = 0; same && k < 10; k++)
         same = strcmp(rj_energy_account_name(k), names[k]) == 0 &&
                rj_energy_account(&e, k) == fields[k];
     rjt_check(&T, same && e.total == e.kinetic + e.strain + e.spring + e.gravity &&
