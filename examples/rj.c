@@ -39,7 +39,8 @@ static const char usage_main[] =
     "  run      simulate the scene; CSV history, events and a summary\n"
     "  check    validate the scene; links, joints, gravity and loads, the step and what sets\n"
     "           it, the cost of a simulated second, warnings\n"
-    "  plot     simulate and plot joint angles, limit torques, tip deflections or energies\n"
+    "  plot     simulate and plot joint angles, limit torques, tip deflections, energies\n"
+    "           or loads (pin forces, bending moments)\n"
     "  animate  simulate and render PNG frames (and an MP4 with ffmpeg, when installed)\n"
     "  rj SUBCOMMAND --help   that subcommand's options (rj help SUBCOMMAND too)\n"
     "Exit status: 0 done; 1 the simulation stopped (blow-up, tunnelling) or an output\n"
@@ -126,12 +127,18 @@ static const char usage_plot[] =
     "usage: rj plot SCENE.rjs --out FILE.png [options]\n"
     "  Simulates the scene and plots its history, locks and first contacts marked.\n"
     "  --out FILE.png     the plot (required)\n"
-    "  --what angles|torques|tips|energy   (default angles)\n"
+    "  --what angles|torques|tips|energy|loads   (default angles)\n"
     "                     angles: each joint's running angle (deg); torques: each limited\n"
     "                     joint's limit torque, or latch impulse / dt for velocity-level\n"
     "                     methods (momentum, forced, energy); tips: each link's tip\n"
     "                     deflection (m, as rj run's L.tip_defl); energy: kinetic, strain,\n"
-    "                     spring, balance. At most 8 series: the first 8 (said on stderr).\n"
+    "                     spring, balance; loads: each joint's pin force |F| (N), and in a\n"
+    "                     second plot below it each flexible link's largest |bending\n"
+    "                     moment| over its elements (N m); each marked at its peak over\n"
+    "                     every step (the summary's), which a spike between two samples\n"
+    "                     puts above the line. A joint without a pin force\n"
+    "                     (rj_joint_pin_force) is said on stderr, not drawn.\n"
+    "                     At most 8 series a plot: the first 8 (said on stderr).\n"
     "  --t-end S          simulated time (default 1 s)\n"
     "  --dt S             time step, instead of the file's solver.dt (0 = automatic)\n"
     "  --size WxH         image size (default 900x560)\n"
@@ -165,8 +172,8 @@ static const char usage_animate[] =
 /* ================================================================ options */
 
 enum { CMD_RUN = 1, CMD_CHECK = 2, CMD_PLOT = 4, CMD_ANIMATE = 8 };
-enum { WHAT_ANGLES = 0, WHAT_TORQUES, WHAT_TIPS, WHAT_ENERGY };
-static const char *const what_names[] = { "angles", "torques", "tips", "energy" };
+enum { WHAT_ANGLES = 0, WHAT_TORQUES, WHAT_TIPS, WHAT_ENERGY, WHAT_LOADS, NWHAT };
+static const char *const what_names[NWHAT] = { "angles", "torques", "tips", "energy", "loads" };
 
 /* Every subcommand's options; each parses only its own (opt_shared, opt_own). */
 typedef struct opts {
@@ -281,7 +288,7 @@ static int opt_own(cli *c, opts *o, const char *a)
     else if (!strcmp(a, "--probe")) o->probes[o->nprobes++] = cli_str(c, a);
     else if (!strcmp(a, "--loads")) o->loads[o->nloads++] = cli_str(c, a);
     else if (!strcmp(a, "--settle")) o->settle = 1;
-    else if (!strcmp(a, "--what")) o->what = cli_choice(c, a, what_names, 4);
+    else if (!strcmp(a, "--what")) o->what = cli_choice(c, a, what_names, NWHAT);
     else if (!strcmp(a, "--fps")) o->fps = cli_num(c, a, 1e-3, 1e9);
     else if (!strcmp(a, "--mp4")) o->mp4 = cli_str(c, a);
     else if (!strcmp(a, "--plain")) o->plain = 1;
@@ -417,6 +424,7 @@ typedef struct jlog {
     double peak_limit;       /* N m, largest |limit torque| of any step */
     double peak_latch;       /* N m s, largest |latch impulse| of any step */
     double peak_pin;         /* N, largest |pin force| of any step (-1: none known) */
+    double peak_pin_t;       /* s, its time (t^n: the step's start, as the force's) */
     int shown;               /* the flag the latest event line reported */
     int pend;                /* a change not printed yet (-1: none) */
     double pend_t;           /* s, its time */
@@ -646,33 +654,73 @@ static void warning_check(runner *r, const rj_state *s, int overlaps)
     print_named(r->sc, prefix, rj_state_warning(s), (int)strlen(rj_state_warning(s)));
 }
 
+/* ---- loads ---- */
+
+/* Every joint's pin force, 2 a joint (NaN where the library has none). The library marks
+   each joint it has none for; a call that fails whole (no memory for the rigid links'
+   pass) leaves numbers that mean nothing, and those are made NaN too. */
+static void pin_forces(const rj_model *m, const rj_state *s, double *pin)
+{
+    const int n = 2 * rj_model_joint_count(m);
+    rj_result res;
+    int j;
+    for (j = 0; j < n; j++) pin[j] = NAN;
+    res = rj_joint_pin_forces(m, s, pin);
+    if (res == RJ_OK || res == RJ_ERR_INVALID) return;
+    for (j = 0; j < n; j++) pin[j] = NAN;
+}
+
+/* A flexible link's largest |bending moment| over its elements' ends in state s (N m; -1
+   where the library has none: a rigid or inextensible link, before a step); at[] gets its
+   element and end (0, 1), the first where there are equal ones; *stress the largest
+   outer-fibre stress (Pa, 0 where none is known). */
+static double link_moment(const rj_model *m, const rj_state *s, int link, int at[2], double *stress)
+{
+    double best = -1;
+    int e, end;
+    *stress = 0;
+    for (e = 0; e < rj_link_node_count(m, link) - 1; e++) {
+        double L[5];
+        if (rj_element_loads(m, s, link, e, L) != RJ_OK) continue;
+        for (end = 0; end < 2; end++)
+            if (fabs(L[2 + end]) > best) {
+                best = fabs(L[2 + end]);
+                at[0] = e;
+                at[1] = end;
+            }
+        if (L[4] > *stress) *stress = L[4];
+    }
+    return best;
+}
+
+/* The peak links' largest bending moment (where, when) and outer-fibre stress. */
+static void peak_moments(runner *r, const rj_state *s)
+{
+    const rj_model *m = r->sc->m;
+    int j;
+    for (j = 0; j < r->npeak; j++) {
+        double *pk = r->peak + 5 * j, stress;
+        int at[2] = { 0, 0 };
+        const double mm = link_moment(m, s, r->peak_links[j], at, &stress);
+        if (mm > pk[0]) {
+            pk[0] = mm;
+            pk[1] = at[0];
+            pk[2] = at[1];
+            pk[3] = rj_state_time(s) - rj_model_dt(m); /* the loads are at t^n */
+        }
+        if (stress > pk[4]) pk[4] = stress;
+    }
+}
+
 /* The flags, the peaks, the overlaps and the state's warnings after each step. */
 static void step_check(runner *r, const rj_state *s)
 {
     const rj_model *m = r->sc->m;
     const int nj = rj_model_joint_count(m);
     int j, overlaps = 0;
-    /* the --loads links' largest bending moment (where, when) and outer-fibre stress */
-    for (j = 0; j < r->npeak; j++) {
-        double *pk = r->peak + 5 * j;
-        int e;
-        for (e = 0; e < rj_link_node_count(m, r->peak_links[j]) - 1; e++) {
-            double L[5];
-            int end;
-            if (rj_element_loads(m, s, r->peak_links[j], e, L) != RJ_OK) continue;
-            for (end = 0; end < 2; end++)
-                if (fabs(L[2 + end]) > pk[0]) {
-                    pk[0] = fabs(L[2 + end]);
-                    pk[1] = e;
-                    pk[2] = end;
-                    pk[3] = rj_state_time(s) - rj_model_dt(m); /* the loads are at t^n */
-                }
-            if (L[4] > pk[4]) pk[4] = L[4];
-        }
-    }
+    peak_moments(r, s);
     /* every joint's pin force (NaN where the library has none) for the peaks */
-    if (rj_joint_pin_forces(m, s, r->pin) != RJ_OK)
-        for (j = 0; j < 2 * nj; j++) r->pin[j] = NAN;
+    pin_forces(m, s, r->pin);
     for (j = 0; j < nj; j++) {
         jlog *L = &r->jl[j];
         const int f = rj_joint_flag(m, s, j);
@@ -683,7 +731,10 @@ static void step_check(runner *r, const rj_state *s)
         pending_check(r, s, j, 0);
         if (tl > L->peak_limit) L->peak_limit = tl;
         if (li > L->peak_latch) L->peak_latch = li;
-        if (!isnan(pin) && pin > L->peak_pin) L->peak_pin = pin;
+        if (!isnan(pin) && pin > L->peak_pin) {
+            L->peak_pin = pin;
+            L->peak_pin_t = rj_state_time(s) - rj_model_dt(m);
+        }
         overlaps += overlap_check(r, s, j);
     }
     warning_check(r, s, overlaps);
@@ -883,8 +934,7 @@ static int csv_sink_fn(runner *r, const rj_state *s)
     const rj_model *m = r->sc->m;
     int i;
     cli_put(&c->out, fprintf(c->out.f, "%.12g", rj_state_time(s)));
-    for (i = 0; i < 2 * rj_model_joint_count(m); i++) c->pin[i] = NAN;
-    rj_joint_pin_forces(m, s, c->pin);
+    pin_forces(m, s, c->pin);
     for (i = 0; i < rj_model_joint_count(m); i++) csv_joint(&c->out, m, s, i, c->pin);
     for (i = 0; i < rj_model_link_count(m); i++) csv_link(&c->out, m, s, i);
     for (i = 0; i < c->nprobes; i++) {
@@ -1776,26 +1826,37 @@ static int cmd_check(int argc, char **argv)
 
 /* ================================================================ rj plot */
 
+/* The plots of one image: --what loads draws two, one above the other, since pin forces
+   (N) and bending moments (N m) do not share a y axis; every other --what draws one. */
+enum { PANEL_PINS = 0, PANEL_MOMENTS, NPANELS };
+#define HIST_MAX (NPANELS * RJR_MAX_SERIES)
+
 /* The history of rj plot: the series chosen by --what, sampled by the run. */
 typedef struct history {
-    int what, nseries, ncand;     /* series kept (at most RJR_MAX_SERIES), and of them all */
-    int idx[RJR_MAX_SERIES];      /* the joint or link of each series */
-    int latch[RJR_MAX_SERIES];    /* torques: latch impulse / dt instead of the limit torque */
-    char label[RJR_MAX_SERIES][48];
+    int what, nseries;            /* series kept (at most RJR_MAX_SERIES a plot) */
+    int ncand[NPANELS], kept[NPANELS]; /* each plot's series, all and kept */
+    int idx[HIST_MAX];            /* the joint or link of each series */
+    int latch[HIST_MAX];          /* torques: latch impulse / dt instead of the limit torque */
+    int panel[HIST_MAX];          /* its plot: PANEL_MOMENTS for loads' moments, else 0 */
+    char label[HIST_MAX][48];
     long n, cap;
-    double *t, *y[RJR_MAX_SERIES];
+    double *t, *y[HIST_MAX];
+    double *pin;                  /* loads: every joint's pin force at the sample */
+    int *flex;                    /* loads: the flexible links, whose peaks the run keeps */
 } history;
 
-/* A series: kept when there is room, counted either way. */
-static void series_add(history *h, int idx, int latch, const char *label, const char *suffix)
+/* A series of a plot: kept when that plot has room, counted either way. */
+static void series_add(history *h, int panel, int idx, int latch, const char *label, const char *suffix)
 {
-    if (h->nseries < RJR_MAX_SERIES) {
-        h->idx[h->nseries] = idx;
-        h->latch[h->nseries] = latch;
-        snprintf(h->label[h->nseries], sizeof h->label[0], "%s%s", label, suffix);
-        h->nseries++;
-    }
-    h->ncand++;
+    const int k = h->nseries;
+    h->ncand[panel]++;
+    if (h->kept[panel] == RJR_MAX_SERIES) return;
+    h->idx[k] = idx;
+    h->latch[k] = latch;
+    h->panel[k] = panel;
+    snprintf(h->label[k], sizeof h->label[0], "%s%s", label, suffix);
+    h->kept[panel]++;
+    h->nseries++;
 }
 
 /* Torques: every joint with a limit (every joint when none has one). */
@@ -1808,8 +1869,25 @@ static void series_torques(history *h, const scene *sc)
         const rj_joint_def *d = rj_model_joint_def(m, j);
         const int vel = d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED || d->method == RJ_METHOD_ENERGY;
         if (any && !d->has_forward && !d->has_reverse) continue;
-        series_add(h, j, vel, joint_name(sc, j), vel ? " latch impulse/dt" : " limit torque");
+        series_add(h, 0, j, vel, joint_name(sc, j), vel ? " latch impulse/dt" : " limit torque");
     }
+}
+
+/* Whether a link has element loads: rigid and inextensible ones have none. */
+static int link_flexible(const rj_model *m, int l)
+{
+    return rj_model_link_def(m, l)->fidelity == RJ_LINK_FLEXIBLE;
+}
+
+/* Loads: every joint's pin force; every flexible link's largest bending moment, labelled
+   abs(M): the plot's font has no '|'. */
+static void series_loads(history *h, const scene *sc)
+{
+    const rj_model *m = sc->m;
+    int i;
+    for (i = 0; i < rj_model_joint_count(m); i++) series_add(h, PANEL_PINS, i, 0, joint_name(sc, i), " pin force");
+    for (i = 0; i < rj_model_link_count(m); i++)
+        if (link_flexible(m, i)) series_add(h, PANEL_MOMENTS, i, 0, link_name(sc, i), " max abs(M)");
 }
 
 /* The series of each --what, in the file's order of joints and links. */
@@ -1820,10 +1898,37 @@ static void series_setup(history *h, const scene *sc, int what)
     int i;
     memset(h, 0, sizeof *h);
     h->what = what;
-    if (what == WHAT_ANGLES) for (i = 0; i < rj_model_joint_count(m); i++) series_add(h, i, 0, joint_name(sc, i), "");
+    if (what == WHAT_ANGLES) for (i = 0; i < rj_model_joint_count(m); i++) series_add(h, 0, i, 0, joint_name(sc, i), "");
     if (what == WHAT_TORQUES) series_torques(h, sc);
-    if (what == WHAT_TIPS) for (i = 0; i < rj_model_link_count(m); i++) series_add(h, i, 0, link_name(sc, i), "");
-    if (what == WHAT_ENERGY) for (i = 0; i < 4; i++) series_add(h, i, 0, energies[i], "");
+    if (what == WHAT_TIPS) for (i = 0; i < rj_model_link_count(m); i++) series_add(h, 0, i, 0, link_name(sc, i), "");
+    if (what == WHAT_ENERGY) for (i = 0; i < 4; i++) series_add(h, 0, i, 0, energies[i], "");
+    if (what == WHAT_LOADS) series_loads(h, sc);
+}
+
+/* Series left out for want of room, said for each plot. */
+static void series_note(const history *h)
+{
+    int k;
+    for (k = 0; k < NPANELS; k++) {
+        const char *what = h->what != WHAT_LOADS ? "" : k ? "bending moment " : "pin force ";
+        if (h->ncand[k] > h->kept[k])
+            fprintf(stderr, "rj plot: %d %sseries, more than a plot holds: plotting the first %d\n", h->ncand[k], what,
+                    h->kept[k]);
+    }
+}
+
+/* Loads' series k in state s: |pin force| from the sample's (NaN where there is none), or
+   the link's largest |bending moment|; NaN before a step, where the library documents
+   none (its rigid links' pass answers there: the weight alone, no acceleration yet). */
+static double loads_value(const history *h, int k, const rj_model *m, const rj_state *s)
+{
+    const int i = h->idx[k];
+    int at[2];
+    double stress, mm;
+    if (rj_state_steps(s) == 0) return NAN;
+    if (h->panel[k] == PANEL_PINS) return hypot(h->pin[2 * i], h->pin[2 * i + 1]);
+    mm = link_moment(m, s, i, at, &stress);
+    return mm >= 0 ? mm : NAN;
 }
 
 /* Series k's value in state s. */
@@ -1835,6 +1940,7 @@ static double series_value(const history *h, int k, const rj_model *m, const rj_
     if (h->what == WHAT_TORQUES && h->latch[k]) return rj_joint_latch_impulse(m, s, i) / rj_model_dt(m);
     if (h->what == WHAT_TORQUES) return rj_joint_torque(m, s, i, RJ_TORQUE_LIMIT);
     if (h->what == WHAT_TIPS) return scene_tip_defl_tangent(m, s, i);
+    if (h->what == WHAT_LOADS) return loads_value(h, k, m, s);
     rj_state_energy(m, s, &e);
     return i == 0 ? e.kinetic : i == 1 ? e.strain : i == 2 ? e.spring : e.balance;
 }
@@ -1867,8 +1973,30 @@ static int plot_sink_fn(runner *r, const rj_state *s)
         return 1;
     }
     h->t[h->n] = rj_state_time(s);
+    /* loads: the pin forces once for every joint's series */
+    if (h->pin) pin_forces(r->sc->m, s, h->pin);
     for (k = 0; k < h->nseries; k++) h->y[k][h->n] = series_value(h, k, r->sc->m, s);
     h->n++;
+    return 0;
+}
+
+/* Loads: the pin forces' buffer; the run keeps every flexible link's peak bending moment
+   (the summary's line and the plot's marker), as rj run --loads does. 0, or -1. */
+static int loads_setup(history *h, runner *r)
+{
+    const rj_model *m = r->sc->m;
+    const int nl = rj_model_link_count(m);
+    int l;
+    h->pin = (double *)malloc(sizeof(double) * 2 * (size_t)(rj_model_joint_count(m) + 1));
+    h->flex = (int *)malloc(sizeof(int) * (size_t)(nl + 1));
+    r->peak = (double *)calloc(5 * (size_t)(nl + 1), sizeof(double));
+    if (!h->pin || !h->flex || !r->peak) {
+        fprintf(stderr, "rj plot: out of memory\n");
+        return -1;
+    }
+    for (l = 0; l < nl; l++)
+        if (link_flexible(m, l)) h->flex[r->npeak++] = l;
+    r->peak_links = h->flex;
     return 0;
 }
 
@@ -1878,65 +2006,160 @@ static void history_free(history *h)
     int k;
     free(h->t);
     for (k = 0; k < h->nseries; k++) free(h->y[k]);
+    free(h->pin);
+    free(h->flex);
 }
 
-/* Locks and first contacts, labelled "NAME lock" / "NAME contact" (at most
-   RJR_MAX_MARKERS; the rest are said on standard error). */
-static void plot_markers(rjr_plot_def *p, const runner *r, char (*labels)[48])
+/* A marker at x labelled "NAME what", when the plot has room; 1 when it has none. */
+static int marker_add(rjr_plot_def *p, char (*labels)[48], double x, const char *name, const char *what)
+{
+    const int i = p->marker_count;
+    if (i == RJR_MAX_MARKERS) return 1;
+    snprintf(labels[i], 48, "%s %s", name, what);
+    p->markers[i].x = x;
+    p->markers[i].label = labels[i];
+    p->marker_count++;
+    return 0;
+}
+
+/* Locks and first contacts, labelled "NAME lock" / "NAME contact"; returns how many
+   found no room (a plot has RJR_MAX_MARKERS). */
+static int plot_markers(rjr_plot_def *p, const runner *r, char (*labels)[48])
 {
     const rj_model *m = r->sc->m;
-    int j, lost = 0;
+    int j, k, lost = 0;
     for (j = 0; j < rj_model_joint_count(m); j++) {
         const double first = rj_joint_event_time(m, r->s, j), lock = r->jl[j].lock_t;
         const double at[2] = { first != lock ? first : -1, lock };
-        int k;
-        for (k = 0; k < 2; k++) {
-            if (at[k] < 0) continue;
-            if (p->marker_count == RJR_MAX_MARKERS) {
-                lost++;
-                continue;
-            }
-            snprintf(labels[p->marker_count], 48, "%s %s", joint_name(r->sc, j), k ? "lock" : "contact");
-            p->markers[p->marker_count].x = at[k];
-            p->markers[p->marker_count].label = labels[p->marker_count];
-            p->marker_count++;
-        }
+        for (k = 0; k < 2; k++)
+            if (at[k] >= 0) lost += marker_add(p, labels, at[k], joint_name(r->sc, j), k ? "lock" : "contact");
     }
-    if (lost) fprintf(stderr, "rj plot: %d more events than the %d markers a plot has: not marked\n", lost, RJR_MAX_MARKERS);
+    return lost;
 }
 
-/* Draws and writes the plot; 0, or 1 after saying why. */
+/* Loads' series k: its peak over every step of the run (the summary's: a spike between
+   two samples counts), its time in *t; -1 when none is known. */
+static double series_peak(const history *h, int k, const runner *r, double *t)
+{
+    const int i = h->idx[k];
+    int j;
+    if (h->panel[k] == PANEL_PINS) {
+        *t = r->jl[i].peak_pin_t;
+        return r->jl[i].peak_pin;
+    }
+    for (j = 0; j < r->npeak; j++)
+        if (r->peak_links[j] == i) {
+            *t = r->peak[5 * j + 3];
+            return r->peak[5 * j];
+        }
+    return -1;
+}
+
+/* Loads: the peak of each of the n drawn series, "NAME peak 8.74 N", after the events;
+   those that find no room are said on standard error. */
+static void peak_markers(rjr_plot_def *p, const history *h, const runner *r, const int *drawn, int n,
+                         char (*labels)[48])
+{
+    int q, lost = 0;
+    for (q = 0; q < n; q++) {
+        const int k = drawn[q], pins = h->panel[k] == PANEL_PINS;
+        const char *name = pins ? joint_name(r->sc, h->idx[k]) : link_name(r->sc, h->idx[k]);
+        char what[40];
+        double t;
+        const double v = series_peak(h, k, r, &t);
+        if (!(v > 0)) continue;
+        snprintf(what, sizeof what, "peak %.4g %s", v, pins ? "N" : "N m");
+        lost += marker_add(p, labels, t, name, what);
+    }
+    if (lost) fprintf(stderr, "rj plot: %d peaks more than the %d markers a plot has: not marked\n", lost,
+                      RJR_MAX_MARKERS);
+}
+
+/* Whether series k has no number in the whole run: it is not drawn, and said. */
+static int series_empty(const history *h, int k)
+{
+    static const char *const why[NPANELS] = { "rj_joint_pin_force has none for this joint",
+                                              "rj_element_loads has none for this link" };
+    long i;
+    for (i = 0; i < h->n; i++)
+        if (isfinite(h->y[k][i])) return 0;
+    fprintf(stderr, "rj plot: %s: none in the whole run (%s): not plotted\n", h->label[k],
+            h->what == WHAT_LOADS ? why[h->panel[k]] : "not a number in any sample");
+    return 1;
+}
+
+/* One plot of the image: its series with a number, the run's span, the events and (loads)
+   the peaks marked. Returns how many events found no room. */
+static int plot_panel(const opts *o, const history *h, const runner *r, int panel, rjr_plot_def *p, char *title,
+                      char (*labels)[48])
+{
+    /* one entry per --what, then loads' second plot */
+    static const char *const ylabels[] = { "joint angle (deg)", "torque (N m)", "tip deflection (m)", "energy (J)",
+                                           "pin force (N)", "max abs bending moment (N m)" };
+    static const char *const titles[] = { "joint angles", "limit torques", "tip deflections", "energies",
+                                          "pin forces", "largest bending moments" };
+    int drawn[RJR_MAX_SERIES], k, n = 0, lost;
+    *p = rjr_plot_default();
+    snprintf(title, 160, "%s: %s", r->sc->f.title[0] ? r->sc->f.title : base_name(o->scene), titles[o->what + panel]);
+    p->title = title;
+    p->xlabel = "t (s)";
+    p->ylabel = ylabels[o->what + panel];
+    /* the axis spans the run, not the next round number past it */
+    p->xmin = 0;
+    p->xmax = h->t[h->n - 1];
+    for (k = 0; k < h->nseries; k++) {
+        if (h->panel[k] != panel || series_empty(h, k)) continue;
+        drawn[n] = k;
+        p->series[n].x = h->t;
+        p->series[n].y = h->y[k];
+        p->series[n].n = (int)h->n;
+        p->series[n].label = h->label[k];
+        p->series[n].colour = RJR_AUTO_COLOUR;
+        n++;
+    }
+    p->series_count = n;
+    lost = plot_markers(p, r, labels);
+    if (h->what == WHAT_LOADS) peak_markers(p, h, r, drawn, n, labels);
+    return lost;
+}
+
+/* Loads' two plots in one image, the pin forces above the moments on the same time axis
+   (labelled under the lower one only). A plot without series is left out; with none in
+   either the pin forces' is drawn, empty, as other --what draw theirs. */
+static int plot_loads(rjr_context *ctx, rjr_plot_def *p)
+{
+    const int w = rjr_width(ctx), h = rjr_height(ctx);
+    const int low = p[PANEL_MOMENTS].series_count > 0;
+    const int up = p[PANEL_PINS].series_count > 0 || !low;
+    const int split = up && low ? h / 2 : up ? h : 0;
+    int rc = 0;
+    if (up && low) p[PANEL_PINS].xlabel = NULL;
+    if (rjr_begin(ctx, 0xffffff) != 0) return -1;
+    if (up && rjr_plot_rect(ctx, &p[PANEL_PINS], 0, 0, w, split) != 0) rc = -1;
+    if (low && rjr_plot_rect(ctx, &p[PANEL_MOMENTS], 0, split, w, h - split) != 0) rc = -1;
+    if (rjr_end(ctx) != 0) return -1;
+    return rc;
+}
+
+/* Draws and writes the plot (loads: its two); 0, or 1 after saying why. */
 static int plot_write(const opts *o, const history *h, const runner *r)
 {
-    static const char *const ylabels[] = { "joint angle (deg)", "torque (N m)", "tip deflection (m)", "energy (J)" };
-    static const char *const titles[] = { "joint angles", "limit torques", "tip deflections", "energies" };
-    rjr_plot_def p = rjr_plot_default();
-    char title[160], err[256], labels[RJR_MAX_MARKERS][48];
+    rjr_plot_def p[NPANELS];
+    char title[NPANELS][160], err[256], labels[NPANELS][RJR_MAX_MARKERS][48];
     rjr_context *ctx;
-    int k, rc;
-    snprintf(title, sizeof title, "%s: %s", r->sc->f.title[0] ? r->sc->f.title : base_name(o->scene), titles[o->what]);
-    p.title = title;
-    p.xlabel = "t (s)";
-    p.ylabel = ylabels[o->what];
-    p.series_count = h->nseries;
-    /* the axis spans the run, not the next round number past it */
-    p.xmin = 0;
-    p.xmax = h->t[h->n - 1];
-    for (k = 0; k < h->nseries; k++) {
-        p.series[k].x = h->t;
-        p.series[k].y = h->y[k];
-        p.series[k].n = (int)h->n;
-        p.series[k].label = h->label[k];
-        p.series[k].colour = RJR_AUTO_COLOUR;
-    }
-    plot_markers(&p, r, labels);
+    const int np = h->what == WHAT_LOADS ? NPANELS : 1;
+    int k, rc, lost = 0;
+    for (k = 0; k < np; k++) lost = plot_panel(o, h, r, k, &p[k], title[k], labels[k]);
+    /* the same events in every plot: said once */
+    if (lost) fprintf(stderr, "rj plot: %d more events than the %d markers a plot has: not marked\n", lost, RJR_MAX_MARKERS);
     err[0] = '\0';
     ctx = rjr_create(o->w, o->h, err, sizeof err);
     if (!ctx) {
         fprintf(stderr, "rj plot: %s\n", err);
         return 1;
     }
-    rc = rjr_plot(ctx, &p) || rjr_save_png(ctx, o->out, err, sizeof err);
+    rc = (h->what == WHAT_LOADS ? plot_loads(ctx, p) : rjr_plot(ctx, &p[PANEL_PINS])) ||
+         rjr_save_png(ctx, o->out, err, sizeof err);
     if (rc) fprintf(stderr, "rj plot: cannot write %s: %s\n", o->out, err[0] ? err : rjr_error(ctx));
     rjr_destroy(ctx);
     return rc ? 1 : 0;
@@ -1980,9 +2203,9 @@ static int cmd_plot(int argc, char **argv)
     if (cli_mkparent("rj plot", o.out) != 0 || out_writable("rj plot", o.out) != 0) return 2;
     model_warnings(&sc, "rj plot");
     series_setup(&h, &sc, o.what);
-    if (h.ncand > h.nseries)
-        fprintf(stderr, "rj plot: %d series, more than a plot holds: plotting the first %d\n", h.ncand, h.nseries);
+    series_note(&h);
     if (runner_init(&r, &sc, "rj plot", o.t_end, fmax(1e-3, o.t_end / PLOT_SAMPLES), o.progress) != 0) return 1;
+    if (o.what == WHAT_LOADS && loads_setup(&h, &r) != 0) return 1;
     r.sink = plot_sink_fn;
     r.data = &h;
     res = runner_go(&r);

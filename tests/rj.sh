@@ -197,7 +197,7 @@ ok "check warns: a limit the joint starts past (the model's, named), a heavy tip
 ok "check warns of nothing on deploy.rjs" "$B/rj check $S/deploy.rjs | grep -qx 'warnings: none'"
 
 # ---- rj plot
-for w in angles torques tips energy; do
+for w in angles torques tips energy loads; do
   ok "plot --what $w writes a PNG" \
     "$B/rj plot $S/solar_array.rjs --t-end 0.2 --what $w --size 320x200 --out $T/plot_$w.png 2>/dev/null && [ \"\$(head -c 4 $T/plot_$w.png | od -An -tx1 | tr -d ' \\n')\" = 89504e47 ]"
 done
@@ -311,6 +311,45 @@ if [ -x /usr/bin/python3 ]; then
   ok "plot --what angles: lock labels 11 ms apart do not hide each other (label pixels $1 close, $2 far apart)" "[ -n '$1' ] && [ '$1' -gt 0 ] && [ '$1' = '$2' ]"
 else echo "SKIP rj: no /usr/bin/python3 to count the plot's label pixels"; fi
 
+# ---- rj plot --what loads: pin forces above, the flexible links' largest bending moments
+# below; a joint the library has no pin force for is said, not drawn
+# a file's first 4 bytes in hex (a PNG's: 89504e47), expanded before ok runs its check
+magic() { head -c 4 "$1" | od -An -tx1 | tr -d ' \n'; }
+$B/rj plot $S/deploy.rjs --t-end 3.2 --what loads --size 640x480 --out $T/loads_deploy.png 2>$T/loads_deploy.err; st=$?
+ok "plot deploy.rjs --what loads: a PNG (status $st), both joints with a pin force (no note), both arms' peak moments kept" \
+  "[ $st = 0 ] && [ '$(magic $T/loads_deploy.png)' = 89504e47 ] && ! grep -q 'none in the whole run' $T/loads_deploy.err \
+   && grep -q '^rj plot: arm1: peak |bending moment| ' $T/loads_deploy.err && grep -q '^rj plot: arm2: peak |bending moment| ' $T/loads_deploy.err"
+# solar_array_bus.rjs: a rigid bus (no element loads: no moment series) and four flexible panels
+$B/rj plot $S/solar_array_bus.rjs --t-end 0.2 --what loads --out $T/loads_bus.png 2>$T/loads_bus.err; st=$?
+ok "plot solar_array_bus.rjs --what loads (a rigid bus): a PNG (status $st), moments of the 4 flexible panels only" \
+  "[ $st = 0 ] && [ '$(magic $T/loads_bus.png)' = 89504e47 ] && [ \$(grep -c ': peak |bending moment| ' $T/loads_bus.err) = 4 ] \
+   && ! grep -q '^rj plot: bus: peak |bending' $T/loads_bus.err"
+# a rigid link pinned to the ground in a mixed scene: the library has no pin force for j1
+# (a rigid body and the ground), it has one for j2 (to the flexible link b)
+printf 'solver\n  gravity = 0 -9.81\nlink a\n  fidelity = rigid  length = 0.5\nlink b\n  length = 1  elements = 8\njoint j1\n  body1 = ground  body2 = a  angle0 = 0\njoint j2\n  body1 = a  body2 = b  angle0 = 180 deg\n' > $T/mixed_loads.rjs
+$B/rj plot $T/mixed_loads.rjs --t-end 0.05 --what loads --out $T/loads_mixed.png 2>$T/loads_mixed.err; st=$?
+ok "plot --what loads, a joint without a pin force: said on standard error by name and not drawn, the other drawn (status $st)" \
+  "[ $st = 0 ] && [ '$(magic $T/loads_mixed.png)' = 89504e47 ] \
+   && grep -qx 'rj plot: j1 pin force: none in the whole run (rj_joint_pin_force has none for this joint): not plotted' $T/loads_mixed.err \
+   && [ \$(grep -c 'none in the whole run' $T/loads_mixed.err) = 1 ]"
+# a plot holds 8 series: the scissor boom's 16 joints and 12 flexible links, 8 of each
+m 0 "16 pin force series, more than a plot holds: plotting the first 8" "plot scissor_boom.rjs --what loads: 8 of its 16 pin forces" \
+  $B/rj plot $S/scissor_boom.rjs --t-end 0.01 --what loads --out $T/loads_scissor.png
+m 0 "12 bending moment series, more than a plot holds: plotting the first 8" "plot scissor_boom.rjs --what loads: 8 of its 12 links' moments" \
+  $B/rj plot $S/scissor_boom.rjs --t-end 0.01 --what loads --out $T/loads_scissor.png
+# a rigid rod released level (all links rigid, no limits: no events): its pin force's peak
+# (2.5 m g at the bottom) is marked, so the plot has marker-label pixels that its angles'
+# plot, without events, has not
+printf 'solver\n  dt = 1e-4  gravity = 0 -9.81\nlink rod\n  length = 1  rho = 2700  width = 0.02  height = 0.01\n  fidelity = rigid\njoint pin\n  body1 = ground  body2 = rod  angle0 = 0\n' > $T/rod_loads.rjs
+$B/rj plot $T/rod_loads.rjs --what loads --out $T/loads_rod.png 2>$T/loads_rod.err; st=$?
+$B/rj plot $T/rod_loads.rjs --what angles --out $T/angles_rod.png 2>/dev/null
+ok "plot --what loads on a rigid rod: a PNG (status $st), no note, no moment plot (no flexible link)" \
+  "[ $st = 0 ] && [ '$(magic $T/loads_rod.png)' = 89504e47 ] && ! grep -q 'none in the whole run\|bending' $T/loads_rod.err"
+if [ -x /usr/bin/python3 ]; then
+  set -- $(/usr/bin/python3 $T/purple.py $T/loads_rod.png $T/angles_rod.png)
+  ok "plot --what loads: the pin force's peak is marked (label pixels $1, without events; $2 in the angles' plot)" "[ -n '$1' ] && [ '$1' -gt 0 ] && [ '$2' = 0 ]"
+else echo "SKIP rj: no /usr/bin/python3 to count the plot's label pixels"; fi
+
 # ---- numbers are decimal, finite where they must be, the option and value named
 m 2 "option --t-end: bad value '0x10' \(need a finite decimal number" "run --t-end 0x10 (hex) is refused" $B/rj run $S/deploy.rjs --t-end 0x10 --csv /dev/null
 m 2 "option --sample: bad value 'nan' \(need a finite decimal number" "run --sample nan is refused" $B/rj run $S/deploy.rjs --sample nan --csv /dev/null
@@ -323,7 +362,7 @@ m 2 "^rj run: unknown option '--setle'; did you mean '--settle'\?" "run --setle:
 m 2 "^rj: unknown subcommand 'runn'; did you mean 'run'\?" "rj runn: did you mean 'run'" $B/rj runn $S/deploy.rjs
 m 2 "^rj: unknown subcommand 'chek'; did you mean 'check'\?" "rj chek: did you mean 'check'" $B/rj chek $S/deploy.rjs
 m 2 "^rj check: unknown option '--csv' \(rj run takes it, not rj check\)" "check --csv: named as rj run's option" $B/rj check $S/deploy.rjs --csv x.csv
-m 2 "option --what: unknown value 'angle' \(one of: angles, torques, tips, energy\); did you mean 'angles'\?" \
+m 2 "option --what: unknown value 'angle' \(one of: angles, torques, tips, energy, loads\); did you mean 'angles'\?" \
   "plot --what angle: the values listed, did you mean 'angles'" $B/rj plot $S/deploy.rjs --what angle --out $T/x.png
 m 2 "^rj run: unknown option '--zzz'$" "run --zzz: nothing near, no suggestion" $B/rj run $S/deploy.rjs --zzz
 
