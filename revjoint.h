@@ -162,6 +162,10 @@ typedef enum rj_fidelity { RJ_LINK_FLEXIBLE = 0, RJ_LINK_RIGID, RJ_LINK_INEXTENS
 
 /* Section description. */
 typedef enum rj_section { RJ_SECTION_RECT = 0, RJ_SECTION_GENERAL } rj_section;
+/* A flexible link's axial law (docs/modelling.md, "The axial law"): GREEN, force EA eps L /
+   l0 with the Green strain eps (St. Venant-Kirchhoff); BIOT, force EA e with the
+   engineering strain e = L / l0 - 1. */
+typedef enum rj_strain { RJ_STRAIN_GREEN = 0, RJ_STRAIN_BIOT } rj_strain;
 
 /* Limit response methods (the paper's sec. 3.4, Eqs 14-26). */
 typedef enum rj_method {
@@ -209,7 +213,8 @@ typedef enum rj_torque {
      tip_mass 0 kg, tip_inertia 0 kg m^2;
      root RJ_ROOT_FREE; x 0 m, y 0 m, angle 0 rad (root placement, used when the link is not
      the body2 of a joint); vx, vy 0 m/s, omega 0 rad/s (initial rigid motion of a root link); fidelity RJ_LINK_FLEXIBLE;
-     eta 0 s, damping 0 0, mass_damping 0 1/s (no structural damping). */
+     eta 0 s, damping 0 0, mass_damping 0 1/s (no structural damping); yield 0 Pa (elastic),
+     hardening 0 Pa, strain RJ_STRAIN_GREEN. */
 typedef struct rj_link_def {
     double length;        /* m, > 0 */
     int elements;         /* >= 1 */
@@ -234,6 +239,10 @@ typedef struct rj_link_def {
                             ratio / (pi Hz); 0 0 none (not with eta) */
     double mass_damping; /* 1/s, >= 0: force -mass_damping m v on every node (m omega: its
                             rotation), mode n damped at ratio mass_damping / (2 omega_n) */
+    /* Elastic-plastic layers (flexible links of rectangular section): */
+    double yield;     /* Pa, >= 0: each layer's yield stress; 0 elastic */
+    double hardening; /* Pa, >= 0: the plastic modulus of bilinear kinematic hardening */
+    int strain;       /* rj_strain: the axial law (flexible links) */
     unsigned cookie;     /* set by rj_default_link_def; catches undefaulted structs */
 } rj_link_def;
 
@@ -456,6 +465,7 @@ typedef struct rj_energy {
     double work_drive;   /* J done on the model by the joints' actuators so far */
     double lost_damping, lost_friction, lost_limit;
     double lost_structural; /* J dissipated by the links' eta and mass_damping so far */
+    double lost_plastic;    /* J of plastic work in the links' layers so far */
     double total, balance;
 } rj_energy;
 
@@ -674,11 +684,19 @@ RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double
    second node (N m), each the force or moment the part of the link beyond the section
    exerts on the part before it, along the chord, across it (counter-clockwise of the
    chord) and counter-clockwise; [4] the largest outer-fibre stress |N| / A + |M| h / 2I
-   (Pa; NaN for a general section, whose fibre distance the model does not know).
-   RJ_ERR_INVALID, loads 0: a rigid or inextensible link, in-place stepping, before a
-   step, an element out of range. */
+   (Pa; NaN for a general section, whose fibre distance the model does not know; for
+   yielding layers the largest |stress| at a layer's mid-depth in its two sections, where
+   the layers yield: the outer layers' mid-depth, not the outer fibre). RJ_ERR_INVALID, loads 0: a rigid or inextensible link,
+   in-place stepping, before a step, an element out of range. */
 RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link, int element,
                                  double loads[5]);
+/* A yielding link's plastic strain in layer `layer` (0 the outermost on the side of the
+   link's local -y, its right looking from node 0 along it) of element `element`'s section
+   `section`
+   (0, 1: its Gauss points, at 0.211 and 0.789 of its length), as the last step left it;
+   0 for an elastic link, NaN out of range. */
+RJDEF double rj_element_plastic_strain(const rj_model *m, const rj_state *s, int link,
+                                       int element, int section, int layer);
 RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s,
                                  int joint); /* first limit contact or lock, s; -1 if none */
 RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s,
@@ -1116,9 +1134,13 @@ struct rj_model {
     double *
         link_kc; /* (4 nl) a link's element constants: EI/l0, EA/l0 (0 if inextensible), l0^2, 1/(2 l0^2) */
     /* structural damping (eta, mass_damping): links that have it take the beam pass's
-       damped path (rj__beam_damped_link) */
+       damped path (rj__beam_material_link) */
     int nstruct;        /* links with structural damping */
+    int nplastic;       /* links with yielding layers */
+    int nmaterial;      /* links on the material path: damping, yielding layers, Biot */
     int *link_path;     /* (nl) RJ__PATH_*: the beam pass's path for the link */
+    int *link_pl;       /* (nl) a yielding link's first plastic strain in the frame's block */
+    size_t pl_off, npl; /* the frame's block of plastic strains: its offset, its size */
     double *link_damp;  /* (2 nl) a link's eta in use (s) and mass_damping (1/s) */
     double struct_rate; /* 1/s: the fastest damping rate they give a mode, max eta w^2 + a */
     int *grp_node;   /* (members) */
@@ -1134,8 +1156,9 @@ struct rj_model {
 };
 
 /* The beam pass's path for a link (rj_model.link_path): the fused kernels, none (a rigid
-   link: its body moves its nodes), or the damped path's scalars. */
-enum { RJ__PATH_FUSED = 0, RJ__PATH_RIGID, RJ__PATH_DAMPED };
+   link: its body moves its nodes), or the material path's scalars (src/beam_material.h:
+   structural damping, yielding layers, the Biot axial law). */
+enum { RJ__PATH_FUSED = 0, RJ__PATH_RIGID, RJ__PATH_MATERIAL };
 
 /* Constraint rows (src/rows.h tells what they are and how they are solved). */
 enum rj__row_kind {
@@ -1199,7 +1222,7 @@ struct rj_state {
     double *kn;           /* (nn) each node's share of twice the kinetic energy */
     double *damp; /* (3 nn + 1, with structural damping) its forces at n on every node, fx
                      then fy then mz, and their power at n - 1/2 summed in the step: for its
-                     loss (src/beam_damped.h) */
+                     loss (src/beam_material.h) */
     double *sha, *shb, *shc,
         *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
     double *gsw; /* (2 gs_prof + 9 gs_n + 2 nn, or none) rj__gs_work */
@@ -1380,8 +1403,13 @@ RJDEF const char *rj_result_str(rj_result r)
    here, a frame scalar (RJ__FS_*), a field of rj_energy and its physics. */
 enum rj__account_kind { RJ__ACC_ENERGY = 0, RJ__ACC_LOSS, RJ__ACC_WORK };
 /* What a model needs for an account to move: nothing (every model), actuators, links with
-   structural damping. */
-enum rj__account_need { RJ__NEED_NONE = 0, RJ__NEED_ACTUATORS, RJ__NEED_STRUCTURAL };
+   structural damping, links with yielding layers. */
+enum rj__account_need {
+    RJ__NEED_NONE = 0,
+    RJ__NEED_ACTUATORS,
+    RJ__NEED_STRUCTURAL,
+    RJ__NEED_PLASTIC
+};
 typedef struct rj__account {
     char column[16]; /* rj run's column name */
     int slot;        /* RJ__FS_* */
@@ -1389,7 +1417,7 @@ typedef struct rj__account {
     size_t field;    /* offsetof(rj_energy, ...) */
     int need;        /* rj__account_need */
 } rj__account;
-#define RJ__ACCOUNT_COUNT 10
+#define RJ__ACCOUNT_COUNT 11
 static const rj__account rj__accounts[RJ__ACCOUNT_COUNT] = {
     { "E_kin", RJ__FS_KE, RJ__ACC_ENERGY, offsetof(rj_energy, kinetic), RJ__NEED_NONE },
     { "E_strain", RJ__FS_STRAIN, RJ__ACC_ENERGY, offsetof(rj_energy, strain), RJ__NEED_NONE },
@@ -1402,6 +1430,8 @@ static const rj__account rj__accounts[RJ__ACCOUNT_COUNT] = {
     { "W_limit", RJ__FS_LLIM, RJ__ACC_LOSS, offsetof(rj_energy, lost_limit), RJ__NEED_NONE },
     { "W_structural", RJ__FS_LSTRUCT, RJ__ACC_LOSS, offsetof(rj_energy, lost_structural),
       RJ__NEED_STRUCTURAL },
+    { "W_plastic", RJ__FS_LPLAST, RJ__ACC_LOSS, offsetof(rj_energy, lost_plastic),
+      RJ__NEED_PLASTIC },
 };
 
 RJDEF int rj_energy_account_count(void)
@@ -1423,6 +1453,8 @@ RJDEF int rj_energy_account_in(const rj_model *m, int k)
         return m->nact > 0;
     case RJ__NEED_STRUCTURAL:
         return m->nstruct > 0;
+    case RJ__NEED_PLASTIC:
+        return m->nplastic > 0;
     default:
         return 1;
     }
@@ -1513,6 +1545,9 @@ enum {
     RJ__LK_ETA,
     RJ__LK_DAMPING,
     RJ__LK_MASS_DAMPING,
+    RJ__LK_YIELD,
+    RJ__LK_HARDENING,
+    RJ__LK_STRAIN,
     RJ__LK_N,
     RJ__LF_SHAPE = RJ__LK_N, /* members no key sets alone */
     RJ__LF_N
@@ -1653,7 +1688,8 @@ enum {
     RJ__NM_REFERENCE,
     RJ__NM_IN_PLACE,
     RJ__NM_ACTUATOR,
-    RJ__NM_PROFILE
+    RJ__NM_PROFILE,
+    RJ__NM_STRAIN
 };
 
 /* A row is read-only data without relocations (char arrays and a names index, no
@@ -1698,6 +1734,7 @@ static const char rj__sk_reference[2][8] = { "tangent", "chord" };
 static const char rj__sk_shape[2][8] = { "rect", "general" };
 static const char rj__sk_actuator[4][11] = { "torque", "dc", "servo", "prescribed" };
 static const char rj__sk_profile[4][10] = { "ramp", "cycloidal", "spinup", "table" };
+static const char rj__sk_strain[2][6] = { "green", "biot" };
 
 #define RJ__NAMES(id, a) id, (unsigned char) sizeof a[0], (unsigned char) (sizeof a / sizeof a[0])
 #define RJ__NO_NAMES RJ__NM_NONE, 0, 0
@@ -1788,6 +1825,13 @@ static const rj__field rj__link_fields[RJ__LF_N] = {
           RJ__R(0.0, 1, 1e9, 1), "a ratio and a frequency in Hz, each in [0, 1e9]"),
     RJ__F("mass_damping", mass_damping, "1/s", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 9, 22,
           'z', 0.0, RJ__R(0.0, 1, 1e9, 1), "must be in [0, 1e9] 1/s"),
+    /* elastic-plastic layers and the axial law: hashed only when set too */
+    RJ__F("yield", yield, "Pa", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 10, 24, 'z', 0.0,
+          RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] Pa (0: elastic)"),
+    RJ__F("hardening", hardening, "Pa", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 10, 25, 'z', 0.0,
+          RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] Pa"),
+    RJ__FE("strain", strain, RJ__NM_STRAIN, rj__sk_strain, RJ__WR_SET, 10, 26, 'z', 0.0,
+           "RJ_STRAIN_GREEN or RJ_STRAIN_BIOT"),
     /* derived: area and inertia in a file make a general section */
     RJ__FE("section", section, RJ__NM_SHAPE, rj__sk_shape, RJ__WR_NONE, 0, 16, 'd', 0.0,
            "RJ_SECTION_RECT or RJ_SECTION_GENERAL"),
@@ -1994,6 +2038,8 @@ static const char *rj__names_of(int id)
         return rj__sk_actuator[0];
     case RJ__NM_PROFILE:
         return rj__sk_profile[0];
+    case RJ__NM_STRAIN:
+        return rj__sk_strain[0];
     default:
         return "";
     }
@@ -2635,6 +2681,68 @@ static int rj__validate_link_damping(const rj_link_def *L, int i, rj_error *err)
     return 1;
 }
 
+/* A link's yielding layers: a flexible link (a rigid one has no strain, an inextensible
+   one's axial force is a constraint's) of rectangular section (its layers are the
+   sections the plastic strains live in), and a state of size that an int indexes. The
+   Biot law is a flexible link's axial law. */
+static int rj__validate_link_plastic(const rj_link_def *L, int i, rj_error *err)
+{
+    char f[64];
+    const double strains = 2.0 * L->layers * (double) L->elements;
+    if (L->strain == RJ_STRAIN_BIOT && L->fidelity != RJ_LINK_FLEXIBLE) {
+        RJ__FIELD(f, "links[%d].strain", i);
+        rj__fail(err, RJ_ERR_INVALID, f, L->strain,
+                 "%s = RJ_STRAIN_BIOT is an axial law for a flexible link; links[%d] is %s", f,
+                 i, L->fidelity == RJ_LINK_RIGID ? "rigid" : "inextensible");
+        return 0;
+    }
+    if (!(L->yield > 0))
+        return 1;
+    RJ__FIELD(f, "links[%d].yield", i);
+    if (L->fidelity != RJ_LINK_FLEXIBLE || L->section != RJ_SECTION_RECT) {
+        rj__fail(err, RJ_ERR_INVALID, f, L->yield,
+                 "%s = %g: yielding layers need a flexible link of rectangular section "
+                 "(links[%d] is %s)",
+                 f, L->yield, i,
+                 L->fidelity == RJ_LINK_RIGID          ? "rigid"
+                 : L->fidelity == RJ_LINK_INEXTENSIBLE ? "inextensible"
+                                                       : "of general section");
+        return 0;
+    }
+    if (L->layers < 2) {
+        rj__fail(err, RJ_ERR_INVALID, f, L->yield,
+                 "%s = %g needs 2 or more layers (links[%d].layers = %d): a single layer "
+                 "sits at mid-depth, where bending never strains it",
+                 f, L->yield, i, L->layers);
+        return 0;
+    }
+    if (strains > 1e8) {
+        rj__fail(err, RJ_ERR_INVALID, f, L->yield,
+                 "%s = %g: %d layers of %d elements are %.3g plastic strains (two sections "
+                 "an element), more than the 1e8 a link may keep",
+                 f, L->yield, L->layers, L->elements, strains);
+        return 0;
+    }
+    return 1;
+}
+
+/* The scene's plastic strains all told: an int indexes them (1e9 at most). */
+static int rj__validate_plastic_total(const rj_scene_def *sc, rj_error *err)
+{
+    double total = 0;
+    int i;
+    for (i = 0; i < sc->link_count; i++)
+        if (sc->links[i].yield > 0)
+            total += 2.0 * sc->links[i].layers * (double) sc->links[i].elements;
+    if (total <= 1e9)
+        return 1;
+    rj__fail(err, RJ_ERR_INVALID, "links", total,
+             "the yielding links keep %.3g plastic strains all told, more than the 1e9 a "
+             "scene may",
+             total);
+    return 0;
+}
+
 static int rj__validate_link(const rj_link_def *L, int i, rj_error *err)
 {
     char f[64], item[32];
@@ -2653,7 +2761,7 @@ static int rj__validate_link(const rj_link_def *L, int i, rj_error *err)
                  r->rule);
         return 0;
     }
-    return rj__validate_link_damping(L, i, err);
+    return rj__validate_link_damping(L, i, err) && rj__validate_link_plastic(L, i, err);
 }
 
 /* Joint j's bodies: links of the scene (body1 may be ground), two of them, a node body1
@@ -3088,6 +3196,8 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
     for (i = 0; i < sc->link_count; i++)
         if (!rj__validate_link(&sc->links[i], i, err))
             return 0;
+    if (!rj__validate_plastic_total(sc, err))
+        return 0;
     for (j = 0; j < sc->joint_count; j++)
         if (!rj__validate_joint(sc, j, err))
             return 0;
@@ -3298,7 +3408,7 @@ typedef struct rj__layout {
     size_t node_cl, bp_node, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
     size_t node_grp, ch_first, ch_node, ch_l0sq, gs_int, gs_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, qj, jq, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
-        link_un, link_kc, link_path, link_damp, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
+        link_un, link_kc, link_path, link_pl, link_damp, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
 } rj__layout;
 
 /* The model's block: every array linear in the scene; rigid scenes (joint coordinates)
@@ -3360,6 +3470,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->link_un = rj__carve(&off, (size_t) 5 * nl + 1, sizeof(double));
     L->link_kc = rj__carve(&off, (size_t) 4 * nl + 1, sizeof(double));
     L->link_path = rj__carve(&off, (size_t) nl + 1, sizeof(int));
+    L->link_pl = rj__carve(&off, (size_t) nl + 1, sizeof(int));
     L->link_damp = rj__carve(&off, (size_t) 2 * nl + 1, sizeof(double));
     L->x0 = rj__carve(&off, (size_t) nn, sizeof(double));
     L->y0 = rj__carve(&off, (size_t) nn, sizeof(double));
@@ -4143,12 +4254,13 @@ static RJ__FORCE_INLINE void rj__pass_open(rj__pass *p, const rj_model *m, const
     p->en = !adv || adv->en;
 }
 
-static RJ__NOINLINE void rj__beam_damped_links(const rj_model *m, const double *x,
-                                               const double *y, const double *phi,
-                                               const double *beta, const double *cx,
-                                               const double *cy, double *eu, double *beta_out,
-                                               double *cx_out, double *cy_out, double *fx,
-                                               double *fy, double *mz, const rj__adv *adv);
+static RJ__NOINLINE void rj__beam_material_links(const rj_model *m, const double *x,
+                                                 const double *y, const double *phi,
+                                                 const double *beta, const double *cx,
+                                                 const double *cy, double *eu, double *beta_out,
+                                                 double *cx_out, double *cy_out, double *fx,
+                                                 double *fy, double *mz, const rj__adv *adv,
+                                                 const double *ep, double *ep_new);
 
 /* Internal forces at x: element forces summed into the nodes (fx, fy, mz: node b of element
    e gets +ef, node a gets -ef), chunk by chunk; the updated chord angles and this step's
@@ -4270,17 +4382,20 @@ static RJ__FORCE_INLINE double rj__beam_pass(const rj_model *m, const double *x,
     en = (ip ? rj__beam_pass_default_ip : rj__beam_pass_default)(
         m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
 #endif
-    /* forces alone: the links with structural damping on their own path too (the step
-       takes them before the pass, rj__beam_damped_step) */
-    if (m->nstruct && !adv)
-        rj__beam_damped_links(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy,
-                              mz, adv);
+    /* forces alone: the links on the material path too, without plastic strains (the
+       step takes them before the pass, rj__beam_material_step) */
+    if (m->nmaterial && !adv)
+        rj__beam_material_links(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx,
+                                fy, mz, adv, NULL, NULL);
     return en ? rj__sum8(eu, m->ne) : 0.0;
 }
-/* ------------------------------------------------------------------ structural damping */
-/* Links with structural damping (rj_link_def.eta, damping, mass_damping) take their own
-   path through the beam pass, in scalars, so that the fused kernels of every other link
-   stay as they are and a scene without it pays nothing.
+/* ------------------------------------------------------------------ the material path */
+/* Links whose material needs more than the fused kernels' elastic Green element take
+   their own path through the beam pass, in scalars, so that the fused kernels of every
+   other link stay as they are and a scene without them pays nothing: structural damping
+   (rj_link_def.eta, damping, mass_damping), yielding layers (yield, hardening) and the
+   Biot axial law (strain). The elastic Green element is the kernels' own
+   (rj__chunk_elements); what the material adds is added to its results.
 
    Kelvin-Voigt: each element's stress is E (strain + eta d(strain)/dt), on the axial
    Green strain and on the local end rotations that carry its bending. The viscous part
@@ -4294,8 +4409,20 @@ static RJ__FORCE_INLINE double rj__beam_pass(const rj_model *m, const double *x,
    Their loss joins the accounts in the step's own discrete form: the kinetic energy
    1/2 v^{n-1/2} M v^{n+1/2} changes over a step by dt/2 v^{n-1/2} . (F^n + F^{n-1}), so the
    damping forces' share is -dt/2 F_d^n . v^{n-1/2} (summed here) and -dt/2 F_d^n .
-   v^{n+1/2}, which the next step takes (rj__structural_accounts, from the forces kept in
-   rj_state.damp). */
+   v^{n+1/2}, which the next step takes (rj__material_accounts, from the forces kept in
+   rj_state.damp).
+
+   Yielding layers: the plastic strain of each layer is kept at two sections of each
+   element, its Gauss points (rj__gauss_xi), where the cubic element's curvature kappa
+   = ((6 xi - 4) th_a + (6 xi - 2) th_b) / l0 is exact in the bending energy. A layer's
+   strain at its mid-depth z is eps0 - z kappa; its stress E (strain - plastic strain),
+   returned to the yield surface |sigma - H ep| <= yield of bilinear kinematic hardening
+   (plastic modulus H) each step. The section's N and M are the elastic ones, integrated
+   exactly, less E times the plastic strains over the layers (constant through each
+   layer): with no plastic strain the element is the elastic one to the bit. The plastic
+   work, the account W_plastic, is each return's (sigma_trial + sigma) / 2 times its
+   plastic strain: the elastic energy's drop at the strain it returned at, so that the
+   balance closes as the elastic one does. */
 
 /* The viscous stresses of an element with chord (ex, ey), 1 / |e|^2 inv_l2, chord rate
    (dex, dey) and end rotation rates wa, wb, for a link with constants kc (rj_model.
@@ -4394,6 +4521,155 @@ static void rj__damped_nodes(const rj__pass *p, int l, int na, int cnt, const do
     }
 }
 
+/* A link's material as the material path reads it. */
+typedef struct rj__material {
+    double E, EA, l0;        /* Pa, N, m */
+    double yield, hard;      /* Pa: the layers' yield stress (0: elastic), plastic modulus */
+    double width, height;    /* m: a rectangular section's */
+    int layers, biot;        /* its layers; the Biot axial law */
+} rj__material;
+
+static void rj__material_of(const rj_model *m, int l, rj__material *mt)
+{
+    const rj_link_def *d = &m->ldef[l];
+    mt->E = d->E;
+    mt->EA = m->link_EA[l];
+    mt->l0 = m->link_l0[l];
+    mt->yield = d->yield;
+    mt->hard = d->hardening;
+    mt->width = d->width;
+    mt->height = d->height;
+    mt->layers = d->layers;
+    mt->biot = d->strain == RJ_STRAIN_BIOT;
+}
+
+/* The element's two sections, as fractions of its length: the Gauss points. */
+static const double rj__gauss_xi[2] = { 0.21132486540518713, 0.78867513459481287 };
+
+/* What one section's layers add to the elastic section, per unit length: N, M, the
+   elastic energy's change, the plastic work of this step's return. */
+typedef struct rj__section_sums {
+    double N, M, U, work;
+    double smax; /* Pa: the largest |stress| at a layer's mid-depth */
+} rj__section_sums;
+
+/* One section at axial strain eps0 and curvature kappa: each layer's plastic strain from
+   ep (NULL: none), returned to the yield surface into ep_new when given; into *out. */
+static void rj__section_layers(const rj__material *mt, double eps0, double kappa,
+                               const double *ep, double *ep_new, rj__section_sums *out)
+{
+    const double depth = mt->height / mt->layers;
+    const double area = mt->width * depth;
+    int k;
+    memset(out, 0, sizeof *out);
+    for (k = 0; k < mt->layers; k++) {
+        const double z = -0.5 * mt->height + (k + 0.5) * depth;
+        const double strain = eps0 - z * kappa;
+        double plastic = ep ? ep[k] : 0.0;
+        if (ep_new) {
+            /* the return to |sigma - H ep| <= yield */
+            const double trial = mt->E * (strain - plastic);
+            const double over = trial - mt->hard * plastic;
+            const double excess = fabs(over) - mt->yield;
+            if (excess > 0) {
+                const double step = (over > 0 ? excess : -excess) / (mt->E + mt->hard);
+                out->work += area * (trial - 0.5 * mt->E * step) * step;
+                plastic += step;
+            }
+            ep_new[k] = plastic;
+        }
+        out->N -= mt->E * area * plastic;
+        out->M += mt->E * area * z * plastic;
+        out->U += mt->E * area * plastic * (0.5 * plastic - strain);
+        if (fabs(mt->E * (strain - plastic)) > out->smax)
+            out->smax = fabs(mt->E * (strain - plastic));
+    }
+}
+
+/* What the material adds to the fused kernels' elastic Green element with chord (ex,
+   ey) and local end rotations tha, thb: the Biot axial law, and the layers' plastic
+   strains ep (2 sections x layers; NULL: none) returned into ep_new when given. Added to
+   f (node b's force, end moments, strain energy); returns the plastic work (J), the
+   largest |stress| at a layer's mid-depth (where the layers yield) into *smax. */
+static double rj__elem_material(const rj__material *mt, double ex, double ey, double tha,
+                                double thb, const double *ep, double *ep_new,
+                                rj__elem_force *f, double *smax)
+{
+    const double l0 = mt->l0;
+    const double L2 = ex * ex + ey * ey;
+    const double green = (L2 - l0 * l0) / (2.0 * l0 * l0);
+    const double L = sqrt(L2);
+    const double biot = L / l0 - 1.0;
+    const double eps0 = mt->biot ? biot : green;
+    double N = 0, ma = 0, mb = 0, U = 0, work = 0, dnax, s;
+    int g;
+    *smax = 0;
+    if (mt->yield > 0) {
+        for (g = 0; g < 2; g++) {
+            const double xi = rj__gauss_xi[g];
+            const double kappa = ((6.0 * xi - 4.0) * tha + (6.0 * xi - 2.0) * thb) / l0;
+            const int at = g * mt->layers;
+            rj__section_sums sec;
+            rj__section_layers(mt, eps0, kappa, ep ? ep + at : NULL, ep_new ? ep_new + at : NULL,
+                               &sec);
+            /* two-point Gauss: weights l0 / 2; the end moments M_a = int M (6 xi - 4) dxi */
+            N += 0.5 * sec.N;
+            ma += 0.5 * sec.M * (6.0 * xi - 4.0);
+            mb += 0.5 * sec.M * (6.0 * xi - 2.0);
+            U += 0.5 * l0 * sec.U;
+            work += 0.5 * l0 * sec.work;
+            if (sec.smax > *smax)
+                *smax = sec.smax;
+        }
+    }
+    /* node b's axial force -nax e: Green's work conjugate l0 eps, Biot's L */
+    if (mt->biot) {
+        dnax = (mt->EA * biot + N) / L - mt->EA * green / l0;
+        U += 0.5 * mt->EA * l0 * (biot * biot - green * green);
+    } else
+        dnax = N / l0;
+    s = (ma + mb) / L2;
+    f->fx += -dnax * ex - s * ey;
+    f->fy += -dnax * ey + s * ex;
+    f->ma += ma;
+    f->mb += mb;
+    f->u += U;
+    return work;
+}
+
+/* The chunk's elements 0 .. nc - 1 (first element e0 of link l, first node na): what
+   the material adds to the kernels' results in the chunk buffer FB (entry i + 1) and the
+   strain energies; ep, ep_new: the link's plastic strains (NULL: none, or no return).
+   Returns the plastic work. */
+static double rj__chunk_material(const rj__pass *p, const rj__material *mt, int e0, int na,
+                                 int nc, double *FB, const double *ep, double *ep_new)
+{
+    const int per = 2 * mt->layers;
+    double work = 0, smax;
+    int i;
+    for (i = 0; i < nc; i++) {
+        const int e = e0 + i;
+        const double ex = p->x[na + i + 1] - p->x[na + i];
+        const double ey = p->y[na + i + 1] - p->y[na + i];
+        const double bt = p->beta_out[e];
+        rj__elem_force f;
+        f.fx = FB[1 + i];
+        f.fy = FB[RJ__FROW + 1 + i];
+        f.ma = FB[2 * RJ__FROW + 1 + i];
+        f.mb = FB[3 * RJ__FROW + 1 + i];
+        f.u = p->eu[e];
+        work += rj__elem_material(mt, ex, ey, p->phi[na + i] - bt, p->phi[na + i + 1] - bt,
+                                  ep ? ep + (size_t) per * i : NULL,
+                                  ep_new ? ep_new + (size_t) per * i : NULL, &f, &smax);
+        FB[1 + i] = f.fx;
+        FB[RJ__FROW + 1 + i] = f.fy;
+        FB[2 * RJ__FROW + 1 + i] = f.ma;
+        FB[3 * RJ__FROW + 1 + i] = f.mb;
+        p->eu[e] = f.u;
+    }
+    return work;
+}
+
 /* The chunk buffer's entries around a link's elements (rj__beam_pass_body's): -0.0
    before the first, +0.0 after the last (at entry at). */
 static void rj__chunk_edge(double *F, int at, double value)
@@ -4403,17 +4679,23 @@ static void rj__chunk_edge(double *F, int at, double value)
         F[r * RJ__FROW + at] = r < 2 ? value : 0.0;
 }
 
-/* Link l with structural damping, chunk by chunk as rj__beam_pass_body takes the others:
-   the elastic element forces by the scalar kernels, the viscous ones beside them, the
-   nodes advanced with both (forces only, without the step: the elastic ones). Its power
-   at n - 1/2 is added to *power. */
-static void rj__beam_damped_link(const rj__pass *p, int l, int ip, double *power)
+/* Link l on the material path, chunk by chunk as rj__beam_pass_body takes the others:
+   the elastic element forces by the scalar kernels, what the material adds to them (its
+   axial law, its layers' plastic strains: ep at n - 1, returned into ep_new when given),
+   the viscous forces beside them, the nodes advanced with all (forces only, without the
+   step: no viscous ones). sums[0] gains the damping's power at n - 1/2, sums[1] the
+   plastic work. */
+static void rj__beam_material_link(const rj__pass *p, int l, int ip, const double *ep,
+                                   double *ep_new, double sums[2])
 {
     const int n0 = p->m->link_first[l];
     const int e0 = p->m->link_efirst[l];
     const int ne = p->m->link_efirst[l + 1] - e0;
+    const size_t per = 2 * (size_t) p->m->ldef[l].layers;
     double FB[4 * RJ__FROW], FD[4 * RJ__FROW], EB[3 * RJ__CHUNK];
+    rj__material mt;
     int c0, r;
+    rj__material_of(p->m, l, &mt);
     rj__chunk_edge(FB, 0, -0.0);
     rj__chunk_edge(FD, 0, 0.0);
     for (c0 = 0; c0 < ne; c0 += RJ__CHUNK) {
@@ -4422,6 +4704,10 @@ static void rj__beam_damped_link(const rj__pass *p, int l, int ip, double *power
         rj__elems c;
         rj__elems_at(&c, p, l, e0 + c0, n0 + c0, FB + 1, ip ? EB : NULL);
         rj__chunk_elements(&c, nc, p->en, ip, 0);
+        if (mt.yield > 0 || mt.biot)
+            sums[1] += rj__chunk_material(p, &mt, e0 + c0, n0 + c0, nc, FB,
+                                          ep ? ep + per * c0 : NULL,
+                                          ep_new ? ep_new + per * c0 : NULL);
         if (last)
             rj__chunk_edge(FB, nc + 1, 0.0);
         if (!p->adv) {
@@ -4435,7 +4721,7 @@ static void rj__beam_damped_link(const rj__pass *p, int l, int ip, double *power
                 memset(FD, 0, sizeof FD);
             if (last)
                 rj__chunk_edge(FD, nc + 1, 0.0);
-            rj__damped_nodes(p, l, n0 + c0, nc + last, FB, FD, power);
+            rj__damped_nodes(p, l, n0 + c0, nc + last, FB, FD, &sums[0]);
         }
         /* this chunk's last element is entry 0 of the next */
         for (r = 0; r < 4; r++) {
@@ -4445,35 +4731,43 @@ static void rj__beam_damped_link(const rj__pass *p, int l, int ip, double *power
     }
 }
 
-/* The beam pass's part for the links with structural damping, which the fused pass
-   leaves: after it for forces alone (rj__beam_pass), before it in the step
-   (rj__beam_damped_step). With the step, their power at n - 1/2 goes to rj_state.damp's
-   last entry. */
-static RJ__NOINLINE void rj__beam_damped_links(const rj_model *m, const double *x,
-                                               const double *y, const double *phi,
-                                               const double *beta, const double *cx,
-                                               const double *cy, double *eu, double *beta_out,
-                                               double *cx_out, double *cy_out, double *fx,
-                                               double *fy, double *mz, const rj__adv *adv)
+/* The beam pass's part for the links on the material path, which the fused pass leaves:
+   after it for forces alone (rj__beam_pass: no plastic strains), before it in the step
+   (rj__beam_material_step: the frames' blocks of plastic strains, at n - 1 in ep and at
+   n into ep_new). With the step, the damping's power at n - 1/2 and the plastic work go
+   to rj_state.damp's last two entries. */
+static RJ__NOINLINE void rj__beam_material_links(const rj_model *m, const double *x,
+                                                 const double *y, const double *phi,
+                                                 const double *beta, const double *cx,
+                                                 const double *cy, double *eu, double *beta_out,
+                                                 double *cx_out, double *cy_out, double *fx,
+                                                 double *fy, double *mz, const rj__adv *adv,
+                                                 const double *ep, double *ep_new)
 {
     rj__pass p;
-    double power = 0;
+    double sums[2] = { 0, 0 };
     const int ip = adv && adv->ip;
     int l;
     rj__pass_open(&p, m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
-    for (l = 0; l < m->nl; l++)
-        if (m->link_path[l] == RJ__PATH_DAMPED)
-            rj__beam_damped_link(&p, l, ip, &power);
-    if (adv)
-        adv->damp[3 * (size_t) m->nn] = power;
+    for (l = 0; l < m->nl; l++) {
+        const int at = m->link_pl[l];
+        if (m->link_path[l] != RJ__PATH_MATERIAL)
+            continue;
+        rj__beam_material_link(&p, l, ip, ep && at >= 0 ? ep + at : NULL,
+                               ep_new && at >= 0 ? ep_new + at : NULL, sums);
+    }
+    if (adv) {
+        adv->damp[3 * (size_t) m->nn] = sums[0];
+        adv->damp[3 * (size_t) m->nn + 1] = sums[1];
+    }
 }
 
-/* The structural damping's accounts at the end of a step, from the scalars at n (osc)
-   into those at n + 1 (nsc): its loss, the half the step before left (F_d^{n-1} .
-   v^{n-1/2}) and this step's first (the power at n - 1/2, rj_state.damp), and the half
+/* The material's accounts at the end of a step, from the scalars at n (osc) into those
+   at n + 1 (nsc): the structural damping's loss, the half the step before left (F_d^{n-1}
+   . v^{n-1/2}) and this step's first (the power at n - 1/2, rj_state.damp), and the half
    the next step takes, -dt/2 F_d^n . v^{n+1/2} with the velocities vx, vy, w as the step
-   left them. Returns the loss. */
-static RJ__NOINLINE double rj__structural_accounts(const rj_model *m, const rj_state *s,
+   left them; the plastic work. Returns both losses' sum. */
+static RJ__NOINLINE double rj__material_accounts(const rj_model *m, const rj_state *s,
                                                    const double *osc, double *nsc,
                                                    const double *vx, const double *vy,
                                                    const double *w)
@@ -4483,7 +4777,7 @@ static RJ__NOINLINE double rj__structural_accounts(const rj_model *m, const rj_s
     double sum = 0;
     int l, n;
     for (l = 0; l < m->nl; l++) {
-        if (m->link_path[l] != RJ__PATH_DAMPED)
+        if (m->link_path[l] != RJ__PATH_MATERIAL)
             continue;
         for (n = m->link_first[l]; n < m->link_first[l + 1]; n++)
             sum += d[n] * vx[n] + d[nn + n] * vy[n] + d[2 * nn + n] * w[n];
@@ -4491,7 +4785,8 @@ static RJ__NOINLINE double rj__structural_accounts(const rj_model *m, const rj_s
     nsc[RJ__FS_LSTRUCT] =
         osc[RJ__FS_LSTRUCT] + osc[RJ__FS_SPEND] - 0.5 * m->dt * d[3 * nn];
     nsc[RJ__FS_SPEND] = -0.5 * m->dt * sum;
-    return nsc[RJ__FS_LSTRUCT];
+    nsc[RJ__FS_LPLAST] = osc[RJ__FS_LPLAST] + d[3 * nn + 1];
+    return nsc[RJ__FS_LSTRUCT] + nsc[RJ__FS_LPLAST];
 }
 /* ------------------------------------------------------------------ joint kinematics */
 /* The element needs four things from the bodies it joins: the rotary location, its rate,
@@ -6583,6 +6878,7 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(link_un, double);
     RJ__SET(link_kc, double);
     RJ__SET(link_path, int);
+    RJ__SET(link_pl, int);
     RJ__SET(link_damp, double);
     RJ__SET(x0, double);
     RJ__SET(y0, double);
@@ -6709,21 +7005,31 @@ static void rj__init_link_masses(rj_model *m, int l, double area, double inertia
         }
 }
 
-/* Link l's path through the beam pass and its structural damping: eta (given, or from a
-   ratio at a frequency, ratio / (pi f), so that eta omega / 2 is the ratio there) and the
-   mass-proportional rate. */
-static void rj__init_link_damping(rj_model *m, int l)
+/* Link l's path through the beam pass and its material: the structural damping's eta
+   (given, or from a ratio at a frequency, ratio / (pi f), so that eta omega / 2 is the
+   ratio there) and mass-proportional rate; a yielding link's plastic strains in the
+   frame (two sections an element, each of the link's layers). */
+static void rj__init_link_material(rj_model *m, int l)
 {
     const rj_link_def *d = &m->ldef[l];
     double *damp = m->link_damp + 2 * (size_t) l;
+    const int damped = d->eta > 0 || d->damping[0] > 0 || d->mass_damping > 0;
+    const int yielding = d->yield > 0;
     damp[0] = d->damping[0] > 0 ? d->damping[0] / (RJ__PI * d->damping[1]) : d->eta;
     damp[1] = d->mass_damping;
+    m->link_pl[l] = -1;
+    if (yielding) {
+        m->link_pl[l] = (int) m->npl;
+        m->npl += 2 * (size_t) d->layers * (size_t) d->elements;
+    }
     m->link_path[l] = RJ__PATH_FUSED;
     if (d->fidelity == RJ_LINK_RIGID)
         m->link_path[l] = RJ__PATH_RIGID;
-    else if (damp[0] > 0 || damp[1] > 0)
-        m->link_path[l] = RJ__PATH_DAMPED;
-    m->nstruct += m->link_path[l] == RJ__PATH_DAMPED;
+    else if (damped || yielding || d->strain == RJ_STRAIN_BIOT)
+        m->link_path[l] = RJ__PATH_MATERIAL;
+    m->nstruct += damped;
+    m->nplastic += yielding;
+    m->nmaterial += m->link_path[l] == RJ__PATH_MATERIAL;
 }
 
 /* Every link's section, constants and masses, link by link. */
@@ -6737,7 +7043,7 @@ static void rj__init_links(rj_model *m)
         rj__link_section(&m->ldef[l], &area, &inertia);
         rj__init_link_constants(m, l, area, inertia);
         rj__init_link_masses(m, l, area, inertia);
-        rj__init_link_damping(m, l);
+        rj__init_link_material(m, l);
     }
 }
 
@@ -7542,13 +7848,15 @@ static void rj__init_link_uniform(rj_model *m, const int *mark)
 }
 
 /* A frame's size: nodes, elements (beta, chords), joints, scalars, then the clusters'
-   records; and its flags, one per joint. */
+   records and the yielding layers' plastic strains; and its flags, one per joint. */
 static void rj__init_frames(rj_model *m)
 {
     m->frame_doubles =
         6 * (size_t) m->nn + 3 * (size_t) m->ne + RJ__JD_COUNT * (size_t) m->nj + RJ__FS_COUNT;
     m->cl_off = m->frame_doubles;
     m->frame_doubles += 6 * (size_t) m->ncl;
+    m->pl_off = m->frame_doubles;
+    m->frame_doubles += m->npl;
     m->frame_ints = (size_t) m->nj;
 }
 
@@ -7685,7 +7993,7 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->fy = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->mz = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->kn = rj__carve(&off, (size_t) m->nn, sizeof(double));
-    L->damp = rj__carve(&off, m->nstruct ? 3 * (size_t) m->nn + 1 : 0, sizeof(double));
+    L->damp = rj__carve(&off, m->nmaterial ? 3 * (size_t) m->nn + 2 : 0, sizeof(double));
     L->sha = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shb = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shc = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
@@ -9932,7 +10240,7 @@ typedef struct rj__sums {
     double gravity;                                 /* gravity's potential at n, -sum m g . x */
     double kinetic;                                 /* 1/2 v^{n-1/2} . v^{n+1/2} */
     double lost_damping, lost_friction, lost_limit; /* since the start */
-    double lost_struct; /* the links' structural damping's loss since the start */
+    double lost_material; /* the links' structural damping's loss since the start */
     double work;    /* done by the caller's inputs since the start */
     double drive;   /* done by the actuators since the start */
     double drive_pending; /* a prescribed joint's impulse's work the next step takes */
@@ -10010,7 +10318,7 @@ static RJ__FORCE_INLINE void rj__sums_open(const double *old_scalars, rj__sums *
     e->lost_damping = old_scalars[RJ__FS_LDAMP];
     e->lost_friction = old_scalars[RJ__FS_LFRIC];
     e->lost_limit = old_scalars[RJ__FS_LLIM] + old_scalars[RJ__FS_PEND];
-    e->lost_struct = 0;
+    e->lost_material = 0;
     e->work = old_scalars[RJ__FS_WORK];
     e->drive = old_scalars[RJ__FS_DRIVE] + old_scalars[RJ__FS_DPEND];
     e->drive_pending = 0;
@@ -10018,22 +10326,22 @@ static RJ__FORCE_INLINE void rj__sums_open(const double *old_scalars, rj__sums *
     e->pending = 0;
 }
 
-/* The step's links with structural damping, from the frame at n (old) into the advanced
-   one, before the fused pass, out of line. It takes a copy of the step's update, never
-   its address, and returns the sum of the positions it wrote (rj__adv.fin): the address
-   of the step's own record, given to it, cost the step 60 instructions on the paper's
-   deployment, which has no damping. */
-static RJ__NOINLINE double rj__beam_damped_step(const rj_model *m, rj_state *s,
-                                                const double *old, double *advanced,
-                                                rj__adv adv)
+/* The step's links on the material path, from the frame at n (old) into the advanced
+   one (their plastic strains into next's block), before the fused pass, out of line. It
+   takes a copy of the step's update, never its address, and returns the sum of the
+   positions it wrote (rj__adv.fin): the address of the step's own record, given to it,
+   cost the step 60 instructions on the paper's deployment, which has no such links. */
+static RJ__NOINLINE double rj__beam_material_step(const rj_model *m, rj_state *s,
+                                                  const double *old, double *advanced,
+                                                  double *next, rj__adv adv)
 {
     double fin = 0;
     adv.fin = &fin;
     adv.damp = s->damp;
-    rj__beam_damped_links(m, RJ__FX(m, old), RJ__FY(m, old), RJ__FPHI(m, old),
-                          RJ__FBETA(m, old), RJ__FCX(m, old), RJ__FCY(m, old), s->eu,
-                          RJ__FBETA(m, advanced), RJ__FCX(m, advanced), RJ__FCY(m, advanced),
-                          s->fx, s->fy, s->mz, &adv);
+    rj__beam_material_links(m, RJ__FX(m, old), RJ__FY(m, old), RJ__FPHI(m, old),
+                            RJ__FBETA(m, old), RJ__FCX(m, old), RJ__FCY(m, old), s->eu,
+                            RJ__FBETA(m, advanced), RJ__FCX(m, advanced), RJ__FCY(m, advanced),
+                            s->fx, s->fy, s->mz, &adv, old + m->pl_off, next + m->pl_off);
     return fin;
 }
 
@@ -10092,8 +10400,8 @@ static RJ__FORCE_INLINE void rj__stage_beams(const rj_model *m, rj_state *s, con
     adv->grav = m->has_gravity;
     adv->gx = m->solver.gravity[0];
     adv->gy = m->solver.gravity[1];
-    if (m->nstruct)
-        *adv->fin += rj__beam_damped_step(m, s, old, f->advanced, *adv);
+    if (m->nmaterial)
+        *adv->fin += rj__beam_material_step(m, s, old, f->advanced, next, *adv);
     e->strain =
         rj__beam_pass(m, RJ__FX(m, old), RJ__FY(m, old), RJ__FPHI(m, old), RJ__FBETA(m, old),
                       RJ__FCX(m, old), RJ__FCY(m, old), s->eu, RJ__FBETA(m, f->advanced),
@@ -11439,7 +11747,7 @@ static RJ__FORCE_INLINE rj_result rj__energy_check(const rj_model *m, rj_state *
     const double scale =
         fabs(e0 - outside) + fabs(old_spring) + s->settle_scale + e->drive_flow + 1e-9;
     const double created = ke + U + V + outside + e->lost_damping + e->lost_friction + lost_l +
-                           e->lost_struct - e0;
+                           e->lost_material - e0;
     if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) ||
         E > m->solver.energy_growth * (scale + fabs(V)) || created > RJ__CREATED * scale ||
         lost_l < -RJ__CREATED * scale)
@@ -11475,7 +11783,7 @@ static void rj__first_accounts(double *new_scalars, rj__sums *e, double energy)
        second half, pending, is the next step's) */
     new_scalars[RJ__FS_E0] = energy - e->drive;
     rj__accounts_zero(new_scalars);
-    e->lost_damping = e->lost_friction = e->work = e->lost_limit = e->lost_struct = 0;
+    e->lost_damping = e->lost_friction = e->work = e->lost_limit = e->lost_material = 0;
     new_scalars[RJ__FS_DRIVE] = e->drive;
     new_scalars[RJ__FS_DPEND] = e->drive_pending;
 }
@@ -11495,8 +11803,8 @@ static RJ__FORCE_INLINE rj_result rj__step_accounts(const rj_model *m, rj_state 
     nsc[RJ__FS_LFRIC] = e->lost_friction;
     nsc[RJ__FS_LLIM] = e->lost_limit;
     nsc[RJ__FS_PEND] = e->pending;
-    if (m->nstruct)
-        e->lost_struct = rj__structural_accounts(m, s, osc, nsc, f->nvx, f->nvy, f->nw);
+    if (m->nmaterial)
+        e->lost_material = rj__material_accounts(m, s, osc, nsc, f->nvx, f->nvy, f->nw);
     nsc[RJ__FS_WORK] = e->work;
     nsc[RJ__FS_DRIVE] = e->drive;
     nsc[RJ__FS_DPEND] = e->drive_pending;
@@ -13331,12 +13639,39 @@ static void rj__rig_pin_forces(const rj_model *m, const rj_state *s, double *wor
     }
 }
 
+/* What the material path adds to element e (local) of link l at n (src/beam_material.h):
+   its axial law and its layers' plastic strains at n (kept in the current frame, as the
+   chord angles), their largest outer-fibre stress into *smax; the viscous part on the
+   rates at n - 1/2. */
+static void rj__elem_material_at_n(const rj_model *m, const rj_state *s, int l, int e,
+                                   double ex, double ey, double tha, double thb,
+                                   rj__elem_force *f, double *smax)
+{
+    const double *at_n = s->fd[1 - s->cur];
+    const double *vx = RJ__FVX(m, at_n), *vy = RJ__FVY(m, at_n), *w = RJ__FW(m, at_n);
+    const int a = m->link_first[l] + e;
+    const double inv_l2 = 1.0 / (ex * ex + ey * ey);
+    rj__material mt;
+    rj__elem_force v;
+    const double *ep = m->link_pl[l] < 0 ? NULL
+                                         : s->fd[s->cur] + m->pl_off + m->link_pl[l] +
+                                               2 * (size_t) m->ldef[l].layers * (size_t) e;
+    rj__material_of(m, l, &mt);
+    rj__elem_material(&mt, ex, ey, tha, thb, ep, NULL, f, smax);
+    rj__elem_viscous(m->link_kc + 4 * (size_t) l, m->link_damp[2 * (size_t) l], ex, ey, inv_l2,
+                     vx[a + 1] - vx[a], vy[a + 1] - vy[a], w[a], w[a + 1], &v);
+    f->fx += v.fx;
+    f->fy += v.fy;
+    f->ma += v.ma;
+    f->mb += v.mb;
+}
+
 /* Node space: element e (local) of link l at n, as the beam pass gives it: the force on
    its second node, its end moments (the positions and rotations at n, the chord angle
-   the step took there; with structural damping its viscous part on the rates at n - 1/2,
-   src/beam_damped.h); its chord's unit vector into unit. */
+   the step took there, and what its material adds); its chord's unit vector into unit;
+   a yielding link's largest outer-fibre stress at its sections into *smax (else 0). */
 static void rj__elem_at_n(const rj_model *m, const rj_state *s, int l, int e,
-                          rj__elem_force *f, double unit[2])
+                          rj__elem_force *f, double unit[2], double *smax)
 {
     const double *at_n = s->fd[1 - s->cur];
     const double *x = RJ__FX(m, at_n), *y = RJ__FY(m, at_n), *phi = RJ__FPHI(m, at_n);
@@ -13349,19 +13684,11 @@ static void rj__elem_at_n(const rj_model *m, const rj_state *s, int l, int e,
     c.kax = m->link_kc[4 * (size_t) l + 1];
     c.l0sq = m->link_kc[4 * (size_t) l + 2];
     c.half_inv_l0sq = m->link_kc[4 * (size_t) l + 3];
-    rj__elem_forces(&c, ex, ey, beta[m->link_efirst[l] + e], 1.0 / (len * len), phi[a],
-                    phi[a + 1], f);
-    if (m->link_path[l] == RJ__PATH_DAMPED) {
-        const double *vx = RJ__FVX(m, at_n), *vy = RJ__FVY(m, at_n), *w = RJ__FW(m, at_n);
-        rj__elem_force v;
-        rj__elem_viscous(m->link_kc + 4 * (size_t) l, m->link_damp[2 * (size_t) l], ex, ey,
-                         1.0 / (len * len), vx[a + 1] - vx[a], vy[a + 1] - vy[a], w[a],
-                         w[a + 1], &v);
-        f->fx += v.fx;
-        f->fy += v.fy;
-        f->ma += v.ma;
-        f->mb += v.mb;
-    }
+    const double bt = beta[m->link_efirst[l] + e];
+    rj__elem_forces(&c, ex, ey, bt, 1.0 / (len * len), phi[a], phi[a + 1], f);
+    *smax = 0;
+    if (m->link_path[l] == RJ__PATH_MATERIAL)
+        rj__elem_material_at_n(m, s, l, e, ex, ey, phi[a] - bt, phi[a + 1] - bt, f, smax);
     unit[0] = ex / len;
     unit[1] = ey / len;
 }
@@ -13371,7 +13698,7 @@ RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link,
 {
     const rj_link_def *d;
     rj__elem_force f;
-    double unit[2], A, I;
+    double unit[2], A, I, smax;
     int k;
     RJ_ASSERT(m && s && loads && link >= 0 && link < m->nl);
     for (k = 0; k < 5; k++)
@@ -13380,7 +13707,7 @@ RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link,
     if (element < 0 || element >= d->elements || d->fidelity != RJ_LINK_FLEXIBLE || m->ip ||
         s->steps == 0)
         return RJ_ERR_INVALID;
-    rj__elem_at_n(m, s, link, element, &f, unit);
+    rj__elem_at_n(m, s, link, element, &f, unit, &smax);
     /* the part beyond each section on the part before: -(the force on the second node) */
     loads[0] = -(f.fx * unit[0] + f.fy * unit[1]);
     loads[1] = -(-f.fx * unit[1] + f.fy * unit[0]);
@@ -13388,11 +13715,29 @@ RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link,
     loads[3] = f.mb;
     A = m->link_EA[link] / d->E;
     I = m->link_EI[link] / d->E;
-    if (d->section == RJ_SECTION_RECT)
+    if (d->yield > 0)
+        loads[4] = smax;
+    else if (d->section == RJ_SECTION_RECT)
         loads[4] = fabs(loads[0]) / A + fmax(fabs(loads[2]), fabs(loads[3])) * 0.5 * d->height / I;
     else
         loads[4] = NAN;
     return RJ_OK;
+}
+
+RJDEF double rj_element_plastic_strain(const rj_model *m, const rj_state *s, int link,
+                                       int element, int section, int layer)
+{
+    const rj_link_def *d;
+    RJ_ASSERT(m && s && link >= 0 && link < m->nl);
+    d = &m->ldef[link];
+    if (element < 0 || element >= d->elements || section < 0 || section > 1 || layer < 0 ||
+        layer >= d->layers)
+        return NAN;
+    if (m->link_pl[link] < 0)
+        return 0.0;
+    return s->fd[s->cur][m->pl_off + (size_t) m->link_pl[link] +
+                         2 * (size_t) d->layers * (size_t) element +
+                         (size_t) d->layers * (size_t) section + (size_t) layer];
 }
 
 /* Node space: the force on node k from its own link's elements at n (the positions and
@@ -13406,10 +13751,10 @@ static void rj__elem_node_force(const rj_model *m, const rj_state *s, int k, dou
     for (side = 0; side < 2; side++) {
         const int local = side ? node : node - 1;
         rj__elem_force f;
-        double unit[2];
+        double unit[2], smax;
         if (local < 0 || local >= m->ldef[link].elements)
             continue;
-        rj__elem_at_n(m, s, link, local, &f, unit);
+        rj__elem_at_n(m, s, link, local, &f, unit, &smax);
         out[0] += side ? -f.fx : f.fx;
         out[1] += side ? -f.fy : f.fy;
     }
@@ -13454,7 +13799,7 @@ static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, doub
         force[1] -= s->input_node[3 * (size_t) k + 1];
     }
     rj__node_of(m, k, &link, &node);
-    if (m->link_path[link] == RJ__PATH_DAMPED) {
+    if (m->link_path[link] == RJ__PATH_MATERIAL) {
         const double alpha = m->link_damp[2 * (size_t) link + 1];
         force[0] += alpha * m->mass[k] * RJ__FVX(m, at_n)[k];
         force[1] += alpha * m->mass[k] * RJ__FVY(m, at_n)[k];
@@ -14005,7 +14350,8 @@ static const char rj__sk_kind[RJ__SK_COUNT][10] = { "",     "solver", "material"
                                                     "coupling" };
 #define RJ__SK_MAT_KEYS                                                                            \
     ((1u << RJ__LK_E) | (1u << RJ__LK_RHO) | (1u << RJ__LK_ETA) | (1u << RJ__LK_DAMPING) |        \
-     (1u << RJ__LK_MASS_DAMPING))
+     (1u << RJ__LK_MASS_DAMPING) | (1u << RJ__LK_YIELD) | (1u << RJ__LK_HARDENING) |              \
+     (1u << RJ__LK_STRAIN))
 #define RJ__SK_SEC_KEYS                                                                            \
     ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA) | (1u << RJ__LK_WIDTH) | (1u << RJ__LK_HEIGHT) | \
      (1u << RJ__LK_LAYERS))

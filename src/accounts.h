@@ -7,8 +7,13 @@
    here, a frame scalar (RJ__FS_*), a field of rj_energy and its physics. */
 enum rj__account_kind { RJ__ACC_ENERGY = 0, RJ__ACC_LOSS, RJ__ACC_WORK };
 /* What a model needs for an account to move: nothing (every model), actuators, links with
-   structural damping. */
-enum rj__account_need { RJ__NEED_NONE = 0, RJ__NEED_ACTUATORS, RJ__NEED_STRUCTURAL };
+   structural damping, links with yielding layers. */
+enum rj__account_need {
+    RJ__NEED_NONE = 0,
+    RJ__NEED_ACTUATORS,
+    RJ__NEED_STRUCTURAL,
+    RJ__NEED_PLASTIC
+};
 typedef struct rj__account {
     char column[16]; /* rj run's column name */
     int slot;        /* RJ__FS_* */
@@ -16,7 +21,7 @@ typedef struct rj__account {
     size_t field;    /* offsetof(rj_energy, ...) */
     int need;        /* rj__account_need */
 } rj__account;
-#define RJ__ACCOUNT_COUNT 10
+#define RJ__ACCOUNT_COUNT 11
 static const rj__account rj__accounts[RJ__ACCOUNT_COUNT] = {
     { "E_kin", RJ__FS_KE, RJ__ACC_ENERGY, offsetof(rj_energy, kinetic), RJ__NEED_NONE },
     { "E_strain", RJ__FS_STRAIN, RJ__ACC_ENERGY, offsetof(rj_energy, strain), RJ__NEED_NONE },
@@ -29,6 +34,8 @@ static const rj__account rj__accounts[RJ__ACCOUNT_COUNT] = {
     { "W_limit", RJ__FS_LLIM, RJ__ACC_LOSS, offsetof(rj_energy, lost_limit), RJ__NEED_NONE },
     { "W_structural", RJ__FS_LSTRUCT, RJ__ACC_LOSS, offsetof(rj_energy, lost_structural),
       RJ__NEED_STRUCTURAL },
+    { "W_plastic", RJ__FS_LPLAST, RJ__ACC_LOSS, offsetof(rj_energy, lost_plastic),
+      RJ__NEED_PLASTIC },
 };
 
 RJDEF int rj_energy_account_count(void)
@@ -50,6 +57,8 @@ RJDEF int rj_energy_account_in(const rj_model *m, int k)
         return m->nact > 0;
     case RJ__NEED_STRUCTURAL:
         return m->nstruct > 0;
+    case RJ__NEED_PLASTIC:
+        return m->nplastic > 0;
     default:
         return 1;
     }

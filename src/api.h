@@ -162,6 +162,10 @@ typedef enum rj_fidelity { RJ_LINK_FLEXIBLE = 0, RJ_LINK_RIGID, RJ_LINK_INEXTENS
 
 /* Section description. */
 typedef enum rj_section { RJ_SECTION_RECT = 0, RJ_SECTION_GENERAL } rj_section;
+/* A flexible link's axial law (docs/modelling.md, "The axial law"): GREEN, force EA eps L /
+   l0 with the Green strain eps (St. Venant-Kirchhoff); BIOT, force EA e with the
+   engineering strain e = L / l0 - 1. */
+typedef enum rj_strain { RJ_STRAIN_GREEN = 0, RJ_STRAIN_BIOT } rj_strain;
 
 /* Limit response methods (the paper's sec. 3.4, Eqs 14-26). */
 typedef enum rj_method {
@@ -209,7 +213,8 @@ typedef enum rj_torque {
      tip_mass 0 kg, tip_inertia 0 kg m^2;
      root RJ_ROOT_FREE; x 0 m, y 0 m, angle 0 rad (root placement, used when the link is not
      the body2 of a joint); vx, vy 0 m/s, omega 0 rad/s (initial rigid motion of a root link); fidelity RJ_LINK_FLEXIBLE;
-     eta 0 s, damping 0 0, mass_damping 0 1/s (no structural damping). */
+     eta 0 s, damping 0 0, mass_damping 0 1/s (no structural damping); yield 0 Pa (elastic),
+     hardening 0 Pa, strain RJ_STRAIN_GREEN. */
 typedef struct rj_link_def {
     double length;        /* m, > 0 */
     int elements;         /* >= 1 */
@@ -234,6 +239,10 @@ typedef struct rj_link_def {
                             ratio / (pi Hz); 0 0 none (not with eta) */
     double mass_damping; /* 1/s, >= 0: force -mass_damping m v on every node (m omega: its
                             rotation), mode n damped at ratio mass_damping / (2 omega_n) */
+    /* Elastic-plastic layers (flexible links of rectangular section): */
+    double yield;     /* Pa, >= 0: each layer's yield stress; 0 elastic */
+    double hardening; /* Pa, >= 0: the plastic modulus of bilinear kinematic hardening */
+    int strain;       /* rj_strain: the axial law (flexible links) */
     unsigned cookie;     /* set by rj_default_link_def; catches undefaulted structs */
 } rj_link_def;
 
@@ -456,6 +465,7 @@ typedef struct rj_energy {
     double work_drive;   /* J done on the model by the joints' actuators so far */
     double lost_damping, lost_friction, lost_limit;
     double lost_structural; /* J dissipated by the links' eta and mass_damping so far */
+    double lost_plastic;    /* J of plastic work in the links' layers so far */
     double total, balance;
 } rj_energy;
 
@@ -674,11 +684,19 @@ RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double
    second node (N m), each the force or moment the part of the link beyond the section
    exerts on the part before it, along the chord, across it (counter-clockwise of the
    chord) and counter-clockwise; [4] the largest outer-fibre stress |N| / A + |M| h / 2I
-   (Pa; NaN for a general section, whose fibre distance the model does not know).
-   RJ_ERR_INVALID, loads 0: a rigid or inextensible link, in-place stepping, before a
-   step, an element out of range. */
+   (Pa; NaN for a general section, whose fibre distance the model does not know; for
+   yielding layers the largest |stress| at a layer's mid-depth in its two sections, where
+   the layers yield: the outer layers' mid-depth, not the outer fibre). RJ_ERR_INVALID, loads 0: a rigid or inextensible link,
+   in-place stepping, before a step, an element out of range. */
 RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link, int element,
                                  double loads[5]);
+/* A yielding link's plastic strain in layer `layer` (0 the outermost on the side of the
+   link's local -y, its right looking from node 0 along it) of element `element`'s section
+   `section`
+   (0, 1: its Gauss points, at 0.211 and 0.789 of its length), as the last step left it;
+   0 for an elastic link, NaN out of range. */
+RJDEF double rj_element_plastic_strain(const rj_model *m, const rj_state *s, int link,
+                                       int element, int section, int layer);
 RJDEF double rj_joint_event_time(const rj_model *m, const rj_state *s,
                                  int joint); /* first limit contact or lock, s; -1 if none */
 RJDEF double rj_joint_release_time(const rj_model *m, const rj_state *s,

@@ -721,12 +721,13 @@ static RJ__FORCE_INLINE void rj__pass_open(rj__pass *p, const rj_model *m, const
     p->en = !adv || adv->en;
 }
 
-static RJ__NOINLINE void rj__beam_damped_links(const rj_model *m, const double *x,
-                                               const double *y, const double *phi,
-                                               const double *beta, const double *cx,
-                                               const double *cy, double *eu, double *beta_out,
-                                               double *cx_out, double *cy_out, double *fx,
-                                               double *fy, double *mz, const rj__adv *adv);
+static RJ__NOINLINE void rj__beam_material_links(const rj_model *m, const double *x,
+                                                 const double *y, const double *phi,
+                                                 const double *beta, const double *cx,
+                                                 const double *cy, double *eu, double *beta_out,
+                                                 double *cx_out, double *cy_out, double *fx,
+                                                 double *fy, double *mz, const rj__adv *adv,
+                                                 const double *ep, double *ep_new);
 
 /* Internal forces at x: element forces summed into the nodes (fx, fy, mz: node b of element
    e gets +ef, node a gets -ef), chunk by chunk; the updated chord angles and this step's
@@ -848,10 +849,10 @@ static RJ__FORCE_INLINE double rj__beam_pass(const rj_model *m, const double *x,
     en = (ip ? rj__beam_pass_default_ip : rj__beam_pass_default)(
         m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
 #endif
-    /* forces alone: the links with structural damping on their own path too (the step
-       takes them before the pass, rj__beam_damped_step) */
-    if (m->nstruct && !adv)
-        rj__beam_damped_links(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy,
-                              mz, adv);
+    /* forces alone: the links on the material path too, without plastic strains (the
+       step takes them before the pass, rj__beam_material_step) */
+    if (m->nmaterial && !adv)
+        rj__beam_material_links(m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx,
+                                fy, mz, adv, NULL, NULL);
     return en ? rj__sum8(eu, m->ne) : 0.0;
 }

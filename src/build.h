@@ -139,6 +139,7 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(link_un, double);
     RJ__SET(link_kc, double);
     RJ__SET(link_path, int);
+    RJ__SET(link_pl, int);
     RJ__SET(link_damp, double);
     RJ__SET(x0, double);
     RJ__SET(y0, double);
@@ -265,21 +266,31 @@ static void rj__init_link_masses(rj_model *m, int l, double area, double inertia
         }
 }
 
-/* Link l's path through the beam pass and its structural damping: eta (given, or from a
-   ratio at a frequency, ratio / (pi f), so that eta omega / 2 is the ratio there) and the
-   mass-proportional rate. */
-static void rj__init_link_damping(rj_model *m, int l)
+/* Link l's path through the beam pass and its material: the structural damping's eta
+   (given, or from a ratio at a frequency, ratio / (pi f), so that eta omega / 2 is the
+   ratio there) and mass-proportional rate; a yielding link's plastic strains in the
+   frame (two sections an element, each of the link's layers). */
+static void rj__init_link_material(rj_model *m, int l)
 {
     const rj_link_def *d = &m->ldef[l];
     double *damp = m->link_damp + 2 * (size_t) l;
+    const int damped = d->eta > 0 || d->damping[0] > 0 || d->mass_damping > 0;
+    const int yielding = d->yield > 0;
     damp[0] = d->damping[0] > 0 ? d->damping[0] / (RJ__PI * d->damping[1]) : d->eta;
     damp[1] = d->mass_damping;
+    m->link_pl[l] = -1;
+    if (yielding) {
+        m->link_pl[l] = (int) m->npl;
+        m->npl += 2 * (size_t) d->layers * (size_t) d->elements;
+    }
     m->link_path[l] = RJ__PATH_FUSED;
     if (d->fidelity == RJ_LINK_RIGID)
         m->link_path[l] = RJ__PATH_RIGID;
-    else if (damp[0] > 0 || damp[1] > 0)
-        m->link_path[l] = RJ__PATH_DAMPED;
-    m->nstruct += m->link_path[l] == RJ__PATH_DAMPED;
+    else if (damped || yielding || d->strain == RJ_STRAIN_BIOT)
+        m->link_path[l] = RJ__PATH_MATERIAL;
+    m->nstruct += damped;
+    m->nplastic += yielding;
+    m->nmaterial += m->link_path[l] == RJ__PATH_MATERIAL;
 }
 
 /* Every link's section, constants and masses, link by link. */
@@ -293,7 +304,7 @@ static void rj__init_links(rj_model *m)
         rj__link_section(&m->ldef[l], &area, &inertia);
         rj__init_link_constants(m, l, area, inertia);
         rj__init_link_masses(m, l, area, inertia);
-        rj__init_link_damping(m, l);
+        rj__init_link_material(m, l);
     }
 }
 
@@ -1098,13 +1109,15 @@ static void rj__init_link_uniform(rj_model *m, const int *mark)
 }
 
 /* A frame's size: nodes, elements (beta, chords), joints, scalars, then the clusters'
-   records; and its flags, one per joint. */
+   records and the yielding layers' plastic strains; and its flags, one per joint. */
 static void rj__init_frames(rj_model *m)
 {
     m->frame_doubles =
         6 * (size_t) m->nn + 3 * (size_t) m->ne + RJ__JD_COUNT * (size_t) m->nj + RJ__FS_COUNT;
     m->cl_off = m->frame_doubles;
     m->frame_doubles += 6 * (size_t) m->ncl;
+    m->pl_off = m->frame_doubles;
+    m->frame_doubles += m->npl;
     m->frame_ints = (size_t) m->nj;
 }
 

@@ -39,6 +39,9 @@ enum {
     RJ__LK_ETA,
     RJ__LK_DAMPING,
     RJ__LK_MASS_DAMPING,
+    RJ__LK_YIELD,
+    RJ__LK_HARDENING,
+    RJ__LK_STRAIN,
     RJ__LK_N,
     RJ__LF_SHAPE = RJ__LK_N, /* members no key sets alone */
     RJ__LF_N
@@ -179,7 +182,8 @@ enum {
     RJ__NM_REFERENCE,
     RJ__NM_IN_PLACE,
     RJ__NM_ACTUATOR,
-    RJ__NM_PROFILE
+    RJ__NM_PROFILE,
+    RJ__NM_STRAIN
 };
 
 /* A row is read-only data without relocations (char arrays and a names index, no
@@ -224,6 +228,7 @@ static const char rj__sk_reference[2][8] = { "tangent", "chord" };
 static const char rj__sk_shape[2][8] = { "rect", "general" };
 static const char rj__sk_actuator[4][11] = { "torque", "dc", "servo", "prescribed" };
 static const char rj__sk_profile[4][10] = { "ramp", "cycloidal", "spinup", "table" };
+static const char rj__sk_strain[2][6] = { "green", "biot" };
 
 #define RJ__NAMES(id, a) id, (unsigned char) sizeof a[0], (unsigned char) (sizeof a / sizeof a[0])
 #define RJ__NO_NAMES RJ__NM_NONE, 0, 0
@@ -314,6 +319,13 @@ static const rj__field rj__link_fields[RJ__LF_N] = {
           RJ__R(0.0, 1, 1e9, 1), "a ratio and a frequency in Hz, each in [0, 1e9]"),
     RJ__F("mass_damping", mass_damping, "1/s", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 9, 22,
           'z', 0.0, RJ__R(0.0, 1, 1e9, 1), "must be in [0, 1e9] 1/s"),
+    /* elastic-plastic layers and the axial law: hashed only when set too */
+    RJ__F("yield", yield, "Pa", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 10, 24, 'z', 0.0,
+          RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] Pa (0: elastic)"),
+    RJ__F("hardening", hardening, "Pa", RJ__FT_REAL, RJ__WHEN_ALL, RJ__WR_SET, 10, 25, 'z', 0.0,
+          RJ__R(0.0, 1, 1e30, 1), "must be in [0, 1e30] Pa"),
+    RJ__FE("strain", strain, RJ__NM_STRAIN, rj__sk_strain, RJ__WR_SET, 10, 26, 'z', 0.0,
+           "RJ_STRAIN_GREEN or RJ_STRAIN_BIOT"),
     /* derived: area and inertia in a file make a general section */
     RJ__FE("section", section, RJ__NM_SHAPE, rj__sk_shape, RJ__WR_NONE, 0, 16, 'd', 0.0,
            "RJ_SECTION_RECT or RJ_SECTION_GENERAL"),
@@ -520,6 +532,8 @@ static const char *rj__names_of(int id)
         return rj__sk_actuator[0];
     case RJ__NM_PROFILE:
         return rj__sk_profile[0];
+    case RJ__NM_STRAIN:
+        return rj__sk_strain[0];
     default:
         return "";
     }

@@ -283,9 +283,13 @@ struct rj_model {
     double *
         link_kc; /* (4 nl) a link's element constants: EI/l0, EA/l0 (0 if inextensible), l0^2, 1/(2 l0^2) */
     /* structural damping (eta, mass_damping): links that have it take the beam pass's
-       damped path (rj__beam_damped_link) */
+       damped path (rj__beam_material_link) */
     int nstruct;        /* links with structural damping */
+    int nplastic;       /* links with yielding layers */
+    int nmaterial;      /* links on the material path: damping, yielding layers, Biot */
     int *link_path;     /* (nl) RJ__PATH_*: the beam pass's path for the link */
+    int *link_pl;       /* (nl) a yielding link's first plastic strain in the frame's block */
+    size_t pl_off, npl; /* the frame's block of plastic strains: its offset, its size */
     double *link_damp;  /* (2 nl) a link's eta in use (s) and mass_damping (1/s) */
     double struct_rate; /* 1/s: the fastest damping rate they give a mode, max eta w^2 + a */
     int *grp_node;   /* (members) */
@@ -301,8 +305,9 @@ struct rj_model {
 };
 
 /* The beam pass's path for a link (rj_model.link_path): the fused kernels, none (a rigid
-   link: its body moves its nodes), or the damped path's scalars. */
-enum { RJ__PATH_FUSED = 0, RJ__PATH_RIGID, RJ__PATH_DAMPED };
+   link: its body moves its nodes), or the material path's scalars (src/beam_material.h:
+   structural damping, yielding layers, the Biot axial law). */
+enum { RJ__PATH_FUSED = 0, RJ__PATH_RIGID, RJ__PATH_MATERIAL };
 
 /* Constraint rows (src/rows.h tells what they are and how they are solved). */
 enum rj__row_kind {
@@ -366,7 +371,7 @@ struct rj_state {
     double *kn;           /* (nn) each node's share of twice the kinetic energy */
     double *damp; /* (3 nn + 1, with structural damping) its forces at n on every node, fx
                      then fy then mz, and their power at n - 1/2 summed in the step: for its
-                     loss (src/beam_damped.h) */
+                     loss (src/beam_material.h) */
     double *sha, *shb, *shc,
         *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
     double *gsw; /* (2 gs_prof + 9 gs_n + 2 nn, or none) rj__gs_work */

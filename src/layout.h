@@ -20,7 +20,7 @@ typedef struct rj__layout {
     size_t node_cl, bp_node, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
     size_t node_grp, ch_first, ch_node, ch_l0sq, gs_int, gs_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, qj, jq, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
-        link_un, link_kc, link_path, link_damp, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
+        link_un, link_kc, link_path, link_pl, link_damp, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
 } rj__layout;
 
 /* The model's block: every array linear in the scene; rigid scenes (joint coordinates)
@@ -82,6 +82,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->link_un = rj__carve(&off, (size_t) 5 * nl + 1, sizeof(double));
     L->link_kc = rj__carve(&off, (size_t) 4 * nl + 1, sizeof(double));
     L->link_path = rj__carve(&off, (size_t) nl + 1, sizeof(int));
+    L->link_pl = rj__carve(&off, (size_t) nl + 1, sizeof(int));
     L->link_damp = rj__carve(&off, (size_t) 2 * nl + 1, sizeof(double));
     L->x0 = rj__carve(&off, (size_t) nn, sizeof(double));
     L->y0 = rj__carve(&off, (size_t) nn, sizeof(double));

@@ -348,12 +348,39 @@ static void rj__rig_pin_forces(const rj_model *m, const rj_state *s, double *wor
     }
 }
 
+/* What the material path adds to element e (local) of link l at n (src/beam_material.h):
+   its axial law and its layers' plastic strains at n (kept in the current frame, as the
+   chord angles), their largest outer-fibre stress into *smax; the viscous part on the
+   rates at n - 1/2. */
+static void rj__elem_material_at_n(const rj_model *m, const rj_state *s, int l, int e,
+                                   double ex, double ey, double tha, double thb,
+                                   rj__elem_force *f, double *smax)
+{
+    const double *at_n = s->fd[1 - s->cur];
+    const double *vx = RJ__FVX(m, at_n), *vy = RJ__FVY(m, at_n), *w = RJ__FW(m, at_n);
+    const int a = m->link_first[l] + e;
+    const double inv_l2 = 1.0 / (ex * ex + ey * ey);
+    rj__material mt;
+    rj__elem_force v;
+    const double *ep = m->link_pl[l] < 0 ? NULL
+                                         : s->fd[s->cur] + m->pl_off + m->link_pl[l] +
+                                               2 * (size_t) m->ldef[l].layers * (size_t) e;
+    rj__material_of(m, l, &mt);
+    rj__elem_material(&mt, ex, ey, tha, thb, ep, NULL, f, smax);
+    rj__elem_viscous(m->link_kc + 4 * (size_t) l, m->link_damp[2 * (size_t) l], ex, ey, inv_l2,
+                     vx[a + 1] - vx[a], vy[a + 1] - vy[a], w[a], w[a + 1], &v);
+    f->fx += v.fx;
+    f->fy += v.fy;
+    f->ma += v.ma;
+    f->mb += v.mb;
+}
+
 /* Node space: element e (local) of link l at n, as the beam pass gives it: the force on
    its second node, its end moments (the positions and rotations at n, the chord angle
-   the step took there; with structural damping its viscous part on the rates at n - 1/2,
-   src/beam_damped.h); its chord's unit vector into unit. */
+   the step took there, and what its material adds); its chord's unit vector into unit;
+   a yielding link's largest outer-fibre stress at its sections into *smax (else 0). */
 static void rj__elem_at_n(const rj_model *m, const rj_state *s, int l, int e,
-                          rj__elem_force *f, double unit[2])
+                          rj__elem_force *f, double unit[2], double *smax)
 {
     const double *at_n = s->fd[1 - s->cur];
     const double *x = RJ__FX(m, at_n), *y = RJ__FY(m, at_n), *phi = RJ__FPHI(m, at_n);
@@ -366,19 +393,11 @@ static void rj__elem_at_n(const rj_model *m, const rj_state *s, int l, int e,
     c.kax = m->link_kc[4 * (size_t) l + 1];
     c.l0sq = m->link_kc[4 * (size_t) l + 2];
     c.half_inv_l0sq = m->link_kc[4 * (size_t) l + 3];
-    rj__elem_forces(&c, ex, ey, beta[m->link_efirst[l] + e], 1.0 / (len * len), phi[a],
-                    phi[a + 1], f);
-    if (m->link_path[l] == RJ__PATH_DAMPED) {
-        const double *vx = RJ__FVX(m, at_n), *vy = RJ__FVY(m, at_n), *w = RJ__FW(m, at_n);
-        rj__elem_force v;
-        rj__elem_viscous(m->link_kc + 4 * (size_t) l, m->link_damp[2 * (size_t) l], ex, ey,
-                         1.0 / (len * len), vx[a + 1] - vx[a], vy[a + 1] - vy[a], w[a],
-                         w[a + 1], &v);
-        f->fx += v.fx;
-        f->fy += v.fy;
-        f->ma += v.ma;
-        f->mb += v.mb;
-    }
+    const double bt = beta[m->link_efirst[l] + e];
+    rj__elem_forces(&c, ex, ey, bt, 1.0 / (len * len), phi[a], phi[a + 1], f);
+    *smax = 0;
+    if (m->link_path[l] == RJ__PATH_MATERIAL)
+        rj__elem_material_at_n(m, s, l, e, ex, ey, phi[a] - bt, phi[a + 1] - bt, f, smax);
     unit[0] = ex / len;
     unit[1] = ey / len;
 }
@@ -388,7 +407,7 @@ RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link,
 {
     const rj_link_def *d;
     rj__elem_force f;
-    double unit[2], A, I;
+    double unit[2], A, I, smax;
     int k;
     RJ_ASSERT(m && s && loads && link >= 0 && link < m->nl);
     for (k = 0; k < 5; k++)
@@ -397,7 +416,7 @@ RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link,
     if (element < 0 || element >= d->elements || d->fidelity != RJ_LINK_FLEXIBLE || m->ip ||
         s->steps == 0)
         return RJ_ERR_INVALID;
-    rj__elem_at_n(m, s, link, element, &f, unit);
+    rj__elem_at_n(m, s, link, element, &f, unit, &smax);
     /* the part beyond each section on the part before: -(the force on the second node) */
     loads[0] = -(f.fx * unit[0] + f.fy * unit[1]);
     loads[1] = -(-f.fx * unit[1] + f.fy * unit[0]);
@@ -405,11 +424,29 @@ RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link,
     loads[3] = f.mb;
     A = m->link_EA[link] / d->E;
     I = m->link_EI[link] / d->E;
-    if (d->section == RJ_SECTION_RECT)
+    if (d->yield > 0)
+        loads[4] = smax;
+    else if (d->section == RJ_SECTION_RECT)
         loads[4] = fabs(loads[0]) / A + fmax(fabs(loads[2]), fabs(loads[3])) * 0.5 * d->height / I;
     else
         loads[4] = NAN;
     return RJ_OK;
+}
+
+RJDEF double rj_element_plastic_strain(const rj_model *m, const rj_state *s, int link,
+                                       int element, int section, int layer)
+{
+    const rj_link_def *d;
+    RJ_ASSERT(m && s && link >= 0 && link < m->nl);
+    d = &m->ldef[link];
+    if (element < 0 || element >= d->elements || section < 0 || section > 1 || layer < 0 ||
+        layer >= d->layers)
+        return NAN;
+    if (m->link_pl[link] < 0)
+        return 0.0;
+    return s->fd[s->cur][m->pl_off + (size_t) m->link_pl[link] +
+                         2 * (size_t) d->layers * (size_t) element +
+                         (size_t) d->layers * (size_t) section + (size_t) layer];
 }
 
 /* Node space: the force on node k from its own link's elements at n (the positions and
@@ -423,10 +460,10 @@ static void rj__elem_node_force(const rj_model *m, const rj_state *s, int k, dou
     for (side = 0; side < 2; side++) {
         const int local = side ? node : node - 1;
         rj__elem_force f;
-        double unit[2];
+        double unit[2], smax;
         if (local < 0 || local >= m->ldef[link].elements)
             continue;
-        rj__elem_at_n(m, s, link, local, &f, unit);
+        rj__elem_at_n(m, s, link, local, &f, unit, &smax);
         out[0] += side ? -f.fx : f.fx;
         out[1] += side ? -f.fy : f.fy;
     }
@@ -471,7 +508,7 @@ static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, doub
         force[1] -= s->input_node[3 * (size_t) k + 1];
     }
     rj__node_of(m, k, &link, &node);
-    if (m->link_path[link] == RJ__PATH_DAMPED) {
+    if (m->link_path[link] == RJ__PATH_MATERIAL) {
         const double alpha = m->link_damp[2 * (size_t) link + 1];
         force[0] += alpha * m->mass[k] * RJ__FVX(m, at_n)[k];
         force[1] += alpha * m->mass[k] * RJ__FVY(m, at_n)[k];

@@ -25,7 +25,8 @@ static const char rj__sk_kind[RJ__SK_COUNT][10] = { "",     "solver", "material"
                                                     "coupling" };
 #define RJ__SK_MAT_KEYS                                                                            \
     ((1u << RJ__LK_E) | (1u << RJ__LK_RHO) | (1u << RJ__LK_ETA) | (1u << RJ__LK_DAMPING) |        \
-     (1u << RJ__LK_MASS_DAMPING))
+     (1u << RJ__LK_MASS_DAMPING) | (1u << RJ__LK_YIELD) | (1u << RJ__LK_HARDENING) |              \
+     (1u << RJ__LK_STRAIN))
 #define RJ__SK_SEC_KEYS                                                                            \
     ((1u << RJ__LK_AREA) | (1u << RJ__LK_INERTIA) | (1u << RJ__LK_WIDTH) | (1u << RJ__LK_HEIGHT) | \
      (1u << RJ__LK_LAYERS))

@@ -17,7 +17,7 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->fy = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->mz = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->kn = rj__carve(&off, (size_t) m->nn, sizeof(double));
-    L->damp = rj__carve(&off, m->nstruct ? 3 * (size_t) m->nn + 1 : 0, sizeof(double));
+    L->damp = rj__carve(&off, m->nmaterial ? 3 * (size_t) m->nn + 2 : 0, sizeof(double));
     L->sha = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shb = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shc = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));

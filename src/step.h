@@ -46,7 +46,7 @@ typedef struct rj__sums {
     double gravity;                                 /* gravity's potential at n, -sum m g . x */
     double kinetic;                                 /* 1/2 v^{n-1/2} . v^{n+1/2} */
     double lost_damping, lost_friction, lost_limit; /* since the start */
-    double lost_struct; /* the links' structural damping's loss since the start */
+    double lost_material; /* the links' structural damping's loss since the start */
     double work;    /* done by the caller's inputs since the start */
     double drive;   /* done by the actuators since the start */
     double drive_pending; /* a prescribed joint's impulse's work the next step takes */
@@ -124,7 +124,7 @@ static RJ__FORCE_INLINE void rj__sums_open(const double *old_scalars, rj__sums *
     e->lost_damping = old_scalars[RJ__FS_LDAMP];
     e->lost_friction = old_scalars[RJ__FS_LFRIC];
     e->lost_limit = old_scalars[RJ__FS_LLIM] + old_scalars[RJ__FS_PEND];
-    e->lost_struct = 0;
+    e->lost_material = 0;
     e->work = old_scalars[RJ__FS_WORK];
     e->drive = old_scalars[RJ__FS_DRIVE] + old_scalars[RJ__FS_DPEND];
     e->drive_pending = 0;
@@ -132,22 +132,22 @@ static RJ__FORCE_INLINE void rj__sums_open(const double *old_scalars, rj__sums *
     e->pending = 0;
 }
 
-/* The step's links with structural damping, from the frame at n (old) into the advanced
-   one, before the fused pass, out of line. It takes a copy of the step's update, never
-   its address, and returns the sum of the positions it wrote (rj__adv.fin): the address
-   of the step's own record, given to it, cost the step 60 instructions on the paper's
-   deployment, which has no damping. */
-static RJ__NOINLINE double rj__beam_damped_step(const rj_model *m, rj_state *s,
-                                                const double *old, double *advanced,
-                                                rj__adv adv)
+/* The step's links on the material path, from the frame at n (old) into the advanced
+   one (their plastic strains into next's block), before the fused pass, out of line. It
+   takes a copy of the step's update, never its address, and returns the sum of the
+   positions it wrote (rj__adv.fin): the address of the step's own record, given to it,
+   cost the step 60 instructions on the paper's deployment, which has no such links. */
+static RJ__NOINLINE double rj__beam_material_step(const rj_model *m, rj_state *s,
+                                                  const double *old, double *advanced,
+                                                  double *next, rj__adv adv)
 {
     double fin = 0;
     adv.fin = &fin;
     adv.damp = s->damp;
-    rj__beam_damped_links(m, RJ__FX(m, old), RJ__FY(m, old), RJ__FPHI(m, old),
-                          RJ__FBETA(m, old), RJ__FCX(m, old), RJ__FCY(m, old), s->eu,
-                          RJ__FBETA(m, advanced), RJ__FCX(m, advanced), RJ__FCY(m, advanced),
-                          s->fx, s->fy, s->mz, &adv);
+    rj__beam_material_links(m, RJ__FX(m, old), RJ__FY(m, old), RJ__FPHI(m, old),
+                            RJ__FBETA(m, old), RJ__FCX(m, old), RJ__FCY(m, old), s->eu,
+                            RJ__FBETA(m, advanced), RJ__FCX(m, advanced), RJ__FCY(m, advanced),
+                            s->fx, s->fy, s->mz, &adv, old + m->pl_off, next + m->pl_off);
     return fin;
 }
 
@@ -206,8 +206,8 @@ static RJ__FORCE_INLINE void rj__stage_beams(const rj_model *m, rj_state *s, con
     adv->grav = m->has_gravity;
     adv->gx = m->solver.gravity[0];
     adv->gy = m->solver.gravity[1];
-    if (m->nstruct)
-        *adv->fin += rj__beam_damped_step(m, s, old, f->advanced, *adv);
+    if (m->nmaterial)
+        *adv->fin += rj__beam_material_step(m, s, old, f->advanced, next, *adv);
     e->strain =
         rj__beam_pass(m, RJ__FX(m, old), RJ__FY(m, old), RJ__FPHI(m, old), RJ__FBETA(m, old),
                       RJ__FCX(m, old), RJ__FCY(m, old), s->eu, RJ__FBETA(m, f->advanced),
@@ -1553,7 +1553,7 @@ static RJ__FORCE_INLINE rj_result rj__energy_check(const rj_model *m, rj_state *
     const double scale =
         fabs(e0 - outside) + fabs(old_spring) + s->settle_scale + e->drive_flow + 1e-9;
     const double created = ke + U + V + outside + e->lost_damping + e->lost_friction + lost_l +
-                           e->lost_struct - e0;
+                           e->lost_material - e0;
     if (!rj__finite(E) || !rj__finite(ke + U) || !rj__finite(lost_l) ||
         E > m->solver.energy_growth * (scale + fabs(V)) || created > RJ__CREATED * scale ||
         lost_l < -RJ__CREATED * scale)
@@ -1589,7 +1589,7 @@ static void rj__first_accounts(double *new_scalars, rj__sums *e, double energy)
        second half, pending, is the next step's) */
     new_scalars[RJ__FS_E0] = energy - e->drive;
     rj__accounts_zero(new_scalars);
-    e->lost_damping = e->lost_friction = e->work = e->lost_limit = e->lost_struct = 0;
+    e->lost_damping = e->lost_friction = e->work = e->lost_limit = e->lost_material = 0;
     new_scalars[RJ__FS_DRIVE] = e->drive;
     new_scalars[RJ__FS_DPEND] = e->drive_pending;
 }
@@ -1609,8 +1609,8 @@ static RJ__FORCE_INLINE rj_result rj__step_accounts(const rj_model *m, rj_state 
     nsc[RJ__FS_LFRIC] = e->lost_friction;
     nsc[RJ__FS_LLIM] = e->lost_limit;
     nsc[RJ__FS_PEND] = e->pending;
-    if (m->nstruct)
-        e->lost_struct = rj__structural_accounts(m, s, osc, nsc, f->nvx, f->nvy, f->nw);
+    if (m->nmaterial)
+        e->lost_material = rj__material_accounts(m, s, osc, nsc, f->nvx, f->nvy, f->nw);
     nsc[RJ__FS_WORK] = e->work;
     nsc[RJ__FS_DRIVE] = e->drive;
     nsc[RJ__FS_DPEND] = e->drive_pending;

@@ -231,6 +231,68 @@ static int rj__validate_link_damping(const rj_link_def *L, int i, rj_error *err)
     return 1;
 }
 
+/* A link's yielding layers: a flexible link (a rigid one has no strain, an inextensible
+   one's axial force is a constraint's) of rectangular section (its layers are the
+   sections the plastic strains live in), and a state of size that an int indexes. The
+   Biot law is a flexible link's axial law. */
+static int rj__validate_link_plastic(const rj_link_def *L, int i, rj_error *err)
+{
+    char f[64];
+    const double strains = 2.0 * L->layers * (double) L->elements;
+    if (L->strain == RJ_STRAIN_BIOT && L->fidelity != RJ_LINK_FLEXIBLE) {
+        RJ__FIELD(f, "links[%d].strain", i);
+        rj__fail(err, RJ_ERR_INVALID, f, L->strain,
+                 "%s = RJ_STRAIN_BIOT is an axial law for a flexible link; links[%d] is %s", f,
+                 i, L->fidelity == RJ_LINK_RIGID ? "rigid" : "inextensible");
+        return 0;
+    }
+    if (!(L->yield > 0))
+        return 1;
+    RJ__FIELD(f, "links[%d].yield", i);
+    if (L->fidelity != RJ_LINK_FLEXIBLE || L->section != RJ_SECTION_RECT) {
+        rj__fail(err, RJ_ERR_INVALID, f, L->yield,
+                 "%s = %g: yielding layers need a flexible link of rectangular section "
+                 "(links[%d] is %s)",
+                 f, L->yield, i,
+                 L->fidelity == RJ_LINK_RIGID          ? "rigid"
+                 : L->fidelity == RJ_LINK_INEXTENSIBLE ? "inextensible"
+                                                       : "of general section");
+        return 0;
+    }
+    if (L->layers < 2) {
+        rj__fail(err, RJ_ERR_INVALID, f, L->yield,
+                 "%s = %g needs 2 or more layers (links[%d].layers = %d): a single layer "
+                 "sits at mid-depth, where bending never strains it",
+                 f, L->yield, i, L->layers);
+        return 0;
+    }
+    if (strains > 1e8) {
+        rj__fail(err, RJ_ERR_INVALID, f, L->yield,
+                 "%s = %g: %d layers of %d elements are %.3g plastic strains (two sections "
+                 "an element), more than the 1e8 a link may keep",
+                 f, L->yield, L->layers, L->elements, strains);
+        return 0;
+    }
+    return 1;
+}
+
+/* The scene's plastic strains all told: an int indexes them (1e9 at most). */
+static int rj__validate_plastic_total(const rj_scene_def *sc, rj_error *err)
+{
+    double total = 0;
+    int i;
+    for (i = 0; i < sc->link_count; i++)
+        if (sc->links[i].yield > 0)
+            total += 2.0 * sc->links[i].layers * (double) sc->links[i].elements;
+    if (total <= 1e9)
+        return 1;
+    rj__fail(err, RJ_ERR_INVALID, "links", total,
+             "the yielding links keep %.3g plastic strains all told, more than the 1e9 a "
+             "scene may",
+             total);
+    return 0;
+}
+
 static int rj__validate_link(const rj_link_def *L, int i, rj_error *err)
 {
     char f[64], item[32];
@@ -249,7 +311,7 @@ static int rj__validate_link(const rj_link_def *L, int i, rj_error *err)
                  r->rule);
         return 0;
     }
-    return rj__validate_link_damping(L, i, err);
+    return rj__validate_link_damping(L, i, err) && rj__validate_link_plastic(L, i, err);
 }
 
 /* Joint j's bodies: links of the scene (body1 may be ground), two of them, a node body1
@@ -684,6 +746,8 @@ static int rj__validate(const rj_scene_def *sc, rj_error *err)
     for (i = 0; i < sc->link_count; i++)
         if (!rj__validate_link(&sc->links[i], i, err))
             return 0;
+    if (!rj__validate_plastic_total(sc, err))
+        return 0;
     for (j = 0; j < sc->joint_count; j++)
         if (!rj__validate_joint(sc, j, err))
             return 0;

@@ -906,9 +906,9 @@ static int free_decay(rj_link_def link, int n, double t_end, decay *d, char *msg
 }
 
 /* Two links of 10 elements hanging from a pin under gravity, released level, the second
-   with mass_damping alpha and eta (the damped path when either is > 0); dt: given, or 0. Its
-   tip after 0.1 s into tip (NaN when refused, the message into msg). */
-static rj_result swing_two(double alpha, double eta, double dt, double tip[2], char *msg,
+   given (NULL: the first's bar); dt: given, or 0. Its tip after 0.1 s into tip (NaN when
+   refused, the message into msg). */
+static rj_result swing_two(const rj_link_def *second, double dt, double tip[2], char *msg,
                            size_t size)
 {
     rj_link_def l[2];
@@ -926,8 +926,8 @@ static rj_result swing_two(double alpha, double eta, double dt, double tip[2], c
         j[k].body2 = k;
     }
     j[0].angle0 = 0;
-    l[1].mass_damping = alpha;
-    l[1].eta = eta;
+    if (second)
+        l[1] = *second;
     sc.links = l;
     sc.link_count = 2;
     sc.joints = j;
@@ -955,14 +955,19 @@ static void test_damping_path(rjt_ctx *c)
 {
     double plain[2], damped[2], refused[2];
     char msg[320], msg2[320];
+    rj_link_def second = bar(RJ_LINK_FLEXIBLE, 10);
     rj_result r;
-    swing_two(0, 0, 0, plain, msg, sizeof msg);
-    swing_two(1e-300, 1e-300, 0, damped, msg, sizeof msg);
+    swing_two(NULL, 0, plain, msg, sizeof msg);
+    second.mass_damping = 1e-300;
+    second.eta = 1e-300;
+    swing_two(&second, 0, damped, msg, sizeof msg);
     rjt_check(c, plain[0] == damped[0] && plain[1] == damped[1],
               "damping: the damped path without damping gives the fused kernels' bits",
               "tip (%.17g, %.17g) and (%.17g, %.17g)", plain[0], plain[1], damped[0], damped[1]);
-    r = swing_two(0, 1e-3, 1e-6, refused, msg, sizeof msg);
-    swing_two(0, 0, 1e-6, plain, msg2, sizeof msg2);
+    second.mass_damping = 0;
+    second.eta = 1e-3;
+    r = swing_two(&second, 1e-6, refused, msg, sizeof msg);
+    swing_two(NULL, 1e-6, plain, msg2, sizeof msg2);
     rjt_check(c, r == RJ_ERR_UNSTABLE_DT && strstr(msg, "structural damping") && plain[0] == plain[0],
               "damping: eta's rate shortens the stability bound: a step the undamped links take is refused",
               "result %d: %s", (int) r, msg);
@@ -1011,6 +1016,342 @@ static void test_damping_decay(rjt_ctx *c)
     }
 }
 
+/* ---- elastic-plastic layers: the section law against the continuum's, collapse, the
+   residual of unloading, the balance with the plastic work */
+
+/* The strip of the plastic tests: aluminium-like, 0.5 m, 20 x 10 mm, yield 100 MPa,
+   clamped; M_y = sigma_y b h^2 / 6 = 33.3 N m, M_p = sigma_y b h^2 / 4 = 50 N m. Its
+   first mode is near 33 Hz. */
+#define PL_L 0.5
+#define PL_E 70e9
+#define PL_B 0.02
+#define PL_H 0.01
+#define PL_YIELD 100e6
+#define PL_I (PL_B * PL_H * PL_H * PL_H / 12.0)
+#define PL_MY (PL_YIELD * PL_B * PL_H * PL_H / 6.0)
+#define PL_MP (PL_YIELD * PL_B * PL_H * PL_H / 4.0)
+
+/* What a slow ramp of a tip load gives: the load and the root section's moment when a
+   layer first yielded, the last sample's root-section curvature and moment, the
+   accounts. */
+typedef struct ramp_out {
+    double first_yield;   /* the load when a plastic strain first appeared (-1: never) */
+    double yield_moment;  /* N m, |the root section's moment| then */
+    double kappa;         /* 1/m, element 0's curvature at its first section, at the end */
+    double moment;        /* N m, the bending moment there (statics: rj_element_loads) */
+    double tip;           /* m, the tip's y */
+    double peak_kappa;    /* 1/m, the curvature at the peak load */
+    rj_energy e;
+} ramp_out;
+
+/* Element 0's curvature at its first Gauss section, from its nodes' rotations and chord:
+   ((6 xi - 4) th_a + (6 xi - 2) th_b) / l0. */
+static double root_kappa(const rj_model *m, const rj_state *s, double l0)
+{
+    const double xi = 0.21132486540518713;
+    double a[2], b[2], chord, tha, thb;
+    rj_node_position(m, s, 0, 0, a);
+    rj_node_position(m, s, 0, 1, b);
+    chord = atan2(b[1] - a[1], b[0] - a[0]);
+    tha = rj_node_rotation(m, s, 0, 0) - chord;
+    thb = rj_node_rotation(m, s, 0, 1) - chord;
+    return ((6 * xi - 4) * tha + (6 * xi - 2) * thb) / l0;
+}
+
+/* The bending moment at element 0's first section (statics: rj_element_loads, linear
+   along the element). */
+static double root_moment(const rj_model *m, const rj_state *s)
+{
+    const double xi = 0.21132486540518713;
+    double loads[5];
+    rj_element_loads(m, s, 0, 0, loads);
+    return fabs(loads[2] * (1 - xi) + loads[3] * xi);
+}
+
+/* A clamped strip of `elements` elements and `layers` layers (hardening H), its tip loaded
+   by a moment (moment set) or a downward force of `peak`, ramped up over 0.5 s, held
+   0.25 s, and with `unload` ramped back to 0 over 0.5 s and held 0.25 s; mass_damping
+   200 1/s (about half critical on the first mode) keeps the ramp quasi-static. */
+static int plastic_ramp(int layers, int elements, double H, int moment, double peak,
+                        int unload, ramp_out *out, char *msg, size_t size)
+{
+    rj_link_def link = rj_default_link_def();
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m;
+    rj_state *s;
+    rj_error err;
+    const double t_end = unload ? 1.5 : 0.75;
+    double *F;
+    rj_result r = RJ_OK;
+    link.length = PL_L;
+    link.elements = elements;
+    link.E = PL_E;
+    link.rho = 2700;
+    link.width = PL_B;
+    link.height = PL_H;
+    link.layers = layers;
+    link.yield = PL_YIELD;
+    link.hardening = H;
+    link.mass_damping = 200;
+    link.root = RJ_ROOT_CLAMPED;
+    sc.links = &link;
+    sc.link_count = 1;
+    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) {
+        snprintf(msg, size, "model refused: %.200s", err.msg);
+        return 0;
+    }
+    rj_state_create(m, &s, NULL);
+    F = rj_state_node_forces(m, s);
+    out->first_yield = -1;
+    while (rj_state_time(s) < t_end && r == RJ_OK) {
+        const double t = rj_state_time(s);
+        /* cosine ramps: no jump in the load's rate to ring the axial modes, which the
+           mass-proportional damping hardly touches and whose ringing ratchets the layers
+           (a linear ramp's start of unloading added 0.6 % to the plastic strain) */
+        const double up = t < 0.5 ? 0.5 - 0.5 * cos(PI * t / 0.5) : 1.0;
+        const double down = t > 0.75 ? (t < 1.25 ? 0.5 + 0.5 * cos(PI * (t - 0.75) / 0.5) : 0.0)
+                                     : 1.0;
+        const double load = peak * up * down;
+        F[3 * elements + (moment ? 2 : 1)] = moment ? load : -load;
+        r = rj_step(m, s);
+        if (out->first_yield < 0 && rj_element_plastic_strain(m, s, 0, 0, 0, 0) != 0) {
+            out->first_yield = load;
+            out->yield_moment = root_moment(m, s);
+        }
+        if (t < 0.75)
+            out->peak_kappa = root_kappa(m, s, PL_L / elements);
+    }
+    out->moment = root_moment(m, s);
+    out->kappa = root_kappa(m, s, PL_L / elements);
+    {
+        double xy[2];
+        rj_node_position(m, s, 0, elements, xy);
+        out->tip = xy[1];
+    }
+    rj_state_energy(m, s, &out->e);
+    snprintf(msg, size, "%.200s", r == RJ_OK ? "" : rj_state_error(s));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+    return r == RJ_OK;
+}
+
+/* Pure bending (a tip moment: every section carries it, whatever the shape): the layered
+   section's first yield where its outer layer's mid-depth reaches the yield stress,
+   M_y / (1 - 1/n); its curvature at 1.35 M_y against the continuum's elastic-perfectly-
+   plastic kappa_y / sqrt(3 - 2 M / M_y) as the layers are refined; the balance with
+   the plastic work. */
+static void test_plastic_bending(rjt_ctx *c)
+{
+    static const int layers[3] = { 8, 16, 32 };
+    const double ky = PL_MY / (PL_E * PL_I);
+    const double exact = ky / sqrt(3 - 2 * 1.35);
+    const double first = PL_MY / (1 - 1.0 / 8);
+    double err[3];
+    ramp_out below, above, o;
+    char msg[256];
+    int k, ok;
+    ok = plastic_ramp(8, 2, 0, 1, 0.99 * first, 0, &below, msg, sizeof msg) &&
+         plastic_ramp(8, 2, 0, 1, 1.01 * first, 0, &above, msg, sizeof msg);
+    rjt_check(c, ok && below.first_yield < 0 && above.first_yield > 0.99 * first,
+              "plastic: 8 layers in pure bending first yield at M_y / (1 - 1/8), the outer layer's mid-depth",
+              "none at 0.99 of %.4g N m; at 1.01 from %.4g N m (%.4f of it); %s", first,
+              above.first_yield, above.first_yield / first, msg);
+    for (k = 0; k < 3; k++) {
+        ok = plastic_ramp(layers[k], 2, 0, 1, 1.35 * PL_MY, 0, &o, msg, sizeof msg);
+        err[k] = ok ? o.kappa / exact - 1 : NAN;
+    }
+    rjt_check(c, fabs(err[2]) < 0.01 && fabs(err[1]) < fabs(err[0]) && fabs(err[2]) < fabs(err[1]),
+              "plastic: the layered section's curvature at 1.35 M_y approaches the continuum's as the layers are refined",
+              "kappa off kappa_y / sqrt(3 - 2.7) = %.5g 1/m by %+.2e, %+.2e, %+.2e at 8, 16, 32 layers",
+              exact, err[0], err[1], err[2]);
+    /* the balance: the step's forces at x^n take the plastic strains returned there, the
+       elastic part's trapezoid the ones before; first order in dt, 9.2e-5 measured */
+    rjt_check(c, fabs(o.e.balance) < 1e-3 * o.e.lost_plastic && o.e.lost_plastic > 0,
+              "plastic: the energy balance closes with the plastic work (W_plastic)",
+              "32 layers at 1.35 M_y: balance %.3g J, W_plastic %.4g J, W_structural %.4g J, work %.4g J",
+              o.e.balance, o.e.lost_plastic, o.e.lost_structural, o.e.work_applied);
+}
+
+/* Unloading is elastic: the curvature left when the moment is taken off is the loaded one
+   less M / EI, to the ramp's dynamics; against the continuum's kappa_y (1 / sqrt(3 - 2 M /
+   M_y) - M / M_y) as the layers are refined. With hardening the section carries more at
+   the same curvature. */
+static void test_plastic_unloading(rjt_ctx *c)
+{
+    const double ky = PL_MY / (PL_E * PL_I), M = 1.35 * PL_MY;
+    const double continuum = ky * (1 / sqrt(3 - 2 * 1.35) - 1.35);
+    ramp_out o, hard;
+    char msg[256];
+    int ok = plastic_ramp(32, 2, 0, 1, M, 1, &o, msg, sizeof msg);
+    const double elastic = o.peak_kappa - M / (PL_E * PL_I);
+    rjt_check(c, ok && fabs(o.kappa / elastic - 1) < 1e-3 && fabs(o.kappa / continuum - 1) < 0.03,
+              "plastic: unloading is elastic and leaves the bilinear model's residual curvature",
+              "residual %.6g 1/m; loaded %.6g less M / EI: %.6g (%+.1e); continuum %.6g (%+.1e); %s",
+              o.kappa, o.peak_kappa, elastic, o.kappa / elastic - 1, continuum,
+              o.kappa / continuum - 1, msg);
+    ok = plastic_ramp(32, 2, 0.1 * PL_E, 1, M, 0, &hard, msg, sizeof msg) &&
+         plastic_ramp(32, 2, 0, 1, M, 0, &o, msg, sizeof msg);
+    rjt_check(c, ok && hard.kappa < o.kappa && hard.kappa > M / (PL_E * PL_I),
+              "plastic: kinematic hardening (H = E / 10) stiffens the yielding section",
+              "curvature at 1.35 M_y %.5g 1/m with it, %.5g without, %.5g elastic", hard.kappa,
+              o.kappa, M / (PL_E * PL_I));
+}
+
+/* A cantilever under a slowly rising tip load: its root yields first where the moment at
+   its first section reaches the layered first-yield moment (the continuum's sigma_y b
+   h^2 / 6 as the layers are refined), and at a curvature of 10 kappa_y there (a hinge
+   forming) the section carries a moment approaching M_p = sigma_y b h^2 / 4: the tip load
+   approaching M_p / L, the collapse load. */
+static void test_plastic_collapse(rjt_ctx *c)
+{
+    static const int layers[3] = { 8, 16, 32 };
+    const double first = PL_MY / (1 - 1.0 / 32);
+    double at[3];
+    ramp_out o;
+    char msg[256];
+    int k, ok = 1;
+    for (k = 0; k < 3; k++) {
+        ok &= plastic_ramp(layers[k], 10, 0, 0, 1.2 * PL_MP / PL_L, 0, &o, msg, sizeof msg);
+        at[k] = o.moment;
+    }
+    rjt_check(c, ok && fabs(o.yield_moment / first - 1) < 0.01,
+              "plastic: a cantilever's root first yields under the layered first-yield moment (sigma_y b h^2 / 6 as layers refine)",
+              "32 layers: at P = %.4g N (M_y / L = %.4g N), the root section's moment %.5g N m against M_y / (1 - 1/32) = %.5g N m (%+.1e), M_y = %.4g N m; %s",
+              o.first_yield, PL_MY / PL_L, o.yield_moment, first, o.yield_moment / first - 1, PL_MY, msg);
+    rjt_check(c, ok && at[2] < at[1] && at[1] < at[0] && at[2] / PL_MP - 1 < 0.05,
+              "plastic: the root's moment under 1.2 M_p / L approaches M_p as the layers are refined",
+              "root section's moment %.4g, %.4g, %.4g N m at 8, 16, 32 layers against M_p = %.4g N m",
+              at[0], at[1], at[2], PL_MP);
+}
+
+/* With a yield stress no stress reaches, the layered material path gives the elastic
+   element's bits (the same layers: their sums make EA and EI). */
+static void test_plastic_elastic_limit(rjt_ctx *c)
+{
+    double plain[2], layered[2];
+    char msg[320];
+    rj_link_def second = bar(RJ_LINK_FLEXIBLE, 10);
+    second.layers = 4;
+    swing_two(&second, 0, plain, msg, sizeof msg);
+    second.yield = 1e30;
+    swing_two(&second, 0, layered, msg, sizeof msg);
+    rjt_check(c, plain[0] == layered[0] && plain[1] == layered[1],
+              "plastic: layers that never yield give the elastic element's bits",
+              "tip (%.17g, %.17g) and (%.17g, %.17g) %s", plain[0], plain[1], layered[0], layered[1],
+              msg);
+}
+
+/* The axial laws against their exact statics: a soft clamped bar pulled along its axis by
+   P = 0.03 EA settles at the engineering strain e that solves EA e = P (Biot) or
+   EA (e + e^2/2)(1 + e) = P (Green, bisected here). At 0.1 EA the Green bar stiffens by
+   30 % and outruns the bound taken at its start: the step stops, energy created. */
+static void test_axial_laws(rjt_ctx *c)
+{
+    int law;
+    for (law = 0; law < 2; law++) {
+        rj_link_def link = bar(RJ_LINK_FLEXIBLE, 4);
+        rj_scene_def sc = rj_default_scene_def();
+        rj_model *m;
+        rj_state *s;
+        rj_error err;
+        double *F, xy[2], EA, P, e, lo = 0, hi = 0.2;
+        int k;
+        link.E = 1e6;
+        link.root = RJ_ROOT_CLAMPED;
+        link.strain = law ? RJ_STRAIN_BIOT : RJ_STRAIN_GREEN;
+        EA = link.E * link.width * link.height;
+        P = 0.03 * EA;
+        sc.links = &link;
+        sc.link_count = 1;
+        if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) {
+            rjt_check(c, 0, "axial law: model", "%s", err.msg);
+            return;
+        }
+        rj_state_create(m, &s, NULL);
+        F = rj_state_node_forces(m, s);
+        F[3 * 4] = P;
+        rj_settle(m, s, 1e-14, 1000000);
+        rj_node_position(m, s, 0, 4, xy);
+        for (k = 0; k < 200 && !law; k++) {
+            const double mid = 0.5 * (lo + hi);
+            if (EA * (mid + 0.5 * mid * mid) * (1 + mid) > P)
+                hi = mid;
+            else
+                lo = mid;
+        }
+        e = law ? P / EA : 0.5 * (lo + hi);
+        rjt_check(c, fabs(xy[0] - (1 + e)) < 1e-7,
+                  law ? "axial law: Biot, a bar pulled by 0.03 EA stretches by P / EA"
+                      : "axial law: Green, a bar pulled by 0.03 EA stretches by EA (e + e^2/2)(1 + e) = P",
+                  "tip x %.9f m against %.9f m (%+.1e)", xy[0], 1 + e, xy[0] - (1 + e));
+        rj_state_destroy(s, NULL);
+        rj_model_destroy(m, NULL);
+    }
+}
+
+/* Scene files: the material keys of damping and yielding layers on a material, taken by
+   a link and written back so that they read the same; the material's ratio becomes the
+   model's eta = ratio / (pi f). Bad combinations are refused naming the field. */
+static void test_material_keys(rjt_ctx *c)
+{
+    static const char text[] = "material steel\n  E = 2e11  rho = 7800  damping = 0.02 8\n"
+                               "  mass_damping = 0.5  yield = 2.5e8  hardening = 2e9\n"
+                               "  strain = biot\n"
+                               "link a\n  length = 1  elements = 4  layers = 6\n"
+                               "  material = steel\n  root = clamped\n";
+    static const struct {
+        const char *text, *field;
+    } bad[] = {
+        { "link a\n  fidelity = rigid  eta = 1e-4\n", "eta" },
+        { "link a\n  damping = 0.02 0\n", "damping" },
+        { "link a\n  eta = 1e-4  damping = 0.02 8\n", "damping" },
+        { "link a\n  yield = 2e8\n", "layers" },
+        { "link a\n  area = 1e-4  inertia = 1e-9  yield = 2e8\n", "yield" },
+        { "link a\n  fidelity = inextensible  strain = biot\n", "strain" },
+        { "link a\n  strain = hooke\n", "strain" },
+        { "link a\n  yield = -1\n", "yield" },
+    };
+    rj_scene_file f, g;
+    rj_error err;
+    char buf[4096];
+    size_t n, k;
+    int ok = rj_scene_parse(text, sizeof text - 1, "m.rjs", &f, &err) == RJ_OK;
+    const rj_link_def *d = ok ? &f.links[0] : NULL;
+    rjt_check(c, ok && d->damping[0] == 0.02 && d->damping[1] == 8 && d->mass_damping == 0.5 &&
+                     d->yield == 2.5e8 && d->hardening == 2e9 && d->strain == RJ_STRAIN_BIOT,
+              "material keys: damping, mass_damping, yield, hardening and strain pass to the link",
+              "%s", ok ? "read" : err.msg);
+    if (!ok)
+        return;
+    {
+        rj_scene_def def = rj_scene_file_def(&f);
+        n = rj_scene_write(&def, NULL, NULL, buf, sizeof buf);
+        ok = n > 0 && n <= sizeof buf && rj_scene_parse(buf, n - 1, "w.rjs", &g, &err) == RJ_OK;
+        rjt_check(c, ok && g.links[0].damping[0] == 0.02 && g.links[0].damping[1] == 8 &&
+                         g.links[0].yield == 2.5e8 && g.links[0].strain == RJ_STRAIN_BIOT &&
+                         g.links[0].mass_damping == 0.5 && g.links[0].hardening == 2e9,
+                  "material keys: written back, they read the same", "%s",
+                  ok ? "same" : err.msg);
+        if (ok)
+            rj_scene_file_free(&g);
+    }
+    rj_scene_file_free(&f);
+    for (k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        rj_result r = rj_scene_parse(bad[k].text, strlen(bad[k].text), "b.rjs", &f, &err);
+        if (r == RJ_OK) {
+            rj_scene_def def = rj_scene_file_def(&f);
+            rj_model *m = NULL;
+            r = rj_model_create(&def, &m, &err, NULL);
+            if (m)
+                rj_model_destroy(m, NULL);
+            rj_scene_file_free(&f);
+        }
+        rjt_check(c, r != RJ_OK && strstr(err.msg, bad[k].field) != NULL,
+                  "material keys: a bad combination is refused, naming the field",
+                  "case %d (%s): %s", (int) k, bad[k].field, err.msg);
+    }
+}
+
 int main(void)
 {
     rjt_ctx c = { 0, 0 };
@@ -1030,5 +1371,11 @@ int main(void)
     test_element_loads(&c);
     test_damping_decay(&c);
     test_damping_path(&c);
+    test_plastic_elastic_limit(&c);
+    test_plastic_bending(&c);
+    test_plastic_unloading(&c);
+    test_plastic_collapse(&c);
+    test_axial_laws(&c);
+    test_material_keys(&c);
     return rjt_summary(&c, "test_loads");
 }

@@ -1366,17 +1366,17 @@ static void test_links_pass_through(void)
    balance are theirs: a link swinging under gravity on a damped hinge with friction. */
 static void test_account_table(void)
 {
-    static const char *const names[10] = { "E_kin",     "E_strain",  "E_spring",
+    static const char *const names[11] = { "E_kin",     "E_strain",  "E_spring",
                                           "E_gravity", "W_applied", "W_drive",
                                           "W_damping", "W_friction", "W_limit",
-                                          "W_structural" };
+                                          "W_structural", "W_plastic" };
     rj_link_def link = rj_default_link_def();
     rj_joint_def joint = rj_default_joint_def();
     rj_model *m;
     rj_state *s;
     rj_energy e;
-    double fields[10];
-    int k, same = rj_energy_account_count() == 10;
+    double fields[11];
+    int k, same = rj_energy_account_count() == 11;
     link.height = 0.01;
     joint.body1 = -1;
     joint.body2 = 0;
@@ -1398,7 +1398,8 @@ static void test_account_table(void)
     fields[7] = e.lost_friction;
     fields[8] = e.lost_limit;
     fields[9] = e.lost_structural;
-    for (k = 0; same && k < 10; k++)
+    fields[10] = e.lost_plastic;
+    for (k = 0; same && k < 11; k++)
         same = strcmp(rj_energy_account_name(k), names[k]) == 0 &&
                rj_energy_account(&e, k) == fields[k];
     rjt_check(&T, same && e.total == e.kinetic + e.strain + e.spring + e.gravity &&
