@@ -690,6 +690,24 @@ RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double
    in-place stepping, before a step, an element out of range. */
 RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link, int element,
                                  double loads[5]);
+/* Peaks over a run: rj_state_track_peaks(m, s, 1) makes the steps after it track each
+   joint's largest |pin force| (rj_joint_pin_force) and each flexible link's largest
+   |bending moment| and stress (rj_element_loads: every element's ends), with when and
+   where. They are taken on the steps that take the energy accounts: exact when
+   solver.energy_every is 1 (the default), every K-th step otherwise. Off after
+   rj_state_create and rj_state_reset; a settled state (rj_settle) starts them again;
+   rj_state_copy and checkpoints carry them. RJ_ERR_INVALID: in-place stepping (no loads
+   at t^n). Tracking costs the steps about what the queries cost; off, nothing. */
+typedef struct rj_peak {
+    double value;    /* N or N m or Pa; -1: none yet (or none known: a rigid link's moment) */
+    double time;     /* s, t^n of the step the loads are of */
+    int element;     /* the link's element (-1 for a joint) */
+    int end;         /* a moment's: 0 the element's first node, 1 its second (-1 else) */
+} rj_peak;
+RJDEF rj_result rj_state_track_peaks(const rj_model *m, rj_state *s, int on);
+RJDEF rj_peak rj_joint_peak_pin_force(const rj_model *m, const rj_state *s, int joint);
+RJDEF rj_peak rj_link_peak_moment(const rj_model *m, const rj_state *s, int link);
+RJDEF rj_peak rj_link_peak_stress(const rj_model *m, const rj_state *s, int link);
 /* A yielding link's plastic strain in layer `layer` (0 the outermost on the side of the
    link's local -y, its right looking from node 0 along it) of element `element`'s section
    `section`
@@ -1155,6 +1173,15 @@ struct rj_model {
     size_t frame_ints;
 };
 
+/* A rigid link's kinematics in the pin-force query (rj__rig_accels): angle, rate,
+   angular acceleration, root, the root's acceleration. */
+enum { RJ__KA_PHI, RJ__KA_OM, RJ__KA_AL, RJ__KA_RX, RJ__KA_RY, RJ__KA_AX, RJ__KA_AY, RJ__KA_N };
+
+/* The peaks a state tracks (rj_state.peaks): per joint |pin force| and its time, per link
+   the |bending moment| (its time, element, end) and the stress (its time, element). */
+#define RJ__PEAK_JOINT 2
+#define RJ__PEAK_LINK 7
+
 /* The beam pass's path for a link (rj_model.link_path): the fused kernels, none (a rigid
    link: its body moves its nodes), or the material path's scalars (src/beam_material.h:
    structural damping, yielding layers, the Biot axial law). */
@@ -1220,9 +1247,13 @@ struct rj_state {
         want; /* in place: the energy requests of the steps since snap (bit k: step snap + k) */
     double *fx, *fy, *mz; /* (nn) forces */
     double *kn;           /* (nn) each node's share of twice the kinetic energy */
-    double *damp; /* (3 nn + 1, with structural damping) its forces at n on every node, fx
-                     then fy then mz, and their power at n - 1/2 summed in the step: for its
-                     loss (src/beam_material.h) */
+    double *damp; /* (3 nn + 2, with the material path) structural damping's forces at n on
+                     every node, fx then fy then mz, their power at n - 1/2 and the plastic
+                     work summed in the step: for their accounts (src/beam_material.h) */
+    int at_n;     /* the other frame holds the state a step before (the loads at t^n) */
+    int peaks_on; /* rj_state_track_peaks: the steps that take the accounts track peaks */
+    double *peaks;     /* (2 nj + 7 nl) the peaks (src/peaks.h) */
+    double *peak_work; /* ((RJ__KA_N + 2) (nl + 1) + 2 nj) their queries' scratch */
     double *sha, *shb, *shc,
         *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
     double *gsw; /* (2 gs_prof + 9 gs_n + 2 nn, or none) rj__gs_work */
@@ -7976,9 +8007,23 @@ RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
-    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, damp, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
+    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, damp, peaks, peak_work, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
         rsc, rows, terms, rsys, input_torque, input_node, node_applied, snap_torque;
 } rj__slayout;
+
+/* The doubles of a state's peaks (rj_state.peaks). */
+static size_t rj__peaks_count(const rj_model *m)
+{
+    return RJ__PEAK_JOINT * (size_t) m->nj + RJ__PEAK_LINK * (size_t) m->nl;
+}
+
+/* No peak yet: each value -1 (a magnitude is >= 0), its time, element and end -1. */
+static void rj__peaks_clear(const rj_model *m, rj_state *s)
+{
+    size_t k;
+    for (k = 0; k < rj__peaks_count(m); k++)
+        s->peaks[k] = -1;
+}
 
 static void rj__state_layout(const rj_model *m, rj__slayout *L)
 {
@@ -7994,6 +8039,10 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->mz = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->kn = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->damp = rj__carve(&off, m->nmaterial ? 3 * (size_t) m->nn + 2 : 0, sizeof(double));
+    L->peaks = rj__carve(&off, rj__peaks_count(m) + 1, sizeof(double));
+    L->peak_work = rj__carve(&off,
+                             (RJ__KA_N + 2) * ((size_t) m->nl + 1) + 2 * (size_t) m->nj + 1,
+                             sizeof(double));
     L->sha = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shb = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shc = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
@@ -8092,6 +8141,9 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
     s->snap = -1;
     s->err[0] = 0;
     s->warn[0] = 0;
+    s->at_n = 0;
+    s->peaks_on = 0;
+    rj__peaks_clear(m, s);
     memset(s->fd[0], 0, sizeof(double) * m->frame_doubles);
     memset(s->fd[1], 0, sizeof(double) * m->frame_doubles);
     memset(s->fi[0], 0, sizeof(int) * (m->frame_ints + 1));
@@ -8210,6 +8262,8 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->ebt = (double *) (void *) (base + L.ebt);
     s->kn = (double *) (void *) (base + L.kn);
     s->damp = (double *) (void *) (base + L.damp);
+    s->peaks = (double *) (void *) (base + L.peaks);
+    s->peak_work = (double *) (void *) (base + L.peak_work);
     s->jsc = (double *) (void *) (base + L.jsc);
     s->rsc = (double *) (void *) (base + L.rsc);
     s->rows = (rj__row *) (void *) (base + L.rows);
@@ -8258,6 +8312,12 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
         return RJ_ERR_INVALID;
     memcpy(dst->fd[0], src->fd[src->cur], sizeof(double) * m->frame_doubles);
     memcpy(dst->fi[0], src->fi[src->cur], sizeof(int) * (m->frame_ints + 1));
+    /* the state a step before too, for the loads at t^n (rj_joint_pin_force) */
+    memcpy(dst->fd[1], src->fd[1 - src->cur], sizeof(double) * m->frame_doubles);
+    memcpy(dst->fi[1], src->fi[1 - src->cur], sizeof(int) * (m->frame_ints + 1));
+    dst->at_n = src->at_n;
+    dst->peaks_on = src->peaks_on;
+    memcpy(dst->peaks, src->peaks, sizeof(double) * rj__peaks_count(m));
     dst->cur = 0;
     dst->steps = src->steps;
     dst->snap = -1;
@@ -12954,6 +13014,20 @@ static rj_result rj__step_ip(const rj_model *m, rj_state *s, int want_energy)
 {
     return rj__step_run(m, s, want_energy, 1);
 }
+static RJ__NOINLINE void rj__track_peaks(const rj_model *m, rj_state *s);
+
+/* After a double-buffered step (result r): the other frame holds the state a step
+   before, and the peaks are tracked where asked, on the steps that took the accounts
+   (their time is the frame's before). */
+static RJ__FORCE_INLINE rj_result rj__step_after(const rj_model *m, rj_state *s, rj_result r)
+{
+    s->at_n = r == RJ_OK;
+    if (s->peaks_on && r == RJ_OK && !s->settling &&
+        s->fd[s->cur][RJ__FS_ETIME] == s->fd[1 - s->cur][RJ__FS_TIME])
+        rj__track_peaks(m, s);
+    return r;
+}
+
 static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
 {
     rj_result r;
@@ -12968,7 +13042,7 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
                         "time's resolution, %g s)",
                         t, m->dt, t * DBL_EPSILON);
     if (m->rigid)
-        return rj__step_rigid(m, s);
+        return rj__step_after(m, s, rj__step_rigid(m, s));
     /* the caller's torques checked before anything moves */
     if (s->inputs && !rj__inputs_ok(m, s))
         return RJ_ERR_INVALID;
@@ -12981,8 +13055,10 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
         /* what a step applied is the next one's forces at n - 1 (their work) */
         if (s->node_inputs && r == RJ_OK)
             memcpy(s->node_applied, s->input_node, 3 * sizeof(double) * (size_t) m->nn);
-        return r;
+        return rj__step_after(m, s, r);
     }
+    /* in place, the other frame is a copy from some steps before */
+    s->at_n = 0;
     if (s->snap < 0 || s->steps - s->snap >= RJ__SNAP) {
         memcpy(s->fd[1 - s->cur], s->fd[s->cur], sizeof(double) * m->frame_doubles);
         memcpy(s->fi[1 - s->cur], s->fi[s->cur], sizeof(int) * (m->frame_ints + 1));
@@ -13071,6 +13147,7 @@ static void rj__zero_velocities(const rj_model *m, rj_state *s)
     }
     s->snap = -1;
     s->steps = 0;
+    s->at_n = 0;
 }
 
 /* The settled state as a new start: step count, accounts and joint events from zero; time
@@ -13085,6 +13162,8 @@ static void rj__restart(const rj_model *m, rj_state *s)
     const double time = sc[RJ__FS_TIME];
     int j;
     rj__zero_velocities(m, s);
+    /* a new start: the peaks too (their tracking stays as it was) */
+    rj__peaks_clear(m, s);
     /* the potential energies of the last step stand until the first step takes them again */
     memset(sc, 0, sizeof(double) * RJ__FS_COUNT);
     sc[RJ__FS_TIME] = time;
@@ -13535,7 +13614,6 @@ static void rj__rig_pose(const rj_model *m, const double *f, int l, double *phi,
 /* Rigid scenes: every hanging link's angle, rate, angular acceleration, root and the
    root's acceleration (7 per link in k), from a frame's angles, rates and accelerations
    (RJ__JD_QDD), down the tree in joint order (parents first): O(nl). */
-enum { RJ__KA_PHI, RJ__KA_OM, RJ__KA_AL, RJ__KA_RX, RJ__KA_RY, RJ__KA_AX, RJ__KA_AY, RJ__KA_N };
 static void rj__rig_accels(const rj_model *m, const double *f, double *k)
 {
     int q, l;
@@ -13693,20 +13771,13 @@ static void rj__elem_at_n(const rj_model *m, const rj_state *s, int l, int e,
     unit[1] = ey / len;
 }
 
-RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link, int element,
-                                 double loads[5])
+/* Element e of a flexible link's loads at t^n (rj_element_loads, without its checks). */
+static void rj__element_loads(const rj_model *m, const rj_state *s, int link, int element,
+                              double loads[5])
 {
-    const rj_link_def *d;
+    const rj_link_def *d = &m->ldef[link];
     rj__elem_force f;
     double unit[2], A, I, smax;
-    int k;
-    RJ_ASSERT(m && s && loads && link >= 0 && link < m->nl);
-    for (k = 0; k < 5; k++)
-        loads[k] = 0;
-    d = &m->ldef[link];
-    if (element < 0 || element >= d->elements || d->fidelity != RJ_LINK_FLEXIBLE || m->ip ||
-        s->steps == 0)
-        return RJ_ERR_INVALID;
     rj__elem_at_n(m, s, link, element, &f, unit, &smax);
     /* the part beyond each section on the part before: -(the force on the second node) */
     loads[0] = -(f.fx * unit[0] + f.fy * unit[1]);
@@ -13721,6 +13792,21 @@ RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link,
         loads[4] = fabs(loads[0]) / A + fmax(fabs(loads[2]), fabs(loads[3])) * 0.5 * d->height / I;
     else
         loads[4] = NAN;
+}
+
+RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link, int element,
+                                 double loads[5])
+{
+    const rj_link_def *d;
+    int k;
+    RJ_ASSERT(m && s && loads && link >= 0 && link < m->nl);
+    for (k = 0; k < 5; k++)
+        loads[k] = 0;
+    d = &m->ldef[link];
+    if (element < 0 || element >= d->elements || d->fidelity != RJ_LINK_FLEXIBLE || m->ip ||
+        !s->at_n)
+        return RJ_ERR_INVALID;
+    rj__element_loads(m, s, link, element, loads);
     return RJ_OK;
 }
 
@@ -13819,14 +13905,16 @@ static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
         return m->nloop > 0;
     if (rj__own_body_node(m, J->nJ) && (J->nI < 0 || rj__own_body_node(m, J->nI)))
         return 1;
-    return m->any_inext || m->ip || J->chord || s->steps == 0;
+    return m->any_inext || m->ip || J->chord || !s->at_n;
 }
 
-RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double *forces)
+/* Every joint's pin force into forces (2 a joint, NaN where unknown); rigid scenes use
+   work ((RJ__KA_N + 2) (nl + 1) doubles), which is allocated when NULL. */
+static rj_result rj__pin_forces(const rj_model *m, const rj_state *s, double *work,
+                                double *forces)
 {
-    double *work;
+    double *own = NULL;
     int j;
-    RJ_ASSERT(m && s && forces);
     for (j = 0; j < m->nj; j++) {
         const int unknown = rj__pin_force_unknown(m, s, j);
         forces[2 * j] = forces[2 * j + 1] = unknown ? NAN : 0.0;
@@ -13835,12 +13923,23 @@ RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double
     }
     if (!m->rigid || m->nloop || !m->nj)
         return RJ_OK;
-    work = (double *) RJ_MALLOC(sizeof(double) * (RJ__KA_N + 2) * ((size_t) m->nl + 1), NULL);
-    if (!work)
-        return RJ_ERR_NOMEM;
+    if (!work) {
+        own = (double *) RJ_MALLOC(sizeof(double) * (RJ__KA_N + 2) * ((size_t) m->nl + 1),
+                                   NULL);
+        if (!own)
+            return RJ_ERR_NOMEM;
+        work = own;
+    }
     rj__rig_pin_forces(m, s, work, forces);
-    RJ_FREE(work, NULL);
+    if (own)
+        RJ_FREE(own, NULL);
     return RJ_OK;
+}
+
+RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double *forces)
+{
+    RJ_ASSERT(m && s && forces);
+    return rj__pin_forces(m, s, NULL, forces);
 }
 
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
@@ -14042,21 +14141,111 @@ RJDEF double rj_state_energy_time(const rj_state *s)
     return s->fd[s->cur][RJ__FS_ETIME];
 }
 
+/* ------------------------------------------------------------------ peaks */
+/* A state may track the run's peaks (rj_state_track_peaks): each joint's |pin force| and
+   when, each flexible link's |bending moment| and outer-fibre stress and where. They are
+   taken after the steps that take the energy accounts (every step unless
+   solver.energy_every > 1: then every K-th, and a peak between them is missed), from the
+   loads at t^n that rj_joint_pin_forces and rj_element_loads give, into rj_state.peaks:
+   per joint [|F|, t], then per link [|M|, t, element, end, stress, t, element]. */
+
+/* The peaks from the loads at t^n of the step just taken (src/run.h). */
+static RJ__NOINLINE void rj__track_peaks(const rj_model *m, rj_state *s)
+{
+    const double t = s->fd[1 - s->cur][RJ__FS_TIME];
+    double *pins = s->peak_work + (RJ__KA_N + 2) * ((size_t) m->nl + 1);
+    int j, l, e;
+    rj__pin_forces(m, s, s->peak_work, pins);
+    for (j = 0; j < m->nj; j++) {
+        double *pk = s->peaks + RJ__PEAK_JOINT * (size_t) j;
+        const double size = sqrt(pins[2 * j] * pins[2 * j] + pins[2 * j + 1] * pins[2 * j + 1]);
+        if (size > pk[0]) {
+            pk[0] = size;
+            pk[1] = t;
+        }
+    }
+    for (l = 0; l < m->nl; l++) {
+        double *pk = s->peaks + RJ__PEAK_JOINT * (size_t) m->nj + RJ__PEAK_LINK * (size_t) l;
+        if (m->ldef[l].fidelity != RJ_LINK_FLEXIBLE || m->ip)
+            continue;
+        for (e = 0; e < m->ldef[l].elements; e++) {
+            double loads[5];
+            int end;
+            rj__element_loads(m, s, l, e, loads);
+            for (end = 0; end < 2; end++)
+                if (fabs(loads[2 + end]) > pk[0]) {
+                    pk[0] = fabs(loads[2 + end]);
+                    pk[1] = t;
+                    pk[2] = e;
+                    pk[3] = end;
+                }
+            if (loads[4] > pk[4]) {
+                pk[4] = loads[4];
+                pk[5] = t;
+                pk[6] = e;
+            }
+        }
+    }
+}
+
+RJDEF rj_result rj_state_track_peaks(const rj_model *m, rj_state *s, int on)
+{
+    RJ_ASSERT(m && s);
+    if (on && m->ip)
+        return RJ_ERR_INVALID;
+    if (on && !s->peaks_on)
+        rj__peaks_clear(m, s);
+    s->peaks_on = on != 0;
+    return RJ_OK;
+}
+
+/* A peak from its record (value, time, then element and end where given: -1 else). */
+static rj_peak rj__peak_of(const double *pk, int has_element, int has_end)
+{
+    rj_peak p;
+    p.value = pk[0];
+    p.time = pk[1];
+    p.element = has_element && pk[0] >= 0 ? (int) pk[2] : -1;
+    p.end = has_end && pk[0] >= 0 ? (int) pk[3] : -1;
+    return p;
+}
+
+RJDEF rj_peak rj_joint_peak_pin_force(const rj_model *m, const rj_state *s, int joint)
+{
+    RJ_ASSERT(m && s && joint >= 0 && joint < m->nj);
+    return rj__peak_of(s->peaks + RJ__PEAK_JOINT * (size_t) joint, 0, 0);
+}
+
+RJDEF rj_peak rj_link_peak_moment(const rj_model *m, const rj_state *s, int link)
+{
+    RJ_ASSERT(m && s && link >= 0 && link < m->nl);
+    return rj__peak_of(s->peaks + RJ__PEAK_JOINT * (size_t) m->nj + RJ__PEAK_LINK * (size_t) link,
+                       1, 1);
+}
+
+RJDEF rj_peak rj_link_peak_stress(const rj_model *m, const rj_state *s, int link)
+{
+    RJ_ASSERT(m && s && link >= 0 && link < m->nl);
+    return rj__peak_of(
+        s->peaks + RJ__PEAK_JOINT * (size_t) m->nj + RJ__PEAK_LINK * (size_t) link + 4, 1, 0);
+}
 /* ------------------------------------------------------------------ checkpoints */
 /* Layout: "RJCK" | u32 version | u64 model hash | u64 payload bytes | payload | u64 FNV-1a
    of everything before it. Payload: steps (i64), frame doubles, frame ints, then the
    caller's inputs: whether the joint torques are on (a double, 0 or 1) and the torques
    (nj), then whether the node forces are on, the forces (3 nn) and those the last step
-   applied (3 nn). */
+   applied (3 nn); then whether the peaks are tracked (a double, 0 or 1) and the peaks
+   (src/peaks.h). */
 #define RJ__CK_HEAD 24
-/* the layout's version: 7 since the structural damping's and plastic work's accounts
-   joined each frame's scalars */
-#define RJ__CK_VERSION 7u
+/* the layout's version: 8 since the run's peaks joined the payload (7: the structural
+   damping's and plastic work's accounts joined each frame's scalars) */
+#define RJ__CK_VERSION 8u
 /* the payload's bytes */
 static size_t rj__ck_payload(const rj_model *m)
 {
     return 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1) +
-           sizeof(double) * ((size_t) m->nj + 1) + sizeof(double) * (6 * (size_t) m->nn + 1);
+           sizeof(double) * ((size_t) m->nj + 1) + sizeof(double) * (6 * (size_t) m->nn + 1) +
+           sizeof(double) * (rj__peaks_count(m) + 1);
 }
 /* An input block's bytes: its switch (0 or 1, a double), then its count values. */
 static unsigned char *rj__ck_put_inputs(unsigned char *at, int on, const double *values,
@@ -14090,6 +14279,8 @@ RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size
     in_bytes = rj__ck_put_inputs(in_bytes, s->inputs, s->input_torque, (size_t) m->nj);
     in_bytes = rj__ck_put_inputs(in_bytes, s->node_inputs, s->input_node, 3 * (size_t) m->nn);
     memcpy(in_bytes, s->node_applied, 3 * sizeof(double) * (size_t) m->nn);
+    in_bytes += 3 * sizeof(double) * (size_t) m->nn;
+    rj__ck_put_inputs(in_bytes, s->peaks_on, s->peaks, rj__peaks_count(m));
     h = rj__fnv(14695981039346656037ULL, b, RJ__CK_HEAD + pay);
     memcpy(b + RJ__CK_HEAD + pay, &h, 8);
     return need;
@@ -14221,13 +14412,53 @@ static int rj__ck_input_block_ok(const unsigned char *at, size_t count, const ch
     }
     return 1;
 }
-/* The checkpoint's inputs: the joint torques' block, then the node forces'. */
+/* Where the checkpoint's peaks block starts, after the inputs'. */
+static const unsigned char *rj__ck_peaks_at(const rj_model *m, const unsigned char *in_bytes)
+{
+    return in_bytes + sizeof(double) * ((size_t) m->nj + 1 + 6 * (size_t) m->nn + 1);
+}
+
+/* A link's peak record: none (-1) or a magnitude with an element the link has and an end
+   0 or 1 (they become ints). */
+static int rj__ck_link_peak_ok(const rj_model *m, int l, const double *pk)
+{
+    const double ne = m->ldef[l].elements;
+    const int moment = pk[0] < 0 || (pk[2] == floor(pk[2]) && pk[2] >= 0 && pk[2] < ne &&
+                                      (pk[3] == 0 || pk[3] == 1));
+    const int stress = pk[4] < 0 || (pk[6] == floor(pk[6]) && pk[6] >= 0 && pk[6] < ne);
+    return moment && stress;
+}
+
+/* The checkpoint's peaks: a switch and finite values, each link's elements its own. */
+static int rj__ck_peaks_ok(const rj_model *m, const unsigned char *at, rj_error *err)
+{
+    double pk[RJ__PEAK_LINK];
+    int l;
+    if (!rj__ck_input_block_ok(at, rj__peaks_count(m), "peaks", "peak", err))
+        return 0;
+    for (l = 0; l < m->nl; l++) {
+        const size_t k = 1 + RJ__PEAK_JOINT * (size_t) m->nj + RJ__PEAK_LINK * (size_t) l;
+        memcpy(pk, at + sizeof(double) * k, sizeof pk);
+        if (!rj__ck_link_peak_ok(m, l, pk)) {
+            rj__fail(err, RJ_ERR_CHECKPOINT, "peaks", l,
+                     "checkpoint's peaks of link %d name element %g, end %g: not one the "
+                     "link has",
+                     l, pk[2], pk[3]);
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* The checkpoint's inputs: the joint torques' block, then the node forces', then the
+   peaks'. */
 static int rj__ck_inputs_ok(const rj_model *m, const unsigned char *in_bytes, rj_error *err)
 {
     const size_t nj = (size_t) m->nj;
     return rj__ck_input_block_ok(in_bytes, nj, "input_torque", "input torque", err) &&
            rj__ck_input_block_ok(in_bytes + sizeof(double) * (nj + 1), 6 * (size_t) m->nn,
-                                 "input_node", "input node force", err);
+                                 "input_node", "input node force", err) &&
+           rj__ck_peaks_ok(m, rj__ck_peaks_at(m, in_bytes), err);
 }
 static void rj__ck_inputs_load(const rj_model *m, rj_state *s, const unsigned char *in_bytes)
 {
@@ -14242,6 +14473,10 @@ static void rj__ck_inputs_load(const rj_model *m, rj_state *s, const unsigned ch
     memcpy(s->input_node, node_bytes + sizeof(double), 3 * sizeof(double) * (size_t) m->nn);
     memcpy(s->node_applied, node_bytes + sizeof(double) * (3 * (size_t) m->nn + 1),
            3 * sizeof(double) * (size_t) m->nn);
+    memcpy(&v, rj__ck_peaks_at(m, in_bytes), sizeof(double));
+    s->peaks_on = v == 1;
+    memcpy(s->peaks, rj__ck_peaks_at(m, in_bytes) + sizeof(double),
+           sizeof(double) * rj__peaks_count(m));
 }
 
 RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, size_t size,
@@ -14271,8 +14506,8 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
     memcpy(&pl, b + 16, 8);
     if (ver != RJ__CK_VERSION) {
         rj__fail(err, RJ_ERR_CHECKPOINT, "version", ver,
-                 "checkpoint version %u is not supported (%u: the actuators' torque and work "
-                 "joined each frame)",
+                 "checkpoint version %u is not supported (%u: the run's peaks joined the "
+                 "payload)",
                  ver, RJ__CK_VERSION);
         return RJ_ERR_CHECKPOINT;
     }
@@ -14319,6 +14554,7 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
     }
     s->snap = -1;
     s->steps = (long) st;
+    s->at_n = 0;
     s->err[0] = 0;
     s->warn[0] = 0;
     return RJ_OK;

@@ -690,6 +690,24 @@ RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double
    in-place stepping, before a step, an element out of range. */
 RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link, int element,
                                  double loads[5]);
+/* Peaks over a run: rj_state_track_peaks(m, s, 1) makes the steps after it track each
+   joint's largest |pin force| (rj_joint_pin_force) and each flexible link's largest
+   |bending moment| and stress (rj_element_loads: every element's ends), with when and
+   where. They are taken on the steps that take the energy accounts: exact when
+   solver.energy_every is 1 (the default), every K-th step otherwise. Off after
+   rj_state_create and rj_state_reset; a settled state (rj_settle) starts them again;
+   rj_state_copy and checkpoints carry them. RJ_ERR_INVALID: in-place stepping (no loads
+   at t^n). Tracking costs the steps about what the queries cost; off, nothing. */
+typedef struct rj_peak {
+    double value;    /* N or N m or Pa; -1: none yet (or none known: a rigid link's moment) */
+    double time;     /* s, t^n of the step the loads are of */
+    int element;     /* the link's element (-1 for a joint) */
+    int end;         /* a moment's: 0 the element's first node, 1 its second (-1 else) */
+} rj_peak;
+RJDEF rj_result rj_state_track_peaks(const rj_model *m, rj_state *s, int on);
+RJDEF rj_peak rj_joint_peak_pin_force(const rj_model *m, const rj_state *s, int joint);
+RJDEF rj_peak rj_link_peak_moment(const rj_model *m, const rj_state *s, int link);
+RJDEF rj_peak rj_link_peak_stress(const rj_model *m, const rj_state *s, int link);
 /* A yielding link's plastic strain in layer `layer` (0 the outermost on the side of the
    link's local -y, its right looking from node 0 along it) of element `element`'s section
    `section`

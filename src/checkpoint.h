@@ -3,16 +3,18 @@
    of everything before it. Payload: steps (i64), frame doubles, frame ints, then the
    caller's inputs: whether the joint torques are on (a double, 0 or 1) and the torques
    (nj), then whether the node forces are on, the forces (3 nn) and those the last step
-   applied (3 nn). */
+   applied (3 nn); then whether the peaks are tracked (a double, 0 or 1) and the peaks
+   (src/peaks.h). */
 #define RJ__CK_HEAD 24
-/* the layout's version: 7 since the structural damping's and plastic work's accounts
-   joined each frame's scalars */
-#define RJ__CK_VERSION 7u
+/* the layout's version: 8 since the run's peaks joined the payload (7: the structural
+   damping's and plastic work's accounts joined each frame's scalars) */
+#define RJ__CK_VERSION 8u
 /* the payload's bytes */
 static size_t rj__ck_payload(const rj_model *m)
 {
     return 8 + sizeof(double) * m->frame_doubles + sizeof(int) * (m->frame_ints + 1) +
-           sizeof(double) * ((size_t) m->nj + 1) + sizeof(double) * (6 * (size_t) m->nn + 1);
+           sizeof(double) * ((size_t) m->nj + 1) + sizeof(double) * (6 * (size_t) m->nn + 1) +
+           sizeof(double) * (rj__peaks_count(m) + 1);
 }
 /* An input block's bytes: its switch (0 or 1, a double), then its count values. */
 static unsigned char *rj__ck_put_inputs(unsigned char *at, int on, const double *values,
@@ -46,6 +48,8 @@ RJDEF size_t rj_state_save(const rj_model *m, const rj_state *s, void *buf, size
     in_bytes = rj__ck_put_inputs(in_bytes, s->inputs, s->input_torque, (size_t) m->nj);
     in_bytes = rj__ck_put_inputs(in_bytes, s->node_inputs, s->input_node, 3 * (size_t) m->nn);
     memcpy(in_bytes, s->node_applied, 3 * sizeof(double) * (size_t) m->nn);
+    in_bytes += 3 * sizeof(double) * (size_t) m->nn;
+    rj__ck_put_inputs(in_bytes, s->peaks_on, s->peaks, rj__peaks_count(m));
     h = rj__fnv(14695981039346656037ULL, b, RJ__CK_HEAD + pay);
     memcpy(b + RJ__CK_HEAD + pay, &h, 8);
     return need;
@@ -177,13 +181,53 @@ static int rj__ck_input_block_ok(const unsigned char *at, size_t count, const ch
     }
     return 1;
 }
-/* The checkpoint's inputs: the joint torques' block, then the node forces'. */
+/* Where the checkpoint's peaks block starts, after the inputs'. */
+static const unsigned char *rj__ck_peaks_at(const rj_model *m, const unsigned char *in_bytes)
+{
+    return in_bytes + sizeof(double) * ((size_t) m->nj + 1 + 6 * (size_t) m->nn + 1);
+}
+
+/* A link's peak record: none (-1) or a magnitude with an element the link has and an end
+   0 or 1 (they become ints). */
+static int rj__ck_link_peak_ok(const rj_model *m, int l, const double *pk)
+{
+    const double ne = m->ldef[l].elements;
+    const int moment = pk[0] < 0 || (pk[2] == floor(pk[2]) && pk[2] >= 0 && pk[2] < ne &&
+                                      (pk[3] == 0 || pk[3] == 1));
+    const int stress = pk[4] < 0 || (pk[6] == floor(pk[6]) && pk[6] >= 0 && pk[6] < ne);
+    return moment && stress;
+}
+
+/* The checkpoint's peaks: a switch and finite values, each link's elements its own. */
+static int rj__ck_peaks_ok(const rj_model *m, const unsigned char *at, rj_error *err)
+{
+    double pk[RJ__PEAK_LINK];
+    int l;
+    if (!rj__ck_input_block_ok(at, rj__peaks_count(m), "peaks", "peak", err))
+        return 0;
+    for (l = 0; l < m->nl; l++) {
+        const size_t k = 1 + RJ__PEAK_JOINT * (size_t) m->nj + RJ__PEAK_LINK * (size_t) l;
+        memcpy(pk, at + sizeof(double) * k, sizeof pk);
+        if (!rj__ck_link_peak_ok(m, l, pk)) {
+            rj__fail(err, RJ_ERR_CHECKPOINT, "peaks", l,
+                     "checkpoint's peaks of link %d name element %g, end %g: not one the "
+                     "link has",
+                     l, pk[2], pk[3]);
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* The checkpoint's inputs: the joint torques' block, then the node forces', then the
+   peaks'. */
 static int rj__ck_inputs_ok(const rj_model *m, const unsigned char *in_bytes, rj_error *err)
 {
     const size_t nj = (size_t) m->nj;
     return rj__ck_input_block_ok(in_bytes, nj, "input_torque", "input torque", err) &&
            rj__ck_input_block_ok(in_bytes + sizeof(double) * (nj + 1), 6 * (size_t) m->nn,
-                                 "input_node", "input node force", err);
+                                 "input_node", "input node force", err) &&
+           rj__ck_peaks_ok(m, rj__ck_peaks_at(m, in_bytes), err);
 }
 static void rj__ck_inputs_load(const rj_model *m, rj_state *s, const unsigned char *in_bytes)
 {
@@ -198,6 +242,10 @@ static void rj__ck_inputs_load(const rj_model *m, rj_state *s, const unsigned ch
     memcpy(s->input_node, node_bytes + sizeof(double), 3 * sizeof(double) * (size_t) m->nn);
     memcpy(s->node_applied, node_bytes + sizeof(double) * (3 * (size_t) m->nn + 1),
            3 * sizeof(double) * (size_t) m->nn);
+    memcpy(&v, rj__ck_peaks_at(m, in_bytes), sizeof(double));
+    s->peaks_on = v == 1;
+    memcpy(s->peaks, rj__ck_peaks_at(m, in_bytes) + sizeof(double),
+           sizeof(double) * rj__peaks_count(m));
 }
 
 RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, size_t size,
@@ -227,8 +275,8 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
     memcpy(&pl, b + 16, 8);
     if (ver != RJ__CK_VERSION) {
         rj__fail(err, RJ_ERR_CHECKPOINT, "version", ver,
-                 "checkpoint version %u is not supported (%u: the actuators' torque and work "
-                 "joined each frame)",
+                 "checkpoint version %u is not supported (%u: the run's peaks joined the "
+                 "payload)",
                  ver, RJ__CK_VERSION);
         return RJ_ERR_CHECKPOINT;
     }
@@ -275,6 +323,7 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
     }
     s->snap = -1;
     s->steps = (long) st;
+    s->at_n = 0;
     s->err[0] = 0;
     s->warn[0] = 0;
     return RJ_OK;

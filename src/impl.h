@@ -304,6 +304,15 @@ struct rj_model {
     size_t frame_ints;
 };
 
+/* A rigid link's kinematics in the pin-force query (rj__rig_accels): angle, rate,
+   angular acceleration, root, the root's acceleration. */
+enum { RJ__KA_PHI, RJ__KA_OM, RJ__KA_AL, RJ__KA_RX, RJ__KA_RY, RJ__KA_AX, RJ__KA_AY, RJ__KA_N };
+
+/* The peaks a state tracks (rj_state.peaks): per joint |pin force| and its time, per link
+   the |bending moment| (its time, element, end) and the stress (its time, element). */
+#define RJ__PEAK_JOINT 2
+#define RJ__PEAK_LINK 7
+
 /* The beam pass's path for a link (rj_model.link_path): the fused kernels, none (a rigid
    link: its body moves its nodes), or the material path's scalars (src/beam_material.h:
    structural damping, yielding layers, the Biot axial law). */
@@ -369,9 +378,13 @@ struct rj_state {
         want; /* in place: the energy requests of the steps since snap (bit k: step snap + k) */
     double *fx, *fy, *mz; /* (nn) forces */
     double *kn;           /* (nn) each node's share of twice the kinetic energy */
-    double *damp; /* (3 nn + 1, with structural damping) its forces at n on every node, fx
-                     then fy then mz, and their power at n - 1/2 summed in the step: for its
-                     loss (src/beam_material.h) */
+    double *damp; /* (3 nn + 2, with the material path) structural damping's forces at n on
+                     every node, fx then fy then mz, their power at n - 1/2 and the plastic
+                     work summed in the step: for their accounts (src/beam_material.h) */
+    int at_n;     /* the other frame holds the state a step before (the loads at t^n) */
+    int peaks_on; /* rj_state_track_peaks: the steps that take the accounts track peaks */
+    double *peaks;     /* (2 nj + 7 nl) the peaks (src/peaks.h) */
+    double *peak_work; /* ((RJ__KA_N + 2) (nl + 1) + 2 nj) their queries' scratch */
     double *sha, *shb, *shc,
         *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
     double *gsw; /* (2 gs_prof + 9 gs_n + 2 nn, or none) rj__gs_work */

@@ -244,7 +244,6 @@ static void rj__rig_pose(const rj_model *m, const double *f, int l, double *phi,
 /* Rigid scenes: every hanging link's angle, rate, angular acceleration, root and the
    root's acceleration (7 per link in k), from a frame's angles, rates and accelerations
    (RJ__JD_QDD), down the tree in joint order (parents first): O(nl). */
-enum { RJ__KA_PHI, RJ__KA_OM, RJ__KA_AL, RJ__KA_RX, RJ__KA_RY, RJ__KA_AX, RJ__KA_AY, RJ__KA_N };
 static void rj__rig_accels(const rj_model *m, const double *f, double *k)
 {
     int q, l;
@@ -402,20 +401,13 @@ static void rj__elem_at_n(const rj_model *m, const rj_state *s, int l, int e,
     unit[1] = ey / len;
 }
 
-RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link, int element,
-                                 double loads[5])
+/* Element e of a flexible link's loads at t^n (rj_element_loads, without its checks). */
+static void rj__element_loads(const rj_model *m, const rj_state *s, int link, int element,
+                              double loads[5])
 {
-    const rj_link_def *d;
+    const rj_link_def *d = &m->ldef[link];
     rj__elem_force f;
     double unit[2], A, I, smax;
-    int k;
-    RJ_ASSERT(m && s && loads && link >= 0 && link < m->nl);
-    for (k = 0; k < 5; k++)
-        loads[k] = 0;
-    d = &m->ldef[link];
-    if (element < 0 || element >= d->elements || d->fidelity != RJ_LINK_FLEXIBLE || m->ip ||
-        s->steps == 0)
-        return RJ_ERR_INVALID;
     rj__elem_at_n(m, s, link, element, &f, unit, &smax);
     /* the part beyond each section on the part before: -(the force on the second node) */
     loads[0] = -(f.fx * unit[0] + f.fy * unit[1]);
@@ -430,6 +422,21 @@ RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link,
         loads[4] = fabs(loads[0]) / A + fmax(fabs(loads[2]), fabs(loads[3])) * 0.5 * d->height / I;
     else
         loads[4] = NAN;
+}
+
+RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link, int element,
+                                 double loads[5])
+{
+    const rj_link_def *d;
+    int k;
+    RJ_ASSERT(m && s && loads && link >= 0 && link < m->nl);
+    for (k = 0; k < 5; k++)
+        loads[k] = 0;
+    d = &m->ldef[link];
+    if (element < 0 || element >= d->elements || d->fidelity != RJ_LINK_FLEXIBLE || m->ip ||
+        !s->at_n)
+        return RJ_ERR_INVALID;
+    rj__element_loads(m, s, link, element, loads);
     return RJ_OK;
 }
 
@@ -528,14 +535,16 @@ static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
         return m->nloop > 0;
     if (rj__own_body_node(m, J->nJ) && (J->nI < 0 || rj__own_body_node(m, J->nI)))
         return 1;
-    return m->any_inext || m->ip || J->chord || s->steps == 0;
+    return m->any_inext || m->ip || J->chord || !s->at_n;
 }
 
-RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double *forces)
+/* Every joint's pin force into forces (2 a joint, NaN where unknown); rigid scenes use
+   work ((RJ__KA_N + 2) (nl + 1) doubles), which is allocated when NULL. */
+static rj_result rj__pin_forces(const rj_model *m, const rj_state *s, double *work,
+                                double *forces)
 {
-    double *work;
+    double *own = NULL;
     int j;
-    RJ_ASSERT(m && s && forces);
     for (j = 0; j < m->nj; j++) {
         const int unknown = rj__pin_force_unknown(m, s, j);
         forces[2 * j] = forces[2 * j + 1] = unknown ? NAN : 0.0;
@@ -544,12 +553,23 @@ RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double
     }
     if (!m->rigid || m->nloop || !m->nj)
         return RJ_OK;
-    work = (double *) RJ_MALLOC(sizeof(double) * (RJ__KA_N + 2) * ((size_t) m->nl + 1), NULL);
-    if (!work)
-        return RJ_ERR_NOMEM;
+    if (!work) {
+        own = (double *) RJ_MALLOC(sizeof(double) * (RJ__KA_N + 2) * ((size_t) m->nl + 1),
+                                   NULL);
+        if (!own)
+            return RJ_ERR_NOMEM;
+        work = own;
+    }
     rj__rig_pin_forces(m, s, work, forces);
-    RJ_FREE(work, NULL);
+    if (own)
+        RJ_FREE(own, NULL);
     return RJ_OK;
+}
+
+RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double *forces)
+{
+    RJ_ASSERT(m && s && forces);
+    return rj__pin_forces(m, s, NULL, forces);
 }
 
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])

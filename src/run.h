@@ -26,6 +26,20 @@ static rj_result rj__step_ip(const rj_model *m, rj_state *s, int want_energy)
 {
     return rj__step_run(m, s, want_energy, 1);
 }
+static RJ__NOINLINE void rj__track_peaks(const rj_model *m, rj_state *s);
+
+/* After a double-buffered step (result r): the other frame holds the state a step
+   before, and the peaks are tracked where asked, on the steps that took the accounts
+   (their time is the frame's before). */
+static RJ__FORCE_INLINE rj_result rj__step_after(const rj_model *m, rj_state *s, rj_result r)
+{
+    s->at_n = r == RJ_OK;
+    if (s->peaks_on && r == RJ_OK && !s->settling &&
+        s->fd[s->cur][RJ__FS_ETIME] == s->fd[1 - s->cur][RJ__FS_TIME])
+        rj__track_peaks(m, s);
+    return r;
+}
+
 static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
 {
     rj_result r;
@@ -40,7 +54,7 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
                         "time's resolution, %g s)",
                         t, m->dt, t * DBL_EPSILON);
     if (m->rigid)
-        return rj__step_rigid(m, s);
+        return rj__step_after(m, s, rj__step_rigid(m, s));
     /* the caller's torques checked before anything moves */
     if (s->inputs && !rj__inputs_ok(m, s))
         return RJ_ERR_INVALID;
@@ -53,8 +67,10 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
         /* what a step applied is the next one's forces at n - 1 (their work) */
         if (s->node_inputs && r == RJ_OK)
             memcpy(s->node_applied, s->input_node, 3 * sizeof(double) * (size_t) m->nn);
-        return r;
+        return rj__step_after(m, s, r);
     }
+    /* in place, the other frame is a copy from some steps before */
+    s->at_n = 0;
     if (s->snap < 0 || s->steps - s->snap >= RJ__SNAP) {
         memcpy(s->fd[1 - s->cur], s->fd[s->cur], sizeof(double) * m->frame_doubles);
         memcpy(s->fi[1 - s->cur], s->fi[s->cur], sizeof(int) * (m->frame_ints + 1));

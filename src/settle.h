@@ -21,6 +21,7 @@ static void rj__zero_velocities(const rj_model *m, rj_state *s)
     }
     s->snap = -1;
     s->steps = 0;
+    s->at_n = 0;
 }
 
 /* The settled state as a new start: step count, accounts and joint events from zero; time
@@ -35,6 +36,8 @@ static void rj__restart(const rj_model *m, rj_state *s)
     const double time = sc[RJ__FS_TIME];
     int j;
     rj__zero_velocities(m, s);
+    /* a new start: the peaks too (their tracking stays as it was) */
+    rj__peaks_clear(m, s);
     /* the potential energies of the last step stand until the first step takes them again */
     memset(sc, 0, sizeof(double) * RJ__FS_COUNT);
     sc[RJ__FS_TIME] = time;

@@ -1,8 +1,22 @@
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
-    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, damp, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
+    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, damp, peaks, peak_work, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
         rsc, rows, terms, rsys, input_torque, input_node, node_applied, snap_torque;
 } rj__slayout;
+
+/* The doubles of a state's peaks (rj_state.peaks). */
+static size_t rj__peaks_count(const rj_model *m)
+{
+    return RJ__PEAK_JOINT * (size_t) m->nj + RJ__PEAK_LINK * (size_t) m->nl;
+}
+
+/* No peak yet: each value -1 (a magnitude is >= 0), its time, element and end -1. */
+static void rj__peaks_clear(const rj_model *m, rj_state *s)
+{
+    size_t k;
+    for (k = 0; k < rj__peaks_count(m); k++)
+        s->peaks[k] = -1;
+}
 
 static void rj__state_layout(const rj_model *m, rj__slayout *L)
 {
@@ -18,6 +32,10 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->mz = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->kn = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->damp = rj__carve(&off, m->nmaterial ? 3 * (size_t) m->nn + 2 : 0, sizeof(double));
+    L->peaks = rj__carve(&off, rj__peaks_count(m) + 1, sizeof(double));
+    L->peak_work = rj__carve(&off,
+                             (RJ__KA_N + 2) * ((size_t) m->nl + 1) + 2 * (size_t) m->nj + 1,
+                             sizeof(double));
     L->sha = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shb = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shc = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
@@ -116,6 +134,9 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
     s->snap = -1;
     s->err[0] = 0;
     s->warn[0] = 0;
+    s->at_n = 0;
+    s->peaks_on = 0;
+    rj__peaks_clear(m, s);
     memset(s->fd[0], 0, sizeof(double) * m->frame_doubles);
     memset(s->fd[1], 0, sizeof(double) * m->frame_doubles);
     memset(s->fi[0], 0, sizeof(int) * (m->frame_ints + 1));
@@ -234,6 +255,8 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->ebt = (double *) (void *) (base + L.ebt);
     s->kn = (double *) (void *) (base + L.kn);
     s->damp = (double *) (void *) (base + L.damp);
+    s->peaks = (double *) (void *) (base + L.peaks);
+    s->peak_work = (double *) (void *) (base + L.peak_work);
     s->jsc = (double *) (void *) (base + L.jsc);
     s->rsc = (double *) (void *) (base + L.rsc);
     s->rows = (rj__row *) (void *) (base + L.rows);
@@ -282,6 +305,12 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
         return RJ_ERR_INVALID;
     memcpy(dst->fd[0], src->fd[src->cur], sizeof(double) * m->frame_doubles);
     memcpy(dst->fi[0], src->fi[src->cur], sizeof(int) * (m->frame_ints + 1));
+    /* the state a step before too, for the loads at t^n (rj_joint_pin_force) */
+    memcpy(dst->fd[1], src->fd[1 - src->cur], sizeof(double) * m->frame_doubles);
+    memcpy(dst->fi[1], src->fi[1 - src->cur], sizeof(int) * (m->frame_ints + 1));
+    dst->at_n = src->at_n;
+    dst->peaks_on = src->peaks_on;
+    memcpy(dst->peaks, src->peaks, sizeof(double) * rj__peaks_count(m));
     dst->cur = 0;
     dst->steps = src->steps;
     dst->snap = -1;

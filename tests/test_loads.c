@@ -6,6 +6,7 @@
 #include <math.h>
 #include "rjt_loads.h"
 #include <string.h>
+#include <stdlib.h>
 
 #define G 9.81
 #define PI 3.14159265358979323846
@@ -1352,6 +1353,139 @@ static void test_material_keys(rjt_ctx *c)
     }
 }
 
+/* ---- peaks in the state */
+
+/* A rigid rod released level, tracking peaks: its largest pin force is 2.5 m g, at the
+   vertical (a quarter of the swing's period, the elliptic integral's K(sin 45 deg)
+   sqrt(I / (m g d))); before tracking, none. */
+static void test_peaks_rigid(rjt_ctx *c)
+{
+    rj_link_def l[1];
+    rj_joint_def j[1];
+    rj_model *m;
+    rj_state *s;
+    rj_error err;
+    rj_peak before, p;
+    double mass, rot, quarter;
+    if (!rigid_chain(1, 0.0, 1e-4, l, j, &m, &s, &err)) {
+        rjt_check(c, 0, "peaks: rod", "%s", err.msg);
+        return;
+    }
+    mass = 2700 * 0.02 * 0.01;
+    before = rj_joint_peak_pin_force(m, s, 0);
+    rj_state_track_peaks(m, s, 1);
+    rj_run(m, s, 0.6, 0, NULL, NULL);
+    p = rj_joint_peak_pin_force(m, s, 0);
+    /* I / (m g d) = (L^2 / 3) / (g L / 2); K(sin 45 deg) = 1.8540746773 */
+    quarter = 1.8540746773013719 * sqrt(2.0 / (3.0 * G));
+    (void) rot;
+    rjt_check(c, before.value == -1 && fabs(p.value / (2.5 * mass * G) - 1) < 1e-3 &&
+                     fabs(p.time - quarter) < 2e-4 && p.element == -1,
+              "peaks: a rigid rod released level peaks at 2.5 m g at the vertical",
+              "before tracking %g; %.6g N against %.6g N (%+.1e) at t = %.5f s against %.5f s",
+              before.value, p.value, 2.5 * mass * G, p.value / (2.5 * mass * G) - 1, p.time,
+              quarter);
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
+/* A cantilever struck by a tip load held on: its largest bending moment is the largest
+   of rj_element_loads over every element's ends and every step, to the bit, at the clamp
+   (element 0, its first node), above the static P L (the first swing overshoots); a
+   checkpoint taken halfway resumes to the same peaks; every 4th step's accounts
+   (solver.energy_every 4) give peaks no larger; in place, refused. */
+static void test_peaks_flexible(rjt_ctx *c)
+{
+    rj_link_def l = bar(RJ_LINK_FLEXIBLE, 10);
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m, *m4;
+    rj_state *s, *r, *s4;
+    rj_error err;
+    rj_peak a, b, q;
+    double *F, largest = -1;
+    size_t n;
+    void *ck;
+    int same, e, end;
+    l.root = RJ_ROOT_CLAMPED;
+    sc.links = &l;
+    sc.link_count = 1;
+    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK)
+        return;
+    rj_state_create(m, &s, NULL);
+    rj_state_create(m, &r, NULL);
+    rj_state_track_peaks(m, s, 1);
+    F = rj_state_node_forces(m, s);
+    F[3 * 10 + 1] = -1.0;
+    rj_run(m, s, 0.05, 0, NULL, NULL);
+    n = rj_state_save(m, s, NULL, 0);
+    ck = malloc(n);
+    rj_state_save(m, s, ck, n);
+    largest = rj_link_peak_moment(m, s, 0).value;
+    while (rj_state_time(s) < 0.1 - 0.5 * rj_model_dt(m)) {
+        rj_step(m, s);
+        for (e = 0; e < 10; e++) {
+            double loads[5];
+            rj_element_loads(m, s, 0, e, loads);
+            for (end = 0; end < 2; end++)
+                if (fabs(loads[2 + end]) > largest)
+                    largest = fabs(loads[2 + end]);
+        }
+    }
+    a = rj_link_peak_moment(m, s, 0);
+    rj_state_load(m, r, ck, n, NULL);
+    {
+        /* a loaded state has no state a step before: no loads at t^n until it steps; a
+           copy has the original's */
+        double lr[5], ls[5], lc[5];
+        rj_state *copy;
+        const rj_result at_load = rj_element_loads(m, r, 0, 0, lr);
+        rj_state_create(m, &copy, NULL);
+        rj_state_copy(m, copy, s);
+        rj_element_loads(m, s, 0, 0, ls);
+        rj_element_loads(m, copy, 0, 0, lc);
+        rjt_check(c, at_load == RJ_ERR_INVALID && memcmp(ls, lc, sizeof ls) == 0,
+                  "element loads: none on a state just loaded; a copy's are the original's",
+                  "loaded: result %d; M0 %.9g and %.9g", (int) at_load, ls[2], lc[2]);
+        rj_state_destroy(copy, NULL);
+    }
+    rj_run(m, r, 0.1, 0, NULL, NULL);
+    b = rj_link_peak_moment(m, r, 0);
+    same = a.value == b.value && a.time == b.time && a.element == b.element && a.end == b.end;
+    rjt_check(c, a.element == 0 && a.end == 0 && a.value == largest && a.value > 1.0 && same &&
+                     rj_link_peak_stress(m, s, 0).value > 0,
+              "peaks: a struck cantilever's largest moment is at its clamp, resumed alike from a checkpoint",
+              "%.6g N m (every step's largest %.6g; static P L = 1 N m) at element %d end %d, "
+              "t %.5f s; resumed %.6g at %.5f s; stress %.4g Pa",
+              a.value, largest, a.element, a.end, a.time, b.value, b.time,
+              rj_link_peak_stress(m, s, 0).value);
+    sc.solver.energy_every = 4;
+    if (rj_model_create(&sc, &m4, &err, NULL) == RJ_OK) {
+        rj_state_create(m4, &s4, NULL);
+        rj_state_track_peaks(m4, s4, 1);
+        rj_state_node_forces(m4, s4)[3 * 10 + 1] = -1.0;
+        rj_run(m4, s4, 0.1, 0, NULL, NULL);
+        q = rj_link_peak_moment(m4, s4, 0);
+        rjt_check(c, q.value <= a.value && q.value > 0.99 * a.value,
+                  "peaks: with energy_every 4 they are taken on every 4th step, no larger",
+                  "%.6g N m against %.6g every step", q.value, a.value);
+        rj_state_destroy(s4, NULL);
+        rj_model_destroy(m4, NULL);
+    }
+    sc.solver.energy_every = 1;
+    sc.solver.in_place = RJ_IN_PLACE_ON;
+    if (rj_model_create(&sc, &m4, &err, NULL) == RJ_OK) {
+        rj_state_create(m4, &s4, NULL);
+        rjt_check(c, rj_state_track_peaks(m4, s4, 1) == RJ_ERR_INVALID,
+                  "peaks: in-place stepping refuses to track them (no loads at t^n)", "%s", "");
+        rj_state_destroy(s4, NULL);
+        rj_model_destroy(m4, NULL);
+    }
+    free(ck);
+    rj_state_destroy(r, NULL);
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
 int main(void)
 {
     rjt_ctx c = { 0, 0 };
@@ -1377,5 +1511,7 @@ int main(void)
     test_plastic_collapse(&c);
     test_axial_laws(&c);
     test_material_keys(&c);
+    test_peaks_rigid(&c);
+    test_peaks_flexible(&c);
     return rjt_summary(&c, "test_loads");
 }

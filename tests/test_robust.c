@@ -525,8 +525,10 @@ static void test_checkpoints(void)
     rj_state_save(m, s, ck, size);
     memcpy(&pay, ck + 16, 8);
     /* 2 joint flags and a spare; after them the inputs' switch and the 2 joints' torques,
-       then the node forces' switch, 3 values per node, and 3 per node the last step applied */
-    frame_doubles = (size_t)(pay - 8 - sizeof(int) * 3 - 8 * 3 - 8 * (6 * (size_t)rj_model_node_count(m) + 1)) / 8;
+       then the node forces' switch, 3 values per node, and 3 per node the last step
+       applied; then the peaks' switch, 2 per joint and 7 per link */
+    frame_doubles = (size_t)(pay - 8 - sizeof(int) * 3 - 8 * 3 - 8 * (6 * (size_t)rj_model_node_count(m) + 1) -
+                             8 * (1 + 2 * 2 + 7 * 2)) / 8;
     /* crafted values behind a valid checksum */
     memcpy(edit, ck, size);
     memcpy(edit + CK_DOUBLES + 8 * frame_doubles + sizeof(int), &flag, sizeof flag);
@@ -548,6 +550,22 @@ static void test_checkpoints(void)
     memcpy(edit + CK_DOUBLES + 8 * frame_doubles + sizeof(int) * 3 + 8 * 4 + 8 * 5, &v, 8);
     reseal(edit, size);
     ck_refused("a node force of NaN", "input node force 5 is nan", m, s, edit, size);
+    /* the peaks' switch as -0, and a link's peak at an element it does not have (the
+       first link's moment: its value, time, element) */
+    {
+        const size_t peaks = CK_DOUBLES + 8 * frame_doubles + sizeof(int) * 3 + 8 * 3 +
+                             8 * (6 * (size_t)rj_model_node_count(m) + 1);
+        const double bad[3] = { 1.0, 0.5, 1e9 };
+        memcpy(edit, ck, size);
+        v = -0.0;
+        memcpy(edit + peaks, &v, 8);
+        reseal(edit, size);
+        ck_refused("a peaks switch of -0", "switch of the peaks", m, s, edit, size);
+        memcpy(edit, ck, size);
+        memcpy(edit + peaks + 8 * (1 + 2 * 2), bad, sizeof bad);
+        reseal(edit, size);
+        ck_refused("a peak at element 1e9", "element 1e+09", m, s, edit, size);
+    }
     memcpy(edit, ck, size);
     v = HUGE_VAL;
     memcpy(edit + CK_DOUBLES + 8 * (CK_X0 + 3), &v, 8);
