@@ -26,7 +26,7 @@ EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B
           $(B)/peer_side
 TESTS   = $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_benchmarks $(B)/test_rigid2 \
           $(B)/test_render $(B)/csvdiff $(B)/test_core_asan $(B)/test_dynamics_asan $(B)/test_beam_asan \
-          $(B)/test_core_clang $(B)/test_cpp $(B)/test_state $(B)/test_state_asan $(B)/test_scene $(B)/test_scene_asan $(B)/test_mixed $(B)/test_mixed_asan $(B)/test_loads $(B)/test_loads_asan $(B)/test_applied $(B)/test_applied_asan $(B)/test_robust $(B)/test_robust_asan $(B)/test_drive $(B)/test_drive_asan $(B)/test_couple $(B)/test_couple_asan $(B)/test_rows $(B)/test_rows_asan $(B)/test_loops $(B)/test_loops_asan $(B)/stress
+          $(B)/test_core_clang $(B)/test_cpp $(B)/test_state $(B)/test_state_asan $(B)/test_scene $(B)/test_scene_asan $(B)/test_mixed $(B)/test_mixed_asan $(B)/test_loads $(B)/test_loads_asan $(B)/test_deploy_damped $(B)/test_deploy_damped_asan $(B)/test_applied $(B)/test_applied_asan $(B)/test_robust $(B)/test_robust_asan $(B)/test_drive $(B)/test_drive_asan $(B)/test_couple $(B)/test_couple_asan $(B)/test_rows $(B)/test_rows_asan $(B)/test_loops $(B)/test_loops_asan $(B)/stress
 
 .PHONY: all deps test demo golden bench stress clean check-header valgrind fuzz peer
 all: deps $(EXAMPLES)
@@ -68,9 +68,9 @@ $(B)/pngdiff: render/pngdiff.c $(RENDER) | $(B)
 # allocation hooks (tests/rjt_impl_hooked.c). test_mixed reads private internals and
 # compiles it itself.
 TDEPS   = tests/rjt.h tests/rjt_loads.h examples/scenes.h examples/rigid2.h $(HDR)
-LINKED  = $(B)/test_core $(B)/test_beam $(B)/test_benchmarks $(B)/test_loads $(B)/test_applied $(B)/test_drive $(B)/test_couple $(B)/test_rows $(B)/test_loops \
+LINKED  = $(B)/test_core $(B)/test_beam $(B)/test_benchmarks $(B)/test_loads $(B)/test_deploy_damped $(B)/test_applied $(B)/test_drive $(B)/test_couple $(B)/test_rows $(B)/test_loops \
           $(B)/test_robust $(B)/test_dynamics
-LINKED_ASAN = $(B)/test_core_asan $(B)/test_beam_asan $(B)/test_loads_asan $(B)/test_applied_asan $(B)/test_drive_asan $(B)/test_couple_asan $(B)/test_rows_asan $(B)/test_loops_asan \
+LINKED_ASAN = $(B)/test_core_asan $(B)/test_beam_asan $(B)/test_loads_asan $(B)/test_deploy_damped_asan $(B)/test_applied_asan $(B)/test_drive_asan $(B)/test_couple_asan $(B)/test_rows_asan $(B)/test_loops_asan \
           $(B)/test_robust_asan $(B)/test_dynamics_asan
 $(B)/rj_impl_hooked.o: tests/rjt_impl_hooked.c tests/rjt_alloc.h $(HDR) | $(B)
 	$(CC) $(ALLCF) -c $< -o $@
@@ -157,7 +157,7 @@ test: deps | $(B)
 	  "$(B)/test_core" "$(B)/test_core_clang" "$(B)/test_cpp" "$(B)/test_beam" "$(B)/test_dynamics" \
 	  "$(B)/test_benchmarks" "$(B)/test_rigid2" "$(B)/test_state" \
 	  "$(B)/test_core_asan" "$(B)/test_beam_asan" "$(B)/test_dynamics_asan" "$(B)/test_state_asan" \
-	  "$(B)/test_scene" "$(B)/test_scene_asan" "$(B)/test_mixed" "$(B)/test_mixed_asan" "$(B)/test_loads" "$(B)/test_loads_asan" "$(B)/test_applied" "$(B)/test_applied_asan" "$(B)/test_drive" "$(B)/test_drive_asan" "$(B)/test_couple" "$(B)/test_couple_asan" "$(B)/test_rows" "$(B)/test_rows_asan" "$(B)/test_loops" "$(B)/test_loops_asan" \
+	  "$(B)/test_scene" "$(B)/test_scene_asan" "$(B)/test_mixed" "$(B)/test_mixed_asan" "$(B)/test_loads" "$(B)/test_loads_asan" "$(B)/test_deploy_damped" "$(B)/test_deploy_damped_asan" "$(B)/test_applied" "$(B)/test_applied_asan" "$(B)/test_drive" "$(B)/test_drive_asan" "$(B)/test_couple" "$(B)/test_couple_asan" "$(B)/test_rows" "$(B)/test_rows_asan" "$(B)/test_loops" "$(B)/test_loops_asan" \
 	  "$(B)/test_robust" "$(B)/test_robust_asan" \
 	  "/usr/bin/python3 tests/elastica_ref.py" "/usr/bin/python3 tests/keys.py" \
 	  "$(B)/stress --short" \
