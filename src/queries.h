@@ -482,52 +482,109 @@ static int rj__own_body_node(const rj_model *m, int k)
     return k >= 0 && m->ncl && RJ__CL_RIGID(m, k);
 }
 
-/* Node space, flexible links: the force on body 2's pin node from the rest of the pin,
-   m a - m g - (its link's elements, mass-proportional damping, loads and the caller's
-   force on it), at n (the rates
-   at n - 1/2 and n + 1/2 give a; the elements at n, as the step took them). When body 2
-   is a rigid body of a mixed scene, the same on body 1's node, reversed. */
-static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
+/* Node space: what node k's momentum asks of the forces not yet counted (its elements,
+   the pins at it), at t^n: m a - m g less its loads, the caller's force and its
+   mass-proportional damping (a from the rates at n - 1/2 and n + 1/2, the step's kick). */
+static void rj__node_momentum(const rj_model *m, const rj_state *s, int k, double out[2])
 {
-    const int k = rj__own_body_node(m, m->jnt[j].nJ) ? m->jnt[j].nI : m->jnt[j].nJ;
-    const double sign = k == m->jnt[j].nJ ? 1.0 : -1.0;
     const double *now = s->fd[s->cur], *at_n = s->fd[1 - s->cur];
     const double kick = s->steps == 1 ? 0.5 * m->dt : m->dt;
     const double t = RJ__FS(m, now)[RJ__FS_TIME] - m->dt;
-    double elements[2];
     int q, link, node;
-    rj__elem_node_force(m, s, k, elements);
-    force[0] = m->mass[k] * ((RJ__FVX(m, now)[k] - RJ__FVX(m, at_n)[k]) / kick -
-                             m->solver.gravity[0]) -
-               elements[0];
-    force[1] = m->mass[k] * ((RJ__FVY(m, now)[k] - RJ__FVY(m, at_n)[k]) / kick -
-                             m->solver.gravity[1]) -
-               elements[1];
+    out[0] = m->mass[k] * ((RJ__FVX(m, now)[k] - RJ__FVX(m, at_n)[k]) / kick -
+                           m->solver.gravity[0]);
+    out[1] = m->mass[k] * ((RJ__FVY(m, now)[k] - RJ__FVY(m, at_n)[k]) / kick -
+                           m->solver.gravity[1]);
     for (q = 0; q < m->nload; q++)
         if (m->load_node[q] == k) {
             double value[3];
             rj__load_value(&m->load[q], t, RJ__FPHI(m, at_n)[k], value);
-            force[0] -= value[0];
-            force[1] -= value[1];
+            out[0] -= value[0];
+            out[1] -= value[1];
         }
     if (s->node_inputs) {
-        force[0] -= s->input_node[3 * (size_t) k];
-        force[1] -= s->input_node[3 * (size_t) k + 1];
+        out[0] -= s->input_node[3 * (size_t) k];
+        out[1] -= s->input_node[3 * (size_t) k + 1];
     }
     rj__node_of(m, k, &link, &node);
     if (m->link_path[link] == RJ__PATH_MATERIAL) {
         const double alpha = m->link_damp[2 * (size_t) link + 1];
-        force[0] += alpha * m->mass[k] * RJ__FVX(m, at_n)[k];
-        force[1] += alpha * m->mass[k] * RJ__FVY(m, at_n)[k];
+        out[0] += alpha * m->mass[k] * RJ__FVX(m, at_n)[k];
+        out[1] += alpha * m->mass[k] * RJ__FVY(m, at_n)[k];
     }
-    force[0] *= sign;
-    force[1] *= sign;
 }
 
-/* Where rj_joint_pin_force has no answer yet: node space with inextensible links (their
-   lengths' forces), a pin between two rigid bodies (their projection's forces), in-place
-   stepping (no rates at n - 1/2), a chord reference (the joint's forces on the pin
-   node), before a step; loops of rigid links (their rows' forces). */
+/* Node space, flexible links: the force on body 2's pin node from the rest of the pin,
+   its momentum's ask less its link's elements (rj__node_momentum), at n. When body 2 is
+   a rigid body of a mixed scene, the same on body 1's node, reversed. */
+static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
+{
+    const int k = rj__own_body_node(m, m->jnt[j].nJ) ? m->jnt[j].nI : m->jnt[j].nJ;
+    const double sign = k == m->jnt[j].nJ ? 1.0 : -1.0;
+    double elements[2];
+    rj__elem_node_force(m, s, k, elements);
+    rj__node_momentum(m, s, k, force);
+    force[0] = sign * (force[0] - elements[0]);
+    force[1] = sign * (force[1] - elements[1]);
+}
+
+/* The links below joint j (its body 2 and the links that hang from them, down the joint
+   tree) marked 1 in below (nl); 0 when a loop-closing joint ties them to the rest (its
+   pin's force would count too). */
+static int rj__links_below(const rj_model *m, int j, double *below)
+{
+    int l, k, grew = 1;
+    for (l = 0; l < m->nl; l++)
+        below[l] = l == m->jdef[j].body2;
+    while (grew) {
+        grew = 0;
+        for (k = 0; k < m->nj; k++) {
+            const int b1 = m->jdef[k].body1, b2 = m->jdef[k].body2;
+            if (!m->jnt[k].loop && b1 >= 0 && below[b1] != 0 && below[b2] == 0) {
+                below[b2] = 1;
+                grew = 1;
+            }
+        }
+    }
+    for (k = 0; k < m->nj; k++) {
+        const int b1 = m->jdef[k].body1, b2 = m->jdef[k].body2;
+        const int in1 = b1 >= 0 && below[b1] != 0, in2 = below[b2] != 0;
+        if (m->jnt[k].loop && in1 != in2)
+            return 0;
+    }
+    return 1;
+}
+
+/* Node space with inextensible links: joint j's pin force as Newton's second law for the
+   links below it, the sum of their nodes' momentum asks (rj__node_momentum): the elements'
+   forces and their lengths' constraint forces are internal to them and cancel. below:
+   nl doubles of scratch. Returns 0 where a loop ties them to the rest. */
+static int rj__subtree_pin_force(const rj_model *m, const rj_state *s, int j, double *below,
+                                 double force[2])
+{
+    int l, k;
+    force[0] = force[1] = 0;
+    if (!rj__links_below(m, j, below))
+        return 0;
+    for (l = 0; l < m->nl; l++) {
+        if (below[l] == 0)
+            continue;
+        for (k = m->link_first[l]; k < m->link_first[l + 1]; k++) {
+            double ask[2];
+            rj__node_momentum(m, s, k, ask);
+            force[0] += ask[0];
+            force[1] += ask[1];
+        }
+    }
+    return 1;
+}
+
+/* Where rj_joint_pin_force has no answer yet: node space with inextensible links and
+   rigid bodies together, or a loop tying the links below the joint to the rest (their
+   lengths' forces: rj__subtree_pin_force), a pin between two rigid bodies (their
+   projection's forces), in-place stepping (no rates at n - 1/2), a chord reference (the
+   joint's forces on the pin node) with flexible links, before a step; loops of rigid
+   links (their rows' forces). */
 static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
 {
     const rj__joint *J = &m->jnt[j];
@@ -535,32 +592,45 @@ static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
         return m->nloop > 0;
     if (rj__own_body_node(m, J->nJ) && (J->nI < 0 || rj__own_body_node(m, J->nI)))
         return 1;
-    return m->any_inext || m->ip || J->chord || !s->at_n;
+    if (m->any_inext)
+        return m->ncl || m->ip || !s->at_n;
+    return m->ip || J->chord || !s->at_n;
 }
 
-/* Every joint's pin force into forces (2 a joint, NaN where unknown); rigid scenes use
-   work ((RJ__KA_N + 2) (nl + 1) doubles), which is allocated when NULL. */
+/* The scratch doubles rj__pin_forces needs: rigid scenes' kinematics, inextensible
+   links' marks. */
+static size_t rj__pin_work_size(const rj_model *m)
+{
+    if (m->rigid)
+        return (RJ__KA_N + 2) * ((size_t) m->nl + 1);
+    return m->any_inext ? (size_t) m->nl + 1 : 0;
+}
+
+/* Every joint's pin force into forces (2 a joint, NaN where unknown), with work
+   (rj__pin_work_size doubles; allocated when NULL). */
 static rj_result rj__pin_forces(const rj_model *m, const rj_state *s, double *work,
                                 double *forces)
 {
     double *own = NULL;
     int j;
-    for (j = 0; j < m->nj; j++) {
-        const int unknown = rj__pin_force_unknown(m, s, j);
-        forces[2 * j] = forces[2 * j + 1] = unknown ? NAN : 0.0;
-        if (!unknown && !m->rigid)
-            rj__node_pin_force(m, s, j, forces + 2 * j);
-    }
-    if (!m->rigid || m->nloop || !m->nj)
-        return RJ_OK;
-    if (!work) {
-        own = (double *) RJ_MALLOC(sizeof(double) * (RJ__KA_N + 2) * ((size_t) m->nl + 1),
-                                   NULL);
+    if (!work && rj__pin_work_size(m)) {
+        own = (double *) RJ_MALLOC(sizeof(double) * rj__pin_work_size(m), NULL);
         if (!own)
             return RJ_ERR_NOMEM;
         work = own;
     }
-    rj__rig_pin_forces(m, s, work, forces);
+    for (j = 0; j < m->nj; j++) {
+        int unknown = rj__pin_force_unknown(m, s, j);
+        forces[2 * j] = forces[2 * j + 1] = 0.0;
+        if (!unknown && !m->rigid && m->any_inext)
+            unknown = !rj__subtree_pin_force(m, s, j, work, forces + 2 * j);
+        else if (!unknown && !m->rigid)
+            rj__node_pin_force(m, s, j, forces + 2 * j);
+        if (unknown)
+            forces[2 * j] = forces[2 * j + 1] = NAN;
+    }
+    if (m->rigid && !m->nloop && m->nj)
+        rj__rig_pin_forces(m, s, work, forces);
     if (own)
         RJ_FREE(own, NULL);
     return RJ_OK;
@@ -580,7 +650,7 @@ RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int j, 
     force[0] = force[1] = 0;
     if (rj__pin_force_unknown(m, s, j))
         return RJ_ERR_INVALID;
-    if (!m->rigid) {
+    if (!m->rigid && !m->any_inext) {
         rj__node_pin_force(m, s, j, force);
         return RJ_OK;
     }
@@ -588,8 +658,12 @@ RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int j, 
     if (!all)
         return RJ_ERR_NOMEM;
     r = rj_joint_pin_forces(m, s, all);
-    force[0] = all[2 * j];
-    force[1] = all[2 * j + 1];
+    if (r == RJ_OK && all[2 * j] != all[2 * j])
+        r = RJ_ERR_INVALID;
+    else if (r == RJ_OK) {
+        force[0] = all[2 * j];
+        force[1] = all[2 * j + 1];
+    }
     RJ_FREE(all, NULL);
     return r;
 }
