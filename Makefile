@@ -17,7 +17,11 @@ WARN    = -std=c99 -Wall -Wextra -pedantic -Werror -ffp-contract=off
 CFLAGS  ?= $(OPT)
 ALLCF   = $(WARN) $(CFLAGS) -I.
 B       = build
-GL      = $(shell pkg-config --cflags --libs osmesa libpng 2>/dev/null) -lm
+# the renderer's programs: OSMesa's headers, libpng; OSMesa itself is not linked but opened
+# on first use (dlopen in render/rj_render.c), so a program that draws nothing never loads
+# it (nor LLVM). glibc 2.34+ has dlopen and pthread_once in libc: -ldl -lpthread are empty
+# there and add nothing, and are needed before.
+GL      = $(shell pkg-config --cflags osmesa libpng 2>/dev/null) $(shell pkg-config --libs libpng 2>/dev/null) -lm -ldl -lpthread
 SAN     = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 
 HDR     = revjoint.h
@@ -60,7 +64,7 @@ $(B)/studies: examples/studies.c examples/scenes.h examples/rigid2.h examples/cl
 $(B)/quickstart: examples/quickstart.c $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
 $(B)/pngdiff: render/pngdiff.c $(RENDER) | $(B)
-	$(CC) $(ALLCF) -DRJR_PNG_ONLY render/pngdiff.c render/rj_render.c -o $@ $(GL)
+	$(CC) $(ALLCF) -DRJR_PNG_ONLY render/pngdiff.c render/rj_render.c -o $@ $(shell pkg-config --cflags --libs libpng 2>/dev/null) -lm
 
 # The implementation compiled once per flavour (tests/rjt_impl.c); the test programs that
 # use the public API alone include the header plain and link it, as a program of several

@@ -1,7 +1,6 @@
 /* rj_render.c - see rj_render.h. */
 /* POSIX for open, fstat, lstat and unlink: a failed PNG write removes only a file it made */
 #define _POSIX_C_SOURCE 200809L
-#define GL_GLEXT_PROTOTYPES 1
 #include "rj_render.h"
 
 #include <errno.h>
@@ -17,13 +16,18 @@
 #ifdef RJR_PNG_ONLY
 /* PNG and comparison functions only: no OpenGL, no revjoint (used by pngdiff). */
 #elif defined(RJ_RENDER_EGL)
+#define GL_GLEXT_PROTOTYPES 1
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 #include <GL/gl.h>
 #include <GL/glext.h>
 #else
+/* OSMesa is opened at run time (dlopen) by the first rjr_create: its headers give the
+   types and constants only, and the program does not link it (see rjr_osm below). */
 #include <GL/osmesa.h>
 #include <GL/glext.h>
+#include <dlfcn.h>
+#include <pthread.h>
 #endif
 
 #include <png.h>
@@ -124,13 +128,184 @@ static void be_destroy(rjr_context *c)
     /* eglTerminate would also end other contexts on the shared display; leave it. */
 }
 static const char *be_name(void) { return "egl-surfaceless"; }
+/* EGL is linked: nothing to load */
+int rjr_available(char *err, size_t errlen) { set_err(err, errlen, ""); return 0; }
 #else
+/* OSMesa, loaded on first use. Linking libOSMesa would load it, and with it LLVM, in every
+   program that has the renderer, drawing or not (about 30 ms and 50 MB at start-up here),
+   so it is opened with dlopen by the first rjr_create and the functions the renderer
+   calls are looked up once into this table. libOSMesa exports every GL entry point
+   itself (dlsym finds them; OSMesaGetProcAddress is asked for any it would not). The
+   library stays loaded to the end of the process (LLVM does not like being unloaded).
+   RJ_OSMESA in the environment names another library file to open instead (tests use it
+   to see the message when OSMesa is missing). The table is written once, under
+   pthread_once, and only read afterwards. */
+typedef struct rjr_osm_api {
+    OSMesaContext (GLAPIENTRY *CreateContextExt)(GLenum, GLint, GLint, GLint, OSMesaContext);
+    GLboolean (GLAPIENTRY *MakeCurrent)(OSMesaContext, void *, GLenum, GLsizei, GLsizei);
+    OSMesaContext (GLAPIENTRY *GetCurrentContext)(void);
+    void (GLAPIENTRY *DestroyContext)(OSMesaContext);
+    void (GLAPIENTRY *BindFramebuffer)(GLenum, GLuint);
+    void (GLAPIENTRY *BindRenderbuffer)(GLenum, GLuint);
+    void (GLAPIENTRY *BlitFramebuffer)(GLint, GLint, GLint, GLint, GLint, GLint, GLint, GLint, GLbitfield, GLenum);
+    GLenum (GLAPIENTRY *CheckFramebufferStatus)(GLenum);
+    void (GLAPIENTRY *Clear)(GLbitfield);
+    void (GLAPIENTRY *ClearColor)(GLclampf, GLclampf, GLclampf, GLclampf);
+    void (GLAPIENTRY *ColorPointer)(GLint, GLenum, GLsizei, const GLvoid *);
+    void (GLAPIENTRY *DeleteFramebuffers)(GLsizei, const GLuint *);
+    void (GLAPIENTRY *DeleteRenderbuffers)(GLsizei, const GLuint *);
+    void (GLAPIENTRY *Disable)(GLenum);
+    void (GLAPIENTRY *DrawArrays)(GLenum, GLint, GLsizei);
+    void (GLAPIENTRY *Enable)(GLenum);
+    void (GLAPIENTRY *EnableClientState)(GLenum);
+    void (GLAPIENTRY *Finish)(void);
+    void (GLAPIENTRY *FramebufferRenderbuffer)(GLenum, GLenum, GLenum, GLuint);
+    void (GLAPIENTRY *GenFramebuffers)(GLsizei, GLuint *);
+    void (GLAPIENTRY *GenRenderbuffers)(GLsizei, GLuint *);
+    GLenum (GLAPIENTRY *GetError)(void);
+    void (GLAPIENTRY *GetIntegerv)(GLenum, GLint *);
+    const GLubyte *(GLAPIENTRY *GetString)(GLenum);
+    void (GLAPIENTRY *LoadIdentity)(void);
+    void (GLAPIENTRY *MatrixMode)(GLenum);
+    void (GLAPIENTRY *Ortho)(GLdouble, GLdouble, GLdouble, GLdouble, GLdouble, GLdouble);
+    void (GLAPIENTRY *PixelStorei)(GLenum, GLint);
+    void (GLAPIENTRY *ReadPixels)(GLint, GLint, GLsizei, GLsizei, GLenum, GLenum, GLvoid *);
+    void (GLAPIENTRY *RenderbufferStorage)(GLenum, GLenum, GLsizei, GLsizei);
+    void (GLAPIENTRY *RenderbufferStorageMultisample)(GLenum, GLsizei, GLenum, GLsizei, GLsizei);
+    void (GLAPIENTRY *Scissor)(GLint, GLint, GLsizei, GLsizei);
+    void (GLAPIENTRY *VertexPointer)(GLint, GLenum, GLsizei, const GLvoid *);
+    void (GLAPIENTRY *Viewport)(GLint, GLint, GLsizei, GLsizei);
+} rjr_osm_api;
+
+#define RJR_SYM(name, field) { name, offsetof(rjr_osm_api, field) }
+static const struct { const char *name; size_t off; } rjr_osm_syms[] = {
+    RJR_SYM("OSMesaCreateContextExt", CreateContextExt), RJR_SYM("OSMesaMakeCurrent", MakeCurrent),
+    RJR_SYM("OSMesaGetCurrentContext", GetCurrentContext), RJR_SYM("OSMesaDestroyContext", DestroyContext),
+    RJR_SYM("glBindFramebuffer", BindFramebuffer), RJR_SYM("glBindRenderbuffer", BindRenderbuffer),
+    RJR_SYM("glBlitFramebuffer", BlitFramebuffer), RJR_SYM("glCheckFramebufferStatus", CheckFramebufferStatus),
+    RJR_SYM("glClear", Clear), RJR_SYM("glClearColor", ClearColor), RJR_SYM("glColorPointer", ColorPointer),
+    RJR_SYM("glDeleteFramebuffers", DeleteFramebuffers), RJR_SYM("glDeleteRenderbuffers", DeleteRenderbuffers),
+    RJR_SYM("glDisable", Disable), RJR_SYM("glDrawArrays", DrawArrays), RJR_SYM("glEnable", Enable),
+    RJR_SYM("glEnableClientState", EnableClientState), RJR_SYM("glFinish", Finish),
+    RJR_SYM("glFramebufferRenderbuffer", FramebufferRenderbuffer), RJR_SYM("glGenFramebuffers", GenFramebuffers),
+    RJR_SYM("glGenRenderbuffers", GenRenderbuffers), RJR_SYM("glGetError", GetError),
+    RJR_SYM("glGetIntegerv", GetIntegerv), RJR_SYM("glGetString", GetString), RJR_SYM("glLoadIdentity", LoadIdentity),
+    RJR_SYM("glMatrixMode", MatrixMode), RJR_SYM("glOrtho", Ortho), RJR_SYM("glPixelStorei", PixelStorei),
+    RJR_SYM("glReadPixels", ReadPixels), RJR_SYM("glRenderbufferStorage", RenderbufferStorage),
+    RJR_SYM("glRenderbufferStorageMultisample", RenderbufferStorageMultisample), RJR_SYM("glScissor", Scissor),
+    RJR_SYM("glVertexPointer", VertexPointer), RJR_SYM("glViewport", Viewport)
+};
+#undef RJR_SYM
+/* dlsym's void * goes into the function pointers by memcpy (POSIX: the same size) */
+typedef char rjr_fnptr_is_pointer_size[sizeof(void *) == sizeof(void (*)(void)) ? 1 : -1];
+
+static rjr_osm_api rjr_osm;                 /* written once by rjr_osm_load, then read only */
+static int rjr_osm_status = -1;             /* 0 once every function is found */
+static char rjr_osm_msg[400];               /* why not, otherwise */
+static pthread_once_t rjr_osm_once = PTHREAD_ONCE_INIT;
+
+static void rjr_osm_load(void)
+{
+    static const char *const names[] = { "libOSMesa.so.8", "libOSMesa.so" };
+    const char *env = getenv("RJ_OSMESA"), *lib = names[0];
+    const int from_env = env && env[0];
+    char why[200];
+    void *h = NULL, *p;
+    OSMESAproc (GLAPIENTRY *gpa)(const char *) = NULL;
+    size_t i;
+    why[0] = 0;
+    if (from_env) {
+        lib = env;
+        h = dlopen(lib, RTLD_NOW | RTLD_LOCAL);
+        if (!h) snprintf(why, sizeof why, "%s", dlerror());
+    } else {
+        for (i = 0; !h && i < sizeof names / sizeof names[0]; i++) {
+            h = dlopen(names[i], RTLD_NOW | RTLD_LOCAL);
+            if (h) lib = names[i];
+            else if (i == 0) snprintf(why, sizeof why, "%s", dlerror());
+        }
+    }
+    if (!h) {
+        snprintf(rjr_osm_msg, sizeof rjr_osm_msg,
+                 "cannot load the OSMesa library %.100s%s, which draws the images (%.120s); "
+                 "install it: apt-get install libosmesa6",
+                 lib, from_env ? " (RJ_OSMESA)" : "", why);
+        return;
+    }
+    p = dlsym(h, "OSMesaGetProcAddress");
+    if (p) memcpy(&gpa, &p, sizeof p);
+    for (i = 0; i < sizeof rjr_osm_syms / sizeof rjr_osm_syms[0]; i++) {
+        char *dst = (char *)&rjr_osm + rjr_osm_syms[i].off;
+        OSMESAproc f = NULL;
+        p = dlsym(h, rjr_osm_syms[i].name);
+        if (p) memcpy(dst, &p, sizeof p);
+        else if (gpa && rjr_osm_syms[i].name[0] == 'g' && (f = gpa(rjr_osm_syms[i].name)) != NULL)
+            memcpy(dst, &f, sizeof f);
+        else {
+            snprintf(rjr_osm_msg, sizeof rjr_osm_msg,
+                     "the OSMesa library %.100s%s has no %s: not a usable OSMesa; "
+                     "install it: apt-get install libosmesa6",
+                     lib, from_env ? " (RJ_OSMESA)" : "", rjr_osm_syms[i].name);
+            return;                         /* h stays open: harmless, never used */
+        }
+    }
+    rjr_osm_status = 0;
+}
+
+int rjr_available(char *err, size_t errlen)
+{
+    set_err(err, errlen, "");
+    if (pthread_once(&rjr_osm_once, rjr_osm_load) != 0) {
+        set_err(err, errlen, "cannot load the OSMesa library: pthread_once failed");
+        return -1;
+    }
+    if (rjr_osm_status != 0) set_err(err, errlen, rjr_osm_msg);
+    return rjr_osm_status;
+}
+
+/* From here on the GL calls go through the table. */
+#define glBindFramebuffer rjr_osm.BindFramebuffer
+#define glBindRenderbuffer rjr_osm.BindRenderbuffer
+#define glBlitFramebuffer rjr_osm.BlitFramebuffer
+#define glCheckFramebufferStatus rjr_osm.CheckFramebufferStatus
+#define glClear rjr_osm.Clear
+#define glClearColor rjr_osm.ClearColor
+#define glColorPointer rjr_osm.ColorPointer
+#define glDeleteFramebuffers rjr_osm.DeleteFramebuffers
+#define glDeleteRenderbuffers rjr_osm.DeleteRenderbuffers
+#define glDisable rjr_osm.Disable
+#define glDrawArrays rjr_osm.DrawArrays
+#define glEnable rjr_osm.Enable
+#define glEnableClientState rjr_osm.EnableClientState
+#define glFinish rjr_osm.Finish
+#define glFramebufferRenderbuffer rjr_osm.FramebufferRenderbuffer
+#define glGenFramebuffers rjr_osm.GenFramebuffers
+#define glGenRenderbuffers rjr_osm.GenRenderbuffers
+#define glGetError rjr_osm.GetError
+#define glGetIntegerv rjr_osm.GetIntegerv
+#define glGetString rjr_osm.GetString
+#define glLoadIdentity rjr_osm.LoadIdentity
+#define glMatrixMode rjr_osm.MatrixMode
+#define glOrtho rjr_osm.Ortho
+#define glPixelStorei rjr_osm.PixelStorei
+#define glReadPixels rjr_osm.ReadPixels
+#define glRenderbufferStorage rjr_osm.RenderbufferStorage
+#define glRenderbufferStorageMultisample rjr_osm.RenderbufferStorageMultisample
+#define glScissor rjr_osm.Scissor
+#define glVertexPointer rjr_osm.VertexPointer
+#define glViewport rjr_osm.Viewport
+#define OSMesaCreateContextExt rjr_osm.CreateContextExt
+#define OSMesaMakeCurrent rjr_osm.MakeCurrent
+#define OSMesaGetCurrentContext rjr_osm.GetCurrentContext
+#define OSMesaDestroyContext rjr_osm.DestroyContext
+
 static int be_bind(rjr_context *c)
 {
     return OSMesaMakeCurrent(c->osm, c->osm_buf, GL_UNSIGNED_BYTE, c->width, c->height) ? 0 : -1;
 }
 static int be_create(rjr_context *c, char *err, size_t errlen)
 {
+    if (rjr_available(err, errlen) != 0) return -1;
     c->osm = OSMesaCreateContextExt(OSMESA_RGBA, 0, 0, 0, NULL);
     if (!c->osm) { set_err(err, errlen, "OSMesaCreateContextExt failed"); return -1; }
     c->osm_buf = (unsigned char *)malloc((size_t)c->width * (size_t)c->height * 4);

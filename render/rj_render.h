@@ -3,8 +3,11 @@
    (compile rj_render.c with -DRJ_RENDER_EGL), 4x MSAA, deterministic output.
 
    Build:  cc -std=c99 -c rj_render.c $(pkg-config --cflags osmesa libpng)
-           link with $(pkg-config --libs osmesa libpng) -lm
-           (EGL: -DRJ_RENDER_EGL, $(pkg-config --libs egl opengl libpng) -lm)
+           link with $(pkg-config --libs libpng) -lm -ldl -lpthread (the last two only
+           matter before glibc 2.34). OSMesa is not linked: the first rjr_create opens
+           libOSMesa.so.8 with dlopen (RJ_OSMESA=FILE opens FILE instead), so a program
+           that does not draw never loads it.
+           (EGL: -DRJ_RENDER_EGL, $(pkg-config --libs egl opengl libpng) -lm; linked)
    The program must also compile the revjoint.h implementation in one translation unit.
 
    Conventions
@@ -37,6 +40,10 @@ typedef struct rjr_context rjr_context;
 /* Creates an off-screen GL context with a width x height 8-bit RGB target (4x MSAA when
    the driver has it). Returns NULL and fills err on failure. */
 rjr_context *rjr_create(int width, int height, char *err, size_t errlen);
+/* Loads the GL library (OSMesa) if that has not been done: 0 when the renderer can start,
+   -1 with err naming the library that could not be loaded and how to install it.
+   rjr_create calls it; a program may call it before a long run to fail early. */
+int rjr_available(char *err, size_t errlen);
 void rjr_destroy(rjr_context *ctx);
 /* Changes the target size (contents are lost). */
 int rjr_resize(rjr_context *ctx, int width, int height);
