@@ -668,14 +668,14 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
      element forces, loads and the caller's force on it, at t^n, a step before the
      state's time (a from the rates at n - 1/2 and n + 1/2); where body 2 is a rigid
      body of a mixed scene, the same on body 1's flexible node, reversed.
-   - Scenes with inextensible links (no rigid body): the nodes' m a - m g less loads and
-     the caller's forces, summed over the links below the joint (their lengths' and
-     elements' forces cancel inside them), at t^n.
-   RJ_ERR_INVALID, force 0, not yet: a pin between two rigid bodies or a rigid body and
-   the ground in a mixed scene, inextensible links with rigid bodies, a loop tying the
-   links below an inextensible scene's joint to the rest, in-place stepping, a chord
-   reference with flexible links, loops of rigid links, before a step (or a checkpoint's
-   load, or rj_settle: the state a step before is needed). */
+   - Scenes with inextensible links, and pins between two rigid bodies or a rigid body
+     and the ground in mixed scenes: Newton's second law for the links below the joint,
+     their nodes' and bodies' m a - m g less loads and the caller's forces (their
+     elements', lengths' and pins' forces cancel inside them), at t^n.
+   RJ_ERR_INVALID, force 0, not yet: there, a loop tying the links below the joint to the
+   rest or a held body among them; in-place stepping, a chord reference on a flexible
+   pin node, loops of rigid links, before a step (or a checkpoint's load, or rj_settle:
+   the state a step before is needed). */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
 /* Every joint's pin force at once (2 per joint in forces, as rj_joint_pin_force; NaN

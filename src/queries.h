@@ -555,10 +555,34 @@ static int rj__links_below(const rj_model *m, int j, double *below)
     return 1;
 }
 
-/* Node space with inextensible links: joint j's pin force as Newton's second law for the
-   links below it, the sum of their nodes' momentum asks (rj__node_momentum): the elements'
-   forces and their lengths' constraint forces are internal to them and cancel. below:
-   nl doubles of scratch. Returns 0 where a loop ties them to the rest. */
+/* A rigid body's own link (rod and tip mass; mixed scenes): its momentum's ask, M (a_c -
+   g) with a_c from its end nodes' rates at n - 1/2 and n + 1/2 (the body moves them), the
+   centre a fraction of the way along them. Its nodes carry no mass of their own; the
+   nodes of other links it carries count as theirs. */
+static void rj__body_momentum(const rj_model *m, const rj_state *s, int c, double out[2])
+{
+    const rj_link_def *d = &m->ldef[c];
+    const int n0 = m->link_first[c], nt = m->link_first[c + 1] - 1;
+    const double rod = d->rho * rj__plain_area(d) * d->length, own = rod + d->tip_mass;
+    const double along = (rod * 0.5 + d->tip_mass) / own;
+    const double *now = s->fd[s->cur], *at_n = s->fd[1 - s->cur];
+    const double kick = s->steps == 1 ? 0.5 * m->dt : m->dt;
+    int axis;
+    for (axis = 0; axis < 2; axis++) {
+        const double *v1 = axis ? RJ__FVY(m, now) : RJ__FVX(m, now);
+        const double *v0 = axis ? RJ__FVY(m, at_n) : RJ__FVX(m, at_n);
+        const double after = v1[n0] + along * (v1[nt] - v1[n0]);
+        const double before = v0[n0] + along * (v0[nt] - v0[n0]);
+        out[axis] = own * ((after - before) / kick - m->solver.gravity[axis]);
+    }
+}
+
+/* Node space with inextensible links or rigid bodies: joint j's pin force as Newton's
+   second law for the links below it, the sum of their nodes' momentum asks
+   (rj__node_momentum) and their bodies' (rj__body_momentum): the elements' forces, their
+   lengths' constraint forces and the pins among them are internal and cancel. below: nl
+   doubles of scratch. Returns 0 where a loop ties them to the rest, or a held body is
+   among them. */
 static int rj__subtree_pin_force(const rj_model *m, const rj_state *s, int j, double *below,
                                  double force[2])
 {
@@ -569,6 +593,14 @@ static int rj__subtree_pin_force(const rj_model *m, const rj_state *s, int j, do
     for (l = 0; l < m->nl; l++) {
         if (below[l] == 0)
             continue;
+        if (m->link_path[l] == RJ__PATH_RIGID) {
+            double ask[2];
+            if (m->cl_fix[l] == 2)
+                return 0;
+            rj__body_momentum(m, s, l, ask);
+            force[0] += ask[0];
+            force[1] += ask[1];
+        }
         for (k = m->link_first[l]; k < m->link_first[l + 1]; k++) {
             double ask[2];
             rj__node_momentum(m, s, k, ask);
@@ -579,21 +611,27 @@ static int rj__subtree_pin_force(const rj_model *m, const rj_state *s, int j, do
     return 1;
 }
 
-/* Where rj_joint_pin_force has no answer yet: node space with inextensible links and
-   rigid bodies together, or a loop tying the links below the joint to the rest (their
-   lengths' forces: rj__subtree_pin_force), a pin between two rigid bodies (their
-   projection's forces), in-place stepping (no rates at n - 1/2), a chord reference (the
-   joint's forces on the pin node) with flexible links, before a step; loops of rigid
-   links (their rows' forces). */
+/* Whether node space takes joint j's pin force from the links below it
+   (rj__subtree_pin_force): with inextensible links (their lengths' forces), and at a pin
+   between two rigid bodies or a rigid body and the ground (their projection's). */
+static int rj__pin_by_subtree(const rj_model *m, int j)
+{
+    const rj__joint *J = &m->jnt[j];
+    return m->any_inext ||
+           (rj__own_body_node(m, J->nJ) && (J->nI < 0 || rj__own_body_node(m, J->nI)));
+}
+
+/* Where rj_joint_pin_force has no answer yet: in-place stepping (no rates at n - 1/2),
+   a chord reference (the joint's forces on the pin node) on the pin node's own balance,
+   before a step; a loop tying the links below the joint to the rest, or a held body among
+   them (rj__subtree_pin_force, NaN); loops of rigid links (their rows' forces). */
 static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
 {
     const rj__joint *J = &m->jnt[j];
     if (m->rigid)
         return m->nloop > 0;
-    if (rj__own_body_node(m, J->nJ) && (J->nI < 0 || rj__own_body_node(m, J->nI)))
-        return 1;
-    if (m->any_inext)
-        return m->ncl || m->ip || !s->at_n;
+    if (rj__pin_by_subtree(m, j))
+        return m->ip || !s->at_n;
     return m->ip || J->chord || !s->at_n;
 }
 
@@ -603,7 +641,7 @@ static size_t rj__pin_work_size(const rj_model *m)
 {
     if (m->rigid)
         return (RJ__KA_N + 2) * ((size_t) m->nl + 1);
-    return m->any_inext ? (size_t) m->nl + 1 : 0;
+    return m->any_inext || m->ncl ? (size_t) m->nl + 1 : 0;
 }
 
 /* Every joint's pin force into forces (2 a joint, NaN where unknown), with work
@@ -622,7 +660,7 @@ static rj_result rj__pin_forces(const rj_model *m, const rj_state *s, double *wo
     for (j = 0; j < m->nj; j++) {
         int unknown = rj__pin_force_unknown(m, s, j);
         forces[2 * j] = forces[2 * j + 1] = 0.0;
-        if (!unknown && !m->rigid && m->any_inext)
+        if (!unknown && !m->rigid && rj__pin_by_subtree(m, j))
             unknown = !rj__subtree_pin_force(m, s, j, work, forces + 2 * j);
         else if (!unknown && !m->rigid)
             rj__node_pin_force(m, s, j, forces + 2 * j);
@@ -650,7 +688,7 @@ RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int j, 
     force[0] = force[1] = 0;
     if (rj__pin_force_unknown(m, s, j))
         return RJ_ERR_INVALID;
-    if (!m->rigid && !m->any_inext) {
+    if (!m->rigid && !rj__pin_by_subtree(m, j)) {
         rj__node_pin_force(m, s, j, force);
         return RJ_OK;
     }

@@ -11,9 +11,17 @@ AB=$(cd "$B" && pwd)
 AT=$(cd "$T" && pwd)
 P=rj
 . tests/checks.sh
-# the header rj run must write for a scene file: its joints' and links' names from the file
+# the header rj run must write for a scene file: its joints' and links' names from the file;
+# W_structural when a material or link section damps (eta, damping, mass_damping not 0) and
+# W_plastic when one yields (yield not 0) (a material no link uses would count too)
 header() {
   awk 'BEGIN { printf "t" }
+       { line = $0; sub(/#.*/, "", line); n = split(line, w)
+         if (n >= 2 && w[2] != "=" && w[1] ~ /^(solver|material|section|link|joint|load|actuator|coupling)$/) sec = w[1]
+         if (sec == "material" || sec == "link")
+           for (i = 1; i + 2 <= n; i++) if (w[i + 1] == "=" && w[i + 2] + 0 != 0) {
+             if (w[i] == "eta" || w[i] == "damping" || w[i] == "mass_damping") structural = 1
+             if (w[i] == "yield") plastic = 1 } }
        $1 == "joint" && $2 != "=" { joints[++nj] = $2 }
        $1 == "link" && $2 != "=" { links[++nl] = $2 }
        $1 == "actuator" && $2 != "=" { drives = 1 }
@@ -24,7 +32,8 @@ header() {
                printf ",%s.Fx,%s.Fy", joints[j], joints[j]
              }
              for (k = 1; k <= nl; k++) printf ",%s.tip_x,%s.tip_y,%s.tip_defl", links[k], links[k], links[k];
-             print ",E_kin,E_strain,E_spring,E_gravity,W_applied" (drives ? ",W_drive" : "") ",W_damping,W_friction,W_limit,E_balance" }' "$1"
+             print ",E_kin,E_strain,E_spring,E_gravity,W_applied" (drives ? ",W_drive" : "") ",W_damping,W_friction,W_limit" \
+               (structural ? ",W_structural" : "") (plastic ? ",W_plastic" : "") ",E_balance" }' "$1"
 }
 # a joint's lock and first-contact times from an rj run summary on stderr: "LOCK FIRST"
 summary_times() { # file, joint
@@ -324,9 +333,9 @@ $B/rj plot $S/solar_array_bus.rjs --t-end 0.2 --what loads --out $T/loads_bus.pn
 ok "plot solar_array_bus.rjs --what loads (a rigid bus): a PNG (status $st), moments of the 4 flexible panels only" \
   "[ $st = 0 ] && [ '$(magic $T/loads_bus.png)' = 89504e47 ] && [ \$(grep -c ': peak |bending moment| ' $T/loads_bus.err) = 4 ] \
    && ! grep -q '^rj plot: bus: peak |bending' $T/loads_bus.err"
-# a rigid link pinned to the ground in a mixed scene: the library has no pin force for j1
-# (a rigid body and the ground), it has one for j2 (to the flexible link b)
-printf 'solver\n  gravity = 0 -9.81\nlink a\n  fidelity = rigid  length = 0.5\nlink b\n  length = 1  elements = 8\njoint j1\n  body1 = ground  body2 = a  angle0 = 0\njoint j2\n  body1 = a  body2 = b  angle0 = 180 deg\n' > $T/mixed_loads.rjs
+# a joint with the paper's chord reference on a flexible pin node: the library has no pin
+# force for j1 (its torque acts on the pin node as forces), it has one for j2
+printf 'solver\n  gravity = 0 -9.81\nlink a\n  length = 0.5  elements = 4\nlink b\n  length = 1  elements = 8\njoint j1\n  body1 = ground  body2 = a  angle0 = 0  reference = chord\njoint j2\n  body1 = a  body2 = b  angle0 = 180 deg\n' > $T/mixed_loads.rjs
 $B/rj plot $T/mixed_loads.rjs --t-end 0.05 --what loads --out $T/loads_mixed.png 2>$T/loads_mixed.err; st=$?
 ok "plot --what loads, a joint without a pin force: said on standard error by name and not drawn, the other drawn (status $st)" \
   "[ $st = 0 ] && [ '$(magic $T/loads_mixed.png)' = 89504e47 ] \
@@ -412,4 +421,68 @@ ok "run: a joint whose links pass through each other: one event (t = 0.316 s, 36
   "[ \$(grep -c 'passed through each other' $T/overlap.err) = 1 ] \
    && grep -qx 'rj run: t = 0.316 s: j2: links a and b passed through each other (it turned through 360 deg; links do not contact each other)' $T/overlap.err \
    && grep -q '^rj run: j2: first contact none, .*, links overlap 0.316 s\$' $T/overlap.err"
+# ---- solar_array_yield.rjs: the array on an aluminium root strip p1 that yields (1100-O,
+# 35 MPa, 16 layers), every link with mass_damping, against its elastic twin (yield = 0,
+# by sed). To 5 s: every hinge has latched (h1 last, at 4.02 s; 3.85 s elastic) and p1 has
+# yielded, from 3.12 s. About 1.5 s for the two runs.
+Y=$S/solar_array_yield.rjs
+sed 's/yield = 35e6/yield = 0/' $Y > $T/yield_elastic.rjs
+$B/rj run $Y --t-end 5 --sample 0.01 --loads p1 --csv $T/yield.csv 2>$T/yield.err; st=$?
+$B/rj run $T/yield_elastic.rjs --t-end 5 --sample 0.01 --loads p1 --csv $T/yield_el.csv 2>$T/yield_el.err; st_el=$?
+ok "solar_array_yield.rjs and its elastic twin run to 5 s (status $st, $st_el), every hinge locks in both" \
+  "[ $st = 0 ] && [ $st_el = 0 ] && grep -q '^  yield = 0 ' $T/yield_elastic.rjs && ! grep -q 'yield = 35e6' $T/yield_elastic.rjs \
+   && grep -q '^rj run: done at t = 5' $T/yield.err && [ \$(grep -c 'locked at' $T/yield.err) = 4 ] && [ \$(grep -c 'locked at' $T/yield_el.err) = 4 ]"
+# the last row's value of column NAME in a CSV, empty when there is no such column
+last_of() { # csv, column name
+  awk -F, -v c="$2" 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == c) k = i; next } END { if (k) print $k }' "$1"
+}
+wp=$(last_of $T/yield.csv W_plastic); ws=$(last_of $T/yield.csv W_structural); bal=$(last_of $T/yield.csv E_balance)
+ws_el=$(last_of $T/yield_el.csv W_structural); bal_el=$(last_of $T/yield_el.csv E_balance)
+ok "solar_array_yield.rjs: W_plastic $wp J at 5 s, its elastic twin has no W_plastic column; both book W_structural ($ws, $ws_el J)" \
+  "awk 'BEGIN { exit !(\"$wp\" + 0 > 1 && \"$ws\" + 0 > 0 && \"$ws_el\" + 0 > 0) }' && ! head -1 $T/yield_el.csv | tr , '\\n' | grep -qx W_plastic"
+ok "solar_array_yield.rjs: the energy balance closes with W_plastic in it, to 1 % of it ($bal J of $wp J; elastic twin $bal_el J)" \
+  "awk 'BEGIN { b = \"$bal\" + 0; e = \"$bal_el\" + 0; exit !(b < 0.01 * \"$wp\" && -b < 0.01 * \"$wp\" && e < 1e-4 && -e < 1e-4) }'"
+# layers that have not yielded are the elastic element to the bit: the two histories, less
+# the W_plastic column, are the same up to the row before p1 first yields, and differ there
+k=$(head -1 $T/yield.csv | tr , '\n' | grep -nx W_plastic | cut -d: -f1)
+first=$(awk -F, -v k="$k" 'NR > 1 && $k > 0 { print NR; exit }' $T/yield.csv)
+ty=$(sed -n "${first:-1}p" $T/yield.csv | cut -d, -f1)
+cut -d, -f1-$((k - 1)),$((k + 1))- $T/yield.csv > $T/yield_less.csv
+ok "solar_array_yield.rjs: the history is its elastic twin's to the bit until p1 first yields (t = $ty s, after h4 and h3 latch), then not" \
+  "[ -n '$first' ] && awk 'BEGIN { exit !(\"$ty\" + 0 > 1.7) }' && head -n $((${first:-2} - 1)) $T/yield_less.csv > $T/a.txt && head -n $((${first:-2} - 1)) $T/yield_el.csv > $T/b.txt \
+   && cmp -s $T/a.txt $T/b.txt && [ \"\$(sed -n '${first:-1}p' $T/yield_less.csv)\" != \"\$(sed -n '${first:-1}p' $T/yield_el.csv)\" ]"
+# the peaks from the summaries: p1's bending moment and stress, h1's pin force
+peak_m() { sed -n 's/^rj run: p1: peak |bending moment| \([0-9.e+]*\) N m.*/\1/p' "$1"; }
+peak_s() { sed -n 's/^rj run: p1: .*peak outer-fibre stress \([0-9.e+]*\) Pa$/\1/p' "$1"; }
+peak_f() { sed -n 's/^rj run: h1: .*peak |pin force| \([0-9.e+]*\) N,.*/\1/p' "$1"; }
+my=$(peak_m $T/yield.err); me=$(peak_m $T/yield_el.err); sy=$(peak_s $T/yield.err); se=$(peak_s $T/yield_el.err)
+# p1's collapse moment: 35e6 x 0.06 x 0.015^2 / 4 = 118.1 N m (the hardening adds a little)
+ok "solar_array_yield.rjs: p1's root carries less when it yields: peak moment $my N m against $me elastic (collapse 118.1), stress $sy against $se Pa" \
+  "awk 'BEGIN { my = \"$my\" + 0; me = \"$me\" + 0; sy = \"$sy\" + 0; se = \"$se\" + 0
+                exit !(my > 100 && my < 1.1 * 118.1 && me > 1.5 * 118.1 && sy > 0.999 * 35e6 && sy < 40e6 && se > 2 * 35e6) }'"
+fy=$(peak_f $T/yield.err); fe=$(peak_f $T/yield_el.err)
+ok "solar_array_yield.rjs: h1's peak pin force is lower when p1 yields ($fy N against $fe N elastic)" \
+  "awk 'BEGIN { exit !(\"$fy\" + 0 > 0 && \"$fy\" + 0 < 0.8 * \"$fe\") }'"
+# ---- the renderer is loaded only to draw: rj check and rj run never open OSMesa (nor LLVM),
+# rj plot does (dlopen on its first rjr_create); the dynamic loader's own log says which
+# libraries a process opened (LD_DEBUG=libs, on standard error)
+LD_DEBUG=libs $B/rj check $S/deploy.rjs > /dev/null 2> $T/ld_check.txt; st=$?
+LD_DEBUG=libs $B/rj run $S/deploy.rjs --t-end 0.001 --csv /dev/null > /dev/null 2> $T/ld_run.txt; st_run=$?
+LD_DEBUG=libs $B/rj plot $S/deploy.rjs --t-end 0.01 --out $T/ld_plot.png > /dev/null 2> $T/ld_plot.txt; st_plot=$?
+ok "check and run load no OSMesa and no LLVM (LD_DEBUG=libs; status $st, $st_run), plot loads libOSMesa (status $st_plot)" \
+  "[ $st = 0 ] && [ $st_run = 0 ] && [ $st_plot = 0 ] && grep -q 'calling init: .*libc\\.so' $T/ld_check.txt \
+   && grep -q 'calling init: .*libc\\.so' $T/ld_run.txt && ! grep -qi -e osmesa -e libLLVM $T/ld_check.txt $T/ld_run.txt \
+   && grep -q 'calling init: .*libOSMesa' $T/ld_plot.txt && [ -s $T/ld_plot.png ]"
+# without OSMesa (RJ_OSMESA names the library file the renderer opens instead of
+# libOSMesa.so.8): plot and animate say which library and the apt-get line, exit 1, write no image
+rm -f $T/noosm.png
+m 1 "^rj plot: cannot load the OSMesa library /nonexistent/libOSMesa\\.so\\.8 .*No such file.*apt-get install libosmesa6" \
+  "plot without OSMesa names the library and how to install it" \
+  env RJ_OSMESA=/nonexistent/libOSMesa.so.8 $B/rj plot $S/deploy.rjs --t-end 0.01 --out $T/noosm.png
+ok "plot without OSMesa writes no PNG" "[ ! -e $T/noosm.png ]"
+m 1 "^rj animate: cannot load the OSMesa library /nonexistent/libOSMesa\\.so\\.8 .*apt-get install libosmesa6" \
+  "animate without OSMesa names the library and how to install it, before the run" \
+  env RJ_OSMESA=/nonexistent/libOSMesa.so.8 $B/rj animate $S/deploy.rjs --t-end 0.01 --out $T/noosm_frames
+ok "animate without OSMesa writes no frame" "[ -z \"\$(ls $T/noosm_frames 2>/dev/null)\" ]"
+t 0 "check runs with RJ_OSMESA pointing nowhere: it never opens the renderer" env RJ_OSMESA=/nonexistent $B/rj check $S/deploy.rjs
 exit 0

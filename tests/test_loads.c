@@ -773,6 +773,79 @@ static void test_pin_force_inextensible(rjt_ctx *c)
     rj_model_destroy(m, NULL);
 }
 
+
+/* A mixed scene's rigid bodies (a clamped flexible strip beside makes the scene mixed):
+   Newton's second law for the bodies below the joint. A chain of two rigid rods hanging
+   at rest (a pin between two bodies: their projection holds it) carries 2 m g at its
+   root and m g between; one rod on a ground pin released level passes the vertical with
+   2.5 m g. */
+static void test_pin_force_bodies(rjt_ctx *c)
+{
+    rj_link_def l[3];
+    rj_joint_def j[2];
+    rj_scene_def sc = rj_default_scene_def();
+    rj_model *m;
+    rj_state *s;
+    rj_error err;
+    double F[2] = { 0, 0 }, F2[2] = { 0, 0 }, before[2] = { 0, 0 }, at[2] = { 0, 0 };
+    double level, turned = 0;
+    const double weight = 2700 * 0.02 * 0.01 * G;
+    int k, rods;
+    for (rods = 2; rods >= 1; rods--) {
+        for (k = 0; k < 2; k++) {
+            l[k] = bar(RJ_LINK_RIGID, 1);
+            j[k] = rj_default_joint_def();
+            j[k].body1 = k - 1;
+            j[k].body2 = k;
+            j[k].angle0 = k ? PI : (rods == 2 ? -0.5 * PI : 0.0);
+        }
+        l[rods] = bar(RJ_LINK_FLEXIBLE, 4);
+        l[rods].root = RJ_ROOT_CLAMPED;
+        l[rods].y = 2.0;
+        sc.links = l;
+        sc.link_count = rods + 1;
+        sc.joints = j;
+        sc.joint_count = rods;
+        sc.solver.gravity[1] = -G;
+        if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) {
+            rjt_check(c, 0, "pin force: bodies", "%s", err.msg);
+            return;
+        }
+        rj_state_create(m, &s, NULL);
+        if (rods == 2) {
+            rj_run(m, s, 0.01, 0, NULL, NULL);
+            rj_joint_pin_force(m, s, 0, F);
+            rj_joint_pin_force(m, s, 1, F2);
+            rjt_check(c, fabs(F[1] / (2 * weight) - 1) < 1e-9 && fabs(F2[1] / weight - 1) < 1e-9,
+                      "pin force: two rigid bodies of a mixed scene hanging at rest carry 2 m g, then m g",
+                      "root (%.3g, %.12g) N, between the bodies (%.3g, %.12g) N against %.12g, %.12g N",
+                      F[0], F[1], F2[0], F2[1], 2 * weight, weight);
+        } else {
+            level = rj_joint_theta_running(m, s, 0);
+            while (rj_state_time(s) < 1.0 && turned < 0.5 * PI) {
+                double turn;
+                rj_joint_pin_force(m, s, 0, before);
+                rj_step(m, s);
+                turn = fabs(rj_joint_theta_running(m, s, 0) - level);
+                if (turned < 0.5 * PI && turn >= 0.5 * PI) {
+                    /* the force is at n: between the last two, linearly at the vertical */
+                    rj_step(m, s);
+                    rj_joint_pin_force(m, s, 0, at);
+                    at[0] = before[0] + (0.5 * PI - turned) / (turn - turned) * (at[0] - before[0]);
+                    at[1] = before[1] + (0.5 * PI - turned) / (turn - turned) * (at[1] - before[1]);
+                }
+                turned = turn;
+            }
+            rjt_check(c, fabs(at[1] / (2.5 * weight) - 1) < 1e-3,
+                      "pin force: a rigid body of a mixed scene on a ground pin passes the vertical with 2.5 m g",
+                      "(%.4g, %.6g) N against (0, %.6g) N (%+.1e)", at[0], at[1], 2.5 * weight,
+                      at[1] / (2.5 * weight) - 1);
+        }
+        rj_state_destroy(s, NULL);
+        rj_model_destroy(m, NULL);
+    }
+}
+
 /* The pin force (rj_joint_pin_force) against Newton: a rod hanging at rest carries m g;
    a chain of two hanging rods carries 2 m g at its root, m g at its middle; a rod
    released level passes the vertical with 2.5 m g (omega^2 = 3 g / L there, the centre
@@ -829,6 +902,7 @@ static void test_pin_force(rjt_ctx *c)
     test_pin_force_rod(c);
     test_pin_force_mixed(c);
     test_pin_force_inextensible(c);
+    test_pin_force_bodies(c);
 }
 
 /* ---- structural damping: free decay against eta omega_n / 2 and alpha / (2 omega_n) */
