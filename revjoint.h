@@ -773,6 +773,7 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2); /* E
 #define RJ_SCENE_MAX_SECTIONS  64
 #define RJ_SCENE_MAX_LINE      1024 /* characters per line, line end excluded */
 #define RJ_SCENE_MAX_TOKENS    512 /* tokens per statement (a statement may continue after a ',') */
+#define RJ_SCENE_MAX_SETS      64  /* changes given to rj_scene_parse_set */
 #define RJ_SCENE_NAME_MAX      32  /* names are 1..31 characters */
 #define RJ_SCENE_MAX_BYTES     (64u << 20) /* input size */
 #define RJ_SCENE_TITLE_MAX     128         /* a title is 0..127 bytes */
@@ -830,6 +831,19 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
    be opened or read gives RJ_ERR_PARSE, err->field "path", err->value errno and err->msg
    "path: cannot open the file for reading: " and the system's reason (strerror). */
 RJDEF rj_result rj_scene_load(const char *path, rj_scene_file *out, rj_error *err);
+/* The same with changes on top of the text, each as if written last in its section
+   (a key the file sets is set again): sets[k] is "KIND.NAME.KEY=VALUE" (KIND material,
+   section, link, joint, load, actuator or coupling; NAME the item's name in the file)
+   or "solver.KEY=VALUE", the value as a file writes it ("link.arm1.E=69e9",
+   "joint.j2.forward=181 deg", "solver.gravity=0 -9.81"). A material's change reaches
+   the links that name it. Each is read, checked and refused as a line of the file would
+   be, its messages "--set:K:COL:" for change K; a change naming no item of the file is
+   refused, naming it. At most RJ_SCENE_MAX_SETS. */
+RJDEF rj_result rj_scene_parse_set(const char *text, size_t len, const char *filename,
+                                   const char *const *sets, int nsets, rj_scene_file *out,
+                                   rj_error *err);
+RJDEF rj_result rj_scene_load_set(const char *path, const char *const *sets, int nsets,
+                                  rj_scene_file *out, rj_error *err);
 /* A scene definition pointing into f (valid until rj_scene_file_free). */
 RJDEF rj_scene_def rj_scene_file_def(const rj_scene_file *f);
 RJDEF void rj_scene_file_free(rj_scene_file *f);
@@ -14743,6 +14757,10 @@ typedef struct rj__sp {
     int title_line;              /* line of the title statement, 0 none yet */
     char where[80], forkey[128]; /* message pieces */
     rj_result code;              /* of the first error */
+    const char *const *sets;     /* rj_scene_parse_set's changes, each taken at its section's end */
+    int nsets;
+    unsigned long long sets_done; /* bit k: sets[k] taken */
+    rj__stok *set_tok;            /* their tokens */
 } rj__sp;
 
 /* ------------------------------------------------------------------ small helpers */
@@ -16066,10 +16084,138 @@ static unsigned rj__sp_take_material(const rj__spart *s, unsigned eff, rj_link_d
     return eff | s->mask;
 }
 
+/* ------------------------------------------------------------------ changes (--set) */
+static int rj__sp_next(rj__sp *P);
+static int rj__sp_assignments(rj__sp *P);
+
+/* A change "KIND.NAME.KEY=VALUE" ("solver.KEY=VALUE"): its section kind, its item's name
+   and its key, each a start and a length (a name may hold dots: the key follows the last
+   one before the '='). Returns 0 when it is not of that form. */
+typedef struct rj__sp_set {
+    int kind;
+    const char *name, *key;
+    int nlen, klen;
+} rj__sp_set;
+
+static int rj__sp_set_split(const char *s, rj__sp_set *o)
+{
+    const char *eq = strchr(s, '=');
+    const char *dot = strchr(s, '.');
+    const char *last = NULL, *c;
+    int k;
+    if (!eq || !dot || dot > eq)
+        return 0;
+    o->kind = 0;
+    for (k = RJ__SK_SOLVER; k <= RJ__SK_COUPLING; k++)
+        if (strlen(rj__sk_kind[k]) == (size_t) (dot - s) &&
+            strncmp(s, rj__sk_kind[k], (size_t) (dot - s)) == 0)
+            o->kind = k;
+    for (c = dot; c < eq; c++)
+        if (*c == '.')
+            last = c;
+    o->name = dot + 1;
+    o->nlen = o->kind == RJ__SK_SOLVER ? 0 : (int) (last - dot - 1);
+    o->key = o->kind == RJ__SK_SOLVER ? dot + 1 : last + 1;
+    o->klen = (int) (eq - o->key);
+    return o->kind && o->klen > 0 && (o->kind == RJ__SK_SOLVER || o->nlen > 0);
+}
+
+/* Change k into the current item, as a statement written last in its section (its key,
+   if the file set it, set again; its position none, for validation's messages): read
+   from the change's own text, "--set" line k + 1 in messages. */
+static int rj__sp_set_take(rj__sp *P, int k, const rj__sp_set *o)
+{
+    const char *text = P->text, *fname = P->fname;
+    const size_t len = P->len, at = P->at;
+    const int lineno = P->lineno, ntok = P->ntok;
+    rj__stok *tok = P->tok;
+    int ok, key = -1;
+    P->text = P->sets[k];
+    P->len = strlen(P->sets[k]);
+    P->at = 0;
+    P->lineno = k;
+    P->fname = "--set";
+    P->tok = P->set_tok;
+    ok = rj__sp_next(P) > 0 && P->ntok >= 2 && P->tok[1].kind == '=';
+    if (ok) {
+        /* the statement's key: the change's last part before '=' */
+        P->tok[0].col += (int) (o->key - P->sets[k]);
+        P->tok[0].s = o->key;
+        P->tok[0].len = o->klen;
+        key = rj__sp_key_index(P->kind, &P->tok[0]);
+        if (key >= 0)
+            P->seen &= ~(1u << key);
+        ok = rj__sp_assignments(P);
+        if (ok && key >= 0)
+            rj__sp_pos(P, key)->line = 0;
+    } else if (P->code == RJ_OK)
+        rj__sp_fail(P, k + 1, 1, "set", rj__sp_nan(), "expected KIND.NAME.KEY=VALUE");
+    P->text = text;
+    P->len = len;
+    P->at = at;
+    P->lineno = lineno;
+    P->fname = fname;
+    P->tok = tok;
+    P->ntok = ntok;
+    P->sets_done |= 1ull << k;
+    return ok;
+}
+
+/* The changes for the section that ends here (its kind and its item's name). */
+static int rj__sp_sets(rj__sp *P)
+{
+    int k;
+    for (k = 0; k < P->nsets; k++) {
+        rj__sp_set o;
+        const char *name = rj__sp_item_name(P);
+        if ((P->sets_done >> k & 1u) || !rj__sp_set_split(P->sets[k], &o) || o.kind != P->kind)
+            continue;
+        if (o.kind != RJ__SK_SOLVER &&
+            (strlen(name) != (size_t) o.nlen || strncmp(name, o.name, (size_t) o.nlen) != 0))
+            continue;
+        if (!rj__sp_set_take(P, k, &o))
+            return 0;
+    }
+    return 1;
+}
+
+/* After the file: changes of the solver when it has no section (the defaults take them),
+   and a change that named no item of the file, or no kind: refused, naming it. */
+static int rj__sp_sets_left(rj__sp *P)
+{
+    int k;
+    for (k = 0; k < P->nsets; k++) {
+        rj__sp_set o;
+        if (P->sets_done >> k & 1u)
+            continue;
+        if (!rj__sp_set_split(P->sets[k], &o) && (P->fname = "--set") != NULL)
+            return rj__sp_fail(P, k + 1, 1, "set", rj__sp_nan(),
+                               "a change is KIND.NAME.KEY=VALUE, or solver.KEY=VALUE; KIND is "
+                               "material, section, link, joint, load, actuator or coupling");
+        if (o.kind == RJ__SK_SOLVER) {
+            P->kind = RJ__SK_SOLVER;
+            P->seen = 0;
+            if (!rj__sp_set_take(P, k, &o))
+                return 0;
+            continue;
+        }
+        P->fname = "--set";
+        {
+            char name[RJ_SCENE_NAME_MAX], m[200];
+            snprintf(name, sizeof name, "%.*s", o.nlen < RJ_SCENE_NAME_MAX ? o.nlen : 0, o.name);
+            snprintf(m, sizeof m, "the file has no %s '%s' to change", rj__sk_kind[o.kind], name);
+            return rj__sp_fail(P, k + 1, (int) (o.name - P->sets[k]) + 1, "set", rj__sp_nan(), m);
+        }
+    }
+    return 1;
+}
+
 /* checks and completes the section that ends here */
 static int rj__sp_finish(rj__sp *P)
 {
     char what[80];
+    if (P->nsets && P->kind != RJ__SK_NONE && !rj__sp_sets(P))
+        return 0;
     switch (P->kind) {
     case RJ__SK_NONE:
     case RJ__SK_SOLVER:
@@ -16904,13 +17050,16 @@ RJDEF void rj_scene_file_locate(const rj_scene_file *f, rj_error *err)
     memcpy(err->msg, m, sizeof m);
 }
 
-RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *filename,
-                                  rj_scene_file *out, rj_error *err, void *alloc_ctx)
+/* The parser: rj_scene_parse_ex, with the changes sets (nsets, 0..RJ_SCENE_MAX_SETS)
+   taken at their sections' ends. */
+static rj_result rj__sp_parse(const char *text, size_t len, const char *filename,
+                              const char *const *sets, int nsets, rj_scene_file *out,
+                              rj_error *err, void *alloc_ctx)
 {
     rj__sp P;
     rj_scene_file F;
     int counts[RJ__SK_COUNT], r;
-    size_t off = 0, o_links, o_joints, o_lpos, o_jpos, o_lnames, o_jnames, w_tok, w_mat, w_sec;
+    size_t off = 0, o_links, o_joints, o_lpos, o_jpos, o_lnames, o_jnames, w_tok, w_mat, w_sec, w_set;
     size_t o_loads, o_apos, o_anames, o_acts, o_cpos, o_cnames, o_cps, o_ppos, o_pnames;
     char *block = NULL, *work = NULL;
     memset(&P, 0, sizeof P);
@@ -16977,6 +17126,7 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     w_tok = rj__sp_carve(&off, RJ_SCENE_MAX_TOKENS, sizeof(rj__stok));
     w_mat = rj__sp_carve(&off, (size_t) P.cap_mat, sizeof(rj__spart));
     w_sec = rj__sp_carve(&off, (size_t) P.cap_sec, sizeof(rj__spart));
+    w_set = rj__sp_carve(&off, nsets ? RJ_SCENE_MAX_TOKENS : 0, sizeof(rj__stok));
     work = block ? (char *) RJ_MALLOC(off + 16, alloc_ctx) : NULL;
     if (!block || !work) {
         if (block)
@@ -17014,6 +17164,9 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
     P.tok = (rj__stok *) (void *) (work + w_tok);
     P.mat = (rj__spart *) (void *) (work + w_mat);
     P.sec = (rj__spart *) (void *) (work + w_sec);
+    P.set_tok = (rj__stok *) (void *) (work + w_set);
+    P.sets = sets;
+    P.nsets = nsets;
     P.kind = RJ__SK_NONE;
 
     while ((r = rj__sp_next(&P)) > 0) {
@@ -17030,7 +17183,7 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
         } else if (!rj__sp_header(&P))
             goto fail;
     }
-    if (r < 0 || !rj__sp_finish(&P))
+    if (r < 0 || !rj__sp_finish(&P) || (nsets && !rj__sp_sets_left(&P)))
         goto fail;
     if (F.link_count == 0) {
         rj__sp_fail(&P, P.lineno > 0 ? P.lineno : 1, 1, "link_count", 0,
@@ -17060,10 +17213,49 @@ fail:
     return P.code != RJ_OK ? P.code : RJ_ERR_PARSE;
 }
 
+RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *filename,
+                                  rj_scene_file *out, rj_error *err, void *alloc_ctx)
+{
+    return rj__sp_parse(text, len, filename, NULL, 0, out, err, alloc_ctx);
+}
+
 RJDEF rj_result rj_scene_parse(const char *text, size_t len, const char *filename,
                                rj_scene_file *out, rj_error *err)
 {
     return rj_scene_parse_ex(text, len, filename, out, err, NULL);
+}
+
+/* The changes' own checks: a count in 0..RJ_SCENE_MAX_SETS, each a string of a line's
+   length at most. */
+static int rj__sp_sets_ok(const char *const *sets, int nsets, rj_error *err)
+{
+    int k;
+    const char *bad = nsets < 0 || nsets > RJ_SCENE_MAX_SETS || (nsets && !sets)
+                          ? "must be 0..64 changes, and the array there"
+                          : NULL;
+    for (k = 0; !bad && k < nsets; k++)
+        if (!sets[k] || strlen(sets[k]) > RJ_SCENE_MAX_LINE)
+            bad = "a change is a string of at most RJ_SCENE_MAX_LINE characters";
+    if (!bad)
+        return 1;
+    if (err) {
+        err->code = RJ_ERR_INVALID;
+        snprintf(err->field, sizeof err->field, "nsets");
+        err->value = nsets;
+        snprintf(err->msg, sizeof err->msg, "nsets = %d: %s", nsets, bad);
+    }
+    return 0;
+}
+
+RJDEF rj_result rj_scene_parse_set(const char *text, size_t len, const char *filename,
+                                   const char *const *sets, int nsets, rj_scene_file *out,
+                                   rj_error *err)
+{
+    if (out)
+        memset(out, 0, sizeof *out);
+    if (!rj__sp_sets_ok(sets, nsets, err))
+        return RJ_ERR_INVALID;
+    return rj__sp_parse(text, len, filename, sets, nsets, out, err, NULL);
 }
 
 /* a failure of rj_scene_load: "path: what: the system's reason" when errnum is set (the
@@ -17121,7 +17313,8 @@ static rj_result rj__sp_read(FILE *fp, const char *path, char **buf, size_t *n, 
     return RJ_OK;
 }
 
-RJDEF rj_result rj_scene_load(const char *path, rj_scene_file *out, rj_error *err)
+RJDEF rj_result rj_scene_load_set(const char *path, const char *const *sets, int nsets,
+                                  rj_scene_file *out, rj_error *err)
 {
     FILE *fp;
     char *buf = NULL;
@@ -17138,6 +17331,8 @@ RJDEF rj_result rj_scene_load(const char *path, rj_scene_file *out, rj_error *er
         }
         return RJ_ERR_INVALID;
     }
+    if (!rj__sp_sets_ok(sets, nsets, err))
+        return RJ_ERR_INVALID;
     errno = 0;
     fp = fopen(path, "rb");
     if (!fp)
@@ -17146,10 +17341,15 @@ RJDEF rj_result rj_scene_load(const char *path, rj_scene_file *out, rj_error *er
     r = rj__sp_read(fp, path, &buf, &n, err);
     fclose(fp);
     if (r == RJ_OK)
-        r = rj_scene_parse_ex(buf, n, path, out, err, NULL);
+        r = rj__sp_parse(buf, n, path, sets, nsets, out, err, NULL);
     if (buf)
         RJ_FREE(buf, NULL);
     return r;
+}
+
+RJDEF rj_result rj_scene_load(const char *path, rj_scene_file *out, rj_error *err)
+{
+    return rj_scene_load_set(path, NULL, 0, out, err);
 }
 
 RJDEF rj_scene_def rj_scene_file_def(const rj_scene_file *f)

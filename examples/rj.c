@@ -47,6 +47,8 @@ static const char usage_main[] =
     "failed while being written; 2 bad usage, an invalid scene (file:line:col: message),\n"
     "a missing file, or an output that cannot be opened.\n";
 
+/* rj run's usage in two parts, each within the 4095 characters C99 asks compilers to take
+   in one string; cmd_run joins them. */
 static const char usage_run[] =
     "usage: rj run SCENE.rjs [options]\n"
     "  Simulates the scene and writes its history as CSV, one row per sample.\n"
@@ -74,6 +76,12 @@ static const char usage_run[] =
     "                     on for --t-end, and the t column is the library's time; steps,\n"
     "                     losses and work in the energy columns count from there. Progress\n"
     "                     (steps, time) as the run's: --progress, or on a terminal after 2 s\n"
+    "  --set KIND.NAME.KEY=VALUE  change one field of the scene, as if written last in\n"
+    "                     its section (repeatable, 64 at most): link.arm1.E=69e9,\n"
+    "                     material.alu.rho=2700, joint.j2.forward=181 deg,\n"
+    "                     solver.gravity=0 -9.81 (rj_scene_load_set)\n"
+    ;
+static const char usage_run_output[] =
     "  Columns: t (s); for each joint J: J.theta_deg (running angle), J.rate (rad/s), J.flag\n"
     "  (0 free, 1 at the forward limit, 2 at the reverse limit, 3 locked), J.torque_spring,\n"
     "  J.torque_table, J.torque_damping, J.torque_friction, J.torque_limit (N m on body 2),\n"
@@ -84,8 +92,9 @@ static const char usage_run[] =
     "  tangent at node 0, counter-clockwise positive); for each probe L.N.x, L.N.y (m),\n"
     "  L.N.phi (rad); E_kin, E_strain, E_spring, E_gravity (J: gravity's potential, -m g . x),\n"
     "  W_applied (J: work of the scene's loads so far), W_drive (J: the actuators' work, in\n"
-    "  scenes with actuators), W_damping, W_friction, W_limit (J lost\n"
-    "  so far), E_balance (J: energy + losses - initial; rj_state_energy at the row's step).\n"
+    "  scenes with actuators), W_damping, W_friction, W_limit (J lost so far), W_structural\n"
+    "  and W_plastic (J, in scenes whose links damp or yield), E_balance (J: energy + losses\n"
+    "  - initial; rj_state_energy at the row's step).\n"
     "  Standard error: the model's warnings, then events as they happen (contacts, locks,\n"
     "  releases, late contacts; at the time of the state the library decided them on, as\n"
     "  rj_joint_event_time; the links of a joint passing through each other, once per\n"
@@ -114,6 +123,10 @@ static const char usage_check[] =
     "  The steps are timed from the scene's start: a scene whose steps fail there (a blow-up,\n"
     "  a step too large) is not valid; the first line and the cost line say so.\n"
     "  --dt S             time step, instead of the file's solver.dt (0 = automatic)\n"
+    "  --set KIND.NAME.KEY=VALUE  change one field of the scene, as if written last in\n"
+    "                     its section (repeatable, 64 at most): link.arm1.E=69e9,\n"
+    "                     material.alu.rho=2700, joint.j2.forward=181 deg,\n"
+    "                     solver.gravity=0 -9.81 (rj_scene_load_set)\n"
     "  --assemble FILE    close the scene's loops first (rj_scene_assemble: the angle0 of\n"
     "                     the joints on each loop but its first move the least that closes\n"
     "                     it), write the corrected scene to FILE and check that\n"
@@ -141,6 +154,10 @@ static const char usage_plot[] =
     "                     At most 8 series a plot: the first 8 (said on stderr).\n"
     "  --t-end S          simulated time (default 1 s)\n"
     "  --dt S             time step, instead of the file's solver.dt (0 = automatic)\n"
+    "  --set KIND.NAME.KEY=VALUE  change one field of the scene, as if written last in\n"
+    "                     its section (repeatable, 64 at most): link.arm1.E=69e9,\n"
+    "                     material.alu.rho=2700, joint.j2.forward=181 deg,\n"
+    "                     solver.gravity=0 -9.81 (rj_scene_load_set)\n"
     "  --size WxH         image size (default 900x560)\n"
     "  --progress, --force  as rj run\n"
     "  Samples every 1 ms (every step when the step is longer), or t-end / 20000 if longer.\n"
@@ -163,6 +180,10 @@ static const char usage_animate[] =
     "  --size WxH         image size (default 640x480)\n"
     "  --t-end S          simulated time (default 1 s)\n"
     "  --dt S             time step, instead of the file's solver.dt (0 = automatic)\n"
+    "  --set KIND.NAME.KEY=VALUE  change one field of the scene, as if written last in\n"
+    "                     its section (repeatable, 64 at most): link.arm1.E=69e9,\n"
+    "                     material.alu.rho=2700, joint.j2.forward=181 deg,\n"
+    "                     solver.gravity=0 -9.81 (rj_scene_load_set)\n"
     "  --mp4 FILE         also encode FILE with ffmpeg when it is on PATH; otherwise print\n"
     "                     the ffmpeg command to run\n"
     "  --progress         as rj run\n"
@@ -186,6 +207,8 @@ typedef struct opts {
     const char **loads; /* rj run --loads: link names (the second half of probes' array) */
     int nprobes, nloads, what, w, h, progress, force;
     int plain;   /* rj animate: build/animate's frames, without the reading aids */
+    const char **sets; /* --set: changes to the scene (rj_scene_load_set) */
+    int nsets;
     int settle;  /* rj run: start from the static equilibrium (rj_settle) */
 } opts;
 
@@ -208,6 +231,11 @@ static void opts_default(opts *o, int cmd, int argc)
         exit(1);
     }
     o->loads = o->probes + (argc > 0 ? argc : 1);
+    o->sets = (const char **)malloc(sizeof(char *) * (size_t)(argc > 0 ? argc : 1));
+    if (!o->sets) {
+        fprintf(stderr, "rj: out of memory\n");
+        exit(1);
+    }
 }
 
 /* Every option and the subcommands that take it: an option is parsed only for these, and
@@ -221,7 +249,8 @@ static const optname optnames[] = {
     { "--size", CMD_PLOT | CMD_ANIMATE },               { "--csv", CMD_RUN },
     { "--sample", CMD_RUN },   { "--nodes", CMD_RUN },  { "--probe", CMD_RUN },   { "--loads", CMD_RUN },
     { "--settle", CMD_RUN },   { "--what", CMD_PLOT },  { "--fps", CMD_ANIMATE },
-    { "--mp4", CMD_ANIMATE },  { "--plain", CMD_ANIMATE }, { "--assemble", CMD_CHECK }
+    { "--mp4", CMD_ANIMATE },  { "--plain", CMD_ANIMATE }, { "--assemble", CMD_CHECK },
+    { "--set", CMD_ALL }
 };
 #define NOPTS ((int)(sizeof optnames / sizeof optnames[0]))
 static const char *const cmd_names[] = { "run", "check", "plot", "animate" };
@@ -271,6 +300,7 @@ static int opt_shared(cli *c, opts *o, const char *a)
     else if (!strcmp(a, "--progress")) o->progress = 1;
     else if (!strcmp(a, "--force")) o->force = 1;
     else if (!strcmp(a, "--out")) o->out = cli_str(c, a);
+    else if (!strcmp(a, "--set")) o->sets[o->nsets++] = cli_str(c, a);
     else if (!strcmp(a, "--size")) {
         /* each side 16 .. 8192 pixels, as build/animate */
         static const int lim[4] = { 16, 8192, 16, 8192 };
@@ -334,13 +364,13 @@ typedef struct scene {
 /* Loads and builds the scene, with solver.dt replaced when dt >= 0. Prints the parser's or
    the model's message as they give it ("file:line:col: message"); a step the command
    line set is blamed on the option, not on the file's dt key. Returns 0, or 2. */
-static int scene_open(scene *sc, const char *path, double dt)
+static int scene_open(scene *sc, const char *path, double dt, const char **sets, int nsets)
 {
     rj_error e;
     rj_scene_def d;
     sc->path = path;
     sc->m = NULL;
-    if (rj_scene_load(path, &sc->f, &e) != RJ_OK) {
+    if (rj_scene_load_set(path, sets, nsets, &sc->f, &e) != RJ_OK) {
         fprintf(stderr, "%s\n", e.msg);
         return 2;
     }
@@ -1142,8 +1172,10 @@ static int cmd_run(int argc, char **argv)
     probe *pr;
     int *load_links;
     int st = 2;
-    opts_parse(&o, CMD_RUN, argc, argv, usage_run);
-    if (scene_open(&sc, o.scene, o.dt) != 0) return 2;
+    char usage[sizeof usage_run + sizeof usage_run_output];
+    snprintf(usage, sizeof usage, "%s%s", usage_run, usage_run_output);
+    opts_parse(&o, CMD_RUN, argc, argv, usage);
+    if (scene_open(&sc, o.scene, o.dt, o.sets, o.nsets) != 0) return 2;
     pr = (probe *)malloc(sizeof(probe) * (size_t)(o.nprobes + 1));
     load_links = (int *)malloc(sizeof(int) * (size_t)(o.nloads + 1));
     c.pin = (double *)malloc(sizeof(double) * 2 * (size_t)(rj_model_joint_count(sc.m) + 1));
@@ -1801,7 +1833,7 @@ static int cmd_check(int argc, char **argv)
     }
     check_progress_start(o.progress);
     check_phase("loading %s and building its model (the step bound: Lanczos on the whole model)", o.scene);
-    if (scene_open(&sc, o.scene, o.dt) != 0) {
+    if (scene_open(&sc, o.scene, o.dt, o.sets, o.nsets) != 0) {
         check_progress_stop();
         return 2;
     }
@@ -2198,7 +2230,7 @@ static int cmd_plot(int argc, char **argv)
     int st;
     opts_parse(&o, CMD_PLOT, argc, argv, usage_plot);
     free((void *)o.probes);
-    if (scene_open(&sc, o.scene, o.dt) != 0) return 2;
+    if (scene_open(&sc, o.scene, o.dt, o.sets, o.nsets) != 0) return 2;
     cli_check_steps("rj plot", o.t_end, rj_model_dt(sc.m), o.force);
     if (cli_mkparent("rj plot", o.out) != 0 || out_writable("rj plot", o.out) != 0) return 2;
     model_warnings(&sc, "rj plot");
@@ -2413,7 +2445,7 @@ static int cmd_animate(int argc, char **argv)
     int st;
     opts_parse(&o, CMD_ANIMATE, argc, argv, usage_animate);
     free((void *)o.probes);
-    if (scene_open(&sc, o.scene, o.dt) != 0) return 2;
+    if (scene_open(&sc, o.scene, o.dt, o.sets, o.nsets) != 0) return 2;
     animate_bounds(&o, &sc);
     if (o.mp4 && (cli_mkparent("rj animate", o.mp4) != 0 || out_writable("rj animate", o.mp4) != 0)) return 2;
     model_warnings(&sc, "rj animate");

@@ -773,6 +773,7 @@ RJDEF void rj_energy_balance(double I1, double I2, double *w1, double *w2); /* E
 #define RJ_SCENE_MAX_SECTIONS  64
 #define RJ_SCENE_MAX_LINE      1024 /* characters per line, line end excluded */
 #define RJ_SCENE_MAX_TOKENS    512 /* tokens per statement (a statement may continue after a ',') */
+#define RJ_SCENE_MAX_SETS      64  /* changes given to rj_scene_parse_set */
 #define RJ_SCENE_NAME_MAX      32  /* names are 1..31 characters */
 #define RJ_SCENE_MAX_BYTES     (64u << 20) /* input size */
 #define RJ_SCENE_TITLE_MAX     128         /* a title is 0..127 bytes */
@@ -830,6 +831,19 @@ RJDEF rj_result rj_scene_parse_ex(const char *text, size_t len, const char *file
    be opened or read gives RJ_ERR_PARSE, err->field "path", err->value errno and err->msg
    "path: cannot open the file for reading: " and the system's reason (strerror). */
 RJDEF rj_result rj_scene_load(const char *path, rj_scene_file *out, rj_error *err);
+/* The same with changes on top of the text, each as if written last in its section
+   (a key the file sets is set again): sets[k] is "KIND.NAME.KEY=VALUE" (KIND material,
+   section, link, joint, load, actuator or coupling; NAME the item's name in the file)
+   or "solver.KEY=VALUE", the value as a file writes it ("link.arm1.E=69e9",
+   "joint.j2.forward=181 deg", "solver.gravity=0 -9.81"). A material's change reaches
+   the links that name it. Each is read, checked and refused as a line of the file would
+   be, its messages "--set:K:COL:" for change K; a change naming no item of the file is
+   refused, naming it. At most RJ_SCENE_MAX_SETS. */
+RJDEF rj_result rj_scene_parse_set(const char *text, size_t len, const char *filename,
+                                   const char *const *sets, int nsets, rj_scene_file *out,
+                                   rj_error *err);
+RJDEF rj_result rj_scene_load_set(const char *path, const char *const *sets, int nsets,
+                                  rj_scene_file *out, rj_error *err);
 /* A scene definition pointing into f (valid until rj_scene_file_free). */
 RJDEF rj_scene_def rj_scene_file_def(const rj_scene_file *f);
 RJDEF void rj_scene_file_free(rj_scene_file *f);

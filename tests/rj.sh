@@ -485,4 +485,23 @@ m 1 "^rj animate: cannot load the OSMesa library /nonexistent/libOSMesa\\.so\\.8
   env RJ_OSMESA=/nonexistent/libOSMesa.so.8 $B/rj animate $S/deploy.rjs --t-end 0.01 --out $T/noosm_frames
 ok "animate without OSMesa writes no frame" "[ -z \"\$(ls $T/noosm_frames 2>/dev/null)\" ]"
 t 0 "check runs with RJ_OSMESA pointing nowhere: it never opens the renderer" env RJ_OSMESA=/nonexistent $B/rj check $S/deploy.rjs
+# ---- --set: a change on the command line is the same edit in the file, byte for byte in
+# the history; a material's reaches its links; a bad one is refused naming it
+sed 's/^  length = 1.006423  elements = 10$/  length = 1.006423  elements = 10  E = 60e9/' $S/deploy.rjs > $T/set_link.rjs
+sed 's/^  E = 7e10   /  E = 69e9   /' $S/deploy.rjs > $T/set_mat.rjs
+$B/rj run $S/deploy.rjs --t-end 0.05 --set link.arm1.E=60e9 --csv $T/set_a.csv 2>/dev/null
+$B/rj run $T/set_link.rjs --t-end 0.05 --csv $T/set_b.csv 2>/dev/null
+$B/rj run $S/deploy.rjs --t-end 0.05 --csv $T/set_0.csv 2>/dev/null
+ok "run --set link.arm1.E=60e9: the history of the file with E = 60e9 in link arm1, byte for byte, not the original's" \
+  "grep -q 'E = 60e9' $T/set_link.rjs && cmp -s $T/set_a.csv $T/set_b.csv && ! cmp -s $T/set_a.csv $T/set_0.csv"
+$B/rj run $S/deploy.rjs --t-end 0.05 --set material.alu.E=69e9 --csv $T/set_c.csv 2>/dev/null
+$B/rj run $T/set_mat.rjs --t-end 0.05 --csv $T/set_d.csv 2>/dev/null
+ok "run --set material.alu.E=69e9 reaches both links, as the edited material does" \
+  "grep -q 'E = 69e9' $T/set_mat.rjs && cmp -s $T/set_c.csv $T/set_d.csv && ! cmp -s $T/set_c.csv $T/set_0.csv"
+m 2 "^--set:1:6: the file has no link 'arm3' to change" "run --set naming a link the file does not have is refused, naming it" \
+  $B/rj run $S/deploy.rjs --set link.arm3.E=1
+m 2 "^--set:2:16: E = -3 is out of range in material 'alu'" "check --set with a value out of range: the change's number and the rule" \
+  $B/rj check $S/deploy.rjs --set solver.dt=0 --set material.alu.E=-3
+m 2 "unknown key 'fricton' in joint 'j1'; did you mean 'friction'" "check --set with a misspelt key gets did you mean" \
+  $B/rj check $S/deploy.rjs --set joint.j1.fricton=0.1
 exit 0

@@ -1145,6 +1145,37 @@ static void test_locale(void)
     setlocale(LC_NUMERIC, "C");
 }
 
+/* Changes on top of a text (rj_scene_parse_set): a solver change where the text has no
+   solver section takes the defaults' place; a section's change reaches the links that
+   name it; a link's replaces its own key; more than RJ_SCENE_MAX_SETS changes, or a NULL
+   one, are refused naming nsets; nothing is left allocated. */
+static void test_parse_set(void)
+{
+    static const char text[] = "section strip\n  width = 0.05  height = 0.01\n"
+                               "link a\n  length = 1  section = strip  E = 7e10\n";
+    const char *sets[3] = { "solver.gravity=0 -9.81", "section.strip.width=0.02", "link.a.E=6e10" };
+    const char *many[RJ_SCENE_MAX_SETS + 1];
+    rj_scene_file f;
+    rj_error e;
+    char d[300];
+    int k, ok;
+    ok = rj_scene_parse_set(text, sizeof text - 1, "s.rjs", sets, 3, &f, &e) == RJ_OK;
+    snprintf(d, sizeof d, "%s: gravity %g, width %g, E %g", ok ? "read" : e.msg,
+             ok ? f.solver.gravity[1] : NAN, ok ? f.links[0].width : NAN, ok ? f.links[0].E : NAN);
+    check(ok && f.solver.gravity[1] == -9.81 && f.links[0].width == 0.02 && f.links[0].E == 6e10,
+          "parse_set: the solver's, a section's and a link's changes all taken", d);
+    if (ok)
+        rj_scene_file_free(&f);
+    for (k = 0; k <= RJ_SCENE_MAX_SETS; k++)
+        many[k] = "link.a.E=6e10";
+    ok = rj_scene_parse_set(text, sizeof text - 1, "s.rjs", many, RJ_SCENE_MAX_SETS + 1, &f, &e) ==
+             RJ_ERR_INVALID &&
+         strcmp(e.field, "nsets") == 0;
+    many[1] = NULL;
+    ok = ok && rj_scene_parse_set(text, sizeof text - 1, "s.rjs", many, 2, &f, &e) == RJ_ERR_INVALID;
+    check(ok, "parse_set: 65 changes, or a NULL one, refused naming nsets", e.msg);
+}
+
 int main(int argc, char **argv)
 {
     if (argc > 1) g_dir = argv[1];
@@ -1175,6 +1206,7 @@ int main(int argc, char **argv)
     test_title_examples();
     test_api();
     test_locale();
+    test_parse_set();
     {
         char d[100];
         snprintf(d, sizeof d, "%ld blocks live after every test", g_alloc.live);
