@@ -1,9 +1,11 @@
 /* rj - one program for scene files (.rjs): run a scene to a CSV history, check what a
-   scene is and what a simulated second costs, plot a run, render it to PNG frames.
+   scene is and what a simulated second costs, plot a run, render it to PNG frames, sweep
+   it over random samples of its keys.
      rj run examples/scenes/deploy.rjs --t-end 6 --csv out/deploy.csv
      rj check examples/scenes/solar_array.rjs
      rj plot examples/scenes/solar_array.rjs --t-end 4 --out angles.png
      rj animate examples/scenes/deploy.rjs --t-end 6 --out out/frames --mp4 deploy.mp4
+     rj sweep examples/scenes/solar_array.rjs --vary joint.h1.friction=0.01:0.03 --samples 100
    Every subcommand loads the file with rj_scene_load and names links and joints as the
    file does. Exit status: 0 done; 1 the simulation stopped or an output failed while
    being written; 2 bad usage, an invalid scene, a missing file, an output that cannot be
@@ -42,6 +44,8 @@ static const char usage_main[] =
     "  plot     simulate and plot joint angles, limit torques, tip deflections, energies\n"
     "           or loads (pin forces, bending moments)\n"
     "  animate  simulate and render PNG frames (and an MP4 with ffmpeg, when installed)\n"
+    "  sweep    run the scene over random samples of --set keys; a CSV row per sample:\n"
+    "           lock and first-contact times, peak pin forces and bending moments\n"
     "  rj SUBCOMMAND --help   that subcommand's options (rj help SUBCOMMAND too)\n"
     "Exit status: 0 done; 1 the simulation stopped (blow-up, tunnelling) or an output\n"
     "failed while being written; 2 bad usage, an invalid scene (file:line:col: message),\n"
@@ -190,11 +194,56 @@ static const char usage_animate[] =
     "  --force            run even above 1e8 steps or 1e5 frames (refused otherwise)\n"
     "  Exit status as rj run; 1 also when a frame or the MP4 cannot be written.\n";
 
+static const char usage_sweep[] =
+    "usage: rj sweep SCENE.rjs --vary KEY=LO:HI [--vary ...] --samples N [options]\n"
+    "  Runs the scene once per sample, each varied key's value drawn uniformly from\n"
+    "  [LO, HI], and writes one CSV row per sample.\n"
+    "  --vary KEY=LO:HI   a --set key (KIND.NAME.KEY or solver.KEY) and its range, in the\n"
+    "                     file's units without a unit word (angles in rad): joint.h1.friction=\n"
+    "                     0.01:0.03, material.alu.E=65e9:75e9, link.p4.tip_mass=0.08:0.12\n"
+    "                     (repeatable; each must name an item of the file and both ends must\n"
+    "                     load, else it is refused)\n"
+    "  --samples N        samples 0..N-1 (required)\n"
+    "  --seed S           integer in [0, 1e15] (default 1). Sample k's values depend only on\n"
+    "                     S, k and the --vary's place among them (splitmix64), never on N or\n"
+    "                     --shard: the same seed gives sample k the same values in any sweep\n"
+    "  --shard i/n        run only the samples k with k % n == i (default 0/1); every shard\n"
+    "                     writes the header, so shards join as\n"
+    "                     { head -1 s0.csv; tail -q -n +2 s*.csv | sort -t, -k1,1n; }\n"
+    "                     which is the unsharded output byte for byte\n"
+    "  --t-end S          simulated time of each sample (default 1 s)\n"
+    "  --dt S             time step, instead of the file's solver.dt (0 = automatic)\n"
+    "  --set KIND.NAME.KEY=VALUE  a change every sample has (repeatable; with the --vary\n"
+    "                     keys 64 at most)\n"
+    "  --csv FILE         the rows (default, or -, standard output)\n"
+    "  --force            run even above 1e8 steps a sample at the file's values\n"
+    "  Columns: sample (k); each --vary's KEY (the value, %.17g: rj run --set KEY=VALUE\n"
+    "  runs the sample again); for each joint J in the file's order J.first_contact (s,\n"
+    "  rj_joint_event_time), J.lock (s, the state's time before the step that latched it,\n"
+    "  as rj run's summary), J.peak_pin_force (N); for each flexible link L\n"
+    "  L.peak_moment (N m, largest |bending moment|); -1: none. Then status (ok, or the\n"
+    "  result's name: parse, invalid, unstable_dt, blowup, tunnel, ...) and message (the\n"
+    "  library's, quoted). A sample whose scene does not load or build is a row with\n"
+    "  empty numbers; one whose step fails has the numbers up to the failure.\n"
+    "  Standard error: a summary (samples run, how many not ok, wall time).\n"
+    "  Exit status: 0 every row written (a failed sample is a row, not an error); 1 a\n"
+    "  write failed; 2 bad usage, an invalid scene or --vary, an output that cannot be\n"
+    "  opened.\n";
+
 /* ================================================================ options */
 
-enum { CMD_RUN = 1, CMD_CHECK = 2, CMD_PLOT = 4, CMD_ANIMATE = 8 };
+enum { CMD_RUN = 1, CMD_CHECK = 2, CMD_PLOT = 4, CMD_ANIMATE = 8, CMD_SWEEP = 16 };
+#define NCMDS 5
 enum { WHAT_ANGLES = 0, WHAT_TORQUES, WHAT_TIPS, WHAT_ENERGY, WHAT_LOADS, NWHAT };
 static const char *const what_names[NWHAT] = { "angles", "torques", "tips", "energy", "loads" };
+
+/* rj sweep --vary KEY=LO:HI: the --set key (spec's first keylen characters) and the
+   range each sample's value is drawn from, uniformly. */
+typedef struct vary {
+    const char *spec;
+    int keylen;
+    double lo, hi;
+} vary;
 
 /* Every subcommand's options; each parses only its own (opt_shared, opt_own). */
 typedef struct opts {
@@ -210,6 +259,10 @@ typedef struct opts {
     const char **sets; /* --set: changes to the scene (rj_scene_load_set) */
     int nsets;
     int settle;  /* rj run: start from the static equilibrium (rj_settle) */
+    vary *varies; /* rj sweep --vary, nvary of them */
+    int nvary;
+    int samples, shard_i, shard_n; /* rj sweep: samples 0..samples-1 with k % shard_n == shard_i */
+    unsigned long long seed;       /* rj sweep --seed */
 } opts;
 
 /* The defaults of every subcommand; the sizes are those of build/deploy's plot and of
@@ -232,7 +285,10 @@ static void opts_default(opts *o, int cmd, int argc)
     }
     o->loads = o->probes + (argc > 0 ? argc : 1);
     o->sets = (const char **)malloc(sizeof(char *) * (size_t)(argc > 0 ? argc : 1));
-    if (!o->sets) {
+    o->varies = (vary *)malloc(sizeof(vary) * (size_t)(argc > 0 ? argc : 1));
+    o->seed = 1;
+    o->shard_n = 1;
+    if (!o->sets || !o->varies) {
         fprintf(stderr, "rj: out of memory\n");
         exit(1);
     }
@@ -244,22 +300,23 @@ typedef struct optname { const char *name; int cmds; } optname;
 #define CMD_SIM (CMD_RUN | CMD_PLOT | CMD_ANIMATE)
 #define CMD_ALL (CMD_SIM | CMD_CHECK)
 static const optname optnames[] = {
-    { "--help", CMD_ALL },     { "--t-end", CMD_SIM },  { "--dt", CMD_ALL },
-    { "--progress", CMD_ALL }, { "--force", CMD_SIM },  { "--out", CMD_PLOT | CMD_ANIMATE },
-    { "--size", CMD_PLOT | CMD_ANIMATE },               { "--csv", CMD_RUN },
+    { "--help", CMD_ALL | CMD_SWEEP }, { "--t-end", CMD_SIM | CMD_SWEEP }, { "--dt", CMD_ALL | CMD_SWEEP },
+    { "--progress", CMD_ALL }, { "--force", CMD_SIM | CMD_SWEEP },  { "--out", CMD_PLOT | CMD_ANIMATE },
+    { "--size", CMD_PLOT | CMD_ANIMATE },               { "--csv", CMD_RUN | CMD_SWEEP },
     { "--sample", CMD_RUN },   { "--nodes", CMD_RUN },  { "--probe", CMD_RUN },   { "--loads", CMD_RUN },
     { "--settle", CMD_RUN },   { "--what", CMD_PLOT },  { "--fps", CMD_ANIMATE },
     { "--mp4", CMD_ANIMATE },  { "--plain", CMD_ANIMATE }, { "--assemble", CMD_CHECK },
-    { "--set", CMD_ALL }
+    { "--set", CMD_ALL | CMD_SWEEP }, { "--vary", CMD_SWEEP }, { "--samples", CMD_SWEEP },
+    { "--seed", CMD_SWEEP },   { "--shard", CMD_SWEEP }
 };
 #define NOPTS ((int)(sizeof optnames / sizeof optnames[0]))
-static const char *const cmd_names[] = { "run", "check", "plot", "animate" };
+static const char *const cmd_names[NCMDS] = { "run", "check", "plot", "animate", "sweep" };
 
 /* The subcommand's name for a CMD_* bit. */
 static const char *cmd_name(int cmd)
 {
     int k;
-    for (k = 0; k < 4; k++)
+    for (k = 0; k < NCMDS; k++)
         if (cmd == 1 << k) return cmd_names[k];
     return "?";
 }
@@ -281,7 +338,7 @@ static void opt_unknown(const cli *c, int cmd, const char *a)
     const int other = opt_cmds(a);
     int k, n = 0;
     if (other) {
-        for (k = 0; k < 4 && !(other & 1 << k); k++) {}
+        for (k = 0; k < NCMDS && !(other & 1 << k); k++) {}
         fprintf(stderr, "%s: unknown option '%s' (rj %s takes it, not rj %s)\n%s", c->argv[0], a, cmd_name(1 << k),
                 cmd_name(cmd), c->usage);
         exit(2);
@@ -309,6 +366,47 @@ static int opt_shared(cli *c, opts *o, const char *a)
     return 1;
 }
 
+/* rj sweep --vary KEY=LO:HI: a key, then two finite decimal numbers, LO <= HI. Whether the
+   scene has the key, and takes both ends, is checked against the file (sweep_check). */
+static void vary_parse(cli *c, const char *opt, vary *v)
+{
+    static const char need[] = "KEY=LO:HI, a --set key and two finite decimal numbers";
+    const char *s = cli_str(c, opt), *eq = strchr(s, '='), *colon = eq ? strchr(eq + 1, ':') : NULL;
+    char lo[64], hi[64];
+    if (!eq || eq == s || !colon || strchr(colon + 1, ':') || colon - eq - 1 >= (long)sizeof lo ||
+        strlen(colon + 1) >= sizeof hi)
+        cli_bad(c, opt, s, need);
+    memcpy(lo, eq + 1, (size_t)(colon - eq - 1));
+    lo[colon - eq - 1] = '\0';
+    strcpy(hi, colon + 1);
+    /* cli_is_decimal refuses nan, inf and hex; 1e999 reads as inf and is refused too */
+    if (!cli_is_decimal(lo) || !cli_is_decimal(hi)) cli_bad(c, opt, s, need);
+    v->lo = strtod(lo, NULL);
+    v->hi = strtod(hi, NULL);
+    if (!isfinite(v->lo) || !isfinite(v->hi)) cli_bad(c, opt, s, need);
+    if (v->lo > v->hi) cli_bad(c, opt, s, "LO <= HI");
+    v->spec = s;
+    v->keylen = (int)(eq - s);
+}
+
+/* --seed takes an integer in [0, 1e15], as build/sweep's */
+#define SEED_MAX 1000000000000000LL
+
+/* rj sweep's own options; returns 1 when a was one. */
+static int opt_sweep(cli *c, opts *o, const char *a)
+{
+    /* --shard i/n: i >= 0, n >= 1 (i < n is checked once both are read) */
+    static const int shard_lim[4] = { 0, INT_MAX - 1, 1, INT_MAX };
+    if (!strcmp(a, "--vary")) vary_parse(c, a, &o->varies[o->nvary++]);
+    else if (!strcmp(a, "--samples")) o->samples = cli_int(c, a, 1, 10000000);
+    else if (!strcmp(a, "--seed")) o->seed = (unsigned long long)cli_long(c, a, 0, SEED_MAX);
+    else if (!strcmp(a, "--shard")) {
+        cli_pair(c, a, '/', &o->shard_i, &o->shard_n, shard_lim, "i/n with 0 <= i < n");
+        if (o->shard_i >= o->shard_n) cli_bad(c, a, c->argv[c->i], "i/n with 0 <= i < n");
+    } else return 0;
+    return 1;
+}
+
 /* Options of one subcommand each (checked by opts_parse); returns 1 when a was one. */
 static int opt_own(cli *c, opts *o, const char *a)
 {
@@ -323,7 +421,7 @@ static int opt_own(cli *c, opts *o, const char *a)
     else if (!strcmp(a, "--mp4")) o->mp4 = cli_str(c, a);
     else if (!strcmp(a, "--plain")) o->plain = 1;
     else if (!strcmp(a, "--assemble")) o->assemble = cli_str(c, a);
-    else return 0;
+    else return opt_sweep(c, o, a);
     return 1;
 }
 
@@ -350,6 +448,8 @@ static void opts_parse(opts *o, int cmd, int argc, char **argv, const char *usag
     }
     if (!o->scene) cli_die(&c, "missing the scene file (SCENE.rjs)%s%s", "", "");
     if ((cmd & (CMD_PLOT | CMD_ANIMATE)) && !o->out) cli_die(&c, "option %s is required%s", "--out", "");
+    if (cmd == CMD_SWEEP && !o->nvary) cli_die(&c, "option %s is required%s", "--vary", "");
+    if (cmd == CMD_SWEEP && !o->samples) cli_die(&c, "option %s is required%s", "--samples", "");
 }
 
 /* ================================================================ the scene */
@@ -2466,6 +2566,330 @@ static int cmd_animate(int argc, char **argv)
     return st;
 }
 
+/* ================================================================ rj sweep */
+
+/* splitmix64's step: a well-mixed 64-bit value of x, for the samples' values. */
+static unsigned long long mix64(unsigned long long x)
+{
+    unsigned long long z = x + 0x9E3779B97F4A7C15ULL;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31);
+}
+
+/* Sample k's value of the v-th --vary: uniform in [lo, hi] from (seed, k, v) alone, so a
+   sample is the same in every sweep with that seed, sharded or not. */
+static double vary_value(const vary *va, unsigned long long seed, int k, int v)
+{
+    const unsigned long long h = mix64(mix64(mix64(seed) ^ (unsigned long long)k) ^ (unsigned long long)v);
+    const double u = (double)(h >> 11) / 9007199254740992.0; /* [0, 1), 53 bits */
+    const double x = va->lo + (va->hi - va->lo) * u;
+    return x > va->hi ? va->hi : x; /* rounding may pass hi by an ulp */
+}
+
+/* A result's short name for the status column: the enum's, RJ_ERR_ dropped. */
+static const char *result_name(rj_result r)
+{
+    static const char *const names[] = { "ok", "invalid", "nomem", "unstable_dt", "blowup", "tunnel",
+                                         "checkpoint", "parse", "not_converged" };
+    return (int)r >= 0 && (int)r < NCOLS(names) ? names[r] : "error";
+}
+
+/* The whole sweep: the options, the scene at the file's values (names, flexible links),
+   the changes each sample loads with, and the output. */
+typedef struct sweep {
+    const opts *o;
+    const scene *sc;
+    const char **sets; /* --set's changes, then one "KEY=VALUE" per --vary */
+    char **text;       /* the --vary changes' texts (sets' last nvary) */
+    double *x;         /* the sample's values */
+    int *flex, nflex;  /* the flexible links (file order) */
+    cli_out out;
+} sweep;
+
+/* Per sample: each joint's lock time, seen step by step as rj run's summary sees it. */
+typedef struct locks {
+    int *flag;     /* after the latest step */
+    double *t;     /* s, -1: not locked */
+    double t_prev; /* s, time of the state before the latest step */
+} locks;
+
+/* rj_run's callback at every step: a joint that turned RJ_LOCKED in this step locked at
+   the time of the state the step started from (rj run's summary, rj_joint_event_time). */
+static int locks_step(const rj_model *m, const rj_state *s, void *u)
+{
+    locks *lk = (locks *)u;
+    int j;
+    for (j = 0; j < rj_model_joint_count(m); j++) {
+        const int f = rj_joint_flag(m, s, j);
+        if (rj_state_steps(s) > 0 && f == RJ_LOCKED && lk->flag[j] != RJ_LOCKED && lk->t[j] < 0)
+            lk->t[j] = lk->t_prev;
+        lk->flag[j] = f;
+    }
+    lk->t_prev = rj_state_time(s);
+    return 0;
+}
+
+/* A CSV field in quotes, quotes doubled; a line break (none expected) becomes a blank so
+   that a row stays one line. */
+static void csv_quoted(cli_out *o, const char *t)
+{
+    cli_put(o, fputc('"', o->f));
+    for (; *t; t++) {
+        if (*t == '"') cli_put(o, fputc('"', o->f));
+        cli_put(o, fputc(*t == '\n' || *t == '\r' ? ' ' : *t, o->f));
+    }
+    cli_put(o, fputs("\"\n", o->f));
+}
+
+/* The header: sample, the varied keys, each joint's and flexible link's columns. */
+static void sweep_header(sweep *w)
+{
+    const scene *sc = w->sc;
+    int i;
+    cli_put(&w->out, fputs("sample", w->out.f));
+    for (i = 0; i < w->o->nvary; i++) {
+        const vary *v = &w->o->varies[i];
+        cli_put(&w->out, fprintf(w->out.f, ",%.*s", v->keylen, v->spec));
+    }
+    for (i = 0; i < rj_model_joint_count(sc->m); i++)
+        cli_put(&w->out, fprintf(w->out.f, ",%s.first_contact,%s.lock,%s.peak_pin_force", joint_name(sc, i),
+                                 joint_name(sc, i), joint_name(sc, i)));
+    for (i = 0; i < w->nflex; i++)
+        cli_put(&w->out, fprintf(w->out.f, ",%s.peak_moment", link_name(sc, w->flex[i])));
+    cli_put(&w->out, fputs(",status,message\n", w->out.f));
+}
+
+/* The row's start: the index and the values, as loaded (%.17g round-trips). */
+static void sweep_row_start(sweep *w, int k)
+{
+    int i;
+    cli_put(&w->out, fprintf(w->out.f, "%d", k));
+    for (i = 0; i < w->o->nvary; i++) cli_put(&w->out, fprintf(w->out.f, ",%.17g", w->x[i]));
+}
+
+/* A sample whose scene did not load or build: its numbers empty, the result and message. */
+static void sweep_row_failed(sweep *w, int k, rj_result res, const char *msg)
+{
+    int i;
+    const int n = 3 * rj_model_joint_count(w->sc->m) + w->nflex;
+    sweep_row_start(w, k);
+    for (i = 0; i < n; i++) cli_put(&w->out, fputc(',', w->out.f));
+    cli_put(&w->out, fprintf(w->out.f, ",%s,", result_name(res)));
+    csv_quoted(&w->out, msg);
+}
+
+/* A run's row: per joint first contact, lock, peak |pin force|; per flexible link its
+   peak |bending moment|; the run's result. */
+static void sweep_row(sweep *w, int k, const rj_model *m, const rj_state *s, const locks *lk, rj_result res)
+{
+    int j;
+    sweep_row_start(w, k);
+    for (j = 0; j < rj_model_joint_count(m); j++)
+        cli_put(&w->out, fprintf(w->out.f, ",%.10g,%.10g,%.10g", rj_joint_event_time(m, s, j), lk->t[j],
+                                 rj_joint_peak_pin_force(m, s, j).value));
+    for (j = 0; j < w->nflex; j++)
+        cli_put(&w->out, fprintf(w->out.f, ",%.10g", rj_link_peak_moment(m, s, w->flex[j]).value));
+    cli_put(&w->out, fprintf(w->out.f, ",%s,", result_name(res)));
+    csv_quoted(&w->out, res == RJ_OK ? "" : rj_state_error(s));
+}
+
+/* Runs a built model to --t-end with peaks tracked and the locks seen at every step.
+   Returns the run's result. */
+static rj_result sweep_run(sweep *w, int k, const rj_model *m)
+{
+    const int nj = rj_model_joint_count(m);
+    rj_state *s = NULL;
+    rj_result res = RJ_ERR_NOMEM;
+    locks lk;
+    int j;
+    lk.flag = (int *)malloc(sizeof(int) * (size_t)(nj + 1));
+    lk.t = (double *)malloc(sizeof(double) * (size_t)(nj + 1));
+    if (!lk.flag || !lk.t || rj_state_create(m, &s, NULL) != RJ_OK) {
+        sweep_row_failed(w, k, RJ_ERR_NOMEM, "out of memory");
+    } else {
+        for (j = 0; j < nj; j++) {
+            lk.flag[j] = rj_joint_flag(m, s, j);
+            lk.t[j] = -1;
+        }
+        lk.t_prev = 0;
+        /* the model is built without in-place stepping (sweep_sample): tracking works */
+        res = rj_state_track_peaks(m, s, 1);
+        /* a callback at every step makes rj_run take the energy accounts, and so the
+           peaks, at every step, as rj run's */
+        if (res == RJ_OK) res = rj_run(m, s, w->o->t_end, 0, locks_step, &lk);
+        sweep_row(w, k, m, s, &lk, res);
+    }
+    if (s) rj_state_destroy(s, NULL);
+    free(lk.flag);
+    free(lk.t);
+    return res;
+}
+
+/* Sample k: its values into the --vary changes, the scene loaded with them and built,
+   then run; a failure at any stage is the row's status and message. Returns 1 when the
+   sample is not ok. */
+static int sweep_sample(sweep *w, int k)
+{
+    const opts *o = w->o;
+    rj_scene_file f;
+    rj_scene_def d;
+    rj_model *m = NULL;
+    rj_error e;
+    rj_result res;
+    int i;
+    for (i = 0; i < o->nvary; i++) {
+        w->x[i] = vary_value(&o->varies[i], o->seed, k, i);
+        sprintf(w->text[i], "%.*s=%.17g", o->varies[i].keylen, o->varies[i].spec, w->x[i]);
+    }
+    if (rj_scene_load_set(o->scene, w->sets, o->nsets + o->nvary, &f, &e) != RJ_OK) {
+        sweep_row_failed(w, k, e.code, e.msg);
+        return 1;
+    }
+    if (o->dt >= 0) f.solver.dt = o->dt;
+    /* peaks need the loads at t^n, which in-place stepping does not keep; the results
+       are the same bits either way (rj_solver_def) */
+    f.solver.in_place = RJ_IN_PLACE_OFF;
+    d = rj_scene_file_def(&f);
+    res = rj_model_create(&d, &m, &e, NULL);
+    if (res != RJ_OK) {
+        rj_scene_file_locate(&f, &e);
+        sweep_row_failed(w, k, e.code, e.msg);
+    } else {
+        res = sweep_run(w, k, m);
+        rj_model_destroy(m, NULL);
+    }
+    rj_scene_file_free(&f);
+    return res != RJ_OK;
+}
+
+/* Each --vary against the file before anything runs: its key must name an item and both
+   ends must load (with the --set changes), and no key may be varied twice. A sample's
+   failure is a row; a range that cannot be right for any sample is bad usage. Returns 0,
+   or 2 after naming the option. */
+static int sweep_check(sweep *w)
+{
+    const opts *o = w->o;
+    int i, j, end;
+    if (o->nsets + o->nvary > RJ_SCENE_MAX_SETS) {
+        fprintf(stderr, "rj sweep: %d --set and --vary changes, more than the %d a scene takes\n",
+                o->nsets + o->nvary, RJ_SCENE_MAX_SETS);
+        return 2;
+    }
+    for (i = 0; i < o->nvary; i++) {
+        const vary *v = &o->varies[i];
+        for (j = 0; j < i; j++)
+            if (v->keylen == o->varies[j].keylen && !strncmp(v->spec, o->varies[j].spec, (size_t)v->keylen)) {
+                fprintf(stderr, "rj sweep: option --vary %s: %.*s is varied twice\n", v->spec, v->keylen,
+                        v->spec);
+                return 2;
+            }
+        for (end = 0; end < 2; end++) {
+            rj_scene_file f;
+            rj_error e;
+            sprintf(w->text[0], "%.*s=%.17g", v->keylen, v->spec, end ? v->hi : v->lo);
+            if (rj_scene_load_set(o->scene, w->sets, o->nsets + 1, &f, &e) != RJ_OK) {
+                fprintf(stderr, "rj sweep: option --vary %s: at %s = %.17g: %s\n", v->spec, end ? "HI" : "LO",
+                        end ? v->hi : v->lo, e.msg);
+                return 2;
+            }
+            rj_scene_file_free(&f);
+        }
+    }
+    return 0;
+}
+
+/* The changes' texts: each "KEY=" and a %.17g number (at most 24 characters), each
+   buffer long enough for any key (sweep_check writes every key into the first). */
+static int sweep_alloc(sweep *w)
+{
+    const opts *o = w->o;
+    const rj_model *m = w->sc->m;
+    int i, longest = 0;
+    w->sets = (const char **)malloc(sizeof(char *) * (size_t)(o->nsets + o->nvary));
+    w->text = (char **)calloc((size_t)o->nvary, sizeof(char *));
+    w->x = (double *)malloc(sizeof(double) * (size_t)o->nvary);
+    w->flex = (int *)malloc(sizeof(int) * (size_t)(rj_model_link_count(m) + 1));
+    if (!w->sets || !w->text || !w->x || !w->flex) return -1;
+    for (i = 0; i < o->nsets; i++) w->sets[i] = o->sets[i];
+    for (i = 0; i < o->nvary; i++)
+        if (o->varies[i].keylen > longest) longest = o->varies[i].keylen;
+    for (i = 0; i < o->nvary; i++) {
+        w->text[i] = (char *)malloc((size_t)longest + 40);
+        if (!w->text[i]) return -1;
+        w->sets[o->nsets + i] = w->text[i];
+    }
+    w->nflex = 0;
+    for (i = 0; i < rj_model_link_count(m); i++)
+        if (link_flexible(m, i)) w->flex[w->nflex++] = i;
+    return 0;
+}
+
+/* Frees what sweep_alloc made. */
+static void sweep_free(sweep *w)
+{
+    int i;
+    for (i = 0; w->text && i < w->o->nvary; i++) free(w->text[i]);
+    free(w->text);
+    free((void *)w->sets);
+    free(w->x);
+    free(w->flex);
+}
+
+/* The shard's samples in index order, a row each as it is done; stops at a failed write.
+   Returns the samples run; *bad counts those not ok. */
+static int sweep_go(sweep *w, int *bad)
+{
+    const opts *o = w->o;
+    int k, n = 0;
+    *bad = 0;
+    for (k = o->shard_i; k < o->samples && !w->out.err; k += o->shard_n) {
+        *bad += sweep_sample(w, k);
+        n++;
+    }
+    return n;
+}
+
+/* rj sweep: the options, the scene at the file's values (names, the step bound), every
+   --vary's ends and the output are checked before any sample runs; then the samples. */
+static int cmd_sweep(int argc, char **argv)
+{
+    opts o;
+    scene sc;
+    sweep w;
+    int st = 2, n, bad = 0;
+    double wall;
+    const char *csv;
+    opts_parse(&o, CMD_SWEEP, argc, argv, usage_sweep);
+    free((void *)o.probes);
+    if (scene_open(&sc, o.scene, o.dt, o.sets, o.nsets) != 0) return 2;
+    memset(&w, 0, sizeof w);
+    w.o = &o;
+    w.sc = &sc;
+    csv = o.csv && strcmp(o.csv, "-") ? o.csv : NULL;
+    if (sweep_alloc(&w) != 0) {
+        fprintf(stderr, "rj sweep: out of memory\n");
+        st = 1;
+    } else if (sweep_check(&w) == 0) {
+        /* the bound on a run's length at the file's step: a varied key may change it */
+        cli_check_steps("rj sweep", o.t_end, rj_model_dt(sc.m), o.force);
+        if ((!csv || cli_mkparent("rj sweep", csv) == 0) && cli_open(&w.out, "rj sweep", csv) == 0) st = 0;
+    }
+    if (st == 0) {
+        wall = wall_now();
+        sweep_header(&w);
+        n = sweep_go(&w, &bad);
+        st = cli_close(&w.out, "rj sweep");
+        fprintf(stderr, "rj sweep: %d samples (shard %d/%d), %d not ok, wall %.3f s\n", n, o.shard_i,
+                o.shard_n, bad, wall_now() - wall);
+    }
+    sweep_free(&w);
+    free(o.varies);
+    free((void *)o.sets);
+    scene_close(&sc);
+    return st;
+}
+
 /* ================================================================ main */
 
 typedef int (*cmd_fn)(int argc, char **argv);
@@ -2474,9 +2898,9 @@ typedef int (*cmd_fn)(int argc, char **argv);
    so that cli.h's messages name it. */
 int main(int argc, char **argv)
 {
-    static const cmd_fn cmds[] = { cmd_run, cmd_check, cmd_plot, cmd_animate };
+    static const cmd_fn cmds[NCMDS] = { cmd_run, cmd_check, cmd_plot, cmd_animate, cmd_sweep };
     /* what a misspelt subcommand is matched against */
-    static const char *const words[] = { "run", "check", "plot", "animate", "help" };
+    static const char *const words[] = { "run", "check", "plot", "animate", "sweep", "help" };
     char prog[32];
     cli c;
     int k;
@@ -2492,7 +2916,7 @@ int main(int argc, char **argv)
         argv[1] = argv[2];
         argv[2] = (char *)"--help";
     }
-    for (k = 0; argc >= 2 && k < 4; k++) {
+    for (k = 0; argc >= 2 && k < NCMDS; k++) {
         if (strcmp(argv[1], cmd_names[k]) != 0) continue;
         snprintf(prog, sizeof prog, "rj %s", cmd_names[k]);
         argv[1] = prog;
@@ -2503,7 +2927,7 @@ int main(int argc, char **argv)
     c.i = 1;
     c.usage = usage_main;
     argv[0] = (char *)"rj";
-    if (argc >= 2) cli_unknown(&c, "subcommand", argv[1], words, 5);
+    if (argc >= 2) cli_unknown(&c, "subcommand", argv[1], words, NCMDS + 1);
     fputs(usage_main, stderr);
     return 2;
 }

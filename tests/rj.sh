@@ -504,4 +504,53 @@ m 2 "^--set:2:16: E = -3 is out of range in material 'alu'" "check --set with a 
   $B/rj check $S/deploy.rjs --set solver.dt=0 --set material.alu.E=-3
 m 2 "unknown key 'fricton' in joint 'j1'; did you mean 'friction'" "check --set with a misspelt key gets did you mean" \
   $B/rj check $S/deploy.rjs --set joint.j1.fricton=0.1
+# ---- rj sweep: samples of --set keys, a row each; shards join to the unsharded run byte for
+# byte (every shard writes the header); sample k's values depend only on the seed and k
+SW="$S/solar_array.rjs --vary joint.h1.friction=0.01:0.03 --vary material.cfrp_sandwich.rho=2400:2600 --t-end 4"
+$B/rj sweep $SW --samples 6 --csv $T/sw.csv 2>$T/sw.err; st=$?
+for i in 0 1 2; do $B/rj sweep $SW --samples 6 --shard $i/3 --csv $T/sw$i.csv 2>/dev/null; done
+{ head -1 $T/sw0.csv; tail -q -n +2 $T/sw0.csv $T/sw1.csv $T/sw2.csv | sort -t, -k1,1n; } > $T/sw_join.csv
+ok "sweep --shard 0/3, 1/3, 2/3: joined (one header, rows sorted by sample) they are the unsharded output byte for byte (status $st)" \
+  "[ $st = 0 ] && [ \$(wc -l < $T/sw.csv) = 7 ] && cmp -s $T/sw.csv $T/sw_join.csv && [ \"\$(head -1 $T/sw1.csv)\" = \"\$(head -1 $T/sw.csv)\" ]"
+ok "sweep header: sample, the varied keys, J.first_contact, J.lock, J.peak_pin_force per joint, L.peak_moment per flexible link, status, message" \
+  "head -1 $T/sw.csv | grep -qx 'sample,joint.h1.friction,material.cfrp_sandwich.rho,h1.first_contact,h1.lock,h1.peak_pin_force,h2.first_contact,h2.lock,h2.peak_pin_force,h3.first_contact,h3.lock,h3.peak_pin_force,h4.first_contact,h4.lock,h4.peak_pin_force,hub.peak_moment,p1.peak_moment,p2.peak_moment,p3.peak_moment,p4.peak_moment,status,message'"
+$B/rj sweep $SW --samples 20 --shard 4/16 --csv $T/sw_alone.csv 2>/dev/null
+ok "sweep: sample 4 run alone in a sweep of 20 (--shard 4/16) is the same row as in the sweep of 6" \
+  "[ \$(wc -l < $T/sw_alone.csv) = 2 ] && [ \"\$(sed -n 2p $T/sw_alone.csv)\" = \"\$(grep '^4,' $T/sw.csv)\" ]"
+$B/rj sweep $SW --samples 6 --seed 2 --csv $T/sw_seed2.csv 2>/dev/null
+ok "sweep --seed 2 draws other values" "! cmp -s $T/sw.csv $T/sw_seed2.csv"
+ok "sweep: every hinge locks in every sample, the values within their ranges, status ok" \
+  "awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if (\$i ~ /\\.lock\$/) l[++n] = i; next }
+            { if (\$2 < 0.01 || \$2 > 0.03 || \$3 < 2400 || \$3 > 2600 || \$(NF - 1) != \"ok\") bad = 1
+              for (i = 1; i <= n; i++) if (!(\$l[i] > 0)) bad = 1; rows++ }
+            END { exit bad || n != 4 || rows != 6 }' $T/sw.csv"
+# a row's values are the texts rj run --set takes: that run's summary has the same lock time
+row=$(grep '^2,' $T/sw.csv); f=$(echo "$row" | cut -d, -f2); r=$(echo "$row" | cut -d, -f3); lk=$(echo "$row" | cut -d, -f5)
+$B/rj run $S/solar_array.rjs --t-end 4 --set joint.h1.friction=$f --set material.cfrp_sandwich.rho=$r --csv /dev/null 2>$T/sw_run.err
+lr=$(summary_times $T/sw_run.err h1 | cut -d' ' -f1)
+ok "sweep: sample 2 rerun with rj run --set its values: h1 locks at the same time ($lk, rj run $lr)" \
+  "awk 'BEGIN { a = \"$lk\" + 0; b = \"$lr\" + 0; exit !(a > 0 && (a - b) ^ 2 < 1e-16) }'"
+ok "sweep: a summary on standard error" "grep -q '^rj sweep: 6 samples (shard 0/1), 0 not ok, wall' $T/sw.err"
+# a sample whose scene the model refuses (both ends of each range load alone, not together) is
+# a row with its status and message, and the sweep goes on
+$B/rj sweep $S/solar_array.rjs --set solver.dt=4e-5 --vary material.cfrp_sandwich.E=70e9:90e9 \
+  --vary material.cfrp_sandwich.rho=2000:2500 --samples 6 --t-end 0.001 --csv $T/sw_bad.csv 2>/dev/null; st=$?
+ok "sweep: samples above the stability bound are rows with status unstable_dt and the message, the others ok (status $st)" \
+  "[ $st = 0 ] && [ \$(wc -l < $T/sw_bad.csv) = 7 ] && grep -q ',unstable_dt,\"examples/scenes/solar_array.rjs:.*above the stability bound' $T/sw_bad.csv && grep -q ',ok,\"\"\$' $T/sw_bad.csv"
+m 2 "^rj sweep: option --vary: bad value 'joint.h1.friction=0.01' \\(need KEY=LO:HI" "sweep --vary without ':' is refused, naming it" \
+  $B/rj sweep $S/solar_array.rjs --vary joint.h1.friction=0.01 --samples 2
+m 2 "^rj sweep: option --vary: bad value 'joint.h1.friction=0.03:0.01' \\(need LO <= HI\\)" "sweep --vary with LO > HI is refused" \
+  $B/rj sweep $S/solar_array.rjs --vary joint.h1.friction=0.03:0.01 --samples 2
+m 2 "^rj sweep: option --vary joint.h9.friction=0.01:0.02: at LO = 0.01: --set:1:7: the file has no joint 'h9'" \
+  "sweep --vary naming a joint the file does not have is refused, naming it" \
+  $B/rj sweep $S/solar_array.rjs --vary joint.h9.friction=0.01:0.02 --samples 2
+m 2 "^rj sweep: option --vary joint.h1.friction=-0.01:0.02: at LO = -0.01: .*out of range" "sweep --vary with an end the file refuses" \
+  $B/rj sweep $S/solar_array.rjs --vary joint.h1.friction=-0.01:0.02 --samples 2
+m 2 "option --samples: bad value '0'" "sweep --samples 0 is refused" $B/rj sweep $S/solar_array.rjs --vary joint.h1.friction=0:1 --samples 0
+m 2 "option --shard: bad value '3/3' \\(need i/n with 0 <= i < n\\)" "sweep --shard 3/3 is refused" \
+  $B/rj sweep $S/solar_array.rjs --vary joint.h1.friction=0:1 --samples 3 --shard 3/3
+m 2 "unknown option '--vray'; did you mean '--vary'\\?" "sweep --vray: did you mean --vary" $B/rj sweep $S/solar_array.rjs --vray x=1:2 --samples 1
+m 2 "option --samples is required" "sweep without --samples is refused" $B/rj sweep $S/solar_array.rjs --vary joint.h1.friction=0:1
+ok "sweep --help: the usage, within C99's 4095 characters a string; rj --help lists sweep" \
+  "$B/rj sweep --help | grep -q '^usage: rj sweep SCENE.rjs --vary KEY=LO:HI' && [ \$($B/rj sweep --help | wc -c) -le 4095 ] && $B/rj --help | grep -q '^  sweep '"
 exit 0
