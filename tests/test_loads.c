@@ -905,6 +905,24 @@ static void test_pin_force(rjt_ctx *c)
     test_pin_force_bodies(c);
 }
 
+/* A scene of one link alone: its model, a state and the caller's node forces (the
+   refusal's message into msg). */
+static int strip_model(rj_link_def *link, rj_model **m, rj_state **s, double **F, char *msg,
+                       size_t size)
+{
+    rj_scene_def sc = rj_default_scene_def();
+    rj_error err;
+    sc.links = link;
+    sc.link_count = 1;
+    if (rj_model_create(&sc, m, &err, NULL) != RJ_OK) {
+        snprintf(msg, size, "model refused: %.200s", err.msg);
+        return 0;
+    }
+    rj_state_create(*m, s, NULL);
+    *F = rj_state_node_forces(*m, *s);
+    return 1;
+}
+
 /* ---- structural damping: free decay against eta omega_n / 2 and alpha / (2 omega_n) */
 
 /* Mode n (1, 2) of a clamped-free Euler-Bernoulli beam at u = x / L. */
@@ -965,10 +983,8 @@ static void decay_fit(const double *t, const double *y, int n, decay *d)
    t_end. link: its damping. */
 static int free_decay(rj_link_def link, int n, double t_end, decay *d, char *msg, size_t size)
 {
-    rj_scene_def sc = rj_default_scene_def();
     rj_model *m;
     rj_state *s;
-    rj_error err;
     double *F, t[400], y[400], before = 0, last = 0, last_t = 0;
     int k, count = 0;
     link.length = 1.0;
@@ -977,14 +993,8 @@ static int free_decay(rj_link_def link, int n, double t_end, decay *d, char *msg
     link.width = 0.02;
     link.height = 0.1;
     link.root = RJ_ROOT_CLAMPED;
-    sc.links = &link;
-    sc.link_count = 1;
-    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) {
-        snprintf(msg, size, "model refused: %.200s", err.msg);
+    if (!strip_model(&link, &m, &s, &F, msg, size))
         return 0;
-    }
-    rj_state_create(m, &s, NULL);
-    F = rj_state_node_forces(m, s);
     for (k = 0; k <= link.elements; k++) {
         double mass, rot;
         rj_node_mass(m, 0, k, &mass, &rot);
@@ -1186,10 +1196,8 @@ static int plastic_ramp(int layers, int elements, double H, int moment, double p
                         int unload, ramp_out *out, char *msg, size_t size)
 {
     rj_link_def link = rj_default_link_def();
-    rj_scene_def sc = rj_default_scene_def();
     rj_model *m;
     rj_state *s;
-    rj_error err;
     const double t_end = unload ? 1.5 : 0.75;
     double *F;
     rj_result r = RJ_OK;
@@ -1204,14 +1212,8 @@ static int plastic_ramp(int layers, int elements, double H, int moment, double p
     link.hardening = H;
     link.mass_damping = 200;
     link.root = RJ_ROOT_CLAMPED;
-    sc.links = &link;
-    sc.link_count = 1;
-    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) {
-        snprintf(msg, size, "model refused: %.200s", err.msg);
+    if (!strip_model(&link, &m, &s, &F, msg, size))
         return 0;
-    }
-    rj_state_create(m, &s, NULL);
-    F = rj_state_node_forces(m, s);
     out->first_yield = -1;
     while (rj_state_time(s) < t_end && r == RJ_OK) {
         const double t = rj_state_time(s);
