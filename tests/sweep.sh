@@ -27,3 +27,13 @@ if $B/sweep --samles 3 2>&1 | grep -q "^.*sweep: unknown option '--samles'; did 
    && $B/sweep --t-end 0x10 2>&1 | grep -q "option --t-end: bad value '0x10' (need a finite decimal number"; then
   echo "PASS sweep: --samles: did you mean '--samples'; --t-end 0x10 (hex) is refused"
 else echo "FAIL sweep: no suggestion for --samles, or hex taken as a number"; fi
+# rj sweep over any scene: 4 shards run by GNU parallel (a cluster's way to split a study,
+# docs/studies.md), joined and sorted by index, are the rows one process writes
+V="--vary joint.h1.friction=0.016:0.024 --vary material.cfrp_sandwich.rho=2250:2750 --samples 8 --t-end 3"
+$B/rj sweep examples/scenes/solar_array.rjs $V --csv $T/rj_one.csv 2>/dev/null
+parallel --will-cite -j 2 "$B/rj sweep examples/scenes/solar_array.rjs $V --shard {}/4 --csv $T/rj_s{}.csv 2>/dev/null" ::: 0 1 2 3
+{ head -1 $T/rj_s0.csv; tail -q -n +2 $T/rj_s0.csv $T/rj_s1.csv $T/rj_s2.csv $T/rj_s3.csv | sort -t, -k1,1n; } > $T/rj_joined.csv
+if [ -s $T/rj_one.csv ] && [ $(wc -l < $T/rj_one.csv) = 9 ] && cmp -s $T/rj_joined.csv $T/rj_one.csv; then
+  echo "PASS sweep: rj sweep in 4 shards run by GNU parallel, joined and sorted, equals one process byte for byte"
+else echo "FAIL sweep: rj sweep's shards under GNU parallel differ from one process (or it did not run)"; fi
+

@@ -7,6 +7,8 @@ command -v cc >/dev/null 2>&1 || command -v gcc >/dev/null 2>&1 || need="$need g
 command -v g++ >/dev/null 2>&1 || need="$need g++"
 command -v clang >/dev/null 2>&1 || need="$need clang"
 command -v make >/dev/null 2>&1 || need="$need make"
+# tests/sweep.sh splits an rj sweep over shards run by GNU parallel, as a cluster would
+command -v parallel >/dev/null 2>&1 || need="$need parallel"
 # the elastica's reference (tests/elastica_ref.py) solves its boundary-value problem with scipy
 /usr/bin/python3 -c "import numpy, scipy" >/dev/null 2>&1 || need="$need python3-numpy python3-scipy"
 if command -v pkg-config >/dev/null 2>&1; then
