@@ -19,6 +19,7 @@
 #include <signal.h>
 #include <stdarg.h>
 #include <time.h>
+#include <pthread.h>
 #include <sys/wait.h>
 
 #define RJ_TWO_PI 6.283185307179586476925
@@ -211,6 +212,17 @@ static const char usage_sweep[] =
     "                     writes the header, so shards join as\n"
     "                     { head -1 s0.csv; tail -q -n +2 s*.csv | sort -t, -k1,1n; }\n"
     "                     which is the unsharded output byte for byte\n"
+    "  --shard auto       i/n of a Slurm job array (sbatch --array=0-N): SLURM_ARRAY_TASK_ID/\n"
+    "                     SLURM_ARRAY_TASK_COUNT; refused when either is missing or bad\n"
+    "  --threads N        samples on N threads, 256 at most (default 1); the rows are written\n"
+    "                     in the samples' order, the same bytes for any N\n"
+    "  --resume           with --csv FILE holding a cut-short run of this sweep: its header\n"
+    "                     and each row's index and values must be this sweep's (else refused),\n"
+    "                     a last line without its newline is cut away, and only the samples\n"
+    "                     it lacks run, appended: FILE ends as an uninterrupted run's. A FILE\n"
+    "                     that does not exist is started\n"
+    "  --progress         progress line on standard error (samples done, samples/s, ETA);\n"
+    "                     without it only on a terminal, after 2 s of wall time\n"
     "  --t-end S          simulated time of each sample (default 1 s)\n"
     "  --dt S             time step, instead of the file's solver.dt (0 = automatic)\n"
     "  --set KIND.NAME.KEY=VALUE  a change every sample has (repeatable; with the --vary\n"
@@ -225,10 +237,11 @@ static const char usage_sweep[] =
     "  result's name: parse, invalid, unstable_dt, blowup, tunnel, ...) and message (the\n"
     "  library's, quoted). A sample whose scene does not load or build is a row with\n"
     "  empty numbers; one whose step fails has the numbers up to the failure.\n"
-    "  Standard error: a summary (samples run, how many not ok, wall time).\n"
+    "  Standard error: with --resume how many samples FILE held, then a summary (samples\n"
+    "  run, how many not ok, wall time).\n"
     "  Exit status: 0 every row written (a failed sample is a row, not an error); 1 a\n"
     "  write failed; 2 bad usage, an invalid scene or --vary, an output that cannot be\n"
-    "  opened.\n";
+    "  opened, a --resume FILE of another sweep.\n";
 
 /* ================================================================ options */
 
@@ -263,6 +276,7 @@ typedef struct opts {
     int nvary;
     int samples, shard_i, shard_n; /* rj sweep: samples 0..samples-1 with k % shard_n == shard_i */
     unsigned long long seed;       /* rj sweep --seed */
+    int threads, resume;           /* rj sweep --threads, --resume */
 } opts;
 
 /* The defaults of every subcommand; the sizes are those of build/deploy's plot and of
@@ -288,6 +302,7 @@ static void opts_default(opts *o, int cmd, int argc)
     o->varies = (vary *)malloc(sizeof(vary) * (size_t)(argc > 0 ? argc : 1));
     o->seed = 1;
     o->shard_n = 1;
+    o->threads = 1;
     if (!o->sets || !o->varies) {
         fprintf(stderr, "rj: out of memory\n");
         exit(1);
@@ -301,13 +316,13 @@ typedef struct optname { const char *name; int cmds; } optname;
 #define CMD_ALL (CMD_SIM | CMD_CHECK)
 static const optname optnames[] = {
     { "--help", CMD_ALL | CMD_SWEEP }, { "--t-end", CMD_SIM | CMD_SWEEP }, { "--dt", CMD_ALL | CMD_SWEEP },
-    { "--progress", CMD_ALL }, { "--force", CMD_SIM | CMD_SWEEP },  { "--out", CMD_PLOT | CMD_ANIMATE },
+    { "--progress", CMD_ALL | CMD_SWEEP }, { "--force", CMD_SIM | CMD_SWEEP },  { "--out", CMD_PLOT | CMD_ANIMATE },
     { "--size", CMD_PLOT | CMD_ANIMATE },               { "--csv", CMD_RUN | CMD_SWEEP },
     { "--sample", CMD_RUN },   { "--nodes", CMD_RUN },  { "--probe", CMD_RUN },   { "--loads", CMD_RUN },
     { "--settle", CMD_RUN },   { "--what", CMD_PLOT },  { "--fps", CMD_ANIMATE },
     { "--mp4", CMD_ANIMATE },  { "--plain", CMD_ANIMATE }, { "--assemble", CMD_CHECK },
     { "--set", CMD_ALL | CMD_SWEEP }, { "--vary", CMD_SWEEP }, { "--samples", CMD_SWEEP },
-    { "--seed", CMD_SWEEP },   { "--shard", CMD_SWEEP }
+    { "--seed", CMD_SWEEP },   { "--shard", CMD_SWEEP }, { "--threads", CMD_SWEEP }, { "--resume", CMD_SWEEP }
 };
 #define NOPTS ((int)(sizeof optnames / sizeof optnames[0]))
 static const char *const cmd_names[NCMDS] = { "run", "check", "plot", "animate", "sweep" };
@@ -392,6 +407,39 @@ static void vary_parse(cli *c, const char *opt, vary *v)
 /* --seed takes an integer in [0, 1e15], as build/sweep's */
 #define SEED_MAX 1000000000000000LL
 
+/* rj sweep --threads: at most this many, each with a model and a state of its own */
+#define SWEEP_MAX_THREADS 256
+
+/* --shard auto: one of the variables a Slurm job array sets, decimal digits in [lo, hi];
+   missing or malformed it is bad usage, named (no guess at a shard). */
+static int slurm_var(const cli *c, const char *name, int lo, int hi)
+{
+    const char *s = getenv(name), *rest;
+    long long v = -1;
+    char msg[200];
+    if (!s || !*s)
+        cli_die(c, "option --shard auto: %s is not set (Slurm sets it in a job array, sbatch --array=0-N; "
+                "or give --shard i/n)%s", name, "");
+    if (cli_digits(s, '\0', &rest, &v) != 0 || v < lo || v > hi) {
+        snprintf(msg, sizeof msg, "%s='%.40s' is not an integer in [%d, %d]", name, s, lo, hi);
+        cli_die(c, "option --shard auto: %s%s", msg, "");
+    }
+    return (int)v;
+}
+
+/* --shard auto: --shard ID/COUNT from the job array's task id and task count. Slurm numbers
+   tasks as --array says, so an array that does not start at 0 is refused, not shifted. */
+static void shard_auto(const cli *c, opts *o)
+{
+    char msg[200];
+    o->shard_n = slurm_var(c, "SLURM_ARRAY_TASK_COUNT", 1, INT_MAX);
+    o->shard_i = slurm_var(c, "SLURM_ARRAY_TASK_ID", 0, INT_MAX - 1);
+    if (o->shard_i < o->shard_n) return;
+    snprintf(msg, sizeof msg, "SLURM_ARRAY_TASK_ID=%d is not below SLURM_ARRAY_TASK_COUNT=%d (number the array "
+             "from 0: sbatch --array=0-%d)", o->shard_i, o->shard_n, o->shard_n - 1);
+    cli_die(c, "option --shard auto: %s%s", msg, "");
+}
+
 /* rj sweep's own options; returns 1 when a was one. */
 static int opt_sweep(cli *c, opts *o, const char *a)
 {
@@ -400,7 +448,12 @@ static int opt_sweep(cli *c, opts *o, const char *a)
     if (!strcmp(a, "--vary")) vary_parse(c, a, &o->varies[o->nvary++]);
     else if (!strcmp(a, "--samples")) o->samples = cli_int(c, a, 1, 10000000);
     else if (!strcmp(a, "--seed")) o->seed = (unsigned long long)cli_long(c, a, 0, SEED_MAX);
-    else if (!strcmp(a, "--shard")) {
+    else if (!strcmp(a, "--threads")) o->threads = cli_int(c, a, 1, SWEEP_MAX_THREADS);
+    else if (!strcmp(a, "--resume")) o->resume = 1;
+    else if (!strcmp(a, "--shard") && c->i + 1 < c->argc && !strcmp(c->argv[c->i + 1], "auto")) {
+        c->i++;
+        shard_auto(c, o);
+    } else if (!strcmp(a, "--shard")) {
         cli_pair(c, a, '/', &o->shard_i, &o->shard_n, shard_lim, "i/n with 0 <= i < n");
         if (o->shard_i >= o->shard_n) cli_bad(c, a, c->argv[c->i], "i/n with 0 <= i < n");
     } else return 0;
@@ -450,6 +503,8 @@ static void opts_parse(opts *o, int cmd, int argc, char **argv, const char *usag
     if ((cmd & (CMD_PLOT | CMD_ANIMATE)) && !o->out) cli_die(&c, "option %s is required%s", "--out", "");
     if (cmd == CMD_SWEEP && !o->nvary) cli_die(&c, "option %s is required%s", "--vary", "");
     if (cmd == CMD_SWEEP && !o->samples) cli_die(&c, "option %s is required%s", "--samples", "");
+    if (cmd == CMD_SWEEP && o->resume && (!o->csv || !strcmp(o->csv, "-")))
+        cli_die(&c, "option %s needs --csv FILE, the rows of the sweep to resume%s", "--resume", "");
 }
 
 /* ================================================================ the scene */
@@ -2595,16 +2650,52 @@ static const char *result_name(rj_result r)
     return (int)r >= 0 && (int)r < NCOLS(names) ? names[r] : "error";
 }
 
-/* The whole sweep: the options, the scene at the file's values (names, flexible links),
-   the changes each sample loads with, and the output. */
-typedef struct sweep {
-    const opts *o;
-    const scene *sc;
+/* Rows done but not yet written, per thread: a slow sample holds the rows after it back
+   until it is done, and the ring of those rows bounds the memory they take. */
+#define SWEEP_RING_PER_THREAD 4
+
+struct sweep;
+/* One thread's own: the changes its sample loads with, the values, and the row, written
+   into memory (open_memstream) and handed to the writer. Threads share only the sweep's
+   read-only parts and, under its lock, the ring; each sample builds its own model. */
+typedef struct worker {
+    struct sweep *w;
     const char **sets; /* --set's changes, then one "KEY=VALUE" per --vary */
     char **text;       /* the --vary changes' texts (sets' last nvary) */
     double *x;         /* the sample's values */
-    int *flex, nflex;  /* the flexible links (file order) */
+    cli_out row;       /* the row being written, in memory */
+    pthread_t th;
+} worker;
+
+/* A row done, waiting for its turn: its text (NULL: there was no memory for it). */
+typedef struct pending {
+    char *text;
+    size_t len;
+    int ready;
+} pending;
+
+/* The whole sweep: the options, the scene at the file's values (names, flexible links),
+   the header, the threads, and the output with the ring of rows waiting for it. A row
+   goes out in the samples' order, whichever thread finishes it. */
+typedef struct sweep {
+    const opts *o;
+    const scene *sc;
+    int *flex, nflex;      /* the flexible links (file order) */
+    char *header;          /* the header line, newline included */
+    size_t header_len;
+    unsigned char *have;   /* --resume: have[k] when the file holds sample k (NULL: none) */
+    worker *wk;            /* o->threads of them */
     cli_out out;
+    pthread_mutex_t lock;  /* guards the rest */
+    pthread_cond_t ready;  /* a row is ready (the writer waits) */
+    pthread_cond_t room;   /* the ring has room, or the sweep stops (the threads wait) */
+    pending *ring;         /* place p's row at ring[p % nring] */
+    int nring;
+    int next_k;            /* the next sample to hand out (-1: none left) */
+    int handed, written;   /* places in the run's order: handed to a thread, written */
+    int todo, done, bad;   /* samples to run, run, not ok */
+    int held;              /* --resume: the samples the file holds */
+    int stop;              /* the output failed: hand out no more */
 } sweep;
 
 /* Per sample: each joint's lock time, seen step by step as rj run's summary sees it. */
@@ -2643,60 +2734,72 @@ static void csv_quoted(cli_out *o, const char *t)
 }
 
 /* The header: sample, the varied keys, each joint's and flexible link's columns. */
-static void sweep_header(sweep *w)
+static void sweep_header(const sweep *w, cli_out *out)
 {
     const scene *sc = w->sc;
     int i;
-    cli_put(&w->out, fputs("sample", w->out.f));
+    cli_put(out, fputs("sample", out->f));
     for (i = 0; i < w->o->nvary; i++) {
         const vary *v = &w->o->varies[i];
-        cli_put(&w->out, fprintf(w->out.f, ",%.*s", v->keylen, v->spec));
+        cli_put(out, fprintf(out->f, ",%.*s", v->keylen, v->spec));
     }
     for (i = 0; i < rj_model_joint_count(sc->m); i++)
-        cli_put(&w->out, fprintf(w->out.f, ",%s.first_contact,%s.lock,%s.peak_pin_force", joint_name(sc, i),
-                                 joint_name(sc, i), joint_name(sc, i)));
-    for (i = 0; i < w->nflex; i++)
-        cli_put(&w->out, fprintf(w->out.f, ",%s.peak_moment", link_name(sc, w->flex[i])));
-    cli_put(&w->out, fputs(",status,message\n", w->out.f));
+        cli_put(out, fprintf(out->f, ",%s.first_contact,%s.lock,%s.peak_pin_force", joint_name(sc, i),
+                             joint_name(sc, i), joint_name(sc, i)));
+    for (i = 0; i < w->nflex; i++) cli_put(out, fprintf(out->f, ",%s.peak_moment", link_name(sc, w->flex[i])));
+    cli_put(out, fputs(",status,message\n", out->f));
+}
+
+/* The header's text, once: written to the output, and compared with the file's by
+   --resume. Returns 0, or -1 when memory ran out. */
+static int sweep_header_text(sweep *w)
+{
+    cli_out o;
+    o.name = "memory";
+    o.err = 0;
+    o.f = open_memstream(&w->header, &w->header_len);
+    if (!o.f) return -1;
+    sweep_header(w, &o);
+    return fclose(o.f) != 0 || o.err ? -1 : 0;
 }
 
 /* The row's start: the index and the values, as loaded (%.17g round-trips). */
-static void sweep_row_start(sweep *w, int k)
+static void sweep_row_start(worker *h, int k)
 {
     int i;
-    cli_put(&w->out, fprintf(w->out.f, "%d", k));
-    for (i = 0; i < w->o->nvary; i++) cli_put(&w->out, fprintf(w->out.f, ",%.17g", w->x[i]));
+    cli_put(&h->row, fprintf(h->row.f, "%d", k));
+    for (i = 0; i < h->w->o->nvary; i++) cli_put(&h->row, fprintf(h->row.f, ",%.17g", h->x[i]));
 }
 
 /* A sample whose scene did not load or build: its numbers empty, the result and message. */
-static void sweep_row_failed(sweep *w, int k, rj_result res, const char *msg)
+static void sweep_row_failed(worker *h, int k, rj_result res, const char *msg)
 {
     int i;
-    const int n = 3 * rj_model_joint_count(w->sc->m) + w->nflex;
-    sweep_row_start(w, k);
-    for (i = 0; i < n; i++) cli_put(&w->out, fputc(',', w->out.f));
-    cli_put(&w->out, fprintf(w->out.f, ",%s,", result_name(res)));
-    csv_quoted(&w->out, msg);
+    const int n = 3 * rj_model_joint_count(h->w->sc->m) + h->w->nflex;
+    sweep_row_start(h, k);
+    for (i = 0; i < n; i++) cli_put(&h->row, fputc(',', h->row.f));
+    cli_put(&h->row, fprintf(h->row.f, ",%s,", result_name(res)));
+    csv_quoted(&h->row, msg);
 }
 
 /* A run's row: per joint first contact, lock, peak |pin force|; per flexible link its
    peak |bending moment|; the run's result. */
-static void sweep_row(sweep *w, int k, const rj_model *m, const rj_state *s, const locks *lk, rj_result res)
+static void sweep_row(worker *h, int k, const rj_model *m, const rj_state *s, const locks *lk, rj_result res)
 {
     int j;
-    sweep_row_start(w, k);
+    sweep_row_start(h, k);
     for (j = 0; j < rj_model_joint_count(m); j++)
-        cli_put(&w->out, fprintf(w->out.f, ",%.10g,%.10g,%.10g", rj_joint_event_time(m, s, j), lk->t[j],
+        cli_put(&h->row, fprintf(h->row.f, ",%.10g,%.10g,%.10g", rj_joint_event_time(m, s, j), lk->t[j],
                                  rj_joint_peak_pin_force(m, s, j).value));
-    for (j = 0; j < w->nflex; j++)
-        cli_put(&w->out, fprintf(w->out.f, ",%.10g", rj_link_peak_moment(m, s, w->flex[j]).value));
-    cli_put(&w->out, fprintf(w->out.f, ",%s,", result_name(res)));
-    csv_quoted(&w->out, res == RJ_OK ? "" : rj_state_error(s));
+    for (j = 0; j < h->w->nflex; j++)
+        cli_put(&h->row, fprintf(h->row.f, ",%.10g", rj_link_peak_moment(m, s, h->w->flex[j]).value));
+    cli_put(&h->row, fprintf(h->row.f, ",%s,", result_name(res)));
+    csv_quoted(&h->row, res == RJ_OK ? "" : rj_state_error(s));
 }
 
 /* Runs a built model to --t-end with peaks tracked and the locks seen at every step.
    Returns the run's result. */
-static rj_result sweep_run(sweep *w, int k, const rj_model *m)
+static rj_result sweep_run(worker *h, int k, const rj_model *m)
 {
     const int nj = rj_model_joint_count(m);
     rj_state *s = NULL;
@@ -2706,7 +2809,7 @@ static rj_result sweep_run(sweep *w, int k, const rj_model *m)
     lk.flag = (int *)malloc(sizeof(int) * (size_t)(nj + 1));
     lk.t = (double *)malloc(sizeof(double) * (size_t)(nj + 1));
     if (!lk.flag || !lk.t || rj_state_create(m, &s, NULL) != RJ_OK) {
-        sweep_row_failed(w, k, RJ_ERR_NOMEM, "out of memory");
+        sweep_row_failed(h, k, RJ_ERR_NOMEM, "out of memory");
     } else {
         for (j = 0; j < nj; j++) {
             lk.flag[j] = rj_joint_flag(m, s, j);
@@ -2717,8 +2820,8 @@ static rj_result sweep_run(sweep *w, int k, const rj_model *m)
         res = rj_state_track_peaks(m, s, 1);
         /* a callback at every step makes rj_run take the energy accounts, and so the
            peaks, at every step, as rj run's */
-        if (res == RJ_OK) res = rj_run(m, s, w->o->t_end, 0, locks_step, &lk);
-        sweep_row(w, k, m, s, &lk, res);
+        if (res == RJ_OK) res = rj_run(m, s, h->w->o->t_end, 0, locks_step, &lk);
+        sweep_row(h, k, m, s, &lk, res);
     }
     if (s) rj_state_destroy(s, NULL);
     free(lk.flag);
@@ -2729,9 +2832,9 @@ static rj_result sweep_run(sweep *w, int k, const rj_model *m)
 /* Sample k: its values into the --vary changes, the scene loaded with them and built,
    then run; a failure at any stage is the row's status and message. Returns 1 when the
    sample is not ok. */
-static int sweep_sample(sweep *w, int k)
+static int sweep_sample(worker *h, int k)
 {
-    const opts *o = w->o;
+    const opts *o = h->w->o;
     rj_scene_file f;
     rj_scene_def d;
     rj_model *m = NULL;
@@ -2739,11 +2842,11 @@ static int sweep_sample(sweep *w, int k)
     rj_result res;
     int i;
     for (i = 0; i < o->nvary; i++) {
-        w->x[i] = vary_value(&o->varies[i], o->seed, k, i);
-        sprintf(w->text[i], "%.*s=%.17g", o->varies[i].keylen, o->varies[i].spec, w->x[i]);
+        h->x[i] = vary_value(&o->varies[i], o->seed, k, i);
+        sprintf(h->text[i], "%.*s=%.17g", o->varies[i].keylen, o->varies[i].spec, h->x[i]);
     }
-    if (rj_scene_load_set(o->scene, w->sets, o->nsets + o->nvary, &f, &e) != RJ_OK) {
-        sweep_row_failed(w, k, e.code, e.msg);
+    if (rj_scene_load_set(o->scene, h->sets, o->nsets + o->nvary, &f, &e) != RJ_OK) {
+        sweep_row_failed(h, k, e.code, e.msg);
         return 1;
     }
     if (o->dt >= 0) f.solver.dt = o->dt;
@@ -2754,22 +2857,46 @@ static int sweep_sample(sweep *w, int k)
     res = rj_model_create(&d, &m, &e, NULL);
     if (res != RJ_OK) {
         rj_scene_file_locate(&f, &e);
-        sweep_row_failed(w, k, e.code, e.msg);
+        sweep_row_failed(h, k, e.code, e.msg);
     } else {
-        res = sweep_run(w, k, m);
+        res = sweep_run(h, k, m);
         rj_model_destroy(m, NULL);
     }
     rj_scene_file_free(&f);
     return res != RJ_OK;
 }
 
+/* Sample k run into a row in memory: p's text, NULL when memory ran out (the writer
+   then fails the output). Returns 1 when the sample is not ok. */
+static int sweep_sample_row(worker *h, int k, pending *p)
+{
+    int bad;
+    p->text = NULL;
+    p->len = 0;
+    p->ready = 1;
+    h->row.name = "memory";
+    h->row.err = 0;
+    h->row.f = open_memstream(&p->text, &p->len);
+    if (!h->row.f) {
+        p->text = NULL;
+        return 1;
+    }
+    bad = sweep_sample(h, k);
+    if (fclose(h->row.f) != 0 || h->row.err) {
+        free(p->text);
+        p->text = NULL;
+    }
+    return bad;
+}
+
 /* Each --vary against the file before anything runs: its key must name an item and both
    ends must load (with the --set changes), and no key may be varied twice. A sample's
    failure is a row; a range that cannot be right for any sample is bad usage. Returns 0,
-   or 2 after naming the option. */
+   or 2 after naming the option. Uses the first thread's buffers. */
 static int sweep_check(sweep *w)
 {
     const opts *o = w->o;
+    worker *h = &w->wk[0];
     int i, j, end;
     if (o->nsets + o->nvary > RJ_SCENE_MAX_SETS) {
         fprintf(stderr, "rj sweep: %d --set and --vary changes, more than the %d a scene takes\n",
@@ -2787,8 +2914,8 @@ static int sweep_check(sweep *w)
         for (end = 0; end < 2; end++) {
             rj_scene_file f;
             rj_error e;
-            sprintf(w->text[0], "%.*s=%.17g", v->keylen, v->spec, end ? v->hi : v->lo);
-            if (rj_scene_load_set(o->scene, w->sets, o->nsets + 1, &f, &e) != RJ_OK) {
+            sprintf(h->text[0], "%.*s=%.17g", v->keylen, v->spec, end ? v->hi : v->lo);
+            if (rj_scene_load_set(o->scene, h->sets, o->nsets + 1, &f, &e) != RJ_OK) {
                 fprintf(stderr, "rj sweep: option --vary %s: at %s = %.17g: %s\n", v->spec, end ? "HI" : "LO",
                         end ? v->hi : v->lo, e.msg);
                 return 2;
@@ -2799,65 +2926,381 @@ static int sweep_check(sweep *w)
     return 0;
 }
 
-/* The changes' texts: each "KEY=" and a %.17g number (at most 24 characters), each
+/* A thread's changes' texts: each "KEY=" and a %.17g number (at most 24 characters), each
    buffer long enough for any key (sweep_check writes every key into the first). */
+static int worker_alloc(worker *h, sweep *w, int longest)
+{
+    const opts *o = w->o;
+    int i;
+    h->w = w;
+    h->sets = (const char **)malloc(sizeof(char *) * (size_t)(o->nsets + o->nvary));
+    h->text = (char **)calloc((size_t)o->nvary, sizeof(char *));
+    h->x = (double *)malloc(sizeof(double) * (size_t)o->nvary);
+    if (!h->sets || !h->text || !h->x) return -1;
+    for (i = 0; i < o->nsets; i++) h->sets[i] = o->sets[i];
+    for (i = 0; i < o->nvary; i++) {
+        h->text[i] = (char *)malloc((size_t)longest + 40);
+        if (!h->text[i]) return -1;
+        h->sets[o->nsets + i] = h->text[i];
+    }
+    return 0;
+}
+
+/* The threads' buffers, the flexible links and the header. */
 static int sweep_alloc(sweep *w)
 {
     const opts *o = w->o;
     const rj_model *m = w->sc->m;
     int i, longest = 0;
-    w->sets = (const char **)malloc(sizeof(char *) * (size_t)(o->nsets + o->nvary));
-    w->text = (char **)calloc((size_t)o->nvary, sizeof(char *));
-    w->x = (double *)malloc(sizeof(double) * (size_t)o->nvary);
+    w->wk = (worker *)calloc((size_t)o->threads, sizeof(worker));
     w->flex = (int *)malloc(sizeof(int) * (size_t)(rj_model_link_count(m) + 1));
-    if (!w->sets || !w->text || !w->x || !w->flex) return -1;
-    for (i = 0; i < o->nsets; i++) w->sets[i] = o->sets[i];
+    if (!w->wk || !w->flex) return -1;
     for (i = 0; i < o->nvary; i++)
         if (o->varies[i].keylen > longest) longest = o->varies[i].keylen;
-    for (i = 0; i < o->nvary; i++) {
-        w->text[i] = (char *)malloc((size_t)longest + 40);
-        if (!w->text[i]) return -1;
-        w->sets[o->nsets + i] = w->text[i];
-    }
+    for (i = 0; i < o->threads; i++)
+        if (worker_alloc(&w->wk[i], w, longest) != 0) return -1;
     w->nflex = 0;
     for (i = 0; i < rj_model_link_count(m); i++)
         if (link_flexible(m, i)) w->flex[w->nflex++] = i;
-    return 0;
+    return sweep_header_text(w);
 }
 
 /* Frees what sweep_alloc made. */
 static void sweep_free(sweep *w)
 {
-    int i;
-    for (i = 0; w->text && i < w->o->nvary; i++) free(w->text[i]);
-    free(w->text);
-    free((void *)w->sets);
-    free(w->x);
+    int i, t;
+    for (t = 0; w->wk && t < w->o->threads; t++) {
+        worker *h = &w->wk[t];
+        for (i = 0; h->text && i < w->o->nvary; i++) free(h->text[i]);
+        free(h->text);
+        free((void *)h->sets);
+        free(h->x);
+    }
+    free(w->wk);
     free(w->flex);
+    free(w->header);
+    free(w->have);
 }
 
-/* The shard's samples in index order, a row each as it is done; stops at a failed write.
-   Returns the samples run; *bad counts those not ok. */
-static int sweep_go(sweep *w, int *bad)
+/* ---- which samples: the shard's, less those --resume found in the file */
+
+/* The shard's sample after k, or -1; the step never passes INT_MAX (--shard i/n takes n
+   up to it). */
+static int shard_step(const opts *o, int k)
 {
-    const opts *o = w->o;
+    return o->shard_n < o->samples - k ? k + o->shard_n : -1;
+}
+
+/* The shard's first sample from k on (k in the shard, or -1) that the file does not hold
+   yet, or -1. */
+static int sweep_next(const sweep *w, int k)
+{
+    for (; k >= 0; k = shard_step(w->o, k))
+        if (!w->have || !w->have[k]) return k;
+    return -1;
+}
+
+/* The shard's first sample to run, or -1. */
+static int sweep_first(const sweep *w)
+{
+    return sweep_next(w, w->o->shard_i < w->o->samples ? w->o->shard_i : -1);
+}
+
+/* How many samples this run has to do. */
+static int sweep_count(const sweep *w)
+{
     int k, n = 0;
-    *bad = 0;
-    for (k = o->shard_i; k < o->samples && !w->out.err; k += o->shard_n) {
-        *bad += sweep_sample(w, k);
-        n++;
-    }
+    for (k = sweep_first(w); k >= 0; k = sweep_next(w, shard_step(w->o, k))) n++;
     return n;
 }
 
+/* ---- --resume: a cut-short run's file, checked, cut after its last whole row, continued */
+
+/* The file's first line (n bytes, the newline included when it is whole) against this
+   sweep's header: the same, or cut short, its start. Returns 0, or 2 after showing both. */
+static int sweep_resume_header(const sweep *w, const char *line, size_t n, const char *path)
+{
+    const int whole = line[n - 1] == '\n';
+    if ((whole ? n == w->header_len : n < w->header_len) && !memcmp(line, w->header, n)) return 0;
+    fprintf(stderr,
+            "rj sweep: option --resume: the header of %s differs from this sweep's (another scene or --vary?); "
+            "the file's:\n%.*s%sthis sweep's:\n%s",
+            path, (int)n, line, whole ? "" : "\n", w->header);
+    return 2;
+}
+
+/* One of the file's whole rows: its index, a sample of the shard not seen before, then
+   the values this sweep draws for it, as sweep_row_start writes them. A row of another
+   sweep (--seed, the ranges, --samples, --shard) is refused: appended to, the file would
+   mix two sweeps. Returns 0, or 2 after naming the line. */
+static int sweep_resume_row(sweep *w, const char *line, const char *path, long lineno)
+{
+    const opts *o = w->o;
+    const char *p = line;
+    char num[48], why[160];
+    long k = 0;
+    int i;
+    why[0] = '\0';
+    for (; *p >= '0' && *p <= '9' && k <= o->samples; p++) k = 10 * k + (*p - '0');
+    if (p == line || (line[0] == '0' && p - line > 1)) snprintf(why, sizeof why, "no sample index");
+    else if (k >= o->samples) snprintf(why, sizeof why, "sample %ld is past --samples %d", k, o->samples);
+    else if (*p != ',') snprintf(why, sizeof why, "no sample index");
+    else if (k % o->shard_n != o->shard_i)
+        snprintf(why, sizeof why, "sample %ld is not in shard %d/%d", k, o->shard_i, o->shard_n);
+    else if (w->have[k]) snprintf(why, sizeof why, "sample %ld again", k);
+    for (i = 0; !why[0] && i < o->nvary; i++) {
+        const int len = snprintf(num, sizeof num, ",%.17g", vary_value(&o->varies[i], o->seed, (int)k, i));
+        if (strncmp(p, num, (size_t)len) != 0 || (p[len] != ',' && p[len] != '\n'))
+            snprintf(why, sizeof why, "sample %ld's %.*s is not this sweep's %s (another --seed or range?)", k,
+                     o->varies[i].keylen, o->varies[i].spec, num + 1);
+        p += len;
+    }
+    if (why[0]) {
+        fprintf(stderr, "rj sweep: option --resume: %s:%ld: not a row of this sweep: %s\n", path, lineno, why);
+        return 2;
+    }
+    w->have[k] = 1;
+    w->held++;
+    return 0;
+}
+
+/* Reads the file: the header, then each whole row into w->have; a last line without its
+   newline (the run stopped while writing it) is not kept. Returns the bytes to keep, or
+   -1 after saying why not. */
+static off_t sweep_resume_scan(sweep *w, FILE *f, const char *path)
+{
+    char *line = NULL;
+    size_t cap = 0;
+    ssize_t n;
+    off_t keep = 0;
+    long lineno = 0;
+    int st = 0;
+    while (st == 0 && (n = getline(&line, &cap, f)) > 0) {
+        if (++lineno == 1) st = sweep_resume_header(w, line, (size_t)n, path);
+        if (line[n - 1] != '\n') break;
+        if (lineno > 1) st = sweep_resume_row(w, line, path, lineno);
+        if (st == 0) keep += (off_t)n;
+    }
+    if (st == 0 && ferror(f)) {
+        fprintf(stderr, "rj sweep: option --resume: cannot read %s: %s\n", path, strerror(errno));
+        st = 2;
+    }
+    free(line);
+    return st ? -1 : keep;
+}
+
+/* --resume: the file checked and cut after its last whole row (sweep_resume_scan), then
+   opened to append to; a file that does not exist yet, or holds no whole line, is a sweep
+   from the start, header first. Returns 0, 1 (out of memory) or 2. */
+static int sweep_resume_open(sweep *w, const char *path)
+{
+    FILE *f;
+    off_t keep = 0;
+    w->have = (unsigned char *)calloc((size_t)w->o->samples, 1);
+    if (!w->have) {
+        fprintf(stderr, "rj sweep: out of memory\n");
+        return 1;
+    }
+    f = fopen(path, "r");
+    if (!f && errno != ENOENT) {
+        fprintf(stderr, "rj sweep: option --resume: cannot read %s: %s\n", path, strerror(errno));
+        return 2;
+    }
+    if (f) {
+        keep = sweep_resume_scan(w, f, path);
+        fclose(f);
+        if (keep < 0) return 2;
+        if (truncate(path, keep) != 0) {
+            fprintf(stderr, "rj sweep: option --resume: cannot cut %s after its last whole row: %s\n", path,
+                    strerror(errno));
+            return 2;
+        }
+    } else if (cli_mkparent("rj sweep", path) != 0) return 2;
+    w->out.err = 0;
+    w->out.name = path;
+    w->out.f = fopen(path, "a");
+    if (!w->out.f) {
+        fprintf(stderr, "rj sweep: cannot open %s for writing: %s\n", path, strerror(errno));
+        return 2;
+    }
+    if (keep == 0) cli_put(&w->out, fputs(w->header, w->out.f));
+    return 0;
+}
+
+/* The output (csv NULL: standard output), header first, or --resume's file. Returns 0,
+   1 or 2. */
+static int sweep_open(sweep *w, const char *csv)
+{
+    if (w->o->resume) return sweep_resume_open(w, csv);
+    if ((csv && cli_mkparent("rj sweep", csv) != 0) || cli_open(&w->out, "rj sweep", csv) != 0) return 2;
+    cli_put(&w->out, fputs(w->header, w->out.f));
+    return 0;
+}
+
+/* ---- the progress line, as rj run's: with --progress always (every second; a quarter
+   of one on a terminal, redrawn in place), without it only on a terminal after 2 s */
+
+static void sweep_progress_start(progress *pr, int always)
+{
+    memset(pr, 0, sizeof *pr);
+    pr->tty = isatty(2);
+    pr->mode = always ? PROGRESS_ALWAYS : pr->tty ? PROGRESS_TTY : PROGRESS_OFF;
+    pr->wall0 = wall_now();
+}
+
+/* One line: samples done of this run's, samples/s and the remaining wall time at that
+   rate. */
+static void sweep_progress_print(progress *pr, int done, int total, double now)
+{
+    const double el = now - pr->wall0;
+    const double rate = el > 0 ? done / el : 0.0;
+    const double eta = done > 0 ? el * (total - done) / done : 0.0;
+    fprintf(stderr, "%srj sweep: %5.1f %%  %d / %d samples  %.3g samples/s  ETA %.0f s%s", pr->tty ? "\r" : "",
+            100.0 * done / (total > 0 ? total : 1), done, total, rate, eta, pr->tty ? "   " : "\n");
+    pr->shown = pr->tty;
+}
+
+/* Called at least every quarter second (the writer's wait): a line when one is due. */
+static void sweep_progress_tick(progress *pr, int done, int total)
+{
+    const double now = wall_now();
+    if (pr->mode == PROGRESS_OFF || now < pr->next) return;
+    if (pr->mode == PROGRESS_TTY && now - pr->wall0 < 2.0) return;
+    sweep_progress_print(pr, done, total, now);
+    pr->next = now + (pr->tty ? 0.25 : 1.0);
+}
+
+/* The end: on a terminal the line is cleared; into a file or pipe --progress ends with
+   the line of the end. */
+static void sweep_progress_end(progress *pr, int done, int total)
+{
+    if (pr->shown) fprintf(stderr, "\r%79s\r", "");
+    if (pr->mode == PROGRESS_ALWAYS && !pr->tty) sweep_progress_print(pr, done, total, wall_now());
+}
+
+/* ---- the threads and the writer */
+
+/* A thread: takes the next sample while the ring has room for its row, runs it, and
+   leaves the row at its place in the ring; ends when none is left or the sweep stops. */
+static void *sweep_thread(void *arg)
+{
+    worker *h = (worker *)arg;
+    sweep *w = h->w;
+    for (;;) {
+        pending p;
+        int k, place, bad;
+        pthread_mutex_lock(&w->lock);
+        while (!w->stop && w->next_k >= 0 && w->handed - w->written >= w->nring)
+            pthread_cond_wait(&w->room, &w->lock);
+        k = w->stop ? -1 : w->next_k;
+        place = w->handed;
+        if (k >= 0) {
+            w->handed++;
+            w->next_k = sweep_next(w, shard_step(w->o, k));
+        }
+        pthread_mutex_unlock(&w->lock);
+        if (k < 0) return NULL;
+        bad = sweep_sample_row(h, k, &p);
+        pthread_mutex_lock(&w->lock);
+        w->ring[place % w->nring] = p;
+        w->done++;
+        w->bad += bad;
+        pthread_cond_signal(&w->ready);
+        pthread_mutex_unlock(&w->lock);
+    }
+}
+
+/* The writer's wait for the next row (the lock held): a quarter second at most, so that
+   the progress line keeps its pace. */
+static void sweep_wait(sweep *w)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    ts.tv_nsec += 250000000L;
+    if (ts.tv_nsec >= 1000000000L) {
+        ts.tv_sec++;
+        ts.tv_nsec -= 1000000000L;
+    }
+    pthread_cond_timedwait(&w->ready, &w->lock, &ts);
+}
+
+/* The writer (this thread): each row in the samples' order once its thread has left it
+   in the ring, the progress line meanwhile. A failed write, or a row memory could not
+   hold, stops the handing out; the threads end with the samples under way. */
+static void sweep_write(sweep *w)
+{
+    progress pr;
+    int done;
+    sweep_progress_start(&pr, w->o->progress);
+    pthread_mutex_lock(&w->lock);
+    while (!w->stop && w->written < w->todo) {
+        pending *slot = &w->ring[w->written % w->nring], p;
+        sweep_progress_tick(&pr, w->done, w->todo);
+        if (!slot->ready) {
+            sweep_wait(w);
+            continue;
+        }
+        p = *slot;
+        slot->ready = 0;
+        w->written++;
+        pthread_cond_broadcast(&w->room);
+        pthread_mutex_unlock(&w->lock);
+        if (!p.text && !w->out.err) w->out.err = ENOMEM;
+        if (p.text) cli_put(&w->out, fwrite(p.text, 1, p.len, w->out.f) == p.len ? 0 : -1);
+        free(p.text);
+        pthread_mutex_lock(&w->lock);
+        if (w->out.err) {
+            w->stop = 1;
+            pthread_cond_broadcast(&w->room);
+        }
+    }
+    done = w->done;
+    pthread_mutex_unlock(&w->lock);
+    sweep_progress_end(&pr, done, w->todo);
+}
+
+/* The samples on --threads threads, each with its own models and states, the rows
+   written in the samples' order (sweep_write). Returns 0, or 1 when no thread started. */
+static int sweep_go(sweep *w)
+{
+    const opts *o = w->o;
+    int t, started, rc = 0;
+    w->nring = SWEEP_RING_PER_THREAD * o->threads;
+    w->ring = (pending *)calloc((size_t)w->nring, sizeof(pending));
+    if (!w->ring) {
+        fprintf(stderr, "rj sweep: out of memory\n");
+        return 1;
+    }
+    w->next_k = sweep_first(w);
+    pthread_mutex_init(&w->lock, NULL);
+    pthread_cond_init(&w->ready, NULL);
+    pthread_cond_init(&w->room, NULL);
+    for (started = 0; started < o->threads; started++)
+        if ((rc = pthread_create(&w->wk[started].th, NULL, sweep_thread, &w->wk[started])) != 0) break;
+    if (started == 0) fprintf(stderr, "rj sweep: cannot start a thread: %s\n", strerror(rc));
+    else if (started < o->threads)
+        fprintf(stderr, "rj sweep: warning: %d of %d threads started: %s\n", started, o->threads, strerror(rc));
+    if (started > 0) sweep_write(w);
+    for (t = 0; t < started; t++) pthread_join(w->wk[t].th, NULL);
+    /* rows left by a sweep that stopped */
+    for (t = 0; t < w->nring; t++)
+        if (w->ring[t].ready) free(w->ring[t].text);
+    pthread_cond_destroy(&w->room);
+    pthread_cond_destroy(&w->ready);
+    pthread_mutex_destroy(&w->lock);
+    free(w->ring);
+    return started > 0 ? 0 : 1;
+}
+
 /* rj sweep: the options, the scene at the file's values (names, the step bound), every
-   --vary's ends and the output are checked before any sample runs; then the samples. */
+   --vary's ends and the output (--resume: the file's rows) are checked before any sample
+   runs; then the samples. */
 static int cmd_sweep(int argc, char **argv)
 {
     opts o;
     scene sc;
     sweep w;
-    int st = 2, n, bad = 0;
+    int st = 2;
     double wall;
     const char *csv;
     opts_parse(&o, CMD_SWEEP, argc, argv, usage_sweep);
@@ -2873,15 +3316,18 @@ static int cmd_sweep(int argc, char **argv)
     } else if (sweep_check(&w) == 0) {
         /* the bound on a run's length at the file's step: a varied key may change it */
         cli_check_steps("rj sweep", o.t_end, rj_model_dt(sc.m), o.force);
-        if ((!csv || cli_mkparent("rj sweep", csv) == 0) && cli_open(&w.out, "rj sweep", csv) == 0) st = 0;
+        st = sweep_open(&w, csv);
     }
     if (st == 0) {
         wall = wall_now();
-        sweep_header(&w);
-        n = sweep_go(&w, &bad);
-        st = cli_close(&w.out, "rj sweep");
-        fprintf(stderr, "rj sweep: %d samples (shard %d/%d), %d not ok, wall %.3f s\n", n, o.shard_i,
-                o.shard_n, bad, wall_now() - wall);
+        w.todo = sweep_count(&w);
+        if (o.resume)
+            fprintf(stderr, "rj sweep: --resume: %s holds %d of the shard's samples; %d to run\n", csv, w.held,
+                    w.todo);
+        st = sweep_go(&w);
+        st = cli_close(&w.out, "rj sweep") != 0 ? 1 : st;
+        fprintf(stderr, "rj sweep: %d samples (shard %d/%d), %d not ok, wall %.3f s\n", w.done, o.shard_i,
+                o.shard_n, w.bad, wall_now() - wall);
     }
     sweep_free(&w);
     free(o.varies);

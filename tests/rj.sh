@@ -553,4 +553,52 @@ m 2 "unknown option '--vray'; did you mean '--vary'\\?" "sweep --vray: did you m
 m 2 "option --samples is required" "sweep without --samples is refused" $B/rj sweep $S/solar_array.rjs --vary joint.h1.friction=0:1
 ok "sweep --help: the usage, within C99's 4095 characters a string; rj --help lists sweep" \
   "$B/rj sweep --help | grep -q '^usage: rj sweep SCENE.rjs --vary KEY=LO:HI' && [ \$($B/rj sweep --help | wc -c) -le 4095 ] && $B/rj --help | grep -q '^  sweep '"
+# ---- rj sweep --threads, --progress, --resume, --shard auto: the rows of one thread, of an
+# uninterrupted run, of --shard i/n; a file of another sweep and a shard Slurm did not give refused
+$B/rj sweep $SW --samples 6 --threads 2 --progress --csv $T/sw_t2.csv 2>$T/sw_t2.err; st=$?
+ok "sweep --threads 2: the same bytes as --threads 1 (status $st)" "[ $st = 0 ] && cmp -s $T/sw.csv $T/sw_t2.csv"
+ok "sweep --progress: samples done, rate and ETA on standard error, ending at 6 / 6" \
+  "grep -q '^rj sweep: 100.0 %  6 / 6 samples  .* samples/s  ETA 0 s\$' $T/sw_t2.err"
+SWS="$S/solar_array.rjs --vary joint.h1.friction=0.01:0.03 --t-end 0.02 --samples 20"
+$B/rj sweep $SWS --csv $T/sw_s1.csv 2>/dev/null
+$B/rj sweep $SWS --threads 3 --csv $T/sw_s3.csv 2>/dev/null; st=$?
+ok "sweep --threads 3 over 20 short samples (the ring of rows waiting for their turn wraps): --threads 1's bytes (status $st)" \
+  "[ $st = 0 ] && [ \$(wc -l < $T/sw_s1.csv) = 21 ] && cmp -s $T/sw_s1.csv $T/sw_s3.csv"
+# a run cut short: the header, 2 rows and half of the third, without its newline
+{ head -3 $T/sw.csv; printf '%s' "$(sed -n 4p $T/sw.csv | cut -c1-30)"; } > $T/sw_cut.csv
+cp $T/sw_cut.csv $T/sw_cut0.csv
+$B/rj sweep $SW --samples 6 --threads 2 --resume --csv $T/sw_cut.csv 2>$T/sw_cut.err; st=$?
+ok "sweep --resume after a run cut short (2 rows and half a line): the half line cut, 4 samples appended, the uninterrupted file byte for byte (status $st)" \
+  "[ $st = 0 ] && [ \$(tail -c 1 $T/sw_cut0.csv | wc -l) = 0 ] && cmp -s $T/sw.csv $T/sw_cut.csv &&
+   grep -q 'sw_cut.csv holds 2 of the shard.s samples; 4 to run' $T/sw_cut.err && grep -q '^rj sweep: 4 samples' $T/sw_cut.err"
+$B/rj sweep $SW --samples 6 --resume --csv $T/sw_cut.csv 2>$T/sw_cut2.err; st=$?
+ok "sweep --resume of a finished file runs nothing and leaves it as it was (status $st)" \
+  "[ $st = 0 ] && cmp -s $T/sw.csv $T/sw_cut.csv && grep -q '^rj sweep: 0 samples' $T/sw_cut2.err"
+rm -f $T/sw_new.csv
+$B/rj sweep $SW --samples 6 --shard 2/3 --resume --csv $T/sw_new.csv 2>/dev/null; st=$?
+ok "sweep --resume of a file that does not exist yet: the sweep from the start (status $st)" "[ $st = 0 ] && cmp -s $T/sw2.csv $T/sw_new.csv"
+cp $T/sw.csv $T/sw_other.csv
+$B/rj sweep $S/solar_array.rjs --vary joint.h1.friction=0.01:0.03 --t-end 4 --samples 6 --resume --csv $T/sw_other.csv 2>$T/sw_other.err; st=$?
+ok "sweep --resume with another --vary (another header) is refused showing the file's header and this sweep's, the file untouched (status $st)" \
+  "[ $st = 2 ] && grep -q '^rj sweep: option --resume: the header of $T/sw_other.csv differs from this sweep' $T/sw_other.err &&
+   grep -qxF \"\$(head -1 $T/sw.csv)\" $T/sw_other.err && grep -qx 'sample,joint.h1.friction,h1.first_contact,.*,status,message' $T/sw_other.err &&
+   cmp -s $T/sw.csv $T/sw_other.csv"
+m 2 "sw_cut0.csv:2: not a row of this sweep: sample 0's joint.h1.friction is not this sweep's" \
+  "sweep --resume with another --seed: the first row's values are not this sweep's, refused naming the line" \
+  $B/rj sweep $SW --samples 6 --seed 2 --resume --csv $T/sw_cut0.csv
+m 2 "sw_cut0.csv:2: not a row of this sweep: sample 0 is not in shard 1/3" "sweep --resume with another --shard is refused naming the line" \
+  $B/rj sweep $SW --samples 6 --shard 1/3 --resume --csv $T/sw_cut0.csv
+ok "sweep --resume refused: the file is left as it was" "{ head -3 $T/sw.csv; printf '%s' \"\$(sed -n 4p $T/sw.csv | cut -c1-30)\"; } | cmp -s - $T/sw_cut0.csv"
+m 2 "option --resume needs --csv FILE" "sweep --resume without --csv is refused" $B/rj sweep $SW --samples 6 --resume
+SLURM_ARRAY_TASK_ID=1 SLURM_ARRAY_TASK_COUNT=3 $B/rj sweep $SW --samples 6 --shard auto --csv $T/sw_auto.csv 2>$T/sw_auto.err; st=$?
+ok "sweep --shard auto with SLURM_ARRAY_TASK_ID=1 SLURM_ARRAY_TASK_COUNT=3: --shard 1/3's file byte for byte (status $st)" \
+  "[ $st = 0 ] && cmp -s $T/sw1.csv $T/sw_auto.csv && grep -q '(shard 1/3)' $T/sw_auto.err"
+m 2 "option --shard auto: SLURM_ARRAY_TASK_(ID|COUNT) is not set" "sweep --shard auto outside a Slurm job array is refused, naming the variable" \
+  env -u SLURM_ARRAY_TASK_ID -u SLURM_ARRAY_TASK_COUNT $B/rj sweep $SW --samples 6 --shard auto
+m 2 "option --shard auto: SLURM_ARRAY_TASK_ID=3 is not below SLURM_ARRAY_TASK_COUNT=3 \\(number the array from 0" \
+  "sweep --shard auto with a task id past the count (an array not from 0) is refused" \
+  env SLURM_ARRAY_TASK_ID=3 SLURM_ARRAY_TASK_COUNT=3 $B/rj sweep $SW --samples 6 --shard auto
+m 2 "option --shard auto: SLURM_ARRAY_TASK_COUNT='x' is not an integer" "sweep --shard auto with a malformed task count is refused" \
+  env SLURM_ARRAY_TASK_ID=0 SLURM_ARRAY_TASK_COUNT=x $B/rj sweep $SW --samples 6 --shard auto
+m 2 "option --threads: bad value '0'" "sweep --threads 0 is refused" $B/rj sweep $SW --samples 6 --threads 0
 exit 0
