@@ -543,6 +543,30 @@ static int rigid_chain(int n, double a0, double dt, rj_link_def *l, rj_joint_def
     return 1;
 }
 
+/* Joint 0's pin force as the joint passes a quarter turn from where it starts (a link
+   released level, at the vertical): the force is at t^n, a step behind the angle, so
+   between the forces of the two states around the crossing, linearly. Returns 0 when it
+   did not get there within 1 s. */
+static int pin_force_quarter_turn(const rj_model *m, rj_state *s, double at[2])
+{
+    const double level = rj_joint_theta_running(m, s, 0);
+    double turned = 0, after[2];
+    while (rj_state_time(s) < 1.0 && rj_step(m, s) == RJ_OK) {
+        const double turn = fabs(rj_joint_theta_running(m, s, 0) - level);
+        if (turned < 0.5 * PI && turn >= 0.5 * PI) {
+            const double w = (0.5 * PI - turned) / (turn - turned);
+            rj_joint_pin_force(m, s, 0, at);
+            rj_step(m, s);
+            rj_joint_pin_force(m, s, 0, after);
+            at[0] += w * (after[0] - at[0]);
+            at[1] += w * (after[1] - at[1]);
+            return 1;
+        }
+        turned = turn;
+    }
+    return 0;
+}
+
 /* A flexible rod of 20 elements released level, of modulus E: at the vertical, the pin
    force against M g + S omega^2 with omega^2 = 2 g S / J (the energy; M, S, J the model's
    lumped mass, first moment and inertia about the pin), the rigid rod's law, which the
@@ -557,7 +581,7 @@ static double pin_force_rod(int fidelity, double E, double *sideways, char *msg,
     rj_model *m = NULL;
     rj_state *s = NULL;
     rj_error err;
-    double mass, moment, inertia, want, before[2] = { 0, 0 }, at[2] = { 0, 0 }, turned = 0, level;
+    double mass, moment, inertia, want, at[2] = { 0, 0 };
     double miss = HUGE_VAL;
     l.E = E;
     j.body1 = -1;
@@ -576,25 +600,10 @@ static double pin_force_rod(int fidelity, double E, double *sideways, char *msg,
     lumped_body(m, s, 0, &mass, &moment, &inertia);
     want = mass * G + moment * 2 * G * moment / inertia;
     /* level at the start; the vertical a quarter turn on */
-    level = rj_joint_theta_running(m, s, 0);
-    while (rj_state_time(s) < 1.0 && miss == HUGE_VAL) {
-        double turn;
-        if (rj_step(m, s) != RJ_OK)
-            break;
-        turn = fabs(rj_joint_theta_running(m, s, 0) - level);
-        /* the force is at n, a step behind the angle: at the vertical between them */
-        if (turned < 0.5 * PI && turn >= 0.5 * PI) {
-            const double w = (0.5 * PI - turned) / (turn - turned);
-            rj_joint_pin_force(m, s, 0, at);
-            rj_step(m, s);
-            rj_joint_pin_force(m, s, 0, before);
-            at[0] += w * (before[0] - at[0]);
-            at[1] += w * (before[1] - at[1]);
-            miss = at[1] / want - 1;
-            *sideways = fabs(at[0]) / (mass * G);
-            snprintf(msg, n, "(%.5g, %.6g) N against (0, %.6g) N", at[0], at[1], want);
-        }
-        turned = turn;
+    if (pin_force_quarter_turn(m, s, at)) {
+        miss = at[1] / want - 1;
+        *sideways = fabs(at[0]) / (mass * G);
+        snprintf(msg, n, "(%.5g, %.6g) N against (0, %.6g) N", at[0], at[1], want);
     }
     rj_state_destroy(s, NULL);
     rj_model_destroy(m, NULL);
@@ -787,8 +796,7 @@ static void test_pin_force_bodies(rjt_ctx *c)
     rj_model *m;
     rj_state *s;
     rj_error err;
-    double F[2] = { 0, 0 }, F2[2] = { 0, 0 }, before[2] = { 0, 0 }, at[2] = { 0, 0 };
-    double level, turned = 0;
+    double F[2] = { 0, 0 }, F2[2] = { 0, 0 }, at[2] = { 0, 0 };
     const double weight = 2700 * 0.02 * 0.01 * G;
     int k, rods;
     for (rods = 2; rods >= 1; rods--) {
@@ -821,21 +829,7 @@ static void test_pin_force_bodies(rjt_ctx *c)
                       "root (%.3g, %.12g) N, between the bodies (%.3g, %.12g) N against %.12g, %.12g N",
                       F[0], F[1], F2[0], F2[1], 2 * weight, weight);
         } else {
-            level = rj_joint_theta_running(m, s, 0);
-            while (rj_state_time(s) < 1.0 && turned < 0.5 * PI) {
-                double turn;
-                rj_joint_pin_force(m, s, 0, before);
-                rj_step(m, s);
-                turn = fabs(rj_joint_theta_running(m, s, 0) - level);
-                if (turned < 0.5 * PI && turn >= 0.5 * PI) {
-                    /* the force is at n: between the last two, linearly at the vertical */
-                    rj_step(m, s);
-                    rj_joint_pin_force(m, s, 0, at);
-                    at[0] = before[0] + (0.5 * PI - turned) / (turn - turned) * (at[0] - before[0]);
-                    at[1] = before[1] + (0.5 * PI - turned) / (turn - turned) * (at[1] - before[1]);
-                }
-                turned = turn;
-            }
+            pin_force_quarter_turn(m, s, at);
             rjt_check(c, fabs(at[1] / (2.5 * weight) - 1) < 1e-3,
                       "pin force: a rigid body of a mixed scene on a ground pin passes the vertical with 2.5 m g",
                       "(%.4g, %.6g) N against (0, %.6g) N (%+.1e)", at[0], at[1], 2.5 * weight,
