@@ -3906,7 +3906,8 @@ typedef struct rj__adv {
     int grav;             /* gravity: every moving node's force gains its kinetic mass times g */
     double gx, gy;        /* m/s^2, the acceleration of gravity */
     double *fin; /* the sum of every advanced node's x + y + phi: finite while they all are */
-    double *damp; /* structural damping's forces and power (rj_state.damp) */
+    double *damp; /* the material path's sums: damping forces, power, plastic work
+                     (rj_state.damp) */
 } rj__adv;
 
 /* One node's update with its final forces (rj__node_lane_advance does the same operations
@@ -4335,7 +4336,7 @@ static RJ__FORCE_INLINE int rj__beam_pass_body(const rj_model *m, const double *
     rj__pass_open(&p, m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
     for (l = 0; l < p.m->nl; l++) {
         const int ne = p.m->link_efirst[l + 1] - p.m->link_efirst[l];
-        /* rigid links here; links with structural damping after the pass */
+        /* rigid links here; the material path's apart (rj__beam_material_links) */
         if (p.m->link_path[l] != RJ__PATH_FUSED) {
             if (p.m->link_path[l] == RJ__PATH_RIGID)
                 rj__beam_rigid_link(&p, l);
@@ -4476,8 +4477,8 @@ static RJ__FORCE_INLINE double rj__beam_pass(const rj_model *m, const double *x,
 
 /* The viscous stresses of an element with chord (ex, ey), 1 / |e|^2 inv_l2, chord rate
    (dex, dey) and end rotation rates wa, wb, for a link with constants kc (rj_model.
-   link_kc) and eta: node b's force, the end moments, and in u the power they develop
-   (<= 0: what the element dissipates, with its sign). */
+   link_kc) and eta: node b's force and the end moments (u 0: their power is summed over
+   the nodes, rj__material_nodes). */
 static RJ__INLINE void rj__elem_viscous(const double *kc, double eta, double ex, double ey,
                                         double inv_l2, double dex, double dey, double wa,
                                         double wb, rj__elem_force *f)
@@ -4496,7 +4497,7 @@ static RJ__INLINE void rj__elem_viscous(const double *kc, double eta, double ex,
     f->fy = -nax * ey + s * ex;
     f->ma = ma;
     f->mb = mb;
-    f->u = -(nax * kc[2] * eps_rate + ma * tha + mb * thb);
+    f->u = 0;
 }
 
 /* The chunk's elements 0 .. nc - 1 (first node na) of link l: their viscous forces, at
@@ -4539,7 +4540,7 @@ static RJ__INLINE void rj__node_damping(const rj__pass *p, int n, int k, const d
 /* The chunk's nodes na .. na + cnt - 1 in the step: their forces, the elastic ones from
    the chunk buffer FB with gravity and the damping ones; the damping ones kept
    (rj_state.damp) and their power at n - 1/2 summed; then advanced (rj__advance_node). */
-static void rj__damped_nodes(const rj__pass *p, int l, int na, int cnt, const double *FB,
+static void rj__material_nodes(const rj__pass *p, int l, int na, int cnt, const double *FB,
                              const double *FD, double *power)
 {
     const double alpha = p->m->link_damp[2 * (size_t) l + 1];
@@ -4771,7 +4772,7 @@ static void rj__beam_material_link(const rj__pass *p, int l, int ip, const doubl
                 memset(FD, 0, sizeof FD);
             if (last)
                 rj__chunk_edge(FD, nc + 1, 0.0);
-            rj__damped_nodes(p, l, n0 + c0, nc + last, FB, FD, &sums[0]);
+            rj__material_nodes(p, l, n0 + c0, nc + last, FB, FD, &sums[0]);
         }
         /* this chunk's last element is entry 0 of the next */
         for (r = 0; r < 4; r++) {
@@ -10319,7 +10320,7 @@ typedef struct rj__sums {
     double gravity;                                 /* gravity's potential at n, -sum m g . x */
     double kinetic;                                 /* 1/2 v^{n-1/2} . v^{n+1/2} */
     double lost_damping, lost_friction, lost_limit; /* since the start */
-    double lost_material; /* the links' structural damping's loss since the start */
+    double lost_material; /* the links' structural damping and plastic work since the start */
     double work;    /* done by the caller's inputs since the start */
     double drive;   /* done by the actuators since the start */
     double drive_pending; /* a prescribed joint's impulse's work the next step takes */
@@ -14297,7 +14298,7 @@ static RJ__NOINLINE void rj__track_peaks(const rj_model *m, rj_state *s)
     }
     for (l = 0; l < m->nl; l++) {
         double *pk = s->peaks + RJ__PEAK_JOINT * (size_t) m->nj + RJ__PEAK_LINK * (size_t) l;
-        if (m->ldef[l].fidelity != RJ_LINK_FLEXIBLE || m->ip)
+        if (m->ldef[l].fidelity != RJ_LINK_FLEXIBLE)
             continue;
         for (e = 0; e < m->ldef[l].elements; e++) {
             double loads[5];
@@ -16179,6 +16180,13 @@ static int rj__sp_sets(rj__sp *P)
     return 1;
 }
 
+/* Change k refused at column col of its own text ("--set:K:COL:"). */
+static int rj__sp_set_fail(rj__sp *P, int k, int col, const char *msg)
+{
+    P->fname = "--set";
+    return rj__sp_fail(P, k + 1, col, "set", rj__sp_nan(), msg);
+}
+
 /* After the file: changes of the solver when it has no section (the defaults take them),
    and a change that named no item of the file, or no kind: refused, naming it. */
 static int rj__sp_sets_left(rj__sp *P)
@@ -16186,12 +16194,14 @@ static int rj__sp_sets_left(rj__sp *P)
     int k;
     for (k = 0; k < P->nsets; k++) {
         rj__sp_set o;
+        char name[RJ_SCENE_NAME_MAX], m[200];
         if (P->sets_done >> k & 1u)
             continue;
-        if (!rj__sp_set_split(P->sets[k], &o) && (P->fname = "--set") != NULL)
-            return rj__sp_fail(P, k + 1, 1, "set", rj__sp_nan(),
-                               "a change is KIND.NAME.KEY=VALUE, or solver.KEY=VALUE; KIND is "
-                               "material, section, link, joint, load, actuator or coupling");
+        if (!rj__sp_set_split(P->sets[k], &o))
+            return rj__sp_set_fail(P, k, 1,
+                                   "a change is KIND.NAME.KEY=VALUE, or solver.KEY=VALUE; KIND "
+                                   "is material, section, link, joint, load, actuator or "
+                                   "coupling");
         if (o.kind == RJ__SK_SOLVER) {
             P->kind = RJ__SK_SOLVER;
             P->seen = 0;
@@ -16199,13 +16209,9 @@ static int rj__sp_sets_left(rj__sp *P)
                 return 0;
             continue;
         }
-        P->fname = "--set";
-        {
-            char name[RJ_SCENE_NAME_MAX], m[200];
-            snprintf(name, sizeof name, "%.*s", o.nlen < RJ_SCENE_NAME_MAX ? o.nlen : 0, o.name);
-            snprintf(m, sizeof m, "the file has no %s '%s' to change", rj__sk_kind[o.kind], name);
-            return rj__sp_fail(P, k + 1, (int) (o.name - P->sets[k]) + 1, "set", rj__sp_nan(), m);
-        }
+        snprintf(name, sizeof name, "%.*s", o.nlen < RJ_SCENE_NAME_MAX ? o.nlen : 0, o.name);
+        snprintf(m, sizeof m, "the file has no %s '%s' to change", rj__sk_kind[o.kind], name);
+        return rj__sp_set_fail(P, k, (int) (o.name - P->sets[k]) + 1, m);
     }
     return 1;
 }

@@ -323,7 +323,8 @@ typedef struct rj__adv {
     int grav;             /* gravity: every moving node's force gains its kinetic mass times g */
     double gx, gy;        /* m/s^2, the acceleration of gravity */
     double *fin; /* the sum of every advanced node's x + y + phi: finite while they all are */
-    double *damp; /* structural damping's forces and power (rj_state.damp) */
+    double *damp; /* the material path's sums: damping forces, power, plastic work
+                     (rj_state.damp) */
 } rj__adv;
 
 /* One node's update with its final forces (rj__node_lane_advance does the same operations
@@ -752,7 +753,7 @@ static RJ__FORCE_INLINE int rj__beam_pass_body(const rj_model *m, const double *
     rj__pass_open(&p, m, x, y, phi, beta, cx, cy, eu, beta_out, cx_out, cy_out, fx, fy, mz, adv);
     for (l = 0; l < p.m->nl; l++) {
         const int ne = p.m->link_efirst[l + 1] - p.m->link_efirst[l];
-        /* rigid links here; links with structural damping after the pass */
+        /* rigid links here; the material path's apart (rj__beam_material_links) */
         if (p.m->link_path[l] != RJ__PATH_FUSED) {
             if (p.m->link_path[l] == RJ__PATH_RIGID)
                 rj__beam_rigid_link(&p, l);

@@ -35,8 +35,8 @@
 
 /* The viscous stresses of an element with chord (ex, ey), 1 / |e|^2 inv_l2, chord rate
    (dex, dey) and end rotation rates wa, wb, for a link with constants kc (rj_model.
-   link_kc) and eta: node b's force, the end moments, and in u the power they develop
-   (<= 0: what the element dissipates, with its sign). */
+   link_kc) and eta: node b's force and the end moments (u 0: their power is summed over
+   the nodes, rj__material_nodes). */
 static RJ__INLINE void rj__elem_viscous(const double *kc, double eta, double ex, double ey,
                                         double inv_l2, double dex, double dey, double wa,
                                         double wb, rj__elem_force *f)
@@ -55,7 +55,7 @@ static RJ__INLINE void rj__elem_viscous(const double *kc, double eta, double ex,
     f->fy = -nax * ey + s * ex;
     f->ma = ma;
     f->mb = mb;
-    f->u = -(nax * kc[2] * eps_rate + ma * tha + mb * thb);
+    f->u = 0;
 }
 
 /* The chunk's elements 0 .. nc - 1 (first node na) of link l: their viscous forces, at
@@ -98,7 +98,7 @@ static RJ__INLINE void rj__node_damping(const rj__pass *p, int n, int k, const d
 /* The chunk's nodes na .. na + cnt - 1 in the step: their forces, the elastic ones from
    the chunk buffer FB with gravity and the damping ones; the damping ones kept
    (rj_state.damp) and their power at n - 1/2 summed; then advanced (rj__advance_node). */
-static void rj__damped_nodes(const rj__pass *p, int l, int na, int cnt, const double *FB,
+static void rj__material_nodes(const rj__pass *p, int l, int na, int cnt, const double *FB,
                              const double *FD, double *power)
 {
     const double alpha = p->m->link_damp[2 * (size_t) l + 1];
@@ -330,7 +330,7 @@ static void rj__beam_material_link(const rj__pass *p, int l, int ip, const doubl
                 memset(FD, 0, sizeof FD);
             if (last)
                 rj__chunk_edge(FD, nc + 1, 0.0);
-            rj__damped_nodes(p, l, n0 + c0, nc + last, FB, FD, &sums[0]);
+            rj__material_nodes(p, l, n0 + c0, nc + last, FB, FD, &sums[0]);
         }
         /* this chunk's last element is entry 0 of the next */
         for (r = 0; r < 4; r++) {

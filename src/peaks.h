@@ -23,7 +23,7 @@ static RJ__NOINLINE void rj__track_peaks(const rj_model *m, rj_state *s)
     }
     for (l = 0; l < m->nl; l++) {
         double *pk = s->peaks + RJ__PEAK_JOINT * (size_t) m->nj + RJ__PEAK_LINK * (size_t) l;
-        if (m->ldef[l].fidelity != RJ_LINK_FLEXIBLE || m->ip)
+        if (m->ldef[l].fidelity != RJ_LINK_FLEXIBLE)
             continue;
         for (e = 0; e < m->ldef[l].elements; e++) {
             double loads[5];

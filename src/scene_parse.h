@@ -1487,6 +1487,13 @@ static int rj__sp_sets(rj__sp *P)
     return 1;
 }
 
+/* Change k refused at column col of its own text ("--set:K:COL:"). */
+static int rj__sp_set_fail(rj__sp *P, int k, int col, const char *msg)
+{
+    P->fname = "--set";
+    return rj__sp_fail(P, k + 1, col, "set", rj__sp_nan(), msg);
+}
+
 /* After the file: changes of the solver when it has no section (the defaults take them),
    and a change that named no item of the file, or no kind: refused, naming it. */
 static int rj__sp_sets_left(rj__sp *P)
@@ -1494,12 +1501,14 @@ static int rj__sp_sets_left(rj__sp *P)
     int k;
     for (k = 0; k < P->nsets; k++) {
         rj__sp_set o;
+        char name[RJ_SCENE_NAME_MAX], m[200];
         if (P->sets_done >> k & 1u)
             continue;
-        if (!rj__sp_set_split(P->sets[k], &o) && (P->fname = "--set") != NULL)
-            return rj__sp_fail(P, k + 1, 1, "set", rj__sp_nan(),
-                               "a change is KIND.NAME.KEY=VALUE, or solver.KEY=VALUE; KIND is "
-                               "material, section, link, joint, load, actuator or coupling");
+        if (!rj__sp_set_split(P->sets[k], &o))
+            return rj__sp_set_fail(P, k, 1,
+                                   "a change is KIND.NAME.KEY=VALUE, or solver.KEY=VALUE; KIND "
+                                   "is material, section, link, joint, load, actuator or "
+                                   "coupling");
         if (o.kind == RJ__SK_SOLVER) {
             P->kind = RJ__SK_SOLVER;
             P->seen = 0;
@@ -1507,13 +1516,9 @@ static int rj__sp_sets_left(rj__sp *P)
                 return 0;
             continue;
         }
-        P->fname = "--set";
-        {
-            char name[RJ_SCENE_NAME_MAX], m[200];
-            snprintf(name, sizeof name, "%.*s", o.nlen < RJ_SCENE_NAME_MAX ? o.nlen : 0, o.name);
-            snprintf(m, sizeof m, "the file has no %s '%s' to change", rj__sk_kind[o.kind], name);
-            return rj__sp_fail(P, k + 1, (int) (o.name - P->sets[k]) + 1, "set", rj__sp_nan(), m);
-        }
+        snprintf(name, sizeof name, "%.*s", o.nlen < RJ_SCENE_NAME_MAX ? o.nlen : 0, o.name);
+        snprintf(m, sizeof m, "the file has no %s '%s' to change", rj__sk_kind[o.kind], name);
+        return rj__sp_set_fail(P, k, (int) (o.name - P->sets[k]) + 1, m);
     }
     return 1;
 }

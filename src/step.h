@@ -46,7 +46,7 @@ typedef struct rj__sums {
     double gravity;                                 /* gravity's potential at n, -sum m g . x */
     double kinetic;                                 /* 1/2 v^{n-1/2} . v^{n+1/2} */
     double lost_damping, lost_friction, lost_limit; /* since the start */
-    double lost_material; /* the links' structural damping's loss since the start */
+    double lost_material; /* the links' structural damping and plastic work since the start */
     double work;    /* done by the caller's inputs since the start */
     double drive;   /* done by the actuators since the start */
     double drive_pending; /* a prescribed joint's impulse's work the next step takes */
