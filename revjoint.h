@@ -5357,14 +5357,8 @@ static double rj__cl_pose(const rj_model *m, int c, const double *nc, const doub
     return sum;
 }
 
-/* Finite differences move every degree of freedom by one step h along d = M^-1/2 u. Each
-   DOF has a natural move s: 1e-7 of its link's element in translation, 1e-7 rad in
-   rotation, over sqrt of its inverse mass; h |u| must stay below s for every DOF (the
-   linearisation), and the DOFs whose s is far larger would then move by less than their
-   coordinates resolve (a 1e-9 m link beside 1 m ones, a 1e-300 m wide one: their bounds
-   came out 1e8 times too long). So the DOFs are grouped in classes of s a factor 2^13
-   apart (ilogb / 13), and K d is summed over the classes, each differenced with its own
-   step. A DOF that cannot move (inverse mass 0) has s = 0 and no class. */
+/* The inverse mass of DOF k of node i (0, 1: translation, its group's when grouped; 2:
+   rotation), as the stability bound's operator takes it (rj__lz_apply). */
 static double rj__lz_inv(const rj_model *m, int i, int k)
 {
     if (k == 2)
@@ -5372,314 +5366,6 @@ static double rj__lz_inv(const rj_model *m, int i, int k)
     if (m->node_grp[i] >= 0)
         return m->grp_inv[m->node_grp[i]];
     return m->tinv[i];
-}
-
-/* s of DOF k of node i (0, 1: translation, 2: rotation), the node's link given. */
-static double rj__lz_scale(const rj_model *m, int i, int k, int link)
-{
-    const double w = rj__lz_inv(m, i, k);
-    if (!(w > 0))
-        return 0.0;
-    return (k == 2 ? 1e-7 : 1e-7 * m->link_l0[link]) / sqrt(w);
-}
-
-static int rj__lz_class(double scale)
-{
-    return ilogb(scale) / 13;
-}
-
-/* Whether a DOF of natural move s is in class c (every movable DOF when all is set). */
-static int rj__lz_in(double scale, int c, int all)
-{
-    return scale > 0 && (all || rj__lz_class(scale) == c);
-}
-
-/* The range of classes among the movable DOFs; lo > hi when none can move. */
-static void rj__lz_classes(const rj_model *m, int *lo, int *hi)
-{
-    int l, i, k;
-    *lo = 1;
-    *hi = 0;
-    for (l = 0; l < m->nl; l++)
-        for (i = m->link_first[l]; i < m->link_first[l + 1]; i++)
-            for (k = 0; k < 3; k += 2) {
-                const double scale = rj__lz_scale(m, i, k, l);
-                int c;
-                if (!(scale > 0))
-                    continue;
-                c = rj__lz_class(scale);
-                if (*lo > *hi) {
-                    *lo = c;
-                    *hi = c;
-                }
-                if (c < *lo)
-                    *lo = c;
-                if (c > *hi)
-                    *hi = c;
-            }
-}
-
-/* The DOFs of a node: its translation's u (its group's first member's) and rotation's. */
-static void rj__lz_u(const rj_model *m, const double *u, int i, double *ux, double *uy, double *uw)
-{
-    const int r = m->node_grp[i] >= 0 ? m->grp_node[m->grp_first[m->node_grp[i]]] : i;
-    *ux = u[3 * r];
-    *uy = u[3 * r + 1];
-    *uw = u[3 * i + 2];
-}
-
-/* The step for class c: the largest h whose moves h |u| stay within every moving DOF's s.
-   0 when u is 0 on the class. */
-static double rj__lz_step(const rj_model *m, const double *u, int c, int all)
-{
-    double h = HUGE_VAL;
-    int l, i;
-    for (l = 0; l < m->nl; l++)
-        for (i = m->link_first[l]; i < m->link_first[l + 1]; i++) {
-            const double st = rj__lz_scale(m, i, 0, l), sr = rj__lz_scale(m, i, 2, l);
-            double ux, uy, uw, ut;
-            rj__lz_u(m, u, i, &ux, &uy, &uw);
-            ut = fabs(ux) > fabs(uy) ? fabs(ux) : fabs(uy);
-            if (rj__lz_in(st, c, all) && ut > 0 && st / ut < h)
-                h = st / ut;
-            if (rj__lz_in(sr, c, all) && fabs(uw) > 0 && sr / fabs(uw) < h)
-                h = sr / fabs(uw);
-        }
-    return h == HUGE_VAL ? 0.0 : h;
-}
-
-/* The nodes moved by sh along d = M^-1/2 u on class c. */
-static void rj__lz_move(const rj_model *m, const double *u, double sh, int c, int all, double *x,
-                        double *y, double *p)
-{
-    int l, i;
-    for (l = 0; l < m->nl; l++)
-        for (i = m->link_first[l]; i < m->link_first[l + 1]; i++) {
-            const int moves = rj__lz_in(rj__lz_scale(m, i, 0, l), c, all),
-                      turns = rj__lz_in(rj__lz_scale(m, i, 2, l), c, all);
-            const double st = sqrt(rj__lz_inv(m, i, 0));
-            double ux, uy, uw;
-            rj__lz_u(m, u, i, &ux, &uy, &uw);
-            x[i] = m->x0[i] + (moves ? sh * ux * st : 0.0);
-            y[i] = m->y0[i] + (moves ? sh * uy * st : 0.0);
-            p[i] = m->phi0[i] + (turns ? sh * uw * sqrt(m->rinv[i]) : 0.0);
-        }
-}
-
-/* The cable loops' linearised torques -k e at the displaced nodes x, y, p (e from the
-   joints' turns off the start), for the stability bound's operator. */
-static void rj__lz_couplings(const rj_model *m, const double *x, const double *y,
-                             const double *p, double *fx, double *fy, double *mz)
-{
-    int k, side;
-    for (k = 0; k < m->ncp; k++) {
-        const rj_coupling_def *c = &m->cp[k];
-        const int joint[2] = { c->joint_a, c->joint_b };
-        rj__jgeo g0[2], g1;
-        double turn[2], e;
-        if (!(c->stiffness > 0))
-            continue;
-        for (side = 0; side < 2; side++) {
-            const rj__joint *J = &m->jnt[joint[side]];
-            rj__joint_geo(m, J, m->x0, m->y0, &g0[side]);
-            rj__joint_geo(m, J, x, y, &g1);
-            turn[side] = rj__wrap(rj__joint_raw(J, &g1, p) - rj__joint_raw(J, &g0[side], m->phi0));
-        }
-        e = turn[1] - c->ratio * turn[0];
-        rj__apply_torque(&m->jnt[c->joint_b], &g0[1], -c->stiffness * e, fx, fy, mz);
-        rj__apply_torque(&m->jnt[c->joint_a], &g0[0], c->ratio * c->stiffness * e, fx, fy, mz);
-    }
-}
-
-/* Linear stiffness operator for the stability bound: out = M^-1/2 K M^-1/2 u over the
-   3 nn node DOFs (translations of grouped nodes live at the group's first member). K is
-   the tangent of the internal forces (central differences on rj__beam_pass) plus
-   k_lin g g^T of every joint, summed over the classes of natural move (rj__lz_class). */
-static void rj__lz_apply(const rj_model *m, const double *u, double *out, double *work)
-{
-    const int nn = m->nn, ne = m->ne;
-    double *x = work, *y = work + nn, *p = work + 2 * nn, *fx = work + 3 * nn, *fy = work + 4 * nn,
-           *mz = work + 5 * nn;
-    double *eu = work + 6 * nn, *bt = eu + ne;
-    double *cxo = bt + ne, *cyo = cxo + ne;
-    const double *cx = m->lz + 9 * (size_t) nn, *cy = cx + ne;
-    int i, sgn, gi, j, c, lo, hi, all;
-    for (i = 0; i < 3 * nn; i++)
-        out[i] = 0.0;
-    rj__lz_classes(m, &lo, &hi);
-    all = lo == hi;
-    if (lo > hi)
-        return;
-    for (c = lo; c <= hi; c++) {
-        const double h = rj__lz_step(m, u, c, all);
-        if (h == 0.0)
-            continue;
-        for (sgn = -1; sgn <= 1; sgn += 2) {
-            rj__lz_move(m, u, sgn * h, c, all, x, y, p);
-            rj__beam_pass(m, x, y, p, m->beta0, cx, cy, eu, bt, cxo, cyo, fx, fy, mz, NULL);
-            /* joints: -k_lin (theta - theta0) g, linearised */
-            for (j = 0; j < m->nj; j++) {
-                const rj__joint *J = &m->jnt[j];
-                rj__jgeo g0, g1;
-                double th0, th1;
-                if (J->k_lin <= 0)
-                    continue;
-                rj__joint_geo(m, J, m->x0, m->y0, &g0);
-                rj__joint_geo(m, J, x, y, &g1);
-                th0 = rj__joint_raw(J, &g0, m->phi0);
-                th1 = rj__joint_raw(J, &g1, p);
-                rj__apply_torque(J, &g0, -J->k_lin * rj__wrap(th1 - th0), fx, fy, mz);
-            }
-            rj__lz_couplings(m, x, y, p, fx, fy, mz);
-            /* out += -sgn * f / (2h), contracted to DOFs */
-            for (i = 0; i < nn; i++) {
-                out[3 * i] += -sgn * fx[i] * sqrt(m->tinv[i]) / (2 * h);
-                out[3 * i + 1] += -sgn * fy[i] * sqrt(m->tinv[i]) / (2 * h);
-                out[3 * i + 2] += -sgn * mz[i] * sqrt(m->rinv[i]) / (2 * h);
-            }
-            for (gi = 0; gi < m->ng; gi++) {
-                int r = m->grp_node[m->grp_first[gi]];
-                double sx = 0, sy = 0, si = sqrt(m->grp_inv[gi]);
-                for (j = m->grp_first[gi]; j < m->grp_first[gi + 1]; j++) {
-                    sx += fx[m->grp_node[j]];
-                    sy += fy[m->grp_node[j]];
-                }
-                out[3 * r] += -sgn * sx * si / (2 * h);
-                out[3 * r + 1] += -sgn * sy * si / (2 * h);
-            }
-        }
-    }
-}
-
-/* Largest eigenvalue of a symmetric tridiagonal matrix (Sturm bisection), k <=
-   RJ__LANCZOS_ITERS. The matrix is scaled to entries of order 1 first: the recurrence
-   squares the off-diagonal, which for a model of omega^2 ~ 1e-166 (a link of 1e150
-   kg/m^3) underflowed and cut omega_max by 6. */
-static double rj__tridiag_max(const double *al_in, const double *be_in, int k)
-{
-    double al[RJ__LANCZOS_ITERS], be[RJ__LANCZOS_ITERS], scale = 0;
-    double lo = 0, hi = 0, mid;
-    int i, it;
-    for (i = 0; i < k; i++) {
-        if (fabs(al_in[i]) > scale)
-            scale = fabs(al_in[i]);
-        if (fabs(be_in[i]) > scale)
-            scale = fabs(be_in[i]);
-    }
-    if (scale == 0)
-        return 0;
-    for (i = 0; i < k; i++) {
-        al[i] = al_in[i] / scale;
-        be[i] = be_in[i] / scale;
-    }
-    for (i = 0; i < k; i++) {
-        double r = fabs(i > 0 ? be[i - 1] : 0) + fabs(i + 1 < k ? be[i] : 0);
-        if (al[i] + r > hi)
-            hi = al[i] + r;
-        if (al[i] - r < lo)
-            lo = al[i] - r;
-    }
-    for (it = 0; it < 200; it++) {
-        int cnt = 0;
-        double q = 1.0;
-        mid = 0.5 * (lo + hi);
-        for (i = 0; i < k; i++) {
-            q = al[i] - mid - (i > 0 ? be[i - 1] * be[i - 1] / q : 0.0);
-            if (q == 0.0)
-                q = 1e-300;
-            if (q < 0)
-                cnt++;
-        }
-        if (cnt == k)
-            hi = mid;
-        else
-            lo = mid; /* cnt = number of eigenvalues below mid */
-        if (hi - lo <= 1e-14 * fabs(hi))
-            break;
-    }
-    return hi * scale;
-}
-
-/* The 2-norm of v[0 .. n), scaled by its largest entry so that the squares neither
-   underflow (omega^2 ~ 1e-166 for a link of 1e150 kg/m^3) nor overflow. */
-static double rj__norm(const double *v, int n)
-{
-    double big = 0, sum = 0;
-    int i;
-    for (i = 0; i < n; i++)
-        if (fabs(v[i]) > big)
-            big = fabs(v[i]);
-    if (big == 0 || !rj__finite(big))
-        return big;
-    for (i = 0; i < n; i++)
-        sum += (v[i] / big) * (v[i] / big);
-    return big * sqrt(sum);
-}
-
-/* omega_max^2 of the linearised model by Lanczos (no reorthogonalisation: ghosts do not
-   move the extreme Ritz value). */
-static double rj__omega2_max(rj_model *m, double *lanczos)
-{
-    const int n = 3 * m->nn;
-    double *v0 = lanczos, *v1 = lanczos + m->nn * 3, *w = lanczos + m->nn * 6;
-    double *work = lanczos + 9 * (size_t) m->nn + 2 * (size_t) m->ne;
-    double al[RJ__LANCZOS_ITERS], be[RJ__LANCZOS_ITERS], nrm = 0, lam;
-    int i, k, kmax;
-    /* start vector: deterministic, all DOFs */
-    for (i = 0; i < n; i++) {
-        v1[i] = 1.0 + 0.37 * sin(1.0 + i);
-        v0[i] = 0;
-    }
-    for (i = 0; i < m->nn; i++) {
-        if (m->tinv[i] == 0) {
-            v1[3 * i] = 0;
-            v1[3 * i + 1] = 0;
-        }
-        if (m->rinv[i] == 0)
-            v1[3 * i + 2] = 0;
-    }
-    for (i = 0; i < m->ng; i++) {
-        int r = m->grp_node[m->grp_first[i]];
-        if (m->grp_inv[i] > 0) {
-            v1[3 * r] = 1.0;
-            v1[3 * r + 1] = 0.7;
-        }
-    }
-    for (i = 0; i < n; i++)
-        nrm += v1[i] * v1[i];
-    if (nrm == 0)
-        return 0;
-    nrm = sqrt(nrm);
-    for (i = 0; i < n; i++)
-        v1[i] /= nrm;
-    kmax = n < RJ__LANCZOS_ITERS ? n : RJ__LANCZOS_ITERS;
-    for (k = 0; k < kmax; k++) {
-        double a = 0, b = 0, *t;
-        rj__lz_apply(m, v1, w, work);
-        for (i = 0; i < n; i++)
-            a += w[i] * v1[i];
-        al[k] = a;
-        for (i = 0; i < n; i++)
-            w[i] -= a * v1[i] + (k > 0 ? be[k - 1] * v0[i] : 0.0);
-        b = rj__norm(w, n);
-        be[k] = b;
-        if (b < 1e-12 * fabs(a) || b == 0) {
-            k++;
-            break;
-        }
-        for (i = 0; i < n; i++)
-            w[i] /= b;
-        t = v0;
-        v0 = v1;
-        v1 = w;
-        w = t;
-    }
-    /* a NaN or an infinity in the recurrence: no finite frequency (the bound refuses it) */
-    for (i = 0; i < k; i++)
-        if (!rj__finite(al[i]) || !rj__finite(be[i]))
-            return HUGE_VAL;
-    lam = rj__tridiag_max(al, be, k);
-    return lam;
 }
 
 /* A joint's rate change per unit torque impulse at the start (1/I_red): (M^-1)_jj in
@@ -6393,6 +6079,613 @@ static int rj__usable_step(const rj_model *m, rj_error *err)
     return 1;
 }
 
+/* ------------------------------------------------------------------ the stability bound */
+/* omega_max^2, the largest eigenvalue of M^-1 K for the linearised model (K: the tangent of
+   the elements' forces, the joints' springs and the cable loops' at the start; M: the
+   lumped masses), sets the step. Lanczos on the whole linearised operator (rj__lz_apply)
+   estimates it from below; it stops once its largest Ritz value has settled, which takes
+   8 to 40 of its RJ__LANCZOS_ITERS steps where the spectrum's top is not crowded.
+
+   Settling alone could be a plateau, so a second estimate checks it from above, element by
+   element (Irons and Treharne 1971; Flanagan and Belytschko 1981): split K into pieces K_p
+   (each element, each joint spring, each cable loop) and each DOF's mass among the pieces
+   that touch it (M = sum M_p); then u.K u = sum u.K_p u <= sum lambda_p u.M_p u <=
+   max_p lambda_p u.M u, so omega_max^2 is at most the largest lambda_p, the piece's own
+   eigenvalue with its share of the masses. A DOF's mass is shared in proportion to each
+   piece's stiffness on it. The bound is exact for a link whose axial mode is its fastest,
+   and up to 18 % high where bending and rotary inertia set the top (a uniform link of 200
+   elements; 3.7 % at 2000), so Lanczos may stop only within RJ__BOUND_GAP below it; where
+   it never gets there it runs its whole course. */
+#define RJ__BOUND_GAP 0.25
+#define RJ__LZ_TOL    1e-4
+
+/* A translation DOF of node i lives at its group's first member (rj__lz_u). */
+static int rj__ub_root(const rj_model *m, int i)
+{
+    return m->node_grp[i] >= 0 ? m->grp_node[m->grp_first[m->node_grp[i]]] : i;
+}
+
+/* An element's tangent stiffness times dq (its nodes' x, y, rotation: a, then b), in closed
+   form: the derivative of rj__elem_forces at chord (ex, ey) with ends turned tha, thb off
+   it, whatever its stress there. With r = |e|^2, the strain's change is e.de / l0^2, the
+   chord angle's perp(e).de / r (perp(e) = (-ey, ex)), each end's turn dphi - dbeta; node b's
+   force -N e + (S / r) perp(e) (S = ma + mb) changes by
+   -dN e - N de + (dS / r - 2 S e.de / r^2) perp(e) + (S / r) perp(de). */
+static RJ__INLINE void rj__elem_tangent(const double *kc, double ex, double ey, double tha,
+                                        double thb, const double dq[6], double out[6])
+{
+    const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];
+    const double r = ex * ex + ey * ey, inv_r = 1.0 / r;
+    const double n_ax = kax * (r - l0sq) * half_inv_l0sq;
+    const double s_r = 6.0 * kb * (tha + thb) * inv_r;
+    const double dex = dq[3] - dq[0], dey = dq[4] - dq[1];
+    const double e_de = ex * dex + ey * dey;
+    const double dbeta = (-ey * dex + ex * dey) * inv_r;
+    const double dtha = dq[2] - dbeta, dthb = dq[5] - dbeta;
+    const double dma = kb * (4.0 * dtha + 2.0 * dthb);
+    const double dmb = kb * (2.0 * dtha + 4.0 * dthb);
+    const double dn = kax * e_de / l0sq;
+    const double dsr = ((dma + dmb) - 2.0 * s_r * e_de) * inv_r;
+    const double dfx = -dn * ex - n_ax * dex - dsr * ey - s_r * dey;
+    const double dfy = -dn * ey - n_ax * dey + dsr * ex + s_r * dex;
+    /* K = -dF/dq with F = (-f_b, -ma, f_b, -mb) */
+    out[0] = dfx;
+    out[1] = dfy;
+    out[2] = dma;
+    out[3] = -dfx;
+    out[4] = -dfy;
+    out[5] = dmb;
+}
+
+/* Element k of link l at the start: its chord and its ends' turns off it. */
+static void rj__elem_start(const rj_model *m, int l, int k, double *ex, double *ey,
+                           double *tha, double *thb)
+{
+    const int a = m->link_first[l] + (k - m->link_efirst[l]);
+    *ex = m->x0[a + 1] - m->x0[a];
+    *ey = m->y0[a + 1] - m->y0[a];
+    *tha = m->phi0[a] - m->beta0[k];
+    *thb = m->phi0[a + 1] - m->beta0[k];
+}
+
+/* The largest eigenvalue of a symmetric 6 x 6 matrix (cyclic Jacobi; A is destroyed). */
+static double rj__ub_eig6(double A[36])
+{
+    int sweep, p, q, k;
+    double top;
+    for (sweep = 0; sweep < 30; sweep++) {
+        double off = 0, diag = 0;
+        for (p = 0; p < 6; p++)
+            for (q = 0; q < 6; q++) {
+                const double sq = A[6 * p + q] * A[6 * p + q];
+                if (p == q)
+                    diag += sq;
+                else
+                    off += sq;
+            }
+        if (!(off > 1e-30 * diag))
+            break;
+        for (p = 0; p < 5; p++)
+            for (q = p + 1; q < 6; q++) {
+                const double apq = A[6 * p + q];
+                double theta, t, cs, sn;
+                if (apq == 0)
+                    continue;
+                theta = (A[6 * q + q] - A[6 * p + p]) / (2.0 * apq);
+                t = (theta >= 0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
+                cs = 1.0 / sqrt(t * t + 1.0);
+                sn = t * cs;
+                /* A <- J^T A J, columns then rows p and q */
+                for (k = 0; k < 6; k++) {
+                    const double akp = A[6 * k + p], akq = A[6 * k + q];
+                    A[6 * k + p] = cs * akp - sn * akq;
+                    A[6 * k + q] = sn * akp + cs * akq;
+                }
+                for (k = 0; k < 6; k++) {
+                    const double apk = A[6 * p + k], aqk = A[6 * q + k];
+                    A[6 * p + k] = cs * apk - sn * aqk;
+                    A[6 * q + k] = sn * apk + cs * aqk;
+                }
+            }
+    }
+    top = A[0];
+    for (p = 1; p < 6; p++)
+        if (A[7 * p] > top || A[7 * p] != A[7 * p])
+            top = A[7 * p];
+    return top;
+}
+
+/* The element stiffness, computed again only when the element's start or constants differ
+   from the last one's (a uniform straight link's inner elements are all alike). It is
+   taken in the element's own frame (its chord along x), where alike elements match
+   whatever way they point; translation masses are the same in x and y, so the shares and
+   the eigenvalue do not depend on the frame. */
+typedef struct rj__ub_cache {
+    double key[7]; /* kb, kax, l0^2, 1/(2 l0^2), chord length, tha, thb */
+    double K[36];
+    double s[6], lam; /* the eigenvalue at the mass shares s (lam < 0: none) */
+} rj__ub_cache;
+
+/* Whether two keys match to 1e-9, relative, and their last nabs entries (turns, near 0)
+   absolute: the elements of a straight link differ in their last bits, where the nodes'
+   places were summed, and the bound is a check that needs nothing like that precision. */
+static int rj__ub_alike(const double *a, const double *b, int n, int nabs)
+{
+    int i;
+    for (i = 0; i < n; i++) {
+        const double big = fabs(a[i]) > fabs(b[i]) ? fabs(a[i]) : fabs(b[i]);
+        const double tol = i >= n - nabs ? 1e-9 : 1e-9 * big;
+        if (!(fabs(a[i] - b[i]) <= tol))
+            return 0;
+    }
+    return 1;
+}
+
+static const double *rj__ub_elem(const rj_model *m, int l, int k, rj__ub_cache *cache)
+{
+    const double *kc = m->link_kc + 4 * (size_t) l;
+    double key[7], ex, ey;
+    int i, j;
+    rj__elem_start(m, l, k, &ex, &ey, &key[5], &key[6]);
+    for (i = 0; i < 4; i++)
+        key[i] = kc[i];
+    key[4] = sqrt(ex * ex + ey * ey);
+    if (rj__ub_alike(key, cache->key, 7, 2))
+        return cache->K;
+    memcpy(cache->key, key, sizeof key);
+    cache->lam = -1.0;
+    for (j = 0; j < 6; j++) {
+        double dq[6] = { 0, 0, 0, 0, 0, 0 }, col[6];
+        dq[j] = 1.0;
+        rj__elem_tangent(kc, key[4], 0.0, key[5], key[6], dq, col);
+        for (i = 0; i < 6; i++)
+            cache->K[6 * i + j] = col[i];
+    }
+    return cache->K;
+}
+
+/* A rank-one piece k v v^T (a joint's spring, a cable loop): v's entries by DOF, a node's
+   translation under the key 3 r (r its root, x and y in vx, vy), its rotation under 3 i + 2
+   (in vx). At most two joints of four nodes each. */
+typedef struct rj__ub_piece {
+    int n;
+    int key[16];
+    double vx[16], vy[16];
+} rj__ub_piece;
+
+static void rj__ub_add(rj__ub_piece *p, int key, double vx, double vy)
+{
+    int i;
+    for (i = 0; i < p->n; i++)
+        if (p->key[i] == key)
+            break;
+    if (i == p->n) {
+        p->key[p->n] = key;
+        p->vx[p->n] = 0;
+        p->vy[p->n] = 0;
+        p->n++;
+    }
+    p->vx[i] += vx;
+    p->vy[i] += vy;
+}
+
+/* scale times the DOFs a unit torque on joint J loads at the start (rj__apply_torque's
+   entries, the virtual work of a turn of the joint). */
+static void rj__ub_torque(const rj_model *m, const rj__joint *J, double scale, rj__ub_piece *p)
+{
+    rj__jgeo g;
+    double sx, sy;
+    if (!J->chord) {
+        rj__ub_add(p, 3 * J->nJ + 2, scale, 0);
+        if (J->nI >= 0)
+            rj__ub_add(p, 3 * J->nI + 2, -scale, 0);
+        return;
+    }
+    rj__joint_geo(m, J, m->x0, m->y0, &g);
+    sx = -scale * g.by / g.b2;
+    sy = scale * g.bx / g.b2;
+    rj__ub_add(p, 3 * rj__ub_root(m, J->nL), sx, sy);
+    rj__ub_add(p, 3 * rj__ub_root(m, J->nJ), -sx, -sy);
+    if (J->nK >= 0) {
+        sx = scale * g.ay / g.a2;
+        sy = -scale * g.ax / g.a2;
+        rj__ub_add(p, 3 * rj__ub_root(m, J->nK), sx, sy);
+        rj__ub_add(p, 3 * rj__ub_root(m, J->nI), -sx, -sy);
+    }
+}
+
+/* The inverse mass of a DOF key (a translation's root, or a rotation). */
+static double rj__ub_inv(const rj_model *m, int key)
+{
+    return key % 3 == 2 ? m->rinv[key / 3] : rj__lz_inv(m, key / 3, 0);
+}
+
+/* Rank-one piece i: joint i's spring (i < nj, k_lin > 0) or cable loop i - nj; its
+   stiffness k (0: no piece). */
+static double rj__ub_rank_one(const rj_model *m, int i, rj__ub_piece *p)
+{
+    p->n = 0;
+    if (i < m->nj) {
+        if (!(m->jnt[i].k_lin > 0))
+            return 0;
+        rj__ub_torque(m, &m->jnt[i], 1.0, p);
+        return m->jnt[i].k_lin;
+    } else {
+        const rj_coupling_def *c = &m->cp[i - m->nj];
+        if (!(c->stiffness > 0))
+            return 0;
+        /* the loop's error e = turn_b - ratio turn_a */
+        rj__ub_torque(m, &m->jnt[c->joint_b], 1.0, p);
+        rj__ub_torque(m, &m->jnt[c->joint_a], -c->ratio, p);
+        return c->stiffness;
+    }
+}
+
+/* A rank-one piece's stiffness on each DOF key, k |v|^2, into W. */
+static void rj__ub_rank_one_weights(const rj__ub_piece *p, double k, double *W)
+{
+    int i;
+    for (i = 0; i < p->n; i++)
+        W[p->key[i]] += k * (p->vx[i] * p->vx[i] + p->vy[i] * p->vy[i]);
+}
+
+/* A rank-one piece's eigenvalue with its share of the masses: with shares
+   k |v_d|^2 / W_d of each DOF's mass, k v.M_p^-1 v = sum of W_d / m_d over its DOFs. */
+static double rj__ub_rank_one_lambda(const rj_model *m, const rj__ub_piece *p, const double *W)
+{
+    double lam = 0;
+    int i;
+    for (i = 0; i < p->n; i++)
+        if (p->vx[i] != 0 || p->vy[i] != 0)
+            lam += W[p->key[i]] * rj__ub_inv(m, p->key[i]);
+    return lam;
+}
+
+/* Element k of link l: its DOF keys (x and y of node a share the first, node b's the
+   fourth) and its stiffness on each node's translation and rotation. */
+static void rj__ub_elem_keys(const rj_model *m, int l, int k, int key[6])
+{
+    const int a = m->link_first[l] + (k - m->link_efirst[l]);
+    key[0] = key[1] = 3 * rj__ub_root(m, a);
+    key[2] = 3 * a + 2;
+    key[3] = key[4] = 3 * rj__ub_root(m, a + 1);
+    key[5] = 3 * (a + 1) + 2;
+}
+
+static void rj__ub_elem_weights(const double *K, const int key[6], double *W)
+{
+    W[key[0]] += fabs(K[0]) + fabs(K[7]);
+    W[key[2]] += fabs(K[14]);
+    W[key[3]] += fabs(K[21]) + fabs(K[28]);
+    W[key[5]] += fabs(K[35]);
+}
+
+/* An element's eigenvalue with its share of the masses: DOF j takes the share w_j / W_j
+   of its mass (w_j the element's own weight on it), so M_p^-1/2 K M_p^-1/2 has entries
+   K_ij sqrt(s_i s_j), s_j = W_j / (w_j m_j). A DOF the element loads but gives no weight
+   (a stressed start's off-diagonal alone): no bound (HUGE_VAL). */
+static double rj__ub_elem_lambda(const rj_model *m, const double *K, const int key[6],
+                                 const double *W, rj__ub_cache *cache)
+{
+    const double w[6] = { fabs(K[0]) + fabs(K[7]), fabs(K[0]) + fabs(K[7]), fabs(K[14]),
+                          fabs(K[21]) + fabs(K[28]), fabs(K[21]) + fabs(K[28]), fabs(K[35]) };
+    double s[6], A[36];
+    int i, j;
+    if (key[0] == key[3])
+        return HUGE_VAL;
+    for (i = 0; i < 6; i++) {
+        const double inv = rj__ub_inv(m, key[i]);
+        s[i] = w[i] > 0 ? W[key[i]] / w[i] * inv : 0.0;
+        for (j = 0; j < 6; j++)
+            if (w[i] == 0 && inv > 0 && K[6 * i + j] != 0)
+                return HUGE_VAL;
+    }
+    /* the last element's eigenvalue again when its stiffness and shares are the same */
+    if (cache->lam >= 0 && rj__ub_alike(s, cache->s, 6, 0))
+        return cache->lam;
+    for (i = 0; i < 6; i++)
+        for (j = 0; j < 6; j++)
+            A[6 * i + j] = 0.5 * (K[6 * i + j] + K[6 * j + i]) * sqrt(s[i] * s[j]);
+    memcpy(cache->s, s, sizeof s);
+    cache->lam = rj__ub_eig6(A);
+    return cache->lam;
+}
+
+/* The upper bound on omega_max^2 (above); W: 3 nn doubles of scratch. */
+static double rj__omega2_upper(const rj_model *m, double *W)
+{
+    rj__ub_cache cache;
+    rj__ub_piece p;
+    double top = 0;
+    int l, k, i, key[6];
+    for (i = 0; i < 3 * m->nn; i++)
+        W[i] = 0;
+    /* each piece's stiffness on each DOF: the weights that share its mass */
+    for (i = 0; i < 7; i++)
+        cache.key[i] = -1.0; /* no element has EI < 0: empty */
+    cache.lam = -1.0;
+    for (l = 0; l < m->nl; l++)
+        for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++)
+            if (m->link_path[l] != RJ__PATH_RIGID) {
+                rj__ub_elem_keys(m, l, k, key);
+                rj__ub_elem_weights(rj__ub_elem(m, l, k, &cache), key, W);
+            }
+    for (i = 0; i < m->nj + m->ncp; i++)
+        rj__ub_rank_one_weights(&p, rj__ub_rank_one(m, i, &p), W);
+    /* each piece's eigenvalue with its share */
+    for (l = 0; l < m->nl; l++)
+        for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++)
+            if (m->link_path[l] != RJ__PATH_RIGID) {
+                double lam;
+                rj__ub_elem_keys(m, l, k, key);
+                lam = rj__ub_elem_lambda(m, rj__ub_elem(m, l, k, &cache), key, W, &cache);
+                if (lam > top || lam != lam)
+                    top = lam;
+            }
+    for (i = 0; i < m->nj + m->ncp; i++)
+        if (rj__ub_rank_one(m, i, &p) > 0) {
+            const double lam = rj__ub_rank_one_lambda(m, &p, W);
+            if (lam > top || lam != lam)
+                top = lam;
+        }
+    return top;
+}
+
+/* Largest eigenvalue of a symmetric tridiagonal matrix (Sturm bisection), k <=
+   RJ__LANCZOS_ITERS. The matrix is scaled to entries of order 1 first: the recurrence
+   squares the off-diagonal, which for a model of omega^2 ~ 1e-166 (a link of 1e150
+   kg/m^3) underflowed and cut omega_max by 6. */
+static double rj__tridiag_max(const double *al_in, const double *be_in, int k)
+{
+    double al[RJ__LANCZOS_ITERS], be[RJ__LANCZOS_ITERS], scale = 0;
+    double lo = 0, hi = 0, mid;
+    int i, it;
+    for (i = 0; i < k; i++) {
+        if (fabs(al_in[i]) > scale)
+            scale = fabs(al_in[i]);
+        if (fabs(be_in[i]) > scale)
+            scale = fabs(be_in[i]);
+    }
+    if (scale == 0)
+        return 0;
+    for (i = 0; i < k; i++) {
+        al[i] = al_in[i] / scale;
+        be[i] = be_in[i] / scale;
+    }
+    for (i = 0; i < k; i++) {
+        double r = fabs(i > 0 ? be[i - 1] : 0) + fabs(i + 1 < k ? be[i] : 0);
+        if (al[i] + r > hi)
+            hi = al[i] + r;
+        if (al[i] - r < lo)
+            lo = al[i] - r;
+    }
+    for (it = 0; it < 200; it++) {
+        int cnt = 0;
+        double q = 1.0;
+        mid = 0.5 * (lo + hi);
+        for (i = 0; i < k; i++) {
+            q = al[i] - mid - (i > 0 ? be[i - 1] * be[i - 1] / q : 0.0);
+            if (q == 0.0)
+                q = 1e-300;
+            if (q < 0)
+                cnt++;
+        }
+        if (cnt == k)
+            hi = mid;
+        else
+            lo = mid; /* cnt = number of eigenvalues below mid */
+        if (hi - lo <= 1e-14 * fabs(hi))
+            break;
+    }
+    return hi * scale;
+}
+
+/* The 2-norm of v[0 .. n), scaled by its largest entry so that the squares neither
+   underflow (omega^2 ~ 1e-166 for a link of 1e150 kg/m^3) nor overflow. */
+static double rj__norm(const double *v, int n)
+{
+    double big = 0, sum = 0;
+    int i;
+    for (i = 0; i < n; i++)
+        if (fabs(v[i]) > big)
+            big = fabs(v[i]);
+    if (big == 0 || !rj__finite(big))
+        return big;
+    {
+        const double inv_big = 1.0 / big;
+        for (i = 0; i < n; i++)
+            sum += (v[i] * inv_big) * (v[i] * inv_big);
+    }
+    return big * sqrt(sum);
+}
+
+/* M^-1/2 of every DOF (rj__lz_inv), for rj__lz_apply. */
+static void rj__lz_scales(const rj_model *m, double *sc)
+{
+    int i;
+    for (i = 0; i < m->nn; i++) {
+        sc[3 * i] = sqrt(rj__lz_inv(m, i, 0));
+        sc[3 * i + 1] = sc[3 * i];
+        sc[3 * i + 2] = sqrt(m->rinv[i]);
+    }
+}
+
+/* The elements' part of f = K d (d: the DOFs' moves; a node's translation at its root's). */
+static void rj__lz_elements(const rj_model *m, const double *d, double *f)
+{
+    int l, k;
+    for (l = 0; l < m->nl; l++) {
+        const double *kc = m->link_kc + 4 * (size_t) l;
+        const int shift = m->link_first[l] - m->link_efirst[l];
+        if (m->link_path[l] == RJ__PATH_RIGID)
+            continue;
+        for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++) {
+            const int a = k + shift;
+            const int ta = 3 * rj__ub_root(m, a), tb = 3 * rj__ub_root(m, a + 1);
+            const double dq[6] = { d[ta], d[ta + 1], d[3 * a + 2], d[tb], d[tb + 1], d[3 * a + 5] };
+            double fe[6];
+            rj__elem_tangent(kc, m->x0[a + 1] - m->x0[a], m->y0[a + 1] - m->y0[a],
+                             m->phi0[a] - m->beta0[k], m->phi0[a + 1] - m->beta0[k], dq, fe);
+            f[ta] += fe[0];
+            f[ta + 1] += fe[1];
+            f[3 * a + 2] += fe[2];
+            f[tb] += fe[3];
+            f[tb + 1] += fe[4];
+            f[3 * a + 5] += fe[5];
+        }
+    }
+}
+
+/* The joints' springs and the cable loops' part of f = K d: k v (v . d) each. */
+static void rj__lz_rank_one(const rj_model *m, const double *d, double *f)
+{
+    rj__ub_piece p;
+    int i, q;
+    for (i = 0; i < m->nj + m->ncp; i++) {
+        const double k = rj__ub_rank_one(m, i, &p);
+        double dot = 0;
+        if (!(k > 0))
+            continue;
+        for (q = 0; q < p.n; q++)
+            dot += p.vx[q] * d[p.key[q]] + (p.key[q] % 3 == 0 ? p.vy[q] * d[p.key[q] + 1] : 0.0);
+        for (q = 0; q < p.n; q++) {
+            f[p.key[q]] += k * dot * p.vx[q];
+            if (p.key[q] % 3 == 0)
+                f[p.key[q] + 1] += k * dot * p.vy[q];
+        }
+    }
+}
+
+/* The linearised operator out = M^-1/2 K M^-1/2 u over the 3 nn node DOFs (a grouped
+   node's translation lives at its group's first member; the other members' entries are
+   unused and come out 0): the elements' tangents in closed form, the joints' linearised
+   springs k g g^T (g: the DOFs a unit torque loads) and the cable loops'. sc: M^-1/2 of
+   each DOF (rj__lz_scales); d: 3 nn doubles of scratch. */
+static void rj__lz_apply(const rj_model *m, const double *sc, const double *u, double *out,
+                         double *d)
+{
+    const int n = 3 * m->nn;
+    int i;
+    for (i = 0; i < n; i++) {
+        d[i] = u[i] * sc[i];
+        out[i] = 0.0;
+    }
+    rj__lz_elements(m, d, out);
+    rj__lz_rank_one(m, d, out);
+    for (i = 0; i < n; i++)
+        out[i] *= sc[i];
+}
+
+/* Lanczos's start: on every DOF that moves, entries of a fixed pseudo-random sequence in
+   [-1, 1) (splitmix64 of the index), which meet every mode alike (a smooth start barely
+   meets the zigzag modes at the spectrum's top, and settled on a plateau 0.5 % below it on
+   a link of 2000 elements); v0 = 0. Returns 0 when none moves. */
+static int rj__lz_start(const rj_model *m, double *v0, double *v1)
+{
+    const int n = 3 * m->nn;
+    double nrm = 0;
+    int i;
+    for (i = 0; i < n; i++) {
+        unsigned long long z = (unsigned long long) (i + 1) * 0x9E3779B97F4A7C15ULL;
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+        z ^= z >> 31;
+        v1[i] = (double) (z >> 11) * (2.0 / 9007199254740992.0) - 1.0;
+        v0[i] = 0;
+    }
+    for (i = 0; i < m->nn; i++) {
+        if (m->tinv[i] == 0) {
+            v1[3 * i] = 0;
+            v1[3 * i + 1] = 0;
+        }
+        if (m->rinv[i] == 0)
+            v1[3 * i + 2] = 0;
+    }
+    for (i = 0; i < m->ng; i++) {
+        int r = m->grp_node[m->grp_first[i]];
+        if (m->grp_inv[i] > 0) {
+            v1[3 * r] = 1.0;
+            v1[3 * r + 1] = 0.7;
+        }
+    }
+    for (i = 0; i < n; i++)
+        nrm += v1[i] * v1[i];
+    if (nrm == 0)
+        return 0;
+    nrm = sqrt(nrm);
+    for (i = 0; i < n; i++)
+        v1[i] /= nrm;
+    return 1;
+}
+
+/* Whether Lanczos has converged after k steps (every 4th, from the 8th): its largest Ritz
+   value theta moved by less than RJ__LZ_TOL of itself in the last 4 steps (*last: theta
+   then), and it is within RJ__BOUND_GAP of the upper bound, so that a plateau far below
+   omega_max^2 cannot pass for convergence. A theta above the bound (round-off in a model of
+   extreme scales) voids the bound (*upper = HUGE_VAL): Lanczos runs its course. */
+static int rj__lz_converged(const double *al, const double *be, int k, double *last,
+                            double *upper)
+{
+    double theta, moved;
+    if (k % 4 != 0 || k < 8 || !(*upper < HUGE_VAL))
+        return 0;
+    theta = rj__tridiag_max(al, be, k);
+    moved = theta - *last;
+    *last = theta;
+    if (theta > *upper * (1.0 + 1e-9)) {
+        *upper = HUGE_VAL;
+        return 0;
+    }
+    return fabs(moved) <= RJ__LZ_TOL * theta && theta >= (1.0 - RJ__BOUND_GAP) * *upper;
+}
+
+/* omega_max^2 of the linearised model by Lanczos (no reorthogonalisation: ghosts do not
+   move the extreme Ritz value), stopped once converged (rj__lz_converged). */
+static double rj__omega2_max(rj_model *m, double *lanczos)
+{
+    const int n = 3 * m->nn;
+    double *v0 = lanczos, *v1 = lanczos + m->nn * 3, *w = lanczos + m->nn * 6;
+    double *sc = lanczos + m->nn * 9, *d = lanczos + m->nn * 12;
+    double al[RJ__LANCZOS_ITERS], be[RJ__LANCZOS_ITERS], lam, last = 0;
+    double upper = rj__omega2_upper(m, v0);
+    int i, k, kmax;
+    if (!rj__lz_start(m, v0, v1))
+        return 0;
+    rj__lz_scales(m, sc);
+    kmax = n < RJ__LANCZOS_ITERS ? n : RJ__LANCZOS_ITERS;
+    for (k = 0; k < kmax; k++) {
+        double a = 0, b = 0, bprev, *t;
+        rj__lz_apply(m, sc, v1, w, d);
+        for (i = 0; i < n; i++)
+            a += w[i] * v1[i];
+        al[k] = a;
+        bprev = k > 0 ? be[k - 1] : 0.0;
+        for (i = 0; i < n; i++)
+            w[i] -= a * v1[i] + bprev * v0[i];
+        b = rj__norm(w, n);
+        be[k] = b;
+        /* a NaN or an infinity: no finite frequency (below) */
+        if (!rj__finite(a) || !rj__finite(b) || b < 1e-12 * fabs(a) || b == 0) {
+            k++;
+            break;
+        }
+        if (rj__lz_converged(al, be, k + 1, &last, &upper))
+            return last;
+        b = 1.0 / b;
+        for (i = 0; i < n; i++)
+            w[i] *= b;
+        t = v0;
+        v0 = v1;
+        v1 = w;
+        w = t;
+    }
+    /* a NaN or an infinity in the recurrence: no finite frequency (the bound refuses it) */
+    for (i = 0; i < k; i++)
+        if (!rj__finite(al[i]) || !rj__finite(be[i]))
+            return HUGE_VAL;
+    lam = rj__tridiag_max(al, be, k);
+    return lam;
+}
 /* ------------------------------------------------------------------ SHAKE over chains that meet */
 /* Inextensible chains that meet (a chain hanging from inside another, or a loop closed
    through a moving pin) are not tridiagonal: an element couples to every element that
@@ -6790,18 +7083,16 @@ static void rj__shake_graph(const rj_model *m, rj_state *s, const double *x, con
 }
 /* ------------------------------------------------------------------ building the model */
 /* The model's building area (m->lz, sized by rj__model_layout) as the phases of
-   rj_model_init use it. The phases run one after another, so every view but the chords
-   starts at the area's start and each phase leaves nothing the next one reads. The chords
-   sit after the Lanczos vectors, where rj__lz_apply reads them, and stay there for
-   rj_model_apply_stiffness; the rigid links' power iteration works after them. */
+   rj_model_init use it. The phases run one after another, so every view starts at the
+   area's start and each phase leaves nothing the next one reads; the rigid links' power
+   iteration works after the Lanczos vectors. */
 typedef struct rj__build_scratch {
     int *graph;                /* RJ__GRAPH_SCRATCH(nl, nj) ints: rj__validate_graph */
     int *pin_groups;           /* 4 nn + ng ints: rj__pin_groups */
     int *placement;            /* 3 nl ints: rj__place_all */
     int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
-    double *lanczos;           /* 3 vectors of 3 nn, the chords, a work area: rj__omega2_max */
-    double *chord_x, *chord_y; /* (ne each) the initial chords, at lanczos + 9 nn */
-    double *rigid_bound;       /* rj__rigid_scratch(nj, nl, ncp, 0) + nj^2 doubles after the chords */
+    double *lanczos;           /* 5 vectors of 3 nn: rj__omega2_max */
+    double *rigid_bound;       /* rj__rigid_scratch(nj, nl, ncp, 0) + nj^2 doubles after them */
     int *step_node_mark;       /* nn ints: rj__init_step_nodes */
 } rj__build_scratch;
 
@@ -6814,9 +7105,7 @@ static void rj__build_scratch_carve(const rj_model *m, rj__build_scratch *s)
     s->placement = (int *) area;
     s->chains = (int *) area;
     s->lanczos = m->lz;
-    s->chord_x = m->lz + 9 * (size_t) m->nn;
-    s->chord_y = s->chord_x + m->ne;
-    s->rigid_bound = s->chord_y + m->ne;
+    s->rigid_bound = m->lz + 15 * (size_t) m->nn;
     s->step_node_mark = (int *) area;
 }
 
@@ -7484,18 +7773,6 @@ static void rj__init_rigid(rj_model *m, const rj_scene_def *sc, int *chain_scrat
     rj__init_joint_order(m);
 }
 
-/* The initial chords, which the Lanczos operator (rj__lz_apply) linearises about. */
-static void rj__init_chords(const rj_model *m, const rj__build_scratch *s)
-{
-    int l, k;
-    for (l = 0; l < m->nl; l++)
-        for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++) {
-            const int a = m->link_first[l] + (k - m->link_efirst[l]);
-            s->chord_x[k] = m->x0[a + 1] - m->x0[a];
-            s->chord_y[k] = m->y0[a + 1] - m->y0[a];
-        }
-}
-
 /* omega_max^2 at the stiffnesses in m->jnt: power iteration in joint coordinates for
    rigid scenes (it also sets each joint's 1/I_red, J->minv), Lanczos otherwise. */
 static double rj__bound_omega2(rj_model *m, const rj__build_scratch *s)
@@ -7503,13 +7780,18 @@ static double rj__bound_omega2(rj_model *m, const rj__build_scratch *s)
     return m->rigid ? rj__rig_setup(m, s->rigid_bound) : rj__omega2_max(m, s->lanczos);
 }
 
-/* omega_max and the stability bound at the stiffnesses in m->jnt; returns omega_max^2. */
-static double rj__init_bound(rj_model *m, const rj__build_scratch *s, double damp_rate)
+/* omega_max and the stability bound from omega_max^2; returns it. */
+static double rj__set_bound(rj_model *m, double om2, double damp_rate)
 {
-    const double om2 = rj__bound_omega2(m, s);
     m->omega_max = rj__omega_of(om2);
     m->dt_bound = rj__dt_bound_of(m->omega_max, damp_rate);
     return om2;
+}
+
+/* omega_max and the stability bound at the stiffnesses in m->jnt; returns omega_max^2. */
+static double rj__init_bound(rj_model *m, const rj__build_scratch *s, double damp_rate)
+{
+    return rj__set_bound(m, rj__bound_omega2(m, s), damp_rate);
 }
 
 /* What the search for the step carries: dt depends on K_AP and K_AP on dt. */
@@ -7522,15 +7804,19 @@ typedef struct rj__dt_search {
 /* A penalty limit switches on and off with the contact, which pumps energy long before the
    linear bound: measured on the impact benchmark, RC13 contact blows up at omega dt = 1.67
    where the same spring always on is stable. Counting it as 4 K keeps omega dt <= 1, where
-   switching was never seen to pump. Returns whether any joint has adaptive limits. */
-static int rj__count_penalty_limits(rj_model *m)
+   switching was never seen to pump. Returns whether any joint has adaptive limits;
+   *counted: whether any penalty limit changed a stiffness. */
+static int rj__count_penalty_limits(rj_model *m, int *counted)
 {
     int j, any_adaptive = 0;
+    *counted = 0;
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         const int limited = d->has_forward || d->has_reverse;
-        if (limited && d->method == RJ_METHOD_PENALTY)
+        if (limited && d->method == RJ_METHOD_PENALTY && d->penalty_k != 0) {
             m->jnt[j].k_lin += 4.0 * d->penalty_k;
+            *counted = 1;
+        }
         if (limited && d->method == RJ_METHOD_ADAPTIVE)
             any_adaptive = 1;
     }
@@ -7703,16 +7989,21 @@ static rj_result rj__init_step(rj_model *m, const rj_scene_def *sc, const rj__bu
                                rj_error *err)
 {
     rj__dt_search q;
-    int j, any_adaptive;
-    double om2;
+    int j, any_adaptive, penalty_counted;
+    double om2, om2_links;
     for (j = 0; j < m->nj; j++)
         m->jnt[j].k_free = m->jnt[j].k_lin;
-    m->omega_links = rj__omega_of(rj__bound_omega2(m, s));
+    om2_links = rj__bound_omega2(m, s);
+    m->omega_links = rj__omega_of(om2_links);
     m->struct_rate = rj__structural_rate(m);
     q.damp_rate = rj__damping_rate(m) + m->struct_rate;
     rj__structural_warning(m);
-    any_adaptive = rj__count_penalty_limits(m);
-    om2 = rj__init_bound(m, s, q.damp_rate);
+    any_adaptive = rj__count_penalty_limits(m, &penalty_counted);
+    /* the same stiffnesses give the same omega_max: computed again only when they moved */
+    if (penalty_counted)
+        om2 = rj__init_bound(m, s, q.damp_rate);
+    else
+        om2 = rj__set_bound(m, om2_links, q.damp_rate);
     q.dt = sc->solver.dt > 0 ? sc->solver.dt : 0.9 * m->dt_bound;
     if (m->rigid && sc->solver.dt <= 0) {
         const double cap = rj__rigid_dt_cap(m);
@@ -7962,7 +8253,6 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         return RJ_ERR_INVALID;
     rj__init_joint_constants(m);
     rj__init_rigid(m, sc, s.chains);
-    rj__init_chords(m, &s);
     rj__limit_warnings(m);
     r = rj__init_step(m, sc, &s, err);
     if (r != RJ_OK)
@@ -13519,7 +13809,8 @@ RJDEF size_t rj_model_work_size(const rj_model *m)
 }
 RJDEF void rj_model_apply_stiffness(const rj_model *m, const double *u, double *out, double *work)
 {
-    rj__lz_apply(m, u, out, work);
+    rj__lz_scales(m, work);
+    rj__lz_apply(m, work, u, out, work + 3 * (size_t) m->nn);
 }
 
 /* the smaller of the joint's two links by rho I l (ground is infinitely large) */

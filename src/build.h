@@ -1,17 +1,15 @@
 /* ------------------------------------------------------------------ building the model */
 /* The model's building area (m->lz, sized by rj__model_layout) as the phases of
-   rj_model_init use it. The phases run one after another, so every view but the chords
-   starts at the area's start and each phase leaves nothing the next one reads. The chords
-   sit after the Lanczos vectors, where rj__lz_apply reads them, and stay there for
-   rj_model_apply_stiffness; the rigid links' power iteration works after them. */
+   rj_model_init use it. The phases run one after another, so every view starts at the
+   area's start and each phase leaves nothing the next one reads; the rigid links' power
+   iteration works after the Lanczos vectors. */
 typedef struct rj__build_scratch {
     int *graph;                /* RJ__GRAPH_SCRATCH(nl, nj) ints: rj__validate_graph */
     int *pin_groups;           /* 4 nn + ng ints: rj__pin_groups */
     int *placement;            /* 3 nl ints: rj__place_all */
     int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
-    double *lanczos;           /* 3 vectors of 3 nn, the chords, a work area: rj__omega2_max */
-    double *chord_x, *chord_y; /* (ne each) the initial chords, at lanczos + 9 nn */
-    double *rigid_bound;       /* rj__rigid_scratch(nj, nl, ncp, 0) + nj^2 doubles after the chords */
+    double *lanczos;           /* 5 vectors of 3 nn: rj__omega2_max */
+    double *rigid_bound;       /* rj__rigid_scratch(nj, nl, ncp, 0) + nj^2 doubles after them */
     int *step_node_mark;       /* nn ints: rj__init_step_nodes */
 } rj__build_scratch;
 
@@ -24,9 +22,7 @@ static void rj__build_scratch_carve(const rj_model *m, rj__build_scratch *s)
     s->placement = (int *) area;
     s->chains = (int *) area;
     s->lanczos = m->lz;
-    s->chord_x = m->lz + 9 * (size_t) m->nn;
-    s->chord_y = s->chord_x + m->ne;
-    s->rigid_bound = s->chord_y + m->ne;
+    s->rigid_bound = m->lz + 15 * (size_t) m->nn;
     s->step_node_mark = (int *) area;
 }
 
@@ -694,18 +690,6 @@ static void rj__init_rigid(rj_model *m, const rj_scene_def *sc, int *chain_scrat
     rj__init_joint_order(m);
 }
 
-/* The initial chords, which the Lanczos operator (rj__lz_apply) linearises about. */
-static void rj__init_chords(const rj_model *m, const rj__build_scratch *s)
-{
-    int l, k;
-    for (l = 0; l < m->nl; l++)
-        for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++) {
-            const int a = m->link_first[l] + (k - m->link_efirst[l]);
-            s->chord_x[k] = m->x0[a + 1] - m->x0[a];
-            s->chord_y[k] = m->y0[a + 1] - m->y0[a];
-        }
-}
-
 /* omega_max^2 at the stiffnesses in m->jnt: power iteration in joint coordinates for
    rigid scenes (it also sets each joint's 1/I_red, J->minv), Lanczos otherwise. */
 static double rj__bound_omega2(rj_model *m, const rj__build_scratch *s)
@@ -713,13 +697,18 @@ static double rj__bound_omega2(rj_model *m, const rj__build_scratch *s)
     return m->rigid ? rj__rig_setup(m, s->rigid_bound) : rj__omega2_max(m, s->lanczos);
 }
 
-/* omega_max and the stability bound at the stiffnesses in m->jnt; returns omega_max^2. */
-static double rj__init_bound(rj_model *m, const rj__build_scratch *s, double damp_rate)
+/* omega_max and the stability bound from omega_max^2; returns it. */
+static double rj__set_bound(rj_model *m, double om2, double damp_rate)
 {
-    const double om2 = rj__bound_omega2(m, s);
     m->omega_max = rj__omega_of(om2);
     m->dt_bound = rj__dt_bound_of(m->omega_max, damp_rate);
     return om2;
+}
+
+/* omega_max and the stability bound at the stiffnesses in m->jnt; returns omega_max^2. */
+static double rj__init_bound(rj_model *m, const rj__build_scratch *s, double damp_rate)
+{
+    return rj__set_bound(m, rj__bound_omega2(m, s), damp_rate);
 }
 
 /* What the search for the step carries: dt depends on K_AP and K_AP on dt. */
@@ -732,15 +721,19 @@ typedef struct rj__dt_search {
 /* A penalty limit switches on and off with the contact, which pumps energy long before the
    linear bound: measured on the impact benchmark, RC13 contact blows up at omega dt = 1.67
    where the same spring always on is stable. Counting it as 4 K keeps omega dt <= 1, where
-   switching was never seen to pump. Returns whether any joint has adaptive limits. */
-static int rj__count_penalty_limits(rj_model *m)
+   switching was never seen to pump. Returns whether any joint has adaptive limits;
+   *counted: whether any penalty limit changed a stiffness. */
+static int rj__count_penalty_limits(rj_model *m, int *counted)
 {
     int j, any_adaptive = 0;
+    *counted = 0;
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         const int limited = d->has_forward || d->has_reverse;
-        if (limited && d->method == RJ_METHOD_PENALTY)
+        if (limited && d->method == RJ_METHOD_PENALTY && d->penalty_k != 0) {
             m->jnt[j].k_lin += 4.0 * d->penalty_k;
+            *counted = 1;
+        }
         if (limited && d->method == RJ_METHOD_ADAPTIVE)
             any_adaptive = 1;
     }
@@ -913,16 +906,21 @@ static rj_result rj__init_step(rj_model *m, const rj_scene_def *sc, const rj__bu
                                rj_error *err)
 {
     rj__dt_search q;
-    int j, any_adaptive;
-    double om2;
+    int j, any_adaptive, penalty_counted;
+    double om2, om2_links;
     for (j = 0; j < m->nj; j++)
         m->jnt[j].k_free = m->jnt[j].k_lin;
-    m->omega_links = rj__omega_of(rj__bound_omega2(m, s));
+    om2_links = rj__bound_omega2(m, s);
+    m->omega_links = rj__omega_of(om2_links);
     m->struct_rate = rj__structural_rate(m);
     q.damp_rate = rj__damping_rate(m) + m->struct_rate;
     rj__structural_warning(m);
-    any_adaptive = rj__count_penalty_limits(m);
-    om2 = rj__init_bound(m, s, q.damp_rate);
+    any_adaptive = rj__count_penalty_limits(m, &penalty_counted);
+    /* the same stiffnesses give the same omega_max: computed again only when they moved */
+    if (penalty_counted)
+        om2 = rj__init_bound(m, s, q.damp_rate);
+    else
+        om2 = rj__set_bound(m, om2_links, q.damp_rate);
     q.dt = sc->solver.dt > 0 ? sc->solver.dt : 0.9 * m->dt_bound;
     if (m->rigid && sc->solver.dt <= 0) {
         const double cap = rj__rigid_dt_cap(m);
@@ -1172,7 +1170,6 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
         return RJ_ERR_INVALID;
     rj__init_joint_constants(m);
     rj__init_rigid(m, sc, s.chains);
-    rj__init_chords(m, &s);
     rj__limit_warnings(m);
     r = rj__init_step(m, sc, &s, err);
     if (r != RJ_OK)

@@ -129,7 +129,8 @@ RJDEF size_t rj_model_work_size(const rj_model *m)
 }
 RJDEF void rj_model_apply_stiffness(const rj_model *m, const double *u, double *out, double *work)
 {
-    rj__lz_apply(m, u, out, work);
+    rj__lz_scales(m, work);
+    rj__lz_apply(m, work, u, out, work + 3 * (size_t) m->nn);
 }
 
 /* the smaller of the joint's two links by rho I l (ground is infinitely large) */

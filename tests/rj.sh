@@ -383,13 +383,13 @@ ok "check on a scene whose first steps blow up: status 1 ($st), 'not valid', the
    && ! grep -q ': valid\$' $T/check_blowup.txt && grep -q '^cost: the first steps fail at t = ' $T/check_blowup.txt \
    && grep -q 'cannot be simulated: t = .*exceeds' $T/check_blowup.err"
 # progress: every phase with --progress; without it once the check has taken 1 s (a
-# 30000-element link: about 2 s here, building it twice)
+# 400000-element link: about 1.9 s and 290 MB here, building it twice)
 ok "check --progress: the phases on standard error, with the wall time, and the end" \
   "$B/rj check $S/deploy.rjs --progress 2>&1 >/dev/null | grep -Eq '^rj check: [0-9.]+ s: timing 200-step batches \(22 nodes\)' \
    && $B/rj check $S/deploy.rjs --progress 2>&1 >/dev/null | grep -Eq '^rj check: [0-9.]+ s: done'"
-printf 'link beam\n  length = 1  elements = 30000\n  root = clamped\n' > $T/long_check.rjs
+printf 'link beam\n  length = 1  elements = 400000\n  root = clamped\n' > $T/long_check.rjs
 $B/rj check $T/long_check.rjs > $T/long_check.txt 2>$T/long_check.err; st=$?
-ok "check of a 30000-element link (over 1 s) without --progress: its phases on standard error, status 0 ($st)" \
+ok "check of a 400000-element link (over 1 s) without --progress: its phases on standard error, status 0 ($st)" \
   "[ $st = 0 ] && grep -Eq '^rj check: [0-9.]+ s: (building|timing)' $T/long_check.err && grep -Eq '^rj check: [0-9.]+ s: done' $T/long_check.err \
    && head -1 $T/long_check.txt | grep -q ': valid\$'"
 

@@ -412,6 +412,119 @@ static void test_adaptive_auto_dt(void)
     }
 }
 
+/* 11. The stability bound's operator: the elements' tangent in closed form
+   (rj__lz_elements) against central differences of the beam pass itself, on every node
+   DOF at once along a random move, at the scenes' starts and at a start stretched 1 % and
+   bent (a stressed start: the axial force's and the moments' geometric terms); and the
+   element-by-element bound above omega_max^2. */
+static void bound_bend(rj_model *m, double stretch, double bend)
+{
+    int l, i, k;
+    for (l = 0; l < m->nl; l++) {
+        const int n0 = m->link_first[l];
+        for (i = n0 + 1; i < m->link_first[l + 1]; i++) {
+            m->x0[i] = m->x0[n0] + stretch * (m->x0[i] - m->x0[n0]);
+            m->y0[i] = m->y0[n0] + stretch * (m->y0[i] - m->y0[n0]);
+            m->phi0[i] += bend * (i - n0);
+        }
+        for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++) {
+            const int a = n0 + (k - m->link_efirst[l]);
+            const double chord = atan2(m->y0[a + 1] - m->y0[a], m->x0[a + 1] - m->x0[a]);
+            m->beta0[k] = m->phi0[a] + rj__wrap(chord - m->phi0[a]);
+        }
+    }
+}
+
+/* f += -(forces at x0 + h d) / (2 h), sign s = +1 or -1 (central differences), by root. */
+static void bound_fd_side(const rj_model *m, const double *d, double h, double *f, double *w)
+{
+    const int nn = m->nn, ne = m->ne;
+    double *x = w, *y = x + nn, *p = y + nn, *fx = p + nn, *fy = fx + nn, *mz = fy + nn;
+    double *cx = mz + nn, *cy = cx + ne, *eu = cy + ne, *bt = eu + ne, *cxo = bt + ne, *cyo = cxo + ne;
+    int i, l, k;
+    for (i = 0; i < nn; i++) {
+        const int r = 3 * rj__ub_root(m, i);
+        x[i] = m->x0[i] + h * d[r];
+        y[i] = m->y0[i] + h * d[r + 1];
+        p[i] = m->phi0[i] + h * d[3 * i + 2];
+    }
+    for (l = 0; l < m->nl; l++)
+        for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++) {
+            const int a = m->link_first[l] + (k - m->link_efirst[l]);
+            cx[k] = m->x0[a + 1] - m->x0[a];
+            cy[k] = m->y0[a + 1] - m->y0[a];
+        }
+    rj__beam_pass(m, x, y, p, m->beta0, cx, cy, eu, bt, cxo, cyo, fx, fy, mz, NULL);
+    for (i = 0; i < nn; i++) {
+        const int r = 3 * rj__ub_root(m, i);
+        f[r] += -fx[i] / (2 * h);
+        f[r + 1] += -fy[i] / (2 * h);
+        f[3 * i + 2] += -mz[i] / (2 * h);
+    }
+}
+
+static void bound_scene(const char *path, double stretch, double bend)
+{
+    rj_scene_file file;
+    rj_scene_def sc;
+    rj_error err;
+    rj_model *m = NULL;
+    double *d, *fc, *fd, *w, num = 0, den = 0, upper, om2;
+    char name[200];
+    int i, n;
+    unsigned seed = 12345;
+    if (rj_scene_load(path, &file, &err) != RJ_OK) { rjt_check(&T, 0, path, "%s", err.msg); return; }
+    sc = rj_scene_file_def(&file);
+    if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) { rjt_check(&T, 0, path, "%s", err.msg); rj_scene_file_free(&file); return; }
+    n = 3 * m->nn;
+    d = (double *)calloc((size_t)n, sizeof(double)); fc = (double *)calloc((size_t)n, sizeof(double));
+    fd = (double *)calloc((size_t)n, sizeof(double)); w = (double *)calloc((size_t)(6 * m->nn + 6 * m->ne + 8), sizeof(double));
+    if (!d || !fc || !fd || !w) abort();
+    if (stretch != 1 || bend != 0) bound_bend(m, stretch, bend);
+    /* a move of each DOF in its own scale: a tenth of its link's element, or 0.1 rad */
+    for (i = 0; i < m->nn; i++) {
+        int link, node, c;
+        rj__node_of(m, i, &link, &node);
+        for (c = 0; c < 3; c++) {
+            seed = seed * 1103515245u + 12345u;
+            d[3 * i + c] = ((double)(seed >> 8) / 16777216.0 - 0.5) * (c == 2 ? 0.2 : 0.2 * m->link_l0[link]);
+        }
+    }
+    rj__lz_elements(m, d, fc);
+    bound_fd_side(m, d, 1e-6, fd, w);
+    bound_fd_side(m, d, -1e-6, fd, w);
+    for (i = 0; i < m->nn; i++) {
+        const int r = 3 * rj__ub_root(m, i);
+        int c;
+        if (r != 3 * i) continue; /* a grouped node's translation is its root's */
+        for (c = 0; c < 3; c++) { num += (fc[3 * i + c] - fd[3 * i + c]) * (fc[3 * i + c] - fd[3 * i + c]); den += fd[3 * i + c] * fd[3 * i + c]; }
+    }
+    for (i = 0; i < m->nn; i++) { num += (fc[3 * i + 2] - fd[3 * i + 2]) * (fc[3 * i + 2] - fd[3 * i + 2]) * (3 * rj__ub_root(m, i) != 3 * i); }
+    snprintf(name, sizeof name, "bound operator: closed-form tangent = differences of the beam pass, %s%s", path,
+             stretch != 1 ? " stretched 1 % and bent" : "");
+    rjt_check(&T, den > 0 && sqrt(num / den) < 1e-6, name, "relative difference %.2e over %d DOFs", sqrt(num / den), n);
+    if (stretch == 1 && bend == 0) {
+        upper = rj__omega2_upper(m, w);
+        om2 = rj_model_omega_max(m) * rj_model_omega_max(m);
+        snprintf(name, sizeof name, "element-by-element bound above Lanczos's omega_max^2, %s", path);
+        rjt_check(&T, upper >= om2 * (1 - 1e-9) && upper < HUGE_VAL, name, "upper %.6g, omega_max^2 %.6g (x %.4f)", upper, om2, upper / om2);
+    }
+    free(d); free(fc); free(fd); free(w);
+    rj_model_destroy(m, NULL);
+    rj_scene_file_free(&file);
+}
+
+static void test_bound(void)
+{
+    static const char *const scenes[] = { "examples/scenes/deploy.rjs", "examples/scenes/elastica.rjs",
+                                          "examples/scenes/solar_array_yield.rjs", "examples/scenes/scissor_boom.rjs",
+                                          "examples/scenes/solar_array_ccl.rjs" };
+    int i;
+    for (i = 0; i < 5; i++) bound_scene(scenes[i], 1.0, 0.0);
+    bound_scene("examples/scenes/deploy.rjs", 1.01, 0.02);
+    bound_scene("examples/scenes/elastica.rjs", 1.01, 0.02);
+}
+
 int main(void)
 {
     test_pendulum();
@@ -424,5 +537,6 @@ int main(void)
     test_light_body();
     test_fixed_inextensible();
     test_adaptive_auto_dt();
+    test_bound();
     return rjt_summary(&T, "test_mixed");
 }

@@ -1,0 +1,607 @@
+/* ------------------------------------------------------------------ the stability bound */
+/* omega_max^2, the largest eigenvalue of M^-1 K for the linearised model (K: the tangent of
+   the elements' forces, the joints' springs and the cable loops' at the start; M: the
+   lumped masses), sets the step. Lanczos on the whole linearised operator (rj__lz_apply)
+   estimates it from below; it stops once its largest Ritz value has settled, which takes
+   8 to 40 of its RJ__LANCZOS_ITERS steps where the spectrum's top is not crowded.
+
+   Settling alone could be a plateau, so a second estimate checks it from above, element by
+   element (Irons and Treharne 1971; Flanagan and Belytschko 1981): split K into pieces K_p
+   (each element, each joint spring, each cable loop) and each DOF's mass among the pieces
+   that touch it (M = sum M_p); then u.K u = sum u.K_p u <= sum lambda_p u.M_p u <=
+   max_p lambda_p u.M u, so omega_max^2 is at most the largest lambda_p, the piece's own
+   eigenvalue with its share of the masses. A DOF's mass is shared in proportion to each
+   piece's stiffness on it. The bound is exact for a link whose axial mode is its fastest,
+   and up to 18 % high where bending and rotary inertia set the top (a uniform link of 200
+   elements; 3.7 % at 2000), so Lanczos may stop only within RJ__BOUND_GAP below it; where
+   it never gets there it runs its whole course. */
+#define RJ__BOUND_GAP 0.25
+#define RJ__LZ_TOL    1e-4
+
+/* A translation DOF of node i lives at its group's first member (rj__lz_u). */
+static int rj__ub_root(const rj_model *m, int i)
+{
+    return m->node_grp[i] >= 0 ? m->grp_node[m->grp_first[m->node_grp[i]]] : i;
+}
+
+/* An element's tangent stiffness times dq (its nodes' x, y, rotation: a, then b), in closed
+   form: the derivative of rj__elem_forces at chord (ex, ey) with ends turned tha, thb off
+   it, whatever its stress there. With r = |e|^2, the strain's change is e.de / l0^2, the
+   chord angle's perp(e).de / r (perp(e) = (-ey, ex)), each end's turn dphi - dbeta; node b's
+   force -N e + (S / r) perp(e) (S = ma + mb) changes by
+   -dN e - N de + (dS / r - 2 S e.de / r^2) perp(e) + (S / r) perp(de). */
+static RJ__INLINE void rj__elem_tangent(const double *kc, double ex, double ey, double tha,
+                                        double thb, const double dq[6], double out[6])
+{
+    const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];
+    const double r = ex * ex + ey * ey, inv_r = 1.0 / r;
+    const double n_ax = kax * (r - l0sq) * half_inv_l0sq;
+    const double s_r = 6.0 * kb * (tha + thb) * inv_r;
+    const double dex = dq[3] - dq[0], dey = dq[4] - dq[1];
+    const double e_de = ex * dex + ey * dey;
+    const double dbeta = (-ey * dex + ex * dey) * inv_r;
+    const double dtha = dq[2] - dbeta, dthb = dq[5] - dbeta;
+    const double dma = kb * (4.0 * dtha + 2.0 * dthb);
+    const double dmb = kb * (2.0 * dtha + 4.0 * dthb);
+    const double dn = kax * e_de / l0sq;
+    const double dsr = ((dma + dmb) - 2.0 * s_r * e_de) * inv_r;
+    const double dfx = -dn * ex - n_ax * dex - dsr * ey - s_r * dey;
+    const double dfy = -dn * ey - n_ax * dey + dsr * ex + s_r * dex;
+    /* K = -dF/dq with F = (-f_b, -ma, f_b, -mb) */
+    out[0] = dfx;
+    out[1] = dfy;
+    out[2] = dma;
+    out[3] = -dfx;
+    out[4] = -dfy;
+    out[5] = dmb;
+}
+
+/* Element k of link l at the start: its chord and its ends' turns off it. */
+static void rj__elem_start(const rj_model *m, int l, int k, double *ex, double *ey,
+                           double *tha, double *thb)
+{
+    const int a = m->link_first[l] + (k - m->link_efirst[l]);
+    *ex = m->x0[a + 1] - m->x0[a];
+    *ey = m->y0[a + 1] - m->y0[a];
+    *tha = m->phi0[a] - m->beta0[k];
+    *thb = m->phi0[a + 1] - m->beta0[k];
+}
+
+/* The largest eigenvalue of a symmetric 6 x 6 matrix (cyclic Jacobi; A is destroyed). */
+static double rj__ub_eig6(double A[36])
+{
+    int sweep, p, q, k;
+    double top;
+    for (sweep = 0; sweep < 30; sweep++) {
+        double off = 0, diag = 0;
+        for (p = 0; p < 6; p++)
+            for (q = 0; q < 6; q++) {
+                const double sq = A[6 * p + q] * A[6 * p + q];
+                if (p == q)
+                    diag += sq;
+                else
+                    off += sq;
+            }
+        if (!(off > 1e-30 * diag))
+            break;
+        for (p = 0; p < 5; p++)
+            for (q = p + 1; q < 6; q++) {
+                const double apq = A[6 * p + q];
+                double theta, t, cs, sn;
+                if (apq == 0)
+                    continue;
+                theta = (A[6 * q + q] - A[6 * p + p]) / (2.0 * apq);
+                t = (theta >= 0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
+                cs = 1.0 / sqrt(t * t + 1.0);
+                sn = t * cs;
+                /* A <- J^T A J, columns then rows p and q */
+                for (k = 0; k < 6; k++) {
+                    const double akp = A[6 * k + p], akq = A[6 * k + q];
+                    A[6 * k + p] = cs * akp - sn * akq;
+                    A[6 * k + q] = sn * akp + cs * akq;
+                }
+                for (k = 0; k < 6; k++) {
+                    const double apk = A[6 * p + k], aqk = A[6 * q + k];
+                    A[6 * p + k] = cs * apk - sn * aqk;
+                    A[6 * q + k] = sn * apk + cs * aqk;
+                }
+            }
+    }
+    top = A[0];
+    for (p = 1; p < 6; p++)
+        if (A[7 * p] > top || A[7 * p] != A[7 * p])
+            top = A[7 * p];
+    return top;
+}
+
+/* The element stiffness, computed again only when the element's start or constants differ
+   from the last one's (a uniform straight link's inner elements are all alike). It is
+   taken in the element's own frame (its chord along x), where alike elements match
+   whatever way they point; translation masses are the same in x and y, so the shares and
+   the eigenvalue do not depend on the frame. */
+typedef struct rj__ub_cache {
+    double key[7]; /* kb, kax, l0^2, 1/(2 l0^2), chord length, tha, thb */
+    double K[36];
+    double s[6], lam; /* the eigenvalue at the mass shares s (lam < 0: none) */
+} rj__ub_cache;
+
+/* Whether two keys match to 1e-9, relative, and their last nabs entries (turns, near 0)
+   absolute: the elements of a straight link differ in their last bits, where the nodes'
+   places were summed, and the bound is a check that needs nothing like that precision. */
+static int rj__ub_alike(const double *a, const double *b, int n, int nabs)
+{
+    int i;
+    for (i = 0; i < n; i++) {
+        const double big = fabs(a[i]) > fabs(b[i]) ? fabs(a[i]) : fabs(b[i]);
+        const double tol = i >= n - nabs ? 1e-9 : 1e-9 * big;
+        if (!(fabs(a[i] - b[i]) <= tol))
+            return 0;
+    }
+    return 1;
+}
+
+static const double *rj__ub_elem(const rj_model *m, int l, int k, rj__ub_cache *cache)
+{
+    const double *kc = m->link_kc + 4 * (size_t) l;
+    double key[7], ex, ey;
+    int i, j;
+    rj__elem_start(m, l, k, &ex, &ey, &key[5], &key[6]);
+    for (i = 0; i < 4; i++)
+        key[i] = kc[i];
+    key[4] = sqrt(ex * ex + ey * ey);
+    if (rj__ub_alike(key, cache->key, 7, 2))
+        return cache->K;
+    memcpy(cache->key, key, sizeof key);
+    cache->lam = -1.0;
+    for (j = 0; j < 6; j++) {
+        double dq[6] = { 0, 0, 0, 0, 0, 0 }, col[6];
+        dq[j] = 1.0;
+        rj__elem_tangent(kc, key[4], 0.0, key[5], key[6], dq, col);
+        for (i = 0; i < 6; i++)
+            cache->K[6 * i + j] = col[i];
+    }
+    return cache->K;
+}
+
+/* A rank-one piece k v v^T (a joint's spring, a cable loop): v's entries by DOF, a node's
+   translation under the key 3 r (r its root, x and y in vx, vy), its rotation under 3 i + 2
+   (in vx). At most two joints of four nodes each. */
+typedef struct rj__ub_piece {
+    int n;
+    int key[16];
+    double vx[16], vy[16];
+} rj__ub_piece;
+
+static void rj__ub_add(rj__ub_piece *p, int key, double vx, double vy)
+{
+    int i;
+    for (i = 0; i < p->n; i++)
+        if (p->key[i] == key)
+            break;
+    if (i == p->n) {
+        p->key[p->n] = key;
+        p->vx[p->n] = 0;
+        p->vy[p->n] = 0;
+        p->n++;
+    }
+    p->vx[i] += vx;
+    p->vy[i] += vy;
+}
+
+/* scale times the DOFs a unit torque on joint J loads at the start (rj__apply_torque's
+   entries, the virtual work of a turn of the joint). */
+static void rj__ub_torque(const rj_model *m, const rj__joint *J, double scale, rj__ub_piece *p)
+{
+    rj__jgeo g;
+    double sx, sy;
+    if (!J->chord) {
+        rj__ub_add(p, 3 * J->nJ + 2, scale, 0);
+        if (J->nI >= 0)
+            rj__ub_add(p, 3 * J->nI + 2, -scale, 0);
+        return;
+    }
+    rj__joint_geo(m, J, m->x0, m->y0, &g);
+    sx = -scale * g.by / g.b2;
+    sy = scale * g.bx / g.b2;
+    rj__ub_add(p, 3 * rj__ub_root(m, J->nL), sx, sy);
+    rj__ub_add(p, 3 * rj__ub_root(m, J->nJ), -sx, -sy);
+    if (J->nK >= 0) {
+        sx = scale * g.ay / g.a2;
+        sy = -scale * g.ax / g.a2;
+        rj__ub_add(p, 3 * rj__ub_root(m, J->nK), sx, sy);
+        rj__ub_add(p, 3 * rj__ub_root(m, J->nI), -sx, -sy);
+    }
+}
+
+/* The inverse mass of a DOF key (a translation's root, or a rotation). */
+static double rj__ub_inv(const rj_model *m, int key)
+{
+    return key % 3 == 2 ? m->rinv[key / 3] : rj__lz_inv(m, key / 3, 0);
+}
+
+/* Rank-one piece i: joint i's spring (i < nj, k_lin > 0) or cable loop i - nj; its
+   stiffness k (0: no piece). */
+static double rj__ub_rank_one(const rj_model *m, int i, rj__ub_piece *p)
+{
+    p->n = 0;
+    if (i < m->nj) {
+        if (!(m->jnt[i].k_lin > 0))
+            return 0;
+        rj__ub_torque(m, &m->jnt[i], 1.0, p);
+        return m->jnt[i].k_lin;
+    } else {
+        const rj_coupling_def *c = &m->cp[i - m->nj];
+        if (!(c->stiffness > 0))
+            return 0;
+        /* the loop's error e = turn_b - ratio turn_a */
+        rj__ub_torque(m, &m->jnt[c->joint_b], 1.0, p);
+        rj__ub_torque(m, &m->jnt[c->joint_a], -c->ratio, p);
+        return c->stiffness;
+    }
+}
+
+/* A rank-one piece's stiffness on each DOF key, k |v|^2, into W. */
+static void rj__ub_rank_one_weights(const rj__ub_piece *p, double k, double *W)
+{
+    int i;
+    for (i = 0; i < p->n; i++)
+        W[p->key[i]] += k * (p->vx[i] * p->vx[i] + p->vy[i] * p->vy[i]);
+}
+
+/* A rank-one piece's eigenvalue with its share of the masses: with shares
+   k |v_d|^2 / W_d of each DOF's mass, k v.M_p^-1 v = sum of W_d / m_d over its DOFs. */
+static double rj__ub_rank_one_lambda(const rj_model *m, const rj__ub_piece *p, const double *W)
+{
+    double lam = 0;
+    int i;
+    for (i = 0; i < p->n; i++)
+        if (p->vx[i] != 0 || p->vy[i] != 0)
+            lam += W[p->key[i]] * rj__ub_inv(m, p->key[i]);
+    return lam;
+}
+
+/* Element k of link l: its DOF keys (x and y of node a share the first, node b's the
+   fourth) and its stiffness on each node's translation and rotation. */
+static void rj__ub_elem_keys(const rj_model *m, int l, int k, int key[6])
+{
+    const int a = m->link_first[l] + (k - m->link_efirst[l]);
+    key[0] = key[1] = 3 * rj__ub_root(m, a);
+    key[2] = 3 * a + 2;
+    key[3] = key[4] = 3 * rj__ub_root(m, a + 1);
+    key[5] = 3 * (a + 1) + 2;
+}
+
+static void rj__ub_elem_weights(const double *K, const int key[6], double *W)
+{
+    W[key[0]] += fabs(K[0]) + fabs(K[7]);
+    W[key[2]] += fabs(K[14]);
+    W[key[3]] += fabs(K[21]) + fabs(K[28]);
+    W[key[5]] += fabs(K[35]);
+}
+
+/* An element's eigenvalue with its share of the masses: DOF j takes the share w_j / W_j
+   of its mass (w_j the element's own weight on it), so M_p^-1/2 K M_p^-1/2 has entries
+   K_ij sqrt(s_i s_j), s_j = W_j / (w_j m_j). A DOF the element loads but gives no weight
+   (a stressed start's off-diagonal alone): no bound (HUGE_VAL). */
+static double rj__ub_elem_lambda(const rj_model *m, const double *K, const int key[6],
+                                 const double *W, rj__ub_cache *cache)
+{
+    const double w[6] = { fabs(K[0]) + fabs(K[7]), fabs(K[0]) + fabs(K[7]), fabs(K[14]),
+                          fabs(K[21]) + fabs(K[28]), fabs(K[21]) + fabs(K[28]), fabs(K[35]) };
+    double s[6], A[36];
+    int i, j;
+    if (key[0] == key[3])
+        return HUGE_VAL;
+    for (i = 0; i < 6; i++) {
+        const double inv = rj__ub_inv(m, key[i]);
+        s[i] = w[i] > 0 ? W[key[i]] / w[i] * inv : 0.0;
+        for (j = 0; j < 6; j++)
+            if (w[i] == 0 && inv > 0 && K[6 * i + j] != 0)
+                return HUGE_VAL;
+    }
+    /* the last element's eigenvalue again when its stiffness and shares are the same */
+    if (cache->lam >= 0 && rj__ub_alike(s, cache->s, 6, 0))
+        return cache->lam;
+    for (i = 0; i < 6; i++)
+        for (j = 0; j < 6; j++)
+            A[6 * i + j] = 0.5 * (K[6 * i + j] + K[6 * j + i]) * sqrt(s[i] * s[j]);
+    memcpy(cache->s, s, sizeof s);
+    cache->lam = rj__ub_eig6(A);
+    return cache->lam;
+}
+
+/* The upper bound on omega_max^2 (above); W: 3 nn doubles of scratch. */
+static double rj__omega2_upper(const rj_model *m, double *W)
+{
+    rj__ub_cache cache;
+    rj__ub_piece p;
+    double top = 0;
+    int l, k, i, key[6];
+    for (i = 0; i < 3 * m->nn; i++)
+        W[i] = 0;
+    /* each piece's stiffness on each DOF: the weights that share its mass */
+    for (i = 0; i < 7; i++)
+        cache.key[i] = -1.0; /* no element has EI < 0: empty */
+    cache.lam = -1.0;
+    for (l = 0; l < m->nl; l++)
+        for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++)
+            if (m->link_path[l] != RJ__PATH_RIGID) {
+                rj__ub_elem_keys(m, l, k, key);
+                rj__ub_elem_weights(rj__ub_elem(m, l, k, &cache), key, W);
+            }
+    for (i = 0; i < m->nj + m->ncp; i++)
+        rj__ub_rank_one_weights(&p, rj__ub_rank_one(m, i, &p), W);
+    /* each piece's eigenvalue with its share */
+    for (l = 0; l < m->nl; l++)
+        for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++)
+            if (m->link_path[l] != RJ__PATH_RIGID) {
+                double lam;
+                rj__ub_elem_keys(m, l, k, key);
+                lam = rj__ub_elem_lambda(m, rj__ub_elem(m, l, k, &cache), key, W, &cache);
+                if (lam > top || lam != lam)
+                    top = lam;
+            }
+    for (i = 0; i < m->nj + m->ncp; i++)
+        if (rj__ub_rank_one(m, i, &p) > 0) {
+            const double lam = rj__ub_rank_one_lambda(m, &p, W);
+            if (lam > top || lam != lam)
+                top = lam;
+        }
+    return top;
+}
+
+/* Largest eigenvalue of a symmetric tridiagonal matrix (Sturm bisection), k <=
+   RJ__LANCZOS_ITERS. The matrix is scaled to entries of order 1 first: the recurrence
+   squares the off-diagonal, which for a model of omega^2 ~ 1e-166 (a link of 1e150
+   kg/m^3) underflowed and cut omega_max by 6. */
+static double rj__tridiag_max(const double *al_in, const double *be_in, int k)
+{
+    double al[RJ__LANCZOS_ITERS], be[RJ__LANCZOS_ITERS], scale = 0;
+    double lo = 0, hi = 0, mid;
+    int i, it;
+    for (i = 0; i < k; i++) {
+        if (fabs(al_in[i]) > scale)
+            scale = fabs(al_in[i]);
+        if (fabs(be_in[i]) > scale)
+            scale = fabs(be_in[i]);
+    }
+    if (scale == 0)
+        return 0;
+    for (i = 0; i < k; i++) {
+        al[i] = al_in[i] / scale;
+        be[i] = be_in[i] / scale;
+    }
+    for (i = 0; i < k; i++) {
+        double r = fabs(i > 0 ? be[i - 1] : 0) + fabs(i + 1 < k ? be[i] : 0);
+        if (al[i] + r > hi)
+            hi = al[i] + r;
+        if (al[i] - r < lo)
+            lo = al[i] - r;
+    }
+    for (it = 0; it < 200; it++) {
+        int cnt = 0;
+        double q = 1.0;
+        mid = 0.5 * (lo + hi);
+        for (i = 0; i < k; i++) {
+            q = al[i] - mid - (i > 0 ? be[i - 1] * be[i - 1] / q : 0.0);
+            if (q == 0.0)
+                q = 1e-300;
+            if (q < 0)
+                cnt++;
+        }
+        if (cnt == k)
+            hi = mid;
+        else
+            lo = mid; /* cnt = number of eigenvalues below mid */
+        if (hi - lo <= 1e-14 * fabs(hi))
+            break;
+    }
+    return hi * scale;
+}
+
+/* The 2-norm of v[0 .. n), scaled by its largest entry so that the squares neither
+   underflow (omega^2 ~ 1e-166 for a link of 1e150 kg/m^3) nor overflow. */
+static double rj__norm(const double *v, int n)
+{
+    double big = 0, sum = 0;
+    int i;
+    for (i = 0; i < n; i++)
+        if (fabs(v[i]) > big)
+            big = fabs(v[i]);
+    if (big == 0 || !rj__finite(big))
+        return big;
+    {
+        const double inv_big = 1.0 / big;
+        for (i = 0; i < n; i++)
+            sum += (v[i] * inv_big) * (v[i] * inv_big);
+    }
+    return big * sqrt(sum);
+}
+
+/* M^-1/2 of every DOF (rj__lz_inv), for rj__lz_apply. */
+static void rj__lz_scales(const rj_model *m, double *sc)
+{
+    int i;
+    for (i = 0; i < m->nn; i++) {
+        sc[3 * i] = sqrt(rj__lz_inv(m, i, 0));
+        sc[3 * i + 1] = sc[3 * i];
+        sc[3 * i + 2] = sqrt(m->rinv[i]);
+    }
+}
+
+/* The elements' part of f = K d (d: the DOFs' moves; a node's translation at its root's). */
+static void rj__lz_elements(const rj_model *m, const double *d, double *f)
+{
+    int l, k;
+    for (l = 0; l < m->nl; l++) {
+        const double *kc = m->link_kc + 4 * (size_t) l;
+        const int shift = m->link_first[l] - m->link_efirst[l];
+        if (m->link_path[l] == RJ__PATH_RIGID)
+            continue;
+        for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++) {
+            const int a = k + shift;
+            const int ta = 3 * rj__ub_root(m, a), tb = 3 * rj__ub_root(m, a + 1);
+            const double dq[6] = { d[ta], d[ta + 1], d[3 * a + 2], d[tb], d[tb + 1], d[3 * a + 5] };
+            double fe[6];
+            rj__elem_tangent(kc, m->x0[a + 1] - m->x0[a], m->y0[a + 1] - m->y0[a],
+                             m->phi0[a] - m->beta0[k], m->phi0[a + 1] - m->beta0[k], dq, fe);
+            f[ta] += fe[0];
+            f[ta + 1] += fe[1];
+            f[3 * a + 2] += fe[2];
+            f[tb] += fe[3];
+            f[tb + 1] += fe[4];
+            f[3 * a + 5] += fe[5];
+        }
+    }
+}
+
+/* The joints' springs and the cable loops' part of f = K d: k v (v . d) each. */
+static void rj__lz_rank_one(const rj_model *m, const double *d, double *f)
+{
+    rj__ub_piece p;
+    int i, q;
+    for (i = 0; i < m->nj + m->ncp; i++) {
+        const double k = rj__ub_rank_one(m, i, &p);
+        double dot = 0;
+        if (!(k > 0))
+            continue;
+        for (q = 0; q < p.n; q++)
+            dot += p.vx[q] * d[p.key[q]] + (p.key[q] % 3 == 0 ? p.vy[q] * d[p.key[q] + 1] : 0.0);
+        for (q = 0; q < p.n; q++) {
+            f[p.key[q]] += k * dot * p.vx[q];
+            if (p.key[q] % 3 == 0)
+                f[p.key[q] + 1] += k * dot * p.vy[q];
+        }
+    }
+}
+
+/* The linearised operator out = M^-1/2 K M^-1/2 u over the 3 nn node DOFs (a grouped
+   node's translation lives at its group's first member; the other members' entries are
+   unused and come out 0): the elements' tangents in closed form, the joints' linearised
+   springs k g g^T (g: the DOFs a unit torque loads) and the cable loops'. sc: M^-1/2 of
+   each DOF (rj__lz_scales); d: 3 nn doubles of scratch. */
+static void rj__lz_apply(const rj_model *m, const double *sc, const double *u, double *out,
+                         double *d)
+{
+    const int n = 3 * m->nn;
+    int i;
+    for (i = 0; i < n; i++) {
+        d[i] = u[i] * sc[i];
+        out[i] = 0.0;
+    }
+    rj__lz_elements(m, d, out);
+    rj__lz_rank_one(m, d, out);
+    for (i = 0; i < n; i++)
+        out[i] *= sc[i];
+}
+
+/* Lanczos's start: on every DOF that moves, entries of a fixed pseudo-random sequence in
+   [-1, 1) (splitmix64 of the index), which meet every mode alike (a smooth start barely
+   meets the zigzag modes at the spectrum's top, and settled on a plateau 0.5 % below it on
+   a link of 2000 elements); v0 = 0. Returns 0 when none moves. */
+static int rj__lz_start(const rj_model *m, double *v0, double *v1)
+{
+    const int n = 3 * m->nn;
+    double nrm = 0;
+    int i;
+    for (i = 0; i < n; i++) {
+        unsigned long long z = (unsigned long long) (i + 1) * 0x9E3779B97F4A7C15ULL;
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+        z ^= z >> 31;
+        v1[i] = (double) (z >> 11) * (2.0 / 9007199254740992.0) - 1.0;
+        v0[i] = 0;
+    }
+    for (i = 0; i < m->nn; i++) {
+        if (m->tinv[i] == 0) {
+            v1[3 * i] = 0;
+            v1[3 * i + 1] = 0;
+        }
+        if (m->rinv[i] == 0)
+            v1[3 * i + 2] = 0;
+    }
+    for (i = 0; i < m->ng; i++) {
+        int r = m->grp_node[m->grp_first[i]];
+        if (m->grp_inv[i] > 0) {
+            v1[3 * r] = 1.0;
+            v1[3 * r + 1] = 0.7;
+        }
+    }
+    for (i = 0; i < n; i++)
+        nrm += v1[i] * v1[i];
+    if (nrm == 0)
+        return 0;
+    nrm = sqrt(nrm);
+    for (i = 0; i < n; i++)
+        v1[i] /= nrm;
+    return 1;
+}
+
+/* Whether Lanczos has converged after k steps (every 4th, from the 8th): its largest Ritz
+   value theta moved by less than RJ__LZ_TOL of itself in the last 4 steps (*last: theta
+   then), and it is within RJ__BOUND_GAP of the upper bound, so that a plateau far below
+   omega_max^2 cannot pass for convergence. A theta above the bound (round-off in a model of
+   extreme scales) voids the bound (*upper = HUGE_VAL): Lanczos runs its course. */
+static int rj__lz_converged(const double *al, const double *be, int k, double *last,
+                            double *upper)
+{
+    double theta, moved;
+    if (k % 4 != 0 || k < 8 || !(*upper < HUGE_VAL))
+        return 0;
+    theta = rj__tridiag_max(al, be, k);
+    moved = theta - *last;
+    *last = theta;
+    if (theta > *upper * (1.0 + 1e-9)) {
+        *upper = HUGE_VAL;
+        return 0;
+    }
+    return fabs(moved) <= RJ__LZ_TOL * theta && theta >= (1.0 - RJ__BOUND_GAP) * *upper;
+}
+
+/* omega_max^2 of the linearised model by Lanczos (no reorthogonalisation: ghosts do not
+   move the extreme Ritz value), stopped once converged (rj__lz_converged). */
+static double rj__omega2_max(rj_model *m, double *lanczos)
+{
+    const int n = 3 * m->nn;
+    double *v0 = lanczos, *v1 = lanczos + m->nn * 3, *w = lanczos + m->nn * 6;
+    double *sc = lanczos + m->nn * 9, *d = lanczos + m->nn * 12;
+    double al[RJ__LANCZOS_ITERS], be[RJ__LANCZOS_ITERS], lam, last = 0;
+    double upper = rj__omega2_upper(m, v0);
+    int i, k, kmax;
+    if (!rj__lz_start(m, v0, v1))
+        return 0;
+    rj__lz_scales(m, sc);
+    kmax = n < RJ__LANCZOS_ITERS ? n : RJ__LANCZOS_ITERS;
+    for (k = 0; k < kmax; k++) {
+        double a = 0, b = 0, bprev, *t;
+        rj__lz_apply(m, sc, v1, w, d);
+        for (i = 0; i < n; i++)
+            a += w[i] * v1[i];
+        al[k] = a;
+        bprev = k > 0 ? be[k - 1] : 0.0;
+        for (i = 0; i < n; i++)
+            w[i] -= a * v1[i] + bprev * v0[i];
+        b = rj__norm(w, n);
+        be[k] = b;
+        /* a NaN or an infinity: no finite frequency (below) */
+        if (!rj__finite(a) || !rj__finite(b) || b < 1e-12 * fabs(a) || b == 0) {
+            k++;
+            break;
+        }
+        if (rj__lz_converged(al, be, k + 1, &last, &upper))
+            return last;
+        b = 1.0 / b;
+        for (i = 0; i < n; i++)
+            w[i] *= b;
+        t = v0;
+        v0 = v1;
+        v1 = w;
+        w = t;
+    }
+    /* a NaN or an infinity in the recurrence: no finite frequency (the bound refuses it) */
+    for (i = 0; i < k; i++)
+        if (!rj__finite(al[i]) || !rj__finite(be[i]))
+            return HUGE_VAL;
+    lam = rj__tridiag_max(al, be, k);
+    return lam;
+}
