@@ -45,8 +45,9 @@ static const char usage_main[] =
     "  plot     simulate and plot joint angles, limit torques, tip deflections, energies\n"
     "           or loads (pin forces, bending moments)\n"
     "  animate  simulate and render PNG frames (and an MP4 with ffmpeg, when installed)\n"
-    "  sweep    run the scene over random samples of --set keys; a CSV row per sample:\n"
-    "           lock and first-contact times, peak pin forces and bending moments\n"
+    "  sweep    run the scene over samples of --set keys (random, Latin hypercube, grid);\n"
+    "           a CSV row per sample: lock and first-contact times, peak pin forces and\n"
+    "           bending moments (rj plot --what sweep draws them)\n"
     "  rj SUBCOMMAND --help   that subcommand's options (rj help SUBCOMMAND too)\n"
     "Exit status: 0 done; 1 the simulation stopped (blow-up, tunnelling) or an output\n"
     "failed while being written; 2 bad usage, an invalid scene (file:line:col: message),\n"
@@ -143,9 +144,10 @@ static const char usage_check[] =
 
 static const char usage_plot[] =
     "usage: rj plot SCENE.rjs --out FILE.png [options]\n"
+    "       rj plot --what sweep --csv ROWS.csv --out FILE.png [--x COL] [--y COL]\n"
     "  Simulates the scene and plots its history, locks and first contacts marked.\n"
     "  --out FILE.png     the plot (required)\n"
-    "  --what angles|torques|tips|energy|loads   (default angles)\n"
+    "  --what angles|torques|tips|energy|loads|sweep   (default angles)\n"
     "                     angles: each joint's running angle (deg); torques: each limited\n"
     "                     joint's limit torque, or latch impulse / dt for velocity-level\n"
     "                     methods (momentum, forced, energy); tips: each link's tip\n"
@@ -157,6 +159,14 @@ static const char usage_plot[] =
     "                     puts above the line. A joint without a pin force\n"
     "                     (rj_joint_pin_force) is said on stderr, not drawn.\n"
     "                     At most 8 series a plot: the first 8 (said on stderr).\n"
+    "                     sweep: no simulation; the rows of rj sweep (--csv ROWS.csv) in\n"
+    "                     four plots: each joint's lock times and peak pin forces as\n"
+    "                     histograms (legend: the samples that never locked, or had no\n"
+    "                     pin force), one column against another as points (--x COL,\n"
+    "                     default the first --vary key; --y COL, default the first\n"
+    "                     joint's lock; -1, none, not drawn), and the share of samples\n"
+    "                     in which each joint latched. Rows whose status is not ok are\n"
+    "                     left out and counted in that title. Default size 1000x750\n"
     "  --t-end S          simulated time (default 1 s)\n"
     "  --dt S             time step, instead of the file's solver.dt (0 = automatic)\n"
     "  --set KIND.NAME.KEY=VALUE  change one field of the scene, as if written last in\n"
@@ -196,49 +206,50 @@ static const char usage_animate[] =
     "  Exit status as rj run; 1 also when a frame or the MP4 cannot be written.\n";
 
 static const char usage_sweep[] =
-    "usage: rj sweep SCENE.rjs --vary KEY=LO:HI [--vary ...] --samples N [options]\n"
-    "  Runs the scene once per sample, each varied key's value drawn uniformly from\n"
-    "  [LO, HI], and writes one CSV row per sample.\n"
-    "  --vary KEY=LO:HI   a --set key (KIND.NAME.KEY or solver.KEY) and its range, in the\n"
-    "                     file's units without a unit word (angles in rad): joint.h1.friction=\n"
-    "                     0.01:0.03, material.alu.E=65e9:75e9, link.p4.tip_mass=0.08:0.12\n"
-    "                     (repeatable; each must name an item of the file and both ends must\n"
-    "                     load, else it is refused)\n"
-    "  --samples N        samples 0..N-1 (required)\n"
-    "  --seed S           integer in [0, 1e15] (default 1). Sample k's values depend only on\n"
-    "                     S, k and the --vary's place among them (splitmix64), never on N or\n"
-    "                     --shard: the same seed gives sample k the same values in any sweep\n"
-    "  --shard i/n        run only the samples k with k % n == i (default 0/1); every shard\n"
-    "                     writes the header, so shards join as\n"
+    "usage: rj sweep SCENE.rjs --vary KEY=LO:HI [--vary ...] --samples N|--grid K [options]\n"
+    "  Runs the scene once per sample, the varied keys' values drawn or on a grid, and\n"
+    "  writes one CSV row per sample.\n"
+    "  --vary KEY=LO:HI   a --set key (KIND.NAME.KEY or solver.KEY), uniform in [LO, HI]:\n"
+    "                     joint.h1.friction=0.01:0.03, material.alu.E=65e9:75e9\n"
+    "  --vary KEY=normal:MEAN:SD  normal, SD >= 0, not cut off: a value the file refuses\n"
+    "                     is a failed row. Both forms may end in a unit the key takes in\n"
+    "                     the file (joint.h1.angle0=85:95deg); the column KEY[deg] holds\n"
+    "                     the values in it. Repeatable; the key must name an item of the\n"
+    "                     file and LO and HI (or MEAN) must load, else it is refused\n"
+    "  --samples N        samples 0..N-1, each key's values independent\n"
+    "  --lhs              with --samples: a Latin hypercube, each key's N strata of equal\n"
+    "                     probability holding one sample each\n"
+    "  --grid K           instead of --samples: every combination of K values a key (LO to\n"
+    "                     HI evenly; K = 1 the midpoint; LO:HI keys only), K^n samples,\n"
+    "                     1e9 at most; the last --vary varies fastest\n"
+    "  --seed S           integer in [0, 1e15] (default 1). Sample k's values depend only\n"
+    "                     on S, k, the --vary's place (splitmix64) and with --lhs N, never\n"
+    "                     on --shard or --threads\n"
+    "  --shard i/n        only the samples k with k % n == i (default 0/1). Every shard\n"
+    "                     writes the header, and shards joined by\n"
     "                     { head -1 s0.csv; tail -q -n +2 s*.csv | sort -t, -k1,1n; }\n"
-    "                     which is the unsharded output byte for byte\n"
-    "  --shard auto       i/n of a Slurm job array (sbatch --array=0-N): SLURM_ARRAY_TASK_ID/\n"
-    "                     SLURM_ARRAY_TASK_COUNT; refused when either is missing or bad\n"
-    "  --threads N        samples on N threads, 256 at most (default 1); the rows are written\n"
-    "                     in the samples' order, the same bytes for any N\n"
-    "  --resume           with --csv FILE holding a cut-short run of this sweep: its header\n"
-    "                     and each row's index and values must be this sweep's (else refused),\n"
-    "                     a last line without its newline is cut away, and only the samples\n"
-    "                     it lacks run, appended: FILE ends as an uninterrupted run's. A FILE\n"
-    "                     that does not exist is started\n"
-    "  --progress         progress line on standard error (samples done, samples/s, ETA);\n"
-    "                     without it only on a terminal, after 2 s of wall time\n"
+    "                     are the unsharded output byte for byte\n"
+    "  --shard auto       i/n of a Slurm job array: SLURM_ARRAY_TASK_ID less\n"
+    "                     SLURM_ARRAY_TASK_MIN (0 when unset) of SLURM_ARRAY_TASK_COUNT;\n"
+    "                     refused when missing or bad, or the array has a step\n"
+    "  --threads N        samples on N threads, 256 at most (default 1): the same bytes\n"
+    "  --resume           with --csv FILE holding a cut-short run of this sweep (its header\n"
+    "                     and rows checked, else refused): a last partial line is cut, and\n"
+    "                     only the samples it lacks run, appended. A missing FILE is begun\n"
+    "  --progress         samples done, samples/s, ETA on standard error (without it only\n"
+    "                     on a terminal, after 2 s)\n"
     "  --t-end S          simulated time of each sample (default 1 s)\n"
     "  --dt S             time step, instead of the file's solver.dt (0 = automatic)\n"
-    "  --set KIND.NAME.KEY=VALUE  a change every sample has (repeatable; with the --vary\n"
-    "                     keys 64 at most)\n"
+    "  --set KIND.NAME.KEY=VALUE  a change every sample has (with --vary 64 at most)\n"
     "  --csv FILE         the rows (default, or -, standard output)\n"
     "  --force            run even above 1e8 steps a sample at the file's values\n"
-    "  Columns: sample (k); each --vary's KEY (the value, %.17g: rj run --set KEY=VALUE\n"
-    "  runs the sample again); for each joint J in the file's order J.first_contact (s,\n"
-    "  rj_joint_event_time), J.lock (s, the state's time before the step that latched it,\n"
-    "  as rj run's summary), J.peak_pin_force (N); for each flexible link L\n"
-    "  L.peak_moment (N m, largest |bending moment|); -1: none. Then status (ok, or the\n"
-    "  result's name: parse, invalid, unstable_dt, blowup, tunnel, ...) and message (the\n"
-    "  library's, quoted). A sample whose scene does not load or build is a row with\n"
-    "  empty numbers; one whose step fails has the numbers up to the failure.\n"
-    "  Standard error: with --resume how many samples FILE held, then a summary (samples\n"
-    "  run, how many not ok, wall time).\n"
+    "  Columns: sample (k); each --vary's value (%.17g: rj run --set KEY=VALUE runs the\n"
+    "  sample again); per joint J in the file's order J.first_contact, J.lock (s, as rj\n"
+    "  run's summary), J.peak_pin_force (N); per flexible link L L.peak_moment (N m);\n"
+    "  -1: none. Then status (ok, or parse, invalid, unstable_dt, blowup, tunnel, ...) and\n"
+    "  the library's message, quoted. A sample that does not load or build has empty\n"
+    "  numbers; one whose step fails, the numbers up to the failure. rj plot --what sweep\n"
+    "  draws the rows. Standard error: --resume's count, then a summary.\n"
     "  Exit status: 0 every row written (a failed sample is a row, not an error); 1 a\n"
     "  write failed; 2 bad usage, an invalid scene or --vary, an output that cannot be\n"
     "  opened, a --resume FILE of another sweep.\n";
@@ -249,13 +260,24 @@ enum { CMD_RUN = 1, CMD_CHECK = 2, CMD_PLOT = 4, CMD_ANIMATE = 8, CMD_SWEEP = 16
 #define NCMDS 5
 enum { WHAT_ANGLES = 0, WHAT_TORQUES, WHAT_TIPS, WHAT_ENERGY, WHAT_LOADS, NWHAT };
 static const char *const what_names[NWHAT] = { "angles", "torques", "tips", "energy", "loads" };
+/* rj plot --what sweep draws a sweep's CSV, not a run: outside what_names, whose list
+   the message for an unknown --what gives (its values are the run's plots) */
+#define WHAT_SWEEP NWHAT
 
-/* rj sweep --vary KEY=LO:HI: the --set key (spec's first keylen characters) and the
-   range each sample's value is drawn from, uniformly. */
+/* rj sweep --vary: how a key's values are drawn */
+enum { DIST_UNIFORM = 0, DIST_NORMAL };
+/* rj sweep: how the samples cover the keys (--samples, --samples --lhs, --grid) */
+enum { DESIGN_RANDOM = 0, DESIGN_LHS, DESIGN_GRID };
+
+/* rj sweep --vary KEY=LO:HI or KEY=normal:MEAN:SD, with an optional unit: the --set key
+   (spec's first keylen characters), the distribution and its numbers, in unit. */
 typedef struct vary {
     const char *spec;
     int keylen;
-    double lo, hi;
+    int dist;            /* DIST_* */
+    double lo, hi;       /* uniform: the range */
+    double mean, sd;     /* normal */
+    const char *unit;    /* the unit word of the numbers ("deg"), "" for the file's own */
 } vary;
 
 /* Every subcommand's options; each parses only its own (opt_shared, opt_own). */
@@ -277,6 +299,9 @@ typedef struct opts {
     int samples, shard_i, shard_n; /* rj sweep: samples 0..samples-1 with k % shard_n == shard_i */
     unsigned long long seed;       /* rj sweep --seed */
     int threads, resume;           /* rj sweep --threads, --resume */
+    int design, grid;              /* rj sweep: DESIGN_*; --grid K (0: none) */
+    const char *x_col, *y_col;     /* rj plot --what sweep --x, --y (NULL: the defaults) */
+    int size_given;                /* --size was given (rj plot --what sweep has its own default) */
 } opts;
 
 /* The defaults of every subcommand; the sizes are those of build/deploy's plot and of
@@ -317,7 +342,8 @@ typedef struct optname { const char *name; int cmds; } optname;
 static const optname optnames[] = {
     { "--help", CMD_ALL | CMD_SWEEP }, { "--t-end", CMD_SIM | CMD_SWEEP }, { "--dt", CMD_ALL | CMD_SWEEP },
     { "--progress", CMD_ALL | CMD_SWEEP }, { "--force", CMD_SIM | CMD_SWEEP },  { "--out", CMD_PLOT | CMD_ANIMATE },
-    { "--size", CMD_PLOT | CMD_ANIMATE },               { "--csv", CMD_RUN | CMD_SWEEP },
+    { "--size", CMD_PLOT | CMD_ANIMATE },               { "--csv", CMD_RUN | CMD_PLOT | CMD_SWEEP },
+    { "--x", CMD_PLOT },       { "--y", CMD_PLOT },     { "--lhs", CMD_SWEEP },   { "--grid", CMD_SWEEP },
     { "--sample", CMD_RUN },   { "--nodes", CMD_RUN },  { "--probe", CMD_RUN },   { "--loads", CMD_RUN },
     { "--settle", CMD_RUN },   { "--what", CMD_PLOT },  { "--fps", CMD_ANIMATE },
     { "--mp4", CMD_ANIMATE },  { "--plain", CMD_ANIMATE }, { "--assemble", CMD_CHECK },
@@ -377,35 +403,81 @@ static int opt_shared(cli *c, opts *o, const char *a)
         /* each side 16 .. 8192 pixels, as build/animate */
         static const int lim[4] = { 16, 8192, 16, 8192 };
         cli_pair(c, a, 'x', &o->w, &o->h, lim, "WxH, each 16..8192");
+        o->size_given = 1;
     } else return 0;
     return 1;
 }
 
-/* rj sweep --vary KEY=LO:HI: a key, then two finite decimal numbers, LO <= HI. Whether the
-   scene has the key, and takes both ends, is checked against the file (sweep_check). */
+/* The unit words a --vary may end with: those a scene file takes after an angle or a
+   rate. Whether the key takes one is the file's to say (sweep_check loads it). */
+static const char *const vary_units[] = { "deg/s", "rad/s", "deg", "rad" };
+
+/* The unit word at the end of the len characters at s, glued to the number ("95deg") or
+   after blanks ("95 deg"): returned, with *numlen the characters before it and the
+   blanks; "" and len when there is none. */
+static const char *vary_unit(const char *s, size_t len, size_t *numlen)
+{
+    size_t k;
+    for (k = 0; k < sizeof vary_units / sizeof vary_units[0]; k++) {
+        const size_t ul = strlen(vary_units[k]);
+        size_t n;
+        if (len <= ul || strcmp(s + len - ul, vary_units[k]) != 0) continue;
+        /* the blanks between the number and the unit are neither's */
+        for (n = len - ul; n > 0 && s[n - 1] == ' '; n--) {}
+        *numlen = n;
+        return vary_units[k];
+    }
+    *numlen = len;
+    return "";
+}
+
+/* One number of a --vary: the n characters at s, a finite decimal number. 0, or -1. */
+static int vary_number(const char *s, size_t n, double *v)
+{
+    char buf[64];
+    if (n == 0 || n >= sizeof buf) return -1;
+    memcpy(buf, s, n);
+    buf[n] = '\0';
+    /* cli_is_decimal refuses nan, inf and hex; 1e999 reads as inf and is refused too */
+    if (!cli_is_decimal(buf)) return -1;
+    *v = strtod(buf, NULL);
+    return isfinite(*v) ? 0 : -1;
+}
+
+/* rj sweep --vary KEY=LO:HI (LO <= HI) or KEY=normal:MEAN:SD (SD >= 0), either with a
+   unit word at the end. Whether the scene has the key, takes the unit and loads the
+   ends (or the mean) is checked against the file (sweep_check). */
 static void vary_parse(cli *c, const char *opt, vary *v)
 {
-    static const char need[] = "KEY=LO:HI, a --set key and two finite decimal numbers";
-    const char *s = cli_str(c, opt), *eq = strchr(s, '='), *colon = eq ? strchr(eq + 1, ':') : NULL;
-    char lo[64], hi[64];
-    if (!eq || eq == s || !colon || strchr(colon + 1, ':') || colon - eq - 1 >= (long)sizeof lo ||
-        strlen(colon + 1) >= sizeof hi)
-        cli_bad(c, opt, s, need);
-    memcpy(lo, eq + 1, (size_t)(colon - eq - 1));
-    lo[colon - eq - 1] = '\0';
-    strcpy(hi, colon + 1);
-    /* cli_is_decimal refuses nan, inf and hex; 1e999 reads as inf and is refused too */
-    if (!cli_is_decimal(lo) || !cli_is_decimal(hi)) cli_bad(c, opt, s, need);
-    v->lo = strtod(lo, NULL);
-    v->hi = strtod(hi, NULL);
-    if (!isfinite(v->lo) || !isfinite(v->hi)) cli_bad(c, opt, s, need);
-    if (v->lo > v->hi) cli_bad(c, opt, s, "LO <= HI");
+    static const char need[] = "KEY=LO:HI or KEY=normal:MEAN:SD, a --set key and finite decimal numbers, "
+                               "then a unit (deg, rad, deg/s, rad/s) where the key takes one";
+    const char *s = cli_str(c, opt), *eq = strchr(s, '='), *nums, *colon;
+    size_t len;
+    double a, b;
+    if (!eq || eq == s) cli_bad(c, opt, s, need);
     v->spec = s;
     v->keylen = (int)(eq - s);
+    v->unit = vary_unit(eq + 1, strlen(eq + 1), &len);
+    v->dist = !strncmp(eq + 1, "normal:", 7) ? DIST_NORMAL : DIST_UNIFORM;
+    /* the two numbers: after "normal:" for a normal, one ':' between them */
+    nums = eq + 1 + (v->dist == DIST_NORMAL ? 7 : 0);
+    len -= (size_t)(nums - eq - 1);
+    colon = (const char *)memchr(nums, ':', len);
+    if (!colon || memchr(colon + 1, ':', len - (size_t)(colon + 1 - nums))) cli_bad(c, opt, s, need);
+    if (vary_number(nums, (size_t)(colon - nums), &a) != 0) cli_bad(c, opt, s, need);
+    if (vary_number(colon + 1, len - (size_t)(colon + 1 - nums), &b) != 0) cli_bad(c, opt, s, need);
+    v->lo = v->mean = a;
+    v->hi = v->sd = b;
+    if (v->dist == DIST_UNIFORM && a > b) cli_bad(c, opt, s, "LO <= HI");
+    if (v->dist == DIST_NORMAL && b < 0) cli_bad(c, opt, s, "SD >= 0, the normal's standard deviation");
 }
 
 /* --seed takes an integer in [0, 1e15], as build/sweep's */
 #define SEED_MAX 1000000000000000LL
+
+/* rj sweep --grid K: at most this many samples, K^n for n --vary keys (an int indexes
+   them; --resume keeps a byte for each) */
+#define GRID_MAX_SAMPLES 1000000000
 
 /* rj sweep --threads: at most this many, each with a model and a state of its own */
 #define SWEEP_MAX_THREADS 256
@@ -427,16 +499,44 @@ static int slurm_var(const cli *c, const char *name, int lo, int hi)
     return (int)v;
 }
 
-/* --shard auto: --shard ID/COUNT from the job array's task id and task count. Slurm numbers
-   tasks as --array says, so an array that does not start at 0 is refused, not shifted. */
+/* --shard auto: --shard i/n from the job array, n its task count and i the task's id
+   less the array's first id (SLURM_ARRAY_TASK_MIN; 0 when unset, the first release's
+   arrays), so that --array=1-8 runs 0/8 .. 7/8. An array whose tasks would not be the n
+   shards once each is refused: one with a step (--array=0-15:2), ids that are not
+   consecutive (--array=1,3,5), an id outside it. */
 static void shard_auto(const cli *c, opts *o)
 {
-    char msg[200];
+    const char *min_text = getenv("SLURM_ARRAY_TASK_MIN"), *max_text = getenv("SLURM_ARRAY_TASK_MAX");
+    const char *step_text = getenv("SLURM_ARRAY_TASK_STEP");
+    const int has_min = min_text && *min_text;
+    int id, first = 0, last, step;
+    char msg[300];
     o->shard_n = slurm_var(c, "SLURM_ARRAY_TASK_COUNT", 1, INT_MAX);
-    o->shard_i = slurm_var(c, "SLURM_ARRAY_TASK_ID", 0, INT_MAX - 1);
-    if (o->shard_i < o->shard_n) return;
-    snprintf(msg, sizeof msg, "SLURM_ARRAY_TASK_ID=%d is not below SLURM_ARRAY_TASK_COUNT=%d (number the array "
-             "from 0: sbatch --array=0-%d)", o->shard_i, o->shard_n, o->shard_n - 1);
+    id = slurm_var(c, "SLURM_ARRAY_TASK_ID", 0, INT_MAX - 1);
+    if (has_min) first = slurm_var(c, "SLURM_ARRAY_TASK_MIN", 0, INT_MAX - 1);
+    /* a step: the ids are first, first + step, ...; the shards would be missed */
+    step = step_text && *step_text ? slurm_var(c, "SLURM_ARRAY_TASK_STEP", 1, INT_MAX) : 1;
+    if (step != 1) {
+        snprintf(msg, sizeof msg, "SLURM_ARRAY_TASK_STEP=%d: the array has a step, so its ids do not number "
+                 "the shards (give sbatch consecutive ids: --array=%d-%d)", step, first, first + o->shard_n - 1);
+        cli_die(c, "option --shard auto: %s%s", msg, "");
+    }
+    /* ids that are not consecutive (a list): the last is not first + count - 1 */
+    last = max_text && *max_text ? slurm_var(c, "SLURM_ARRAY_TASK_MAX", 0, INT_MAX - 1) : first + o->shard_n - 1;
+    if (has_min && (long long)last - first + 1 != o->shard_n) {
+        snprintf(msg, sizeof msg, "SLURM_ARRAY_TASK_MIN=%d, SLURM_ARRAY_TASK_MAX=%d and SLURM_ARRAY_TASK_COUNT=%d: "
+                 "the ids are not consecutive (give sbatch a range: --array=%d-%d)", first, last, o->shard_n, first,
+                 first + o->shard_n - 1);
+        cli_die(c, "option --shard auto: %s%s", msg, "");
+    }
+    o->shard_i = id - first;
+    if (o->shard_i >= 0 && o->shard_i < o->shard_n) return;
+    if (!has_min)
+        snprintf(msg, sizeof msg, "SLURM_ARRAY_TASK_ID=%d is not below SLURM_ARRAY_TASK_COUNT=%d (number the array "
+                 "from 0: sbatch --array=0-%d)", id, o->shard_n, o->shard_n - 1);
+    else
+        snprintf(msg, sizeof msg, "SLURM_ARRAY_TASK_ID=%d less SLURM_ARRAY_TASK_MIN=%d is %d, not in [0, %d] "
+                 "(SLURM_ARRAY_TASK_COUNT=%d)", id, first, o->shard_i, o->shard_n - 1, o->shard_n);
     cli_die(c, "option --shard auto: %s%s", msg, "");
 }
 
@@ -447,6 +547,8 @@ static int opt_sweep(cli *c, opts *o, const char *a)
     static const int shard_lim[4] = { 0, INT_MAX - 1, 1, INT_MAX };
     if (!strcmp(a, "--vary")) vary_parse(c, a, &o->varies[o->nvary++]);
     else if (!strcmp(a, "--samples")) o->samples = cli_int(c, a, 1, 10000000);
+    else if (!strcmp(a, "--lhs")) o->design = DESIGN_LHS;
+    else if (!strcmp(a, "--grid")) o->grid = cli_int(c, a, 1, GRID_MAX_SAMPLES);
     else if (!strcmp(a, "--seed")) o->seed = (unsigned long long)cli_long(c, a, 0, SEED_MAX);
     else if (!strcmp(a, "--threads")) o->threads = cli_int(c, a, 1, SWEEP_MAX_THREADS);
     else if (!strcmp(a, "--resume")) o->resume = 1;
@@ -460,6 +562,23 @@ static int opt_sweep(cli *c, opts *o, const char *a)
     return 1;
 }
 
+/* rj plot --what: one of what_names, or sweep (a misspelt sweep suggested, since
+   cli_choice knows only what_names). */
+static int what_parse(cli *c, const char *opt)
+{
+    static const char *const sweep_name[1] = { "sweep" };
+    const char *s = c->i + 1 < c->argc ? c->argv[c->i + 1] : "";
+    int k;
+    if (!strcmp(s, "sweep")) {
+        c->i++;
+        return WHAT_SWEEP;
+    }
+    for (k = 0; k < NWHAT && strcmp(s, what_names[k]) != 0; k++) {}
+    if (k == NWHAT && cli_nearest(s, sweep_name, 1) && !cli_nearest(s, what_names, NWHAT))
+        cli_die(c, "option --what: unknown value '%s'; did you mean '%s'?", s, "sweep");
+    return cli_choice(c, opt, what_names, NWHAT);
+}
+
 /* Options of one subcommand each (checked by opts_parse); returns 1 when a was one. */
 static int opt_own(cli *c, opts *o, const char *a)
 {
@@ -469,13 +588,73 @@ static int opt_own(cli *c, opts *o, const char *a)
     else if (!strcmp(a, "--probe")) o->probes[o->nprobes++] = cli_str(c, a);
     else if (!strcmp(a, "--loads")) o->loads[o->nloads++] = cli_str(c, a);
     else if (!strcmp(a, "--settle")) o->settle = 1;
-    else if (!strcmp(a, "--what")) o->what = cli_choice(c, a, what_names, NWHAT);
+    else if (!strcmp(a, "--what")) o->what = what_parse(c, a);
+    else if (!strcmp(a, "--x")) o->x_col = cli_str(c, a);
+    else if (!strcmp(a, "--y")) o->y_col = cli_str(c, a);
     else if (!strcmp(a, "--fps")) o->fps = cli_num(c, a, 1e-3, 1e9);
     else if (!strcmp(a, "--mp4")) o->mp4 = cli_str(c, a);
     else if (!strcmp(a, "--plain")) o->plain = 1;
     else if (!strcmp(a, "--assemble")) o->assemble = cli_str(c, a);
     else return opt_sweep(c, o, a);
     return 1;
+}
+
+/* rj sweep --grid K: the K^n samples of n keys, each a range; refused above
+   GRID_MAX_SAMPLES, the number named. */
+static void grid_samples(const cli *c, opts *o)
+{
+    double n = 1;
+    int i;
+    char msg[200];
+    for (i = 0; i < o->nvary; i++) {
+        const vary *v = &o->varies[i];
+        if (v->dist == DIST_UNIFORM) continue;
+        cli_die(c, "option --grid takes LO:HI ranges: --vary %s is a normal (draw it with --samples N, "
+                "or give it a range)%s", v->spec, "");
+    }
+    for (i = 0; i < o->nvary; i++) n *= o->grid;
+    if (n > GRID_MAX_SAMPLES) {
+        snprintf(msg, sizeof msg, "option --grid %d: %d --vary keys make %d^%d = %.4g samples, more than the "
+                 "1e9 a sweep takes (fewer points or keys)", o->grid, o->nvary, o->grid, o->nvary, n);
+        cli_die(c, "%s%s", msg, "");
+    }
+    o->samples = (int)n;
+    o->design = DESIGN_GRID;
+}
+
+/* rj sweep: --vary, and one of --samples (with --lhs or not) and --grid; --resume with a
+   file. */
+static void sweep_opts_check(const cli *c, opts *o)
+{
+    if (!o->nvary) cli_die(c, "option %s is required%s", "--vary", "");
+    if (o->grid && o->samples)
+        cli_die(c, "options --grid and --samples do not go together: --grid K runs K^n samples, every "
+                "combination of K values of the n keys%s%s", "", "");
+    if (o->grid && o->design == DESIGN_LHS)
+        cli_die(c, "options --grid and --lhs do not go together: --lhs draws --samples N samples, --grid "
+                "K sets them on a grid%s%s", "", "");
+    if (o->grid) grid_samples(c, o);
+    if (!o->samples) cli_die(c, "option %s is required (or --grid K)%s", "--samples", "");
+    if (o->resume && (!o->csv || !strcmp(o->csv, "-")))
+        cli_die(c, "option %s needs --csv FILE, the rows of the sweep to resume%s", "--resume", "");
+}
+
+/* rj plot: --what sweep reads --csv ROWS.csv instead of running a scene; --csv, --x and
+   --y are for it alone. */
+static void plot_opts_check(const cli *c, opts *o)
+{
+    const char *only = o->csv ? "--csv" : o->x_col ? "--x" : o->y_col ? "--y" : NULL;
+    if (o->what != WHAT_SWEEP && only)
+        cli_die(c, "option %s is for --what sweep (the rows of rj sweep)%s", only, "");
+    if (o->what != WHAT_SWEEP) return;
+    if (!o->csv) cli_die(c, "option --what sweep needs --csv ROWS.csv, the rows of rj sweep%s%s", "", "");
+    if (o->scene)
+        cli_die(c, "option --what sweep draws --csv ROWS.csv and runs no scene: unexpected argument '%s'%s",
+                o->scene, "");
+    if (!o->size_given) {
+        o->w = 1000;
+        o->h = 750;
+    }
 }
 
 /* Parses a subcommand's arguments (argv[0] is "rj SUBCOMMAND"): options anywhere, one
@@ -499,21 +678,23 @@ static void opts_parse(opts *o, int cmd, int argc, char **argv, const char *usag
         if (o->scene) cli_die(&c, "one scene file only: unexpected argument '%s'%s", a, "");
         o->scene = a;
     }
-    if (!o->scene) cli_die(&c, "missing the scene file (SCENE.rjs)%s%s", "", "");
+    if (cmd == CMD_PLOT) plot_opts_check(&c, o);
+    if (!o->scene && !(cmd == CMD_PLOT && o->what == WHAT_SWEEP))
+        cli_die(&c, "missing the scene file (SCENE.rjs)%s%s", "", "");
     if ((cmd & (CMD_PLOT | CMD_ANIMATE)) && !o->out) cli_die(&c, "option %s is required%s", "--out", "");
-    if (cmd == CMD_SWEEP && !o->nvary) cli_die(&c, "option %s is required%s", "--vary", "");
-    if (cmd == CMD_SWEEP && !o->samples) cli_die(&c, "option %s is required%s", "--samples", "");
-    if (cmd == CMD_SWEEP && o->resume && (!o->csv || !strcmp(o->csv, "-")))
-        cli_die(&c, "option %s needs --csv FILE, the rows of the sweep to resume%s", "--resume", "");
+    if (cmd == CMD_SWEEP) sweep_opts_check(&c, o);
 }
 
 /* ================================================================ the scene */
 
 /* A loaded scene: the file (its names) and the model built from it. */
+static double wall_now(void);
+
 typedef struct scene {
     const char *path;
     rj_scene_file f;     /* kept for the link and joint names */
     rj_model *m;
+    double build_s;      /* s, wall time rj_model_create took (rj check's cost line) */
 } scene;
 
 /* Loads and builds the scene, with solver.dt replaced when dt >= 0. Prints the parser's or
@@ -531,7 +712,11 @@ static int scene_open(scene *sc, const char *path, double dt, const char **sets,
     }
     if (dt >= 0) sc->f.solver.dt = dt;
     d = rj_scene_file_def(&sc->f);
-    if (rj_model_create(&d, &sc->m, &e, NULL) == RJ_OK) return 0;
+    sc->build_s = wall_now();
+    if (rj_model_create(&d, &sc->m, &e, NULL) == RJ_OK) {
+        sc->build_s = wall_now() - sc->build_s;
+        return 0;
+    }
     if (dt >= 0 && !strcmp(e.field, "solver.dt")) {
         fprintf(stderr, "rj: option --dt %g: %s\n", dt, e.msg);
     } else {
@@ -1837,9 +2022,13 @@ static void cost_measure(const scene *sc, cost *c)
 static void cost_print(const scene *sc, const cost *c)
 {
     const double dt = rj_model_dt(sc->m);
-    if (c->batches > 0)
+    if (c->batches > 0) {
         printf("cost: 1 simulated second = %.6g steps, about %.3g s here (%.3g us a step: the median of %d batches of 200)\n",
                1.0 / dt, c->per / dt, 1e6 * c->per, c->batches);
+        /* what a sweep pays per sample before its first step */
+        printf("cost: building the model took %.3g ms, as long as %.0f steps (one build, wall time)\n",
+               1e3 * sc->build_s, sc->build_s / c->per);
+    }
     if (c->failed && c->batches == 0) printf("cost: the first steps fail at t = %.6g s: %s\n", c->t_fail, c->msg);
     else if (c->failed) printf("cost: then a step fails at t = %.6g s: %s\n", c->t_fail, c->msg);
 }
@@ -2374,6 +2563,470 @@ static int out_writable(const char *prog, const char *path)
     return -1;
 }
 
+/* ---- rj plot --what sweep: the rows of rj sweep, drawn */
+
+/* Bins of a histogram at most: a joint's values take about the square root of their
+   count, between these */
+#define HIST_BINS_MIN 5
+#define HIST_BINS_MAX 40
+/* points of one histogram's outline: up and across each bin, down at the end */
+#define HIST_POINTS (2 * HIST_BINS_MAX + 2)
+
+/* The columns of a sweep's CSV that the plots read, by their place in its header, and
+   the rows whose status is ok: for each drawn joint its lock and peak pin force, then the
+   scatter's x and y, STUDY_STRIDE values a row. */
+typedef struct study {
+    const char *path;
+    char *header;                    /* the header line, commas made NULs */
+    char **col;                      /* its column names */
+    int ncol;
+    int nvary;                       /* columns 1..nvary: the varied keys */
+    int njoint, ndrawn;              /* joints in the header, drawn (RJR_MAX_SERIES at most) */
+    int lock_col[RJR_MAX_SERIES];    /* a drawn joint's J.lock; J.peak_pin_force follows it */
+    char joint[RJR_MAX_SERIES][48];  /* its name */
+    int x_col, y_col;                /* the scatter's columns */
+    long nrow, nok, cap;             /* rows, ok rows, rows val has room for */
+    double *val;
+} study;
+#define STUDY_STRIDE(st) (2 * (st)->ndrawn + 2)
+
+/* Whether column name is J.suffix for the joint J of len characters at j. */
+static int col_is(const char *name, const char *j, size_t len, const char *suffix)
+{
+    return !strncmp(name, j, len) && name[len] == '.' && !strcmp(name + len + 1, suffix);
+}
+
+/* The joints of the header: each a J.first_contact, J.lock, J.peak_pin_force triple, in
+   the file's order; the varied keys are the columns before the first outcome. */
+static void study_columns(study *st)
+{
+    int i, first_outcome = st->ncol - 2;
+    for (i = 1; i + 2 < st->ncol - 2; i++) {
+        const char *dot = strrchr(st->col[i], '.');
+        const size_t len = dot ? (size_t)(dot - st->col[i]) : 0;
+        if (!dot || strcmp(dot, ".first_contact") != 0) continue;
+        if (!col_is(st->col[i + 1], st->col[i], len, "lock")) continue;
+        if (!col_is(st->col[i + 2], st->col[i], len, "peak_pin_force")) continue;
+        if (i < first_outcome) first_outcome = i;
+        if (st->ndrawn < RJR_MAX_SERIES) {
+            snprintf(st->joint[st->ndrawn], sizeof st->joint[0], "%.*s", (int)len, st->col[i]);
+            st->lock_col[st->ndrawn++] = i + 1;
+        }
+        st->njoint++;
+    }
+    for (i = 1; i < first_outcome; i++)
+        if (strlen(st->col[i]) > 12 && !strcmp(st->col[i] + strlen(st->col[i]) - 12, ".peak_moment")) break;
+    st->nvary = i - 1;
+}
+
+/* The column --x or --y names: a header's name, or a varied key without its [unit];
+   -1 after saying why not (the nearest name suggested). Status and message are text. */
+static int study_find(const study *st, const char *opt, const char *name)
+{
+    const char *near;
+    int i;
+    for (i = 0; i < st->ncol - 2; i++) {
+        const char *bracket = strchr(st->col[i], '[');
+        const size_t len = bracket ? (size_t)(bracket - st->col[i]) : strlen(st->col[i]);
+        if (!strcmp(st->col[i], name) || (bracket && strlen(name) == len && !strncmp(st->col[i], name, len)))
+            return i;
+    }
+    near = cli_nearest(name, (const char *const *)st->col, st->ncol - 2);
+    fprintf(stderr, "rj plot: option %s: %s has no number column '%s'", opt, st->path, name);
+    if (near) fprintf(stderr, "; did you mean '%s'?", near);
+    fprintf(stderr, " (a varied key, or an outcome such as %s.lock)\n", st->ndrawn ? st->joint[0] : "J");
+    return -1;
+}
+
+/* The header: its columns, checked to be a sweep's (sample first, status and message
+   last); the joints; the scatter's columns. 0, or 2 after saying why not. */
+static int study_header(study *st, const opts *o)
+{
+    char *p = st->header;
+    size_t n = strcspn(p, "\r\n");
+    int i;
+    p[n] = '\0';
+    st->ncol = 1;
+    for (i = 0; p[i]; i++) st->ncol += p[i] == ',';
+    st->col = (char **)malloc(sizeof(char *) * (size_t)st->ncol);
+    if (!st->col) {
+        fprintf(stderr, "rj plot: out of memory\n");
+        return 1;
+    }
+    for (i = 0; i < st->ncol; i++) {
+        st->col[i] = p;
+        p += strcspn(p, ",");
+        if (*p) *p++ = '\0';
+    }
+    if (st->ncol < 4 || strcmp(st->col[0], "sample") || strcmp(st->col[st->ncol - 2], "status") ||
+        strcmp(st->col[st->ncol - 1], "message")) {
+        fprintf(stderr, "rj plot: option --csv: %s is not the rows of rj sweep (a header from 'sample' to "
+                "'status,message')\n", st->path);
+        return 2;
+    }
+    study_columns(st);
+    if (st->njoint > st->ndrawn)
+        fprintf(stderr, "rj plot: %d joints, more than a plot holds: plotting the first %d\n", st->njoint,
+                st->ndrawn);
+    st->x_col = o->x_col ? study_find(st, "--x", o->x_col) : st->nvary > 0 ? 1 : 0;
+    st->y_col = o->y_col ? study_find(st, "--y", o->y_col) : st->ndrawn ? st->lock_col[0] : st->ncol - 3;
+    return st->x_col < 0 || st->y_col < 0 ? 2 : 0;
+}
+
+/* A row's fields, in place: commas made NULs, a quoted field (the message) unquoted
+   enough to count it as one. Returns how many, at most max (max + 1: more). */
+static int csv_fields(char *line, char **field, int max)
+{
+    int n = 0;
+    char *p = line;
+    line[strcspn(line, "\r\n")] = '\0';
+    for (;;) {
+        if (n == max) return max + 1;
+        field[n++] = p;
+        if (*p == '"')
+            for (p++; *p && !(p[0] == '"' && p[1] != '"'); p += p[0] == '"' ? 2 : 1) {}
+        p += strcspn(p, ",");
+        if (!*p) return n;
+        *p++ = '\0';
+    }
+}
+
+/* A field's number: empty (a sample that did not load) is NaN; anything else must be a
+   whole number. 0, or -1. */
+static int field_number(const char *f, double *v)
+{
+    char *end;
+    if (!*f) {
+        *v = NAN;
+        return 0;
+    }
+    *v = strtod(f, &end);
+    return *end ? -1 : 0;
+}
+
+/* One row (line lineno): an ok row's values appended, others counted. 0, or 2 after
+   naming the line. */
+static int study_row(study *st, char *line, char **field, long lineno)
+{
+    const int stride = STUDY_STRIDE(st);
+    const int want[2] = { st->x_col, st->y_col };
+    double *row;
+    int n = csv_fields(line, field, st->ncol), j, bad = -1;
+    if (n != st->ncol) {
+        fprintf(stderr, "rj plot: %s:%ld: %d fields, the header has %d\n", st->path, lineno, n, st->ncol);
+        return 2;
+    }
+    st->nrow++;
+    if (strcmp(field[st->ncol - 2], "ok") != 0) return 0;
+    if (st->nok == st->cap) {
+        const long cap = st->cap ? 2 * st->cap : 1024;
+        double *v = (double *)realloc(st->val, sizeof(double) * (size_t)(cap * stride));
+        if (!v) {
+            fprintf(stderr, "rj plot: out of memory for the rows of %s\n", st->path);
+            return 1;
+        }
+        st->val = v;
+        st->cap = cap;
+    }
+    row = st->val + st->nok * stride;
+    for (j = 0; j < st->ndrawn && bad < 0; j++) {
+        if (field_number(field[st->lock_col[j]], &row[2 * j]) != 0) bad = st->lock_col[j];
+        if (field_number(field[st->lock_col[j] + 1], &row[2 * j + 1]) != 0) bad = st->lock_col[j] + 1;
+    }
+    for (j = 0; j < 2 && bad < 0; j++)
+        if (field_number(field[want[j]], &row[2 * st->ndrawn + j]) != 0) bad = want[j];
+    if (bad >= 0) {
+        fprintf(stderr, "rj plot: %s:%ld: %s is '%s', not a number\n", st->path, lineno, st->col[bad], field[bad]);
+        return 2;
+    }
+    st->nok++;
+    return 0;
+}
+
+/* Reads the sweep's CSV: the header, then every row. 0, 1 (memory, a read error) or 2. */
+static int study_read(study *st, const opts *o)
+{
+    FILE *f = fopen(o->csv, "r");
+    char *line = NULL, **field = NULL;
+    size_t cap = 0;
+    long lineno = 1;
+    int st_rc;
+    memset(st, 0, sizeof *st);
+    st->path = o->csv;
+    if (!f) {
+        fprintf(stderr, "rj plot: option --csv: cannot read %s: %s\n", o->csv, strerror(errno));
+        return 2;
+    }
+    if (getline(&st->header, &cap, f) <= 0) {
+        fprintf(stderr, "rj plot: option --csv: %s is empty, not the rows of rj sweep\n", o->csv);
+        fclose(f);
+        return 2;
+    }
+    cap = 0;
+    st_rc = study_header(st, o);
+    if (st_rc == 0) field = (char **)malloc(sizeof(char *) * (size_t)(st->ncol + 1));
+    if (st_rc == 0 && !field) {
+        fprintf(stderr, "rj plot: out of memory\n");
+        st_rc = 1;
+    }
+    while (st_rc == 0 && getline(&line, &cap, f) > 0) st_rc = study_row(st, line, field, ++lineno);
+    if (st_rc == 0 && ferror(f)) {
+        fprintf(stderr, "rj plot: cannot read %s: %s\n", o->csv, strerror(errno));
+        st_rc = 1;
+    }
+    free(line);
+    free(field);
+    fclose(f);
+    return st_rc;
+}
+
+/* Frees what study_read made. */
+static void study_free(study *st)
+{
+    free(st->header);
+    free(st->col);
+    free(st->val);
+}
+
+/* The plots' arrays: each histogram's outline, the bars, the scatter's points. */
+typedef struct study_plots {
+    double hist_x[2][RJR_MAX_SERIES][HIST_POINTS], hist_y[2][RJR_MAX_SERIES][HIST_POINTS];
+    double bar_x[RJR_MAX_SERIES][4], bar_y[RJR_MAX_SERIES][4];
+    double *px, *py;
+    char label[3][RJR_MAX_SERIES][64];
+    char title[4][160], xlabel[2][64];
+    rjr_plot_def p[4];
+} study_plots;
+
+/* The top of a y axis from 0 whose data reach top, with room above for a legend of n
+   rows in the top-right corner of a panel_h pixels high plot: the legend's height and the
+   plot area's as rjr_plot_rect lays them out (its font from the panel's size). */
+static double legend_clear_top(double top, int n, int panel_w, int panel_h)
+{
+    double f = floor((panel_w < panel_h ? panel_w : panel_h) * 0.03), fs, area, legend;
+    f = f < 10 ? 10 : f > 16 ? 16 : f;
+    fs = floor(f * 0.85 + 0.5);
+    area = panel_h - 2 * floor(f * 0.8) - 2.2 * f - 9 - 1.5 * fs - 1.9 * f;
+    legend = 8 + n * floor(fs * 1.8) + fs * 0.8 + 8;
+    if (top <= 0) top = 1;
+    return area > 2 * legend ? top * area / (area - legend) : 2 * top;
+}
+
+/* Histogram of the drawn joint j's values (which: 0 lock, 1 peak pin force) over the ok
+   rows, as an outline: sqrt(n) bins over its own range. Returns its highest count; sets
+   *none to the rows without a value (-1: never locked, no pin force). */
+static int study_hist(const study *st, int which, int j, double *x, double *y, int *npts, int *none)
+{
+    const int stride = STUDY_STRIDE(st);
+    int count[HIST_BINS_MAX], nb, b, top = 0;
+    long r, n = 0;
+    double lo = HUGE_VAL, hi = -HUGE_VAL, half;
+    *none = 0;
+    for (r = 0; r < st->nok; r++) {
+        const double v = st->val[r * stride + 2 * j + which];
+        if (!(v >= 0)) {
+            (*none)++;
+            continue;
+        }
+        lo = v < lo ? v : lo;
+        hi = v > hi ? v : hi;
+        n++;
+    }
+    *npts = 0;
+    if (n == 0) return 0;
+    /* a single value: one bin around it */
+    half = fabs(lo) > 0 ? 0.005 * fabs(lo) : 0.5;
+    if (hi == lo) {
+        lo -= half;
+        hi += half;
+    }
+    nb = (int)ceil(sqrt((double)n));
+    nb = nb < HIST_BINS_MIN ? HIST_BINS_MIN : nb > HIST_BINS_MAX ? HIST_BINS_MAX : nb;
+    memset(count, 0, sizeof count);
+    for (r = 0; r < st->nok; r++) {
+        const double v = st->val[r * stride + 2 * j + which];
+        if (!(v >= 0)) continue;
+        b = (int)((v - lo) / (hi - lo) * nb);
+        count[b < nb ? b : nb - 1]++;
+    }
+    /* up from 0 at the first edge, across each bin at its count, down at the last edge */
+    for (b = 0; b <= nb; b++) {
+        x[2 * b] = x[2 * b + 1] = lo + (hi - lo) * b / nb;
+        y[2 * b] = b == 0 ? 0 : count[b - 1];
+        y[2 * b + 1] = b == nb ? 0 : count[b];
+        top = b < nb && count[b] > top ? count[b] : top;
+    }
+    *npts = 2 * nb + 2;
+    return top;
+}
+
+/* Panel which (0 lock times, 1 peak pin forces): each drawn joint's histogram, its
+   legend saying how many ok rows had no value (never locked, no pin force). */
+static void study_hist_panel(const study *st, study_plots *sp, int which, int pw, int ph)
+{
+    static const char *const what[2] = { "lock times", "peak pin forces" };
+    static const char *const none_what[2] = { "never locked", "without a pin force" };
+    rjr_plot_def *p = &sp->p[which];
+    int j, top = 0, nonzero = 0;
+    *p = rjr_plot_default();
+    for (j = 0; j < st->ndrawn; j++) {
+        rjr_series *s = &p->series[j];
+        int npts, none;
+        const int t = study_hist(st, which, j, sp->hist_x[which][j], sp->hist_y[which][j], &npts, &none);
+        top = t > top ? t : top;
+        nonzero += none > 0;
+        if (none) snprintf(sp->label[which][j], 64, "%s: %d %s", st->joint[j], none, none_what[which]);
+        else snprintf(sp->label[which][j], 64, "%s", st->joint[j]);
+        s->x = sp->hist_x[which][j];
+        s->y = sp->hist_y[which][j];
+        s->n = npts;
+        s->label = sp->label[which][j];
+        s->colour = RJR_AUTO_COLOUR;
+    }
+    p->series_count = st->ndrawn;
+    /* the title says when no joint lacks a value; the legend names those that do */
+    snprintf(sp->title[which], sizeof sp->title[0], "%s, %ld samples%s", what[which], st->nok,
+             nonzero || which ? "" : ", all locked");
+    p->title = sp->title[which];
+    p->xlabel = which ? "peak pin force (N)" : "lock time (s)";
+    p->ylabel = "samples a bin";
+    p->ymin = 0;
+    p->ymax = legend_clear_top(top, st->ndrawn, pw, ph);
+}
+
+/* The scatter: --y against --x over the ok rows; an outcome's -1 (none) and empty
+   numbers are not drawn, and counted in the title. 0, or 1 when memory ran out. */
+static int study_scatter(const study *st, study_plots *sp)
+{
+    const int stride = STUDY_STRIDE(st), outcome_x = st->x_col > st->nvary, outcome_y = st->y_col > st->nvary;
+    rjr_plot_def *p = &sp->p[2];
+    long r, n = 0;
+    sp->px = (double *)malloc(sizeof(double) * (size_t)(st->nok + 1));
+    sp->py = (double *)malloc(sizeof(double) * (size_t)(st->nok + 1));
+    if (!sp->px || !sp->py) return 1;
+    for (r = 0; r < st->nok; r++) {
+        const double x = st->val[r * stride + 2 * st->ndrawn], y = st->val[r * stride + 2 * st->ndrawn + 1];
+        if (!isfinite(x) || !isfinite(y) || (outcome_x && x < 0) || (outcome_y && y < 0)) continue;
+        sp->px[n] = x;
+        sp->py[n] = y;
+        n++;
+    }
+    *p = rjr_plot_default();
+    p->series[0].x = sp->px;
+    p->series[0].y = sp->py;
+    p->series[0].n = (int)n;
+    p->series[0].colour = RJR_AUTO_COLOUR;
+    p->series[0].points = 1;
+    p->series[0].no_line = 1;
+    p->series_count = 1;
+    p->legend = RJR_LEGEND_NONE;
+    snprintf(sp->title[2], sizeof sp->title[0], "%s against %s", st->col[st->y_col], st->col[st->x_col]);
+    if (n < st->nok)
+        snprintf(sp->title[2] + strlen(sp->title[2]), sizeof sp->title[0] - strlen(sp->title[2]),
+                 " (%ld without a value)", st->nok - n);
+    p->title = sp->title[2];
+    p->xlabel = st->col[st->x_col];
+    p->ylabel = st->col[st->y_col];
+    return 0;
+}
+
+/* The share of the ok rows in which each drawn joint latched: a bar each, at 1, 2, ...
+   in the file's order, its colour and share in the legend. */
+static void study_bars(const study *st, study_plots *sp, int pw, int ph)
+{
+    const int stride = STUDY_STRIDE(st);
+    rjr_plot_def *p = &sp->p[3];
+    int j;
+    *p = rjr_plot_default();
+    for (j = 0; j < st->ndrawn; j++) {
+        long r, locked = 0;
+        double share;
+        for (r = 0; r < st->nok; r++) locked += st->val[r * stride + 2 * j] >= 0;
+        share = st->nok ? 100.0 * (double)locked / (double)st->nok : 0.0;
+        sp->bar_x[j][0] = sp->bar_x[j][1] = j + 1 - 0.3;
+        sp->bar_x[j][2] = sp->bar_x[j][3] = j + 1 + 0.3;
+        sp->bar_y[j][0] = sp->bar_y[j][3] = 0;
+        sp->bar_y[j][1] = sp->bar_y[j][2] = share;
+        snprintf(sp->label[2][j], 64, "%s: %.4g %% (%ld)", st->joint[j], share, locked);
+        p->series[j].x = sp->bar_x[j];
+        p->series[j].y = sp->bar_y[j];
+        p->series[j].n = 4;
+        p->series[j].label = sp->label[2][j];
+        p->series[j].colour = RJR_AUTO_COLOUR;
+        p->series[j].width_px = 3;
+    }
+    p->series_count = st->ndrawn;
+    snprintf(sp->title[3], sizeof sp->title[0], "latched, %ld ok samples", st->nok);
+    if (st->nrow > st->nok)
+        snprintf(sp->title[3] + strlen(sp->title[3]), sizeof sp->title[0] - strlen(sp->title[3]),
+                 " (%ld not ok)", st->nrow - st->nok);
+    p->title = sp->title[3];
+    p->xlabel = "joint, in the file's order";
+    p->ylabel = "samples latched (%)";
+    p->xmin = 0.5;
+    p->xmax = st->ndrawn + 0.5;
+    p->ymin = 0;
+    p->ymax = legend_clear_top(100, st->ndrawn, pw, ph);
+}
+
+/* The four plots in a 2 x 2 image: lock times, peak pin forces; the scatter, the
+   latched shares. 0, or 1 after saying why not. */
+static int study_draw(const opts *o, const study *st, study_plots *sp)
+{
+    const int pw = o->w / 2, ph = o->h / 2;
+    rjr_context *ctx;
+    char err[256];
+    int k, rc = 0;
+    study_hist_panel(st, sp, 0, pw, ph);
+    study_hist_panel(st, sp, 1, pw, ph);
+    if (study_scatter(st, sp) != 0) {
+        fprintf(stderr, "rj plot: out of memory\n");
+        return 1;
+    }
+    study_bars(st, sp, pw, ph);
+    err[0] = '\0';
+    ctx = rjr_create(o->w, o->h, err, sizeof err);
+    if (!ctx) {
+        fprintf(stderr, "rj plot: %s\n", err);
+        return 1;
+    }
+    if (rjr_begin(ctx, 0xffffff) != 0) rc = -1;
+    for (k = 0; k < 4 && rc == 0; k++)
+        if (rjr_plot_rect(ctx, &sp->p[k], (k % 2) * pw, (k / 2) * ph, k % 2 ? o->w - pw : pw,
+                          k / 2 ? o->h - ph : ph) != 0)
+            rc = -1;
+    if (rjr_end(ctx) != 0) rc = -1;
+    if (rc == 0) rc = rjr_save_png(ctx, o->out, err, sizeof err);
+    if (rc) fprintf(stderr, "rj plot: cannot write %s: %s\n", o->out, err[0] ? err : rjr_error(ctx));
+    rjr_destroy(ctx);
+    return rc ? 1 : 0;
+}
+
+/* rj plot --what sweep: the output checked, the rows read, the four plots drawn. */
+static int plot_sweep(const opts *o)
+{
+    study st;
+    study_plots *sp;
+    int rc;
+    if (cli_mkparent("rj plot", o->out) != 0 || out_writable("rj plot", o->out) != 0) return 2;
+    rc = study_read(&st, o);
+    sp = rc == 0 ? (study_plots *)calloc(1, sizeof *sp) : NULL;
+    if (rc == 0 && !sp) {
+        fprintf(stderr, "rj plot: out of memory\n");
+        rc = 1;
+    }
+    if (rc == 0) rc = study_draw(o, &st, sp);
+    if (rc == 0)
+        fprintf(stderr, "rj plot: %s: %ld rows, %ld ok, %d joints drawn\n", o->csv, st.nrow, st.nok, st.ndrawn);
+    if (sp) {
+        free(sp->px);
+        free(sp->py);
+    }
+    free(sp);
+    study_free(&st);
+    return rc;
+}
+
 /* rj plot: checks the output can be written before the run, draws after it. */
 static int cmd_plot(int argc, char **argv)
 {
@@ -2385,6 +3038,12 @@ static int cmd_plot(int argc, char **argv)
     int st;
     opts_parse(&o, CMD_PLOT, argc, argv, usage_plot);
     free((void *)o.probes);
+    if (o.what == WHAT_SWEEP) {
+        st = plot_sweep(&o);
+        free(o.varies);
+        free((void *)o.sets);
+        return st;
+    }
     if (scene_open(&sc, o.scene, o.dt, o.sets, o.nsets) != 0) return 2;
     cli_check_steps("rj plot", o.t_end, rj_model_dt(sc.m), o.force);
     if (cli_mkparent("rj plot", o.out) != 0 || out_writable("rj plot", o.out) != 0) return 2;
@@ -2632,14 +3291,111 @@ static unsigned long long mix64(unsigned long long x)
     return z ^ (z >> 31);
 }
 
-/* Sample k's value of the v-th --vary: uniform in [lo, hi] from (seed, k, v) alone, so a
-   sample is the same in every sweep with that seed, sharded or not. */
-static double vary_value(const vary *va, unsigned long long seed, int k, int v)
+/* splitmix64's increment: a stream's values are mix64(start + i * SPLITMIX_GAMMA) */
+#define SPLITMIX_GAMMA 0x9E3779B97F4A7C15ULL
+/* --lhs: what the permutations' streams start from besides the seed, so that they are
+   not the draws' */
+#define LHS_SALT 0x4C48535045524DULL
+
+/* The 64 bits sample k's draw of the v-th --vary starts from: from (seed, k, v) alone
+   (the first release's, so that its uniform samples keep their values). */
+static unsigned long long draw_bits(unsigned long long seed, int k, int v)
 {
-    const unsigned long long h = mix64(mix64(mix64(seed) ^ (unsigned long long)k) ^ (unsigned long long)v);
-    const double u = (double)(h >> 11) / 9007199254740992.0; /* [0, 1), 53 bits */
-    const double x = va->lo + (va->hi - va->lo) * u;
+    return mix64(mix64(mix64(seed) ^ (unsigned long long)k) ^ (unsigned long long)v);
+}
+
+/* The top 53 bits as a uniform in [0, 1) (half_open) or in (0, 1), the centre of each
+   of the 2^53 cells: a normal's quantile is finite there. */
+static double draw_unit(unsigned long long h, int half_open)
+{
+    return ((double)(h >> 11) + (half_open ? 0.0 : 0.5)) / 9007199254740992.0;
+}
+
+/* The standard normal's quantile x = Phi^-1(p), for p in (0, 0.5]: Acklam's rational
+   approximation (relative error below 1.2e-9), then one step of Halley's method on
+   Phi(x) - p = 0, Phi from erfc, which leaves about the double's own precision. */
+static double normal_lower_quantile(double p)
+{
+    static const double a[6] = { -3.969683028665376e+01, 2.209460984245205e+02, -2.759285104469687e+02,
+                                 1.383577518672690e+02,  -3.066479806614716e+01, 2.506628277459239e+00 };
+    static const double b[5] = { -5.447609879822406e+01, 1.615858368580409e+02, -1.556989798598866e+02,
+                                 6.680131188771972e+01,  -1.328068155288572e+01 };
+    static const double c[6] = { -7.784894002430293e-03, -3.223964580411365e-01, -2.400758277161838e+00,
+                                 -2.549732539343734e+00, 4.374664141464968e+00,  2.938163982698783e+00 };
+    static const double d[4] = { 7.784695709041462e-03, 3.224671290700398e-01, 2.445134137142996e+00,
+                                 3.754408661907416e+00 };
+    double x, q, r, err, u;
+    if (p < 0.02425) {
+        /* the tail: a rational function of sqrt(-2 log p) */
+        q = sqrt(-2 * log(p));
+        x = (((((c[0] * q + c[1]) * q + c[2]) * q + c[3]) * q + c[4]) * q + c[5]) /
+            ((((d[0] * q + d[1]) * q + d[2]) * q + d[3]) * q + 1);
+    } else {
+        /* the centre: a rational function of (p - 1/2)^2, times p - 1/2 */
+        q = p - 0.5;
+        r = q * q;
+        x = (((((a[0] * r + a[1]) * r + a[2]) * r + a[3]) * r + a[4]) * r + a[5]) * q /
+            (((((b[0] * r + b[1]) * r + b[2]) * r + b[3]) * r + b[4]) * r + 1);
+    }
+    /* Halley: err = Phi(x) - p, u = err / phi(x); x <= 0, so erfc's argument is >= 0
+       and Phi(x) keeps its relative precision in the tail */
+    err = 0.5 * erfc(-x / sqrt(2.0)) - p;
+    u = err * sqrt(RJ_TWO_PI) * exp(0.5 * x * x);
+    return x - u / (1 + 0.5 * x * u);
+}
+
+/* Phi^-1(p) for p in (0, 1): the upper half by symmetry, from 1 - p, which is exact for
+   p >= 1/2, so that both tails are as precise. */
+static double normal_quantile(double p)
+{
+    return p > 0.5 ? -normal_lower_quantile(1 - p) : normal_lower_quantile(p);
+}
+
+/* A --vary's value at the uniform u: in [lo, hi] (u in [0, 1)), or the normal's
+   quantile (u in (0, 1)). */
+static double vary_at(const vary *va, double u)
+{
+    double x;
+    if (va->dist == DIST_NORMAL) return va->mean + va->sd * normal_quantile(u);
+    x = va->lo + (va->hi - va->lo) * u;
     return x > va->hi ? va->hi : x; /* rounding may pass hi by an ulp */
+}
+
+/* --lhs: the strata of the v-th --vary, a permutation of 0..n-1 that depends only on
+   (seed, v, n): Fisher-Yates, its choices from a splitmix64 stream that starts from the
+   seed and v. (The modulo's bias, n / 2^64, is far below anything a study sees.) */
+static void lhs_perm(int *perm, int n, unsigned long long seed, int v)
+{
+    const unsigned long long start = mix64(mix64(seed ^ LHS_SALT) ^ (unsigned long long)v);
+    int i;
+    for (i = 0; i < n; i++) perm[i] = i;
+    for (i = n - 1; i > 0; i--) {
+        const unsigned long long h = mix64(start + (unsigned long long)i * SPLITMIX_GAMMA);
+        const int j = (int)(h % (unsigned long long)(i + 1));
+        const int t = perm[i];
+        perm[i] = perm[j];
+        perm[j] = t;
+    }
+}
+
+/* --grid K: the v-th key's point in sample k, the first --vary the slowest digit of k in
+   base K (rows run as nested loops in the --vary's order); its value: LO, HI and K - 2
+   points evenly between (K = 1: the midpoint). */
+static double grid_value(const vary *va, int grid, int nvary, int k, int v)
+{
+    int i;
+    char text[32];
+    double x;
+    for (i = nvary - 1; i > v; i--) k /= grid;
+    k %= grid;
+    if (grid > 1 && k == 0) return va->lo;
+    if (grid > 1 && k == grid - 1) return va->hi;
+    x = grid == 1 ? 0.5 * va->lo + 0.5 * va->hi : va->lo + (va->hi - va->lo) * k / (grid - 1);
+    /* between the ends, the value to 15 significant digits (which a double holds as
+       written): 0.01:0.03 in 3 points is 0.01, 0.02, 0.03, not 0.019999999999999997 */
+    snprintf(text, sizeof text, "%.15g", x);
+    x = strtod(text, NULL);
+    return x < va->lo ? va->lo : x > va->hi ? va->hi : x;
 }
 
 /* A result's short name for the status column: the enum's, RJ_ERR_ dropped. */
@@ -2684,6 +3440,7 @@ typedef struct sweep {
     char *header;          /* the header line, newline included */
     size_t header_len;
     unsigned char *have;   /* --resume: have[k] when the file holds sample k (NULL: none) */
+    int **perm;            /* --lhs: each --vary's strata, perm[v][k] sample k's (NULL: none) */
     worker *wk;            /* o->threads of them */
     cli_out out;
     pthread_mutex_t lock;  /* guards the rest */
@@ -2697,6 +3454,28 @@ typedef struct sweep {
     int held;              /* --resume: the samples the file holds */
     int stop;              /* the output failed: hand out no more */
 } sweep;
+
+/* Sample k's value of the v-th --vary, from the seed, k and v alone (with --lhs also
+   the permutations of --samples N strata; with --grid its point), so that a sample is
+   the same in every sweep of that design and seed, sharded or not. A normal is drawn by
+   its quantile at a uniform, the same transform as its strata under --lhs. */
+static double sweep_value(const sweep *w, int k, int v)
+{
+    const opts *o = w->o;
+    const vary *va = &o->varies[v];
+    const unsigned long long h = draw_bits(o->seed, k, v);
+    if (o->design == DESIGN_GRID) return grid_value(va, o->grid, o->nvary, k, v);
+    /* stratum perm[v][k] of N, and a place inside it: never on a stratum's edge */
+    if (o->design == DESIGN_LHS) return vary_at(va, (w->perm[v][k] + draw_unit(h, 0)) / o->samples);
+    return vary_at(va, draw_unit(h, va->dist == DIST_UNIFORM));
+}
+
+/* The --set change of the v-th --vary at value x: "KEY=x", or "KEY=x UNIT" as the file
+   writes an angle in degrees. buf holds the longest key and 40 characters more. */
+static void vary_change(char *buf, const vary *va, double x)
+{
+    sprintf(buf, "%.*s=%.17g%s%s", va->keylen, va->spec, x, va->unit[0] ? " " : "", va->unit);
+}
 
 /* Per sample: each joint's lock time, seen step by step as rj run's summary sees it. */
 typedef struct locks {
@@ -2741,7 +3520,9 @@ static void sweep_header(const sweep *w, cli_out *out)
     cli_put(out, fputs("sample", out->f));
     for (i = 0; i < w->o->nvary; i++) {
         const vary *v = &w->o->varies[i];
-        cli_put(out, fprintf(out->f, ",%.*s", v->keylen, v->spec));
+        /* a unit given names the column's: KEY[deg] */
+        cli_put(out, fprintf(out->f, ",%.*s%s%s%s", v->keylen, v->spec, v->unit[0] ? "[" : "", v->unit,
+                             v->unit[0] ? "]" : ""));
     }
     for (i = 0; i < rj_model_joint_count(sc->m); i++)
         cli_put(out, fprintf(out->f, ",%s.first_contact,%s.lock,%s.peak_pin_force", joint_name(sc, i),
@@ -2842,8 +3623,8 @@ static int sweep_sample(worker *h, int k)
     rj_result res;
     int i;
     for (i = 0; i < o->nvary; i++) {
-        h->x[i] = vary_value(&o->varies[i], o->seed, k, i);
-        sprintf(h->text[i], "%.*s=%.17g", o->varies[i].keylen, o->varies[i].spec, h->x[i]);
+        h->x[i] = sweep_value(h->w, k, i);
+        vary_change(h->text[i], &o->varies[i], h->x[i]);
     }
     if (rj_scene_load_set(o->scene, h->sets, o->nsets + o->nvary, &f, &e) != RJ_OK) {
         sweep_row_failed(h, k, e.code, e.msg);
@@ -2889,14 +3670,31 @@ static int sweep_sample_row(worker *h, int k, pending *p)
     return bad;
 }
 
+/* Whether the scene loads with the --set changes and v at x (what names x: LO, HI,
+   MEAN). 0, or 2 after the file's message. Uses the first thread's buffers. */
+static int vary_loads(sweep *w, const vary *v, const char *what, double x)
+{
+    worker *h = &w->wk[0];
+    rj_scene_file f;
+    rj_error e;
+    vary_change(h->text[0], v, x);
+    if (rj_scene_load_set(w->o->scene, h->sets, w->o->nsets + 1, &f, &e) != RJ_OK) {
+        fprintf(stderr, "rj sweep: option --vary %s: at %s = %.17g%s%s: %s\n", v->spec, what, x,
+                v->unit[0] ? " " : "", v->unit, e.msg);
+        return 2;
+    }
+    rj_scene_file_free(&f);
+    return 0;
+}
+
 /* Each --vary against the file before anything runs: its key must name an item and both
-   ends must load (with the --set changes), and no key may be varied twice. A sample's
+   ends (a normal's mean) must load with the --set changes, in the unit given, and no key
+   may be varied twice. A sample's
    failure is a row; a range that cannot be right for any sample is bad usage. Returns 0,
    or 2 after naming the option. Uses the first thread's buffers. */
 static int sweep_check(sweep *w)
 {
     const opts *o = w->o;
-    worker *h = &w->wk[0];
     int i, j, end;
     if (o->nsets + o->nvary > RJ_SCENE_MAX_SETS) {
         fprintf(stderr, "rj sweep: %d --set and --vary changes, more than the %d a scene takes\n",
@@ -2911,23 +3709,17 @@ static int sweep_check(sweep *w)
                         v->spec);
                 return 2;
             }
-        for (end = 0; end < 2; end++) {
-            rj_scene_file f;
-            rj_error e;
-            sprintf(h->text[0], "%.*s=%.17g", v->keylen, v->spec, end ? v->hi : v->lo);
-            if (rj_scene_load_set(o->scene, h->sets, o->nsets + 1, &f, &e) != RJ_OK) {
-                fprintf(stderr, "rj sweep: option --vary %s: at %s = %.17g: %s\n", v->spec, end ? "HI" : "LO",
-                        end ? v->hi : v->lo, e.msg);
-                return 2;
-            }
-            rj_scene_file_free(&f);
-        }
+        /* a range at both ends; a normal at its mean (a draw far out is a failed row) */
+        if (v->dist == DIST_NORMAL && vary_loads(w, v, "MEAN", v->mean) != 0) return 2;
+        for (end = 0; v->dist == DIST_UNIFORM && end < 2; end++)
+            if (vary_loads(w, v, end ? "HI" : "LO", end ? v->hi : v->lo) != 0) return 2;
     }
     return 0;
 }
 
-/* A thread's changes' texts: each "KEY=" and a %.17g number (at most 24 characters), each
-   buffer long enough for any key (sweep_check writes every key into the first). */
+/* A thread's changes' texts: each "KEY=", a %.17g number (at most 24 characters) and a
+   unit (" deg/s"), each buffer long enough for any key (sweep_check writes every key into
+   the first). */
 static int worker_alloc(worker *h, sweep *w, int longest)
 {
     const opts *o = w->o;
@@ -2946,7 +3738,23 @@ static int worker_alloc(worker *h, sweep *w, int longest)
     return 0;
 }
 
-/* The threads' buffers, the flexible links and the header. */
+/* --lhs: each --vary's permutation of the --samples N strata (lhs_perm), the same in
+   every shard: N ints a key. 0, or -1 when memory ran out. */
+static int lhs_alloc(sweep *w)
+{
+    const opts *o = w->o;
+    int v;
+    w->perm = (int **)calloc((size_t)o->nvary, sizeof(int *));
+    if (!w->perm) return -1;
+    for (v = 0; v < o->nvary; v++) {
+        w->perm[v] = (int *)malloc(sizeof(int) * (size_t)o->samples);
+        if (!w->perm[v]) return -1;
+        lhs_perm(w->perm[v], o->samples, o->seed, v);
+    }
+    return 0;
+}
+
+/* The threads' buffers, the --lhs strata, the flexible links and the header. */
 static int sweep_alloc(sweep *w)
 {
     const opts *o = w->o;
@@ -2959,6 +3767,7 @@ static int sweep_alloc(sweep *w)
         if (o->varies[i].keylen > longest) longest = o->varies[i].keylen;
     for (i = 0; i < o->threads; i++)
         if (worker_alloc(&w->wk[i], w, longest) != 0) return -1;
+    if (o->design == DESIGN_LHS && lhs_alloc(w) != 0) return -1;
     w->nflex = 0;
     for (i = 0; i < rj_model_link_count(m); i++)
         if (link_flexible(m, i)) w->flex[w->nflex++] = i;
@@ -2980,6 +3789,8 @@ static void sweep_free(sweep *w)
     free(w->flex);
     free(w->header);
     free(w->have);
+    for (i = 0; w->perm && i < w->o->nvary; i++) free(w->perm[i]);
+    free(w->perm);
 }
 
 /* ---- which samples: the shard's, less those --resume found in the file */
@@ -3049,7 +3860,7 @@ static int sweep_resume_row(sweep *w, const char *line, const char *path, long l
         snprintf(why, sizeof why, "sample %ld is not in shard %d/%d", k, o->shard_i, o->shard_n);
     else if (w->have[k]) snprintf(why, sizeof why, "sample %ld again", k);
     for (i = 0; !why[0] && i < o->nvary; i++) {
-        const int len = snprintf(num, sizeof num, ",%.17g", vary_value(&o->varies[i], o->seed, (int)k, i));
+        const int len = snprintf(num, sizeof num, ",%.17g", sweep_value(w, (int)k, i));
         if (strncmp(p, num, (size_t)len) != 0 || (p[len] != ',' && p[len] != '\n'))
             snprintf(why, sizeof why, "sample %ld's %.*s is not this sweep's %s (another --seed or range?)", k,
                      o->varies[i].keylen, o->varies[i].spec, num + 1);

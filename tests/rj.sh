@@ -168,9 +168,10 @@ ok "run with dt above the bound (allow_unstable): status 1, the blow-up message,
 # ---- rj check
 ok "check deploy.rjs: valid, status 0" "$B/rj check $S/deploy.rjs | grep -qx '$S/deploy.rjs: valid'"
 for f in $S/*.rjs; do
-  ok "check $(basename $f): links, joints, the bound and what sets it, the cost of a second" \
+  ok "check $(basename $f): links, joints, the bound and what sets it, the cost of a second and of the build" \
     "$B/rj check $f > $T/check.txt && grep -q '^links: ' $T/check.txt && grep -q '^joints: ' $T/check.txt \
-     && grep -q 'stability bound' $T/check.txt && grep -q 'the bound is set by ' $T/check.txt && grep -q '^cost: 1 simulated second' $T/check.txt"
+     && grep -q 'stability bound' $T/check.txt && grep -q 'the bound is set by ' $T/check.txt && grep -q '^cost: 1 simulated second' $T/check.txt \
+     && grep -Eq '^cost: building the model took [0-9.e+-]+ ms, as long as [0-9]+ steps' $T/check.txt"
 done
 ok "check elastica.rjs: its load, node, force and table; flexible_pendulum.rjs: its gravity" \
   "$B/rj check $S/elastica.rjs | grep -qx '  tip          beam last node: force (0, -74.6667) N fixed, moment 0 N m; a table of 2 points from 0 to 0.5 s' \
@@ -601,4 +602,56 @@ m 2 "option --shard auto: SLURM_ARRAY_TASK_ID=3 is not below SLURM_ARRAY_TASK_CO
 m 2 "option --shard auto: SLURM_ARRAY_TASK_COUNT='x' is not an integer" "sweep --shard auto with a malformed task count is refused" \
   env SLURM_ARRAY_TASK_ID=0 SLURM_ARRAY_TASK_COUNT=x $B/rj sweep $SW --samples 6 --shard auto
 m 2 "option --threads: bad value '0'" "sweep --threads 0 is refused" $B/rj sweep $SW --samples 6 --threads 0
+# ---- rj plot --what sweep: a sweep's rows drawn (lock times and peak pin forces as
+# histograms, one column against another, the share latched), no golden image: the PNG's
+# size, and pixels of each joint's colour (the palette's first 4) and of ink in it
+$B/rj sweep $S/solar_array.rjs --vary joint.h1.friction=normal:0.02:0.003 --vary material.cfrp_sandwich.rho=2250:2750 \
+  --lhs --samples 8 --t-end 3 --csv $T/sw_plot.csv 2>/dev/null
+$B/rj plot --what sweep --csv $T/sw_plot.csv --size 640x480 --out $T/sw_plot.png 2>$T/sw_plot.err; st=$?
+# width and height from the PNG's IHDR (bytes 17..24, big-endian)
+png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{ printf "%dx%d", (($1 * 256 + $2) * 256 + $3) * 256 + $4, (($5 * 256 + $6) * 256 + $7) * 256 + $8 }'; }
+ok "plot --what sweep: a 640x480 PNG of 8 rows (status $st), the count on standard error" \
+  "[ $st = 0 ] && [ '$(magic $T/sw_plot.png)' = 89504e47 ] && [ '$(png_size $T/sw_plot.png)' = 640x480 ] \
+   && grep -q '^rj plot: $T/sw_plot.csv: 8 rows, 8 ok, 4 joints drawn\$' $T/sw_plot.err"
+cat > $T/colours.py <<'PY'
+import sys, zlib, struct
+# pixels not white, and pixels of each colour named, in a PNG rjr_write_png wrote (filter none)
+d = open(sys.argv[1], 'rb').read()
+i, idat, w, h = 8, b'', 0, 0
+while i < len(d):
+    n, t = struct.unpack('>I4s', d[i:i + 8])
+    if t == b'IHDR': w, h = struct.unpack('>II', d[i + 8:i + 16])
+    if t == b'IDAT': idat += d[i + 8:i + 8 + n]
+    i += 12 + n
+raw = zlib.decompress(idat)
+px = [raw[y * (3 * w + 1) + 1 + 3 * x:y * (3 * w + 1) + 4 + 3 * x] for y in range(h) for x in range(w)]
+counts = {}
+for p in px: counts[p] = counts.get(p, 0) + 1
+print(len(px) - counts.get(b'\xff\xff\xff', 0), *[counts.get(bytes.fromhex(c), 0) for c in sys.argv[2:]])
+PY
+if [ -x /usr/bin/python3 ]; then
+  set -- $(/usr/bin/python3 $T/colours.py $T/sw_plot.png 1f77b4 d62728 2ca02c ff7f0e)
+  ok "plot --what sweep: not blank ($1 of 307200 pixels not white) and each joint's colour drawn ($2, $3, $4, $5 pixels)" \
+    "[ '$1' -gt 15000 ] && [ '$2' -gt 100 ] && [ '$3' -gt 100 ] && [ '$4' -gt 100 ] && [ '$5' -gt 100 ]"
+else echo "SKIP rj: no /usr/bin/python3 to count the sweep plot's pixels"; fi
+# a failed row is left out and counted; the scatter's columns may be any number column,
+# a varied key named with or without its [unit]
+# (the sample, 2 values, 17 empty numbers: 4 joints x 3 and 5 links)
+{ cat $T/sw_plot.csv; printf '8,0.5,2500%s,parse,"x, ""quoted"""\n' "$(printf ',%.0s' $(seq 17))"; } > $T/sw_plot_bad.csv
+$B/rj plot --what sweep --csv $T/sw_plot_bad.csv --x material.cfrp_sandwich.rho --y h4.peak_pin_force --out $T/sw_plot2.png 2>$T/sw_plot2.err; st=$?
+ok "plot --what sweep: a row that is not ok (its message quoted, with a comma) is left out and counted; --x and --y choose the scatter (status $st)" \
+  "[ $st = 0 ] && grep -q ': 9 rows, 8 ok, 4 joints drawn\$' $T/sw_plot2.err && [ -s $T/sw_plot2.png ]"
+$B/rj sweep $S/solar_array.rjs --vary joint.h1.angle0=85:95deg --grid 2 --t-end 0 --csv $T/sw_unit.csv 2>/dev/null
+t 0 "plot --what sweep --x joint.h1.angle0: the column joint.h1.angle0[deg]" \
+  $B/rj plot --what sweep --csv $T/sw_unit.csv --x joint.h1.angle0 --size 320x240 --out $T/sw_unit.png
+m 2 "option --y: .* has no number column 'h1.lok'; did you mean 'h1.lock'\\?" "plot --what sweep --y h1.lok: did you mean h1.lock" \
+  $B/rj plot --what sweep --csv $T/sw_plot.csv --y h1.lok --out $T/x.png
+m 2 "option --what sweep needs --csv ROWS.csv" "plot --what sweep without --csv is refused" $B/rj plot --what sweep --out $T/x.png
+m 2 "option --what sweep draws --csv ROWS.csv and runs no scene: unexpected argument" "plot --what sweep with a scene is refused" \
+  $B/rj plot $S/deploy.rjs --what sweep --csv $T/sw_plot.csv --out $T/x.png
+m 2 "option --csv is for --what sweep" "plot --csv without --what sweep is refused" $B/rj plot $S/deploy.rjs --csv $T/sw_plot.csv --out $T/x.png
+m 2 "option --csv: $S/deploy.rjs is not the rows of rj sweep" "plot --what sweep of a file that is not a sweep's is refused" \
+  $B/rj plot --what sweep --csv $S/deploy.rjs --out $T/x.png
+m 2 "option --what: unknown value 'swep'; did you mean 'sweep'\\?" "plot --what swep: did you mean 'sweep'" \
+  $B/rj plot --what swep --csv $T/sw_plot.csv --out $T/x.png
 exit 0
