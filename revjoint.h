@@ -999,6 +999,11 @@ typedef long long rj__vl __attribute__((vector_size(16)));
    geometric stiffness the linearisation leaves out. */
 #define RJ__DT_MARGIN     0.98
 #define RJ__LANCZOS_ITERS 160
+/* Rigid trees of this many coordinates and more are solved by articulated bodies in O(n),
+   smaller ones by the dense M and its Cholesky factor (docs/performance.md: the crossing). */
+#ifndef RJ__RIG_TREE_MIN
+#define RJ__RIG_TREE_MIN 16
+#endif
 /* a contact first seen more than this far past its limit is reported as caught late */
 #define RJ__LATE 0.05
 /* neither the energy balance (total + dissipated - initial) nor the limits' work may put in
@@ -1111,6 +1116,7 @@ struct rj_model {
     int *jorder;    /* (nq) the tree's joints with parents before children */
     int nq;         /* joint coordinates: the tree's joints (nj less those closing loops) */
     int nloop;      /* joints that close loops */
+    int rig_tree;   /* rigid tree solved in O(n) (articulated bodies) instead of dense M */
     int *qj;        /* (nq) coordinate k's joint */
     int *jq;        /* (nj) joint j's coordinate, -1 for a joint that closes a loop */
     double *jpin,
@@ -1310,7 +1316,27 @@ typedef struct rj__rig {
         *rhs;   /* the rows' system (src/rows.h): R x R, its factor, R each (R rows at most) */
     double *Y;  /* the rows' M^-1 J^T that are not a column of M^-1: n each, one per coupling */
     double *lk; /* per link, RJ__RL_COUNT values: rj__rig_kin */
+    double *ab; /* per coordinate, RJ__AB_COUNT values: the articulated bodies (rj__aba_*) */
 } rj__rig;
+/* a coordinate's record in rj__rig.ab: its body's own inertia about the joint's pin and the
+   articulated inertia there (symmetric 3 x 3 on (omega, v_pin): 00 01 02 11 12 22), the
+   factor's U = IA s and D = s.IA s + rotor, a force about the pin, the solve's u, an
+   acceleration at the pin, the arm from the parent's pin, the parent's coordinate (-1:
+   none) and the rotor; then two spare vectors for the callers' products */
+enum {
+    RJ__AB_OWN = 0,
+    RJ__AB_IA = 6,
+    RJ__AB_U = 12,
+    RJ__AB_D = 15,
+    RJ__AB_F = 16,
+    RJ__AB_UU = 19,
+    RJ__AB_A = 20,
+    RJ__AB_RX = 23,
+    RJ__AB_RY = 24,
+    RJ__AB_PQ = 25,
+    RJ__AB_ROT = 26,
+    RJ__AB_COUNT = 27
+};
 /* a link's record in rj__rig.lk: angle and its cos, sin; root; centre; their accelerations
    (centripetal, at the predicted rates); predicted angular rate; rate and root velocity;
    then the subtree the link's parent joint carries (rj__rig_mass): its mass, first moment
@@ -9190,6 +9216,212 @@ static RJ__FORCE_INLINE double rj__input_work(const double *oj, const double *nj
     return 0.5 * dt * (nj_[RJ__JD_INPUT] * rate_m + oj[RJ__JD_INPUT] * oj[RJ__JD_RATE]);
 }
 
+/* ------------------------------------------------------------------ articulated bodies */
+/* A rigid tree's M(q) x = b in O(n), without M: Featherstone's articulated-body recursion
+   in the plane. Each coordinate q_j turns its joint's body 2 (and all that hangs from it)
+   about the joint's pin P_j; quantities of that subtree are taken about P_j, on the motion
+   (omega, v at P_j):
+   - a body's inertia about its pin, with d = c - P and its mass m, centre c, inertia I:
+     [[I + m |d|^2, -m d_y, m d_x], [-m d_y, m, 0], [m d_x, 0, m]];
+   - moving a child's quantity from its pin to the parent's (r = P_child - P_parent; the
+     child's pin moves at v + omega z x r): X = [[1, 0, 0], [-r_y, 1, 0], [r_x, 0, 1]]
+     takes the parent's motion to the child's, X^T the child's force (moment about its
+     pin, force) to the parent's, X^T A X an inertia.
+   The factor (leaves first): IA_j = own_j + sum over children of X^T Ia_k X; U = IA_j s,
+   D = s.U + rotor (s = (1, 0, 0): turning about the pin; a motor's rotor adds its
+   reflected inertia to the joint's own rate only); Ia_j = IA_j - U U^T / D. A solve: u_j
+   = b_j - s.p_j and p_parent += X^T (p_j + U u_j / D) leaves first, then x_j = (u_j -
+   U.a_in) / D and a_j = a_in + s x_j, a_in = X a_parent, root first. A product M x runs
+   the same tree as inverse dynamics at rest: accelerations root first, forces back. The
+   dense path (rj__chol) stays for small trees, where it is cheaper, and for loops and
+   cable loops, whose rows and rotors need M. */
+
+/* The coordinate of body 2's parent joint, or -1 when body 1 is the ground or fixed. */
+static int rj__ab_parent(const rj_model *m, int j)
+{
+    const int p = m->jdef[j].body1;
+    return p >= 0 && m->rb_pjoint[p] >= 0 ? m->jq[m->rb_pjoint[p]] : -1;
+}
+
+/* r = P_child - P_parent for joint j (its body 2's pin less its parent's). */
+static void rj__ab_arm(const rj_model *m, const rj__rig *r, int j, double *rx, double *ry)
+{
+    const double *c = r->lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
+    const double *p = r->lk + RJ__RL_COUNT * (size_t) m->jdef[j].body1;
+    *rx = c[RJ__RL_PX] - p[RJ__RL_PX];
+    *ry = c[RJ__RL_PY] - p[RJ__RL_PY];
+}
+
+/* X^T A X added into B (symmetric 3 x 3, 6 entries), r the arm. */
+static void rj__ab_shift_inertia(const double *A, double rx, double ry, double *B)
+{
+    B[0] += A[0] + ry * ry * A[3] + rx * rx * A[5] - 2.0 * ry * A[1] + 2.0 * rx * A[2] -
+            2.0 * rx * ry * A[4];
+    B[1] += A[1] - ry * A[3] + rx * A[4];
+    B[2] += A[2] - ry * A[4] + rx * A[5];
+    B[3] += A[3];
+    B[4] += A[4];
+    B[5] += A[5];
+}
+
+/* A symmetric 3 x 3 (6 entries) times v. */
+static void rj__ab_sym_mul(const double *A, const double *v, double *out)
+{
+    out[0] = A[0] * v[0] + A[1] * v[1] + A[2] * v[2];
+    out[1] = A[1] * v[0] + A[3] * v[1] + A[4] * v[2];
+    out[2] = A[2] * v[0] + A[4] * v[1] + A[5] * v[2];
+}
+
+/* Each coordinate's body's own inertia about its pin (at the kinematics in r->lk), its
+   arm from its parent's pin, its parent's coordinate and its rotor. */
+static void rj__ab_own(const rj_model *m, rj__rig *r)
+{
+    int k;
+    for (k = 0; k < m->nq; k++) {
+        const int body = m->jdef[m->qj[k]].body2;
+        const double *b = r->lk + RJ__RL_COUNT * (size_t) body;
+        const double mass = m->rb_mass[body];
+        const double dx = b[RJ__RL_CX] - b[RJ__RL_PX], dy = b[RJ__RL_CY] - b[RJ__RL_PY];
+        double *own = r->ab + RJ__AB_COUNT * (size_t) k + RJ__AB_OWN;
+        own[0] = m->rb_icm[body] + mass * (dx * dx + dy * dy);
+        own[1] = -mass * dy;
+        own[2] = mass * dx;
+        own[3] = mass;
+        own[4] = 0;
+        own[5] = mass;
+    }
+    /* the tree's shape and arms, for the passes */
+    for (k = 0; k < m->nq; k++) {
+        const int j = m->qj[k];
+        double *rec = r->ab + RJ__AB_COUNT * (size_t) k;
+        rj__ab_arm(m, r, j, &rec[RJ__AB_RX], &rec[RJ__AB_RY]);
+        rec[RJ__AB_PQ] = rj__ab_parent(m, j);
+        rec[RJ__AB_ROT] = m->jnt[j].rotor;
+    }
+}
+
+/* The acceleration a coordinate's pin takes from its parent's (X a_parent), or 0. */
+static void rj__ab_accel_in(const rj__rig *r, const double *rec, int pq, double *a)
+{
+    const double *ap;
+    if (pq < 0) {
+        a[0] = a[1] = a[2] = 0;
+        return;
+    }
+    ap = r->ab + RJ__AB_COUNT * (size_t) pq + RJ__AB_A;
+    a[0] = ap[0];
+    a[1] = ap[1] - rec[RJ__AB_RY] * ap[0];
+    a[2] = ap[2] + rec[RJ__AB_RX] * ap[0];
+}
+
+/* The factor at the kinematics in r->lk; nonzero when a pivot D is not positive. */
+static int rj__aba_factor(const rj_model *m, rj__rig *r)
+{
+    const int n = m->nq;
+    int k, i;
+    rj__ab_own(m, r);
+    for (k = 0; k < n; k++) {
+        double *rec = r->ab + RJ__AB_COUNT * (size_t) k;
+        for (i = 0; i < 6; i++)
+            rec[RJ__AB_IA + i] = rec[RJ__AB_OWN + i];
+    }
+    /* jorder has parents before children: backwards, a subtree is whole when reached */
+    for (k = n - 1; k >= 0; k--) {
+        const int qi = m->jq[m->jorder[k]];
+        double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
+        const int pq = (int) rec[RJ__AB_PQ];
+        const double *A = rec + RJ__AB_IA;
+        double *U = rec + RJ__AB_U, Ia[6];
+        const double D = A[0] + rec[RJ__AB_ROT];
+        U[0] = A[0];
+        U[1] = A[1];
+        U[2] = A[2];
+        rec[RJ__AB_D] = D;
+        if (!(D > 0))
+            return -1;
+        if (pq < 0)
+            continue;
+        Ia[0] = A[0] - U[0] * U[0] / D;
+        Ia[1] = A[1] - U[0] * U[1] / D;
+        Ia[2] = A[2] - U[0] * U[2] / D;
+        Ia[3] = A[3] - U[1] * U[1] / D;
+        Ia[4] = A[4] - U[1] * U[2] / D;
+        Ia[5] = A[5] - U[2] * U[2] / D;
+        rj__ab_shift_inertia(Ia, rec[RJ__AB_RX], rec[RJ__AB_RY],
+                             r->ab + RJ__AB_COUNT * (size_t) pq + RJ__AB_IA);
+    }
+    return 0;
+}
+
+/* x = M^-1 b with the factor (b NULL: b = e_unit, a column of M^-1). */
+static void rj__aba_solve(const rj_model *m, rj__rig *r, const double *b, int unit, double *x)
+{
+    const int n = m->nq;
+    int k;
+    for (k = 0; k < n; k++) {
+        double *f = r->ab + RJ__AB_COUNT * (size_t) k + RJ__AB_F;
+        f[0] = f[1] = f[2] = 0;
+    }
+    for (k = n - 1; k >= 0; k--) {
+        const int qi = m->jq[m->jorder[k]];
+        double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
+        const int pq = (int) rec[RJ__AB_PQ];
+        const double *U = rec + RJ__AB_U, *f = rec + RJ__AB_F;
+        const double bj = b ? b[qi] : (qi == unit ? 1.0 : 0.0);
+        const double u = bj - f[0], w = u / rec[RJ__AB_D];
+        double *fp, px, py, pz;
+        rec[RJ__AB_UU] = u;
+        if (pq < 0)
+            continue;
+        /* the force this subtree passes on, moved to the parent's pin */
+        px = f[0] + U[0] * w;
+        py = f[1] + U[1] * w;
+        pz = f[2] + U[2] * w;
+        fp = r->ab + RJ__AB_COUNT * (size_t) pq + RJ__AB_F;
+        fp[0] += px - rec[RJ__AB_RY] * py + rec[RJ__AB_RX] * pz;
+        fp[1] += py;
+        fp[2] += pz;
+    }
+    for (k = 0; k < n; k++) {
+        const int qi = m->jq[m->jorder[k]];
+        double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
+        const int pq = (int) rec[RJ__AB_PQ];
+        const double *U = rec + RJ__AB_U;
+        double *a = rec + RJ__AB_A;
+        rj__ab_accel_in(r, rec, pq, a);
+        x[qi] = (rec[RJ__AB_UU] - (U[0] * a[0] + U[1] * a[1] + U[2] * a[2])) / rec[RJ__AB_D];
+        a[0] += x[qi];
+    }
+}
+
+/* y = M x (the bodies' inertias as the factor found them): accelerations root first,
+   the subtrees' m a and its moment leaves first. */
+static void rj__aba_mul(const rj_model *m, rj__rig *r, const double *x, double *y)
+{
+    const int n = m->nq;
+    int k;
+    for (k = 0; k < n; k++) {
+        const int qi = m->jq[m->jorder[k]];
+        double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
+        double *a = rec + RJ__AB_A;
+        rj__ab_accel_in(r, rec, (int) rec[RJ__AB_PQ], a);
+        a[0] += x[qi];
+        rj__ab_sym_mul(rec + RJ__AB_OWN, a, rec + RJ__AB_F);
+    }
+    for (k = n - 1; k >= 0; k--) {
+        const int qi = m->jq[m->jorder[k]];
+        const double *rec = r->ab + RJ__AB_COUNT * (size_t) qi, *f = rec + RJ__AB_F;
+        const int pq = (int) rec[RJ__AB_PQ];
+        double *fp;
+        y[qi] = f[0] + rec[RJ__AB_ROT] * x[qi];
+        if (pq < 0)
+            continue;
+        fp = r->ab + RJ__AB_COUNT * (size_t) pq + RJ__AB_F;
+        fp[0] += f[0] - rec[RJ__AB_RY] * f[1] + rec[RJ__AB_RX] * f[2];
+        fp[1] += f[1];
+        fp[2] += f[2];
+    }
+}
 /* ------------------------------------------------------------------ rigid links */
 /* Scenes of rigid links are integrated in joint coordinates q (the joints' running
    angles), so nothing but the joints limits the step. Kinematics run down the tree
@@ -9209,7 +9441,7 @@ static size_t rj__rigid_scratch(int nj, int nl, int ncp, int nloop)
     const size_t n = (size_t) nj, rows = (size_t) rj__rows_capacity(nj, ncp + nloop);
     const size_t others = (size_t) ncp + 2 * (size_t) nloop;
     return 3 * n * n + 2 * rows * rows + others * n + 10 * n + 3 * rows +
-           RJ__RL_COUNT * (size_t) nl + 8;
+           RJ__RL_COUNT * (size_t) nl + (RJ__AB_COUNT + 2) * n + 8;
 }
 
 /* the rigid solver's scratch: matrices n x n, vectors n (tmp 2 n), link records */
@@ -9234,6 +9466,7 @@ static void rj__rig_map(const rj_model *m, double *base, rj__rig *r, int nloop)
     r->rhs = r->lam + rows;
     r->Y = r->rhs + rows;
     r->lk = r->Y + ((size_t) m->ncp + 2 * (size_t) nloop) * n;
+    r->ab = r->lk + RJ__RL_COUNT * (size_t) m->nl;
 }
 
 /* The joint above joint j on the way to the ground (-1 at a root). */
@@ -9393,10 +9626,10 @@ static void rj__rig_gather(const double *sub, double *parent)
    motors' rotors (rj__rig_mass adds them). */
 static void rj__rig_mass_links(const rj_model *m, rj__rig *r)
 {
-    const int n = m->nq;
+    const int n = m->nq, dense = !m->rig_tree;
     double *M = r->M, *h = r->h, *lk = r->lk;
     int i, k;
-    for (i = 0; i < n * n; i++)
+    for (i = 0; i < n * n && dense; i++)
         M[i] = 0;
     for (k = 0; k < n; k++) {
         const int body = m->jdef[m->qj[k]].body2;
@@ -9408,12 +9641,14 @@ static void rj__rig_mass_links(const rj_model *m, rj__rig *r)
         const int parent = m->jdef[j].body1;
         const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
         h[qi] = sub[RJ__RL_SUB_N];
-        M[(size_t) qi * n + qi] = sub[RJ__RL_SUB_J];
+        if (dense)
+            M[(size_t) qi * n + qi] = sub[RJ__RL_SUB_J];
         if (parent < 0 || m->rb_pjoint[parent] < 0)
             continue; /* on the ground or a fixed link */
         rj__rig_gather(sub, lk + RJ__RL_COUNT * (size_t) parent);
     }
-    for (k = 0; k < n; k++) {
+    /* an articulated-body tree needs the subtrees' sums and h alone (rj__aba_factor) */
+    for (k = 0; k < n && dense; k++) {
         const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[m->qj[k]].body2;
         int up;
         for (up = rj__rig_up(m, m->qj[k]); up >= 0; up = rj__rig_up(m, up)) {
@@ -9450,7 +9685,7 @@ static void rj__rig_mass(const rj_model *m, rj__rig *r)
     const int n = m->nq;
     int k;
     rj__rig_mass_links(m, r);
-    for (k = 0; k < n; k++)
+    for (k = 0; k < n && !m->rig_tree; k++)
         r->M[(size_t) k * n + k] += m->jnt[m->qj[k]].rotor;
     if (m->nloop)
         rj__rig_loop_rotors(m, r->M, r->tmp);
@@ -9541,6 +9776,51 @@ static void rj__chol_unit(int n, const double *L, int j, double *x)
         for (k = i + 1; k < n; k++)
             sum -= L[(size_t) k * n + i] * x[k];
         x[i] = sum / L[(size_t) i * n + i];
+    }
+}
+
+/* M(q) and its factor at the kinematics in r->lk, as the model solves them: dense
+   (Cholesky) or articulated bodies (rj__aba_factor); nonzero when M is not positive
+   definite. */
+static int rj__rig_factor(const rj_model *m, rj__rig *r)
+{
+    rj__rig_mass(m, r);
+    return m->rig_tree ? rj__aba_factor(m, r) : rj__chol(m->nq, r->M, r->L);
+}
+
+/* x = M^-1 b with the factor. */
+static void rj__rig_solve(const rj_model *m, rj__rig *r, const double *b, double *x)
+{
+    if (m->rig_tree)
+        rj__aba_solve(m, r, b, -1, x);
+    else
+        rj__chol_solve(m->nq, r->L, b, x);
+}
+
+/* Column j of M^-1 with the factor. */
+static void rj__rig_unit(const rj_model *m, rj__rig *r, int j, double *x)
+{
+    if (m->rig_tree)
+        rj__aba_solve(m, r, NULL, j, x);
+    else
+        rj__chol_unit(m->nq, r->L, j, x);
+}
+
+/* y = M x at the factor's configuration. */
+static void rj__rig_mul(const rj_model *m, rj__rig *r, const double *x, double *y)
+{
+    const int n = m->nq;
+    int j, k;
+    if (m->rig_tree) {
+        rj__aba_mul(m, r, x, y);
+        return;
+    }
+    for (j = 0; j < n; j++) {
+        const double *Mj = r->M + (size_t) j * n;
+        double sum = 0;
+        for (k = 0; k < n; k++)
+            sum += Mj[k] * x[k];
+        y[j] = sum;
     }
 }
 
@@ -9681,6 +9961,76 @@ static void rj__rig_loop_minv(rj_model *m, const double *minv, double *g, double
     }
 }
 
+/* Coordinate k's joint: the inertias its element reads (its bodies' about the pin) and
+   the weights that share its torque between them. */
+static void rj__rig_joint_inertias(rj_model *m, const rj__rig *r, int k)
+{
+    const int j = m->qj[k];
+    rj__joint *J = &m->jnt[j];
+    const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
+    /* body 2's centre from the pin (its root unless the joint pins another node) */
+    const double arm = m->rb_dcm[b2] - (J->nJ - m->link_first[b2]) * m->link_l0[b2];
+    double dx, dy;
+    J->I2 = m->rb_icm[b2] + m->rb_mass[b2] * arm * arm;
+    if (b1 < 0 || m->rb_pjoint[b1] < 0)
+        J->I1 = HUGE_VAL;
+    else {
+        dx = r->lk[RJ__RL_COUNT * (size_t) b1 + RJ__RL_CX] -
+             r->lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_PX];
+        dy = r->lk[RJ__RL_COUNT * (size_t) b1 + RJ__RL_CY] -
+             r->lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_PY];
+        J->I1 = m->rb_icm[b1] + m->rb_mass[b1] * (dx * dx + dy * dy);
+    }
+    J->w1 = rj__finite(J->I1) ? J->I2 / (J->I1 + J->I2) : 0;
+    J->w2 = 1 - J->w1;
+}
+
+/* A power iteration's step from v to its image u: the estimate v.u (v of unit length) into
+   *lam and v = u / |u|; 0 when u is 0. */
+static int rj__power_next(double *v, const double *u, int n, double *lam)
+{
+    double nrm = 0;
+    int j;
+    for (j = 0; j < n; j++)
+        nrm += u[j] * u[j];
+    nrm = sqrt(nrm);
+    if (nrm == 0)
+        return 0;
+    *lam = 0;
+    for (j = 0; j < n; j++)
+        *lam += v[j] * u[j];
+    for (j = 0; j < n; j++)
+        v[j] = u[j] / nrm;
+    return 1;
+}
+
+/* An articulated-body tree's constants and bound: each 1 / I_red = (M^-1)_kk from a column
+   of M^-1 (O(n) each), and the power iteration on K^1/2 M^-1 K^1/2 with a solve per
+   iteration instead of the dense inverse. */
+static double rj__rig_tree_setup(rj_model *m, rj__rig *r)
+{
+    const int n = m->nq;
+    double *v = r->x, *u = r->tmp, *col = r->qdd, lam = 0;
+    int j, it;
+    for (j = 0; j < n; j++) {
+        rj__rig_joint_inertias(m, r, j);
+        rj__rig_unit(m, r, j, col);
+        m->jnt[m->qj[j]].minv = col[j];
+    }
+    for (j = 0; j < n; j++)
+        v[j] = 1.0 + 0.1 * j;
+    for (it = 0; it < 500; it++) {
+        for (j = 0; j < n; j++)
+            u[j] = sqrt(m->jnt[m->qj[j]].k_lin) * v[j];
+        rj__rig_solve(m, r, u, col);
+        for (j = 0; j < n; j++)
+            u[j] = sqrt(m->jnt[m->qj[j]].k_lin) * col[j];
+        if (!rj__power_next(v, u, n, &lam))
+            return 0;
+    }
+    return lam;
+}
+
 /* Rigid-link model constants and the stability bound: omega_max^2 = largest eigenvalue of
    K^1/2 M^-1 K^1/2 at the initial configuration (power iteration), K the joints' linear
    stiffnesses (limits counted as for flexible links). Returns omega_max^2. */
@@ -9690,40 +10040,25 @@ static double rj__rig_setup(rj_model *m, double *scratch)
     const int n = m->nq;
     double *minv = scratch + rj__rigid_scratch(m->nj, m->nl, m->ncp, 0), lam = 0, *v, *u;
     int j, k, it;
+    m->rig_tree = !m->nloop && !m->ncp && n >= RJ__RIG_TREE_MIN;
     rj__rig_map(m, scratch, &r, 0);
     for (j = 0; j < n; j++) {
         r.q[j] = m->jdef[m->qj[j]].angle0;
         r.qd[j] = r.qdp[j] = 0;
     }
     rj__rig_kin(m, &r, r.q, r.qd, r.qdp);
-    rj__rig_mass(m, &r);
-    if (n == 0 || rj__chol(n, r.M, r.L))
+    if (n == 0 || rj__rig_factor(m, &r))
         return 0;
+    if (m->rig_tree)
+        return rj__rig_tree_setup(m, &r);
     for (j = 0; j < n; j++) {
         for (k = 0; k < n; k++)
             r.tmp[k] = k == j ? 1.0 : 0.0;
         rj__chol_solve(n, r.L, r.tmp, minv + (size_t) j * n);
     }
     for (k = 0; k < n; k++) {
-        const int j = m->qj[k];
-        rj__joint *J = &m->jnt[j];
-        const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
-        /* body 2's centre from the pin (its root unless the joint pins another node) */
-        const double arm = m->rb_dcm[b2] - (J->nJ - m->link_first[b2]) * m->link_l0[b2];
-        double dx, dy;
-        J->I2 = m->rb_icm[b2] + m->rb_mass[b2] * arm * arm;
-        if (b1 < 0 || m->rb_pjoint[b1] < 0)
-            J->I1 = HUGE_VAL;
-        else {
-            dx = r.lk[RJ__RL_COUNT * (size_t) b1 + RJ__RL_CX] -
-                 r.lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_PX];
-            dy = r.lk[RJ__RL_COUNT * (size_t) b1 + RJ__RL_CY] -
-                 r.lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_PY];
-            J->I1 = m->rb_icm[b1] + m->rb_mass[b1] * (dx * dx + dy * dy);
-        }
-        J->w1 = rj__finite(J->I1) ? J->I2 / (J->I1 + J->I2) : 0;
-        J->w2 = 1 - J->w1;
-        J->minv = minv[(size_t) k * n + k]; /* rate change per unit torque impulse: 1 / I_red */
+        rj__rig_joint_inertias(m, &r, k);
+        m->jnt[m->qj[k]].minv = minv[(size_t) k * n + k]; /* rate change per unit torque impulse: 1 / I_red */
     }
     if (m->nloop)
         rj__rig_loop_minv(m, minv, r.qd, r.qdp);
@@ -9735,23 +10070,14 @@ static double rj__rig_setup(rj_model *m, double *scratch)
     for (j = 0; j < n; j++)
         v[j] = 1.0 + 0.1 * j;
     for (it = 0; it < 500; it++) {
-        double nrm = 0;
         for (j = 0; j < n; j++) {
             double sum = 0;
             for (k = 0; k < n; k++)
                 sum += minv[(size_t) j * n + k] * sqrt(m->jnt[m->qj[k]].k_lin) * v[k];
             u[j] = sqrt(m->jnt[m->qj[j]].k_lin) * sum;
         }
-        for (j = 0; j < n; j++)
-            nrm += u[j] * u[j];
-        nrm = sqrt(nrm);
-        if (nrm == 0)
+        if (!rj__power_next(v, u, n, &lam))
             return 0;
-        lam = 0;
-        for (j = 0; j < n; j++)
-            lam += v[j] * u[j];
-        for (j = 0; j < n; j++)
-            v[j] = u[j] / nrm;
     }
     return lam;
 }
@@ -9888,7 +10214,8 @@ static int rj__row_pulls(const rj__row *row, double lam)
    before the solve already holds exactly (-1: none), which alone needs no solve. */
 typedef struct rj__dense {
     int n;
-    const double *L;
+    const rj_model *m;
+    rj__rig *rig; /* M's factor (rj__rig_factor) */
     double *W, *Y, *S, *SL, *lam, *rhs, *scratch;
     int held;
 } rj__dense;
@@ -9904,7 +10231,7 @@ static const double *rj__row_column(const rj__rows *R, const rj__row *row, const
     if (rj__row_unit(R, row)) {
         const int j = R->term[row->first].joint;
         y = D->W + (size_t) j * n;
-        rj__chol_unit(n, D->L, j, y);
+        rj__rig_unit(D->m, D->rig, j, y);
         return y;
     }
     y = D->Y + (size_t) *others * n;
@@ -9913,7 +10240,7 @@ static const double *rj__row_column(const rj__rows *R, const rj__row *row, const
         scratch[k] = 0;
     for (k = 0; k < row->count; k++)
         scratch[R->term[row->first + k].joint] += R->term[row->first + k].coef;
-    rj__chol_solve(n, D->L, scratch, y);
+    rj__rig_solve(D->m, D->rig, scratch, y);
     return y;
 }
 
@@ -12590,10 +12917,11 @@ static void rj__rig_loops_shake(const rj_model *m, const rj__frames *f, rj__rig 
 }
 
 /* The dense rows' solve's working arrays, in the rigid solver's scratch. */
-static void rj__rig_dense(const rj_model *m, const rj__rig *r, rj__dense *D)
+static void rj__rig_dense(const rj_model *m, rj__rig *r, rj__dense *D)
 {
     D->n = m->nq;
-    D->L = r->L;
+    D->m = m;
+    D->rig = r;
     D->W = r->W;
     D->Y = r->Y;
     D->S = r->S;
@@ -12714,8 +13042,7 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_kinematics(const rj_model *m, rj
     new_scalars[RJ__FS_TIME] = f->t + f->dt;
     new_scalars[RJ__FS_ETIME] = f->t;
     new_scalars[RJ__FS_STRAIN] = 0;
-    rj__rig_mass(m, r);
-    if (rj__chol(m->nq, r->M, r->L))
+    if (rj__rig_factor(m, r))
         return rj__stop(m, s, RJ_ERR_BLOWUP,
                         "t = %.9g s: the rigid mass matrix is not positive definite", f->t);
     return RJ_OK;
@@ -12872,7 +13199,7 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
     /* springs and tables at q^n, from the element */
     f->new_scalars[RJ__FS_SPRING] = spring;
     e->spring = spring;
-    rj__chol_solve(m->nq, r->L, r->Q, r->qdd);
+    rj__rig_solve(m, r, r->Q, r->qdd);
 }
 
 /* Friction at the joints that close loops, as at the tree's: the loop's rate g . q' and
@@ -12911,7 +13238,7 @@ static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj_
     int j, k;
     for (j = 0; j < n; j++)
         if (m->jdef[m->qj[j]].friction > 0)
-            rj__chol_unit(n, r->L, j, W + (size_t) j * n);
+            rj__rig_unit(m, r, j, W + (size_t) j * n);
     for (j = 0; j < n; j++) {
         const double tf = m->jdef[m->qj[j]].friction, *w = W + (size_t) j * n;
         double tau;
@@ -12935,7 +13262,6 @@ static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj
     const int n = m->nq;
     const double *RJ__RESTRICT q = r->q;
     double *RJ__RESTRICT qdp = r->qdp, *RJ__RESTRICT rates_before = r->h, *W = r->W;
-    const double *L = r->L;
     int *ni = f->new_flags;
     int j, k;
     for (j = 0; j < n; j++) {
@@ -12962,7 +13288,7 @@ static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj
             jumps->impact = 1;
         /* stage 3 made the column of a joint with friction */
         if (!(d->friction > 0))
-            rj__chol_unit(n, L, j, W + (size_t) j * n);
+            rj__rig_unit(m, r, j, W + (size_t) j * n);
         lam = (-e * qdp[j] - qdp[j]) / w[j];
         for (k = 0; k < n; k++)
             qdp[k] += w[k] * lam;
@@ -12973,16 +13299,20 @@ static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj
    (q'_before - q'_after) now, 1/2 q'_after M (q'_before - q'_after) with the next step
    (pending); the generalised impulse along q_j is the latch's angular impulse on body 2. */
 static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__frames *f,
-                                               const rj__rig *r, rj__sums *e)
+                                               rj__rig *r, rj__sums *e)
 {
     const int n = m->nq, first = f->first;
     const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp;
-    const double *RJ__RESTRICT rates_before = r->h, *M = r->M;
+    const double *RJ__RESTRICT rates_before = r->h;
+    double *jump = r->ab + RJ__AB_COUNT * (size_t) n, *m_jump = jump + n;
     double *new_joints = RJ__FJ(m, f->next, 0);
     double lost_limit = e->lost_limit, pending = e->pending;
-    int j, k;
+    int j;
+    /* M (q'_before - q'_after): the generalised impulses */
+    for (j = 0; j < n; j++)
+        jump[j] = rates_before[j] - qdp[j];
+    rj__rig_mul(m, r, jump, m_jump);
     for (j = 0; j < n; j++) {
-        const double *Mj = M + (size_t) j * n;
         const rj__joint *J = &m->jnt[m->qj[j]];
         double *record = new_joints + (size_t) RJ__JD_COUNT * m->qj[j];
         /* an exact coupling's or a loop's share of the joint's impulse (its work is the
@@ -12990,9 +13320,7 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
         const double coupled = m->nexact || m->nloop ? r->x[j] : 0.0;
         /* the first step's q'^{-1/2} is 2 q'(0) less the rates before any impulse */
         const double back = first ? 2 * qd[j] - rates_before[j] : qd[j];
-        double sum = 0;
-        for (k = 0; k < n; k++)
-            sum += Mj[k] * (rates_before[k] - qdp[k]);
+        double sum = m_jump[j];
         /* a prescribed loop joint's share is its drive's work, not a latch's */
         if (m->nloop) {
             e->drive += 0.5 * back * r->xd[j];
@@ -13224,20 +13552,19 @@ static int rj__rig_node_inputs_ok(const rj_model *m, rj_state *s)
    - q'^{1/2}), the accounts (every step) and the energy tests; commit (nodes are computed
    when queried: rj__rig_pose). */
 static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_state *s,
-                                                         const rj__frames *f, const rj__rig *r,
+                                                         const rj__frames *f, rj__rig *r,
                                                          rj__sums *e)
 {
     const int n = m->nq, first = f->first;
-    const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp, *M = r->M;
+    const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp;
+    double *m_qdp = r->ab + RJ__AB_COUNT * (size_t) n;
     double *new_scalars = f->new_scalars;
     double ke = 0;
     rj_result res;
-    int j, k;
+    int j;
+    rj__rig_mul(m, r, qdp, m_qdp);
     for (j = 0; j < n; j++) {
-        const double *Mj = M + (size_t) j * n;
-        double sum = 0;
-        for (k = 0; k < n; k++)
-            sum += Mj[k] * qdp[k];
+        const double sum = m_qdp[j];
         /* the first step's q'^{-1/2}: 2 q'(0) less the rates before the step's impulses
            (kept in Q by rj__rig_stage_rates), which an impulse does not move */
         ke += 0.5 * (first ? 2 * qd[j] - r->Q[j] : qd[j]) * sum;

@@ -111,6 +111,11 @@ typedef long long rj__vl __attribute__((vector_size(16)));
    geometric stiffness the linearisation leaves out. */
 #define RJ__DT_MARGIN     0.98
 #define RJ__LANCZOS_ITERS 160
+/* Rigid trees of this many coordinates and more are solved by articulated bodies in O(n),
+   smaller ones by the dense M and its Cholesky factor (docs/performance.md: the crossing). */
+#ifndef RJ__RIG_TREE_MIN
+#define RJ__RIG_TREE_MIN 16
+#endif
 /* a contact first seen more than this far past its limit is reported as caught late */
 #define RJ__LATE 0.05
 /* neither the energy balance (total + dissipated - initial) nor the limits' work may put in
@@ -223,6 +228,7 @@ struct rj_model {
     int *jorder;    /* (nq) the tree's joints with parents before children */
     int nq;         /* joint coordinates: the tree's joints (nj less those closing loops) */
     int nloop;      /* joints that close loops */
+    int rig_tree;   /* rigid tree solved in O(n) (articulated bodies) instead of dense M */
     int *qj;        /* (nq) coordinate k's joint */
     int *jq;        /* (nj) joint j's coordinate, -1 for a joint that closes a loop */
     double *jpin,
@@ -422,7 +428,27 @@ typedef struct rj__rig {
         *rhs;   /* the rows' system (src/rows.h): R x R, its factor, R each (R rows at most) */
     double *Y;  /* the rows' M^-1 J^T that are not a column of M^-1: n each, one per coupling */
     double *lk; /* per link, RJ__RL_COUNT values: rj__rig_kin */
+    double *ab; /* per coordinate, RJ__AB_COUNT values: the articulated bodies (rj__aba_*) */
 } rj__rig;
+/* a coordinate's record in rj__rig.ab: its body's own inertia about the joint's pin and the
+   articulated inertia there (symmetric 3 x 3 on (omega, v_pin): 00 01 02 11 12 22), the
+   factor's U = IA s and D = s.IA s + rotor, a force about the pin, the solve's u, an
+   acceleration at the pin, the arm from the parent's pin, the parent's coordinate (-1:
+   none) and the rotor; then two spare vectors for the callers' products */
+enum {
+    RJ__AB_OWN = 0,
+    RJ__AB_IA = 6,
+    RJ__AB_U = 12,
+    RJ__AB_D = 15,
+    RJ__AB_F = 16,
+    RJ__AB_UU = 19,
+    RJ__AB_A = 20,
+    RJ__AB_RX = 23,
+    RJ__AB_RY = 24,
+    RJ__AB_PQ = 25,
+    RJ__AB_ROT = 26,
+    RJ__AB_COUNT = 27
+};
 /* a link's record in rj__rig.lk: angle and its cos, sin; root; centre; their accelerations
    (centripetal, at the predicted rates); predicted angular rate; rate and root velocity;
    then the subtree the link's parent joint carries (rj__rig_mass): its mass, first moment

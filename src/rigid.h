@@ -17,7 +17,7 @@ static size_t rj__rigid_scratch(int nj, int nl, int ncp, int nloop)
     const size_t n = (size_t) nj, rows = (size_t) rj__rows_capacity(nj, ncp + nloop);
     const size_t others = (size_t) ncp + 2 * (size_t) nloop;
     return 3 * n * n + 2 * rows * rows + others * n + 10 * n + 3 * rows +
-           RJ__RL_COUNT * (size_t) nl + 8;
+           RJ__RL_COUNT * (size_t) nl + (RJ__AB_COUNT + 2) * n + 8;
 }
 
 /* the rigid solver's scratch: matrices n x n, vectors n (tmp 2 n), link records */
@@ -42,6 +42,7 @@ static void rj__rig_map(const rj_model *m, double *base, rj__rig *r, int nloop)
     r->rhs = r->lam + rows;
     r->Y = r->rhs + rows;
     r->lk = r->Y + ((size_t) m->ncp + 2 * (size_t) nloop) * n;
+    r->ab = r->lk + RJ__RL_COUNT * (size_t) m->nl;
 }
 
 /* The joint above joint j on the way to the ground (-1 at a root). */
@@ -201,10 +202,10 @@ static void rj__rig_gather(const double *sub, double *parent)
    motors' rotors (rj__rig_mass adds them). */
 static void rj__rig_mass_links(const rj_model *m, rj__rig *r)
 {
-    const int n = m->nq;
+    const int n = m->nq, dense = !m->rig_tree;
     double *M = r->M, *h = r->h, *lk = r->lk;
     int i, k;
-    for (i = 0; i < n * n; i++)
+    for (i = 0; i < n * n && dense; i++)
         M[i] = 0;
     for (k = 0; k < n; k++) {
         const int body = m->jdef[m->qj[k]].body2;
@@ -216,12 +217,14 @@ static void rj__rig_mass_links(const rj_model *m, rj__rig *r)
         const int parent = m->jdef[j].body1;
         const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
         h[qi] = sub[RJ__RL_SUB_N];
-        M[(size_t) qi * n + qi] = sub[RJ__RL_SUB_J];
+        if (dense)
+            M[(size_t) qi * n + qi] = sub[RJ__RL_SUB_J];
         if (parent < 0 || m->rb_pjoint[parent] < 0)
             continue; /* on the ground or a fixed link */
         rj__rig_gather(sub, lk + RJ__RL_COUNT * (size_t) parent);
     }
-    for (k = 0; k < n; k++) {
+    /* an articulated-body tree needs the subtrees' sums and h alone (rj__aba_factor) */
+    for (k = 0; k < n && dense; k++) {
         const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[m->qj[k]].body2;
         int up;
         for (up = rj__rig_up(m, m->qj[k]); up >= 0; up = rj__rig_up(m, up)) {
@@ -258,7 +261,7 @@ static void rj__rig_mass(const rj_model *m, rj__rig *r)
     const int n = m->nq;
     int k;
     rj__rig_mass_links(m, r);
-    for (k = 0; k < n; k++)
+    for (k = 0; k < n && !m->rig_tree; k++)
         r->M[(size_t) k * n + k] += m->jnt[m->qj[k]].rotor;
     if (m->nloop)
         rj__rig_loop_rotors(m, r->M, r->tmp);
@@ -349,6 +352,51 @@ static void rj__chol_unit(int n, const double *L, int j, double *x)
         for (k = i + 1; k < n; k++)
             sum -= L[(size_t) k * n + i] * x[k];
         x[i] = sum / L[(size_t) i * n + i];
+    }
+}
+
+/* M(q) and its factor at the kinematics in r->lk, as the model solves them: dense
+   (Cholesky) or articulated bodies (rj__aba_factor); nonzero when M is not positive
+   definite. */
+static int rj__rig_factor(const rj_model *m, rj__rig *r)
+{
+    rj__rig_mass(m, r);
+    return m->rig_tree ? rj__aba_factor(m, r) : rj__chol(m->nq, r->M, r->L);
+}
+
+/* x = M^-1 b with the factor. */
+static void rj__rig_solve(const rj_model *m, rj__rig *r, const double *b, double *x)
+{
+    if (m->rig_tree)
+        rj__aba_solve(m, r, b, -1, x);
+    else
+        rj__chol_solve(m->nq, r->L, b, x);
+}
+
+/* Column j of M^-1 with the factor. */
+static void rj__rig_unit(const rj_model *m, rj__rig *r, int j, double *x)
+{
+    if (m->rig_tree)
+        rj__aba_solve(m, r, NULL, j, x);
+    else
+        rj__chol_unit(m->nq, r->L, j, x);
+}
+
+/* y = M x at the factor's configuration. */
+static void rj__rig_mul(const rj_model *m, rj__rig *r, const double *x, double *y)
+{
+    const int n = m->nq;
+    int j, k;
+    if (m->rig_tree) {
+        rj__aba_mul(m, r, x, y);
+        return;
+    }
+    for (j = 0; j < n; j++) {
+        const double *Mj = r->M + (size_t) j * n;
+        double sum = 0;
+        for (k = 0; k < n; k++)
+            sum += Mj[k] * x[k];
+        y[j] = sum;
     }
 }
 
@@ -489,6 +537,76 @@ static void rj__rig_loop_minv(rj_model *m, const double *minv, double *g, double
     }
 }
 
+/* Coordinate k's joint: the inertias its element reads (its bodies' about the pin) and
+   the weights that share its torque between them. */
+static void rj__rig_joint_inertias(rj_model *m, const rj__rig *r, int k)
+{
+    const int j = m->qj[k];
+    rj__joint *J = &m->jnt[j];
+    const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
+    /* body 2's centre from the pin (its root unless the joint pins another node) */
+    const double arm = m->rb_dcm[b2] - (J->nJ - m->link_first[b2]) * m->link_l0[b2];
+    double dx, dy;
+    J->I2 = m->rb_icm[b2] + m->rb_mass[b2] * arm * arm;
+    if (b1 < 0 || m->rb_pjoint[b1] < 0)
+        J->I1 = HUGE_VAL;
+    else {
+        dx = r->lk[RJ__RL_COUNT * (size_t) b1 + RJ__RL_CX] -
+             r->lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_PX];
+        dy = r->lk[RJ__RL_COUNT * (size_t) b1 + RJ__RL_CY] -
+             r->lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_PY];
+        J->I1 = m->rb_icm[b1] + m->rb_mass[b1] * (dx * dx + dy * dy);
+    }
+    J->w1 = rj__finite(J->I1) ? J->I2 / (J->I1 + J->I2) : 0;
+    J->w2 = 1 - J->w1;
+}
+
+/* A power iteration's step from v to its image u: the estimate v.u (v of unit length) into
+   *lam and v = u / |u|; 0 when u is 0. */
+static int rj__power_next(double *v, const double *u, int n, double *lam)
+{
+    double nrm = 0;
+    int j;
+    for (j = 0; j < n; j++)
+        nrm += u[j] * u[j];
+    nrm = sqrt(nrm);
+    if (nrm == 0)
+        return 0;
+    *lam = 0;
+    for (j = 0; j < n; j++)
+        *lam += v[j] * u[j];
+    for (j = 0; j < n; j++)
+        v[j] = u[j] / nrm;
+    return 1;
+}
+
+/* An articulated-body tree's constants and bound: each 1 / I_red = (M^-1)_kk from a column
+   of M^-1 (O(n) each), and the power iteration on K^1/2 M^-1 K^1/2 with a solve per
+   iteration instead of the dense inverse. */
+static double rj__rig_tree_setup(rj_model *m, rj__rig *r)
+{
+    const int n = m->nq;
+    double *v = r->x, *u = r->tmp, *col = r->qdd, lam = 0;
+    int j, it;
+    for (j = 0; j < n; j++) {
+        rj__rig_joint_inertias(m, r, j);
+        rj__rig_unit(m, r, j, col);
+        m->jnt[m->qj[j]].minv = col[j];
+    }
+    for (j = 0; j < n; j++)
+        v[j] = 1.0 + 0.1 * j;
+    for (it = 0; it < 500; it++) {
+        for (j = 0; j < n; j++)
+            u[j] = sqrt(m->jnt[m->qj[j]].k_lin) * v[j];
+        rj__rig_solve(m, r, u, col);
+        for (j = 0; j < n; j++)
+            u[j] = sqrt(m->jnt[m->qj[j]].k_lin) * col[j];
+        if (!rj__power_next(v, u, n, &lam))
+            return 0;
+    }
+    return lam;
+}
+
 /* Rigid-link model constants and the stability bound: omega_max^2 = largest eigenvalue of
    K^1/2 M^-1 K^1/2 at the initial configuration (power iteration), K the joints' linear
    stiffnesses (limits counted as for flexible links). Returns omega_max^2. */
@@ -498,40 +616,25 @@ static double rj__rig_setup(rj_model *m, double *scratch)
     const int n = m->nq;
     double *minv = scratch + rj__rigid_scratch(m->nj, m->nl, m->ncp, 0), lam = 0, *v, *u;
     int j, k, it;
+    m->rig_tree = !m->nloop && !m->ncp && n >= RJ__RIG_TREE_MIN;
     rj__rig_map(m, scratch, &r, 0);
     for (j = 0; j < n; j++) {
         r.q[j] = m->jdef[m->qj[j]].angle0;
         r.qd[j] = r.qdp[j] = 0;
     }
     rj__rig_kin(m, &r, r.q, r.qd, r.qdp);
-    rj__rig_mass(m, &r);
-    if (n == 0 || rj__chol(n, r.M, r.L))
+    if (n == 0 || rj__rig_factor(m, &r))
         return 0;
+    if (m->rig_tree)
+        return rj__rig_tree_setup(m, &r);
     for (j = 0; j < n; j++) {
         for (k = 0; k < n; k++)
             r.tmp[k] = k == j ? 1.0 : 0.0;
         rj__chol_solve(n, r.L, r.tmp, minv + (size_t) j * n);
     }
     for (k = 0; k < n; k++) {
-        const int j = m->qj[k];
-        rj__joint *J = &m->jnt[j];
-        const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
-        /* body 2's centre from the pin (its root unless the joint pins another node) */
-        const double arm = m->rb_dcm[b2] - (J->nJ - m->link_first[b2]) * m->link_l0[b2];
-        double dx, dy;
-        J->I2 = m->rb_icm[b2] + m->rb_mass[b2] * arm * arm;
-        if (b1 < 0 || m->rb_pjoint[b1] < 0)
-            J->I1 = HUGE_VAL;
-        else {
-            dx = r.lk[RJ__RL_COUNT * (size_t) b1 + RJ__RL_CX] -
-                 r.lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_PX];
-            dy = r.lk[RJ__RL_COUNT * (size_t) b1 + RJ__RL_CY] -
-                 r.lk[RJ__RL_COUNT * (size_t) b2 + RJ__RL_PY];
-            J->I1 = m->rb_icm[b1] + m->rb_mass[b1] * (dx * dx + dy * dy);
-        }
-        J->w1 = rj__finite(J->I1) ? J->I2 / (J->I1 + J->I2) : 0;
-        J->w2 = 1 - J->w1;
-        J->minv = minv[(size_t) k * n + k]; /* rate change per unit torque impulse: 1 / I_red */
+        rj__rig_joint_inertias(m, &r, k);
+        m->jnt[m->qj[k]].minv = minv[(size_t) k * n + k]; /* rate change per unit torque impulse: 1 / I_red */
     }
     if (m->nloop)
         rj__rig_loop_minv(m, minv, r.qd, r.qdp);
@@ -543,23 +646,14 @@ static double rj__rig_setup(rj_model *m, double *scratch)
     for (j = 0; j < n; j++)
         v[j] = 1.0 + 0.1 * j;
     for (it = 0; it < 500; it++) {
-        double nrm = 0;
         for (j = 0; j < n; j++) {
             double sum = 0;
             for (k = 0; k < n; k++)
                 sum += minv[(size_t) j * n + k] * sqrt(m->jnt[m->qj[k]].k_lin) * v[k];
             u[j] = sqrt(m->jnt[m->qj[j]].k_lin) * sum;
         }
-        for (j = 0; j < n; j++)
-            nrm += u[j] * u[j];
-        nrm = sqrt(nrm);
-        if (nrm == 0)
+        if (!rj__power_next(v, u, n, &lam))
             return 0;
-        lam = 0;
-        for (j = 0; j < n; j++)
-            lam += v[j] * u[j];
-        for (j = 0; j < n; j++)
-            v[j] = u[j] / nrm;
     }
     return lam;
 }

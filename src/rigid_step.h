@@ -333,10 +333,11 @@ static void rj__rig_loops_shake(const rj_model *m, const rj__frames *f, rj__rig 
 }
 
 /* The dense rows' solve's working arrays, in the rigid solver's scratch. */
-static void rj__rig_dense(const rj_model *m, const rj__rig *r, rj__dense *D)
+static void rj__rig_dense(const rj_model *m, rj__rig *r, rj__dense *D)
 {
     D->n = m->nq;
-    D->L = r->L;
+    D->m = m;
+    D->rig = r;
     D->W = r->W;
     D->Y = r->Y;
     D->S = r->S;
@@ -457,8 +458,7 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_kinematics(const rj_model *m, rj
     new_scalars[RJ__FS_TIME] = f->t + f->dt;
     new_scalars[RJ__FS_ETIME] = f->t;
     new_scalars[RJ__FS_STRAIN] = 0;
-    rj__rig_mass(m, r);
-    if (rj__chol(m->nq, r->M, r->L))
+    if (rj__rig_factor(m, r))
         return rj__stop(m, s, RJ_ERR_BLOWUP,
                         "t = %.9g s: the rigid mass matrix is not positive definite", f->t);
     return RJ_OK;
@@ -615,7 +615,7 @@ static RJ__FORCE_INLINE void rj__rig_stage_torques(const rj_model *m, rj_state *
     /* springs and tables at q^n, from the element */
     f->new_scalars[RJ__FS_SPRING] = spring;
     e->spring = spring;
-    rj__chol_solve(m->nq, r->L, r->Q, r->qdd);
+    rj__rig_solve(m, r, r->Q, r->qdd);
 }
 
 /* Friction at the joints that close loops, as at the tree's: the loop's rate g . q' and
@@ -654,7 +654,7 @@ static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj_
     int j, k;
     for (j = 0; j < n; j++)
         if (m->jdef[m->qj[j]].friction > 0)
-            rj__chol_unit(n, r->L, j, W + (size_t) j * n);
+            rj__rig_unit(m, r, j, W + (size_t) j * n);
     for (j = 0; j < n; j++) {
         const double tf = m->jdef[m->qj[j]].friction, *w = W + (size_t) j * n;
         double tau;
@@ -678,7 +678,6 @@ static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj
     const int n = m->nq;
     const double *RJ__RESTRICT q = r->q;
     double *RJ__RESTRICT qdp = r->qdp, *RJ__RESTRICT rates_before = r->h, *W = r->W;
-    const double *L = r->L;
     int *ni = f->new_flags;
     int j, k;
     for (j = 0; j < n; j++) {
@@ -705,7 +704,7 @@ static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj
             jumps->impact = 1;
         /* stage 3 made the column of a joint with friction */
         if (!(d->friction > 0))
-            rj__chol_unit(n, L, j, W + (size_t) j * n);
+            rj__rig_unit(m, r, j, W + (size_t) j * n);
         lam = (-e * qdp[j] - qdp[j]) / w[j];
         for (k = 0; k < n; k++)
             qdp[k] += w[k] * lam;
@@ -716,16 +715,20 @@ static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj
    (q'_before - q'_after) now, 1/2 q'_after M (q'_before - q'_after) with the next step
    (pending); the generalised impulse along q_j is the latch's angular impulse on body 2. */
 static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__frames *f,
-                                               const rj__rig *r, rj__sums *e)
+                                               rj__rig *r, rj__sums *e)
 {
     const int n = m->nq, first = f->first;
     const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp;
-    const double *RJ__RESTRICT rates_before = r->h, *M = r->M;
+    const double *RJ__RESTRICT rates_before = r->h;
+    double *jump = r->ab + RJ__AB_COUNT * (size_t) n, *m_jump = jump + n;
     double *new_joints = RJ__FJ(m, f->next, 0);
     double lost_limit = e->lost_limit, pending = e->pending;
-    int j, k;
+    int j;
+    /* M (q'_before - q'_after): the generalised impulses */
+    for (j = 0; j < n; j++)
+        jump[j] = rates_before[j] - qdp[j];
+    rj__rig_mul(m, r, jump, m_jump);
     for (j = 0; j < n; j++) {
-        const double *Mj = M + (size_t) j * n;
         const rj__joint *J = &m->jnt[m->qj[j]];
         double *record = new_joints + (size_t) RJ__JD_COUNT * m->qj[j];
         /* an exact coupling's or a loop's share of the joint's impulse (its work is the
@@ -733,9 +736,7 @@ static RJ__FORCE_INLINE void rj__rig_jump_loss(const rj_model *m, const rj__fram
         const double coupled = m->nexact || m->nloop ? r->x[j] : 0.0;
         /* the first step's q'^{-1/2} is 2 q'(0) less the rates before any impulse */
         const double back = first ? 2 * qd[j] - rates_before[j] : qd[j];
-        double sum = 0;
-        for (k = 0; k < n; k++)
-            sum += Mj[k] * (rates_before[k] - qdp[k]);
+        double sum = m_jump[j];
         /* a prescribed loop joint's share is its drive's work, not a latch's */
         if (m->nloop) {
             e->drive += 0.5 * back * r->xd[j];
@@ -967,20 +968,19 @@ static int rj__rig_node_inputs_ok(const rj_model *m, rj_state *s)
    - q'^{1/2}), the accounts (every step) and the energy tests; commit (nodes are computed
    when queried: rj__rig_pose). */
 static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_state *s,
-                                                         const rj__frames *f, const rj__rig *r,
+                                                         const rj__frames *f, rj__rig *r,
                                                          rj__sums *e)
 {
     const int n = m->nq, first = f->first;
-    const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp, *M = r->M;
+    const double *RJ__RESTRICT qd = r->qd, *RJ__RESTRICT qdp = r->qdp;
+    double *m_qdp = r->ab + RJ__AB_COUNT * (size_t) n;
     double *new_scalars = f->new_scalars;
     double ke = 0;
     rj_result res;
-    int j, k;
+    int j;
+    rj__rig_mul(m, r, qdp, m_qdp);
     for (j = 0; j < n; j++) {
-        const double *Mj = M + (size_t) j * n;
-        double sum = 0;
-        for (k = 0; k < n; k++)
-            sum += Mj[k] * qdp[k];
+        const double sum = m_qdp[j];
         /* the first step's q'^{-1/2}: 2 q'(0) less the rates before the step's impulses
            (kept in Q by rj__rig_stage_rates), which an impulse does not move */
         ke += 0.5 * (first ? 2 * qd[j] - r->Q[j] : qd[j]) * sum;

@@ -130,7 +130,8 @@ static int rj__row_pulls(const rj__row *row, double lam)
    before the solve already holds exactly (-1: none), which alone needs no solve. */
 typedef struct rj__dense {
     int n;
-    const double *L;
+    const rj_model *m;
+    rj__rig *rig; /* M's factor (rj__rig_factor) */
     double *W, *Y, *S, *SL, *lam, *rhs, *scratch;
     int held;
 } rj__dense;
@@ -146,7 +147,7 @@ static const double *rj__row_column(const rj__rows *R, const rj__row *row, const
     if (rj__row_unit(R, row)) {
         const int j = R->term[row->first].joint;
         y = D->W + (size_t) j * n;
-        rj__chol_unit(n, D->L, j, y);
+        rj__rig_unit(D->m, D->rig, j, y);
         return y;
     }
     y = D->Y + (size_t) *others * n;
@@ -155,7 +156,7 @@ static const double *rj__row_column(const rj__rows *R, const rj__row *row, const
         scratch[k] = 0;
     for (k = 0; k < row->count; k++)
         scratch[R->term[row->first + k].joint] += R->term[row->first + k].coef;
-    rj__chol_solve(n, D->L, scratch, y);
+    rj__rig_solve(D->m, D->rig, scratch, y);
     return y;
 }
 
