@@ -26,7 +26,7 @@ SAN     = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omi
 
 HDR     = revjoint.h
 RENDER  = render/rj_render.c render/rj_render.h
-EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B)/sweep $(B)/studies $(B)/rj $(B)/segmented $(B)/a02 $(B)/pd_arm \
+EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B)/studies $(B)/rj $(B)/segmented $(B)/a02 $(B)/pd_arm \
           $(B)/peer_side $(B)/rigid_cross
 TESTS   = $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_benchmarks $(B)/test_rigid2 \
           $(B)/test_render $(B)/csvdiff $(B)/test_core_asan $(B)/test_dynamics_asan $(B)/test_beam_asan \
@@ -57,8 +57,6 @@ $(B)/animate: examples/animate.c examples/scenes.h examples/cli.h $(HDR) $(RENDE
 	$(CC) $(EXCF) examples/animate.c $(B)/rj_render.o $(B)/rj_impl.o -o $@ $(GL)
 $(B)/rj: examples/rj.c examples/scenes.h examples/cli.h $(HDR) $(RENDER) $(B)/rj_render.o $(B)/rj_impl.o | $(B)
 	$(CC) $(EXCF) examples/rj.c $(B)/rj_render.o $(B)/rj_impl.o -o $@ $(GL)
-$(B)/sweep: examples/sweep.c examples/scenes.h examples/cli.h $(HDR) $(B)/rj_impl.o | $(B)
-	$(CC) $(EXCF) $< $(B)/rj_impl.o -o $@ -lm -lpthread
 $(B)/studies: examples/studies.c examples/scenes.h examples/rigid2.h examples/cli.h $(HDR) $(B)/rj_impl.o | $(B)
 	$(CC) $(EXCF) $< $(B)/rj_impl.o -o $@ -lm
 $(B)/quickstart: examples/quickstart.c $(HDR) | $(B)

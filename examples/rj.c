@@ -242,7 +242,8 @@ static const char usage_sweep[] =
     "  --dt S             time step, instead of the file's solver.dt (0 = automatic)\n"
     "  --set KIND.NAME.KEY=VALUE  a change every sample has (with --vary 64 at most)\n"
     "  --csv FILE         the rows (default, or -, standard output)\n"
-    "  --force            run even above 1e8 steps a sample at the file's values\n"
+    "  --force            run even above 1e8 steps a sample at the file's values (or\n"
+    "                     at a --vary solver.dt=LO:HI's LO)\n"
     "  Columns: sample (k); each --vary's value (%.17g: rj run --set KEY=VALUE runs the\n"
     "  sample again); per joint J in the file's order J.first_contact, J.lock (s, as rj\n"
     "  run's summary), J.peak_pin_force (N); per flexible link L L.peak_moment (N m);\n"
@@ -472,7 +473,7 @@ static void vary_parse(cli *c, const char *opt, vary *v)
     if (v->dist == DIST_NORMAL && b < 0) cli_bad(c, opt, s, "SD >= 0, the normal's standard deviation");
 }
 
-/* --seed takes an integer in [0, 1e15], as build/sweep's */
+/* --seed takes an integer in [0, 1e15] */
 #define SEED_MAX 1000000000000000LL
 
 /* rj sweep --grid K: at most this many samples, K^n for n --vary keys (an int indexes
@@ -4103,6 +4104,23 @@ static int sweep_go(sweep *w)
     return started > 0 ? 0 : 1;
 }
 
+/* rj sweep: the bound on a run's length at the smallest step a --vary solver.dt=LO:HI
+   draws, LO (> 0; 0 is the automatic step, the file's check), so that a study of the step
+   cannot run for days unasked. Exits 2 above it, unless --force. --dt, which every sample
+   takes instead (sweep_sample), was checked as the file's step. */
+static void sweep_check_dt(const opts *o)
+{
+    char prog[300];
+    int i;
+    for (i = 0; o->dt < 0 && i < o->nvary; i++) {
+        const vary *v = &o->varies[i];
+        if (v->dist != DIST_UNIFORM || v->keylen != 9 || strncmp(v->spec, "solver.dt", 9) != 0 || !(v->lo > 0))
+            continue;
+        snprintf(prog, sizeof prog, "rj sweep: option --vary %.200s: at LO", v->spec);
+        cli_check_steps(prog, o->t_end, v->lo, o->force);
+    }
+}
+
 /* rj sweep: the options, the scene at the file's values (names, the step bound), every
    --vary's ends and the output (--resume: the file's rows) are checked before any sample
    runs; then the samples. */
@@ -4127,6 +4145,7 @@ static int cmd_sweep(int argc, char **argv)
     } else if (sweep_check(&w) == 0) {
         /* the bound on a run's length at the file's step: a varied key may change it */
         cli_check_steps("rj sweep", o.t_end, rj_model_dt(sc.m), o.force);
+        sweep_check_dt(&o);
         st = sweep_open(&w, csv);
     }
     if (st == 0) {

@@ -33,9 +33,10 @@ t 2 "studies rejects a stray argument" $B/studies now
 t 2 "animate rejects --size with trailing text" $B/animate --size 640x480junk --t-end 0 --out $T/junk
 t 2 "animate rejects --size with a sign" $B/animate --size 640x-480 --t-end 0 --out $T/junk
 t 2 "animate rejects --size without a height" $B/animate --size 640x --t-end 0 --out $T/junk
-t 2 "sweep rejects --shard with trailing text" $B/sweep --shard 0/3x --samples 1 --t-end 0
-t 2 "sweep rejects --shard with i >= n" $B/sweep --shard 3/3 --samples 1 --t-end 0
-t 2 "sweep rejects a fractional --seed" $B/sweep --seed 1.5 --samples 1 --t-end 0
+RS="$B/rj sweep examples/scenes/deploy_rigid.rjs --vary joint.j1.friction=0.0306:0.0459"
+t 2 "rj sweep rejects --shard with trailing text" $RS --shard 0/3x --samples 1 --t-end 0
+t 2 "rj sweep rejects a fractional --seed" $RS --seed 1.5 --samples 1 --t-end 0
+t 2 "rj sweep rejects a hex --seed" $RS --seed 0x10 --samples 1 --t-end 0
 t 2 "impact rejects a hex integer" $B/impact --elements 0x10 --t-end 0
 t 2 "impact rejects a fractional integer" $B/impact --elements 10.5 --t-end 0
 t 2 "impact rejects a number with a leading blank" $B/impact --dt " 1e-6" --t-end 0
@@ -81,8 +82,8 @@ if [ -w /dev/full ]; then
   m 1 "/dev/full: No space left" "impact --csv /dev/full fails" $B/impact --t-end 0.005 --csv /dev/full
   m 1 "standard output: No space left" "impact > /dev/full fails" sh -c "$B/impact --t-end 0.005 > /dev/full"
   m 1 "standard output: No space left" "impact --all > /dev/full fails" sh -c "$B/impact --all --t-end 0.0001 > /dev/full"
-  m 1 "/dev/full: No space left" "sweep --csv /dev/full fails" $B/sweep --samples 2 --t-end 0.1 --csv /dev/full
-  m 1 "standard output: No space left" "sweep > /dev/full fails" sh -c "$B/sweep --samples 2 --t-end 0.1 > /dev/full"
+  m 1 "cannot write /dev/full: No space left" "rj sweep --csv /dev/full fails" $RS --samples 2 --t-end 0.1 --csv /dev/full
+  m 1 "cannot write standard output: No space left" "rj sweep > /dev/full fails" sh -c "$RS --samples 2 --t-end 0.1 > /dev/full"
   m 1 "stdout: No space left" "quickstart > /dev/full fails" sh -c "$B/quickstart > /dev/full"
 else
   echo "SKIP cli: no /dev/full here: the full-disk checks did not run"
@@ -96,8 +97,11 @@ m 2 "e\+15 steps.*dt 3.64e-15 s.*--force" "deploy --method penalty --K 1e22 (dt 
   $TO $B/deploy --method penalty --K 1e22
 m 1 "no usable step.*joints\[1\].*penalty K 1e\+30" "deploy --method penalty --K 1e30 (a bound below 1e-15 s) is refused by the library, naming the joint" \
   $TO $B/deploy --method penalty --K 1e30
-m 2 "steps.*--force" "sweep --links flexible --dt-pct 99 --t-end 100 is refused" \
-  $TO $B/sweep --links flexible --dt-pct 99 --t-end 100
+m 2 "about 1.33e\+09 steps.*dt 7.5e-06 s.*--force" "rj sweep deploy.rjs --t-end 1e4 (1.3e9 steps a sample at the file's step) is refused" \
+  $TO $B/rj sweep examples/scenes/deploy.rjs --vary joint.j1.friction=0.0306:0.0459 --samples 1 --t-end 1e4
+m 2 "option --vary solver.dt=7.5e-8:7.5e-6: at LO: about 1.33e\+09 steps.*--force" \
+  "rj sweep --vary solver.dt=7.5e-8:7.5e-6 --t-end 100 (1.3e9 steps a sample at LO) is refused" \
+  $TO $B/rj sweep examples/scenes/deploy.rjs --vary solver.dt=7.5e-8:7.5e-6 --samples 1 --t-end 100
 m 2 "steps.*--force" "animate --t-end 1e6 is refused" $TO $B/animate --t-end 1e6 --out $T/long
 m 2 "frames.*--force" "animate --scene impact --fps 1e6 --t-end 1 (400 000 frames) is refused" \
   $TO $B/animate --scene impact --fps 1e6 --t-end 1 --out $T/long

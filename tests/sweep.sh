@@ -1,32 +1,78 @@
 #!/bin/sh
-# build/sweep: shards concatenate to the unsharded run, threads do not change results, and
-# the rigid deployment locks in every sample at +-20 % friction.
+# rj sweep: a tolerance study of the rigid two-link deployment latches in every sample and
+# at every corner, on 1 and 2 threads alike; its scene file is build/deploy's rigid model
+# and its preload handle moves the springs' free angles. Then shards under GNU parallel,
+# and the designs: normal draws, --lhs, --grid, unit words, --shard auto.
 B=${1:-build}; T=$B/sweep_out; mkdir -p $T
-$B/sweep --samples 24 --threads 1 --csv $T/one.csv 2>/dev/null
-$B/sweep --samples 24 --threads 2 --csv $T/two.csv 2>/dev/null
-$B/sweep --samples 24 --shard 0/3 --csv $T/s0.csv 2>/dev/null
-$B/sweep --samples 24 --shard 1/3 --csv $T/s1.csv 2>/dev/null
-$B/sweep --samples 24 --shard 2/3 --csv $T/s2.csv 2>/dev/null
-if cmp -s $T/one.csv $T/two.csv; then echo "PASS sweep: 1 and 2 threads give identical rows"; else echo "FAIL sweep: thread count changes the rows"; fi
-cat $T/s0.csv $T/s1.csv $T/s2.csv | sort > $T/shards.csv; sort $T/one.csv > $T/one_sorted.csv
-if cmp -s $T/shards.csv $T/one_sorted.csv; then echo "PASS sweep: shards 0/3, 1/3, 2/3 together equal the unsharded run"; else echo "FAIL sweep: shards differ from the unsharded run"; fi
-f=$(awk -F, 'NR>1 && $10 != 0' $T/one.csv | wc -l)
-[ "$f" -eq 0 ] && echo "PASS sweep: every one of 24 samples (friction +-20 %, preload +-5 deg, tip mass +-10 %) locks both joints" || echo "FAIL sweep: $f samples failed to lock"
-# progress on standard error (a --grid 50 sweep is 6.25 million samples): with --progress a
-# line at the end into a file or pipe, the rows the same as without it
-$B/sweep --samples 24 --progress --csv $T/prog.csv 2>$T/prog.err
-if grep -Eq '^sweep: 24 / 24 samples \(100.0 %\), [0-9.]+ s, .* samples/s, ETA 0 s$' $T/prog.err && cmp -s $T/prog.csv $T/one.csv; then
-  echo "PASS sweep: --progress prints samples done, rate and ETA on standard error; the rows unchanged"
-else echo "FAIL sweep: --progress: $(head -c 300 $T/prog.err)"; fi
+# ---- the deployment with rigid links (examples/scenes/deploy_rigid.rjs), 8 s a sample
+# (both joints lock by 4.6 s; 8000 steps of 1 ms, about 3 ms a sample)
+D=examples/scenes/deploy_rigid.rjs
+# the file is build/deploy --links rigid --paper's model: the same angles at every 1 ms row
+# (deploy's q2 is j2's theta less 180 deg; deploy prints 10 digits)
+$B/deploy --links rigid --paper --t-end 8 --csv $T/dr_deploy.csv 2>/dev/null
+$B/rj run $D --t-end 8 --csv $T/dr_rj.csv 2>/dev/null
+dq=$(paste -d, $T/dr_deploy.csv $T/dr_rj.csv | awk -F, 'NR == 1 { for (i = 11; i <= NF; i++) c[$i] = i; next }
+  { d1 = $2 - $c["j1.theta_deg"]; d2 = $3 + 180 - $c["j2.theta_deg"]; if (d1 < 0) d1 = -d1; if (d2 < 0) d2 = -d2
+    if (d1 > m) m = d1; if (d2 > m) m = d2; if ($1 != $11) bad++; n++ }
+  END { if (n != 8001 || bad || !(m < 1e-6)) print "FAIL " n " rows, " bad + 0 " times differ, largest |dq| " m " deg"; else print m + 0 }')
+case "$dq" in FAIL*) echo "FAIL sweep: deploy_rigid.rjs against build/deploy --links rigid --paper: ${dq#FAIL }";;
+  *) echo "PASS sweep: deploy_rigid.rjs is build/deploy --links rigid --paper's model: 8001 rows, angles within $dq deg";; esac
+# The tolerances, each uniform and independent about the file's value:
+#   friction  +-20 %: j1 0.03825 N m -> 0.0306:0.0459, j2 0.0225 N m -> 0.018:0.027
+#   preload   +-5 deg of each spring's free angle, as the file's torque actuators preload1
+#             and preload2 at k x 5 deg: 0.0789 and 0.0768 N m/rad x 0.0872665 rad =
+#             0.0068853 and 0.0067021 N m (a check below reruns samples with the free
+#             angles moved instead)
+#   tip mass  +-10 %: arm1 1.2 kg -> 1.08:1.32, arm2 0.336 kg -> 0.3024:0.3696
+TOL="--vary joint.j1.friction=0.0306:0.0459 --vary joint.j2.friction=0.018:0.027
+  --vary actuator.preload1.torque=-0.0068853:0.0068853 --vary actuator.preload2.torque=-0.0067021:0.0067021
+  --vary link.arm1.tip_mass=1.08:1.32 --vary link.arm2.tip_mass=0.3024:0.3696 --t-end 8"
+$B/rj sweep $D $TOL --samples 100 --threads 1 --csv $T/tol1.csv 2>/dev/null; st1=$?
+$B/rj sweep $D $TOL --samples 100 --threads 2 --csv $T/tol2.csv 2>/dev/null; st2=$?
+$B/rj sweep $D $TOL --grid 2 --threads 2 --csv $T/corners.csv 2>/dev/null; st3=$?
+# every row ok, both joints locked, its values within the ranges; the lock times' spread
+latched() { # csv: "rows bad j1-min j1-max j2-min j2-max"
+  awk -F, 'BEGIN { split("0.0306 0.018 -0.0068853 -0.0067021 1.08 0.3024", lo, " ")
+                   split("0.0459 0.027 0.0068853 0.0067021 1.32 0.3696", hi, " ") }
+    NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    { a = $c["j1.lock"]; b = $c["j2.lock"]; n++
+      if ($c["status"] != "ok" || !(a > 0) || !(b > 0)) bad++
+      for (i = 1; i <= 6; i++) if ($(i + 1) < lo[i] || $(i + 1) > hi[i]) bad++
+      if (n == 1 || a < a0) a0 = a; if (a > a1) a1 = a; if (n == 1 || b < b0) b0 = b; if (b > b1) b1 = b }
+    END { printf "%d %d %s %s %s %s", n, bad, a0, a1, b0, b1 }' "$1"
+}
+set -- $(latched $T/tol1.csv)
+if [ $st1 = 0 ] && [ "$1" = 100 ] && [ "$2" = 0 ] && awk "BEGIN { exit !($4 - $3 > 0.2 && $6 - $5 > 0.1) }"; then
+  echo "PASS sweep: rigid deployment, 100 samples (friction +-20 %, preload +-5 deg, tip mass +-10 %): every one locks both joints (j1 $3..$4 s, j2 $5..$6 s)"
+else echo "FAIL sweep: rigid deployment tolerance study: status $st1, $1 rows, $2 not ok, unlocked or out of range (j1 $3..$4 s, j2 $5..$6 s)"; fi
+set -- $(latched $T/corners.csv)
+if [ $st3 = 0 ] && [ "$1" = 64 ] && [ "$2" = 0 ]; then
+  echo "PASS sweep: rigid deployment, --grid 2: all 64 corners of the tolerance box lock both joints (j1 $3..$4 s, j2 $5..$6 s)"
+else echo "FAIL sweep: rigid deployment corners: status $st3, $1 rows, $2 not ok, unlocked or out of range"; fi
+if [ $st2 = 0 ] && [ -s $T/tol1.csv ] && cmp -s $T/tol1.csv $T/tol2.csv; then
+  echo "PASS sweep: the rigid deployment's study on 1 and 2 threads gives identical rows"
+else echo "FAIL sweep: --threads 2 changes the rigid deployment's rows (status $st2)"; fi
+# the preload handle: samples 0..2 rerun by rj run with the actuators at 0 and each
+# spring's free angle moved by torque / k (300 and 120 deg in the file) lock at the rows'
+# times, with their peak pin forces (rj run prints 4 digits)
+same=0
+for k in 0 1 2; do
+  set -- $(awk -F, -v k=$k '$1 == k { pi = atan2(0, -1)
+    printf "%s %s %.17g %.17g %s %s %s %s %s %s", $2, $3, 300 + $4 / 0.0789 * 180 / pi, 120 + $5 / 0.0768 * 180 / pi, $6, $7, $9, $10, $12, $13 }' $T/tol1.csv)
+  $B/rj run $D --t-end 8 --set joint.j1.friction=$1 --set joint.j2.friction=$2 --set "joint.j1.spring=0.0789 $3 deg" \
+    --set "joint.j2.spring=0.0768 $4 deg" --set link.arm1.tip_mass=$5 --set link.arm2.tip_mass=$6 --csv /dev/null 2>$T/pre$k.err
+  l1=$(sed -n 's/^rj run: j1: first contact [^ ]* s, lock \([^ ]*\) s.*peak |pin force| \([^ ]*\) N.*/\1 \2/p' $T/pre$k.err)
+  l2=$(sed -n 's/^rj run: j2: first contact [^ ]* s, lock \([^ ]*\) s.*peak |pin force| \([^ ]*\) N.*/\1 \2/p' $T/pre$k.err)
+  awk -v r="$7 $8 $9 ${10}" -v s="$l1 $l2" 'BEGIN { split(r, a, " "); split(s, b, " ")
+    exit !(a[1] > 0 && a[1] == b[1] && a[3] == b[3] && (a[2] - b[2]) ^ 2 < (1e-3 * a[2]) ^ 2 && (a[4] - b[4]) ^ 2 < (1e-3 * a[4]) ^ 2) }' \
+    && same=$((same + 1))
+done
+if [ $same = 3 ]; then echo "PASS sweep: deploy_rigid.rjs's preload actuators: 3 samples rerun with the springs' free angles moved instead lock at the same times, the same pin forces"
+else echo "FAIL sweep: preload as a torque differs from the free angle moved: $same of 3 samples agree (last: row $7 $8 $9 ${10}, rj run $l1 $l2)"; fi
 # the usage is printed with fputs: a percent sign is written as one
-if $B/sweep --help | grep -q 'friction varied by +-P % (default 20)' && ! $B/sweep --help | grep -q '%%'; then
-  echo "PASS sweep: --help prints '%', not '%%'"
-else echo "FAIL sweep: --help: $($B/sweep --help | grep '%' | head -2)"; fi
-# a misspelt option gets the nearest one; numbers are decimal
-if $B/sweep --samles 3 2>&1 | grep -q "^.*sweep: unknown option '--samles'; did you mean '--samples'?" \
-   && $B/sweep --t-end 0x10 2>&1 | grep -q "option --t-end: bad value '0x10' (need a finite decimal number"; then
-  echo "PASS sweep: --samles: did you mean '--samples'; --t-end 0x10 (hex) is refused"
-else echo "FAIL sweep: no suggestion for --samles, or hex taken as a number"; fi
+if $B/rj sweep --help | grep -q 'only the samples k with k % n == i' && ! $B/rj sweep --help | grep -q '%%'; then
+  echo "PASS sweep: rj sweep --help prints '%', not '%%'"
+else echo "FAIL sweep: rj sweep --help: $($B/rj sweep --help | grep '%' | head -2)"; fi
 # rj sweep over any scene: 4 shards run by GNU parallel (a cluster's way to split a study,
 # docs/studies.md), joined and sorted by index, are the rows one process writes
 V="--vary joint.h1.friction=0.016:0.024 --vary material.cfrp_sandwich.rho=2250:2750 --samples 8 --t-end 3"
