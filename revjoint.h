@@ -300,8 +300,8 @@ typedef struct rj_joint_def {
    rj_run leaves are the same as with K = 1;
    between them rj_state_energy keeps the last ones (rj_state_energy_time says when). Positions,
    velocities and the work of damping, friction and limits are the same bits either way;
-   flexible links' steps take about a quarter fewer instructions (sh bench/instr.sh);
-   a blow-up is caught up to K - 1 steps later. Rigid-only scenes take it every step.
+   flexible links' steps take about a quarter fewer instructions (sh bench/instr.sh), rigid
+   ones skip the kinetic energy's M q' product; a blow-up is caught up to K - 1 steps later.
    in_place (rj_in_place, default AUTO): the step advances the nodes and elements where they
    are instead of into a second frame, which halves what a large model moves through the
    caches (1.36-1.49x faster at 2000 elements in make bench, docs/performance.md); it keeps a copy of the state
@@ -1320,7 +1320,7 @@ typedef struct rj__rig {
 } rj__rig;
 /* a coordinate's record in rj__rig.ab: its body's own inertia about the joint's pin and the
    articulated inertia there (symmetric 3 x 3 on (omega, v_pin): 00 01 02 11 12 22), the
-   factor's U = IA s and D = s.IA s + rotor, a force about the pin, the solve's u, an
+   factor's U = IA s and 1 / D (D = s.IA s + rotor), a force about the pin, the solve's u, an
    acceleration at the pin, the arm from the parent's pin, the parent's coordinate (-1:
    none) and the rotor; then two spare vectors for the callers' products */
 enum {
@@ -9331,30 +9331,53 @@ static int rj__aba_factor(const rj_model *m, rj__rig *r)
         double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
         const int pq = (int) rec[RJ__AB_PQ];
         const double *A = rec + RJ__AB_IA;
-        double *U = rec + RJ__AB_U, Ia[6];
+        double *U = rec + RJ__AB_U, Ia[6], inv_d;
         const double D = A[0] + rec[RJ__AB_ROT];
         U[0] = A[0];
         U[1] = A[1];
         U[2] = A[2];
-        rec[RJ__AB_D] = D;
         if (!(D > 0))
             return -1;
+        inv_d = 1.0 / D;
+        rec[RJ__AB_D] = inv_d;
         if (pq < 0)
             continue;
-        Ia[0] = A[0] - U[0] * U[0] / D;
-        Ia[1] = A[1] - U[0] * U[1] / D;
-        Ia[2] = A[2] - U[0] * U[2] / D;
-        Ia[3] = A[3] - U[1] * U[1] / D;
-        Ia[4] = A[4] - U[1] * U[2] / D;
-        Ia[5] = A[5] - U[2] * U[2] / D;
+        Ia[0] = A[0] - U[0] * U[0] * inv_d;
+        Ia[1] = A[1] - U[0] * U[1] * inv_d;
+        Ia[2] = A[2] - U[0] * U[2] * inv_d;
+        Ia[3] = A[3] - U[1] * U[1] * inv_d;
+        Ia[4] = A[4] - U[1] * U[2] * inv_d;
+        Ia[5] = A[5] - U[2] * U[2] * inv_d;
         rj__ab_shift_inertia(Ia, rec[RJ__AB_RX], rec[RJ__AB_RY],
                              r->ab + RJ__AB_COUNT * (size_t) pq + RJ__AB_IA);
     }
     return 0;
 }
 
-/* x = M^-1 b with the factor (b NULL: b = e_unit, a column of M^-1). */
-static void rj__aba_solve(const rj_model *m, rj__rig *r, const double *b, int unit, double *x)
+/* Coordinate qi's u from its b and the force its children passed, and its own force
+   moved to its parent's pin (none at a root). */
+static void rj__ab_pass_up(rj__rig *r, int qi, double b)
+{
+    double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
+    const int pq = (int) rec[RJ__AB_PQ];
+    const double *U = rec + RJ__AB_U, *f = rec + RJ__AB_F;
+    const double u = b - f[0], w = u * rec[RJ__AB_D];
+    double *fp, px, py, pz;
+    rec[RJ__AB_UU] = u;
+    if (pq < 0)
+        return;
+    px = f[0] + U[0] * w;
+    py = f[1] + U[1] * w;
+    pz = f[2] + U[2] * w;
+    fp = r->ab + RJ__AB_COUNT * (size_t) pq + RJ__AB_F;
+    fp[0] += px - rec[RJ__AB_RY] * py + rec[RJ__AB_RX] * pz;
+    fp[1] += py;
+    fp[2] += pz;
+}
+
+/* The solve's pass from the leaves: u_j = b_j - s.p_j, and the force p_j + U u_j / D
+   that each subtree passes to its parent's pin. */
+static void rj__aba_leaves(const rj_model *m, rj__rig *r, const double *b)
 {
     const int n = m->nq;
     int k;
@@ -9364,32 +9387,41 @@ static void rj__aba_solve(const rj_model *m, rj__rig *r, const double *b, int un
     }
     for (k = n - 1; k >= 0; k--) {
         const int qi = m->jq[m->jorder[k]];
-        double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
-        const int pq = (int) rec[RJ__AB_PQ];
-        const double *U = rec + RJ__AB_U, *f = rec + RJ__AB_F;
-        const double bj = b ? b[qi] : (qi == unit ? 1.0 : 0.0);
-        const double u = bj - f[0], w = u / rec[RJ__AB_D];
-        double *fp, px, py, pz;
-        rec[RJ__AB_UU] = u;
-        if (pq < 0)
-            continue;
-        /* the force this subtree passes on, moved to the parent's pin */
-        px = f[0] + U[0] * w;
-        py = f[1] + U[1] * w;
-        pz = f[2] + U[2] * w;
-        fp = r->ab + RJ__AB_COUNT * (size_t) pq + RJ__AB_F;
-        fp[0] += px - rec[RJ__AB_RY] * py + rec[RJ__AB_RX] * pz;
-        fp[1] += py;
-        fp[2] += pz;
+        rj__ab_pass_up(r, qi, b[qi]);
     }
+}
+
+/* The same for b = e_unit: every subtree without the unit passes nothing, so only the
+   unit's path to its root is walked (u = 0 elsewhere). */
+static void rj__aba_leaves_unit(const rj_model *m, rj__rig *r, int unit)
+{
+    int k;
+    for (k = 0; k < m->nq; k++)
+        r->ab[RJ__AB_COUNT * (size_t) k + RJ__AB_UU] = 0;
+    for (k = unit; k >= 0; k = (int) r->ab[RJ__AB_COUNT * (size_t) k + RJ__AB_PQ]) {
+        double *f = r->ab + RJ__AB_COUNT * (size_t) k + RJ__AB_F;
+        f[0] = f[1] = f[2] = 0;
+    }
+    for (k = unit; k >= 0; k = (int) r->ab[RJ__AB_COUNT * (size_t) k + RJ__AB_PQ])
+        rj__ab_pass_up(r, k, k == unit ? 1.0 : 0.0);
+}
+
+/* x = M^-1 b with the factor (b NULL: b = e_unit, a column of M^-1). */
+static void rj__aba_solve(const rj_model *m, rj__rig *r, const double *b, int unit, double *x)
+{
+    const int n = m->nq;
+    int k;
+    if (b)
+        rj__aba_leaves(m, r, b);
+    else
+        rj__aba_leaves_unit(m, r, unit);
     for (k = 0; k < n; k++) {
         const int qi = m->jq[m->jorder[k]];
         double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
-        const int pq = (int) rec[RJ__AB_PQ];
         const double *U = rec + RJ__AB_U;
         double *a = rec + RJ__AB_A;
-        rj__ab_accel_in(r, rec, pq, a);
-        x[qi] = (rec[RJ__AB_UU] - (U[0] * a[0] + U[1] * a[1] + U[2] * a[2])) / rec[RJ__AB_D];
+        rj__ab_accel_in(r, rec, (int) rec[RJ__AB_PQ], a);
+        x[qi] = (rec[RJ__AB_UU] - (U[0] * a[0] + U[1] * a[1] + U[2] * a[2])) * rec[RJ__AB_D];
         a[0] += x[qi];
     }
 }
@@ -13040,7 +13072,8 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_kinematics(const rj_model *m, rj
     rj__rig_kin(m, r, r->q, NULL, r->qdp);
     memcpy(new_scalars, old_scalars, sizeof(double) * RJ__FS_COUNT);
     new_scalars[RJ__FS_TIME] = f->t + f->dt;
-    new_scalars[RJ__FS_ETIME] = f->t;
+    if (f->en)
+        new_scalars[RJ__FS_ETIME] = f->t;
     new_scalars[RJ__FS_STRAIN] = 0;
     if (rj__rig_factor(m, r))
         return rj__stop(m, s, RJ_ERR_BLOWUP,
@@ -13548,9 +13581,10 @@ static int rj__rig_node_inputs_ok(const rj_model *m, rj_state *s)
     return 1;
 }
 
-/* Rigid step, stage 7: the kinetic energy 1/2 q'^{n-1/2} M q'^{n+1/2} (q'^{-1/2} = 2 q'(0)
-   - q'^{1/2}), the accounts (every step) and the energy tests; commit (nodes are computed
-   when queried: rj__rig_pose). */
+/* Rigid step, stage 7: the losses and work (every step); on the steps that take the energy
+   accounts (f->en, as for flexible links: solver.energy_every) the kinetic energy
+   1/2 q'^{n-1/2} M q'^{n+1/2} (q'^{-1/2} = 2 q'(0) - q'^{1/2}) and the energy tests;
+   commit (nodes are computed when queried: rj__rig_pose). */
 static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_state *s,
                                                          const rj__frames *f, rj__rig *r,
                                                          rj__sums *e)
@@ -13562,6 +13596,20 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
     double ke = 0;
     rj_result res;
     int j;
+    new_scalars[RJ__FS_LDAMP] = e->lost_damping;
+    new_scalars[RJ__FS_LFRIC] = e->lost_friction;
+    new_scalars[RJ__FS_LLIM] = e->lost_limit;
+    new_scalars[RJ__FS_PEND] = e->pending;
+    new_scalars[RJ__FS_WORK] = e->work;
+    new_scalars[RJ__FS_DRIVE] = e->drive;
+    new_scalars[RJ__FS_DPEND] = e->drive_pending;
+    if (m->nact)
+        rj__drive_flow(f->old_scalars, new_scalars, e);
+    if (!f->en) {
+        s->cur = 1 - s->cur;
+        s->steps++;
+        return RJ_OK;
+    }
     rj__rig_mul(m, r, qdp, m_qdp);
     for (j = 0; j < n; j++) {
         const double sum = m_qdp[j];
@@ -13571,18 +13619,9 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
     }
     e->kinetic = ke;
     new_scalars[RJ__FS_KE] = ke;
-    new_scalars[RJ__FS_LDAMP] = e->lost_damping;
-    new_scalars[RJ__FS_LFRIC] = e->lost_friction;
-    new_scalars[RJ__FS_LLIM] = e->lost_limit;
-    new_scalars[RJ__FS_PEND] = e->pending;
     if (m->has_gravity)
         rj__gravity_flow(f->old_scalars, new_scalars, e);
     new_scalars[RJ__FS_GRAV] = e->gravity;
-    new_scalars[RJ__FS_WORK] = e->work;
-    new_scalars[RJ__FS_DRIVE] = e->drive;
-    new_scalars[RJ__FS_DPEND] = e->drive_pending;
-    if (m->nact)
-        rj__drive_flow(f->old_scalars, new_scalars, e);
     if (f->first)
         rj__first_accounts(new_scalars, e, ke + e->spring + e->gravity);
     res = rj__energy_check(m, s, NULL, f->t, e, f->old_scalars[RJ__FS_SPRING],
@@ -13598,13 +13637,13 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
    stage as for flexible links (rj__step_run). The work that does not wait for the new
    rates (spring energy, frame scalars) comes early, so that the end of a step, between the
    new angles and the next step's kinematics, stays short. */
-static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
+static rj_result rj__step_rigid(const rj_model *m, rj_state *s, int want_energy)
 {
     rj__frames f;
     rj__sums e;
     rj__rig r;
     rj_result res;
-    rj__frames_open(m, s, 1, 0, &f);
+    rj__frames_open(m, s, want_energy, 0, &f);
     rj__sums_open(f.old_scalars, &e);
     rj__rig_map(m, s->rsc, &r, m->nloop);
     if (s->inputs && !rj__inputs_ok(m, s))
@@ -13679,7 +13718,7 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
                         "time's resolution, %g s)",
                         t, m->dt, t * DBL_EPSILON);
     if (m->rigid)
-        return rj__step_after(m, s, rj__step_rigid(m, s));
+        return rj__step_after(m, s, rj__step_rigid(m, s, want_energy));
     /* the caller's torques checked before anything moves */
     if (s->inputs && !rj__inputs_ok(m, s))
         return RJ_ERR_INVALID;

@@ -300,8 +300,8 @@ typedef struct rj_joint_def {
    rj_run leaves are the same as with K = 1;
    between them rj_state_energy keeps the last ones (rj_state_energy_time says when). Positions,
    velocities and the work of damping, friction and limits are the same bits either way;
-   flexible links' steps take about a quarter fewer instructions (sh bench/instr.sh);
-   a blow-up is caught up to K - 1 steps later. Rigid-only scenes take it every step.
+   flexible links' steps take about a quarter fewer instructions (sh bench/instr.sh), rigid
+   ones skip the kinetic energy's M q' product; a blow-up is caught up to K - 1 steps later.
    in_place (rj_in_place, default AUTO): the step advances the nodes and elements where they
    are instead of into a second frame, which halves what a large model moves through the
    caches (1.36-1.49x faster at 2000 elements in make bench, docs/performance.md); it keeps a copy of the state

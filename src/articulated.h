@@ -113,30 +113,53 @@ static int rj__aba_factor(const rj_model *m, rj__rig *r)
         double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
         const int pq = (int) rec[RJ__AB_PQ];
         const double *A = rec + RJ__AB_IA;
-        double *U = rec + RJ__AB_U, Ia[6];
+        double *U = rec + RJ__AB_U, Ia[6], inv_d;
         const double D = A[0] + rec[RJ__AB_ROT];
         U[0] = A[0];
         U[1] = A[1];
         U[2] = A[2];
-        rec[RJ__AB_D] = D;
         if (!(D > 0))
             return -1;
+        inv_d = 1.0 / D;
+        rec[RJ__AB_D] = inv_d;
         if (pq < 0)
             continue;
-        Ia[0] = A[0] - U[0] * U[0] / D;
-        Ia[1] = A[1] - U[0] * U[1] / D;
-        Ia[2] = A[2] - U[0] * U[2] / D;
-        Ia[3] = A[3] - U[1] * U[1] / D;
-        Ia[4] = A[4] - U[1] * U[2] / D;
-        Ia[5] = A[5] - U[2] * U[2] / D;
+        Ia[0] = A[0] - U[0] * U[0] * inv_d;
+        Ia[1] = A[1] - U[0] * U[1] * inv_d;
+        Ia[2] = A[2] - U[0] * U[2] * inv_d;
+        Ia[3] = A[3] - U[1] * U[1] * inv_d;
+        Ia[4] = A[4] - U[1] * U[2] * inv_d;
+        Ia[5] = A[5] - U[2] * U[2] * inv_d;
         rj__ab_shift_inertia(Ia, rec[RJ__AB_RX], rec[RJ__AB_RY],
                              r->ab + RJ__AB_COUNT * (size_t) pq + RJ__AB_IA);
     }
     return 0;
 }
 
-/* x = M^-1 b with the factor (b NULL: b = e_unit, a column of M^-1). */
-static void rj__aba_solve(const rj_model *m, rj__rig *r, const double *b, int unit, double *x)
+/* Coordinate qi's u from its b and the force its children passed, and its own force
+   moved to its parent's pin (none at a root). */
+static void rj__ab_pass_up(rj__rig *r, int qi, double b)
+{
+    double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
+    const int pq = (int) rec[RJ__AB_PQ];
+    const double *U = rec + RJ__AB_U, *f = rec + RJ__AB_F;
+    const double u = b - f[0], w = u * rec[RJ__AB_D];
+    double *fp, px, py, pz;
+    rec[RJ__AB_UU] = u;
+    if (pq < 0)
+        return;
+    px = f[0] + U[0] * w;
+    py = f[1] + U[1] * w;
+    pz = f[2] + U[2] * w;
+    fp = r->ab + RJ__AB_COUNT * (size_t) pq + RJ__AB_F;
+    fp[0] += px - rec[RJ__AB_RY] * py + rec[RJ__AB_RX] * pz;
+    fp[1] += py;
+    fp[2] += pz;
+}
+
+/* The solve's pass from the leaves: u_j = b_j - s.p_j, and the force p_j + U u_j / D
+   that each subtree passes to its parent's pin. */
+static void rj__aba_leaves(const rj_model *m, rj__rig *r, const double *b)
 {
     const int n = m->nq;
     int k;
@@ -146,32 +169,41 @@ static void rj__aba_solve(const rj_model *m, rj__rig *r, const double *b, int un
     }
     for (k = n - 1; k >= 0; k--) {
         const int qi = m->jq[m->jorder[k]];
-        double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
-        const int pq = (int) rec[RJ__AB_PQ];
-        const double *U = rec + RJ__AB_U, *f = rec + RJ__AB_F;
-        const double bj = b ? b[qi] : (qi == unit ? 1.0 : 0.0);
-        const double u = bj - f[0], w = u / rec[RJ__AB_D];
-        double *fp, px, py, pz;
-        rec[RJ__AB_UU] = u;
-        if (pq < 0)
-            continue;
-        /* the force this subtree passes on, moved to the parent's pin */
-        px = f[0] + U[0] * w;
-        py = f[1] + U[1] * w;
-        pz = f[2] + U[2] * w;
-        fp = r->ab + RJ__AB_COUNT * (size_t) pq + RJ__AB_F;
-        fp[0] += px - rec[RJ__AB_RY] * py + rec[RJ__AB_RX] * pz;
-        fp[1] += py;
-        fp[2] += pz;
+        rj__ab_pass_up(r, qi, b[qi]);
     }
+}
+
+/* The same for b = e_unit: every subtree without the unit passes nothing, so only the
+   unit's path to its root is walked (u = 0 elsewhere). */
+static void rj__aba_leaves_unit(const rj_model *m, rj__rig *r, int unit)
+{
+    int k;
+    for (k = 0; k < m->nq; k++)
+        r->ab[RJ__AB_COUNT * (size_t) k + RJ__AB_UU] = 0;
+    for (k = unit; k >= 0; k = (int) r->ab[RJ__AB_COUNT * (size_t) k + RJ__AB_PQ]) {
+        double *f = r->ab + RJ__AB_COUNT * (size_t) k + RJ__AB_F;
+        f[0] = f[1] = f[2] = 0;
+    }
+    for (k = unit; k >= 0; k = (int) r->ab[RJ__AB_COUNT * (size_t) k + RJ__AB_PQ])
+        rj__ab_pass_up(r, k, k == unit ? 1.0 : 0.0);
+}
+
+/* x = M^-1 b with the factor (b NULL: b = e_unit, a column of M^-1). */
+static void rj__aba_solve(const rj_model *m, rj__rig *r, const double *b, int unit, double *x)
+{
+    const int n = m->nq;
+    int k;
+    if (b)
+        rj__aba_leaves(m, r, b);
+    else
+        rj__aba_leaves_unit(m, r, unit);
     for (k = 0; k < n; k++) {
         const int qi = m->jq[m->jorder[k]];
         double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
-        const int pq = (int) rec[RJ__AB_PQ];
         const double *U = rec + RJ__AB_U;
         double *a = rec + RJ__AB_A;
-        rj__ab_accel_in(r, rec, pq, a);
-        x[qi] = (rec[RJ__AB_UU] - (U[0] * a[0] + U[1] * a[1] + U[2] * a[2])) / rec[RJ__AB_D];
+        rj__ab_accel_in(r, rec, (int) rec[RJ__AB_PQ], a);
+        x[qi] = (rec[RJ__AB_UU] - (U[0] * a[0] + U[1] * a[1] + U[2] * a[2])) * rec[RJ__AB_D];
         a[0] += x[qi];
     }
 }

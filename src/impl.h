@@ -432,7 +432,7 @@ typedef struct rj__rig {
 } rj__rig;
 /* a coordinate's record in rj__rig.ab: its body's own inertia about the joint's pin and the
    articulated inertia there (symmetric 3 x 3 on (omega, v_pin): 00 01 02 11 12 22), the
-   factor's U = IA s and D = s.IA s + rotor, a force about the pin, the solve's u, an
+   factor's U = IA s and 1 / D (D = s.IA s + rotor), a force about the pin, the solve's u, an
    acceleration at the pin, the arm from the parent's pin, the parent's coordinate (-1:
    none) and the rotor; then two spare vectors for the callers' products */
 enum {

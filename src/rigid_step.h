@@ -456,7 +456,8 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_kinematics(const rj_model *m, rj
     rj__rig_kin(m, r, r->q, NULL, r->qdp);
     memcpy(new_scalars, old_scalars, sizeof(double) * RJ__FS_COUNT);
     new_scalars[RJ__FS_TIME] = f->t + f->dt;
-    new_scalars[RJ__FS_ETIME] = f->t;
+    if (f->en)
+        new_scalars[RJ__FS_ETIME] = f->t;
     new_scalars[RJ__FS_STRAIN] = 0;
     if (rj__rig_factor(m, r))
         return rj__stop(m, s, RJ_ERR_BLOWUP,
@@ -964,9 +965,10 @@ static int rj__rig_node_inputs_ok(const rj_model *m, rj_state *s)
     return 1;
 }
 
-/* Rigid step, stage 7: the kinetic energy 1/2 q'^{n-1/2} M q'^{n+1/2} (q'^{-1/2} = 2 q'(0)
-   - q'^{1/2}), the accounts (every step) and the energy tests; commit (nodes are computed
-   when queried: rj__rig_pose). */
+/* Rigid step, stage 7: the losses and work (every step); on the steps that take the energy
+   accounts (f->en, as for flexible links: solver.energy_every) the kinetic energy
+   1/2 q'^{n-1/2} M q'^{n+1/2} (q'^{-1/2} = 2 q'(0) - q'^{1/2}) and the energy tests;
+   commit (nodes are computed when queried: rj__rig_pose). */
 static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_state *s,
                                                          const rj__frames *f, rj__rig *r,
                                                          rj__sums *e)
@@ -978,6 +980,20 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
     double ke = 0;
     rj_result res;
     int j;
+    new_scalars[RJ__FS_LDAMP] = e->lost_damping;
+    new_scalars[RJ__FS_LFRIC] = e->lost_friction;
+    new_scalars[RJ__FS_LLIM] = e->lost_limit;
+    new_scalars[RJ__FS_PEND] = e->pending;
+    new_scalars[RJ__FS_WORK] = e->work;
+    new_scalars[RJ__FS_DRIVE] = e->drive;
+    new_scalars[RJ__FS_DPEND] = e->drive_pending;
+    if (m->nact)
+        rj__drive_flow(f->old_scalars, new_scalars, e);
+    if (!f->en) {
+        s->cur = 1 - s->cur;
+        s->steps++;
+        return RJ_OK;
+    }
     rj__rig_mul(m, r, qdp, m_qdp);
     for (j = 0; j < n; j++) {
         const double sum = m_qdp[j];
@@ -987,18 +1003,9 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
     }
     e->kinetic = ke;
     new_scalars[RJ__FS_KE] = ke;
-    new_scalars[RJ__FS_LDAMP] = e->lost_damping;
-    new_scalars[RJ__FS_LFRIC] = e->lost_friction;
-    new_scalars[RJ__FS_LLIM] = e->lost_limit;
-    new_scalars[RJ__FS_PEND] = e->pending;
     if (m->has_gravity)
         rj__gravity_flow(f->old_scalars, new_scalars, e);
     new_scalars[RJ__FS_GRAV] = e->gravity;
-    new_scalars[RJ__FS_WORK] = e->work;
-    new_scalars[RJ__FS_DRIVE] = e->drive;
-    new_scalars[RJ__FS_DPEND] = e->drive_pending;
-    if (m->nact)
-        rj__drive_flow(f->old_scalars, new_scalars, e);
     if (f->first)
         rj__first_accounts(new_scalars, e, ke + e->spring + e->gravity);
     res = rj__energy_check(m, s, NULL, f->t, e, f->old_scalars[RJ__FS_SPRING],
@@ -1014,13 +1021,13 @@ static RJ__FORCE_INLINE rj_result rj__rig_stage_accounts(const rj_model *m, rj_s
    stage as for flexible links (rj__step_run). The work that does not wait for the new
    rates (spring energy, frame scalars) comes early, so that the end of a step, between the
    new angles and the next step's kinematics, stays short. */
-static rj_result rj__step_rigid(const rj_model *m, rj_state *s)
+static rj_result rj__step_rigid(const rj_model *m, rj_state *s, int want_energy)
 {
     rj__frames f;
     rj__sums e;
     rj__rig r;
     rj_result res;
-    rj__frames_open(m, s, 1, 0, &f);
+    rj__frames_open(m, s, want_energy, 0, &f);
     rj__sums_open(f.old_scalars, &e);
     rj__rig_map(m, s->rsc, &r, m->nloop);
     if (s->inputs && !rj__inputs_ok(m, s))

@@ -54,7 +54,7 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
                         "time's resolution, %g s)",
                         t, m->dt, t * DBL_EPSILON);
     if (m->rigid)
-        return rj__step_after(m, s, rj__step_rigid(m, s));
+        return rj__step_after(m, s, rj__step_rigid(m, s, want_energy));
     /* the caller's torques checked before anything moves */
     if (s->inputs && !rj__inputs_ok(m, s))
         return RJ_ERR_INVALID;

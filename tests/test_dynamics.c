@@ -325,12 +325,13 @@ static void test_energy_every(rjt_ctx *c)
 {
     static unsigned char b1[1 << 16], b16[1 << 16];
     static ee_rec r1, r16;
-    static const int fid[2] = { RJ_LINK_FLEXIBLE, RJ_LINK_INEXTENSIBLE };
+    static const int fid[3] = { RJ_LINK_FLEXIBLE, RJ_LINK_INEXTENSIBLE, RJ_LINK_RIGID };
+    static const char *const fname[3] = { "flexible links", "inextensible links", "rigid links (joint coordinates)" };
     int f, k;
-    for (f = 0; f < 2; f++) {
+    for (f = 0; f < 3; f++) {
         size_t n1 = 0, n16 = 0;
         int ok = ee_run(fid[f], 1, &r1, b1, sizeof b1, &n1) && ee_run(fid[f], 16, &r16, b16, sizeof b16, &n16);
-        const char *what = f ? "inextensible links" : "flexible links";
+        const char *what = fname[f];
         char name[160];
         snprintf(name, sizeof name, "energy_every 16, %s: rj_run's %d sampled energies and tip positions equal K = 1's bit for bit", what, r1.n);
         rjt_check(c, ok && r1.n == 31 && r16.n == r1.n && memcmp(r1.v, r16.v, sizeof r1.v[0] * (size_t)r1.n) == 0, name,
