@@ -664,6 +664,10 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
    - Rigid links without loops: the links below the joint's m (a_c - g) less the loads
      and the caller's forces on them, with the rates at n + 1/2 and the step's
      accelerations (first order in dt).
+   - Rigid links with loops: a loop joint's from its two rows' impulses over the last
+     step; the others as without loops, the loops' forces among those from outside, at
+     the step's configuration q^n and rates (each bar's moment balance then holds to
+     round-off: build/test_loops). Not before a step.
    - Flexible links (tangent reference): body 2's pin node's m a - m g less its link's
      element forces, loads and the caller's force on it, at t^n, a step before the
      state's time (a from the rates at n - 1/2 and n + 1/2); where body 2 is a rigid
@@ -674,8 +678,8 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
      elements', lengths' and pins' forces cancel inside them), at t^n.
    RJ_ERR_INVALID, force 0, not yet: there, a loop tying the links below the joint to the
    rest or a held body among them; in-place stepping, a chord reference on a flexible
-   pin node, loops of rigid links, before a step (or a checkpoint's load, or rj_settle:
-   the state a step before is needed). */
+   pin node, before a step (or a checkpoint's load, or rj_settle: the state a step
+   before is needed). */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
 /* Every joint's pin force at once (2 per joint in forces, as rj_joint_pin_force; NaN
@@ -785,7 +789,10 @@ typedef struct rj_scene_pos {
 
 /* A parsed scene. Everything lives in one block from RJ_MALLOC; rj_scene_file_free
    releases it. links[i] and link_names[i] are the i-th link section in order of
-   appearance, likewise for joints and loads. The fields ending in _ are private. */
+   appearance, likewise for joints and loads; but a link with fidelity = pieces is there
+   as its rigid pieces (NAME, NAME_p1 ..), and its bending springs (NAME_b1 ..) are among
+   the joints (docs/scene-format.md, "Links cut into pieces"). The fields ending in _ are
+   private. */
 typedef struct rj_scene_file {
     rj_link_def *links;
     int link_count;
@@ -1302,6 +1309,9 @@ struct rj_state {
     rj__row *rows;    /* the step's constraint rows (rj__rows_capacity) */
     rj__term *terms;  /* their terms (rj__terms_capacity) */
     double *rsys;     /* node space: the rows' system, its factor, right side and impulses */
+    double *loop_force; /* (2 nj + 1) rigid loops: each loop joint's pin force over the last
+                           step, from its rows' impulses (rj__rig_loop_forces), then the
+                           step count they belong to (-1: none) */
     char err[640];
     char warn[200]; /* latest warning (late contact), written only when one occurs */
 };
@@ -8344,7 +8354,7 @@ RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
     size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, damp, peaks, peak_work, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
-        rsc, rows, terms, rsys, input_torque, input_node, node_applied, snap_torque;
+        rsc, rows, terms, rsys, input_torque, input_node, node_applied, snap_torque, loop_force;
 } rj__slayout;
 
 /* The doubles of a state's peaks (rj_state.peaks). */
@@ -8405,6 +8415,7 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
                          sizeof(rj__term));
     L->rsys = rj__carve(&off, 2 * (size_t) m->nmotion * (size_t) (m->nmotion + 1) + 1,
                         sizeof(double));
+    L->loop_force = rj__carve(&off, 2 * (size_t) m->nj + 1, sizeof(double));
     L->input_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
     L->snap_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
     L->input_node = rj__carve(&off, 3 * (size_t) m->nn, sizeof(double));
@@ -8468,6 +8479,7 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
     int j, i;
     s->cur = 0;
     s->steps = 0;
+    s->loop_force[2 * m->nj] = -1;
     memset(s->input_torque, 0, sizeof(double) * (size_t) m->nj);
     s->inputs = 0;
     memset(s->input_node, 0, 3 * sizeof(double) * (size_t) m->nn);
@@ -8605,6 +8617,7 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->rows = (rj__row *) (void *) (base + L.rows);
     s->terms = (rj__term *) (void *) (base + L.terms);
     s->rsys = (double *) (void *) (base + L.rsys);
+    s->loop_force = (double *) (void *) (base + L.loop_force);
     s->input_torque = (double *) (void *) (base + L.input_torque);
     s->snap_torque = (double *) (void *) (base + L.snap_torque);
     s->input_node = (double *) (void *) (base + L.input_node);
@@ -8656,6 +8669,8 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
     memcpy(dst->peaks, src->peaks, sizeof(double) * rj__peaks_count(m));
     dst->cur = 0;
     dst->steps = src->steps;
+    /* the loops' pin forces of the step that led here */
+    memcpy(dst->loop_force, src->loop_force, sizeof(double) * (2 * (size_t) m->nj + 1));
     dst->snap = -1;
     memcpy(dst->input_torque, src->input_torque, sizeof(double) * (size_t) m->nj);
     dst->inputs = src->inputs;
@@ -13014,6 +13029,25 @@ static int rj__rig_loop_impact(const rj_model *m, const rj__frames *f, const rj_
     return 0;
 }
 
+/* Each loop joint's pin force over the step, the force body 1 exerts on body 2: its two
+   rows' impulses (on the gap p1 - p2, so the impulse on body 2 is -lambda) over the kick,
+   stamped with the step they belong to (rj__pin_forces reads them). */
+static void rj__rig_loop_forces(const rj_model *m, const rj_state *s, const rj__frames *f,
+                                const rj__rows *R)
+{
+    int a;
+    for (a = 0; a < R->count; a++) {
+        const rj__row *row = &R->row[a];
+        if (row->kind != RJ__ROW_LOOP)
+            continue;
+        /* a loop's x row, then its y row (rj__rig_loop_rows) */
+        s->loop_force[2 * row->owner] = -row->lam / f->kick;
+        s->loop_force[2 * row->owner + 1] = -row[1].lam / f->kick;
+        a++;
+    }
+    s->loop_force[2 * m->nj] = (double) (s->steps + 1);
+}
+
 /* The rows' solve: none to do when the only row held is the one a single impulse held;
    with every joint locked (and no coupling) q' = 0, which the system gives to round-off. */
 static void rj__rig_rows(const rj_model *m, const rj_state *s, const rj__frames *f, rj__rig *r,
@@ -13044,6 +13078,7 @@ static void rj__rig_rows(const rj_model *m, const rj_state *s, const rj__frames 
     if (m->nloop) {
         rj__rig_loop_bounces(m, f, r, &R, &D);
         rj__rig_loops_shake(m, f, r, &R, &D);
+        rj__rig_loop_forces(m, s, f, &R);
         jumps->impact |= rj__rig_loop_impact(m, f, &R);
     }
     if (m->nexact || m->nloop)
@@ -13824,6 +13859,7 @@ static void rj__zero_velocities(const rj_model *m, rj_state *s)
     s->snap = -1;
     s->steps = 0;
     s->at_n = 0;
+    s->loop_force[2 * m->nj] = -1;
 }
 
 /* The settled state as a new start: step count, accounts and joint events from zero; time
@@ -14289,9 +14325,12 @@ static void rj__rig_pose(const rj_model *m, const double *f, int l, double *phi,
     *vy = uy;
 }
 /* Rigid scenes: every hanging link's angle, rate, angular acceleration, root and the
-   root's acceleration (7 per link in k), from a frame's angles, rates and accelerations
-   (RJ__JD_QDD), down the tree in joint order (parents first): O(nl). */
-static void rj__rig_accels(const rj_model *m, const double *f, double *k)
+   root's acceleration (7 per link in k), down the tree in joint order (parents first):
+   O(nl). The angles from frame fq, the rates from frame fr's rates and accelerations
+   (RJ__JD_RATE + ahead RJ__JD_QDD: the step's predicted rates at n when fr is the frame at
+   n and ahead dt / 2), the accelerations from frame fa. */
+static void rj__rig_accels(const rj_model *m, const double *fq, const double *fr, double ahead,
+                           const double *fa, double *k)
 {
     int q, l;
     /* a link no joint hangs (fixed, or a free root in joint coordinates) stays put */
@@ -14304,7 +14343,7 @@ static void rj__rig_accels(const rj_model *m, const double *f, double *k)
     }
     for (q = 0; q < m->nq; q++) {
         const int j = m->jorder[q], l = m->jdef[j].body2, p = m->jdef[j].body1;
-        const double *jd = RJ__FJ(m, f, j);
+        const double *jq = RJ__FJ(m, fq, j), *jr = RJ__FJ(m, fr, j), *ja = RJ__FJ(m, fa, j);
         double *kl = k + RJ__KA_N * (size_t) l, pin[2], a_pin[2], e[2], ph, om, al, off;
         if (p < 0) {
             ph = m->jdef[j].ground_angle;
@@ -14324,9 +14363,9 @@ static void rj__rig_accels(const rj_model *m, const double *f, double *k)
             a_pin[0] = kp[RJ__KA_AX] - al * d[1] - om * om * d[0];
             a_pin[1] = kp[RJ__KA_AY] + al * d[0] - om * om * d[1];
         }
-        ph += jd[RJ__JD_THETA];
-        om += jd[RJ__JD_RATE];
-        al += jd[RJ__JD_QDD];
+        ph += jq[RJ__JD_THETA];
+        om += jr[RJ__JD_RATE] + ahead * jr[RJ__JD_QDD];
+        al += ja[RJ__JD_QDD];
         /* the root sits off the pin by the pin node's distance along the link */
         off = (m->jnt[j].nJ - m->link_first[l]) * m->link_l0[l];
         e[0] = cos(ph);
@@ -14341,18 +14380,43 @@ static void rj__rig_accels(const rj_model *m, const double *f, double *k)
     }
 }
 
-/* Rigid scenes without loops: every joint's pin force (2 per joint in forces), the force
-   body 1 exerts on body 2: the sum over the links below of m (a_c - g) less the loads
-   and the caller's forces on them (Newton's second law for the subtree; the rates at
-   n + 1/2, the step's accelerations), gathered up the tree in reverse joint order.
-   work: 9 nl doubles. */
+/* The loop joints' pin forces (rj__rig_loop_forces) into forces, and as forces from
+   outside the tree on their bodies into the subtrees' sums: F on body 2, -F on body 1. */
+static void rj__rig_loop_pins(const rj_model *m, const rj_state *s, double *sum, double *forces)
+{
+    int j, axis;
+    for (j = 0; j < m->nj && m->nloop; j++) {
+        const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
+        if (m->jq[j] >= 0)
+            continue;
+        for (axis = 0; axis < 2; axis++) {
+            const double F = s->loop_force[2 * j + axis];
+            forces[2 * j + axis] = F;
+            sum[2 * b2 + axis] -= F;
+            if (b1 >= 0)
+                sum[2 * b1 + axis] += F;
+        }
+    }
+}
+
+/* Rigid scenes: every joint's pin force (2 per joint in forces), the force body 1 exerts
+   on body 2: the sum over the links below of m (a_c - g) less the loads, the caller's
+   forces and the loops' pin forces on them (Newton's second law for the subtree; the rates
+   at n + 1/2, the step's accelerations), gathered up the tree in reverse joint order; a
+   loop joint's own from its rows (rj__rig_loop_forces). work: 9 nl doubles. */
 static void rj__rig_pin_forces(const rj_model *m, const rj_state *s, double *work,
                                double *forces)
 {
     const double *f = s->fd[s->cur];
     double *k = work, *sum = work + RJ__KA_N * (size_t) m->nl;
     int l, q, i;
-    rj__rig_accels(m, f, k);
+    /* with loops, the step's configuration and predicted rates at n, where the rows'
+       impulses act; else the new frame's (the forces at n + 1 of a tree) */
+    if (m->nloop) {
+        const double *at_n = s->fd[1 - s->cur];
+        rj__rig_accels(m, at_n, at_n, s->steps == 1 ? 0.0 : 0.5 * m->dt, f, k);
+    } else
+        rj__rig_accels(m, f, f, 0.0, f, k);
     for (l = 0; l < m->nl; l++) {
         const double *kl = k + RJ__KA_N * (size_t) l, dc = m->rb_dcm[l];
         double e[2];
@@ -14383,6 +14447,7 @@ static void rj__rig_pin_forces(const rj_model *m, const rj_state *s, double *wor
         sum[2 * l] -= value[0];
         sum[2 * l + 1] -= value[1];
     }
+    rj__rig_loop_pins(m, s, sum, forces);
     for (q = m->nq - 1; q >= 0; q--) {
         const int j = m->jorder[q], l2 = m->jdef[j].body2, p = m->jdef[j].body1;
         forces[2 * j] = sum[2 * l2];
@@ -14676,7 +14741,7 @@ static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
 {
     const rj__joint *J = &m->jnt[j];
     if (m->rigid)
-        return m->nloop > 0;
+        return m->nloop > 0 && s->loop_force[2 * m->nj] != (double) s->steps;
     if (rj__pin_by_subtree(m, j))
         return m->ip || !s->at_n;
     return m->ip || J->chord || !s->at_n;
@@ -14714,7 +14779,7 @@ static rj_result rj__pin_forces(const rj_model *m, const rj_state *s, double *wo
         if (unknown)
             forces[2 * j] = forces[2 * j + 1] = NAN;
     }
-    if (m->rigid && !m->nloop && m->nj)
+    if (m->rigid && m->nj && !rj__pin_force_unknown(m, s, 0))
         rj__rig_pin_forces(m, s, work, forces);
     if (own)
         RJ_FREE(own, NULL);
@@ -15344,6 +15409,7 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
     s->snap = -1;
     s->steps = (long) st;
     s->at_n = 0;
+    s->loop_force[2 * m->nj] = -1; /* not in a checkpoint: known again after a step */
     s->err[0] = 0;
     s->warn[0] = 0;
     return RJ_OK;

@@ -664,6 +664,10 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
    - Rigid links without loops: the links below the joint's m (a_c - g) less the loads
      and the caller's forces on them, with the rates at n + 1/2 and the step's
      accelerations (first order in dt).
+   - Rigid links with loops: a loop joint's from its two rows' impulses over the last
+     step; the others as without loops, the loops' forces among those from outside, at
+     the step's configuration q^n and rates (each bar's moment balance then holds to
+     round-off: build/test_loops). Not before a step.
    - Flexible links (tangent reference): body 2's pin node's m a - m g less its link's
      element forces, loads and the caller's force on it, at t^n, a step before the
      state's time (a from the rates at n - 1/2 and n + 1/2); where body 2 is a rigid
@@ -674,8 +678,8 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
      elements', lengths' and pins' forces cancel inside them), at t^n.
    RJ_ERR_INVALID, force 0, not yet: there, a loop tying the links below the joint to the
    rest or a held body among them; in-place stepping, a chord reference on a flexible
-   pin node, loops of rigid links, before a step (or a checkpoint's load, or rj_settle:
-   the state a step before is needed). */
+   pin node, before a step (or a checkpoint's load, or rj_settle: the state a step
+   before is needed). */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
 /* Every joint's pin force at once (2 per joint in forces, as rj_joint_pin_force; NaN
@@ -785,7 +789,10 @@ typedef struct rj_scene_pos {
 
 /* A parsed scene. Everything lives in one block from RJ_MALLOC; rj_scene_file_free
    releases it. links[i] and link_names[i] are the i-th link section in order of
-   appearance, likewise for joints and loads. The fields ending in _ are private. */
+   appearance, likewise for joints and loads; but a link with fidelity = pieces is there
+   as its rigid pieces (NAME, NAME_p1 ..), and its bending springs (NAME_b1 ..) are among
+   the joints (docs/scene-format.md, "Links cut into pieces"). The fields ending in _ are
+   private. */
 typedef struct rj_scene_file {
     rj_link_def *links;
     int link_count;

@@ -414,6 +414,9 @@ struct rj_state {
     rj__row *rows;    /* the step's constraint rows (rj__rows_capacity) */
     rj__term *terms;  /* their terms (rj__terms_capacity) */
     double *rsys;     /* node space: the rows' system, its factor, right side and impulses */
+    double *loop_force; /* (2 nj + 1) rigid loops: each loop joint's pin force over the last
+                           step, from its rows' impulses (rj__rig_loop_forces), then the
+                           step count they belong to (-1: none) */
     char err[640];
     char warn[200]; /* latest warning (late contact), written only when one occurs */
 };

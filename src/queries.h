@@ -243,9 +243,12 @@ static void rj__rig_pose(const rj_model *m, const double *f, int l, double *phi,
     *vy = uy;
 }
 /* Rigid scenes: every hanging link's angle, rate, angular acceleration, root and the
-   root's acceleration (7 per link in k), from a frame's angles, rates and accelerations
-   (RJ__JD_QDD), down the tree in joint order (parents first): O(nl). */
-static void rj__rig_accels(const rj_model *m, const double *f, double *k)
+   root's acceleration (7 per link in k), down the tree in joint order (parents first):
+   O(nl). The angles from frame fq, the rates from frame fr's rates and accelerations
+   (RJ__JD_RATE + ahead RJ__JD_QDD: the step's predicted rates at n when fr is the frame at
+   n and ahead dt / 2), the accelerations from frame fa. */
+static void rj__rig_accels(const rj_model *m, const double *fq, const double *fr, double ahead,
+                           const double *fa, double *k)
 {
     int q, l;
     /* a link no joint hangs (fixed, or a free root in joint coordinates) stays put */
@@ -258,7 +261,7 @@ static void rj__rig_accels(const rj_model *m, const double *f, double *k)
     }
     for (q = 0; q < m->nq; q++) {
         const int j = m->jorder[q], l = m->jdef[j].body2, p = m->jdef[j].body1;
-        const double *jd = RJ__FJ(m, f, j);
+        const double *jq = RJ__FJ(m, fq, j), *jr = RJ__FJ(m, fr, j), *ja = RJ__FJ(m, fa, j);
         double *kl = k + RJ__KA_N * (size_t) l, pin[2], a_pin[2], e[2], ph, om, al, off;
         if (p < 0) {
             ph = m->jdef[j].ground_angle;
@@ -278,9 +281,9 @@ static void rj__rig_accels(const rj_model *m, const double *f, double *k)
             a_pin[0] = kp[RJ__KA_AX] - al * d[1] - om * om * d[0];
             a_pin[1] = kp[RJ__KA_AY] + al * d[0] - om * om * d[1];
         }
-        ph += jd[RJ__JD_THETA];
-        om += jd[RJ__JD_RATE];
-        al += jd[RJ__JD_QDD];
+        ph += jq[RJ__JD_THETA];
+        om += jr[RJ__JD_RATE] + ahead * jr[RJ__JD_QDD];
+        al += ja[RJ__JD_QDD];
         /* the root sits off the pin by the pin node's distance along the link */
         off = (m->jnt[j].nJ - m->link_first[l]) * m->link_l0[l];
         e[0] = cos(ph);
@@ -295,18 +298,43 @@ static void rj__rig_accels(const rj_model *m, const double *f, double *k)
     }
 }
 
-/* Rigid scenes without loops: every joint's pin force (2 per joint in forces), the force
-   body 1 exerts on body 2: the sum over the links below of m (a_c - g) less the loads
-   and the caller's forces on them (Newton's second law for the subtree; the rates at
-   n + 1/2, the step's accelerations), gathered up the tree in reverse joint order.
-   work: 9 nl doubles. */
+/* The loop joints' pin forces (rj__rig_loop_forces) into forces, and as forces from
+   outside the tree on their bodies into the subtrees' sums: F on body 2, -F on body 1. */
+static void rj__rig_loop_pins(const rj_model *m, const rj_state *s, double *sum, double *forces)
+{
+    int j, axis;
+    for (j = 0; j < m->nj && m->nloop; j++) {
+        const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
+        if (m->jq[j] >= 0)
+            continue;
+        for (axis = 0; axis < 2; axis++) {
+            const double F = s->loop_force[2 * j + axis];
+            forces[2 * j + axis] = F;
+            sum[2 * b2 + axis] -= F;
+            if (b1 >= 0)
+                sum[2 * b1 + axis] += F;
+        }
+    }
+}
+
+/* Rigid scenes: every joint's pin force (2 per joint in forces), the force body 1 exerts
+   on body 2: the sum over the links below of m (a_c - g) less the loads, the caller's
+   forces and the loops' pin forces on them (Newton's second law for the subtree; the rates
+   at n + 1/2, the step's accelerations), gathered up the tree in reverse joint order; a
+   loop joint's own from its rows (rj__rig_loop_forces). work: 9 nl doubles. */
 static void rj__rig_pin_forces(const rj_model *m, const rj_state *s, double *work,
                                double *forces)
 {
     const double *f = s->fd[s->cur];
     double *k = work, *sum = work + RJ__KA_N * (size_t) m->nl;
     int l, q, i;
-    rj__rig_accels(m, f, k);
+    /* with loops, the step's configuration and predicted rates at n, where the rows'
+       impulses act; else the new frame's (the forces at n + 1 of a tree) */
+    if (m->nloop) {
+        const double *at_n = s->fd[1 - s->cur];
+        rj__rig_accels(m, at_n, at_n, s->steps == 1 ? 0.0 : 0.5 * m->dt, f, k);
+    } else
+        rj__rig_accels(m, f, f, 0.0, f, k);
     for (l = 0; l < m->nl; l++) {
         const double *kl = k + RJ__KA_N * (size_t) l, dc = m->rb_dcm[l];
         double e[2];
@@ -337,6 +365,7 @@ static void rj__rig_pin_forces(const rj_model *m, const rj_state *s, double *wor
         sum[2 * l] -= value[0];
         sum[2 * l + 1] -= value[1];
     }
+    rj__rig_loop_pins(m, s, sum, forces);
     for (q = m->nq - 1; q >= 0; q--) {
         const int j = m->jorder[q], l2 = m->jdef[j].body2, p = m->jdef[j].body1;
         forces[2 * j] = sum[2 * l2];
@@ -630,7 +659,7 @@ static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
 {
     const rj__joint *J = &m->jnt[j];
     if (m->rigid)
-        return m->nloop > 0;
+        return m->nloop > 0 && s->loop_force[2 * m->nj] != (double) s->steps;
     if (rj__pin_by_subtree(m, j))
         return m->ip || !s->at_n;
     return m->ip || J->chord || !s->at_n;
@@ -668,7 +697,7 @@ static rj_result rj__pin_forces(const rj_model *m, const rj_state *s, double *wo
         if (unknown)
             forces[2 * j] = forces[2 * j + 1] = NAN;
     }
-    if (m->rigid && !m->nloop && m->nj)
+    if (m->rigid && m->nj && !rj__pin_force_unknown(m, s, 0))
         rj__rig_pin_forces(m, s, work, forces);
     if (own)
         RJ_FREE(own, NULL);

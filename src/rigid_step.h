@@ -398,6 +398,25 @@ static int rj__rig_loop_impact(const rj_model *m, const rj__frames *f, const rj_
     return 0;
 }
 
+/* Each loop joint's pin force over the step, the force body 1 exerts on body 2: its two
+   rows' impulses (on the gap p1 - p2, so the impulse on body 2 is -lambda) over the kick,
+   stamped with the step they belong to (rj__pin_forces reads them). */
+static void rj__rig_loop_forces(const rj_model *m, const rj_state *s, const rj__frames *f,
+                                const rj__rows *R)
+{
+    int a;
+    for (a = 0; a < R->count; a++) {
+        const rj__row *row = &R->row[a];
+        if (row->kind != RJ__ROW_LOOP)
+            continue;
+        /* a loop's x row, then its y row (rj__rig_loop_rows) */
+        s->loop_force[2 * row->owner] = -row->lam / f->kick;
+        s->loop_force[2 * row->owner + 1] = -row[1].lam / f->kick;
+        a++;
+    }
+    s->loop_force[2 * m->nj] = (double) (s->steps + 1);
+}
+
 /* The rows' solve: none to do when the only row held is the one a single impulse held;
    with every joint locked (and no coupling) q' = 0, which the system gives to round-off. */
 static void rj__rig_rows(const rj_model *m, const rj_state *s, const rj__frames *f, rj__rig *r,
@@ -428,6 +447,7 @@ static void rj__rig_rows(const rj_model *m, const rj_state *s, const rj__frames 
     if (m->nloop) {
         rj__rig_loop_bounces(m, f, r, &R, &D);
         rj__rig_loops_shake(m, f, r, &R, &D);
+        rj__rig_loop_forces(m, s, f, &R);
         jumps->impact |= rj__rig_loop_impact(m, f, &R);
     }
     if (m->nexact || m->nloop)

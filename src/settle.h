@@ -22,6 +22,7 @@ static void rj__zero_velocities(const rj_model *m, rj_state *s)
     s->snap = -1;
     s->steps = 0;
     s->at_n = 0;
+    s->loop_force[2 * m->nj] = -1;
 }
 
 /* The settled state as a new start: step count, accounts and joint events from zero; time

@@ -1,7 +1,7 @@
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
     size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, damp, peaks, peak_work, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
-        rsc, rows, terms, rsys, input_torque, input_node, node_applied, snap_torque;
+        rsc, rows, terms, rsys, input_torque, input_node, node_applied, snap_torque, loop_force;
 } rj__slayout;
 
 /* The doubles of a state's peaks (rj_state.peaks). */
@@ -62,6 +62,7 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
                          sizeof(rj__term));
     L->rsys = rj__carve(&off, 2 * (size_t) m->nmotion * (size_t) (m->nmotion + 1) + 1,
                         sizeof(double));
+    L->loop_force = rj__carve(&off, 2 * (size_t) m->nj + 1, sizeof(double));
     L->input_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
     L->snap_torque = rj__carve(&off, (size_t) m->nj + 1, sizeof(double));
     L->input_node = rj__carve(&off, 3 * (size_t) m->nn, sizeof(double));
@@ -125,6 +126,7 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
     int j, i;
     s->cur = 0;
     s->steps = 0;
+    s->loop_force[2 * m->nj] = -1;
     memset(s->input_torque, 0, sizeof(double) * (size_t) m->nj);
     s->inputs = 0;
     memset(s->input_node, 0, 3 * sizeof(double) * (size_t) m->nn);
@@ -262,6 +264,7 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->rows = (rj__row *) (void *) (base + L.rows);
     s->terms = (rj__term *) (void *) (base + L.terms);
     s->rsys = (double *) (void *) (base + L.rsys);
+    s->loop_force = (double *) (void *) (base + L.loop_force);
     s->input_torque = (double *) (void *) (base + L.input_torque);
     s->snap_torque = (double *) (void *) (base + L.snap_torque);
     s->input_node = (double *) (void *) (base + L.input_node);
@@ -313,6 +316,8 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
     memcpy(dst->peaks, src->peaks, sizeof(double) * rj__peaks_count(m));
     dst->cur = 0;
     dst->steps = src->steps;
+    /* the loops' pin forces of the step that led here */
+    memcpy(dst->loop_force, src->loop_force, sizeof(double) * (2 * (size_t) m->nj + 1));
     dst->snap = -1;
     memcpy(dst->input_torque, src->input_torque, sizeof(double) * (size_t) m->nj);
     dst->inputs = src->inputs;

@@ -1076,6 +1076,62 @@ static void test_rigid_loop_prescribed(rjt_ctx *c)
     rj_model_destroy(m, NULL);
 }
 
+/* Pin forces in a loop of rigid bars: the loop joint's from its rows' impulses, the tree
+   joints' from Newton's second law for the bars below them with the loop's force among
+   the forces from outside. Those use the bars' forces alone, so each bar's moment balance
+   about its centre, sum (pin - c) x F = I alpha (gravity has no moment there), checks them
+   independently: every step of 0.2 s of the four-bar falling under gravity, at the step's
+   configuration q^n and alpha = (omega^{n+1/2} - omega^{n-1/2}) / kick. */
+static void test_rigid_pins(rjt_ctx *c)
+{
+    static const double len[3] = { BAR_A, BAR_B, BAR_C };
+    /* fourbar_text's joints o2, a, o4, b: body 1 and body 2 (-1: the ground) */
+    static const int body1[4] = { -1, 0, -1, 1 }, body2[4] = { 0, 1, 2, 2 };
+    char text[4096];
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    double worst = 0, scale = 0, F[8], loop_f = 0;
+    int step, b, j, ok = 1, known_before = 0;
+    fourbar_text(7e10, "rigid", 1e-4, text, sizeof text);
+    if (!build(text, &m, &s, &err)) { rjt_check(c, 0, "rigid four-bar's pin forces: builds", "%s", err.msg); return; }
+    known_before = rj_joint_pin_force(m, s, 3, F) == RJ_OK;
+    for (step = 0; step < 2000 && ok; step++) {
+        double cen[3][2], w0[3], pin[4][2], a[2], bnode[2];
+        for (b = 0; b < 3; b++) {
+            rj_node_position(m, s, b, 0, a);
+            rj_node_position(m, s, b, rj_link_node_count(m, b) - 1, bnode);
+            cen[b][0] = 0.5 * (a[0] + bnode[0]);
+            cen[b][1] = 0.5 * (a[1] + bnode[1]);
+            w0[b] = rj_node_rate(m, s, b, 0);
+        }
+        for (j = 0; j < 4; j++)
+            rj_joint_position(m, s, j, pin[j]);
+        ok = rj_step(m, s) == RJ_OK && rj_joint_pin_forces(m, s, F) == RJ_OK;
+        for (b = 0; b < 3 && ok; b++) {
+            const double mass = 2700 * 0.02 * 0.02 * len[b], I = mass * len[b] * len[b] / 12;
+            double moment = 0;
+            for (j = 0; j < 4; j++) {
+                const double sgn = body2[j] == b ? 1.0 : (body1[j] == b ? -1.0 : 0.0);
+                moment += sgn * ((pin[j][0] - cen[b][0]) * F[2 * j + 1] - (pin[j][1] - cen[b][1]) * F[2 * j]);
+                scale = fmax(scale, fabs(F[2 * j]) * len[b]);
+                scale = fmax(scale, fabs(F[2 * j + 1]) * len[b]);
+            }
+            /* the first step's kick is dt / 2 (from rest, rates at 0 to dt / 2) */
+            const double kick = step == 0 ? 0.5 * rj_model_dt(m) : rj_model_dt(m);
+            worst = fmax(worst, fabs(moment - I * (rj_node_rate(m, s, b, 0) - w0[b]) / kick));
+        }
+        loop_f = fmax(loop_f, hypot(F[6], F[7]));
+    }
+    rjt_check(c, ok && step == 2000 && worst < 1e-9 * scale && loop_f > 0 && !known_before,
+              "rigid four-bar: pin forces from the loop's rows keep every bar's moment balance",
+              "max |sum (pin - c) x F - I alpha| %.3g N m of %.3g (|F| L) over %d steps; the loop "
+              "joint's force up to %.4g N; before the first step: %s",
+              worst, scale, step, loop_f, known_before ? "answered (wrong)" : "unknown (right)");
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
 static void test_rigid_fourbar(rjt_ctx *c)
 {
     fourbar_run a, b, fine;
@@ -1337,6 +1393,7 @@ int main(void)
     test_scissor(&c, RJ_LINK_INEXTENSIBLE);
     test_scissor(&c, RJ_LINK_RIGID);
     test_rigid_fourbar(&c);
+    test_rigid_pins(&c);
     test_rigid_latch(&c);
     test_rigid_driven(&c);
     test_rigid_loop_rotor_cable(&c);
