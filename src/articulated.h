@@ -25,7 +25,8 @@ static int rj__ab_parent(const rj_model *m, int j)
     return p >= 0 && m->rb_pjoint[p] >= 0 ? m->jq[m->rb_pjoint[p]] : -1;
 }
 
-/* r = P_child - P_parent for joint j (its body 2's pin less its parent's). */
+/* r = P_child - P_parent for joint j (its body 2's pin less its parent's); body 1 must be
+   a link. */
 static void rj__ab_arm(const rj_model *m, const rj__rig *r, int j, double *rx, double *ry)
 {
     const double *c = r->lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
@@ -76,9 +77,12 @@ static void rj__ab_own(const rj_model *m, rj__rig *r)
     for (k = 0; k < m->nq; k++) {
         const int j = m->qj[k];
         double *rec = r->ab + RJ__AB_COUNT * (size_t) k;
-        rj__ab_arm(m, r, j, &rec[RJ__AB_RX], &rec[RJ__AB_RY]);
         rec[RJ__AB_PQ] = rj__ab_parent(m, j);
         rec[RJ__AB_ROT] = m->jnt[j].rotor;
+        rec[RJ__AB_RX] = rec[RJ__AB_RY] = 0;
+        /* a root (on the ground or a fixed link) passes nothing up: no arm */
+        if (rec[RJ__AB_PQ] >= 0)
+            rj__ab_arm(m, r, j, &rec[RJ__AB_RX], &rec[RJ__AB_RY]);
     }
 }
 
