@@ -15489,6 +15489,7 @@ typedef struct rj__sp {
     int nsets;
     unsigned long long sets_done; /* bit k: sets[k] taken */
     rj__stok *set_tok;            /* their tokens */
+    unsigned char pieces[RJ_SCENE_MAX_LINKS]; /* link k says fidelity = pieces (rj__sp_cut) */
 } rj__sp;
 
 /* ------------------------------------------------------------------ small helpers */
@@ -16253,8 +16254,29 @@ static int rj__sp_part(rj__sp *P, int k, const rj__stok *t)
     return 1;
 }
 
+/* fidelity = flexible | rigid | inextensible, the model's (rj__sk_fidelity, in its
+   order), or pieces, the file's own: a link cut into rigid pieces after the file is read
+   (rj__sp_cut). Its pieces are rigid links, so the link is one until then. */
+static int rj__sp_fidelity(rj__sp *P, const rj__stok *t, rj_link_def *d)
+{
+    static const char names[4][13] = { "flexible", "rigid", "inextensible", "pieces" };
+    int n = 0;
+    if (!rj__sp_enum(P, t, "fidelity", names[0], sizeof names[0], 4, &n))
+        return 0;
+    P->pieces[P->item] = n == 3;
+    d->fidelity = n == 3 ? RJ_LINK_RIGID : n;
+    return 1;
+}
+
 static int rj__sp_link_key(rj__sp *P, int k, int a, int *i, int b, rj_link_def *d)
 {
+    /* only a link section takes fidelity (not a material or a section) */
+    if (k == RJ__LK_FIDELITY && P->kind == RJ__SK_LINK) {
+        if (!rj__sp_fidelity(P, &P->tok[a], d))
+            return 0;
+        (*i)++;
+        return 1;
+    }
     if (rj__link_fields[k].type == RJ__FT_PART) {
         if (!rj__sp_part(P, k, &P->tok[a]))
             return 0;
@@ -17766,6 +17788,382 @@ static int rj__sp_field_pos(const rj_scene_file *f, const char *field, rj_scene_
     return pos->line > 0;
 }
 
+/* ------------------------------------------------------------------ links cut into pieces
+   fidelity = pieces is the file's own link model, the rigid-finite-element layout of
+   deploy_segmented_scene (examples/scenes.h): once the file and its changes are read, a
+   link of N = elements segments of l = length / N becomes N + 1 rigid links (the two end
+   pieces l / 2 long, the others l; the tip mass on the last) joined by N joints with a
+   bending spring E I / l, free and started straight (180 deg). The pieces take the link's
+   place among the links, named NAME (the first), NAME_p1 .. NAME_pN; its springs NAME_b1 ..
+   NAME_bN follow the first joint that holds the link as body2 (else the file's joints).
+   Node k of the link (at k l from its root) is piece k's middle for 0 < k < N (that
+   piece then has 2 elements: a rigid link's mass and inertia do not depend on them),
+   node 0 the first piece's root, node N the last piece's tip. The arrays grow in place:
+   the counting pass gave them the most links and joints a scene may have when the text
+   says "pieces" (rj__sp_says_pieces). */
+typedef struct rj__sp_plan {
+    int n[RJ_SCENE_MAX_LINKS];             /* each file link's segments when cut, else 0 */
+    int base[RJ_SCENE_MAX_LINKS];          /* its first link after the cut */
+    int bend[RJ_SCENE_MAX_LINKS];          /* a cut link's first spring joint, -1 none yet */
+    double k[RJ_SCENE_MAX_LINKS];          /* a cut link's spring stiffness E I / l */
+    int jnew[RJ_SCENE_MAX_JOINTS];         /* each file joint's index after the cut */
+    unsigned char mid[RJ_SCENE_MAX_LINKS]; /* links after the cut with a middle node */
+    int tail;                              /* the first spring that follows no file joint */
+    int links, joints;                     /* the counts after the cut */
+} rj__sp_plan;
+
+/* whether "pieces" is anywhere in the text or the changes (in a comment too: that only
+   costs the room) */
+static int rj__sp_says_pieces(const char *text, size_t len, const char *const *sets, int nsets)
+{
+    size_t k;
+    int s;
+    for (k = 0; k + 6 <= len; k++)
+        if (text[k] == 'p' && memcmp(text + k, "pieces", 6) == 0)
+            return 1;
+    for (s = 0; s < nsets; s++)
+        if (strstr(sets[s], "pieces"))
+            return 1;
+    return 0;
+}
+
+/* where key k of file link i is written: its value, else the link's section line */
+static rj_scene_pos rj__sp_link_at(const rj_scene_file *f, int i, int k)
+{
+    const rj_scene_pos *p = &f->link_pos_[(size_t) i * (1 + RJ__LK_N)];
+    return p[1 + k].line ? p[1 + k] : p[0];
+}
+
+/* node k of a link cut into n segments (-1: its last): the piece holding it and that
+   piece's node (the middle, 1, of an inner piece; -1 stays last) */
+static void rj__sp_piece_node(int n, int k, int *piece, int *node)
+{
+    *piece = k < 0 ? n : k;
+    *node = k < 0 ? -1 : k == 0 ? 0 : 1;
+}
+
+/* "NAME", or "NAME_p3" (tag "_p", k 3) */
+static void rj__sp_piece_name(char *dst, const char *name, const char *tag, int k)
+{
+    char nb[24];
+    rj__sp_cat(dst, RJ_SCENE_NAME_MAX, name, k ? tag : NULL, k ? rj__sp_itoa(nb, k) : NULL, NULL,
+               NULL, NULL, NULL);
+}
+
+/* more links (links 1) or joints (0) after the cut, total, than a scene may have, max:
+   refused at the elements of the link cut into the most pieces, naming the counts */
+static int rj__sp_cut_over(rj__sp *P, const rj__sp_plan *pl, int links, int total, int max)
+{
+    const rj_scene_file *f = P->f;
+    char a[24], b[24], c[24], d[24], m[256], m2[256];
+    rj_scene_pos at;
+    int i, big = 0;
+    for (i = 1; i < f->link_count; i++)
+        if (pl->n[i] > pl->n[big])
+            big = i;
+    at = rj__sp_link_at(f, big, RJ__LK_ELEMENTS);
+    rj__sp_cat(m, sizeof m, "elements = ", rj__sp_itoa(a, pl->n[big]), " in link '",
+               f->link_names[big], "' (fidelity = pieces) makes ",
+               rj__sp_itoa(b, pl->n[big] + links), links ? " rigid pieces" : " bending joints");
+    rj__sp_cat(m2, sizeof m2, m, ": the scene would have ", rj__sp_itoa(c, total),
+               links ? " links" : " joints", ", more than the ", rj__sp_itoa(d, max), NULL);
+    return rj__sp_err(P, at.line, at.col, "elements", pl->n[big], m2, " a scene may have", NULL,
+                      NULL, NULL);
+}
+
+/* The links after the cut: where each file link goes, its segments and spring stiffness;
+   refused when they are more than a scene may have (the cap is RJ_SCENE_MAX_LINKS when
+   the text says "pieces") or a piece's name would be too long. */
+static int rj__sp_plan_links(rj__sp *P, rj__sp_plan *pl)
+{
+    const rj_scene_file *f = P->f;
+    int i, at = 0;
+    for (i = 0; i < f->link_count; i++) {
+        pl->n[i] = P->pieces[i] ? f->links[i].elements : 0;
+        pl->base[i] = at;
+        pl->bend[i] = -1;
+        at += pl->n[i] + 1;
+    }
+    if (at > P->cap_links)
+        return rj__sp_cut_over(P, pl, 1, at, P->cap_links);
+    pl->links = at;
+    for (i = 0; i < f->link_count; i++) {
+        const rj_link_def *d = &f->links[i];
+        char nb[24], last[64];
+        double A, I;
+        if (!pl->n[i])
+            continue;
+        rj__sp_cat(last, sizeof last, f->link_names[i], "_p", rj__sp_itoa(nb, pl->n[i]), NULL, NULL,
+                   NULL, NULL);
+        if (strlen(last) >= RJ_SCENE_NAME_MAX) {
+            const rj_scene_pos h = f->link_pos_[(size_t) i * (1 + RJ__LK_N)];
+            return rj__sp_err(P, h.line, h.col, "link", rj__sp_nan(), "link name '",
+                              f->link_names[i],
+                              "' is too long for fidelity = pieces: its last piece would be '",
+                              last, "' (names are 1..31 characters)");
+        }
+        /* the flexible link's E I (rj__link_section), over the segment's length */
+        rj__link_section(d, &A, &I);
+        pl->k[i] = d->E * I / (d->length / pl->n[i]);
+    }
+    return 1;
+}
+
+/* A joint's body2 on cut link: the first piece's root, node2 = 0, the one node it can be
+   (the pieces hang from it, each from the one before) */
+static int rj__sp_cut_node2(rj__sp *P, int j)
+{
+    const rj_scene_file *f = P->f;
+    const rj_joint_def *d = &f->joints[j];
+    const rj_scene_pos *p = &f->joint_pos_[(size_t) j * (1 + RJ__JK_N)];
+    const rj_scene_pos at = p[1 + RJ__JK_NODE2].line ? p[1 + RJ__JK_NODE2] : p[0];
+    char a[24], m[256];
+    rj__sp_cat(m, sizeof m, "node2 = ", d->node2 < 0 ? "last" : rj__sp_itoa(a, d->node2),
+               " in joint '", f->joint_names[j], "' cannot be placed: link '",
+               f->link_names[d->body2], "' is cut into pieces (fidelity = pieces)");
+    return rj__sp_err(P, at.line, at.col, "node2", d->node2, m,
+                      ", which hang from its node 0: a joint holds it there (node2 = 0)", NULL,
+                      NULL, NULL);
+}
+
+/* The joints after the cut (as many as the file's and the cut links' segments; the cap
+   is RJ_SCENE_MAX_JOINTS when the text says "pieces"): each file joint's index, each cut
+   link's springs after the first joint that holds it as body2 (else after the file's
+   joints); the inner pieces a joint's node1 or a load's node sits in the middle of. */
+static int rj__sp_plan_joints(rj__sp *P, rj__sp_plan *pl)
+{
+    const rj_scene_file *f = P->f;
+    int i, j, at = 0;
+    pl->joints = f->joint_count;
+    for (i = 0; i < f->link_count; i++)
+        pl->joints += pl->n[i];
+    if (pl->joints > P->cap_joints)
+        return rj__sp_cut_over(P, pl, 0, pl->joints, P->cap_joints);
+    for (j = 0; j < f->joint_count; j++) {
+        const rj_joint_def *d = &f->joints[j];
+        pl->jnew[j] = at++;
+        if (pl->n[d->body2] && d->node2 != 0)
+            return rj__sp_cut_node2(P, j);
+        if (pl->n[d->body2] && pl->bend[d->body2] < 0) {
+            pl->bend[d->body2] = at;
+            at += pl->n[d->body2];
+        }
+        if (d->body1 >= 0 && d->node1 > 0 && d->node1 < pl->n[d->body1])
+            pl->mid[pl->base[d->body1] + d->node1] = 1;
+    }
+    pl->tail = at;
+    for (i = 0; i < f->link_count; i++)
+        if (pl->n[i] && pl->bend[i] < 0) {
+            pl->bend[i] = at;
+            at += pl->n[i];
+        }
+    for (i = 0; i < f->load_count; i++) {
+        const rj_load_def *d = &f->loads[i];
+        if (d->node > 0 && d->node < pl->n[d->link])
+            pl->mid[pl->base[d->link] + d->node] = 1;
+    }
+    return 1;
+}
+
+/* piece k of the link d cut into n segments (mid: it has a middle node); the first
+   keeps the link's root, placement and initial motion, the others hang from springs */
+static rj_link_def rj__sp_piece(const rj_link_def *d, int n, int k, int mid)
+{
+    const double l = d->length / n;
+    const rj_link_def z = rj_default_link_def();
+    rj_link_def p = *d;
+    p.elements = mid ? 2 : 1;
+    p.fidelity = RJ_LINK_RIGID;
+    p.length = k == 0 || k == n ? 0.5 * l : l;
+    /* the tip mass rides on the last piece */
+    p.tip_mass = k == n ? d->tip_mass : 0.0;
+    p.tip_inertia = k == n ? d->tip_inertia : 0.0;
+    if (k == 0)
+        return p;
+    p.root = z.root;
+    p.x = z.x;
+    p.y = z.y;
+    p.angle = z.angle;
+    p.vx = z.vx;
+    p.vy = z.vy;
+    p.omega = z.omega;
+    return p;
+}
+
+/* The links after the cut, written from the last back: each lands at or after where it
+   was, so none is overwritten before it is read. Every piece keeps the link's places in
+   the file, for messages. */
+static void rj__sp_move_links(rj__sp *P, const rj__sp_plan *pl)
+{
+    rj_scene_file *f = P->f;
+    const size_t np = 1 + RJ__LK_N;
+    int i, k;
+    for (i = f->link_count - 1; i >= 0; i--) {
+        const rj_link_def d = f->links[i];
+        rj_scene_pos pos[1 + RJ__LK_N];
+        char name[RJ_SCENE_NAME_MAX];
+        memcpy(pos, &f->link_pos_[(size_t) i * np], sizeof pos);
+        memcpy(name, f->link_names[i], sizeof name);
+        for (k = pl->n[i]; k >= 0; k--) {
+            const int x = pl->base[i] + k;
+            f->links[x] = pl->n[i] ? rj__sp_piece(&d, pl->n[i], k, pl->mid[x]) : d;
+            memcpy(&f->link_pos_[(size_t) x * np], pos, sizeof pos);
+            rj__sp_piece_name(f->link_names[x], name, "_p", k);
+        }
+    }
+    f->link_count = pl->links;
+}
+
+/* cut file link i's springs (the links not moved yet: its name and places are the
+   file's), each at the fidelity key (else the link's section line) for messages */
+static void rj__sp_put_bend(rj__sp *P, const rj__sp_plan *pl, int i)
+{
+    rj_scene_file *f = P->f;
+    const rj_scene_pos at = rj__sp_link_at(f, i, RJ__LK_FIDELITY);
+    int k;
+    for (k = 1; k <= pl->n[i]; k++) {
+        const int x = pl->bend[i] + k - 1;
+        rj_scene_pos *pos = &f->joint_pos_[(size_t) x * (1 + RJ__JK_N)];
+        rj_joint_def *d = &f->joints[x];
+        *d = rj_default_joint_def();
+        d->body1 = pl->base[i] + k - 1;
+        d->node1 = -1;
+        d->body2 = pl->base[i] + k;
+        /* a bending spring: straight (theta = pi) is its free angle */
+        d->angle0 = rj_rad(180.0);
+        d->spring_k = pl->k[i];
+        d->spring_free_angle = rj_rad(180.0);
+        memset(pos, 0, sizeof(rj_scene_pos) * (1 + RJ__JK_N));
+        pos[0] = at;
+        rj__sp_piece_name(f->joint_names[x], f->link_names[i], "_b", k);
+    }
+}
+
+/* a joint's bodies after the cut: on a cut link body1's node goes to the piece holding
+   it (rj__sp_piece_node), body2 is the first piece */
+static void rj__sp_remap_joint(const rj__sp_plan *pl, rj_joint_def *d)
+{
+    int piece = 0;
+    if (d->body1 >= 0 && pl->n[d->body1])
+        rj__sp_piece_node(pl->n[d->body1], d->node1, &piece, &d->node1);
+    if (d->body1 >= 0)
+        d->body1 = pl->base[d->body1] + piece;
+    d->body2 = pl->base[d->body2];
+}
+
+/* The joints after the cut, written from the last back as the links are: first the
+   springs after every file joint, then each file joint and the springs that follow it. */
+static void rj__sp_move_joints(rj__sp *P, const rj__sp_plan *pl)
+{
+    rj_scene_file *f = P->f;
+    const size_t np = 1 + RJ__JK_N;
+    int i, j;
+    for (i = 0; i < f->link_count; i++)
+        if (pl->n[i] && pl->bend[i] >= pl->tail)
+            rj__sp_put_bend(P, pl, i);
+    for (j = f->joint_count - 1; j >= 0; j--) {
+        rj_joint_def d = f->joints[j];
+        rj_scene_pos pos[1 + RJ__JK_N];
+        char name[RJ_SCENE_NAME_MAX];
+        const int b2 = d.body2, x = pl->jnew[j];
+        memcpy(pos, &f->joint_pos_[(size_t) j * np], sizeof pos);
+        memcpy(name, f->joint_names[j], sizeof name);
+        if (pl->n[b2] && pl->bend[b2] == x + 1)
+            rj__sp_put_bend(P, pl, b2);
+        rj__sp_remap_joint(pl, &d);
+        f->joints[x] = d;
+        memcpy(&f->joint_pos_[(size_t) x * np], pos, sizeof pos);
+        memcpy(f->joint_names[x], name, sizeof name);
+    }
+    f->joint_count = pl->joints;
+}
+
+/* loads, actuators and couplings: their links' nodes and their joints after the cut */
+static void rj__sp_remap_rest(rj__sp *P, const rj__sp_plan *pl)
+{
+    rj_scene_file *f = P->f;
+    int i;
+    for (i = 0; i < f->load_count; i++) {
+        rj_load_def *d = &f->loads[i];
+        int piece = 0;
+        if (pl->n[d->link])
+            rj__sp_piece_node(pl->n[d->link], d->node, &piece, &d->node);
+        d->link = pl->base[d->link] + piece;
+    }
+    for (i = 0; i < f->actuator_count; i++)
+        f->actuators[i].joint = pl->jnew[f->actuators[i].joint];
+    for (i = 0; i < f->coupling_count; i++) {
+        f->couplings[i].joint_a = pl->jnew[f->couplings[i].joint_a];
+        f->couplings[i].joint_b = pl->jnew[f->couplings[i].joint_b];
+    }
+}
+
+/* names[x], the name made for piece or spring k of a cut link whose first piece is link
+   f0 after the cut, that another of the count names (the links' or the joints', their
+   places pos) has too: refused at the link's fidelity key, naming both */
+static int rj__sp_cut_clash(rj__sp *P, char (*names)[RJ_SCENE_NAME_MAX], int count, int x, int f0,
+                            const char *what, int k, const rj_scene_pos *pos)
+{
+    const rj_scene_file *f = P->f;
+    const rj_scene_pos *fp = &f->link_pos_[(size_t) f0 * (1 + RJ__LK_N)];
+    const int link = names == f->link_names;
+    const size_t np = link ? 1 + RJ__LK_N : 1 + RJ__JK_N;
+    const rj_scene_pos at = fp[1 + RJ__LK_FIDELITY].line ? fp[1 + RJ__LK_FIDELITY] : fp[0];
+    char a[24], b[24], m[256], m2[256];
+    int y;
+    for (y = 0; y < count; y++)
+        if (y != x && strcmp(names[y], names[x]) == 0)
+            break;
+    if (y == count)
+        return 1;
+    rj__sp_cat(m, sizeof m, "fidelity = pieces in link '", f->link_names[f0], "' names its ", what,
+               " ", rj__sp_itoa(a, k), " '");
+    rj__sp_cat(m2, sizeof m2, m, names[x], "', which the ", link ? "link" : "joint", " on line ",
+               rj__sp_itoa(b, pos[(size_t) y * np].line), " has too");
+    return rj__sp_err(P, at.line, at.col, "fidelity", rj__sp_nan(), m2,
+                      " (rename one: a link's pieces are NAME_p1.., its springs NAME_b1..)", NULL,
+                      NULL, NULL);
+}
+
+/* The names made for the pieces (NAME_pK) and the springs (NAME_bK) after the cut: none
+   may be another link's or joint's. */
+static int rj__sp_cut_names(rj__sp *P, const rj__sp_plan *pl, int file_links)
+{
+    rj_scene_file *f = P->f;
+    int i, k;
+    for (i = 0; i < file_links; i++)
+        for (k = 1; k <= pl->n[i]; k++) {
+            if (!rj__sp_cut_clash(P, f->link_names, f->link_count, pl->base[i] + k, pl->base[i],
+                                  "piece", k, f->link_pos_))
+                return 0;
+            if (!rj__sp_cut_clash(P, f->joint_names, f->joint_count, pl->bend[i] + k - 1,
+                                  pl->base[i], "bending joint", k, f->joint_pos_))
+                return 0;
+        }
+    return 1;
+}
+
+/* The file's links with fidelity = pieces cut into their pieces and springs, the other
+   items following them (see the top of this part); 1 when there are none. */
+static int rj__sp_cut(rj__sp *P)
+{
+    rj__sp_plan pl;
+    const int file_links = P->f->link_count;
+    int i, any = 0;
+    for (i = 0; i < file_links; i++)
+        any |= P->pieces[i];
+    if (!any)
+        return 1;
+    memset(&pl, 0, sizeof pl);
+    if (!rj__sp_plan_links(P, &pl) || !rj__sp_plan_joints(P, &pl))
+        return 0;
+    /* the joints first: their springs take the file links' names and places */
+    rj__sp_move_joints(P, &pl);
+    rj__sp_move_links(P, &pl);
+    rj__sp_remap_rest(P, &pl);
+    return rj__sp_cut_names(P, &pl, file_links);
+}
+
 /* ------------------------------------------------------------------ public */
 RJDEF void rj_scene_file_locate(const rj_scene_file *f, rj_error *err)
 {
@@ -17837,6 +18235,11 @@ static rj_result rj__sp_parse(const char *text, size_t len, const char *filename
     P.cap_loads = counts[RJ__SK_LOAD];
     P.cap_acts = counts[RJ__SK_ACTUATOR];
     P.cap_cps = counts[RJ__SK_COUPLING];
+    /* links cut into pieces (rj__sp_cut) grow the links and joints in place */
+    if (rj__sp_says_pieces(P.text, len, sets, nsets)) {
+        P.cap_links = RJ_SCENE_MAX_LINKS;
+        P.cap_joints = RJ_SCENE_MAX_JOINTS;
+    }
     /* the result block */
     o_links = rj__sp_carve(&off, (size_t) P.cap_links, sizeof(rj_link_def));
     o_joints = rj__sp_carve(&off, (size_t) P.cap_joints, sizeof(rj_joint_def));
@@ -17923,6 +18326,8 @@ static rj_result rj__sp_parse(const char *text, size_t len, const char *filename
                     "the scene has no links (a scene needs at least one 'link' section)");
         goto fail;
     }
+    if (!rj__sp_cut(&P))
+        goto fail;
     RJ_FREE(work, alloc_ctx);
     work = NULL;
     { /* the model's own validation, located in the file */
@@ -18135,7 +18540,10 @@ RJDEF int rj_scene_joint_index(const rj_scene_file *f, const char *name)
     return -1;
 }
 
-/* ------------------------------------------------------------------ writer */
+/* ------------------------------------------------------------------ writer
+   It writes a scene definition, which has no place for the file's fidelity = pieces: a
+   parsed file's links cut into pieces are written as the rigid links and bending joints
+   they became (rj__sp_cut), and read back as the same scene. */
 typedef struct rj__sw {
     char *buf;
     size_t size, n;

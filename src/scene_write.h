@@ -1,4 +1,7 @@
-/* ------------------------------------------------------------------ writer */
+/* ------------------------------------------------------------------ writer
+   It writes a scene definition, which has no place for the file's fidelity = pieces: a
+   parsed file's links cut into pieces are written as the rigid links and bending joints
+   they became (rj__sp_cut), and read back as the same scene. */
 typedef struct rj__sw {
     char *buf;
     size_t size, n;

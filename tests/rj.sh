@@ -13,7 +13,9 @@ P=rj
 . tests/checks.sh
 # the header rj run must write for a scene file: its joints' and links' names from the file;
 # W_structural when a material or link section damps (eta, damping, mass_damping not 0) and
-# W_plastic when one yields (yield not 0) (a material no link uses would count too)
+# W_plastic when one yields (yield not 0) (a material no link uses would count too). A link
+# with fidelity = pieces and N elements is links NAME, NAME_p1 .. NAME_pN, and its springs
+# NAME_b1 .. NAME_bN follow the first joint whose body2 it is (else the file's joints).
 header() {
   awk 'BEGIN { printf "t" }
        { line = $0; sub(/#.*/, "", line); n = split(line, w)
@@ -21,17 +23,25 @@ header() {
          if (sec == "material" || sec == "link")
            for (i = 1; i + 2 <= n; i++) if (w[i + 1] == "=" && w[i + 2] + 0 != 0) {
              if (w[i] == "eta" || w[i] == "damping" || w[i] == "mass_damping") structural = 1
-             if (w[i] == "yield") plastic = 1 } }
+             if (w[i] == "yield") plastic = 1 }
+         for (i = 1; i + 2 <= n; i++) if (w[i + 1] == "=") {
+           if (sec == "link" && w[i] == "fidelity" && w[i + 2] == "pieces") cut[nl] = 1
+           if (sec == "link" && w[i] == "elements") el[nl] = w[i + 2]
+           if (sec == "joint" && w[i] == "body2") b2[nj] = w[i + 2] } }
        $1 == "joint" && $2 != "=" { joints[++nj] = $2 }
-       $1 == "link" && $2 != "=" { links[++nl] = $2 }
+       $1 == "link" && $2 != "=" { links[++nl] = $2; el[nl] = 10 }
        $1 == "actuator" && $2 != "=" { drives = 1 }
-       END { n = split("theta_deg rate flag torque_spring torque_table torque_damping torque_friction torque_limit latch_impulse", c, " ");
-             for (j = 1; j <= nj; j++) {
-               for (i = 1; i <= n; i++) printf ",%s.%s", joints[j], c[i]
-               if (drives) printf ",%s.torque_drive", joints[j]
-               printf ",%s.Fx,%s.Fy", joints[j], joints[j]
+       END { for (k = 1; k <= nl; k++) { at[links[k]] = k; L[++nL] = links[k]; for (p = 1; cut[k] && p <= el[k]; p++) L[++nL] = links[k] "_p" p }
+             for (j = 1; j <= nj; j++) { J[++nJ] = joints[j]; k = at[b2[j]]
+               if (cut[k] && !done[k]) { done[k] = 1; for (p = 1; p <= el[k]; p++) J[++nJ] = links[k] "_b" p } }
+             for (k = 1; k <= nl; k++) for (p = 1; cut[k] && !done[k] && p <= el[k]; p++) J[++nJ] = links[k] "_b" p
+             n = split("theta_deg rate flag torque_spring torque_table torque_damping torque_friction torque_limit latch_impulse", c, " ");
+             for (j = 1; j <= nJ; j++) {
+               for (i = 1; i <= n; i++) printf ",%s.%s", J[j], c[i]
+               if (drives) printf ",%s.torque_drive", J[j]
+               printf ",%s.Fx,%s.Fy", J[j], J[j]
              }
-             for (k = 1; k <= nl; k++) printf ",%s.tip_x,%s.tip_y,%s.tip_defl", links[k], links[k], links[k];
+             for (k = 1; k <= nL; k++) printf ",%s.tip_x,%s.tip_y,%s.tip_defl", L[k], L[k], L[k];
              print ",E_kin,E_strain,E_spring,E_gravity,W_applied" (drives ? ",W_drive" : "") ",W_damping,W_friction,W_limit" \
                (structural ? ",W_structural" : "") (plastic ? ",W_plastic" : "") ",E_balance" }' "$1"
 }
@@ -654,4 +664,19 @@ m 2 "option --csv: $S/deploy.rjs is not the rows of rj sweep" "plot --what sweep
   $B/rj plot --what sweep --csv $S/deploy.rjs --out $T/x.png
 m 2 "option --what: unknown value 'swep'; did you mean 'sweep'\\?" "plot --what swep: did you mean 'sweep'" \
   $B/rj plot --what swep --csv $T/sw_plot.csv --out $T/x.png
+# ---- fidelity = pieces: deploy_pieces.rjs is build/deploy --links pieces's model (10 rigid
+# pieces a link, bending springs E I / l): joint 2 locks within 0.01 s of it (the same step:
+# the same time, printed to 6 digits), and rj check lists the pieces and the springs
+$B/rj run $S/deploy_pieces.rjs --t-end 6 --csv /dev/null 2>$T/pieces.err; st=$?
+$B/deploy --links pieces --t-end 6 --csv /dev/null 2>$T/pieces_deploy.err
+set -- $(summary_times $T/pieces.err j2)
+lib=$(tail -1 $T/pieces_deploy.err | sed -n 's/.*joint 2 at \([0-9.]*\) s.*/\1/p')
+ok "run deploy_pieces.rjs --t-end 6: j2 locks at ${1:-none} s, within 0.01 s of build/deploy --links pieces's ${lib:-none} s (status $st)" \
+  "[ $st = 0 ] && [ -n '$1' ] && [ -n '$lib' ] && awk 'BEGIN { d = $1 - $lib; exit !(d < 0.01 && d > -0.01) }'"
+$B/rj check $S/deploy_pieces.rjs > $T/pieces_check.txt 2>&1
+ok "check deploy_pieces.rjs: 22 rigid links (arm1 .. arm1_p10, arm2 .. arm2_p10) and 22 joints (j1, arm1_b1 .. arm1_b10, j2, arm2_b1 ..)" \
+  "grep -qx 'links: 22, 44 nodes' $T/pieces_check.txt && grep -Eq '^  arm1_p10 +rigid +1 elements' $T/pieces_check.txt \
+   && grep -Eq '^  arm2 +rigid ' $T/pieces_check.txt && grep -qx 'joints: 22' $T/pieces_check.txt \
+   && grep -Eq '^  arm1_b10 +arm1_p9 -> arm1_p10, starts at 180 deg: spring 204.565 N m/rad free at 180 deg\$' $T/pieces_check.txt \
+   && grep -Eq '^  j2 +arm1_p10 -> arm2, ' $T/pieces_check.txt"
 exit 0

@@ -768,7 +768,7 @@ static void test_errors(void)
     EP("error: zero layers", "section s\n  layers = 0\n", 2, 12, "layers = 0 is out of range in section 's'", "layers");
     EP("error: negative tip mass", "link a\n  tip_mass = -0.1\n", 2, 14, "tip_mass = -0.1 is out of range", "tip_mass");
     EP("error: unknown root", "link a\n  root = welded\n", 2, 10, "unknown value 'welded' for 'root' in link 'a' (expected free, pinned, clamped or fixed)", "root");
-    EP("error: unknown fidelity", "link a\n  fidelity = floppy\n", 2, 14, "unknown value 'floppy' for 'fidelity' in link 'a' (expected flexible, rigid or inextensible)", "fidelity");
+    EP("error: unknown fidelity", "link a\n  fidelity = floppy\n", 2, 14, "unknown value 'floppy' for 'fidelity' in link 'a' (expected flexible, rigid, inextensible or pieces)", "fidelity");
     EP("error: fidelity is a link key, not a material key", "material m\n  fidelity = rigid\n", 2, 3, "unknown key 'fidelity' in material 'm'", "fidelity");
     EP("error: dt above 1 s", "solver\n  dt = 2\nlink a\n", 2, 8, "dt = 2 is out of range in solver: must be 0 (automatic) or a step in (0, 1] s", "dt");
     EP("error: energy_growth 1", "solver\n  energy_growth = 1\nlink a\n", 2, 19, "energy_growth = 1 is out of range in solver: must be > 1", "energy_growth");
@@ -1176,6 +1176,221 @@ static void test_parse_set(void)
     check(ok, "parse_set: 65 changes, or a NULL one, refused naming nsets", e.msg);
 }
 
+/* ------------------------------------------------------------------ fidelity = pieces */
+/* deploy_segmented_scene as build/deploy --links pieces sets it up: 10 pieces a link, dt 0
+   (0.9 x the bound), energy_every 16. deploy_scene leaves joint 2's penalty_k at the
+   placeholder 1 N m/rad that deploy_build replaces by Eq 31; momentum does not use it, and
+   the file leaves it at the default, 0. */
+static void pieces_c(rj_link_def *links, rj_joint_def *joints, rj_scene_def *sc)
+{
+    deploy_opts o = deploy_default_opts();
+    o.dt = 0;
+    o.energy_every = 16;
+    deploy_segmented_scene(&o, 10, links, joints, sc);
+    joints[11].penalty_k = 0.0;
+}
+
+/* both scenes built and run to t_end: 1 when they take the same steps and end with every
+   joint's running angle and rate the same bits */
+static int pieces_same_run(const rj_scene_def *a, const rj_scene_def *b, double t_end,
+                           char *why, size_t n)
+{
+    rj_model *ma = NULL, *mb = NULL;
+    rj_state *sa = NULL, *sb = NULL;
+    rj_error e;
+    int ok = 0, j;
+    snprintf(why, n, "a model was not built");
+    if (rj_model_create(a, &ma, &e, NULL) == RJ_OK && rj_model_create(b, &mb, &e, NULL) == RJ_OK) {
+        rj_state_create(ma, &sa, NULL);
+        rj_state_create(mb, &sb, NULL);
+        ok = rj_run(ma, sa, t_end, 0.0, NULL, NULL) == RJ_OK;
+        ok = ok && rj_run(mb, sb, t_end, 0.0, NULL, NULL) == RJ_OK;
+        ok = ok && rj_state_steps(sa) == rj_state_steps(sb);
+        for (j = 0; ok && j < a->joint_count; j++) {
+            const double ta = rj_joint_theta_running(ma, sa, j), tb = rj_joint_theta_running(mb, sb, j);
+            const double ra = rj_joint_rate(ma, sa, j), rb = rj_joint_rate(mb, sb, j);
+            ok = !memcmp(&ta, &tb, sizeof ta) && !memcmp(&ra, &rb, sizeof ra);
+            if (!ok) snprintf(why, n, "joint %d: %.17g vs %.17g rad", j, ta, tb);
+        }
+        if (ok) snprintf(why, n, "%ld steps of %.4g s to t = %.4f s; joint 2 (index 11) at %.6f deg",
+                         rj_state_steps(sa), rj_model_dt(ma), rj_state_time(sa), rj_deg(rj_joint_theta_running(ma, sa, 11)));
+        rj_state_destroy(sa, NULL);
+        rj_state_destroy(sb, NULL);
+    } else
+        snprintf(why, n, "%s", e.msg);
+    if (ma) rj_model_destroy(ma, NULL);
+    if (mb) rj_model_destroy(mb, NULL);
+    return ok;
+}
+
+/* deploy_pieces.rjs is deploy_segmented_scene field by field, its pieces and springs
+   named after the arms, and runs the same bits; an inner piece of 2 elements (as a node
+   reference in its middle gives it) moves the same bits too */
+static void test_pieces_deploy(void)
+{
+    rj_link_def links[22];
+    rj_joint_def joints[22];
+    rj_scene_def sc, fd;
+    rj_scene_file f;
+    char why[300], want[40];
+    int i, k, names = 1;
+    if (!load_example("deploy_pieces.rjs", &f)) return;
+    fd = rj_scene_file_def(&f);
+    pieces_c(links, joints, &sc);
+    check(same_scene(&fd, &sc, 1, why, sizeof why) && fd.load_count == 0 && fd.actuator_count == 0,
+          "deploy_pieces.rjs = deploy_segmented_scene (10 pieces, as build/deploy --links pieces) field by field", why);
+    for (i = 0; i < 2 && f.link_count == 22 && f.joint_count == 22; i++)
+        for (k = 0; k <= 10; k++) {
+            snprintf(want, sizeof want, k ? "arm%d_p%d" : "arm%d", i + 1, k);
+            names = names && strcmp(f.link_names[11 * i + k], want) == 0;
+            snprintf(want, sizeof want, k ? "arm%d_b%d" : "j%d", i + 1, k);
+            names = names && strcmp(f.joint_names[11 * i + k], want) == 0;
+        }
+    snprintf(why, sizeof why, "links %s %s .. %s, joints %s %s .. %s %s", f.link_names[0], f.link_names[1], f.link_names[21],
+             f.joint_names[0], f.joint_names[1], f.joint_names[11], f.joint_names[21]);
+    check(names && rj_scene_joint_index(&f, "j2") == 11 && rj_scene_link_index(&f, "arm2") == 11,
+          "deploy_pieces.rjs names: arm1, arm1_p1 .. arm1_p10; j1, arm1_b1 .. arm1_b10, j2, arm2_b1 ..", why);
+    check(pieces_same_run(&fd, &sc, 0.5, why, sizeof why), "deploy_pieces.rjs runs deploy_segmented_scene's joint angles bit for bit (0.5 s)", why);
+    f.links[5].elements = 2;
+    check(pieces_same_run(&fd, &sc, 0.5, why, sizeof why), "a rigid piece of 2 elements moves as of 1 (mass and inertia do not depend on them): the same bits", why);
+    f.links[5].elements = 1;
+    rj_scene_file_free(&f);
+}
+
+/* what fidelity = pieces refuses, naming the file:line:col, the key and the value */
+static void test_pieces_errors(void)
+{
+    char *s;
+    EP("pieces: elements = 0 refused", "link a\n  fidelity = pieces  elements = 0\n", 2, 33,
+       "elements = 0 is out of range in link 'a': must be 1..1000000", "elements");
+    EP("pieces: a misspelt fidelity lists pieces", "link a\n  fidelity = piece\n", 2, 14,
+       "(expected flexible, rigid, inextensible or pieces); did you mean 'pieces'?", "fidelity");
+    EP("pieces: a joint's node2 on a cut link cannot be placed",
+       "link a\n  fidelity = pieces  elements = 4\nlink b\njoint j\n  body1 = b  body2 = a  node2 = 2\n", 5, 33,
+       "node2 = 2 in joint 'j' cannot be placed: link 'a' is cut into pieces (fidelity = pieces), which hang from its node 0", "node2");
+    EP("pieces: node2 = last on a cut link cannot be placed either",
+       "link a\n  fidelity = pieces  elements = 4\nlink b\njoint j\n  body1 = b  body2 = a  node2 = last\n", 5, 33,
+       "node2 = last in joint 'j' cannot be placed", "node2");
+    EP("pieces: a piece's name taken by another link",
+       "link a\n  fidelity = pieces  elements = 2\nlink a_p1\n", 2, 14,
+       "fidelity = pieces in link 'a' names its piece 1 'a_p1', which the link on line 3 has too", "fidelity");
+    EP("pieces: a spring's name taken by another joint",
+       "link a\n  fidelity = pieces  elements = 2\njoint a_b2\n  body1 = ground  body2 = a\n", 2, 14,
+       "fidelity = pieces in link 'a' names its bending joint 2 'a_b2', which the joint on line 3 has too", "fidelity");
+    EP("pieces: a link name too long for its pieces' names",
+       "link abcdefghijabcdefghijabcdefghij\n  fidelity = pieces\n", 1, 1,
+       "link name 'abcdefghijabcdefghijabcdefghij' is too long for fidelity = pieces: its last piece would be 'abcdefghijabcdefghijabcdefghij_p10'", "link");
+    EP("pieces: more links than a scene may have", "link a\n  fidelity = pieces  elements = 300\n", 2, 33,
+       "elements = 300 in link 'a' (fidelity = pieces) makes 301 rigid pieces: the scene would have 301 links, more than the 256 a scene may have", "elements");
+    EP("pieces: more links than a scene may have, counting a link after the cut one",
+       "link a\n  fidelity = pieces  elements = 255\nlink b\n", 2, 33,
+       "elements = 255 in link 'a' (fidelity = pieces) makes 256 rigid pieces: the scene would have 257 links", "elements");
+    s = repeat("link a\n  fidelity = pieces  elements = 200\nlink b\n", "joint j%d\n  body1 = ground  body2 = b\n", 60, "");
+    EP("pieces: more joints than a scene may have", s, 2, 33,
+       "elements = 200 in link 'a' (fidelity = pieces) makes 200 bending joints: the scene would have 260 joints, more than the 256 a scene may have", "elements");
+    free(s);
+}
+
+/* changes (--set) reach every piece: E doubled doubles every bending spring of that arm,
+   elements = 4 cuts the other into 5 pieces */
+static void test_pieces_set(void)
+{
+    const char *sets[2] = { "link.arm1.E=1.4e11", "link.arm2.elements=4" };
+    char path[512], d[300];
+    rj_scene_file a, b;
+    rj_error e;
+    int k, ok;
+    snprintf(path, sizeof path, "%s/deploy_pieces.rjs", g_dir);
+    if (rj_scene_load(path, &a, &e) != RJ_OK) { check(0, "pieces --set: deploy_pieces.rjs", e.msg); return; }
+    if (rj_scene_load_set(path, sets, 2, &b, &e) != RJ_OK) { check(0, "pieces --set: deploy_pieces.rjs with changes", e.msg); rj_scene_file_free(&a); return; }
+    ok = b.link_count == 16 && b.joint_count == 16;
+    for (k = 0; ok && k < 16; k++)
+        ok = b.links[k].E == (k <= 10 ? 1.4e11 : 7e10);
+    for (k = 1; ok && k <= 10; k++)
+        ok = b.joints[k].spring_k == 2 * a.joints[k].spring_k;
+    snprintf(d, sizeof d, "%d links, %d joints; arm1_b1 k %.17g N m/rad (was %.17g)", b.link_count, b.joint_count,
+             b.joints[1].spring_k, a.joints[1].spring_k);
+    check(ok, "pieces --set link.arm1.E=1.4e11: every piece of arm1 takes it, every bending spring of arm1 doubles", d);
+    ok = b.link_count == 16 && b.joint_count == 16 && strcmp(b.link_names[15], "arm2_p4") == 0 && strcmp(b.joint_names[15], "arm2_b4") == 0;
+    for (k = 0; ok && k <= 4; k++)
+        ok = b.links[11 + k].length == (k == 0 || k == 4 ? 0.5 : 1.0) * (0.9945 / 4) && b.links[11 + k].elements == 1;
+    for (k = 12; ok && k <= 15; k++)
+        ok = b.joints[k].spring_k == 7e10 * 2.9117e-10 / (0.9945 / 4) && b.joints[k].body2 == k;
+    snprintf(d, sizeof d, "arm2 .. %s, springs .. %s; arm2_b1 k %.17g N m/rad", b.link_count == 16 ? b.link_names[15] : "?",
+             b.joint_count == 16 ? b.joint_names[15] : "?", b.joint_count == 16 ? b.joints[12].spring_k : 0.0);
+    check(ok, "pieces --set link.arm2.elements=4: arm2 in 5 pieces (l/2, l, l, l, l/2), 4 springs E I / l", d);
+    rj_scene_file_free(&a);
+    rj_scene_file_free(&b);
+}
+
+/* a cut link among flexible ones (a mixed scene): its springs between two rigid pieces are
+   accepted; a joint's node1 and a load's node inside it go to the middle of the piece
+   holding them (which then has 2 elements), exactly where they were; a cut root link's
+   springs come after the file's joints; actuators and couplings follow their joints */
+static void test_pieces_mixed(void)
+{
+    static const char text[] =
+        "link base\n  length = 0.5  elements = 4  root = clamped\n"
+        "link arm\n  length = 1  elements = 4  fidelity = pieces  width = 0.01  height = 0.02\n"
+        "link flap\n  length = 0.2  elements = 2\n"
+        "joint j\n  body1 = base  body2 = arm  spring = 50 180 deg\n"
+        "joint k\n  body1 = arm  node1 = 1  body2 = flap  angle0 = 90 deg\n"
+        "load push\n  link = arm  node = 2  force = 0 -10\n";
+    static const char root[] = "link a\n  fidelity = pieces  elements = 2  root = fixed\n"
+                               "link b\njoint j\n  body1 = a  body2 = b\n";
+    static const char refs[] = "link a\n  fidelity = pieces  elements = 2\nlink b\n"
+                               "joint ja\n  body1 = ground  body2 = a\n"
+                               "joint jb\n  body1 = a  body2 = b\n"
+                               "actuator m\n  joint = jb  torque = 0.1\n"
+                               "coupling c\n  joints = ja jb\n";
+    rj_scene_file f;
+    rj_error e;
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_scene_def sd;
+    double p[2], q[2];
+    char d[400];
+    int ok;
+    if (parse_str(text, &f, &e) != RJ_OK) { check(0, "pieces in a mixed scene: parsed", e.msg); return; }
+    ok = f.link_count == 7 && f.joint_count == 6 && strcmp(f.joint_names[5], "k") == 0 && f.joints[5].body1 == 2 &&
+         f.joints[5].node1 == 1 && f.loads[0].link == 3 && f.loads[0].node == 1 && f.links[2].elements == 2 &&
+         f.links[3].elements == 2 && f.links[4].elements == 1;
+    snprintf(d, sizeof d, "k: body1 %d node1 %d; push: link %d node %d", f.joints[5].body1, f.joints[5].node1,
+             f.loads[0].link, f.loads[0].node);
+    check(ok, "pieces in a mixed scene: node1 = 1 and a load's node = 2 go to the middles of arm_p1 and arm_p2", d);
+    sd = rj_scene_file_def(&f);
+    if (rj_model_create(&sd, &m, &e, NULL) != RJ_OK) {
+        rj_scene_file_locate(&f, &e);
+        check(0, "pieces in a mixed scene: the model builds", e.msg);
+        rj_scene_file_free(&f);
+        return;
+    }
+    rj_state_create(m, &s, NULL);
+    rj_node_position(m, s, 2, 1, p);
+    rj_node_position(m, s, 3, 1, q);
+    snprintf(d, sizeof d, "arm node 1 at (%.17g, %.3g), node 2 at (%.17g, %.3g): 0.75 and 1 m along +x", p[0], p[1], q[0], q[1]);
+    check(fabs(p[0] - 0.75) < 1e-15 && fabs(p[1]) < 1e-15 && fabs(q[0] - 1.0) < 1e-15 && fabs(q[1]) < 1e-15,
+          "pieces in a mixed scene: the middle nodes sit where the link's nodes 1 and 2 were", d);
+    ok = rj_run(m, s, 0.05, 0.0, NULL, NULL) == RJ_OK;
+    snprintf(d, sizeof d, "%s%s; %ld steps of %.3g s", ok ? "ran" : "failed: ", rj_state_error(s), rj_state_steps(s), rj_model_dt(m));
+    check(ok, "pieces in a mixed scene: the springs between rigid pieces accepted, 0.05 s run", d);
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+    rj_scene_file_free(&f);
+    if (parse_str(root, &f, &e) != RJ_OK) { check(0, "pieces: a cut root link", e.msg); return; }
+    ok = f.link_count == 4 && f.joint_count == 3 && strcmp(f.joint_names[1], "a_b1") == 0 && f.joints[0].body1 == 2 &&
+         f.joints[0].body2 == 3 && f.links[0].root == RJ_ROOT_FIXED && f.links[1].root == RJ_ROOT_FREE;
+    snprintf(d, sizeof d, "joints %s %s %s; j: %d -> %d", f.joint_names[0], f.joint_names[1], f.joint_names[2], f.joints[0].body1, f.joints[0].body2);
+    check(ok, "pieces: a cut root link keeps its root on the first piece, its springs after the file's joints", d);
+    rj_scene_file_free(&f);
+    if (parse_str(refs, &f, &e) != RJ_OK) { check(0, "pieces: an actuator and a coupling follow their joints", e.msg); return; }
+    ok = f.joint_count == 4 && strcmp(f.joint_names[3], "jb") == 0 && f.actuators[0].joint == 3 &&
+         f.couplings[0].joint_a == 0 && f.couplings[0].joint_b == 3;
+    snprintf(d, sizeof d, "m: joint %d; c: joints %d %d", f.actuators[0].joint, f.couplings[0].joint_a, f.couplings[0].joint_b);
+    check(ok, "pieces: an actuator and a coupling follow their joints past the springs (jb: 1 -> 3)", d);
+    rj_scene_file_free(&f);
+}
+
 int main(int argc, char **argv)
 {
     if (argc > 1) g_dir = argv[1];
@@ -1207,6 +1422,11 @@ int main(int argc, char **argv)
     test_api();
     test_locale();
     test_parse_set();
+    test_pieces_deploy();
+    file_roundtrip("deploy_pieces.rjs");
+    test_pieces_errors();
+    test_pieces_set();
+    test_pieces_mixed();
     {
         char d[100];
         snprintf(d, sizeof d, "%ld blocks live after every test", g_alloc.live);
