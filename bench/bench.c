@@ -1992,8 +1992,9 @@ static void build_section(void)
     md("A chain of n links of 4 elements (0.1 m, 0.01 m deep), each hanging from the last by a bare joint; `rj_model_size` (validation of every field) and "
        "`rj_model_create` (the joint graph's checks, the build and the stability bound: for flexible links Lanczos on the closed-form tangent, stopped once "
        "settled) timed apart, median of 3 runs (1 for the largest); a step of the model built, timed over batches doubled until one takes 20 ms, and the "
-       "build in those steps. Rigid scenes integrate in joint coordinates with a dense mass matrix: their memory grows as n^2 and their "
-       "build as n^3, so they stop at 1000 links.\n\n");
+       "build in those steps. Rigid scenes integrate in joint coordinates, trees of 16 coordinates or more by articulated bodies (a step in O(n), "
+       "the build in O(n^2) for each joint's 1 / I_red), smaller ones with a dense mass matrix; their scratch still holds n x n matrices, so "
+       "they stop at 1000 links.\n\n");
     md("| links | model | model bytes | bytes per link | state bytes | validate (ms) | build (ms) | build per link (us) | step (us) | build in steps |\n|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (k = 0; k < 3; k++) for (i = 0; i < 4; i++) {
         double bytes, state_bytes, t_size, t_create, t_step = 0;
