@@ -309,26 +309,12 @@ locks() { # file, j4's forward limit (deg): rigid links turning at 1 rad/s lock 
 locks $T/locks_close.rjs 17.7617
 locks $T/locks_far.rjs 5.7296
 # the number of pixels of one colour in each PNG rjr_write_png wrote (8-bit RGB, filter none)
-cat > $T/purple.py <<'PY'
-import sys, zlib, struct
-def count(path, want):
-    d = open(path, 'rb').read()
-    i, idat, w, h = 8, b'', 0, 0
-    while i < len(d):
-        n, t = struct.unpack('>I4s', d[i:i + 8])
-        if t == b'IHDR': w, h = struct.unpack('>II', d[i + 8:i + 16])
-        if t == b'IDAT': idat += d[i + 8:i + 8 + n]
-        i += 12 + n
-    raw = zlib.decompress(idat)
-    rows = [raw[y * (3 * w + 1):(y + 1) * (3 * w + 1)] for y in range(h)]
-    return sum(sum(1 for x in range(w) if r[1 + 3 * x:4 + 3 * x] == want) for r in rows if r[0] == 0)
-print(*[count(p, bytes.fromhex('5a34a8')) for p in sys.argv[1:]])
-PY
 if [ -x /usr/bin/python3 ]; then
   $B/rj plot $T/locks_close.rjs --out $T/locks_close.png 2>/dev/null
   $B/rj plot $T/locks_far.rjs --out $T/locks_far.png 2>/dev/null
-  set -- $(/usr/bin/python3 $T/purple.py $T/locks_close.png $T/locks_far.png)
-  ok "plot --what angles: lock labels 11 ms apart do not hide each other (label pixels $1 close, $2 far apart)" "[ -n '$1' ] && [ '$1' -gt 0 ] && [ '$1' = '$2' ]"
+  close=$(/usr/bin/python3 tools/png_count.py $T/locks_close.png 5a34a8 | cut -d' ' -f2)
+  far=$(/usr/bin/python3 tools/png_count.py $T/locks_far.png 5a34a8 | cut -d' ' -f2)
+  ok "plot --what angles: lock labels 11 ms apart do not hide each other (label pixels $close close, $far far apart)" "[ -n '$close' ] && [ '$close' -gt 0 ] && [ '$close' = '$far' ]"
 else echo "SKIP rj: no /usr/bin/python3 to count the plot's label pixels"; fi
 
 # ---- rj plot --what loads: pin forces above, the flexible links' largest bending moments
@@ -366,8 +352,9 @@ $B/rj plot $T/rod_loads.rjs --what angles --out $T/angles_rod.png 2>/dev/null
 ok "plot --what loads on a rigid rod: a PNG (status $st), no note, no moment plot (no flexible link)" \
   "[ $st = 0 ] && [ '$(magic $T/loads_rod.png)' = 89504e47 ] && ! grep -q 'none in the whole run\|bending' $T/loads_rod.err"
 if [ -x /usr/bin/python3 ]; then
-  set -- $(/usr/bin/python3 $T/purple.py $T/loads_rod.png $T/angles_rod.png)
-  ok "plot --what loads: the pin force's peak is marked (label pixels $1, without events; $2 in the angles' plot)" "[ -n '$1' ] && [ '$1' -gt 0 ] && [ '$2' = 0 ]"
+  loads=$(/usr/bin/python3 tools/png_count.py $T/loads_rod.png 5a34a8 | cut -d' ' -f2)
+  angles=$(/usr/bin/python3 tools/png_count.py $T/angles_rod.png 5a34a8 | cut -d' ' -f2)
+  ok "plot --what loads: the pin force's peak is marked (label pixels $loads, without events; $angles in the angles' plot)" "[ -n '$loads' ] && [ '$loads' -gt 0 ] && [ '$angles' = 0 ]"
 else echo "SKIP rj: no /usr/bin/python3 to count the plot's label pixels"; fi
 
 # ---- numbers are decimal, finite where they must be, the option and value named
@@ -623,24 +610,8 @@ png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{ printf "%dx%d", (($1 * 256 + $2)
 ok "plot --what sweep: a 640x480 PNG of 8 rows (status $st), the count on standard error" \
   "[ $st = 0 ] && [ '$(magic $T/sw_plot.png)' = 89504e47 ] && [ '$(png_size $T/sw_plot.png)' = 640x480 ] \
    && grep -q '^rj plot: $T/sw_plot.csv: 8 rows, 8 ok, 4 joints drawn\$' $T/sw_plot.err"
-cat > $T/colours.py <<'PY'
-import sys, zlib, struct
-# pixels not white, and pixels of each colour named, in a PNG rjr_write_png wrote (filter none)
-d = open(sys.argv[1], 'rb').read()
-i, idat, w, h = 8, b'', 0, 0
-while i < len(d):
-    n, t = struct.unpack('>I4s', d[i:i + 8])
-    if t == b'IHDR': w, h = struct.unpack('>II', d[i + 8:i + 16])
-    if t == b'IDAT': idat += d[i + 8:i + 8 + n]
-    i += 12 + n
-raw = zlib.decompress(idat)
-px = [raw[y * (3 * w + 1) + 1 + 3 * x:y * (3 * w + 1) + 4 + 3 * x] for y in range(h) for x in range(w)]
-counts = {}
-for p in px: counts[p] = counts.get(p, 0) + 1
-print(len(px) - counts.get(b'\xff\xff\xff', 0), *[counts.get(bytes.fromhex(c), 0) for c in sys.argv[2:]])
-PY
 if [ -x /usr/bin/python3 ]; then
-  set -- $(/usr/bin/python3 $T/colours.py $T/sw_plot.png 1f77b4 d62728 2ca02c ff7f0e)
+  set -- $(/usr/bin/python3 tools/png_count.py $T/sw_plot.png 1f77b4 d62728 2ca02c ff7f0e)
   ok "plot --what sweep: not blank ($1 of 307200 pixels not white) and each joint's colour drawn ($2, $3, $4, $5 pixels)" \
     "[ '$1' -gt 15000 ] && [ '$2' -gt 100 ] && [ '$3' -gt 100 ] && [ '$4' -gt 100 ] && [ '$5' -gt 100 ]"
 else echo "SKIP rj: no /usr/bin/python3 to count the sweep plot's pixels"; fi

@@ -32,7 +32,8 @@ def read_png(path):
     for y in range(height):
         kind = raw[y * (stride + 1)]
         line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for x in range(stride):
+        # an unfiltered row (what rj's renderer writes) is its bytes
+        for x in range(stride if kind else 0):
             a = line[x - channels] if x >= channels else 0
             b = prev[x]
             c = prev[x - channels] if x >= channels else 0
