@@ -547,6 +547,14 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s);
 typedef int (*rj_sample_fn)(const rj_model *m, const rj_state *s, void *user);
 RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double sample_dt,
                        rj_sample_fn sample, void *user);
+/* rj_run, and each_step(m, s, user) after every step besides: for what a caller watches
+   at every step (joint flags, pin forces, peaks) without asking for the energy accounts
+   there, which solver.energy_every then takes only every K-th step and at the samples
+   (rj_run with sample_dt 0 takes them at every step). Samples at the start and at the
+   steps nearest to every multiple of sample_dt after it (rj_run's from time 0). A nonzero
+   return from either stops the run; at a sample step each_step is called first. */
+RJDEF rj_result rj_run_watched(const rj_model *m, rj_state *s, double t_end, double sample_dt,
+                               rj_sample_fn sample, rj_sample_fn each_step, void *user);
 /* Static equilibrium under the present loads (gravity, springs, limits) by dynamic
    relaxation with kinetic damping: steps on, and at each peak of the kinetic energy sets
    every velocity to zero, until a peak's kinetic energy is below tol times the potential
@@ -13806,8 +13814,12 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s)
     return rj__step(m, s, 0);
 }
 
-RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double sample_dt,
-                       rj_sample_fn sample, void *user)
+/* rj_run and rj_run_watched: samples at the steps nearest to k sample_dt from time 0, or
+   from the run's start (from_start), every step when sample_dt is 0; each_step (or NULL)
+   after every step. */
+static rj_result rj__run(const rj_model *m, rj_state *s, double t_end, double sample_dt,
+                         int from_start, rj_sample_fn sample, rj_sample_fn each_step,
+                         void *user)
 {
     double next;
     rj_result r;
@@ -13815,8 +13827,8 @@ RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double samp
         return RJ_ERR_INVALID;
     if (!(t_end == t_end) || !(sample_dt >= 0) || !rj__finite(sample_dt))
         return RJ_ERR_INVALID;
-    /* samples at the steps nearest to k sample_dt (every step when sample_dt is 0) */
-    next = sample_dt > 0 ? sample_dt * floor(rj_state_time(s) / sample_dt + 0.5) : rj_state_time(s);
+    next = sample_dt > 0 && !from_start ? sample_dt * floor(rj_state_time(s) / sample_dt + 0.5)
+                                        : rj_state_time(s);
     if (sample && rj_state_time(s) >= next - 0.5 * m->dt) {
         if (sample(m, s, user))
             return RJ_OK;
@@ -13828,6 +13840,8 @@ RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double samp
         r = rj__step(m, s, t1 >= t_end - 0.5 * m->dt || (sample && t1 >= next - 0.5 * m->dt));
         if (r != RJ_OK)
             return r;
+        if (each_step && each_step(m, s, user))
+            return RJ_OK;
         if (sample && rj_state_time(s) >= next - 0.5 * m->dt) {
             if (sample(m, s, user))
                 return RJ_OK;
@@ -13837,6 +13851,18 @@ RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double samp
         }
     }
     return RJ_OK;
+}
+
+RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double sample_dt,
+                       rj_sample_fn sample, void *user)
+{
+    return rj__run(m, s, t_end, sample_dt, 0, sample, NULL, user);
+}
+
+RJDEF rj_result rj_run_watched(const rj_model *m, rj_state *s, double t_end, double sample_dt,
+                               rj_sample_fn sample, rj_sample_fn each_step, void *user)
+{
+    return rj__run(m, s, t_end, sample_dt, 1, sample, each_step, user);
 }
 
 /* ------------------------------------------------------------------ settling */

@@ -823,7 +823,7 @@ struct runner {
     const char *prog;
     rj_state *s;
     double t0, t_end;        /* s: the run's start (the settled time after --settle), its length */
-    double every, next;      /* samples at the steps nearest to t0 + multiples of every */
+    double every;            /* rows at the steps nearest to t0 + multiples of every */
     double t_prev;           /* s, time of the state before the latest step */
     long sampled;            /* steps at the latest sample (-1: none yet) */
     long warns;              /* state warnings printed so far */
@@ -1111,33 +1111,26 @@ static void step_check(runner *r, const rj_state *s)
     warning_check(r, s, overlaps);
 }
 
-/* rj_run's own rule, kept here because rj_run calls on_step at every step: a sample at
-   the step nearest to each multiple of every (every step when every is 0). */
-static int sample_due(runner *r, const rj_state *s)
-{
-    const double t = rj_state_time(s), h = 0.5 * rj_model_dt(r->sc->m);
-    if (t < r->next - h) return 0;
-    if (r->every > 0) while (r->next <= t + h) r->next += r->every;
-    return 1;
-}
-
-/* rj_run's callback at every step (sample_dt 0): events and peaks need every step, the
-   rows only the samples. rj_run then takes the energy accounts at every step, which the
-   samples need (solver.energy_every > 1 only saves work between them). */
+/* rj_run_watched's callback at every step: events and peaks need every step, without the
+   energy accounts (solver.energy_every takes them every K-th step and at the rows). */
 static int on_step(const rj_model *m, const rj_state *s, void *u)
 {
     runner *r = (runner *)u;
     (void)m;
-    if (rj_state_steps(s) > 0) {
-        step_check(r, s);
-        progress_tick(r, s);
-    }
-    if (sample_due(r, s)) {
-        r->sampled = rj_state_steps(s);
-        if (r->sink(r, s)) return 1;
-    }
+    step_check(r, s);
+    progress_tick(r, s);
     r->t_prev = rj_state_time(s);
     return 0;
+}
+
+/* Its callback at the rows: the start and the step nearest to each multiple of --sample
+   from it (every step when the row interval is below the step). */
+static int on_sample(const rj_model *m, const rj_state *s, void *u)
+{
+    runner *r = (runner *)u;
+    (void)m;
+    r->sampled = rj_state_steps(s);
+    return r->sink(r, s);
 }
 
 /* Runs for t_end from the state's time (0, or where --settle left it). A failed step
@@ -1148,11 +1141,10 @@ static rj_result runner_go(runner *r)
     rj_result res;
     int j;
     r->t0 = rj_state_time(r->s);
-    r->next = r->t0;
     r->t_prev = r->t0;
     r->pr.wall0 = wall_now();
     r->pr.next = r->pr.wall0 + (r->pr.mode == PROGRESS_ALWAYS ? 0.5 : 0.0);
-    res = rj_run(r->sc->m, r->s, r->t0 + r->t_end, 0, on_step, r);
+    res = rj_run_watched(r->sc->m, r->s, r->t0 + r->t_end, r->every, on_sample, on_step, r);
     r->wall = wall_now() - r->pr.wall0;
     /* --progress into a file or pipe ends with the line of the end */
     if (r->pr.mode == PROGRESS_ALWAYS && !r->pr.tty && r->stop != STOP_QUIET) progress_print(r, r->s, wall_now());

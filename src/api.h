@@ -547,6 +547,14 @@ RJDEF rj_result rj_step(const rj_model *m, rj_state *s);
 typedef int (*rj_sample_fn)(const rj_model *m, const rj_state *s, void *user);
 RJDEF rj_result rj_run(const rj_model *m, rj_state *s, double t_end, double sample_dt,
                        rj_sample_fn sample, void *user);
+/* rj_run, and each_step(m, s, user) after every step besides: for what a caller watches
+   at every step (joint flags, pin forces, peaks) without asking for the energy accounts
+   there, which solver.energy_every then takes only every K-th step and at the samples
+   (rj_run with sample_dt 0 takes them at every step). Samples at the start and at the
+   steps nearest to every multiple of sample_dt after it (rj_run's from time 0). A nonzero
+   return from either stops the run; at a sample step each_step is called first. */
+RJDEF rj_result rj_run_watched(const rj_model *m, rj_state *s, double t_end, double sample_dt,
+                               rj_sample_fn sample, rj_sample_fn each_step, void *user);
 /* Static equilibrium under the present loads (gravity, springs, limits) by dynamic
    relaxation with kinetic damping: steps on, and at each peak of the kinetic energy sets
    every velocity to zero, until a peak's kinetic energy is below tol times the potential

@@ -650,4 +650,18 @@ ok "check deploy_pieces.rjs: 22 rigid links (arm1 .. arm1_p10, arm2 .. arm2_p10)
    && grep -Eq '^  arm2 +rigid ' $T/pieces_check.txt && grep -qx 'joints: 22' $T/pieces_check.txt \
    && grep -Eq '^  arm1_b10 +arm1_p9 -> arm1_p10, starts at 180 deg: spring 204.565 N m/rad free at 180 deg\$' $T/pieces_check.txt \
    && grep -Eq '^  j2 +arm1_p10 -> arm2, ' $T/pieces_check.txt"
+# rj run watches every step without asking for the energy accounts there: with
+# solver.energy_every 16 its rows (the accounts among them) and its summary are those of
+# every step's accounts, byte for byte (the summary less its wall time), on a flexible and
+# a rigid scene, --settle too
+for f in deploy deploy_pieces; do
+  $B/rj run $S/$f.rjs --set solver.energy_every=1 --t-end 0.3 --sample 0.007 --csv $T/ee1_$f.csv 2>$T/ee1_$f.err
+  $B/rj run $S/$f.rjs --set solver.energy_every=16 --t-end 0.3 --sample 0.007 --csv $T/ee16_$f.csv 2>$T/ee16_$f.err
+  ok "run $f.rjs: energy_every 16 and 1 give the same rows and summary ($(wc -l < $T/ee1_$f.csv) rows)" \
+    "[ -s $T/ee1_$f.csv ] && cmp -s $T/ee1_$f.csv $T/ee16_$f.csv && [ \"\$(grep -v ' wall ' $T/ee1_$f.err)\" = \"\$(grep -v ' wall ' $T/ee16_$f.err)\" ]"
+done
+$B/rj run $S/elastica.rjs --settle --set solver.energy_every=1 --t-end 0.01 --sample 0.003 --csv $T/ee1_settle.csv 2>/dev/null
+$B/rj run $S/elastica.rjs --settle --set solver.energy_every=16 --t-end 0.01 --sample 0.003 --csv $T/ee16_settle.csv 2>/dev/null
+ok "run elastica.rjs --settle: energy_every 16 and 1 give the same rows, from the settled time on" \
+  "[ -s $T/ee1_settle.csv ] && cmp -s $T/ee1_settle.csv $T/ee16_settle.csv"
 exit 0
