@@ -18,7 +18,7 @@
 #define RJ__BOUND_GAP 0.25
 #define RJ__LZ_TOL    1e-4
 
-/* A translation DOF of node i lives at its group's first member (rj__lz_u). */
+/* A translation DOF of node i lives at its group's first member (the root). */
 static int rj__ub_root(const rj_model *m, int i)
 {
     return m->node_grp[i] >= 0 ? m->grp_node[m->grp_first[m->node_grp[i]]] : i;
