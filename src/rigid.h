@@ -193,20 +193,17 @@ static void rj__rig_gather(const double *sub, double *parent)
     parent[RJ__RL_SUB_N] += sub[RJ__RL_SUB_N] + dx * sub[RJ__RL_SUB_FY] - dy * sub[RJ__RL_SUB_FX];
 }
 
-/* Mass matrix M(q) and bias h (with the centripetal accelerations from rj__rig_kin), by
-   composite bodies. Joint j turns the subtree beyond it (its body 2 and all that hangs
-   from it): with that subtree's inertia J_j and first moment S_j about j's pin P_j,
-   M_jj = J_j, and M_jk = J_j + (P_j - P_k) . S_j for every joint k above j (zero for
-   joints on other branches); h_j is the moment of the subtree's m a about P_j. The sums
-   are gathered leaves first, in O(n); the pairs cost four flops each. Without the
-   motors' rotors (rj__rig_mass adds them). */
-static void rj__rig_mass_links(const rj_model *m, rj__rig *r)
+/* The subtrees' sums and the bias h (with the centripetal accelerations from rj__rig_kin),
+   by composite bodies. Joint j turns the subtree beyond it (its body 2 and all that hangs
+   from it), whose inertia J_j and first moment S_j about j's pin P_j are gathered leaves
+   first, in O(n); h_j is the moment of the subtree's m a about P_j. The dense M
+   (rj__rig_mass_links) reads them, its pairs at four flops each; without the motors'
+   rotors (rj__rig_mass adds them). */
+static void rj__rig_subtrees(const rj_model *m, rj__rig *r)
 {
-    const int n = m->nq, dense = !m->rig_tree;
-    double *M = r->M, *h = r->h, *lk = r->lk;
-    int i, k;
-    for (i = 0; i < n * n && dense; i++)
-        M[i] = 0;
+    const int n = m->nq;
+    double *h = r->h, *lk = r->lk;
+    int k;
     for (k = 0; k < n; k++) {
         const int body = m->jdef[m->qj[k]].body2;
         rj__rig_own(m, body, lk + RJ__RL_COUNT * (size_t) body);
@@ -217,16 +214,25 @@ static void rj__rig_mass_links(const rj_model *m, rj__rig *r)
         const int parent = m->jdef[j].body1;
         const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
         h[qi] = sub[RJ__RL_SUB_N];
-        if (dense)
-            M[(size_t) qi * n + qi] = sub[RJ__RL_SUB_J];
         if (parent < 0 || m->rb_pjoint[parent] < 0)
             continue; /* on the ground or a fixed link */
         rj__rig_gather(sub, lk + RJ__RL_COUNT * (size_t) parent);
     }
-    /* an articulated-body tree needs the subtrees' sums and h alone (rj__aba_factor) */
-    for (k = 0; k < n && dense; k++) {
+}
+
+/* The dense M from the subtrees' sums: M_jj = J_j, M_jk = J_j + (P_j - P_k) . S_j for
+   every joint k above j. */
+static void rj__rig_mass_links(const rj_model *m, rj__rig *r)
+{
+    const int n = m->nq;
+    double *M = r->M, *lk = r->lk;
+    int i, k;
+    for (i = 0; i < n * n; i++)
+        M[i] = 0;
+    for (k = 0; k < n; k++) {
         const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[m->qj[k]].body2;
         int up;
+        M[(size_t) k * n + k] = sub[RJ__RL_SUB_J];
         for (up = rj__rig_up(m, m->qj[k]); up >= 0; up = rj__rig_up(m, up)) {
             const double *pin = lk + RJ__RL_COUNT * (size_t) m->jdef[up].body2;
             const double dx = sub[RJ__RL_PX] - pin[RJ__RL_PX];
@@ -260,8 +266,12 @@ static void rj__rig_mass(const rj_model *m, rj__rig *r)
 {
     const int n = m->nq;
     int k;
+    rj__rig_subtrees(m, r);
+    /* an articulated-body tree needs the subtrees' sums and h alone (rj__aba_factor) */
+    if (m->rig_tree)
+        return;
     rj__rig_mass_links(m, r);
-    for (k = 0; k < n && !m->rig_tree; k++)
+    for (k = 0; k < n; k++)
         r->M[(size_t) k * n + k] += m->jnt[m->qj[k]].rotor;
     if (m->nloop)
         rj__rig_loop_rotors(m, r->M, r->tmp);
@@ -358,14 +368,14 @@ static void rj__chol_unit(int n, const double *L, int j, double *x)
 /* M(q) and its factor at the kinematics in r->lk, as the model solves them: dense
    (Cholesky) or articulated bodies (rj__aba_factor); nonzero when M is not positive
    definite. */
-static int rj__rig_factor(const rj_model *m, rj__rig *r)
+static RJ__FORCE_INLINE int rj__rig_factor(const rj_model *m, rj__rig *r)
 {
     rj__rig_mass(m, r);
     return m->rig_tree ? rj__aba_factor(m, r) : rj__chol(m->nq, r->M, r->L);
 }
 
 /* x = M^-1 b with the factor. */
-static void rj__rig_solve(const rj_model *m, rj__rig *r, const double *b, double *x)
+static RJ__FORCE_INLINE void rj__rig_solve(const rj_model *m, rj__rig *r, const double *b, double *x)
 {
     if (m->rig_tree)
         rj__aba_solve(m, r, b, -1, x);
@@ -374,7 +384,7 @@ static void rj__rig_solve(const rj_model *m, rj__rig *r, const double *b, double
 }
 
 /* Column j of M^-1 with the factor. */
-static void rj__rig_unit(const rj_model *m, rj__rig *r, int j, double *x)
+static RJ__FORCE_INLINE void rj__rig_unit(const rj_model *m, rj__rig *r, int j, double *x)
 {
     if (m->rig_tree)
         rj__aba_solve(m, r, NULL, j, x);
@@ -383,7 +393,7 @@ static void rj__rig_unit(const rj_model *m, rj__rig *r, int j, double *x)
 }
 
 /* y = M x at the factor's configuration. */
-static void rj__rig_mul(const rj_model *m, rj__rig *r, const double *x, double *y)
+static RJ__FORCE_INLINE void rj__rig_mul(const rj_model *m, rj__rig *r, const double *x, double *y)
 {
     const int n = m->nq;
     int j, k;
