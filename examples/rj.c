@@ -2684,8 +2684,8 @@ static int csv_fields(char *line, char **field, int max)
     }
 }
 
-/* A field's number: empty (a sample that did not load) is NaN; anything else must be a
-   whole number. 0, or -1. */
+/* A field's number: empty (a sample that did not load) is NaN; anything else must read
+   as a number to its end. 0, or -1. */
 static int field_number(const char *f, double *v)
 {
     char *end;
