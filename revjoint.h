@@ -150,8 +150,9 @@ typedef enum rj_root { RJ_ROOT_FREE = 0, RJ_ROOT_PINNED, RJ_ROOT_CLAMPED, RJ_ROO
      attachment points (rj_node_mass gives mass 0 and the body's inertia about its
      anchor), and the nodes of other links pinned to it. Two rigid links pinned together
      there are kept together on positions (as SHAKE keeps inextensible links); their
-     joint takes a spring, a table, damping and a motor's torque, but no limit, lock,
-     friction, prescribed profile or cable loop yet. Joints on a rigid link use
+     joint takes a spring, a table, damping, friction (with the pinned pair's give), a
+     motor's torque, limits by penalty and elastic cable loops, but no lock, other limit
+     method, prescribed profile or exact cable loop yet. Joints on a rigid link use
      RJ_REF_TANGENT; the flexible links set the step. */
 /* RJ_LINK_INEXTENSIBLE links bend like flexible ones, but their element lengths are
    constraints (SHAKE projection along the previous chords: a tridiagonal solve per chain
@@ -1041,6 +1042,7 @@ typedef struct rj__joint {
         nL; /* global nodes: pin on body 1, its neighbour, pin on body 2, its neighbour; nI = nK = -1 for ground */
     int chord;       /* RJ_REF_CHORD */
     int loop;        /* it closes a loop: its body2 hangs from an earlier joint */
+    int pair;        /* mixed scenes: it joins two rigid bodies (a pin between bodies) */
     double off;      /* tangent mode: theta = off + phi_J - phi_I */
     double minv;     /* rigid scenes: (M^-1)_jj, rate change per unit torque impulse */
     double gax, gay; /* ground reference direction (unit) when nK < 0 */
@@ -1159,6 +1161,7 @@ struct rj_model {
         cl_th0; /* (3 nl) body angle at the start (its nodes' phi0), anchor velocity at the start */
     double *cl_rx, *cl_ry; /* (nn) member offsets from the anchor at the start */
     int nbp;               /* pins between two bodies (rj__body_pins) */
+    int npair;             /* joints between two bodies (rj__joint.pair) */
     int project;           /* any_inext or nbp: stage 6 projects positions */
     int *bp_node;          /* (2 nj) each one's node on the first body, on the second */
     size_t
@@ -2996,18 +2999,19 @@ static const char *rj__body_pair_refusal(const rj_scene_def *sc, int j, char *f,
     const rj_joint_def *J = &sc->joints[j];
     int k;
     f[0] = 0;
-    if (J->has_forward || J->has_reverse)
-        snprintf(f, n, "joints[%d].%s", j, J->has_forward ? "forward" : "reverse");
+    /* a penalty limit is a torque; the other methods jump the rates */
+    if ((J->has_forward || J->has_reverse) && J->method != RJ_METHOD_PENALTY)
+        snprintf(f, n, "joints[%d].method", j);
     else if (J->lock)
         snprintf(f, n, "joints[%d].lock", j);
-    else if (J->friction > 0)
-        snprintf(f, n, "joints[%d].friction", j);
     for (k = 0; k < sc->actuator_count && !f[0]; k++)
         if (sc->actuators[k].joint == j && sc->actuators[k].type == RJ_ACTUATOR_PRESCRIBED)
             snprintf(f, n, "actuators[%d].type", k);
+    /* an elastic cable loop is a torque; an exact one is a row */
     for (k = 0; k < sc->coupling_count && !f[0]; k++)
-        if (sc->couplings[k].joint_a == j || sc->couplings[k].joint_b == j)
-            snprintf(f, n, "couplings[%d].joint_%c", k, sc->couplings[k].joint_a == j ? 'a' : 'b');
+        if ((sc->couplings[k].joint_a == j || sc->couplings[k].joint_b == j) &&
+            sc->couplings[k].exact)
+            snprintf(f, n, "couplings[%d].exact", k);
     return f[0] ? f : NULL;
 }
 
@@ -3038,9 +3042,11 @@ static int rj__validate_mixed(const rj_scene_def *sc, rj_error *err)
         if (r1 && r2 && rj__body_pair_refusal(sc, j, f, sizeof f)) {
             rj__fail(err, RJ_ERR_INVALID, f, j,
                      "%s is not supported: joint %d pins two rigid links (%d and %d) in a scene "
-                     "with flexible links, where it takes a spring, a table, damping and a "
-                     "motor's torque, but no limit, lock, friction, prescribed profile or cable "
-                     "loop yet: make every link rigid, or one of the two flexible",
+                     "with flexible links, where it takes a spring, a table, damping, friction, "
+                     "a motor's torque, an elastic cable loop and limits by penalty "
+                     "(method = penalty), but no lock, other limit method, prescribed profile "
+                     "or exact cable loop yet: make every link rigid, or one of the two "
+                     "flexible",
                      f, j, J->body1, J->body2);
             return 0;
         }
@@ -7566,6 +7572,23 @@ static void rj__init_chord_angles(rj_model *m)
         }
 }
 
+/* The joints whose two pins are own nodes of two rigid bodies (mixed scenes): the pin
+   between the bodies turns both with the joint's torques (rj__pair_friction). */
+static void rj__init_body_pairs(rj_model *m)
+{
+    int j;
+    m->npair = 0;
+    for (j = 0; j < m->nj; j++) {
+        rj__joint *J = &m->jnt[j];
+        J->pair = 0;
+        if (!m->ncl || J->nI < 0)
+            continue;
+        J->pair = RJ__CL_RIGID(m, J->nI) && RJ__CL_RIGID(m, J->nJ) &&
+                  m->node_cl[J->nI] != m->node_cl[J->nJ];
+        m->npair += J->pair;
+    }
+}
+
 /* Rigid links in a scene with flexible ones move as bodies (clusters, rj__clusters); a
    scene of rigid links alone runs in joint coordinates instead and has none. */
 static int rj__init_clusters(rj_model *m, const rj_scene_def *sc, rj_error *err)
@@ -7579,6 +7602,7 @@ static int rj__init_clusters(rj_model *m, const rj_scene_def *sc, rj_error *err)
                 m->ncl = m->nl;
     if (m->ncl && !rj__clusters(m, err))
         return 0;
+    rj__init_body_pairs(m);
     return 1;
 }
 
@@ -11520,27 +11544,95 @@ static RJ__NOINLINE double rj__applied_work(const rj_model *m, const rj_state *s
     return s->inputs ? rj__inputs_work(m, s, old, next) : 0.0;
 }
 
+/* One body of a pinned pair at the pin: its point r from the anchor, the pin's mean
+   velocity over the step under the forces so far (the point turned exactly, as the
+   bodies' poses turn it: the linear v + w perp(r) left out the pin's centripetal pull,
+   and a stuck joint crept at first order in dt), its inverse mass and inertia (0 where
+   held). */
+typedef struct rj__pair_side {
+    double r[2], v[2], tinv, rinv;
+} rj__pair_side;
+
+static void rj__pair_side_at(const rj_model *m, const rj_state *s, const rj__frames *at, int n,
+                             rj__pair_side *p)
+{
+    const int c = m->node_cl[n];
+    const double *oc = RJ__FCL(m, at->old, c);
+    double Fx, Fy, T, w, cw, sw;
+    p->tinv = m->cl_fix[c] == 0 ? 1.0 / m->cl_M[c] : 0.0;
+    p->rinv = m->cl_fix[c] != 2 ? 1.0 / m->cl_I[c] : 0.0;
+    p->r[0] = at->x[n] - oc[0];
+    p->r[1] = at->y[n] - oc[1];
+    rj__cl_load(m, c, oc, at->x, at->y, s->fx, s->fy, s->mz, &Fx, &Fy, &T);
+    w = oc[4] + at->kick * T * p->rinv;
+    cw = cos(at->dt * w);
+    sw = sin(at->dt * w);
+    p->v[0] = oc[2] + at->kick * Fx * p->tinv + ((cw - 1) * p->r[0] - sw * p->r[1]) / at->dt;
+    p->v[1] = oc[3] + at->kick * Fy * p->tinv + (sw * p->r[0] + (cw - 1) * p->r[1]) / at->dt;
+}
+
+/* Friction on a joint between two rigid bodies of a mixed scene. The pin between them
+   (rj__body_pins) takes an impulse lambda that keeps the pin's two points together, so
+   the rate friction must stop is the one that impulse leaves, rate - u . lambda, and
+   the give of a torque pair is the pinned pair's, c = 1/I_1 + 1/I_2 - u^T K^-1 u, with K
+   the pin's mobility (sum of 1/M + perp(r) perp(r)^T / I) and u = sum perp(r) / I. With
+   the bodies' own gives alone the torque fell short and a stuck joint crept. */
+static void rj__pair_friction(const rj_model *m, const rj_state *s, const rj__frames *f,
+                              const rj__joint *J, double *ratep, double *give)
+{
+    rj__pair_side a, b;
+    double K[3], u[2], gap[2], det, lam[2], c;
+    rj__pair_side_at(m, s, f, J->nI, &a);
+    rj__pair_side_at(m, s, f, J->nJ, &b);
+    K[0] = a.tinv + b.tinv + a.rinv * a.r[1] * a.r[1] + b.rinv * b.r[1] * b.r[1];
+    K[1] = -(a.rinv * a.r[1] * a.r[0] + b.rinv * b.r[1] * b.r[0]);
+    K[2] = a.tinv + b.tinv + a.rinv * a.r[0] * a.r[0] + b.rinv * b.r[0] * b.r[0];
+    u[0] = -(a.rinv * a.r[1] + b.rinv * b.r[1]);
+    u[1] = a.rinv * a.r[0] + b.rinv * b.r[0];
+    det = K[0] * K[2] - K[1] * K[1];
+    /* two bodies turning about one point, or held: nothing for the pin to add */
+    if (!(det > 1e-12 * (K[0] + K[2]) * (K[0] + K[2])))
+        return;
+    gap[0] = a.v[0] - b.v[0];
+    gap[1] = a.v[1] - b.v[1];
+    lam[0] = -(K[2] * gap[0] - K[1] * gap[1]) / det;
+    lam[1] = -(K[0] * gap[1] - K[1] * gap[0]) / det;
+    *ratep -= u[0] * lam[0] + u[1] * lam[1];
+    c = a.rinv + b.rinv - (K[2] * u[0] * u[0] - 2 * K[1] * u[0] * u[1] + K[0] * u[1] * u[1]) / det;
+    if (J->rotor > 0)
+        c /= 1.0 + J->rotor * c;
+    *give = f->kick * c;
+}
+
+/* Joint j's friction torque, applied and recorded (stage 3, below). */
+static RJ__FORCE_INLINE void rj__friction_joint(const rj_model *m, rj_state *s,
+                                                const rj__frames *f, int j, int pairs)
+{
+    const rj_joint_def *d = &m->jdef[j];
+    const rj__joint *J = &m->jnt[j];
+    double *new_joint = RJ__FJ(m, f->next, j);
+    rj__jgeo g;
+    double ratep, compliance, tau;
+    rj__kept_geo(s->jsc + 8 * j, &g);
+    ratep = rj__joint_rate_pred(m, s, f, J, &g);
+    compliance = f->kick * rj__joint_compliance(m, J, &g);
+    if (pairs && J->pair)
+        rj__pair_friction(m, s, f, J, &ratep, &compliance);
+    tau = rj__friction(ratep, compliance, d->friction);
+    rj__apply_torque(J, &g, tau, s->fx, s->fy, s->mz);
+    new_joint[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
+}
+
 /* Stage 3, Coulomb friction: the torque that would stop the relative rotation in this
    step, capped at T_f, with every other force known; it never reverses the rate and holds
    a stuck joint exactly. */
-static RJ__FORCE_INLINE void rj__stage_friction(const rj_model *m, rj_state *s, const rj__frames *f)
+static RJ__FORCE_INLINE void rj__stage_friction(const rj_model *m, rj_state *s, const rj__frames *f,
+                                                int held)
 {
     int j;
-    for (j = 0; j < m->nj; j++) {
-        const rj_joint_def *d = &m->jdef[j];
-        const rj__joint *J = &m->jnt[j];
-        double *new_joint = RJ__FJ(m, f->next, j);
-        rj__jgeo g;
-        double ratep, compliance, tau;
-        if (!(d->friction > 0))
-            continue;
-        rj__kept_geo(s->jsc + 8 * j, &g);
-        ratep = rj__joint_rate_pred(m, s, f, J, &g);
-        compliance = f->kick * rj__joint_compliance(m, J, &g);
-        tau = rj__friction(ratep, compliance, d->friction);
-        rj__apply_torque(J, &g, tau, s->fx, s->fy, s->mz);
-        new_joint[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
-    }
+    for (j = 0; j < m->nj; j++)
+        if (m->jdef[j].friction > 0)
+            rj__friction_joint(m, s, f, j, held && m->npair);
 }
 
 /* Gravity's potential -sum m g . x at the nodes x, y (rigid bodies' own links from their
@@ -12373,16 +12465,16 @@ static RJ__NOINLINE double rj__stage_body_pins(const rj_model *m, rj_state *s, c
    that stage 5 took them on. The next step books each joint torque's work over this
    step as its torque times this rate: taken before the projection, a motor on a rigid
    body that a pin between bodies turned did 40 % less work in the accounts than on the
-   bodies, and the balance stopped the run at its first step. */
-static RJ__NOINLINE void rj__rates_again(const rj_model *m, const rj_state *s,
-                                         const rj__frames *f)
+   bodies, and the balance stopped the run at its first step. Plain values, not the
+   step's frames: their address taken costs every step (rj__stage_body_pins). */
+static RJ__NOINLINE void rj__rates_again(const rj_model *m, const rj_state *s, double *next,
+                                         const double *nvx, const double *nvy, const double *nw)
 {
     int j;
     for (j = 0; j < m->nj; j++) {
         rj__jgeo g;
         rj__kept_geo(s->jsc + 8 * j, &g);
-        RJ__FJ(m, f->next, j)[RJ__JD_RATE] =
-            rj__joint_rate(&m->jnt[j], &g, f->nvx, f->nvy, f->nw, NULL, NULL);
+        RJ__FJ(m, next, j)[RJ__JD_RATE] = rj__joint_rate(&m->jnt[j], &g, nvx, nvy, nw, NULL, NULL);
     }
 }
 
@@ -12390,14 +12482,15 @@ static RJ__NOINLINE void rj__rates_again(const rj_model *m, const rj_state *s,
    inextensible links projected (constraint forces do no work: the velocities follow the
    projected positions, and the kinetic energy is taken again with them). */
 static RJ__FORCE_INLINE void rj__stage_constraints(const rj_model *m, rj_state *s,
-                                                   const rj__frames *f, rj__sums *e, double *fin)
+                                                   const rj__frames *f, rj__sums *e, double *fin,
+                                                   int held)
 {
     const double *x = f->x, *y = f->y;
     double *nx = f->nx, *ny = f->ny;
     double idt;
     int i;
     rj__constrain_bodies(m, f, fin);
-    if (!m->project)
+    if (!held || !m->project)
         return;
     idt = 1.0 / f->dt;
     if (m->nbp) {
@@ -12414,7 +12507,7 @@ static RJ__FORCE_INLINE void rj__stage_constraints(const rj_model *m, rj_state *
     }
     if (f->en)
         e->kinetic = rj__kinetic_again(m, f);
-    rj__rates_again(m, s, f);
+    rj__rates_again(m, s, f->next, f->nvx, f->nvy, f->nw);
 }
 
 /* Forced displacement (sec. 3): a joint past its limit, or off its lock, turned back by p;
@@ -12624,11 +12717,13 @@ static RJ__FORCE_INLINE void rj__step_commit(const rj_model *m, rj_state *s, con
 
 /* One step of flexible, inextensible and mixed scenes, stage by stage; the energy accounts
    are taken when want_energy is set, at the first step, and solver.energy_every steps after
-   the last time. ip: in place (rj__step below). Every stage adds to fin the positions it
+   the last time. ip: in place (rj__step below); held: the scene has constraints on
+   positions or joints between two rigid bodies (rj__step_held), compiled apart so that
+   the others carry none of their code. Every stage adds to fin the positions it
    wrote, each from the velocity, torque or body motion behind it: finite while they all
    are. Applied loads enter between stages 2 and 3, so that friction sees them. */
 static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, int want_energy,
-                                               int ip)
+                                               int ip, int held)
 {
     rj__frames f;
     rj__sums e;
@@ -12651,12 +12746,12 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
         e.work += s->step_work;
         fin += s->step_fin;
     }
-    rj__stage_friction(m, s, &f);
+    rj__stage_friction(m, s, &f, held);
     rj__stage_update(m, s, &f, &adv, &e, &fin);
     rj__stage_velocity_limits(m, s, &f, &e, &fin);
     if (applied)
         e.work += rj__applied_work(m, s, f.old, f.next);
-    rj__stage_constraints(m, s, &f, &e, &fin);
+    rj__stage_constraints(m, s, &f, &e, &fin, held);
     r = rj__stage_joint_angles(m, s, &f, &fin);
     if (r != RJ_OK)
         return r;
@@ -13757,13 +13852,26 @@ static int rj__inputs_since_snap(const rj_model *m, const rj_state *s)
     return !s->inputs ||
            memcmp(s->snap_torque, s->input_torque, sizeof(double) * (size_t) m->nj) == 0;
 }
-static rj_result rj__step_dbl(const rj_model *m, rj_state *s, int want_energy)
+static rj_result rj__step_plain(const rj_model *m, rj_state *s, int want_energy)
 {
-    return rj__step_run(m, s, want_energy, 0);
+    return rj__step_run(m, s, want_energy, 0, 0);
+}
+static rj_result rj__step_held(const rj_model *m, rj_state *s, int want_energy)
+{
+    return rj__step_run(m, s, want_energy, 0, 1);
 }
 static rj_result rj__step_ip(const rj_model *m, rj_state *s, int want_energy)
 {
-    return rj__step_run(m, s, want_energy, 1);
+    return rj__step_run(m, s, want_energy, 1, 0);
+}
+/* Double-buffered: scenes with constraints on positions (inextensible links, pins
+   between rigid bodies, so every joint between two bodies) take the step compiled with
+   their parts. */
+static rj_result rj__step_dbl(const rj_model *m, rj_state *s, int want_energy)
+{
+    if (m->project)
+        return rj__step_held(m, s, want_energy);
+    return rj__step_plain(m, s, want_energy);
 }
 static RJ__NOINLINE void rj__track_peaks(const rj_model *m, rj_state *s);
 

@@ -150,8 +150,9 @@ typedef enum rj_root { RJ_ROOT_FREE = 0, RJ_ROOT_PINNED, RJ_ROOT_CLAMPED, RJ_ROO
      attachment points (rj_node_mass gives mass 0 and the body's inertia about its
      anchor), and the nodes of other links pinned to it. Two rigid links pinned together
      there are kept together on positions (as SHAKE keeps inextensible links); their
-     joint takes a spring, a table, damping and a motor's torque, but no limit, lock,
-     friction, prescribed profile or cable loop yet. Joints on a rigid link use
+     joint takes a spring, a table, damping, friction (with the pinned pair's give), a
+     motor's torque, limits by penalty and elastic cable loops, but no lock, other limit
+     method, prescribed profile or exact cable loop yet. Joints on a rigid link use
      RJ_REF_TANGENT; the flexible links set the step. */
 /* RJ_LINK_INEXTENSIBLE links bend like flexible ones, but their element lengths are
    constraints (SHAKE projection along the previous chords: a tridiagonal solve per chain

@@ -439,6 +439,23 @@ static void rj__init_chord_angles(rj_model *m)
         }
 }
 
+/* The joints whose two pins are own nodes of two rigid bodies (mixed scenes): the pin
+   between the bodies turns both with the joint's torques (rj__pair_friction). */
+static void rj__init_body_pairs(rj_model *m)
+{
+    int j;
+    m->npair = 0;
+    for (j = 0; j < m->nj; j++) {
+        rj__joint *J = &m->jnt[j];
+        J->pair = 0;
+        if (!m->ncl || J->nI < 0)
+            continue;
+        J->pair = RJ__CL_RIGID(m, J->nI) && RJ__CL_RIGID(m, J->nJ) &&
+                  m->node_cl[J->nI] != m->node_cl[J->nJ];
+        m->npair += J->pair;
+    }
+}
+
 /* Rigid links in a scene with flexible ones move as bodies (clusters, rj__clusters); a
    scene of rigid links alone runs in joint coordinates instead and has none. */
 static int rj__init_clusters(rj_model *m, const rj_scene_def *sc, rj_error *err)
@@ -452,6 +469,7 @@ static int rj__init_clusters(rj_model *m, const rj_scene_def *sc, rj_error *err)
                 m->ncl = m->nl;
     if (m->ncl && !rj__clusters(m, err))
         return 0;
+    rj__init_body_pairs(m);
     return 1;
 }
 

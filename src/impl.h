@@ -138,6 +138,7 @@ typedef struct rj__joint {
         nL; /* global nodes: pin on body 1, its neighbour, pin on body 2, its neighbour; nI = nK = -1 for ground */
     int chord;       /* RJ_REF_CHORD */
     int loop;        /* it closes a loop: its body2 hangs from an earlier joint */
+    int pair;        /* mixed scenes: it joins two rigid bodies (a pin between bodies) */
     double off;      /* tangent mode: theta = off + phi_J - phi_I */
     double minv;     /* rigid scenes: (M^-1)_jj, rate change per unit torque impulse */
     double gax, gay; /* ground reference direction (unit) when nK < 0 */
@@ -256,6 +257,7 @@ struct rj_model {
         cl_th0; /* (3 nl) body angle at the start (its nodes' phi0), anchor velocity at the start */
     double *cl_rx, *cl_ry; /* (nn) member offsets from the anchor at the start */
     int nbp;               /* pins between two bodies (rj__body_pins) */
+    int npair;             /* joints between two bodies (rj__joint.pair) */
     int project;           /* any_inext or nbp: stage 6 projects positions */
     int *bp_node;          /* (2 nj) each one's node on the first body, on the second */
     size_t

@@ -18,13 +18,26 @@ static int rj__inputs_since_snap(const rj_model *m, const rj_state *s)
     return !s->inputs ||
            memcmp(s->snap_torque, s->input_torque, sizeof(double) * (size_t) m->nj) == 0;
 }
-static rj_result rj__step_dbl(const rj_model *m, rj_state *s, int want_energy)
+static rj_result rj__step_plain(const rj_model *m, rj_state *s, int want_energy)
 {
-    return rj__step_run(m, s, want_energy, 0);
+    return rj__step_run(m, s, want_energy, 0, 0);
+}
+static rj_result rj__step_held(const rj_model *m, rj_state *s, int want_energy)
+{
+    return rj__step_run(m, s, want_energy, 0, 1);
 }
 static rj_result rj__step_ip(const rj_model *m, rj_state *s, int want_energy)
 {
-    return rj__step_run(m, s, want_energy, 1);
+    return rj__step_run(m, s, want_energy, 1, 0);
+}
+/* Double-buffered: scenes with constraints on positions (inextensible links, pins
+   between rigid bodies, so every joint between two bodies) take the step compiled with
+   their parts. */
+static rj_result rj__step_dbl(const rj_model *m, rj_state *s, int want_energy)
+{
+    if (m->project)
+        return rj__step_held(m, s, want_energy);
+    return rj__step_plain(m, s, want_energy);
 }
 static RJ__NOINLINE void rj__track_peaks(const rj_model *m, rj_state *s);
 

@@ -560,27 +560,95 @@ static RJ__NOINLINE double rj__applied_work(const rj_model *m, const rj_state *s
     return s->inputs ? rj__inputs_work(m, s, old, next) : 0.0;
 }
 
+/* One body of a pinned pair at the pin: its point r from the anchor, the pin's mean
+   velocity over the step under the forces so far (the point turned exactly, as the
+   bodies' poses turn it: the linear v + w perp(r) left out the pin's centripetal pull,
+   and a stuck joint crept at first order in dt), its inverse mass and inertia (0 where
+   held). */
+typedef struct rj__pair_side {
+    double r[2], v[2], tinv, rinv;
+} rj__pair_side;
+
+static void rj__pair_side_at(const rj_model *m, const rj_state *s, const rj__frames *at, int n,
+                             rj__pair_side *p)
+{
+    const int c = m->node_cl[n];
+    const double *oc = RJ__FCL(m, at->old, c);
+    double Fx, Fy, T, w, cw, sw;
+    p->tinv = m->cl_fix[c] == 0 ? 1.0 / m->cl_M[c] : 0.0;
+    p->rinv = m->cl_fix[c] != 2 ? 1.0 / m->cl_I[c] : 0.0;
+    p->r[0] = at->x[n] - oc[0];
+    p->r[1] = at->y[n] - oc[1];
+    rj__cl_load(m, c, oc, at->x, at->y, s->fx, s->fy, s->mz, &Fx, &Fy, &T);
+    w = oc[4] + at->kick * T * p->rinv;
+    cw = cos(at->dt * w);
+    sw = sin(at->dt * w);
+    p->v[0] = oc[2] + at->kick * Fx * p->tinv + ((cw - 1) * p->r[0] - sw * p->r[1]) / at->dt;
+    p->v[1] = oc[3] + at->kick * Fy * p->tinv + (sw * p->r[0] + (cw - 1) * p->r[1]) / at->dt;
+}
+
+/* Friction on a joint between two rigid bodies of a mixed scene. The pin between them
+   (rj__body_pins) takes an impulse lambda that keeps the pin's two points together, so
+   the rate friction must stop is the one that impulse leaves, rate - u . lambda, and
+   the give of a torque pair is the pinned pair's, c = 1/I_1 + 1/I_2 - u^T K^-1 u, with K
+   the pin's mobility (sum of 1/M + perp(r) perp(r)^T / I) and u = sum perp(r) / I. With
+   the bodies' own gives alone the torque fell short and a stuck joint crept. */
+static void rj__pair_friction(const rj_model *m, const rj_state *s, const rj__frames *f,
+                              const rj__joint *J, double *ratep, double *give)
+{
+    rj__pair_side a, b;
+    double K[3], u[2], gap[2], det, lam[2], c;
+    rj__pair_side_at(m, s, f, J->nI, &a);
+    rj__pair_side_at(m, s, f, J->nJ, &b);
+    K[0] = a.tinv + b.tinv + a.rinv * a.r[1] * a.r[1] + b.rinv * b.r[1] * b.r[1];
+    K[1] = -(a.rinv * a.r[1] * a.r[0] + b.rinv * b.r[1] * b.r[0]);
+    K[2] = a.tinv + b.tinv + a.rinv * a.r[0] * a.r[0] + b.rinv * b.r[0] * b.r[0];
+    u[0] = -(a.rinv * a.r[1] + b.rinv * b.r[1]);
+    u[1] = a.rinv * a.r[0] + b.rinv * b.r[0];
+    det = K[0] * K[2] - K[1] * K[1];
+    /* two bodies turning about one point, or held: nothing for the pin to add */
+    if (!(det > 1e-12 * (K[0] + K[2]) * (K[0] + K[2])))
+        return;
+    gap[0] = a.v[0] - b.v[0];
+    gap[1] = a.v[1] - b.v[1];
+    lam[0] = -(K[2] * gap[0] - K[1] * gap[1]) / det;
+    lam[1] = -(K[0] * gap[1] - K[1] * gap[0]) / det;
+    *ratep -= u[0] * lam[0] + u[1] * lam[1];
+    c = a.rinv + b.rinv - (K[2] * u[0] * u[0] - 2 * K[1] * u[0] * u[1] + K[0] * u[1] * u[1]) / det;
+    if (J->rotor > 0)
+        c /= 1.0 + J->rotor * c;
+    *give = f->kick * c;
+}
+
+/* Joint j's friction torque, applied and recorded (stage 3, below). */
+static RJ__FORCE_INLINE void rj__friction_joint(const rj_model *m, rj_state *s,
+                                                const rj__frames *f, int j, int pairs)
+{
+    const rj_joint_def *d = &m->jdef[j];
+    const rj__joint *J = &m->jnt[j];
+    double *new_joint = RJ__FJ(m, f->next, j);
+    rj__jgeo g;
+    double ratep, compliance, tau;
+    rj__kept_geo(s->jsc + 8 * j, &g);
+    ratep = rj__joint_rate_pred(m, s, f, J, &g);
+    compliance = f->kick * rj__joint_compliance(m, J, &g);
+    if (pairs && J->pair)
+        rj__pair_friction(m, s, f, J, &ratep, &compliance);
+    tau = rj__friction(ratep, compliance, d->friction);
+    rj__apply_torque(J, &g, tau, s->fx, s->fy, s->mz);
+    new_joint[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
+}
+
 /* Stage 3, Coulomb friction: the torque that would stop the relative rotation in this
    step, capped at T_f, with every other force known; it never reverses the rate and holds
    a stuck joint exactly. */
-static RJ__FORCE_INLINE void rj__stage_friction(const rj_model *m, rj_state *s, const rj__frames *f)
+static RJ__FORCE_INLINE void rj__stage_friction(const rj_model *m, rj_state *s, const rj__frames *f,
+                                                int held)
 {
     int j;
-    for (j = 0; j < m->nj; j++) {
-        const rj_joint_def *d = &m->jdef[j];
-        const rj__joint *J = &m->jnt[j];
-        double *new_joint = RJ__FJ(m, f->next, j);
-        rj__jgeo g;
-        double ratep, compliance, tau;
-        if (!(d->friction > 0))
-            continue;
-        rj__kept_geo(s->jsc + 8 * j, &g);
-        ratep = rj__joint_rate_pred(m, s, f, J, &g);
-        compliance = f->kick * rj__joint_compliance(m, J, &g);
-        tau = rj__friction(ratep, compliance, d->friction);
-        rj__apply_torque(J, &g, tau, s->fx, s->fy, s->mz);
-        new_joint[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
-    }
+    for (j = 0; j < m->nj; j++)
+        if (m->jdef[j].friction > 0)
+            rj__friction_joint(m, s, f, j, held && m->npair);
 }
 
 /* Gravity's potential -sum m g . x at the nodes x, y (rigid bodies' own links from their
@@ -1413,16 +1481,16 @@ static RJ__NOINLINE double rj__stage_body_pins(const rj_model *m, rj_state *s, c
    that stage 5 took them on. The next step books each joint torque's work over this
    step as its torque times this rate: taken before the projection, a motor on a rigid
    body that a pin between bodies turned did 40 % less work in the accounts than on the
-   bodies, and the balance stopped the run at its first step. */
-static RJ__NOINLINE void rj__rates_again(const rj_model *m, const rj_state *s,
-                                         const rj__frames *f)
+   bodies, and the balance stopped the run at its first step. Plain values, not the
+   step's frames: their address taken costs every step (rj__stage_body_pins). */
+static RJ__NOINLINE void rj__rates_again(const rj_model *m, const rj_state *s, double *next,
+                                         const double *nvx, const double *nvy, const double *nw)
 {
     int j;
     for (j = 0; j < m->nj; j++) {
         rj__jgeo g;
         rj__kept_geo(s->jsc + 8 * j, &g);
-        RJ__FJ(m, f->next, j)[RJ__JD_RATE] =
-            rj__joint_rate(&m->jnt[j], &g, f->nvx, f->nvy, f->nw, NULL, NULL);
+        RJ__FJ(m, next, j)[RJ__JD_RATE] = rj__joint_rate(&m->jnt[j], &g, nvx, nvy, nw, NULL, NULL);
     }
 }
 
@@ -1430,14 +1498,15 @@ static RJ__NOINLINE void rj__rates_again(const rj_model *m, const rj_state *s,
    inextensible links projected (constraint forces do no work: the velocities follow the
    projected positions, and the kinetic energy is taken again with them). */
 static RJ__FORCE_INLINE void rj__stage_constraints(const rj_model *m, rj_state *s,
-                                                   const rj__frames *f, rj__sums *e, double *fin)
+                                                   const rj__frames *f, rj__sums *e, double *fin,
+                                                   int held)
 {
     const double *x = f->x, *y = f->y;
     double *nx = f->nx, *ny = f->ny;
     double idt;
     int i;
     rj__constrain_bodies(m, f, fin);
-    if (!m->project)
+    if (!held || !m->project)
         return;
     idt = 1.0 / f->dt;
     if (m->nbp) {
@@ -1454,7 +1523,7 @@ static RJ__FORCE_INLINE void rj__stage_constraints(const rj_model *m, rj_state *
     }
     if (f->en)
         e->kinetic = rj__kinetic_again(m, f);
-    rj__rates_again(m, s, f);
+    rj__rates_again(m, s, f->next, f->nvx, f->nvy, f->nw);
 }
 
 /* Forced displacement (sec. 3): a joint past its limit, or off its lock, turned back by p;
@@ -1664,11 +1733,13 @@ static RJ__FORCE_INLINE void rj__step_commit(const rj_model *m, rj_state *s, con
 
 /* One step of flexible, inextensible and mixed scenes, stage by stage; the energy accounts
    are taken when want_energy is set, at the first step, and solver.energy_every steps after
-   the last time. ip: in place (rj__step below). Every stage adds to fin the positions it
+   the last time. ip: in place (rj__step below); held: the scene has constraints on
+   positions or joints between two rigid bodies (rj__step_held), compiled apart so that
+   the others carry none of their code. Every stage adds to fin the positions it
    wrote, each from the velocity, torque or body motion behind it: finite while they all
    are. Applied loads enter between stages 2 and 3, so that friction sees them. */
 static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, int want_energy,
-                                               int ip)
+                                               int ip, int held)
 {
     rj__frames f;
     rj__sums e;
@@ -1691,12 +1762,12 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
         e.work += s->step_work;
         fin += s->step_fin;
     }
-    rj__stage_friction(m, s, &f);
+    rj__stage_friction(m, s, &f, held);
     rj__stage_update(m, s, &f, &adv, &e, &fin);
     rj__stage_velocity_limits(m, s, &f, &e, &fin);
     if (applied)
         e.work += rj__applied_work(m, s, f.old, f.next);
-    rj__stage_constraints(m, s, &f, &e, &fin);
+    rj__stage_constraints(m, s, &f, &e, &fin, held);
     r = rj__stage_joint_angles(m, s, &f, &fin);
     if (r != RJ_OK)
         return r;

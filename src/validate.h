@@ -452,18 +452,19 @@ static const char *rj__body_pair_refusal(const rj_scene_def *sc, int j, char *f,
     const rj_joint_def *J = &sc->joints[j];
     int k;
     f[0] = 0;
-    if (J->has_forward || J->has_reverse)
-        snprintf(f, n, "joints[%d].%s", j, J->has_forward ? "forward" : "reverse");
+    /* a penalty limit is a torque; the other methods jump the rates */
+    if ((J->has_forward || J->has_reverse) && J->method != RJ_METHOD_PENALTY)
+        snprintf(f, n, "joints[%d].method", j);
     else if (J->lock)
         snprintf(f, n, "joints[%d].lock", j);
-    else if (J->friction > 0)
-        snprintf(f, n, "joints[%d].friction", j);
     for (k = 0; k < sc->actuator_count && !f[0]; k++)
         if (sc->actuators[k].joint == j && sc->actuators[k].type == RJ_ACTUATOR_PRESCRIBED)
             snprintf(f, n, "actuators[%d].type", k);
+    /* an elastic cable loop is a torque; an exact one is a row */
     for (k = 0; k < sc->coupling_count && !f[0]; k++)
-        if (sc->couplings[k].joint_a == j || sc->couplings[k].joint_b == j)
-            snprintf(f, n, "couplings[%d].joint_%c", k, sc->couplings[k].joint_a == j ? 'a' : 'b');
+        if ((sc->couplings[k].joint_a == j || sc->couplings[k].joint_b == j) &&
+            sc->couplings[k].exact)
+            snprintf(f, n, "couplings[%d].exact", k);
     return f[0] ? f : NULL;
 }
 
@@ -494,9 +495,11 @@ static int rj__validate_mixed(const rj_scene_def *sc, rj_error *err)
         if (r1 && r2 && rj__body_pair_refusal(sc, j, f, sizeof f)) {
             rj__fail(err, RJ_ERR_INVALID, f, j,
                      "%s is not supported: joint %d pins two rigid links (%d and %d) in a scene "
-                     "with flexible links, where it takes a spring, a table, damping and a "
-                     "motor's torque, but no limit, lock, friction, prescribed profile or cable "
-                     "loop yet: make every link rigid, or one of the two flexible",
+                     "with flexible links, where it takes a spring, a table, damping, friction, "
+                     "a motor's torque, an elastic cable loop and limits by penalty "
+                     "(method = penalty), but no lock, other limit method, prescribed profile "
+                     "or exact cable loop yet: make every link rigid, or one of the two "
+                     "flexible",
                      f, j, J->body1, J->body2);
             return 0;
         }

@@ -258,13 +258,25 @@ static void test_refusals(void)
     pair = r;
     if (r == RJ_OK)
         rj_model_destroy(m, NULL);
-    /* their joint takes torques, not a limit (the rows' gives do not see their pin) */
+    /* their joint takes torques, a penalty limit among them, but no jump in the rates
+       (the rows' gives do not see their pin) */
     J[1].has_forward = 1;
     J[1].forward = 1.0;
     r = rj_model_create(&sc, &m, &err, NULL);
-    rjt_check(&T, pair == RJ_OK && r == RJ_ERR_INVALID && strstr(err.msg, "pins two rigid links") && !strcmp(err.field, "joints[1].forward"),
-              "mixed scene: two rigid links pinned together build; a limit on their joint is refused, naming it", "%s: %s", err.field, err.msg);
-    J[1].has_forward = 0;
+    rjt_check(&T, pair == RJ_OK && r == RJ_ERR_INVALID && strstr(err.msg, "pins two rigid links") && !strcmp(err.field, "joints[1].method"),
+              "mixed scene: two rigid links pinned together build; an adaptive limit on their joint is refused, naming its method", "%s: %s", err.field, err.msg);
+    J[1].method = RJ_METHOD_PENALTY;
+    J[1].penalty_k = 1e3;
+    J[1].friction = 0.1;
+    r = rj_model_create(&sc, &m, &err, NULL);
+    rjt_check(&T, r == RJ_OK, "mixed scene: a penalty limit and friction on the joint of two rigid links build", "%s", r == RJ_OK ? "ok" : err.msg);
+    if (r == RJ_OK)
+        rj_model_destroy(m, NULL);
+    J[1].lock = 1;
+    r = rj_model_create(&sc, &m, &err, NULL);
+    rjt_check(&T, r == RJ_ERR_INVALID && !strcmp(err.field, "joints[1].lock"),
+              "mixed scene: a lock on the joint of two rigid links is refused, naming it", "%s: %s", err.field, err.msg);
+    J[1] = rj_default_joint_def(); J[1].body1 = 1; J[1].body2 = 2;
     sc.link_count = 2; sc.joint_count = 1; J[0].reference = RJ_REF_CHORD;
     r = rj_model_create(&sc, &m, &err, NULL);
     rjt_check(&T, r == RJ_ERR_INVALID && strstr(err.msg, "RJ_REF_TANGENT") && !strcmp(err.field, "joints[0].reference"),
