@@ -27,7 +27,7 @@ SAN     = -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omi
 HDR     = revjoint.h
 RENDER  = render/rj_render.c render/rj_render.h
 EXAMPLES = $(B)/impact $(B)/deploy $(B)/animate $(B)/pngdiff $(B)/quickstart $(B)/studies $(B)/rj $(B)/segmented $(B)/a02 $(B)/pd_arm \
-          $(B)/peer_side $(B)/rigid_cross
+          $(B)/peer_side $(B)/rigid_cross $(B)/pin_forces
 TESTS   = $(B)/test_core $(B)/test_beam $(B)/test_dynamics $(B)/test_benchmarks $(B)/test_rigid2 \
           $(B)/test_render $(B)/csvdiff $(B)/test_core_asan $(B)/test_dynamics_asan $(B)/test_beam_asan \
           $(B)/test_core_clang $(B)/test_cpp $(B)/test_state $(B)/test_state_asan $(B)/test_scene $(B)/test_scene_asan $(B)/test_mixed $(B)/test_mixed_asan $(B)/test_loads $(B)/test_loads_asan $(B)/test_deploy_damped $(B)/test_deploy_damped_asan $(B)/test_applied $(B)/test_applied_asan $(B)/test_robust $(B)/test_robust_asan $(B)/test_drive $(B)/test_drive_asan $(B)/test_couple $(B)/test_couple_asan $(B)/test_rows $(B)/test_rows_asan $(B)/test_loops $(B)/test_loops_asan $(B)/stress
@@ -121,6 +121,9 @@ $(B)/a02: bench/a02.c $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
 # where the rigid solvers cross (dense Cholesky, articulated bodies); reads internals
 $(B)/rigid_cross: bench/rigid_cross.c $(HDR) | $(B)
+	$(CC) $(ALLCF) $< -o $@ -lm
+# every joint's pin force at once on chains of inextensible links (public API alone)
+$(B)/pin_forces: bench/pin_forces.c $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm
 $(B)/segmented: bench/segmented.c examples/scenes.h $(HDR) | $(B)
 	$(CC) $(ALLCF) $< -o $@ -lm

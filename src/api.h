@@ -694,9 +694,11 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
 /* Every joint's pin force at once (2 per joint in forces, as rj_joint_pin_force; NaN
-   where there is none yet): in a scene of rigid links in time linear in the links,
-   where the joint by joint query costs that each (RJ_MALLOC's scratch, RJ_ERR_NOMEM
-   without it). */
+   where there is none yet): in a scene of rigid links in time linear in the links, and
+   with inextensible links or rigid bodies in the nodes and joints (one pass up the joint
+   tree sums each subtree once: the joint by joint query's sums in another order, equal
+   to round-off), where the joint by joint query costs that each (RJ_MALLOC's scratch,
+   RJ_ERR_NOMEM without it). */
 RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double *forces);
 /* Element element of a flexible link at t^n (a step before the state's time, as the
    step took it), recomputed from the state: loads[0] the axial force N (N, tension

@@ -316,6 +316,12 @@ struct rj_model {
    angular acceleration, root, the root's acceleration. */
 enum { RJ__KA_PHI, RJ__KA_OM, RJ__KA_AL, RJ__KA_RX, RJ__KA_RY, RJ__KA_AX, RJ__KA_AY, RJ__KA_N };
 
+/* The doubles a link takes in the pin-force queries' scratch (rj__pin_work_size): rigid
+   scenes' kinematics and two more, or node space's all-joints pass's arrays
+   (rj__pin_pass); a state keeps the larger for its peaks (rj_state.peak_work). */
+#define RJ__PIN_PASS_N 10
+#define RJ__PIN_PER_LINK (RJ__KA_N + 2 > RJ__PIN_PASS_N ? RJ__KA_N + 2 : RJ__PIN_PASS_N)
+
 /* The peaks a state tracks (rj_state.peaks): per joint |pin force| and its time, per link
    the |bending moment| (its time, element, end) and the stress (its time, element). */
 #define RJ__PEAK_JOINT 2
@@ -392,7 +398,7 @@ struct rj_state {
     int at_n;     /* the other frame holds the state a step before (the loads at t^n) */
     int peaks_on; /* rj_state_track_peaks: the steps that take the accounts track peaks */
     double *peaks;     /* (2 nj + 7 nl) the peaks (src/peaks.h) */
-    double *peak_work; /* ((RJ__KA_N + 2) (nl + 1) + 2 nj) their queries' scratch */
+    double *peak_work; /* (RJ__PIN_PER_LINK (nl + 1) + 2 nj) their queries' scratch */
     double *sha, *shb, *shc,
         *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
     double *gsw; /* (2 gs_prof + 9 gs_n + 2 nn, or none) rj__gs_work */

@@ -10,7 +10,7 @@
 static RJ__NOINLINE void rj__track_peaks(const rj_model *m, rj_state *s)
 {
     const double t = s->fd[1 - s->cur][RJ__FS_TIME];
-    double *pins = s->peak_work + (RJ__KA_N + 2) * ((size_t) m->nl + 1);
+    double *pins = s->peak_work + RJ__PIN_PER_LINK * ((size_t) m->nl + 1);
     int j, l, e;
     rj__pin_forces(m, s, s->peak_work, pins);
     for (j = 0; j < m->nj; j++) {

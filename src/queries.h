@@ -512,23 +512,33 @@ static int rj__own_body_node(const rj_model *m, int k)
     return k >= 0 && m->ncl && RJ__CL_RIGID(m, k);
 }
 
-/* Node space: what node k's momentum asks of the forces not yet counted (its elements,
-   the pins at it), at t^n: m a - m g less its loads, the caller's force and its
-   mass-proportional damping (a from the rates at n - 1/2 and n + 1/2, the step's kick). */
-static void rj__node_momentum(const rj_model *m, const rj_state *s, int k, double out[2])
+/* Node space: applied load q's force at t^n, a step before the state's time (on its
+   node's rotation then). */
+static void rj__load_at_n(const rj_model *m, const rj_state *s, int q, double value[3])
+{
+    const double *at_n = s->fd[1 - s->cur];
+    const double t = RJ__FS(m, s->fd[s->cur])[RJ__FS_TIME] - m->dt;
+    rj__load_value(&m->load[q], t, RJ__FPHI(m, at_n)[m->load_node[q]], value);
+}
+
+/* Node space: what node k (of link l) asks of the forces not yet counted (its elements,
+   the pins at it), at t^n: m a - m g less its loads (with loads set; the all-joints pass
+   takes them by load), the caller's force and its mass-proportional damping (a from the
+   rates at n - 1/2 and n + 1/2, the step's kick). */
+static void rj__node_ask(const rj_model *m, const rj_state *s, int l, int k, int loads,
+                         double out[2])
 {
     const double *now = s->fd[s->cur], *at_n = s->fd[1 - s->cur];
     const double kick = s->steps == 1 ? 0.5 * m->dt : m->dt;
-    const double t = RJ__FS(m, now)[RJ__FS_TIME] - m->dt;
-    int q, link, node;
+    int q;
     out[0] = m->mass[k] * ((RJ__FVX(m, now)[k] - RJ__FVX(m, at_n)[k]) / kick -
                            m->solver.gravity[0]);
     out[1] = m->mass[k] * ((RJ__FVY(m, now)[k] - RJ__FVY(m, at_n)[k]) / kick -
                            m->solver.gravity[1]);
-    for (q = 0; q < m->nload; q++)
+    for (q = 0; loads && q < m->nload; q++)
         if (m->load_node[q] == k) {
             double value[3];
-            rj__load_value(&m->load[q], t, RJ__FPHI(m, at_n)[k], value);
+            rj__load_at_n(m, s, q, value);
             out[0] -= value[0];
             out[1] -= value[1];
         }
@@ -536,12 +546,19 @@ static void rj__node_momentum(const rj_model *m, const rj_state *s, int k, doubl
         out[0] -= s->input_node[3 * (size_t) k];
         out[1] -= s->input_node[3 * (size_t) k + 1];
     }
-    rj__node_of(m, k, &link, &node);
-    if (m->link_path[link] == RJ__PATH_MATERIAL) {
-        const double alpha = m->link_damp[2 * (size_t) link + 1];
+    if (m->link_path[l] == RJ__PATH_MATERIAL) {
+        const double alpha = m->link_damp[2 * (size_t) l + 1];
         out[0] += alpha * m->mass[k] * RJ__FVX(m, at_n)[k];
         out[1] += alpha * m->mass[k] * RJ__FVY(m, at_n)[k];
     }
+}
+
+/* Node space: node k's momentum ask with its loads (rj__node_ask). */
+static void rj__node_momentum(const rj_model *m, const rj_state *s, int k, double out[2])
+{
+    int link, node;
+    rj__node_of(m, k, &link, &node);
+    rj__node_ask(m, s, link, k, 1, out);
 }
 
 /* Node space, flexible links: the force on body 2's pin node from the rest of the pin,
@@ -665,13 +682,262 @@ static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
     return m->ip || J->chord || !s->at_n;
 }
 
-/* The scratch doubles rj__pin_forces needs: rigid scenes' kinematics, inextensible
-   links' marks. */
+/* The scratch doubles rj__pin_forces needs: rigid scenes' kinematics, the all-joints
+   pass's arrays with inextensible links or rigid bodies (rj__pin_pass). */
 static size_t rj__pin_work_size(const rj_model *m)
 {
     if (m->rigid)
         return (RJ__KA_N + 2) * ((size_t) m->nl + 1);
-    return m->any_inext || m->ncl ? (size_t) m->nl + 1 : 0;
+    return m->any_inext || m->ncl ? RJ__PIN_PASS_N * ((size_t) m->nl + 1) : 0;
+}
+
+/* Node space's all-joints pass (rj__pin_pass_run): Newton's second law for every
+   subtree of the joint tree at once, children before parents, so all joints cost one
+   walk of the nodes. Its arrays, nl + 1 doubles each (RJ__PIN_PASS_N of them, carved
+   from the pin-force scratch; indices and marks kept as doubles, exact). */
+typedef struct rj__pin_pass {
+    double *need;    /* 1 where a joint's force needs the link's ask (rj__pin_pass_need) */
+    double *fx, *fy; /* each link's subtree's momentum ask (NaN: a held body in it) */
+    double *up;      /* the tree joint it hangs from, -1 for a root */
+    double *wait;    /* its children not yet summed; then its children's next place */
+    double *order;   /* the links, each after its children */
+    double *size;    /* its subtree's links */
+    double *pre;     /* its place in a preorder: its subtree's are pre .. pre + size - 1 */
+    double *lo, *hi; /* the lowest and highest place of a loop's far end inside it */
+} rj__pin_pass;
+
+/* The pass's arrays in work (rj__pin_work_size doubles). */
+static rj__pin_pass rj__pin_pass_of(const rj_model *m, double *work)
+{
+    const size_t n = (size_t) m->nl + 1;
+    rj__pin_pass p;
+    p.fx = work;
+    p.fy = work + n;
+    p.up = work + 2 * n;
+    p.wait = work + 3 * n;
+    p.order = work + 4 * n;
+    p.size = work + 5 * n;
+    p.pre = work + 6 * n;
+    p.lo = work + 7 * n;
+    p.hi = work + 8 * n;
+    p.need = work + 9 * n;
+    return p;
+}
+
+/* The link link l hangs from in the joint tree (-1: ground, or l a root). */
+static int rj__pin_pass_up(const rj_model *m, const rj__pin_pass *p, int l)
+{
+    const int j = (int) p->up[l];
+    return j >= 0 ? m->jdef[j].body1 : -1;
+}
+
+/* The pass's order: each link's tree joint, then the links each after its children
+   (leaves first; a parent once its last child is placed). The tree joints form a forest
+   (rj__validate_graph), so every link is placed. */
+static void rj__pin_pass_order(const rj_model *m, const rj__pin_pass *p)
+{
+    int l, j, head, tail = 0;
+    for (l = 0; l < m->nl; l++) {
+        p->up[l] = -1;
+        p->wait[l] = 0;
+    }
+    /* a link's first joint as body2 hangs it; a later one closes a loop */
+    for (j = 0; j < m->nj; j++) {
+        const int b1 = m->jdef[j].body1;
+        if (m->jnt[j].loop)
+            continue;
+        p->up[m->jdef[j].body2] = j;
+        if (b1 >= 0)
+            p->wait[b1] += 1;
+    }
+    /* the leaves first, then each parent once its last child is placed */
+    for (l = 0; l < m->nl; l++)
+        if (p->wait[l] == 0)
+            p->order[tail++] = l;
+    for (head = 0; head < tail; head++) {
+        const int up = rj__pin_pass_up(m, p, (int) p->order[head]);
+        if (up < 0)
+            continue;
+        p->wait[up] -= 1;
+        if (p->wait[up] == 0)
+            p->order[tail++] = up;
+    }
+}
+
+/* The links whose asks a joint's force needs, marked 1 in need: those below a joint
+   rj__pin_by_subtree takes (every joint with inextensible links; in a mixed scene the
+   pins to and between rigid bodies, whose flexible neighbours' nodes are left out).
+   Parents before children (the pass's order backwards): a child of a marked link is. */
+static void rj__pin_pass_need(const rj_model *m, const rj__pin_pass *p)
+{
+    int l, j, i;
+    for (l = 0; l < m->nl; l++)
+        p->need[l] = 0;
+    /* the joints the pass gives mark their body 2, which marks the links below it */
+    for (j = 0; j < m->nj; j++)
+        if (rj__pin_by_subtree(m, j))
+            p->need[m->jdef[j].body2] = 1;
+    for (i = m->nl - 1; i >= 0; i--) {
+        const int child = (int) p->order[i], up = rj__pin_pass_up(m, p, child);
+        if (up >= 0 && p->need[up] != 0)
+            p->need[child] = 1;
+    }
+}
+
+/* Link l's own momentum ask but for its applied loads: its rigid body's
+   (rj__body_momentum) and its nodes' (rj__node_ask). A held body has none (NaN, which
+   every sum that holds it keeps: rj__subtree_pin_force gives none there either). */
+static void rj__link_momentum(const rj_model *m, const rj_state *s, int l, double out[2])
+{
+    int k;
+    out[0] = out[1] = 0;
+    if (m->link_path[l] == RJ__PATH_RIGID && m->cl_fix[l] == 2) {
+        out[0] = out[1] = NAN;
+        return;
+    }
+    if (m->link_path[l] == RJ__PATH_RIGID)
+        rj__body_momentum(m, s, l, out);
+    for (k = m->link_first[l]; k < m->link_first[l + 1]; k++) {
+        double ask[2];
+        rj__node_ask(m, s, l, k, 0, ask);
+        out[0] += ask[0];
+        out[1] += ask[1];
+    }
+}
+
+/* Every subtree's momentum ask (where needed) and size, children before parents (the
+   pass's order): each link's own plus its children's subtrees'. */
+static void rj__pin_pass_sums(const rj_model *m, const rj_state *s, const rj__pin_pass *p)
+{
+    int l, q, i;
+    for (l = 0; l < m->nl; l++) {
+        double own[2] = { 0, 0 };
+        if (p->need[l] != 0)
+            rj__link_momentum(m, s, l, own);
+        p->fx[l] = own[0];
+        p->fy[l] = own[1];
+        p->size[l] = 1;
+    }
+    /* the applied loads once each, off their nodes' links, not node by node */
+    for (q = 0; q < m->nload; q++) {
+        double value[3];
+        int link, node;
+        if (m->load_node[q] < 0)
+            continue;
+        rj__node_of(m, m->load_node[q], &link, &node);
+        if (p->need[link] == 0)
+            continue;
+        rj__load_at_n(m, s, q, value);
+        p->fx[link] -= value[0];
+        p->fy[link] -= value[1];
+    }
+    /* a child's subtree is summed once its own children's are in it */
+    for (i = 0; i < m->nl; i++) {
+        const int child = (int) p->order[i], up = rj__pin_pass_up(m, p, child);
+        if (up < 0)
+            continue;
+        p->fx[up] += p->fx[child];
+        p->fy[up] += p->fy[child];
+        p->size[up] += p->size[child];
+    }
+}
+
+/* With loops: each link's place in a preorder, parents before children (the pass's
+   order backwards), each subtree's places one run: a root's after the roots before it,
+   a child's the next its parent has free (wait, all 0 once the order is taken). */
+static void rj__pin_pass_preorder(const rj_model *m, const rj__pin_pass *p)
+{
+    double next_root = 0;
+    int i;
+    for (i = m->nl - 1; i >= 0; i--) {
+        const int l = (int) p->order[i], up = rj__pin_pass_up(m, p, l);
+        if (up < 0) {
+            p->pre[l] = next_root;
+            next_root += p->size[l];
+        } else {
+            p->pre[l] = p->wait[up];
+            p->wait[up] += p->size[l];
+        }
+        p->wait[l] = p->pre[l] + 1;
+    }
+}
+
+/* A loop joint's end on link l, its far end's place far (-1 for ground): into l's
+   lowest and highest far places. */
+static void rj__pin_pass_far(const rj__pin_pass *p, int l, double far)
+{
+    p->lo[l] = fmin(p->lo[l], far);
+    p->hi[l] = fmax(p->hi[l], far);
+}
+
+/* With loops: each subtree's lowest and highest place of a loop joint's far end, from
+   the ends inside it (children before parents). A subtree a loop ties to the rest has
+   one outside its own places (ground's, -1, is outside every subtree). */
+static void rj__pin_pass_loops(const rj_model *m, const rj__pin_pass *p)
+{
+    int l, j, i;
+    for (l = 0; l < m->nl; l++) {
+        p->lo[l] = m->nl;
+        p->hi[l] = -1;
+    }
+    /* each loop joint's two ends, each seeing the other's place */
+    for (j = 0; j < m->nj; j++) {
+        const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
+        if (!m->jnt[j].loop)
+            continue;
+        rj__pin_pass_far(p, b2, b1 >= 0 ? p->pre[b1] : -1.0);
+        if (b1 >= 0)
+            rj__pin_pass_far(p, b1, p->pre[b2]);
+    }
+    /* a subtree's ends are its own link's and its children's subtrees' */
+    for (i = 0; i < m->nl; i++) {
+        const int child = (int) p->order[i], up = rj__pin_pass_up(m, p, child);
+        if (up < 0)
+            continue;
+        p->lo[up] = fmin(p->lo[up], p->lo[child]);
+        p->hi[up] = fmax(p->hi[up], p->hi[child]);
+    }
+}
+
+/* The all-joints pass over work (rj__pin_work_size doubles): every subtree's sums, and
+   with loops the places that tell which subtrees a loop ties to the rest. */
+static void rj__pin_pass_run(const rj_model *m, const rj_state *s, double *work)
+{
+    const rj__pin_pass p = rj__pin_pass_of(m, work);
+    rj__pin_pass_order(m, &p);
+    rj__pin_pass_need(m, &p);
+    rj__pin_pass_sums(m, s, &p);
+    if (!m->nloop)
+        return;
+    rj__pin_pass_preorder(m, &p);
+    rj__pin_pass_loops(m, &p);
+}
+
+/* Joint j's pin force from the pass over work: its body 2's subtree's sum
+   (rj__subtree_pin_force's, in another order). Returns 0 where a loop ties that subtree
+   to the rest. */
+static int rj__pin_pass_force(const rj_model *m, double *work, int j, double force[2])
+{
+    const rj__pin_pass p = rj__pin_pass_of(m, work);
+    const int b = m->jdef[j].body2;
+    force[0] = p.fx[b];
+    force[1] = p.fy[b];
+    if (!m->nloop)
+        return 1;
+    return p.lo[b] >= p.pre[b] && p.hi[b] < p.pre[b] + p.size[b];
+}
+
+/* Whether rj__pin_forces takes the all-joints pass: node space, the rates at n - 1/2
+   there, and a joint whose force it gives (rj__pin_by_subtree). */
+static int rj__pin_pass_wanted(const rj_model *m, const rj_state *s)
+{
+    int j;
+    if (m->rigid || m->ip || !s->at_n)
+        return 0;
+    for (j = 0; j < m->nj; j++)
+        if (rj__pin_by_subtree(m, j))
+            return 1;
+    return 0;
 }
 
 /* Every joint's pin force into forces (2 a joint, NaN where unknown), with work
@@ -687,11 +953,14 @@ static rj_result rj__pin_forces(const rj_model *m, const rj_state *s, double *wo
             return RJ_ERR_NOMEM;
         work = own;
     }
+    /* node space's subtrees all at once, before the joints read them */
+    if (rj__pin_pass_wanted(m, s))
+        rj__pin_pass_run(m, s, work);
     for (j = 0; j < m->nj; j++) {
         int unknown = rj__pin_force_unknown(m, s, j);
         forces[2 * j] = forces[2 * j + 1] = 0.0;
         if (!unknown && !m->rigid && rj__pin_by_subtree(m, j))
-            unknown = !rj__subtree_pin_force(m, s, j, work, forces + 2 * j);
+            unknown = !rj__pin_pass_force(m, work, j, forces + 2 * j);
         else if (!unknown && !m->rigid)
             rj__node_pin_force(m, s, j, forces + 2 * j);
         if (unknown)
@@ -710,6 +979,24 @@ RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double
     return rj__pin_forces(m, s, NULL, forces);
 }
 
+/* Node space: joint j's pin force from the links below it alone
+   (rj__subtree_pin_force, which rj__pin_forces' pass gives for all joints at once):
+   RJ_ERR_INVALID, force 0, where it has none. */
+static rj_result rj__one_subtree_pin_force(const rj_model *m, const rj_state *s, int j,
+                                           double force[2])
+{
+    double *below = (double *) RJ_MALLOC(sizeof(double) * ((size_t) m->nl + 1), NULL);
+    int known;
+    if (!below)
+        return RJ_ERR_NOMEM;
+    known = rj__subtree_pin_force(m, s, j, below, force);
+    RJ_FREE(below, NULL);
+    if (known)
+        return RJ_OK;
+    force[0] = force[1] = 0;
+    return RJ_ERR_INVALID;
+}
+
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
 {
     double *all;
@@ -722,6 +1009,9 @@ RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int j, 
         rj__node_pin_force(m, s, j, force);
         return RJ_OK;
     }
+    if (!m->rigid)
+        return rj__one_subtree_pin_force(m, s, j, force);
+    /* rigid scenes: the joints' kinematics come down the tree for all of them at once */
     all = (double *) RJ_MALLOC(sizeof(double) * 2 * (size_t) m->nj, NULL);
     if (!all)
         return RJ_ERR_NOMEM;

@@ -34,7 +34,7 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->damp = rj__carve(&off, m->nmaterial ? 3 * (size_t) m->nn + 2 : 0, sizeof(double));
     L->peaks = rj__carve(&off, rj__peaks_count(m) + 1, sizeof(double));
     L->peak_work = rj__carve(&off,
-                             (RJ__KA_N + 2) * ((size_t) m->nl + 1) + 2 * (size_t) m->nj + 1,
+                             RJ__PIN_PER_LINK * ((size_t) m->nl + 1) + 2 * (size_t) m->nj + 1,
                              sizeof(double));
     L->sha = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shb = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
