@@ -152,9 +152,8 @@ typedef enum rj_root { RJ_ROOT_FREE = 0, RJ_ROOT_PINNED, RJ_ROOT_CLAMPED, RJ_ROO
      there are kept together on positions (as SHAKE keeps inextensible links); their
      joint takes a spring, a table, damping, friction (with the pinned pair's give), a
      motor's torque, elastic cable loops, and limits and locks by penalty, forced or
-     momentum with restitution 0 (as torques, RJ_TORQUE_LIMIT), but no adaptive, energy
-     or bouncing limit, prescribed profile or exact cable loop yet. Joints on a rigid
-     link use
+     momentum (as torques, RJ_TORQUE_LIMIT), but no adaptive or energy limit,
+     prescribed profile or exact cable loop yet. Joints on a rigid link use
      RJ_REF_TANGENT; the flexible links set the step. */
 /* RJ_LINK_INEXTENSIBLE links bend like flexible ones, but their element lengths are
    constraints (SHAKE projection along the previous chords: a tridiagonal solve per chain
@@ -3009,14 +3008,11 @@ static const char *rj__body_pair_refusal(const rj_scene_def *sc, int j, char *f,
     const rj_joint_def *J = &sc->joints[j];
     int k;
     f[0] = 0;
-    /* a penalty limit is a torque, and so are plastic latches (momentum with restitution
-       0, forced) there; a bounce, the energy method and the adaptive stiffness are not */
+    /* a penalty limit is a torque, and so are latches by momentum and forced there; the
+       energy method and the adaptive stiffness are not */
     if ((J->has_forward || J->has_reverse) && (J->method == RJ_METHOD_ADAPTIVE ||
                                                J->method == RJ_METHOD_ENERGY))
         snprintf(f, n, "joints[%d].method", j);
-    else if ((J->has_forward || J->has_reverse) && J->method == RJ_METHOD_MOMENTUM &&
-             J->restitution > 0)
-        snprintf(f, n, "joints[%d].restitution", j);
     for (k = 0; k < sc->actuator_count && !f[0]; k++)
         if (sc->actuators[k].joint == j && sc->actuators[k].type == RJ_ACTUATOR_PRESCRIBED)
             snprintf(f, n, "actuators[%d].type", k);
@@ -3057,9 +3053,9 @@ static int rj__validate_mixed(const rj_scene_def *sc, rj_error *err)
                      "%s is not supported: joint %d pins two rigid links (%d and %d) in a scene "
                      "with flexible links, where it takes a spring, a table, damping, friction, "
                      "a motor's torque, an elastic cable loop, and limits and locks by penalty, "
-                     "forced or momentum with restitution 0, but no adaptive, energy or "
-                     "bouncing limit, prescribed profile or exact cable loop yet: make every "
-                     "link rigid, or one of the two flexible",
+                     "forced or momentum, but no adaptive or energy limit, prescribed profile "
+                     "or exact cable loop yet: make every link rigid, or one of the two "
+                     "flexible",
                      f, j, J->body1, J->body2);
             return 0;
         }
@@ -11887,7 +11883,8 @@ static RJ__INLINE int rj__velocity_method(int method)
    bodies nor the flexible links they carry, and tried there it lost 1.5 J of 3.9 J
    unbooked. The torque brings the pinned pair's rate (rj__pair_friction) to its target
    within the step: p / dt, which puts a lock or a forced limit back on its angle at
-   n + 1, or 0 for a momentum contact (restitution 0); a contact only pushes. As a force
+   n + 1; for a momentum contact 0, or -e times the rate it came with at its first step
+   (a bounce, which the rate pointing out then releases); a contact only pushes. As a force
    in the step, its work is booked with the limit's torque, and the flexible links
    pinned to the bodies take its effect with the next step, as from any force. */
 static void rj__stage_pair_latches(const rj_model *m, rj_state *s, const rj__frames *f)
@@ -11907,6 +11904,9 @@ static void rj__stage_pair_latches(const rj_model *m, rj_state *s, const rj__fra
         give = f->kick * rj__joint_compliance(m, J, &g);
         rj__pair_friction(m, s, f, J, &ratep, &give);
         target = flag == RJ_LOCKED || d->method == RJ_METHOD_FORCED ? p / f->dt : 0.0;
+        if (flag != RJ_LOCKED && d->method == RJ_METHOD_MOMENTUM &&
+            f->old_flags[j] == RJ_FREE)
+            target = -d->restitution * ratep;
         tau = (target - ratep) / give;
         if ((flag == RJ_AT_FORWARD && tau > 0) || (flag == RJ_AT_REVERSE && tau < 0))
             tau = 0;

@@ -890,7 +890,8 @@ static RJ__INLINE int rj__velocity_method(int method)
    bodies nor the flexible links they carry, and tried there it lost 1.5 J of 3.9 J
    unbooked. The torque brings the pinned pair's rate (rj__pair_friction) to its target
    within the step: p / dt, which puts a lock or a forced limit back on its angle at
-   n + 1, or 0 for a momentum contact (restitution 0); a contact only pushes. As a force
+   n + 1; for a momentum contact 0, or -e times the rate it came with at its first step
+   (a bounce, which the rate pointing out then releases); a contact only pushes. As a force
    in the step, its work is booked with the limit's torque, and the flexible links
    pinned to the bodies take its effect with the next step, as from any force. */
 static void rj__stage_pair_latches(const rj_model *m, rj_state *s, const rj__frames *f)
@@ -910,6 +911,9 @@ static void rj__stage_pair_latches(const rj_model *m, rj_state *s, const rj__fra
         give = f->kick * rj__joint_compliance(m, J, &g);
         rj__pair_friction(m, s, f, J, &ratep, &give);
         target = flag == RJ_LOCKED || d->method == RJ_METHOD_FORCED ? p / f->dt : 0.0;
+        if (flag != RJ_LOCKED && d->method == RJ_METHOD_MOMENTUM &&
+            f->old_flags[j] == RJ_FREE)
+            target = -d->restitution * ratep;
         tau = (target - ratep) / give;
         if ((flag == RJ_AT_FORWARD && tau > 0) || (flag == RJ_AT_REVERSE && tau < 0))
             tau = 0;

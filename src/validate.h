@@ -452,14 +452,11 @@ static const char *rj__body_pair_refusal(const rj_scene_def *sc, int j, char *f,
     const rj_joint_def *J = &sc->joints[j];
     int k;
     f[0] = 0;
-    /* a penalty limit is a torque, and so are plastic latches (momentum with restitution
-       0, forced) there; a bounce, the energy method and the adaptive stiffness are not */
+    /* a penalty limit is a torque, and so are latches by momentum and forced there; the
+       energy method and the adaptive stiffness are not */
     if ((J->has_forward || J->has_reverse) && (J->method == RJ_METHOD_ADAPTIVE ||
                                                J->method == RJ_METHOD_ENERGY))
         snprintf(f, n, "joints[%d].method", j);
-    else if ((J->has_forward || J->has_reverse) && J->method == RJ_METHOD_MOMENTUM &&
-             J->restitution > 0)
-        snprintf(f, n, "joints[%d].restitution", j);
     for (k = 0; k < sc->actuator_count && !f[0]; k++)
         if (sc->actuators[k].joint == j && sc->actuators[k].type == RJ_ACTUATOR_PRESCRIBED)
             snprintf(f, n, "actuators[%d].type", k);
@@ -500,9 +497,9 @@ static int rj__validate_mixed(const rj_scene_def *sc, rj_error *err)
                      "%s is not supported: joint %d pins two rigid links (%d and %d) in a scene "
                      "with flexible links, where it takes a spring, a table, damping, friction, "
                      "a motor's torque, an elastic cable loop, and limits and locks by penalty, "
-                     "forced or momentum with restitution 0, but no adaptive, energy or "
-                     "bouncing limit, prescribed profile or exact cable loop yet: make every "
-                     "link rigid, or one of the two flexible",
+                     "forced or momentum, but no adaptive or energy limit, prescribed profile "
+                     "or exact cable loop yet: make every link rigid, or one of the two "
+                     "flexible",
                      f, j, J->body1, J->body2);
             return 0;
         }

@@ -714,6 +714,56 @@ static rj_result pair_latch_run(const char *tail, double dt, double *past, doubl
     return r;
 }
 
+/* A bounce (momentum, restitution 0.5) between two rigid bodies: the rate the joint
+   leaves its limit with is -0.5 times the rate it came with (the rates of the steps
+   either side of the contact's, which gravity and the spring move by 0.2 % a step). */
+static void test_body_pair_bounce(rjt_ctx *c)
+{
+    char text[1024];
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    rj_energy e;
+    rj_result r = RJ_OK;
+    double before = 0, after = 0, balance = 0;
+    int hit = 0;
+    snprintf(text, sizeof text,
+             "solver\n  gravity = 0 -9.81\n"
+             "link base\n  length = 0.5  elements = 4  root = clamped  height = 0.02  "
+             "width = 0.02\n"
+             "link r1\n  length = 0.3  elements = 2  fidelity = rigid  height = 0.02  "
+             "width = 0.02  root = pinned  x = 1  angle = -90 deg\n"
+             "link r2\n  length = 0.3  elements = 1  fidelity = rigid  height = 0.02  "
+             "width = 0.02\n"
+             "joint b\n  body1 = r1  body2 = r2  angle0 = 90 deg  spring = 5 200 deg  "
+             "forward = 150 deg  method = momentum  restitution = 0.5\n");
+    if (!build(text, &m, &s, &err)) {
+        rjt_check(c, 0, "joint between two bodies: a bounce", "%s", err.msg);
+        return;
+    }
+    while (rj_state_time(s) < 0.1 && r == RJ_OK && hit < 2) {
+        const double rate = rj_joint_rate(m, s, 0);
+        r = rj_step(m, s);
+        rj_state_energy(m, s, &e);
+        balance = fmax(balance, fabs(e.balance));
+        if (hit == 1)
+            hit = 2;
+        if (!hit && rj_joint_flag(m, s, 0) != RJ_FREE) {
+            before = rate;
+            hit = 1;
+        }
+        after = rj_joint_rate(m, s, 0);
+    }
+    rjt_check(c, r == RJ_OK && hit == 2 && fabs(after / before + 0.5) < 5e-3 &&
+                     balance < 1e-3 * e.lost_limit,
+              "joint between two bodies: a bounce leaves with -e times the rate it came with",
+              "%.5g rad/s in, %.5g rad/s out (ratio %.5f); |balance| %.3g J of the %.4g J the "
+              "limit took",
+              before, after, after / before, balance, e.lost_limit);
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
 /* Locks and plastic limits on a joint between two rigid bodies of a mixed scene act as
    torques that bring the pinned pair's rate to its target within the step. The latch's
    loss is booked to first order in dt (the pins' projection through the impact); a
@@ -735,6 +785,7 @@ static void test_body_pair_latch(rjt_ctx *c)
               "joint between two bodies: a plastic contact holds its limit",
               "at most %.3g rad past it; the contact took %.4g J, |balance| %.3g J", past,
               lost, bal1);
+    test_body_pair_bounce(c);
 }
 
 /* The four-bar with a flexible crank and a rigid coupler and rocker, its loop joint
