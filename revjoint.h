@@ -151,9 +151,10 @@ typedef enum rj_root { RJ_ROOT_FREE = 0, RJ_ROOT_PINNED, RJ_ROOT_CLAMPED, RJ_ROO
      anchor), and the nodes of other links pinned to it. Two rigid links pinned together
      there are kept together on positions (as SHAKE keeps inextensible links); their
      joint takes a spring, a table, damping, friction (with the pinned pair's give), a
-     motor's torque, elastic cable loops, and limits and locks by penalty, forced or
-     momentum (as torques, RJ_TORQUE_LIMIT), but no adaptive or energy limit,
-     prescribed profile or exact cable loop yet. Joints on a rigid link use
+     motor's torque, a prescribed profile (as a torque, RJ_TORQUE_DRIVE), elastic cable
+     loops, and limits and locks by every method but energy (as torques,
+     RJ_TORQUE_LIMIT), but no energy-method limit or exact cable loop yet. Joints on a
+     rigid link use
      RJ_REF_TANGENT; the flexible links set the step. */
 /* RJ_LINK_INEXTENSIBLE links bend like flexible ones, but their element lengths are
    constraints (SHAKE projection along the previous chords: a tridiagonal solve per chain
@@ -3008,14 +3009,10 @@ static const char *rj__body_pair_refusal(const rj_scene_def *sc, int j, char *f,
     const rj_joint_def *J = &sc->joints[j];
     int k;
     f[0] = 0;
-    /* a penalty limit is a torque, and so are latches by momentum and forced there; the
-       energy method and the adaptive stiffness are not */
-    if ((J->has_forward || J->has_reverse) && (J->method == RJ_METHOD_ADAPTIVE ||
-                                               J->method == RJ_METHOD_ENERGY))
+    /* penalty and adaptive limits are torques, and so are latches by momentum and forced
+       there; the energy method's balance (Eqs 25-26) is not */
+    if ((J->has_forward || J->has_reverse) && J->method == RJ_METHOD_ENERGY)
         snprintf(f, n, "joints[%d].method", j);
-    for (k = 0; k < sc->actuator_count && !f[0]; k++)
-        if (sc->actuators[k].joint == j && sc->actuators[k].type == RJ_ACTUATOR_PRESCRIBED)
-            snprintf(f, n, "actuators[%d].type", k);
     /* an elastic cable loop is a torque; an exact one is a row */
     for (k = 0; k < sc->coupling_count && !f[0]; k++)
         if ((sc->couplings[k].joint_a == j || sc->couplings[k].joint_b == j) &&
@@ -3052,10 +3049,9 @@ static int rj__validate_mixed(const rj_scene_def *sc, rj_error *err)
             rj__fail(err, RJ_ERR_INVALID, f, j,
                      "%s is not supported: joint %d pins two rigid links (%d and %d) in a scene "
                      "with flexible links, where it takes a spring, a table, damping, friction, "
-                     "a motor's torque, an elastic cable loop, and limits and locks by penalty, "
-                     "forced or momentum, but no adaptive or energy limit, prescribed profile "
-                     "or exact cable loop yet: make every link rigid, or one of the two "
-                     "flexible",
+                     "a motor's torque, a prescribed profile, an elastic cable loop, and limits "
+                     "and locks by any method but energy, and no exact cable loop yet: make "
+                     "every link rigid, or one of the two flexible",
                      f, j, J->body1, J->body2);
             return 0;
         }
@@ -5365,6 +5361,48 @@ static void rj__cl_load(const rj_model *m, int c, const double *oc, const double
         if (RJ__CL_RIGID(m, n))
             *T += mz[n];
     }
+}
+
+/* One body of a pinned pair at the pin: its point r from the anchor, the pin's velocity
+   (the step's, rj__pair_side_at), its inverse mass and inertia (0 where held). */
+typedef struct rj__pair_side {
+    double r[2], v[2], tinv, rinv;
+} rj__pair_side;
+
+/* The give of a torque pair on two bodies pinned together, c = 1/I_a + 1/I_b -
+   u^T K^-1 u, with K the pin's mobility (the sum of 1/M + perp(r) perp(r)^T / I) and
+   u = sum perp(r) / I: a torque turns both, and the pin's impulse keeps its points
+   together. K (xx, xy, yy), u and det K are left for the pin's impulse; det 0 where the
+   pin adds nothing (two bodies turning about one point, or held), c then 1/I_a + 1/I_b. */
+static double rj__pair_give(const rj__pair_side *a, const rj__pair_side *b, double *K,
+                            double *u, double *det)
+{
+    K[0] = a->tinv + b->tinv + a->rinv * a->r[1] * a->r[1] + b->rinv * b->r[1] * b->r[1];
+    K[1] = -(a->rinv * a->r[1] * a->r[0] + b->rinv * b->r[1] * b->r[0]);
+    K[2] = a->tinv + b->tinv + a->rinv * a->r[0] * a->r[0] + b->rinv * b->r[0] * b->r[0];
+    u[0] = -(a->rinv * a->r[1] + b->rinv * b->r[1]);
+    u[1] = a->rinv * a->r[0] + b->rinv * b->r[0];
+    *det = K[0] * K[2] - K[1] * K[1];
+    if (!(*det > 1e-12 * (K[0] + K[2]) * (K[0] + K[2]))) {
+        *det = 0;
+        return a->rinv + b->rinv;
+    }
+    return a->rinv + b->rinv -
+           (K[2] * u[0] * u[0] - 2 * K[1] * u[0] * u[1] + K[0] * u[1] * u[1]) / *det;
+}
+
+/* Joint J's give between two rigid bodies without their pin, 1/I_a + 1/I_b (about the
+   anchors): the inertia an adaptive limit's stiffness takes there (Eq 21). The pinned
+   pair's (rj__pair_give, smaller) made the limit too stiff for the stability bound,
+   which sees the pair's bodies through their nodes (omega dt 2.21 with the limits
+   counted, the adaptive limits' search found no step); with this one the limit's true
+   omega dt stays below 1. */
+static double rj__pair_free_give(const rj_model *m, const rj__joint *J)
+{
+    const int a = m->node_cl[J->nI], b = m->node_cl[J->nJ];
+    const double ra = m->cl_fix[a] != 2 ? 1.0 / m->cl_I[a] : 0.0;
+    const double rb = m->cl_fix[b] != 2 ? 1.0 / m->cl_I[b] : 0.0;
+    return ra + rb;
 }
 
 /* Body c's record pushed by the impulse imp (x, y, and angular about its anchor), as
@@ -7726,7 +7764,8 @@ static void rj__init_actuator(rj_model *m, const rj_actuator_def *a)
     }
     m->nrotor += J->rotor > 0;
     m->npres += a->type == RJ_ACTUATOR_PRESCRIBED;
-    m->nmotion += a->type == RJ_ACTUATOR_PRESCRIBED;
+    /* a prescribed joint is a row, but between two rigid bodies a torque */
+    m->nmotion += a->type == RJ_ACTUATOR_PRESCRIBED && !J->pair;
     if (a->type == RJ_ACTUATOR_SERVO) {
         J->k_lin += a->kp;
         J->c_lin += a->kd;
@@ -7900,6 +7939,18 @@ static int rj__count_penalty_limits(rj_model *m, int *counted)
     return any_adaptive;
 }
 
+/* Eq 21's K_AP = I_red / dt^2 for joint J: I_red the joint's own effective inertia
+   1 / (M^-1)_jj in rigid scenes, the two bodies' own between two rigid bodies of a
+   mixed scene (rj__pair_free_give), else the two sides' (I1, I2). */
+static double rj__adaptive_k(const rj_model *m, const rj__joint *J, double dt)
+{
+    if (m->rigid)
+        return 1.0 / (J->minv * dt * dt);
+    if (J->pair)
+        return 1.0 / (rj__pair_free_give(m, J) * dt * dt);
+    return rj_k_adaptive(J->I1, J->I2, dt);
+}
+
 /* The adaptive limits' K_AP at the step under test (rigid: the joint's own effective
    inertia 1 / (M^-1)_jj, Eq 21 for two free bodies), counted twice in k_lin. */
 static void rj__count_adaptive_limits(rj_model *m, const rj__dt_search *q)
@@ -7911,7 +7962,7 @@ static void rj__count_adaptive_limits(rj_model *m, const rj__dt_search *q)
         rj__joint *J = &m->jnt[j];
         if (!(d->has_forward || d->has_reverse) || d->method != RJ_METHOD_ADAPTIVE)
             continue;
-        J->k_limit = m->rigid ? 1.0 / (J->minv * dt * dt) : rj_k_adaptive(J->I1, J->I2, dt);
+        J->k_limit = rj__adaptive_k(m, J, dt);
         J->k_lin = J->k_free + 2.0 * J->k_limit;
     }
 }
@@ -8001,7 +8052,7 @@ static void rj__init_limit_stiffness(rj_model *m, double dt)
         if (d->method == RJ_METHOD_PENALTY)
             J->k_limit = d->penalty_k;
         if (d->method == RJ_METHOD_ADAPTIVE)
-            J->k_limit = m->rigid ? 1.0 / (J->minv * dt * dt) : rj_k_adaptive(J->I1, J->I2, dt);
+            J->k_limit = rj__adaptive_k(m, J, dt);
     }
 }
 
@@ -11558,9 +11609,6 @@ static RJ__NOINLINE double rj__applied_work(const rj_model *m, const rj_state *s
    bodies' poses turn it: the linear v + w perp(r) left out the pin's centripetal pull,
    and a stuck joint crept at first order in dt), its inverse mass and inertia (0 where
    held). */
-typedef struct rj__pair_side {
-    double r[2], v[2], tinv, rinv;
-} rj__pair_side;
 
 static void rj__pair_side_at(const rj_model *m, const rj_state *s, const rj__frames *at, int n,
                              rj__pair_side *p)
@@ -11593,21 +11641,15 @@ static void rj__pair_friction(const rj_model *m, const rj_state *s, const rj__fr
     double K[3], u[2], gap[2], det, lam[2], c;
     rj__pair_side_at(m, s, f, J->nI, &a);
     rj__pair_side_at(m, s, f, J->nJ, &b);
-    K[0] = a.tinv + b.tinv + a.rinv * a.r[1] * a.r[1] + b.rinv * b.r[1] * b.r[1];
-    K[1] = -(a.rinv * a.r[1] * a.r[0] + b.rinv * b.r[1] * b.r[0]);
-    K[2] = a.tinv + b.tinv + a.rinv * a.r[0] * a.r[0] + b.rinv * b.r[0] * b.r[0];
-    u[0] = -(a.rinv * a.r[1] + b.rinv * b.r[1]);
-    u[1] = a.rinv * a.r[0] + b.rinv * b.r[0];
-    det = K[0] * K[2] - K[1] * K[1];
+    c = rj__pair_give(&a, &b, K, u, &det);
     /* two bodies turning about one point, or held: nothing for the pin to add */
-    if (!(det > 1e-12 * (K[0] + K[2]) * (K[0] + K[2])))
+    if (!(det > 0))
         return;
     gap[0] = a.v[0] - b.v[0];
     gap[1] = a.v[1] - b.v[1];
     lam[0] = -(K[2] * gap[0] - K[1] * gap[1]) / det;
     lam[1] = -(K[0] * gap[1] - K[1] * gap[0]) / det;
     *ratep -= u[0] * lam[0] + u[1] * lam[1];
-    c = a.rinv + b.rinv - (K[2] * u[0] * u[0] - 2 * K[1] * u[0] * u[1] + K[0] * u[1] * u[1]) / det;
     if (J->rotor > 0)
         c /= 1.0 + J->rotor * c;
     *give = f->kick * c;
@@ -11886,7 +11928,9 @@ static RJ__INLINE int rj__velocity_method(int method)
    n + 1; for a momentum contact 0, or -e times the rate it came with at its first step
    (a bounce, which the rate pointing out then releases); a contact only pushes. As a force
    in the step, its work is booked with the limit's torque, and the flexible links
-   pinned to the bodies take its effect with the next step, as from any force. */
+   pinned to the bodies take its effect with the next step, as from any force. A
+   prescribed profile there is the same torque aimed at the profile's rate, booked as
+   the drive's. */
 static void rj__stage_pair_latches(const rj_model *m, rj_state *s, const rj__frames *f)
 {
     int j;
@@ -11896,13 +11940,21 @@ static void rj__stage_pair_latches(const rj_model *m, rj_state *s, const rj__fra
         const int flag = f->new_flags[j];
         const double p = s->jsc[8 * j + 5]; /* the element's penetration */
         rj__jgeo g;
+        const int driven = rj__prescribed(J);
         double ratep, give, target, tau;
-        if (!J->pair || flag == RJ_FREE || !rj__velocity_method(d->method))
+        if (!J->pair || (!driven && (flag == RJ_FREE || !rj__velocity_method(d->method))))
             continue;
         rj__kept_geo(s->jsc + 8 * j, &g);
         ratep = rj__joint_rate_pred(m, s, f, J, &g);
         give = f->kick * rj__joint_compliance(m, J, &g);
         rj__pair_friction(m, s, f, J, &ratep, &give);
+        if (driven) {
+            const double run = RJ__FJ(m, f->old, j)[RJ__JD_THETA];
+            tau = (rj__prescribed_rate(m, s, j, run, f->t, f->dt) - ratep) / give;
+            rj__apply_torque(J, &g, tau, s->fx, s->fy, s->mz);
+            RJ__FJ(m, f->next, j)[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = tau;
+            continue;
+        }
         target = flag == RJ_LOCKED || d->method == RJ_METHOD_FORCED ? p / f->dt : 0.0;
         if (flag != RJ_LOCKED && d->method == RJ_METHOD_MOMENTUM &&
             f->old_flags[j] == RJ_FREE)
@@ -12232,8 +12284,9 @@ static RJ__NOINLINE rj__rows_sums rj__stage_rows(const rj_model *m, const rj_sta
     R.row = s->rows;
     R.term = s->terms;
     R.count = R.terms = 0;
+    /* a pair's profile is a torque (rj__stage_pair_latches) */
     for (j = 0; j < m->nj; j++)
-        if (rj__prescribed(&m->jnt[j]))
+        if (rj__prescribed(&m->jnt[j]) && !m->jnt[j].pair)
             rj__row_prescribed(m, s, &R, j, j, RJ__FJ(m, f.old, j)[RJ__JD_THETA], f.t, f.dt);
     rj__rows_couplings(m, &R, RJ__FJ(m, f.old, 0) + RJ__JD_THETA, RJ__JD_COUNT, NULL, f.dt);
     rj__rows_before(m, s, &f, &R);
@@ -12287,7 +12340,8 @@ static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_sta
             ratep = rj__joint_jump(m, f, j, flag, &g, w1, w2, e, fin);
         rj__element_work(old_joint, new_joint, kept[4], f->dt, &e->lost_damping, &e->lost_friction,
                          &e->lost_limit);
-        if (J->act && !rj__prescribed(J)) /* a prescribed joint's work is its jump's */
+        /* a prescribed joint's work is its row's, but a pair's is its torque's */
+        if (J->act && (!rj__prescribed(J) || (held && J->pair)))
             e->drive += rj__drive_work(old_joint, new_joint, kept[4], f->dt);
         new_joint[RJ__JD_RATE] = ratep;
     }

@@ -240,6 +240,48 @@ static void rj__cl_load(const rj_model *m, int c, const double *oc, const double
     }
 }
 
+/* One body of a pinned pair at the pin: its point r from the anchor, the pin's velocity
+   (the step's, rj__pair_side_at), its inverse mass and inertia (0 where held). */
+typedef struct rj__pair_side {
+    double r[2], v[2], tinv, rinv;
+} rj__pair_side;
+
+/* The give of a torque pair on two bodies pinned together, c = 1/I_a + 1/I_b -
+   u^T K^-1 u, with K the pin's mobility (the sum of 1/M + perp(r) perp(r)^T / I) and
+   u = sum perp(r) / I: a torque turns both, and the pin's impulse keeps its points
+   together. K (xx, xy, yy), u and det K are left for the pin's impulse; det 0 where the
+   pin adds nothing (two bodies turning about one point, or held), c then 1/I_a + 1/I_b. */
+static double rj__pair_give(const rj__pair_side *a, const rj__pair_side *b, double *K,
+                            double *u, double *det)
+{
+    K[0] = a->tinv + b->tinv + a->rinv * a->r[1] * a->r[1] + b->rinv * b->r[1] * b->r[1];
+    K[1] = -(a->rinv * a->r[1] * a->r[0] + b->rinv * b->r[1] * b->r[0]);
+    K[2] = a->tinv + b->tinv + a->rinv * a->r[0] * a->r[0] + b->rinv * b->r[0] * b->r[0];
+    u[0] = -(a->rinv * a->r[1] + b->rinv * b->r[1]);
+    u[1] = a->rinv * a->r[0] + b->rinv * b->r[0];
+    *det = K[0] * K[2] - K[1] * K[1];
+    if (!(*det > 1e-12 * (K[0] + K[2]) * (K[0] + K[2]))) {
+        *det = 0;
+        return a->rinv + b->rinv;
+    }
+    return a->rinv + b->rinv -
+           (K[2] * u[0] * u[0] - 2 * K[1] * u[0] * u[1] + K[0] * u[1] * u[1]) / *det;
+}
+
+/* Joint J's give between two rigid bodies without their pin, 1/I_a + 1/I_b (about the
+   anchors): the inertia an adaptive limit's stiffness takes there (Eq 21). The pinned
+   pair's (rj__pair_give, smaller) made the limit too stiff for the stability bound,
+   which sees the pair's bodies through their nodes (omega dt 2.21 with the limits
+   counted, the adaptive limits' search found no step); with this one the limit's true
+   omega dt stays below 1. */
+static double rj__pair_free_give(const rj_model *m, const rj__joint *J)
+{
+    const int a = m->node_cl[J->nI], b = m->node_cl[J->nJ];
+    const double ra = m->cl_fix[a] != 2 ? 1.0 / m->cl_I[a] : 0.0;
+    const double rb = m->cl_fix[b] != 2 ? 1.0 / m->cl_I[b] : 0.0;
+    return ra + rb;
+}
+
 /* Body c's record pushed by the impulse imp (x, y, and angular about its anchor), as
    SHAKE and the pins between bodies push it: the anchor and the angle move by imp over
    the body's mass and inertia, and its rates by that over dt (positions and rates stay

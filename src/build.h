@@ -584,7 +584,8 @@ static void rj__init_actuator(rj_model *m, const rj_actuator_def *a)
     }
     m->nrotor += J->rotor > 0;
     m->npres += a->type == RJ_ACTUATOR_PRESCRIBED;
-    m->nmotion += a->type == RJ_ACTUATOR_PRESCRIBED;
+    /* a prescribed joint is a row, but between two rigid bodies a torque */
+    m->nmotion += a->type == RJ_ACTUATOR_PRESCRIBED && !J->pair;
     if (a->type == RJ_ACTUATOR_SERVO) {
         J->k_lin += a->kp;
         J->c_lin += a->kd;
@@ -758,6 +759,18 @@ static int rj__count_penalty_limits(rj_model *m, int *counted)
     return any_adaptive;
 }
 
+/* Eq 21's K_AP = I_red / dt^2 for joint J: I_red the joint's own effective inertia
+   1 / (M^-1)_jj in rigid scenes, the two bodies' own between two rigid bodies of a
+   mixed scene (rj__pair_free_give), else the two sides' (I1, I2). */
+static double rj__adaptive_k(const rj_model *m, const rj__joint *J, double dt)
+{
+    if (m->rigid)
+        return 1.0 / (J->minv * dt * dt);
+    if (J->pair)
+        return 1.0 / (rj__pair_free_give(m, J) * dt * dt);
+    return rj_k_adaptive(J->I1, J->I2, dt);
+}
+
 /* The adaptive limits' K_AP at the step under test (rigid: the joint's own effective
    inertia 1 / (M^-1)_jj, Eq 21 for two free bodies), counted twice in k_lin. */
 static void rj__count_adaptive_limits(rj_model *m, const rj__dt_search *q)
@@ -769,7 +782,7 @@ static void rj__count_adaptive_limits(rj_model *m, const rj__dt_search *q)
         rj__joint *J = &m->jnt[j];
         if (!(d->has_forward || d->has_reverse) || d->method != RJ_METHOD_ADAPTIVE)
             continue;
-        J->k_limit = m->rigid ? 1.0 / (J->minv * dt * dt) : rj_k_adaptive(J->I1, J->I2, dt);
+        J->k_limit = rj__adaptive_k(m, J, dt);
         J->k_lin = J->k_free + 2.0 * J->k_limit;
     }
 }
@@ -859,7 +872,7 @@ static void rj__init_limit_stiffness(rj_model *m, double dt)
         if (d->method == RJ_METHOD_PENALTY)
             J->k_limit = d->penalty_k;
         if (d->method == RJ_METHOD_ADAPTIVE)
-            J->k_limit = m->rigid ? 1.0 / (J->minv * dt * dt) : rj_k_adaptive(J->I1, J->I2, dt);
+            J->k_limit = rj__adaptive_k(m, J, dt);
     }
 }
 

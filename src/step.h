@@ -565,9 +565,6 @@ static RJ__NOINLINE double rj__applied_work(const rj_model *m, const rj_state *s
    bodies' poses turn it: the linear v + w perp(r) left out the pin's centripetal pull,
    and a stuck joint crept at first order in dt), its inverse mass and inertia (0 where
    held). */
-typedef struct rj__pair_side {
-    double r[2], v[2], tinv, rinv;
-} rj__pair_side;
 
 static void rj__pair_side_at(const rj_model *m, const rj_state *s, const rj__frames *at, int n,
                              rj__pair_side *p)
@@ -600,21 +597,15 @@ static void rj__pair_friction(const rj_model *m, const rj_state *s, const rj__fr
     double K[3], u[2], gap[2], det, lam[2], c;
     rj__pair_side_at(m, s, f, J->nI, &a);
     rj__pair_side_at(m, s, f, J->nJ, &b);
-    K[0] = a.tinv + b.tinv + a.rinv * a.r[1] * a.r[1] + b.rinv * b.r[1] * b.r[1];
-    K[1] = -(a.rinv * a.r[1] * a.r[0] + b.rinv * b.r[1] * b.r[0]);
-    K[2] = a.tinv + b.tinv + a.rinv * a.r[0] * a.r[0] + b.rinv * b.r[0] * b.r[0];
-    u[0] = -(a.rinv * a.r[1] + b.rinv * b.r[1]);
-    u[1] = a.rinv * a.r[0] + b.rinv * b.r[0];
-    det = K[0] * K[2] - K[1] * K[1];
+    c = rj__pair_give(&a, &b, K, u, &det);
     /* two bodies turning about one point, or held: nothing for the pin to add */
-    if (!(det > 1e-12 * (K[0] + K[2]) * (K[0] + K[2])))
+    if (!(det > 0))
         return;
     gap[0] = a.v[0] - b.v[0];
     gap[1] = a.v[1] - b.v[1];
     lam[0] = -(K[2] * gap[0] - K[1] * gap[1]) / det;
     lam[1] = -(K[0] * gap[1] - K[1] * gap[0]) / det;
     *ratep -= u[0] * lam[0] + u[1] * lam[1];
-    c = a.rinv + b.rinv - (K[2] * u[0] * u[0] - 2 * K[1] * u[0] * u[1] + K[0] * u[1] * u[1]) / det;
     if (J->rotor > 0)
         c /= 1.0 + J->rotor * c;
     *give = f->kick * c;
@@ -893,7 +884,9 @@ static RJ__INLINE int rj__velocity_method(int method)
    n + 1; for a momentum contact 0, or -e times the rate it came with at its first step
    (a bounce, which the rate pointing out then releases); a contact only pushes. As a force
    in the step, its work is booked with the limit's torque, and the flexible links
-   pinned to the bodies take its effect with the next step, as from any force. */
+   pinned to the bodies take its effect with the next step, as from any force. A
+   prescribed profile there is the same torque aimed at the profile's rate, booked as
+   the drive's. */
 static void rj__stage_pair_latches(const rj_model *m, rj_state *s, const rj__frames *f)
 {
     int j;
@@ -903,13 +896,21 @@ static void rj__stage_pair_latches(const rj_model *m, rj_state *s, const rj__fra
         const int flag = f->new_flags[j];
         const double p = s->jsc[8 * j + 5]; /* the element's penetration */
         rj__jgeo g;
+        const int driven = rj__prescribed(J);
         double ratep, give, target, tau;
-        if (!J->pair || flag == RJ_FREE || !rj__velocity_method(d->method))
+        if (!J->pair || (!driven && (flag == RJ_FREE || !rj__velocity_method(d->method))))
             continue;
         rj__kept_geo(s->jsc + 8 * j, &g);
         ratep = rj__joint_rate_pred(m, s, f, J, &g);
         give = f->kick * rj__joint_compliance(m, J, &g);
         rj__pair_friction(m, s, f, J, &ratep, &give);
+        if (driven) {
+            const double run = RJ__FJ(m, f->old, j)[RJ__JD_THETA];
+            tau = (rj__prescribed_rate(m, s, j, run, f->t, f->dt) - ratep) / give;
+            rj__apply_torque(J, &g, tau, s->fx, s->fy, s->mz);
+            RJ__FJ(m, f->next, j)[RJ__JD_TQ0 + RJ_TORQUE_DRIVE] = tau;
+            continue;
+        }
         target = flag == RJ_LOCKED || d->method == RJ_METHOD_FORCED ? p / f->dt : 0.0;
         if (flag != RJ_LOCKED && d->method == RJ_METHOD_MOMENTUM &&
             f->old_flags[j] == RJ_FREE)
@@ -1239,8 +1240,9 @@ static RJ__NOINLINE rj__rows_sums rj__stage_rows(const rj_model *m, const rj_sta
     R.row = s->rows;
     R.term = s->terms;
     R.count = R.terms = 0;
+    /* a pair's profile is a torque (rj__stage_pair_latches) */
     for (j = 0; j < m->nj; j++)
-        if (rj__prescribed(&m->jnt[j]))
+        if (rj__prescribed(&m->jnt[j]) && !m->jnt[j].pair)
             rj__row_prescribed(m, s, &R, j, j, RJ__FJ(m, f.old, j)[RJ__JD_THETA], f.t, f.dt);
     rj__rows_couplings(m, &R, RJ__FJ(m, f.old, 0) + RJ__JD_THETA, RJ__JD_COUNT, NULL, f.dt);
     rj__rows_before(m, s, &f, &R);
@@ -1294,7 +1296,8 @@ static RJ__FORCE_INLINE void rj__stage_velocity_limits(const rj_model *m, rj_sta
             ratep = rj__joint_jump(m, f, j, flag, &g, w1, w2, e, fin);
         rj__element_work(old_joint, new_joint, kept[4], f->dt, &e->lost_damping, &e->lost_friction,
                          &e->lost_limit);
-        if (J->act && !rj__prescribed(J)) /* a prescribed joint's work is its jump's */
+        /* a prescribed joint's work is its row's, but a pair's is its torque's */
+        if (J->act && (!rj__prescribed(J) || (held && J->pair)))
             e->drive += rj__drive_work(old_joint, new_joint, kept[4], f->dt);
         new_joint[RJ__JD_RATE] = ratep;
     }

@@ -786,6 +786,11 @@ static void test_body_pair_latch(rjt_ctx *c)
               "at most %.3g rad past it; the contact took %.4g J, |balance| %.3g J", past,
               lost, bal1);
     test_body_pair_bounce(c);
+    r1 = pair_latch_run("lock = yes  method = adaptive", 0, &past, &range, &bal1, &lost);
+    rjt_check(c, r1 == RJ_OK && range < rj_rad(0.5) && bal1 < 1e-3 * lost,
+              "joint between two bodies: an adaptive lock holds, as the stiff spring it is",
+              "locked within %.3g deg; the lock took %.4g J, |balance| %.3g J", rj_deg(range),
+              lost, bal1);
 }
 
 /* The four-bar with a flexible crank and a rigid coupler and rocker, its loop joint
@@ -843,6 +848,42 @@ static void test_fourbar_pair_lock(rjt_ctx *c)
     rj_model_destroy(m, NULL);
 }
 
+/* A prescribed profile (cycloidal, 60 deg in 0.5 s) on the joint between two rigid
+   bodies hanging from a flexible cantilever: the joint follows the cycloid and the drive's
+   work closes the balance. */
+static void test_body_pair_prescribed(rjt_ctx *c)
+{
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    rj_energy e;
+    rj_result r = RJ_OK;
+    double worst = 0, balance = 0, scale = 0;
+    if (!body_pair_scene("\nactuator drive\n  joint = b  type = prescribed  "
+                         "profile = cycloidal 60 deg 0.5", &m, &s, &err)) {
+        rjt_check(c, 0, "joint between two bodies: a prescribed profile", "%s", err.msg);
+        return;
+    }
+    while (rj_state_time(s) < 1 && r == RJ_OK) {
+        double t, u, want;
+        r = rj_step(m, s);
+        t = rj_state_time(s);
+        u = fmin(t / 0.5, 1.0);
+        want = rj_rad(90) + rj_rad(60) * (u - sin(2 * PI * u) / (2 * PI));
+        worst = fmax(worst, fabs(rj_joint_theta_running(m, s, 1) - want));
+        rj_state_energy(m, s, &e);
+        balance = fmax(balance, fabs(e.balance));
+        scale = fmax(scale, fabs(e.gravity) + e.kinetic + fabs(e.work_drive));
+    }
+    rjt_check(c, r == RJ_OK && worst < 1e-9 && balance < 1e-8 * scale,
+              "joint between two bodies: a prescribed profile is followed, its work booked",
+              "%s; 1 s: %.3g rad off the cycloid; W_drive %.4g J; max |balance| %.3g J of "
+              "%.3g J",
+              r == RJ_OK ? "ok" : rj_state_error(s), worst, e.work_drive, balance, scale);
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
 static void test_refusals(rjt_ctx *c)
 {
     static const char *const cases[][5] = {
@@ -850,9 +891,9 @@ static void test_refusals(rjt_ctx *c)
         { "", "ground_x = 1 ", "ground_x = 1.01 ", "apart", "a loop that does not close" },
         { "", "node2 = last  angle0 = -2.13", "node2 = last  angle0 = -2.03",
           "joints[3].angle0", "a loop joint at the wrong angle0" },
-        { "flexible rigid rigid", "node2 = last", "node2 = last  forward = 260 deg",
-          "method is not supported",
-          "an adaptive limit on a loop joint between two rigid bodies of a mixed scene" },
+        { "flexible rigid rigid", "node2 = last",
+          "node2 = last  forward = 260 deg  method = energy", "method is not supported",
+          "an energy-method limit on a loop joint between two rigid bodies of a mixed scene" },
         { "", "node2 = last", "node2 = last  reference = chord", "node2",
           "node2 on a chord joint" },
         { "", "node2 = last", "node2 = 9", "node2 = 9 is out of range",
@@ -1729,6 +1770,7 @@ int main(void)
     test_body_pair_parts(&c);
     test_body_pair_latch(&c);
     test_fourbar_pair_lock(&c);
+    test_body_pair_prescribed(&c);
     test_loop_checkpoints(&c);
     test_refusals(&c);
     test_assemble(&c);
