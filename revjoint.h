@@ -1138,6 +1138,9 @@ struct rj_model {
     int nq;         /* joint coordinates: the tree's joints (nj less those closing loops) */
     int nloop;      /* joints that close loops */
     int rig_tree;   /* rigid tree solved in O(n) (articulated bodies) instead of dense M */
+    int *wcol;      /* (nq) a coordinate's column of M^-1 in the rigid scratch's W, -1: none */
+    int nwcol;      /* W's columns: nq with a dense M, else those a tree's step keeps */
+    int rig_rows;   /* rigid scenes: the most rows a step opens (rj__rig_rows_max) */
     int *qj;        /* (nq) coordinate k's joint */
     int *jq;        /* (nj) joint j's coordinate, -1 for a joint that closes a loop */
     double *jpin,
@@ -1325,9 +1328,10 @@ struct rj_state {
     double *node_applied; /* (3 nn) the node forces the last step applied, for their work */
     double step_work;     /* the work of the loads and node forces in the step under way */
     double step_fin;      /* the positions their kicks wrote, summed (the finite test) */
-    double *
-        rsc; /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch); mixed: body impulses (3 nl) */
-    rj__row *rows;    /* the step's constraint rows (rj__rows_capacity) */
+    double *rsc;      /* rigid scenes: the solver's scratch (rj__rig_step_scratch); mixed:
+                         body impulses (3 nl) */
+    rj__row *rows;    /* the step's constraint rows (rigid scenes: rj_model.rig_rows + 1;
+                         else rj__rows_capacity) */
     rj__term *terms;  /* their terms (rj__terms_capacity) */
     double *rsys;     /* node space: the rows' system, its factor, right side and impulses */
     double *loop_force; /* (2 nj + 1) rigid loops: each loop joint's pin force over the last
@@ -1337,15 +1341,19 @@ struct rj_state {
     char warn[200]; /* latest warning (late contact), written only when one occurs */
 };
 
-static size_t rj__rigid_scratch(int nj, int nl, int ncp, int nloop);
+static size_t rj__rigid_scratch(size_t n, size_t nl, int dense, size_t cols, size_t rows,
+                                size_t others);
+static size_t rj__rig_step_scratch(const rj_model *m);
 static double rj__rig_setup(rj_model *m, double *scratch);
 typedef struct rj__rig {
-    double *M, *L, *W, *q, *qd, *qdp, *qdd, *Q, *h, *x,
-        *tmp; /* n x n (W: columns of M^-1), n each (tmp 2 n) */
+    double *M, *L; /* n x n with a dense M; NULL for articulated bodies (rj_model.rig_tree) */
+    double *W;     /* columns of M^-1, n each: rj_model.nwcol of them (rj_model.wcol) */
+    double *q, *qd, *qdp, *qdd, *Q, *h, *x, *tmp; /* n each (tmp 2 n) */
     double *xd; /* n: the impulse of the prescribed loop joints' rows on each coordinate */
     double *S, *SL, *lam,
         *rhs;   /* the rows' system (src/rows.h): R x R, its factor, R each (R rows at most) */
-    double *Y;  /* the rows' M^-1 J^T that are not a column of M^-1: n each, one per coupling */
+    double *Y;  /* the rows' M^-1 J^T that are not a column of M^-1: n each, one per coupling
+                   and two per loop */
     double *lk; /* per link, RJ__RL_COUNT values: rj__rig_kin */
     double *ab; /* per coordinate, RJ__AB_COUNT values: the articulated bodies (rj__aba_*) */
 } rj__rig;
@@ -1399,7 +1407,8 @@ enum {
     RJ__RL_PY,
     RJ__RL_COUNT = 24
 };
-static void rj__rig_map(const rj_model *m, double *base, rj__rig *r, int nloop);
+static RJ__FORCE_INLINE void rj__rig_map(const rj_model *m, double *base, rj__rig *r,
+                                         int solve);
 static double rj__rig_loop_rate(const rj_model *m, int j, const double *qd, double *g);
 static double rj__gravity_potential(const rj_model *m, const double *x, const double *y);
 static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd,
@@ -3511,14 +3520,43 @@ typedef struct rj__layout {
     size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho,
         link_I;
     size_t node_cl, bp_node, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
-    size_t node_grp, ch_first, ch_node, ch_l0sq, gs_int, gs_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, qj, jq, jpin,
+    size_t node_grp, ch_first, ch_node, ch_l0sq, gs_int, gs_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, qj, jq, wcol, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
         link_un, link_kc, link_path, link_pl, link_damp, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
 } rj__layout;
 
-/* The model's block: every array linear in the scene; rigid scenes (joint coordinates)
-   add their dense joint-space matrices (nj^2). The building scratch lz holds the Lanczos
-   vectors and the joint-graph checks (rj__validate_graph: 2 nl + nj ints). */
+/* Whether a rigid scene of nq coordinates, nloop joints that close loops and ncp
+   couplings is solved by articulated bodies (rj_model.rig_tree) rather than a dense M. */
+static int rj__rig_is_tree(int nq, int nloop, int ncp)
+{
+    return !nloop && !ncp && nq >= RJ__RIG_TREE_MIN;
+}
+
+/* rj__rig_is_tree for a scene of rigid links, before its model is built. A valid scene
+   hangs each link that is not fixed from the first joint that names it body 2, and names
+   no fixed link body 2: the coordinates are the links less the fixed ones, and every
+   other joint closes a loop (rj__init_joint_nodes counts them the same). */
+static int rj__scene_rig_tree(const rj_scene_def *sc)
+{
+    int l, nq = 0;
+    for (l = 0; l < sc->link_count; l++)
+        nq += sc->links[l].root != RJ_ROOT_FIXED;
+    return rj__rig_is_tree(nq, sc->joint_count - nq, sc->coupling_count);
+}
+
+/* The rigid stability bound's scratch in the building area (rj__rig_setup): the solver's
+   without columns or rows, and for a dense M the nj x nj M^-1 after it. */
+static size_t rj__rig_bound_scratch(const rj_scene_def *sc)
+{
+    const size_t nj = (size_t) sc->joint_count, nl = (size_t) sc->link_count;
+    const int dense = !rj__scene_rig_tree(sc);
+    return rj__rigid_scratch(nj, nl, dense, 0, 0, 0) + (dense ? nj * nj : 0);
+}
+
+/* The model's block: every array linear in the scene. The building scratch lz holds the
+   Lanczos vectors, the joint-graph checks (rj__validate_graph: 2 nl + nj ints) and for
+   rigid scenes the stability bound's (rj__rig_bound_scratch: nj^2 with a dense M, linear
+   for articulated bodies). */
 static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__layout *L)
 {
     const int nl = sc->link_count, nj = sc->joint_count, rigid = rj__all_rigid(sc);
@@ -3558,6 +3596,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->jorder = rj__carve(&off, (size_t) nj + 1, sizeof(int));
     L->qj = rj__carve(&off, (size_t) nj + 1, sizeof(int));
     L->jq = rj__carve(&off, (size_t) nj + 1, sizeof(int));
+    L->wcol = rj__carve(&off, rigid ? (size_t) nj + 1 : 0, sizeof(int));
     L->jpin = rj__carve(&off, (size_t) nj + 1, sizeof(double));
     L->jref = rj__carve(&off, (size_t) nj + 1, sizeof(double));
     L->mass = rj__carve(&off, (size_t) nn, sizeof(double));
@@ -3591,7 +3630,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->cp = rj__carve(&off, (size_t) sc->coupling_count + 1, sizeof(rj_coupling_def));
     L->lz = rj__carve(&off,
                       15 * nn + 10 * ne + 8 + RJ__GRAPH_SCRATCH(nl, nj) +
-                          (rigid ? rj__rigid_scratch(nj, nl, sc->coupling_count, 0) + (size_t) nj * nj : 0),
+                          (rigid ? rj__rig_bound_scratch(sc) : 0),
                       sizeof(double));
     L->total = off == (size_t) -1 ? off : off + RJ__ALIGN;
 }
@@ -7189,7 +7228,7 @@ typedef struct rj__build_scratch {
     int *placement;            /* 3 nl ints: rj__place_all */
     int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
     double *lanczos;           /* 5 vectors of 3 nn: rj__omega2_max */
-    double *rigid_bound;       /* rj__rigid_scratch(nj, nl, ncp, 0) + nj^2 doubles after them */
+    double *rigid_bound;       /* rj__rig_bound_scratch: the solver's, and a dense M^-1 */
     int *step_node_mark;       /* nn ints: rj__init_step_nodes */
 } rj__build_scratch;
 
@@ -7298,6 +7337,7 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(jorder, int);
     RJ__SET(qj, int);
     RJ__SET(jq, int);
+    RJ__SET(wcol, int);
     RJ__SET(jpin, double);
     RJ__SET(jref, double);
     RJ__SET(mass, double);
@@ -7876,8 +7916,51 @@ static void rj__init_joint_order(rj_model *m)
         }
 }
 
+/* Whether joint j of a rigid scene can open a row in a step (rj__rig_rows_build): a
+   prescribed joint's profile, or a latch of a velocity-level method (a lock or a plastic
+   contact), which needs a limit to reach (a flag other than free). */
+static int rj__rig_can_row(const rj_model *m, int j)
+{
+    const rj_joint_def *d = &m->jdef[j];
+    const rj_actuator_def *a = m->jnt[j].act;
+    const int velocity_level = d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED;
+    if (a && a->type == RJ_ACTUATOR_PRESCRIBED)
+        return 1;
+    return velocity_level && (d->has_forward || d->has_reverse);
+}
+
+/* The most rows a rigid step opens, which size its system (S and SL, rows x rows): one
+   per joint that can open one (tree or loop joint), one per exact coupling, and two per
+   loop (its pins' gap in x and y). The loops' projection opens fewer: the two per loop
+   and one per forced loop joint at a limit. */
+static int rj__rig_rows_max(const rj_model *m)
+{
+    int j, rows = m->nexact + 2 * m->nloop;
+    for (j = 0; j < m->nj; j++)
+        rows += rj__rig_can_row(m, j);
+    return rows;
+}
+
+/* The columns of M^-1 a rigid step keeps (W): for a dense M, one per coordinate (a loop's
+   latch row may be any coordinate's rate alone). Articulated bodies (a tree without
+   couplings) keep those of the joints that can open a row, which their impulses and rows
+   read after friction made them (stage 3): k such joints keep k n doubles. Friction on a
+   joint that cannot spends its column at once (rj__rig_stage_friction). */
+static void rj__init_rigid_columns(rj_model *m)
+{
+    int k;
+    m->nwcol = 0;
+    for (k = 0; k < m->nq; k++) {
+        const int kept = !m->rig_tree || rj__rig_can_row(m, m->qj[k]);
+        m->wcol[k] = kept ? m->nwcol++ : -1;
+    }
+    m->rig_rows = rj__rig_rows_max(m);
+}
+
 /* Links held by constraints: SHAKE's inextensible chains, and in a scene of rigid links
-   alone (joint coordinates) the bodies, pins and joint order. */
+   alone (joint coordinates) the bodies, pins and joint order, the solver (a dense M or
+   articulated bodies, as rj_model_size counted its scratch) and the columns and rows its
+   step keeps. */
 static void rj__init_rigid(rj_model *m, const rj_scene_def *sc, int *chain_scratch)
 {
     m->rigid = rj__all_rigid(sc);
@@ -7887,6 +7970,9 @@ static void rj__init_rigid(rj_model *m, const rj_scene_def *sc, int *chain_scrat
     rj__init_rigid_bodies(m);
     rj__init_rigid_pins(m);
     rj__init_joint_order(m);
+    m->rig_tree = rj__rig_is_tree(m->nq, m->nloop, m->ncp);
+    RJ_ASSERT(m->rig_tree == rj__scene_rig_tree(sc));
+    rj__init_rigid_columns(m);
 }
 
 /* omega_max^2 at the stiffnesses in m->jnt: power iteration in joint coordinates for
@@ -8496,10 +8582,13 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->eu = rj__carve(&off, (size_t) m->ne, sizeof(double));
     L->ebt = rj__carve(&off, (size_t) m->ne, sizeof(double));
     L->jsc = rj__carve(&off, (size_t) m->nj * 8 + 1, sizeof(double));
-    L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl, m->ncp, m->nloop) : 3 * (size_t) m->ncl + 1,
+    L->rsc = rj__carve(&off, m->rigid ? rj__rig_step_scratch(m) : 3 * (size_t) m->ncl + 1,
                        sizeof(double));
-    /* a loop's two rows name every coordinate at most */
-    L->rows = rj__carve(&off, (size_t) rj__rows_capacity(m->nj, m->ncp + m->nloop),
+    /* rigid scenes: the rows their joints, couplings and loops can open (rj_model.rig_rows);
+       a loop's two rows name every coordinate at most */
+    L->rows = rj__carve(&off,
+                        m->rigid ? (size_t) m->rig_rows + 1
+                                 : (size_t) rj__rows_capacity(m->nj, m->ncp + m->nloop),
                         sizeof(rj__row));
     L->terms = rj__carve(&off,
                          (size_t) rj__terms_capacity(m->nj, m->ncp) +
@@ -8621,7 +8710,7 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
     if (m->rigid) {
         /* nodes from the joint-coordinate kinematics, so that both descriptions agree */
         rj__rig r;
-        rj__rig_map(m, s->rsc, &r, m->nloop);
+        rj__rig_map(m, s->rsc, &r, 1);
         for (j = 0; j < m->nq; j++) {
             r.q[j] = m->jdef[m->qj[j]].angle0;
             r.qd[j] = m->jdef[m->qj[j]].rate0;
@@ -9575,27 +9664,43 @@ static void rj__aba_mul(const rj_model *m, rj__rig *r, const double *x, double *
    centripetal accelerations -omega^2 r of every segment. The element (flags, torques,
    friction, methods) is the same code as for flexible links; a joint torque is a
    generalised force on q_j, and a velocity jump is an impulse along q_j. */
-/* The rigid solver's scratch for nj joints, nl links, ncp couplings and nloop joints that
-   close loops (0 where no rows are solved: the stability bound's setup): matrices n x n,
-   vectors n, the rows' system (a row per joint, per coupling, and two per loop less the
-   loop joint's own) and the columns of the rows that are not one joint's rate. */
-static size_t rj__rigid_scratch(int nj, int nl, int ncp, int nloop)
+/* The rigid solver's scratch for n coordinates and nl links: with a dense M, M and its
+   factor L (n x n each; articulated bodies need neither); cols columns of M^-1 (W); the
+   rows' system S and its factor SL (rows x rows each); others columns of the rows that
+   are not one joint's rate (Y); vectors of n and of rows; the link and coordinate
+   records. */
+static size_t rj__rigid_scratch(size_t n, size_t nl, int dense, size_t cols, size_t rows,
+                                size_t others)
 {
-    const size_t n = (size_t) nj, rows = (size_t) rj__rows_capacity(nj, ncp + nloop);
-    const size_t others = (size_t) ncp + 2 * (size_t) nloop;
-    return 3 * n * n + 2 * rows * rows + others * n + 10 * n + 3 * rows +
-           RJ__RL_COUNT * (size_t) nl + (RJ__AB_COUNT + 2) * n + 8;
+    const size_t square = dense ? 2 * n * n : 0;
+    return square + cols * n + 2 * rows * rows + others * n + 10 * n + 3 * rows +
+           RJ__RL_COUNT * nl + (RJ__AB_COUNT + 2) * n + 8;
 }
 
-/* the rigid solver's scratch: matrices n x n, vectors n (tmp 2 n), link records */
-static void rj__rig_map(const rj_model *m, double *base, rj__rig *r, int nloop)
+/* The step's scratch (rj_state.rsc) for the model's solver, columns and rows; n counts
+   the joints, those that close loops too (their vectors are scratch of nq or more). */
+static size_t rj__rig_step_scratch(const rj_model *m)
 {
-    const size_t n = (size_t) m->nj, rows = (size_t) rj__rows_capacity(m->nj, m->ncp + nloop);
-    r->M = base;
-    r->h = r->M + n * n;
-    r->L = r->h + n;
-    r->W = r->L + n * n;
-    r->q = r->W + n * n;
+    const size_t others = (size_t) m->ncp + 2 * (size_t) m->nloop;
+    return rj__rigid_scratch((size_t) m->nj, (size_t) m->nl, !m->rig_tree, (size_t) m->nwcol,
+                             (size_t) m->rig_rows, others);
+}
+
+/* The rigid solver's arrays in its scratch, as rj__rigid_scratch counts them: the step's
+   (solve: W, the rows' system and Y, rj__rig_step_scratch) or the stability bound's
+   (none of those, rj__rig_bound_scratch). M and L are NULL for articulated bodies. */
+static RJ__FORCE_INLINE void rj__rig_map(const rj_model *m, double *base, rj__rig *r,
+                                         int solve)
+{
+    const size_t n = (size_t) m->nj, square = m->rig_tree ? 0 : n * n;
+    const size_t cols = solve ? (size_t) m->nwcol : 0;
+    const size_t rows = solve ? (size_t) m->rig_rows : 0;
+    const size_t others = solve ? (size_t) m->ncp + 2 * (size_t) m->nloop : 0;
+    r->M = m->rig_tree ? NULL : base;
+    r->h = base + square;
+    r->L = m->rig_tree ? NULL : r->h + n;
+    r->W = r->h + n + square;
+    r->q = r->W + cols * n;
     r->qd = r->q + n;
     r->qdp = r->qd + n;
     r->qdd = r->qdp + n;
@@ -9608,7 +9713,7 @@ static void rj__rig_map(const rj_model *m, double *base, rj__rig *r, int nloop)
     r->lam = r->SL + rows * rows;
     r->rhs = r->lam + rows;
     r->Y = r->rhs + rows;
-    r->lk = r->Y + ((size_t) m->ncp + 2 * (size_t) nloop) * n;
+    r->lk = r->Y + others * n;
     r->ab = r->lk + RJ__RL_COUNT * (size_t) m->nl;
 }
 
@@ -10186,14 +10291,15 @@ static double rj__rig_tree_setup(rj_model *m, rj__rig *r)
 
 /* Rigid-link model constants and the stability bound: omega_max^2 = largest eigenvalue of
    K^1/2 M^-1 K^1/2 at the initial configuration (power iteration), K the joints' linear
-   stiffnesses (limits counted as for flexible links). Returns omega_max^2. */
+   stiffnesses (limits counted as for flexible links). Returns omega_max^2. scratch: the
+   solver's without columns or rows, then a dense M's inverse (rj__rig_bound_scratch). */
 static double rj__rig_setup(rj_model *m, double *scratch)
 {
     rj__rig r;
     const int n = m->nq;
-    double *minv = scratch + rj__rigid_scratch(m->nj, m->nl, m->ncp, 0), lam = 0, *v, *u;
+    const size_t nj = (size_t) m->nj, nl = (size_t) m->nl;
+    double *minv = scratch + rj__rigid_scratch(nj, nl, !m->rig_tree, 0, 0, 0), lam = 0, *v, *u;
     int j, k, it;
-    m->rig_tree = !m->nloop && !m->ncp && n >= RJ__RIG_TREE_MIN;
     rj__rig_map(m, scratch, &r, 0);
     for (j = 0; j < n; j++) {
         r.q[j] = m->jdef[m->qj[j]].angle0;
@@ -10361,10 +10467,11 @@ static int rj__row_pulls(const rj__row *row, double lam)
     return lam > row->hi || lam < row->lo;
 }
 
-/* What the dense solve works in: M's factor, M^-1's columns for the joints (W, n x n,
-   column j at W + j n), the other rows' M^-1 J^T (Y, n each), the system and its factor
-   (S, SL: R x R), vectors (lam, rhs: R; scratch: n), and the row a single impulse
-   before the solve already holds exactly (-1: none), which alone needs no solve. */
+/* What the dense solve works in: M's factor, M^-1's columns for the joints (W, n each,
+   coordinate j's at W + wcol[j] n: rj_model.wcol), the other rows' M^-1 J^T (Y, n each),
+   the system and its factor (S, SL: R x R), vectors (lam, rhs: R; scratch: n), and the row
+   a single impulse before the solve already holds exactly (-1: none), which alone needs
+   no solve. */
 typedef struct rj__dense {
     int n;
     const rj_model *m;
@@ -10383,7 +10490,7 @@ static const double *rj__row_column(const rj__rows *R, const rj__row *row, const
     int k;
     if (rj__row_unit(R, row)) {
         const int j = R->term[row->first].joint;
-        y = D->W + (size_t) j * n;
+        y = D->W + (size_t) D->m->wcol[j] * n;
         rj__rig_unit(D->m, D->rig, j, y);
         return y;
     }
@@ -13536,8 +13643,10 @@ static void rj__rig_loop_friction(const rj_model *m, const rj__frames *f, rj__ri
     }
 }
 
-/* Rigid step, stage 3: friction, joint by joint, with the column M^-1 e_j (kept in W for
-   the impulses). */
+/* Rigid step, stage 3: friction, joint by joint, each with its column M^-1 e_j, which
+   W keeps (at m->wcol) for the impulses of a joint that can latch; another's is made in
+   r->tmp and spent here (a column reads the factor alone: made before or after the
+   joints before it, it is the same). */
 static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj__frames *f,
                                                     rj__rig *r)
 {
@@ -13545,14 +13654,13 @@ static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj_
     const double *RJ__RESTRICT qd = r->qd;
     double *RJ__RESTRICT qdd = r->qdd, *W = r->W;
     int j, k;
-    for (j = 0; j < n; j++)
-        if (m->jdef[m->qj[j]].friction > 0)
-            rj__rig_unit(m, r, j, W + (size_t) j * n);
     for (j = 0; j < n; j++) {
-        const double tf = m->jdef[m->qj[j]].friction, *w = W + (size_t) j * n;
-        double tau;
+        const double tf = m->jdef[m->qj[j]].friction;
+        double tau, *w;
         if (!(tf > 0))
             continue;
+        w = m->wcol[j] >= 0 ? W + (size_t) m->wcol[j] * n : r->tmp;
+        rj__rig_unit(m, r, j, w);
         tau = rj__friction(qd[j] + f->kick * qdd[j], f->kick * w[j], tf);
         for (k = 0; k < n; k++)
             qdd[k] += w[k] * tau;
@@ -13576,8 +13684,7 @@ static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj
     for (j = 0; j < n; j++) {
         const int jj = m->qj[j];
         const rj_joint_def *d = &m->jdef[jj];
-        const double *w = W + (size_t) j * n;
-        double e, lam;
+        double e, lam, *w;
         if (!(d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED))
             continue;
         /* re-contact within the step, as for flexible links */
@@ -13596,8 +13703,9 @@ static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj
         if (ni[jj] != f->old_flags[jj] || e > 0)
             jumps->impact = 1;
         /* stage 3 made the column of a joint with friction */
+        w = W + (size_t) m->wcol[j] * n;
         if (!(d->friction > 0))
-            rj__rig_unit(m, r, j, W + (size_t) j * n);
+            rj__rig_unit(m, r, j, w);
         lam = (-e * qdp[j] - qdp[j]) / w[j];
         for (k = 0; k < n; k++)
             qdp[k] += w[k] * lam;
@@ -13921,7 +14029,7 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s, int want_energy)
     rj_result res;
     rj__frames_open(m, s, want_energy, 0, &f);
     rj__sums_open(f.old_scalars, &e);
-    rj__rig_map(m, s->rsc, &r, m->nloop);
+    rj__rig_map(m, s->rsc, &r, 1);
     if (s->inputs && !rj__inputs_ok(m, s))
         return RJ_ERR_INVALID;
     if (s->node_inputs && !rj__rig_node_inputs_ok(m, s))

@@ -3,12 +3,17 @@
    the dense mass matrix and its Cholesky factor and by articulated bodies, on the same
    model (the internal switch m->rig_tree, flipped after the build). Prints a step's
    median time of 7 batches for each, and the build with the library's own choice.
-     build/rigid_cross [N ...]     (default 2 4 8 12 16 24 32 64 128 256 1000) */
+     build/rigid_cross [N ...]     (default 2 4 8 12 16 24 32 64 128 256 1000)
+   With --memory, the memory of the library's choice instead: rj_model_size and
+   rj_state_size of the chain bare, with friction on every joint and with a latch (a
+   limit by momentum) on every joint.
+     build/rigid_cross --memory [N ...]     (default 100 1000 10000) */
 #define _POSIX_C_SOURCE 199309L
 #define REVJOINT_IMPLEMENTATION
 #include "../revjoint.h"
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 static double now(void)
@@ -24,8 +29,10 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* The chain of n links; friction on every joint when friction is set. */
-static rj_result chain(int n, int friction, rj_model **m, double *build_s)
+/* The chain of n links; on every joint, by kind: nothing more (0), friction (1), or a
+   latch (2: a reverse limit 30 deg back, by momentum, e = 0.5). Its rj_model_size into
+   *bytes when bytes is not NULL. */
+static rj_result chain(int n, int kind, rj_model **m, double *build_s, size_t *bytes)
 {
     rj_link_def *L = (rj_link_def *)malloc(sizeof *L * (size_t)n);
     rj_joint_def *J = (rj_joint_def *)malloc(sizeof *J * (size_t)n);
@@ -41,10 +48,16 @@ static rj_result chain(int n, int friction, rj_model **m, double *build_s)
         J[i] = rj_default_joint_def();
         J[i].body1 = i - 1; J[i].body2 = i; J[i].angle0 = i ? rj_rad(185.0) : rj_rad(-60.0);
         J[i].spring_k = 1.0; J[i].spring_free_angle = i ? rj_rad(180.0) : rj_rad(-90.0);
-        J[i].friction = friction ? 1e-3 : 0.0;
+        J[i].friction = kind == 1 ? 1e-3 : 0.0;
+        if (kind == 2) {
+            J[i].has_reverse = 1; J[i].reverse = i ? rj_rad(155.0) : rj_rad(270.0);
+            J[i].method = RJ_METHOD_MOMENTUM; J[i].restitution = 0.5;
+        }
     }
     sc.links = L; sc.link_count = n; sc.joints = J; sc.joint_count = n;
     sc.solver.gravity[1] = -9.81; sc.solver.dt = 1e-4;
+    if (bytes)
+        *bytes = rj_model_size(&sc, &err);
     t0 = now();
     res = rj_model_create(&sc, m, &err, NULL);
     *build_s = now() - t0;
@@ -77,11 +90,45 @@ static double step_time(const rj_model *m)
     return b[3];
 }
 
+/* The chain's model and state bytes: bare, with friction on every joint, with a latch on
+   every joint. */
+static void memory_row(int n)
+{
+    static const char *const names[3] = { "none", "friction, every joint", "latch, every joint" };
+    int kind;
+    for (kind = 0; kind < 3; kind++) {
+        rj_model *m = NULL;
+        double build_s, model, state;
+        size_t bytes = 0;
+        if (n < 1 || chain(n, kind, &m, &build_s, &bytes) != RJ_OK) continue;
+        model = (double)bytes;
+        state = (double)rj_state_size(m);
+        printf("| %d | %s | %.0f | %.0f | %.0f | %.0f |\n", n, names[kind], model, state,
+               model + state, (model + state) / n);
+        fflush(stdout);
+        rj_model_destroy(m, NULL);
+    }
+}
+
+static int memory_table(int argc, char **argv)
+{
+    static const int sizes[] = { 100, 1000, 10000 };
+    const int count = argc > 2 ? argc - 2 : (int)(sizeof sizes / sizeof sizes[0]);
+    int i;
+    printf("| links | joints | model bytes | state bytes | total | per link |\n");
+    printf("|---:|---|---:|---:|---:|---:|\n");
+    for (i = 0; i < count; i++)
+        memory_row(argc > 2 ? atoi(argv[i + 2]) : sizes[i]);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     static const int sizes[] = { 2, 4, 8, 12, 16, 24, 32, 64, 128, 256, 1000 };
     const int count = argc > 1 ? argc - 1 : (int)(sizeof sizes / sizeof sizes[0]);
     int i, friction;
+    if (argc > 1 && !strcmp(argv[1], "--memory"))
+        return memory_table(argc, argv);
     printf("| links | friction | dense step (us) | articulated step (us) | dense / articulated | build (ms), the library's choice |\n");
     printf("|---:|---|---:|---:|---:|---:|\n");
     for (i = 0; i < count; i++) {
@@ -90,7 +137,7 @@ int main(int argc, char **argv)
             rj_model *m = NULL;
             double build_s, dense, tree;
             int chosen;
-            if (n < 1 || chain(n, friction, &m, &build_s) != RJ_OK) continue;
+            if (n < 1 || chain(n, friction, &m, &build_s, NULL) != RJ_OK) continue;
             chosen = m->rig_tree;
             m->rig_tree = 0;
             dense = n <= 256 ? step_time(m) : 0;

@@ -9,7 +9,7 @@ typedef struct rj__build_scratch {
     int *placement;            /* 3 nl ints: rj__place_all */
     int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
     double *lanczos;           /* 5 vectors of 3 nn: rj__omega2_max */
-    double *rigid_bound;       /* rj__rigid_scratch(nj, nl, ncp, 0) + nj^2 doubles after them */
+    double *rigid_bound;       /* rj__rig_bound_scratch: the solver's, and a dense M^-1 */
     int *step_node_mark;       /* nn ints: rj__init_step_nodes */
 } rj__build_scratch;
 
@@ -118,6 +118,7 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(jorder, int);
     RJ__SET(qj, int);
     RJ__SET(jq, int);
+    RJ__SET(wcol, int);
     RJ__SET(jpin, double);
     RJ__SET(jref, double);
     RJ__SET(mass, double);
@@ -696,8 +697,51 @@ static void rj__init_joint_order(rj_model *m)
         }
 }
 
+/* Whether joint j of a rigid scene can open a row in a step (rj__rig_rows_build): a
+   prescribed joint's profile, or a latch of a velocity-level method (a lock or a plastic
+   contact), which needs a limit to reach (a flag other than free). */
+static int rj__rig_can_row(const rj_model *m, int j)
+{
+    const rj_joint_def *d = &m->jdef[j];
+    const rj_actuator_def *a = m->jnt[j].act;
+    const int velocity_level = d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED;
+    if (a && a->type == RJ_ACTUATOR_PRESCRIBED)
+        return 1;
+    return velocity_level && (d->has_forward || d->has_reverse);
+}
+
+/* The most rows a rigid step opens, which size its system (S and SL, rows x rows): one
+   per joint that can open one (tree or loop joint), one per exact coupling, and two per
+   loop (its pins' gap in x and y). The loops' projection opens fewer: the two per loop
+   and one per forced loop joint at a limit. */
+static int rj__rig_rows_max(const rj_model *m)
+{
+    int j, rows = m->nexact + 2 * m->nloop;
+    for (j = 0; j < m->nj; j++)
+        rows += rj__rig_can_row(m, j);
+    return rows;
+}
+
+/* The columns of M^-1 a rigid step keeps (W): for a dense M, one per coordinate (a loop's
+   latch row may be any coordinate's rate alone). Articulated bodies (a tree without
+   couplings) keep those of the joints that can open a row, which their impulses and rows
+   read after friction made them (stage 3): k such joints keep k n doubles. Friction on a
+   joint that cannot spends its column at once (rj__rig_stage_friction). */
+static void rj__init_rigid_columns(rj_model *m)
+{
+    int k;
+    m->nwcol = 0;
+    for (k = 0; k < m->nq; k++) {
+        const int kept = !m->rig_tree || rj__rig_can_row(m, m->qj[k]);
+        m->wcol[k] = kept ? m->nwcol++ : -1;
+    }
+    m->rig_rows = rj__rig_rows_max(m);
+}
+
 /* Links held by constraints: SHAKE's inextensible chains, and in a scene of rigid links
-   alone (joint coordinates) the bodies, pins and joint order. */
+   alone (joint coordinates) the bodies, pins and joint order, the solver (a dense M or
+   articulated bodies, as rj_model_size counted its scratch) and the columns and rows its
+   step keeps. */
 static void rj__init_rigid(rj_model *m, const rj_scene_def *sc, int *chain_scratch)
 {
     m->rigid = rj__all_rigid(sc);
@@ -707,6 +751,9 @@ static void rj__init_rigid(rj_model *m, const rj_scene_def *sc, int *chain_scrat
     rj__init_rigid_bodies(m);
     rj__init_rigid_pins(m);
     rj__init_joint_order(m);
+    m->rig_tree = rj__rig_is_tree(m->nq, m->nloop, m->ncp);
+    RJ_ASSERT(m->rig_tree == rj__scene_rig_tree(sc));
+    rj__init_rigid_columns(m);
 }
 
 /* omega_max^2 at the stiffnesses in m->jnt: power iteration in joint coordinates for

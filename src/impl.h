@@ -230,6 +230,9 @@ struct rj_model {
     int nq;         /* joint coordinates: the tree's joints (nj less those closing loops) */
     int nloop;      /* joints that close loops */
     int rig_tree;   /* rigid tree solved in O(n) (articulated bodies) instead of dense M */
+    int *wcol;      /* (nq) a coordinate's column of M^-1 in the rigid scratch's W, -1: none */
+    int nwcol;      /* W's columns: nq with a dense M, else those a tree's step keeps */
+    int rig_rows;   /* rigid scenes: the most rows a step opens (rj__rig_rows_max) */
     int *qj;        /* (nq) coordinate k's joint */
     int *jq;        /* (nj) joint j's coordinate, -1 for a joint that closes a loop */
     double *jpin,
@@ -417,9 +420,10 @@ struct rj_state {
     double *node_applied; /* (3 nn) the node forces the last step applied, for their work */
     double step_work;     /* the work of the loads and node forces in the step under way */
     double step_fin;      /* the positions their kicks wrote, summed (the finite test) */
-    double *
-        rsc; /* rigid scenes: mass matrix, factor, vectors (rj__rigid_scratch); mixed: body impulses (3 nl) */
-    rj__row *rows;    /* the step's constraint rows (rj__rows_capacity) */
+    double *rsc;      /* rigid scenes: the solver's scratch (rj__rig_step_scratch); mixed:
+                         body impulses (3 nl) */
+    rj__row *rows;    /* the step's constraint rows (rigid scenes: rj_model.rig_rows + 1;
+                         else rj__rows_capacity) */
     rj__term *terms;  /* their terms (rj__terms_capacity) */
     double *rsys;     /* node space: the rows' system, its factor, right side and impulses */
     double *loop_force; /* (2 nj + 1) rigid loops: each loop joint's pin force over the last
@@ -429,15 +433,19 @@ struct rj_state {
     char warn[200]; /* latest warning (late contact), written only when one occurs */
 };
 
-static size_t rj__rigid_scratch(int nj, int nl, int ncp, int nloop);
+static size_t rj__rigid_scratch(size_t n, size_t nl, int dense, size_t cols, size_t rows,
+                                size_t others);
+static size_t rj__rig_step_scratch(const rj_model *m);
 static double rj__rig_setup(rj_model *m, double *scratch);
 typedef struct rj__rig {
-    double *M, *L, *W, *q, *qd, *qdp, *qdd, *Q, *h, *x,
-        *tmp; /* n x n (W: columns of M^-1), n each (tmp 2 n) */
+    double *M, *L; /* n x n with a dense M; NULL for articulated bodies (rj_model.rig_tree) */
+    double *W;     /* columns of M^-1, n each: rj_model.nwcol of them (rj_model.wcol) */
+    double *q, *qd, *qdp, *qdd, *Q, *h, *x, *tmp; /* n each (tmp 2 n) */
     double *xd; /* n: the impulse of the prescribed loop joints' rows on each coordinate */
     double *S, *SL, *lam,
         *rhs;   /* the rows' system (src/rows.h): R x R, its factor, R each (R rows at most) */
-    double *Y;  /* the rows' M^-1 J^T that are not a column of M^-1: n each, one per coupling */
+    double *Y;  /* the rows' M^-1 J^T that are not a column of M^-1: n each, one per coupling
+                   and two per loop */
     double *lk; /* per link, RJ__RL_COUNT values: rj__rig_kin */
     double *ab; /* per coordinate, RJ__AB_COUNT values: the articulated bodies (rj__aba_*) */
 } rj__rig;
@@ -491,7 +499,8 @@ enum {
     RJ__RL_PY,
     RJ__RL_COUNT = 24
 };
-static void rj__rig_map(const rj_model *m, double *base, rj__rig *r, int nloop);
+static RJ__FORCE_INLINE void rj__rig_map(const rj_model *m, double *base, rj__rig *r,
+                                         int solve);
 static double rj__rig_loop_rate(const rj_model *m, int j, const double *qd, double *g);
 static double rj__gravity_potential(const rj_model *m, const double *x, const double *y);
 static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const double *qd,

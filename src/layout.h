@@ -18,14 +18,43 @@ typedef struct rj__layout {
     size_t total, ldef, jdef, jnt, link_first, link_efirst, link_l0, link_EA, link_EI, link_rho,
         link_I;
     size_t node_cl, bp_node, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
-    size_t node_grp, ch_first, ch_node, ch_l0sq, gs_int, gs_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, qj, jq, jpin,
+    size_t node_grp, ch_first, ch_node, ch_l0sq, gs_int, gs_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, qj, jq, wcol, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
         link_un, link_kc, link_path, link_pl, link_damp, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
 } rj__layout;
 
-/* The model's block: every array linear in the scene; rigid scenes (joint coordinates)
-   add their dense joint-space matrices (nj^2). The building scratch lz holds the Lanczos
-   vectors and the joint-graph checks (rj__validate_graph: 2 nl + nj ints). */
+/* Whether a rigid scene of nq coordinates, nloop joints that close loops and ncp
+   couplings is solved by articulated bodies (rj_model.rig_tree) rather than a dense M. */
+static int rj__rig_is_tree(int nq, int nloop, int ncp)
+{
+    return !nloop && !ncp && nq >= RJ__RIG_TREE_MIN;
+}
+
+/* rj__rig_is_tree for a scene of rigid links, before its model is built. A valid scene
+   hangs each link that is not fixed from the first joint that names it body 2, and names
+   no fixed link body 2: the coordinates are the links less the fixed ones, and every
+   other joint closes a loop (rj__init_joint_nodes counts them the same). */
+static int rj__scene_rig_tree(const rj_scene_def *sc)
+{
+    int l, nq = 0;
+    for (l = 0; l < sc->link_count; l++)
+        nq += sc->links[l].root != RJ_ROOT_FIXED;
+    return rj__rig_is_tree(nq, sc->joint_count - nq, sc->coupling_count);
+}
+
+/* The rigid stability bound's scratch in the building area (rj__rig_setup): the solver's
+   without columns or rows, and for a dense M the nj x nj M^-1 after it. */
+static size_t rj__rig_bound_scratch(const rj_scene_def *sc)
+{
+    const size_t nj = (size_t) sc->joint_count, nl = (size_t) sc->link_count;
+    const int dense = !rj__scene_rig_tree(sc);
+    return rj__rigid_scratch(nj, nl, dense, 0, 0, 0) + (dense ? nj * nj : 0);
+}
+
+/* The model's block: every array linear in the scene. The building scratch lz holds the
+   Lanczos vectors, the joint-graph checks (rj__validate_graph: 2 nl + nj ints) and for
+   rigid scenes the stability bound's (rj__rig_bound_scratch: nj^2 with a dense M, linear
+   for articulated bodies). */
 static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__layout *L)
 {
     const int nl = sc->link_count, nj = sc->joint_count, rigid = rj__all_rigid(sc);
@@ -65,6 +94,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->jorder = rj__carve(&off, (size_t) nj + 1, sizeof(int));
     L->qj = rj__carve(&off, (size_t) nj + 1, sizeof(int));
     L->jq = rj__carve(&off, (size_t) nj + 1, sizeof(int));
+    L->wcol = rj__carve(&off, rigid ? (size_t) nj + 1 : 0, sizeof(int));
     L->jpin = rj__carve(&off, (size_t) nj + 1, sizeof(double));
     L->jref = rj__carve(&off, (size_t) nj + 1, sizeof(double));
     L->mass = rj__carve(&off, (size_t) nn, sizeof(double));
@@ -98,7 +128,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->cp = rj__carve(&off, (size_t) sc->coupling_count + 1, sizeof(rj_coupling_def));
     L->lz = rj__carve(&off,
                       15 * nn + 10 * ne + 8 + RJ__GRAPH_SCRATCH(nl, nj) +
-                          (rigid ? rj__rigid_scratch(nj, nl, sc->coupling_count, 0) + (size_t) nj * nj : 0),
+                          (rigid ? rj__rig_bound_scratch(sc) : 0),
                       sizeof(double));
     L->total = off == (size_t) -1 ? off : off + RJ__ALIGN;
 }

@@ -8,27 +8,43 @@
    centripetal accelerations -omega^2 r of every segment. The element (flags, torques,
    friction, methods) is the same code as for flexible links; a joint torque is a
    generalised force on q_j, and a velocity jump is an impulse along q_j. */
-/* The rigid solver's scratch for nj joints, nl links, ncp couplings and nloop joints that
-   close loops (0 where no rows are solved: the stability bound's setup): matrices n x n,
-   vectors n, the rows' system (a row per joint, per coupling, and two per loop less the
-   loop joint's own) and the columns of the rows that are not one joint's rate. */
-static size_t rj__rigid_scratch(int nj, int nl, int ncp, int nloop)
+/* The rigid solver's scratch for n coordinates and nl links: with a dense M, M and its
+   factor L (n x n each; articulated bodies need neither); cols columns of M^-1 (W); the
+   rows' system S and its factor SL (rows x rows each); others columns of the rows that
+   are not one joint's rate (Y); vectors of n and of rows; the link and coordinate
+   records. */
+static size_t rj__rigid_scratch(size_t n, size_t nl, int dense, size_t cols, size_t rows,
+                                size_t others)
 {
-    const size_t n = (size_t) nj, rows = (size_t) rj__rows_capacity(nj, ncp + nloop);
-    const size_t others = (size_t) ncp + 2 * (size_t) nloop;
-    return 3 * n * n + 2 * rows * rows + others * n + 10 * n + 3 * rows +
-           RJ__RL_COUNT * (size_t) nl + (RJ__AB_COUNT + 2) * n + 8;
+    const size_t square = dense ? 2 * n * n : 0;
+    return square + cols * n + 2 * rows * rows + others * n + 10 * n + 3 * rows +
+           RJ__RL_COUNT * nl + (RJ__AB_COUNT + 2) * n + 8;
 }
 
-/* the rigid solver's scratch: matrices n x n, vectors n (tmp 2 n), link records */
-static void rj__rig_map(const rj_model *m, double *base, rj__rig *r, int nloop)
+/* The step's scratch (rj_state.rsc) for the model's solver, columns and rows; n counts
+   the joints, those that close loops too (their vectors are scratch of nq or more). */
+static size_t rj__rig_step_scratch(const rj_model *m)
 {
-    const size_t n = (size_t) m->nj, rows = (size_t) rj__rows_capacity(m->nj, m->ncp + nloop);
-    r->M = base;
-    r->h = r->M + n * n;
-    r->L = r->h + n;
-    r->W = r->L + n * n;
-    r->q = r->W + n * n;
+    const size_t others = (size_t) m->ncp + 2 * (size_t) m->nloop;
+    return rj__rigid_scratch((size_t) m->nj, (size_t) m->nl, !m->rig_tree, (size_t) m->nwcol,
+                             (size_t) m->rig_rows, others);
+}
+
+/* The rigid solver's arrays in its scratch, as rj__rigid_scratch counts them: the step's
+   (solve: W, the rows' system and Y, rj__rig_step_scratch) or the stability bound's
+   (none of those, rj__rig_bound_scratch). M and L are NULL for articulated bodies. */
+static RJ__FORCE_INLINE void rj__rig_map(const rj_model *m, double *base, rj__rig *r,
+                                         int solve)
+{
+    const size_t n = (size_t) m->nj, square = m->rig_tree ? 0 : n * n;
+    const size_t cols = solve ? (size_t) m->nwcol : 0;
+    const size_t rows = solve ? (size_t) m->rig_rows : 0;
+    const size_t others = solve ? (size_t) m->ncp + 2 * (size_t) m->nloop : 0;
+    r->M = m->rig_tree ? NULL : base;
+    r->h = base + square;
+    r->L = m->rig_tree ? NULL : r->h + n;
+    r->W = r->h + n + square;
+    r->q = r->W + cols * n;
     r->qd = r->q + n;
     r->qdp = r->qd + n;
     r->qdd = r->qdp + n;
@@ -41,7 +57,7 @@ static void rj__rig_map(const rj_model *m, double *base, rj__rig *r, int nloop)
     r->lam = r->SL + rows * rows;
     r->rhs = r->lam + rows;
     r->Y = r->rhs + rows;
-    r->lk = r->Y + ((size_t) m->ncp + 2 * (size_t) nloop) * n;
+    r->lk = r->Y + others * n;
     r->ab = r->lk + RJ__RL_COUNT * (size_t) m->nl;
 }
 
@@ -619,14 +635,15 @@ static double rj__rig_tree_setup(rj_model *m, rj__rig *r)
 
 /* Rigid-link model constants and the stability bound: omega_max^2 = largest eigenvalue of
    K^1/2 M^-1 K^1/2 at the initial configuration (power iteration), K the joints' linear
-   stiffnesses (limits counted as for flexible links). Returns omega_max^2. */
+   stiffnesses (limits counted as for flexible links). Returns omega_max^2. scratch: the
+   solver's without columns or rows, then a dense M's inverse (rj__rig_bound_scratch). */
 static double rj__rig_setup(rj_model *m, double *scratch)
 {
     rj__rig r;
     const int n = m->nq;
-    double *minv = scratch + rj__rigid_scratch(m->nj, m->nl, m->ncp, 0), lam = 0, *v, *u;
+    const size_t nj = (size_t) m->nj, nl = (size_t) m->nl;
+    double *minv = scratch + rj__rigid_scratch(nj, nl, !m->rig_tree, 0, 0, 0), lam = 0, *v, *u;
     int j, k, it;
-    m->rig_tree = !m->nloop && !m->ncp && n >= RJ__RIG_TREE_MIN;
     rj__rig_map(m, scratch, &r, 0);
     for (j = 0; j < n; j++) {
         r.q[j] = m->jdef[m->qj[j]].angle0;

@@ -664,8 +664,10 @@ static void rj__rig_loop_friction(const rj_model *m, const rj__frames *f, rj__ri
     }
 }
 
-/* Rigid step, stage 3: friction, joint by joint, with the column M^-1 e_j (kept in W for
-   the impulses). */
+/* Rigid step, stage 3: friction, joint by joint, each with its column M^-1 e_j, which
+   W keeps (at m->wcol) for the impulses of a joint that can latch; another's is made in
+   r->tmp and spent here (a column reads the factor alone: made before or after the
+   joints before it, it is the same). */
 static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj__frames *f,
                                                     rj__rig *r)
 {
@@ -673,14 +675,13 @@ static RJ__FORCE_INLINE void rj__rig_stage_friction(const rj_model *m, const rj_
     const double *RJ__RESTRICT qd = r->qd;
     double *RJ__RESTRICT qdd = r->qdd, *W = r->W;
     int j, k;
-    for (j = 0; j < n; j++)
-        if (m->jdef[m->qj[j]].friction > 0)
-            rj__rig_unit(m, r, j, W + (size_t) j * n);
     for (j = 0; j < n; j++) {
-        const double tf = m->jdef[m->qj[j]].friction, *w = W + (size_t) j * n;
-        double tau;
+        const double tf = m->jdef[m->qj[j]].friction;
+        double tau, *w;
         if (!(tf > 0))
             continue;
+        w = m->wcol[j] >= 0 ? W + (size_t) m->wcol[j] * n : r->tmp;
+        rj__rig_unit(m, r, j, w);
         tau = rj__friction(qd[j] + f->kick * qdd[j], f->kick * w[j], tf);
         for (k = 0; k < n; k++)
             qdd[k] += w[k] * tau;
@@ -704,8 +705,7 @@ static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj
     for (j = 0; j < n; j++) {
         const int jj = m->qj[j];
         const rj_joint_def *d = &m->jdef[jj];
-        const double *w = W + (size_t) j * n;
-        double e, lam;
+        double e, lam, *w;
         if (!(d->method == RJ_METHOD_MOMENTUM || d->method == RJ_METHOD_FORCED))
             continue;
         /* re-contact within the step, as for flexible links */
@@ -724,8 +724,9 @@ static RJ__FORCE_INLINE void rj__rig_single_impulses(const rj_model *m, const rj
         if (ni[jj] != f->old_flags[jj] || e > 0)
             jumps->impact = 1;
         /* stage 3 made the column of a joint with friction */
+        w = W + (size_t) m->wcol[j] * n;
         if (!(d->friction > 0))
-            rj__rig_unit(m, r, j, W + (size_t) j * n);
+            rj__rig_unit(m, r, j, w);
         lam = (-e * qdp[j] - qdp[j]) / w[j];
         for (k = 0; k < n; k++)
             qdp[k] += w[k] * lam;
@@ -1049,7 +1050,7 @@ static rj_result rj__step_rigid(const rj_model *m, rj_state *s, int want_energy)
     rj_result res;
     rj__frames_open(m, s, want_energy, 0, &f);
     rj__sums_open(f.old_scalars, &e);
-    rj__rig_map(m, s->rsc, &r, m->nloop);
+    rj__rig_map(m, s->rsc, &r, 1);
     if (s->inputs && !rj__inputs_ok(m, s))
         return RJ_ERR_INVALID;
     if (s->node_inputs && !rj__rig_node_inputs_ok(m, s))

@@ -124,10 +124,11 @@ static int rj__row_pulls(const rj__row *row, double lam)
     return lam > row->hi || lam < row->lo;
 }
 
-/* What the dense solve works in: M's factor, M^-1's columns for the joints (W, n x n,
-   column j at W + j n), the other rows' M^-1 J^T (Y, n each), the system and its factor
-   (S, SL: R x R), vectors (lam, rhs: R; scratch: n), and the row a single impulse
-   before the solve already holds exactly (-1: none), which alone needs no solve. */
+/* What the dense solve works in: M's factor, M^-1's columns for the joints (W, n each,
+   coordinate j's at W + wcol[j] n: rj_model.wcol), the other rows' M^-1 J^T (Y, n each),
+   the system and its factor (S, SL: R x R), vectors (lam, rhs: R; scratch: n), and the row
+   a single impulse before the solve already holds exactly (-1: none), which alone needs
+   no solve. */
 typedef struct rj__dense {
     int n;
     const rj_model *m;
@@ -146,7 +147,7 @@ static const double *rj__row_column(const rj__rows *R, const rj__row *row, const
     int k;
     if (rj__row_unit(R, row)) {
         const int j = R->term[row->first].joint;
-        y = D->W + (size_t) j * n;
+        y = D->W + (size_t) D->m->wcol[j] * n;
         rj__rig_unit(D->m, D->rig, j, y);
         return y;
     }

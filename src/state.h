@@ -51,10 +51,13 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->eu = rj__carve(&off, (size_t) m->ne, sizeof(double));
     L->ebt = rj__carve(&off, (size_t) m->ne, sizeof(double));
     L->jsc = rj__carve(&off, (size_t) m->nj * 8 + 1, sizeof(double));
-    L->rsc = rj__carve(&off, m->rigid ? rj__rigid_scratch(m->nj, m->nl, m->ncp, m->nloop) : 3 * (size_t) m->ncl + 1,
+    L->rsc = rj__carve(&off, m->rigid ? rj__rig_step_scratch(m) : 3 * (size_t) m->ncl + 1,
                        sizeof(double));
-    /* a loop's two rows name every coordinate at most */
-    L->rows = rj__carve(&off, (size_t) rj__rows_capacity(m->nj, m->ncp + m->nloop),
+    /* rigid scenes: the rows their joints, couplings and loops can open (rj_model.rig_rows);
+       a loop's two rows name every coordinate at most */
+    L->rows = rj__carve(&off,
+                        m->rigid ? (size_t) m->rig_rows + 1
+                                 : (size_t) rj__rows_capacity(m->nj, m->ncp + m->nloop),
                         sizeof(rj__row));
     L->terms = rj__carve(&off,
                          (size_t) rj__terms_capacity(m->nj, m->ncp) +
@@ -176,7 +179,7 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
     if (m->rigid) {
         /* nodes from the joint-coordinate kinematics, so that both descriptions agree */
         rj__rig r;
-        rj__rig_map(m, s->rsc, &r, m->nloop);
+        rj__rig_map(m, s->rsc, &r, 1);
         for (j = 0; j < m->nq; j++) {
             r.q[j] = m->jdef[m->qj[j]].angle0;
             r.qd[j] = m->jdef[m->qj[j]].rate0;

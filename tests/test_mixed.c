@@ -580,20 +580,32 @@ static void test_articulated(void)
     rj_actuator_def A[1];
     rj_model *ma = NULL, *md = NULL;
     rj_state *sa = NULL, *sd = NULL;
-    rj__rig r;
+    rj__rig ra, rd;
     double b[16], xa[16], xd[16], ya[16], yd[16], worst_x = 0, worst_y = 0, big_x = 0, big_y = 0, worst_q = 0, ea = 0, ed = 0;
     int k, step, contacts4 = 0;
     if (tree_scene(L, J, A, &ma) != RJ_OK || tree_scene(L, J, A, &md) != RJ_OK) { rjt_check(&T, 0, "articulated tree: builds", "no model"); return; }
     rjt_check(&T, ma->rig_tree == 1 && ma->nq == 16, "articulated tree: a 16-coordinate rigid tree is solved by articulated bodies", "rig_tree %d, nq %d (from %d)", ma->rig_tree, ma->nq, RJ__RIG_TREE_MIN);
-    md->rig_tree = 0; /* the same model, solved densely */
+    md->rig_tree = 0; /* the same model, solved densely: its state, made after, holds M and L */
     if (rj_state_create(ma, &sa, NULL) != RJ_OK || rj_state_create(md, &sd, NULL) != RJ_OK) return;
-    /* M^-1 b and M x at the start */
-    rj__rig_map(ma, sa->rsc, &r, ma->nloop);
-    for (k = 0; k < 16; k++) { r.q[k] = ma->jdef[ma->qj[k]].angle0; r.qd[k] = r.qdp[k] = 0; b[k] = sin(1.0 + k); }
-    rj__rig_kin(ma, &r, r.q, r.qd, r.qdp);
-    ma->rig_tree = 1; rj__rig_factor(ma, &r); rj__rig_solve(ma, &r, b, xa); rj__rig_mul(ma, &r, b, ya);
-    ma->rig_tree = 0; rj__rig_factor(ma, &r); rj__rig_solve(ma, &r, b, xd); rj__rig_mul(ma, &r, b, yd);
-    ma->rig_tree = 1;
+    /* M^-1 b and M x at the start: articulated bodies in ma's scratch, which holds no n x n
+       matrix, the dense M in md's */
+    rj__rig_map(ma, sa->rsc, &ra, 1);
+    rj__rig_map(md, sd->rsc, &rd, 1);
+    rjt_check(&T, ra.M == NULL && ra.L == NULL && rd.M != NULL &&
+                  rj_state_size(ma) < rj_state_size(md),
+              "articulated tree: its scratch holds no n x n M or factor, the dense solver's does",
+              "M %p L %p (dense M %p); state %lu bytes, dense %lu",
+              (void *)ra.M, (void *)ra.L, (void *)rd.M,
+              (unsigned long)rj_state_size(ma), (unsigned long)rj_state_size(md));
+    for (k = 0; k < 16; k++) {
+        ra.q[k] = rd.q[k] = ma->jdef[ma->qj[k]].angle0;
+        ra.qd[k] = ra.qdp[k] = rd.qd[k] = rd.qdp[k] = 0;
+        b[k] = sin(1.0 + k);
+    }
+    rj__rig_kin(ma, &ra, ra.q, ra.qd, ra.qdp);
+    rj__rig_kin(md, &rd, rd.q, rd.qd, rd.qdp);
+    rj__rig_factor(ma, &ra); rj__rig_solve(ma, &ra, b, xa); rj__rig_mul(ma, &ra, b, ya);
+    rj__rig_factor(md, &rd); rj__rig_solve(md, &rd, b, xd); rj__rig_mul(md, &rd, b, yd);
     for (k = 0; k < 16; k++) {
         if (fabs(xa[k] - xd[k]) > worst_x) worst_x = fabs(xa[k] - xd[k]);
         if (fabs(ya[k] - yd[k]) > worst_y) worst_y = fabs(ya[k] - yd[k]);
@@ -627,6 +639,134 @@ static void test_articulated(void)
     rj_model_destroy(ma, NULL); rj_model_destroy(md, NULL);
 }
 
+/* 13. Rigid chains in memory linear in their links: n rigid links (0.1 m, one element,
+   hanging under gravity), a spring on every joint, friction on every fifth, and a latch
+   by momentum (a reverse limit 0.5 deg back, met at 1 rad/s, e = 0.3) on every 97th,
+   which locks there on the odd ones; joint 0 has friction and a latch. Articulated
+   bodies keep a column of M^-1 for each latching joint alone and size the rows' system
+   by them. */
+/* The chain's latching joints: every 97th from joint 0. */
+static int chain_latches(int n)
+{
+    return (n + 96) / 97;
+}
+
+/* The chain of n links, its rj_model_size into *bytes. */
+static rj_result long_chain(int n, rj_link_def *L, rj_joint_def *J, rj_model **m,
+                            size_t *bytes)
+{
+    rj_scene_def sc = rj_default_scene_def();
+    rj_error err;
+    int i;
+    for (i = 0; i < n; i++) {
+        L[i] = rj_default_link_def();
+        L[i].length = 0.1; L[i].elements = 1; L[i].fidelity = RJ_LINK_RIGID;
+        J[i] = rj_default_joint_def();
+        J[i].body1 = i - 1; J[i].body2 = i; J[i].angle0 = rj_rad(i ? 185.0 : 300.0);
+        J[i].spring_k = 1.0; J[i].spring_free_angle = rj_rad(i ? 180.0 : 270.0);
+        J[i].friction = i % 5 == 0 ? 1e-3 : 0.0;
+        if (i % 97 == 0) {
+            J[i].has_reverse = 1; J[i].reverse = rj_rad(i ? 184.5 : 299.5); J[i].rate0 = -1.0;
+            J[i].method = RJ_METHOD_MOMENTUM; J[i].restitution = 0.3; J[i].lock = i % 2;
+        }
+    }
+    sc.links = L; sc.link_count = n; sc.joints = J; sc.joint_count = n;
+    sc.solver.gravity[1] = -9.81; sc.solver.dt = 1e-4;
+    *bytes = rj_model_size(&sc, &err);
+    return rj_model_create(&sc, m, &err, NULL);
+}
+
+/* Steps model m from state s; returns the steps made (of count) and counts in *latched
+   the steps that end with a latching joint off its free flag. */
+static int chain_run(const rj_model *m, rj_state *s, int count, int *latched)
+{
+    int step, j;
+    for (step = 0; step < count; step++) {
+        if (rj_step(m, s) != RJ_OK)
+            break;
+        for (j = 0; j < m->nj; j += 97)
+            *latched += rj_joint_flag(m, s, j) != RJ_FREE;
+    }
+    return step;
+}
+
+/* A chain of 1000 links: its model and state below 8 kB a link (measured 4.1 kB; one n x n
+   matrix of doubles alone adds 8 kB a link at this n, so the bound fails with any, as it
+   did with the dense scratch's, 92 kB a link), and 300 steps. */
+static void test_chain_memory(void)
+{
+    const int n = 1000;
+    rj_link_def *L = (rj_link_def *)malloc(sizeof *L * (size_t)n);
+    rj_joint_def *J = (rj_joint_def *)malloc(sizeof *J * (size_t)n);
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    size_t model_bytes = 0, state_bytes;
+    int steps, latched = 0;
+    if (!L || !J || long_chain(n, L, J, &m, &model_bytes) != RJ_OK ||
+        rj_state_create(m, &s, NULL) != RJ_OK) {
+        rjt_check(&T, 0, "rigid chain of 1000 links: builds", "no model or state");
+        free(L); free(J); rj_model_destroy(m, NULL);
+        return;
+    }
+    state_bytes = rj_state_size(m);
+    rjt_check(&T, model_bytes + state_bytes < 8000 * (size_t)n,
+              "rigid chain of 1000 links: model and state below 8 kB a link (linear in the links)",
+              "model %lu + state %lu bytes = %.0f bytes a link",
+              (unsigned long)model_bytes, (unsigned long)state_bytes,
+              (double)(model_bytes + state_bytes) / n);
+    rjt_check(&T, m->rig_tree && m->nwcol == chain_latches(n) && m->rig_rows == chain_latches(n),
+              "rigid chain of 1000 links: a column of M^-1 and a row for each latching joint alone",
+              "rig_tree %d, columns %d, rows %d, latching joints %d",
+              m->rig_tree, m->nwcol, m->rig_rows, chain_latches(n));
+    steps = chain_run(m, s, 300, &latched);
+    rjt_check(&T, steps == 300 && latched > 0,
+              "rigid chain of 1000 links: 300 steps, its latches engaged",
+              "%d steps (%s), %d joint-steps off the free flag", steps, rj_state_error(s), latched);
+    rj_state_destroy(s, NULL); rj_model_destroy(m, NULL);
+    free(L); free(J);
+}
+
+/* The same chain of 100 links by articulated bodies and by the dense solver (the switch
+   flipped before the state is made): 400 steps of friction, bounces and a lock alike. */
+static void test_chain_dense(void)
+{
+    enum { N = 100 };
+    static rj_link_def L[N];
+    static rj_joint_def J[N];
+    rj_model *ma = NULL, *md = NULL;
+    rj_state *sa = NULL, *sd = NULL;
+    size_t bytes;
+    double worst = 0, big = 0;
+    int k, steps = 0, latched = 0, dense_latched = 0;
+    if (long_chain(N, L, J, &ma, &bytes) != RJ_OK || long_chain(N, L, J, &md, &bytes) != RJ_OK) {
+        rjt_check(&T, 0, "rigid chain of 100 links: builds", "no model");
+        rj_model_destroy(ma, NULL);
+        return;
+    }
+    md->rig_tree = 0;
+    if (rj_state_create(ma, &sa, NULL) == RJ_OK && rj_state_create(md, &sd, NULL) == RJ_OK)
+        for (steps = 0; steps < 400; steps++) {
+            if (chain_run(ma, sa, 1, &latched) != 1 || chain_run(md, sd, 1, &dense_latched) != 1)
+                break;
+            for (k = 0; k < N; k++) {
+                const double a = rj_joint_theta_running(ma, sa, k);
+                const double d = rj_joint_theta_running(md, sd, k);
+                worst = fmax(worst, fabs(a - d));
+                big = fmax(big, fabs(d - J[k].angle0));
+            }
+        }
+    rjt_check(&T, steps == 400 && latched > 0 && latched == dense_latched && worst < 1e-9 &&
+              rj_joint_flag(ma, sa, 97) == RJ_LOCKED && rj_joint_flag(md, sd, 97) == RJ_LOCKED,
+              "rigid chain of 100 links: articulated bodies step as the dense solver "
+              "(friction, bounces, a lock)",
+              "%d steps; max |theta - theta_dense| %.2e rad (turns up to %.3g rad); "
+              "latched joint-steps %d (dense %d); joint 97's flag %d (dense %d, locked %d)",
+              steps, worst, big, latched, dense_latched,
+              rj_joint_flag(ma, sa, 97), rj_joint_flag(md, sd, 97), RJ_LOCKED);
+    rj_state_destroy(sa, NULL); rj_state_destroy(sd, NULL);
+    rj_model_destroy(ma, NULL); rj_model_destroy(md, NULL);
+}
+
 int main(void)
 {
     test_pendulum();
@@ -641,5 +781,7 @@ int main(void)
     test_adaptive_auto_dt();
     test_bound();
     test_articulated();
+    test_chain_memory();
+    test_chain_dense();
     return rjt_summary(&T, "test_mixed");
 }
