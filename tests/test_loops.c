@@ -669,20 +669,11 @@ static void test_body_pair_parts(rjt_ctx *c)
 }
 
 /* A rigid link on a fixed pin, a second one pinned to its tip and driven by a spring
-   (5 N m/rad toward 200 deg) into joint b's limit at 150 deg; tail: the limit's keys.
-   Runs 0.3 s at step dt (0: the automatic one); the joint's largest angle past the
-   limit, its range once locked, the largest |balance| and the limit's loss. */
-static rj_result pair_latch_run(const char *tail, double dt, double *past, double *range,
-                                double *balance, double *lost)
+   (5 N m/rad toward 200 deg) into joint b's limit at 150 deg, beside a flexible
+   cantilever; tail: the limit's keys; dt 0: the automatic step. */
+static void pinned_pair_text(double dt, const char *tail, char *text, size_t n)
 {
-    char text[1024];
-    rj_model *m = NULL;
-    rj_state *s = NULL;
-    rj_error err;
-    rj_energy e;
-    rj_result r = RJ_OK;
-    double lo = HUGE_VAL, hi = -HUGE_VAL;
-    snprintf(text, sizeof text,
+    snprintf(text, n,
              "solver\n  dt = %.17g\n  gravity = 0 -9.81\n"
              "link base\n  length = 0.5  elements = 4  root = clamped  height = 0.02  "
              "width = 0.02\n"
@@ -693,6 +684,22 @@ static rj_result pair_latch_run(const char *tail, double dt, double *past, doubl
              "joint b\n  body1 = r1  body2 = r2  angle0 = 90 deg  spring = 5 200 deg  "
              "forward = 150 deg  %s\n",
              dt, tail);
+}
+
+/* The pinned pair (pinned_pair_text) with the limit's keys tail, run 0.3 s at step dt
+   (0: the automatic one): the joint's largest angle past the limit, its range once
+   locked, the largest |balance| and the limit's loss. */
+static rj_result pair_latch_run(const char *tail, double dt, double *past, double *range,
+                                double *balance, double *lost)
+{
+    char text[1024];
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    rj_energy e;
+    rj_result r = RJ_OK;
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
+    pinned_pair_text(dt, tail, text, sizeof text);
     *past = *range = *balance = *lost = 0;
     if (!build(text, &m, &s, &err))
         return RJ_ERR_INVALID;
@@ -727,16 +734,7 @@ static void test_body_pair_bounce(rjt_ctx *c)
     rj_result r = RJ_OK;
     double before = 0, after = 0, balance = 0;
     int hit = 0;
-    snprintf(text, sizeof text,
-             "solver\n  gravity = 0 -9.81\n"
-             "link base\n  length = 0.5  elements = 4  root = clamped  height = 0.02  "
-             "width = 0.02\n"
-             "link r1\n  length = 0.3  elements = 2  fidelity = rigid  height = 0.02  "
-             "width = 0.02  root = pinned  x = 1  angle = -90 deg\n"
-             "link r2\n  length = 0.3  elements = 1  fidelity = rigid  height = 0.02  "
-             "width = 0.02\n"
-             "joint b\n  body1 = r1  body2 = r2  angle0 = 90 deg  spring = 5 200 deg  "
-             "forward = 150 deg  method = momentum  restitution = 0.5\n");
+    pinned_pair_text(0, "method = momentum  restitution = 0.5", text, sizeof text);
     if (!build(text, &m, &s, &err)) {
         rjt_check(c, 0, "joint between two bodies: a bounce", "%s", err.msg);
         return;
