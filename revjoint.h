@@ -8590,9 +8590,13 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
                         m->rigid ? (size_t) m->rig_rows + 1
                                  : (size_t) rj__rows_capacity(m->nj, m->ncp + m->nloop),
                         sizeof(rj__row));
+    /* a loop's two rows and its joint's latch or profile row name every coordinate at
+       most (4 nq with one spare), and so may a coupling on a loop joint, twice when both
+       its joints close loops */
     L->terms = rj__carve(&off,
                          (size_t) rj__terms_capacity(m->nj, m->ncp) +
-                             4 * (size_t) m->nloop * (size_t) m->nq,
+                             4 * (size_t) m->nloop * (size_t) m->nq +
+                             (m->nloop ? 2 * (size_t) m->ncp * (size_t) m->nq : 0),
                          sizeof(rj__term));
     L->rsys = rj__carve(&off, 2 * (size_t) m->nmotion * (size_t) (m->nmotion + 1) + 1,
                         sizeof(double));
