@@ -151,10 +151,9 @@ typedef enum rj_root { RJ_ROOT_FREE = 0, RJ_ROOT_PINNED, RJ_ROOT_CLAMPED, RJ_ROO
      anchor), and the nodes of other links pinned to it. Two rigid links pinned together
      there are kept together on positions (as SHAKE keeps inextensible links); their
      joint takes a spring, a table, damping, friction (with the pinned pair's give), a
-     motor's torque, a prescribed profile (as a torque, RJ_TORQUE_DRIVE), elastic cable
-     loops, and limits and locks by every method but energy (as torques,
-     RJ_TORQUE_LIMIT), but no energy-method limit or exact cable loop yet. Joints on a
-     rigid link use
+     motor's torque, a prescribed profile (as a torque, RJ_TORQUE_DRIVE), cable loops,
+     and limits and locks by every method but energy (as torques, RJ_TORQUE_LIMIT, an
+     exact cable loop's too). Joints on a rigid link use
      RJ_REF_TANGENT; the flexible links set the step. */
 /* RJ_LINK_INEXTENSIBLE links bend like flexible ones, but their element lengths are
    constraints (SHAKE projection along the previous chords: a tridiagonal solve per chain
@@ -3016,17 +3015,11 @@ static int rj__validate_joint(const rj_scene_def *sc, int j, rj_error *err)
 static const char *rj__body_pair_refusal(const rj_scene_def *sc, int j, char *f, size_t n)
 {
     const rj_joint_def *J = &sc->joints[j];
-    int k;
     f[0] = 0;
-    /* penalty and adaptive limits are torques, and so are latches by momentum and forced
-       there; the energy method's balance (Eqs 25-26) is not */
+    /* every part is a torque there (rj__stage_pair_latches) but the energy method's
+       balance (Eqs 25-26), which would need the pinned pair's inertia */
     if ((J->has_forward || J->has_reverse) && J->method == RJ_METHOD_ENERGY)
         snprintf(f, n, "joints[%d].method", j);
-    /* an elastic cable loop is a torque; an exact one is a row */
-    for (k = 0; k < sc->coupling_count && !f[0]; k++)
-        if ((sc->couplings[k].joint_a == j || sc->couplings[k].joint_b == j) &&
-            sc->couplings[k].exact)
-            snprintf(f, n, "couplings[%d].exact", k);
     return f[0] ? f : NULL;
 }
 
@@ -3058,9 +3051,9 @@ static int rj__validate_mixed(const rj_scene_def *sc, rj_error *err)
             rj__fail(err, RJ_ERR_INVALID, f, j,
                      "%s is not supported: joint %d pins two rigid links (%d and %d) in a scene "
                      "with flexible links, where it takes a spring, a table, damping, friction, "
-                     "a motor's torque, a prescribed profile, an elastic cable loop, and limits "
-                     "and locks by any method but energy, and no exact cable loop yet: make "
-                     "every link rigid, or one of the two flexible",
+                     "a motor's torque, a prescribed profile, cable loops, and limits and locks "
+                     "by any method but energy: make every link rigid, or one of the two "
+                     "flexible",
                      f, j, J->body1, J->body2);
             return 0;
         }
@@ -10444,13 +10437,21 @@ static void rj__row_coupling(const rj_model *m, rj__rows *R, int k, const double
     rj__row_term(R, row, a, -c->ratio);
 }
 
+/* Whether coupling k is exact with a joint between two rigid bodies of a mixed scene: a
+   torque pair then (rj__pair_coupling), not a row. */
+static int rj__coupling_on_pair(const rj_model *m, int k)
+{
+    const rj_coupling_def *c = &m->cp[k];
+    return c->exact && (m->jnt[c->joint_a].pair || m->jnt[c->joint_b].pair);
+}
+
 /* The exact couplings' rows. */
 static void rj__rows_couplings(const rj_model *m, rj__rows *R, const double *angles,
                                size_t stride, const int *map, double dt)
 {
     int k;
     for (k = 0; k < m->ncp; k++)
-        if (m->cp[k].exact)
+        if (m->cp[k].exact && !rj__coupling_on_pair(m, k))
             rj__row_coupling(m, R, k, angles, stride, map, dt);
 }
 
@@ -12031,6 +12032,79 @@ static RJ__INLINE int rj__velocity_method(int method)
     return method == RJ_METHOD_MOMENTUM || method == RJ_METHOD_ENERGY || method == RJ_METHOD_FORCED;
 }
 
+/* Joint j's rate at the end of the step under the forces so far, seen through the pin
+   when it joins two rigid bodies (rj__pair_friction). */
+static double rj__pair_rate_pred(const rj_model *m, const rj_state *s, const rj__frames *f,
+                                 int j)
+{
+    const rj__joint *J = &m->jnt[j];
+    rj__jgeo g;
+    double ratep, give = 0;
+    rj__kept_geo(s->jsc + 8 * j, &g);
+    ratep = rj__joint_rate_pred(m, s, f, J, &g);
+    if (J->pair)
+        rj__pair_friction(m, s, f, J, &ratep, &give);
+    return ratep;
+}
+
+/* The force entries a torque on joint j writes (rj__apply_torque): 0 .. 3 its nodes
+   I, K, J, L (-1: none), saved into or put back from keep (12 doubles). */
+static void rj__torque_entries(const rj__joint *J, rj_state *s, double *keep, int put)
+{
+    const int nodes[4] = { J->nI, J->nK, J->nJ, J->nL };
+    int k;
+    for (k = 0; k < 4; k++) {
+        double *at[3];
+        int q;
+        if (nodes[k] < 0)
+            continue;
+        at[0] = &s->fx[nodes[k]];
+        at[1] = &s->fy[nodes[k]];
+        at[2] = &s->mz[nodes[k]];
+        for (q = 0; q < 3; q++) {
+            if (put)
+                *at[q] = keep[3 * k + q];
+            else
+                keep[3 * k + q] = *at[q];
+        }
+    }
+}
+
+/* An exact cable loop with a joint between two rigid bodies, as a torque pair after the
+   latches (rj__stage_pair_latches): tau on joint b and -ratio tau on joint a, aimed at
+   the stretch's rate -e / dt that closes it at n + 1. Its give is probed with a unit
+   torque pair and the force entries put back bit for bit: through the pin it is linear
+   but for the pin's turn over the step, whose share the next step's aim takes up.
+   Booked with the limits' torques, as the rows' couplings are. */
+static void rj__pair_coupling(const rj_model *m, rj_state *s, const rj__frames *f, int k)
+{
+    const rj_coupling_def *c = &m->cp[k];
+    const rj__joint *Ja = &m->jnt[c->joint_a], *Jb = &m->jnt[c->joint_b];
+    const double *old_joints = RJ__FJ(m, f->old, 0);
+    const double e_n = rj__coupling_stretch(
+        m, c, old_joints[(size_t) RJ__JD_COUNT * c->joint_a + RJ__JD_THETA],
+        old_joints[(size_t) RJ__JD_COUNT * c->joint_b + RJ__JD_THETA]);
+    double keep[24], rate0, rate1, tau;
+    rj__jgeo ga, gb;
+    rj__kept_geo(s->jsc + 8 * c->joint_a, &ga);
+    rj__kept_geo(s->jsc + 8 * c->joint_b, &gb);
+    rate0 = rj__pair_rate_pred(m, s, f, c->joint_b) - c->ratio * rj__pair_rate_pred(m, s, f, c->joint_a);
+    rj__torque_entries(Ja, s, keep, 0);
+    rj__torque_entries(Jb, s, keep + 12, 0);
+    rj__apply_torque(Jb, &gb, 1.0, s->fx, s->fy, s->mz);
+    rj__apply_torque(Ja, &ga, -c->ratio, s->fx, s->fy, s->mz);
+    rate1 = rj__pair_rate_pred(m, s, f, c->joint_b) - c->ratio * rj__pair_rate_pred(m, s, f, c->joint_a);
+    rj__torque_entries(Jb, s, keep + 12, 1);
+    rj__torque_entries(Ja, s, keep, 1);
+    if (!(rate1 != rate0))
+        return;
+    tau = (-e_n / f->dt - rate0) / (rate1 - rate0);
+    rj__apply_torque(Jb, &gb, tau, s->fx, s->fy, s->mz);
+    rj__apply_torque(Ja, &ga, -c->ratio * tau, s->fx, s->fy, s->mz);
+    RJ__FJ(m, f->next, c->joint_b)[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] += tau;
+    RJ__FJ(m, f->next, c->joint_a)[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] -= c->ratio * tau;
+}
+
 /* Latches and plastic limits on the joints between two rigid bodies of a mixed scene, as
    torques after friction (stage 3): the jump of stage 5 sees neither the pin between the
    bodies nor the flexible links they carry, and tried there it lost 1.5 J of 3.9 J
@@ -12076,6 +12150,9 @@ static void rj__stage_pair_latches(const rj_model *m, rj_state *s, const rj__fra
         rj__apply_torque(J, &g, tau, s->fx, s->fy, s->mz);
         RJ__FJ(m, f->next, j)[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] += tau;
     }
+    for (j = 0; j < m->ncp; j++)
+        if (rj__coupling_on_pair(m, j))
+            rj__pair_coupling(m, s, f, j);
 }
 
 /* A velocity-level joint released under RC13 (rate pointing out at the step's start) that

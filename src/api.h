@@ -151,10 +151,9 @@ typedef enum rj_root { RJ_ROOT_FREE = 0, RJ_ROOT_PINNED, RJ_ROOT_CLAMPED, RJ_ROO
      anchor), and the nodes of other links pinned to it. Two rigid links pinned together
      there are kept together on positions (as SHAKE keeps inextensible links); their
      joint takes a spring, a table, damping, friction (with the pinned pair's give), a
-     motor's torque, a prescribed profile (as a torque, RJ_TORQUE_DRIVE), elastic cable
-     loops, and limits and locks by every method but energy (as torques,
-     RJ_TORQUE_LIMIT), but no energy-method limit or exact cable loop yet. Joints on a
-     rigid link use
+     motor's torque, a prescribed profile (as a torque, RJ_TORQUE_DRIVE), cable loops,
+     and limits and locks by every method but energy (as torques, RJ_TORQUE_LIMIT, an
+     exact cable loop's too). Joints on a rigid link use
      RJ_REF_TANGENT; the flexible links set the step. */
 /* RJ_LINK_INEXTENSIBLE links bend like flexible ones, but their element lengths are
    constraints (SHAKE projection along the previous chords: a tridiagonal solve per chain

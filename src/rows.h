@@ -97,13 +97,21 @@ static void rj__row_coupling(const rj_model *m, rj__rows *R, int k, const double
     rj__row_term(R, row, a, -c->ratio);
 }
 
+/* Whether coupling k is exact with a joint between two rigid bodies of a mixed scene: a
+   torque pair then (rj__pair_coupling), not a row. */
+static int rj__coupling_on_pair(const rj_model *m, int k)
+{
+    const rj_coupling_def *c = &m->cp[k];
+    return c->exact && (m->jnt[c->joint_a].pair || m->jnt[c->joint_b].pair);
+}
+
 /* The exact couplings' rows. */
 static void rj__rows_couplings(const rj_model *m, rj__rows *R, const double *angles,
                                size_t stride, const int *map, double dt)
 {
     int k;
     for (k = 0; k < m->ncp; k++)
-        if (m->cp[k].exact)
+        if (m->cp[k].exact && !rj__coupling_on_pair(m, k))
             rj__row_coupling(m, R, k, angles, stride, map, dt);
 }
 

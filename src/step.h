@@ -876,6 +876,79 @@ static RJ__INLINE int rj__velocity_method(int method)
     return method == RJ_METHOD_MOMENTUM || method == RJ_METHOD_ENERGY || method == RJ_METHOD_FORCED;
 }
 
+/* Joint j's rate at the end of the step under the forces so far, seen through the pin
+   when it joins two rigid bodies (rj__pair_friction). */
+static double rj__pair_rate_pred(const rj_model *m, const rj_state *s, const rj__frames *f,
+                                 int j)
+{
+    const rj__joint *J = &m->jnt[j];
+    rj__jgeo g;
+    double ratep, give = 0;
+    rj__kept_geo(s->jsc + 8 * j, &g);
+    ratep = rj__joint_rate_pred(m, s, f, J, &g);
+    if (J->pair)
+        rj__pair_friction(m, s, f, J, &ratep, &give);
+    return ratep;
+}
+
+/* The force entries a torque on joint j writes (rj__apply_torque): 0 .. 3 its nodes
+   I, K, J, L (-1: none), saved into or put back from keep (12 doubles). */
+static void rj__torque_entries(const rj__joint *J, rj_state *s, double *keep, int put)
+{
+    const int nodes[4] = { J->nI, J->nK, J->nJ, J->nL };
+    int k;
+    for (k = 0; k < 4; k++) {
+        double *at[3];
+        int q;
+        if (nodes[k] < 0)
+            continue;
+        at[0] = &s->fx[nodes[k]];
+        at[1] = &s->fy[nodes[k]];
+        at[2] = &s->mz[nodes[k]];
+        for (q = 0; q < 3; q++) {
+            if (put)
+                *at[q] = keep[3 * k + q];
+            else
+                keep[3 * k + q] = *at[q];
+        }
+    }
+}
+
+/* An exact cable loop with a joint between two rigid bodies, as a torque pair after the
+   latches (rj__stage_pair_latches): tau on joint b and -ratio tau on joint a, aimed at
+   the stretch's rate -e / dt that closes it at n + 1. Its give is probed with a unit
+   torque pair and the force entries put back bit for bit: through the pin it is linear
+   but for the pin's turn over the step, whose share the next step's aim takes up.
+   Booked with the limits' torques, as the rows' couplings are. */
+static void rj__pair_coupling(const rj_model *m, rj_state *s, const rj__frames *f, int k)
+{
+    const rj_coupling_def *c = &m->cp[k];
+    const rj__joint *Ja = &m->jnt[c->joint_a], *Jb = &m->jnt[c->joint_b];
+    const double *old_joints = RJ__FJ(m, f->old, 0);
+    const double e_n = rj__coupling_stretch(
+        m, c, old_joints[(size_t) RJ__JD_COUNT * c->joint_a + RJ__JD_THETA],
+        old_joints[(size_t) RJ__JD_COUNT * c->joint_b + RJ__JD_THETA]);
+    double keep[24], rate0, rate1, tau;
+    rj__jgeo ga, gb;
+    rj__kept_geo(s->jsc + 8 * c->joint_a, &ga);
+    rj__kept_geo(s->jsc + 8 * c->joint_b, &gb);
+    rate0 = rj__pair_rate_pred(m, s, f, c->joint_b) - c->ratio * rj__pair_rate_pred(m, s, f, c->joint_a);
+    rj__torque_entries(Ja, s, keep, 0);
+    rj__torque_entries(Jb, s, keep + 12, 0);
+    rj__apply_torque(Jb, &gb, 1.0, s->fx, s->fy, s->mz);
+    rj__apply_torque(Ja, &ga, -c->ratio, s->fx, s->fy, s->mz);
+    rate1 = rj__pair_rate_pred(m, s, f, c->joint_b) - c->ratio * rj__pair_rate_pred(m, s, f, c->joint_a);
+    rj__torque_entries(Jb, s, keep + 12, 1);
+    rj__torque_entries(Ja, s, keep, 1);
+    if (!(rate1 != rate0))
+        return;
+    tau = (-e_n / f->dt - rate0) / (rate1 - rate0);
+    rj__apply_torque(Jb, &gb, tau, s->fx, s->fy, s->mz);
+    rj__apply_torque(Ja, &ga, -c->ratio * tau, s->fx, s->fy, s->mz);
+    RJ__FJ(m, f->next, c->joint_b)[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] += tau;
+    RJ__FJ(m, f->next, c->joint_a)[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] -= c->ratio * tau;
+}
+
 /* Latches and plastic limits on the joints between two rigid bodies of a mixed scene, as
    torques after friction (stage 3): the jump of stage 5 sees neither the pin between the
    bodies nor the flexible links they carry, and tried there it lost 1.5 J of 3.9 J
@@ -921,6 +994,9 @@ static void rj__stage_pair_latches(const rj_model *m, rj_state *s, const rj__fra
         rj__apply_torque(J, &g, tau, s->fx, s->fy, s->mz);
         RJ__FJ(m, f->next, j)[RJ__JD_TQ0 + RJ_TORQUE_LIMIT] += tau;
     }
+    for (j = 0; j < m->ncp; j++)
+        if (rj__coupling_on_pair(m, j))
+            rj__pair_coupling(m, s, f, j);
 }
 
 /* A velocity-level joint released under RC13 (rate pointing out at the step's start) that

@@ -450,17 +450,11 @@ static int rj__validate_joint(const rj_scene_def *sc, int j, rj_error *err)
 static const char *rj__body_pair_refusal(const rj_scene_def *sc, int j, char *f, size_t n)
 {
     const rj_joint_def *J = &sc->joints[j];
-    int k;
     f[0] = 0;
-    /* penalty and adaptive limits are torques, and so are latches by momentum and forced
-       there; the energy method's balance (Eqs 25-26) is not */
+    /* every part is a torque there (rj__stage_pair_latches) but the energy method's
+       balance (Eqs 25-26), which would need the pinned pair's inertia */
     if ((J->has_forward || J->has_reverse) && J->method == RJ_METHOD_ENERGY)
         snprintf(f, n, "joints[%d].method", j);
-    /* an elastic cable loop is a torque; an exact one is a row */
-    for (k = 0; k < sc->coupling_count && !f[0]; k++)
-        if ((sc->couplings[k].joint_a == j || sc->couplings[k].joint_b == j) &&
-            sc->couplings[k].exact)
-            snprintf(f, n, "couplings[%d].exact", k);
     return f[0] ? f : NULL;
 }
 
@@ -492,9 +486,9 @@ static int rj__validate_mixed(const rj_scene_def *sc, rj_error *err)
             rj__fail(err, RJ_ERR_INVALID, f, j,
                      "%s is not supported: joint %d pins two rigid links (%d and %d) in a scene "
                      "with flexible links, where it takes a spring, a table, damping, friction, "
-                     "a motor's torque, a prescribed profile, an elastic cable loop, and limits "
-                     "and locks by any method but energy, and no exact cable loop yet: make "
-                     "every link rigid, or one of the two flexible",
+                     "a motor's torque, a prescribed profile, cable loops, and limits and locks "
+                     "by any method but energy: make every link rigid, or one of the two "
+                     "flexible",
                      f, j, J->body1, J->body2);
             return 0;
         }

@@ -608,20 +608,20 @@ static rj_result body_pair_run(rj_model *m, rj_state *s, double t_end, double *b
     return r;
 }
 
-/* Friction, a penalty limit and an elastic cable loop on a joint between two rigid bodies
-   of a mixed scene. Friction above the largest torque the tail's weight and swing need
+/* Friction, a penalty limit and cable loops on a joint between two rigid bodies of a
+   mixed scene. Friction above the largest torque the tail's weight and swing need
    (under 1 N m) holds the joint: with each body's own give it crept 5.6e-3 rad in 1 s,
    with the pin's linear velocity 2.5e-5 rad. */
 static void test_body_pair_parts(rjt_ctx *c)
 {
-    static const char *const tails[4] = {
+    static const char *const tails[5] = {
         "friction = 2", "friction = 0.3",
-        "method = penalty  penalty_k = 50  reverse = 60 deg  forward = 120 deg", ""
+        "method = penalty  penalty_k = 50  reverse = 60 deg  forward = 120 deg", "", ""
     };
-    static const char *const names[4] = { "friction holds", "friction slips",
-                                           "penalty limit", "elastic cable loop" };
+    static const char *const names[5] = { "friction holds", "friction slips", "penalty limit",
+                                           "elastic cable loop", "exact cable loop" };
     int k;
-    for (k = 0; k < 4; k++) {
+    for (k = 0; k < 5; k++) {
         rj_model *m = NULL;
         rj_state *s = NULL;
         rj_error err;
@@ -631,7 +631,9 @@ static void test_body_pair_parts(rjt_ctx *c)
         char tail[256];
         snprintf(tail, sizeof tail, "%s%s", tails[k],
                  k == 3 ? "\ncoupling cl\n  joints = a b\n  ratio = -1\n  stiffness = 20  "
-                          "damping = 0.01" : "");
+                          "damping = 0.01"
+                 : k == 4 ? "\ncoupling cl\n  joints = a b\n  ratio = -1\n  exact = yes"
+                          : "");
         if (!body_pair_scene(tail, &m, &s, &err)) {
             rjt_check(c, 0, "joint between two bodies", "%s: %s", names[k], err.msg);
             continue;
@@ -661,6 +663,17 @@ static void test_body_pair_parts(rjt_ctx *c)
                       "joint between two bodies: an elastic cable loop ties it to another",
                       "1 s: W_damping %.4g J; max |balance| %.3g J of %.3g J",
                       e.lost_damping, balance, scale);
+        if (k == 4) {
+            /* the loop holds theta_b - 90 deg = -(theta_a - 90 deg) */
+            const double e = rj_joint_theta_running(m, s, 1) + rj_joint_theta_running(m, s, 0) -
+                             2 * rj_rad(90);
+            rjt_check(c, r == RJ_OK && fabs(e) < 1e-9 && hi - lo > 1e-3 &&
+                             balance < 1e-10 * scale,
+                      "joint between two bodies: an exact cable loop holds it to another",
+                      "1 s: the loop's stretch %.3g rad while joint b turned %.3g rad; max "
+                      "|balance| %.3g J of %.3g J",
+                      e, hi - lo, balance, scale);
+        }
         if (r != RJ_OK)
             rjt_check(c, 0, "joint between two bodies", "%s: %s", names[k], rj_state_error(s));
         rj_state_destroy(s, NULL);
