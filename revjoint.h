@@ -7653,7 +7653,7 @@ static void rj__init_chord_angles(rj_model *m)
 }
 
 /* The joints whose two pins are own nodes of two rigid bodies (mixed scenes): the pin
-   between the bodies turns both with the joint's torques (rj__pair_friction). */
+   between the bodies turns both with the joint's torques (rj__pair_terms). */
 static void rj__init_body_pairs(rj_model *m)
 {
     int j;
@@ -11721,7 +11721,6 @@ static RJ__NOINLINE double rj__applied_work(const rj_model *m, const rj_state *s
    bodies' poses turn it: the linear v + w perp(r) left out the pin's centripetal pull,
    and a stuck joint crept at first order in dt), its inverse mass and inertia (0 where
    held). */
-
 static void rj__pair_side_at(const rj_model *m, const rj_state *s, const rj__frames *at, int n,
                              rj__pair_side *p)
 {
@@ -11740,13 +11739,13 @@ static void rj__pair_side_at(const rj_model *m, const rj_state *s, const rj__fra
     p->v[1] = oc[3] + at->kick * Fy * p->tinv + (sw * p->r[0] + (cw - 1) * p->r[1]) / at->dt;
 }
 
-/* Friction on a joint between two rigid bodies of a mixed scene. The pin between them
-   (rj__body_pins) takes an impulse lambda that keeps the pin's two points together, so
-   the rate friction must stop is the one that impulse leaves, rate - u . lambda, and
-   the give of a torque pair is the pinned pair's, c = 1/I_1 + 1/I_2 - u^T K^-1 u, with K
-   the pin's mobility (sum of 1/M + perp(r) perp(r)^T / I) and u = sum perp(r) / I. With
-   the bodies' own gives alone the torque fell short and a stuck joint crept. */
-static void rj__pair_friction(const rj_model *m, const rj_state *s, const rj__frames *f,
+/* A joint between two rigid bodies of a mixed scene, seen through the pin between them
+   (rj__body_pins), whose impulse lambda keeps the pin's two points together: the rate
+   the step would end with is the one that impulse leaves, rate - u . lambda, and the
+   give of a torque pair is the pinned pair's, c = 1/I_1 + 1/I_2 - u^T K^-1 u, with K the
+   pin's mobility (sum of 1/M + perp(r) perp(r)^T / I) and u = sum perp(r) / I. With the
+   bodies' own gives alone, friction fell short and a stuck joint crept. */
+static void rj__pair_terms(const rj_model *m, const rj_state *s, const rj__frames *f,
                               const rj__joint *J, double *ratep, double *give)
 {
     rj__pair_side a, b;
@@ -11767,6 +11766,21 @@ static void rj__pair_friction(const rj_model *m, const rj_state *s, const rj__fr
     *give = f->kick * c;
 }
 
+/* Joint j's geometry at n (as stage 2 kept it), the rate it would end the step with
+   under the forces so far, and its rate change per unit torque over the step; pairs:
+   seen through the pin when it joins two rigid bodies (rj__pair_terms). */
+static RJ__FORCE_INLINE void rj__joint_terms(const rj_model *m, const rj_state *s,
+                                             const rj__frames *f, int j, int pairs,
+                                             rj__jgeo *g, double *ratep, double *give)
+{
+    const rj__joint *J = &m->jnt[j];
+    rj__kept_geo(s->jsc + 8 * j, g);
+    *ratep = rj__joint_rate_pred(m, s, f, J, g);
+    *give = f->kick * rj__joint_compliance(m, J, g);
+    if (pairs && J->pair)
+        rj__pair_terms(m, s, f, J, ratep, give);
+}
+
 /* Joint j's friction torque, applied and recorded (stage 3, below). */
 static RJ__FORCE_INLINE void rj__friction_joint(const rj_model *m, rj_state *s,
                                                 const rj__frames *f, int j, int pairs)
@@ -11776,11 +11790,7 @@ static RJ__FORCE_INLINE void rj__friction_joint(const rj_model *m, rj_state *s,
     double *new_joint = RJ__FJ(m, f->next, j);
     rj__jgeo g;
     double ratep, compliance, tau;
-    rj__kept_geo(s->jsc + 8 * j, &g);
-    ratep = rj__joint_rate_pred(m, s, f, J, &g);
-    compliance = f->kick * rj__joint_compliance(m, J, &g);
-    if (pairs && J->pair)
-        rj__pair_friction(m, s, f, J, &ratep, &compliance);
+    rj__joint_terms(m, s, f, j, pairs, &g, &ratep, &compliance);
     tau = rj__friction(ratep, compliance, d->friction);
     rj__apply_torque(J, &g, tau, s->fx, s->fy, s->mz);
     new_joint[RJ__JD_TQ0 + RJ_TORQUE_FRICTION] = tau;
@@ -12032,19 +12042,15 @@ static RJ__INLINE int rj__velocity_method(int method)
     return method == RJ_METHOD_MOMENTUM || method == RJ_METHOD_ENERGY || method == RJ_METHOD_FORCED;
 }
 
-/* Joint j's rate at the end of the step under the forces so far, seen through the pin
-   when it joins two rigid bodies (rj__pair_friction). */
-static double rj__pair_rate_pred(const rj_model *m, const rj_state *s, const rj__frames *f,
-                                 int j)
+/* Coupling c's stretch rate at the end of the step under the forces so far, its joints
+   seen through their pins (rj__joint_terms), and their geometries at n. */
+static double rj__coupling_rate_pred(const rj_model *m, const rj_state *s, const rj__frames *f,
+                                     const rj_coupling_def *c, rj__jgeo *ga, rj__jgeo *gb)
 {
-    const rj__joint *J = &m->jnt[j];
-    rj__jgeo g;
-    double ratep, give = 0;
-    rj__kept_geo(s->jsc + 8 * j, &g);
-    ratep = rj__joint_rate_pred(m, s, f, J, &g);
-    if (J->pair)
-        rj__pair_friction(m, s, f, J, &ratep, &give);
-    return ratep;
+    double rate_a, rate_b, give;
+    rj__joint_terms(m, s, f, c->joint_a, 1, ga, &rate_a, &give);
+    rj__joint_terms(m, s, f, c->joint_b, 1, gb, &rate_b, &give);
+    return rate_b - c->ratio * rate_a;
 }
 
 /* The force entries a torque on joint j writes (rj__apply_torque): 0 .. 3 its nodes
@@ -12086,14 +12092,12 @@ static void rj__pair_coupling(const rj_model *m, rj_state *s, const rj__frames *
         old_joints[(size_t) RJ__JD_COUNT * c->joint_b + RJ__JD_THETA]);
     double keep[24], rate0, rate1, tau;
     rj__jgeo ga, gb;
-    rj__kept_geo(s->jsc + 8 * c->joint_a, &ga);
-    rj__kept_geo(s->jsc + 8 * c->joint_b, &gb);
-    rate0 = rj__pair_rate_pred(m, s, f, c->joint_b) - c->ratio * rj__pair_rate_pred(m, s, f, c->joint_a);
+    rate0 = rj__coupling_rate_pred(m, s, f, c, &ga, &gb);
     rj__torque_entries(Ja, s, keep, 0);
     rj__torque_entries(Jb, s, keep + 12, 0);
     rj__apply_torque(Jb, &gb, 1.0, s->fx, s->fy, s->mz);
     rj__apply_torque(Ja, &ga, -c->ratio, s->fx, s->fy, s->mz);
-    rate1 = rj__pair_rate_pred(m, s, f, c->joint_b) - c->ratio * rj__pair_rate_pred(m, s, f, c->joint_a);
+    rate1 = rj__coupling_rate_pred(m, s, f, c, &ga, &gb);
     rj__torque_entries(Jb, s, keep + 12, 1);
     rj__torque_entries(Ja, s, keep, 1);
     if (!(rate1 != rate0))
@@ -12108,7 +12112,7 @@ static void rj__pair_coupling(const rj_model *m, rj_state *s, const rj__frames *
 /* Latches and plastic limits on the joints between two rigid bodies of a mixed scene, as
    torques after friction (stage 3): the jump of stage 5 sees neither the pin between the
    bodies nor the flexible links they carry, and tried there it lost 1.5 J of 3.9 J
-   unbooked. The torque brings the pinned pair's rate (rj__pair_friction) to its target
+   unbooked. The torque brings the pinned pair's rate (rj__pair_terms) to its target
    within the step: p / dt, which puts a lock or a forced limit back on its angle at
    n + 1; for a momentum contact 0, or -e times the rate it came with at its first step
    (a bounce, which the rate pointing out then releases); a contact only pushes. As a force
@@ -12129,10 +12133,7 @@ static void rj__stage_pair_latches(const rj_model *m, rj_state *s, const rj__fra
         double ratep, give, target, tau;
         if (!J->pair || (!driven && (flag == RJ_FREE || !rj__velocity_method(d->method))))
             continue;
-        rj__kept_geo(s->jsc + 8 * j, &g);
-        ratep = rj__joint_rate_pred(m, s, f, J, &g);
-        give = f->kick * rj__joint_compliance(m, J, &g);
-        rj__pair_friction(m, s, f, J, &ratep, &give);
+        rj__joint_terms(m, s, f, j, 1, &g, &ratep, &give);
         if (driven) {
             const double run = RJ__FJ(m, f->old, j)[RJ__JD_THETA];
             tau = (rj__prescribed_rate(m, s, j, run, f->t, f->dt) - ratep) / give;
@@ -12741,30 +12742,19 @@ static void rj__body_pins(const rj_model *m, rj_state *s, const rj__frames *f, d
     }
 }
 
-/* Stage 6's pins between bodies, out of the step's line, on a copy of its frames (their
-   own address taken cost every step 40 instructions): the sum of what they wrote, for
-   the step's finite test. */
-static RJ__NOINLINE double rj__stage_body_pins(const rj_model *m, rj_state *s, const rj__frames *f)
-{
-    double sum = 0;
-    rj__body_pins(m, s, f, &sum);
-    return sum;
-}
-
 /* The joints' rates at n + 1/2 again, from the projected velocities, on the geometry at n
    that stage 5 took them on. The next step books each joint torque's work over this
    step as its torque times this rate: taken before the projection, a motor on a rigid
    body that a pin between bodies turned did 40 % less work in the accounts than on the
-   bodies, and the balance stopped the run at its first step. Plain values, not the
-   step's frames: their address taken costs every step (rj__stage_body_pins). */
-static RJ__NOINLINE void rj__rates_again(const rj_model *m, const rj_state *s, double *next,
-                                         const double *nvx, const double *nvy, const double *nw)
+   bodies, and the balance stopped the run at its first step. */
+static void rj__rates_again(const rj_model *m, const rj_state *s, const rj__frames *f)
 {
     int j;
     for (j = 0; j < m->nj; j++) {
         rj__jgeo g;
         rj__kept_geo(s->jsc + 8 * j, &g);
-        RJ__FJ(m, next, j)[RJ__JD_RATE] = rj__joint_rate(&m->jnt[j], &g, nvx, nvy, nw, NULL, NULL);
+        RJ__FJ(m, f->next, j)[RJ__JD_RATE] =
+            rj__joint_rate(&m->jnt[j], &g, f->nvx, f->nvy, f->nw, NULL, NULL);
     }
 }
 
@@ -12783,10 +12773,8 @@ static RJ__FORCE_INLINE void rj__stage_constraints(const rj_model *m, rj_state *
     if (!held || !m->project)
         return;
     idt = 1.0 / f->dt;
-    if (m->nbp) {
-        const rj__frames frames = *f;
-        *fin += rj__stage_body_pins(m, s, &frames);
-    }
+    if (m->nbp)
+        rj__body_pins(m, s, f, fin);
     if (m->any_inext)
         rj__shake(m, s, x, y, nx, ny);
     for (i = 0; i < m->nn; i++) {
@@ -12797,7 +12785,7 @@ static RJ__FORCE_INLINE void rj__stage_constraints(const rj_model *m, rj_state *
     }
     if (f->en)
         e->kinetic = rj__kinetic_again(m, f);
-    rj__rates_again(m, s, f->next, f->nvx, f->nvy, f->nw);
+    rj__rates_again(m, s, f);
 }
 
 /* Forced displacement (sec. 3): a joint past its limit, or off its lock, turned back by p;

@@ -441,7 +441,7 @@ static void rj__init_chord_angles(rj_model *m)
 }
 
 /* The joints whose two pins are own nodes of two rigid bodies (mixed scenes): the pin
-   between the bodies turns both with the joint's torques (rj__pair_friction). */
+   between the bodies turns both with the joint's torques (rj__pair_terms). */
 static void rj__init_body_pairs(rj_model *m)
 {
     int j;
