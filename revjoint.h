@@ -236,7 +236,9 @@ typedef struct rj_link_def {
     int fidelity;         /* rj_fidelity */
     /* Structural damping (flexible and inextensible links; docs/modelling.md): */
     double eta;          /* s, >= 0: Kelvin-Voigt, stress E (strain + eta d(strain)/dt) on the
-                            axial and bending strains: mode n damped at ratio eta omega_n / 2 */
+                            axial and bending strains: mode n damped at ratio eta omega_n / 2;
+                            on the rates at n + 1/2 (no shorter step), lagged on a link a
+                            rigid body carries a node of (docs/modelling.md) */
     double damping[2];   /* ratio, Hz: the eta that gives the ratio at that frequency,
                             ratio / (pi Hz); 0 0 none (not with eta) */
     double mass_damping; /* 1/s, >= 0: force -mass_damping m v on every node (m omega: its
@@ -1208,7 +1210,10 @@ struct rj_model {
     int *link_path;     /* (nl) RJ__PATH_*: the beam pass's path for the link */
     int *link_pl;       /* (nl) a yielding link's first plastic strain in the frame's block */
     size_t pl_off, npl; /* the frame's block of plastic strains: its offset, its size */
-    double *link_damp;  /* (2 nl) a link's eta in use (s) and mass_damping (1/s) */
+    double *link_damp;  /* (RJ__LD_PER nl) a link's damping in use (RJ__LD) */
+    int nvisc;          /* links whose Kelvin-Voigt damping is implicit (src/viscous.h) */
+    int applied;        /* the step's rj__stage_applied has model loads or damping to take */
+    int visc_nodes;     /* the most nodes of such a link (the step's scratch, rj_state.visc) */
     double struct_rate; /* 1/s: the fastest damping rate they give a mode, max eta w^2 + a */
     int *grp_node;   /* (members) */
     int *node_grp;   /* (nn) group of a node, -1 if none */
@@ -1241,6 +1246,12 @@ enum { RJ__KA_PHI, RJ__KA_OM, RJ__KA_AL, RJ__KA_RX, RJ__KA_RY, RJ__KA_AX, RJ__KA
    link: its body moves its nodes), or the material path's scalars (src/beam_material.h:
    structural damping, yielding layers, the Biot axial law). */
 enum { RJ__PATH_FUSED = 0, RJ__PATH_RIGID, RJ__PATH_MATERIAL };
+
+/* A link's damping in use (rj_model.link_damp): eta on the lagged rates (s; only where a
+   rigid body carries one of its nodes), mass_damping (1/s), eta on the rates at
+   n + 1/2 (s; src/viscous.h). */
+enum { RJ__LD_LAGGED = 0, RJ__LD_MASS, RJ__LD_IMPLICIT, RJ__LD_PER };
+#define RJ__LD(m, l) ((m)->link_damp + RJ__LD_PER * (size_t) (l))
 
 /* Constraint rows (src/rows.h tells what they are and how they are solved). */
 enum rj__row_kind {
@@ -1305,6 +1316,9 @@ struct rj_state {
     double *damp; /* (3 nn + 2, with the material path) structural damping's forces at n on
                      every node, fx then fy then mz, their power at n - 1/2 and the plastic
                      work summed in the step: for their accounts (src/beam_material.h) */
+    double *visc; /* (RJ__VISC_PER visc_nodes) the implicit damping's solve (src/viscous.h) */
+    double *visc_force; /* (4 ne with implicit damping) each element's viscous force of the
+                           last step as rj__elem_viscous gives it: its loads at t^n */
     int at_n;     /* the other frame holds the state a step before (the loads at t^n) */
     int peaks_on; /* rj_state_track_peaks: the steps that take the accounts track peaks */
     double *peaks;     /* (2 nj + 7 nl) the peaks (src/peaks.h) */
@@ -3608,7 +3622,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->link_kc = rj__carve(&off, (size_t) 4 * nl + 1, sizeof(double));
     L->link_path = rj__carve(&off, (size_t) nl + 1, sizeof(int));
     L->link_pl = rj__carve(&off, (size_t) nl + 1, sizeof(int));
-    L->link_damp = rj__carve(&off, (size_t) 2 * nl + 1, sizeof(double));
+    L->link_damp = rj__carve(&off, (size_t) RJ__LD_PER * nl + 1, sizeof(double));
     L->x0 = rj__carve(&off, (size_t) nn, sizeof(double));
     L->y0 = rj__carve(&off, (size_t) nn, sizeof(double));
     L->phi0 = rj__carve(&off, (size_t) nn, sizeof(double));
@@ -4541,8 +4555,10 @@ static RJ__FORCE_INLINE double rj__beam_pass(const rj_model *m, const double *x,
    rates in place of the strains: the Green strain's rate e . e' / l0^2, and the end
    rotations' rates w_a - beta', w_b - beta', beta' = (e x e') / |e|^2 the chord's turn.
    Mass-proportional damping adds -mass_damping m v to each node (m w: its rotation).
-   Both act on the velocities at n - 1/2, as the joints' damping does (Eq 27): explicit,
-   bounded by dt <= (2 / omega) (sqrt(1 + zeta^2) - zeta) (rj__structural_rate).
+   Both act here on the velocities at n - 1/2, as the joints' damping does (Eq 27):
+   explicit, bounded by dt <= (2 / omega) (sqrt(1 + zeta^2) - zeta) (rj__structural_rate).
+   Kelvin-Voigt does only on a link a rigid body carries a node of; on the others it is
+   implicit, taken after this pass (src/viscous.h), and its viscous rows here are 0.
 
    Their loss joins the accounts in the step's own discrete form: the kinetic energy
    1/2 v^{n-1/2} M v^{n+1/2} changes over a step by dt/2 v^{n-1/2} . (F^n + F^{n-1}), so the
@@ -4593,7 +4609,7 @@ static RJ__INLINE void rj__elem_viscous(const double *kc, double eta, double ex,
 static void rj__chunk_viscous(const rj__pass *p, int l, int na, int nc, double *FD)
 {
     const double *kc = p->m->link_kc + 4 * (size_t) l;
-    const double eta = p->m->link_damp[2 * (size_t) l];
+    const double eta = RJ__LD(p->m, l)[RJ__LD_LAGGED];
     const double *x = p->x + na, *y = p->y + na;
     const double *vx = p->adv->vx + na, *vy = p->adv->vy + na, *w = p->adv->w + na;
     int i;
@@ -4630,7 +4646,7 @@ static RJ__INLINE void rj__node_damping(const rj__pass *p, int n, int k, const d
 static void rj__material_nodes(const rj__pass *p, int l, int na, int cnt, const double *FB,
                              const double *FD, double *power)
 {
-    const double alpha = p->m->link_damp[2 * (size_t) l + 1];
+    const double alpha = RJ__LD(p->m, l)[RJ__LD_MASS];
     const rj__adv *a = p->adv;
     const size_t nn = (size_t) p->m->nn;
     int k;
@@ -4853,7 +4869,7 @@ static void rj__beam_material_link(const rj__pass *p, int l, int ip, const doubl
                             NULL);
         } else {
             /* without eta the viscous rows are 0 */
-            if (p->m->link_damp[2 * (size_t) l] > 0)
+            if (RJ__LD(p->m, l)[RJ__LD_LAGGED] > 0)
                 rj__chunk_viscous(p, l, n0 + c0, nc, FD);
             else
                 memset(FD, 0, sizeof FD);
@@ -4925,6 +4941,196 @@ static RJ__NOINLINE double rj__material_accounts(const rj_model *m, const rj_sta
     nsc[RJ__FS_SPEND] = -0.5 * m->dt * sum;
     nsc[RJ__FS_LPLAST] = osc[RJ__FS_LPLAST] + d[3 * nn + 1];
     return nsc[RJ__FS_LSTRUCT] + nsc[RJ__FS_LPLAST];
+}
+/* ------------------------------------------------------------------ implicit Kelvin-Voigt damping */
+/* Kelvin-Voigt damping is stiffness-proportional: on the lagged rates (v^{n-1/2}) it
+   bounds the step by dt <= (2 / omega)(sqrt(1 + zeta^2) - zeta) at the stiffest mode,
+   an element's axial or rotary one, whose ratio eta omega_max / 2 is huge on a slender
+   link (the paper's deployment at 2 % and 2 Hz: a step 340 times shorter). So a link's
+   viscous forces are taken on the rates at n + 1/2 instead, F_d = -C(x^n) v^{n+1/2}:
+   each step solves
+
+       (M + kick C) dv = -kick C v*,   v^{n+1/2} = v* + dv,
+
+   v* the velocities the other forces give. C = sum_e B_e^T D_e B_e is the link's damping
+   matrix at x^n: B_e maps an element's node rates to its strains' rates (the Green
+   strain's e . e' / l0^2 and the end rotations' w - beta', as rj__elem_viscous takes
+   them), D_e their stiffnesses times eta. M + kick C is block tridiagonal along the
+   link (3 x 3 blocks, a node's x, y, rotation) and positive definite: one pass down and
+   one up (block Thomas), O(n). A DOF that does not move (inverse mass 0) keeps dv = 0.
+
+   The scheme is stable at the undamped bound for any eta (for one mode x'' + c x' +
+   omega^2 x = 0 taken so, the step needs omega dt < sqrt(4 + 2 c dt)), and damps a mode
+   of omega dt << 1 at ratio eta omega / 2 as before. Links whose nodes a rigid body
+   carries keep the lagged form (their bound counts it). */
+
+/* An element's damping matrix C_e = B^T D B (6 x 6 over its nodes' x, y, rotation: node a,
+   then b) for chord (ex, ey) and constants kc (rj_model.link_kc), as three blocks: C_aa,
+   C_ab, C_bb (row-major 3 x 3 each) into out[27]. B's rows: the Green strain's rate
+   e . e' (stiffness d = eta EA / l0^3) on (-e, e) over the translations; the end
+   rotations' w - beta', beta' = t . (v_a - v_b) with t = (e_y, -e_x) / |e|^2, their
+   moments k [4 2; 2 4] (k = eta EI / l0). Written out: the translations take P =
+   d e e^T + 12 k t t^T as [P -P; -P P], node a's translation and either rotation
+   -6 k t, node b's +6 k t, the rotations k [4 2; 2 4]. */
+static RJ__INLINE void rj__visc_elem(const double *kc, double eta, double ex, double ey,
+                                     double out[27])
+{
+    const double inv_l2 = 1.0 / (ex * ex + ey * ey);
+    const double d = eta * kc[1] * 2.0 * kc[3];
+    const double k = eta * kc[0];
+    const double tx = ey * inv_l2, ty = -ex * inv_l2;
+    const double pxx = d * ex * ex + 12.0 * k * tx * tx;
+    const double pxy = d * ex * ey + 12.0 * k * tx * ty;
+    const double pyy = d * ey * ey + 12.0 * k * ty * ty;
+    const double qx = 6.0 * k * tx, qy = 6.0 * k * ty;
+    const double aa[9] = { pxx, pxy, -qx, pxy, pyy, -qy, -qx, -qy, 4.0 * k };
+    const double ab[9] = { -pxx, -pxy, -qx, -pxy, -pyy, -qy, qx, qy, 2.0 * k };
+    const double bb[9] = { pxx, pxy, qx, pxy, pyy, qy, qx, qy, 4.0 * k };
+    memcpy(out, aa, sizeof aa);
+    memcpy(out + 9, ab, sizeof ab);
+    memcpy(out + 18, bb, sizeof bb);
+}
+
+/* out = out + sign A v (A row-major 3 x 3; At: A transposed). */
+static RJ__INLINE void rj__visc_mv(const double *A, int At, const double *v, double sign,
+                                   double *out)
+{
+    int p;
+    for (p = 0; p < 3; p++) {
+        const double a0 = At ? A[p] : A[3 * p];
+        const double a1 = At ? A[3 + p] : A[3 * p + 1];
+        const double a2 = At ? A[6 + p] : A[3 * p + 2];
+        out[p] += sign * (a0 * v[0] + a1 * v[1] + a2 * v[2]);
+    }
+}
+
+/* The inverse of a symmetric positive definite 3 x 3 matrix (cofactors). */
+static RJ__INLINE void rj__visc_inv3(const double *A, double *inv)
+{
+    const double c00 = A[4] * A[8] - A[5] * A[7];
+    const double c01 = A[5] * A[6] - A[3] * A[8];
+    const double c02 = A[3] * A[7] - A[4] * A[6];
+    const double det = A[0] * c00 + A[1] * c01 + A[2] * c02;
+    const double r = 1.0 / det;
+    inv[0] = c00 * r;
+    inv[1] = (A[2] * A[7] - A[1] * A[8]) * r;
+    inv[2] = (A[1] * A[5] - A[2] * A[4]) * r;
+    inv[3] = c01 * r;
+    inv[4] = (A[0] * A[8] - A[2] * A[6]) * r;
+    inv[5] = (A[2] * A[3] - A[0] * A[5]) * r;
+    inv[6] = c02 * r;
+    inv[7] = (A[1] * A[6] - A[0] * A[7]) * r;
+    inv[8] = (A[0] * A[4] - A[1] * A[3]) * r;
+}
+
+/* A link's system, node by node in the scratch (RJ__VISC_PER doubles a node): */
+enum {
+    RJ__VI_DINV = 0,  /* the pivot block's inverse (block Thomas) */
+    RJ__VI_Y = 9,     /* the right side, then its forward substitution, then dv */
+    RJ__VI_V = 12,    /* v*: the velocities the other forces give */
+    RJ__VI_MINV = 15, /* the DOFs' inverse masses (0: does not move) */
+    RJ__VI_C = 18,    /* the element from this node to the next: C_aa, C_ab, C_bb */
+    RJ__VI_U = 45,    /* its coupling block in the system (rj__visc_upper) */
+    RJ__VISC_PER = 54
+};
+
+/* Node i's rows of C v (into cv): the element before it (its C_bb, C_ab^T) and the one
+   after (C_aa, C_ab), from the velocities at offset at of each node's record. */
+static RJ__INLINE void rj__visc_cv(const double *W, int i, int nodes, int at, double *cv)
+{
+    const double *me = W + (size_t) RJ__VISC_PER * i;
+    cv[0] = cv[1] = cv[2] = 0;
+    if (i > 0) {
+        const double *before = me - RJ__VISC_PER;
+        rj__visc_mv(before + RJ__VI_C + 18, 0, me + at, 1.0, cv);
+        rj__visc_mv(before + RJ__VI_C + 9, 1, before + at, 1.0, cv);
+    }
+    if (i + 1 < nodes) {
+        rj__visc_mv(me + RJ__VI_C, 0, me + at, 1.0, cv);
+        rj__visc_mv(me + RJ__VI_C + 9, 0, me + RJ__VISC_PER + at, 1.0, cv);
+    }
+}
+
+/* The coupling block A_{i,i+1} = kick C_ab of element i, with the rows of node i's and the
+   columns of node i + 1's fixed DOFs zero, into node i's record. */
+static RJ__INLINE void rj__visc_upper(double *W, int i, double kick)
+{
+    double *me = W + (size_t) RJ__VISC_PER * i;
+    const double *next = me + RJ__VISC_PER;
+    int p, q;
+    for (p = 0; p < 3; p++) {
+        const double row = me[RJ__VI_MINV + p] > 0 ? kick : 0.0;
+        for (q = 0; q < 3; q++) {
+            const double col = next[RJ__VI_MINV + q] > 0 ? row : 0.0;
+            me[RJ__VI_U + 3 * p + q] = col * me[RJ__VI_C + 9 + 3 * p + q];
+        }
+    }
+}
+
+/* Node i's diagonal block M + kick (C_bb before + C_aa after); a fixed DOF's row and
+   column are the identity's. */
+static RJ__INLINE void rj__visc_diag(const double *W, int i, int nodes, double kick, double *A)
+{
+    const double *me = W + (size_t) RJ__VISC_PER * i;
+    int p, q;
+    for (p = 0; p < 9; p++) {
+        A[p] = i + 1 < nodes ? kick * me[RJ__VI_C + p] : 0.0;
+        if (i > 0)
+            A[p] += kick * (me - RJ__VISC_PER)[RJ__VI_C + 18 + p];
+    }
+    for (p = 0; p < 3; p++) {
+        const double minv = me[RJ__VI_MINV + p];
+        if (minv > 0) {
+            A[4 * p] += 1.0 / minv;
+            continue;
+        }
+        for (q = 0; q < 3; q++)
+            A[3 * p + q] = A[3 * q + p] = 0.0;
+        A[4 * p] = 1.0;
+    }
+}
+
+/* (M + kick C) dv = -kick C v* over a link's nodes (their records in W filled: v*, the
+   inverse masses, each element's blocks): dv into each record's RJ__VI_Y. */
+static void rj__visc_solve(double *W, int nodes, double kick)
+{
+    double A[9], L[9], T[3];
+    int i, p, q, k;
+    /* forward: the pivots D_i = A_ii - A_{i,i-1} D_{i-1}^-1 A_{i-1,i} and y */
+    for (i = 0; i < nodes; i++) {
+        double *me = W + (size_t) RJ__VISC_PER * i, *y = me + RJ__VI_Y;
+        rj__visc_cv(W, i, nodes, RJ__VI_V, y);
+        for (p = 0; p < 3; p++)
+            y[p] = me[RJ__VI_MINV + p] > 0 ? -kick * y[p] : 0.0;
+        rj__visc_diag(W, i, nodes, kick, A);
+        if (i > 0) {
+            const double *before = me - RJ__VISC_PER;
+            const double *U = before + RJ__VI_U, *Dinv = before + RJ__VI_DINV;
+            /* L = U^T D_{i-1}^-1, then A -= L U and y -= L y_{i-1} */
+            for (p = 0; p < 3; p++)
+                for (q = 0; q < 3; q++)
+                    L[3 * p + q] =
+                        U[p] * Dinv[q] + U[3 + p] * Dinv[3 + q] + U[6 + p] * Dinv[6 + q];
+            for (p = 0; p < 3; p++)
+                for (q = 0; q < 3; q++)
+                    for (k = 0; k < 3; k++)
+                        A[3 * p + q] -= L[3 * p + k] * U[3 * k + q];
+            rj__visc_mv(L, 0, before + RJ__VI_Y, -1.0, y);
+        }
+        rj__visc_inv3(A, me + RJ__VI_DINV);
+        if (i + 1 < nodes)
+            rj__visc_upper(W, i, kick);
+    }
+    /* back: dv_i = D_i^-1 (y_i - A_{i,i+1} dv_{i+1}) */
+    for (i = nodes - 1; i >= 0; i--) {
+        double *me = W + (size_t) RJ__VISC_PER * i, *y = me + RJ__VI_Y;
+        if (i + 1 < nodes)
+            rj__visc_mv(me + RJ__VI_U, 0, me + RJ__VISC_PER + RJ__VI_Y, -1.0, y);
+        for (p = 0; p < 3; p++)
+            T[p] = y[p];
+        y[0] = y[1] = y[2] = 0;
+        rj__visc_mv(me + RJ__VI_DINV, 0, T, 1.0, y);
+    }
 }
 /* ------------------------------------------------------------------ joint kinematics */
 /* The element needs four things from the bodies it joins: the rotary location, its rate,
@@ -5671,8 +5877,8 @@ static unsigned long long rj__model_hash(const rj_model *m)
     return h;
 }
 
-/* Is node n one of m->dnode (ascending)? */
-static int rj__is_dnode(const rj_model *m, int n)
+/* The first place in m->dnode (ascending) whose node is n or after. */
+static int rj__dnode_from(const rj_model *m, int n)
 {
     int lo = 0, hi = m->ndn;
     while (lo < hi) {
@@ -5682,7 +5888,14 @@ static int rj__is_dnode(const rj_model *m, int n)
         else
             hi = mid;
     }
-    return lo < m->ndn && m->dnode[lo] == n;
+    return lo;
+}
+
+/* Is node n one of m->dnode? */
+static int rj__is_dnode(const rj_model *m, int n)
+{
+    const int at = rj__dnode_from(m, n);
+    return at < m->ndn && m->dnode[at] == n;
 }
 
 /* A link whose sizes and material leave doubles behind (an element length whose square
@@ -7482,11 +7695,13 @@ static void rj__init_link_masses(rj_model *m, int l, double area, double inertia
 static void rj__init_link_material(rj_model *m, int l)
 {
     const rj_link_def *d = &m->ldef[l];
-    double *damp = m->link_damp + 2 * (size_t) l;
+    double *damp = RJ__LD(m, l);
     const int damped = d->eta > 0 || d->damping[0] > 0 || d->mass_damping > 0;
     const int yielding = d->yield > 0;
-    damp[0] = d->damping[0] > 0 ? d->damping[0] / (RJ__PI * d->damping[1]) : d->eta;
-    damp[1] = d->mass_damping;
+    /* eta lagged until rj__init_viscous knows whether a rigid body carries the link */
+    damp[RJ__LD_LAGGED] = d->damping[0] > 0 ? d->damping[0] / (RJ__PI * d->damping[1]) : d->eta;
+    damp[RJ__LD_MASS] = d->mass_damping;
+    damp[RJ__LD_IMPLICIT] = 0;
     m->link_pl[l] = -1;
     if (yielding) {
         m->link_pl[l] = (int) m->npl;
@@ -8154,16 +8369,18 @@ static double rj__rigid_dt_cap(const rj_model *m)
     return cap;
 }
 
-/* The fastest damping rate 2 zeta omega that the links' structural damping gives a mode:
-   eta omega^2 + mass_damping, at the links' omega_max (a mode's rate is its Rayleigh
-   quotient, at most each part's largest: eta's at the stiffest mode). */
+/* The fastest damping rate 2 zeta omega that the links' structural damping on lagged
+   rates gives a mode: eta omega^2 + mass_damping, at the links' omega_max (a mode's rate
+   is its Rayleigh quotient, at most each part's largest: eta's at the stiffest mode).
+   Implicit eta (src/viscous.h) needs no shorter step. */
 static double rj__structural_rate(const rj_model *m)
 {
     double rate = 0;
     int l;
     for (l = 0; l < m->nl; l++) {
-        const double *damp = m->link_damp + 2 * (size_t) l;
-        const double r = damp[0] * m->omega_links * m->omega_links + damp[1];
+        const double *damp = RJ__LD(m, l);
+        const double r = damp[RJ__LD_LAGGED] * m->omega_links * m->omega_links +
+                         damp[RJ__LD_MASS];
         if (r > rate)
             rate = r;
     }
@@ -8409,15 +8626,42 @@ static void rj__init_frames(rj_model *m)
     m->frame_ints = (size_t) m->nj;
 }
 
+/* Kelvin-Voigt damping taken implicitly (src/viscous.h) on every damped link but those a
+   rigid body carries a node of (their pins move with the body, which the link's solve
+   does not see): those keep it on the lagged rates, which their bound counts. */
+static void rj__init_viscous(rj_model *m)
+{
+    int l, n;
+    m->nvisc = 0;
+    m->visc_nodes = 0;
+    for (l = 0; l < m->nl; l++) {
+        double *damp = RJ__LD(m, l);
+        const int nodes = m->link_first[l + 1] - m->link_first[l];
+        int carried = 0;
+        if (!(damp[RJ__LD_LAGGED] > 0))
+            continue;
+        for (n = m->link_first[l]; n < m->link_first[l + 1] && m->ncl; n++)
+            carried |= m->node_cl[n] >= 0;
+        if (carried)
+            continue;
+        damp[RJ__LD_IMPLICIT] = damp[RJ__LD_LAGGED];
+        damp[RJ__LD_LAGGED] = 0;
+        m->nvisc++;
+        if (nodes > m->visc_nodes)
+            m->visc_nodes = nodes;
+    }
+    m->applied = m->nload > 0 || m->nvisc > 0;
+}
+
 /* In place: not with inextensible links (SHAKE reads every node at n), and only if every
    node of a pin group or a rigid body is one the step keeps (m->dnode: it is). */
 static void rj__init_in_place(rj_model *m)
 {
     int i, q;
     /* not with inextensible links or pins between bodies (their projections read every
-       node at n) */
+       node at n), nor with implicit damping (its power, every damped node's v^{n-1/2}) */
     m->project = m->any_inext || m->nbp;
-    m->ip = !m->rigid && !m->project && m->solver.in_place != RJ_IN_PLACE_OFF &&
+    m->ip = !m->rigid && !m->project && !m->nvisc && m->solver.in_place != RJ_IN_PLACE_OFF &&
             (m->solver.in_place == RJ_IN_PLACE_ON || m->nn >= RJ_IN_PLACE_NODES);
     for (i = 0; i < m->ng && m->ip; i++)
         for (q = m->grp_first[i]; q < m->grp_first[i + 1]; q++)
@@ -8458,6 +8702,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     rj__init_chord_angles(m);
     if (!rj__init_clusters(m, sc, err))
         return RJ_ERR_INVALID;
+    rj__init_viscous(m);
     rj__init_joint_constants(m);
     rj__init_rigid(m, sc, s.chains);
     rj__limit_warnings(m);
@@ -8524,7 +8769,7 @@ RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
-    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, damp, peaks, peak_work, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
+    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, damp, visc, visc_force, peaks, peak_work, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
         rsc, rows, terms, rsys, input_torque, input_node, node_applied, snap_torque, loop_force;
 } rj__slayout;
 
@@ -8556,6 +8801,8 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->mz = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->kn = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->damp = rj__carve(&off, m->nmaterial ? 3 * (size_t) m->nn + 2 : 0, sizeof(double));
+    L->visc = rj__carve(&off, RJ__VISC_PER * (size_t) m->visc_nodes, sizeof(double));
+    L->visc_force = rj__carve(&off, m->nvisc ? 4 * (size_t) m->ne : 0, sizeof(double));
     L->peaks = rj__carve(&off, rj__peaks_count(m) + 1, sizeof(double));
     L->peak_work = rj__carve(&off,
                              RJ__PIN_PER_LINK * ((size_t) m->nl + 1) + 2 * (size_t) m->nj + 1,
@@ -8788,6 +9035,8 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->ebt = (double *) (void *) (base + L.ebt);
     s->kn = (double *) (void *) (base + L.kn);
     s->damp = (double *) (void *) (base + L.damp);
+    s->visc = (double *) (void *) (base + L.visc);
+    s->visc_force = (double *) (void *) (base + L.visc_force);
     s->peaks = (double *) (void *) (base + L.peaks);
     s->peak_work = (double *) (void *) (base + L.peak_work);
     s->jsc = (double *) (void *) (base + L.jsc);
@@ -8843,6 +9092,9 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
     memcpy(dst->fd[1], src->fd[1 - src->cur], sizeof(double) * m->frame_doubles);
     memcpy(dst->fi[1], src->fi[1 - src->cur], sizeof(int) * (m->frame_ints + 1));
     dst->at_n = src->at_n;
+    /* the implicit damping's element forces of that step (the loads at t^n) */
+    if (m->nvisc)
+        memcpy(dst->visc_force, src->visc_force, sizeof(double) * 4 * (size_t) m->ne);
     dst->peaks_on = src->peaks_on;
     memcpy(dst->peaks, src->peaks, sizeof(double) * rj__peaks_count(m));
     dst->cur = 0;
@@ -9350,6 +9602,12 @@ static double rj__friction(double ratep, double c, double tf)
 {
     double tau = c > 0 ? -ratep / c : 0;
     return tau > tf ? tf : (tau < -tf ? -tf : tau);
+}
+
+/* Is this a velocity-level limit method (a jump in the rates at the limit)? */
+static RJ__INLINE int rj__velocity_method(int method)
+{
+    return method == RJ_METHOD_MOMENTUM || method == RJ_METHOD_ENERGY || method == RJ_METHOD_FORCED;
 }
 
 /* Does a velocity-level method act (the rate still points into the limit, or any rate
@@ -11686,13 +11944,17 @@ static rj_result rj__stage_node_inputs(const rj_model *m, rj_state *s, const dou
     return RJ_OK;
 }
 
+static double rj__stage_viscous(const rj_model *m, rj_state *s, const rj__frames *f);
+
 /* Stage 2b, applied loads: the caller's joint torques, the model's loads and the
    caller's node forces, in that order, before friction so that it sees them; the work of
-   the last two over the step before in s->step_work. next: the new frame; t: the time at
-   n; at_n, advanced: the frames of the nodes at n and n + 1; kick: the step's velocity
-   kick per unit acceleration. This stage and rj__applied_work take plain
-   values, not the step's frames, and are never inlined: a scene that applies nothing pays
-   one test for both. */
+   the last two over the step before in s->step_work; then the links' implicit damping
+   (stage 2e), which sees them all, on frames of its own (never in place). next: the new
+   frame; t: the time at n; at_n, advanced: the frames of the nodes at n and n + 1; kick:
+   the step's velocity kick per unit acceleration. This stage and rj__applied_work take
+   plain values, not the step's frames, and are never inlined: a scene that applies
+   nothing pays one test for both (the frames' address, given to the damping, cost the
+   paper's step 15 instructions). */
 static RJ__NOINLINE rj_result rj__stage_applied(const rj_model *m, rj_state *s, double *next,
                                                 double t, const double *at_n, double *advanced,
                                                 double kick)
@@ -11703,8 +11965,17 @@ static RJ__NOINLINE rj_result rj__stage_applied(const rj_model *m, rj_state *s, 
         rj__stage_inputs(m, s, next);
     if (m->nload)
         s->step_work += rj__stage_loads(m, s, t, at_n);
-    if (s->node_inputs)
-        return rj__stage_node_inputs(m, s, at_n, advanced, kick);
+    if (s->node_inputs) {
+        const rj_result r = rj__stage_node_inputs(m, s, at_n, advanced, kick);
+        if (r != RJ_OK)
+            return r;
+    }
+    if (m->nvisc) {
+        rj__frames f;
+        rj__frames_open(m, s, 0, 0, &f);
+        rj__frames_nodes(m, &f);
+        s->step_fin += rj__stage_viscous(m, s, &f);
+    }
     return RJ_OK;
 }
 
@@ -11714,6 +11985,258 @@ static RJ__NOINLINE double rj__applied_work(const rj_model *m, const rj_state *s
                                             const double *next)
 {
     return s->inputs ? rj__inputs_work(m, s, old, next) : 0.0;
+}
+
+/* Node n's translation as the stages after this one move it: a grouped node's is its
+   group's (rj__update_groups: the members' summed force and gravity on the summed mass),
+   a node the step advances again (m->dnode) takes its force then; the others the beam
+   pass has advanced. Into v (x, y) and minv (their inverse mass, 0: fixed). */
+static void rj__visc_translation(const rj_model *m, const rj_state *s, const rj__frames *f,
+                                 int n, int again, double v[2], double minv[2])
+{
+    const int grouped = m->tinv[n] == 0 && m->einv[n] > 0;
+    minv[0] = minv[1] = m->einv[n];
+    if (grouped) {
+        const int g = m->node_grp[n];
+        double sx = 0, sy = 0;
+        int q;
+        for (q = m->grp_first[g]; q < m->grp_first[g + 1]; q++) {
+            sx += s->fx[m->grp_node[q]];
+            sy += s->fy[m->grp_node[q]];
+        }
+        v[0] = f->vx[n] + f->kick * (sx * m->einv[n] + m->solver.gravity[0]);
+        v[1] = f->vy[n] + f->kick * (sy * m->einv[n] + m->solver.gravity[1]);
+    } else if (again) {
+        v[0] = f->vx[n] + f->kick * s->fx[n] * m->tinv[n];
+        v[1] = f->vy[n] + f->kick * s->fy[n] * m->tinv[n];
+    } else {
+        v[0] = f->nvx[n];
+        v[1] = f->nvy[n];
+    }
+}
+
+/* Link l's records for rj__visc_solve: every node's v* and inverse masses, every
+   element's damping blocks at x^n. dn: the first of m->dnode at or after the link's
+   first node. */
+static void rj__visc_gather(const rj_model *m, const rj_state *s, const rj__frames *f, int l,
+                            int dn, double *W)
+{
+    const int n0 = m->link_first[l], nodes = m->link_first[l + 1] - n0;
+    const double *kc = m->link_kc + 4 * (size_t) l;
+    const double eta = RJ__LD(m, l)[RJ__LD_IMPLICIT];
+    int i;
+    for (i = 0; i < nodes; i++) {
+        const int n = n0 + i;
+        double *me = W + (size_t) RJ__VISC_PER * i;
+        const int again = dn < m->ndn && m->dnode[dn] == n;
+        dn += again;
+        rj__visc_translation(m, s, f, n, again, me + RJ__VI_V, me + RJ__VI_MINV);
+        me[RJ__VI_V + 2] = again ? f->w[n] + f->kick * s->mz[n] * m->rinv[n] : f->nw[n];
+        me[RJ__VI_MINV + 2] = m->rinv[n];
+        if (i + 1 < nodes)
+            rj__visc_elem(kc, eta, f->x[n + 1] - f->x[n], f->y[n + 1] - f->y[n],
+                          me + RJ__VI_C);
+    }
+}
+
+/* The rate a velocity-level method will hold joint j at this step (a lock, a limit the
+   rate runs into, a prescribed profile: the rate that lands it there, as the later
+   stages take it; friction that can stop the rate: 0), its pin nodes' rates wI, wJ as
+   predicted; returns 0 when none holds it. */
+static int rj__visc_held_rate(const rj_model *m, const rj_state *s, const rj__frames *f, int j,
+                              double wI, double wJ, double *rate)
+{
+    const rj_joint_def *d = &m->jdef[j];
+    const rj__joint *J = &m->jnt[j];
+    const int flag = f->new_flags[j];
+    const double p = s->jsc[8 * j + 5]; /* the element's penetration */
+    if (rj__prescribed(J)) {
+        *rate = rj__prescribed_rate(m, s, j, RJ__FJ(m, f->old, j)[RJ__JD_THETA], f->t, f->dt);
+        return 1;
+    }
+    if (flag != RJ_FREE && rj__velocity_method(d->method) && rj__into_limit(flag, wJ - wI)) {
+        *rate = flag == RJ_LOCKED || d->method == RJ_METHOD_FORCED ? p / f->dt : 0.0;
+        return 1;
+    }
+    /* friction that can stop the joint (rj__friction) will hold it */
+    if (d->friction > 0) {
+        const double riI = J->nI >= 0 ? m->rinv[J->nI] : 0.0;
+        const double give = f->kick * (riI + m->rinv[J->nJ]);
+        *rate = 0.0;
+        return fabs(wJ - wI) <= give * d->friction;
+    }
+    return 0;
+}
+
+/* A node's rotation rate as predicted (a pin node: the step advances it again). */
+static double rj__visc_rate_pred(const rj_model *m, const rj_state *s, const rj__frames *f,
+                                 int n)
+{
+    return n < 0 ? 0.0 : f->w[n] + f->kick * s->mz[n] * m->rinv[n];
+}
+
+/* A held joint's pin rotations in link l's records (first node n0, nodes of them): the
+   two rotate as one of their summed inertia at the held rate apart, their angular
+   momentum kept (as the later stages' torque pair keeps it); a fixed side (ground, a
+   clamped node) holds the other. Without this a pin node's light rotation followed the
+   damping in the solve, which the held joint then undid: the damping forces came from
+   rates the step did not take (a root locked by the forced method rang 40 % slower). */
+static void rj__visc_hold(const rj_model *m, const rj_state *s, const rj__frames *f, int j,
+                          int n0, int nodes, double *W)
+{
+    const rj__joint *J = &m->jnt[j];
+    const int nI = J->nI, nJ = J->nJ;
+    const double wI = rj__visc_rate_pred(m, s, f, nI), wJ = rj__visc_rate_pred(m, s, f, nJ);
+    const double riI = nI >= 0 ? m->rinv[nI] : 0.0, riJ = m->rinv[nJ];
+    double rate, uI, uJ, minv;
+    if (!rj__visc_held_rate(m, s, f, j, wI, wJ, &rate))
+        return;
+    if (riI == 0 || riJ == 0) {
+        /* the fixed side holds the other */
+        uI = riI == 0 ? wI : wJ - rate;
+        uJ = riJ == 0 ? wJ : wI + rate;
+        minv = 0.0;
+    } else {
+        const double JI = 1.0 / riI, JJ = 1.0 / riJ;
+        uI = (JI * wI + JJ * wJ - JJ * rate) / (JI + JJ);
+        uJ = uI + rate;
+        minv = 1.0 / (JI + JJ);
+    }
+    if (nI >= n0 && nI < n0 + nodes) {
+        W[(size_t) RJ__VISC_PER * (nI - n0) + RJ__VI_V + 2] = uI;
+        W[(size_t) RJ__VISC_PER * (nI - n0) + RJ__VI_MINV + 2] = riI == 0 ? 0.0 : minv;
+    }
+    if (nJ >= n0 && nJ < n0 + nodes) {
+        W[(size_t) RJ__VISC_PER * (nJ - n0) + RJ__VI_V + 2] = uJ;
+        W[(size_t) RJ__VISC_PER * (nJ - n0) + RJ__VI_MINV + 2] = riJ == 0 ? 0.0 : minv;
+    }
+}
+
+/* The damping force F on node n, which the beam pass has advanced, as a kick from its
+   DOF from on (0: all three; 2: its rotation alone, a grouped node's translation being
+   its group's): its velocity, position and kinetic share (v^{n-1/2} . kick F). Returns
+   the positions written, summed. */
+static double rj__visc_kick(const rj_model *m, rj_state *s, const rj__frames *f, int n,
+                            const double F[3], int from)
+{
+    double fin = 0;
+    if (from == 0) {
+        const double dvx = f->kick * F[0] * m->tinv[n];
+        const double dvy = f->kick * F[1] * m->tinv[n];
+        s->kn[n] += m->kmass[n] * (f->vx[n] * dvx + f->vy[n] * dvy);
+        f->nvx[n] += dvx;
+        f->nvy[n] += dvy;
+        f->nx[n] += f->dt * dvx;
+        f->ny[n] += f->dt * dvy;
+        fin += f->nx[n] + f->ny[n];
+    }
+    {
+        const double dw = f->kick * F[2] * m->rinv[n];
+        s->kn[n] += m->krot[n] * f->w[n] * dw;
+        f->nw[n] += dw;
+        f->nphi[n] += f->dt * dw;
+        fin += f->nphi[n];
+    }
+    return fin;
+}
+
+/* Element i of link l's viscous forces on the rates solved for (records i and i + 1's
+   v* + dv), as rj__elem_viscous gives them (-C_e v: build/test_mixed checks the two
+   agree), kept (rj_state.visc_force) for the loads queries. */
+static void rj__visc_elem_force(const rj_model *m, rj_state *s, const rj__frames *f, int l,
+                                int i, const double *W, rj__elem_force *out)
+{
+    const int a = m->link_first[l] + i;
+    const double *va = W + (size_t) RJ__VISC_PER * i + RJ__VI_V, *vb = va + RJ__VISC_PER;
+    const double ex = f->x[a + 1] - f->x[a], ey = f->y[a + 1] - f->y[a];
+    double *kept = s->visc_force + 4 * ((size_t) m->link_efirst[l] + (size_t) i);
+    rj__elem_viscous(m->link_kc + 4 * (size_t) l, RJ__LD(m, l)[RJ__LD_IMPLICIT], ex, ey,
+                     1.0 / (ex * ex + ey * ey), vb[0] - va[0], vb[1] - va[1], va[2], vb[2],
+                     out);
+    kept[0] = out->fx;
+    kept[1] = out->fy;
+    kept[2] = out->ma;
+    kept[3] = out->mb;
+}
+
+/* Node n's damping force F on top of the others: kept in rj_state.damp with the
+   mass-proportional part there already, its power at n - 1/2 into *power; a force on a
+   node the stages after move (grouped, or in m->dnode: again), a kick on the others.
+   Returns the positions written. */
+static double rj__visc_node(const rj_model *m, rj_state *s, const rj__frames *f, int n,
+                            int again, const double F[3], double *power)
+{
+    const size_t nn = (size_t) m->nn;
+    const int grouped = m->tinv[n] == 0 && m->einv[n] > 0;
+    s->damp[n] += F[0];
+    s->damp[nn + n] += F[1];
+    s->damp[2 * nn + n] += F[2];
+    *power += F[0] * f->vx[n] + F[1] * f->vy[n] + F[2] * f->w[n];
+    s->fx[n] += F[0];
+    s->fy[n] += F[1];
+    s->mz[n] += F[2];
+    if (again)
+        return 0.0;
+    return rj__visc_kick(m, s, f, n, F, grouped ? 2 : 0);
+}
+
+/* Link l's damping forces F_d = -C (v* + dv) after the solve, element by element
+   (rj__visc_elem_force), each node taking the element before it and the one after as
+   rj__node_damping takes the lagged ones. Returns the positions written. */
+static double rj__visc_apply(const rj_model *m, rj_state *s, const rj__frames *f, int l, int dn,
+                             double *W, double *power)
+{
+    const int n0 = m->link_first[l], nodes = m->link_first[l + 1] - n0;
+    rj__elem_force before, after;
+    double fin = 0;
+    int i, p;
+    for (i = 0; i < nodes; i++) {
+        double *me = W + (size_t) RJ__VISC_PER * i;
+        for (p = 0; p < 3; p++)
+            me[RJ__VI_V + p] += me[RJ__VI_Y + p];
+    }
+    memset(&before, 0, sizeof before);
+    for (i = 0; i < nodes; i++) {
+        const int n = n0 + i;
+        const int again = dn < m->ndn && m->dnode[dn] == n;
+        double F[3];
+        dn += again;
+        memset(&after, 0, sizeof after);
+        if (i + 1 < nodes)
+            rj__visc_elem_force(m, s, f, l, i, W, &after);
+        F[0] = before.fx - after.fx;
+        F[1] = before.fy - after.fy;
+        F[2] = -before.mb - after.ma;
+        fin += rj__visc_node(m, s, f, n, again, F, power);
+        before = after;
+    }
+    return fin;
+}
+
+/* Stage 2e, the links' implicit Kelvin-Voigt damping (src/viscous.h), after every force
+   but friction's, which then sees it: link by link, each seeing the ones before through
+   their forces on the pins they share (the groups' sums), so that every solve only takes
+   energy out. Its forces' power at n - 1/2 joins the material path's (rj_state.damp).
+   Called by rj__stage_applied. Returns the positions written. */
+static double rj__stage_viscous(const rj_model *m, rj_state *s, const rj__frames *f)
+{
+    double power = 0, fin = 0;
+    int l, j;
+    for (l = 0; l < m->nl; l++) {
+        const int n0 = m->link_first[l];
+        int dn;
+        if (!(RJ__LD(m, l)[RJ__LD_IMPLICIT] > 0))
+            continue;
+        dn = rj__dnode_from(m, n0);
+        rj__visc_gather(m, s, f, l, dn, s->visc);
+        for (j = 0; j < m->nj; j++)
+            if (!m->jnt[j].chord && !m->jnt[j].pair)
+                rj__visc_hold(m, s, f, j, n0, m->link_first[l + 1] - n0, s->visc);
+        rj__visc_solve(s->visc, m->link_first[l + 1] - n0, f->kick);
+        fin += rj__visc_apply(m, s, f, l, dn, s->visc, &power);
+    }
+    s->damp[3 * (size_t) m->nn] += power;
+    return fin;
 }
 
 /* One body of a pinned pair at the pin: its point r from the anchor, the pin's mean
@@ -12034,12 +12557,6 @@ static RJ__FORCE_INLINE void rj__stage_update(const rj_model *m, rj_state *s, co
     rj__update_groups(m, s, f, e, fin);
     rj__update_bodies(m, s, f, e);
     e->kinetic *= 0.5;
-}
-
-/* Is this a velocity-level limit method (a jump in the rates at the limit)? */
-static RJ__INLINE int rj__velocity_method(int method)
-{
-    return method == RJ_METHOD_MOMENTUM || method == RJ_METHOD_ENERGY || method == RJ_METHOD_FORCED;
 }
 
 /* Coupling c's stretch rate at the end of the step under the forces so far, its joints
@@ -13010,7 +13527,8 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     rj__adv adv;
     rj_result r;
     double fin = 0;
-    const int applied = s->inputs | s->node_inputs | m->nload; /* rj__stage_applied's */
+    /* rj__stage_applied's */
+    const int applied = s->inputs | s->node_inputs | m->applied;
     rj__frames_open(m, s, want_energy, ip, &f);
     rj__frames_nodes(m, &f);
     rj__sums_open(f.old_scalars, &e);
@@ -14910,8 +15428,8 @@ static void rj__rig_pin_forces(const rj_model *m, const rj_state *s, double *wor
 
 /* What the material path adds to element e (local) of link l at n (src/beam_material.h):
    its axial law and its layers' plastic strains at n (kept in the current frame, as the
-   chord angles), their largest outer-fibre stress into *smax; the viscous part on the
-   rates at n - 1/2. */
+   chord angles), their largest outer-fibre stress into *smax; the viscous part, lagged
+   on the rates at n - 1/2, or implicit as the step kept it (src/viscous.h). */
 static void rj__elem_material_at_n(const rj_model *m, const rj_state *s, int l, int e,
                                    double ex, double ey, double tha, double thb,
                                    rj__elem_force *f, double *smax)
@@ -14927,8 +15445,15 @@ static void rj__elem_material_at_n(const rj_model *m, const rj_state *s, int l, 
                                                2 * (size_t) m->ldef[l].layers * (size_t) e;
     rj__material_of(m, l, &mt);
     rj__elem_material(&mt, ex, ey, tha, thb, ep, NULL, f, smax);
-    rj__elem_viscous(m->link_kc + 4 * (size_t) l, m->link_damp[2 * (size_t) l], ex, ey, inv_l2,
-                     vx[a + 1] - vx[a], vy[a + 1] - vy[a], w[a], w[a + 1], &v);
+    if (RJ__LD(m, l)[RJ__LD_IMPLICIT] > 0) {
+        const double *kept = s->visc_force + 4 * ((size_t) m->link_efirst[l] + (size_t) e);
+        v.fx = kept[0];
+        v.fy = kept[1];
+        v.ma = kept[2];
+        v.mb = kept[3];
+    } else
+        rj__elem_viscous(m->link_kc + 4 * (size_t) l, RJ__LD(m, l)[RJ__LD_LAGGED], ex, ey,
+                         inv_l2, vx[a + 1] - vx[a], vy[a + 1] - vy[a], w[a], w[a + 1], &v);
     f->fx += v.fx;
     f->fy += v.fy;
     f->ma += v.ma;
@@ -15078,7 +15603,7 @@ static void rj__node_ask(const rj_model *m, const rj_state *s, int l, int k, int
         out[1] -= s->input_node[3 * (size_t) k + 1];
     }
     if (m->link_path[l] == RJ__PATH_MATERIAL) {
-        const double alpha = m->link_damp[2 * (size_t) l + 1];
+        const double alpha = RJ__LD(m, l)[RJ__LD_MASS];
         out[0] += alpha * m->mass[k] * RJ__FVX(m, at_n)[k];
         out[1] += alpha * m->mass[k] * RJ__FVY(m, at_n)[k];
     }

@@ -236,7 +236,9 @@ typedef struct rj_link_def {
     int fidelity;         /* rj_fidelity */
     /* Structural damping (flexible and inextensible links; docs/modelling.md): */
     double eta;          /* s, >= 0: Kelvin-Voigt, stress E (strain + eta d(strain)/dt) on the
-                            axial and bending strains: mode n damped at ratio eta omega_n / 2 */
+                            axial and bending strains: mode n damped at ratio eta omega_n / 2;
+                            on the rates at n + 1/2 (no shorter step), lagged on a link a
+                            rigid body carries a node of (docs/modelling.md) */
     double damping[2];   /* ratio, Hz: the eta that gives the ratio at that frequency,
                             ratio / (pi Hz); 0 0 none (not with eta) */
     double mass_damping; /* 1/s, >= 0: force -mass_damping m v on every node (m omega: its

@@ -12,8 +12,10 @@
    rates in place of the strains: the Green strain's rate e . e' / l0^2, and the end
    rotations' rates w_a - beta', w_b - beta', beta' = (e x e') / |e|^2 the chord's turn.
    Mass-proportional damping adds -mass_damping m v to each node (m w: its rotation).
-   Both act on the velocities at n - 1/2, as the joints' damping does (Eq 27): explicit,
-   bounded by dt <= (2 / omega) (sqrt(1 + zeta^2) - zeta) (rj__structural_rate).
+   Both act here on the velocities at n - 1/2, as the joints' damping does (Eq 27):
+   explicit, bounded by dt <= (2 / omega) (sqrt(1 + zeta^2) - zeta) (rj__structural_rate).
+   Kelvin-Voigt does only on a link a rigid body carries a node of; on the others it is
+   implicit, taken after this pass (src/viscous.h), and its viscous rows here are 0.
 
    Their loss joins the accounts in the step's own discrete form: the kinetic energy
    1/2 v^{n-1/2} M v^{n+1/2} changes over a step by dt/2 v^{n-1/2} . (F^n + F^{n-1}), so the
@@ -64,7 +66,7 @@ static RJ__INLINE void rj__elem_viscous(const double *kc, double eta, double ex,
 static void rj__chunk_viscous(const rj__pass *p, int l, int na, int nc, double *FD)
 {
     const double *kc = p->m->link_kc + 4 * (size_t) l;
-    const double eta = p->m->link_damp[2 * (size_t) l];
+    const double eta = RJ__LD(p->m, l)[RJ__LD_LAGGED];
     const double *x = p->x + na, *y = p->y + na;
     const double *vx = p->adv->vx + na, *vy = p->adv->vy + na, *w = p->adv->w + na;
     int i;
@@ -101,7 +103,7 @@ static RJ__INLINE void rj__node_damping(const rj__pass *p, int n, int k, const d
 static void rj__material_nodes(const rj__pass *p, int l, int na, int cnt, const double *FB,
                              const double *FD, double *power)
 {
-    const double alpha = p->m->link_damp[2 * (size_t) l + 1];
+    const double alpha = RJ__LD(p->m, l)[RJ__LD_MASS];
     const rj__adv *a = p->adv;
     const size_t nn = (size_t) p->m->nn;
     int k;
@@ -324,7 +326,7 @@ static void rj__beam_material_link(const rj__pass *p, int l, int ip, const doubl
                             NULL);
         } else {
             /* without eta the viscous rows are 0 */
-            if (p->m->link_damp[2 * (size_t) l] > 0)
+            if (RJ__LD(p->m, l)[RJ__LD_LAGGED] > 0)
                 rj__chunk_viscous(p, l, n0 + c0, nc, FD);
             else
                 memset(FD, 0, sizeof FD);

@@ -516,8 +516,8 @@ static unsigned long long rj__model_hash(const rj_model *m)
     return h;
 }
 
-/* Is node n one of m->dnode (ascending)? */
-static int rj__is_dnode(const rj_model *m, int n)
+/* The first place in m->dnode (ascending) whose node is n or after. */
+static int rj__dnode_from(const rj_model *m, int n)
 {
     int lo = 0, hi = m->ndn;
     while (lo < hi) {
@@ -527,7 +527,14 @@ static int rj__is_dnode(const rj_model *m, int n)
         else
             hi = mid;
     }
-    return lo < m->ndn && m->dnode[lo] == n;
+    return lo;
+}
+
+/* Is node n one of m->dnode? */
+static int rj__is_dnode(const rj_model *m, int n)
+{
+    const int at = rj__dnode_from(m, n);
+    return at < m->ndn && m->dnode[at] == n;
 }
 
 /* A link whose sizes and material leave doubles behind (an element length whose square

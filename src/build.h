@@ -270,11 +270,13 @@ static void rj__init_link_masses(rj_model *m, int l, double area, double inertia
 static void rj__init_link_material(rj_model *m, int l)
 {
     const rj_link_def *d = &m->ldef[l];
-    double *damp = m->link_damp + 2 * (size_t) l;
+    double *damp = RJ__LD(m, l);
     const int damped = d->eta > 0 || d->damping[0] > 0 || d->mass_damping > 0;
     const int yielding = d->yield > 0;
-    damp[0] = d->damping[0] > 0 ? d->damping[0] / (RJ__PI * d->damping[1]) : d->eta;
-    damp[1] = d->mass_damping;
+    /* eta lagged until rj__init_viscous knows whether a rigid body carries the link */
+    damp[RJ__LD_LAGGED] = d->damping[0] > 0 ? d->damping[0] / (RJ__PI * d->damping[1]) : d->eta;
+    damp[RJ__LD_MASS] = d->mass_damping;
+    damp[RJ__LD_IMPLICIT] = 0;
     m->link_pl[l] = -1;
     if (yielding) {
         m->link_pl[l] = (int) m->npl;
@@ -942,16 +944,18 @@ static double rj__rigid_dt_cap(const rj_model *m)
     return cap;
 }
 
-/* The fastest damping rate 2 zeta omega that the links' structural damping gives a mode:
-   eta omega^2 + mass_damping, at the links' omega_max (a mode's rate is its Rayleigh
-   quotient, at most each part's largest: eta's at the stiffest mode). */
+/* The fastest damping rate 2 zeta omega that the links' structural damping on lagged
+   rates gives a mode: eta omega^2 + mass_damping, at the links' omega_max (a mode's rate
+   is its Rayleigh quotient, at most each part's largest: eta's at the stiffest mode).
+   Implicit eta (src/viscous.h) needs no shorter step. */
 static double rj__structural_rate(const rj_model *m)
 {
     double rate = 0;
     int l;
     for (l = 0; l < m->nl; l++) {
-        const double *damp = m->link_damp + 2 * (size_t) l;
-        const double r = damp[0] * m->omega_links * m->omega_links + damp[1];
+        const double *damp = RJ__LD(m, l);
+        const double r = damp[RJ__LD_LAGGED] * m->omega_links * m->omega_links +
+                         damp[RJ__LD_MASS];
         if (r > rate)
             rate = r;
     }
@@ -1197,15 +1201,42 @@ static void rj__init_frames(rj_model *m)
     m->frame_ints = (size_t) m->nj;
 }
 
+/* Kelvin-Voigt damping taken implicitly (src/viscous.h) on every damped link but those a
+   rigid body carries a node of (their pins move with the body, which the link's solve
+   does not see): those keep it on the lagged rates, which their bound counts. */
+static void rj__init_viscous(rj_model *m)
+{
+    int l, n;
+    m->nvisc = 0;
+    m->visc_nodes = 0;
+    for (l = 0; l < m->nl; l++) {
+        double *damp = RJ__LD(m, l);
+        const int nodes = m->link_first[l + 1] - m->link_first[l];
+        int carried = 0;
+        if (!(damp[RJ__LD_LAGGED] > 0))
+            continue;
+        for (n = m->link_first[l]; n < m->link_first[l + 1] && m->ncl; n++)
+            carried |= m->node_cl[n] >= 0;
+        if (carried)
+            continue;
+        damp[RJ__LD_IMPLICIT] = damp[RJ__LD_LAGGED];
+        damp[RJ__LD_LAGGED] = 0;
+        m->nvisc++;
+        if (nodes > m->visc_nodes)
+            m->visc_nodes = nodes;
+    }
+    m->applied = m->nload > 0 || m->nvisc > 0;
+}
+
 /* In place: not with inextensible links (SHAKE reads every node at n), and only if every
    node of a pin group or a rigid body is one the step keeps (m->dnode: it is). */
 static void rj__init_in_place(rj_model *m)
 {
     int i, q;
     /* not with inextensible links or pins between bodies (their projections read every
-       node at n) */
+       node at n), nor with implicit damping (its power, every damped node's v^{n-1/2}) */
     m->project = m->any_inext || m->nbp;
-    m->ip = !m->rigid && !m->project && m->solver.in_place != RJ_IN_PLACE_OFF &&
+    m->ip = !m->rigid && !m->project && !m->nvisc && m->solver.in_place != RJ_IN_PLACE_OFF &&
             (m->solver.in_place == RJ_IN_PLACE_ON || m->nn >= RJ_IN_PLACE_NODES);
     for (i = 0; i < m->ng && m->ip; i++)
         for (q = m->grp_first[i]; q < m->grp_first[i + 1]; q++)
@@ -1246,6 +1277,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     rj__init_chord_angles(m);
     if (!rj__init_clusters(m, sc, err))
         return RJ_ERR_INVALID;
+    rj__init_viscous(m);
     rj__init_joint_constants(m);
     rj__init_rigid(m, sc, s.chains);
     rj__limit_warnings(m);

@@ -301,7 +301,10 @@ struct rj_model {
     int *link_path;     /* (nl) RJ__PATH_*: the beam pass's path for the link */
     int *link_pl;       /* (nl) a yielding link's first plastic strain in the frame's block */
     size_t pl_off, npl; /* the frame's block of plastic strains: its offset, its size */
-    double *link_damp;  /* (2 nl) a link's eta in use (s) and mass_damping (1/s) */
+    double *link_damp;  /* (RJ__LD_PER nl) a link's damping in use (RJ__LD) */
+    int nvisc;          /* links whose Kelvin-Voigt damping is implicit (src/viscous.h) */
+    int applied;        /* the step's rj__stage_applied has model loads or damping to take */
+    int visc_nodes;     /* the most nodes of such a link (the step's scratch, rj_state.visc) */
     double struct_rate; /* 1/s: the fastest damping rate they give a mode, max eta w^2 + a */
     int *grp_node;   /* (members) */
     int *node_grp;   /* (nn) group of a node, -1 if none */
@@ -334,6 +337,12 @@ enum { RJ__KA_PHI, RJ__KA_OM, RJ__KA_AL, RJ__KA_RX, RJ__KA_RY, RJ__KA_AX, RJ__KA
    link: its body moves its nodes), or the material path's scalars (src/beam_material.h:
    structural damping, yielding layers, the Biot axial law). */
 enum { RJ__PATH_FUSED = 0, RJ__PATH_RIGID, RJ__PATH_MATERIAL };
+
+/* A link's damping in use (rj_model.link_damp): eta on the lagged rates (s; only where a
+   rigid body carries one of its nodes), mass_damping (1/s), eta on the rates at
+   n + 1/2 (s; src/viscous.h). */
+enum { RJ__LD_LAGGED = 0, RJ__LD_MASS, RJ__LD_IMPLICIT, RJ__LD_PER };
+#define RJ__LD(m, l) ((m)->link_damp + RJ__LD_PER * (size_t) (l))
 
 /* Constraint rows (src/rows.h tells what they are and how they are solved). */
 enum rj__row_kind {
@@ -398,6 +407,9 @@ struct rj_state {
     double *damp; /* (3 nn + 2, with the material path) structural damping's forces at n on
                      every node, fx then fy then mz, their power at n - 1/2 and the plastic
                      work summed in the step: for their accounts (src/beam_material.h) */
+    double *visc; /* (RJ__VISC_PER visc_nodes) the implicit damping's solve (src/viscous.h) */
+    double *visc_force; /* (4 ne with implicit damping) each element's viscous force of the
+                           last step as rj__elem_viscous gives it: its loads at t^n */
     int at_n;     /* the other frame holds the state a step before (the loads at t^n) */
     int peaks_on; /* rj_state_track_peaks: the steps that take the accounts track peaks */
     double *peaks;     /* (2 nj + 7 nl) the peaks (src/peaks.h) */

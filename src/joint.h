@@ -164,6 +164,12 @@ static double rj__friction(double ratep, double c, double tf)
     return tau > tf ? tf : (tau < -tf ? -tf : tau);
 }
 
+/* Is this a velocity-level limit method (a jump in the rates at the limit)? */
+static RJ__INLINE int rj__velocity_method(int method)
+{
+    return method == RJ_METHOD_MOMENTUM || method == RJ_METHOD_ENERGY || method == RJ_METHOD_FORCED;
+}
+
 /* Does a velocity-level method act (the rate still points into the limit, or any rate
    while locked)? */
 static int rj__into_limit(int flag, double ratep)

@@ -113,7 +113,7 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->link_kc = rj__carve(&off, (size_t) 4 * nl + 1, sizeof(double));
     L->link_path = rj__carve(&off, (size_t) nl + 1, sizeof(int));
     L->link_pl = rj__carve(&off, (size_t) nl + 1, sizeof(int));
-    L->link_damp = rj__carve(&off, (size_t) 2 * nl + 1, sizeof(double));
+    L->link_damp = rj__carve(&off, (size_t) RJ__LD_PER * nl + 1, sizeof(double));
     L->x0 = rj__carve(&off, (size_t) nn, sizeof(double));
     L->y0 = rj__carve(&off, (size_t) nn, sizeof(double));
     L->phi0 = rj__carve(&off, (size_t) nn, sizeof(double));

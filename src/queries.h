@@ -379,8 +379,8 @@ static void rj__rig_pin_forces(const rj_model *m, const rj_state *s, double *wor
 
 /* What the material path adds to element e (local) of link l at n (src/beam_material.h):
    its axial law and its layers' plastic strains at n (kept in the current frame, as the
-   chord angles), their largest outer-fibre stress into *smax; the viscous part on the
-   rates at n - 1/2. */
+   chord angles), their largest outer-fibre stress into *smax; the viscous part, lagged
+   on the rates at n - 1/2, or implicit as the step kept it (src/viscous.h). */
 static void rj__elem_material_at_n(const rj_model *m, const rj_state *s, int l, int e,
                                    double ex, double ey, double tha, double thb,
                                    rj__elem_force *f, double *smax)
@@ -396,8 +396,15 @@ static void rj__elem_material_at_n(const rj_model *m, const rj_state *s, int l, 
                                                2 * (size_t) m->ldef[l].layers * (size_t) e;
     rj__material_of(m, l, &mt);
     rj__elem_material(&mt, ex, ey, tha, thb, ep, NULL, f, smax);
-    rj__elem_viscous(m->link_kc + 4 * (size_t) l, m->link_damp[2 * (size_t) l], ex, ey, inv_l2,
-                     vx[a + 1] - vx[a], vy[a + 1] - vy[a], w[a], w[a + 1], &v);
+    if (RJ__LD(m, l)[RJ__LD_IMPLICIT] > 0) {
+        const double *kept = s->visc_force + 4 * ((size_t) m->link_efirst[l] + (size_t) e);
+        v.fx = kept[0];
+        v.fy = kept[1];
+        v.ma = kept[2];
+        v.mb = kept[3];
+    } else
+        rj__elem_viscous(m->link_kc + 4 * (size_t) l, RJ__LD(m, l)[RJ__LD_LAGGED], ex, ey,
+                         inv_l2, vx[a + 1] - vx[a], vy[a + 1] - vy[a], w[a], w[a + 1], &v);
     f->fx += v.fx;
     f->fy += v.fy;
     f->ma += v.ma;
@@ -547,7 +554,7 @@ static void rj__node_ask(const rj_model *m, const rj_state *s, int l, int k, int
         out[1] -= s->input_node[3 * (size_t) k + 1];
     }
     if (m->link_path[l] == RJ__PATH_MATERIAL) {
-        const double alpha = m->link_damp[2 * (size_t) l + 1];
+        const double alpha = RJ__LD(m, l)[RJ__LD_MASS];
         out[0] += alpha * m->mass[k] * RJ__FVX(m, at_n)[k];
         out[1] += alpha * m->mass[k] * RJ__FVY(m, at_n)[k];
     }

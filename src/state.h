@@ -1,6 +1,6 @@
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
-    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, damp, peaks, peak_work, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
+    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, damp, visc, visc_force, peaks, peak_work, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
         rsc, rows, terms, rsys, input_torque, input_node, node_applied, snap_torque, loop_force;
 } rj__slayout;
 
@@ -32,6 +32,8 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->mz = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->kn = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->damp = rj__carve(&off, m->nmaterial ? 3 * (size_t) m->nn + 2 : 0, sizeof(double));
+    L->visc = rj__carve(&off, RJ__VISC_PER * (size_t) m->visc_nodes, sizeof(double));
+    L->visc_force = rj__carve(&off, m->nvisc ? 4 * (size_t) m->ne : 0, sizeof(double));
     L->peaks = rj__carve(&off, rj__peaks_count(m) + 1, sizeof(double));
     L->peak_work = rj__carve(&off,
                              RJ__PIN_PER_LINK * ((size_t) m->nl + 1) + 2 * (size_t) m->nj + 1,
@@ -264,6 +266,8 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->ebt = (double *) (void *) (base + L.ebt);
     s->kn = (double *) (void *) (base + L.kn);
     s->damp = (double *) (void *) (base + L.damp);
+    s->visc = (double *) (void *) (base + L.visc);
+    s->visc_force = (double *) (void *) (base + L.visc_force);
     s->peaks = (double *) (void *) (base + L.peaks);
     s->peak_work = (double *) (void *) (base + L.peak_work);
     s->jsc = (double *) (void *) (base + L.jsc);
@@ -319,6 +323,9 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
     memcpy(dst->fd[1], src->fd[1 - src->cur], sizeof(double) * m->frame_doubles);
     memcpy(dst->fi[1], src->fi[1 - src->cur], sizeof(int) * (m->frame_ints + 1));
     dst->at_n = src->at_n;
+    /* the implicit damping's element forces of that step (the loads at t^n) */
+    if (m->nvisc)
+        memcpy(dst->visc_force, src->visc_force, sizeof(double) * 4 * (size_t) m->ne);
     dst->peaks_on = src->peaks_on;
     memcpy(dst->peaks, src->peaks, sizeof(double) * rj__peaks_count(m));
     dst->cur = 0;

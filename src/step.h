@@ -530,13 +530,17 @@ static rj_result rj__stage_node_inputs(const rj_model *m, rj_state *s, const dou
     return RJ_OK;
 }
 
+static double rj__stage_viscous(const rj_model *m, rj_state *s, const rj__frames *f);
+
 /* Stage 2b, applied loads: the caller's joint torques, the model's loads and the
    caller's node forces, in that order, before friction so that it sees them; the work of
-   the last two over the step before in s->step_work. next: the new frame; t: the time at
-   n; at_n, advanced: the frames of the nodes at n and n + 1; kick: the step's velocity
-   kick per unit acceleration. This stage and rj__applied_work take plain
-   values, not the step's frames, and are never inlined: a scene that applies nothing pays
-   one test for both. */
+   the last two over the step before in s->step_work; then the links' implicit damping
+   (stage 2e), which sees them all, on frames of its own (never in place). next: the new
+   frame; t: the time at n; at_n, advanced: the frames of the nodes at n and n + 1; kick:
+   the step's velocity kick per unit acceleration. This stage and rj__applied_work take
+   plain values, not the step's frames, and are never inlined: a scene that applies
+   nothing pays one test for both (the frames' address, given to the damping, cost the
+   paper's step 15 instructions). */
 static RJ__NOINLINE rj_result rj__stage_applied(const rj_model *m, rj_state *s, double *next,
                                                 double t, const double *at_n, double *advanced,
                                                 double kick)
@@ -547,8 +551,17 @@ static RJ__NOINLINE rj_result rj__stage_applied(const rj_model *m, rj_state *s, 
         rj__stage_inputs(m, s, next);
     if (m->nload)
         s->step_work += rj__stage_loads(m, s, t, at_n);
-    if (s->node_inputs)
-        return rj__stage_node_inputs(m, s, at_n, advanced, kick);
+    if (s->node_inputs) {
+        const rj_result r = rj__stage_node_inputs(m, s, at_n, advanced, kick);
+        if (r != RJ_OK)
+            return r;
+    }
+    if (m->nvisc) {
+        rj__frames f;
+        rj__frames_open(m, s, 0, 0, &f);
+        rj__frames_nodes(m, &f);
+        s->step_fin += rj__stage_viscous(m, s, &f);
+    }
     return RJ_OK;
 }
 
@@ -558,6 +571,258 @@ static RJ__NOINLINE double rj__applied_work(const rj_model *m, const rj_state *s
                                             const double *next)
 {
     return s->inputs ? rj__inputs_work(m, s, old, next) : 0.0;
+}
+
+/* Node n's translation as the stages after this one move it: a grouped node's is its
+   group's (rj__update_groups: the members' summed force and gravity on the summed mass),
+   a node the step advances again (m->dnode) takes its force then; the others the beam
+   pass has advanced. Into v (x, y) and minv (their inverse mass, 0: fixed). */
+static void rj__visc_translation(const rj_model *m, const rj_state *s, const rj__frames *f,
+                                 int n, int again, double v[2], double minv[2])
+{
+    const int grouped = m->tinv[n] == 0 && m->einv[n] > 0;
+    minv[0] = minv[1] = m->einv[n];
+    if (grouped) {
+        const int g = m->node_grp[n];
+        double sx = 0, sy = 0;
+        int q;
+        for (q = m->grp_first[g]; q < m->grp_first[g + 1]; q++) {
+            sx += s->fx[m->grp_node[q]];
+            sy += s->fy[m->grp_node[q]];
+        }
+        v[0] = f->vx[n] + f->kick * (sx * m->einv[n] + m->solver.gravity[0]);
+        v[1] = f->vy[n] + f->kick * (sy * m->einv[n] + m->solver.gravity[1]);
+    } else if (again) {
+        v[0] = f->vx[n] + f->kick * s->fx[n] * m->tinv[n];
+        v[1] = f->vy[n] + f->kick * s->fy[n] * m->tinv[n];
+    } else {
+        v[0] = f->nvx[n];
+        v[1] = f->nvy[n];
+    }
+}
+
+/* Link l's records for rj__visc_solve: every node's v* and inverse masses, every
+   element's damping blocks at x^n. dn: the first of m->dnode at or after the link's
+   first node. */
+static void rj__visc_gather(const rj_model *m, const rj_state *s, const rj__frames *f, int l,
+                            int dn, double *W)
+{
+    const int n0 = m->link_first[l], nodes = m->link_first[l + 1] - n0;
+    const double *kc = m->link_kc + 4 * (size_t) l;
+    const double eta = RJ__LD(m, l)[RJ__LD_IMPLICIT];
+    int i;
+    for (i = 0; i < nodes; i++) {
+        const int n = n0 + i;
+        double *me = W + (size_t) RJ__VISC_PER * i;
+        const int again = dn < m->ndn && m->dnode[dn] == n;
+        dn += again;
+        rj__visc_translation(m, s, f, n, again, me + RJ__VI_V, me + RJ__VI_MINV);
+        me[RJ__VI_V + 2] = again ? f->w[n] + f->kick * s->mz[n] * m->rinv[n] : f->nw[n];
+        me[RJ__VI_MINV + 2] = m->rinv[n];
+        if (i + 1 < nodes)
+            rj__visc_elem(kc, eta, f->x[n + 1] - f->x[n], f->y[n + 1] - f->y[n],
+                          me + RJ__VI_C);
+    }
+}
+
+/* The rate a velocity-level method will hold joint j at this step (a lock, a limit the
+   rate runs into, a prescribed profile: the rate that lands it there, as the later
+   stages take it; friction that can stop the rate: 0), its pin nodes' rates wI, wJ as
+   predicted; returns 0 when none holds it. */
+static int rj__visc_held_rate(const rj_model *m, const rj_state *s, const rj__frames *f, int j,
+                              double wI, double wJ, double *rate)
+{
+    const rj_joint_def *d = &m->jdef[j];
+    const rj__joint *J = &m->jnt[j];
+    const int flag = f->new_flags[j];
+    const double p = s->jsc[8 * j + 5]; /* the element's penetration */
+    if (rj__prescribed(J)) {
+        *rate = rj__prescribed_rate(m, s, j, RJ__FJ(m, f->old, j)[RJ__JD_THETA], f->t, f->dt);
+        return 1;
+    }
+    if (flag != RJ_FREE && rj__velocity_method(d->method) && rj__into_limit(flag, wJ - wI)) {
+        *rate = flag == RJ_LOCKED || d->method == RJ_METHOD_FORCED ? p / f->dt : 0.0;
+        return 1;
+    }
+    /* friction that can stop the joint (rj__friction) will hold it */
+    if (d->friction > 0) {
+        const double riI = J->nI >= 0 ? m->rinv[J->nI] : 0.0;
+        const double give = f->kick * (riI + m->rinv[J->nJ]);
+        *rate = 0.0;
+        return fabs(wJ - wI) <= give * d->friction;
+    }
+    return 0;
+}
+
+/* A node's rotation rate as predicted (a pin node: the step advances it again). */
+static double rj__visc_rate_pred(const rj_model *m, const rj_state *s, const rj__frames *f,
+                                 int n)
+{
+    return n < 0 ? 0.0 : f->w[n] + f->kick * s->mz[n] * m->rinv[n];
+}
+
+/* A held joint's pin rotations in link l's records (first node n0, nodes of them): the
+   two rotate as one of their summed inertia at the held rate apart, their angular
+   momentum kept (as the later stages' torque pair keeps it); a fixed side (ground, a
+   clamped node) holds the other. Without this a pin node's light rotation followed the
+   damping in the solve, which the held joint then undid: the damping forces came from
+   rates the step did not take (a root locked by the forced method rang 40 % slower). */
+static void rj__visc_hold(const rj_model *m, const rj_state *s, const rj__frames *f, int j,
+                          int n0, int nodes, double *W)
+{
+    const rj__joint *J = &m->jnt[j];
+    const int nI = J->nI, nJ = J->nJ;
+    const double wI = rj__visc_rate_pred(m, s, f, nI), wJ = rj__visc_rate_pred(m, s, f, nJ);
+    const double riI = nI >= 0 ? m->rinv[nI] : 0.0, riJ = m->rinv[nJ];
+    double rate, uI, uJ, minv;
+    if (!rj__visc_held_rate(m, s, f, j, wI, wJ, &rate))
+        return;
+    if (riI == 0 || riJ == 0) {
+        /* the fixed side holds the other */
+        uI = riI == 0 ? wI : wJ - rate;
+        uJ = riJ == 0 ? wJ : wI + rate;
+        minv = 0.0;
+    } else {
+        const double JI = 1.0 / riI, JJ = 1.0 / riJ;
+        uI = (JI * wI + JJ * wJ - JJ * rate) / (JI + JJ);
+        uJ = uI + rate;
+        minv = 1.0 / (JI + JJ);
+    }
+    if (nI >= n0 && nI < n0 + nodes) {
+        W[(size_t) RJ__VISC_PER * (nI - n0) + RJ__VI_V + 2] = uI;
+        W[(size_t) RJ__VISC_PER * (nI - n0) + RJ__VI_MINV + 2] = riI == 0 ? 0.0 : minv;
+    }
+    if (nJ >= n0 && nJ < n0 + nodes) {
+        W[(size_t) RJ__VISC_PER * (nJ - n0) + RJ__VI_V + 2] = uJ;
+        W[(size_t) RJ__VISC_PER * (nJ - n0) + RJ__VI_MINV + 2] = riJ == 0 ? 0.0 : minv;
+    }
+}
+
+/* The damping force F on node n, which the beam pass has advanced, as a kick from its
+   DOF from on (0: all three; 2: its rotation alone, a grouped node's translation being
+   its group's): its velocity, position and kinetic share (v^{n-1/2} . kick F). Returns
+   the positions written, summed. */
+static double rj__visc_kick(const rj_model *m, rj_state *s, const rj__frames *f, int n,
+                            const double F[3], int from)
+{
+    double fin = 0;
+    if (from == 0) {
+        const double dvx = f->kick * F[0] * m->tinv[n];
+        const double dvy = f->kick * F[1] * m->tinv[n];
+        s->kn[n] += m->kmass[n] * (f->vx[n] * dvx + f->vy[n] * dvy);
+        f->nvx[n] += dvx;
+        f->nvy[n] += dvy;
+        f->nx[n] += f->dt * dvx;
+        f->ny[n] += f->dt * dvy;
+        fin += f->nx[n] + f->ny[n];
+    }
+    {
+        const double dw = f->kick * F[2] * m->rinv[n];
+        s->kn[n] += m->krot[n] * f->w[n] * dw;
+        f->nw[n] += dw;
+        f->nphi[n] += f->dt * dw;
+        fin += f->nphi[n];
+    }
+    return fin;
+}
+
+/* Element i of link l's viscous forces on the rates solved for (records i and i + 1's
+   v* + dv), as rj__elem_viscous gives them (-C_e v: build/test_mixed checks the two
+   agree), kept (rj_state.visc_force) for the loads queries. */
+static void rj__visc_elem_force(const rj_model *m, rj_state *s, const rj__frames *f, int l,
+                                int i, const double *W, rj__elem_force *out)
+{
+    const int a = m->link_first[l] + i;
+    const double *va = W + (size_t) RJ__VISC_PER * i + RJ__VI_V, *vb = va + RJ__VISC_PER;
+    const double ex = f->x[a + 1] - f->x[a], ey = f->y[a + 1] - f->y[a];
+    double *kept = s->visc_force + 4 * ((size_t) m->link_efirst[l] + (size_t) i);
+    rj__elem_viscous(m->link_kc + 4 * (size_t) l, RJ__LD(m, l)[RJ__LD_IMPLICIT], ex, ey,
+                     1.0 / (ex * ex + ey * ey), vb[0] - va[0], vb[1] - va[1], va[2], vb[2],
+                     out);
+    kept[0] = out->fx;
+    kept[1] = out->fy;
+    kept[2] = out->ma;
+    kept[3] = out->mb;
+}
+
+/* Node n's damping force F on top of the others: kept in rj_state.damp with the
+   mass-proportional part there already, its power at n - 1/2 into *power; a force on a
+   node the stages after move (grouped, or in m->dnode: again), a kick on the others.
+   Returns the positions written. */
+static double rj__visc_node(const rj_model *m, rj_state *s, const rj__frames *f, int n,
+                            int again, const double F[3], double *power)
+{
+    const size_t nn = (size_t) m->nn;
+    const int grouped = m->tinv[n] == 0 && m->einv[n] > 0;
+    s->damp[n] += F[0];
+    s->damp[nn + n] += F[1];
+    s->damp[2 * nn + n] += F[2];
+    *power += F[0] * f->vx[n] + F[1] * f->vy[n] + F[2] * f->w[n];
+    s->fx[n] += F[0];
+    s->fy[n] += F[1];
+    s->mz[n] += F[2];
+    if (again)
+        return 0.0;
+    return rj__visc_kick(m, s, f, n, F, grouped ? 2 : 0);
+}
+
+/* Link l's damping forces F_d = -C (v* + dv) after the solve, element by element
+   (rj__visc_elem_force), each node taking the element before it and the one after as
+   rj__node_damping takes the lagged ones. Returns the positions written. */
+static double rj__visc_apply(const rj_model *m, rj_state *s, const rj__frames *f, int l, int dn,
+                             double *W, double *power)
+{
+    const int n0 = m->link_first[l], nodes = m->link_first[l + 1] - n0;
+    rj__elem_force before, after;
+    double fin = 0;
+    int i, p;
+    for (i = 0; i < nodes; i++) {
+        double *me = W + (size_t) RJ__VISC_PER * i;
+        for (p = 0; p < 3; p++)
+            me[RJ__VI_V + p] += me[RJ__VI_Y + p];
+    }
+    memset(&before, 0, sizeof before);
+    for (i = 0; i < nodes; i++) {
+        const int n = n0 + i;
+        const int again = dn < m->ndn && m->dnode[dn] == n;
+        double F[3];
+        dn += again;
+        memset(&after, 0, sizeof after);
+        if (i + 1 < nodes)
+            rj__visc_elem_force(m, s, f, l, i, W, &after);
+        F[0] = before.fx - after.fx;
+        F[1] = before.fy - after.fy;
+        F[2] = -before.mb - after.ma;
+        fin += rj__visc_node(m, s, f, n, again, F, power);
+        before = after;
+    }
+    return fin;
+}
+
+/* Stage 2e, the links' implicit Kelvin-Voigt damping (src/viscous.h), after every force
+   but friction's, which then sees it: link by link, each seeing the ones before through
+   their forces on the pins they share (the groups' sums), so that every solve only takes
+   energy out. Its forces' power at n - 1/2 joins the material path's (rj_state.damp).
+   Called by rj__stage_applied. Returns the positions written. */
+static double rj__stage_viscous(const rj_model *m, rj_state *s, const rj__frames *f)
+{
+    double power = 0, fin = 0;
+    int l, j;
+    for (l = 0; l < m->nl; l++) {
+        const int n0 = m->link_first[l];
+        int dn;
+        if (!(RJ__LD(m, l)[RJ__LD_IMPLICIT] > 0))
+            continue;
+        dn = rj__dnode_from(m, n0);
+        rj__visc_gather(m, s, f, l, dn, s->visc);
+        for (j = 0; j < m->nj; j++)
+            if (!m->jnt[j].chord && !m->jnt[j].pair)
+                rj__visc_hold(m, s, f, j, n0, m->link_first[l + 1] - n0, s->visc);
+        rj__visc_solve(s->visc, m->link_first[l + 1] - n0, f->kick);
+        fin += rj__visc_apply(m, s, f, l, dn, s->visc, &power);
+    }
+    s->damp[3 * (size_t) m->nn] += power;
+    return fin;
 }
 
 /* One body of a pinned pair at the pin: its point r from the anchor, the pin's mean
@@ -878,12 +1143,6 @@ static RJ__FORCE_INLINE void rj__stage_update(const rj_model *m, rj_state *s, co
     rj__update_groups(m, s, f, e, fin);
     rj__update_bodies(m, s, f, e);
     e->kinetic *= 0.5;
-}
-
-/* Is this a velocity-level limit method (a jump in the rates at the limit)? */
-static RJ__INLINE int rj__velocity_method(int method)
-{
-    return method == RJ_METHOD_MOMENTUM || method == RJ_METHOD_ENERGY || method == RJ_METHOD_FORCED;
 }
 
 /* Coupling c's stretch rate at the end of the step under the forces so far, its joints
@@ -1854,7 +2113,8 @@ static RJ__FORCE_INLINE rj_result rj__step_run(const rj_model *m, rj_state *s, i
     rj__adv adv;
     rj_result r;
     double fin = 0;
-    const int applied = s->inputs | s->node_inputs | m->nload; /* rj__stage_applied's */
+    /* rj__stage_applied's */
+    const int applied = s->inputs | s->node_inputs | m->applied;
     rj__frames_open(m, s, want_energy, ip, &f);
     rj__frames_nodes(m, &f);
     rj__sums_open(f.old_scalars, &e);
