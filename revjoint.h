@@ -4947,15 +4947,16 @@ static RJ__NOINLINE double rj__material_accounts(const rj_model *m, const rj_sta
    bounds the step by dt <= (2 / omega)(sqrt(1 + zeta^2) - zeta) at the stiffest mode,
    an element's axial or rotary one, whose ratio eta omega_max / 2 is huge on a slender
    link (the paper's deployment at 2 % and 2 Hz: a step 340 times shorter). So a link's
-   viscous forces are taken on the rates at n + 1/2 instead, F_d = -C(x^n) v^{n+1/2}:
-   each step solves
+   viscous forces are taken on the rates at n + 1/2 instead, F_d = -C v^{n+1/2}: each
+   step solves
 
        (M + kick C) dv = -kick C v*,   v^{n+1/2} = v* + dv,
 
    v* the velocities the other forces give. C = sum_e B_e^T D_e B_e is the link's damping
-   matrix at x^n: B_e maps an element's node rates to its strains' rates (the Green
-   strain's e . e' / l0^2 and the end rotations' w - beta', as rj__elem_viscous takes
-   them), D_e their stiffnesses times eta. M + kick C is block tridiagonal along the
+   matrix: B_e maps an element's node rates to its strains' rates (the Green strain's
+   e . e' / l0^2 and the end rotations' w - beta', as rj__elem_viscous takes them) along
+   its chord at n + 1/2 as v* predicts it (objective: a rigid turn strains nothing), D_e
+   their stiffnesses times eta. M + kick C is block tridiagonal along the
    link (3 x 3 blocks, a node's x, y, rotation) and positive definite: one pass down and
    one up (block Thomas), O(n). A DOF that does not move (inverse mass 0) keeps dv = 0.
 
@@ -5031,7 +5032,8 @@ enum {
     RJ__VI_MINV = 15, /* the DOFs' inverse masses (0: does not move) */
     RJ__VI_C = 18,    /* the element from this node to the next: C_aa, C_ab, C_bb */
     RJ__VI_U = 45,    /* its coupling block in the system (rj__visc_upper) */
-    RJ__VISC_PER = 54
+    RJ__VI_E = 54,    /* its chord at n + 1/2 as predicted (rj__visc_chord) */
+    RJ__VISC_PER = 56
 };
 
 /* Node i's rows of C v (into cv): the element before it (its C_bb, C_ab^T) and the one
@@ -12015,9 +12017,24 @@ static void rj__visc_translation(const rj_model *m, const rj_state *s, const rj_
     }
 }
 
-/* Link l's records for rj__visc_solve: every node's v* and inverse masses, every
-   element's damping blocks at x^n. dn: the first of m->dnode at or after the link's
-   first node. */
+/* Element i's chord at n + 1/2 as v* predicts it, e^n + dt/2 (v*_b - v*_a), into its
+   record. The strains' rates are taken along it: at e^n, a link turning rigidly at
+   omega showed an axial rate of omega^2 dt / 2 relative (v^{n+1/2} is square to the
+   chord half a step on), which the axial viscosity eta EA made a force of 15 % of the
+   centrifugal pull on the chain of `make bench`'s feature rows; along the midpoint chord
+   a rigid turn has none. */
+static void rj__visc_chord(const rj__frames *f, int n, double *W, int i)
+{
+    double *me = W + (size_t) RJ__VISC_PER * i;
+    const double *next = me + RJ__VISC_PER;
+    me[RJ__VI_E] = f->x[n + 1] - f->x[n] + 0.5 * f->dt * (next[RJ__VI_V] - me[RJ__VI_V]);
+    me[RJ__VI_E + 1] =
+        f->y[n + 1] - f->y[n] + 0.5 * f->dt * (next[RJ__VI_V + 1] - me[RJ__VI_V + 1]);
+}
+
+/* Link l's records for rj__visc_solve: every node's v* and inverse masses, then every
+   element's chord at n + 1/2 and damping blocks there. dn: the first of m->dnode at or
+   after the link's first node. */
 static void rj__visc_gather(const rj_model *m, const rj_state *s, const rj__frames *f, int l,
                             int dn, double *W)
 {
@@ -12033,9 +12050,11 @@ static void rj__visc_gather(const rj_model *m, const rj_state *s, const rj__fram
         rj__visc_translation(m, s, f, n, again, me + RJ__VI_V, me + RJ__VI_MINV);
         me[RJ__VI_V + 2] = again ? f->w[n] + f->kick * s->mz[n] * m->rinv[n] : f->nw[n];
         me[RJ__VI_MINV + 2] = m->rinv[n];
-        if (i + 1 < nodes)
-            rj__visc_elem(kc, eta, f->x[n + 1] - f->x[n], f->y[n + 1] - f->y[n],
-                          me + RJ__VI_C);
+    }
+    for (i = 0; i + 1 < nodes; i++) {
+        double *me = W + (size_t) RJ__VISC_PER * i;
+        rj__visc_chord(f, n0 + i, W, i);
+        rj__visc_elem(kc, eta, me[RJ__VI_E], me[RJ__VI_E + 1], me + RJ__VI_C);
     }
 }
 
@@ -12143,12 +12162,12 @@ static double rj__visc_kick(const rj_model *m, rj_state *s, const rj__frames *f,
 /* Element i of link l's viscous forces on the rates solved for (records i and i + 1's
    v* + dv), as rj__elem_viscous gives them (-C_e v: build/test_mixed checks the two
    agree), kept (rj_state.visc_force) for the loads queries. */
-static void rj__visc_elem_force(const rj_model *m, rj_state *s, const rj__frames *f, int l,
-                                int i, const double *W, rj__elem_force *out)
+static void rj__visc_elem_force(const rj_model *m, rj_state *s, int l, int i, const double *W,
+                                rj__elem_force *out)
 {
-    const int a = m->link_first[l] + i;
-    const double *va = W + (size_t) RJ__VISC_PER * i + RJ__VI_V, *vb = va + RJ__VISC_PER;
-    const double ex = f->x[a + 1] - f->x[a], ey = f->y[a + 1] - f->y[a];
+    const double *me = W + (size_t) RJ__VISC_PER * i;
+    const double *va = me + RJ__VI_V, *vb = va + RJ__VISC_PER;
+    const double ex = me[RJ__VI_E], ey = me[RJ__VI_E + 1];
     double *kept = s->visc_force + 4 * ((size_t) m->link_efirst[l] + (size_t) i);
     rj__elem_viscous(m->link_kc + 4 * (size_t) l, RJ__LD(m, l)[RJ__LD_IMPLICIT], ex, ey,
                      1.0 / (ex * ex + ey * ey), vb[0] - va[0], vb[1] - va[1], va[2], vb[2],
@@ -12203,7 +12222,7 @@ static double rj__visc_apply(const rj_model *m, rj_state *s, const rj__frames *f
         dn += again;
         memset(&after, 0, sizeof after);
         if (i + 1 < nodes)
-            rj__visc_elem_force(m, s, f, l, i, W, &after);
+            rj__visc_elem_force(m, s, l, i, W, &after);
         F[0] = before.fx - after.fx;
         F[1] = before.fy - after.fy;
         F[2] = -before.mb - after.ma;

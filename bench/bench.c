@@ -1611,7 +1611,11 @@ static void fidelity_report(void)
    the model. */
 enum { FT_NONE = 0, FT_FREE, FT_LOCKED, FT_CONTACT };
 /* load features (fspec.load) */
-enum { FT_LOAD_NONE = 0, FT_GRAVITY, FT_JOINT_TORQUE, FT_NODE_FORCE, FT_LOAD_CONSTANT, FT_LOAD_FOLLOWER };
+enum { FT_LOAD_NONE = 0, FT_GRAVITY, FT_JOINT_TORQUE, FT_NODE_FORCE, FT_LOAD_CONSTANT, FT_LOAD_FOLLOWER,
+       FT_MASS_DAMPING, FT_KELVIN_VOIGT };
+#define FT_ALPHA 1.0              /* 1/s, mass_damping on both links */
+#define FT_ZETA 0.02              /* Kelvin-Voigt on both links: this ratio at FT_ZETA_HZ */
+#define FT_ZETA_HZ 5.0
 #define FT_GRAVITY_Y (-9.81)      /* m/s^2, solver.gravity (0, FT_GRAVITY_Y) */
 #define FT_TORQUE 0.1             /* N m, the caller's constant torque on joint 2 */
 #define FT_TIP_FORCE_Y (-1.0)     /* N, the caller's force and the constant load on link 2's tip (0, this) */
@@ -1681,6 +1685,10 @@ static void ft_scene(const fspec *f, double dt, double K, rj_link_def L[2], rj_j
             else { J[1].spring_k = 50.0; J[1].spring_free_angle = rj_rad(215.0); }   /* holds it on the stop */
         }
     }
+    for (i = 0; i < 2; i++) {
+        if (f->load == FT_MASS_DAMPING) L[i].mass_damping = FT_ALPHA;
+        if (f->load == FT_KELVIN_VOIGT) { L[i].damping[0] = FT_ZETA; L[i].damping[1] = FT_ZETA_HZ; }
+    }
     *sc = rj_default_scene_def();
     sc->links = L; sc->link_count = 2; sc->joints = J; sc->joint_count = 2;
     sc->solver.dt = dt;
@@ -1708,11 +1716,13 @@ static void ft_reset(const fspec *f, const rj_model *m, rj_state *s)
     if (f->load == FT_NODE_FORCE) rj_state_node_forces(m, s)[3 * rj_model_node_index(m, 1, -1) + 1] = FT_TIP_FORCE_Y;
 }
 
-/* a load row's account at the end of a run: gravity's potential, or the work of the load or input */
+/* a load row's account at the end of a run: gravity's potential, the work of the load or
+   input, or the damping's loss */
 static double ft_load_account(const fspec *f, const rj_model *m, const rj_state *s)
 {
     rj_energy e;
     rj_state_energy(m, s, &e);
+    if (f->load == FT_MASS_DAMPING || f->load == FT_KELVIN_VOIGT) return e.lost_structural;
     return f->load == FT_GRAVITY ? e.gravity : e.work_applied;
 }
 
@@ -1790,6 +1800,8 @@ static void features_section(void)
     ft_add_load("+ caller's node forces (rj_state_node_forces, a force on the tip)", FT_NODE_FORCE);
     ft_add_load("+ applied load at the tip, constant", FT_LOAD_CONSTANT);
     ft_add_load("+ applied load at the tip, follower, with a 4-point time table", FT_LOAD_FOLLOWER);
+    ft_add_load("+ mass_damping 1 1/s on both links", FT_MASS_DAMPING);
+    ft_add_load("+ Kelvin-Voigt damping = 0.02 5 on both links (implicit)", FT_KELVIN_VOIGT);
     /* one dt for all: the smallest automatic dt of the flexible scenes (penalty with K = Eq 31 at
        it) among those that the library also accepts when that dt is given explicitly */
     FT.dt = HUGE_VAL;
@@ -1912,6 +1924,7 @@ static void features_section(void)
             for (k = 1; k < rounds; k++) { o->mn = fmin(o->mn, W[i][k]); o->mx = fmax(o->mx, W[i][k]); }
             /* what joint 2 did: the library's first-contact and release times of every run, and its flag at every chunk end */
             if (f->load == FT_GRAVITY) snprintf(o->state, sizeof o->state, "%.3g s simulated; gravity's potential nonzero at the end of %d of %d runs (%.3g J)", o->tsim, o->acted, FT.rounds, o->acct);
+            else if (f->load == FT_MASS_DAMPING || f->load == FT_KELVIN_VOIGT) snprintf(o->state, sizeof o->state, "%.3g s simulated; W_structural nonzero at the end of %d of %d runs (%.3g J)", o->tsim, o->acted, FT.rounds, o->acct);
             else if (f->load != FT_LOAD_NONE) snprintf(o->state, sizeof o->state, "%.3g s simulated; the load's work nonzero at the end of %d of %d runs (%.3g J)", o->tsim, o->acted, FT.rounds, o->acct);
             else if (f->limit < 0) snprintf(o->state, sizeof o->state, "%.3g s simulated", o->tsim);
             else if (f->lstate == FT_FREE && !o->touched) snprintf(o->state, sizeof o->state, "free throughout (%.3g s)", o->tsim);
@@ -2056,9 +2069,11 @@ static void features_report(void)
        "or a load in the model on link 2's tip (`rj_scene_def.loads`): the same (0, %g) N, constant, or (0, %g) N in the tip's own frame (across the link; `follower` 1) "
        "scaled by the table (%g s, %g), (%g s, %g), (%g s, %g), (%g s, %g). They change the motion (joint 2 is free, so link 2 swings under them), which leaves the cost of a step "
        "alone; their column gives, instead of joint 2's limits, gravity's potential or the work of the load (`rj_energy`) at the end of every run: nonzero means it acted in the timed steps. "
+       "The last two rows damp both links instead: `mass_damping` %g 1/s, or Kelvin-Voigt `damping = %g %g` (implicit, at the same dt), their column W_structural. "
        "The bare scene and the rows above them use none of these: their times are what a scene that does not use them pays.\n\n",
        FT_GRAVITY_Y, FT_TORQUE, FT_TIP_FORCE_Y, FT_TIP_FORCE_Y, FT_FOLLOWER_Y,
-       ft_follower_time[0], ft_follower_factor[0], ft_follower_time[1], ft_follower_factor[1], ft_follower_time[2], ft_follower_factor[2], ft_follower_time[3], ft_follower_factor[3]);
+       ft_follower_time[0], ft_follower_factor[0], ft_follower_time[1], ft_follower_factor[1], ft_follower_time[2], ft_follower_factor[2], ft_follower_time[3], ft_follower_factor[3],
+       FT_ALPHA, FT_ZETA, FT_ZETA_HZ);
     md("| scene | joint 2 during the run | steps per run | ns / step, wall median | wall min | wall max | CPU median | vs bare, wall (range) | vs bare, CPU |\n");
     md("|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
     for (i = 0; i < FT.n; i++) {

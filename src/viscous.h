@@ -3,15 +3,16 @@
    bounds the step by dt <= (2 / omega)(sqrt(1 + zeta^2) - zeta) at the stiffest mode,
    an element's axial or rotary one, whose ratio eta omega_max / 2 is huge on a slender
    link (the paper's deployment at 2 % and 2 Hz: a step 340 times shorter). So a link's
-   viscous forces are taken on the rates at n + 1/2 instead, F_d = -C(x^n) v^{n+1/2}:
-   each step solves
+   viscous forces are taken on the rates at n + 1/2 instead, F_d = -C v^{n+1/2}: each
+   step solves
 
        (M + kick C) dv = -kick C v*,   v^{n+1/2} = v* + dv,
 
    v* the velocities the other forces give. C = sum_e B_e^T D_e B_e is the link's damping
-   matrix at x^n: B_e maps an element's node rates to its strains' rates (the Green
-   strain's e . e' / l0^2 and the end rotations' w - beta', as rj__elem_viscous takes
-   them), D_e their stiffnesses times eta. M + kick C is block tridiagonal along the
+   matrix: B_e maps an element's node rates to its strains' rates (the Green strain's
+   e . e' / l0^2 and the end rotations' w - beta', as rj__elem_viscous takes them) along
+   its chord at n + 1/2 as v* predicts it (objective: a rigid turn strains nothing), D_e
+   their stiffnesses times eta. M + kick C is block tridiagonal along the
    link (3 x 3 blocks, a node's x, y, rotation) and positive definite: one pass down and
    one up (block Thomas), O(n). A DOF that does not move (inverse mass 0) keeps dv = 0.
 
@@ -87,7 +88,8 @@ enum {
     RJ__VI_MINV = 15, /* the DOFs' inverse masses (0: does not move) */
     RJ__VI_C = 18,    /* the element from this node to the next: C_aa, C_ab, C_bb */
     RJ__VI_U = 45,    /* its coupling block in the system (rj__visc_upper) */
-    RJ__VISC_PER = 54
+    RJ__VI_E = 54,    /* its chord at n + 1/2 as predicted (rj__visc_chord) */
+    RJ__VISC_PER = 56
 };
 
 /* Node i's rows of C v (into cv): the element before it (its C_bb, C_ab^T) and the one
