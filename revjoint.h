@@ -702,7 +702,8 @@ RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joi
    RJ_ERR_NOMEM without it). */
 RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double *forces);
 /* Element element of a flexible link at t^n (a step before the state's time, as the
-   step took it), recomputed from the state: loads[0] the axial force N (N, tension
+   step took it), recomputed from the state (implicit Kelvin-Voigt damping's viscous part
+   as the step kept it): loads[0] the axial force N (N, tension
    positive), [1] the shear V (N), [2] and [3] the bending moment at its first and its
    second node (N m), each the force or moment the part of the link beyond the section
    exerts on the part before it, along the chord, across it (counter-clockwise of the
