@@ -407,7 +407,8 @@ struct rj_state {
     double *damp; /* (3 nn + 2, with the material path) structural damping's forces at n on
                      every node, fx then fy then mz, their power at n - 1/2 and the plastic
                      work summed in the step: for their accounts (src/beam_material.h) */
-    double *visc; /* (RJ__VISC_PER visc_nodes) the implicit damping's solve (src/viscous.h) */
+    double *visc; /* (RJ__VISC_PER (visc_nodes + 1)) the implicit damping's solve
+                     (src/viscous.h) */
     double *visc_force; /* (4 ne with implicit damping) each element's viscous force of the
                            last step as rj__elem_viscous gives it: its loads at t^n */
     int at_n;     /* the other frame holds the state a step before (the loads at t^n) */

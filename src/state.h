@@ -32,7 +32,8 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->mz = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->kn = rj__carve(&off, (size_t) m->nn, sizeof(double));
     L->damp = rj__carve(&off, m->nmaterial ? 3 * (size_t) m->nn + 2 : 0, sizeof(double));
-    L->visc = rj__carve(&off, RJ__VISC_PER * (size_t) m->visc_nodes, sizeof(double));
+    L->visc = rj__carve(&off, m->nvisc ? RJ__VISC_PER * ((size_t) m->visc_nodes + 1) : 0,
+                        sizeof(double));
     L->visc_force = rj__carve(&off, m->nvisc ? 4 * (size_t) m->ne : 0, sizeof(double));
     L->peaks = rj__carve(&off, rj__peaks_count(m) + 1, sizeof(double));
     L->peak_work = rj__carve(&off,

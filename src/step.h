@@ -640,6 +640,21 @@ static void rj__visc_gather(const rj_model *m, const rj_state *s, const rj__fram
         rj__visc_chord(f, n0 + i, W, i);
         rj__visc_elem(kc, eta, me[RJ__VI_E], me[RJ__VI_E + 1], me + RJ__VI_C);
     }
+    memset(W + (size_t) RJ__VISC_PER * (nodes - 1) + RJ__VI_C, 0, 27 * sizeof(double));
+}
+
+/* Every node's masks and masses from its inverse masses (rj__visc_solve's). */
+static void rj__visc_masses(double *W, int nodes)
+{
+    int i, p;
+    for (i = 0; i < nodes; i++) {
+        double *me = W + (size_t) RJ__VISC_PER * i;
+        for (p = 0; p < 3; p++) {
+            const double minv = me[RJ__VI_MINV + p];
+            me[RJ__VI_MASK + p] = minv > 0 ? 1.0 : 0.0;
+            me[RJ__VI_MASS + p] = minv > 0 ? 1.0 / minv : 1.0;
+        }
+    }
 }
 
 /* The rate a velocity-level method will hold joint j at this step (a lock, a limit the
@@ -823,20 +838,23 @@ static double rj__visc_apply(const rj_model *m, rj_state *s, const rj__frames *f
    Called by rj__stage_applied. Returns the positions written. */
 static double rj__stage_viscous(const rj_model *m, rj_state *s, const rj__frames *f)
 {
+    double *W = s->visc + RJ__VISC_PER;
     double power = 0, fin = 0;
     int l, j;
+    rj__visc_pad(W);
     for (l = 0; l < m->nl; l++) {
-        const int n0 = m->link_first[l];
+        const int n0 = m->link_first[l], nodes = m->link_first[l + 1] - n0;
         int dn;
         if (!(RJ__LD(m, l)[RJ__LD_IMPLICIT] > 0))
             continue;
         dn = rj__dnode_from(m, n0);
-        rj__visc_gather(m, s, f, l, dn, s->visc);
+        rj__visc_gather(m, s, f, l, dn, W);
         for (j = 0; j < m->nj; j++)
             if (!m->jnt[j].chord && !m->jnt[j].pair)
-                rj__visc_hold(m, s, f, j, n0, m->link_first[l + 1] - n0, s->visc);
-        rj__visc_solve(s->visc, m->link_first[l + 1] - n0, f->kick);
-        fin += rj__visc_apply(m, s, f, l, dn, s->visc, &power);
+                rj__visc_hold(m, s, f, j, n0, nodes, W);
+        rj__visc_masses(W, nodes);
+        rj__visc_solve(W, nodes, f->kick);
+        fin += rj__visc_apply(m, s, f, l, dn, W, &power);
     }
     s->damp[3 * (size_t) m->nn] += power;
     return fin;

@@ -48,17 +48,20 @@ static RJ__INLINE void rj__visc_elem(const double *kc, double eta, double ex, do
     memcpy(out + 18, bb, sizeof bb);
 }
 
-/* out = out + sign A v (A row-major 3 x 3; At: A transposed). */
-static RJ__INLINE void rj__visc_mv(const double *A, int At, const double *v, double sign,
-                                   double *out)
+/* out += A v (A row-major 3 x 3). */
+static RJ__INLINE void rj__visc_mv(const double *A, const double *v, double *out)
 {
-    int p;
-    for (p = 0; p < 3; p++) {
-        const double a0 = At ? A[p] : A[3 * p];
-        const double a1 = At ? A[3 + p] : A[3 * p + 1];
-        const double a2 = At ? A[6 + p] : A[3 * p + 2];
-        out[p] += sign * (a0 * v[0] + a1 * v[1] + a2 * v[2]);
-    }
+    out[0] += A[0] * v[0] + A[1] * v[1] + A[2] * v[2];
+    out[1] += A[3] * v[0] + A[4] * v[1] + A[5] * v[2];
+    out[2] += A[6] * v[0] + A[7] * v[1] + A[8] * v[2];
+}
+
+/* out += A^T v. */
+static RJ__INLINE void rj__visc_mtv(const double *A, const double *v, double *out)
+{
+    out[0] += A[0] * v[0] + A[3] * v[1] + A[6] * v[2];
+    out[1] += A[1] * v[0] + A[4] * v[1] + A[7] * v[2];
+    out[2] += A[2] * v[0] + A[5] * v[1] + A[8] * v[2];
 }
 
 /* The inverse of a symmetric positive definite 3 x 3 matrix (cofactors). */
@@ -80,33 +83,40 @@ static RJ__INLINE void rj__visc_inv3(const double *A, double *inv)
     inv[8] = (A[0] * A[4] - A[1] * A[3]) * r;
 }
 
-/* A link's system, node by node in the scratch (RJ__VISC_PER doubles a node): */
+/* A link's system, node by node in the scratch (RJ__VISC_PER doubles a node), after a
+   record before the first node whose element and solution are 0 (and the last node's
+   element 0), so that every node is solved alike: */
 enum {
-    RJ__VI_DINV = 0,  /* the pivot block's inverse (block Thomas) */
-    RJ__VI_Y = 9,     /* the right side, then its forward substitution, then dv */
+    RJ__VI_DINV = 0,  /* the pivot block's inverse */
+    RJ__VI_Y = 9,     /* z_i, then dv */
     RJ__VI_V = 12,    /* v*: the velocities the other forces give */
     RJ__VI_MINV = 15, /* the DOFs' inverse masses (0: does not move) */
     RJ__VI_C = 18,    /* the element from this node to the next: C_aa, C_ab, C_bb */
     RJ__VI_U = 45,    /* its coupling block in the system (rj__visc_upper) */
     RJ__VI_E = 54,    /* its chord at n + 1/2 as predicted (rj__visc_chord) */
-    RJ__VISC_PER = 56
+    RJ__VI_T = 56,    /* D^-1 times the coupling block (block LDL^T) */
+    RJ__VI_MASK = 65, /* 1 for a DOF that moves, 0 for one that does not */
+    RJ__VI_MASS = 68, /* its mass (1 where it does not move: the identity's row) */
+    RJ__VISC_PER = 71
 };
 
-/* Node i's rows of C v (into cv): the element before it (its C_bb, C_ab^T) and the one
-   after (C_aa, C_ab), from the velocities at offset at of each node's record. */
-static RJ__INLINE void rj__visc_cv(const double *W, int i, int nodes, int at, double *cv)
+/* The record before the first node's: its element and solution 0. */
+static void rj__visc_pad(double *W)
 {
-    const double *me = W + (size_t) RJ__VISC_PER * i;
+    double *pad = W - RJ__VISC_PER;
+    memset(pad, 0, sizeof(double) * RJ__VISC_PER);
+}
+
+/* Node i's rows of C v (into cv): the element before it (its C_bb, C_ab^T) and the one
+   after (C_aa, C_ab), from the velocities v* of each node's record. */
+static RJ__INLINE void rj__visc_cv(const double *W, int i, double *cv)
+{
+    const double *me = W + (size_t) RJ__VISC_PER * i, *before = me - RJ__VISC_PER;
     cv[0] = cv[1] = cv[2] = 0;
-    if (i > 0) {
-        const double *before = me - RJ__VISC_PER;
-        rj__visc_mv(before + RJ__VI_C + 18, 0, me + at, 1.0, cv);
-        rj__visc_mv(before + RJ__VI_C + 9, 1, before + at, 1.0, cv);
-    }
-    if (i + 1 < nodes) {
-        rj__visc_mv(me + RJ__VI_C, 0, me + at, 1.0, cv);
-        rj__visc_mv(me + RJ__VI_C + 9, 0, me + RJ__VISC_PER + at, 1.0, cv);
-    }
+    rj__visc_mv(before + RJ__VI_C + 18, me + RJ__VI_V, cv);
+    rj__visc_mtv(before + RJ__VI_C + 9, before + RJ__VI_V, cv);
+    rj__visc_mv(me + RJ__VI_C, me + RJ__VI_V, cv);
+    rj__visc_mv(me + RJ__VI_C + 9, me + RJ__VISC_PER + RJ__VI_V, cv);
 }
 
 /* The coupling block A_{i,i+1} = kick C_ab of element i, with the rows of node i's and the
@@ -116,77 +126,69 @@ static RJ__INLINE void rj__visc_upper(double *W, int i, double kick)
     double *me = W + (size_t) RJ__VISC_PER * i;
     const double *next = me + RJ__VISC_PER;
     int p, q;
-    for (p = 0; p < 3; p++) {
-        const double row = me[RJ__VI_MINV + p] > 0 ? kick : 0.0;
-        for (q = 0; q < 3; q++) {
-            const double col = next[RJ__VI_MINV + q] > 0 ? row : 0.0;
-            me[RJ__VI_U + 3 * p + q] = col * me[RJ__VI_C + 9 + 3 * p + q];
-        }
-    }
+    for (p = 0; p < 3; p++)
+        for (q = 0; q < 3; q++)
+            me[RJ__VI_U + 3 * p + q] = kick * me[RJ__VI_MASK + p] * next[RJ__VI_MASK + q] *
+                                       me[RJ__VI_C + 9 + 3 * p + q];
 }
 
 /* Node i's diagonal block M + kick (C_bb before + C_aa after); a fixed DOF's row and
    column are the identity's. */
-static RJ__INLINE void rj__visc_diag(const double *W, int i, int nodes, double kick, double *A)
+static RJ__INLINE void rj__visc_diag(const double *W, int i, double kick, double *A)
 {
-    const double *me = W + (size_t) RJ__VISC_PER * i;
+    const double *me = W + (size_t) RJ__VISC_PER * i, *before = me - RJ__VISC_PER;
     int p, q;
-    for (p = 0; p < 9; p++) {
-        A[p] = i + 1 < nodes ? kick * me[RJ__VI_C + p] : 0.0;
-        if (i > 0)
-            A[p] += kick * (me - RJ__VISC_PER)[RJ__VI_C + 18 + p];
-    }
-    for (p = 0; p < 3; p++) {
-        const double minv = me[RJ__VI_MINV + p];
-        if (minv > 0) {
-            A[4 * p] += 1.0 / minv;
-            continue;
-        }
+    for (p = 0; p < 3; p++)
         for (q = 0; q < 3; q++)
-            A[3 * p + q] = A[3 * q + p] = 0.0;
-        A[4 * p] = 1.0;
-    }
+            A[3 * p + q] = kick * me[RJ__VI_MASK + p] * me[RJ__VI_MASK + q] *
+                           (me[RJ__VI_C + 3 * p + q] + before[RJ__VI_C + 18 + 3 * p + q]);
+    for (p = 0; p < 3; p++)
+        A[4 * p] += me[RJ__VI_MASS + p];
 }
 
 /* (M + kick C) dv = -kick C v* over a link's nodes (their records in W filled: v*, the
-   inverse masses, each element's blocks): dv into each record's RJ__VI_Y. */
+   inverse masses, each element's blocks; the record before W padded): dv into each
+   record's RJ__VI_Y. Block LDL^T: the pivots D_i = A_ii - U^T D_{i-1}^-1 U (U =
+   A_{i-1,i}, symmetric), z_i = D_i^-1 (y_i - U^T z_{i-1}), then dv_i = z_i - T_i dv_{i+1}
+   with T_i = D_i^-1 A_{i,i+1}. */
 static void rj__visc_solve(double *W, int nodes, double kick)
 {
-    double A[9], L[9], T[3];
-    int i, p, q, k;
-    /* forward: the pivots D_i = A_ii - A_{i,i-1} D_{i-1}^-1 A_{i-1,i} and y */
+    double A[9], y[3];
+    int i, p, q;
     for (i = 0; i < nodes; i++) {
-        double *me = W + (size_t) RJ__VISC_PER * i, *y = me + RJ__VI_Y;
-        rj__visc_cv(W, i, nodes, RJ__VI_V, y);
+        double *me = W + (size_t) RJ__VISC_PER * i;
+        const double *before = me - RJ__VISC_PER;
+        const double *U = before + RJ__VI_U, *T = before + RJ__VI_T;
+        rj__visc_cv(W, i, y);
         for (p = 0; p < 3; p++)
-            y[p] = me[RJ__VI_MINV + p] > 0 ? -kick * y[p] : 0.0;
-        rj__visc_diag(W, i, nodes, kick, A);
-        if (i > 0) {
-            const double *before = me - RJ__VISC_PER;
-            const double *U = before + RJ__VI_U, *Dinv = before + RJ__VI_DINV;
-            /* L = U^T D_{i-1}^-1, then A -= L U and y -= L y_{i-1} */
-            for (p = 0; p < 3; p++)
-                for (q = 0; q < 3; q++)
-                    L[3 * p + q] =
-                        U[p] * Dinv[q] + U[3 + p] * Dinv[3 + q] + U[6 + p] * Dinv[6 + q];
-            for (p = 0; p < 3; p++)
-                for (q = 0; q < 3; q++)
-                    for (k = 0; k < 3; k++)
-                        A[3 * p + q] -= L[3 * p + k] * U[3 * k + q];
-            rj__visc_mv(L, 0, before + RJ__VI_Y, -1.0, y);
-        }
+            y[p] *= -kick * me[RJ__VI_MASK + p];
+        rj__visc_diag(W, i, kick, A);
+        /* A -= U^T T (its upper triangle, then mirrored) and y -= U^T z_{i-1} */
+        for (p = 0; p < 3; p++)
+            for (q = p; q < 3; q++)
+                A[3 * p + q] -= U[p] * T[q] + U[3 + p] * T[3 + q] + U[6 + p] * T[6 + q];
+        A[3] = A[1];
+        A[6] = A[2];
+        A[7] = A[5];
+        for (p = 0; p < 3; p++)
+            y[p] -= U[p] * before[RJ__VI_Y] + U[3 + p] * before[RJ__VI_Y + 1] +
+                    U[6 + p] * before[RJ__VI_Y + 2];
         rj__visc_inv3(A, me + RJ__VI_DINV);
-        if (i + 1 < nodes)
-            rj__visc_upper(W, i, kick);
-    }
-    /* back: dv_i = D_i^-1 (y_i - A_{i,i+1} dv_{i+1}) */
-    for (i = nodes - 1; i >= 0; i--) {
-        double *me = W + (size_t) RJ__VISC_PER * i, *y = me + RJ__VI_Y;
-        if (i + 1 < nodes)
-            rj__visc_mv(me + RJ__VI_U, 0, me + RJ__VISC_PER + RJ__VI_Y, -1.0, y);
+        me[RJ__VI_Y] = me[RJ__VI_Y + 1] = me[RJ__VI_Y + 2] = 0;
+        rj__visc_mv(me + RJ__VI_DINV, y, me + RJ__VI_Y);
+        rj__visc_upper(W, i, kick);
         for (p = 0; p < 3; p++)
-            T[p] = y[p];
-        y[0] = y[1] = y[2] = 0;
-        rj__visc_mv(me + RJ__VI_DINV, 0, T, 1.0, y);
+            for (q = 0; q < 3; q++)
+                me[RJ__VI_T + 3 * p + q] = me[RJ__VI_DINV + 3 * p] * me[RJ__VI_U + q] +
+                                           me[RJ__VI_DINV + 3 * p + 1] * me[RJ__VI_U + 3 + q] +
+                                           me[RJ__VI_DINV + 3 * p + 2] * me[RJ__VI_U + 6 + q];
+    }
+    /* back: dv_i = z_i - T_i dv_{i+1} (the last node's T is 0) */
+    for (i = nodes - 2; i >= 0; i--) {
+        double *me = W + (size_t) RJ__VISC_PER * i;
+        double t[3] = { 0, 0, 0 };
+        rj__visc_mv(me + RJ__VI_T, me + RJ__VISC_PER + RJ__VI_Y, t);
+        for (p = 0; p < 3; p++)
+            me[RJ__VI_Y + p] -= t[p];
     }
 }
