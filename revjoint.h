@@ -687,11 +687,18 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
    - Scenes with inextensible links, and pins between two rigid bodies or a rigid body
      and the ground in mixed scenes: Newton's second law for the links below the joint,
      their nodes' and bodies' m a - m g less loads and the caller's forces (their
-     elements', lengths' and pins' forces cancel inside them), at t^n.
-   RJ_ERR_INVALID, force 0, not yet: there, a loop tying the links below the joint to the
-   rest or a held body among them; in-place stepping, a chord reference on a flexible
-   pin node, before a step (or a checkpoint's load, or rj_settle: the state a step
-   before is needed). */
+     elements', lengths' and pins' forces cancel inside them), and less the forces of
+     the loop joints that tie them to the rest of the scene, at t^n.
+   - A loop joint of those scenes: its pin node's balance as for flexible links, less
+     what the node's own link's lengths put on it over the step (SHAKE's pushes, which
+     the step records); between two rigid bodies, the pushes of the pin between them
+     over the step (recorded too), at t^n. Each pin's two sides agree to the round-off
+     of positions over dt^2 (build/test_loops).
+   RJ_ERR_INVALID, force 0, not yet: a loop joint pinning a rigid body of a mixed scene to
+   the ground, or one with a chord reference, and the joints whose links such a loop ties
+   to the rest; a held body among the links below a joint; in-place stepping, a chord
+   reference on a flexible pin node, before a step (or a checkpoint's load, or rj_settle:
+   the state a step before is needed). */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
 /* Every joint's pin force at once (2 per joint in forces, as rj_joint_pin_force; NaN
@@ -1327,8 +1334,11 @@ struct rj_state {
     double *peak_work; /* (RJ__PIN_PER_LINK (nl + 1) + 2 nj) their queries' scratch */
     double *sha, *shb, *shc,
         *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
+    double *shp; /* (2 nn with inextensible links and loops, else none) SHAKE's pushes
+                    over the step by each element's second node (rj__loop_records) */
     double *gsw; /* (2 gs_prof + 9 gs_n + 2 nn, or none) rj__gs_work */
-    double *bpw; /* (with pins between bodies: 2 (2 nbp)^2 + 4 nbp + 3 ncl) rj__body_pins */
+    double *bpw; /* (with pins between bodies: 2 (2 nbp)^2 + 4 nbp + 3 ncl, and 2 nbp
+                    with loops) rj__body_pins */
     double *eu,
         *ebt; /* (ne) element strain energies; scratch (chord angles at reset, SHAKE's active flags) */
     double *jsc;          /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
@@ -1350,8 +1360,9 @@ struct rj_state {
     rj__term *terms;  /* their terms (rj__terms_capacity) */
     double *rsys;     /* node space: the rows' system, its factor, right side and impulses */
     double *loop_force; /* (2 nj + 1) rigid loops: each loop joint's pin force over the last
-                           step, from its rows' impulses (rj__rig_loop_forces), then the
-                           step count they belong to (-1: none) */
+                           step, from its rows' impulses (rj__rig_loop_forces); node space:
+                           what its projections gave it (rj__loop_records); then the step
+                           count they belong to (-1: none) */
     char err[640];
     char warn[200]; /* latest warning (late contact), written only when one occurs */
 };
@@ -5410,6 +5421,12 @@ static int rj__rigid_own(const rj_model *m, int n)
     return m->ldef[link].fidelity == RJ_LINK_RIGID;
 }
 
+/* A rigid body's own node in a mixed scene (massless: its body carries it)? */
+static int rj__own_body_node(const rj_model *m, int k)
+{
+    return k >= 0 && m->ncl && RJ__CL_RIGID(m, k);
+}
+
 /* A pin group holding nodes of two rigid links: a pin between two bodies (rj__body_pins
    keeps them together), from body l's node mine to every own node of a later rigid link
    in the group; a body's members are its own nodes and the group's other nodes. */
@@ -7388,6 +7405,17 @@ static void rj__gs_move(const rj_model *m, const rj__gs_work *w, double *nx, dou
     }
 }
 
+/* With loops: each element's push lambda_i e_i^n into shp by its second node, summed over
+   the iterations (rj__loop_records takes a loop's pin node's share). */
+static void rj__gs_track(const rj_model *m, const rj__gs_work *w, double *shp)
+{
+    int i;
+    for (i = 0; i < m->gs_n; i++) {
+        shp[2 * m->gs_nb[i]] += w->lam[i] * w->ox[i];
+        shp[2 * m->gs_nb[i] + 1] += w->lam[i] * w->oy[i];
+    }
+}
+
 /* The residuals -g_i = l0^2 - |e_i|^2 (0 for an element nothing moves), the chords now;
    returns the largest |g_i| / l0^2. */
 static double rj__gs_residuals(const rj_model *m, const rj__gs_work *w, const double *nx,
@@ -7427,6 +7455,8 @@ static void rj__shake_graph(const rj_model *m, rj_state *s, const double *x, con
             rj__gs_factor(m, &w);
         rj__gs_solve(m, &w);
         rj__gs_move(m, &w, nx, ny);
+        if (m->nloop)
+            rj__gs_track(m, &w, s->shp);
     }
 }
 /* ------------------------------------------------------------------ building the model */
@@ -8775,7 +8805,8 @@ RJDEF void rj_model_destroy(rj_model *m, void *alloc_ctx)
 
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
-    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, damp, visc, visc_force, peaks, peak_work, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
+    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, damp, visc, visc_force, peaks,
+        peak_work, sha, shb, shc, shr, shp, gsw, bpw, eu, ebt, jsc,
         rsc, rows, terms, rsys, input_torque, input_node, node_applied, snap_torque, loop_force;
 } rj__slayout;
 
@@ -8818,12 +8849,14 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->shb = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shc = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shr = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
+    /* with loops: SHAKE's pushes over the step, for the loop joints' records */
+    L->shp = rj__carve(&off, m->any_inext && m->nloop ? 2 * (size_t) m->nn : 0, sizeof(double));
     L->gsw = rj__carve(&off,
                        m->gs_n ? 2 * m->gs_prof + 9 * (size_t) m->gs_n + 2 * (size_t) m->nn : 0,
                        sizeof(double));
     L->bpw = rj__carve(&off,
                        m->nbp ? 8 * (size_t) m->nbp * (size_t) m->nbp + 4 * (size_t) m->nbp +
-                                    3 * (size_t) m->ncl
+                                    3 * (size_t) m->ncl + (m->nloop ? 2 * (size_t) m->nbp : 0)
                               : 0,
                        sizeof(double));
     L->eu = rj__carve(&off, (size_t) m->ne, sizeof(double));
@@ -9036,6 +9069,7 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->shb = (double *) (void *) (base + L.shb);
     s->shc = (double *) (void *) (base + L.shc);
     s->shr = (double *) (void *) (base + L.shr);
+    s->shp = (double *) (void *) (base + L.shp);
     s->gsw = (double *) (void *) (base + L.gsw);
     s->bpw = (double *) (void *) (base + L.bpw);
     s->eu = (double *) (void *) (base + L.eu);
@@ -9287,6 +9321,18 @@ static double rj__shake_w(const rj_model *m, const rj_state *s, int k, const dou
     return (m->cl_fix[c] == 0 ? 1.0 / m->cl_M[c] : 0.0) + cr * cr / (u2 * m->cl_I[c]);
 }
 
+/* With loops: a chain's pushes lambda_i e_i^n into shp by each element's second node,
+   summed over the iterations (as rj__gs_track; the chords at n as the update takes them). */
+static void rj__shake_track(const int *nd, int ne, const double *lam, const double *x,
+                            const double *y, double *shp)
+{
+    int i;
+    for (i = 0; i < ne; i++) {
+        shp[2 * nd[i + 1]] += lam[i] * (x[nd[i + 1]] - x[nd[i]]);
+        shp[2 * nd[i + 1] + 1] += lam[i] * (y[nd[i + 1]] - y[nd[i]]);
+    }
+}
+
 static void rj__shake(const rj_model *m, rj_state *s, const double *x, const double *y,
                              double *nx, double *ny)
 {
@@ -9297,6 +9343,8 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
            *act = s->ebt; /* act: 1 for an element that can move, 0 between two fixed nodes */
     const double dt = m->dt;
     int ch, it, i, q, gi;
+    if (m->nloop)
+        memset(s->shp, 0, 2 * sizeof(double) * (size_t) m->nn);
     if (m->gs_n)
         rj__shake_graph(m, s, x, y, nx, ny);
     for (ch = 0; ch < m->nch; ch++) {
@@ -9373,6 +9421,8 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
             lam[ne - 1] = r[ne - 1] * b[ne - 1];
             for (i = ne - 2; i >= 0; i--)
                 lam[i] = (r[i] - c[i] * lam[i + 1]) * b[i];
+            if (m->nloop)
+                rj__shake_track(nd, ne, lam, x, y, s->shp);
             if (bodies)
                 for (q = 0; q < 3 * m->ncl; q++)
                     imp[q] = 0;
@@ -13268,16 +13318,28 @@ static void rj__body_pins_move(const rj_model *m, const rj__frames *f, const dou
     }
 }
 
+/* With loops: the pushes of the pins between bodies summed over a step's passes, 2 a pin
+   (x, y), after rj__body_pins' matrices, gaps, pushes and bodies' impulses in its
+   scratch (rj_state.bpw). */
+static double *rj__body_pins_tot(const rj_model *m, const rj_state *s)
+{
+    const size_t n2 = 2 * (size_t) m->nbp;
+    return s->bpw + 2 * n2 * n2 + 2 * n2 + 3 * (size_t) m->ncl;
+}
+
 /* Pins between two rigid bodies of a mixed scene, on positions: Newton on the pins' gaps
    (the matrix of the first pass serves the later ones; at most 20 passes, to 1e-14 of the
    longest body pinned), the bodies' velocities following their corrections, as SHAKE
-   does for inextensible links; the sum of what it wrote into *fin. */
+   does for inextensible links; the sum of what it wrote into *fin. With loops, each
+   pin's pushes summed over the passes into tot (rj__body_pins_tot). */
 static void rj__body_pins(const rj_model *m, rj_state *s, const rj__frames *f, double *fin)
 {
     const int n2 = 2 * m->nbp;
     double *A = s->bpw, *LU = A + (size_t) n2 * n2, *gap = LU + (size_t) n2 * n2;
-    double *lam = gap + n2, *imp = lam + n2, scale = 0;
+    double *lam = gap + n2, *imp = lam + n2, *tot = rj__body_pins_tot(m, s), scale = 0;
     int pass, p;
+    for (p = 0; p < n2 && m->nloop; p++)
+        tot[p] = 0;
     for (p = 0; p < m->nbp; p++) {
         int link, node;
         rj__node_of(m, m->bp_node[2 * p], &link, &node);
@@ -13298,7 +13360,94 @@ static void rj__body_pins(const rj_model *m, rj_state *s, const rj__frames *f, d
         memcpy(LU, A, sizeof(double) * (size_t) n2 * (size_t) n2);
         rj__body_pins_solve(n2, LU, gap, lam);
         rj__body_pins_move(m, f, lam, imp, fin);
+        for (p = 0; p < n2 && m->nloop; p++)
+            tot[p] += lam[p];
     }
+}
+
+/* Node space: the pin node whose balance gives joint j's pin force, body 2's, or body 1's
+   (*sign -1) where body 2 is a rigid body of a mixed scene (its own nodes are massless,
+   their body takes the pin's force); -1 for the ground. */
+static int rj__balance_node(const rj_model *m, int j, double *sign)
+{
+    const rj__joint *J = &m->jnt[j];
+    const int body2 = rj__own_body_node(m, J->nJ);
+    *sign = body2 ? -1.0 : 1.0;
+    return body2 ? J->nI : J->nJ;
+}
+
+/* How node space knows a loop joint's pin force (rj__loop_side). */
+enum { RJ__LOOP_NONE, RJ__LOOP_NODE, RJ__LOOP_BODIES };
+
+/* Node space: where loop joint j's pin force comes from: between two rigid bodies, the
+   pushes of the pin between them (RJ__LOOP_BODIES); else the balance of its pin node
+   *node (rj__balance_node, RJ__LOOP_NODE) less what its own link's lengths put on it.
+   None for a rigid body pinned to the ground (the body takes that force), or a chord
+   reference (the joint's torque acts on the pin node as forces). */
+static int rj__loop_side(const rj_model *m, int j, int *node, double *sign)
+{
+    const rj__joint *J = &m->jnt[j];
+    *node = rj__balance_node(m, j, sign);
+    if (*sign < 0 && rj__own_body_node(m, J->nI))
+        return RJ__LOOP_BODIES;
+    if (*node < 0 || J->chord)
+        return RJ__LOOP_NONE;
+    return RJ__LOOP_NODE;
+}
+
+/* The pushes of the pins between bodies at node k on its body over the step (summed
+   over the passes, rj__body_pins_tot), into out: +lambda on a pin's first node, -lambda
+   on its second. */
+static void rj__loop_pins_push(const rj_model *m, const rj_state *s, int k, double out[2])
+{
+    const double *tot = rj__body_pins_tot(m, s);
+    int p;
+    for (p = 0; p < m->nbp; p++) {
+        double sign = 0;
+        if (m->bp_node[2 * p] == k)
+            sign = 1;
+        if (m->bp_node[2 * p + 1] == k)
+            sign = -1;
+        out[0] += sign * tot[2 * p];
+        out[1] += sign * tot[2 * p + 1];
+    }
+}
+
+/* SHAKE's pushes over the step (rj_state.shp) on node k from its own link's elements, into
+   out: the element before it (k its second node) and the one after (k + 1 its second
+   node; a link's root is no element's second node, so past its tip none). A push moves
+   its owner by 2 / M of it. */
+static void rj__loop_shake_push(const rj_model *m, const rj_state *s, int k, double out[2])
+{
+    out[0] = 2.0 * s->shp[2 * k];
+    out[1] = 2.0 * s->shp[2 * k + 1];
+    if (k + 1 == m->nn)
+        return;
+    out[0] -= 2.0 * s->shp[2 * k + 2];
+    out[1] -= 2.0 * s->shp[2 * k + 3];
+}
+
+/* The projections' forces in the step on the loop joints, the step's record of them
+   (rj_state.loop_force), stamped with the step they belong to: on a loop's pin node
+   (rj__loop_side), its own link's lengths' (rj__loop_shake_push; none on a flexible
+   link); between two rigid bodies, the pin's on body 2 (rj__loop_pins_push). A push moves
+   positions, and the velocities over dt: an impulse over dt, a force over the kick too. */
+static RJ__NOINLINE void rj__loop_records(const rj_model *m, rj_state *s, const rj__frames *f)
+{
+    const double per = 1.0 / (f->dt * f->kick);
+    int j, node;
+    for (j = 0; j < m->nj; j++) {
+        double *rec = s->loop_force + 2 * j, sign;
+        const int kind = m->jnt[j].loop ? rj__loop_side(m, j, &node, &sign) : RJ__LOOP_NONE;
+        rec[0] = rec[1] = 0;
+        if (kind == RJ__LOOP_BODIES)
+            rj__loop_pins_push(m, s, m->jnt[j].nJ, rec);
+        if (kind == RJ__LOOP_NODE && m->any_inext)
+            rj__loop_shake_push(m, s, node, rec);
+        rec[0] *= per;
+        rec[1] *= per;
+    }
+    s->loop_force[2 * m->nj] = (double) (s->steps + 1);
 }
 
 /* The joints' rates at n + 1/2 again, from the projected velocities, on the geometry at n
@@ -13336,6 +13485,8 @@ static RJ__FORCE_INLINE void rj__stage_constraints(const rj_model *m, rj_state *
         rj__body_pins(m, s, f, fin);
     if (m->any_inext)
         rj__shake(m, s, x, y, nx, ny);
+    if (m->nloop)
+        rj__loop_records(m, s, f);
     for (i = 0; i < m->nn; i++) {
         f->nvx[i] = (nx[i] - x[i]) * idt;
         f->nvy[i] = (ny[i] - y[i]) * idt;
@@ -15604,12 +15755,6 @@ static void rj__elem_node_force(const rj_model *m, const rj_state *s, int k, dou
     }
 }
 
-/* A rigid body's own node in a mixed scene (massless: its body carries it)? */
-static int rj__own_body_node(const rj_model *m, int k)
-{
-    return k >= 0 && m->ncl && RJ__CL_RIGID(m, k);
-}
-
 /* Node space: applied load q's force at t^n, a step before the state's time (on its
    node's rotation then). */
 static void rj__load_at_n(const rj_model *m, const rj_state *s, int q, double value[3])
@@ -15661,22 +15806,50 @@ static void rj__node_momentum(const rj_model *m, const rj_state *s, int k, doubl
 
 /* Node space, flexible links: the force on body 2's pin node from the rest of the pin,
    its momentum's ask less its link's elements (rj__node_momentum), at n. When body 2 is
-   a rigid body of a mixed scene, the same on body 1's node, reversed. */
+   a rigid body of a mixed scene, the same on body 1's node, reversed
+   (rj__balance_node). */
 static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
 {
-    const int k = rj__own_body_node(m, m->jnt[j].nJ) ? m->jnt[j].nI : m->jnt[j].nJ;
-    const double sign = k == m->jnt[j].nJ ? 1.0 : -1.0;
-    double elements[2];
+    double sign, elements[2];
+    const int k = rj__balance_node(m, j, &sign);
     rj__elem_node_force(m, s, k, elements);
     rj__node_momentum(m, s, k, force);
     force[0] = sign * (force[0] - elements[0]);
     force[1] = sign * (force[1] - elements[1]);
 }
 
+/* Node space: loop joint j's pin force (rj__loop_side): its pin node's balance
+   (rj__node_pin_force) less what the node's own link's lengths put on it in the step, or
+   between two rigid bodies the pin's pushes, from the step's record
+   (rj__loop_records). Returns 0 where it has none, force 0: none is known there
+   (rj__loop_side: a rigid body pinned to the ground, a chord reference), or no record of
+   the step that led here (needed with inextensible links or between bodies). */
+static int rj__loop_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
+{
+    const double *rec = s->loop_force + 2 * j;
+    const int recorded = s->loop_force[2 * m->nj] == (double) s->steps;
+    double sign;
+    int node;
+    const int kind = rj__loop_side(m, j, &node, &sign);
+    force[0] = force[1] = 0;
+    if (kind == RJ__LOOP_NONE || (!recorded && (kind == RJ__LOOP_BODIES || m->any_inext)))
+        return 0;
+    if (kind == RJ__LOOP_BODIES) {
+        force[0] = rec[0];
+        force[1] = rec[1];
+        return 1;
+    }
+    rj__node_pin_force(m, s, j, force);
+    if (m->any_inext) {
+        force[0] -= sign * rec[0];
+        force[1] -= sign * rec[1];
+    }
+    return 1;
+}
+
 /* The links below joint j (its body 2 and the links that hang from them, down the joint
-   tree) marked 1 in below (nl); 0 when a loop-closing joint ties them to the rest (its
-   pin's force would count too). */
-static int rj__links_below(const rj_model *m, int j, double *below)
+   tree) marked 1 in below (nl). */
+static void rj__links_below(const rj_model *m, int j, double *below)
 {
     int l, k, grew = 1;
     for (l = 0; l < m->nl; l++)
@@ -15691,11 +15864,26 @@ static int rj__links_below(const rj_model *m, int j, double *below)
             }
         }
     }
+}
+
+/* The loop joints that tie the links marked in below to the rest, their pin forces on
+   them as forces from outside: subtracted from the links' sum in force (F on body 2, -F
+   on body 1). Returns 0 where one has none (rj__loop_pin_force). */
+static int rj__loops_across(const rj_model *m, const rj_state *s, const double *below,
+                            double force[2])
+{
+    int k;
     for (k = 0; k < m->nj; k++) {
         const int b1 = m->jdef[k].body1, b2 = m->jdef[k].body2;
         const int in1 = b1 >= 0 && below[b1] != 0, in2 = below[b2] != 0;
-        if (m->jnt[k].loop && in1 != in2)
+        const double sign = in2 ? 1.0 : -1.0;
+        double loop[2];
+        if (!m->jnt[k].loop || in1 == in2)
+            continue;
+        if (!rj__loop_pin_force(m, s, k, loop))
             return 0;
+        force[0] -= sign * loop[0];
+        force[1] -= sign * loop[1];
     }
     return 1;
 }
@@ -15724,17 +15912,16 @@ static void rj__body_momentum(const rj_model *m, const rj_state *s, int c, doubl
 
 /* Node space with inextensible links or rigid bodies: joint j's pin force as Newton's
    second law for the links below it, the sum of their nodes' momentum asks
-   (rj__node_momentum) and their bodies' (rj__body_momentum): the elements' forces, their
-   lengths' constraint forces and the pins among them are internal and cancel. below: nl
-   doubles of scratch. Returns 0 where a loop ties them to the rest, or a held body is
-   among them. */
+   (rj__node_momentum) and their bodies' (rj__body_momentum) less the forces of the loops
+   that tie them to the rest (rj__loops_across): the elements' forces, their lengths'
+   constraint forces and the pins among them are internal and cancel. below: nl doubles
+   of scratch. Returns 0 where such a loop has no force, or a held body is among them. */
 static int rj__subtree_pin_force(const rj_model *m, const rj_state *s, int j, double *below,
                                  double force[2])
 {
     int l, k;
     force[0] = force[1] = 0;
-    if (!rj__links_below(m, j, below))
-        return 0;
+    rj__links_below(m, j, below);
     for (l = 0; l < m->nl; l++) {
         if (below[l] == 0)
             continue;
@@ -15753,31 +15940,36 @@ static int rj__subtree_pin_force(const rj_model *m, const rj_state *s, int j, do
             force[1] += ask[1];
         }
     }
-    return 1;
+    return rj__loops_across(m, s, below, force);
 }
 
 /* Whether node space takes joint j's pin force from the links below it
    (rj__subtree_pin_force): with inextensible links (their lengths' forces), and at a pin
-   between two rigid bodies or a rigid body and the ground (their projection's). */
+   between two rigid bodies or a rigid body and the ground (their projection's); never
+   at a loop joint (rj__loop_pin_force). */
 static int rj__pin_by_subtree(const rj_model *m, int j)
 {
     const rj__joint *J = &m->jnt[j];
+    if (J->loop)
+        return 0;
     return m->any_inext ||
            (rj__own_body_node(m, J->nJ) && (J->nI < 0 || rj__own_body_node(m, J->nI)));
 }
 
 /* Where rj_joint_pin_force has no answer yet: in-place stepping (no rates at n - 1/2),
-   a chord reference (the joint's forces on the pin node) on the pin node's own balance,
-   before a step; a loop tying the links below the joint to the rest, or a held body among
-   them (rj__subtree_pin_force, NaN); loops of rigid links (their rows' forces). */
+   before a step; a chord reference (the joint's forces on the pin node) on the pin node's
+   own balance; in node space, a loop joint without a force (rj__loop_pin_force), or one
+   tying the links below the joint to the rest, or a held body among them
+   (rj__subtree_pin_force, NaN); loops of rigid links before a step (their rows'
+   forces). */
 static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
 {
     const rj__joint *J = &m->jnt[j];
     if (m->rigid)
         return m->nloop > 0 && s->loop_force[2 * m->nj] != (double) s->steps;
-    if (rj__pin_by_subtree(m, j))
-        return m->ip || !s->at_n;
-    return m->ip || J->chord || !s->at_n;
+    if (m->ip || !s->at_n)
+        return 1;
+    return !J->loop && !rj__pin_by_subtree(m, j) && J->chord;
 }
 
 /* The scratch doubles rj__pin_forces needs: rigid scenes' kinematics, the all-joints
@@ -15863,7 +16055,7 @@ static void rj__pin_pass_order(const rj_model *m, const rj__pin_pass *p)
 }
 
 /* The links whose asks a joint's force needs, marked 1 in need: those below a joint
-   rj__pin_by_subtree takes (every joint with inextensible links; in a mixed scene the
+   rj__pin_by_subtree takes (every tree joint with inextensible links; in a mixed scene the
    pins to and between rigid bodies, whose flexible neighbours' nodes are left out).
    Parents before children (the pass's order backwards): a child of a marked link is. */
 static void rj__pin_pass_need(const rj_model *m, const rj__pin_pass *p)
@@ -15903,9 +16095,35 @@ static void rj__link_momentum(const rj_model *m, const rj_state *s, int l, doubl
     }
 }
 
-/* Every subtree's momentum ask (where needed) and size, children before parents (the
-   pass's order): each link's own plus its children's subtrees'. */
-static void rj__pin_pass_sums(const rj_model *m, const rj_state *s, const rj__pin_pass *p)
+/* The loop joints' pin forces (forces; NaN where none) on the links where needed, as
+   forces from outside the tree: each link's own sum less them (F on body 2, -F on body
+   1; a subtree holding both ends gets none). Those without one tie the subtrees they
+   cross to the rest (rj__pin_pass_loops). */
+static void rj__pin_pass_loop_forces(const rj_model *m, const rj__pin_pass *p,
+                                     const double *forces)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
+        const double *F = forces + 2 * j;
+        if (!m->jnt[j].loop || F[0] != F[0])
+            continue;
+        if (p->need[b2] != 0) {
+            p->fx[b2] -= F[0];
+            p->fy[b2] -= F[1];
+        }
+        if (b1 >= 0 && p->need[b1] != 0) {
+            p->fx[b1] += F[0];
+            p->fy[b1] += F[1];
+        }
+    }
+}
+
+/* Every subtree's momentum ask (where needed) less the loops' forces on it, and its
+   size, children before parents (the pass's order): each link's own plus its children's
+   subtrees'. */
+static void rj__pin_pass_sums(const rj_model *m, const rj_state *s, const rj__pin_pass *p,
+                              const double *forces)
 {
     int l, q, i;
     for (l = 0; l < m->nl; l++) {
@@ -15929,6 +16147,7 @@ static void rj__pin_pass_sums(const rj_model *m, const rj_state *s, const rj__pi
         p->fx[link] -= value[0];
         p->fy[link] -= value[1];
     }
+    rj__pin_pass_loop_forces(m, p, forces);
     /* a child's subtree is summed once its own children's are in it */
     for (i = 0; i < m->nl; i++) {
         const int child = (int) p->order[i], up = rj__pin_pass_up(m, p, child);
@@ -15968,20 +16187,21 @@ static void rj__pin_pass_far(const rj__pin_pass *p, int l, double far)
     p->hi[l] = fmax(p->hi[l], far);
 }
 
-/* With loops: each subtree's lowest and highest place of a loop joint's far end, from
-   the ends inside it (children before parents). A subtree a loop ties to the rest has
-   one outside its own places (ground's, -1, is outside every subtree). */
-static void rj__pin_pass_loops(const rj_model *m, const rj__pin_pass *p)
+/* With loops that have no pin force (forces NaN): each subtree's lowest and highest
+   place of such a loop joint's far end, from the ends inside it (children before
+   parents). A subtree such a loop ties to the rest has one outside its own places
+   (ground's, -1, is outside every subtree). */
+static void rj__pin_pass_loops(const rj_model *m, const rj__pin_pass *p, const double *forces)
 {
     int l, j, i;
     for (l = 0; l < m->nl; l++) {
         p->lo[l] = m->nl;
         p->hi[l] = -1;
     }
-    /* each loop joint's two ends, each seeing the other's place */
+    /* each such loop joint's two ends, each seeing the other's place */
     for (j = 0; j < m->nj; j++) {
         const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
-        if (!m->jnt[j].loop)
+        if (!m->jnt[j].loop || forces[2 * j] == forces[2 * j])
             continue;
         rj__pin_pass_far(p, b2, b1 >= 0 ? p->pre[b1] : -1.0);
         if (b1 >= 0)
@@ -15997,23 +16217,25 @@ static void rj__pin_pass_loops(const rj_model *m, const rj__pin_pass *p)
     }
 }
 
-/* The all-joints pass over work (rj__pin_work_size doubles): every subtree's sums, and
-   with loops the places that tell which subtrees a loop ties to the rest. */
-static void rj__pin_pass_run(const rj_model *m, const rj_state *s, double *work)
+/* The all-joints pass over work (rj__pin_work_size doubles): every subtree's sums with
+   the loop joints' forces (forces, NaN where none), and with loops the places that tell
+   which subtrees a loop without a force ties to the rest. */
+static void rj__pin_pass_run(const rj_model *m, const rj_state *s, double *work,
+                             const double *forces)
 {
     const rj__pin_pass p = rj__pin_pass_of(m, work);
     rj__pin_pass_order(m, &p);
     rj__pin_pass_need(m, &p);
-    rj__pin_pass_sums(m, s, &p);
+    rj__pin_pass_sums(m, s, &p, forces);
     if (!m->nloop)
         return;
     rj__pin_pass_preorder(m, &p);
-    rj__pin_pass_loops(m, &p);
+    rj__pin_pass_loops(m, &p, forces);
 }
 
 /* Joint j's pin force from the pass over work: its body 2's subtree's sum
-   (rj__subtree_pin_force's, in another order). Returns 0 where a loop ties that subtree
-   to the rest. */
+   (rj__subtree_pin_force's, in another order). Returns 0 where a loop without a force
+   ties that subtree to the rest. */
 static int rj__pin_pass_force(const rj_model *m, double *work, int j, double force[2])
 {
     const rj__pin_pass p = rj__pin_pass_of(m, work);
@@ -16038,6 +16260,24 @@ static int rj__pin_pass_wanted(const rj_model *m, const rj_state *s)
     return 0;
 }
 
+/* Node space: joint j's pin force into force (NaN where unknown): a loop joint's own
+   (rj__loop_pin_force); else from the all-joints pass over work where it takes the
+   joint (rj__pin_by_subtree), else from its pin node's balance. */
+static void rj__node_joint_force(const rj_model *m, const rj_state *s, double *work, int j,
+                                 double force[2])
+{
+    int known = !rj__pin_force_unknown(m, s, j);
+    force[0] = force[1] = 0.0;
+    if (known && m->jnt[j].loop)
+        known = rj__loop_pin_force(m, s, j, force);
+    else if (known && rj__pin_by_subtree(m, j))
+        known = rj__pin_pass_force(m, work, j, force);
+    else if (known)
+        rj__node_pin_force(m, s, j, force);
+    if (!known)
+        force[0] = force[1] = NAN;
+}
+
 /* Every joint's pin force into forces (2 a joint, NaN where unknown), with work
    (rj__pin_work_size doubles; allocated when NULL). */
 static rj_result rj__pin_forces(const rj_model *m, const rj_state *s, double *work,
@@ -16051,18 +16291,20 @@ static rj_result rj__pin_forces(const rj_model *m, const rj_state *s, double *wo
             return RJ_ERR_NOMEM;
         work = own;
     }
-    /* node space's subtrees all at once, before the joints read them */
+    /* node space: the loop joints' first, which the pass takes as forces from outside;
+       then the subtrees all at once, before the other joints read them */
+    for (j = 0; j < m->nj && !m->rigid; j++)
+        if (m->jnt[j].loop)
+            rj__node_joint_force(m, s, work, j, forces + 2 * j);
     if (rj__pin_pass_wanted(m, s))
-        rj__pin_pass_run(m, s, work);
-    for (j = 0; j < m->nj; j++) {
-        int unknown = rj__pin_force_unknown(m, s, j);
-        forces[2 * j] = forces[2 * j + 1] = 0.0;
-        if (!unknown && !m->rigid && rj__pin_by_subtree(m, j))
-            unknown = !rj__pin_pass_force(m, work, j, forces + 2 * j);
-        else if (!unknown && !m->rigid)
-            rj__node_pin_force(m, s, j, forces + 2 * j);
-        if (unknown)
-            forces[2 * j] = forces[2 * j + 1] = NAN;
+        rj__pin_pass_run(m, s, work, forces);
+    for (j = 0; j < m->nj && !m->rigid; j++)
+        if (!m->jnt[j].loop)
+            rj__node_joint_force(m, s, work, j, forces + 2 * j);
+    /* rigid scenes: the joints' kinematics come down the tree for all of them at once */
+    for (j = 0; j < m->nj && m->rigid; j++) {
+        const double none = rj__pin_force_unknown(m, s, j) ? NAN : 0.0;
+        forces[2 * j] = forces[2 * j + 1] = none;
     }
     if (m->rigid && m->nj && !rj__pin_force_unknown(m, s, 0))
         rj__rig_pin_forces(m, s, work, forces);
@@ -16103,6 +16345,8 @@ RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int j, 
     force[0] = force[1] = 0;
     if (rj__pin_force_unknown(m, s, j))
         return RJ_ERR_INVALID;
+    if (!m->rigid && m->jnt[j].loop)
+        return rj__loop_pin_force(m, s, j, force) ? RJ_OK : RJ_ERR_INVALID;
     if (!m->rigid && !rj__pin_by_subtree(m, j)) {
         rj__node_pin_force(m, s, j, force);
         return RJ_OK;

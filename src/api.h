@@ -687,11 +687,18 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
    - Scenes with inextensible links, and pins between two rigid bodies or a rigid body
      and the ground in mixed scenes: Newton's second law for the links below the joint,
      their nodes' and bodies' m a - m g less loads and the caller's forces (their
-     elements', lengths' and pins' forces cancel inside them), at t^n.
-   RJ_ERR_INVALID, force 0, not yet: there, a loop tying the links below the joint to the
-   rest or a held body among them; in-place stepping, a chord reference on a flexible
-   pin node, before a step (or a checkpoint's load, or rj_settle: the state a step
-   before is needed). */
+     elements', lengths' and pins' forces cancel inside them), and less the forces of
+     the loop joints that tie them to the rest of the scene, at t^n.
+   - A loop joint of those scenes: its pin node's balance as for flexible links, less
+     what the node's own link's lengths put on it over the step (SHAKE's pushes, which
+     the step records); between two rigid bodies, the pushes of the pin between them
+     over the step (recorded too), at t^n. Each pin's two sides agree to the round-off
+     of positions over dt^2 (build/test_loops).
+   RJ_ERR_INVALID, force 0, not yet: a loop joint pinning a rigid body of a mixed scene to
+   the ground, or one with a chord reference, and the joints whose links such a loop ties
+   to the rest; a held body among the links below a joint; in-place stepping, a chord
+   reference on a flexible pin node, before a step (or a checkpoint's load, or rj_settle:
+   the state a step before is needed). */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
 /* Every joint's pin force at once (2 per joint in forces, as rj_joint_pin_force; NaN

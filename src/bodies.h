@@ -43,6 +43,12 @@ static int rj__rigid_own(const rj_model *m, int n)
     return m->ldef[link].fidelity == RJ_LINK_RIGID;
 }
 
+/* A rigid body's own node in a mixed scene (massless: its body carries it)? */
+static int rj__own_body_node(const rj_model *m, int k)
+{
+    return k >= 0 && m->ncl && RJ__CL_RIGID(m, k);
+}
+
 /* A pin group holding nodes of two rigid links: a pin between two bodies (rj__body_pins
    keeps them together), from body l's node mine to every own node of a later rigid link
    in the group; a body's members are its own nodes and the group's other nodes. */

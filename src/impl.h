@@ -417,8 +417,11 @@ struct rj_state {
     double *peak_work; /* (RJ__PIN_PER_LINK (nl + 1) + 2 nj) their queries' scratch */
     double *sha, *shb, *shc,
         *shr; /* (ne each with inextensible links, else none) SHAKE's tridiagonal and residuals */
+    double *shp; /* (2 nn with inextensible links and loops, else none) SHAKE's pushes
+                    over the step by each element's second node (rj__loop_records) */
     double *gsw; /* (2 gs_prof + 9 gs_n + 2 nn, or none) rj__gs_work */
-    double *bpw; /* (with pins between bodies: 2 (2 nbp)^2 + 4 nbp + 3 ncl) rj__body_pins */
+    double *bpw; /* (with pins between bodies: 2 (2 nbp)^2 + 4 nbp + 3 ncl, and 2 nbp
+                    with loops) rj__body_pins */
     double *eu,
         *ebt; /* (ne) element strain energies; scratch (chord angles at reset, SHAKE's active flags) */
     double *jsc;          /* (nj*8) joint scratch: ax ay bx by ratem tau_nc */
@@ -440,8 +443,9 @@ struct rj_state {
     rj__term *terms;  /* their terms (rj__terms_capacity) */
     double *rsys;     /* node space: the rows' system, its factor, right side and impulses */
     double *loop_force; /* (2 nj + 1) rigid loops: each loop joint's pin force over the last
-                           step, from its rows' impulses (rj__rig_loop_forces), then the
-                           step count they belong to (-1: none) */
+                           step, from its rows' impulses (rj__rig_loop_forces); node space:
+                           what its projections gave it (rj__loop_records); then the step
+                           count they belong to (-1: none) */
     char err[640];
     char warn[200]; /* latest warning (late contact), written only when one occurs */
 };

@@ -513,12 +513,6 @@ static void rj__elem_node_force(const rj_model *m, const rj_state *s, int k, dou
     }
 }
 
-/* A rigid body's own node in a mixed scene (massless: its body carries it)? */
-static int rj__own_body_node(const rj_model *m, int k)
-{
-    return k >= 0 && m->ncl && RJ__CL_RIGID(m, k);
-}
-
 /* Node space: applied load q's force at t^n, a step before the state's time (on its
    node's rotation then). */
 static void rj__load_at_n(const rj_model *m, const rj_state *s, int q, double value[3])
@@ -570,22 +564,50 @@ static void rj__node_momentum(const rj_model *m, const rj_state *s, int k, doubl
 
 /* Node space, flexible links: the force on body 2's pin node from the rest of the pin,
    its momentum's ask less its link's elements (rj__node_momentum), at n. When body 2 is
-   a rigid body of a mixed scene, the same on body 1's node, reversed. */
+   a rigid body of a mixed scene, the same on body 1's node, reversed
+   (rj__balance_node). */
 static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
 {
-    const int k = rj__own_body_node(m, m->jnt[j].nJ) ? m->jnt[j].nI : m->jnt[j].nJ;
-    const double sign = k == m->jnt[j].nJ ? 1.0 : -1.0;
-    double elements[2];
+    double sign, elements[2];
+    const int k = rj__balance_node(m, j, &sign);
     rj__elem_node_force(m, s, k, elements);
     rj__node_momentum(m, s, k, force);
     force[0] = sign * (force[0] - elements[0]);
     force[1] = sign * (force[1] - elements[1]);
 }
 
+/* Node space: loop joint j's pin force (rj__loop_side): its pin node's balance
+   (rj__node_pin_force) less what the node's own link's lengths put on it in the step, or
+   between two rigid bodies the pin's pushes, from the step's record
+   (rj__loop_records). Returns 0 where it has none, force 0: none is known there
+   (rj__loop_side: a rigid body pinned to the ground, a chord reference), or no record of
+   the step that led here (needed with inextensible links or between bodies). */
+static int rj__loop_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
+{
+    const double *rec = s->loop_force + 2 * j;
+    const int recorded = s->loop_force[2 * m->nj] == (double) s->steps;
+    double sign;
+    int node;
+    const int kind = rj__loop_side(m, j, &node, &sign);
+    force[0] = force[1] = 0;
+    if (kind == RJ__LOOP_NONE || (!recorded && (kind == RJ__LOOP_BODIES || m->any_inext)))
+        return 0;
+    if (kind == RJ__LOOP_BODIES) {
+        force[0] = rec[0];
+        force[1] = rec[1];
+        return 1;
+    }
+    rj__node_pin_force(m, s, j, force);
+    if (m->any_inext) {
+        force[0] -= sign * rec[0];
+        force[1] -= sign * rec[1];
+    }
+    return 1;
+}
+
 /* The links below joint j (its body 2 and the links that hang from them, down the joint
-   tree) marked 1 in below (nl); 0 when a loop-closing joint ties them to the rest (its
-   pin's force would count too). */
-static int rj__links_below(const rj_model *m, int j, double *below)
+   tree) marked 1 in below (nl). */
+static void rj__links_below(const rj_model *m, int j, double *below)
 {
     int l, k, grew = 1;
     for (l = 0; l < m->nl; l++)
@@ -600,11 +622,26 @@ static int rj__links_below(const rj_model *m, int j, double *below)
             }
         }
     }
+}
+
+/* The loop joints that tie the links marked in below to the rest, their pin forces on
+   them as forces from outside: subtracted from the links' sum in force (F on body 2, -F
+   on body 1). Returns 0 where one has none (rj__loop_pin_force). */
+static int rj__loops_across(const rj_model *m, const rj_state *s, const double *below,
+                            double force[2])
+{
+    int k;
     for (k = 0; k < m->nj; k++) {
         const int b1 = m->jdef[k].body1, b2 = m->jdef[k].body2;
         const int in1 = b1 >= 0 && below[b1] != 0, in2 = below[b2] != 0;
-        if (m->jnt[k].loop && in1 != in2)
+        const double sign = in2 ? 1.0 : -1.0;
+        double loop[2];
+        if (!m->jnt[k].loop || in1 == in2)
+            continue;
+        if (!rj__loop_pin_force(m, s, k, loop))
             return 0;
+        force[0] -= sign * loop[0];
+        force[1] -= sign * loop[1];
     }
     return 1;
 }
@@ -633,17 +670,16 @@ static void rj__body_momentum(const rj_model *m, const rj_state *s, int c, doubl
 
 /* Node space with inextensible links or rigid bodies: joint j's pin force as Newton's
    second law for the links below it, the sum of their nodes' momentum asks
-   (rj__node_momentum) and their bodies' (rj__body_momentum): the elements' forces, their
-   lengths' constraint forces and the pins among them are internal and cancel. below: nl
-   doubles of scratch. Returns 0 where a loop ties them to the rest, or a held body is
-   among them. */
+   (rj__node_momentum) and their bodies' (rj__body_momentum) less the forces of the loops
+   that tie them to the rest (rj__loops_across): the elements' forces, their lengths'
+   constraint forces and the pins among them are internal and cancel. below: nl doubles
+   of scratch. Returns 0 where such a loop has no force, or a held body is among them. */
 static int rj__subtree_pin_force(const rj_model *m, const rj_state *s, int j, double *below,
                                  double force[2])
 {
     int l, k;
     force[0] = force[1] = 0;
-    if (!rj__links_below(m, j, below))
-        return 0;
+    rj__links_below(m, j, below);
     for (l = 0; l < m->nl; l++) {
         if (below[l] == 0)
             continue;
@@ -662,31 +698,36 @@ static int rj__subtree_pin_force(const rj_model *m, const rj_state *s, int j, do
             force[1] += ask[1];
         }
     }
-    return 1;
+    return rj__loops_across(m, s, below, force);
 }
 
 /* Whether node space takes joint j's pin force from the links below it
    (rj__subtree_pin_force): with inextensible links (their lengths' forces), and at a pin
-   between two rigid bodies or a rigid body and the ground (their projection's). */
+   between two rigid bodies or a rigid body and the ground (their projection's); never
+   at a loop joint (rj__loop_pin_force). */
 static int rj__pin_by_subtree(const rj_model *m, int j)
 {
     const rj__joint *J = &m->jnt[j];
+    if (J->loop)
+        return 0;
     return m->any_inext ||
            (rj__own_body_node(m, J->nJ) && (J->nI < 0 || rj__own_body_node(m, J->nI)));
 }
 
 /* Where rj_joint_pin_force has no answer yet: in-place stepping (no rates at n - 1/2),
-   a chord reference (the joint's forces on the pin node) on the pin node's own balance,
-   before a step; a loop tying the links below the joint to the rest, or a held body among
-   them (rj__subtree_pin_force, NaN); loops of rigid links (their rows' forces). */
+   before a step; a chord reference (the joint's forces on the pin node) on the pin node's
+   own balance; in node space, a loop joint without a force (rj__loop_pin_force), or one
+   tying the links below the joint to the rest, or a held body among them
+   (rj__subtree_pin_force, NaN); loops of rigid links before a step (their rows'
+   forces). */
 static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
 {
     const rj__joint *J = &m->jnt[j];
     if (m->rigid)
         return m->nloop > 0 && s->loop_force[2 * m->nj] != (double) s->steps;
-    if (rj__pin_by_subtree(m, j))
-        return m->ip || !s->at_n;
-    return m->ip || J->chord || !s->at_n;
+    if (m->ip || !s->at_n)
+        return 1;
+    return !J->loop && !rj__pin_by_subtree(m, j) && J->chord;
 }
 
 /* The scratch doubles rj__pin_forces needs: rigid scenes' kinematics, the all-joints
@@ -772,7 +813,7 @@ static void rj__pin_pass_order(const rj_model *m, const rj__pin_pass *p)
 }
 
 /* The links whose asks a joint's force needs, marked 1 in need: those below a joint
-   rj__pin_by_subtree takes (every joint with inextensible links; in a mixed scene the
+   rj__pin_by_subtree takes (every tree joint with inextensible links; in a mixed scene the
    pins to and between rigid bodies, whose flexible neighbours' nodes are left out).
    Parents before children (the pass's order backwards): a child of a marked link is. */
 static void rj__pin_pass_need(const rj_model *m, const rj__pin_pass *p)
@@ -812,9 +853,35 @@ static void rj__link_momentum(const rj_model *m, const rj_state *s, int l, doubl
     }
 }
 
-/* Every subtree's momentum ask (where needed) and size, children before parents (the
-   pass's order): each link's own plus its children's subtrees'. */
-static void rj__pin_pass_sums(const rj_model *m, const rj_state *s, const rj__pin_pass *p)
+/* The loop joints' pin forces (forces; NaN where none) on the links where needed, as
+   forces from outside the tree: each link's own sum less them (F on body 2, -F on body
+   1; a subtree holding both ends gets none). Those without one tie the subtrees they
+   cross to the rest (rj__pin_pass_loops). */
+static void rj__pin_pass_loop_forces(const rj_model *m, const rj__pin_pass *p,
+                                     const double *forces)
+{
+    int j;
+    for (j = 0; j < m->nj; j++) {
+        const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
+        const double *F = forces + 2 * j;
+        if (!m->jnt[j].loop || F[0] != F[0])
+            continue;
+        if (p->need[b2] != 0) {
+            p->fx[b2] -= F[0];
+            p->fy[b2] -= F[1];
+        }
+        if (b1 >= 0 && p->need[b1] != 0) {
+            p->fx[b1] += F[0];
+            p->fy[b1] += F[1];
+        }
+    }
+}
+
+/* Every subtree's momentum ask (where needed) less the loops' forces on it, and its
+   size, children before parents (the pass's order): each link's own plus its children's
+   subtrees'. */
+static void rj__pin_pass_sums(const rj_model *m, const rj_state *s, const rj__pin_pass *p,
+                              const double *forces)
 {
     int l, q, i;
     for (l = 0; l < m->nl; l++) {
@@ -838,6 +905,7 @@ static void rj__pin_pass_sums(const rj_model *m, const rj_state *s, const rj__pi
         p->fx[link] -= value[0];
         p->fy[link] -= value[1];
     }
+    rj__pin_pass_loop_forces(m, p, forces);
     /* a child's subtree is summed once its own children's are in it */
     for (i = 0; i < m->nl; i++) {
         const int child = (int) p->order[i], up = rj__pin_pass_up(m, p, child);
@@ -877,20 +945,21 @@ static void rj__pin_pass_far(const rj__pin_pass *p, int l, double far)
     p->hi[l] = fmax(p->hi[l], far);
 }
 
-/* With loops: each subtree's lowest and highest place of a loop joint's far end, from
-   the ends inside it (children before parents). A subtree a loop ties to the rest has
-   one outside its own places (ground's, -1, is outside every subtree). */
-static void rj__pin_pass_loops(const rj_model *m, const rj__pin_pass *p)
+/* With loops that have no pin force (forces NaN): each subtree's lowest and highest
+   place of such a loop joint's far end, from the ends inside it (children before
+   parents). A subtree such a loop ties to the rest has one outside its own places
+   (ground's, -1, is outside every subtree). */
+static void rj__pin_pass_loops(const rj_model *m, const rj__pin_pass *p, const double *forces)
 {
     int l, j, i;
     for (l = 0; l < m->nl; l++) {
         p->lo[l] = m->nl;
         p->hi[l] = -1;
     }
-    /* each loop joint's two ends, each seeing the other's place */
+    /* each such loop joint's two ends, each seeing the other's place */
     for (j = 0; j < m->nj; j++) {
         const int b1 = m->jdef[j].body1, b2 = m->jdef[j].body2;
-        if (!m->jnt[j].loop)
+        if (!m->jnt[j].loop || forces[2 * j] == forces[2 * j])
             continue;
         rj__pin_pass_far(p, b2, b1 >= 0 ? p->pre[b1] : -1.0);
         if (b1 >= 0)
@@ -906,23 +975,25 @@ static void rj__pin_pass_loops(const rj_model *m, const rj__pin_pass *p)
     }
 }
 
-/* The all-joints pass over work (rj__pin_work_size doubles): every subtree's sums, and
-   with loops the places that tell which subtrees a loop ties to the rest. */
-static void rj__pin_pass_run(const rj_model *m, const rj_state *s, double *work)
+/* The all-joints pass over work (rj__pin_work_size doubles): every subtree's sums with
+   the loop joints' forces (forces, NaN where none), and with loops the places that tell
+   which subtrees a loop without a force ties to the rest. */
+static void rj__pin_pass_run(const rj_model *m, const rj_state *s, double *work,
+                             const double *forces)
 {
     const rj__pin_pass p = rj__pin_pass_of(m, work);
     rj__pin_pass_order(m, &p);
     rj__pin_pass_need(m, &p);
-    rj__pin_pass_sums(m, s, &p);
+    rj__pin_pass_sums(m, s, &p, forces);
     if (!m->nloop)
         return;
     rj__pin_pass_preorder(m, &p);
-    rj__pin_pass_loops(m, &p);
+    rj__pin_pass_loops(m, &p, forces);
 }
 
 /* Joint j's pin force from the pass over work: its body 2's subtree's sum
-   (rj__subtree_pin_force's, in another order). Returns 0 where a loop ties that subtree
-   to the rest. */
+   (rj__subtree_pin_force's, in another order). Returns 0 where a loop without a force
+   ties that subtree to the rest. */
 static int rj__pin_pass_force(const rj_model *m, double *work, int j, double force[2])
 {
     const rj__pin_pass p = rj__pin_pass_of(m, work);
@@ -947,6 +1018,24 @@ static int rj__pin_pass_wanted(const rj_model *m, const rj_state *s)
     return 0;
 }
 
+/* Node space: joint j's pin force into force (NaN where unknown): a loop joint's own
+   (rj__loop_pin_force); else from the all-joints pass over work where it takes the
+   joint (rj__pin_by_subtree), else from its pin node's balance. */
+static void rj__node_joint_force(const rj_model *m, const rj_state *s, double *work, int j,
+                                 double force[2])
+{
+    int known = !rj__pin_force_unknown(m, s, j);
+    force[0] = force[1] = 0.0;
+    if (known && m->jnt[j].loop)
+        known = rj__loop_pin_force(m, s, j, force);
+    else if (known && rj__pin_by_subtree(m, j))
+        known = rj__pin_pass_force(m, work, j, force);
+    else if (known)
+        rj__node_pin_force(m, s, j, force);
+    if (!known)
+        force[0] = force[1] = NAN;
+}
+
 /* Every joint's pin force into forces (2 a joint, NaN where unknown), with work
    (rj__pin_work_size doubles; allocated when NULL). */
 static rj_result rj__pin_forces(const rj_model *m, const rj_state *s, double *work,
@@ -960,18 +1049,20 @@ static rj_result rj__pin_forces(const rj_model *m, const rj_state *s, double *wo
             return RJ_ERR_NOMEM;
         work = own;
     }
-    /* node space's subtrees all at once, before the joints read them */
+    /* node space: the loop joints' first, which the pass takes as forces from outside;
+       then the subtrees all at once, before the other joints read them */
+    for (j = 0; j < m->nj && !m->rigid; j++)
+        if (m->jnt[j].loop)
+            rj__node_joint_force(m, s, work, j, forces + 2 * j);
     if (rj__pin_pass_wanted(m, s))
-        rj__pin_pass_run(m, s, work);
-    for (j = 0; j < m->nj; j++) {
-        int unknown = rj__pin_force_unknown(m, s, j);
-        forces[2 * j] = forces[2 * j + 1] = 0.0;
-        if (!unknown && !m->rigid && rj__pin_by_subtree(m, j))
-            unknown = !rj__pin_pass_force(m, work, j, forces + 2 * j);
-        else if (!unknown && !m->rigid)
-            rj__node_pin_force(m, s, j, forces + 2 * j);
-        if (unknown)
-            forces[2 * j] = forces[2 * j + 1] = NAN;
+        rj__pin_pass_run(m, s, work, forces);
+    for (j = 0; j < m->nj && !m->rigid; j++)
+        if (!m->jnt[j].loop)
+            rj__node_joint_force(m, s, work, j, forces + 2 * j);
+    /* rigid scenes: the joints' kinematics come down the tree for all of them at once */
+    for (j = 0; j < m->nj && m->rigid; j++) {
+        const double none = rj__pin_force_unknown(m, s, j) ? NAN : 0.0;
+        forces[2 * j] = forces[2 * j + 1] = none;
     }
     if (m->rigid && m->nj && !rj__pin_force_unknown(m, s, 0))
         rj__rig_pin_forces(m, s, work, forces);
@@ -1012,6 +1103,8 @@ RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int j, 
     force[0] = force[1] = 0;
     if (rj__pin_force_unknown(m, s, j))
         return RJ_ERR_INVALID;
+    if (!m->rigid && m->jnt[j].loop)
+        return rj__loop_pin_force(m, s, j, force) ? RJ_OK : RJ_ERR_INVALID;
     if (!m->rigid && !rj__pin_by_subtree(m, j)) {
         rj__node_pin_force(m, s, j, force);
         return RJ_OK;

@@ -24,6 +24,18 @@ static double rj__shake_w(const rj_model *m, const rj_state *s, int k, const dou
     return (m->cl_fix[c] == 0 ? 1.0 / m->cl_M[c] : 0.0) + cr * cr / (u2 * m->cl_I[c]);
 }
 
+/* With loops: a chain's pushes lambda_i e_i^n into shp by each element's second node,
+   summed over the iterations (as rj__gs_track; the chords at n as the update takes them). */
+static void rj__shake_track(const int *nd, int ne, const double *lam, const double *x,
+                            const double *y, double *shp)
+{
+    int i;
+    for (i = 0; i < ne; i++) {
+        shp[2 * nd[i + 1]] += lam[i] * (x[nd[i + 1]] - x[nd[i]]);
+        shp[2 * nd[i + 1] + 1] += lam[i] * (y[nd[i + 1]] - y[nd[i]]);
+    }
+}
+
 static void rj__shake(const rj_model *m, rj_state *s, const double *x, const double *y,
                              double *nx, double *ny)
 {
@@ -34,6 +46,8 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
            *act = s->ebt; /* act: 1 for an element that can move, 0 between two fixed nodes */
     const double dt = m->dt;
     int ch, it, i, q, gi;
+    if (m->nloop)
+        memset(s->shp, 0, 2 * sizeof(double) * (size_t) m->nn);
     if (m->gs_n)
         rj__shake_graph(m, s, x, y, nx, ny);
     for (ch = 0; ch < m->nch; ch++) {
@@ -110,6 +124,8 @@ static void rj__shake(const rj_model *m, rj_state *s, const double *x, const dou
             lam[ne - 1] = r[ne - 1] * b[ne - 1];
             for (i = ne - 2; i >= 0; i--)
                 lam[i] = (r[i] - c[i] * lam[i + 1]) * b[i];
+            if (m->nloop)
+                rj__shake_track(nd, ne, lam, x, y, s->shp);
             if (bodies)
                 for (q = 0; q < 3 * m->ncl; q++)
                     imp[q] = 0;

@@ -352,6 +352,17 @@ static void rj__gs_move(const rj_model *m, const rj__gs_work *w, double *nx, dou
     }
 }
 
+/* With loops: each element's push lambda_i e_i^n into shp by its second node, summed over
+   the iterations (rj__loop_records takes a loop's pin node's share). */
+static void rj__gs_track(const rj_model *m, const rj__gs_work *w, double *shp)
+{
+    int i;
+    for (i = 0; i < m->gs_n; i++) {
+        shp[2 * m->gs_nb[i]] += w->lam[i] * w->ox[i];
+        shp[2 * m->gs_nb[i] + 1] += w->lam[i] * w->oy[i];
+    }
+}
+
 /* The residuals -g_i = l0^2 - |e_i|^2 (0 for an element nothing moves), the chords now;
    returns the largest |g_i| / l0^2. */
 static double rj__gs_residuals(const rj_model *m, const rj__gs_work *w, const double *nx,
@@ -391,5 +402,7 @@ static void rj__shake_graph(const rj_model *m, rj_state *s, const double *x, con
             rj__gs_factor(m, &w);
         rj__gs_solve(m, &w);
         rj__gs_move(m, &w, nx, ny);
+        if (m->nloop)
+            rj__gs_track(m, &w, s->shp);
     }
 }

@@ -1,6 +1,7 @@
 /* ------------------------------------------------------------------ states */
 typedef struct rj__slayout {
-    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, damp, visc, visc_force, peaks, peak_work, sha, shb, shc, shr, gsw, bpw, eu, ebt, jsc,
+    size_t total, fd0, fd1, fd2, fi0, fi1, fi2, fx, fy, mz, kn, damp, visc, visc_force, peaks,
+        peak_work, sha, shb, shc, shr, shp, gsw, bpw, eu, ebt, jsc,
         rsc, rows, terms, rsys, input_torque, input_node, node_applied, snap_torque, loop_force;
 } rj__slayout;
 
@@ -43,12 +44,14 @@ static void rj__state_layout(const rj_model *m, rj__slayout *L)
     L->shb = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shc = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
     L->shr = rj__carve(&off, m->any_inext ? (size_t) m->ne : 0, sizeof(double));
+    /* with loops: SHAKE's pushes over the step, for the loop joints' records */
+    L->shp = rj__carve(&off, m->any_inext && m->nloop ? 2 * (size_t) m->nn : 0, sizeof(double));
     L->gsw = rj__carve(&off,
                        m->gs_n ? 2 * m->gs_prof + 9 * (size_t) m->gs_n + 2 * (size_t) m->nn : 0,
                        sizeof(double));
     L->bpw = rj__carve(&off,
                        m->nbp ? 8 * (size_t) m->nbp * (size_t) m->nbp + 4 * (size_t) m->nbp +
-                                    3 * (size_t) m->ncl
+                                    3 * (size_t) m->ncl + (m->nloop ? 2 * (size_t) m->nbp : 0)
                               : 0,
                        sizeof(double));
     L->eu = rj__carve(&off, (size_t) m->ne, sizeof(double));
@@ -261,6 +264,7 @@ RJDEF rj_result rj_state_init(const rj_model *m, void *mem, size_t size, rj_stat
     s->shb = (double *) (void *) (base + L.shb);
     s->shc = (double *) (void *) (base + L.shc);
     s->shr = (double *) (void *) (base + L.shr);
+    s->shp = (double *) (void *) (base + L.shp);
     s->gsw = (double *) (void *) (base + L.gsw);
     s->bpw = (double *) (void *) (base + L.bpw);
     s->eu = (double *) (void *) (base + L.eu);

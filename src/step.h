@@ -1847,16 +1847,28 @@ static void rj__body_pins_move(const rj_model *m, const rj__frames *f, const dou
     }
 }
 
+/* With loops: the pushes of the pins between bodies summed over a step's passes, 2 a pin
+   (x, y), after rj__body_pins' matrices, gaps, pushes and bodies' impulses in its
+   scratch (rj_state.bpw). */
+static double *rj__body_pins_tot(const rj_model *m, const rj_state *s)
+{
+    const size_t n2 = 2 * (size_t) m->nbp;
+    return s->bpw + 2 * n2 * n2 + 2 * n2 + 3 * (size_t) m->ncl;
+}
+
 /* Pins between two rigid bodies of a mixed scene, on positions: Newton on the pins' gaps
    (the matrix of the first pass serves the later ones; at most 20 passes, to 1e-14 of the
    longest body pinned), the bodies' velocities following their corrections, as SHAKE
-   does for inextensible links; the sum of what it wrote into *fin. */
+   does for inextensible links; the sum of what it wrote into *fin. With loops, each
+   pin's pushes summed over the passes into tot (rj__body_pins_tot). */
 static void rj__body_pins(const rj_model *m, rj_state *s, const rj__frames *f, double *fin)
 {
     const int n2 = 2 * m->nbp;
     double *A = s->bpw, *LU = A + (size_t) n2 * n2, *gap = LU + (size_t) n2 * n2;
-    double *lam = gap + n2, *imp = lam + n2, scale = 0;
+    double *lam = gap + n2, *imp = lam + n2, *tot = rj__body_pins_tot(m, s), scale = 0;
     int pass, p;
+    for (p = 0; p < n2 && m->nloop; p++)
+        tot[p] = 0;
     for (p = 0; p < m->nbp; p++) {
         int link, node;
         rj__node_of(m, m->bp_node[2 * p], &link, &node);
@@ -1877,7 +1889,94 @@ static void rj__body_pins(const rj_model *m, rj_state *s, const rj__frames *f, d
         memcpy(LU, A, sizeof(double) * (size_t) n2 * (size_t) n2);
         rj__body_pins_solve(n2, LU, gap, lam);
         rj__body_pins_move(m, f, lam, imp, fin);
+        for (p = 0; p < n2 && m->nloop; p++)
+            tot[p] += lam[p];
     }
+}
+
+/* Node space: the pin node whose balance gives joint j's pin force, body 2's, or body 1's
+   (*sign -1) where body 2 is a rigid body of a mixed scene (its own nodes are massless,
+   their body takes the pin's force); -1 for the ground. */
+static int rj__balance_node(const rj_model *m, int j, double *sign)
+{
+    const rj__joint *J = &m->jnt[j];
+    const int body2 = rj__own_body_node(m, J->nJ);
+    *sign = body2 ? -1.0 : 1.0;
+    return body2 ? J->nI : J->nJ;
+}
+
+/* How node space knows a loop joint's pin force (rj__loop_side). */
+enum { RJ__LOOP_NONE, RJ__LOOP_NODE, RJ__LOOP_BODIES };
+
+/* Node space: where loop joint j's pin force comes from: between two rigid bodies, the
+   pushes of the pin between them (RJ__LOOP_BODIES); else the balance of its pin node
+   *node (rj__balance_node, RJ__LOOP_NODE) less what its own link's lengths put on it.
+   None for a rigid body pinned to the ground (the body takes that force), or a chord
+   reference (the joint's torque acts on the pin node as forces). */
+static int rj__loop_side(const rj_model *m, int j, int *node, double *sign)
+{
+    const rj__joint *J = &m->jnt[j];
+    *node = rj__balance_node(m, j, sign);
+    if (*sign < 0 && rj__own_body_node(m, J->nI))
+        return RJ__LOOP_BODIES;
+    if (*node < 0 || J->chord)
+        return RJ__LOOP_NONE;
+    return RJ__LOOP_NODE;
+}
+
+/* The pushes of the pins between bodies at node k on its body over the step (summed
+   over the passes, rj__body_pins_tot), into out: +lambda on a pin's first node, -lambda
+   on its second. */
+static void rj__loop_pins_push(const rj_model *m, const rj_state *s, int k, double out[2])
+{
+    const double *tot = rj__body_pins_tot(m, s);
+    int p;
+    for (p = 0; p < m->nbp; p++) {
+        double sign = 0;
+        if (m->bp_node[2 * p] == k)
+            sign = 1;
+        if (m->bp_node[2 * p + 1] == k)
+            sign = -1;
+        out[0] += sign * tot[2 * p];
+        out[1] += sign * tot[2 * p + 1];
+    }
+}
+
+/* SHAKE's pushes over the step (rj_state.shp) on node k from its own link's elements, into
+   out: the element before it (k its second node) and the one after (k + 1 its second
+   node; a link's root is no element's second node, so past its tip none). A push moves
+   its owner by 2 / M of it. */
+static void rj__loop_shake_push(const rj_model *m, const rj_state *s, int k, double out[2])
+{
+    out[0] = 2.0 * s->shp[2 * k];
+    out[1] = 2.0 * s->shp[2 * k + 1];
+    if (k + 1 == m->nn)
+        return;
+    out[0] -= 2.0 * s->shp[2 * k + 2];
+    out[1] -= 2.0 * s->shp[2 * k + 3];
+}
+
+/* The projections' forces in the step on the loop joints, the step's record of them
+   (rj_state.loop_force), stamped with the step they belong to: on a loop's pin node
+   (rj__loop_side), its own link's lengths' (rj__loop_shake_push; none on a flexible
+   link); between two rigid bodies, the pin's on body 2 (rj__loop_pins_push). A push moves
+   positions, and the velocities over dt: an impulse over dt, a force over the kick too. */
+static RJ__NOINLINE void rj__loop_records(const rj_model *m, rj_state *s, const rj__frames *f)
+{
+    const double per = 1.0 / (f->dt * f->kick);
+    int j, node;
+    for (j = 0; j < m->nj; j++) {
+        double *rec = s->loop_force + 2 * j, sign;
+        const int kind = m->jnt[j].loop ? rj__loop_side(m, j, &node, &sign) : RJ__LOOP_NONE;
+        rec[0] = rec[1] = 0;
+        if (kind == RJ__LOOP_BODIES)
+            rj__loop_pins_push(m, s, m->jnt[j].nJ, rec);
+        if (kind == RJ__LOOP_NODE && m->any_inext)
+            rj__loop_shake_push(m, s, node, rec);
+        rec[0] *= per;
+        rec[1] *= per;
+    }
+    s->loop_force[2 * m->nj] = (double) (s->steps + 1);
 }
 
 /* The joints' rates at n + 1/2 again, from the projected velocities, on the geometry at n
@@ -1915,6 +2014,8 @@ static RJ__FORCE_INLINE void rj__stage_constraints(const rj_model *m, rj_state *
         rj__body_pins(m, s, f, fin);
     if (m->any_inext)
         rj__shake(m, s, x, y, nx, ny);
+    if (m->nloop)
+        rj__loop_records(m, s, f);
     for (i = 0; i < m->nn; i++) {
         f->nvx[i] = (nx[i] - x[i]) * idt;
         f->nvy[i] = (ny[i] - y[i]) * idt;

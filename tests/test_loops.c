@@ -27,6 +27,7 @@
 #endif
 /* the rigid four-bar's runs against the exact motion: 5 s, or 1 s under the sanitizer */
 #define RIGID_SECONDS (LONG_RUN_STEPS > 100000L ? 5.0 : 1.0)
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -1503,6 +1504,279 @@ static void test_rigid_pins(rjt_ctx *c)
     rj_model_destroy(m, NULL);
 }
 
+/* The triangle of the statics below: bars from ground pivots A = (0, 0) and B = (0.8, 0) m
+   meeting at C = (0.3, 0.4) m (bar 1 from A, bar 2 from B), 50 x 50 mm aluminium. */
+#define TRI_CX 0.3
+#define TRI_CY 0.4
+#define TRI_D 0.8
+#define TRI_H 0.05
+
+/* The triangle's pin forces at rest under gravity by hand (frictionless pins, each bar's
+   weight W at its middle): bar 2's moments about B and bar 1's about A give the force F
+   bar 1 exerts on bar 2 at C, u x F = W2 u_x / 2 and v x F = -W1 v_x / 2 with u = C - B,
+   v = C - A; the ground's on bar 1 at A is then F + W1 y, on bar 2 at B -F + W2 y. Into
+   ground (A's, then B's) and apex (F). */
+static void triangle_statics(double ground[4], double apex[2])
+{
+    const double ux = TRI_CX - TRI_D, uy = TRI_CY, vx = TRI_CX, vy = TRI_CY;
+    const double weight = 2700 * TRI_H * TRI_H * G;
+    const double W1 = weight * hypot(vx, vy), W2 = weight * hypot(ux, uy);
+    const double r1 = W2 * ux / 2, r2 = -W1 * vx / 2, det = ux * vy - uy * vx;
+    /* [-u_y u_x; -v_y v_x] F = [r1; r2] */
+    apex[0] = (vx * r1 - ux * r2) / det;
+    apex[1] = (vy * r1 - uy * r2) / det;
+    ground[0] = apex[0];
+    ground[1] = apex[1] + W1;
+    ground[2] = -apex[0];
+    ground[3] = -apex[1] + W2;
+}
+
+/* The triangle's scene, its bars of the fidelity given ("rigid": a mixed scene, with a
+   flexible pendulum hanging at rest elsewhere): its loop closed at the apex C (at_b 0:
+   joints o1, o2 and c, bar 1 to bar 2) or at B (at_b 1: o1, then c hanging bar 2 from
+   bar 1's tip, then o2 pinning bar 2's last node to the ground, the loop). */
+static void triangle_text(const char *fidelity, int at_b, char *text, size_t n)
+{
+    const double a1 = atan2(TRI_CY, TRI_CX), a2 = atan2(TRI_CY, TRI_CX - TRI_D);
+    const int mixed = strcmp(fidelity, "rigid") == 0;
+    char joints[512];
+    if (!at_b)
+        snprintf(joints, sizeof joints,
+                 "joint o1\n  body1 = ground  body2 = bar1  angle0 = %.17g\n"
+                 "joint o2\n  body1 = ground  body2 = bar2  ground_x = %.17g  angle0 = %.17g\n"
+                 "joint c\n  body1 = bar1  body2 = bar2  node2 = last  angle0 = %.17g\n",
+                 a1, TRI_D, a2, a2 - (a1 + PI));
+    else
+        snprintf(joints, sizeof joints,
+                 "joint o1\n  body1 = ground  body2 = bar1  angle0 = %.17g\n"
+                 "joint c\n  body1 = bar1  body2 = bar2  angle0 = %.17g\n"
+                 "joint o2\n  body1 = ground  body2 = bar2  node2 = last  ground_x = %.17g  "
+                 "angle0 = %.17g\n",
+                 a1, a2 - PI - (a1 + PI), TRI_D, a2 - PI);
+    snprintf(text, n,
+             "solver\n  gravity = 0 -9.81\n"
+             "material al\n  E = 7e10  rho = 2700\n"
+             "section bar\n  width = %g  height = %g\n"
+             "link bar1\n  length = %.17g  elements = 6  material = al  section = bar\n"
+             "  fidelity = %s\n"
+             "link bar2\n  length = %.17g  elements = 8  material = al  section = bar\n"
+             "  fidelity = %s\n%s%s%s",
+             TRI_H, TRI_H, hypot(TRI_CX, TRI_CY), fidelity, hypot(TRI_CX - TRI_D, TRI_CY),
+             fidelity, mixed ? "link pendulum\n  length = 0.5  elements = 4  material = al  "
+                               "section = bar\n" : "",
+             joints,
+             mixed ? "joint p\n  body1 = ground  body2 = pendulum  ground_x = 2  "
+                     "angle0 = -90 deg\n" : "");
+}
+
+/* The triangle settled at rest (rj_settle to 1e-12), then one step: the largest
+   |pin force - statics| / |statics| over its three joints into *worst; 0 (msg) when it
+   fails. */
+static int triangle_run(const char *fidelity, int at_b, double *worst, char *msg, size_t n)
+{
+    char text[2048];
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj_error err;
+    double ground[4], apex[2], want[6], F[8];
+    int j, ok;
+    triangle_text(fidelity, at_b, text, sizeof text);
+    triangle_statics(ground, apex);
+    /* joint order: o1, o2, c (at_b 0) or o1, c, o2 (at_b 1) */
+    memcpy(want, ground, 2 * sizeof(double));
+    memcpy(want + (at_b ? 4 : 2), ground + 2, 2 * sizeof(double));
+    memcpy(want + (at_b ? 2 : 4), apex, 2 * sizeof(double));
+    if (!build(text, &m, &s, &err)) {
+        snprintf(msg, n, "%s", err.msg);
+        return 0;
+    }
+    ok = rj_settle(m, s, 1e-12, 1000000) == RJ_OK && rj_step(m, s) == RJ_OK &&
+         rj_joint_pin_forces(m, s, F) == RJ_OK;
+    snprintf(msg, n, "%s", ok ? "" : rj_state_error(s));
+    *worst = 0;
+    for (j = 0; j < 3; j++)
+        *worst = fmax(*worst, hypot(F[2 * j] - want[2 * j], F[2 * j + 1] - want[2 * j + 1]) /
+                                  hypot(want[2 * j], want[2 * j + 1]));
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+    return ok && *worst == *worst;
+}
+
+/* Pin forces where a loop closes in node space, at rest against statics by hand
+   (triangle_statics): a triangle of two bars pinned to the ground and to each other,
+   under gravity. Its loop joint's force comes from the step's record of what closed it:
+   inextensible bars meeting at the apex (SHAKE over the chains that meet), inextensible
+   bars closed at a ground pivot (one chain held at both ends), rigid bodies of a mixed
+   scene pinned at the apex (the pins between bodies); the tree joints' from the bars
+   below them with the loop's force among the forces from outside. The inextensible bars
+   sag under their weight (about 1e-6 of their length), which moves the weights' lines a
+   little; the rigid bodies' forces are exact but for the positions' round-off over
+   dt^2. */
+static void test_loop_statics(rjt_ctx *c)
+{
+    static const char *const fidelity[3] = { "inextensible", "inextensible", "rigid" };
+    static const int at_b[3] = { 0, 1, 0 };
+    static const double bound[3] = { 2e-5, 2e-5, 1e-6 };
+    static const char *const what[3] = { "inextensible bars closed at the apex",
+                                         "inextensible bars closed at a ground pivot",
+                                         "rigid bodies of a mixed scene closed at the apex" };
+    int k;
+    for (k = 0; k < 3; k++) {
+        char msg[700];
+        double worst = 0;
+        const int ran = triangle_run(fidelity[k], at_b[k], &worst, msg, sizeof msg);
+        rjt_check(c, ran && worst < bound[k],
+                  "pin forces of a loop in node space: a triangle at rest against statics",
+                  "%s: the three joints within %.3g of the statics by hand (bound %g "
+                  "relative) %s",
+                  what[k], worst, bound[k], msg);
+    }
+}
+
+/* The four-bar's text (fourbar_text at 7e10 Pa, the fidelities as there) with its loop
+   joint b the other way round: body 1 the rocker at its last node, body 2 the coupler
+   at its last. */
+static void fourbar_reversed(const char *fidelity, char *text, size_t n)
+{
+    double t3 = 0.5, t4 = 1.5;
+    char *at;
+    fourbar_text(7e10, fidelity, 0, text, n);
+    close_loop(CRANK0, &t3, &t4);
+    at = strstr(text, "joint b\n");
+    snprintf(at, n - (size_t) (at - text),
+             "joint b\n  body1 = rocker  node1 = last  body2 = coupler  node2 = last  "
+             "angle0 = %.17g\n",
+             t3 - (t4 + PI));
+}
+
+/* Every node's velocity into v (2 a node, in node index order; 64 nodes at most). */
+static void node_velocities(const rj_model *m, const rj_state *s, double *v)
+{
+    int l, k;
+    for (l = 0; l < rj_model_link_count(m); l++)
+        for (k = 0; k < rj_link_node_count(m, l); k++)
+            rj_node_velocity(m, s, l, k, v + 2 * rj_model_node_index(m, l, k));
+}
+
+/* The scene's m a - m g at t^n (gravity -G in y) from every node's velocity before the
+   step (before) and after it: a flexible or inextensible link's nodes' own; a rigid
+   link's body's (its nodes are massless), rho A L at its middle, its acceleration the
+   mean of its ends'. Into total. */
+static void scene_momentum(const rj_model *m, const rj_state *s, const double *before,
+                           double total[2])
+{
+    const double kick = rj_state_steps(s) == 1 ? 0.5 * rj_model_dt(m) : rj_model_dt(m);
+    double after[128];
+    int l, k, axis;
+    node_velocities(m, s, after);
+    total[0] = total[1] = 0;
+    for (l = 0; l < rj_model_link_count(m); l++) {
+        const rj_link_def *d = rj_model_link_def(m, l);
+        const int a = rj_model_node_index(m, l, 0), b = rj_model_node_index(m, l, -1);
+        for (axis = 0; axis < 2 && d->fidelity == RJ_LINK_RIGID; axis++)
+            total[axis] += d->rho * d->width * d->height * d->length *
+                           (0.5 * (after[2 * a + axis] + after[2 * b + axis] -
+                                   before[2 * a + axis] - before[2 * b + axis]) / kick +
+                            (axis ? G : 0.0));
+        for (k = a; k <= b && d->fidelity != RJ_LINK_RIGID; k++) {
+            double mass;
+            rj_node_mass(m, l, k - a, &mass, NULL);
+            for (axis = 0; axis < 2; axis++)
+                total[axis] += mass * ((after[2 * k + axis] - before[2 * k + axis]) / kick +
+                                       (axis ? G : 0.0));
+        }
+    }
+}
+
+/* What a moving four-bar's pin forces showed over 0.2 s: its loop joint b's against the
+   same four-bar's with b the other way round (fourbar_reversed), and the ground's pins
+   (o2 and o4) against the scene's m a - m g. */
+typedef struct loop_sides {
+    double sides;  /* the largest |F_b + F_b reversed| */
+    double ground; /* the largest |F_o2 + F_o4 - sum (m a - m g)| */
+    double size;   /* the largest |F_b| */
+    double total;  /* the largest |sum (m a - m g)| */
+    double bound;  /* the round-off bound: 20 eps M (1 m) / dt^2, M the scene's mass */
+    char msg[700];
+} loop_sides;
+
+/* One step of both four-bars; the differences into o. Returns 0 when one fails. */
+static int loop_sides_step(rj_model *m[2], rj_state *s[2], loop_sides *o)
+{
+    double before[128], F[8], R[8], total[2];
+    node_velocities(m[0], s[0], before);
+    if (rj_step(m[0], s[0]) != RJ_OK || rj_step(m[1], s[1]) != RJ_OK)
+        return 0;
+    if (rj_joint_pin_forces(m[0], s[0], F) != RJ_OK || rj_joint_pin_forces(m[1], s[1], R) != RJ_OK)
+        return 0;
+    scene_momentum(m[0], s[0], before, total);
+    o->sides = fmax(o->sides, hypot(F[6] + R[6], F[7] + R[7]));
+    o->ground = fmax(o->ground, hypot(F[0] + F[4] - total[0], F[1] + F[5] - total[1]));
+    o->size = fmax(o->size, hypot(F[6], F[7]));
+    o->total = fmax(o->total, hypot(total[0], total[1]));
+    return o->sides == o->sides && o->ground == o->ground;
+}
+
+/* The four-bar of the fidelities given, both ways round, over 0.2 s into o. */
+static int loop_sides_run(const char *fidelity, loop_sides *o)
+{
+    char text[2][2048];
+    rj_model *m[2] = { NULL, NULL };
+    rj_state *s[2] = { NULL, NULL };
+    rj_error err;
+    int k, ok = 1;
+    memset(o, 0, sizeof *o);
+    fourbar_text(7e10, fidelity, 0, text[0], sizeof text[0]);
+    fourbar_reversed(fidelity, text[1], sizeof text[1]);
+    for (k = 0; k < 2 && ok; k++)
+        ok = build(text[k], &m[k], &s[k], &err);
+    if (ok) {
+        const double dt = rj_model_dt(m[0]), mass = 2700 * 0.02 * 0.02 * (BAR_A + BAR_B + BAR_C);
+        o->bound = 20 * DBL_EPSILON * mass / (dt * dt);
+        while (ok && rj_state_time(s[0]) < 0.2)
+            ok = loop_sides_step(m, s, o);
+        snprintf(o->msg, sizeof o->msg, "%s", ok ? "" : rj_state_error(s[0]));
+    } else
+        snprintf(o->msg, sizeof o->msg, "%s", err.msg);
+    for (k = 0; k < 2; k++) {
+        rj_state_destroy(s[k], NULL);
+        rj_model_destroy(m[k], NULL);
+    }
+    return ok;
+}
+
+/* A moving four-bar's loop joint b from both of its sides: defined coupler to rocker, its
+   force is read at the rocker's pin node; the other way round, at the coupler's, from
+   other elements (the two give the same pin's force on opposite bodies). Inextensible
+   bars: each side's constraint forces from its own link's SHAKE pushes; a flexible
+   coupler and an inextensible rocker: the rocker's from them, the coupler's from its
+   elements alone (no record). A flexible crank and a rigid coupler and rocker: the loop's
+   force from the pin between the bodies, the rocker's ground pin from the rocker less
+   it, the crank's from the crank's root node alone: their sum is the scene's m a - m g
+   only with the loop's force right. The forces come from velocities that are position
+   differences over dt: round-off of the positions over dt^2, on the scene's mass, bounds
+   their agreement. */
+static void test_loop_sides(rjt_ctx *c)
+{
+    static const char *const fidelity[3] = { "inextensible", "inextensible flexible inextensible",
+                                             "flexible rigid" };
+    static const char *const what[3] = { "inextensible bars",
+                                         "a flexible coupler, inextensible crank and rocker",
+                                         "a flexible crank, rigid coupler and rocker" };
+    int k;
+    for (k = 0; k < 3; k++) {
+        loop_sides o;
+        const int ran = loop_sides_run(fidelity[k], &o);
+        rjt_check(c, ran && o.sides < o.bound && o.ground < o.bound && o.size > 1,
+                  "pin forces of a moving four-bar's loop in node space: from both sides, the "
+                  "ground's carrying the scene",
+                  "%s: loop joint b (up to %.4g N) %.3g N from b the other way round; the "
+                  "ground's pins %.3g N from the scene's m a - m g (up to %.4g N); bound %.3g N "
+                  "(round-off) %s",
+                  what[k], o.size, o.sides, o.ground, o.total, o.bound, o.msg);
+    }
+}
+
 static void test_rigid_fourbar(rjt_ctx *c)
 {
     fourbar_run a, b, fine;
@@ -1765,6 +2039,8 @@ int main(void)
     test_scissor(&c, RJ_LINK_RIGID);
     test_rigid_fourbar(&c);
     test_rigid_pins(&c);
+    test_loop_statics(&c);
+    test_loop_sides(&c);
     test_rigid_latch(&c);
     test_rigid_driven(&c);
     test_rigid_loop_rotor_cable(&c);
