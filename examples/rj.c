@@ -93,7 +93,9 @@ static const char usage_run_output[] =
     "  J.torque_table, J.torque_damping, J.torque_friction, J.torque_limit (N m on body 2),\n"
     "  J.latch_impulse (N m s that a velocity-level limit applied in the last step), and in\n"
     "  scenes with actuators J.torque_drive (N m, the actuator's); J.Fx, J.Fy (N on body\n"
-    "  2 at the pin: rj_joint_pin_force, empty where there is none yet); for each\n"
+    "  2 at the pin: rj_joint_pin_force, empty where there is none yet; rj run steps\n"
+    "  double-buffered, solver.in_place off, which keeps the loads at t^n: the same bits,\n"
+    "  a little slower on large scenes); for each\n"
     "  link L: L.tip_x, L.tip_y (m), L.tip_defl (m: the last node's distance from the\n"
     "  tangent at node 0, counter-clockwise positive); for each probe L.N.x, L.N.y (m),\n"
     "  L.N.phi (rad); E_kin, E_strain, E_spring, E_gravity (J: gravity's potential, -m g . x),\n"
@@ -157,7 +159,8 @@ static const char usage_plot[] =
     "                     moment| over its elements (N m); each marked at its peak over\n"
     "                     every step (the summary's), which a spike between two samples\n"
     "                     puts above the line. A joint without a pin force\n"
-    "                     (rj_joint_pin_force) is said on stderr, not drawn.\n"
+    "                     (rj_joint_pin_force) is said on stderr, not drawn. Stepped\n"
+    "                     double-buffered, as rj run (the loads at t^n; the same bits).\n"
     "                     At most 8 series a plot: the first 8 (said on stderr).\n"
     "                     sweep: no simulation; the rows of rj sweep (--csv ROWS.csv) in\n"
     "                     four plots: each joint's lock times and peak pin forces as\n"
@@ -698,10 +701,14 @@ typedef struct scene {
     double build_s;      /* s, wall time rj_model_create took (rj check's cost line) */
 } scene;
 
-/* Loads and builds the scene, with solver.dt replaced when dt >= 0. Prints the parser's or
-   the model's message as they give it ("file:line:col: message"); a step the command
-   line set is blamed on the option, not on the file's dt key. Returns 0, or 2. */
-static int scene_open(scene *sc, const char *path, double dt, const char **sets, int nsets)
+/* Loads and builds the scene, with solver.dt replaced when dt >= 0; loads: the command
+   reads the loads at t^n (pin forces, element loads), which in-place stepping does not
+   keep (solver.in_place, automatic from 400 nodes), so it steps double-buffered: the
+   same bits, a little slower (rj_solver_def). Prints the parser's or the model's message
+   as they give it ("file:line:col: message"); a step the command line set is blamed on
+   the option, not on the file's dt key. Returns 0, or 2. */
+static int scene_open(scene *sc, const char *path, double dt, const char **sets, int nsets,
+                      int loads)
 {
     rj_error e;
     rj_scene_def d;
@@ -712,6 +719,7 @@ static int scene_open(scene *sc, const char *path, double dt, const char **sets,
         return 2;
     }
     if (dt >= 0) sc->f.solver.dt = dt;
+    if (loads) sc->f.solver.in_place = RJ_IN_PLACE_OFF;
     d = rj_scene_file_def(&sc->f);
     sc->build_s = wall_now();
     if (rj_model_create(&d, &sc->m, &e, NULL) == RJ_OK) {
@@ -1508,7 +1516,8 @@ static int cmd_run(int argc, char **argv)
     char usage[sizeof usage_run + sizeof usage_run_output];
     snprintf(usage, sizeof usage, "%s%s", usage_run, usage_run_output);
     opts_parse(&o, CMD_RUN, argc, argv, usage);
-    if (scene_open(&sc, o.scene, o.dt, o.sets, o.nsets) != 0) return 2;
+    /* every row's J.Fx, J.Fy and the summary's peaks are loads at t^n */
+    if (scene_open(&sc, o.scene, o.dt, o.sets, o.nsets, 1) != 0) return 2;
     pr = (probe *)malloc(sizeof(probe) * (size_t)(o.nprobes + 1));
     load_links = (int *)malloc(sizeof(int) * (size_t)(o.nloads + 1));
     c.pin = (double *)malloc(sizeof(double) * 2 * (size_t)(rj_model_joint_count(sc.m) + 1));
@@ -2170,7 +2179,7 @@ static int cmd_check(int argc, char **argv)
     }
     check_progress_start(o.progress);
     check_phase("loading %s and building its model (the step bound: Lanczos on the whole model)", o.scene);
-    if (scene_open(&sc, o.scene, o.dt, o.sets, o.nsets) != 0) {
+    if (scene_open(&sc, o.scene, o.dt, o.sets, o.nsets, 0) != 0) {
         check_progress_stop();
         return 2;
     }
@@ -3037,7 +3046,7 @@ static int cmd_plot(int argc, char **argv)
         free((void *)o.sets);
         return st;
     }
-    if (scene_open(&sc, o.scene, o.dt, o.sets, o.nsets) != 0) return 2;
+    if (scene_open(&sc, o.scene, o.dt, o.sets, o.nsets, o.what == WHAT_LOADS) != 0) return 2;
     cli_check_steps("rj plot", o.t_end, rj_model_dt(sc.m), o.force);
     if (cli_mkparent("rj plot", o.out) != 0 || out_writable("rj plot", o.out) != 0) return 2;
     model_warnings(&sc, "rj plot");
@@ -3252,7 +3261,7 @@ static int cmd_animate(int argc, char **argv)
     int st;
     opts_parse(&o, CMD_ANIMATE, argc, argv, usage_animate);
     free((void *)o.probes);
-    if (scene_open(&sc, o.scene, o.dt, o.sets, o.nsets) != 0) return 2;
+    if (scene_open(&sc, o.scene, o.dt, o.sets, o.nsets, 0) != 0) return 2;
     animate_bounds(&o, &sc);
     if (o.mp4 && (cli_mkparent("rj animate", o.mp4) != 0 || out_writable("rj animate", o.mp4) != 0)) return 2;
     model_warnings(&sc, "rj animate");
@@ -4126,7 +4135,7 @@ static int cmd_sweep(int argc, char **argv)
     const char *csv;
     opts_parse(&o, CMD_SWEEP, argc, argv, usage_sweep);
     free((void *)o.probes);
-    if (scene_open(&sc, o.scene, o.dt, o.sets, o.nsets) != 0) return 2;
+    if (scene_open(&sc, o.scene, o.dt, o.sets, o.nsets, 0) != 0) return 2;
     memset(&w, 0, sizeof w);
     w.o = &o;
     w.sc = &sc;

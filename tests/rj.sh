@@ -254,6 +254,16 @@ printf 'solver\n  dt = 1e-4  gravity = 0 -9.81\nlink rod\n  length = 1  rho = 27
 $B/rj run $T/rod.rjs --t-end 1 --csv /dev/null 2>$T/rod.err
 ok "run: the summary's peak pin force, a rod released level: 2.5 m g at the bottom" \
   "sed -n 's/.*peak |pin force| \\([0-9.e+-]*\\) N.*/\\1/p' $T/rod.err | awk '{ v = \$1 } END { exit !(NR == 1 && v > 13.2435 * (1 - 1e-3) && v < 13.2435 * (1 + 1e-3)) }'"
+# a link of 500 elements steps in place by default (solver.in_place, automatic from 400
+# nodes), which keeps no loads at t^n: rj run steps it double-buffered (the same bits), so
+# its pin's J.Fx has a number in every row after the first (none before a step) and the
+# summary a peak
+printf 'solver\n  gravity = 0 -9.81\nlink long\n  length = 1  elements = 500\n  E = 7e10  rho = 2700  width = 0.02  height = 0.01\njoint pin\n  body1 = ground  body2 = long  angle0 = 0\n' > $T/long.rjs
+$B/rj run $T/long.rjs --t-end 1e-4 --sample 2e-5 --csv $T/long.csv 2>$T/long.err
+ok "run: a link of 500 elements (in place by default) has pin forces: pin.Fx a number in every row after the first, the summary's peak" \
+  "awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if (\$i == \"pin.Fx\") k = i; next }
+     NR > 2 { n++; if (\$k != \"\" && \$k + 0 == \$k) f++ } END { exit !(k && n >= 4 && f == n) }' $T/long.csv \
+   && grep -q '^rj run: pin: .*peak |pin force| [0-9][0-9.e+-]* N' $T/long.err"
 $B/rj run $T/cantilever.rjs --settle --t-end 0.05 --sample 0.01 --csv $T/sag.csv 2>$T/sag.err
 ok "run --settle: the cantilever starts from its sag under gravity and stays there" \
   "grep -q 'settled to the static equilibrium' $T/sag.err && awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) { if (\$i == \"beam.tip_y\") y = i; if (\$i == \"E_gravity\") g = i } next }
