@@ -8,8 +8,9 @@
 #   sh bench/instr.sh CFLAGS N|"" K       either, with solver.energy_every = K
 #   sh bench/instr.sh CFLAGS N K P        the free link with solver.in_place = P (0 auto, 1 on, 2 off)
 #   sh bench/instr.sh CFLAGS bare|all     the feature-cost scene, bare or "everything on", per step
-#   sh bench/instr.sh CFLAGS gravity|torque|nodeforce|load|follower
-#                                         the same scene with one load feature (paper_run.c)
+#   sh bench/instr.sh CFLAGS gravity|torque|nodeforce|load|follower|massdamp|kv
+#                                         the same scene with one load feature, or with
+#                                         mass_damping or Kelvin-Voigt on both links (paper_run.c)
 # CFLAGS default -O2 (valgrind does not run AVX-512 code: not -march=native on such CPUs).
 # Needs valgrind (apt-get install valgrind); not part of make test.
 F=${1:--O2}; N=$2; EE=${3:-1}; IP=${4:-0}
@@ -17,7 +18,7 @@ B=build
 mkdir -p $B
 ${CC:-cc} -std=c99 $F -g -ffp-contract=off -I. bench/paper_run.c -o $B/paper_run -lm || exit 1
 F2=
-case "$N" in bare) F2=0;; all) F2=1;; gravity) F2=2;; torque) F2=3;; nodeforce) F2=4;; load) F2=5;; follower) F2=6;; esac
+case "$N" in bare) F2=0;; all) F2=1;; gravity) F2=2;; torque) F2=3;; nodeforce) F2=4;; load) F2=5;; follower) F2=6;; massdamp) F2=7;; kv) F2=8;; esac
 if [ -n "$F2" ]; then
   A="--two-link $F2 10000"; C="--two-link $F2 20000"; D=10000; U="step, feature scene ($N, BENCHMARKS.md section 5)"
 elif [ -n "$N" ]; then A="--free $N 200 $EE $IP"; C="--free $N 400 $EE $IP"; D=$((200 * N)); U="element-step, $N elements"

@@ -7,7 +7,8 @@
                                  free, 8 layers); the load rows: 2 gravity (0, -9.81), 3 the caller's
                                  torque 0.1 N m on joint 2, 4 the caller's force (0, -1) N on link 2's
                                  tip, 5 a load (0, -1) N there, 6 a follower load (0, 1) N there with a
-                                 4-point table
+                                 4-point table; 7 mass_damping 1 1/s on both links, 8 Kelvin-Voigt
+                                 damping = 0.02 5 on both (bench.c's FT_ALPHA, FT_ZETA)
    E: solver.energy_every (default 1) */
 #define REVJOINT_IMPLEMENTATION
 #include "revjoint.h"
@@ -36,6 +37,8 @@ int main(int argc, char **argv)
         for (i = 0; i < 2; i++) {
             L[i] = rj_default_link_def();
             L[i].length = 1.0; L[i].elements = 10; L[i].height = 0.02; L[i].width = 0.05; L[i].layers = all == 1 ? 8 : 1;
+            if (all == 7) L[i].mass_damping = 1.0;
+            if (all == 8) { L[i].damping[0] = 0.02; L[i].damping[1] = 5.0; }
         }
         J[0] = rj_default_joint_def();
         J[0].body1 = -1; J[0].body2 = 0; J[0].angle0 = rj_rad(180.0); J[0].rate0 = 2.0;
