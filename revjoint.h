@@ -9751,16 +9751,6 @@ static int rj__ab_parent(const rj_model *m, int j)
     return p >= 0 && m->rb_pjoint[p] >= 0 ? m->jq[m->rb_pjoint[p]] : -1;
 }
 
-/* r = P_child - P_parent for joint j (its body 2's pin less its parent's); body 1 must be
-   a link. */
-static void rj__ab_arm(const rj_model *m, const rj__rig *r, int j, double *rx, double *ry)
-{
-    const double *c = r->lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
-    const double *p = r->lk + RJ__RL_COUNT * (size_t) m->jdef[j].body1;
-    *rx = c[RJ__RL_PX] - p[RJ__RL_PX];
-    *ry = c[RJ__RL_PY] - p[RJ__RL_PY];
-}
-
 /* X^T A X added into B (symmetric 3 x 3, 6 entries), r the arm. */
 static void rj__ab_shift_inertia(const double *A, double rx, double ry, double *B)
 {
@@ -9781,35 +9771,28 @@ static void rj__ab_sym_mul(const double *A, const double *v, double *out)
     out[2] = A[2] * v[0] + A[4] * v[1] + A[5] * v[2];
 }
 
-/* Each coordinate's body's own inertia about its pin (at the kinematics in r->lk), its
-   arm from its parent's pin, its parent's coordinate and its rotor. */
-static void rj__ab_own(const rj_model *m, rj__rig *r)
+/* Coordinate k's body's own inertia about its pin, from its own sums (rj__rig_own: mass,
+   first moment m (c - P), inertia about P), which also starts its articulated inertia;
+   its parent's coordinate and its rotor. Its arm from its parent's pin is written as
+   the subtrees are gathered (rj__rig_tree_factor), which take the same difference. */
+static void rj__ab_own(const rj_model *m, rj__rig *r, int k, const double *b)
 {
-    int k;
-    for (k = 0; k < m->nq; k++) {
-        const int body = m->jdef[m->qj[k]].body2;
-        const double *b = r->lk + RJ__RL_COUNT * (size_t) body;
-        const double mass = m->rb_mass[body];
-        const double dx = b[RJ__RL_CX] - b[RJ__RL_PX], dy = b[RJ__RL_CY] - b[RJ__RL_PY];
-        double *own = r->ab + RJ__AB_COUNT * (size_t) k + RJ__AB_OWN;
-        own[0] = m->rb_icm[body] + mass * (dx * dx + dy * dy);
-        own[1] = -mass * dy;
-        own[2] = mass * dx;
-        own[3] = mass;
-        own[4] = 0;
-        own[5] = mass;
-    }
-    /* the tree's shape and arms, for the passes */
-    for (k = 0; k < m->nq; k++) {
-        const int j = m->qj[k];
-        double *rec = r->ab + RJ__AB_COUNT * (size_t) k;
-        rec[RJ__AB_PQ] = rj__ab_parent(m, j);
-        rec[RJ__AB_ROT] = m->jnt[j].rotor;
-        rec[RJ__AB_RX] = rec[RJ__AB_RY] = 0;
-        /* a root (on the ground or a fixed link) passes nothing up: no arm */
-        if (rec[RJ__AB_PQ] >= 0)
-            rj__ab_arm(m, r, j, &rec[RJ__AB_RX], &rec[RJ__AB_RY]);
-    }
+    const int j = m->qj[k];
+    double *rec = r->ab + RJ__AB_COUNT * (size_t) k;
+    double *own = rec + RJ__AB_OWN;
+    int i;
+    own[0] = b[RJ__RL_SUB_J];
+    own[1] = -b[RJ__RL_SUB_SY];
+    own[2] = b[RJ__RL_SUB_SX];
+    own[3] = b[RJ__RL_SUB_M];
+    own[4] = 0;
+    own[5] = b[RJ__RL_SUB_M];
+    for (i = 0; i < 6; i++)
+        rec[RJ__AB_IA + i] = own[i];
+    rec[RJ__AB_PQ] = rj__ab_parent(m, j);
+    rec[RJ__AB_ROT] = m->jnt[j].rotor;
+    /* a root (on the ground or a fixed link) passes nothing up: no arm */
+    rec[RJ__AB_RX] = rec[RJ__AB_RY] = 0;
 }
 
 /* The acceleration a coordinate's pin takes from its parent's (X a_parent), or 0. */
@@ -9826,43 +9809,33 @@ static void rj__ab_accel_in(const rj__rig *r, const double *rec, int pq, double 
     a[2] = ap[2] + rec[RJ__AB_RX] * ap[0];
 }
 
-/* The factor at the kinematics in r->lk; nonzero when a pivot D is not positive. */
-static int rj__aba_factor(const rj_model *m, rj__rig *r)
+/* The factor's step at coordinate qi, whose articulated inertia IA is whole (its
+   children's passed in): U, 1 / D, and its Ia moved to its parent's pin into the
+   parent's IA. Nonzero when D is not positive. */
+static int rj__ab_factor_at(rj__rig *r, int qi)
 {
-    const int n = m->nq;
-    int k, i;
-    rj__ab_own(m, r);
-    for (k = 0; k < n; k++) {
-        double *rec = r->ab + RJ__AB_COUNT * (size_t) k;
-        for (i = 0; i < 6; i++)
-            rec[RJ__AB_IA + i] = rec[RJ__AB_OWN + i];
-    }
-    /* jorder has parents before children: backwards, a subtree is whole when reached */
-    for (k = n - 1; k >= 0; k--) {
-        const int qi = m->jq[m->jorder[k]];
-        double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
-        const int pq = (int) rec[RJ__AB_PQ];
-        const double *A = rec + RJ__AB_IA;
-        double *U = rec + RJ__AB_U, Ia[6], inv_d;
-        const double D = A[0] + rec[RJ__AB_ROT];
-        U[0] = A[0];
-        U[1] = A[1];
-        U[2] = A[2];
-        if (!(D > 0))
-            return -1;
-        inv_d = 1.0 / D;
-        rec[RJ__AB_D] = inv_d;
-        if (pq < 0)
-            continue;
-        Ia[0] = A[0] - U[0] * U[0] * inv_d;
-        Ia[1] = A[1] - U[0] * U[1] * inv_d;
-        Ia[2] = A[2] - U[0] * U[2] * inv_d;
-        Ia[3] = A[3] - U[1] * U[1] * inv_d;
-        Ia[4] = A[4] - U[1] * U[2] * inv_d;
-        Ia[5] = A[5] - U[2] * U[2] * inv_d;
-        rj__ab_shift_inertia(Ia, rec[RJ__AB_RX], rec[RJ__AB_RY],
-                             r->ab + RJ__AB_COUNT * (size_t) pq + RJ__AB_IA);
-    }
+    double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
+    const int pq = (int) rec[RJ__AB_PQ];
+    const double *A = rec + RJ__AB_IA;
+    double *U = rec + RJ__AB_U, Ia[6], inv_d;
+    const double D = A[0] + rec[RJ__AB_ROT];
+    U[0] = A[0];
+    U[1] = A[1];
+    U[2] = A[2];
+    if (!(D > 0))
+        return -1;
+    inv_d = 1.0 / D;
+    rec[RJ__AB_D] = inv_d;
+    if (pq < 0)
+        return 0;
+    Ia[0] = A[0] - U[0] * U[0] * inv_d;
+    Ia[1] = A[1] - U[0] * U[1] * inv_d;
+    Ia[2] = A[2] - U[0] * U[2] * inv_d;
+    Ia[3] = A[3] - U[1] * U[1] * inv_d;
+    Ia[4] = A[4] - U[1] * U[2] * inv_d;
+    Ia[5] = A[5] - U[2] * U[2] * inv_d;
+    rj__ab_shift_inertia(Ia, rec[RJ__AB_RX], rec[RJ__AB_RY],
+                         r->ab + RJ__AB_COUNT * (size_t) pq + RJ__AB_IA);
     return 0;
 }
 
@@ -10146,7 +10119,7 @@ static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const do
 /* One link's own share of the subtree sums of its parent joint (pin P, centre c):
    mass m, first moment m (c - P), inertia I + m |c - P|^2 about P, m a and its moment
    m (c - P) x a, with a the centre's centripetal acceleration. */
-static void rj__rig_own(const rj_model *m, int link, double *b)
+static RJ__FORCE_INLINE void rj__rig_own(const rj_model *m, int link, double *b)
 {
     const double mass = m->rb_mass[link];
     const double dx = b[RJ__RL_CX] - b[RJ__RL_PX];
@@ -10162,16 +10135,24 @@ static void rj__rig_own(const rj_model *m, int link, double *b)
 
 /* Adds a complete subtree (record sub, pin at sub's root) to its parent's sums, moved
    from the child's pin to the parent's by d = P_child - P_parent (parallel axes). */
-static void rj__rig_gather(const double *sub, double *parent)
+static RJ__FORCE_INLINE void rj__rig_gather(const double *sub, double *parent, double dx,
+                                            double dy)
 {
-    const double dx = sub[RJ__RL_PX] - parent[RJ__RL_PX];
-    const double dy = sub[RJ__RL_PY] - parent[RJ__RL_PY];
     const double mass = sub[RJ__RL_SUB_M];
     const double moment = dx * sub[RJ__RL_SUB_SX] + dy * sub[RJ__RL_SUB_SY];
     parent[RJ__RL_SUB_M] += mass;
     parent[RJ__RL_SUB_J] += sub[RJ__RL_SUB_J] + 2 * moment + mass * (dx * dx + dy * dy);
     parent[RJ__RL_SUB_SX] += sub[RJ__RL_SUB_SX] + mass * dx;
     parent[RJ__RL_SUB_SY] += sub[RJ__RL_SUB_SY] + mass * dy;
+    parent[RJ__RL_SUB_FX] += sub[RJ__RL_SUB_FX];
+    parent[RJ__RL_SUB_FY] += sub[RJ__RL_SUB_FY];
+    parent[RJ__RL_SUB_N] += sub[RJ__RL_SUB_N] + dx * sub[RJ__RL_SUB_FY] - dy * sub[RJ__RL_SUB_FX];
+}
+
+/* rj__rig_gather's force sums alone (m a and its moment), all the bias h needs: an
+   articulated-body tree without gravity reads no other subtree sum. */
+static void rj__rig_gather_forces(const double *sub, double *parent, double dx, double dy)
+{
     parent[RJ__RL_SUB_FX] += sub[RJ__RL_SUB_FX];
     parent[RJ__RL_SUB_FY] += sub[RJ__RL_SUB_FY];
     parent[RJ__RL_SUB_N] += sub[RJ__RL_SUB_N] + dx * sub[RJ__RL_SUB_FY] - dy * sub[RJ__RL_SUB_FX];
@@ -10186,7 +10167,7 @@ static void rj__rig_gather(const double *sub, double *parent)
 static void rj__rig_subtrees(const rj_model *m, rj__rig *r)
 {
     const int n = m->nq;
-    double *h = r->h, *lk = r->lk;
+    double *h = r->h, *lk = r->lk, *up;
     int k;
     for (k = 0; k < n; k++) {
         const int body = m->jdef[m->qj[k]].body2;
@@ -10200,8 +10181,50 @@ static void rj__rig_subtrees(const rj_model *m, rj__rig *r)
         h[qi] = sub[RJ__RL_SUB_N];
         if (parent < 0 || m->rb_pjoint[parent] < 0)
             continue; /* on the ground or a fixed link */
-        rj__rig_gather(sub, lk + RJ__RL_COUNT * (size_t) parent);
+        up = lk + RJ__RL_COUNT * (size_t) parent;
+        rj__rig_gather(sub, up, sub[RJ__RL_PX] - up[RJ__RL_PX], sub[RJ__RL_PY] - up[RJ__RL_PY]);
     }
+}
+
+/* An articulated-body tree's factor and bias h (rj__rig_subtrees and the factor's steps,
+   rj__ab_factor_at, in one pass each way): each body's own sums and inertia, then leaves
+   first each subtree's sums and its articulated inertia, both moved to the parent's pin
+   by the same arm P_child - P_parent, taken once. Without gravity only the force sums
+   are gathered (h reads no other). Nonzero when a pivot D is not positive. */
+static int rj__rig_tree_factor(const rj_model *m, rj__rig *r)
+{
+    const int n = m->nq, moments = m->has_gravity;
+    double *h = r->h, *lk = r->lk;
+    int k;
+    for (k = 0; k < n; k++) {
+        const int body = m->jdef[m->qj[k]].body2;
+        double *b = lk + RJ__RL_COUNT * (size_t) body;
+        rj__rig_own(m, body, b);
+        rj__ab_own(m, r, k, b);
+    }
+    /* jorder has parents before children: backwards, a subtree is whole when reached */
+    for (k = n - 1; k >= 0; k--) {
+        const int j = m->jorder[k], qi = m->jq[j];
+        const int parent = m->jdef[j].body1;
+        const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
+        double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
+        h[qi] = sub[RJ__RL_SUB_N];
+        /* the same test as the factor's parent coordinate (rj__ab_parent) */
+        if (parent >= 0 && m->rb_pjoint[parent] >= 0) {
+            double *up = lk + RJ__RL_COUNT * (size_t) parent;
+            const double dx = sub[RJ__RL_PX] - up[RJ__RL_PX];
+            const double dy = sub[RJ__RL_PY] - up[RJ__RL_PY];
+            rec[RJ__AB_RX] = dx;
+            rec[RJ__AB_RY] = dy;
+            if (moments)
+                rj__rig_gather(sub, up, dx, dy);
+            else
+                rj__rig_gather_forces(sub, up, dx, dy);
+        }
+        if (rj__ab_factor_at(r, qi))
+            return -1;
+    }
+    return 0;
 }
 
 /* The dense M from the subtrees' sums: M_jj = J_j, M_jk = J_j + (P_j - P_k) . S_j for
@@ -10251,9 +10274,6 @@ static void rj__rig_mass(const rj_model *m, rj__rig *r)
     const int n = m->nq;
     int k;
     rj__rig_subtrees(m, r);
-    /* an articulated-body tree needs the subtrees' sums and h alone (rj__aba_factor) */
-    if (m->rig_tree)
-        return;
     rj__rig_mass_links(m, r);
     for (k = 0; k < n; k++)
         r->M[(size_t) k * n + k] += m->jnt[m->qj[k]].rotor;
@@ -10350,12 +10370,14 @@ static void rj__chol_unit(int n, const double *L, int j, double *x)
 }
 
 /* M(q) and its factor at the kinematics in r->lk, as the model solves them: dense
-   (Cholesky) or articulated bodies (rj__aba_factor); nonzero when M is not positive
+   (Cholesky) or articulated bodies (rj__rig_tree_factor); nonzero when M is not positive
    definite. */
 static RJ__FORCE_INLINE int rj__rig_factor(const rj_model *m, rj__rig *r)
 {
+    if (m->rig_tree)
+        return rj__rig_tree_factor(m, r);
     rj__rig_mass(m, r);
-    return m->rig_tree ? rj__aba_factor(m, r) : rj__chol(m->nq, r->M, r->L);
+    return rj__chol(m->nq, r->M, r->L);
 }
 
 /* x = M^-1 b with the factor. */

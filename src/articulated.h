@@ -25,16 +25,6 @@ static int rj__ab_parent(const rj_model *m, int j)
     return p >= 0 && m->rb_pjoint[p] >= 0 ? m->jq[m->rb_pjoint[p]] : -1;
 }
 
-/* r = P_child - P_parent for joint j (its body 2's pin less its parent's); body 1 must be
-   a link. */
-static void rj__ab_arm(const rj_model *m, const rj__rig *r, int j, double *rx, double *ry)
-{
-    const double *c = r->lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
-    const double *p = r->lk + RJ__RL_COUNT * (size_t) m->jdef[j].body1;
-    *rx = c[RJ__RL_PX] - p[RJ__RL_PX];
-    *ry = c[RJ__RL_PY] - p[RJ__RL_PY];
-}
-
 /* X^T A X added into B (symmetric 3 x 3, 6 entries), r the arm. */
 static void rj__ab_shift_inertia(const double *A, double rx, double ry, double *B)
 {
@@ -55,35 +45,28 @@ static void rj__ab_sym_mul(const double *A, const double *v, double *out)
     out[2] = A[2] * v[0] + A[4] * v[1] + A[5] * v[2];
 }
 
-/* Each coordinate's body's own inertia about its pin (at the kinematics in r->lk), its
-   arm from its parent's pin, its parent's coordinate and its rotor. */
-static void rj__ab_own(const rj_model *m, rj__rig *r)
+/* Coordinate k's body's own inertia about its pin, from its own sums (rj__rig_own: mass,
+   first moment m (c - P), inertia about P), which also starts its articulated inertia;
+   its parent's coordinate and its rotor. Its arm from its parent's pin is written as
+   the subtrees are gathered (rj__rig_tree_factor), which take the same difference. */
+static void rj__ab_own(const rj_model *m, rj__rig *r, int k, const double *b)
 {
-    int k;
-    for (k = 0; k < m->nq; k++) {
-        const int body = m->jdef[m->qj[k]].body2;
-        const double *b = r->lk + RJ__RL_COUNT * (size_t) body;
-        const double mass = m->rb_mass[body];
-        const double dx = b[RJ__RL_CX] - b[RJ__RL_PX], dy = b[RJ__RL_CY] - b[RJ__RL_PY];
-        double *own = r->ab + RJ__AB_COUNT * (size_t) k + RJ__AB_OWN;
-        own[0] = m->rb_icm[body] + mass * (dx * dx + dy * dy);
-        own[1] = -mass * dy;
-        own[2] = mass * dx;
-        own[3] = mass;
-        own[4] = 0;
-        own[5] = mass;
-    }
-    /* the tree's shape and arms, for the passes */
-    for (k = 0; k < m->nq; k++) {
-        const int j = m->qj[k];
-        double *rec = r->ab + RJ__AB_COUNT * (size_t) k;
-        rec[RJ__AB_PQ] = rj__ab_parent(m, j);
-        rec[RJ__AB_ROT] = m->jnt[j].rotor;
-        rec[RJ__AB_RX] = rec[RJ__AB_RY] = 0;
-        /* a root (on the ground or a fixed link) passes nothing up: no arm */
-        if (rec[RJ__AB_PQ] >= 0)
-            rj__ab_arm(m, r, j, &rec[RJ__AB_RX], &rec[RJ__AB_RY]);
-    }
+    const int j = m->qj[k];
+    double *rec = r->ab + RJ__AB_COUNT * (size_t) k;
+    double *own = rec + RJ__AB_OWN;
+    int i;
+    own[0] = b[RJ__RL_SUB_J];
+    own[1] = -b[RJ__RL_SUB_SY];
+    own[2] = b[RJ__RL_SUB_SX];
+    own[3] = b[RJ__RL_SUB_M];
+    own[4] = 0;
+    own[5] = b[RJ__RL_SUB_M];
+    for (i = 0; i < 6; i++)
+        rec[RJ__AB_IA + i] = own[i];
+    rec[RJ__AB_PQ] = rj__ab_parent(m, j);
+    rec[RJ__AB_ROT] = m->jnt[j].rotor;
+    /* a root (on the ground or a fixed link) passes nothing up: no arm */
+    rec[RJ__AB_RX] = rec[RJ__AB_RY] = 0;
 }
 
 /* The acceleration a coordinate's pin takes from its parent's (X a_parent), or 0. */
@@ -100,43 +83,33 @@ static void rj__ab_accel_in(const rj__rig *r, const double *rec, int pq, double 
     a[2] = ap[2] + rec[RJ__AB_RX] * ap[0];
 }
 
-/* The factor at the kinematics in r->lk; nonzero when a pivot D is not positive. */
-static int rj__aba_factor(const rj_model *m, rj__rig *r)
+/* The factor's step at coordinate qi, whose articulated inertia IA is whole (its
+   children's passed in): U, 1 / D, and its Ia moved to its parent's pin into the
+   parent's IA. Nonzero when D is not positive. */
+static int rj__ab_factor_at(rj__rig *r, int qi)
 {
-    const int n = m->nq;
-    int k, i;
-    rj__ab_own(m, r);
-    for (k = 0; k < n; k++) {
-        double *rec = r->ab + RJ__AB_COUNT * (size_t) k;
-        for (i = 0; i < 6; i++)
-            rec[RJ__AB_IA + i] = rec[RJ__AB_OWN + i];
-    }
-    /* jorder has parents before children: backwards, a subtree is whole when reached */
-    for (k = n - 1; k >= 0; k--) {
-        const int qi = m->jq[m->jorder[k]];
-        double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
-        const int pq = (int) rec[RJ__AB_PQ];
-        const double *A = rec + RJ__AB_IA;
-        double *U = rec + RJ__AB_U, Ia[6], inv_d;
-        const double D = A[0] + rec[RJ__AB_ROT];
-        U[0] = A[0];
-        U[1] = A[1];
-        U[2] = A[2];
-        if (!(D > 0))
-            return -1;
-        inv_d = 1.0 / D;
-        rec[RJ__AB_D] = inv_d;
-        if (pq < 0)
-            continue;
-        Ia[0] = A[0] - U[0] * U[0] * inv_d;
-        Ia[1] = A[1] - U[0] * U[1] * inv_d;
-        Ia[2] = A[2] - U[0] * U[2] * inv_d;
-        Ia[3] = A[3] - U[1] * U[1] * inv_d;
-        Ia[4] = A[4] - U[1] * U[2] * inv_d;
-        Ia[5] = A[5] - U[2] * U[2] * inv_d;
-        rj__ab_shift_inertia(Ia, rec[RJ__AB_RX], rec[RJ__AB_RY],
-                             r->ab + RJ__AB_COUNT * (size_t) pq + RJ__AB_IA);
-    }
+    double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
+    const int pq = (int) rec[RJ__AB_PQ];
+    const double *A = rec + RJ__AB_IA;
+    double *U = rec + RJ__AB_U, Ia[6], inv_d;
+    const double D = A[0] + rec[RJ__AB_ROT];
+    U[0] = A[0];
+    U[1] = A[1];
+    U[2] = A[2];
+    if (!(D > 0))
+        return -1;
+    inv_d = 1.0 / D;
+    rec[RJ__AB_D] = inv_d;
+    if (pq < 0)
+        return 0;
+    Ia[0] = A[0] - U[0] * U[0] * inv_d;
+    Ia[1] = A[1] - U[0] * U[1] * inv_d;
+    Ia[2] = A[2] - U[0] * U[2] * inv_d;
+    Ia[3] = A[3] - U[1] * U[1] * inv_d;
+    Ia[4] = A[4] - U[1] * U[2] * inv_d;
+    Ia[5] = A[5] - U[2] * U[2] * inv_d;
+    rj__ab_shift_inertia(Ia, rec[RJ__AB_RX], rec[RJ__AB_RY],
+                         r->ab + RJ__AB_COUNT * (size_t) pq + RJ__AB_IA);
     return 0;
 }
 

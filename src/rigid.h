@@ -178,7 +178,7 @@ static void rj__rig_kin(const rj_model *m, rj__rig *r, const double *q, const do
 /* One link's own share of the subtree sums of its parent joint (pin P, centre c):
    mass m, first moment m (c - P), inertia I + m |c - P|^2 about P, m a and its moment
    m (c - P) x a, with a the centre's centripetal acceleration. */
-static void rj__rig_own(const rj_model *m, int link, double *b)
+static RJ__FORCE_INLINE void rj__rig_own(const rj_model *m, int link, double *b)
 {
     const double mass = m->rb_mass[link];
     const double dx = b[RJ__RL_CX] - b[RJ__RL_PX];
@@ -194,16 +194,24 @@ static void rj__rig_own(const rj_model *m, int link, double *b)
 
 /* Adds a complete subtree (record sub, pin at sub's root) to its parent's sums, moved
    from the child's pin to the parent's by d = P_child - P_parent (parallel axes). */
-static void rj__rig_gather(const double *sub, double *parent)
+static RJ__FORCE_INLINE void rj__rig_gather(const double *sub, double *parent, double dx,
+                                            double dy)
 {
-    const double dx = sub[RJ__RL_PX] - parent[RJ__RL_PX];
-    const double dy = sub[RJ__RL_PY] - parent[RJ__RL_PY];
     const double mass = sub[RJ__RL_SUB_M];
     const double moment = dx * sub[RJ__RL_SUB_SX] + dy * sub[RJ__RL_SUB_SY];
     parent[RJ__RL_SUB_M] += mass;
     parent[RJ__RL_SUB_J] += sub[RJ__RL_SUB_J] + 2 * moment + mass * (dx * dx + dy * dy);
     parent[RJ__RL_SUB_SX] += sub[RJ__RL_SUB_SX] + mass * dx;
     parent[RJ__RL_SUB_SY] += sub[RJ__RL_SUB_SY] + mass * dy;
+    parent[RJ__RL_SUB_FX] += sub[RJ__RL_SUB_FX];
+    parent[RJ__RL_SUB_FY] += sub[RJ__RL_SUB_FY];
+    parent[RJ__RL_SUB_N] += sub[RJ__RL_SUB_N] + dx * sub[RJ__RL_SUB_FY] - dy * sub[RJ__RL_SUB_FX];
+}
+
+/* rj__rig_gather's force sums alone (m a and its moment), all the bias h needs: an
+   articulated-body tree without gravity reads no other subtree sum. */
+static void rj__rig_gather_forces(const double *sub, double *parent, double dx, double dy)
+{
     parent[RJ__RL_SUB_FX] += sub[RJ__RL_SUB_FX];
     parent[RJ__RL_SUB_FY] += sub[RJ__RL_SUB_FY];
     parent[RJ__RL_SUB_N] += sub[RJ__RL_SUB_N] + dx * sub[RJ__RL_SUB_FY] - dy * sub[RJ__RL_SUB_FX];
@@ -218,7 +226,7 @@ static void rj__rig_gather(const double *sub, double *parent)
 static void rj__rig_subtrees(const rj_model *m, rj__rig *r)
 {
     const int n = m->nq;
-    double *h = r->h, *lk = r->lk;
+    double *h = r->h, *lk = r->lk, *up;
     int k;
     for (k = 0; k < n; k++) {
         const int body = m->jdef[m->qj[k]].body2;
@@ -232,8 +240,50 @@ static void rj__rig_subtrees(const rj_model *m, rj__rig *r)
         h[qi] = sub[RJ__RL_SUB_N];
         if (parent < 0 || m->rb_pjoint[parent] < 0)
             continue; /* on the ground or a fixed link */
-        rj__rig_gather(sub, lk + RJ__RL_COUNT * (size_t) parent);
+        up = lk + RJ__RL_COUNT * (size_t) parent;
+        rj__rig_gather(sub, up, sub[RJ__RL_PX] - up[RJ__RL_PX], sub[RJ__RL_PY] - up[RJ__RL_PY]);
     }
+}
+
+/* An articulated-body tree's factor and bias h (rj__rig_subtrees and the factor's steps,
+   rj__ab_factor_at, in one pass each way): each body's own sums and inertia, then leaves
+   first each subtree's sums and its articulated inertia, both moved to the parent's pin
+   by the same arm P_child - P_parent, taken once. Without gravity only the force sums
+   are gathered (h reads no other). Nonzero when a pivot D is not positive. */
+static int rj__rig_tree_factor(const rj_model *m, rj__rig *r)
+{
+    const int n = m->nq, moments = m->has_gravity;
+    double *h = r->h, *lk = r->lk;
+    int k;
+    for (k = 0; k < n; k++) {
+        const int body = m->jdef[m->qj[k]].body2;
+        double *b = lk + RJ__RL_COUNT * (size_t) body;
+        rj__rig_own(m, body, b);
+        rj__ab_own(m, r, k, b);
+    }
+    /* jorder has parents before children: backwards, a subtree is whole when reached */
+    for (k = n - 1; k >= 0; k--) {
+        const int j = m->jorder[k], qi = m->jq[j];
+        const int parent = m->jdef[j].body1;
+        const double *sub = lk + RJ__RL_COUNT * (size_t) m->jdef[j].body2;
+        double *rec = r->ab + RJ__AB_COUNT * (size_t) qi;
+        h[qi] = sub[RJ__RL_SUB_N];
+        /* the same test as the factor's parent coordinate (rj__ab_parent) */
+        if (parent >= 0 && m->rb_pjoint[parent] >= 0) {
+            double *up = lk + RJ__RL_COUNT * (size_t) parent;
+            const double dx = sub[RJ__RL_PX] - up[RJ__RL_PX];
+            const double dy = sub[RJ__RL_PY] - up[RJ__RL_PY];
+            rec[RJ__AB_RX] = dx;
+            rec[RJ__AB_RY] = dy;
+            if (moments)
+                rj__rig_gather(sub, up, dx, dy);
+            else
+                rj__rig_gather_forces(sub, up, dx, dy);
+        }
+        if (rj__ab_factor_at(r, qi))
+            return -1;
+    }
+    return 0;
 }
 
 /* The dense M from the subtrees' sums: M_jj = J_j, M_jk = J_j + (P_j - P_k) . S_j for
@@ -283,9 +333,6 @@ static void rj__rig_mass(const rj_model *m, rj__rig *r)
     const int n = m->nq;
     int k;
     rj__rig_subtrees(m, r);
-    /* an articulated-body tree needs the subtrees' sums and h alone (rj__aba_factor) */
-    if (m->rig_tree)
-        return;
     rj__rig_mass_links(m, r);
     for (k = 0; k < n; k++)
         r->M[(size_t) k * n + k] += m->jnt[m->qj[k]].rotor;
@@ -382,12 +429,14 @@ static void rj__chol_unit(int n, const double *L, int j, double *x)
 }
 
 /* M(q) and its factor at the kinematics in r->lk, as the model solves them: dense
-   (Cholesky) or articulated bodies (rj__aba_factor); nonzero when M is not positive
+   (Cholesky) or articulated bodies (rj__rig_tree_factor); nonzero when M is not positive
    definite. */
 static RJ__FORCE_INLINE int rj__rig_factor(const rj_model *m, rj__rig *r)
 {
+    if (m->rig_tree)
+        return rj__rig_tree_factor(m, r);
     rj__rig_mass(m, r);
-    return m->rig_tree ? rj__aba_factor(m, r) : rj__chol(m->nq, r->M, r->L);
+    return rj__chol(m->nq, r->M, r->L);
 }
 
 /* x = M^-1 b with the factor. */
