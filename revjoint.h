@@ -15510,9 +15510,11 @@ static void rj__rig_pose(const rj_model *m, const double *f, int l, double *phi,
    root's acceleration (7 per link in k), down the tree in joint order (parents first):
    O(nl). The angles from frame fq, the rates from frame fr's rates and accelerations
    (RJ__JD_RATE + ahead RJ__JD_QDD: the step's predicted rates at n when fr is the frame at
-   n and ahead dt / 2), the accelerations from frame fa. */
+   n and ahead dt / 2), the accelerations from frame fa. Each hanging link's direction
+   (cos, sin of its angle: 2 per link in dir) is taken once, for its children's pins and
+   its centre (rj__rig_pin_forces). */
 static void rj__rig_accels(const rj_model *m, const double *fq, const double *fr, double ahead,
-                           const double *fa, double *k)
+                           const double *fa, double *k, double *dir)
 {
     int q, l;
     /* a link no joint hangs (fixed, or a free root in joint coordinates) stays put */
@@ -15535,7 +15537,11 @@ static void rj__rig_accels(const rj_model *m, const double *fq, const double *fr
             a_pin[0] = a_pin[1] = 0;
         } else {
             const double *kp = k + RJ__KA_N * (size_t) p;
-            const double d[2] = { m->jpin[j] * cos(kp[RJ__KA_PHI]), m->jpin[j] * sin(kp[RJ__KA_PHI]) };
+            /* a hanging parent's direction came before (parents first); a fixed link's */
+            const int hangs = m->rb_pjoint[p] >= 0;
+            const double cp = hangs ? dir[2 * p] : cos(kp[RJ__KA_PHI]);
+            const double sp = hangs ? dir[2 * p + 1] : sin(kp[RJ__KA_PHI]);
+            const double d[2] = { m->jpin[j] * cp, m->jpin[j] * sp };
             ph = kp[RJ__KA_PHI] + m->jref[j];
             om = kp[RJ__KA_OM];
             al = kp[RJ__KA_AL];
@@ -15552,6 +15558,8 @@ static void rj__rig_accels(const rj_model *m, const double *fq, const double *fr
         off = (m->jnt[j].nJ - m->link_first[l]) * m->link_l0[l];
         e[0] = cos(ph);
         e[1] = sin(ph);
+        dir[2 * l] = e[0];
+        dir[2 * l + 1] = e[1];
         kl[RJ__KA_PHI] = ph;
         kl[RJ__KA_OM] = om;
         kl[RJ__KA_AL] = al;
@@ -15596,17 +15604,19 @@ static void rj__rig_pin_forces(const rj_model *m, const rj_state *s, double *wor
        impulses act; else the new frame's (the forces at n + 1 of a tree) */
     if (m->nloop) {
         const double *at_n = s->fd[1 - s->cur];
-        rj__rig_accels(m, at_n, at_n, s->steps == 1 ? 0.0 : 0.5 * m->dt, f, k);
+        rj__rig_accels(m, at_n, at_n, s->steps == 1 ? 0.0 : 0.5 * m->dt, f, k, sum);
     } else
-        rj__rig_accels(m, f, f, 0.0, f, k);
+        rj__rig_accels(m, f, f, 0.0, f, k, sum);
     for (l = 0; l < m->nl; l++) {
         const double *kl = k + RJ__KA_N * (size_t) l, dc = m->rb_dcm[l];
         double e[2];
-        sum[2 * l] = sum[2 * l + 1] = 0;
-        if (m->rb_pjoint[l] < 0)
+        if (m->rb_pjoint[l] < 0) {
+            sum[2 * l] = sum[2 * l + 1] = 0;
             continue;
-        e[0] = cos(kl[RJ__KA_PHI]);
-        e[1] = sin(kl[RJ__KA_PHI]);
+        }
+        /* sum holds a hanging link's direction (rj__rig_accels) until its sum replaces it */
+        e[0] = sum[2 * l];
+        e[1] = sum[2 * l + 1];
         /* the centre: a_root + alpha perp(dc e) - omega^2 dc e */
         sum[2 * l] = m->rb_mass[l] * (kl[RJ__KA_AX] - kl[RJ__KA_AL] * dc * e[1] -
                                       kl[RJ__KA_OM] * kl[RJ__KA_OM] * dc * e[0] -
