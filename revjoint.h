@@ -15517,9 +15517,12 @@ static void rj__rig_accels(const rj_model *m, const double *fq, const double *fr
                            const double *fa, double *k, double *dir)
 {
     int q, l;
-    /* a link no joint hangs (fixed, or a free root in joint coordinates) stays put */
+    /* a link no joint hangs (fixed, or a free root in joint coordinates) stays put; the
+       joints below write all of a hanging link's record */
     for (l = 0; l < m->nl; l++) {
         double *kl = k + RJ__KA_N * (size_t) l;
+        if (m->rb_pjoint[l] >= 0)
+            continue;
         memset(kl, 0, sizeof(double) * RJ__KA_N);
         kl[RJ__KA_PHI] = m->ldef[l].angle;
         kl[RJ__KA_RX] = m->ldef[l].x;
