@@ -692,13 +692,17 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
    - A loop joint of those scenes: its pin node's balance as for flexible links, less
      what the node's own link's lengths put on it over the step (SHAKE's pushes, which
      the step records); between two rigid bodies, the pushes of the pin between them
-     over the step (recorded too), at t^n. Each pin's two sides agree to the round-off
-     of positions over dt^2 (build/test_loops).
-   RJ_ERR_INVALID, force 0, not yet: a loop joint pinning a rigid body of a mixed scene to
-   the ground, or one with a chord reference, and the joints whose links such a loop ties
-   to the rest; a held body among the links below a joint; in-place stepping, a chord
-   reference on a flexible pin node, before a step (or a checkpoint's load, or rj_settle:
-   the state a step before is needed). */
+     over the step (recorded too); pinning a rigid body to the ground, the body's m a -
+     m g less its loads and its other pins' forces on it (each node it carries: that
+     node's balance; its pins to other bodies and the carried links' lengths: their
+     recorded pushes), at t^n. Each pin's two sides agree to the round-off of positions
+     over dt^2 (build/test_loops).
+   RJ_ERR_INVALID, force 0, not yet: a loop joint with a chord reference on a flexible
+   pin node, and the joints whose links such a loop ties to the rest; a held body among
+   the links below a joint, or pinned to the ground by a loop, or one a loop pins to the
+   ground whose carried node takes a chord reference's forces or is pinned to the ground
+   too; in-place stepping, a chord reference on a flexible pin node, before a step (or a
+   checkpoint's load, or rj_settle: the state a step before is needed). */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
 /* Every joint's pin force at once (2 per joint in forces, as rj_joint_pin_force; NaN
@@ -13399,19 +13403,22 @@ static int rj__balance_node(const rj_model *m, int j, double *sign)
 }
 
 /* How node space knows a loop joint's pin force (rj__loop_side). */
-enum { RJ__LOOP_NONE, RJ__LOOP_NODE, RJ__LOOP_BODIES };
+enum { RJ__LOOP_NONE, RJ__LOOP_NODE, RJ__LOOP_BODIES, RJ__LOOP_GROUND };
 
 /* Node space: where loop joint j's pin force comes from: between two rigid bodies, the
-   pushes of the pin between them (RJ__LOOP_BODIES); else the balance of its pin node
-   *node (rj__balance_node, RJ__LOOP_NODE) less what its own link's lengths put on it.
-   None for a rigid body pinned to the ground (the body takes that force), or a chord
-   reference (the joint's torque acts on the pin node as forces). */
+   pushes of the pin between them (RJ__LOOP_BODIES); pinning a rigid body to the ground,
+   the body's balance (RJ__LOOP_GROUND: the body holds its pin to the ground itself);
+   else the balance of its pin node *node (rj__balance_node, RJ__LOOP_NODE) less what its
+   own link's lengths put on it. None for a chord reference on a flexible pin node (the
+   joint's torque acts on that node as forces). */
 static int rj__loop_side(const rj_model *m, int j, int *node, double *sign)
 {
     const rj__joint *J = &m->jnt[j];
     *node = rj__balance_node(m, j, sign);
     if (*sign < 0 && rj__own_body_node(m, J->nI))
         return RJ__LOOP_BODIES;
+    if (*sign < 0 && J->nI < 0)
+        return RJ__LOOP_GROUND;
     if (*node < 0 || J->chord)
         return RJ__LOOP_NONE;
     return RJ__LOOP_NODE;
@@ -13449,10 +13456,30 @@ static void rj__loop_shake_push(const rj_model *m, const rj_state *s, int k, dou
     out[1] -= 2.0 * s->shp[2 * k + 3];
 }
 
+/* The projections' pushes over the step on rigid body c of a mixed scene, into out: the
+   pins between it and other bodies' on its own nodes (rj__loop_pins_push), and the
+   lengths' of the inextensible links whose nodes it carries on those nodes
+   (rj__loop_shake_push). */
+static void rj__loop_body_push(const rj_model *m, const rj_state *s, int c, double out[2])
+{
+    int q;
+    for (q = m->cl_first[c]; q < m->cl_first[c + 1]; q++) {
+        const int k = m->cl_node[q];
+        double push[2] = { 0, 0 };
+        if (RJ__CL_RIGID(m, k) && m->nbp)
+            rj__loop_pins_push(m, s, k, push);
+        if (!RJ__CL_RIGID(m, k) && m->any_inext)
+            rj__loop_shake_push(m, s, k, push);
+        out[0] += push[0];
+        out[1] += push[1];
+    }
+}
+
 /* The projections' forces in the step on the loop joints, the step's record of them
    (rj_state.loop_force), stamped with the step they belong to: on a loop's pin node
    (rj__loop_side), its own link's lengths' (rj__loop_shake_push; none on a flexible
-   link); between two rigid bodies, the pin's on body 2 (rj__loop_pins_push). A push moves
+   link); between two rigid bodies, the pin's on body 2 (rj__loop_pins_push); pinning a
+   rigid body to the ground, all the body's (rj__loop_body_push). A push moves
    positions, and the velocities over dt: an impulse over dt, a force over the kick too. */
 static RJ__NOINLINE void rj__loop_records(const rj_model *m, rj_state *s, const rj__frames *f)
 {
@@ -13464,6 +13491,8 @@ static RJ__NOINLINE void rj__loop_records(const rj_model *m, rj_state *s, const 
         rec[0] = rec[1] = 0;
         if (kind == RJ__LOOP_BODIES)
             rj__loop_pins_push(m, s, m->jnt[j].nJ, rec);
+        if (kind == RJ__LOOP_GROUND)
+            rj__loop_body_push(m, s, m->node_cl[m->jnt[j].nJ], rec);
         if (kind == RJ__LOOP_NODE && m->any_inext)
             rj__loop_shake_push(m, s, node, rec);
         rec[0] *= per;
@@ -15839,26 +15868,114 @@ static void rj__node_momentum(const rj_model *m, const rj_state *s, int k, doubl
     rj__node_ask(m, s, link, k, 1, out);
 }
 
-/* Node space, flexible links: the force on body 2's pin node from the rest of the pin,
-   its momentum's ask less its link's elements (rj__node_momentum), at n. When body 2 is
-   a rigid body of a mixed scene, the same on body 1's node, reversed
-   (rj__balance_node). */
+/* A rigid body's own link (rod and tip mass; mixed scenes): its momentum's ask, M (a_c -
+   g) with a_c from its end nodes' rates at n - 1/2 and n + 1/2 (the body moves them), the
+   centre a fraction of the way along them. Its nodes carry no mass of their own; the
+   nodes of other links it carries count as theirs. */
+static void rj__body_momentum(const rj_model *m, const rj_state *s, int c, double out[2])
+{
+    const rj_link_def *d = &m->ldef[c];
+    const int n0 = m->link_first[c], nt = m->link_first[c + 1] - 1;
+    const double rod = d->rho * rj__plain_area(d) * d->length, own = rod + d->tip_mass;
+    const double along = (rod * 0.5 + d->tip_mass) / own;
+    const double *now = s->fd[s->cur], *at_n = s->fd[1 - s->cur];
+    const double kick = s->steps == 1 ? 0.5 * m->dt : m->dt;
+    int axis;
+    for (axis = 0; axis < 2; axis++) {
+        const double *v1 = axis ? RJ__FVY(m, now) : RJ__FVX(m, now);
+        const double *v0 = axis ? RJ__FVY(m, at_n) : RJ__FVX(m, at_n);
+        const double after = v1[n0] + along * (v1[nt] - v1[n0]);
+        const double before = v0[n0] + along * (v0[nt] - v0[n0]);
+        out[axis] = own * ((after - before) / kick - m->solver.gravity[axis]);
+    }
+}
+
+/* Node space: the force node k's pins put on it at n, its momentum's ask less its own
+   link's elements (rj__node_momentum; a rigid body's own node has no elements). */
+static void rj__pin_node_balance(const rj_model *m, const rj_state *s, int k, double out[2])
+{
+    double elements[2] = { 0, 0 };
+    if (!rj__own_body_node(m, k))
+        rj__elem_node_force(m, s, k, elements);
+    rj__node_momentum(m, s, k, out);
+    out[0] -= elements[0];
+    out[1] -= elements[1];
+}
+
+/* Node space, flexible links: the force on body 2's pin node from the rest of the pin
+   (rj__pin_node_balance), at n. When body 2 is a rigid body of a mixed scene, the same
+   on body 1's node, reversed (rj__balance_node). */
 static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
 {
-    double sign, elements[2];
+    double sign;
     const int k = rj__balance_node(m, j, &sign);
-    rj__elem_node_force(m, s, k, elements);
-    rj__node_momentum(m, s, k, force);
-    force[0] = sign * (force[0] - elements[0]);
-    force[1] = sign * (force[1] - elements[1]);
+    rj__pin_node_balance(m, s, k, force);
+    force[0] *= sign;
+    force[1] *= sign;
+}
+
+/* Whether node n is one rigid body c carries but does not own: a node of another link
+   pinned to it, whose translation the body's pin gives. */
+static int rj__body_carries(const rj_model *m, int c, int n)
+{
+    return n >= 0 && m->node_cl[n] == c && !RJ__CL_RIGID(m, n);
+}
+
+/* Whether rigid body c's balance (rj__body_ground_force) has the forces of its pins to
+   the nodes it carries: not where such a node is pinned to the ground too (that pin
+   shares the body's), nor where a chord reference's torque acts on one as forces. */
+static int rj__body_pins_known(const rj_model *m, int c)
+{
+    int j, k;
+    for (j = 0; j < m->nj; j++) {
+        const rj__joint *J = &m->jnt[j];
+        const int nodes[4] = { J->nI, J->nK, J->nJ, J->nL };
+        if (J->nI < 0 && rj__body_carries(m, c, J->nJ))
+            return 0;
+        for (k = 0; k < 4 && J->chord; k++)
+            if (rj__body_carries(m, c, nodes[k]))
+                return 0;
+    }
+    return 1;
+}
+
+/* Node space: the force the ground puts on rigid body c of a mixed scene at the pin it
+   turns about (its anchor) at t^n, from the body's Newton's second law: its own link's
+   momentum ask (rj__body_momentum) and its own nodes' (their loads and the caller's
+   forces), less the forces its other pins put on it: on each node it carries, the
+   reverse of that node's pin's force (rj__pin_node_balance), and where the step
+   projected (rec, its record: rj__loop_body_push) the pushes of its pins to other bodies
+   and of the carried links' lengths. Returns 0 where unknown (force 0): a held body, or
+   one whose pins' forces are not known (rj__body_pins_known). */
+static int rj__body_ground_force(const rj_model *m, const rj_state *s, int c,
+                                 const double *rec, double force[2])
+{
+    int q;
+    force[0] = force[1] = 0;
+    if (m->cl_fix[c] != 1 || !rj__body_pins_known(m, c))
+        return 0;
+    rj__body_momentum(m, s, c, force);
+    for (q = m->cl_first[c]; q < m->cl_first[c + 1]; q++) {
+        double pin[2];
+        rj__pin_node_balance(m, s, m->cl_node[q], pin);
+        force[0] += pin[0];
+        force[1] += pin[1];
+    }
+    if (rec) {
+        force[0] -= rec[0];
+        force[1] -= rec[1];
+    }
+    return 1;
 }
 
 /* Node space: loop joint j's pin force (rj__loop_side): its pin node's balance
-   (rj__node_pin_force) less what the node's own link's lengths put on it in the step, or
-   between two rigid bodies the pin's pushes, from the step's record
-   (rj__loop_records). Returns 0 where it has none, force 0: none is known there
-   (rj__loop_side: a rigid body pinned to the ground, a chord reference), or no record of
-   the step that led here (needed with inextensible links or between bodies). */
+   (rj__node_pin_force) less what the node's own link's lengths put on it in the step;
+   between two rigid bodies the pin's pushes; pinning a rigid body to the ground, the
+   body's balance less its pins' pushes (rj__body_ground_force); each from the step's
+   record (rj__loop_records). Returns 0 where it has none, force 0: none is known there
+   (rj__loop_side: a chord reference; rj__body_ground_force), or no record of the step
+   that led here (needed with inextensible links, between bodies, and on a body with
+   pins to others). */
 static int rj__loop_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
 {
     const double *rec = s->loop_force + 2 * j;
@@ -15866,14 +15983,19 @@ static int rj__loop_pin_force(const rj_model *m, const rj_state *s, int j, doubl
     double sign;
     int node;
     const int kind = rj__loop_side(m, j, &node, &sign);
+    const int needs =
+        kind == RJ__LOOP_BODIES || m->any_inext || (kind == RJ__LOOP_GROUND && m->nbp);
     force[0] = force[1] = 0;
-    if (kind == RJ__LOOP_NONE || (!recorded && (kind == RJ__LOOP_BODIES || m->any_inext)))
+    if (kind == RJ__LOOP_NONE || (!recorded && needs))
         return 0;
     if (kind == RJ__LOOP_BODIES) {
         force[0] = rec[0];
         force[1] = rec[1];
         return 1;
     }
+    if (kind == RJ__LOOP_GROUND)
+        return rj__body_ground_force(m, s, m->node_cl[m->jnt[j].nJ], m->project ? rec : NULL,
+                                     force);
     rj__node_pin_force(m, s, j, force);
     if (m->any_inext) {
         force[0] -= sign * rec[0];
@@ -15921,28 +16043,6 @@ static int rj__loops_across(const rj_model *m, const rj_state *s, const double *
         force[1] -= sign * loop[1];
     }
     return 1;
-}
-
-/* A rigid body's own link (rod and tip mass; mixed scenes): its momentum's ask, M (a_c -
-   g) with a_c from its end nodes' rates at n - 1/2 and n + 1/2 (the body moves them), the
-   centre a fraction of the way along them. Its nodes carry no mass of their own; the
-   nodes of other links it carries count as theirs. */
-static void rj__body_momentum(const rj_model *m, const rj_state *s, int c, double out[2])
-{
-    const rj_link_def *d = &m->ldef[c];
-    const int n0 = m->link_first[c], nt = m->link_first[c + 1] - 1;
-    const double rod = d->rho * rj__plain_area(d) * d->length, own = rod + d->tip_mass;
-    const double along = (rod * 0.5 + d->tip_mass) / own;
-    const double *now = s->fd[s->cur], *at_n = s->fd[1 - s->cur];
-    const double kick = s->steps == 1 ? 0.5 * m->dt : m->dt;
-    int axis;
-    for (axis = 0; axis < 2; axis++) {
-        const double *v1 = axis ? RJ__FVY(m, now) : RJ__FVX(m, now);
-        const double *v0 = axis ? RJ__FVY(m, at_n) : RJ__FVX(m, at_n);
-        const double after = v1[n0] + along * (v1[nt] - v1[n0]);
-        const double before = v0[n0] + along * (v0[nt] - v0[n0]);
-        out[axis] = own * ((after - before) / kick - m->solver.gravity[axis]);
-    }
 }
 
 /* Node space with inextensible links or rigid bodies: joint j's pin force as Newton's

@@ -692,13 +692,17 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
    - A loop joint of those scenes: its pin node's balance as for flexible links, less
      what the node's own link's lengths put on it over the step (SHAKE's pushes, which
      the step records); between two rigid bodies, the pushes of the pin between them
-     over the step (recorded too), at t^n. Each pin's two sides agree to the round-off
-     of positions over dt^2 (build/test_loops).
-   RJ_ERR_INVALID, force 0, not yet: a loop joint pinning a rigid body of a mixed scene to
-   the ground, or one with a chord reference, and the joints whose links such a loop ties
-   to the rest; a held body among the links below a joint; in-place stepping, a chord
-   reference on a flexible pin node, before a step (or a checkpoint's load, or rj_settle:
-   the state a step before is needed). */
+     over the step (recorded too); pinning a rigid body to the ground, the body's m a -
+     m g less its loads and its other pins' forces on it (each node it carries: that
+     node's balance; its pins to other bodies and the carried links' lengths: their
+     recorded pushes), at t^n. Each pin's two sides agree to the round-off of positions
+     over dt^2 (build/test_loops).
+   RJ_ERR_INVALID, force 0, not yet: a loop joint with a chord reference on a flexible
+   pin node, and the joints whose links such a loop ties to the rest; a held body among
+   the links below a joint, or pinned to the ground by a loop, or one a loop pins to the
+   ground whose carried node takes a chord reference's forces or is pinned to the ground
+   too; in-place stepping, a chord reference on a flexible pin node, before a step (or a
+   checkpoint's load, or rj_settle: the state a step before is needed). */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
 /* Every joint's pin force at once (2 per joint in forces, as rj_joint_pin_force; NaN

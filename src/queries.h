@@ -575,26 +575,114 @@ static void rj__node_momentum(const rj_model *m, const rj_state *s, int k, doubl
     rj__node_ask(m, s, link, k, 1, out);
 }
 
-/* Node space, flexible links: the force on body 2's pin node from the rest of the pin,
-   its momentum's ask less its link's elements (rj__node_momentum), at n. When body 2 is
-   a rigid body of a mixed scene, the same on body 1's node, reversed
-   (rj__balance_node). */
+/* A rigid body's own link (rod and tip mass; mixed scenes): its momentum's ask, M (a_c -
+   g) with a_c from its end nodes' rates at n - 1/2 and n + 1/2 (the body moves them), the
+   centre a fraction of the way along them. Its nodes carry no mass of their own; the
+   nodes of other links it carries count as theirs. */
+static void rj__body_momentum(const rj_model *m, const rj_state *s, int c, double out[2])
+{
+    const rj_link_def *d = &m->ldef[c];
+    const int n0 = m->link_first[c], nt = m->link_first[c + 1] - 1;
+    const double rod = d->rho * rj__plain_area(d) * d->length, own = rod + d->tip_mass;
+    const double along = (rod * 0.5 + d->tip_mass) / own;
+    const double *now = s->fd[s->cur], *at_n = s->fd[1 - s->cur];
+    const double kick = s->steps == 1 ? 0.5 * m->dt : m->dt;
+    int axis;
+    for (axis = 0; axis < 2; axis++) {
+        const double *v1 = axis ? RJ__FVY(m, now) : RJ__FVX(m, now);
+        const double *v0 = axis ? RJ__FVY(m, at_n) : RJ__FVX(m, at_n);
+        const double after = v1[n0] + along * (v1[nt] - v1[n0]);
+        const double before = v0[n0] + along * (v0[nt] - v0[n0]);
+        out[axis] = own * ((after - before) / kick - m->solver.gravity[axis]);
+    }
+}
+
+/* Node space: the force node k's pins put on it at n, its momentum's ask less its own
+   link's elements (rj__node_momentum; a rigid body's own node has no elements). */
+static void rj__pin_node_balance(const rj_model *m, const rj_state *s, int k, double out[2])
+{
+    double elements[2] = { 0, 0 };
+    if (!rj__own_body_node(m, k))
+        rj__elem_node_force(m, s, k, elements);
+    rj__node_momentum(m, s, k, out);
+    out[0] -= elements[0];
+    out[1] -= elements[1];
+}
+
+/* Node space, flexible links: the force on body 2's pin node from the rest of the pin
+   (rj__pin_node_balance), at n. When body 2 is a rigid body of a mixed scene, the same
+   on body 1's node, reversed (rj__balance_node). */
 static void rj__node_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
 {
-    double sign, elements[2];
+    double sign;
     const int k = rj__balance_node(m, j, &sign);
-    rj__elem_node_force(m, s, k, elements);
-    rj__node_momentum(m, s, k, force);
-    force[0] = sign * (force[0] - elements[0]);
-    force[1] = sign * (force[1] - elements[1]);
+    rj__pin_node_balance(m, s, k, force);
+    force[0] *= sign;
+    force[1] *= sign;
+}
+
+/* Whether node n is one rigid body c carries but does not own: a node of another link
+   pinned to it, whose translation the body's pin gives. */
+static int rj__body_carries(const rj_model *m, int c, int n)
+{
+    return n >= 0 && m->node_cl[n] == c && !RJ__CL_RIGID(m, n);
+}
+
+/* Whether rigid body c's balance (rj__body_ground_force) has the forces of its pins to
+   the nodes it carries: not where such a node is pinned to the ground too (that pin
+   shares the body's), nor where a chord reference's torque acts on one as forces. */
+static int rj__body_pins_known(const rj_model *m, int c)
+{
+    int j, k;
+    for (j = 0; j < m->nj; j++) {
+        const rj__joint *J = &m->jnt[j];
+        const int nodes[4] = { J->nI, J->nK, J->nJ, J->nL };
+        if (J->nI < 0 && rj__body_carries(m, c, J->nJ))
+            return 0;
+        for (k = 0; k < 4 && J->chord; k++)
+            if (rj__body_carries(m, c, nodes[k]))
+                return 0;
+    }
+    return 1;
+}
+
+/* Node space: the force the ground puts on rigid body c of a mixed scene at the pin it
+   turns about (its anchor) at t^n, from the body's Newton's second law: its own link's
+   momentum ask (rj__body_momentum) and its own nodes' (their loads and the caller's
+   forces), less the forces its other pins put on it: on each node it carries, the
+   reverse of that node's pin's force (rj__pin_node_balance), and where the step
+   projected (rec, its record: rj__loop_body_push) the pushes of its pins to other bodies
+   and of the carried links' lengths. Returns 0 where unknown (force 0): a held body, or
+   one whose pins' forces are not known (rj__body_pins_known). */
+static int rj__body_ground_force(const rj_model *m, const rj_state *s, int c,
+                                 const double *rec, double force[2])
+{
+    int q;
+    force[0] = force[1] = 0;
+    if (m->cl_fix[c] != 1 || !rj__body_pins_known(m, c))
+        return 0;
+    rj__body_momentum(m, s, c, force);
+    for (q = m->cl_first[c]; q < m->cl_first[c + 1]; q++) {
+        double pin[2];
+        rj__pin_node_balance(m, s, m->cl_node[q], pin);
+        force[0] += pin[0];
+        force[1] += pin[1];
+    }
+    if (rec) {
+        force[0] -= rec[0];
+        force[1] -= rec[1];
+    }
+    return 1;
 }
 
 /* Node space: loop joint j's pin force (rj__loop_side): its pin node's balance
-   (rj__node_pin_force) less what the node's own link's lengths put on it in the step, or
-   between two rigid bodies the pin's pushes, from the step's record
-   (rj__loop_records). Returns 0 where it has none, force 0: none is known there
-   (rj__loop_side: a rigid body pinned to the ground, a chord reference), or no record of
-   the step that led here (needed with inextensible links or between bodies). */
+   (rj__node_pin_force) less what the node's own link's lengths put on it in the step;
+   between two rigid bodies the pin's pushes; pinning a rigid body to the ground, the
+   body's balance less its pins' pushes (rj__body_ground_force); each from the step's
+   record (rj__loop_records). Returns 0 where it has none, force 0: none is known there
+   (rj__loop_side: a chord reference; rj__body_ground_force), or no record of the step
+   that led here (needed with inextensible links, between bodies, and on a body with
+   pins to others). */
 static int rj__loop_pin_force(const rj_model *m, const rj_state *s, int j, double force[2])
 {
     const double *rec = s->loop_force + 2 * j;
@@ -602,14 +690,19 @@ static int rj__loop_pin_force(const rj_model *m, const rj_state *s, int j, doubl
     double sign;
     int node;
     const int kind = rj__loop_side(m, j, &node, &sign);
+    const int needs =
+        kind == RJ__LOOP_BODIES || m->any_inext || (kind == RJ__LOOP_GROUND && m->nbp);
     force[0] = force[1] = 0;
-    if (kind == RJ__LOOP_NONE || (!recorded && (kind == RJ__LOOP_BODIES || m->any_inext)))
+    if (kind == RJ__LOOP_NONE || (!recorded && needs))
         return 0;
     if (kind == RJ__LOOP_BODIES) {
         force[0] = rec[0];
         force[1] = rec[1];
         return 1;
     }
+    if (kind == RJ__LOOP_GROUND)
+        return rj__body_ground_force(m, s, m->node_cl[m->jnt[j].nJ], m->project ? rec : NULL,
+                                     force);
     rj__node_pin_force(m, s, j, force);
     if (m->any_inext) {
         force[0] -= sign * rec[0];
@@ -657,28 +750,6 @@ static int rj__loops_across(const rj_model *m, const rj_state *s, const double *
         force[1] -= sign * loop[1];
     }
     return 1;
-}
-
-/* A rigid body's own link (rod and tip mass; mixed scenes): its momentum's ask, M (a_c -
-   g) with a_c from its end nodes' rates at n - 1/2 and n + 1/2 (the body moves them), the
-   centre a fraction of the way along them. Its nodes carry no mass of their own; the
-   nodes of other links it carries count as theirs. */
-static void rj__body_momentum(const rj_model *m, const rj_state *s, int c, double out[2])
-{
-    const rj_link_def *d = &m->ldef[c];
-    const int n0 = m->link_first[c], nt = m->link_first[c + 1] - 1;
-    const double rod = d->rho * rj__plain_area(d) * d->length, own = rod + d->tip_mass;
-    const double along = (rod * 0.5 + d->tip_mass) / own;
-    const double *now = s->fd[s->cur], *at_n = s->fd[1 - s->cur];
-    const double kick = s->steps == 1 ? 0.5 * m->dt : m->dt;
-    int axis;
-    for (axis = 0; axis < 2; axis++) {
-        const double *v1 = axis ? RJ__FVY(m, now) : RJ__FVX(m, now);
-        const double *v0 = axis ? RJ__FVY(m, at_n) : RJ__FVX(m, at_n);
-        const double after = v1[n0] + along * (v1[nt] - v1[n0]);
-        const double before = v0[n0] + along * (v0[nt] - v0[n0]);
-        out[axis] = own * ((after - before) / kick - m->solver.gravity[axis]);
-    }
 }
 
 /* Node space with inextensible links or rigid bodies: joint j's pin force as Newton's

@@ -1906,19 +1906,22 @@ static int rj__balance_node(const rj_model *m, int j, double *sign)
 }
 
 /* How node space knows a loop joint's pin force (rj__loop_side). */
-enum { RJ__LOOP_NONE, RJ__LOOP_NODE, RJ__LOOP_BODIES };
+enum { RJ__LOOP_NONE, RJ__LOOP_NODE, RJ__LOOP_BODIES, RJ__LOOP_GROUND };
 
 /* Node space: where loop joint j's pin force comes from: between two rigid bodies, the
-   pushes of the pin between them (RJ__LOOP_BODIES); else the balance of its pin node
-   *node (rj__balance_node, RJ__LOOP_NODE) less what its own link's lengths put on it.
-   None for a rigid body pinned to the ground (the body takes that force), or a chord
-   reference (the joint's torque acts on the pin node as forces). */
+   pushes of the pin between them (RJ__LOOP_BODIES); pinning a rigid body to the ground,
+   the body's balance (RJ__LOOP_GROUND: the body holds its pin to the ground itself);
+   else the balance of its pin node *node (rj__balance_node, RJ__LOOP_NODE) less what its
+   own link's lengths put on it. None for a chord reference on a flexible pin node (the
+   joint's torque acts on that node as forces). */
 static int rj__loop_side(const rj_model *m, int j, int *node, double *sign)
 {
     const rj__joint *J = &m->jnt[j];
     *node = rj__balance_node(m, j, sign);
     if (*sign < 0 && rj__own_body_node(m, J->nI))
         return RJ__LOOP_BODIES;
+    if (*sign < 0 && J->nI < 0)
+        return RJ__LOOP_GROUND;
     if (*node < 0 || J->chord)
         return RJ__LOOP_NONE;
     return RJ__LOOP_NODE;
@@ -1956,10 +1959,30 @@ static void rj__loop_shake_push(const rj_model *m, const rj_state *s, int k, dou
     out[1] -= 2.0 * s->shp[2 * k + 3];
 }
 
+/* The projections' pushes over the step on rigid body c of a mixed scene, into out: the
+   pins between it and other bodies' on its own nodes (rj__loop_pins_push), and the
+   lengths' of the inextensible links whose nodes it carries on those nodes
+   (rj__loop_shake_push). */
+static void rj__loop_body_push(const rj_model *m, const rj_state *s, int c, double out[2])
+{
+    int q;
+    for (q = m->cl_first[c]; q < m->cl_first[c + 1]; q++) {
+        const int k = m->cl_node[q];
+        double push[2] = { 0, 0 };
+        if (RJ__CL_RIGID(m, k) && m->nbp)
+            rj__loop_pins_push(m, s, k, push);
+        if (!RJ__CL_RIGID(m, k) && m->any_inext)
+            rj__loop_shake_push(m, s, k, push);
+        out[0] += push[0];
+        out[1] += push[1];
+    }
+}
+
 /* The projections' forces in the step on the loop joints, the step's record of them
    (rj_state.loop_force), stamped with the step they belong to: on a loop's pin node
    (rj__loop_side), its own link's lengths' (rj__loop_shake_push; none on a flexible
-   link); between two rigid bodies, the pin's on body 2 (rj__loop_pins_push). A push moves
+   link); between two rigid bodies, the pin's on body 2 (rj__loop_pins_push); pinning a
+   rigid body to the ground, all the body's (rj__loop_body_push). A push moves
    positions, and the velocities over dt: an impulse over dt, a force over the kick too. */
 static RJ__NOINLINE void rj__loop_records(const rj_model *m, rj_state *s, const rj__frames *f)
 {
@@ -1971,6 +1994,8 @@ static RJ__NOINLINE void rj__loop_records(const rj_model *m, rj_state *s, const 
         rec[0] = rec[1] = 0;
         if (kind == RJ__LOOP_BODIES)
             rj__loop_pins_push(m, s, m->jnt[j].nJ, rec);
+        if (kind == RJ__LOOP_GROUND)
+            rj__loop_body_push(m, s, m->node_cl[m->jnt[j].nJ], rec);
         if (kind == RJ__LOOP_NODE && m->any_inext)
             rj__loop_shake_push(m, s, node, rec);
         rec[0] *= per;

@@ -1607,21 +1607,24 @@ static int triangle_run(const char *fidelity, int at_b, double *worst, char *msg
    under gravity. Its loop joint's force comes from the step's record of what closed it:
    inextensible bars meeting at the apex (SHAKE over the chains that meet), inextensible
    bars closed at a ground pivot (one chain held at both ends), rigid bodies of a mixed
-   scene pinned at the apex (the pins between bodies); the tree joints' from the bars
-   below them with the loop's force among the forces from outside. The inextensible bars
-   sag under their weight (about 1e-6 of their length), which moves the weights' lines a
-   little; the rigid bodies' forces are exact but for the positions' round-off over
-   dt^2. */
+   scene pinned at the apex (the pins between bodies), or bar 2 a rigid body pinned to
+   the ground by the loop (its own balance less its pin to bar 1's pushes); the tree
+   joints' from the bars below them with the loop's force among the forces from outside.
+   The inextensible bars sag under their weight (about 1e-6 of their length), which
+   moves the weights' lines a little; the rigid bodies' forces are exact but for the
+   positions' round-off over dt^2. */
 static void test_loop_statics(rjt_ctx *c)
 {
-    static const char *const fidelity[3] = { "inextensible", "inextensible", "rigid" };
-    static const int at_b[3] = { 0, 1, 0 };
-    static const double bound[3] = { 2e-5, 2e-5, 1e-6 };
-    static const char *const what[3] = { "inextensible bars closed at the apex",
+    static const char *const fidelity[4] = { "inextensible", "inextensible", "rigid", "rigid" };
+    static const int at_b[4] = { 0, 1, 0, 1 };
+    static const double bound[4] = { 2e-5, 2e-5, 1e-6, 1e-6 };
+    static const char *const what[4] = { "inextensible bars closed at the apex",
                                          "inextensible bars closed at a ground pivot",
-                                         "rigid bodies of a mixed scene closed at the apex" };
+                                         "rigid bodies of a mixed scene closed at the apex",
+                                         "rigid bodies of a mixed scene closed at a ground "
+                                         "pivot" };
     int k;
-    for (k = 0; k < 3; k++) {
+    for (k = 0; k < 4; k++) {
         char msg[700];
         double worst = 0;
         const int ran = triangle_run(fidelity[k], at_b[k], &worst, msg, sizeof msg);
@@ -1688,37 +1691,87 @@ static void scene_momentum(const rj_model *m, const rj_state *s, const double *b
     }
 }
 
-/* What a moving four-bar's pin forces showed over 0.2 s: its loop joint b's against the
-   same four-bar's with b the other way round (fourbar_reversed), and the ground's pins
-   (o2 and o4) against the scene's m a - m g. */
+/* The four-bar's text (fourbar_text at 7e10 Pa, the fidelities as there) with its loop
+   closed at the rocker's ground pivot instead: joint b (coupler to rocker) hangs the
+   rocker at its last node, and joint o4, last, pins the rocker's root to the ground. */
+static void fourbar_ground_loop(const char *fidelity, char *text, size_t n)
+{
+    double t3 = 0.5, t4 = 1.5;
+    char *at;
+    fourbar_text(7e10, fidelity, 0, text, n);
+    close_loop(CRANK0, &t3, &t4);
+    at = strstr(text, "joint o4\n");
+    snprintf(at, n - (size_t) (at - text),
+             "joint b\n  body1 = coupler  body2 = rocker  node2 = last  angle0 = %.17g\n"
+             "joint o4\n  body1 = ground  body2 = rocker  ground_x = %.17g  angle0 = %.17g\n",
+             t4 - (t3 + PI), GROUND_D, t4);
+}
+
+/* Which pin forces a pair of four-bars compares (loop_sides_run): joint[0] of the first
+   scene against joint[1] of the second, their sum (sign 1: the same pin seen from its
+   two bodies) or difference (sign -1: the same pin's force by two routes); and the ground's
+   pins (ground[0], ground[1]) of scene `scene` against its m a - m g. */
+typedef struct sides_map {
+    int joint[2];
+    double sign;
+    int scene;
+    int ground[2];
+} sides_map;
+
+/* The loop joint b both ways round (fourbar_reversed): the ground's pins o2 and o4 of
+   the first. */
+static const sides_map REVERSED_B = { { 3, 3 }, 1.0, 0, { 0, 2 } };
+/* The rocker's ground pin o4 as a tree joint and as the loop (fourbar_ground_loop): the
+   ground's pins o2 and o4 of the second. */
+static const sides_map GROUND_O4 = { { 2, 3 }, -1.0, 1, { 0, 3 } };
+
+/* What a moving four-bar's pin forces showed over 0.2 s: one pin's force against the same
+   pin's in the same four-bar written another way (sides_map), and the ground's pins
+   against the scene's m a - m g. */
 typedef struct loop_sides {
-    double sides;  /* the largest |F_b + F_b reversed| */
+    double sides;  /* the largest |F + sign F'| */
     double ground; /* the largest |F_o2 + F_o4 - sum (m a - m g)| */
-    double size;   /* the largest |F_b| */
+    double size;   /* the largest |F| */
     double total;  /* the largest |sum (m a - m g)| */
     double bound;  /* the round-off bound: 20 eps M (1 m) / dt^2, M the scene's mass */
     char msg[700];
 } loop_sides;
 
 /* One step of both four-bars; the differences into o. Returns 0 when one fails. */
-static int loop_sides_step(rj_model *m[2], rj_state *s[2], loop_sides *o)
+static int loop_sides_step(rj_model *m[2], rj_state *s[2], const sides_map *map, loop_sides *o)
 {
-    double before[128], F[8], R[8], total[2];
-    node_velocities(m[0], s[0], before);
+    double before[128], F[2][8], total[2];
+    const double *a = F[0] + 2 * map->joint[0], *b = F[1] + 2 * map->joint[1];
+    const double *g0 = F[map->scene] + 2 * map->ground[0];
+    const double *g1 = F[map->scene] + 2 * map->ground[1];
+    int k, known = 1;
+    node_velocities(m[map->scene], s[map->scene], before);
     if (rj_step(m[0], s[0]) != RJ_OK || rj_step(m[1], s[1]) != RJ_OK)
         return 0;
-    if (rj_joint_pin_forces(m[0], s[0], F) != RJ_OK || rj_joint_pin_forces(m[1], s[1], R) != RJ_OK)
+    if (rj_joint_pin_forces(m[0], s[0], F[0]) != RJ_OK ||
+        rj_joint_pin_forces(m[1], s[1], F[1]) != RJ_OK)
         return 0;
-    scene_momentum(m[0], s[0], before, total);
-    o->sides = fmax(o->sides, hypot(F[6] + R[6], F[7] + R[7]));
-    o->ground = fmax(o->ground, hypot(F[0] + F[4] - total[0], F[1] + F[5] - total[1]));
-    o->size = fmax(o->size, hypot(F[6], F[7]));
+    scene_momentum(m[map->scene], s[map->scene], before, total);
+    o->sides = fmax(o->sides, hypot(a[0] + map->sign * b[0], a[1] + map->sign * b[1]));
+    o->ground = fmax(o->ground, hypot(g0[0] + g1[0] - total[0], g0[1] + g1[1] - total[1]));
+    o->size = fmax(o->size, hypot(a[0], a[1]));
     o->total = fmax(o->total, hypot(total[0], total[1]));
-    return o->sides == o->sides && o->ground == o->ground;
+    /* every joint of both has its force (the loop's ties none of them), the second's
+       joint by joint as all at once */
+    for (k = 0; k < 16; k++)
+        known = known && F[k / 8][k % 8] == F[k / 8][k % 8];
+    for (k = 0; k < 4 && known; k++) {
+        double one[2];
+        known = rj_joint_pin_force(m[1], s[1], k, one) == RJ_OK &&
+                hypot(one[0] - F[1][2 * k], one[1] - F[1][2 * k + 1]) <= 1e-9 * o->bound;
+    }
+    return known && o->sides == o->sides && o->ground == o->ground;
 }
 
-/* The four-bar of the fidelities given, both ways round, over 0.2 s into o. */
-static int loop_sides_run(const char *fidelity, loop_sides *o)
+/* The four-bar of the fidelities given, as fourbar_text writes it and as other writes
+   it, over 0.2 s into o. */
+static int loop_sides_run(const char *fidelity, void (*other)(const char *, char *, size_t),
+                          const sides_map *map, loop_sides *o)
 {
     char text[2][2048];
     rj_model *m[2] = { NULL, NULL };
@@ -1727,14 +1780,14 @@ static int loop_sides_run(const char *fidelity, loop_sides *o)
     int k, ok = 1;
     memset(o, 0, sizeof *o);
     fourbar_text(7e10, fidelity, 0, text[0], sizeof text[0]);
-    fourbar_reversed(fidelity, text[1], sizeof text[1]);
+    other(fidelity, text[1], sizeof text[1]);
     for (k = 0; k < 2 && ok; k++)
         ok = build(text[k], &m[k], &s[k], &err);
     if (ok) {
         const double dt = rj_model_dt(m[0]), mass = 2700 * 0.02 * 0.02 * (BAR_A + BAR_B + BAR_C);
         o->bound = 20 * DBL_EPSILON * mass / (dt * dt);
         while (ok && rj_state_time(s[0]) < 0.2)
-            ok = loop_sides_step(m, s, o);
+            ok = loop_sides_step(m, s, map, o);
         snprintf(o->msg, sizeof o->msg, "%s", ok ? "" : rj_state_error(s[0]));
     } else
         snprintf(o->msg, sizeof o->msg, "%s", err.msg);
@@ -1766,13 +1819,41 @@ static void test_loop_sides(rjt_ctx *c)
     int k;
     for (k = 0; k < 3; k++) {
         loop_sides o;
-        const int ran = loop_sides_run(fidelity[k], &o);
+        const int ran = loop_sides_run(fidelity[k], fourbar_reversed, &REVERSED_B, &o);
         rjt_check(c, ran && o.sides < o.bound && o.ground < o.bound && o.size > 1,
                   "pin forces of a moving four-bar's loop in node space: from both sides, the "
                   "ground's carrying the scene",
                   "%s: loop joint b (up to %.4g N) %.3g N from b the other way round; the "
                   "ground's pins %.3g N from the scene's m a - m g (up to %.4g N); bound %.3g N "
                   "(round-off) %s",
+                  what[k], o.size, o.sides, o.ground, o.total, o.bound, o.msg);
+    }
+}
+
+/* A moving four-bar whose loop pins a rigid rocker to the ground (fourbar_ground_loop):
+   that pin's force from the rocker's own balance, less the forces of its pin to the
+   coupler (the coupler's flexible node's balance, the pushes of a pin between two bodies,
+   or an inextensible coupler's SHAKE pushes on its node the rocker carries), against the
+   same pin's as a tree joint in the four-bar closed at b (the links below it less the
+   loop's force); the ground's pins against the scene's m a - m g, where the crank's
+   own (a flexible crank's root node) does not use the loop's force. Bound as above. */
+static void test_loop_ground(rjt_ctx *c)
+{
+    static const char *const fidelity[3] = { "flexible flexible rigid", "flexible rigid rigid",
+                                             "inextensible inextensible rigid" };
+    static const char *const what[3] = { "a flexible crank and coupler, rigid rocker",
+                                         "a flexible crank, rigid coupler and rocker",
+                                         "an inextensible crank and coupler, rigid rocker" };
+    int k;
+    for (k = 0; k < 3; k++) {
+        loop_sides o;
+        const int ran = loop_sides_run(fidelity[k], fourbar_ground_loop, &GROUND_O4, &o);
+        rjt_check(c, ran && o.sides < o.bound && o.ground < o.bound && o.size > 1,
+                  "pin forces of a loop pinning a rigid body to the ground: by two routes, "
+                  "the ground's carrying the scene",
+                  "%s: the rocker's ground pin (up to %.4g N) %.3g N from the four-bar closed "
+                  "at b; the ground's pins %.3g N from the scene's m a - m g (up to %.4g N); "
+                  "bound %.3g N (round-off) %s",
                   what[k], o.size, o.sides, o.ground, o.total, o.bound, o.msg);
     }
 }
@@ -2041,6 +2122,7 @@ int main(void)
     test_rigid_pins(&c);
     test_loop_statics(&c);
     test_loop_sides(&c);
+    test_loop_ground(&c);
     test_rigid_latch(&c);
     test_rigid_driven(&c);
     test_rigid_loop_rotor_cable(&c);
