@@ -314,7 +314,9 @@ typedef struct rj_joint_def {
    third frame of memory, and a few copies per step that only pay from a few hundred nodes
    on: AUTO uses it from RJ_IN_PLACE_NODES nodes (400; a compile-time setting). Scenes with
    inextensible links never step in place (SHAKE reads every node's old position), nor do
-   states given node forces (rj_state_node_forces: their kick reads a node's old velocity). */
+   states given node forces (rj_state_node_forces: their kick reads a node's old velocity).
+   In place the pin forces at t^n are known (from the pins' nodes the step keeps), the
+   element loads are not (rj_element_loads). */
 typedef struct rj_solver_def {
     double dt;            /* s, >= 0 */
     int allow_unstable;   /* accept dt above the bound */
@@ -697,12 +699,16 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
      node's balance; its pins to other bodies and the carried links' lengths: their
      recorded pushes), at t^n. Each pin's two sides agree to the round-off of positions
      over dt^2 (build/test_loops).
+   - After an in-place step (solver.in_place): the same balances from what the step
+     keeps of the pins' nodes, their values at n and the forces it moved them with; a
+     rigid body's pin to the ground from the body's balance, as for a loop above. Equal
+     to the double-buffered step's to round-off (build/test_loops).
    RJ_ERR_INVALID, force 0, not yet: a loop joint with a chord reference on a flexible
    pin node, and the joints whose links such a loop ties to the rest; a held body among
    the links below a joint, or pinned to the ground by a loop, or one a loop pins to the
    ground whose carried node takes a chord reference's forces or is pinned to the ground
-   too; in-place stepping, a chord reference on a flexible pin node, before a step (or a
-   checkpoint's load, or rj_settle: the state a step before is needed). */
+   too; a chord reference on a flexible pin node, before a step (or after a failed one,
+   a checkpoint's load, rj_settle: the state a step before is needed). */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
 /* Every joint's pin force at once (2 per joint in forces, as rj_joint_pin_force; NaN
@@ -722,7 +728,8 @@ RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double
    (Pa; NaN for a general section, whose fibre distance the model does not know; for
    yielding layers the largest |stress| at a layer's mid-depth in its two sections, where
    the layers yield: the outer layers' mid-depth, not the outer fibre). RJ_ERR_INVALID, loads 0: a rigid or inextensible link,
-   in-place stepping, before a step, an element out of range. */
+   after an in-place step (it keeps only the pins' nodes at n: solver.in_place off gives
+   these loads, the same bits), before a step, an element out of range. */
 RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link, int element,
                                  double loads[5]);
 /* Peaks over a run: rj_state_track_peaks(m, s, 1) makes the steps after it track each
@@ -731,8 +738,9 @@ RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link,
    where. They are taken on the steps that take the energy accounts: exact when
    solver.energy_every is 1 (the default), every K-th step otherwise. Off after
    rj_state_create and rj_state_reset; a settled state (rj_settle) starts them again;
-   rj_state_copy and checkpoints carry them. RJ_ERR_INVALID: in-place stepping (no loads
-   at t^n). Tracking costs the steps about what the queries cost; off, nothing. */
+   rj_state_copy and checkpoints carry them. A model that steps in place tracks the pin
+   forces alone (no element loads at t^n there: the links' peaks stay -1). Tracking
+   costs the steps about what the queries cost; off, nothing. */
 typedef struct rj_peak {
     double value;    /* N or N m or Pa; -1: none yet (or none known: a rigid link's moment) */
     double time;     /* s, t^n of the step the loads are of */
@@ -1312,6 +1320,12 @@ static int rj__terms_capacity(int nj, int ncp)
     return nj + 2 * ncp + 1;
 }
 
+/* What holds the state a step before, for the loads at t^n (rj_state.at_n): nothing
+   (before a step, after a failed one, a checkpoint's load, rj_settle), the other frame
+   (after a double-buffered step), or the third frame, which the in-place step leaves
+   holding the values at n of m->dnode's nodes, with s->fx, fy their forces of the step. */
+enum { RJ__AT_N_NONE, RJ__AT_N_FRAME, RJ__AT_N_KEPT };
+
 struct rj_state {
     size_t bytes;
     int cur; /* index of the current frame */
@@ -1332,7 +1346,7 @@ struct rj_state {
                      (src/viscous.h) */
     double *visc_force; /* (4 ne with implicit damping) each element's viscous force of the
                            last step as rj__elem_viscous gives it: its loads at t^n */
-    int at_n;     /* the other frame holds the state a step before (the loads at t^n) */
+    int at_n;     /* what holds the state a step before, for the loads at t^n (rj__at_n) */
     int peaks_on; /* rj_state_track_peaks: the steps that take the accounts track peaks */
     double *peaks;     /* (2 nj + 7 nl) the peaks (src/peaks.h) */
     double *peak_work; /* (RJ__PIN_PER_LINK (nl + 1) + 2 nj) their queries' scratch */
@@ -8958,7 +8972,7 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
     s->snap = -1;
     s->err[0] = 0;
     s->warn[0] = 0;
-    s->at_n = 0;
+    s->at_n = RJ__AT_N_NONE;
     s->peaks_on = 0;
     rj__peaks_clear(m, s);
     memset(s->fd[0], 0, sizeof(double) * m->frame_doubles);
@@ -9137,6 +9151,12 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
     memcpy(dst->fd[1], src->fd[1 - src->cur], sizeof(double) * m->frame_doubles);
     memcpy(dst->fi[1], src->fi[1 - src->cur], sizeof(int) * (m->frame_ints + 1));
     dst->at_n = src->at_n;
+    /* in place, the nodes' values at n the step kept, and their forces */
+    if (src->at_n == RJ__AT_N_KEPT) {
+        memcpy(dst->fd[2], src->fd[2], sizeof(double) * m->frame_doubles);
+        memcpy(dst->fx, src->fx, sizeof(double) * (size_t) m->nn);
+        memcpy(dst->fy, src->fy, sizeof(double) * (size_t) m->nn);
+    }
     /* the implicit damping's element forces of that step (the loads at t^n) */
     if (m->nvisc)
         memcpy(dst->visc_force, src->visc_force, sizeof(double) * 4 * (size_t) m->ne);
@@ -14925,11 +14945,21 @@ static RJ__NOINLINE void rj__track_peaks(const rj_model *m, rj_state *s);
    (their time is the frame's before). */
 static RJ__FORCE_INLINE rj_result rj__step_after(const rj_model *m, rj_state *s, rj_result r)
 {
-    s->at_n = r == RJ_OK;
+    s->at_n = r == RJ_OK ? RJ__AT_N_FRAME : RJ__AT_N_NONE;
     if (s->peaks_on && r == RJ_OK && !s->settling &&
         s->fd[s->cur][RJ__FS_ETIME] == s->fd[1 - s->cur][RJ__FS_TIME])
         rj__track_peaks(m, s);
     return r;
+}
+
+/* After an in-place step with peaks on: they are tracked as after a double-buffered
+   step, on a step that took the accounts (at its start, a step before the time now; the
+   ones before it a step earlier still). */
+static RJ__NOINLINE void rj__step_ip_peaks(const rj_model *m, rj_state *s)
+{
+    const double *now = s->fd[s->cur];
+    if (!s->settling && now[RJ__FS_ETIME] > now[RJ__FS_TIME] - 1.5 * m->dt)
+        rj__track_peaks(m, s);
 }
 
 static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
@@ -14961,8 +14991,10 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
             memcpy(s->node_applied, s->input_node, 3 * sizeof(double) * (size_t) m->nn);
         return rj__step_after(m, s, r);
     }
-    /* in place, the other frame is a copy from some steps before */
-    s->at_n = 0;
+    /* in place, the other frame is a copy from some steps before; the third keeps the
+       values at n of the nodes the loads at t^n read (m->dnode), and s->fx, fy their
+       forces of the step */
+    s->at_n = RJ__AT_N_KEPT;
     if (s->snap < 0 || s->steps - s->snap >= RJ__SNAP) {
         memcpy(s->fd[1 - s->cur], s->fd[s->cur], sizeof(double) * m->frame_doubles);
         memcpy(s->fi[1 - s->cur], s->fi[s->cur], sizeof(int) * (m->frame_ints + 1));
@@ -14974,8 +15006,11 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
     if (want_energy)
         s->want |= (unsigned long long) 1 << (s->steps - s->snap);
     r = rj__step_ip(m, s, want_energy);
+    if (r == RJ_OK && s->peaks_on)
+        rj__step_ip_peaks(m, s);
     if (r == RJ_OK)
         return r;
+    s->at_n = RJ__AT_N_NONE;
     memcpy(err, s->err, sizeof err);
     memcpy(warn, s->warn, sizeof warn);
     n = s->steps;
@@ -15069,7 +15104,7 @@ static void rj__zero_velocities(const rj_model *m, rj_state *s)
     }
     s->snap = -1;
     s->steps = 0;
-    s->at_n = 0;
+    s->at_n = RJ__AT_N_NONE;
     s->loop_force[2 * m->nj] = -1;
 }
 
@@ -15776,8 +15811,8 @@ RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link,
     for (k = 0; k < 5; k++)
         loads[k] = 0;
     d = &m->ldef[link];
-    if (element < 0 || element >= d->elements || d->fidelity != RJ_LINK_FLEXIBLE || m->ip ||
-        !s->at_n)
+    if (element < 0 || element >= d->elements || d->fidelity != RJ_LINK_FLEXIBLE ||
+        s->at_n != RJ__AT_N_FRAME)
         return RJ_ERR_INVALID;
     rj__element_loads(m, s, link, element, loads);
     return RJ_OK;
@@ -15868,6 +15903,14 @@ static void rj__node_momentum(const rj_model *m, const rj_state *s, int k, doubl
     rj__node_ask(m, s, link, k, 1, out);
 }
 
+/* The frame that holds the nodes' values at n (rj_state.at_n): the other one after a
+   double-buffered step; after an in-place one the third, for m->dnode's nodes only
+   (every joint's and every link's end nodes). */
+static const double *rj__nodes_at_n(const rj_state *s)
+{
+    return s->at_n == RJ__AT_N_KEPT ? s->fd[2] : s->fd[1 - s->cur];
+}
+
 /* A rigid body's own link (rod and tip mass; mixed scenes): its momentum's ask, M (a_c -
    g) with a_c from its end nodes' rates at n - 1/2 and n + 1/2 (the body moves them), the
    centre a fraction of the way along them. Its nodes carry no mass of their own; the
@@ -15878,7 +15921,7 @@ static void rj__body_momentum(const rj_model *m, const rj_state *s, int c, doubl
     const int n0 = m->link_first[c], nt = m->link_first[c + 1] - 1;
     const double rod = d->rho * rj__plain_area(d) * d->length, own = rod + d->tip_mass;
     const double along = (rod * 0.5 + d->tip_mass) / own;
-    const double *now = s->fd[s->cur], *at_n = s->fd[1 - s->cur];
+    const double *now = s->fd[s->cur], *at_n = rj__nodes_at_n(s);
     const double kick = s->steps == 1 ? 0.5 * m->dt : m->dt;
     int axis;
     for (axis = 0; axis < 2; axis++) {
@@ -15890,11 +15933,32 @@ static void rj__body_momentum(const rj_model *m, const rj_state *s, int c, doubl
     }
 }
 
+/* In place: the force node k's pins put on it at n (k one of m->dnode), m a - m g less
+   every other force the step put on it: s->fx, fy keep the sum the step moved the node
+   with (its elements', its loads', its mass-proportional damping), with m g where the
+   node moves on its own (its kinetic mass); a from v^{n-1/2}, which the third frame
+   keeps, and v^{n+1/2}. */
+static void rj__kept_node_balance(const rj_model *m, const rj_state *s, int k, double out[2])
+{
+    const double *now = s->fd[s->cur], *at_n = s->fd[2];
+    const double kick = s->steps == 1 ? 0.5 * m->dt : m->dt;
+    const double *g = m->solver.gravity;
+    const double ax = (RJ__FVX(m, now)[k] - RJ__FVX(m, at_n)[k]) / kick;
+    const double ay = (RJ__FVY(m, now)[k] - RJ__FVY(m, at_n)[k]) / kick;
+    out[0] = m->mass[k] * (ax - g[0]) - (s->fx[k] - m->kmass[k] * g[0]);
+    out[1] = m->mass[k] * (ay - g[1]) - (s->fy[k] - m->kmass[k] * g[1]);
+}
+
 /* Node space: the force node k's pins put on it at n, its momentum's ask less its own
-   link's elements (rj__node_momentum; a rigid body's own node has no elements). */
+   link's elements (rj__node_momentum; a rigid body's own node has no elements); in
+   place from the step's forces (rj__kept_node_balance). */
 static void rj__pin_node_balance(const rj_model *m, const rj_state *s, int k, double out[2])
 {
     double elements[2] = { 0, 0 };
+    if (s->at_n == RJ__AT_N_KEPT) {
+        rj__kept_node_balance(m, s, k, out);
+        return;
+    }
     if (!rj__own_body_node(m, k))
         rj__elem_node_force(m, s, k, elements);
     rj__node_momentum(m, s, k, out);
@@ -16091,18 +16155,18 @@ static int rj__pin_by_subtree(const rj_model *m, int j)
            (rj__own_body_node(m, J->nJ) && (J->nI < 0 || rj__own_body_node(m, J->nI)));
 }
 
-/* Where rj_joint_pin_force has no answer yet: in-place stepping (no rates at n - 1/2),
-   before a step; a chord reference (the joint's forces on the pin node) on the pin node's
-   own balance; in node space, a loop joint without a force (rj__loop_pin_force), or one
-   tying the links below the joint to the rest, or a held body among them
-   (rj__subtree_pin_force, NaN); loops of rigid links before a step (their rows'
-   forces). */
+/* Where rj_joint_pin_force has no answer yet: no state a step before (rj_state.at_n:
+   before a step, after a failed one); a chord reference (the joint's forces on the pin
+   node) on the pin node's own balance; in node space, a loop joint without a force
+   (rj__loop_pin_force), or one tying the links below the joint to the rest, or a held
+   body among them (rj__subtree_pin_force, NaN; in place rj__kept_body_pin_force's);
+   loops of rigid links before a step (their rows' forces). */
 static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
 {
     const rj__joint *J = &m->jnt[j];
     if (m->rigid)
         return m->nloop > 0 && s->loop_force[2 * m->nj] != (double) s->steps;
-    if (m->ip || !s->at_n)
+    if (s->at_n == RJ__AT_N_NONE)
         return 1;
     return !J->loop && !rj__pin_by_subtree(m, j) && J->chord;
 }
@@ -16387,7 +16451,7 @@ static int rj__pin_pass_force(const rj_model *m, double *work, int j, double for
 static int rj__pin_pass_wanted(const rj_model *m, const rj_state *s)
 {
     int j;
-    if (m->rigid || m->ip || !s->at_n)
+    if (m->rigid || s->at_n != RJ__AT_N_FRAME)
         return 0;
     for (j = 0; j < m->nj; j++)
         if (rj__pin_by_subtree(m, j))
@@ -16395,9 +16459,24 @@ static int rj__pin_pass_wanted(const rj_model *m, const rj_state *s)
     return 0;
 }
 
+/* In place: joint j's pin force where node space takes it from the links below
+   (rj__pin_by_subtree), whose nodes' values at n the step does not keep: a rigid body's
+   pin to the ground (the only such joint in place, which projects nothing), from the
+   body's own balance (rj__body_ground_force). Returns 0 where it has none, force 0. */
+static int rj__kept_body_pin_force(const rj_model *m, const rj_state *s, int j,
+                                   double force[2])
+{
+    const rj__joint *J = &m->jnt[j];
+    force[0] = force[1] = 0;
+    if (J->nI >= 0 || !rj__own_body_node(m, J->nJ))
+        return 0;
+    return rj__body_ground_force(m, s, m->node_cl[J->nJ], NULL, force);
+}
+
 /* Node space: joint j's pin force into force (NaN where unknown): a loop joint's own
    (rj__loop_pin_force); else from the all-joints pass over work where it takes the
-   joint (rj__pin_by_subtree), else from its pin node's balance. */
+   joint (rj__pin_by_subtree; in place from the body, rj__kept_body_pin_force), else from
+   its pin node's balance. */
 static void rj__node_joint_force(const rj_model *m, const rj_state *s, double *work, int j,
                                  double force[2])
 {
@@ -16405,6 +16484,8 @@ static void rj__node_joint_force(const rj_model *m, const rj_state *s, double *w
     force[0] = force[1] = 0.0;
     if (known && m->jnt[j].loop)
         known = rj__loop_pin_force(m, s, j, force);
+    else if (known && rj__pin_by_subtree(m, j) && s->at_n == RJ__AT_N_KEPT)
+        known = rj__kept_body_pin_force(m, s, j, force);
     else if (known && rj__pin_by_subtree(m, j))
         known = rj__pin_pass_force(m, work, j, force);
     else if (known)
@@ -16486,6 +16567,8 @@ RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int j, 
         rj__node_pin_force(m, s, j, force);
         return RJ_OK;
     }
+    if (!m->rigid && s->at_n == RJ__AT_N_KEPT)
+        return rj__kept_body_pin_force(m, s, j, force) ? RJ_OK : RJ_ERR_INVALID;
     if (!m->rigid)
         return rj__one_subtree_pin_force(m, s, j, force);
     /* rigid scenes: the joints' kinematics come down the tree for all of them at once */
@@ -16688,10 +16771,13 @@ RJDEF double rj_state_energy_time(const rj_state *s)
    loads at t^n that rj_joint_pin_forces and rj_element_loads give, into rj_state.peaks:
    per joint [|F|, t], then per link [|M|, t, element, end, stress, t, element]. */
 
-/* The peaks from the loads at t^n of the step just taken (src/run.h). */
+/* The peaks from the loads at t^n of the step just taken (src/run.h), a step that took
+   the accounts (their time is t^n): the pin forces', and the element loads' but in a
+   model that steps in place (its steps keep only the pins' nodes at n: rj_element_loads
+   has none, and peaks of the steps that do not would mislead). */
 static RJ__NOINLINE void rj__track_peaks(const rj_model *m, rj_state *s)
 {
-    const double t = s->fd[1 - s->cur][RJ__FS_TIME];
+    const double t = s->fd[s->cur][RJ__FS_ETIME];
     double *pins = s->peak_work + RJ__PIN_PER_LINK * ((size_t) m->nl + 1);
     int j, l, e;
     rj__pin_forces(m, s, s->peak_work, pins);
@@ -16703,7 +16789,7 @@ static RJ__NOINLINE void rj__track_peaks(const rj_model *m, rj_state *s)
             pk[1] = t;
         }
     }
-    for (l = 0; l < m->nl; l++) {
+    for (l = 0; l < m->nl && !m->ip; l++) {
         double *pk = s->peaks + RJ__PEAK_JOINT * (size_t) m->nj + RJ__PEAK_LINK * (size_t) l;
         if (m->ldef[l].fidelity != RJ_LINK_FLEXIBLE)
             continue;
@@ -16730,8 +16816,6 @@ static RJ__NOINLINE void rj__track_peaks(const rj_model *m, rj_state *s)
 RJDEF rj_result rj_state_track_peaks(const rj_model *m, rj_state *s, int on)
 {
     RJ_ASSERT(m && s);
-    if (on && m->ip)
-        return RJ_ERR_INVALID;
     if (on && !s->peaks_on)
         rj__peaks_clear(m, s);
     s->peaks_on = on != 0;
@@ -17093,7 +17177,7 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
     }
     s->snap = -1;
     s->steps = (long) st;
-    s->at_n = 0;
+    s->at_n = RJ__AT_N_NONE;
     s->loop_force[2 * m->nj] = -1; /* not in a checkpoint: known again after a step */
     s->err[0] = 0;
     s->warn[0] = 0;

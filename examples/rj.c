@@ -702,8 +702,8 @@ typedef struct scene {
 } scene;
 
 /* Loads and builds the scene, with solver.dt replaced when dt >= 0; loads: the command
-   reads the loads at t^n (pin forces, element loads), which in-place stepping does not
-   keep (solver.in_place, automatic from 400 nodes), so it steps double-buffered: the
+   reads the element loads at t^n, which in-place stepping does not keep (solver.in_place,
+   automatic from 400 nodes; its pin forces it does), so it steps double-buffered: the
    same bits, a little slower (rj_solver_def). Prints the parser's or the model's message
    as they give it ("file:line:col: message"); a step the command line set is blamed on
    the option, not on the file's dt key. Returns 0, or 2. */
@@ -3633,8 +3633,8 @@ static int sweep_sample(worker *h, int k)
         return 1;
     }
     if (o->dt >= 0) f.solver.dt = o->dt;
-    /* peaks need the loads at t^n, which in-place stepping does not keep; the results
-       are the same bits either way (rj_solver_def) */
+    /* the links' peaks need the element loads at t^n, which in-place stepping does not
+       keep; the results are the same bits either way (rj_solver_def) */
     f.solver.in_place = RJ_IN_PLACE_OFF;
     d = rj_scene_file_def(&f);
     res = rj_model_create(&d, &m, &e, NULL);

@@ -314,7 +314,9 @@ typedef struct rj_joint_def {
    third frame of memory, and a few copies per step that only pay from a few hundred nodes
    on: AUTO uses it from RJ_IN_PLACE_NODES nodes (400; a compile-time setting). Scenes with
    inextensible links never step in place (SHAKE reads every node's old position), nor do
-   states given node forces (rj_state_node_forces: their kick reads a node's old velocity). */
+   states given node forces (rj_state_node_forces: their kick reads a node's old velocity).
+   In place the pin forces at t^n are known (from the pins' nodes the step keeps), the
+   element loads are not (rj_element_loads). */
 typedef struct rj_solver_def {
     double dt;            /* s, >= 0 */
     int allow_unstable;   /* accept dt above the bound */
@@ -697,12 +699,16 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
      node's balance; its pins to other bodies and the carried links' lengths: their
      recorded pushes), at t^n. Each pin's two sides agree to the round-off of positions
      over dt^2 (build/test_loops).
+   - After an in-place step (solver.in_place): the same balances from what the step
+     keeps of the pins' nodes, their values at n and the forces it moved them with; a
+     rigid body's pin to the ground from the body's balance, as for a loop above. Equal
+     to the double-buffered step's to round-off (build/test_loops).
    RJ_ERR_INVALID, force 0, not yet: a loop joint with a chord reference on a flexible
    pin node, and the joints whose links such a loop ties to the rest; a held body among
    the links below a joint, or pinned to the ground by a loop, or one a loop pins to the
    ground whose carried node takes a chord reference's forces or is pinned to the ground
-   too; in-place stepping, a chord reference on a flexible pin node, before a step (or a
-   checkpoint's load, or rj_settle: the state a step before is needed). */
+   too; a chord reference on a flexible pin node, before a step (or after a failed one,
+   a checkpoint's load, rj_settle: the state a step before is needed). */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
 /* Every joint's pin force at once (2 per joint in forces, as rj_joint_pin_force; NaN
@@ -722,7 +728,8 @@ RJDEF rj_result rj_joint_pin_forces(const rj_model *m, const rj_state *s, double
    (Pa; NaN for a general section, whose fibre distance the model does not know; for
    yielding layers the largest |stress| at a layer's mid-depth in its two sections, where
    the layers yield: the outer layers' mid-depth, not the outer fibre). RJ_ERR_INVALID, loads 0: a rigid or inextensible link,
-   in-place stepping, before a step, an element out of range. */
+   after an in-place step (it keeps only the pins' nodes at n: solver.in_place off gives
+   these loads, the same bits), before a step, an element out of range. */
 RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link, int element,
                                  double loads[5]);
 /* Peaks over a run: rj_state_track_peaks(m, s, 1) makes the steps after it track each
@@ -731,8 +738,9 @@ RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link,
    where. They are taken on the steps that take the energy accounts: exact when
    solver.energy_every is 1 (the default), every K-th step otherwise. Off after
    rj_state_create and rj_state_reset; a settled state (rj_settle) starts them again;
-   rj_state_copy and checkpoints carry them. RJ_ERR_INVALID: in-place stepping (no loads
-   at t^n). Tracking costs the steps about what the queries cost; off, nothing. */
+   rj_state_copy and checkpoints carry them. A model that steps in place tracks the pin
+   forces alone (no element loads at t^n there: the links' peaks stay -1). Tracking
+   costs the steps about what the queries cost; off, nothing. */
 typedef struct rj_peak {
     double value;    /* N or N m or Pa; -1: none yet (or none known: a rigid link's moment) */
     double time;     /* s, t^n of the step the loads are of */

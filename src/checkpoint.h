@@ -323,7 +323,7 @@ RJDEF rj_result rj_state_load(const rj_model *m, rj_state *s, const void *buf, s
     }
     s->snap = -1;
     s->steps = (long) st;
-    s->at_n = 0;
+    s->at_n = RJ__AT_N_NONE;
     s->loop_force[2 * m->nj] = -1; /* not in a checkpoint: known again after a step */
     s->err[0] = 0;
     s->warn[0] = 0;

@@ -391,6 +391,12 @@ static int rj__terms_capacity(int nj, int ncp)
     return nj + 2 * ncp + 1;
 }
 
+/* What holds the state a step before, for the loads at t^n (rj_state.at_n): nothing
+   (before a step, after a failed one, a checkpoint's load, rj_settle), the other frame
+   (after a double-buffered step), or the third frame, which the in-place step leaves
+   holding the values at n of m->dnode's nodes, with s->fx, fy their forces of the step. */
+enum { RJ__AT_N_NONE, RJ__AT_N_FRAME, RJ__AT_N_KEPT };
+
 struct rj_state {
     size_t bytes;
     int cur; /* index of the current frame */
@@ -411,7 +417,7 @@ struct rj_state {
                      (src/viscous.h) */
     double *visc_force; /* (4 ne with implicit damping) each element's viscous force of the
                            last step as rj__elem_viscous gives it: its loads at t^n */
-    int at_n;     /* the other frame holds the state a step before (the loads at t^n) */
+    int at_n;     /* what holds the state a step before, for the loads at t^n (rj__at_n) */
     int peaks_on; /* rj_state_track_peaks: the steps that take the accounts track peaks */
     double *peaks;     /* (2 nj + 7 nl) the peaks (src/peaks.h) */
     double *peak_work; /* (RJ__PIN_PER_LINK (nl + 1) + 2 nj) their queries' scratch */

@@ -6,10 +6,13 @@
    loads at t^n that rj_joint_pin_forces and rj_element_loads give, into rj_state.peaks:
    per joint [|F|, t], then per link [|M|, t, element, end, stress, t, element]. */
 
-/* The peaks from the loads at t^n of the step just taken (src/run.h). */
+/* The peaks from the loads at t^n of the step just taken (src/run.h), a step that took
+   the accounts (their time is t^n): the pin forces', and the element loads' but in a
+   model that steps in place (its steps keep only the pins' nodes at n: rj_element_loads
+   has none, and peaks of the steps that do not would mislead). */
 static RJ__NOINLINE void rj__track_peaks(const rj_model *m, rj_state *s)
 {
-    const double t = s->fd[1 - s->cur][RJ__FS_TIME];
+    const double t = s->fd[s->cur][RJ__FS_ETIME];
     double *pins = s->peak_work + RJ__PIN_PER_LINK * ((size_t) m->nl + 1);
     int j, l, e;
     rj__pin_forces(m, s, s->peak_work, pins);
@@ -21,7 +24,7 @@ static RJ__NOINLINE void rj__track_peaks(const rj_model *m, rj_state *s)
             pk[1] = t;
         }
     }
-    for (l = 0; l < m->nl; l++) {
+    for (l = 0; l < m->nl && !m->ip; l++) {
         double *pk = s->peaks + RJ__PEAK_JOINT * (size_t) m->nj + RJ__PEAK_LINK * (size_t) l;
         if (m->ldef[l].fidelity != RJ_LINK_FLEXIBLE)
             continue;
@@ -48,8 +51,6 @@ static RJ__NOINLINE void rj__track_peaks(const rj_model *m, rj_state *s)
 RJDEF rj_result rj_state_track_peaks(const rj_model *m, rj_state *s, int on)
 {
     RJ_ASSERT(m && s);
-    if (on && m->ip)
-        return RJ_ERR_INVALID;
     if (on && !s->peaks_on)
         rj__peaks_clear(m, s);
     s->peaks_on = on != 0;

@@ -483,8 +483,8 @@ RJDEF rj_result rj_element_loads(const rj_model *m, const rj_state *s, int link,
     for (k = 0; k < 5; k++)
         loads[k] = 0;
     d = &m->ldef[link];
-    if (element < 0 || element >= d->elements || d->fidelity != RJ_LINK_FLEXIBLE || m->ip ||
-        !s->at_n)
+    if (element < 0 || element >= d->elements || d->fidelity != RJ_LINK_FLEXIBLE ||
+        s->at_n != RJ__AT_N_FRAME)
         return RJ_ERR_INVALID;
     rj__element_loads(m, s, link, element, loads);
     return RJ_OK;
@@ -575,6 +575,14 @@ static void rj__node_momentum(const rj_model *m, const rj_state *s, int k, doubl
     rj__node_ask(m, s, link, k, 1, out);
 }
 
+/* The frame that holds the nodes' values at n (rj_state.at_n): the other one after a
+   double-buffered step; after an in-place one the third, for m->dnode's nodes only
+   (every joint's and every link's end nodes). */
+static const double *rj__nodes_at_n(const rj_state *s)
+{
+    return s->at_n == RJ__AT_N_KEPT ? s->fd[2] : s->fd[1 - s->cur];
+}
+
 /* A rigid body's own link (rod and tip mass; mixed scenes): its momentum's ask, M (a_c -
    g) with a_c from its end nodes' rates at n - 1/2 and n + 1/2 (the body moves them), the
    centre a fraction of the way along them. Its nodes carry no mass of their own; the
@@ -585,7 +593,7 @@ static void rj__body_momentum(const rj_model *m, const rj_state *s, int c, doubl
     const int n0 = m->link_first[c], nt = m->link_first[c + 1] - 1;
     const double rod = d->rho * rj__plain_area(d) * d->length, own = rod + d->tip_mass;
     const double along = (rod * 0.5 + d->tip_mass) / own;
-    const double *now = s->fd[s->cur], *at_n = s->fd[1 - s->cur];
+    const double *now = s->fd[s->cur], *at_n = rj__nodes_at_n(s);
     const double kick = s->steps == 1 ? 0.5 * m->dt : m->dt;
     int axis;
     for (axis = 0; axis < 2; axis++) {
@@ -597,11 +605,32 @@ static void rj__body_momentum(const rj_model *m, const rj_state *s, int c, doubl
     }
 }
 
+/* In place: the force node k's pins put on it at n (k one of m->dnode), m a - m g less
+   every other force the step put on it: s->fx, fy keep the sum the step moved the node
+   with (its elements', its loads', its mass-proportional damping), with m g where the
+   node moves on its own (its kinetic mass); a from v^{n-1/2}, which the third frame
+   keeps, and v^{n+1/2}. */
+static void rj__kept_node_balance(const rj_model *m, const rj_state *s, int k, double out[2])
+{
+    const double *now = s->fd[s->cur], *at_n = s->fd[2];
+    const double kick = s->steps == 1 ? 0.5 * m->dt : m->dt;
+    const double *g = m->solver.gravity;
+    const double ax = (RJ__FVX(m, now)[k] - RJ__FVX(m, at_n)[k]) / kick;
+    const double ay = (RJ__FVY(m, now)[k] - RJ__FVY(m, at_n)[k]) / kick;
+    out[0] = m->mass[k] * (ax - g[0]) - (s->fx[k] - m->kmass[k] * g[0]);
+    out[1] = m->mass[k] * (ay - g[1]) - (s->fy[k] - m->kmass[k] * g[1]);
+}
+
 /* Node space: the force node k's pins put on it at n, its momentum's ask less its own
-   link's elements (rj__node_momentum; a rigid body's own node has no elements). */
+   link's elements (rj__node_momentum; a rigid body's own node has no elements); in
+   place from the step's forces (rj__kept_node_balance). */
 static void rj__pin_node_balance(const rj_model *m, const rj_state *s, int k, double out[2])
 {
     double elements[2] = { 0, 0 };
+    if (s->at_n == RJ__AT_N_KEPT) {
+        rj__kept_node_balance(m, s, k, out);
+        return;
+    }
     if (!rj__own_body_node(m, k))
         rj__elem_node_force(m, s, k, elements);
     rj__node_momentum(m, s, k, out);
@@ -798,18 +827,18 @@ static int rj__pin_by_subtree(const rj_model *m, int j)
            (rj__own_body_node(m, J->nJ) && (J->nI < 0 || rj__own_body_node(m, J->nI)));
 }
 
-/* Where rj_joint_pin_force has no answer yet: in-place stepping (no rates at n - 1/2),
-   before a step; a chord reference (the joint's forces on the pin node) on the pin node's
-   own balance; in node space, a loop joint without a force (rj__loop_pin_force), or one
-   tying the links below the joint to the rest, or a held body among them
-   (rj__subtree_pin_force, NaN); loops of rigid links before a step (their rows'
-   forces). */
+/* Where rj_joint_pin_force has no answer yet: no state a step before (rj_state.at_n:
+   before a step, after a failed one); a chord reference (the joint's forces on the pin
+   node) on the pin node's own balance; in node space, a loop joint without a force
+   (rj__loop_pin_force), or one tying the links below the joint to the rest, or a held
+   body among them (rj__subtree_pin_force, NaN; in place rj__kept_body_pin_force's);
+   loops of rigid links before a step (their rows' forces). */
 static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
 {
     const rj__joint *J = &m->jnt[j];
     if (m->rigid)
         return m->nloop > 0 && s->loop_force[2 * m->nj] != (double) s->steps;
-    if (m->ip || !s->at_n)
+    if (s->at_n == RJ__AT_N_NONE)
         return 1;
     return !J->loop && !rj__pin_by_subtree(m, j) && J->chord;
 }
@@ -1094,7 +1123,7 @@ static int rj__pin_pass_force(const rj_model *m, double *work, int j, double for
 static int rj__pin_pass_wanted(const rj_model *m, const rj_state *s)
 {
     int j;
-    if (m->rigid || m->ip || !s->at_n)
+    if (m->rigid || s->at_n != RJ__AT_N_FRAME)
         return 0;
     for (j = 0; j < m->nj; j++)
         if (rj__pin_by_subtree(m, j))
@@ -1102,9 +1131,24 @@ static int rj__pin_pass_wanted(const rj_model *m, const rj_state *s)
     return 0;
 }
 
+/* In place: joint j's pin force where node space takes it from the links below
+   (rj__pin_by_subtree), whose nodes' values at n the step does not keep: a rigid body's
+   pin to the ground (the only such joint in place, which projects nothing), from the
+   body's own balance (rj__body_ground_force). Returns 0 where it has none, force 0. */
+static int rj__kept_body_pin_force(const rj_model *m, const rj_state *s, int j,
+                                   double force[2])
+{
+    const rj__joint *J = &m->jnt[j];
+    force[0] = force[1] = 0;
+    if (J->nI >= 0 || !rj__own_body_node(m, J->nJ))
+        return 0;
+    return rj__body_ground_force(m, s, m->node_cl[J->nJ], NULL, force);
+}
+
 /* Node space: joint j's pin force into force (NaN where unknown): a loop joint's own
    (rj__loop_pin_force); else from the all-joints pass over work where it takes the
-   joint (rj__pin_by_subtree), else from its pin node's balance. */
+   joint (rj__pin_by_subtree; in place from the body, rj__kept_body_pin_force), else from
+   its pin node's balance. */
 static void rj__node_joint_force(const rj_model *m, const rj_state *s, double *work, int j,
                                  double force[2])
 {
@@ -1112,6 +1156,8 @@ static void rj__node_joint_force(const rj_model *m, const rj_state *s, double *w
     force[0] = force[1] = 0.0;
     if (known && m->jnt[j].loop)
         known = rj__loop_pin_force(m, s, j, force);
+    else if (known && rj__pin_by_subtree(m, j) && s->at_n == RJ__AT_N_KEPT)
+        known = rj__kept_body_pin_force(m, s, j, force);
     else if (known && rj__pin_by_subtree(m, j))
         known = rj__pin_pass_force(m, work, j, force);
     else if (known)
@@ -1193,6 +1239,8 @@ RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int j, 
         rj__node_pin_force(m, s, j, force);
         return RJ_OK;
     }
+    if (!m->rigid && s->at_n == RJ__AT_N_KEPT)
+        return rj__kept_body_pin_force(m, s, j, force) ? RJ_OK : RJ_ERR_INVALID;
     if (!m->rigid)
         return rj__one_subtree_pin_force(m, s, j, force);
     /* rigid scenes: the joints' kinematics come down the tree for all of them at once */

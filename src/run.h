@@ -46,11 +46,21 @@ static RJ__NOINLINE void rj__track_peaks(const rj_model *m, rj_state *s);
    (their time is the frame's before). */
 static RJ__FORCE_INLINE rj_result rj__step_after(const rj_model *m, rj_state *s, rj_result r)
 {
-    s->at_n = r == RJ_OK;
+    s->at_n = r == RJ_OK ? RJ__AT_N_FRAME : RJ__AT_N_NONE;
     if (s->peaks_on && r == RJ_OK && !s->settling &&
         s->fd[s->cur][RJ__FS_ETIME] == s->fd[1 - s->cur][RJ__FS_TIME])
         rj__track_peaks(m, s);
     return r;
+}
+
+/* After an in-place step with peaks on: they are tracked as after a double-buffered
+   step, on a step that took the accounts (at its start, a step before the time now; the
+   ones before it a step earlier still). */
+static RJ__NOINLINE void rj__step_ip_peaks(const rj_model *m, rj_state *s)
+{
+    const double *now = s->fd[s->cur];
+    if (!s->settling && now[RJ__FS_ETIME] > now[RJ__FS_TIME] - 1.5 * m->dt)
+        rj__track_peaks(m, s);
 }
 
 static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
@@ -82,8 +92,10 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
             memcpy(s->node_applied, s->input_node, 3 * sizeof(double) * (size_t) m->nn);
         return rj__step_after(m, s, r);
     }
-    /* in place, the other frame is a copy from some steps before */
-    s->at_n = 0;
+    /* in place, the other frame is a copy from some steps before; the third keeps the
+       values at n of the nodes the loads at t^n read (m->dnode), and s->fx, fy their
+       forces of the step */
+    s->at_n = RJ__AT_N_KEPT;
     if (s->snap < 0 || s->steps - s->snap >= RJ__SNAP) {
         memcpy(s->fd[1 - s->cur], s->fd[s->cur], sizeof(double) * m->frame_doubles);
         memcpy(s->fi[1 - s->cur], s->fi[s->cur], sizeof(int) * (m->frame_ints + 1));
@@ -95,8 +107,11 @@ static rj_result rj__step(const rj_model *m, rj_state *s, int want_energy)
     if (want_energy)
         s->want |= (unsigned long long) 1 << (s->steps - s->snap);
     r = rj__step_ip(m, s, want_energy);
+    if (r == RJ_OK && s->peaks_on)
+        rj__step_ip_peaks(m, s);
     if (r == RJ_OK)
         return r;
+    s->at_n = RJ__AT_N_NONE;
     memcpy(err, s->err, sizeof err);
     memcpy(warn, s->warn, sizeof warn);
     n = s->steps;

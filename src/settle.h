@@ -21,7 +21,7 @@ static void rj__zero_velocities(const rj_model *m, rj_state *s)
     }
     s->snap = -1;
     s->steps = 0;
-    s->at_n = 0;
+    s->at_n = RJ__AT_N_NONE;
     s->loop_force[2 * m->nj] = -1;
 }
 

@@ -149,7 +149,7 @@ RJDEF void rj_state_reset(const rj_model *m, rj_state *s)
     s->snap = -1;
     s->err[0] = 0;
     s->warn[0] = 0;
-    s->at_n = 0;
+    s->at_n = RJ__AT_N_NONE;
     s->peaks_on = 0;
     rj__peaks_clear(m, s);
     memset(s->fd[0], 0, sizeof(double) * m->frame_doubles);
@@ -328,6 +328,12 @@ RJDEF rj_result rj_state_copy(const rj_model *m, rj_state *dst, const rj_state *
     memcpy(dst->fd[1], src->fd[1 - src->cur], sizeof(double) * m->frame_doubles);
     memcpy(dst->fi[1], src->fi[1 - src->cur], sizeof(int) * (m->frame_ints + 1));
     dst->at_n = src->at_n;
+    /* in place, the nodes' values at n the step kept, and their forces */
+    if (src->at_n == RJ__AT_N_KEPT) {
+        memcpy(dst->fd[2], src->fd[2], sizeof(double) * m->frame_doubles);
+        memcpy(dst->fx, src->fx, sizeof(double) * (size_t) m->nn);
+        memcpy(dst->fy, src->fy, sizeof(double) * (size_t) m->nn);
+    }
     /* the implicit damping's element forces of that step (the loads at t^n) */
     if (m->nvisc)
         memcpy(dst->visc_force, src->visc_force, sizeof(double) * 4 * (size_t) m->ne);

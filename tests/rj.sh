@@ -255,7 +255,7 @@ $B/rj run $T/rod.rjs --t-end 1 --csv /dev/null 2>$T/rod.err
 ok "run: the summary's peak pin force, a rod released level: 2.5 m g at the bottom" \
   "sed -n 's/.*peak |pin force| \\([0-9.e+-]*\\) N.*/\\1/p' $T/rod.err | awk '{ v = \$1 } END { exit !(NR == 1 && v > 13.2435 * (1 - 1e-3) && v < 13.2435 * (1 + 1e-3)) }'"
 # a link of 500 elements steps in place by default (solver.in_place, automatic from 400
-# nodes), which keeps no loads at t^n: rj run steps it double-buffered (the same bits), so
+# nodes), which keeps no element loads at t^n: rj run steps it double-buffered (the same bits), so
 # its pin's J.Fx has a number in every row after the first (none before a step) and the
 # summary a peak
 printf 'solver\n  gravity = 0 -9.81\nlink long\n  length = 1  elements = 500\n  E = 7e10  rho = 2700  width = 0.02  height = 0.01\njoint pin\n  body1 = ground  body2 = long  angle0 = 0\n' > $T/long.rjs

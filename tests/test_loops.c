@@ -1636,16 +1636,26 @@ static void test_loop_statics(rjt_ctx *c)
     }
 }
 
+/* The four-bar's text (fourbar_text at 7e10 Pa, the fidelities as there) and its loop's
+   angles theta3, theta4 (close_loop); returns where the joint named by `from` starts,
+   for the caller to write the joints from there another way. */
+static char *fourbar_from(const char *fidelity, const char *from, char *text, size_t n,
+                          double *t3, double *t4)
+{
+    *t3 = 0.5;
+    *t4 = 1.5;
+    fourbar_text(7e10, fidelity, 0, text, n);
+    close_loop(CRANK0, t3, t4);
+    return strstr(text, from);
+}
+
 /* The four-bar's text (fourbar_text at 7e10 Pa, the fidelities as there) with its loop
    joint b the other way round: body 1 the rocker at its last node, body 2 the coupler
    at its last. */
 static void fourbar_reversed(const char *fidelity, char *text, size_t n)
 {
-    double t3 = 0.5, t4 = 1.5;
-    char *at;
-    fourbar_text(7e10, fidelity, 0, text, n);
-    close_loop(CRANK0, &t3, &t4);
-    at = strstr(text, "joint b\n");
+    double t3, t4;
+    char *at = fourbar_from(fidelity, "joint b\n", text, n, &t3, &t4);
     snprintf(at, n - (size_t) (at - text),
              "joint b\n  body1 = rocker  node1 = last  body2 = coupler  node2 = last  "
              "angle0 = %.17g\n",
@@ -1696,11 +1706,8 @@ static void scene_momentum(const rj_model *m, const rj_state *s, const double *b
    rocker at its last node, and joint o4, last, pins the rocker's root to the ground. */
 static void fourbar_ground_loop(const char *fidelity, char *text, size_t n)
 {
-    double t3 = 0.5, t4 = 1.5;
-    char *at;
-    fourbar_text(7e10, fidelity, 0, text, n);
-    close_loop(CRANK0, &t3, &t4);
-    at = strstr(text, "joint o4\n");
+    double t3, t4;
+    char *at = fourbar_from(fidelity, "joint o4\n", text, n, &t3, &t4);
     snprintf(at, n - (size_t) (at - text),
              "joint b\n  body1 = coupler  body2 = rocker  node2 = last  angle0 = %.17g\n"
              "joint o4\n  body1 = ground  body2 = rocker  ground_x = %.17g  angle0 = %.17g\n",
@@ -1798,6 +1805,34 @@ static int loop_sides_run(const char *fidelity, void (*other)(const char *, char
     return ok;
 }
 
+/* A check of three four-bars, each against the same written another way
+   (loop_sides_run): the pin it follows, and the route it compares with. */
+typedef struct sides_check {
+    void (*other)(const char *, char *, size_t);
+    const sides_map *map;
+    const char *name;
+    const char *pin;
+    const char *route;
+} sides_check;
+
+/* The check for each fidelity (what: in words): the pins within the round-off bound, the
+   ground's carrying the scene. */
+static void check_loop_sides(rjt_ctx *c, const sides_check *check,
+                             const char *const fidelity[3], const char *const what[3])
+{
+    int k;
+    for (k = 0; k < 3; k++) {
+        loop_sides o;
+        const int ran = loop_sides_run(fidelity[k], check->other, check->map, &o);
+        rjt_check(c, ran && o.sides < o.bound && o.ground < o.bound && o.size > 1,
+                  check->name,
+                  "%s: %s (up to %.4g N) %.3g N %s; the ground's pins %.3g N from the "
+                  "scene's m a - m g (up to %.4g N); bound %.3g N (round-off) %s",
+                  what[k], check->pin, o.size, o.sides, check->route, o.ground, o.total,
+                  o.bound, o.msg);
+    }
+}
+
 /* A moving four-bar's loop joint b from both of its sides: defined coupler to rocker, its
    force is read at the rocker's pin node; the other way round, at the coupler's, from
    other elements (the two give the same pin's force on opposite bodies). Inextensible
@@ -1816,18 +1851,13 @@ static void test_loop_sides(rjt_ctx *c)
     static const char *const what[3] = { "inextensible bars",
                                          "a flexible coupler, inextensible crank and rocker",
                                          "a flexible crank, rigid coupler and rocker" };
-    int k;
-    for (k = 0; k < 3; k++) {
-        loop_sides o;
-        const int ran = loop_sides_run(fidelity[k], fourbar_reversed, &REVERSED_B, &o);
-        rjt_check(c, ran && o.sides < o.bound && o.ground < o.bound && o.size > 1,
-                  "pin forces of a moving four-bar's loop in node space: from both sides, the "
-                  "ground's carrying the scene",
-                  "%s: loop joint b (up to %.4g N) %.3g N from b the other way round; the "
-                  "ground's pins %.3g N from the scene's m a - m g (up to %.4g N); bound %.3g N "
-                  "(round-off) %s",
-                  what[k], o.size, o.sides, o.ground, o.total, o.bound, o.msg);
-    }
+    static const sides_check check = {
+        fourbar_reversed, &REVERSED_B,
+        "pin forces of a moving four-bar's loop in node space: from both sides, the ground's "
+        "carrying the scene",
+        "loop joint b", "from b the other way round"
+    };
+    check_loop_sides(c, &check, fidelity, what);
 }
 
 /* A moving four-bar whose loop pins a rigid rocker to the ground (fourbar_ground_loop):
@@ -1844,17 +1874,191 @@ static void test_loop_ground(rjt_ctx *c)
     static const char *const what[3] = { "a flexible crank and coupler, rigid rocker",
                                          "a flexible crank, rigid coupler and rocker",
                                          "an inextensible crank and coupler, rigid rocker" };
+    static const sides_check check = {
+        fourbar_ground_loop, &GROUND_O4,
+        "pin forces of a loop pinning a rigid body to the ground: by two routes, the "
+        "ground's carrying the scene",
+        "the rocker's ground pin", "from the four-bar closed at b"
+    };
+    check_loop_sides(c, &check, fidelity, what);
+}
+
+/* A chain for the in-place pin forces: flexible links from a ground pin with a spring and
+   damper (g), a pin between two of them with friction (p), one with a chord reference
+   and a spring (c), a load on p's pin node; and a rigid arm pinned to the ground (r)
+   carrying a flexible tail (t), a load at its tip. in_place: "on" or "off". */
+static void chain_text(const char *in_place, char *text, size_t n)
+{
+    snprintf(text, n,
+             "solver\n  gravity = 0 -9.81  in_place = %s\n"
+             "material al\n  E = 7e10  rho = 2700\n"
+             "section bar\n  width = 0.02  height = 0.02\n"
+             "link l1\n  length = 0.6  elements = 12  material = al  section = bar\n"
+             "link l2\n  length = 0.5  elements = 10  material = al  section = bar\n"
+             "link l3\n  length = 0.4  elements = 8  material = al  section = bar\n"
+             "link arm\n  length = 0.3  elements = 1  material = al  section = bar\n"
+             "  fidelity = rigid\n"
+             "link tail\n  length = 0.4  elements = 8  material = al  section = bar\n"
+             "joint g\n  body1 = ground  body2 = l1  angle0 = -30 deg  spring = 5 -90 deg"
+             "  damping = 0.01\n"
+             "joint p\n  body1 = l1  body2 = l2  angle0 = 40 deg  friction = 0.05\n"
+             "joint c\n  body1 = l2  body2 = l3  angle0 = 30 deg  reference = chord"
+             "  spring = 2 30 deg\n"
+             "joint r\n  body1 = ground  body2 = arm  ground_x = 1.5  angle0 = 0 deg\n"
+             "joint t\n  body1 = arm  body2 = tail  angle0 = -60 deg\n"
+             "load f\n  link = l2  node = 0  force = 3 0\n"
+             "load h\n  link = arm  node = last  force = 0 -2\n",
+             in_place);
+}
+
+/* The four-bar closed at its rigid rocker's ground pivot (fourbar_ground_loop) of a
+   flexible crank and coupler, in place or not. */
+static void ground_loop_text(const char *in_place, char *text, size_t n)
+{
+    char plain[2048];
+    fourbar_ground_loop("flexible flexible rigid", plain, sizeof plain);
+    snprintf(text, n, "solver\n  in_place = %s\n%s", in_place, plain + strlen("solver\n"));
+}
+
+/* What a scene showed stepped in place against double-buffered. */
+typedef struct in_place_run {
+    double worst;   /* the largest |F in place - F double-buffered| over the joints and steps */
+    double size;    /* the largest |F| */
+    double one;     /* the largest |rj_joint_pin_force - rj_joint_pin_forces| in place */
+    double peak;    /* the largest |peak in place - peak double-buffered| over the joints */
+    int known;      /* joints with a force in both at every step */
+    int differ;     /* joint-steps with a force in one and not the other */
+    int in_place;   /* the first steps in place, the second not */
+    int same_bits;  /* the two states are the same bits after the run */
+    int copied;     /* a copy of the in-place state has its pin forces, to the bit */
+    int moments;    /* the in-place state tracked no link's moment (none known), the other did */
+    char msg[700];
+} in_place_run;
+
+/* One step of both; the pin forces compared into o (F: 2 nj doubles each, one the
+   joint-by-joint scratch). Returns 0 when a step fails. */
+static int in_place_step(rj_model *m[2], rj_state *s[2], double *F[3], int *known,
+                         in_place_run *o)
+{
+    const int nj = rj_model_joint_count(m[0]);
+    int j, k;
+    for (k = 0; k < 2; k++)
+        if (rj_step(m[k], s[k]) != RJ_OK || rj_joint_pin_forces(m[k], s[k], F[k]) != RJ_OK)
+            return 0;
+    for (j = 0; j < nj; j++) {
+        const double *a = F[0] + 2 * j, *b = F[1] + 2 * j;
+        const int has = a[0] == a[0] && b[0] == b[0];
+        o->differ += (a[0] == a[0]) != (b[0] == b[0]);
+        known[j] = known[j] && has;
+        if (!has)
+            continue;
+        o->worst = fmax(o->worst, hypot(a[0] - b[0], a[1] - b[1]));
+        o->size = fmax(o->size, hypot(b[0], b[1]));
+        if (rj_joint_pin_force(m[0], s[0], j, F[2]) == RJ_OK)
+            o->one = fmax(o->one, hypot(F[2][0] - a[0], F[2][1] - a[1]));
+        else
+            o->one = HUGE_VAL;
+    }
+    return 1;
+}
+
+/* After the run: the peaks, the state's bits, a copy of the in-place state. */
+static void in_place_after(rj_model *m[2], rj_state *s[2], double *F[3], in_place_run *o)
+{
+    const int nj = rj_model_joint_count(m[0]);
+    rj_state *copy = NULL;
+    int j, l;
+    for (j = 0; j < nj; j++) {
+        const rj_peak a = rj_joint_peak_pin_force(m[0], s[0], j);
+        const rj_peak b = rj_joint_peak_pin_force(m[1], s[1], j);
+        o->peak = fmax(o->peak, a.time == b.time ? fabs(a.value - b.value) : HUGE_VAL);
+    }
+    o->moments = 0;
+    for (l = 0; l < rj_model_link_count(m[0]); l++)
+        o->moments += rj_link_peak_moment(m[0], s[0], l).value == -1 &&
+                      rj_link_peak_moment(m[1], s[1], l).value > 0;
+    o->same_bits = state_bits(m[0], s[0]) == state_bits(m[1], s[1]);
+    o->copied = rj_state_create(m[0], &copy, NULL) == RJ_OK &&
+                rj_state_copy(m[0], copy, s[0]) == RJ_OK &&
+                rj_joint_pin_forces(m[0], s[0], F[0]) == RJ_OK &&
+                rj_joint_pin_forces(m[0], copy, F[2]) == RJ_OK &&
+                memcmp(F[0], F[2], 2 * sizeof(double) * (size_t) nj) == 0;
+    rj_state_destroy(copy, NULL);
+}
+
+/* A scene (text(in_place, ...)) stepped in place and double-buffered for `steps` steps,
+   peaks tracked on both, into o. Returns 0 when one fails. */
+static int in_place_compare(void (*text)(const char *, char *, size_t), int steps,
+                            in_place_run *o)
+{
+    static const char *const mode[2] = { "on", "off" };
+    char scene[2][2600];
+    rj_model *m[2] = { NULL, NULL };
+    rj_state *s[2] = { NULL, NULL };
+    double F[3][32];
+    double *pF[3] = { F[0], F[1], F[2] };
+    int known[16], k, ok = 1, j;
+    rj_error err;
+    memset(o, 0, sizeof *o);
+    for (j = 0; j < 16; j++)
+        known[j] = 1;
+    for (k = 0; k < 2 && ok; k++) {
+        text(mode[k], scene[k], sizeof scene[k]);
+        ok = build(scene[k], &m[k], &s[k], &err) &&
+             rj_state_track_peaks(m[k], s[k], 1) == RJ_OK;
+    }
+    snprintf(o->msg, sizeof o->msg, "%s", ok ? "" : err.msg);
+    if (ok) {
+        o->in_place = rj_model_in_place(m[0]) && !rj_model_in_place(m[1]);
+        for (k = 0; k < steps && ok; k++)
+            ok = in_place_step(m, s, pF, known, o);
+        for (j = 0; j < rj_model_joint_count(m[0]); j++)
+            o->known += known[j];
+        if (ok)
+            in_place_after(m, s, pF, o);
+        else
+            snprintf(o->msg, sizeof o->msg, "%s", rj_state_error(s[0]));
+    }
+    for (k = 0; k < 2; k++) {
+        rj_state_destroy(s[k], NULL);
+        rj_model_destroy(m[k], NULL);
+    }
+    return ok;
+}
+
+/* Pin forces with in-place stepping: the step keeps the values at n of every joint's and
+   link's end nodes and their forces, from which a pin node's balance follows, and a
+   rigid body's pinned to the ground; the same scene stepped double-buffered (the same
+   bits) gives them from its frame a step before. A chain (ground pin with a spring and
+   damper, a pin between flexible links with friction, a chord reference, a rigid arm
+   pinned to the ground carrying a flexible link, loads at pins) and the four-bar closed at
+   its rigid rocker's ground pivot, 400 steps: every force agrees to round-off, the chord
+   reference has none either way, each joint's own query gives the all-at-once force,
+   the peaks agree (in place no link's moment: no element loads at t^n), and a copy of
+   the in-place state has its forces. */
+static void test_in_place_pin_forces(rjt_ctx *c)
+{
+    static void (*const text[2])(const char *, char *, size_t) = { chain_text,
+                                                                      ground_loop_text };
+    static const char *const what[2] = { "a chain of flexible links and a rigid arm",
+                                         "a four-bar closed at its rigid rocker's ground pivot" };
+    static const int joints[2] = { 4, 4 };
+    static const int links[2] = { 4, 2 };
     int k;
-    for (k = 0; k < 3; k++) {
-        loop_sides o;
-        const int ran = loop_sides_run(fidelity[k], fourbar_ground_loop, &GROUND_O4, &o);
-        rjt_check(c, ran && o.sides < o.bound && o.ground < o.bound && o.size > 1,
-                  "pin forces of a loop pinning a rigid body to the ground: by two routes, "
-                  "the ground's carrying the scene",
-                  "%s: the rocker's ground pin (up to %.4g N) %.3g N from the four-bar closed "
-                  "at b; the ground's pins %.3g N from the scene's m a - m g (up to %.4g N); "
-                  "bound %.3g N (round-off) %s",
-                  what[k], o.size, o.sides, o.ground, o.total, o.bound, o.msg);
+    for (k = 0; k < 2; k++) {
+        in_place_run o;
+        const int ran = in_place_compare(text[k], 400, &o);
+        rjt_check(c, ran && o.in_place && o.same_bits && o.known == joints[k] && !o.differ &&
+                         o.worst <= 1e-9 * o.size && o.one <= 1e-12 * o.size &&
+                         o.peak <= 1e-9 * o.size && o.moments == links[k] && o.copied &&
+                         o.size > 1,
+                  "pin forces in place: the double-buffered step's to round-off",
+                  "%s: %d joints known both ways at every step (%d in one only), in place "
+                  "%.3g N from double-buffered (up to %.4g N), each alone %.3g N from all at "
+                  "once, peaks %.3g N apart; moments tracked double-buffered only on %d "
+                  "links; same bits %d, copy %d %s",
+                  what[k], o.known, o.differ, o.worst, o.size, o.one, o.peak, o.moments,
+                  o.same_bits, o.copied, o.msg);
     }
 }
 
@@ -2123,6 +2327,7 @@ int main(void)
     test_loop_statics(&c);
     test_loop_sides(&c);
     test_loop_ground(&c);
+    test_in_place_pin_forces(&c);
     test_rigid_latch(&c);
     test_rigid_driven(&c);
     test_rigid_loop_rotor_cable(&c);
