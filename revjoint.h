@@ -682,10 +682,12 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
      step; the others as without loops, the loops' forces among those from outside, at
      the step's configuration q^n and rates (each bar's moment balance then holds to
      round-off: build/test_loops). Not before a step.
-   - Flexible links (tangent reference): body 2's pin node's m a - m g less its link's
-     element forces, loads and the caller's force on it, at t^n, a step before the
-     state's time (a from the rates at n - 1/2 and n + 1/2); where body 2 is a rigid
-     body of a mixed scene, the same on body 1's flexible node, reversed.
+   - Flexible links: body 2's pin node's m a - m g less its link's element forces,
+     loads and the caller's force on it, and the force couples chord-referenced joints'
+     torques put on it (from the torques the step recorded, on the chords at n), at
+     t^n, a step before the state's time (a from the rates at n - 1/2 and n + 1/2);
+     where body 2 is a rigid body of a mixed scene, the same on body 1's flexible node,
+     reversed.
    - Scenes with inextensible links, and pins between two rigid bodies or a rigid body
      and the ground in mixed scenes: Newton's second law for the links below the joint,
      their nodes' and bodies' m a - m g less loads and the caller's forces (their
@@ -707,7 +709,8 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
    pin node, and the joints whose links such a loop ties to the rest; a held body among
    the links below a joint, or pinned to the ground by a loop, or one a loop pins to the
    ground whose carried node takes a chord reference's forces or is pinned to the ground
-   too; a chord reference on a flexible pin node, before a step (or after a failed one,
+   too; a pin node that is a chord-referenced joint's far node (its K or L, which
+   latches move by jumps no record keeps), before a step (or after a failed one,
    a checkpoint's load, rj_settle: the state a step before is needed). */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);
@@ -1144,6 +1147,7 @@ struct rj_model {
     int nact;          /* actuators */
     int npres;         /* of them prescribed (RJ_ACTUATOR_PRESCRIBED) */
     int nrotor;        /* of them with a rotor (rotor_inertia > 0) */
+    int nchord;        /* joints with the chord reference (RJ_REF_CHORD) */
     rj_actuator_def *act; /* (nact) their definitions */
     double *spl;          /* (nact x RJ_TABLE_MAX) profile tables' spline (rj__spline_build) */
     int ncp;              /* couplings */
@@ -8085,10 +8089,12 @@ static void rj__init_actuator(rj_model *m, const rj_actuator_def *a)
 static void rj__init_joint_constants(rj_model *m)
 {
     int j, k;
+    m->nchord = 0;
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         rj__joint *J = &m->jnt[j];
         rj__init_joint_inertias(m, j);
+        m->nchord += J->chord;
         rj__init_running_limits(d, J);
         J->tv_turn = d->table_count ? rj__table_potential(d->table_angle, d->table_torque,
                                                           d->table_count, RJ__TWO_PI)
@@ -15949,12 +15955,47 @@ static void rj__kept_node_balance(const rj_model *m, const rj_state *s, int k, d
     out[1] = m->mass[k] * (ay - g[1]) - (s->fy[k] - m->kmass[k] * g[1]);
 }
 
+/* Node space: what the chord-reference joints' torques put on node k in the step that
+   led here, into out: each joint's torque (its components and the caller's, as the step
+   recorded them) as the force couples rj__apply_torque made of it on the chords at n.
+   Returns 0 where node k is a chord's far node (K or L), whose latches move it by jumps
+   (rj__spin) that no record keeps. */
+static int rj__chord_forces_at(const rj_model *m, const rj_state *s, int k, double out[2])
+{
+    const double *at_n = rj__nodes_at_n(s);
+    const double *x = RJ__FX(m, at_n), *y = RJ__FY(m, at_n);
+    int j, c;
+    out[0] = out[1] = 0;
+    for (j = 0; j < m->nj; j++) {
+        const rj__joint *J = &m->jnt[j];
+        const double *rec = RJ__FJ(m, s->fd[s->cur], j);
+        double tau = rec[RJ__JD_INPUT], bx, by, b2;
+        if (!J->chord || (k != J->nI && k != J->nJ && k != J->nK && k != J->nL))
+            continue;
+        if (k == J->nK || k == J->nL)
+            return 0;
+        for (c = 0; c < RJ_TORQUE_COUNT; c++)
+            if (c != RJ_TORQUE_TOTAL)
+                tau += rec[RJ__JD_TQ0 + c];
+        /* body 2's chord J -> L takes the torque, body 1's I -> K its opposite */
+        bx = k == J->nJ ? x[J->nL] - x[J->nJ] : x[J->nK] - x[J->nI];
+        by = k == J->nJ ? y[J->nL] - y[J->nJ] : y[J->nK] - y[J->nI];
+        b2 = bx * bx + by * by;
+        if (k == J->nI)
+            tau = -tau;
+        out[0] += tau * by / b2;
+        out[1] -= tau * bx / b2;
+    }
+    return 1;
+}
+
 /* Node space: the force node k's pins put on it at n, its momentum's ask less its own
-   link's elements (rj__node_momentum; a rigid body's own node has no elements); in
-   place from the step's forces (rj__kept_node_balance). */
+   link's elements (rj__node_momentum; a rigid body's own node has no elements) and what
+   chord-reference joints' torques put on it (rj__chord_forces_at); in place from the
+   step's forces, which hold those (rj__kept_node_balance). */
 static void rj__pin_node_balance(const rj_model *m, const rj_state *s, int k, double out[2])
 {
-    double elements[2] = { 0, 0 };
+    double elements[2] = { 0, 0 }, chords[2];
     if (s->at_n == RJ__AT_N_KEPT) {
         rj__kept_node_balance(m, s, k, out);
         return;
@@ -15962,6 +16003,10 @@ static void rj__pin_node_balance(const rj_model *m, const rj_state *s, int k, do
     if (!rj__own_body_node(m, k))
         rj__elem_node_force(m, s, k, elements);
     rj__node_momentum(m, s, k, out);
+    if (m->nchord && rj__chord_forces_at(m, s, k, chords)) {
+        elements[0] += chords[0];
+        elements[1] += chords[1];
+    }
     out[0] -= elements[0];
     out[1] -= elements[1];
 }
@@ -16166,9 +16211,12 @@ static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
     const rj__joint *J = &m->jnt[j];
     if (m->rigid)
         return m->nloop > 0 && s->loop_force[2 * m->nj] != (double) s->steps;
+    double sign, chords[2];
     if (s->at_n == RJ__AT_N_NONE)
         return 1;
-    return !J->loop && !rj__pin_by_subtree(m, j) && J->chord;
+    if (J->loop || rj__pin_by_subtree(m, j) || !m->nchord)
+        return 0;
+    return !rj__chord_forces_at(m, s, rj__balance_node(m, j, &sign), chords);
 }
 
 /* The scratch doubles rj__pin_forces needs: rigid scenes' kinematics, the all-joints

@@ -682,10 +682,12 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
      step; the others as without loops, the loops' forces among those from outside, at
      the step's configuration q^n and rates (each bar's moment balance then holds to
      round-off: build/test_loops). Not before a step.
-   - Flexible links (tangent reference): body 2's pin node's m a - m g less its link's
-     element forces, loads and the caller's force on it, at t^n, a step before the
-     state's time (a from the rates at n - 1/2 and n + 1/2); where body 2 is a rigid
-     body of a mixed scene, the same on body 1's flexible node, reversed.
+   - Flexible links: body 2's pin node's m a - m g less its link's element forces,
+     loads and the caller's force on it, and the force couples chord-referenced joints'
+     torques put on it (from the torques the step recorded, on the chords at n), at
+     t^n, a step before the state's time (a from the rates at n - 1/2 and n + 1/2);
+     where body 2 is a rigid body of a mixed scene, the same on body 1's flexible node,
+     reversed.
    - Scenes with inextensible links, and pins between two rigid bodies or a rigid body
      and the ground in mixed scenes: Newton's second law for the links below the joint,
      their nodes' and bodies' m a - m g less loads and the caller's forces (their
@@ -707,7 +709,8 @@ RJDEF double rj_joint_latch_impulse(const rj_model *m, const rj_state *s, int jo
    pin node, and the joints whose links such a loop ties to the rest; a held body among
    the links below a joint, or pinned to the ground by a loop, or one a loop pins to the
    ground whose carried node takes a chord reference's forces or is pinned to the ground
-   too; a chord reference on a flexible pin node, before a step (or after a failed one,
+   too; a pin node that is a chord-referenced joint's far node (its K or L, which
+   latches move by jumps no record keeps), before a step (or after a failed one,
    a checkpoint's load, rj_settle: the state a step before is needed). */
 RJDEF rj_result rj_joint_pin_force(const rj_model *m, const rj_state *s, int joint,
                                    double force[2]);

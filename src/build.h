@@ -606,10 +606,12 @@ static void rj__init_actuator(rj_model *m, const rj_actuator_def *a)
 static void rj__init_joint_constants(rj_model *m)
 {
     int j, k;
+    m->nchord = 0;
     for (j = 0; j < m->nj; j++) {
         const rj_joint_def *d = &m->jdef[j];
         rj__joint *J = &m->jnt[j];
         rj__init_joint_inertias(m, j);
+        m->nchord += J->chord;
         rj__init_running_limits(d, J);
         J->tv_turn = d->table_count ? rj__table_potential(d->table_angle, d->table_torque,
                                                           d->table_count, RJ__TWO_PI)

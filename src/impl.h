@@ -215,6 +215,7 @@ struct rj_model {
     int nact;          /* actuators */
     int npres;         /* of them prescribed (RJ_ACTUATOR_PRESCRIBED) */
     int nrotor;        /* of them with a rotor (rotor_inertia > 0) */
+    int nchord;        /* joints with the chord reference (RJ_REF_CHORD) */
     rj_actuator_def *act; /* (nact) their definitions */
     double *spl;          /* (nact x RJ_TABLE_MAX) profile tables' spline (rj__spline_build) */
     int ncp;              /* couplings */

@@ -621,12 +621,47 @@ static void rj__kept_node_balance(const rj_model *m, const rj_state *s, int k, d
     out[1] = m->mass[k] * (ay - g[1]) - (s->fy[k] - m->kmass[k] * g[1]);
 }
 
+/* Node space: what the chord-reference joints' torques put on node k in the step that
+   led here, into out: each joint's torque (its components and the caller's, as the step
+   recorded them) as the force couples rj__apply_torque made of it on the chords at n.
+   Returns 0 where node k is a chord's far node (K or L), whose latches move it by jumps
+   (rj__spin) that no record keeps. */
+static int rj__chord_forces_at(const rj_model *m, const rj_state *s, int k, double out[2])
+{
+    const double *at_n = rj__nodes_at_n(s);
+    const double *x = RJ__FX(m, at_n), *y = RJ__FY(m, at_n);
+    int j, c;
+    out[0] = out[1] = 0;
+    for (j = 0; j < m->nj; j++) {
+        const rj__joint *J = &m->jnt[j];
+        const double *rec = RJ__FJ(m, s->fd[s->cur], j);
+        double tau = rec[RJ__JD_INPUT], bx, by, b2;
+        if (!J->chord || (k != J->nI && k != J->nJ && k != J->nK && k != J->nL))
+            continue;
+        if (k == J->nK || k == J->nL)
+            return 0;
+        for (c = 0; c < RJ_TORQUE_COUNT; c++)
+            if (c != RJ_TORQUE_TOTAL)
+                tau += rec[RJ__JD_TQ0 + c];
+        /* body 2's chord J -> L takes the torque, body 1's I -> K its opposite */
+        bx = k == J->nJ ? x[J->nL] - x[J->nJ] : x[J->nK] - x[J->nI];
+        by = k == J->nJ ? y[J->nL] - y[J->nJ] : y[J->nK] - y[J->nI];
+        b2 = bx * bx + by * by;
+        if (k == J->nI)
+            tau = -tau;
+        out[0] += tau * by / b2;
+        out[1] -= tau * bx / b2;
+    }
+    return 1;
+}
+
 /* Node space: the force node k's pins put on it at n, its momentum's ask less its own
-   link's elements (rj__node_momentum; a rigid body's own node has no elements); in
-   place from the step's forces (rj__kept_node_balance). */
+   link's elements (rj__node_momentum; a rigid body's own node has no elements) and what
+   chord-reference joints' torques put on it (rj__chord_forces_at); in place from the
+   step's forces, which hold those (rj__kept_node_balance). */
 static void rj__pin_node_balance(const rj_model *m, const rj_state *s, int k, double out[2])
 {
-    double elements[2] = { 0, 0 };
+    double elements[2] = { 0, 0 }, chords[2];
     if (s->at_n == RJ__AT_N_KEPT) {
         rj__kept_node_balance(m, s, k, out);
         return;
@@ -634,6 +669,10 @@ static void rj__pin_node_balance(const rj_model *m, const rj_state *s, int k, do
     if (!rj__own_body_node(m, k))
         rj__elem_node_force(m, s, k, elements);
     rj__node_momentum(m, s, k, out);
+    if (m->nchord && rj__chord_forces_at(m, s, k, chords)) {
+        elements[0] += chords[0];
+        elements[1] += chords[1];
+    }
     out[0] -= elements[0];
     out[1] -= elements[1];
 }
@@ -838,9 +877,12 @@ static int rj__pin_force_unknown(const rj_model *m, const rj_state *s, int j)
     const rj__joint *J = &m->jnt[j];
     if (m->rigid)
         return m->nloop > 0 && s->loop_force[2 * m->nj] != (double) s->steps;
+    double sign, chords[2];
     if (s->at_n == RJ__AT_N_NONE)
         return 1;
-    return !J->loop && !rj__pin_by_subtree(m, j) && J->chord;
+    if (J->loop || rj__pin_by_subtree(m, j) || !m->nchord)
+        return 0;
+    return !rj__chord_forces_at(m, s, rj__balance_node(m, j, &sign), chords);
 }
 
 /* The scratch doubles rj__pin_forces needs: rigid scenes' kinematics, the all-joints

@@ -2032,8 +2032,10 @@ static int in_place_compare(void (*text)(const char *, char *, size_t), int step
    bits) gives them from its frame a step before. A chain (ground pin with a spring and
    damper, a pin between flexible links with friction, a chord reference, a rigid arm
    pinned to the ground carrying a flexible link, loads at pins) and the four-bar closed at
-   its rigid rocker's ground pivot, 400 steps: every force agrees to round-off, the chord
-   reference has none either way, each joint's own query gives the all-at-once force,
+   its rigid rocker's ground pivot, 400 steps: every force agrees to round-off (the chord
+   reference's too: in place from the step's node forces, double-buffered from its
+   recorded torque on the chords at n, two independent routes), each joint's own query
+   gives the all-at-once force,
    the peaks agree (in place no link's moment: no element loads at t^n), and a copy of
    the in-place state has its forces. */
 static void test_in_place_pin_forces(rjt_ctx *c)
@@ -2042,7 +2044,7 @@ static void test_in_place_pin_forces(rjt_ctx *c)
                                                                       ground_loop_text };
     static const char *const what[2] = { "a chain of flexible links and a rigid arm",
                                          "a four-bar closed at its rigid rocker's ground pivot" };
-    static const int joints[2] = { 4, 4 };
+    static const int joints[2] = { 5, 4 };
     static const int links[2] = { 4, 2 };
     int k;
     for (k = 0; k < 2; k++) {
