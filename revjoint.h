@@ -12227,9 +12227,14 @@ static void rj__visc_hold(const rj_model *m, const rj_state *s, const rj__frames
 {
     const rj__joint *J = &m->jnt[j];
     const int nI = J->nI, nJ = J->nJ;
-    const double wI = rj__visc_rate_pred(m, s, f, nI), wJ = rj__visc_rate_pred(m, s, f, nJ);
     const double riI = nI >= 0 ? m->rinv[nI] : 0.0, riJ = m->rinv[nJ];
-    double rate, uI, uJ, minv;
+    double wI, wJ, rate, uI, uJ, minv;
+    /* a joint off this link: nothing to hold here (the cheap test first: every link
+       meets every joint) */
+    if (!(nI >= n0 && nI < n0 + nodes) && !(nJ >= n0 && nJ < n0 + nodes))
+        return;
+    wI = rj__visc_rate_pred(m, s, f, nI);
+    wJ = rj__visc_rate_pred(m, s, f, nJ);
     if (!rj__visc_held_rate(m, s, f, j, wI, wJ, &rate))
         return;
     if (riI == 0 || riJ == 0) {
