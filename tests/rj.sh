@@ -340,13 +340,13 @@ $B/rj plot $S/solar_array_bus.rjs --t-end 0.2 --what loads --out $T/loads_bus.pn
 ok "plot solar_array_bus.rjs --what loads (a rigid bus): a PNG (status $st), moments of the 4 flexible panels only" \
   "[ $st = 0 ] && [ '$(magic $T/loads_bus.png)' = 89504e47 ] && [ \$(grep -c ': peak |bending moment| ' $T/loads_bus.err) = 4 ] \
    && ! grep -q '^rj plot: bus: peak |bending' $T/loads_bus.err"
-# a joint with the paper's chord reference on a flexible pin node: the library has no pin
-# force for j1 (its torque acts on the pin node as forces), it has one for j2
-printf 'solver\n  gravity = 0 -9.81\nlink a\n  length = 0.5  elements = 4\nlink b\n  length = 1  elements = 8\njoint j1\n  body1 = ground  body2 = a  angle0 = 0  reference = chord\njoint j2\n  body1 = a  body2 = b  angle0 = 180 deg\n' > $T/mixed_loads.rjs
+# a loop-closing joint with the paper's chord reference: the library has no pin force for
+# it (j3: a triangle of two flexible bars from ground pivots), it has one for the others
+printf 'solver\n  gravity = 0 -9.81\nlink a\n  length = 0.5  elements = 4\nlink b\n  length = 0.5  elements = 4\njoint j1\n  body1 = ground  body2 = a  angle0 = 45 deg\njoint j2\n  body1 = ground  body2 = b  node2 = last  ground_x = 0.70710678118654757  angle0 = 315 deg\njoint j3\n  body1 = a  body2 = b  angle0 = 90 deg  reference = chord\n' > $T/mixed_loads.rjs
 $B/rj plot $T/mixed_loads.rjs --t-end 0.05 --what loads --out $T/loads_mixed.png 2>$T/loads_mixed.err; st=$?
-ok "plot --what loads, a joint without a pin force: said on standard error by name and not drawn, the other drawn (status $st)" \
+ok "plot --what loads, a joint without a pin force: said on standard error by name and not drawn, the others drawn (status $st)" \
   "[ $st = 0 ] && [ '$(magic $T/loads_mixed.png)' = 89504e47 ] \
-   && grep -qx 'rj plot: j1 pin force: none in the whole run (rj_joint_pin_force has none for this joint): not plotted' $T/loads_mixed.err \
+   && grep -qx 'rj plot: j3 pin force: none in the whole run (rj_joint_pin_force has none for this joint): not plotted' $T/loads_mixed.err \
    && [ \$(grep -c 'none in the whole run' $T/loads_mixed.err) = 1 ]"
 # a plot holds 8 series: the scissor boom's 16 joints and 12 flexible links, 8 of each
 m 0 "16 pin force series, more than a plot holds: plotting the first 8" "plot scissor_boom.rjs --what loads: 8 of its 16 pin forces" \
