@@ -293,7 +293,8 @@ static RJ__FORCE_INLINE void rj__stage_joint_torques(const rj_model *m, rj_state
 
 
 /* A node's velocity at the end of the step under the forces so far (a grouped node: its
-   group's). */
+   group's, gravity on it as rj__update_groups adds it: the members' forces do not hold
+   it, while a node that moves on its own has it in its force). */
 static RJ__FORCE_INLINE void rj__velocity_pred(const rj_model *m, const rj_state *s,
                                                const rj__frames *f, int n, double *pvx, double *pvy)
 {
@@ -307,8 +308,8 @@ static RJ__FORCE_INLINE void rj__velocity_pred(const rj_model *m, const rj_state
             sx += s->fx[m->grp_node[q]];
             sy += s->fy[m->grp_node[q]];
         }
-        *pvx = f->vx[n] + kick * sx * ginv;
-        *pvy = f->vy[n] + kick * sy * ginv;
+        *pvx = f->vx[n] + kick * sx * ginv + kick * m->solver.gravity[0];
+        *pvy = f->vy[n] + kick * sy * ginv + kick * m->solver.gravity[1];
     } else {
         *pvx = f->vx[n] + kick * s->fx[n] * m->tinv[n];
         *pvy = f->vy[n] + kick * s->fy[n] * m->tinv[n];
@@ -475,14 +476,14 @@ static RJ__INLINE double rj__node_input_size(const double *in, const double *pre
            (fabs(prev[1]) + fabs(prev[2]));
 }
 
-/* The caller's force on node i, which the beam pass has advanced already (not in
-   m->dnode): v^{n+1/2} takes kick f / m on top, x^{n+1} follows, and the node's share of
-   the kinetic energy the matching v^{n-1/2} . kick f. at_n, advanced: the frames of the
+/* A force in (fx, fy, mz) on node i, which the beam pass has advanced already (not in
+   m->dnode): v^{n+1/2} takes kick f / m on top (nothing on a grouped node's translation,
+   which its group's stage gives: tinv 0), x^{n+1} follows, and the node's share of the
+   kinetic energy the matching v^{n-1/2} . kick f. at_n, advanced: the frames of the
    nodes at n and at n + 1 (rj__frames_nodes). Returns the new position's x + y + phi. */
-static double rj__node_kick(const rj_model *m, rj_state *s, int i, const double *at_n,
-                            double *advanced, double kick)
+static double rj__node_kick(const rj_model *m, rj_state *s, int i, const double *in,
+                            const double *at_n, double *advanced, double kick)
 {
-    const double *in = s->input_node + 3 * (size_t) i;
     const double dvx = kick * in[0] * m->tinv[i];
     const double dvy = kick * in[1] * m->tinv[i];
     const double dw = kick * in[2] * m->rinv[i];
@@ -518,7 +519,7 @@ static rj_result rj__stage_node_inputs(const rj_model *m, rj_state *s, const dou
             return RJ_ERR_INVALID;
         work += rj__node_work(m, at_n, i, in, prev);
         if (!rj__is_dnode(m, i)) {
-            fin += rj__node_kick(m, s, i, at_n, advanced, kick);
+            fin += rj__node_kick(m, s, i, in, at_n, advanced, kick);
             continue;
         }
         s->fx[i] += in[0];
@@ -580,25 +581,22 @@ static RJ__NOINLINE double rj__applied_work(const rj_model *m, const rj_state *s
 static void rj__visc_translation(const rj_model *m, const rj_state *s, const rj__frames *f,
                                  int n, int again, double v[2], double minv[2])
 {
-    const int grouped = m->tinv[n] == 0 && m->einv[n] > 0;
     minv[0] = minv[1] = m->einv[n];
-    if (grouped) {
-        const int g = m->node_grp[n];
-        double sx = 0, sy = 0;
-        int q;
-        for (q = m->grp_first[g]; q < m->grp_first[g + 1]; q++) {
-            sx += s->fx[m->grp_node[q]];
-            sy += s->fy[m->grp_node[q]];
-        }
-        v[0] = f->vx[n] + f->kick * (sx * m->einv[n] + m->solver.gravity[0]);
-        v[1] = f->vy[n] + f->kick * (sy * m->einv[n] + m->solver.gravity[1]);
-    } else if (again) {
-        v[0] = f->vx[n] + f->kick * s->fx[n] * m->tinv[n];
-        v[1] = f->vy[n] + f->kick * s->fy[n] * m->tinv[n];
-    } else {
-        v[0] = f->nvx[n];
-        v[1] = f->nvy[n];
+    if (again || (m->tinv[n] == 0 && m->einv[n] > 0)) {
+        rj__velocity_pred(m, s, f, n, &v[0], &v[1]);
+        return;
     }
+    v[0] = f->nvx[n];
+    v[1] = f->nvy[n];
+}
+
+/* A node's rotation rate as predicted (rj__rate_pred; none: the ground's, 0). */
+static double rj__visc_rate_pred(const rj_model *m, const rj_state *s, const rj__frames *f,
+                                 int n)
+{
+    if (n < 0)
+        return 0.0;
+    return rj__rate_pred(m, f->old, n, f->x, f->y, f->w, s->fx, s->fy, s->mz, f->kick);
 }
 
 /* Element i's chord at n + 1/2 as v* predicts it, e^n + dt/2 (v*_b - v*_a), into its
@@ -632,7 +630,7 @@ static void rj__visc_gather(const rj_model *m, const rj_state *s, const rj__fram
         const int again = dn < m->ndn && m->dnode[dn] == n;
         dn += again;
         rj__visc_translation(m, s, f, n, again, me + RJ__VI_V, me + RJ__VI_MINV);
-        me[RJ__VI_V + 2] = again ? f->w[n] + f->kick * s->mz[n] * m->rinv[n] : f->nw[n];
+        me[RJ__VI_V + 2] = again ? rj__visc_rate_pred(m, s, f, n) : f->nw[n];
         me[RJ__VI_MINV + 2] = m->rinv[n];
     }
     for (i = 0; i + 1 < nodes; i++) {
@@ -686,13 +684,6 @@ static int rj__visc_held_rate(const rj_model *m, const rj_state *s, const rj__fr
     return 0;
 }
 
-/* A node's rotation rate as predicted (a pin node: the step advances it again). */
-static double rj__visc_rate_pred(const rj_model *m, const rj_state *s, const rj__frames *f,
-                                 int n)
-{
-    return n < 0 ? 0.0 : f->w[n] + f->kick * s->mz[n] * m->rinv[n];
-}
-
 /* A held joint's pin rotations in link l's records (first node n0, nodes of them): the
    two rotate as one of their summed inertia at the held rate apart, their angular
    momentum kept (as the later stages' torque pair keeps it); a fixed side (ground, a
@@ -735,34 +726,6 @@ static void rj__visc_hold(const rj_model *m, const rj_state *s, const rj__frames
     }
 }
 
-/* The damping force F on node n, which the beam pass has advanced, as a kick from its
-   DOF from on (0: all three; 2: its rotation alone, a grouped node's translation being
-   its group's): its velocity, position and kinetic share (v^{n-1/2} . kick F). Returns
-   the positions written, summed. */
-static double rj__visc_kick(const rj_model *m, rj_state *s, const rj__frames *f, int n,
-                            const double F[3], int from)
-{
-    double fin = 0;
-    if (from == 0) {
-        const double dvx = f->kick * F[0] * m->tinv[n];
-        const double dvy = f->kick * F[1] * m->tinv[n];
-        s->kn[n] += m->kmass[n] * (f->vx[n] * dvx + f->vy[n] * dvy);
-        f->nvx[n] += dvx;
-        f->nvy[n] += dvy;
-        f->nx[n] += f->dt * dvx;
-        f->ny[n] += f->dt * dvy;
-        fin += f->nx[n] + f->ny[n];
-    }
-    {
-        const double dw = f->kick * F[2] * m->rinv[n];
-        s->kn[n] += m->krot[n] * f->w[n] * dw;
-        f->nw[n] += dw;
-        f->nphi[n] += f->dt * dw;
-        fin += f->nphi[n];
-    }
-    return fin;
-}
-
 /* Element i of link l's viscous forces on the rates solved for (records i and i + 1's
    v* + dv), as rj__elem_viscous gives them (-C_e v: build/test_mixed checks the two
    agree), kept (rj_state.visc_force) for the loads queries. */
@@ -790,7 +753,6 @@ static double rj__visc_node(const rj_model *m, rj_state *s, const rj__frames *f,
                             int again, const double F[3], double *power)
 {
     const size_t nn = (size_t) m->nn;
-    const int grouped = m->tinv[n] == 0 && m->einv[n] > 0;
     s->damp[n] += F[0];
     s->damp[nn + n] += F[1];
     s->damp[2 * nn + n] += F[2];
@@ -800,7 +762,7 @@ static double rj__visc_node(const rj_model *m, rj_state *s, const rj__frames *f,
     s->mz[n] += F[2];
     if (again)
         return 0.0;
-    return rj__visc_kick(m, s, f, n, F, grouped ? 2 : 0);
+    return rj__node_kick(m, s, n, F, f->current, f->advanced, f->kick);
 }
 
 /* Link l's damping forces F_d = -C (v* + dv) after the solve, element by element
