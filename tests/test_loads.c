@@ -1548,6 +1548,27 @@ static void test_damping_spin(rjt_ctx *c)
               dt_big, small, dt_small, big / small - 1);
 }
 
+/* Two flexible links of 10 elements hanging from a pin under gravity, released level,
+   both joints chord-referenced (l, j outlive sc). */
+static void chord_pair_scene(rj_link_def l[2], rj_joint_def j[2], rj_scene_def *sc)
+{
+    int k;
+    for (k = 0; k < 2; k++) {
+        l[k] = bar(RJ_LINK_FLEXIBLE, 10);
+        j[k] = rj_default_joint_def();
+        j[k].body1 = k - 1;
+        j[k].body2 = k;
+        j[k].reference = RJ_REF_CHORD;
+    }
+    j[0].angle0 = 0;
+    *sc = rj_default_scene_def();
+    sc->links = l;
+    sc->link_count = 2;
+    sc->joints = j;
+    sc->joint_count = 2;
+    sc->solver.gravity[1] = -G;
+}
+
 /* Joints with the chord reference (the paper's literal form: a joint's torque acts as
    force couples on the chords I -> K and J -> L): two links of 10 elements hanging from a
    pin under gravity, released level, both joints chord-referenced with a spring, a damper
@@ -1558,29 +1579,17 @@ static void test_chord_pin_forces(rjt_ctx *c)
 {
     rj_link_def l[2];
     rj_joint_def j[2];
-    rj_scene_def sc = rj_default_scene_def();
+    rj_scene_def sc;
     rj_model *m;
     rj_state *s;
     rj_error err;
     double before[2][11][2], miss = 0, peak = 0;
     int k, q, i, known = 1;
-    for (k = 0; k < 2; k++) {
-        l[k] = bar(RJ_LINK_FLEXIBLE, 10);
-        j[k] = rj_default_joint_def();
-        j[k].body1 = k - 1;
-        j[k].body2 = k;
-        j[k].reference = RJ_REF_CHORD;
-    }
-    j[0].angle0 = 0;
+    chord_pair_scene(l, j, &sc);
     j[1].spring_k = 20;
     j[1].spring_free_angle = 2.5;
     j[1].damping = 0.05;
     j[1].friction = 0.2;
-    sc.links = l;
-    sc.link_count = 2;
-    sc.joints = j;
-    sc.joint_count = 2;
-    sc.solver.gravity[1] = -G;
     if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) {
         rjt_check(c, 0, "chord reference: the pin forces' scene builds", "%s", err.msg);
         return;
@@ -1627,27 +1636,14 @@ static void test_chord_friction_stuck(rjt_ctx *c)
 {
     rj_link_def l[2];
     rj_joint_def j[2];
-    rj_scene_def sc = rj_default_scene_def();
+    rj_scene_def sc;
     rj_model *m;
     rj_state *s;
     rj_error err;
     double start, moved;
-    int k;
-    for (k = 0; k < 2; k++) {
-        l[k] = bar(RJ_LINK_FLEXIBLE, 10);
-        j[k] = rj_default_joint_def();
-        j[k].body1 = k - 1;
-        j[k].body2 = k;
-        j[k].reference = RJ_REF_CHORD;
-    }
-    j[0].angle0 = 0;
+    chord_pair_scene(l, j, &sc);
     j[1].angle0 = 2.5;
     j[1].friction = 50;
-    sc.links = l;
-    sc.link_count = 2;
-    sc.joints = j;
-    sc.joint_count = 2;
-    sc.solver.gravity[1] = -G;
     if (rj_model_create(&sc, &m, &err, NULL) != RJ_OK) {
         rjt_check(c, 0, "chord reference: friction holds a stuck joint", "%s", err.msg);
         return;
