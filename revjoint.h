@@ -3596,7 +3596,8 @@ static size_t rj__rig_bound_scratch(const rj_scene_def *sc)
 }
 
 /* The model's block: every array linear in the scene. The building scratch lz holds the
-   Lanczos vectors, the joint-graph checks (rj__validate_graph: 2 nl + nj ints) and for
+   Lanczos vectors (15 nn) and the elements' table after them (10 ne: rj__lz_table, also
+   the inextensible chains' graph, rj__gs_build), the joint-graph checks (rj__validate_graph: 2 nl + nj ints) and for
    rigid scenes the stability bound's (rj__rig_bound_scratch: nj^2 with a dense M, linear
    for articulated bodies). */
 static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__layout *L)
@@ -6492,26 +6493,46 @@ static int rj__ub_root(const rj_model *m, int i)
     return m->node_grp[i] >= 0 ? m->grp_node[m->grp_first[m->node_grp[i]]] : i;
 }
 
-/* An element's tangent stiffness times dq (its nodes' x, y, rotation: a, then b), in closed
-   form: the derivative of rj__elem_forces at chord (ex, ey) with ends turned tha, thb off
-   it, whatever its stress there. With r = |e|^2, the strain's change is e.de / l0^2, the
-   chord angle's perp(e).de / r (perp(e) = (-ey, ex)), each end's turn dphi - dbeta; node b's
-   force -N e + (S / r) perp(e) (S = ma + mb) changes by
-   -dN e - N de + (dS / r - 2 S e.de / r^2) perp(e) + (S / r) perp(de). */
-static RJ__INLINE void rj__elem_tangent(const double *kc, double ex, double ey, double tha,
-                                        double thb, const double dq[6], double out[6])
+/* An element's linearisation at the start, all that its tangent's product needs: its
+   chord e, 1 / |e|^2, its axial force, its end moments' sum over |e|^2 and its section's
+   constants (kc: EI / l0, EA / l0, l0^2, 1 / (2 l0^2)). */
+typedef struct rj__elem_lin {
+    double ex, ey, inv_r, n_ax, s_r, kb, kax, l0sq;
+} rj__elem_lin;
+
+/* The element at chord (ex, ey) with ends turned tha, thb off it (r = |e|^2). */
+static RJ__INLINE void rj__elem_lin_at(const double *kc, double ex, double ey, double tha,
+                                       double thb, rj__elem_lin *e)
 {
     const double kb = kc[0], kax = kc[1], l0sq = kc[2], half_inv_l0sq = kc[3];
     const double r = ex * ex + ey * ey, inv_r = 1.0 / r;
-    const double n_ax = kax * (r - l0sq) * half_inv_l0sq;
-    const double s_r = 6.0 * kb * (tha + thb) * inv_r;
+    e->ex = ex;
+    e->ey = ey;
+    e->inv_r = inv_r;
+    e->n_ax = kax * (r - l0sq) * half_inv_l0sq;
+    e->s_r = 6.0 * kb * (tha + thb) * inv_r;
+    e->kb = kb;
+    e->kax = kax;
+    e->l0sq = l0sq;
+}
+
+/* An element's tangent stiffness times dq (its nodes' x, y, rotation: a, then b), in closed
+   form: the derivative of rj__elem_forces at the element's start, whatever its stress
+   there. The strain's change is e.de / l0^2, the chord angle's perp(e).de / r (perp(e) =
+   (-ey, ex)), each end's turn dphi - dbeta; node b's force -N e + (S / r) perp(e) (S = ma
+   + mb) changes by -dN e - N de + (dS / r - 2 S e.de / r^2) perp(e) + (S / r) perp(de). */
+static RJ__INLINE void rj__elem_lin_apply(const rj__elem_lin *e, const double dq[6],
+                                          double out[6])
+{
+    const double ex = e->ex, ey = e->ey, inv_r = e->inv_r, kb = e->kb;
+    const double n_ax = e->n_ax, s_r = e->s_r;
     const double dex = dq[3] - dq[0], dey = dq[4] - dq[1];
     const double e_de = ex * dex + ey * dey;
     const double dbeta = (-ey * dex + ex * dey) * inv_r;
     const double dtha = dq[2] - dbeta, dthb = dq[5] - dbeta;
     const double dma = kb * (4.0 * dtha + 2.0 * dthb);
     const double dmb = kb * (2.0 * dtha + 4.0 * dthb);
-    const double dn = kax * e_de / l0sq;
+    const double dn = e->kax * e_de / e->l0sq;
     const double dsr = ((dma + dmb) - 2.0 * s_r * e_de) * inv_r;
     const double dfx = -dn * ex - n_ax * dex - dsr * ey - s_r * dey;
     const double dfy = -dn * ey - n_ax * dey + dsr * ex + s_r * dex;
@@ -6522,6 +6543,15 @@ static RJ__INLINE void rj__elem_tangent(const double *kc, double ex, double ey, 
     out[3] = -dfx;
     out[4] = -dfy;
     out[5] = dmb;
+}
+
+/* The tangent's product for an element at chord (ex, ey), ends turned tha, thb. */
+static RJ__INLINE void rj__elem_tangent(const double *kc, double ex, double ey, double tha,
+                                        double thb, const double dq[6], double out[6])
+{
+    rj__elem_lin e;
+    rj__elem_lin_at(kc, ex, ey, tha, thb, &e);
+    rj__elem_lin_apply(&e, dq, out);
 }
 
 /* Element k of link l at the start: its chord and its ends' turns off it. */
@@ -6818,13 +6848,13 @@ static double rj__omega2_upper(const rj_model *m, double *W)
     return top;
 }
 
-/* Largest eigenvalue of a symmetric tridiagonal matrix (Sturm bisection), k <=
-   RJ__LANCZOS_ITERS. The matrix is scaled to entries of order 1 first: the recurrence
-   squares the off-diagonal, which for a model of omega^2 ~ 1e-166 (a link of 1e150
-   kg/m^3) underflowed and cut omega_max by 6. */
-static double rj__tridiag_max(const double *al_in, const double *be_in, int k)
+/* Largest eigenvalue of a symmetric tridiagonal matrix (Sturm bisection until the
+   bracket is within rtol of it), k <= RJ__LANCZOS_ITERS. The matrix is scaled to entries of
+   order 1 first: the recurrence squares the off-diagonal, which for a model of omega^2 ~
+   1e-166 (a link of 1e150 kg/m^3) underflowed and cut omega_max by 6. */
+static double rj__tridiag_max_to(const double *al_in, const double *be_in, int k, double rtol)
 {
-    double al[RJ__LANCZOS_ITERS], be[RJ__LANCZOS_ITERS], scale = 0;
+    double al[RJ__LANCZOS_ITERS], be2[RJ__LANCZOS_ITERS], scale = 0;
     double lo = 0, hi = 0, mid;
     int i, it;
     for (i = 0; i < k; i++) {
@@ -6835,47 +6865,55 @@ static double rj__tridiag_max(const double *al_in, const double *be_in, int k)
     }
     if (scale == 0)
         return 0;
+    /* Gershgorin's interval holds every eigenvalue */
     for (i = 0; i < k; i++) {
+        const double be_prev = i > 0 ? be_in[i - 1] / scale : 0;
+        const double be_next = i + 1 < k ? be_in[i] / scale : 0;
+        const double r = fabs(be_prev) + fabs(be_next);
         al[i] = al_in[i] / scale;
-        be[i] = be_in[i] / scale;
-    }
-    for (i = 0; i < k; i++) {
-        double r = fabs(i > 0 ? be[i - 1] : 0) + fabs(i + 1 < k ? be[i] : 0);
+        be2[i] = be_prev * be_prev;
         if (al[i] + r > hi)
             hi = al[i] + r;
         if (al[i] - r < lo)
             lo = al[i] - r;
     }
+    /* cnt: how many eigenvalues lie below mid (the pivots of T - mid that are negative) */
     for (it = 0; it < 200; it++) {
-        int cnt = 0;
-        double q = 1.0;
+        int cnt;
+        double q;
         mid = 0.5 * (lo + hi);
-        for (i = 0; i < k; i++) {
-            q = al[i] - mid - (i > 0 ? be[i - 1] * be[i - 1] / q : 0.0);
+        q = al[0] - mid;
+        if (q == 0.0)
+            q = 1e-300;
+        cnt = q < 0;
+        for (i = 1; i < k; i++) {
+            q = al[i] - mid - be2[i] / q;
             if (q == 0.0)
                 q = 1e-300;
-            if (q < 0)
-                cnt++;
+            cnt += q < 0;
         }
         if (cnt == k)
             hi = mid;
         else
-            lo = mid; /* cnt = number of eigenvalues below mid */
-        if (hi - lo <= 1e-14 * fabs(hi))
+            lo = mid;
+        if (hi - lo <= rtol * fabs(hi))
             break;
     }
     return hi * scale;
 }
 
-/* The 2-norm of v[0 .. n), scaled by its largest entry so that the squares neither
-   underflow (omega^2 ~ 1e-166 for a link of 1e150 kg/m^3) nor overflow. */
-static double rj__norm(const double *v, int n)
+/* The largest eigenvalue to 1e-14 of itself: the estimate the bound returns. */
+static double rj__tridiag_max(const double *al, const double *be, int k)
 {
-    double big = 0, sum = 0;
+    return rj__tridiag_max_to(al, be, k, 1e-14);
+}
+
+/* The 2-norm of v[0 .. n) given big = max |v_i|, scaled by it so that the squares neither
+   underflow (omega^2 ~ 1e-166 for a link of 1e150 kg/m^3) nor overflow. */
+static double rj__norm_scaled(const double *v, int n, double big)
+{
+    double sum = 0;
     int i;
-    for (i = 0; i < n; i++)
-        if (fabs(v[i]) > big)
-            big = fabs(v[i]);
     if (big == 0 || !rj__finite(big))
         return big;
     {
@@ -6920,6 +6958,56 @@ static void rj__lz_elements(const rj_model *m, const double *d, double *f)
             f[tb + 1] += fe[4];
             f[3 * a + 5] += fe[5];
         }
+    }
+}
+
+/* The elements' linearisations and their DOFs, taken once for all of Lanczos's products:
+   the chord's length and the ends' turns need a division and a dozen products an element,
+   which the product itself then does not repeat. */
+typedef struct rj__lz_table {
+    rj__elem_lin *lin; /* one per element of a link that bends */
+    int *dof;          /* per element: a's translation, b's translation, a's rotation */
+    int count;
+} rj__lz_table;
+
+/* The table in area (8 ne doubles, then 3 ne ints), in rj__lz_elements's order. */
+static void rj__lz_table_build(const rj_model *m, double *area, rj__lz_table *t)
+{
+    int l, k, c = 0;
+    t->lin = (rj__elem_lin *) (void *) area;
+    t->dof = (int *) (void *) (area + 8 * (size_t) m->ne);
+    for (l = 0; l < m->nl; l++) {
+        const double *kc = m->link_kc + 4 * (size_t) l;
+        const int shift = m->link_first[l] - m->link_efirst[l];
+        if (m->link_path[l] == RJ__PATH_RIGID)
+            continue;
+        for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++, c++) {
+            const int a = k + shift;
+            rj__elem_lin_at(kc, m->x0[a + 1] - m->x0[a], m->y0[a + 1] - m->y0[a],
+                            m->phi0[a] - m->beta0[k], m->phi0[a + 1] - m->beta0[k], &t->lin[c]);
+            t->dof[3 * c] = 3 * rj__ub_root(m, a);
+            t->dof[3 * c + 1] = 3 * rj__ub_root(m, a + 1);
+            t->dof[3 * c + 2] = 3 * a + 2;
+        }
+    }
+    t->count = c;
+}
+
+/* rj__lz_elements from the table: the same sums in the same order. */
+static void rj__lz_elements_table(const rj__lz_table *t, const double *d, double *f)
+{
+    int c;
+    for (c = 0; c < t->count; c++) {
+        const int ta = t->dof[3 * c], tb = t->dof[3 * c + 1], ra = t->dof[3 * c + 2];
+        const double dq[6] = { d[ta], d[ta + 1], d[ra], d[tb], d[tb + 1], d[ra + 3] };
+        double fe[6];
+        rj__elem_lin_apply(&t->lin[c], dq, fe);
+        f[ta] += fe[0];
+        f[ta + 1] += fe[1];
+        f[ra] += fe[2];
+        f[tb] += fe[3];
+        f[tb + 1] += fe[4];
+        f[ra + 3] += fe[5];
     }
 }
 
@@ -7009,14 +7097,16 @@ static int rj__lz_start(const rj_model *m, double *v0, double *v1)
    value theta moved by less than RJ__LZ_TOL of itself in the last 4 steps (*last: theta
    then), and it is within RJ__BOUND_GAP of the upper bound, so that a plateau far below
    omega_max^2 cannot pass for convergence. A theta above the bound (round-off in a model of
-   extreme scales) voids the bound (*upper = HUGE_VAL): Lanczos runs its course. */
+   extreme scales) voids the bound (*upper = HUGE_VAL): Lanczos runs its course. These tests
+   take theta to 1e-11 (its last bits cannot move them); the estimate returned is taken
+   again to 1e-14. */
 static int rj__lz_converged(const double *al, const double *be, int k, double *last,
                             double *upper)
 {
     double theta, moved;
     if (k % 4 != 0 || k < 8 || !(*upper < HUGE_VAL))
         return 0;
-    theta = rj__tridiag_max(al, be, k);
+    theta = rj__tridiag_max_to(al, be, k, 1e-11);
     moved = theta - *last;
     *last = theta;
     if (theta > *upper * (1.0 + 1e-9)) {
@@ -7026,30 +7116,82 @@ static int rj__lz_converged(const double *al, const double *be, int k, double *l
     return fabs(moved) <= RJ__LZ_TOL * theta && theta >= (1.0 - RJ__BOUND_GAP) * *upper;
 }
 
+/* Lanczos's first product's input d = M^-1/2 v1, and w = 0 to sum the product into. */
+static void rj__lz_load(const double *v1, const double *sc, double *d, double *w, int n)
+{
+    int i;
+    for (i = 0; i < n; i++) {
+        d[i] = v1[i] * sc[i];
+        w[i] = 0.0;
+    }
+}
+
+/* The product's output w = M^-1/2 (K d); returns alpha = w . v1. */
+static double rj__lz_unscale_dot(double *w, const double *sc, const double *v1, int n)
+{
+    double a = 0;
+    int i;
+    for (i = 0; i < n; i++) {
+        w[i] *= sc[i];
+        a += w[i] * v1[i];
+    }
+    return a;
+}
+
+/* The three-term recurrence w -= alpha v1 + beta v0; returns max |w_i| for w's norm. */
+static double rj__lz_recur(double *w, const double *v1, const double *v0, double a, double b,
+                           int n)
+{
+    double big = 0;
+    int i;
+    for (i = 0; i < n; i++) {
+        w[i] -= a * v1[i] + b * v0[i];
+        if (fabs(w[i]) > big)
+            big = fabs(w[i]);
+    }
+    return big;
+}
+
+/* The next Lanczos vector w / beta, its product's input d, and v0 cleared: it becomes the
+   next w. */
+static void rj__lz_advance(double *w, double inv_beta, const double *sc, double *d, double *v0,
+                           int n)
+{
+    int i;
+    for (i = 0; i < n; i++) {
+        w[i] *= inv_beta;
+        d[i] = w[i] * sc[i];
+        v0[i] = 0.0;
+    }
+}
+
 /* omega_max^2 of the linearised model by Lanczos (no reorthogonalisation: ghosts do not
-   move the extreme Ritz value), stopped once converged (rj__lz_converged). */
+   move the extreme Ritz value), stopped once converged (rj__lz_converged). Its product is
+   rj__lz_apply's, with the elements' linearisations tabled (rj__lz_table) after the five
+   vectors, and the vector passes merged. */
 static double rj__omega2_max(rj_model *m, double *lanczos)
 {
     const int n = 3 * m->nn;
-    double *v0 = lanczos, *v1 = lanczos + m->nn * 3, *w = lanczos + m->nn * 6;
-    double *sc = lanczos + m->nn * 9, *d = lanczos + m->nn * 12;
-    double al[RJ__LANCZOS_ITERS], be[RJ__LANCZOS_ITERS], lam, last = 0;
+    double *v0 = lanczos, *v1 = lanczos + n, *w = lanczos + 2 * n;
+    double *sc = lanczos + 3 * n, *d = lanczos + 4 * n;
+    double al[RJ__LANCZOS_ITERS], be[RJ__LANCZOS_ITERS], last = 0;
     double upper = rj__omega2_upper(m, v0);
+    rj__lz_table table;
     int i, k, kmax;
     if (!rj__lz_start(m, v0, v1))
         return 0;
     rj__lz_scales(m, sc);
+    rj__lz_table_build(m, lanczos + 5 * n, &table);
+    rj__lz_load(v1, sc, d, w, n);
     kmax = n < RJ__LANCZOS_ITERS ? n : RJ__LANCZOS_ITERS;
     for (k = 0; k < kmax; k++) {
-        double a = 0, b = 0, bprev, *t;
-        rj__lz_apply(m, sc, v1, w, d);
-        for (i = 0; i < n; i++)
-            a += w[i] * v1[i];
+        double a, b, *t;
+        rj__lz_elements_table(&table, d, w);
+        rj__lz_rank_one(m, d, w);
+        a = rj__lz_unscale_dot(w, sc, v1, n);
         al[k] = a;
-        bprev = k > 0 ? be[k - 1] : 0.0;
-        for (i = 0; i < n; i++)
-            w[i] -= a * v1[i] + bprev * v0[i];
-        b = rj__norm(w, n);
+        b = rj__lz_recur(w, v1, v0, a, k > 0 ? be[k - 1] : 0.0, n);
+        b = rj__norm_scaled(w, n, b);
         be[k] = b;
         /* a NaN or an infinity: no finite frequency (below) */
         if (!rj__finite(a) || !rj__finite(b) || b < 1e-12 * fabs(a) || b == 0) {
@@ -7057,10 +7199,8 @@ static double rj__omega2_max(rj_model *m, double *lanczos)
             break;
         }
         if (rj__lz_converged(al, be, k + 1, &last, &upper))
-            return last;
-        b = 1.0 / b;
-        for (i = 0; i < n; i++)
-            w[i] *= b;
+            return rj__tridiag_max(al, be, k + 1);
+        rj__lz_advance(w, 1.0 / b, sc, d, v0, n);
         t = v0;
         v0 = v1;
         v1 = w;
@@ -7070,8 +7210,7 @@ static double rj__omega2_max(rj_model *m, double *lanczos)
     for (i = 0; i < k; i++)
         if (!rj__finite(al[i]) || !rj__finite(be[i]))
             return HUGE_VAL;
-    lam = rj__tridiag_max(al, be, k);
-    return lam;
+    return rj__tridiag_max(al, be, k);
 }
 /* ------------------------------------------------------------------ SHAKE over chains that meet */
 /* Inextensible chains that meet (a chain hanging from inside another, or a loop closed
@@ -7491,7 +7630,8 @@ typedef struct rj__build_scratch {
     int *pin_groups;           /* 4 nn + ng ints: rj__pin_groups */
     int *placement;            /* 3 nl ints: rj__place_all */
     int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
-    double *lanczos;           /* 5 vectors of 3 nn: rj__omega2_max */
+    double *lanczos;           /* 5 vectors of 3 nn, then 8 ne doubles and 3 ne ints of the
+                                  elements' table (rj__lz_table): rj__omega2_max */
     double *rigid_bound;       /* rj__rig_bound_scratch: the solver's, and a dense M^-1 */
     int *step_node_mark;       /* nn ints: rj__init_step_nodes */
 } rj__build_scratch;

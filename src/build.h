@@ -8,7 +8,8 @@ typedef struct rj__build_scratch {
     int *pin_groups;           /* 4 nn + ng ints: rj__pin_groups */
     int *placement;            /* 3 nl ints: rj__place_all */
     int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
-    double *lanczos;           /* 5 vectors of 3 nn: rj__omega2_max */
+    double *lanczos;           /* 5 vectors of 3 nn, then 8 ne doubles and 3 ne ints of the
+                                  elements' table (rj__lz_table): rj__omega2_max */
     double *rigid_bound;       /* rj__rig_bound_scratch: the solver's, and a dense M^-1 */
     int *step_node_mark;       /* nn ints: rj__init_step_nodes */
 } rj__build_scratch;

@@ -52,7 +52,8 @@ static size_t rj__rig_bound_scratch(const rj_scene_def *sc)
 }
 
 /* The model's block: every array linear in the scene. The building scratch lz holds the
-   Lanczos vectors, the joint-graph checks (rj__validate_graph: 2 nl + nj ints) and for
+   Lanczos vectors (15 nn) and the elements' table after them (10 ne: rj__lz_table, also
+   the inextensible chains' graph, rj__gs_build), the joint-graph checks (rj__validate_graph: 2 nl + nj ints) and for
    rigid scenes the stability bound's (rj__rig_bound_scratch: nj^2 with a dense M, linear
    for articulated bodies). */
 static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__layout *L)
