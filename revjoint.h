@@ -1393,6 +1393,7 @@ static size_t rj__rigid_scratch(size_t n, size_t nl, int dense, size_t cols, siz
                                 size_t others);
 static size_t rj__rig_step_scratch(const rj_model *m);
 static double rj__rig_setup(rj_model *m, double *scratch);
+static void rj__rig_fill_minv(rj_model *m, double *scratch);
 typedef struct rj__rig {
     double *M, *L; /* n x n with a dense M; NULL for articulated bodies (rj_model.rig_tree) */
     double *W;     /* columns of M^-1, n each: rj_model.nwcol of them (rj_model.wcol) */
@@ -5754,8 +5755,11 @@ static double rj__lz_inv(const rj_model *m, int i, int k)
 static double rj__joint_compliance0(const rj_model *m, int j)
 {
     rj__jgeo g;
-    if (m->rigid)
+    if (m->rigid) {
+        /* an articulated tree's build leaves out those it does not read (rj__rig_needs_minv) */
+        RJ_ASSERT(m->jnt[j].minv >= 0);
         return m->jnt[j].minv;
+    }
     rj__joint_geo(m, &m->jnt[j], m->x0, m->y0, &g);
     return rj__joint_compliance(m, &m->jnt[j], &g);
 }
@@ -7629,7 +7633,8 @@ typedef struct rj__build_scratch {
     int *graph;                /* RJ__GRAPH_SCRATCH(nl, nj) ints: rj__validate_graph */
     int *pin_groups;           /* 4 nn + ng ints: rj__pin_groups */
     int *placement;            /* 3 nl ints: rj__place_all */
-    int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
+    int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains; nj ints in rigid
+                                  scenes: rj__init_joint_order */
     double *lanczos;           /* 5 vectors of 3 nn, then 8 ne doubles and 3 ne ints of the
                                   elements' table (rj__lz_table): rj__omega2_max */
     double *rigid_bound;       /* rj__rig_bound_scratch: the solver's, and a dense M^-1 */
@@ -8305,22 +8310,24 @@ static void rj__init_rigid_pins(rj_model *m)
 }
 
 /* Rigid scenes: the tree's joints in an order with parents before children (the
-   kinematics run down the tree). */
-static void rj__init_joint_order(rj_model *m)
+   kinematics run down the tree): passes in joint order, each placing the joints whose
+   parent joint is placed. is_placed: nj ints of scratch (a list search made a chain of
+   10 000 links take 0.55e9 instructions here). */
+static void rj__init_joint_order(rj_model *m, int *is_placed)
 {
-    int placed = 0, pass, j, k;
+    int placed = 0, pass, j;
+    for (j = 0; j < m->nj; j++)
+        is_placed[j] = 0;
     for (pass = 0; placed < m->nq && pass <= m->nj; pass++)
         for (j = 0; j < m->nj; j++) {
             const int b1 = m->jdef[j].body1;
-            int done = m->jnt[j].loop, ready = b1 < 0 || m->rb_pjoint[b1] < 0;
-            for (k = 0; k < placed; k++) {
-                if (m->jorder[k] == j)
-                    done = 1;
-                if (b1 >= 0 && m->jorder[k] == m->rb_pjoint[b1])
-                    ready = 1;
-            }
-            if (!done && ready)
+            const int parent = b1 >= 0 ? m->rb_pjoint[b1] : -1;
+            const int done = m->jnt[j].loop || is_placed[j];
+            const int ready = parent < 0 || is_placed[parent];
+            if (!done && ready) {
                 m->jorder[placed++] = j;
+                is_placed[j] = 1;
+            }
         }
 }
 
@@ -8377,7 +8384,7 @@ static void rj__init_rigid(rj_model *m, const rj_scene_def *sc, int *chain_scrat
         return;
     rj__init_rigid_bodies(m);
     rj__init_rigid_pins(m);
-    rj__init_joint_order(m);
+    rj__init_joint_order(m, chain_scratch);
     m->rig_tree = rj__rig_is_tree(m->nq, m->nloop, m->ncp);
     RJ_ASSERT(m->rig_tree == rj__scene_rig_tree(sc));
     rj__init_rigid_columns(m);
@@ -8720,9 +8727,14 @@ static rj_result rj__refuse_unstable_dt(const rj_model *m, rj_error *err)
 /* The step in use must be stable (unless solver.allow_unstable) and usable: a bound or a
    step that is not a finite positive number leaves nothing to run, nor does a start that
    is not finite. */
-static rj_result rj__check_step(const rj_model *m, const rj_scene_def *sc, rj_error *err)
+static rj_result rj__check_step(rj_model *m, const rj_scene_def *sc,
+                                const rj__build_scratch *s, rj_error *err)
 {
-    if (m->dt > m->dt_bound && !sc->solver.allow_unstable)
+    const int unstable = m->dt > m->dt_bound && !sc->solver.allow_unstable;
+    /* their messages compare every joint's 1 / I_red */
+    if (unstable || !(m->dt_bound >= RJ__MIN_BOUND) || !rj__finite(m->dt_bound))
+        rj__rig_fill_minv(m, s->rigid_bound);
+    if (unstable)
         return rj__refuse_unstable_dt(m, err);
     if (!rj__usable_step(m, err))
         return RJ_ERR_INVALID;
@@ -8909,7 +8921,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     r = rj__init_step(m, sc, &s, err);
     if (r != RJ_OK)
         return r;
-    r = rj__check_step(m, sc, err);
+    r = rj__check_step(m, sc, &s, err);
     if (r != RJ_OK)
         return r;
     rj__init_dt_eq28(m);
@@ -10766,9 +10778,20 @@ static int rj__power_next(double *v, const double *u, int n, double *lam)
     return 1;
 }
 
-/* An articulated-body tree's constants and bound: each 1 / I_red = (M^-1)_kk from a column
-   of M^-1 (O(n) each), and the power iteration on K^1/2 M^-1 K^1/2 with a solve per
-   iteration instead of the dense inverse. */
+/* Whether building and stepping read joint j's 1 / I_red: its damper's rate bounds the
+   step (rj__damping_rate) and an adaptive limit takes K_AP from it (Eq 21). The messages
+   that compare every joint's take the rest when they are written (rj__rig_fill_minv). */
+static int rj__rig_needs_minv(const rj_model *m, int j)
+{
+    const rj_joint_def *d = &m->jdef[j];
+    const int adaptive = (d->has_forward || d->has_reverse) && d->method == RJ_METHOD_ADAPTIVE;
+    return m->jnt[j].c_lin > 0 || adaptive;
+}
+
+/* An articulated-body tree's constants and bound: 1 / I_red = (M^-1)_kk from a column of
+   M^-1 (O(n) each) for the joints that need it (rj__rig_needs_minv; -1 for the others, so
+   that a bare chain builds in O(n)), and the power iteration on K^1/2 M^-1 K^1/2 with a
+   solve per iteration instead of the dense inverse. */
 static double rj__rig_tree_setup(rj_model *m, rj__rig *r)
 {
     const int n = m->nq;
@@ -10776,6 +10799,9 @@ static double rj__rig_tree_setup(rj_model *m, rj__rig *r)
     int j, it;
     for (j = 0; j < n; j++) {
         rj__rig_joint_inertias(m, r, j);
+        m->jnt[m->qj[j]].minv = -1.0;
+        if (!rj__rig_needs_minv(m, m->qj[j]))
+            continue;
         rj__rig_unit(m, r, j, col);
         m->jnt[m->qj[j]].minv = col[j];
     }
@@ -10793,6 +10819,40 @@ static double rj__rig_tree_setup(rj_model *m, rj__rig *r)
     return lam;
 }
 
+/* The solver in scratch at the start, at rest, its mass matrix factored; nonzero when
+   there is nothing to factor or M is not positive definite. */
+static int rj__rig_at_start(const rj_model *m, double *scratch, rj__rig *r)
+{
+    const int n = m->nq;
+    int j;
+    rj__rig_map(m, scratch, r, 0);
+    for (j = 0; j < n; j++) {
+        r->q[j] = m->jdef[m->qj[j]].angle0;
+        r->qd[j] = r->qdp[j] = 0;
+    }
+    rj__rig_kin(m, r, r->q, r->qd, r->qdp);
+    return n == 0 || rj__rig_factor(m, r);
+}
+
+/* Every joint's 1 / I_red of an articulated tree, for the messages that compare joints
+   (the build took only those it needs, rj__rig_needs_minv); scratch as rj__rig_setup's. */
+static void rj__rig_fill_minv(rj_model *m, double *scratch)
+{
+    rj__rig r;
+    int j, missing = 0;
+    if (!m->rigid || !m->rig_tree)
+        return;
+    for (j = 0; j < m->nq; j++)
+        missing |= m->jnt[m->qj[j]].minv < 0;
+    if (!missing || rj__rig_at_start(m, scratch, &r))
+        return;
+    for (j = 0; j < m->nq; j++)
+        if (m->jnt[m->qj[j]].minv < 0) {
+            rj__rig_unit(m, &r, j, r.qdd);
+            m->jnt[m->qj[j]].minv = r.qdd[j];
+        }
+}
+
 /* Rigid-link model constants and the stability bound: omega_max^2 = largest eigenvalue of
    K^1/2 M^-1 K^1/2 at the initial configuration (power iteration), K the joints' linear
    stiffnesses (limits counted as for flexible links). Returns omega_max^2. scratch: the
@@ -10804,13 +10864,7 @@ static double rj__rig_setup(rj_model *m, double *scratch)
     const size_t nj = (size_t) m->nj, nl = (size_t) m->nl;
     double *minv = scratch + rj__rigid_scratch(nj, nl, !m->rig_tree, 0, 0, 0), lam = 0, *v, *u;
     int j, k, it;
-    rj__rig_map(m, scratch, &r, 0);
-    for (j = 0; j < n; j++) {
-        r.q[j] = m->jdef[m->qj[j]].angle0;
-        r.qd[j] = r.qdp[j] = 0;
-    }
-    rj__rig_kin(m, &r, r.q, r.qd, r.qdp);
-    if (n == 0 || rj__rig_factor(m, &r))
+    if (rj__rig_at_start(m, scratch, &r))
         return 0;
     if (m->rig_tree)
         return rj__rig_tree_setup(m, &r);

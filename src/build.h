@@ -7,7 +7,8 @@ typedef struct rj__build_scratch {
     int *graph;                /* RJ__GRAPH_SCRATCH(nl, nj) ints: rj__validate_graph */
     int *pin_groups;           /* 4 nn + ng ints: rj__pin_groups */
     int *placement;            /* 3 nl ints: rj__place_all */
-    int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains */
+    int *chains;               /* 2 nl + 2 nn ints: rj__inext_chains; nj ints in rigid
+                                  scenes: rj__init_joint_order */
     double *lanczos;           /* 5 vectors of 3 nn, then 8 ne doubles and 3 ne ints of the
                                   elements' table (rj__lz_table): rj__omega2_max */
     double *rigid_bound;       /* rj__rig_bound_scratch: the solver's, and a dense M^-1 */
@@ -683,22 +684,24 @@ static void rj__init_rigid_pins(rj_model *m)
 }
 
 /* Rigid scenes: the tree's joints in an order with parents before children (the
-   kinematics run down the tree). */
-static void rj__init_joint_order(rj_model *m)
+   kinematics run down the tree): passes in joint order, each placing the joints whose
+   parent joint is placed. is_placed: nj ints of scratch (a list search made a chain of
+   10 000 links take 0.55e9 instructions here). */
+static void rj__init_joint_order(rj_model *m, int *is_placed)
 {
-    int placed = 0, pass, j, k;
+    int placed = 0, pass, j;
+    for (j = 0; j < m->nj; j++)
+        is_placed[j] = 0;
     for (pass = 0; placed < m->nq && pass <= m->nj; pass++)
         for (j = 0; j < m->nj; j++) {
             const int b1 = m->jdef[j].body1;
-            int done = m->jnt[j].loop, ready = b1 < 0 || m->rb_pjoint[b1] < 0;
-            for (k = 0; k < placed; k++) {
-                if (m->jorder[k] == j)
-                    done = 1;
-                if (b1 >= 0 && m->jorder[k] == m->rb_pjoint[b1])
-                    ready = 1;
-            }
-            if (!done && ready)
+            const int parent = b1 >= 0 ? m->rb_pjoint[b1] : -1;
+            const int done = m->jnt[j].loop || is_placed[j];
+            const int ready = parent < 0 || is_placed[parent];
+            if (!done && ready) {
                 m->jorder[placed++] = j;
+                is_placed[j] = 1;
+            }
         }
 }
 
@@ -755,7 +758,7 @@ static void rj__init_rigid(rj_model *m, const rj_scene_def *sc, int *chain_scrat
         return;
     rj__init_rigid_bodies(m);
     rj__init_rigid_pins(m);
-    rj__init_joint_order(m);
+    rj__init_joint_order(m, chain_scratch);
     m->rig_tree = rj__rig_is_tree(m->nq, m->nloop, m->ncp);
     RJ_ASSERT(m->rig_tree == rj__scene_rig_tree(sc));
     rj__init_rigid_columns(m);
@@ -1098,9 +1101,14 @@ static rj_result rj__refuse_unstable_dt(const rj_model *m, rj_error *err)
 /* The step in use must be stable (unless solver.allow_unstable) and usable: a bound or a
    step that is not a finite positive number leaves nothing to run, nor does a start that
    is not finite. */
-static rj_result rj__check_step(const rj_model *m, const rj_scene_def *sc, rj_error *err)
+static rj_result rj__check_step(rj_model *m, const rj_scene_def *sc,
+                                const rj__build_scratch *s, rj_error *err)
 {
-    if (m->dt > m->dt_bound && !sc->solver.allow_unstable)
+    const int unstable = m->dt > m->dt_bound && !sc->solver.allow_unstable;
+    /* their messages compare every joint's 1 / I_red */
+    if (unstable || !(m->dt_bound >= RJ__MIN_BOUND) || !rj__finite(m->dt_bound))
+        rj__rig_fill_minv(m, s->rigid_bound);
+    if (unstable)
         return rj__refuse_unstable_dt(m, err);
     if (!rj__usable_step(m, err))
         return RJ_ERR_INVALID;
@@ -1287,7 +1295,7 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     r = rj__init_step(m, sc, &s, err);
     if (r != RJ_OK)
         return r;
-    r = rj__check_step(m, sc, err);
+    r = rj__check_step(m, sc, &s, err);
     if (r != RJ_OK)
         return r;
     rj__init_dt_eq28(m);

@@ -655,9 +655,20 @@ static int rj__power_next(double *v, const double *u, int n, double *lam)
     return 1;
 }
 
-/* An articulated-body tree's constants and bound: each 1 / I_red = (M^-1)_kk from a column
-   of M^-1 (O(n) each), and the power iteration on K^1/2 M^-1 K^1/2 with a solve per
-   iteration instead of the dense inverse. */
+/* Whether building and stepping read joint j's 1 / I_red: its damper's rate bounds the
+   step (rj__damping_rate) and an adaptive limit takes K_AP from it (Eq 21). The messages
+   that compare every joint's take the rest when they are written (rj__rig_fill_minv). */
+static int rj__rig_needs_minv(const rj_model *m, int j)
+{
+    const rj_joint_def *d = &m->jdef[j];
+    const int adaptive = (d->has_forward || d->has_reverse) && d->method == RJ_METHOD_ADAPTIVE;
+    return m->jnt[j].c_lin > 0 || adaptive;
+}
+
+/* An articulated-body tree's constants and bound: 1 / I_red = (M^-1)_kk from a column of
+   M^-1 (O(n) each) for the joints that need it (rj__rig_needs_minv; -1 for the others, so
+   that a bare chain builds in O(n)), and the power iteration on K^1/2 M^-1 K^1/2 with a
+   solve per iteration instead of the dense inverse. */
 static double rj__rig_tree_setup(rj_model *m, rj__rig *r)
 {
     const int n = m->nq;
@@ -665,6 +676,9 @@ static double rj__rig_tree_setup(rj_model *m, rj__rig *r)
     int j, it;
     for (j = 0; j < n; j++) {
         rj__rig_joint_inertias(m, r, j);
+        m->jnt[m->qj[j]].minv = -1.0;
+        if (!rj__rig_needs_minv(m, m->qj[j]))
+            continue;
         rj__rig_unit(m, r, j, col);
         m->jnt[m->qj[j]].minv = col[j];
     }
@@ -682,6 +696,40 @@ static double rj__rig_tree_setup(rj_model *m, rj__rig *r)
     return lam;
 }
 
+/* The solver in scratch at the start, at rest, its mass matrix factored; nonzero when
+   there is nothing to factor or M is not positive definite. */
+static int rj__rig_at_start(const rj_model *m, double *scratch, rj__rig *r)
+{
+    const int n = m->nq;
+    int j;
+    rj__rig_map(m, scratch, r, 0);
+    for (j = 0; j < n; j++) {
+        r->q[j] = m->jdef[m->qj[j]].angle0;
+        r->qd[j] = r->qdp[j] = 0;
+    }
+    rj__rig_kin(m, r, r->q, r->qd, r->qdp);
+    return n == 0 || rj__rig_factor(m, r);
+}
+
+/* Every joint's 1 / I_red of an articulated tree, for the messages that compare joints
+   (the build took only those it needs, rj__rig_needs_minv); scratch as rj__rig_setup's. */
+static void rj__rig_fill_minv(rj_model *m, double *scratch)
+{
+    rj__rig r;
+    int j, missing = 0;
+    if (!m->rigid || !m->rig_tree)
+        return;
+    for (j = 0; j < m->nq; j++)
+        missing |= m->jnt[m->qj[j]].minv < 0;
+    if (!missing || rj__rig_at_start(m, scratch, &r))
+        return;
+    for (j = 0; j < m->nq; j++)
+        if (m->jnt[m->qj[j]].minv < 0) {
+            rj__rig_unit(m, &r, j, r.qdd);
+            m->jnt[m->qj[j]].minv = r.qdd[j];
+        }
+}
+
 /* Rigid-link model constants and the stability bound: omega_max^2 = largest eigenvalue of
    K^1/2 M^-1 K^1/2 at the initial configuration (power iteration), K the joints' linear
    stiffnesses (limits counted as for flexible links). Returns omega_max^2. scratch: the
@@ -693,13 +741,7 @@ static double rj__rig_setup(rj_model *m, double *scratch)
     const size_t nj = (size_t) m->nj, nl = (size_t) m->nl;
     double *minv = scratch + rj__rigid_scratch(nj, nl, !m->rig_tree, 0, 0, 0), lam = 0, *v, *u;
     int j, k, it;
-    rj__rig_map(m, scratch, &r, 0);
-    for (j = 0; j < n; j++) {
-        r.q[j] = m->jdef[m->qj[j]].angle0;
-        r.qd[j] = r.qdp[j] = 0;
-    }
-    rj__rig_kin(m, &r, r.q, r.qd, r.qdp);
-    if (n == 0 || rj__rig_factor(m, &r))
+    if (rj__rig_at_start(m, scratch, &r))
         return 0;
     if (m->rig_tree)
         return rj__rig_tree_setup(m, &r);
