@@ -433,6 +433,111 @@ static double rj__tridiag_max_to(const double *al_in, const double *be_in, int k
     return hi * scale;
 }
 
+/* How many eigenvalues of the scaled tridiagonal (al, be2 = squared off-diagonal) lie
+   below x: the negative pivots of T - x. */
+static int rj__sturm_below(const double *al, const double *be2, int k, double x)
+{
+    double q = al[0] - x;
+    int i, cnt;
+    if (q == 0.0)
+        q = 1e-300;
+    cnt = q < 0;
+    for (i = 1; i < k; i++) {
+        q = al[i] - x - be2[i] / q;
+        if (q == 0.0)
+            q = 1e-300;
+        cnt += q < 0;
+    }
+    return cnt;
+}
+
+/* Newton's step toward the top eigenvalue from x above it: the pivots q_i of x - T (all
+   positive there) and their derivatives give p'/p = sum q_i' / q_i of p(x) = det(x - T),
+   which is sum 1 / (x - lambda_j) >= 1 / (x - lambda_max): x - p / p' stays above the
+   top. Returns p'/p, or 0 when a pivot is not positive (x is not above the top). */
+static double rj__tridiag_newton_sum(const double *al, const double *be2, int k, double x)
+{
+    double q = x - al[0], dq = 1.0, inv_q, sum;
+    int i;
+    if (!(q > 0))
+        return 0;
+    inv_q = 1.0 / q;
+    sum = dq * inv_q;
+    for (i = 1; i < k; i++) {
+        const double t = be2[i] * inv_q;
+        dq = 1.0 + t * dq * inv_q;
+        q = x - al[i] - t;
+        if (!(q > 0))
+            return 0;
+        inv_q = 1.0 / q;
+        sum += dq * inv_q;
+    }
+    return sum;
+}
+
+/* The largest eigenvalue of a tridiagonal matrix to rtol, from above, for the convergence
+   checks: bisection until one eigenvalue lies above lo, then Newton's method from hi (each
+   step stays above the top), stopped once its step is within rtol and a Sturm count puts
+   the top above x (1 - rtol); bisection again where Newton stalls. */
+static double rj__tridiag_top(const double *al_in, const double *be_in, int k, double rtol)
+{
+    double al[RJ__LANCZOS_ITERS], be2[RJ__LANCZOS_ITERS], scale = 0, lo = 0, hi = 0, x;
+    int i, it, above = k;
+    for (i = 0; i < k; i++) {
+        if (fabs(al_in[i]) > scale)
+            scale = fabs(al_in[i]);
+        if (fabs(be_in[i]) > scale)
+            scale = fabs(be_in[i]);
+    }
+    if (scale == 0)
+        return 0;
+    for (i = 0; i < k; i++) {
+        const double be_prev = i > 0 ? be_in[i - 1] / scale : 0;
+        const double be_next = i + 1 < k ? be_in[i] / scale : 0;
+        const double r = fabs(be_prev) + fabs(be_next);
+        al[i] = al_in[i] / scale;
+        be2[i] = be_prev * be_prev;
+        if (al[i] + r > hi)
+            hi = al[i] + r;
+        if (al[i] - r < lo)
+            lo = al[i] - r;
+    }
+    for (it = 0; it < 200 && above > 1 && hi - lo > rtol * fabs(hi); it++) {
+        const double mid = 0.5 * (lo + hi);
+        const int below = rj__sturm_below(al, be2, k, mid);
+        if (below == k)
+            hi = mid;
+        else {
+            lo = mid;
+            above = k - below;
+        }
+    }
+    if (above > 1)
+        return hi * scale;
+    x = hi;
+    for (it = 0; it < 40; it++) {
+        const double sum = rj__tridiag_newton_sum(al, be2, k, x);
+        if (!(sum > 0) || !(x - 1.0 / sum > lo))
+            break;
+        x -= 1.0 / sum;
+        if (1.0 / sum <= 0.5 * rtol * fabs(x) &&
+            rj__sturm_below(al, be2, k, x - rtol * fabs(x)) < k)
+            return x * scale;
+    }
+    /* Newton stalled (a pivot rounded to zero by the top): bisection from what it kept */
+    hi = x;
+    if (rj__sturm_below(al, be2, k, hi) < k)
+        hi = hi + (hi - lo);
+    for (it = 0; it < 200 && hi - lo > rtol * fabs(hi); it++) {
+        const double mid = 0.5 * (lo + hi);
+        if (rj__sturm_below(al, be2, k, mid) == k)
+            hi = mid;
+        else
+            lo = mid;
+    }
+    return hi * scale;
+}
+
 /* The largest eigenvalue to 1e-14 of itself: the estimate the bound returns. */
 static double rj__tridiag_max(const double *al, const double *be, int k)
 {

@@ -367,7 +367,7 @@ static int rj__lz_converged(const double *al, const double *be, int k, double *l
     double theta, moved;
     if (k % 4 != 0 || k < 8 || !(*upper < HUGE_VAL))
         return 0;
-    theta = rj__tridiag_max_to(al, be, k, 1e-11);
+    theta = rj__tridiag_top(al, be, k, 1e-11);
     moved = theta - *last;
     *last = theta;
     if (theta > *upper * (1.0 + 1e-9)) {
