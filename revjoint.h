@@ -6852,15 +6852,19 @@ static double rj__omega2_upper(const rj_model *m, double *W)
     return top;
 }
 
-/* Largest eigenvalue of a symmetric tridiagonal matrix (Sturm bisection until the
-   bracket is within rtol of it), k <= RJ__LANCZOS_ITERS. The matrix is scaled to entries of
-   order 1 first: the recurrence squares the off-diagonal, which for a model of omega^2 ~
-   1e-166 (a link of 1e150 kg/m^3) underflowed and cut omega_max by 6. */
-static double rj__tridiag_max_to(const double *al_in, const double *be_in, int k, double rtol)
+/* A symmetric tridiagonal matrix (al, be: be[i] couples i and i + 1), k <=
+   RJ__LANCZOS_ITERS, scaled to entries of order 1: the Sturm recurrence squares the
+   off-diagonal, which for a model of omega^2 ~ 1e-166 (a link of 1e150 kg/m^3) underflowed
+   and cut omega_max by 6. Into al_s and be2 (be2[i] = be[i - 1]^2, be2[0] = 0) with
+   Gershgorin's interval [lo, hi], which holds every eigenvalue; returns the scale (0: a
+   zero matrix). */
+static double rj__tridiag_scaled(const double *al_in, const double *be_in, int k, double *al,
+                                 double *be2, double *lo, double *hi)
 {
-    double al[RJ__LANCZOS_ITERS], be2[RJ__LANCZOS_ITERS], scale = 0;
-    double lo = 0, hi = 0, mid;
-    int i, it;
+    double scale = 0;
+    int i;
+    *lo = 0;
+    *hi = 0;
     for (i = 0; i < k; i++) {
         if (fabs(al_in[i]) > scale)
             scale = fabs(al_in[i]);
@@ -6869,45 +6873,22 @@ static double rj__tridiag_max_to(const double *al_in, const double *be_in, int k
     }
     if (scale == 0)
         return 0;
-    /* Gershgorin's interval holds every eigenvalue */
     for (i = 0; i < k; i++) {
         const double be_prev = i > 0 ? be_in[i - 1] / scale : 0;
         const double be_next = i + 1 < k ? be_in[i] / scale : 0;
         const double r = fabs(be_prev) + fabs(be_next);
         al[i] = al_in[i] / scale;
         be2[i] = be_prev * be_prev;
-        if (al[i] + r > hi)
-            hi = al[i] + r;
-        if (al[i] - r < lo)
-            lo = al[i] - r;
+        if (al[i] + r > *hi)
+            *hi = al[i] + r;
+        if (al[i] - r < *lo)
+            *lo = al[i] - r;
     }
-    /* cnt: how many eigenvalues lie below mid (the pivots of T - mid that are negative) */
-    for (it = 0; it < 200; it++) {
-        int cnt;
-        double q;
-        mid = 0.5 * (lo + hi);
-        q = al[0] - mid;
-        if (q == 0.0)
-            q = 1e-300;
-        cnt = q < 0;
-        for (i = 1; i < k; i++) {
-            q = al[i] - mid - be2[i] / q;
-            if (q == 0.0)
-                q = 1e-300;
-            cnt += q < 0;
-        }
-        if (cnt == k)
-            hi = mid;
-        else
-            lo = mid;
-        if (hi - lo <= rtol * fabs(hi))
-            break;
-    }
-    return hi * scale;
+    return scale;
 }
 
-/* How many eigenvalues of the scaled tridiagonal (al, be2 = squared off-diagonal) lie
-   below x: the negative pivots of T - x. */
+/* How many eigenvalues of the scaled tridiagonal lie below x: the negative pivots of
+   T - x. */
 static int rj__sturm_below(const double *al, const double *be2, int k, double x)
 {
     double q = al[0] - x;
@@ -6922,6 +6903,58 @@ static int rj__sturm_below(const double *al, const double *be2, int k, double x)
         cnt += q < 0;
     }
     return cnt;
+}
+
+/* The top eigenvalue by bisection of [lo, hi] until the bracket is within rtol of it;
+   returns hi. near: the top to within 1e-11 from above (rj__tridiag_top), or 0 for none.
+   A midpoint farther than 1e-10 of near from it takes its side without a Sturm count,
+   which could not say otherwise there (the count is exact for a matrix within round-off
+   of T), so the result is the bits of the bisection that counts every time. */
+static double rj__tridiag_bisect(const double *al, const double *be2, int k, double lo,
+                                 double hi, double rtol, double near)
+{
+    const double above = near > 0 ? near * (1.0 + 1e-10) : HUGE_VAL;
+    const double below = near > 0 ? near * (1.0 - 1e-10) : -HUGE_VAL;
+    int it;
+    for (it = 0; it < 200; it++) {
+        const double mid = 0.5 * (lo + hi);
+        int all_below;
+        if (mid > above)
+            all_below = 1;
+        else if (mid < below)
+            all_below = 0;
+        else
+            all_below = rj__sturm_below(al, be2, k, mid) == k;
+        if (all_below)
+            hi = mid;
+        else
+            lo = mid;
+        if (hi - lo <= rtol * fabs(hi))
+            break;
+    }
+    return hi;
+}
+
+/* Largest eigenvalue of a symmetric tridiagonal matrix to rtol of itself (Sturm bisection
+   from Gershgorin's interval). */
+static double rj__tridiag_max_to(const double *al_in, const double *be_in, int k, double rtol)
+{
+    double al[RJ__LANCZOS_ITERS], be2[RJ__LANCZOS_ITERS], lo, hi;
+    const double scale = rj__tridiag_scaled(al_in, be_in, k, al, be2, &lo, &hi);
+    if (scale == 0)
+        return 0;
+    return rj__tridiag_bisect(al, be2, k, lo, hi, rtol, 0.0) * scale;
+}
+
+/* The same to 1e-14 (the estimate the bound returns), near: its top to 1e-11 from above
+   (rj__tridiag_top), which spares most of the counts; the same bits. */
+static double rj__tridiag_max_near(const double *al_in, const double *be_in, int k, double near)
+{
+    double al[RJ__LANCZOS_ITERS], be2[RJ__LANCZOS_ITERS], lo, hi;
+    const double scale = rj__tridiag_scaled(al_in, be_in, k, al, be2, &lo, &hi);
+    if (scale == 0)
+        return 0;
+    return rj__tridiag_bisect(al, be2, k, lo, hi, 1e-14, near / scale) * scale;
 }
 
 /* Newton's step toward the top eigenvalue from x above it: the pivots q_i of x - T (all
@@ -6954,27 +6987,11 @@ static double rj__tridiag_newton_sum(const double *al, const double *be2, int k,
    the top above x (1 - rtol); bisection again where Newton stalls. */
 static double rj__tridiag_top(const double *al_in, const double *be_in, int k, double rtol)
 {
-    double al[RJ__LANCZOS_ITERS], be2[RJ__LANCZOS_ITERS], scale = 0, lo = 0, hi = 0, x;
-    int i, it, above = k;
-    for (i = 0; i < k; i++) {
-        if (fabs(al_in[i]) > scale)
-            scale = fabs(al_in[i]);
-        if (fabs(be_in[i]) > scale)
-            scale = fabs(be_in[i]);
-    }
+    double al[RJ__LANCZOS_ITERS], be2[RJ__LANCZOS_ITERS], lo, hi, x;
+    const double scale = rj__tridiag_scaled(al_in, be_in, k, al, be2, &lo, &hi);
+    int it, above = k;
     if (scale == 0)
         return 0;
-    for (i = 0; i < k; i++) {
-        const double be_prev = i > 0 ? be_in[i - 1] / scale : 0;
-        const double be_next = i + 1 < k ? be_in[i] / scale : 0;
-        const double r = fabs(be_prev) + fabs(be_next);
-        al[i] = al_in[i] / scale;
-        be2[i] = be_prev * be_prev;
-        if (al[i] + r > hi)
-            hi = al[i] + r;
-        if (al[i] - r < lo)
-            lo = al[i] - r;
-    }
     for (it = 0; it < 200 && above > 1 && hi - lo > rtol * fabs(hi); it++) {
         const double mid = 0.5 * (lo + hi);
         const int below = rj__sturm_below(al, be2, k, mid);
@@ -6998,17 +7015,9 @@ static double rj__tridiag_top(const double *al_in, const double *be_in, int k, d
             return x * scale;
     }
     /* Newton stalled (a pivot rounded to zero by the top): bisection from what it kept */
-    hi = x;
-    if (rj__sturm_below(al, be2, k, hi) < k)
-        hi = hi + (hi - lo);
-    for (it = 0; it < 200 && hi - lo > rtol * fabs(hi); it++) {
-        const double mid = 0.5 * (lo + hi);
-        if (rj__sturm_below(al, be2, k, mid) == k)
-            hi = mid;
-        else
-            lo = mid;
-    }
-    return hi * scale;
+    if (rj__sturm_below(al, be2, k, x) < k)
+        x += x - lo;
+    return rj__tridiag_bisect(al, be2, k, lo, x, rtol, 0.0) * scale;
 }
 
 /* The largest eigenvalue to 1e-14 of itself: the estimate the bound returns. */
@@ -7496,8 +7505,8 @@ static void rj__lz_passes_pick(rj__lz_passes *p)
    then), and it is within RJ__BOUND_GAP of the upper bound, so that a plateau far below
    omega_max^2 cannot pass for convergence. A theta above the bound (round-off in a model of
    extreme scales) voids the bound (*upper = HUGE_VAL): Lanczos runs its course. These tests
-   take theta to 1e-11 (its last bits cannot move them); the estimate returned is taken
-   again to 1e-14. */
+   take theta to 1e-11 by Newton's method (rj__tridiag_top; its last bits cannot move
+   them); the estimate returned is bisection's to 1e-14 (rj__tridiag_max_near). */
 static int rj__lz_converged(const double *al, const double *be, int k, double *last,
                             double *upper)
 {
@@ -7558,7 +7567,7 @@ static double rj__omega2_max(rj_model *m, double *lanczos)
             break;
         }
         if (rj__lz_converged(al, be, k + 1, &last, &upper))
-            return rj__tridiag_max(al, be, k + 1);
+            return rj__tridiag_max_near(al, be, k + 1, last);
         pass.advance(w, 1.0 / b, sc, d, v0, n);
         t = v0;
         v0 = v1;

@@ -359,8 +359,8 @@ static void rj__lz_passes_pick(rj__lz_passes *p)
    then), and it is within RJ__BOUND_GAP of the upper bound, so that a plateau far below
    omega_max^2 cannot pass for convergence. A theta above the bound (round-off in a model of
    extreme scales) voids the bound (*upper = HUGE_VAL): Lanczos runs its course. These tests
-   take theta to 1e-11 (its last bits cannot move them); the estimate returned is taken
-   again to 1e-14. */
+   take theta to 1e-11 by Newton's method (rj__tridiag_top; its last bits cannot move
+   them); the estimate returned is bisection's to 1e-14 (rj__tridiag_max_near). */
 static int rj__lz_converged(const double *al, const double *be, int k, double *last,
                             double *upper)
 {
@@ -421,7 +421,7 @@ static double rj__omega2_max(rj_model *m, double *lanczos)
             break;
         }
         if (rj__lz_converged(al, be, k + 1, &last, &upper))
-            return rj__tridiag_max(al, be, k + 1);
+            return rj__tridiag_max_near(al, be, k + 1, last);
         pass.advance(w, 1.0 / b, sc, d, v0, n);
         t = v0;
         v0 = v1;

@@ -819,12 +819,13 @@ static void test_viscous_matrix(void)
    Newton from above) against plain bisection to 1e-14 on 2000 tridiagonal matrices:
    random ones, ones with their top two eigenvalues 1e-9 apart (a clustered top), and
    scales from 1e-160 to 1e160. It must be within 1e-11 of itself above the top, never
-   below it by more than round-off. */
+   below it by more than round-off; and the bisection it spares counts
+   (rj__tridiag_max_near) must give the bits of the one that counts every time. */
 static void test_tridiag_top(void)
 {
     double worst_above = 0, worst_below = 0;
     unsigned long long z = 12345;
-    int t, i, bad = 0;
+    int t, i, bad = 0, differ = 0;
     for (t = 0; t < 2000; t++) {
         double al[RJ__LANCZOS_ITERS], be[RJ__LANCZOS_ITERS], ref, top, scale;
         const int k = 2 + t % 60;
@@ -843,6 +844,7 @@ static void test_tridiag_top(void)
         }
         ref = rj__tridiag_max(al, be, k);
         top = rj__tridiag_top(al, be, k, 1e-11);
+        differ += rj__tridiag_max_near(al, be, k, top) != ref;
         if (!((top - ref) / ref <= 1e-11 && (ref - top) / ref <= 1e-14))
             bad++;
         if ((top - ref) / ref > worst_above)
@@ -853,6 +855,9 @@ static void test_tridiag_top(void)
     rjt_check(&T, bad == 0,
               "tridiagonal top by Newton from above: within 1e-11 of bisection on 2000 matrices",
               "%d off; worst %.2e above, %.2e below", bad, worst_above, worst_below);
+    rjt_check(&T, differ == 0,
+              "tridiagonal top: bisection that skips the counts Newton settles, the same bits",
+              "%d of 2000 differ", differ);
 }
 
 int main(void)
