@@ -31,7 +31,8 @@ static void rj__build_scratch_carve(const rj_model *m, rj__build_scratch *s)
 /* Before anything is written: err cleared, out given, the scene's fields and totals valid
    (rj_model_size), and a block as large as the layout that *L gets. */
 static rj_result rj__init_check_args(const rj_scene_def *sc, void *mem, size_t size, rj_model **out,
-                                     size_t *nodes, size_t *elements, rj__layout *L, rj_error *err)
+                                     size_t *nodes, size_t *elements, rj__layout *L,
+                                     int validated, rj_error *err)
 {
     rj_error size_err;
     /* set on every path: compilers cannot tell that a refusal's code is never RJ_OK */
@@ -48,7 +49,7 @@ static rj_result rj__init_check_args(const rj_scene_def *sc, void *mem, size_t s
         rj__fail(err, RJ_ERR_INVALID, "out", 0, "out is NULL");
         return RJ_ERR_INVALID;
     }
-    if (!rj_model_size(sc, err ? err : &size_err))
+    if (!validated && !rj_model_size(sc, err ? err : &size_err))
         return err ? err->code : size_err.code;
     rj__counts(sc, nodes, elements, err);
     rj__model_layout(sc, *nodes, *elements, L);
@@ -1260,15 +1261,17 @@ static void rj__init_in_place(rj_model *m)
 }
 
 /* The model, phase by phase. A refusal returns at the first error, the checks in their
-   order: arguments and fields, the joint graph, the links' numbers, the step. */
-RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj_model **out,
-                              rj_error *err)
+   order: arguments and fields (unless validated: rj_model_size has just checked them),
+   the joint graph, the links' numbers, the step. */
+static rj_result rj__model_init(const rj_scene_def *sc, void *mem, size_t size, rj_model **out,
+                                int validated, rj_error *err)
 {
     rj__layout L;
     rj__build_scratch s;
     rj_model *m;
     size_t nodes, elements;
-    rj_result r = rj__init_check_args(sc, mem, size, out, &nodes, &elements, &L, err);
+    rj_result r =
+        rj__init_check_args(sc, mem, size, out, &nodes, &elements, &L, validated, err);
     if (r != RJ_OK)
         return r;
     m = rj__init_block(sc, mem, &L, nodes, elements);
@@ -1308,6 +1311,12 @@ RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj
     return RJ_OK;
 }
 
+RJDEF rj_result rj_model_init(const rj_scene_def *sc, void *mem, size_t size, rj_model **out,
+                              rj_error *err)
+{
+    return rj__model_init(sc, mem, size, out, 0, err);
+}
+
 RJDEF rj_result rj_model_create(const rj_scene_def *scene, rj_model **out, rj_error *err,
                                 void *alloc_ctx)
 {
@@ -1329,7 +1338,8 @@ RJDEF rj_result rj_model_create(const rj_scene_def *scene, rj_model **out, rj_er
                  (unsigned long) sz);
         return RJ_ERR_NOMEM;
     }
-    r = rj_model_init(scene, mem, sz, out, err);
+    /* rj_model_size has just validated the scene */
+    r = rj__model_init(scene, mem, sz, out, 1, err);
     if (r != RJ_OK) {
         RJ_FREE(mem, alloc_ctx);
         return r;
