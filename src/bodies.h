@@ -353,11 +353,8 @@ static double rj__lz_inv(const rj_model *m, int i, int k)
 static double rj__joint_compliance0(const rj_model *m, int j)
 {
     rj__jgeo g;
-    if (m->rigid) {
-        /* an articulated tree's build leaves out those it does not read (rj__rig_needs_minv) */
-        RJ_ASSERT(m->jnt[j].minv >= 0);
+    if (m->rigid)
         return m->jnt[j].minv;
-    }
     rj__joint_geo(m, &m->jnt[j], m->x0, m->y0, &g);
     return rj__joint_compliance(m, &m->jnt[j], &g);
 }

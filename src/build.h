@@ -11,7 +11,8 @@ typedef struct rj__build_scratch {
                                   scenes: rj__init_joint_order */
     double *lanczos;           /* 5 vectors of 3 nn, then 8 ne doubles and 3 ne ints of the
                                   elements' table (rj__lz_table): rj__omega2_max */
-    double *rigid_bound;       /* rj__rig_bound_scratch: the solver's, and a dense M^-1 */
+    double *rigid_bound;       /* rj__rig_bound_scratch: the solver's, then a dense M^-1 or
+                                  a tree's responses (rj__rig_tree_minv) */
     int *step_node_mark;       /* nn ints: rj__init_step_nodes */
 } rj__build_scratch;
 
@@ -1102,14 +1103,9 @@ static rj_result rj__refuse_unstable_dt(const rj_model *m, rj_error *err)
 /* The step in use must be stable (unless solver.allow_unstable) and usable: a bound or a
    step that is not a finite positive number leaves nothing to run, nor does a start that
    is not finite. */
-static rj_result rj__check_step(rj_model *m, const rj_scene_def *sc,
-                                const rj__build_scratch *s, rj_error *err)
+static rj_result rj__check_step(const rj_model *m, const rj_scene_def *sc, rj_error *err)
 {
-    const int unstable = m->dt > m->dt_bound && !sc->solver.allow_unstable;
-    /* their messages compare every joint's 1 / I_red */
-    if (unstable || !(m->dt_bound >= RJ__MIN_BOUND) || !rj__finite(m->dt_bound))
-        rj__rig_fill_minv(m, s->rigid_bound);
-    if (unstable)
+    if (m->dt > m->dt_bound && !sc->solver.allow_unstable)
         return rj__refuse_unstable_dt(m, err);
     if (!rj__usable_step(m, err))
         return RJ_ERR_INVALID;
@@ -1298,7 +1294,7 @@ static rj_result rj__model_init(const rj_scene_def *sc, void *mem, size_t size, 
     r = rj__init_step(m, sc, &s, err);
     if (r != RJ_OK)
         return r;
-    r = rj__check_step(m, sc, &s, err);
+    r = rj__check_step(m, sc, err);
     if (r != RJ_OK)
         return r;
     rj__init_dt_eq28(m);

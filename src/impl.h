@@ -461,7 +461,6 @@ static size_t rj__rigid_scratch(size_t n, size_t nl, int dense, size_t cols, siz
                                 size_t others);
 static size_t rj__rig_step_scratch(const rj_model *m);
 static double rj__rig_setup(rj_model *m, double *scratch);
-static void rj__rig_fill_minv(rj_model *m, double *scratch);
 typedef struct rj__rig {
     double *M, *L; /* n x n with a dense M; NULL for articulated bodies (rj_model.rig_tree) */
     double *W;     /* columns of M^-1, n each: rj_model.nwcol of them (rj_model.wcol) */

@@ -43,12 +43,13 @@ static int rj__scene_rig_tree(const rj_scene_def *sc)
 }
 
 /* The rigid stability bound's scratch in the building area (rj__rig_setup): the solver's
-   without columns or rows, and for a dense M the nj x nj M^-1 after it. */
+   without columns or rows, then for a dense M the nj x nj M^-1, for a tree each
+   coordinate's 3 x 3 response (rj__rig_tree_minv). */
 static size_t rj__rig_bound_scratch(const rj_scene_def *sc)
 {
     const size_t nj = (size_t) sc->joint_count, nl = (size_t) sc->link_count;
     const int dense = !rj__scene_rig_tree(sc);
-    return rj__rigid_scratch(nj, nl, dense, 0, 0, 0) + (dense ? nj * nj : 0);
+    return rj__rigid_scratch(nj, nl, dense, 0, 0, 0) + (dense ? nj * nj : 9 * nj);
 }
 
 /* The model's block: every array linear in the scene. The building scratch lz holds the

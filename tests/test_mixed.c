@@ -815,6 +815,45 @@ static void test_viscous_matrix(void)
               "200 elements: largest difference %.3g of the largest force", worst);
 }
 
+/* Each joint's 1 / I_red of an articulated tree, taken in O(n) from the factor
+   (rj__rig_tree_minv), against the diagonal of M^-1 column by column (rj__rig_unit, a
+   solve with b = e_k) on the 16-coordinate tree with branches and a servo's rotor. */
+static void test_tree_minv(void)
+{
+    rj_link_def L[16];
+    rj_joint_def J[16];
+    rj_actuator_def A[1];
+    rj_model *m = NULL;
+    rj_state *s = NULL;
+    rj__rig r;
+    double col[16], worst = 0, big = 0;
+    int k;
+    if (tree_scene(L, J, A, &m) != RJ_OK || rj_state_create(m, &s, NULL) != RJ_OK) {
+        rjt_check(&T, 0, "tree 1 / I_red: builds", "no model");
+        return;
+    }
+    rj__rig_map(m, s->rsc, &r, 1);
+    for (k = 0; k < m->nq; k++) {
+        r.q[k] = m->jdef[m->qj[k]].angle0;
+        r.qd[k] = r.qdp[k] = 0;
+    }
+    rj__rig_kin(m, &r, r.q, r.qd, r.qdp);
+    rj__rig_factor(m, &r);
+    for (k = 0; k < m->nq; k++) {
+        const double minv = m->jnt[m->qj[k]].minv;
+        rj__rig_unit(m, &r, k, col);
+        if (fabs(minv - col[k]) > worst)
+            worst = fabs(minv - col[k]);
+        if (fabs(col[k]) > big)
+            big = fabs(col[k]);
+    }
+    rjt_check(&T, m->rig_tree && big > 0 && worst <= 1e-12 * big,
+              "articulated tree: each 1 / I_red in O(n) equals M^-1's diagonal by columns",
+              "max |diff| %.2e of %.3g over %d coordinates", worst, big, m->nq);
+    rj_state_destroy(s, NULL);
+    rj_model_destroy(m, NULL);
+}
+
 /* The convergence checks' top eigenvalue (rj__tridiag_top: bisection to isolate it, then
    Newton from above) against plain bisection to 1e-14 on 2000 tridiagonal matrices:
    random ones, ones with their top two eigenvalues 1e-9 apart (a clustered top), and
@@ -878,5 +917,6 @@ int main(void)
     test_chain_dense();
     test_viscous_matrix();
     test_tridiag_top();
+    test_tree_minv();
     return rjt_summary(&T, "test_mixed");
 }
