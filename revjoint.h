@@ -7004,17 +7004,21 @@ static double rj__tridiag_top(const double *al_in, const double *be_in, int k, d
     x = hi;
     for (it = 0; it < 40; it++) {
         const double sum = rj__tridiag_newton_sum(al, be2, k, x);
-        if (!(sum > 0) || !(x - 1.0 / sum > lo))
+        /* a pivot not positive: the last step rounded past the top, which it bracketed */
+        if (!(sum > 0)) {
+            lo = x > lo && x < hi ? x : lo;
             break;
+        }
+        if (!(x - 1.0 / sum > lo))
+            break;
+        hi = x;
         x -= 1.0 / sum;
         if (1.0 / sum <= 0.5 * rtol * fabs(x) &&
             rj__sturm_below(al, be2, k, x - rtol * fabs(x)) < k)
             return x * scale;
     }
-    /* Newton stalled (a pivot rounded to zero by the top): bisection from what it kept */
-    if (rj__sturm_below(al, be2, k, x) < k)
-        x += x - lo;
-    return rj__tridiag_bisect(al, be2, k, lo, x, rtol, 0.0) * scale;
+    /* Newton stalled: bisection of what it bracketed */
+    return rj__tridiag_bisect(al, be2, k, lo, hi, rtol, 0.0) * scale;
 }
 
 /* The largest eigenvalue to 1e-14 of itself: the estimate the bound returns. */
@@ -7142,53 +7146,82 @@ static int rj__lz_start(const rj_model *m, double *v0, double *v1)
     return 1;
 }
 /* ------------------------------------------------------------ Lanczos in vector lanes */
-/* The Lanczos iteration of the stability bound (rj__omega2_max). Its product takes the
-   elements' linearisations from a table built once (rj__lz_table); the vector passes after
-   it are merged. Where the header has vector lanes (src/impl.h), the element products and
-   the passes run in them, dispatched as the beam pass is: every lane does the scalar
-   code's operations in its order, and the sums (alpha = w . v1, |w|^2) stay sums in DOF
-   order, taken lane after lane, so that every build gives the same bits (tests/lanes.sh).
-   Over the scalar loops, a 2000-element link's Lanczos step costs about a third. */
+/* The Lanczos iteration of the stability bound (rj__omega2_max). Its vectors hold each
+   kind of DOF apart (x of every node, then y, then the rotations: RJ__LZ_AT), so that
+   the elements along a link read their nodes in whole lanes. Its product takes the
+   elements' linearisations from a table built once (rj__lz_table). Where the header has
+   vector lanes (src/impl.h), the element products and the vector passes run in them,
+   dispatched as the beam pass is: every lane does the scalar code's operations in its
+   order, each DOF's sum takes its elements' terms in element order, and the dot products
+   and norms sum their terms node by node (x, y, rotation), the order of the interleaved
+   vectors the scalar code once kept: every build gives the same bits (tests/lanes.sh). */
+
+/* DOF k (0: x, 1: y, 2: rotation) of node i */
+#define RJ__LZ_AT(nn, i, k) ((size_t) (k) * (size_t) (nn) + (size_t) (i))
+
+/* The interleaved vector in (3 i + k) into its DOF kinds. */
+static void rj__lz_split(const double *in, double *out, int nn)
+{
+    int i, k;
+    for (i = 0; i < nn; i++)
+        for (k = 0; k < 3; k++)
+            out[RJ__LZ_AT(nn, i, k)] = in[3 * i + k];
+}
 
 /* The elements' linearisations (rj__elem_lin, one array a field, for the lanes) and their
-   DOFs, taken once for all of Lanczos's products: the chord's length and the ends' turns
+   nodes, taken once for all of Lanczos's products: the chord's length and the ends' turns
    need a division and a dozen products an element, which the product then does not
-   repeat. */
+   repeat. An element is plain when its nodes' translations are their own (no pin group);
+   plain[c] counts the plain elements from c on along its link, which the lanes take
+   whole. */
 typedef struct rj__lz_table {
     const double *ex, *ey, *inv_r, *n_ax, *s_r, *kb, *kax, *l0sq;
-    const int *dof; /* per element: a's translation, b's translation, a's rotation */
-    int count;      /* the elements of the links that bend */
+    const int *ta, *tb; /* the nodes holding a's and b's translations */
+    const int *ra;      /* node a (its rotation; b's is ra + 1) */
+    const int *plain;
+    int count;          /* the elements of the links that bend */
 } rj__lz_table;
 
-/* The table in area (8 ne doubles, then 3 ne ints), in rj__lz_elements's order. */
+/* One element's row of the table. */
+static void rj__lz_table_row(const rj_model *m, int l, int k, int c, double *f, int *idx)
+{
+    const size_t ne = (size_t) m->ne;
+    const int a = m->link_first[l] + (k - m->link_efirst[l]);
+    rj__elem_lin e;
+    rj__elem_lin_at(m->link_kc + 4 * (size_t) l, m->x0[a + 1] - m->x0[a],
+                    m->y0[a + 1] - m->y0[a], m->phi0[a] - m->beta0[k],
+                    m->phi0[a + 1] - m->beta0[k], &e);
+    f[c] = e.ex;
+    f[ne + c] = e.ey;
+    f[2 * ne + c] = e.inv_r;
+    f[3 * ne + c] = e.n_ax;
+    f[4 * ne + c] = e.s_r;
+    f[5 * ne + c] = e.kb;
+    f[6 * ne + c] = e.kax;
+    f[7 * ne + c] = e.l0sq;
+    idx[c] = rj__ub_root(m, a);
+    idx[ne + c] = rj__ub_root(m, a + 1);
+    idx[2 * ne + c] = a;
+}
+
+/* The table in area (8 ne doubles, then 4 ne ints), in rj__lz_elements's order. */
 static void rj__lz_table_build(const rj_model *m, double *area, rj__lz_table *t)
 {
     const size_t ne = (size_t) m->ne;
     double *f = area;
-    int *dof = (int *) (void *) (area + 8 * ne);
+    int *idx = (int *) (void *) (area + 8 * ne), *plain = idx + 3 * ne;
     int l, k, c = 0;
-    for (l = 0; l < m->nl; l++) {
-        const double *kc = m->link_kc + 4 * (size_t) l;
-        const int shift = m->link_first[l] - m->link_efirst[l];
-        if (m->link_path[l] == RJ__PATH_RIGID)
-            continue;
-        for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++, c++) {
-            const int a = k + shift;
-            rj__elem_lin e;
-            rj__elem_lin_at(kc, m->x0[a + 1] - m->x0[a], m->y0[a + 1] - m->y0[a],
-                            m->phi0[a] - m->beta0[k], m->phi0[a + 1] - m->beta0[k], &e);
-            f[c] = e.ex;
-            f[ne + c] = e.ey;
-            f[2 * ne + c] = e.inv_r;
-            f[3 * ne + c] = e.n_ax;
-            f[4 * ne + c] = e.s_r;
-            f[5 * ne + c] = e.kb;
-            f[6 * ne + c] = e.kax;
-            f[7 * ne + c] = e.l0sq;
-            dof[3 * c] = 3 * rj__ub_root(m, a);
-            dof[3 * c + 1] = 3 * rj__ub_root(m, a + 1);
-            dof[3 * c + 2] = 3 * a + 2;
-        }
+    for (l = 0; l < m->nl; l++)
+        if (m->link_path[l] != RJ__PATH_RIGID)
+            for (k = m->link_efirst[l]; k < m->link_efirst[l + 1]; k++, c++)
+                rj__lz_table_row(m, l, k, c, f, idx);
+    /* from the last element back: a plain element starts a run one longer than the
+       next element's, when that one is the next along the same link */
+    for (k = c - 1; k >= 0; k--) {
+        const int a = idx[2 * ne + k];
+        const int own = idx[k] == a && idx[ne + k] == a + 1;
+        const int next = k + 1 < c && idx[2 * ne + k + 1] == a + 1 ? plain[k + 1] : 0;
+        plain[k] = own ? 1 + next : 0;
     }
     t->ex = f;
     t->ey = f + ne;
@@ -7198,16 +7231,21 @@ static void rj__lz_table_build(const rj_model *m, double *area, rj__lz_table *t)
     t->kb = f + 5 * ne;
     t->kax = f + 6 * ne;
     t->l0sq = f + 7 * ne;
-    t->dof = dof;
+    t->ta = idx;
+    t->tb = idx + ne;
+    t->ra = idx + 2 * ne;
+    t->plain = plain;
     t->count = c;
 }
 
 /* Element c's product K_e d summed into f (rj__lz_elements's sums in its order). */
 static RJ__FORCE_INLINE void rj__lz_element(const rj__lz_table *t, int c, const double *d,
-                                            double *f)
+                                            double *f, int nn)
 {
-    const int ta = t->dof[3 * c], tb = t->dof[3 * c + 1], ra = t->dof[3 * c + 2];
-    const double dq[6] = { d[ta], d[ta + 1], d[ra], d[tb], d[tb + 1], d[ra + 3] };
+    const int ta = t->ta[c], tb = t->tb[c], ra = t->ra[c];
+    const double *dx = d, *dy = d + nn, *dr = d + 2 * (size_t) nn;
+    double *fx = f, *fy = f + nn, *fr = f + 2 * (size_t) nn;
+    const double dq[6] = { dx[ta], dy[ta], dr[ra], dx[tb], dy[tb], dr[ra + 1] };
     rj__elem_lin e;
     double fe[6];
     e.ex = t->ex[c];
@@ -7219,39 +7257,45 @@ static RJ__FORCE_INLINE void rj__lz_element(const rj__lz_table *t, int c, const 
     e.kax = t->kax[c];
     e.l0sq = t->l0sq[c];
     rj__elem_lin_apply(&e, dq, fe);
-    f[ta] += fe[0];
-    f[ta + 1] += fe[1];
-    f[ra] += fe[2];
-    f[tb] += fe[3];
-    f[tb + 1] += fe[4];
-    f[ra + 3] += fe[5];
+    fx[ta] += fe[0];
+    fy[ta] += fe[1];
+    fr[ra] += fe[2];
+    fx[tb] += fe[3];
+    fy[tb] += fe[4];
+    fr[ra + 1] += fe[5];
 }
 
 #ifdef RJ__LANES
-/* Elements c .. c + RJ__VW - 1 in vector lanes: rj__elem_lin_apply's operations in its
-   order (keep the two alike), then each element's six sums in element order. */
-static RJ__FORCE_INLINE void rj__lz_element_lanes(const rj__lz_table *t, int c,
-                                                  const double *d, double *f)
+/* One kind of DOF of the lane's nodes a .. a + RJ__VW: node a + j takes b's term of
+   element j - 1, then a's of element j (the scalar code's order; -0.0 adds nothing at
+   node a, whose b term came before), node a + RJ__VW b's term of the last. */
+static RJ__FORCE_INLINE void rj__lz_node_sums(double *f, const rj__vd *fa, const rj__vd *fb)
 {
-    double g[6][RJ__VW], o[6][RJ__VW];
+    double shifted[RJ__VW + 1];
+    rj__vd sum, prev;
+    shifted[0] = -0.0;
+    RJ__VST(shifted + 1, *fb);
+    RJ__VLD(prev, shifted);
+    RJ__VLD(sum, f);
+    sum = (sum + prev) + *fa;
+    RJ__VST(f, sum);
+    f[RJ__VW] += shifted[RJ__VW];
+}
+
+/* The plain elements c .. c + RJ__VW - 1 (nodes a .. a + RJ__VW, a = ra[c]) in vector
+   lanes: rj__elem_lin_apply's operations in its order (keep the two alike). */
+static RJ__FORCE_INLINE void rj__lz_element_lanes(const rj__lz_table *t, int c,
+                                                  const double *d, double *f, int nn)
+{
+    const size_t a = (size_t) t->ra[c], n2 = 2 * (size_t) nn;
     rj__vd q0, q1, q2, q3, q4, q5, ex, ey, inv_r, n_ax, s_r, kb, kax, l0sq;
-    rj__vd dex, dey, e_de, dbeta, dtha, dthb, dma, dmb, dn, dsr, dfx, dfy;
-    int k;
-    for (k = 0; k < RJ__VW; k++) {
-        const int *q = t->dof + 3 * (c + k);
-        g[0][k] = d[q[0]];
-        g[1][k] = d[q[0] + 1];
-        g[2][k] = d[q[2]];
-        g[3][k] = d[q[1]];
-        g[4][k] = d[q[1] + 1];
-        g[5][k] = d[q[2] + 3];
-    }
-    RJ__VLD(q0, g[0]);
-    RJ__VLD(q1, g[1]);
-    RJ__VLD(q2, g[2]);
-    RJ__VLD(q3, g[3]);
-    RJ__VLD(q4, g[4]);
-    RJ__VLD(q5, g[5]);
+    rj__vd dex, dey, e_de, dbeta, dtha, dthb, dma, dmb, dn, dsr, dfx, dfy, bx, by;
+    RJ__VLD(q0, d + a);
+    RJ__VLD(q1, d + nn + a);
+    RJ__VLD(q2, d + n2 + a);
+    RJ__VLD(q3, d + a + 1);
+    RJ__VLD(q4, d + nn + a + 1);
+    RJ__VLD(q5, d + n2 + a + 1);
     RJ__VLD(ex, t->ex + c);
     RJ__VLD(ey, t->ey + c);
     RJ__VLD(inv_r, t->inv_r + c);
@@ -7272,21 +7316,11 @@ static RJ__FORCE_INLINE void rj__lz_element_lanes(const rj__lz_table *t, int c,
     dsr = ((dma + dmb) - 2.0 * s_r * e_de) * inv_r;
     dfx = -dn * ex - n_ax * dex - dsr * ey - s_r * dey;
     dfy = -dn * ey - n_ax * dey + dsr * ex + s_r * dex;
-    RJ__VST(o[0], dfx);
-    RJ__VST(o[1], dfy);
-    RJ__VST(o[2], dma);
-    RJ__VST(o[3], dfx);
-    RJ__VST(o[4], dfy);
-    RJ__VST(o[5], dmb);
-    for (k = 0; k < RJ__VW; k++) {
-        const int *q = t->dof + 3 * (c + k);
-        f[q[0]] += o[0][k];
-        f[q[0] + 1] += o[1][k];
-        f[q[2]] += o[2][k];
-        f[q[1]] += -o[3][k];
-        f[q[1] + 1] += -o[4][k];
-        f[q[2] + 3] += o[5][k];
-    }
+    bx = -dfx;
+    by = -dfy;
+    rj__lz_node_sums(f + a, &dfx, &bx);
+    rj__lz_node_sums(f + nn + a, &dfy, &by);
+    rj__lz_node_sums(f + n2 + a, &dma, &dmb);
 }
 
 /* *mag = |v| lane by lane */
@@ -7298,66 +7332,100 @@ static RJ__FORCE_INLINE void rj__vabs(const rj__vd *v, rj__vd *mag)
         sign[k] = 0x7fffffffffffffffLL;
     *mag = (rj__vd) ((rj__vl) *v & sign);
 }
+
+/* Lanes' three kinds of terms for nodes i .. i + RJ__VW - 1 added to sum node by node. */
+static RJ__FORCE_INLINE double rj__lz_sum_nodes(const rj__vd *px, const rj__vd *py,
+                                                const rj__vd *pr, double sum)
+{
+    int k;
+    for (k = 0; k < RJ__VW; k++) {
+        sum += (*px)[k];
+        sum += (*py)[k];
+        sum += (*pr)[k];
+    }
+    return sum;
+}
 #endif
 
-/* K d of the elements into f, lanes where lanes_on. */
+/* K d of the elements into f, plain runs in lanes where lanes_on. */
 static RJ__FORCE_INLINE void rj__lz_elements_body(const rj__lz_table *t, const double *d,
-                                                  double *f, int lanes_on)
+                                                  double *f, int nn, int lanes_on)
 {
     int c = 0;
+    while (c < t->count) {
 #ifdef RJ__LANES
-    if (lanes_on)
-        for (; c + RJ__VW <= t->count; c += RJ__VW)
-            rj__lz_element_lanes(t, c, d, f);
+        if (lanes_on && t->plain[c] >= RJ__VW) {
+            rj__lz_element_lanes(t, c, d, f, nn);
+            c += RJ__VW;
+            continue;
+        }
 #else
-    (void) lanes_on;
+        (void) lanes_on;
 #endif
-    for (; c < t->count; c++)
-        rj__lz_element(t, c, d, f);
+        rj__lz_element(t, c, d, f, nn);
+        c++;
+    }
 }
 
-/* After the product (w = K d): w = M^-1/2 w, alpha = w . v1, the three-term recurrence
-   w -= alpha v1 + beta v0, and |w| (scaled by its largest entry so that the squares
-   neither underflow nor overflow: omega^2 ~ 1e-166 for a link of 1e150 kg/m^3). */
-static RJ__FORCE_INLINE void rj__lz_orth_body(double *w, const double *sc, const double *v1,
-                                              const double *v0, double beta_prev, int n,
-                                              double *alpha, double *beta, int lanes_on)
+/* After the product (w = K d): w = M^-1/2 w and alpha = w . v1, node by node. */
+static RJ__FORCE_INLINE double rj__lz_unscale_dot(double *w, const double *sc, const double *v1,
+                                                  int nn, int lanes_on)
 {
-    double a = 0, big = 0, sum = 0, inv_big;
-    int i = 0;
+    double a = 0;
+    int i = 0, k;
 #ifdef RJ__LANES
-    rj__vd va, vb, vbig, vinv;
-    double p[RJ__VW];
-    int k;
+    if (lanes_on)
+        for (; i + RJ__VW <= nn; i += RJ__VW) {
+            double *wx = w + i, *wy = w + nn + i, *wr = w + 2 * (size_t) nn + i;
+            const double *sx = sc + i, *sy = sc + nn + i, *sr = sc + 2 * (size_t) nn + i;
+            const double *vx = v1 + i, *vy = v1 + nn + i, *vr = v1 + 2 * (size_t) nn + i;
+            rj__vd x, y, r, s, v;
+            RJ__VLD(x, wx);
+            RJ__VLD(s, sx);
+            x *= s;
+            RJ__VST(wx, x);
+            RJ__VLD(y, wy);
+            RJ__VLD(s, sy);
+            y *= s;
+            RJ__VST(wy, y);
+            RJ__VLD(r, wr);
+            RJ__VLD(s, sr);
+            r *= s;
+            RJ__VST(wr, r);
+            RJ__VLD(v, vx);
+            x *= v;
+            RJ__VLD(v, vy);
+            y *= v;
+            RJ__VLD(v, vr);
+            r *= v;
+            a = rj__lz_sum_nodes(&x, &y, &r, a);
+        }
 #else
     (void) lanes_on;
 #endif
-#ifdef RJ__LANES
-    if (lanes_on)
-        for (; i + RJ__VW <= n; i += RJ__VW) {
-            rj__vd wv, s, x;
-            RJ__VLD(wv, w + i);
-            RJ__VLD(s, sc + i);
-            RJ__VLD(x, v1 + i);
-            wv *= s;
-            RJ__VST(w + i, wv);
-            wv *= x;
-            RJ__VST(p, wv);
-            for (k = 0; k < RJ__VW; k++)
-                a += p[k];
+    for (; i < nn; i++)
+        for (k = 0; k < 3; k++) {
+            const size_t at = (size_t) k * (size_t) nn + (size_t) i;
+            w[at] *= sc[at];
+            a += w[at] * v1[at];
         }
-#endif
-    for (; i < n; i++) {
-        w[i] *= sc[i];
-        a += w[i] * v1[i];
-    }
-    *alpha = a;
-    i = 0;
+    return a;
+}
+
+/* The three-term recurrence w -= alpha v1 + beta v0 over all 3 nn DOFs; returns max |w|. */
+static RJ__FORCE_INLINE double rj__lz_recur(double *w, const double *v1, const double *v0,
+                                            double a, double b, int n, int lanes_on)
+{
+    double big = 0;
+    int i = 0;
 #ifdef RJ__LANES
-    rj__splat(&va, a);
-    rj__splat(&vb, beta_prev);
-    rj__splat(&vbig, 0.0);
     if (lanes_on) {
+        rj__vd va, vb, vbig;
+        double p[RJ__VW];
+        int k;
+        rj__splat(&va, a);
+        rj__splat(&vb, b);
+        rj__splat(&vbig, 0.0);
         for (; i + RJ__VW <= n; i += RJ__VW) {
             rj__vd wv, x, y, mag;
             rj__vl more;
@@ -7375,34 +7443,65 @@ static RJ__FORCE_INLINE void rj__lz_orth_body(double *w, const double *sc, const
             if (p[k] > big)
                 big = p[k];
     }
+#else
+    (void) lanes_on;
 #endif
     for (; i < n; i++) {
-        w[i] -= a * v1[i] + beta_prev * v0[i];
+        w[i] -= a * v1[i] + b * v0[i];
         if (fabs(w[i]) > big)
             big = fabs(w[i]);
     }
-    if (big == 0 || !rj__finite(big)) {
-        *beta = big;
-        return;
-    }
+    return big;
+}
+
+/* |w| given big = max |w_i|, scaled by it so that the squares neither underflow nor
+   overflow (omega^2 ~ 1e-166 for a link of 1e150 kg/m^3); the squares summed node by
+   node. */
+static RJ__FORCE_INLINE double rj__lz_norm(const double *w, double big, int nn, int lanes_on)
+{
+    double sum = 0, inv_big;
+    int i = 0, k;
+    if (big == 0 || !rj__finite(big))
+        return big;
     inv_big = 1.0 / big;
-    i = 0;
 #ifdef RJ__LANES
-    rj__splat(&vinv, inv_big);
-    if (lanes_on)
-        for (; i + RJ__VW <= n; i += RJ__VW) {
-            rj__vd wv;
-            RJ__VLD(wv, w + i);
-            wv *= vinv;
-            wv *= wv;
-            RJ__VST(p, wv);
-            for (k = 0; k < RJ__VW; k++)
-                sum += p[k];
+    if (lanes_on) {
+        rj__vd vinv;
+        rj__splat(&vinv, inv_big);
+        for (; i + RJ__VW <= nn; i += RJ__VW) {
+            rj__vd x, y, r;
+            RJ__VLD(x, w + i);
+            RJ__VLD(y, w + nn + i);
+            RJ__VLD(r, w + 2 * (size_t) nn + i);
+            x *= vinv;
+            y *= vinv;
+            r *= vinv;
+            x *= x;
+            y *= y;
+            r *= r;
+            sum = rj__lz_sum_nodes(&x, &y, &r, sum);
         }
+    }
+#else
+    (void) lanes_on;
 #endif
-    for (; i < n; i++)
-        sum += (w[i] * inv_big) * (w[i] * inv_big);
-    *beta = big * sqrt(sum);
+    for (; i < nn; i++)
+        for (k = 0; k < 3; k++) {
+            const double x = w[(size_t) k * (size_t) nn + (size_t) i];
+            sum += (x * inv_big) * (x * inv_big);
+        }
+    return big * sqrt(sum);
+}
+
+/* After the product: alpha, the recurrence and beta = |w|. */
+static RJ__FORCE_INLINE void rj__lz_orth_body(double *w, const double *sc, const double *v1,
+                                              const double *v0, double beta_prev, int nn,
+                                              double *alpha, double *beta, int lanes_on)
+{
+    double big;
+    *alpha = rj__lz_unscale_dot(w, sc, v1, nn, lanes_on);
+    big = rj__lz_recur(w, v1, v0, *alpha, beta_prev, 3 * nn, lanes_on);
+    *beta = rj__lz_norm(w, big, nn, lanes_on);
 }
 
 /* The next Lanczos vector w / beta, its product's input d = M^-1/2 w, and v0 cleared: it
@@ -7439,16 +7538,17 @@ static RJ__FORCE_INLINE void rj__lz_advance_body(double *w, double inv_beta, con
 /* The three passes compiled for AVX2 where the header dispatches, and for the including
    file's own target (lanes where RJ__DEFAULT_LANES_ON). */
 #ifdef RJ__DISPATCH
-RJ__AVX2 static void rj__lz_elements_avx2(const rj__lz_table *t, const double *d, double *f)
+RJ__AVX2 static void rj__lz_elements_avx2(const rj__lz_table *t, const double *d, double *f,
+                                          int nn)
 {
-    rj__lz_elements_body(t, d, f, 1);
+    rj__lz_elements_body(t, d, f, nn, 1);
 }
 
 RJ__AVX2 static void rj__lz_orth_avx2(double *w, const double *sc, const double *v1,
-                                      const double *v0, double beta_prev, int n, double *alpha,
+                                      const double *v0, double beta_prev, int nn, double *alpha,
                                       double *beta)
 {
-    rj__lz_orth_body(w, sc, v1, v0, beta_prev, n, alpha, beta, 1);
+    rj__lz_orth_body(w, sc, v1, v0, beta_prev, nn, alpha, beta, 1);
 }
 
 RJ__AVX2 static void rj__lz_advance_avx2(double *w, double inv_beta, const double *sc, double *d,
@@ -7458,15 +7558,15 @@ RJ__AVX2 static void rj__lz_advance_avx2(double *w, double inv_beta, const doubl
 }
 #endif
 
-static void rj__lz_elements_default(const rj__lz_table *t, const double *d, double *f)
+static void rj__lz_elements_default(const rj__lz_table *t, const double *d, double *f, int nn)
 {
-    rj__lz_elements_body(t, d, f, RJ__DEFAULT_LANES_ON);
+    rj__lz_elements_body(t, d, f, nn, RJ__DEFAULT_LANES_ON);
 }
 
 static void rj__lz_orth_default(double *w, const double *sc, const double *v1, const double *v0,
-                                double beta_prev, int n, double *alpha, double *beta)
+                                double beta_prev, int nn, double *alpha, double *beta)
 {
-    rj__lz_orth_body(w, sc, v1, v0, beta_prev, n, alpha, beta, RJ__DEFAULT_LANES_ON);
+    rj__lz_orth_body(w, sc, v1, v0, beta_prev, nn, alpha, beta, RJ__DEFAULT_LANES_ON);
 }
 
 static void rj__lz_advance_default(double *w, double inv_beta, const double *sc, double *d,
@@ -7477,7 +7577,7 @@ static void rj__lz_advance_default(double *w, double inv_beta, const double *sc,
 
 /* The passes in the widest lanes the CPU has, chosen once a bound. */
 typedef struct rj__lz_passes {
-    void (*elements)(const rj__lz_table *, const double *, double *);
+    void (*elements)(const rj__lz_table *, const double *, double *, int);
     void (*orth)(double *, const double *, const double *, const double *, double, int,
                  double *, double *);
     void (*advance)(double *, double, const double *, double *, double *, int);
@@ -7495,6 +7595,31 @@ static void rj__lz_passes_pick(rj__lz_passes *p)
         p->advance = rj__lz_advance_avx2;
     }
 #endif
+}
+
+/* The joints' springs and the cable loops' part of f = K d (rj__lz_rank_one, the same
+   sums in the same order) on the vectors of DOF kinds. */
+static void rj__lz_rank_one_kinds(const rj_model *m, const double *d, double *f)
+{
+    const int nn = m->nn;
+    rj__ub_piece p;
+    int i, q;
+    for (i = 0; i < m->nj + m->ncp; i++) {
+        const double k = rj__ub_rank_one(m, i, &p);
+        double dot = 0;
+        if (!(k > 0))
+            continue;
+        for (q = 0; q < p.n; q++) {
+            const size_t at = RJ__LZ_AT(nn, p.key[q] / 3, p.key[q] % 3);
+            dot += p.vx[q] * d[at] + (p.key[q] % 3 == 0 ? p.vy[q] * d[at + nn] : 0.0);
+        }
+        for (q = 0; q < p.n; q++) {
+            const size_t at = RJ__LZ_AT(nn, p.key[q] / 3, p.key[q] % 3);
+            f[at] += k * dot * p.vx[q];
+            if (p.key[q] % 3 == 0)
+                f[at + nn] += k * dot * p.vy[q];
+        }
+    }
 }
 
 /* Whether Lanczos has converged after k steps (every 4th, from the 8th): its largest Ritz
@@ -7532,8 +7657,8 @@ static void rj__lz_load(const double *v1, const double *sc, double *d, double *w
 
 /* omega_max^2 of the linearised model by Lanczos (no reorthogonalisation: ghosts do not
    move the extreme Ritz value), stopped once converged (rj__lz_converged). Its product is
-   rj__lz_apply's, with the elements' linearisations tabled (rj__lz_table) after the five
-   vectors. */
+   rj__lz_apply's on vectors of DOF kinds (RJ__LZ_AT), with the elements' linearisations
+   tabled (rj__lz_table) after the five vectors. */
 static double rj__omega2_max(rj_model *m, double *lanczos)
 {
     const int n = 3 * m->nn;
@@ -7544,18 +7669,21 @@ static double rj__omega2_max(rj_model *m, double *lanczos)
     rj__lz_table table;
     rj__lz_passes pass;
     int i, k, kmax;
-    if (!rj__lz_start(m, v0, v1))
+    /* the start and the scales as the interleaved vectors had them, then split */
+    if (!rj__lz_start(m, v0, w))
         return 0;
-    rj__lz_scales(m, sc);
+    rj__lz_split(w, v1, m->nn);
+    rj__lz_scales(m, d);
+    rj__lz_split(d, sc, m->nn);
     rj__lz_table_build(m, lanczos + 5 * n, &table);
     rj__lz_passes_pick(&pass);
     rj__lz_load(v1, sc, d, w, n);
     kmax = n < RJ__LANCZOS_ITERS ? n : RJ__LANCZOS_ITERS;
     for (k = 0; k < kmax; k++) {
         double a, b, *t;
-        pass.elements(&table, d, w);
-        rj__lz_rank_one(m, d, w);
-        pass.orth(w, sc, v1, v0, k > 0 ? be[k - 1] : 0.0, n, &a, &b);
+        pass.elements(&table, d, w, m->nn);
+        rj__lz_rank_one_kinds(m, d, w);
+        pass.orth(w, sc, v1, v0, k > 0 ? be[k - 1] : 0.0, m->nn, &a, &b);
         al[k] = a;
         be[k] = b;
         /* a NaN or an infinity: no finite frequency (below) */

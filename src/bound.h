@@ -534,17 +534,21 @@ static double rj__tridiag_top(const double *al_in, const double *be_in, int k, d
     x = hi;
     for (it = 0; it < 40; it++) {
         const double sum = rj__tridiag_newton_sum(al, be2, k, x);
-        if (!(sum > 0) || !(x - 1.0 / sum > lo))
+        /* a pivot not positive: the last step rounded past the top, which it bracketed */
+        if (!(sum > 0)) {
+            lo = x > lo && x < hi ? x : lo;
             break;
+        }
+        if (!(x - 1.0 / sum > lo))
+            break;
+        hi = x;
         x -= 1.0 / sum;
         if (1.0 / sum <= 0.5 * rtol * fabs(x) &&
             rj__sturm_below(al, be2, k, x - rtol * fabs(x)) < k)
             return x * scale;
     }
-    /* Newton stalled (a pivot rounded to zero by the top): bisection from what it kept */
-    if (rj__sturm_below(al, be2, k, x) < k)
-        x += x - lo;
-    return rj__tridiag_bisect(al, be2, k, lo, x, rtol, 0.0) * scale;
+    /* Newton stalled: bisection of what it bracketed */
+    return rj__tridiag_bisect(al, be2, k, lo, hi, rtol, 0.0) * scale;
 }
 
 /* The largest eigenvalue to 1e-14 of itself: the estimate the bound returns. */
