@@ -424,7 +424,7 @@ static void rj__ub_torque(const rj_model *m, const rj__joint *J, double scale, r
 }
 
 /* The inverse mass of a DOF key (a translation's root, or a rotation). */
-static double rj__ub_inv(const rj_model *m, int key)
+static RJ__FORCE_INLINE double rj__ub_inv(const rj_model *m, int key)
 {
     return key % 3 == 2 ? m->rinv[key / 3] : rj__lz_inv(m, key / 3, 0);
 }
@@ -505,9 +505,10 @@ static double rj__ub_elem_lambda(const rj_model *m, const double *K, const int k
     for (i = 0; i < 6; i++) {
         const double inv = rj__ub_inv(m, key[i]);
         s[i] = w[i] > 0 ? W[key[i]] / w[i] * inv : 0.0;
-        for (j = 0; j < 6; j++)
-            if (w[i] == 0 && inv > 0 && K[6 * i + j] != 0)
-                return HUGE_VAL;
+        if (w[i] == 0 && inv > 0)
+            for (j = 0; j < 6; j++)
+                if (K[6 * i + j] != 0)
+                    return HUGE_VAL;
     }
     /* the last element's eigenvalue again when its stiffness and shares are the same */
     if (cache->lam >= 0 && rj__ub_alike(s, cache->s, 6, 0))
