@@ -11303,10 +11303,10 @@ static void rj__mat3_congruent(const double *A, const double *B, double *T, doub
    from the factor (rj__rig_tree_factor). In rj__aba_solve with b = e_k, coordinate k's
    subtree passes the force w = X^T U_k / D_k to its parent's pin, which then accelerates
    by -Lam_p w, Lam_p the parent's response to a force on it in the whole tree (a = -Lam
-   f); so (M^-1)_kk = 1 / D_k + w.Lam_p w D_k (with w = X^T U_k / D_k). The same solve
-   with a force F on body k gives Lam_k = P X Lam_p X^T P^T + s s^T / D_k, P = I - s U^T /
-   D_k (s = (1, 0, 0)); a root's parent is the ground (Lam = 0). lam: 9 doubles a
-   coordinate. A column of M^-1 a joint (O(n^2)) took 1.8 s for a chain of 10 000 links. */
+   f); so (M^-1)_kk = 1 / D_k + w.Lam_p w. The same solve with a force F on body k gives
+   Lam_k = P X Lam_p X^T P^T + s s^T / D_k, P = I - s U^T / D_k (s = (1, 0, 0)); a root's
+   parent is the ground (Lam = 0). lam: 9 doubles a coordinate. A column of M^-1 a joint
+   (O(n^2)) took 1.8 s for a chain of 10 000 links. */
 static void rj__rig_tree_minv(rj_model *m, rj__rig *r, double *lam)
 {
     int k;
