@@ -1995,9 +1995,8 @@ static void build_chain(int n, int fidelity, int runs, double *bytes, double *st
 /* Section 6: model build time and memory for chains of 10 .. 10000 links. Flexible and
    inextensible models are linear in the scene; so are rigid trees of 16 coordinates or
    more (articulated bodies: no dense mass matrix, a column of M^-1 and a row only for a
-   joint that can latch), whose build is O(n) for bare joints (1 / I_red, a column of M^-1,
-   only for a joint with a damper or an adaptive limit); smaller rigid scenes keep a dense
-   nj x nj M. */
+   joint that can latch), whose build is O(n) too (every joint's 1 / I_red from one pass
+   over the articulated factor); smaller rigid scenes keep a dense nj x nj M. */
 static void build_section(void)
 {
     static const int sizes[4] = { 10, 100, 1000, 10000 };
@@ -2009,7 +2008,7 @@ static void build_section(void)
        "`rj_model_create` (the joint graph's checks, the build and the stability bound: for flexible links Lanczos on the closed-form tangent, stopped once "
        "settled) timed apart, median of 3 runs (1 for the largest); a step of the model built, timed over batches doubled until one takes 20 ms, and the "
        "build in those steps. Rigid scenes integrate in joint coordinates, trees of 16 coordinates or more by articulated bodies (a step in O(n), "
-       "the build in O(n): 1 / I_red, a column of M^-1 in O(n), is taken only for a joint with a damper or an adaptive limit; memory linear in the links: "
+       "the build in O(n): every joint's 1 / I_red from one pass over the articulated factor; memory linear in the links: "
        "a column of M^-1 and a row are kept only for a joint that can latch), smaller ones with a dense mass matrix.\n\n");
     md("| links | model | model bytes | bytes per link | state bytes | validate (ms) | build (ms) | build per link (us) | step (us) | build in steps |\n|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (k = 0; k < 3; k++) for (i = 0; i < 4; i++) {
