@@ -7069,9 +7069,18 @@ static void rj__lz_elements(const rj_model *m, const double *d, double *f)
     }
 }
 
-/* The joints' springs and the cable loops' part of f = K d: k v (v . d) each. */
-static void rj__lz_rank_one(const rj_model *m, const double *d, double *f)
+/* The vector index of DOF key (3 i + k) of node i: interleaved, or with each kind of DOF
+   apart when kinds is the node count (the Lanczos vectors, src/lanczos.h). */
+static RJ__FORCE_INLINE size_t rj__lz_index(int key, int kinds)
 {
+    return kinds ? (size_t) (key % 3) * (size_t) kinds + (size_t) (key / 3) : (size_t) key;
+}
+
+/* The joints' springs and the cable loops' part of f = K d: k v (v . d) each; kinds as
+   rj__lz_index's (a translation's y follows its x by 1, or by the node count). */
+static void rj__lz_rank_one(const rj_model *m, const double *d, double *f, int kinds)
+{
+    const size_t to_y = kinds ? (size_t) kinds : 1;
     rj__ub_piece p;
     int i, q;
     for (i = 0; i < m->nj + m->ncp; i++) {
@@ -7079,12 +7088,15 @@ static void rj__lz_rank_one(const rj_model *m, const double *d, double *f)
         double dot = 0;
         if (!(k > 0))
             continue;
-        for (q = 0; q < p.n; q++)
-            dot += p.vx[q] * d[p.key[q]] + (p.key[q] % 3 == 0 ? p.vy[q] * d[p.key[q] + 1] : 0.0);
         for (q = 0; q < p.n; q++) {
-            f[p.key[q]] += k * dot * p.vx[q];
+            const size_t at = rj__lz_index(p.key[q], kinds);
+            dot += p.vx[q] * d[at] + (p.key[q] % 3 == 0 ? p.vy[q] * d[at + to_y] : 0.0);
+        }
+        for (q = 0; q < p.n; q++) {
+            const size_t at = rj__lz_index(p.key[q], kinds);
+            f[at] += k * dot * p.vx[q];
             if (p.key[q] % 3 == 0)
-                f[p.key[q] + 1] += k * dot * p.vy[q];
+                f[at + to_y] += k * dot * p.vy[q];
         }
     }
 }
@@ -7104,7 +7116,7 @@ static void rj__lz_apply(const rj_model *m, const double *sc, const double *u, d
         out[i] = 0.0;
     }
     rj__lz_elements(m, d, out);
-    rj__lz_rank_one(m, d, out);
+    rj__lz_rank_one(m, d, out, 0);
     for (i = 0; i < n; i++)
         out[i] *= sc[i];
 }
@@ -7152,17 +7164,14 @@ static int rj__lz_start(const rj_model *m, double *v0, double *v1)
 }
 /* ------------------------------------------------------------ Lanczos in vector lanes */
 /* The Lanczos iteration of the stability bound (rj__omega2_max). Its vectors hold each
-   kind of DOF apart (x of every node, then y, then the rotations: RJ__LZ_AT), so that
+   kind of DOF apart (x of every node, then y, then the rotations: rj__lz_index), so that
    the elements along a link read their nodes in whole lanes. Its product takes the
    elements' linearisations from a table built once (rj__lz_table). Where the header has
    vector lanes (src/impl.h), the element products and the vector passes run in them,
    dispatched as the beam pass is: every lane does the scalar code's operations in its
    order, each DOF's sum takes its elements' terms in element order, and the dot products
-   and norms sum their terms node by node (x, y, rotation), the order of the interleaved
-   vectors the scalar code once kept: every build gives the same bits (tests/lanes.sh). */
-
-/* DOF k (0: x, 1: y, 2: rotation) of node i */
-#define RJ__LZ_AT(nn, i, k) ((size_t) (k) * (size_t) (nn) + (size_t) (i))
+   and norms sum their terms node by node (x, y, rotation), the order of rj__lz_apply's
+   interleaved vectors: every build gives the same bits (tests/lanes.sh). */
 
 /* The interleaved vector in (3 i + k) into its DOF kinds. */
 static void rj__lz_split(const double *in, double *out, int nn)
@@ -7170,7 +7179,7 @@ static void rj__lz_split(const double *in, double *out, int nn)
     int i, k;
     for (i = 0; i < nn; i++)
         for (k = 0; k < 3; k++)
-            out[RJ__LZ_AT(nn, i, k)] = in[3 * i + k];
+            out[rj__lz_index(3 * i + k, nn)] = in[3 * i + k];
 }
 
 /* The elements' linearisations (rj__elem_lin, one array a field, for the lanes) and their
@@ -7602,31 +7611,6 @@ static void rj__lz_passes_pick(rj__lz_passes *p)
 #endif
 }
 
-/* The joints' springs and the cable loops' part of f = K d (rj__lz_rank_one, the same
-   sums in the same order) on the vectors of DOF kinds. */
-static void rj__lz_rank_one_kinds(const rj_model *m, const double *d, double *f)
-{
-    const int nn = m->nn;
-    rj__ub_piece p;
-    int i, q;
-    for (i = 0; i < m->nj + m->ncp; i++) {
-        const double k = rj__ub_rank_one(m, i, &p);
-        double dot = 0;
-        if (!(k > 0))
-            continue;
-        for (q = 0; q < p.n; q++) {
-            const size_t at = RJ__LZ_AT(nn, p.key[q] / 3, p.key[q] % 3);
-            dot += p.vx[q] * d[at] + (p.key[q] % 3 == 0 ? p.vy[q] * d[at + nn] : 0.0);
-        }
-        for (q = 0; q < p.n; q++) {
-            const size_t at = RJ__LZ_AT(nn, p.key[q] / 3, p.key[q] % 3);
-            f[at] += k * dot * p.vx[q];
-            if (p.key[q] % 3 == 0)
-                f[at + nn] += k * dot * p.vy[q];
-        }
-    }
-}
-
 /* Whether Lanczos has converged after k steps (every 4th, from the 8th): its largest Ritz
    value theta moved by less than RJ__LZ_TOL of itself in the last 4 steps (*last: theta
    then), and it is within RJ__BOUND_GAP of the upper bound, so that a plateau far below
@@ -7662,7 +7646,7 @@ static void rj__lz_load(const double *v1, const double *sc, double *d, double *w
 
 /* omega_max^2 of the linearised model by Lanczos (no reorthogonalisation: ghosts do not
    move the extreme Ritz value), stopped once converged (rj__lz_converged). Its product is
-   rj__lz_apply's on vectors of DOF kinds (RJ__LZ_AT), with the elements' linearisations
+   rj__lz_apply's on vectors of DOF kinds (rj__lz_index), with the elements' linearisations
    tabled (rj__lz_table) after the five vectors. */
 static double rj__omega2_max(rj_model *m, double *lanczos)
 {
@@ -7687,7 +7671,7 @@ static double rj__omega2_max(rj_model *m, double *lanczos)
     for (k = 0; k < kmax; k++) {
         double a, b, *t;
         pass.elements(&table, d, w, m->nn);
-        rj__lz_rank_one_kinds(m, d, w);
+        rj__lz_rank_one(m, d, w, m->nn);
         pass.orth(w, sc, v1, v0, k > 0 ? be[k - 1] : 0.0, m->nn, &a, &b);
         al[k] = a;
         be[k] = b;

@@ -599,9 +599,18 @@ static void rj__lz_elements(const rj_model *m, const double *d, double *f)
     }
 }
 
-/* The joints' springs and the cable loops' part of f = K d: k v (v . d) each. */
-static void rj__lz_rank_one(const rj_model *m, const double *d, double *f)
+/* The vector index of DOF key (3 i + k) of node i: interleaved, or with each kind of DOF
+   apart when kinds is the node count (the Lanczos vectors, src/lanczos.h). */
+static RJ__FORCE_INLINE size_t rj__lz_index(int key, int kinds)
 {
+    return kinds ? (size_t) (key % 3) * (size_t) kinds + (size_t) (key / 3) : (size_t) key;
+}
+
+/* The joints' springs and the cable loops' part of f = K d: k v (v . d) each; kinds as
+   rj__lz_index's (a translation's y follows its x by 1, or by the node count). */
+static void rj__lz_rank_one(const rj_model *m, const double *d, double *f, int kinds)
+{
+    const size_t to_y = kinds ? (size_t) kinds : 1;
     rj__ub_piece p;
     int i, q;
     for (i = 0; i < m->nj + m->ncp; i++) {
@@ -609,12 +618,15 @@ static void rj__lz_rank_one(const rj_model *m, const double *d, double *f)
         double dot = 0;
         if (!(k > 0))
             continue;
-        for (q = 0; q < p.n; q++)
-            dot += p.vx[q] * d[p.key[q]] + (p.key[q] % 3 == 0 ? p.vy[q] * d[p.key[q] + 1] : 0.0);
         for (q = 0; q < p.n; q++) {
-            f[p.key[q]] += k * dot * p.vx[q];
+            const size_t at = rj__lz_index(p.key[q], kinds);
+            dot += p.vx[q] * d[at] + (p.key[q] % 3 == 0 ? p.vy[q] * d[at + to_y] : 0.0);
+        }
+        for (q = 0; q < p.n; q++) {
+            const size_t at = rj__lz_index(p.key[q], kinds);
+            f[at] += k * dot * p.vx[q];
             if (p.key[q] % 3 == 0)
-                f[p.key[q] + 1] += k * dot * p.vy[q];
+                f[at + to_y] += k * dot * p.vy[q];
         }
     }
 }
@@ -634,7 +646,7 @@ static void rj__lz_apply(const rj_model *m, const double *sc, const double *u, d
         out[i] = 0.0;
     }
     rj__lz_elements(m, d, out);
-    rj__lz_rank_one(m, d, out);
+    rj__lz_rank_one(m, d, out, 0);
     for (i = 0; i < n; i++)
         out[i] *= sc[i];
 }
