@@ -1238,6 +1238,8 @@ struct rj_model {
     int nvisc;          /* links whose Kelvin-Voigt damping is implicit (src/viscous.h) */
     int applied;        /* the step's rj__stage_applied has model loads or damping to take */
     int visc_nodes;     /* the most nodes of such a link (the step's scratch, rj_state.visc) */
+    int *visc_first;    /* (nl + 1) each link's run of visc_joint */
+    int *visc_joint;    /* (2 nj) the joints a damped link's solve holds (rj__visc_hold) */
     double struct_rate; /* 1/s: the fastest damping rate they give a mode, max eta w^2 + a */
     int *grp_node;   /* (members) */
     int *node_grp;   /* (nn) group of a node, -1 if none */
@@ -3564,7 +3566,7 @@ typedef struct rj__layout {
     size_t node_cl, bp_node, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
     size_t node_grp, ch_first, ch_node, ch_l0sq, gs_int, gs_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, qj, jq, wcol, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
-        link_un, link_kc, link_path, link_pl, link_damp, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
+        link_un, link_kc, link_path, link_pl, link_damp, visc_first, visc_joint, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
 } rj__layout;
 
 /* Whether a rigid scene of nq coordinates, nloop joints that close loops and ncp
@@ -3660,6 +3662,8 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->link_path = rj__carve(&off, (size_t) nl + 1, sizeof(int));
     L->link_pl = rj__carve(&off, (size_t) nl + 1, sizeof(int));
     L->link_damp = rj__carve(&off, (size_t) RJ__LD_PER * nl + 1, sizeof(double));
+    L->visc_first = rj__carve(&off, (size_t) nl + 1, sizeof(int));
+    L->visc_joint = rj__carve(&off, 2 * (size_t) nj + 1, sizeof(int));
     L->x0 = rj__carve(&off, (size_t) nn, sizeof(double));
     L->y0 = rj__carve(&off, (size_t) nn, sizeof(double));
     L->phi0 = rj__carve(&off, (size_t) nn, sizeof(double));
@@ -8246,6 +8250,8 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(link_path, int);
     RJ__SET(link_pl, int);
     RJ__SET(link_damp, double);
+    RJ__SET(visc_first, int);
+    RJ__SET(visc_joint, int);
     RJ__SET(x0, double);
     RJ__SET(y0, double);
     RJ__SET(phi0, double);
@@ -9340,6 +9346,52 @@ static void rj__init_viscous(rj_model *m)
     m->applied = m->nload > 0 || m->nvisc > 0;
 }
 
+/* The link of node n when its Kelvin-Voigt damping is implicit, else -1. */
+static int rj__visc_link_of(const rj_model *m, int n)
+{
+    int link, node;
+    if (n < 0)
+        return -1;
+    rj__node_of(m, n, &link, &node);
+    return RJ__LD(m, link)[RJ__LD_IMPLICIT] > 0 ? link : -1;
+}
+
+/* Each damped link's joints for its solve to hold (rj__visc_hold: a pin node on the link,
+   not chord-referenced nor between two bodies), in joint order: a count a link, the runs,
+   then each joint into its links' runs. The step walked every joint for every link. */
+static void rj__init_visc_holds(rj_model *m)
+{
+    int *first = m->visc_first, j, l;
+    for (l = 0; l <= m->nl; l++)
+        first[l] = 0;
+    for (j = 0; j < m->nj && m->nvisc; j++) {
+        const rj__joint *J = &m->jnt[j];
+        const int lI = rj__visc_link_of(m, J->nI), lJ = rj__visc_link_of(m, J->nJ);
+        if (J->chord || J->pair)
+            continue;
+        if (lI >= 0)
+            first[lI + 1]++;
+        if (lJ >= 0 && lJ != lI)
+            first[lJ + 1]++;
+    }
+    for (l = 0; l < m->nl; l++)
+        first[l + 1] += first[l];
+    /* first[l] is now where link l's run ends as it fills */
+    for (j = 0; j < m->nj && m->nvisc; j++) {
+        const rj__joint *J = &m->jnt[j];
+        const int lI = rj__visc_link_of(m, J->nI), lJ = rj__visc_link_of(m, J->nJ);
+        if (J->chord || J->pair)
+            continue;
+        if (lI >= 0)
+            m->visc_joint[first[lI]++] = j;
+        if (lJ >= 0 && lJ != lI)
+            m->visc_joint[first[lJ]++] = j;
+    }
+    for (l = m->nl; l > 0; l--)
+        first[l] = first[l - 1];
+    first[0] = 0;
+}
+
 /* In place: not with inextensible links (SHAKE reads every node at n), and only if every
    node of a pin group or a rigid body is one the step keeps (m->dnode: it is). */
 static void rj__init_in_place(rj_model *m)
@@ -9393,6 +9445,7 @@ static rj_result rj__model_init(const rj_scene_def *sc, void *mem, size_t size, 
         return RJ_ERR_INVALID;
     rj__init_viscous(m);
     rj__init_joint_constants(m);
+    rj__init_visc_holds(m);
     rj__init_rigid(m, sc, s.chains);
     rj__limit_warnings(m);
     r = rj__init_step(m, sc, &s, err);
@@ -12925,10 +12978,6 @@ static void rj__visc_hold(const rj_model *m, const rj_state *s, const rj__frames
     const int nI = J->nI, nJ = J->nJ;
     const double riI = nI >= 0 ? m->rinv[nI] : 0.0, riJ = m->rinv[nJ];
     double wI, wJ, rate, uI, uJ, minv;
-    /* a joint off this link: nothing to hold here (the cheap test first: every link
-       meets every joint) */
-    if (!(nI >= n0 && nI < n0 + nodes) && !(nJ >= n0 && nJ < n0 + nodes))
-        return;
     wI = rj__visc_rate_pred(m, s, f, nI);
     wJ = rj__visc_rate_pred(m, s, f, nJ);
     if (!rj__visc_held_rate(m, s, f, j, wI, wJ, &rate))
@@ -13035,7 +13084,7 @@ static double rj__stage_viscous(const rj_model *m, rj_state *s, const rj__frames
 {
     double *W = s->visc + RJ__VISC_PER;
     double power = 0, fin = 0;
-    int l, j;
+    int l, q;
     rj__visc_pad(W);
     for (l = 0; l < m->nl; l++) {
         const int n0 = m->link_first[l], nodes = m->link_first[l + 1] - n0;
@@ -13044,9 +13093,8 @@ static double rj__stage_viscous(const rj_model *m, rj_state *s, const rj__frames
             continue;
         dn = rj__dnode_from(m, n0);
         rj__visc_gather(m, s, f, l, dn, W);
-        for (j = 0; j < m->nj; j++)
-            if (!m->jnt[j].chord && !m->jnt[j].pair)
-                rj__visc_hold(m, s, f, j, n0, nodes, W);
+        for (q = m->visc_first[l]; q < m->visc_first[l + 1]; q++)
+            rj__visc_hold(m, s, f, m->visc_joint[q], n0, nodes, W);
         rj__visc_masses(W, nodes);
         rj__visc_solve(W, nodes, f->kick);
         fin += rj__visc_apply(m, s, f, l, dn, W, &power);

@@ -142,6 +142,8 @@ static void rj__init_arrays(rj_model *m, const rj__layout *L)
     RJ__SET(link_path, int);
     RJ__SET(link_pl, int);
     RJ__SET(link_damp, double);
+    RJ__SET(visc_first, int);
+    RJ__SET(visc_joint, int);
     RJ__SET(x0, double);
     RJ__SET(y0, double);
     RJ__SET(phi0, double);
@@ -1236,6 +1238,52 @@ static void rj__init_viscous(rj_model *m)
     m->applied = m->nload > 0 || m->nvisc > 0;
 }
 
+/* The link of node n when its Kelvin-Voigt damping is implicit, else -1. */
+static int rj__visc_link_of(const rj_model *m, int n)
+{
+    int link, node;
+    if (n < 0)
+        return -1;
+    rj__node_of(m, n, &link, &node);
+    return RJ__LD(m, link)[RJ__LD_IMPLICIT] > 0 ? link : -1;
+}
+
+/* Each damped link's joints for its solve to hold (rj__visc_hold: a pin node on the link,
+   not chord-referenced nor between two bodies), in joint order: a count a link, the runs,
+   then each joint into its links' runs. The step walked every joint for every link. */
+static void rj__init_visc_holds(rj_model *m)
+{
+    int *first = m->visc_first, j, l;
+    for (l = 0; l <= m->nl; l++)
+        first[l] = 0;
+    for (j = 0; j < m->nj && m->nvisc; j++) {
+        const rj__joint *J = &m->jnt[j];
+        const int lI = rj__visc_link_of(m, J->nI), lJ = rj__visc_link_of(m, J->nJ);
+        if (J->chord || J->pair)
+            continue;
+        if (lI >= 0)
+            first[lI + 1]++;
+        if (lJ >= 0 && lJ != lI)
+            first[lJ + 1]++;
+    }
+    for (l = 0; l < m->nl; l++)
+        first[l + 1] += first[l];
+    /* first[l] is now where link l's run ends as it fills */
+    for (j = 0; j < m->nj && m->nvisc; j++) {
+        const rj__joint *J = &m->jnt[j];
+        const int lI = rj__visc_link_of(m, J->nI), lJ = rj__visc_link_of(m, J->nJ);
+        if (J->chord || J->pair)
+            continue;
+        if (lI >= 0)
+            m->visc_joint[first[lI]++] = j;
+        if (lJ >= 0 && lJ != lI)
+            m->visc_joint[first[lJ]++] = j;
+    }
+    for (l = m->nl; l > 0; l--)
+        first[l] = first[l - 1];
+    first[0] = 0;
+}
+
 /* In place: not with inextensible links (SHAKE reads every node at n), and only if every
    node of a pin group or a rigid body is one the step keeps (m->dnode: it is). */
 static void rj__init_in_place(rj_model *m)
@@ -1289,6 +1337,7 @@ static rj_result rj__model_init(const rj_scene_def *sc, void *mem, size_t size, 
         return RJ_ERR_INVALID;
     rj__init_viscous(m);
     rj__init_joint_constants(m);
+    rj__init_visc_holds(m);
     rj__init_rigid(m, sc, s.chains);
     rj__limit_warnings(m);
     r = rj__init_step(m, sc, &s, err);

@@ -306,6 +306,8 @@ struct rj_model {
     int nvisc;          /* links whose Kelvin-Voigt damping is implicit (src/viscous.h) */
     int applied;        /* the step's rj__stage_applied has model loads or damping to take */
     int visc_nodes;     /* the most nodes of such a link (the step's scratch, rj_state.visc) */
+    int *visc_first;    /* (nl + 1) each link's run of visc_joint */
+    int *visc_joint;    /* (2 nj) the joints a damped link's solve holds (rj__visc_hold) */
     double struct_rate; /* 1/s: the fastest damping rate they give a mode, max eta w^2 + a */
     int *grp_node;   /* (members) */
     int *node_grp;   /* (nn) group of a node, -1 if none */

@@ -20,7 +20,7 @@ typedef struct rj__layout {
     size_t node_cl, bp_node, cl_first, cl_node, cl_fix, cl_M, cl_I, cl_th0, cl_rx, cl_ry;
     size_t node_grp, ch_first, ch_node, ch_l0sq, gs_int, gs_l0sq, rb_mass, rb_icm, rb_dcm, rb_pjoint, jorder, qj, jq, wcol, jpin,
         jref, mass, rinertia, tinv, rinv, einv, kmass, krot, grp_first, grp_node, grp_inv, dnode,
-        link_un, link_kc, link_path, link_pl, link_damp, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
+        link_un, link_kc, link_path, link_pl, link_damp, visc_first, visc_joint, x0, y0, phi0, vx0, vy0, w0, beta0, load, load_node, act, spl, cp, lz;
 } rj__layout;
 
 /* Whether a rigid scene of nq coordinates, nloop joints that close loops and ncp
@@ -116,6 +116,8 @@ static void rj__model_layout(const rj_scene_def *sc, size_t nn, size_t ne, rj__l
     L->link_path = rj__carve(&off, (size_t) nl + 1, sizeof(int));
     L->link_pl = rj__carve(&off, (size_t) nl + 1, sizeof(int));
     L->link_damp = rj__carve(&off, (size_t) RJ__LD_PER * nl + 1, sizeof(double));
+    L->visc_first = rj__carve(&off, (size_t) nl + 1, sizeof(int));
+    L->visc_joint = rj__carve(&off, 2 * (size_t) nj + 1, sizeof(int));
     L->x0 = rj__carve(&off, (size_t) nn, sizeof(double));
     L->y0 = rj__carve(&off, (size_t) nn, sizeof(double));
     L->phi0 = rj__carve(&off, (size_t) nn, sizeof(double));

@@ -697,10 +697,6 @@ static void rj__visc_hold(const rj_model *m, const rj_state *s, const rj__frames
     const int nI = J->nI, nJ = J->nJ;
     const double riI = nI >= 0 ? m->rinv[nI] : 0.0, riJ = m->rinv[nJ];
     double wI, wJ, rate, uI, uJ, minv;
-    /* a joint off this link: nothing to hold here (the cheap test first: every link
-       meets every joint) */
-    if (!(nI >= n0 && nI < n0 + nodes) && !(nJ >= n0 && nJ < n0 + nodes))
-        return;
     wI = rj__visc_rate_pred(m, s, f, nI);
     wJ = rj__visc_rate_pred(m, s, f, nJ);
     if (!rj__visc_held_rate(m, s, f, j, wI, wJ, &rate))
@@ -807,7 +803,7 @@ static double rj__stage_viscous(const rj_model *m, rj_state *s, const rj__frames
 {
     double *W = s->visc + RJ__VISC_PER;
     double power = 0, fin = 0;
-    int l, j;
+    int l, q;
     rj__visc_pad(W);
     for (l = 0; l < m->nl; l++) {
         const int n0 = m->link_first[l], nodes = m->link_first[l + 1] - n0;
@@ -816,9 +812,8 @@ static double rj__stage_viscous(const rj_model *m, rj_state *s, const rj__frames
             continue;
         dn = rj__dnode_from(m, n0);
         rj__visc_gather(m, s, f, l, dn, W);
-        for (j = 0; j < m->nj; j++)
-            if (!m->jnt[j].chord && !m->jnt[j].pair)
-                rj__visc_hold(m, s, f, j, n0, nodes, W);
+        for (q = m->visc_first[l]; q < m->visc_first[l + 1]; q++)
+            rj__visc_hold(m, s, f, m->visc_joint[q], n0, nodes, W);
         rj__visc_masses(W, nodes);
         rj__visc_solve(W, nodes, f->kick);
         fin += rj__visc_apply(m, s, f, l, dn, W, &power);
