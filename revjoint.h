@@ -9356,35 +9356,42 @@ static int rj__visc_link_of(const rj_model *m, int n)
     return RJ__LD(m, link)[RJ__LD_IMPLICIT] > 0 ? link : -1;
 }
 
-/* Each damped link's joints for its solve to hold (rj__visc_hold: a pin node on the link,
-   not chord-referenced nor between two bodies), in joint order: a count a link, the runs,
-   then each joint into its links' runs. The step walked every joint for every link. */
+/* The damped links joint j's solve holds (rj__visc_hold): those of its pin nodes (lJ -1
+   where both are on one link); none for a chord-referenced joint or one between two
+   bodies. */
+static void rj__visc_joint_links(const rj_model *m, int j, int *lI, int *lJ)
+{
+    const rj__joint *J = &m->jnt[j];
+    *lI = *lJ = -1;
+    if (J->chord || J->pair)
+        return;
+    *lI = rj__visc_link_of(m, J->nI);
+    *lJ = rj__visc_link_of(m, J->nJ);
+    if (*lJ == *lI)
+        *lJ = -1;
+}
+
+/* Each damped link's joints for its solve to hold, in joint order: a count a link, the
+   runs, then each joint into its links' runs. The step walked every joint for every
+   link. */
 static void rj__init_visc_holds(rj_model *m)
 {
-    int *first = m->visc_first, j, l;
+    int *first = m->visc_first, j, l, lI, lJ;
     for (l = 0; l <= m->nl; l++)
         first[l] = 0;
     for (j = 0; j < m->nj && m->nvisc; j++) {
-        const rj__joint *J = &m->jnt[j];
-        const int lI = rj__visc_link_of(m, J->nI), lJ = rj__visc_link_of(m, J->nJ);
-        if (J->chord || J->pair)
-            continue;
-        if (lI >= 0)
-            first[lI + 1]++;
-        if (lJ >= 0 && lJ != lI)
-            first[lJ + 1]++;
+        rj__visc_joint_links(m, j, &lI, &lJ);
+        first[lI + 1] += lI >= 0;
+        first[lJ + 1] += lJ >= 0;
     }
     for (l = 0; l < m->nl; l++)
         first[l + 1] += first[l];
     /* first[l] is now where link l's run ends as it fills */
     for (j = 0; j < m->nj && m->nvisc; j++) {
-        const rj__joint *J = &m->jnt[j];
-        const int lI = rj__visc_link_of(m, J->nI), lJ = rj__visc_link_of(m, J->nJ);
-        if (J->chord || J->pair)
-            continue;
+        rj__visc_joint_links(m, j, &lI, &lJ);
         if (lI >= 0)
             m->visc_joint[first[lI]++] = j;
-        if (lJ >= 0 && lJ != lI)
+        if (lJ >= 0)
             m->visc_joint[first[lJ]++] = j;
     }
     for (l = m->nl; l > 0; l--)
